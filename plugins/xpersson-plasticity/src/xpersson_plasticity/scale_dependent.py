@@ -1,0 +1,187 @@
+"""``plastic_scale_dependent``: hardness increasing with magnification (Lambert 2025).
+
+The yield wall moves, ``p = Y(zeta)``, with ``Y`` non-decreasing (force conservation). At the
+moving wall ``P(Y) != 0``; it is fixed by the closure of V. Lambert (physics.md §3.2,
+https://github.com/vlambert/ScaleDependentPlasticity)
+
+    A_pl(zeta) = f(zeta) P(Y(zeta), zeta) / Y'(zeta)   <=>   P(Y) = A_pl dY/dtau,
+
+with ``dY/dtau = Y'(zeta) / f(zeta)`` in diffusion time ``tau`` [Pa^2]. Together with the
+diffusion equation it conserves the total area (A_el + A_pl + A_non = 1) and the total force
+(``int_0^Y p P dp + Y(zeta) A_pl = p0``). For a constant hardness (``n = 0`` or a constant
+table) it reduces to the fixed absorbing wall of ``plastic``; that case is dispatched to the
+exact two-wall solution.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from xpersson.plugins import Boundary, ParamSpec
+
+from ._hardness import HardnessLaw, PowerLaw, load_table
+from ._outputs import AREA_OUTPUTS, assemble, stack
+from .plastic import check_below_hardness
+
+if TYPE_CHECKING:  # pragma: no cover
+    from xpersson.engine import EngineResult, Wall
+    from xpersson.plugins import DiffusionClock, SceneContext
+
+__all__ = ["ScaleDependentPlasticBoundary", "YieldWallLaw"]
+
+
+class YieldWallLaw:
+    """Position ``Y(zeta(tau))`` [Pa] or speed ``dY/dtau = Y'(zeta)/f(zeta)`` [1/Pa] in tau.
+
+    A picklable callable ``tau [Pa^2] -> value`` (scalar in, float out; array in, array out).
+
+    Parameters
+    ----------
+    law : HardnessLaw
+        The hardness law Y(zeta).
+    clock : DiffusionClock
+        Maps tau to zeta and gives f(zeta) [Pa^2].
+    derivative : bool
+        False for the position, True for dY/dtau.
+    """
+
+    def __init__(self, law: HardnessLaw, clock: DiffusionClock, derivative: bool) -> None:
+        self.law = law
+        self.clock = clock
+        self.derivative = derivative
+
+    def __call__(self, tau: np.ndarray | float) -> np.ndarray | float:
+        t = np.asarray(tau, dtype=float)
+        z = np.asarray(self.clock.zeta_of_tau(t), dtype=float)
+        if self.derivative:
+            f = np.asarray(self.clock.f(z), dtype=float)
+            val = self.law.dY(z) / f
+        else:
+            val = self.law.Y(z)
+        val = np.asarray(val, dtype=float).reshape(t.shape)
+        return float(val) if val.ndim == 0 else val
+
+
+class ScaleDependentPlasticBoundary(Boundary):
+    """Elastoplastic contact with a magnification-dependent hardness Y(zeta) [Pa].
+
+    ``Y(zeta) = Y1 zeta**n`` (``Y1`` [Pa] > every p0, ``n`` >= 0), or a two-column table
+    ``zeta, Y`` (``table``, Y in ``table_unit``) interpolated monotonically in log-log. Walls:
+    absorbing at ``p = 0`` and Lambert's yield closure at ``p = Y(zeta)``. Outputs as for
+    ``plastic``; ``yield_stress`` is Y(zeta) and the plastic area carries Y(zeta).
+
+    Parameters
+    ----------
+    Y1 : float, optional
+        Hardness at zeta = 1 [Pa] for the power law.
+    n : float
+        Power-law exponent [1], >= 0 (0: constant hardness).
+    table : str, optional
+        Path of a two-column text file ``zeta  Y`` (instead of ``Y1``, ``n``).
+    table_unit : str
+        Pressure unit of the Y column of ``table`` (default ``"Pa"``).
+    """
+
+    summary = "Elastoplastic contact with scale-dependent hardness Y(zeta) (Lambert 2025 closure)"
+    references = (
+        "https://github.com/vlambert/ScaleDependentPlasticity",
+        "10.1063/1.1388626",
+    )
+    parameters = {
+        "Y1": ParamSpec(
+            unit="Pa",
+            default=None,
+            bounds=(0.0, None),
+            inclusive=(False, True),
+            description="hardness at zeta = 1 of the power law Y1 zeta**n; must exceed every p0",
+            sweepable=True,
+        ),
+        "n": ParamSpec(
+            unit="1",
+            default=0.0,
+            bounds=(0.0, None),
+            inclusive=(True, True),
+            description="exponent of the power law Y1 zeta**n (>= 0; 0 = constant hardness)",
+            sweepable=True,
+        ),
+        "table": ParamSpec(
+            unit="1",
+            kind="path",
+            default=None,
+            description="two-column text file 'zeta Y' (non-decreasing Y) instead of Y1, n",
+        ),
+        "table_unit": ParamSpec(
+            unit="1",
+            kind="string",
+            default="Pa",
+            description="pressure unit of the Y column of table (e.g. 'GPa')",
+        ),
+    }
+    outputs = dict(AREA_OUTPUTS)
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        y1, n, table = self._params["Y1"], self._params["n"], self._params["table"]
+        if table is not None and y1 is not None:
+            raise ValueError(
+                "boundary: give either Y1 [Pa] (with n) or table, not both"
+            )
+        if table is None:
+            if y1 is None:
+                raise ValueError(
+                    "boundary.Y1 [Pa] is required (hardness at zeta = 1 of Y1 zeta**n, "
+                    "allowed range Y1 > max p0), or give boundary.table"
+                )
+            for name in ("Y1", "n"):
+                val = self._params[name]
+                spec = self.parameters[name]
+                if (not isinstance(val, int | float) or isinstance(val, bool)
+                        or not spec.in_bounds(float(val)) or not np.isfinite(val)):
+                    unit = "Pa" if name == "Y1" else "dimensionless"
+                    extra = (" (a decreasing hardness violates force conservation)"
+                             if name == "n" else " and above every p0")
+                    raise ValueError(
+                        f"boundary.{name} = {val!r} [{unit}] outside the allowed range "
+                        f"{spec.range_text()}{extra}"
+                    )
+            self._params["Y1"], self._params["n"] = float(y1), float(n)
+            self._law: HardnessLaw = PowerLaw(float(y1), float(n))
+        else:
+            self._law = load_table(table, str(self._params["table_unit"]))
+
+    def __getstate__(self) -> dict[str, Any]:
+        return dict(self.__dict__)
+
+    @property
+    def law(self) -> HardnessLaw:
+        """The hardness law Y(zeta) [Pa]."""
+        return self._law
+
+    def validate(self, ctx: SceneContext) -> None:
+        """Refuse Y(1) <= max p0 and tables that do not cover the output magnifications."""
+        name = "Y1" if self._params["table"] is None else "table"
+        y_start = float(self._law.Y(np.asarray(1.0)))
+        check_below_hardness(name, y_start, ctx.p0, "hardness at zeta = 1")
+        self._law.check_range(float(np.max(ctx.zeta)))
+
+    def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, Wall]:
+        """Absorbing wall at 0; yield-closure wall at Y(zeta(tau)) (fixed wall if constant)."""
+        from xpersson.engine import Wall
+
+        if self._law.is_constant:
+            return Wall.absorbing(0.0), Wall.absorbing(float(self._law.Y(np.asarray(1.0))))
+        return Wall.absorbing(0.0), Wall.yield_closure(
+            position=YieldWallLaw(self._law, clock, derivative=False),
+            dposition=YieldWallLaw(self._law, clock, derivative=True),
+        )
+
+    def interpret(
+        self, ctx: SceneContext, results: list[EngineResult]
+    ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
+        """Area fractions and load shares per (p0, zeta); the plastic area carries Y(zeta)."""
+        zeta = np.asarray(ctx.zeta, dtype=float)
+        eng = stack(results, zeta.size)
+        return assemble(ctx, self._law.Y(zeta), eng["elastic"], eng["plastic"],
+                        eng["non_contact"], eng["load"])

@@ -1,0 +1,49 @@
+"""xpersson: Persson's multiscale theory of rough-surface contact as a plugin framework.
+
+Public API (imported lazily so that ``import xpersson`` and the CLI's ``--help`` stay cheap)::
+
+    xpersson.solve(scene) -> xarray.Dataset
+    xpersson.load_scene(path) -> Scene
+    xpersson.open_dataset(path) -> xarray.Dataset
+    xpersson.to_netcdf(ds, path)
+"""
+
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
+
+__all__ = [
+    "Scene",
+    "SceneError",
+    "XperssonWarning",
+    "load_scene",
+    "open_dataset",
+    "solve",
+    "to_netcdf",
+    "__version__",
+]
+
+_LAZY = {
+    "solve": "xpersson._pipeline",
+    "XperssonWarning": "xpersson._pipeline",
+    "Scene": "xpersson.scene",
+    "SceneError": "xpersson.scene",
+    "load_scene": "xpersson.scene",
+    "open_dataset": "xpersson.io",
+    "to_netcdf": "xpersson.io",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name == "__version__":
+        from .provenance import version
+
+        return version()
+    if name in _LAZY:
+        return getattr(import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'xpersson' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

@@ -1,0 +1,81 @@
+"""Built-in elastic physics: the coefficient f(zeta) from the PSD and the p = 0 wall.
+
+Persson (2001): dP/dzeta = f(zeta) d2P/dp2 with f = (pi/4) E*^2 q_L q^3 C(q), q = zeta q_L,
+absorbing wall P(0, zeta) = 0. The correction-factor closures (YP08, WM17, Xu24) change the
+variance of the mirrored Gaussian through the running contact area; they are selected with
+``closure`` and are defined for the elastic wall only.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ..physics import closures, elastic
+from ..plugins import Boundary, Coefficient, ParamSpec, VarSpec
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..engine import Wall
+    from ..plugins import DiffusionClock, SceneContext
+
+__all__ = ["ElasticCoefficient", "ElasticBoundary"]
+
+
+class ElasticCoefficient(Coefficient):
+    """f(zeta) = (pi/4) E*^2 q_L q^3 C(q) [Pa^2], with optional correction closures.
+
+    ``closure``: ``persson01`` (none), ``yp08`` (Yang & Persson 2008, S = gamma + (1-gamma)A^2),
+    ``wm17`` (Wang & Müser 2017), ``xu24`` (Xu et al. 2024, algebraic). ``gamma`` defaults to
+    0.42 (yp08, xu24) and 5/9 (wm17).
+    """
+
+    summary = "elastic diffusion coefficient from the PSD, with YP08/WM17/Xu24 closures"
+    references = (
+        "10.1063/1.1388626",
+        "10.1088/0953-8984/20/21/215214",
+        "10.1007/s11249-017-0900-2",
+        "10.1007/s11249-024-01838-4",
+    )
+    parameters = {
+        "closure": ParamSpec("1", default="persson01", kind="choice",
+                             choices=("persson01", "yp08", "wm17", "xu24"),
+                             description="correction-factor closure of the variance"),
+        "gamma": ParamSpec("1", default=None, bounds=(0, 1), inclusive=(False, True),
+                           description="closure parameter (default 0.42; wm17: 5/9)"),
+    }
+    outputs: dict[str, VarSpec] = {}
+
+    def f(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
+        """f(zeta) [Pa^2]."""
+        return np.asarray(elastic.coefficient_f(ctx.psd, ctx.E_star, zeta), dtype=float)
+
+    def tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
+        """tau(zeta) = (pi/4) E*^2 int_{q_L}^{zeta q_L} q^3 C dq [Pa^2] (exact)."""
+        return np.asarray(elastic.diffusion_time(ctx.psd, ctx.E_star, zeta), dtype=float)
+
+    def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
+        """Per-load diffusion time [Pa^2]; the closures solve their ODE/fixed point to 1e-10."""
+        tau_c = self.tau(ctx, zeta)
+        return closures.effective_tau(
+            tau_c, ctx.p0, self._params["closure"], self._params["gamma"], rtol=1e-10
+        )
+
+
+class ElasticBoundary(Boundary):
+    """Elastic contact: absorbing wall P(0, zeta) = 0 (points reaching zero stress separate)."""
+
+    summary = "elastic contact: absorbing wall at p = 0, non-contact area from its flux"
+    references = ("10.1063/1.1388626", "10.1016/j.wear.2005.12.007")
+    parameters: dict[str, ParamSpec] = {}
+    outputs: dict[str, VarSpec] = {}
+
+    def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
+        """One absorbing wall at p = 0 [Pa]; no upper wall."""
+        from ..engine import Wall
+
+        return Wall.absorbing(0.0), None
+
+    def interpret(self, ctx: SceneContext, results: list[Any]) -> dict[str, Any]:
+        """Nothing beyond the core's area and non-contact fractions."""
+        return {}

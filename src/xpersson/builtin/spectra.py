@@ -1,0 +1,111 @@
+"""Built-in spectrum plugins: self-affine with roll-off, and tabulated (q, C) files."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..physics.psd import PowerSpectrum, SelfAffineRollOff
+from ..physics.psd import Tabulated as _TabulatedPSD
+from ..plugins import ParamSpec, Spectrum
+
+__all__ = ["SelfAffine", "Tabulated"]
+
+_WAVEVECTOR = dict(unit="1/m", bounds=(0, None), inclusive=(False, True))
+
+
+class SelfAffine(Spectrum):
+    """Self-affine isotropic PSD with a roll-off plateau (Persson convention).
+
+    C(q) = C_r for q_L <= q < q_r and C_r (q/q_r)^(-2(1+H)) for q_r <= q <= q_1 [m^4]. The
+    amplitude is set by exactly one of ``h_rms`` [m], ``rms_slope`` (2-D gradient, [1]) or
+    ``C_r`` [m^4].
+    """
+
+    summary = "self-affine isotropic PSD with roll-off, C(q) = C_r (q/q_r)^(-2(1+H))"
+    references = ("10.1088/2051-672X/aa51f8", "10.1063/1.1388626")
+    parameters = {
+        "H": ParamSpec("1", bounds=(0, 1), inclusive=(False, True), description="Hurst exponent"),
+        "q_L": ParamSpec(**_WAVEVECTOR, description="lower cut-off wavevector (2 pi / L)"),
+        "q_r": ParamSpec(**_WAVEVECTOR, default=None,
+                         description="roll-off wavevector (default q_L: no plateau)"),
+        "q_1": ParamSpec(**_WAVEVECTOR, description="upper cut-off wavevector"),
+        "h_rms": ParamSpec("m", default=None, bounds=(0, None), inclusive=(False, True),
+                           description="rms height (give one of h_rms, rms_slope, C_r)"),
+        "rms_slope": ParamSpec("1", default=None, bounds=(0, None), inclusive=(False, True),
+                               description="rms 2-D gradient (give one of h_rms, rms_slope, C_r)"),
+        "C_r": ParamSpec("m**4", default=None, bounds=(0, None), inclusive=(False, True),
+                         description="plateau PSD value (give one of h_rms, rms_slope, C_r)"),
+    }
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        p = self._params
+        given = [k for k in ("h_rms", "rms_slope", "C_r") if p[k] is not None]
+        if len(given) != 1:
+            raise ValueError(
+                "give exactly one of h_rms [m], rms_slope [1] or C_r [m^4] to set the amplitude"
+                + (f" (got {', '.join(given)})" if given else "")
+            )
+        q_r = p["q_L"] if p["q_r"] is None else p["q_r"]
+        if not p["q_L"] <= q_r:
+            raise ValueError(
+                f"q_r = {q_r:g} 1/m must satisfy q_L <= q_r (q_L = {p['q_L']:g} 1/m)"
+            )
+        if not q_r < p["q_1"]:
+            raise ValueError(
+                f"q_1 = {p['q_1']:g} 1/m must satisfy q_r < q_1 (q_r = {q_r:g} 1/m, q_L = "
+                f"{p['q_L']:g} 1/m)"
+            )
+
+    def build(self) -> PowerSpectrum:
+        """The numerical spectrum (SI)."""
+        p = self._params
+        geo = dict(H=p["H"], q_L=p["q_L"], q_r=p["q_L"] if p["q_r"] is None else p["q_r"],
+                   q_1=p["q_1"])
+        if p["h_rms"] is not None:
+            return SelfAffineRollOff.from_h_rms(p["h_rms"], **geo)
+        if p["rms_slope"] is not None:
+            return SelfAffineRollOff.from_rms_slope(p["rms_slope"], **geo)
+        return SelfAffineRollOff(p["C_r"], **geo)
+
+
+class Tabulated(Spectrum):
+    """PSD read from a two-column text/CSV file (q, C), interpolated log-log.
+
+    Conventions: ``persson`` (isotropic, m^4), ``surface_topography`` (isotropic JJP /
+    SurfaceTopography convention, equal to (2 pi)^2 times Persson's) or ``profile_1d`` (1-D
+    line-scan PSD in the JJP convention, m^3; converted with a local power-law factor).
+    """
+
+    summary = "tabulated isotropic or 1-D PSD from a (q, C) file, log-log interpolated"
+    references = ("10.1088/2051-672X/aa51f8",)
+    parameters = {
+        "file": ParamSpec("1", kind="path", description="two-column text/CSV file: q, C"),
+        "q_unit": ParamSpec("1", default="1/m", kind="string",
+                            description="unit of the q column (pint syntax)"),
+        "C_unit": ParamSpec("1", default="m**4", kind="string",
+                            description="unit of the C column (m**4 isotropic, m**3 for 1-D)"),
+        "convention": ParamSpec("1", default="persson", kind="choice",
+                                choices=("persson", "surface_topography", "profile_1d"),
+                                description="PSD convention of the file"),
+        "q_L": ParamSpec(**_WAVEVECTOR, default=None,
+                         description="truncate below (default: first table point)"),
+        "q_1": ParamSpec(**_WAVEVECTOR, default=None,
+                         description="truncate above (default: last table point)"),
+    }
+
+    def build(self) -> PowerSpectrum:
+        """Read, convert to SI and the Persson convention."""
+        from ..units import to_si
+
+        p = self._params
+        iso = p["convention"] != "profile_1d"
+        c_si = "m**4" if iso else "m**3"
+        q_factor = to_si(f"1 {p['q_unit']}", "1/m", "spectrum.q_unit")
+        c_factor = to_si(f"1 {p['C_unit']}", c_si, "spectrum.C_unit")
+        try:
+            return _TabulatedPSD.from_file(
+                p["file"], q_factor, c_factor, p["convention"], q_L=p["q_L"], q_1=p["q_1"]
+            )
+        except OSError as exc:
+            raise ValueError(f"file: cannot read {p['file']!r} ({exc.strerror})") from None

@@ -1,0 +1,192 @@
+"""Command-line interface: ``xpersson run | validate | info | reproduce | plugins``.
+
+Results go to files, messages to stderr. Heavy modules (xarray, scipy) are imported inside the
+sub-commands, so ``xpersson --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+__all__ = ["main"]
+
+
+def _err(msg: str) -> None:
+    print(msg, file=sys.stderr)
+
+
+def _parse_sets(items: Sequence[str]) -> dict[str, Any]:
+    from .scene import SceneError, parse_cli_value
+
+    out: dict[str, Any] = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip():
+            raise SceneError(f"--set expects section.key=value, got {item!r}")
+        out[key.strip()] = parse_cli_value(value.strip())
+    return out
+
+
+def _load(args: argparse.Namespace) -> Any:
+    from .scene import load_scene
+
+    scene = load_scene(args.scene)
+    sets = _parse_sets(args.set or [])
+    return scene.with_values(**sets) if sets else scene
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    out = Path(args.output)
+    if out.exists() and not args.overwrite:
+        _err(f"xpersson: {out} exists; add --overwrite to replace it")
+        return 2
+    scene = _load(args)
+    from . import _pipeline, io
+
+    ds = _pipeline.solve(scene)
+    command = "xpersson " + " ".join(sys.argv[1:]) if sys.argv[1:] else "xpersson run"
+    ds.attrs["history"] = f"{ds.attrs['history']} ({command})"
+    io.to_netcdf(ds, out, overwrite=args.overwrite)
+    _err(f"xpersson: wrote {out} (status: {ds.attrs['status']})")
+    if ds.attrs["status"] != "success":
+        _err(f"xpersson: {ds.attrs['status_message']}")
+        return 3
+    return 0
+
+
+def _cmd_validate(args: argparse.Namespace) -> int:
+    scene = _load(args)
+    rs = scene.resolve()
+    _err(
+        f"xpersson: {args.scene} is valid: {rs.p0.size} load(s), {rs.zeta.size} zeta points "
+        f"from 1 to {rs.zeta[-1]:g}, plugins {rs.plugin_names}"
+        + (f", analyses {[n for n, _ in rs.analyses]}" if rs.analyses else "")
+    )
+    if args.json:
+        print(json.dumps(rs.resolved, indent=1, sort_keys=True))
+    return 0
+
+
+def _cmd_info(args: argparse.Namespace) -> int:
+    from . import io
+
+    ds = io.open_dataset(args.archive)
+    print(f"{args.archive}: {ds.attrs.get('title', '')}")
+    print(f"  source: {ds.attrs.get('source')}, created {ds.attrs.get('date_created')}")
+    print(f"  status: {ds.attrs.get('status')} ({ds.attrs.get('status_message')})")
+    print("  dimensions: " + ", ".join(f"{k}={v}" for k, v in ds.sizes.items()))
+    for name, var in {**ds.coords, **ds.data_vars}.items():
+        dims = ",".join(var.dims)
+        print(f"  {name:28s} ({dims}) [{var.attrs.get('units', '?')}] "
+              f"{var.attrs.get('long_name', '')}")
+    plugins = json.loads(ds.attrs.get("xpersson_plugins", "[]"))
+    for p in plugins:
+        print(f"  plugin {p['group']}/{p['name']}: {p['distribution']} {p['version']}")
+    if "area_fraction" in ds:
+        a = ds["area_fraction"].isel(zeta=-1)
+        print(f"  A/A0 at zeta_max: {' '.join(f'{v:.6g}' for v in a.values.ravel()[:10])}")
+    return 0
+
+
+def _cmd_reproduce(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from . import _pipeline, io
+    from .scene import Scene
+
+    out = Path(args.output)
+    if out.exists() and not args.overwrite:
+        _err(f"xpersson: {out} exists; add --overwrite to replace it")
+        return 2
+    old = io.open_dataset(args.archive)
+    scene = Scene(json.loads(old.attrs["xpersson_scene"]), source=None)
+    ds = _pipeline.solve(scene)
+    io.to_netcdf(ds, out, overwrite=args.overwrite)
+    same = all(
+        name in ds and ds[name].shape == old[name].shape
+        and bool((abs(ds[name] - old[name]) <= 1e-12 + 1e-9 * abs(old[name])).all())
+        for name in ("area_fraction",)
+    )
+    _err(f"xpersson: wrote {out}; area_fraction {'matches' if same else 'DIFFERS FROM'} "
+         f"{args.archive}")
+    return 0 if same else 4
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argparse parser of the ``xpersson`` command."""
+    parser = argparse.ArgumentParser(
+        prog="xpersson",
+        description="Persson's multiscale contact theory: solve TOML scenes to netCDF archives.",
+    )
+    parser.add_argument("--version", action="store_true", help="print the version and exit")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    run = sub.add_parser("run", help="solve a scene and write a netCDF archive")
+    run.add_argument("scene", help="scene TOML file")
+    run.add_argument("-o", "--output", required=True, help="output .nc file")
+    run.add_argument("--set", action="append", metavar="KEY=VALUE",
+                     help="override a scene value, e.g. --set 'load.p0=\"1 MPa\"'")
+    run.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    run.set_defaults(func=_cmd_run)
+
+    val = sub.add_parser("validate", help="check a scene without solving it")
+    val.add_argument("scene", help="scene TOML file")
+    val.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a value")
+    val.add_argument("--json", action="store_true", help="print the resolved scene as JSON")
+    val.set_defaults(func=_cmd_validate)
+
+    info = sub.add_parser("info", help="summarise an archive")
+    info.add_argument("archive", help=".nc file written by xpersson run")
+    info.set_defaults(func=_cmd_info)
+
+    rep = sub.add_parser("reproduce", help="re-solve an archive from its own scene")
+    rep.add_argument("archive", help=".nc file written by xpersson run")
+    rep.add_argument("-o", "--output", required=True, help="output .nc file")
+    rep.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    rep.set_defaults(func=_cmd_reproduce)
+
+    try:
+        from . import cli_plugins
+    except ImportError:  # pragma: no cover - during development only
+        pass
+    else:
+        cli_plugins.register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``xpersson`` console script; returns the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.version:
+        from .provenance import version
+
+        print(version())
+        return 0
+    if not getattr(args, "func", None):
+        parser.print_help(sys.stderr)
+        return 1
+    from .scene import SceneError
+
+    try:
+        return int(args.func(args) or 0)
+    except (SceneError, FileExistsError, FileNotFoundError) as exc:
+        _err(f"xpersson: error: {exc}")
+        return 2
+    except Exception as exc:  # plugin errors etc.: one clear line, no traceback
+        from .plugins import PluginError
+
+        if isinstance(exc, PluginError | ValueError):
+            _err(f"xpersson: error: {exc}")
+            return 2
+        raise
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,37 @@
+"""Numerical diffusion engine: ``dP/dtau = d2P/dp2`` between walls (numpy in, numpy out).
+
+Public API
+----------
+solve(tau_out, p0, lower=Wall.absorbing(0.0), upper=None, *, rtol, atol, method, p_out, ...)
+Wall.absorbing(position), Wall.linear(p_start, velocity), Wall.yield_closure(position, dposition)
+EngineResult, EngineMethod, register_method, exact (closed forms)
+
+Units: pressures in Pa, diffusion time tau in Pa^2, densities in 1/Pa.
+"""
+
+from __future__ import annotations
+
+from . import exact
+from ._api import solve
+from ._exactpath import ExactMethod
+from ._methods import EngineMethod, register_method
+from ._moving import CNMethod
+from ._result import EngineResult
+from ._sine import SineMethod
+from ._walls import Wall
+
+register_method("exact", ExactMethod)
+register_method("sine", SineMethod)
+register_method("cn", CNMethod)
+
+__all__ = [
+    "solve",
+    "Wall",
+    "EngineResult",
+    "EngineMethod",
+    "register_method",
+    "exact",
+    "ExactMethod",
+    "SineMethod",
+    "CNMethod",
+]

@@ -1,0 +1,94 @@
+"""The exact path: closed forms of :mod:`xpersson.engine.exact` behind the method interface."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import exact
+from ._methods import EngineMethod
+from ._problem import Problem
+from ._result import Raw
+
+__all__ = ["ExactMethod"]
+
+_EPS = np.finfo(float).eps
+
+
+def _case(problem: Problem) -> str | None:
+    lo, up = problem.lower, problem.upper
+    if lo.kind != "absorbing" and not lo.is_fixed:
+        return None
+    if up is None:
+        if lo.is_fixed:
+            return "one"
+        if lo.linear_motion(problem.tau_max) is not None:
+            return "linear"
+        return None
+    if lo.is_fixed and up.is_fixed:  # fixed yield walls are absorbing walls
+        return "two"
+    return None
+
+
+class ExactMethod(EngineMethod):
+    """Closed forms: one fixed wall, two fixed walls, a linearly moving lower wall."""
+
+    name = "exact"
+
+    @classmethod
+    def admits(cls, problem: Problem) -> bool:
+        return _case(problem) is not None
+
+    def run(self) -> Raw:
+        pb = self.problem
+        case = _case(pb)
+        if case is None:
+            raise ValueError("method='exact': these walls have no closed form (use 'cn')")
+        tau, p0 = pb.tau, pb.p0
+        want_p = pb.p_out is not None
+        P = None
+        zeros = np.zeros_like(tau)
+        if case == "one":
+            a = float(pb.lower.position)
+            area = exact.one_wall_area(tau, p0, a)
+            non = exact.one_wall_non_area(tau, p0, a)
+            ab_l, ab_u = non, zeros
+            load = exact.one_wall_load(tau, p0, a)
+            wall_term = a * ab_l
+            err = 8 * _EPS * np.maximum(area, 1e-300)
+            if want_p:
+                P = exact.one_wall_density(pb.p_out[None, :], tau[:, None], p0, a)
+        elif case == "two":
+            a, b = float(pb.lower.position), float(pb.upper.position)
+            area = exact.two_wall_area(tau, p0, a, b)
+            ab_l, ab_u = exact.two_wall_absorbed(tau, p0, a, b)
+            non = ab_l + ab_u
+            load = exact.two_wall_load(tau, p0, a, b)
+            wall_term = a * ab_l + b * ab_u
+            err = 64 * _EPS * np.maximum(area, 1e-300) + 1e-16 * (tau > 0)
+            if want_p:
+                P = exact.two_wall_density(pb.p_out[None, :], tau[:, None], p0, a, b)
+        else:
+            p_start, vel = pb.lower.linear_motion(pb.tau_max)
+            s0, c = -p_start, -vel
+            area = exact.linear_wall_area(tau, p0, s0, c)
+            non = exact.linear_wall_non_area(tau, p0, s0, c)
+            ab_l, ab_u = non, zeros
+            load = exact.linear_wall_load(tau, p0, s0, c)
+            wall_term = exact.linear_wall_absorbed_moment(tau, p0, s0, c)
+            # cancellation of the two Phi terms when the wall runs into the mass (c < 0)
+            amp = 1.0 + np.abs(c) * tau / (p0 + s0)
+            err = 16 * _EPS * amp * np.maximum(area, 1e-300)
+            if want_p:
+                P = exact.linear_wall_density(pb.p_out[None, :], tau[:, None], p0, s0, c)
+        return Raw(
+            area=area,
+            non_area=non,
+            absorbed_lower=ab_l,
+            absorbed_upper=ab_u,
+            load=load,
+            wall_term=wall_term,
+            error_estimate=err,
+            P=P,
+            message=f"closed form ({case} wall case)",
+            nfev=int(tau.size),
+        )

@@ -1,0 +1,143 @@
+"""Input validation: a :class:`Problem` holds checked SI floats and numpy arrays only."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.special import erfcinv
+
+from ._walls import Wall
+
+__all__ = ["Problem", "make_problem", "window_k"]
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A validated engine request (see :func:`xpersson.engine.solve` for the meaning)."""
+
+    tau: Array  # output diffusion times [Pa^2], increasing, >= 0
+    p0: float  # delta position [Pa]
+    lower: Wall
+    upper: Wall | None
+    rtol: float
+    atol: float
+    p_out: Array | None  # pressures [Pa] where P is wanted
+    max_steps: int
+    options: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def tau_max(self) -> float:
+        return float(self.tau[-1])
+
+    def tolerance(self, area: ArrayLike) -> Array:
+        """Allowed absolute error of the area, ``rtol |area| + atol``."""
+        return self.rtol * np.abs(np.asarray(area, dtype=float)) + self.atol
+
+    def wall_positions(self, tau: ArrayLike) -> tuple[Array, Array]:
+        """(lower, upper) positions [Pa] at ``tau``; upper is +inf without an upper wall."""
+        lo = self.lower.at(tau)
+        up = self.upper.at(tau) if self.upper is not None else np.full(lo.shape, np.inf)
+        return lo, up
+
+
+def window_k(atol: float) -> float:
+    """Half-width of the truncation window in units of ``sqrt(2 tau)``.
+
+    Chosen so that the probability that a free path leaves the window, ``erfc(k/sqrt 2)``, is
+    below ``atol / 100``.
+    """
+    return float(np.clip(math.sqrt(2.0) * erfcinv(max(1e-300, 0.01 * atol)), 5.0, 40.0))
+
+
+def _fail(name: str, unit: str, allowed: str, got: object) -> ValueError:
+    return ValueError(f"{name} [{unit}] must be {allowed}; got {got!r}")
+
+
+def _check_wall(name: str, wall: object) -> None:
+    if not isinstance(wall, Wall):
+        raise ValueError(
+            f"{name} must be a Wall (Wall.absorbing(p [Pa]), Wall.yield_closure(Y [Pa], dY/dtau "
+            f"[1/Pa]))" + (" or None" if name == "upper" else "") + f"; got {wall!r}"
+        )
+
+
+def make_problem(
+    tau_out: ArrayLike,
+    p0: float,
+    lower: Wall,
+    upper: Wall | None,
+    rtol: float,
+    atol: float | None,
+    p_out: ArrayLike | None,
+    max_steps: int,
+    options: dict[str, Any] | None,
+) -> Problem:
+    """Check every input before any work; raise ValueError naming parameter, unit and range."""
+    try:
+        tau = np.atleast_1d(np.asarray(tau_out, dtype=float))
+    except (TypeError, ValueError):
+        raise _fail("tau_out", "Pa^2", "a 1-D array of finite floats", tau_out) from None
+    if tau.ndim != 1 or tau.size == 0:
+        raise _fail("tau_out", "Pa^2", "a non-empty 1-D array", tau_out)
+    if not np.all(np.isfinite(tau)):
+        raise _fail("tau_out", "Pa^2", "finite (no NaN/inf)", tau_out)
+    if np.any(tau < 0):
+        raise _fail("tau_out", "Pa^2", ">= 0", float(tau.min()))
+    if np.any(np.diff(tau) <= 0):
+        raise _fail("tau_out", "Pa^2", "strictly increasing", tau_out)
+    try:
+        p0 = float(p0)
+    except (TypeError, ValueError):
+        raise _fail("p0", "Pa", "a finite float", p0) from None
+    if not math.isfinite(p0):
+        raise _fail("p0", "Pa", "finite", p0)
+    try:
+        rtol = float(rtol)
+    except (TypeError, ValueError):
+        raise _fail("rtol", "1", "a float in (0, 0.1)", rtol) from None
+    if not (0.0 < rtol < 0.1):
+        raise _fail("rtol", "1 (relative error of A/A0)", "in the open interval (0, 0.1)", rtol)
+    if atol is None:
+        atol = 1e-7 * rtol
+    else:
+        atol = float(atol)
+        if not (math.isfinite(atol) and 0.0 < atol < 0.1):
+            raise _fail("atol", "1 (absolute error of A/A0)", "in the open interval (0, 0.1)", atol)
+    if int(max_steps) < 1:
+        raise _fail("max_steps", "1", ">= 1", max_steps)
+    _check_wall("lower", lower)
+    if upper is not None:
+        _check_wall("upper", upper)
+    if lower.kind == "yield_closure" and not lower.is_fixed:
+        raise ValueError("lower: a moving yield_closure wall is only supported as the upper wall")
+    # wall positions: finite, ordered, p0 strictly inside at tau = 0
+    t_check = np.concatenate([[0.0], tau, np.linspace(0.0, tau[-1], 65)])
+    lo = lower.at(t_check)
+    if not np.all(np.isfinite(lo)):
+        raise _fail("lower", "Pa", "finite at every tau in [0, tau_out[-1]]", "non-finite position")
+    if not lo[0] < p0:
+        raise _fail("p0", "Pa", f"strictly above the lower wall (> {lo[0]:.6g} Pa)", p0)
+    if upper is not None:
+        up = upper.at(t_check)
+        if not np.all(np.isfinite(up)):
+            raise _fail("upper", "Pa", "finite at every tau in [0, tau_out[-1]]", "non-finite")
+        if not p0 < up[0]:
+            raise _fail("p0", "Pa", f"strictly below the upper wall (< {up[0]:.6g} Pa)", p0)
+        if np.any(up <= lo):
+            raise _fail("upper", "Pa", "above the lower wall at every tau", "walls cross")
+        if upper.kind == "yield_closure" and not upper.is_fixed:
+            sp = upper.speed(t_check)
+            if not np.all(np.isfinite(sp)) or np.any(sp < 0):
+                raise _fail("dposition", "1/Pa", "finite and >= 0 (a rising yield wall)", "dY<0")
+    p_arr = None
+    if p_out is not None:
+        p_arr = np.atleast_1d(np.asarray(p_out, dtype=float))
+        if p_arr.ndim != 1 or not np.all(np.isfinite(p_arr)):
+            raise _fail("p_out", "Pa", "a 1-D array of finite pressures", p_out)
+    return Problem(tau, p0, lower, upper, rtol, atol, p_arr, int(max_steps), dict(options or {}))

@@ -1,0 +1,150 @@
+"""Wall descriptions for the diffusion engine (positions in Pa, diffusion time tau in Pa^2)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+PositionLike = float | Callable[[NDArray[np.float64]], ArrayLike]
+
+__all__ = ["Wall"]
+
+
+@dataclass(frozen=True)
+class Wall:
+    """A boundary of the diffusion domain.
+
+    Build walls with the class methods :meth:`absorbing`, :meth:`linear` and
+    :meth:`yield_closure`; pass ``None`` instead of a wall for an open upper side.
+
+    Attributes
+    ----------
+    kind : {"absorbing", "yield_closure"}
+        Boundary condition.
+    position : float or callable
+        Wall position [Pa]; a callable maps diffusion time tau [Pa^2] (numpy array) to positions.
+    dposition : callable or None
+        ``dY/dtau`` [1/Pa] for the yield closure wall.
+    linear : tuple of float or None
+        ``(p_start, velocity)`` [Pa, 1/Pa] when the motion is known to be
+        ``p = p_start + velocity * tau`` (enables the exact path of physics.md §2.2).
+    """
+
+    kind: Literal["absorbing", "yield_closure"]
+    position: PositionLike
+    dposition: Callable[[NDArray[np.float64]], ArrayLike] | None = None
+    linear: tuple[float, float] | None = None
+
+    # -- constructors ------------------------------------------------------------------------
+    @classmethod
+    def absorbing(cls, position: PositionLike) -> Wall:
+        """Absorbing wall: ``P = 0`` at the wall, the mass reaching it is absorbed (counted).
+
+        Parameters
+        ----------
+        position : float or callable
+            Fixed position [Pa], or a vectorised callable ``tau [Pa^2] -> p [Pa]`` (prescribed
+            motion).
+        """
+        if not callable(position):
+            position = float(position)
+        return cls("absorbing", position)
+
+    @classmethod
+    def linear(cls, p_start: float, velocity: float) -> Wall:
+        """Absorbing wall moving as ``p_w(tau) = p_start + velocity * tau``.
+
+        Parameters
+        ----------
+        p_start : float
+            Position at tau = 0 [Pa].
+        velocity : float
+            ``dp_w/dtau`` [1/Pa].  A lower wall ``-(s0 + c tau)`` is ``linear(-s0, -c)``.
+        """
+        p_start, velocity = float(p_start), float(velocity)
+        if velocity == 0.0:
+            return cls("absorbing", p_start)
+
+        def pos(tau: NDArray[np.float64]) -> NDArray[np.float64]:
+            return p_start + velocity * np.asarray(tau, dtype=float)
+
+        return cls("absorbing", pos, None, (p_start, velocity))
+
+    @classmethod
+    def yield_closure(
+        cls,
+        position: PositionLike,
+        dposition: Callable[[NDArray[np.float64]], ArrayLike] | None = None,
+    ) -> Wall:
+        """Moving yield wall (Lambert 2025), upper walls only.
+
+        ``P(Y, tau) = A_pl(tau) dY/dtau`` and ``dA_pl/dtau = -dY/dtau P(Y) - dP/dp(Y)``
+        (physics.md §3.2 in diffusion time).  For ``dY/dtau -> 0`` this is the absorbing wall
+        ``P(Y) = 0`` with ``A_pl`` the probability absorbed there.
+
+        Parameters
+        ----------
+        position : float or callable
+            ``Y(tau)`` [Pa], non-decreasing.
+        dposition : callable, optional
+            ``dY/dtau`` [1/Pa] (>= 0), vectorised.  Required when ``position`` is a callable.
+        """
+        if not callable(position):
+            return cls("yield_closure", float(position), None)
+        if dposition is None:
+            raise ValueError(
+                "dposition: a moving yield wall needs dY/dtau [1/Pa] (>= 0) as a callable"
+            )
+        return cls("yield_closure", position, dposition)
+
+    # -- evaluation --------------------------------------------------------------------------
+    @property
+    def is_fixed(self) -> bool:
+        """True when the position is a constant."""
+        return not callable(self.position)
+
+    def at(self, tau: ArrayLike) -> NDArray[np.float64]:
+        """Positions [Pa] at diffusion times ``tau`` [Pa^2] (same shape as ``tau``)."""
+        t = np.asarray(tau, dtype=float)
+        if self.is_fixed:
+            return np.full(t.shape, float(self.position))
+        out = np.asarray(self.position(t), dtype=float)
+        return np.broadcast_to(out, t.shape).astype(float, copy=True)
+
+    def speed(self, tau: ArrayLike) -> NDArray[np.float64]:
+        """``dY/dtau`` [1/Pa] of a yield closure wall (0 for fixed walls)."""
+        t = np.asarray(tau, dtype=float)
+        if self.is_fixed or self.dposition is None:
+            return np.zeros(t.shape)
+        out = np.asarray(self.dposition(t), dtype=float)
+        return np.broadcast_to(out, t.shape).astype(float, copy=True)
+
+    @property
+    def acts_absorbing(self) -> bool:
+        """True when the wall is ``P = 0`` at all times (absorbing, or a fixed yield wall)."""
+        return self.kind == "absorbing" or self.is_fixed
+
+    def linear_motion(self, tau_max: float) -> tuple[float, float] | None:
+        """``(p_start, velocity)`` if the wall is absorbing and moves linearly, else None.
+
+        Walls built with :meth:`linear` declare it; other callables are probed at 257 times on
+        ``[0, tau_max]`` and accepted only if affine to 1e-13 relative.
+        """
+        if self.kind != "absorbing" or self.is_fixed:
+            return None
+        if self.linear is not None:
+            return self.linear
+        t = np.concatenate([np.linspace(0.0, tau_max, 129), tau_max * np.logspace(-12, 0, 128)])
+        y = self.at(t)
+        if not np.all(np.isfinite(y)) or tau_max <= 0:
+            return None
+        v = (y[128] - y[0]) / tau_max
+        resid = y - (y[0] + v * t)
+        scale = max(np.max(np.abs(y)), abs(v) * tau_max, 1e-300)
+        if np.max(np.abs(resid)) <= 1e-13 * scale:
+            return float(y[0]), float(v)
+        return None

@@ -1,0 +1,64 @@
+"""Plugin contracts (base classes, specs), the scene context, the registry and the planner.
+
+Importing this package does not import numpy: :class:`SceneContext` and
+:class:`DiffusionClock` are loaded on first access.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from ._analyses import PlanError, plan_analyses
+from ._base import API_VERSION, GROUPS, Analysis, Boundary, Coefficient, Plugin, Spectrum
+from ._registry import (
+    PluginError,
+    PluginInfo,
+    Registry,
+    get_registry,
+    plugin_provenance,
+    set_registry,
+    using_registry,
+)
+from ._specs import REQUIRED, ParamSpec, SpecError, VarSpec
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ._context import DiffusionClock, SceneContext
+
+__all__ = [
+    "API_VERSION",
+    "GROUPS",
+    "REQUIRED",
+    "Analysis",
+    "Boundary",
+    "Coefficient",
+    "DiffusionClock",
+    "ParamSpec",
+    "PlanError",
+    "Plugin",
+    "PluginError",
+    "PluginInfo",
+    "Registry",
+    "SceneContext",
+    "SpecError",
+    "Spectrum",
+    "VarSpec",
+    "get_registry",
+    "plan_analyses",
+    "plugin_provenance",
+    "set_registry",
+    "using_registry",
+]
+
+_LAZY = {"SceneContext", "DiffusionClock"}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        from . import _context
+
+        return getattr(_context, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | _LAZY)

@@ -1,0 +1,113 @@
+"""The frozen, SI-only view of a resolved scene that plugins compute with."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = ["SceneContext", "DiffusionClock"]
+
+
+@dataclass(frozen=True)
+class SceneContext:
+    """Everything a plugin may read: SI floats and numpy arrays, no pint, no xarray.
+
+    Attributes
+    ----------
+    psd : object
+        The numerical power spectrum (``C(q)`` in m^4, Persson convention; ``q_L``, ``q_1`` in
+        1/m).
+    E : float
+        Young's modulus of the elastic solid [Pa].
+    nu : float
+        Poisson ratio [1].
+    E_star : float
+        Contact modulus E / (1 - nu^2) [Pa].
+    p0 : numpy.ndarray
+        Nominal pressures, shape ``(n_load,)`` [Pa].
+    zeta : numpy.ndarray
+        Output magnifications, increasing, ``zeta[0] == 1`` [1].
+    p : numpy.ndarray or None
+        Pressure grid where the PDF is wanted [Pa]; ``None`` when the scene does not ask for P.
+    rtol, atol : float
+        Requested accuracy of the contact area (relative, absolute).
+    method : str or type
+        Engine method (``"auto"`` picks exact paths where they exist).
+    options : Mapping
+        Free-form solver options.
+    """
+
+    psd: Any
+    E: float
+    nu: float
+    E_star: float
+    p0: np.ndarray
+    zeta: np.ndarray
+    p: np.ndarray | None = None
+    rtol: float = 1e-6
+    atol: float = 1e-12
+    method: Any = "auto"
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def q_L(self) -> float:
+        """Lower cut-off wavevector [1/m]."""
+        return float(self.psd.q_L)
+
+    @property
+    def zeta_max(self) -> float:
+        """Largest output magnification [1]."""
+        return float(self.zeta[-1])
+
+    @property
+    def q(self) -> np.ndarray:
+        """Wavevectors of the output magnifications [1/m]."""
+        return self.zeta * self.q_L
+
+
+@dataclass(frozen=True)
+class DiffusionClock:
+    """Maps between magnification zeta and diffusion time tau.
+
+    Attributes
+    ----------
+    tau_fn : Callable
+        tau(zeta) = int_1^zeta f dzeta [Pa^2], increasing.
+    f : Callable
+        f(zeta) [Pa^2].
+    zeta_max : float
+        Largest magnification of interest [1].
+    """
+
+    tau_fn: Callable[[np.ndarray], np.ndarray]
+    f: Callable[[np.ndarray], np.ndarray]
+    zeta_max: float
+    _table: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        n = max(64, int(40 * np.log10(max(self.zeta_max, 10.0))))
+        z = np.geomspace(1.0, max(self.zeta_max, 1.0 + 1e-12), n)
+        object.__setattr__(self, "_table", (z, np.asarray(self.tau_fn(z), dtype=float)))
+
+    def tau_of_zeta(self, zeta: np.ndarray | float) -> np.ndarray:
+        """Diffusion time [Pa^2] at magnification ``zeta`` [1]."""
+        return np.asarray(self.tau_fn(np.asarray(zeta, dtype=float)), dtype=float)
+
+    def zeta_of_tau(self, tau: np.ndarray | float) -> np.ndarray:
+        """Magnification [1] reached at diffusion time ``tau`` [Pa^2] (monotone inverse).
+
+        Interpolated in the tabulated (tau, log zeta) relation, then polished by Newton steps
+        on tau(zeta) - tau = 0 with derivative f(zeta); relative accuracy ~1e-12.
+        """
+        t = np.asarray(tau, dtype=float)
+        zt, tt = self._table
+        z = np.exp(np.interp(t, tt, np.log(zt)))
+        inside = (t > tt[0]) & (t < tt[-1])
+        for _ in range(4):
+            fz = np.asarray(self.f(z), dtype=float)
+            step = np.where(inside & (fz > 0), (self.tau_of_zeta(z) - t) / np.where(fz > 0, fz, 1), 0)
+            z = np.clip(z - step, 1.0, None)
+        return z

@@ -1,0 +1,233 @@
+"""Declarative metadata of plugin parameters (:class:`ParamSpec`) and outputs (:class:`VarSpec`).
+
+Specs are plain frozen dataclasses: cheap to import (no pint, no numpy) and checked when a plugin
+class is defined, so a malformed declaration fails at import time with a message naming the
+plugin and the parameter.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = ["REQUIRED", "ParamSpec", "VarSpec", "SpecError"]
+
+_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+KINDS = ("quantity", "choice", "string", "bool", "int", "path")
+
+
+class SpecError(TypeError):
+    """A plugin declares malformed metadata (raised when the class is defined)."""
+
+
+class _Required:
+    def __repr__(self) -> str:
+        return "REQUIRED"
+
+    def __reduce__(self) -> str:
+        return "REQUIRED"
+
+
+REQUIRED: Any = _Required()
+"""Sentinel default: the parameter must be given in the scene."""
+
+
+@dataclass(frozen=True)
+class ParamSpec:
+    """Declaration of one plugin parameter.
+
+    Parameters
+    ----------
+    unit : str
+        SI unit in pint syntax (``"Pa"``, ``"1/m"``, ``"J/m**2"``); ``"1"`` for dimensionless.
+        Scene values are converted to this unit; the engine only sees SI floats.
+    default : object
+        Default in ``unit`` (a float for quantities) or :data:`REQUIRED`.
+    bounds : tuple of (float or None)
+        Allowed range ``(low, high)`` in ``unit``; ``None`` for unbounded.
+    inclusive : tuple of bool
+        Whether ``low``/``high`` themselves are allowed.
+    description : str
+        One line shown by ``xpersson plugins show``.
+    sweepable : bool
+        Whether a scene may give a list of values (a sweep dimension).
+    kind : str
+        ``"quantity"`` (default), ``"choice"``, ``"string"``, ``"bool"``, ``"int"`` or ``"path"``.
+    choices : tuple of str
+        Allowed values for ``kind="choice"``.
+    array : bool
+        Whether the parameter is a 1-D array of quantities (e.g. a table column).
+    example : object, optional
+        A typical value in ``unit`` (SI float for quantities), used by
+        :func:`xpersson.testing.check_plugin` and the documentation when ``default`` is
+        :data:`REQUIRED`.
+    """
+
+    unit: str = "1"
+    default: Any = REQUIRED
+    bounds: tuple[float | None, float | None] = (None, None)
+    inclusive: tuple[bool, bool] = (True, True)
+    description: str = ""
+    sweepable: bool = False
+    kind: str = "quantity"
+    choices: tuple[str, ...] = ()
+    array: bool = False
+    example: Any = None
+
+    @property
+    def required(self) -> bool:
+        """Whether the scene must give this parameter (no default)."""
+        return self.default is REQUIRED
+
+    @property
+    def sample(self) -> Any:
+        """A usable value: the default, else the example (``REQUIRED`` if neither)."""
+        if not self.required:
+            return self.default
+        return REQUIRED if self.example is None else self.example
+
+    def range_text(self) -> str:
+        """Human-readable allowed range, e.g. ``"0 < H <= 1"``-style ``"(0, 1]"`` with unit."""
+        if self.kind == "choice":
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        if self.kind in ("string", "path"):
+            return "a string"
+        if self.kind == "bool":
+            return "true or false"
+        lo, hi = self.bounds
+        left = ("[" if self.inclusive[0] else "(") + ("-inf" if lo is None else f"{lo:g}")
+        right = ("inf" if hi is None else f"{hi:g}") + ("]" if self.inclusive[1] else ")")
+        unit = "" if self.unit in ("1", "") else f" {self.unit}"
+        return f"{left}, {right}{unit}"
+
+    def in_bounds(self, value: float) -> bool:
+        """Whether a value (in ``unit``) lies in the declared range (NaN never does)."""
+        if isinstance(value, float) and math.isnan(value):
+            return False
+        lo, hi = self.bounds
+        if lo is not None and (value < lo or (value == lo and not self.inclusive[0])):
+            return False
+        if hi is not None and (value > hi or (value == hi and not self.inclusive[1])):
+            return False
+        return True
+
+    def check(self, owner: str, name: str) -> None:
+        """Raise :class:`SpecError` if this declaration is malformed."""
+        where = f"{owner}.parameters[{name!r}]"
+        if not _NAME.match(name):
+            raise SpecError(f"{where}: parameter names must match {_NAME.pattern}")
+        if self.kind not in KINDS:
+            raise SpecError(f"{where}: kind must be one of {KINDS}, got {self.kind!r}")
+        if not isinstance(self.unit, str) or not self.unit.strip():
+            raise SpecError(f"{where}: unit must be a non-empty pint unit string ('1' if none)")
+        if not isinstance(self.description, str):
+            raise SpecError(f"{where}: description must be a string")
+        for flag in ("sweepable", "array"):
+            if not isinstance(getattr(self, flag), bool):
+                raise SpecError(f"{where}: {flag} must be True or False")
+        if isinstance(self.choices, str):
+            raise SpecError(f"{where}: choices must be a tuple of str, not one string")
+        if self.kind == "bool" and not self.required and not isinstance(self.default, bool):
+            raise SpecError(f"{where}: kind='bool' needs a bool default, got {self.default!r}")
+        if (
+            self.kind in ("string", "path")
+            and not self.required
+            and self.default is not None
+            and not isinstance(self.default, str)
+        ):
+            raise SpecError(f"{where}: kind={self.kind!r} needs a str default")
+        if self.kind == "choice":
+            if not self.choices or not all(isinstance(c, str) for c in self.choices):
+                raise SpecError(f"{where}: kind='choice' needs a non-empty tuple of str choices")
+            if not self.required and self.default not in self.choices:
+                raise SpecError(f"{where}: default {self.default!r} is not among the choices")
+            return
+        if (
+            not isinstance(self.bounds, tuple | list)
+            or not isinstance(self.inclusive, tuple | list)
+            or len(self.bounds) != 2
+            or len(self.inclusive) != 2
+        ):
+            raise SpecError(f"{where}: bounds and inclusive must be pairs")
+        lo, hi = self.bounds
+        for b in (lo, hi):
+            if b is not None and (
+                not isinstance(b, int | float) or isinstance(b, bool) or math.isnan(b)
+            ):
+                raise SpecError(f"{where}: bounds must be numbers or None, got {b!r}")
+        if lo is not None and hi is not None and lo > hi:
+            raise SpecError(f"{where}: lower bound {lo} exceeds upper bound {hi}")
+        if (
+            self.kind in ("quantity", "int")
+            and not self.required
+            and self.default is not None
+            and not self.array
+        ):
+            if not isinstance(self.default, int | float) or isinstance(self.default, bool):
+                raise SpecError(f"{where}: default must be a number in {self.unit!r}")
+            if not self.in_bounds(float(self.default)):
+                raise SpecError(
+                    f"{where}: default {self.default} lies outside the declared range "
+                    f"{self.range_text()}"
+                )
+        if (
+            self.kind in ("quantity", "int")
+            and self.example is not None
+            and not self.array
+            and isinstance(self.example, int | float)
+            and not self.in_bounds(float(self.example))
+        ):
+            raise SpecError(
+                f"{where}: example {self.example} lies outside the declared range "
+                f"{self.range_text()}"
+            )
+
+
+@dataclass(frozen=True)
+class VarSpec:
+    """Declaration of one output variable (CF metadata).
+
+    Parameters
+    ----------
+    dims : tuple of str
+        Dimension names, e.g. ``("p0", "zeta")``. ``"p0"`` is the load dimension.
+    units : str
+        UDUNITS-parsable unit string; ``"1"`` for dimensionless.
+    long_name : str
+        CF ``long_name``.
+    standard_name : str, optional
+        CF ``standard_name`` when one exists.
+    description : str
+        Longer text stored as the ``comment`` attribute.
+    """
+
+    dims: tuple[str, ...]
+    units: str
+    long_name: str
+    standard_name: str | None = None
+    description: str = ""
+    extra: dict[str, str] = field(default_factory=dict)
+
+    def check(self, owner: str, name: str) -> None:
+        """Raise :class:`SpecError` if this declaration is malformed."""
+        where = f"{owner}.outputs[{name!r}]"
+        if not _NAME.match(name):
+            raise SpecError(f"{where}: variable names must match {_NAME.pattern}")
+        if not isinstance(self.dims, tuple) or not all(isinstance(d, str) for d in self.dims):
+            raise SpecError(f"{where}: dims must be a tuple of str")
+        if not isinstance(self.units, str) or not self.units:
+            raise SpecError(f"{where}: units must be a UDUNITS string ('1' if dimensionless)")
+        if not isinstance(self.long_name, str) or not self.long_name:
+            raise SpecError(f"{where}: long_name must be a non-empty string")
+
+    def attrs(self) -> dict[str, str]:
+        """CF attributes for a variable with this spec."""
+        out = {"units": self.units, "long_name": self.long_name}
+        if self.standard_name:
+            out["standard_name"] = self.standard_name
+        if self.description:
+            out["comment"] = self.description
+        out.update(self.extra)
+        return out

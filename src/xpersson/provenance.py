@@ -1,0 +1,90 @@
+"""Global attributes: CF/ACDD metadata and JSON provenance (scene, plugins, environment)."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import platform
+import sys
+from importlib import metadata
+from typing import TYPE_CHECKING, Any
+
+from .schema import CONVENTIONS
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .plugins._registry import Registry
+    from .scene import ResolvedScene
+
+__all__ = ["global_attributes", "plugins_used", "environment", "version"]
+
+
+def version() -> str:
+    """Installed version of xpersson."""
+    try:
+        return metadata.version("xpersson")
+    except metadata.PackageNotFoundError:  # running from a source tree
+        return "0+unknown"
+
+
+def environment() -> dict[str, str]:
+    """Python, platform and the versions of the numerical stack."""
+    env = {"python": sys.version.split()[0], "platform": platform.platform()}
+    for pkg in ("numpy", "scipy", "xarray", "netCDF4", "pint"):
+        try:
+            env[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            env[pkg] = "not installed"
+    return env
+
+
+def plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
+    """Group, name, distribution, version, class and references of every plugin of a run."""
+    items = [
+        ("spectra", rs.plugin_names.get("spectrum"), rs.spectrum),
+        ("coefficients", rs.plugin_names.get("coefficient"), rs.coefficient),
+        ("boundaries", rs.plugin_names.get("boundary"), rs.boundary),
+        *[("analyses", name, inst) for name, inst in rs.analyses],
+    ]
+    out = []
+    for group, name, inst in items:
+        cls = type(inst)
+        reg_name, info = reg.name_of(group, cls)
+        out.append(
+            {
+                "group": group,
+                "name": name or reg_name,
+                "distribution": info.dist if info else "<direct>",
+                "version": info.version if info else "",
+                "class": f"{cls.__module__}:{cls.__qualname__}",
+                "api_version": cls.api_version,
+                "references": list(cls.references),
+            }
+        )
+    return out
+
+
+def global_attributes(rs: ResolvedScene, reg: Registry) -> dict[str, str]:
+    """CF-1.12 / ACDD-1.3 global attributes and the JSON provenance of a run."""
+    now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
+    used = plugins_used(rs, reg)
+    refs = sorted({r for p in used for r in p["references"]})
+    title = rs.resolved.get("title") or "Persson contact-mechanics solution"
+    return {
+        "Conventions": CONVENTIONS,
+        "title": title,
+        "summary": rs.resolved.get(
+            "description",
+            "Pressure distribution and contact area of a rough interface by Persson's "
+            "multiscale contact theory (diffusion equation in magnification).",
+        ),
+        "source": f"xpersson {version()}",
+        "history": f"{now} xpersson {version()} solve",
+        "date_created": now,
+        "references": "; ".join(f"doi:{r}" if r.startswith("10.") else r for r in refs),
+        "keywords": "contact mechanics, roughness, Persson theory, contact area",
+        "xpersson_version": version(),
+        "xpersson_scene": json.dumps(rs.resolved, sort_keys=True),
+        "xpersson_scene_source": rs.scene.source or "<dict>",
+        "xpersson_plugins": json.dumps(used, sort_keys=True),
+        "xpersson_environment": json.dumps(environment(), sort_keys=True),
+    }

@@ -1,0 +1,455 @@
+"""Scenes: parse, validate and resolve a TOML file or dict into plugins and SI arrays.
+
+Everything is checked before any work starts: dimensionality and ranges of every quantity,
+unknown keys (named in the error), plugin names, and the spectrum's own consistency
+(``q_L < q_r <= q_1``). Errors are :class:`SceneError` and name the parameter as
+``section.key``, its unit and the allowed range.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .plugins import ParamSpec, Plugin, get_registry
+from .plugins._registry import PluginError, Registry
+from .units import UnitError, to_si
+
+__all__ = ["Scene", "SceneError", "ResolvedScene", "load_scene", "set_value"]
+
+
+class SceneError(ValueError):
+    """A scene is malformed; the message names the offending parameter."""
+
+
+# -- the core sections and their parameters ---------------------------------------------------
+CORE: dict[str, dict[str, ParamSpec]] = {
+    "material": {
+        "E": ParamSpec("Pa", bounds=(0, None), inclusive=(False, True),
+                       description="Young's modulus of the elastic solid"),
+        "nu": ParamSpec("1", bounds=(-1, 0.5), inclusive=(False, True),
+                        description="Poisson ratio"),
+    },
+    "load": {
+        "p0": ParamSpec("Pa", bounds=(0, None), inclusive=(False, True), sweepable=True,
+                        description="nominal (applied) pressure; scalar, list or {start, stop, num}"),
+    },
+    "output": {
+        "zeta_per_decade": ParamSpec("1", default=10, bounds=(1, 1000), kind="int",
+                                     description="log-spaced output magnifications per decade"),
+        "zeta": ParamSpec("1", default=None, bounds=(1, None), array=True,
+                          description="explicit output magnifications (>= 1)"),
+        "zeta_max": ParamSpec("1", default=None, bounds=(1, None),
+                              description="largest magnification (default q_1/q_L)"),
+        "pressure_pdf": ParamSpec("1", default=False, kind="bool",
+                                  description="store the pressure PDF P(zeta, p)"),
+        "p_points": ParamSpec("1", default=256, bounds=(8, 100000), kind="int",
+                              description="points of the default pressure grid"),
+        "p_max": ParamSpec("Pa", default=None, bounds=(0, None), inclusive=(False, True),
+                           description="upper end of the pressure grid"),
+        "p": ParamSpec("Pa", default=None, array=True,
+                       description="explicit pressure grid (increasing)"),
+    },
+    "solver": {
+        "method": ParamSpec("1", default="auto", kind="string",
+                            description="engine method (auto: exact path where one exists)"),
+        "rtol": ParamSpec("1", default=1e-6, bounds=(1e-12, 0.1), inclusive=(True, False),
+                          description="relative tolerance on the contact area"),
+        "atol": ParamSpec("1", default=1e-12, bounds=(0, 0.1),
+                          description="absolute tolerance on the contact area"),
+    },
+}
+PLUGIN_SECTIONS = {"spectrum": "spectra", "coefficient": "coefficients", "boundary": "boundaries"}
+DEFAULT_MODEL = {"coefficient": "elastic", "boundary": "elastic"}
+TOP_LEVEL = {"title", "description", "analyses", *CORE, *PLUGIN_SECTIONS}
+
+
+@dataclass
+class Scene:
+    """A scene as written by the user (a nested dict), plus where it came from.
+
+    Use :func:`load_scene` for files, ``Scene(dict)`` for dicts; :meth:`resolve` checks
+    everything and returns a :class:`ResolvedScene`.
+    """
+
+    data: dict[str, Any]
+    source: str | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.data, Mapping):
+            raise SceneError(f"a scene must be a mapping of sections, got {type(self.data)}")
+        self.data = copy.deepcopy(dict(self.data))
+
+    def with_values(self, **dotted: Any) -> Scene:
+        """Copy with ``section.key`` values replaced, e.g. ``with_values(**{"load.p0": "1 MPa"})``."""
+        new = Scene(self.data, self.source)
+        for key, value in dotted.items():
+            set_value(new.data, key, value)
+        return new
+
+    def resolve(self, registry: Registry | None = None) -> ResolvedScene:
+        """Validate and resolve; raises :class:`SceneError` before any work."""
+        return _resolve(self, registry or get_registry())
+
+
+@dataclass
+class ResolvedScene:
+    """A validated scene: plugin instances and SI arrays (no pint)."""
+
+    scene: Scene
+    spectrum: Plugin
+    coefficient: Plugin
+    boundary: Plugin
+    analyses: list[tuple[str, Plugin]]
+    psd: Any
+    E: float
+    nu: float
+    p0: np.ndarray
+    p0_scalar: bool
+    zeta: np.ndarray
+    pressure_pdf: bool
+    p: np.ndarray | None
+    p_points: int
+    p_max: float | None
+    rtol: float
+    atol: float
+    method: Any
+    plugin_names: dict[str, str] = field(default_factory=dict)
+    resolved: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def E_star(self) -> float:
+        return self.E / (1.0 - self.nu**2)
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read a TOML scene file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The ``.toml`` file.
+
+    Raises
+    ------
+    SceneError
+        The file is missing or is not valid TOML.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise SceneError(f"cannot read scene file {str(p)!r}: {exc.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{p}: invalid TOML: {exc}") from None
+    return Scene(data, source=str(p.resolve()))
+
+
+def set_value(data: dict[str, Any], dotted: str, value: Any) -> None:
+    """Set ``data[section][key] = value`` from a dotted name (creating the section)."""
+    parts = dotted.split(".")
+    if len(parts) < 2 or not all(parts):
+        raise SceneError(f"--set needs section.key=value, got {dotted!r}")
+    node = data
+    for part in parts[:-1]:
+        nxt = node.setdefault(part, {})
+        if not isinstance(nxt, dict):
+            raise SceneError(f"{dotted}: {part!r} is not a table")
+        node = nxt
+    node[parts[-1]] = value
+
+
+def parse_cli_value(text: str) -> Any:
+    """Interpret a ``--set`` value: a TOML value if it parses, else the raw string."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+# -- resolution ---------------------------------------------------------------------------------
+def convert_param(spec: ParamSpec, value: Any, where: str) -> Any:
+    """Convert one scene value according to its spec, checking kind and range."""
+    if spec.kind == "bool":
+        if not isinstance(value, bool):
+            raise SceneError(f"{where}: expected true or false, got {value!r}")
+        return value
+    if spec.kind in ("string", "path"):
+        if not isinstance(value, str):
+            if isinstance(value, type):  # a class passed directly (Python API)
+                return value
+            raise SceneError(f"{where}: expected a string, got {value!r}")
+        return value
+    if spec.kind == "choice":
+        if value not in spec.choices:
+            raise SceneError(f"{where}: {value!r} is not allowed; {spec.range_text()}")
+        return value
+    if spec.kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int | float) or value != int(value):
+            raise SceneError(f"{where}: expected an integer in {spec.range_text()}, got {value!r}")
+        if not spec.in_bounds(value):
+            raise SceneError(f"{where}: {value} is outside the allowed range {spec.range_text()}")
+        return int(value)
+    try:
+        val = to_si(value, spec.unit, where, array=spec.array)
+    except UnitError as exc:
+        raise SceneError(str(exc)) from None
+    vals = np.atleast_1d(val)
+    if not np.all(np.isfinite(vals)):
+        raise SceneError(f"{where}: must be finite, got {value!r}")
+    bad = [v for v in vals if not spec.in_bounds(float(v))]
+    if bad:
+        raise SceneError(
+            f"{where}: {bad[0]:g} {'' if spec.unit == '1' else spec.unit} is outside the allowed "
+            f"range {spec.range_text()}"
+        )
+    return val
+
+
+def convert_params(
+    specs: Mapping[str, ParamSpec], values: Mapping[str, Any], section: str
+) -> dict[str, Any]:
+    """Convert a section's values; unknown keys and missing required ones are errors."""
+    unknown = sorted(set(values) - set(specs))
+    if unknown:
+        raise SceneError(
+            f"{section}.{unknown[0]}: unknown parameter; allowed in [{section}]: "
+            f"{', '.join(sorted(specs)) or 'none'}"
+        )
+    out: dict[str, Any] = {}
+    for name, spec in specs.items():
+        where = f"{section}.{name}"
+        if name in values:
+            out[name] = convert_param(spec, values[name], where)
+        elif spec.required:
+            raise SceneError(f"{where}: required ({spec.description or spec.unit}); "
+                             f"allowed range {spec.range_text()}")
+        else:
+            out[name] = spec.default
+    return out
+
+
+def _loads(value: Any) -> tuple[np.ndarray, bool]:
+    spec = CORE["load"]["p0"]
+    if isinstance(value, Mapping):
+        allowed = {"start", "stop", "num", "spacing"}
+        unknown = sorted(set(value) - allowed)
+        if unknown:
+            raise SceneError(f"load.p0.{unknown[0]}: unknown key; allowed: {sorted(allowed)}")
+        for k in ("start", "stop", "num"):
+            if k not in value:
+                raise SceneError(f"load.p0.{k}: required for a load range")
+        start = convert_param(spec, value["start"], "load.p0.start")
+        stop = convert_param(spec, value["stop"], "load.p0.stop")
+        num = value["num"]
+        if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= 100000:
+            raise SceneError(f"load.p0.num: expected an integer in [1, 100000], got {num!r}")
+        spacing = value.get("spacing", "log")
+        if spacing not in ("log", "linear"):
+            raise SceneError(f"load.p0.spacing: {spacing!r} is not allowed; one of 'log', 'linear'")
+        if stop < start:
+            raise SceneError("load.p0: stop must be >= start")
+        grid = np.geomspace(start, stop, num) if spacing == "log" else np.linspace(start, stop, num)
+        return grid, False
+    if isinstance(value, list | tuple):
+        if not value:
+            raise SceneError("load.p0: empty list; give at least one load")
+        arr = np.array([convert_param(spec, v, f"load.p0[{i}]") for i, v in enumerate(value)])
+        if np.any(np.diff(arr) <= 0):
+            raise SceneError("load.p0: loads must be strictly increasing")
+        return arr, False
+    return np.array([convert_param(spec, value, "load.p0")]), True
+
+
+def _plugin(
+    section: str, raw: Mapping[str, Any] | None, registry: Registry, base: Path | None = None
+) -> tuple[Plugin, str, dict[str, Any]]:
+    group = PLUGIN_SECTIONS[section]
+    raw = dict(raw or {})
+    model = raw.pop("model", DEFAULT_MODEL.get(section))
+    if model is None:
+        raise SceneError(f"{section}.model: required; choose one of "
+                         f"{', '.join(registry.names(group)) or 'none installed'}")
+    try:
+        cls = registry.resolve(group, model)
+    except PluginError as exc:
+        raise SceneError(f"{section}.model: {exc}") from None
+    except TypeError as exc:
+        raise SceneError(f"{section}.model: {exc}") from None
+    params = convert_params(cls.parameters, raw, section)
+    params = _absolute_paths(cls.parameters, params, base)
+    try:
+        inst = cls(**params)
+    except (ValueError, TypeError) as exc:
+        raise SceneError(f"{section}: {exc}") from None
+    name = model if isinstance(model, str) else registry.name_of(group, cls)[0]
+    return inst, name, params
+
+
+def _absolute_paths(
+    specs: Mapping[str, ParamSpec], params: dict[str, Any], base: Path | None
+) -> dict[str, Any]:
+    """Paths in a scene file are relative to the file's folder."""
+    out = dict(params)
+    for name, spec in specs.items():
+        value = out.get(name)
+        if spec.kind == "path" and isinstance(value, str):
+            path = Path(value).expanduser()
+            if not path.is_absolute() and base is not None:
+                path = base / path
+            out[name] = str(path)
+    return out
+
+
+def _zeta_grid(out: Mapping[str, Any], zeta_support: float) -> np.ndarray:
+    zmax = out["zeta_max"]
+    if zmax is not None and zmax > zeta_support * (1 + 1e-12):
+        raise SceneError(
+            f"output.zeta_max: {zmax:g} exceeds the spectrum's range q_1/q_L = {zeta_support:g}; "
+            f"allowed [1, {zeta_support:g}]"
+        )
+    zmax = min(zmax or zeta_support, zeta_support)
+    if out["zeta"] is not None:
+        z = np.unique(np.asarray(out["zeta"], float))
+        if z[-1] > zeta_support * (1 + 1e-12):
+            raise SceneError(
+                f"output.zeta: {z[-1]:g} exceeds q_1/q_L = {zeta_support:g}; allowed [1, "
+                f"{zeta_support:g}]"
+            )
+        if z[0] > 1.0:
+            z = np.concatenate([[1.0], z])
+        return z
+    n = max(1, math.ceil(out["zeta_per_decade"] * math.log10(zmax) - 1e-9)) if zmax > 1 else 0
+    if n == 0:
+        return np.array([1.0])
+    z = np.geomspace(1.0, zmax, n + 1)
+    z[0], z[-1] = 1.0, zmax
+    return z
+
+
+def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
+    data = scene.data
+    unknown = sorted(set(data) - TOP_LEVEL)
+    if unknown:
+        raise SceneError(
+            f"{unknown[0]}: unknown section or key; allowed: {', '.join(sorted(TOP_LEVEL))}"
+        )
+    for key in ("title", "description"):
+        if key in data and not isinstance(data[key], str):
+            raise SceneError(f"{key}: must be a string")
+    for sec in (*CORE, *PLUGIN_SECTIONS, "analyses"):
+        if sec in data and not isinstance(data[sec], Mapping):
+            raise SceneError(f"{sec}: must be a table, got {type(data[sec]).__name__}")
+    if "spectrum" not in data:
+        raise SceneError("spectrum: required section (e.g. model = 'self_affine')")
+    if "load" not in data or "p0" not in data["load"]:
+        raise SceneError("load.p0: required (nominal pressure, e.g. '1 MPa')")
+    material = convert_params(CORE["material"], data.get("material", {}), "material")
+    load_raw = dict(data["load"])
+    p0_raw = load_raw.pop("p0")
+    if load_raw:
+        raise SceneError(f"load.{sorted(load_raw)[0]}: unknown parameter; allowed in [load]: p0")
+    p0, scalar = _loads(p0_raw)
+    out = convert_params(CORE["output"], data.get("output", {}), "output")
+    solver = convert_params(CORE["solver"], data.get("solver", {}), "solver")
+    if out["p"] is not None and np.any(np.diff(out["p"]) <= 0):
+        raise SceneError("output.p: the pressure grid must be strictly increasing")
+
+    names: dict[str, str] = {}
+    plugins: dict[str, Plugin] = {}
+    resolved: dict[str, Any] = {k: data[k] for k in ("title", "description") if k in data}
+    for section in PLUGIN_SECTIONS:
+        base = Path(scene.source).parent if scene.source else None
+        inst, name, params = _plugin(section, data.get(section), registry, base)
+        plugins[section], names[section] = inst, name
+        resolved[section] = {"model": name, **_jsonable(params, type(inst).parameters)}
+    try:
+        psd = plugins["spectrum"].build()
+    except ValueError as exc:
+        raise SceneError(f"spectrum: {exc}") from None
+    zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
+
+    requested = data.get("analyses", {})
+    analyses: list[tuple[str, Plugin]] = []
+    for name, params in requested.items():
+        if not isinstance(params, Mapping):
+            raise SceneError(f"analyses.{name}: must be a table of the analysis' parameters")
+    resolved["analyses"] = {}
+    if requested:
+        from .plugins._analyses import plan_analyses  # noqa: PLC0415 - only when asked for
+
+        try:
+            plan = plan_analyses(requested, set(), registry)
+        except (PluginError, ValueError) as exc:
+            raise SceneError(f"analyses: {exc}") from None
+        for name, cls, raw in plan:
+            params = convert_params(cls.parameters, raw, f"analyses.{name}")
+            try:
+                analyses.append((name, cls(**params)))
+            except (ValueError, TypeError) as exc:
+                raise SceneError(f"analyses.{name}: {exc}") from None
+            resolved["analyses"][name] = _jsonable(params, cls.parameters)
+    resolved["material"] = _jsonable(material, CORE["material"])
+    loads = [f"{float(v)!r} Pa" for v in p0]
+    resolved["load"] = {"p0": loads[0] if scalar else loads}
+    resolved["output"] = _jsonable(out, CORE["output"])
+    resolved["output"].pop("zeta_per_decade", None)
+    resolved["output"]["zeta"] = [float(z) for z in zeta]
+    resolved["solver"] = _jsonable(solver, CORE["solver"])
+    return ResolvedScene(
+        scene=scene,
+        spectrum=plugins["spectrum"],
+        coefficient=plugins["coefficient"],
+        boundary=plugins["boundary"],
+        analyses=analyses,
+        psd=psd,
+        E=material["E"],
+        nu=material["nu"],
+        p0=p0,
+        p0_scalar=scalar,
+        zeta=zeta,
+        pressure_pdf=bool(out["pressure_pdf"]) or out["p"] is not None,
+        p=None if out["p"] is None else np.asarray(out["p"], float),
+        p_points=int(out["p_points"]),
+        p_max=out["p_max"],
+        rtol=float(solver["rtol"]),
+        atol=float(solver["atol"]),
+        method=solver["method"],
+        plugin_names=names,
+        resolved=resolved,
+    )
+
+
+def _jsonable(
+    params: Mapping[str, Any], specs: Mapping[str, ParamSpec] | None = None
+) -> dict[str, Any]:
+    """JSON-able copy of resolved values; dimensional quantities as ``"value unit"`` strings so
+    that the resolved scene re-loads as a scene."""
+    out: dict[str, Any] = {}
+    for k, v in params.items():
+        spec = (specs or {}).get(k)
+        dimensional = spec is not None and spec.kind == "quantity" and spec.unit not in ("1", "")
+        if v is None:
+            continue
+        if dimensional and isinstance(v, np.ndarray):
+            out[k] = [f"{float(x)!r} {spec.unit}" for x in v]
+        elif dimensional and isinstance(v, int | float):
+            out[k] = f"{float(v)!r} {spec.unit}"
+        elif isinstance(v, np.ndarray):
+            out[k] = [float(x) for x in v]
+        elif isinstance(v, type):
+            out[k] = f"{v.__module__}:{v.__qualname__}"
+        elif isinstance(v, np.generic):
+            out[k] = v.item()
+        else:
+            out[k] = v
+    return out

@@ -1,0 +1,147 @@
+"""The pint boundary: parse user quantities, convert to SI floats, map to CF unit strings.
+
+pint is imported lazily (on the first parse) so that importing xpersson and ``xpersson --help``
+stay cheap. Inside the engine and the plugins there is no pint: only SI floats.
+"""
+
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pint
+    import xarray as xr
+
+__all__ = ["ureg", "to_si", "udunits_to_pint", "quantify", "UnitError"]
+
+
+class UnitError(ValueError):
+    """A quantity has the wrong dimensionality or cannot be parsed."""
+
+
+@lru_cache(maxsize=1)
+def ureg() -> pint.UnitRegistry:
+    """The package's pint registry (created on first use)."""
+    import pint
+
+    reg = pint.UnitRegistry()
+    reg.formatter.default_format = "~P"
+    return reg
+
+
+def _parse(value: Any, where: str) -> Any:
+    reg = ureg()
+    import pint
+
+    if isinstance(value, pint.Quantity):
+        if value._REGISTRY is not reg:  # noqa: SLF001 - foreign registry: go through text
+            return reg.Quantity(value.magnitude, str(value.units))
+        return value
+    if isinstance(value, str):
+        text = value.strip()
+        if not text:
+            raise UnitError(f"{where}: empty string, expected a quantity such as '3 MPa'")
+        try:
+            return reg.Quantity(text)
+        except Exception as exc:
+            raise UnitError(f"{where}: cannot parse {value!r} as a quantity ({exc})") from None
+    return value
+
+
+def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
+    """Convert a scene value to a float (or float array) in ``unit``.
+
+    Parameters
+    ----------
+    value : str, float, int, pint.Quantity or sequence of those
+        ``"3 MPa"``, ``3e6`` (only for dimensionless ``unit``), a pint quantity, or (with
+        ``array=True``) a list of such values.
+    unit : str
+        Target unit (pint syntax), ``"1"`` for dimensionless.
+    where : str
+        Dotted parameter name used in error messages, e.g. ``"material.E"``.
+    array : bool
+        Accept and return a 1-D array.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The magnitude in ``unit``.
+
+    Raises
+    ------
+    UnitError
+        Wrong dimensionality, unparsable text, or a bare number for a dimensional parameter.
+    """
+    if array and isinstance(value, list | tuple):
+        import numpy as np
+
+        return np.array([to_si(v, unit, f"{where}[{i}]") for i, v in enumerate(value)], float)
+    if isinstance(value, bool):
+        raise UnitError(f"{where}: expected a quantity in {unit}, got a boolean")
+    dimensionless = unit in ("1", "")
+    q = _parse(value, where)
+    if isinstance(q, int | float):
+        if dimensionless:
+            return float(q)
+        raise UnitError(
+            f"{where}: {value!r} has no unit; give it with a unit, e.g. '{value} {unit}'"
+        )
+    reg = ureg()
+    import pint
+
+    if not isinstance(q, pint.Quantity):
+        raise UnitError(f"{where}: expected a quantity in {unit}, got {type(value).__name__}")
+    target = reg.Unit("dimensionless") if dimensionless else reg.Unit(unit)
+    try:
+        mag = q.to(target).magnitude
+    except pint.DimensionalityError:
+        raise UnitError(
+            f"{where}: {value!r} has dimension {q.dimensionality}, expected {unit} "
+            f"({target.dimensionality})"
+        ) from None
+    if array:
+        import numpy as np
+
+        return np.atleast_1d(np.asarray(mag, dtype=float))
+    try:
+        return float(mag)
+    except TypeError:
+        raise UnitError(f"{where}: expected a single value, got {value!r}") from None
+
+
+_POW = re.compile(r"([A-Za-z]+)(-?\d+)")
+
+
+def udunits_to_pint(units: str) -> str:
+    """Translate a UDUNITS string (``"Pa2"``, ``"m-1"``, ``"J m-2"``) to pint syntax."""
+    if units in ("1", ""):
+        return "dimensionless"
+    text = _POW.sub(r"\1**\2", units.strip())
+    return "*".join(text.split())
+
+
+def quantify(ds: xr.Dataset) -> xr.Dataset:
+    """Return ``ds`` with pint-backed arrays (requires the optional ``pint-xarray``).
+
+    Units are read from each variable's CF ``units`` attribute.
+    """
+    try:
+        import pint_xarray  # noqa: F401
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ImportError(
+            "xpersson.units.quantify needs the optional dependency pint-xarray: "
+            "pip install 'xpersson[units]'"
+        ) from exc
+    reg = ureg()
+    units = {}
+    for name, var in ds.variables.items():
+        u = var.attrs.get("units")
+        if u is not None and var.dtype.kind in "fiu":
+            units[name] = udunits_to_pint(u)
+    stripped = ds.copy()
+    for name in units:
+        stripped[name].attrs.pop("units", None)
+    return stripped.pint.quantify(units, unit_registry=reg)
