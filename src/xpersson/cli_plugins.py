@@ -11,10 +11,11 @@ Results go to stdout, messages to stderr. This module imports neither numpy, xar
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any, TextIO
 
 from .plugins._registry import (
@@ -87,11 +88,8 @@ def cmd_list(
     """``xpersson plugins list``; returns 1 with ``--check`` if a plugin is broken."""
     out = out or sys.stdout
     reg = registry or get_registry()
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with _warnings_to_stderr():
         infos = reg.check(args.group) if args.check else list(reg.infos(args.group))
-    for w in caught:
-        print(f"warning: {w.message}", file=sys.stderr)
     if args.json:
         json.dump([i.as_dict() for i in infos], out, indent=2)
         out.write("\n")
@@ -101,6 +99,18 @@ def cmd_list(
     for i in broken:
         print(f"error: {i.group} plugin {i.qualified}: {i.error}", file=sys.stderr)
     return 1 if (args.check and broken) else 0
+
+
+@contextlib.contextmanager
+def _warnings_to_stderr() -> Iterator[None]:
+    """Report warnings (duplicate names, skipped entry points) as plain stderr messages."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield
+        finally:
+            for w in caught:
+                print(f"warning: {w.message}", file=sys.stderr)
 
 
 def _table(infos: list[PluginInfo], out: TextIO) -> None:
@@ -164,7 +174,8 @@ def cmd_show(
     """``xpersson plugins show GROUP NAME``; returns 1 if the plugin is unknown or broken."""
     out = out or sys.stdout
     try:
-        d = describe(args.group, args.name, registry)
+        with _warnings_to_stderr():
+            d = describe(args.group, args.name, registry)
     except PluginError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 1

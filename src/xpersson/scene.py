@@ -388,7 +388,12 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         from .plugins._analyses import plan_analyses  # noqa: PLC0415 - only when asked for
 
         try:
-            plan = plan_analyses(requested, set(), registry)
+            from .schema import COORDS, CORE_VARIABLES  # noqa: PLC0415
+
+            available = set(CORE_VARIABLES) | set(COORDS)
+            for section in ("coefficient", "boundary"):
+                available |= set(type(plugins[section]).outputs)
+            plan = plan_analyses(requested, available, registry)
         except (PluginError, ValueError) as exc:
             raise SceneError(f"analyses: {exc}") from None
         for name, cls, raw in plan:

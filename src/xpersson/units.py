@@ -26,7 +26,7 @@ def ureg() -> pint.UnitRegistry:
     """The package's pint registry (created on first use)."""
     import pint
 
-    reg = pint.UnitRegistry()
+    reg = pint.UnitRegistry(force_ndarray_like=True)
     reg.formatter.default_format = "~P"
     return reg
 

@@ -124,7 +124,7 @@ def finish(problem: Problem, raw: Raw, method: str, t_start: float) -> EngineRes
     if raw.P is not None:
         finite = finite and bool(np.all(np.isfinite(raw.P)))
     tol = problem.tolerance(raw.area)
-    if not finite:
+    if not finite and status == "success":
         status, message = "balance_violated", "non-finite values in the solution"
     elif status == "success":
         bal_tol = 10.0 * (problem.rtol + problem.atol) + 1e-12

@@ -12,7 +12,6 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-
 from xpersson.plugins import SceneContext, VarSpec
 
 __all__ = ["AREA_OUTPUTS", "assemble", "stack"]
@@ -21,34 +20,50 @@ _PZ = ("p0", "zeta")
 
 AREA_OUTPUTS: dict[str, VarSpec] = {
     "elastic_area_fraction": VarSpec(
-        _PZ, "1", "elastic contact area fraction A_el/A0",
+        _PZ,
+        "1",
+        "elastic contact area fraction A_el/A0",
         description="probability of the pressure lying strictly between 0 and the hardness",
     ),
     "plastic_area_fraction": VarSpec(
-        _PZ, "1", "plastic contact area fraction A_pl/A0",
+        _PZ,
+        "1",
+        "plastic contact area fraction A_pl/A0",
         description="probability absorbed at the yield wall p = Y(zeta) (cumulative)",
     ),
     "non_contact_area_fraction": VarSpec(
-        _PZ, "1", "non-contact area fraction A_non/A0",
+        _PZ,
+        "1",
+        "non-contact area fraction A_non/A0",
         description="probability absorbed at the wall p = 0 (cumulative)",
     ),
     "total_contact_fraction": VarSpec(
-        _PZ, "1", "total contact area fraction (A_el + A_pl)/A0",
+        _PZ,
+        "1",
+        "total contact area fraction (A_el + A_pl)/A0",
     ),
     "elastic_load_share": VarSpec(
-        _PZ, "1", "fraction of the nominal load carried by elastic contact",
+        _PZ,
+        "1",
+        "fraction of the nominal load carried by elastic contact",
         description="int_0^Y p P dp / p0",
     ),
     "plastic_load_share": VarSpec(
-        _PZ, "1", "fraction of the nominal load carried by plastic contact",
+        _PZ,
+        "1",
+        "fraction of the nominal load carried by plastic contact",
         description="Y(zeta) A_pl / p0",
     ),
     "plastic_force_balance_residual": VarSpec(
-        _PZ, "1", "relative residual of the force balance",
+        _PZ,
+        "1",
+        "relative residual of the force balance",
         description="(int_0^Y p P dp + Y(zeta) A_pl - p0) / p0; zero for an exact solution",
     ),
     "yield_stress": VarSpec(
-        ("zeta",), "Pa", "penetration hardness at magnification zeta",
+        ("zeta",),
+        "Pa",
+        "penetration hardness at magnification zeta",
         description="position Y(zeta) of the yield wall",
     ),
 }

@@ -168,8 +168,9 @@ def two_wall_areas(
         el[~use_img], pl[~use_img], non[~use_img] = _sine(t[~use_img], x)
     shape = tau_arr.shape
     load = p0 - Y * pl
-    return TwoWallAreas(el.reshape(shape), pl.reshape(shape), non.reshape(shape),
-                        load.reshape(shape))
+    return TwoWallAreas(
+        el.reshape(shape), pl.reshape(shape), non.reshape(shape), load.reshape(shape)
+    )
 
 
 def _gauss(p: np.ndarray, mean: np.ndarray | float, tau: np.ndarray) -> np.ndarray:

@@ -14,7 +14,6 @@ import warnings
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
-
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
 from ._outputs import AREA_OUTPUTS, assemble, stack
@@ -25,6 +24,25 @@ if TYPE_CHECKING:  # pragma: no cover
     from xpersson.plugins import DiffusionClock, SceneContext
 
 __all__ = ["PlasticBoundary", "ApproximationValidityWarning", "check_below_hardness"]
+
+
+def _exact(tau: np.ndarray, p0: np.ndarray, y: float) -> tuple[np.ndarray, ...]:
+    """Exact (elastic, plastic, non-contact) fractions, from ``xpersson.engine.exact``.
+
+    Falls back to this package's own series (:mod:`xpersson_plasticity._series`) if the engine
+    does not provide the two-wall functions.
+    """
+    try:
+        from xpersson.engine import exact
+    except ImportError:  # pragma: no cover - engine without the exact module
+        exact = None
+    if exact is not None and hasattr(exact, "two_wall_absorbed"):
+        lower, upper = exact.two_wall_absorbed(tau, p0, 0.0, y)
+        return exact.two_wall_area(tau, p0, 0.0, y), upper, lower
+    rows = [two_wall_areas(t, float(p), y) for t, p in zip(tau, p0[:, 0], strict=True)]
+    return tuple(
+        np.array([getattr(r, k) for r in rows]) for k in ("elastic", "plastic", "non_contact")
+    )
 
 
 class ApproximationValidityWarning(UserWarning):
@@ -85,6 +103,7 @@ class PlasticBoundary(Boundary):
             inclusive=(False, True),
             description="penetration hardness (yield wall); must exceed every p0",
             sweepable=True,
+            example=3.0e6,
         ),
         "approximation": ParamSpec(
             unit="1",
@@ -149,14 +168,15 @@ class PlasticBoundary(Boundary):
         y = self.sigma_Y
         n_zeta = int(np.asarray(ctx.zeta).size)
         eng = stack(results, n_zeta)
-        exact = [two_wall_areas(t, p, y) for t, p in zip(eng["tau"], ctx.p0, strict=True)]
-        ex_el, ex_pl, ex_non = (np.array([getattr(e, k) for e in exact]).reshape(-1, n_zeta)
-                                for k in ("elastic", "plastic", "non_contact"))
+        ex_el, ex_pl, ex_non = _exact(eng["tau"], np.asarray(ctx.p0, dtype=float)[:, None], y)
         if self._params["approximation"] == "three_gaussian":
-            approx = [three_gaussian_areas(t, p, y) for t, p in zip(eng["tau"], ctx.p0,
-                                                                     strict=True)]
-            el, pl, non, load = (np.array([getattr(a, k) for a in approx]).reshape(-1, n_zeta)
-                                 for k in ("elastic", "plastic", "non_contact", "load"))
+            approx = [
+                three_gaussian_areas(t, p, y) for t, p in zip(eng["tau"], ctx.p0, strict=True)
+            ]
+            el, pl, non, load = (
+                np.array([getattr(a, k) for a in approx]).reshape(-1, n_zeta)
+                for k in ("elastic", "plastic", "non_contact", "load")
+            )
         else:
             el, pl, non, load = eng["elastic"], eng["plastic"], eng["non_contact"], eng["load"]
         dev = np.maximum.reduce([np.abs(el - ex_el), np.abs(pl - ex_pl), np.abs(non - ex_non)])

@@ -18,7 +18,6 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-
 from xpersson.plugins import Boundary, ParamSpec
 
 from ._hardness import HardnessLaw, PowerLaw, load_table
@@ -97,6 +96,7 @@ class ScaleDependentPlasticBoundary(Boundary):
             inclusive=(False, True),
             description="hardness at zeta = 1 of the power law Y1 zeta**n; must exceed every p0",
             sweepable=True,
+            example=3.0e6,
         ),
         "n": ParamSpec(
             unit="1",
@@ -125,9 +125,7 @@ class ScaleDependentPlasticBoundary(Boundary):
         super().__init__(**params)
         y1, n, table = self._params["Y1"], self._params["n"], self._params["table"]
         if table is not None and y1 is not None:
-            raise ValueError(
-                "boundary: give either Y1 [Pa] (with n) or table, not both"
-            )
+            raise ValueError("boundary: give either Y1 [Pa] (with n) or table, not both")
         if table is None:
             if y1 is None:
                 raise ValueError(
@@ -137,11 +135,18 @@ class ScaleDependentPlasticBoundary(Boundary):
             for name in ("Y1", "n"):
                 val = self._params[name]
                 spec = self.parameters[name]
-                if (not isinstance(val, int | float) or isinstance(val, bool)
-                        or not spec.in_bounds(float(val)) or not np.isfinite(val)):
+                if (
+                    not isinstance(val, int | float)
+                    or isinstance(val, bool)
+                    or not spec.in_bounds(float(val))
+                    or not np.isfinite(val)
+                ):
                     unit = "Pa" if name == "Y1" else "dimensionless"
-                    extra = (" (a decreasing hardness violates force conservation)"
-                             if name == "n" else " and above every p0")
+                    extra = (
+                        " (a decreasing hardness violates force conservation)"
+                        if name == "n"
+                        else " and above every p0"
+                    )
                     raise ValueError(
                         f"boundary.{name} = {val!r} [{unit}] outside the allowed range "
                         f"{spec.range_text()}{extra}"
@@ -183,5 +188,6 @@ class ScaleDependentPlasticBoundary(Boundary):
         """Area fractions and load shares per (p0, zeta); the plastic area carries Y(zeta)."""
         zeta = np.asarray(ctx.zeta, dtype=float)
         eng = stack(results, zeta.size)
-        return assemble(ctx, self._law.Y(zeta), eng["elastic"], eng["plastic"],
-                        eng["non_contact"], eng["load"])
+        return assemble(
+            ctx, self._law.Y(zeta), eng["elastic"], eng["plastic"], eng["non_contact"], eng["load"]
+        )
