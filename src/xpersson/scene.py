@@ -39,7 +39,7 @@ CORE: dict[str, dict[str, ParamSpec]] = {
     },
     "load": {
         "p0": ParamSpec("Pa", bounds=(0, None), inclusive=(False, True), sweepable=True,
-                        description="nominal (applied) pressure; scalar, list or {start, stop, num}"),
+                        description="nominal pressure: scalar, list or {start, stop, num}"),
     },
     "output": {
         "zeta_per_decade": ParamSpec("1", default=10, bounds=(1, 1000), kind="int",
@@ -88,7 +88,7 @@ class Scene:
         self.data = copy.deepcopy(dict(self.data))
 
     def with_values(self, **dotted: Any) -> Scene:
-        """Copy with ``section.key`` values replaced, e.g. ``with_values(**{"load.p0": "1 MPa"})``."""
+        """Copy with ``section.key`` values replaced: ``with_values(**{"load.p0": "1 MPa"})``."""
         new = Scene(self.data, self.source)
         for key, value in dotted.items():
             set_value(new.data, key, value)

@@ -231,7 +231,13 @@ def check_plugin(
 
     values = sample_params(cls, params)
     inst = cls(**values)
-    clone = pickle.loads(pickle.dumps(inst))
+    try:
+        clone = pickle.loads(pickle.dumps(inst))
+    except Exception as exc:
+        raise AssertionError(
+            f"{name}: instances must pickle (dask ships them to workers): "
+            f"{type(exc).__name__}: {exc}"
+        ) from None
     assert type(clone) is cls, f"{name}: unpickled instance has type {type(clone)}"
     assert clone == inst, f"{name}: pickle round trip changed the parameters: {clone!r}"
     report["pickle"] = "ok"

@@ -108,6 +108,7 @@ class DiffusionClock:
         inside = (t > tt[0]) & (t < tt[-1])
         for _ in range(4):
             fz = np.asarray(self.f(z), dtype=float)
-            step = np.where(inside & (fz > 0), (self.tau_of_zeta(z) - t) / np.where(fz > 0, fz, 1), 0)
+            ok = inside & (fz > 0)
+            step = np.where(ok, (self.tau_of_zeta(z) - t) / np.where(fz > 0, fz, 1.0), 0.0)
             z = np.clip(z - step, 1.0, None)
         return z
