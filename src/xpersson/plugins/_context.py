@@ -110,5 +110,5 @@ class DiffusionClock:
             fz = np.asarray(self.f(z), dtype=float)
             ok = inside & (fz > 0)
             step = np.where(ok, (self.tau_of_zeta(z) - t) / np.where(fz > 0, fz, 1.0), 0.0)
-            z = np.clip(z - step, 1.0, None)
+            z = np.clip(z - step, 1.0, zt[-1])
         return z

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+
 from xpersson.plugins import SceneContext, VarSpec
 
 __all__ = ["AREA_OUTPUTS", "assemble", "stack"]

@@ -14,6 +14,7 @@ import warnings
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
+
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
 from ._outputs import AREA_OUTPUTS, assemble, stack

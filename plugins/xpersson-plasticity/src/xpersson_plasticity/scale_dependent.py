@@ -18,6 +18,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
 from xpersson.plugins import Boundary, ParamSpec
 
 from ._hardness import HardnessLaw, PowerLaw, load_table
@@ -53,9 +54,15 @@ class YieldWallLaw:
 
     def __call__(self, tau: np.ndarray | float) -> np.ndarray | float:
         t = np.asarray(tau, dtype=float)
-        z = np.asarray(self.clock.zeta_of_tau(t), dtype=float)
+        # the inverse clock may overshoot zeta_max by round-off, where f drops to 0 (q > q_1)
+        z = np.clip(np.asarray(self.clock.zeta_of_tau(t), dtype=float), 1.0, self.clock.zeta_max)
         if self.derivative:
             f = np.asarray(self.clock.f(z), dtype=float)
+            if np.any(~(f > 0)):
+                raise ValueError(
+                    "plastic_scale_dependent: the diffusion coefficient f(zeta) [Pa^2] must be "
+                    "> 0 on [1, zeta_max] for a moving yield wall (dY/dtau = Y'(zeta)/f(zeta))"
+                )
             val = self.law.dY(z) / f
         else:
             val = self.law.Y(z)
