@@ -10,7 +10,7 @@ import pytest
 import xpersson
 from xpersson.scene import Scene, SceneError, load_scene
 
-from .conftest import REFERENCE_SCENE
+from xpersson_core_reference import REFERENCE_SCENE
 
 
 def _with(path: str, value):

@@ -140,6 +140,8 @@ def describe(group: str, name: str, registry: Registry | None = None) -> dict[st
             "sweepable": spec.sweepable,
             "description": spec.description,
         }
+        if spec.example is not None:
+            params[pname]["example"] = _jsonable(spec.example)
     outputs = {
         vname: {"dims": list(v.dims), "units": v.units, "long_name": v.long_name}
         for vname, v in cls.outputs.items()  # type: ignore[attr-defined]
@@ -195,6 +197,8 @@ def cmd_show(
     w("parameters:\n" if d["parameters"] else "parameters: none\n")
     for pname, p in d["parameters"].items():
         default = p["default"] if p["default"] == "REQUIRED" else f"default {p['default']!r}"
+        if "example" in p:
+            default += f" (e.g. {p['example']!r})"
         sweep = ", sweepable" if p["sweepable"] else ""
         w(f"  {pname} [{p['unit']}]: {default}, range {p['range']}{sweep}\n")
         if p["description"]:

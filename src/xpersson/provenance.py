@@ -39,6 +39,8 @@ def environment() -> dict[str, str]:
 
 def plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
     """Group, name, distribution, version, class and references of every plugin of a run."""
+    from .plugins._registry import plugin_provenance
+
     items = [
         ("spectra", rs.plugin_names.get("spectrum"), rs.spectrum),
         ("coefficients", rs.plugin_names.get("coefficient"), rs.coefficient),
@@ -47,19 +49,10 @@ def plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
     ]
     out = []
     for group, name, inst in items:
-        cls = type(inst)
-        reg_name, info = reg.name_of(group, cls)
-        out.append(
-            {
-                "group": group,
-                "name": name or reg_name,
-                "distribution": info.dist if info else "<direct>",
-                "version": info.version if info else "",
-                "class": f"{cls.__module__}:{cls.__qualname__}",
-                "api_version": cls.api_version,
-                "references": list(cls.references),
-            }
-        )
+        record = plugin_provenance(group, type(inst), reg)
+        if name:
+            record["name"] = name
+        out.append(record)
     return out
 
 

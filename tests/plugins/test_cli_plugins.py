@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import FAKE_MODULES
+from xpersson_plugtest_helpers import FAKE_MODULES, make_standard_registry
 
 from xpersson import cli_plugins
 from xpersson.plugins import using_registry
@@ -24,7 +24,8 @@ def run(reg, argv, capsys):
     return code, out, err
 
 
-def test_list_table_imports_nothing(standard_registry, capsys):
+def test_list_table_imports_nothing(monkeypatch, capsys):
+    standard_registry = make_standard_registry(monkeypatch)
     code, out, err = run(standard_registry, ["list"], capsys)
     assert code == 0
     lines = out.splitlines()
@@ -35,7 +36,8 @@ def test_list_table_imports_nothing(standard_registry, capsys):
     assert [m for m in FAKE_MODULES if m in sys.modules] == []
 
 
-def test_list_json_and_group(standard_registry, capsys):
+def test_list_json_and_group(monkeypatch, capsys):
+    standard_registry = make_standard_registry(monkeypatch)
     code, out, _ = run(standard_registry, ["list", "--group", "coefficient", "--json"], capsys)
     assert code == 0
     assert json.loads(out) == [
@@ -50,7 +52,8 @@ def test_list_json_and_group(standard_registry, capsys):
     ]
 
 
-def test_list_check_reports_broken(standard_registry, capsys):
+def test_list_check_reports_broken(monkeypatch, capsys):
+    standard_registry = make_standard_registry(monkeypatch)
     code, out, err = run(standard_registry, ["list", "--check", "--json"], capsys)
     assert code == 1
     status = {(d["distribution"], d["name"]): d["status"] for d in json.loads(out)}
@@ -60,7 +63,8 @@ def test_list_check_reports_broken(standard_registry, capsys):
     assert "error: boundaries plugin broken-dist:broken" in err
 
 
-def test_show(standard_registry, capsys):
+def test_show(monkeypatch, capsys):
+    standard_registry = make_standard_registry(monkeypatch)
     code, out, _ = run(standard_registry, ["show", "boundaries", "offset"], capsys)
     assert code == 0
     assert "boundaries plugin 'offset': absorbing wall at p = -s (test double)" in out
@@ -70,7 +74,8 @@ def test_show(standard_registry, capsys):
     assert "detached(p0, zeta) [1]: detached area fraction" in out
 
 
-def test_show_json_and_errors(standard_registry, capsys):
+def test_show_json_and_errors(monkeypatch, capsys):
+    standard_registry = make_standard_registry(monkeypatch)
     code, out, _ = run(standard_registry, ["show", "coefficients", "scaled", "--json"], capsys)
     d = json.loads(out)
     assert code == 0 and d["parameters"]["k"]["unit"] == "Pa**2"

@@ -6,17 +6,24 @@ import sys
 import warnings
 
 import pytest
-from conftest import FAKE_MODULES, M, fake_ep
+from xpersson_plugtest_helpers import FAKE_MODULES, M, fake_ep, install_eps, make_standard_registry
 
-from xpersson.plugins import Boundary, PluginError, Registry, SpecError, plugin_provenance
-from xpersson.plugins import _registry
+from xpersson.plugins import (
+    Boundary,
+    PluginError,
+    Registry,
+    SpecError,
+    _registry,
+    plugin_provenance,
+)
 
 
 def _imported() -> list[str]:
     return [m for m in FAKE_MODULES if m in sys.modules]
 
 
-def test_listing_imports_no_plugin(standard_registry):
+def test_listing_imports_no_plugin(monkeypatch):
+    standard_registry = make_standard_registry(monkeypatch)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         infos = list(standard_registry.infos())
@@ -25,9 +32,9 @@ def test_listing_imports_no_plugin(standard_registry):
     assert _imported() == []
 
 
-def test_discovery_is_cached_until_refresh(fake_eps, monkeypatch):
+def test_discovery_is_cached_until_refresh(monkeypatch):
     calls = []
-    fake_eps([fake_ep("boundaries", "offset", f"{M}:OffsetWall")])
+    install_eps(monkeypatch, [fake_ep("boundaries", "offset", f"{M}:OffsetWall")])
     inner = _registry._entry_points
     monkeypatch.setattr(_registry, "_entry_points", lambda g: calls.append(g) or inner(g))
     reg = Registry(autoload=True)
@@ -39,7 +46,8 @@ def test_discovery_is_cached_until_refresh(fake_eps, monkeypatch):
     assert len(calls) == 8
 
 
-def test_duplicate_names_warn_and_require_dist_prefix(standard_registry):
+def test_duplicate_names_warn_and_require_dist_prefix(monkeypatch):
+    standard_registry = make_standard_registry(monkeypatch)
     with pytest.warns(UserWarning, match=r"named 'wall'.*'dist-a'.*'dist-b'.*'dist-a:wall'"):
         standard_registry.names("boundaries")
     with pytest.raises(PluginError, match=r"ambiguous.*'dist-a'.*'dist-b'.*'dist-b:wall'"):
@@ -54,7 +62,8 @@ def test_duplicate_names_warn_and_require_dist_prefix(standard_registry):
 
 
 @pytest.mark.filterwarnings("ignore:two boundaries plugins")
-def test_import_error_names_distribution_and_missing_dependency(standard_registry):
+def test_import_error_names_distribution_and_missing_dependency(monkeypatch):
+    standard_registry = make_standard_registry(monkeypatch)
     with pytest.raises(PluginError) as exc:
         standard_registry.load("boundaries", "broken")
     msg = str(exc.value)
@@ -69,21 +78,24 @@ def test_import_error_names_distribution_and_missing_dependency(standard_registr
         standard_registry.load("boundaries", "broken")
 
 
-def test_missing_plugin_module_is_reported(fake_eps):
-    fake_eps([fake_ep("boundaries", "ghost", "xpersson_no_such_module:Wall", "ghost-dist")])
+def test_missing_plugin_module_is_reported(monkeypatch):
+    ghost = fake_ep("boundaries", "ghost", "xpersson_no_such_module:Wall", "ghost-dist")
+    install_eps(monkeypatch, [ghost])
     with pytest.raises(PluginError, match=r"'ghost-dist'.*module 'xpersson_no_such_module' not"):
         Registry(autoload=True).load("boundaries", "ghost")
 
 
 @pytest.mark.filterwarnings("ignore:two boundaries plugins")
-def test_too_new_api_version(standard_registry):
+def test_too_new_api_version(monkeypatch):
+    standard_registry = make_standard_registry(monkeypatch)
     with pytest.raises(PluginError, match=r"'future-dist' 9.0.*needs plugin API v99.*upgrade"):
         standard_registry.load("boundaries", "future")
     assert standard_registry.load("boundaries", "offset").__name__ == "OffsetWall"
 
 
 @pytest.mark.filterwarnings("ignore:two boundaries plugins")
-def test_malformed_paramspec_plugin(standard_registry):
+def test_malformed_paramspec_plugin(monkeypatch):
+    standard_registry = make_standard_registry(monkeypatch)
     with pytest.raises(PluginError) as exc:
         standard_registry.load("boundaries", "badspec")
     msg = str(exc.value)
@@ -93,7 +105,8 @@ def test_malformed_paramspec_plugin(standard_registry):
 
 
 @pytest.mark.filterwarnings("ignore:two boundaries plugins")
-def test_check_reports_every_status(standard_registry):
+def test_check_reports_every_status(monkeypatch):
+    standard_registry = make_standard_registry(monkeypatch)
     infos = {i.qualified: i for i in standard_registry.check("boundaries")}
     assert infos["xpersson-offset:offset"].status == "ok"
     assert infos["broken-dist:broken"].status.startswith("broken:")
@@ -101,10 +114,10 @@ def test_check_reports_every_status(standard_registry):
     assert infos["dist-a:wall"].status == "ok" and infos["dist-b:wall"].status == "ok"
 
 
-def test_autoload_switch_keeps_core_only(fake_eps, monkeypatch):
-    from conftest import STANDARD
+def test_autoload_switch_keeps_core_only(monkeypatch):
+    from xpersson_plugtest_helpers import STANDARD
 
-    fake_eps(STANDARD)
+    install_eps(monkeypatch, STANDARD)
     monkeypatch.setenv(_registry.AUTOLOAD_ENV, "1")
     reg = Registry()
     assert reg.autoload is False
@@ -116,10 +129,10 @@ def test_autoload_switch_keeps_core_only(fake_eps, monkeypatch):
         assert "offset" in Registry().names("boundaries")
 
 
-def test_direct_class_and_register(fake_eps):
+def test_direct_class_and_register(monkeypatch):
     from xpersson_fake_plugins import OffsetWall, ScaledCoefficient
 
-    fake_eps([])
+    install_eps(monkeypatch, [])
     reg = Registry(extra={"boundary": {"mine": OffsetWall}})
     assert reg.load("boundaries", "mine") is OffsetWall
     assert reg.info("boundaries", "mine").dist == "<direct>"
@@ -137,20 +150,21 @@ def test_direct_class_and_register(fake_eps):
         reg.names("walls")
 
 
-def test_unknown_name_lists_installed(fake_eps):
-    fake_eps([fake_ep("boundaries", "offset", f"{M}:OffsetWall")])
+def test_unknown_name_lists_installed(monkeypatch):
+    install_eps(monkeypatch, [fake_ep("boundaries", "offset", f"{M}:OffsetWall")])
     with pytest.raises(PluginError, match=r"no boundaries plugin named 'nope' \(installed: offset"):
         Registry(autoload=True).load("boundaries", "nope")
 
 
-def test_invalid_entry_point_name_is_skipped_with_warning(fake_eps):
-    fake_eps([fake_ep("boundaries", "Bad-Name", f"{M}:OffsetWall", "odd-dist")])
+def test_invalid_entry_point_name_is_skipped_with_warning(monkeypatch):
+    install_eps(monkeypatch, [fake_ep("boundaries", "Bad-Name", f"{M}:OffsetWall", "odd-dist")])
     with pytest.warns(UserWarning, match="ignoring boundaries plugin 'Bad-Name' of distribution"):
         assert Registry(autoload=True).names("boundaries") == []
 
 
 @pytest.mark.filterwarnings("ignore:two boundaries plugins")
-def test_plugin_provenance(standard_registry):
+def test_plugin_provenance(monkeypatch):
+    standard_registry = make_standard_registry(monkeypatch)
     cls = standard_registry.load("boundaries", "offset")
     prov = plugin_provenance("boundaries", cls, standard_registry)
     assert prov == {
@@ -165,11 +179,11 @@ def test_plugin_provenance(standard_registry):
     }
 
 
-def test_plugin_provenance_of_direct_class(fake_eps):
+def test_plugin_provenance_of_direct_class(monkeypatch):
     class Local(Boundary):
         summary = "local wall"
 
-    fake_eps([])
+    install_eps(monkeypatch, [])
     prov = plugin_provenance("boundary", Local, Registry(autoload=True))
     assert prov["name"].endswith("Local") and prov["distribution"] == "<direct>"
     assert prov["references"] == [] and prov["group"] == "boundaries"

@@ -15,7 +15,13 @@ from xpersson_fake_kit import (
 
 from xpersson import testing
 from xpersson.plugins import get_registry
-from xpersson.testing import assert_schema, check_plugin, registry_with
+from xpersson.testing import (  # noqa: F401 - the last two are fixtures
+    assert_schema,
+    check_plugin,
+    registry_with,
+    xpersson_oracles,
+    xpersson_tiny_scene,
+)
 
 
 def _solve_available() -> bool:
@@ -41,7 +47,7 @@ def test_check_plugin_detects_non_determinism():
 
 
 def test_check_plugin_detects_unpicklable_instances():
-    with pytest.raises((AssertionError, AttributeError, TypeError, Exception), match="lambda"):
+    with pytest.raises(AssertionError, match=r"instances must pickle.*lambda"):
         check_plugin(UnpicklableWall, engine=False, cheap_import=False)
 
 
@@ -85,9 +91,7 @@ def test_shifted_wall_matches_constant_wall_oracle():
     tau = ds["diffusion_time"].values[None, :]
     exact = testing.constant_wall_area(p0, 2e4, tau)
     np.testing.assert_allclose(ds["area_fraction"].values, exact, rtol=1e-5, atol=1e-12)
-    np.testing.assert_allclose(
-        ds["detached_fraction"].values, 1 - exact, rtol=1e-5, atol=1e-9
-    )
+    np.testing.assert_allclose(ds["detached_fraction"].values, 1 - exact, rtol=1e-5, atol=1e-9)
 
 
 def test_registry_with_installs_and_restores():
@@ -116,13 +120,11 @@ def test_assert_schema_accepts_a_good_dataset():
 def test_assert_schema_reports_every_problem():
     ds = _good_ds()
     ds["zeta"].attrs.pop("long_name")
-    ds["v"] = (("p0", "zeta"), np.zeros((1, 2)), {"units": "furlongs-2", "long_name": "v"})
     ds["w"] = (("mystery",), np.zeros(3), {"units": "Pa2", "long_name": "w"})
     with pytest.raises(AssertionError) as exc:
         assert_schema(ds)
     msg = str(exc.value)
     assert "zeta: missing 'long_name'" in msg
-    assert "v: units 'furlongs-2' do not parse" not in msg or "furlongs" in msg
     assert "w: unknown dimension 'mystery'" in msg
     ds2 = _good_ds()
     ds2["u"] = (("p0",), np.zeros(1), {"units": "not_a_unit", "long_name": "u"})
@@ -137,7 +139,7 @@ def test_assert_schema_on_a_real_solve():
     assert_schema(xpersson.solve(testing.tiny_scene()))
 
 
-def test_oracles_reproduce_physics_reference_numbers(xpersson_oracles):
+def test_oracles_reproduce_physics_reference_numbers(xpersson_oracles):  # noqa: F811
     o = xpersson_oracles
     assert o.constant_wall_area(0.5, 0.2, 0.1) == pytest.approx(0.8824751, abs=1e-7)
     assert o.constant_wall_load(0.5, 0.2, 0.1) == pytest.approx(0.5235050, abs=1e-7)
@@ -155,6 +157,6 @@ def test_oracles_reproduce_physics_reference_numbers(xpersson_oracles):
     assert o.mirrored_gaussian_area(1e5, 19.30095 * 1e10) == pytest.approx(0.1278686, abs=1e-7)
 
 
-def test_tiny_scene_fixture_is_a_fresh_copy(xpersson_tiny_scene):
+def test_tiny_scene_fixture_is_a_fresh_copy(xpersson_tiny_scene):  # noqa: F811
     xpersson_tiny_scene["load"]["p0"] = "1 Pa"
     assert testing.TINY_SCENE["load"]["p0"] == ["1e4 Pa", "1e5 Pa"]

@@ -9,7 +9,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from conftest import SIGMA_Y, make_clock, make_ctx
+from plasticity_testlib import SIGMA_Y, make_clock, make_ctx
 
 from xpersson_plasticity import ApproximationValidityWarning, PlasticBoundary
 from xpersson_plasticity._series import two_wall_areas

@@ -6,7 +6,7 @@ import pickle
 
 import numpy as np
 import pytest
-from conftest import SIGMA_Y, make_clock, make_ctx
+from plasticity_testlib import SIGMA_Y, make_clock, make_ctx
 
 from xpersson_plasticity import PlasticBoundary, ScaleDependentPlasticBoundary
 from xpersson_plasticity._series import two_wall_areas

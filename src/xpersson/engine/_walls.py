@@ -29,7 +29,7 @@ class Wall:
         Wall position [Pa]; a callable maps diffusion time tau [Pa^2] (numpy array) to positions.
     dposition : callable or None
         ``dY/dtau`` [1/Pa] for the yield closure wall.
-    linear : tuple of float or None
+    motion : tuple of float or None
         ``(p_start, velocity)`` [Pa, 1/Pa] when the motion is known to be
         ``p = p_start + velocity * tau`` (enables the exact path of physics.md §2.2).
     """
@@ -37,7 +37,7 @@ class Wall:
     kind: Literal["absorbing", "yield_closure"]
     position: PositionLike
     dposition: Callable[[NDArray[np.float64]], ArrayLike] | None = None
-    linear: tuple[float, float] | None = None
+    motion: tuple[float, float] | None = None
 
     # -- constructors ------------------------------------------------------------------------
     @classmethod
@@ -136,8 +136,8 @@ class Wall:
         """
         if self.kind != "absorbing" or self.is_fixed:
             return None
-        if self.linear is not None:
-            return self.linear
+        if self.motion is not None:
+            return self.motion
         t = np.concatenate([np.linspace(0.0, tau_max, 129), tau_max * np.logspace(-12, 0, 128)])
         y = self.at(t)
         if not np.all(np.isfinite(y)) or tau_max <= 0:

@@ -1,4 +1,4 @@
-"""Closed-form solutions of the diffusion problem ``dP/dtau = d2P/dp2``, ``P(p, 0) = delta(p - p0)``.
+"""Closed forms of ``dP/dtau = d2P/dp2``, ``P(p, 0) = delta(p - p0)``, between walls.
 
 All functions are vectorised (numpy broadcasting over ``tau``, ``p`` and the wall parameters) and
 free of cancellation where a quantity is tiny: ``non_area`` uses ``erfc`` / log-space normal tails,

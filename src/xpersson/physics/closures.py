@@ -47,7 +47,11 @@ DEFAULT_GAMMA: dict[str, float | None] = {
 # tau_eff = tau_c to machine precision. Above G_END, r = F(G)/G has converged to its
 # asymptote gamma to within ~1/(gamma G) relative, far below double precision.
 _G_START = 1e-4
+# WM17's S(A) = g - 2/9 A^2 + (11/9 - g) A^4 has a positive minimum over A in [0, 1] only for
+# g > (11 - sqrt(117))/18 ~ 0.0102; below it V would decrease with zeta (unphysical).
+_WM17_GAMMA_MIN = (11.0 - np.sqrt(117.0)) / 18.0
 _G_END = 1e24
+_XU24_MAXITER = 200
 
 
 def _check(closure: str, gamma: float | None) -> float | None:
@@ -58,6 +62,10 @@ def _check(closure: str, gamma: float | None) -> float | None:
     g = DEFAULT_GAMMA[closure] if gamma is None else float(gamma)
     if not (0.0 < g <= 1.0):  # also rejects NaN
         raise ValueError(f"gamma must lie in (0, 1], got {gamma!r}")
+    if closure == "wm17" and not g > _WM17_GAMMA_MIN:
+        raise ValueError(
+            f"wm17 needs gamma > {_WM17_GAMMA_MIN:.6f} so that S(A) > 0, got {gamma!r}"
+        )
     return g
 
 
@@ -133,7 +141,7 @@ def _xu24_ratio(G: NDArray[np.float64], gamma: float, tol: float = 1e-14) -> NDA
     c = 1.0 - gamma
     two_over_sqrtpi = 2.0 / np.sqrt(np.pi)
     active = G > 0
-    for _ in range(200):
+    for _ in range(_XU24_MAXITER):
         if not np.any(active):
             break
         ra, Ga = r[active], G[active]
@@ -143,8 +151,9 @@ def _xu24_ratio(G: NDArray[np.float64], gamma: float, tol: float = 1e-14) -> NDA
         lo_a = np.where(F < 0, ra, lo[active])
         hi_a = np.where(F > 0, ra, hi[active])
         rn = ra - F / dF
-        bad = ~((rn > lo_a) & (rn < hi_a))
+        bad = ~((rn >= lo_a) & (rn <= hi_a))
         rn = np.where(bad, 0.5 * (lo_a + hi_a), rn)
+        rn = np.where(F == 0, ra, rn)
         step = np.abs(rn - ra)
         r[active], lo[active], hi[active] = rn, lo_a, hi_a
         done = (step <= tol * rn) | (F == 0) | (hi_a - lo_a <= tol * rn)

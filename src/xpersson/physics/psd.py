@@ -117,9 +117,7 @@ class PowerSpectrum:
     q_1: float
 
     # ------------------------------------------------------------------ set-up
-    def _set_segments(
-        self, nodes: ArrayLike, C_left: ArrayLike, exponents: ArrayLike
-    ) -> None:
+    def _set_segments(self, nodes: ArrayLike, C_left: ArrayLike, exponents: ArrayLike) -> None:
         nodes = np.asarray(nodes, dtype=float)
         C_left = np.asarray(C_left, dtype=float)
         exponents = np.asarray(exponents, dtype=float)
@@ -233,7 +231,7 @@ class PowerSpectrum:
         return float(out) if out.ndim == 0 else out
 
     def I3(self, q: ArrayLike) -> NDArray[np.float64] | float:
-        """Exact slope integral :math:`I_3(q) = \\int_{q_L}^{q} q'^3 C(q')\\, dq'` (physics.md §1.2).
+        """Exact slope integral :math:`I_3(q) = \\int_{q_L}^{q} q'^3 C(q')\\, dq'` (§1.2).
 
         Parameters
         ----------
@@ -252,7 +250,7 @@ class PowerSpectrum:
         return math.sqrt(2.0 * np.pi * self.moment(1.0))
 
     def rms_slope(self) -> float:
-        """Root-mean-square 2-D gradient :math:`\\sqrt{\\langle|\\nabla h|^2\\rangle}` = ``sqrt(2 pi m_3)``.
+        """Root-mean-square 2-D gradient ``sqrt(<|grad h|^2>) = sqrt(2 pi m_3)``.
 
         Dimensionless. The profile (1-D) slope is this value divided by ``sqrt(2)``.
         """

@@ -4,8 +4,8 @@ For ``g > 0`` write ``P(g, zeta) = (A(zeta)/A0) delta(g) + rho(g, zeta)``; then
 
 .. math::
 
-    \\partial_\\zeta \\rho = b(\\zeta)\\, \\partial_g^2 \\rho + [-A'(\\zeta)/A_0]\\, \\delta(g - u_1(\\zeta)),
-    \\qquad b = \\pi q_L q C(q),
+    \\partial_\\zeta \\rho = b(\\zeta)\\, \\partial_g^2 \\rho
+        + [-A'(\\zeta)/A_0]\\, \\delta(g - u_1(\\zeta)), \\qquad b = \\pi q_L q C(q),
 
 with ``rho(g, 1) = 0``, a *reflecting* wall ``d rho/dg = 0`` at ``g = 0`` (no re-contact) and
 ``rho -> 0`` far away. In the diffusion time ``s = int b dzeta = (h_rms^2 - h^2(zeta))/2`` [m^2]

@@ -4,7 +4,8 @@ Closed form of Almqvist, Campana, Prodanov & Persson (2011):
 
 .. math::
 
-    P(u) = \\frac{A(\\zeta_1)}{A_0}\\delta(u) + \\frac{1}{A_0}\\int_1^{\\zeta_1} d\\zeta\\,[-A'(\\zeta)]
+    P(u) = \\frac{A(\\zeta_1)}{A_0}\\delta(u) + \\frac{1}{A_0}\\int_1^{\\zeta_1} d\\zeta
+    \\,[-A'(\\zeta)]
     \\frac{e^{-(u-u_1)^2/2h^2} + e^{-(u+u_1)^2/2h^2}}{\\sqrt{2\\pi h^2}},
 
 ``h^2(zeta) = 2 pi int_{zeta q_L}^{q_1} q C dq`` (roughness finer than the current scale),
@@ -158,9 +159,7 @@ def detachment(
     h = np.sqrt(np.maximum(_h2(psd, zm * q_L), 0.0))
     h_rms = math.sqrt(2.0 * math.pi * float(psd.moment(1.0)))
     dropped = np.sum(np.where(ok, 0.0, dAu), axis=1)
-    return Detachment(
-        p0, z, A, ubar, np.where(ok, dA, 0.0), np.maximum(u1, 0.0), h, h_rms, dropped
-    )
+    return Detachment(p0, z, A, ubar, np.where(ok, dA, 0.0), np.maximum(u1, 0.0), h, h_rms, dropped)
 
 
 def _pairs(det: Detachment, u: NDArray[np.float64]) -> tuple[NDArray, NDArray, NDArray]:

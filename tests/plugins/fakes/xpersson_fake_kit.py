@@ -26,7 +26,9 @@ class ShiftedWall(Boundary):
     def interpret(self, ctx: Any, results: list[Any]) -> dict[str, Any]:
         import numpy as np
 
-        return {"detached_fraction": (("p0", "zeta"), np.array([r.absorbed_lower for r in results]))}
+        return {
+            "detached_fraction": (("p0", "zeta"), np.array([r.absorbed_lower for r in results]))
+        }
 
 
 class DriftingWall(ShiftedWall):
