@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import read_csv
+from interface_testlib import read_csv
 
 from xpersson_interface import AreaLaw, elastic_energy, full_contact_energy
 

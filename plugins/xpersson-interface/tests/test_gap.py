@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import E_STAR
+from interface_testlib import E_STAR
 
 from xpersson_interface import (
     C3,

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import H_RMS_ZHOU as HR
+from interface_testlib import H_RMS_ZHOU as HR
 
 from xpersson_interface import (
     detachment,

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import E_STAR
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from interface_testlib import E_STAR
 
 from xpersson_interface import (
     AreaLaw,

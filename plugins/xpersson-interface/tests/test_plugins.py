@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import E_STAR
-
+from interface_testlib import E_STAR
 from xpersson.plugins import Analysis, SceneContext
+
 from xpersson_interface import mean_gap
 from xpersson_interface.plugins import ContactStiffness, ElasticEnergy, GapPDF, Leakage, MeanGap
 

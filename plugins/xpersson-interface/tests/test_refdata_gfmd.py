@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import H_RMS_ZHOU as HR
-from conftest import read_csv
+from interface_testlib import H_RMS_ZHOU as HR
+from interface_testlib import read_csv
 
 from xpersson_interface import detachment, gap_cdf, gap_mean
 

@@ -223,7 +223,10 @@ def _diffusion_pdf(psd: Any, det: Any, u: np.ndarray, n_grid: int) -> tuple[np.n
     rho = np.array([np.interp(u, res.g, r) for r in res.rho])
     vol = np.full(res.g.size, res.g[1] - res.g[0])
     vol[0] *= 0.5
-    mean = res.rho @ (vol * res.g)
+    # bins detaching beyond the far wall (vanishing area at huge u1 near zeta = 1) are not
+    # injected; their first moment is added as in the closed form
+    far = np.where(det.u1 >= g_max, det.weight * det.u1, 0.0).sum(axis=1)
+    mean = res.rho @ (vol * res.g) + far
     return rho, mean
 
 
