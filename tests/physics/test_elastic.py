@@ -47,7 +47,7 @@ def ref_Es():
 
 
 def test_e_star():
-    assert e_star(10e6, 0.5) == pytest.approx(13.333333333333e6, rel=1e-12)
+    assert e_star(10e6, 0.5) == pytest.approx(13.333333333333e6, rel=1e-12, abs=0)
     np.testing.assert_allclose(e_star(np.array([1.0, 2.0]), 0.0), [1.0, 2.0])
     for bad in [(0.0, 0.3), (1.0, 0.6), (1.0, -1.0)]:
         with pytest.raises(ValueError):
@@ -74,7 +74,7 @@ def test_reference_table_section_1_4(ref_psd, ref_Es, p0, G, A, lin):
         assert_digits(small_load_area(p0, ref_Es, ref_psd.rms_slope()), lin)
     assert_digits(math.sqrt(2 * tau), "6.213043e5")
     assert full_contact_std(ref_Es, ref_psd.rms_slope()) == pytest.approx(
-        math.sqrt(2 * tau), rel=1e-13
+        math.sqrt(2 * tau), rel=1e-13, abs=0
     )
 
 
@@ -93,7 +93,7 @@ def test_diffusion_time_is_integral_of_f(ref_psd, ref_Es):
             )[0]
             for a, b in zip(edges[:-1], edges[1:], strict=True)
         )
-        assert diffusion_time(ref_psd, ref_Es, zeta) == pytest.approx(num, rel=1e-11)
+        assert diffusion_time(ref_psd, ref_Es, zeta) == pytest.approx(num, rel=1e-11, abs=0)
     assert diffusion_time(ref_psd, ref_Es, 1.0) == 0.0
 
 
@@ -146,8 +146,8 @@ def test_near_full_contact_erfc_accuracy():
     tau = (p0 / (2 * x)) ** 2
     _, one_minus_A = area_fraction(p0, tau)
     exact = float(mpmath.erfc(mpmath.mpf(p0) / (2 * mpmath.sqrt(mpmath.mpf(tau)))))
-    assert one_minus_A == pytest.approx(exact, rel=1e-13)
-    assert exact == pytest.approx(1e-12, rel=1e-10)
+    assert one_minus_A == pytest.approx(exact, rel=1e-13, abs=0)
+    assert exact == pytest.approx(1e-12, rel=1e-10, abs=0)
     # the naive 1 - erf loses ~4 digits here: this is what the complement guards against
     naive = 1.0 - erf(p0 / (2 * math.sqrt(tau)))
     assert abs(naive / exact - 1) > 1e-6
@@ -159,7 +159,7 @@ def test_near_full_contact_erfc_asymptotic():
     series = sum((-1) ** n * math.prod(range(1, 2 * n, 2)) / (2 * x * x) ** n for n in range(12))
     asym = math.exp(-x * x) / (x * math.sqrt(math.pi)) * series
     _, one_minus_A = area_fraction(2 * x, 1.0)
-    assert one_minus_A == pytest.approx(asym, rel=1e-13)
+    assert one_minus_A == pytest.approx(asym, rel=1e-13, abs=0)
 
 
 @pytest.mark.parametrize(("p0", "tau"), [(1.0, 0.01), (1.0, 1.0), (1e-3, 0.5), (5e5, 2e11)])
@@ -172,10 +172,10 @@ def test_pdf_normalisation_and_load_conservation(p0, tau):
     A0 = quad(P, 0, upper, **kw)[0]
     M1 = quad(lambda p: p * P(p), 0, upper, **kw)[0]
     M2 = quad(lambda p: p * p * P(p), 0, upper, **kw)[0]
-    assert A0 == pytest.approx(area_fraction(p0, tau)[0], rel=1e-10)
-    assert M1 == pytest.approx(p0, rel=1e-10)
+    assert A0 == pytest.approx(area_fraction(p0, tau)[0], rel=1e-10, abs=0)
+    assert M1 == pytest.approx(p0, rel=1e-10, abs=0)
     assert load_integral(p0, tau) == p0
-    assert M2 == pytest.approx(second_moment(p0, tau), rel=1e-10)
+    assert M2 == pytest.approx(second_moment(p0, tau), rel=1e-10, abs=0)
 
 
 def test_pdf_matches_mirrored_gaussian_and_is_stable():
@@ -191,7 +191,7 @@ def test_pdf_matches_mirrored_gaussian_and_is_stable():
     p0, tau, pp = 1e-9, 1.0, 1e-9
     val = pressure_pdf(pp, p0, tau)
     ref = np.exp(-((pp - p0) ** 2) / 4) / np.sqrt(4 * np.pi) * (pp * p0 / tau)
-    assert val == pytest.approx(ref, rel=1e-12)
+    assert val == pytest.approx(ref, rel=1e-12, abs=0)
     assert np.all(pressure_pdf(p, 1.0, 0.0) == 0.0)
     assert pressure_pdf(p[:, None], np.array([1.0, 2.0]), 0.3).shape == (71, 2)
 
@@ -199,7 +199,7 @@ def test_pdf_matches_mirrored_gaussian_and_is_stable():
 def test_second_moment_full_contact_limit():
     assert second_moment(3.0, 0.0) == 9.0
     p0, tau = 1e3, 1.0  # p0 >> sqrt(V)
-    assert second_moment(p0, tau) == pytest.approx(p0**2 + 2 * tau, rel=1e-15)
+    assert second_moment(p0, tau) == pytest.approx(p0**2 + 2 * tau, rel=1e-15, abs=0)
 
 
 @pytest.mark.parametrize(
@@ -230,7 +230,7 @@ def test_rayleigh_small_load_shape():
     dev = np.max(np.abs(pressure_pdf(p, p0, tau) / A - rayleigh_pdf(p, V)))
     assert 1.3e-7 < dev < 1.5e-7  # physics.md §1.3-5: ~1.4e-7
     # mean contact pressure p0/A -> sqrt(pi V / 2)
-    assert p0 / A == pytest.approx(math.sqrt(math.pi * V / 2), rel=1e-6)
+    assert p0 / A == pytest.approx(math.sqrt(math.pi * V / 2), rel=1e-6, abs=0)
 
 
 def test_full_contact_gaussian_std(ref_psd, ref_Es):
@@ -238,4 +238,4 @@ def test_full_contact_gaussian_std(ref_psd, ref_Es):
     tau = diffusion_time(ref_psd, ref_Es, zeta1)
     p0 = 1e3 * math.sqrt(2 * tau)  # G << 1
     std = math.sqrt(second_moment(p0, tau) - load_integral(p0, tau) ** 2)
-    assert std == pytest.approx(ref_Es * ref_psd.rms_slope() / 2, rel=1e-9)
+    assert std == pytest.approx(ref_Es * ref_psd.rms_slope() / 2, rel=1e-9, abs=0)

@@ -50,31 +50,31 @@ def test_selfaffine_moments_closed_forms_and_quad(H):
     C_r, qL, qr, q1 = 2.5e-20, 1e3, 1e4, 1e8
     psd = SelfAffineRollOff(C_r, H, qL, qr, q1)
     hh, gg, ll = closed_forms(C_r, H, qL, qr, q1)
-    assert psd.h_rms() ** 2 == pytest.approx(hh, rel=1e-13)
-    assert psd.rms_slope() ** 2 == pytest.approx(gg, rel=1e-13)
-    assert psd.rms_curvature() ** 2 == pytest.approx(ll, rel=1e-13)
+    assert psd.h_rms() ** 2 == pytest.approx(hh, rel=1e-13, abs=0)
+    assert psd.rms_slope() ** 2 == pytest.approx(gg, rel=1e-13, abs=0)
+    assert psd.rms_curvature() ** 2 == pytest.approx(ll, rel=1e-13, abs=0)
     for k in (1, 3, 5):
-        assert psd.moment(k) == pytest.approx(quad_moment(psd, k), rel=1e-12)
+        assert psd.moment(k) == pytest.approx(quad_moment(psd, k), rel=1e-12, abs=0)
 
 
 @pytest.mark.parametrize("k", [0.0, 2.0, 2.6, -1.0, 4.5])
 def test_general_k_moments_including_log_case(k):
     # H = 0.8: tail exponent -3.6, so k = 2.6 is the logarithmic case k + e = -1
     psd = SelfAffineRollOff(1e-20, 0.8, 1e3, 1e4, 1e8)
-    assert psd.moment(k) == pytest.approx(quad_moment(psd, k), rel=1e-12)
+    assert psd.moment(k) == pytest.approx(quad_moment(psd, k), rel=1e-12, abs=0)
     # partial ranges straddling the roll-off
     for qa, qb in [(2e3, 5e3), (5e3, 3e6), (1e5, 1e8), (5e2, 2e9)]:
         assert psd.moment(k, qa, qb) == pytest.approx(
-            quad_moment(psd, k, max(qa, 1e3), min(qb, 1e8)), rel=1e-12
+            quad_moment(psd, k, max(qa, 1e3), min(qb, 1e8)), rel=1e-12, abs=0
         )
-    assert psd.moment(k, 3e5, 2e4) == pytest.approx(-psd.moment(k, 2e4, 3e5), rel=1e-15)
+    assert psd.moment(k, 3e5, 2e4) == pytest.approx(-psd.moment(k, 2e4, 3e5), rel=1e-15, abs=0)
 
 
 def test_log_case_explicit():
     # k = 2H + 1 on a pure power law: int q^k C0 q^{-2-2H} dq = C0 ln(q1/qL)
     H = 0.8
     psd = SelfAffineRollOff(3.0, H, 1e4, 1e4, 1e6)
-    assert psd.moment(2 * H + 1) == pytest.approx(psd.C0 * np.log(100.0), rel=1e-14)
+    assert psd.moment(2 * H + 1) == pytest.approx(psd.C0 * np.log(100.0), rel=1e-14, abs=0)
 
 
 def test_I3_exact_vectorised():
@@ -96,9 +96,9 @@ def test_I3_exact_vectorised():
     )
     np.testing.assert_allclose(got, ref, rtol=1e-13, atol=0)
     assert psd.I3(qL) == 0.0
-    assert psd.I3(1e12) == pytest.approx(psd.moment(3), rel=1e-14)
+    assert psd.I3(1e12) == pytest.approx(psd.moment(3), rel=1e-14, abs=0)
     assert psd.I3(10.0) == 0.0
-    assert psd.I3(5e5) == pytest.approx(quad_moment(psd, 3, qL, 5e5), rel=1e-12)
+    assert psd.I3(5e5) == pytest.approx(quad_moment(psd, 3, qL, 5e5), rel=1e-12, abs=0)
 
 
 def test_I3_H1_log_form():
@@ -106,16 +106,16 @@ def test_I3_H1_log_form():
     psd = SelfAffineRollOff(C_r, 1.0, qL, qr, q1)
     q = 5e5
     ref = C_r * ((qr**4 - qL**4) / 4 + qr**4 * np.log(q / qr))
-    assert psd.I3(q) == pytest.approx(ref, rel=1e-14)
+    assert psd.I3(q) == pytest.approx(ref, rel=1e-14, abs=0)
 
 
 def test_reference_parameter_set_section_1_4():
     psd = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e8)
     assert psd.C_r == pytest.approx(1.421027e-21, abs=0.5e-27)
     assert psd.rms_slope() == pytest.approx(0.0931956, abs=0.5e-7)
-    assert psd.h_rms() == pytest.approx(1e-6, rel=1e-14)
+    assert psd.h_rms() == pytest.approx(1e-6, rel=1e-14, abs=0)
     psd2 = SelfAffineRollOff.from_rms_slope(psd.rms_slope(), 0.8, 1e3, 1e4, 1e8)
-    assert psd2.C_r == pytest.approx(psd.C_r, rel=1e-14)
+    assert psd2.C_r == pytest.approx(psd.C_r, rel=1e-14, abs=0)
 
 
 def test_C_values_and_support():
@@ -124,16 +124,16 @@ def test_C_values_and_support():
     ref = np.array([0.0, 2.0, 2.0, 2.0, 2.0 * 10.0**-3, 2.0 * 100.0**-3, 0.0])
     np.testing.assert_allclose(psd.C(q), ref, rtol=1e-15)
     assert isinstance(psd.C(3.0), float)
-    assert psd.C0 == pytest.approx(2.0 * 10.0**3, rel=1e-15)
+    assert psd.C0 == pytest.approx(2.0 * 10.0**3, rel=1e-15, abs=0)
     np.testing.assert_array_equal(psd.nodes(), [1.0, 10.0, 1000.0])
 
 
 def test_no_plateau_and_pure_plateau():
     nop = SelfAffineRollOff(1.0, 0.8, 1e4, 1e4, 1e6)
     np.testing.assert_array_equal(nop.nodes(), [1e4, 1e6])
-    assert nop.moment(1) == pytest.approx(quad_moment(nop, 1), rel=1e-12)
+    assert nop.moment(1) == pytest.approx(quad_moment(nop, 1), rel=1e-12, abs=0)
     flat = SelfAffineRollOff(1.0, 0.8, 1.0, 2.0, 2.0)
-    assert flat.moment(3) == pytest.approx((16 - 1) / 4, rel=1e-15)
+    assert flat.moment(3) == pytest.approx((16 - 1) / 4, rel=1e-15, abs=0)
 
 
 @pytest.mark.parametrize(
@@ -158,11 +158,11 @@ def test_profile_factor_values_and_quadrature():
     # physics.md §8.2: 1/K = 2.733, pi, 3.508, 3.679, 3.843, 4
     for H, inv in [(0.3, 2.733), (0.7, 3.508), (0.8, 3.679), (0.9, 3.843)]:
         assert 1 / profile_factor(H) == pytest.approx(inv, abs=5e-4)
-    assert 1 / profile_factor(0.5) == pytest.approx(np.pi, rel=1e-14)
-    assert 1 / profile_factor(1.0) == pytest.approx(4.0, rel=1e-14)
+    assert 1 / profile_factor(0.5) == pytest.approx(np.pi, rel=1e-14, abs=0)
+    assert 1 / profile_factor(1.0) == pytest.approx(4.0, rel=1e-14, abs=0)
     for H in [0.3, 0.5, 0.8, 1.0]:
         ref = Gamma(H + 0.5) / (2 * np.sqrt(np.pi) * Gamma(H + 1))
-        assert profile_factor(H) == pytest.approx(ref, rel=1e-14)
+        assert profile_factor(H) == pytest.approx(ref, rel=1e-14, abs=0)
         qx = 2.0
         num = (
             quad(
@@ -185,7 +185,7 @@ def test_tabulated_reproduces_selfaffine_exactly():
     q = sa.nodes()
     tab = Tabulated(q, sa.C(q))
     for k in (1, 3, 5, 2.6):
-        assert tab.moment(k) == pytest.approx(sa.moment(k), rel=1e-13)
+        assert tab.moment(k) == pytest.approx(sa.moment(k), rel=1e-13, abs=0)
     qq = np.geomspace(1e3, 1e8, 37)
     np.testing.assert_allclose(tab.I3(qq), sa.I3(qq), rtol=1e-13)
     np.testing.assert_allclose(tab.C(qq), sa.C(qq), rtol=1e-13)
@@ -198,7 +198,7 @@ def test_tabulated_dense_power_law_and_loglog_interpolation():
     qq = np.geomspace(1e2, 1e6, 101)
     np.testing.assert_allclose(tab.C(qq), 5.0 * qq**-3.0, rtol=1e-12)
     # k = 2 makes every segment the log case (k + e = -1)
-    assert tab.moment(2) == pytest.approx(5.0 * np.log(1e4), rel=1e-13)
+    assert tab.moment(2) == pytest.approx(5.0 * np.log(1e4), rel=1e-13, abs=0)
 
 
 def test_tabulated_irregular_vs_quad():
@@ -206,15 +206,15 @@ def test_tabulated_irregular_vs_quad():
     C = np.array([1e-18, 1.5e-18, 9e-19, 1e-19, 6e-21, 2e-23, 1e-25])
     tab = Tabulated(q, C)
     for k in (1, 3, 5, 0.5):
-        assert tab.moment(k) == pytest.approx(quad_moment(tab, k), rel=1e-12)
-    assert tab.I3(2.5e4) == pytest.approx(quad_moment(tab, 3, 1e3, 2.5e4), rel=1e-12)
+        assert tab.moment(k) == pytest.approx(quad_moment(tab, k), rel=1e-12, abs=0)
+    assert tab.I3(2.5e4) == pytest.approx(quad_moment(tab, 3, 1e3, 2.5e4), rel=1e-12, abs=0)
 
 
 def test_tabulated_truncation():
     q = np.geomspace(1e2, 1e6, 5)
     tab = Tabulated(q, 7.0 * q**-3.6, q_L=3e2, q_1=5e5)
     assert tab.q_L == 3e2 and tab.q_1 == 5e5
-    assert tab.moment(3) == pytest.approx(7.0 * (5e5**0.4 - 3e2**0.4) / 0.4, rel=1e-13)
+    assert tab.moment(3) == pytest.approx(7.0 * (5e5**0.4 - 3e2**0.4) / 0.4, rel=1e-13, abs=0)
     with pytest.raises(ValueError, match="q_L"):
         Tabulated(q, q**-3.0, q_L=10.0)
 
@@ -229,7 +229,7 @@ def test_convention_surface_topography_two_pi_squared():
     np.testing.assert_allclose(jjp.C(qq), p.C(qq), rtol=1e-14)
     # guard: reading JJP data as Persson would be (2 pi)^2 off
     wrong = Tabulated(q, TWO_PI_SQ * sa.C(q), "persson")
-    assert wrong.I3(1e8) / p.I3(1e8) == pytest.approx(TWO_PI_SQ, rel=1e-13)
+    assert wrong.I3(1e8) / p.I3(1e8) == pytest.approx(TWO_PI_SQ, rel=1e-13, abs=0)
 
 
 @pytest.mark.parametrize("H", [0.3, 0.8])
@@ -249,7 +249,7 @@ def test_convention_profile_1d_pure_power_law(H):
     tab_x = Tabulated(
         np.array([qx / 2, qx, 2 * qx]), num * np.array([2.0, 1.0, 0.5]) ** (1 + 2 * H), "profile_1d"
     )
-    assert tab_x.C(qx) * TWO_PI_SQ == pytest.approx(C0_jjp * qx ** (-2 - 2 * H), rel=1e-10)
+    assert tab_x.C(qx) * TWO_PI_SQ == pytest.approx(C0_jjp * qx ** (-2 - 2 * H), rel=1e-10, abs=0)
 
 
 def test_profile_1d_plateau_is_clipped():
@@ -300,7 +300,7 @@ def test_from_file(tmp_path):
     ]
     f.write_text("\n".join(lines) + "\n")
     tab = Tabulated.from_file(f, 1e6, 1e-24, "surface_topography")
-    assert tab.I3(1e8) == pytest.approx(sa.I3(1e8), rel=1e-12)
+    assert tab.I3(1e8) == pytest.approx(sa.I3(1e8), rel=1e-12, abs=0)
     g = tmp_path / "ws.txt"
     g.write_text("1 2 1\n2 3 0.5\n4 5 0.25\n")
     tab2 = Tabulated.from_file(g, columns=(0, 2))
@@ -326,7 +326,9 @@ def test_from_file_errors(tmp_path, text, match):
 
 def test_h_rms_from_rms_definitions_are_consistent():
     psd = SelfAffineRollOff(1e-20, 0.8, 1e3, 1e4, 1e8)
-    assert psd.h_rms() == pytest.approx(math.sqrt(2 * np.pi * quad_moment(psd, 1)), rel=1e-12)
+    assert psd.h_rms() == pytest.approx(
+        math.sqrt(2 * np.pi * quad_moment(psd, 1)), rel=1e-12, abs=0
+    )
     assert psd.rms_curvature() == pytest.approx(
-        math.sqrt(2 * np.pi * quad_moment(psd, 5)), rel=1e-12
+        math.sqrt(2 * np.pi * quad_moment(psd, 5)), rel=1e-12, abs=0
     )
