@@ -6,10 +6,9 @@ import copy
 from pathlib import Path
 
 import pytest
+from xpersson_core_reference import REFERENCE_SCENE
 
 SHARED = Path(__file__).resolve().parents[1].parent / "shared"
-
-from xpersson_core_reference import REFERENCE_SCENE
 
 
 @pytest.fixture

@@ -6,11 +6,10 @@ import copy
 
 import numpy as np
 import pytest
+from xpersson_core_reference import REFERENCE_SCENE
 
 import xpersson
 from xpersson.scene import Scene, SceneError, load_scene
-
-from xpersson_core_reference import REFERENCE_SCENE
 
 
 def _with(path: str, value):
