@@ -175,3 +175,16 @@ def test_closure_area_exceeds_persson01(scene):
         np.testing.assert_allclose(a, erf(1 / (2 * np.sqrt(
             ds.effective_diffusion_time.isel(zeta=-1).values / ds.p0.values**2))), rtol=1e-12)
         assert np.all(G > 0)
+
+
+def test_contact_area_analysis_kappa_and_mean_pressure(scene):
+    scene["load"]["p0"] = ["1 Pa", "1 MPa"]
+    scene["analyses"] = {"contact_area": {}}
+    ds = xpersson.solve(scene)
+    kappa = ds.kappa.values
+    assert kappa[0] == pytest.approx(math.sqrt(8 / math.pi), rel=1e-6)
+    assert kappa[1] < kappa[0]  # sub-linear area growth at high load
+    np.testing.assert_allclose(
+        ds.mean_contact_pressure.values * ds.area_fraction.values,
+        np.broadcast_to(ds.p0.values[:, None], ds.area_fraction.shape), rtol=1e-14)
+    assert ds.kappa.attrs["units"] == "1"
