@@ -170,7 +170,7 @@ def check_plugin(
     engine: bool = True,
     cheap_import: bool = True,
     import_budget: float = 3.0,
-    balance_tol: float = 1e-6,
+    balance_tol: float | None = None,
 ) -> dict[str, Any]:
     """Check a plugin class against the xpersson plugin contract.
 
@@ -197,8 +197,9 @@ def check_plugin(
         Import the plugin's module in a subprocess and time it.
     import_budget : float
         Allowed import time [s].
-    balance_tol : float
-        Allowed probability-balance residual [1].
+    balance_tol : float, optional
+        Allowed probability-balance residual [1]. Default: the engine's own acceptance
+        criterion for the tiny scene's tolerances, ``10 (rtol + atol)``.
 
     Returns
     -------
@@ -423,13 +424,19 @@ def tiny_scene(
 
 
 def _check_engine(
-    cls: type[Plugin], params: Mapping[str, Any], scene: Mapping[str, Any] | None, tol: float
+    cls: type[Plugin],
+    params: Mapping[str, Any],
+    scene: Mapping[str, Any] | None,
+    tol: float | None,
 ) -> str:
     import numpy as np
 
     solve = _solver()
     who = _qual(cls)
     sc = tiny_scene(cls, params, scene)
+    if tol is None:
+        solver = sc.get("solver", {})
+        tol = 10.0 * (float(solver.get("rtol", 1e-6)) + float(solver.get("atol", 1e-12)))
     with registry_with(**{cls.group: {_CHECK_NAME: cls}}):
         ds1 = solve(copy.deepcopy(sc))
         ds2 = solve(copy.deepcopy(sc))
