@@ -3,7 +3,10 @@
 Public API
 ----------
 solve(tau_out, p0, lower=Wall.absorbing(0.0), upper=None, *, rtol, atol, method, p_out, ...)
-Wall.absorbing(position), Wall.linear(p_start, velocity), Wall.yield_closure(position, dposition)
+solve_sourced(tau_out, sources_tau, sources_position, sources_weight, *, lower, p_out, ...)
+Wall.absorbing(position), Wall.linear(p_start, velocity), Wall.yield_closure(position, dposition),
+Wall.reflecting(position)
+SourcedResult
 EngineResult, EngineMethod, register_method, exact (closed forms)
 
 Units: pressures in Pa, diffusion time tau in Pa^2, densities in 1/Pa.
@@ -18,6 +21,7 @@ from ._methods import EngineMethod, register_method
 from ._moving import CNMethod
 from ._result import EngineResult
 from ._sine import SineMethod
+from ._sourced import SourcedResult, solve_sourced
 from ._walls import Wall
 
 register_method("exact", ExactMethod)
@@ -26,6 +30,8 @@ register_method("cn", CNMethod)
 
 __all__ = [
     "solve",
+    "solve_sourced",
+    "SourcedResult",
     "Wall",
     "EngineResult",
     "EngineMethod",

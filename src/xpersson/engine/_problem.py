@@ -65,6 +65,11 @@ def _check_wall(name: str, wall: object) -> None:
             f"{name} must be a Wall (Wall.absorbing(p [Pa]), Wall.yield_closure(Y [Pa], dY/dtau "
             f"[1/Pa]))" + (" or None" if name == "upper" else "") + f"; got {wall!r}"
         )
+    if wall.kind == "reflecting":
+        raise ValueError(
+            f"{name}: solve() takes absorbing and yield walls; a reflecting wall (zero flux) is "
+            "served by xpersson.engine.solve_sourced"
+        )
 
 
 def make_problem(

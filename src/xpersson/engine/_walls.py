@@ -18,12 +18,14 @@ __all__ = ["Wall"]
 class Wall:
     """A boundary of the diffusion domain.
 
-    Build walls with the class methods :meth:`absorbing`, :meth:`linear` and
-    :meth:`yield_closure`; pass ``None`` instead of a wall for an open upper side.
+    Build walls with the class methods :meth:`absorbing`, :meth:`linear`,
+    :meth:`yield_closure` and :meth:`reflecting`; pass ``None`` instead of a wall for an open
+    upper side.  :func:`~xpersson.engine.solve` takes absorbing and yield walls;
+    :func:`~xpersson.engine.solve_sourced` takes a reflecting lower wall.
 
     Attributes
     ----------
-    kind : {"absorbing", "yield_closure"}
+    kind : {"absorbing", "yield_closure", "reflecting"}
         Boundary condition.
     position : float or callable
         Wall position [Pa]; a callable maps diffusion time tau [Pa^2] (numpy array) to positions.
@@ -34,7 +36,7 @@ class Wall:
         ``p = p_start + velocity * tau`` (enables the exact path of physics.md §2.2).
     """
 
-    kind: Literal["absorbing", "yield_closure"]
+    kind: Literal["absorbing", "yield_closure", "reflecting"]
     position: PositionLike
     dposition: Callable[[NDArray[np.float64]], ArrayLike] | None = None
     motion: tuple[float, float] | None = None
@@ -53,6 +55,25 @@ class Wall:
         if not callable(position):
             position = float(position)
         return cls("absorbing", position)
+
+    @classmethod
+    def reflecting(cls, position: float = 0.0) -> Wall:
+        """Fixed reflecting wall: zero flux ``dP/dp = 0``, no mass leaves (no re-contact).
+
+        Parameters
+        ----------
+        position : float
+            Fixed, finite position [Pa] (or the unit of the caller's coordinate).
+        """
+        try:
+            position = float(position)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"position [Pa] of a reflecting wall must be a finite float; got {position!r}"
+            ) from None
+        if not np.isfinite(position):
+            raise ValueError(f"position [Pa] of a reflecting wall must be finite; got {position!r}")
+        return cls("reflecting", position)
 
     @classmethod
     def linear(cls, p_start: float, velocity: float) -> Wall:
@@ -126,7 +147,7 @@ class Wall:
     @property
     def acts_absorbing(self) -> bool:
         """True when the wall is ``P = 0`` at all times (absorbing, or a fixed yield wall)."""
-        return self.kind == "absorbing" or self.is_fixed
+        return self.kind == "absorbing" or (self.kind == "yield_closure" and self.is_fixed)
 
     def linear_motion(self, tau_max: float) -> tuple[float, float] | None:
         """``(p_start, velocity)`` if the wall is absorbing and moves linearly, else None.

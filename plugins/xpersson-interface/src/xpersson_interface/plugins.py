@@ -153,7 +153,7 @@ class GapPDF(Analysis):
             kind="choice",
             choices=("closed_form", "diffusion"),
             default="closed_form",
-            description="closed_form (Almqvist et al. 2011) or diffusion (implicit CN solver)",
+            description="closed_form (Almqvist et al. 2011) or diffusion (engine solve_sourced)",
         ),
         "gamma": _GAMMA,
         "u_max": ParamSpec(
