@@ -63,6 +63,11 @@ class ParamSpec:
         A typical value in ``unit`` (SI float for quantities), used by
         :func:`xpersson.testing.check_plugin` and the documentation when ``default`` is
         :data:`REQUIRED`.
+    dim : str, optional
+        Name of the Dataset dimension this parameter becomes when a scene sweeps it (a list
+        or a range of values); only for ``sweepable`` parameters. ``None`` uses the
+        documented default naming rule of the sweep mechanism. Plugins declare their own
+        dimensions this way (e.g. a sliding speed ``velocity`` swept as dimension ``"v"``).
     """
 
     unit: str = "1"
@@ -75,6 +80,7 @@ class ParamSpec:
     choices: tuple[str, ...] = ()
     array: bool = False
     example: Any = None
+    dim: str | None = None
 
     @property
     def required(self) -> bool:
@@ -129,6 +135,11 @@ class ParamSpec:
                 raise SpecError(f"{where}: {flag} must be True or False")
         if isinstance(self.choices, str):
             raise SpecError(f"{where}: choices must be a tuple of str, not one string")
+        if self.dim is not None:
+            if not isinstance(self.dim, str) or not _NAME.match(self.dim.lower()):
+                raise SpecError(f"{where}: dim must be a dimension name matching {_NAME.pattern}")
+            if not self.sweepable:
+                raise SpecError(f"{where}: dim is given but the parameter is not sweepable")
         if self.kind == "bool" and not self.required and not isinstance(self.default, bool):
             raise SpecError(f"{where}: kind='bool' needs a bool default, got {self.default!r}")
         if (
@@ -201,6 +212,12 @@ class VarSpec:
         CF ``standard_name`` when one exists.
     description : str
         Longer text stored as the ``comment`` attribute.
+    extra : dict of str
+        Further CF attributes (``flag_values``, ``flag_meanings``, ...).
+    valid_min, valid_max : float, optional
+        Declared range of the values (in ``units``); written as the CF attributes
+        ``valid_min`` / ``valid_max`` and checked by the pipeline before the variable enters a
+        Dataset.
     """
 
     dims: tuple[str, ...]
@@ -209,6 +226,8 @@ class VarSpec:
     standard_name: str | None = None
     description: str = ""
     extra: dict[str, str] = field(default_factory=dict)
+    valid_min: float | None = None
+    valid_max: float | None = None
 
     def check(self, owner: str, name: str) -> None:
         """Raise :class:`SpecError` if this declaration is malformed."""
@@ -221,13 +240,36 @@ class VarSpec:
             raise SpecError(f"{where}: units must be a UDUNITS string ('1' if dimensionless)")
         if not isinstance(self.long_name, str) or not self.long_name:
             raise SpecError(f"{where}: long_name must be a non-empty string")
+        for b in (self.valid_min, self.valid_max):
+            if b is not None and (
+                not isinstance(b, int | float) or isinstance(b, bool) or math.isnan(b)
+            ):
+                raise SpecError(f"{where}: valid_min/valid_max must be numbers or None")
+        if (
+            self.valid_min is not None
+            and self.valid_max is not None
+            and self.valid_min > self.valid_max
+        ):
+            raise SpecError(
+                f"{where}: valid_min {self.valid_min} exceeds valid_max {self.valid_max}"
+            )
 
-    def attrs(self) -> dict[str, str]:
-        """CF attributes for a variable with this spec."""
+    def attrs(self) -> dict[str, Any]:
+        """CF attributes for a variable with this spec (``valid_min``/``valid_max`` as floats)."""
         out = {"units": self.units, "long_name": self.long_name}
         if self.standard_name:
             out["standard_name"] = self.standard_name
         if self.description:
             out["comment"] = self.description
         out.update(self.extra)
+        out.update(self.valid_range())
+        return out
+
+    def valid_range(self) -> dict[str, float]:
+        """The declared ``valid_min`` / ``valid_max`` as CF attributes (only those given)."""
+        out = {}
+        if self.valid_min is not None:
+            out["valid_min"] = float(self.valid_min)
+        if self.valid_max is not None:
+            out["valid_max"] = float(self.valid_max)
         return out
