@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from . import provenance
+from . import memory, provenance
 from .plugins import DiffusionClock, SceneContext, VarSpec
 from .plugins._registry import Registry, get_registry
 from .scene import ResolvedScene, Scene, SceneError, load_scene
@@ -95,13 +95,12 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     if p_grid is not None:
         ctx = dataclasses.replace(ctx, p=p_grid)
 
-    results = []
-    for i, p0 in enumerate(rs.p0):
-        lower, upper = walls[i]
-        results.append(
-            engine.solve(tau_eff[i], float(p0), lower, upper, rtol=rs.rtol, atol=rs.atol,
-                         method=rs.method, p_out=p_grid)
-        )
+    memory.check_request(rs.p0.size, zeta.size, None if p_grid is None else p_grid.size)
+    # one engine call for the whole batch (loads sharing their walls are solved together)
+    first = walls[0]
+    shared = all(w == first for w in walls[1:])
+    results = engine.solve_batch(tau_eff, rs.p0, first if shared else walls, rtol=rs.rtol,
+                                 atol=rs.atol, method=rs.method, p_out=p_grid)
     ds = _assemble(rs, ctx, results, tau_c, f_z, tau_eff, p_grid)
     extra = rs.boundary.interpret(ctx, results)
     _add(ds, extra, type(rs.boundary).outputs, "boundary")
@@ -143,14 +142,14 @@ def _wall_positions(wall: Any, tau_eff: np.ndarray) -> np.ndarray:
 def _assemble(
     rs: ResolvedScene,
     ctx: SceneContext,
-    results: list[Any],
+    results: Any,
     tau_c: np.ndarray,
     f_z: np.ndarray,
     tau_eff: np.ndarray,
     p_grid: np.ndarray | None,
 ) -> xr.Dataset:
     def stack(attr: str) -> np.ndarray:
-        return np.stack([np.asarray(getattr(r, attr), float) for r in results])
+        return np.asarray(getattr(results, attr), float)  # EngineBatch: stacked arrays
 
     psd = rs.psd
     q_nodes = np.asarray(psd.nodes(), float)
@@ -176,13 +175,13 @@ def _assemble(
         "load_balance": (pz, stack("load_balance")),
         "probability_balance": (pz, stack("probability_balance")),
         "error_estimate": (pz, stack("error_estimate")),
-        "solver_status": (("p0",), np.array([r.status for r in results], dtype=object)),
+        "solver_status": (("p0",), np.array(results.status, dtype=object)),
     }
     if not np.allclose(tau_eff, tau_c[None, :], rtol=1e-15, atol=0):
         data["effective_diffusion_time"] = (pz, tau_eff)
     if p_grid is not None:
         coords["p"] = ("p", p_grid)
-        data["P"] = (("p0", "zeta", "p"), np.stack([np.asarray(r.P, float) for r in results]))
+        data["P"] = (("p0", "zeta", "p"), stack("P"))
     ds = xr.Dataset(data, coords=coords)
     stamp(ds, COORDS)
     stamp(ds, CORE_VARIABLES)
@@ -208,11 +207,12 @@ def _add(ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec]
         ds[name].attrs.update(spec.attrs())
 
 
-def _attributes(ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: list[Any]) -> None:
-    bad = [(float(rs.p0[i]), r) for i, r in enumerate(results) if not r.success]
+def _attributes(ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: Any) -> None:
+    success = np.asarray(results.success, dtype=bool)
+    bad = [(float(rs.p0[i]), results[int(i)]) for i in np.flatnonzero(~success)[:5]]
     status = "success" if not bad else bad[0][1].status
     message = "all loads met the requested tolerance" if not bad else "; ".join(
-        f"p0 = {p:g} Pa: {r.status}: {r.message}" for p, r in bad[:5]
+        f"p0 = {p:g} Pa: {r.status}: {r.message}" for p, r in bad
     )
     ds.attrs.update(provenance.global_attributes(rs, reg))
     ds.attrs["status"] = status
@@ -220,13 +220,13 @@ def _attributes(ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: list[
     ds.attrs["xpersson_solver"] = json.dumps(
         {
             "method": rs.resolved["solver"]["method"],
-            "methods_used": sorted({r.method for r in results}),
+            "methods_used": sorted(set(results.method)),
             "rtol": rs.rtol,
             "atol": rs.atol,
-            "max_error_estimate": float(max(np.max(r.error_estimate) for r in results)),
+            "max_error_estimate": float(np.max(results.error_estimate)),
             "work": {
-                "nsteps": int(sum(getattr(r, "nsteps", 0) for r in results)),
-                "wall_time_s": float(sum(getattr(r, "wall_time", 0.0) for r in results)),
+                "nsteps": int(np.sum(results.nsteps)),
+                "wall_time_s": float(results.wall_time),
             },
         }
     )

@@ -24,6 +24,8 @@ Families
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf, erfc, erfcx, log_ndtr, ndtr
@@ -92,6 +94,20 @@ def one_wall_area(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> Array
     tau, x0 = np.broadcast_arrays(_f(tau), _f(p0) - _f(wall))
     st = _safe_sqrt_tau(tau)
     return np.where(tau > 0, erf(x0 / (2.0 * st)), 1.0)
+
+
+def one_wall(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> tuple[Array, Array, Array]:
+    """``(area, non_area, load)`` of the one-wall problem in one pass (broadcast inputs).
+
+    The same closed forms as :func:`one_wall_area`, :func:`one_wall_non_area` and
+    :func:`one_wall_load` (``load = p0 - wall (1 - A/A0)``, the image integrals combined), with
+    ``erf``/``erfc`` evaluated once; ``tau = 0`` gives ``(1, 0, p0)``.
+    """
+    x0 = _f(p0) - _f(wall)
+    with np.errstate(divide="ignore"):
+        x = x0 / (2.0 * np.sqrt(_f(tau)))  # +inf at tau = 0 (x0 > 0)
+    non = erfc(x)
+    return erf(x), non, _f(p0) - _f(wall) * non
 
 
 def one_wall_non_area(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> Array:
@@ -374,6 +390,16 @@ def linear_wall_load(tau: ArrayLike, p0: ArrayLike, s0: ArrayLike, c: ArrayLike)
     return np.where(tau > 0, p0 * ndtr(z1) + (p0 + 2.0 * s0) * t2, p0)
 
 
+@functools.lru_cache(maxsize=8)
+def _gauss_legendre01(nodes: int) -> tuple[Array, Array]:
+    """Gauss-Legendre nodes and weights on [0, 1] (computed once per node count)."""
+    u, w = np.polynomial.legendre.leggauss(nodes)
+    u, w = 0.5 * (u + 1.0), 0.5 * w
+    u.setflags(write=False)
+    w.setflags(write=False)
+    return u, w
+
+
 def linear_wall_absorbed_moment(
     tau: ArrayLike, p0: ArrayLike, s0: ArrayLike, c: ArrayLike, nodes: int = 64
 ) -> Array:
@@ -384,9 +410,7 @@ def linear_wall_absorbed_moment(
     ``load + int p_w d absorbed = p0``.
     """
     tau, p0, s0, c = np.broadcast_arrays(_f(tau), _f(p0), _f(s0), _f(c))
-    u, w = np.polynomial.legendre.leggauss(nodes)
-    u = 0.5 * (u + 1.0)
-    w = 0.5 * w
+    u, w = _gauss_legendre01(nodes)
     s = tau[..., None] * u**2
     ab = linear_wall_non_area(s, p0[..., None], s0[..., None], c[..., None])
     integral = tau * np.sum(ab * 2.0 * u * w, axis=-1)
