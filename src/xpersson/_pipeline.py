@@ -112,7 +112,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         _add(ds, out, type(analysis).outputs, f"analysis {name!r}")
     _attributes(ds, rs, reg, results)
     if rs.p0_scalar:
-        ds = ds.squeeze("p0")
+        ds = ds.isel(p0=0)  # = squeeze("p0"): p0 becomes a scalar coordinate
     return ds
 
 
@@ -182,10 +182,53 @@ def _assemble(
     if p_grid is not None:
         coords["p"] = ("p", p_grid)
         data["P"] = (("p0", "zeta", "p"), stack("P"))
-    ds = xr.Dataset(data, coords=coords)
-    stamp(ds, COORDS)
-    stamp(ds, CORE_VARIABLES)
-    return ds
+    return _dataset(data, coords)
+
+
+_ATTRS: dict[str, dict[str, Any]] = {}
+
+
+def _attrs_of(name: str) -> dict[str, Any]:
+    """CF attrs of a core variable or coordinate (computed once per process, copied out)."""
+    if name not in _ATTRS:
+        spec = COORDS.get(name) or CORE_VARIABLES.get(name)
+        _ATTRS[name] = spec.attrs() if spec is not None else {}
+    return dict(_ATTRS[name])
+
+
+def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
+    """Build the Dataset in one pass: variables carry their CF attrs from the schema table.
+
+    Equivalent to ``xr.Dataset(data, coords=coords)`` followed by :func:`stamp`; the direct
+    constructor skips xarray's merge/alignment (nothing to align: one set of coordinates).
+    """
+    def var(name: str, dims: Any, val: Any) -> xr.Variable:
+        arr = np.asarray(val)
+        if arr.dtype.kind in "fiub" or (arr.dtype == object and arr.ndim == 1):
+            return xr.Variable(dims, arr, _attrs_of(name), fastpath=True)  # already an ndarray
+        return xr.Variable(dims, val, _attrs_of(name))
+
+    variables = {name: var(name, dims, val) for name, (dims, val) in data.items()}
+    cvars = {name: var(name, dims, val) for name, (dims, val) in coords.items()}
+    try:
+        from xarray.core.indexes import PandasIndex
+
+        indexes = {}
+        for name, var in cvars.items():
+            if var.dims == (name,):
+                indexes[name] = PandasIndex.from_variables({name: var}, options={})
+                cvars[name] = indexes[name].create_variables({name: var})[name]
+        dims: dict[str, int] = {}
+        for var in (*variables.values(), *cvars.values()):
+            dims.update(zip(var.dims, var.shape, strict=True))
+        return xr.Dataset._construct_direct(  # noqa: SLF001 - see docstring
+            {**variables, **cvars}, set(cvars), dims, {}, indexes
+        )
+    except (AttributeError, TypeError, ImportError):  # pragma: no cover - other xarray versions
+        ds = xr.Dataset(data, coords=coords)
+        stamp(ds, COORDS)
+        stamp(ds, CORE_VARIABLES)
+        return ds
 
 
 def _add(ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec], who: str) -> None:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import re
+import time
 
 from .scene import SceneError
 
@@ -46,7 +47,22 @@ def _parse(text: str) -> int:
 
 
 def available() -> int:
-    """Memory the operating system reports as available [bytes] (4 GiB when unknown)."""
+    """Memory the operating system reports as available [bytes] (4 GiB when unknown).
+
+    Read at most once a second (a solve costs well under a millisecond otherwise).
+    """
+    now = time.monotonic()
+    if _AVAILABLE and now - _AVAILABLE[0] < 1.0:
+        return _AVAILABLE[1]
+    value = _read_available()
+    _AVAILABLE[:] = [now, value]
+    return value
+
+
+_AVAILABLE: list = []
+
+
+def _read_available() -> int:
     try:
         with open("/proc/meminfo") as fh:
             for line in fh:

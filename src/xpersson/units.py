@@ -81,6 +81,21 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
         return np.array([to_si(v, unit, f"{where}[{i}]") for i, v in enumerate(value)], float)
     if isinstance(value, bool):
         raise UnitError(f"{where}: expected a quantity in {unit}, got a boolean")
+    if isinstance(value, str):  # units parsed once per process: cache the conversions of text
+        key = (value, unit, array)
+        hit = _TEXT_CACHE.get(key)
+        if hit is None:
+            hit = _to_si(value, unit, where, array)
+            if len(_TEXT_CACHE) < 4096:
+                _TEXT_CACHE[key] = hit
+        return hit.copy() if array else hit
+    return _to_si(value, unit, where, array)
+
+
+_TEXT_CACHE: dict[tuple[str, str, bool], Any] = {}
+
+
+def _to_si(value: Any, unit: str, where: str, array: bool) -> Any:
     dimensionless = unit in ("1", "")
     q = _parse(value, where)
     if isinstance(q, int | float):
