@@ -60,8 +60,7 @@ class ExactMethod(EngineMethod):
                 P = exact.one_wall_density(pb.p_out, tp, pp, a)
         elif case == "two":
             a, b = float(pb.lower.position), float(pb.upper.position)
-            area = exact.two_wall_area(tau, p0, a, b)
-            ab_l, ab_u = exact.two_wall_absorbed(tau, p0, a, b)
+            area, ab_l, ab_u = exact.two_wall(tau, p0, a, b)
             non = ab_l + ab_u
             load = exact.two_wall_load(tau, p0, a, b)
             wall_term = a * ab_l + b * ab_u

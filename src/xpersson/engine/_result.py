@@ -11,16 +11,30 @@ from numpy.typing import NDArray
 
 from ._problem import Problem
 
-__all__ = ["EngineResult", "EngineBatch", "Raw", "finish", "finish_batch", "balance_status",
-           "balance_tolerance"]
+__all__ = ["Outcome", "EngineResult", "EngineBatch", "Raw", "finish", "finish_batch",
+           "balance_status", "balance_tolerance"]
 
 Array = NDArray[np.float64]
 
 STATUSES = ("success", "max_steps", "balance_violated", "tolerance_not_met", "invalid_input")
 
 
+@dataclass(frozen=True, kw_only=True)
+class Outcome:
+    """What every engine result reports about its run (shared by :class:`EngineResult` and
+    :class:`~xpersson.engine.SourcedResult`; keyword-only fields)."""
+
+    status: str
+    message: str
+    success: bool
+    method: str
+    nsteps: int
+    n_nodes: int
+    wall_time: float
+
+
 @dataclass(frozen=True)
-class EngineResult:
+class EngineResult(Outcome):
     """Result of :func:`xpersson.engine.solve` (scipy-style; arrays are per output tau).
 
     Attributes
@@ -74,14 +88,7 @@ class EngineResult:
     error_estimate: Array
     probability_balance: Array
     load_balance: Array
-    status: str
-    message: str
-    success: bool
-    method: str
-    nsteps: int
-    n_nodes: int
     nfev: int
-    wall_time: float
 
     def __repr__(self) -> str:  # compact, like scipy's OptimizeResult summary
         return (
