@@ -114,17 +114,7 @@ class SineMethod(EngineMethod):
                 coef = s[j, : m[j]] * 2.0 / length[j]
                 P[idx[j], inside] = np.sin(np.outer(x[inside], nj) * math.pi / length[j]) @ coef
             P = P.reshape(*shape, pb.p_out.size)
-        return Raw(
-            area=area,
-            non_area=non,
-            absorbed_lower=ab_l,
-            absorbed_upper=ab_u,
-            load=load,
-            wall_term=wall_term,
-            error_estimate=err,
-            P=P,
-            message=f"windowed sine series, k = {k:.3g}, modes <= {mmax}",
-            nsteps=0,
-            n_nodes=mmax,
-            nfev=int(m.sum()),
-        )
+        # Raw fields in order: area, non_area, absorbed (lower, upper), load, wall term, error
+        return Raw(area, non, ab_l, ab_u, load, wall_term, err, P,
+                   message=f"windowed sine series, k = {k:.3g}, modes <= {mmax}",
+                   n_nodes=mmax, nfev=int(m.sum()))
