@@ -361,6 +361,7 @@ class CNMethod(EngineMethod):
         per_node = float(opt.get("steps_per_decade", 0.0)) / n0 if "steps_per_decade" in opt \
             else 0.25
         max_levels = int(opt.get("levels", 6))
+        max_work = float(opt.get("max_work", 1e8))  # node-steps per load over all grids
         stretch = float(opt.get("stretch", 1.0))
         n_ie = int(opt.get("rannacher", 2))
         k = float(opt.get("window_k", window_k(pb.atol)))
@@ -371,6 +372,7 @@ class CNMethod(EngineMethod):
         nb = len(pbs)
         status, message = "success", ""
         nsteps = 0
+        work = 0.0
         n_used = 0
         best: dict | None = None
         err = np.full((nb, int(num.sum())), np.inf)
@@ -379,7 +381,7 @@ class CNMethod(EngineMethod):
 
             def level(n_base: int, mult: int) -> dict:
                 """Grid n_base * mult on the time plan of n_base subdivided mult times."""
-                nonlocal nsteps
+                nonlocal nsteps, work
                 key = (n_base, mult)
                 if key not in cache:
                     plan = _joint_plan(pbs, k, per_node * n_base, tau_s)
@@ -387,6 +389,12 @@ class CNMethod(EngineMethod):
                     if nsteps + cost > pb.max_steps:
                         raise _Budget(f"max_steps = {pb.max_steps} reached before the "
                                       "tolerance was met")
+                    if work + cost * n_base * mult > max_work:
+                        raise _Budget(
+                            f"the next grid (N = {n_base * mult}, {cost} steps) would exceed "
+                            f"the work budget options['max_work'] = {max_work:.3g} node-steps; "
+                            "loosen rtol/atol or raise max_work")
+                    work += cost * n_base * mult
                     if len(cache) >= max_levels:
                         raise _Levels(f"after {len(cache)} grids (levels = {max_levels})")
                     cache[key] = _march(pbs, plan, n_base * mult, mult, stretch, n_ie)
@@ -396,12 +404,21 @@ class CNMethod(EngineMethod):
             def tol_of(area: Array) -> Array:
                 return pb.rtol * np.abs(area) + pb.atol
 
+            scale = _load_scale(pbs, tau[num])
+
+            def load_ratio(a: dict, b: dict, factor: float) -> float:
+                """Estimated error of the load identity of ``a`` against the tolerance."""
+                la_ = a["load"] + a["mom_l"] + a["mom_u"]
+                lb_ = b["load"] + b["mom_l"] + b["mom_u"]
+                return float(np.max(factor * np.abs(la_ - lb_) / scale)) / (pb.rtol + pb.atol)
+
             try:
                 n_base, mode = n0, "R"
                 while True:
                     l1, l2 = level(n_base, 1), level(n_base, 2)
                     e_r = 2.0 * np.abs(l2["area"] - l1["area"]) / 3.0  # ~2x error of R(2n)
-                    ratio = float(np.max(e_r / tol_of(l2["area"])))
+                    ratio = max(float(np.max(e_r / tol_of(l2["area"]))),
+                                load_ratio(l2, l1, 2.0 / 3.0))
                     if mode == "R" and ratio <= 1.0:
                         best, err, n_used = _combine(l2, l1, False), e_r, 2 * n_base
                         break
@@ -411,8 +428,10 @@ class CNMethod(EngineMethod):
                     mode = "E"  # fourth order: Richardson pairs on three nested grids
                     l4 = level(n_base, 4)
                     e_b = _combine(l4, l2, True)
-                    d = 2.0 * np.abs(e_b["area"] - _combine(l2, l1, True)["area"]) / 15.0
-                    ratio = float(np.max(d / tol_of(e_b["area"])))
+                    e_a = _combine(l2, l1, True)
+                    d = 2.0 * np.abs(e_b["area"] - e_a["area"]) / 15.0
+                    ratio = max(float(np.max(d / tol_of(e_b["area"]))),
+                                load_ratio(e_b, e_a, 2.0 / 15.0))
                     if ratio <= 1.0:
                         best, err, n_used = e_b, d, 4 * n_base
                         break
@@ -502,6 +521,17 @@ class _Budget(Exception):
 
 class _Levels(Exception):
     pass
+
+
+def _load_scale(pbs: list[Problem], tau: Array) -> Array:
+    """Scale of the load identity per (load, output): max(|p0|, |walls|) [Pa] (as in finish)."""
+    out = []
+    for p in pbs:
+        lo, up = p.wall_positions(tau)
+        sc = np.maximum(abs(p.p0), np.abs(lo))
+        sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
+        out.append(np.where(sc > 0, sc, 1.0))
+    return np.array(out)
 
 
 def _round_grid(n: float) -> int:
