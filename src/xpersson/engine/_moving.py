@@ -474,9 +474,19 @@ class CNMethod(EngineMethod):
         trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
         e_all[:, analytic & (tau > 0)] = trunc
         if best is not None and num.any():
-            area[:, num] = np.maximum(best["area"], 0.0)
-            ab_l[:, num] = best["abs_l"]
-            ab_u[:, num] = best["abs_u"]
+            # probabilities below zero by less than their error estimate (round-off of a
+            # vanishing fraction, e.g. plastic area given back to a rising wall) are zero;
+            # anything more negative is reported, not hidden
+            bound = err + trunc + 1e-15
+            for key in ("area", "abs_l", "abs_u"):
+                if np.any(best[key] < -bound) and status == "success":
+                    status = "tolerance_not_met"
+                    message = f"negative {key} beyond its error estimate"
+            area[:, num] = np.where(best["area"] < 0, 0.0, best["area"])
+            ab_l[:, num] = np.where(np.abs(best["abs_l"]) <= bound, np.maximum(
+                best["abs_l"], 0.0), best["abs_l"])
+            ab_u[:, num] = np.where(np.abs(best["abs_u"]) <= bound, np.maximum(
+                best["abs_u"], 0.0), best["abs_u"])
             load[:, num] = best["load"]
             wall_term[:, num] = best["mom_l"] + best["mom_u"]
             e_all[:, num] = err + trunc
