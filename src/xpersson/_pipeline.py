@@ -90,7 +90,10 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     f_z = np.asarray(coef.f(ctx, zeta), float)
     tau_eff = np.asarray(coef.effective_tau(ctx, zeta), float).reshape(rs.p0.size, zeta.size)
     clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max)
-    walls = [rs.boundary.walls(ctx, float(p0), clock) for p0 in rs.p0]
+    if getattr(type(rs.boundary), "walls_per_load", True):
+        walls = [rs.boundary.walls(ctx, float(p0), clock) for p0 in rs.p0]
+    else:  # the boundary declares walls that do not depend on the load: ask once
+        walls = [rs.boundary.walls(ctx, float(rs.p0[0]), clock)] * rs.p0.size
     p_grid = _pressure_grid(rs, walls, tau_eff) if rs.pressure_pdf else None
     if p_grid is not None:
         ctx = dataclasses.replace(ctx, p=p_grid)
@@ -98,7 +101,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     memory.check_request(rs.p0.size, zeta.size, None if p_grid is None else p_grid.size)
     # one engine call for the whole batch (loads sharing their walls are solved together)
     first = walls[0]
-    shared = all(w == first for w in walls[1:])
+    shared = all(w is first or w == first for w in walls[1:])
     results = engine.solve_batch(tau_eff, rs.p0, first if shared else walls, rtol=rs.rtol,
                                  atol=rs.atol, method=rs.method, p_out=p_grid)
     ds = _assemble(rs, ctx, results, tau_c, f_z, tau_eff, p_grid)

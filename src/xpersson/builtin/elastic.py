@@ -69,6 +69,8 @@ class ElasticBoundary(Boundary):
     references = ("10.1063/1.1388626", "10.1016/j.wear.2005.12.007")
     parameters: dict[str, ParamSpec] = {}
     outputs: dict[str, VarSpec] = {}
+    #: The walls do not depend on the load: the pipeline asks once for a batch of loads.
+    walls_per_load = False
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """One absorbing wall at p = 0 [Pa]; no upper wall."""

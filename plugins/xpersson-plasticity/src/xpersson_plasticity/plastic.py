@@ -116,6 +116,8 @@ class PlasticBoundary(Boundary):
     }
 
     approximation_tolerance: ClassVar[float] = 1e-3
+    #: Same walls for every load (validate() checks every p0): the pipeline asks once.
+    walls_per_load = False
     """Deviation of the three-Gaussian area fractions from the exact series that is flagged."""
 
     def __init__(self, **params: Any) -> None:

@@ -139,6 +139,8 @@ class ScaleDependentPlasticBoundary(Boundary):
         ),
     }
     outputs = dict(AREA_OUTPUTS)
+    #: Same walls for every load (validate() checks every p0): the pipeline asks once.
+    walls_per_load = False
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
