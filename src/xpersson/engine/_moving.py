@@ -422,7 +422,7 @@ class CNMethod(EngineMethod):
                     if mode == "R" and ratio <= 1.0:
                         best, err, n_used = _combine(l2, l1, False), e_r, 2 * n_base
                         break
-                    if mode == "R" and math.sqrt(ratio / 0.3) <= 8.0:
+                    if mode == "R" and math.sqrt(ratio / 0.3) <= R_MAX_REFINE:
                         n_base = _round_grid(n_base * math.sqrt(ratio / 0.3))
                         continue
                     mode = "E"  # fourth order: Richardson pairs on three nested grids
@@ -523,6 +523,9 @@ class CNMethod(EngineMethod):
         n_t = self.problem.tau.shape[-1]
         nan = np.full((nb, n_t), np.nan)
         return Raw(nan, nan, nan, nan, nan, nan, nan, None, status, message, nsteps, 0, nsteps)
+
+
+R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else Richardson)
 
 
 class _Budget(Exception):
