@@ -12,6 +12,7 @@ import copy
 import math
 import tomllib
 from collections.abc import Mapping
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -238,8 +239,10 @@ def convert_params(
     return out
 
 
-def _loads(value: Any) -> tuple[np.ndarray, bool]:
+def _loads(value: Any, tensile: bool = False) -> tuple[np.ndarray, bool]:
     spec = CORE["load"]["p0"]
+    if tensile:  # the boundary accepts tensile loads (adhesion) and checks their range itself
+        spec = dataclasses.replace(spec, bounds=(None, None))
     if isinstance(value, Mapping):
         allowed = {"start", "stop", "num", "spacing"}
         unknown = sorted(set(value) - allowed)
@@ -258,6 +261,9 @@ def _loads(value: Any) -> tuple[np.ndarray, bool]:
             raise SceneError(f"load.p0.spacing: {spacing!r} is not allowed; one of 'log', 'linear'")
         if stop < start:
             raise SceneError("load.p0: stop must be >= start")
+        if spacing == "log" and start * stop <= 0:
+            raise SceneError("load.p0.spacing: 'log' needs start and stop of one sign (not 0); "
+                             "use spacing = 'linear' for loads from tensile to compressive")
         grid = np.geomspace(start, stop, num) if spacing == "log" else np.linspace(start, stop, num)
         return grid, False
     if isinstance(value, list | tuple):
@@ -358,7 +364,7 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
     p0_raw = load_raw.pop("p0")
     if load_raw:
         raise SceneError(f"load.{sorted(load_raw)[0]}: unknown parameter; allowed in [load]: p0")
-    p0, scalar = _loads(p0_raw)
+    p0, scalar = _loads(p0_raw, tensile=True)  # sign checked once the boundary is known
     out = convert_params(CORE["output"], data.get("output", {}), "output")
     solver = convert_params(CORE["solver"], data.get("solver", {}), "solver")
     if out["p"] is not None and np.any(np.diff(out["p"]) <= 0):
@@ -372,6 +378,8 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         inst, name, params = _plugin(section, data.get(section), registry, base)
         plugins[section], names[section] = inst, name
         resolved[section] = {"model": name, **_jsonable(params, type(inst).parameters)}
+    if not getattr(type(plugins["boundary"]), "tensile_loads", False) and np.any(p0 <= 0):
+        _loads(p0_raw)  # raises the range error of a compressive-only boundary
     try:
         psd = plugins["spectrum"].build()
     except ValueError as exc:
