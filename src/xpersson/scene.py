@@ -9,10 +9,10 @@ unknown keys (named in the error), plugin names, and the spectrum's own consiste
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import tomllib
 from collections.abc import Mapping
-import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any

@@ -142,7 +142,7 @@ def check_table(zeta: ArrayLike, sigma: ArrayLike) -> tuple[Array, Array]:
         raise ValueError("boundary.sigma_a_zeta [1] and boundary.sigma_a [Pa] must be finite")
     if np.any(s < 0):
         raise ValueError(
-            f"boundary.sigma_a = {float(s.min()):g} Pa is outside the allowed range [0, inf) Pa "
+            f"boundary.sigma_a = {float(s.min()):g} Pa is outside the allowed range [0, inf] Pa "
             "(a detachment stress is tensile: the wall sits at p = -sigma_a <= 0)"
         )
     if np.any(z < 1):
