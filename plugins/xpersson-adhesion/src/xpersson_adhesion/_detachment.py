@@ -8,7 +8,8 @@ Model (Persson & Tosatti 2001; Persson 2002)::
 with ``dgamma`` the work of adhesion at the finest scale [J/m^2], ``A*(zeta)/A0`` the true
 (surface) area of the roughness resolved up to ``zeta`` (exact for a Gaussian isotropic surface,
 :func:`true_area_ratio`) and ``U_el(zeta)/A0`` the full-contact elastic energy of the roughness
-finer than ``zeta`` [J/m^2] (the core's elastic-energy function of the scale band). gamma_eff is
+finer than ``zeta`` [J/m^2]
+(:func:`xpersson.physics.interface.full_contact_energy` of the scale band). gamma_eff is
 computed top-down from zeta_1 and clipped at 0: where roughness destroys adhesion the wall sits
 at p = 0 (elastic contact).
 
@@ -25,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erfcx
 
-from ._energy import band_energy
+from xpersson.physics.interface import full_contact_energy
 
 __all__ = [
     "true_area_ratio",
@@ -90,7 +91,7 @@ def gamma_effective(
     slope2 = 2.0 * math.pi * np.asarray(psd.I3(z * q_L), dtype=float)
     a_star = true_area_ratio(slope2)
     a_star_1 = float(true_area_ratio(2.0 * math.pi * float(psd.I3(q_1))))
-    energy = band_energy(psd, E_star, z * q_L)
+    energy = np.asarray(full_contact_energy(psd, E_star, z * q_L), dtype=float)
     raw = (work * a_star_1 - energy) / a_star
     return np.maximum(raw, 0.0), raw, a_star, energy
 

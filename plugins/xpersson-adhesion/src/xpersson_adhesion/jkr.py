@@ -20,10 +20,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from xpersson.physics.interface import full_contact_energy
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
 from ._detachment import DetachmentWall, ModelLaw, TableLaw, gamma_effective, true_area_ratio
-from ._energy import band_energy
 from ._tabor import tabor_parameter, warn_if_contradicted
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -57,7 +57,7 @@ ADHESION_PARAMETERS: dict[str, ParamSpec] = {
 def stickiness(psd: Any, E_star: float, work: float) -> float:
     """Persson-Tosatti stickiness ``w_eff = dgamma A*/A0 - U_el,full/A0`` [J/m^2] (§2.5)."""
     a_star = float(true_area_ratio(2.0 * math.pi * float(psd.I3(psd.q_1))))
-    return work * a_star - float(band_energy(psd, E_star, psd.q_L))
+    return work * a_star - float(full_contact_energy(psd, E_star))
 
 
 class JKRBoundary(Boundary):
