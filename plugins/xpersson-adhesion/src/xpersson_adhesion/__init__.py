@@ -14,13 +14,14 @@ Physics helpers (pure numpy, SI units) are re-exported: :func:`true_area_ratio`,
 from ._detachment import detachment_stress, gamma_effective, true_area_ratio
 from ._tabor import AdhesionLimitWarning, tabor_parameter
 from ._traction import LAWS, traction
-from .dmt import DMTBoundary, DMTState, solve_dmt
+from .dmt import DMTAccuracyWarning, DMTBoundary, DMTState, solve_dmt
 from .jkr import JKRBoundary, stickiness
 
 __version__ = "0.1.0"
 
 __all__ = [
     "AdhesionLimitWarning",
+    "DMTAccuracyWarning",
     "DMTBoundary",
     "DMTState",
     "JKRBoundary",
