@@ -8,6 +8,7 @@ table affine in diffusion time is the exactly linear wall. Each runs on the engi
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -107,12 +108,17 @@ def test_zero_work_of_adhesion_is_elastic(solve):
     jkr = solve(with_(base, boundary={"model": "jkr", "work_of_adhesion": "0 J/m**2"}))
     np.testing.assert_allclose(jkr["area_fraction"], elastic["area_fraction"], rtol=1e-8, atol=0)
     assert np.all(jkr["sigma_a"].values == 0.0)
-    # vanishing work of adhesion: the adhesive correction shrinks with it
+    # vanishing work of adhesion: the adhesive correction shrinks with it. gamma_eff crosses 0
+    # inside the range here, so sigma_a starts like sqrt(zeta - zeta_c) (unbounded wall speed)
+    # and the engine reports tolerance_not_met at the onset; rtol 1e-4 keeps the test short.
     diffs = []
-    for w in ("1e-4 J/m**2", "1e-6 J/m**2"):
-        ds = solve(with_(base, boundary={"model": "jkr", "work_of_adhesion": w}))
+    coarse = with_(base, solver={"rtol": 1e-4})
+    for w in ("1e-2 J/m**2", "1e-4 J/m**2"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ds = solve(with_(coarse, boundary={"model": "jkr", "work_of_adhesion": w}))
         diffs.append(float(np.max(np.abs(ds["area_fraction"] - elastic["area_fraction"]))))
-    assert diffs[1] < 0.2 * diffs[0]
+    assert diffs[1] < 0.1 * diffs[0]
 
 
 def test_large_work_of_adhesion_gives_full_contact(solve):
