@@ -80,6 +80,9 @@ def test_zero_work_of_adhesion_is_elastic(solve):
         ds = solve(with_(TINY, boundary=_dmt(law=law, work_of_adhesion="0 J/m**2")))
         np.testing.assert_allclose(ds["area_fraction"], elastic["area_fraction"], rtol=1e-8)
         assert np.all(ds["p_att"].values == 0.0)
+        for name, spec in DMTBoundary.outputs.items():  # declared ranges hold in this limit
+            if spec.valid_min is not None:
+                assert float(ds[name].min()) >= spec.valid_min, name
 
 
 @pytest.mark.parametrize("law", LAWS)

@@ -240,7 +240,7 @@ class DMTBoundary(Boundary):
         "dmt_residual": VarSpec(("p0",), "1", "relative residual of p_rep = p0 + p_att(p_rep)",
                                 valid_min=0.0),
         "dmt_iterations": VarSpec(("p0",), "1", "evaluations of the fixed-point map p_att",
-                                  valid_min=1.0),
+                                  valid_min=0.0, description="0 without adhesion"),
         "p_att_discretization_error": VarSpec(
             ("p0",), "1", "relative change of p_att on a magnification grid of half density",
             valid_min=0.0,
