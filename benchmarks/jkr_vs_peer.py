@@ -140,15 +140,15 @@ def main(argv=None):
 
 
 def speedup(rows, p0):
-    eng = [r for r in rows if r["p0"] == p0 and r["kind"] == "engine"
-           and r["resolution"].startswith("rtol=1e-06")][0]
+    """Equal error: the fastest engine run at least as accurate as the peer's most accurate
+    run, against that peer run (the peer never reaches the engine's rtol = 1e-6 error)."""
+    eng = [r for r in rows if r["p0"] == p0 and r["kind"] == "engine"]
     peers = [r for r in rows if r["p0"] == p0 and r["kind"] == "peer" and np.isfinite(r["err"])]
-    ok = [r for r in peers if r["err"] <= eng["err"]]
-    if ok:
-        best = min(ok, key=lambda r: r["time"])
-        return eng, best, f"{best['time'] / eng['time']:.0f}x"
     best = min(peers, key=lambda r: r["err"])
-    return eng, best, f"> {best['time'] / eng['time']:.0f}x (peer never reached it)"
+    ok = [r for r in eng if r["err"] <= best["err"]]
+    fast = min(ok, key=lambda r: r["time"])
+    at6 = [r for r in eng if r["resolution"].startswith("rtol=1e-06")][0]
+    return fast, best, at6, f"{best['time'] / fast['time']:.0f}x"
 
 
 def write(rows, per_load, status, path):
@@ -165,12 +165,15 @@ def write(rows, per_load, status, path):
     for r in rows:
         lines.append(f"| {r['p0']:g} | {r['method']} | {r['resolution']} | {r['time']:.3e} | "
                      f"{r['err']:.2e} |")
-    lines += ["", "Speed-up at equal error (engine at rtol 1e-6 vs the fastest peer run with an "
-              "error at most the engine's):", "", "| p0 [Pa] | engine | peer | speed-up |",
-              "|---:|---|---|---:|"]
+    lines += ["", "Speed-up at equal error: the peer's most accurate run against the fastest "
+              "engine run at least as accurate (the peer never reaches the engine's error at "
+              "rtol 1e-6, shown for reference):", "",
+              "| p0 [Pa] | engine (fastest at <= peer error) | engine at rtol 1e-6 | peer (best) "
+              "| speed-up |", "|---:|---|---|---|---:|"]
     for p0 in LOADS:
-        eng, best, sp_ = speedup(rows, p0)
-        lines.append(f"| {p0:g} | {eng['time'] * 1e3:.1f} ms, err {eng['err']:.1e} | "
+        fast, best, at6, sp_ = speedup(rows, p0)
+        lines.append(f"| {p0:g} | {fast['resolution']}: {fast['time'] * 1e3:.1f} ms, err "
+                     f"{fast['err']:.1e} | {at6['time'] * 1e3:.1f} ms, err {at6['err']:.1e} | "
                      f"{best['resolution']}: {best['time']:.3g} s, err {best['err']:.1e} | "
                      f"{sp_} |")
     lines += ["", f"Whole pipeline (`xpersson.solve`, rtol 1e-6, status {status}): "

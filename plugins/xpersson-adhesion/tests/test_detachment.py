@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
+from xpersson.physics import coefficient_f, diffusion_time
 from xpersson_adhesion import (
     detachment_stress,
     gamma_effective,
@@ -17,7 +18,7 @@ from xpersson_adhesion import (
     tabor_parameter,
     true_area_ratio,
 )
-from xpersson_adhesion._detachment import TableLaw
+from xpersson_adhesion._detachment import DetachmentWall, ModelLaw, TableLaw, true_area_slope
 
 E_STAR = 4.0e6 / 3.0
 
@@ -89,3 +90,35 @@ def test_tabor_parameter_scaling():
     assert np.all(mu1 > 0) and np.all(np.isfinite(mu1))
     # finer scales have sharper asperities (smaller R) -> smaller mu_T
     assert mu1[-1] < mu1[0]
+
+
+def test_true_area_slope_is_the_derivative():
+    a = np.array([0.0, 1e-6, 5e-5, 2e-4, 1e-2, 0.5, 3.0, 50.0])
+    h = 1e-6 * np.maximum(a, 1e-3)
+    fd = (true_area_ratio(a + h) - true_area_ratio(np.maximum(a - h, 0))) / (
+        a + h - np.maximum(a - h, 0)
+    )
+    np.testing.assert_allclose(true_area_slope(a), fd, rtol=1e-6)
+
+
+def test_tabulated_model_wall_matches_the_exact_law():
+    from xpersson.plugins import DiffusionClock
+
+    law = ModelLaw(PSD, E_STAR, 0.03, 1.0)
+    clock = DiffusionClock(lambda z: diffusion_time(PSD, E_STAR, z),
+                           lambda z: coefficient_f(PSD, E_STAR, z), 1e4)
+    # the slope of sigma^2 is the derivative of sigma^2 (finite differences in zeta)
+    z = np.geomspace(1.5, 9e3, 25)
+    s2, ds2 = law.sigma2_and_slope(z)
+    fd = (law.sigma2_and_slope(z * (1 + 1e-6))[0] - law.sigma2_and_slope(z * (1 - 1e-6))[0]) / (
+        2e-6 * z
+    )
+    np.testing.assert_allclose(ds2, fd, rtol=1e-5, atol=1e-9 * np.max(np.abs(s2)))
+    # the Hermite table in tau against sigma_a(zeta(tau)) evaluated exactly
+    fast = DetachmentWall(law.in_tau(clock))
+    exact = DetachmentWall(law=law, clock=clock)
+    t = float(clock.tau_of_zeta(1e4)) * np.concatenate([np.logspace(-12, 0, 300),
+                                                        np.linspace(0, 1, 301)])
+    ref = exact.sigma(t)
+    assert np.max(np.abs(fast.sigma(t) - ref)) <= 1e-9 * np.max(ref)
+    np.testing.assert_array_equal(fast(t), -fast.sigma(t))

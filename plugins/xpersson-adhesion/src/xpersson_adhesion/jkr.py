@@ -244,7 +244,7 @@ class JKRBoundary(Boundary):
             if law.is_constant(ctx.zeta_max):
                 wall = Wall.absorbing(0.0)
             else:
-                wall = Wall.absorbing(DetachmentWall(law=law, clock=clock))
+                wall = Wall.absorbing(DetachmentWall(law.in_tau(clock)))
         self._wall_cache = (clock, wall)
         return wall
 
