@@ -1,0 +1,309 @@
+"""Vectorised numerical kernels of the sliding viscoelastic contact (physics.md §4.2).
+
+Everything here is numpy in SI units, vectorised over sliding speeds ``v`` [m/s] and shift
+factors ``a_T`` [1] (temperatures), and shared by the coefficient plugin, the friction analysis
+and the benchmark:
+
+* diffusion time ``tau(zeta; v, T) = (pi/4) int_{q_L}^{zeta q_L} q^3 C(q) <|E(q v a_T cos phi)|^2>
+  dq / (1 - nu^2)^2`` [Pa^2] (``G = tau / p0^2``);
+* cumulative loss integral ``L(zeta; v, T) = int_{q_L}^{zeta q_L} q^3 C(q) int_0^2pi cos(phi)
+  Im E(q v a_T cos phi) dphi dq / (1 - nu^2)`` [Pa];
+* friction ``mu_visc = (1 / (2 p0)) int P(q) S(q) dL`` (:func:`friction_integral`, the one
+  home of the formula) and the stand-alone curve :func:`friction_curve` (Persson01 area).
+
+The q-integrals use Gauss-Legendre rules in ``ln q`` on panels whose edges contain the PSD
+breakpoints, the requested magnifications and a log grid of ``panels_per_decade``; within a
+panel the integrands are analytic, so 8 nodes per quarter decade give ~1e-14 relative. The
+``E_r^2 I3(q)`` part of ``tau`` is taken from the spectrum's exact moment, so ``v = 0``
+reproduces the elastic diffusion time with ``E = E_r`` to round-off.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from xpersson.physics import area_fraction, closure_S, effective_ratio
+
+from ._modulus import ModulusModel
+
+__all__ = [
+    "panel_edges",
+    "diffusion_time",
+    "coefficient_f",
+    "loss_integral",
+    "friction_integral",
+    "friction_curve",
+]
+
+Array = NDArray[np.float64]
+PANELS_PER_DECADE = 4
+NODES = 8
+
+
+@lru_cache(maxsize=8)
+def _rule(n: int) -> tuple[Array, Array, Array]:
+    """Gauss-Legendre nodes/weights on [-1, 1] and the spectral integration matrix
+    ``Q[i, j] = int_{-1}^{x_i} l_j(x) dx`` (l_j the Lagrange basis on the nodes)."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    V = np.polynomial.legendre.legvander(x, n - 1)  # V[i, k] = P_k(x_i)
+    Vint = np.empty_like(V)
+    for k in range(n):
+        c = np.zeros(n)
+        c[k] = 1.0
+        Vint[:, k] = np.polynomial.legendre.legval(x, np.polynomial.legendre.legint(c, lbnd=-1))
+    return x, w, Vint @ np.linalg.inv(V)
+
+
+def panel_edges(
+    psd: Any, q: ArrayLike, panels_per_decade: int = PANELS_PER_DECADE
+) -> Array:
+    """Panel edges [1/m] from ``q_L`` to ``max(q)``: a log grid, the PSD breakpoints, ``q``."""
+    q = np.atleast_1d(np.asarray(q, dtype=float))
+    q_L = float(psd.q_L)
+    q_hi = max(float(np.max(q)), q_L)
+    n = max(1, int(np.ceil(panels_per_decade * np.log10(q_hi / q_L) - 1e-9)))
+    grid = np.geomspace(q_L, q_hi, n + 1) if q_hi > q_L else np.array([q_L])
+    nodes = np.asarray(psd.nodes(), dtype=float)
+    inner = nodes[(nodes > q_L) & (nodes < q_hi)]
+    edges = np.unique(np.concatenate([grid, inner, np.clip(q, q_L, q_hi), [q_L]]))
+    return edges
+
+
+def _nodes(edges: Array, n: int) -> tuple[Array, Array, float]:
+    """GL nodes q (n_panel, n) in ln q, weights ``dq`` (n_panel, n), and the rule."""
+    x, w, _ = _rule(n)
+    s = np.log(edges)
+    mid, half = 0.5 * (s[1:] + s[:-1]), 0.5 * (s[1:] - s[:-1])
+    qn = np.exp(mid[:, None] + half[:, None] * x)
+    return qn, half[:, None] * w * qn, half
+
+
+def _omega_scale(v: ArrayLike, aT: ArrayLike) -> Array:
+    return np.asarray(v, dtype=float) * np.asarray(aT, dtype=float)
+
+
+def _excess_mean_sq(model: ModulusModel, w: Array) -> Array:
+    mean_sq, _ = model.angular(w)
+    return mean_sq - model.E_r**2
+
+
+def _cumulative_at(
+    psd: Any, model: ModulusModel, zeta: ArrayLike, scale: Array, which: str, n: int, ppd: int
+) -> Array:
+    """int_{q_L}^{zeta q_L} q^3 C(q) X(q scale) dq at ``zeta``; shape ``scale.shape + zeta``.
+
+    ``X`` is ``mean_sq - E_r^2`` (``which="tau"``) or ``loss`` (``which="loss"``).
+    """
+    z = np.atleast_1d(np.asarray(zeta, dtype=float))
+    q = z * float(psd.q_L)
+    edges = panel_edges(psd, q, ppd)
+    out_shape = scale.shape + z.shape
+    if edges.size < 2:
+        return np.zeros(out_shape)
+    qn, wq, _ = _nodes(edges, n)
+    base = qn**3 * np.asarray(psd.C(qn), dtype=float) * wq  # (n_panel, n)
+    w = scale[..., None, None] * qn  # (..., n_panel, n)
+    if which == "tau":
+        X = _excess_mean_sq(model, w)
+    else:
+        X = model.angular(w)[1]
+    panel = np.sum(X * base, axis=-1)
+    cum = np.concatenate([np.zeros(scale.shape + (1,)), np.cumsum(panel, axis=-1)], axis=-1)
+    idx = np.searchsorted(edges, np.clip(q, edges[0], edges[-1]))
+    return cum[..., idx].reshape(out_shape)
+
+
+def _checked_nu(nu: float) -> float:
+    if not -1.0 < nu <= 0.5:
+        raise ValueError(f"nu must lie in (-1, 0.5], got {nu!r}")
+    return 1.0 - nu * nu
+
+
+def diffusion_time(
+    psd: Any,
+    model: ModulusModel,
+    nu: float,
+    zeta: ArrayLike,
+    v: ArrayLike = 0.0,
+    aT: ArrayLike = 1.0,
+    *,
+    nodes: int = NODES,
+    panels_per_decade: int = PANELS_PER_DECADE,
+) -> Array:
+    """Diffusion time ``tau(zeta; v, a_T)`` [Pa^2] of the sliding contact.
+
+    Parameters
+    ----------
+    psd : PowerSpectrum
+        Roughness spectrum (``C`` in m^4, ``I3``, ``nodes``, ``q_L`` [1/m]).
+    model : ModulusModel
+        Modulus at the reference temperature.
+    nu : float
+        Poisson ratio [1].
+    zeta : array_like
+        Magnifications [1], >= 1.
+    v, aT : array_like
+        Sliding speed [m/s] and shift factor [1], broadcast together (shape ``S``).
+
+    Returns
+    -------
+    ndarray, shape ``S + zeta.shape``
+    """
+    f = _checked_nu(nu)
+    scale = _omega_scale(v, aT)
+    z = np.atleast_1d(np.asarray(zeta, dtype=float))
+    exact = model.E_r**2 * np.asarray(psd.I3(z * float(psd.q_L)), dtype=float)
+    rest = _cumulative_at(psd, model, z, scale, "tau", nodes, panels_per_decade)
+    return (np.pi / 4.0) * (exact + rest) / (f * f)
+
+
+def coefficient_f(
+    psd: Any, model: ModulusModel, nu: float, zeta: ArrayLike, v: ArrayLike = 0.0,
+    aT: ArrayLike = 1.0,
+) -> Array:
+    """Diffusion coefficient ``f = d tau / d zeta = (pi/4) q_L q^3 C(q) <|E|^2> / (1-nu^2)^2``
+    [Pa^2] at ``zeta`` (shape ``broadcast(v, aT).shape + zeta.shape``)."""
+    f = _checked_nu(nu)
+    z = np.atleast_1d(np.asarray(zeta, dtype=float))
+    q = z * float(psd.q_L)
+    w = _omega_scale(v, aT)[..., None] * q
+    mean_sq, _ = model.angular(w)
+    return (np.pi / 4.0) * float(psd.q_L) * q**3 * np.asarray(psd.C(q)) * mean_sq / (f * f)
+
+
+def angular_averages(
+    psd: Any, model: ModulusModel, nu: float, zeta: ArrayLike, v: ArrayLike = 0.0,
+    aT: ArrayLike = 1.0,
+) -> tuple[Array, Array]:
+    """``(sqrt(<|E|^2>) / (1 - nu^2) [Pa], int cos(phi) Im E dphi / (1 - nu^2) [Pa])`` at
+    the scales ``q = zeta q_L``."""
+    f = _checked_nu(nu)
+    q = np.atleast_1d(np.asarray(zeta, dtype=float)) * float(psd.q_L)
+    mean_sq, loss = model.angular(_omega_scale(v, aT)[..., None] * q)
+    return np.sqrt(mean_sq) / f, loss / f
+
+
+def loss_integral(
+    psd: Any,
+    model: ModulusModel,
+    nu: float,
+    zeta: ArrayLike,
+    v: ArrayLike = 0.0,
+    aT: ArrayLike = 1.0,
+    *,
+    nodes: int = NODES,
+    panels_per_decade: int = PANELS_PER_DECADE,
+) -> Array:
+    """Cumulative loss integral ``L(zeta; v, a_T)`` [Pa] (see the module docstring)."""
+    f = _checked_nu(nu)
+    scale = _omega_scale(v, aT)
+    return _cumulative_at(psd, model, zeta, scale, "loss", nodes, panels_per_decade) / f
+
+
+def friction_integral(g: ArrayLike, dL: ArrayLike, p0: ArrayLike) -> Array:
+    """``mu = (1 / (2 p0)) sum g dL`` along the last axis (cumulative) [1].
+
+    The one home of Persson's viscoelastic friction formula
+    ``mu_visc = (1/2) int dq q^3 C P S int dphi cos(phi) Im E / ((1 - nu^2) p0)``:
+    ``dL`` are the increments of the cumulative loss integral [Pa] (quadrature weights or
+    differences on an output grid), ``g = P S`` the contact-area factor at the same places.
+
+    Returns
+    -------
+    ndarray
+        Running ``mu(zeta)`` (cumulative over the last axis), shape ``broadcast(g, dL)``.
+    """
+    g = np.asarray(g, dtype=float)
+    dL = np.asarray(dL, dtype=float)
+    p0 = np.asarray(p0, dtype=float)
+    return np.cumsum(g * dL, axis=-1) / (2.0 * p0[..., None])
+
+
+def _area_factor(A: Array, correction: str, gamma: float) -> Array:
+    if correction == "none":
+        return A
+    if correction == "s_factor":
+        return A * closure_S("yp08", A, gamma)
+    raise ValueError(f"correction must be 'none' or 's_factor', got {correction!r}")
+
+
+def friction_curve(
+    psd: Any,
+    model: ModulusModel,
+    nu: float,
+    p0: ArrayLike,
+    v: ArrayLike,
+    aT: ArrayLike = 1.0,
+    *,
+    zeta_max: float | None = None,
+    closure: str = "persson01",
+    closure_gamma: float | None = None,
+    correction: str = "none",
+    gamma: float = 0.5,
+    nodes: int = NODES,
+    panels_per_decade: int = PANELS_PER_DECADE,
+) -> dict[str, Array]:
+    """Stand-alone vectorised ``mu_visc(v, T, p0)`` with the (closure) erf contact area.
+
+    The pipeline's friction analysis reads the solved area from the Dataset instead; this
+    kernel evaluates the area in closed form at every quadrature node (for studies and the
+    benchmark: 50 velocities x 3 temperatures x 40 modes in milliseconds).
+
+    Parameters
+    ----------
+    psd, model, nu
+        As in :func:`diffusion_time`.
+    p0 : array_like, shape (n_p0,)
+        Nominal pressures [Pa].
+    v : array_like, shape (n_v,)
+        Sliding speeds [m/s].
+    aT : array_like, shape (n_T,)
+        Shift factors [1] (one per temperature).
+    zeta_max : float, optional
+        Upper magnification of the integrals (default ``q_1 / q_L``).
+    closure, closure_gamma
+        Correction closure of the contact area (:mod:`xpersson.physics.closures`).
+    correction : {"none", "s_factor"}
+        ``S = 1`` or ``S = gamma + (1 - gamma) P^2`` in ``mu_visc``.
+
+    Returns
+    -------
+    dict
+        ``mu_visc`` and ``area_fraction`` (at ``zeta_max``), shape ``(n_T, n_v, n_p0)``.
+    """
+    fnu = _checked_nu(nu)
+    p0 = np.atleast_1d(np.asarray(p0, dtype=float))
+    scale = np.multiply.outer(np.atleast_1d(np.asarray(aT, dtype=float)),
+                              np.atleast_1d(np.asarray(v, dtype=float)))  # (n_T, n_v)
+    zmax = float(psd.q_1 / psd.q_L) if zeta_max is None else float(zeta_max)
+    edges = panel_edges(psd, [zmax * float(psd.q_L)], panels_per_decade)
+    qn, wq, half = _nodes(edges, nodes)
+    _, wgl, Q = _rule(nodes)
+    q3C = qn**3 * np.asarray(psd.C(qn), dtype=float)
+    mean_sq, loss = model.angular(scale[..., None, None] * qn)  # (n_T, n_v, n_panel, n)
+    # tau at every node: exact E_r^2 I3 plus the spectral cumulative of the excess
+    dens = q3C * qn * (mean_sq - model.E_r**2)  # integrand in ln q
+    within = half[:, None] * np.einsum("ij,...pj->...pi", Q, dens)
+    ends = np.sum(half[:, None] * wgl * dens, axis=-1)
+    before = np.concatenate([np.zeros(scale.shape + (1,)), np.cumsum(ends, axis=-1)[..., :-1]],
+                            axis=-1)
+    excess = before[..., None] + within
+    tau = (np.pi / 4.0) * (model.E_r**2 * np.asarray(psd.I3(qn)) + excess) / (fnu * fnu)
+    tau = np.maximum(tau, 0.0)
+    G = tau[..., None, :, :] / (p0[:, None, None] ** 2)  # (n_T, n_v, n_p0, n_panel, n)
+    ratio = effective_ratio(G, closure, closure_gamma) if closure != "persson01" else 1.0
+    A, _ = area_fraction(p0[:, None, None], G * p0[:, None, None] ** 2 * ratio)
+    g = _area_factor(np.asarray(A), correction, gamma)
+    dL = (q3C * wq * loss / fnu)[..., None, :, :]
+    mu = friction_integral(g.reshape(g.shape[:-2] + (-1,)),
+                           dL.reshape(dL.shape[:-2] + (-1,)), p0)[..., -1]
+    tau_end = diffusion_time(psd, model, nu, [zmax], scale, 1.0, nodes=nodes,
+                             panels_per_decade=panels_per_decade)[..., 0]
+    G_end = tau_end[..., None] / p0**2
+    r_end = effective_ratio(G_end, closure, closure_gamma) if closure != "persson01" else 1.0
+    A_end, _ = area_fraction(p0, G_end * p0**2 * r_end)
+    return {"mu_visc": mu, "area_fraction": np.asarray(A_end)}
