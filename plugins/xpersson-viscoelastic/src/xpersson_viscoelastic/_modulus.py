@@ -91,6 +91,10 @@ class ModulusModel:
         """``(mean_sq, loss)`` at ``w = q v a_T`` [rad/s] (see the module docstring)."""
         raise NotImplementedError
 
+    def excess_mean_sq(self, w: ArrayLike) -> Array:
+        """``mean_sq(w) - E_r^2`` [Pa^2] (without cancellation where the model allows)."""
+        return self.angular(w)[0] - self.E_r**2
+
 
 @dataclass(frozen=True)
 class Prony(ModulusModel):
@@ -140,6 +144,10 @@ class Prony(ModulusModel):
         mean_sq = self.E_r**2 + 2.0 * np.sum((self.delta_E * self._c) * u, axis=-1)
         loss = 2.0 * np.pi * np.sum(self.delta_E * u_over_b(b), axis=-1)
         return mean_sq, loss
+
+    def excess_mean_sq(self, w: ArrayLike) -> Array:
+        b = np.asarray(w, dtype=float)[..., None] * self.tau
+        return 2.0 * np.sum((self.delta_E * self._c) * u_of_b(b), axis=-1)
 
 
 def sls(E_r: float, E_g: float, relaxation_time: float) -> Prony:

@@ -86,11 +86,6 @@ def _omega_scale(v: ArrayLike, aT: ArrayLike) -> Array:
     return np.asarray(v, dtype=float) * np.asarray(aT, dtype=float)
 
 
-def _excess_mean_sq(model: ModulusModel, w: Array) -> Array:
-    mean_sq, _ = model.angular(w)
-    return mean_sq - model.E_r**2
-
-
 def _cumulative_at(
     psd: Any, model: ModulusModel, zeta: ArrayLike, scale: Array, which: str, n: int, ppd: int
 ) -> Array:
@@ -108,7 +103,7 @@ def _cumulative_at(
     base = qn**3 * np.asarray(psd.C(qn), dtype=float) * wq  # (n_panel, n)
     w = scale[..., None, None] * qn  # (..., n_panel, n)
     if which == "tau":
-        X = _excess_mean_sq(model, w)
+        X = model.excess_mean_sq(w)
     else:
         X = model.angular(w)[1]
     panel = np.sum(X * base, axis=-1)
@@ -284,9 +279,10 @@ def friction_curve(
     qn, wq, half = _nodes(edges, nodes)
     _, wgl, Q = _rule(nodes)
     q3C = qn**3 * np.asarray(psd.C(qn), dtype=float)
-    mean_sq, loss = model.angular(scale[..., None, None] * qn)  # (n_T, n_v, n_panel, n)
+    w = scale[..., None, None] * qn  # (n_T, n_v, n_panel, n)
+    loss = model.angular(w)[1]
     # tau at every node: exact E_r^2 I3 plus the spectral cumulative of the excess
-    dens = q3C * qn * (mean_sq - model.E_r**2)  # integrand in ln q
+    dens = q3C * qn * model.excess_mean_sq(w)  # integrand in ln q
     within = half[:, None] * np.einsum("ij,...pj->...pi", Q, dens)
     ends = np.sum(half[:, None] * wgl * dens, axis=-1)
     before = np.concatenate([np.zeros(scale.shape + (1,)), np.cumsum(ends, axis=-1)[..., :-1]],

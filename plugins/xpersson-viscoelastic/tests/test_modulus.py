@@ -1,0 +1,115 @@
+"""Modulus models: closed-form angular integrals (physics.md §4.4) against mpmath quadrature."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import minimize_scalar
+
+from xpersson_viscoelastic import MasterCurve, Prony, sls, synthetic_tread, u_over_b
+
+mp = pytest.importorskip("mpmath")
+E_R, E_G, TAU = 3e6, 3e9, 1e-3
+
+
+def _angular_mp(E, b):
+    """(mean_sq, loss) by adaptive mpmath quadrature over the full circle [0, 2 pi]."""
+    mp.mp.dps = 30
+    pts = [0, mp.pi / 2, mp.pi, 3 * mp.pi / 2, 2 * mp.pi]
+    if b > 1:  # the resonance cos(phi) = 1/b of the loss peak
+        c = mp.acos(1 / mp.mpf(b))
+        pts = sorted(pts + [c, mp.pi - c, mp.pi + c, 2 * mp.pi - c])
+
+    def e(phi):
+        return E(mp.mpf(b) * mp.cos(phi))
+
+    sq = mp.quad(lambda p: abs(e(p)) ** 2, pts) / (2 * mp.pi)
+    loss = mp.quad(lambda p: mp.cos(p) * mp.im(e(p)), pts)
+    return float(sq), float(loss)
+
+
+def _sls_mp(x):  # E(omega) with x = omega tau
+    return (E_R + 1j * x * E_G) / (1 + 1j * x)
+
+
+B_VALUES = [1e-9, 1e-6, 1e-3, 0.1, 1.0, 1.272, 10.0, 1e2, 1e3]
+
+
+@pytest.mark.parametrize("b", B_VALUES)
+def test_sls_angular_integrals_match_quadrature_to_1e10(b):
+    model = sls(E_R, E_G, TAU)
+    mean_sq, loss = model.angular(b / TAU)
+    ref_sq, ref_loss = _angular_mp(_sls_mp, b)
+    assert mean_sq == pytest.approx(ref_sq, rel=1e-10)
+    assert loss == pytest.approx(ref_loss, rel=1e-10)
+    # the closed forms of physics.md §4.4, evaluated in 30-digit arithmetic
+    s = mp.sqrt(1 + mp.mpf(b) ** 2)
+    assert loss == pytest.approx(float((E_G - E_R) * 2 * mp.pi / b * (1 - 1 / s)), rel=1e-12)
+    assert mean_sq == pytest.approx(float(E_G**2 - (E_G**2 - E_R**2) / s), rel=1e-12)
+    # no cancellation: the excess over E_r^2 is accurate too (it is ~b^2 at small b)
+    excess = float((E_G**2 - E_R**2) * (s - 1) / s)
+    assert model.excess_mean_sq(b / TAU) == pytest.approx(excess, rel=1e-12)
+
+
+def test_single_scale_velocity_factor_peak():
+    res = minimize_scalar(lambda b: -u_over_b(b), bounds=(0.1, 10), method="bounded",
+                          options={"xatol": 1e-10})
+    assert round(float(res.x), 4) == 1.2720
+    assert round(float(-res.fun), 5) == 0.30028
+    assert u_over_b(0.0) == 0.0 and u_over_b(np.inf) == 0.0
+
+
+@pytest.mark.parametrize("w", [1e-3, 1.0, 37.0, 1e4])
+def test_prony_closed_forms_match_quadrature(w):
+    model = Prony(2e6, [1e7, 3e8, 5e7], [1e-4, 2e-2, 3.0])
+    mean_sq, loss = model.angular(w)
+
+    def E(x):  # x = w cos(phi) as an mpf
+        return 2e6 + sum(d * 1j * x * t / (1 + 1j * x * t)
+                         for d, t in zip(model.delta_E, model.tau, strict=True))
+
+    mp.mp.dps = 30
+    pts = [0, mp.pi / 2, mp.pi, 3 * mp.pi / 2, 2 * mp.pi]
+    sq = float(mp.quad(lambda p: abs(E(w * mp.cos(p))) ** 2, pts) / (2 * mp.pi))
+    lo = float(mp.quad(lambda p: mp.cos(p) * mp.im(E(w * mp.cos(p))), pts))
+    assert mean_sq == pytest.approx(sq, rel=1e-9)
+    assert loss == pytest.approx(lo, rel=1e-9)
+
+
+def test_prony_limits_and_conjugate_symmetry():
+    m = synthetic_tread()
+    assert m.E_r == 3e6 and m.E_g == pytest.approx(3e9, rel=1e-14)
+    assert m.tau.size == 40
+    assert m.angular(0.0)[0] == pytest.approx(3e6**2, rel=1e-15)
+    assert m.angular(0.0)[1] == 0.0
+    assert m.angular(1e30)[0] == pytest.approx(m.E_g**2, rel=1e-12)
+    w = np.geomspace(1e-3, 1e12, 50)
+    np.testing.assert_array_equal(m.modulus(-w), np.conj(m.modulus(w)))
+    assert np.all(m.modulus(w).imag > 0)
+
+
+def test_master_curve_from_sampled_sls_reproduces_closed_forms():
+    model = sls(E_R, E_G, TAU)
+    w = np.geomspace(1e-4, 1e10, 800) / TAU
+    E = model.modulus(w)
+    mc = MasterCurve(w, E.real, E.imag, phi_nodes=256)
+    np.testing.assert_array_equal(mc.modulus(-w[::7]), np.conj(mc.modulus(w[::7])))
+    for wq in (1e-2 / TAU, 1 / TAU, 1e2 / TAU):
+        a, b = mc.angular(wq), model.angular(wq)
+        assert a[0] == pytest.approx(b[0], rel=2e-3)
+        assert a[1] == pytest.approx(b[1], rel=2e-3)
+
+
+def test_master_curve_without_loss_has_zero_loss_integral():
+    w = np.geomspace(1.0, 1e6, 5)
+    mc = MasterCurve(w, np.geomspace(3e6, 3e7, 5), np.zeros(5))
+    assert np.all(mc.angular(np.geomspace(1e-3, 1e9, 20))[1] == 0.0)
+
+
+def test_models_refuse_bad_parameters():
+    with pytest.raises(ValueError, match="E_g must be >= E_r"):
+        sls(3e6, 1e6, 1e-3)
+    with pytest.raises(ValueError, match="delta_E"):
+        Prony(3e6, [-1.0], [1.0])
+    with pytest.raises(ValueError, match="E''"):
+        MasterCurve([1.0, 2.0], [1e6, 2e6], [1.0, -1.0])
