@@ -86,8 +86,9 @@ def test_malformed_master_curve_is_refused_naming_file_and_line(tmp_path, text, 
 
 
 def test_malformed_master_curve_is_refused_by_the_scene(tmp_path):
-    import xpersson
     from visco_testlib import scene
+
+    import xpersson
 
     p = _write(tmp_path, "bad.txt", GOOD.replace("100, 9.0, 2.0", "100, 9.0, -2.0"))
     sc = scene({"velocity": "1 m/s", "modulus": "master_curve", "master_curve": str(p)})

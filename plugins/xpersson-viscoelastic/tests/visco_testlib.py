@@ -30,7 +30,8 @@ def scene(coefficient: dict[str, Any], **sections: Any) -> dict[str, Any]:
 
 def elastic_scene(E: str, **sections: Any) -> dict[str, Any]:
     """The same scene with the built-in elastic coefficient and modulus ``E``."""
+    coef = sections.pop("coefficient", {})
     sc = scene({}, **sections)
-    sc["coefficient"] = {"model": "elastic", **sections.get("coefficient", {})}
+    sc["coefficient"] = {"model": "elastic", **coef}
     sc["material"] = {"E": E, "nu": 0.5}
     return sc

@@ -9,12 +9,31 @@ The modulus models, shift laws, table readers and the vectorised kernels
 (:mod:`xpersson_viscoelastic.kernel`) are public for studies outside a scene.
 """
 
-from ._modulus import MasterCurve, ModulusModel, Prony, sls, synthetic_tread, u_of_b, u_over_b
-from ._shift import GAS_CONSTANT, WLF, WLF_UNIVERSAL, Arrhenius, NoShift, TabulatedShift
-from ._tables import TableError, load_master_curve, load_prony, load_shift_table
-from .coefficient import ViscoelasticCoefficient
-from .friction import Friction
-from .kernel import friction_curve
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+_WHERE = {
+    "MasterCurve": "._modulus", "ModulusModel": "._modulus", "Prony": "._modulus",
+    "sls": "._modulus", "synthetic_tread": "._modulus", "u_of_b": "._modulus",
+    "u_over_b": "._modulus",
+    "GAS_CONSTANT": "._shift", "WLF": "._shift", "WLF_UNIVERSAL": "._shift",
+    "Arrhenius": "._shift", "NoShift": "._shift", "TabulatedShift": "._shift",
+    "TableError": "._tables", "load_master_curve": "._tables", "load_prony": "._tables",
+    "load_shift_table": "._tables",
+    "ViscoelasticCoefficient": ".coefficient",
+    "Friction": ".friction",
+    "friction_curve": ".kernel",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """Import the public names lazily (listing plugins and importing one stay cheap)."""
+    if name in _WHERE:
+        return getattr(importlib.import_module(_WHERE[name], __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __version__ = "0.1.0"
 
