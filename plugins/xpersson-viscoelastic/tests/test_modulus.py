@@ -113,3 +113,19 @@ def test_models_refuse_bad_parameters():
         Prony(3e6, [-1.0], [1.0])
     with pytest.raises(ValueError, match="E''"):
         MasterCurve([1.0, 2.0], [1e6, 2e6], [1.0, -1.0])
+
+
+def test_stieltjes_rule_is_exact_for_cubics_and_fourth_order():
+    from xpersson_viscoelastic.kernel import stieltjes_increments
+
+    x = np.sort(np.random.default_rng(1).uniform(0, 3, 9))
+    inc = stieltjes_increments(x**2 - x, x**3, x)  # int (x^2 - x) 3x^2 dx, exact for cubics
+    exact = lambda t: 0.6 * t**5 - 0.75 * t**4  # noqa: E731
+    np.testing.assert_allclose(inc, exact(x[1:]) - exact(x[:-1]), rtol=1e-11, atol=1e-13)
+    errs = []
+    for n in (21, 41, 81):
+        x = np.linspace(0.0, 2.0, n)
+        total = stieltjes_increments(np.exp(-x), np.sin(x), x).sum()
+        ref = 0.5 * (1 + np.exp(-2) * (np.sin(2) - np.cos(2)))  # int_0^2 e^-x cos x dx
+        errs.append(abs(total - ref))
+    assert errs[0] / errs[1] > 12 and errs[1] / errs[2] > 12  # ~16 for fourth order

@@ -7,22 +7,24 @@ cumulative loss integral ``L`` written by the ``viscoelastic`` coefficient; ``S 
 constant shear stress or the velocity law ``tau_f = tau_f0 exp(-c log10(a_T v / v*)^2)``;
 ``mu = mu_visc + mu_contact``.
 
-On the output grid the integral is the product rule ``sum (g_i + g_{i+1})/2 (L_{i+1} - L_i)``
-(exact for a constant area factor; second order in the zeta spacing otherwise: use
-``output.zeta_per_decade >= 20`` for ~1e-4, see the README's convergence table).
+On the output grid the Stieltjes integral is evaluated with ``g = P S`` and ``L`` both
+interpolated by cubics in ``ln zeta`` (:func:`~xpersson_viscoelastic.kernel.stieltjes_increments`;
+fourth order, see the README's convergence table for the accuracy per ``zeta_per_decade``).
 """
 
 from __future__ import annotations
 
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
-import xarray as xr
 
 from xpersson.physics import closure_S
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
-from .kernel import friction_integral
+from .kernel import friction_integral, stieltjes_increments
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray as xr
 
 __all__ = ["Friction"]
 
@@ -82,6 +84,8 @@ class Friction(Analysis):
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables, vectorised over loads (and any sweep dimension)."""
+        import xarray as xr
+
         p = self._params
         A = ds["area_fraction"]
         L = ds["loss_integral"]
@@ -95,10 +99,10 @@ class Friction(Analysis):
         g = A * (closure_S("yp08", A, p["gamma"]) if p["correction"] == "s_factor" else 1.0)
         p0 = ds["p0"]
 
+        x = np.log(zeta)
+
         def running(gv: np.ndarray, Lv: np.ndarray, p0v: np.ndarray) -> np.ndarray:
-            gm = 0.5 * (gv[..., 1:] + gv[..., :-1])
-            dL = np.diff(Lv, axis=-1)
-            mu = friction_integral(gm, dL, p0v)
+            mu = friction_integral(stieltjes_increments(gv, Lv, x), p0v)
             return np.concatenate([np.zeros(mu.shape[:-1] + (1,)), mu], axis=-1)
 
         mu_cum = xr.apply_ufunc(

@@ -36,6 +36,7 @@ __all__ = [
     "coefficient_f",
     "loss_integral",
     "friction_integral",
+    "stieltjes_increments",
     "friction_curve",
 ]
 
@@ -199,23 +200,79 @@ def loss_integral(
     return _cumulative_at(psd, model, zeta, scale, "loss", nodes, panels_per_decade) / f
 
 
-def friction_integral(g: ArrayLike, dL: ArrayLike, p0: ArrayLike) -> Array:
-    """``mu = (1 / (2 p0)) sum g dL`` along the last axis (cumulative) [1].
+def friction_integral(increments: ArrayLike, p0: ArrayLike) -> Array:
+    """``mu = (1 / (2 p0)) int P S dL``, cumulative along the last axis [1].
 
     The one home of Persson's viscoelastic friction formula
-    ``mu_visc = (1/2) int dq q^3 C P S int dphi cos(phi) Im E / ((1 - nu^2) p0)``:
-    ``dL`` are the increments of the cumulative loss integral [Pa] (quadrature weights or
-    differences on an output grid), ``g = P S`` the contact-area factor at the same places.
+    ``mu_visc = (1/2) int dq q^3 C P S int dphi cos(phi) Im E / ((1 - nu^2) p0)``, written with
+    the cumulative loss integral ``L`` [Pa] as ``(1/(2 p0)) int P S dL``.
 
-    Returns
-    -------
-    ndarray
-        Running ``mu(zeta)`` (cumulative over the last axis), shape ``broadcast(g, dL)``.
+    Parameters
+    ----------
+    increments : array_like
+        Pieces of ``int P S dL`` [Pa] (quadrature terms ``g_i dL_i`` or per-interval integrals
+        from :func:`stieltjes_increments`), along the last axis.
+    p0 : array_like
+        Nominal pressure(s) [Pa], broadcast against ``increments[..., 0]``.
+    """
+    inc = np.asarray(increments, dtype=float)
+    p0 = np.asarray(p0, dtype=float)
+    return np.cumsum(inc, axis=-1) / (2.0 * p0[..., None])
+
+
+@lru_cache(maxsize=32)
+def _cubic_weights(x: tuple[float, ...]) -> tuple[Array, Array]:
+    """Per-interval weights ``W[i, a, b] = int_{x_i}^{x_i+1} l_a(x) l_b'(x) dx`` of the
+    4-point Lagrange basis of the stencil ``s_i .. s_i + 3`` (``s_i = clip(i - 1, 0, n - 4)``)."""
+    xs = np.asarray(x)
+    n = xs.size
+    W = np.empty((n - 1, 4, 4))
+    start = np.clip(np.arange(n - 1) - 1, 0, n - 4)
+    P = np.polynomial.polynomial
+    for i, s0 in enumerate(start):
+        nodes = xs[s0:s0 + 4] - xs[i]  # shift for conditioning
+        h = xs[i + 1] - xs[i]
+        basis = []
+        for a in range(4):
+            others = np.delete(nodes, a)
+            c = P.polyfromroots(others) / np.prod(nodes[a] - others)
+            basis.append(c)
+        for a in range(4):
+            for b in range(4):
+                prod = P.polymul(basis[a], P.polyder(basis[b]))
+                integ = P.polyint(prod)
+                W[i, a, b] = P.polyval(h, integ) - P.polyval(0.0, integ)
+    return W, start
+
+
+def stieltjes_increments(g: ArrayLike, L: ArrayLike, x: ArrayLike) -> Array:
+    """``int_{x_i}^{x_{i+1}} g dL`` per interval, from values on a grid ``x`` (last axis).
+
+    ``g`` and ``L`` are both interpolated by cubics in ``x`` (4-point stencils; fourth order
+    where they are smooth; trapezoid in ``L`` for fewer than four points). Exactly zero where
+    ``L`` is constant on a stencil, so ``E'' = 0`` gives zero friction exactly. For ``g >= 0``
+    and non-decreasing ``L`` the pieces are non-negative: an interval where the cubic rule
+    would give a negative piece falls back to the trapezoid ``(g_i + g_i+1)/2 (L_i+1 - L_i)``.
+
+    Parameters
+    ----------
+    g : array_like, (..., n)
+        Integrand values (e.g. ``P S``).
+    L : array_like, (..., n)
+        Cumulative measure (e.g. the loss integral [Pa]).
+    x : array_like, (n,)
+        Strictly increasing grid (e.g. ``ln zeta``).
     """
     g = np.asarray(g, dtype=float)
-    dL = np.asarray(dL, dtype=float)
-    p0 = np.asarray(p0, dtype=float)
-    return np.cumsum(g * dL, axis=-1) / (2.0 * p0[..., None])
+    L = np.asarray(L, dtype=float)
+    xs = np.asarray(x, dtype=float)
+    trap = 0.5 * (g[..., 1:] + g[..., :-1]) * np.diff(L, axis=-1)
+    if xs.size < 4:
+        return trap
+    W, start = _cubic_weights(tuple(float(v) for v in xs))
+    idx = start[:, None] + np.arange(4)  # (n - 1, 4)
+    cubic = np.einsum("...ia,iab,...ib->...i", g[..., idx], W, L[..., idx])
+    return np.where((cubic < 0) & (trap >= 0), trap, cubic)
 
 
 def _area_factor(A: Array, correction: str, gamma: float) -> Array:
@@ -295,8 +352,7 @@ def friction_curve(
     A, _ = area_fraction(p0[:, None, None], G * p0[:, None, None] ** 2 * ratio)
     g = _area_factor(np.asarray(A), correction, gamma)
     dL = (q3C * wq * loss / fnu)[..., None, :, :]
-    mu = friction_integral(g.reshape(g.shape[:-2] + (-1,)),
-                           dL.reshape(dL.shape[:-2] + (-1,)), p0)[..., -1]
+    mu = friction_integral((g * dL).reshape(g.shape[:-2] + (-1,)), p0)[..., -1]
     tau_end = diffusion_time(psd, model, nu, [zmax], scale, 1.0, nodes=nodes,
                              panels_per_decade=panels_per_decade)[..., 0]
     G_end = tau_end[..., None] / p0**2
