@@ -45,16 +45,27 @@ __all__ = [
 Array = NDArray[np.float64]
 
 
+def _ratio(b: Array) -> Array:
+    """``u(b) / b = b / (s (1 + s))``, ``s = sqrt(1 + b^2)`` for ``b >= 0`` (``inf`` -> 0)."""
+    huge = b > 1e150  # b^2 would overflow: there u/b = 1/b to double precision
+    bb = np.where(huge, 1.0, b) if huge.any() else b
+    s = bb * bb
+    s += 1.0
+    np.sqrt(s, out=s)
+    den = s + 1.0
+    den *= s
+    out = np.divide(bb, den)
+    if huge.any():
+        out[huge] = 1.0 / b[huge]
+    return out
+
+
 def u_of_b(b: ArrayLike) -> Array:
     """``u(b) = 1 - (1 + b^2)^(-1/2)`` without cancellation (``b >= 0``, may be ``inf``)."""
     b = np.asarray(b, dtype=float)
-    with np.errstate(over="ignore", invalid="ignore"):
-        s = np.hypot(1.0, b)
-        u = b * b / (s * (1.0 + s))
-        # b^2 overflows for b > ~1e154: there u = 1 - 1/b to double precision
-        big = b > 1e150
-        u = np.where(big, 1.0 - 1.0 / np.where(big, b, 1.0), u)
-    return u
+    r = _ratio(np.atleast_1d(b))
+    u = np.where(np.isinf(np.atleast_1d(b)), 1.0, np.atleast_1d(b) * r)
+    return u.reshape(b.shape)
 
 
 def u_over_b(b: ArrayLike) -> Array:
@@ -63,10 +74,7 @@ def u_over_b(b: ArrayLike) -> Array:
     This is the single-scale velocity factor of physics.md §4.4 (peak 0.30028 at b = 1.2720).
     """
     b = np.asarray(b, dtype=float)
-    with np.errstate(over="ignore", invalid="ignore"):
-        s = np.hypot(1.0, b)
-        out = b / (s * (1.0 + s))
-    return np.where(np.isinf(b), 0.0, out)
+    return _ratio(np.atleast_1d(b)).reshape(b.shape)
 
 
 class ModulusModel:
@@ -94,6 +102,11 @@ class ModulusModel:
     def excess_mean_sq(self, w: ArrayLike) -> Array:
         """``mean_sq(w) - E_r^2`` [Pa^2] (without cancellation where the model allows)."""
         return self.angular(w)[0] - self.E_r**2
+
+    def parts(self, w: ArrayLike) -> tuple[Array, Array]:
+        """``(mean_sq - E_r^2, loss)`` at ``w`` in one pass."""
+        mean_sq, loss = self.angular(w)
+        return mean_sq - self.E_r**2, loss
 
 
 @dataclass(frozen=True)
@@ -139,15 +152,21 @@ class Prony(ModulusModel):
         return self.E_r + np.sum(self.delta_E * x / (1.0 + x), axis=-1)
 
     def angular(self, w: ArrayLike) -> tuple[Array, Array]:
-        b = np.asarray(w, dtype=float)[..., None] * self.tau
-        u = u_of_b(b)
-        mean_sq = self.E_r**2 + 2.0 * np.sum((self.delta_E * self._c) * u, axis=-1)
-        loss = 2.0 * np.pi * np.sum(self.delta_E * u_over_b(b), axis=-1)
-        return mean_sq, loss
+        excess, loss = self.parts(w)
+        return self.E_r**2 + excess, loss
 
     def excess_mean_sq(self, w: ArrayLike) -> Array:
+        return self.parts(w)[0]
+
+    def parts(self, w: ArrayLike) -> tuple[Array, Array]:
         b = np.asarray(w, dtype=float)[..., None] * self.tau
-        return 2.0 * np.sum((self.delta_E * self._c) * u_of_b(b), axis=-1)
+        r = _ratio(b)  # u(b) / b
+        loss = (2.0 * np.pi) * (r @ self.delta_E)
+        r *= b  # u(b) (b = inf gives nan here: u = 1)
+        if np.isinf(b).any():
+            r[np.isinf(b)] = 1.0
+        excess = 2.0 * (r @ (self.delta_E * self._c))
+        return excess, loss
 
 
 def sls(E_r: float, E_g: float, relaxation_time: float) -> Prony:

@@ -336,10 +336,9 @@ def friction_curve(
     qn, wq, half = _nodes(edges, nodes)
     _, wgl, Q = _rule(nodes)
     q3C = qn**3 * np.asarray(psd.C(qn), dtype=float)
-    w = scale[..., None, None] * qn  # (n_T, n_v, n_panel, n)
-    loss = model.angular(w)[1]
+    excess_sq, loss = model.parts(scale[..., None, None] * qn)  # (n_T, n_v, n_panel, n)
     # tau at every node: exact E_r^2 I3 plus the spectral cumulative of the excess
-    dens = q3C * qn * model.excess_mean_sq(w)  # integrand in ln q
+    dens = q3C * qn * excess_sq  # integrand in ln q
     within = half[:, None] * np.einsum("ij,...pj->...pi", Q, dens)
     ends = np.sum(half[:, None] * wgl * dens, axis=-1)
     before = np.concatenate([np.zeros(scale.shape + (1,)), np.cumsum(ends, axis=-1)[..., :-1]],
@@ -353,8 +352,10 @@ def friction_curve(
     g = _area_factor(np.asarray(A), correction, gamma)
     dL = (q3C * wq * loss / fnu)[..., None, :, :]
     mu = friction_integral((g * dL).reshape(g.shape[:-2] + (-1,)), p0)[..., -1]
-    tau_end = diffusion_time(psd, model, nu, [zmax], scale, 1.0, nodes=nodes,
-                             panels_per_decade=panels_per_decade)[..., 0]
+    total = before[..., -1] + ends[..., -1]
+    tau_end = (np.pi / 4.0) * (model.E_r**2 * float(psd.I3(zmax * float(psd.q_L))) + total) / (
+        fnu * fnu
+    )
     G_end = tau_end[..., None] / p0**2
     r_end = effective_ratio(G_end, closure, closure_gamma) if closure != "persson01" else 1.0
     A_end, _ = area_fraction(p0, G_end * p0**2 * r_end)
