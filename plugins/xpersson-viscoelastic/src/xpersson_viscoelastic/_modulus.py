@@ -64,7 +64,8 @@ def u_of_b(b: ArrayLike) -> Array:
     """``u(b) = 1 - (1 + b^2)^(-1/2)`` without cancellation (``b >= 0``, may be ``inf``)."""
     b = np.asarray(b, dtype=float)
     r = _ratio(np.atleast_1d(b))
-    u = np.where(np.isinf(np.atleast_1d(b)), 1.0, np.atleast_1d(b) * r)
+    with np.errstate(invalid="ignore"):  # inf * 0 at b = inf, replaced by u = 1
+        u = np.where(np.isinf(np.atleast_1d(b)), 1.0, np.atleast_1d(b) * r)
     return u.reshape(b.shape)
 
 
@@ -162,7 +163,8 @@ class Prony(ModulusModel):
         b = np.asarray(w, dtype=float)[..., None] * self.tau
         r = _ratio(b)  # u(b) / b
         loss = (2.0 * np.pi) * (r @ self.delta_E)
-        r *= b  # u(b) (b = inf gives nan here: u = 1)
+        with np.errstate(invalid="ignore"):
+            r *= b  # u(b) (b = inf gives nan here: u = 1)
         if np.isinf(b).any():
             r[np.isinf(b)] = 1.0
         excess = 2.0 * (r @ (self.delta_E * self._c))
