@@ -20,32 +20,29 @@ def friction_curves(
     velocities: np.ndarray | None = None,
     temperatures: tuple[float, ...] = TEMPERATURES,
 ) -> dict[str, np.ndarray]:
-    """Solve the scene over sliding speeds [m/s] and temperatures [K].
+    """Solve the scene over sliding speeds [m/s] and temperatures [K] in one sweep.
 
-    Returns ``v`` [m/s], ``T`` [K], ``p0`` [Pa] and ``mu``, ``mu_visc``, ``area`` (A/A0 at the
-    largest magnification), each of shape ``(n_T, n_v, n_p0)``.
+    ``velocity`` and ``temperature`` given as lists become the Dataset dimensions ``v`` and
+    ``T``. Returns ``v`` [m/s], ``T`` [K], ``p0`` [Pa] and ``mu``, ``mu_visc``, ``area``
+    (A/A0 at the largest magnification), each of shape ``(n_T, n_v, n_p0)``.
     """
     import xpersson
 
     v = np.geomspace(1e-8, 1e2, 31) if velocities is None else np.asarray(velocities, float)
-    out: dict[str, list] = {"mu": [], "mu_visc": [], "area": []}
-    p0 = None
-    for T in temperatures:
-        rows: dict[str, list] = {k: [] for k in out}
-        for vi in v:
-            ds = xpersson.solve(
-                str(scene), coefficient__velocity=f"{float(vi)!r} m/s",
-                coefficient__temperature=f"{float(T)!r} K",
-            )
-            p0 = ds["p0"].values
-            rows["mu"].append(ds["mu"].values)
-            rows["mu_visc"].append(ds["mu_visc"].values)
-            rows["area"].append(ds["area_fraction"].isel(zeta=-1).values)
-        for k in out:
-            out[k].append(rows[k])
-    res = {k: np.asarray(val, dtype=float) for k, val in out.items()}
-    res.update(v=v, T=np.asarray(temperatures, float), p0=np.atleast_1d(p0))
-    return res
+    ds = xpersson.solve(
+        str(scene),
+        coefficient__velocity=[f"{float(x)!r} m/s" for x in v],
+        coefficient__temperature=[f"{float(t)!r} K" for t in temperatures],
+    )
+    ds = ds.transpose("T", "v", "p0", ...)
+    return {
+        "v": ds["v"].values,
+        "T": ds["T"].values,
+        "p0": np.atleast_1d(ds["p0"].values),
+        "mu": ds["mu"].values,
+        "mu_visc": ds["mu_visc"].values,
+        "area": ds["area_fraction"].isel(zeta=-1).values,
+    }
 
 
 def plot_friction(
