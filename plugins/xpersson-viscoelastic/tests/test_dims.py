@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import xpersson
 from visco_testlib import scene
+
+import xpersson
 
 FRICTION = {"friction": {"tau_f": "0.5 MPa", "shear_law": "velocity"}}
 WLF = {"shift": "wlf", "T_ref": "293.15 K", "C1": 7.84, "C2": "114.75 K"}
