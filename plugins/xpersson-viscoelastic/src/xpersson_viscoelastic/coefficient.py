@@ -50,6 +50,11 @@ OUTPUTS: dict[str, VarSpec] = {
         (), "1", "time-temperature shift factor a_T",
         description="E(omega, T) = E_ref(a_T omega)", valid_min=0.0,
     ),
+    "flash_temperature": VarSpec(
+        ("zeta",), "K", "rubber temperature seen at scale q",
+        description="temperature + flash heating from the longer scales (opt-in approximate "
+        "mode; equal to the temperature when flash_temperature is off)", valid_min=0.0,
+    ),
     "rubbery_modulus": VarSpec((), "Pa", "rubbery (low-frequency) modulus E_r", valid_min=0.0),
     "glassy_modulus": VarSpec((), "Pa", "glassy (high-frequency) modulus E_g", valid_min=0.0),
 }
@@ -109,6 +114,15 @@ class ViscoelasticCoefficient(Coefficient):
                                        description="Arrhenius activation energy"),
         "shift_table": ParamSpec("1", default=None, kind="path",
                                  description="a_T table: T [K], a_T [1]"),
+        "flash_temperature": ParamSpec("1", default=False, kind="bool",
+                                       description="opt-in approximate flash temperature "
+                                       "(physics.md §4.5, structure only)"),
+        "thermal_conductivity": ParamSpec("W/(m*K)", default=0.25, bounds=(0, None),
+                                          inclusive=(False, True),
+                                          description="rubber thermal conductivity (flash)"),
+        "thermal_diffusivity": ParamSpec("m**2/s", default=1e-7, bounds=(0, None),
+                                         inclusive=(False, True),
+                                         description="rubber thermal diffusivity (flash)"),
         "closure": ParamSpec("1", default="persson01", kind="choice", choices=closures.CLOSURES,
                              description="correction-factor closure of the variance"),
         "gamma": ParamSpec("1", default=None, bounds=(0, 1), inclusive=(False, True),
@@ -143,14 +157,43 @@ class ViscoelasticCoefficient(Coefficient):
     def _v(self) -> float:
         return float(self._params["velocity"])
 
+    def _flash(self, psd: Any, nu: float) -> Any:
+        """The solved flash-temperature profile (cached per spectrum and Poisson ratio)."""
+        cached = getattr(self, "_flash_cache", None)
+        if cached is not None and cached[0] is psd and cached[1] == nu:
+            return cached[2]
+        from ._flash import solve_flash
+
+        p = self._params
+        prof = solve_flash(psd, self._model, self._shift, nu, self._v(),
+                           float(p["temperature"]), float(p["thermal_conductivity"]),
+                           float(p["thermal_diffusivity"]))
+        if not prof.converged:
+            raise RuntimeError(
+                f"flash temperature: the fixed point did not converge in {prof.iterations} "
+                "iterations; lower the sliding speed or raise thermal_conductivity"
+            )
+        self._flash_cache = (psd, nu, prof)
+        return prof
+
+    def _a_T_of(self, ctx: SceneContext) -> Any:
+        """``a_T`` [1]: a number, or ``a_T(q)`` with the flash temperature."""
+        if not self._params["flash_temperature"]:
+            return self._aT
+        prof = self._flash(ctx.psd, float(ctx.nu))
+        shift = self._shift
+        return lambda q: shift.aT(prof(q))
+
     # -- the coefficient contract ------------------------------------------------------------
     def f(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """f(zeta) [Pa^2] at this (v, T)."""
-        return kernel.coefficient_f(ctx.psd, self._model, ctx.nu, zeta, self._v(), self._aT)
+        return kernel.coefficient_f(ctx.psd, self._model, ctx.nu, zeta, self._v(),
+                                    self._a_T_of(ctx))
 
     def tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """tau(zeta) [Pa^2] (Gauss-Legendre in ln q, ~1e-14 relative; exact E_r^2 part)."""
-        return kernel.diffusion_time(ctx.psd, self._model, ctx.nu, zeta, self._v(), self._aT)
+        return kernel.diffusion_time(ctx.psd, self._model, ctx.nu, zeta, self._v(),
+                                     self._a_T_of(ctx))
 
     def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """Per-load diffusion time [Pa^2] of the selected correction closure."""
@@ -162,13 +205,19 @@ class ViscoelasticCoefficient(Coefficient):
     def interpret(self, ctx: SceneContext) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
         """The angular integrals and the cumulative loss integral on the output ``zeta``."""
         zeta = ctx.zeta
-        rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(),
-                                            self._aT)
-        L = kernel.loss_integral(ctx.psd, self._model, ctx.nu, zeta, self._v(), self._aT)
+        aT = self._a_T_of(ctx)
+        rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
+        L = kernel.loss_integral(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
+        T0 = float(self._params["temperature"])
+        if callable(aT):
+            T_q = self._flash(ctx.psd, float(ctx.nu))(zeta * ctx.q_L)
+        else:
+            T_q = np.full(zeta.shape, T0)
         out = {
             "effective_modulus": (("zeta",), rms),
             "loss_angular_integral": (("zeta",), loss),
             "loss_integral": (("zeta",), L),
+            "flash_temperature": (("zeta",), T_q),
             "sliding_speed": ((), np.float64(self._v())),
             "rubber_temperature": ((), np.float64(self._params["temperature"])),
             "shift_factor": ((), np.float64(self._aT)),

@@ -83,12 +83,24 @@ def _nodes(edges: Array, n: int) -> tuple[Array, Array, float]:
     return qn, half[:, None] * w * qn, half
 
 
-def _omega_scale(v: ArrayLike, aT: ArrayLike) -> Array:
+def _omega_scale(v: ArrayLike, aT: Any) -> Array:
+    if callable(aT):  # a_T(q) (flash temperature): scalar v only
+        return np.asarray(v, dtype=float)
     return np.asarray(v, dtype=float) * np.asarray(aT, dtype=float)
 
 
+def _w(v: ArrayLike, aT: Any, q: Array) -> Array:
+    """``w = q v a_T`` with shape ``broadcast(v, aT).shape + q.shape``; ``aT`` may be a
+    callable ``a_T(q)`` (then ``v`` must be a scalar)."""
+    if callable(aT):
+        return float(v) * np.asarray(aT(q), dtype=float) * q
+    scale = _omega_scale(v, aT)
+    return scale.reshape(scale.shape + (1,) * q.ndim) * q
+
+
 def _cumulative_at(
-    psd: Any, model: ModulusModel, zeta: ArrayLike, scale: Array, which: str, n: int, ppd: int
+    psd: Any, model: ModulusModel, zeta: ArrayLike, v: ArrayLike, aT: Any, which: str, n: int,
+    ppd: int,
 ) -> Array:
     """int_{q_L}^{zeta q_L} q^3 C(q) X(q scale) dq at ``zeta``; shape ``scale.shape + zeta``.
 
@@ -97,12 +109,13 @@ def _cumulative_at(
     z = np.atleast_1d(np.asarray(zeta, dtype=float))
     q = z * float(psd.q_L)
     edges = panel_edges(psd, q, ppd)
+    scale = _omega_scale(v, aT)
     out_shape = scale.shape + z.shape
     if edges.size < 2:
         return np.zeros(out_shape)
     qn, wq, _ = _nodes(edges, n)
     base = qn**3 * np.asarray(psd.C(qn), dtype=float) * wq  # (n_panel, n)
-    w = scale[..., None, None] * qn  # (..., n_panel, n)
+    w = _w(v, aT, qn)  # (..., n_panel, n)
     if which == "tau":
         X = model.excess_mean_sq(w)
     else:
@@ -143,17 +156,18 @@ def diffusion_time(
     zeta : array_like
         Magnifications [1], >= 1.
     v, aT : array_like
-        Sliding speed [m/s] and shift factor [1], broadcast together (shape ``S``).
+        Sliding speed [m/s] and shift factor [1], broadcast together (shape ``S``); ``aT``
+        may also be a callable ``a_T(q)`` of the wavevector [1/m] (flash temperature; then
+        ``v`` is a scalar).
 
     Returns
     -------
     ndarray, shape ``S + zeta.shape``
     """
     f = _checked_nu(nu)
-    scale = _omega_scale(v, aT)
     z = np.atleast_1d(np.asarray(zeta, dtype=float))
     exact = model.E_r**2 * np.asarray(psd.I3(z * float(psd.q_L)), dtype=float)
-    rest = _cumulative_at(psd, model, z, scale, "tau", nodes, panels_per_decade)
+    rest = _cumulative_at(psd, model, z, v, aT, "tau", nodes, panels_per_decade)
     return (np.pi / 4.0) * (exact + rest) / (f * f)
 
 
@@ -166,8 +180,7 @@ def coefficient_f(
     f = _checked_nu(nu)
     z = np.atleast_1d(np.asarray(zeta, dtype=float))
     q = z * float(psd.q_L)
-    w = _omega_scale(v, aT)[..., None] * q
-    mean_sq, _ = model.angular(w)
+    mean_sq, _ = model.angular(_w(v, aT, q))
     return (np.pi / 4.0) * float(psd.q_L) * q**3 * np.asarray(psd.C(q)) * mean_sq / (f * f)
 
 
@@ -179,7 +192,7 @@ def angular_averages(
     the scales ``q = zeta q_L``."""
     f = _checked_nu(nu)
     q = np.atleast_1d(np.asarray(zeta, dtype=float)) * float(psd.q_L)
-    mean_sq, loss = model.angular(_omega_scale(v, aT)[..., None] * q)
+    mean_sq, loss = model.angular(_w(v, aT, q))
     return np.sqrt(mean_sq) / f, loss / f
 
 
@@ -196,8 +209,7 @@ def loss_integral(
 ) -> Array:
     """Cumulative loss integral ``L(zeta; v, a_T)`` [Pa] (see the module docstring)."""
     f = _checked_nu(nu)
-    scale = _omega_scale(v, aT)
-    return _cumulative_at(psd, model, zeta, scale, "loss", nodes, panels_per_decade) / f
+    return _cumulative_at(psd, model, zeta, v, aT, "loss", nodes, panels_per_decade) / f
 
 
 def friction_integral(increments: ArrayLike, p0: ArrayLike) -> Array:
