@@ -142,3 +142,25 @@ def test_check_plugin(cls):
     params = {"velocity": 0.01} if cls is ViscoelasticCoefficient else None
     report = testing.check_plugin(cls, params, scene=None if params else over)
     assert report["metadata"] == "ok" and report["pickle"] == "ok"
+
+
+def test_model_files_end_to_end(tmp_path):
+    from xpersson_viscoelastic import sls
+
+    model = sls(3e6, 3e9, 1e-3)
+    f = np.geomspace(1e-4, 1e10, 400) / (2 * np.pi * 1e-3)
+    E = model.modulus(2 * np.pi * f)
+    table = zip(f.tolist(), (E.real / 1e6).tolist(), (E.imag / 1e6).tolist(), strict=True)
+    rows = "\n".join(f"{a!r}, {b!r}, {c!r}" for a, b, c in table)
+    mc = tmp_path / "sls_curve.txt"
+    mc.write_text("# SLS sampled\nf [Hz], E_storage [MPa], E_loss [MPa]\n" + rows + "\n")
+    pf = tmp_path / "modes.txt"
+    pf.write_text("tau [ms], delta_E [GPa]\n1, 2.997\n2, 0\n")
+    ref = _solve({**SLS, "velocity": "1 cm/s"}, analyses=FRICTION)
+    pr = _solve({"modulus": "prony", "prony_file": str(pf), "velocity": "1 cm/s"},
+                analyses=FRICTION)
+    cu = _solve({"modulus": "master_curve", "master_curve": str(mc), "phi_nodes": 128,
+                 "velocity": "1 cm/s"}, analyses=FRICTION)
+    for name in ("area_fraction", "mu_visc"):
+        np.testing.assert_allclose(pr[name].values, ref[name].values, rtol=1e-12)
+        np.testing.assert_allclose(cu[name].values, ref[name].values, rtol=3e-3)
