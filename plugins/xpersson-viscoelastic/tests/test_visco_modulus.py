@@ -92,7 +92,7 @@ def test_master_curve_from_sampled_sls_reproduces_closed_forms():
     model = sls(E_R, E_G, TAU)
     w = np.geomspace(1e-4, 1e10, 800) / TAU
     E = model.modulus(w)
-    mc = MasterCurve(w, E.real, E.imag, phi_nodes=256)
+    mc = MasterCurve(w, E.real, E.imag)
     np.testing.assert_array_equal(mc.modulus(-w[::7]), np.conj(mc.modulus(w[::7])))
     for wq in (1e-2 / TAU, 1 / TAU, 1e2 / TAU):
         a, b = mc.angular(wq), model.angular(wq)
@@ -129,3 +129,43 @@ def test_stieltjes_rule_is_exact_for_cubics_and_fourth_order():
         ref = 0.5 * (1 + np.exp(-2) * (np.sin(2) - np.cos(2)))  # int_0^2 e^-x cos x dx
         errs.append(abs(total - ref))
     assert errs[0] / errs[1] > 12 and errs[1] / errs[2] > 12  # ~16 for fourth order
+
+
+def test_master_curve_angular_rule_integrates_the_interpolant():
+    from scipy.integrate import quad
+
+    model = sls(E_R, E_G, TAU)
+    w = np.geomspace(1e-4, 1e10, 30) / TAU
+    E = model.modulus(w)
+    mc = MasterCurve(w, E.real, E.imag)
+    W = 1e4 / TAU
+    cuts = sorted({0.0, float(np.pi / 2), *np.arccos(np.clip(w / W, 0, 1)).tolist()})
+
+    def parts(p):
+        e1, e2 = mc._parts(np.array([W * np.cos(p)]))
+        return float(e1[0]), float(e2[0])
+
+    def piecewise(fn):  # adaptive quadrature on every smooth piece
+        return sum(quad(fn, a, b, epsabs=0, epsrel=1e-11, limit=200)[0]
+                   for a, b in zip(cuts[:-1], cuts[1:], strict=True) if b > a)
+
+    loss = 4 * piecewise(lambda p: np.cos(p) * parts(p)[1])
+    sq = (2 / np.pi) * piecewise(lambda p: parts(p)[0] ** 2 + parts(p)[1] ** 2)
+    got = mc.angular(W)
+    assert got[0] == pytest.approx(sq, rel=1e-9)
+    assert got[1] == pytest.approx(loss, rel=1e-9)
+
+
+def test_master_curve_q_integrals_meet_rtol():
+    from xpersson.physics import SelfAffineRollOff
+    from xpersson_viscoelastic import kernel
+
+    model = sls(E_R, E_G, TAU)
+    w = np.geomspace(1e-4, 1e10, 60) / TAU
+    E = model.modulus(w)
+    mc = MasterCurve(w, E.real, E.imag)
+    psd = SelfAffineRollOff.from_h_rms(1e-5, 0.8, 1e3, 1e4, 1e7)
+    z = np.geomspace(1.5, 1e4, 6)
+    ref = kernel.diffusion_time(psd, mc, 0.5, z, 0.01, nodes=16, panels_per_decade=32)
+    got = kernel.diffusion_time(psd, mc, 0.5, z, 0.01)  # the coefficient's rtol >= 1e-6 rule
+    np.testing.assert_allclose(got, ref, rtol=1e-6)

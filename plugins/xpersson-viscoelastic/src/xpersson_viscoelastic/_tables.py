@@ -135,7 +135,7 @@ def _increasing(p: Path, x: NDArray[np.float64], where: list[int], what: str) ->
             )
 
 
-def load_master_curve(path: str | Path, phi_nodes: int = 64):  # noqa: ANN201
+def load_master_curve(path: str | Path, phi_nodes: int = 6):  # noqa: ANN201
     """Read ``(omega | f, E_storage, E_loss)`` into a :class:`~._modulus.MasterCurve`."""
     from ._modulus import MasterCurve
 

@@ -108,8 +108,14 @@ def _cumulative_at(
     """
     z = np.atleast_1d(np.asarray(zeta, dtype=float))
     q = z * float(psd.q_L)
-    edges = panel_edges(psd, q, ppd)
     scale = _omega_scale(v, aT)
+    edges = panel_edges(psd, q, ppd)
+    kinks = model.breakpoints()
+    if kinks.size and scale.ndim == 0 and not callable(aT) and float(scale) > 0:
+        # tabulated models: split the q panels where q v a_T crosses a table frequency
+        qk = kinks / float(scale)
+        qk = qk[(qk > edges[0]) & (qk < edges[-1])]
+        edges = np.unique(np.concatenate([edges, qk]))
     out_shape = scale.shape + z.shape
     if edges.size < 2:
         return np.zeros(out_shape)
