@@ -150,3 +150,16 @@ def test_tabor_warning_and_contract(solve):
                                             "law": "exponential"})
     assert report["metadata"] == "ok" and report["pickle"] == "ok"
     assert math.isfinite(DMTBoundary.outputs["p_att"].valid_min)
+    # an instance that has solved a scene still pickles (dask ships instances)
+    import pickle
+
+    from xpersson.physics import coefficient_f
+    from xpersson.plugins import DiffusionClock, SceneContext
+
+    inst = DMTBoundary(work_of_adhesion=1e-3, range=5e-9, law="dugdale")
+    zeta = np.geomspace(1.0, 1e4, 9)
+    ctx = SceneContext(psd=PSD, E=1e6, nu=0.5, E_star=E_STAR, p0=np.array([2e4]), zeta=zeta)
+    clock = DiffusionClock(lambda z: diffusion_time(PSD, E_STAR, z),
+                           lambda z: coefficient_f(PSD, E_STAR, z), 1e4)
+    inst.walls(ctx, 2e4, clock)
+    assert pickle.loads(pickle.dumps(inst)) == inst

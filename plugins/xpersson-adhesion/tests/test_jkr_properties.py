@@ -46,3 +46,13 @@ def test_table_affine_in_tau_is_the_linear_wall(s0, c, p0):
     wall = JKRBoundary(work_of_adhesion=0.0, sigma_a=sigma, sigma_a_zeta=zeta).wall(None, clock)
     assert wall.linear_motion(tau_max) is not None
     np.testing.assert_allclose(wall.linear_motion(tau_max), (-s0, -c), rtol=1e-12, atol=1e-12)
+
+
+def test_instance_pickles_after_building_its_wall():
+    import pickle
+
+    inst = JKRBoundary(work_of_adhesion=0.0, sigma_a=np.array([1.0, 2.0]),
+                       sigma_a_zeta=np.array([1.0, 100.0]))
+    clock = _clock(1.0)  # holds lambdas: the cached wall must not travel with the instance
+    inst.wall(None, clock)
+    assert pickle.loads(pickle.dumps(inst)) == inst

@@ -266,6 +266,7 @@ class DMTBoundary(Boundary):
     def __getstate__(self) -> dict[str, Any]:
         state = dict(self.__dict__)
         state["_states"] = {}
+        state.pop("_clock", None)  # holds the pipeline's closures: not picklable, rebuilt per run
         return state
 
     def validate(self, ctx: SceneContext) -> None:
