@@ -163,3 +163,14 @@ def test_tabor_warning_and_contract(solve):
                            lambda z: coefficient_f(PSD, E_STAR, z), 1e4)
     inst.walls(ctx, 2e4, clock)
     assert pickle.loads(pickle.dumps(inst)) == inst
+
+
+def test_large_work_of_adhesion_drives_full_contact(solve):
+    areas = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AdhesionLimitWarning)
+        for w in ("0.005 J/m**2", "0.05 J/m**2", "1 J/m**2"):
+            ds = solve(with_(TINY, boundary=_dmt(law="dugdale", work_of_adhesion=w)))
+            areas.append(ds["area_fraction"].values[:, -1])
+    assert np.all(np.diff(np.array(areas), axis=0) > 0)
+    assert np.all(areas[-1] > 0.999)
