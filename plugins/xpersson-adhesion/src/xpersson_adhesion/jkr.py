@@ -221,7 +221,9 @@ class JKRBoundary(Boundary):
         if bad.size:
             raise ValueError(
                 f"load.p0 = {float(bad[0]):g} Pa is outside the allowed range p0 > "
-                f"-sigma_a(zeta=1) = {-s1:g} Pa (the contact would detach at once)"
+                f"-sigma_a(zeta=1) = {0.0 - s1:g} Pa (the contact would detach at once"
+                + ("; gamma_eff(1) <= 0: roughness destroys macroscopic adhesion)" if s1 == 0
+                   else ")")
             )
         work = self._params["work_of_adhesion"]
         if work > 0 and ctx.psd is not None:
