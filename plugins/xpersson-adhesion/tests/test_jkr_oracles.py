@@ -73,10 +73,11 @@ def test_linear_wall_closed_form_everywhere(solve):
     """A/A0 = Phi((y0 + c t)/sqrt(2t)) - e^(-c y0) Phi((c t - y0)/sqrt(2t)) on a fine grid."""
     _, e_star = unit_scene(tau_max=2.0)
     zeta_tab = np.geomspace(1.0, ZETA_1, 60)
-    scene, _ = _oracle_scene(zeta_tab, S0 + C * tau_of(zeta_tab, e_star), method="cn",
-                             rtol=1e-5)
+    scene, _ = _oracle_scene(zeta_tab, S0 + C * tau_of(zeta_tab, e_star), method="cn")
     scene["output"] = {"zeta_per_decade": 6}
-    ds = solve(scene)
+    with warnings.catch_warnings():  # cn reports tolerance_not_met (estimate 7.7e-7) here
+        warnings.simplefilter("ignore")
+        ds = solve(scene)
     t = ds["diffusion_time"].values[1:]
     y0 = P0 + S0
     s = np.sqrt(2 * t)
