@@ -109,25 +109,24 @@ def step_times(pb: Problem, per_decade: float) -> Array:
     if pb.upper is not None and pb.upper.kind == "yield_closure" and not pb.upper.is_fixed:
         moving = True
     if moving and tau.size:
-        t_lo = float(tau[0]) * 1e-3
+        t_lo = float(tau[0])
         n = max(2, int(math.ceil(per_decade * math.log10(tmax / t_lo))) + 1)
         nodes.append(np.geomspace(t_lo, tmax, n))
     return np.unique(np.concatenate(nodes))
 
 
-def _substeps(pb: Problem, t0: float, t1: float) -> Array:
-    """Split ``[t0, t1]`` so that each step reaches at most one wall (and q <= 1/2)."""
-    if pb.upper is None:
-        return np.array([t0, t1])
-    ts = np.linspace(t0, t1, 9)
-    lo, up = pb.wall_positions(ts)
-    gap = float(np.min(up - lo))
-    dt_max = (gap / _GAP_STEPS) ** 2 / 2.0
-    if pb.upper.kind == "yield_closure" and not pb.upper.is_fixed:
-        speed = float(np.max(pb.upper.speed(ts)))
-        if speed > 0:  # a sticky step: a sqrt(dt) <= 0.1 (the splitting of drift and release)
-            dt_max = min(dt_max, (0.1 / speed) ** 2)
-    n = max(1, int(math.ceil((t1 - t0) / dt_max)))
+def _substeps(t0: float, t1: float, gap: float, speed: float, sticky_near: bool) -> Array:
+    """Split ``[t0, t1]`` so that each step reaches at most one wall.
+
+    ``gap`` [Pa] is the smallest distance between the walls (inf for one wall), ``speed`` the
+    largest ``dY/dtau`` [1/Pa] of a sticky wall.  Near a sticky wall (plastic walkers, or walkers
+    within reach) a step also keeps ``b = dY/dtau sqrt(dtau) <= 0.2`` (the release law neglects
+    the wall's drift within a step), with at most 256 sub-steps per interval.
+    """
+    dt_max = (gap / _GAP_STEPS) ** 2 / 2.0 if math.isfinite(gap) else math.inf
+    if speed > 0 and sticky_near:
+        dt_max = min(dt_max, max((0.2 / speed) ** 2, (t1 - t0) / 256.0))
+    n = 1 if not math.isfinite(dt_max) else max(1, int(math.ceil((t1 - t0) / dt_max)))
     return np.linspace(t0, t1, n + 1)
 
 
@@ -197,22 +196,44 @@ def _sticky_release(rng: np.random.Generator, speed: float, durations: Array) ->
         deeper = erfc(mid) - np.exp(-mid * mid) * erfcx(mid + bg) > ug
         lo = np.where(deeper, mid, lo)
         hi = np.where(deeper, hi, mid)
-    out[go] = 2.0 * np.sqrt(durations[go]) * 0.5 * (lo + hi)
+    # the wall's rise pays the released walkers' depth: E[sum depth] = dY per stuck walker
+    # (the force balance that defines the closure); the drift-free law releases the fraction
+    # int_0^b 2x erfcx(x) dx / b^2 of it, restored by scaling the depths
+    out[go] = 2.0 * np.sqrt(durations[go]) * 0.5 * (lo + hi) * _depth_scale(bg)
     return out
 
 
-def _walk(pb: Problem, st: _Walkers, rng: np.random.Generator, t0: float, t1: float) -> None:
-    """Advance a batch from ``t0`` to ``t1`` (one exact step; bridge test at each wall)."""
-    dt = t1 - t0
+_B_TABLE = np.concatenate([np.linspace(0.0, 2.0, 401), np.geomspace(2.0, 1e3, 300)[1:]])
+_X_FINE = np.concatenate([np.linspace(0.0, 2.0, 40_001), np.geomspace(2.0, 1e3, 20_000)[1:]])
+_INT = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(_X_FINE) * (
+    2 * _X_FINE[1:] * erfcx(_X_FINE[1:]) + 2 * _X_FINE[:-1] * erfcx(_X_FINE[:-1])))])
+_SCALE = np.where(_B_TABLE > 0, _B_TABLE**2 / np.maximum(np.interp(_B_TABLE, _X_FINE, _INT),
+                                                         1e-300), 1.0)
+
+
+def _depth_scale(b: Array) -> Array:
+    """``b^2 / int_0^b 2 x erfcx(x) dx`` (1 at b = 0), tabulated on [0, 1000]."""
+    big = b > _B_TABLE[-1]  # erfcx(x) ~ 1/(x sqrt(pi)): the integral grows as 2 b / sqrt(pi)
+    return np.where(big, b * math.sqrt(math.pi) / 2.0, np.interp(b, _B_TABLE, _SCALE))
+
+
+def _walk(
+    pb: Problem, st: _Walkers, rng: np.random.Generator, dt: float, lower: tuple[float, float],
+    upper: tuple[float, float] | None,
+) -> None:
+    """Advance a batch by ``dt`` [Pa^2] (one exact step; bridge test at each wall).
+
+    ``lower`` and ``upper`` are the wall positions [Pa] at the start and the end of the step.
+    """
     if dt <= 0:
         return
-    a0, a1 = (float(v) for v in pb.lower.at(np.array([t0, t1])))
+    a0, a1 = lower
     sticky = pb.upper is not None and pb.upper.kind == "yield_closure" and not pb.upper.is_fixed
     x = st.x
     y0 = y1 = 0.0
     new_frac = np.zeros(0)  # hit fractions of the walkers that stuck to the wall in this step
-    if pb.upper is not None:
-        y0, y1 = (float(v) for v in pb.upper.at(np.array([t0, t1])))
+    if upper is not None:
+        y0, y1 = upper
     if x.size:
         x1 = x + math.sqrt(2.0 * dt) * rng.standard_normal(x.size)
         hit_l = _crossed(rng, x - a0, x1 - a1, dt)
@@ -274,15 +295,26 @@ def _simulate(pb: Problem, opts: dict[str, Any]) -> dict[str, Any]:
     nsteps = 0
     done = 0
     sticky = pb.upper is not None and pb.upper.kind == "yield_closure" and not pb.upper.is_fixed
+    # wall positions: evaluated once on the step times, linear in between (as the bridge is)
+    walls_lo, walls_up = pb.wall_positions(times)
+    speeds = pb.upper.speed(times) if sticky else np.zeros(times.size)
     while done < n_total:
         n = min(int(opts["chunk"]), n_total - done)
         done += n
         st = _Walkers(np.full(n, pb.p0))
         for k in range(times.size):
             if k > 0:
-                sub = _substeps(pb, float(times[k - 1]), float(times[k]))
-                for s0, s1 in zip(sub[:-1], sub[1:], strict=True):
-                    _walk(pb, st, rng, float(s0), float(s1))
+                t0, t1 = float(times[k - 1]), float(times[k])
+                near = sticky and (st.n_plastic > 0 or (st.x.size > 0 and float(st.x.max())
+                       + 8.0 * math.sqrt(2.0 * (t1 - t0)) >= walls_up[k - 1]))
+                gap = float(min(walls_up[k - 1] - walls_lo[k - 1], walls_up[k] - walls_lo[k]))
+                sub = _substeps(t0, t1, gap, float(max(speeds[k - 1], speeds[k])), near)
+                lo_s = np.interp(sub, times[k - 1 : k + 1], walls_lo[k - 1 : k + 1])
+                up_s = np.interp(sub, times[k - 1 : k + 1], walls_up[k - 1 : k + 1])
+                for m in range(sub.size - 1):
+                    up_m = None if pb.upper is None else (float(up_s[m]), float(up_s[m + 1]))
+                    _walk(pb, st, rng, float(sub[m + 1] - sub[m]),
+                          (float(lo_s[m]), float(lo_s[m + 1])), up_m)
                     nsteps += 1
             for i in np.flatnonzero(out_idx == k):
                 acc["area"][i] += st.x.size
@@ -292,8 +324,7 @@ def _simulate(pb: Problem, opts: dict[str, Any]) -> dict[str, Any]:
                 acc["load"][i] += float(st.x.sum())
                 acc["load2"][i] += float(np.square(st.x).sum()) + st.sq_walls
                 if sticky:
-                    y = float(pb.upper.at(np.array([times[k]]))[0])
-                    acc["load2"][i] += st.n_plastic * y * y
+                    acc["load2"][i] += st.n_plastic * float(walls_up[k]) ** 2
                 acc["mom_l"][i] += st.mom_lower
                 acc["mom_u"][i] += st.mom_upper
                 if hist is not None:
