@@ -168,7 +168,7 @@ def _level(pb: Problem, n: int, k: float, ratio: float) -> dict[str, Any]:
 def run_kernel(pb: Problem, opts: dict[str, Any]) -> Raw:
     """Run the Chapman-Kolmogorov propagation at ``nodes`` and ``2 nodes``; report the finer.
 
-    Options: ``nodes`` (grid intervals, default 400), ``window_k`` (half-width of the window in
+    Options: ``nodes`` (grid intervals, default 200), ``window_k`` (half-width of the window in
     ``sqrt(2 tau)``, default 8), ``ratio`` (growth of tau between steps, default 2).
     """
     up = pb.upper
@@ -177,7 +177,7 @@ def run_kernel(pb: Problem, opts: dict[str, Any]) -> Raw:
             "method='markov_ck': a moving yield-closure wall (sticky wall) is served by the "
             "walkers, method='markov'"
         )
-    n = int(opts.get("nodes", 400))
+    n = int(opts.get("nodes", 200))
     k = float(opts.get("window_k", 8.0))
     ratio = float(opts.get("ratio", 2.0))
     if n < 16 or not (2.0 <= k <= 40.0) or not (1.0 < ratio <= 16.0):
