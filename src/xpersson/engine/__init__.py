@@ -8,7 +8,8 @@ Wall.absorbing(position), Wall.linear(p_start, velocity), Wall.yield_closure(pos
 Wall.reflecting(position)
 SourcedResult
 EngineResult, EngineMethod, register_method, exact (closed forms)
-MarkovMethod ("markov": walkers), ChapmanKolmogorovMethod ("markov_ck"), sample_paths
+MarkovMethod ("markov": walkers), ChapmanKolmogorovMethod ("markov_ck"), sample_paths,
+transition_kernel
 
 Units: pressures in Pa, diffusion time tau in Pa^2, densities in 1/Pa.
 """
@@ -19,6 +20,7 @@ from . import exact
 from ._api import solve
 from ._exactpath import ExactMethod
 from ._markov import ChapmanKolmogorovMethod, MarkovMethod, sample_paths
+from ._markov_ck import transition_kernel
 from ._methods import EngineMethod, register_method
 from ._moving import CNMethod
 from ._result import EngineResult
@@ -47,4 +49,5 @@ __all__ = [
     "MarkovMethod",
     "ChapmanKolmogorovMethod",
     "sample_paths",
+    "transition_kernel",
 ]
