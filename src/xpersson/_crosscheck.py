@@ -82,7 +82,7 @@ def markov_cross_check(
         boundary.validate(ctx)
     except ValueError as exc:
         return f"skipped (the tiny scene is outside the plugin's range: {exc})"
-    tau = np.asarray(coef.effective_tau(ctx, rs.zeta), dtype=float)
+    tau = np.asarray(coef.effective_tau(ctx, rs.zeta), dtype=float).reshape(rs.p0.size, -1)
     clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max)
     worst, where = 0.0, ""
     for i, p0 in enumerate(rs.p0):
