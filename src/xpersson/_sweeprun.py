@@ -59,8 +59,11 @@ def blocks_of(plan: SweepPlan, points_per_block: int) -> list[Block]:
     return out
 
 
-def _resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
+def resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
     """Resolve every point before any work (bad input fails here, naming the point)."""
+    from .plugins import get_registry
+
+    registry = registry or get_registry()
     points = []
     for index in plan.indices():
         try:
@@ -126,7 +129,7 @@ def solve_sweep(
     workers: int | None = None,
 ) -> xr.Dataset:
     """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`)."""
-    points = _resolve_points(plan, registry)
+    points = resolve_points(plan, registry)
     client, own_cluster, n_workers = _client(scheduler, workers)
     try:
         blocks = blocks_of(plan, _points_per_block(plan, n_workers, chunk))
@@ -281,12 +284,17 @@ def _finish(
 
 
 def _template(res: BlockResult) -> xr.Dataset:
+    """A point-shaped Dataset (no sweep dimensions) with the variables of a solved block."""
+    def point(ds: xr.Dataset) -> xr.Dataset:
+        out = ds.isel({d: 0 for d in res.block.dims}, drop=True).drop_vars("point_status")
+        return out.drop_vars([n for n in res.block.coords if n in out.variables])
+
     if res.dataset is not None:
-        return res.dataset.isel({d: slice(0, 1) for d in res.block.dims})
+        return point(res.dataset)
     from .io import ENGINE
 
     with xr.open_dataset(res.part, engine=ENGINE) as ds:
-        return ds.isel({d: slice(0, 1) for d in res.block.dims}).load()
+        return point(ds).load()
 
 
 def _status_name(code: int) -> str:
@@ -386,7 +394,6 @@ def _global_attrs(
         "shape": list(plan.shape),
         "parameters": {p.path: p.name for p in plan.params},
         "points": int(plan.size),
-        "blocks": len(results),
     })
     n_bad = int(np.count_nonzero(status))
     n_fail = int(np.count_nonzero(status == POINT_STATUS["failed"]))

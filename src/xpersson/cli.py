@@ -43,25 +43,59 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     out = Path(args.output)
-    if out.exists() and not args.overwrite:
+    as_parts = args.output.endswith(("/", "\\")) or out.is_dir()
+    if out.exists() and not args.overwrite and not (as_parts and not any(out.iterdir())):
         _err(f"xpersson: {out} exists; add --overwrite to replace it")
         return 2
     scene = _load(args)
     from . import _pipeline, io
 
-    ds = _pipeline.solve(scene)
-    command = "xpersson " + " ".join(sys.argv[1:]) if sys.argv[1:] else "xpersson run"
-    ds.attrs["history"] = f"{ds.attrs['history']} ({command})"
-    io.to_netcdf(ds, out, overwrite=args.overwrite)
-    _err(f"xpersson: wrote {out} (status: {ds.attrs['status']})")
+    progress = False if args.quiet else (True if args.progress else None)
+    if as_parts:
+        from .sweep import expand
+
+        if expand(scene) is None:
+            _err(f"xpersson: {args.output} is a folder, but the scene sweeps no parameter; "
+                 "give a .nc file")
+            return 2
+    ds = _pipeline.solve(scene, scheduler=_scheduler(args.scheduler), progress=progress,
+                         output=out if as_parts else None, chunk=args.chunk,
+                         workers=args.workers)
+    if as_parts:
+        _err(f"xpersson: wrote {out}/ ({len(list(out.glob('part-*.nc')))} parts; open with "
+             f"xpersson.open_dataset) (status: {ds.attrs['status']})")
+    else:
+        command = "xpersson " + " ".join(sys.argv[1:]) if sys.argv[1:] else "xpersson run"
+        ds.attrs["history"] = f"{ds.attrs['history']} ({command})"
+        io.to_netcdf(ds, out, overwrite=args.overwrite)
+        _err(f"xpersson: wrote {out} (status: {ds.attrs['status']})")
     if ds.attrs["status"] != "success":
         _err(f"xpersson: {ds.attrs['status_message']}")
         return 3
     return 0
 
 
+def _scheduler(text: str | None) -> str | None:
+    return None if text in (None, "serial") else text
+
+
 def _cmd_validate(args: argparse.Namespace) -> int:
     scene = _load(args)
+    from .sweep import expand
+
+    plan = expand(scene)
+    if plan is not None:
+        from ._sweeprun import resolve_points
+
+        points = resolve_points(plan, None)
+        rs = points[0]
+        sweep = ", ".join(f"{p.path} -> {p.name} ({len(p.values)})" for p in plan.params)
+        _err(f"xpersson: {args.scene} is valid: a sweep of {plan.size} points ({sweep}), "
+             f"{rs.p0.size} load(s) each, {rs.zeta.size} zeta points, plugins "
+             f"{rs.plugin_names}")
+        if args.json:
+            print(json.dumps(plan.scene_lists(), indent=1, sort_keys=True))
+        return 0
     rs = scene.resolve()
     _err(
         f"xpersson: {args.scene} is valid: {rs.p0.size} load(s), {rs.zeta.size} zeta points "
@@ -129,10 +163,22 @@ def build_parser() -> argparse.ArgumentParser:
 
     run = sub.add_parser("run", help="solve a scene and write a netCDF archive")
     run.add_argument("scene", help="scene TOML file")
-    run.add_argument("-o", "--output", required=True, help="output .nc file")
+    run.add_argument("-o", "--output", required=True,
+                     help="output .nc file, or DIR/ for a sweep written as netCDF parts")
     run.add_argument("--set", action="append", metavar="KEY=VALUE",
                      help="override a scene value, e.g. --set 'load.p0=\"1 MPa\"'")
     run.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    run.add_argument("--scheduler", default=None, metavar="S",
+                     help="where sweep points run: serial (default), threads, processes "
+                     "(dask LocalCluster) or a dask scheduler address tcp://host:port")
+    run.add_argument("--workers", type=int, default=None,
+                     help="workers for threads/processes (default: number of cores)")
+    run.add_argument("--chunk", type=int, default=None,
+                     help="sweep points per task / netCDF part")
+    noise = run.add_mutually_exclusive_group()
+    noise.add_argument("--quiet", action="store_true", help="no progress bar")
+    noise.add_argument("--progress", action="store_true",
+                       help="progress bar even when stderr is not a terminal")
     run.set_defaults(func=_cmd_run)
 
     val = sub.add_parser("validate", help="check a scene without solving it")
