@@ -1,4 +1,4 @@
-"""Command-line interface: ``xpersson run | validate | info | reproduce | plugins``.
+"""Command-line interface: ``xpersson run | validate | info | plot | reproduce | plugins``.
 
 Results go to files, messages to stderr. Heavy modules (xarray, scipy) are imported inside the
 sub-commands, so ``xpersson --help`` stays fast.
@@ -152,6 +152,15 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     return 0 if same else 4
 
 
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from . import io, plot
+
+    ds = io.open_dataset(args.archive)
+    out = plot.save(ds, args.kind, args.output, dpi=args.dpi)
+    _err(f"xpersson: wrote {out} ({args.kind})")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argparse parser of the ``xpersson`` command."""
     parser = argparse.ArgumentParser(
@@ -190,6 +199,15 @@ def build_parser() -> argparse.ArgumentParser:
     info = sub.add_parser("info", help="summarise an archive")
     info.add_argument("archive", help=".nc file written by xpersson run")
     info.set_defaults(func=_cmd_info)
+
+    plo = sub.add_parser("plot", help="plot an archive (matplotlib)")
+    plo.add_argument("archive", help=".nc file or sweep folder written by xpersson run")
+    plo.add_argument("--kind", default="area",
+                     choices=["area", "pressure_pdf", "gap_pdf", "leakage", "energy", "friction"],
+                     help="what to plot (default: area)")
+    plo.add_argument("-o", "--output", required=True, help="figure file (.png, .pdf, .svg)")
+    plo.add_argument("--dpi", type=int, default=110, help="resolution of raster figures")
+    plo.set_defaults(func=_cmd_plot)
 
     rep = sub.add_parser("reproduce", help="re-solve an archive from its own scene")
     rep.add_argument("archive", help=".nc file written by xpersson run")

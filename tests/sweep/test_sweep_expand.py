@@ -109,3 +109,11 @@ def test_collisions_and_bad_sweeps_are_refused():
     ds = xpersson.solve(scene(spectrum={"q_1": ["1e7 1/m", "1e8 1/m"]},
                               output={"zeta_max": 1e4, "zeta_per_decade": 4}))
     assert ds.area_fraction.dims == ("q_1", "p0", "zeta")
+
+
+def test_progress_bar_counts_points_on_stderr(capsys):
+    xpersson.solve(scene(spectrum={"H": [0.6, 0.8]}), progress=True)
+    err = capsys.readouterr().err
+    assert "xpersson sweep" in err and "2/2" in err
+    xpersson.solve(scene(spectrum={"H": [0.6, 0.8]}), progress=False)
+    assert capsys.readouterr().err == ""
