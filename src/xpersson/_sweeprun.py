@@ -293,8 +293,10 @@ def _template(res: BlockResult) -> xr.Dataset:
         return point(res.dataset)
     from .io import ENGINE
 
+    from ._cf import decode
+
     with xr.open_dataset(res.part, engine=ENGINE) as ds:
-        return point(ds).load()
+        return point(decode(ds.load()))
 
 
 def _status_name(code: int) -> str:

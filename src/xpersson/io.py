@@ -44,7 +44,10 @@ def to_netcdf(ds: xr.Dataset, path: str | os.PathLike[str], *, overwrite: bool =
     fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=folder)
     os.close(fd)
     try:
-        ds.to_netcdf(tmp, engine=ENGINE, format="NETCDF4")
+        from ._cf import encode
+
+        stored, encoding = encode(ds)
+        stored.to_netcdf(tmp, engine=ENGINE, format="NETCDF4", encoding=encoding)
         os.replace(tmp, target)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -66,8 +69,10 @@ def open_dataset(path: str | os.PathLike[str], **kwargs: object) -> xr.Dataset:
     """
     if Path(path).is_dir():
         return open_parts(path)
+    from ._cf import decode
+
     with xr.open_dataset(path, engine=ENGINE, **kwargs) as ds:  # type: ignore[arg-type]
-        return ds.load()
+        return decode(ds.load())
 
 
 def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:
@@ -97,4 +102,6 @@ def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:
         data_vars="minimal", coords="minimal", join="outer", compat="override",
         combine_attrs="override",
     )
-    return finalize(ds, index["constant"], index["attrs"])
+    from ._cf import decode
+
+    return finalize(decode(ds), index["constant"], index["attrs"])
