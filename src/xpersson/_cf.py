@@ -80,7 +80,7 @@ def decode(ds: xr.Dataset) -> xr.Dataset:
             n_declared = int(how.split(":", 1)[1])
             meanings = np.array(str(var.attrs["flag_meanings"]).split(), dtype=object)
             codes = np.asarray(var.values)
-            strings = meanings[codes]
+            strings = meanings[codes.ravel()].reshape(codes.shape)
             strings[codes == len(meanings) - 1] = ""
             attrs = {k: v for k, v in var.attrs.items() if k not in ("flag_values", _ENCODED)}
             attrs["flag_meanings"] = " ".join(meanings[:n_declared])

@@ -291,9 +291,8 @@ def _template(res: BlockResult) -> xr.Dataset:
 
     if res.dataset is not None:
         return point(res.dataset)
-    from .io import ENGINE
-
     from ._cf import decode
+    from .io import ENGINE
 
     with xr.open_dataset(res.part, engine=ENGINE) as ds:
         return point(decode(ds.load()))
