@@ -129,6 +129,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
                          method=rs.method, p_out=p_grid)
         )
     ds = _assemble(rs, ctx, results, tau_c, f_z, tau_eff, p_grid)
+    _add(ds, coef.interpret(ctx), type(coef).outputs, "coefficient")
     extra = rs.boundary.interpret(ctx, results)
     _add(ds, extra, type(rs.boundary).outputs, "boundary")
     for name, analysis in rs.analyses:
