@@ -143,11 +143,12 @@ def energy(ds: xr.Dataset, ax: Any = None, max_curves: int = 8) -> Any:
 
 def friction(ds: xr.Dataset, ax: Any = None, max_curves: int = 8) -> Any:
     """Friction coefficient versus sliding speed (log x) when swept, else versus p0."""
-    names = [n for n in ds.data_vars if "friction" in n and "coefficient" in n]
-    names += [n for n in ds.data_vars if n.startswith("friction") and n not in names]
+    names = [n for n in ("mu", "friction_coefficient") if n in ds.data_vars]
+    names += [n for n in ds.data_vars if n not in names and str(
+        ds[n].attrs.get("long_name", "")).startswith("friction coefficient")]
     if not names:
-        raise ValueError("this Dataset has no friction coefficient; use a friction analysis "
-                         "(e.g. the viscoelastic plugin's)")
+        raise ValueError("this Dataset has no friction coefficient; request a friction analysis "
+                         "(e.g. [analyses.friction] of the viscoelastic plugin)")
     mu = ds[names[0]]
     x = next((d for d in ("v", "velocity") if d in mu.dims), "p0")
     if "zeta" in mu.dims:
