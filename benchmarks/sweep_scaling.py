@@ -5,7 +5,7 @@ One process measures, in the same run: (a) the serial scheduler, (b) a dask.dist
 LocalCluster with 2 single-threaded worker processes (started and warmed up before timing;
 its start-up time is reported separately). The sweep is E (20 values) x H (10 values) x
 p0 (50 loads) on the physics.md §1.4 surface, with the contact_area analysis. Each is timed
-twice; the best time counts. The serial and parallel Datasets are checked to be equal.
+three times; the best time counts. The serial and parallel Datasets are checked to be equal.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ def scene(n_e: int, n_h: int, loads: int) -> dict:
     }
 
 
-def best(fn, repeats: int = 2) -> tuple[xr.Dataset, float]:
+def best(fn, repeats: int = 3) -> tuple[xr.Dataset, float]:
     out, times = None, []
     for _ in range(repeats):
         t0 = time.perf_counter()
