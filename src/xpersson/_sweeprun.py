@@ -386,9 +386,8 @@ def _global_attrs(
         points[0].pressure_pdf
     ):
         resolved.setdefault("output", {})["p"] = [f"{float(x)!r} Pa" for x in points[0].p]
-    sweep_table = dict(plan.scene.data.get("sweep", {}))
-    if sweep_table:
-        resolved["sweep"] = sweep_table
+    resolved["sweep"] = {**dict(plan.scene.data.get("sweep", {})),
+                         "order": [p.path for p in plan.params]}
     attrs["xpersson_scene"] = json.dumps(resolved, sort_keys=True)
     attrs["xpersson_sweep"] = json.dumps({
         "dims": list(plan.dims),

@@ -117,3 +117,18 @@ def test_progress_bar_counts_points_on_stderr(capsys):
     assert "xpersson sweep" in err and "2/2" in err
     xpersson.solve(scene(spectrum={"H": [0.6, 0.8]}), progress=False)
     assert capsys.readouterr().err == ""
+
+
+def test_order_table_and_reproduce_keep_the_dimension_order(tmp_path):
+    sc = scene(spectrum={"H": [0.6, 0.8]}, material={"E": ["5 MPa", "10 MPa"]})
+    sc["sweep"] = {"order": ["material.E", "spectrum.H"]}
+    ds = xpersson.solve(sc)
+    assert ds.area_fraction.dims == ("E", "H", "p0", "zeta")
+    from xpersson.cli import main
+
+    xpersson.to_netcdf(ds, tmp_path / "a.nc")
+    assert main(["reproduce", str(tmp_path / "a.nc"), "-o", str(tmp_path / "b.nc")]) == 0
+    again = xpersson.open_dataset(tmp_path / "b.nc")
+    assert again.area_fraction.dims == ds.area_fraction.dims
+    with pytest.raises(SceneError, match="sweep.order"):
+        xpersson.solve({**sc, "sweep": {"order": ["material.nu"]}})
