@@ -129,6 +129,7 @@ def solve_sweep(
     workers: int | None = None,
 ) -> xr.Dataset:
     """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`)."""
+    _check_scheduler(scheduler)
     points = resolve_points(plan, registry)
     client, own_cluster, n_workers = _client(scheduler, workers)
     try:
@@ -161,6 +162,18 @@ def _block_points(plan: SweepPlan, points: list[Any], block: Block) -> list[Any]
     return [points[i] for i in flat[sl].ravel()]
 
 
+def _check_scheduler(scheduler: Any) -> None:
+    if scheduler is None or type(scheduler).__name__ == "Client":
+        return
+    if not isinstance(scheduler, str) or not (
+        scheduler in ("serial", "synchronous", "sync", "threads", "processes") or ":" in scheduler
+    ):
+        raise ValueError(
+            f"scheduler: {scheduler!r} is not allowed; one of None/'serial', 'threads', "
+            "'processes', a scheduler address 'tcp://host:port' or a distributed.Client"
+        )
+
+
 def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any, int]:
     """(client, cluster we own, number of workers) for a scheduler request."""
     if scheduler in (None, "serial", "synchronous", "sync"):
@@ -178,11 +191,9 @@ def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any, int]:
     if scheduler == "processes":
         n = workers or os.cpu_count() or 1
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=40)
+                               dashboard_address=None, silence_logs=50)
         return Client(cluster), cluster, n
-    if isinstance(scheduler, str) and "://" in scheduler or isinstance(scheduler, str) and (
-        ":" in scheduler
-    ):
+    if isinstance(scheduler, str) and ":" in scheduler:  # tcp://host:8786, host:8786
         client = Client(scheduler)
         return client, client, max(1, len(client.scheduler_info().get("workers", {})))
     raise ValueError(

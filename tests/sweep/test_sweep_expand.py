@@ -132,3 +132,8 @@ def test_order_table_and_reproduce_keep_the_dimension_order(tmp_path):
     assert again.area_fraction.dims == ds.area_fraction.dims
     with pytest.raises(SceneError, match="sweep.order"):
         xpersson.solve({**sc, "sweep": {"order": ["material.nu"]}})
+
+
+def test_unknown_scheduler_is_refused_before_any_work():
+    with pytest.raises(ValueError, match="scheduler: 'gpu' is not allowed"):
+        xpersson.solve(scene(spectrum={"H": [0.6, 0.8]}), scheduler="gpu")
