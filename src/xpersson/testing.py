@@ -35,6 +35,7 @@ from collections.abc import Iterator, Mapping
 from types import SimpleNamespace
 from typing import Any
 
+from ._crosscheck import markov_cross_check
 from .plugins._base import API_VERSION, Plugin, _check_class
 from .plugins._registry import Registry, _check_loaded, normalize_group, using_registry
 from .plugins._specs import REQUIRED, SpecError
@@ -49,6 +50,7 @@ __all__ = [
     "constant_wall_load",
     "linear_wall_area",
     "linear_wall_load",
+    "markov_cross_check",
     "mirrored_gaussian_area",
     "oracles",
     "registry_with",
@@ -171,6 +173,7 @@ def check_plugin(
     cheap_import: bool = True,
     import_budget: float = 3.0,
     balance_tol: float | None = None,
+    markov: int = 40_000,
 ) -> dict[str, Any]:
     """Check a plugin class against the xpersson plugin contract.
 
@@ -200,6 +203,9 @@ def check_plugin(
     balance_tol : float, optional
         Allowed probability-balance residual [1]. Default: the engine's own acceptance
         criterion for the tiny scene's tolerances, ``10 (rtol + atol)``.
+    markov : int
+        Boundaries only (with ``engine=True``): walkers of the cross-check against the Markov
+        process, :func:`markov_cross_check` (within 5 standard errors); 0 skips it.
 
     Returns
     -------
@@ -247,6 +253,8 @@ def check_plugin(
 
     if engine:
         report["engine"] = _check_engine(cls, values, scene, balance_tol)
+        if markov and group == "boundaries":
+            report["markov"] = markov_cross_check(cls, values, scene, walkers=markov)
     return report
 
 
