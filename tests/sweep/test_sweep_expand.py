@@ -137,3 +137,9 @@ def test_order_table_and_reproduce_keep_the_dimension_order(tmp_path):
 def test_unknown_scheduler_is_refused_before_any_work():
     with pytest.raises(ValueError, match="scheduler: 'gpu' is not allowed"):
         xpersson.solve(scene(spectrum={"H": [0.6, 0.8]}), scheduler="gpu")
+
+
+def test_threads_scheduler_equals_serial(swept):
+    threads = xpersson.solve(SWEEP_SCENE, scheduler="threads", chunk=1)
+    for name in swept.variables:
+        xr.testing.assert_identical(threads[name], swept[name])
