@@ -35,6 +35,7 @@ from collections.abc import Iterator, Mapping
 from types import SimpleNamespace
 from typing import Any
 
+from ._crosscheck import markov_cross_check
 from .plugins._base import API_VERSION, Plugin, _check_class
 from .plugins._registry import Registry, _check_loaded, normalize_group, using_registry
 from .plugins._specs import REQUIRED, SpecError
@@ -49,6 +50,7 @@ __all__ = [
     "constant_wall_load",
     "linear_wall_area",
     "linear_wall_load",
+    "markov_cross_check",
     "mirrored_gaussian_area",
     "oracles",
     "registry_with",
@@ -171,13 +173,15 @@ def check_plugin(
     cheap_import: bool = True,
     import_budget: float = 3.0,
     balance_tol: float | None = None,
+    markov: int = 40_000,
 ) -> dict[str, Any]:
     """Check a plugin class against the xpersson plugin contract.
 
     Checks, in order: class metadata (as at class definition, plus the API version); a cheap
     module import in a fresh interpreter (no :data:`HEAVY_MODULES`, within ``import_budget``
-    seconds); pickle round trip of an instance; determinism and finite values of the group's
-    methods on a tiny scene; and, with ``engine=True``, a solve of :data:`TINY_SCENE` through
+    seconds of CPU time, so a loaded machine does not fail it); pickle round trip of an
+    instance; determinism and finite values of the group's methods on a tiny scene; and, with
+    ``engine=True``, a solve of :data:`TINY_SCENE` through
     :func:`xpersson.solve` with the plugin injected: finite outputs with the declared
     attributes, :func:`assert_schema`, two runs equal, and for boundaries and coefficients the
     probability balance (``|probability_balance| <= balance_tol``).
@@ -200,6 +204,9 @@ def check_plugin(
     balance_tol : float, optional
         Allowed probability-balance residual [1]. Default: the engine's own acceptance
         criterion for the tiny scene's tolerances, ``10 (rtol + atol)``.
+    markov : int
+        Boundaries only (with ``engine=True``): walkers of the cross-check against the Markov
+        process, :func:`markov_cross_check` (within 5 standard errors); 0 skips it.
 
     Returns
     -------
@@ -247,6 +254,8 @@ def check_plugin(
 
     if engine:
         report["engine"] = _check_engine(cls, values, scene, balance_tol)
+        if markov and group == "boundaries":
+            report["markov"] = markov_cross_check(cls, values, scene, walkers=markov)
     return report
 
 
@@ -263,7 +272,7 @@ def _check_import(cls: type, budget: float) -> str:
         )
     code = (
         "import json, sys, time\n"
-        f"t = time.perf_counter(); import {module}; t = time.perf_counter() - t\n"
+        f"t = time.process_time(); import {module}; t = time.process_time() - t\n"
         f"heavy = [m for m in {HEAVY_MODULES!r} if m in sys.modules]\n"
         "print(json.dumps({'t': t, 'heavy': heavy}))\n"
     )

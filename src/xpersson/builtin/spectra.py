@@ -7,10 +7,11 @@ from typing import Any
 from ..physics.psd import PowerSpectrum, SelfAffineRollOff
 from ..physics.psd import Tabulated as _TabulatedPSD
 from ..plugins import ParamSpec, Spectrum
+from .topography import TABLE_PARAMETERS, ArchivedTable
 
 __all__ = ["SelfAffine", "Tabulated"]
 
-_WAVEVECTOR = dict(unit="1/m", bounds=(0, None), inclusive=(False, True))
+_WAVEVECTOR = dict(unit="1/m", bounds=(0, None), inclusive=(False, True), sweepable=True)
 
 
 class SelfAffine(Spectrum):
@@ -24,16 +25,20 @@ class SelfAffine(Spectrum):
     summary = "self-affine isotropic PSD with roll-off, C(q) = C_r (q/q_r)^(-2(1+H))"
     references = ("10.1088/2051-672X/aa51f8", "10.1063/1.1388626")
     parameters = {
-        "H": ParamSpec("1", bounds=(0, 1), inclusive=(False, True), description="Hurst exponent"),
+        "H": ParamSpec("1", bounds=(0, 1), inclusive=(False, True), sweepable=True,
+                       description="Hurst exponent"),
         "q_L": ParamSpec(**_WAVEVECTOR, description="lower cut-off wavevector (2 pi / L)"),
         "q_r": ParamSpec(**_WAVEVECTOR, default=None,
                          description="roll-off wavevector (default q_L: no plateau)"),
         "q_1": ParamSpec(**_WAVEVECTOR, description="upper cut-off wavevector"),
-        "h_rms": ParamSpec("m", default=None, bounds=(0, None), inclusive=(False, True),
+        "h_rms": ParamSpec("m", default=None, sweepable=True,
+                           bounds=(0, None), inclusive=(False, True),
                            description="rms height (give one of h_rms, rms_slope, C_r)"),
-        "rms_slope": ParamSpec("1", default=None, bounds=(0, None), inclusive=(False, True),
+        "rms_slope": ParamSpec("1", default=None, sweepable=True,
+                           bounds=(0, None), inclusive=(False, True),
                                description="rms 2-D gradient (give one of h_rms, rms_slope, C_r)"),
-        "C_r": ParamSpec("m**4", default=None, bounds=(0, None), inclusive=(False, True),
+        "C_r": ParamSpec("m**4", default=None, sweepable=True,
+                           bounds=(0, None), inclusive=(False, True),
                          description="plateau PSD value (give one of h_rms, rms_slope, C_r)"),
     }
 
@@ -69,7 +74,7 @@ class SelfAffine(Spectrum):
         return SelfAffineRollOff(p["C_r"], **geo)
 
 
-class Tabulated(Spectrum):
+class Tabulated(ArchivedTable, Spectrum):
     """PSD read from a two-column text/CSV file (q, C), interpolated log-log.
 
     Conventions: ``persson`` (isotropic, m^4), ``surface_topography`` (isotropic JJP /
@@ -80,7 +85,8 @@ class Tabulated(Spectrum):
     summary = "tabulated isotropic or 1-D PSD from a (q, C) file, log-log interpolated"
     references = ("10.1088/2051-672X/aa51f8",)
     parameters = {
-        "file": ParamSpec("1", kind="path", description="two-column text/CSV file: q, C"),
+        "file": ParamSpec("1", kind="path", default=None,
+                          description="two-column text/CSV file: q, C"),
         "q_unit": ParamSpec("1", default="1/m", kind="string",
                             description="unit of the q column (pint syntax)"),
         "C_unit": ParamSpec("1", default="m**4", kind="string",
@@ -92,12 +98,20 @@ class Tabulated(Spectrum):
                          description="truncate below (default: first table point)"),
         "q_1": ParamSpec(**_WAVEVECTOR, default=None,
                          description="truncate above (default: last table point)"),
+        **TABLE_PARAMETERS,
     }
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        self._check_source()
 
     def build(self) -> PowerSpectrum:
         """Read, convert to SI and the Persson convention."""
         from ..units import to_si
 
+        inline = self._inline()
+        if inline is not None:
+            return inline
         p = self._params
         iso = p["convention"] != "profile_1d"
         c_si = "m**4" if iso else "m**3"

@@ -9,6 +9,8 @@ Wall.absorbing(position), Wall.linear(p_start, velocity), Wall.yield_closure(pos
 Wall.reflecting(position)
 SourcedResult
 EngineResult, EngineMethod, register_method, exact (closed forms)
+MarkovMethod ("markov": walkers), ChapmanKolmogorovMethod ("markov_ck"), sample_paths,
+transition_kernel
 
 Units: pressures in Pa, diffusion time tau in Pa^2, densities in 1/Pa.
 """
@@ -18,6 +20,8 @@ from __future__ import annotations
 from . import exact
 from ._api import solve, solve_batch
 from ._exactpath import ExactMethod
+from ._markov import ChapmanKolmogorovMethod, MarkovMethod, sample_paths
+from ._markov_ck import transition_kernel
 from ._methods import EngineMethod, register_method
 from ._moving import CNMethod
 from ._result import EngineBatch, EngineResult
@@ -28,6 +32,8 @@ from ._walls import Wall
 register_method("exact", ExactMethod)
 register_method("sine", SineMethod)
 register_method("cn", CNMethod)
+register_method("markov", MarkovMethod)
+register_method("markov_ck", ChapmanKolmogorovMethod)
 
 __all__ = [
     "solve",
@@ -43,4 +49,8 @@ __all__ = [
     "ExactMethod",
     "SineMethod",
     "CNMethod",
+    "MarkovMethod",
+    "ChapmanKolmogorovMethod",
+    "sample_paths",
+    "transition_kernel",
 ]

@@ -42,8 +42,8 @@ _DOI = re.compile(r"^(doi:)?10\.\d{4,9}/\S+$|^arXiv:\S+$|^https?://\S+$", re.IGN
 class Plugin:
     """Common base of all plugins.
 
-    Class attributes
-    ----------------
+    Attributes
+    ----------
     api_version : int
         Major plugin-API version the class was written for; must be <= :data:`API_VERSION`.
     summary : str
@@ -205,6 +205,15 @@ class Coefficient(Plugin):
         t = np.asarray(self.tau(ctx, zeta), dtype=float)
         return np.broadcast_to(t, (ctx.p0.size, t.size)).copy()
 
+    def interpret(self, ctx: SceneContext) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
+        """Variables the coefficient contributes to the Dataset (dims, data).
+
+        E.g. the angular averages of a viscoelastic modulus on the ``zeta`` grid, which
+        downstream analyses read instead of re-deriving them. Returned names must be declared
+        in :attr:`outputs`; the default contributes nothing.
+        """
+        return {}
+
 
 class Boundary(Plugin):
     """The walls of the pressure domain and the meaning of what they absorb.
@@ -215,6 +224,9 @@ class Boundary(Plugin):
 
     group = "boundaries"
     abstract = True
+    #: Whether the boundary accepts tensile nominal loads ``p0 <= 0`` (adhesion); the scene
+    #: then checks only that ``p0`` is finite and :meth:`validate` states the allowed range.
+    tensile_loads: ClassVar[bool] = False
 
     def validate(self, ctx: SceneContext) -> None:  # noqa: B027 - optional hook
         """Check the scene against this boundary (e.g. p0 below the yield stress).
