@@ -90,7 +90,7 @@ def solve(
         Budget of time steps summed over all refinement levels (numerical methods).
     options : dict, optional
         Method options (``"cn"``: ``nodes`` (pilot grid, 24), ``steps_per_decade`` (pilot,
-        6), ``levels`` (grids, 6), ``max_work`` (node-steps per load, 1e8), ``stretch``;
+        6), ``levels`` (grids, 10), ``max_work`` (node-steps per load, 1e8), ``stretch``;
         ``"sine"``: ``window_k``).
 
     Returns

@@ -360,7 +360,7 @@ class CNMethod(EngineMethod):
         n0 = int(opt.get("nodes", 24))
         per_node = float(opt.get("steps_per_decade", 0.0)) / n0 if "steps_per_decade" in opt \
             else 0.25
-        max_levels = int(opt.get("levels", 6))
+        max_levels = int(opt.get("levels", 10))
         max_work = float(opt.get("max_work", 1e8))  # node-steps per load over all grids
         stretch = float(opt.get("stretch", 1.0))
         n_ie = int(opt.get("rannacher", 2))
@@ -413,7 +413,7 @@ class CNMethod(EngineMethod):
                 return float(np.max(factor * np.abs(la_ - lb_) / scale)) / (pb.rtol + pb.atol)
 
             try:
-                n_base, mode = n0, "R"
+                n_base, mode, rounds = n0, "R", 0
                 while True:
                     l1, l2 = level(n_base, 1), level(n_base, 2)
                     e_r = 2.0 * np.abs(l2["area"] - l1["area"]) / 3.0  # ~2x error of R(2n)
@@ -423,7 +423,12 @@ class CNMethod(EngineMethod):
                         best, err, n_used = _combine(l2, l1, False), e_r, 2 * n_base
                         break
                     if mode == "R" and math.sqrt(ratio / 0.3) <= R_MAX_REFINE:
-                        n_base = _round_grid(n_base * math.sqrt(ratio / 0.3))
+                        # after a missed prediction (slower than second order, e.g. kinks of
+                        # a tabulated wall) aim lower and grow at least 1.5x
+                        target = 0.3 if rounds == 0 else 0.1
+                        rounds += 1
+                        n_base = _round_grid(n_base * max(math.sqrt(ratio / target),
+                                                          1.0 if rounds == 1 else 1.5))
                         continue
                     mode = "E"  # fourth order: Richardson pairs on three nested grids
                     l4 = level(n_base, 4)
@@ -435,7 +440,8 @@ class CNMethod(EngineMethod):
                     if ratio <= 1.0:
                         best, err, n_used = e_b, d, 4 * n_base
                         break
-                    n_base = _round_grid(n_base * (ratio / 0.3) ** 0.25)
+                    rounds += 1
+                    n_base = _round_grid(n_base * max((ratio / 0.1) ** 0.25, 1.5))
             except (_Budget, _Levels) as exc:
                 status = "max_steps" if isinstance(exc, _Budget) else "tolerance_not_met"
                 message = str(exc)
