@@ -423,12 +423,12 @@ class CNMethod(EngineMethod):
                         best, err, n_used = _combine(l2, l1, False), e_r, 2 * n_base
                         break
                     if mode == "R" and math.sqrt(ratio / 0.3) <= R_MAX_REFINE:
-                        # after a missed prediction (slower than second order, e.g. kinks of
-                        # a tabulated wall) aim lower and grow at least 1.5x
-                        target = 0.3 if rounds == 0 else 0.1
+                        # after a missed prediction (slower than second order, e.g. kinks of a
+                        # tabulated wall) grow at least 1.25x, so that the grids keep advancing
+                        target = 0.3
                         rounds += 1
                         n_base = _round_grid(n_base * max(math.sqrt(ratio / target),
-                                                          1.0 if rounds == 1 else 1.5))
+                                                          1.0 if rounds == 1 else 1.25))
                         continue
                     mode = "E"  # fourth order: Richardson pairs on three nested grids
                     l4 = level(n_base, 4)
@@ -441,7 +441,8 @@ class CNMethod(EngineMethod):
                         best, err, n_used = e_b, d, 4 * n_base
                         break
                     rounds += 1
-                    n_base = _round_grid(n_base * max((ratio / 0.1) ** 0.25, 1.5))
+                    grow = max((ratio / 0.3) ** 0.25, 1.0 if rounds == 1 else 1.25)
+                    n_base = _round_grid(n_base * grow)
             except (_Budget, _Levels) as exc:
                 status = "max_steps" if isinstance(exc, _Budget) else "tolerance_not_met"
                 message = str(exc)
