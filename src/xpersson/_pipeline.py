@@ -105,6 +105,10 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     ds = _assemble(rs, ctx, results, tau_c, f_z, tau_eff, p_grid)
     extra = rs.boundary.interpret(ctx, results)
     _add(ds, extra, type(rs.boundary).outputs, "boundary")
+    if rs.analyses:  # analyses read the scene's declarations and may sample the solve densely
+        ctx = dataclasses.replace(
+            ctx, coefficient=coef, boundary=rs.boundary, solve_at=_solve_at(rs, ctx, walls)
+        )
     for name, analysis in rs.analyses:
         out = analysis.compute(ctx, ds)
         missing = [v for v in type(analysis).provides if v not in out]
@@ -115,6 +119,32 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     if rs.p0_scalar:
         ds = ds.squeeze("p0")
     return ds
+
+
+def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
+    """``zeta -> area variables`` of the same solve at other magnifications (for analyses)."""
+    from . import engine
+
+    def solve_at(zeta: np.ndarray) -> dict[str, np.ndarray]:
+        z = np.asarray(zeta, float)
+        c = dataclasses.replace(ctx, zeta=z, p=None)
+        tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(rs.p0.size, -1)
+        res = [
+            engine.solve(tau_eff[i], float(p0), *walls[i], rtol=rs.rtol, atol=rs.atol,
+                         method=rs.method)
+            for i, p0 in enumerate(rs.p0)
+        ]
+        out = {
+            "area_fraction": np.stack([np.asarray(r.area, float) for r in res]),
+            "non_contact_fraction": np.stack([np.asarray(r.non_area, float) for r in res]),
+            "diffusion_time": np.asarray(rs.coefficient.tau(c, z), float),
+            "effective_diffusion_time": tau_eff,
+        }
+        for name, value in rs.boundary.interpret(c, res).items():
+            out[name] = np.asarray(value[1] if isinstance(value, tuple) else value, float)
+        return out
+
+    return solve_at
 
 
 def _pressure_grid(rs: ResolvedScene, walls: list[Any], tau_eff: np.ndarray) -> np.ndarray:

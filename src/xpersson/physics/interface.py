@@ -553,16 +553,19 @@ def _h2(psd: object, q: ArrayLike, q_hi: float) -> NDArray[np.float64]:
     return np.maximum(2.0 * math.pi * (m_hi - m), 0.0)
 
 
-def _refined(cur: _Curve, refine: int) -> tuple[NDArray, NDArray, NDArray]:
-    """Edges (the curve's nodes with ``refine - 1`` points inserted per interval)."""
-    if refine <= 1:
+def _edges(cur: _Curve, zeta_edges: ArrayLike | None) -> tuple[NDArray, NDArray, NDArray]:
+    """Bin edges with the contact area there (spline of ``ln(1 - A)`` between the nodes)."""
+    if zeta_edges is None:
         return cur.zeta, cur.area, cur.non_area
-    t = np.arange(refine) / refine
-    x = np.concatenate(((cur.x[:-1, None] + np.diff(cur.x)[:, None] * t).ravel(), cur.x[-1:]))
+    z = np.unique(np.clip(np.asarray(zeta_edges, dtype=float), 1.0, cur.zeta[-1]))
+    if z[0] != 1.0 or z[-1] != cur.zeta[-1]:
+        raise ValueError("zeta_edges must run from 1 to the curve's last magnification")
+    x = np.log(z)
     N = cur.non_area_at(np.broadcast_to(x, (cur.n_load, x.size)))
     N = np.maximum.accumulate(N, axis=1)
-    N[:, :: refine] = cur.non_area  # exact at the solved nodes
-    return np.exp(x), 1.0 - N, N
+    N[:, 0] = 0.0
+    N[:, -1] = cur.non_area[:, -1]
+    return z, 1.0 - N, N
 
 
 def detachment(
@@ -574,7 +577,7 @@ def detachment(
     s_factor: ArrayLike | None = None,
     non_area: ArrayLike | None = None,
     *,
-    refine: int = 1,
+    zeta_edges: ArrayLike | None = None,
 ) -> Detachment:
     """Detached-area bins of the closed-form gap distribution (physics.md §5.5a).
 
@@ -587,8 +590,9 @@ def detachment(
     ----------
     psd, E_star, p0, zeta, area, s_factor, non_area
         As in :func:`mean_gap`.
-    refine : int
-        Split every interval of the curve into this many bins (spline-interpolated area).
+    zeta_edges : array_like, optional
+        Bin edges from 1 to ``zeta[-1]`` (default: the curve's own magnifications); the area
+        at the edges is interpolated on the curve.
 
     Returns
     -------
@@ -599,7 +603,7 @@ def detachment(
     phi = _Phi(psd, E_star, p, cur)
     q_L = float(psd.q_L)  # type: ignore[attr-defined]
     q_hi = _q_max(psd, cur.zeta)
-    z, A, N = _refined(cur, int(refine))
+    z, A, N = _edges(cur, zeta_edges)
     ubar = _sub_mean_gap(psd, E_star, phi, (z * q_L)[None, :], A, q_hi)
     ubar[:, 0] = mean_gap(psd, E_star, p, zeta, area, s_factor, non_area)
     ubar[:, -1] = 0.0
