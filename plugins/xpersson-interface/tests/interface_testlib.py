@@ -55,3 +55,26 @@ def scene(p0, *, psd="persson", closure="persson01", boundary=None, analyses=Non
     if out:
         sc["output"] = out
     return sc
+
+
+def dense_zeta(zeta_1: float, n: int = 300) -> np.ndarray:
+    """``1`` and ``1 + geomspace(1e-9, zeta_1 - 1, n)``: a curve grid resolving zeta -> 1."""
+    return np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, zeta_1 - 1.0, n)))
+
+
+def persson_curve(psd, E_star, p0, zeta):
+    """The Persson 2001 area curve the elastic solve stores: (A, 1 - A), shape (n_load, n_zeta)."""
+    from xpersson.physics import area_fraction, diffusion_time
+
+    tau = diffusion_time(psd, E_star, zeta)
+    return area_fraction(np.atleast_1d(p0)[:, None], np.asarray(tau)[None, :])
+
+
+def detach(psd, E_star, p0, gamma=1.0, *, n=300, zeta=None, edges=None):
+    """Gap-distribution bins of the Persson curve with the Yang-Persson S (gamma = 1: none)."""
+    from xpersson.physics import detachment
+
+    z = dense_zeta(psd.q_1 / psd.q_L, n) if zeta is None else zeta
+    A, N = persson_curve(psd, E_star, p0, z)
+    S = None if gamma == 1.0 else gamma + (1.0 - gamma) * A**2
+    return detachment(psd, E_star, np.atleast_1d(p0), z, A, S, N, zeta_edges=edges)

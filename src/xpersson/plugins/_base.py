@@ -321,9 +321,10 @@ class Analysis(Plugin):
             if missing:
                 known = BOUNDARY_TRAITS if kind == "boundary" else COEFFICIENT_TRAITS
                 why = "; ".join(f"{t}: {known.get(t, 'declared by the plugin')}" for t in missing)
+                need_s, have_s = ", ".join(missing), ", ".join(sorted(have)) or "none"
                 return (
-                    f"this analysis needs a {kind} declaring trait(s) {', '.join(missing)} ({why}); "
-                    f"{other.__qualname__} declares {', '.join(sorted(have)) or 'none'}"
+                    f"this analysis needs a {kind} declaring trait(s) {need_s} ({why}); "
+                    f"{other.__qualname__} declares {have_s}"
                 )
         return None
 
