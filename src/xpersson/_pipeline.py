@@ -125,8 +125,12 @@ def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
     """``zeta -> area variables`` of the same solve at other magnifications (for analyses)."""
     from . import engine
 
+    cache: dict[bytes, dict[str, np.ndarray]] = {}
+
     def solve_at(zeta: np.ndarray) -> dict[str, np.ndarray]:
         z = np.asarray(zeta, float)
+        if z.tobytes() in cache:  # several analyses sample the same grid
+            return cache[z.tobytes()]
         c = dataclasses.replace(ctx, zeta=z, p=None)
         tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(rs.p0.size, -1)
         res = [
@@ -142,6 +146,8 @@ def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
         }
         for name, value in rs.boundary.interpret(c, res).items():
             out[name] = np.asarray(value[1] if isinstance(value, tuple) else value, float)
+        cache.clear()
+        cache[z.tobytes()] = out
         return out
 
     return solve_at

@@ -36,6 +36,7 @@ from .elastic import (
 )
 from .interface import (
     Detachment,
+    SolvedContact,
     contact_stiffness,
     critical_magnification,
     detachment,
@@ -60,6 +61,7 @@ __all__ = [
     "G_of_zeta",
     "PowerSpectrum",
     "SelfAffineRollOff",
+    "SolvedContact",
     "Tabulated",
     "area_fraction",
     "closure_S",

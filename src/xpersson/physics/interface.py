@@ -38,6 +38,10 @@ critical_magnification(zeta, area, a_c)
     Magnification where the curve crosses ``a_c`` (NaN where it never does), per load.
 separation_of_detaching_area(psd, E_star, p0, zeta, area, zeta_at, ...)
     ``u1 = d(A u_zeta)/dA`` at given magnifications (the critical junction of leakage, §6.1).
+SolvedContact(psd, E_star, p0, zeta, area, s_factor=None, non_area=None)
+    The same quantities as methods of one object that builds the curve's splines once
+    (``elastic_energy()``, ``mean_gap()``, ``mean_gap_slope()``, ``contact_stiffness()``,
+    ``detachment(zeta_edges)``, ``critical_magnification(a_c)``, ``separation_at(zeta)``).
 
 Mean gap from the area curve
 ----------------------------
@@ -73,6 +77,7 @@ from scipy.special import erf
 
 __all__ = [
     "Detachment",
+    "SolvedContact",
     "contact_stiffness",
     "critical_magnification",
     "detachment",
@@ -88,7 +93,7 @@ __all__ = [
 
 _TINY = 1e-300
 _SQRT2 = math.sqrt(2.0)
-_GL_ORDER = 8
+_GL_ORDER = 6
 
 
 # -- quadrature ---------------------------------------------------------------------------------
@@ -340,11 +345,7 @@ def elastic_energy(
     ndarray, (n_load,)
     """
     cur = _Curve(zeta, area, s_factor, non_area)
-    q_L = float(psd.q_L)  # type: ignore[attr-defined]
-    q_hi = _q_max(psd, cur.zeta)
-    r = _q_rule(psd, q_L, q_hi)
-    deficit = cur.nf(np.log(r.q / q_L)) @ (r.weights * r.q**2 * r.C)
-    return full_contact_energy(psd, E_star, q_L, q_hi) - 0.5 * math.pi * E_star * deficit
+    return SolvedContact(psd, E_star, np.ones(cur.n_load), cur).elastic_energy()
 
 
 # -- mean gap -----------------------------------------------------------------------------------
@@ -363,6 +364,7 @@ class _Phi:
         self.phi = phi
         self.p0 = p0
         self._spl = CubicSpline(self.s, phi[:, 1:], axis=1) if self.s.size > 1 else None
+        self._tab: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
 
     def at_tau(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
         """``Phi`` at ``G = tau/p0^2`` for every load (shared ``tau``): (n_load,) + tau.shape."""
@@ -381,8 +383,24 @@ class _Phi:
         lin = self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)
         if self._spl is None:
             return lin.reshape(shape)
-        val = _rows(self._spl, self.s, np.log(np.maximum(t2, _TINY)))
+        grid, table = self._table()
+        u = (np.clip(np.log(np.maximum(t2, _TINY)), grid[0], grid[-1]) - grid[0]) / (
+            grid[1] - grid[0]
+        )
+        i = np.minimum(u.astype(np.intp), grid.size - 2)
+        f = u - i
+        flat = table.ravel()
+        base = (np.arange(shape[0]) * grid.size)[:, None] + i
+        val = (1.0 - f) * flat[base] + f * flat[base + 1]
         return np.where(t2 < self.tau1, lin, np.maximum(val, 0.0)).reshape(shape)
+
+    def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6)."""
+        if getattr(self, "_tab", None) is None:
+            n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
+            grid = np.linspace(self.s[0], self.s[-1], n)
+            self._tab = (grid, np.maximum(self._spl(grid), 0.0))  # type: ignore[misc]
+        return self._tab
 
 
 def _loads(p0: ArrayLike, n_load: int) -> NDArray[np.float64]:
@@ -422,13 +440,7 @@ def mean_gap(
     ndarray, (n_load,)
         ``u`` [m], >= 0.
     """
-    cur = _Curve(zeta, area, s_factor, non_area)
-    p = _loads(p0, cur.n_load)
-    phi = _Phi(psd, E_star, p, cur)
-    q_L = float(psd.q_L)  # type: ignore[attr-defined]
-    r = _q_rule(psd, q_L, _q_max(psd, cur.zeta))
-    vals = phi.at_tau(0.25 * np.pi * E_star**2 * r.dI3)
-    return math.pi * (vals @ (r.weights * r.q**2 * r.C * r.w))
+    return SolvedContact(psd, E_star, p0, zeta, area, s_factor, non_area).mean_gap()
 
 
 def mean_gap_slope(
@@ -441,13 +453,7 @@ def mean_gap_slope(
     non_area: ArrayLike | None = None,
 ) -> NDArray[np.float64]:
     """Load derivative ``du/dp0 = -(4/(E* p0^2)) int (tau_c/q) (-dF)`` [m/Pa] (<= 0)."""
-    cur = _Curve(zeta, area, s_factor, non_area)
-    p = _loads(p0, cur.n_load)
-    q_L = float(psd.q_L)  # type: ignore[attr-defined]
-    xg, wg = cur.stieltjes_nodes()
-    q = np.exp(xg) * q_L
-    g = _tau_c(psd, E_star, q) / q * wg
-    return -4.0 / (E_star * p**2) * np.sum(cur.dF(xg) * g[None], axis=(1, 2))
+    return SolvedContact(psd, E_star, p0, zeta, area, s_factor, non_area).mean_gap_slope()
 
 
 def contact_stiffness(
@@ -465,9 +471,7 @@ def contact_stiffness(
     (``1 - A`` down to 1e-12 and below) ``K`` follows its asymptote ``K ~ 1/int (tau_c/q) dN``
     without cancellation; ``inf`` only when ``1 - A`` underflows to zero everywhere.
     """
-    s = mean_gap_slope(psd, E_star, p0, zeta, area, s_factor, non_area)
-    with np.errstate(divide="ignore"):
-        return np.where(s < 0, -1.0 / np.where(s < 0, s, -1.0), np.inf)
+    return SolvedContact(psd, E_star, p0, zeta, area, s_factor, non_area).contact_stiffness()
 
 
 # -- sub-problems at magnification zeta -----------------------------------------------------------
@@ -598,22 +602,8 @@ def detachment(
     -------
     Detachment
     """
-    cur = _Curve(zeta, area, s_factor, non_area)
-    p = _loads(p0, cur.n_load)
-    phi = _Phi(psd, E_star, p, cur)
-    q_L = float(psd.q_L)  # type: ignore[attr-defined]
-    q_hi = _q_max(psd, cur.zeta)
-    z, A, N = _edges(cur, zeta_edges)
-    ubar = _sub_mean_gap(psd, E_star, phi, (z * q_L)[None, :], A, q_hi)
-    ubar[:, 0] = mean_gap(psd, E_star, p, zeta, area, s_factor, non_area)
-    ubar[:, -1] = 0.0
-    dA = N[:, 1:] - N[:, :-1]
-    dAu = A[:, :-1] * ubar[:, :-1] - A[:, 1:] * ubar[:, 1:]
-    ok = dA > 0
-    u1 = np.where(ok, dAu / np.where(ok, dA, 1.0), 0.0)
-    h = np.sqrt(_h2(psd, np.sqrt(z[:-1] * z[1:]) * q_L, q_hi))
-    h_rms = float(np.sqrt(_h2(psd, q_L, q_hi)))
-    return Detachment(p, z, A, ubar, np.where(ok, dA, 0.0), np.maximum(u1, 0.0), h, h_rms)
+    sc = SolvedContact(psd, E_star, p0, zeta, area, s_factor, non_area)
+    return sc.detachment(zeta_edges)
 
 
 def _pairs(det: Detachment, u: NDArray[np.float64]) -> tuple[NDArray, NDArray, NDArray]:
@@ -722,25 +712,122 @@ def separation_of_detaching_area(
     interpolated on the curve and the sub-problem mean separation of :func:`detachment`
     (physics.md §6.1, the critical constriction of the leakage theory).
     """
-    cur = _Curve(zeta, area, s_factor, non_area)
-    p = _loads(p0, cur.n_load)
-    za = np.asarray(zeta_at, dtype=float).reshape(-1)
-    ok = np.isfinite(za)
-    out = np.full(p.size, np.nan)
-    if not ok.any():
+    sc = SolvedContact(psd, E_star, p0, zeta, area, s_factor, non_area)
+    return sc.separation_at(zeta_at, rel_step=rel_step)
+
+
+class SolvedContact:
+    """The solved contact of every load: one area curve, every interface quantity (cached).
+
+    The functions of this module are thin wrappers; build one :class:`SolvedContact` when
+    several quantities of the same curve are needed (the curve's splines and ``Phi`` are built
+    once).
+
+    Parameters
+    ----------
+    psd : PowerSpectrum
+        Roughness spectrum (m^4).
+    E_star : float
+        Contact modulus [Pa].
+    p0 : array_like, (n_load,)
+        Nominal pressures [Pa].
+    zeta, area, s_factor, non_area
+        The curve, as in :func:`elastic_energy` (``zeta`` may also be a prepared curve object).
+    """
+
+    def __init__(
+        self,
+        psd: object,
+        E_star: float,
+        p0: ArrayLike,
+        zeta: ArrayLike | _Curve,
+        area: ArrayLike | None = None,
+        s_factor: ArrayLike | None = None,
+        non_area: ArrayLike | None = None,
+    ) -> None:
+        self.psd = psd
+        self.E_star = float(E_star)
+        self.curve = zeta if isinstance(zeta, _Curve) else _Curve(zeta, area, s_factor, non_area)
+        self.p0 = _loads(p0, self.curve.n_load)
+        self.q_L = float(psd.q_L)  # type: ignore[attr-defined]
+        self.q_hi = _q_max(psd, self.curve.zeta)
+        self._phi: _Phi | None = None
+        self._u: NDArray[np.float64] | None = None
+
+    @property
+    def phi(self) -> _Phi:
+        if self._phi is None:
+            self._phi = _Phi(self.psd, self.E_star, self.p0, self.curve)
+        return self._phi
+
+    def elastic_energy(self) -> NDArray[np.float64]:
+        """``U_el/A0`` [J/m^2], (n_load,) (see :func:`elastic_energy`)."""
+        r = _q_rule(self.psd, self.q_L, self.q_hi)
+        deficit = self.curve.nf(np.log(r.q / self.q_L)) @ (r.weights * r.q**2 * r.C)
+        full = full_contact_energy(self.psd, self.E_star, self.q_L, self.q_hi)
+        return full - 0.5 * math.pi * self.E_star * deficit
+
+    def mean_gap(self) -> NDArray[np.float64]:
+        """``u(p0)`` [m], (n_load,) (see :func:`mean_gap`)."""
+        if self._u is None:
+            r = _q_rule(self.psd, self.q_L, self.q_hi)
+            vals = self.phi.at_tau(0.25 * np.pi * self.E_star**2 * r.dI3)
+            self._u = math.pi * (vals @ (r.weights * r.q**2 * r.C * r.w))
+        return self._u.copy()
+
+    def mean_gap_slope(self) -> NDArray[np.float64]:
+        """``du/dp0`` [m/Pa], (n_load,) (see :func:`mean_gap_slope`)."""
+        xg, wg = self.curve.stieltjes_nodes()
+        q = np.exp(xg) * self.q_L
+        g = _tau_c(self.psd, self.E_star, q) / q * wg
+        dF = self.curve.dF(xg)
+        return -4.0 / (self.E_star * self.p0**2) * np.sum(dF * g[None], axis=(1, 2))
+
+    def contact_stiffness(self) -> NDArray[np.float64]:
+        """``K = -dp0/du`` [Pa/m], (n_load,) (see :func:`contact_stiffness`)."""
+        s = self.mean_gap_slope()
+        with np.errstate(divide="ignore"):
+            return np.where(s < 0, -1.0 / np.where(s < 0, s, -1.0), np.inf)
+
+    def detachment(self, zeta_edges: ArrayLike | None = None) -> Detachment:
+        """Detached-area bins (see :func:`detachment`)."""
+        cur, q_L, q_hi = self.curve, self.q_L, self.q_hi
+        z, A, N = _edges(cur, zeta_edges)
+        ubar = _sub_mean_gap(self.psd, self.E_star, self.phi, (z * q_L)[None, :], A, q_hi)
+        ubar[:, 0] = self.mean_gap()
+        ubar[:, -1] = 0.0
+        dA = N[:, 1:] - N[:, :-1]
+        dAu = A[:, :-1] * ubar[:, :-1] - A[:, 1:] * ubar[:, 1:]
+        ok = dA > 0
+        u1 = np.where(ok, dAu / np.where(ok, dA, 1.0), 0.0)
+        h = np.sqrt(_h2(self.psd, np.sqrt(z[:-1] * z[1:]) * q_L, q_hi))
+        h_rms = float(np.sqrt(_h2(self.psd, q_L, q_hi)))
+        return Detachment(
+            self.p0, z, A, ubar, np.where(ok, dA, 0.0), np.maximum(u1, 0.0), h, h_rms
+        )
+
+    def critical_magnification(self, a_c: float) -> NDArray[np.float64]:
+        """Where the contact area crosses ``a_c`` (see :func:`critical_magnification`)."""
+        return critical_magnification(self.curve.zeta, self.curve.area, a_c)
+
+    def separation_at(self, zeta_at: ArrayLike, *, rel_step: float = 1e-3) -> NDArray[np.float64]:
+        """``u1 = d(A u_zeta)/dA`` [m] at per-load ``zeta_at`` (see
+        :func:`separation_of_detaching_area`)."""
+        cur = self.curve
+        za = np.asarray(zeta_at, dtype=float).reshape(-1)
+        ok = np.isfinite(za)
+        out = np.full(self.p0.size, np.nan)
+        if not ok.any():
+            return out
+        zc = np.where(ok, za, 2.0)
+        zl = np.clip(zc * math.exp(-rel_step), 1.0, cur.zeta[-1])
+        zh = np.clip(zc * math.exp(rel_step), 1.0, cur.zeta[-1])
+        xs = np.log(np.stack([zl, zh], axis=1))  # (n_load, 2)
+        N = cur.non_area_at(xs)
+        A = 1.0 - N
+        u = _sub_mean_gap(self.psd, self.E_star, self.phi, np.exp(xs) * self.q_L, A, self.q_hi)
+        dA = N[:, 1] - N[:, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u1 = (A[:, 0] * u[:, 0] - A[:, 1] * u[:, 1]) / dA
+        out[ok] = np.maximum(u1[ok], 0.0)
         return out
-    phi = _Phi(psd, E_star, p, cur)
-    q_L = float(psd.q_L)  # type: ignore[attr-defined]
-    q_hi = _q_max(psd, cur.zeta)
-    zc = np.where(ok, za, 2.0)
-    zl = np.clip(zc * math.exp(-rel_step), 1.0, cur.zeta[-1])
-    zh = np.clip(zc * math.exp(rel_step), 1.0, cur.zeta[-1])
-    xs = np.log(np.stack([zl, zh], axis=1))  # (n_load, 2)
-    N = cur.non_area_at(xs)
-    A = 1.0 - N
-    u = _sub_mean_gap(psd, E_star, phi, np.exp(xs) * q_L, A, q_hi)
-    dA = N[:, 1] - N[:, 0]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u1 = (A[:, 0] * u[:, 0] - A[:, 1] * u[:, 1]) / dA
-    out[ok] = np.maximum(u1[ok], 0.0)
-    return out

@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from xpersson.physics import Detachment, gap_cdf
+from xpersson.physics import Detachment
 
 __all__ = ["bruggeman", "bruggeman_gap", "effective_pressure_drop", "leak_rate"]
 
@@ -43,14 +43,18 @@ def _bruggeman_rows(
 ) -> NDArray[np.float64]:
     """Vectorised root of ``-c + sum m_k (s_k - s)/(s_k + s) + m_inf = 0`` per row.
 
-    ``contact`` (n,), ``masses`` (n, k), ``sigma`` (k,) finite and > 0, ``infinite`` (n,) the
-    weight of elements with infinite conductance. Returns 0 where the contact weight reaches the
-    percolation value (half of the total weight), ``inf`` where the infinite elements percolate.
+    ``contact`` (n,), ``masses`` (n, k), ``sigma`` (k,) or (n, k) >= 0 (``inf`` allowed),
+    ``infinite`` (n,) the weight of further elements with infinite conductance. Returns 0 where
+    the contact weight reaches the percolation value (half of the total weight), ``inf`` where
+    the infinite elements percolate.
     """
     c = np.asarray(contact, dtype=float)
     m = np.asarray(masses, dtype=float)
-    s_k = np.asarray(sigma, dtype=float)[None, :]
-    m_inf = np.asarray(infinite, dtype=float)
+    s_k = np.broadcast_to(np.atleast_2d(np.asarray(sigma, dtype=float)), m.shape)
+    big = ~np.isfinite(s_k)
+    m_inf = np.asarray(infinite, dtype=float) + np.sum(np.where(big, m, 0.0), axis=1)
+    m = np.where(big, 0.0, m)
+    s_k = np.where(big, 1.0, s_k)
     total = c + m.sum(axis=1) + m_inf
     out = np.zeros(c.size)
     sealed = c >= 0.5 * total
@@ -59,14 +63,17 @@ def _bruggeman_rows(
     out[flooded & ~sealed] = np.inf
     if not work.any():
         return out
-    c, m, m_inf = c[work], m[work], m_inf[work]
-    lo = np.full(c.size, math.log(float(s_k.min())) - 60.0)
-    hi = np.full(c.size, math.log(float(s_k.max())) + 60.0)
+    c, m, m_inf, s_k = c[work], m[work], m_inf[work], s_k[work]
+    pos = s_k[s_k > 0]
+    lo = np.full(c.size, math.log(float(pos.min() if pos.size else 1.0)) - 60.0)
+    hi = np.full(c.size, math.log(float(pos.max() if pos.size else 1.0)) + 60.0)
     x = 0.5 * (lo + hi)
     for _ in range(200):
         s = np.exp(x)[:, None]
-        f = -c + np.sum(m * (s_k - s) / (s_k + s), axis=1) + m_inf
-        df = -np.sum(m * 2.0 * s_k * s / (s_k + s) ** 2, axis=1)  # d f / d ln s  (< 0)
+        with np.errstate(over="ignore"):
+            r = s_k / (s_k + s)  # in [0, 1]: (s_k - s)/(s_k + s) = 2r - 1, stable
+        f = -c + np.sum(m * (2.0 * r - 1.0), axis=1) + m_inf
+        df = -np.sum(m * 2.0 * r * (1.0 - r), axis=1)  # d f / d ln s  (< 0)
         lo = np.where(f > 0, x, lo)
         hi = np.where(f <= 0, x, hi)
         xn = x - f / np.where(df < 0, df, -1.0)
@@ -114,17 +121,14 @@ def bruggeman(contact: float, masses: ArrayLike, sigma: ArrayLike, *, rtol: floa
 
 
 def bruggeman_gap(
-    det: Detachment,
-    *,
-    a_c: float | None = None,
-    n_u: int = 600,
-    u_max: float | None = None,
+    det: Detachment, *, a_c: float | None = None, n_gh: int = 16
 ) -> NDArray[np.float64]:
     """Effective ``<u^3>_EMT`` [m^3] over the closed-form gap distribution, per load.
 
-    ``sigma_eff = result / (12 eta)``. Cells on ``[0, u_max]`` (geometric from ``1e-7 h_rms``)
-    carry the exact closed-form mass (analytic CDF) at their midpoint conductance; the mass
-    beyond ``u_max`` is one element of infinite conductance. All loads at once.
+    ``sigma_eff = result / (12 eta)``. Every detachment bin is the law of ``|X|``,
+    ``X ~ N(u1, h^2)`` (the mirrored Gaussian pair of physics.md §5.5a), so the Bruggeman sum
+    over the distribution is a Gauss-Hermite sum over ``X = u1 + sqrt(2) h t_i``: no cells, no
+    ``erf``; all loads at once.
 
     Parameters
     ----------
@@ -133,24 +137,21 @@ def bruggeman_gap(
     a_c : float, optional
         When given, rescale the contact weight by ``0.5 / a_c`` so that the effective medium
         seals at ``A/A0 = a_c`` (open weights rescaled to keep unit total).
-    n_u : int
-        Number of cells.
-    u_max : float, optional
-        Upper end of the cells [m] (default ``max(u(p0)) + 10 h_rms``).
+    n_gh : int
+        Gauss-Hermite nodes per bin.
     """
-    umax = float(np.max(det.mean_gap)) + 10.0 * det.h_rms if u_max is None else u_max
-    edges = np.concatenate(([0.0], np.geomspace(1e-7 * det.h_rms, umax, n_u)))
-    cdf = gap_cdf(det, edges)
+    t, w = np.polynomial.hermite.hermgauss(n_gh)
+    X = np.abs(det.u1[:, :, None] + math.sqrt(2.0) * det.h[None, :, None] * t)
+    m = det.weight[:, :, None] * (w / math.sqrt(math.pi))
+    n = det.p0.size
+    with np.errstate(over="ignore"):
+        m, sig = m.reshape(n, -1), (X**3).reshape(n, -1)
     a = np.asarray(det.contact, dtype=float)
-    m = np.diff(cdf, axis=1)
-    m[:, 0] += cdf[:, 0]
-    far = np.maximum(1.0 - a - cdf[:, -1], 0.0)
     if a_c is not None:
         a_new = np.minimum(1.0, a * 0.5 / a_c)
         scale = np.where(a < 1.0, (1.0 - a_new) / np.where(a < 1.0, 1.0 - a, 1.0), 0.0)
-        m, far, a = m * scale[:, None], far * scale, a_new
-    sig = (0.5 * (edges[:-1] + edges[1:])) ** 3
-    return _bruggeman_rows(a, m, sig, far)
+        m, a = m * scale[:, None], a_new
+    return _bruggeman_rows(a, m, sig, np.zeros(n))
 
 
 def effective_pressure_drop(

@@ -97,6 +97,10 @@ class _Interface(Analysis):
             ctx, ds, self.params.get("s_factor", "closure"), self.params.get("gamma"), per
         )
 
+    def _contact(self, ctx: Any, ds: Any) -> tuple[Solved, physics.SolvedContact]:
+        s = self._solved(ctx, ds)
+        return s, physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve)
+
 
 class ElasticEnergy(_Interface):
     """Elastic energy per nominal area versus load from the solved area (physics.md §5.1).
@@ -123,8 +127,8 @@ class ElasticEnergy(_Interface):
     provides = ("elastic_energy", "elastic_energy_full")
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        s = self._solved(ctx, ds)
-        U = physics.elastic_energy(ctx.psd, ctx.E_star, *s.curve)
+        s, sc = self._contact(ctx, ds)
+        U = sc.elastic_energy()
         q_hi = min(float(ctx.psd.q_1), float(s.zeta[-1]) * ctx.q_L)
         full = physics.full_contact_energy(ctx.psd, ctx.E_star, ctx.q_L, q_hi)
         return {
@@ -146,8 +150,8 @@ class MeanGap(_Interface):
     provides = ("mean_gap",)
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        s = self._solved(ctx, ds)
-        return {"mean_gap": (("p0",), physics.mean_gap(ctx.psd, ctx.E_star, s.p0, *s.curve))}
+        _, sc = self._contact(ctx, ds)
+        return {"mean_gap": (("p0",), sc.mean_gap())}
 
 
 class ContactStiffness(_Interface):
@@ -168,9 +172,8 @@ class ContactStiffness(_Interface):
     provides = ("contact_stiffness",)
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        s = self._solved(ctx, ds)
-        K = physics.contact_stiffness(ctx.psd, ctx.E_star, s.p0, *s.curve)
-        return {"contact_stiffness": (("p0",), K)}
+        _, sc = self._contact(ctx, ds)
+        return {"contact_stiffness": (("p0",), sc.contact_stiffness())}
 
 
 def _edges(s: Solved, n_bins: int) -> np.ndarray:
@@ -210,7 +213,7 @@ class GapPDF(_Interface):
         ),
         "n_bins": ParamSpec(
             kind="int",
-            default=150,
+            default=100,
             bounds=(10, 100000),
             description="magnification bins of the detached area (geometric in zeta - 1)",
         ),
@@ -239,10 +242,8 @@ class GapPDF(_Interface):
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
-        s = self._solved(ctx, ds)
-        det = physics.detachment(
-            ctx.psd, ctx.E_star, s.p0, *s.curve, zeta_edges=_edges(s, int(p["n_bins"]))
-        )
+        s, sc = self._contact(ctx, ds)
+        det = sc.detachment(_edges(s, int(p["n_bins"])))
         umax = p["u_max"]
         if umax is None:
             umax = float(np.max(det.mean_gap)) + 6.0 * det.h_rms
@@ -346,7 +347,7 @@ class Leakage(_Interface):
         ),
         "n_bins": ParamSpec(
             kind="int",
-            default=120,
+            default=80,
             bounds=(10, 100000),
             description="magnification bins of the gap distribution (EMT)",
         ),
@@ -401,14 +402,11 @@ class Leakage(_Interface):
         p = self.params
         a_c = float(p["a_c"])
         dp = self._pressure_drop()
-        s = self._solved(ctx, ds)
+        s, sc = self._contact(ctx, ds)
         zc = physics.critical_magnification(s.zeta, s.contact, a_c)
         sealed = ~np.isfinite(zc)
-        u1 = physics.separation_of_detaching_area(ctx.psd, ctx.E_star, s.p0, *s.curve[:2], zc,
-                                                  s.s_factor, s.non_area)  # fmt: skip
-        det = physics.detachment(
-            ctx.psd, ctx.E_star, s.p0, *s.curve, zeta_edges=_edges(s, int(p["n_bins"]))
-        )
+        u1 = sc.separation_at(zc)
+        det = sc.detachment(_edges(s, int(p["n_bins"])))
         ubar = det.mean_gap
         u3 = bruggeman_gap(det, a_c=a_c if p["emt_threshold"] == "a_c" else None)
         u3 = np.where(np.isfinite(u3), u3, 0.0)
