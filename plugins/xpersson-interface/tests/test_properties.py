@@ -40,7 +40,7 @@ def scenes(draw):
 
 
 @given(scenes())
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 def test_outputs_finite_in_range_and_ordered(case):
     sc, loads = case
     ds = xpersson.solve(sc)

@@ -376,23 +376,30 @@ class _Phi:
         return np.where(tau < self.tau1, lin, np.maximum(self._spl(s), 0.0))
 
     def at_tau_per_load(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``Phi`` at per-load ``tau`` of shape (n_load, ...)."""
+        """``Phi`` at per-load ``tau`` of shape (n_load, ...) (uniform-table look-up)."""
         tau = np.asarray(tau, dtype=float)
         shape = tau.shape
         t2 = tau.reshape(shape[0], -1)
-        lin = self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)
         if self._spl is None:
-            return lin.reshape(shape)
+            return (self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)).reshape(shape)
         grid, table = self._table()
-        u = (np.clip(np.log(np.maximum(t2, _TINY)), grid[0], grid[-1]) - grid[0]) / (
-            grid[1] - grid[0]
-        )
-        i = np.minimum(u.astype(np.intp), grid.size - 2)
-        f = u - i
+        n = grid.size
+        with np.errstate(divide="ignore"):
+            u = np.log(t2)
+        u -= grid[0]
+        u *= 1.0 / (grid[1] - grid[0])
+        np.clip(u, 0.0, n - 1.000001, out=u)
+        i = u.astype(np.intp)
+        u -= i
+        i += (np.arange(shape[0]) * n)[:, None]
         flat = table.ravel()
-        base = (np.arange(shape[0]) * grid.size)[:, None] + i
-        val = (1.0 - f) * flat[base] + f * flat[base + 1]
-        return np.where(t2 < self.tau1, lin, np.maximum(val, 0.0)).reshape(shape)
+        v0 = flat.take(i)
+        val = v0 + u * (flat.take(i + 1) - v0)
+        low = t2 < self.tau1
+        if low.any():
+            lin = self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)
+            val = np.where(low, lin, val)
+        return val.reshape(shape)
 
     def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6)."""
@@ -617,12 +624,19 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
     ``rho = sum_k weight_k [N(u; u1_k, h_k^2) + N(u; -u1_k, h_k^2)]`` for ``u >= 0`` (the mirror
     term keeps detached area out of contact); ``int_0^inf rho = 1 - A(zeta_max)``.
     """
-    uu, u1, h = _pairs(det, np.asarray(u, dtype=float))
+    u = np.asarray(u, dtype=float)
+    inv_h = 1.0 / np.maximum(det.h, _TINY)  # (n_bin,)
+    a = (det.u1 * inv_h)[:, :, None]  # (n_load, n_bin, 1)
+    b = (u[None, :] * inv_h[:, None])[None]  # (1, n_bin, n_u)
     with np.errstate(under="ignore", over="ignore"):
-        g = (np.exp(-0.5 * ((uu - u1) / h) ** 2) + np.exp(-0.5 * ((uu + u1) / h) ** 2)) / (
-            math.sqrt(2.0 * math.pi) * h
-        )
-    return np.einsum("lk,lku->lu", det.weight, g)
+        d = b - a
+        d *= d
+        d *= -0.5
+        e = np.exp(d, out=d)  # mirror pair: N(u - u1) (1 + exp(-2 u u1 / h^2))
+        m = b * a
+        m *= -2.0
+        e *= 1.0 + np.exp(m, out=m)
+    return np.einsum("lk,lku->lu", det.weight * inv_h / math.sqrt(2.0 * math.pi), e)
 
 
 def gap_cdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:

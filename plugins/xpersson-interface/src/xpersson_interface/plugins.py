@@ -213,7 +213,7 @@ class GapPDF(_Interface):
         ),
         "n_bins": ParamSpec(
             kind="int",
-            default=100,
+            default=80,
             bounds=(10, 100000),
             description="magnification bins of the detached area (geometric in zeta - 1)",
         ),
@@ -347,7 +347,7 @@ class Leakage(_Interface):
         ),
         "n_bins": ParamSpec(
             kind="int",
-            default=80,
+            default=60,
             bounds=(10, 100000),
             description="magnification bins of the gap distribution (EMT)",
         ),
