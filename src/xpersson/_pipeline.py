@@ -122,21 +122,23 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
 
 
 def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
-    """``zeta -> area variables`` of the same solve at other magnifications (for analyses)."""
+    """``(zeta, loads) -> area variables`` of the same solve at other magnifications."""
     from . import engine
 
     cache: dict[bytes, dict[str, np.ndarray]] = {}
 
-    def solve_at(zeta: np.ndarray) -> dict[str, np.ndarray]:
+    def solve_at(zeta: np.ndarray, loads: np.ndarray | None = None) -> dict[str, np.ndarray]:
         z = np.asarray(zeta, float)
-        if z.tobytes() in cache:  # several analyses sample the same grid
-            return cache[z.tobytes()]
-        c = dataclasses.replace(ctx, zeta=z, p=None)
-        tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(rs.p0.size, -1)
+        idx = np.arange(rs.p0.size) if loads is None else np.asarray(loads, dtype=int)
+        key = z.tobytes() + idx.tobytes()
+        if key in cache:  # several analyses sample the same grid
+            return cache[key]
+        c = dataclasses.replace(ctx, zeta=z, p=None, p0=rs.p0[idx])
+        tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(idx.size, -1)
         res = [
-            engine.solve(tau_eff[i], float(p0), *walls[i], rtol=rs.rtol, atol=rs.atol,
+            engine.solve(tau_eff[k], float(rs.p0[i]), *walls[i], rtol=rs.rtol, atol=rs.atol,
                          method=rs.method)
-            for i, p0 in enumerate(rs.p0)
+            for k, i in enumerate(idx)
         ]
         out = {
             "area_fraction": np.stack([np.asarray(r.area, float) for r in res]),
@@ -147,7 +149,7 @@ def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
         for name, value in rs.boundary.interpret(c, res).items():
             out[name] = np.asarray(value[1] if isinstance(value, tuple) else value, float)
         cache.clear()
-        cache[z.tobytes()] = out
+        cache[key] = out
         return out
 
     return solve_at

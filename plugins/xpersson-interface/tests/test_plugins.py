@@ -70,7 +70,8 @@ def test_stiffness_without_singular_values(ds):
 
 
 def test_diffusion_method_matches_closed_form():
-    sc = scene([1e4, 1e5], analyses={"gap_pdf": {"u_points": 32, "method": "diffusion"}})
+    sc = scene([1e4, 1e5], analyses={"gap_pdf": {"u_points": 32, "method": "diffusion",
+                                                 "n_bins": 150}})  # fmt: skip
     a = xpersson.solve(sc)
     sc["analyses"]["gap_pdf"]["method"] = "closed_form"
     b = xpersson.solve(sc)

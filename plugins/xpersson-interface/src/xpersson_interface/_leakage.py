@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from xpersson.physics import Detachment
+from xpersson.physics import Detachment, gap_cdf
 
 __all__ = ["bruggeman", "bruggeman_gap", "effective_pressure_drop", "leak_rate"]
 
@@ -121,14 +121,19 @@ def bruggeman(contact: float, masses: ArrayLike, sigma: ArrayLike, *, rtol: floa
 
 
 def bruggeman_gap(
-    det: Detachment, *, a_c: float | None = None, n_gh: int = 16
+    det: Detachment,
+    *,
+    a_c: float | None = None,
+    n_u: int = 300,
+    u_min: float = 1e-6,
+    u_max: float | None = None,
 ) -> NDArray[np.float64]:
     """Effective ``<u^3>_EMT`` [m^3] over the closed-form gap distribution, per load.
 
-    ``sigma_eff = result / (12 eta)``. Every detachment bin is the law of ``|X|``,
-    ``X ~ N(u1, h^2)`` (the mirrored Gaussian pair of physics.md §5.5a), so the Bruggeman sum
-    over the distribution is a Gauss-Hermite sum over ``X = u1 + sqrt(2) h t_i``: no cells, no
-    ``erf``; all loads at once.
+    ``sigma_eff = result / (12 eta)``. Cells geometric in ``u`` on ``[u_min h_rms, u_max]``
+    carry the exact closed-form mass (analytic CDF, :func:`xpersson.physics.gap_cdf`) at their
+    geometric-midpoint conductance; the mass below is one cell at half the first edge, the
+    mass beyond ``u_max`` one element of infinite conductance. All loads at once.
 
     Parameters
     ----------
@@ -137,21 +142,27 @@ def bruggeman_gap(
     a_c : float, optional
         When given, rescale the contact weight by ``0.5 / a_c`` so that the effective medium
         seals at ``A/A0 = a_c`` (open weights rescaled to keep unit total).
-    n_gh : int
-        Gauss-Hermite nodes per bin.
+    n_u : int
+        Number of cells.
+    u_min : float
+        First cell edge in units of ``h_rms``.
+    u_max : float, optional
+        Upper end of the cells [m] (default ``max(u(p0)) + 10 h_rms``).
     """
-    t, w = np.polynomial.hermite.hermgauss(n_gh)
-    X = np.abs(det.u1[:, :, None] + math.sqrt(2.0) * det.h[None, :, None] * t)
-    m = det.weight[:, :, None] * (w / math.sqrt(math.pi))
-    n = det.p0.size
-    with np.errstate(over="ignore"):
-        m, sig = m.reshape(n, -1), (X**3).reshape(n, -1)
+    umax = float(np.max(det.mean_gap)) + 10.0 * det.h_rms if u_max is None else u_max
+    edges = np.concatenate(([0.0], np.geomspace(u_min * det.h_rms, umax, n_u)))
+    cdf = gap_cdf(det, edges)
     a = np.asarray(det.contact, dtype=float)
+    m = np.diff(cdf, axis=1)
+    m[:, 0] += cdf[:, 0]
+    far = np.maximum(1.0 - a - cdf[:, -1], 0.0)
     if a_c is not None:
         a_new = np.minimum(1.0, a * 0.5 / a_c)
         scale = np.where(a < 1.0, (1.0 - a_new) / np.where(a < 1.0, 1.0 - a, 1.0), 0.0)
-        m, a = m * scale[:, None], a_new
-    return _bruggeman_rows(a, m, sig, np.zeros(n))
+        m, far, a = m * scale[:, None], far * scale, a_new
+    mid = np.sqrt(edges[:-1] * edges[1:])
+    mid[0] = 0.5 * edges[1]
+    return _bruggeman_rows(a, m, mid**3, far)
 
 
 def effective_pressure_drop(

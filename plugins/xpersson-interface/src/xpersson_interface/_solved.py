@@ -69,6 +69,30 @@ def dense_zeta(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64
     return z[z >= 1.0]
 
 
+#: Largest change of the area between two output magnifications that the analyses integrate
+#: without sampling the solve more densely (and of ``1 - A`` over the first interval).
+MAX_STEP = 0.02
+MAX_FIRST = 1e-7
+
+
+def _coarse(area: NDArray[np.float64], non: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Loads whose output curve is too coarse for the zeta integrals."""
+    if area.shape[1] < 3:
+        return np.ones(area.shape[0], dtype=bool)
+    step = np.max(np.abs(np.diff(area, axis=1)), axis=1)
+    return (step > MAX_STEP) | (non[:, 1] > MAX_FIRST)
+
+
+def _interp(z: NDArray, y: NDArray[np.float64], z_new: NDArray) -> NDArray[np.float64]:
+    """Monotone (PCHIP) interpolation of smooth output curves in ``ln zeta``."""
+    from scipy.interpolate import PchipInterpolator
+
+    if y.shape[1] == z_new.size and np.array_equal(z, z_new):
+        return y.copy()
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        return PchipInterpolator(np.log(z), y, axis=1)(np.log(z_new))
+
+
 def _rows(arr: Any, n_load: int) -> NDArray[np.float64]:
     a = np.asarray(arr, dtype=float)
     return np.broadcast_to(a, (n_load, a.shape[-1])).copy()
@@ -110,16 +134,20 @@ def solved_curve(
     cont = getattr(bnd, "contact_area", ("area_fraction",))
     zeta = np.asarray(ds["zeta"].values, dtype=float)
     solve_at = getattr(ctx, "solve_at", None)
-    if per_decade and solve_at is not None:
-        zeta = dense_zeta(zeta, per_decade)
-        v = solve_at(zeta)
 
-        def get(name: str) -> NDArray[np.float64]:
-            return _rows(v[name], n)
-    else:
+    def get(name: str) -> NDArray[np.float64]:
+        return _rows(_from_ds(ds, name), n)
 
-        def get(name: str) -> NDArray[np.float64]:
-            return _rows(_from_ds(ds, name), n)
+    need = _coarse(get(el), sum(get(c) for c in comp)) if per_decade else np.zeros(n, bool)
+    if need.any() and solve_at is not None:
+        z_ds, zeta = zeta, dense_zeta(zeta, per_decade)
+        v = solve_at(zeta, np.flatnonzero(need))
+        coarse_get = get
+
+        def get(name: str) -> NDArray[np.float64]:  # solved where coarse, else interpolated
+            rows = _interp(z_ds, coarse_get(name), zeta)
+            rows[need] = _rows(v[name], int(need.sum()))
+            return rows
 
     area = get(el)
     non = sum(get(c) for c in comp)
