@@ -641,9 +641,14 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
 
 def gap_cdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
     """``int_0^u rho du'`` [1], shape (n_load, n_u) (add the contact weight for the full CDF)."""
-    uu, u1, h = _pairs(det, np.asarray(u, dtype=float))
-    c = 0.5 * (erf((uu - u1) / (_SQRT2 * h)) + erf((uu + u1) / (_SQRT2 * h)))
-    return np.einsum("lk,lku->lu", det.weight, c)
+    u = np.asarray(u, dtype=float)
+    inv = 1.0 / (_SQRT2 * np.maximum(det.h, _TINY))
+    a = (det.u1 * inv)[:, :, None]
+    b = (u[None, :] * inv[:, None])[None]
+    with np.errstate(over="ignore", invalid="ignore"):
+        lo = erf(b - a)
+        lo += erf(b + a)
+    return 0.5 * np.einsum("lk,lku->lu", det.weight, lo)
 
 
 def gap_mean(det: Detachment) -> NDArray[np.float64]:

@@ -124,7 +124,7 @@ def bruggeman_gap(
     det: Detachment,
     *,
     a_c: float | None = None,
-    n_u: int = 300,
+    n_u: int = 240,
     u_min: float = 1e-6,
     u_max: float | None = None,
 ) -> NDArray[np.float64]:
