@@ -433,14 +433,8 @@ def mean_gap(
 
     Parameters
     ----------
-    psd : PowerSpectrum
-        Roughness spectrum (m^4).
-    E_star : float
-        Contact modulus [Pa].
-    p0 : array_like, (n_load,)
-        Nominal pressures [Pa].
-    zeta, area, s_factor, non_area
-        The curve, as in :func:`elastic_energy`.
+    psd, E_star, p0, zeta, area, s_factor, non_area
+        See :class:`SolvedContact`.
 
     Returns
     -------
@@ -589,6 +583,7 @@ def detachment(
     non_area: ArrayLike | None = None,
     *,
     zeta_edges: ArrayLike | None = None,
+    refine: int = 1,
 ) -> Detachment:
     """Detached-area bins of the closed-form gap distribution (physics.md §5.5a).
 
@@ -600,16 +595,22 @@ def detachment(
     Parameters
     ----------
     psd, E_star, p0, zeta, area, s_factor, non_area
-        As in :func:`mean_gap`.
+        See :class:`SolvedContact`.
     zeta_edges : array_like, optional
         Bin edges from 1 to ``zeta[-1]`` (default: the curve's own magnifications); the area
         at the edges is interpolated on the curve.
+    refine : int
+        Without ``zeta_edges``: split every interval of the curve into this many bins.
 
     Returns
     -------
     Detachment
     """
     sc = SolvedContact(psd, E_star, p0, zeta, area, s_factor, non_area)
+    if zeta_edges is None and refine > 1:
+        x, t = sc.curve.x, np.arange(int(refine)) / int(refine)
+        inner = (x[:-1, None] + np.diff(x)[:, None] * t).ravel()
+        zeta_edges = np.exp(np.concatenate((inner, x[-1:])))
     return sc.detachment(zeta_edges)
 
 
