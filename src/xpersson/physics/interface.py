@@ -627,9 +627,9 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
     """
     u = np.asarray(u, dtype=float)
     inv_h = 1.0 / np.maximum(det.h, _TINY)  # (n_bin,)
-    a = (det.u1 * inv_h)[:, :, None]  # (n_load, n_bin, 1)
-    b = (u[None, :] * inv_h[:, None])[None]  # (1, n_bin, n_u)
-    with np.errstate(under="ignore", over="ignore"):
+    with np.errstate(under="ignore", over="ignore", invalid="ignore"):
+        a = np.minimum(det.u1 * inv_h, 1e150)[:, :, None]  # (n_load, n_bin, 1), finite
+        b = np.minimum(u[None, :] * inv_h[:, None], 1e150)[None]  # (1, n_bin, n_u)
         d = b - a
         d *= d
         d *= -0.5
@@ -644,9 +644,9 @@ def gap_cdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
     """``int_0^u rho du'`` [1], shape (n_load, n_u) (add the contact weight for the full CDF)."""
     u = np.asarray(u, dtype=float)
     inv = 1.0 / (_SQRT2 * np.maximum(det.h, _TINY))
-    a = (det.u1 * inv)[:, :, None]
-    b = (u[None, :] * inv[:, None])[None]
     with np.errstate(over="ignore", invalid="ignore"):
+        a = np.minimum(det.u1 * inv, 1e150)[:, :, None]  # no inf - inf below
+        b = np.minimum(u[None, :] * inv[:, None], 1e150)[None]
         lo = erf(b - a)
         lo += erf(b + a)
     return 0.5 * np.einsum("lk,lku->lu", det.weight, lo)
