@@ -445,7 +445,8 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
                     f"analyses.{name}: {exc} (scene: boundary {names['boundary']!r}, "
                     f"coefficient {names['coefficient']!r})"
                 ) from None
-            resolved["analyses"][name] = _jsonable(params, cls.parameters)
+            # the instance's parameters: defaults it resolved (e.g. a gamma) are recorded too
+            resolved["analyses"][name] = _jsonable(dict(inst.params), cls.parameters)
     resolved["material"] = _jsonable(material, CORE["material"])
     loads = [f"{float(v)!r} Pa" for v in p0]
     resolved["load"] = {"p0": loads[0] if scalar else loads}

@@ -99,3 +99,14 @@ def test_a_boundary_installed_later_is_judged_by_its_declaration():
             xpersson.solve(sc)
         sc["boundary"] = {"model": "rep"}
         assert xpersson.solve(sc)["mean_gap"].values.ravel()[0] > 0
+
+
+def test_the_archive_records_form_and_gamma():
+    import json
+
+    ds = xpersson.solve(scene([1e5], analyses={"mean_gap": {"s_factor": "yang_persson"},
+                                               "elastic_energy": {}}))  # fmt: skip
+    rec = json.loads(ds.attrs["xpersson_scene"])["analyses"]
+    assert rec["mean_gap"]["s_factor"] == "yang_persson" and rec["mean_gap"]["gamma"] == 0.42
+    assert rec["elastic_energy"]["s_factor"] == "closure"
+    assert json.loads(ds.attrs["xpersson_scene"])["coefficient"]["closure"] == "persson01"

@@ -74,6 +74,11 @@ class _Interface(Analysis):
     coefficient_traits = frozenset({"elastic_spectrum"})
     requires = ("area_fraction", "non_contact_fraction", "diffusion_time")
 
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        if self._params.get("s_factor") == "yang_persson" and self._params.get("gamma") is None:
+            self._params["gamma"] = GAMMA_DEFAULT  # recorded in the archive's resolved scene
+
     def check_scene(self, coefficient: Any, boundary: Any) -> None:
         """Refuse unsupported boundaries and a Yang-Persson form on a corrected area."""
         super().check_scene(coefficient, boundary)
