@@ -376,7 +376,7 @@ class Leakage(_Interface):
         ),
         "leak_sealed": VarSpec(
             ("p0",), "1", "sealed flag, critical junction (A(zeta_max)/A0 > a_c)",
-            extra=_FLAG, valid_min=0, valid_max=1,
+            extra=_FLAG,
         ),
         "leak_flow_factor_emt": VarSpec(
             ("p0",), "1", "effective-medium pressure flow factor sigma_eff / sigma(u)",
@@ -387,7 +387,7 @@ class Leakage(_Interface):
         ),
         "leak_sealed_emt": VarSpec(
             ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)",
-            extra=_FLAG, valid_min=0, valid_max=1,
+            extra=_FLAG,
         ),
     }  # fmt: skip
     provides = tuple(outputs)
