@@ -110,3 +110,18 @@ def test_the_archive_records_form_and_gamma():
     assert rec["mean_gap"]["s_factor"] == "yang_persson" and rec["mean_gap"]["gamma"] == 0.42
     assert rec["elastic_energy"]["s_factor"] == "closure"
     assert json.loads(ds.attrs["xpersson_scene"])["coefficient"]["closure"] == "persson01"
+
+
+def test_a_missing_variable_names_who_could_provide_it():
+    from xpersson.plugins import Analysis, VarSpec
+    from xpersson.testing import registry_with
+
+    class PlasticShare(Analysis):
+        summary = "test double: needs the plastic area"
+        requires = ("plastic_area_fraction",)
+        provides = ("share",)
+        outputs = {"share": VarSpec(("p0",), "1", "plastic share")}
+
+    with registry_with(analyses={"share": PlasticShare}):
+        with pytest.raises(SceneError, match=r"boundary 'plastic' \(xpersson-plasticity\)"):
+            xpersson.solve(scene([1e5], analyses={"share": {}}))
