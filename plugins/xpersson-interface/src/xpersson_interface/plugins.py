@@ -112,9 +112,11 @@ class ElasticEnergy(_Interface):
 
     ``U_el/A0 = (pi E*/2) int q^2 C A S dq`` with the solved *elastic* contact area ``A`` (the
     boundary's ``elastic_area``) and the scene's ``S``. For an elastoplastic boundary this is
-    Persson's elastic-energy form with the elastic contact area ``P_el(q)`` (Persson 2001,
-    J. Chem. Phys. 115, 3840, elastoplastic section; the plastically flattened area stores no
-    elastic energy of the finer scales): it tends to the elastic energy as ``sigma_Y -> inf``.
+    Persson's elastic-energy expression with ``P(q)`` the elastic contact area ``P_el(q)`` (the
+    plastically flattened area stores no elastic energy of the finer scales), as in Persson's
+    elastoplastic treatment (J. Chem. Phys. 115, 3840 (2001); attribution from memory: physics.md
+    gives no verified source for this form). It tends to the elastic energy as
+    ``sigma_Y -> inf`` and lies below it at finite ``sigma_Y``.
     """
 
     summary = "Elastic energy U_el/A0 stored at the interface, from the solved contact area"
