@@ -126,7 +126,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         lower, upper = walls[i]
         results.append(
             engine.solve(tau_eff[i], float(p0), lower, upper, rtol=rs.rtol, atol=rs.atol,
-                         method=rs.method, p_out=p_grid)
+                         method=rs.method, p_out=p_grid, options=rs.solver_options or None)
         )
     ds = _assemble(rs, ctx, results, tau_c, f_z, tau_eff, p_grid)
     _add(ds, coef.interpret(ctx), type(coef).outputs, "coefficient")

@@ -64,6 +64,10 @@ CORE: dict[str, dict[str, ParamSpec]] = {
                           description="relative tolerance on the contact area"),
         "atol": ParamSpec("1", default=1e-12, bounds=(0, 0.1),
                           description="absolute tolerance on the contact area"),
+        "walkers": ParamSpec("1", default=None, bounds=(1, 1e9), kind="int",
+                             description="walkers of the Monte Carlo method 'markov'"),
+        "seed": ParamSpec("1", default=None, bounds=(0, None), kind="int",
+                          description="random seed of the Monte Carlo method 'markov'"),
     },
 }
 PLUGIN_SECTIONS = {"spectrum": "spectra", "coefficient": "coefficients", "boundary": "boundaries"}
@@ -123,6 +127,7 @@ class ResolvedScene:
     method: Any
     plugin_names: dict[str, str] = field(default_factory=dict)
     resolved: dict[str, Any] = field(default_factory=dict)
+    solver_options: dict[str, Any] = field(default_factory=dict)
 
     @property
     def E_star(self) -> float:
@@ -475,6 +480,7 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         method=solver["method"],
         plugin_names=names,
         resolved=resolved,
+        solver_options={k: int(solver[k]) for k in ("walkers", "seed") if solver[k] is not None},
     )
 
 

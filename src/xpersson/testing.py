@@ -35,6 +35,7 @@ from collections.abc import Iterator, Mapping
 from types import SimpleNamespace
 from typing import Any
 
+from ._crosscheck import markov_cross_check
 from .plugins import (
     API_VERSION,
     REQUIRED,
@@ -56,6 +57,7 @@ __all__ = [
     "constant_wall_load",
     "linear_wall_area",
     "linear_wall_load",
+    "markov_cross_check",
     "mirrored_gaussian_area",
     "oracles",
     "registry_with",
@@ -178,6 +180,7 @@ def check_plugin(
     cheap_import: bool = True,
     import_budget: float = 3.0,
     balance_tol: float | None = None,
+    markov: int = 40_000,
 ) -> dict[str, Any]:
     """Check a plugin class against the xpersson plugin contract.
 
@@ -207,6 +210,9 @@ def check_plugin(
     balance_tol : float, optional
         Allowed probability-balance residual [1]. Default: the engine's own acceptance
         criterion for the tiny scene's tolerances, ``10 (rtol + atol)``.
+    markov : int
+        Boundaries only (with ``engine=True``): walkers of the cross-check against the Markov
+        process, :func:`markov_cross_check` (within 5 standard errors); 0 skips it.
 
     Returns
     -------
@@ -253,6 +259,8 @@ def check_plugin(
 
     if engine:
         report["engine"] = _check_engine(cls, values, scene, balance_tol)
+        if markov and group == "boundaries":
+            report["markov"] = markov_cross_check(cls, values, scene, walkers=markov)
     return report
 
 

@@ -8,6 +8,8 @@ Wall.absorbing(position), Wall.linear(p_start, velocity), Wall.yield_closure(pos
 Wall.reflecting(position)
 SourcedResult
 EngineResult, EngineMethod, register_method, exact (closed forms)
+MarkovMethod ("markov": walkers), ChapmanKolmogorovMethod ("markov_ck"), sample_paths,
+transition_kernel
 
 Units: pressures in Pa, diffusion time tau in Pa^2, densities in 1/Pa.
 """
@@ -17,6 +19,8 @@ from __future__ import annotations
 from . import exact
 from ._api import solve
 from ._exactpath import ExactMethod
+from ._markov import ChapmanKolmogorovMethod, MarkovMethod, sample_paths
+from ._markov_ck import transition_kernel
 from ._methods import EngineMethod, register_method
 from ._moving import CNMethod
 from ._result import EngineResult
@@ -27,6 +31,8 @@ from ._walls import Wall
 register_method("exact", ExactMethod)
 register_method("sine", SineMethod)
 register_method("cn", CNMethod)
+register_method("markov", MarkovMethod)
+register_method("markov_ck", ChapmanKolmogorovMethod)
 
 __all__ = [
     "solve",
@@ -40,4 +46,8 @@ __all__ = [
     "ExactMethod",
     "SineMethod",
     "CNMethod",
+    "MarkovMethod",
+    "ChapmanKolmogorovMethod",
+    "sample_paths",
+    "transition_kernel",
 ]

@@ -67,8 +67,8 @@ _DOI = re.compile(r"^(doi:)?10\.\d{4,9}/\S+$|^arXiv:\S+$|^https?://\S+$", re.IGN
 class Plugin:
     """Common base of all plugins.
 
-    Class attributes
-    ----------------
+    Attributes
+    ----------
     api_version : int
         Major plugin-API version the class was written for; must be <= :data:`API_VERSION`.
     summary : str
