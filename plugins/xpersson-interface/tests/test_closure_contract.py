@@ -125,3 +125,17 @@ def test_energy_vs_xylcsi_octave(closure, column):
     first = 0.5 * np.pi * q_L**2 * zhou.C(q_L) * q_L * (100 ** (1 / 499) - 1)
     assert np.all(np.abs(U - d[column]) <= 0.015 * d[column] + first)
     np.testing.assert_allclose(d[column][0] - U[0], first, rtol=0.05)
+
+
+def test_a_sweep_of_gamma_gives_each_points_own_analyses():
+    """Sweeping the closure's gamma: every point's analyses follow that point's closure."""
+    ana = {"mean_gap": {}, "leakage": {"n_bins": 30}}
+    sc = scene(LOADS, closure="yp08", analyses=ana)
+    sc["coefficient"]["gamma"] = [0.42, 0.5]
+    ds = xpersson.solve(sc)
+    for g in (0.42, 0.5):
+        one = scene(LOADS, closure="yp08", analyses=ana)
+        one["coefficient"]["gamma"] = g
+        ref = xpersson.solve(one)
+        for var in ("mean_gap", "leak_zeta_c"):
+            np.testing.assert_allclose(ds[var].sel(gamma=g).values, ref[var].values, rtol=1e-12)

@@ -63,7 +63,8 @@ _DENSE = ParamSpec(
     description="points per decade of zeta - 1 at which the solve is sampled for the zeta"
     " integrals (0: the Dataset's magnifications only)",
 )
-_FLAG = {"flag_values": "0 1", "flag_meanings": "open sealed"}
+#: CF flags: numeric flag_values of the variable's type
+_FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "open sealed"}
 _GAP_TRAITS = frozenset({"repulsive", "load_similar"})
 
 
