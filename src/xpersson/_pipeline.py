@@ -229,7 +229,7 @@ def _assemble(
     data: dict[str, Any] = {
         "area_fraction": (pz, stack("area")),
         "non_contact_fraction": (pz, stack("non_area")),
-        "G": (pz, tau_c[None, :] / rs.p0[:, None] ** 2),
+        "G": (pz, _persson_G(tau_c, rs.p0)),
         "diffusion_time": (("zeta",), tau_c),
         "diffusion_coefficient": (("zeta",), f_z),
         "psd_C": (("q_psd",), np.asarray(psd.C(q_nodes), float)),
@@ -252,6 +252,13 @@ def _assemble(
     stamp(ds, COORDS)
     stamp(ds, CORE_VARIABLES)
     return ds
+
+
+def _persson_G(tau_c: np.ndarray, p0: np.ndarray) -> np.ndarray:
+    """``G = tau / p0^2`` per (p0, zeta); ``inf`` at a zero load (adhesive boundaries)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        G = tau_c[None, :] / p0[:, None] ** 2
+    return np.where(np.isnan(G), np.inf, G)
 
 
 def _add(ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec], who: str) -> None:

@@ -9,6 +9,7 @@ unknown keys (named in the error), plugin names, and the spectrum's own consiste
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import tomllib
 from collections.abc import Mapping
@@ -300,8 +301,10 @@ def sweep_values(spec: ParamSpec, value: Any, where: str) -> np.ndarray:
     return np.array([convert_param(spec, v, f"{where}[{i}]") for i, v in enumerate(value)])
 
 
-def _loads(value: Any) -> tuple[np.ndarray, bool]:
+def _loads(value: Any, tensile: bool = False) -> tuple[np.ndarray, bool]:
     spec = CORE["load"]["p0"]
+    if tensile:  # the boundary accepts tensile loads (adhesion) and checks their range itself
+        spec = dataclasses.replace(spec, bounds=(None, None))
     if is_sweep_value(spec, value):
         arr = sweep_values(spec, value, "load.p0")
         if not isinstance(value, Mapping) and np.any(np.diff(arr) <= 0):
@@ -401,7 +404,7 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
     p0_raw = load_raw.pop("p0")
     if load_raw:
         raise SceneError(f"load.{sorted(load_raw)[0]}: unknown parameter; allowed in [load]: p0")
-    p0, scalar = _loads(p0_raw)
+    p0, scalar = _loads(p0_raw, tensile=True)  # sign checked once the boundary is known
     out = convert_params(CORE["output"], data.get("output", {}), "output")
     solver = convert_params(CORE["solver"], data.get("solver", {}), "solver")
     if out["p"] is not None and np.any(np.diff(out["p"]) <= 0):
@@ -415,6 +418,8 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         inst, name, params = _plugin(section, data.get(section), registry, base)
         plugins[section], names[section] = inst, name
         resolved[section] = {"model": name, **_jsonable(params, type(inst).parameters)}
+    if not getattr(type(plugins["boundary"]), "tensile_loads", False) and np.any(p0 <= 0):
+        _loads(p0_raw)  # raises the range error of a compressive-only boundary
     try:
         psd = plugins["spectrum"].build()
     except ValueError as exc:

@@ -186,8 +186,9 @@ def check_plugin(
 
     Checks, in order: class metadata (as at class definition, plus the API version); a cheap
     module import in a fresh interpreter (no :data:`HEAVY_MODULES`, within ``import_budget``
-    seconds); pickle round trip of an instance; determinism and finite values of the group's
-    methods on a tiny scene; and, with ``engine=True``, a solve of :data:`TINY_SCENE` through
+    seconds of CPU time, so a loaded machine does not fail it); pickle round trip of an
+    instance; determinism and finite values of the group's methods on a tiny scene; and, with
+    ``engine=True``, a solve of :data:`TINY_SCENE` through
     :func:`xpersson.solve` with the plugin injected: finite outputs with the declared
     attributes, :func:`assert_schema`, two runs equal, and for boundaries and coefficients the
     probability balance (``|probability_balance| <= balance_tol``).
@@ -277,7 +278,7 @@ def _check_import(cls: type, budget: float) -> str:
         )
     code = (
         "import json, sys, time\n"
-        f"t = time.perf_counter(); import {module}; t = time.perf_counter() - t\n"
+        f"t = time.process_time(); import {module}; t = time.process_time() - t\n"
         f"heavy = [m for m in {HEAVY_MODULES!r} if m in sys.modules]\n"
         "print(json.dumps({'t': t, 'heavy': heavy}))\n"
     )

@@ -68,7 +68,13 @@ class ElasticCoefficient(Coefficient):
         return np.asarray(elastic.diffusion_time(ctx.psd, ctx.E_star, zeta), dtype=float)
 
     def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
-        """Per-load diffusion time [Pa^2]; the closures solve their ODE/fixed point to 1e-10."""
+        """Per-load diffusion time [Pa^2]; the closures solve their ODE/fixed point to 1e-10.
+
+        Without a closure (``persson01``) the time does not depend on the load, which may then
+        be tensile (adhesive boundaries); the closures need ``p0 > 0``.
+        """
+        if self._params["closure"] == "persson01":
+            return super().effective_tau(ctx, zeta)
         tau_c = self.tau(ctx, zeta)
         return closures.effective_tau(
             tau_c, ctx.p0, self._params["closure"], self._params["gamma"], rtol=1e-10

@@ -271,6 +271,9 @@ class Boundary(Plugin):
     elastic_area: ClassVar[str] = "area_fraction"
     #: Dataset variables whose sum is ``1 - elastic_area`` without cancellation.
     elastic_area_complement: ClassVar[tuple[str, ...]] = ("non_contact_fraction",)
+    #: Whether the boundary accepts tensile nominal loads ``p0 <= 0`` (adhesion); the scene
+    #: then checks only that ``p0`` is finite and :meth:`validate` states the allowed range.
+    tensile_loads: ClassVar[bool] = False
 
     def validate(self, ctx: SceneContext) -> None:  # noqa: B027 - optional hook
         """Check the scene against this boundary (e.g. p0 below the yield stress).
