@@ -19,7 +19,8 @@ class ContactArea(Analysis):
     elastic + plastic contact for plasticity), so the mean pressure lies in ``[p0, sigma_Y]``
     for a plastic contact. ``kappa = (A/A0) E* h'_rms / p0`` at the final magnification: tends to
     sqrt(8/pi) = 1.596 at small load for Persson's theory (a direct check of the area-load law).
-    Where the contact area underflows to 0 the mean pressure is undefined (NaN).
+    Where the contact area underflows to 0 the mean pressure is undefined (NaN); with an adhesive
+    boundary and a tensile load (p0 < 0) both outputs are negative.
     """
 
     summary = "mean contact pressure p0/(A/A0) and the area-load slope kappa"
@@ -29,11 +30,11 @@ class ContactArea(Analysis):
     provides = ("mean_contact_pressure", "kappa")
     outputs = {
         "mean_contact_pressure": VarSpec(("p0", "zeta"), "Pa", "mean pressure in the real "
-                                         "contact area", valid_min=0.0,
+                                         "contact area",
                                          description="p0 / (A/A0), A the load-bearing contact "
                                          "area declared by the boundary (NaN where A = 0)"),
         "kappa": VarSpec(("p0",), "1", "area-load slope kappa = (A/A0) E* h'_rms / p0 at "
-                         "zeta_max", valid_min=0.0),
+                         "zeta_max"),
     }
 
     def compute(self, ctx: SceneContext, ds: Any) -> dict[str, Any]:
