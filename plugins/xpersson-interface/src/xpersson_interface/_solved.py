@@ -10,6 +10,7 @@ integrals over zeta need the fast drop of ``A`` near ``zeta = 1`` at small loads
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -139,6 +140,15 @@ def solved_curve(
         return _rows(_from_ds(ds, name), n)
 
     need = _coarse(get(el), sum(get(c) for c in comp)) if per_decade else np.zeros(n, bool)
+    if need.any() and solve_at is None:
+        warnings.warn(
+            f"{int(need.sum())} load(s) have an area curve too coarse for the zeta integrals "
+            "(area steps > 0.02 between output magnifications, or the drop above zeta = 1 "
+            "unresolved) and no ctx.solve_at to sample the solve densely: results lose "
+            "accuracy; give output.zeta_per_decade or output.zeta densely near 1",
+            UserWarning,
+            stacklevel=3,
+        )
     if need.any() and solve_at is not None:
         z_ds, zeta = zeta, dense_zeta(zeta, per_decade)
         v = solve_at(zeta, np.flatnonzero(need))
