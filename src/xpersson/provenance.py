@@ -6,6 +6,7 @@ import datetime as _dt
 import json
 import platform
 import sys
+from functools import lru_cache
 from importlib import metadata
 from typing import TYPE_CHECKING, Any
 
@@ -18,6 +19,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["global_attributes", "plugins_used", "environment", "version"]
 
 
+@lru_cache(maxsize=1)
 def version() -> str:
     """Installed version of xpersson."""
     try:
@@ -28,6 +30,12 @@ def version() -> str:
 
 def environment() -> dict[str, str]:
     """Python, platform and the versions of the numerical stack."""
+    return dict(_environment())
+
+
+@lru_cache(maxsize=1)
+def _environment() -> dict[str, str]:
+    # looked up once per process: a sweep asks for it at every point
     env = {"python": sys.version.split()[0], "platform": platform.platform()}
     for pkg in ("numpy", "scipy", "xarray", "netCDF4", "pint"):
         try:

@@ -424,6 +424,11 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         psd = plugins["spectrum"].build()
     except ValueError as exc:
         raise SceneError(f"spectrum: {exc}") from None
+    archived = getattr(plugins["spectrum"], "archived_params", None)
+    if callable(archived):  # file-based spectra: the table itself goes into the archive
+        spec_cls = type(plugins["spectrum"])
+        resolved["spectrum"] = {"model": names["spectrum"],
+                                **_jsonable(archived(psd), spec_cls.parameters)}
     zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
 
     requested = data.get("analyses", {})
