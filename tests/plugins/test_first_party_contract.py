@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import warnings
 
+import numpy as np
 import pytest
 
 from xpersson.plugins import get_registry
@@ -37,6 +38,11 @@ PARAMS = {
     "viscoelastic": {"velocity": 0.01},
     "jkr": {"work_of_adhesion": 0.05},
     "dmt": {"work_of_adhesion": 1e-3, "range": 5e-9, "law": "exponential"},
+    # inline PSD table (the file path needs SurfaceTopography)
+    "topography": {
+        "q": [float(q) for q in np.geomspace(1e3, 1e7, 30)],
+        "C": [1e-20 * (float(q) / 1e3) ** -3.6 for q in np.geomspace(1e3, 1e7, 30)],
+    },
 }
 #: scene sections a plugin needs (the friction analysis needs the viscoelastic coefficient)
 SCENES = {"friction": {"coefficient": {"model": "viscoelastic", "velocity": "1 cm/s"}}}
@@ -45,8 +51,6 @@ BALANCE = {"jkr": 1e-5, "dmt": 1e-5}
 
 
 def _table(tmp_path):
-    import numpy as np
-
     q = np.geomspace(1e3, 1e7, 30)
     path = tmp_path / "psd.csv"
     np.savetxt(path, np.column_stack((q, 1e-20 * (q / 1e3) ** -3.6)), delimiter=",")
