@@ -115,6 +115,12 @@ class PlasticBoundary(Boundary):
         ),
     }
 
+    # declarations read by analyses (xpersson.plugins.Boundary)
+    traits = frozenset({"repulsive"})
+    contact_area = ("elastic_area_fraction", "plastic_area_fraction")
+    elastic_area = "elastic_area_fraction"
+    elastic_area_complement = ("plastic_area_fraction", "non_contact_area_fraction")
+
     approximation_tolerance: ClassVar[float] = 1e-3
     #: Same walls for every load (validate() checks every p0): the pipeline asks once.
     walls_per_load = False

@@ -139,6 +139,11 @@ class ScaleDependentPlasticBoundary(Boundary):
         ),
     }
     outputs = dict(AREA_OUTPUTS)
+    # declarations read by analyses (xpersson.plugins.Boundary)
+    traits = frozenset({"repulsive"})
+    contact_area = ("elastic_area_fraction", "plastic_area_fraction")
+    elastic_area = "elastic_area_fraction"
+    elastic_area_complement = ("plastic_area_fraction", "non_contact_area_fraction")
     #: Same walls for every load (validate() checks every p0): the pipeline asks once.
     walls_per_load = False
 
