@@ -246,7 +246,7 @@ def _assemble(
         "error_estimate": (pz, stack("error_estimate")),
         "solver_status": (("p0",), np.array(results.status, dtype=object)),
     }
-    if not np.allclose(tau_eff, tau_c[None, :], rtol=1e-15, atol=0):
+    if not np.array_equal(tau_eff, np.broadcast_to(tau_c, tau_eff.shape)):
         data["effective_diffusion_time"] = (pz, tau_eff)
     if p_grid is not None:
         coords["p"] = ("p", p_grid)

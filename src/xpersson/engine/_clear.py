@@ -24,7 +24,7 @@ from ._problem import Problem
 
 __all__ = ["drop_clear_upper", "hit_bound"]
 
-_N_INTERVALS = 320
+_N_INTERVALS = 96  # 6 per decade over 16 decades
 
 
 def hit_bound(problem: Problem) -> float:

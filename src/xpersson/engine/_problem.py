@@ -115,10 +115,11 @@ def make_problem(
             raise _fail("p0", "Pa", "a 1-D array of finite floats", p0) from None
         if p0v.ndim != 1 or p0v.size == 0:
             raise _fail("p0", "Pa", "a non-empty 1-D array of loads", p0)
-        if tau.ndim == 1:
-            tau = np.broadcast_to(tau, (p0v.size, tau.size))
-        if tau.ndim != 2 or tau.shape[0] != p0v.size or tau.shape[1] == 0:
+        shared = tau.ndim == 1  # validated once, then broadcast (no copy)
+        if not shared and (tau.ndim != 2 or tau.shape[0] != p0v.size or tau.shape[1] == 0):
             raise _fail("tau_out", "Pa^2", f"shaped (n_tau,) or ({p0v.size}, n_tau)", tau.shape)
+        if shared and tau.size == 0:
+            raise _fail("tau_out", "Pa^2", "a non-empty 1-D array", tau_out)
     else:
         tau = np.atleast_1d(tau)
         if tau.ndim != 1 or tau.size == 0:
@@ -155,6 +156,8 @@ def make_problem(
     if lower.kind == "yield_closure" and not lower.is_fixed:
         raise ValueError("lower: a moving yield_closure wall is only supported as the upper wall")
     _check_positions(tau, p0v, lower, upper)
+    if batch and tau.ndim == 1:
+        tau = np.broadcast_to(tau, (p0v.size, tau.size))
     p_arr = None
     if p_out is not None:
         p_arr = np.atleast_1d(np.asarray(p_out, dtype=float))

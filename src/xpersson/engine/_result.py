@@ -294,13 +294,16 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     lo, up, prob, loadb = _balances(problem, raw)
     n = problem.tau.shape[0]
     # vectorised screen: only loads that may fail get the detailed (per-row) examination
-    arrays = (raw.area, raw.non_area, raw.absorbed_lower, raw.absorbed_upper, raw.load)
-    finite = np.logical_and.reduce([np.all(np.isfinite(a), axis=-1) for a in arrays])
+    # NaN/inf in any field reaches one of the two balances (sums of all of them)
+    finite = np.all(np.isfinite(prob), axis=-1) & np.all(np.isfinite(loadb), axis=-1)
+    finite &= np.all(np.isfinite(raw.non_area), axis=-1)
     if raw.P is not None:
         finite &= np.all(np.isfinite(raw.P), axis=(-2, -1))
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
     worst = np.maximum(np.max(np.abs(prob), axis=-1), np.max(np.abs(loadb), axis=-1))
-    tol_ok = np.all(raw.error_estimate <= problem.tolerance(raw.area), axis=-1)
+    slack = raw.error_estimate - problem.atol
+    slack -= problem.rtol * np.abs(raw.area)
+    tol_ok = np.all(slack <= 0, axis=-1)
     raw_ok = (np.full(n, raw.status == "success") if isinstance(raw.status, str)
               else np.asarray(raw.status) == "success")
     clean = finite & (worst <= bal_tol) & tol_ok & raw_ok
