@@ -330,7 +330,11 @@ def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, lis
             if plan.shape[d] < 2:  # one value says nothing about a dependence: keep the dim
                 continue
             moved = np.moveaxis(grid, d, -1).reshape(-1, plan.shape[d])
-            if all(len({x for x in row if x is not None}) <= 1 for row in moved):
+            solved = [[x for x in row if x is not None] for row in moved]
+            # constant only where at least two solved points along the dimension agree (a
+            # single solved point, the others failed, says nothing: the dim and its NaN stay)
+            if any(len(row) >= 2 for row in solved) and all(len(set(row)) <= 1
+                                                            for row in solved):
                 dims.append(dim)
         if dims:
             out[name] = dims
