@@ -140,7 +140,11 @@ def _own_names(template: xr.Dataset, block: Block) -> list[str]:
 
 def stack(results: list[xr.Dataset | None], block: Block, status: np.ndarray,
           template: xr.Dataset | None = None) -> xr.Dataset:
-    """Stack point Datasets (``None`` for a failed point) into the block's Dataset."""
+    """Stack point Datasets (``None`` for a failed point) into the block's Dataset.
+
+    ``template`` (used when every point of the block failed) may be a point Dataset or another
+    block's Dataset: it is cut to one point first, so the block's sweep dimensions are added once.
+    """
     ok = [ds for ds in results if ds is not None]
     template = ok[0] if ok else template
     if template is None:
