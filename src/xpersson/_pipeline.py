@@ -132,6 +132,10 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     _add(ds, coef.interpret(ctx), type(coef).outputs, "coefficient")
     extra = rs.boundary.interpret(ctx, results)
     _add(ds, extra, type(rs.boundary).outputs, "boundary")
+    if rs.analyses:  # analyses read the scene's declarations and may sample the solve densely
+        ctx = dataclasses.replace(
+            ctx, coefficient=coef, boundary=rs.boundary, solve_at=_solve_at(rs, ctx, walls)
+        )
     for name, analysis in rs.analyses:
         out = analysis.compute(ctx, ds)
         missing = [v for v in type(analysis).provides if v not in out]
@@ -142,6 +146,40 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     if rs.p0_scalar:
         ds = ds.squeeze("p0")
     return ds
+
+
+def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
+    """``(zeta, loads) -> area variables`` of the same solve at other magnifications."""
+    from . import engine
+
+    cache: dict[bytes, dict[str, np.ndarray]] = {}
+
+    def solve_at(zeta: np.ndarray, loads: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        z = np.asarray(zeta, float)
+        idx = np.arange(rs.p0.size) if loads is None else np.asarray(loads, dtype=int)
+        key = z.tobytes() + idx.tobytes()
+        if key in cache:  # several analyses sample the same grid
+            return cache[key]
+        c = dataclasses.replace(ctx, zeta=z, p=None, p0=rs.p0[idx])
+        tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(idx.size, -1)
+        res = [
+            engine.solve(tau_eff[k], float(rs.p0[i]), *walls[i], rtol=rs.rtol, atol=rs.atol,
+                         method=rs.method)
+            for k, i in enumerate(idx)
+        ]
+        out = {
+            "area_fraction": np.stack([np.asarray(r.area, float) for r in res]),
+            "non_contact_fraction": np.stack([np.asarray(r.non_area, float) for r in res]),
+            "diffusion_time": np.asarray(rs.coefficient.tau(c, z), float),
+            "effective_diffusion_time": tau_eff,
+        }
+        for name, value in rs.boundary.interpret(c, res).items():
+            out[name] = np.asarray(value[1] if isinstance(value, tuple) else value, float)
+        cache.clear()
+        cache[key] = out
+        return out
+
+    return solve_at
 
 
 def _pressure_grid(rs: ResolvedScene, walls: list[Any], tau_eff: np.ndarray) -> np.ndarray:

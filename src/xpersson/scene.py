@@ -452,10 +452,16 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         for name, cls, raw in plan:
             params = convert_params(cls.parameters, raw, f"analyses.{name}")
             try:
-                analyses.append((name, cls(**params)))
+                inst = cls(**params)
+                inst.check_scene(plugins["coefficient"], plugins["boundary"])
+                analyses.append((name, inst))
             except (ValueError, TypeError) as exc:
-                raise SceneError(f"analyses.{name}: {exc}") from None
-            resolved["analyses"][name] = _jsonable(params, cls.parameters)
+                raise SceneError(
+                    f"analyses.{name}: {exc} (scene: boundary {names['boundary']!r}, "
+                    f"coefficient {names['coefficient']!r})"
+                ) from None
+            # the instance's parameters: defaults it resolved (e.g. a gamma) are recorded too
+            resolved["analyses"][name] = _jsonable(dict(inst.params), cls.parameters)
     resolved["material"] = _jsonable(material, CORE["material"])
     loads = [f"{float(v)!r} Pa" for v in p0]
     resolved["load"] = {"p0": loads[0] if scalar else loads}

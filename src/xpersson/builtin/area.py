@@ -14,8 +14,13 @@ __all__ = ["ContactArea"]
 class ContactArea(Analysis):
     """Mean contact pressure p0 / (A/A0) [Pa] and the contact-area slope kappa.
 
-    ``kappa = (A/A0) E* h'_rms / p0`` at the final magnification: tends to sqrt(8/pi) = 1.596 at
-    small load for Persson's theory (a direct check of the area-load law).
+    ``A`` is the area that carries the load, as the boundary declares it
+    (:attr:`xpersson.plugins.Boundary.contact_area`: the elastic area for the elastic wall,
+    elastic + plastic contact for plasticity), so the mean pressure lies in ``[p0, sigma_Y]``
+    for a plastic contact. ``kappa = (A/A0) E* h'_rms / p0`` at the final magnification: tends to
+    sqrt(8/pi) = 1.596 at small load for Persson's theory (a direct check of the area-load law).
+    Where the contact area underflows to 0 the mean pressure is undefined (NaN); with an adhesive
+    boundary and a tensile load (p0 < 0) both outputs are negative.
     """
 
     summary = "mean contact pressure p0/(A/A0) and the area-load slope kappa"
@@ -25,17 +30,22 @@ class ContactArea(Analysis):
     provides = ("mean_contact_pressure", "kappa")
     outputs = {
         "mean_contact_pressure": VarSpec(("p0", "zeta"), "Pa", "mean pressure in the real "
-                                         "contact area", description="p0 / (A/A0)"),
+                                         "contact area",
+                                         description="p0 / (A/A0), A the load-bearing contact "
+                                         "area declared by the boundary (NaN where A = 0)"),
         "kappa": VarSpec(("p0",), "1", "area-load slope kappa = (A/A0) E* h'_rms / p0 at "
                          "zeta_max"),
     }
 
     def compute(self, ctx: SceneContext, ds: Any) -> dict[str, Any]:
         """Mean contact pressure [Pa] and kappa [1]."""
-        area = np.asarray(ds["area_fraction"].transpose(..., "p0", "zeta").values, float)
-        area = area.reshape(ctx.p0.size, -1)
-        with np.errstate(divide="ignore"):
-            mean_p = np.where(area > 0, ctx.p0[:, None] / np.where(area > 0, area, 1), np.inf)
+        names = getattr(type(ctx.boundary), "contact_area", ("area_fraction",))
+        area = sum(
+            np.asarray(ds[n].transpose(..., "p0", "zeta").values, float).reshape(ctx.p0.size, -1)
+            for n in names
+        )
+        with np.errstate(divide="ignore", invalid="ignore"):
+            mean_p = np.where(area > 0, ctx.p0[:, None] / np.where(area > 0, area, 1), np.nan)
         slope = float(np.sqrt(2 * np.pi * ctx.psd.moment(3, ctx.q_L, ctx.q[-1])))
         kappa = area[:, -1] * ctx.E_star * slope / ctx.p0
         return {"mean_contact_pressure": (("p0", "zeta"), mean_p), "kappa": (("p0",), kappa)}

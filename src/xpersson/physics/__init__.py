@@ -14,7 +14,15 @@ interface
     finer scales at full contact), mean gap, stiffness, gap distribution, percolation.
 """
 
-from .closures import CLOSURES, DEFAULT_GAMMA, closure_S, effective_ratio, effective_tau
+from .closures import (
+    CLOSURES,
+    DEFAULT_GAMMA,
+    GAMMA_DEFAULT,
+    closure_S,
+    effective_ratio,
+    effective_tau,
+    variance_factor,
+)
 from .elastic import (
     KAPPA,
     G_of_zeta,
@@ -28,6 +36,7 @@ from .elastic import (
 )
 from .interface import (
     Detachment,
+    SolvedContact,
     contact_stiffness,
     critical_magnification,
     detachment,
@@ -47,10 +56,12 @@ __all__ = [
     "CONVENTIONS",
     "DEFAULT_GAMMA",
     "Detachment",
+    "GAMMA_DEFAULT",
     "KAPPA",
     "G_of_zeta",
     "PowerSpectrum",
     "SelfAffineRollOff",
+    "SolvedContact",
     "Tabulated",
     "area_fraction",
     "closure_S",
@@ -74,4 +85,5 @@ __all__ = [
     "profile_factor",
     "second_moment",
     "separation_of_detaching_area",
+    "variance_factor",
 ]

@@ -126,6 +126,12 @@ class PlasticBoundary(Boundary):
         ),
     }
 
+    # declarations read by analyses (xpersson.plugins.Boundary)
+    traits = frozenset({"repulsive"})
+    contact_area = ("elastic_area_fraction", "plastic_area_fraction")
+    elastic_area = "elastic_area_fraction"
+    elastic_area_complement = ("plastic_area_fraction", "non_contact_area_fraction")
+
     approximation_tolerance: ClassVar[float] = 1e-3
     """Deviation of the three-Gaussian area fractions from the exact series that is flagged."""
 

@@ -127,6 +127,11 @@ class ScaleDependentPlasticBoundary(Boundary):
         ),
     }
     outputs = dict(AREA_OUTPUTS)
+    # declarations read by analyses (xpersson.plugins.Boundary)
+    traits = frozenset({"repulsive"})
+    contact_area = ("elastic_area_fraction", "plastic_area_fraction")
+    elastic_area = "elastic_area_fraction"
+    elastic_area_complement = ("plastic_area_fraction", "non_contact_area_fraction")
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
