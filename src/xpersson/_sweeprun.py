@@ -295,18 +295,15 @@ def _finish(
 
 
 def _template(res: BlockResult) -> xr.Dataset:
-    """A point-shaped Dataset (no sweep dimensions) with the variables of a solved block."""
-    def point(ds: xr.Dataset) -> xr.Dataset:
-        out = ds.isel({d: 0 for d in res.block.dims}, drop=True).drop_vars("point_status")
-        return out.drop_vars([n for n in res.block.coords if n in out.variables])
-
+    """The Dataset of a solved block (a template for failed blocks: :func:`stack` cuts it to one
+    point, dropping the sweep dimensions, their coordinates and ``point_status``)."""
     if res.dataset is not None:
-        return point(res.dataset)
+        return res.dataset
     from ._cf import decode
     from .io import ENGINE
 
     with xr.open_dataset(res.part, engine=ENGINE) as ds:
-        return point(decode(ds.load()))
+        return decode(ds.load())
 
 
 def _status_name(code: int) -> str:
@@ -330,7 +327,11 @@ def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, lis
             if plan.shape[d] < 2:  # one value says nothing about a dependence: keep the dim
                 continue
             moved = np.moveaxis(grid, d, -1).reshape(-1, plan.shape[d])
-            if all(len({x for x in row if x is not None}) <= 1 for row in moved):
+            solved = [[x for x in row if x is not None] for row in moved]
+            # constant only where at least two solved points along the dimension agree (a
+            # single solved point, the others failed, says nothing: the dim and its NaN stay)
+            if any(len(row) >= 2 for row in solved) and all(len(set(row)) <= 1
+                                                            for row in solved):
                 dims.append(dim)
         if dims:
             out[name] = dims
