@@ -622,8 +622,9 @@ def two_wall_areas(p0: float, sigma_y: float, tau: Any) -> tuple[Any, Any]:
     """Elastic and plastic area for fixed walls at 0 and sigma_y (physics.md §3.1).
 
     Sine series ``A_el = sum_odd 4/(n pi) sin(n pi p0/sY) exp(-(n pi/sY)^2 tau)`` and
-    ``A_pl = p0/sY - sum_n 2/(n pi) (-1)^(n+1) sin(n pi p0/sY) exp(-(n pi/sY)^2 tau)``, summed
-    until the terms are below 1e-17. Units: p0, sigma_y [Pa], tau [Pa^2].
+    ``A_pl = p0/sY - sum_n 2/(n pi) (-1)^(n+1) sin(n pi p0/sY) exp(-(n pi/sY)^2 tau)`` (image
+    series at small tau), from :mod:`xpersson.engine.exact`, their one home. Units: p0, sigma_y
+    [Pa], tau [Pa^2].
 
     Returns
     -------
@@ -631,20 +632,11 @@ def two_wall_areas(p0: float, sigma_y: float, tau: Any) -> tuple[Any, Any]:
     """
     import numpy as np
 
-    t = np.atleast_1d(np.asarray(tau, dtype=float)) / float(sigma_y) ** 2
-    x = float(p0) / float(sigma_y)
-    tmin = float(np.min(t[t > 0])) if np.any(t > 0) else 1.0
-    nmax = int(min(2e6, math.ceil(math.sqrt(40.0 / tmin) / math.pi) + 10))
-    n = np.arange(1, nmax + 1, dtype=float)
-    decay = np.exp(-np.outer(t, (n * np.pi) ** 2))
-    s = np.sin(n * np.pi * x)
-    odd = (n % 2) == 1
-    a_el = decay[:, odd] @ (4.0 / (n[odd] * np.pi) * s[odd])
-    a_pl = x - decay @ (2.0 / (n * np.pi) * np.where(odd, 1.0, -1.0) * s)
-    a_el = np.where(t > 0, a_el, 1.0)
-    a_pl = np.where(t > 0, a_pl, 0.0)
-    shape = np.shape(tau)
-    return a_el.reshape(shape), a_pl.reshape(shape)
+    from .engine import exact  # the one home of the two-wall series
+
+    t = np.asarray(tau, dtype=float)
+    a_el, _, a_pl = exact.two_wall(t, float(p0), 0.0, float(sigma_y))
+    return np.asarray(a_el).reshape(np.shape(tau)), np.asarray(a_pl).reshape(np.shape(tau))
 
 
 def oracles() -> SimpleNamespace:

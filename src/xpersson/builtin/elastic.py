@@ -89,6 +89,8 @@ class ElasticBoundary(Boundary):
     parameters: dict[str, ParamSpec] = {}
     outputs: dict[str, VarSpec] = {}
     traits = frozenset({"repulsive", "load_similar", "conservative"})
+    #: The walls do not depend on the load: the pipeline asks once for a batch of loads.
+    walls_per_load = False
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """One absorbing wall at p = 0 [Pa]; no upper wall."""
