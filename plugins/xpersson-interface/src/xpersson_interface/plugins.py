@@ -298,7 +298,10 @@ class Leakage(Analysis):
         ),
     }
     outputs: ClassVar = {
-        "leak_zeta_c": VarSpec(("p0",), "1", "percolation magnification (NaN when sealed)"),
+        "leak_zeta_c": VarSpec(
+            ("p0",), "1", "percolation magnification (NaN when sealed)",
+            nan_meaning="sealed: the contact area percolates before zeta_1 (no open channel)",
+        ),
         "leak_u1": VarSpec(("p0",), "m", "separation of the critical constriction"),
         "leak_flow_factor": VarSpec(
             ("p0",), "1", "critical-junction pressure flow factor u1^3 / u^3"
