@@ -119,7 +119,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         if missing:
             raise _checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
         _add(ds, out, type(analysis).outputs, label)
-    _attributes(ds, rs, reg, results)
+    _attributes(ds, rs, reg, results, _diagnostics_notes(ds))
     if rs.p0_scalar:
         ds = ds.squeeze("p0")
     return ds
@@ -237,12 +237,26 @@ def _add(ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec]
         ds[name].attrs.update(specs[name].attrs())
 
 
-def _attributes(ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: list[Any]) -> None:
+def _diagnostics_notes(ds: xr.Dataset) -> list[str]:
+    """Add the P-resolution diagnostics; collect them and the regime warnings as notes."""
+    from . import _diagnostics
+
+    notes = _diagnostics.regime_warnings(ds)
+    ds.attrs["regime_warnings"] = json.dumps(notes)
+    unresolved = _diagnostics.pdf_resolution(ds)
+    return notes + ([unresolved] if unresolved else [])
+
+
+def _attributes(
+    ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: list[Any], notes: list[str]
+) -> None:
     bad = [(float(rs.p0[i]), r) for i, r in enumerate(results) if not r.success]
     status = "success" if not bad else bad[0][1].status
     message = "all loads met the requested tolerance" if not bad else "; ".join(
         f"p0 = {p:g} Pa: {r.status}: {r.message}" for p, r in bad[:5]
     )
+    if notes:
+        message = "; ".join([message, *notes])
     ds.attrs.update(provenance.global_attributes(rs, reg))
     ds.attrs["status"] = status
     ds.attrs["status_message"] = message
@@ -259,5 +273,5 @@ def _attributes(ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: list[
             },
         }
     )
-    if bad:
+    if bad or notes:
         warnings.warn(f"xpersson: {message}", XperssonWarning, stacklevel=4)
