@@ -11,6 +11,7 @@ the call or variable and the offending values.
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 from collections.abc import Iterator, Mapping
 from typing import Any
@@ -44,9 +45,9 @@ class PluginFailure(RuntimeError):
         The variable or call at fault.
     """
 
-    def __init__(self, message: str, *, plugin: str = "", variable: str | None = None) -> None:
+    def __init__(self, message: str, *, plugin: Any = "", variable: str | None = None) -> None:
         super().__init__(message)
-        self.plugin = plugin
+        self.plugin = str(plugin)
         self.variable = variable
 
 
@@ -58,8 +59,27 @@ _GROUP_WORD = {
 }
 
 
-def plugin_label(group: str, plugin: Any, registry: Any = None, name: str | None = None) -> str:
-    """``"boundary plugin 'plastic' (distribution xpersson-plasticity 0.1.0)"``.
+class _Label:
+    """A plugin's label, looked up (registry, distribution metadata) only when printed."""
+
+    def __init__(self, group: str, plugin: Any, registry: Any, name: str | None) -> None:
+        self._args = (group, plugin, registry, name)
+        self._text: str | None = None
+
+    def __str__(self) -> str:
+        if self._text is None:
+            self._text = _label_text(*self._args)
+        return self._text
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self), spec)
+
+    def __repr__(self) -> str:
+        return repr(str(self))
+
+
+def plugin_label(group: str, plugin: Any, registry: Any = None, name: str | None = None) -> Any:
+    """``"boundary plugin 'plastic' (distribution xpersson-plasticity 0.1.0)"``, lazily.
 
     Parameters
     ----------
@@ -71,24 +91,57 @@ def plugin_label(group: str, plugin: Any, registry: Any = None, name: str | None
         Where to look up the registered name and distribution.
     name : str, optional
         The name the scene used (preferred over the registry's).
+
+    Returns
+    -------
+    object
+        Formats as the label text; the (slow) distribution lookup runs only when an error
+        message is built.
     """
-    from .plugins._registry import normalize_group, plugin_provenance
+    return _Label(group, plugin, registry, name)
+
+
+def _label_text(group: str, plugin: Any, registry: Any, name: str | None) -> str:
+    from .plugins._registry import DIRECT, get_registry, normalize_group
 
     cls = plugin if isinstance(plugin, type) else type(plugin)
     try:
         group = normalize_group(group)
-        prov = plugin_provenance(group, cls, registry)
-        dist = f"{prov['distribution']} {prov['version']}".strip()
-        reg_name = prov["name"]
+        reg = registry if registry is not None else get_registry()
+        reg_name, info = reg.name_of(group, cls)
+        if info is not None and info.dist != DIRECT:
+            dist = f"{info.dist} {info.version}".strip()
+        else:
+            dist = _distribution_of(cls.__module__)
     except Exception:  # a label must never fail
-        dist, reg_name = "unknown distribution", f"{cls.__module__}:{cls.__qualname__}"
+        dist, reg_name = "unknown", f"{cls.__module__}:{cls.__qualname__}"
     word = _GROUP_WORD.get(group, group)
-    return f"{word} plugin {name or reg_name!r} (distribution {dist or 'unknown'})"
+    return f"{word} plugin {name or reg_name!r} (distribution {dist})"
+
+
+@functools.lru_cache(maxsize=1)
+def _packages() -> Mapping[str, list[str]]:
+    from importlib.metadata import packages_distributions
+
+    return packages_distributions()
+
+
+def _distribution_of(module: str) -> str:
+    """Distribution and version of a class passed directly (not registered by entry point)."""
+    from importlib.metadata import version
+
+    try:
+        dists = _packages().get(module.partition(".")[0], [])
+        if dists:
+            return f"{dists[0]} {version(dists[0])}"
+    except Exception:
+        pass
+    return f"none: class {module} passed directly"
 
 
 @contextlib.contextmanager
 def calling(
-    who: str, what: str, passthrough: tuple[type[BaseException], ...] = ()
+    who: object, what: str, passthrough: tuple[type[BaseException], ...] = ()
 ) -> Iterator[None]:
     """Re-raise any exception of a plugin call as :class:`PluginFailure` naming the plugin.
 
@@ -114,7 +167,7 @@ def calling(
 # -- plain arrays (coefficient, walls) -----------------------------------------------------------
 def check_array(
     value: Any,
-    who: str,
+    who: object,
     what: str,
     shape: tuple[int, ...],
     *,
@@ -195,7 +248,7 @@ def _where(index: tuple[int, ...], coords: Any) -> str:
 
 
 # -- spectra -------------------------------------------------------------------------------------
-def check_spectrum(psd: Any, who: str) -> None:
+def check_spectrum(psd: Any, who: object) -> None:
     """Check the numerical spectrum a spectrum plugin built (cut-offs, nodes, C >= 0, finite).
 
     Raises
@@ -224,7 +277,7 @@ def check_spectrum(psd: Any, who: str) -> None:
 
 
 # -- walls ---------------------------------------------------------------------------------------
-def check_walls(walls: Any, p0: float, who: str) -> tuple[Any, Any]:
+def check_walls(walls: Any, p0: float, who: object) -> tuple[Any, Any]:
     """Check a boundary's ``walls()`` return value: ``(Wall, Wall or None)``, p0 inside.
 
     Raises
@@ -262,7 +315,7 @@ def check_walls(walls: Any, p0: float, who: str) -> tuple[Any, Any]:
 
 
 # -- Dataset contributions -----------------------------------------------------------------------
-def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: str) -> Any:
+def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> Any:
     """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray.
 
     Checks, against the :class:`~xpersson.plugins.VarSpec`: dims (the declared ones, plus
@@ -320,7 +373,7 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: str) -> Any
     return da
 
 
-def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: str) -> None:
+def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object) -> None:
     arr = np.asarray(da.values)
     kind = arr.dtype.kind
     if kind in "b":
@@ -362,7 +415,7 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: str) ->
 
 
 @contextlib.contextmanager
-def guard_dataset(ds: Any, who: str) -> Iterator[Any]:
+def guard_dataset(ds: Any, who: object) -> Iterator[Any]:
     """Hand an analysis a protected view of ``ds``; catch it clobbering existing variables.
 
     The view is a shallow copy whose numpy buffers are read-only for the duration of the
@@ -395,7 +448,7 @@ def guard_dataset(ds: Any, who: str) -> Iterator[Any]:
 
 
 def check_contributions(
-    ds: Any, values: Any, specs: Mapping[str, Any], who: str
+    ds: Any, values: Any, specs: Mapping[str, Any], who: object
 ) -> dict[str, Any]:
     """Check a plugin's returned mapping ``{name: value}``; return ``{name: DataArray}``."""
     if not isinstance(values, Mapping):

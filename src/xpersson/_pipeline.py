@@ -125,7 +125,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     return ds
 
 
-def _labels(rs: ResolvedScene, reg: Registry) -> dict[str, str]:
+def _labels(rs: ResolvedScene, reg: Registry) -> dict[str, Any]:
     """Plugin labels (name + distribution) used in error messages."""
     return {
         section: _checks.plugin_label(section, getattr(rs, section), reg,
@@ -135,7 +135,7 @@ def _labels(rs: ResolvedScene, reg: Registry) -> dict[str, str]:
 
 
 def _coefficient_arrays(
-    coef: Any, ctx: SceneContext, who: str
+    coef: Any, ctx: SceneContext, who: Any
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """tau(zeta), f(zeta) and the per-load effective tau [Pa^2], each checked."""
     nz, nl = ctx.zeta.size, ctx.p0.size
@@ -225,7 +225,9 @@ def _assemble(
     return ds
 
 
-def _add(ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec], who: str) -> None:
+def _add(
+    ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec], who: object
+) -> None:
     """Check a plugin's contribution against its VarSpecs (see :mod:`._checks`), then add it."""
     checked = _checks.check_contributions(ds, values, specs, who)
     for name, da in checked.items():
