@@ -274,6 +274,10 @@ def check_spectrum(psd: Any, who: object) -> None:
         c = psd.C(nodes)
     check_array(c, who, "C(q) at the spectrum's nodes", nodes.shape, nonnegative=True,
                 unit="m4")
+    for what, unit in (("h_rms", "m"), ("rms_slope", "1")):
+        with calling(who, f"{what}()"):
+            value = getattr(psd, what)()
+        check_array(value, who, f"{what}()", (), nonnegative=True, unit=unit)
 
 
 # -- walls ---------------------------------------------------------------------------------------

@@ -190,6 +190,8 @@ SPECTRA = {
     "swapped_cutoffs": ({"q_1": 1.0}, ["q_L < q_1"]),
     "nan_nodes": ({"nodes": lambda: np.array([1.0, np.nan])}, ["nodes()", "non-finite"]),
     "raising_build": ({"raise": True}, ["build()", "RuntimeError", "spectrum bug"]),
+    "nan_h_rms": ({"h_rms": lambda: np.nan}, ["h_rms()", "non-finite"]),
+    "raising_slope": ({"rms_slope": _raise}, ["rms_slope()", "ZeroDivisionError"]),
 }
 
 
