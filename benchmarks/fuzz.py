@@ -10,8 +10,9 @@ inside their declared bounds). Each scene runs in a forked worker with a time li
 * ``out_of_range``: an area fraction outside [0, 1], negative P, or a value outside the
   variable's ``valid_min`` / ``valid_max``;
 * ``dishonest``: status ``success`` although the result fails a check it should pass (the
-  probability balance beyond tolerance, or the Persson-01 elastic area off the closed form
-  ``erf(p0 / (2 sqrt(tau)))`` by more than 10x the requested tolerance);
+  probability balance, the plastic force balance or the deviation from the exact two-wall
+  series beyond 10x the requested tolerance, or the Persson-01 elastic area off the closed
+  form ``erf(p0 / (2 sqrt(tau)))`` by more than 10x the requested tolerance);
 * ``crash``: an exception other than a scene refusal (:class:`xpersson.SceneError`) or a caught
   plugin failure (:class:`xpersson.PluginFailure`, counted on its own);
 * ``hang``: the time limit was exceeded (the worker is killed and replaced).
@@ -193,6 +194,12 @@ def check(ds: Any, scene: dict[str, Any]) -> tuple[str, str]:
         if np.nanmax(pb) > 10 * rtol + 1e-9:
             findings["dishonest"].append(f"probability_balance {np.nanmax(pb):.3g} with status "
                                          f"success (rtol {rtol:g})")
+        for name in ("plastic_force_balance_residual", "exact_series_deviation"):
+            if name in ds:
+                dev = np.nanmax(np.abs(np.asarray(ds[name].values)))
+                if dev > 10 * rtol + 1e-9:
+                    findings["dishonest"].append(f"{name} {dev:.3g} with status success "
+                                                 f"(rtol {rtol:g})")
         coef = scene.get("coefficient", {})
         if scene["boundary"]["model"] == "elastic" and coef.get("closure") == "persson01":
             tau = np.asarray(ds["diffusion_time"].values)
