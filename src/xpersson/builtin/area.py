@@ -26,7 +26,8 @@ class ContactArea(Analysis):
     outputs = {
         "mean_contact_pressure": VarSpec(("p0", "zeta"), "Pa", "mean pressure in the real "
                                          "contact area", description="p0 / (A/A0)",
-                                         nan_meaning="no contact (A/A0 = 0)"),
+                                         nan_meaning="no contact (A/A0 = 0, or so small that "
+                                         "p0 / (A/A0) exceeds the float range)"),
         "kappa": VarSpec(("p0",), "1", "area-load slope kappa = (A/A0) E* h'_rms / p0 at "
                          "zeta_max"),
     }
@@ -35,7 +36,9 @@ class ContactArea(Analysis):
         """Mean contact pressure [Pa] and kappa [1]."""
         area = np.asarray(ds["area_fraction"].transpose(..., "p0", "zeta").values, float)
         area = area.reshape(ctx.p0.size, -1)
-        mean_p = np.where(area > 0, ctx.p0[:, None] / np.where(area > 0, area, 1), np.nan)
+        with np.errstate(over="ignore", divide="ignore"):
+            mean_p = ctx.p0[:, None] / np.where(area > 0, area, np.nan)
+        mean_p[~np.isfinite(mean_p)] = np.nan
         slope = float(np.sqrt(2 * np.pi * ctx.psd.moment(3, ctx.q_L, ctx.q[-1])))
         kappa = area[:, -1] * ctx.E_star * slope / ctx.p0
         return {"mean_contact_pressure": (("p0", "zeta"), mean_p), "kappa": (("p0",), kappa)}
