@@ -298,3 +298,24 @@ def _assert_named(exc: BaseException, group_word: str, name: str, words: list[st
     assert "distribution" in msg, msg
     for w in words:
         assert w in msg, f"{w!r} not in {msg!r}"
+
+
+def test_cli_reports_a_plugin_failure_in_one_line_and_writes_nothing(tmp_path, capsys):
+    from xpersson.cli import main
+
+    methods, _ = BOUNDARIES["nan_out"]
+    cls = _boundary("CliNan", DECLARED, **methods)
+    scene = tmp_path / "s.toml"
+    scene.write_text(
+        '[spectrum]\nmodel = "self_affine"\nH = 0.8\nq_L = "1e3 1/m"\nq_1 = "1e6 1/m"\n'
+        'h_rms = "1 um"\n[material]\nE = "10 MPa"\nnu = 0.5\n[load]\np0 = "0.1 MPa"\n'
+        '[boundary]\nmodel = "cli_nan"\n'
+    )
+    out = tmp_path / "o.nc"
+    with registry_with(boundaries={"cli_nan": cls}):
+        code = main(["run", str(scene), "-o", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "boundary plugin 'cli_nan'" in err and "'contact_extra'" in err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
