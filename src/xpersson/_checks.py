@@ -37,6 +37,10 @@ _SHOW = 3  # offending values quoted in a message
 class PluginFailure(RuntimeError):
     """A plugin raised, or returned output that violates its declaration.
 
+    When it wraps an exception raised inside a plugin, the instance is also an instance of
+    that exception's class (``except ValueError`` still catches a plugin's ``ValueError``),
+    with a message naming the plugin.
+
     Attributes
     ----------
     plugin : str
@@ -49,6 +53,40 @@ class PluginFailure(RuntimeError):
         super().__init__(message)
         self.plugin = str(plugin)
         self.variable = variable
+
+    def __reduce__(self) -> Any:  # picklable also in its per-cause subclasses (dask workers)
+        cause = next((b for b in type(self).__bases__ if b is not PluginFailure), None)
+        return (_rebuild, (cause, str(self), self.plugin, self.variable))
+
+
+_FAILURES: dict[type, type] = {}
+
+
+def _failure_class(cause: type | None) -> type:
+    """``PluginFailure`` that is also a ``cause`` (cached; plain PluginFailure if impossible)."""
+    if cause is None or cause is RuntimeError or issubclass(cause, PluginFailure):
+        return PluginFailure
+    if cause not in _FAILURES:
+        try:
+            _FAILURES[cause] = type(f"PluginFailure_{cause.__name__}", (PluginFailure, cause),
+                                    {"__module__": __name__})
+        except TypeError:  # incompatible layout
+            _FAILURES[cause] = PluginFailure
+    return _FAILURES[cause]
+
+
+def _rebuild(cause: type | None, message: str, plugin: str, variable: str | None) -> Any:
+    return _make_failure(cause, message, plugin, variable)
+
+
+def _make_failure(cause: type | None, message: str, plugin: Any, variable: str | None) -> Any:
+    try:
+        exc = _failure_class(cause)(message, plugin=plugin, variable=variable)
+        if str(exc) == message:
+            return exc
+    except Exception:  # a cause class with an unusual constructor
+        pass
+    return PluginFailure(message, plugin=plugin, variable=variable)
 
 
 _GROUP_WORD = {
@@ -159,8 +197,8 @@ def calling(
     except (PluginFailure, MemoryError, *passthrough):
         raise
     except Exception as exc:
-        raise PluginFailure(
-            f"{who}: {what} raised {type(exc).__name__}: {exc}", plugin=who, variable=what
+        raise _make_failure(
+            type(exc), f"{who}: {what} raised {type(exc).__name__}: {exc}", who, what
         ) from exc
 
 

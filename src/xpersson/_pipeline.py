@@ -42,16 +42,34 @@ def solve(
     scene: str | Path | Mapping[str, Any] | Scene,
     *,
     registry: Registry | None = None,
+    scheduler: Any = None,
+    progress: bool | None = False,
+    output: str | Path | None = None,
+    chunk: int | None = None,
+    workers: int | None = None,
     **overrides: Any,
 ) -> xr.Dataset:
-    """Solve a scene and return the Dataset over (p0, zeta[, p]).
+    """Solve a scene and return the Dataset over (sweep dims..., p0, zeta[, p]).
 
     Parameters
     ----------
     scene : path, dict or Scene
         A TOML scene file, the same structure as a dict, or a :class:`~xpersson.Scene`.
+        Sweepable parameters may be lists or ranges (see :mod:`xpersson.sweep`).
     registry : Registry, optional
         Plugin registry (default: the entry-point registry).
+    scheduler : None, str or distributed.Client
+        Where the points of a sweep run: ``None``/``"serial"`` (default), ``"threads"``,
+        ``"processes"`` (a dask ``LocalCluster``), a scheduler address or a ``Client``.
+    progress : bool or None
+        Show a progress bar on stderr (``None``: when stderr is a terminal).
+    output : path, optional
+        Folder for a sweep written as one netCDF part per block plus an index; the returned
+        Dataset is then opened lazily from it (see :func:`xpersson.open_dataset`).
+    chunk : int, optional
+        Points per block (task); default about a quarter of the points per worker.
+    workers : int, optional
+        Worker count for ``"threads"``/``"processes"`` (default: the number of cores).
     **overrides
         ``section__key=value`` replacements, e.g. ``load__p0="1 MPa"``.
 
@@ -70,6 +88,14 @@ def solve(
     if overrides:
         sc = sc.with_values(**{k.replace("__", "."): v for k, v in overrides.items()})
     reg = registry or get_registry()
+    from .sweep import expand
+
+    plan = expand(sc, reg)
+    if plan is not None:
+        from ._sweeprun import solve_sweep
+
+        return solve_sweep(plan, reg, scheduler=scheduler, progress=progress, output=output,
+                           chunk=chunk, workers=workers)
     rs = sc.resolve(reg)
     return run(rs, reg)
 
@@ -108,6 +134,9 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
                          method=rs.method, p_out=p_grid)
         )
     ds = _assemble(rs, ctx, results, tau_c, f_z, tau_eff, p_grid)
+    with _checks.calling(who["coefficient"], "interpret()"):
+        coef_out = coef.interpret(ctx)
+    _add(ds, coef_out, type(coef).outputs, who["coefficient"])
     with _checks.calling(who["boundary"], "interpret()"):
         extra = rs.boundary.interpret(ctx, results)
     _add(ds, extra, type(rs.boundary).outputs, who["boundary"])
@@ -277,3 +306,16 @@ def _attributes(
     )
     if bad or notes:
         warnings.warn(f"xpersson: {message}", XperssonWarning, stacklevel=4)
+
+
+def default_pressure_grid(rs: ResolvedScene) -> np.ndarray:
+    """The pressure grid [Pa] :func:`run` uses for ``rs`` when the scene gives none."""
+    ctx = SceneContext(
+        psd=rs.psd, E=rs.E, nu=rs.nu, E_star=rs.E_star, p0=rs.p0, zeta=rs.zeta,
+        p=None, rtol=rs.rtol, atol=rs.atol, method=rs.method,
+    )
+    coef = rs.coefficient
+    tau_eff = np.asarray(coef.effective_tau(ctx, rs.zeta), float).reshape(rs.p0.size, -1)
+    clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max)
+    walls = [rs.boundary.walls(ctx, float(p0), clock) for p0 in rs.p0]
+    return _pressure_grid(rs, walls, tau_eff)

@@ -39,9 +39,9 @@ MAX_POINTS = 100_000
 """Longest list of loads, magnifications or pressures (as the range form's ``num``)."""
 CORE: dict[str, dict[str, ParamSpec]] = {
     "material": {
-        "E": ParamSpec("Pa", bounds=(0, MAX_PRESSURE), inclusive=(False, True),
+        "E": ParamSpec("Pa", bounds=(0, MAX_PRESSURE), inclusive=(False, True), sweepable=True,
                        description="Young's modulus of the elastic solid"),
-        "nu": ParamSpec("1", bounds=(-1, 0.5), inclusive=(False, True),
+        "nu": ParamSpec("1", bounds=(-1, 0.5), inclusive=(False, True), sweepable=True,
                         description="Poisson ratio"),
     },
     "load": {
@@ -75,7 +75,7 @@ CORE: dict[str, dict[str, ParamSpec]] = {
 }
 PLUGIN_SECTIONS = {"spectrum": "spectra", "coefficient": "coefficients", "boundary": "boundaries"}
 DEFAULT_MODEL = {"coefficient": "elastic", "boundary": "elastic"}
-TOP_LEVEL = {"title", "description", "analyses", *CORE, *PLUGIN_SECTIONS}
+TOP_LEVEL = {"title", "description", "analyses", "sweep", *CORE, *PLUGIN_SECTIONS}
 
 
 @dataclass
@@ -200,6 +200,11 @@ def convert_param(spec: ParamSpec, value: Any, where: str) -> Any:
         if value not in spec.choices:
             raise SceneError(f"{where}: {value!r} is not allowed; {spec.range_text()}")
         return value
+    if spec.sweepable and is_sweep_value(spec, value):
+        raise SceneError(
+            f"{where}: several values sweep this parameter; solve the scene with "
+            "xpersson.solve (each point is resolved on its own)"
+        )
     if spec.kind == "int":
         if isinstance(value, bool) or not isinstance(value, int | float) or value != int(value):
             raise SceneError(f"{where}: expected an integer in {spec.range_text()}, got {value!r}")
@@ -249,36 +254,66 @@ def convert_params(
     return out
 
 
-def _loads(value: Any) -> tuple[np.ndarray, bool]:
-    spec = CORE["load"]["p0"]
+RANGE_KEYS = ("start", "stop", "num", "spacing")
+
+
+def is_sweep_value(spec: ParamSpec, value: Any) -> bool:
+    """Whether ``value`` asks for several values of a scalar parameter (a list or a range
+    table ``{start, stop, num[, spacing]}``)."""
+    if spec.array or spec.kind not in ("quantity", "int"):
+        return False
+    if isinstance(value, list | tuple):
+        return True
+    return isinstance(value, Mapping) and bool(value) and set(value) <= set(RANGE_KEYS)
+
+
+def sweep_values(spec: ParamSpec, value: Any, where: str) -> np.ndarray:
+    """The values of a list or range table ``{start, stop, num, spacing}`` in SI units.
+
+    ``spacing`` is ``"log"`` (default, as for ``load.p0``) or ``"linear"``; every value is
+    checked against the parameter's range.
+    """
     if isinstance(value, Mapping):
-        allowed = {"start", "stop", "num", "spacing"}
-        unknown = sorted(set(value) - allowed)
+        unknown = sorted(set(value) - set(RANGE_KEYS))
         if unknown:
-            raise SceneError(f"load.p0.{unknown[0]}: unknown key; allowed: {sorted(allowed)}")
+            raise SceneError(f"{where}.{unknown[0]}: unknown key; allowed: {list(RANGE_KEYS)}")
         for k in ("start", "stop", "num"):
             if k not in value:
-                raise SceneError(f"load.p0.{k}: required for a load range")
-        start = convert_param(spec, value["start"], "load.p0.start")
-        stop = convert_param(spec, value["stop"], "load.p0.stop")
+                raise SceneError(f"{where}.{k}: required for a range")
+        start = convert_param(spec, value["start"], f"{where}.start")
+        stop = convert_param(spec, value["stop"], f"{where}.stop")
         num = value["num"]
         if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= MAX_POINTS:
-            raise SceneError(f"load.p0.num: expected an integer in [1, {MAX_POINTS}], got {num!r}")
+            raise SceneError(f"{where}.num: expected an integer in [1, {MAX_POINTS}], got {num!r}")
         spacing = value.get("spacing", "log")
         if spacing not in ("log", "linear"):
-            raise SceneError(f"load.p0.spacing: {spacing!r} is not allowed; one of 'log', 'linear'")
+            raise SceneError(f"{where}.spacing: {spacing!r} is not allowed; one of 'log', 'linear'")
         if stop < start:
-            raise SceneError("load.p0: stop must be >= start")
+            raise SceneError(f"{where}: stop must be >= start")
+        if spacing == "log" and start <= 0:
+            raise SceneError(f"{where}: a log-spaced range needs start > 0; use spacing = 'linear'")
         grid = np.geomspace(start, stop, num) if spacing == "log" else np.linspace(start, stop, num)
-        return grid, False
-    if isinstance(value, list | tuple):
-        if not value:
-            raise SceneError(f"load.p0: empty list; give at least one load in {spec.range_text()}")
-        if len(value) > MAX_POINTS:
-            raise SceneError(f"load.p0: {len(value)} loads; at most {MAX_POINTS} are allowed "
-                             f"(as for load.p0.num)")
-        arr = np.array([convert_param(spec, v, f"load.p0[{i}]") for i, v in enumerate(value)])
-        if np.any(np.diff(arr) <= 0):
+        if spec.kind == "int":
+            grid = np.unique(np.round(grid).astype(int))
+        bad = [v for v in grid if not spec.in_bounds(float(v))]
+        if bad:
+            raise SceneError(
+                f"{where}: {bad[0]:g} is outside the allowed range {spec.range_text()}"
+            )
+        return grid
+    if not value:
+        raise SceneError(f"{where}: empty list; give at least one value in {spec.range_text()}")
+    if len(value) > MAX_POINTS:
+        raise SceneError(f"{where}: {len(value)} values; at most {MAX_POINTS} are allowed (as for "
+                         f"{where}.num)")
+    return np.array([convert_param(spec, v, f"{where}[{i}]") for i, v in enumerate(value)])
+
+
+def _loads(value: Any) -> tuple[np.ndarray, bool]:
+    spec = CORE["load"]["p0"]
+    if is_sweep_value(spec, value):
+        arr = sweep_values(spec, value, "load.p0")
+        if not isinstance(value, Mapping) and np.any(np.diff(arr) <= 0):
             raise SceneError("load.p0: loads must be strictly increasing")
         return arr, False
     return np.array([convert_param(spec, value, "load.p0")]), True
@@ -398,6 +433,9 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         raise SceneError(
             f"{unknown[0]}: unknown section or key; allowed: {', '.join(sorted(TOP_LEVEL))}"
         )
+    if "sweep" in data:
+        raise SceneError("sweep: a sweep scene is solved point by point; use xpersson.solve "
+                         "(or xpersson.sweep.expand to list its points)")
     for key in ("title", "description"):
         if key in data and not isinstance(data[key], str):
             raise SceneError(f"{key}: must be a string")

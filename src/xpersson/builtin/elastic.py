@@ -42,6 +42,7 @@ class ElasticCoefficient(Coefficient):
                              choices=("persson01", "yp08", "wm17", "xu24"),
                              description="correction-factor closure of the variance"),
         "gamma": ParamSpec("1", default=None, bounds=(0, 1), inclusive=(False, True),
+                           sweepable=True,
                            description="closure parameter (default 0.42; wm17: 5/9)"),
     }
     outputs: dict[str, VarSpec] = {}

@@ -10,7 +10,7 @@ from ..plugins import ParamSpec, Spectrum
 
 __all__ = ["SelfAffine", "Tabulated"]
 
-_WAVEVECTOR = dict(unit="1/m", bounds=(1e-12, 1e15), inclusive=(True, True))
+_WAVEVECTOR = dict(unit="1/m", bounds=(1e-12, 1e15), inclusive=(True, True), sweepable=True)
 """Wavevectors from 2 pi / (6e9 km) to 2 pi / (6 fm): everything outside is a typo."""
 
 
@@ -25,16 +25,20 @@ class SelfAffine(Spectrum):
     summary = "self-affine isotropic PSD with roll-off, C(q) = C_r (q/q_r)^(-2(1+H))"
     references = ("10.1088/2051-672X/aa51f8", "10.1063/1.1388626")
     parameters = {
-        "H": ParamSpec("1", bounds=(0, 1), inclusive=(False, True), description="Hurst exponent"),
+        "H": ParamSpec("1", bounds=(0, 1), inclusive=(False, True), sweepable=True,
+                       description="Hurst exponent"),
         "q_L": ParamSpec(**_WAVEVECTOR, description="lower cut-off wavevector (2 pi / L)"),
         "q_r": ParamSpec(**_WAVEVECTOR, default=None,
                          description="roll-off wavevector (default q_L: no plateau)"),
         "q_1": ParamSpec(**_WAVEVECTOR, description="upper cut-off wavevector"),
-        "h_rms": ParamSpec("m", default=None, bounds=(0, 1e6), inclusive=(False, True),
+        "h_rms": ParamSpec("m", default=None, sweepable=True,
+                           bounds=(0, 1e6), inclusive=(False, True),
                            description="rms height (give one of h_rms, rms_slope, C_r)"),
-        "rms_slope": ParamSpec("1", default=None, bounds=(0, 1e6), inclusive=(False, True),
+        "rms_slope": ParamSpec("1", default=None, sweepable=True,
+                               bounds=(0, 1e6), inclusive=(False, True),
                                description="rms 2-D gradient (give one of h_rms, rms_slope, C_r)"),
-        "C_r": ParamSpec("m**4", default=None, bounds=(0, 1e60), inclusive=(False, True),
+        "C_r": ParamSpec("m**4", default=None, sweepable=True,
+                         bounds=(0, 1e60), inclusive=(False, True),
                          description="plateau PSD value (give one of h_rms, rms_slope, C_r)"),
     }
 

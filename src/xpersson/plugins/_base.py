@@ -205,6 +205,15 @@ class Coefficient(Plugin):
         t = np.asarray(self.tau(ctx, zeta), dtype=float)
         return np.broadcast_to(t, (ctx.p0.size, t.size)).copy()
 
+    def interpret(self, ctx: SceneContext) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
+        """Variables the coefficient contributes to the Dataset (dims, data).
+
+        E.g. the angular averages of a viscoelastic modulus on the ``zeta`` grid, which
+        downstream analyses read instead of re-deriving them. Returned names must be declared
+        in :attr:`outputs`; the default contributes nothing.
+        """
+        return {}
+
 
 class Boundary(Plugin):
     """The walls of the pressure domain and the meaning of what they absorb.

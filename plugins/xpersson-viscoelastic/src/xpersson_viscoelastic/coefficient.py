@@ -1,0 +1,310 @@
+"""Coefficient plugin ``viscoelastic``: f(zeta; v, T) of a rubber sliding on a rough surface.
+
+Persson (2001), physics.md §4.2: ``G(q) = (1/8) int q'^3 C(q') int_0^2pi |E(q' v cos phi)|^2
+dphi dq' / ((1 - nu^2) p0)^2``, i.e. the elastic theory with ``E*^2`` replaced, scale by scale,
+by the angular mean of ``|E(q v a_T cos phi)|^2 / (1 - nu^2)^2``. One (v, T) point per solve:
+``velocity`` and ``temperature`` are sweepable parameters that the core turns into the Dataset
+dimensions ``v`` and ``T``.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from xpersson.physics import closures
+from xpersson.plugins import Coefficient, ParamSpec, VarSpec
+
+from . import kernel
+from ._modulus import ModulusModel, Prony, sls, synthetic_tread
+from ._shift import WLF, WLF_UNIVERSAL, Arrhenius, NoShift, ShiftLaw
+from ._tables import load_master_curve, load_prony, load_shift_table
+
+if TYPE_CHECKING:  # pragma: no cover
+    from xpersson.plugins import SceneContext
+
+__all__ = ["ViscoelasticCoefficient", "OUTPUTS"]
+
+_PERSSON2001 = "10.1063/1.1388626"
+_WLF1955 = "10.1021/ja01619a008"
+
+OUTPUTS: dict[str, VarSpec] = {
+    "effective_modulus": VarSpec(
+        ("zeta",), "Pa", "angular rms contact modulus at scale q",
+        description="sqrt(<|E(q v a_T cos phi)|^2>_phi) / (1 - nu^2): the E* the elastic theory "
+        "would need at this scale", valid_min=0.0,
+    ),
+    "loss_angular_integral": VarSpec(
+        ("zeta",), "Pa", "angular loss integral at scale q",
+        description="int_0^2pi cos(phi) Im E(q v a_T cos phi) dphi / (1 - nu^2)", valid_min=0.0,
+    ),
+    "loss_integral": VarSpec(
+        ("zeta",), "Pa", "cumulative viscoelastic loss integral L(zeta)",
+        description="int_{q_L}^{zeta q_L} q^3 C(q) int_0^2pi cos(phi) Im E(q v a_T cos phi) dphi "
+        "dq / (1 - nu^2); mu_visc = (1/(2 p0)) int P S dL", valid_min=0.0,
+    ),
+    "sliding_speed": VarSpec((), "m s-1", "sliding speed of the rubber", valid_min=0.0),
+    "rubber_temperature": VarSpec((), "K", "temperature of the rubber", valid_min=0.0),
+    "shift_factor": VarSpec(
+        (), "1", "time-temperature shift factor a_T",
+        description="E(omega, T) = E_ref(a_T omega)", valid_min=0.0,
+    ),
+    "flash_temperature": VarSpec(
+        ("zeta",), "K", "rubber temperature seen at scale q",
+        description="temperature + flash heating from the longer scales (opt-in approximate "
+        "mode; equal to the temperature when flash_temperature is off)", valid_min=0.0,
+    ),
+    "rubbery_modulus": VarSpec((), "Pa", "rubbery (low-frequency) modulus E_r", valid_min=0.0),
+    "glassy_modulus": VarSpec((), "Pa", "glassy (high-frequency) modulus E_g", valid_min=0.0),
+}
+
+
+class ViscoelasticCoefficient(Coefficient):
+    """Diffusion coefficient of a viscoelastic solid sliding at speed ``velocity`` [m/s] at
+    ``temperature`` [K] (Persson 2001), with the elastic coefficient's correction closures.
+
+    Modulus models (``modulus``): ``sls`` (``E_r``, ``E_g``, ``relaxation_time``), ``prony``
+    (``E_r`` plus modes ``delta_E``/``relaxation_times`` inline or ``prony_file``; without modes
+    the synthetic tread-like default of physics.md §4.3 between ``E_r`` and ``E_g``),
+    ``master_curve`` (``master_curve`` file). Shift (``shift``): ``none``, ``wlf`` (``C1``,
+    ``C2``, ``T_ref``), ``arrhenius`` (``activation_energy``, ``T_ref``), ``table``
+    (``shift_table`` file). ``material.nu`` is used; the moduli come from the model (the core's
+    ``material.E`` is not used by this coefficient).
+    """
+
+    summary = "viscoelastic sliding contact: f(zeta; v, T) from E(omega) (Persson 2001)"
+    references = (_PERSSON2001, _WLF1955, "10.1016/j.surfrep.2006.04.001")
+    parameters: ClassVar = {
+        "velocity": ParamSpec("m/s", bounds=(0, None), sweepable=True, dim="v", example=0.01,
+                              description="sliding speed"),
+        "temperature": ParamSpec("K", default=293.15, bounds=(0, None), inclusive=(False, True),
+                                 sweepable=True, dim="T", description="rubber temperature"),
+        "modulus": ParamSpec("1", default="prony", kind="choice",
+                             choices=("sls", "prony", "master_curve"),
+                             description="modulus model at the reference temperature"),
+        "E_r": ParamSpec("Pa", default=3e6, bounds=(0, None), inclusive=(False, True),
+                         description="rubbery modulus (sls, prony)"),
+        "E_g": ParamSpec("Pa", default=3e9, bounds=(0, None), inclusive=(False, True),
+                         description="glassy modulus (sls; synthetic prony default)"),
+        "relaxation_time": ParamSpec("s", default=1e-3, bounds=(0, None), inclusive=(False, True),
+                                     description="relaxation time (sls)"),
+        "delta_E": ParamSpec("Pa", default=None, array=True, bounds=(0, None),
+                             description="Prony mode strengths (with relaxation_times)"),
+        "relaxation_times": ParamSpec("s", default=None, array=True, bounds=(0, None),
+                                      inclusive=(False, True),
+                                      description="Prony relaxation times (with delta_E)"),
+        "prony_file": ParamSpec("1", default=None, kind="path",
+                                description="Prony modes table: tau [s], delta_E [Pa]"),
+        "master_curve": ParamSpec("1", default=None, kind="path",
+                                  description="master curve table: omega [rad/s] (or f [Hz]), "
+                                  "E_storage [Pa], E_loss [Pa]"),
+        "phi_nodes": ParamSpec("1", default=6, bounds=(2, 64), kind="int",
+                               description="Gauss-Legendre nodes in phi per piece between "
+                               "table frequencies (master_curve)"),
+        "shift": ParamSpec("1", default="none", kind="choice",
+                           choices=("none", "wlf", "arrhenius", "table"),
+                           description="time-temperature shift a_T(T)"),
+        "T_ref": ParamSpec("K", default=293.15, bounds=(0, None), inclusive=(False, True),
+                           description="reference temperature of the modulus model"),
+        "C1": ParamSpec("1", default=WLF_UNIVERSAL[0], bounds=(0, None), inclusive=(False, True),
+                        description="WLF C1 (universal 17.44 with T_ref = T_g)"),
+        "C2": ParamSpec("K", default=WLF_UNIVERSAL[1], bounds=(0, None), inclusive=(False, True),
+                        description="WLF C2 (universal 51.6 K with T_ref = T_g)"),
+        "activation_energy": ParamSpec("J/mol", default=None, bounds=(0, None),
+                                       description="Arrhenius activation energy"),
+        "shift_table": ParamSpec("1", default=None, kind="path",
+                                 description="a_T table: T [K], a_T [1]"),
+        "flash_temperature": ParamSpec("1", default=False, kind="bool",
+                                       description="opt-in approximate flash temperature "
+                                       "(physics.md §4.5, structure only)"),
+        "thermal_conductivity": ParamSpec("W/(m*K)", default=0.25, bounds=(0, None),
+                                          inclusive=(False, True),
+                                          description="rubber thermal conductivity (flash)"),
+        "thermal_diffusivity": ParamSpec("m**2/s", default=1e-7, bounds=(0, None),
+                                         inclusive=(False, True),
+                                         description="rubber thermal diffusivity (flash)"),
+        "closure": ParamSpec("1", default="persson01", kind="choice", choices=closures.CLOSURES,
+                             description="correction-factor closure of the variance"),
+        "gamma": ParamSpec("1", default=None, bounds=(0, 1), inclusive=(False, True),
+                           description="closure parameter (default 0.42; wm17: 5/9)"),
+    }
+    outputs: ClassVar = OUTPUTS
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        self._model = build_model(self._params)
+        self._shift = build_shift(self._params)
+        self._shift.check(self._params["temperature"])
+        closures.closure_S(self._params["closure"], 1.0, self._params["gamma"])  # validates
+        self._aT = float(self._shift.aT(self._params["temperature"]))
+        if not (np.isfinite(self._aT) and self._aT > 0):
+            raise ValueError(
+                f"temperature: {self._params['temperature']:g} K gives a shift factor a_T = "
+                f"{self._aT:g} outside (0, inf); choose a temperature closer to T_ref"
+            )
+
+    # -- the model -------------------------------------------------------------------------
+    @property
+    def model(self) -> ModulusModel:
+        """The modulus model at the reference temperature."""
+        return self._model
+
+    @property
+    def shift_factor(self) -> float:
+        """``a_T`` at this coefficient's temperature [1]."""
+        return self._aT
+
+    def _v(self) -> float:
+        return float(self._params["velocity"])
+
+    def _flash(self, psd: Any, nu: float) -> Any:
+        """The solved flash-temperature profile (cached per spectrum and Poisson ratio)."""
+        cached = getattr(self, "_flash_cache", None)
+        if cached is not None and cached[0] is psd and cached[1] == nu:
+            return cached[2]
+        from ._flash import solve_flash
+
+        p = self._params
+        prof = solve_flash(psd, self._model, self._shift, nu, self._v(),
+                           float(p["temperature"]), float(p["thermal_conductivity"]),
+                           float(p["thermal_diffusivity"]))
+        if not prof.converged:
+            raise RuntimeError(
+                f"flash temperature: the fixed point did not converge in {prof.iterations} "
+                "iterations; lower the sliding speed or raise thermal_conductivity"
+            )
+        self._flash_cache = (psd, nu, prof)
+        return prof
+
+    def _ppd(self, ctx: SceneContext) -> int:
+        """q panels per decade: Prony integrands are analytic (4 give ~1e-14); tabulated
+        curves converge at third order (4: ~4e-7, 8: ~5e-8, 16: ~4e-9 relative)."""
+        if not self._model.breakpoints().size:
+            return kernel.PANELS_PER_DECADE
+        return 4 if ctx.rtol >= 1e-6 else (8 if ctx.rtol >= 1e-7 else 16)
+
+    def _a_T_of(self, ctx: SceneContext) -> Any:
+        """``a_T`` [1]: a number, or ``a_T(q)`` with the flash temperature."""
+        if not self._params["flash_temperature"]:
+            return self._aT
+        prof = self._flash(ctx.psd, float(ctx.nu))
+        shift = self._shift
+        return lambda q: shift.aT(prof(q))
+
+    # -- the coefficient contract ------------------------------------------------------------
+    def f(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
+        """f(zeta) [Pa^2] at this (v, T)."""
+        return kernel.coefficient_f(ctx.psd, self._model, ctx.nu, zeta, self._v(),
+                                    self._a_T_of(ctx))
+
+    def tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
+        """tau(zeta) [Pa^2] (Gauss-Legendre in ln q: ~1e-14 relative for Prony/SLS, below the
+        scene's rtol for master curves; exact E_r^2 part)."""
+        return kernel.diffusion_time(ctx.psd, self._model, ctx.nu, zeta, self._v(),
+                                     self._a_T_of(ctx), panels_per_decade=self._ppd(ctx))
+
+    def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
+        """Per-load diffusion time [Pa^2] of the selected correction closure."""
+        return closures.effective_tau(
+            self.tau(ctx, zeta), ctx.p0, self._params["closure"], self._params["gamma"],
+            rtol=1e-10,
+        )
+
+    def interpret(self, ctx: SceneContext) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
+        """The angular integrals and the cumulative loss integral on the output ``zeta``."""
+        zeta = ctx.zeta
+        aT = self._a_T_of(ctx)
+        rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
+        L = kernel.loss_integral(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT,
+                                 panels_per_decade=self._ppd(ctx))
+        T0 = float(self._params["temperature"])
+        if callable(aT):
+            T_q = self._flash(ctx.psd, float(ctx.nu))(zeta * ctx.q_L)
+        else:
+            T_q = np.full(zeta.shape, T0)
+        out = {
+            "effective_modulus": (("zeta",), rms),
+            "loss_angular_integral": (("zeta",), loss),
+            "loss_integral": (("zeta",), L),
+            "flash_temperature": (("zeta",), T_q),
+            "sliding_speed": ((), np.float64(self._v())),
+            "rubber_temperature": ((), np.float64(self._params["temperature"])),
+            "shift_factor": ((), np.float64(self._aT)),
+            "rubbery_modulus": ((), np.float64(self._model.E_r)),
+            "glassy_modulus": ((), np.float64(self._model.E_g)),
+        }
+        return check_outputs(out, OUTPUTS, "coefficient 'viscoelastic'")
+
+
+def check_outputs(
+    values: dict[str, tuple[tuple[str, ...], Any]], specs: dict[str, VarSpec], who: str
+) -> dict[str, tuple[tuple[str, ...], Any]]:
+    """Check dims, finiteness and the declared valid range before values enter a Dataset."""
+    for name, (dims, data) in values.items():
+        spec = specs[name]
+        arr = np.asarray(data, dtype=float)
+        if tuple(dims) != spec.dims or arr.ndim != len(dims):
+            raise RuntimeError(f"{who}: {name!r} has dims {dims}, declared {spec.dims}")
+        if not np.all(np.isfinite(arr)):
+            raise RuntimeError(f"{who}: {name!r} has non-finite values")
+        lo, hi = spec.valid_min, spec.valid_max
+        if (lo is not None and np.any(arr < lo)) or (hi is not None and np.any(arr > hi)):
+            raise RuntimeError(
+                f"{who}: {name!r} outside its declared range [{lo}, {hi}] "
+                f"(min {arr.min():g}, max {arr.max():g})"
+            )
+    return values
+
+
+def build_model(p: dict[str, Any]) -> ModulusModel:
+    """The modulus model named by ``p["modulus"]`` (SI parameters), checked."""
+    kind = p["modulus"]
+    if kind == "sls":
+        if not p["E_g"] >= p["E_r"]:
+            raise ValueError(
+                f"E_g: {p['E_g']:g} Pa is below E_r = {p['E_r']:g} Pa; allowed [E_r, inf) Pa"
+            )
+        return sls(p["E_r"], p["E_g"], p["relaxation_time"])
+    if kind == "master_curve":
+        if p["master_curve"] is None:
+            raise ValueError("master_curve: required for modulus = 'master_curve' (a file path)")
+        return load_master_curve(p["master_curve"], phi_nodes=int(p["phi_nodes"]))
+    inline = p["delta_E"] is not None or p["relaxation_times"] is not None
+    if inline and p["prony_file"] is not None:
+        raise ValueError("prony_file: give either prony_file or delta_E/relaxation_times")
+    if inline:
+        if p["delta_E"] is None or p["relaxation_times"] is None:
+            raise ValueError("delta_E and relaxation_times must be given together")
+        dE = np.atleast_1d(np.asarray(p["delta_E"], dtype=float))
+        tau = np.atleast_1d(np.asarray(p["relaxation_times"], dtype=float))
+        if dE.shape != tau.shape:
+            raise ValueError(
+                f"delta_E ({dE.size} values, Pa) and relaxation_times ({tau.size} values, s) "
+                "must have the same length"
+            )
+        return Prony(p["E_r"], dE, tau)
+    if p["prony_file"] is not None:
+        dE, tau = load_prony(p["prony_file"])
+        return Prony(p["E_r"], dE, tau)
+    if not p["E_g"] >= p["E_r"]:
+        raise ValueError(
+            f"E_g: {p['E_g']:g} Pa is below E_r = {p['E_r']:g} Pa; allowed [E_r, inf) Pa"
+        )
+    return synthetic_tread(p["E_r"], p["E_g"])
+
+
+def build_shift(p: dict[str, Any]) -> ShiftLaw:
+    """The shift law named by ``p["shift"]`` (SI parameters)."""
+    kind = p["shift"]
+    if kind == "wlf":
+        return WLF(float(p["C1"]), float(p["C2"]), float(p["T_ref"]))
+    if kind == "arrhenius":
+        if p["activation_energy"] is None:
+            raise ValueError("activation_energy: required for shift = 'arrhenius' (J/mol, >= 0)")
+        return Arrhenius(float(p["activation_energy"]), float(p["T_ref"]))
+    if kind == "table":
+        if p["shift_table"] is None:
+            raise ValueError("shift_table: required for shift = 'table' (a file path)")
+        return load_shift_table(p["shift_table"])
+    return NoShift()

@@ -1,0 +1,380 @@
+"""Vectorised numerical kernels of the sliding viscoelastic contact (physics.md §4.2).
+
+Everything here is numpy in SI units, vectorised over sliding speeds ``v`` [m/s] and shift
+factors ``a_T`` [1] (temperatures), and shared by the coefficient plugin, the friction analysis
+and the benchmark:
+
+* diffusion time ``tau(zeta; v, T) = (pi/4) int_{q_L}^{zeta q_L} q^3 C(q) <|E(q v a_T cos phi)|^2>
+  dq / (1 - nu^2)^2`` [Pa^2] (``G = tau / p0^2``);
+* cumulative loss integral ``L(zeta; v, T) = int_{q_L}^{zeta q_L} q^3 C(q) int_0^2pi cos(phi)
+  Im E(q v a_T cos phi) dphi dq / (1 - nu^2)`` [Pa];
+* friction ``mu_visc = (1 / (2 p0)) int P(q) S(q) dL`` (:func:`friction_integral`, the one
+  home of the formula) and the stand-alone curve :func:`friction_curve` (Persson01 area).
+
+The q-integrals use Gauss-Legendre rules in ``ln q`` on panels whose edges contain the PSD
+breakpoints, the requested magnifications and a log grid of ``panels_per_decade``; within a
+panel the integrands are analytic, so 8 nodes per quarter decade give ~1e-14 relative. The
+``E_r^2 I3(q)`` part of ``tau`` is taken from the spectrum's exact moment, so ``v = 0``
+reproduces the elastic diffusion time with ``E = E_r`` to round-off.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from xpersson.physics import area_fraction, closure_S, effective_ratio
+
+from ._modulus import ModulusModel
+
+__all__ = [
+    "panel_edges",
+    "diffusion_time",
+    "coefficient_f",
+    "loss_integral",
+    "friction_integral",
+    "stieltjes_increments",
+    "friction_curve",
+]
+
+Array = NDArray[np.float64]
+PANELS_PER_DECADE = 4
+NODES = 8
+
+
+@lru_cache(maxsize=8)
+def _rule(n: int) -> tuple[Array, Array, Array]:
+    """Gauss-Legendre nodes/weights on [-1, 1] and the spectral integration matrix
+    ``Q[i, j] = int_{-1}^{x_i} l_j(x) dx`` (l_j the Lagrange basis on the nodes)."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    V = np.polynomial.legendre.legvander(x, n - 1)  # V[i, k] = P_k(x_i)
+    Vint = np.empty_like(V)
+    for k in range(n):
+        c = np.zeros(n)
+        c[k] = 1.0
+        Vint[:, k] = np.polynomial.legendre.legval(x, np.polynomial.legendre.legint(c, lbnd=-1))
+    return x, w, Vint @ np.linalg.inv(V)
+
+
+def panel_edges(
+    psd: Any, q: ArrayLike, panels_per_decade: int = PANELS_PER_DECADE
+) -> Array:
+    """Panel edges [1/m] from ``q_L`` to ``max(q)``: a log grid, the PSD breakpoints, ``q``."""
+    q = np.atleast_1d(np.asarray(q, dtype=float))
+    q_L = float(psd.q_L)
+    q_hi = max(float(np.max(q)), q_L)
+    n = max(1, int(np.ceil(panels_per_decade * np.log10(q_hi / q_L) - 1e-9)))
+    grid = np.geomspace(q_L, q_hi, n + 1) if q_hi > q_L else np.array([q_L])
+    nodes = np.asarray(psd.nodes(), dtype=float)
+    inner = nodes[(nodes > q_L) & (nodes < q_hi)]
+    edges = np.unique(np.concatenate([grid, inner, np.clip(q, q_L, q_hi), [q_L]]))
+    return edges
+
+
+def _nodes(edges: Array, n: int) -> tuple[Array, Array, float]:
+    """GL nodes q (n_panel, n) in ln q, weights ``dq`` (n_panel, n), and the rule."""
+    x, w, _ = _rule(n)
+    s = np.log(edges)
+    mid, half = 0.5 * (s[1:] + s[:-1]), 0.5 * (s[1:] - s[:-1])
+    qn = np.exp(mid[:, None] + half[:, None] * x)
+    return qn, half[:, None] * w * qn, half
+
+
+def _omega_scale(v: ArrayLike, aT: Any) -> Array:
+    if callable(aT):  # a_T(q) (flash temperature): scalar v only
+        return np.asarray(v, dtype=float)
+    return np.asarray(v, dtype=float) * np.asarray(aT, dtype=float)
+
+
+def _w(v: ArrayLike, aT: Any, q: Array) -> Array:
+    """``w = q v a_T`` with shape ``broadcast(v, aT).shape + q.shape``; ``aT`` may be a
+    callable ``a_T(q)`` (then ``v`` must be a scalar)."""
+    if callable(aT):
+        return float(v) * np.asarray(aT(q), dtype=float) * q
+    scale = _omega_scale(v, aT)
+    return scale.reshape(scale.shape + (1,) * q.ndim) * q
+
+
+def _cumulative_at(
+    psd: Any, model: ModulusModel, zeta: ArrayLike, v: ArrayLike, aT: Any, which: str, n: int,
+    ppd: int,
+) -> Array:
+    """int_{q_L}^{zeta q_L} q^3 C(q) X(q scale) dq at ``zeta``; shape ``scale.shape + zeta``.
+
+    ``X`` is ``mean_sq - E_r^2`` (``which="tau"``) or ``loss`` (``which="loss"``).
+    """
+    z = np.atleast_1d(np.asarray(zeta, dtype=float))
+    q = z * float(psd.q_L)
+    scale = _omega_scale(v, aT)
+    edges = panel_edges(psd, q, ppd)
+    kinks = model.breakpoints()
+    if kinks.size and scale.ndim == 0 and not callable(aT) and float(scale) > 0:
+        # tabulated models: split the q panels where q v a_T crosses a table frequency
+        qk = kinks / float(scale)
+        qk = qk[(qk > edges[0]) & (qk < edges[-1])]
+        edges = np.unique(np.concatenate([edges, qk]))
+    out_shape = scale.shape + z.shape
+    if edges.size < 2:
+        return np.zeros(out_shape)
+    qn, wq, _ = _nodes(edges, n)
+    base = qn**3 * np.asarray(psd.C(qn), dtype=float) * wq  # (n_panel, n)
+    w = _w(v, aT, qn)  # (..., n_panel, n)
+    if which == "tau":
+        X = model.excess_mean_sq(w)
+    else:
+        X = model.angular(w)[1]
+    panel = np.sum(X * base, axis=-1)
+    cum = np.concatenate([np.zeros(scale.shape + (1,)), np.cumsum(panel, axis=-1)], axis=-1)
+    idx = np.searchsorted(edges, np.clip(q, edges[0], edges[-1]))
+    return cum[..., idx].reshape(out_shape)
+
+
+def _checked_nu(nu: float) -> float:
+    if not -1.0 < nu <= 0.5:
+        raise ValueError(f"nu must lie in (-1, 0.5], got {nu!r}")
+    return 1.0 - nu * nu
+
+
+def diffusion_time(
+    psd: Any,
+    model: ModulusModel,
+    nu: float,
+    zeta: ArrayLike,
+    v: ArrayLike = 0.0,
+    aT: ArrayLike = 1.0,
+    *,
+    nodes: int = NODES,
+    panels_per_decade: int = PANELS_PER_DECADE,
+) -> Array:
+    """Diffusion time ``tau(zeta; v, a_T)`` [Pa^2] of the sliding contact.
+
+    Parameters
+    ----------
+    psd : PowerSpectrum
+        Roughness spectrum (``C`` in m^4, ``I3``, ``nodes``, ``q_L`` [1/m]).
+    model : ModulusModel
+        Modulus at the reference temperature.
+    nu : float
+        Poisson ratio [1].
+    zeta : array_like
+        Magnifications [1], >= 1.
+    v, aT : array_like
+        Sliding speed [m/s] and shift factor [1], broadcast together (shape ``S``); ``aT``
+        may also be a callable ``a_T(q)`` of the wavevector [1/m] (flash temperature; then
+        ``v`` is a scalar).
+
+    Returns
+    -------
+    ndarray, shape ``S + zeta.shape``
+    """
+    f = _checked_nu(nu)
+    z = np.atleast_1d(np.asarray(zeta, dtype=float))
+    exact = model.E_r**2 * np.asarray(psd.I3(z * float(psd.q_L)), dtype=float)
+    rest = _cumulative_at(psd, model, z, v, aT, "tau", nodes, panels_per_decade)
+    return (np.pi / 4.0) * (exact + rest) / (f * f)
+
+
+def coefficient_f(
+    psd: Any, model: ModulusModel, nu: float, zeta: ArrayLike, v: ArrayLike = 0.0,
+    aT: ArrayLike = 1.0,
+) -> Array:
+    """Diffusion coefficient ``f = d tau / d zeta = (pi/4) q_L q^3 C(q) <|E|^2> / (1-nu^2)^2``
+    [Pa^2] at ``zeta`` (shape ``broadcast(v, aT).shape + zeta.shape``)."""
+    f = _checked_nu(nu)
+    z = np.atleast_1d(np.asarray(zeta, dtype=float))
+    q = z * float(psd.q_L)
+    mean_sq, _ = model.angular(_w(v, aT, q))
+    return (np.pi / 4.0) * float(psd.q_L) * q**3 * np.asarray(psd.C(q)) * mean_sq / (f * f)
+
+
+def angular_averages(
+    psd: Any, model: ModulusModel, nu: float, zeta: ArrayLike, v: ArrayLike = 0.0,
+    aT: ArrayLike = 1.0,
+) -> tuple[Array, Array]:
+    """``(sqrt(<|E|^2>) / (1 - nu^2) [Pa], int cos(phi) Im E dphi / (1 - nu^2) [Pa])`` at
+    the scales ``q = zeta q_L``."""
+    f = _checked_nu(nu)
+    q = np.atleast_1d(np.asarray(zeta, dtype=float)) * float(psd.q_L)
+    mean_sq, loss = model.angular(_w(v, aT, q))
+    return np.sqrt(mean_sq) / f, loss / f
+
+
+def loss_integral(
+    psd: Any,
+    model: ModulusModel,
+    nu: float,
+    zeta: ArrayLike,
+    v: ArrayLike = 0.0,
+    aT: ArrayLike = 1.0,
+    *,
+    nodes: int = NODES,
+    panels_per_decade: int = PANELS_PER_DECADE,
+) -> Array:
+    """Cumulative loss integral ``L(zeta; v, a_T)`` [Pa] (see the module docstring)."""
+    f = _checked_nu(nu)
+    return _cumulative_at(psd, model, zeta, v, aT, "loss", nodes, panels_per_decade) / f
+
+
+def friction_integral(increments: ArrayLike, p0: ArrayLike) -> Array:
+    """``mu = (1 / (2 p0)) int P S dL``, cumulative along the last axis [1].
+
+    The one home of Persson's viscoelastic friction formula
+    ``mu_visc = (1/2) int dq q^3 C P S int dphi cos(phi) Im E / ((1 - nu^2) p0)``, written with
+    the cumulative loss integral ``L`` [Pa] as ``(1/(2 p0)) int P S dL``.
+
+    Parameters
+    ----------
+    increments : array_like
+        Pieces of ``int P S dL`` [Pa] (quadrature terms ``g_i dL_i`` or per-interval integrals
+        from :func:`stieltjes_increments`), along the last axis.
+    p0 : array_like
+        Nominal pressure(s) [Pa], broadcast against ``increments[..., 0]``.
+    """
+    inc = np.asarray(increments, dtype=float)
+    p0 = np.asarray(p0, dtype=float)
+    return np.cumsum(inc, axis=-1) / (2.0 * p0[..., None])
+
+
+@lru_cache(maxsize=32)
+def _cubic_weights(x: tuple[float, ...]) -> tuple[Array, Array]:
+    """Per-interval weights ``W[i, a, b] = int_{x_i}^{x_i+1} l_a(x) l_b'(x) dx`` of the
+    4-point Lagrange basis of the stencil ``s_i .. s_i + 3`` (``s_i = clip(i - 1, 0, n - 4)``)."""
+    xs = np.asarray(x)
+    n = xs.size
+    W = np.empty((n - 1, 4, 4))
+    start = np.clip(np.arange(n - 1) - 1, 0, n - 4)
+    P = np.polynomial.polynomial
+    for i, s0 in enumerate(start):
+        nodes = xs[s0:s0 + 4] - xs[i]  # shift for conditioning
+        h = xs[i + 1] - xs[i]
+        basis = []
+        for a in range(4):
+            others = np.delete(nodes, a)
+            c = P.polyfromroots(others) / np.prod(nodes[a] - others)
+            basis.append(c)
+        for a in range(4):
+            for b in range(4):
+                prod = P.polymul(basis[a], P.polyder(basis[b]))
+                integ = P.polyint(prod)
+                W[i, a, b] = P.polyval(h, integ) - P.polyval(0.0, integ)
+    return W, start
+
+
+def stieltjes_increments(g: ArrayLike, L: ArrayLike, x: ArrayLike) -> Array:
+    """``int_{x_i}^{x_{i+1}} g dL`` per interval, from values on a grid ``x`` (last axis).
+
+    ``g`` and ``L`` are both interpolated by cubics in ``x`` (4-point stencils; fourth order
+    where they are smooth; trapezoid in ``L`` for fewer than four points). Exactly zero where
+    ``L`` is constant on a stencil, so ``E'' = 0`` gives zero friction exactly. For ``g >= 0``
+    and non-decreasing ``L`` the pieces are non-negative: an interval where the cubic rule
+    would give a negative piece falls back to the trapezoid ``(g_i + g_i+1)/2 (L_i+1 - L_i)``.
+
+    Parameters
+    ----------
+    g : array_like, (..., n)
+        Integrand values (e.g. ``P S``).
+    L : array_like, (..., n)
+        Cumulative measure (e.g. the loss integral [Pa]).
+    x : array_like, (n,)
+        Strictly increasing grid (e.g. ``ln zeta``).
+    """
+    g = np.asarray(g, dtype=float)
+    L = np.asarray(L, dtype=float)
+    xs = np.asarray(x, dtype=float)
+    trap = 0.5 * (g[..., 1:] + g[..., :-1]) * np.diff(L, axis=-1)
+    if xs.size < 4:
+        return trap
+    W, start = _cubic_weights(tuple(float(v) for v in xs))
+    idx = start[:, None] + np.arange(4)  # (n - 1, 4)
+    cubic = np.einsum("...ia,iab,...ib->...i", g[..., idx], W, L[..., idx])
+    return np.where((cubic < 0) & (trap >= 0), trap, cubic)
+
+
+def _area_factor(A: Array, correction: str, gamma: float) -> Array:
+    if correction == "none":
+        return A
+    if correction == "s_factor":
+        return A * closure_S("yp08", A, gamma)
+    raise ValueError(f"correction must be 'none' or 's_factor', got {correction!r}")
+
+
+def friction_curve(
+    psd: Any,
+    model: ModulusModel,
+    nu: float,
+    p0: ArrayLike,
+    v: ArrayLike,
+    aT: ArrayLike = 1.0,
+    *,
+    zeta_max: float | None = None,
+    closure: str = "persson01",
+    closure_gamma: float | None = None,
+    correction: str = "none",
+    gamma: float = 0.5,
+    nodes: int = NODES,
+    panels_per_decade: int = PANELS_PER_DECADE,
+) -> dict[str, Array]:
+    """Stand-alone vectorised ``mu_visc(v, T, p0)`` with the (closure) erf contact area.
+
+    The pipeline's friction analysis reads the solved area from the Dataset instead; this
+    kernel evaluates the area in closed form at every quadrature node (for studies and the
+    benchmark: 50 velocities x 3 temperatures x 40 modes in milliseconds).
+
+    Parameters
+    ----------
+    psd, model, nu
+        As in :func:`diffusion_time`.
+    p0 : array_like, shape (n_p0,)
+        Nominal pressures [Pa].
+    v : array_like, shape (n_v,)
+        Sliding speeds [m/s].
+    aT : array_like, shape (n_T,)
+        Shift factors [1] (one per temperature).
+    zeta_max : float, optional
+        Upper magnification of the integrals (default ``q_1 / q_L``).
+    closure, closure_gamma
+        Correction closure of the contact area (:mod:`xpersson.physics.closures`).
+    correction : {"none", "s_factor"}
+        ``S = 1`` or ``S = gamma + (1 - gamma) P^2`` in ``mu_visc``.
+
+    Returns
+    -------
+    dict
+        ``mu_visc`` and ``area_fraction`` (at ``zeta_max``), shape ``(n_T, n_v, n_p0)``.
+    """
+    fnu = _checked_nu(nu)
+    p0 = np.atleast_1d(np.asarray(p0, dtype=float))
+    scale = np.multiply.outer(np.atleast_1d(np.asarray(aT, dtype=float)),
+                              np.atleast_1d(np.asarray(v, dtype=float)))  # (n_T, n_v)
+    zmax = float(psd.q_1 / psd.q_L) if zeta_max is None else float(zeta_max)
+    edges = panel_edges(psd, [zmax * float(psd.q_L)], panels_per_decade)
+    qn, wq, half = _nodes(edges, nodes)
+    _, wgl, Q = _rule(nodes)
+    q3C = qn**3 * np.asarray(psd.C(qn), dtype=float)
+    excess_sq, loss = model.parts(scale[..., None, None] * qn)  # (n_T, n_v, n_panel, n)
+    # tau at every node: exact E_r^2 I3 plus the spectral cumulative of the excess
+    dens = q3C * qn * excess_sq  # integrand in ln q
+    within = half[:, None] * np.einsum("ij,...pj->...pi", Q, dens)
+    ends = np.sum(half[:, None] * wgl * dens, axis=-1)
+    before = np.concatenate([np.zeros(scale.shape + (1,)), np.cumsum(ends, axis=-1)[..., :-1]],
+                            axis=-1)
+    excess = before[..., None] + within
+    tau = (np.pi / 4.0) * (model.E_r**2 * np.asarray(psd.I3(qn)) + excess) / (fnu * fnu)
+    tau = np.maximum(tau, 0.0)
+    G = tau[..., None, :, :] / (p0[:, None, None] ** 2)  # (n_T, n_v, n_p0, n_panel, n)
+    ratio = effective_ratio(G, closure, closure_gamma) if closure != "persson01" else 1.0
+    A, _ = area_fraction(p0[:, None, None], G * p0[:, None, None] ** 2 * ratio)
+    g = _area_factor(np.asarray(A), correction, gamma)
+    dL = (q3C * wq * loss / fnu)[..., None, :, :]
+    mu = friction_integral((g * dL).reshape(g.shape[:-2] + (-1,)), p0)[..., -1]
+    total = before[..., -1] + ends[..., -1]
+    tau_end = (np.pi / 4.0) * (model.E_r**2 * float(psd.I3(zmax * float(psd.q_L))) + total) / (
+        fnu * fnu
+    )
+    G_end = tau_end[..., None] / p0**2
+    r_end = effective_ratio(G_end, closure, closure_gamma) if closure != "persson01" else 1.0
+    A_end, _ = area_fraction(p0, G_end * p0**2 * r_end)
+    return {"mu_visc": mu, "area_fraction": np.asarray(A_end)}

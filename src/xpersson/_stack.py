@@ -1,0 +1,230 @@
+"""Stack the per-point Datasets of one block of a sweep into one Dataset (numpy, no pint).
+
+Runs on the workers: a block of points is solved by the ordinary pipeline and reduced to one
+Dataset whose every variable carries the block's sweep dimensions in front of its own. A point
+that raised is filled with NaN (``""`` for strings) and flagged in ``point_status``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+__all__ = ["Block", "BlockResult", "run_block", "stack", "POINT_STATUS"]
+
+
+POINT_STATUS = {"success": 0, "tolerance_not_met": 1, "failed": 2}
+
+
+@dataclass(frozen=True)
+class Block:
+    """A hyper-rectangle of sweep points.
+
+    Attributes
+    ----------
+    number : int
+        Position of the block in C order of the block grid.
+    grid_index : tuple of int
+        Position of the block along each sweep dimension (in blocks).
+    start, stop : tuple of int
+        Index range of the block along each sweep dimension.
+    dims : tuple of str
+        The sweep dimensions.
+    coords : dict
+        name -> (dim, values of this block, attrs) of the sweep coordinates.
+    """
+
+    number: int
+    grid_index: tuple[int, ...]
+    start: tuple[int, ...]
+    stop: tuple[int, ...]
+    dims: tuple[str, ...]
+    coords: dict[str, tuple[str, np.ndarray, dict[str, Any]]]
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(b - a for a, b in zip(self.start, self.stop, strict=True))
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape))
+
+
+@dataclass
+class BlockResult:
+    """What a worker sends back: the block's Dataset (or the part file it wrote) and a summary."""
+
+    block: Block
+    dataset: xr.Dataset | None
+    part: str | None
+    status: np.ndarray
+    messages: dict[int, str]
+    digests: dict[str, list[str | None]] = field(default_factory=dict)
+    solver: list[dict[str, Any]] = field(default_factory=list)
+
+
+def run_block(
+    block: Block,
+    points: list[Any],
+    registry: Any,
+    part: str | None = None,
+    quiet_warnings: bool = True,
+    callback: Any = None,
+) -> BlockResult:
+    """Solve the points of a block and stack them (the task a worker runs).
+
+    Parameters
+    ----------
+    block : Block
+        The block.
+    points : list of ResolvedScene
+        The resolved scenes of its points, in C order.
+    registry : Registry
+        Plugin registry (pickles).
+    part : str, optional
+        Write the stacked Dataset to this netCDF file and return only the summary.
+    quiet_warnings : bool
+        Silence :class:`~xpersson.XperssonWarning` per point (statuses are recorded instead).
+    callback : callable, optional
+        Called with no argument after each point (progress in the serial path).
+    """
+    from . import _pipeline
+
+    results: list[xr.Dataset | None] = []
+    status = np.zeros(block.size, dtype=np.int8)
+    messages: dict[int, str] = {}
+    for k, rs in enumerate(points):
+        try:
+            with warnings.catch_warnings():
+                if quiet_warnings:
+                    warnings.simplefilter("ignore", _pipeline.XperssonWarning)
+                ds = _pipeline.run(rs, registry)
+        except Exception as exc:  # noqa: BLE001 - a failing point is recorded, not fatal
+            results.append(None)
+            status[k] = POINT_STATUS["failed"]
+            messages[k] = f"{type(exc).__name__}: {exc}"
+        else:
+            results.append(ds)
+            if ds.attrs.get("status") != "success":
+                status[k] = POINT_STATUS["tolerance_not_met"]
+                messages[k] = f"{ds.attrs.get('status')}: {ds.attrs.get('status_message')}"
+        if callback is not None:
+            callback()
+    solver = [json.loads(ds.attrs["xpersson_solver"]) for ds in results if ds is not None]
+    if all(ds is None for ds in results):
+        return BlockResult(block, None, None, status.reshape(block.shape), messages)
+    ds = stack(results, block, status.reshape(block.shape))
+    out = BlockResult(block, ds, None, status.reshape(block.shape), messages,
+                      _digests(results, ds, block), solver)
+    if part is not None:
+        from .io import to_netcdf
+
+        to_netcdf(ds, part, overwrite=True)
+        out.dataset, out.part = None, part
+    return out
+
+
+def _own_names(template: xr.Dataset, block: Block) -> list[str]:
+    """Variables of a point Dataset that get the sweep dimensions (not the index coordinates)."""
+    skip = set(block.coords) | set(template.indexes)
+    names = [n for n in template.data_vars if n not in skip]
+    names += [n for n, c in template.coords.items() if n not in skip and c.dims]
+    return names
+
+
+def stack(results: list[xr.Dataset | None], block: Block, status: np.ndarray,
+          template: xr.Dataset | None = None) -> xr.Dataset:
+    """Stack point Datasets (``None`` for a failed point) into the block's Dataset."""
+    ok = [ds for ds in results if ds is not None]
+    template = ok[0] if ok else template
+    if template is None:
+        raise ValueError("a block needs at least one solved point or a template")
+    if "q_psd" in template.dims:
+        nodes = [ds["q_psd"].values for ds in ok]
+        if any(len(n) != len(nodes[0]) or not np.array_equal(n, nodes[0]) for n in nodes):
+            union = np.unique(np.concatenate(nodes))
+            results = [None if ds is None else ds.reindex(q_psd=union) for ds in results]
+            template = template.reindex(q_psd=union)
+    for name in ("zeta", "p"):
+        if name in template.indexes:
+            for ds in results:
+                if ds is not None and not np.array_equal(ds[name].values, template[name].values):
+                    raise ValueError(f"points of a sweep must share the {name} grid")
+    names = _own_names(template, block)
+    shape = block.shape
+    dims = block.dims
+    data_vars: dict[str, Any] = {}
+    coords: dict[str, Any] = {}
+    for name in names:
+        var = template[name]
+        fill = _fill(var)
+        arrs = [
+            np.asarray(ds[name].values) if ds is not None and name in ds.variables else fill
+            for ds in results
+        ]
+        arr = np.stack(arrs).reshape(shape + var.shape)
+        entry = (dims + var.dims, arr, dict(var.attrs))
+        if name in template.coords:
+            coords[name] = entry
+        else:
+            data_vars[name] = entry
+    for name, index in template.indexes.items():
+        if name not in block.coords:
+            coords[name] = (template[name].dims, index.values, dict(template[name].attrs))
+    for name, c in template.coords.items():
+        if not c.dims and name not in coords:
+            coords[name] = ((), c.values, dict(c.attrs))
+    for name, (dim, values, attrs) in block.coords.items():
+        coords[name] = ((dim,), values, dict(attrs))
+    data_vars["point_status"] = (dims, status.astype(np.int8), {
+        "units": "1",
+        "long_name": "status of the sweep point",
+        "flag_values": np.array(list(POINT_STATUS.values()), dtype=np.int8),
+        "flag_meanings": " ".join(POINT_STATUS),
+        "coverage_content_type": "qualityInformation",
+    })
+    ds = xr.Dataset(data_vars, coords=coords, attrs=dict(template.attrs))
+    order = [n for n in template.data_vars if n in ds.data_vars] + ["point_status"]
+    return ds[order]
+
+
+def _fill(var: xr.DataArray) -> np.ndarray:
+    kind = var.dtype.kind
+    if kind in "fc":
+        return np.full(var.shape, np.nan, dtype=var.dtype)
+    if kind in "OUS":
+        return np.full(var.shape, "", dtype=object)
+    if kind == "b":
+        return np.zeros(var.shape, dtype=bool)
+    flags = var.attrs.get("flag_values")
+    fill = -1 if flags is None else np.max(np.atleast_1d(flags)) + 1
+    return np.full(var.shape, fill, dtype=var.dtype)
+
+
+def _digests(results: list[xr.Dataset | None], ds: xr.Dataset, block: Block
+             ) -> dict[str, list[str | None]]:
+    """Per point fingerprints of every stacked variable (``None`` for a failed point)."""
+    out: dict[str, list[str | None]] = {}
+    for name in ds.variables:
+        if name in block.coords or name == "point_status" or name in ds.indexes:
+            continue
+        if not set(block.dims) <= set(ds[name].dims):
+            continue
+        out[name] = [
+            None if r is None else _digest(np.asarray(r[name].values)) if name in r.variables
+            else "missing"
+            for r in results
+        ]
+    return out
+
+
+def _digest(arr: np.ndarray) -> str:
+    if arr.dtype.kind == "O":
+        return hashlib.sha1(repr(arr.tolist()).encode()).hexdigest()
+    return hashlib.sha1(np.ascontiguousarray(arr).tobytes() + str(arr.shape).encode()).hexdigest()

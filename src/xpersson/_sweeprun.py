@@ -1,0 +1,420 @@
+"""Run a sweep: resolve every point first, split into blocks, execute, combine.
+
+Schedulers: ``None``/``"serial"`` (default, in this process), ``"threads"`` (a thread pool),
+``"processes"`` (a :class:`dask.distributed.LocalCluster`, one single-threaded worker process per
+core), the address of a running dask scheduler (``"tcp://host:8786"``) or a
+:class:`distributed.Client`. Tasks carry resolved scenes (SI floats, numpy arrays, plugin
+instances) and return stacked numpy-backed Datasets or write netCDF parts; no pint object
+enters the task graph.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import os
+import sys
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ._stack import POINT_STATUS, Block, BlockResult, run_block, stack
+from .scene import SceneError
+from .sweep import SweepPlan
+
+__all__ = ["solve_sweep", "blocks_of", "combine", "INDEX"]
+
+INDEX = "xpersson_index.json"
+
+
+def blocks_of(plan: SweepPlan, points_per_block: int) -> list[Block]:
+    """Split the sweep grid into hyper-rectangles of about ``points_per_block`` points."""
+    shape = plan.shape
+    block = [1] * len(shape)
+    remaining = max(1, int(points_per_block))
+    for d in range(len(shape) - 1, -1, -1):
+        b = min(shape[d], remaining)
+        block[d] = b
+        if b < shape[d]:
+            break
+        remaining //= shape[d]
+        if remaining < 1:
+            break
+    counts = [math.ceil(n / b) for n, b in zip(shape, block, strict=True)]
+    coords = plan.coords()
+    out = []
+    for number, gi in enumerate(np.ndindex(*counts)):
+        start = tuple(g * b for g, b in zip(gi, block, strict=True))
+        stop = tuple(min(s + b, n) for s, b, n in zip(start, block, shape, strict=True))
+        bc = {}
+        for name, (dim, values, attrs) in coords.items():
+            d = plan.dims.index(dim)
+            bc[name] = (dim, values[start[d]:stop[d]], attrs)
+        out.append(Block(number, tuple(gi), start, stop, plan.dims, bc))
+    return out
+
+
+def _resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
+    """Resolve every point before any work (bad input fails here, naming the point)."""
+    points = []
+    for index in plan.indices():
+        try:
+            points.append(plan.point_scene(index).resolve(registry))
+        except SceneError as exc:
+            where = ", ".join(
+                f"{g[0].path} = {g[0].values[i]:g}" for g, i in zip(plan.groups, index, strict=True)
+            )
+            raise SceneError(f"sweep point {where}: {exc}") from None
+    zeta = points[0].zeta
+    for rs in points[1:]:
+        if rs.zeta.shape != zeta.shape or not np.array_equal(rs.zeta, zeta):
+            raise SceneError(
+                "sweep: the swept parameters change the magnification grid (q_1/q_L differs "
+                "between points); give output.zeta_max (at most the smallest q_1/q_L) or "
+                "output.zeta so that every point shares one grid"
+            )
+    if points[0].pressure_pdf and points[0].p is None:
+        grid = _common_pressure_grid(points)
+        points = [dataclasses.replace(rs, p=grid) for rs in points]
+    return points
+
+
+def _common_pressure_grid(points: list[Any]) -> np.ndarray:
+    """One pressure grid covering every point's default grid (same number of points)."""
+    from . import _pipeline
+
+    lo, hi = math.inf, -math.inf
+    for rs in points:
+        grid = _pipeline.default_pressure_grid(rs)
+        lo, hi = min(lo, float(grid[0])), max(hi, float(grid[-1]))
+    return np.linspace(lo, hi, points[0].p_points)
+
+
+def _points_per_block(plan: SweepPlan, workers: int, requested: int | None) -> int:
+    if requested is not None:
+        if requested < 1:
+            raise ValueError(f"chunk: points per block must be >= 1, got {requested}")
+        return int(requested)
+    return max(1, math.ceil(plan.size / (4 * max(1, workers))))
+
+
+def _progress_bar(total: int, progress: bool | None, desc: str) -> Any:
+    show = sys.stderr.isatty() if progress is None else bool(progress)
+    if not show:
+        return None
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:  # pragma: no cover - optional extra
+        warnings.warn("progress needs tqdm: pip install 'xpersson[progress]'", stacklevel=3)
+        return None
+    return tqdm(total=total, desc=desc, unit="point", file=sys.stderr, dynamic_ncols=True)
+
+
+def solve_sweep(
+    plan: SweepPlan,
+    registry: Any,
+    *,
+    scheduler: Any = None,
+    progress: bool | None = False,
+    output: str | os.PathLike[str] | None = None,
+    chunk: int | None = None,
+    workers: int | None = None,
+) -> xr.Dataset:
+    """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`)."""
+    points = _resolve_points(plan, registry)
+    client, own_cluster, n_workers = _client(scheduler, workers)
+    try:
+        blocks = blocks_of(plan, _points_per_block(plan, n_workers, chunk))
+        folder = None
+        if output is not None:
+            folder = Path(output)
+            folder.mkdir(parents=True, exist_ok=True)
+        parts = {
+            b.number: (None if folder is None else str(folder / f"part-{b.number:05d}.nc"))
+            for b in blocks
+        }
+        tasks = [(b, _block_points(plan, points, b), parts[b.number]) for b in blocks]
+        bar = _progress_bar(plan.size, progress, "xpersson sweep")
+        try:
+            results = _execute(tasks, registry, scheduler, client, bar)
+        finally:
+            if bar is not None:
+                bar.close()
+    finally:
+        if own_cluster is not None:
+            client.close()
+            own_cluster.close()
+    return _finish(plan, points, blocks, results, folder)
+
+
+def _block_points(plan: SweepPlan, points: list[Any], block: Block) -> list[Any]:
+    flat = np.arange(plan.size).reshape(plan.shape)
+    sl = tuple(slice(a, b) for a, b in zip(block.start, block.stop, strict=True))
+    return [points[i] for i in flat[sl].ravel()]
+
+
+def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any, int]:
+    """(client, cluster we own, number of workers) for a scheduler request."""
+    if scheduler in (None, "serial", "synchronous", "sync"):
+        return None, None, 1
+    if scheduler == "threads":
+        return None, None, workers or os.cpu_count() or 1
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError as exc:
+        raise ImportError(
+            f"scheduler={scheduler!r} needs dask.distributed: pip install 'xpersson[parallel]'"
+        ) from exc
+    if isinstance(scheduler, Client):
+        return scheduler, None, max(1, len(scheduler.scheduler_info().get("workers", {})))
+    if scheduler == "processes":
+        n = workers or os.cpu_count() or 1
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=40)
+        return Client(cluster), cluster, n
+    if isinstance(scheduler, str) and "://" in scheduler or isinstance(scheduler, str) and (
+        ":" in scheduler
+    ):
+        client = Client(scheduler)
+        return client, client, max(1, len(client.scheduler_info().get("workers", {})))
+    raise ValueError(
+        f"scheduler: {scheduler!r} is not allowed; one of None/'serial', 'threads', 'processes', "
+        "a scheduler address 'tcp://host:port' or a distributed.Client"
+    )
+
+
+def _execute(
+    tasks: list[tuple[Block, list[Any], str | None]],
+    registry: Any,
+    scheduler: Any,
+    client: Any,
+    bar: Any,
+) -> list[BlockResult]:
+    tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
+    if client is None and scheduler != "threads":
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return [run_block(b, pts, registry, part, True, tick) for b, pts, part in tasks]
+    if client is None:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+                futures = [pool.submit(run_block, b, pts, registry, part, False, tick)
+                           for b, pts, part in tasks]
+                return [f.result() for f in futures]
+    from distributed import as_completed
+
+    futures = [
+        client.submit(run_block, b, pts, registry, part, True, None, pure=False,
+                      key=f"xpersson-block-{b.number}-{os.getpid()}-{id(tasks)}")
+        for b, pts, part in tasks
+    ]
+    if bar is not None:
+        for fut in as_completed(futures):
+            bar.update(fut.result().block.size)
+    results = client.gather(futures)
+    return list(results)
+
+
+def _finish(
+    plan: SweepPlan,
+    points: list[Any],
+    blocks: list[Block],
+    results: list[BlockResult],
+    folder: Path | None,
+) -> xr.Dataset:
+    status = np.zeros(plan.shape, dtype=np.int8)
+    messages: list[dict[str, Any]] = []
+    coords = plan.coords()
+    for res in results:
+        b = res.block
+        status[tuple(slice(a, c) for a, c in zip(b.start, b.stop, strict=True))] = res.status
+        for k, msg in sorted(res.messages.items()):
+            local = np.unravel_index(k, b.shape)
+            index = tuple(int(a + i) for a, i in zip(b.start, local, strict=True))
+            where = {name: float(values[index[plan.dims.index(dim)]])
+                     for name, (dim, values, _) in coords.items()}
+            st = int(res.status.ravel()[k])
+            messages.append({"point": where, "status": _status_name(st), "message": msg})
+    ok = [r for r in results if r.dataset is not None or r.part is not None]
+    if not ok:
+        raise RuntimeError("every point of the sweep failed; first: "
+                           + (messages[0]["message"] if messages else "no message"))
+    template = _template(ok[0])
+    for res in results:  # blocks where every point failed: NaN blocks from a template
+        if res.dataset is None and res.part is None:
+            empty = [None] * res.block.size
+            ds = stack(empty, res.block, res.status, template=template)
+            if folder is not None:
+                from .io import to_netcdf
+
+                res.part = str(folder / f"part-{res.block.number:05d}.nc")
+                to_netcdf(ds, res.part, overwrite=True)
+            else:
+                res.dataset = ds
+    constant = _constant_dims(plan, results)
+    attrs = _global_attrs(plan, points, results, status, messages, template)
+    if folder is not None:
+        index = {
+            "format": "xpersson-parts-1",
+            "dims": list(plan.dims),
+            "shape": list(plan.shape),
+            "parts": [[list(r.block.grid_index), Path(r.part).name] for r in results],
+            "constant": constant,
+            "attrs": attrs,
+        }
+        tmp = folder / f".{INDEX}.tmp"
+        tmp.write_text(json.dumps(index, indent=1), encoding="utf-8")
+        os.replace(tmp, folder / INDEX)
+        from .io import open_parts
+
+        return open_parts(folder)
+    ds = combine([r.dataset for r in results], [r.block.grid_index for r in results], plan.dims)
+    return finalize(ds, constant, attrs)
+
+
+def _template(res: BlockResult) -> xr.Dataset:
+    if res.dataset is not None:
+        return res.dataset.isel({d: slice(0, 1) for d in res.block.dims})
+    from .io import ENGINE
+
+    with xr.open_dataset(res.part, engine=ENGINE) as ds:
+        return ds.isel({d: slice(0, 1) for d in res.block.dims}).load()
+
+
+def _status_name(code: int) -> str:
+    return {v: k for k, v in POINT_STATUS.items()}[code]
+
+
+def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, list[str]]:
+    """For each stacked variable, the sweep dimensions along which it never changes (failed
+    points do not count)."""
+    names = {n for r in results for n in r.digests}
+    out: dict[str, list[str]] = {}
+    for name in names:
+        grid = np.full(plan.shape, None, dtype=object)
+        for r in results:
+            b = r.block
+            sl = tuple(slice(a, c) for a, c in zip(b.start, b.stop, strict=True))
+            if name in r.digests:
+                grid[sl] = np.array(r.digests[name], dtype=object).reshape(b.shape)
+        dims = []
+        for d, dim in enumerate(plan.dims):
+            if plan.shape[d] < 2:  # one value says nothing about a dependence: keep the dim
+                continue
+            moved = np.moveaxis(grid, d, -1).reshape(-1, plan.shape[d])
+            if all(len({x for x in row if x is not None}) <= 1 for row in moved):
+                dims.append(dim)
+        if dims:
+            out[name] = dims
+    return out
+
+
+def combine(datasets: list[Any], grid_index: list[tuple[int, ...]], dims: tuple[str, ...]) -> Any:
+    """Combine block Datasets (in memory or lazily opened) into one over the sweep grid."""
+    counts = [max(g[d] for g in grid_index) + 1 for d in range(len(dims))]
+    nested: Any = np.empty(counts, dtype=object)
+    for ds, g in zip(datasets, grid_index, strict=True):
+        nested[g] = ds
+    return xr.combine_nested(
+        nested.tolist(), concat_dim=list(dims), data_vars="minimal", coords="minimal",
+        join="outer", compat="override", combine_attrs="override",
+    )
+
+
+def finalize(ds: xr.Dataset, constant: dict[str, list[str]], attrs: dict[str, Any]) -> xr.Dataset:
+    """Drop the sweep dimensions along which a variable never changes; set the sweep's attrs.
+
+    The kept value is the one of any solved point (failed points hold NaN and are skipped).
+    """
+    for name, dims in constant.items():
+        if name not in ds.variables:
+            continue
+        var = ds[name]
+        dims = [d for d in dims if d in var.dims]
+        if var.dtype.kind in "fc":
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                reduced = var.max(dims, skipna=True, keep_attrs=True)
+        elif var.dtype.kind in "iub":
+            ok = ds["point_status"] != POINT_STATUS["failed"]
+            reduced = var.where(ok, var.min()).max(dims, keep_attrs=True).astype(var.dtype)
+        else:
+            reduced = var.isel({d: 0 for d in dims}, drop=True)
+        reduced.attrs = dict(var.attrs)
+        if name in ds.coords:
+            ds = ds.assign_coords({name: reduced})
+        else:
+            ds[name] = reduced
+    ds.attrs = dict(attrs)
+    return ds
+
+
+def _global_attrs(
+    plan: SweepPlan,
+    points: list[Any],
+    results: list[BlockResult],
+    status: np.ndarray,
+    messages: list[dict[str, Any]],
+    template: xr.Dataset,
+) -> dict[str, Any]:
+    attrs = dict(template.attrs)
+    resolved = json.loads(attrs.get("xpersson_scene", "{}")) or dict(points[0].resolved)
+    for param in plan.params:
+        node = resolved
+        parts = param.path.split(".")
+        for part in parts[:-1]:
+            node = node.setdefault(part, {})
+        node[parts[-1]] = [param.scene_value(i) for i in range(len(param.values))]
+    if points[0].p is not None and plan.base.get("output", {}).get("p") is None and (
+        points[0].pressure_pdf
+    ):
+        resolved.setdefault("output", {})["p"] = [f"{float(x)!r} Pa" for x in points[0].p]
+    sweep_table = dict(plan.scene.data.get("sweep", {}))
+    if sweep_table:
+        resolved["sweep"] = sweep_table
+    attrs["xpersson_scene"] = json.dumps(resolved, sort_keys=True)
+    attrs["xpersson_sweep"] = json.dumps({
+        "dims": list(plan.dims),
+        "shape": list(plan.shape),
+        "parameters": {p.path: p.name for p in plan.params},
+        "points": int(plan.size),
+        "blocks": len(results),
+    })
+    n_bad = int(np.count_nonzero(status))
+    n_fail = int(np.count_nonzero(status == POINT_STATUS["failed"]))
+    if n_bad == 0:
+        attrs["status"] = "success"
+        attrs["status_message"] = f"all {plan.size} sweep points met the requested tolerance"
+    else:
+        attrs["status"] = "failed" if n_fail else "tolerance_not_met"
+        head = "; ".join(
+            ", ".join(f"{k} = {v:g}" for k, v in m["point"].items()) + f": {m['message']}"
+            for m in messages[:3]
+        )
+        attrs["status_message"] = (
+            f"{n_bad} of {plan.size} sweep points did not succeed ({n_fail} failed): {head}"
+        )
+    attrs["xpersson_point_messages"] = json.dumps(messages)
+    solver = [s for r in results for s in r.solver]
+    if solver:
+        attrs["xpersson_solver"] = json.dumps({
+            "method": solver[0].get("method"),
+            "methods_used": sorted({m for s in solver for m in s.get("methods_used", [])}),
+            "rtol": solver[0].get("rtol"),
+            "atol": solver[0].get("atol"),
+            "max_error_estimate": float(max(s.get("max_error_estimate", 0.0) for s in solver)),
+            "work": {
+                "nsteps": int(sum(s.get("work", {}).get("nsteps", 0) for s in solver)),
+                "wall_time_s": float(sum(s.get("work", {}).get("wall_time_s", 0.0)
+                                         for s in solver)),
+            },
+        })
+    return attrs

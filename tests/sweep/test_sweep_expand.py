@@ -1,0 +1,111 @@
+"""Sweeps: any sweepable parameter takes a list or a range; one dimension per parameter."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from xpersson_sweep_testlib import SlidingCoefficient, scene
+
+import xpersson
+from xpersson.plugins import ParamSpec
+from xpersson.scene import SceneError
+from xpersson.testing import registry_with
+
+SWEEP_SCENE = scene(spectrum={"H": [0.6, 0.8]}, material={"E": ["5 MPa", "10 MPa", "20 MPa"]})
+
+
+@pytest.fixture(scope="module")
+def swept() -> xr.Dataset:
+    return xpersson.solve(SWEEP_SCENE)
+
+
+def _single(E: float, H: float) -> xr.Dataset:
+    return xpersson.solve(scene(spectrum={"H": H}, material={"E": f"{E!r} Pa"}))
+
+
+def test_dims_units_and_order(swept):
+    assert swept.area_fraction.dims == ("H", "E", "p0", "zeta")
+    assert swept["E"].attrs["units"] == "Pa" and swept["H"].attrs["units"] == "1"
+    assert swept["E"].attrs["xpersson_parameter"] == "material.E"
+    np.testing.assert_array_equal(swept["E"].values, [5e6, 1e7, 2e7])
+    # variables that do not depend on a swept parameter keep only the dims they depend on
+    assert swept.psd_C.dims == ("H", "q_psd")
+    assert swept.E_star.dims == ("E",)
+    assert swept.point_status.dims == ("H", "E") and int(swept.point_status.max()) == 0
+
+
+def test_sweep_equals_stacked_individual_solves(swept):
+    for H in (0.6, 0.8):
+        for E in (5e6, 1e7, 2e7):
+            one = _single(E, H)
+            for name in ("area_fraction", "non_contact_fraction", "G", "psd_C", "E_star"):
+                var = swept[name]
+                got = var.sel({k: v for k, v in {"E": E, "H": H}.items() if k in var.dims})
+                np.testing.assert_array_equal(got.values, one[name].values, err_msg=name)
+
+
+@pytest.mark.parametrize(("H", "nu"), [([1.0], 0.25), ([0.3, 0.9, 0.6], 0.4)])
+def test_zipped_group_equals_individual_solves(H, nu):
+    nus = [nu + 0.01 * i for i in range(len(H))]
+    sc = scene(spectrum={"H": H}, material={"nu": nus})
+    sc["sweep"] = {"mode": "zip"}
+    ds = xpersson.solve(sc)
+    assert ds.area_fraction.dims == ("H", "p0", "zeta")  # named after the first parameter
+    assert ds["nu"].dims == ("H",)
+    for i, (h, n) in enumerate(zip(H, nus, strict=True)):
+        one = xpersson.solve(scene(spectrum={"H": h}, material={"nu": n}))
+        np.testing.assert_array_equal(ds.area_fraction.isel(H=i).values,
+                                      one.area_fraction.values)
+
+
+def test_plugin_declared_dims_v_and_T():
+    sc = scene(coefficient={"model": "sliding", "velocity": ["0 m/s", "1 m/s"],
+                            "temperature": {"start": "250 K", "stop": "350 K", "num": 3,
+                                            "spacing": "linear"}})
+    with registry_with(coefficients={"sliding": SlidingCoefficient}):
+        ds = xpersson.solve(sc)
+        one = xpersson.solve(scene(coefficient={"model": "sliding", "velocity": "1 m/s",
+                                                "temperature": "300 K"}))
+    assert ds.area_fraction.dims == ("v", "T", "p0", "zeta")
+    assert ds["v"].attrs["units"] == "m s-1" and ds["T"].attrs["units"] == "K"
+    np.testing.assert_array_equal(ds["T"].values, [250.0, 300.0, 350.0])
+    np.testing.assert_array_equal(ds.area_fraction.sel(v=1.0, T=300.0).values,
+                                  one.area_fraction.values)
+    # each point saw its own scalar values: tau scales as (1 + v) T / 293 K
+    tau = ds.diffusion_time.isel(zeta=slice(1, None))
+    np.testing.assert_allclose(tau.isel(v=1, T=2) / tau.isel(v=0, T=0), 2 * 350 / 250,
+                               rtol=1e-12)
+
+
+def test_naming_rule_falls_back_to_the_dotted_path():
+    ds = xpersson.solve(scene(spectrum={"h_rms": ["0.5 um", "1 um"]}))
+    assert "spectrum_h_rms" in ds.dims and ds.h_rms.dims == ("spectrum_h_rms",)
+    np.testing.assert_allclose(ds.h_rms.values, [0.5e-6, 1e-6], rtol=1e-12)
+
+
+def test_collisions_and_bad_sweeps_are_refused():
+    class Clash(SlidingCoefficient):
+        parameters = {**SlidingCoefficient.parameters,
+                      "speed2": SlidingCoefficient.parameters["velocity"],
+                      "fixed": ParamSpec("1", default=1.0, description="not sweepable")}
+
+    with registry_with(coefficients={"clash": Clash}), pytest.raises(SceneError, match="'v'"):
+        xpersson.solve(scene(coefficient={"model": "clash", "velocity": ["1 m/s", "2 m/s"],
+                                          "speed2": ["1 m/s", "2 m/s"]}))
+    with registry_with(coefficients={"clash": Clash}), pytest.raises(
+        SceneError, match=r"coefficient\.fixed: this parameter is not sweepable"
+    ):
+        xpersson.solve(scene(coefficient={"model": "clash", "fixed": [1.0, 2.0]}))
+    with pytest.raises(SceneError, match="output.zeta_per_decade"):
+        xpersson.solve(scene(output={"zeta_per_decade": [2, 3]}))
+    with pytest.raises(SceneError, match="same number of values"):
+        xpersson.solve({**scene(spectrum={"H": [0.6, 0.8]}, material={"nu": [0.3, 0.4, 0.5]}),
+                        "sweep": {"mode": "zip"}})
+    with pytest.raises(SceneError, match=r"material\.E\[1\].*outside"):
+        xpersson.solve(scene(material={"E": ["1 MPa", "-1 MPa"]}))
+    with pytest.raises(SceneError, match="magnification grid"):
+        xpersson.solve(scene(spectrum={"q_1": ["1e7 1/m", "1e8 1/m"]}))
+    ds = xpersson.solve(scene(spectrum={"q_1": ["1e7 1/m", "1e8 1/m"]},
+                              output={"zeta_max": 1e4, "zeta_per_decade": 4}))
+    assert ds.area_fraction.dims == ("q_1", "p0", "zeta")
