@@ -129,11 +129,15 @@ def make_scene(index: int, seed: int, registry: Any, tmpdir: str) -> dict[str, A
     boundaries = registry.names("boundaries")
     boundary = rng.choice(boundaries)
     p_max = max(loads)
+    others = [c for c in registry.names("coefficients") if c != "elastic"]
+    if others and rng.random() < 0.25:
+        scene["coefficient"] = _coefficient(rng, registry, rng.choice(others))
     if boundary == "elastic":
-        closure = rng.choice(CLOSURES)
-        scene["coefficient"] = {"model": "elastic", "closure": closure}
-        if closure != "persson01" and rng.random() < 0.5:
-            scene["coefficient"]["gamma"] = rng.uniform(0.05, 1.0)
+        if "coefficient" not in scene:
+            closure = rng.choice(CLOSURES)
+            scene["coefficient"] = {"model": "elastic", "closure": closure}
+            if closure != "persson01" and rng.random() < 0.5:
+                scene["coefficient"]["gamma"] = rng.uniform(0.05, 1.0)
         scene["boundary"] = {"model": "elastic"}
     elif boundary == "plastic":
         scene["boundary"] = {"model": "plastic",
@@ -148,6 +152,8 @@ def make_scene(index: int, seed: int, registry: Any, tmpdir: str) -> dict[str, A
         scene["boundary"] = {"model": boundary, **{k: v for k, v in params.items()
                                                    if v is not None}}
     analyses = registry.names("analyses")
+    if scene.get("coefficient", {}).get("model") != "viscoelastic":
+        analyses = [a for a in analyses if a != "friction"]  # needs the viscoelastic loss
     chosen = rng.sample(analyses, rng.randint(0, min(3, len(analyses))))
     scene["analyses"] = {}
     for name in chosen:
@@ -156,6 +162,27 @@ def make_scene(index: int, seed: int, registry: Any, tmpdir: str) -> dict[str, A
                   if rng.random() < 0.3 and not s.required}
         scene["analyses"][name] = {k: v for k, v in params.items() if v is not None}
     return scene
+
+
+def _coefficient(rng: random.Random, registry: Any, name: str) -> dict[str, Any]:
+    """Parameters of a coefficient other than the elastic one."""
+    if name == "viscoelastic":
+        E_r = _logu(rng, 1e5, 1e7)
+        out: dict[str, Any] = {
+            "model": name,
+            "velocity": f"{_logu(rng, 1e-8, 1e2)!r} m/s",
+            "temperature": f"{rng.uniform(250.0, 400.0)!r} K",
+            "modulus": rng.choice(("sls", "prony")),
+            "E_r": f"{E_r!r} Pa",
+            "E_g": f"{E_r * _logu(rng, 10.0, 1e4)!r} Pa",
+            "relaxation_time": f"{_logu(rng, 1e-6, 1.0)!r} s",
+        }
+        if rng.random() < 0.5:
+            out.update(shift="wlf", T_ref=f"{rng.uniform(200.0, 300.0)!r} K")
+        return out
+    cls = registry.load("coefficients", name)
+    params = {k: _random_param(rng, s) for k, s in cls.parameters.items()}
+    return {"model": name, **{k: v for k, v in params.items() if v is not None}}
 
 
 # -- checking one result -----------------------------------------------------------------------
