@@ -427,9 +427,11 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object)
         return
     if kind not in "iufc":
         raise PluginFailure(f"{var} has unsupported dtype {arr.dtype}", plugin=who, variable=name)
-    coords = {"dims": tuple(da.dims), "values": {
-        d: np.asarray(ds[d].values) for d in da.dims if d in ds.coords and ds[d].ndim == 1
-    }}
+    def coords() -> dict[str, Any]:  # for the error message only (built when raising)
+        return {"dims": tuple(da.dims), "values": {
+            d: np.asarray(ds[d].values) for d in da.dims if d in ds.coords and ds[d].ndim == 1
+        }}
+
     unit = "" if spec.units in ("1", "") else f" {spec.units}"
     if kind == "c":
         raise PluginFailure(f"{var} is complex; expected real values", plugin=who, variable=name)
@@ -441,7 +443,7 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object)
             why = "" if spec.nan_meaning is None else " (NaN is allowed, inf is not)"
             raise PluginFailure(
                 f"{var} has {int(bad.sum())} non-finite value(s){why}: "
-                f"{_quote(arr, bad, unit, coords)}", plugin=who, variable=name,
+                f"{_quote(arr, bad, unit, coords())}", plugin=who, variable=name,
             )
     finite = np.isfinite(arr) if kind == "f" else np.ones(arr.shape, bool)
     for bound, op, word in ((spec.valid_min, np.less, "below valid_min"),
@@ -452,7 +454,7 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object)
         if out.any():
             raise PluginFailure(
                 f"{var} has {int(out.sum())} value(s) {word} = {bound:g}{unit}: "
-                f"{_quote(arr, out, unit, coords)}", plugin=who, variable=name,
+                f"{_quote(arr, out, unit, coords())}", plugin=who, variable=name,
             )
 
 

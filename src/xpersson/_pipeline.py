@@ -115,7 +115,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     except ValueError as exc:
         raise SceneError(f"boundary: {exc} [{who['boundary']}]") from None
     coef = rs.coefficient
-    tau_c, f_z, tau_eff = _coefficient_arrays(coef, ctx, who["coefficient"])
+    tau_c, f_z, tau_eff, tau_shared = _coefficient_arrays(coef, ctx, who["coefficient"])
     clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max)
     if getattr(type(rs.boundary), "walls_per_load", True):
         walls = []
@@ -127,7 +127,11 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         p0 = float(rs.p0[0])
         with _checks.calling(who["boundary"], f"walls() for p0 = {p0:g} Pa"):
             pair = rs.boundary.walls(ctx, p0, clock)
-        walls = [_checks.check_walls(pair, p0, who["boundary"])] * rs.p0.size
+        # every load strictly inside: the lowest above the lower wall, the highest below the
+        # upper one (the same check as per load, at the two loads that decide it)
+        for p in sorted({float(np.min(rs.p0)), float(np.max(rs.p0))}):
+            pair = _checks.check_walls(pair, p, who["boundary"])
+        walls = [pair] * rs.p0.size
     p_grid = _pressure_grid(rs, walls, tau_eff) if rs.pressure_pdf else None
     if p_grid is not None:
         ctx = dataclasses.replace(ctx, p=p_grid)
@@ -135,11 +139,13 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     memory.check_request(rs.p0.size, rs.zeta.size, None if p_grid is None else p_grid.size)
     # one engine call for the whole batch (loads sharing their walls are solved together)
     first = walls[0]
-    shared = all(w is first or w == first for w in walls[1:])
-    results = engine.solve_batch(tau_eff, rs.p0, first if shared else walls, rtol=rs.rtol,
-                                 atol=rs.atol, method=rs.method, p_out=p_grid,
+    shared = walls.count(first) == len(walls)  # identity first: cheap for shared walls
+    # loads sharing tau(zeta) hand the engine one row (validated once, broadcast without copy)
+    results = engine.solve_batch(tau_c if tau_shared else tau_eff, rs.p0,
+                                 first if shared else walls, rtol=rs.rtol, atol=rs.atol,
+                                 method=rs.method, p_out=p_grid,
                                  options=rs.solver_options or None)
-    ds = _assemble(rs, ctx, results, tau_c, f_z, tau_eff, p_grid)
+    ds = _assemble(rs, ctx, results, tau_c, f_z, None if tau_shared else tau_eff, p_grid)
     with _checks.calling(who["coefficient"], "interpret()"):
         coef_out = coef.interpret(ctx)
     _add(ds, coef_out, type(coef).outputs, who["coefficient"])
@@ -209,8 +215,9 @@ def _labels(rs: ResolvedScene, reg: Registry) -> dict[str, Any]:
 
 def _coefficient_arrays(
     coef: Any, ctx: SceneContext, who: Any
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """tau(zeta), f(zeta) and the per-load effective tau [Pa^2], each checked."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """tau(zeta), f(zeta) and the per-load effective tau [Pa^2], each checked; and whether
+    every load's effective tau is tau(zeta) (then returned as a read-only broadcast)."""
     nz, nl = ctx.zeta.size, ctx.p0.size
     with _checks.calling(who, "tau(zeta)"):
         tau_c = coef.tau(ctx, ctx.zeta)
@@ -221,9 +228,20 @@ def _coefficient_arrays(
     f_z = _checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
     with _checks.calling(who, "effective_tau(zeta)"):
         tau_eff = coef.effective_tau(ctx, ctx.zeta)
-    tau_eff = _checks.check_array(tau_eff, who, "effective_tau(zeta)", (nl, nz),
-                                  nonnegative=True, nondecreasing_axis=1, unit="Pa2")
-    return tau_c, f_z, tau_eff
+    shared = _equals_rows(tau_eff, tau_c, (nl, nz))
+    if shared:  # every row is the checked tau(zeta): the same checks hold, nothing to repeat
+        tau_eff = np.broadcast_to(tau_c, (nl, nz))
+    else:
+        tau_eff = _checks.check_array(tau_eff, who, "effective_tau(zeta)", (nl, nz),
+                                      nonnegative=True, nondecreasing_axis=1, unit="Pa2")
+    return tau_c, f_z, tau_eff, shared
+
+
+def _equals_rows(value: Any, row: np.ndarray, shape: tuple[int, int]) -> bool:
+    """Whether ``value`` is a ``shape`` float array whose every row equals ``row`` exactly."""
+    if not isinstance(value, np.ndarray) or value.shape != shape or value.dtype != float:
+        return False
+    return bool(np.array_equal(value, np.broadcast_to(row, shape)))
 
 
 def _pressure_grid(rs: ResolvedScene, walls: list[Any], tau_eff: np.ndarray) -> np.ndarray:
@@ -255,7 +273,7 @@ def _assemble(
     results: Any,
     tau_c: np.ndarray,
     f_z: np.ndarray,
-    tau_eff: np.ndarray,
+    tau_eff: np.ndarray | None,
     p_grid: np.ndarray | None,
 ) -> xr.Dataset:
     def stack(attr: str) -> np.ndarray:
@@ -287,7 +305,7 @@ def _assemble(
         "error_estimate": (pz, stack("error_estimate")),
         "solver_status": (("p0",), np.array(results.status, dtype=object)),
     }
-    if not np.array_equal(tau_eff, np.broadcast_to(tau_c, tau_eff.shape)):
+    if tau_eff is not None:  # None: every load's effective tau is tau(zeta)
         data["effective_diffusion_time"] = (pz, tau_eff)
     if p_grid is not None:
         coords["p"] = ("p", p_grid)
@@ -353,13 +371,58 @@ def _add(
 ) -> None:
     """Check a plugin's contribution against its VarSpecs (see :mod:`._checks`), then add it."""
     checked = _checks.check_contributions(ds, values, specs, who)
+    if not checked:
+        return
+    for name, da in checked.items():
+        da.attrs.update(_spec_attrs(specs[name]))
+    if _insert_direct(ds, checked):
+        return
+    try:  # one Dataset update for all of the plugin's variables (one merge, not one each)
+        ds.update(checked)
+        return
+    except ValueError:  # conflicting sizes of a plugin's own dimension: find which variable
+        pass
     for name, da in checked.items():
         try:
             ds[name] = da
-        except ValueError as exc:  # conflicting sizes of a plugin's own dimension
+        except ValueError as exc:
             raise _checks.PluginFailure(f"{who}: variable {name!r}: {exc}", plugin=who,
                                         variable=name) from None
-        ds[name].attrs.update(specs[name].attrs())
+
+
+def _insert_direct(ds: xr.Dataset, checked: Mapping[str, xr.DataArray]) -> bool:
+    """Insert checked, coordinate-free variables whose dims the Dataset already has.
+
+    Such an insertion has nothing to align (:func:`._checks.checked_variable` has checked the
+    dims and sizes against ``ds``): the variables go into the Dataset as they are, which is
+    what ``ds.update`` ends with, without its merge and alignment of every variable. Returns
+    False (nothing inserted) when any variable carries coordinates or a new dimension, or on an
+    xarray without the internal mapping; :meth:`xarray.Dataset.update` then does the work.
+    """
+    variables = getattr(ds, "_variables", None)
+    if not isinstance(variables, dict):  # pragma: no cover - other xarray versions
+        return False
+    sizes = ds.sizes
+    for da in checked.values():
+        if da.coords or any(d not in sizes or sizes[d] != n for d, n in da.sizes.items()):
+            return False
+    for name, da in checked.items():
+        variables[name] = da.variable
+    return True
+
+
+_SPEC_ATTRS: dict[int, tuple[VarSpec, dict[str, Any]]] = {}
+
+
+def _spec_attrs(spec: VarSpec) -> dict[str, Any]:
+    """``spec.attrs()`` (computed once per VarSpec object; a fresh copy each call)."""
+    hit = _SPEC_ATTRS.get(id(spec))
+    if hit is None or hit[0] is not spec:
+        if len(_SPEC_ATTRS) > 4096:
+            _SPEC_ATTRS.clear()
+        hit = (spec, spec.attrs())
+        _SPEC_ATTRS[id(spec)] = hit
+    return dict(hit[1])
 
 
 def _diagnostics_notes(ds: xr.Dataset) -> list[str]:

@@ -121,9 +121,13 @@ class DiffusionClock:
         zt, tt = self._table
         z = np.exp(np.interp(t, tt, np.log(zt)))
         inside = (t > tt[0]) & (t < tt[-1])
+        if not np.any(inside):  # table end points (tau = 0: zeta = 1): nothing to polish
+            return z
         for _ in range(4):
             fz = np.asarray(self.f(z), dtype=float)
             ok = inside & (fz > 0)
             step = np.where(ok, (self.tau_of_zeta(z) - t) / np.where(fz > 0, fz, 1.0), 0.0)
             z = np.clip(z - step, 1.0, zt[-1])
+            if np.all(np.abs(step) <= 1e-13 * z):  # converged: Newton squares the error
+                break
         return z
