@@ -166,8 +166,36 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         _add(ds, out, type(analysis).outputs, label)
     _attributes(ds, rs, reg, results, _diagnostics_notes(ds))
     if rs.p0_scalar:
-        ds = ds.isel(p0=0)  # = squeeze("p0"): p0 becomes a scalar coordinate
+        ds = _squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
     return ds
+
+
+def _squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
+    """``ds.isel(p0=0)`` for a one-load Dataset, built directly from the variables.
+
+    Every variable along ``p0`` (size 1) loses that dimension (a view of its data); ``p0``
+    becomes a scalar coordinate without an index; the other indexes are kept as they are.
+    Falls back to ``isel`` on an xarray without the direct constructor.
+    """
+    try:
+        variables = {}
+        for name, var in ds.variables.items():
+            if "p0" in var.dims:
+                axis = var.dims.index("p0")
+                dims = var.dims[:axis] + var.dims[axis + 1:]
+                data = np.take(var.values, 0, axis=axis)
+                variables[name] = xr.Variable(dims, data, var.attrs, var.encoding,
+                                              fastpath=True)
+            else:
+                variables[name] = var
+        indexes = {k: v for k, v in ds.xindexes.items() if k != "p0"}
+        dims = {d: n for d, n in ds.sizes.items() if d != "p0"}
+        out = xr.Dataset._construct_direct(  # noqa: SLF001 - see the docstring
+            variables, set(ds.coords), dims, dict(ds.attrs), indexes
+        )
+    except (AttributeError, TypeError):  # pragma: no cover - other xarray versions
+        return ds.isel(p0=0)
+    return out
 
 
 def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
