@@ -372,8 +372,7 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
         indexes = {}
         for name, var in cvars.items():
             if var.dims == (name,):
-                indexes[name] = PandasIndex.from_variables({name: var}, options={})
-                cvars[name] = indexes[name].create_variables({name: var})[name]
+                indexes[name], cvars[name] = _index(PandasIndex, name, var)
         dims: dict[str, int] = {}
         for var in (*variables.values(), *cvars.values()):
             dims.update(zip(var.dims, var.shape, strict=True))
@@ -385,6 +384,30 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
         stamp(ds, COORDS)
         stamp(ds, CORE_VARIABLES)
         return ds
+
+
+_INDEXES: dict[tuple[str, bytes, tuple], tuple[Any, xr.Variable]] = {}
+
+
+def _index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variable]:
+    """The index of a dimension coordinate and its index variable, reused for equal values.
+
+    Solves of one scene share their zeta / q_psd (and often p0) coordinates; the pandas index
+    is immutable, so Datasets may share it (as ``isel`` and ``copy`` do). The variable is a
+    fresh shallow copy carrying ``var``'s attrs.
+    """
+    arr = np.asarray(var.values)
+    key = (name, arr.tobytes(), tuple(sorted((k, str(v)) for k, v in var.attrs.items())))
+    hit = _INDEXES.get(key)
+    if hit is None or hit[1].dtype != arr.dtype:
+        index = cls.from_variables({name: var}, options={})
+        hit = (index, index.create_variables({name: var})[name])
+        if len(_INDEXES) > 64:
+            _INDEXES.clear()
+        _INDEXES[key] = hit
+    out = hit[1].copy(deep=False)
+    out.attrs = dict(var.attrs)
+    return hit[0], out
 
 
 def _persson_G(tau_c: np.ndarray, p0: np.ndarray) -> np.ndarray:
