@@ -358,7 +358,8 @@ def check_walls(walls: Any, p0: float, who: object) -> tuple[Any, Any]:
 
 # -- Dataset contributions -----------------------------------------------------------------------
 def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> Any:
-    """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray.
+    """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray
+    (a pair becomes a coordinate-free :class:`xarray.Variable`).
 
     Checks, against the :class:`~xpersson.plugins.VarSpec`: dims (the declared ones, plus
     only sweep dimensions of ``ds``), sizes (those of ``ds`` for shared dims), a numeric or
@@ -378,11 +379,11 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
             da = value.copy()
             da.attrs = {}
             da = da.reset_coords(drop=True) if da.coords else da
-        else:
+        else:  # a plain Variable (no coordinates to carry): cheaper than a DataArray
             dims, arr = value
             if isinstance(dims, str):
                 dims = (dims,)
-            da = xr.DataArray(np.asarray(arr), dims=tuple(dims))
+            da = xr.Variable(tuple(dims), np.asarray(arr))
     except Exception as exc:
         raise PluginFailure(
             f"{var}: expected a DataArray or a (dims, data) pair with matching dims ({exc})",

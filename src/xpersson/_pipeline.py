@@ -254,6 +254,8 @@ def _coefficient_arrays(
     with _checks.calling(who, "f(zeta)"):
         f_z = coef.f(ctx, ctx.zeta)
     f_z = _checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
+    if _default_effective_tau(coef):  # the base class broadcasts tau(zeta): nothing to ask
+        return tau_c, f_z, np.broadcast_to(tau_c, (nl, nz)), True
     with _checks.calling(who, "effective_tau(zeta)"):
         tau_eff = coef.effective_tau(ctx, ctx.zeta)
     shared = _equals_rows(tau_eff, tau_c, (nl, nz))
@@ -263,6 +265,13 @@ def _coefficient_arrays(
         tau_eff = _checks.check_array(tau_eff, who, "effective_tau(zeta)", (nl, nz),
                                       nonnegative=True, nondecreasing_axis=1, unit="Pa2")
     return tau_c, f_z, tau_eff, shared
+
+
+def _default_effective_tau(coef: Any) -> bool:
+    """Whether ``coef`` inherits :meth:`Coefficient.effective_tau` (tau(zeta) for every load)."""
+    from .plugins import Coefficient
+
+    return getattr(type(coef), "effective_tau", None) is Coefficient.effective_tau
 
 
 def _equals_rows(value: Any, row: np.ndarray, shape: tuple[int, int]) -> bool:
@@ -412,8 +421,11 @@ def _index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variable]:
 
 def _persson_G(tau_c: np.ndarray, p0: np.ndarray) -> np.ndarray:
     """``G = tau / p0^2`` per (p0, zeta); ``inf`` at a zero load (adhesive boundaries)."""
+    p2 = p0 * p0
     with np.errstate(divide="ignore", invalid="ignore"):
-        G = tau_c[None, :] / p0[:, None] ** 2
+        G = tau_c[None, :] / p2[:, None]
+    if np.all(p2 != 0):  # no 0/0 possible: G is already final
+        return G
     return np.where(np.isnan(G), np.inf, G)
 
 
@@ -441,7 +453,7 @@ def _add(
                                         variable=name) from None
 
 
-def _insert_direct(ds: xr.Dataset, checked: Mapping[str, xr.DataArray]) -> bool:
+def _insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
     """Insert checked, coordinate-free variables whose dims the Dataset already has.
 
     Such an insertion has nothing to align (:func:`._checks.checked_variable` has checked the
@@ -455,10 +467,12 @@ def _insert_direct(ds: xr.Dataset, checked: Mapping[str, xr.DataArray]) -> bool:
         return False
     sizes = ds.sizes
     for da in checked.values():
-        if da.coords or any(d not in sizes or sizes[d] != n for d, n in da.sizes.items()):
+        if getattr(da, "coords", None) or any(
+            d not in sizes or sizes[d] != n for d, n in da.sizes.items()
+        ):
             return False
     for name, da in checked.items():
-        variables[name] = da.variable
+        variables[name] = getattr(da, "variable", da)  # DataArray -> its Variable
     return True
 
 

@@ -295,15 +295,16 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     n = problem.tau.shape[0]
     # vectorised screen: only loads that may fail get the detailed (per-row) examination
     # NaN/inf in any field reaches one of the two balances (sums of all of them)
-    finite = np.all(np.isfinite(prob), axis=-1) & np.all(np.isfinite(loadb), axis=-1)
-    finite &= np.all(np.isfinite(raw.non_area), axis=-1)
-    if raw.P is not None:
-        finite &= np.all(np.isfinite(raw.P), axis=(-2, -1))
+    # (max propagates NaN, so a NaN/inf balance fails "worst <= bal_tol"; a sum is finite only
+    # when every term is)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
     worst = np.maximum(np.max(np.abs(prob), axis=-1), np.max(np.abs(loadb), axis=-1))
-    slack = raw.error_estimate - problem.atol
-    slack -= problem.rtol * np.abs(raw.area)
-    tol_ok = np.all(slack <= 0, axis=-1)
+    finite = np.isfinite(worst) & np.isfinite(np.sum(raw.non_area, axis=-1))
+    if raw.P is not None:
+        finite &= np.all(np.isfinite(raw.P), axis=(-2, -1))
+    slack = raw.error_estimate - problem.rtol * np.abs(raw.area)
+    tol_ok = np.max(slack, axis=-1) <= problem.atol
+    tol_ok &= ~np.any(np.isnan(slack), axis=-1)
     raw_ok = (np.full(n, raw.status == "success") if isinstance(raw.status, str)
               else np.asarray(raw.status) == "success")
     clean = finite & (worst <= bal_tol) & tol_ok & raw_ok

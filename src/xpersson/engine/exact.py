@@ -106,8 +106,11 @@ def one_wall(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> tuple[Arra
     ``erf``/``erfc`` evaluated once; ``tau = 0`` gives ``(1, 0, p0)``.
     """
     x0 = _f(p0) - _f(wall)
+    t = _f(tau)
+    if t.ndim == 2 and t.strides[0] == 0:  # one tau row broadcast over loads: sqrt it once
+        t = t[:1]
     with np.errstate(divide="ignore"):
-        x = x0 / (2.0 * np.sqrt(_f(tau)))  # +inf at tau = 0 (x0 > 0)
+        x = x0 / (2.0 * np.sqrt(t))  # +inf at tau = 0 (x0 > 0)
     # erf for the area and erfc for the absorbed fraction, each once over the whole array:
     # both keep their full relative accuracy (1 - erfc or 1 - erf would lose it at one end),
     # and two unmasked passes cost less than splitting the array by boolean masks

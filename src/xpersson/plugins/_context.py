@@ -100,13 +100,17 @@ class DiffusionClock:
     tau_fn: Callable[[np.ndarray], np.ndarray]
     f: Callable[[np.ndarray], np.ndarray]
     zeta_max: float
-    _table: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False, compare=False)
+    _tables: list = field(init=False, repr=False, compare=False, default_factory=list)
     _last: list = field(init=False, repr=False, compare=False, default_factory=list)
 
-    def __post_init__(self) -> None:
-        n = max(64, int(40 * np.log10(max(self.zeta_max, 10.0))))
-        z = np.geomspace(1.0, max(self.zeta_max, 1.0 + 1e-12), n)
-        object.__setattr__(self, "_table", (z, np.asarray(self.tau_fn(z), dtype=float)))
+    @property
+    def _table(self) -> tuple[np.ndarray, np.ndarray]:
+        """(zeta, tau) nodes of the inverse, tabulated on first use (elastic walls never ask)."""
+        if not self._tables:
+            n = max(64, int(40 * np.log10(max(self.zeta_max, 10.0))))
+            z = np.geomspace(1.0, max(self.zeta_max, 1.0 + 1e-12), n)
+            self._tables.append((z, np.asarray(self.tau_fn(z), dtype=float)))
+        return self._tables[0]
 
     def tau_of_zeta(self, zeta: np.ndarray | float) -> np.ndarray:
         """Diffusion time [Pa^2] at magnification ``zeta`` [1]."""
@@ -130,6 +134,11 @@ class DiffusionClock:
     def _zeta_of_tau(self, t: np.ndarray) -> np.ndarray:
         zt, tt = self._table
         z = np.exp(np.interp(t, tt, np.log(zt)))
+        # beyond the first node tau(zeta) is close to a power law: log-log interpolation starts
+        # Newton much closer (it then converges in one or two steps instead of four)
+        far = t > tt[1]
+        if np.any(far) and tt[1] > 0:
+            z[far] = np.exp(np.interp(np.log(t[far]), np.log(tt[1:]), np.log(zt[1:])))
         inside = (t > tt[0]) & (t < tt[-1])
         if not np.any(inside):  # table end points (tau = 0: zeta = 1): nothing to polish
             return z
