@@ -268,9 +268,12 @@ def _coefficient_arrays(
 
 
 def _default_effective_tau(coef: Any) -> bool:
-    """Whether ``coef`` inherits :meth:`Coefficient.effective_tau` (tau(zeta) for every load)."""
+    """Whether ``coef``'s effective tau is tau(zeta) for every load: it inherits
+    :meth:`Coefficient.effective_tau` or declares ``tau_per_load = False``."""
     from .plugins import Coefficient
 
+    if getattr(coef, "tau_per_load", True) is False:  # declared: effective_tau broadcasts tau
+        return True
     return getattr(type(coef), "effective_tau", None) is Coefficient.effective_tau
 
 

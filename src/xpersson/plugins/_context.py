@@ -123,12 +123,15 @@ class DiffusionClock:
         on tau(zeta) - tau = 0 with derivative f(zeta); relative accuracy ~1e-12.
         """
         t = np.asarray(tau, dtype=float)
-        key = (t.shape, t.tobytes())
-        last = self._last
-        if last and last[0] == key:  # a wall's position and speed ask for the same times
-            return last[1].copy()
+        flat = t.ravel()
+        if self._last:  # a wall's position, speed and output times: often the same tau values
+            ts, zs = self._last
+            idx = np.minimum(np.searchsorted(ts, flat), ts.size - 1)
+            if np.array_equal(ts[idx], flat):
+                return zs[idx].reshape(t.shape)
         z = self._zeta_of_tau(t)
-        self._last[:] = [key, z.copy()]
+        order = np.argsort(flat, kind="stable")
+        self._last[:] = [flat[order].copy(), z.ravel()[order].copy()]
         return z
 
     def _zeta_of_tau(self, t: np.ndarray) -> np.ndarray:
