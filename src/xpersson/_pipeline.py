@@ -272,9 +272,18 @@ def _default_effective_tau(coef: Any) -> bool:
     :meth:`Coefficient.effective_tau` or declares ``tau_per_load = False``."""
     from .plugins import Coefficient
 
-    if getattr(coef, "tau_per_load", True) is False:  # declared: effective_tau broadcasts tau
+    cls = type(coef)
+    if getattr(cls, "effective_tau", None) is Coefficient.effective_tau:
         return True
-    return getattr(type(coef), "effective_tau", None) is Coefficient.effective_tau
+
+    def owner(attr: str) -> type | None:
+        return next((c for c in cls.__mro__ if attr in vars(c)), None)
+
+    # the declaration counts only from the class whose effective_tau it describes (a subclass
+    # overriding effective_tau is asked as usual)
+    return getattr(coef, "tau_per_load", True) is False and owner("tau_per_load") is owner(
+        "effective_tau"
+    )
 
 
 def _equals_rows(value: Any, row: np.ndarray, shape: tuple[int, int]) -> bool:
