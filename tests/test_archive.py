@@ -23,7 +23,7 @@ def test_every_variable_has_cf_units_and_long_name(solved):
     for name, var in solved.variables.items():
         assert "units" in var.attrs, name
         assert "long_name" in var.attrs, name
-    assert solved.attrs["Conventions"] == "CF-1.12, ACDD-1.3"
+    assert solved.attrs["Conventions"] == "CF-1.11, ACDD-1.3"
     assert solved.P.dims == ("p0", "zeta", "p")
     assert solved.P.attrs["units"] == "Pa-1"
     assert solved.psd_C.attrs["units"] == "m4"

@@ -6,6 +6,8 @@ Public API (imported lazily so that ``import xpersson`` and the CLI's ``--help``
     xpersson.load_scene(path) -> Scene
     xpersson.open_dataset(path) -> xarray.Dataset
     xpersson.to_netcdf(ds, path)
+    xpersson.plot.area(ds)            # matplotlib, imported only when plotting
+    xpersson.sweep                    # the sweep mechanism (lists and ranges of parameters)
 """
 
 from __future__ import annotations
@@ -22,6 +24,8 @@ __all__ = [
     "open_dataset",
     "solve",
     "to_netcdf",
+    "plot",
+    "sweep",
     "__version__",
 ]
 
@@ -42,6 +46,8 @@ def __getattr__(name: str) -> Any:
         from .provenance import version
 
         return version()
+    if name in ("plot", "sweep"):
+        return import_module(f"xpersson.{name}")
     if name in _LAZY:
         return getattr(import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'xpersson' has no attribute {name!r}")

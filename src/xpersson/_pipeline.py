@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from . import _checks, provenance
+from . import _checks, memory, provenance
 from .plugins import DiffusionClock, SceneContext, VarSpec
 from .plugins._registry import Registry, get_registry
 from .scene import ResolvedScene, Scene, SceneError, load_scene
@@ -117,22 +117,30 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     coef = rs.coefficient
     tau_c, f_z, tau_eff = _coefficient_arrays(coef, ctx, who["coefficient"])
     clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max)
+    if getattr(type(rs.boundary), "walls_per_load", True):
+        loads = [float(p0) for p0 in rs.p0]
+    else:  # the boundary declares walls that do not depend on the load: ask once
+        loads = [float(rs.p0[0])]
     walls = []
-    for p0 in rs.p0:
-        with _checks.calling(who["boundary"], f"walls() for p0 = {float(p0):g} Pa"):
-            pair = rs.boundary.walls(ctx, float(p0), clock)
-        walls.append(_checks.check_walls(pair, float(p0), who["boundary"]))
+    for p0 in loads:
+        with _checks.calling(who["boundary"], f"walls() for p0 = {p0:g} Pa"):
+            pair = rs.boundary.walls(ctx, p0, clock)
+        walls.append(_checks.check_walls(pair, p0, who["boundary"]))
+    if len(walls) == 1 and rs.p0.size > 1:
+        for p0 in rs.p0[1:]:  # the shared walls must leave every load inside
+            _checks.check_walls(walls[0], float(p0), who["boundary"])
+        walls = walls * rs.p0.size
     p_grid = _pressure_grid(rs, walls, tau_eff) if rs.pressure_pdf else None
     if p_grid is not None:
         ctx = dataclasses.replace(ctx, p=p_grid)
 
-    results = []
-    for i, p0 in enumerate(rs.p0):
-        lower, upper = walls[i]
-        results.append(
-            engine.solve(tau_eff[i], float(p0), lower, upper, rtol=rs.rtol, atol=rs.atol,
-                         method=rs.method, p_out=p_grid)
-        )
+    memory.check_request(rs.p0.size, rs.zeta.size, None if p_grid is None else p_grid.size)
+    # one engine call for the whole batch (loads sharing their walls are solved together)
+    first = walls[0]
+    shared = all(w is first or w == first for w in walls[1:])
+    results = engine.solve_batch(tau_eff, rs.p0, first if shared else walls, rtol=rs.rtol,
+                                 atol=rs.atol, method=rs.method, p_out=p_grid,
+                                 options=rs.solver_options or None)
     ds = _assemble(rs, ctx, results, tau_c, f_z, tau_eff, p_grid)
     with _checks.calling(who["coefficient"], "interpret()"):
         coef_out = coef.interpret(ctx)
@@ -140,6 +148,10 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     with _checks.calling(who["boundary"], "interpret()"):
         extra = rs.boundary.interpret(ctx, results)
     _add(ds, extra, type(rs.boundary).outputs, who["boundary"])
+    if rs.analyses:  # analyses read the scene's declarations and may sample the solve densely
+        ctx = dataclasses.replace(
+            ctx, coefficient=coef, boundary=rs.boundary, solve_at=_solve_at(rs, ctx, walls)
+        )
     for name, analysis in rs.analyses:
         label = _checks.plugin_label("analyses", analysis, reg, name)
         with _checks.guard_dataset(ds, label) as view, _checks.calling(label, "compute()"):
@@ -150,7 +162,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         _add(ds, out, type(analysis).outputs, label)
     _attributes(ds, rs, reg, results, _diagnostics_notes(ds))
     if rs.p0_scalar:
-        ds = ds.squeeze("p0")
+        ds = ds.isel(p0=0)  # = squeeze("p0"): p0 becomes a scalar coordinate
     return ds
 
 
@@ -182,6 +194,40 @@ def _coefficient_arrays(
     return tau_c, f_z, tau_eff
 
 
+def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
+    """``(zeta, loads) -> area variables`` of the same solve at other magnifications."""
+    from . import engine
+
+    cache: dict[bytes, dict[str, np.ndarray]] = {}
+
+    def solve_at(zeta: np.ndarray, loads: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        z = np.asarray(zeta, float)
+        idx = np.arange(rs.p0.size) if loads is None else np.asarray(loads, dtype=int)
+        key = z.tobytes() + idx.tobytes()
+        if key in cache:  # several analyses sample the same grid
+            return cache[key]
+        c = dataclasses.replace(ctx, zeta=z, p=None, p0=rs.p0[idx])
+        tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(idx.size, -1)
+        res = [
+            engine.solve(tau_eff[k], float(rs.p0[i]), *walls[i], rtol=rs.rtol, atol=rs.atol,
+                         method=rs.method)
+            for k, i in enumerate(idx)
+        ]
+        out = {
+            "area_fraction": np.stack([np.asarray(r.area, float) for r in res]),
+            "non_contact_fraction": np.stack([np.asarray(r.non_area, float) for r in res]),
+            "diffusion_time": np.asarray(rs.coefficient.tau(c, z), float),
+            "effective_diffusion_time": tau_eff,
+        }
+        for name, value in rs.boundary.interpret(c, res).items():
+            out[name] = np.asarray(value[1] if isinstance(value, tuple) else value, float)
+        cache.clear()
+        cache[key] = out
+        return out
+
+    return solve_at
+
+
 def _pressure_grid(rs: ResolvedScene, walls: list[Any], tau_eff: np.ndarray) -> np.ndarray:
     if rs.p is not None:
         return rs.p
@@ -208,14 +254,14 @@ def _wall_positions(wall: Any, tau_eff: np.ndarray) -> np.ndarray:
 def _assemble(
     rs: ResolvedScene,
     ctx: SceneContext,
-    results: list[Any],
+    results: Any,
     tau_c: np.ndarray,
     f_z: np.ndarray,
     tau_eff: np.ndarray,
     p_grid: np.ndarray | None,
 ) -> xr.Dataset:
     def stack(attr: str) -> np.ndarray:
-        return np.stack([np.asarray(getattr(r, attr), float) for r in results])
+        return np.asarray(getattr(results, attr), float)  # EngineBatch: stacked arrays
 
     psd = rs.psd
     q_nodes = np.asarray(psd.nodes(), float)
@@ -229,7 +275,7 @@ def _assemble(
     data: dict[str, Any] = {
         "area_fraction": (pz, stack("area")),
         "non_contact_fraction": (pz, stack("non_area")),
-        "G": (pz, tau_c[None, :] / rs.p0[:, None] ** 2),
+        "G": (pz, _persson_G(tau_c, rs.p0)),
         "diffusion_time": (("zeta",), tau_c),
         "diffusion_coefficient": (("zeta",), f_z),
         "psd_C": (("q_psd",), np.asarray(psd.C(q_nodes), float)),
@@ -241,17 +287,67 @@ def _assemble(
         "load_balance": (pz, stack("load_balance")),
         "probability_balance": (pz, stack("probability_balance")),
         "error_estimate": (pz, stack("error_estimate")),
-        "solver_status": (("p0",), np.array([r.status for r in results], dtype=object)),
+        "solver_status": (("p0",), np.array(results.status, dtype=object)),
     }
-    if not np.allclose(tau_eff, tau_c[None, :], rtol=1e-15, atol=0):
+    if not np.array_equal(tau_eff, np.broadcast_to(tau_c, tau_eff.shape)):
         data["effective_diffusion_time"] = (pz, tau_eff)
     if p_grid is not None:
         coords["p"] = ("p", p_grid)
-        data["P"] = (("p0", "zeta", "p"), np.stack([np.asarray(r.P, float) for r in results]))
-    ds = xr.Dataset(data, coords=coords)
-    stamp(ds, COORDS)
-    stamp(ds, CORE_VARIABLES)
-    return ds
+        data["P"] = (("p0", "zeta", "p"), stack("P"))
+    return _dataset(data, coords)
+
+
+_ATTRS: dict[str, dict[str, Any]] = {}
+
+
+def _attrs_of(name: str) -> dict[str, Any]:
+    """CF attrs of a core variable or coordinate (computed once per process, copied out)."""
+    if name not in _ATTRS:
+        spec = COORDS.get(name) or CORE_VARIABLES.get(name)
+        _ATTRS[name] = spec.attrs() if spec is not None else {}
+    return dict(_ATTRS[name])
+
+
+def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
+    """Build the Dataset in one pass: variables carry their CF attrs from the schema table.
+
+    Equivalent to ``xr.Dataset(data, coords=coords)`` followed by :func:`stamp`; the direct
+    constructor skips xarray's merge/alignment (nothing to align: one set of coordinates).
+    """
+    def var(name: str, dims: Any, val: Any) -> xr.Variable:
+        arr = np.asarray(val)
+        if arr.dtype.kind in "fiub" or (arr.dtype == object and arr.ndim == 1):
+            return xr.Variable(dims, arr, _attrs_of(name), fastpath=True)  # already an ndarray
+        return xr.Variable(dims, val, _attrs_of(name))
+
+    variables = {name: var(name, dims, val) for name, (dims, val) in data.items()}
+    cvars = {name: var(name, dims, val) for name, (dims, val) in coords.items()}
+    try:
+        from xarray.core.indexes import PandasIndex
+
+        indexes = {}
+        for name, var in cvars.items():
+            if var.dims == (name,):
+                indexes[name] = PandasIndex.from_variables({name: var}, options={})
+                cvars[name] = indexes[name].create_variables({name: var})[name]
+        dims: dict[str, int] = {}
+        for var in (*variables.values(), *cvars.values()):
+            dims.update(zip(var.dims, var.shape, strict=True))
+        return xr.Dataset._construct_direct(  # noqa: SLF001 - see docstring
+            {**variables, **cvars}, set(cvars), dims, {}, indexes
+        )
+    except (AttributeError, TypeError, ImportError):  # pragma: no cover - other xarray versions
+        ds = xr.Dataset(data, coords=coords)
+        stamp(ds, COORDS)
+        stamp(ds, CORE_VARIABLES)
+        return ds
+
+
+def _persson_G(tau_c: np.ndarray, p0: np.ndarray) -> np.ndarray:
+    """``G = tau / p0^2`` per (p0, zeta); ``inf`` at a zero load (adhesive boundaries)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        G = tau_c[None, :] / p0[:, None] ** 2
+    return np.where(np.isnan(G), np.inf, G)
 
 
 def _add(
@@ -279,12 +375,13 @@ def _diagnostics_notes(ds: xr.Dataset) -> list[str]:
 
 
 def _attributes(
-    ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: list[Any], notes: list[str]
+    ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: Any, notes: list[str]
 ) -> None:
-    bad = [(float(rs.p0[i]), r) for i, r in enumerate(results) if not r.success]
+    success = np.asarray(results.success, dtype=bool)
+    bad = [(float(rs.p0[i]), results[int(i)]) for i in np.flatnonzero(~success)[:5]]
     status = "success" if not bad else bad[0][1].status
     message = "all loads met the requested tolerance" if not bad else "; ".join(
-        f"p0 = {p:g} Pa: {r.status}: {r.message}" for p, r in bad[:5]
+        f"p0 = {p:g} Pa: {r.status}: {r.message}" for p, r in bad
     )
     if notes:
         message = "; ".join([message, *notes])
@@ -294,13 +391,13 @@ def _attributes(
     ds.attrs["xpersson_solver"] = json.dumps(
         {
             "method": rs.resolved["solver"]["method"],
-            "methods_used": sorted({r.method for r in results}),
+            "methods_used": sorted(set(results.method)),
             "rtol": rs.rtol,
             "atol": rs.atol,
-            "max_error_estimate": float(max(np.max(r.error_estimate) for r in results)),
+            "max_error_estimate": float(np.max(results.error_estimate)),
             "work": {
-                "nsteps": int(sum(getattr(r, "nsteps", 0) for r in results)),
-                "wall_time_s": float(sum(getattr(r, "wall_time", 0.0) for r in results)),
+                "nsteps": int(np.sum(results.nsteps)),
+                "wall_time_s": float(results.wall_time),
             },
         }
     )

@@ -140,11 +140,16 @@ def _own_names(template: xr.Dataset, block: Block) -> list[str]:
 
 def stack(results: list[xr.Dataset | None], block: Block, status: np.ndarray,
           template: xr.Dataset | None = None) -> xr.Dataset:
-    """Stack point Datasets (``None`` for a failed point) into the block's Dataset."""
+    """Stack point Datasets (``None`` for a failed point) into the block's Dataset.
+
+    ``template`` (used when every point of the block failed) may be a point Dataset or another
+    block's Dataset: it is cut to one point first, so the block's sweep dimensions are added once.
+    """
     ok = [ds for ds in results if ds is not None]
     template = ok[0] if ok else template
     if template is None:
         raise ValueError("a block needs at least one solved point or a template")
+    template = _point_shaped(template, block)
     if "q_psd" in template.dims:
         nodes = [ds["q_psd"].values for ds in ok]
         if any(len(n) != len(nodes[0]) or not np.array_equal(n, nodes[0]) for n in nodes):
@@ -192,6 +197,16 @@ def stack(results: list[xr.Dataset | None], block: Block, status: np.ndarray,
     ds = xr.Dataset(data_vars, coords=coords, attrs=dict(template.attrs))
     order = [n for n in template.data_vars if n in ds.data_vars] + ["point_status"]
     return ds[order]
+
+
+def _point_shaped(template: xr.Dataset, block: Block) -> xr.Dataset:
+    """The template as one point: without the sweep dimensions, their coordinates and
+    ``point_status`` (a template cut from another block's Dataset may still carry them)."""
+    sweep = [d for d in block.dims if d in template.dims]
+    if sweep:
+        template = template.isel({d: 0 for d in sweep}, drop=True)
+    drop = [n for n in (*block.coords, "point_status") if n in template.variables]
+    return template.drop_vars(drop) if drop else template
 
 
 def _fill(var: xr.DataArray) -> np.ndarray:

@@ -59,8 +59,11 @@ def blocks_of(plan: SweepPlan, points_per_block: int) -> list[Block]:
     return out
 
 
-def _resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
+def resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
     """Resolve every point before any work (bad input fails here, naming the point)."""
+    from .plugins import get_registry
+
+    registry = registry or get_registry()
     points = []
     for index in plan.indices():
         try:
@@ -126,7 +129,8 @@ def solve_sweep(
     workers: int | None = None,
 ) -> xr.Dataset:
     """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`)."""
-    points = _resolve_points(plan, registry)
+    _check_scheduler(scheduler)
+    points = resolve_points(plan, registry)
     client, own_cluster, n_workers = _client(scheduler, workers)
     try:
         blocks = blocks_of(plan, _points_per_block(plan, n_workers, chunk))
@@ -158,6 +162,18 @@ def _block_points(plan: SweepPlan, points: list[Any], block: Block) -> list[Any]
     return [points[i] for i in flat[sl].ravel()]
 
 
+def _check_scheduler(scheduler: Any) -> None:
+    if scheduler is None or type(scheduler).__name__ == "Client":
+        return
+    if not isinstance(scheduler, str) or not (
+        scheduler in ("serial", "synchronous", "sync", "threads", "processes") or ":" in scheduler
+    ):
+        raise ValueError(
+            f"scheduler: {scheduler!r} is not allowed; one of None/'serial', 'threads', "
+            "'processes', a scheduler address 'tcp://host:port' or a distributed.Client"
+        )
+
+
 def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any, int]:
     """(client, cluster we own, number of workers) for a scheduler request."""
     if scheduler in (None, "serial", "synchronous", "sync"):
@@ -175,11 +191,9 @@ def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any, int]:
     if scheduler == "processes":
         n = workers or os.cpu_count() or 1
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=40)
+                               dashboard_address=None, silence_logs=50)
         return Client(cluster), cluster, n
-    if isinstance(scheduler, str) and "://" in scheduler or isinstance(scheduler, str) and (
-        ":" in scheduler
-    ):
+    if isinstance(scheduler, str) and ":" in scheduler:  # tcp://host:8786, host:8786
         client = Client(scheduler)
         return client, client, max(1, len(client.scheduler_info().get("workers", {})))
     raise ValueError(
@@ -281,12 +295,15 @@ def _finish(
 
 
 def _template(res: BlockResult) -> xr.Dataset:
+    """The Dataset of a solved block (a template for failed blocks: :func:`stack` cuts it to one
+    point, dropping the sweep dimensions, their coordinates and ``point_status``)."""
     if res.dataset is not None:
-        return res.dataset.isel({d: slice(0, 1) for d in res.block.dims})
+        return res.dataset
+    from ._cf import decode
     from .io import ENGINE
 
     with xr.open_dataset(res.part, engine=ENGINE) as ds:
-        return ds.isel({d: slice(0, 1) for d in res.block.dims}).load()
+        return decode(ds.load())
 
 
 def _status_name(code: int) -> str:
@@ -310,7 +327,11 @@ def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, lis
             if plan.shape[d] < 2:  # one value says nothing about a dependence: keep the dim
                 continue
             moved = np.moveaxis(grid, d, -1).reshape(-1, plan.shape[d])
-            if all(len({x for x in row if x is not None}) <= 1 for row in moved):
+            solved = [[x for x in row if x is not None] for row in moved]
+            # constant only where at least two solved points along the dimension agree (a
+            # single solved point, the others failed, says nothing: the dim and its NaN stay)
+            if any(len(row) >= 2 for row in solved) and all(len(set(row)) <= 1
+                                                            for row in solved):
                 dims.append(dim)
         if dims:
             out[name] = dims
@@ -377,16 +398,14 @@ def _global_attrs(
         points[0].pressure_pdf
     ):
         resolved.setdefault("output", {})["p"] = [f"{float(x)!r} Pa" for x in points[0].p]
-    sweep_table = dict(plan.scene.data.get("sweep", {}))
-    if sweep_table:
-        resolved["sweep"] = sweep_table
+    resolved["sweep"] = {**dict(plan.scene.data.get("sweep", {})),
+                         "order": [p.path for p in plan.params]}
     attrs["xpersson_scene"] = json.dumps(resolved, sort_keys=True)
     attrs["xpersson_sweep"] = json.dumps({
         "dims": list(plan.dims),
         "shape": list(plan.shape),
         "parameters": {p.path: p.name for p in plan.params},
         "points": int(plan.size),
-        "blocks": len(results),
     })
     n_bad = int(np.count_nonzero(status))
     n_fail = int(np.count_nonzero(status == POINT_STATUS["failed"]))

@@ -1,4 +1,4 @@
-"""Command-line interface: ``xpersson run | validate | info | reproduce | plugins``.
+"""Command-line interface: ``xpersson run | validate | info | plot | reproduce | plugins``.
 
 Results go to files, messages to stderr. Heavy modules (xarray, scipy) are imported inside the
 sub-commands, so ``xpersson --help`` stays fast.
@@ -43,25 +43,59 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     out = Path(args.output)
-    if out.exists() and not args.overwrite:
+    as_parts = args.output.endswith(("/", "\\")) or out.is_dir()
+    if out.exists() and not args.overwrite and not (as_parts and not any(out.iterdir())):
         _err(f"xpersson: {out} exists; add --overwrite to replace it")
         return 2
     scene = _load(args)
     from . import _pipeline, io
 
-    ds = _pipeline.solve(scene)
-    command = "xpersson " + " ".join(sys.argv[1:]) if sys.argv[1:] else "xpersson run"
-    ds.attrs["history"] = f"{ds.attrs['history']} ({command})"
-    io.to_netcdf(ds, out, overwrite=args.overwrite)
-    _err(f"xpersson: wrote {out} (status: {ds.attrs['status']})")
+    progress = False if args.quiet else (True if args.progress else None)
+    if as_parts:
+        from .sweep import expand
+
+        if expand(scene) is None:
+            _err(f"xpersson: {args.output} is a folder, but the scene sweeps no parameter; "
+                 "give a .nc file")
+            return 2
+    ds = _pipeline.solve(scene, scheduler=_scheduler(args.scheduler), progress=progress,
+                         output=out if as_parts else None, chunk=args.chunk,
+                         workers=args.workers)
+    if as_parts:
+        _err(f"xpersson: wrote {out}/ ({len(list(out.glob('part-*.nc')))} parts; open with "
+             f"xpersson.open_dataset) (status: {ds.attrs['status']})")
+    else:
+        command = "xpersson " + " ".join(sys.argv[1:]) if sys.argv[1:] else "xpersson run"
+        ds.attrs["history"] = f"{ds.attrs['history']} ({command})"
+        io.to_netcdf(ds, out, overwrite=args.overwrite)
+        _err(f"xpersson: wrote {out} (status: {ds.attrs['status']})")
     if ds.attrs["status"] != "success":
         _err(f"xpersson: {ds.attrs['status_message']}")
         return 3
     return 0
 
 
+def _scheduler(text: str | None) -> str | None:
+    return None if text in (None, "serial") else text
+
+
 def _cmd_validate(args: argparse.Namespace) -> int:
     scene = _load(args)
+    from .sweep import expand
+
+    plan = expand(scene)
+    if plan is not None:
+        from ._sweeprun import resolve_points
+
+        points = resolve_points(plan, None)
+        rs = points[0]
+        sweep = ", ".join(f"{p.path} -> {p.name} ({len(p.values)})" for p in plan.params)
+        _err(f"xpersson: {args.scene} is valid: a sweep of {plan.size} points ({sweep}), "
+             f"{rs.p0.size} load(s) each, {rs.zeta.size} zeta points, plugins "
+             f"{rs.plugin_names}")
+        if args.json:
+            print(json.dumps(plan.scene_lists(), indent=1, sort_keys=True))
+        return 0
     rs = scene.resolve()
     _err(
         f"xpersson: {args.scene} is valid: {rs.p0.size} load(s), {rs.zeta.size} zeta points "
@@ -142,6 +176,15 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     return 0 if same else 4
 
 
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from . import io, plot
+
+    ds = io.open_dataset(args.archive)
+    out = plot.save(ds, args.kind, args.output, dpi=args.dpi)
+    _err(f"xpersson: wrote {out} ({args.kind})")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argparse parser of the ``xpersson`` command."""
     parser = argparse.ArgumentParser(
@@ -153,10 +196,22 @@ def build_parser() -> argparse.ArgumentParser:
 
     run = sub.add_parser("run", help="solve a scene and write a netCDF archive")
     run.add_argument("scene", help="scene TOML file")
-    run.add_argument("-o", "--output", required=True, help="output .nc file")
+    run.add_argument("-o", "--output", required=True,
+                     help="output .nc file, or DIR/ for a sweep written as netCDF parts")
     run.add_argument("--set", action="append", metavar="KEY=VALUE",
                      help="override a scene value, e.g. --set 'load.p0=\"1 MPa\"'")
     run.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    run.add_argument("--scheduler", default=None, metavar="S",
+                     help="where sweep points run: serial (default), threads, processes "
+                     "(dask LocalCluster) or a dask scheduler address tcp://host:port")
+    run.add_argument("--workers", type=int, default=None,
+                     help="workers for threads/processes (default: number of cores)")
+    run.add_argument("--chunk", type=int, default=None,
+                     help="sweep points per task / netCDF part")
+    noise = run.add_mutually_exclusive_group()
+    noise.add_argument("--quiet", action="store_true", help="no progress bar")
+    noise.add_argument("--progress", action="store_true",
+                       help="progress bar even when stderr is not a terminal")
     run.set_defaults(func=_cmd_run)
 
     val = sub.add_parser("validate", help="check a scene without solving it")
@@ -168,6 +223,15 @@ def build_parser() -> argparse.ArgumentParser:
     info = sub.add_parser("info", help="summarise an archive")
     info.add_argument("archive", help=".nc file written by xpersson run")
     info.set_defaults(func=_cmd_info)
+
+    plo = sub.add_parser("plot", help="plot an archive (matplotlib)")
+    plo.add_argument("archive", help=".nc file or sweep folder written by xpersson run")
+    plo.add_argument("--kind", default="area",
+                     choices=["area", "pressure_pdf", "gap_pdf", "leakage", "energy", "friction"],
+                     help="what to plot (default: area)")
+    plo.add_argument("-o", "--output", required=True, help="figure file (.png, .pdf, .svg)")
+    plo.add_argument("--dpi", type=int, default=110, help="resolution of raster figures")
+    plo.set_defaults(func=_cmd_plot)
 
     rep = sub.add_parser("reproduce", help="re-solve an archive from its own scene")
     rep.add_argument("archive", help=".nc file written by xpersson run")

@@ -158,10 +158,31 @@ def describe(group: str, name: str, registry: Registry | None = None) -> dict[st
         "parameters": params,
         "outputs": outputs,
     }
+    if group in ("boundaries", "coefficients"):
+        desc["traits"] = sorted(getattr(cls, "traits", ()))
     if group == "analyses":
         desc["requires"] = list(cls.requires)  # type: ignore[attr-defined]
         desc["provides"] = list(cls.provides)  # type: ignore[attr-defined]
+        desc["boundary_traits"] = sorted(getattr(cls, "boundary_traits", ()))
+        desc["coefficient_traits"] = sorted(getattr(cls, "coefficient_traits", ()))
+        desc["boundaries"] = _supported(cls, reg, "boundaries")
+        desc["coefficients"] = _supported(cls, reg, "coefficients")
     return desc
+
+
+def _supported(cls: Any, reg: Registry, group: str) -> dict[str, list[str]]:
+    """Installed plugins of ``group`` the analysis accepts / refuses (by their declared traits)."""
+    out: dict[str, list[str]] = {"supported": [], "refused": []}
+    supports = getattr(cls, "supports", None)
+    for name in reg.names(group):
+        try:
+            other = reg.load(group, name)
+        except PluginError:
+            continue
+        kw = {"boundary" if group == "boundaries" else "coefficient": other}
+        ok = supports is None or supports(**kw) is None
+        out["supported" if ok else "refused"].append(name)
+    return out
 
 
 def _jsonable(value: Any) -> Any:
@@ -191,9 +212,19 @@ def cmd_show(
     w(f"  distribution: {d['distribution']} {d['version']}\n")
     w(f"  api_version:  {d['api_version']}\n")
     w("  references:   " + (", ".join(d["references"]) or "none") + "\n")
+    if "traits" in d:
+        w("  traits:       " + (", ".join(d["traits"]) or "none") + "\n")
     if "requires" in d:
         w("  requires:     " + (", ".join(d["requires"]) or "nothing") + "\n")
         w("  provides:     " + (", ".join(d["provides"]) or "nothing") + "\n")
+        for kind, plural in (("boundary", "boundaries"), ("coefficient", "coefficients")):
+            sup = d[plural]
+            need = ", ".join(d[f"{kind}_traits"]) or "none"
+            w(f"  {kind} traits needed: {need}\n")
+            w(f"    supported {plural}: " + (", ".join(sup["supported"]) or "none installed"))
+            if sup["refused"]:
+                w("; refused: " + ", ".join(sup["refused"]))
+            w("\n")
     w("parameters:\n" if d["parameters"] else "parameters: none\n")
     for pname, p in d["parameters"].items():
         default = p["default"] if p["default"] == "REQUIRED" else f"default {p['default']!r}"

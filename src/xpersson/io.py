@@ -23,7 +23,7 @@ from pathlib import Path
 
 import xarray as xr
 
-__all__ = ["to_netcdf", "open_dataset", "stale_temporaries"]
+__all__ = ["to_netcdf", "open_dataset", "open_parts", "stale_temporaries"]
 
 ENGINE = "netcdf4"
 _SUFFIX = ".part"
@@ -73,12 +73,15 @@ def to_netcdf(ds: xr.Dataset, path: str | os.PathLike[str], *, overwrite: bool =
     remove_stale_temporaries(target)
     tmp, fd = _create_temporary(target)
     try:
+        from ._cf import encode
+
+        stored, encoding = encode(ds)
         try:
-            ds.to_netcdf(tmp, engine=ENGINE, format="NETCDF4")
+            stored.to_netcdf(tmp, engine=ENGINE, format="NETCDF4", encoding=encoding)
         except PermissionError:  # a file system emulating flock with our lock (NFS): unlock
             if not _lock(fd, unlock=True):
                 raise
-            ds.to_netcdf(tmp, engine=ENGINE, format="NETCDF4")
+            stored.to_netcdf(tmp, engine=ENGINE, format="NETCDF4", encoding=encoding)
         os.fsync(fd)  # same inode: flushes what the netCDF library wrote
         if overwrite:
             os.replace(tmp, target)
@@ -218,14 +221,52 @@ def _locked(tmp: Path) -> bool:
 
 
 def open_dataset(path: str | os.PathLike[str], **kwargs: object) -> xr.Dataset:
-    """Open an xpersson archive (loaded into memory, file closed).
+    """Open an xpersson archive (loaded into memory, file closed), or a sweep folder (lazily).
 
     Parameters
     ----------
     path : path-like
-        A file written by :func:`to_netcdf` (or ``xpersson run``).
+        A file written by :func:`to_netcdf` (or ``xpersson run``), or a folder of netCDF parts
+        written by a sweep (``xpersson run -o DIR/``, ``xpersson.solve(..., output=DIR)``):
+        opened lazily (dask) as one Dataset by :func:`open_parts`.
     **kwargs
-        Passed to :func:`xarray.open_dataset`.
+        Passed to :func:`xarray.open_dataset` (files only).
     """
+    if Path(path).is_dir():
+        return open_parts(path)
+    from ._cf import decode
+
     with xr.open_dataset(path, engine=ENGINE, **kwargs) as ds:  # type: ignore[arg-type]
-        return ds.load()
+        return decode(ds.load())
+
+
+def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:
+    """Open the netCDF parts of a sweep folder lazily as one Dataset (needs dask).
+
+    The folder's index (``xpersson_index.json``) names the parts, their place on the sweep
+    grid, the variables that do not depend on some sweep dimensions and the global attributes.
+    """
+    import json
+
+    from ._sweeprun import INDEX, finalize
+
+    folder = Path(folder)
+    index_file = folder / INDEX
+    if not index_file.is_file():
+        raise FileNotFoundError(f"{folder} is not a sweep folder (no {INDEX})")
+    index = json.loads(index_file.read_text(encoding="utf-8"))
+    dims = index["dims"]
+    counts = [max(g[d] for g, _ in index["parts"]) + 1 for d in range(len(dims))]
+    import numpy as np
+
+    nested = np.empty(counts, dtype=object)
+    for grid_index, name in index["parts"]:
+        nested[tuple(grid_index)] = str(folder / name)
+    ds = xr.open_mfdataset(
+        nested.tolist(), combine="nested", concat_dim=dims, engine=ENGINE, chunks={},
+        data_vars="minimal", coords="minimal", join="outer", compat="override",
+        combine_attrs="override",
+    )
+    from ._cf import decode
+
+    return finalize(decode(ds), index["constant"], index["attrs"])

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import copy
 import datetime as _dt
+import functools
 import json
 import platform
 import sys
@@ -18,29 +20,51 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["global_attributes", "plugins_used", "environment", "version"]
 
 
+@functools.lru_cache(maxsize=1)
 def version() -> str:
-    """Installed version of xpersson."""
+    """Installed version of xpersson (read once per process)."""
     try:
         return metadata.version("xpersson")
     except metadata.PackageNotFoundError:  # running from a source tree
         return "0+unknown"
 
 
-def environment() -> dict[str, str]:
-    """Python, platform and the versions of the numerical stack."""
+@functools.lru_cache(maxsize=1)
+def _environment_json() -> str:
     env = {"python": sys.version.split()[0], "platform": platform.platform()}
     for pkg in ("numpy", "scipy", "xarray", "netCDF4", "pint"):
         try:
             env[pkg] = metadata.version(pkg)
         except metadata.PackageNotFoundError:
             env[pkg] = "not installed"
-    return env
+    return json.dumps(env, sort_keys=True)
+
+
+def environment() -> dict[str, str]:
+    """Python, platform and the versions of the numerical stack (computed once per process)."""
+    return json.loads(_environment_json())
+
+
+_PLUGIN_RECORDS: dict[tuple[str, type, int], tuple[Any, Any, dict[str, Any]]] = {}
+
+
+def _plugin_record(group: str, cls: type, reg: Registry) -> dict[str, Any]:
+    """:func:`plugin_provenance`, looked up once per (group, class, registry discovery)."""
+    from .plugins._registry import plugin_provenance
+
+    key = (group, cls, id(reg))
+    found = reg._discover()  # noqa: SLF001 - cached discovery; a refresh() replaces it
+    hit = _PLUGIN_RECORDS.get(key)
+    if hit is None or hit[0] is not reg or hit[1] is not found:
+        if len(_PLUGIN_RECORDS) > 256:
+            _PLUGIN_RECORDS.clear()
+        hit = (reg, found, plugin_provenance(group, cls, reg))
+        _PLUGIN_RECORDS[key] = hit
+    return copy.deepcopy(hit[2])
 
 
 def plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
     """Group, name, distribution, version, class and references of every plugin of a run."""
-    from .plugins._registry import plugin_provenance
-
     items = [
         ("spectra", rs.plugin_names.get("spectrum"), rs.spectrum),
         ("coefficients", rs.plugin_names.get("coefficient"), rs.coefficient),
@@ -49,7 +73,7 @@ def plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
     ]
     out = []
     for group, name, inst in items:
-        record = plugin_provenance(group, type(inst), reg)
+        record = _plugin_record(group, type(inst), reg)
         if name:
             record["name"] = name
         out.append(record)
@@ -79,5 +103,5 @@ def global_attributes(rs: ResolvedScene, reg: Registry) -> dict[str, str]:
         "xpersson_scene": json.dumps(rs.resolved, sort_keys=True),
         "xpersson_scene_source": rs.scene.source or "<dict>",
         "xpersson_plugins": json.dumps(used, sort_keys=True),
-        "xpersson_environment": json.dumps(environment(), sort_keys=True),
+        "xpersson_environment": _environment_json(),
     }

@@ -9,6 +9,7 @@ unknown keys (named in the error), plugin names, and the spectrum's own consiste
 from __future__ import annotations
 
 import copy
+import dataclasses
 import math
 import re
 import tomllib
@@ -71,6 +72,10 @@ CORE: dict[str, dict[str, ParamSpec]] = {
                           description="relative tolerance on the contact area"),
         "atol": ParamSpec("1", default=1e-12, bounds=(0, 0.1),
                           description="absolute tolerance on the contact area"),
+        "walkers": ParamSpec("1", default=None, bounds=(1, 1e9), kind="int",
+                             description="walkers of the Monte Carlo method 'markov'"),
+        "seed": ParamSpec("1", default=None, bounds=(0, None), kind="int",
+                          description="random seed of the Monte Carlo method 'markov'"),
     },
 }
 PLUGIN_SECTIONS = {"spectrum": "spectra", "coefficient": "coefficients", "boundary": "boundaries"}
@@ -130,6 +135,7 @@ class ResolvedScene:
     method: Any
     plugin_names: dict[str, str] = field(default_factory=dict)
     resolved: dict[str, Any] = field(default_factory=dict)
+    solver_options: dict[str, Any] = field(default_factory=dict)
 
     @property
     def E_star(self) -> float:
@@ -309,8 +315,10 @@ def sweep_values(spec: ParamSpec, value: Any, where: str) -> np.ndarray:
     return np.array([convert_param(spec, v, f"{where}[{i}]") for i, v in enumerate(value)])
 
 
-def _loads(value: Any) -> tuple[np.ndarray, bool]:
+def _loads(value: Any, tensile: bool = False) -> tuple[np.ndarray, bool]:
     spec = CORE["load"]["p0"]
+    if tensile:  # the boundary accepts tensile loads (adhesion) and checks their range itself
+        spec = dataclasses.replace(spec, bounds=(None, None))
     if is_sweep_value(spec, value):
         arr = sweep_values(spec, value, "load.p0")
         if not isinstance(value, Mapping) and np.any(np.diff(arr) <= 0):
@@ -451,7 +459,7 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
     p0_raw = load_raw.pop("p0")
     if load_raw:
         raise SceneError(f"load.{sorted(load_raw)[0]}: unknown parameter; allowed in [load]: p0")
-    p0, scalar = _loads(p0_raw)
+    p0, scalar = _loads(p0_raw, tensile=True)  # sign checked once the boundary is known
     out = convert_params(CORE["output"], data.get("output", {}), "output")
     solver = convert_params(CORE["solver"], data.get("solver", {}), "solver")
     if out["p"] is not None and np.any(np.diff(out["p"]) <= 0):
@@ -469,7 +477,14 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         inst, name, params = _plugin(section, data.get(section), registry, base)
         plugins[section], names[section] = inst, name
         resolved[section] = {"model": name, **_jsonable(params, type(inst).parameters)}
+    if not getattr(type(plugins["boundary"]), "tensile_loads", False) and np.any(p0 <= 0):
+        _loads(p0_raw)  # raises the range error of a compressive-only boundary
     psd = _build_spectrum(plugins["spectrum"], names["spectrum"], registry)
+    archived = getattr(plugins["spectrum"], "archived_params", None)
+    if callable(archived):  # file-based spectra: the table itself goes into the archive
+        spec_cls = type(plugins["spectrum"])
+        resolved["spectrum"] = {"model": names["spectrum"],
+                                **_jsonable(archived(psd), spec_cls.parameters)}
     zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
 
     requested = data.get("analyses", {})
@@ -493,10 +508,17 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         for name, cls, raw in plan:
             params = convert_params(cls.parameters, raw, f"analyses.{name}")
             try:
-                analyses.append((name, cls(**params)))
+                inst = cls(**params)
+                inst.check_scene(plugins["coefficient"], plugins["boundary"])
+                analyses.append((name, inst))
             except (ValueError, TypeError) as exc:
-                raise SceneError(plugin_message(f"analyses.{name}", cls, exc)) from None
-            resolved["analyses"][name] = _jsonable(params, cls.parameters)
+                msg = plugin_message(f"analyses.{name}", cls, exc)
+                raise SceneError(
+                    f"{msg} (scene: boundary {names['boundary']!r}, "
+                    f"coefficient {names['coefficient']!r})"
+                ) from None
+            # the instance's parameters: defaults it resolved (e.g. a gamma) are recorded too
+            resolved["analyses"][name] = _jsonable(dict(inst.params), cls.parameters)
     resolved["material"] = _jsonable(material, CORE["material"])
     loads = [f"{float(v)!r} Pa" for v in p0]
     resolved["load"] = {"p0": loads[0] if scalar else loads}
@@ -525,6 +547,7 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         method=solver["method"],
         plugin_names=names,
         resolved=resolved,
+        solver_options={k: int(solver[k]) for k in ("walkers", "seed") if solver[k] is not None},
     )
 
 

@@ -14,7 +14,7 @@ from .plugins import VarSpec
 
 __all__ = ["CORE_VARIABLES", "COORDS", "stamp", "CONVENTIONS"]
 
-CONVENTIONS = "CF-1.12, ACDD-1.3"
+CONVENTIONS = "CF-1.11, ACDD-1.3"  # the versions the IOOS compliance-checker verifies
 
 COORDS: dict[str, VarSpec] = {
     "zeta": VarSpec(("zeta",), "1", "magnification", description="zeta = q / q_L"),
@@ -50,10 +50,13 @@ CORE_VARIABLES: dict[str, VarSpec] = {
     "absorbed_lower": VarSpec(("p0", "zeta"), "1", "probability absorbed at the lower wall"),
     "absorbed_upper": VarSpec(("p0", "zeta"), "1", "probability absorbed at the upper wall"),
     "load_balance": VarSpec(("p0", "zeta"), "1", "residual of the load identity",
-                            description="e.g. int p P dp / p0 - 1 for the elastic wall"),
+                            description="e.g. int p P dp / p0 - 1 for the elastic wall",
+                            extra={"coverage_content_type": "qualityInformation"}),
     "probability_balance": VarSpec(("p0", "zeta"), "1", "residual of the probability balance",
-                                   description="int P dp + absorbed - 1"),
-    "error_estimate": VarSpec(("p0", "zeta"), "1", "estimated absolute error of A/A0"),
+                                   description="int P dp + absorbed - 1",
+                                   extra={"coverage_content_type": "qualityInformation"}),
+    "error_estimate": VarSpec(("p0", "zeta"), "1", "estimated absolute error of A/A0",
+                              extra={"coverage_content_type": "qualityInformation"}),
     "solver_status": VarSpec(("p0",), "1", "engine status per load",
                              extra={"flag_meanings": "success max_steps balance_violated "
                                     "tolerance_not_met invalid_input"}),

@@ -12,7 +12,8 @@ Combination (the scene's ``[sweep]`` table)::
     zip = [["material.E", "material.nu"]]     # zipped groups: one dimension per group
 
 With ``mode = "zip"`` all swept parameters form one zipped group. Dimensions are ordered as the
-parameters appear in the scene.
+parameters appear in the scene, or as ``order = ["spectrum.H", "material.E"]`` lists them
+(archives record the order, so a re-solved sweep has the same dimension order).
 
 Dimension naming rule:
 
@@ -160,6 +161,7 @@ class SweepPlan:
         for param in self.params:
             _set_path(data, param.path, [param.scene_value(i) for i in range(len(param.values))])
         data["sweep"] = copy.deepcopy(self.scene.data.get("sweep", {}))
+        data["sweep"]["order"] = [p.path for p in self.params]
         return data
 
 
@@ -263,9 +265,9 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
     table = data.get("sweep", {})
     if not isinstance(table, Mapping):
         raise SceneError("sweep: must be a table (mode = 'product' | 'zip', zip = [[...]])")
-    unknown = sorted(set(table) - {"mode", "zip"})
+    unknown = sorted(set(table) - {"mode", "zip", "order"})
     if unknown:
-        raise SceneError(f"sweep.{unknown[0]}: unknown key; allowed: mode, zip")
+        raise SceneError(f"sweep.{unknown[0]}: unknown key; allowed: mode, zip, order")
     if not found:
         if table:
             raise SceneError("sweep: the scene sweeps no parameter (give a list or a range to a "
@@ -315,6 +317,14 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
             groups.append(placed[gi])
         else:
             placed[gi].append(param)
+    order = table.get("order", [])
+    if not isinstance(order, list) or any(p not in params for p in order):
+        bad = next((p for p in order if p not in params), order) if isinstance(order, list) \
+            else order
+        raise SceneError(f"sweep.order: {bad!r} is not a swept parameter of this scene; swept: "
+                         f"{', '.join(params)}")
+    rank = {path: i for i, path in enumerate(order)}
+    groups.sort(key=lambda g: min(rank.get(p.path, len(rank)) for p in g))
     for group in groups:
         n = {len(p.values) for p in group}
         if len(n) > 1:

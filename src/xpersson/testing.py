@@ -35,9 +35,17 @@ from collections.abc import Iterator, Mapping
 from types import SimpleNamespace
 from typing import Any
 
-from .plugins._base import API_VERSION, Plugin, _check_class
-from .plugins._registry import Registry, _check_loaded, normalize_group, using_registry
-from .plugins._specs import REQUIRED, SpecError
+from ._crosscheck import markov_cross_check
+from .plugins import (
+    API_VERSION,
+    REQUIRED,
+    Plugin,
+    Registry,
+    SpecError,
+    check_plugin_class,
+    normalize_group,
+    using_registry,
+)
 
 __all__ = [
     "HEAVY_MODULES",
@@ -49,6 +57,7 @@ __all__ = [
     "constant_wall_load",
     "linear_wall_area",
     "linear_wall_load",
+    "markov_cross_check",
     "mirrored_gaussian_area",
     "oracles",
     "registry_with",
@@ -171,13 +180,15 @@ def check_plugin(
     cheap_import: bool = True,
     import_budget: float = 3.0,
     balance_tol: float | None = None,
+    markov: int = 40_000,
 ) -> dict[str, Any]:
     """Check a plugin class against the xpersson plugin contract.
 
     Checks, in order: class metadata (as at class definition, plus the API version); a cheap
     module import in a fresh interpreter (no :data:`HEAVY_MODULES`, within ``import_budget``
-    seconds); pickle round trip of an instance; determinism and finite values of the group's
-    methods on a tiny scene; and, with ``engine=True``, a solve of :data:`TINY_SCENE` through
+    seconds of CPU time, so a loaded machine does not fail it); pickle round trip of an
+    instance; determinism and finite values of the group's methods on a tiny scene; and, with
+    ``engine=True``, a solve of :data:`TINY_SCENE` through
     :func:`xpersson.solve` with the plugin injected: finite outputs with the declared
     attributes, :func:`assert_schema`, two runs equal, and for boundaries and coefficients the
     probability balance (``|probability_balance| <= balance_tol``).
@@ -200,6 +211,9 @@ def check_plugin(
     balance_tol : float, optional
         Allowed probability-balance residual [1]. Default: the engine's own acceptance
         criterion for the tiny scene's tolerances, ``10 (rtol + atol)``.
+    markov : int
+        Boundaries only (with ``engine=True``): walkers of the cross-check against the Markov
+        process, :func:`markov_cross_check` (within 5 standard errors); 0 skips it.
 
     Returns
     -------
@@ -219,11 +233,10 @@ def check_plugin(
         raise AssertionError(f"{cls!r} is not a plugin class (derive from a base in GROUPS)")
     group = cls.group
     try:
-        _check_class(cls)
+        check_plugin_class(cls)
     except SpecError as exc:
         raise AssertionError(f"metadata: {exc}") from None
-    err = _check_loaded(group, cls)
-    assert err is None, f"{name}: {err}"
+    assert not getattr(cls, "abstract", True), f"{name} is abstract"
     assert cls.api_version <= API_VERSION, f"{name}: api_version {cls.api_version} too new"
     report["metadata"] = "ok"
 
@@ -247,6 +260,8 @@ def check_plugin(
 
     if engine:
         report["engine"] = _check_engine(cls, values, scene, balance_tol)
+        if markov and group == "boundaries":
+            report["markov"] = markov_cross_check(cls, values, scene, walkers=markov)
     return report
 
 
@@ -263,7 +278,7 @@ def _check_import(cls: type, budget: float) -> str:
         )
     code = (
         "import json, sys, time\n"
-        f"t = time.perf_counter(); import {module}; t = time.perf_counter() - t\n"
+        f"t = time.process_time(); import {module}; t = time.process_time() - t\n"
         f"heavy = [m for m in {HEAVY_MODULES!r} if m in sys.modules]\n"
         "print(json.dumps({'t': t, 'heavy': heavy}))\n"
     )
@@ -288,7 +303,7 @@ def _tiny_context(p0: tuple[float, ...] = (1e5, 1e6)) -> Any:
     import numpy as np
 
     from .physics.psd import SelfAffineRollOff
-    from .plugins._context import SceneContext
+    from .plugins import SceneContext
 
     psd = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e6)
     E, nu = 1e7, 0.5
@@ -345,7 +360,7 @@ def _check_boundary(inst: Any, clone: Any) -> str:
     import numpy as np
 
     from .physics import elastic
-    from .plugins._context import DiffusionClock
+    from .plugins import DiffusionClock
 
     ctx = _tiny_context()
     who = _qual(type(inst))
@@ -394,7 +409,7 @@ def _merge(base: dict[str, Any], over: Mapping[str, Any]) -> dict[str, Any]:
 
 def _solver() -> Any:
     try:
-        from ._pipeline import solve
+        from . import solve
     except Exception as exc:  # the core pipeline is optional for the metadata checks
         raise RuntimeError(
             "check_plugin: the end-to-end checks need xpersson.solve, which cannot be imported "
@@ -452,6 +467,10 @@ def _check_engine(
         a1, a2 = np.asarray(ds1[var].values), np.asarray(ds2[var].values)
         if a1.dtype.kind in "fc":
             assert np.all(np.isfinite(a1)), f"{who}: {var!r} has non-finite values"
+            if spec is not None:
+                lo, hi = spec.valid_min, spec.valid_max
+                assert lo is None or np.all(a1 >= lo), f"{who}: {var!r} below valid_min {lo}"
+                assert hi is None or np.all(a1 <= hi), f"{who}: {var!r} above valid_max {hi}"
         assert np.array_equal(a1, a2), f"{who}: {var!r} differs between two identical solves"
     area = np.asarray(ds1["area_fraction"].values)
     assert np.all((area >= -tol) & (area <= 1 + tol)), f"{who}: area_fraction outside [0, 1]"
@@ -603,8 +622,9 @@ def two_wall_areas(p0: float, sigma_y: float, tau: Any) -> tuple[Any, Any]:
     """Elastic and plastic area for fixed walls at 0 and sigma_y (physics.md §3.1).
 
     Sine series ``A_el = sum_odd 4/(n pi) sin(n pi p0/sY) exp(-(n pi/sY)^2 tau)`` and
-    ``A_pl = p0/sY - sum_n 2/(n pi) (-1)^(n+1) sin(n pi p0/sY) exp(-(n pi/sY)^2 tau)``, summed
-    until the terms are below 1e-17. Units: p0, sigma_y [Pa], tau [Pa^2].
+    ``A_pl = p0/sY - sum_n 2/(n pi) (-1)^(n+1) sin(n pi p0/sY) exp(-(n pi/sY)^2 tau)`` (image
+    series at small tau), from :mod:`xpersson.engine.exact`, their one home. Units: p0, sigma_y
+    [Pa], tau [Pa^2].
 
     Returns
     -------
@@ -612,20 +632,11 @@ def two_wall_areas(p0: float, sigma_y: float, tau: Any) -> tuple[Any, Any]:
     """
     import numpy as np
 
-    t = np.atleast_1d(np.asarray(tau, dtype=float)) / float(sigma_y) ** 2
-    x = float(p0) / float(sigma_y)
-    tmin = float(np.min(t[t > 0])) if np.any(t > 0) else 1.0
-    nmax = int(min(2e6, math.ceil(math.sqrt(40.0 / tmin) / math.pi) + 10))
-    n = np.arange(1, nmax + 1, dtype=float)
-    decay = np.exp(-np.outer(t, (n * np.pi) ** 2))
-    s = np.sin(n * np.pi * x)
-    odd = (n % 2) == 1
-    a_el = decay[:, odd] @ (4.0 / (n[odd] * np.pi) * s[odd])
-    a_pl = x - decay @ (2.0 / (n * np.pi) * np.where(odd, 1.0, -1.0) * s)
-    a_el = np.where(t > 0, a_el, 1.0)
-    a_pl = np.where(t > 0, a_pl, 0.0)
-    shape = np.shape(tau)
-    return a_el.reshape(shape), a_pl.reshape(shape)
+    from .engine import exact  # the one home of the two-wall series
+
+    t = np.asarray(tau, dtype=float)
+    a_el, _, a_pl = exact.two_wall(t, float(p0), 0.0, float(sigma_y))
+    return np.asarray(a_el).reshape(np.shape(tau)), np.asarray(a_pl).reshape(np.shape(tau))
 
 
 def oracles() -> SimpleNamespace:

@@ -81,6 +81,20 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
         return np.array([to_si(v, unit, f"{where}[{i}]") for i, v in enumerate(value)], float)
     if isinstance(value, bool):
         raise UnitError(f"{where}: expected a quantity in {unit}, got a boolean")
+    if isinstance(value, str) and not array:
+        try:  # sweeps resolve the same strings at every point: parse each once
+            return _str_to_si(value, unit)
+        except UnitError:
+            pass  # redo below, for a message naming ``where``
+    return _to_si(value, unit, where, array)
+
+
+@lru_cache(maxsize=4096)
+def _str_to_si(value: str, unit: str) -> float:
+    return _to_si(value, unit, "", False)
+
+
+def _to_si(value: Any, unit: str, where: str, array: bool) -> Any:
     dimensionless = unit in ("1", "")
     q = _parse(value, where)
     if isinstance(q, int | float):

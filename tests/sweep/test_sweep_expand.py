@@ -109,3 +109,37 @@ def test_collisions_and_bad_sweeps_are_refused():
     ds = xpersson.solve(scene(spectrum={"q_1": ["1e7 1/m", "1e8 1/m"]},
                               output={"zeta_max": 1e4, "zeta_per_decade": 4}))
     assert ds.area_fraction.dims == ("q_1", "p0", "zeta")
+
+
+def test_progress_bar_counts_points_on_stderr(capsys):
+    xpersson.solve(scene(spectrum={"H": [0.6, 0.8]}), progress=True)
+    err = capsys.readouterr().err
+    assert "xpersson sweep" in err and "2/2" in err
+    xpersson.solve(scene(spectrum={"H": [0.6, 0.8]}), progress=False)
+    assert capsys.readouterr().err == ""
+
+
+def test_order_table_and_reproduce_keep_the_dimension_order(tmp_path):
+    sc = scene(spectrum={"H": [0.6, 0.8]}, material={"E": ["5 MPa", "10 MPa"]})
+    sc["sweep"] = {"order": ["material.E", "spectrum.H"]}
+    ds = xpersson.solve(sc)
+    assert ds.area_fraction.dims == ("E", "H", "p0", "zeta")
+    from xpersson.cli import main
+
+    xpersson.to_netcdf(ds, tmp_path / "a.nc")
+    assert main(["reproduce", str(tmp_path / "a.nc"), "-o", str(tmp_path / "b.nc")]) == 0
+    again = xpersson.open_dataset(tmp_path / "b.nc")
+    assert again.area_fraction.dims == ds.area_fraction.dims
+    with pytest.raises(SceneError, match="sweep.order"):
+        xpersson.solve({**sc, "sweep": {"order": ["material.nu"]}})
+
+
+def test_unknown_scheduler_is_refused_before_any_work():
+    with pytest.raises(ValueError, match="scheduler: 'gpu' is not allowed"):
+        xpersson.solve(scene(spectrum={"H": [0.6, 0.8]}), scheduler="gpu")
+
+
+def test_threads_scheduler_equals_serial(swept):
+    threads = xpersson.solve(SWEEP_SCENE, scheduler="threads", chunk=1)
+    for name in swept.variables:
+        xr.testing.assert_identical(threads[name], swept[name])

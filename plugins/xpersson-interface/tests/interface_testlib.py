@@ -32,3 +32,49 @@ def read_csv(name: str) -> dict[str, np.ndarray]:
     names = lines[0].split(",")
     data = np.array([[float(x) for x in ln.split(",")] for ln in lines[1:]])
     return {n: data[:, i] for i, n in enumerate(names)}
+
+
+def scene(p0, *, psd="persson", closure="persson01", boundary=None, analyses=None, **out):
+    """A scene dict on the physics.md §1.4 spectrum ("persson") or the Zhou GFMD one ("zhou")."""
+    if psd == "persson":
+        spectrum = {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_r": "1e4 1/m",
+                    "q_1": "1e8 1/m", "h_rms": "1 um"}  # fmt: skip
+        material = {"E": "10 MPa", "nu": 0.5}
+    else:
+        spectrum = {"model": "self_affine", "H": 0.8, "q_L": "1e4 1/m", "q_r": "1e4 1/m",
+                    "q_1": "1e6 1/m", "h_rms": "6 um"}  # fmt: skip
+        material = {"E": "0.75 Pa", "nu": 0.5}  # E* = 1 Pa
+    sc = {
+        "spectrum": spectrum,
+        "material": material,
+        "load": {"p0": [f"{float(p)!r} Pa" for p in np.atleast_1d(p0)]},
+        "coefficient": {"model": "elastic", "closure": closure},
+        "boundary": boundary or {"model": "elastic"},
+        "analyses": analyses or {},
+    }
+    if out:
+        sc["output"] = out
+    return sc
+
+
+def dense_zeta(zeta_1: float, n: int = 300) -> np.ndarray:
+    """``1`` and ``1 + geomspace(1e-9, zeta_1 - 1, n)``: a curve grid resolving zeta -> 1."""
+    return np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, zeta_1 - 1.0, n)))
+
+
+def persson_curve(psd, E_star, p0, zeta):
+    """The Persson 2001 area curve the elastic solve stores: (A, 1 - A), shape (n_load, n_zeta)."""
+    from xpersson.physics import area_fraction, diffusion_time
+
+    tau = diffusion_time(psd, E_star, zeta)
+    return area_fraction(np.atleast_1d(p0)[:, None], np.asarray(tau)[None, :])
+
+
+def detach(psd, E_star, p0, gamma=1.0, *, n=300, zeta=None, edges=None):
+    """Gap-distribution bins of the Persson curve with the Yang-Persson S (gamma = 1: none)."""
+    from xpersson.physics import detachment
+
+    z = dense_zeta(psd.q_1 / psd.q_L, n) if zeta is None else zeta
+    A, N = persson_curve(psd, E_star, p0, z)
+    S = None if gamma == 1.0 else gamma + (1.0 - gamma) * A**2
+    return detachment(psd, E_star, np.atleast_1d(p0), z, A, S, N, zeta_edges=edges)

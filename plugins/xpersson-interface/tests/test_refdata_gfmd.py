@@ -9,9 +9,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from interface_testlib import H_RMS_ZHOU as HR
-from interface_testlib import read_csv
-
-from xpersson_interface import detachment, gap_cdf, gap_mean
+from interface_testlib import detach, read_csv
+from xpersson.physics import gap_cdf, gap_mean
 
 # measured L1 distance (binned, in probability mass; 0 = identical, 2 = disjoint), gamma = 1
 L1_MAX = {0.0001: 1.60, 0.001: 0.95, 0.005: 0.42, 0.01: 0.25, 0.015: 0.18, 0.025: 0.12,
@@ -32,7 +31,7 @@ def test_gap_pdf_vs_gfmd(zhou, gamma):
     g = read_csv("gap_pdf_gfmd.csv")
     mg = read_csv("mean_gap_derived.csv")
     loads = mg["p_bar_Pa"]
-    d = detachment(zhou, 1.0, loads, gamma, n_zeta=200)
+    d = detach(zhou, 1.0, loads, gamma, n=200)
     for i, p in enumerate(loads):
         sel = g["p_bar_Pa"] == p
         x, P = g["gap_over_hrms"][sel], g["P_gap"][sel]

@@ -14,8 +14,13 @@ __all__ = ["ContactArea"]
 class ContactArea(Analysis):
     """Mean contact pressure p0 / (A/A0) [Pa] and the contact-area slope kappa.
 
-    ``kappa = (A/A0) E* h'_rms / p0`` at the final magnification: tends to sqrt(8/pi) = 1.596 at
-    small load for Persson's theory (a direct check of the area-load law).
+    ``A`` is the area that carries the load, as the boundary declares it
+    (:attr:`xpersson.plugins.Boundary.contact_area`: the elastic area for the elastic wall,
+    elastic + plastic contact for plasticity), so the mean pressure lies in ``[p0, sigma_Y]``
+    for a plastic contact. ``kappa = (A/A0) E* h'_rms / p0`` at the final magnification: tends to
+    sqrt(8/pi) = 1.596 at small load for Persson's theory (a direct check of the area-load law).
+    Where the contact area underflows to 0 the mean pressure is undefined (NaN); with an adhesive
+    boundary and a tensile load (p0 < 0) both outputs are negative.
     """
 
     summary = "mean contact pressure p0/(A/A0) and the area-load slope kappa"
@@ -25,7 +30,9 @@ class ContactArea(Analysis):
     provides = ("mean_contact_pressure", "kappa")
     outputs = {
         "mean_contact_pressure": VarSpec(("p0", "zeta"), "Pa", "mean pressure in the real "
-                                         "contact area", description="p0 / (A/A0)",
+                                         "contact area",
+                                         description="p0 / (A/A0), A the load-bearing contact "
+                                         "area declared by the boundary",
                                          nan_meaning="no contact (A/A0 = 0, or so small that "
                                          "p0 / (A/A0) exceeds the float range)"),
         "kappa": VarSpec(("p0",), "1", "area-load slope kappa = (A/A0) E* h'_rms / p0 at "
@@ -34,9 +41,12 @@ class ContactArea(Analysis):
 
     def compute(self, ctx: SceneContext, ds: Any) -> dict[str, Any]:
         """Mean contact pressure [Pa] and kappa [1]."""
-        area = np.asarray(ds["area_fraction"].transpose(..., "p0", "zeta").values, float)
-        area = area.reshape(ctx.p0.size, -1)
-        with np.errstate(over="ignore", divide="ignore"):
+        names = getattr(type(ctx.boundary), "contact_area", ("area_fraction",))
+        area = sum(
+            np.asarray(ds[n].transpose(..., "p0", "zeta").values, float).reshape(ctx.p0.size, -1)
+            for n in names
+        )
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
             mean_p = ctx.p0[:, None] / np.where(area > 0, area, np.nan)
         mean_p[~np.isfinite(mean_p)] = np.nan
         slope = float(np.sqrt(2 * np.pi * ctx.psd.moment(3, ctx.q_L, ctx.q[-1])))

@@ -27,7 +27,7 @@ class ElasticCoefficient(Coefficient):
 
     ``closure``: ``persson01`` (none), ``yp08`` (Yang & Persson 2008, S = gamma + (1-gamma)A^2),
     ``wm17`` (Wang & Müser 2017), ``xu24`` (Xu et al. 2024, algebraic). ``gamma`` defaults to
-    0.42 (yp08, xu24) and 5/9 (wm17).
+    :data:`xpersson.physics.closures.GAMMA_DEFAULT` = 0.42 (yp08, xu24) and 5/9 (wm17).
     """
 
     summary = "elastic diffusion coefficient from the PSD, with YP08/WM17/Xu24 closures"
@@ -43,9 +43,21 @@ class ElasticCoefficient(Coefficient):
                              description="correction-factor closure of the variance"),
         "gamma": ParamSpec("1", default=None, bounds=(0, 1), inclusive=(False, True),
                            sweepable=True,
-                           description="closure parameter (default 0.42; wm17: 5/9)"),
+                           description="closure parameter (default "
+                           f"{closures.GAMMA_DEFAULT}; wm17: 5/9)"),
     }
     outputs: dict[str, VarSpec] = {}
+    traits = frozenset({"elastic_spectrum"})
+
+    def corrects_variance(self) -> bool:
+        """True for the yp08, wm17 and xu24 closures."""
+        return self._params["closure"] != "persson01"
+
+    def variance_factor(self, ctx: SceneContext, area: np.ndarray) -> np.ndarray | None:
+        """``S = d tau_eff/d tau_c`` of the closure at the running area (None for persson01)."""
+        if not self.corrects_variance():
+            return None
+        return closures.variance_factor(self._params["closure"], area, self._params["gamma"])
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
@@ -64,7 +76,13 @@ class ElasticCoefficient(Coefficient):
         return np.asarray(elastic.diffusion_time(ctx.psd, ctx.E_star, zeta), dtype=float)
 
     def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
-        """Per-load diffusion time [Pa^2]; the closures solve their ODE/fixed point to 1e-10."""
+        """Per-load diffusion time [Pa^2]; the closures solve their ODE/fixed point to 1e-10.
+
+        Without a closure (``persson01``) the time does not depend on the load, which may then
+        be tensile (adhesive boundaries); the closures need ``p0 > 0``.
+        """
+        if self._params["closure"] == "persson01":
+            return super().effective_tau(ctx, zeta)
         tau_c = self.tau(ctx, zeta)
         return closures.effective_tau(
             tau_c, ctx.p0, self._params["closure"], self._params["gamma"], rtol=1e-10
@@ -78,6 +96,9 @@ class ElasticBoundary(Boundary):
     references = ("10.1063/1.1388626", "10.1016/j.wear.2005.12.007")
     parameters: dict[str, ParamSpec] = {}
     outputs: dict[str, VarSpec] = {}
+    traits = frozenset({"repulsive", "load_similar", "conservative"})
+    #: The walls do not depend on the load: the pipeline asks once for a batch of loads.
+    walls_per_load = False
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """One absorbing wall at p = 0 [Pa]; no upper wall."""

@@ -7,6 +7,7 @@ from typing import Any
 from ..physics.psd import PowerSpectrum, SelfAffineRollOff
 from ..physics.psd import Tabulated as _TabulatedPSD
 from ..plugins import ParamSpec, Spectrum
+from .topography import TABLE_PARAMETERS, ArchivedTable
 
 __all__ = ["SelfAffine", "Tabulated"]
 
@@ -74,7 +75,7 @@ class SelfAffine(Spectrum):
         return SelfAffineRollOff(p["C_r"], **geo)
 
 
-class Tabulated(Spectrum):
+class Tabulated(ArchivedTable, Spectrum):
     """PSD read from a two-column text/CSV file (q, C), interpolated log-log.
 
     Conventions: ``persson`` (isotropic, m^4), ``surface_topography`` (isotropic JJP /
@@ -85,7 +86,8 @@ class Tabulated(Spectrum):
     summary = "tabulated isotropic or 1-D PSD from a (q, C) file, log-log interpolated"
     references = ("10.1088/2051-672X/aa51f8",)
     parameters = {
-        "file": ParamSpec("1", kind="path", description="two-column text/CSV file: q, C"),
+        "file": ParamSpec("1", kind="path", default=None,
+                          description="two-column text/CSV file: q, C"),
         "q_unit": ParamSpec("1", default="1/m", kind="string",
                             description="unit of the q column (pint syntax)"),
         "C_unit": ParamSpec("1", default="m**4", kind="string",
@@ -97,12 +99,20 @@ class Tabulated(Spectrum):
                          description="truncate below (default: first table point)"),
         "q_1": ParamSpec(**_WAVEVECTOR, default=None,
                          description="truncate above (default: last table point)"),
+        **TABLE_PARAMETERS,
     }
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        self._check_source()
 
     def build(self) -> PowerSpectrum:
         """Read, convert to SI and the Persson convention."""
         from ..units import to_si
 
+        inline = self._inline()
+        if inline is not None:
+            return inline
         p = self._params
         iso = p["convention"] != "profile_1d"
         c_si = "m**4" if iso else "m**3"

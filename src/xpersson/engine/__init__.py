@@ -3,11 +3,14 @@
 Public API
 ----------
 solve(tau_out, p0, lower=Wall.absorbing(0.0), upper=None, *, rtol, atol, method, p_out, ...)
+solve_batch(tau_out, p0[:], walls=(lower, upper) or [(lower, upper), ...], ...) -> EngineBatch
 solve_sourced(tau_out, sources_tau, sources_position, sources_weight, *, lower, p_out, ...)
 Wall.absorbing(position), Wall.linear(p_start, velocity), Wall.yield_closure(position, dposition),
 Wall.reflecting(position)
 SourcedResult
 EngineResult, EngineMethod, register_method, exact (closed forms)
+MarkovMethod ("markov": walkers), ChapmanKolmogorovMethod ("markov_ck"), sample_paths,
+transition_kernel
 
 Units: pressures in Pa, diffusion time tau in Pa^2, densities in 1/Pa.
 """
@@ -15,11 +18,13 @@ Units: pressures in Pa, diffusion time tau in Pa^2, densities in 1/Pa.
 from __future__ import annotations
 
 from . import exact
-from ._api import solve
+from ._api import solve, solve_batch
 from ._exactpath import ExactMethod
+from ._markov import ChapmanKolmogorovMethod, MarkovMethod, sample_paths
+from ._markov_ck import transition_kernel
 from ._methods import EngineMethod, register_method
 from ._moving import CNMethod
-from ._result import EngineResult
+from ._result import EngineBatch, EngineResult
 from ._sine import SineMethod
 from ._sourced import SourcedResult, solve_sourced
 from ._walls import Wall
@@ -27,17 +32,25 @@ from ._walls import Wall
 register_method("exact", ExactMethod)
 register_method("sine", SineMethod)
 register_method("cn", CNMethod)
+register_method("markov", MarkovMethod)
+register_method("markov_ck", ChapmanKolmogorovMethod)
 
 __all__ = [
     "solve",
+    "solve_batch",
     "solve_sourced",
     "SourcedResult",
     "Wall",
     "EngineResult",
+    "EngineBatch",
     "EngineMethod",
     "register_method",
     "exact",
     "ExactMethod",
     "SineMethod",
     "CNMethod",
+    "MarkovMethod",
+    "ChapmanKolmogorovMethod",
+    "sample_paths",
+    "transition_kernel",
 ]

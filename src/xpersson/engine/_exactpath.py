@@ -33,6 +33,7 @@ class ExactMethod(EngineMethod):
     """Closed forms: one fixed wall, two fixed walls, a linearly moving lower wall."""
 
     name = "exact"
+    batched = True
 
     @classmethod
     def admits(cls, problem: Problem) -> bool:
@@ -46,27 +47,26 @@ class ExactMethod(EngineMethod):
         tau, p0 = pb.tau, pb.p0
         want_p = pb.p_out is not None
         P = None
+        # density arguments: (..., n_tau, n_p) with p0 broadcast per load
+        tp, pp = tau[..., None], np.asarray(p0)[..., None]
         zeros = np.zeros_like(tau)
         if case == "one":
             a = float(pb.lower.position)
-            area = exact.one_wall_area(tau, p0, a)
-            non = exact.one_wall_non_area(tau, p0, a)
+            area, non, load = exact.one_wall(tau, p0, a)
             ab_l, ab_u = non, zeros
-            load = exact.one_wall_load(tau, p0, a)
             wall_term = a * ab_l
             err = 8 * _EPS * np.maximum(area, 1e-300)
             if want_p:
-                P = exact.one_wall_density(pb.p_out[None, :], tau[:, None], p0, a)
+                P = exact.one_wall_density(pb.p_out, tp, pp, a)
         elif case == "two":
             a, b = float(pb.lower.position), float(pb.upper.position)
-            area = exact.two_wall_area(tau, p0, a, b)
-            ab_l, ab_u = exact.two_wall_absorbed(tau, p0, a, b)
+            area, ab_l, ab_u = exact.two_wall(tau, p0, a, b)
             non = ab_l + ab_u
             load = exact.two_wall_load(tau, p0, a, b)
             wall_term = a * ab_l + b * ab_u
             err = 64 * _EPS * np.maximum(area, 1e-300) + 1e-16 * (tau > 0)
             if want_p:
-                P = exact.two_wall_density(pb.p_out[None, :], tau[:, None], p0, a, b)
+                P = exact.two_wall_density(pb.p_out, tp, pp, a, b)
         else:
             p_start, vel = pb.lower.linear_motion(pb.tau_max)
             s0, c = -p_start, -vel
@@ -79,7 +79,7 @@ class ExactMethod(EngineMethod):
             amp = 1.0 + np.abs(c) * tau / (p0 + s0)
             err = 16 * _EPS * amp * np.maximum(area, 1e-300)
             if want_p:
-                P = exact.linear_wall_density(pb.p_out[None, :], tau[:, None], p0, s0, c)
+                P = exact.linear_wall_density(pb.p_out, tp, pp, s0, c)
         return Raw(
             area=area,
             non_area=non,

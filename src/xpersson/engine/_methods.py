@@ -18,6 +18,10 @@ class EngineMethod:
     """
 
     name: str = "base"
+    #: True when :meth:`run` accepts a batch Problem (``tau`` ``(n_load, n_tau)``, ``p0`` a
+    #: ``(n_load, 1)`` column) and returns a Raw with a leading load axis.  Methods without it
+    #: are run once per load by :func:`~xpersson.engine.solve_batch`.
+    batched: bool = False
 
     def __init__(self, problem: Problem) -> None:
         self.problem = problem

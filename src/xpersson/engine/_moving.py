@@ -8,20 +8,30 @@ Scheme
   where the real ones are farther (error ``<= erfc(k/sqrt 2)`` each, ``k`` from ``atol``).  The
   window follows the growing support ``~ sqrt(tau)``; a yield wall stays real once it entered.
 * Front fixing.  Nodes ``p_j(tau) = l_eff(tau) + W(tau) x_j`` on a fixed map ``x_j`` of [0, 1]
-  clustered at both walls; the equation in the moving frame, ``dQ_j/dtau = P_pp + v_j P_p`` with
-  the mesh velocity ``v_j = dp_j/dtau`` (from positions, no wall derivative needed).
+  clustered at both walls.  The unknown ``R = W P`` (mass per unit x) obeys the conservation law
+  ``R_tau = d/dx [R_x / W^2 + (v / W) R]`` with the mesh velocity ``v = l_eff' + x W'``.
+* Finite volumes.  Control volumes between face midpoints (the trapezoid weights), face fluxes
+  ``F = (R_{j+1} - R_j)/(W^2 dx) + v (R_j + R_{j+1})/(2W)``: the discrete mass changes exactly
+  by the wall fluxes, which are what is counted as absorbed (non-contact / plastic area), so
+  ``area + absorbed = initial mass`` holds to round-off at every step and every refinement level
+  (and for their Richardson combination): the area never exceeds 1.
 * Start.  Analytic: the free Gaussian at ``tau_s``, the largest time at which no real wall lies
-  inside the window; outputs before ``tau_s`` are analytic.
-* Time.  Geometric steps (``steps_per_decade``) merged with the output times; Crank-Nicolson
-  with two implicit-Euler half steps first (Rannacher).
-* Yield closure.  ``P(Y) = A_pl Y'`` with ``A_pl`` advanced by the trapezoid rule of
-  ``dA_pl/dtau = -Y' P(Y) - P_p(Y)``, solved implicitly with the interior (one bordered row,
-  reduced to tridiagonal).
-* Accuracy.  Levels ``(N, M)``, ``(2N, 2M)``, ``(4N, 4M)``... on nested grids and step sequences;
-  Richardson extrapolation ``E_l = (4 R_l - R_{l-1})/3`` of every output, error estimate
-  ``|E_l - E_{l-1}|`` (conservative: it measures the error of ``E_{l-1}``).  Levels are added
-  until the estimate meets ``rtol |A| + atol`` or the budget (``max_steps``, ``levels``) is spent,
-  in which case ``status`` says so.
+  inside the window (its discrete mass set to the window mass ``erf(k/sqrt 2)``).
+* Time.  Geometric steps merged with the output times and the kinks of the window edges;
+  Crank-Nicolson with two implicit-Euler half steps first (Rannacher).  One tridiagonal solve
+  per step for all loads of a batch (their systems concatenated); memory proportional to the
+  grid (operators are built per step, never stored for all steps).
+* Yield closure.  ``P(Y) = A_pl Y'``: the last node is a half cell whose mass plus ``A_pl``
+  changes by the flux through its inner face (``dA_pl/dtau = -Y' P(Y) - P_p(Y)`` at the wall),
+  solved implicitly with the interior (one row of the tridiagonal system).
+* Accuracy (aimed at the request).  A pilot pair of grids ``(N0, 2 N0)`` measures the constant
+  of the second-order error; the final grid ``N`` is chosen so that the error of the result is
+  about a quarter of ``rtol |A| + atol`` and the pair ``(N/2, N)`` is solved; the result is the
+  finer solution, its error estimate ``2 |R_N - R_{N/2}| / 3`` (twice the asymptotic value).
+  For tight tolerances, where second order would need very fine grids, the pair is combined by
+  Richardson extrapolation and its (fourth-order) error predicted from three pilot levels.
+  If an estimate misses the tolerance the grid is refined again, up to ``max_steps`` /
+  ``levels``; ``status`` says when it could not.
 """
 
 from __future__ import annotations
@@ -35,7 +45,7 @@ from scipy.interpolate import CubicSpline
 from scipy.linalg.lapack import dgtsv
 from scipy.optimize import brentq
 
-from ._grid import Stencils, clustered
+from ._grid import clustered
 from ._methods import EngineMethod
 from ._problem import Problem, window_k
 from ._result import Raw
@@ -98,28 +108,6 @@ def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float
     return out
 
 
-def _plan(pb: Problem, k: float, per_decade: float) -> _Plan:
-    tau_s = _start_time(pb, k)
-    outs = pb.tau[pb.tau > tau_s]
-    yield_wall = pb.upper is not None and not pb.upper.acts_absorbing
-    if outs.size == 0:
-        return _Plan(np.array([tau_s]), np.zeros(0, int), tau_s, k, yield_wall)
-    decades = math.log10(outs[-1] / tau_s)
-    n_geo = max(1, int(math.ceil(decades * per_decade)))
-    geo = tau_s * np.logspace(0.0, decades, n_geo + 1)
-    fixed = np.union1d(outs, _switch_times(pb, k, tau_s, float(outs[-1])))
-    # merge; drop geometric points too close to an output or a kink
-    ratio = 10 ** (1.0 / per_decade) - 1.0
-    keep = np.ones(geo.size, bool)
-    for t in fixed:
-        keep &= np.abs(geo - t) > 0.3 * ratio * t
-    keep[0] = True
-    base = np.union1d(geo[keep & (geo < outs[-1])], fixed)
-    base = base[base >= tau_s]
-    idx = np.searchsorted(base, outs)
-    return _Plan(base, idx, tau_s, k, yield_wall)
-
-
 def _level_times(base: Array, nsub: int, n_ie: int) -> tuple[Array, Array]:
     """Nested refinement of ``base`` plus Rannacher halves; returns (times, theta per step)."""
     d = np.diff(base)
@@ -178,137 +166,176 @@ def _edges(pb: Problem, plan: _Plan, taus: Array) -> dict:
     return out
 
 
-def _march(pb: Problem, plan: _Plan, n: int, nsub: int, stretch: float, n_ie: int) -> dict:
-    """One level.  Unknown: ``R = W Q`` (mass per unit x), which is stationary for the free
-    Gaussian in an artificial window, so that time errors come only from the walls' influence:
+def _faces(x: Array) -> tuple[Array, Array, Array]:
+    """Face midpoints, node spacings and trapezoid weights (control volumes) of ``x``."""
+    w = np.zeros_like(x)
+    d = np.diff(x)
+    w[:-1] += d / 2
+    w[1:] += d / 2
+    return 0.5 * (x[1:] + x[:-1]), d, w
 
-        R_tau = R_xx / W^2 + (v / W) R_x + (W'/W) R,   v = l_eff' + x W'.
+
+def _edges_batch(pbs: list[Problem], plan: _Plan, taus: Array) -> dict:
+    eds = [_edges(pb, plan, taus) for pb in pbs]
+    return {key: np.stack([np.broadcast_to(e[key], eds[0]["rl"].shape) for e in eds])
+            for key in eds[0]}
+
+
+def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
+           n_ie: int) -> dict:
+    """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads.
+
+    Returns per-load outputs ``(n_load, n_out)`` at the numerical output times.
     """
     taus, theta = _level_times(plan.base, nsub, n_ie)
-    out_at = np.searchsorted(taus, pb.tau[pb.tau > plan.tau_s])
-    st = Stencils(clustered(n, stretch))
-    x = st.x
+    pb0 = pbs[0]
+    nb = len(pbs)
+    out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
+    x = clustered(n, stretch)
     nn = x.size
-    p0 = pb.p0
-    ed = _edges(pb, plan, taus)
+    xf, dxf, w = _faces(x)
+    ed = _edges_batch(pbs, plan, taus)
     if np.any(ed["wa"] <= 0) or np.any(ed["wb"] <= 0):
         raise FloatingPointError("the walls swept the whole window (area 0)")
     n_out = out_at.size
-    res = {key: np.zeros(n_out) for key in _KEYS}
-    want_p = pb.p_out is not None
-    res["P"] = np.zeros((n_out, pb.p_out.size)) if want_p else None
-    dt = np.diff(taus)[:, None]
-    xi = x[None, 1:-1]
-    cn = dt * theta[:, None]
-    co = dt * (1.0 - theta[:, None])
-
-    def ops(tag: str):
-        w = ed["w" + tag][:, None]
-        v = ed["lv" + tag][:, None] + xi * ed["wv" + tag][:, None]
-        r = ed["wv" + tag][:, None] / w
-        return (
-            st.lap_sub / w**2 + v * st.der_sub / w,
-            st.lap_dia / w**2 + v * st.der_dia / w + r,
-            st.lap_sup / w**2 + v * st.der_sup / w,
-        )
-
-    b_sub, b_dia, b_sup = ops("b")
-    a_sub, a_dia, a_sup = ops("a")
-    i_sub, i_dia, i_sup = -cn * b_sub, 1.0 - cn * b_dia, -cn * b_sup
-    e_sub, e_dia, e_sup = co * a_sub, 1.0 + co * a_dia, co * a_sup
-    n_steps = taus.size - 1
-    dl = np.zeros((n_steps, nn - 1))
-    du = np.zeros((n_steps, nn - 1))
-    dd = np.ones((n_steps, nn))
-    dl[:, :-1] = i_sub
-    dd[:, 1:-1] = i_dia
-    du[:, 1:] = i_sup
-    dlo, dhi = st.d_lo, st.d_hi
-    la, wa_, lb, wb_ = ed["la"], ed["wa"], ed["lb"], ed["wb"]
-    rl, ru = ed["rl"], ed["ru"]
-    ysa, ysb = ed["ysa"], ed["ysb"]
+    res = {key: np.zeros((nb, n_out)) for key in _KEYS}
+    want_p = pb0.p_out is not None
+    res["P"] = np.zeros((nb, n_out, pb0.p_out.size)) if want_p else None
     yield_wall = plan.yield_wall
-    # initial free Gaussian (density per unit x)
-    p = la[0] + wa_[0] * x
-    r = wa_[0] * np.exp(-((p - p0) ** 2) / (4.0 * taus[0])) / math.sqrt(4.0 * math.pi * taus[0])
-    r[0] = 0.0
-    r[-1] = 0.0
-    a_pl = 0.0
-    abs_l = abs_u = mom_l = mom_u = 0.0
-    b = np.zeros(nn)
+    p0 = np.array([pb.p0 for pb in pbs])[:, None]
+    la, wa_, lb, wb_ = ed["la"], ed["wa"], ed["lb"], ed["wb"]
 
-    def record(j: int, lv: float, wv: float) -> None:
-        pm = lv + wv * x
-        res["area"][j] = np.dot(st.w, r)
-        res["load"][j] = np.dot(st.w, pm * r)
-        res["abs_l"][j], res["mom_l"][j] = abs_l, mom_l
+    def coef(tag: str, m: int) -> tuple[Array, Array]:
+        """Face coefficients (D, A) of F = D (R_{j+1} - R_j) + A (R_j + R_{j+1}), (nb, n)."""
+        W = ed["w" + tag][:, m, None]
+        v = ed["lv" + tag][:, m, None] + xf[None, :] * ed["wv" + tag][:, m, None]
+        return 1.0 / (W**2 * dxf[None, :]), v / (2.0 * W)
+
+    def flux(r: Array, D: Array, A: Array) -> Array:
+        return D * (r[:, 1:] - r[:, :-1]) + A * (r[:, 1:] + r[:, :-1])
+
+    # initial free Gaussian (mass per unit x), normalised to the window mass erf(k / sqrt 2)
+    t0 = taus[0]
+    pn = la[:, :1] + wa_[:, :1] * x[None, :]
+    r = wa_[:, :1] * np.exp(-((pn - p0) ** 2) / (4.0 * t0)) / math.sqrt(4.0 * math.pi * t0)
+    r[:, 0] = 0.0
+    r[:, -1] = 0.0
+    r *= math.erf(plan.k / math.sqrt(2.0)) / (r @ w)[:, None]
+    a_pl = np.zeros(nb)
+    abs_l = np.zeros(nb)
+    abs_u = np.zeros(nb)
+    mom_l = np.zeros(nb)
+    mom_u = np.zeros(nb)
+    size = nb * nn
+    # row r of the concatenated system: sub-diagonal at S[r] (dgtsv's dl = S[1:]), diagonal at
+    # dd[r], super-diagonal at U[r] (du = U[:-1]); boundary rows are identity rows, so the
+    # loads' systems do not couple
+    S = np.zeros(size)
+    U = np.zeros(size)
+    dd = np.ones(size)
+    S2, U2, dd2 = S.reshape(nb, nn), U.reshape(nb, nn), dd.reshape(nb, nn)
+    rhs = np.zeros((nb, nn))
+    rows = np.arange(nb) * nn  # first node of each load in the concatenated system
+
+    def record(j: int, lv: Array, wv: Array) -> None:
+        pm = lv[:, None] + wv[:, None] * x[None, :]
+        res["area"][:, j] = r @ w
+        res["load"][:, j] = (pm * r) @ w
+        res["abs_l"][:, j], res["mom_l"][:, j] = abs_l, mom_l
         if yield_wall:
-            res["abs_u"][j], res["mom_u"][j] = a_pl, (lv + wv) * a_pl
+            res["abs_u"][:, j], res["mom_u"][:, j] = a_pl, (lv + wv) * a_pl
         else:
-            res["abs_u"][j], res["mom_u"][j] = abs_u, mom_u
+            res["abs_u"][:, j], res["mom_u"][:, j] = abs_u, mom_u
         if want_p:
-            cs = CubicSpline(pm, r / wv)
-            pv = pb.p_out
-            inside = (pv >= pm[0]) & (pv <= pm[-1])
-            res["P"][j, inside] = cs(pv[inside])
+            pv = pb0.p_out
+            for i in range(nb):
+                cs = CubicSpline(pm[i], r[i] / wv[i])
+                inside = (pv >= pm[i, 0]) & (pv <= pm[i, -1])
+                res["P"][i, j, inside] = cs(pv[inside])
 
     nxt = 0
     while nxt < n_out and out_at[nxt] == 0:
-        record(nxt, la[0], wa_[0])
+        record(nxt, la[:, 0], wa_[:, 0])
         nxt += 1
+    n_steps = taus.size - 1
+    prev_key = None
+    f_new = None
     for m in range(n_steps):
-        w0, w1 = wa_[m], wb_[m]
-        # P_p at the walls at the start of the step (regime of this step)
-        f_lo = (dlo[0] * r[0] + dlo[1] * r[1] + dlo[2] * r[2]) / w0**2
-        f_hi = (dhi[0] * r[-1] + dhi[1] * r[-2] + dhi[2] * r[-3]) / w0**2
-        b[1:-1] = e_sub[m] * r[:-2] + e_dia[m] * r[1:-1] + e_sup[m] * r[2:]
         th = theta[m]
-        step = dt[m, 0]
+        step = taus[m + 1] - taus[m]
         wn, wo = th * step, (1.0 - th) * step
-        yield_real = yield_wall and ru[m]
-        if yield_real:
-            # row N:  R_N (1 + ys wn (ys + d0/W)) + ys wn (d1/W) R_{N-1} + ys wn (d2/W) R_{N-2}
-            #         = W ys (A_pl + wo g_old),   g = -Y' P(Y) - P_p(Y)
-            ys = ysb[m]
-            g_old = -ysa[m] * r[-1] / w0 - f_hi
-            d0, d1, d2 = dhi / w1
-            r0, r1, r2 = ys * wn * d2, ys * wn * d1, 1.0 + ys * wn * (ys + d0)
-            fac = r0 / i_sub[m, -1] if i_sub[m, -1] != 0.0 else 0.0
-            row_dl = dl[m].copy()
-            row_dd = dd[m].copy()
-            row_dl[-1] = r1 - fac * i_dia[m, -1]
-            row_dd[-1] = r2 - fac * i_sup[m, -1]
-            b[-1] = w1 * ys * (a_pl + wo * g_old) - fac * b[-2]
-            _, _, _, r_new, info = dgtsv(row_dl, row_dd, du[m], b)
-            b[-1] = 0.0
+        rl, ru = ed["rl"][:, m], ed["ru"][:, m]
+        key = rl.tobytes() + ru.tobytes()
+        if f_new is not None and key == prev_key:
+            f_old = f_new  # the end of the previous step, same regime
         else:
-            _, _, _, r_new, info = dgtsv(dl[m], dd[m], du[m], b)
+            f_old = flux(r, *coef("a", m))
+        prev_key = key
+        D, A = coef("b", m)
+        # interior rows j = 1..n-1:  w_j R_j - wn (F_{j+1/2} - F_{j-1/2}) = w_j R_j^old + wo (...)
+        sub = -wn * (D[:, :-1] - A[:, :-1])
+        dia = w[None, 1:-1] - wn * (-D[:, 1:] + A[:, 1:] - D[:, :-1] - A[:, :-1])
+        sup = -wn * (D[:, 1:] + A[:, 1:])
+        dd2[:, 1:-1] = dia
+        dd2[:, -1] = 1.0
+        S2[:, 1:-1] = sub
+        S2[:, -1] = 0.0
+        U2[:, 1:-1] = sup
+        rhs[:, 1:-1] = w[None, 1:-1] * r[:, 1:-1] + wo * (f_old[:, 1:] - f_old[:, :-1])
+        rhs[:, 0] = 0.0
+        rhs[:, -1] = 0.0
+        yreal = ru & yield_wall
+        if np.any(yreal):
+            # last node: half cell + A_pl, closure R_N = g A_pl with g = W Y'
+            g = wb_[:, m] * ed["ysb"][:, m]
+            iy = np.flatnonzero(yreal)
+            last = rows[iy] + nn - 1
+            dd[last] = g[iy] * w[-1] + 1.0 + g[iy] * wn * (D[iy, -1] + A[iy, -1])
+            S[last] = g[iy] * wn * (-D[iy, -1] + A[iy, -1])
+            rhs[iy, -1] = g[iy] * (w[-1] * r[iy, -1] + a_pl[iy] + wo * -f_old[iy, -1])
+        _, _, _, sol, info = dgtsv(S[1:], dd, U[:-1], rhs.ravel())
         if info != 0:
             raise FloatingPointError(f"tridiagonal solve failed (info={info})")
-        fl_new = (dlo[0] * r_new[0] + dlo[1] * r_new[1] + dlo[2] * r_new[2]) / w1**2
-        fh_new = (dhi[0] * r_new[-1] + dhi[1] * r_new[-2] + dhi[2] * r_new[-3]) / w1**2
-        if rl[m]:
-            abs_l += wn * fl_new + wo * f_lo
-            mom_l += wn * lb[m] * fl_new + wo * la[m] * f_lo
-        if yield_real:
-            g_new = -ysb[m] * r_new[-1] / w1 - fh_new
-            a_pl += wn * g_new + wo * g_old
-        elif ru[m] and not yield_wall:
-            abs_u -= wn * fh_new + wo * f_hi
-            mom_u -= wn * (lb[m] + w1) * fh_new + wo * (la[m] + w0) * f_hi
+        r_new = sol.reshape(nb, nn)
+        f_new = flux(r_new, D, A)
+        out_lo = wn * f_new[:, 0] + wo * f_old[:, 0]
+        out_hi = -(wn * f_new[:, -1] + wo * f_old[:, -1])
+        abs_l += np.where(rl, out_lo, 0.0)
+        mom_l += np.where(rl, wn * lb[:, m] * f_new[:, 0] + wo * la[:, m] * f_old[:, 0], 0.0)
+        if yield_wall:
+            a_pl += np.where(yreal, out_hi + w[-1] * (r[:, -1] - r_new[:, -1]), 0.0)
+        else:
+            abs_u += np.where(ru, out_hi, 0.0)
+            mom_u -= np.where(ru, wn * (lb[:, m] + wb_[:, m]) * f_new[:, -1]
+                              + wo * (la[:, m] + wa_[:, m]) * f_old[:, -1], 0.0)
         r = r_new
         while nxt < n_out and out_at[nxt] == m + 1:
-            record(nxt, lb[m], w1)
+            record(nxt, lb[:, m], wb_[:, m])
             nxt += 1
     res["nsteps"] = n_steps
     res["n_nodes"] = nn
     return res
 
 
+def _combine(fine: dict, coarse: dict, extrapolate: bool) -> dict:
+    """The finer level, or its Richardson combination with the coarser (linear in the levels:
+    the probability balance is kept)."""
+    out = {}
+    for key in (*_KEYS, "P"):
+        if fine[key] is None:
+            out[key] = None
+        elif extrapolate:
+            out[key] = fine[key] + (fine[key] - coarse[key]) / 3.0
+        else:
+            out[key] = fine[key]
+    return out
+
+
 class CNMethod(EngineMethod):
-    """Moving (or fixed) walls: front-fixed Crank-Nicolson with Richardson control."""
+    """Moving (or fixed) walls: front-fixed finite-volume Crank-Nicolson, error aimed at rtol."""
 
     name = "cn"
+    batched = True
 
     @classmethod
     def admits(cls, problem: Problem) -> bool:
@@ -316,101 +343,173 @@ class CNMethod(EngineMethod):
 
     def run(self) -> Raw:
         pb = self.problem
+        if pb.is_batch:
+            n = pb.tau.shape[0]
+            shared = bool(np.all(pb.tau == pb.tau[:1]))
+            if not shared:  # loads on different clocks: one at a time
+                raws = [self._run([pb.load(i)]) for i in range(n)]
+                return _stack(raws)
+            return self._run([pb.load(i) for i in range(n)])
+        raw = self._run([pb])
+        return _unbatch(raw)
+
+    # -- the solver --------------------------------------------------------------------------
+    def _run(self, pbs: list[Problem]) -> Raw:
+        pb = pbs[0]
         opt = pb.options
-        scale = (1e-6 / pb.rtol) ** 0.25
-        n0 = int(opt.get("nodes", max(24, 2 * int(round(39 * scale)))))
-        per_dec = float(opt.get("steps_per_decade", max(6.0, n0 / 4.0)))
-        max_levels = int(opt.get("levels", 5))
+        n0 = int(opt.get("nodes", 24))
+        per_node = float(opt.get("steps_per_decade", 0.0)) / n0 if "steps_per_decade" in opt \
+            else 0.25
+        max_levels = int(opt.get("levels", 10))
+        max_work = float(opt.get("max_work", 1e8))  # node-steps per load over all grids
         stretch = float(opt.get("stretch", 1.0))
         n_ie = int(opt.get("rannacher", 2))
         k = float(opt.get("window_k", window_k(pb.atol)))
-        plan = _plan(pb, k, per_dec)
         tau = pb.tau
-        n_t = tau.size
-        analytic = tau <= plan.tau_s
+        tau_s = min(_start_time(p, k) for p in pbs)
+        analytic = tau <= tau_s
         num = ~analytic
-        raw_levels: list[dict] = []
+        nb = len(pbs)
         status, message = "success", ""
         nsteps = 0
+        work = 0.0
+        n_used = 0
         best: dict | None = None
-        err = np.full(int(num.sum()), np.inf)
-        keys = (*_KEYS, "P")
+        err = np.full((nb, int(num.sum())), np.inf)
+        cache: dict[tuple[int, int], dict] = {}
         if num.any():
-            ext1: list[dict] = []  # Richardson (4th order) values E_l
-            for lev in range(max_levels):
-                need = (plan.base.size - 1) * 2**lev + 2 * n_ie
-                if nsteps + need > pb.max_steps:
-                    status = "max_steps"
-                    message = f"max_steps = {pb.max_steps} reached before the tolerance was met"
-                    break
-                try:
-                    r = _march(pb, plan, n0 * 2**lev, 2**lev, stretch, n_ie)
-                except FloatingPointError as exc:
-                    status, message = "tolerance_not_met", f"numerical failure: {exc}"
-                    break
-                nsteps += r["nsteps"]
-                raw_levels.append(r)
-                if lev == 0:
-                    best = r
-                    continue
-                prev = raw_levels[-2]
-                e = {
-                    key: None if r[key] is None else r[key] + (r[key] - prev[key]) / 3.0
-                    for key in keys
-                }
-                ext1.append(e)
-                if lev == 1:
-                    best = e
-                    err = np.abs(r["area"] - prev["area"])  # ~ 3x the error of E_1
-                    continue
-                e_prev = ext1[-2]
-                best = {
-                    key: None if e[key] is None else e[key] + (e[key] - e_prev[key]) / 15.0
-                    for key in keys
-                }
-                # error of E_l (4th order) ~ |E_l - E_{l-1}|/15; doubled: bounds the Romberg value
-                err = 2.0 * np.abs(e["area"] - e_prev["area"]) / 15.0
-                if np.all(err <= pb.tolerance(best["area"])):
-                    break
+
+            def level(n_base: int, mult: int) -> dict:
+                """Grid n_base * mult on the time plan of n_base subdivided mult times."""
+                nonlocal nsteps, work
+                key = (n_base, mult)
+                if key not in cache:
+                    plan = _joint_plan(pbs, k, per_node * n_base, tau_s)
+                    cost = (plan.base.size - 1) * mult + 2 * n_ie
+                    if nsteps + cost > pb.max_steps:
+                        raise _Budget(f"max_steps = {pb.max_steps} reached before the "
+                                      "tolerance was met")
+                    if work + cost * n_base * mult > max_work:
+                        raise _Budget(
+                            f"the next grid (N = {n_base * mult}, {cost} steps) would exceed "
+                            f"the work budget options['max_work'] = {max_work:.3g} node-steps; "
+                            "loosen rtol/atol or raise max_work")
+                    work += cost * n_base * mult
+                    if len(cache) >= max_levels:
+                        raise _Levels(f"after {len(cache)} grids (levels = {max_levels})")
+                    cache[key] = _march(pbs, plan, n_base * mult, mult, stretch, n_ie)
+                    nsteps += cache[key]["nsteps"]
+                return cache[key]
+
+            def tol_of(area: Array) -> Array:
+                return pb.rtol * np.abs(area) + pb.atol
+
+            scale = _load_scale(pbs, tau[num])
+
+            def load_ratio(a: dict, b: dict, factor: float) -> float:
+                """Estimated error of the load identity of ``a`` against the tolerance."""
+                la_ = a["load"] + a["mom_l"] + a["mom_u"]
+                lb_ = b["load"] + b["mom_l"] + b["mom_u"]
+                return float(np.max(factor * np.abs(la_ - lb_) / scale)) / (pb.rtol + pb.atol)
+
+            try:
+                n_base, mode, rounds = n0, "R", 0
+                while True:
+                    l1, l2 = level(n_base, 1), level(n_base, 2)
+                    e_r = 2.0 * np.abs(l2["area"] - l1["area"]) / 3.0  # ~2x error of R(2n)
+                    ratio = max(float(np.max(e_r / tol_of(l2["area"]))),
+                                load_ratio(l2, l1, 2.0 / 3.0))
+                    if mode == "R" and ratio <= 1.0:
+                        best, err, n_used = _combine(l2, l1, False), e_r, 2 * n_base
+                        break
+                    if mode == "R" and math.sqrt(ratio / 0.3) <= R_MAX_REFINE:
+                        # after a missed prediction (slower than second order, e.g. kinks of a
+                        # tabulated wall) grow at least 1.25x, so that the grids keep advancing
+                        target = 0.3
+                        rounds += 1
+                        n_base = _round_grid(n_base * max(math.sqrt(ratio / target),
+                                                          1.0 if rounds == 1 else 1.25))
+                        continue
+                    mode = "E"  # fourth order: Richardson pairs on three nested grids
+                    l4 = level(n_base, 4)
+                    e_b = _combine(l4, l2, True)
+                    e_a = _combine(l2, l1, True)
+                    d = 2.0 * np.abs(e_b["area"] - e_a["area"]) / 15.0
+                    ratio = max(float(np.max(d / tol_of(e_b["area"]))),
+                                load_ratio(e_b, e_a, 2.0 / 15.0))
+                    if ratio <= 1.0:
+                        best, err, n_used = e_b, d, 4 * n_base
+                        break
+                    rounds += 1
+                    grow = max((ratio / 0.3) ** 0.25, 1.0 if rounds == 1 else 1.25)
+                    n_base = _round_grid(n_base * grow)
+            except (_Budget, _Levels) as exc:
+                status = "max_steps" if isinstance(exc, _Budget) else "tolerance_not_met"
+                message = str(exc)
+            except FloatingPointError as exc:
+                status, message = "tolerance_not_met", f"numerical failure: {exc}"
+            if best is None and cache:  # budget spent: the finest pair computed, flagged
+                (nbf, mf) = max(cache, key=lambda c: c[0] * c[1])
+                pair = [c for c in cache if c[0] == nbf and c[1] < mf]
+                fine = cache[(nbf, mf)]
+                if pair:
+                    coarse = cache[max(pair, key=lambda c: c[1])]
+                    best = _combine(fine, coarse, False)
+                    err = 2.0 * np.abs(fine["area"] - coarse["area"]) / 3.0
+                else:
+                    best = _combine(fine, fine, False)
+                n_used = nbf * mf
             if best is None:
-                return self._failed(status, message or "no level completed", nsteps)
-            if status == "success" and np.any(err > pb.tolerance(best["area"])):
+                return self._failed(nb, status, message or "no level completed", nsteps)
+            # round-off of the sums over the grid (the level difference cannot see it)
+            err = err + 16.0 * np.finfo(float).eps * math.sqrt(max(n_used, 1)) * np.abs(
+                best["area"])
+            if status == "success" and np.any(err > tol_of(best["area"])):
                 status = "tolerance_not_met"
-                i = int(np.argmax(err / pb.tolerance(best["area"])))
-                message = (
-                    f"after {len(raw_levels)} levels (N = {raw_levels[-1]['n_nodes']}) the error "
-                    f"estimate {err[i]:.2e} exceeds the tolerance at tau = {tau[num][i]:.6g} Pa^2"
-                )
-        area = np.ones(n_t)
-        ab_l = np.zeros(n_t)
-        ab_u = np.zeros(n_t)
-        load = np.full(n_t, pb.p0)
-        wall_term = np.zeros(n_t)
-        e_all = np.zeros(n_t)
+            if status != "success":
+                i = np.unravel_index(int(np.argmax(err / tol_of(best["area"]))), err.shape)
+                message = (message + "; " if message else "") + (
+                    f"the error estimate {err[i]:.2e} exceeds the tolerance at tau = "
+                    f"{tau[num][i[1]]:.6g} Pa^2")
+        shape = (nb, tau.size)
+        area = np.ones(shape)
+        ab_l = np.zeros(shape)
+        ab_u = np.zeros(shape)
+        load = np.broadcast_to(np.array([p.p0 for p in pbs])[:, None], shape).copy()
+        wall_term = np.zeros(shape)
+        e_all = np.zeros(shape)
         trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
-        # analytic outputs: free Gaussian inside the window (walls unfelt to erfc(k/sqrt2))
-        e_all[analytic & (tau > 0)] = trunc
+        e_all[:, analytic & (tau > 0)] = trunc
         if best is not None and num.any():
-            area[num] = np.maximum(best["area"], 0.0)
-            ab_l[num] = best["abs_l"]
-            ab_u[num] = best["abs_u"]
-            load[num] = best["load"]
-            wall_term[num] = best["mom_l"] + best["mom_u"]
-            e_all[num] = err + trunc
+            # probabilities below zero by less than their error estimate (round-off of a
+            # vanishing fraction, e.g. plastic area given back to a rising wall) are zero;
+            # anything more negative is reported, not hidden
+            bound = err + trunc + 1e-15
+            for key in ("area", "abs_l", "abs_u"):
+                if np.any(best[key] < -bound) and status == "success":
+                    status = "tolerance_not_met"
+                    message = f"negative {key} beyond its error estimate"
+            area[:, num] = np.where(best["area"] < 0, 0.0, best["area"])
+            ab_l[:, num] = np.where(np.abs(best["abs_l"]) <= bound, np.maximum(
+                best["abs_l"], 0.0), best["abs_l"])
+            ab_u[:, num] = np.where(np.abs(best["abs_u"]) <= bound, np.maximum(
+                best["abs_u"], 0.0), best["abs_u"])
+            load[:, num] = best["load"]
+            wall_term[:, num] = best["mom_l"] + best["mom_u"]
+            e_all[:, num] = err + trunc
         P = None
         if pb.p_out is not None:
-            P = np.zeros((n_t, pb.p_out.size))
-            for i in np.flatnonzero(analytic & (tau > 0)):
-                t = tau[i]
-                P[i] = np.exp(-((pb.p_out - pb.p0) ** 2) / (4 * t)) / math.sqrt(4 * math.pi * t)
+            P = np.zeros((nb, tau.size, pb.p_out.size))
+            for i, p in enumerate(pbs):
+                for j in np.flatnonzero(analytic & (tau > 0)):
+                    t = tau[j]
+                    P[i, j] = np.exp(-((p.p_out - p.p0) ** 2) / (4 * t)) / math.sqrt(
+                        4 * math.pi * t)
             if best is not None and num.any():
-                P[num] = np.maximum(best["P"], 0.0)
+                P[:, num] = np.maximum(best["P"], 0.0)
         if status == "success" and not message:
-            message = (
-                f"{len(raw_levels)} Richardson levels, finest N = {raw_levels[-1]['n_nodes']}"
-                if raw_levels
-                else "analytic start covers every output"
-            )
+            message = (f"{len(cache)} grids, finest N = {n_used}" if cache
+                       else "analytic start covers every output")
         return Raw(
             area=area,
             non_area=ab_l + ab_u,
@@ -423,11 +522,83 @@ class CNMethod(EngineMethod):
             status=status,
             message=message,
             nsteps=nsteps,
-            n_nodes=raw_levels[-1]["n_nodes"] if raw_levels else 0,
+            n_nodes=n_used + 1 if n_used else 0,
             nfev=nsteps,
         )
 
-    def _failed(self, status: str, message: str, nsteps: int) -> Raw:
-        n_t = self.problem.tau.size
-        nan = np.full(n_t, np.nan)
+    def _failed(self, nb: int, status: str, message: str, nsteps: int) -> Raw:
+        n_t = self.problem.tau.shape[-1]
+        nan = np.full((nb, n_t), np.nan)
         return Raw(nan, nan, nan, nan, nan, nan, nan, None, status, message, nsteps, 0, nsteps)
+
+
+R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else Richardson)
+
+
+class _Budget(Exception):
+    pass
+
+
+class _Levels(Exception):
+    pass
+
+
+def _load_scale(pbs: list[Problem], tau: Array) -> Array:
+    """Scale of the load identity per (load, output): max(|p0|, |walls|) [Pa] (as in finish)."""
+    out = []
+    for p in pbs:
+        lo, up = p.wall_positions(tau)
+        sc = np.maximum(abs(p.p0), np.abs(lo))
+        sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
+        out.append(np.where(sc > 0, sc, 1.0))
+    return np.array(out)
+
+
+def _round_grid(n: float) -> int:
+    """Even grid size >= 8 (the coarse partner of a pair is n // 2)."""
+    return max(8, 2 * int(math.ceil(n / 2.0)))
+
+
+def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float) -> _Plan:
+    """One time schedule for a batch of loads: common analytic start, all kinks."""
+    pb = pbs[0]
+    outs = pb.tau[pb.tau > tau_s]
+    yield_wall = pb.upper is not None and not pb.upper.acts_absorbing
+    if outs.size == 0:
+        return _Plan(np.array([tau_s]), np.zeros(0, int), tau_s, k, yield_wall)
+    per_decade = max(per_decade, 4.0)
+    decades = math.log10(outs[-1] / tau_s)
+    n_geo = max(1, int(math.ceil(decades * per_decade)))
+    geo = tau_s * np.logspace(0.0, decades, n_geo + 1)
+    kinks = [t for p in pbs for t in _switch_times(p, k, tau_s, float(outs[-1]))]
+    fixed = np.union1d(outs, kinks)
+    ratio = 10 ** (1.0 / per_decade) - 1.0
+    keep = np.ones(geo.size, bool)
+    for t in fixed:
+        keep &= np.abs(geo - t) > 0.3 * ratio * t
+    keep[0] = True
+    base = np.union1d(geo[keep & (geo < outs[-1])], fixed)
+    base = base[base >= tau_s]
+    return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall)
+
+
+def _unbatch(raw: Raw) -> Raw:
+    for name in ("area", "non_area", "absorbed_lower", "absorbed_upper", "load", "wall_term",
+                 "error_estimate"):
+        setattr(raw, name, getattr(raw, name)[0])
+    if raw.P is not None:
+        raw.P = raw.P[0]
+    return raw
+
+
+def _stack(raws: list[Raw]) -> Raw:
+    out = Raw(*(np.concatenate([getattr(r, f) for r in raws]) for f in (
+        "area", "non_area", "absorbed_lower", "absorbed_upper", "load", "wall_term",
+        "error_estimate")))
+    out.P = None if raws[0].P is None else np.concatenate([r.P for r in raws])
+    out.status = np.array([r.status for r in raws], dtype=object)
+    out.message = [r.message for r in raws]
+    out.nsteps = np.array([r.nsteps for r in raws])
+    out.n_nodes = np.array([r.n_nodes for r in raws])
+    out.nfev = np.array([r.nfev for r in raws])
+    return out

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -21,8 +22,8 @@ Array = NDArray[np.float64]
 class Problem:
     """A validated engine request (see :func:`xpersson.engine.solve` for the meaning)."""
 
-    tau: Array  # output diffusion times [Pa^2], increasing, >= 0
-    p0: float  # delta position [Pa]
+    tau: Array  # output diffusion times [Pa^2], increasing, >= 0; (n_load, n_tau) in a batch
+    p0: float | Array  # delta position [Pa]; a (n_load, 1) column in a batch
     lower: Wall
     upper: Wall | None
     rtol: float
@@ -33,7 +34,19 @@ class Problem:
 
     @property
     def tau_max(self) -> float:
-        return float(self.tau[-1])
+        return float(np.max(self.tau[..., -1]))
+
+    @property
+    def is_batch(self) -> bool:
+        """True for a batch of loads (``tau`` 2-D, ``p0`` a column)."""
+        return self.tau.ndim == 2
+
+    def load(self, i: int) -> Problem:
+        """The single-load Problem of load ``i`` of a batch."""
+        if not self.is_batch:
+            return self
+        return dataclasses.replace(self, tau=np.ascontiguousarray(self.tau[i]),
+                                   p0=float(self.p0[i, 0]))
 
     def tolerance(self, area: ArrayLike) -> Array:
         """Allowed absolute error of the area, ``rtol |area| + atol``."""
@@ -74,7 +87,7 @@ def _check_wall(name: str, wall: object) -> None:
 
 def make_problem(
     tau_out: ArrayLike,
-    p0: float,
+    p0: float | ArrayLike,
     lower: Wall,
     upper: Wall | None,
     rtol: float,
@@ -82,25 +95,46 @@ def make_problem(
     p_out: ArrayLike | None,
     max_steps: int,
     options: dict[str, Any] | None,
+    *,
+    batch: bool = False,
 ) -> Problem:
-    """Check every input before any work; raise ValueError naming parameter, unit and range."""
+    """Check every input before any work; raise ValueError naming parameter, unit and range.
+
+    With ``batch=True`` ``p0`` is a 1-D array of loads and ``tau_out`` is ``(n_tau,)`` (shared)
+    or ``(n_load, n_tau)``; the Problem then holds ``tau`` as ``(n_load, n_tau)`` and ``p0`` as
+    a ``(n_load, 1)`` column, so that closed forms broadcast over loads.
+    """
     try:
-        tau = np.atleast_1d(np.asarray(tau_out, dtype=float))
+        tau = np.asarray(tau_out, dtype=float)
     except (TypeError, ValueError):
         raise _fail("tau_out", "Pa^2", "a 1-D array of finite floats", tau_out) from None
-    if tau.ndim != 1 or tau.size == 0:
-        raise _fail("tau_out", "Pa^2", "a non-empty 1-D array", tau_out)
+    if batch:
+        try:
+            p0v = np.atleast_1d(np.asarray(p0, dtype=float))
+        except (TypeError, ValueError):
+            raise _fail("p0", "Pa", "a 1-D array of finite floats", p0) from None
+        if p0v.ndim != 1 or p0v.size == 0:
+            raise _fail("p0", "Pa", "a non-empty 1-D array of loads", p0)
+        shared = tau.ndim == 1  # validated once, then broadcast (no copy)
+        if not shared and (tau.ndim != 2 or tau.shape[0] != p0v.size or tau.shape[1] == 0):
+            raise _fail("tau_out", "Pa^2", f"shaped (n_tau,) or ({p0v.size}, n_tau)", tau.shape)
+        if shared and tau.size == 0:
+            raise _fail("tau_out", "Pa^2", "a non-empty 1-D array", tau_out)
+    else:
+        tau = np.atleast_1d(tau)
+        if tau.ndim != 1 or tau.size == 0:
+            raise _fail("tau_out", "Pa^2", "a non-empty 1-D array", tau_out)
+        try:
+            p0v = np.array([float(p0)])
+        except (TypeError, ValueError):
+            raise _fail("p0", "Pa", "a finite float", p0) from None
     if not np.all(np.isfinite(tau)):
         raise _fail("tau_out", "Pa^2", "finite (no NaN/inf)", tau_out)
     if np.any(tau < 0):
         raise _fail("tau_out", "Pa^2", ">= 0", float(tau.min()))
-    if np.any(np.diff(tau) <= 0):
+    if np.any(np.diff(tau, axis=-1) <= 0):
         raise _fail("tau_out", "Pa^2", "strictly increasing", tau_out)
-    try:
-        p0 = float(p0)
-    except (TypeError, ValueError):
-        raise _fail("p0", "Pa", "a finite float", p0) from None
-    if not math.isfinite(p0):
+    if not np.all(np.isfinite(p0v)):
         raise _fail("p0", "Pa", "finite", p0)
     try:
         rtol = float(rtol)
@@ -121,28 +155,45 @@ def make_problem(
         _check_wall("upper", upper)
     if lower.kind == "yield_closure" and not lower.is_fixed:
         raise ValueError("lower: a moving yield_closure wall is only supported as the upper wall")
-    # wall positions: finite, ordered, p0 strictly inside at tau = 0
-    t_check = np.concatenate([[0.0], tau, np.linspace(0.0, tau[-1], 65)])
-    lo = lower.at(t_check)
-    if not np.all(np.isfinite(lo)):
-        raise _fail("lower", "Pa", "finite at every tau in [0, tau_out[-1]]", "non-finite position")
-    if not lo[0] < p0:
-        raise _fail("p0", "Pa", f"strictly above the lower wall (> {lo[0]:.6g} Pa)", p0)
-    if upper is not None:
-        up = upper.at(t_check)
-        if not np.all(np.isfinite(up)):
-            raise _fail("upper", "Pa", "finite at every tau in [0, tau_out[-1]]", "non-finite")
-        if not p0 < up[0]:
-            raise _fail("p0", "Pa", f"strictly below the upper wall (< {up[0]:.6g} Pa)", p0)
-        if np.any(up <= lo):
-            raise _fail("upper", "Pa", "above the lower wall at every tau", "walls cross")
-        if upper.kind == "yield_closure" and not upper.is_fixed:
-            sp = upper.speed(t_check)
-            if not np.all(np.isfinite(sp)) or np.any(sp < 0):
-                raise _fail("dposition", "1/Pa", "finite and >= 0 (a rising yield wall)", "dY<0")
+    _check_positions(tau, p0v, lower, upper)
+    if batch and tau.ndim == 1:
+        tau = np.broadcast_to(tau, (p0v.size, tau.size))
     p_arr = None
     if p_out is not None:
         p_arr = np.atleast_1d(np.asarray(p_out, dtype=float))
         if p_arr.ndim != 1 or not np.all(np.isfinite(p_arr)):
             raise _fail("p_out", "Pa", "a 1-D array of finite pressures", p_out)
-    return Problem(tau, p0, lower, upper, rtol, atol, p_arr, int(max_steps), dict(options or {}))
+    p0_out: float | Array = p0v[:, None] if batch else float(p0v[0])
+    return Problem(tau, p0_out, lower, upper, rtol, atol, p_arr, int(max_steps),
+                   dict(options or {}))
+
+
+def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> None:
+    """Wall positions finite and ordered, every ``p0`` strictly inside at ``tau = 0``."""
+    t_end = float(np.max(tau))
+    if lower.is_fixed and (upper is None or upper.is_fixed):
+        t_check = np.zeros(1)
+    else:
+        t_check = np.unique(np.concatenate([[0.0], tau.ravel(), np.linspace(0.0, t_end, 65)]))
+    lo = lower.at(t_check)
+    if not np.all(np.isfinite(lo)):
+        raise _fail("lower", "Pa", "finite at every tau in [0, tau_out[-1]]", "non-finite position")
+    below = p0 <= lo[0]
+    if np.any(below):
+        raise _fail("p0", "Pa", f"strictly above the lower wall (> {lo[0]:.6g} Pa)",
+                    float(p0[below][0]) if p0.size > 1 else float(p0[0]))
+    if upper is None:
+        return
+    up = upper.at(t_check)
+    if not np.all(np.isfinite(up)):
+        raise _fail("upper", "Pa", "finite at every tau in [0, tau_out[-1]]", "non-finite")
+    above = p0 >= up[0]
+    if np.any(above):
+        raise _fail("p0", "Pa", f"strictly below the upper wall (< {up[0]:.6g} Pa)",
+                    float(p0[above][0]) if p0.size > 1 else float(p0[0]))
+    if np.any(up <= lo):
+        raise _fail("upper", "Pa", "above the lower wall at every tau", "walls cross")
+    if upper.kind == "yield_closure" and not upper.is_fixed:
+        sp = upper.speed(t_check)
+        if not np.all(np.isfinite(sp)) or np.any(sp < 0):
+            raise _fail("dposition", "1/Pa", "finite and >= 0 (a rising yield wall)", "dY<0")

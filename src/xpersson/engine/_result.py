@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -10,15 +11,30 @@ from numpy.typing import NDArray
 
 from ._problem import Problem
 
-__all__ = ["EngineResult", "Raw", "finish"]
+__all__ = ["Outcome", "EngineResult", "EngineBatch", "Raw", "finish", "finish_batch",
+           "balance_status", "balance_tolerance"]
 
 Array = NDArray[np.float64]
 
 STATUSES = ("success", "max_steps", "balance_violated", "tolerance_not_met", "invalid_input")
 
 
+@dataclass(frozen=True, kw_only=True)
+class Outcome:
+    """What every engine result reports about its run (shared by :class:`EngineResult` and
+    :class:`~xpersson.engine.SourcedResult`; keyword-only fields)."""
+
+    status: str
+    message: str
+    success: bool
+    method: str
+    nsteps: int
+    n_nodes: int
+    wall_time: float
+
+
 @dataclass(frozen=True)
-class EngineResult:
+class EngineResult(Outcome):
     """Result of :func:`xpersson.engine.solve` (scipy-style; arrays are per output tau).
 
     Attributes
@@ -72,14 +88,7 @@ class EngineResult:
     error_estimate: Array
     probability_balance: Array
     load_balance: Array
-    status: str
-    message: str
-    success: bool
-    method: str
-    nsteps: int
-    n_nodes: int
     nfev: int
-    wall_time: float
 
     def __repr__(self) -> str:  # compact, like scipy's OptimizeResult summary
         return (
@@ -110,41 +119,93 @@ class Raw:
     extra: dict = field(default_factory=dict)
 
 
-def finish(problem: Problem, raw: Raw, method: str, t_start: float) -> EngineResult:
-    """Balances, final status and the frozen result."""
-    lo, up = problem.wall_positions(problem.tau)
+def balance_tolerance(rtol: float, atol: float) -> float:
+    """Acceptance bound of the balances, ``10 (rtol + atol)`` (plus round-off)."""
+    return 10.0 * (rtol + atol) + 1e-12
+
+
+def balance_status(
+    finite: bool, balances: dict[str, Array], tol: float, status: str = "success"
+) -> tuple[str, str]:
+    """Shared acceptance test: non-finite values or a balance above ``tol`` fail the result.
+
+    Parameters
+    ----------
+    finite : bool
+        Whether every output value is finite.
+    balances : dict
+        Name -> residual array (dimensionless, relative).
+    tol : float
+        Bound (see :func:`balance_tolerance`).
+    status : str
+        Status handed in by the method; only "success" is re-examined.
+
+    Returns
+    -------
+    (status, message)
+        ``message`` is empty when the balances pass.
+    """
+    if status != "success":
+        return status, ""
+    if not finite:
+        return "balance_violated", "non-finite values in the solution"
+    worst = {k: float(np.max(np.abs(v))) if np.size(v) else 0.0 for k, v in balances.items()}
+    if any(w > tol for w in worst.values()):
+        text = ", ".join(f"{k} {w:.2e}" for k, w in worst.items())
+        return "balance_violated", f"{text} exceed 10*(rtol+atol) = {tol:.2e}"
+    return "success", ""
+
+
+def _row_status(problem: Problem, raw: Raw, prob: Array, loadb: Array, row) -> tuple[str, str]:
+    """Status and message of one load (``row`` indexes the batch axis, or ``...``)."""
+    status = raw.status if isinstance(raw.status, str) else raw.status[row]
+    message = raw.message if isinstance(raw.message, str) else raw.message[row]
+    arrays = (raw.area[row], raw.non_area[row], raw.absorbed_lower[row], raw.absorbed_upper[row],
+              raw.load[row])
+    finite = all(np.all(np.isfinite(a)) for a in arrays)
+    if raw.P is not None:
+        finite = finite and bool(np.all(np.isfinite(raw.P[row])))
+    bal_tol = balance_tolerance(problem.rtol, problem.atol)
+    new, msg = balance_status(
+        finite, {"probability balance": prob[row], "load balance": loadb[row]}, bal_tol, status
+    )
+    if new != status or msg:
+        return new, msg
+    if status == "success":
+        area, err = raw.area[row], raw.error_estimate[row]
+        tol = problem.tolerance(area)
+        if np.any(err > tol):
+            i = int(np.argmax(err / tol))
+            tau = problem.tau[row]
+            return "tolerance_not_met", (
+                f"error estimate {err[i]:.2e} > tolerance {tol[i]:.2e} at "
+                f"tau = {tau[i]:.6g} Pa^2"
+            )
+        if not message:
+            message = "requested tolerance met"
+    return status, message
+
+
+def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
+    if problem.lower.is_fixed and (problem.upper is None or problem.upper.is_fixed):
+        lo = np.asarray(float(problem.lower.position))  # scalars broadcast (no full arrays)
+        up = np.asarray(float(problem.upper.position) if problem.upper is not None else np.inf)
+    else:
+        lo, up = problem.wall_positions(problem.tau)
     prob = raw.area + raw.absorbed_lower + raw.absorbed_upper - 1.0
-    scale = np.maximum(abs(problem.p0), np.abs(lo))
+    scale = np.maximum(np.abs(problem.p0), np.abs(lo))
     scale = np.maximum(scale, np.where(np.isfinite(up), np.abs(up), 0.0))
     scale = np.where(scale > 0, scale, 1.0)
     loadb = (raw.load + raw.wall_term - problem.p0) / scale
-    status, message = raw.status, raw.message
-    fields = (raw.area, raw.non_area, raw.absorbed_lower, raw.absorbed_upper, raw.load)
-    finite = all(np.all(np.isfinite(a)) for a in fields)
-    if raw.P is not None:
-        finite = finite and bool(np.all(np.isfinite(raw.P)))
-    tol = problem.tolerance(raw.area)
-    if not finite and status == "success":
-        status, message = "balance_violated", "non-finite values in the solution"
-    elif status == "success":
-        bal_tol = 10.0 * (problem.rtol + problem.atol) + 1e-12
-        bad_p = np.max(np.abs(prob)) > bal_tol
-        bad_l = np.max(np.abs(loadb)) > bal_tol
-        if bad_p or bad_l:
-            status = "balance_violated"
-            message = (
-                f"probability balance {np.max(np.abs(prob)):.2e}, load balance "
-                f"{np.max(np.abs(loadb)):.2e} exceed 10*(rtol+atol) = {bal_tol:.2e}"
-            )
-        elif np.any(raw.error_estimate > tol):
-            i = int(np.argmax(raw.error_estimate / tol))
-            status = "tolerance_not_met"
-            message = (
-                f"error estimate {raw.error_estimate[i]:.2e} > tolerance {tol[i]:.2e} at "
-                f"tau = {problem.tau[i]:.6g} Pa^2"
-            )
-        elif not message:
-            message = "requested tolerance met"
+    return lo, up, prob, loadb
+
+
+def finish(problem: Problem, raw: Raw, method: str, t_start: float) -> EngineResult:
+    """Balances, final status and the frozen result."""
+    lo, up, prob, loadb = _balances(problem, raw)
+    shape = problem.tau.shape
+    lo, up = np.broadcast_to(lo, shape).copy(), np.broadcast_to(up, shape).copy()
+    status, message = _row_status(problem, raw, prob, loadb, ...)
     return EngineResult(
         tau=problem.tau,
         area=raw.area,
@@ -168,3 +229,104 @@ def finish(problem: Problem, raw: Raw, method: str, t_start: float) -> EngineRes
         nfev=int(raw.nfev),
         wall_time=time.perf_counter() - t_start,
     )
+
+
+_BATCH_FIELDS = ("tau", "area", "non_area", "absorbed_lower", "absorbed_upper", "load",
+                 "wall_lower", "wall_upper", "P", "error_estimate", "probability_balance",
+                 "load_balance")
+
+
+class EngineBatch(Sequence):
+    """Results of a batch of loads (:func:`xpersson.engine.solve_batch`).
+
+    A sequence of :class:`EngineResult` (one per load, built on access) that also exposes the
+    stacked arrays: every per-tau field of :class:`EngineResult` with a leading load axis,
+    ``(n_load, n_tau)`` (``P``: ``(n_load, n_tau, n_p)``), plus ``p0`` [Pa] ``(n_load,)``,
+    ``status``/``message``/``method`` (lists), ``success``, ``nsteps``, ``n_nodes``, ``nfev``
+    (arrays per load) and ``wall_time`` [s] of the whole batch.
+    """
+
+    def __init__(self, p0: Array, fields: dict, status: list[str], message: list[str],
+                 method: list[str], nsteps: Array, n_nodes: Array, nfev: Array, p: Array | None,
+                 wall_time: float) -> None:
+        self.p0 = p0
+        for name in _BATCH_FIELDS:
+            setattr(self, name, fields.get(name))
+        self.p = p
+        self.status = status
+        self.message = message
+        self.method = method
+        self.success = np.array([s == "success" for s in status], dtype=bool)
+        self.nsteps, self.n_nodes, self.nfev = nsteps, n_nodes, nfev
+        self.wall_time = wall_time
+        self._cache: dict[int, EngineResult] = {}
+
+    def __len__(self) -> int:
+        return int(self.p0.size)
+
+    def __getitem__(self, i):  # type: ignore[override]
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        i = int(i)
+        if i < 0:
+            i += len(self)
+        if not 0 <= i < len(self):
+            raise IndexError(i)
+        if i not in self._cache:
+            row = {name: getattr(self, name)[i] if getattr(self, name) is not None else None
+                   for name in _BATCH_FIELDS}
+            self._cache[i] = EngineResult(
+                **row, p=self.p, status=self.status[i], message=self.message[i],
+                success=bool(self.success[i]), method=self.method[i],
+                nsteps=int(self.nsteps[i]), n_nodes=int(self.n_nodes[i]), nfev=int(self.nfev[i]),
+                wall_time=self.wall_time / max(len(self), 1),
+            )
+        return self._cache[i]
+
+    def __repr__(self) -> str:
+        n_bad = int(np.sum(~self.success))
+        return (f"EngineBatch(n_load={len(self)}, methods={sorted(set(self.method))}, "
+                f"failed={n_bad}, wall_time={self.wall_time:.3g} s)")
+
+
+def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
+    """Balances and per-load status of a batched Raw: the pieces of an :class:`EngineBatch`."""
+    lo, up, prob, loadb = _balances(problem, raw)
+    n = problem.tau.shape[0]
+    # vectorised screen: only loads that may fail get the detailed (per-row) examination
+    # NaN/inf in any field reaches one of the two balances (sums of all of them)
+    finite = np.all(np.isfinite(prob), axis=-1) & np.all(np.isfinite(loadb), axis=-1)
+    finite &= np.all(np.isfinite(raw.non_area), axis=-1)
+    if raw.P is not None:
+        finite &= np.all(np.isfinite(raw.P), axis=(-2, -1))
+    bal_tol = balance_tolerance(problem.rtol, problem.atol)
+    worst = np.maximum(np.max(np.abs(prob), axis=-1), np.max(np.abs(loadb), axis=-1))
+    slack = raw.error_estimate - problem.atol
+    slack -= problem.rtol * np.abs(raw.area)
+    tol_ok = np.all(slack <= 0, axis=-1)
+    raw_ok = (np.full(n, raw.status == "success") if isinstance(raw.status, str)
+              else np.asarray(raw.status) == "success")
+    clean = finite & (worst <= bal_tol) & tol_ok & raw_ok
+    default = raw.message if isinstance(raw.message, str) and raw.message else (
+        "requested tolerance met")
+    status = ["success"] * n
+    message = [default] * n if isinstance(raw.message, str) else [
+        m or "requested tolerance met" for m in raw.message]
+    for i in np.flatnonzero(~clean):
+        status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
+    shape = problem.tau.shape
+    fields = {
+        "tau": problem.tau, "area": raw.area, "non_area": raw.non_area,
+        "absorbed_lower": raw.absorbed_lower, "absorbed_upper": raw.absorbed_upper,
+        "load": raw.load, "wall_lower": np.broadcast_to(lo, shape),
+        "wall_upper": np.broadcast_to(up, shape), "P": raw.P,
+        "error_estimate": raw.error_estimate, "probability_balance": prob,
+        "load_balance": loadb,
+    }
+
+    def per_load(v) -> Array:
+        return np.broadcast_to(np.asarray(v, dtype=np.int64), (n,))
+
+    return dict(fields=fields, status=status, message=message, method=[method] * n,
+                nsteps=per_load(raw.nsteps), n_nodes=per_load(raw.n_nodes),
+                nfev=per_load(raw.nfev))

@@ -40,6 +40,7 @@ class SineMethod(EngineMethod):
     """Fixed absorbing walls (one or two) by windowed sine series; see module docstring."""
 
     name = "sine"
+    batched = True
 
     @classmethod
     def admits(cls, problem: Problem) -> bool:
@@ -50,11 +51,14 @@ class SineMethod(EngineMethod):
         pb = self.problem
         if not self.admits(pb):
             raise ValueError("method='sine' needs fixed walls (use 'cn' for moving walls)")
-        tau_all, p0 = pb.tau, pb.p0
+        shape = pb.tau.shape  # (n_tau,) or (n_load, n_tau): every output time is independent
+        tau_all = pb.tau.ravel()
+        p0_all = np.broadcast_to(np.asarray(pb.p0, dtype=float), shape).ravel()
         a = float(pb.lower.position)
         b = float(pb.upper.position) if pb.upper is not None else math.inf
         pos = tau_all > 0
         tau = tau_all[pos]
+        p0 = p0_all[pos]
         n_t = tau_all.size
         k = float(pb.options.get("window_k", window_k(pb.atol)))
         half = k * np.sqrt(2.0 * tau)
@@ -86,17 +90,17 @@ class SineMethod(EngineMethod):
         err_p += 32 * np.finfo(float).eps * np.abs(area_p)
         load_p = alpha * area_p + xmom
 
-        def put(vals: np.ndarray, at0: float) -> np.ndarray:
-            out = np.full(n_t, at0)
+        def put(vals: np.ndarray, at0: float | np.ndarray) -> np.ndarray:
+            out = np.full(n_t, at0) if np.ndim(at0) == 0 else np.array(at0, dtype=float)
             out[pos] = vals
-            return out
+            return out.reshape(shape)
 
         ab_l = put(np.where(real_lo, ab_alpha, 0.0), 0.0)
         ab_u = put(np.where(real_up, ab_beta, 0.0), 0.0)
         area = put(area_p, 1.0)
         non = ab_l + ab_u
         # near full contact the window has no real wall: non_area = 0 up to the window bound
-        load = put(load_p, p0)
+        load = put(load_p, p0_all)
         wall_term = a * ab_l + (b * ab_u if math.isfinite(b) else 0.0)
         err = put(err_p, 0.0)
         P = None
@@ -109,17 +113,8 @@ class SineMethod(EngineMethod):
                 nj = n[: m[j]]
                 coef = s[j, : m[j]] * 2.0 / length[j]
                 P[idx[j], inside] = np.sin(np.outer(x[inside], nj) * math.pi / length[j]) @ coef
-        return Raw(
-            area=area,
-            non_area=non,
-            absorbed_lower=ab_l,
-            absorbed_upper=ab_u,
-            load=load,
-            wall_term=wall_term,
-            error_estimate=err,
-            P=P,
-            message=f"windowed sine series, k = {k:.3g}, modes <= {mmax}",
-            nsteps=0,
-            n_nodes=mmax,
-            nfev=int(m.sum()),
-        )
+            P = P.reshape(*shape, pb.p_out.size)
+        # Raw fields in order: area, non_area, absorbed (lower, upper), load, wall term, error
+        return Raw(area, non, ab_l, ab_u, load, wall_term, err, P,
+                   message=f"windowed sine series, k = {k:.3g}, modes <= {mmax}",
+                   n_nodes=mmax, nfev=int(m.sum()))

@@ -32,7 +32,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import solve_banded
 from scipy.special import erf
 
-from ._problem import window_k
+from ._problem import _fail, window_k
+from ._result import Outcome, balance_status, balance_tolerance
 from ._walls import Wall
 
 __all__ = ["solve_sourced", "SourcedResult"]
@@ -44,7 +45,7 @@ _OPTIONS = ("nodes", "p_max", "tau_grid", "max_step", "rannacher")
 
 
 @dataclass(frozen=True)
-class SourcedResult:
+class SourcedResult(Outcome):
     """Result of :func:`solve_sourced` (arrays per output tau; a leading batch axis when the
     sources were given per right-hand side).
 
@@ -81,13 +82,6 @@ class SourcedResult:
     mass: Array
     mass_balance: Array
     p_max: float
-    status: str
-    message: str
-    success: bool
-    method: str
-    nsteps: int
-    n_nodes: int
-    wall_time: float
 
     def __repr__(self) -> str:
         return (
@@ -95,10 +89,6 @@ class SourcedResult:
             f"max|mass_balance|={np.max(np.abs(self.mass_balance)):.2e}, "
             f"n_nodes={self.n_nodes}, nsteps={self.nsteps}, wall_time={self.wall_time:.3g} s)"
         )
-
-
-def _fail(name: str, unit: str, allowed: str, got: object) -> ValueError:
-    return ValueError(f"{name} [{unit}] must be {allowed}; got {got!r}")
 
 
 def _array(name: str, unit: str, value: ArrayLike) -> Array:
@@ -344,14 +334,12 @@ def solve_sourced(
 
     balance = injected - mass
     total = np.maximum(w2.sum(axis=1), 1e-300)
-    bal_tol = 10.0 * (rtol + atol) + 1e-12
-    status, message = "success", "mass balance within 10*(rtol+atol)"
-    if not (np.all(np.isfinite(P)) and np.all(np.isfinite(mass))):
-        status, message = "balance_violated", "non-finite values in the solution"
-    elif np.any(np.abs(balance) > bal_tol * total[:, None]):
-        worst = float(np.max(np.abs(balance) / total[:, None]))
-        status = "balance_violated"
-        message = f"relative mass balance {worst:.2e} > 10*(rtol+atol) = {bal_tol:.2e}"
+    finite = bool(np.all(np.isfinite(P)) and np.all(np.isfinite(mass)))
+    status, message = balance_status(
+        finite, {"relative mass balance": balance / total[:, None]},
+        balance_tolerance(rtol, atol),
+    )
+    message = message or "mass balance within 10*(rtol+atol)"
     if not batched:
         P, injected, mass, balance = P[0], injected[0], mass[0], balance[0]
     return SourcedResult(

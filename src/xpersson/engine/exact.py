@@ -3,7 +3,10 @@
 All functions are vectorised (numpy broadcasting over ``tau``, ``p`` and the wall parameters) and
 free of cancellation where a quantity is tiny: ``non_area`` uses ``erfc`` / log-space normal tails,
 the two-wall functions switch from the image series (small ``tau``) to the sine series (large
-``tau``) at ``tau / L**2 = 0.1`` where both agree to round-off.
+``tau``) at ``tau / L**2 = 0.1`` where both agree to round-off (``series=`` forces one; each
+keeps as many terms as double precision needs at the tau it is given).  This module is the one
+home of these closed forms: the elastic built-in, the plasticity plugin and
+``xpersson.testing`` call it.
 
 Units: pressures ``p``, ``p0``, wall positions in Pa; diffusion time ``tau`` in Pa^2; the wall
 speed ``c`` of the linear wall in 1/Pa (``p_w = -(s0 + c tau)``); densities in 1/Pa; areas are
@@ -24,6 +27,8 @@ Families
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf, erfc, erfcx, log_ndtr, ndtr
@@ -38,6 +43,7 @@ __all__ = [
     "two_wall_absorbed",
     "two_wall_density",
     "two_wall_load",
+    "two_wall",
     "linear_wall_position",
     "linear_wall_area",
     "linear_wall_non_area",
@@ -48,8 +54,6 @@ __all__ = [
 
 _SQRT2PI = np.sqrt(2.0 * np.pi)
 _SWITCH = 0.1  # tau / L^2 where the two-wall functions switch from images to sines
-_N_IMAGES = 8  # image pairs kept for tau / L^2 < _SWITCH  (next term ~ erfc(25))
-_N_SINES = 48  # sine modes kept for tau / L^2 >= _SWITCH (next term ~ exp(-2270))
 
 Array = NDArray[np.float64]
 
@@ -92,6 +96,29 @@ def one_wall_area(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> Array
     tau, x0 = np.broadcast_arrays(_f(tau), _f(p0) - _f(wall))
     st = _safe_sqrt_tau(tau)
     return np.where(tau > 0, erf(x0 / (2.0 * st)), 1.0)
+
+
+def one_wall(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> tuple[Array, Array, Array]:
+    """``(area, non_area, load)`` of the one-wall problem in one pass (broadcast inputs).
+
+    The same closed forms as :func:`one_wall_area`, :func:`one_wall_non_area` and
+    :func:`one_wall_load` (``load = p0 - wall (1 - A/A0)``, the image integrals combined), with
+    ``erf``/``erfc`` evaluated once; ``tau = 0`` gives ``(1, 0, p0)``.
+    """
+    x0 = _f(p0) - _f(wall)
+    with np.errstate(divide="ignore"):
+        x = x0 / (2.0 * np.sqrt(_f(tau)))  # +inf at tau = 0 (x0 > 0)
+    # one special function per value: erfc where the area is large (1 - erfc loses nothing
+    # there, area >= 0.52), erf where it is small (1 - erf loses nothing, non_area >= 0.48)
+    big = x >= 0.5
+    area = np.empty(x.shape)
+    non = np.empty(x.shape)
+    non[big] = erfc(x[big])
+    area[big] = 1.0 - non[big]
+    small = ~big
+    area[small] = erf(x[small])
+    non[small] = 1.0 - area[small]
+    return area, non, _f(p0) - _f(wall) * non
 
 
 def one_wall_non_area(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> Array:
@@ -143,47 +170,107 @@ def one_wall_load(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> Array
 # ---------------------------------------------------------------------------------------------
 # two fixed walls
 # ---------------------------------------------------------------------------------------------
+_ERFC_CUT = 6.5  # erfc(6.5) ~ 4e-20: images farther away than this contribute nothing
+_EXP_CUT = 46.0  # exp(-46) ~ 1e-20: sine modes decaying faster than this contribute nothing
+_MAX_TERMS = 100_000
+SERIES = ("auto", "images", "sine")
+
+
+def _use_images(t: Array, series: str) -> Array:
+    """Where the image series is used (``t = tau / L^2``)."""
+    if series == "auto":
+        return t < _SWITCH
+    if series == "images":
+        return np.ones(t.shape, dtype=bool)
+    if series == "sine":
+        return np.zeros(t.shape, dtype=bool)
+    raise ValueError(f"series must be one of {SERIES}; got {series!r}")
+
+
+def _n_images(t: Array) -> int:
+    """Image pairs needed for ``t = tau / L^2`` up to ``max(t)`` (next term < erfc(6.5))."""
+    return int(np.ceil(_ERFC_CUT * np.sqrt(float(np.max(t, initial=0.0))))) + 2
+
+
+def _n_sines(t: Array) -> int:
+    """Sine modes needed down to ``min(t)`` (next mode decays below exp(-46))."""
+    tmin = float(np.min(t, initial=np.inf))
+    if not np.isfinite(tmin):
+        return 0
+    if not tmin > 0:
+        raise ValueError("the sine series needs tau > 0; use series='images' or 'auto'")
+    n = int(np.ceil(np.sqrt(_EXP_CUT / (np.pi**2 * tmin)))) + 2
+    if n > _MAX_TERMS:
+        raise ValueError(
+            f"tau/L^2 = {tmin:g} is too small for the sine series ({n} terms); use "
+            "series='images' or 'auto'"
+        )
+    return n
+
+
 def _two_wall_setup(tau, p0, lower, upper):
     tau, p0, lower, upper = np.broadcast_arrays(_f(tau), _f(p0), _f(lower), _f(upper))
     length = upper - lower
-    x0 = p0 - lower
-    small = tau < _SWITCH * length**2
-    return tau, p0, lower, upper, length, x0, small
+    return tau, p0, lower, upper, length, p0 - lower
 
 
 def _images_absorbed(tau, length, x0):
-    """Absorbed fractions (lower, upper) from the image series (small tau)."""
-    st2 = 2.0 * _safe_sqrt_tau(tau)
+    """Absorbed fractions (lower, upper) from the image series (1-D arrays, tau > 0)."""
+    st2 = 2.0 * np.sqrt(tau)
     ab_l = np.zeros_like(tau)
     ab_u = np.zeros_like(tau)
-    for n in range(_N_IMAGES, -1, -1):  # smallest terms first
+    for n in range(_n_images(tau / length**2), -1, -1):  # smallest terms first
         ab_l += erfc((2 * n * length + x0) / st2) - erfc((2 * (n + 1) * length - x0) / st2)
         ab_u += erfc(((2 * n + 1) * length - x0) / st2) - erfc(((2 * n + 1) * length + x0) / st2)
-    zero = tau <= 0
-    return np.where(zero, 0.0, ab_l), np.where(zero, 0.0, ab_u)
+    return ab_l, ab_u
 
 
 def _sine_sums(tau, length, x0):
-    """(area, x-moment) from the sine series (large tau)."""
+    """(area, x-moment) from the sine series (1-D arrays, tau > 0)."""
     area = np.zeros_like(tau)
     xmom = np.zeros_like(tau)
-    lsafe = np.where(length > 0, length, 1.0)
-    for n in range(_N_SINES, 0, -1):
-        k = n * np.pi / lsafe
+    for n in range(_n_sines(tau / length**2), 0, -1):
+        k = n * np.pi / length
         e = np.exp(-(k**2) * tau) * np.sin(k * x0)
         if n % 2:
             area += 4.0 / (n * np.pi) * e
-        xmom += 2.0 * lsafe * (-1.0) ** (n + 1) / (n * np.pi) * e
+        xmom += 2.0 * length * (-1.0) ** (n + 1) / (n * np.pi) * e
     return area, xmom
 
 
+def _two_wall_parts(tau, p0, lower, upper, series):
+    """(area, absorbed_lower, absorbed_upper, shape) with each series used only where chosen."""
+    tau, p0, lower, upper, length, x0 = _two_wall_setup(tau, p0, lower, upper)
+    shape = tau.shape
+    t, L, x = tau.ravel(), length.ravel(), x0.ravel()
+    pos = t > 0
+    img = _use_images(np.where(pos, t, 0.0) / L**2, series) & pos
+    sin = ~img & pos
+    area = np.ones(t.size)
+    ab_l = np.zeros(t.size)
+    ab_u = np.zeros(t.size)
+    if img.any():
+        il, iu = _images_absorbed(t[img], L[img], x[img])
+        ab_l[img], ab_u[img] = il, iu
+        area[img] = 1.0 - (il + iu)
+    if sin.any():
+        a, xm = _sine_sums(t[sin], L[sin], x[sin])
+        su = x[sin] / L[sin] - xm / L[sin]
+        area[sin], ab_u[sin] = a, su
+        ab_l[sin] = 1.0 - a - su
+    return area.reshape(shape), ab_l.reshape(shape), ab_u.reshape(shape)
+
+
 def two_wall_absorbed(
-    tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayLike
+    tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayLike, series: str = "auto"
 ) -> tuple[Array, Array]:
     """Probability absorbed at the lower and at the upper wall up to ``tau``.
 
     For the elastoplastic problem (lower = 0, upper = sigma_Y) these are the non-contact area and
-    the plastic area ``A_pl/A0``.
+    the plastic area ``A_pl/A0``.  The image series (complementary error functions of the
+    time-integrated wall fluxes, accurate when tiny) is used for ``tau < 0.1 (upper - lower)^2``
+    and the sine series above (``series="auto"``); ``"images"`` / ``"sine"`` force one (both
+    keep enough terms for double precision at any tau, and agree to ~1e-15).
 
     Parameters
     ----------
@@ -193,34 +280,34 @@ def two_wall_absorbed(
         Initial pressure [Pa], ``lower < p0 < upper``.
     lower, upper : array_like
         Absorbing wall positions [Pa].
+    series : {"auto", "images", "sine"}
+        Which series to evaluate.
 
     Returns
     -------
     (ndarray, ndarray)
         ``absorbed_lower``, ``absorbed_upper`` (dimensionless).
     """
-    tau, p0, lower, upper, length, x0, small = _two_wall_setup(tau, p0, lower, upper)
-    il, iu = _images_absorbed(tau, length, x0)
-    area, xmom = _sine_sums(tau, length, x0)
-    lsafe = np.where(length > 0, length, 1.0)
-    su = x0 / lsafe - xmom / lsafe
-    sl = 1.0 - area - su
-    return np.where(small, il, sl), np.where(small, iu, su)
+    _, ab_l, ab_u = _two_wall_parts(tau, p0, lower, upper, series)
+    return ab_l, ab_u
 
 
 def two_wall_non_area(
-    tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayLike
+    tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayLike, series: str = "auto"
 ) -> Array:
     """``1 - A_el/A0``: total probability absorbed at both walls (no cancellation at small tau)."""
-    ab_l, ab_u = two_wall_absorbed(tau, p0, lower, upper)
+    _, ab_l, ab_u = _two_wall_parts(tau, p0, lower, upper, series)
     return ab_l + ab_u
 
 
-def two_wall_area(tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayLike) -> Array:
+def two_wall_area(
+    tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayLike, series: str = "auto"
+) -> Array:
     """Area fraction between two absorbing walls (physics.md §3.1 ``A_el/A0``).
 
     Image series for ``tau < 0.1 (upper - lower)^2``, sine series
-    ``sum_{n odd} 4/(n pi) sin(n pi x0/L) exp(-(n pi/L)^2 tau)`` above.
+    ``sum_{n odd} 4/(n pi) sin(n pi x0/L) exp(-(n pi/L)^2 tau)`` above (see
+    :func:`two_wall_absorbed` for ``series``).
 
     Parameters
     ----------
@@ -230,38 +317,60 @@ def two_wall_area(tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayL
         Initial pressure [Pa].
     lower, upper : array_like
         Wall positions [Pa].
+    series : {"auto", "images", "sine"}
+        Which series to evaluate.
     """
-    tau, p0, lower, upper, length, x0, small = _two_wall_setup(tau, p0, lower, upper)
-    il, iu = _images_absorbed(tau, length, x0)
-    area, _ = _sine_sums(tau, length, x0)
-    return np.where(small, 1.0 - (il + iu), area)
+    return _two_wall_parts(tau, p0, lower, upper, series)[0]
+
+
+def two_wall(
+    tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayLike, series: str = "auto"
+) -> tuple[Array, Array, Array]:
+    """``(area, absorbed_lower, absorbed_upper)`` in one evaluation (see the functions above)."""
+    return _two_wall_parts(tau, p0, lower, upper, series)
 
 
 def two_wall_load(tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayLike) -> Array:
     """Load carried between the walls, ``int p P dp`` [Pa].
 
     Sine series of the first moment for large tau; for small tau the image integrals
-    ``sum_n [m Phi-window + sqrt(2 tau) phi-window]`` of every image term.
+    ``sum_n [m Phi-window + sqrt(2 tau) phi-window]`` of every image term (independent of the
+    absorbed fractions, so that the load identity is a check).
     """
-    tau, p0, lower, upper, length, x0, small = _two_wall_setup(tau, p0, lower, upper)
-    area, xmom = _sine_sums(tau, length, x0)
-    big = lower * area + xmom
-    st = np.sqrt(2.0) * _safe_sqrt_tau(tau)
-    img = np.zeros_like(tau)
-    for n in range(_N_IMAGES, -_N_IMAGES - 1, -1):
-        for sign, m in ((1.0, x0 + 2 * n * length), (-1.0, -x0 + 2 * n * length)):
-            za = (0.0 - m) / st
-            zb = (length - m) / st
-            # int_0^L (x + lower) N(x; m, 2 tau) dx
-            mass = ndtr(zb) - ndtr(za)
-            mom = m * mass + st * (np.exp(-za**2 / 2) - np.exp(-zb**2 / 2)) / _SQRT2PI
-            img += sign * (mom + lower * mass)
-    out = np.where(small, img, big)
-    return np.where(tau > 0, out, p0)
+    tau, p0, lower, upper, length, x0 = _two_wall_setup(tau, p0, lower, upper)
+    shape = tau.shape
+    t, L, x, lo, pp = (a.ravel() for a in (tau, length, x0, lower, p0))
+    pos = t > 0
+    img = (t < _SWITCH * L**2) & pos
+    sin = ~img & pos
+    out = pp.astype(float).copy()
+    if sin.any():
+        area, xmom = _sine_sums(t[sin], L[sin], x[sin])
+        out[sin] = lo[sin] * area + xmom
+    if img.any():
+        ti, Li, xi, li = t[img], L[img], x[img], lo[img]
+        st = np.sqrt(2.0 * ti)
+        acc = np.zeros_like(ti)
+        n_img = _n_images(ti / Li**2)
+        for n in range(n_img, -n_img - 1, -1):
+            for sign, m in ((1.0, xi + 2 * n * Li), (-1.0, -xi + 2 * n * Li)):
+                za = (0.0 - m) / st
+                zb = (Li - m) / st
+                # int_0^L (x + lower) N(x; m, 2 tau) dx
+                mass = ndtr(zb) - ndtr(za)
+                mom = m * mass + st * (np.exp(-za**2 / 2) - np.exp(-zb**2 / 2)) / _SQRT2PI
+                acc += sign * (mom + li * mass)
+        out[img] = acc
+    return out.reshape(shape)
 
 
 def two_wall_density(
-    p: ArrayLike, tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayLike
+    p: ArrayLike,
+    tau: ArrayLike,
+    p0: ArrayLike,
+    lower: ArrayLike,
+    upper: ArrayLike,
+    series: str = "auto",
 ) -> Array:
     """Density between two absorbing walls [1/Pa] (image series / sine series).
 
@@ -273,25 +382,34 @@ def two_wall_density(
         Diffusion time [Pa^2] (0 gives 0: the delta is not represented).
     p0, lower, upper : array_like
         Initial pressure and wall positions [Pa].
+    series : {"auto", "images", "sine"}
+        Which series to evaluate (see :func:`two_wall_absorbed`).
     """
     p, tau, p0, lower, upper = np.broadcast_arrays(_f(p), _f(tau), _f(p0), _f(lower), _f(upper))
-    length = upper - lower
-    x0 = p0 - lower
-    x = p - lower
-    ok = (tau > 0) & (x > 0) & (x < length)
-    t = np.where(ok, tau, 1.0)
-    lsafe = np.where(length > 0, length, 1.0)
-    small = t < _SWITCH * lsafe**2
-    img = np.zeros_like(t)
-    for n in range(_N_IMAGES, -_N_IMAGES - 1, -1):
-        img += _gauss(x, x0 + 2 * n * lsafe, t) - _gauss(x, -x0 + 2 * n * lsafe, t)
-    sin = np.zeros_like(t)
-    for n in range(_N_SINES, 0, -1):
-        k = n * np.pi / lsafe
-        sin += np.sin(k * x0) * np.sin(k * x) * np.exp(-(k**2) * t)
-    sin *= 2.0 / lsafe
-    out = np.where(small, img, sin)
-    return np.where(ok, out, 0.0)
+    shape = p.shape
+    L = (upper - lower).ravel()
+    x0 = (p0 - lower).ravel()
+    x = (p - lower).ravel()
+    t = tau.ravel()
+    ok = (t > 0) & (x > 0) & (x < L)
+    img = _use_images(np.where(ok, t, 0.0) / np.where(L > 0, L, 1.0) ** 2, series) & ok
+    sin = ~img & ok
+    out = np.zeros(t.size)
+    if img.any():
+        ti, Li, xi, x0i = t[img], L[img], x[img], x0[img]
+        acc = np.zeros_like(ti)
+        n_img = _n_images(ti / Li**2)
+        for n in range(n_img, -n_img - 1, -1):
+            acc += _gauss(xi, x0i + 2 * n * Li, ti) - _gauss(xi, -x0i + 2 * n * Li, ti)
+        out[img] = acc
+    if sin.any():
+        ts, Ls, xs, x0s = t[sin], L[sin], x[sin], x0[sin]
+        acc = np.zeros_like(ts)
+        for n in range(_n_sines(ts / Ls**2), 0, -1):
+            k = n * np.pi / Ls
+            acc += np.sin(k * x0s) * np.sin(k * xs) * np.exp(-(k**2) * ts)
+        out[sin] = 2.0 / Ls * acc
+    return out.reshape(shape)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -374,6 +492,16 @@ def linear_wall_load(tau: ArrayLike, p0: ArrayLike, s0: ArrayLike, c: ArrayLike)
     return np.where(tau > 0, p0 * ndtr(z1) + (p0 + 2.0 * s0) * t2, p0)
 
 
+@functools.lru_cache(maxsize=8)
+def _gauss_legendre01(nodes: int) -> tuple[Array, Array]:
+    """Gauss-Legendre nodes and weights on [0, 1] (computed once per node count)."""
+    u, w = np.polynomial.legendre.leggauss(nodes)
+    u, w = 0.5 * (u + 1.0), 0.5 * w
+    u.setflags(write=False)
+    w.setflags(write=False)
+    return u, w
+
+
 def linear_wall_absorbed_moment(
     tau: ArrayLike, p0: ArrayLike, s0: ArrayLike, c: ArrayLike, nodes: int = 64
 ) -> Array:
@@ -384,9 +512,7 @@ def linear_wall_absorbed_moment(
     ``load + int p_w d absorbed = p0``.
     """
     tau, p0, s0, c = np.broadcast_arrays(_f(tau), _f(p0), _f(s0), _f(c))
-    u, w = np.polynomial.legendre.leggauss(nodes)
-    u = 0.5 * (u + 1.0)
-    w = 0.5 * w
+    u, w = _gauss_legendre01(nodes)
     s = tau[..., None] * u**2
     ab = linear_wall_non_area(s, p0[..., None], s0[..., None], c[..., None])
     integral = tau * np.sum(ab * 2.0 * u * w, axis=-1)

@@ -6,12 +6,22 @@ All variants keep the mirrored-Gaussian pressure PDF but replace its variance ``
 
 * ``"persson01"``: ``tau_eff = tau_c``.
 * ``"yp08"`` (Yang & Persson 2008): ``d tau_eff / d tau_c = S(A)``, ``S = g + (1 - g) A^2``,
-  default ``g = 0.42``.
+  default ``g = GAMMA_DEFAULT = 0.42``.
 * ``"wm17"`` (Wang & Muser 2017): same ODE, ``S = g - (2/9) A^2 + (11/9 - g) A^4``,
   default ``g = 5/9``.
 * ``"xu24"`` (Xu et al. 2024): algebraic, ``tau_eff = [g + (1 - g) A] tau_c``, solved as a fixed
-  point, default ``g = 0.42``; its ``S`` factor (used in the strain energy) is
+  point, default ``g = GAMMA_DEFAULT``; its ``S`` factor (used in the strain energy) is
   ``g + (1 - g) A``.
+
+The package-wide default ``gamma`` of the Yang-Persson correction factor is
+:data:`GAMMA_DEFAULT` ``= 0.42`` (the value of the reference implementation; the 0.45 of some
+published figures lies in the same fitted range 0.42-0.45 and is one parameter away). Every
+plugin that offers a ``gamma`` defaults to it (WM17's 5/9 is part of that model's definition).
+
+:func:`variance_factor` gives ``S = d tau_eff / d tau_c`` as a function of the running area for
+every closure; the elastic energy of a closure is ``(pi E*/2) int q^2 C A S dq`` with it (for
+Xu24 this *is* the authors' "hybrid" energy: ``tau_c dr/dtau_c`` adds their
+``((1 - g)/E*) int A V_c/q dA`` term).
 
 Because the ODE is autonomous in ``tau_c`` and ``A`` depends on ``tau_eff / p0^2`` only, every
 closure gives ``tau_eff = p0^2 F(tau_c / p0^2)`` with a universal ``F`` of ``G = tau_c/p0^2``.
@@ -28,19 +38,30 @@ from functools import lru_cache
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
-from scipy.special import erf
+from scipy.special import erf, erfinv
 
-__all__ = ["CLOSURES", "DEFAULT_GAMMA", "closure_S", "effective_tau", "effective_ratio"]
+__all__ = [
+    "CLOSURES",
+    "DEFAULT_GAMMA",
+    "GAMMA_DEFAULT",
+    "closure_S",
+    "effective_ratio",
+    "effective_tau",
+    "variance_factor",
+]
 
 #: Allowed closure names.
 CLOSURES: tuple[str, ...] = ("persson01", "yp08", "wm17", "xu24")
 
+#: The one package-wide default of the Yang-Persson ``gamma`` (yp08, xu24, analyses' S factor).
+GAMMA_DEFAULT: float = 0.42
+
 #: Default ``gamma`` per closure (``None``: no parameter).
 DEFAULT_GAMMA: dict[str, float | None] = {
     "persson01": None,
-    "yp08": 0.42,
+    "yp08": GAMMA_DEFAULT,
     "wm17": 5.0 / 9.0,
-    "xu24": 0.42,
+    "xu24": GAMMA_DEFAULT,
 }
 
 # Below G_START, 1 - S < 1e-300 for every closure (erfc(1/(2 sqrt(G))) underflows), so
@@ -100,6 +121,41 @@ def closure_S(closure: str, A: ArrayLike, gamma: float | None = None) -> NDArray
         A2 = A_arr**2
         return g - (2.0 / 9.0) * A2 + (11.0 / 9.0 - g) * A2**2
     return g + (1.0 - g) * A_arr  # xu24
+
+
+def variance_factor(
+    closure: str, A: ArrayLike, gamma: float | None = None
+) -> NDArray[np.float64]:
+    """``S = d tau_eff / d tau_c`` along a closure's path, as a function of the area (1).
+
+    Parameters
+    ----------
+    closure : {"persson01", "yp08", "wm17", "xu24"}
+        Closure name.
+    A : array_like
+        Running contact area ``A/A0`` in ``[0, 1]`` of the closure itself.
+    gamma : float, optional
+        Closure parameter (default :data:`DEFAULT_GAMMA`).
+
+    Returns
+    -------
+    ndarray
+        ``S`` in ``(0, 1]``: :func:`closure_S` for the ODE closures (their definition), and for
+        the algebraic Xu24 ``tau_eff = r tau_c``, ``r = g + (1 - g) A``,
+        ``S = r + tau_c dr/dtau_c = r - (1 - g) x E / (2 (1 + (1 - g) x E / (2 r)))`` with
+        ``x = erfinv(A)``, ``E = 2 exp(-x^2)/sqrt(pi)`` (implicit differentiation of
+        ``A = erf(1/(2 sqrt(r G)))``).
+    """
+    g = _check(closure, gamma)
+    A_arr = np.clip(np.asarray(A, dtype=float), 0.0, 1.0)
+    if closure != "xu24":
+        return closure_S(closure, A_arr, gamma)
+    assert g is not None
+    r = g + (1.0 - g) * A_arr
+    x = erfinv(np.minimum(A_arr, 1.0 - 1e-16))
+    xE = x * (2.0 / np.sqrt(np.pi)) * np.exp(-x * x)
+    c = 1.0 - g
+    return r - c * xE / (2.0 * (1.0 + c * xE / (2.0 * r)))
 
 
 @lru_cache(maxsize=64)

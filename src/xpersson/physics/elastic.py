@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.special import erf, erfc
+from scipy.special import erfc
 
 from .psd import PowerSpectrum
 
@@ -179,10 +179,11 @@ def area_fraction(p0: ArrayLike, tau: ArrayLike) -> tuple[FloatOrArray, FloatOrA
         ``1 - A/A0`` computed with ``erfc`` (no cancellation near full contact); exactly 0 for
         ``tau = 0``.
     """
+    from ..engine import exact  # the one home of the single-wall closed form
+
     p, t = _check_p0_tau(p0, tau)
-    with np.errstate(divide="ignore"):
-        x = p / (2.0 * np.sqrt(t))
-    return _out(erf(x)), _out(erfc(x))
+    area, non, _ = exact.one_wall(t, p, 0.0)
+    return _out(area), _out(non)
 
 
 def pressure_pdf(p: ArrayLike, p0: ArrayLike, tau: ArrayLike) -> FloatOrArray:
@@ -209,15 +210,10 @@ def pressure_pdf(p: ArrayLike, p0: ArrayLike, tau: ArrayLike) -> FloatOrArray:
     float or ndarray
         ``P`` [1/Pa], broadcast shape of the inputs.
     """
+    from ..engine import exact  # the one home of the single-wall closed form
+
     p0_arr, t = _check_p0_tau(p0, tau)
-    p_arr = np.asarray(p, dtype=float)
-    p_arr, p0_arr, t = np.broadcast_arrays(p_arr, p0_arr, t)
-    pos = t > 0
-    ts = np.where(pos, t, 1.0)
-    gauss = np.exp(-((p_arr - p0_arr) ** 2) / (4.0 * ts)) / np.sqrt(4.0 * np.pi * ts)
-    mirror = -np.expm1(-np.maximum(p_arr, 0.0) * p0_arr / ts)
-    out = np.where(pos & (p_arr > 0), gauss * mirror, 0.0)
-    return _out(out)
+    return _out(exact.one_wall_density(p, t, p0_arr, 0.0))
 
 
 def load_integral(p0: ArrayLike, tau: ArrayLike) -> FloatOrArray:

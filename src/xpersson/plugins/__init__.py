@@ -9,12 +9,24 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from ._analyses import PlanError, plan_analyses
-from ._base import API_VERSION, GROUPS, Analysis, Boundary, Coefficient, Plugin, Spectrum
+from ._base import (
+    API_VERSION,
+    BOUNDARY_TRAITS,
+    COEFFICIENT_TRAITS,
+    GROUPS,
+    Analysis,
+    Boundary,
+    Coefficient,
+    Plugin,
+    Spectrum,
+    check_plugin_class,
+)
 from ._registry import (
     PluginError,
     PluginInfo,
     Registry,
     get_registry,
+    normalize_group,
     plugin_provenance,
     set_registry,
     using_registry,
@@ -26,6 +38,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "API_VERSION",
+    "BOUNDARY_TRAITS",
+    "COEFFICIENT_TRAITS",
     "GROUPS",
     "REQUIRED",
     "Analysis",
@@ -42,7 +56,9 @@ __all__ = [
     "SpecError",
     "Spectrum",
     "VarSpec",
+    "check_plugin_class",
     "get_registry",
+    "normalize_group",
     "plan_analyses",
     "plugin_provenance",
     "set_registry",

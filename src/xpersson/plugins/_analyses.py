@@ -98,9 +98,16 @@ def plan_analyses(
                 if not any(c is sc for sc, _ in selected.values())
             ]
             if not found:
+                others = _plugin_providers(reg, var)
+                hint = (
+                    "; it is provided by " + ", ".join(others) + ": select one in the scene"
+                    if others
+                    else ""
+                )
                 raise PlanError(
-                    f"analysis {consumer!r} requires variable {var!r}, which neither the core "
-                    "nor any installed analysis provides"
+                    f"analysis {consumer!r} requires variable {var!r}, which neither the core, "
+                    f"the scene's coefficient and boundary, nor any installed analysis "
+                    f"provides{hint}"
                 )
             if len(found) > 1:
                 names = " and ".join(repr(n) for n, _ in found)
@@ -119,6 +126,20 @@ def plan_analyses(
             queue.append(pname)
 
     return [(n, *selected[n]) for n in _order(selected, provider, available)]
+
+
+def _plugin_providers(reg: Registry, var: str) -> list[str]:
+    """Installed coefficients/boundaries that declare ``var`` among their outputs."""
+    out = []
+    for group, section in (("coefficients", "coefficient"), ("boundaries", "boundary")):
+        for name in reg.names(group):
+            try:
+                cls = reg.load(group, name)
+            except PluginError:
+                continue
+            if var in getattr(cls, "outputs", {}):
+                out.append(f"{section} {name!r} ({reg.info(group, name).dist})")
+    return out
 
 
 def _provider_index(reg: Registry) -> dict[str, list[tuple[str, type]]]:

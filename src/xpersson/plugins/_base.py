@@ -25,6 +25,9 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "API_VERSION",
+    "BOUNDARY_TRAITS",
+    "COEFFICIENT_TRAITS",
+    "check_plugin_class",
     "Plugin",
     "Spectrum",
     "Coefficient",
@@ -36,14 +39,36 @@ __all__ = [
 API_VERSION = 1
 """Major version of the plugin API this core implements."""
 
+BOUNDARY_TRAITS: dict[str, str] = {
+    "repulsive": "no tensile stress: contact regions carry p >= 0 (hard-wall repulsion, so "
+    "virtual work p0 = -dU_el/du holds for the elastic part)",
+    "load_similar": "the contact area depends on the nominal pressure only through "
+    "G = tau/p0^2 (a fixed wall at p = 0 and no other pressure scale), so one load's area "
+    "curve samples the curve of every load",
+    "conservative": "no dissipation: the deformation is elastic and reversible",
+}
+"""Known boundary traits: physical properties a boundary declares and analyses rely on.
+
+Plugins may declare further traits (any ``snake_case`` word); an analysis that requires a trait
+runs with every boundary that declares it, installed now or later.
+"""
+
+COEFFICIENT_TRAITS: dict[str, str] = {
+    "elastic_spectrum": "tau_c(zeta) is the elastic diffusion time (pi/4) E*^2 int q^3 C of "
+    "the scene's spectrum (closures act only through effective_diffusion_time)",
+}
+"""Known coefficient traits (see :data:`BOUNDARY_TRAITS`)."""
+
+_TRAIT = re.compile(r"^[a-z][a-z0-9_]*$")
+
 _DOI = re.compile(r"^(doi:)?10\.\d{4,9}/\S+$|^arXiv:\S+$|^https?://\S+$", re.IGNORECASE)
 
 
 class Plugin:
     """Common base of all plugins.
 
-    Class attributes
-    ----------------
+    Attributes
+    ----------
     api_version : int
         Major plugin-API version the class was written for; must be <= :data:`API_VERSION`.
     summary : str
@@ -185,6 +210,20 @@ class Coefficient(Plugin):
 
     group = "coefficients"
     abstract = True
+    #: Physical properties analyses may rely on (see :data:`COEFFICIENT_TRAITS`).
+    traits: ClassVar[frozenset[str]] = frozenset()
+
+    def corrects_variance(self) -> bool:
+        """Whether :meth:`effective_tau` differs from :meth:`tau` (a correction closure)."""
+        return False
+
+    def variance_factor(self, ctx: SceneContext, area: np.ndarray) -> np.ndarray | None:
+        """``S = d tau_eff / d tau_c`` [1] at the running contact area ``area`` (n_load, n_zeta).
+
+        ``None`` when unknown; analyses then take it from the Dataset's diffusion times. The
+        elastic energy of a closure is ``(pi E*/2) int q^2 C A S dq``.
+        """
+        return None
 
     def f(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """Diffusion coefficient f(zeta) in Pa^2 at magnifications ``zeta`` (>= 1)."""
@@ -224,6 +263,17 @@ class Boundary(Plugin):
 
     group = "boundaries"
     abstract = True
+    #: Physical properties analyses may rely on (see :data:`BOUNDARY_TRAITS`).
+    traits: ClassVar[frozenset[str]] = frozenset()
+    #: Dataset variables whose sum is the contact area that carries the load.
+    contact_area: ClassVar[tuple[str, ...]] = ("area_fraction",)
+    #: Dataset variable of the elastically deformed contact area (stores elastic energy).
+    elastic_area: ClassVar[str] = "area_fraction"
+    #: Dataset variables whose sum is ``1 - elastic_area`` without cancellation.
+    elastic_area_complement: ClassVar[tuple[str, ...]] = ("non_contact_fraction",)
+    #: Whether the boundary accepts tensile nominal loads ``p0 <= 0`` (adhesion); the scene
+    #: then checks only that ``p0`` is finite and :meth:`validate` states the allowed range.
+    tensile_loads: ClassVar[bool] = False
 
     def validate(self, ctx: SceneContext) -> None:  # noqa: B027 - optional hook
         """Check the scene against this boundary (e.g. p0 below the yield stress).
@@ -261,6 +311,44 @@ class Analysis(Plugin):
     abstract = True
     requires: ClassVar[tuple[str, ...]] = ()
     provides: ClassVar[tuple[str, ...]] = ()
+    #: Traits the scene's boundary must declare (see :data:`BOUNDARY_TRAITS`).
+    boundary_traits: ClassVar[frozenset[str]] = frozenset()
+    #: Traits the scene's coefficient must declare (see :data:`COEFFICIENT_TRAITS`).
+    coefficient_traits: ClassVar[frozenset[str]] = frozenset()
+
+    @classmethod
+    def supports(cls, boundary: type | None = None, coefficient: type | None = None) -> str | None:
+        """Why this analysis cannot run with a boundary/coefficient class (``None``: it can).
+
+        The default compares the declared traits; the message names what is missing.
+        """
+        for kind, other, need in (
+            ("boundary", boundary, cls.boundary_traits),
+            ("coefficient", coefficient, cls.coefficient_traits),
+        ):
+            if other is None:
+                continue
+            have = frozenset(getattr(other, "traits", ()))
+            missing = sorted(need - have)
+            if missing:
+                known = BOUNDARY_TRAITS if kind == "boundary" else COEFFICIENT_TRAITS
+                why = "; ".join(f"{t}: {known.get(t, 'declared by the plugin')}" for t in missing)
+                need_s, have_s = ", ".join(missing), ", ".join(sorted(have)) or "none"
+                return (
+                    f"this analysis needs a {kind} declaring trait(s) {need_s} ({why}); "
+                    f"{other.__qualname__} declares {have_s}"
+                )
+        return None
+
+    def check_scene(self, coefficient: Coefficient, boundary: Boundary) -> None:
+        """Refuse a scene before any work (``ValueError`` naming the reason).
+
+        Called when a scene is resolved; the default applies :meth:`supports`. Override to add
+        parameter/scene contradictions (call ``super().check_scene`` first).
+        """
+        why = type(self).supports(type(boundary), type(coefficient))
+        if why:
+            raise ValueError(why)
 
     def compute(self, ctx: SceneContext, ds: xr.Dataset) -> dict[str, Any]:
         """Return ``{name: DataArray or (dims, data)}`` for every name in :attr:`provides`."""
@@ -268,6 +356,7 @@ class Analysis(Plugin):
 
 
 def _check_analysis(cls: type[Plugin], name: str) -> None:
+    _check_traits(cls, name)
     for attr in ("requires", "provides"):
         val = getattr(cls, attr)
         if isinstance(val, str) or not all(isinstance(v, str) for v in val):
@@ -280,10 +369,50 @@ def _check_analysis(cls: type[Plugin], name: str) -> None:
         raise SpecError(f"{name}: {both} both required and provided (a cycle of one)")
 
 
+def _check_traits(cls: type[Plugin], name: str) -> None:
+    attrs = ("traits",)
+    if cls.group == "analyses":
+        attrs = ("boundary_traits", "coefficient_traits")
+    for attr in attrs:
+        val = getattr(cls, attr)
+        if not isinstance(val, frozenset) or not all(
+            isinstance(t, str) and _TRAIT.match(t) for t in val
+        ):
+            raise SpecError(f"{name}: {attr} must be a frozenset of snake_case trait names")
+
+
+def _check_boundary(cls: type[Plugin], name: str) -> None:
+    _check_traits(cls, name)
+    core = ("area_fraction", "non_contact_fraction")
+    ca, ea, comp = cls.contact_area, cls.elastic_area, cls.elastic_area_complement  # type: ignore[attr-defined]
+    if isinstance(ca, str) or isinstance(comp, str) or not isinstance(ea, str):
+        raise SpecError(
+            f"{name}: contact_area and elastic_area_complement must be tuples of variable "
+            "names, elastic_area one name"
+        )
+    for var in (*ca, ea, *comp):
+        if var not in core and var not in cls.outputs:
+            raise SpecError(
+                f"{name}: area variable {var!r} is neither a core variable ({', '.join(core)}) "
+                "nor declared in outputs"
+            )
+
+
+def check_plugin_class(cls: type) -> None:
+    """Check a plugin class as at definition time (raises :class:`SpecError`)."""
+    if not isinstance(cls, type) or not issubclass(cls, Plugin):
+        raise SpecError(f"{cls!r} is not a plugin class (derive from Spectrum, Coefficient, ...)")
+    _check_class(cls)
+
+
 GROUPS: dict[str, type[Plugin]] = {
     "spectra": Spectrum,
     "coefficients": Coefficient,
     "boundaries": Boundary,
     "analyses": Analysis,
 }
-GROUP_CHECKS = {"analyses": _check_analysis}
+GROUP_CHECKS = {
+    "analyses": _check_analysis,
+    "boundaries": _check_boundary,
+    "coefficients": _check_traits,
+}

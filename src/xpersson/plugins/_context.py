@@ -38,6 +38,16 @@ class SceneContext:
         Engine method (``"auto"`` picks exact paths where they exist).
     options : Mapping
         Free-form solver options.
+    coefficient, boundary : Plugin or None
+        The scene's coefficient and boundary instances (set for analyses, which read their
+        declarations: traits, area variables, ``variance_factor``); ``None`` elsewhere.
+    solve_at : Callable or None
+        For analyses: ``solve_at(zeta, loads=None) -> {name: array (n_sel, n_zeta)}`` evaluates
+        the *same* solve (coefficient, walls, engine, boundary interpretation) at other
+        magnifications for the loads with indices ``loads`` (default all), returning
+        ``area_fraction``, ``non_contact_fraction``, ``diffusion_time`` (n_zeta,),
+        ``effective_diffusion_time`` and the boundary's variables. Analyses that integrate over
+        zeta use it to sample the area curve densely where the output grid is too coarse.
     """
 
     psd: Any
@@ -51,6 +61,11 @@ class SceneContext:
     atol: float = 1e-12
     method: Any = "auto"
     options: Mapping[str, Any] = field(default_factory=dict)
+    coefficient: Any = None
+    boundary: Any = None
+    solve_at: Callable[..., Mapping[str, np.ndarray]] | None = field(
+        default=None, compare=False, repr=False
+    )
 
     @property
     def q_L(self) -> float:

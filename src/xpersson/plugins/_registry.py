@@ -12,6 +12,7 @@ the group is discovered; such a name must then be qualified as ``dist:name``.
 from __future__ import annotations
 
 import contextlib
+import functools
 import importlib
 import os
 import re
@@ -402,8 +403,10 @@ def _dist_of(ep: EntryPoint) -> tuple[str, str]:
         return "<unknown>", ""
 
 
+@functools.lru_cache(maxsize=256)
 def _dist_of_module(module: str) -> tuple[str, str]:
-    """Best-effort distribution of a module (for classes passed directly)."""
+    """Best-effort distribution of a module (for classes passed directly); cached: the scan
+    of installed distributions takes about a second and sweeps ask at every point."""
     from importlib.metadata import packages_distributions, version
 
     top = module.partition(".")[0]

@@ -265,7 +265,7 @@ class VarSpec:
 
     def attrs(self) -> dict[str, Any]:
         """CF attributes for a variable with this spec (``valid_min``/``valid_max`` as floats)."""
-        out = {"units": self.units, "long_name": self.long_name}
+        out: dict[str, Any] = {"units": self.units, "long_name": self.long_name}
         if self.standard_name:
             out["standard_name"] = self.standard_name
         comment = self.description
@@ -273,7 +273,16 @@ class VarSpec:
             comment = f"{comment} NaN means: {self.nan_meaning}".strip()
         if comment:
             out["comment"] = comment
+        # ACDD-1.3: every data variable says what it holds ("qualityInformation" for flags)
+        out["coverage_content_type"] = (
+            "qualityInformation" if "flag_meanings" in self.extra else "modelResult"
+        )
         out.update(self.extra)
+        if isinstance(out.get("flag_values"), str):  # CF: numbers of the variable's type
+            import numpy as np
+
+            out["flag_values"] = np.array([int(v) for v in out["flag_values"].split()],
+                                          dtype=np.int8)
         out.update(self.valid_range())
         return out
 

@@ -1,48 +1,27 @@
 """xpersson-interface: interfacial separation, elastic energy, gap distribution and leakage.
 
 First-party analyses for :mod:`xpersson` (entry-point group ``xpersson.analyses``):
-``elastic_energy``, ``mean_gap``, ``contact_stiffness``, ``gap_pdf``, ``leakage``. The numerical
-functions live in small private modules (pure numpy/scipy, SI floats) and are re-exported here.
+``elastic_energy``, ``mean_gap``, ``contact_stiffness``, ``gap_pdf``, ``leakage``. They compute
+from the solved contact through the public core physics :mod:`xpersson.physics.interface`
+(energy, mean gap, stiffness, gap distribution); this package adds the seal-leakage models, the
+gap-distribution diffusion adapter and the plugin classes.
 """
 
-from ._closures import CLOSURES, AreaLaw, area_law
-from ._energy import elastic_energy, full_contact_energy
-from ._gap import C3, contact_stiffness, dmean_gap_dp, gap_asymptote, mean_gap
-from ._gap_diffusion import diffuse_with_injection
-from ._gap_pdf import Detachment, detachment, gap_cdf, gap_mean, gap_pdf
-from ._leakage import (
-    bruggeman,
-    bruggeman_gap,
-    critical_junction,
-    effective_pressure_drop,
-    leak_rate,
-)
-from ._quad import QRule, q_rule
+from ._gap_diffusion import DiffusionResult, diffuse_with_injection
+from ._leakage import bruggeman, bruggeman_gap, effective_pressure_drop, leak_rate
+from ._solved import FORMS, Solved, dense_zeta, solved_curve
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 __all__ = [
-    "C3",
-    "CLOSURES",
-    "AreaLaw",
-    "Detachment",
-    "QRule",
-    "area_law",
+    "FORMS",
+    "DiffusionResult",
+    "Solved",
     "bruggeman",
     "bruggeman_gap",
-    "contact_stiffness",
-    "critical_junction",
-    "detachment",
+    "dense_zeta",
     "diffuse_with_injection",
-    "dmean_gap_dp",
     "effective_pressure_drop",
-    "elastic_energy",
-    "full_contact_energy",
-    "gap_asymptote",
-    "gap_cdf",
-    "gap_mean",
-    "gap_pdf",
     "leak_rate",
-    "mean_gap",
-    "q_rule",
+    "solved_curve",
 ]

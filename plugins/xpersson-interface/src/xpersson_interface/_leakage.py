@@ -1,8 +1,10 @@
 """Leak rate of a static seal (physics.md §6): critical junction and effective medium.
 
 *Critical junction* (Persson & Yang 2008; Lorenz & Persson 2009): the non-contact channels
-percolate at the magnification ``zeta_c`` where ``A(zeta_c)/A0 = a_c`` (default 0.42); the flow
-is limited by the critical constrictions of height ``u1(zeta_c) = d(A u)/dA`` and
+percolate at the magnification ``zeta_c`` where the solved contact area equals ``a_c`` (default
+0.42); the flow is limited by the critical constrictions of height ``u1(zeta_c) = d(A u)/dA``
+(:func:`xpersson.physics.critical_magnification`,
+:func:`xpersson.physics.separation_of_detaching_area`) and
 
     Q = (L_y / L_x) u1^3 dP_eff / (12 eta)          [m^3/s]
 
@@ -10,11 +12,14 @@ is limited by the critical constrictions of height ``u1(zeta_c) = d(A u)/dA`` an
 Lorenz & Persson 2010): the local conductance ``sigma(u) = u^3/(12 eta)`` is averaged over the gap
 distribution (contact as a ``delta(u)`` weight with ``sigma = 0``) by the 2-D condition
 ``int P(u) (sigma - sigma_eff)/(sigma + sigma_eff) du = 0``. Plain 2-D Bruggeman percolates at a
-contact weight of 1/2; the option ``rescale_to=a_c`` multiplies the contact weight by
-``0.5/a_c`` (a documented design choice, not from the papers) so both theories seal together.
+contact weight of 1/2; ``a_c=`` multiplies the contact weight by ``0.5/a_c`` (a documented design
+choice, not from the papers) so both theories seal together.
 
-For an ideal gas at constant temperature the laminar flow gives the volume flow at the reference
-pressure ``p_ref`` with ``dP_eff = (p_in^2 - p_out^2) / (2 p_ref)`` (no slip correction).
+Flow direction: the fluid flows from the high-pressure side (``p_in``, liquid: the side
+``pressure_drop`` above the other) to the low-pressure side; the leak rate is >= 0. For an ideal
+gas at constant temperature the laminar flow gives the volume flow at the outlet pressure
+``p_out`` with ``dP_eff = (p_in^2 - p_out^2) / (2 p_out)`` (no slip correction); ``p_in < p_out``
+is refused (name the high-pressure side ``p_in``).
 """
 
 from __future__ import annotations
@@ -23,87 +28,63 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
+from xpersson.physics import Detachment, gap_cdf
 
-from ._closures import AreaLaw
-from ._gap import mean_gap
-from ._gap_pdf import Detachment, gap_cdf
-from ._quad import q_rule
-
-__all__ = [
-    "critical_junction",
-    "bruggeman",
-    "bruggeman_gap",
-    "effective_pressure_drop",
-    "leak_rate",
-]
+__all__ = ["bruggeman", "bruggeman_gap", "effective_pressure_drop", "leak_rate"]
 
 
-def critical_junction(
-    psd: object,
-    E_star: float,
-    p0: ArrayLike,
-    a_c: float = 0.42,
-    gamma: float = 1.0,
-    law: AreaLaw | None = None,
+def _bruggeman_rows(
+    contact: NDArray[np.float64],
+    masses: NDArray[np.float64],
+    sigma: NDArray[np.float64],
+    infinite: NDArray[np.float64],
     *,
-    rel_step: float = 1e-3,
-) -> dict[str, NDArray[np.float64]]:
-    """Percolation magnification and critical gap per load.
+    rtol: float = 1e-12,
+) -> NDArray[np.float64]:
+    """Vectorised root of ``-c + sum m_k (s_k - s)/(s_k + s) + m_inf = 0`` per row.
 
-    Parameters
-    ----------
-    psd : PowerSpectrum
-        Roughness spectrum (m^4).
-    E_star : float
-        Contact modulus [Pa].
-    p0 : array_like
-        Nominal pressures [Pa].
-    a_c : float
-        Percolation threshold of the contact area [1].
-    gamma : float
-        Correction-factor parameter of the mean separation [1].
-    law : AreaLaw, optional
-        Contact-area law (default Persson 2001).
-    rel_step : float
-        Half-width in ``ln zeta`` of the bin used for ``u1 = d(A u)/dA`` (second order).
-
-    Returns
-    -------
-    dict
-        ``zeta_c`` [1] (NaN when sealed), ``u1`` [m] (0 when sealed), ``sealed`` (bool),
-        ``area_final`` ``A(zeta_1)/A0`` [1].
+    ``contact`` (n,), ``masses`` (n, k), ``sigma`` (k,) or (n, k) >= 0 (``inf`` allowed),
+    ``infinite`` (n,) the weight of further elements with infinite conductance. Returns 0 where
+    the contact weight reaches the percolation value (half of the total weight), ``inf`` where
+    the infinite elements percolate.
     """
-    law = AreaLaw() if law is None else law
-    p0 = np.atleast_1d(np.asarray(p0, dtype=float))
-    q_L, q_1 = float(psd.q_L), float(psd.q_1)
-    I3_1 = float(psd.I3(q_1))
-    G_c = law.G_of_area(a_c)
-    I3_c = 4.0 * G_c * p0**2 / (math.pi * E_star**2)
-    sealed = I3_c >= I3_1
-    zeta_c = np.full(p0.size, np.nan)
-    u1 = np.zeros(p0.size)
-    G1 = 0.25 * math.pi * (E_star / p0) ** 2 * I3_1
-    for i in np.flatnonzero(~sealed):
-        lq = brentq(
-            lambda x, t=I3_c[i]: float(psd.I3(math.exp(x))) - t,
-            math.log(q_L),
-            math.log(q_1),
-            xtol=1e-13,
-        )
-        zc = math.exp(lq) / q_L
-        zeta_c[i] = zc
-        za = max(1.0, zc * math.exp(-rel_step))
-        zb = min(q_1 / q_L, zc * math.exp(rel_step))
-        Gab = 0.25 * math.pi * (E_star / p0[i]) ** 2 * np.asarray(psd.I3(np.array([za, zb]) * q_L))
-        A = law.area(Gab)
-        N = law.non_area(Gab)
-        ub = [
-            float(mean_gap(psd, E_star, p0[i] / A[j], gamma, rule=q_rule(psd, zz * q_L)))
-            for j, zz in enumerate((za, zb))
-        ]
-        u1[i] = (A[0] * ub[0] - A[1] * ub[1]) / (N[1] - N[0])
-    return {"zeta_c": zeta_c, "u1": u1, "sealed": sealed, "area_final": law.area(G1)}
+    c = np.asarray(contact, dtype=float)
+    m = np.asarray(masses, dtype=float)
+    s_k = np.broadcast_to(np.atleast_2d(np.asarray(sigma, dtype=float)), m.shape)
+    big = ~np.isfinite(s_k)
+    m_inf = np.asarray(infinite, dtype=float) + np.sum(np.where(big, m, 0.0), axis=1)
+    m = np.where(big, 0.0, m)
+    s_k = np.where(big, 1.0, s_k)
+    total = c + m.sum(axis=1) + m_inf
+    out = np.zeros(c.size)
+    sealed = c >= 0.5 * total
+    flooded = m_inf >= 0.5 * total
+    work = ~sealed & ~flooded
+    out[flooded & ~sealed] = np.inf
+    if not work.any():
+        return out
+    c, m, m_inf, s_k = c[work], m[work], m_inf[work], s_k[work]
+    pos = s_k[s_k > 0]
+    lo = np.full(c.size, math.log(float(pos.min() if pos.size else 1.0)) - 60.0)
+    hi = np.full(c.size, math.log(float(pos.max() if pos.size else 1.0)) + 60.0)
+    x = 0.5 * (lo + hi)
+    for _ in range(200):
+        s = np.exp(x)[:, None]
+        with np.errstate(over="ignore"):
+            r = s_k / (s_k + s)  # in [0, 1]: (s_k - s)/(s_k + s) = 2r - 1, stable
+        f = -c + np.sum(m * (2.0 * r - 1.0), axis=1) + m_inf
+        df = -np.sum(m * 2.0 * r * (1.0 - r), axis=1)  # d f / d ln s  (< 0)
+        lo = np.where(f > 0, x, lo)
+        hi = np.where(f <= 0, x, hi)
+        xn = x - f / np.where(df < 0, df, -1.0)
+        bad = ~((xn > lo) & (xn < hi)) | ~(df < 0)
+        xn = np.where(bad, 0.5 * (lo + hi), xn)
+        done = np.abs(xn - x) <= rtol
+        x = xn
+        if np.all(done):
+            break
+    out[work] = np.exp(x)
+    return out
 
 
 def bruggeman(contact: float, masses: ArrayLike, sigma: ArrayLike, *, rtol: float = 1e-12) -> float:
@@ -116,75 +97,72 @@ def bruggeman(contact: float, masses: ArrayLike, sigma: ArrayLike, *, rtol: floa
     contact : float
         Weight of the contact (``sigma = 0``) [1].
     masses : array_like
-        Weights of the open elements [1] (``contact + sum(masses) = 1``).
+        Weights of the open elements [1].
     sigma : array_like
         Their conductances (any unit; the result has the same unit), ``> 0``.
 
     Returns
     -------
     float
-        ``sigma_eff``; 0 when the contact weight reaches the percolation value 1/2.
+        ``sigma_eff``; 0 when the contact weight reaches the percolation value (half the total).
     """
-    m = np.asarray(masses, dtype=float)
-    s = np.asarray(sigma, dtype=float)
+    m = np.asarray(masses, dtype=float).ravel()
+    s = np.asarray(sigma, dtype=float).ravel()
     use = m > 0
     m, s = m[use], s[use]
-    if m.size == 0 or contact >= 0.5 * (contact + m.sum()):
-        return 0.0
     fin = np.isfinite(s)
-
-    def f(ls: float) -> float:
-        se = math.exp(ls)
-        return -contact + float(np.sum(m[fin] * (s[fin] - se) / (s[fin] + se))) + m[~fin].sum()
-
-    hi = math.log(float(np.max(s[fin]))) if np.any(fin) else 0.0
-    lo = hi - 10.0
-    while f(lo) < 0:
-        lo -= 10.0
-    while f(hi) > 0:
-        hi += 10.0
-    return math.exp(brentq(f, lo, hi, rtol=rtol, xtol=1e-14))
+    if not fin.any():
+        return 0.0 if contact >= 0.5 * (contact + m.sum()) else math.inf
+    return float(
+        _bruggeman_rows(
+            np.array([contact]), m[fin][None, :], s[fin], np.array([m[~fin].sum()]), rtol=rtol
+        )[0]
+    )
 
 
 def bruggeman_gap(
     det: Detachment,
     *,
     a_c: float | None = None,
-    n_u: int = 2000,
+    n_u: int = 240,
+    u_min: float = 1e-6,
     u_max: float | None = None,
 ) -> NDArray[np.float64]:
     """Effective ``<u^3>_EMT`` [m^3] over the closed-form gap distribution, per load.
 
-    ``sigma_eff = result / (12 eta)``. Cells on ``[0, u_max]`` (geometric from ``1e-7 h_rms``)
-    carry the exact closed-form mass (analytic CDF) at their midpoint conductance; the mass
-    beyond ``u_max`` is one element of infinite conductance.
+    ``sigma_eff = result / (12 eta)``. Cells geometric in ``u`` on ``[u_min h_rms, u_max]``
+    carry the exact closed-form mass (analytic CDF, :func:`xpersson.physics.gap_cdf`) at their
+    geometric-midpoint conductance; the mass below is one cell at half the first edge, the
+    mass beyond ``u_max`` one element of infinite conductance. All loads at once.
 
     Parameters
     ----------
     det : Detachment
-        Gap-distribution bins (:func:`._gap_pdf.detachment`).
+        Gap-distribution bins (:func:`xpersson.physics.detachment`).
     a_c : float, optional
         When given, rescale the contact weight by ``0.5 / a_c`` so that the effective medium
         seals at ``A/A0 = a_c`` (open weights rescaled to keep unit total).
     n_u : int
         Number of cells.
+    u_min : float
+        First cell edge in units of ``h_rms``.
     u_max : float, optional
         Upper end of the cells [m] (default ``max(u(p0)) + 10 h_rms``).
     """
     umax = float(np.max(det.mean_gap)) + 10.0 * det.h_rms if u_max is None else u_max
-    edges = np.concatenate(([0.0], np.geomspace(1e-7 * det.h_rms, umax, n_u)))
+    edges = np.concatenate(([0.0], np.geomspace(u_min * det.h_rms, umax, n_u)))
     cdf = gap_cdf(det, edges)
-    out = np.zeros(det.p0.size)
-    for i in range(det.p0.size):
-        a = float(det.contact[i])
-        m = np.concatenate((np.diff(cdf[i]), [max(1.0 - a - cdf[i, -1], 0.0)]))
-        if a_c is not None:
-            a_new = min(1.0, a * 0.5 / a_c)
-            m = m * ((1.0 - a_new) / (1.0 - a) if a < 1.0 else 0.0)
-            a = a_new
-        sig = np.concatenate((0.5 * (edges[:-1] + edges[1:]), [np.inf])) ** 3
-        out[i] = bruggeman(a, m, sig)
-    return out
+    a = np.asarray(det.contact, dtype=float)
+    m = np.diff(cdf, axis=1)
+    m[:, 0] += cdf[:, 0]
+    far = np.maximum(1.0 - a - cdf[:, -1], 0.0)
+    if a_c is not None:
+        a_new = np.minimum(1.0, a * 0.5 / a_c)
+        scale = np.where(a < 1.0, (1.0 - a_new) / np.where(a < 1.0, 1.0 - a, 1.0), 0.0)
+        m, far, a = m * scale[:, None], far * scale, a_new
+    mid = np.sqrt(edges[:-1] * edges[1:])
+    mid[0] = 0.5 * edges[1]
+    return _bruggeman_rows(a, m, mid**3, far)
 
 
 def effective_pressure_drop(
@@ -192,27 +170,42 @@ def effective_pressure_drop(
     pressure_drop: float = 0.0,
     p_in: float = 0.0,
     p_out: float = 0.0,
-    p_ref: float | None = None,
 ) -> float:
-    """Pressure difference [Pa] driving the laminar flow.
+    """Pressure difference [Pa] driving the laminar flow from the inlet to the outlet.
 
-    ``liquid``: ``pressure_drop``; ``gas`` (ideal, isothermal): ``(p_in^2 - p_out^2)/(2 p_ref)``
-    so that the result times the conductance is the volume flow at ``p_ref`` (default ``p_out``).
+    ``liquid``: ``pressure_drop`` (>= 0). ``gas`` (ideal, isothermal):
+    ``(p_in^2 - p_out^2)/(2 p_out)`` so that the result times the conductance is the volume flow
+    at ``p_out``.
+
+    Raises
+    ------
+    ValueError
+        Negative ``pressure_drop``, ``p_out <= 0`` or ``p_in < p_out`` (the flow direction is
+        from ``p_in`` to ``p_out``: give the high-pressure side as ``p_in``).
     """
     if fluid == "liquid":
+        if not pressure_drop >= 0:
+            raise ValueError(
+                f"leakage.pressure_drop = {pressure_drop!r} Pa must be >= 0 (the flow runs from "
+                "the high- to the low-pressure side)"
+            )
         return float(pressure_drop)
     if fluid == "gas":
-        ref = p_out if p_ref is None else p_ref
-        if not ref > 0:
-            raise ValueError("gas leakage needs a positive reference pressure (p_out or p_ref)")
-        return (p_in**2 - p_out**2) / (2.0 * ref)
-    raise ValueError(f"fluid must be 'liquid' or 'gas', got {fluid!r}")
+        if not p_out > 0:
+            raise ValueError(f"leakage.p_out = {p_out!r} Pa must be > 0 for gas leakage")
+        if not p_in >= p_out:
+            raise ValueError(
+                f"leakage.p_in = {p_in:g} Pa must be >= leakage.p_out = {p_out:g} Pa: gas flows "
+                "from the inlet p_in to the outlet p_out (give the high-pressure side as p_in)"
+            )
+        return (p_in**2 - p_out**2) / (2.0 * p_out)
+    raise ValueError(f"leakage.fluid must be 'liquid' or 'gas', got {fluid!r}")
 
 
 def leak_rate(
     u3: ArrayLike, seal_width: float, seal_length: float, dp_eff: float, viscosity: float
 ) -> NDArray[np.float64]:
-    """Volume leak rate ``Q = (L_y/L_x) u3 dP_eff / (12 eta)`` [m^3/s].
+    """Volume leak rate ``Q = (L_y/L_x) u3 dP_eff / (12 eta)`` [m^3/s] (NaN stays NaN).
 
     Parameters
     ----------

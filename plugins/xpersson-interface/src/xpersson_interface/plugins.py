@@ -1,8 +1,19 @@
-"""Thin plugin classes (group ``xpersson.analyses``) over the numerical modules.
+"""Thin analysis classes (group ``xpersson.analyses``) over :mod:`xpersson.physics.interface`.
 
-Each class reads only the SI data of the :class:`~xpersson.plugins.SceneContext` (spectrum,
-``E_star``, loads ``p0``) and returns ``{name: DataArray or (dims, data)}`` with the dims, units
-and long names declared in :attr:`outputs`.
+Every analysis computes from the solved contact (:mod:`._solved`): the boundary's declared area
+variables, the coefficient's correction factor, all loads at once. Which boundaries an analysis
+supports is declared as the boundary traits it needs (``boundary_traits``), so boundaries
+installed later are accepted or refused by what they declare, never by name.
+
+The correction factor of energy and gap (``s_factor``):
+
+* ``"closure"`` (default): the scene's ``[coefficient]`` closure decides area and ``S``
+  (``S = d tau_eff/d tau_c``: 1 for persson01, ``S(A)`` for yp08/wm17, Xu24's hybrid factor);
+  Persson 2007 without a closure.
+* ``"yang_persson"``: Yang & Persson 2008, ``S = gamma + (1 - gamma) A^2`` in the energy and
+  the mean gap with Persson's *uncorrected* area (the form whose mean gap matches GFMD within
+  1-8 %); only with ``closure = "persson01"`` (else refused: the area would be corrected twice).
+  ``gamma`` defaults to :data:`xpersson.physics.closures.GAMMA_DEFAULT` (0.42).
 """
 
 from __future__ import annotations
@@ -12,142 +23,182 @@ from typing import Any, ClassVar
 
 import numpy as np
 import xarray as xr
+from xpersson import physics
+from xpersson.physics.closures import GAMMA_DEFAULT
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
-from ._closures import CLOSURES, AreaLaw
-from ._energy import elastic_energy, full_contact_energy
-from ._gap import contact_stiffness, gap_asymptote, mean_gap
 from ._gap_diffusion import diffuse_with_injection
-from ._gap_pdf import detachment, gap_mean, gap_pdf
-from ._leakage import (
-    bruggeman_gap,
-    critical_junction,
-    effective_pressure_drop,
-    leak_rate,
-)
-from ._quad import q_rule
+from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
+from ._solved import FORMS, Solved, solved_curve
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
 
+_PERSSON2001 = "10.1063/1.1388626"
 _PERSSON2007 = "10.1103/PhysRevLett.99.125502"
 _YANG2008 = "10.1088/0953-8984/20/21/215214"
 _ALMQVIST2011 = "10.1016/j.jmps.2011.08.004"
 _PERSSON_YANG2008 = "10.1088/0953-8984/20/31/315011"
 _LORENZ2010 = "10.1140/epje/i2010-10558-6"
+_XU2024 = "10.1007/s11249-024-01838-4"
 
+_FORM = ParamSpec(
+    kind="choice",
+    choices=FORMS,
+    default="closure",
+    description="correction factor S in energy and gap: the scene's closure, or Yang-Persson"
+    " 2008 (S = gamma + (1 - gamma) A^2 with Persson's area; needs closure = persson01)",
+)
 _GAMMA = ParamSpec(
     unit="1",
-    default=1.0,
+    default=None,
     bounds=(0.0, 1.0),
     inclusive=(False, True),
-    description="correction factor S = gamma + (1 - gamma) P^2 of the mean separation (1: Persson"
-    " 2007, 0.42-0.45: Yang-Persson 2008)",
+    description=f"gamma of s_factor = 'yang_persson' (default {GAMMA_DEFAULT}, the package-wide"
+    " default); the closure form uses the coefficient's gamma",
 )
+_DENSE = ParamSpec(
+    kind="int",
+    default=40,
+    bounds=(0, 10000),
+    description="points per decade of zeta - 1 at which the solve is sampled for the zeta"
+    " integrals (0: the Dataset's magnifications only)",
+)
+#: CF flags: numeric flag_values of the variable's type
+_FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "open sealed"}
+_GAP_TRAITS = frozenset({"repulsive", "load_similar"})
 
 
-def _p0(ctx: Any) -> np.ndarray:
-    return np.atleast_1d(np.asarray(ctx.p0, dtype=float))
+class _Interface(Analysis):
+    """Shared: S-factor form, refusal rules, reading the solved curve."""
+
+    abstract = True
+    coefficient_traits = frozenset({"elastic_spectrum"})
+    requires = ("area_fraction", "non_contact_fraction", "diffusion_time")
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        if self._params.get("s_factor") == "yang_persson" and self._params.get("gamma") is None:
+            self._params["gamma"] = GAMMA_DEFAULT  # recorded in the archive's resolved scene
+
+    def check_scene(self, coefficient: Any, boundary: Any) -> None:
+        """Refuse unsupported boundaries and a Yang-Persson form on a corrected area."""
+        super().check_scene(coefficient, boundary)
+        form, gamma = self.params.get("s_factor", "closure"), self.params.get("gamma")
+        if form == "yang_persson" and coefficient.corrects_variance():
+            raise ValueError(
+                "s_factor = 'yang_persson' puts the correction factor into energy and gap on "
+                "Persson's uncorrected area, but the scene's coefficient already corrects the "
+                "area with a closure; use s_factor = 'closure' or coefficient.closure = "
+                "'persson01'"
+            )
+        if form == "closure" and gamma is not None:
+            raise ValueError(
+                "gamma applies to s_factor = 'yang_persson'; with s_factor = 'closure' the "
+                "scene's closure and its coefficient.gamma decide S"
+            )
+
+    def _solved(self, ctx: Any, ds: Any, dense: bool = True) -> Solved:
+        per = int(self.params.get("zeta_per_decade", 0)) if dense else 0
+        return solved_curve(
+            ctx, ds, self.params.get("s_factor", "closure"), self.params.get("gamma"), per
+        )
+
+    def _contact(self, ctx: Any, ds: Any) -> tuple[Solved, physics.SolvedContact]:
+        s = self._solved(ctx, ds)
+        return s, physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve)
 
 
-class ElasticEnergy(Analysis):
-    """Elastic energy per nominal area versus load, with the correction-factor closures."""
+class ElasticEnergy(_Interface):
+    """Elastic energy per nominal area versus load from the solved area (physics.md §5.1).
 
-    summary = "Elastic energy U_el/A0 stored at the interface versus load (Persson 2007 + closures)"
-    references = (_PERSSON2007, _YANG2008, "10.1007/s11249-024-01838-4")
-    parameters: ClassVar = {
-        "closure": ParamSpec(
-            kind="choice",
-            choices=CLOSURES,
-            default="persson01",
-            description="area/S closure: persson01 (S = 1), yp08, wm17, xu24",
-        ),
-        "gamma": ParamSpec(
-            unit="1",
-            default=None,
-            bounds=(0.0, 1.0),
-            inclusive=(False, True),
-            description="closure parameter (default: 0.45 yp08/xu24, 5/9 wm17)",
-        ),
-        "uncorrected_area": ParamSpec(
-            kind="bool",
-            default=False,
-            description="use Persson's area erf(w p/E*) with the closure's S (Yang-Persson form,"
-            " consistent with mean_gap)",
-        ),
-    }
+    ``U_el/A0 = (pi E*/2) int q^2 C A S dq`` with the solved *elastic* contact area ``A`` (the
+    boundary's ``elastic_area``) and the scene's ``S``. For an elastoplastic boundary this is
+    Persson's elastic-energy expression with ``P(q)`` the elastic contact area ``P_el(q)`` (the
+    plastically flattened area stores no elastic energy of the finer scales), as in Persson's
+    elastoplastic treatment (J. Chem. Phys. 115, 3840 (2001); attribution from memory: physics.md
+    gives no verified source for this form). It tends to the elastic energy as
+    ``sigma_Y -> inf`` and lies below it at finite ``sigma_Y``.
+    """
+
+    summary = "Elastic energy U_el/A0 stored at the interface, from the solved contact area"
+    references = (_PERSSON2001, _PERSSON2007, _YANG2008, _XU2024)
+    boundary_traits = frozenset({"repulsive"})
+    parameters: ClassVar = {"s_factor": _FORM, "gamma": _GAMMA, "zeta_per_decade": _DENSE}
     outputs: ClassVar = {
         "elastic_energy": VarSpec(
-            ("p0",), "J m-2", "elastic energy per nominal area at the interface"
+            ("p0",), "J m-2", "elastic energy per nominal area at the interface", valid_min=0.0
         ),
         "elastic_energy_full": VarSpec(
-            (), "J m-2", "elastic energy per nominal area at full contact"
+            (), "J m-2", "elastic energy per nominal area at full contact", valid_min=0.0
         ),
     }
     provides = ("elastic_energy", "elastic_energy_full")
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        law = AreaLaw(self.params["closure"], self.params["gamma"])
-        U = elastic_energy(
-            ctx.psd,
-            ctx.E_star,
-            _p0(ctx),
-            law,
-            uncorrected_area=bool(self.params["uncorrected_area"]),
-        )
+        s, sc = self._contact(ctx, ds)
+        U = sc.elastic_energy()
+        q_hi = min(float(ctx.psd.q_1), float(s.zeta[-1]) * ctx.q_L)
+        full = physics.full_contact_energy(ctx.psd, ctx.E_star, ctx.q_L, q_hi)
         return {
-            "elastic_energy": (("p0",), U),
-            "elastic_energy_full": ((), np.float64(full_contact_energy(ctx.psd, ctx.E_star))),
+            "elastic_energy": (("p0",), np.clip(U, 0.0, full)),
+            "elastic_energy_full": ((), np.float64(full)),
         }
 
 
-class MeanGap(Analysis):
-    """Mean interfacial separation u(p0) and its low-load asymptote."""
+class MeanGap(_Interface):
+    """Mean interfacial separation u(p0) by virtual work from the solved area (§5.2)."""
 
-    summary = "Mean interfacial separation u(p0) (Persson 2007 / Yang-Persson 2008)"
+    summary = "Mean interfacial separation u(p0) from the solved area (Persson 2007 virtual work)"
     references = (_PERSSON2007, _YANG2008)
-    parameters: ClassVar = {"gamma": _GAMMA}
+    boundary_traits = _GAP_TRAITS
+    parameters: ClassVar = {"s_factor": _FORM, "gamma": _GAMMA, "zeta_per_decade": _DENSE}
     outputs: ClassVar = {
-        "mean_gap": VarSpec(("p0",), "m", "mean interfacial separation"),
-        "gap_u0": VarSpec((), "m", "length scale u0 of the low-load law u = -u0 ln(p0/(beta E*))"),
-        "gap_beta": VarSpec((), "1", "prefactor beta of the low-load law u = -u0 ln(p0/(beta E*))"),
+        "mean_gap": VarSpec(("p0",), "m", "mean interfacial separation", valid_min=0.0),
     }
-    provides = ("mean_gap", "gap_u0", "gap_beta")
+    provides = ("mean_gap",)
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        g = float(self.params["gamma"])
-        rule = q_rule(ctx.psd)
-        u = mean_gap(ctx.psd, ctx.E_star, _p0(ctx), g, rule=rule)
-        u0, beta = gap_asymptote(ctx.psd, ctx.E_star, g, rule=rule)
-        return {
-            "mean_gap": (("p0",), u),
-            "gap_u0": ((), np.float64(u0)),
-            "gap_beta": ((), np.float64(beta)),
-        }
+        _, sc = self._contact(ctx, ds)
+        return {"mean_gap": (("p0",), sc.mean_gap())}
 
 
-class ContactStiffness(Analysis):
-    """Normal contact stiffness K = -dp0/du per nominal area (analytic derivative)."""
+class ContactStiffness(_Interface):
+    """Normal contact stiffness K = -dp0/du per nominal area (analytic, §5.4)."""
 
-    summary = "Normal interfacial stiffness K = -dp0/du per nominal area"
+    summary = "Normal interfacial stiffness K = -dp0/du per nominal area from the solved area"
     references = (_PERSSON2007, _YANG2008)
-    parameters: ClassVar = {"gamma": _GAMMA}
+    boundary_traits = _GAP_TRAITS
+    parameters: ClassVar = {"s_factor": _FORM, "gamma": _GAMMA, "zeta_per_decade": _DENSE}
     outputs: ClassVar = {
         "contact_stiffness": VarSpec(
-            ("p0",), "Pa m-1", "normal contact stiffness per nominal area -dp0/du"
+            ("p0",), "Pa m-1", "normal contact stiffness per nominal area -dp0/du",
+            valid_min=0.0,
+            description="-1/(du/dp0) with du/dp0 = -(4/(E* p0^2)) int (tau_c/q) (-dF), F = A S; "
+            "taken from ln(1 - F), so finite up to 1 - A ~ 1e-300",
         ),
-    }
+    }  # fmt: skip
     provides = ("contact_stiffness",)
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        K = contact_stiffness(ctx.psd, ctx.E_star, _p0(ctx), float(self.params["gamma"]))
-        return {"contact_stiffness": (("p0",), K)}
+        _, sc = self._contact(ctx, ds)
+        return {"contact_stiffness": (("p0",), sc.contact_stiffness())}
 
 
-class GapPDF(Analysis):
-    """Distribution of interfacial separations at the finest magnification."""
+def _edges(s: Solved, n_bins: int) -> np.ndarray:
+    """About ``n_bins`` bin edges: geometric in ``zeta - 1``, plus 1 and ``zeta_max``."""
+    z_max = float(s.zeta[-1])
+    if z_max <= 1.0:
+        return s.zeta
+    inner = 1.0 + np.geomspace(1e-9, z_max - 1.0, n_bins)
+    return np.unique(np.concatenate(([1.0], inner[inner < z_max], [z_max])))
 
-    summary = "Gap distribution P(u): closed form (Almqvist 2011) or diffusion in zeta"
+
+class GapPDF(_Interface):
+    """Distribution of interfacial separations at the finest magnification (§5.5)."""
+
+    summary = "Gap distribution P(u) from the solved area: closed form (Almqvist 2011) or diffusion"
     references = (_ALMQVIST2011, _PERSSON2007)
+    boundary_traits = _GAP_TRAITS
     parameters: ClassVar = {
         "method": ParamSpec(
             kind="choice",
@@ -155,7 +206,9 @@ class GapPDF(Analysis):
             default="closed_form",
             description="closed_form (Almqvist et al. 2011) or diffusion (engine solve_sourced)",
         ),
+        "s_factor": _FORM,
         "gamma": _GAMMA,
+        "zeta_per_decade": _DENSE,
         "u_max": ParamSpec(
             unit="m",
             default=None,
@@ -166,11 +219,11 @@ class GapPDF(Analysis):
         "u_points": ParamSpec(
             kind="int", default=256, bounds=(8, 100000), description="points of the gap grid"
         ),
-        "n_zeta": ParamSpec(
+        "n_bins": ParamSpec(
             kind="int",
-            default=300,
-            bounds=(20, 100000),
-            description="log-spaced magnification bins of the detached area",
+            default=80,
+            bounds=(10, 100000),
+            description="magnification bins of the detached area (geometric in zeta - 1)",
         ),
         "n_grid": ParamSpec(
             kind="int",
@@ -185,29 +238,32 @@ class GapPDF(Analysis):
             "m-1",
             "probability density of the interfacial separation (continuous part)",
             description="the contact fraction is the delta weight gap_contact_weight at u = 0",
+            valid_min=0.0,
         ),
         "gap_contact_weight": VarSpec(
-            ("p0",), "1", "contact area fraction: weight of delta(u) in the gap distribution"
+            ("p0",), "1", "contact area fraction: weight of delta(u) in the gap distribution",
+            valid_min=0.0, valid_max=1.0,
         ),
-        "gap_mean": VarSpec(("p0",), "m", "mean of the gap distribution"),
-    }
+        "gap_mean": VarSpec(("p0",), "m", "mean of the gap distribution", valid_min=0.0),
+    }  # fmt: skip
     provides = ("gap_pdf", "gap_contact_weight", "gap_mean")
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
-        det = detachment(ctx.psd, ctx.E_star, _p0(ctx), float(p["gamma"]), n_zeta=int(p["n_zeta"]))
+        s, sc = self._contact(ctx, ds)
+        det = sc.detachment(_edges(s, int(p["n_bins"])))
         umax = p["u_max"]
         if umax is None:
             umax = float(np.max(det.mean_gap)) + 6.0 * det.h_rms
         u = np.linspace(0.0, float(umax), int(p["u_points"]))
         if p["method"] == "closed_form":
-            rho = gap_pdf(det, u)
-            mean = gap_mean(det)
+            rho = physics.gap_pdf(det, u)
+            mean = physics.gap_mean(det)
         else:
             rho, mean = _diffusion_pdf(ctx.psd, det, u, int(p["n_grid"]))
         coord = xr.Variable(("u",), u, {"units": "m", "long_name": "interfacial separation"})
         return {
-            "gap_pdf": xr.DataArray(rho, dims=("p0", "u"), coords={"u": coord}),
+            "gap_pdf": xr.DataArray(np.maximum(rho, 0.0), dims=("p0", "u"), coords={"u": coord}),
             "gap_contact_weight": (("p0",), det.contact.copy()),
             "gap_mean": (("p0",), mean),
         }
@@ -215,8 +271,10 @@ class GapPDF(Analysis):
 
 def _diffusion_pdf(psd: Any, det: Any, u: np.ndarray, n_grid: int) -> tuple[np.ndarray, np.ndarray]:
     """Solve §5.5b on ``[0, max(u_max, u(p0) + 10 h_rms)]`` and sample on ``u``."""
-    q_L, q_1 = float(psd.q_L), float(psd.q_1)
-    h2 = np.array([2.0 * math.pi * float(psd.moment(1.0, z * q_L, q_1)) for z in det.zeta])
+    q_L = float(psd.q_L)
+    q_hi = float(det.zeta[-1]) * q_L
+    m1 = psd.running_moment(1.0, np.minimum(det.zeta * q_L, q_hi))
+    h2 = 2.0 * math.pi * (float(psd.running_moment(1.0, q_hi)) - np.asarray(m1, dtype=float))
     s = 0.5 * (det.h_rms**2 - h2)
     g_max = max(float(u[-1]), float(np.max(det.mean_gap)) + 10.0 * det.h_rms)
     res = diffuse_with_injection(g_max, n_grid, s, det.u1, det.weight)
@@ -230,11 +288,12 @@ def _diffusion_pdf(psd: Any, det: Any, u: np.ndarray, n_grid: int) -> tuple[np.n
     return rho, mean
 
 
-class Leakage(Analysis):
-    """Leak rate of a static seal by critical-junction and effective-medium theory."""
+class Leakage(_Interface):
+    """Leak rate of a static seal by critical-junction and effective-medium theory (§6)."""
 
     summary = "Seal leak rate: critical junction (percolation) and Bruggeman effective medium"
     references = (_PERSSON_YANG2008, "10.1209/0295-5075/86/44006", _LORENZ2010)
+    boundary_traits = _GAP_TRAITS
     parameters: ClassVar = {
         "a_c": ParamSpec(
             unit="1",
@@ -243,7 +302,9 @@ class Leakage(Analysis):
             inclusive=(False, False),
             description="percolation threshold of the contact area",
         ),
+        "s_factor": _FORM,
         "gamma": _GAMMA,
+        "zeta_per_decade": _DENSE,
         "fluid": ParamSpec(
             kind="choice",
             choices=("liquid", "gas"),
@@ -258,17 +319,19 @@ class Leakage(Analysis):
             description="dynamic viscosity of the fluid",
         ),
         "pressure_drop": ParamSpec(
-            unit="Pa", default=1e5, bounds=(0.0, None), description="liquid: pressure drop"
+            unit="Pa", default=1e5, bounds=(0.0, None),
+            description="liquid: pressure drop from the inlet to the outlet side",
         ),
         "p_in": ParamSpec(
-            unit="Pa", default=2e5, bounds=(0.0, None), description="gas: inlet pressure"
+            unit="Pa", default=2e5, bounds=(0.0, None),
+            description="gas: inlet (high) pressure; must be >= p_out",
         ),
         "p_out": ParamSpec(
             unit="Pa",
             default=1e5,
             bounds=(0.0, None),
             inclusive=(False, True),
-            description="gas: outlet pressure (reference of the reported volume flow)",
+            description="gas: outlet (low) pressure, reference of the reported volume flow",
         ),
         "seal_width": ParamSpec(
             unit="m",
@@ -290,65 +353,85 @@ class Leakage(Analysis):
             default="bruggeman",
             description="EMT percolation at contact weight 1/2 (plain) or rescaled to a_c",
         ),
-        "n_zeta": ParamSpec(
+        "n_bins": ParamSpec(
             kind="int",
-            default=200,
-            bounds=(20, 100000),
+            default=60,
+            bounds=(10, 100000),
             description="magnification bins of the gap distribution (EMT)",
         ),
-    }
+    }  # fmt: skip
     outputs: ClassVar = {
         "leak_zeta_c": VarSpec(
-            ("p0",), "1", "percolation magnification (NaN when sealed)",
+            ("p0",), "1", "percolation magnification (NaN when sealed)", valid_min=1.0,
             nan_meaning="sealed: the contact area percolates before zeta_1 (no open channel)",
         ),
-        "leak_u1": VarSpec(("p0",), "m", "separation of the critical constriction"),
-        "leak_flow_factor": VarSpec(
-            ("p0",), "1", "critical-junction pressure flow factor u1^3 / u^3"
+        "leak_u1": VarSpec(
+            ("p0",), "m", "separation of the critical constriction (NaN when sealed)",
+            valid_min=0.0, nan_meaning="sealed: no critical constriction",
         ),
-        "leak_rate": VarSpec(("p0",), "m3 s-1", "leak rate, critical-junction theory"),
+        "leak_flow_factor": VarSpec(
+            ("p0",), "1", "critical-junction pressure flow factor u1^3 / u^3 (0 when sealed)",
+            valid_min=0.0,
+        ),
+        "leak_rate": VarSpec(
+            ("p0",), "m3 s-1", "leak rate, critical-junction theory (0 when sealed)",
+            valid_min=0.0,
+            description="volume flow from the inlet to the outlet (gas: at p_out)",
+        ),
         "leak_sealed": VarSpec(
-            ("p0",),
-            "1",
-            "sealed flag, critical junction (A(zeta_1)/A0 >= a_c)",
-            extra={"flag_values": "0 1", "flag_meanings": "open sealed"},
+            ("p0",), "1", "sealed flag, critical junction (A(zeta_max)/A0 > a_c)",
+            extra=_FLAG,
         ),
         "leak_flow_factor_emt": VarSpec(
-            ("p0",), "1", "effective-medium pressure flow factor sigma_eff / sigma(u)"
+            ("p0",), "1", "effective-medium pressure flow factor sigma_eff / sigma(u)",
+            valid_min=0.0,
         ),
-        "leak_rate_emt": VarSpec(("p0",), "m3 s-1", "leak rate, Bruggeman effective medium"),
+        "leak_rate_emt": VarSpec(
+            ("p0",), "m3 s-1", "leak rate, Bruggeman effective medium", valid_min=0.0
+        ),
         "leak_sealed_emt": VarSpec(
-            ("p0",),
-            "1",
-            "sealed flag, effective medium (sigma_eff = 0)",
-            extra={"flag_values": "0 1", "flag_meanings": "open sealed"},
+            ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)",
+            extra=_FLAG,
         ),
-    }
+    }  # fmt: skip
     provides = tuple(outputs)
+
+    def _pressure_drop(self) -> float:
+        p = self.params
+        return effective_pressure_drop(
+            p["fluid"], float(p["pressure_drop"]), float(p["p_in"]), float(p["p_out"])
+        )
+
+    def check_scene(self, coefficient: Any, boundary: Any) -> None:
+        """Also refuse a gas scene with ``p_in < p_out`` (names both parameters)."""
+        super().check_scene(coefficient, boundary)
+        self._pressure_drop()
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
-        p0 = _p0(ctx)
-        g = float(p["gamma"])
         a_c = float(p["a_c"])
-        dp = effective_pressure_drop(
-            p["fluid"], float(p["pressure_drop"]), float(p["p_in"]), float(p["p_out"])
-        )
-        cj = critical_junction(ctx.psd, ctx.E_star, p0, a_c, g)
-        det = detachment(ctx.psd, ctx.E_star, p0, g, n_zeta=int(p["n_zeta"]))
+        dp = self._pressure_drop()
+        s, sc = self._contact(ctx, ds)
+        zc = physics.critical_magnification(s.zeta, s.contact, a_c)
+        sealed = ~np.isfinite(zc)
+        u1 = sc.separation_at(zc)
+        det = sc.detachment(_edges(s, int(p["n_bins"])))
         ubar = det.mean_gap
         u3 = bruggeman_gap(det, a_c=a_c if p["emt_threshold"] == "a_c" else None)
+        u3 = np.where(np.isfinite(u3), u3, 0.0)
         args = (float(p["seal_width"]), float(p["seal_length"]), dp, float(p["viscosity"]))
+        u1_3 = np.where(sealed, 0.0, np.nan_to_num(u1, nan=0.0) ** 3)
         with np.errstate(divide="ignore", invalid="ignore"):
-            ff = np.where(ubar > 0, cj["u1"] ** 3 / ubar**3, 0.0)
+            ff = np.where(ubar > 0, u1_3 / ubar**3, 0.0)
             ff_emt = np.where(ubar > 0, u3 / ubar**3, 0.0)
         return {
-            "leak_zeta_c": (("p0",), cj["zeta_c"]),
-            "leak_u1": (("p0",), cj["u1"]),
+            "leak_zeta_c": (("p0",), zc),
+            "leak_u1": (("p0",), np.where(sealed, np.nan, u1)),
             "leak_flow_factor": (("p0",), ff),
-            "leak_rate": (("p0",), leak_rate(cj["u1"] ** 3, *args)),
-            "leak_sealed": (("p0",), cj["sealed"].astype(np.int8)),
+            "leak_rate": (("p0",), leak_rate(u1_3, *args)),
+            "leak_sealed": (("p0",), sealed.astype(np.int8)),
             "leak_flow_factor_emt": (("p0",), ff_emt),
             "leak_rate_emt": (("p0",), leak_rate(u3, *args)),
             "leak_sealed_emt": (("p0",), (u3 <= 0).astype(np.int8)),
         }
+

@@ -5,17 +5,10 @@ is, in diffusion time ``tau`` [Pa^2],
 
     dP/dtau = d2P/dp2 on 0 < p < Y,   P(0, tau) = P(Y, tau) = 0,   P(p, 0) = delta(p - p0).
 
-Two equivalent closed forms are implemented:
-
-* **image series** (fast at small ``tau``): the free-space Gaussians of variance ``2 tau``
-  centred at ``p0 + 2 n Y`` minus those at ``-p0 + 2 n Y``, ``n`` in Z. Time-integrating the wall
-  fluxes gives complementary error functions, so the absorbed fractions are accurate even when
-  they are tiny (no cancellation);
-* **sine (eigenfunction) series** (fast at large ``tau``): ``P = (2/Y) sum_n sin(n pi p0/Y)
-  sin(n pi p/Y) exp(-(n pi/Y)^2 tau)``.
-
-``method="auto"`` uses the images for ``tau/Y^2 < 0.25`` and the sine series above; both keep
-enough terms to reach double precision, and they agree to ~1e-15 wherever both are evaluated.
+The closed forms (image series at small ``tau``, sine series at large ``tau``) have one home,
+:mod:`xpersson.engine.exact` (``two_wall_*``); this module gives them the plasticity
+vocabulary (elastic / plastic / non-contact area, walls at 0 and ``Y``) and adds the
+three-Gaussian approximation of Xu, Li & Mulvihill.
 
 All functions are vectorised over ``tau`` (and ``p``); ``p0`` and ``Y`` are scalars in Pa.
 References: B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626;
@@ -27,7 +20,7 @@ from __future__ import annotations
 from typing import Literal, NamedTuple
 
 import numpy as np
-from scipy.special import erfc, ndtr
+from scipy.special import ndtr
 
 __all__ = [
     "TwoWallAreas",
@@ -40,12 +33,8 @@ __all__ = [
 
 Method = Literal["auto", "images", "sine"]
 
-SWITCH = 0.25
+SWITCH = 0.1
 """Crossover ``tau / Y**2`` between the image series (below) and the sine series (above)."""
-
-_ERFC_CUT = 6.5  # erfc(6.5) ~ 4e-20: images further away than this contribute nothing
-_EXP_CUT = 46.0  # exp(-46) ~ 1e-20: sine modes decaying faster than this contribute nothing
-_MAX_TERMS = 100_000
 
 
 class TwoWallAreas(NamedTuple):
@@ -86,44 +75,6 @@ def _tau(tau: np.ndarray | float) -> np.ndarray:
     return t
 
 
-def _images(t: np.ndarray, x: float) -> tuple[np.ndarray, np.ndarray]:
-    """Absorbed fractions (plastic, non-contact) from the image series, t = tau/Y^2, x = p0/Y."""
-    tmax = float(t.max(initial=0.0))
-    n_terms = int(np.ceil(_ERFC_CUT * np.sqrt(tmax))) + 2
-    n = np.arange(n_terms, dtype=float)[:, None]
-    s = 2.0 * np.sqrt(t)[None, :]
-    with np.errstate(divide="ignore"):
-        # erfc(a / s) with s = 0 -> erfc(inf) = 0 for every a > 0 (all shifts are > 0 here).
-        def e(a: np.ndarray) -> np.ndarray:
-            return erfc(np.where(s > 0, a / np.where(s > 0, s, 1.0), np.inf))
-
-        plastic = np.sum(e((2 * n + 1) - x) - e((2 * n + 1) + x), axis=0)
-        non = np.sum(e(2 * n + x), axis=0) - np.sum(e(2 * n[1:] - x), axis=0)
-    return plastic, non
-
-
-def _sine(t: np.ndarray, x: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(elastic, plastic, non-contact) from the sine series, t = tau/Y^2 > 0, x = p0/Y."""
-    tmin = float(t.min(initial=np.inf))
-    if not tmin > 0:
-        raise ValueError("the sine series needs tau > 0; use method='images' or 'auto'")
-    n_terms = int(np.ceil(np.sqrt(_EXP_CUT / (np.pi**2 * tmin)))) + 2
-    if n_terms > _MAX_TERMS:
-        raise ValueError(
-            f"tau/Y^2 = {tmin:g} is too small for the sine series ({n_terms} terms); "
-            "use method='images' or 'auto'"
-        )
-    n = np.arange(1, n_terms + 1, dtype=float)[:, None]
-    decay = np.exp(-((n * np.pi) ** 2) * t[None, :])
-    s = np.sin(n * np.pi * x) / (n * np.pi)
-    sign = np.where(n % 2 == 1, 1.0, -1.0)
-    odd = n % 2 == 1
-    elastic = np.sum(np.where(odd, 4.0 * s, 0.0) * decay, axis=0)
-    plastic = x - np.sum(2.0 * sign * s * decay, axis=0)
-    non = (1.0 - x) - np.sum(2.0 * s * decay, axis=0)
-    return elastic, plastic, non
-
-
 def two_wall_areas(
     tau: np.ndarray | float, p0: float, Y: float, method: Method = "auto"
 ) -> TwoWallAreas:
@@ -138,39 +89,21 @@ def two_wall_areas(
     Y : float
         Penetration hardness (yield wall) [Pa].
     method : {"auto", "images", "sine"}
-        Series to use; ``"auto"`` picks images for ``tau/Y^2 < 0.25``, sines otherwise.
+        Series to use; ``"auto"`` picks images for ``tau/Y^2 < 0.1``, sines otherwise.
 
     Returns
     -------
     TwoWallAreas
         Elastic, plastic and non-contact area fractions [1] and the elastic load [Pa].
     """
+    from xpersson.engine import exact
+
     p0, Y = _check(p0, Y)
     tau_arr = _tau(tau)
-    t = np.atleast_1d(tau_arr / Y**2).ravel()
-    x = p0 / Y
-    el = np.empty_like(t)
-    pl = np.empty_like(t)
-    non = np.empty_like(t)
-    if method == "images":
-        use_img = np.ones(t.shape, dtype=bool)
-    elif method == "sine":
-        use_img = np.zeros(t.shape, dtype=bool)
-    elif method == "auto":
-        use_img = t < SWITCH
-    else:
+    if method not in exact.SERIES:
         raise ValueError(f"method must be 'auto', 'images' or 'sine', got {method!r}")
-    if use_img.any():
-        pl_i, non_i = _images(t[use_img], x)
-        pl[use_img], non[use_img] = pl_i, non_i
-        el[use_img] = 1.0 - pl_i - non_i
-    if (~use_img).any():
-        el[~use_img], pl[~use_img], non[~use_img] = _sine(t[~use_img], x)
-    shape = tau_arr.shape
-    load = p0 - Y * pl
-    return TwoWallAreas(
-        el.reshape(shape), pl.reshape(shape), non.reshape(shape), load.reshape(shape)
-    )
+    el, non, pl = exact.two_wall(tau_arr, p0, 0.0, Y, series=method)
+    return TwoWallAreas(el, pl, non, p0 - Y * pl)
 
 
 def _gauss(p: np.ndarray, mean: np.ndarray | float, tau: np.ndarray) -> np.ndarray:
@@ -199,30 +132,16 @@ def two_wall_pdf(
     numpy.ndarray
         Shape ``(n_tau, n_p)`` (``tau`` and ``p`` flattened).
     """
+    from xpersson.engine import exact
+
     p0, Y = _check(p0, Y)
     t = np.atleast_1d(_tau(tau)).ravel()
     if np.any(t <= 0):
         raise ValueError("two_wall_pdf needs tau > 0 (the initial condition is a delta)")
+    if method not in exact.SERIES:
+        raise ValueError(f"method must be 'auto', 'images' or 'sine', got {method!r}")
     pp = np.atleast_1d(np.asarray(p, dtype=float)).ravel()
-    out = np.zeros((t.size, pp.size))
-    inside = (pp > 0) & (pp < Y)
-    q = pp[inside][None, :]
-    for i, ti in enumerate(t):
-        img = method == "images" or (method == "auto" and ti / Y**2 < SWITCH)
-        if img:
-            n_terms = int(np.ceil(_ERFC_CUT * np.sqrt(ti) / Y)) + 2
-            n = np.arange(-n_terms, n_terms + 1, dtype=float)[:, None]
-            val = np.sum(_gauss(q, p0 + 2 * n * Y, ti) - _gauss(q, -p0 + 2 * n * Y, ti), axis=0)
-        elif method in ("auto", "sine"):
-            k_max = int(np.ceil(np.sqrt(_EXP_CUT / (np.pi**2 * ti / Y**2)))) + 2
-            if k_max > _MAX_TERMS:
-                raise ValueError(f"tau/Y^2 = {ti / Y**2:g} too small for the sine series")
-            k = np.arange(1, k_max + 1, dtype=float)[:, None] * np.pi / Y
-            val = (2.0 / Y) * np.sum(np.sin(k * p0) * np.sin(k * q) * np.exp(-(k**2) * ti), axis=0)
-        else:
-            raise ValueError(f"method must be 'auto', 'images' or 'sine', got {method!r}")
-        out[i, inside] = val
-    return out
+    return exact.two_wall_density(pp[None, :], t[:, None], p0, 0.0, Y, series=method)
 
 
 def three_gaussian_pdf(p: np.ndarray, tau: np.ndarray | float, p0: float, Y: float) -> np.ndarray:

@@ -18,7 +18,7 @@ import numpy as np
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
 from ._outputs import AREA_OUTPUTS, assemble, stack
-from ._series import three_gaussian_areas, two_wall_areas
+from ._series import three_gaussian_areas
 
 if TYPE_CHECKING:  # pragma: no cover
     from xpersson.engine import EngineResult, Wall
@@ -28,22 +28,11 @@ __all__ = ["PlasticBoundary", "ApproximationValidityWarning", "check_below_hardn
 
 
 def _exact(tau: np.ndarray, p0: np.ndarray, y: float) -> tuple[np.ndarray, ...]:
-    """Exact (elastic, plastic, non-contact) fractions, from ``xpersson.engine.exact``.
+    """Exact (elastic, plastic, non-contact) fractions from ``xpersson.engine.exact``."""
+    from xpersson.engine import exact
 
-    Falls back to this package's own series (:mod:`xpersson_plasticity._series`) if the engine
-    does not provide the two-wall functions.
-    """
-    try:
-        from xpersson.engine import exact
-    except ImportError:  # pragma: no cover - engine without the exact module
-        exact = None
-    if exact is not None and hasattr(exact, "two_wall_absorbed"):
-        lower, upper = exact.two_wall_absorbed(tau, p0, 0.0, y)
-        return exact.two_wall_area(tau, p0, 0.0, y), upper, lower
-    rows = [two_wall_areas(t, float(p), y) for t, p in zip(tau, p0[:, 0], strict=True)]
-    return tuple(
-        np.array([getattr(r, k) for r in rows]) for k in ("elastic", "plastic", "non_contact")
-    )
+    area, lower, upper = exact.two_wall(tau, p0, 0.0, y)
+    return area, upper, lower
 
 
 class ApproximationValidityWarning(UserWarning):
@@ -126,7 +115,15 @@ class PlasticBoundary(Boundary):
         ),
     }
 
+    # declarations read by analyses (xpersson.plugins.Boundary)
+    traits = frozenset({"repulsive"})
+    contact_area = ("elastic_area_fraction", "plastic_area_fraction")
+    elastic_area = "elastic_area_fraction"
+    elastic_area_complement = ("plastic_area_fraction", "non_contact_area_fraction")
+
     approximation_tolerance: ClassVar[float] = 1e-3
+    #: Same walls for every load (validate() checks every p0): the pipeline asks once.
+    walls_per_load = False
     """Deviation of the three-Gaussian area fractions from the exact series that is flagged."""
 
     def __init__(self, **params: Any) -> None:

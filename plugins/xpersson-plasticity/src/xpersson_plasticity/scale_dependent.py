@@ -52,6 +52,18 @@ class YieldWallLaw:
         self.clock = clock
         self.derivative = derivative
 
+    def __eq__(self, other: object) -> bool:
+        # equal laws on one clock are one wall: the engine solves such loads together
+        return (
+            isinstance(other, YieldWallLaw)
+            and other.law is self.law
+            and other.clock is self.clock
+            and other.derivative == self.derivative
+        )
+
+    def __hash__(self) -> int:
+        return hash((id(self.law), id(self.clock), self.derivative))
+
     def __call__(self, tau: np.ndarray | float) -> np.ndarray | float:
         t = np.asarray(tau, dtype=float)
         # the inverse clock may overshoot zeta_max by round-off, where f drops to 0 (q > q_1)
@@ -127,6 +139,13 @@ class ScaleDependentPlasticBoundary(Boundary):
         ),
     }
     outputs = dict(AREA_OUTPUTS)
+    # declarations read by analyses (xpersson.plugins.Boundary)
+    traits = frozenset({"repulsive"})
+    contact_area = ("elastic_area_fraction", "plastic_area_fraction")
+    elastic_area = "elastic_area_fraction"
+    elastic_area_complement = ("plastic_area_fraction", "non_contact_area_fraction")
+    #: Same walls for every load (validate() checks every p0): the pipeline asks once.
+    walls_per_load = False
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)

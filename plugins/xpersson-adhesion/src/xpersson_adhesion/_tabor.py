@@ -1,0 +1,83 @@
+"""Tabor-type parameter per scale (physics.md §2.3) and the JKR/DMT consistency warning.
+
+``mu_T(q) = [R(q) dgamma^2 / (E*^2 dr^3)]^(1/3)`` with the asperity radius of curvature at the
+scale ``q`` estimated from the curvature of a band of half an octave on each side of ``q``
+(clipped to the spectrum's support)::
+
+    R(q) = [2 pi int_{q/sqrt2}^{sqrt2 q} q'^5 C(q') dq']^(-1/2).
+
+``mu_T >> 1``: soft solids, short-range attraction -> JKR-type detachment wall (``jkr``);
+``mu_T << 1``: hard solids, long-range attraction -> attraction in the gaps (``dmt``).
+The band estimate of R is a generic order-of-magnitude choice [M], as is the threshold 1.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["AdhesionLimitWarning", "tabor_parameter", "warn_if_contradicted"]
+
+_HALF_OCTAVE = math.sqrt(2.0)
+
+
+class AdhesionLimitWarning(UserWarning):
+    """The chosen adhesion limit (jkr or dmt) contradicts the Tabor parameter at most scales."""
+
+
+def tabor_parameter(
+    psd: object, E_star: float, work: float, interaction_range: float, zeta: ArrayLike
+) -> NDArray[np.float64]:
+    """Tabor parameter ``mu_T(zeta)`` [1] at magnifications ``zeta``.
+
+    Parameters
+    ----------
+    psd : PowerSpectrum
+        Roughness spectrum (Persson convention, m^4).
+    E_star : float
+        Contact modulus [Pa].
+    work : float
+        Work of adhesion [J/m^2].
+    interaction_range : float
+        Range of the attraction [m], > 0.
+    zeta : array_like
+        Magnifications [1].
+    """
+    z = np.atleast_1d(np.asarray(zeta, dtype=float))
+    q = z * float(psd.q_L)
+    lo = np.clip(q / _HALF_OCTAVE, psd.q_L, psd.q_1)
+    hi = np.clip(q * _HALF_OCTAVE, psd.q_L, psd.q_1)
+    m5 = np.asarray(psd.running_moment(5.0, hi), float) - np.asarray(
+        psd.running_moment(5.0, lo), float
+    )
+    curv = np.sqrt(np.maximum(2.0 * math.pi * m5, 0.0))  # 1/R [1/m]
+    with np.errstate(divide="ignore"):
+        radius = np.where(curv > 0, 1.0 / np.where(curv > 0, curv, 1.0), np.inf)
+    mu = np.cbrt(radius * work**2 / (E_star**2 * interaction_range**3))
+    return np.where(np.isfinite(mu), mu, np.finfo(float).max)
+
+
+def warn_if_contradicted(mu: NDArray[np.float64], limit: str, stacklevel: int = 3) -> float:
+    """Warn when ``limit`` ("jkr" or "dmt") is contradicted at more than half of the scales.
+
+    Returns the fraction of scales that contradict the limit.
+    """
+    mu = np.asarray(mu, dtype=float)
+    if mu.size == 0:
+        return 0.0
+    bad = mu < 1.0 if limit == "jkr" else mu > 1.0
+    frac = float(np.mean(bad))
+    if frac > 0.5:
+        other = "dmt" if limit == "jkr" else "jkr"
+        side = "< 1" if limit == "jkr" else "> 1"
+        warnings.warn(
+            f"boundary {limit!r}: the Tabor parameter mu_T is {side} at {100 * frac:.0f}% of the "
+            f"magnifications (median {float(np.median(mu)):.3g}); the {other!r} limit describes "
+            "these scales better (physics.md §2.3)",
+            AdhesionLimitWarning,
+            stacklevel=stacklevel,
+        )
+    return frac

@@ -1,0 +1,179 @@
+"""The solved contact as the analyses see it: the area curve per load, and its S factor.
+
+Everything comes from the solve: the boundary declares which variables hold the elastic contact
+area, its complement and the load-bearing contact area (:class:`xpersson.plugins.Boundary`); the
+coefficient gives the correction factor ``S = d tau_eff/d tau_c`` of its closure. Nothing is
+re-derived from the spectrum. The curve is read from the Dataset on its own magnifications and,
+where the pipeline offers ``ctx.solve_at``, from the same solve sampled on a denser grid (the
+integrals over zeta need the fast drop of ``A`` near ``zeta = 1`` at small loads resolved).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from xpersson.physics.closures import GAMMA_DEFAULT
+
+__all__ = ["Solved", "solved_curve", "dense_zeta", "FORMS"]
+
+#: Forms of the correction factor in energy and gap.
+FORMS = ("closure", "yang_persson")
+
+
+@dataclass(frozen=True)
+class Solved:
+    """Per-load curves on ``zeta`` (arrays ``(n_load, n_zeta)``, SI units).
+
+    Attributes
+    ----------
+    p0 : ndarray
+        Nominal pressures [Pa].
+    zeta : ndarray
+        Magnifications [1] (the Dataset's, merged with the dense grid when sampled).
+    area, non_area : ndarray
+        Elastic contact area fraction and its complement [1].
+    contact : ndarray
+        Load-bearing contact area fraction [1] (elastic + plastic, ...).
+    s_factor : ndarray or None
+        Correction factor ``S`` [1] (None: 1).
+    form : str
+        ``"closure"`` (the scene's closure) or ``"yang_persson"``.
+    gamma : float or None
+        The ``gamma`` of the Yang-Persson form (None for the closure form).
+    """
+
+    p0: NDArray[np.float64]
+    zeta: NDArray[np.float64]
+    area: NDArray[np.float64]
+    non_area: NDArray[np.float64]
+    contact: NDArray[np.float64]
+    s_factor: NDArray[np.float64] | None
+    form: str
+    gamma: float | None
+
+    @property
+    def curve(self) -> tuple[Any, ...]:
+        """``(zeta, area, s_factor, non_area)``: the arguments of :mod:`xpersson.physics`."""
+        return self.zeta, self.area, self.s_factor, self.non_area
+
+
+def dense_zeta(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64]:
+    """The Dataset's magnifications merged with ``1 + geomspace(1e-9, zeta_max - 1)``."""
+    z_max = float(zeta[-1])
+    n = max(2, int(per_decade * (9.0 + np.log10(max(z_max - 1.0, 1e-9)))))
+    extra = 1.0 + np.geomspace(1e-9, z_max - 1.0, n) if z_max > 1.0 else np.zeros(0)
+    z = np.unique(np.concatenate((zeta, extra[extra < z_max])))
+    return z[z >= 1.0]
+
+
+#: Largest change of the area between two output magnifications that the analyses integrate
+#: without sampling the solve more densely (and of ``1 - A`` over the first interval).
+MAX_STEP = 0.02
+MAX_FIRST = 1e-7
+
+
+def _coarse(area: NDArray[np.float64], non: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Loads whose output curve is too coarse for the zeta integrals."""
+    if area.shape[1] < 3:
+        return np.ones(area.shape[0], dtype=bool)
+    step = np.max(np.abs(np.diff(area, axis=1)), axis=1)
+    return (step > MAX_STEP) | (non[:, 1] > MAX_FIRST)
+
+
+def _interp(z: NDArray, y: NDArray[np.float64], z_new: NDArray) -> NDArray[np.float64]:
+    """Monotone (PCHIP) interpolation of smooth output curves in ``ln zeta``."""
+    from scipy.interpolate import PchipInterpolator
+
+    if y.shape[1] == z_new.size and np.array_equal(z, z_new):
+        return y.copy()
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        return PchipInterpolator(np.log(z), y, axis=1)(np.log(z_new))
+
+
+def _rows(arr: Any, n_load: int) -> NDArray[np.float64]:
+    a = np.asarray(arr, dtype=float)
+    return np.broadcast_to(a, (n_load, a.shape[-1])).copy()
+
+
+def _from_ds(ds: Any, name: str) -> NDArray[np.float64]:
+    da = ds[name]
+    if "p0" in da.dims:
+        da = da.transpose("p0", "zeta")
+    return np.asarray(da.values, dtype=float)
+
+
+def solved_curve(
+    ctx: Any, ds: Any, form: str = "closure", gamma: float | None = None, per_decade: int = 0
+) -> Solved:
+    """Read the solved curve of every load (see the module docstring).
+
+    Parameters
+    ----------
+    ctx : SceneContext
+        With ``boundary``/``coefficient`` (and ``solve_at``) set by the pipeline.
+    ds : xarray.Dataset
+        The solved Dataset.
+    form : {"closure", "yang_persson"}
+        ``S`` of the scene's closure, or ``S = gamma + (1 - gamma) A^2`` on the scene's area.
+    gamma : float, optional
+        Yang-Persson ``gamma`` (default :data:`xpersson.physics.closures.GAMMA_DEFAULT`).
+    per_decade : int
+        Dense sampling (points per decade of ``zeta - 1``) through ``ctx.solve_at``; 0 reads the
+        Dataset only.
+    """
+    if form not in FORMS:
+        raise ValueError(f"s_factor must be one of {FORMS}, got {form!r}")
+    p0 = np.atleast_1d(np.asarray(ctx.p0, dtype=float))
+    n = p0.size
+    bnd = type(ctx.boundary) if ctx.boundary is not None else None
+    el = getattr(bnd, "elastic_area", "area_fraction")
+    comp = getattr(bnd, "elastic_area_complement", ("non_contact_fraction",))
+    cont = getattr(bnd, "contact_area", ("area_fraction",))
+    zeta = np.asarray(ds["zeta"].values, dtype=float)
+    solve_at = getattr(ctx, "solve_at", None)
+
+    def get(name: str) -> NDArray[np.float64]:
+        return _rows(_from_ds(ds, name), n)
+
+    need = _coarse(get(el), sum(get(c) for c in comp)) if per_decade else np.zeros(n, bool)
+    if need.any() and solve_at is None:
+        warnings.warn(
+            f"{int(need.sum())} load(s) have an area curve too coarse for the zeta integrals "
+            "(area steps > 0.02 between output magnifications, or the drop above zeta = 1 "
+            "unresolved) and no ctx.solve_at to sample the solve densely: results lose "
+            "accuracy; give output.zeta_per_decade or output.zeta densely near 1",
+            UserWarning,
+            stacklevel=3,
+        )
+    if need.any() and solve_at is not None:
+        z_ds, zeta = zeta, dense_zeta(zeta, per_decade)
+        v = solve_at(zeta, np.flatnonzero(need))
+        coarse_get = get
+
+        def get(name: str) -> NDArray[np.float64]:  # solved where coarse, else interpolated
+            rows = _interp(z_ds, coarse_get(name), zeta)
+            rows[need] = _rows(v[name], int(need.sum()))
+            return rows
+
+    area = get(el)
+    non = sum(get(c) for c in comp)
+    contact = sum(get(c) for c in cont)
+    S = None
+    g = None
+    if form == "yang_persson":
+        g = GAMMA_DEFAULT if gamma is None else float(gamma)
+        S = g + (1.0 - g) * area**2
+    else:
+        coef = ctx.coefficient
+        if coef is not None and coef.corrects_variance():
+            S = coef.variance_factor(ctx, area)
+            if S is None:  # a closure that does not give S: d tau_eff / d tau_c of the solve
+                te = get("effective_diffusion_time")
+                tc = np.asarray(get("diffusion_time"), dtype=float)
+                S = np.gradient(te, axis=1) / np.maximum(np.gradient(tc, axis=1), 1e-300)
+            S = np.clip(np.asarray(S, dtype=float), 1e-12, 1.0)
+    return Solved(p0, zeta, area, np.clip(non, 0.0, 1.0), np.clip(contact, 0.0, 1.0), S, form, g)

@@ -1,0 +1,53 @@
+"""plastic_scale_dependent on the engine: a wall never reached costs an elastic solve; a wall
+that is reached keeps every area in [0, 1] and the balances, over loads and hardness laws."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+import xpersson
+
+BASE = {
+    "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_r": "1e4 1/m",
+                 "q_1": "1e6 1/m", "h_rms": "1 um"},
+    "material": {"E": "210 GPa", "nu": 0.3},
+    "output": {"zeta_per_decade": 8},
+}
+
+
+def _scene(p0, Y1, n, rtol=1e-4):
+    return dict(BASE, load={"p0": p0}, solver={"rtol": rtol},
+                boundary={"model": "plastic_scale_dependent", "Y1": Y1, "n": n})
+
+
+def test_wall_never_reached_is_the_elastic_solution_by_the_exact_path():
+    ds = xpersson.solve(_scene(["1 kPa", "1 MPa"], "30 GPa", 0.2, rtol=1e-6))
+    el = xpersson.solve(dict(BASE, load={"p0": ["1 kPa", "1 MPa"]}))
+    assert json.loads(ds.attrs["xpersson_solver"])["methods_used"] == ["exact"]
+    np.testing.assert_allclose(ds.elastic_area_fraction, el.area_fraction, rtol=1e-13)
+    np.testing.assert_array_equal(ds.plastic_area_fraction, 0.0)
+
+
+@pytest.mark.parametrize(
+    ("p0", "Y1", "n"),
+    [
+        (["5 MPa", "20 MPa", "100 MPa"], "3 GPa", 0.1),
+        (["1 MPa"], "1.05 MPa", 0.3),  # yield wall right above the load
+        (["10 kPa", "10 MPa"], "200 MPa", 1.0),  # steep hardness law
+    ],
+)
+def test_reached_wall_keeps_areas_in_range_and_balances(p0, Y1, n):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = xpersson.solve(_scene(p0, Y1, n))
+    for name in ("elastic_area_fraction", "plastic_area_fraction", "non_contact_area_fraction",
+                 "total_contact_fraction"):
+        v = ds[name].values
+        assert np.all(np.isfinite(v)) and v.min() >= 0.0 and v.max() <= 1.0, name
+    total = (ds.elastic_area_fraction + ds.plastic_area_fraction + ds.non_contact_area_fraction)
+    assert float(np.max(np.abs(total - 1.0))) < 1e-9  # conservative scheme: exact to the leak
+    assert float(np.max(np.abs(ds.plastic_force_balance_residual))) < 1e-3

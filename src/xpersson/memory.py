@@ -1,0 +1,134 @@
+"""Memory estimate of a request, checked before any work against a configurable budget.
+
+The budget is, in this order: the value given to :func:`set_budget`, the environment variable
+``XPERSSON_MEMORY_BUDGET`` (bytes, or a number with a unit: ``"2 GB"``, ``"500 MiB"``), or
+:data:`DEFAULT_FRACTION` of the memory the operating system reports as available.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import time
+
+from .scene import SceneError
+
+__all__ = ["MemoryBudgetError", "budget", "set_budget", "estimate", "check_request",
+           "DEFAULT_FRACTION"]
+
+#: Fraction of the available memory one request may use by default.
+DEFAULT_FRACTION = 0.5
+
+_UNITS = {"": 1, "b": 1, "kb": 1e3, "mb": 1e6, "gb": 1e9, "tb": 1e12,
+          "kib": 2**10, "mib": 2**20, "gib": 2**30, "tib": 2**40}
+_override: int | None = None
+
+# bytes per stored (p0, zeta) value: ~15 core variables plus the engine's temporaries
+_PER_POINT = 8 * 40
+# the P field: engine result, closed-form temporaries, one copy for the Dataset
+_PER_P_VALUE = 8 * 6
+
+
+class MemoryBudgetError(SceneError):
+    """A request larger than the memory budget (raised before any work)."""
+
+
+def _parse(text: str) -> int:
+    m = re.fullmatch(r"\s*([0-9.eE+]+)\s*([A-Za-z]*)\s*", str(text))
+    if not m or m.group(2).lower() not in _UNITS:
+        raise ValueError(
+            f"XPERSSON_MEMORY_BUDGET [bytes] must be a positive number of bytes or a size like "
+            f"'2 GB' / '500 MiB'; got {text!r}"
+        )
+    value = float(m.group(1)) * _UNITS[m.group(2).lower()]
+    if not value > 0:
+        raise ValueError(f"XPERSSON_MEMORY_BUDGET [bytes] must be > 0; got {text!r}")
+    return int(value)
+
+
+def available() -> int:
+    """Memory the operating system reports as available [bytes] (4 GiB when unknown).
+
+    Read at most once a second (a solve costs well under a millisecond otherwise).
+    """
+    now = time.monotonic()
+    if _AVAILABLE and now - _AVAILABLE[0] < 1.0:
+        return _AVAILABLE[1]
+    value = _read_available()
+    _AVAILABLE[:] = [now, value]
+    return value
+
+
+_AVAILABLE: list = []
+
+
+def _read_available() -> int:
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return int(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return 4 * 2**30
+
+
+def set_budget(nbytes: int | str | None) -> None:
+    """Set the budget [bytes] (an int, a size like ``"2 GB"``, or None for the default)."""
+    global _override
+    if nbytes is None:
+        _override = None
+    elif isinstance(nbytes, str):
+        _override = _parse(nbytes)
+    else:
+        if not nbytes > 0:
+            raise ValueError(f"memory budget [bytes] must be > 0; got {nbytes!r}")
+        _override = int(nbytes)
+
+
+def budget() -> int:
+    """The memory budget of one request [bytes]."""
+    if _override is not None:
+        return _override
+    env = os.environ.get("XPERSSON_MEMORY_BUDGET")
+    if env:
+        return _parse(env)
+    return int(DEFAULT_FRACTION * available())
+
+
+def estimate(n_load: int, n_zeta: int, n_p: int | None = None) -> int:
+    """Peak memory [bytes] of a solve over ``n_load`` loads, ``n_zeta`` magnifications and,
+    when the pressure field is stored, ``n_p`` pressures."""
+    size = _PER_POINT * n_load * n_zeta
+    if n_p:
+        size += _PER_P_VALUE * n_load * n_zeta * n_p
+    return int(size)
+
+
+def _human(n: float) -> str:
+    for unit in ("B", "kB", "MB", "GB", "TB"):
+        if n < 1000 or unit == "TB":
+            return f"{n:.3g} {unit}"
+        n /= 1000
+    return f"{n:.3g} TB"  # pragma: no cover
+
+
+def check_request(n_load: int, n_zeta: int, n_p: int | None = None) -> int:
+    """Raise :class:`MemoryBudgetError` (before any work) when the estimate exceeds the budget.
+
+    Returns the estimate [bytes].
+    """
+    need, have = estimate(n_load, n_zeta, n_p), budget()
+    if need > have:
+        field = (f" x {n_p} pressures (output.p_points)" if n_p else "")
+        raise MemoryBudgetError(
+            f"the request needs about {_human(need)} ({n_load} loads x {n_zeta} magnifications"
+            f"{field}), above the memory budget of {_human(have)}: use fewer p points "
+            "(output.p_points) or drop output.pressure_pdf, fewer loads or output.zeta_per_decade, "
+            "or a sweep written in parts; the budget is set by XPERSSON_MEMORY_BUDGET "
+            "(e.g. '8 GB') or xpersson.memory.set_budget()"
+        )
+    return need

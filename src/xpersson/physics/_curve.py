@@ -1,0 +1,323 @@
+"""Numerical machinery of :mod:`xpersson.physics.interface` (private).
+
+The solved area curve as splines in ``ln zeta`` (:class:`_Curve`), ``Phi(G)`` of the
+virtual-work mean gap (:class:`_Phi`), and the quadrature rules over wavevectors (composite
+Gauss-Legendre, exact for the ``(q - q_a)^(-1/2)`` singularity of ``w``). SI units throughout.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.interpolate import CubicSpline
+
+_TINY = 1e-300
+_GL_ORDER = 6
+
+
+# -- quadrature ---------------------------------------------------------------------------------
+@lru_cache(maxsize=16)
+def _gauss(n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Gauss-Legendre nodes and weights on ``[0, 1]``."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    return 0.5 * (x + 1.0), 0.5 * w
+
+
+def _panels(edges: NDArray[np.float64], n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    x, w = _gauss(n)
+    a, b = edges[:-1, None], edges[1:, None]
+    return (a + (b - a) * x).ravel(), ((b - a) * w).ravel()
+
+
+@dataclass(frozen=True)
+class _QRule:
+    q: NDArray[np.float64]  # nodes [1/m]
+    weights: NDArray[np.float64]  # [1/m]
+    C: NDArray[np.float64]  # C(q) [m^4]
+    w: NDArray[np.float64]  # (pi int_{q_a}^q q'^3 C)^(-1/2) [1]
+    dI3: NDArray[np.float64]  # int_{q_a}^q q'^3 C [1]
+
+
+def _q_rule(
+    psd: object, q_a: float, q_b: float, *, n_s: int = 36, panels_per_decade: int = 6
+) -> _QRule:
+    """Composite Gauss-Legendre rule on ``[q_a, q_b]`` exact for the ``w`` singularity at q_a.
+
+    ``[q_a, q_m]`` (``q_m = min(1.5 q_a, next PSD breakpoint)``) with ``q = q_a + s^2`` and
+    geometric panels towards ``s = 0``; above, panels uniform in ``ln q`` split at every PSD
+    breakpoint (kinks of ``C``).
+    """
+    qa, qb = float(q_a), float(q_b)
+    if qb <= qa * (1.0 + 1e-14):
+        e = np.zeros(0)
+        return _QRule(e, e, e, e, e)
+    nodes = np.asarray(psd.nodes(), dtype=float)  # type: ignore[attr-defined]
+    inner = nodes[(nodes > qa * (1.0 + 1e-12)) & (nodes < qb)]
+    q_m = min(1.5 * qa, inner[0] if inner.size else qb, qb)
+    s_m = math.sqrt(q_m - qa)
+    s_edges = np.concatenate(([0.0], s_m * 0.5 ** np.arange(n_s, -1, -1)))
+    s, ws = _panels(s_edges, 10)
+    parts_q, parts_w = [qa + s * s], [2.0 * s * ws]
+    brk = np.unique(np.concatenate(([q_m], inner[inner > q_m], [qb])))
+    for lo, hi in zip(brk[:-1], brk[1:], strict=True):
+        if hi <= lo * (1.0 + 1e-14):
+            continue
+        m = max(1, int(np.ceil(panels_per_decade * np.log10(hi / lo))))
+        t, wt = _panels(np.linspace(np.log(lo), np.log(hi), m + 1), 10)
+        parts_q.append(np.exp(t))
+        parts_w.append(wt * np.exp(t))
+    q = np.concatenate(parts_q)
+    C = np.asarray(psd.C(q), dtype=float)  # type: ignore[attr-defined]
+    dI3 = _delta_I3(psd, np.full(q.shape, qa), q)
+    return _QRule(q, np.concatenate(parts_w), C, 1.0 / np.sqrt(np.pi * dI3), dI3)
+
+
+def _delta_I3(psd: object, qa: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``int_{qa}^{q} q'^3 C dq'`` without cancellation for ``q`` close to ``qa``."""
+    d = np.asarray(psd.I3(q), dtype=float) - np.asarray(psd.I3(qa), dtype=float)  # type: ignore[attr-defined]
+    dq = q - qa
+    small = dq < 1e-6 * qa
+    if np.any(small):
+        qm = qa[small] + 0.5 * dq[small]
+        d[small] = dq[small] * qm**3 * np.asarray(psd.C(qm), dtype=float)  # type: ignore[attr-defined]
+    return np.maximum(d, np.finfo(float).tiny)
+
+
+def _tau_c(psd: object, E_star: float, q: ArrayLike) -> NDArray[np.float64]:
+    return 0.25 * np.pi * E_star**2 * np.asarray(psd.I3(q), dtype=float)  # type: ignore[attr-defined]
+
+
+def _rows(spl: CubicSpline, knots: NDArray[np.float64], xq: NDArray[np.float64]) -> NDArray:
+    """Evaluate a spline fitted along axis 1 of ``(n_load, n_knot)`` data at per-load points.
+
+    ``xq`` has shape ``(n_load, ...)``; row ``l`` is evaluated with load ``l``'s polynomial
+    pieces (clamped to the knots' range).
+    """
+    shape = xq.shape
+    x2 = np.clip(xq.reshape(shape[0], -1), knots[0], knots[-1])
+    idx = np.clip(np.searchsorted(knots, x2, side="right") - 1, 0, knots.size - 2)
+    c = spl.c  # (4, n_int, n_load)
+    load = np.arange(shape[0])[:, None]
+    d = x2 - knots[idx]
+    val = ((c[0][idx, load] * d + c[1][idx, load]) * d + c[2][idx, load]) * d + c[3][idx, load]
+    return val.reshape(shape)
+
+
+# -- the solved curve ---------------------------------------------------------------------------
+class _Curve:
+    """Per-load curve ``F = A S`` on ``zeta``, interpolated in ``x = ln zeta``.
+
+    ``1 - F`` is represented by a cubic spline of ``ln(1 - F)`` on the nodes after the first
+    (exact near full contact, where ``1 - F`` spans decades between nodes) and linearly on the
+    first interval (``F(1) = 1``).
+    """
+
+    def __init__(
+        self,
+        zeta: ArrayLike,
+        area: ArrayLike,
+        s_factor: ArrayLike | None,
+        non_area: ArrayLike | None,
+    ) -> None:
+        z = np.asarray(zeta, dtype=float)
+        A = np.atleast_2d(np.asarray(area, dtype=float))
+        if z.ndim != 1 or z.size < 2 or A.shape[-1] != z.size:
+            raise ValueError(
+                f"zeta must be 1-D with >= 2 magnifications and area (..., {z.size}); got "
+                f"zeta {z.shape}, area {A.shape}"
+            )
+        if not (abs(z[0] - 1.0) < 1e-12 and np.all(np.diff(z) > 0)):
+            raise ValueError("zeta must increase from 1 (the curve starts at full contact)")
+        if not np.all(np.isfinite(A)) or np.any(A < 0) or np.any(A > 1):
+            raise ValueError("area fractions must be finite and lie in [0, 1]")
+        N = 1.0 - A if non_area is None else np.atleast_2d(np.asarray(non_area, dtype=float))
+        S = np.ones_like(A) if s_factor is None else np.broadcast_to(s_factor, A.shape)
+        if np.any(~np.isfinite(S)) or np.any(S <= 0) or np.any(S > 1 + 1e-12):
+            raise ValueError("s_factor must lie in (0, 1]")
+        self.zeta = z
+        self.x = np.log(z)
+        self.area = A
+        self.non_area = np.clip(N, 0.0, 1.0)
+        self.F = A * S
+        self.NF = np.clip(self.non_area + A * (1.0 - S), 0.0, 1.0)
+        self.NF[:, 0] = 0.0
+        y = np.log(np.maximum(self.NF, _TINY))
+        self._y = y
+        self._spl = CubicSpline(self.x[1:], y[:, 1:], axis=1) if z.size > 2 else None
+        yA = np.log(np.maximum(self.non_area, _TINY))
+        self._spl_a = CubicSpline(self.x[1:], yA[:, 1:], axis=1) if z.size > 2 else None
+
+    @property
+    def n_load(self) -> int:
+        return self.area.shape[0]
+
+    def non_area_at(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``1 - A`` at per-load points ``x = ln zeta`` of shape (n_load, ...)."""
+        x = np.asarray(x, dtype=float)
+        x1 = self.x[1]
+        lin = self.non_area[:, 1].reshape((-1,) + (1,) * (x.ndim - 1)) * np.clip(x / x1, 0, 1)
+        if self._spl_a is None:
+            return lin
+        val = np.exp(np.minimum(_rows(self._spl_a, self.x[1:], x), 0.0))
+        return np.clip(np.where(x < x1, lin, val), 0.0, 1.0)
+
+    def nf(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``1 - F`` at ``x = ln zeta`` (any shape), per load: shape ``(n_load,) + x.shape``."""
+        x = np.asarray(x, dtype=float)
+        x1 = self.x[1]
+        lin = self.NF[:, 1].reshape((-1,) + (1,) * x.ndim) * np.clip(x / x1, 0.0, 1.0)
+        if self._spl is None:
+            return np.clip(lin, 0.0, 1.0)
+        xs = np.clip(x, x1, self.x[-1])
+        ys = np.minimum(self._spl(xs), 0.0)
+        return np.where(x < x1, lin, np.exp(ys))
+
+    def dF(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``-dF/dx`` (>= 0) at ``x = ln zeta``, per load."""
+        x = np.asarray(x, dtype=float)
+        x1 = self.x[1]
+        lin = (self.NF[:, 1] / x1).reshape((-1,) + (1,) * x.ndim) * np.ones_like(x)
+        if self._spl is None:
+            return lin
+        xs = np.clip(x, x1, self.x[-1])
+        ys = np.minimum(self._spl(xs), 0.0)
+        dys = np.maximum(self._spl(xs, 1), 0.0)
+        return np.where(x < x1, lin, np.exp(ys) * dys)
+
+    def stieltjes_nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Gauss-Legendre nodes ``x`` (n_int, m) and weights (n_int, m) per interval."""
+        t, w = _gauss(_GL_ORDER)
+        a, b = self.x[:-1, None], self.x[1:, None]
+        return a + (b - a) * t, (b - a) * w
+
+
+
+def _q_max(psd: object, zeta: NDArray[np.float64]) -> float:
+    return min(float(psd.q_1), float(zeta[-1]) * float(psd.q_L))  # type: ignore[attr-defined]
+
+
+
+# -- mean gap -----------------------------------------------------------------------------------
+class _Phi:
+    """``Phi(G) = int_0^G sqrt(G') (-dF)`` per load as a spline in ``s = ln tau_c``."""
+
+    def __init__(self, psd: object, E_star: float, p0: NDArray[np.float64], cur: _Curve) -> None:
+        q_L = float(psd.q_L)  # type: ignore[attr-defined]
+        xg, wg = cur.stieltjes_nodes()
+        sqrt_tau = np.sqrt(_tau_c(psd, E_star, np.exp(xg) * q_L))
+        inc = np.sum(cur.dF(xg) * (sqrt_tau * wg)[None], axis=-1) / p0[:, None]
+        phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
+        tau = _tau_c(psd, E_star, cur.zeta * q_L)
+        self.tau1 = float(tau[1])
+        self.s = np.log(tau[1:])
+        self.phi = phi
+        self.p0 = p0
+        self._spl = CubicSpline(self.s, phi[:, 1:], axis=1) if self.s.size > 1 else None
+        self._tab: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+
+    def at_tau(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``Phi`` at ``G = tau/p0^2`` for every load (shared ``tau``): (n_load,) + tau.shape."""
+        tau = np.asarray(tau, dtype=float)
+        lin = self.phi[:, 1].reshape((-1,) + (1,) * tau.ndim) * np.clip(tau / self.tau1, 0, 1)
+        if self._spl is None:
+            return lin
+        s = np.clip(np.log(np.maximum(tau, _TINY)), self.s[0], self.s[-1])
+        return np.where(tau < self.tau1, lin, np.maximum(self._spl(s), 0.0))
+
+    def at_tau_per_load(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``Phi`` at per-load ``tau`` of shape (n_load, ...) (uniform-table look-up)."""
+        tau = np.asarray(tau, dtype=float)
+        shape = tau.shape
+        t2 = tau.reshape(shape[0], -1)
+        if self._spl is None:
+            return (self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)).reshape(shape)
+        grid, table = self._table()
+        n = grid.size
+        with np.errstate(divide="ignore"):
+            u = np.log(t2)
+        u -= grid[0]
+        u *= 1.0 / (grid[1] - grid[0])
+        np.clip(u, 0.0, n - 1.000001, out=u)
+        i = u.astype(np.intp)
+        u -= i
+        i += (np.arange(shape[0]) * n)[:, None]
+        flat = table.ravel()
+        v0 = flat.take(i)
+        val = v0 + u * (flat.take(i + 1) - v0)
+        low = t2 < self.tau1
+        if low.any():
+            lin = self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)
+            val = np.where(low, lin, val)
+        return val.reshape(shape)
+
+    def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6)."""
+        if getattr(self, "_tab", None) is None:
+            n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
+            grid = np.linspace(self.s[0], self.s[-1], n)
+            self._tab = (grid, np.maximum(self._spl(grid), 0.0))  # type: ignore[misc]
+        return self._tab
+
+
+def _loads(p0: ArrayLike, n_load: int) -> NDArray[np.float64]:
+    p = np.atleast_1d(np.asarray(p0, dtype=float)).ravel()
+    if p.size != n_load or np.any(~(p > 0)) or np.any(~np.isfinite(p)):
+        raise ValueError(f"p0 must hold {n_load} finite positive pressures [Pa], got {p0!r}")
+    return p
+
+# -- sub-problems at magnification zeta -----------------------------------------------------------
+_SUB_EDGES = np.concatenate(([0.0], 0.4 ** np.arange(9, -1, -1)))
+
+
+def _sub_mean_gap(
+    psd: object,
+    E_star: float,
+    phi: _Phi,
+    q_a: NDArray[np.float64],
+    area_a: NDArray[np.float64],
+    q_hi: float,
+) -> NDArray[np.float64]:
+    """Mean separation [m] of the apparent contact at ``q_a`` (n_load, n_a) under ``p0/A_a``.
+
+    ``u_a = pi int_{q_a}^{q_hi} q^2 C w_a Phi(tau_a(q) A_a^2 / p0^2) dq`` with ``tau_a``, ``w_a``
+    counted from ``q_a`` (physics.md §5.5a, §6.1). Vectorised: ``q = q_a exp(V s^2)``,
+    ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``.
+    """
+    s, ws = _panels(_SUB_EDGES, 6)
+    qa = np.asarray(q_a, dtype=float)
+    V = np.log(np.maximum(q_hi / qa, 1.0))
+    q = qa[..., None] * np.exp(V[..., None] * s * s)
+    dq = q * (2.0 * V[..., None] * s) * ws
+    qaf = np.broadcast_to(qa[..., None], q.shape).ravel()
+    dI3 = _delta_I3(psd, qaf, q.ravel()).reshape(q.shape)
+    C = np.asarray(psd.C(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
+    kern = dq * q**2 * C / np.sqrt(np.pi * dI3)
+    tau_eq = 0.25 * np.pi * E_star**2 * dI3 * (area_a**2)[..., None]
+    tau_eq = np.broadcast_to(tau_eq, (phi.p0.size,) + tau_eq.shape[1:])
+    vals = phi.at_tau_per_load(tau_eq)
+    return math.pi * np.sum(vals * kern, axis=-1)
+
+
+def _h2(psd: object, q: ArrayLike, q_hi: float) -> NDArray[np.float64]:
+    m_hi = float(psd.running_moment(1.0, q_hi))  # type: ignore[attr-defined]
+    m = np.asarray(psd.running_moment(1.0, np.minimum(q, q_hi)), dtype=float)  # type: ignore[attr-defined]
+    return np.maximum(2.0 * math.pi * (m_hi - m), 0.0)
+
+
+def _edges(cur: _Curve, zeta_edges: ArrayLike | None) -> tuple[NDArray, NDArray, NDArray]:
+    """Bin edges with the contact area there (spline of ``ln(1 - A)`` between the nodes)."""
+    if zeta_edges is None:
+        return cur.zeta, cur.area, cur.non_area
+    z = np.unique(np.clip(np.asarray(zeta_edges, dtype=float), 1.0, cur.zeta[-1]))
+    if z[0] != 1.0 or z[-1] != cur.zeta[-1]:
+        raise ValueError("zeta_edges must run from 1 to the curve's last magnification")
+    x = np.log(z)
+    N = cur.non_area_at(np.broadcast_to(x, (cur.n_load, x.size)))
+    N = np.maximum.accumulate(N, axis=1)
+    N[:, 0] = 0.0
+    N[:, -1] = cur.non_area[:, -1]
+    return z, 1.0 - N, N

@@ -1,0 +1,86 @@
+"""The pipeline hands the engine the whole batch; fixed costs once per process; memory budget."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import xpersson
+from xpersson import _pipeline, memory, provenance
+from xpersson.engine import exact, solve
+from xpersson.units import to_si
+
+SCENE = {
+    "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_r": "1e4 1/m",
+                 "q_1": "1e8 1/m", "h_rms": "1 um"},
+    "material": {"E": "10 MPa", "nu": 0.5},
+    "load": {"p0": {"start": "1 kPa", "stop": "1 MPa", "num": 40}},
+}
+
+
+def test_many_loads_equal_the_closed_form_per_load():
+    ds = xpersson.solve(SCENE)
+    tau = ds.diffusion_time.values
+    ref = exact.one_wall_area(tau[None, :], ds.p0.values[:, None])
+    np.testing.assert_allclose(ds.area_fraction.values, ref, rtol=1e-14)
+    one = solve(tau, float(ds.p0[7]))
+    np.testing.assert_array_equal(ds.area_fraction.values[7], one.area)
+    assert list(ds.solver_status.values) == ["success"] * 40
+
+
+def test_dataset_built_directly_is_identical_to_the_public_constructor(monkeypatch):
+    scene = dict(SCENE, output={"pressure_pdf": True, "p_points": 16})
+    fast = xpersson.solve(scene)
+
+    def slow(data, coords):
+        ds = xr.Dataset(data, coords=coords)
+        _pipeline.stamp(ds, _pipeline.COORDS)
+        _pipeline.stamp(ds, _pipeline.CORE_VARIABLES)
+        return ds
+
+    monkeypatch.setattr(_pipeline, "_dataset", slow)
+    ref = xpersson.solve(scene)
+    for ds in (fast, ref):
+        for key in ("history", "date_created", "xpersson_solver"):
+            ds.attrs.pop(key)
+    xr.testing.assert_identical(fast, ref)
+
+
+def test_environment_and_units_are_computed_once_per_process():
+    provenance._environment_json.cache_clear()
+    xpersson.solve(SCENE)
+    xpersson.solve(SCENE)
+    assert provenance._environment_json.cache_info().misses == 1
+    a = to_si(["1 MPa", "2 MPa"], "Pa", "load.p0", array=True)
+    a[0] = -1.0  # the cached conversion is not shared with the caller
+    b = to_si("1 MPa", "Pa", "load.p0")
+    assert b == 1e6 and to_si(["1 MPa", "2 MPa"], "Pa", "x", array=True)[0] == 1e6
+
+
+def test_request_above_the_memory_budget_is_refused_before_work(monkeypatch):
+    calls = []
+    monkeypatch.setattr(xpersson.engine, "solve_batch", lambda *a, **k: calls.append(1))
+    scene = dict(SCENE, output={"pressure_pdf": True, "p_points": 4000})
+    memory.set_budget("1 MB")
+    try:
+        with pytest.raises(memory.MemoryBudgetError) as info:
+            xpersson.solve(scene)
+    finally:
+        memory.set_budget(None)
+    text = str(info.value)
+    for words in ("MB", "40 loads", "4000 pressures", "output.p_points", "in parts",
+                  "XPERSSON_MEMORY_BUDGET"):
+        assert words in text
+    assert not calls
+
+
+def test_memory_budget_configuration(monkeypatch):
+    monkeypatch.setenv("XPERSSON_MEMORY_BUDGET", "2 GiB")
+    assert memory.budget() == 2 * 2**30
+    monkeypatch.setenv("XPERSSON_MEMORY_BUDGET", "lots")
+    with pytest.raises(ValueError, match="XPERSSON_MEMORY_BUDGET"):
+        memory.budget()
+    monkeypatch.delenv("XPERSSON_MEMORY_BUDGET")
+    assert 0 < memory.budget() <= memory.available()
+    assert memory.estimate(10, 51, 256) > memory.estimate(10, 51)
