@@ -124,14 +124,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
                 pair = rs.boundary.walls(ctx, float(p0), clock)
             walls.append(_checks.check_walls(pair, float(p0), who["boundary"]))
     else:  # the boundary declares walls that do not depend on the load: ask once
-        p0 = float(rs.p0[0])
-        with _checks.calling(who["boundary"], f"walls() for p0 = {p0:g} Pa"):
-            pair = rs.boundary.walls(ctx, p0, clock)
-        # every load strictly inside: the lowest above the lower wall, the highest below the
-        # upper one (the same check as per load, at the two loads that decide it)
-        for p in sorted({float(np.min(rs.p0)), float(np.max(rs.p0))}):
-            pair = _checks.check_walls(pair, p, who["boundary"])
-        walls = [pair] * rs.p0.size
+        walls = [_shared_walls(rs, ctx, clock, who["boundary"])] * rs.p0.size
     p_grid = _pressure_grid(rs, walls, tau_eff) if rs.pressure_pdf else None
     if p_grid is not None:
         ctx = dataclasses.replace(ctx, p=p_grid)
@@ -168,6 +161,29 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     if rs.p0_scalar:
         ds = _squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
     return ds
+
+
+def _shared_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) -> tuple:
+    """The walls of a boundary whose walls do not depend on the load, checked for every load.
+
+    Asked once (at the first load) and checked as :func:`._checks.check_walls` checks each
+    load, with the positions at ``tau = 0`` compared with all loads at once; the first load
+    left outside (if any) is reported exactly as the per-load check reports it.
+    """
+    p_first = float(rs.p0[0])
+    with _checks.calling(who, f"walls() for p0 = {p_first:g} Pa"):
+        pair = rs.boundary.walls(ctx, p_first, clock)
+    pair = _checks.check_walls(pair, p_first, who)
+    if rs.p0.size > 1:
+        lower, upper = pair
+        zero = np.zeros(1)
+        inside = rs.p0 > float(np.asarray(lower.at(zero), float)[0])
+        if upper is not None:
+            inside &= rs.p0 < float(np.asarray(upper.at(zero), float)[0])
+        outside = np.flatnonzero(~inside)
+        if outside.size:  # raises the per-load check's message for that load
+            _checks.check_walls(pair, float(rs.p0[outside[0]]), who)
+    return pair
 
 
 def _squeeze_p0(ds: xr.Dataset) -> xr.Dataset:

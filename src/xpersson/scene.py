@@ -470,11 +470,7 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
     p0_raw = load_raw.pop("p0")
     if load_raw:
         raise SceneError(f"load.{sorted(load_raw)[0]}: unknown parameter; allowed in [load]: p0")
-    try:  # sign checked once the boundary is known
-        p0, scalar = _loads(p0_raw, tensile=True)
-        load_error = None
-    except SceneError as exc:  # reported once the boundary says which range applies
-        p0, scalar, load_error = np.zeros(0), False, exc
+    p0, scalar = _loads(p0_raw, tensile=True)  # sign checked once the boundary is known
     out = convert_params(CORE["output"], data.get("output", {}), "output")
     solver = convert_params(CORE["solver"], data.get("solver", {}), "solver")
     if out["p"] is not None and np.any(np.diff(out["p"]) <= 0):
@@ -492,12 +488,8 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         inst, name, params = _plugin(section, data.get(section), registry, base)
         plugins[section], names[section] = inst, name
         resolved[section] = {"model": name, **_jsonable(params, type(inst).parameters)}
-    if not getattr(type(plugins["boundary"]), "tensile_loads", False) and (
-        load_error is not None or np.any(p0 <= 0)
-    ):
+    if not getattr(type(plugins["boundary"]), "tensile_loads", False) and np.any(p0 <= 0):
         _loads(p0_raw)  # raises the range error of a compressive-only boundary
-    if load_error is not None:
-        raise load_error
     psd = _build_spectrum(plugins["spectrum"], names["spectrum"], registry)
     archived = getattr(plugins["spectrum"], "archived_params", None)
     if callable(archived):  # file-based spectra: the table itself goes into the archive
@@ -531,9 +523,9 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
                 inst.check_scene(plugins["coefficient"], plugins["boundary"])
                 analyses.append((name, inst))
             except (ValueError, TypeError) as exc:
+                msg = plugin_message(f"analyses.{name}", cls, exc)
                 raise SceneError(
-                    plugin_message(f"analyses.{name}", cls, exc)
-                    + f" (scene: boundary {names['boundary']!r}, "
+                    f"{msg} (scene: boundary {names['boundary']!r}, "
                     f"coefficient {names['coefficient']!r})"
                 ) from None
             # the instance's parameters: defaults it resolved (e.g. a gamma) are recorded too

@@ -106,7 +106,7 @@ def _cases() -> list[tuple[str, Any, list[str]]]:
         ("load.p0", {"start": "1 kPa", "stop": "1 MPa"}, ["load.p0.num", "required"]),
         ("load.p0", {"start": "1 kPa", "stop": "1 MPa", "num": 3, "step": 2}, ["load.p0"]),
         ("load.p0", {"start": "1 MPa", "stop": "1 kPa", "num": 3}, ["load.p0", "stop"]),
-        ("load.p0", {"start": "-1 kPa", "stop": "1 MPa", "num": 3}, ["load.p0.start"]),
+        ("load.p0", {"start": "-1 kPa", "stop": "1 MPa", "num": 3}, ["load.p0", "start > 0"]),
         ("load.p0", {"start": "1 kPa", "stop": "1 MPa", "num": 3, "spacing": "cubic"},
          ["load.p0.spacing"]),
         ("load.p0", _DELETE, ["load.p0", "required"]),
