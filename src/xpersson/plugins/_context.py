@@ -124,14 +124,14 @@ class DiffusionClock:
         """
         t = np.asarray(tau, dtype=float)
         flat = t.ravel()
-        if self._last:  # a wall's position, speed and output times: often the same tau values
-            ts, zs = self._last
+        # a wall's position, speed and the output times: often the same tau values again
+        for ts, zs in self._last:
             idx = np.minimum(np.searchsorted(ts, flat), ts.size - 1)
-            if np.array_equal(ts[idx], flat):
+            if ts.size and np.array_equal(ts[idx], flat):
                 return zs[idx].reshape(t.shape)
         z = self._zeta_of_tau(t)
         order = np.argsort(flat, kind="stable")
-        self._last[:] = [flat[order].copy(), z.ravel()[order].copy()]
+        self._last[:] = [(flat[order].copy(), z.ravel()[order].copy()), *self._last[:2]]
         return z
 
     def _zeta_of_tau(self, t: np.ndarray) -> np.ndarray:
