@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import sys
 import warnings
 from collections.abc import Mapping
 from pathlib import Path
@@ -97,7 +98,33 @@ def solve(
         return solve_sweep(plan, reg, scheduler=scheduler, progress=progress, output=output,
                            chunk=chunk, workers=workers)
     rs = sc.resolve(reg)
-    return run(rs, reg)
+    if progress is False or (progress is None and not sys.stderr.isatty()):
+        return run(rs, reg)
+    return _run_with_progress(rs, reg, progress)
+
+
+def _run_with_progress(rs: ResolvedScene, reg: Registry, progress: bool | None) -> xr.Dataset:
+    """:func:`run` with a counter of the engine's work on stderr (long moving-wall solves).
+
+    The bar appears only once a solver reports work (closed-form solves print nothing).
+    """
+    from ._sweeprun import _progress_bar
+    from .engine import progress_reporting
+
+    bar: list[Any] = []
+
+    def advance(node_steps: int) -> None:
+        if not bar:  # first report: make the bar (None when tqdm is missing: warned once)
+            bar.append(_progress_bar(None, progress, "xpersson solve", unit="node-step"))
+        if bar[0] is not None:
+            bar[0].update(node_steps)
+
+    try:
+        with progress_reporting(advance):
+            return run(rs, reg)
+    finally:
+        if bar and bar[0] is not None:
+            bar[0].close()
 
 
 def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:

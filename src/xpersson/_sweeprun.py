@@ -106,7 +106,9 @@ def _points_per_block(plan: SweepPlan, workers: int, requested: int | None) -> i
     return max(1, math.ceil(plan.size / (4 * max(1, workers))))
 
 
-def _progress_bar(total: int, progress: bool | None, desc: str) -> Any:
+def _progress_bar(
+    total: int | None, progress: bool | None, desc: str, unit: str = "point"
+) -> Any:
     show = sys.stderr.isatty() if progress is None else bool(progress)
     if not show:
         return None
@@ -115,7 +117,8 @@ def _progress_bar(total: int, progress: bool | None, desc: str) -> Any:
     except ImportError:  # pragma: no cover - optional extra
         warnings.warn("progress needs tqdm: pip install 'xpersson[progress]'", stacklevel=3)
         return None
-    return tqdm(total=total, desc=desc, unit="point", file=sys.stderr, dynamic_ncols=True)
+    return tqdm(total=total, desc=desc, unit=unit, unit_scale=unit != "point", file=sys.stderr,
+                dynamic_ncols=True)
 
 
 def solve_sweep(

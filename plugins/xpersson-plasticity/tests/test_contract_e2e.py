@@ -107,3 +107,23 @@ def test_example_scene_and_plot(tmp_path):
     spec.loader.exec_module(mod)
     out = mod.plot_areas(examples / "steel_on_steel.toml", tmp_path / "areas.png")
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_long_moving_wall_solve_shows_progress(capsys):
+    """A scale-dependent yield wall runs on ``cn``: with progress on, a work counter appears on
+    stderr; with progress off (the default off a terminal) nothing is printed; same numbers."""
+    import xpersson
+
+    scene = {
+        **STEEL,
+        "load": {"p0": "50 MPa"},
+        "output": {"zeta": [1, 1.5, 2, 3, 10, 100]},
+        "boundary": {"model": "plastic_scale_dependent", "Y1": "2 GPa", "n": 0.1},
+        "solver": {"rtol": 1e-5},
+    }
+    quiet = xpersson.solve(scene)
+    assert capsys.readouterr().err == ""
+    shown = xpersson.solve(scene, progress=True)
+    err = capsys.readouterr().err
+    assert "xpersson solve" in err and "node-step" in err
+    np.testing.assert_array_equal(shown["area_fraction"].values, quiet["area_fraction"].values)

@@ -7,6 +7,7 @@ solve_batch(tau_out, p0[:], walls=(lower, upper) or [(lower, upper), ...], ...) 
 solve_sourced(tau_out, sources_tau, sources_position, sources_weight, *, lower, p_out, ...)
 Wall.absorbing(position), Wall.linear(p_start, velocity), Wall.yield_closure(position, dposition),
 Wall.reflecting(position)
+progress_reporting(callback): work done (node-steps) by long solves, reported to ``callback``
 SourcedResult
 EngineResult, EngineMethod, register_method, exact (closed forms)
 MarkovMethod ("markov": walkers), ChapmanKolmogorovMethod ("markov_ck"), sample_paths,
@@ -24,6 +25,7 @@ from ._markov import ChapmanKolmogorovMethod, MarkovMethod, sample_paths
 from ._markov_ck import transition_kernel
 from ._methods import EngineMethod, register_method
 from ._moving import CNMethod
+from ._progress import reporting as progress_reporting
 from ._result import EngineBatch, EngineResult
 from ._sine import SineMethod
 from ._sourced import SourcedResult, solve_sourced
@@ -53,4 +55,5 @@ __all__ = [
     "ChapmanKolmogorovMethod",
     "sample_paths",
     "transition_kernel",
+    "progress_reporting",
 ]

@@ -45,6 +45,7 @@ from scipy.interpolate import CubicSpline
 from scipy.linalg.lapack import dgtsv
 from scipy.optimize import brentq
 
+from . import _progress
 from ._grid import clustered
 from ._methods import EngineMethod
 from ._problem import Problem, window_k
@@ -312,6 +313,9 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
         while nxt < n_out and out_at[nxt] == m + 1:
             record(nxt, lb[:, m], wb_[:, m])
             nxt += 1
+        if (m + 1) % _REPORT_EVERY == 0:
+            _progress.report(_REPORT_EVERY * nn * nb)
+    _progress.report((n_steps % _REPORT_EVERY) * nn * nb)
     res["nsteps"] = n_steps
     res["n_nodes"] = nn
     return res
@@ -532,6 +536,7 @@ class CNMethod(EngineMethod):
         return Raw(nan, nan, nan, nan, nan, nan, nan, None, status, message, nsteps, 0, nsteps)
 
 
+_REPORT_EVERY = 64  # time steps between progress reports (see _progress)
 R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else Richardson)
 
 
