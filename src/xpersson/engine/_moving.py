@@ -449,7 +449,10 @@ class CNMethod(EngineMethod):
             except FloatingPointError as exc:
                 status, message = "tolerance_not_met", f"numerical failure: {exc}"
             if best is None and cache:  # budget spent: the finest pair computed, flagged
-                (nbf, mf) = max(cache, key=lambda c: c[0] * c[1])
+                # (a finer level whose partner was never reached has no error estimate: the
+                # finest level *with* a coarser partner is used instead)
+                paired = [c for c in cache if any(o[0] == c[0] and o[1] < c[1] for o in cache)]
+                (nbf, mf) = max(paired or cache, key=lambda c: c[0] * c[1])
                 pair = [c for c in cache if c[0] == nbf and c[1] < mf]
                 fine = cache[(nbf, mf)]
                 if pair:
@@ -459,6 +462,9 @@ class CNMethod(EngineMethod):
                 else:
                     best = _combine(fine, fine, False)
                 n_used = nbf * mf
+            # a probability projected onto [0, 1] is off by at most 1: no estimate (a single
+            # level) is reported as 1, never as inf
+            err = np.minimum(err, 1.0)
             if best is None:
                 return self._failed(nb, status, message or "no level completed", nsteps)
             # round-off of the sums over the grid (the level difference cannot see it)
@@ -481,19 +487,20 @@ class CNMethod(EngineMethod):
         trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
         e_all[:, analytic & (tau > 0)] = trunc
         if best is not None and num.any():
-            # probabilities below zero by less than their error estimate (round-off of a
-            # vanishing fraction, e.g. plastic area given back to a rising wall) are zero;
-            # anything more negative is reported, not hidden
-            bound = err + trunc + 1e-15
-            for key in ("area", "abs_l", "abs_u"):
-                if np.any(best[key] < -bound) and status == "success":
+            # the probabilities are projected onto their admissible set (area, absorbed >= 0,
+            # area <= 1, absorbed_lower + absorbed_upper <= 1); the distance moved is a lower
+            # bound of the error, so the estimate is raised to it, and a distance beyond the
+            # estimate (round-off of the step sums included) is reported, not hidden
+            proj, dist = _project(best["area"], best["abs_l"], best["abs_u"])
+            roundoff = 16.0 * np.finfo(float).eps * (nsteps + math.sqrt(max(n_used, 1)))
+            bound = err + trunc + roundoff
+            for key, d in dist.items():
+                if np.any(d > bound) and status == "success":
                     status = "tolerance_not_met"
-                    message = f"negative {key} beyond its error estimate"
-            area[:, num] = np.where(best["area"] < 0, 0.0, best["area"])
-            ab_l[:, num] = np.where(np.abs(best["abs_l"]) <= bound, np.maximum(
-                best["abs_l"], 0.0), best["abs_l"])
-            ab_u[:, num] = np.where(np.abs(best["abs_u"]) <= bound, np.maximum(
-                best["abs_u"], 0.0), best["abs_u"])
+                    message = (f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its "
+                               "error estimate")
+            err = np.maximum(err, dist["area"])
+            area[:, num], ab_l[:, num], ab_u[:, num] = proj
             load[:, num] = best["load"]
             wall_term[:, num] = best["mom_l"] + best["mom_u"]
             e_all[:, num] = err + trunc
@@ -530,6 +537,28 @@ class CNMethod(EngineMethod):
         n_t = self.problem.tau.shape[-1]
         nan = np.full((nb, n_t), np.nan)
         return Raw(nan, nan, nan, nan, nan, nan, nan, None, status, message, nsteps, 0, nsteps)
+
+
+def _project(area: Array, abs_l: Array, abs_u: Array) -> tuple[tuple[Array, Array, Array],
+                                                                 dict[str, Array]]:
+    """Nearest admissible probabilities and the distance each moved.
+
+    ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
+    non-contact fraction) exceeds 1, scaled down to sum to 1.
+    """
+    a = np.clip(area, 0.0, 1.0)
+    lo = np.maximum(abs_l, 0.0)
+    up = np.maximum(abs_u, 0.0)
+    total = lo + up
+    over = total > 1.0
+    scale = np.where(over, 1.0 / np.where(over, total, 1.0), 1.0)
+    lo = np.minimum(lo * scale, 1.0)
+    up = np.where(over, np.minimum(up * scale, 1.0 - lo), up)
+    up = np.where(lo + up > 1.0, np.nextafter(up, 0.0), up)  # the sum's round-off
+    dist = {"area": np.abs(a - area), "absorbed_lower": np.abs(lo - abs_l),
+            "absorbed_upper": np.abs(up - abs_u),
+            "non_contact_fraction": np.abs(lo + up - (abs_l + abs_u))}
+    return (a, lo, up), dist
 
 
 R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else Richardson)
