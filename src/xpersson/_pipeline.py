@@ -382,7 +382,8 @@ def _attributes(
     core = core or {}
     status_of = ds["solver_status"].values  # the engine's, or the core output check's verdict
     success = np.asarray(results.success, dtype=bool) & (status_of == "success")
-    bad = [(float(rs.p0[i]), str(status_of[i]), core.get(int(i)) or results[int(i)].message)
+    bad = [(float(rs.p0[i]), str(status_of[i]), results[int(i)].message
+            if not results[int(i)].success else core.get(int(i), ""))
            for i in np.flatnonzero(~success)[:5]]
     status = "success" if not bad else bad[0][1]
     message = "all loads met the requested tolerance" if not bad else "; ".join(
