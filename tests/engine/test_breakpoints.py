@@ -42,3 +42,22 @@ def test_breakpoints_are_validated():
     w = Wall.absorbing(lambda t: -np.asarray(t)).with_breakpoints([0.2, 0.1, 0.2])
     assert w.breakpoints == (0.1, 0.2)
     assert Wall.absorbing(0.0, breakpoints=[1.0]).breakpoints == ()
+
+
+def test_square_root_onset_meets_the_tolerance():
+    """Wall at -S0 until tau_b, then -S0 - sqrt(tau - tau_b) (unbounded speed at tau_b): with
+    the breakpoint declared, cn meets rtol 1e-5 (status success) and agrees with a rtol 1e-8
+    solution within 10 rtol; the retreating wall absorbs less than the fixed one."""
+    tb = 0.05
+
+    def pos(t):
+        return -S0 - np.sqrt(np.maximum(np.asarray(t, float) - tb, 0.0))
+
+    wall = Wall.absorbing(pos, breakpoints=[tb])
+    tau = np.geomspace(1e-3, 1.0, 13)
+    ref = solve(tau, P0, wall, method="cn", rtol=1e-8, options={"levels": 14})
+    res = solve(tau, P0, wall, method="cn", rtol=1e-5)
+    assert ref.status == "success" and res.status == "success"
+    np.testing.assert_allclose(res.area, ref.area, rtol=1e-4, atol=1e-9)
+    after = tau > tb
+    assert np.all(res.area[after] > erf((P0 + S0) / (2.0 * np.sqrt(tau[after]))))

@@ -199,6 +199,20 @@ def _edges(pb: Problem, plan: _Plan, taus: Array) -> dict:
         out["lv" + tag] = np.where(rl, lo_v, -k * ds)
         out["wv" + tag] = np.where(ru, up_v, k * ds) - out["lv" + tag]
         out["ys" + tag] = np.where(ru, pb.upper.speed(t), 0.0) if plan.yield_wall else 0.0 * t
+    # in the graded stretches after breakpoints the mesh moves with the chord speeds of the
+    # step (the exact displacement: the wall may move like sqrt(tau - tau_b), whose point
+    # speeds are unbounded and would make the scheme first order there)
+    chord = np.zeros(mid.shape, bool)
+    for tb, te in plan.zones:
+        chord |= (taus[:-1] >= tb) & (taus[1:] <= te)
+    if chord.any():
+        dt = np.diff(taus)
+        lvc = (out["lb"] - out["la"]) / dt
+        wvc = (out["wb"] - out["wa"]) / dt
+        for tag in ("a", "b"):
+            out["lv" + tag] = np.where(chord, lvc, out["lv" + tag])
+            out["wv" + tag] = np.where(chord, wvc, out["wv" + tag])
+    out["chord"] = chord
     return out
 
 
@@ -302,7 +316,9 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
         wn, wo = th * step, (1.0 - th) * step
         rl, ru = ed["rl"][:, m], ed["ru"][:, m]
         key = rl.tobytes() + ru.tobytes()
-        if f_new is not None and key == prev_key:
+        if ed["chord"][0, m] or (m > 0 and ed["chord"][0, m - 1]):
+            key = None  # chord speeds differ between neighbouring steps
+        if f_new is not None and key is not None and key == prev_key:
             f_old = f_new  # the end of the previous step, same regime
         else:
             f_old = flux(r, *coef("a", m))
