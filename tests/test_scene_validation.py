@@ -45,7 +45,7 @@ MALFORMED = [
     ("spectrum.model", "fractal_magic", ["spectrum.model", "fractal_magic"]),
     ("spectrum.Hurst", 0.8, ["spectrum.Hurst", "unknown parameter"]),
     ("load.p0", "-5 kPa", ["load.p0", "outside the allowed range"]),
-    ("load.p0", "0 Pa", ["load.p0", "(0, inf] Pa"]),
+    ("load.p0", "0 Pa", ["load.p0", "(0, 1e+13] Pa"]),
     ("load.p0", ["1e5 Pa", "1e4 Pa"], ["load.p0", "increasing"]),
     ("load.p0", "1 N", ["load.p0", "Pa"]),
     ("load.force", "1 N", ["load.force", "unknown"]),

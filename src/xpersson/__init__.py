@@ -16,6 +16,7 @@ from importlib import import_module
 from typing import Any
 
 __all__ = [
+    "PluginFailure",
     "Scene",
     "SceneError",
     "XperssonWarning",
@@ -29,6 +30,7 @@ __all__ = [
 ]
 
 _LAZY = {
+    "PluginFailure": "xpersson._checks",
     "solve": "xpersson._pipeline",
     "XperssonWarning": "xpersson._pipeline",
     "Scene": "xpersson.scene",

@@ -12,13 +12,15 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from . import memory, provenance
+from . import _checks, memory, provenance
 from .plugins import DiffusionClock, SceneContext, VarSpec
 from .plugins._registry import Registry, get_registry
 from .scene import ResolvedScene, Scene, SceneError, load_scene
 from .schema import COORDS, CORE_VARIABLES, stamp
 
-__all__ = ["solve", "XperssonWarning", "as_scene"]
+__all__ = ["solve", "XperssonWarning", "as_scene", "PluginFailure"]
+
+PluginFailure = _checks.PluginFailure
 
 
 class XperssonWarning(UserWarning):
@@ -106,25 +108,33 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         psd=rs.psd, E=rs.E, nu=rs.nu, E_star=rs.E_star, p0=rs.p0, zeta=rs.zeta,
         p=None, rtol=rs.rtol, atol=rs.atol, method=rs.method,
     )
+    who = _labels(rs, reg)
     try:
-        rs.boundary.validate(ctx)
+        with _checks.calling(who["boundary"], "validate()", passthrough=(ValueError,)):
+            rs.boundary.validate(ctx)
     except ValueError as exc:
-        raise SceneError(f"boundary: {exc}") from None
+        raise SceneError(f"boundary: {exc} [{who['boundary']}]") from None
     coef = rs.coefficient
-    zeta = rs.zeta
-    tau_c = np.asarray(coef.tau(ctx, zeta), float)
-    f_z = np.asarray(coef.f(ctx, zeta), float)
-    tau_eff = np.asarray(coef.effective_tau(ctx, zeta), float).reshape(rs.p0.size, zeta.size)
+    tau_c, f_z, tau_eff = _coefficient_arrays(coef, ctx, who["coefficient"])
     clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max)
     if getattr(type(rs.boundary), "walls_per_load", True):
-        walls = [rs.boundary.walls(ctx, float(p0), clock) for p0 in rs.p0]
+        loads = [float(p0) for p0 in rs.p0]
     else:  # the boundary declares walls that do not depend on the load: ask once
-        walls = [rs.boundary.walls(ctx, float(rs.p0[0]), clock)] * rs.p0.size
+        loads = [float(rs.p0[0])]
+    walls = []
+    for p0 in loads:
+        with _checks.calling(who["boundary"], f"walls() for p0 = {p0:g} Pa"):
+            pair = rs.boundary.walls(ctx, p0, clock)
+        walls.append(_checks.check_walls(pair, p0, who["boundary"]))
+    if len(walls) == 1 and rs.p0.size > 1:
+        for p0 in rs.p0[1:]:  # the shared walls must leave every load inside
+            _checks.check_walls(walls[0], float(p0), who["boundary"])
+        walls = walls * rs.p0.size
     p_grid = _pressure_grid(rs, walls, tau_eff) if rs.pressure_pdf else None
     if p_grid is not None:
         ctx = dataclasses.replace(ctx, p=p_grid)
 
-    memory.check_request(rs.p0.size, zeta.size, None if p_grid is None else p_grid.size)
+    memory.check_request(rs.p0.size, rs.zeta.size, None if p_grid is None else p_grid.size)
     # one engine call for the whole batch (loads sharing their walls are solved together)
     first = walls[0]
     shared = all(w is first or w == first for w in walls[1:])
@@ -132,23 +142,56 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
                                  atol=rs.atol, method=rs.method, p_out=p_grid,
                                  options=rs.solver_options or None)
     ds = _assemble(rs, ctx, results, tau_c, f_z, tau_eff, p_grid)
-    _add(ds, coef.interpret(ctx), type(coef).outputs, "coefficient")
-    extra = rs.boundary.interpret(ctx, results)
-    _add(ds, extra, type(rs.boundary).outputs, "boundary")
+    with _checks.calling(who["coefficient"], "interpret()"):
+        coef_out = coef.interpret(ctx)
+    _add(ds, coef_out, type(coef).outputs, who["coefficient"])
+    with _checks.calling(who["boundary"], "interpret()"):
+        extra = rs.boundary.interpret(ctx, results)
+    _add(ds, extra, type(rs.boundary).outputs, who["boundary"])
     if rs.analyses:  # analyses read the scene's declarations and may sample the solve densely
         ctx = dataclasses.replace(
             ctx, coefficient=coef, boundary=rs.boundary, solve_at=_solve_at(rs, ctx, walls)
         )
     for name, analysis in rs.analyses:
-        out = analysis.compute(ctx, ds)
-        missing = [v for v in type(analysis).provides if v not in out]
+        label = _checks.plugin_label("analyses", analysis, reg, name)
+        with _checks.guard_dataset(ds, label) as view, _checks.calling(label, "compute()"):
+            out = analysis.compute(ctx, view)
+        missing = [v for v in type(analysis).provides if v not in (out or {})]
         if missing:
-            raise RuntimeError(f"analysis {name!r} did not provide {missing}")
-        _add(ds, out, type(analysis).outputs, f"analysis {name!r}")
-    _attributes(ds, rs, reg, results)
+            raise _checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
+        _add(ds, out, type(analysis).outputs, label)
+    _attributes(ds, rs, reg, results, _diagnostics_notes(ds))
     if rs.p0_scalar:
         ds = ds.isel(p0=0)  # = squeeze("p0"): p0 becomes a scalar coordinate
     return ds
+
+
+def _labels(rs: ResolvedScene, reg: Registry) -> dict[str, Any]:
+    """Plugin labels (name + distribution) used in error messages."""
+    return {
+        section: _checks.plugin_label(section, getattr(rs, section), reg,
+                                      rs.plugin_names.get(section))
+        for section in ("spectrum", "coefficient", "boundary")
+    }
+
+
+def _coefficient_arrays(
+    coef: Any, ctx: SceneContext, who: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """tau(zeta), f(zeta) and the per-load effective tau [Pa^2], each checked."""
+    nz, nl = ctx.zeta.size, ctx.p0.size
+    with _checks.calling(who, "tau(zeta)"):
+        tau_c = coef.tau(ctx, ctx.zeta)
+    tau_c = _checks.check_array(tau_c, who, "tau(zeta)", (nz,), nonnegative=True,
+                                nondecreasing_axis=0, unit="Pa2")
+    with _checks.calling(who, "f(zeta)"):
+        f_z = coef.f(ctx, ctx.zeta)
+    f_z = _checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
+    with _checks.calling(who, "effective_tau(zeta)"):
+        tau_eff = coef.effective_tau(ctx, ctx.zeta)
+    tau_eff = _checks.check_array(tau_eff, who, "effective_tau(zeta)", (nl, nz),
+                                  nonnegative=True, nondecreasing_axis=1, unit="Pa2")
+    return tau_c, f_z, tau_eff
 
 
 def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
@@ -307,32 +350,41 @@ def _persson_G(tau_c: np.ndarray, p0: np.ndarray) -> np.ndarray:
     return np.where(np.isnan(G), np.inf, G)
 
 
-def _add(ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec], who: str) -> None:
-    for name, value in values.items():
-        if name not in specs:
-            raise RuntimeError(f"{who} returned {name!r} without declaring it in its outputs")
-        if name in ds.variables:
-            raise RuntimeError(f"{who} returned {name!r}, which the Dataset already has")
-        spec = specs[name]
-        if isinstance(value, xr.DataArray):
-            da = value.copy()
-            da.attrs = {}
-        else:
-            dims, arr = value
-            da = xr.DataArray(np.asarray(arr), dims=dims)
-        if tuple(d for d in spec.dims) != tuple(da.dims):
-            da = da.transpose(*[d for d in spec.dims if d in da.dims], ...)
-        ds[name] = da
-        ds[name].attrs.update(spec.attrs())
+def _add(
+    ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec], who: object
+) -> None:
+    """Check a plugin's contribution against its VarSpecs (see :mod:`._checks`), then add it."""
+    checked = _checks.check_contributions(ds, values, specs, who)
+    for name, da in checked.items():
+        try:
+            ds[name] = da
+        except ValueError as exc:  # conflicting sizes of a plugin's own dimension
+            raise _checks.PluginFailure(f"{who}: variable {name!r}: {exc}", plugin=who,
+                                        variable=name) from None
+        ds[name].attrs.update(specs[name].attrs())
 
 
-def _attributes(ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: Any) -> None:
+def _diagnostics_notes(ds: xr.Dataset) -> list[str]:
+    """Add the P-resolution diagnostics; collect them and the regime warnings as notes."""
+    from . import _diagnostics
+
+    notes = _diagnostics.regime_warnings(ds)
+    ds.attrs["regime_warnings"] = json.dumps(notes)
+    unresolved = _diagnostics.pdf_resolution(ds)
+    return notes + ([unresolved] if unresolved else [])
+
+
+def _attributes(
+    ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: Any, notes: list[str]
+) -> None:
     success = np.asarray(results.success, dtype=bool)
     bad = [(float(rs.p0[i]), results[int(i)]) for i in np.flatnonzero(~success)[:5]]
     status = "success" if not bad else bad[0][1].status
     message = "all loads met the requested tolerance" if not bad else "; ".join(
         f"p0 = {p:g} Pa: {r.status}: {r.message}" for p, r in bad
     )
+    if notes:
+        message = "; ".join([message, *notes])
     ds.attrs.update(provenance.global_attributes(rs, reg))
     ds.attrs["status"] = status
     ds.attrs["status_message"] = message
@@ -349,7 +401,7 @@ def _attributes(ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: Any) 
             },
         }
     )
-    if bad:
+    if bad or notes:
         warnings.warn(f"xpersson: {message}", XperssonWarning, stacklevel=4)
 
 

@@ -122,10 +122,34 @@ def _cmd_info(args: argparse.Namespace) -> int:
     plugins = json.loads(ds.attrs.get("xpersson_plugins", "[]"))
     for p in plugins:
         print(f"  plugin {p['group']}/{p['name']}: {p['distribution']} {p['version']}")
-    if "area_fraction" in ds:
-        a = ds["area_fraction"].isel(zeta=-1)
-        print(f"  A/A0 at zeta_max: {' '.join(f'{v:.6g}' for v in a.values.ravel()[:10])}")
+    _print_areas(ds)
     return 0
+
+
+SHOWN_LOADS = 10
+"""Loads listed by ``xpersson info`` (the rest are counted)."""
+
+
+def _print_areas(ds: Any) -> None:
+    """Every area fraction of the archive (core and boundary) at zeta_max, per load."""
+    names = [n for n, v in ds.data_vars.items()
+             if "zeta" in v.dims and v.attrs.get("units") == "1"
+             and (n.endswith("area_fraction") or n in ("area_fraction", "total_contact_fraction"))]
+    if not names or "zeta" not in ds.dims:
+        return
+    loads = ds["p0"].values.ravel() if "p0" in ds.coords else []
+    n_loads = len(loads)
+    shown = min(n_loads, SHOWN_LOADS) if n_loads else 1
+    print(f"  area fractions at zeta_max = {float(ds['zeta'][-1]):.6g}"
+          + (f" (first {shown} of {n_loads} loads; {n_loads - shown} more not shown)"
+             if n_loads > shown else ""))
+    if n_loads:
+        print(f"    {'p0 [Pa]':28s} " + " ".join(f"{v:.6g}" for v in loads[:shown]))
+    for name in names:
+        values = ds[name].isel(zeta=-1).values.ravel()[:shown]
+        label = f"{name}"
+        print(f"    {label:28s} " + " ".join(f"{v:.6g}" for v in values)
+              + f"  ({ds[name].attrs.get('long_name', '')})")
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> int:
@@ -244,9 +268,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         _err(f"xpersson: error: {exc}")
         return 2
     except Exception as exc:  # plugin errors etc.: one clear line, no traceback
+        from ._checks import PluginFailure
         from .plugins import PluginError
 
-        if isinstance(exc, PluginError | ValueError):
+        if isinstance(exc, PluginError | ValueError | PluginFailure):
             _err(f"xpersson: error: {exc}")
             return 2
         raise

@@ -11,6 +11,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
+import re
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -31,31 +32,37 @@ class SceneError(ValueError):
 
 
 # -- the core sections and their parameters ---------------------------------------------------
+MAX_PRESSURE = 1e13
+"""Largest modulus or pressure a scene may give [Pa] (beyond any solid; keeps f ~ E*^2 finite)."""
+MAX_ZETA = 1e12
+"""Largest magnification q_1/q_L a scene may ask for [1]."""
+MAX_POINTS = 100_000
+"""Longest list of loads, magnifications or pressures (as the range form's ``num``)."""
 CORE: dict[str, dict[str, ParamSpec]] = {
     "material": {
-        "E": ParamSpec("Pa", bounds=(0, None), inclusive=(False, True), sweepable=True,
+        "E": ParamSpec("Pa", bounds=(0, MAX_PRESSURE), inclusive=(False, True), sweepable=True,
                        description="Young's modulus of the elastic solid"),
         "nu": ParamSpec("1", bounds=(-1, 0.5), inclusive=(False, True), sweepable=True,
                         description="Poisson ratio"),
     },
     "load": {
-        "p0": ParamSpec("Pa", bounds=(0, None), inclusive=(False, True), sweepable=True,
+        "p0": ParamSpec("Pa", bounds=(0, MAX_PRESSURE), inclusive=(False, True), sweepable=True,
                         description="nominal pressure: scalar, list or {start, stop, num}"),
     },
     "output": {
         "zeta_per_decade": ParamSpec("1", default=10, bounds=(1, 1000), kind="int",
                                      description="log-spaced output magnifications per decade"),
-        "zeta": ParamSpec("1", default=None, bounds=(1, None), array=True,
+        "zeta": ParamSpec("1", default=None, bounds=(1, MAX_ZETA), array=True,
                           description="explicit output magnifications (>= 1)"),
-        "zeta_max": ParamSpec("1", default=None, bounds=(1, None),
+        "zeta_max": ParamSpec("1", default=None, bounds=(1, MAX_ZETA),
                               description="largest magnification (default q_1/q_L)"),
         "pressure_pdf": ParamSpec("1", default=False, kind="bool",
                                   description="store the pressure PDF P(zeta, p)"),
         "p_points": ParamSpec("1", default=256, bounds=(8, 100000), kind="int",
                               description="points of the default pressure grid"),
-        "p_max": ParamSpec("Pa", default=None, bounds=(0, None), inclusive=(False, True),
+        "p_max": ParamSpec("Pa", default=None, bounds=(0, MAX_PRESSURE), inclusive=(False, True),
                            description="upper end of the pressure grid"),
-        "p": ParamSpec("Pa", default=None, array=True,
+        "p": ParamSpec("Pa", default=None, bounds=(-MAX_PRESSURE, MAX_PRESSURE), array=True,
                        description="explicit pressure grid (increasing)"),
     },
     "solver": {
@@ -215,6 +222,10 @@ def convert_param(spec: ParamSpec, value: Any, where: str) -> Any:
     except UnitError as exc:
         raise SceneError(str(exc)) from None
     vals = np.atleast_1d(val)
+    if spec.array and vals.size == 0:
+        raise SceneError(f"{where}: empty list; give at least one value in {spec.range_text()}")
+    if spec.array and vals.size > MAX_POINTS:
+        raise SceneError(f"{where}: {vals.size} values; at most {MAX_POINTS} are allowed")
     if not np.all(np.isfinite(vals)):
         raise SceneError(f"{where}: must be finite, got {value!r}")
     bad = [v for v in vals if not spec.in_bounds(float(v))]
@@ -278,8 +289,8 @@ def sweep_values(spec: ParamSpec, value: Any, where: str) -> np.ndarray:
         start = convert_param(spec, value["start"], f"{where}.start")
         stop = convert_param(spec, value["stop"], f"{where}.stop")
         num = value["num"]
-        if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= 100000:
-            raise SceneError(f"{where}.num: expected an integer in [1, 100000], got {num!r}")
+        if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= MAX_POINTS:
+            raise SceneError(f"{where}.num: expected an integer in [1, {MAX_POINTS}], got {num!r}")
         spacing = value.get("spacing", "log")
         if spacing not in ("log", "linear"):
             raise SceneError(f"{where}.spacing: {spacing!r} is not allowed; one of 'log', 'linear'")
@@ -297,7 +308,10 @@ def sweep_values(spec: ParamSpec, value: Any, where: str) -> np.ndarray:
             )
         return grid
     if not value:
-        raise SceneError(f"{where}: empty list; give at least one value")
+        raise SceneError(f"{where}: empty list; give at least one value in {spec.range_text()}")
+    if len(value) > MAX_POINTS:
+        raise SceneError(f"{where}: {len(value)} values; at most {MAX_POINTS} are allowed (as for "
+                         f"{where}.num)")
     return np.array([convert_param(spec, v, f"{where}[{i}]") for i, v in enumerate(value)])
 
 
@@ -333,9 +347,18 @@ def _plugin(
     try:
         inst = cls(**params)
     except (ValueError, TypeError) as exc:
-        raise SceneError(f"{section}: {exc}") from None
+        raise SceneError(plugin_message(section, cls, exc)) from None
     name = model if isinstance(model, str) else registry.name_of(group, cls)[0]
     return inst, name, params
+
+
+def plugin_message(section: str, cls: Any, exc: BaseException) -> str:
+    """``"section.param: ..."`` when a plugin's message starts with one of its parameters."""
+    msg = str(exc)
+    head = re.split(r"[\s:=]", msg, maxsplit=1)[0]
+    if head in getattr(cls, "parameters", {}):
+        return f"{section}.{msg}"
+    return f"{section}: {msg}"
 
 
 def _absolute_paths(
@@ -351,6 +374,38 @@ def _absolute_paths(
                 path = base / path
             out[name] = str(path)
     return out
+
+
+def _build_spectrum(spectrum: Plugin, name: str, registry: Registry) -> Any:
+    """Build the numerical spectrum and check it (cut-offs, nodes, C finite and >= 0)."""
+    from . import _checks
+
+    who = _checks.plugin_label("spectra", spectrum, registry, name)
+    try:
+        with _checks.calling(who, "build()", passthrough=(ValueError,)):
+            psd = spectrum.build()
+    except ValueError as exc:
+        raise SceneError(plugin_message("spectrum", type(spectrum), exc)) from None
+    _checks.check_spectrum(psd, who)
+    ratio = float(psd.q_1) / float(psd.q_L)
+    if ratio > MAX_ZETA:
+        raise SceneError(f"spectrum: q_1/q_L = {ratio:g} exceeds the largest magnification "
+                         f"{MAX_ZETA:g}; allowed q_1/q_L in (1, {MAX_ZETA:g}]")
+    return psd
+
+
+def _check_method(method: Any) -> None:
+    from .engine import EngineMethod
+    from .engine._methods import METHODS
+
+    if isinstance(method, type):
+        if not issubclass(method, EngineMethod):
+            raise SceneError(f"solver.method: {method!r} is not an xpersson.engine.EngineMethod "
+                             f"subclass")
+        return
+    if method != "auto" and method not in METHODS:
+        raise SceneError(f"solver.method: {method!r} is not an engine method; one of "
+                         f"{', '.join(['auto', *sorted(METHODS)])}")
 
 
 def _zeta_grid(out: Mapping[str, Any], zeta_support: float) -> np.ndarray:
@@ -409,6 +464,10 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
     solver = convert_params(CORE["solver"], data.get("solver", {}), "solver")
     if out["p"] is not None and np.any(np.diff(out["p"]) <= 0):
         raise SceneError("output.p: the pressure grid must be strictly increasing")
+    if out["p"] is not None and out["p"].size < 2:
+        raise SceneError("output.p: give at least 2 pressures (a grid to integrate P over) in "
+                         + CORE["output"]["p"].range_text())
+    _check_method(solver["method"])
 
     names: dict[str, str] = {}
     plugins: dict[str, Plugin] = {}
@@ -420,10 +479,7 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         resolved[section] = {"model": name, **_jsonable(params, type(inst).parameters)}
     if not getattr(type(plugins["boundary"]), "tensile_loads", False) and np.any(p0 <= 0):
         _loads(p0_raw)  # raises the range error of a compressive-only boundary
-    try:
-        psd = plugins["spectrum"].build()
-    except ValueError as exc:
-        raise SceneError(f"spectrum: {exc}") from None
+    psd = _build_spectrum(plugins["spectrum"], names["spectrum"], registry)
     archived = getattr(plugins["spectrum"], "archived_params", None)
     if callable(archived):  # file-based spectra: the table itself goes into the archive
         spec_cls = type(plugins["spectrum"])
@@ -456,8 +512,9 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
                 inst.check_scene(plugins["coefficient"], plugins["boundary"])
                 analyses.append((name, inst))
             except (ValueError, TypeError) as exc:
+                msg = plugin_message(f"analyses.{name}", cls, exc)
                 raise SceneError(
-                    f"analyses.{name}: {exc} (scene: boundary {names['boundary']!r}, "
+                    f"{msg} (scene: boundary {names['boundary']!r}, "
                     f"coefficient {names['coefficient']!r})"
                 ) from None
             # the instance's parameters: defaults it resolved (e.g. a gamma) are recorded too

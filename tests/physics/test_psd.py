@@ -313,7 +313,7 @@ def test_from_file(tmp_path):
         ("1, 1\n2, x\n", "line 2"),
         ("1, 1\n", "at least 2"),
         ("1, 1\n1, 2\n", "strictly increasing"),
-        ("1, 1\n2, -1\n", "C must be > 0"),
+        ("1, 1\n2, -1\n", "line 2: C = -1 must be > 0"),
         ("h1, h2\nh3, h4\n1, 1\n", "line 2"),
     ],
 )

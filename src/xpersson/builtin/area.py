@@ -32,7 +32,9 @@ class ContactArea(Analysis):
         "mean_contact_pressure": VarSpec(("p0", "zeta"), "Pa", "mean pressure in the real "
                                          "contact area",
                                          description="p0 / (A/A0), A the load-bearing contact "
-                                         "area declared by the boundary (NaN where A = 0)"),
+                                         "area declared by the boundary",
+                                         nan_meaning="no contact (A/A0 = 0, or so small that "
+                                         "p0 / (A/A0) exceeds the float range)"),
         "kappa": VarSpec(("p0",), "1", "area-load slope kappa = (A/A0) E* h'_rms / p0 at "
                          "zeta_max"),
     }
@@ -44,8 +46,9 @@ class ContactArea(Analysis):
             np.asarray(ds[n].transpose(..., "p0", "zeta").values, float).reshape(ctx.p0.size, -1)
             for n in names
         )
-        with np.errstate(divide="ignore", invalid="ignore"):
-            mean_p = np.where(area > 0, ctx.p0[:, None] / np.where(area > 0, area, 1), np.nan)
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            mean_p = ctx.p0[:, None] / np.where(area > 0, area, np.nan)
+        mean_p[~np.isfinite(mean_p)] = np.nan
         slope = float(np.sqrt(2 * np.pi * ctx.psd.moment(3, ctx.q_L, ctx.q[-1])))
         kappa = area[:, -1] * ctx.E_star * slope / ctx.p0
         return {"mean_contact_pressure": (("p0", "zeta"), mean_p), "kappa": (("p0",), kappa)}

@@ -59,6 +59,14 @@ class ElasticCoefficient(Coefficient):
             return None
         return closures.variance_factor(self._params["closure"], area, self._params["gamma"])
 
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)
+        if self._params["closure"] == "persson01" and self._params["gamma"] is not None:
+            raise ValueError(
+                f"gamma: {self._params['gamma']:g} is not used by closure 'persson01'; remove "
+                "gamma or choose closure 'yp08', 'wm17' or 'xu24' (gamma in (0, 1])"
+            )
+
     def f(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """f(zeta) [Pa^2]."""
         return np.asarray(elastic.coefficient_f(ctx.psd, ctx.E_star, zeta), dtype=float)

@@ -11,7 +11,8 @@ from .topography import TABLE_PARAMETERS, ArchivedTable
 
 __all__ = ["SelfAffine", "Tabulated"]
 
-_WAVEVECTOR = dict(unit="1/m", bounds=(0, None), inclusive=(False, True), sweepable=True)
+_WAVEVECTOR = dict(unit="1/m", bounds=(1e-12, 1e15), inclusive=(True, True), sweepable=True)
+"""Wavevectors from 2 pi / (6e9 km) to 2 pi / (6 fm): everything outside is a typo."""
 
 
 class SelfAffine(Spectrum):
@@ -32,13 +33,13 @@ class SelfAffine(Spectrum):
                          description="roll-off wavevector (default q_L: no plateau)"),
         "q_1": ParamSpec(**_WAVEVECTOR, description="upper cut-off wavevector"),
         "h_rms": ParamSpec("m", default=None, sweepable=True,
-                           bounds=(0, None), inclusive=(False, True),
+                           bounds=(0, 1e6), inclusive=(False, True),
                            description="rms height (give one of h_rms, rms_slope, C_r)"),
         "rms_slope": ParamSpec("1", default=None, sweepable=True,
-                           bounds=(0, None), inclusive=(False, True),
+                               bounds=(0, 1e6), inclusive=(False, True),
                                description="rms 2-D gradient (give one of h_rms, rms_slope, C_r)"),
         "C_r": ParamSpec("m**4", default=None, sweepable=True,
-                           bounds=(0, None), inclusive=(False, True),
+                         bounds=(0, 1e60), inclusive=(False, True),
                          description="plateau PSD value (give one of h_rms, rms_slope, C_r)"),
     }
 
@@ -123,3 +124,7 @@ class Tabulated(ArchivedTable, Spectrum):
             )
         except OSError as exc:
             raise ValueError(f"file: cannot read {p['file']!r} ({exc.strerror})") from None
+        except ValueError as exc:
+            if str(exc).startswith(str(p["file"])):  # errors of the file's content
+                raise ValueError(f"file: {exc}") from None
+            raise

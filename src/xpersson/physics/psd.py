@@ -24,7 +24,7 @@ import math
 import re
 from collections.abc import Sequence
 from os import PathLike
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -484,9 +484,13 @@ class Tabulated(PowerSpectrum):
             On unparsable rows or invalid data (see :class:`Tabulated`).
         """
         iq, iC = (int(c) for c in columns)
+        if not q_unit_factor > 0 or not C_unit_factor > 0:
+            raise ValueError("unit factors must be > 0")
         qs: list[float] = []
         Cs: list[float] = []
+        lines: list[int] = []
         header_seen = False
+        lineno = 0
         with open(path, encoding="utf-8") as fh:
             for lineno, raw in enumerate(fh, start=1):
                 line = raw.split("#", 1)[0].strip()
@@ -503,10 +507,17 @@ class Tabulated(PowerSpectrum):
                         f"{path}: line {lineno}: cannot read columns {iq}, {iC} as numbers: "
                         f"{raw.rstrip()!r}"
                     ) from None
+                _check_row(path, lineno, qv, Cv, qs[-1] if qs else None,
+                           lines[-1] if lines else None)
                 qs.append(qv)
                 Cs.append(Cv)
-        if not q_unit_factor > 0 or not C_unit_factor > 0:
-            raise ValueError("unit factors must be > 0")
+                lines.append(lineno)
+        if len(qs) < 2:
+            what = "has no data rows" if not qs else f"has only one data row (line {lines[0]})"
+            raise ValueError(
+                f"{path}: line {lineno}: end of file; the table "
+                f"{what}; a PSD table needs at least 2 rows 'q, C'"
+            )
         return cls(
             np.asarray(qs) * q_unit_factor,
             np.asarray(Cs) * C_unit_factor,
@@ -520,6 +531,27 @@ class Tabulated(PowerSpectrum):
         return (
             f"Tabulated(n={self.q_table.size}, q_L={self.q_L:.6g}, q_1={self.q_1:.6g}, "
             f"convention={self.convention!r})"
+        )
+
+
+def _check_row(
+    path: Any, lineno: int, q: float, C: float, q_prev: float | None, line_prev: int | None
+) -> None:
+    """One table row: finite, q > 0, C > 0, q above the previous row's (file and line named)."""
+    where = f"{path}: line {lineno}"
+    if not math.isfinite(q):
+        raise ValueError(f"{where}: q = {q!r} is not finite")
+    if not math.isfinite(C):
+        raise ValueError(f"{where}: C = {C!r} is not finite")
+    if not q > 0:
+        raise ValueError(f"{where}: q = {q:g} must be > 0")
+    if not C > 0:
+        raise ValueError(f"{where}: C = {C:g} must be > 0 (log-log interpolation)")
+    if q_prev is not None and not q > q_prev:
+        what = "duplicates" if q == q_prev else "is below"
+        raise ValueError(
+            f"{where}: q = {q:g} {what} q = {q_prev:g} of line {line_prev}; q must be strictly "
+            "increasing"
         )
 
 

@@ -218,6 +218,10 @@ class VarSpec:
         Declared range of the values (in ``units``); written as the CF attributes
         ``valid_min`` / ``valid_max`` and checked by the pipeline before the variable enters a
         Dataset.
+    nan_meaning : str, optional
+        What a NaN value means for this variable (e.g. ``"sealed: no percolating channel"``).
+        Without it every value must be finite; with it NaN is allowed (never ``inf``) and the
+        meaning is written into the ``comment`` attribute. The pipeline enforces both.
     """
 
     dims: tuple[str, ...]
@@ -228,6 +232,7 @@ class VarSpec:
     extra: dict[str, str] = field(default_factory=dict)
     valid_min: float | None = None
     valid_max: float | None = None
+    nan_meaning: str | None = None
 
     def check(self, owner: str, name: str) -> None:
         """Raise :class:`SpecError` if this declaration is malformed."""
@@ -253,14 +258,21 @@ class VarSpec:
             raise SpecError(
                 f"{where}: valid_min {self.valid_min} exceeds valid_max {self.valid_max}"
             )
+        if self.nan_meaning is not None and (
+            not isinstance(self.nan_meaning, str) or not self.nan_meaning.strip()
+        ):
+            raise SpecError(f"{where}: nan_meaning must be a non-empty string or None")
 
     def attrs(self) -> dict[str, Any]:
         """CF attributes for a variable with this spec (``valid_min``/``valid_max`` as floats)."""
         out: dict[str, Any] = {"units": self.units, "long_name": self.long_name}
         if self.standard_name:
             out["standard_name"] = self.standard_name
-        if self.description:
-            out["comment"] = self.description
+        comment = self.description
+        if self.nan_meaning:
+            comment = f"{comment} NaN means: {self.nan_meaning}".strip()
+        if comment:
+            out["comment"] = comment
         # ACDD-1.3: every data variable says what it holds ("qualityInformation" for flags)
         out["coverage_content_type"] = (
             "qualityInformation" if "flag_meanings" in self.extra else "modelResult"

@@ -362,11 +362,12 @@ class Leakage(_Interface):
     }  # fmt: skip
     outputs: ClassVar = {
         "leak_zeta_c": VarSpec(
-            ("p0",), "1", "percolation magnification (NaN when sealed)", valid_min=1.0
+            ("p0",), "1", "percolation magnification (NaN when sealed)", valid_min=1.0,
+            nan_meaning="sealed: the contact area percolates before zeta_1 (no open channel)",
         ),
         "leak_u1": VarSpec(
             ("p0",), "m", "separation of the critical constriction (NaN when sealed)",
-            valid_min=0.0,
+            valid_min=0.0, nan_meaning="sealed: no critical constriction",
         ),
         "leak_flow_factor": VarSpec(
             ("p0",), "1", "critical-junction pressure flow factor u1^3 / u^3 (0 when sealed)",

@@ -1,0 +1,509 @@
+"""Checks of everything a plugin hands to the pipeline, and attribution of plugin exceptions.
+
+Every plugin contribution is checked before it enters a Dataset: declared name, dims and
+sizes, finite values (NaN only where the :class:`~xpersson.plugins.VarSpec` documents its
+meaning with ``nan_meaning``; ``inf`` never) and the declared ``valid_min`` / ``valid_max``.
+Coefficient arrays, walls and spectra are checked the same way. A violation, or an exception
+raised inside a plugin, becomes a :class:`PluginFailure` naming the plugin, its distribution,
+the call or variable and the offending values.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import math
+from collections.abc import Iterator, Mapping
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "PluginFailure",
+    "plugin_label",
+    "calling",
+    "check_array",
+    "check_spectrum",
+    "check_walls",
+    "checked_variable",
+    "guard_dataset",
+]
+
+#: Dimensions the core owns; any other Dataset dimension is a sweep (or plugin) dimension.
+CORE_DIMS = ("p0", "zeta", "p", "q_psd")
+_SHOW = 3  # offending values quoted in a message
+
+
+class PluginFailure(RuntimeError):
+    """A plugin raised, or returned output that violates its declaration.
+
+    When it wraps an exception raised inside a plugin, the instance is also an instance of
+    that exception's class (``except ValueError`` still catches a plugin's ``ValueError``),
+    with a message naming the plugin.
+
+    Attributes
+    ----------
+    plugin : str
+        Label of the plugin (group, registered name, distribution and version).
+    variable : str or None
+        The variable or call at fault.
+    """
+
+    def __init__(self, message: str, *, plugin: Any = "", variable: str | None = None) -> None:
+        super().__init__(message)
+        self.plugin = str(plugin)
+        self.variable = variable
+
+    def __reduce__(self) -> Any:  # picklable also in its per-cause subclasses (dask workers)
+        cause = next((b for b in type(self).__bases__ if b is not PluginFailure), None)
+        return (_rebuild, (cause, str(self), self.plugin, self.variable))
+
+
+_FAILURES: dict[type, type] = {}
+
+
+def _failure_class(cause: type | None) -> type:
+    """``PluginFailure`` that is also a ``cause`` (cached; plain PluginFailure if impossible)."""
+    if cause is None or cause is RuntimeError or issubclass(cause, PluginFailure):
+        return PluginFailure
+    if cause not in _FAILURES:
+        try:
+            _FAILURES[cause] = type(f"PluginFailure_{cause.__name__}", (PluginFailure, cause),
+                                    {"__module__": __name__})
+        except TypeError:  # incompatible layout
+            _FAILURES[cause] = PluginFailure
+    return _FAILURES[cause]
+
+
+def _rebuild(cause: type | None, message: str, plugin: str, variable: str | None) -> Any:
+    return _make_failure(cause, message, plugin, variable)
+
+
+def _make_failure(cause: type | None, message: str, plugin: Any, variable: str | None) -> Any:
+    try:
+        exc = _failure_class(cause)(message, plugin=plugin, variable=variable)
+        if str(exc) == message:
+            return exc
+    except Exception:  # a cause class with an unusual constructor
+        pass
+    return PluginFailure(message, plugin=plugin, variable=variable)
+
+
+_GROUP_WORD = {
+    "spectra": "spectrum",
+    "coefficients": "coefficient",
+    "boundaries": "boundary",
+    "analyses": "analysis",
+}
+
+
+class _Label:
+    """A plugin's label, looked up (registry, distribution metadata) only when printed."""
+
+    def __init__(self, group: str, plugin: Any, registry: Any, name: str | None) -> None:
+        self._args = (group, plugin, registry, name)
+        self._text: str | None = None
+
+    def __str__(self) -> str:
+        if self._text is None:
+            self._text = _label_text(*self._args)
+        return self._text
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self), spec)
+
+    def __repr__(self) -> str:
+        return repr(str(self))
+
+
+def plugin_label(group: str, plugin: Any, registry: Any = None, name: str | None = None) -> Any:
+    """``"boundary plugin 'plastic' (distribution xpersson-plasticity 0.1.0)"``, lazily.
+
+    Parameters
+    ----------
+    group : str
+        Plugin group (``"boundaries"``, ...; singular forms accepted).
+    plugin : object
+        The plugin instance or class.
+    registry : Registry, optional
+        Where to look up the registered name and distribution.
+    name : str, optional
+        The name the scene used (preferred over the registry's).
+
+    Returns
+    -------
+    object
+        Formats as the label text; the (slow) distribution lookup runs only when an error
+        message is built.
+    """
+    return _Label(group, plugin, registry, name)
+
+
+def _label_text(group: str, plugin: Any, registry: Any, name: str | None) -> str:
+    from .plugins._registry import DIRECT, get_registry, normalize_group
+
+    cls = plugin if isinstance(plugin, type) else type(plugin)
+    try:
+        group = normalize_group(group)
+        reg = registry if registry is not None else get_registry()
+        reg_name, info = reg.name_of(group, cls)
+        if info is not None and info.dist != DIRECT:
+            dist = f"{info.dist} {info.version}".strip()
+        else:
+            dist = _distribution_of(cls.__module__)
+    except Exception:  # a label must never fail
+        dist, reg_name = "unknown", f"{cls.__module__}:{cls.__qualname__}"
+    word = _GROUP_WORD.get(group, group)
+    return f"{word} plugin {name or reg_name!r} (distribution {dist})"
+
+
+@functools.lru_cache(maxsize=1)
+def _packages() -> Mapping[str, list[str]]:
+    from importlib.metadata import packages_distributions
+
+    return packages_distributions()
+
+
+def _distribution_of(module: str) -> str:
+    """Distribution and version of a class passed directly (not registered by entry point)."""
+    from importlib.metadata import version
+
+    try:
+        dists = _packages().get(module.partition(".")[0], [])
+        if dists:
+            return f"{dists[0]} {version(dists[0])}"
+    except Exception:
+        pass
+    return f"none: class {module} passed directly"
+
+
+@contextlib.contextmanager
+def calling(
+    who: object, what: str, passthrough: tuple[type[BaseException], ...] = ()
+) -> Iterator[None]:
+    """Re-raise any exception of a plugin call as :class:`PluginFailure` naming the plugin.
+
+    Parameters
+    ----------
+    who : str
+        :func:`plugin_label` of the plugin.
+    what : str
+        The call, e.g. ``"f(zeta)"``.
+    passthrough : tuple of exception types
+        Exceptions the caller handles itself (re-raised unchanged).
+    """
+    try:
+        yield
+    except (PluginFailure, MemoryError, *passthrough):
+        raise
+    except Exception as exc:
+        raise _make_failure(
+            type(exc), f"{who}: {what} raised {type(exc).__name__}: {exc}", who, what
+        ) from exc
+
+
+# -- plain arrays (coefficient, walls) -----------------------------------------------------------
+def check_array(
+    value: Any,
+    who: object,
+    what: str,
+    shape: tuple[int, ...],
+    *,
+    nonnegative: bool = False,
+    nondecreasing_axis: int | None = None,
+    unit: str = "",
+) -> np.ndarray:
+    """Return ``value`` as a float array of ``shape`` after checking it.
+
+    Raises
+    ------
+    PluginFailure
+        Wrong shape, non-numeric, non-finite, negative (with ``nonnegative``) or decreasing
+        along ``nondecreasing_axis``; the message quotes the offending values.
+    """
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise PluginFailure(f"{who}: {what} returned a non-numeric value ({exc})",
+                            plugin=who, variable=what) from None
+    if arr.shape != shape:
+        if arr.size == math.prod(shape) and arr.ndim <= len(shape) and arr.ndim >= 1 and (
+            arr.shape == shape[len(shape) - arr.ndim:]
+        ):
+            arr = arr.reshape(shape)
+        else:
+            raise PluginFailure(
+                f"{who}: {what} returned shape {arr.shape}, expected {shape}",
+                plugin=who, variable=what,
+            )
+    u = f" {unit}" if unit else ""
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        raise PluginFailure(
+            f"{who}: {what} returned {int(bad.sum())} non-finite value(s): "
+            f"{_quote(arr, bad, u)}", plugin=who, variable=what,
+        )
+    if nonnegative and np.any(arr < 0):
+        raise PluginFailure(
+            f"{who}: {what} returned {int((arr < 0).sum())} negative value(s) (must be >= 0): "
+            f"{_quote(arr, arr < 0, u)}", plugin=who, variable=what,
+        )
+    if nondecreasing_axis is not None and arr.shape[nondecreasing_axis] > 1:
+        d = np.diff(arr, axis=nondecreasing_axis)
+        scale = np.max(np.abs(arr), axis=nondecreasing_axis, keepdims=True)
+        down = d < -1e-12 * scale
+        if down.any():
+            raise PluginFailure(
+                f"{who}: {what} decreases (must be non-decreasing in zeta) at "
+                f"{int(down.sum())} step(s)", plugin=who, variable=what,
+            )
+    return arr
+
+
+def _quote(arr: np.ndarray, mask: np.ndarray, unit: str = "", coords: Any = None) -> str:
+    idx = np.argwhere(mask)[:_SHOW]
+    parts = []
+    for i in idx:
+        where = _where(tuple(int(k) for k in i), coords)
+        v = arr[tuple(i)]
+        text = f"{float(v):.6g}" if np.isrealobj(v) else repr(v)
+        parts.append(f"{text}{unit} at {where}")
+    more = int(mask.sum()) - len(parts)
+    return "; ".join(parts) + (f"; ... ({more} more)" if more > 0 else "")
+
+
+def _where(index: tuple[int, ...], coords: Any) -> str:
+    if coords is None:
+        return f"index {index if len(index) != 1 else index[0]}"
+    out = []
+    for dim, k in zip(coords["dims"], index, strict=False):
+        values = coords["values"].get(dim)
+        if values is not None and k < len(values):
+            out.append(f"{dim}={values[k]:.6g}")
+        else:
+            out.append(f"{dim}[{k}]")
+    return ", ".join(out) or "the scalar"
+
+
+# -- spectra -------------------------------------------------------------------------------------
+def check_spectrum(psd: Any, who: object) -> None:
+    """Check the numerical spectrum a spectrum plugin built (cut-offs, nodes, C >= 0, finite).
+
+    Raises
+    ------
+    PluginFailure
+        Naming the plugin and the attribute at fault.
+    """
+    with calling(who, "the built spectrum's q_L / q_1"):
+        q_L, q_1 = float(psd.q_L), float(psd.q_1)
+    if not (math.isfinite(q_L) and math.isfinite(q_1) and 0 < q_L < q_1):
+        raise PluginFailure(
+            f"{who}: the spectrum's cut-offs must satisfy 0 < q_L < q_1 (finite, 1/m); got "
+            f"q_L={q_L!r} 1/m, q_1={q_1!r} 1/m", plugin=who, variable="q_L, q_1",
+        )
+    with calling(who, "nodes()"):
+        nodes = np.asarray(psd.nodes(), dtype=float)
+    if nodes.ndim != 1 or nodes.size < 2:
+        raise PluginFailure(f"{who}: nodes() returned shape {nodes.shape}; expected 1-D with >= "
+                            f"2 wavevectors", plugin=who, variable="nodes")
+    check_array(nodes, who, "nodes()", nodes.shape, nonnegative=True, nondecreasing_axis=0,
+                unit="1/m")
+    with calling(who, "C(q)"):
+        c = psd.C(nodes)
+    check_array(c, who, "C(q) at the spectrum's nodes", nodes.shape, nonnegative=True,
+                unit="m4")
+    for what, unit in (("h_rms", "m"), ("rms_slope", "1")):
+        with calling(who, f"{what}()"):
+            value = getattr(psd, what)()
+        check_array(value, who, f"{what}()", (), nonnegative=True, unit=unit)
+
+
+# -- walls ---------------------------------------------------------------------------------------
+def check_walls(walls: Any, p0: float, who: object) -> tuple[Any, Any]:
+    """Check a boundary's ``walls()`` return value: ``(Wall, Wall or None)``, p0 inside.
+
+    Raises
+    ------
+    PluginFailure
+        Wrong types, or a wall that does not leave the load ``p0`` [Pa] strictly inside at
+        ``tau = 0``.
+    """
+    from .engine import Wall
+
+    if not isinstance(walls, tuple | list) or len(walls) != 2:
+        raise PluginFailure(f"{who}: walls() must return (lower Wall, upper Wall or None); got "
+                            f"{type(walls).__name__}", plugin=who, variable="walls")
+    lower, upper = walls
+    if not isinstance(lower, Wall) or not (upper is None or isinstance(upper, Wall)):
+        raise PluginFailure(
+            f"{who}: walls() must return (Wall, Wall or None); got ({type(lower).__name__}, "
+            f"{type(upper).__name__})", plugin=who, variable="walls",
+        )
+    for side, wall in (("lower", lower), ("upper", upper)):
+        if wall is None:
+            continue
+        with calling(who, f"the {side} wall's position at tau = 0"):
+            pos = float(np.asarray(wall.at(np.zeros(1)), float)[0])
+        if not math.isfinite(pos):
+            raise PluginFailure(f"{who}: the {side} wall is at {pos!r} Pa at tau = 0 (must be "
+                                f"finite)", plugin=who, variable=f"walls.{side}")
+        if (side == "lower" and not pos < p0) or (side == "upper" and not pos > p0):
+            rel = "below" if side == "lower" else "above"
+            raise PluginFailure(
+                f"{who}: the {side} wall starts at {pos:g} Pa, not strictly {rel} the load "
+                f"p0 = {p0:g} Pa", plugin=who, variable=f"walls.{side}",
+            )
+    return lower, upper
+
+
+# -- Dataset contributions -----------------------------------------------------------------------
+def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> Any:
+    """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray.
+
+    Checks, against the :class:`~xpersson.plugins.VarSpec`: dims (the declared ones, plus
+    only sweep dimensions of ``ds``), sizes (those of ``ds`` for shared dims), a numeric or
+    boolean dtype, finiteness (NaN only with ``nan_meaning``; never inf) and
+    ``valid_min`` / ``valid_max``.
+
+    Raises
+    ------
+    PluginFailure
+        Naming the plugin, the variable and the offending values.
+    """
+    import xarray as xr
+
+    var = f"{who}: variable {name!r}"
+    try:
+        if isinstance(value, xr.DataArray):
+            da = value.copy()
+            da.attrs = {}
+            da = da.reset_coords(drop=True) if da.coords else da
+        else:
+            dims, arr = value
+            if isinstance(dims, str):
+                dims = (dims,)
+            da = xr.DataArray(np.asarray(arr), dims=tuple(dims))
+    except Exception as exc:
+        raise PluginFailure(
+            f"{var}: expected a DataArray or a (dims, data) pair with matching dims ({exc})",
+            plugin=who, variable=name,
+        ) from None
+    declared = tuple(spec.dims)
+    have = tuple(str(d) for d in da.dims)
+    sweep = {d for d in ds.dims if d not in CORE_DIMS and d not in declared}
+    missing = [d for d in declared if d not in have and not (d == "p0" and "p0" not in ds.dims)]
+    extra = [d for d in have if d not in declared and d not in sweep]
+    if missing or extra:
+        raise PluginFailure(
+            f"{var} has dims {have}; declared {declared}"
+            + (f" (missing {missing})" if missing else "")
+            + (f" (undeclared {extra})" if extra else ""),
+            plugin=who, variable=name,
+        )
+    wrong = [(d, da.sizes[d], ds.sizes[d]) for d in have if d in ds.dims
+             and da.sizes[d] != ds.sizes[d]]
+    if wrong:
+        d, got, want = wrong[0]
+        raise PluginFailure(
+            f"{var} has {got} entries along {d!r}; the Dataset has {want} (shape {da.shape} for "
+            f"dims {have})", plugin=who, variable=name,
+        )
+    order = [d for d in have if d not in declared] + [d for d in declared if d in have]
+    if tuple(order) != have:
+        da = da.transpose(*order)
+    _check_values(da, ds, name, spec, var, who)
+    return da
+
+
+def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object) -> None:
+    arr = np.asarray(da.values)
+    kind = arr.dtype.kind
+    if kind in "b":
+        return
+    if kind in "OUS":
+        if spec.valid_min is not None or spec.valid_max is not None or spec.units != "1":
+            raise PluginFailure(f"{var} has non-numeric dtype {arr.dtype}; expected numbers in "
+                                f"{spec.units}", plugin=who, variable=name)
+        return
+    if kind not in "iufc":
+        raise PluginFailure(f"{var} has unsupported dtype {arr.dtype}", plugin=who, variable=name)
+    coords = {"dims": tuple(da.dims), "values": {
+        d: np.asarray(ds[d].values) for d in da.dims if d in ds.coords and ds[d].ndim == 1
+    }}
+    unit = "" if spec.units in ("1", "") else f" {spec.units}"
+    if kind == "c":
+        raise PluginFailure(f"{var} is complex; expected real values", plugin=who, variable=name)
+    if kind == "f":
+        inf = np.isinf(arr)
+        nan = np.isnan(arr)
+        bad = inf | (nan if spec.nan_meaning is None else np.zeros_like(nan))
+        if bad.any():
+            why = "" if spec.nan_meaning is None else " (NaN is allowed, inf is not)"
+            raise PluginFailure(
+                f"{var} has {int(bad.sum())} non-finite value(s){why}: "
+                f"{_quote(arr, bad, unit, coords)}", plugin=who, variable=name,
+            )
+    finite = np.isfinite(arr) if kind == "f" else np.ones(arr.shape, bool)
+    for bound, op, word in ((spec.valid_min, np.less, "below valid_min"),
+                            (spec.valid_max, np.greater, "above valid_max")):
+        if bound is None:
+            continue
+        out = finite & op(arr, bound)
+        if out.any():
+            raise PluginFailure(
+                f"{var} has {int(out.sum())} value(s) {word} = {bound:g}{unit}: "
+                f"{_quote(arr, out, unit, coords)}", plugin=who, variable=name,
+            )
+
+
+@contextlib.contextmanager
+def guard_dataset(ds: Any, who: object) -> Iterator[Any]:
+    """Hand an analysis a protected view of ``ds``; catch it clobbering existing variables.
+
+    The view is a shallow copy whose numpy buffers are read-only for the duration of the
+    call, so an in-place write raises inside the plugin (and is attributed to it); replacing
+    or deleting a variable of the view is reported as a :class:`PluginFailure`.
+    """
+    view = ds.copy(deep=False)
+    frozen = []
+    for v in view.variables.values():
+        data = v.data
+        if isinstance(data, np.ndarray) and data.flags.writeable:
+            data.flags.writeable = False
+            frozen.append(data)
+    try:
+        yield view
+        for vname, v in ds.variables.items():
+            if vname in ds.indexes:
+                same = vname in view.variables and view.variables[vname].equals(v)
+            else:
+                same = vname in view.variables and view.variables[vname].data is v.data
+            if not same:
+                raise PluginFailure(
+                    f"{who} replaced or removed the Dataset variable {vname!r}; analyses must "
+                    f"return new variables, never modify existing ones", plugin=who,
+                    variable=vname,
+                )
+    finally:
+        for data in frozen:
+            data.flags.writeable = True
+
+
+def check_contributions(
+    ds: Any, values: Any, specs: Mapping[str, Any], who: object
+) -> dict[str, Any]:
+    """Check a plugin's returned mapping ``{name: value}``; return ``{name: DataArray}``."""
+    if not isinstance(values, Mapping):
+        raise PluginFailure(f"{who} returned {type(values).__name__}; expected a mapping "
+                            f"name -> DataArray or (dims, data)", plugin=who)
+    out = {}
+    for name, value in values.items():
+        if name not in specs:
+            raise PluginFailure(f"{who} returned {name!r} without declaring it in its outputs "
+                                f"(declared: {sorted(specs)})", plugin=who, variable=str(name))
+        if name in ds.variables:
+            raise PluginFailure(f"{who} returned {name!r}, which the Dataset already has (a "
+                                f"core or another plugin's variable); choose another name",
+                                plugin=who, variable=name)
+        out[name] = checked_variable(ds, name, value, specs[name], who)
+    return out
