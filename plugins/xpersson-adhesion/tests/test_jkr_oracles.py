@@ -158,7 +158,7 @@ def test_gamma_eff_zero_crossing_meets_rtol(solve):
     sqrt(zeta - zeta_c). The wall declares that diffusion time as a breakpoint and the engine
     grades its steps there: rtol 1e-6 is met (status success, was max_steps at 3.3e-3), the load
     identity holds within 10 rtol and a coarser solve agrees within its own tolerance."""
-    base = with_(PDMS, load={"p0": ["1 kPa"]},
+    base = with_(PDMS, load={"p0": ["1 kPa", "10 kPa", "100 kPa"]},
                  boundary={"model": "jkr", "work_of_adhesion": "1e-2 J/m**2"})
     ds = solve(with_(base, solver={"rtol": 1e-6}))
     assert ds.attrs["status"] == "success"

@@ -64,7 +64,8 @@ class _Plan:
     k: float
     yield_wall: bool
     zones: tuple[tuple[float, float], ...] = ()  # graded stretches (tau_b, tau_end) after
-    # declared wall breakpoints: steps uniform in (tau - tau_b)^(1/4), implicit first step
+    # declared wall breakpoints: steps uniform in (tau - tau_b)^(1/4), implicit first step;
+    # chord mesh speeds from the first breakpoint on
 
 
 def _start_time(pb: Problem, k: float) -> float:
@@ -199,12 +200,13 @@ def _edges(pb: Problem, plan: _Plan, taus: Array) -> dict:
         out["lv" + tag] = np.where(rl, lo_v, -k * ds)
         out["wv" + tag] = np.where(ru, up_v, k * ds) - out["lv" + tag]
         out["ys" + tag] = np.where(ru, pb.upper.speed(t), 0.0) if plan.yield_wall else 0.0 * t
-    # in the graded stretches after breakpoints the mesh moves with the chord speeds of the
-    # step (the exact displacement: the wall may move like sqrt(tau - tau_b), whose point
-    # speeds are unbounded and would make the scheme first order there)
+    # from the first breakpoint on, the mesh moves with the chord speeds of each step (the
+    # exact displacement of the edges: the wall may move like sqrt(tau - tau_b), whose point
+    # speeds are unbounded and made the scheme first order; after the graded stretch the chord
+    # speeds also keep the Richardson control's error expansion clean)
     chord = np.zeros(mid.shape, bool)
-    for tb, te in plan.zones:
-        chord |= (taus[:-1] >= tb) & (taus[1:] <= te)
+    if plan.zones:
+        chord |= taus[:-1] >= plan.zones[0][0]
     if chord.any():
         dt = np.diff(taus)
         lvc = (out["lb"] - out["la"]) / dt

@@ -37,9 +37,9 @@ class Wall:
     breakpoints : tuple of float
         Diffusion times [Pa^2] where the motion is not smooth: the wall starts moving, has a
         kink, or leaves a position with a square-root onset ``p ~ sqrt(tau - tau_b)``
-        (unbounded speed).  Optional; the ``cn`` path makes them step boundaries, takes the
-        wall's one-sided speeds there, and grades its steps after each one (uniform in
-        ``sqrt(tau - tau_b)``), which keeps it second order across such points.
+        (unbounded speed).  Optional; the ``cn`` path makes them step boundaries, grades its
+        steps after each one (uniform in ``(tau - tau_b)^(1/4)``) and moves its mesh with the
+        steps' chord speeds from the first one on, which keeps it second order across them.
     """
 
     kind: Literal["absorbing", "yield_closure", "reflecting"]
