@@ -510,3 +510,56 @@ def check_contributions(
                                 plugin=who, variable=name)
         out[name] = checked_variable(ds, name, value, specs[name], who)
     return out
+
+
+# -- the engine's own outputs --------------------------------------------------------------------
+#: admissible ranges of the core variables the engine fills (name -> (valid_min, valid_max))
+CORE_RANGES: dict[str, tuple[float | None, float | None]] = {
+    "area_fraction": (0.0, 1.0),
+    "non_contact_fraction": (0.0, 1.0),
+    "error_estimate": (0.0, None),
+    "P": (0.0, None),
+}
+
+
+def check_core(ds: Any, who: object = "engine") -> dict[int, str]:
+    """Check the engine's core outputs in ``ds`` (dims ``p0``, ...) per load.
+
+    Same checks as for plugin outputs (:func:`_check_values`: finite, ``valid_min`` /
+    ``valid_max``) against :data:`CORE_RANGES`. A load that fails gets ``solver_status``
+    ``balance_violated`` (unless already not ``success``); the values are left as they are.
+
+    Returns
+    -------
+    dict
+        Load index -> message, for each failing load (empty when every load passes).
+    """
+    import dataclasses
+
+    from .schema import CORE_VARIABLES
+
+    def clean(name: str, lo: float | None, hi: float | None) -> bool:
+        arr = np.asarray(ds[name].values)
+        with np.errstate(invalid="ignore"):
+            return bool(np.isfinite(arr).all() and (lo is None or arr.min(initial=lo) >= lo)
+                        and (hi is None or arr.max(initial=hi) <= hi))
+
+    names = [n for n in CORE_RANGES if n in ds.variables]
+    if all(clean(n, *CORE_RANGES[n]) for n in names):  # one pass over the arrays: the rule
+        return {}
+    messages: dict[int, str] = {}
+    status = ds["solver_status"].values.copy()
+    for i in range(ds.sizes["p0"]):
+        for name in names:
+            lo, hi = CORE_RANGES[name]
+            spec = dataclasses.replace(CORE_VARIABLES[name], valid_min=lo, valid_max=hi)
+            da = ds[name].isel(p0=i)
+            try:
+                _check_values(da, ds, name, spec, f"{who}: variable {name!r}", who)
+            except PluginFailure as exc:
+                messages[i] = f"core output check failed: {exc}"
+                if status[i] == "success":
+                    status[i] = "balance_violated"
+                break
+    ds["solver_status"].values = status
+    return messages

@@ -166,6 +166,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
                                  method=rs.method, p_out=p_grid,
                                  options=rs.solver_options or None)
     ds = _assemble(rs, ctx, results, tau_c, f_z, None if tau_shared else tau_eff, p_grid)
+    core = _checks.check_core(ds)  # the engine's outputs, like every plugin's (load -> message)
     with _checks.calling(who["coefficient"], "interpret()"):
         coef_out = coef.interpret(ctx)
     _add(ds, coef_out, type(coef).outputs, who["coefficient"])
@@ -184,7 +185,7 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         if missing:
             raise _checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
         _add(ds, out, type(analysis).outputs, label)
-    _attributes(ds, rs, reg, results, _diagnostics_notes(ds))
+    _attributes(ds, rs, reg, results, _diagnostics_notes(ds), core)
     if rs.p0_scalar:
         ds = _squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
     return ds
@@ -556,13 +557,18 @@ def _diagnostics_notes(ds: xr.Dataset) -> list[str]:
 
 
 def _attributes(
-    ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: Any, notes: list[str]
+    ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: Any, notes: list[str],
+    core: Mapping[int, str] | None = None,
 ) -> None:
-    success = np.asarray(results.success, dtype=bool)
-    bad = [(float(rs.p0[i]), results[int(i)]) for i in np.flatnonzero(~success)[:5]]
-    status = "success" if not bad else bad[0][1].status
+    core = core or {}
+    status_of = ds["solver_status"].values  # the engine's, or the core output check's verdict
+    success = np.asarray(results.success, dtype=bool) & (status_of == "success")
+    bad = [(float(rs.p0[i]), str(status_of[i]), results[int(i)].message
+            if not results[int(i)].success else core.get(int(i), ""))
+           for i in np.flatnonzero(~success)[:5]]
+    status = "success" if not bad else bad[0][1]
     message = "all loads met the requested tolerance" if not bad else "; ".join(
-        f"p0 = {p:g} Pa: {r.status}: {r.message}" for p, r in bad
+        f"p0 = {p:g} Pa: {s}: {m}" for p, s, m in bad
     )
     if notes:
         message = "; ".join([message, *notes])

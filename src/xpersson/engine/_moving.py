@@ -64,6 +64,9 @@ class _Plan:
     tau_s: float
     k: float
     yield_wall: bool
+    zones: tuple[tuple[float, float], ...] = ()  # graded stretches (tau_b, tau_end) after
+    # declared wall breakpoints: steps uniform in (tau - tau_b)^(1/4), implicit first step;
+    # chord mesh speeds from the first breakpoint on
 
 
 def _start_time(pb: Problem, k: float) -> float:
@@ -109,29 +112,62 @@ def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float
     return out
 
 
-def _level_times(base: Array, nsub: int, n_ie: int) -> tuple[Array, Array]:
-    """Nested refinement of ``base`` plus Rannacher halves; returns (times, theta per step)."""
+def _level_times(base: Array, nsub: int, n_ie: int,
+                 zones: tuple[tuple[float, float], ...] = ()) -> tuple[Array, Array]:
+    """Nested refinement of ``base`` plus Rannacher halves; returns (times, theta per step).
+
+    Inside a graded zone ``(tau_b, tau_e)`` the steps are subdivided uniformly in
+    ``(tau - tau_b)^(1/4)`` and the step starting at ``tau_b`` is implicit Euler (the wall's
+    speed may be unbounded there).
+    """
     d = np.diff(base)
     frac = np.arange(nsub) / nsub
-    t = np.append((base[:-1, None] + d[:, None] * frac[None, :]).ravel(), base[-1])
+    a = base[:-1]
+    sub = a[:, None] + d[:, None] * frac[None, :]
+    for tb, te in zones:
+        m = (a >= tb) & (base[1:] <= te)
+        if m.any() and nsub > 1:
+            ua, ub = (a[m] - tb) ** (1 / _GRADE), (base[1:][m] - tb) ** (1 / _GRADE)
+            sub[m] = tb + (ua[:, None] + (ub - ua)[:, None] * frac[None, :]) ** _GRADE
+            sub[m, 0] = a[m]
+    t = np.append(sub.ravel(), base[-1])
     n_ie = min(n_ie, t.size - 1)
     if n_ie > 0:
         mids = 0.5 * (t[:n_ie] + t[1 : n_ie + 1])
         t = np.sort(np.concatenate([t, mids]))
     theta = np.full(t.size - 1, 0.5)
     theta[: 2 * n_ie] = 1.0
+    if zones:
+        theta[np.isin(t[:-1], [tb for tb, _ in zones])] = 1.0
     return t, theta
 
 
-def _wall_speed(wall, tau: Array) -> Array:
-    """dp_w/dtau [1/Pa] of a wall at ``tau`` (declared, or by central differences)."""
+def _wall_speed(wall, tau: Array, side: int = 0) -> Array:
+    """dp_w/dtau [1/Pa] of a wall at ``tau`` (declared, or by central differences).
+
+    At the wall's declared breakpoints the difference is one-sided: ``side = -1`` the speed
+    just before (end of a step), ``+1`` just after (start of a step).
+    """
     if wall is None or wall.is_fixed:
         return np.zeros_like(tau)
     if wall.dposition is not None:
         return wall.speed(tau)
     if wall.motion is not None:
         return np.full_like(tau, wall.motion[1])
-    hi, lo = tau * (1 + 1e-5), tau * (1 - 1e-5)
+    h = 1e-5 * tau
+    bp = getattr(wall, "breakpoints", ())
+    if bp:
+        # never difference across a breakpoint: the step shrinks with the distance to it
+        b = np.asarray(bp)
+        dist = np.min(np.abs(tau[..., None] - b), axis=-1)
+        h = np.where(dist > 0, np.minimum(h, 1e-3 * dist), h)
+    hi, lo = tau + h, tau - h
+    if side and bp:
+        at_bp = np.isin(tau, bp)
+        if side < 0:
+            hi = np.where(at_bp, tau, hi)
+        else:
+            lo = np.where(at_bp, tau, lo)
     return (wall.at(hi) - wall.at(lo)) / (hi - lo)
 
 
@@ -155,8 +191,9 @@ def _edges(pb: Problem, plan: _Plan, taus: Array) -> dict:
         s = np.sqrt(2.0 * t)
         ds = 1.0 / s
         lo, up = pb.wall_positions(t)
-        lo_v = _wall_speed(pb.lower, t)
-        up_v = _wall_speed(pb.upper, t) if pb.upper is not None else np.zeros_like(t)
+        side = 1 if tag == "a" else -1
+        lo_v = _wall_speed(pb.lower, t, side)
+        up_v = _wall_speed(pb.upper, t, side) if pb.upper is not None else np.zeros_like(t)
         le = np.where(rl, lo, p0 - k * s)
         ue = np.where(ru, up, p0 + k * s)
         out["l" + tag] = le
@@ -164,6 +201,21 @@ def _edges(pb: Problem, plan: _Plan, taus: Array) -> dict:
         out["lv" + tag] = np.where(rl, lo_v, -k * ds)
         out["wv" + tag] = np.where(ru, up_v, k * ds) - out["lv" + tag]
         out["ys" + tag] = np.where(ru, pb.upper.speed(t), 0.0) if plan.yield_wall else 0.0 * t
+    # from the first breakpoint on, the mesh moves with the chord speeds of each step (the
+    # exact displacement of the edges: the wall may move like sqrt(tau - tau_b), whose point
+    # speeds are unbounded and made the scheme first order; after the graded stretch the chord
+    # speeds also keep the Richardson control's error expansion clean)
+    chord = np.zeros(mid.shape, bool)
+    if plan.zones:
+        chord |= taus[:-1] >= plan.zones[0][0]
+    if chord.any():
+        dt = np.diff(taus)
+        lvc = (out["lb"] - out["la"]) / dt
+        wvc = (out["wb"] - out["wa"]) / dt
+        for tag in ("a", "b"):
+            out["lv" + tag] = np.where(chord, lvc, out["lv" + tag])
+            out["wv" + tag] = np.where(chord, wvc, out["wv" + tag])
+    out["chord"] = chord
     return out
 
 
@@ -188,7 +240,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
 
     Returns per-load outputs ``(n_load, n_out)`` at the numerical output times.
     """
-    taus, theta = _level_times(plan.base, nsub, n_ie)
+    taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones)
     pb0 = pbs[0]
     nb = len(pbs)
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
@@ -267,7 +319,9 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
         wn, wo = th * step, (1.0 - th) * step
         rl, ru = ed["rl"][:, m], ed["ru"][:, m]
         key = rl.tobytes() + ru.tobytes()
-        if f_new is not None and key == prev_key:
+        if ed["chord"][0, m] or (m > 0 and ed["chord"][0, m - 1]):
+            key = None  # chord speeds differ between neighbouring steps
+        if f_new is not None and key is not None and key == prev_key:
             f_old = f_new  # the end of the previous step, same regime
         else:
             f_old = flux(r, *coef("a", m))
@@ -453,7 +507,10 @@ class CNMethod(EngineMethod):
             except FloatingPointError as exc:
                 status, message = "tolerance_not_met", f"numerical failure: {exc}"
             if best is None and cache:  # budget spent: the finest pair computed, flagged
-                (nbf, mf) = max(cache, key=lambda c: c[0] * c[1])
+                # (a finer level whose partner was never reached has no error estimate: the
+                # finest level *with* a coarser partner is used instead)
+                paired = [c for c in cache if any(o[0] == c[0] and o[1] < c[1] for o in cache)]
+                (nbf, mf) = max(paired or cache, key=lambda c: c[0] * c[1])
                 pair = [c for c in cache if c[0] == nbf and c[1] < mf]
                 fine = cache[(nbf, mf)]
                 if pair:
@@ -463,6 +520,9 @@ class CNMethod(EngineMethod):
                 else:
                     best = _combine(fine, fine, False)
                 n_used = nbf * mf
+            # a probability projected onto [0, 1] is off by at most 1: no estimate (a single
+            # level) is reported as 1, never as inf
+            err = np.minimum(err, 1.0)
             if best is None:
                 return self._failed(nb, status, message or "no level completed", nsteps)
             # round-off of the sums over the grid (the level difference cannot see it)
@@ -485,19 +545,20 @@ class CNMethod(EngineMethod):
         trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
         e_all[:, analytic & (tau > 0)] = trunc
         if best is not None and num.any():
-            # probabilities below zero by less than their error estimate (round-off of a
-            # vanishing fraction, e.g. plastic area given back to a rising wall) are zero;
-            # anything more negative is reported, not hidden
-            bound = err + trunc + 1e-15
-            for key in ("area", "abs_l", "abs_u"):
-                if np.any(best[key] < -bound) and status == "success":
+            # the probabilities are projected onto their admissible set (area, absorbed >= 0,
+            # area <= 1, absorbed_lower + absorbed_upper <= 1); the distance moved is a lower
+            # bound of the error, so the estimate is raised to it, and a distance beyond the
+            # estimate (round-off of the step sums included) is reported, not hidden
+            proj, dist = _project(best["area"], best["abs_l"], best["abs_u"])
+            roundoff = 16.0 * np.finfo(float).eps * (nsteps + math.sqrt(max(n_used, 1)))
+            bound = err + trunc + roundoff
+            for key, d in dist.items():
+                if np.any(d > bound) and status == "success":
                     status = "tolerance_not_met"
-                    message = f"negative {key} beyond its error estimate"
-            area[:, num] = np.where(best["area"] < 0, 0.0, best["area"])
-            ab_l[:, num] = np.where(np.abs(best["abs_l"]) <= bound, np.maximum(
-                best["abs_l"], 0.0), best["abs_l"])
-            ab_u[:, num] = np.where(np.abs(best["abs_u"]) <= bound, np.maximum(
-                best["abs_u"], 0.0), best["abs_u"])
+                    message = (f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its "
+                               "error estimate")
+            err = np.maximum(err, dist["area"])
+            area[:, num], ab_l[:, num], ab_u[:, num] = proj
             load[:, num] = best["load"]
             wall_term[:, num] = best["mom_l"] + best["mom_u"]
             e_all[:, num] = err + trunc
@@ -537,6 +598,31 @@ class CNMethod(EngineMethod):
 
 
 _REPORT_EVERY = 64  # time steps between progress reports (see _progress)
+
+
+def _project(area: Array, abs_l: Array, abs_u: Array) -> tuple[tuple[Array, Array, Array],
+                                                                 dict[str, Array]]:
+    """Nearest admissible probabilities and the distance each moved.
+
+    ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
+    non-contact fraction) exceeds 1, scaled down to sum to 1.
+    """
+    a = np.clip(area, 0.0, 1.0)
+    lo = np.maximum(abs_l, 0.0)
+    up = np.maximum(abs_u, 0.0)
+    total = lo + up
+    over = total > 1.0
+    scale = np.where(over, 1.0 / np.where(over, total, 1.0), 1.0)
+    lo = np.minimum(lo * scale, 1.0)
+    up = np.where(over, np.minimum(up * scale, 1.0 - lo), up)
+    up = np.where(lo + up > 1.0, np.nextafter(up, 0.0), up)  # the sum's round-off
+    dist = {"area": np.abs(a - area), "absorbed_lower": np.abs(lo - abs_l),
+            "absorbed_upper": np.abs(up - abs_u),
+            "non_contact_fraction": np.abs(lo + up - (abs_l + abs_u))}
+    return (a, lo, up), dist
+
+
+_GRADE = 4.0  # steps uniform in (tau - tau_b)^(1/_GRADE) after a wall breakpoint
 R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else Richardson)
 
 
@@ -576,15 +662,42 @@ def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float) -
     n_geo = max(1, int(math.ceil(decades * per_decade)))
     geo = tau_s * np.logspace(0.0, decades, n_geo + 1)
     kinks = [t for p in pbs for t in _switch_times(p, k, tau_s, float(outs[-1]))]
-    fixed = np.union1d(outs, kinks)
     ratio = 10 ** (1.0 / per_decade) - 1.0
+    zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
+    fixed = np.union1d(np.union1d(outs, kinks), graded)
     keep = np.ones(geo.size, bool)
     for t in fixed:
         keep &= np.abs(geo - t) > 0.3 * ratio * t
+    for tb, te in zones:
+        keep &= (geo <= tb) | (geo >= te)
     keep[0] = True
     base = np.union1d(geo[keep & (geo < outs[-1])], fixed)
     base = base[base >= tau_s]
-    return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall)
+    return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall, zones)
+
+
+def _graded_zones(pbs: list[Problem], tau_s: float, tau_end: float,
+                  ratio: float) -> tuple[tuple[tuple[float, float], ...], Array]:
+    """Graded stretches after the walls' declared breakpoints, and their step times.
+
+    After a breakpoint ``tau_b`` the wall may move like ``sqrt(tau - tau_b)`` (unbounded speed):
+    on ``[tau_b, tau_b + H]``, ``H = min(tau_b, tau_end - tau_b)``, the steps are uniform in
+    ``u = (tau - tau_b)^(1/4)`` (in ``s = u^2`` the motion is smooth; the quartic grading also
+    removes the ``ds^2 log`` term that uniform steps in ``s`` leave, so that the error has a
+    clean second-order expansion for the Richardson control); at its end they match the
+    geometric steps ``~ ratio tau``.
+    """
+    bps = sorted({float(t) for p in pbs for w in (p.lower, p.upper) if w is not None
+                  for t in getattr(w, "breakpoints", ()) if tau_s < t < tau_end})
+    zones: list[tuple[float, float]] = []
+    pts: list[Array] = []
+    for i, tb in enumerate(bps):
+        nxt = bps[i + 1] if i + 1 < len(bps) else tau_end
+        h = min(tb, nxt - tb)
+        n_g = max(2, int(math.ceil(_GRADE * (h / tb) ** (1 / _GRADE) / ratio)))
+        pts.append(tb + h * (np.arange(n_g + 1) / n_g) ** _GRADE)
+        zones.append((tb, tb + h))
+    return tuple(zones), (np.concatenate(pts) if pts else np.zeros(0))
 
 
 def _unbatch(raw: Raw) -> Raw:

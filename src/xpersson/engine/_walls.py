@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
@@ -34,16 +34,23 @@ class Wall:
     motion : tuple of float or None
         ``(p_start, velocity)`` [Pa, 1/Pa] when the motion is known to be
         ``p = p_start + velocity * tau`` (enables the exact path of physics.md §2.2).
+    breakpoints : tuple of float
+        Diffusion times [Pa^2] where the motion is not smooth: the wall starts moving, has a
+        kink, or leaves a position with a square-root onset ``p ~ sqrt(tau - tau_b)``
+        (unbounded speed).  Optional; the ``cn`` path makes them step boundaries, grades its
+        steps after each one (uniform in ``(tau - tau_b)^(1/4)``) and moves its mesh with the
+        steps' chord speeds from the first one on, which keeps it second order across them.
     """
 
     kind: Literal["absorbing", "yield_closure", "reflecting"]
     position: PositionLike
     dposition: Callable[[NDArray[np.float64]], ArrayLike] | None = None
     motion: tuple[float, float] | None = None
+    breakpoints: tuple[float, ...] = ()
 
     # -- constructors ------------------------------------------------------------------------
     @classmethod
-    def absorbing(cls, position: PositionLike) -> Wall:
+    def absorbing(cls, position: PositionLike, breakpoints: ArrayLike = ()) -> Wall:
         """Absorbing wall: ``P = 0`` at the wall, the mass reaching it is absorbed (counted).
 
         Parameters
@@ -51,10 +58,13 @@ class Wall:
         position : float or callable
             Fixed position [Pa], or a vectorised callable ``tau [Pa^2] -> p [Pa]`` (prescribed
             motion).
+        breakpoints : array_like of float, optional
+            Diffusion times [Pa^2] > 0 where a moving wall's motion is not smooth (see the class
+            attributes); ignored for a fixed wall.
         """
         if not callable(position):
-            position = float(position)
-        return cls("absorbing", position)
+            return cls("absorbing", float(position))
+        return cls("absorbing", position, breakpoints=_breakpoints(breakpoints))
 
     @classmethod
     def reflecting(cls, position: float = 0.0) -> Wall:
@@ -122,6 +132,10 @@ class Wall:
             )
         return cls("yield_closure", position, dposition)
 
+    def with_breakpoints(self, breakpoints: ArrayLike) -> Wall:
+        """The same wall with ``breakpoints`` [Pa^2] declared (see the class attributes)."""
+        return replace(self, breakpoints=_breakpoints(breakpoints))
+
     # -- evaluation --------------------------------------------------------------------------
     @property
     def is_fixed(self) -> bool:
@@ -169,3 +183,13 @@ class Wall:
         if np.max(np.abs(resid)) <= 1e-13 * scale:
             return float(y[0]), float(v)
         return None
+
+
+def _breakpoints(values: ArrayLike) -> tuple[float, ...]:
+    """Sorted, unique, finite, positive diffusion times [Pa^2] (ValueError otherwise)."""
+    b = np.atleast_1d(np.asarray(values, dtype=float)).ravel()
+    if b.size and not (np.all(np.isfinite(b)) and np.all(b > 0)):
+        raise ValueError(
+            f"breakpoints [Pa^2] of a wall must be finite diffusion times > 0; got {b.tolist()}"
+        )
+    return tuple(float(t) for t in np.unique(b))

@@ -37,6 +37,7 @@ __all__ = [
     "TableLaw",
     "DetachmentWall",
     "check_table",
+    "onset_times",
 ]
 
 Array = NDArray[np.float64]
@@ -289,6 +290,34 @@ class _SqrtPos:
 
     def __call__(self, t: ArrayLike) -> Array:
         return np.sqrt(np.maximum(np.asarray(self.poly(t), dtype=float), 0.0))
+
+
+def onset_times(sigma_of_tau: Callable[[Array], Array]) -> Array:
+    """Diffusion times [Pa^2] where the detachment stress leaves 0 (the wall starts moving).
+
+    For the model (``sigma_a^2`` a piecewise cubic in tau, :meth:`ModelLaw.in_tau`): the roots
+    of ``sigma_a^2`` where it turns positive, i.e. where gamma_eff crosses 0 and ``sigma_a``
+    starts like ``sqrt(tau - tau_c)``.  For a table: the last node of each stretch of zeros.
+    Given to the engine as the wall's ``breakpoints`` (graded steps after each).
+    """
+    if not isinstance(sigma_of_tau, _Pchip):
+        return np.zeros(0)
+    sp = sigma_of_tau.spline
+    t_lo, t_hi = sigma_of_tau.t_lo, sigma_of_tau.t_hi
+    if isinstance(sp, _SqrtPos):
+        poly = sp.poly
+        roots = np.asarray(poly.roots(extrapolate=False), dtype=float)
+        roots = roots[np.isfinite(roots) & (roots > t_lo) & (roots < t_hi)]
+        span = t_hi - t_lo
+        h = 1e-9 * span
+        up = (poly(np.minimum(roots + h, t_hi)) > 0) & (poly(np.maximum(roots - h, t_lo)) <= 0)
+        return np.unique(roots[up])
+    x = np.asarray(getattr(sp, "x", []), dtype=float)
+    if x.size < 2:
+        return np.zeros(0)
+    y = np.asarray(sp(x), dtype=float)
+    start = (y[:-1] == 0) & (y[1:] > 0)
+    return np.unique(x[:-1][start & (x[:-1] > t_lo)])
 
 
 class DetachmentWall:

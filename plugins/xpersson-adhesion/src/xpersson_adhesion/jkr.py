@@ -23,7 +23,14 @@ import numpy as np
 from xpersson.physics.interface import full_contact_energy
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
-from ._detachment import DetachmentWall, ModelLaw, TableLaw, gamma_effective, true_area_ratio
+from ._detachment import (
+    DetachmentWall,
+    ModelLaw,
+    TableLaw,
+    gamma_effective,
+    onset_times,
+    true_area_ratio,
+)
 from ._tabor import tabor_parameter, warn_if_contradicted
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -240,13 +247,15 @@ class JKRBoundary(Boundary):
             if self._table.is_constant:
                 wall = Wall.absorbing(-float(self._table.sigma[0]))
             else:
-                wall = Wall.absorbing(DetachmentWall(self._table.in_tau(clock.tau_of_zeta)))
+                sig = self._table.in_tau(clock.tau_of_zeta)
+                wall = Wall.absorbing(DetachmentWall(sig), breakpoints=onset_times(sig))
         else:
             law = self._model(ctx)
             if law.is_constant(ctx.zeta_max):
                 wall = Wall.absorbing(0.0)
             else:
-                wall = Wall.absorbing(DetachmentWall(law.in_tau(clock)))
+                sig = law.in_tau(clock)
+                wall = Wall.absorbing(DetachmentWall(sig), breakpoints=onset_times(sig))
         self._wall_cache = (clock, wall)
         return wall
 
