@@ -7,9 +7,9 @@ import warnings
 
 import numpy as np
 import pytest
+from adhesion_testlib import PSD, SPECTRUM, ZETA_1, with_
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
-from adhesion_testlib import PSD, SPECTRUM, ZETA_1, with_
 from scipy.integrate import quad
 from scipy.special import erf, erfc
 
