@@ -23,6 +23,7 @@ COEFS = {
     "prony": {"velocity": 0.01},
     "sls": {"velocity": 0.01, "modulus": "sls", "E_r": 3e6, "E_g": 3e9,
             "relaxation_time": 1e-3},
+    "flash": {"velocity": 0.01, "flash_temperature": True},  # a_T(q): the callable path
 }
 Z2 = np.array([[1.0, 3.7, 41.0, 1e4], [2.0, 17.0, 900.0, 5e3], [1.5, 1.5, 8e3, 1e4]])
 
@@ -68,11 +69,11 @@ def test_clock_inverse_round_trips_on_2d_diffusion_times():
 
 def test_zero_speed_with_scale_dependent_plasticity_is_the_elastic_solve():
     """v = 0: the rubbery solid, so the plastic scene equals the elastic one with E = E_r."""
-    boundary = {"model": "plastic_scale_dependent", "Y1": "1 MPa", "n": 0.5}
+    small = {"boundary": {"model": "plastic_scale_dependent", "Y1": "1 MPa", "n": 0.5},
+             "load": {"p0": ["0.1 MPa", "0.4 MPa"]}, "output": {"zeta_per_decade": 3}}
     ve = xpersson.solve(scene({"modulus": "sls", "E_r": "3 MPa", "E_g": "3 GPa",
-                               "relaxation_time": "1 ms", "velocity": "0 m/s"},
-                              boundary=boundary))
-    el = xpersson.solve(elastic_scene("3 MPa", boundary=boundary))
+                               "relaxation_time": "1 ms", "velocity": "0 m/s"}, **small))
+    el = xpersson.solve(elastic_scene("3 MPa", **small))
     assert float(el["area_fraction"][0, -1]) > 0
     for name in ("area_fraction", "diffusion_time"):
         np.testing.assert_allclose(ve[name].values, el[name].values, rtol=1e-8, atol=0)
