@@ -358,7 +358,8 @@ def check_walls(walls: Any, p0: float, who: object) -> tuple[Any, Any]:
 
 # -- Dataset contributions -----------------------------------------------------------------------
 def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> Any:
-    """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray.
+    """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray
+    (a pair becomes a coordinate-free :class:`xarray.Variable`).
 
     Checks, against the :class:`~xpersson.plugins.VarSpec`: dims (the declared ones, plus
     only sweep dimensions of ``ds``), sizes (those of ``ds`` for shared dims), a numeric or
@@ -378,11 +379,11 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
             da = value.copy()
             da.attrs = {}
             da = da.reset_coords(drop=True) if da.coords else da
-        else:
+        else:  # a plain Variable (no coordinates to carry): cheaper than a DataArray
             dims, arr = value
             if isinstance(dims, str):
                 dims = (dims,)
-            da = xr.DataArray(np.asarray(arr), dims=tuple(dims))
+            da = xr.Variable(tuple(dims), np.asarray(arr))
     except Exception as exc:
         raise PluginFailure(
             f"{var}: expected a DataArray or a (dims, data) pair with matching dims ({exc})",
@@ -427,9 +428,11 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object)
         return
     if kind not in "iufc":
         raise PluginFailure(f"{var} has unsupported dtype {arr.dtype}", plugin=who, variable=name)
-    coords = {"dims": tuple(da.dims), "values": {
-        d: np.asarray(ds[d].values) for d in da.dims if d in ds.coords and ds[d].ndim == 1
-    }}
+    def coords() -> dict[str, Any]:  # for the error message only (built when raising)
+        return {"dims": tuple(da.dims), "values": {
+            d: np.asarray(ds[d].values) for d in da.dims if d in ds.coords and ds[d].ndim == 1
+        }}
+
     unit = "" if spec.units in ("1", "") else f" {spec.units}"
     if kind == "c":
         raise PluginFailure(f"{var} is complex; expected real values", plugin=who, variable=name)
@@ -441,7 +444,7 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object)
             why = "" if spec.nan_meaning is None else " (NaN is allowed, inf is not)"
             raise PluginFailure(
                 f"{var} has {int(bad.sum())} non-finite value(s){why}: "
-                f"{_quote(arr, bad, unit, coords)}", plugin=who, variable=name,
+                f"{_quote(arr, bad, unit, coords())}", plugin=who, variable=name,
             )
     finite = np.isfinite(arr) if kind == "f" else np.ones(arr.shape, bool)
     for bound, op, word in ((spec.valid_min, np.less, "below valid_min"),
@@ -452,7 +455,7 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object)
         if out.any():
             raise PluginFailure(
                 f"{var} has {int(out.sum())} value(s) {word} = {bound:g}{unit}: "
-                f"{_quote(arr, out, unit, coords)}", plugin=who, variable=name,
+                f"{_quote(arr, out, unit, coords())}", plugin=who, variable=name,
             )
 
 

@@ -70,14 +70,15 @@ def pdf_resolution(ds: Any) -> str | None:
 def regime_warnings(ds: Any) -> list[str]:
     """Where the scene leaves the regime of the theory (each a one-line message)."""
     out = []
-    slope = float(ds["rms_slope"])
+    var = ds.variables  # plain Variables: no DataArray (with its coordinates) per lookup
+    slope = float(var["rms_slope"].values)
     if slope > SLOPE_LIMIT:
         out.append(
             f"rms slope {slope:.3g} is far above 1: Persson's theory assumes small slopes "
             f"(warned above {SLOPE_LIMIT:g})"
         )
-    e_star = float(ds["E_star"])
-    p0 = np.asarray(ds["p0"].values, float)
+    e_star = float(var["E_star"].values)
+    p0 = np.asarray(var["p0"].values, float)
     high = p0[p0 > e_star]
     if high.size:
         out.append(

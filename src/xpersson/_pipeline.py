@@ -115,21 +115,16 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     except ValueError as exc:
         raise SceneError(f"boundary: {exc} [{who['boundary']}]") from None
     coef = rs.coefficient
-    tau_c, f_z, tau_eff = _coefficient_arrays(coef, ctx, who["coefficient"])
+    tau_c, f_z, tau_eff, tau_shared = _coefficient_arrays(coef, ctx, who["coefficient"])
     clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max)
     if getattr(type(rs.boundary), "walls_per_load", True):
-        loads = [float(p0) for p0 in rs.p0]
+        walls = []
+        for p0 in rs.p0:
+            with _checks.calling(who["boundary"], f"walls() for p0 = {float(p0):g} Pa"):
+                pair = rs.boundary.walls(ctx, float(p0), clock)
+            walls.append(_checks.check_walls(pair, float(p0), who["boundary"]))
     else:  # the boundary declares walls that do not depend on the load: ask once
-        loads = [float(rs.p0[0])]
-    walls = []
-    for p0 in loads:
-        with _checks.calling(who["boundary"], f"walls() for p0 = {p0:g} Pa"):
-            pair = rs.boundary.walls(ctx, p0, clock)
-        walls.append(_checks.check_walls(pair, p0, who["boundary"]))
-    if len(walls) == 1 and rs.p0.size > 1:
-        for p0 in rs.p0[1:]:  # the shared walls must leave every load inside
-            _checks.check_walls(walls[0], float(p0), who["boundary"])
-        walls = walls * rs.p0.size
+        walls = [_shared_walls(rs, ctx, clock, who["boundary"])] * rs.p0.size
     p_grid = _pressure_grid(rs, walls, tau_eff) if rs.pressure_pdf else None
     if p_grid is not None:
         ctx = dataclasses.replace(ctx, p=p_grid)
@@ -137,11 +132,13 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     memory.check_request(rs.p0.size, rs.zeta.size, None if p_grid is None else p_grid.size)
     # one engine call for the whole batch (loads sharing their walls are solved together)
     first = walls[0]
-    shared = all(w is first or w == first for w in walls[1:])
-    results = engine.solve_batch(tau_eff, rs.p0, first if shared else walls, rtol=rs.rtol,
-                                 atol=rs.atol, method=rs.method, p_out=p_grid,
+    shared = walls.count(first) == len(walls)  # identity first: cheap for shared walls
+    # loads sharing tau(zeta) hand the engine one row (validated once, broadcast without copy)
+    results = engine.solve_batch(tau_c if tau_shared else tau_eff, rs.p0,
+                                 first if shared else walls, rtol=rs.rtol, atol=rs.atol,
+                                 method=rs.method, p_out=p_grid,
                                  options=rs.solver_options or None)
-    ds = _assemble(rs, ctx, results, tau_c, f_z, tau_eff, p_grid)
+    ds = _assemble(rs, ctx, results, tau_c, f_z, None if tau_shared else tau_eff, p_grid)
     with _checks.calling(who["coefficient"], "interpret()"):
         coef_out = coef.interpret(ctx)
     _add(ds, coef_out, type(coef).outputs, who["coefficient"])
@@ -162,36 +159,59 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         _add(ds, out, type(analysis).outputs, label)
     _attributes(ds, rs, reg, results, _diagnostics_notes(ds))
     if rs.p0_scalar:
-        ds = ds.isel(p0=0)  # = squeeze("p0"): p0 becomes a scalar coordinate
+        ds = _squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
     return ds
 
 
-def _labels(rs: ResolvedScene, reg: Registry) -> dict[str, Any]:
-    """Plugin labels (name + distribution) used in error messages."""
-    return {
-        section: _checks.plugin_label(section, getattr(rs, section), reg,
-                                      rs.plugin_names.get(section))
-        for section in ("spectrum", "coefficient", "boundary")
-    }
+def _shared_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) -> tuple:
+    """The walls of a boundary whose walls do not depend on the load, checked for every load.
+
+    Asked once (at the first load) and checked as :func:`._checks.check_walls` checks each
+    load, with the positions at ``tau = 0`` compared with all loads at once; the first load
+    left outside (if any) is reported exactly as the per-load check reports it.
+    """
+    p_first = float(rs.p0[0])
+    with _checks.calling(who, f"walls() for p0 = {p_first:g} Pa"):
+        pair = rs.boundary.walls(ctx, p_first, clock)
+    pair = _checks.check_walls(pair, p_first, who)
+    if rs.p0.size > 1:
+        lower, upper = pair
+        zero = np.zeros(1)
+        inside = rs.p0 > float(np.asarray(lower.at(zero), float)[0])
+        if upper is not None:
+            inside &= rs.p0 < float(np.asarray(upper.at(zero), float)[0])
+        outside = np.flatnonzero(~inside)
+        if outside.size:  # raises the per-load check's message for that load
+            _checks.check_walls(pair, float(rs.p0[outside[0]]), who)
+    return pair
 
 
-def _coefficient_arrays(
-    coef: Any, ctx: SceneContext, who: Any
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """tau(zeta), f(zeta) and the per-load effective tau [Pa^2], each checked."""
-    nz, nl = ctx.zeta.size, ctx.p0.size
-    with _checks.calling(who, "tau(zeta)"):
-        tau_c = coef.tau(ctx, ctx.zeta)
-    tau_c = _checks.check_array(tau_c, who, "tau(zeta)", (nz,), nonnegative=True,
-                                nondecreasing_axis=0, unit="Pa2")
-    with _checks.calling(who, "f(zeta)"):
-        f_z = coef.f(ctx, ctx.zeta)
-    f_z = _checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
-    with _checks.calling(who, "effective_tau(zeta)"):
-        tau_eff = coef.effective_tau(ctx, ctx.zeta)
-    tau_eff = _checks.check_array(tau_eff, who, "effective_tau(zeta)", (nl, nz),
-                                  nonnegative=True, nondecreasing_axis=1, unit="Pa2")
-    return tau_c, f_z, tau_eff
+def _squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
+    """``ds.isel(p0=0)`` for a one-load Dataset, built directly from the variables.
+
+    Every variable along ``p0`` (size 1) loses that dimension (a view of its data); ``p0``
+    becomes a scalar coordinate without an index; the other indexes are kept as they are.
+    Falls back to ``isel`` on an xarray without the direct constructor.
+    """
+    try:
+        variables = {}
+        for name, var in ds.variables.items():
+            if "p0" in var.dims:
+                axis = var.dims.index("p0")
+                dims = var.dims[:axis] + var.dims[axis + 1:]
+                data = np.take(var.values, 0, axis=axis)
+                variables[name] = xr.Variable(dims, data, var.attrs, var.encoding,
+                                              fastpath=True)
+            else:
+                variables[name] = var
+        indexes = {k: v for k, v in ds.xindexes.items() if k != "p0"}
+        dims = {d: n for d, n in ds.sizes.items() if d != "p0"}
+        out = xr.Dataset._construct_direct(  # noqa: SLF001 - see the docstring
+            variables, set(ds.coords), dims, dict(ds.attrs), indexes
+        )
+    except (AttributeError, TypeError):  # pragma: no cover - other xarray versions
+        return ds.isel(p0=0)
+    return out
 
 
 def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
@@ -228,6 +248,67 @@ def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
     return solve_at
 
 
+def _labels(rs: ResolvedScene, reg: Registry) -> dict[str, Any]:
+    """Plugin labels (name + distribution) used in error messages."""
+    return {
+        section: _checks.plugin_label(section, getattr(rs, section), reg,
+                                      rs.plugin_names.get(section))
+        for section in ("spectrum", "coefficient", "boundary")
+    }
+
+
+def _coefficient_arrays(
+    coef: Any, ctx: SceneContext, who: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """tau(zeta), f(zeta) and the per-load effective tau [Pa^2], each checked; and whether
+    every load's effective tau is tau(zeta) (then returned as a read-only broadcast)."""
+    nz, nl = ctx.zeta.size, ctx.p0.size
+    with _checks.calling(who, "tau(zeta)"):
+        tau_c = coef.tau(ctx, ctx.zeta)
+    tau_c = _checks.check_array(tau_c, who, "tau(zeta)", (nz,), nonnegative=True,
+                                nondecreasing_axis=0, unit="Pa2")
+    with _checks.calling(who, "f(zeta)"):
+        f_z = coef.f(ctx, ctx.zeta)
+    f_z = _checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
+    if _default_effective_tau(coef):  # the base class broadcasts tau(zeta): nothing to ask
+        return tau_c, f_z, np.broadcast_to(tau_c, (nl, nz)), True
+    with _checks.calling(who, "effective_tau(zeta)"):
+        tau_eff = coef.effective_tau(ctx, ctx.zeta)
+    shared = _equals_rows(tau_eff, tau_c, (nl, nz))
+    if shared:  # every row is the checked tau(zeta): the same checks hold, nothing to repeat
+        tau_eff = np.broadcast_to(tau_c, (nl, nz))
+    else:
+        tau_eff = _checks.check_array(tau_eff, who, "effective_tau(zeta)", (nl, nz),
+                                      nonnegative=True, nondecreasing_axis=1, unit="Pa2")
+    return tau_c, f_z, tau_eff, shared
+
+
+def _default_effective_tau(coef: Any) -> bool:
+    """Whether ``coef``'s effective tau is tau(zeta) for every load: it inherits
+    :meth:`Coefficient.effective_tau` or declares ``tau_per_load = False``."""
+    from .plugins import Coefficient
+
+    cls = type(coef)
+    if getattr(cls, "effective_tau", None) is Coefficient.effective_tau:
+        return True
+
+    def owner(attr: str) -> type | None:
+        return next((c for c in cls.__mro__ if attr in vars(c)), None)
+
+    # the declaration counts only from the class whose effective_tau it describes (a subclass
+    # overriding effective_tau is asked as usual)
+    return getattr(coef, "tau_per_load", True) is False and owner("tau_per_load") is owner(
+        "effective_tau"
+    )
+
+
+def _equals_rows(value: Any, row: np.ndarray, shape: tuple[int, int]) -> bool:
+    """Whether ``value`` is a ``shape`` float array whose every row equals ``row`` exactly."""
+    if not isinstance(value, np.ndarray) or value.shape != shape or value.dtype != float:
+        return False
+    return bool(np.array_equal(value, np.broadcast_to(row, shape)))
+
+
 def _pressure_grid(rs: ResolvedScene, walls: list[Any], tau_eff: np.ndarray) -> np.ndarray:
     if rs.p is not None:
         return rs.p
@@ -257,7 +338,7 @@ def _assemble(
     results: Any,
     tau_c: np.ndarray,
     f_z: np.ndarray,
-    tau_eff: np.ndarray,
+    tau_eff: np.ndarray | None,
     p_grid: np.ndarray | None,
 ) -> xr.Dataset:
     def stack(attr: str) -> np.ndarray:
@@ -289,7 +370,7 @@ def _assemble(
         "error_estimate": (pz, stack("error_estimate")),
         "solver_status": (("p0",), np.array(results.status, dtype=object)),
     }
-    if not np.array_equal(tau_eff, np.broadcast_to(tau_c, tau_eff.shape)):
+    if tau_eff is not None:  # None: every load's effective tau is tau(zeta)
         data["effective_diffusion_time"] = (pz, tau_eff)
     if p_grid is not None:
         coords["p"] = ("p", p_grid)
@@ -328,8 +409,7 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
         indexes = {}
         for name, var in cvars.items():
             if var.dims == (name,):
-                indexes[name] = PandasIndex.from_variables({name: var}, options={})
-                cvars[name] = indexes[name].create_variables({name: var})[name]
+                indexes[name], cvars[name] = _index(PandasIndex, name, var)
         dims: dict[str, int] = {}
         for var in (*variables.values(), *cvars.values()):
             dims.update(zip(var.dims, var.shape, strict=True))
@@ -343,10 +423,37 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
         return ds
 
 
+_INDEXES: dict[tuple[str, bytes, tuple], tuple[Any, xr.Variable]] = {}
+
+
+def _index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variable]:
+    """The index of a dimension coordinate and its index variable, reused for equal values.
+
+    Solves of one scene share their zeta / q_psd (and often p0) coordinates; the pandas index
+    is immutable, so Datasets may share it (as ``isel`` and ``copy`` do). The variable is a
+    fresh shallow copy carrying ``var``'s attrs.
+    """
+    arr = np.asarray(var.values)
+    key = (name, arr.tobytes(), tuple(sorted((k, str(v)) for k, v in var.attrs.items())))
+    hit = _INDEXES.get(key)
+    if hit is None or hit[1].dtype != arr.dtype:
+        index = cls.from_variables({name: var}, options={})
+        hit = (index, index.create_variables({name: var})[name])
+        if len(_INDEXES) > 64:
+            _INDEXES.clear()
+        _INDEXES[key] = hit
+    out = hit[1].copy(deep=False)
+    out.attrs = dict(var.attrs)
+    return hit[0], out
+
+
 def _persson_G(tau_c: np.ndarray, p0: np.ndarray) -> np.ndarray:
     """``G = tau / p0^2`` per (p0, zeta); ``inf`` at a zero load (adhesive boundaries)."""
+    p2 = p0 * p0
     with np.errstate(divide="ignore", invalid="ignore"):
-        G = tau_c[None, :] / p0[:, None] ** 2
+        G = tau_c[None, :] / p2[:, None]
+    if np.all(p2 != 0):  # no 0/0 possible: G is already final
+        return G
     return np.where(np.isnan(G), np.inf, G)
 
 
@@ -355,13 +462,60 @@ def _add(
 ) -> None:
     """Check a plugin's contribution against its VarSpecs (see :mod:`._checks`), then add it."""
     checked = _checks.check_contributions(ds, values, specs, who)
+    if not checked:
+        return
+    for name, da in checked.items():
+        da.attrs.update(_spec_attrs(specs[name]))
+    if _insert_direct(ds, checked):
+        return
+    try:  # one Dataset update for all of the plugin's variables (one merge, not one each)
+        ds.update(checked)
+        return
+    except ValueError:  # conflicting sizes of a plugin's own dimension: find which variable
+        pass
     for name, da in checked.items():
         try:
             ds[name] = da
-        except ValueError as exc:  # conflicting sizes of a plugin's own dimension
+        except ValueError as exc:
             raise _checks.PluginFailure(f"{who}: variable {name!r}: {exc}", plugin=who,
                                         variable=name) from None
-        ds[name].attrs.update(specs[name].attrs())
+
+
+def _insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
+    """Insert checked, coordinate-free variables whose dims the Dataset already has.
+
+    Such an insertion has nothing to align (:func:`._checks.checked_variable` has checked the
+    dims and sizes against ``ds``): the variables go into the Dataset as they are, which is
+    what ``ds.update`` ends with, without its merge and alignment of every variable. Returns
+    False (nothing inserted) when any variable carries coordinates or a new dimension, or on an
+    xarray without the internal mapping; :meth:`xarray.Dataset.update` then does the work.
+    """
+    variables = getattr(ds, "_variables", None)
+    if not isinstance(variables, dict):  # pragma: no cover - other xarray versions
+        return False
+    sizes = ds.sizes
+    for da in checked.values():
+        if getattr(da, "coords", None) or any(
+            d not in sizes or sizes[d] != n for d, n in da.sizes.items()
+        ):
+            return False
+    for name, da in checked.items():
+        variables[name] = getattr(da, "variable", da)  # DataArray -> its Variable
+    return True
+
+
+_SPEC_ATTRS: dict[int, tuple[VarSpec, dict[str, Any]]] = {}
+
+
+def _spec_attrs(spec: VarSpec) -> dict[str, Any]:
+    """``spec.attrs()`` (computed once per VarSpec object; a fresh copy each call)."""
+    hit = _SPEC_ATTRS.get(id(spec))
+    if hit is None or hit[0] is not spec:
+        if len(_SPEC_ATTRS) > 4096:
+            _SPEC_ATTRS.clear()
+        hit = (spec, spec.attrs())
+        _SPEC_ATTRS[id(spec)] = hit
+    return dict(hit[1])
 
 
 def _diagnostics_notes(ds: xr.Dataset) -> list[str]:

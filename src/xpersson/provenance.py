@@ -48,8 +48,11 @@ def environment() -> dict[str, str]:
 _PLUGIN_RECORDS: dict[tuple[str, type, int], tuple[Any, Any, dict[str, Any]]] = {}
 
 
-def _plugin_record(group: str, cls: type, reg: Registry) -> dict[str, Any]:
-    """:func:`plugin_provenance`, looked up once per (group, class, registry discovery)."""
+def _shared_record(group: str, cls: type, reg: Registry) -> dict[str, Any]:
+    """:func:`plugin_provenance`, looked up once per (group, class, registry discovery).
+
+    Returns the cached record itself: callers must not modify it.
+    """
     from .plugins._registry import plugin_provenance
 
     key = (group, cls, id(reg))
@@ -60,11 +63,16 @@ def _plugin_record(group: str, cls: type, reg: Registry) -> dict[str, Any]:
             _PLUGIN_RECORDS.clear()
         hit = (reg, found, plugin_provenance(group, cls, reg))
         _PLUGIN_RECORDS[key] = hit
-    return copy.deepcopy(hit[2])
+    return hit[2]
 
 
 def plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
     """Group, name, distribution, version, class and references of every plugin of a run."""
+    return copy.deepcopy(_plugins_used(rs, reg))
+
+
+def _plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
+    """:func:`plugins_used` sharing the cached records (read-only: only serialised)."""
     items = [
         ("spectra", rs.plugin_names.get("spectrum"), rs.spectrum),
         ("coefficients", rs.plugin_names.get("coefficient"), rs.coefficient),
@@ -73,17 +81,15 @@ def plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
     ]
     out = []
     for group, name, inst in items:
-        record = _plugin_record(group, type(inst), reg)
-        if name:
-            record["name"] = name
-        out.append(record)
+        record = _shared_record(group, type(inst), reg)
+        out.append({**record, "name": name} if name else record)
     return out
 
 
 def global_attributes(rs: ResolvedScene, reg: Registry) -> dict[str, str]:
     """CF-1.12 / ACDD-1.3 global attributes and the JSON provenance of a run."""
     now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
-    used = plugins_used(rs, reg)
+    used = _plugins_used(rs, reg)
     refs = sorted({r for p in used for r in p["references"]})
     title = rs.resolved.get("title") or "Persson contact-mechanics solution"
     return {

@@ -75,6 +75,15 @@ class ElasticCoefficient(Coefficient):
         """tau(zeta) = (pi/4) E*^2 int_{q_L}^{zeta q_L} q^3 C dq [Pa^2] (exact)."""
         return np.asarray(elastic.diffusion_time(ctx.psd, ctx.E_star, zeta), dtype=float)
 
+    @property
+    def tau_per_load(self) -> bool:
+        """Whether :meth:`effective_tau` differs from :meth:`tau` per load (only the closures).
+
+        ``False`` lets the pipeline use ``tau(zeta)`` for every load without asking
+        :meth:`effective_tau` (which would only broadcast it).
+        """
+        return self._params["closure"] != "persson01"
+
     def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """Per-load diffusion time [Pa^2]; the closures solve their ODE/fixed point to 1e-10.
 

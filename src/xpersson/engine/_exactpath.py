@@ -49,13 +49,14 @@ class ExactMethod(EngineMethod):
         P = None
         # density arguments: (..., n_tau, n_p) with p0 broadcast per load
         tp, pp = tau[..., None], np.asarray(p0)[..., None]
-        zeros = np.zeros_like(tau)
+        zeros = np.zeros(np.shape(tau))  # calloc: no pages written
         if case == "one":
             a = float(pb.lower.position)
             area, non, load = exact.one_wall(tau, p0, a)
             ab_l, ab_u = non, zeros
-            wall_term = a * ab_l
-            err = 8 * _EPS * np.maximum(area, 1e-300)
+            wall_term = a * ab_l if a != 0 else 0.0  # only summed into the load balance
+            err = np.maximum(area, 1e-300)
+            err *= 8 * _EPS
             if want_p:
                 P = exact.one_wall_density(pb.p_out, tp, pp, a)
         elif case == "two":

@@ -54,6 +54,10 @@ class Problem:
 
     def wall_positions(self, tau: ArrayLike) -> tuple[Array, Array]:
         """(lower, upper) positions [Pa] at ``tau``; upper is +inf without an upper wall."""
+        t = np.asarray(tau, dtype=float)
+        if t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0:  # one row shared by the loads
+            lo, up = self.wall_positions(t[0])
+            return (np.broadcast_to(lo, t.shape).copy(), np.broadcast_to(up, t.shape).copy())
         lo = self.lower.at(tau)
         up = self.upper.at(tau) if self.upper is not None else np.full(lo.shape, np.inf)
         return lo, up

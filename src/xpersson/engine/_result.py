@@ -192,11 +192,16 @@ def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
         up = np.asarray(float(problem.upper.position) if problem.upper is not None else np.inf)
     else:
         lo, up = problem.wall_positions(problem.tau)
-    prob = raw.area + raw.absorbed_lower + raw.absorbed_upper - 1.0
+    # in place: one new array each (fresh large temporaries cost page faults)
+    prob = np.add(raw.area, raw.absorbed_lower)
+    prob += raw.absorbed_upper
+    prob -= 1.0
     scale = np.maximum(np.abs(problem.p0), np.abs(lo))
     scale = np.maximum(scale, np.where(np.isfinite(up), np.abs(up), 0.0))
     scale = np.where(scale > 0, scale, 1.0)
-    loadb = (raw.load + raw.wall_term - problem.p0) / scale
+    loadb = np.add(raw.load, raw.wall_term)
+    loadb -= problem.p0
+    loadb /= scale
     return lo, up, prob, loadb
 
 
@@ -295,15 +300,19 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     n = problem.tau.shape[0]
     # vectorised screen: only loads that may fail get the detailed (per-row) examination
     # NaN/inf in any field reaches one of the two balances (sums of all of them)
-    finite = np.all(np.isfinite(prob), axis=-1) & np.all(np.isfinite(loadb), axis=-1)
-    finite &= np.all(np.isfinite(raw.non_area), axis=-1)
+    # (max propagates NaN, so a NaN/inf balance fails "worst <= bal_tol"; a sum is finite only
+    # when every term is)
+    bal_tol = balance_tolerance(problem.rtol, problem.atol)
+    # max |x| = max(max x, -min x): no |x| temporaries
+    worst = np.maximum.reduce([np.max(prob, axis=-1), -np.min(prob, axis=-1),
+                               np.max(loadb, axis=-1), -np.min(loadb, axis=-1)])
+    finite = np.isfinite(worst) & np.isfinite(np.sum(raw.non_area, axis=-1))
     if raw.P is not None:
         finite &= np.all(np.isfinite(raw.P), axis=(-2, -1))
-    bal_tol = balance_tolerance(problem.rtol, problem.atol)
-    worst = np.maximum(np.max(np.abs(prob), axis=-1), np.max(np.abs(loadb), axis=-1))
-    slack = raw.error_estimate - problem.atol
-    slack -= problem.rtol * np.abs(raw.area)
-    tol_ok = np.all(slack <= 0, axis=-1)
+    slack = np.abs(raw.area)
+    slack *= -problem.rtol
+    slack += raw.error_estimate
+    tol_ok = np.max(slack, axis=-1) <= problem.atol  # False where a row holds NaN
     raw_ok = (np.full(n, raw.status == "success") if isinstance(raw.status, str)
               else np.asarray(raw.status) == "success")
     clean = finite & (worst <= bal_tol) & tol_ok & raw_ok

@@ -100,12 +100,17 @@ class DiffusionClock:
     tau_fn: Callable[[np.ndarray], np.ndarray]
     f: Callable[[np.ndarray], np.ndarray]
     zeta_max: float
-    _table: tuple[np.ndarray, np.ndarray] = field(init=False, repr=False, compare=False)
+    _tables: list = field(init=False, repr=False, compare=False, default_factory=list)
+    _last: list = field(init=False, repr=False, compare=False, default_factory=list)
 
-    def __post_init__(self) -> None:
-        n = max(64, int(40 * np.log10(max(self.zeta_max, 10.0))))
-        z = np.geomspace(1.0, max(self.zeta_max, 1.0 + 1e-12), n)
-        object.__setattr__(self, "_table", (z, np.asarray(self.tau_fn(z), dtype=float)))
+    @property
+    def _table(self) -> tuple[np.ndarray, np.ndarray]:
+        """(zeta, tau) nodes of the inverse, tabulated on first use (elastic walls never ask)."""
+        if not self._tables:
+            n = max(64, int(40 * np.log10(max(self.zeta_max, 10.0))))
+            z = np.geomspace(1.0, max(self.zeta_max, 1.0 + 1e-12), n)
+            self._tables.append((z, np.asarray(self.tau_fn(z), dtype=float)))
+        return self._tables[0]
 
     def tau_of_zeta(self, zeta: np.ndarray | float) -> np.ndarray:
         """Diffusion time [Pa^2] at magnification ``zeta`` [1]."""
@@ -118,12 +123,33 @@ class DiffusionClock:
         on tau(zeta) - tau = 0 with derivative f(zeta); relative accuracy ~1e-12.
         """
         t = np.asarray(tau, dtype=float)
+        flat = t.ravel()
+        # a wall's position, speed and the output times: often the same tau values again
+        for ts, zs in self._last:
+            idx = np.minimum(np.searchsorted(ts, flat), ts.size - 1)
+            if ts.size and np.array_equal(ts[idx], flat):
+                return zs[idx].reshape(t.shape)
+        z = self._zeta_of_tau(t)
+        order = np.argsort(flat, kind="stable")
+        self._last[:] = [(flat[order].copy(), z.ravel()[order].copy()), *self._last[:2]]
+        return z
+
+    def _zeta_of_tau(self, t: np.ndarray) -> np.ndarray:
         zt, tt = self._table
         z = np.exp(np.interp(t, tt, np.log(zt)))
+        # beyond the first node tau(zeta) is close to a power law: log-log interpolation starts
+        # Newton much closer (it then converges in one or two steps instead of four)
+        far = t > tt[1]
+        if np.any(far) and tt[1] > 0:
+            z[far] = np.exp(np.interp(np.log(t[far]), np.log(tt[1:]), np.log(zt[1:])))
         inside = (t > tt[0]) & (t < tt[-1])
+        if not np.any(inside):  # table end points (tau = 0: zeta = 1): nothing to polish
+            return z
         for _ in range(4):
             fz = np.asarray(self.f(z), dtype=float)
             ok = inside & (fz > 0)
             step = np.where(ok, (self.tau_of_zeta(z) - t) / np.where(fz > 0, fz, 1.0), 0.0)
             z = np.clip(z - step, 1.0, zt[-1])
+            if np.all(np.abs(step) <= 1e-13 * z):  # converged: Newton squares the error
+                break
         return z
