@@ -223,3 +223,14 @@ def test_scene_with_near_duplicate_curve_nodes_solves(solve):
     np.testing.assert_allclose(p_rep, p0 + p_att, rtol=1e-9)
     assert np.all(ds["dmt_residual"].values < 1e-5)
     assert np.all(np.diff(ds["area_fraction"].values[:, -1]) > 0)
+
+
+def test_flat_diffusion_time_keeps_the_first_node_of_the_stretch():
+    from xpersson_adhesion.dmt import _increasing
+
+    z = np.geomspace(1.0, 2e4, 40)  # beyond q_1/q_L = 1e4 the spectrum is zero: tau is flat
+    tau = diffusion_time(PSD, E_STAR, z)
+    zz, tt = _increasing(z, tau)
+    assert np.all(np.diff(tt) > 0) and zz[0] == 1.0
+    assert zz[-1] == z[np.argmax(tau)] and zz.size < z.size
+    assert tt[-1] == tau.max()
