@@ -7,7 +7,9 @@ import warnings
 
 import numpy as np
 import pytest
-from adhesion_testlib import PSD, SPECTRUM, with_
+from adhesion_testlib import PSD, SPECTRUM, ZETA_1, with_
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 from scipy.integrate import quad
 from scipy.special import erf, erfc
 
@@ -174,3 +176,61 @@ def test_large_work_of_adhesion_drives_full_contact(solve):
             areas.append(ds["area_fraction"].values[:, -1])
     assert np.all(np.diff(np.array(areas), axis=0) > 0)
     assert np.all(areas[-1] > 0.999)
+
+
+# -- robustness: the area curve's nodes (fuzz campaign, 16 of 3000 scenes) ----------------------
+def _core_zeta(zeta_max: float, per_decade: int) -> np.ndarray:
+    """The core's output magnifications (scene.py: log grid with exact end points)."""
+    n = max(1, math.ceil(per_decade * math.log10(zeta_max) - 1e-9))
+    z = np.geomspace(1.0, zeta_max, n + 1)
+    z[0], z[-1] = 1.0, zeta_max
+    return z
+
+
+# q_1/q_L of a fuzz scene whose output grid met the curve grid one ulp apart at zeta = 1.842
+FUZZ_ZMAX = 5541.683342273044 / 2002.0669273387969
+
+
+@settings(max_examples=40, deadline=None)
+@example(zeta_max=FUZZ_ZMAX, per_decade=11)
+@given(zeta_max=st.floats(1.01, ZETA_1), per_decade=st.integers(1, 40))
+def test_curve_grid_nodes_are_separated(zeta_max, per_decade):
+    zeta = _core_zeta(zeta_max, per_decade)
+    for dense in (16, 32):
+        z = _curve_grid(zeta, per_decade=dense)
+        assert z[0] == 1.0 and z[-1] == zeta[-1]
+        assert np.all(np.diff(np.log(z)) > 1e-9)
+        tau = diffusion_time(PSD, E_STAR, z)
+        assert np.all(np.diff(tau) > 0)
+
+
+def test_scene_with_near_duplicate_curve_nodes_solves(solve):
+    """The fuzz scene that failed with "`x` must be strictly increasing sequence"."""
+    sc = {
+        "spectrum": {"model": "self_affine", "H": 0.08770701236623936,
+                     "q_L": "2002.0669273387969 1/m", "q_r": "2002.0669273387969 1/m",
+                     "q_1": "5541.683342273044 1/m", "h_rms": "6.318420262971771e-09 m"},
+        "material": {"E": "2398213099.2847214 Pa", "nu": 0.39554770728104216},
+        "load": {"p0": ["0.05381634121038694 Pa", "148290.75137277704 Pa"]},
+        "output": {"zeta_per_decade": 11},
+        "boundary": _dmt(work_of_adhesion="0.005043522597706408 J/m**2",
+                         range="2.386381796964268e-09 m", law="exponential"),
+    }
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = solve(sc)
+    p0, p_rep, p_att = (ds[n].values for n in ("p0", "p_rep", "p_att"))
+    np.testing.assert_allclose(p_rep, p0 + p_att, rtol=1e-9)
+    assert np.all(ds["dmt_residual"].values < 1e-5)
+    assert np.all(np.diff(ds["area_fraction"].values[:, -1]) > 0)
+
+
+def test_flat_diffusion_time_keeps_the_first_node_of_the_stretch():
+    from xpersson_adhesion.dmt import _increasing
+
+    z = np.geomspace(1.0, 2e4, 40)  # beyond q_1/q_L = 1e4 the spectrum is zero: tau is flat
+    tau = diffusion_time(PSD, E_STAR, z)
+    zz, tt = _increasing(z, tau)
+    assert np.all(np.diff(tt) > 0) and zz[0] == 1.0
+    assert zz[-1] == z[np.argmax(tau)] and zz.size < z.size
+    assert tt[-1] == tau.max()

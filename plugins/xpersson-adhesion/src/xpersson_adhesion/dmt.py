@@ -82,6 +82,12 @@ def _curve_grid(zeta: np.ndarray, per_decade: int = 32) -> np.ndarray:
     change near zeta = 1 at small loads), ``per_decade`` log-spaced points and a tail
     ``zeta_max (1 - geomspace(1e-6, 0.3))`` (``3 per_decade / 4`` points) where the finer
     roughness ``h`` vanishes.
+
+    Nodes closer than :data:`_MIN_LOG_STEP` in ``ln zeta`` are merged (the larger one is kept,
+    so ``zeta_max`` stays the last node): the pieces above are built by different formulas, so
+    the same magnification can come out a few ulps apart from two of them, and a pair like that
+    has equal diffusion times and equal ``ln tau_c``, which the engine (strictly increasing
+    ``tau_out``) and the gap distribution's splines (strictly increasing knots) refuse.
     """
     zmax = float(zeta[-1])
     if zmax <= 1.0:
@@ -94,7 +100,32 @@ def _curve_grid(zeta: np.ndarray, per_decade: int = 32) -> np.ndarray:
         zmax * (1.0 - np.geomspace(1e-6, 0.3, max(4, 3 * per_decade // 4))),
     ))
     z = np.unique(z)
-    return z[(z >= 1.0) & (z <= zmax)]
+    return _separated(z[(z >= 1.0) & (z <= zmax)])
+
+
+#: Smallest step in ``ln zeta`` between two nodes of the area curve [1].
+_MIN_LOG_STEP = 1e-9
+
+
+def _separated(z: np.ndarray) -> np.ndarray:
+    """Sorted unique ``z`` (>= 1) thinned so that consecutive ``ln z`` differ by more than
+    :data:`_MIN_LOG_STEP`; the first and the last node are kept."""
+    if z.size < 3:
+        return z
+    s = np.log(z)
+    keep = [z.size - 1]
+    for i in range(z.size - 2, 0, -1):
+        if s[keep[-1]] - s[i] > _MIN_LOG_STEP and s[i] - s[0] > _MIN_LOG_STEP:
+            keep.append(i)
+    keep.append(0)
+    return z[keep[::-1]]
+
+
+def _increasing(z: np.ndarray, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The (z, tau) pairs on which ``tau`` [Pa^2] strictly increases: a flat stretch (the
+    spectrum numerically zero there, so the area does not change either) keeps its first node."""
+    keep = np.concatenate(([True], np.diff(np.maximum.accumulate(tau)) > 0))
+    return (z, tau) if keep.all() else (z[keep], tau[keep])
 
 
 def solve_dmt(
@@ -147,6 +178,7 @@ def solve_dmt(
     calls: dict[float, tuple[float, float, float, float]] = {}
 
     def p_att_on(zz: np.ndarray, tt: np.ndarray, p_rep: float) -> tuple[float, float, Any, Any]:
+        zz, tt = _increasing(zz, tt)
         res = solve(tt, p_rep, Wall.absorbing(0.0), rtol=min(rtol, 1e-8))
         area = np.clip(res.area, 0.0, 1.0)
         det = detachment(psd, E_star, p_rep, zz, area, non_area=res.non_area)

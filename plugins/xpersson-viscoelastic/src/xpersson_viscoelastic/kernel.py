@@ -62,10 +62,14 @@ def _rule(n: int) -> tuple[Array, Array, Array]:
 def panel_edges(
     psd: Any, q: ArrayLike, panels_per_decade: int = PANELS_PER_DECADE
 ) -> Array:
-    """Panel edges [1/m] from ``q_L`` to ``max(q)``: a log grid, the PSD breakpoints, ``q``."""
-    q = np.atleast_1d(np.asarray(q, dtype=float))
+    """Panel edges [1/m] from ``q_L`` to ``max(q)``: a log grid, the PSD breakpoints, ``q``.
+
+    ``q`` [1/m] may have any shape (a scalar, the 2-D magnifications of a boundary's clock);
+    the edges are always 1-D and sorted.
+    """
+    q = np.asarray(q, dtype=float).ravel()
     q_L = float(psd.q_L)
-    q_hi = max(float(np.max(q)), q_L)
+    q_hi = max(float(np.max(q)), q_L) if q.size else q_L
     n = max(1, int(np.ceil(panels_per_decade * np.log10(q_hi / q_L) - 1e-9)))
     grid = np.geomspace(q_L, q_hi, n + 1) if q_hi > q_L else np.array([q_L])
     nodes = np.asarray(psd.nodes(), dtype=float)
@@ -104,9 +108,10 @@ def _cumulative_at(
 ) -> Array:
     """int_{q_L}^{zeta q_L} q^3 C(q) X(q scale) dq at ``zeta``; shape ``scale.shape + zeta``.
 
-    ``X`` is ``mean_sq - E_r^2`` (``which="tau"``) or ``loss`` (``which="loss"``).
+    ``X`` is ``mean_sq - E_r^2`` (``which="tau"``) or ``loss`` (``which="loss"``). ``zeta``
+    may have any shape (a scalar gives ``scale.shape``).
     """
-    z = np.atleast_1d(np.asarray(zeta, dtype=float))
+    z = np.asarray(zeta, dtype=float)
     q = z * float(psd.q_L)
     scale = _omega_scale(v, aT)
     edges = panel_edges(psd, q, ppd)
@@ -169,9 +174,10 @@ def diffusion_time(
     Returns
     -------
     ndarray, shape ``S + zeta.shape``
+        Any ``zeta`` shape (scalar, 1-D, the 2-D arrays a boundary's clock passes) is kept.
     """
     f = _checked_nu(nu)
-    z = np.atleast_1d(np.asarray(zeta, dtype=float))
+    z = np.asarray(zeta, dtype=float)
     exact = model.E_r**2 * np.asarray(psd.I3(z * float(psd.q_L)), dtype=float)
     rest = _cumulative_at(psd, model, z, v, aT, "tau", nodes, panels_per_decade)
     return (np.pi / 4.0) * (exact + rest) / (f * f)
@@ -182,9 +188,9 @@ def coefficient_f(
     aT: ArrayLike = 1.0,
 ) -> Array:
     """Diffusion coefficient ``f = d tau / d zeta = (pi/4) q_L q^3 C(q) <|E|^2> / (1-nu^2)^2``
-    [Pa^2] at ``zeta`` (shape ``broadcast(v, aT).shape + zeta.shape``)."""
+    [Pa^2] at ``zeta`` (shape ``broadcast(v, aT).shape + zeta.shape``, any ``zeta`` shape)."""
     f = _checked_nu(nu)
-    z = np.atleast_1d(np.asarray(zeta, dtype=float))
+    z = np.asarray(zeta, dtype=float)
     q = z * float(psd.q_L)
     mean_sq, _ = model.angular(_w(v, aT, q))
     return (np.pi / 4.0) * float(psd.q_L) * q**3 * np.asarray(psd.C(q)) * mean_sq / (f * f)
@@ -195,9 +201,9 @@ def angular_averages(
     aT: ArrayLike = 1.0,
 ) -> tuple[Array, Array]:
     """``(sqrt(<|E|^2>) / (1 - nu^2) [Pa], int cos(phi) Im E dphi / (1 - nu^2) [Pa])`` at
-    the scales ``q = zeta q_L``."""
+    the scales ``q = zeta q_L`` (shape ``broadcast(v, aT).shape + zeta.shape``)."""
     f = _checked_nu(nu)
-    q = np.atleast_1d(np.asarray(zeta, dtype=float)) * float(psd.q_L)
+    q = np.asarray(zeta, dtype=float) * float(psd.q_L)
     mean_sq, loss = model.angular(_w(v, aT, q))
     return np.sqrt(mean_sq) / f, loss / f
 
