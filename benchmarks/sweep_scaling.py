@@ -46,6 +46,8 @@ def main() -> None:
     ap.add_argument("--n-e", type=int, default=20)
     ap.add_argument("--n-h", type=int, default=10)
     ap.add_argument("--loads", type=int, default=50)
+    ap.add_argument("--chunk", type=int, default=None,
+                    help="sweep points per task (default: the scheduler's choice)")
     args = ap.parse_args()
     sc = scene(args.n_e, args.n_h, args.loads)
     curves = args.n_e * args.n_h * args.loads
@@ -58,14 +60,14 @@ def main() -> None:
     client = Client(cluster)
     t_start = time.perf_counter() - t0
     xpersson.solve(scene(2, 2, 2), scheduler=client)  # warm up: imports on the workers
-    par, t_par = best(lambda: xpersson.solve(sc, scheduler=client))
+    par, t_par = best(lambda: xpersson.solve(sc, scheduler=client, chunk=args.chunk))
     client.close()
     cluster.close()
     same = all(serial[v].equals(par[v])
                for v in serial.data_vars)
     print(f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, "
           f"{os.cpu_count()} cores; {curves} area curves x {serial.sizes['zeta']} zeta "
-          f"({args.n_e * args.n_h} sweep points x {args.loads} loads)")
+          f"({args.n_e * args.n_h} sweep points x {args.loads} loads; chunk {args.chunk})")
     print("| scheduler | time [s] | curves / minute | speed-up |")
     print("|---|---:|---:|---:|")
     print(f"| serial | {t_serial:.2f} | {curves / t_serial * 60:,.0f} | 1.00x |")
