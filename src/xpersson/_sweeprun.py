@@ -11,6 +11,7 @@ enters the task graph.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import math
 import os
@@ -59,43 +60,98 @@ def blocks_of(plan: SweepPlan, points_per_block: int) -> list[Block]:
     return out
 
 
+def _resolve_index(plan: SweepPlan, index: tuple[int, ...], registry: Any) -> Any:
+    """Resolve one point; a :class:`SceneError` names the point's swept values."""
+    try:
+        return plan.point_scene(index).resolve(registry)
+    except SceneError as exc:
+        where = ", ".join(
+            f"{g[0].path} = {g[0].values[i]:g}" for g, i in zip(plan.groups, index, strict=True)
+        )
+        raise SceneError(f"sweep point {where}: {exc}") from None
+
+
+_GRID_CHANGES = (
+    "sweep: the swept parameters change the magnification grid (q_1/q_L differs "
+    "between points); give output.zeta_max (at most the smallest q_1/q_L) or "
+    "output.zeta so that every point shares one grid"
+)
+
+
 def resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
     """Resolve every point before any work (bad input fails here, naming the point)."""
     from .plugins import get_registry
 
     registry = registry or get_registry()
-    points = []
-    for index in plan.indices():
-        try:
-            points.append(plan.point_scene(index).resolve(registry))
-        except SceneError as exc:
-            where = ", ".join(
-                f"{g[0].path} = {g[0].values[i]:g}" for g, i in zip(plan.groups, index, strict=True)
-            )
-            raise SceneError(f"sweep point {where}: {exc}") from None
-    zeta = points[0].zeta
-    for rs in points[1:]:
-        if rs.zeta.shape != zeta.shape or not np.array_equal(rs.zeta, zeta):
-            raise SceneError(
-                "sweep: the swept parameters change the magnification grid (q_1/q_L differs "
-                "between points); give output.zeta_max (at most the smallest q_1/q_L) or "
-                "output.zeta so that every point shares one grid"
-            )
-    if points[0].pressure_pdf and points[0].p is None:
-        grid = _common_pressure_grid(points)
+    points = [_resolve_index(plan, index, registry) for index in plan.indices()]
+    summary = _summary(points)
+    if summary[0] is None:
+        raise SceneError(_GRID_CHANGES)
+    if summary[1] is not None:
+        grid = np.linspace(*summary[1], points[0].p_points)
         points = [dataclasses.replace(rs, p=grid) for rs in points]
     return points
 
 
-def _common_pressure_grid(points: list[Any]) -> np.ndarray:
-    """One pressure grid covering every point's default grid (same number of points)."""
+def _summary(points: list[Any]) -> tuple[np.ndarray | None, tuple[float, float] | None]:
+    """(the shared zeta grid or None when the points differ, default pressure-grid bounds)."""
     from . import _pipeline
 
+    zeta = points[0].zeta
+    for rs in points[1:]:
+        if rs.zeta.shape != zeta.shape or not np.array_equal(rs.zeta, zeta):
+            return None, None
+    if not (points[0].pressure_pdf and points[0].p is None):
+        return zeta, None
     lo, hi = math.inf, -math.inf
     for rs in points:
         grid = _pipeline.default_pressure_grid(rs)
         lo, hi = min(lo, float(grid[0])), max(hi, float(grid[-1]))
-    return np.linspace(lo, hi, points[0].p_points)
+    return zeta, (lo, hi)
+
+
+def _resolve_block(plan: SweepPlan, block: Block, registry: Any) -> list[Any]:
+    """Resolve the points of one block (a worker's task), in C order."""
+    from .plugins import get_registry
+
+    registry = registry or get_registry()
+    ranges = (range(a, b) for a, b in zip(block.start, block.stop, strict=True))
+    return [_resolve_index(plan, index, registry) for index in itertools.product(*ranges)]
+
+
+def _with_grid(points: list[Any], grid: np.ndarray) -> list[Any]:
+    return [dataclasses.replace(rs, p=grid) for rs in points]
+
+
+def _first(points: list[Any]) -> Any:
+    return points[0]
+
+
+def _resolve_on_workers(
+    plan: SweepPlan, registry: Any, client: Any, blocks: list[Block], parts: dict[int, Any]
+) -> tuple[Any, list[tuple[Block, Any, str | None]]]:
+    """Resolve every point on the workers before any solving; the points stay there.
+
+    Returns the first resolved point (for the archive's attributes) and the solve tasks, whose
+    points are futures. A bad point raises its :class:`SceneError` here, before any solve task
+    is submitted, as :func:`resolve_points` does in the serial path.
+    """
+    tag = f"{os.getpid()}-{id(blocks)}"
+    resolved = [client.submit(_resolve_block, plan, b, registry, pure=False,
+                              key=f"xpersson-resolve-{b.number}-{tag}") for b in blocks]
+    summaries = client.gather([client.submit(_summary, f, pure=False) for f in resolved])
+    zeta = summaries[0][0]
+    if any(z is None or z.shape != zeta.shape or not np.array_equal(z, zeta)
+           for z, _ in summaries):
+        raise SceneError(_GRID_CHANGES)
+    if summaries[0][1] is not None:
+        lo = min(b[0] for _, b in summaries)
+        hi = max(b[1] for _, b in summaries)
+        first = client.submit(_first, resolved[0], pure=False).result()
+        grid = np.linspace(lo, hi, first.p_points)
+        resolved = [client.submit(_with_grid, f, grid, pure=False) for f in resolved]
+    first = client.submit(_first, resolved[0], pure=False).result()
+    return first, [(b, f, parts[b.number]) for b, f in zip(blocks, resolved, strict=True)]
 
 
 def _points_per_block(plan: SweepPlan, workers: int, requested: int | None) -> int:
@@ -133,10 +189,16 @@ def solve_sweep(
 ) -> xr.Dataset:
     """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`)."""
     _check_scheduler(scheduler)
-    points = resolve_points(plan, registry)
+    distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
+    points = None if distributed else resolve_points(plan, registry)
     client, own_cluster, n_workers = _client(scheduler, workers)
     try:
         blocks = blocks_of(plan, _points_per_block(plan, n_workers, chunk))
+        parts = {b.number: None for b in blocks}
+        tasks: list[tuple[Block, Any, str | None]]
+        if points is None:  # resolved (and checked) on the workers, before any solving
+            first, tasks = _resolve_on_workers(plan, registry, client, blocks, parts)
+            points = [first]
         folder = None
         if output is not None:
             folder = Path(output)
@@ -145,7 +207,10 @@ def solve_sweep(
             b.number: (None if folder is None else str(folder / f"part-{b.number:05d}.nc"))
             for b in blocks
         }
-        tasks = [(b, _block_points(plan, points, b), parts[b.number]) for b in blocks]
+        if not distributed:
+            tasks = [(b, _block_points(plan, points, b), parts[b.number]) for b in blocks]
+        else:
+            tasks = [(b, pts, parts[b.number]) for b, pts, _ in tasks]
         bar = _progress_bar(plan.size, progress, "xpersson sweep")
         try:
             results = _execute(tasks, registry, scheduler, client, bar)
