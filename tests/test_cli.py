@@ -62,3 +62,21 @@ def test_console_script_installed():
     if res.returncode != 0:
         pytest.skip("console script not on PATH")
     assert res.stdout.strip()
+
+
+def test_cli_warnings_one_line_and_closed_pipe(tmp_path):
+    """A warning is one line naming its class (no CLI source line); `info | head` does not
+    end in a BrokenPipeError traceback."""
+    out = tmp_path / "e.nc"
+    cmd = [sys.executable, "-m", "xpersson.cli", "run", str(EXAMPLE), "-o", str(out)]
+    run = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    lines = [ln for ln in run.stderr.splitlines() if ln.strip()]
+    assert any(ln.startswith("XperssonWarning: xpersson:") for ln in lines)
+    assert not any("_pipeline.solve(" in ln for ln in lines)
+    head = subprocess.run(
+        f"{sys.executable} -m xpersson.cli info {out} | head -n 1",
+        shell=True, capture_output=True, text=True, timeout=300,
+    )
+    assert head.stdout.count("\n") == 1
+    assert "BrokenPipeError" not in head.stderr and "Traceback" not in head.stderr

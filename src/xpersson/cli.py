@@ -248,6 +248,17 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line_warnings() -> None:
+    """Show warnings as one line each on stderr (no source line of the CLI's own code)."""
+    import warnings
+
+    def show(message: Any, category: type, filename: str, lineno: int, file: Any = None,
+             line: str | None = None) -> None:
+        print(f"{category.__name__}: {message}", file=sys.stderr)
+
+    warnings.showwarning = show
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``xpersson`` console script; returns the exit code."""
     parser = build_parser()
@@ -262,8 +273,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 1
     from .scene import SceneError
 
+    _one_line_warnings()
     try:
         return int(args.func(args) or 0)
+    except BrokenPipeError:  # the reader went away (`xpersson info OUT.nc | head`)
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # no second error when Python flushes stdout
+        return 1
     except (SceneError, FileExistsError, FileNotFoundError) as exc:
         _err(f"xpersson: error: {exc}")
         return 2
