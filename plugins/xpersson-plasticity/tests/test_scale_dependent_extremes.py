@@ -51,3 +51,28 @@ def test_reached_wall_keeps_areas_in_range_and_balances(p0, Y1, n):
     total = (ds.elastic_area_fraction + ds.plastic_area_fraction + ds.non_contact_area_fraction)
     assert float(np.max(np.abs(total - 1.0))) < 1e-9  # conservative scheme: exact to the leak
     assert float(np.max(np.abs(ds.plastic_force_balance_residual))) < 1e-3
+
+
+def test_failed_balance_never_reports_total_contact_above_one():
+    """Fuzz scene (seed 11, index 2809): the work budget runs out (status max_steps) with a
+    probability imbalance of 5 %; the total contact fraction stays a fraction (it was 1.05)."""
+    scene = {
+        "spectrum": {"model": "self_affine", "H": 0.11878524125183135,
+                     "q_L": "123.36814751530633 1/m", "q_r": "1373.0607010032395 1/m",
+                     "q_1": "817107575.0063772 1/m", "rms_slope": 0.017213817051855283},
+        "material": {"E": "18705140.31861233 Pa", "nu": 0.2893097474879475},
+        "load": {"p0": "0.006615200781175351 Pa"},
+        "output": {"zeta_per_decade": 14},
+        "solver": {"rtol": 1.3290849877009342e-08},
+        "boundary": {"model": "plastic_scale_dependent", "Y1": "0.026286682074637323 Pa",
+                     "n": 0.8132448205604317},
+    }
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = xpersson.solve(scene)
+    assert ds.attrs["status"] != "success"  # the imbalance is reported, not hidden
+    total = ds["total_contact_fraction"].values
+    assert np.all((total >= 0) & (total <= 1))
+    non = ds["non_contact_area_fraction"].values
+    el_pl = (ds["elastic_area_fraction"] + ds["plastic_area_fraction"]).values
+    np.testing.assert_array_equal(total, np.where(el_pl > 1, 1 - non, el_pl))

@@ -94,11 +94,16 @@ def assemble(
     p0 = np.asarray(ctx.p0, dtype=float)[:, None]
     y = np.asarray(yield_stress, dtype=float)[None, :]
     plastic_load = y * plastic
+    # A_el + A_pl + A_non = 1 holds to the solver's tolerance; where a failed solve (its status
+    # says so) leaves A_el + A_pl above 1, report the complement of the non-contact area instead
+    # of an impossible fraction (the residual stays visible in probability_balance)
+    total = elastic + plastic
+    total = np.where(total > 1.0, 1.0 - non_contact, total)
     return {
         "elastic_area_fraction": (_PZ, elastic),
         "plastic_area_fraction": (_PZ, plastic),
         "non_contact_area_fraction": (_PZ, non_contact),
-        "total_contact_fraction": (_PZ, elastic + plastic),
+        "total_contact_fraction": (_PZ, total),
         "elastic_load_share": (_PZ, load / p0),
         "plastic_load_share": (_PZ, plastic_load / p0),
         "plastic_force_balance_residual": (_PZ, (load + plastic_load - p0) / p0),
