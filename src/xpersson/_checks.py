@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
+import weakref
 from collections.abc import Iterator, Mapping
 from typing import Any
 
@@ -293,7 +294,28 @@ def check_spectrum(psd: Any, who: object) -> None:
     ------
     PluginFailure
         Naming the plugin and the attribute at fault.
+
+    A frozen spectrum (:meth:`xpersson.physics.psd.PowerSpectrum.freeze`: immutable, shared by
+    the builds of equal parameters) that passed once is not checked again.
     """
+    frozen = getattr(psd, "frozen", False) is True
+    if frozen and id(psd) in _CHECKED_SPECTRA and _CHECKED_SPECTRA[id(psd)]() is psd:
+        return
+    _check_spectrum(psd, who)
+    if frozen:
+        try:
+            ref = weakref.ref(psd)
+        except TypeError:  # pragma: no cover - not weak-referenceable: checked every time
+            return
+        if len(_CHECKED_SPECTRA) > 256:
+            _CHECKED_SPECTRA.clear()
+        _CHECKED_SPECTRA[id(psd)] = ref
+
+
+_CHECKED_SPECTRA: dict[int, Any] = {}
+
+
+def _check_spectrum(psd: Any, who: object) -> None:
     with calling(who, "the built spectrum's q_L / q_1"):
         q_L, q_1 = float(psd.q_L), float(psd.q_1)
     if not (math.isfinite(q_L) and math.isfinite(q_1) and 0 < q_L < q_1):
@@ -428,6 +450,15 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object)
         return
     if kind not in "iufc":
         raise PluginFailure(f"{var} has unsupported dtype {arr.dtype}", plugin=who, variable=name)
+    if kind in "iuf" and (kind != "f" or spec.nan_meaning is None) and arr.size:
+        # fast path, the same rule in two reductions: min and max propagate NaN and show +-inf
+        lo_v, hi_v = float(arr.min()), float(arr.max())
+        if (math.isfinite(lo_v) and math.isfinite(hi_v)
+                and (spec.valid_min is None or lo_v >= spec.valid_min)
+                and (spec.valid_max is None or hi_v <= spec.valid_max)):
+            return
+        # else: the detailed checks below find and quote the offending values
+
     def coords() -> dict[str, Any]:  # for the error message only (built when raising)
         return {"dims": tuple(da.dims), "values": {
             d: np.asarray(ds[d].values) for d in da.dims if d in ds.coords and ds[d].ndim == 1
@@ -539,10 +570,13 @@ def check_core(ds: Any, who: object = "engine") -> dict[int, str]:
     from .schema import CORE_VARIABLES
 
     def clean(name: str, lo: float | None, hi: float | None) -> bool:
-        arr = np.asarray(ds[name].values)
-        with np.errstate(invalid="ignore"):
-            return bool(np.isfinite(arr).all() and (lo is None or arr.min(initial=lo) >= lo)
-                        and (hi is None or arr.max(initial=hi) <= hi))
+        # two reductions, no temporaries: min and max propagate NaN, and +-inf shows in them
+        arr = np.asarray(ds.variables[name].values)
+        if arr.size == 0:
+            return True
+        a_min, a_max = float(arr.min()), float(arr.max())
+        return bool(math.isfinite(a_min) and math.isfinite(a_max)
+                    and (lo is None or a_min >= lo) and (hi is None or a_max <= hi))
 
     names = [n for n in CORE_RANGES if n in ds.variables]
     if all(clean(n, *CORE_RANGES[n]) for n in names):  # one pass over the arrays: the rule

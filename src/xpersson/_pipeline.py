@@ -403,7 +403,25 @@ def _assemble(
     if p_grid is not None:
         coords["p"] = ("p", p_grid)
         data["P"] = (("p0", "zeta", "p"), stack("P"))
-    return _dataset(data, coords)
+    ds = _dataset(data, coords)
+    for name, attrs in _balance_comments(results).items():
+        ds.variables[name].attrs.update(attrs)
+    return ds
+
+
+def _balance_comments(results: Any) -> dict[str, dict[str, str]]:
+    """A ``comment`` on the balances where the engine reports them as identities (zeros by
+    construction of the one-wall closed form, not evaluated): the reader knows they check
+    nothing there."""
+    exact = np.asarray(getattr(results, "exact_balances", False), dtype=bool)
+    if not exact.any():
+        return {}
+    which = "every load" if exact.all() else (
+        f"{int(exact.sum())} of {exact.size} loads (those with exact_balances in the engine)")
+    text = (f"exactly 0 for {which}: the one-wall closed form defines non_contact_fraction "
+            "as erfc and the load as p0 - wall * non_contact_fraction, so this identity holds "
+            "by construction and is not evaluated")
+    return {name: {"comment": text} for name in ("load_balance", "probability_balance")}
 
 
 _ATTRS: dict[str, dict[str, Any]] = {}

@@ -43,6 +43,8 @@ def _run(cls: type[EngineMethod], problem: Problem, bound: float) -> Raw:
     raw = cls(problem).run()
     if bound > 0:
         raw.error_estimate = raw.error_estimate + np.where(problem.tau > 0, bound, 0.0)
+        if raw.error_form is not None:
+            raw.error_form = (raw.error_form[0], raw.error_form[1] + bound)
         note = f"moving upper wall never reached (hit probability <= {bound:.1e}); "
         if isinstance(raw.message, str):
             raw.message = note + raw.message
@@ -221,7 +223,8 @@ def solve_batch(
         out = _merge(parts, n)
     return EngineBatch(p0v, out["fields"], out["status"], out["message"], out["method"],
                        out["nsteps"], out["n_nodes"], out["nfev"],
-                       problems[0][1].p_out, time.perf_counter() - t0)
+                       problems[0][1].p_out, time.perf_counter() - t0,
+                       exact_balances=out.get("exact_balances"))
 
 
 def _merge(parts: list[tuple[np.ndarray, dict]], n: int) -> dict:
@@ -242,6 +245,9 @@ def _merge(parts: list[tuple[np.ndarray, dict]], n: int) -> dict:
             for j, i in enumerate(sel):
                 lst[i] = part[key][j]
         out[key] = lst
+    out["exact_balances"] = np.zeros(n, dtype=bool)
+    for sel, part in parts:
+        out["exact_balances"][sel] = part.get("exact_balances", False)
     for key in ("nsteps", "n_nodes", "nfev"):
         arr = np.zeros(n, dtype=np.int64)
         for sel, part in parts:

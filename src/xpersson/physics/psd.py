@@ -135,6 +135,30 @@ class PowerSpectrum:
         self.q_L = float(nodes[0])
         self.q_1 = float(nodes[-1])
         self._cum_cache: dict[float, NDArray[np.float64]] = {}
+        self._moment_cache: dict[float, float] = {}
+
+    def freeze(self) -> PowerSpectrum:
+        """Make the spectrum immutable (read-only arrays, no attribute assignment); returns it.
+
+        A frozen spectrum may be shared (e.g. cached by a spectrum plugin for equal
+        parameters): its moments are computed once. Memo tables stay private.
+        """
+        for value in vars(self).values():
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+        object.__setattr__(self, "_frozen", True)
+        return self
+
+    @property
+    def frozen(self) -> bool:
+        """Whether :meth:`freeze` was called."""
+        return bool(getattr(self, "_frozen", False))
+
+    def __setattr__(self, name: str, value: object) -> None:
+        if getattr(self, "_frozen", False):
+            raise AttributeError(f"{type(self).__name__} is frozen (shared); build a new one "
+                                 f"instead of setting {name!r}")
+        object.__setattr__(self, name, value)
 
     # ----------------------------------------------------------------- basics
     def nodes(self) -> NDArray[np.float64]:
@@ -183,10 +207,21 @@ class PowerSpectrum:
         float
             The moment in m^(4+k+1) (e.g. m^2 for ``k = 1``, dimensionless for ``k = 3``).
         """
+        if q_a is None and q_b is None:  # the full moment: computed once per k
+            cache = getattr(self, "_moment_cache", None)
+            if cache is None:  # a subclass that does not use _set_segments
+                return self._moment(float(k), self.q_L, self.q_1)
+            key = float(k)
+            if key not in cache:
+                cache[key] = self._moment(key, self.q_L, self.q_1)
+            return cache[key]
         qa = self.q_L if q_a is None else float(q_a)
         qb = self.q_1 if q_b is None else float(q_b)
+        return self._moment(float(k), qa, qb)
+
+    def _moment(self, k: float, qa: float, qb: float) -> float:
         if qb < qa:
-            return -self.moment(k, qb, qa)
+            return -self._moment(k, qb, qa)
         lo = np.clip(np.maximum(self._a, qa), self._a, self._b)
         hi = np.clip(np.minimum(self._b, qb), self._a, self._b)
         use = hi > lo
