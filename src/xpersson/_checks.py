@@ -395,7 +395,7 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
     """
     import xarray as xr
 
-    var = f"{who}: variable {name!r}"
+    var = _VarName(who, name)  # formatted only for a message
     try:
         if isinstance(value, xr.DataArray):
             da = value.copy()
@@ -405,7 +405,9 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
             dims, arr = value
             if isinstance(dims, str):
                 dims = (dims,)
-            da = xr.Variable(tuple(dims), np.asarray(arr))
+            arr = np.asarray(arr)
+            # a numeric ndarray is already what xarray would make of it: skip the conversion
+            da = xr.Variable(tuple(dims), arr, fastpath=arr.dtype.kind in "iufb")
     except Exception as exc:
         raise PluginFailure(
             f"{var}: expected a DataArray or a (dims, data) pair with matching dims ({exc})",
@@ -413,8 +415,9 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
         ) from None
     declared = tuple(spec.dims)
     have = tuple(str(d) for d in da.dims)
-    sweep = {d for d in ds.dims if d not in CORE_DIMS and d not in declared}
-    missing = [d for d in declared if d not in have and not (d == "p0" and "p0" not in ds.dims)]
+    ds_sizes = ds.sizes
+    sweep = {d for d in ds_sizes if d not in CORE_DIMS and d not in declared}
+    missing = [d for d in declared if d not in have and not (d == "p0" and "p0" not in ds_sizes)]
     extra = [d for d in have if d not in declared and d not in sweep]
     if missing or extra:
         raise PluginFailure(
@@ -423,8 +426,8 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
             + (f" (undeclared {extra})" if extra else ""),
             plugin=who, variable=name,
         )
-    wrong = [(d, da.sizes[d], ds.sizes[d]) for d in have if d in ds.dims
-             and da.sizes[d] != ds.sizes[d]]
+    sizes = dict(zip(have, da.shape, strict=True))
+    wrong = [(d, sizes[d], ds_sizes[d]) for d in have if d in ds_sizes and sizes[d] != ds_sizes[d]]
     if wrong:
         d, got, want = wrong[0]
         raise PluginFailure(
@@ -438,7 +441,22 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
     return da
 
 
-def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object) -> None:
+class _VarName:
+    """``"<plugin>: variable 'name'"`` for error messages, formatted only when one is raised."""
+
+    __slots__ = ("who", "name")
+
+    def __init__(self, who: object, name: str) -> None:
+        self.who, self.name = who, name
+
+    def __str__(self) -> str:
+        return f"{self.who}: variable {self.name!r}"
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self), spec)
+
+
+def _check_values(da: Any, ds: Any, name: str, spec: Any, var: Any, who: object) -> None:
     arr = np.asarray(da.values)
     kind = arr.dtype.kind
     if kind in "b":

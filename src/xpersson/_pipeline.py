@@ -541,9 +541,9 @@ def _insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
         return False
     sizes = ds.sizes
     for da in checked.values():
-        if getattr(da, "coords", None) or any(
-            d not in sizes or sizes[d] != n for d, n in da.sizes.items()
-        ):
+        if not isinstance(da, xr.Variable) and da.coords:  # a DataArray with coordinates
+            return False
+        if any(d not in sizes or sizes[d] != n for d, n in zip(da.dims, da.shape, strict=True)):
             return False
     for name, da in checked.items():
         variables[name] = getattr(da, "variable", da)  # DataArray -> its Variable

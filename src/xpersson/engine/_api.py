@@ -15,7 +15,7 @@ from ._exactpath import ExactMethod
 from ._methods import EngineMethod, get_method
 from ._moving import CNMethod
 from ._problem import Problem, make_problem
-from ._result import EngineBatch, EngineResult, Raw, finish, finish_batch
+from ._result import EngineBatch, EngineResult, LazyField, Raw, finish, finish_batch
 from ._walls import Wall
 
 __all__ = ["solve", "solve_batch"]
@@ -153,10 +153,16 @@ def _run_group(problem: Problem, method: str | type[EngineMethod]) -> dict:
     else:
         raw = _stack_raws([_run(cls, run_on.load(i), bound) for i in range(problem.tau.shape[0])])
     out = finish_batch(run_on, raw, name)
-    if run_on is not problem:
-        lo, up = problem.wall_positions(problem.tau)
-        out["fields"]["wall_lower"] = np.broadcast_to(lo, problem.tau.shape)
-        out["fields"]["wall_upper"] = np.broadcast_to(up, problem.tau.shape)
+    if run_on is not problem:  # report the real walls (positions computed when asked for)
+        memo: list[tuple[np.ndarray, np.ndarray]] = []
+
+        def walls(side: int) -> np.ndarray:
+            if not memo:
+                memo.append(problem.wall_positions(problem.tau))
+            return np.broadcast_to(memo[0][side], problem.tau.shape)
+
+        out["fields"]["wall_lower"] = LazyField(lambda: walls(0))
+        out["fields"]["wall_upper"] = LazyField(lambda: walls(1))
     return out
 
 
@@ -231,12 +237,15 @@ def _merge(parts: list[tuple[np.ndarray, dict]], n: int) -> dict:
     first = parts[0][1]
     fields: dict[str, Any] = {}
     for name, val in first["fields"].items():
+        if isinstance(val, LazyField):
+            val = val()
         if val is None:
             fields[name] = None
             continue
         full = np.empty((n, *np.shape(val)[1:]))
         for sel, part in parts:
-            full[sel] = part["fields"][name]
+            value = part["fields"][name]
+            full[sel] = value() if isinstance(value, LazyField) else value
         fields[name] = full
     out: dict[str, Any] = {"fields": fields}
     for key in ("status", "message", "method"):

@@ -179,9 +179,23 @@ def sample_times(tau: Array) -> Array:
     One set for the input checks and the clearance bound of :mod:`._clear`, so that a wall
     whose position is costly (an inverted clock) is evaluated at these times once.
     """
-    t_end = float(np.max(tau))
-    return np.unique(np.concatenate([[0.0], np.ravel(tau), np.linspace(0.0, t_end, 65),
-                                     t_end * np.logspace(-16, 0, 96)]))
+    t = np.asarray(tau, dtype=float)
+    if t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0:  # one row shared by the loads
+        t = t[0]
+    key = (t.shape, t.tobytes())
+    hit = _SAMPLES.get("last")
+    if hit is not None and hit[0] == key:
+        return hit[1].copy()  # callers' walls may write into their argument
+    t_end = float(np.max(t))
+    out = np.unique(np.concatenate([[0.0], t.ravel(), np.linspace(0.0, t_end, 65),
+                                    t_end * _LOG16]))
+    out.setflags(write=False)
+    _SAMPLES["last"] = (key, out)
+    return out.copy()
+
+
+_LOG16 = np.logspace(-16, 0, 96)
+_SAMPLES: dict[str, tuple[Any, Array]] = {}  # the last request (checks, then the bound)
 
 
 def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> None:

@@ -271,8 +271,13 @@ class EngineBatch(Sequence):
                  method: list[str], nsteps: Array, n_nodes: Array, nfev: Array, p: Array | None,
                  wall_time: float, exact_balances: Array | None = None) -> None:
         self.p0 = p0
+        self._lazy: dict[str, LazyField] = {}
         for name in _BATCH_FIELDS:
-            setattr(self, name, fields.get(name))
+            value = fields.get(name)
+            if isinstance(value, LazyField):  # computed on first access (see __getattr__)
+                self._lazy[name] = value
+            else:
+                setattr(self, name, value)
         self.p = p
         self.status = status
         self.message = message
@@ -283,6 +288,19 @@ class EngineBatch(Sequence):
         self.exact_balances = (np.zeros(len(p0), dtype=bool) if exact_balances is None
                                else np.asarray(exact_balances, dtype=bool))
         self._cache: dict[int, EngineResult] = {}
+
+    def __getattr__(self, name: str):
+        lazy = self.__dict__.get("_lazy", {})
+        if name in lazy:
+            value = lazy.pop(name)()
+            setattr(self, name, value)
+            return value
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def __getstate__(self) -> dict:  # pickled with every field computed
+        for name in list(self._lazy):
+            getattr(self, name)
+        return dict(self.__dict__)
 
     def __len__(self) -> int:
         return int(self.p0.size)
@@ -310,6 +328,19 @@ class EngineBatch(Sequence):
         n_bad = int(np.sum(~self.success))
         return (f"EngineBatch(n_load={len(self)}, methods={sorted(set(self.method))}, "
                 f"failed={n_bad}, wall_time={self.wall_time:.3g} s)")
+
+
+class LazyField:
+    """A batch field computed on first access (e.g. the wall positions of a moving wall that
+    the exact path dropped: reported when asked for, not inverted for every solve)."""
+
+    __slots__ = ("_fn",)
+
+    def __init__(self, fn) -> None:
+        self._fn = fn
+
+    def __call__(self):
+        return self._fn()
 
 
 def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:

@@ -106,10 +106,29 @@ class DiffusionClock:
     @property
     def _table(self) -> tuple[np.ndarray, np.ndarray]:
         """(zeta, tau) nodes of the inverse, tabulated on first use (elastic walls never ask)."""
+        return self._nodes()[:2]
+
+    def _nodes(self) -> tuple[np.ndarray, ...]:
+        """(zeta, tau) at the nodes of the inverse and the cubic start's tables (see
+        :meth:`_start`), computed on first use."""
         if not self._tables:
             n = max(64, int(40 * np.log10(max(self.zeta_max, 10.0))))
-            z = np.geomspace(1.0, max(self.zeta_max, 1.0 + 1e-12), n)
-            self._tables.append((z, np.asarray(self.tau_fn(z), dtype=float)))
+            z_end = max(self.zeta_max, 1.0 + 1e-12)
+            z = np.exp(np.linspace(0.0, np.log(z_end), n))  # log-spaced (cheaper than geomspace)
+            z[0], z[-1] = 1.0, z_end
+            tau = np.asarray(self.tau_fn(z), dtype=float)
+            f = np.asarray(self.f(z), dtype=float)
+            with np.errstate(all="ignore"):
+                # beyond the first node: log(zeta - 1) against log(tau), slopes d/d log tau
+                u = np.log(tau[1:])
+                y = np.log(z[1:] - 1.0)
+                m = tau[1:] / (f[1:] * (z[1:] - 1.0))
+                h = np.diff(u)
+                usable = bool(tau[1] > 0 and np.all(h > 0) and np.all(np.isfinite(m))
+                              and np.all(np.isfinite(y)) and f[0] > 0)
+            self._tables.append((z, tau, np.log(z), usable, u, y, h * m[:-1], h * m[1:],
+                                 (tau[1] - tau[0]) / f[0] if usable else 0.0,
+                                 (tau[1] - tau[0]) / f[1] if usable else 0.0))
         return self._tables[0]
 
     def tau_of_zeta(self, zeta: np.ndarray | float) -> np.ndarray:
@@ -119,8 +138,9 @@ class DiffusionClock:
     def zeta_of_tau(self, tau: np.ndarray | float) -> np.ndarray:
         """Magnification [1] reached at diffusion time ``tau`` [Pa^2] (monotone inverse).
 
-        Interpolated in the tabulated (tau, log zeta) relation, then polished by Newton steps
-        on tau(zeta) - tau = 0 with derivative f(zeta); relative accuracy ~1e-12.
+        Started from a cubic Hermite interpolation of the tabulated relation (exact slopes
+        1/f), then polished by Newton steps on tau(zeta) - tau = 0 with derivative f(zeta);
+        relative accuracy ~1e-12.
         """
         t = np.asarray(tau, dtype=float)
         flat = t.ravel()
@@ -135,21 +155,48 @@ class DiffusionClock:
         return z
 
     def _zeta_of_tau(self, t: np.ndarray) -> np.ndarray:
-        zt, tt = self._table
-        z = np.exp(np.interp(t, tt, np.log(zt)))
-        # beyond the first node tau(zeta) is close to a power law: log-log interpolation starts
-        # Newton much closer (it then converges in one or two steps instead of four)
-        far = t > tt[1]
-        if np.any(far) and tt[1] > 0:
-            z[far] = np.exp(np.interp(np.log(t[far]), np.log(tt[1:]), np.log(zt[1:])))
+        nodes = self._nodes()
+        zt, tt, logz = nodes[:3]
         inside = (t > tt[0]) & (t < tt[-1])
         if not np.any(inside):  # table end points (tau = 0: zeta = 1): nothing to polish
-            return z
+            return np.exp(np.interp(t, tt, logz))
+        z = self._start(t, nodes)
+        prev = np.inf
         for _ in range(4):
             fz = np.asarray(self.f(z), dtype=float)
             ok = inside & (fz > 0)
             step = np.where(ok, (self.tau_of_zeta(z) - t) / np.where(fz > 0, fz, 1.0), 0.0)
             z = np.clip(z - step, 1.0, zt[-1])
-            if np.all(np.abs(step) <= 1e-13 * z):  # converged: Newton squares the error
+            rel = float(np.max(np.abs(step) / z))
+            # converged: the step is at round-off, or Newton is in its quadratic regime (the
+            # previous step already small) and this step leaves an error ~ step^2 <= 1e-14
+            if rel <= 1e-13 or (rel <= 1e-7 and prev <= 1e-3):
                 break
+            prev = rel
         return z
+
+    @staticmethod
+    def _start(t: np.ndarray, nodes: tuple) -> np.ndarray:
+        """Newton's start: cubic Hermite interpolation of the tabulated inverse with its exact
+        slopes (d zeta / d tau = 1 / f), in (log tau, log(zeta - 1)) beyond the first node and in
+        (tau, zeta) before it; log-linear interpolation where the table does not allow it
+        (f = 0 somewhere, flat tau)."""
+        zt, tt, logz, usable, u, y, d0, d1, g0, g1 = nodes
+        if not usable:
+            return np.exp(np.interp(t, tt, logz))
+        z = np.empty(t.shape)
+        first = t <= tt[1]
+        with np.errstate(all="ignore"):
+            tf = t[first]
+            z[first] = _hermite((tf - tt[0]) / (tt[1] - tt[0]), zt[0], zt[1], g0, g1)
+            ut = np.log(t[~first])
+            k = np.clip(np.searchsorted(u, ut) - 1, 0, u.size - 2)
+            s = (ut - u[k]) / (u[k + 1] - u[k])
+            z[~first] = 1.0 + np.exp(_hermite(s, y[k], y[k + 1], d0[k], d1[k]))
+        return np.clip(z, 1.0, zt[-1])
+
+
+def _hermite(s: np.ndarray, y0: Any, y1: Any, d0: Any, d1: Any) -> np.ndarray:
+    """Cubic Hermite interpolant on [0, 1] (values y0, y1; slopes d0, d1 per unit s)."""
+    s2 = s * s
+    return y0 + s * d0 + s2 * (3 * (y1 - y0) - 2 * d0 - d1) + s2 * s * (2 * (y0 - y1) + d0 + d1)
