@@ -379,7 +379,8 @@ def check_walls(walls: Any, p0: float, who: object) -> tuple[Any, Any]:
 
 
 # -- Dataset contributions -----------------------------------------------------------------------
-def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> Any:
+def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object,
+                     sizes: Mapping[str, int] | None = None) -> Any:
     """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray
     (a pair becomes a coordinate-free :class:`xarray.Variable`).
 
@@ -387,6 +388,8 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
     only sweep dimensions of ``ds``), sizes (those of ``ds`` for shared dims), a numeric or
     boolean dtype, finiteness (NaN only with ``nan_meaning``; never inf) and
     ``valid_min`` / ``valid_max``.
+
+    ``sizes`` (optional) is ``dict(ds.sizes)`` when the caller has it.
 
     Raises
     ------
@@ -405,9 +408,21 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
             dims, arr = value
             if isinstance(dims, str):
                 dims = (dims,)
+            dims = tuple(dims)
             arr = np.asarray(arr)
+            if (arr.dtype.kind == "f" and dims == tuple(spec.dims) and len(dims) == arr.ndim
+                    and all(type(d) is str for d in dims)
+                    and arr.shape == tuple((sizes if sizes is not None else dict(ds.sizes))
+                                           .get(d, -1) for d in dims)):
+                # the common case: exactly the declared dims, the Dataset's sizes, floats;
+                # the remaining rule is the values' (finite, valid_min / valid_max)
+                da = xr.Variable(dims, arr, fastpath=True)
+                _check_values(da, ds, name, spec, var, who)
+                return da
             # a numeric ndarray is already what xarray would make of it: skip the conversion
-            da = xr.Variable(tuple(dims), arr, fastpath=arr.dtype.kind in "iufb")
+            da = xr.Variable(dims, arr, fastpath=arr.dtype.kind in "iufb")
+    except PluginFailure:
+        raise
     except Exception as exc:
         raise PluginFailure(
             f"{var}: expected a DataArray or a (dims, data) pair with matching dims ({exc})",
@@ -549,6 +564,7 @@ def check_contributions(
         raise PluginFailure(f"{who} returned {type(values).__name__}; expected a mapping "
                             f"name -> DataArray or (dims, data)", plugin=who)
     out = {}
+    sizes = dict(ds.sizes)
     for name, value in values.items():
         if name not in specs:
             raise PluginFailure(f"{who} returned {name!r} without declaring it in its outputs "
@@ -557,7 +573,7 @@ def check_contributions(
             raise PluginFailure(f"{who} returned {name!r}, which the Dataset already has (a "
                                 f"core or another plugin's variable); choose another name",
                                 plugin=who, variable=name)
-        out[name] = checked_variable(ds, name, value, specs[name], who)
+        out[name] = checked_variable(ds, name, value, specs[name], who, sizes)
     return out
 
 

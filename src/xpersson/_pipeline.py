@@ -539,7 +539,7 @@ def _insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
     variables = getattr(ds, "_variables", None)
     if not isinstance(variables, dict):  # pragma: no cover - other xarray versions
         return False
-    sizes = ds.sizes
+    sizes = dict(ds.sizes)
     for da in checked.values():
         if not isinstance(da, xr.Variable) and da.coords:  # a DataArray with coordinates
             return False
