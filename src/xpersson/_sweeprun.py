@@ -220,7 +220,7 @@ def solve_sweep(
             tasks = [(b, pts, parts[b.number]) for b, pts, _ in tasks]
         bar = _progress_bar(plan.size, progress, "xpersson sweep")
         try:
-            results = _execute(tasks, registry, scheduler, client, bar)
+            results = _execute(tasks, registry, scheduler, client, bar, n_workers)
         finally:
             if bar is not None:
                 bar.close()
@@ -283,6 +283,7 @@ def _execute(
     scheduler: Any,
     client: Any,
     bar: Any,
+    n_workers: int = 1,
 ) -> list[BlockResult]:
     tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
     if client is None and scheduler != "threads":
@@ -294,7 +295,7 @@ def _execute(
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+            with ThreadPoolExecutor(max_workers=max(1, n_workers)) as pool:
                 futures = [pool.submit(run_block, b, pts, registry, part, False, tick)
                            for b, pts, part in tasks]
                 return [f.result() for f in futures]
