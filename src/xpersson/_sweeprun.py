@@ -146,7 +146,10 @@ def _resolve_on_workers(
                               else [addresses[i % len(addresses)]],
                               allow_other_workers=True)
                 for i, b in enumerate(blocks)]
-    summaries = client.gather([client.submit(_summary, f, pure=False) for f in resolved])
+    # one round trip: every block's summary and the first point
+    summaries = [client.submit(_summary, f, pure=False) for f in resolved]
+    *summaries, first = client.gather([*summaries, client.submit(_first, resolved[0],
+                                                                 pure=False)])
     zeta = summaries[0][0]
     if any(z is None or z.shape != zeta.shape or not np.array_equal(z, zeta)
            for z, _ in summaries):
@@ -154,10 +157,9 @@ def _resolve_on_workers(
     if summaries[0][1] is not None:
         lo = min(b[0] for _, b in summaries)
         hi = max(b[1] for _, b in summaries)
-        first = client.submit(_first, resolved[0], pure=False).result()
         grid = np.linspace(lo, hi, first.p_points)
         resolved = [client.submit(_with_grid, f, grid, pure=False) for f in resolved]
-    first = client.submit(_first, resolved[0], pure=False).result()
+        first = dataclasses.replace(first, p=grid)
     return first, [(b, f, parts[b.number]) for b, f in zip(blocks, resolved, strict=True)]
 
 
