@@ -10,8 +10,14 @@ Measures, with CPU time of this process (the machine may be shared) and one BLAS
 3. ``plastic_scale_dependent`` with a yield wall that is never reached against the elastic
    solve of the same scene (target: within 2x).
 
-Run: ``python benchmarks/pipeline_cost.py``; prints a Markdown table and writes it to
-``benchmarks/results/pipeline_cost.md``.
+Every quantity is the median CPU time of many calls, measured in each of ``--rounds`` rounds
+(all quantities in every round, interleaved); the table gives the smallest round median of
+each (the machine may be shared: the least disturbed round) and the ratios of those.
+
+Run: ``python benchmarks/pipeline_cost.py [--rounds N] [--profile]``; prints a Markdown table
+and writes it to ``benchmarks/results/pipeline_cost.md``. ``--profile`` (needs
+``pyinstrument``) prints instead a profile of 200 calls of each of the three user paths
+(1000 loads, one load, the unreached yield wall).
 """
 
 from __future__ import annotations
@@ -20,8 +26,10 @@ import os
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
+import argparse  # noqa: E402
 import statistics  # noqa: E402
 import time  # noqa: E402
+import warnings  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
@@ -55,7 +63,8 @@ def cpu(fn, repeats: int = 30) -> float:
 
 
 def _engine_parts() -> tuple[float, float]:
-    """CPU time of the engine call alone (what run() hands the engine) for both scenes."""
+    """CPU time of the walls and the engine call (what run() asks the boundary and hands the
+    engine) for both scenes; a fresh clock each call, as in a solve (no inverse cached)."""
     from xpersson import engine
     from xpersson.plugins import DiffusionClock, SceneContext
 
@@ -66,51 +75,97 @@ def _engine_parts() -> tuple[float, float]:
                            zeta=rs.zeta, rtol=rs.rtol, atol=rs.atol)
         coef = rs.coefficient
         tau = np.asarray(coef.tau(ctx, rs.zeta))
-        clock = DiffusionClock(lambda z, c=coef, x=ctx: c.tau(x, z),
-                               lambda z, c=coef, x=ctx: c.f(x, z), ctx.zeta_max)
-        walls = rs.boundary.walls(ctx, float(rs.p0[0]), clock)
-        out.append(cpu(lambda w=walls, t=tau, p=rs.p0, r=rs.rtol, a=rs.atol: engine.solve_batch(
-            t, p, w, rtol=r, atol=a), 30))
+
+        def call(rs=rs, ctx=ctx, coef=coef, tau=tau) -> None:
+            clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z),
+                                   ctx.zeta_max)
+            walls = rs.boundary.walls(ctx, float(rs.p0[0]), clock)
+            engine.solve_batch(tau, rs.p0, walls, rtol=rs.rtol, atol=rs.atol)
+
+        out.append(cpu(call, 30))
     return out[0], out[1]
 
 
-def main() -> list[str]:
+def _measure(p0: np.ndarray, tau: np.ndarray) -> dict[str, float]:
+    """One round: every quantity once (median CPU seconds)."""
+    def bare() -> np.ndarray:
+        with np.errstate(divide="ignore"):
+            return erf(p0[:, None] / (2.0 * np.sqrt(tau[None, :])))
+
+    out = {
+        "bare": cpu(bare, 100),
+        "many": cpu(lambda: xpersson.solve(LOADS_1000), 20),
+        "single": cpu(lambda: xpersson.solve(SINGLE), 100),
+        "resolve": cpu(lambda: xpersson.Scene(SINGLE).resolve(), 100),
+        "elastic": cpu(lambda: xpersson.solve(STEEL), 30),
+        "unreached": cpu(lambda: xpersson.solve(UNREACHED), 30),
+    }
+    out["engine_elastic"], out["engine_unreached"] = _engine_parts()
+    return out
+
+
+def _profile() -> None:
+    """pyinstrument profiles of the three user paths (200 calls each after 5 warm-ups)."""
+    from pyinstrument import Profiler
+
+    for label, scene in (("1000 loads x 51 zeta", LOADS_1000), ("one load", SINGLE),
+                         ("yield wall never reached (2 loads)", UNREACHED)):
+        for _ in range(5):
+            xpersson.solve(scene)
+        prof = Profiler(interval=1e-4)
+        prof.start()
+        for _ in range(200):
+            xpersson.solve(scene)
+        prof.stop()
+        print(f"## {label}: 200 solves")
+        print(prof.output_text(unicode=False, color=False))
+
+
+def main(argv: list[str] | None = None) -> list[str]:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rounds", type=int, default=5, help="measurement rounds (default 5)")
+    ap.add_argument("--profile", action="store_true", help="print pyinstrument profiles")
+    args = ap.parse_args(argv)
+    warnings.simplefilter("ignore")  # P-resolution notes of the solves are not measured here
+    if args.profile:
+        _profile()
+        return []
     rs = xpersson.Scene(LOADS_1000).resolve()
     tau = np.asarray(elastic.diffusion_time(rs.psd, rs.E_star, rs.zeta))
     p0 = rs.p0
-
-    def bare() -> np.ndarray:
-        return erf(p0[:, None] / (2.0 * np.sqrt(tau[None, :])))
-
-    assert np.allclose(bare(), xpersson.solve(LOADS_1000).area_fraction.values, rtol=1e-14)
-    t_bare = cpu(bare, 100)
-    t_many = cpu(lambda: xpersson.solve(LOADS_1000), 20)
-    t_single = cpu(lambda: xpersson.solve(SINGLE), 100)
-    t_resolve = cpu(lambda: xpersson.Scene(SINGLE).resolve(), 100)
-    t_elastic = cpu(lambda: xpersson.solve(STEEL), 30)
-    t_unreached = cpu(lambda: xpersson.solve(UNREACHED), 30)
-    e_el, e_un = _engine_parts()
+    with np.errstate(divide="ignore"):
+        ref = erf(p0[:, None] / (2.0 * np.sqrt(tau[None, :])))
+    assert np.allclose(ref, xpersson.solve(LOADS_1000).area_fraction.values, rtol=1e-14)
+    rounds = [_measure(p0, tau) for _ in range(max(1, args.rounds))]
+    t = {k: min(r[k] for r in rounds) for k in rounds[0]}
+    ms = {k: v * 1e3 for k, v in t.items()}
     rows = [
         "| measurement | CPU time | ratio | target |",
         "|---|---:|---:|---|",
-        f"| bare kernel erf(p0/(2 sqrt tau)), 1000 x {tau.size} | {t_bare * 1e3:.3f} ms | 1 | |",
-        f"| xpersson.solve, 1000 loads x {tau.size} zeta | {t_many * 1e3:.3f} ms | "
-        f"{t_many / t_bare:.1f}x bare | <= 10x |",
-        f"| xpersson.solve, one load | {t_single * 1e3:.3f} ms | | <= 1 ms |",
-        f"| of which Scene.resolve (parse, plugins, PSD) | {t_resolve * 1e3:.3f} ms | | |",
-        f"| elastic solve, 2 loads (steel) | {t_elastic * 1e3:.3f} ms | 1 | |",
-        f"| plastic_scale_dependent, wall never reached | {t_unreached * 1e3:.3f} ms | "
-        f"{t_unreached / t_elastic:.2f}x elastic | <= 2x |",
-        f"| engine only: elastic walls, 2 loads | {e_el * 1e3:.3f} ms | 1 | |",
-        f"| engine only: yield wall never reached, 2 loads | {e_un * 1e3:.3f} ms | "
-        f"{e_un / e_el:.2f}x elastic | <= 2x |",
+        f"| bare kernel erf(p0/(2 sqrt tau)), 1000 x {tau.size} | {ms['bare']:.3f} ms | 1 | |",
+        f"| xpersson.solve, 1000 loads x {tau.size} zeta | {ms['many']:.3f} ms | "
+        f"{t['many'] / t['bare']:.1f}x bare | <= 10x |",
+        f"| xpersson.solve, one load | {ms['single']:.3f} ms | | <= 1 ms |",
+        f"| of which Scene.resolve (parse, plugins, PSD) | {ms['resolve']:.3f} ms | | |",
+        f"| elastic solve, 2 loads (steel) | {ms['elastic']:.3f} ms | 1 | |",
+        f"| plastic_scale_dependent, wall never reached | {ms['unreached']:.3f} ms | "
+        f"{t['unreached'] / t['elastic']:.2f}x elastic | <= 2x |",
+        f"| walls + engine only: elastic, 2 loads | {ms['engine_elastic']:.3f} ms | 1 | |",
+        f"| walls + engine only: yield wall never reached, 2 loads | "
+        f"{ms['engine_unreached']:.3f} ms | "
+        f"{t['engine_unreached'] / t['engine_elastic']:.2f}x elastic | |",
     ]
+    spread = {k: max(r[k] for r in rounds) / t[k] for k in ("many", "unreached")}
+    note = (f"\n{len(rounds)} rounds in one process; each entry is the smallest round median "
+            f"(the slowest round was {spread['many']:.2f}x / {spread['unreached']:.2f}x "
+            "slower for 1000 loads / the unreached wall: the machine may be shared).\n")
     text = "\n".join(rows)
-    print(text)
+    print(text + "\n" + note)
     out = HERE / "results"
     out.mkdir(exist_ok=True)
     (out / "pipeline_cost.md").write_text(
-        "# Pipeline cost (CPU time, one process, OPENBLAS_NUM_THREADS=1)\n\n" + text + "\n")
+        "# Pipeline cost (CPU time, one process, OPENBLAS_NUM_THREADS=1)\n\n" + text + "\n"
+        + note)
     return rows
 
 
