@@ -75,6 +75,8 @@ def _expm1_over_x(x: NDArray[np.float64]) -> NDArray[np.float64]:
     """Return ``expm1(x)/x`` with the removable singularity (value 1) at ``x = 0``."""
     x = np.asarray(x, dtype=float)
     zero = x == 0.0
+    if not zero.any():
+        return np.expm1(x) / x
     xs = np.where(zero, 1.0, x)
     return np.where(zero, 1.0, np.expm1(xs) / xs)
 
@@ -183,12 +185,22 @@ class PowerSpectrum:
             ``C(q)``, zero outside ``[q_L, q_1]``. Same shape as ``q``.
         """
         q_arr = np.asarray(q, dtype=float)
-        idx = np.clip(np.searchsorted(self._nodes, q_arr, side="right") - 1, 0, self._a.size - 1)
+        idx = self._segment(q_arr)
         inside = (q_arr >= self.q_L) & (q_arr <= self.q_1)
-        qs = np.where(inside, q_arr, self._a[idx])
-        val = self._Ca[idx] * (qs / self._a[idx]) ** self._e[idx]
+        a = self._a[idx]
+        val = self._Ca[idx] * (np.where(inside, q_arr, a) / a) ** self._e[idx]
         out = np.where(inside, val, 0.0)
         return float(out) if out.ndim == 0 else out
+
+    def _segment(self, q: NDArray[np.float64]) -> NDArray[np.intp]:
+        """Index of the segment holding each ``q`` (clipped to the first / last segment)."""
+        idx = np.asarray(np.searchsorted(self._nodes, q, side="right"))
+        if idx.ndim == 0:  # scalar q
+            return np.intp(min(max(int(idx) - 1, 0), self._a.size - 1))
+        idx -= 1
+        np.maximum(idx, 0, out=idx)
+        np.minimum(idx, self._a.size - 1, out=idx)
+        return idx
 
     # ---------------------------------------------------------------- moments
     def moment(self, k: float, q_a: float | None = None, q_b: float | None = None) -> float:
@@ -257,9 +269,9 @@ class PowerSpectrum:
         float or ndarray
             Same shape as ``q``.
         """
-        q_arr = np.clip(np.asarray(q, dtype=float), self.q_L, self.q_1)
+        q_arr = np.minimum(np.maximum(np.asarray(q, dtype=float), self.q_L), self.q_1)
         cum = self._cumulative(k)
-        idx = np.clip(np.searchsorted(self._nodes, q_arr, side="right") - 1, 0, self._a.size - 1)
+        idx = self._segment(q_arr)
         a = self._a[idx]
         part = _segment_integral(a, q_arr, self._Ca[idx], self._e[idx], float(k))
         out = cum[idx] + part

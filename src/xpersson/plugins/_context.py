@@ -161,18 +161,31 @@ class DiffusionClock:
         if not np.any(inside):  # table end points (tau = 0: zeta = 1): nothing to polish
             return np.exp(np.interp(t, tt, logz))
         z = self._start(t, nodes)
+        sel = None if inside.all() else np.flatnonzero(inside)  # tau = 0, table end: exact
+        zi, ti = (z, t) if sel is None else (z.ravel()[sel], t.ravel()[sel])
         prev = np.inf
+        z_end = zt[-1]
         for _ in range(4):
-            fz = np.asarray(self.f(z), dtype=float)
-            ok = inside & (fz > 0)
-            step = np.where(ok, (self.tau_of_zeta(z) - t) / np.where(fz > 0, fz, 1.0), 0.0)
-            z = np.clip(z - step, 1.0, zt[-1])
-            rel = float(np.max(np.abs(step) / z))
+            fz = np.asarray(self.f(zi), dtype=float)
+            pos = fz > 0
+            step = self.tau_of_zeta(zi) - ti
+            if pos.all():
+                step /= fz
+            else:  # no Newton step where f = 0
+                step = np.where(pos, step / np.where(pos, fz, 1.0), 0.0)
+            zi = zi - step
+            np.maximum(zi, 1.0, out=zi)
+            np.minimum(zi, z_end, out=zi)
+            rel = float(np.max(np.abs(step) / zi))
             # converged: the step is at round-off, or Newton is in its quadratic regime (the
             # previous step already small) and this step leaves an error ~ step^2 <= 1e-14
             if rel <= 1e-13 or (rel <= 1e-7 and prev <= 1e-3):
                 break
             prev = rel
+        if sel is None:
+            return zi
+        z = z.copy()
+        z.ravel()[sel] = zi
         return z
 
     @staticmethod
