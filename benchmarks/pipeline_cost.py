@@ -10,9 +10,9 @@ Measures, with CPU time of this process (the machine may be shared) and one BLAS
 3. ``plastic_scale_dependent`` with a yield wall that is never reached against the elastic
    solve of the same scene (target: within 2x).
 
-Every quantity is the median CPU time of many calls, measured in each of ``--rounds`` rounds
-(all quantities in every round, interleaved); the table gives the smallest round median of
-each (the machine may be shared: the least disturbed round) and the ratios of those.
+Every quantity is the median CPU time of ``--calls`` calls in each of ``--rounds`` rounds (the
+quantities interleaved call by call); the table gives the smallest round median of each (the
+machine may be shared: the least disturbed round) and the ratios of those.
 
 Run: ``python benchmarks/pipeline_cost.py [--rounds N] [--profile]``; prints a Markdown table
 and writes it to ``benchmarks/results/pipeline_cost.md``. ``--profile`` (needs
@@ -51,20 +51,9 @@ STEEL = {"spectrum": SPECTRUM, "material": {"E": "210 GPa", "nu": 0.3},
 UNREACHED = dict(STEEL, boundary={"model": "plastic_scale_dependent", "Y1": "30 GPa", "n": 0.2})
 
 
-def cpu(fn, repeats: int = 30) -> float:
-    """Median CPU seconds of ``fn()`` (one warm-up call)."""
-    fn()
-    times = []
-    for _ in range(repeats):
-        t0 = time.process_time_ns()
-        fn()
-        times.append((time.process_time_ns() - t0) * 1e-9)
-    return statistics.median(times)
-
-
-def _engine_parts() -> tuple[float, float]:
-    """CPU time of the walls and the engine call (what run() asks the boundary and hands the
-    engine) for both scenes; a fresh clock each call, as in a solve (no inverse cached)."""
+def _engine_calls() -> tuple:
+    """The walls and the engine call (what run() asks the boundary and hands the engine) for
+    both scenes; a fresh clock each call, as in a solve (no inverse cached)."""
     from xpersson import engine
     from xpersson.plugins import DiffusionClock, SceneContext
 
@@ -82,26 +71,37 @@ def _engine_parts() -> tuple[float, float]:
             walls = rs.boundary.walls(ctx, float(rs.p0[0]), clock)
             engine.solve_batch(tau, rs.p0, walls, rtol=rs.rtol, atol=rs.atol)
 
-        out.append(cpu(call, 30))
-    return out[0], out[1]
+        out.append(call)
+    return tuple(out)
 
 
-def _measure(p0: np.ndarray, tau: np.ndarray) -> dict[str, float]:
-    """One round: every quantity once (median CPU seconds)."""
+def _measure(p0: np.ndarray, tau: np.ndarray, calls: int) -> dict[str, float]:
+    """One round: every quantity ``calls`` times, interleaved call by call (so that a change
+    of the machine's load hits all of them alike); median CPU seconds of each."""
     def bare() -> np.ndarray:
         with np.errstate(divide="ignore"):
             return erf(p0[:, None] / (2.0 * np.sqrt(tau[None, :])))
 
-    out = {
-        "bare": cpu(bare, 100),
-        "many": cpu(lambda: xpersson.solve(LOADS_1000), 20),
-        "single": cpu(lambda: xpersson.solve(SINGLE), 100),
-        "resolve": cpu(lambda: xpersson.Scene(SINGLE).resolve(), 100),
-        "elastic": cpu(lambda: xpersson.solve(STEEL), 30),
-        "unreached": cpu(lambda: xpersson.solve(UNREACHED), 30),
+    engine_elastic, engine_unreached = _engine_calls()
+    fns = {
+        "bare": bare,
+        "many": lambda: xpersson.solve(LOADS_1000),
+        "single": lambda: xpersson.solve(SINGLE),
+        "resolve": lambda: xpersson.Scene(SINGLE).resolve(),
+        "elastic": lambda: xpersson.solve(STEEL),
+        "unreached": lambda: xpersson.solve(UNREACHED),
+        "engine_elastic": engine_elastic,
+        "engine_unreached": engine_unreached,
     }
-    out["engine_elastic"], out["engine_unreached"] = _engine_parts()
-    return out
+    times: dict[str, list[float]] = {k: [] for k in fns}
+    for fn in fns.values():  # warm-up
+        fn()
+    for _ in range(calls):
+        for name, fn in fns.items():
+            t0 = time.process_time_ns()
+            fn()
+            times[name].append((time.process_time_ns() - t0) * 1e-9)
+    return {k: statistics.median(v) for k, v in times.items()}
 
 
 def _profile() -> None:
@@ -124,6 +124,7 @@ def _profile() -> None:
 def main(argv: list[str] | None = None) -> list[str]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=5, help="measurement rounds (default 5)")
+    ap.add_argument("--calls", type=int, default=60, help="calls of each per round (60)")
     ap.add_argument("--profile", action="store_true", help="print pyinstrument profiles")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")  # P-resolution notes of the solves are not measured here
@@ -136,7 +137,7 @@ def main(argv: list[str] | None = None) -> list[str]:
     with np.errstate(divide="ignore"):
         ref = erf(p0[:, None] / (2.0 * np.sqrt(tau[None, :])))
     assert np.allclose(ref, xpersson.solve(LOADS_1000).area_fraction.values, rtol=1e-14)
-    rounds = [_measure(p0, tau) for _ in range(max(1, args.rounds))]
+    rounds = [_measure(p0, tau, args.calls) for _ in range(max(1, args.rounds))]
     t = {k: min(r[k] for r in rounds) for k in rounds[0]}
     ms = {k: v * 1e3 for k, v in t.items()}
     rows = [
@@ -155,10 +156,13 @@ def main(argv: list[str] | None = None) -> list[str]:
         f"{ms['engine_unreached']:.3f} ms | "
         f"{t['engine_unreached'] / t['engine_elastic']:.2f}x elastic | |",
     ]
-    spread = {k: max(r[k] for r in rounds) / t[k] for k in ("many", "unreached")}
-    note = (f"\n{len(rounds)} rounds in one process; each entry is the smallest round median "
-            f"(the slowest round was {spread['many']:.2f}x / {spread['unreached']:.2f}x "
-            "slower for 1000 loads / the unreached wall: the machine may be shared).\n")
+    r_many = [r["many"] / r["bare"] for r in rounds]
+    r_plastic = [r["unreached"] / r["elastic"] for r in rounds]
+    note = (f"\n{len(rounds)} rounds of {args.calls} interleaved calls in one process; each "
+            "entry is the smallest round median (the machine may be shared: the least disturbed "
+            f"round), the ratios are those of these entries. Ratios within each round: 1000 "
+            f"loads {min(r_many):.1f}-{max(r_many):.1f}x bare, unreached wall "
+            f"{min(r_plastic):.2f}-{max(r_plastic):.2f}x elastic.\n")
     text = "\n".join(rows)
     print(text + "\n" + note)
     out = HERE / "results"

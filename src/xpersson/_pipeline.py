@@ -404,15 +404,16 @@ def _assemble(
         coords["p"] = ("p", p_grid)
         data["P"] = (("p0", "zeta", "p"), stack("P"))
     ds = _dataset(data, coords)
-    for name, attrs in _balance_comments(results).items():
-        ds.variables[name].attrs.update(attrs)
+    for name, note in _balance_notes(results).items():  # appended to the schema's comment
+        attrs = ds.variables[name].attrs
+        attrs["comment"] = "; ".join(c for c in (attrs.get("comment"), note) if c)
     return ds
 
 
-def _balance_comments(results: Any) -> dict[str, dict[str, str]]:
-    """A ``comment`` on the balances where the engine reports them as identities (zeros by
-    construction of the one-wall closed form, not evaluated): the reader knows they check
-    nothing there."""
+def _balance_notes(results: Any) -> dict[str, str]:
+    """A note for the ``comment`` of the balances where the engine reports them as identities
+    (zeros by construction of the one-wall closed form, not evaluated): the reader knows they
+    check nothing there."""
     exact = np.asarray(getattr(results, "exact_balances", False), dtype=bool)
     if not exact.any():
         return {}
@@ -421,7 +422,7 @@ def _balance_comments(results: Any) -> dict[str, dict[str, str]]:
     text = (f"exactly 0 for {which}: the one-wall closed form defines non_contact_fraction "
             "as erfc and the load as p0 - wall * non_contact_fraction, so this identity holds "
             "by construction and is not evaluated")
-    return {name: {"comment": text} for name in ("load_balance", "probability_balance")}
+    return {name: text for name in ("load_balance", "probability_balance")}
 
 
 _ATTRS: dict[str, dict[str, Any]] = {}
