@@ -143,7 +143,8 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         raise SceneError(f"boundary: {exc} [{who['boundary']}]") from None
     coef = rs.coefficient
     tau_c, f_z, tau_eff, tau_shared = _coefficient_arrays(coef, ctx, who["coefficient"])
-    clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max)
+    clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max,
+                           kinks=_spectrum_kinks(rs.psd))
     if getattr(type(rs.boundary), "walls_per_load", True):
         walls = []
         for p0 in rs.p0:
@@ -189,6 +190,18 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     if rs.p0_scalar:
         ds = _squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
     return ds
+
+
+def _spectrum_kinks(psd: Any) -> tuple[float, ...]:
+    """The spectrum's nodes as magnifications q/q_L (where f may have kinks: a hint for the
+    clock's inverse); none for a spectrum with very many nodes or without ``nodes()``."""
+    try:
+        nodes = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
+    except Exception:  # noqa: BLE001 - only a hint
+        return ()
+    if nodes.ndim != 1 or nodes.size > 4096:
+        return ()
+    return tuple(nodes.tolist())
 
 
 def _shared_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) -> tuple:

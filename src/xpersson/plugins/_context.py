@@ -95,11 +95,16 @@ class DiffusionClock:
         f(zeta) [Pa^2].
     zeta_max : float
         Largest magnification of interest [1].
+    kinks : tuple of float, optional
+        Magnifications where ``f`` is known to have a kink (e.g. the spectrum's nodes q/q_L);
+        the inverse's table includes them, so that its start is accurate enough for a single
+        Newton step. Only a hint: any zeta works without.
     """
 
     tau_fn: Callable[[np.ndarray], np.ndarray]
     f: Callable[[np.ndarray], np.ndarray]
     zeta_max: float
+    kinks: tuple[float, ...] = ()
     _tables: list = field(init=False, repr=False, compare=False, default_factory=list)
     _last: list = field(init=False, repr=False, compare=False, default_factory=list)
 
@@ -112,23 +117,37 @@ class DiffusionClock:
         """(zeta, tau) at the nodes of the inverse and the cubic start's tables (see
         :meth:`_start`), computed on first use."""
         if not self._tables:
-            n = max(64, int(40 * np.log10(max(self.zeta_max, 10.0))))
+            # 100 nodes per decade, 50 more log-spaced in zeta - 1 up to zeta = 2 (where
+            # log(zeta - 1) is the natural variable) and the declared kinks of f: the cubic
+            # start is then within ~1e-7 (one Newton step) for piecewise power-law spectra
+            n = max(64, int(100 * np.log10(max(self.zeta_max, 10.0))))
             z_end = max(self.zeta_max, 1.0 + 1e-12)
             z = np.exp(np.linspace(0.0, np.log(z_end), n))  # log-spaced (cheaper than geomspace)
             z[0], z[-1] = 1.0, z_end
+            extra = [1.0 + np.logspace(-6.0, 0.0, 50)]
+            if self.kinks:
+                extra.append(np.asarray(self.kinks, dtype=float).ravel())
+            extra = np.concatenate(extra)
+            extra = extra[np.isfinite(extra) & (extra > 1.0) & (extra < z_end)]
+            z = np.unique(np.concatenate([z, extra]))
             tau = np.asarray(self.tau_fn(z), dtype=float)
             f = np.asarray(self.f(z), dtype=float)
             with np.errstate(all="ignore"):
-                # beyond the first node: log(zeta - 1) against log(tau), slopes d/d log tau
+                # beyond the first node: log(zeta - 1) against log(tau), slopes d/d log tau;
+                # per interval the cubic y0 + s (d0 + s (c2 + s c3)) in s = (u - u0) / h
                 u = np.log(tau[1:])
                 y = np.log(z[1:] - 1.0)
                 m = tau[1:] / (f[1:] * (z[1:] - 1.0))
                 h = np.diff(u)
                 usable = bool(tau[1] > 0 and np.all(h > 0) and np.all(np.isfinite(m))
                               and np.all(np.isfinite(y)) and f[0] > 0)
-            self._tables.append((z, tau, np.log(z), usable, u, y, h * m[:-1], h * m[1:],
-                                 (tau[1] - tau[0]) / f[0] if usable else 0.0,
-                                 (tau[1] - tau[0]) / f[1] if usable else 0.0))
+                d0, d1, dy = h * m[:-1], h * m[1:], np.diff(y)
+                cubic = (u[:-1], 1.0 / h, y[:-1], d0, 3.0 * dy - 2.0 * d0 - d1,
+                         d0 + d1 - 2.0 * dy)
+                # first interval (from tau = 0): the cubic in (tau, zeta) with slopes 1/f
+                w = tau[1] - tau[0]
+                first = (tau[0], tau[1], z[0], z[1], w / f[0], w / f[1])
+            self._tables.append((z, tau, np.log(z), usable, u, cubic, first))
         return self._tables[0]
 
     def tau_of_zeta(self, zeta: np.ndarray | float) -> np.ndarray:
@@ -163,7 +182,6 @@ class DiffusionClock:
         z = self._start(t, nodes)
         sel = None if inside.all() else np.flatnonzero(inside)  # tau = 0, table end: exact
         zi, ti = (z, t) if sel is None else (z.ravel()[sel], t.ravel()[sel])
-        prev = np.inf
         z_end = zt[-1]
         for _ in range(4):
             fz = np.asarray(self.f(zi), dtype=float)
@@ -177,11 +195,11 @@ class DiffusionClock:
             np.maximum(zi, 1.0, out=zi)
             np.minimum(zi, z_end, out=zi)
             rel = float(np.max(np.abs(step) / zi))
-            # converged: the step is at round-off, or Newton is in its quadratic regime (the
-            # previous step already small) and this step leaves an error ~ step^2 <= 1e-14
-            if rel <= 1e-13 or (rel <= 1e-7 and prev <= 1e-3):
+            # converged: the step is at round-off, or within Newton's quadratic regime: tau is
+            # C^1 with a Lipschitz derivative f, so a step of 1e-7 leaves an error of order
+            # (|f'| zeta / 2 f) 1e-14 (a start that far off gives a step that large)
+            if rel <= 1e-13 or rel <= 1e-7:
                 break
-            prev = rel
         if sel is None:
             return zi
         z = z.copy()
@@ -194,19 +212,34 @@ class DiffusionClock:
         slopes (d zeta / d tau = 1 / f), in (log tau, log(zeta - 1)) beyond the first node and in
         (tau, zeta) before it; log-linear interpolation where the table does not allow it
         (f = 0 somewhere, flat tau)."""
-        zt, tt, logz, usable, u, y, d0, d1, g0, g1 = nodes
+        zt, tt, logz, usable, u, cubic, first = nodes
         if not usable:
             return np.exp(np.interp(t, tt, logz))
-        z = np.empty(t.shape)
-        first = t <= tt[1]
+        u0, inv_h, y0, d0, c2, c3 = cubic
         with np.errstate(all="ignore"):
-            tf = t[first]
-            z[first] = _hermite((tf - tt[0]) / (tt[1] - tt[0]), zt[0], zt[1], g0, g1)
-            ut = np.log(t[~first])
-            k = np.clip(np.searchsorted(u, ut) - 1, 0, u.size - 2)
-            s = (ut - u[k]) / (u[k + 1] - u[k])
-            z[~first] = 1.0 + np.exp(_hermite(s, y[k], y[k + 1], d0[k], d1[k]))
-        return np.clip(z, 1.0, zt[-1])
+            ut = np.log(t)
+            k = np.searchsorted(u, ut)
+            k -= 1
+            np.maximum(k, 0, out=k)
+            np.minimum(k, u0.size - 1, out=k)
+            s = (ut - u0[k]) * inv_h[k]
+            y = c3[k]
+            y *= s
+            y += c2[k]
+            y *= s
+            y += d0[k]
+            y *= s
+            y += y0[k]
+            z = np.exp(y, out=y)
+            z += 1.0
+            low = t <= first[1]  # before the first node (and tau = 0)
+            if low.any():
+                t0, t1, z0, z1, g0, g1 = first
+                z[low] = _hermite((t[low] - t0) / (t1 - t0), z0, z1, g0, g1)
+        z[t >= tt[-1]] = zt[-1]  # the table's end (no extrapolation)
+        np.maximum(z, 1.0, out=z)
+        np.minimum(z, zt[-1], out=z)
+        return z
 
 
 def _hermite(s: np.ndarray, y0: Any, y1: Any, d0: Any, d1: Any) -> np.ndarray:
