@@ -11,8 +11,8 @@ Measures, with CPU time of this process (the machine may be shared) and one BLAS
    solve of the same scene (target: within 2x).
 
 Every quantity is the median CPU time of ``--calls`` calls in each of ``--rounds`` rounds (the
-quantities interleaved call by call); the table gives the smallest round median of each (the
-machine may be shared: the least disturbed round) and the ratios of those.
+quantities of a ratio interleaved call by call); the table gives the smallest round median of
+each (the machine may be shared: the least disturbed round) and the ratios of those.
 
 Run: ``python benchmarks/pipeline_cost.py [--rounds N] [--profile]``; prints a Markdown table
 and writes it to ``benchmarks/results/pipeline_cost.md``. ``--profile`` (needs
@@ -76,32 +76,35 @@ def _engine_calls() -> tuple:
 
 
 def _measure(p0: np.ndarray, tau: np.ndarray, calls: int) -> dict[str, float]:
-    """One round: every quantity ``calls`` times, interleaved call by call (so that a change
-    of the machine's load hits all of them alike); median CPU seconds of each."""
+    """One round: every quantity ``calls`` times, median CPU seconds of each. The quantities
+    compared with one another are interleaved call by call (so that a change of the machine's
+    load hits both alike): the bare kernel with the 1000 loads, the elastic with the plastic
+    solve; the single load runs in its own loop (a steady state, as a user's loop of single
+    solves; after a 1000-load solve its first call runs with cold CPU caches)."""
     def bare() -> np.ndarray:
         with np.errstate(divide="ignore"):
             return erf(p0[:, None] / (2.0 * np.sqrt(tau[None, :])))
 
     engine_elastic, engine_unreached = _engine_calls()
-    fns = {
-        "bare": bare,
-        "many": lambda: xpersson.solve(LOADS_1000),
-        "single": lambda: xpersson.solve(SINGLE),
-        "resolve": lambda: xpersson.Scene(SINGLE).resolve(),
-        "elastic": lambda: xpersson.solve(STEEL),
-        "unreached": lambda: xpersson.solve(UNREACHED),
-        "engine_elastic": engine_elastic,
-        "engine_unreached": engine_unreached,
-    }
-    times: dict[str, list[float]] = {k: [] for k in fns}
-    for fn in fns.values():  # warm-up
-        fn()
-    for _ in range(calls):
-        for name, fn in fns.items():
-            t0 = time.process_time_ns()
+    groups = [
+        {"bare": bare, "many": lambda: xpersson.solve(LOADS_1000)},
+        {"single": lambda: xpersson.solve(SINGLE),
+         "resolve": lambda: xpersson.Scene(SINGLE).resolve()},
+        {"elastic": lambda: xpersson.solve(STEEL), "unreached": lambda: xpersson.solve(UNREACHED),
+         "engine_elastic": engine_elastic, "engine_unreached": engine_unreached},
+    ]
+    out: dict[str, float] = {}
+    for fns in groups:
+        times: dict[str, list[float]] = {k: [] for k in fns}
+        for fn in fns.values():  # warm-up
             fn()
-            times[name].append((time.process_time_ns() - t0) * 1e-9)
-    return {k: statistics.median(v) for k, v in times.items()}
+        for _ in range(calls):
+            for name, fn in fns.items():
+                t0 = time.process_time_ns()
+                fn()
+                times[name].append((time.process_time_ns() - t0) * 1e-9)
+        out.update({k: statistics.median(v) for k, v in times.items()})
+    return out
 
 
 def _profile() -> None:
@@ -158,9 +161,10 @@ def main(argv: list[str] | None = None) -> list[str]:
     ]
     r_many = [r["many"] / r["bare"] for r in rounds]
     r_plastic = [r["unreached"] / r["elastic"] for r in rounds]
-    note = (f"\n{len(rounds)} rounds of {args.calls} interleaved calls in one process; each "
-            "entry is the smallest round median (the machine may be shared: the least disturbed "
-            f"round), the ratios are those of these entries. Ratios within each round: 1000 "
+    note = (f"\n{len(rounds)} rounds of {args.calls} calls in one process (the two sides of a "
+            "ratio interleaved call by call); each entry is the smallest round median (the "
+            "machine is shared: the least disturbed round), the ratios are those of these "
+            f"entries. Ratios within each round: 1000 "
             f"loads {min(r_many):.1f}-{max(r_many):.1f}x bare, unreached wall "
             f"{min(r_plastic):.2f}-{max(r_plastic):.2f}x elastic.\n")
     text = "\n".join(rows)
