@@ -430,11 +430,10 @@ def _balance_notes(results: Any) -> dict[str, str]:
     exact = np.asarray(getattr(results, "exact_balances", False), dtype=bool)
     if not exact.any():
         return {}
-    which = "every load" if exact.all() else (
-        f"{int(exact.sum())} of {exact.size} loads (those with exact_balances in the engine)")
-    text = (f"exactly 0 for {which}: the one-wall closed form defines non_contact_fraction "
-            "as erfc and the load as p0 - wall * non_contact_fraction, so this identity holds "
-            "by construction and is not evaluated")
+    # one text for any mix of loads (and of the points of a sweep): true wherever it is copied
+    text = ("exactly 0, not evaluated, for the loads solved by the one-wall closed form (an "
+            "identity there: non_contact_fraction = erfc = 1 - erf and load = p0 - wall * "
+            "non_contact_fraction); evaluated for every other solve")
     return {name: text for name in ("load_balance", "probability_balance")}
 
 
