@@ -199,10 +199,10 @@ class DiffusionClock:
             np.maximum(zi, 1.0, out=zi)
             np.minimum(zi, z_end, out=zi)
             rel = float(np.max(np.abs(step) / zi))
-            # converged: the step is at round-off, or within Newton's quadratic regime: tau is
-            # C^1 with a Lipschitz derivative f, so a step of 1e-7 leaves an error of order
-            # (|f'| zeta / 2 f) 1e-14 (a start that far off gives a step that large)
-            if rel <= 1e-13 or rel <= 1e-7:
+            # converged: Newton's quadratic regime. tau is C^1 with a Lipschitz derivative f
+            # (also across kinks of f), so a relative step of 1e-7 leaves an error of order
+            # (|f'| zeta / 2 f) 1e-14; a start farther off gives a larger step, and another
+            if rel <= 1e-7:
                 break
         if sel is None:
             return zi
