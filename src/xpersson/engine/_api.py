@@ -230,7 +230,7 @@ def solve_batch(
     return EngineBatch(p0v, out["fields"], out["status"], out["message"], out["method"],
                        out["nsteps"], out["n_nodes"], out["nfev"],
                        problems[0][1].p_out, time.perf_counter() - t0,
-                       exact_balances=out.get("exact_balances"))
+                       exact_balances=out.get("exact_balances"), success=out.get("success"))
 
 
 def _merge(parts: list[tuple[np.ndarray, dict]], n: int) -> dict:
@@ -255,8 +255,11 @@ def _merge(parts: list[tuple[np.ndarray, dict]], n: int) -> dict:
                 lst[i] = part[key][j]
         out[key] = lst
     out["exact_balances"] = np.zeros(n, dtype=bool)
+    out["success"] = np.zeros(n, dtype=bool)
     for sel, part in parts:
         out["exact_balances"][sel] = part.get("exact_balances", False)
+        out["success"][sel] = (part["success"] if "success" in part
+                               else [s == "success" for s in part["status"]])
     for key in ("nsteps", "n_nodes", "nfev"):
         arr = np.zeros(n, dtype=np.int64)
         for sel, part in parts:

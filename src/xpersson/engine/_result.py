@@ -269,7 +269,8 @@ class EngineBatch(Sequence):
 
     def __init__(self, p0: Array, fields: dict, status: list[str], message: list[str],
                  method: list[str], nsteps: Array, n_nodes: Array, nfev: Array, p: Array | None,
-                 wall_time: float, exact_balances: Array | None = None) -> None:
+                 wall_time: float, exact_balances: Array | None = None,
+                 success: Array | None = None) -> None:
         self.p0 = p0
         self._lazy: dict[str, LazyField] = {}
         for name in _BATCH_FIELDS:
@@ -282,7 +283,8 @@ class EngineBatch(Sequence):
         self.status = status
         self.message = message
         self.method = method
-        self.success = np.array([s == "success" for s in status], dtype=bool)
+        self.success = (np.array([s == "success" for s in status], dtype=bool)
+                        if success is None else np.asarray(success, dtype=bool))
         self.nsteps, self.n_nodes, self.nfev = nsteps, n_nodes, nfev
         self.wall_time = wall_time
         self.exact_balances = (np.zeros(len(p0), dtype=bool) if exact_balances is None
@@ -396,8 +398,10 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     status = ["success"] * n
     message = [default] * n if isinstance(raw.message, str) else [
         m or "requested tolerance met" for m in raw.message]
+    success = np.array(clean, dtype=bool)
     for i in np.flatnonzero(~clean):
         status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
+        success[i] = status[i] == "success"
     fields = {
         "tau": problem.tau, "area": raw.area, "non_area": raw.non_area,
         "absorbed_lower": raw.absorbed_lower, "absorbed_upper": raw.absorbed_upper,
@@ -412,4 +416,5 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
 
     return dict(fields=fields, status=status, message=message, method=[method] * n,
                 nsteps=per_load(raw.nsteps), n_nodes=per_load(raw.n_nodes),
-                nfev=per_load(raw.nfev), exact_balances=np.full(n, raw.exact_balances))
+                nfev=per_load(raw.nfev), exact_balances=np.full(n, raw.exact_balances),
+                success=success)
