@@ -239,6 +239,13 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
     """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads.
 
     Returns per-load outputs ``(n_load, n_out)`` at the numerical output times.
+
+    The loads' systems are concatenated (boundary rows are identity rows, so they do not
+    couple).  The operators are built vectorised for a block of steps at a time (memory
+    proportional to the grid times the block, see ``_BLOCK``); a step is then one explicit
+    tridiagonal product, one LAPACK ``dgtsv`` solve and a gather of the three nodes next to the
+    walls, from which the wall fluxes (absorbed probabilities, wall moments) are summed after
+    the march.
     """
     taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones)
     pb0 = pbs[0]
@@ -257,119 +264,163 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
     yield_wall = plan.yield_wall
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
     la, wa_, lb, wb_ = ed["la"], ed["wa"], ed["lb"], ed["wb"]
+    n_steps = taus.size - 1
+    step = np.diff(taus)
+    wn_all, wo_all = theta * step, (1.0 - theta) * step
+    rl, ru = ed["rl"], ed["ru"]
+    yreal = ru & yield_wall
+    # g = W Y' of the yield closure R_N = g A_pl (0 where the yield wall is not real)
+    g_all = np.where(yreal, wb_ * ed["ysb"], 0.0)
 
-    def coef(tag: str, m: int) -> tuple[Array, Array]:
-        """Face coefficients (D, A) of F = D (R_{j+1} - R_j) + A (R_j + R_{j+1}), (nb, n)."""
-        W = ed["w" + tag][:, m, None]
-        v = ed["lv" + tag][:, m, None] + xf[None, :] * ed["wv" + tag][:, m, None]
-        return 1.0 / (W**2 * dxf[None, :]), v / (2.0 * W)
+    # face coefficients F = D (R_{j+1} - R_j) + A (R_j + R_{j+1}) at the start (a) and end (b)
+    # of a step are outer products: D = (1/W^2) (1/dx_f), A = lv/(2W) + x_f wv/(2W)
+    def coefs(tag: str, ms: slice) -> tuple[Array, Array]:
+        W = ed["w" + tag][:, ms, None]
+        D = (1.0 / W**2) * (1.0 / dxf)
+        A = (ed["lv" + tag][:, ms, None] + xf * ed["wv" + tag][:, ms, None]) / (2.0 * W)
+        return D, A
 
-    def flux(r: Array, D: Array, A: Array) -> Array:
-        return D * (r[:, 1:] - r[:, :-1]) + A * (r[:, 1:] + r[:, :-1])
+    def end_faces(tag: str) -> tuple[Array, Array, Array, Array]:
+        """(A-D) and (A+D) at the first face, then at the last face; (nb, n_steps)."""
+        W = ed["w" + tag]
+        lv, wv = ed["lv" + tag], ed["wv" + tag]
+        # the same expressions as in coefs (bitwise): the wall fluxes must be the ones the
+        # solve used, or the balance of large CN fluxes loses digits
+        d0, d1 = (1.0 / W**2) * (1.0 / dxf[0]), (1.0 / W**2) * (1.0 / dxf[-1])
+        a0, a1 = (lv + xf[0] * wv) / (2.0 * W), (lv + xf[-1] * wv) / (2.0 * W)
+        return a0 - d0, a0 + d0, a1 - d1, a1 + d1
 
     # initial free Gaussian (mass per unit x), normalised to the window mass erf(k / sqrt 2)
     t0 = taus[0]
     pn = la[:, :1] + wa_[:, :1] * x[None, :]
-    r = wa_[:, :1] * np.exp(-((pn - p0) ** 2) / (4.0 * t0)) / math.sqrt(4.0 * math.pi * t0)
-    r[:, 0] = 0.0
-    r[:, -1] = 0.0
-    r *= math.erf(plan.k / math.sqrt(2.0)) / (r @ w)[:, None]
-    a_pl = np.zeros(nb)
-    abs_l = np.zeros(nb)
-    abs_u = np.zeros(nb)
-    mom_l = np.zeros(nb)
-    mom_u = np.zeros(nb)
-    size = nb * nn
-    # row r of the concatenated system: sub-diagonal at S[r] (dgtsv's dl = S[1:]), diagonal at
-    # dd[r], super-diagonal at U[r] (du = U[:-1]); boundary rows are identity rows, so the
-    # loads' systems do not couple
-    S = np.zeros(size)
-    U = np.zeros(size)
-    dd = np.ones(size)
-    S2, U2, dd2 = S.reshape(nb, nn), U.reshape(nb, nn), dd.reshape(nb, nn)
-    rhs = np.zeros((nb, nn))
+    r2 = wa_[:, :1] * np.exp(-((pn - p0) ** 2) / (4.0 * t0)) / math.sqrt(4.0 * math.pi * t0)
+    r2[:, 0] = 0.0
+    r2[:, -1] = 0.0
+    r2 *= math.erf(plan.k / math.sqrt(2.0)) / (r2 @ w)[:, None]
+    r = r2.ravel()
     rows = np.arange(nb) * nn  # first node of each load in the concatenated system
+    # the two nodes at each wall (the solve leaves round-off ~ eps on the wall nodes, which the
+    # wall fluxes must include for the balance to hold to round-off)
+    near = np.concatenate([rows, rows + 1, rows + nn - 2, rows + nn - 1])
+    last = rows + nn - 1
+    bnd = np.concatenate([rows, last])  # identity rows (the walls)
+    wflat = np.tile(w, nb)
+    hist = np.empty((n_steps + 1, 4 * nb))  # R at `near` after every step
+    hist[0] = r[near]
+    a_pl = np.zeros(nb)
+    a_pl_at = np.zeros((nb, n_out))
+    if yield_wall:
+        _, _, am1, ap1 = end_faces("a")
+        _, _, bm1, bp1 = end_faces("b")
+    w_last = w[-1]
 
-    def record(j: int, lv: Array, wv: Array) -> None:
+    def record(j: int, m: int) -> None:
+        """Outputs ``j`` after step ``m`` (the state ``r``; wall terms are added later)."""
+        r_ = r.reshape(nb, nn)
+        lv, wv = (la[:, 0], wa_[:, 0]) if m == 0 else (lb[:, m - 1], wb_[:, m - 1])
         pm = lv[:, None] + wv[:, None] * x[None, :]
-        res["area"][:, j] = r @ w
-        res["load"][:, j] = (pm * r) @ w
-        res["abs_l"][:, j], res["mom_l"][:, j] = abs_l, mom_l
-        if yield_wall:
-            res["abs_u"][:, j], res["mom_u"][:, j] = a_pl, (lv + wv) * a_pl
-        else:
-            res["abs_u"][:, j], res["mom_u"][:, j] = abs_u, mom_u
+        res["area"][:, j] = r_ @ w
+        res["load"][:, j] = (pm * r_) @ w
+        a_pl_at[:, j] = a_pl
         if want_p:
             pv = pb0.p_out
             for i in range(nb):
-                cs = CubicSpline(pm[i], r[i] / wv[i])
+                cs = CubicSpline(pm[i], r_[i] / wv[i])
                 inside = (pv >= pm[i, 0]) & (pv <= pm[i, -1])
                 res["P"][i, j, inside] = cs(pv[inside])
 
     nxt = 0
     while nxt < n_out and out_at[nxt] == 0:
-        record(nxt, la[:, 0], wa_[:, 0])
+        record(nxt, 0)
         nxt += 1
-    n_steps = taus.size - 1
-    prev_key = None
-    f_new = None
-    for m in range(n_steps):
-        th = theta[m]
-        step = taus[m + 1] - taus[m]
-        wn, wo = th * step, (1.0 - th) * step
-        rl, ru = ed["rl"][:, m], ed["ru"][:, m]
-        key = rl.tobytes() + ru.tobytes()
-        if ed["chord"][0, m] or (m > 0 and ed["chord"][0, m - 1]):
-            key = None  # chord speeds differ between neighbouring steps
-        if f_new is not None and key is not None and key == prev_key:
-            f_old = f_new  # the end of the previous step, same regime
-        else:
-            f_old = flux(r, *coef("a", m))
-        prev_key = key
-        D, A = coef("b", m)
-        # interior rows j = 1..n-1:  w_j R_j - wn (F_{j+1/2} - F_{j-1/2}) = w_j R_j^old + wo (...)
-        sub = -wn * (D[:, :-1] - A[:, :-1])
-        dia = w[None, 1:-1] - wn * (-D[:, 1:] + A[:, 1:] - D[:, :-1] - A[:, :-1])
-        sup = -wn * (D[:, 1:] + A[:, 1:])
-        dd2[:, 1:-1] = dia
-        dd2[:, -1] = 1.0
-        S2[:, 1:-1] = sub
-        S2[:, -1] = 0.0
-        U2[:, 1:-1] = sup
-        rhs[:, 1:-1] = w[None, 1:-1] * r[:, 1:-1] + wo * (f_old[:, 1:] - f_old[:, :-1])
-        rhs[:, 0] = 0.0
-        rhs[:, -1] = 0.0
-        yreal = ru & yield_wall
-        if np.any(yreal):
-            # last node: half cell + A_pl, closure R_N = g A_pl with g = W Y'
-            g = wb_[:, m] * ed["ysb"][:, m]
-            iy = np.flatnonzero(yreal)
-            last = rows[iy] + nn - 1
-            dd[last] = g[iy] * w[-1] + 1.0 + g[iy] * wn * (D[iy, -1] + A[iy, -1])
-            S[last] = g[iy] * wn * (-D[iy, -1] + A[iy, -1])
-            rhs[iy, -1] = g[iy] * (w[-1] * r[iy, -1] + a_pl[iy] + wo * -f_old[iy, -1])
-        _, _, _, sol, info = dgtsv(S[1:], dd, U[:-1], rhs.ravel())
-        if info != 0:
-            raise FloatingPointError(f"tridiagonal solve failed (info={info})")
-        r_new = sol.reshape(nb, nn)
-        f_new = flux(r_new, D, A)
-        out_lo = wn * f_new[:, 0] + wo * f_old[:, 0]
-        out_hi = -(wn * f_new[:, -1] + wo * f_old[:, -1])
-        abs_l += np.where(rl, out_lo, 0.0)
-        mom_l += np.where(rl, wn * lb[:, m] * f_new[:, 0] + wo * la[:, m] * f_old[:, 0], 0.0)
-        if yield_wall:
-            a_pl += np.where(yreal, out_hi + w[-1] * (r[:, -1] - r_new[:, -1]), 0.0)
-        else:
-            abs_u += np.where(ru, out_hi, 0.0)
-            mom_u -= np.where(ru, wn * (lb[:, m] + wb_[:, m]) * f_new[:, -1]
-                              + wo * (la[:, m] + wa_[:, m]) * f_old[:, -1], 0.0)
-        r = r_new
-        while nxt < n_out and out_at[nxt] == m + 1:
-            record(nxt, lb[:, m], wb_[:, m])
-            nxt += 1
-        if (m + 1) % _REPORT_EVERY == 0:
-            _progress.report(_REPORT_EVERY * nn * nb)
+    block = max(1, _BLOCK // (nb * nn))
+    wi = w[None, None, 1:-1]
+    for m0 in range(0, n_steps, block):
+        ms = slice(m0, min(m0 + block, n_steps))
+        c = ms.stop - ms.start
+        wn = wn_all[None, ms, None]
+        wo = wo_all[None, ms, None]
+        g = g_all[:, ms]
+        Db, Ab = coefs("b", ms)
+        # implicit rows (interior j = 1..n-1):
+        #   w_j R_j - wn (F_{j+1/2} - F_{j-1/2}) = w_j R_j^old + wo (F^old_{j+1/2} - F^old_{j-1/2})
+        Sb = np.zeros((nb, c, nn))  # sub-diagonal of row j (coefficient of R_{j-1})
+        Ub = np.zeros((nb, c, nn))  # super-diagonal of row j (coefficient of R_{j+1})
+        Dg = np.ones((nb, c, nn))  # diagonal
+        amd, apd = Ab - Db, Ab + Db
+        Sb[..., 1:-1] = wn * amd[..., :-1]
+        Ub[..., 1:-1] = -wn * apd[..., 1:]
+        Dg[..., 1:-1] = wi + wn * (Db[..., 1:] - Ab[..., 1:] + apd[..., :-1])
+        # last row of a real yield wall: half cell plus A_pl, closure R_N = g A_pl
+        Dg[..., -1] += g * (w_last + wn[..., 0] * apd[..., -1])
+        Sb[..., -1] = g * wn[..., 0] * amd[..., -1]
+        Da, Aa = coefs("a", ms)
+        amd, apd = Aa - Da, Aa + Da
+        # explicit half in flux form (the fluxes telescope: a product with the large
+        # coefficients of a stiff step would lose the balance to round-off):
+        #   rhs_j = w_j R_j + (G_{j+1/2} - G_{j-1/2}),  G = wo (A - D) R_j + wo (A + D) R_{j+1};
+        # face j of a load is slot j; slot n (between two loads' systems) stays 0
+        Ga = np.zeros((nb, c, nn))
+        Gp = np.zeros((nb, c, nn))
+        Ga[..., :-1] = wo * amd
+        Gp[..., :-1] = wo * apd
+        # last row of a real yield wall: g (w_N R_N + A_pl - wo F_{N-1/2})
+        ye_s = -g * wo[..., 0] * amd[..., -1]
+        ye_d = g * (w_last - wo[..., 0] * apd[..., -1])
+        del Db, Ab, Da, Aa, amd, apd
+        # one row per step, the loads concatenated
+        Sb, Ub, Dg, Ga, Gp = (np.ascontiguousarray(a.transpose(1, 0, 2)).reshape(c, nb * nn)
+                              for a in (Sb, Ub, Dg, Ga, Gp))
+        ys = yreal[:, ms].any(axis=0).tolist()
+        for i in range(c):
+            m = m0 + i
+            G = Ga[i, :-1] * r[:-1]
+            G += Gp[i, :-1] * r[1:]
+            rhs = wflat * r
+            rhs[1:-1] += G[1:] - G[:-1]
+            rhs[bnd] = 0.0
+            if ys[i]:
+                rhs[last] = ye_s[:, i] * r[last - 1] + ye_d[:, i] * r[last] + g[:, i] * a_pl
+            _, _, _, sol, info = dgtsv(Sb[i, 1:], Dg[i], Ub[i, :-1], rhs, overwrite_b=1)
+            if info != 0:
+                raise FloatingPointError(f"tridiagonal solve failed (info={info})")
+            hist[m + 1] = sol[near]
+            if ys[i]:
+                # dA_pl = out-flux through the last face + the half cell's loss
+                f_new = bm1[:, m] * sol[last - 1] + bp1[:, m] * sol[last]
+                f_old = am1[:, m] * r[last - 1] + ap1[:, m] * r[last]
+                out_hi = -(wn_all[m] * f_new + wo_all[m] * f_old)
+                a_pl = a_pl + np.where(yreal[:, m], out_hi + w_last * (r[last] - sol[last]), 0.0)
+            r = sol
+            while nxt < n_out and out_at[nxt] == m + 1:
+                record(nxt, m + 1)
+                nxt += 1
+            if (m + 1) % _REPORT_EVERY == 0:
+                _progress.report(_REPORT_EVERY * nn * nb)
     _progress.report((n_steps % _REPORT_EVERY) * nn * nb)
+    # wall fluxes of every step from the nodes next to the walls (R = 0 on an absorbing wall)
+    r0, r1, rm, rn = (hist[:, i * nb:(i + 1) * nb].T for i in range(4))  # (nb, n_steps + 1)
+    am0a, ap0a, am1a, ap1a = end_faces("a")
+    am0b, ap0b, am1b, ap1b = end_faces("b")
+    f_old0 = am0a * r0[:, :-1] + ap0a * r1[:, :-1]
+    f_new0 = am0b * r0[:, 1:] + ap0b * r1[:, 1:]
+    f_old1 = am1a * rm[:, :-1] + ap1a * rn[:, :-1]
+    f_new1 = am1b * rm[:, 1:] + ap1b * rn[:, 1:]
+    wn_, wo_ = wn_all[None, :], wo_all[None, :]
+    zero = np.zeros((nb, 1))
+    abs_l = np.hstack([zero, np.cumsum(np.where(rl, wn_ * f_new0 + wo_ * f_old0, 0.0), axis=1)])
+    mom_l = np.hstack([zero, np.cumsum(np.where(rl, wn_ * lb * f_new0 + wo_ * la * f_old0, 0.0),
+                                       axis=1)])
+    res["abs_l"], res["mom_l"] = abs_l[:, out_at], mom_l[:, out_at]
+    if yield_wall:
+        res["abs_u"] = a_pl_at
+        ends = np.hstack([la[:, :1] + wa_[:, :1], lb + wb_])[:, out_at]
+        res["mom_u"] = ends * a_pl_at
+    else:
+        out_hi = -(wn_ * f_new1 + wo_ * f_old1)
+        mom = wn_ * (lb + wb_) * f_new1 + wo_ * (la + wa_) * f_old1
+        res["abs_u"] = np.hstack([zero, np.cumsum(np.where(ru, out_hi, 0.0), axis=1)])[:, out_at]
+        res["mom_u"] = -np.hstack([zero, np.cumsum(np.where(ru, mom, 0.0), axis=1)])[:, out_at]
     res["nsteps"] = n_steps
     res["n_nodes"] = nn
     return res
@@ -435,14 +486,20 @@ class CNMethod(EngineMethod):
         best: dict | None = None
         err = np.full((nb, int(num.sum())), np.inf)
         cache: dict[tuple[int, int], dict] = {}
+        plans: dict[int, _Plan] = {}
         if num.any():
+            # the kinks of the window edges do not depend on the grid: found once
+            t_end = float(tau[num][-1])
+            kinks = [t for p in pbs for t in _switch_times(p, k, tau_s, t_end)]
 
             def level(n_base: int, mult: int) -> dict:
                 """Grid n_base * mult on the time plan of n_base subdivided mult times."""
                 nonlocal nsteps, work
                 key = (n_base, mult)
                 if key not in cache:
-                    plan = _joint_plan(pbs, k, per_node * n_base, tau_s)
+                    if n_base not in plans:
+                        plans[n_base] = _joint_plan(pbs, k, per_node * n_base, tau_s, kinks)
+                    plan = plans[n_base]
                     cost = (plan.base.size - 1) * mult + 2 * n_ie
                     if nsteps + cost > pb.max_steps:
                         raise _Budget(f"max_steps = {pb.max_steps} reached before the "
@@ -598,6 +655,7 @@ class CNMethod(EngineMethod):
 
 
 _REPORT_EVERY = 64  # time steps between progress reports (see _progress)
+_BLOCK = 1 << 14  # operator entries built at once per array in _march (steps x loads x nodes)
 
 
 def _project(area: Array, abs_l: Array, abs_u: Array) -> tuple[tuple[Array, Array, Array],
@@ -650,8 +708,10 @@ def _round_grid(n: float) -> int:
     return max(8, 2 * int(math.ceil(n / 2.0)))
 
 
-def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float) -> _Plan:
-    """One time schedule for a batch of loads: common analytic start, all kinks."""
+def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
+                kinks: list[float] | None = None) -> _Plan:
+    """One time schedule for a batch of loads: common analytic start, all kinks (the times
+    where a real wall enters or leaves the window; found here unless given)."""
     pb = pbs[0]
     outs = pb.tau[pb.tau > tau_s]
     yield_wall = pb.upper is not None and not pb.upper.acts_absorbing
@@ -661,7 +721,8 @@ def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float) -
     decades = math.log10(outs[-1] / tau_s)
     n_geo = max(1, int(math.ceil(decades * per_decade)))
     geo = tau_s * np.logspace(0.0, decades, n_geo + 1)
-    kinks = [t for p in pbs for t in _switch_times(p, k, tau_s, float(outs[-1]))]
+    if kinks is None:
+        kinks = [t for p in pbs for t in _switch_times(p, k, tau_s, float(outs[-1]))]
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
     fixed = np.union1d(np.union1d(outs, kinks), graded)
