@@ -142,18 +142,22 @@ def _level_times(base: Array, nsub: int, n_ie: int,
     return t, theta
 
 
-def _wall_speed(wall, tau: Array, side: int = 0) -> Array:
-    """dp_w/dtau [1/Pa] of a wall at ``tau`` (declared, or by central differences).
+def _wall_speeds(wall, tau: Array) -> tuple[Array, Array]:
+    """dp_w/dtau [1/Pa] of a wall at ``tau`` just before and just after (declared, or by central
+    differences).
 
-    At the wall's declared breakpoints the difference is one-sided: ``side = -1`` the speed
-    just before (end of a step), ``+1`` just after (start of a step).
+    The two differ only at the wall's declared breakpoints, where the difference is one-sided
+    (the speed just before ends a step, the speed just after starts one).
     """
     if wall is None or wall.is_fixed:
-        return np.zeros_like(tau)
+        z = np.zeros_like(tau)
+        return z, z
     if wall.dposition is not None:
-        return wall.speed(tau)
+        v = wall.speed(tau)
+        return v, v
     if wall.motion is not None:
-        return np.full_like(tau, wall.motion[1])
+        v = np.full_like(tau, wall.motion[1])
+        return v, v
     h = 1e-5 * tau
     bp = getattr(wall, "breakpoints", ())
     if bp:
@@ -162,45 +166,66 @@ def _wall_speed(wall, tau: Array, side: int = 0) -> Array:
         dist = np.min(np.abs(tau[..., None] - b), axis=-1)
         h = np.where(dist > 0, np.minimum(h, 1e-3 * dist), h)
     hi, lo = tau + h, tau - h
-    if side and bp:
-        at_bp = np.isin(tau, bp)
-        if side < 0:
-            hi = np.where(at_bp, tau, hi)
-        else:
-            lo = np.where(at_bp, tau, lo)
-    return (wall.at(hi) - wall.at(lo)) / (hi - lo)
+    p_hi, p_lo = wall.at(hi), wall.at(lo)
+    v = (p_hi - p_lo) / (hi - lo)
+    before, after = v, v
+    at_bp = np.isin(tau, bp) if bp else np.zeros(tau.shape, bool)
+    if at_bp.any():
+        t = tau[at_bp]
+        p_t = wall.at(t)
+        before, after = v.copy(), v.copy()
+        before[at_bp] = (p_t - p_lo[at_bp]) / (t - lo[at_bp])
+        after[at_bp] = (p_hi[at_bp] - p_t) / (hi[at_bp] - t)
+    return before, after
 
 
-def _edges(pb: Problem, plan: _Plan, taus: Array) -> dict:
+def _tracks(pb: Problem, taus: Array) -> dict:
+    """The walls along a time sequence (shared by the loads of a batch): positions [Pa] at the
+    step midpoints and at ``taus``, speeds [1/Pa] just before / after each time."""
+    mid = 0.5 * (taus[:-1] + taus[1:])
+    lo_m, up_m = pb.wall_positions(mid)
+    lo, up = pb.wall_positions(taus)
+    lo_vb, lo_va = _wall_speeds(pb.lower, taus)
+    if pb.upper is not None:
+        up_vb, up_va = _wall_speeds(pb.upper, taus)
+        ys = pb.upper.speed(taus)
+    else:
+        up_vb = up_va = ys = np.zeros_like(taus)
+    return {"mid": mid, "lo_m": lo_m, "up_m": up_m, "lo": lo, "up": up, "lo_vb": lo_vb,
+            "lo_va": lo_va, "up_vb": up_vb, "up_va": up_va, "ys": ys}
+
+
+def _edges(pb: Problem, plan: _Plan, taus: Array, tr: dict | None = None) -> dict:
     """Window edges and their speeds at the start (a) and end (b) of every step.
 
     The regime of each edge (real wall or artificial edge ``p0 -/+ k sqrt(2 tau)``) is fixed per
     step (at its midpoint); the kinks where it changes are step boundaries (see ``_plan``).
+    ``tr``: the walls along ``taus`` (:func:`_tracks`), computed here unless given.
     """
+    if tr is None:
+        tr = _tracks(pb, taus)
     k, p0 = plan.k, pb.p0
-    mid = 0.5 * (taus[:-1] + taus[1:])
-    lo_m, up_m = pb.wall_positions(mid)
+    mid = tr["mid"]
     s_m = np.sqrt(2.0 * mid)
-    rl = lo_m >= p0 - k * s_m
+    rl = tr["lo_m"] >= p0 - k * s_m
     if plan.yield_wall:
-        ru = np.logical_or.accumulate(up_m <= p0 + k * s_m)
+        ru = np.logical_or.accumulate(tr["up_m"] <= p0 + k * s_m)
     else:
-        ru = up_m <= p0 + k * s_m
+        ru = tr["up_m"] <= p0 + k * s_m
     out = {"rl": rl, "ru": ru}
-    for tag, t in (("a", taus[:-1]), ("b", taus[1:])):
+    for tag, sl in (("a", slice(None, -1)), ("b", slice(1, None))):
+        t = taus[sl]
         s = np.sqrt(2.0 * t)
         ds = 1.0 / s
-        lo, up = pb.wall_positions(t)
-        side = 1 if tag == "a" else -1
-        lo_v = _wall_speed(pb.lower, t, side)
-        up_v = _wall_speed(pb.upper, t, side) if pb.upper is not None else np.zeros_like(t)
+        lo, up = tr["lo"][sl], tr["up"][sl]
+        lo_v, up_v = tr["lo_v" + tag][sl], tr["up_v" + tag][sl]
         le = np.where(rl, lo, p0 - k * s)
         ue = np.where(ru, up, p0 + k * s)
         out["l" + tag] = le
         out["w" + tag] = ue - le
         out["lv" + tag] = np.where(rl, lo_v, -k * ds)
         out["wv" + tag] = np.where(ru, up_v, k * ds) - out["lv" + tag]
-        out["ys" + tag] = np.where(ru, pb.upper.speed(t), 0.0) if plan.yield_wall else 0.0 * t
+        out["ys" + tag] = np.where(ru, tr["ys"][sl], 0.0) if plan.yield_wall else 0.0 * t
     # from the first breakpoint on, the mesh moves with the chord speeds of each step (the
     # exact displacement of the edges: the wall may move like sqrt(tau - tau_b), whose point
     # speeds are unbounded and made the scheme first order; after the graded stretch the chord
@@ -229,7 +254,8 @@ def _faces(x: Array) -> tuple[Array, Array, Array]:
 
 
 def _edges_batch(pbs: list[Problem], plan: _Plan, taus: Array) -> dict:
-    eds = [_edges(pb, plan, taus) for pb in pbs]
+    tr = _tracks(pbs[0], taus)  # the loads of a batch share their walls
+    eds = [_edges(pb, plan, taus, tr) for pb in pbs]
     return {key: np.stack([np.broadcast_to(e[key], eds[0]["rl"].shape) for e in eds])
             for key in eds[0]}
 
@@ -474,6 +500,7 @@ class CNMethod(EngineMethod):
         stretch = float(opt.get("stretch", 1.0))
         n_ie = int(opt.get("rannacher", 2))
         k = float(opt.get("window_k", window_k(pb.atol)))
+        aim = float(opt.get("aim", AIM))
         tau = pb.tau
         tau_s = min(_start_time(p, k) for p in pbs)
         analytic = tau <= tau_s
@@ -537,12 +564,11 @@ class CNMethod(EngineMethod):
                     if mode == "R" and ratio <= 1.0:
                         best, err, n_used = _combine(l2, l1, False), e_r, 2 * n_base
                         break
-                    if mode == "R" and math.sqrt(ratio / 0.3) <= R_MAX_REFINE:
+                    if mode == "R" and math.sqrt(ratio / aim) <= R_MAX_REFINE:
                         # after a missed prediction (slower than second order, e.g. kinks of a
                         # tabulated wall) grow at least 1.25x, so that the grids keep advancing
-                        target = 0.3
                         rounds += 1
-                        n_base = _round_grid(n_base * max(math.sqrt(ratio / target),
+                        n_base = _round_grid(n_base * max(math.sqrt(ratio / aim),
                                                           1.0 if rounds == 1 else 1.25))
                         continue
                     mode = "E"  # fourth order: Richardson pairs on three nested grids
@@ -556,7 +582,7 @@ class CNMethod(EngineMethod):
                         best, err, n_used = e_b, d, 4 * n_base
                         break
                     rounds += 1
-                    grow = max((ratio / 0.3) ** 0.25, 1.0 if rounds == 1 else 1.25)
+                    grow = max((ratio / aim) ** 0.25, 1.0 if rounds == 1 else 1.25)
                     n_base = _round_grid(n_base * grow)
             except (_Budget, _Levels) as exc:
                 status = "max_steps" if isinstance(exc, _Budget) else "tolerance_not_met"
@@ -681,6 +707,7 @@ def _project(area: Array, abs_l: Array, abs_u: Array) -> tuple[tuple[Array, Arra
 
 
 _GRADE = 4.0  # steps uniform in (tau - tau_b)^(1/_GRADE) after a wall breakpoint
+AIM = 0.3  # the next grid is aimed at an error estimate of AIM x tolerance
 R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else Richardson)
 
 
