@@ -166,7 +166,7 @@ def _wall_speeds(wall, tau: Array) -> tuple[Array, Array]:
         dist = np.min(np.abs(tau[..., None] - b), axis=-1)
         h = np.where(dist > 0, np.minimum(h, 1e-3 * dist), h)
     hi, lo = tau + h, tau - h
-    p_hi, p_lo = wall.at(hi), wall.at(lo)
+    p_hi, p_lo = np.split(wall.at(np.concatenate([hi, lo])), 2)  # one call of the wall
     v = (p_hi - p_lo) / (hi - lo)
     before, after = v, v
     at_bp = np.isin(tau, bp) if bp else np.zeros(tau.shape, bool)
@@ -183,8 +183,9 @@ def _tracks(pb: Problem, taus: Array) -> dict:
     """The walls along a time sequence (shared by the loads of a batch): positions [Pa] at the
     step midpoints and at ``taus``, speeds [1/Pa] just before / after each time."""
     mid = 0.5 * (taus[:-1] + taus[1:])
-    lo_m, up_m = pb.wall_positions(mid)
-    lo, up = pb.wall_positions(taus)
+    lo, up = pb.wall_positions(np.concatenate([mid, taus]))  # one call of each wall
+    n = mid.size
+    lo_m, up_m, lo, up = lo[:n], up[:n], lo[n:], up[n:]
     lo_vb, lo_va = _wall_speeds(pb.lower, taus)
     if pb.upper is not None:
         up_vb, up_va = _wall_speeds(pb.upper, taus)
@@ -256,8 +257,9 @@ def _faces(x: Array) -> tuple[Array, Array, Array]:
 def _edges_batch(pbs: list[Problem], plan: _Plan, taus: Array) -> dict:
     tr = _tracks(pbs[0], taus)  # the loads of a batch share their walls
     eds = [_edges(pb, plan, taus, tr) for pb in pbs]
-    return {key: np.stack([np.broadcast_to(e[key], eds[0]["rl"].shape) for e in eds])
-            for key in eds[0]}
+    if len(eds) == 1:
+        return {key: val[None] for key, val in eds[0].items()}
+    return {key: np.stack([e[key] for e in eds]) for key in eds[0]}
 
 
 def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -306,7 +307,7 @@ def onset_times(sigma_of_tau: Callable[[Array], Array]) -> Array:
     t_lo, t_hi = sigma_of_tau.t_lo, sigma_of_tau.t_hi
     if isinstance(sp, _SqrtPos):
         poly = sp.poly
-        roots = np.asarray(poly.roots(extrapolate=False), dtype=float)
+        roots = _cubic_roots(poly)
         roots = roots[np.isfinite(roots) & (roots > t_lo) & (roots < t_hi)]
         span = t_hi - t_lo
         h = 1e-9 * span
@@ -318,6 +319,34 @@ def onset_times(sigma_of_tau: Callable[[Array], Array]) -> Array:
     y = np.asarray(sp(x), dtype=float)
     start = (y[:-1] == 0) & (y[1:] > 0)
     return np.unique(x[:-1][start & (x[:-1] > t_lo)])
+
+
+def _cubic_roots(poly: Any) -> Array:
+    """Real roots of a piecewise polynomial (``PPoly.roots(extrapolate=False)``), solved only on
+    the pieces that can hold one: for cubics, those whose minimum over the piece (ends and
+    interior critical points) is <= 0 and maximum >= 0 (a 1000-piece table has ~1 such piece,
+    and the full solve of every piece dominated the cost of building the wall)."""
+    from scipy.interpolate import PPoly
+
+    c, x = np.asarray(poly.c, dtype=float), np.asarray(poly.x, dtype=float)
+    if c.ndim != 2 or c.shape[0] != 4:
+        return np.asarray(poly.roots(extrapolate=False), dtype=float)
+    h = np.diff(x)
+    a3, a2, a1, a0 = c
+    ts = [np.zeros_like(h), h]
+    # critical points 3 a3 t^2 + 2 a2 t + a1 = 0 (clipped into the piece)
+    disc = np.maximum(a2 * a2 - 3.0 * a3 * a1, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for sgn in (-1.0, 1.0):
+            t = np.where(a3 != 0, (-a2 + sgn * np.sqrt(disc)) / (3.0 * a3),
+                         np.where(a2 != 0, -a1 / (2.0 * a2), 0.0))
+            ts.append(np.clip(np.nan_to_num(t), 0.0, h))
+    vals = np.array([((a3 * t + a2) * t + a1) * t + a0 for t in ts])
+    margin = 1e-9 * float(np.max(np.abs(vals))) if vals.size else 0.0
+    cand = np.flatnonzero((vals.min(axis=0) <= margin) & (vals.max(axis=0) >= -margin))
+    out = [np.asarray(PPoly(c[:, i:i + 1], x[i:i + 2]).roots(extrapolate=False), dtype=float)
+           for i in cand]
+    return np.unique(np.concatenate(out)) if out else np.zeros(0)
 
 
 class DetachmentWall:
