@@ -1,11 +1,19 @@
-"""Throughput of a parameter study: 1e4 area curves (50 zeta each), serial vs 2 processes.
+"""Throughput of parameter studies: area curves (50 zeta each), serial vs 2 worker processes.
 
-Run:  OPENBLAS_NUM_THREADS=1 python benchmarks/sweep_scaling.py [--points 200] [--loads 50]
-One process measures, in the same run: (a) the serial scheduler, (b) a dask.distributed
-LocalCluster with 2 single-threaded worker processes (started and warmed up before timing;
-its start-up time is reported separately). The sweep is E (20 values) x H (10 values) x
-p0 (50 loads) on the physics.md §1.4 surface, with the contact_area analysis. Each is timed
-three times; the best time counts. The serial and parallel Datasets are checked to be equal.
+Run:  OPENBLAS_NUM_THREADS=1 python benchmarks/sweep_scaling.py [--quick] [--chunk N]
+
+One process measures, in the same run, each study with (a) the serial scheduler and (b) a
+dask.distributed LocalCluster with 2 single-threaded worker processes (started and warmed up
+before any timing; its start-up time is reported separately). Studies, on the physics.md §1.4
+surface with the contact_area analysis:
+
+* ``1e4 parameter sets``: E (100 values) x H (100 values), one load each: 1e4 curves, each its
+  own pipeline run (the typical parameter study: every curve a different surface/material);
+* ``1e4 curves, batched loads``: E (20) x H (10) x p0 (50 loads solved in one engine call);
+* ``1e5 curves, batched loads``: E (20) x H (100) x p0 (50).
+
+Each is timed ``--repeats`` times (default 2); the best time counts. The serial and parallel
+Datasets are checked to be equal bit for bit.
 """
 
 from __future__ import annotations
@@ -21,18 +29,20 @@ import xpersson
 
 
 def scene(n_e: int, n_h: int, loads: int) -> dict:
+    """E x H x p0 sweep (``loads == 1``: the single load 100 kPa, no load dimension)."""
+    p0: object = "100 kPa" if loads == 1 else {"start": "1 kPa", "stop": "1 MPa", "num": loads}
     return {
         "spectrum": {"model": "self_affine", "H": {"start": 0.5, "stop": 0.95, "num": n_h,
                                                    "spacing": "linear"},
                      "q_L": "1e3 1/m", "q_r": "1e4 1/m", "q_1": "1e8 1/m", "h_rms": "1 um"},
         "material": {"E": {"start": "1 MPa", "stop": "100 MPa", "num": n_e}, "nu": 0.5},
-        "load": {"p0": {"start": "1 kPa", "stop": "1 MPa", "num": loads}},
+        "load": {"p0": p0},
         "output": {"zeta": [float(z) for z in np.geomspace(1.0, 1e5, 50)]},
         "analyses": {"contact_area": {}},
     }
 
 
-def best(fn, repeats: int = 3) -> tuple[xr.Dataset, float]:
+def best(fn, repeats: int) -> tuple[xr.Dataset, float]:
     out, times = None, []
     for _ in range(repeats):
         t0 = time.perf_counter()
@@ -43,38 +53,45 @@ def best(fn, repeats: int = 3) -> tuple[xr.Dataset, float]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--n-e", type=int, default=20)
-    ap.add_argument("--n-h", type=int, default=10)
-    ap.add_argument("--loads", type=int, default=50)
+    ap.add_argument("--quick", action="store_true", help="only the two 1e4-curve studies")
+    ap.add_argument("--repeats", type=int, default=2)
     ap.add_argument("--chunk", type=int, default=None,
                     help="sweep points per task (default: the scheduler's choice)")
     args = ap.parse_args()
-    sc = scene(args.n_e, args.n_h, args.loads)
-    curves = args.n_e * args.n_h * args.loads
+    studies = [("1e4 parameter sets, one load each", (100, 100, 1)),
+               ("1e4 curves, 200 sets x 50 batched loads", (20, 10, 50))]
+    if not args.quick:
+        studies.append(("1e5 curves, 2000 sets x 50 batched loads", (20, 100, 50)))
     from distributed import Client, LocalCluster
 
-    serial, t_serial = best(lambda: xpersson.solve(sc))
+    xpersson.solve(scene(2, 2, 2))  # warm up this process's imports and caches too
     t0 = time.perf_counter()
     cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                            dashboard_address=None, silence_logs=40)
     client = Client(cluster)
     t_start = time.perf_counter() - t0
     xpersson.solve(scene(2, 2, 2), scheduler=client)  # warm up: imports on the workers
-    par, t_par = best(lambda: xpersson.solve(sc, scheduler=client, chunk=args.chunk))
+    rows = []
+    for label, (n_e, n_h, loads) in studies:
+        sc = scene(n_e, n_h, loads)
+        curves = n_e * n_h * loads
+        serial, t_serial = best(lambda sc=sc: xpersson.solve(sc), args.repeats)
+        par, t_par = best(lambda sc=sc: xpersson.solve(sc, scheduler=client, chunk=args.chunk),
+                          args.repeats)
+        same = all(serial[v].equals(par[v]) for v in serial.data_vars)
+        rows.append((label, curves, t_serial, t_par, same))
     client.close()
     cluster.close()
-    same = all(serial[v].equals(par[v])
-               for v in serial.data_vars)
     print(f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, "
-          f"{os.cpu_count()} cores; {curves} area curves x {serial.sizes['zeta']} zeta "
-          f"({args.n_e * args.n_h} sweep points x {args.loads} loads; chunk {args.chunk})")
-    print("| scheduler | time [s] | curves / minute | speed-up |")
-    print("|---|---:|---:|---:|")
-    print(f"| serial | {t_serial:.2f} | {curves / t_serial * 60:,.0f} | 1.00x |")
-    print(f"| processes (LocalCluster, 2 workers) | {t_par:.2f} | {curves / t_par * 60:,.0f} | "
-          f"{t_serial / t_par:.2f}x |")
-    print(f"cluster start-up (not timed above): {t_start:.1f} s; serial == parallel bit for "
-          f"bit: {same}")
+          f"{os.cpu_count()} cores; area curves of 50 zeta with the contact_area analysis; "
+          f"best of {args.repeats}; chunk {args.chunk or 'default'}")
+    print("| study | serial [s] | serial curves/min | 2 processes [s] | 2 processes curves/min "
+          "| speed-up | equal |")
+    print("|---|---:|---:|---:|---:|---:|---|")
+    for label, curves, t_s, t_p, same in rows:
+        print(f"| {label} | {t_s:.2f} | {curves / t_s * 60:,.0f} | {t_p:.2f} | "
+              f"{curves / t_p * 60:,.0f} | {t_s / t_p:.2f}x | {same} |")
+    print(f"cluster start-up (not timed above): {t_start:.1f} s")
 
 
 if __name__ == "__main__":

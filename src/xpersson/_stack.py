@@ -151,15 +151,16 @@ def stack(results: list[xr.Dataset | None], block: Block, status: np.ndarray,
         raise ValueError("a block needs at least one solved point or a template")
     template = _point_shaped(template, block)
     if "q_psd" in template.dims:
-        nodes = [ds["q_psd"].values for ds in ok]
+        nodes = [ds.variables["q_psd"].values for ds in ok]
         if any(len(n) != len(nodes[0]) or not np.array_equal(n, nodes[0]) for n in nodes):
             union = np.unique(np.concatenate(nodes))
             results = [None if ds is None else ds.reindex(q_psd=union) for ds in results]
             template = template.reindex(q_psd=union)
     for name in ("zeta", "p"):
         if name in template.indexes:
+            ref = template.variables[name].values
             for ds in results:
-                if ds is not None and not np.array_equal(ds[name].values, template[name].values):
+                if ds is not None and not np.array_equal(ds.variables[name].values, ref):
                     raise ValueError(f"points of a sweep must share the {name} grid")
     names = _own_names(template, block)
     shape = block.shape
@@ -170,8 +171,8 @@ def stack(results: list[xr.Dataset | None], block: Block, status: np.ndarray,
         var = template[name]
         fill = _fill(var)
         arrs = [
-            np.asarray(ds[name].values) if ds is not None and name in ds.variables else fill
-            for ds in results
+            fill if ds is None or name not in ds.variables
+            else np.asarray(ds.variables[name].values) for ds in results
         ]
         arr = np.stack(arrs).reshape(shape + var.shape)
         entry = (dims + var.dims, arr, dict(var.attrs))
@@ -224,17 +225,23 @@ def _fill(var: xr.DataArray) -> np.ndarray:
 
 def _digests(results: list[xr.Dataset | None], ds: xr.Dataset, block: Block
              ) -> dict[str, list[str | None]]:
-    """Per point fingerprints of every stacked variable (``None`` for a failed point)."""
+    """Per point fingerprints of every stacked variable (``None`` for a failed point).
+
+    Taken from the stacked block (the block's sweep dimensions lead every stacked variable),
+    so a point's fingerprint is that of the values the combined Dataset holds for it.
+    """
     out: dict[str, list[str | None]] = {}
-    for name in ds.variables:
+    n = block.size
+    for name, var in ds.variables.items():
         if name in block.coords or name == "point_status" or name in ds.indexes:
             continue
-        if not set(block.dims) <= set(ds[name].dims):
+        if tuple(var.dims[:len(block.dims)]) != tuple(block.dims):
             continue
+        arr = np.asarray(var.values)
+        rows = arr.reshape((n,) + arr.shape[len(block.dims):])
         out[name] = [
-            None if r is None else _digest(np.asarray(r[name].values)) if name in r.variables
-            else "missing"
-            for r in results
+            None if r is None else _digest(rows[k]) if name in r.variables else "missing"
+            for k, r in enumerate(results)
         ]
     return out
 

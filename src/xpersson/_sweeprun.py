@@ -137,9 +137,19 @@ def _resolve_on_workers(
     is submitted, as :func:`resolve_points` does in the serial path.
     """
     tag = f"{os.getpid()}-{id(blocks)}"
+    # blocks go round-robin to the workers: the solve tasks follow their points (data
+    # locality), so this placement is what balances the solving
+    addresses = sorted(client.scheduler_info().get("workers", {})) or [None]
     resolved = [client.submit(_resolve_block, plan, b, registry, pure=False,
-                              key=f"xpersson-resolve-{b.number}-{tag}") for b in blocks]
-    summaries = client.gather([client.submit(_summary, f, pure=False) for f in resolved])
+                              key=f"xpersson-resolve-{b.number}-{tag}",
+                              workers=None if addresses[0] is None
+                              else [addresses[i % len(addresses)]],
+                              allow_other_workers=True)
+                for i, b in enumerate(blocks)]
+    # one round trip: every block's summary and the first point
+    summaries = [client.submit(_summary, f, pure=False) for f in resolved]
+    *summaries, first = client.gather([*summaries, client.submit(_first, resolved[0],
+                                                                 pure=False)])
     zeta = summaries[0][0]
     if any(z is None or z.shape != zeta.shape or not np.array_equal(z, zeta)
            for z, _ in summaries):
@@ -147,10 +157,9 @@ def _resolve_on_workers(
     if summaries[0][1] is not None:
         lo = min(b[0] for _, b in summaries)
         hi = max(b[1] for _, b in summaries)
-        first = client.submit(_first, resolved[0], pure=False).result()
         grid = np.linspace(lo, hi, first.p_points)
         resolved = [client.submit(_with_grid, f, grid, pure=False) for f in resolved]
-    first = client.submit(_first, resolved[0], pure=False).result()
+        first = dataclasses.replace(first, p=grid)
     return first, [(b, f, parts[b.number]) for b, f in zip(blocks, resolved, strict=True)]
 
 
@@ -213,7 +222,7 @@ def solve_sweep(
             tasks = [(b, pts, parts[b.number]) for b, pts, _ in tasks]
         bar = _progress_bar(plan.size, progress, "xpersson sweep")
         try:
-            results = _execute(tasks, registry, scheduler, client, bar)
+            results = _execute(tasks, registry, scheduler, client, bar, n_workers)
         finally:
             if bar is not None:
                 bar.close()
@@ -276,6 +285,7 @@ def _execute(
     scheduler: Any,
     client: Any,
     bar: Any,
+    n_workers: int = 1,
 ) -> list[BlockResult]:
     tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
     if client is None and scheduler != "threads":
@@ -287,7 +297,7 @@ def _execute(
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+            with ThreadPoolExecutor(max_workers=max(1, n_workers)) as pool:
                 futures = [pool.submit(run_block, b, pts, registry, part, False, tick)
                            for b, pts, part in tasks]
                 return [f.result() for f in futures]
@@ -298,11 +308,14 @@ def _execute(
                       key=f"xpersson-block-{b.number}-{os.getpid()}-{id(tasks)}")
         for b, pts, part in tasks
     ]
-    if bar is not None:
-        for fut in as_completed(futures):
-            bar.update(fut.result().block.size)
-    results = client.gather(futures)
-    return list(results)
+    order = {fut.key: i for i, fut in enumerate(futures)}
+    results: list[Any] = [None] * len(futures)
+    # results are fetched as their blocks finish: transfers overlap the blocks still running
+    for fut, res in as_completed(futures, with_results=True):
+        results[order[fut.key]] = res
+        if bar is not None:
+            bar.update(res.block.size)
+    return results
 
 
 def _finish(
@@ -358,7 +371,10 @@ def _finish(
         from .io import open_parts
 
         return open_parts(folder)
-    ds = combine([r.dataset for r in results], [r.block.grid_index for r in results], plan.dims)
+    ds = _combine_in_memory(plan, results)
+    if ds is None:
+        ds = combine([r.dataset for r in results], [r.block.grid_index for r in results],
+                     plan.dims)
     return finalize(ds, constant, attrs)
 
 
@@ -416,6 +432,56 @@ def combine(datasets: list[Any], grid_index: list[tuple[int, ...]], dims: tuple[
         nested.tolist(), concat_dim=list(dims), data_vars="minimal", coords="minimal",
         join="outer", compat="override", combine_attrs="override",
     )
+
+
+def _combine_in_memory(plan: SweepPlan, results: list[BlockResult]) -> xr.Dataset | None:
+    """Combine in-memory block Datasets by filling preallocated arrays (the common case).
+
+    Every block must hold the same variables with the same non-sweep dimensions and the same
+    non-sweep coordinates, and every sweep dimension of a variable must lead it in the order of
+    the sweep; otherwise ``None`` (the caller falls back to :func:`combine`).
+    """
+    dims = plan.dims
+    first = results[0].dataset
+    names = list(first.variables)
+    out: dict[str, xr.Variable] = {}
+    for name in names:
+        var = first.variables[name]
+        swept = [d for d in var.dims if d in dims]
+        if not swept:  # a non-sweep coordinate or constant: the same in every block
+            ref = var.values
+            for r in results[1:]:
+                other = r.dataset.variables.get(name)
+                if other is None or other.dims != var.dims or not np.array_equal(
+                        other.values, ref, equal_nan=ref.dtype.kind in "fc"):
+                    return None
+            out[name] = var.copy(deep=False)
+            continue
+        k = len(swept)
+        if tuple(var.dims[:k]) != tuple(swept) or swept != [d for d in dims if d in swept]:
+            return None
+        axes = [dims.index(d) for d in swept]
+        parts = [r.dataset.variables.get(name) for r in results]
+        if any(p is None or p.dims != var.dims or p.shape[k:] != var.shape[k:] for p in parts):
+            return None
+        dtype = np.result_type(*(p.dtype for p in parts))
+        full = np.empty(tuple(plan.shape[a] for a in axes) + var.shape[k:], dtype=dtype)
+        filled = np.zeros(full.shape[:k], dtype=bool)
+        for r, p in zip(results, parts, strict=True):
+            sl = tuple(slice(r.block.start[a], r.block.stop[a]) for a in axes)
+            full[sl] = p.values
+            filled[sl] = True
+        if not filled.all():
+            return None
+        out[name] = xr.Variable(var.dims, full, dict(var.attrs))
+    if any(set(r.dataset.variables) != set(names) for r in results[1:]):
+        return None
+    coord_names = set(first.coords)
+    return xr.Dataset(
+        {n: v for n, v in out.items() if n not in coord_names},
+        coords={n: v for n, v in out.items() if n in coord_names},
+        attrs=dict(first.attrs),
+    )[list(first.data_vars)]
 
 
 def finalize(ds: xr.Dataset, constant: dict[str, list[str]], attrs: dict[str, Any]) -> xr.Dataset:

@@ -136,7 +136,11 @@ class SweepPlan:
 
     def point_scene(self, index: tuple[int, ...]) -> Scene:
         """The :class:`~xpersson.Scene` of one point."""
-        return Scene(self.point_data(index), self.scene.source)
+        data = dict(self.base)  # only the tables on a swept path are copied; Scene deep-copies
+        for group, i in zip(self.groups, index, strict=True):
+            for param in group:
+                _set_path(data, param.path, param.scene_value(i), copy_tables=True)
+        return Scene(data, self.scene.source)
 
     def indices(self) -> Iterator[tuple[int, ...]]:
         """All point indices in C order (last dimension fastest)."""
@@ -165,11 +169,15 @@ class SweepPlan:
         return data
 
 
-def _set_path(data: dict[str, Any], path: str, value: Any) -> None:
+def _set_path(data: dict[str, Any], path: str, value: Any, copy_tables: bool = False) -> None:
+    """Set a dotted path; ``copy_tables`` copies each table on the way (shares nothing)."""
     parts = path.split(".")
     node = data
     for part in parts[:-1]:
-        node = node.setdefault(part, {})
+        child = node.get(part)
+        child = {} if child is None else dict(child) if copy_tables else child
+        node[part] = child
+        node = child
     node[parts[-1]] = value
 
 

@@ -143,3 +143,23 @@ def test_threads_scheduler_equals_serial(swept):
     threads = xpersson.solve(SWEEP_SCENE, scheduler="threads", chunk=1)
     for name in swept.variables:
         xr.testing.assert_identical(threads[name], swept[name])
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_threads_scheduler_uses_the_requested_number_of_threads(swept, workers, monkeypatch):
+    import threading
+
+    from xpersson import _sweeprun
+
+    seen: set[int] = set()
+    original = _sweeprun.run_block
+
+    def recording(*args, **kwargs):
+        seen.add(threading.get_ident())
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(_sweeprun, "run_block", recording)
+    threads = xpersson.solve(SWEEP_SCENE, scheduler="threads", chunk=1, workers=workers)
+    assert 1 <= len(seen) <= workers  # six one-point blocks, at most `workers` threads
+    assert threading.get_ident() not in seen
+    xr.testing.assert_identical(threads.area_fraction, swept.area_fraction)

@@ -51,3 +51,20 @@ def test_failed_point_is_flagged_and_the_other_equals_its_own_solve(chunk, tmp_p
             assert np.isnan(ds[name].sel(work_of_adhesion=0.03).values).all(), name
             np.testing.assert_array_equal(ds[name].sel(work_of_adhesion=0.05).values,
                                           one[name].values)
+
+
+@pytest.mark.parametrize("chunk", [1, 2])
+def test_in_memory_combine_equals_xarray_combine_nested(chunk, monkeypatch):
+    """The preallocated fill of block Datasets equals ``xarray.combine_nested`` over the
+    blocks, failed block (NaN, point_status) and strings included."""
+    from xpersson import _sweeprun
+
+    data = _scene(W)
+    data["material"]["nu"] = [0.3, 0.4, 0.5]
+    fast = xpersson.solve(data, chunk=chunk)
+    monkeypatch.setattr(_sweeprun, "_combine_in_memory", lambda plan, results: None)
+    slow = xpersson.solve(data, chunk=chunk)
+    assert fast.sizes["nu"] == 3 and fast.point_status.shape == (3, 2)
+    assert set(fast.attrs) == set(slow.attrs)
+    slow.attrs = fast.attrs  # the two solves differ in run times and creation dates only
+    assert fast.identical(slow)
