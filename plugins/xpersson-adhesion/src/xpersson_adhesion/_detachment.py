@@ -172,17 +172,25 @@ class ModelLaw:
         q_L = float(self.psd.q_L)
         brk = np.asarray(self.psd.nodes(), dtype=float) / q_L
         brk = np.unique(np.concatenate(([1.0], brk[(brk > 1.0) & (brk < zmax)], [zmax])))
-        xs, cs = [], []
+        zs_, zo_ = [], []
         for a, b in zip(brk[:-1], brk[1:], strict=True):
             n = max(4, int(math.ceil(per_decade * math.log10(b / a))) + 1)
             z = np.geomspace(a, b, n)
             z[0], z[-1] = a, b
-            zs = z.copy()  # one-sided: slopes from inside the piece
-            zs[0], zs[-1] = a * (1 + 1e-12), b * (1 - 1e-12)
-            s2 = self.sigma2_and_slope(z)[0]
-            ds2 = self.sigma2_and_slope(zs)[1]
-            t = np.asarray(clock.tau_of_zeta(z), dtype=float)  # type: ignore[attr-defined]
-            f = np.asarray(clock.f(zs), dtype=float)  # type: ignore[attr-defined]
+            zo = z.copy()  # one-sided: slopes from inside the piece
+            zo[0], zo[-1] = a * (1 + 1e-12), b * (1 - 1e-12)
+            zs_.append(z)
+            zo_.append(zo)
+        # every piece in one call of the model and of the clock (the calls' fixed cost dominated)
+        cut = np.cumsum([z.size for z in zs_])[:-1]
+        z_all, zo_all = np.concatenate(zs_), np.concatenate(zo_)
+        s2_all = np.split(self.sigma2_and_slope(z_all)[0], cut)
+        ds2_all = np.split(self.sigma2_and_slope(zo_all)[1], cut)
+        tau_of, f_of = clock.tau_of_zeta, clock.f  # type: ignore[attr-defined]
+        t_all = np.split(np.asarray(tau_of(z_all), dtype=float), cut)
+        f_all = np.split(np.asarray(f_of(zo_all), dtype=float), cut)
+        xs, cs = [], []
+        for s2, ds2, t, f in zip(s2_all, ds2_all, t_all, f_all, strict=True):
             keep = np.concatenate(([True], np.diff(t) > 0))
             if keep.sum() < 2:
                 continue
