@@ -346,14 +346,21 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
         _, _, bm1, bp1 = end_faces("b")
     w_last = w[-1]
 
+    # outputs: snapshots of the state, reduced after the march (one copy per output instead of
+    # a dozen small reductions), unless the density is wanted or the snapshots would be large
+    snaps = None if want_p or n_out * nb * nn > _SNAP else np.empty((n_out, nb * nn))
+
     def record(j: int, m: int) -> None:
         """Outputs ``j`` after step ``m`` (the state ``r``; wall terms are added later)."""
+        a_pl_at[:, j] = a_pl
+        if snaps is not None:
+            snaps[j] = r
+            return
         r_ = r.reshape(nb, nn)
         lv, wv = (la[:, 0], wa_[:, 0]) if m == 0 else (lb[:, m - 1], wb_[:, m - 1])
         pm = lv[:, None] + wv[:, None] * x[None, :]
         res["area"][:, j] = r_ @ w
         res["load"][:, j] = (pm * r_) @ w
-        a_pl_at[:, j] = a_pl
         if want_p:
             pv = pb0.p_out
             for i in range(nb):
@@ -361,8 +368,9 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
                 inside = (pv >= pm[i, 0]) & (pv <= pm[i, -1])
                 res["P"][i, j, inside] = cs(pv[inside])
 
+    out_steps = out_at.tolist() + [-1]
     nxt = 0
-    while nxt < n_out and out_at[nxt] == 0:
+    while nxt < n_out and out_steps[nxt] == 0:
         record(nxt, 0)
         nxt += 1
     block = max(1, _BLOCK // (nb * nn))
@@ -432,12 +440,19 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
                 out_hi = -(wn_all[m] * f_new + wo_all[m] * f_old)
                 a_pl = a_pl + np.where(yreal[:, m], out_hi + w_last * (r[last] - sol[last]), 0.0)
             r = sol
-            while nxt < n_out and out_at[nxt] == m + 1:
+            while out_steps[nxt] == m + 1:
                 record(nxt, m + 1)
                 nxt += 1
             if (m + 1) % _REPORT_EVERY == 0:
                 _progress.report(_REPORT_EVERY * nn * nb)
     _progress.report((n_steps % _REPORT_EVERY) * nn * nb)
+    if snaps is not None:
+        # area int R dx and load int p R dx with p = l + W x, per output (nb, n_out)
+        R = snaps.reshape(n_out, nb, nn)
+        lv = np.hstack([la[:, :1], lb])[:, out_at]
+        wv = np.hstack([wa_[:, :1], wb_])[:, out_at]
+        res["area"] = (R @ w).T
+        res["load"] = lv * res["area"] + wv * (R @ (x * w)).T
     # wall fluxes of every step from the nodes next to the walls (R = 0 on an absorbing wall)
     r0, r1, rm, rn = (hist[:, i * nb:(i + 1) * nb].T for i in range(4))  # (nb, n_steps + 1)
     am0a, ap0a, am1a, ap1a = end_faces("a")
@@ -696,6 +711,7 @@ class CNMethod(EngineMethod):
 
 _REPORT_EVERY = 64  # time steps between progress reports (see _progress)
 _BLOCK = 1 << 14  # operator entries built at once per array in _march (steps x loads x nodes)
+_SNAP = 1 << 20  # largest output snapshot array in _march (outputs x loads x nodes)
 
 
 def _project(area: Array, abs_l: Array, abs_u: Array) -> tuple[tuple[Array, Array, Array],
