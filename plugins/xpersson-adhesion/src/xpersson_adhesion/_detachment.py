@@ -166,7 +166,7 @@ class ModelLaw:
         its positive part. Relative error ~1e-10 of max sigma_a (tested); evaluating it costs a
         spline call instead of the clock's inverse and the spectrum moments.
         """
-        from scipy.interpolate import CubicHermiteSpline, PPoly
+        from scipy.interpolate import PPoly
 
         zmax = float(clock.zeta_max)  # type: ignore[attr-defined]
         q_L = float(self.psd.q_L)
@@ -184,8 +184,9 @@ class ModelLaw:
         # every piece in one call of the model and of the clock (the calls' fixed cost dominated)
         cut = np.cumsum([z.size for z in zs_])[:-1]
         z_all, zo_all = np.concatenate(zs_), np.concatenate(zo_)
-        s2_all = np.split(self.sigma2_and_slope(z_all)[0], cut)
-        ds2_all = np.split(self.sigma2_and_slope(zo_all)[1], cut)
+        both = self.sigma2_and_slope(np.concatenate([z_all, zo_all]))
+        s2_all = np.split(both[0][:z_all.size], cut)
+        ds2_all = np.split(both[1][z_all.size:], cut)
         tau_of, f_of = clock.tau_of_zeta, clock.f  # type: ignore[attr-defined]
         t_all = np.split(np.asarray(tau_of(z_all), dtype=float), cut)
         f_all = np.split(np.asarray(f_of(zo_all), dtype=float), cut)
@@ -194,9 +195,9 @@ class ModelLaw:
             keep = np.concatenate(([True], np.diff(t) > 0))
             if keep.sum() < 2:
                 continue
-            sp = CubicHermiteSpline(t[keep], s2[keep], (ds2 / f)[keep])
-            xs.append(sp.x if not xs else sp.x[1:])
-            cs.append(sp.c)
+            tk = t[keep]
+            xs.append(tk if not xs else tk[1:])
+            cs.append(_hermite(tk, s2[keep], (ds2 / f)[keep]))
         if not xs:
             value = float(self(np.array([1.0]))[0])
             return lambda tt: np.full(np.shape(tt), value)  # type: ignore[return-value]
@@ -210,6 +211,16 @@ class ModelLaw:
             return True
         z = np.geomspace(1.0, max(zeta_max, 1.0), 257)
         return bool(np.all(self(z) == 0.0))
+
+
+def _hermite(x: Array, y: Array, dydx: Array) -> Array:
+    """Power-basis coefficients (4, n - 1) of the cubic Hermite interpolant of ``(x, y, dydx)``
+    (``scipy.interpolate.CubicHermiteSpline(x, y, dydx).c`` without its input checks: ``x``
+    strictly increasing and finite here by construction)."""
+    h = np.diff(x)
+    slope = np.diff(y) / h
+    t = (dydx[:-1] + dydx[1:] - 2 * slope) / h
+    return np.stack((t / h, (slope - dydx[:-1]) / h - t, dydx[:-1], y[:-1]))
 
 
 def check_table(zeta: ArrayLike, sigma: ArrayLike) -> tuple[Array, Array]:
