@@ -138,50 +138,49 @@ def main(argv=None):
             rows.append(dict(p0=p0, method="scipy BDF MoL (Landau frame)",
                              resolution=f"N={n}, rtol={rtol:g}", time=t, err=err, kind="peer"))
             print(rows[-1], flush=True)
-    costs = cost_rows(tau, wall, refs, sel, repeats=5 if args.quick else 21)
+    costs = cost_rows(tau, wall, refs, sel, repeats=5 if args.quick else 25)
     write(rows, costs, HERE / "results" / "jkr_vs_peer.md")
 
 
-def per_load(fn, n_load, repeats):
-    """(result, CPU s per load median, CPU best, wall median) over ``repeats`` calls after one
-    warm-up call."""
-    fn()
-    cpu, wall = [], []
-    for _ in range(repeats):
-        w0, c0 = time.perf_counter(), time.process_time()
-        res = fn()
-        cpu.append(time.process_time() - c0)
-        wall.append(time.perf_counter() - w0)
-    return (res, statistics.median(cpu) / n_load, min(cpu) / n_load,
-            statistics.median(wall) / n_load)
-
-
 def cost_rows(tau, wall, refs, sel, repeats):
-    """Cost per load at rtol 1e-6 (the default): engine and public pipeline, single and batch."""
-    out = []
+    """Cost per load at rtol 1e-6 (the default): engine and public pipeline, each load alone and
+    the three loads in one call. CPU and wall time per call, in ``repeats`` interleaved rounds
+    (every configuration once per round, after a warm-up round), so that the other jobs of the
+    shared machine weigh on all of them alike."""
 
     def scene_of(loads):
         sc = copy.deepcopy(SCENE)
         sc["load"]["p0"] = [f"{p!r} Pa" for p in loads]
         return sc
 
-    def pipeline_err(ds, loads):
-        area = np.asarray(ds["area_fraction"].values, float).reshape(len(loads), -1)
-        return max(err_of(a, refs[p0], sel) for a, p0 in zip(area, loads, strict=True))
-
-    for p0 in LOADS:
-        res, med, best, wmed = per_load(
-            lambda p0=p0: solve(tau, p0, wall, method="cn", rtol=1e-6), 1, repeats)
-        out.append(dict(what="`xpersson.engine.solve` (engine only)", loads=f"{p0:g}", n=1,
-                        cpu=med, best=best, wall=wmed, err=err_of(res.area, refs[p0], sel),
-                        status=res.status))
+    configs = [("`xpersson.engine.solve` (engine only)", (p0,),
+                lambda p0=p0: solve(tau, p0, wall, method="cn", rtol=1e-6)) for p0 in LOADS]
     for loads in [(p,) for p in LOADS] + [LOADS]:
         sc = scene_of(loads)
-        ds, med, best, wmed = per_load(lambda sc=sc: xpersson.solve(sc), len(loads), repeats)
-        out.append(dict(what="`xpersson.solve` (public pipeline)",
-                        loads=", ".join(f"{p:g}" for p in loads), n=len(loads), cpu=med,
-                        best=best, wall=wmed, err=pipeline_err(ds, loads),
-                        status=ds.attrs["status"]))
+        configs.append(("`xpersson.solve` (public pipeline)", loads,
+                        lambda sc=sc: xpersson.solve(sc)))
+    cpu = [[] for _ in configs]
+    wall_t = [[] for _ in configs]
+    last = [None] * len(configs)
+    for rnd in range(repeats + 1):
+        for i, (_, _, fn) in enumerate(configs):
+            w0, c0 = time.perf_counter(), time.process_time()
+            last[i] = fn()
+            if rnd:  # round 0 warms up
+                cpu[i].append(time.process_time() - c0)
+                wall_t[i].append(time.perf_counter() - w0)
+    out = []
+    for (what, loads, _), res, c, w in zip(configs, last, cpu, wall_t, strict=True):
+        n = len(loads)
+        if what.startswith("`xpersson.solve`"):
+            area = np.asarray(res["area_fraction"].values, float).reshape(n, -1)
+            status = res.attrs["status"]
+        else:
+            area, status = np.atleast_2d(res.area), res.status
+        err = max(err_of(a, refs[p0], sel) for a, p0 in zip(area, loads, strict=True))
+        out.append(dict(what=what, loads=", ".join(f"{p:g}" for p in loads), n=n, rounds=repeats,
+                        cpu=statistics.median(c) / n, best=min(c) / n,
+                        wall=statistics.median(w) / n, err=err, status=status))
         print(out[-1], flush=True)
     return out
 
@@ -225,9 +224,12 @@ def write(rows, costs, path):
                      f"{best['resolution']}: {best['time']:.3g} s, err {best['err']:.1e} | "
                      f"{sp_} |")
     lines += ["", "## Cost per load at rtol 1e-6 (target: <= 20 ms per load)", "",
-              "CPU time of the process per load (median and best of repeated calls after a "
-              "warm-up; wall time median beside it, the machine being shared); error = max "
-              "relative error of the returned A/A0 against the reference.", "",
+              f"CPU time of the process per load: median and best of {costs[0]['rounds']} "
+              "interleaved rounds after a warm-up round (every configuration once per round); "
+              "wall time median beside it. The machine is shared with other jobs, which inflate "
+              "CPU time too (shared cores and caches): the best of the rounds is the cost of the "
+              "code, the median what a user saw on this machine. Error = max relative error of "
+              "the returned A/A0 against the reference.", "",
               "| call | p0 [Pa] | CPU per load, median [ms] | CPU best [ms] | wall median [ms] "
               "| error | status |", "|---|---|---:|---:|---:|---:|---|"]
     for c in costs:
@@ -235,12 +237,16 @@ def write(rows, costs, path):
                      f"{c['best'] * 1e3:.1f} | {c['wall'] * 1e3:.1f} | {c['err']:.1e} | "
                      f"{c['status']} |")
     pipe = [c for c in costs if c["what"].startswith("`xpersson.solve`")]
-    single = max(c["cpu"] for c in pipe if c["n"] == 1)
-    batch = [c["cpu"] for c in pipe if c["n"] > 1][0]
-    verdict = "met" if max(single, batch) <= 0.020 else "NOT met"
-    lines += ["", f"Target <= 20 ms per load (CPU time per load through `xpersson.solve`, "
-              f"median): {verdict} (single load, worst of the three: {single * 1e3:.1f} ms; "
-              f"three loads in one call: {batch * 1e3:.1f} ms per load).", ""]
+    lines.append("")
+    for key, label in (("best", "best of the rounds"), ("cpu", "median of the rounds")):
+        single = max(c[key] for c in pipe if c["n"] == 1)
+        batch = [c[key] for c in pipe if c["n"] > 1][0]
+        verdict = "met" if max(single, batch) <= 0.020 else "NOT met"
+        lines.append(f"Target <= 20 ms per load, CPU time per load through `xpersson.solve`, "
+                     f"{label}: {verdict} (single load, worst of the three: "
+                     f"{single * 1e3:.1f} ms; three loads in one call: {batch * 1e3:.1f} ms "
+                     "per load).")
+        lines.append("")
     path.parent.mkdir(exist_ok=True)
     path.write_text("\n".join(lines))
     print("\n".join(lines))

@@ -339,6 +339,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
     last = rows + nn - 1
     bnd = np.concatenate([rows, last])  # identity rows (the walls)
     wflat = np.tile(w, nb)
+    wflat[bnd] = 0.0
     hist = np.empty((n_steps + 1, 4 * nb))  # R at `near` after every step
     hist[0] = r[near]
     a_pl = np.zeros(nb)
@@ -422,19 +423,27 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
         dl, du, Dg, Ga, Gp = (a.reshape(c, nb * nn) for a in (dl, du, Dg, Ga, Gp))
         g = g.T
         ys = yreal[:, ms].any(axis=0).tolist()
+        # the states of the block: row 0 the state before it, row i + 1 the state after step
+        # m0 + i (the solve overwrites its right-hand side in place)
+        states = np.empty((c + 1, nb * nn))
+        states[0] = r
         for i in range(c):
             m = m0 + i
             G = Ga[i, :-1] * r[:-1]
             G += Gp[i, :-1] * r[1:]
-            rhs = wflat * r
+            rhs = states[i + 1]
+            np.multiply(wflat, r, out=rhs)  # 0 on the walls' identity rows
             rhs[1:-1] += G[1:] - G[:-1]
-            rhs[bnd] = 0.0
+            if nb > 1:
+                rhs[bnd] = 0.0
             if ys[i]:
                 rhs[last] = ye_s[:, i] * r[last - 1] + ye_d[:, i] * r[last] + g[:, i] * a_pl
             _, _, _, sol, info = dgtsv(dl[i, :-1], Dg[i], du[i, :-1], rhs, 1, 1, 1, 1)
             if info != 0:
                 raise FloatingPointError(f"tridiagonal solve failed (info={info})")
-            hist[m + 1] = sol[near]
+            if sol is not rhs:  # pragma: no cover - LAPACK wrapper made a copy
+                rhs[:] = sol
+                sol = rhs
             if ys[i]:
                 # dA_pl = out-flux through the last face + the half cell's loss
                 f_new = bm1[:, m] * sol[last - 1] + bp1[:, m] * sol[last]
@@ -447,6 +456,8 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
                 nxt += 1
             if (m + 1) % _REPORT_EVERY == 0:
                 _progress.report(_REPORT_EVERY * nn * nb)
+        hist[m0 + 1:m0 + c + 1] = states[1:, near]
+        r = r.copy()  # the last state outlives its block
     _progress.report((n_steps % _REPORT_EVERY) * nn * nb)
     if snaps is not None:
         # area int R dx and load int p R dx with p = l + W x, per output (nb, n_out)
