@@ -131,3 +131,10 @@ def test_cn_output_snapshots_equal_the_per_output_reductions(monkeypatch):
     np.testing.assert_array_equal(a.area, b.area)
     np.testing.assert_array_equal(a.absorbed_lower, b.absorbed_lower)
     np.testing.assert_allclose(a.load, b.load, rtol=1e-13)
+
+
+@pytest.mark.parametrize("aim", [0.0, -0.5, 1.5, float("nan")])
+def test_cn_aim_outside_its_range_is_refused(aim):
+    with pytest.raises(ValueError, match=r"options\['aim'\] \[1\].*\(0, 1\]"):
+        solve(TAU[:5], 1.0, Wall.absorbing(lambda t: -(0.2 + t)), method="cn",
+              options={"aim": aim})

@@ -543,6 +543,9 @@ class CNMethod(EngineMethod):
         n_ie = int(opt.get("rannacher", 2))
         k = float(opt.get("window_k", window_k(pb.atol)))
         aim = float(opt.get("aim", AIM))
+        if not 0.0 < aim <= 1.0:
+            raise ValueError(f"options['aim'] [1] (error estimate aimed at, as a fraction of "
+                             f"the tolerance) must be in (0, 1]; got {aim!r}")
         tau = pb.tau
         tau_s = min(_start_time(p, k) for p in pbs)
         analytic = tau <= tau_s
