@@ -377,6 +377,10 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
         record(nxt, 0)
         nxt += 1
     block = max(1, _BLOCK // (nb * nn))
+    # work buffers of a step: face fluxes G, G2 and their differences dG
+    G, G2, dG = np.empty(nb * nn - 1), np.empty(nb * nn - 1), np.empty(nb * nn - 2)
+    G_hi, G_lo = G[1:], G[:-1]
+    mul, sub = np.multiply, np.subtract
     wi = w[1:-1]
     nf = nn - 1
     for m0 in range(0, n_steps, block):
@@ -427,18 +431,24 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
         # m0 + i (the solve overwrites its right-hand side in place)
         states = np.empty((c + 1, nb * nn))
         states[0] = r
+        # views made once per block (a step is ~10 numpy calls: their count is its cost)
+        s_lo, s_hi, s_in = states[:, :-1], states[:, 1:], states[:, 1:-1]
+        ga, gp, dl_, du_ = Ga[:, :-1], Gp[:, :-1], dl[:, :-1], du[:, :-1]
         for i in range(c):
             m = m0 + i
-            G = Ga[i, :-1] * r[:-1]
-            G += Gp[i, :-1] * r[1:]
+            mul(ga[i], s_lo[i], out=G)
+            mul(gp[i], s_hi[i], out=G2)
+            G += G2
             rhs = states[i + 1]
-            np.multiply(wflat, r, out=rhs)  # 0 on the walls' identity rows
-            rhs[1:-1] += G[1:] - G[:-1]
+            mul(wflat, r, out=rhs)  # 0 on the walls' identity rows
+            sub(G_hi, G_lo, out=dG)
+            inner = s_in[i + 1]
+            inner += dG
             if nb > 1:
                 rhs[bnd] = 0.0
             if ys[i]:
                 rhs[last] = ye_s[:, i] * r[last - 1] + ye_d[:, i] * r[last] + g[:, i] * a_pl
-            _, _, _, sol, info = dgtsv(dl[i, :-1], Dg[i], du[i, :-1], rhs, 1, 1, 1, 1)
+            _, _, _, sol, info = dgtsv(dl_[i], Dg[i], du_[i], rhs, 1, 1, 1, 1)
             if info != 0:
                 raise FloatingPointError(f"tridiagonal solve failed (info={info})")
             if sol is not rhs:  # pragma: no cover - LAPACK wrapper made a copy
