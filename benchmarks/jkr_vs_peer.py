@@ -6,7 +6,10 @@ work of adhesion 0.05 J/m^2), loads p0 = -2, 1, 10 kPa. The detachment wall
 p = -sigma_a(zeta(tau)) moves from -10 kPa to -8 MPa.
 
 * xpersson: ``xpersson.engine.solve`` with the plugin's wall (``JKRBoundary.wall``), method "cn"
-  at several rtol; and the whole pipeline ``xpersson.solve`` per load at rtol 1e-6.
+  at several rtol; and the cost per load at rtol 1e-6 (the issue's target: <= 20 ms per load)
+  of ``xpersson.engine.solve`` and of the whole public pipeline ``xpersson.solve``, for each
+  load alone and for the three loads in one call (batched in one engine call), with the actual
+  error of what the pipeline returns.
 * peer: the equation in the moving-wall frame (Landau transform, as the linear-wall peer of
   ``engine_vs_peers.py``): ``y = p + sigma_a(tau)``, ``Q_tau = Q_yy - sigma_a'(tau) Q_y`` on a
   uniform grid ``[0, L]``, Dirichlet 0 at both ends, hat-projected delta, ``solve_ivp`` BDF with
@@ -14,7 +17,9 @@ p = -sigma_a(zeta(tau)) moves from -10 kPa to -8 MPa.
 
 Metric: max relative error of A/A0 at 4 output magnifications per decade against a reference
 (engine "cn" at rtol 1e-9); time: median of repeated runs (``scene.timed`` of ../shared/peers),
-all in one process. Run with ``OPENBLAS_NUM_THREADS=1``. Writes ``results/jkr_vs_peer.md``.
+all in one process; the cost per load is CPU time of the process (median and best of repeated
+calls after a warm-up; the machine is shared, so wall time is shown beside it). Run with
+``OPENBLAS_NUM_THREADS=1``. Writes ``results/jkr_vs_peer.md``.
 
 Usage: ``OPENBLAS_NUM_THREADS=1 python benchmarks/jkr_vs_peer.py [--quick]``
 """
@@ -22,7 +27,9 @@ Usage: ``OPENBLAS_NUM_THREADS=1 python benchmarks/jkr_vs_peer.py [--quick]``
 from __future__ import annotations
 
 import argparse
+import copy
 import math
+import statistics
 import sys
 import time
 from pathlib import Path
@@ -131,12 +138,51 @@ def main(argv=None):
             rows.append(dict(p0=p0, method="scipy BDF MoL (Landau frame)",
                              resolution=f"N={n}, rtol={rtol:g}", time=t, err=err, kind="peer"))
             print(rows[-1], flush=True)
-    # the whole pipeline per load, at the default rtol = 1e-6
-    xpersson.solve(SCENE)
-    t0 = time.perf_counter()
-    ds = xpersson.solve(SCENE)
-    per_load = (time.perf_counter() - t0) / len(LOADS)
-    write(rows, per_load, ds.attrs["status"], HERE / "results" / "jkr_vs_peer.md")
+    costs = cost_rows(tau, wall, refs, sel, repeats=5 if args.quick else 25)
+    write(rows, costs, HERE / "results" / "jkr_vs_peer.md")
+
+
+def cost_rows(tau, wall, refs, sel, repeats):
+    """Cost per load at rtol 1e-6 (the default): engine and public pipeline, each load alone and
+    the three loads in one call. CPU and wall time per call, in ``repeats`` interleaved rounds
+    (every configuration once per round, after a warm-up round), so that the other jobs of the
+    shared machine weigh on all of them alike."""
+
+    def scene_of(loads):
+        sc = copy.deepcopy(SCENE)
+        sc["load"]["p0"] = [f"{p!r} Pa" for p in loads]
+        return sc
+
+    configs = [("`xpersson.engine.solve` (engine only)", (p0,),
+                lambda p0=p0: solve(tau, p0, wall, method="cn", rtol=1e-6)) for p0 in LOADS]
+    for loads in [(p,) for p in LOADS] + [LOADS]:
+        sc = scene_of(loads)
+        configs.append(("`xpersson.solve` (public pipeline)", loads,
+                        lambda sc=sc: xpersson.solve(sc)))
+    cpu = [[] for _ in configs]
+    wall_t = [[] for _ in configs]
+    last = [None] * len(configs)
+    for rnd in range(repeats + 1):
+        for i, (_, _, fn) in enumerate(configs):
+            w0, c0 = time.perf_counter(), time.process_time()
+            last[i] = fn()
+            if rnd:  # round 0 warms up
+                cpu[i].append(time.process_time() - c0)
+                wall_t[i].append(time.perf_counter() - w0)
+    out = []
+    for (what, loads, _), res, c, w in zip(configs, last, cpu, wall_t, strict=True):
+        n = len(loads)
+        if what.startswith("`xpersson.solve`"):
+            area = np.asarray(res["area_fraction"].values, float).reshape(n, -1)
+            status = res.attrs["status"]
+        else:
+            area, status = np.atleast_2d(res.area), res.status
+        err = max(err_of(a, refs[p0], sel) for a, p0 in zip(area, loads, strict=True))
+        out.append(dict(what=what, loads=", ".join(f"{p:g}" for p in loads), n=n, rounds=repeats,
+                        cpu=statistics.median(c) / n, best=min(c) / n,
+                        wall=statistics.median(w) / n, err=err, status=status))
+        print(out[-1], flush=True)
+    return out
 
 
 def speedup(rows, p0):
@@ -151,13 +197,14 @@ def speedup(rows, p0):
     return fast, best, at6, f"{best['time'] / fast['time']:.0f}x"
 
 
-def write(rows, per_load, status, path):
+def write(rows, costs, path):
     lines = [
         "# jkr wall: engine vs scipy method of lines in the moving-wall frame",
         "",
         "Scene: PDMS-like elastomer on rough glass (`benchmarks/jkr_vs_peer.py`); error = max "
         "relative error of A/A0 at 4 magnifications per decade against the engine at rtol "
-        "1e-9; time = median wall time, one process, `OPENBLAS_NUM_THREADS=1`.",
+        "1e-9; time = median wall time, one process, `OPENBLAS_NUM_THREADS=1`, on a shared "
+        "2-core machine (other jobs running: wall times are noisy, the ratios come from one run).",
         "",
         "| p0 [Pa] | method | resolution | time [s] | error |",
         "|---:|---|---|---:|---:|",
@@ -176,8 +223,30 @@ def write(rows, per_load, status, path):
                      f"{fast['err']:.1e} | {at6['time'] * 1e3:.1f} ms, err {at6['err']:.1e} | "
                      f"{best['resolution']}: {best['time']:.3g} s, err {best['err']:.1e} | "
                      f"{sp_} |")
-    lines += ["", f"Whole pipeline (`xpersson.solve`, rtol 1e-6, status {status}): "
-              f"{per_load * 1e3:.1f} ms per load.", ""]
+    lines += ["", "## Cost per load at rtol 1e-6 (target: <= 20 ms per load)", "",
+              f"CPU time of the process per load: median and best of {costs[0]['rounds']} "
+              "interleaved rounds after a warm-up round (every configuration once per round); "
+              "wall time median beside it. The machine is shared with other jobs, which inflate "
+              "CPU time too (shared cores and caches): the best of the rounds is the cost of the "
+              "code, the median what a user saw on this machine. Error = max relative error of "
+              "the returned A/A0 against the reference.", "",
+              "| call | p0 [Pa] | CPU per load, median [ms] | CPU best [ms] | wall median [ms] "
+              "| error | status |", "|---|---|---:|---:|---:|---:|---|"]
+    for c in costs:
+        lines.append(f"| {c['what']} | {c['loads']} | {c['cpu'] * 1e3:.1f} | "
+                     f"{c['best'] * 1e3:.1f} | {c['wall'] * 1e3:.1f} | {c['err']:.1e} | "
+                     f"{c['status']} |")
+    pipe = [c for c in costs if c["what"].startswith("`xpersson.solve`")]
+    lines.append("")
+    for key, label in (("best", "best of the rounds"), ("cpu", "median of the rounds")):
+        single = max(c[key] for c in pipe if c["n"] == 1)
+        batch = [c[key] for c in pipe if c["n"] > 1][0]
+        verdict = "met" if max(single, batch) <= 0.020 else "NOT met"
+        lines.append(f"Target <= 20 ms per load, CPU time per load through `xpersson.solve`, "
+                     f"{label}: {verdict} (single load, worst of the three: "
+                     f"{single * 1e3:.1f} ms; three loads in one call: {batch * 1e3:.1f} ms "
+                     "per load).")
+        lines.append("")
     path.parent.mkdir(exist_ok=True)
     path.write_text("\n".join(lines))
     print("\n".join(lines))

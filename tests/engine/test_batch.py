@@ -106,3 +106,35 @@ def test_cn_work_budget_is_reported():
     moving = Wall.absorbing(lambda t: -0.1 * np.sqrt(t))
     r = solve(np.logspace(-3, 1, 5), 1.0, moving, rtol=1e-8, options={"max_work": 1e5})
     assert r.status == "max_steps" and "max_work" in r.message
+
+
+def test_cn_aim_moves_the_error_inside_the_tolerance(scene_mod):
+    """options['aim']: a smaller aim buys a finer grid and a smaller error, both inside rtol."""
+    sc = scene_mod.make_scene("realistic")
+    tau = sc.tau(sc.zeta_out())
+    fine = solve(tau, sc.p_bar, method="cn", rtol=1e-4, options={"aim": 0.05})
+    default = solve(tau, sc.p_bar, method="cn", rtol=1e-4)
+    e_fine, e_def = (scene_mod.curve_error(sc, r.area) for r in (fine, default))
+    assert fine.success and default.success
+    assert fine.n_nodes > default.n_nodes and e_fine < e_def <= 1e-4
+
+
+def test_cn_output_snapshots_equal_the_per_output_reductions(monkeypatch):
+    """The march reduces output snapshots after the loop unless they would be large; both
+    paths give the same areas, absorbed fractions and loads (a batch of loads)."""
+    import xpersson.engine._moving as moving
+
+    wall = Wall.absorbing(lambda t: -(0.2 + t))
+    a = solve_batch(TAU[:8], P0, (wall, None), method="cn", rtol=1e-4)
+    monkeypatch.setattr(moving, "_SNAP", 0)
+    b = solve_batch(TAU[:8], P0, (wall, None), method="cn", rtol=1e-4)
+    np.testing.assert_array_equal(a.area, b.area)
+    np.testing.assert_array_equal(a.absorbed_lower, b.absorbed_lower)
+    np.testing.assert_allclose(a.load, b.load, rtol=1e-13)
+
+
+@pytest.mark.parametrize("aim", [0.0, -0.5, 1.5, float("nan")])
+def test_cn_aim_outside_its_range_is_refused(aim):
+    with pytest.raises(ValueError, match=r"options\['aim'\] \[1\].*\(0, 1\]"):
+        solve(TAU[:5], 1.0, Wall.absorbing(lambda t: -(0.2 + t)), method="cn",
+              options={"aim": aim})

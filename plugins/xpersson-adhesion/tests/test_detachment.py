@@ -122,3 +122,25 @@ def test_tabulated_model_wall_matches_the_exact_law():
     ref = exact.sigma(t)
     assert np.max(np.abs(fast.sigma(t) - ref)) <= 1e-9 * np.max(ref)
     np.testing.assert_array_equal(fast(t), -fast.sigma(t))
+
+
+@given(st.integers(2, 60), st.integers(0, 2**32 - 1), st.floats(-2.0, 2.0))
+@settings(max_examples=60, deadline=None)
+def test_onset_roots_are_the_roots_of_the_whole_table(n, seed, shift):
+    """onset_times solves only the pieces of sigma_a^2 that can hold a root: the same roots as
+    PPoly.roots over every piece."""
+    from scipy.interpolate import CubicHermiteSpline, PPoly
+
+    from xpersson_adhesion._detachment import _cubic_roots
+
+    rng = np.random.default_rng(seed)
+    x = np.cumsum(rng.random(n + 1) + 0.01)
+    y = rng.normal(size=n + 1) + shift
+    y[rng.integers(0, n + 1)] = 0.0  # a root on a node
+    sp = CubicHermiteSpline(x, y, rng.normal(size=n + 1))
+    poly = PPoly(sp.c, sp.x, extrapolate=False)
+    full = np.unique(np.asarray(poly.roots(extrapolate=False)))
+    full = full[np.isfinite(full)]
+    fast = _cubic_roots(poly)
+    fast = fast[np.isfinite(fast)]
+    np.testing.assert_allclose(fast, full, rtol=0, atol=1e-12 * x[-1])

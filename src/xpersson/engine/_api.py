@@ -92,8 +92,9 @@ def solve(
         Budget of time steps summed over all refinement levels (numerical methods).
     options : dict, optional
         Method options (``"cn"``: ``nodes`` (pilot grid, 24), ``steps_per_decade`` (pilot,
-        6), ``levels`` (grids, 10), ``max_work`` (node-steps per load, 1e8), ``stretch``;
-        ``"sine"``: ``window_k``).
+        6), ``levels`` (grids, 10), ``max_work`` (node-steps per load, 1e8), ``stretch``,
+        ``aim`` (error estimate the next grid is aimed at, as a fraction of the tolerance,
+        0.5: the actual error lands near 0.15-0.4 rtol); ``"sine"``: ``window_k``).
 
     Returns
     -------

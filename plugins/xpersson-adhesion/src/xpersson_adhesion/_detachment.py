@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -165,29 +166,38 @@ class ModelLaw:
         its positive part. Relative error ~1e-10 of max sigma_a (tested); evaluating it costs a
         spline call instead of the clock's inverse and the spectrum moments.
         """
-        from scipy.interpolate import CubicHermiteSpline, PPoly
+        from scipy.interpolate import PPoly
 
         zmax = float(clock.zeta_max)  # type: ignore[attr-defined]
         q_L = float(self.psd.q_L)
         brk = np.asarray(self.psd.nodes(), dtype=float) / q_L
         brk = np.unique(np.concatenate(([1.0], brk[(brk > 1.0) & (brk < zmax)], [zmax])))
-        xs, cs = [], []
+        zs_, zo_ = [], []
         for a, b in zip(brk[:-1], brk[1:], strict=True):
             n = max(4, int(math.ceil(per_decade * math.log10(b / a))) + 1)
             z = np.geomspace(a, b, n)
             z[0], z[-1] = a, b
-            zs = z.copy()  # one-sided: slopes from inside the piece
-            zs[0], zs[-1] = a * (1 + 1e-12), b * (1 - 1e-12)
-            s2 = self.sigma2_and_slope(z)[0]
-            ds2 = self.sigma2_and_slope(zs)[1]
-            t = np.asarray(clock.tau_of_zeta(z), dtype=float)  # type: ignore[attr-defined]
-            f = np.asarray(clock.f(zs), dtype=float)  # type: ignore[attr-defined]
+            zo = z.copy()  # one-sided: slopes from inside the piece
+            zo[0], zo[-1] = a * (1 + 1e-12), b * (1 - 1e-12)
+            zs_.append(z)
+            zo_.append(zo)
+        # every piece in one call of the model and of the clock (the calls' fixed cost dominated)
+        cut = np.cumsum([z.size for z in zs_])[:-1]
+        z_all, zo_all = np.concatenate(zs_), np.concatenate(zo_)
+        both = self.sigma2_and_slope(np.concatenate([z_all, zo_all]))
+        s2_all = np.split(both[0][:z_all.size], cut)
+        ds2_all = np.split(both[1][z_all.size:], cut)
+        tau_of, f_of = clock.tau_of_zeta, clock.f  # type: ignore[attr-defined]
+        t_all = np.split(np.asarray(tau_of(z_all), dtype=float), cut)
+        f_all = np.split(np.asarray(f_of(zo_all), dtype=float), cut)
+        xs, cs = [], []
+        for s2, ds2, t, f in zip(s2_all, ds2_all, t_all, f_all, strict=True):
             keep = np.concatenate(([True], np.diff(t) > 0))
             if keep.sum() < 2:
                 continue
-            sp = CubicHermiteSpline(t[keep], s2[keep], (ds2 / f)[keep])
-            xs.append(sp.x if not xs else sp.x[1:])
-            cs.append(sp.c)
+            tk = t[keep]
+            xs.append(tk if not xs else tk[1:])
+            cs.append(_hermite(tk, s2[keep], (ds2 / f)[keep]))
         if not xs:
             value = float(self(np.array([1.0]))[0])
             return lambda tt: np.full(np.shape(tt), value)  # type: ignore[return-value]
@@ -201,6 +211,16 @@ class ModelLaw:
             return True
         z = np.geomspace(1.0, max(zeta_max, 1.0), 257)
         return bool(np.all(self(z) == 0.0))
+
+
+def _hermite(x: Array, y: Array, dydx: Array) -> Array:
+    """Power-basis coefficients (4, n - 1) of the cubic Hermite interpolant of ``(x, y, dydx)``
+    (``scipy.interpolate.CubicHermiteSpline(x, y, dydx).c`` without its input checks: ``x``
+    strictly increasing and finite here by construction)."""
+    h = np.diff(x)
+    slope = np.diff(y) / h
+    t = (dydx[:-1] + dydx[1:] - 2 * slope) / h
+    return np.stack((t / h, (slope - dydx[:-1]) / h - t, dydx[:-1], y[:-1]))
 
 
 def check_table(zeta: ArrayLike, sigma: ArrayLike) -> tuple[Array, Array]:
@@ -306,7 +326,7 @@ def onset_times(sigma_of_tau: Callable[[Array], Array]) -> Array:
     t_lo, t_hi = sigma_of_tau.t_lo, sigma_of_tau.t_hi
     if isinstance(sp, _SqrtPos):
         poly = sp.poly
-        roots = np.asarray(poly.roots(extrapolate=False), dtype=float)
+        roots = _cubic_roots(poly)
         roots = roots[np.isfinite(roots) & (roots > t_lo) & (roots < t_hi)]
         span = t_hi - t_lo
         h = 1e-9 * span
@@ -318,6 +338,34 @@ def onset_times(sigma_of_tau: Callable[[Array], Array]) -> Array:
     y = np.asarray(sp(x), dtype=float)
     start = (y[:-1] == 0) & (y[1:] > 0)
     return np.unique(x[:-1][start & (x[:-1] > t_lo)])
+
+
+def _cubic_roots(poly: Any) -> Array:
+    """Real roots of a piecewise polynomial (``PPoly.roots(extrapolate=False)``), solved only on
+    the pieces that can hold one: for cubics, those whose minimum over the piece (ends and
+    interior critical points) is <= 0 and maximum >= 0 (a 1000-piece table has ~1 such piece,
+    and the full solve of every piece dominated the cost of building the wall)."""
+    from scipy.interpolate import PPoly
+
+    c, x = np.asarray(poly.c, dtype=float), np.asarray(poly.x, dtype=float)
+    if c.ndim != 2 or c.shape[0] != 4:
+        return np.asarray(poly.roots(extrapolate=False), dtype=float)
+    h = np.diff(x)
+    a3, a2, a1, a0 = c
+    ts = [np.zeros_like(h), h]
+    # critical points 3 a3 t^2 + 2 a2 t + a1 = 0 (clipped into the piece)
+    disc = np.maximum(a2 * a2 - 3.0 * a3 * a1, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for sgn in (-1.0, 1.0):
+            t = np.where(a3 != 0, (-a2 + sgn * np.sqrt(disc)) / (3.0 * a3),
+                         np.where(a2 != 0, -a1 / (2.0 * a2), 0.0))
+            ts.append(np.clip(np.nan_to_num(t), 0.0, h))
+    vals = np.array([((a3 * t + a2) * t + a1) * t + a0 for t in ts])
+    margin = 1e-9 * float(np.max(np.abs(vals))) if vals.size else 0.0
+    cand = np.flatnonzero((vals.min(axis=0) <= margin) & (vals.max(axis=0) >= -margin))
+    out = [np.asarray(PPoly(c[:, i:i + 1], x[i:i + 2]).roots(extrapolate=False), dtype=float)
+           for i in cand]
+    return np.unique(np.concatenate(out)) if out else np.zeros(0)
 
 
 class DetachmentWall:
