@@ -26,3 +26,23 @@ def test_zeta_of_tau_inverts_tau_of_zeta(H):
     back = clock.zeta_of_tau(clock.tau_of_zeta(z))
     np.testing.assert_allclose(back, z, rtol=1e-10)
     assert clock.zeta_of_tau(0.0) == 1.0
+
+
+@pytest.mark.parametrize("H", [0.1, 0.8, 1.0])
+def test_inverse_starts_close_and_polishes_in_two_newton_steps(H):
+    # a roll-off knee (f has a kink at q_r) and the far tail: the cubic start with the exact
+    # slopes 1/f leaves Newton two steps; the result is accurate to round-off
+    psd = SelfAffineRollOff.from_h_rms(1e-6, H, 1e3, 1e4, 1e9)
+    calls = []
+
+    def f(z):
+        calls.append(np.size(z))
+        return elastic.coefficient_f(psd, 1e7, z)
+
+    clock = DiffusionClock(lambda z: elastic.diffusion_time(psd, 1e7, z), f, 1e6)
+    z = np.geomspace(1.0 + 1e-6, 1e6, 257)
+    t = clock.tau_of_zeta(z)
+    back = clock.zeta_of_tau(t)
+    assert len(calls) <= 3  # table + two Newton steps
+    np.testing.assert_allclose(back, z, rtol=1e-12)
+    np.testing.assert_allclose(clock.tau_of_zeta(back), t, rtol=1e-9)

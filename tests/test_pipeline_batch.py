@@ -84,3 +84,32 @@ def test_memory_budget_configuration(monkeypatch):
     monkeypatch.delenv("XPERSSON_MEMORY_BUDGET")
     assert 0 < memory.budget() <= memory.available()
     assert memory.estimate(10, 51, 256) > memory.estimate(10, 51)
+
+
+def test_elastic_balances_are_identities_said_so_in_their_attrs():
+    ds = xpersson.solve(SCENE)
+    for name in ("load_balance", "probability_balance"):
+        assert np.all(ds[name].values == 0.0)
+        assert "exactly 0, not evaluated" in ds[name].attrs["comment"]
+        assert ds[name].attrs["units"] == "1"  # the CF attributes are kept
+    plastic = xpersson.solve(dict(SCENE, boundary={"model": "plastic", "sigma_Y": "2 MPa"},
+                                  load={"p0": ["0.1 MPa", "1 MPa"]}))
+    comment = plastic["probability_balance"].attrs["comment"]
+    assert "not evaluated" not in comment and "absorbed" in comment  # evaluated: a check
+    assert np.max(np.abs(plastic["probability_balance"].values)) < 1e-10
+
+
+def test_self_affine_spectrum_is_built_once_and_frozen():
+    a = xpersson.Scene(SCENE).resolve().psd
+    b = xpersson.Scene(SCENE).resolve().psd
+    assert a is b and a.frozen
+    with pytest.raises(AttributeError, match="frozen"):
+        a.C_r = 1.0
+    with pytest.raises(ValueError):
+        a._Ca[0] = 1.0  # noqa: SLF001 - the arrays are read-only
+    other = xpersson.Scene(dict(SCENE, spectrum=dict(SCENE["spectrum"], H=0.7))).resolve().psd
+    assert other is not a
+    # cached moments equal a fresh computation
+    fresh = type(a)(a.C_r, a.H, a.q_L, a.q_r, a.q_1)
+    assert a.h_rms() == fresh.h_rms() and a.rms_slope() == fresh.rms_slope()
+    assert a.moment(1.0, 2e3, 5e4) == fresh.moment(1.0, 2e3, 5e4)

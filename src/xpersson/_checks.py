@@ -13,6 +13,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
+import weakref
 from collections.abc import Iterator, Mapping
 from typing import Any
 
@@ -293,7 +294,28 @@ def check_spectrum(psd: Any, who: object) -> None:
     ------
     PluginFailure
         Naming the plugin and the attribute at fault.
+
+    A frozen spectrum (:meth:`xpersson.physics.psd.PowerSpectrum.freeze`: immutable, shared by
+    the builds of equal parameters) that passed once is not checked again.
     """
+    frozen = getattr(psd, "frozen", False) is True
+    if frozen and id(psd) in _CHECKED_SPECTRA and _CHECKED_SPECTRA[id(psd)]() is psd:
+        return
+    _check_spectrum(psd, who)
+    if frozen:
+        try:
+            ref = weakref.ref(psd)
+        except TypeError:  # pragma: no cover - not weak-referenceable: checked every time
+            return
+        if len(_CHECKED_SPECTRA) > 256:
+            _CHECKED_SPECTRA.clear()
+        _CHECKED_SPECTRA[id(psd)] = ref
+
+
+_CHECKED_SPECTRA: dict[int, Any] = {}
+
+
+def _check_spectrum(psd: Any, who: object) -> None:
     with calling(who, "the built spectrum's q_L / q_1"):
         q_L, q_1 = float(psd.q_L), float(psd.q_1)
     if not (math.isfinite(q_L) and math.isfinite(q_1) and 0 < q_L < q_1):
@@ -357,7 +379,8 @@ def check_walls(walls: Any, p0: float, who: object) -> tuple[Any, Any]:
 
 
 # -- Dataset contributions -----------------------------------------------------------------------
-def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> Any:
+def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object,
+                     sizes: Mapping[str, int] | None = None) -> Any:
     """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray
     (a pair becomes a coordinate-free :class:`xarray.Variable`).
 
@@ -366,6 +389,8 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
     boolean dtype, finiteness (NaN only with ``nan_meaning``; never inf) and
     ``valid_min`` / ``valid_max``.
 
+    ``sizes`` (optional) is ``dict(ds.sizes)`` when the caller has it.
+
     Raises
     ------
     PluginFailure
@@ -373,7 +398,7 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
     """
     import xarray as xr
 
-    var = f"{who}: variable {name!r}"
+    var = _VarName(who, name)  # formatted only for a message
     try:
         if isinstance(value, xr.DataArray):
             da = value.copy()
@@ -383,7 +408,21 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
             dims, arr = value
             if isinstance(dims, str):
                 dims = (dims,)
-            da = xr.Variable(tuple(dims), np.asarray(arr))
+            dims = tuple(dims)
+            arr = np.asarray(arr)
+            if (arr.dtype.kind == "f" and dims == tuple(spec.dims) and len(dims) == arr.ndim
+                    and all(type(d) is str for d in dims)
+                    and arr.shape == tuple((sizes if sizes is not None else dict(ds.sizes))
+                                           .get(d, -1) for d in dims)):
+                # the common case: exactly the declared dims, the Dataset's sizes, floats;
+                # the remaining rule is the values' (finite, valid_min / valid_max)
+                da = xr.Variable(dims, arr, fastpath=True)
+                _check_values(da, ds, name, spec, var, who)
+                return da
+            # a numeric ndarray is already what xarray would make of it: skip the conversion
+            da = xr.Variable(dims, arr, fastpath=arr.dtype.kind in "iufb")
+    except PluginFailure:
+        raise
     except Exception as exc:
         raise PluginFailure(
             f"{var}: expected a DataArray or a (dims, data) pair with matching dims ({exc})",
@@ -391,8 +430,9 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
         ) from None
     declared = tuple(spec.dims)
     have = tuple(str(d) for d in da.dims)
-    sweep = {d for d in ds.dims if d not in CORE_DIMS and d not in declared}
-    missing = [d for d in declared if d not in have and not (d == "p0" and "p0" not in ds.dims)]
+    ds_sizes = ds.sizes
+    sweep = {d for d in ds_sizes if d not in CORE_DIMS and d not in declared}
+    missing = [d for d in declared if d not in have and not (d == "p0" and "p0" not in ds_sizes)]
     extra = [d for d in have if d not in declared and d not in sweep]
     if missing or extra:
         raise PluginFailure(
@@ -401,8 +441,8 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
             + (f" (undeclared {extra})" if extra else ""),
             plugin=who, variable=name,
         )
-    wrong = [(d, da.sizes[d], ds.sizes[d]) for d in have if d in ds.dims
-             and da.sizes[d] != ds.sizes[d]]
+    sizes = dict(zip(have, da.shape, strict=True))
+    wrong = [(d, sizes[d], ds_sizes[d]) for d in have if d in ds_sizes and sizes[d] != ds_sizes[d]]
     if wrong:
         d, got, want = wrong[0]
         raise PluginFailure(
@@ -416,7 +456,22 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object) -> 
     return da
 
 
-def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object) -> None:
+class _VarName:
+    """``"<plugin>: variable 'name'"`` for error messages, formatted only when one is raised."""
+
+    __slots__ = ("who", "name")
+
+    def __init__(self, who: object, name: str) -> None:
+        self.who, self.name = who, name
+
+    def __str__(self) -> str:
+        return f"{self.who}: variable {self.name!r}"
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self), spec)
+
+
+def _check_values(da: Any, ds: Any, name: str, spec: Any, var: Any, who: object) -> None:
     arr = np.asarray(da.values)
     kind = arr.dtype.kind
     if kind in "b":
@@ -428,6 +483,15 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: str, who: object)
         return
     if kind not in "iufc":
         raise PluginFailure(f"{var} has unsupported dtype {arr.dtype}", plugin=who, variable=name)
+    if kind in "iuf" and (kind != "f" or spec.nan_meaning is None) and arr.size:
+        # fast path, the same rule in two reductions: min and max propagate NaN and show +-inf
+        lo_v, hi_v = float(arr.min()), float(arr.max())
+        if (math.isfinite(lo_v) and math.isfinite(hi_v)
+                and (spec.valid_min is None or lo_v >= spec.valid_min)
+                and (spec.valid_max is None or hi_v <= spec.valid_max)):
+            return
+        # else: the detailed checks below find and quote the offending values
+
     def coords() -> dict[str, Any]:  # for the error message only (built when raising)
         return {"dims": tuple(da.dims), "values": {
             d: np.asarray(ds[d].values) for d in da.dims if d in ds.coords and ds[d].ndim == 1
@@ -500,6 +564,7 @@ def check_contributions(
         raise PluginFailure(f"{who} returned {type(values).__name__}; expected a mapping "
                             f"name -> DataArray or (dims, data)", plugin=who)
     out = {}
+    sizes = dict(ds.sizes)
     for name, value in values.items():
         if name not in specs:
             raise PluginFailure(f"{who} returned {name!r} without declaring it in its outputs "
@@ -508,7 +573,7 @@ def check_contributions(
             raise PluginFailure(f"{who} returned {name!r}, which the Dataset already has (a "
                                 f"core or another plugin's variable); choose another name",
                                 plugin=who, variable=name)
-        out[name] = checked_variable(ds, name, value, specs[name], who)
+        out[name] = checked_variable(ds, name, value, specs[name], who, sizes)
     return out
 
 
@@ -539,10 +604,13 @@ def check_core(ds: Any, who: object = "engine") -> dict[int, str]:
     from .schema import CORE_VARIABLES
 
     def clean(name: str, lo: float | None, hi: float | None) -> bool:
-        arr = np.asarray(ds[name].values)
-        with np.errstate(invalid="ignore"):
-            return bool(np.isfinite(arr).all() and (lo is None or arr.min(initial=lo) >= lo)
-                        and (hi is None or arr.max(initial=hi) <= hi))
+        # two reductions, no temporaries: min and max propagate NaN, and +-inf shows in them
+        arr = np.asarray(ds.variables[name].values)
+        if arr.size == 0:
+            return True
+        a_min, a_max = float(arr.min()), float(arr.max())
+        return bool(math.isfinite(a_min) and math.isfinite(a_max)
+                    and (lo is None or a_min >= lo) and (hi is None or a_max <= hi))
 
     names = [n for n in CORE_RANGES if n in ds.variables]
     if all(clean(n, *CORE_RANGES[n]) for n in names):  # one pass over the arrays: the rule

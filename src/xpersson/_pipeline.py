@@ -143,7 +143,8 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
         raise SceneError(f"boundary: {exc} [{who['boundary']}]") from None
     coef = rs.coefficient
     tau_c, f_z, tau_eff, tau_shared = _coefficient_arrays(coef, ctx, who["coefficient"])
-    clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max)
+    clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max,
+                           kinks=_spectrum_kinks(rs.psd))
     if getattr(type(rs.boundary), "walls_per_load", True):
         walls = []
         for p0 in rs.p0:
@@ -189,6 +190,18 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
     if rs.p0_scalar:
         ds = _squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
     return ds
+
+
+def _spectrum_kinks(psd: Any) -> tuple[float, ...]:
+    """The spectrum's nodes as magnifications q/q_L (where f may have kinks: a hint for the
+    clock's inverse); none for a spectrum with very many nodes or without ``nodes()``."""
+    try:
+        nodes = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
+    except Exception:  # noqa: BLE001 - only a hint
+        return ()
+    if nodes.ndim != 1 or nodes.size > 4096:
+        return ()
+    return tuple(nodes.tolist())
 
 
 def _shared_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) -> tuple:
@@ -403,7 +416,25 @@ def _assemble(
     if p_grid is not None:
         coords["p"] = ("p", p_grid)
         data["P"] = (("p0", "zeta", "p"), stack("P"))
-    return _dataset(data, coords)
+    ds = _dataset(data, coords)
+    for name, note in _balance_notes(results).items():  # appended to the schema's comment
+        attrs = ds.variables[name].attrs
+        attrs["comment"] = "; ".join(c for c in (attrs.get("comment"), note) if c)
+    return ds
+
+
+def _balance_notes(results: Any) -> dict[str, str]:
+    """A note for the ``comment`` of the balances where the engine reports them as identities
+    (zeros by construction of the one-wall closed form, not evaluated): the reader knows they
+    check nothing there."""
+    exact = np.asarray(getattr(results, "exact_balances", False), dtype=bool)
+    if not exact.any():
+        return {}
+    # one text for any mix of loads (and of the points of a sweep): true wherever it is copied
+    text = ("exactly 0, not evaluated, for the loads solved by the one-wall closed form (an "
+            "identity there: non_contact_fraction = erfc = 1 - erf and load = p0 - wall * "
+            "non_contact_fraction); evaluated for every other solve")
+    return {name: text for name in ("load_balance", "probability_balance")}
 
 
 _ATTRS: dict[str, dict[str, Any]] = {}
@@ -521,11 +552,11 @@ def _insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
     variables = getattr(ds, "_variables", None)
     if not isinstance(variables, dict):  # pragma: no cover - other xarray versions
         return False
-    sizes = ds.sizes
+    sizes = dict(ds.sizes)
     for da in checked.values():
-        if getattr(da, "coords", None) or any(
-            d not in sizes or sizes[d] != n for d, n in da.sizes.items()
-        ):
+        if not isinstance(da, xr.Variable) and da.coords:  # a DataArray with coordinates
+            return False
+        if any(d not in sizes or sizes[d] != n for d, n in zip(da.dims, da.shape, strict=True)):
             return False
     for name, da in checked.items():
         variables[name] = getattr(da, "variable", da)  # DataArray -> its Variable

@@ -71,26 +71,48 @@ def plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
     return copy.deepcopy(_plugins_used(rs, reg))
 
 
-def _plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
-    """:func:`plugins_used` sharing the cached records (read-only: only serialised)."""
-    items = [
+def _items(rs: ResolvedScene) -> list[tuple[str, Any, Any]]:
+    """(group, name, instance) of every plugin of a run."""
+    return [
         ("spectra", rs.plugin_names.get("spectrum"), rs.spectrum),
         ("coefficients", rs.plugin_names.get("coefficient"), rs.coefficient),
         ("boundaries", rs.plugin_names.get("boundary"), rs.boundary),
         *[("analyses", name, inst) for name, inst in rs.analyses],
     ]
+
+
+def _plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
+    """:func:`plugins_used` sharing the cached records (read-only: only serialised)."""
     out = []
-    for group, name, inst in items:
+    for group, name, inst in _items(rs):
         record = _shared_record(group, type(inst), reg)
         out.append({**record, "name": name} if name else record)
     return out
 
 
+_PLUGINS_JSON: dict[tuple, tuple[Any, Any, str, list[str]]] = {}
+
+
+def _plugins_json(rs: ResolvedScene, reg: Registry) -> tuple[str, list[str]]:
+    """JSON of :func:`plugins_used` and the sorted references, serialised once per set of
+    plugin classes and names (the records are cached per registry discovery)."""
+    key = (id(reg), *((group, type(inst), name) for group, name, inst in _items(rs)))
+    found = reg._discover()  # noqa: SLF001 - cached discovery; a refresh() replaces it
+    hit = _PLUGINS_JSON.get(key)
+    if hit is None or hit[0] is not reg or hit[1] is not found:
+        used = _plugins_used(rs, reg)
+        if len(_PLUGINS_JSON) > 256:
+            _PLUGINS_JSON.clear()
+        refs = sorted({r for p in used for r in p["references"]})
+        hit = (reg, found, json.dumps(used, sort_keys=True), refs)
+        _PLUGINS_JSON[key] = hit
+    return hit[2], hit[3]
+
+
 def global_attributes(rs: ResolvedScene, reg: Registry) -> dict[str, str]:
     """CF-1.12 / ACDD-1.3 global attributes and the JSON provenance of a run."""
     now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
-    used = _plugins_used(rs, reg)
-    refs = sorted({r for p in used for r in p["references"]})
+    plugins_json, refs = _plugins_json(rs, reg)
     title = rs.resolved.get("title") or "Persson contact-mechanics solution"
     return {
         "Conventions": CONVENTIONS,
@@ -108,6 +130,6 @@ def global_attributes(rs: ResolvedScene, reg: Registry) -> dict[str, str]:
         "xpersson_version": version(),
         "xpersson_scene": json.dumps(rs.resolved, sort_keys=True),
         "xpersson_scene_source": rs.scene.source or "<dict>",
-        "xpersson_plugins": json.dumps(used, sort_keys=True),
+        "xpersson_plugins": plugins_json,
         "xpersson_environment": _environment_json(),
     }

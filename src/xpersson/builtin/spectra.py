@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 from ..physics.psd import PowerSpectrum, SelfAffineRollOff
@@ -64,15 +65,27 @@ class SelfAffine(Spectrum):
             )
 
     def build(self) -> PowerSpectrum:
-        """The numerical spectrum (SI)."""
+        """The numerical spectrum (SI): frozen, and shared by every build with equal parameters
+        (a scene solved again, the points of a sweep that do not change the spectrum)."""
         p = self._params
-        geo = dict(H=p["H"], q_L=p["q_L"], q_r=p["q_L"] if p["q_r"] is None else p["q_r"],
-                   q_1=p["q_1"])
-        if p["h_rms"] is not None:
-            return SelfAffineRollOff.from_h_rms(p["h_rms"], **geo)
-        if p["rms_slope"] is not None:
-            return SelfAffineRollOff.from_rms_slope(p["rms_slope"], **geo)
-        return SelfAffineRollOff(p["C_r"], **geo)
+        q_r = p["q_L"] if p["q_r"] is None else p["q_r"]
+        return _self_affine(p["h_rms"], p["rms_slope"], p["C_r"], p["H"], p["q_L"], q_r,
+                            p["q_1"])
+
+
+@functools.lru_cache(maxsize=64)
+def _self_affine(h_rms: float | None, rms_slope: float | None, C_r: float | None, H: float,
+                 q_L: float, q_r: float, q_1: float) -> SelfAffineRollOff:
+    """The frozen spectrum of these SI parameters (one of h_rms [m], rms_slope, C_r [m^4])."""
+    geo = dict(H=H, q_L=q_L, q_r=q_r, q_1=q_1)
+    if h_rms is not None:
+        psd = SelfAffineRollOff.from_h_rms(h_rms, **geo)
+    elif rms_slope is not None:
+        psd = SelfAffineRollOff.from_rms_slope(rms_slope, **geo)
+    else:
+        psd = SelfAffineRollOff(C_r, **geo)
+    psd.freeze()
+    return psd
 
 
 class Tabulated(ArchivedTable, Spectrum):

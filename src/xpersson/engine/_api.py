@@ -15,7 +15,7 @@ from ._exactpath import ExactMethod
 from ._methods import EngineMethod, get_method
 from ._moving import CNMethod
 from ._problem import Problem, make_problem
-from ._result import EngineBatch, EngineResult, Raw, finish, finish_batch
+from ._result import EngineBatch, EngineResult, LazyField, Raw, finish, finish_batch
 from ._walls import Wall
 
 __all__ = ["solve", "solve_batch"]
@@ -43,6 +43,8 @@ def _run(cls: type[EngineMethod], problem: Problem, bound: float) -> Raw:
     raw = cls(problem).run()
     if bound > 0:
         raw.error_estimate = raw.error_estimate + np.where(problem.tau > 0, bound, 0.0)
+        if raw.error_form is not None:
+            raw.error_form = (raw.error_form[0], raw.error_form[1] + bound)
         note = f"moving upper wall never reached (hit probability <= {bound:.1e}); "
         if isinstance(raw.message, str):
             raw.message = note + raw.message
@@ -152,10 +154,16 @@ def _run_group(problem: Problem, method: str | type[EngineMethod]) -> dict:
     else:
         raw = _stack_raws([_run(cls, run_on.load(i), bound) for i in range(problem.tau.shape[0])])
     out = finish_batch(run_on, raw, name)
-    if run_on is not problem:
-        lo, up = problem.wall_positions(problem.tau)
-        out["fields"]["wall_lower"] = np.broadcast_to(lo, problem.tau.shape)
-        out["fields"]["wall_upper"] = np.broadcast_to(up, problem.tau.shape)
+    if run_on is not problem:  # report the real walls (positions computed when asked for)
+        memo: list[tuple[np.ndarray, np.ndarray]] = []
+
+        def walls(side: int) -> np.ndarray:
+            if not memo:
+                memo.append(problem.wall_positions(problem.tau))
+            return np.broadcast_to(memo[0][side], problem.tau.shape)
+
+        out["fields"]["wall_lower"] = LazyField(lambda: walls(0))
+        out["fields"]["wall_upper"] = LazyField(lambda: walls(1))
     return out
 
 
@@ -222,19 +230,23 @@ def solve_batch(
         out = _merge(parts, n)
     return EngineBatch(p0v, out["fields"], out["status"], out["message"], out["method"],
                        out["nsteps"], out["n_nodes"], out["nfev"],
-                       problems[0][1].p_out, time.perf_counter() - t0)
+                       problems[0][1].p_out, time.perf_counter() - t0,
+                       exact_balances=out.get("exact_balances"), success=out.get("success"))
 
 
 def _merge(parts: list[tuple[np.ndarray, dict]], n: int) -> dict:
     first = parts[0][1]
     fields: dict[str, Any] = {}
     for name, val in first["fields"].items():
+        if isinstance(val, LazyField):
+            val = val()
         if val is None:
             fields[name] = None
             continue
         full = np.empty((n, *np.shape(val)[1:]))
         for sel, part in parts:
-            full[sel] = part["fields"][name]
+            value = part["fields"][name]
+            full[sel] = value() if isinstance(value, LazyField) else value
         fields[name] = full
     out: dict[str, Any] = {"fields": fields}
     for key in ("status", "message", "method"):
@@ -243,6 +255,12 @@ def _merge(parts: list[tuple[np.ndarray, dict]], n: int) -> dict:
             for j, i in enumerate(sel):
                 lst[i] = part[key][j]
         out[key] = lst
+    out["exact_balances"] = np.zeros(n, dtype=bool)
+    out["success"] = np.zeros(n, dtype=bool)
+    for sel, part in parts:
+        out["exact_balances"][sel] = part.get("exact_balances", False)
+        out["success"][sel] = (part["success"] if "success" in part
+                               else [s == "success" for s in part["status"]])
     for key in ("nsteps", "n_nodes", "nfev"):
         arr = np.zeros(n, dtype=np.int64)
         for sel, part in parts:

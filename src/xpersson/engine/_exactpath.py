@@ -50,13 +50,23 @@ class ExactMethod(EngineMethod):
         # density arguments: (..., n_tau, n_p) with p0 broadcast per load
         tp, pp = tau[..., None], np.asarray(p0)[..., None]
         zeros = np.zeros(np.shape(tau))  # calloc: no pages written
+        identities, form = False, None
         if case == "one":
             a = float(pb.lower.position)
-            area, non, load = exact.one_wall(tau, p0, a)
+            if pb.is_batch and a == 0:  # load = p0 exactly: no array to compute
+                area, non = exact.one_wall_area_non(tau, p0, a)
+                load = np.broadcast_to(np.asarray(p0, float), np.shape(tau))
+            else:
+                area, non, load = exact.one_wall(tau, p0, a)
             ab_l, ab_u = non, zeros
             wall_term = a * ab_l if a != 0 else 0.0  # only summed into the load balance
             err = np.maximum(area, 1e-300)
             err *= 8 * _EPS
+            # load = p0 - a (1 - A/A0) and non_area = erfc = 1 - erf are defined from the area:
+            # both balances are identities of the closed form (a batch reports exact zeros)
+            identities, form = True, (8 * _EPS, 8 * _EPS * 1e-300)
+            if pb.is_batch:  # nothing in the batch writes into it: no memory for the zeros
+                ab_u = np.broadcast_to(np.zeros(()), np.shape(tau))
             if want_p:
                 P = exact.one_wall_density(pb.p_out, tp, pp, a)
         elif case == "two":
@@ -92,4 +102,6 @@ class ExactMethod(EngineMethod):
             P=P,
             message=f"closed form ({case} wall case)",
             nfev=int(tau.size),
+            exact_balances=identities,
+            error_form=form,
         )

@@ -13,7 +13,7 @@ from scipy.special import erfcinv
 
 from ._walls import Wall
 
-__all__ = ["Problem", "make_problem", "window_k"]
+__all__ = ["Problem", "make_problem", "window_k", "sample_times"]
 
 Array = NDArray[np.float64]
 
@@ -172,13 +172,38 @@ def make_problem(
                    dict(options or {}))
 
 
+def sample_times(tau: Array) -> Array:
+    """Where moving walls are checked [Pa^2]: 0, the output times, 65 equal steps and 96
+    log-spaced times over 16 decades up to the last output time (sorted, unique).
+
+    One set for the input checks and the clearance bound of :mod:`._clear`, so that a wall
+    whose position is costly (an inverted clock) is evaluated at these times once.
+    """
+    t = np.asarray(tau, dtype=float)
+    if t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0:  # one row shared by the loads
+        t = t[0]
+    key = (t.shape, t.tobytes())
+    hit = _SAMPLES.get("last")
+    if hit is not None and hit[0] == key:
+        return hit[1].copy()  # callers' walls may write into their argument
+    t_end = float(np.max(t))
+    out = np.unique(np.concatenate([[0.0], t.ravel(), np.linspace(0.0, t_end, 65),
+                                    t_end * _LOG16]))
+    out.setflags(write=False)
+    _SAMPLES["last"] = (key, out)
+    return out.copy()
+
+
+_LOG16 = np.logspace(-16, 0, 96)
+_SAMPLES: dict[str, tuple[Any, Array]] = {}  # the last request (checks, then the bound)
+
+
 def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> None:
     """Wall positions finite and ordered, every ``p0`` strictly inside at ``tau = 0``."""
-    t_end = float(np.max(tau))
     if lower.is_fixed and (upper is None or upper.is_fixed):
         t_check = np.zeros(1)
     else:
-        t_check = np.unique(np.concatenate([[0.0], tau.ravel(), np.linspace(0.0, t_end, 65)]))
+        t_check = sample_times(tau)
     lo = lower.at(t_check)
     if not np.all(np.isfinite(lo)):
         raise _fail("lower", "Pa", "finite at every tau in [0, tau_out[-1]]", "non-finite position")

@@ -117,6 +117,14 @@ class Raw:
     n_nodes: int = 0
     nfev: int = 0
     extra: dict = field(default_factory=dict)
+    #: the probability and load identities hold by construction of the method (a closed form
+    #: whose load and absorbed fraction are defined from one another): a batch reports them as
+    #: exact zeros instead of evaluating them (single solves still evaluate them)
+    exact_balances: bool = False
+    #: ``(c, d)`` such that ``error_estimate <= c |area| + d`` everywhere (None: unknown); lets
+    #: a batch decide "tolerance met" without a pass over the arrays when ``c <= rtol``,
+    #: ``d <= atol``
+    error_form: tuple[float, float] | None = None
 
 
 def balance_tolerance(rtol: float, atol: float) -> float:
@@ -186,12 +194,17 @@ def _row_status(problem: Problem, raw: Raw, prob: Array, loadb: Array, row) -> t
     return status, message
 
 
-def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
+def _fixed_positions(problem: Problem) -> tuple[Array, Array]:
+    """Wall positions [Pa]: 0-d arrays for fixed walls (they broadcast), else per tau."""
     if problem.lower.is_fixed and (problem.upper is None or problem.upper.is_fixed):
         lo = np.asarray(float(problem.lower.position))  # scalars broadcast (no full arrays)
         up = np.asarray(float(problem.upper.position) if problem.upper is not None else np.inf)
-    else:
-        lo, up = problem.wall_positions(problem.tau)
+        return lo, up
+    return problem.wall_positions(problem.tau)
+
+
+def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
+    lo, up = _fixed_positions(problem)
     # in place: one new array each (fresh large temporaries cost page faults)
     prob = np.add(raw.area, raw.absorbed_lower)
     prob += raw.absorbed_upper
@@ -248,23 +261,48 @@ class EngineBatch(Sequence):
     stacked arrays: every per-tau field of :class:`EngineResult` with a leading load axis,
     ``(n_load, n_tau)`` (``P``: ``(n_load, n_tau, n_p)``), plus ``p0`` [Pa] ``(n_load,)``,
     ``status``/``message``/``method`` (lists), ``success``, ``nsteps``, ``n_nodes``, ``nfev``
-    (arrays per load) and ``wall_time`` [s] of the whole batch.
+    (arrays per load) and ``wall_time`` [s] of the whole batch. ``exact_balances`` (bool per
+    load) marks loads whose method makes both balances identities by construction (the
+    one-wall closed form): their ``probability_balance`` and ``load_balance`` are exact zeros,
+    not evaluated (read-only arrays).
     """
 
     def __init__(self, p0: Array, fields: dict, status: list[str], message: list[str],
                  method: list[str], nsteps: Array, n_nodes: Array, nfev: Array, p: Array | None,
-                 wall_time: float) -> None:
+                 wall_time: float, exact_balances: Array | None = None,
+                 success: Array | None = None) -> None:
         self.p0 = p0
+        self._lazy: dict[str, LazyField] = {}
         for name in _BATCH_FIELDS:
-            setattr(self, name, fields.get(name))
+            value = fields.get(name)
+            if isinstance(value, LazyField):  # computed on first access (see __getattr__)
+                self._lazy[name] = value
+            else:
+                setattr(self, name, value)
         self.p = p
         self.status = status
         self.message = message
         self.method = method
-        self.success = np.array([s == "success" for s in status], dtype=bool)
+        self.success = (np.array([s == "success" for s in status], dtype=bool)
+                        if success is None else np.asarray(success, dtype=bool))
         self.nsteps, self.n_nodes, self.nfev = nsteps, n_nodes, nfev
         self.wall_time = wall_time
+        self.exact_balances = (np.zeros(len(p0), dtype=bool) if exact_balances is None
+                               else np.asarray(exact_balances, dtype=bool))
         self._cache: dict[int, EngineResult] = {}
+
+    def __getattr__(self, name: str):
+        lazy = self.__dict__.get("_lazy", {})
+        if name in lazy:
+            value = lazy.pop(name)()
+            setattr(self, name, value)
+            return value
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def __getstate__(self) -> dict:  # pickled with every field computed
+        for name in list(self._lazy):
+            getattr(self, name)
+        return dict(self.__dict__)
 
     def __len__(self) -> int:
         return int(self.p0.size)
@@ -294,36 +332,76 @@ class EngineBatch(Sequence):
                 f"failed={n_bad}, wall_time={self.wall_time:.3g} s)")
 
 
+class LazyField:
+    """A batch field computed on first access (e.g. the wall positions of a moving wall that
+    the exact path dropped: reported when asked for, not inverted for every solve)."""
+
+    __slots__ = ("_fn",)
+
+    def __init__(self, fn) -> None:
+        self._fn = fn
+
+    def __call__(self):
+        return self._fn()
+
+
 def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
-    """Balances and per-load status of a batched Raw: the pieces of an :class:`EngineBatch`."""
-    lo, up, prob, loadb = _balances(problem, raw)
-    n = problem.tau.shape[0]
-    # vectorised screen: only loads that may fail get the detailed (per-row) examination
-    # NaN/inf in any field reaches one of the two balances (sums of all of them)
-    # (max propagates NaN, so a NaN/inf balance fails "worst <= bal_tol"; a sum is finite only
-    # when every term is)
+    """Balances and per-load status of a batched Raw: the pieces of an :class:`EngineBatch`.
+
+    The whole batch is screened with reductions over all its values (a few passes, no
+    per-load reductions); only when that screen fails are the loads examined one by one.
+    """
+    shape = problem.tau.shape
+    n = shape[0]
+    if raw.exact_balances:  # identities by construction: exact zeros (read-only, no memory)
+        lo, up = _fixed_positions(problem)
+        prob = loadb = np.broadcast_to(np.zeros(()), shape)
+    else:
+        lo, up, prob, loadb = _balances(problem, raw)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
-    # max |x| = max(max x, -min x): no |x| temporaries
-    worst = np.maximum.reduce([np.max(prob, axis=-1), -np.min(prob, axis=-1),
-                               np.max(loadb, axis=-1), -np.min(loadb, axis=-1)])
-    finite = np.isfinite(worst) & np.isfinite(np.sum(raw.non_area, axis=-1))
-    if raw.P is not None:
-        finite &= np.all(np.isfinite(raw.P), axis=(-2, -1))
-    slack = np.abs(raw.area)
-    slack *= -problem.rtol
-    slack += raw.error_estimate
-    tol_ok = np.max(slack, axis=-1) <= problem.atol  # False where a row holds NaN
     raw_ok = (np.full(n, raw.status == "success") if isinstance(raw.status, str)
               else np.asarray(raw.status) == "success")
-    clean = finite & (worst <= bal_tol) & tol_ok & raw_ok
+    # NaN/inf in any field reaches a balance or one of the sums (max/min/sum propagate NaN)
+    if raw.exact_balances:
+        finite_all = bool(np.isfinite(np.sum(raw.area) + np.sum(raw.non_area)))
+        worst_all = 0.0
+    else:
+        worst_all = max(float(np.max(prob)), -float(np.min(prob)), float(np.max(loadb)),
+                        -float(np.min(loadb)))
+        finite_all = bool(np.isfinite(worst_all) and np.isfinite(np.sum(raw.non_area)))
+    if raw.P is not None:
+        finite_all = finite_all and bool(np.isfinite(np.sum(raw.P)))
+    form = raw.error_form
+    if form is not None and form[0] <= problem.rtol and form[1] <= problem.atol:
+        tol_all = True  # error_estimate <= c |area| + d <= rtol |area| + atol everywhere
+    else:
+        slack = np.abs(raw.area)
+        slack *= -problem.rtol
+        slack += raw.error_estimate
+        tol_all = bool(np.max(slack) <= problem.atol)  # False where it holds NaN
+    if finite_all and worst_all <= bal_tol and tol_all:
+        clean = raw_ok
+    else:  # per-load screen: only loads that may fail get the detailed examination
+        worst = np.maximum.reduce([np.max(prob, axis=-1), -np.min(prob, axis=-1),
+                                   np.max(loadb, axis=-1), -np.min(loadb, axis=-1)])
+        finite = (np.isfinite(worst) & np.isfinite(np.sum(raw.non_area, axis=-1))
+                  & np.isfinite(np.sum(raw.area, axis=-1)))
+        if raw.P is not None:
+            finite &= np.all(np.isfinite(raw.P), axis=(-2, -1))
+        slack = np.abs(raw.area)
+        slack *= -problem.rtol
+        slack += raw.error_estimate
+        tol_ok = np.max(slack, axis=-1) <= problem.atol  # False where a row holds NaN
+        clean = finite & (worst <= bal_tol) & tol_ok & raw_ok
     default = raw.message if isinstance(raw.message, str) and raw.message else (
         "requested tolerance met")
     status = ["success"] * n
     message = [default] * n if isinstance(raw.message, str) else [
         m or "requested tolerance met" for m in raw.message]
+    success = np.array(clean, dtype=bool)
     for i in np.flatnonzero(~clean):
         status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
-    shape = problem.tau.shape
+        success[i] = status[i] == "success"
     fields = {
         "tau": problem.tau, "area": raw.area, "non_area": raw.non_area,
         "absorbed_lower": raw.absorbed_lower, "absorbed_upper": raw.absorbed_upper,
@@ -338,4 +416,5 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
 
     return dict(fields=fields, status=status, message=message, method=[method] * n,
                 nsteps=per_load(raw.nsteps), n_nodes=per_load(raw.n_nodes),
-                nfev=per_load(raw.nfev))
+                nfev=per_load(raw.nfev), exact_balances=np.full(n, raw.exact_balances),
+                success=success)

@@ -105,6 +105,16 @@ def one_wall(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> tuple[Arra
     :func:`one_wall_load` (``load = p0 - wall (1 - A/A0)``, the image integrals combined), with
     ``erf``/``erfc`` evaluated once; ``tau = 0`` gives ``(1, 0, p0)``.
     """
+    area, non = one_wall_area_non(tau, p0, wall)
+    load = np.multiply(non, -_f(wall))
+    load += _f(p0)
+    if np.ndim(non) == 0:  # scalar inputs: scalars out, as erf gives
+        non, load = non[()], load[()]
+    return area, non, load
+
+
+def one_wall_area_non(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> tuple[Array, Array]:
+    """``(area, non_area)`` of the one-wall problem (:func:`one_wall` without the load)."""
     x0 = _f(p0) - _f(wall)
     t = _f(tau)
     shape = np.broadcast_shapes(x0.shape, t.shape)
@@ -121,11 +131,7 @@ def one_wall(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> tuple[Arra
     # as much in page faults as the special function itself)
     area = erf(x)
     non = erfc(x, out=x)
-    load = np.multiply(non, -_f(wall))
-    load += _f(p0)
-    if non.ndim == 0:  # scalar inputs: scalars out, as erf gives
-        non = non[()]
-    return area, non, load
+    return area, non
 
 
 def one_wall_non_area(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> Array:

@@ -75,6 +75,8 @@ def _expm1_over_x(x: NDArray[np.float64]) -> NDArray[np.float64]:
     """Return ``expm1(x)/x`` with the removable singularity (value 1) at ``x = 0``."""
     x = np.asarray(x, dtype=float)
     zero = x == 0.0
+    if not zero.any():
+        return np.expm1(x) / x
     xs = np.where(zero, 1.0, x)
     return np.where(zero, 1.0, np.expm1(xs) / xs)
 
@@ -135,6 +137,30 @@ class PowerSpectrum:
         self.q_L = float(nodes[0])
         self.q_1 = float(nodes[-1])
         self._cum_cache: dict[float, NDArray[np.float64]] = {}
+        self._moment_cache: dict[float, float] = {}
+
+    def freeze(self) -> PowerSpectrum:
+        """Make the spectrum immutable (read-only arrays, no attribute assignment); returns it.
+
+        A frozen spectrum may be shared (e.g. cached by a spectrum plugin for equal
+        parameters): its moments are computed once. Memo tables stay private.
+        """
+        for value in vars(self).values():
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+        object.__setattr__(self, "_frozen", True)
+        return self
+
+    @property
+    def frozen(self) -> bool:
+        """Whether :meth:`freeze` was called."""
+        return bool(getattr(self, "_frozen", False))
+
+    def __setattr__(self, name: str, value: object) -> None:
+        if getattr(self, "_frozen", False):
+            raise AttributeError(f"{type(self).__name__} is frozen (shared); build a new one "
+                                 f"instead of setting {name!r}")
+        object.__setattr__(self, name, value)
 
     # ----------------------------------------------------------------- basics
     def nodes(self) -> NDArray[np.float64]:
@@ -159,12 +185,22 @@ class PowerSpectrum:
             ``C(q)``, zero outside ``[q_L, q_1]``. Same shape as ``q``.
         """
         q_arr = np.asarray(q, dtype=float)
-        idx = np.clip(np.searchsorted(self._nodes, q_arr, side="right") - 1, 0, self._a.size - 1)
+        idx = self._segment(q_arr)
         inside = (q_arr >= self.q_L) & (q_arr <= self.q_1)
-        qs = np.where(inside, q_arr, self._a[idx])
-        val = self._Ca[idx] * (qs / self._a[idx]) ** self._e[idx]
+        a = self._a[idx]
+        val = self._Ca[idx] * (np.where(inside, q_arr, a) / a) ** self._e[idx]
         out = np.where(inside, val, 0.0)
         return float(out) if out.ndim == 0 else out
+
+    def _segment(self, q: NDArray[np.float64]) -> NDArray[np.intp]:
+        """Index of the segment holding each ``q`` (clipped to the first / last segment)."""
+        idx = np.asarray(np.searchsorted(self._nodes, q, side="right"))
+        if idx.ndim == 0:  # scalar q
+            return np.intp(min(max(int(idx) - 1, 0), self._a.size - 1))
+        idx -= 1
+        np.maximum(idx, 0, out=idx)
+        np.minimum(idx, self._a.size - 1, out=idx)
+        return idx
 
     # ---------------------------------------------------------------- moments
     def moment(self, k: float, q_a: float | None = None, q_b: float | None = None) -> float:
@@ -183,10 +219,21 @@ class PowerSpectrum:
         float
             The moment in m^(4+k+1) (e.g. m^2 for ``k = 1``, dimensionless for ``k = 3``).
         """
+        if q_a is None and q_b is None:  # the full moment: computed once per k
+            cache = getattr(self, "_moment_cache", None)
+            if cache is None:  # a subclass that does not use _set_segments
+                return self._moment(float(k), self.q_L, self.q_1)
+            key = float(k)
+            if key not in cache:
+                cache[key] = self._moment(key, self.q_L, self.q_1)
+            return cache[key]
         qa = self.q_L if q_a is None else float(q_a)
         qb = self.q_1 if q_b is None else float(q_b)
+        return self._moment(float(k), qa, qb)
+
+    def _moment(self, k: float, qa: float, qb: float) -> float:
         if qb < qa:
-            return -self.moment(k, qb, qa)
+            return -self._moment(k, qb, qa)
         lo = np.clip(np.maximum(self._a, qa), self._a, self._b)
         hi = np.clip(np.minimum(self._b, qb), self._a, self._b)
         use = hi > lo
@@ -222,9 +269,9 @@ class PowerSpectrum:
         float or ndarray
             Same shape as ``q``.
         """
-        q_arr = np.clip(np.asarray(q, dtype=float), self.q_L, self.q_1)
+        q_arr = np.minimum(np.maximum(np.asarray(q, dtype=float), self.q_L), self.q_1)
         cum = self._cumulative(k)
-        idx = np.clip(np.searchsorted(self._nodes, q_arr, side="right") - 1, 0, self._a.size - 1)
+        idx = self._segment(q_arr)
         a = self._a[idx]
         part = _segment_integral(a, q_arr, self._Ca[idx], self._e[idx], float(k))
         out = cum[idx] + part

@@ -118,7 +118,11 @@ def stack(results: Sequence[Any], n_zeta: int) -> dict[str, np.ndarray]:
     ``load`` of each :class:`xpersson.engine.EngineResult`.
     """
 
+    batch = _batch_arrays(results, n_zeta)
+
     def get(name: str) -> np.ndarray:
+        if batch is not None:  # an EngineBatch: a copy of its stacked (n_load, n_zeta) array
+            return np.array(getattr(results, name), dtype=float)
         rows = [np.asarray(getattr(r, name), dtype=float).reshape(-1) for r in results]
         for row in rows:
             if row.size != n_zeta:
@@ -135,3 +139,17 @@ def stack(results: Sequence[Any], n_zeta: int) -> dict[str, np.ndarray]:
         "load": get("load"),
         "tau": get("tau"),
     }
+
+
+def _batch_arrays(results: Any, n_zeta: int) -> bool | None:
+    """True when ``results`` is an :class:`xpersson.engine.EngineBatch` whose stacked arrays
+    are ``(n_load, n_zeta)`` (no per-load result objects needed), else None."""
+    from xpersson.engine import EngineBatch
+
+    if not isinstance(results, EngineBatch):
+        return None
+    shape = (len(results), n_zeta)
+    for name in ("area", "absorbed_upper", "absorbed_lower", "load", "tau"):
+        if np.shape(getattr(results, name, None)) != shape:
+            return None
+    return True
