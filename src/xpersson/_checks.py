@@ -525,32 +525,44 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: Any, who: object)
 
 @contextlib.contextmanager
 def guard_dataset(ds: Any, who: object) -> Iterator[Any]:
-    """Hand an analysis a protected view of ``ds``; catch it clobbering existing variables.
+    """Hand an analysis ``ds`` with read-only numpy buffers; catch it changing the Dataset.
 
-    The view is a shallow copy whose numpy buffers are read-only for the duration of the
-    call, so an in-place write raises inside the plugin (and is attributed to it); replacing
-    or deleting a variable of the view is reported as a :class:`PluginFailure`.
+    The buffers are read-only for the duration of the call, so an in-place write raises inside
+    the plugin (and is attributed to it); replacing, deleting or adding a variable of the
+    Dataset is reported as a :class:`PluginFailure` (the run stops, so the changed Dataset never
+    reaches the user). No copy is made: the check compares the variable objects themselves.
     """
-    view = ds.copy(deep=False)
+    before = dict(ds.variables)
+    index_names = set(ds.xindexes)
     frozen = []
-    for v in view.variables.values():
+    for name, v in before.items():
+        if name in index_names:  # pandas-backed: immutable, checked by identity below
+            continue
         data = v.data
         if isinstance(data, np.ndarray) and data.flags.writeable:
             data.flags.writeable = False
             frozen.append(data)
     try:
-        yield view
-        for vname, v in ds.variables.items():
-            if vname in ds.indexes:
-                same = vname in view.variables and view.variables[vname].equals(v)
-            else:
-                same = vname in view.variables and view.variables[vname].data is v.data
-            if not same:
-                raise PluginFailure(
-                    f"{who} replaced or removed the Dataset variable {vname!r}; analyses must "
-                    f"return new variables, never modify existing ones", plugin=who,
-                    variable=vname,
-                )
+        yield ds
+        after = ds.variables
+        added = [n for n in after if n not in before]
+        if added:
+            raise PluginFailure(
+                f"{who} added {added} to the Dataset it was handed; analyses must return new "
+                f"variables (declared in their outputs), never modify the Dataset", plugin=who,
+                variable=str(added[0]),
+            )
+        touched = [n for n, v in before.items() if after.get(n) is not v]
+        if touched:  # name the variables whose values changed (xarray may rebuild others)
+            changed = [n for n in touched if n not in after or not (
+                after[n].equals(before[n]) if n in index_names
+                else after[n].data is before[n].data)]
+            vname = (changed or touched)[0]
+            raise PluginFailure(
+                f"{who} replaced or removed the Dataset variable {vname!r}; analyses must "
+                f"return new variables, never modify existing ones", plugin=who,
+                variable=vname,
+            )
     finally:
         for data in frozen:
             data.flags.writeable = True

@@ -83,6 +83,17 @@ DEFAULT_MODEL = {"coefficient": "elastic", "boundary": "elastic"}
 TOP_LEVEL = {"title", "description", "analyses", "sweep", *CORE, *PLUGIN_SECTIONS}
 
 
+def _copy_tree(obj: Any) -> Any:
+    """A deep copy of a scene tree: tables and lists rebuilt, immutable leaves shared."""
+    if isinstance(obj, dict):
+        return {k: _copy_tree(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_copy_tree(v) for v in obj]
+    if obj is None or type(obj) in (str, int, float, bool):
+        return obj
+    return copy.deepcopy(obj)
+
+
 @dataclass
 class Scene:
     """A scene as written by the user (a nested dict), plus where it came from.
@@ -97,7 +108,7 @@ class Scene:
     def __post_init__(self) -> None:
         if not isinstance(self.data, Mapping):
             raise SceneError(f"a scene must be a mapping of sections, got {type(self.data)}")
-        self.data = copy.deepcopy(dict(self.data))
+        self.data = _copy_tree(dict(self.data))
 
     def with_values(self, **dotted: Any) -> Scene:
         """Copy with ``section.key`` values replaced: ``with_values(**{"load.p0": "1 MPa"})``."""

@@ -75,6 +75,12 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
     UnitError
         Wrong dimensionality, unparsable text, or a bare number for a dimensional parameter.
     """
+    if type(value) in (int, float) and unit in ("1", ""):  # a bare dimensionless number
+        if array:
+            import numpy as np
+
+            return np.atleast_1d(np.asarray(float(value)))
+        return float(value)
     if array and isinstance(value, list | tuple):
         import numpy as np
 

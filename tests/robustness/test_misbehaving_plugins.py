@@ -229,6 +229,11 @@ def _replace(self, ctx, ds):
     return {"extra": (PZ, np.ones_like(_area(ds)))}
 
 
+def _add_in_place(self, ctx, ds):
+    ds["sneaky"] = ds["area_fraction"] * 2
+    return {"extra": (PZ, np.ones_like(_area(ds)))}
+
+
 def _delete(self, ctx, ds):
     del ds["non_contact_fraction"]
     return {"extra": (PZ, np.ones_like(_area(ds)))}
@@ -252,6 +257,7 @@ ANALYSES = {
     "in_place_write": (_inplace, None, ["compute()", "read-only"]),
     "replaces_core": (_replace, None, ["'area_fraction'", "replaced or removed"]),
     "deletes_core": (_delete, None, ["'non_contact_fraction'", "replaced or removed"]),
+    "adds_in_place": (_add_in_place, None, ["'sneaky'", "added"]),
     "declares_core": (lambda self, ctx, ds: {"area_fraction": (PZ, _area(ds))},
                       {"area_fraction": VarSpec(PZ, "1", "area again")},
                       ["'area_fraction'", "already has"]),

@@ -42,13 +42,19 @@ class ContactArea(Analysis):
     def compute(self, ctx: SceneContext, ds: Any) -> dict[str, Any]:
         """Mean contact pressure [Pa] and kappa [1]."""
         names = getattr(type(ctx.boundary), "contact_area", ("area_fraction",))
-        area = sum(
-            np.asarray(ds[n].transpose(..., "p0", "zeta").values, float).reshape(ctx.p0.size, -1)
-            for n in names
-        )
+        area = sum(_loads_by_zeta(ds.variables[n], ctx.p0.size) for n in names)
         with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
             mean_p = ctx.p0[:, None] / np.where(area > 0, area, np.nan)
         mean_p[~np.isfinite(mean_p)] = np.nan
         slope = float(np.sqrt(2 * np.pi * ctx.psd.moment(3, ctx.q_L, ctx.q[-1])))
         kappa = area[:, -1] * ctx.E_star * slope / ctx.p0
         return {"mean_contact_pressure": (("p0", "zeta"), mean_p), "kappa": (("p0",), kappa)}
+
+
+def _loads_by_zeta(var: Any, n_loads: int) -> np.ndarray:
+    """The values of ``var`` as (p0, everything else..., zeta) flattened to (p0, -1)."""
+    dims = list(var.dims)
+    order = ([i for i, d in enumerate(dims) if d not in ("p0", "zeta")]
+             + [dims.index("p0"), dims.index("zeta")])
+    arr = np.transpose(np.asarray(var.values, float), order)
+    return arr.reshape(n_loads, -1)
