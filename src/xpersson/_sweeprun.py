@@ -33,30 +33,49 @@ __all__ = ["solve_sweep", "blocks_of", "combine", "INDEX"]
 INDEX = "xpersson_index.json"
 
 
-def blocks_of(plan: SweepPlan, points_per_block: int) -> list[Block]:
-    """Split the sweep grid into hyper-rectangles of about ``points_per_block`` points."""
+def blocks_of(plan: SweepPlan, points_per_block: int, multiple: int = 1) -> list[Block]:
+    """Split the sweep grid into hyper-rectangles of at most about ``points_per_block`` points.
+
+    Inner dimensions are taken whole while they fit; the dimension where the split happens is
+    cut into nearly equal pieces (lengths differ by at most one), their number rounded up to a
+    multiple of ``multiple`` where the dimension allows (the number of workers: every worker
+    then gets the same number of equal blocks).
+    """
     shape = plan.shape
-    block = [1] * len(shape)
+    pieces: list[list[int]] = [[n] for n in shape]  # lengths of the pieces along each dim
     remaining = max(1, int(points_per_block))
     for d in range(len(shape) - 1, -1, -1):
-        b = min(shape[d], remaining)
-        block[d] = b
-        if b < shape[d]:
-            break
-        remaining //= shape[d]
-        if remaining < 1:
-            break
-    counts = [math.ceil(n / b) for n, b in zip(shape, block, strict=True)]
+        if shape[d] <= remaining:  # the whole dimension fits: go outwards
+            remaining //= shape[d]
+            continue
+        count = math.ceil(shape[d] / max(1, remaining))
+        count = min(shape[d], math.ceil(count / multiple) * multiple)
+        pieces[d] = [len(a) for a in np.array_split(np.arange(shape[d]), count)]
+        for e in range(d):  # outer dimensions: one value per block
+            pieces[e] = [1] * shape[e]
+        break
+    starts = [np.concatenate([[0], np.cumsum(p)[:-1]]).astype(int) for p in pieces]
     coords = plan.coords()
     out = []
-    for number, gi in enumerate(np.ndindex(*counts)):
-        start = tuple(g * b for g, b in zip(gi, block, strict=True))
-        stop = tuple(min(s + b, n) for s, b, n in zip(start, block, shape, strict=True))
+    for number, gi in enumerate(np.ndindex(*(len(p) for p in pieces))):
+        start = tuple(int(starts[d][g]) for d, g in enumerate(gi))
+        stop = tuple(a + pieces[d][g] for d, (a, g) in enumerate(zip(start, gi, strict=True)))
         bc = {}
         for name, (dim, values, attrs) in coords.items():
             d = plan.dims.index(dim)
             bc[name] = (dim, values[start[d]:stop[d]], attrs)
-        out.append(Block(number, tuple(gi), start, stop, plan.dims, bc))
+        out.append(Block(number, tuple(int(g) for g in gi), start, stop, plan.dims, bc))
+    return out
+
+
+def _assign(blocks: list[Block], n: int) -> list[int]:
+    """Worker index of each block: largest blocks first, each to the least loaded worker."""
+    load = [0] * max(1, n)
+    out = [0] * len(blocks)
+    for k in sorted(range(len(blocks)), key=lambda k: -blocks[k].size):
+        w = min(range(len(load)), key=load.__getitem__)
+        out[k] = w
+        load[w] += blocks[k].size
     return out
 
 
@@ -137,13 +156,13 @@ def _resolve_on_workers(
     is submitted, as :func:`resolve_points` does in the serial path.
     """
     tag = f"{os.getpid()}-{id(blocks)}"
-    # blocks go round-robin to the workers: the solve tasks follow their points (data
+    # blocks are spread evenly over the workers (by points): the solve tasks follow their points (data
     # locality), so this placement is what balances the solving
     addresses = sorted(client.scheduler_info().get("workers", {})) or [None]
+    owner = _assign(blocks, len(addresses))
     resolved = [client.submit(_resolve_block, plan, b, registry, pure=False,
                               key=f"xpersson-resolve-{b.number}-{tag}",
-                              workers=None if addresses[0] is None
-                              else [addresses[i % len(addresses)]],
+                              workers=None if addresses[0] is None else [addresses[owner[i]]],
                               allow_other_workers=True)
                 for i, b in enumerate(blocks)]
     # one round trip: every block's summary and the first point
@@ -202,7 +221,8 @@ def solve_sweep(
     points = None if distributed else resolve_points(plan, registry)
     client, own_cluster, n_workers = _client(scheduler, workers)
     try:
-        blocks = blocks_of(plan, _points_per_block(plan, n_workers, chunk))
+        blocks = blocks_of(plan, _points_per_block(plan, n_workers, chunk),
+                           multiple=n_workers if chunk is None else 1)
         parts = {b.number: None for b in blocks}
         tasks: list[tuple[Block, Any, str | None]]
         if points is None:  # resolved (and checked) on the workers, before any solving

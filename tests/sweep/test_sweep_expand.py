@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from xpersson_sweep_testlib import SlidingCoefficient, scene
 
 import xpersson
@@ -163,3 +165,35 @@ def test_threads_scheduler_uses_the_requested_number_of_threads(swept, workers, 
     assert 1 <= len(seen) <= workers  # six one-point blocks, at most `workers` threads
     assert threading.get_ident() not in seen
     xr.testing.assert_identical(threads.area_fraction, swept.area_fraction)
+
+
+@settings(max_examples=150, deadline=None)
+@given(shape=st.lists(st.integers(1, 9), min_size=1, max_size=3),
+       per_block=st.integers(1, 60), multiple=st.integers(1, 3), workers=st.integers(1, 3))
+def test_blocks_tile_the_grid_evenly_and_workers_get_equal_shares(shape, per_block, multiple,
+                                                                  workers):
+    from types import SimpleNamespace
+
+    from xpersson._sweeprun import _assign, blocks_of
+
+    dims = tuple(f"d{i}" for i in range(len(shape)))
+    plan = SimpleNamespace(shape=tuple(shape), dims=dims, coords=lambda: {
+        d: (d, np.arange(n, dtype=float), {}) for d, n in zip(dims, shape, strict=True)})
+    blocks = blocks_of(plan, per_block, multiple)
+    cover = np.zeros(shape, int)
+    for b in blocks:
+        cover[tuple(slice(a, c) for a, c in zip(b.start, b.stop, strict=True))] += 1
+        assert b.size <= per_block and b.coords["d0"][1].size == b.shape[0]
+    assert (cover == 1).all()  # every point in exactly one block
+    for d in range(len(shape)):  # pieces along any dimension differ by at most one
+        lengths = [b.shape[d] for b in blocks]
+        assert max(lengths) - min(lengths) <= 1
+    split = [d for d in range(len(shape)) if any(b.shape[d] < shape[d] for b in blocks)]
+    if split:  # the innermost cut dimension: a multiple of `multiple` pieces where it can
+        count = len({b.start[split[-1]] for b in blocks})
+        assert count % multiple == 0 or count == shape[split[-1]]
+    sizes = sorted({b.size for b in blocks})
+    owner = _assign(blocks, workers)
+    load = [sum(b.size for b, w in zip(blocks, owner, strict=True) if w == k)
+            for k in range(workers)]
+    assert sum(load) == int(np.prod(shape)) and max(load) - min(load) <= sizes[-1]
