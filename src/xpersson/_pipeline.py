@@ -127,8 +127,12 @@ def _run_with_progress(rs: ResolvedScene, reg: Registry, progress: bool | None) 
             bar[0].close()
 
 
-def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
-    """Run a resolved scene (see :func:`solve`)."""
+def run(rs: ResolvedScene, reg: Registry, *, squeeze: bool = True) -> xr.Dataset:
+    """Run a resolved scene (see :func:`solve`).
+
+    ``squeeze=False`` keeps a single load's ``p0`` dimension (a sweep squeezes its stacked
+    blocks once instead of every point; see :func:`squeeze_p0`).
+    """
     from . import engine
 
     ctx = SceneContext(
@@ -187,8 +191,8 @@ def run(rs: ResolvedScene, reg: Registry) -> xr.Dataset:
             raise _checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
         _add(ds, out, type(analysis).outputs, label)
     _attributes(ds, rs, reg, results, _diagnostics_notes(ds), core)
-    if rs.p0_scalar:
-        ds = _squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
+    if rs.p0_scalar and squeeze:
+        ds = squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
     return ds
 
 
@@ -227,7 +231,7 @@ def _shared_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) ->
     return pair
 
 
-def _squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
+def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
     """``ds.isel(p0=0)`` for a one-load Dataset, built directly from the variables.
 
     Every variable along ``p0`` (size 1) loses that dimension (a view of its data); ``p0``

@@ -104,7 +104,7 @@ def run_block(
             with warnings.catch_warnings():
                 if quiet_warnings:
                     warnings.simplefilter("ignore", _pipeline.XperssonWarning)
-                ds = _pipeline.run(rs, registry)
+                ds = _pipeline.run(rs, registry, squeeze=False)
         except Exception as exc:  # noqa: BLE001 - a failing point is recorded, not fatal
             results.append(None)
             status[k] = POINT_STATUS["failed"]
@@ -120,6 +120,8 @@ def run_block(
     if all(ds is None for ds in results):
         return BlockResult(block, None, None, status.reshape(block.shape), messages)
     ds = stack(results, block, status.reshape(block.shape))
+    if points[0].p0_scalar:  # single-load points: p0 a scalar coordinate, squeezed once here
+        ds = _pipeline.squeeze_p0(ds)
     out = BlockResult(block, ds, None, status.reshape(block.shape), messages,
                       _digests(results, ds, block), solver)
     if part is not None:
@@ -240,7 +242,8 @@ def _digests(results: list[xr.Dataset | None], ds: xr.Dataset, block: Block
         arr = np.asarray(var.values)
         rows = arr.reshape((n,) + arr.shape[len(block.dims):])
         out[name] = [
-            None if r is None else _digest(rows[k]) if name in r.variables else "missing"
+            None if r is None else _digest(np.asarray(rows[k])) if name in r.variables
+            else "missing"
             for k, r in enumerate(results)
         ]
     return out

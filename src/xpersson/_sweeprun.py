@@ -156,7 +156,7 @@ def _resolve_on_workers(
     is submitted, as :func:`resolve_points` does in the serial path.
     """
     tag = f"{os.getpid()}-{id(blocks)}"
-    # blocks are spread evenly over the workers (by points): the solve tasks follow their points (data
+    # blocks spread evenly over the workers (by points): solve tasks follow their points (data
     # locality), so this placement is what balances the solving
     addresses = sorted(client.scheduler_info().get("workers", {})) or [None]
     owner = _assign(blocks, len(addresses))

@@ -197,3 +197,23 @@ def test_blocks_tile_the_grid_evenly_and_workers_get_equal_shares(shape, per_blo
     load = [sum(b.size for b, w in zip(blocks, owner, strict=True) if w == k)
             for k in range(workers)]
     assert sum(load) == int(np.prod(shape)) and max(load) - min(load) <= sizes[-1]
+
+
+@pytest.mark.parametrize("chunk", [1, 4])
+def test_single_load_sweep_equals_individual_solves(chunk):
+    """Points with one scalar load: stacked unsqueezed, the block squeezed once (p0 a scalar
+    coordinate), identical to each point's own solve."""
+    data = scene(spectrum={"H": [0.6, 0.8]}, material={"E": ["5 MPa", "20 MPa"]},
+                 load={"p0": "1e5 Pa"}, analyses={"contact_area": {}})
+    swept = xpersson.solve(data, chunk=chunk)
+    assert swept.area_fraction.dims == ("H", "E", "zeta") and swept.p0.dims == ()
+    for H in (0.6, 0.8):
+        for E in ("5 MPa", "20 MPa"):
+            one = xpersson.solve(scene(spectrum={"H": H}, material={"E": E},
+                                       load={"p0": "1e5 Pa"}, analyses={"contact_area": {}}))
+            got = swept.sel(H=H, E=float(E.split()[0]) * 1e6)
+            for name in one.data_vars:
+                if name in ("E", "H"):
+                    continue
+                xr.testing.assert_identical(got[name].drop_vars(["E", "H"], errors="ignore"),
+                                            one[name])
