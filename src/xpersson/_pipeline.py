@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from . import _checks, memory, provenance
-from .plugins import DiffusionClock, SceneContext, VarSpec
+from .plugins import Analysis, DiffusionClock, SceneContext, VarSpec
 from .plugins._registry import Registry, get_registry
 from .scene import ResolvedScene, Scene, SceneError, load_scene
 from .schema import COORDS, CORE_VARIABLES, stamp
@@ -145,6 +145,15 @@ def run(rs: ResolvedScene, reg: Registry, *, squeeze: bool = True) -> xr.Dataset
             rs.boundary.validate(ctx)
     except ValueError as exc:
         raise SceneError(f"boundary: {exc} [{who['boundary']}]") from None
+    for name, analysis in rs.analyses:  # the analyses' own checks, before any solving
+        if type(analysis).validate is Analysis.validate:
+            continue
+        label = _checks.plugin_label("analyses", analysis, reg, name)
+        try:
+            with _checks.calling(label, "validate()", passthrough=(ValueError,)):
+                analysis.validate(ctx)
+        except ValueError as exc:
+            raise SceneError(f"analyses.{name}: {exc} [{label}]") from None
     coef = rs.coefficient
     tau_c, f_z, tau_eff, tau_shared = _coefficient_arrays(coef, ctx, who["coefficient"])
     clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max,

@@ -122,7 +122,7 @@ def test_velocity_shear_law_and_contact_cutoff():
     np.testing.assert_allclose(ds["contact_area_cutoff"].values, A_c.values, rtol=1e-12)
 
 
-def test_bad_input_is_refused_before_work():
+def test_bad_input_is_refused_before_work(monkeypatch):
     with pytest.raises(ValueError, match=r"coefficient\.velocity: -1 m/s .*\[0, inf\] m/s"):
         _solve({"velocity": "-1 m/s"})
     with pytest.raises(ValueError, match=r"coefficient\.velocity: required"):
@@ -131,7 +131,14 @@ def test_bad_input_is_refused_before_work():
         _solve({**SLS, "E_g": "1 MPa", "velocity": "1 m/s"})
     with pytest.raises(ValueError, match=r"analyses.*loss_integral"):
         xpersson.solve(elastic_scene("3 MPa", analyses=FRICTION))
-    with pytest.raises(ValueError, match=r"zeta_c: 100000 exceeds"):
+    from xpersson import engine
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("the engine ran before the analysis refused the scene")
+
+    monkeypatch.setattr(engine, "solve_batch", no_work)
+    with pytest.raises(ValueError, match=r"analyses\.friction: zeta_c: 100000 exceeds .*"
+                                         r"allowed \[1, 10000\]"):
         _solve({"velocity": "1 m/s"}, analyses={"friction": {"zeta_c": 1e5}})
 
 

@@ -350,6 +350,13 @@ class Analysis(Plugin):
         if why:
             raise ValueError(why)
 
+    def validate(self, ctx: SceneContext) -> None:  # noqa: B027 - optional hook
+        """Check the scene's context (loads, magnifications, material) before any solving.
+
+        Called by the pipeline after the boundary's :meth:`Boundary.validate` and before the
+        engine runs. Raise ``ValueError`` naming the parameter, its unit and the allowed range.
+        """
+
     def compute(self, ctx: SceneContext, ds: xr.Dataset) -> dict[str, Any]:
         """Return ``{name: DataArray or (dims, data)}`` for every name in :attr:`provides`."""
         raise NotImplementedError

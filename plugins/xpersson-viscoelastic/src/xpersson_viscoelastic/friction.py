@@ -82,6 +82,20 @@ class Friction(Analysis):
         x = np.log10(aT * v / p["v_star"])
         return float(p["tau_f"] * np.exp(-p["c"] * x * x))
 
+    def _zeta_c(self, zeta: np.ndarray) -> float:
+        """The cut-off magnification [1] on the output grid ``zeta`` (checked against it)."""
+        zc = float(zeta[-1]) if self._params["zeta_c"] is None else float(self._params["zeta_c"])
+        if zc > zeta[-1] * (1 + 1e-12):
+            raise ValueError(
+                f"zeta_c: {zc:g} exceeds the largest output magnification {zeta[-1]:g}; "
+                f"allowed [1, {zeta[-1]:g}] (dimensionless)"
+            )
+        return zc
+
+    def validate(self, ctx: Any) -> None:
+        """Refuse a ``zeta_c`` beyond the output magnifications before any solving."""
+        self._zeta_c(np.asarray(ctx.zeta, float))
+
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables, vectorised over loads (and any sweep dimension)."""
         import xarray as xr
@@ -90,12 +104,7 @@ class Friction(Analysis):
         A = ds["area_fraction"]
         L = ds["loss_integral"]
         zeta = ds["zeta"].values
-        zc = zeta[-1] if p["zeta_c"] is None else float(p["zeta_c"])
-        if zc > zeta[-1] * (1 + 1e-12):
-            raise ValueError(
-                f"zeta_c: {zc:g} exceeds the largest output magnification {zeta[-1]:g}; "
-                f"allowed [1, {zeta[-1]:g}]"
-            )
+        zc = self._zeta_c(zeta)
         g = A * (closure_S("yp08", A, p["gamma"]) if p["correction"] == "s_factor" else 1.0)
         p0 = ds["p0"]
 
