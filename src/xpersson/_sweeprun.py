@@ -360,8 +360,12 @@ def _finish(
             messages.append({"point": where, "status": _status_name(st), "message": msg})
     ok = [r for r in results if r.dataset is not None or r.part is not None]
     if not ok:
-        raise RuntimeError("every point of the sweep failed; first: "
-                           + (messages[0]["message"] if messages else "no message"))
+        first = messages[0]["message"] if messages else "no message"
+        if messages and all(m["message"].startswith("SceneError: ") for m in messages):
+            where = ", ".join(f"{k} = {v:g}" for k, v in messages[0]["point"].items())
+            raise SceneError(f"every point of the sweep was refused; first ({where}): "
+                             + first.removeprefix("SceneError: "))
+        raise RuntimeError("every point of the sweep failed; first: " + first)
     template = _template(ok[0])
     for res in results:  # blocks where every point failed: NaN blocks from a template
         if res.dataset is None and res.part is None:

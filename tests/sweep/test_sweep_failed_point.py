@@ -68,3 +68,13 @@ def test_in_memory_combine_equals_xarray_combine_nested(chunk, monkeypatch):
     assert set(fast.attrs) == set(slow.attrs)
     slow.attrs = fast.attrs  # the two solves differ in run times and creation dates only
     assert fast.identical(slow)
+
+
+def test_sweep_whose_every_point_is_refused_raises_a_scene_error():
+    """Every point refused by the boundary's check (tensile load beyond -sigma_a(1) at both
+    works of adhesion): a SceneError naming the first point and the parameter, not a crash."""
+    data = _scene(["0.02 J/m**2", "0.03 J/m**2"])
+    data["load"]["p0"] = ["-6 kPa"]
+    with pytest.raises(xpersson.SceneError, match=r"every point of the sweep was refused; "
+                       r"first \(work_of_adhesion = 0.02\): .*load\.p0.*allowed range"):
+        xpersson.solve(data)

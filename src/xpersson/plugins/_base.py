@@ -226,11 +226,18 @@ class Coefficient(Plugin):
         return None
 
     def f(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
-        """Diffusion coefficient f(zeta) in Pa^2 at magnifications ``zeta`` (>= 1)."""
+        """Diffusion coefficient f(zeta) in Pa^2 at magnifications ``zeta`` (>= 1).
+
+        ``zeta`` may have any shape (the engine's clocks pass 1-D and 2-D arrays); return an
+        array of the same shape.
+        """
         raise NotImplementedError
 
     def tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
-        """Diffusion time tau(zeta) = int_1^zeta f dzeta in Pa^2 (exact where possible)."""
+        """Diffusion time tau(zeta) = int_1^zeta f dzeta in Pa^2 (exact where possible).
+
+        ``zeta`` may have any shape; return an array of the same shape.
+        """
         raise NotImplementedError
 
     def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
