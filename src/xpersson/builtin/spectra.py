@@ -115,10 +115,6 @@ class Tabulated(ArchivedTable, Spectrum):
         **TABLE_PARAMETERS,
     }
 
-    def __init__(self, **params: Any) -> None:
-        super().__init__(**params)
-        self._check_source()
-
     def build(self) -> PowerSpectrum:
         """Read, convert to SI and the Persson convention."""
         from ..units import to_si

@@ -48,6 +48,10 @@ class ArchivedTable:
 
     _params: dict[str, Any]
 
+    def __init__(self, **params: Any) -> None:
+        super().__init__(**params)  # the plugin base: parameters checked and stored
+        self._check_source()
+
     def _check_source(self) -> None:
         p = self._params
         inline = p.get("q") is not None or p.get("C") is not None
@@ -99,10 +103,6 @@ class Topography(ArchivedTable, Spectrum):
                           description="height/length unit when the file does not say (e.g. um)"),
         **TABLE_PARAMETERS,
     }
-
-    def __init__(self, **params: Any) -> None:
-        super().__init__(**params)
-        self._check_source()
 
     def build(self) -> PowerSpectrum:
         """Read the map and compute its isotropic PSD (or use the inline table)."""
