@@ -15,8 +15,14 @@ import xpersson
 from xpersson.physics import elastic
 
 SCENE = {
-    "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_r": "1e4 1/m",
-                 "q_1": "1e8 1/m", "h_rms": "1 um"},
+    "spectrum": {
+        "model": "self_affine",
+        "H": 0.8,
+        "q_L": "1e3 1/m",
+        "q_r": "1e4 1/m",
+        "q_1": "1e8 1/m",
+        "h_rms": "1 um",
+    },
     "material": {"E": "10 MPa", "nu": 0.5},
     "load": {"p0": {"start": "1 Pa", "stop": "10 MPa", "num": 500}},
     "output": {"zeta_per_decade": 40},
@@ -37,13 +43,17 @@ def main() -> None:
     for closure in ("persson01", "yp08"):
         scene = dict(SCENE, coefficient={"closure": closure})
         ds, t = _median(lambda s=scene: xpersson.solve(s))
-        print(f"xpersson.solve, closure={closure}: {ds.area_fraction.shape} A/A0 values "
-              f"in {t * 1e3:.1f} ms (median of 5)")
+        print(
+            f"xpersson.solve, closure={closure}: {ds.area_fraction.shape} A/A0 values "
+            f"in {t * 1e3:.1f} ms (median of 5)"
+        )
     rs = xpersson.Scene(SCENE).resolve()
     tau = elastic.diffusion_time(rs.psd, rs.E_star, rs.zeta)
     _, t = _median(lambda: elastic.area_fraction(rs.p0[:, None], tau[None, :]))
-    print(f"closed-form kernel erf(p0/(2 sqrt(tau))): {rs.p0.size} x {rs.zeta.size} "
-          f"in {t * 1e3:.2f} ms")
+    print(
+        f"closed-form kernel erf(p0/(2 sqrt(tau))): {rs.p0.size} x {rs.zeta.size} "
+        f"in {t * 1e3:.2f} ms"
+    )
 
 
 if __name__ == "__main__":

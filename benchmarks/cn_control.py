@@ -61,15 +61,22 @@ def main(argv=None):
         sc = S.make_scene(name)
         tau = sc.tau(sc.zeta_out())
         for rtol in rtols:
-            res, t, mb = measure(lambda tau=tau, sc=sc, rtol=rtol: solve(
-                tau, sc.p_bar, Wall.absorbing(0.0), None, method="cn", rtol=rtol))
+            res, t, mb = measure(
+                lambda tau=tau, sc=sc, rtol=rtol: solve(
+                    tau, sc.p_bar, Wall.absorbing(0.0), None, method="cn", rtol=rtol
+                )
+            )
             err = S.curve_error(sc, res.area)
             est = float(np.max(res.error_estimate / np.maximum(res.area, 1e-300)))
-            rows.append((name, rtol, err, err / rtol, est, res.status, res.n_nodes, res.nsteps,
-                         t, mb))
-            print(f"{name:9s} rtol={rtol:.0e} err={err:.2e} err/rtol={err / rtol:7.3f} "
-                  f"est={est:.2e} {res.status} N={res.n_nodes} steps={res.nsteps} "
-                  f"cpu={t * 1e3:8.1f} ms peak={mb:7.1f} MB", flush=True)
+            rows.append(
+                (name, rtol, err, err / rtol, est, res.status, res.n_nodes, res.nsteps, t, mb)
+            )
+            print(
+                f"{name:9s} rtol={rtol:.0e} err={err:.2e} err/rtol={err / rtol:7.3f} "
+                f"est={est:.2e} {res.status} N={res.n_nodes} steps={res.nsteps} "
+                f"cpu={t * 1e3:8.1f} ms peak={mb:7.1f} MB",
+                flush=True,
+            )
     p0, s0, c = 0.5, 0.2, 1.0
     tau = np.logspace(-3, 0, 13)
     ex = exact.linear_wall_area(tau, p0, s0, c)
@@ -78,11 +85,15 @@ def main(argv=None):
         res, t, mb = measure(lambda rtol=rtol: solve(tau, p0, wall, method="cn", rtol=rtol))
         err = float(np.max(np.abs(res.area / ex - 1)))
         est = float(np.max(res.error_estimate / res.area))
-        rows.append(("moving", rtol, err, err / rtol, est, res.status, res.n_nodes, res.nsteps,
-                     t, mb))
-        print(f"moving    rtol={rtol:.0e} err={err:.2e} err/rtol={err / rtol:7.3f} est={est:.2e} "
-              f"{res.status} N={res.n_nodes} steps={res.nsteps} cpu={t * 1e3:8.1f} ms "
-              f"peak={mb:7.1f} MB", flush=True)
+        rows.append(
+            ("moving", rtol, err, err / rtol, est, res.status, res.n_nodes, res.nsteps, t, mb)
+        )
+        print(
+            f"moving    rtol={rtol:.0e} err={err:.2e} err/rtol={err / rtol:7.3f} est={est:.2e} "
+            f"{res.status} N={res.n_nodes} steps={res.nsteps} cpu={t * 1e3:8.1f} ms "
+            f"peak={mb:7.1f} MB",
+            flush=True,
+        )
     lines = [
         "# cn: accuracy delivered versus accuracy requested",
         "",
@@ -95,8 +106,10 @@ def main(argv=None):
         "|---|---:|---:|---:|---:|---|---:|---:|---:|---:|",
     ]
     for r in rows:
-        lines.append(f"| {r[0]} | {r[1]:.0e} | {r[2]:.2e} | {r[3]:.3f} | {r[4]:.2e} | {r[5]} | "
-                     f"{r[6]} | {r[7]} | {r[8] * 1e3:.1f} | {r[9]:.1f} |")
+        lines.append(
+            f"| {r[0]} | {r[1]:.0e} | {r[2]:.2e} | {r[3]:.3f} | {r[4]:.2e} | {r[5]} | "
+            f"{r[6]} | {r[7]} | {r[8] * 1e3:.1f} | {r[9]:.1f} |"
+        )
     out = HERE / "results"
     out.mkdir(exist_ok=True)
     (out / "cn_control.md").write_text("\n".join(lines) + "\n")

@@ -42,8 +42,9 @@ TARGET = 1e-5
 
 
 def _row(scene, method, resolution, t, err, kind):
-    return dict(scene=scene, method=method, resolution=resolution, time_s=t, curve_err=err,
-                kind=kind)
+    return dict(
+        scene=scene, method=method, resolution=resolution, time_s=t, curve_err=err, kind=kind
+    )
 
 
 def engine_rows(sc, quick):
@@ -53,9 +54,9 @@ def engine_rows(sc, quick):
     cases += [("sine", r) for r in (1e-4, 1e-6, 1e-8)]
     cases += [("cn", r) for r in ((1e-3, 1e-5) if quick else (1e-3, 1e-4, 1e-5, 1e-6))]
     for method, rtol in cases:
+
         def fn(method=method, rtol=rtol):
-            return solve(tau, sc.p_bar, Wall.absorbing(0.0), None, method=method,
-                         rtol=rtol or 1e-8)
+            return solve(tau, sc.p_bar, Wall.absorbing(0.0), None, method=method, rtol=rtol or 1e-8)
 
         res, t, _ = S.timed(fn, budget=2.0 if quick else 5.0)
         err = S.curve_error(sc, res.area)
@@ -77,12 +78,12 @@ def peer_rows(sc, quick):
         configs += [("BDF", "tau", n, r) for n in (1025, 4097) for r in (1e-5, 1e-7)]
         configs += [("LSODA", "tau", 4097, 1e-7)]
     for method, var, n, rtol in configs:
+
         def fn(method=method, var=var, n=n, rtol=rtol):
             return peer_scipy_mol.solve(sc, n, method, rtol, var=var)
 
         try:
-            (x, P, A, curve, info), t, _ = S.timed(fn, budget=2.0 if quick else 6.0,
-                                                   max_repeats=3)
+            (x, P, A, curve, info), t, _ = S.timed(fn, budget=2.0 if quick else 6.0, max_repeats=3)
             err = S.curve_error(sc, curve)
         except Exception as exc:  # report failures in the table
             t, err = float("nan"), float("nan")
@@ -115,8 +116,16 @@ def landau_mol(n, rtol):
     A = (lap - C * der).tocsr()
     q0 = S.delta_hat(y, y0)[1:-1]
     t_eval = _moving_tau()
-    sol = solve_ivp(lambda t, q: A @ q, (0.0, TAU_MAX), q0, method="BDF", t_eval=t_eval,
-                    jac=A, rtol=rtol, atol=1e-3 * rtol)
+    sol = solve_ivp(
+        lambda t, q: A @ q,
+        (0.0, TAU_MAX),
+        q0,
+        method="BDF",
+        t_eval=t_eval,
+        jac=A,
+        rtol=rtol,
+        atol=1e-3 * rtol,
+    )
     if not sol.success:
         raise RuntimeError(sol.message)
     return h * sol.y.sum(axis=0)
@@ -128,6 +137,7 @@ def moving_rows(quick):
     rows = []
     wall = Wall.absorbing(lambda t: -(S0 + C * t))  # a callable: forces the numerical path
     for rtol in (1e-3, 1e-4, 1e-5, 1e-6) if not quick else (1e-3, 1e-5):
+
         def fn(rtol=rtol):
             return solve(tau, P0, wall, method="cn", rtol=rtol)
 
@@ -137,13 +147,23 @@ def moving_rows(quick):
         rows.append(_row("moving", f"xpersson cn ({res.status})", resol, t, err, "engine"))
         print(f"moving    xpersson cn {resol:24s} t={t:9.5f}s err={err:9.2e}", flush=True)
     res, t, _ = S.timed(lambda: solve(tau, P0, Wall.linear(-S0, -C)), budget=1.0)
-    rows.append(_row("moving", "xpersson exact", "closed form", t,
-                     float(np.max(np.abs(res.area / ex - 1))), "engine"))
-    for n, rtol in ((1025, 1e-5), (4097, 1e-7)) if quick else (
-            (1025, 1e-5), (4097, 1e-7), (16385, 1e-8)):
+    rows.append(
+        _row(
+            "moving",
+            "xpersson exact",
+            "closed form",
+            t,
+            float(np.max(np.abs(res.area / ex - 1))),
+            "engine",
+        )
+    )
+    for n, rtol in (
+        ((1025, 1e-5), (4097, 1e-7)) if quick else ((1025, 1e-5), (4097, 1e-7), (16385, 1e-8))
+    ):
         try:
-            curve, t, _ = S.timed(lambda n=n, rtol=rtol: landau_mol(n, rtol), budget=3.0,
-                                  max_repeats=3)
+            curve, t, _ = S.timed(
+                lambda n=n, rtol=rtol: landau_mol(n, rtol), budget=3.0, max_repeats=3
+            )
             err = float(np.max(np.abs(curve / ex - 1)))
         except Exception as exc:
             t, err = float("nan"), float("nan")
@@ -163,17 +183,30 @@ def speedups(rows, engine_method=None):
     """
     out = {}
     for name in sorted({r["scene"] for r in rows}):
+
         def best(kind, name=name):
-            ok = [r for r in rows if r["scene"] == name and r["kind"] == kind
-                  and "exact" not in r["method"] and r["curve_err"] <= TARGET
-                  and (kind == "peer" or engine_method is None
-                       or f"xpersson {engine_method}" in r["method"])]
+            ok = [
+                r
+                for r in rows
+                if r["scene"] == name
+                and r["kind"] == kind
+                and "exact" not in r["method"]
+                and r["curve_err"] <= TARGET
+                and (
+                    kind == "peer"
+                    or engine_method is None
+                    or f"xpersson {engine_method}" in r["method"]
+                )
+            ]
             return min(ok, key=lambda r: r["time_s"]) if ok else None
 
         e, p = best("engine"), best("peer")
         if e and not p:  # no peer reached 1e-5: compare with its most accurate run (a bound)
-            peers = [r for r in rows if r["scene"] == name and r["kind"] == "peer"
-                     and math.isfinite(r["curve_err"])]
+            peers = [
+                r
+                for r in rows
+                if r["scene"] == name and r["kind"] == "peer" and math.isfinite(r["curve_err"])
+            ]
             if peers:
                 p = dict(min(peers, key=lambda r: (r["curve_err"], r["time_s"])), bound=True)
         out[name] = (e, p, p["time_s"] / e["time_s"] if e and p else float("nan"))
@@ -181,9 +214,13 @@ def speedups(rows, engine_method=None):
 
 
 def _speedup_table(rows, engine_method, title):
-    lines = ["", f"## {title}", "",
-             "| scene | engine (fastest at 1e-5) | peer (fastest at 1e-5) | speed-up |",
-             "|---|---|---|---:|"]
+    lines = [
+        "",
+        f"## {title}",
+        "",
+        "| scene | engine (fastest at 1e-5) | peer (fastest at 1e-5) | speed-up |",
+        "|---|---|---|---:|",
+    ]
     for name, (e, p, ratio) in speedups(rows, engine_method).items():
         es = f"{e['method']} {e['resolution']}: {e['time_s']:.2e} s" if e else "none"
         ps = f"{p['method']} {p['resolution']}: {p['time_s']:.2e} s" if p else "none"
@@ -191,8 +228,11 @@ def _speedup_table(rows, engine_method, title):
         if p and p.get("bound"):
             ps += f" (none reached 1e-5; best curve_err {p['curve_err']:.1e})"
             bound = ">"
-        lines.append(f"| {name} | {es} | {ps} | {bound}{ratio:.0f}x |" if math.isfinite(ratio)
-                     else f"| {name} | {es} | {ps} | - |")
+        lines.append(
+            f"| {name} | {es} | {ps} | {bound}{ratio:.0f}x |"
+            if math.isfinite(ratio)
+            else f"| {name} | {es} | {ps} | - |"
+        )
     return lines
 
 
@@ -215,12 +255,21 @@ def write_markdown(rows, path):
         e, p, ratio = sp_[r["scene"]]
         bound = ">" if p and p.get("bound") else ""
         mark = f"{bound}{ratio:.0f}x" if (r is e and math.isfinite(ratio)) else ""
-        lines.append(f"| {r['scene']} | {r['method']} | {r['resolution']} | {r['time_s']:.2e} | "
-                     f"{r['curve_err']:.2e} | {mark} |")
-    lines += _speedup_table(rows, "cn", "Grid to grid at equal accuracy (curve_err <= 1e-5): "
-                            "cn against the scipy method of lines")
-    lines += _speedup_table(rows, "sine", "Semi-analytic sine series against the scipy method "
-                            "of lines (curve_err <= 1e-5; not a grid method)")
+        lines.append(
+            f"| {r['scene']} | {r['method']} | {r['resolution']} | {r['time_s']:.2e} | "
+            f"{r['curve_err']:.2e} | {mark} |"
+        )
+    lines += _speedup_table(
+        rows,
+        "cn",
+        "Grid to grid at equal accuracy (curve_err <= 1e-5): cn against the scipy method of lines",
+    )
+    lines += _speedup_table(
+        rows,
+        "sine",
+        "Semi-analytic sine series against the scipy method "
+        "of lines (curve_err <= 1e-5; not a grid method)",
+    )
     path.write_text("\n".join(lines) + "\n")
 
 
@@ -236,13 +285,20 @@ def plot(rows, path):
         groups = {}
         for r in rows:
             if r["scene"] == name and math.isfinite(r["time_s"]) and math.isfinite(r["curve_err"]):
-                groups.setdefault(r["method"].split(" (")[0] + (
-                    " (" + r["method"].split(" (")[1] if "MoL" in r["method"] else ""),
-                    []).append(r)
+                groups.setdefault(
+                    r["method"].split(" (")[0]
+                    + (" (" + r["method"].split(" (")[1] if "MoL" in r["method"] else ""),
+                    [],
+                ).append(r)
         for label, rs in groups.items():
             rs.sort(key=lambda r: r["time_s"])
-            ax.loglog([r["time_s"] for r in rs], [max(r["curve_err"], 1e-16) for r in rs],
-                      "o-" if "xpersson" in label else "s--", label=label, ms=4)
+            ax.loglog(
+                [r["time_s"] for r in rs],
+                [max(r["curve_err"], 1e-16) for r in rs],
+                "o-" if "xpersson" in label else "s--",
+                label=label,
+                ms=4,
+            )
         ax.axhline(TARGET, color="grey", lw=0.8, ls=":")
         ax.set_title(f"{name} (sine: semi-analytic; cn vs scipy: grid to grid)", fontsize=7)
         ax.set_xlabel("time [s]")

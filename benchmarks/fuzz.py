@@ -43,8 +43,17 @@ from pathlib import Path
 from typing import Any
 
 CLOSURES = ("persson01", "yp08", "wm17", "xu24")
-CATEGORIES = ("ok", "nan", "out_of_range", "dishonest", "crash", "hang", "plugin_failure",
-              "refused", "not_success")
+CATEGORIES = (
+    "ok",
+    "nan",
+    "out_of_range",
+    "dishonest",
+    "crash",
+    "hang",
+    "plugin_failure",
+    "refused",
+    "not_success",
+)
 
 
 # -- scene generation --------------------------------------------------------------------------
@@ -92,16 +101,29 @@ def make_scene(index: int, seed: int, registry: Any, tmpdir: str) -> dict[str, A
     q_L = _logu(rng, 1e1, 1e6)
     zeta_max = _logu(rng, 2.0, 1e9)
     q_1 = q_L * zeta_max
-    q_r = q_L if rng.random() < 0.5 else q_L * _logu(rng, 1.0, min(100.0, zeta_max ** 0.5))
-    amp = ("rms_slope", _logu(rng, 1e-2, 5.0)) if rng.random() < 0.6 else (
-        "h_rms", _logu(rng, 1e-9, 1e-4))
+    q_r = q_L if rng.random() < 0.5 else q_L * _logu(rng, 1.0, min(100.0, zeta_max**0.5))
+    amp = (
+        ("rms_slope", _logu(rng, 1e-2, 5.0))
+        if rng.random() < 0.6
+        else ("h_rms", _logu(rng, 1e-9, 1e-4))
+    )
     E = _logu(rng, 1e5, 1e12)
     nu = rng.uniform(0.0, 0.5)
-    spectrum = {"model": "self_affine", "H": H, "q_L": f"{q_L!r} 1/m", "q_r": f"{q_r!r} 1/m",
-                "q_1": f"{q_1!r} 1/m",
-                amp[0]: amp[1] if amp[0] == "rms_slope" else f"{amp[1]!r} m"}
-    psd = SelfAffine(H=H, q_L=q_L, q_r=q_r, q_1=q_1, **{
-        "h_rms": None, "rms_slope": None, "C_r": None, amp[0]: amp[1]}).build()
+    spectrum = {
+        "model": "self_affine",
+        "H": H,
+        "q_L": f"{q_L!r} 1/m",
+        "q_r": f"{q_r!r} 1/m",
+        "q_1": f"{q_1!r} 1/m",
+        amp[0]: amp[1] if amp[0] == "rms_slope" else f"{amp[1]!r} m",
+    }
+    psd = SelfAffine(
+        H=H,
+        q_L=q_L,
+        q_r=q_r,
+        q_1=q_1,
+        **{"h_rms": None, "rms_slope": None, "C_r": None, amp[0]: amp[1]},
+    ).build()
     e_star = E / (1 - nu**2)
     tau = float(elastic.diffusion_time(psd, e_star, [zeta_max])[-1])
     n_loads = rng.choice((1, 1, 2, 3))
@@ -140,17 +162,23 @@ def make_scene(index: int, seed: int, registry: Any, tmpdir: str) -> dict[str, A
                 scene["coefficient"]["gamma"] = rng.uniform(0.05, 1.0)
         scene["boundary"] = {"model": "elastic"}
     elif boundary == "plastic":
-        scene["boundary"] = {"model": "plastic",
-                             "sigma_Y": f"{min(p_max * _logu(rng, 1.01, 1e3), 1e13)!r} Pa"}
+        scene["boundary"] = {
+            "model": "plastic",
+            "sigma_Y": f"{min(p_max * _logu(rng, 1.01, 1e3), 1e13)!r} Pa",
+        }
     elif boundary == "plastic_scale_dependent":
-        scene["boundary"] = {"model": boundary,
-                             "Y1": f"{min(p_max * _logu(rng, 1.01, 1e3), 1e13)!r} Pa",
-                             "n": rng.uniform(0.0, 1.0)}
+        scene["boundary"] = {
+            "model": boundary,
+            "Y1": f"{min(p_max * _logu(rng, 1.01, 1e3), 1e13)!r} Pa",
+            "n": rng.uniform(0.0, 1.0),
+        }
     else:
         cls = registry.load("boundaries", boundary)
         params = {k: _random_param(rng, s) for k, s in cls.parameters.items()}
-        scene["boundary"] = {"model": boundary, **{k: v for k, v in params.items()
-                                                   if v is not None}}
+        scene["boundary"] = {
+            "model": boundary,
+            **{k: v for k, v in params.items() if v is not None},
+        }
     analyses = registry.names("analyses")
     if scene.get("coefficient", {}).get("model") != "viscoelastic":
         analyses = [a for a in analyses if a != "friction"]  # needs the viscoelastic loss
@@ -158,8 +186,11 @@ def make_scene(index: int, seed: int, registry: Any, tmpdir: str) -> dict[str, A
     scene["analyses"] = {}
     for name in chosen:
         cls = registry.load("analyses", name)
-        params = {k: _random_param(rng, s) for k, s in cls.parameters.items()
-                  if rng.random() < 0.3 and not s.required}
+        params = {
+            k: _random_param(rng, s)
+            for k, s in cls.parameters.items()
+            if rng.random() < 0.3 and not s.required
+        }
         scene["analyses"][name] = {k: v for k, v in params.items() if v is not None}
     return scene
 
@@ -205,11 +236,15 @@ def check(ds: Any, scene: dict[str, Any]) -> tuple[str, str]:
             findings["out_of_range"].append(f"{name} < valid_min {lo}: {fin.min()!r}")
         if hi is not None and (fin > hi).any():
             findings["out_of_range"].append(f"{name} > valid_max {hi}: {fin.max()!r}")
-        if name.endswith("fraction") and var.attrs.get("units") == "1" and fin.size and (
-            fin.min() < -1e-12 or fin.max() > 1 + 1e-12
+        if (
+            name.endswith("fraction")
+            and var.attrs.get("units") == "1"
+            and fin.size
+            and (fin.min() < -1e-12 or fin.max() > 1 + 1e-12)
         ):
-            findings["out_of_range"].append(f"{name} outside [0, 1]: {fin.min()!r} .. "
-                                            f"{fin.max()!r}")
+            findings["out_of_range"].append(
+                f"{name} outside [0, 1]: {fin.min()!r} .. {fin.max()!r}"
+            )
         if name == "P" and fin.size and fin.min() < -1e-12 * max(1.0, float(np.abs(fin).max())):
             findings["out_of_range"].append(f"P negative: {fin.min()!r}")
     status = ds.attrs.get("status")
@@ -217,14 +252,16 @@ def check(ds: Any, scene: dict[str, Any]) -> tuple[str, str]:
     if status == "success":
         pb = np.abs(np.asarray(ds["probability_balance"].values))
         if np.nanmax(pb) > 10 * rtol + 1e-9:
-            findings["dishonest"].append(f"probability_balance {np.nanmax(pb):.3g} with status "
-                                         f"success (rtol {rtol:g})")
+            findings["dishonest"].append(
+                f"probability_balance {np.nanmax(pb):.3g} with status success (rtol {rtol:g})"
+            )
         for name in ("plastic_force_balance_residual", "exact_series_deviation"):
             if name in ds:
                 dev = np.nanmax(np.abs(np.asarray(ds[name].values)))
                 if dev > 10 * rtol + 1e-9:
-                    findings["dishonest"].append(f"{name} {dev:.3g} with status success "
-                                                 f"(rtol {rtol:g})")
+                    findings["dishonest"].append(
+                        f"{name} {dev:.3g} with status success (rtol {rtol:g})"
+                    )
         coef = scene.get("coefficient", {})
         if scene["boundary"]["model"] == "elastic" and coef.get("closure") == "persson01":
             tau = np.asarray(ds["diffusion_time"].values)
@@ -237,11 +274,14 @@ def check(ds: Any, scene: dict[str, Any]) -> tuple[str, str]:
             tol = 10 * (rtol * exact_a + float(scene["solver"].get("atol", 1e-12))) + 1e-12
             err = np.minimum(np.abs(area - exact_a), np.abs(non - exact_n))
             # relative error of the small one of (A, 1 - A) where it matters
-            bad = (np.abs(area - exact_a) > tol) & (np.abs(non - exact_n) > 10 * rtol * exact_n
-                                                   + 1e-300)
+            bad = (np.abs(area - exact_a) > tol) & (
+                np.abs(non - exact_n) > 10 * rtol * exact_n + 1e-300
+            )
             if bad.any():
-                findings["dishonest"].append(f"A/A0 off the Persson-01 closed form by up to "
-                                             f"{float(err.max()):.3g} with status success")
+                findings["dishonest"].append(
+                    f"A/A0 off the Persson-01 closed form by up to "
+                    f"{float(err.max()):.3g} with status success"
+                )
     for cat in ("nan", "out_of_range", "dishonest"):
         if findings[cat]:
             return cat, "; ".join(findings[cat][:3])
@@ -264,11 +304,16 @@ def run_one(scene: dict[str, Any]) -> tuple[str, str, float, list[str]]:
             return "plugin_failure", str(exc)[:300], time.perf_counter() - t0, []
         except Exception as exc:
             tb = traceback.format_exc().strip().splitlines()[-3:]
-            return "crash", f"{type(exc).__name__}: {exc}"[:300] + " | " + " / ".join(tb), \
-                time.perf_counter() - t0, []
+            return (
+                "crash",
+                f"{type(exc).__name__}: {exc}"[:300] + " | " + " / ".join(tb),
+                time.perf_counter() - t0,
+                [],
+            )
     cat, msg = check(ds, scene)
-    notes = sorted({str(w.message)[:80] for w in caught
-                    if type(w.message).__name__ == "XperssonWarning"})
+    notes = sorted(
+        {str(w.message)[:80] for w in caught if type(w.message).__name__ == "XperssonWarning"}
+    )
     return cat, msg, time.perf_counter() - t0, notes
 
 
@@ -286,8 +331,15 @@ def _preload(registry: Any) -> None:
     """Import everything before forking: every worker (also a replaced one) runs the same code."""
     import importlib
 
-    for mod in ("xpersson._pipeline", "xpersson.scene", "xpersson.io", "xpersson.engine",
-                "xpersson._checks", "xpersson._diagnostics", "xpersson.plugins._analyses"):
+    for mod in (
+        "xpersson._pipeline",
+        "xpersson.scene",
+        "xpersson.io",
+        "xpersson.engine",
+        "xpersson._checks",
+        "xpersson._diagnostics",
+        "xpersson.plugins._analyses",
+    ):
         with contextlib.suppress(ImportError):
             importlib.import_module(mod)
     for group in ("spectra", "coefficients", "boundaries", "analyses"):
@@ -320,8 +372,9 @@ class _Slot:
         self.start()
 
 
-def campaign(n: int, seed: int, workers: int, limit: float, out: Path | None,
-             budget: float | None) -> dict[str, Any]:
+def campaign(
+    n: int, seed: int, workers: int, limit: float, out: Path | None, budget: float | None
+) -> dict[str, Any]:
     from xpersson.plugins import get_registry
 
     registry = get_registry()
@@ -383,8 +436,11 @@ def campaign(n: int, seed: int, workers: int, limit: float, out: Path | None,
                     done += 1
             if done and done % 500 == 0 and done != getattr(campaign, "_last", -1):
                 campaign._last = done  # type: ignore[attr-defined]
-                print(f"  {done} scenes, {time.perf_counter() - t_start:.0f} s: {counts}",
-                      file=sys.stderr, flush=True)
+                print(
+                    f"  {done} scenes, {time.perf_counter() - t_start:.0f} s: {counts}",
+                    file=sys.stderr,
+                    flush=True,
+                )
         for slot in slots:
             if slot.job is None:
                 slot.conn.send(None)
@@ -403,8 +459,9 @@ def campaign(n: int, seed: int, workers: int, limit: float, out: Path | None,
         "warnings": dict(sorted(notes.items(), key=lambda kv: -kv[1])[:12]),
     }
     if out is not None:
-        out.write_text(json.dumps({"summary": summary, "examples": examples}, indent=1,
-                                  default=str))
+        out.write_text(
+            json.dumps({"summary": summary, "examples": examples}, indent=1, default=str)
+        )
     return summary
 
 
@@ -414,12 +471,15 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--workers", type=int, default=max(1, (os.cpu_count() or 2) // 2))
     parser.add_argument("--time-limit", type=float, default=10.0, help="per scene [s]")
-    parser.add_argument("--budget", type=float, default=None,
-                        help="stop submitting new scenes after this many seconds")
+    parser.add_argument(
+        "--budget",
+        type=float,
+        default=None,
+        help="stop submitting new scenes after this many seconds",
+    )
     parser.add_argument("--out", type=Path, default=None, help="JSON file for the findings")
     args = parser.parse_args(argv)
-    summary = campaign(args.scenes, args.seed, args.workers, args.time_limit, args.out,
-                       args.budget)
+    summary = campaign(args.scenes, args.seed, args.workers, args.time_limit, args.out, args.budget)
     print(json.dumps(summary, indent=1))
     bad = sum(summary["counts"][c] for c in ("nan", "out_of_range", "dishonest", "crash", "hang"))
     return 1 if bad else 0

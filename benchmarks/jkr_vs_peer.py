@@ -52,8 +52,14 @@ from xpersson.scene import Scene  # noqa: E402
 
 LOADS = (-2e3, 1e3, 1e4)  # Pa
 SCENE = {
-    "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e4 1/m", "q_r": "1e5 1/m",
-                 "q_1": "1e9 1/m", "h_rms": "1 um"},
+    "spectrum": {
+        "model": "self_affine",
+        "H": 0.8,
+        "q_L": "1e4 1/m",
+        "q_r": "1e5 1/m",
+        "q_1": "1e9 1/m",
+        "h_rms": "1 um",
+    },
     "material": {"E": "1 MPa", "nu": 0.5},
     "load": {"p0": [f"{p!r} Pa" for p in LOADS]},
     "boundary": {"model": "jkr", "work_of_adhesion": "0.05 J/m**2"},
@@ -98,8 +104,16 @@ def peer(tau, wall, p0, n, rtol):
     def jac(t, q):
         return lap - speed(t) * der
 
-    sol = solve_ivp(rhs, (0.0, tau[-1]), q0, method="BDF", t_eval=tau, jac=jac, rtol=rtol,
-                    atol=1e-3 * rtol / length)
+    sol = solve_ivp(
+        rhs,
+        (0.0, tau[-1]),
+        q0,
+        method="BDF",
+        t_eval=tau,
+        jac=jac,
+        rtol=rtol,
+        atol=1e-3 * rtol / length,
+    )
     if not sol.success:
         raise RuntimeError(sol.message)
     return h * sol.y.sum(axis=0)
@@ -115,28 +129,51 @@ def main(argv=None):
     args = ap.parse_args(argv)
     tau, wall = setup()
     sel = slice(1, None)
-    refs = {p0: solve(tau, p0, wall, method="cn", rtol=1e-9, options={"levels": 7}).area
-            for p0 in LOADS}
+    refs = {
+        p0: solve(tau, p0, wall, method="cn", rtol=1e-9, options={"levels": 7}).area for p0 in LOADS
+    }
     rows = []
     for p0 in LOADS:
-        for rtol in ((1e-4, 1e-6) if args.quick else (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)):
-            res, t, _ = S.timed(lambda rtol=rtol, p0=p0: solve(tau, p0, wall, method="cn",
-                                                               rtol=rtol), budget=2.0)
-            rows.append(dict(p0=p0, method=f"xpersson cn ({res.status})",
-                             resolution=f"rtol={rtol:g}, N={res.n_nodes}", time=t,
-                             err=err_of(res.area, refs[p0], sel), kind="engine"))
+        for rtol in (1e-4, 1e-6) if args.quick else (1e-3, 1e-4, 1e-5, 1e-6, 1e-7):
+            res, t, _ = S.timed(
+                lambda rtol=rtol, p0=p0: solve(tau, p0, wall, method="cn", rtol=rtol), budget=2.0
+            )
+            rows.append(
+                dict(
+                    p0=p0,
+                    method=f"xpersson cn ({res.status})",
+                    resolution=f"rtol={rtol:g}, N={res.n_nodes}",
+                    time=t,
+                    err=err_of(res.area, refs[p0], sel),
+                    kind="engine",
+                )
+            )
             print(rows[-1], flush=True)
-        for n, rtol in (((1025, 1e-6), (4097, 1e-8)) if args.quick else
-                        ((1025, 1e-6), (4097, 1e-8), (16385, 1e-8))):
+        for n, rtol in (
+            ((1025, 1e-6), (4097, 1e-8))
+            if args.quick
+            else ((1025, 1e-6), (4097, 1e-8), (16385, 1e-8))
+        ):
             try:
-                area, t, _ = S.timed(lambda n=n, rtol=rtol, p0=p0: peer(tau, wall, p0, n, rtol),
-                                     budget=3.0, max_repeats=3)
+                area, t, _ = S.timed(
+                    lambda n=n, rtol=rtol, p0=p0: peer(tau, wall, p0, n, rtol),
+                    budget=3.0,
+                    max_repeats=3,
+                )
                 err = err_of(area, refs[p0], sel)
             except Exception as exc:  # report failures in the table
                 t, err = float("nan"), float("nan")
                 print(f"peer failed: {exc}")
-            rows.append(dict(p0=p0, method="scipy BDF MoL (Landau frame)",
-                             resolution=f"N={n}, rtol={rtol:g}", time=t, err=err, kind="peer"))
+            rows.append(
+                dict(
+                    p0=p0,
+                    method="scipy BDF MoL (Landau frame)",
+                    resolution=f"N={n}, rtol={rtol:g}",
+                    time=t,
+                    err=err,
+                    kind="peer",
+                )
+            )
             print(rows[-1], flush=True)
     costs = cost_rows(tau, wall, refs, sel, repeats=5 if args.quick else 25)
     write(rows, costs, HERE / "results" / "jkr_vs_peer.md")
@@ -153,12 +190,19 @@ def cost_rows(tau, wall, refs, sel, repeats):
         sc["load"]["p0"] = [f"{p!r} Pa" for p in loads]
         return sc
 
-    configs = [("`xpersson.engine.solve` (engine only)", (p0,),
-                lambda p0=p0: solve(tau, p0, wall, method="cn", rtol=1e-6)) for p0 in LOADS]
+    configs = [
+        (
+            "`xpersson.engine.solve` (engine only)",
+            (p0,),
+            lambda p0=p0: solve(tau, p0, wall, method="cn", rtol=1e-6),
+        )
+        for p0 in LOADS
+    ]
     for loads in [(p,) for p in LOADS] + [LOADS]:
         sc = scene_of(loads)
-        configs.append(("`xpersson.solve` (public pipeline)", loads,
-                        lambda sc=sc: xpersson.solve(sc)))
+        configs.append(
+            ("`xpersson.solve` (public pipeline)", loads, lambda sc=sc: xpersson.solve(sc))
+        )
     cpu = [[] for _ in configs]
     wall_t = [[] for _ in configs]
     last = [None] * len(configs)
@@ -178,9 +222,19 @@ def cost_rows(tau, wall, refs, sel, repeats):
         else:
             area, status = np.atleast_2d(res.area), res.status
         err = max(err_of(a, refs[p0], sel) for a, p0 in zip(area, loads, strict=True))
-        out.append(dict(what=what, loads=", ".join(f"{p:g}" for p in loads), n=n, rounds=repeats,
-                        cpu=statistics.median(c) / n, best=min(c) / n,
-                        wall=statistics.median(w) / n, err=err, status=status))
+        out.append(
+            dict(
+                what=what,
+                loads=", ".join(f"{p:g}" for p in loads),
+                n=n,
+                rounds=repeats,
+                cpu=statistics.median(c) / n,
+                best=min(c) / n,
+                wall=statistics.median(w) / n,
+                err=err,
+                status=status,
+            )
+        )
         print(out[-1], flush=True)
     return out
 
@@ -210,42 +264,61 @@ def write(rows, costs, path):
         "|---:|---|---|---:|---:|",
     ]
     for r in rows:
-        lines.append(f"| {r['p0']:g} | {r['method']} | {r['resolution']} | {r['time']:.3e} | "
-                     f"{r['err']:.2e} |")
-    lines += ["", "Speed-up at equal error: the peer's most accurate run against the fastest "
-              "engine run at least as accurate (the peer never reaches the engine's error at "
-              "rtol 1e-6, shown for reference):", "",
-              "| p0 [Pa] | engine (fastest at <= peer error) | engine at rtol 1e-6 | peer (best) "
-              "| speed-up |", "|---:|---|---|---|---:|"]
+        lines.append(
+            f"| {r['p0']:g} | {r['method']} | {r['resolution']} | {r['time']:.3e} | "
+            f"{r['err']:.2e} |"
+        )
+    lines += [
+        "",
+        "Speed-up at equal error: the peer's most accurate run against the fastest "
+        "engine run at least as accurate (the peer never reaches the engine's error at "
+        "rtol 1e-6, shown for reference):",
+        "",
+        "| p0 [Pa] | engine (fastest at <= peer error) | engine at rtol 1e-6 | peer (best) "
+        "| speed-up |",
+        "|---:|---|---|---|---:|",
+    ]
     for p0 in LOADS:
         fast, best, at6, sp_ = speedup(rows, p0)
-        lines.append(f"| {p0:g} | {fast['resolution']}: {fast['time'] * 1e3:.1f} ms, err "
-                     f"{fast['err']:.1e} | {at6['time'] * 1e3:.1f} ms, err {at6['err']:.1e} | "
-                     f"{best['resolution']}: {best['time']:.3g} s, err {best['err']:.1e} | "
-                     f"{sp_} |")
-    lines += ["", "## Cost per load at rtol 1e-6 (target: <= 20 ms per load)", "",
-              f"CPU time of the process per load: median and best of {costs[0]['rounds']} "
-              "interleaved rounds after a warm-up round (every configuration once per round); "
-              "wall time median beside it. The machine is shared with other jobs, which inflate "
-              "CPU time too (shared cores and caches): the best of the rounds is the cost of the "
-              "code, the median what a user saw on this machine. Error = max relative error of "
-              "the returned A/A0 against the reference.", "",
-              "| call | p0 [Pa] | CPU per load, median [ms] | CPU best [ms] | wall median [ms] "
-              "| error | status |", "|---|---|---:|---:|---:|---:|---|"]
+        lines.append(
+            f"| {p0:g} | {fast['resolution']}: {fast['time'] * 1e3:.1f} ms, err "
+            f"{fast['err']:.1e} | {at6['time'] * 1e3:.1f} ms, err {at6['err']:.1e} | "
+            f"{best['resolution']}: {best['time']:.3g} s, err {best['err']:.1e} | "
+            f"{sp_} |"
+        )
+    lines += [
+        "",
+        "## Cost per load at rtol 1e-6 (target: <= 20 ms per load)",
+        "",
+        f"CPU time of the process per load: median and best of {costs[0]['rounds']} "
+        "interleaved rounds after a warm-up round (every configuration once per round); "
+        "wall time median beside it. The machine is shared with other jobs, which inflate "
+        "CPU time too (shared cores and caches): the best of the rounds is the cost of the "
+        "code, the median what a user saw on this machine. Error = max relative error of "
+        "the returned A/A0 against the reference.",
+        "",
+        "| call | p0 [Pa] | CPU per load, median [ms] | CPU best [ms] | wall median [ms] "
+        "| error | status |",
+        "|---|---|---:|---:|---:|---:|---|",
+    ]
     for c in costs:
-        lines.append(f"| {c['what']} | {c['loads']} | {c['cpu'] * 1e3:.1f} | "
-                     f"{c['best'] * 1e3:.1f} | {c['wall'] * 1e3:.1f} | {c['err']:.1e} | "
-                     f"{c['status']} |")
+        lines.append(
+            f"| {c['what']} | {c['loads']} | {c['cpu'] * 1e3:.1f} | "
+            f"{c['best'] * 1e3:.1f} | {c['wall'] * 1e3:.1f} | {c['err']:.1e} | "
+            f"{c['status']} |"
+        )
     pipe = [c for c in costs if c["what"].startswith("`xpersson.solve`")]
     lines.append("")
     for key, label in (("best", "best of the rounds"), ("cpu", "median of the rounds")):
         single = max(c[key] for c in pipe if c["n"] == 1)
         batch = [c[key] for c in pipe if c["n"] > 1][0]
         verdict = "met" if max(single, batch) <= 0.020 else "NOT met"
-        lines.append(f"Target <= 20 ms per load, CPU time per load through `xpersson.solve`, "
-                     f"{label}: {verdict} (single load, worst of the three: "
-                     f"{single * 1e3:.1f} ms; three loads in one call: {batch * 1e3:.1f} ms "
-                     "per load).")
+        lines.append(
+            f"Target <= 20 ms per load, CPU time per load through `xpersson.solve`, "
+            f"{label}: {verdict} (single load, worst of the three: "
+            f"{single * 1e3:.1f} ms; three loads in one call: {batch * 1e3:.1f} ms "
+            "per load)."
+        )
         lines.append("")
     path.parent.mkdir(exist_ok=True)
     path.write_text("\n".join(lines))

@@ -60,10 +60,16 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
     rng = random.Random(args.seed)
-    out = {"kills_attempted": args.kills, "killed_mid_write": 0, "partial_targets": 0,
-           "temporaries_left_by_kills": 0, "temporaries_after_next_write": 0,
-           "races": args.races, "races_not_exactly_one_winner": 0,
-           "temporaries_after_races": 0}
+    out = {
+        "kills_attempted": args.kills,
+        "killed_mid_write": 0,
+        "partial_targets": 0,
+        "temporaries_left_by_kills": 0,
+        "temporaries_after_next_write": 0,
+        "races": args.races,
+        "races_not_exactly_one_winner": 0,
+        "temporaries_after_races": 0,
+    }
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         proc, conn = _writer(folder / "probe.nc", False, args.rows)

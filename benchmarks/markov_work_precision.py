@@ -49,12 +49,18 @@ def _cases(quick: bool) -> dict:
     m = MOVING
     return {
         "realistic": dict(
-            tau=tau_r, p0=sc.p_bar, lower=Wall.absorbing(0.0),
-            exact=sc.area_curve_exact(), pde=("sine", "cn"),
+            tau=tau_r,
+            p0=sc.p_bar,
+            lower=Wall.absorbing(0.0),
+            exact=sc.area_curve_exact(),
+            pde=("sine", "cn"),
         ),
         "moving wall": dict(
-            tau=tau_m, p0=m["p0"], lower=Wall.linear(-m["s0"], -m["c"]),
-            exact=exact.linear_wall_area(tau_m, m["p0"], m["s0"], m["c"]), pde=("cn",),
+            tau=tau_m,
+            p0=m["p0"],
+            lower=Wall.linear(-m["s0"], -m["c"]),
+            exact=exact.linear_wall_area(tau_m, m["p0"], m["s0"], m["c"]),
+            pde=("cn",),
         ),
     }
 
@@ -65,8 +71,11 @@ def _err(area, ref):
 
 def run(quick: bool) -> list[dict]:
     rows = []
-    walkers = (1_000, 10_000, 100_000) if quick else (1_000, 3_000, 10_000, 30_000, 100_000,
-                                                      300_000, 1_000_000)
+    walkers = (
+        (1_000, 10_000, 100_000)
+        if quick
+        else (1_000, 3_000, 10_000, 30_000, 100_000, 300_000, 1_000_000)
+    )
     for name, c in _cases(quick).items():
         tau, p0, lower, ref = c["tau"], c["p0"], c["lower"], c["exact"]
 
@@ -74,35 +83,60 @@ def run(quick: bool) -> list[dict]:
             return solve(tau, p0, lower, None, method=method, rtol=rtol, options=options)
 
         res, t, _ = S.timed(lambda: one("exact"), budget=1.0)
-        rows.append(dict(scene=name, method="exact", setting="closed form", time_s=t,
-                         err=_err(res.area, ref)))
+        rows.append(
+            dict(
+                scene=name, method="exact", setting="closed form", time_s=t, err=_err(res.area, ref)
+            )
+        )
         for method in c["pde"]:
-            for rtol in ((1e-3, 1e-5) if quick else (1e-3, 1e-4, 1e-5, 1e-6, 1e-8)):
+            for rtol in (1e-3, 1e-5) if quick else (1e-3, 1e-4, 1e-5, 1e-6, 1e-8):
                 if method == "cn" and rtol < 1e-6:
                     continue
                 res, t, _ = S.timed(lambda m=method, r=rtol: one(m, r), budget=2.0)
-                rows.append(dict(scene=name, method=method, setting=f"rtol={rtol:g}",
-                                 time_s=t, err=_err(res.area, ref)))
-        for nodes in ((50, 200) if quick else (25, 50, 100, 200, 400)):
-            res, t, _ = S.timed(lambda n=nodes: one("markov_ck", 1e-3, {"nodes": n}),
-                                budget=2.0)
-            rows.append(dict(scene=name, method="markov_ck", setting=f"nodes={nodes}",
-                             time_s=t, err=_err(res.area, ref)))
+                rows.append(
+                    dict(
+                        scene=name,
+                        method=method,
+                        setting=f"rtol={rtol:g}",
+                        time_s=t,
+                        err=_err(res.area, ref),
+                    )
+                )
+        for nodes in (50, 200) if quick else (25, 50, 100, 200, 400):
+            res, t, _ = S.timed(lambda n=nodes: one("markov_ck", 1e-3, {"nodes": n}), budget=2.0)
+            rows.append(
+                dict(
+                    scene=name,
+                    method="markov_ck",
+                    setting=f"nodes={nodes}",
+                    time_s=t,
+                    err=_err(res.area, ref),
+                )
+            )
         for n in walkers:
             seeds = 1 if n >= 1_000_000 else (4 if quick else 8)
             errs, times, steps = [], [], 0
             for seed in range(seeds):
                 res, t, _ = S.timed(
                     lambda n=n, s=seed: one("markov", 0.09, {"walkers": n, "seed": s}),
-                    budget=0.0, max_repeats=1,
+                    budget=0.0,
+                    max_repeats=1,
                 )
                 errs.append(_err(res.area, ref))
                 times.append(t)
                 steps = res.nsteps
-            rows.append(dict(scene=name, method="markov", setting=f"N={n}",
-                             time_s=float(np.median(times)),
-                             err=float(math.sqrt(np.mean(np.square(errs)))), walkers=n,
-                             steps=steps, walkers_per_s=n / float(np.median(times))))
+            rows.append(
+                dict(
+                    scene=name,
+                    method="markov",
+                    setting=f"N={n}",
+                    time_s=float(np.median(times)),
+                    err=float(math.sqrt(np.mean(np.square(errs)))),
+                    walkers=n,
+                    steps=steps,
+                    walkers_per_s=n / float(np.median(times)),
+                )
+            )
             print(rows[-1], flush=True)
     return rows
 
@@ -126,12 +160,16 @@ def write(rows: list[dict], out: Path) -> None:
     ]
     for r in rows:
         wps = f"{r['walkers_per_s']:.3g}" if "walkers_per_s" in r else ""
-        lines.append(f"| {r['scene']} | {r['method']} | {r['setting']} | {r['time_s']:.3g} | "
-                     f"{r['err']:.2e} | {wps} |")
+        lines.append(
+            f"| {r['scene']} | {r['method']} | {r['setting']} | {r['time_s']:.3g} | "
+            f"{r['err']:.2e} | {wps} |"
+        )
     lines.append("")
     for scene in sorted({r["scene"] for r in rows}):
-        lines.append(f"- {scene}: fitted slope of log(err) vs log(N) for `markov`: "
-                     f"{slope(rows, scene):.3f} (N^-1/2: -0.5)")
+        lines.append(
+            f"- {scene}: fitted slope of log(err) vs log(N) for `markov`: "
+            f"{slope(rows, scene):.3f} (N^-1/2: -0.5)"
+        )
     out.with_suffix(".md").write_text("\n".join(lines) + "\n")
 
     import matplotlib
@@ -142,15 +180,28 @@ def write(rows: list[dict], out: Path) -> None:
     scenes = sorted({r["scene"] for r in rows}, reverse=True)
     fig, axes = plt.subplots(1, len(scenes), figsize=(11, 4.2), constrained_layout=True)
     style = {"exact": "*", "sine": "s-", "cn": "^-", "markov_ck": "d-", "markov": "o-"}
-    color = {"exact": "k", "sine": "tab:blue", "cn": "tab:orange", "markov_ck": "tab:green",
-             "markov": "tab:red"}
+    color = {
+        "exact": "k",
+        "sine": "tab:blue",
+        "cn": "tab:orange",
+        "markov_ck": "tab:green",
+        "markov": "tab:red",
+    }
     for ax, scene in zip(np.atleast_1d(axes), scenes, strict=True):
         for method, fmt in style.items():
-            rs = sorted((r for r in rows if r["scene"] == scene and r["method"] == method),
-                        key=lambda r: r["time_s"])
+            rs = sorted(
+                (r for r in rows if r["scene"] == scene and r["method"] == method),
+                key=lambda r: r["time_s"],
+            )
             if rs:
-                ax.loglog([r["time_s"] for r in rs], [max(r["err"], 1e-16) for r in rs], fmt,
-                          color=color[method], ms=4, label=method)
+                ax.loglog(
+                    [r["time_s"] for r in rs],
+                    [max(r["err"], 1e-16) for r in rs],
+                    fmt,
+                    color=color[method],
+                    ms=4,
+                    label=method,
+                )
         mc = [r for r in rows if r["scene"] == scene and r["method"] == "markov"]
         t = np.array([r["time_s"] for r in mc])
         ax.loglog(t, mc[0]["err"] * (t / t[0]) ** -0.5, "k:", lw=0.8, label="slope -1/2")

@@ -39,15 +39,27 @@ import xpersson  # noqa: E402
 from xpersson.physics import elastic  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-SPECTRUM = {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_r": "1e4 1/m",
-            "q_1": "1e8 1/m", "h_rms": "1 um"}
-LOADS_1000 = {"spectrum": SPECTRUM, "material": {"E": "10 MPa", "nu": 0.5},
-              "load": {"p0": {"start": "1 kPa", "stop": "1 MPa", "num": 1000}},
-              "output": {"zeta_per_decade": 10}}
-SINGLE = {"spectrum": SPECTRUM, "material": {"E": "10 MPa", "nu": 0.5},
-          "load": {"p0": "0.1 MPa"}}
-STEEL = {"spectrum": SPECTRUM, "material": {"E": "210 GPa", "nu": 0.3},
-         "load": {"p0": ["1 kPa", "1 MPa"]}, "output": {"zeta_per_decade": 10}}
+SPECTRUM = {
+    "model": "self_affine",
+    "H": 0.8,
+    "q_L": "1e3 1/m",
+    "q_r": "1e4 1/m",
+    "q_1": "1e8 1/m",
+    "h_rms": "1 um",
+}
+LOADS_1000 = {
+    "spectrum": SPECTRUM,
+    "material": {"E": "10 MPa", "nu": 0.5},
+    "load": {"p0": {"start": "1 kPa", "stop": "1 MPa", "num": 1000}},
+    "output": {"zeta_per_decade": 10},
+}
+SINGLE = {"spectrum": SPECTRUM, "material": {"E": "10 MPa", "nu": 0.5}, "load": {"p0": "0.1 MPa"}}
+STEEL = {
+    "spectrum": SPECTRUM,
+    "material": {"E": "210 GPa", "nu": 0.3},
+    "load": {"p0": ["1 kPa", "1 MPa"]},
+    "output": {"zeta_per_decade": 10},
+}
 UNREACHED = dict(STEEL, boundary={"model": "plastic_scale_dependent", "Y1": "30 GPa", "n": 0.2})
 
 
@@ -60,14 +72,23 @@ def _engine_calls() -> tuple:
     out = []
     for scene in (STEEL, UNREACHED):
         rs = xpersson.Scene(scene).resolve()
-        ctx = SceneContext(psd=rs.psd, E=rs.E, nu=rs.nu, E_star=rs.E_star, p0=rs.p0,
-                           zeta=rs.zeta, rtol=rs.rtol, atol=rs.atol)
+        ctx = SceneContext(
+            psd=rs.psd,
+            E=rs.E,
+            nu=rs.nu,
+            E_star=rs.E_star,
+            p0=rs.p0,
+            zeta=rs.zeta,
+            rtol=rs.rtol,
+            atol=rs.atol,
+        )
         coef = rs.coefficient
         tau = np.asarray(coef.tau(ctx, rs.zeta))
 
         def call(rs=rs, ctx=ctx, coef=coef, tau=tau) -> None:
-            clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z),
-                                   ctx.zeta_max)
+            clock = DiffusionClock(
+                lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max
+            )
             walls = rs.boundary.walls(ctx, float(rs.p0[0]), clock)
             engine.solve_batch(tau, rs.p0, walls, rtol=rs.rtol, atol=rs.atol)
 
@@ -81,6 +102,7 @@ def _measure(p0: np.ndarray, tau: np.ndarray, calls: int) -> dict[str, float]:
     load hits both alike): the bare kernel with the 1000 loads, the elastic with the plastic
     solve; the single load runs in its own loop (a steady state, as a user's loop of single
     solves; after a 1000-load solve its first call runs with cold CPU caches)."""
+
     def bare() -> np.ndarray:
         with np.errstate(divide="ignore"):
             return erf(p0[:, None] / (2.0 * np.sqrt(tau[None, :])))
@@ -88,10 +110,16 @@ def _measure(p0: np.ndarray, tau: np.ndarray, calls: int) -> dict[str, float]:
     engine_elastic, engine_unreached = _engine_calls()
     groups = [
         {"bare": bare, "many": lambda: xpersson.solve(LOADS_1000)},
-        {"single": lambda: xpersson.solve(SINGLE),
-         "resolve": lambda: xpersson.Scene(SINGLE).resolve()},
-        {"elastic": lambda: xpersson.solve(STEEL), "unreached": lambda: xpersson.solve(UNREACHED),
-         "engine_elastic": engine_elastic, "engine_unreached": engine_unreached},
+        {
+            "single": lambda: xpersson.solve(SINGLE),
+            "resolve": lambda: xpersson.Scene(SINGLE).resolve(),
+        },
+        {
+            "elastic": lambda: xpersson.solve(STEEL),
+            "unreached": lambda: xpersson.solve(UNREACHED),
+            "engine_elastic": engine_elastic,
+            "engine_unreached": engine_unreached,
+        },
     ]
     out: dict[str, float] = {}
     for fns in groups:
@@ -111,8 +139,11 @@ def _profile() -> None:
     """pyinstrument profiles of the three user paths (200 calls each after 5 warm-ups)."""
     from pyinstrument import Profiler
 
-    for label, scene in (("1000 loads x 51 zeta", LOADS_1000), ("one load", SINGLE),
-                         ("yield wall never reached (2 loads)", UNREACHED)):
+    for label, scene in (
+        ("1000 loads x 51 zeta", LOADS_1000),
+        ("one load", SINGLE),
+        ("yield wall never reached (2 loads)", UNREACHED),
+    ):
         for _ in range(5):
             xpersson.solve(scene)
         prof = Profiler(interval=1e-4)
@@ -161,19 +192,21 @@ def main(argv: list[str] | None = None) -> list[str]:
     ]
     r_many = [r["many"] / r["bare"] for r in rounds]
     r_plastic = [r["unreached"] / r["elastic"] for r in rounds]
-    note = (f"\n{len(rounds)} rounds of {args.calls} calls in one process (the two sides of a "
-            "ratio interleaved call by call); each entry is the smallest round median (the "
-            "machine is shared: the least disturbed round), the ratios are those of these "
-            f"entries. Ratios within each round: 1000 "
-            f"loads {min(r_many):.1f}-{max(r_many):.1f}x bare, unreached wall "
-            f"{min(r_plastic):.2f}-{max(r_plastic):.2f}x elastic.\n")
+    note = (
+        f"\n{len(rounds)} rounds of {args.calls} calls in one process (the two sides of a "
+        "ratio interleaved call by call); each entry is the smallest round median (the "
+        "machine is shared: the least disturbed round), the ratios are those of these "
+        f"entries. Ratios within each round: 1000 "
+        f"loads {min(r_many):.1f}-{max(r_many):.1f}x bare, unreached wall "
+        f"{min(r_plastic):.2f}-{max(r_plastic):.2f}x elastic.\n"
+    )
     text = "\n".join(rows)
     print(text + "\n" + note)
     out = HERE / "results"
     out.mkdir(exist_ok=True)
     (out / "pipeline_cost.md").write_text(
-        "# Pipeline cost (CPU time, one process, OPENBLAS_NUM_THREADS=1)\n\n" + text + "\n"
-        + note)
+        "# Pipeline cost (CPU time, one process, OPENBLAS_NUM_THREADS=1)\n\n" + text + "\n" + note
+    )
     return rows
 
 

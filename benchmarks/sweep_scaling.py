@@ -36,9 +36,14 @@ def scene(n_e: int, n_h: int, loads: int) -> dict:
     """E x H x p0 sweep (``loads == 1``: the single load 100 kPa, no load dimension)."""
     p0: object = "100 kPa" if loads == 1 else {"start": "1 kPa", "stop": "1 MPa", "num": loads}
     return {
-        "spectrum": {"model": "self_affine", "H": {"start": 0.5, "stop": 0.95, "num": n_h,
-                                                   "spacing": "linear"},
-                     "q_L": "1e3 1/m", "q_r": "1e4 1/m", "q_1": "1e8 1/m", "h_rms": "1 um"},
+        "spectrum": {
+            "model": "self_affine",
+            "H": {"start": 0.5, "stop": 0.95, "num": n_h, "spacing": "linear"},
+            "q_L": "1e3 1/m",
+            "q_r": "1e4 1/m",
+            "q_1": "1e8 1/m",
+            "h_rms": "1 um",
+        },
         "material": {"E": {"start": "1 MPa", "stop": "100 MPa", "num": n_e}, "nu": 0.5},
         "load": {"p0": p0},
         "output": {"zeta": [float(z) for z in np.geomspace(1.0, 1e5, 50)]},
@@ -75,48 +80,67 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--quick", action="store_true", help="only the two 1e4-curve studies")
     ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--chunk", type=int, default=None,
-                    help="sweep points per task (default: the scheduler's choice)")
+    ap.add_argument(
+        "--chunk",
+        type=int,
+        default=None,
+        help="sweep points per task (default: the scheduler's choice)",
+    )
     args = ap.parse_args()
-    studies = [("1e4 parameter sets, one load each", (100, 100, 1)),
-               ("1e4 curves, 200 sets x 50 batched loads", (20, 10, 50))]
+    studies = [
+        ("1e4 parameter sets, one load each", (100, 100, 1)),
+        ("1e4 curves, 200 sets x 50 batched loads", (20, 10, 50)),
+    ]
     if not args.quick:
         studies.append(("1e5 curves, 2000 sets x 50 batched loads", (20, 100, 50)))
     from distributed import Client, LocalCluster
 
     xpersson.solve(scene(2, 2, 2))  # warm up this process's imports and caches too
     t0 = time.perf_counter()
-    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=40)
+    cluster = LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=40
+    )
     client = Client(cluster)
     t_start = time.perf_counter() - t0
     xpersson.solve(scene(2, 2, 2), scheduler=client)  # warm up: imports on the workers
     n = 10_000_000
     _, t_ref_s, _, t_ref_p = interleaved(
         lambda: [burn(n), burn(n)],
-        lambda: client.gather(client.map(burn, [n, n], pure=False)), args.repeats)
+        lambda: client.gather(client.map(burn, [n, n], pure=False)),
+        args.repeats,
+    )
     rows = []
     for label, (n_e, n_h, loads) in studies:
         sc = scene(n_e, n_h, loads)
         curves = n_e * n_h * loads
         serial, t_serial, par, t_par = interleaved(
             lambda sc=sc: xpersson.solve(sc),
-            lambda sc=sc: xpersson.solve(sc, scheduler=client, chunk=args.chunk), args.repeats)
+            lambda sc=sc: xpersson.solve(sc, scheduler=client, chunk=args.chunk),
+            args.repeats,
+        )
         same = all(serial[v].equals(par[v]) for v in serial.data_vars)
         rows.append((label, curves, t_serial, t_par, same))
     client.close()
     cluster.close()
-    print(f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, "
-          f"{os.cpu_count()} cores; area curves of 50 zeta with the contact_area analysis; "
-          f"best of {args.repeats}; chunk {args.chunk or 'default'}")
-    print("| study | serial [s] | serial curves/min | 2 processes [s] | 2 processes curves/min "
-          "| speed-up | equal |")
+    print(
+        f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, "
+        f"{os.cpu_count()} cores; area curves of 50 zeta with the contact_area analysis; "
+        f"best of {args.repeats}; chunk {args.chunk or 'default'}"
+    )
+    print(
+        "| study | serial [s] | serial curves/min | 2 processes [s] | 2 processes curves/min "
+        "| speed-up | equal |"
+    )
     print("|---|---:|---:|---:|---:|---:|---|")
     for label, curves, t_s, t_p, same in rows:
-        print(f"| {label} | {t_s:.2f} | {curves / t_s * 60:,.0f} | {t_p:.2f} | "
-              f"{curves / t_p * 60:,.0f} | {t_s / t_p:.2f}x | {same} |")
-    print(f"| hardware reference: pure-Python loop, 2 x {n:.0e} iterations | {t_ref_s:.2f} | | "
-          f"{t_ref_p:.2f} | | {t_ref_s / t_ref_p:.2f}x | |")
+        print(
+            f"| {label} | {t_s:.2f} | {curves / t_s * 60:,.0f} | {t_p:.2f} | "
+            f"{curves / t_p * 60:,.0f} | {t_s / t_p:.2f}x | {same} |"
+        )
+    print(
+        f"| hardware reference: pure-Python loop, 2 x {n:.0e} iterations | {t_ref_s:.2f} | | "
+        f"{t_ref_p:.2f} | | {t_ref_s / t_ref_p:.2f}x | |"
+    )
     print(f"cluster start-up (not timed above): {t_start:.1f} s")
 
 

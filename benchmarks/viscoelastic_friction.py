@@ -31,9 +31,9 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 from scipy.integrate import quad  # noqa: E402
 from scipy.special import erf  # noqa: E402
-from xpersson_viscoelastic import WLF, friction_curve, synthetic_tread  # noqa: E402
 
 from xpersson.physics import SelfAffineRollOff  # noqa: E402
+from xpersson_viscoelastic import WLF, friction_curve, synthetic_tread  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 NU, P0 = 0.5, 3e5
@@ -57,14 +57,21 @@ def quad_mu(psd, model, v: float, aT: float, epsrel: float) -> float:
 
     def mean_sq(q: float) -> float:
         w = q * v * aT
-        val = quad(lambda p: abs(E(w * np.cos(p))) ** 2, 0.0, np.pi / 2, epsabs=0,
-                   epsrel=epsrel, limit=200)[0]
+        val = quad(
+            lambda p: abs(E(w * np.cos(p))) ** 2, 0.0, np.pi / 2, epsabs=0, epsrel=epsrel, limit=200
+        )[0]
         return val * 2.0 / np.pi
 
     def loss(q: float) -> float:
         w = q * v * aT
-        val = quad(lambda p: np.cos(p) * E(w * np.cos(p)).imag, 0.0, np.pi / 2, epsabs=0,
-                   epsrel=epsrel, limit=200)[0]
+        val = quad(
+            lambda p: np.cos(p) * E(w * np.cos(p)).imag,
+            0.0,
+            np.pi / 2,
+            epsabs=0,
+            epsrel=epsrel,
+            limit=200,
+        )[0]
         return 4.0 * val
 
     def g_dens(s: float) -> float:  # d tau / d ln q
@@ -87,8 +94,15 @@ def quad_mu(psd, model, v: float, aT: float, epsrel: float) -> float:
         P = 1.0 if G == 0 else erf(0.5 / np.sqrt(G))
         return q**4 * float(psd.C(q)) * loss(q) * P
 
-    total = quad(mu_dens, np.log(psd.q_L), np.log(psd.q_1), epsabs=0, epsrel=epsrel,
-                 points=[np.log(3000.0)], limit=200)[0]
+    total = quad(
+        mu_dens,
+        np.log(psd.q_L),
+        np.log(psd.q_1),
+        epsabs=0,
+        epsrel=epsrel,
+        points=[np.log(3000.0)],
+        limit=200,
+    )[0]
     return total / (2.0 * (1.0 - NU**2) * P0)
 
 
@@ -142,11 +156,15 @@ def main() -> None:
     print(f"OPENBLAS_NUM_THREADS={os.environ['OPENBLAS_NUM_THREADS']}")
     print(f"mu_visc range: {mu.min():.4g} .. {mu.max():.4g}")
     print(f"kernel, 50 v x 3 T x 40 modes: {t_kernel * 1e3:.1f} ms, max rel error {err_kernel:.1e}")
-    print(f"quad (epsrel={args.epsrel:g}), {idx.size} points: {t_quad_pt:.2f} s/point, "
-          f"150 points ~ {t_quad:.0f} s, max rel error {err_quad:.1e}")
+    print(
+        f"quad (epsrel={args.epsrel:g}), {idx.size} points: {t_quad_pt:.2f} s/point, "
+        f"150 points ~ {t_quad:.0f} s, max rel error {err_quad:.1e}"
+    )
     print(f"speed-up of the kernel over quad (150 points): {t_quad / t_kernel:.0f}x")
-    print(f"xpersson.solve of the example scene with 50 v x 3 T as lists (serial sweep, "
-          f"dims {sizes}, friction): {t_solve:.1f} s = {t_solve / 150 * 1e3:.0f} ms/point")
+    print(
+        f"xpersson.solve of the example scene with 50 v x 3 T as lists (serial sweep, "
+        f"dims {sizes}, friction): {t_solve:.1f} s = {t_solve / 150 * 1e3:.0f} ms/point"
+    )
 
 
 if __name__ == "__main__":

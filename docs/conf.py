@@ -36,8 +36,15 @@ extensions = [
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "README.md", "examples/*", "auto_examples/*.ipynb",
-                    "auto_examples/*.py", "auto_examples/*.zip", "sg_execution_times.rst"]
+exclude_patterns = [
+    "_build",
+    "README.md",
+    "examples/*",
+    "auto_examples/*.ipynb",
+    "auto_examples/*.py",
+    "auto_examples/*.zip",
+    "sg_execution_times.rst",
+]
 root_doc = "index"
 
 # -- autodoc / numpydoc ---------------------------------------------------------------------------

@@ -35,8 +35,12 @@ def test_provenance_records_scene_plugins_environment(solved):
     assert scene["material"]["E"] == "10000000.0 Pa"
     plugins = json.loads(solved.attrs["xpersson_plugins"])
     used = {(p["group"], p["name"]) for p in plugins}
-    assert used == {("spectra", "self_affine"), ("coefficients", "elastic"),
-                    ("boundaries", "elastic"), ("analyses", "contact_area")}
+    assert used == {
+        ("spectra", "self_affine"),
+        ("coefficients", "elastic"),
+        ("boundaries", "elastic"),
+        ("analyses", "contact_area"),
+    }
     assert all(p["distribution"] == "xpersson" and p["version"] for p in plugins)
     env = json.loads(solved.attrs["xpersson_environment"])
     assert {"python", "numpy", "xarray"} <= set(env)

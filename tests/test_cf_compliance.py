@@ -49,8 +49,9 @@ def _scene(path: Path) -> xpersson.Scene:
     if isinstance(load, dict):  # keep the test fast: fewer loads, same outputs
         sc.data["load"]["p0"] = {**load, "num": 4}
     if path.name == "rubber_seal.toml":
-        sc.data["analyses"].update({"gap_pdf": {"u_points": 32}, "elastic_energy": {},
-                                    "contact_stiffness": {}})
+        sc.data["analyses"].update(
+            {"gap_pdf": {"u_points": 32}, "elastic_energy": {}, "contact_stiffness": {}}
+        )
     return sc
 
 

@@ -76,7 +76,10 @@ def test_cli_warnings_one_line_and_closed_pipe(tmp_path):
     assert not any("_pipeline.solve(" in ln for ln in lines)
     head = subprocess.run(
         f"{sys.executable} -m xpersson.cli info {out} | head -n 1",
-        shell=True, capture_output=True, text=True, timeout=300,
+        shell=True,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert head.stdout.count("\n") == 1
     assert "BrokenPipeError" not in head.stderr and "Traceback" not in head.stderr

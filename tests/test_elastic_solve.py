@@ -107,8 +107,13 @@ def _zhou_scene(closure: str, gamma: float | None, loads) -> dict:
     if gamma is not None:
         coef["gamma"] = gamma
     return {
-        "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e4 1/m", "q_1": "1e6 1/m",
-                     "h_rms": "6 um"},
+        "spectrum": {
+            "model": "self_affine",
+            "H": 0.8,
+            "q_L": "1e4 1/m",
+            "q_1": "1e6 1/m",
+            "h_rms": "6 um",
+        },
         "material": {"E": "0.75 Pa", "nu": 0.5},
         "load": {"p0": [f"{p!r} Pa" for p in loads]},
         "coefficient": coef,
@@ -127,9 +132,11 @@ def _zhou_scene(closure: str, gamma: float | None, loads) -> dict:
     ],
 )
 def test_refdata_persson_variants_area(refdata, column, closure, gamma, rtol):
-    rows = list(csv.DictReader(
-        line for line in open(refdata / "persson_variants_area_octave.csv") if line[0] != "#"
-    ))
+    rows = list(
+        csv.DictReader(
+            line for line in open(refdata / "persson_variants_area_octave.csv") if line[0] != "#"
+        )
+    )
     loads = [float(r["p_bar"]) for r in rows]
     expected = np.array([float(r[column]) for r in rows])
     ds = xpersson.solve(_zhou_scene(closure, gamma, loads))
@@ -144,13 +151,22 @@ def test_surface_topography_convention_gives_same_area(tmp_path, scene):
     q = np.geomspace(1e3, 1e8, 400)
     q = np.unique(np.concatenate([q, [1e4]]))
     np.savetxt(tmp_path / "persson.txt", np.c_[q, psd.C(q)], header="q [1/m], C [m^4]")
-    np.savetxt(tmp_path / "st.csv", np.c_[q * 1e-6, psd.C(q) * (2 * np.pi) ** 2 * 1e24],
-               delimiter=",", header="q [1/um], C [um^4]")
+    np.savetxt(
+        tmp_path / "st.csv",
+        np.c_[q * 1e-6, psd.C(q) * (2 * np.pi) ** 2 * 1e24],
+        delimiter=",",
+        header="q [1/um], C [um^4]",
+    )
     base = copy.deepcopy(scene)
     base["spectrum"] = {"model": "tabulated", "file": str(tmp_path / "persson.txt")}
     st = copy.deepcopy(scene)
-    st["spectrum"] = {"model": "tabulated", "file": str(tmp_path / "st.csv"),
-                      "convention": "surface_topography", "q_unit": "1/um", "C_unit": "um**4"}
+    st["spectrum"] = {
+        "model": "tabulated",
+        "file": str(tmp_path / "st.csv"),
+        "convention": "surface_topography",
+        "q_unit": "1/um",
+        "C_unit": "um**4",
+    }
     a1 = xpersson.solve(base).area_fraction.isel(zeta=-1).values
     a2 = xpersson.solve(st).area_fraction.isel(zeta=-1).values
     np.testing.assert_allclose(a2, a1, rtol=1e-12)
@@ -172,8 +188,14 @@ def test_closure_area_exceeds_persson01(scene):
         a = ds.area_fraction.isel(zeta=-1).values
         assert np.all(a > base)
         G = ds.G.isel(zeta=-1).values
-        np.testing.assert_allclose(a, erf(1 / (2 * np.sqrt(
-            ds.effective_diffusion_time.isel(zeta=-1).values / ds.p0.values**2))), rtol=1e-12)
+        np.testing.assert_allclose(
+            a,
+            erf(
+                1
+                / (2 * np.sqrt(ds.effective_diffusion_time.isel(zeta=-1).values / ds.p0.values**2))
+            ),
+            rtol=1e-12,
+        )
         assert np.all(G > 0)
 
 
@@ -186,5 +208,7 @@ def test_contact_area_analysis_kappa_and_mean_pressure(scene):
     assert kappa[1] < kappa[0]  # sub-linear area growth at high load
     np.testing.assert_allclose(
         ds.mean_contact_pressure.values * ds.area_fraction.values,
-        np.broadcast_to(ds.p0.values[:, None], ds.area_fraction.shape), rtol=1e-14)
+        np.broadcast_to(ds.p0.values[:, None], ds.area_fraction.shape),
+        rtol=1e-14,
+    )
     assert ds.kappa.attrs["units"] == "1"

@@ -12,8 +12,14 @@ from xpersson.engine import exact, solve
 from xpersson.units import to_si
 
 SCENE = {
-    "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_r": "1e4 1/m",
-                 "q_1": "1e8 1/m", "h_rms": "1 um"},
+    "spectrum": {
+        "model": "self_affine",
+        "H": 0.8,
+        "q_L": "1e3 1/m",
+        "q_r": "1e4 1/m",
+        "q_1": "1e8 1/m",
+        "h_rms": "1 um",
+    },
     "material": {"E": "10 MPa", "nu": 0.5},
     "load": {"p0": {"start": "1 kPa", "stop": "1 MPa", "num": 40}},
 }
@@ -69,8 +75,14 @@ def test_request_above_the_memory_budget_is_refused_before_work(monkeypatch):
     finally:
         memory.set_budget(None)
     text = str(info.value)
-    for words in ("MB", "40 loads", "4000 pressures", "output.p_points", "in parts",
-                  "XPERSSON_MEMORY_BUDGET"):
+    for words in (
+        "MB",
+        "40 loads",
+        "4000 pressures",
+        "output.p_points",
+        "in parts",
+        "XPERSSON_MEMORY_BUDGET",
+    ):
         assert words in text
     assert not calls
 
@@ -92,8 +104,13 @@ def test_elastic_balances_are_identities_said_so_in_their_attrs():
         assert np.all(ds[name].values == 0.0)
         assert "exactly 0, not evaluated" in ds[name].attrs["comment"]
         assert ds[name].attrs["units"] == "1"  # the CF attributes are kept
-    plastic = xpersson.solve(dict(SCENE, boundary={"model": "plastic", "sigma_Y": "2 MPa"},
-                                  load={"p0": ["0.1 MPa", "1 MPa"]}))
+    plastic = xpersson.solve(
+        dict(
+            SCENE,
+            boundary={"model": "plastic", "sigma_Y": "2 MPa"},
+            load={"p0": ["0.1 MPa", "1 MPa"]},
+        )
+    )
     comment = plastic["probability_balance"].attrs["comment"]
     assert "not evaluated" not in comment and "absorbed" in comment  # evaluated: a check
     assert np.max(np.abs(plastic["probability_balance"].values)) < 1e-10

@@ -22,17 +22,20 @@ def elastic():
 
 @pytest.fixture(scope="module")
 def seal():
-    sc = xpersson.load_scene(ROOT / "plugins" / "xpersson-interface" / "examples"
-                             / "rubber_seal.toml")
+    sc = xpersson.load_scene(
+        ROOT / "plugins" / "xpersson-interface" / "examples" / "rubber_seal.toml"
+    )
     sc.data["analyses"].update({"gap_pdf": {"u_points": 64}, "elastic_energy": {}})
     sc.data["load"]["p0"] = {"start": "0.05 MPa", "stop": "5 MPa", "num": 5}
     return xpersson.solve(sc)
 
 
 def test_matplotlib_is_imported_only_when_plotting():
-    code = ("import sys, xpersson, xpersson.sweep, xpersson.cli; "
-            "assert 'matplotlib' not in sys.modules; import xpersson.plot; "
-            "assert 'matplotlib' not in sys.modules")
+    code = (
+        "import sys, xpersson, xpersson.sweep, xpersson.cli; "
+        "assert 'matplotlib' not in sys.modules; import xpersson.plot; "
+        "assert 'matplotlib' not in sys.modules"
+    )
     subprocess.run([sys.executable, "-c", code], cwd=ROOT, check=True)
 
 
@@ -52,11 +55,14 @@ def test_sweep_area_one_curve_per_swept_value():
     assert "H = 0.6, E = 5e+06 Pa" in labels
 
 
-@pytest.mark.parametrize(("kind", "xlabel", "lines", "points"), [
-    ("leakage", "nominal pressure [Pa]", 1, 5),   # one curve over the loads
-    ("energy", "nominal pressure [Pa]", 1, 5),
-    ("gap_pdf", "[m]", 5, 64),                    # one curve per load over the gap grid
-])
+@pytest.mark.parametrize(
+    ("kind", "xlabel", "lines", "points"),
+    [
+        ("leakage", "nominal pressure [Pa]", 1, 5),  # one curve over the loads
+        ("energy", "nominal pressure [Pa]", 1, 5),
+        ("gap_pdf", "[m]", 5, 64),  # one curve per load over the gap grid
+    ],
+)
 def test_interface_kinds(seal, kind, xlabel, lines, points):
     ax = xpersson.plot.plot(seal, kind)
     assert len(ax.lines) == lines and len(ax.lines[0].get_xdata()) == points
@@ -66,13 +72,20 @@ def test_interface_kinds(seal, kind, xlabel, lines, points):
 def test_every_kind_writes_a_png_via_the_cli(tmp_path, elastic, seal):
     xpersson.to_netcdf(elastic, tmp_path / "e.nc")
     xpersson.to_netcdf(seal, tmp_path / "s.nc")
-    for kind, src in [("area", "e"), ("pressure_pdf", "e"), ("leakage", "s"),
-                      ("gap_pdf", "s"), ("energy", "s")]:
+    for kind, src in [
+        ("area", "e"),
+        ("pressure_pdf", "e"),
+        ("leakage", "s"),
+        ("gap_pdf", "s"),
+        ("energy", "s"),
+    ]:
         out = tmp_path / f"{kind}.png"
         assert main(["plot", str(tmp_path / f"{src}.nc"), "--kind", kind, "-o", str(out)]) == 0
         assert out.read_bytes()[:8] == PNG and out.stat().st_size > 5000
-    assert main(["plot", str(tmp_path / "e.nc"), "--kind", "leakage", "-o",
-                 str(tmp_path / "x.png")]) == 2  # a clear error: no leak_rate in the archive
+    assert (
+        main(["plot", str(tmp_path / "e.nc"), "--kind", "leakage", "-o", str(tmp_path / "x.png")])
+        == 2
+    )  # a clear error: no leak_rate in the archive
 
 
 def test_friction_kind_versus_swept_sliding_speed():

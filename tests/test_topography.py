@@ -15,11 +15,19 @@ from xpersson.scene import SceneError
 
 Q_L, H, N = 1e3, 0.8, 512
 Q_R, Q_1 = 4 * Q_L, 128 * Q_L
-ANALYTIC = {"model": "self_affine", "H": H, "q_L": f"{Q_L} 1/m", "q_r": f"{Q_R} 1/m",
-            "q_1": f"{Q_1} 1/m", "h_rms": "1 um"}
-SOLID = {"material": {"E": "10 MPa", "nu": 0.5},
-         "load": {"p0": ["5 kPa", "15 kPa", "30 kPa"]},
-         "output": {"zeta_per_decade": 10}}
+ANALYTIC = {
+    "model": "self_affine",
+    "H": H,
+    "q_L": f"{Q_L} 1/m",
+    "q_r": f"{Q_R} 1/m",
+    "q_1": f"{Q_1} 1/m",
+    "h_rms": "1 um",
+}
+SOLID = {
+    "material": {"E": "10 MPa", "nu": 0.5},
+    "load": {"p0": ["5 kPa", "15 kPa", "30 kPa"]},
+    "output": {"zeta_per_decade": 10},
+}
 
 
 @pytest.fixture(scope="module")
@@ -34,9 +42,14 @@ def topography_file(tmp_path_factory):
         return np.where(q <= Q_1, psd.C(np.clip(q, Q_L, Q_1)), 0.0) * (2 * np.pi) ** 2
 
     size = 2 * np.pi / Q_L
-    topo = gen.fourier_synthesis((N, N), (size, size), psd=c_jjp, unit="m",
-                                 amplitude_distribution=lambda n: np.ones(n),
-                                 rng=np.random.default_rng(7))
+    topo = gen.fourier_synthesis(
+        (N, N),
+        (size, size),
+        psd=c_jjp,
+        unit="m",
+        amplitude_distribution=lambda n: np.ones(n),
+        rng=np.random.default_rng(7),
+    )
     path = tmp_path_factory.mktemp("topo") / "map.nc"
     topo.to_netcdf(str(path))
     return path
@@ -44,8 +57,17 @@ def topography_file(tmp_path_factory):
 
 def test_synthetic_topography_area_within_2_percent_of_analytic(topography_file):
     ana = xpersson.solve({"spectrum": ANALYTIC, **SOLID})
-    meas = xpersson.solve({"spectrum": {"model": "topography", "file": str(topography_file),
-                                        "q_L": f"{Q_L} 1/m", "q_1": f"{Q_1} 1/m"}, **SOLID})
+    meas = xpersson.solve(
+        {
+            "spectrum": {
+                "model": "topography",
+                "file": str(topography_file),
+                "q_L": f"{Q_L} 1/m",
+                "q_1": f"{Q_1} 1/m",
+            },
+            **SOLID,
+        }
+    )
     a_ana = ana.area_fraction.isel(zeta=-1).values
     a_meas = meas.area_fraction.isel(zeta=-1).values
     assert 0.05 < a_ana.min() and a_ana.max() < 0.9
@@ -58,12 +80,20 @@ def test_synthetic_topography_area_within_2_percent_of_analytic(topography_file)
 
 
 def test_topography_default_range_and_bad_range(topography_file):
-    ds = xpersson.solve({"spectrum": {"model": "topography", "file": str(topography_file),
-                                      "q_1": f"{Q_1} 1/m"}, **SOLID})
+    ds = xpersson.solve(
+        {
+            "spectrum": {"model": "topography", "file": str(topography_file), "q_1": f"{Q_1} 1/m"},
+            **SOLID,
+        }
+    )
     assert ds.q_psd[0] == pytest.approx(Q_L, rel=1e-6)
     with pytest.raises(SceneError, match=r"spectrum: q_L, q_1: need"):
-        xpersson.solve({"spectrum": {"model": "topography", "file": str(topography_file),
-                                     "q_1": "1e9 1/m"}, **SOLID})
+        xpersson.solve(
+            {
+                "spectrum": {"model": "topography", "file": str(topography_file), "q_1": "1e9 1/m"},
+                **SOLID,
+            }
+        )
 
 
 def test_tabulated_archive_reproduces_after_the_csv_is_deleted(tmp_path):
@@ -72,8 +102,10 @@ def test_tabulated_archive_reproduces_after_the_csv_is_deleted(tmp_path):
     csv = tmp_path / "psd.csv"
     np.savetxt(csv, np.column_stack([q, psd.C(q)]), delimiter=",", header="q,C")
     scene = tmp_path / "tab.toml"
-    scene.write_text('[spectrum]\nmodel = "tabulated"\nfile = "psd.csv"\n'
-                     '[material]\nE = "10 MPa"\nnu = 0.5\n[load]\np0 = ["0.1 MPa", "1 MPa"]\n')
+    scene.write_text(
+        '[spectrum]\nmodel = "tabulated"\nfile = "psd.csv"\n'
+        '[material]\nE = "10 MPa"\nnu = 0.5\n[load]\np0 = ["0.1 MPa", "1 MPa"]\n'
+    )
     assert main(["run", str(scene), "-o", str(tmp_path / "a.nc")]) == 0
     csv.unlink()
     assert main(["reproduce", str(tmp_path / "a.nc"), "-o", str(tmp_path / "b.nc")]) == 0

@@ -20,8 +20,10 @@ ds = xpersson.solve(ROOT / "plugins" / "xpersson-interface" / "examples" / "rubb
 p0 = ds.p0.values / 1e6
 
 fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
-for name, style, label in (("leak_rate", "o-", "critical junction"),
-                           ("leak_rate_emt", "s--", "Bruggeman EMT")):
+for name, style, label in (
+    ("leak_rate", "o-", "critical junction"),
+    ("leak_rate_emt", "s--", "Bruggeman EMT"),
+):
     q = ds[name].values * 1e9 * 3600  # m^3/s -> mm^3/h
     ok = q > 0
     ax.loglog(p0[ok], q[ok], style, ms=3, label=label)

@@ -15,8 +15,14 @@ import xpersson
 from xpersson.testing import constant_wall_area
 
 scene = {
-    "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_r": "1e4 1/m",
-                 "q_1": "1e8 1/m", "h_rms": "1 um"},
+    "spectrum": {
+        "model": "self_affine",
+        "H": 0.8,
+        "q_L": "1e3 1/m",
+        "q_r": "1e4 1/m",
+        "q_1": "1e8 1/m",
+        "h_rms": "1 um",
+    },
     "material": {"E": "10 MPa", "nu": 0.5},
     "load": {"p0": "100 kPa"},
     "output": {"zeta_per_decade": 8},

@@ -28,8 +28,11 @@ base = tomllib.loads(SCENE.read_text(encoding="utf-8"))
 base["load"]["p0"] = {"start": "-8 kPa", "stop": "40 kPa", "num": 9, "spacing": "linear"}
 
 dmt = copy.deepcopy(base)
-dmt["boundary"] = {"model": "dmt", "law": "lj93",
-                   **{k: base["boundary"][k] for k in ("work_of_adhesion", "range")}}
+dmt["boundary"] = {
+    "model": "dmt",
+    "law": "lj93",
+    **{k: base["boundary"][k] for k in ("work_of_adhesion", "range")},
+}
 elastic = copy.deepcopy(base)
 elastic["boundary"] = {"model": "elastic"}
 elastic["load"]["p0"] = {"start": "1 kPa", "stop": "40 kPa", "num": 9, "spacing": "linear"}
@@ -40,9 +43,11 @@ for name, scene in (("jkr", base), ("dmt", dmt), ("non-adhesive", elastic)):
         warnings.simplefilter("ignore")  # the Tabor-parameter advice: jkr is the right limit here
         results[name] = xpersson.solve(scene)
 jkr = results["jkr"]
-print(f"jkr: pull-off stress {float(jkr.pull_off_stress) / 1e3:.2f} kPa, "
-      f"w_eff = {float(jkr.w_eff):.4f} J/m^2 (sticky: > 0), "
-      f"median Tabor parameter {float(jkr.tabor_parameter.median()):.0f}")
+print(
+    f"jkr: pull-off stress {float(jkr.pull_off_stress) / 1e3:.2f} kPa, "
+    f"w_eff = {float(jkr.w_eff):.4f} J/m^2 (sticky: > 0), "
+    f"median Tabor parameter {float(jkr.tabor_parameter.median()):.0f}"
+)
 
 fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
 for name, ds in results.items():

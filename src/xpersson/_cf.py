@@ -30,8 +30,11 @@ def _flag_codes(var: xr.DataArray) -> tuple[list[str], np.ndarray]:
     meanings = meanings + extra + ["not_solved"]
     index = {m: i for i, m in enumerate(meanings)}
     index[""] = len(meanings) - 1
-    codes = np.vectorize(lambda v: index[str(v)], otypes=[np.int8])(values) if values.size else (
-        np.zeros(values.shape, np.int8))
+    codes = (
+        np.vectorize(lambda v: index[str(v)], otypes=[np.int8])(values)
+        if values.size
+        else (np.zeros(values.shape, np.int8))
+    )
     return meanings, codes
 
 
@@ -45,11 +48,13 @@ def encode(ds: xr.Dataset) -> tuple[xr.Dataset, dict[str, dict[str, Any]]]:
             n_declared = len(str(var.attrs["flag_meanings"]).split())
             meanings, codes = _flag_codes(var)
             attrs = dict(var.attrs)
-            attrs.update({
-                "flag_values": np.arange(len(meanings), dtype=np.int8),
-                "flag_meanings": " ".join(meanings),
-                _ENCODED: f"flags_from_strings:{n_declared}",
-            })
+            attrs.update(
+                {
+                    "flag_values": np.arange(len(meanings), dtype=np.int8),
+                    "flag_meanings": " ".join(meanings),
+                    _ENCODED: f"flags_from_strings:{n_declared}",
+                }
+            )
             out[name] = xr.DataArray(codes, dims=var.dims, attrs=attrs)
         elif "flag_values" in var.attrs:
             kind = np.int8 if var.dtype.kind == "b" else var.dtype

@@ -69,8 +69,9 @@ def _failure_class(cause: type | None) -> type:
         return PluginFailure
     if cause not in _FAILURES:
         try:
-            _FAILURES[cause] = type(f"PluginFailure_{cause.__name__}", (PluginFailure, cause),
-                                    {"__module__": __name__})
+            _FAILURES[cause] = type(
+                f"PluginFailure_{cause.__name__}", (PluginFailure, cause), {"__module__": __name__}
+            )
         except TypeError:  # incompatible layout
             _FAILURES[cause] = PluginFailure
     return _FAILURES[cause]
@@ -225,29 +226,37 @@ def check_array(
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise PluginFailure(f"{who}: {what} returned a non-numeric value ({exc})",
-                            plugin=who, variable=what) from None
+        raise PluginFailure(
+            f"{who}: {what} returned a non-numeric value ({exc})", plugin=who, variable=what
+        ) from None
     if arr.shape != shape:
-        if arr.size == math.prod(shape) and arr.ndim <= len(shape) and arr.ndim >= 1 and (
-            arr.shape == shape[len(shape) - arr.ndim:]
+        if (
+            arr.size == math.prod(shape)
+            and arr.ndim <= len(shape)
+            and arr.ndim >= 1
+            and (arr.shape == shape[len(shape) - arr.ndim :])
         ):
             arr = arr.reshape(shape)
         else:
             raise PluginFailure(
                 f"{who}: {what} returned shape {arr.shape}, expected {shape}",
-                plugin=who, variable=what,
+                plugin=who,
+                variable=what,
             )
     u = f" {unit}" if unit else ""
     bad = ~np.isfinite(arr)
     if bad.any():
         raise PluginFailure(
-            f"{who}: {what} returned {int(bad.sum())} non-finite value(s): "
-            f"{_quote(arr, bad, u)}", plugin=who, variable=what,
+            f"{who}: {what} returned {int(bad.sum())} non-finite value(s): {_quote(arr, bad, u)}",
+            plugin=who,
+            variable=what,
         )
     if nonnegative and np.any(arr < 0):
         raise PluginFailure(
             f"{who}: {what} returned {int((arr < 0).sum())} negative value(s) (must be >= 0): "
-            f"{_quote(arr, arr < 0, u)}", plugin=who, variable=what,
+            f"{_quote(arr, arr < 0, u)}",
+            plugin=who,
+            variable=what,
         )
     if nondecreasing_axis is not None and arr.shape[nondecreasing_axis] > 1:
         d = np.diff(arr, axis=nondecreasing_axis)
@@ -256,7 +265,9 @@ def check_array(
         if down.any():
             raise PluginFailure(
                 f"{who}: {what} decreases (must be non-decreasing in zeta) at "
-                f"{int(down.sum())} step(s)", plugin=who, variable=what,
+                f"{int(down.sum())} step(s)",
+                plugin=who,
+                variable=what,
             )
     return arr
 
@@ -321,19 +332,24 @@ def _check_spectrum(psd: Any, who: object) -> None:
     if not (math.isfinite(q_L) and math.isfinite(q_1) and 0 < q_L < q_1):
         raise PluginFailure(
             f"{who}: the spectrum's cut-offs must satisfy 0 < q_L < q_1 (finite, 1/m); got "
-            f"q_L={q_L!r} 1/m, q_1={q_1!r} 1/m", plugin=who, variable="q_L, q_1",
+            f"q_L={q_L!r} 1/m, q_1={q_1!r} 1/m",
+            plugin=who,
+            variable="q_L, q_1",
         )
     with calling(who, "nodes()"):
         nodes = np.asarray(psd.nodes(), dtype=float)
     if nodes.ndim != 1 or nodes.size < 2:
-        raise PluginFailure(f"{who}: nodes() returned shape {nodes.shape}; expected 1-D with >= "
-                            f"2 wavevectors", plugin=who, variable="nodes")
-    check_array(nodes, who, "nodes()", nodes.shape, nonnegative=True, nondecreasing_axis=0,
-                unit="1/m")
+        raise PluginFailure(
+            f"{who}: nodes() returned shape {nodes.shape}; expected 1-D with >= 2 wavevectors",
+            plugin=who,
+            variable="nodes",
+        )
+    check_array(
+        nodes, who, "nodes()", nodes.shape, nonnegative=True, nondecreasing_axis=0, unit="1/m"
+    )
     with calling(who, "C(q)"):
         c = psd.C(nodes)
-    check_array(c, who, "C(q) at the spectrum's nodes", nodes.shape, nonnegative=True,
-                unit="m4")
+    check_array(c, who, "C(q) at the spectrum's nodes", nodes.shape, nonnegative=True, unit="m4")
     for what, unit in (("h_rms", "m"), ("rms_slope", "1")):
         with calling(who, f"{what}()"):
             value = getattr(psd, what)()
@@ -353,13 +369,19 @@ def check_walls(walls: Any, p0: float, who: object) -> tuple[Any, Any]:
     from .engine import Wall
 
     if not isinstance(walls, tuple | list) or len(walls) != 2:
-        raise PluginFailure(f"{who}: walls() must return (lower Wall, upper Wall or None); got "
-                            f"{type(walls).__name__}", plugin=who, variable="walls")
+        raise PluginFailure(
+            f"{who}: walls() must return (lower Wall, upper Wall or None); got "
+            f"{type(walls).__name__}",
+            plugin=who,
+            variable="walls",
+        )
     lower, upper = walls
     if not isinstance(lower, Wall) or not (upper is None or isinstance(upper, Wall)):
         raise PluginFailure(
             f"{who}: walls() must return (Wall, Wall or None); got ({type(lower).__name__}, "
-            f"{type(upper).__name__})", plugin=who, variable="walls",
+            f"{type(upper).__name__})",
+            plugin=who,
+            variable="walls",
         )
     for side, wall in (("lower", lower), ("upper", upper)):
         if wall is None:
@@ -367,20 +389,26 @@ def check_walls(walls: Any, p0: float, who: object) -> tuple[Any, Any]:
         with calling(who, f"the {side} wall's position at tau = 0"):
             pos = float(np.asarray(wall.at(np.zeros(1)), float)[0])
         if not math.isfinite(pos):
-            raise PluginFailure(f"{who}: the {side} wall is at {pos!r} Pa at tau = 0 (must be "
-                                f"finite)", plugin=who, variable=f"walls.{side}")
+            raise PluginFailure(
+                f"{who}: the {side} wall is at {pos!r} Pa at tau = 0 (must be finite)",
+                plugin=who,
+                variable=f"walls.{side}",
+            )
         if (side == "lower" and not pos < p0) or (side == "upper" and not pos > p0):
             rel = "below" if side == "lower" else "above"
             raise PluginFailure(
                 f"{who}: the {side} wall starts at {pos:g} Pa, not strictly {rel} the load "
-                f"p0 = {p0:g} Pa", plugin=who, variable=f"walls.{side}",
+                f"p0 = {p0:g} Pa",
+                plugin=who,
+                variable=f"walls.{side}",
             )
     return lower, upper
 
 
 # -- Dataset contributions -----------------------------------------------------------------------
-def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object,
-                     sizes: Mapping[str, int] | None = None) -> Any:
+def checked_variable(
+    ds: Any, name: str, value: Any, spec: Any, who: object, sizes: Mapping[str, int] | None = None
+) -> Any:
     """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray
     (a pair becomes a coordinate-free :class:`xarray.Variable`).
 
@@ -410,10 +438,14 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object,
                 dims = (dims,)
             dims = tuple(dims)
             arr = np.asarray(arr)
-            if (arr.dtype.kind == "f" and dims == tuple(spec.dims) and len(dims) == arr.ndim
-                    and all(type(d) is str for d in dims)
-                    and arr.shape == tuple((sizes if sizes is not None else dict(ds.sizes))
-                                           .get(d, -1) for d in dims)):
+            if (
+                arr.dtype.kind == "f"
+                and dims == tuple(spec.dims)
+                and len(dims) == arr.ndim
+                and all(type(d) is str for d in dims)
+                and arr.shape
+                == tuple((sizes if sizes is not None else dict(ds.sizes)).get(d, -1) for d in dims)
+            ):
                 # the common case: exactly the declared dims, the Dataset's sizes, floats;
                 # the remaining rule is the values' (finite, valid_min / valid_max)
                 da = xr.Variable(dims, arr, fastpath=True)
@@ -426,7 +458,8 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object,
     except Exception as exc:
         raise PluginFailure(
             f"{var}: expected a DataArray or a (dims, data) pair with matching dims ({exc})",
-            plugin=who, variable=name,
+            plugin=who,
+            variable=name,
         ) from None
     declared = tuple(spec.dims)
     have = tuple(str(d) for d in da.dims)
@@ -439,7 +472,8 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object,
             f"{var} has dims {have}; declared {declared}"
             + (f" (missing {missing})" if missing else "")
             + (f" (undeclared {extra})" if extra else ""),
-            plugin=who, variable=name,
+            plugin=who,
+            variable=name,
         )
     sizes = dict(zip(have, da.shape, strict=True))
     wrong = [(d, sizes[d], ds_sizes[d]) for d in have if d in ds_sizes and sizes[d] != ds_sizes[d]]
@@ -447,7 +481,9 @@ def checked_variable(ds: Any, name: str, value: Any, spec: Any, who: object,
         d, got, want = wrong[0]
         raise PluginFailure(
             f"{var} has {got} entries along {d!r}; the Dataset has {want} (shape {da.shape} for "
-            f"dims {have})", plugin=who, variable=name,
+            f"dims {have})",
+            plugin=who,
+            variable=name,
         )
     order = [d for d in have if d not in declared] + [d for d in declared if d in have]
     if tuple(order) != have:
@@ -478,24 +514,33 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: Any, who: object)
         return
     if kind in "OUS":
         if spec.valid_min is not None or spec.valid_max is not None or spec.units != "1":
-            raise PluginFailure(f"{var} has non-numeric dtype {arr.dtype}; expected numbers in "
-                                f"{spec.units}", plugin=who, variable=name)
+            raise PluginFailure(
+                f"{var} has non-numeric dtype {arr.dtype}; expected numbers in {spec.units}",
+                plugin=who,
+                variable=name,
+            )
         return
     if kind not in "iufc":
         raise PluginFailure(f"{var} has unsupported dtype {arr.dtype}", plugin=who, variable=name)
     if kind in "iuf" and (kind != "f" or spec.nan_meaning is None) and arr.size:
         # fast path, the same rule in two reductions: min and max propagate NaN and show +-inf
         lo_v, hi_v = float(arr.min()), float(arr.max())
-        if (math.isfinite(lo_v) and math.isfinite(hi_v)
-                and (spec.valid_min is None or lo_v >= spec.valid_min)
-                and (spec.valid_max is None or hi_v <= spec.valid_max)):
+        if (
+            math.isfinite(lo_v)
+            and math.isfinite(hi_v)
+            and (spec.valid_min is None or lo_v >= spec.valid_min)
+            and (spec.valid_max is None or hi_v <= spec.valid_max)
+        ):
             return
         # else: the detailed checks below find and quote the offending values
 
     def coords() -> dict[str, Any]:  # for the error message only (built when raising)
-        return {"dims": tuple(da.dims), "values": {
-            d: np.asarray(ds[d].values) for d in da.dims if d in ds.coords and ds[d].ndim == 1
-        }}
+        return {
+            "dims": tuple(da.dims),
+            "values": {
+                d: np.asarray(ds[d].values) for d in da.dims if d in ds.coords and ds[d].ndim == 1
+            },
+        }
 
     unit = "" if spec.units in ("1", "") else f" {spec.units}"
     if kind == "c":
@@ -508,18 +553,24 @@ def _check_values(da: Any, ds: Any, name: str, spec: Any, var: Any, who: object)
             why = "" if spec.nan_meaning is None else " (NaN is allowed, inf is not)"
             raise PluginFailure(
                 f"{var} has {int(bad.sum())} non-finite value(s){why}: "
-                f"{_quote(arr, bad, unit, coords())}", plugin=who, variable=name,
+                f"{_quote(arr, bad, unit, coords())}",
+                plugin=who,
+                variable=name,
             )
     finite = np.isfinite(arr) if kind == "f" else np.ones(arr.shape, bool)
-    for bound, op, word in ((spec.valid_min, np.less, "below valid_min"),
-                            (spec.valid_max, np.greater, "above valid_max")):
+    for bound, op, word in (
+        (spec.valid_min, np.less, "below valid_min"),
+        (spec.valid_max, np.greater, "above valid_max"),
+    ):
         if bound is None:
             continue
         out = finite & op(arr, bound)
         if out.any():
             raise PluginFailure(
                 f"{var} has {int(out.sum())} value(s) {word} = {bound:g}{unit}: "
-                f"{_quote(arr, out, unit, coords())}", plugin=who, variable=name,
+                f"{_quote(arr, out, unit, coords())}",
+                plugin=who,
+                variable=name,
             )
 
 
@@ -549,18 +600,27 @@ def guard_dataset(ds: Any, who: object) -> Iterator[Any]:
         if added:
             raise PluginFailure(
                 f"{who} added {added} to the Dataset it was handed; analyses must return new "
-                f"variables (declared in their outputs), never modify the Dataset", plugin=who,
+                f"variables (declared in their outputs), never modify the Dataset",
+                plugin=who,
                 variable=str(added[0]),
             )
         touched = [n for n, v in before.items() if after.get(n) is not v]
         if touched:  # name the variables whose values changed (xarray may rebuild others)
-            changed = [n for n in touched if n not in after or not (
-                after[n].equals(before[n]) if n in index_names
-                else after[n].data is before[n].data)]
+            changed = [
+                n
+                for n in touched
+                if n not in after
+                or not (
+                    after[n].equals(before[n])
+                    if n in index_names
+                    else after[n].data is before[n].data
+                )
+            ]
             vname = (changed or touched)[0]
             raise PluginFailure(
                 f"{who} replaced or removed the Dataset variable {vname!r}; analyses must "
-                f"return new variables, never modify existing ones", plugin=who,
+                f"return new variables, never modify existing ones",
+                plugin=who,
                 variable=vname,
             )
     finally:
@@ -573,18 +633,28 @@ def check_contributions(
 ) -> dict[str, Any]:
     """Check a plugin's returned mapping ``{name: value}``; return ``{name: DataArray}``."""
     if not isinstance(values, Mapping):
-        raise PluginFailure(f"{who} returned {type(values).__name__}; expected a mapping "
-                            f"name -> DataArray or (dims, data)", plugin=who)
+        raise PluginFailure(
+            f"{who} returned {type(values).__name__}; expected a mapping "
+            f"name -> DataArray or (dims, data)",
+            plugin=who,
+        )
     out = {}
     sizes = dict(ds.sizes)
     for name, value in values.items():
         if name not in specs:
-            raise PluginFailure(f"{who} returned {name!r} without declaring it in its outputs "
-                                f"(declared: {sorted(specs)})", plugin=who, variable=str(name))
+            raise PluginFailure(
+                f"{who} returned {name!r} without declaring it in its outputs "
+                f"(declared: {sorted(specs)})",
+                plugin=who,
+                variable=str(name),
+            )
         if name in ds.variables:
-            raise PluginFailure(f"{who} returned {name!r}, which the Dataset already has (a "
-                                f"core or another plugin's variable); choose another name",
-                                plugin=who, variable=name)
+            raise PluginFailure(
+                f"{who} returned {name!r}, which the Dataset already has (a "
+                f"core or another plugin's variable); choose another name",
+                plugin=who,
+                variable=name,
+            )
         out[name] = checked_variable(ds, name, value, specs[name], who, sizes)
     return out
 
@@ -621,8 +691,12 @@ def check_core(ds: Any, who: object = "engine") -> dict[int, str]:
         if arr.size == 0:
             return True
         a_min, a_max = float(arr.min()), float(arr.max())
-        return bool(math.isfinite(a_min) and math.isfinite(a_max)
-                    and (lo is None or a_min >= lo) and (hi is None or a_max <= hi))
+        return bool(
+            math.isfinite(a_min)
+            and math.isfinite(a_max)
+            and (lo is None or a_min >= lo)
+            and (hi is None or a_max <= hi)
+        )
 
     names = [n for n in CORE_RANGES if n in ds.variables]
     if all(clean(n, *CORE_RANGES[n]) for n in names):  # one pass over the arrays: the rule

@@ -74,8 +74,15 @@ def markov_cross_check(
     with registry_with(boundaries={_CHECK_NAME: cls}) as reg:
         rs = Scene(sc).resolve(reg)
     ctx = SceneContext(
-        psd=rs.psd, E=rs.E, nu=rs.nu, E_star=rs.E_star, p0=rs.p0, zeta=rs.zeta,
-        rtol=rs.rtol, atol=rs.atol, method=rs.method,
+        psd=rs.psd,
+        E=rs.E,
+        nu=rs.nu,
+        E_star=rs.E_star,
+        p0=rs.p0,
+        zeta=rs.zeta,
+        rtol=rs.rtol,
+        atol=rs.atol,
+        method=rs.method,
     )
     boundary, coef = rs.boundary, rs.coefficient
     try:
@@ -87,12 +94,20 @@ def markov_cross_check(
     worst, where = 0.0, ""
     for i, p0 in enumerate(rs.p0):
         lower, upper = boundary.walls(ctx, float(p0), clock)
-        ref = engine.solve(tau[i], float(p0), lower, upper, rtol=rs.rtol, atol=rs.atol,
-                           method=rs.method)
+        ref = engine.solve(
+            tau[i], float(p0), lower, upper, rtol=rs.rtol, atol=rs.atol, method=rs.method
+        )
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            mc = engine.solve(tau[i], float(p0), lower, upper, rtol=0.09, method="markov",
-                              options={"walkers": int(walkers), "seed": int(seed)})
+            mc = engine.solve(
+                tau[i],
+                float(p0),
+                lower,
+                upper,
+                rtol=0.09,
+                method="markov",
+                options={"walkers": int(walkers), "seed": int(seed)},
+            )
         for name in _QUANTITIES:
             a = np.asarray(getattr(ref, name), dtype=float)
             b = np.asarray(getattr(mc, name), dtype=float)
@@ -101,8 +116,10 @@ def markov_cross_check(
             j = int(np.argmax(z))
             if z[j] > worst:
                 worst = float(z[j])
-                where = (f"{name} at p0 = {p0:g} Pa, zeta = {rs.zeta[j]:.4g}: engine "
-                         f"({ref.method}) {a[j]:.6g}, markov {b[j]:.6g} +- {se[j]:.2g}")
+                where = (
+                    f"{name} at p0 = {p0:g} Pa, zeta = {rs.zeta[j]:.4g}: engine "
+                    f"({ref.method}) {a[j]:.6g}, markov {b[j]:.6g} +- {se[j]:.2g}"
+                )
     if not math.isfinite(worst) or worst > n_se:
         raise AssertionError(
             f"{who}: the engine's solution of the plugin's walls differs from the Markov process "

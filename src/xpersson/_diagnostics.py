@@ -25,14 +25,19 @@ SLOPE_LIMIT = 3.0
 
 DIAGNOSTICS: dict[str, VarSpec] = {
     "P_integral": VarSpec(
-        ("p0", "zeta"), "1", "integral of P over the stored pressure grid",
+        ("p0", "zeta"),
+        "1",
+        "integral of P over the stored pressure grid",
         description="trapezoidal int P dp; equals area_fraction where P_resolved is 1",
     ),
     "P_resolved": VarSpec(
-        ("p0", "zeta"), "1", "whether the stored P resolves the distribution",
+        ("p0", "zeta"),
+        "1",
+        "whether the stored P resolves the distribution",
         description=f"1 where |int P dp - A/A0| <= {P_RTOL:g} A/A0 on the stored grid",
         extra={"flag_meanings": "unresolved resolved"},
-        valid_min=0, valid_max=1,
+        valid_min=0,
+        valid_max=1,
     ),
 }
 

@@ -95,8 +95,15 @@ def solve(
     if plan is not None:
         from ._sweeprun import solve_sweep
 
-        return solve_sweep(plan, reg, scheduler=scheduler, progress=progress, output=output,
-                           chunk=chunk, workers=workers)
+        return solve_sweep(
+            plan,
+            reg,
+            scheduler=scheduler,
+            progress=progress,
+            output=output,
+            chunk=chunk,
+            workers=workers,
+        )
     rs = sc.resolve(reg)
     if progress is False or (progress is None and not sys.stderr.isatty()):
         return run(rs, reg)
@@ -136,8 +143,16 @@ def run(rs: ResolvedScene, reg: Registry, *, squeeze: bool = True) -> xr.Dataset
     from . import engine
 
     ctx = SceneContext(
-        psd=rs.psd, E=rs.E, nu=rs.nu, E_star=rs.E_star, p0=rs.p0, zeta=rs.zeta,
-        p=None, rtol=rs.rtol, atol=rs.atol, method=rs.method,
+        psd=rs.psd,
+        E=rs.E,
+        nu=rs.nu,
+        E_star=rs.E_star,
+        p0=rs.p0,
+        zeta=rs.zeta,
+        p=None,
+        rtol=rs.rtol,
+        atol=rs.atol,
+        method=rs.method,
     )
     who = _labels(rs, reg)
     try:
@@ -156,8 +171,12 @@ def run(rs: ResolvedScene, reg: Registry, *, squeeze: bool = True) -> xr.Dataset
             raise SceneError(f"analyses.{name}: {exc} [{label}]") from None
     coef = rs.coefficient
     tau_c, f_z, tau_eff, tau_shared = _coefficient_arrays(coef, ctx, who["coefficient"])
-    clock = DiffusionClock(lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max,
-                           kinks=_spectrum_kinks(rs.psd))
+    clock = DiffusionClock(
+        lambda z: coef.tau(ctx, z),
+        lambda z: coef.f(ctx, z),
+        ctx.zeta_max,
+        kinks=_spectrum_kinks(rs.psd),
+    )
     if getattr(type(rs.boundary), "walls_per_load", True):
         walls = []
         for p0 in rs.p0:
@@ -175,10 +194,16 @@ def run(rs: ResolvedScene, reg: Registry, *, squeeze: bool = True) -> xr.Dataset
     first = walls[0]
     shared = walls.count(first) == len(walls)  # identity first: cheap for shared walls
     # loads sharing tau(zeta) hand the engine one row (validated once, broadcast without copy)
-    results = engine.solve_batch(tau_c if tau_shared else tau_eff, rs.p0,
-                                 first if shared else walls, rtol=rs.rtol, atol=rs.atol,
-                                 method=rs.method, p_out=p_grid,
-                                 options=rs.solver_options or None)
+    results = engine.solve_batch(
+        tau_c if tau_shared else tau_eff,
+        rs.p0,
+        first if shared else walls,
+        rtol=rs.rtol,
+        atol=rs.atol,
+        method=rs.method,
+        p_out=p_grid,
+        options=rs.solver_options or None,
+    )
     ds = _assemble(rs, ctx, results, tau_c, f_z, None if tau_shared else tau_eff, p_grid)
     core = _checks.check_core(ds)  # the engine's outputs, like every plugin's (load -> message)
     with _checks.calling(who["coefficient"], "interpret()"):
@@ -252,10 +277,9 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
         for name, var in ds.variables.items():
             if "p0" in var.dims:
                 axis = var.dims.index("p0")
-                dims = var.dims[:axis] + var.dims[axis + 1:]
+                dims = var.dims[:axis] + var.dims[axis + 1 :]
                 data = np.take(var.values, 0, axis=axis)
-                variables[name] = xr.Variable(dims, data, var.attrs, var.encoding,
-                                              fastpath=True)
+                variables[name] = xr.Variable(dims, data, var.attrs, var.encoding, fastpath=True)
             else:
                 variables[name] = var
         indexes = {k: v for k, v in ds.xindexes.items() if k != "p0"}
@@ -283,8 +307,9 @@ def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
         c = dataclasses.replace(ctx, zeta=z, p=None, p0=rs.p0[idx])
         tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(idx.size, -1)
         res = [
-            engine.solve(tau_eff[k], float(rs.p0[i]), *walls[i], rtol=rs.rtol, atol=rs.atol,
-                         method=rs.method)
+            engine.solve(
+                tau_eff[k], float(rs.p0[i]), *walls[i], rtol=rs.rtol, atol=rs.atol, method=rs.method
+            )
             for k, i in enumerate(idx)
         ]
         out = {
@@ -305,8 +330,9 @@ def _solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
 def _labels(rs: ResolvedScene, reg: Registry) -> dict[str, Any]:
     """Plugin labels (name + distribution) used in error messages."""
     return {
-        section: _checks.plugin_label(section, getattr(rs, section), reg,
-                                      rs.plugin_names.get(section))
+        section: _checks.plugin_label(
+            section, getattr(rs, section), reg, rs.plugin_names.get(section)
+        )
         for section in ("spectrum", "coefficient", "boundary")
     }
 
@@ -319,8 +345,9 @@ def _coefficient_arrays(
     nz, nl = ctx.zeta.size, ctx.p0.size
     with _checks.calling(who, "tau(zeta)"):
         tau_c = coef.tau(ctx, ctx.zeta)
-    tau_c = _checks.check_array(tau_c, who, "tau(zeta)", (nz,), nonnegative=True,
-                                nondecreasing_axis=0, unit="Pa2")
+    tau_c = _checks.check_array(
+        tau_c, who, "tau(zeta)", (nz,), nonnegative=True, nondecreasing_axis=0, unit="Pa2"
+    )
     with _checks.calling(who, "f(zeta)"):
         f_z = coef.f(ctx, ctx.zeta)
     f_z = _checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
@@ -332,8 +359,15 @@ def _coefficient_arrays(
     if shared:  # every row is the checked tau(zeta): the same checks hold, nothing to repeat
         tau_eff = np.broadcast_to(tau_c, (nl, nz))
     else:
-        tau_eff = _checks.check_array(tau_eff, who, "effective_tau(zeta)", (nl, nz),
-                                      nonnegative=True, nondecreasing_axis=1, unit="Pa2")
+        tau_eff = _checks.check_array(
+            tau_eff,
+            who,
+            "effective_tau(zeta)",
+            (nl, nz),
+            nonnegative=True,
+            nondecreasing_axis=1,
+            unit="Pa2",
+        )
     return tau_c, f_z, tau_eff, shared
 
 
@@ -444,9 +478,11 @@ def _balance_notes(results: Any) -> dict[str, str]:
     if not exact.any():
         return {}
     # one text for any mix of loads (and of the points of a sweep): true wherever it is copied
-    text = ("exactly 0, not evaluated, for the loads solved by the one-wall closed form (an "
-            "identity there: non_contact_fraction = erfc = 1 - erf and load = p0 - wall * "
-            "non_contact_fraction); evaluated for every other solve")
+    text = (
+        "exactly 0, not evaluated, for the loads solved by the one-wall closed form (an "
+        "identity there: non_contact_fraction = erfc = 1 - erf and load = p0 - wall * "
+        "non_contact_fraction); evaluated for every other solve"
+    )
     return {name: text for name in ("load_balance", "probability_balance")}
 
 
@@ -467,6 +503,7 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
     Equivalent to ``xr.Dataset(data, coords=coords)`` followed by :func:`stamp`; the direct
     constructor skips xarray's merge/alignment (nothing to align: one set of coordinates).
     """
+
     def var(name: str, dims: Any, val: Any) -> xr.Variable:
         arr = np.asarray(val)
         if arr.dtype.kind in "fiub" or (arr.dtype == object and arr.ndim == 1):
@@ -549,8 +586,9 @@ def _add(
         try:
             ds[name] = da
         except ValueError as exc:
-            raise _checks.PluginFailure(f"{who}: variable {name!r}: {exc}", plugin=who,
-                                        variable=name) from None
+            raise _checks.PluginFailure(
+                f"{who}: variable {name!r}: {exc}", plugin=who, variable=name
+            ) from None
 
 
 def _insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
@@ -601,18 +639,29 @@ def _diagnostics_notes(ds: xr.Dataset) -> list[str]:
 
 
 def _attributes(
-    ds: xr.Dataset, rs: ResolvedScene, reg: Registry, results: Any, notes: list[str],
+    ds: xr.Dataset,
+    rs: ResolvedScene,
+    reg: Registry,
+    results: Any,
+    notes: list[str],
     core: Mapping[int, str] | None = None,
 ) -> None:
     core = core or {}
     status_of = ds["solver_status"].values  # the engine's, or the core output check's verdict
     success = np.asarray(results.success, dtype=bool) & (status_of == "success")
-    bad = [(float(rs.p0[i]), str(status_of[i]), results[int(i)].message
-            if not results[int(i)].success else core.get(int(i), ""))
-           for i in np.flatnonzero(~success)[:5]]
+    bad = [
+        (
+            float(rs.p0[i]),
+            str(status_of[i]),
+            results[int(i)].message if not results[int(i)].success else core.get(int(i), ""),
+        )
+        for i in np.flatnonzero(~success)[:5]
+    ]
     status = "success" if not bad else bad[0][1]
-    message = "all loads met the requested tolerance" if not bad else "; ".join(
-        f"p0 = {p:g} Pa: {s}: {m}" for p, s, m in bad
+    message = (
+        "all loads met the requested tolerance"
+        if not bad
+        else "; ".join(f"p0 = {p:g} Pa: {s}: {m}" for p, s, m in bad)
     )
     if notes:
         message = "; ".join([message, *notes])
@@ -639,8 +688,16 @@ def _attributes(
 def default_pressure_grid(rs: ResolvedScene) -> np.ndarray:
     """The pressure grid [Pa] :func:`run` uses for ``rs`` when the scene gives none."""
     ctx = SceneContext(
-        psd=rs.psd, E=rs.E, nu=rs.nu, E_star=rs.E_star, p0=rs.p0, zeta=rs.zeta,
-        p=None, rtol=rs.rtol, atol=rs.atol, method=rs.method,
+        psd=rs.psd,
+        E=rs.E,
+        nu=rs.nu,
+        E_star=rs.E_star,
+        p0=rs.p0,
+        zeta=rs.zeta,
+        p=None,
+        rtol=rs.rtol,
+        atol=rs.atol,
+        method=rs.method,
     )
     coef = rs.coefficient
     tau_eff = np.asarray(coef.effective_tau(ctx, rs.zeta), float).reshape(rs.p0.size, -1)

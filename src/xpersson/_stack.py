@@ -122,8 +122,9 @@ def run_block(
     ds = stack(results, block, status.reshape(block.shape))
     if points[0].p0_scalar:  # single-load points: p0 a scalar coordinate, squeezed once here
         ds = _pipeline.squeeze_p0(ds)
-    out = BlockResult(block, ds, None, status.reshape(block.shape), messages,
-                      _digests(results, ds, block), solver)
+    out = BlockResult(
+        block, ds, None, status.reshape(block.shape), messages, _digests(results, ds, block), solver
+    )
     if part is not None:
         from .io import to_netcdf
 
@@ -140,8 +141,12 @@ def _own_names(template: xr.Dataset, block: Block) -> list[str]:
     return names
 
 
-def stack(results: list[xr.Dataset | None], block: Block, status: np.ndarray,
-          template: xr.Dataset | None = None) -> xr.Dataset:
+def stack(
+    results: list[xr.Dataset | None],
+    block: Block,
+    status: np.ndarray,
+    template: xr.Dataset | None = None,
+) -> xr.Dataset:
     """Stack point Datasets (``None`` for a failed point) into the block's Dataset.
 
     ``template`` (used when every point of the block failed) may be a point Dataset or another
@@ -173,8 +178,10 @@ def stack(results: list[xr.Dataset | None], block: Block, status: np.ndarray,
         var = template[name]
         fill = _fill(var)
         arrs = [
-            fill if ds is None or name not in ds.variables
-            else np.asarray(ds.variables[name].values) for ds in results
+            fill
+            if ds is None or name not in ds.variables
+            else np.asarray(ds.variables[name].values)
+            for ds in results
         ]
         arr = np.stack(arrs).reshape(shape + var.shape)
         entry = (dims + var.dims, arr, dict(var.attrs))
@@ -190,13 +197,17 @@ def stack(results: list[xr.Dataset | None], block: Block, status: np.ndarray,
             coords[name] = ((), c.values, dict(c.attrs))
     for name, (dim, values, attrs) in block.coords.items():
         coords[name] = ((dim,), values, dict(attrs))
-    data_vars["point_status"] = (dims, status.astype(np.int8), {
-        "units": "1",
-        "long_name": "status of the sweep point",
-        "flag_values": np.array(list(POINT_STATUS.values()), dtype=np.int8),
-        "flag_meanings": " ".join(POINT_STATUS),
-        "coverage_content_type": "qualityInformation",
-    })
+    data_vars["point_status"] = (
+        dims,
+        status.astype(np.int8),
+        {
+            "units": "1",
+            "long_name": "status of the sweep point",
+            "flag_values": np.array(list(POINT_STATUS.values()), dtype=np.int8),
+            "flag_meanings": " ".join(POINT_STATUS),
+            "coverage_content_type": "qualityInformation",
+        },
+    )
     ds = xr.Dataset(data_vars, coords=coords, attrs=dict(template.attrs))
     order = [n for n in template.data_vars if n in ds.data_vars] + ["point_status"]
     return ds[order]
@@ -225,8 +236,9 @@ def _fill(var: xr.DataArray) -> np.ndarray:
     return np.full(var.shape, fill, dtype=var.dtype)
 
 
-def _digests(results: list[xr.Dataset | None], ds: xr.Dataset, block: Block
-             ) -> dict[str, list[str | None]]:
+def _digests(
+    results: list[xr.Dataset | None], ds: xr.Dataset, block: Block
+) -> dict[str, list[str | None]]:
     """Per point fingerprints of every stacked variable (``None`` for a failed point).
 
     Taken from the stacked block (the block's sweep dimensions lead every stacked variable),
@@ -237,12 +249,15 @@ def _digests(results: list[xr.Dataset | None], ds: xr.Dataset, block: Block
     for name, var in ds.variables.items():
         if name in block.coords or name == "point_status" or name in ds.indexes:
             continue
-        if tuple(var.dims[:len(block.dims)]) != tuple(block.dims):
+        if tuple(var.dims[: len(block.dims)]) != tuple(block.dims):
             continue
         arr = np.asarray(var.values)
-        rows = arr.reshape((n,) + arr.shape[len(block.dims):])
+        rows = arr.reshape((n,) + arr.shape[len(block.dims) :])
         out[name] = [
-            None if r is None else _digest(np.asarray(rows[k])) if name in r.variables
+            None
+            if r is None
+            else _digest(np.asarray(rows[k]))
+            if name in r.variables
             else "missing"
             for k, r in enumerate(results)
         ]

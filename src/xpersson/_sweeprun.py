@@ -63,7 +63,7 @@ def blocks_of(plan: SweepPlan, points_per_block: int, multiple: int = 1) -> list
         bc = {}
         for name, (dim, values, attrs) in coords.items():
             d = plan.dims.index(dim)
-            bc[name] = (dim, values[start[d]:stop[d]], attrs)
+            bc[name] = (dim, values[start[d] : stop[d]], attrs)
         out.append(Block(number, tuple(int(g) for g in gi), start, stop, plan.dims, bc))
     return out
 
@@ -160,18 +160,24 @@ def _resolve_on_workers(
     # locality), so this placement is what balances the solving
     addresses = sorted(client.scheduler_info().get("workers", {})) or [None]
     owner = _assign(blocks, len(addresses))
-    resolved = [client.submit(_resolve_block, plan, b, registry, pure=False,
-                              key=f"xpersson-resolve-{b.number}-{tag}",
-                              workers=None if addresses[0] is None else [addresses[owner[i]]],
-                              allow_other_workers=True)
-                for i, b in enumerate(blocks)]
+    resolved = [
+        client.submit(
+            _resolve_block,
+            plan,
+            b,
+            registry,
+            pure=False,
+            key=f"xpersson-resolve-{b.number}-{tag}",
+            workers=None if addresses[0] is None else [addresses[owner[i]]],
+            allow_other_workers=True,
+        )
+        for i, b in enumerate(blocks)
+    ]
     # one round trip: every block's summary and the first point
     summaries = [client.submit(_summary, f, pure=False) for f in resolved]
-    *summaries, first = client.gather([*summaries, client.submit(_first, resolved[0],
-                                                                 pure=False)])
+    *summaries, first = client.gather([*summaries, client.submit(_first, resolved[0], pure=False)])
     zeta = summaries[0][0]
-    if any(z is None or z.shape != zeta.shape or not np.array_equal(z, zeta)
-           for z, _ in summaries):
+    if any(z is None or z.shape != zeta.shape or not np.array_equal(z, zeta) for z, _ in summaries):
         raise SceneError(_GRID_CHANGES)
     if summaries[0][1] is not None:
         lo = min(b[0] for _, b in summaries)
@@ -190,9 +196,7 @@ def _points_per_block(plan: SweepPlan, workers: int, requested: int | None) -> i
     return max(1, math.ceil(plan.size / (4 * max(1, workers))))
 
 
-def _progress_bar(
-    total: int | None, progress: bool | None, desc: str, unit: str = "point"
-) -> Any:
+def _progress_bar(total: int | None, progress: bool | None, desc: str, unit: str = "point") -> Any:
     show = sys.stderr.isatty() if progress is None else bool(progress)
     if not show:
         return None
@@ -201,8 +205,14 @@ def _progress_bar(
     except ImportError:  # pragma: no cover - optional extra
         warnings.warn("progress needs tqdm: pip install 'xpersson[progress]'", stacklevel=3)
         return None
-    return tqdm(total=total, desc=desc, unit=unit, unit_scale=unit != "point", file=sys.stderr,
-                dynamic_ncols=True)
+    return tqdm(
+        total=total,
+        desc=desc,
+        unit=unit,
+        unit_scale=unit != "point",
+        file=sys.stderr,
+        dynamic_ncols=True,
+    )
 
 
 def solve_sweep(
@@ -221,8 +231,11 @@ def solve_sweep(
     points = None if distributed else resolve_points(plan, registry)
     client, own_cluster, n_workers = _client(scheduler, workers)
     try:
-        blocks = blocks_of(plan, _points_per_block(plan, n_workers, chunk),
-                           multiple=n_workers if chunk is None else 1)
+        blocks = blocks_of(
+            plan,
+            _points_per_block(plan, n_workers, chunk),
+            multiple=n_workers if chunk is None else 1,
+        )
         parts = {b.number: None for b in blocks}
         tasks: list[tuple[Block, Any, str | None]]
         if points is None:  # resolved (and checked) on the workers, before any solving
@@ -287,8 +300,13 @@ def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any, int]:
         return scheduler, None, max(1, len(scheduler.scheduler_info().get("workers", {})))
     if scheduler == "processes":
         n = workers or os.cpu_count() or 1
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=50)
+        cluster = LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=50,
+        )
         return Client(cluster), cluster, n
     if isinstance(scheduler, str) and ":" in scheduler:  # tcp://host:8786, host:8786
         client = Client(scheduler)
@@ -318,14 +336,25 @@ def _execute(
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             with ThreadPoolExecutor(max_workers=max(1, n_workers)) as pool:
-                futures = [pool.submit(run_block, b, pts, registry, part, False, tick)
-                           for b, pts, part in tasks]
+                futures = [
+                    pool.submit(run_block, b, pts, registry, part, False, tick)
+                    for b, pts, part in tasks
+                ]
                 return [f.result() for f in futures]
     from distributed import as_completed
 
     futures = [
-        client.submit(run_block, b, pts, registry, part, True, None, pure=False,
-                      key=f"xpersson-block-{b.number}-{os.getpid()}-{id(tasks)}")
+        client.submit(
+            run_block,
+            b,
+            pts,
+            registry,
+            part,
+            True,
+            None,
+            pure=False,
+            key=f"xpersson-block-{b.number}-{os.getpid()}-{id(tasks)}",
+        )
         for b, pts, part in tasks
     ]
     order = {fut.key: i for i, fut in enumerate(futures)}
@@ -354,8 +383,10 @@ def _finish(
         for k, msg in sorted(res.messages.items()):
             local = np.unravel_index(k, b.shape)
             index = tuple(int(a + i) for a, i in zip(b.start, local, strict=True))
-            where = {name: float(values[index[plan.dims.index(dim)]])
-                     for name, (dim, values, _) in coords.items()}
+            where = {
+                name: float(values[index[plan.dims.index(dim)]])
+                for name, (dim, values, _) in coords.items()
+            }
             st = int(res.status.ravel()[k])
             messages.append({"point": where, "status": _status_name(st), "message": msg})
     ok = [r for r in results if r.dataset is not None or r.part is not None]
@@ -363,8 +394,10 @@ def _finish(
         first = messages[0]["message"] if messages else "no message"
         if messages and all(m["message"].startswith("SceneError: ") for m in messages):
             where = ", ".join(f"{k} = {v:g}" for k, v in messages[0]["point"].items())
-            raise SceneError(f"every point of the sweep was refused; first ({where}): "
-                             + first.removeprefix("SceneError: "))
+            raise SceneError(
+                f"every point of the sweep was refused; first ({where}): "
+                + first.removeprefix("SceneError: ")
+            )
         raise RuntimeError("every point of the sweep failed; first: " + first)
     template = _template(ok[0])
     for res in results:  # blocks where every point failed: NaN blocks from a template
@@ -397,8 +430,7 @@ def _finish(
         return open_parts(folder)
     ds = _combine_in_memory(plan, results)
     if ds is None:
-        ds = combine([r.dataset for r in results], [r.block.grid_index for r in results],
-                     plan.dims)
+        ds = combine([r.dataset for r in results], [r.block.grid_index for r in results], plan.dims)
     return finalize(ds, constant, attrs)
 
 
@@ -438,8 +470,7 @@ def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, lis
             solved = [[x for x in row if x is not None] for row in moved]
             # constant only where at least two solved points along the dimension agree (a
             # single solved point, the others failed, says nothing: the dim and its NaN stay)
-            if any(len(row) >= 2 for row in solved) and all(len(set(row)) <= 1
-                                                            for row in solved):
+            if any(len(row) >= 2 for row in solved) and all(len(set(row)) <= 1 for row in solved):
                 dims.append(dim)
         if dims:
             out[name] = dims
@@ -453,8 +484,13 @@ def combine(datasets: list[Any], grid_index: list[tuple[int, ...]], dims: tuple[
     for ds, g in zip(datasets, grid_index, strict=True):
         nested[g] = ds
     return xr.combine_nested(
-        nested.tolist(), concat_dim=list(dims), data_vars="minimal", coords="minimal",
-        join="outer", compat="override", combine_attrs="override",
+        nested.tolist(),
+        concat_dim=list(dims),
+        data_vars="minimal",
+        coords="minimal",
+        join="outer",
+        compat="override",
+        combine_attrs="override",
     )
 
 
@@ -476,8 +512,11 @@ def _combine_in_memory(plan: SweepPlan, results: list[BlockResult]) -> xr.Datase
             ref = var.values
             for r in results[1:]:
                 other = r.dataset.variables.get(name)
-                if other is None or other.dims != var.dims or not np.array_equal(
-                        other.values, ref, equal_nan=ref.dtype.kind in "fc"):
+                if (
+                    other is None
+                    or other.dims != var.dims
+                    or not np.array_equal(other.values, ref, equal_nan=ref.dtype.kind in "fc")
+                ):
                     return None
             out[name] = var.copy(deep=False)
             continue
@@ -552,19 +591,25 @@ def _global_attrs(
         for part in parts[:-1]:
             node = node.setdefault(part, {})
         node[parts[-1]] = [param.scene_value(i) for i in range(len(param.values))]
-    if points[0].p is not None and plan.base.get("output", {}).get("p") is None and (
-        points[0].pressure_pdf
+    if (
+        points[0].p is not None
+        and plan.base.get("output", {}).get("p") is None
+        and (points[0].pressure_pdf)
     ):
         resolved.setdefault("output", {})["p"] = [f"{float(x)!r} Pa" for x in points[0].p]
-    resolved["sweep"] = {**dict(plan.scene.data.get("sweep", {})),
-                         "order": [p.path for p in plan.params]}
+    resolved["sweep"] = {
+        **dict(plan.scene.data.get("sweep", {})),
+        "order": [p.path for p in plan.params],
+    }
     attrs["xpersson_scene"] = json.dumps(resolved, sort_keys=True)
-    attrs["xpersson_sweep"] = json.dumps({
-        "dims": list(plan.dims),
-        "shape": list(plan.shape),
-        "parameters": {p.path: p.name for p in plan.params},
-        "points": int(plan.size),
-    })
+    attrs["xpersson_sweep"] = json.dumps(
+        {
+            "dims": list(plan.dims),
+            "shape": list(plan.shape),
+            "parameters": {p.path: p.name for p in plan.params},
+            "points": int(plan.size),
+        }
+    )
     n_bad = int(np.count_nonzero(status))
     n_fail = int(np.count_nonzero(status == POINT_STATUS["failed"]))
     if n_bad == 0:
@@ -582,16 +627,19 @@ def _global_attrs(
     attrs["xpersson_point_messages"] = json.dumps(messages)
     solver = [s for r in results for s in r.solver]
     if solver:
-        attrs["xpersson_solver"] = json.dumps({
-            "method": solver[0].get("method"),
-            "methods_used": sorted({m for s in solver for m in s.get("methods_used", [])}),
-            "rtol": solver[0].get("rtol"),
-            "atol": solver[0].get("atol"),
-            "max_error_estimate": float(max(s.get("max_error_estimate", 0.0) for s in solver)),
-            "work": {
-                "nsteps": int(sum(s.get("work", {}).get("nsteps", 0) for s in solver)),
-                "wall_time_s": float(sum(s.get("work", {}).get("wall_time_s", 0.0)
-                                         for s in solver)),
-            },
-        })
+        attrs["xpersson_solver"] = json.dumps(
+            {
+                "method": solver[0].get("method"),
+                "methods_used": sorted({m for s in solver for m in s.get("methods_used", [])}),
+                "rtol": solver[0].get("rtol"),
+                "atol": solver[0].get("atol"),
+                "max_error_estimate": float(max(s.get("max_error_estimate", 0.0) for s in solver)),
+                "work": {
+                    "nsteps": int(sum(s.get("work", {}).get("nsteps", 0) for s in solver)),
+                    "wall_time_s": float(
+                        sum(s.get("work", {}).get("wall_time_s", 0.0) for s in solver)
+                    ),
+                },
+            }
+        )
     return attrs

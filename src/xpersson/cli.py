@@ -55,15 +55,24 @@ def _cmd_run(args: argparse.Namespace) -> int:
         from .sweep import expand
 
         if expand(scene) is None:
-            _err(f"xpersson: {args.output} is a folder, but the scene sweeps no parameter; "
-                 "give a .nc file")
+            _err(
+                f"xpersson: {args.output} is a folder, but the scene sweeps no parameter; "
+                "give a .nc file"
+            )
             return 2
-    ds = _pipeline.solve(scene, scheduler=_scheduler(args.scheduler), progress=progress,
-                         output=out if as_parts else None, chunk=args.chunk,
-                         workers=args.workers)
+    ds = _pipeline.solve(
+        scene,
+        scheduler=_scheduler(args.scheduler),
+        progress=progress,
+        output=out if as_parts else None,
+        chunk=args.chunk,
+        workers=args.workers,
+    )
     if as_parts:
-        _err(f"xpersson: wrote {out}/ ({len(list(out.glob('part-*.nc')))} parts; open with "
-             f"xpersson.open_dataset) (status: {ds.attrs['status']})")
+        _err(
+            f"xpersson: wrote {out}/ ({len(list(out.glob('part-*.nc')))} parts; open with "
+            f"xpersson.open_dataset) (status: {ds.attrs['status']})"
+        )
     else:
         command = "xpersson " + " ".join(sys.argv[1:]) if sys.argv[1:] else "xpersson run"
         ds.attrs["history"] = f"{ds.attrs['history']} ({command})"
@@ -90,9 +99,11 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         points = resolve_points(plan, None)
         rs = points[0]
         sweep = ", ".join(f"{p.path} -> {p.name} ({len(p.values)})" for p in plan.params)
-        _err(f"xpersson: {args.scene} is valid: a sweep of {plan.size} points ({sweep}), "
-             f"{rs.p0.size} load(s) each, {rs.zeta.size} zeta points, plugins "
-             f"{rs.plugin_names}")
+        _err(
+            f"xpersson: {args.scene} is valid: a sweep of {plan.size} points ({sweep}), "
+            f"{rs.p0.size} load(s) each, {rs.zeta.size} zeta points, plugins "
+            f"{rs.plugin_names}"
+        )
         if args.json:
             print(json.dumps(plan.scene_lists(), indent=1, sort_keys=True))
         return 0
@@ -117,8 +128,10 @@ def _cmd_info(args: argparse.Namespace) -> int:
     print("  dimensions: " + ", ".join(f"{k}={v}" for k, v in ds.sizes.items()))
     for name, var in {**ds.coords, **ds.data_vars}.items():
         dims = ",".join(var.dims)
-        print(f"  {name:28s} ({dims}) [{var.attrs.get('units', '?')}] "
-              f"{var.attrs.get('long_name', '')}")
+        print(
+            f"  {name:28s} ({dims}) [{var.attrs.get('units', '?')}] "
+            f"{var.attrs.get('long_name', '')}"
+        )
     plugins = json.loads(ds.attrs.get("xpersson_plugins", "[]"))
     for p in plugins:
         print(f"  plugin {p['group']}/{p['name']}: {p['distribution']} {p['version']}")
@@ -132,24 +145,36 @@ SHOWN_LOADS = 10
 
 def _print_areas(ds: Any) -> None:
     """Every area fraction of the archive (core and boundary) at zeta_max, per load."""
-    names = [n for n, v in ds.data_vars.items()
-             if "zeta" in v.dims and v.attrs.get("units") == "1"
-             and (n.endswith("area_fraction") or n in ("area_fraction", "total_contact_fraction"))]
+    names = [
+        n
+        for n, v in ds.data_vars.items()
+        if "zeta" in v.dims
+        and v.attrs.get("units") == "1"
+        and (n.endswith("area_fraction") or n in ("area_fraction", "total_contact_fraction"))
+    ]
     if not names or "zeta" not in ds.dims:
         return
     loads = ds["p0"].values.ravel() if "p0" in ds.coords else []
     n_loads = len(loads)
     shown = min(n_loads, SHOWN_LOADS) if n_loads else 1
-    print(f"  area fractions at zeta_max = {float(ds['zeta'][-1]):.6g}"
-          + (f" (first {shown} of {n_loads} loads; {n_loads - shown} more not shown)"
-             if n_loads > shown else ""))
+    print(
+        f"  area fractions at zeta_max = {float(ds['zeta'][-1]):.6g}"
+        + (
+            f" (first {shown} of {n_loads} loads; {n_loads - shown} more not shown)"
+            if n_loads > shown
+            else ""
+        )
+    )
     if n_loads:
         print(f"    {'p0 [Pa]':28s} " + " ".join(f"{v:.6g}" for v in loads[:shown]))
     for name in names:
         values = ds[name].isel(zeta=-1).values.ravel()[:shown]
         label = f"{name}"
-        print(f"    {label:28s} " + " ".join(f"{v:.6g}" for v in values)
-              + f"  ({ds[name].attrs.get('long_name', '')})")
+        print(
+            f"    {label:28s} "
+            + " ".join(f"{v:.6g}" for v in values)
+            + f"  ({ds[name].attrs.get('long_name', '')})"
+        )
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> int:
@@ -167,12 +192,15 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     ds = _pipeline.solve(scene)
     io.to_netcdf(ds, out, overwrite=args.overwrite)
     same = all(
-        name in ds and ds[name].shape == old[name].shape
+        name in ds
+        and ds[name].shape == old[name].shape
         and bool((abs(ds[name] - old[name]) <= 1e-12 + 1e-9 * abs(old[name])).all())
         for name in ("area_fraction",)
     )
-    _err(f"xpersson: wrote {out}; area_fraction {'matches' if same else 'DIFFERS FROM'} "
-         f"{args.archive}")
+    _err(
+        f"xpersson: wrote {out}; area_fraction {'matches' if same else 'DIFFERS FROM'} "
+        f"{args.archive}"
+    )
     return 0 if same else 4
 
 
@@ -196,22 +224,38 @@ def build_parser() -> argparse.ArgumentParser:
 
     run = sub.add_parser("run", help="solve a scene and write a netCDF archive")
     run.add_argument("scene", help="scene TOML file")
-    run.add_argument("-o", "--output", required=True,
-                     help="output .nc file, or DIR/ for a sweep written as netCDF parts")
-    run.add_argument("--set", action="append", metavar="KEY=VALUE",
-                     help="override a scene value, e.g. --set 'load.p0=\"1 MPa\"'")
+    run.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="output .nc file, or DIR/ for a sweep written as netCDF parts",
+    )
+    run.add_argument(
+        "--set",
+        action="append",
+        metavar="KEY=VALUE",
+        help="override a scene value, e.g. --set 'load.p0=\"1 MPa\"'",
+    )
     run.add_argument("--overwrite", action="store_true", help="replace an existing output")
-    run.add_argument("--scheduler", default=None, metavar="S",
-                     help="where sweep points run: serial (default), threads, processes "
-                     "(dask LocalCluster) or a dask scheduler address tcp://host:port")
-    run.add_argument("--workers", type=int, default=None,
-                     help="workers for threads/processes (default: number of cores)")
-    run.add_argument("--chunk", type=int, default=None,
-                     help="sweep points per task / netCDF part")
+    run.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="S",
+        help="where sweep points run: serial (default), threads, processes "
+        "(dask LocalCluster) or a dask scheduler address tcp://host:port",
+    )
+    run.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="workers for threads/processes (default: number of cores)",
+    )
+    run.add_argument("--chunk", type=int, default=None, help="sweep points per task / netCDF part")
     noise = run.add_mutually_exclusive_group()
     noise.add_argument("--quiet", action="store_true", help="no progress bar")
-    noise.add_argument("--progress", action="store_true",
-                       help="progress bar even when stderr is not a terminal")
+    noise.add_argument(
+        "--progress", action="store_true", help="progress bar even when stderr is not a terminal"
+    )
     run.set_defaults(func=_cmd_run)
 
     val = sub.add_parser("validate", help="check a scene without solving it")
@@ -226,9 +270,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     plo = sub.add_parser("plot", help="plot an archive (matplotlib)")
     plo.add_argument("archive", help=".nc file or sweep folder written by xpersson run")
-    plo.add_argument("--kind", default="area",
-                     choices=["area", "pressure_pdf", "gap_pdf", "leakage", "energy", "friction"],
-                     help="what to plot (default: area)")
+    plo.add_argument(
+        "--kind",
+        default="area",
+        choices=["area", "pressure_pdf", "gap_pdf", "leakage", "energy", "friction"],
+        help="what to plot (default: area)",
+    )
     plo.add_argument("-o", "--output", required=True, help="figure file (.png, .pdf, .svg)")
     plo.add_argument("--dpi", type=int, default=110, help="resolution of raster figures")
     plo.set_defaults(func=_cmd_plot)
@@ -252,8 +299,14 @@ def _one_line_warnings() -> None:
     """Show warnings as one line each on stderr (no source line of the CLI's own code)."""
     import warnings
 
-    def show(message: Any, category: type, filename: str, lineno: int, file: Any = None,
-             line: str | None = None) -> None:
+    def show(
+        message: Any,
+        category: type,
+        filename: str,
+        lineno: int,
+        file: Any = None,
+        line: str | None = None,
+    ) -> None:
         print(f"{category.__name__}: {message}", file=sys.stderr)
 
     warnings.showwarning = show

@@ -164,7 +164,7 @@ def stale_temporaries(target: str | os.PathLike[str]) -> list[Path]:
     host = socket.gethostname().replace(".", "_") or "host"
     out = []
     for tmp in folder.glob(f".{_glob_escape(target.name)}.*{_SUFFIX}"):
-        parts = tmp.name[len(target.name) + 2: -len(_SUFFIX)].split(".")
+        parts = tmp.name[len(target.name) + 2 : -len(_SUFFIX)].split(".")
         if len(parts) != 3:
             continue
         t_host, t_pid, _ = parts
@@ -263,8 +263,15 @@ def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:
     for grid_index, name in index["parts"]:
         nested[tuple(grid_index)] = str(folder / name)
     ds = xr.open_mfdataset(
-        nested.tolist(), combine="nested", concat_dim=dims, engine=ENGINE, chunks={},
-        data_vars="minimal", coords="minimal", join="outer", compat="override",
+        nested.tolist(),
+        combine="nested",
+        concat_dim=dims,
+        engine=ENGINE,
+        chunks={},
+        data_vars="minimal",
+        coords="minimal",
+        join="outer",
+        compat="override",
         combine_attrs="override",
     )
     from ._cf import decode

@@ -13,14 +13,30 @@ import time
 
 from .scene import SceneError
 
-__all__ = ["MemoryBudgetError", "budget", "set_budget", "estimate", "check_request",
-           "DEFAULT_FRACTION"]
+__all__ = [
+    "MemoryBudgetError",
+    "budget",
+    "set_budget",
+    "estimate",
+    "check_request",
+    "DEFAULT_FRACTION",
+]
 
 #: Fraction of the available memory one request may use by default.
 DEFAULT_FRACTION = 0.5
 
-_UNITS = {"": 1, "b": 1, "kb": 1e3, "mb": 1e6, "gb": 1e9, "tb": 1e12,
-          "kib": 2**10, "mib": 2**20, "gib": 2**30, "tib": 2**40}
+_UNITS = {
+    "": 1,
+    "b": 1,
+    "kb": 1e3,
+    "mb": 1e6,
+    "gb": 1e9,
+    "tb": 1e12,
+    "kib": 2**10,
+    "mib": 2**20,
+    "gib": 2**30,
+    "tib": 2**40,
+}
 _override: int | None = None
 
 # bytes per stored (p0, zeta) value: ~15 core variables plus the engine's temporaries
@@ -123,7 +139,7 @@ def check_request(n_load: int, n_zeta: int, n_p: int | None = None) -> int:
     """
     need, have = estimate(n_load, n_zeta, n_p), budget()
     if need > have:
-        field = (f" x {n_p} pressures (output.p_points)" if n_p else "")
+        field = f" x {n_p} pressures (output.p_points)" if n_p else ""
         raise MemoryBudgetError(
             f"the request needs about {_human(need)} ({n_load} loads x {n_zeta} magnifications"
             f"{field}), above the memory budget of {_human(have)}: use fewer p points "

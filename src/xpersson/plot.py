@@ -25,8 +25,17 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-__all__ = ["KINDS", "plot", "area", "pressure_pdf", "gap_pdf", "leakage", "energy", "friction",
-           "save"]
+__all__ = [
+    "KINDS",
+    "plot",
+    "area",
+    "pressure_pdf",
+    "gap_pdf",
+    "leakage",
+    "energy",
+    "friction",
+    "save",
+]
 
 
 def _plt() -> Any:
@@ -70,14 +79,23 @@ def _curves(da: xr.DataArray, x: str, max_curves: int) -> list[tuple[str, xr.Dat
         curve = stacked.isel(_curve=int(i))
         label = ", ".join(
             f"{d} = {_value(curve[d].values, da[d].attrs.get('units', ''))}"
-            for d in others if d in da.coords
+            for d in others
+            if d in da.coords
         )
         out.append((label, curve.drop_vars(["_curve", *others], errors="ignore")))
     return out
 
 
-def _draw(da: xr.DataArray, x: str, ax: Any, *, logx: bool, logy: bool, max_curves: int,
-          xcoord: xr.DataArray | None = None) -> Any:
+def _draw(
+    da: xr.DataArray,
+    x: str,
+    ax: Any,
+    *,
+    logx: bool,
+    logy: bool,
+    max_curves: int,
+    xcoord: xr.DataArray | None = None,
+) -> Any:
     ax = _axes(ax)
     xs = da[x] if xcoord is None else xcoord
     for label, curve in _curves(da, x, max_curves):
@@ -144,11 +162,17 @@ def energy(ds: xr.Dataset, ax: Any = None, max_curves: int = 8) -> Any:
 def friction(ds: xr.Dataset, ax: Any = None, max_curves: int = 8) -> Any:
     """Friction coefficient versus sliding speed (log x) when swept, else versus p0."""
     names = [n for n in ("mu", "friction_coefficient") if n in ds.data_vars]
-    names += [n for n in ds.data_vars if n not in names and str(
-        ds[n].attrs.get("long_name", "")).startswith("friction coefficient")]
+    names += [
+        n
+        for n in ds.data_vars
+        if n not in names
+        and str(ds[n].attrs.get("long_name", "")).startswith("friction coefficient")
+    ]
     if not names:
-        raise ValueError("this Dataset has no friction coefficient; request a friction analysis "
-                         "(e.g. [analyses.friction] of the viscoelastic plugin)")
+        raise ValueError(
+            "this Dataset has no friction coefficient; request a friction analysis "
+            "(e.g. [analyses.friction] of the viscoelastic plugin)"
+        )
     mu = ds[names[0]]
     x = next((d for d in ("v", "velocity") if d in mu.dims), "p0")
     if "zeta" in mu.dims:
@@ -157,8 +181,12 @@ def friction(ds: xr.Dataset, ax: Any = None, max_curves: int = 8) -> Any:
 
 
 KINDS: dict[str, Callable[..., Any]] = {
-    "area": area, "pressure_pdf": pressure_pdf, "gap_pdf": gap_pdf, "leakage": leakage,
-    "energy": energy, "friction": friction,
+    "area": area,
+    "pressure_pdf": pressure_pdf,
+    "gap_pdf": gap_pdf,
+    "leakage": leakage,
+    "energy": energy,
+    "friction": friction,
 }
 
 

@@ -40,42 +40,110 @@ MAX_POINTS = 100_000
 """Longest list of loads, magnifications or pressures (as the range form's ``num``)."""
 CORE: dict[str, dict[str, ParamSpec]] = {
     "material": {
-        "E": ParamSpec("Pa", bounds=(0, MAX_PRESSURE), inclusive=(False, True), sweepable=True,
-                       description="Young's modulus of the elastic solid"),
-        "nu": ParamSpec("1", bounds=(-1, 0.5), inclusive=(False, True), sweepable=True,
-                        description="Poisson ratio"),
+        "E": ParamSpec(
+            "Pa",
+            bounds=(0, MAX_PRESSURE),
+            inclusive=(False, True),
+            sweepable=True,
+            description="Young's modulus of the elastic solid",
+        ),
+        "nu": ParamSpec(
+            "1",
+            bounds=(-1, 0.5),
+            inclusive=(False, True),
+            sweepable=True,
+            description="Poisson ratio",
+        ),
     },
     "load": {
-        "p0": ParamSpec("Pa", bounds=(0, MAX_PRESSURE), inclusive=(False, True), sweepable=True,
-                        description="nominal pressure: scalar, list or {start, stop, num}"),
+        "p0": ParamSpec(
+            "Pa",
+            bounds=(0, MAX_PRESSURE),
+            inclusive=(False, True),
+            sweepable=True,
+            description="nominal pressure: scalar, list or {start, stop, num}",
+        ),
     },
     "output": {
-        "zeta_per_decade": ParamSpec("1", default=10, bounds=(1, 1000), kind="int",
-                                     description="log-spaced output magnifications per decade"),
-        "zeta": ParamSpec("1", default=None, bounds=(1, MAX_ZETA), array=True,
-                          description="explicit output magnifications (>= 1)"),
-        "zeta_max": ParamSpec("1", default=None, bounds=(1, MAX_ZETA),
-                              description="largest magnification (default q_1/q_L)"),
-        "pressure_pdf": ParamSpec("1", default=False, kind="bool",
-                                  description="store the pressure PDF P(zeta, p)"),
-        "p_points": ParamSpec("1", default=256, bounds=(8, 100000), kind="int",
-                              description="points of the default pressure grid"),
-        "p_max": ParamSpec("Pa", default=None, bounds=(0, MAX_PRESSURE), inclusive=(False, True),
-                           description="upper end of the pressure grid"),
-        "p": ParamSpec("Pa", default=None, bounds=(-MAX_PRESSURE, MAX_PRESSURE), array=True,
-                       description="explicit pressure grid (increasing)"),
+        "zeta_per_decade": ParamSpec(
+            "1",
+            default=10,
+            bounds=(1, 1000),
+            kind="int",
+            description="log-spaced output magnifications per decade",
+        ),
+        "zeta": ParamSpec(
+            "1",
+            default=None,
+            bounds=(1, MAX_ZETA),
+            array=True,
+            description="explicit output magnifications (>= 1)",
+        ),
+        "zeta_max": ParamSpec(
+            "1",
+            default=None,
+            bounds=(1, MAX_ZETA),
+            description="largest magnification (default q_1/q_L)",
+        ),
+        "pressure_pdf": ParamSpec(
+            "1", default=False, kind="bool", description="store the pressure PDF P(zeta, p)"
+        ),
+        "p_points": ParamSpec(
+            "1",
+            default=256,
+            bounds=(8, 100000),
+            kind="int",
+            description="points of the default pressure grid",
+        ),
+        "p_max": ParamSpec(
+            "Pa",
+            default=None,
+            bounds=(0, MAX_PRESSURE),
+            inclusive=(False, True),
+            description="upper end of the pressure grid",
+        ),
+        "p": ParamSpec(
+            "Pa",
+            default=None,
+            bounds=(-MAX_PRESSURE, MAX_PRESSURE),
+            array=True,
+            description="explicit pressure grid (increasing)",
+        ),
     },
     "solver": {
-        "method": ParamSpec("1", default="auto", kind="string",
-                            description="engine method (auto: exact path where one exists)"),
-        "rtol": ParamSpec("1", default=1e-6, bounds=(1e-12, 0.1), inclusive=(True, False),
-                          description="relative tolerance on the contact area"),
-        "atol": ParamSpec("1", default=1e-12, bounds=(0, 0.1),
-                          description="absolute tolerance on the contact area"),
-        "walkers": ParamSpec("1", default=None, bounds=(1, 1e9), kind="int",
-                             description="walkers of the Monte Carlo method 'markov'"),
-        "seed": ParamSpec("1", default=None, bounds=(0, None), kind="int",
-                          description="random seed of the Monte Carlo method 'markov'"),
+        "method": ParamSpec(
+            "1",
+            default="auto",
+            kind="string",
+            description="engine method (auto: exact path where one exists)",
+        ),
+        "rtol": ParamSpec(
+            "1",
+            default=1e-6,
+            bounds=(1e-12, 0.1),
+            inclusive=(True, False),
+            description="relative tolerance on the contact area",
+        ),
+        "atol": ParamSpec(
+            "1",
+            default=1e-12,
+            bounds=(0, 0.1),
+            description="absolute tolerance on the contact area",
+        ),
+        "walkers": ParamSpec(
+            "1",
+            default=None,
+            bounds=(1, 1e9),
+            kind="int",
+            description="walkers of the Monte Carlo method 'markov'",
+        ),
+        "seed": ParamSpec(
+            "1",
+            default=None,
+            bounds=(0, None),
+            kind="int",
+            description="random seed of the Monte Carlo method 'markov'",
+        ),
     },
 }
 PLUGIN_SECTIONS = {"spectrum": "spectra", "coefficient": "coefficients", "boundary": "boundaries"}
@@ -264,8 +332,10 @@ def convert_params(
         if name in values:
             out[name] = convert_param(spec, values[name], where)
         elif spec.required:
-            raise SceneError(f"{where}: required ({spec.description or spec.unit}); "
-                             f"allowed range {spec.range_text()}")
+            raise SceneError(
+                f"{where}: required ({spec.description or spec.unit}); "
+                f"allowed range {spec.range_text()}"
+            )
         else:
             out[name] = spec.default
     return out
@@ -332,8 +402,9 @@ def sweep_values(spec: ParamSpec, value: Any, where: str) -> np.ndarray:
     if not value:
         raise SceneError(f"{where}: empty list; give at least one value in {spec.range_text()}")
     if len(value) > MAX_POINTS:
-        raise SceneError(f"{where}: {len(value)} values; at most {MAX_POINTS} are allowed (as for "
-                         f"{where}.num)")
+        raise SceneError(
+            f"{where}: {len(value)} values; at most {MAX_POINTS} are allowed (as for {where}.num)"
+        )
     return np.array([convert_param(spec, v, f"{where}[{i}]") for i, v in enumerate(value)])
 
 
@@ -356,8 +427,10 @@ def _plugin(
     raw = dict(raw or {})
     model = raw.pop("model", DEFAULT_MODEL.get(section))
     if model is None:
-        raise SceneError(f"{section}.model: required; choose one of "
-                         f"{', '.join(registry.names(group)) or 'none installed'}")
+        raise SceneError(
+            f"{section}.model: required; choose one of "
+            f"{', '.join(registry.names(group)) or 'none installed'}"
+        )
     try:
         cls = registry.resolve(group, model)
     except PluginError as exc:
@@ -411,8 +484,10 @@ def _build_spectrum(spectrum: Plugin, name: str, registry: Registry) -> Any:
     _checks.check_spectrum(psd, who)
     ratio = float(psd.q_1) / float(psd.q_L)
     if ratio > MAX_ZETA:
-        raise SceneError(f"spectrum: q_1/q_L = {ratio:g} exceeds the largest magnification "
-                         f"{MAX_ZETA:g}; allowed q_1/q_L in (1, {MAX_ZETA:g}]")
+        raise SceneError(
+            f"spectrum: q_1/q_L = {ratio:g} exceeds the largest magnification "
+            f"{MAX_ZETA:g}; allowed q_1/q_L in (1, {MAX_ZETA:g}]"
+        )
     return psd
 
 
@@ -422,12 +497,15 @@ def _check_method(method: Any) -> None:
 
     if isinstance(method, type):
         if not issubclass(method, EngineMethod):
-            raise SceneError(f"solver.method: {method!r} is not an xpersson.engine.EngineMethod "
-                             f"subclass")
+            raise SceneError(
+                f"solver.method: {method!r} is not an xpersson.engine.EngineMethod subclass"
+            )
         return
     if method != "auto" and method not in METHODS:
-        raise SceneError(f"solver.method: {method!r} is not an engine method; one of "
-                         f"{', '.join(['auto', *sorted(METHODS)])}")
+        raise SceneError(
+            f"solver.method: {method!r} is not an engine method; one of "
+            f"{', '.join(['auto', *sorted(METHODS)])}"
+        )
 
 
 def _zeta_grid(out: Mapping[str, Any], zeta_support: float) -> np.ndarray:
@@ -464,8 +542,10 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
             f"{unknown[0]}: unknown section or key; allowed: {', '.join(sorted(TOP_LEVEL))}"
         )
     if "sweep" in data:
-        raise SceneError("sweep: a sweep scene is solved point by point; use xpersson.solve "
-                         "(or xpersson.sweep.expand to list its points)")
+        raise SceneError(
+            "sweep: a sweep scene is solved point by point; use xpersson.solve "
+            "(or xpersson.sweep.expand to list its points)"
+        )
     for key in ("title", "description"):
         if key in data and not isinstance(data[key], str):
             raise SceneError(f"{key}: must be a string")
@@ -487,8 +567,10 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
     if out["p"] is not None and np.any(np.diff(out["p"]) <= 0):
         raise SceneError("output.p: the pressure grid must be strictly increasing")
     if out["p"] is not None and out["p"].size < 2:
-        raise SceneError("output.p: give at least 2 pressures (a grid to integrate P over) in "
-                         + CORE["output"]["p"].range_text())
+        raise SceneError(
+            "output.p: give at least 2 pressures (a grid to integrate P over) in "
+            + CORE["output"]["p"].range_text()
+        )
     _check_method(solver["method"])
 
     names: dict[str, str] = {}
@@ -505,8 +587,10 @@ def _resolve(scene: Scene, registry: Registry) -> ResolvedScene:
     archived = getattr(plugins["spectrum"], "archived_params", None)
     if callable(archived):  # file-based spectra: the table itself goes into the archive
         spec_cls = type(plugins["spectrum"])
-        resolved["spectrum"] = {"model": names["spectrum"],
-                                **_jsonable(archived(psd), spec_cls.parameters)}
+        resolved["spectrum"] = {
+            "model": names["spectrum"],
+            **_jsonable(archived(psd), spec_cls.parameters),
+        }
     zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
 
     requested = data.get("analyses", {})
@@ -581,8 +665,12 @@ def _resolved_loads(raw: Any, p0: np.ndarray, scalar: bool) -> Any:
     """
     values = np.asarray(p0, float).tolist()
     if isinstance(raw, Mapping) and len(values) == raw.get("num"):
-        return {"start": f"{values[0]!r} Pa", "stop": f"{values[-1]!r} Pa", "num": len(values),
-                "spacing": raw.get("spacing", "log")}
+        return {
+            "start": f"{values[0]!r} Pa",
+            "stop": f"{values[-1]!r} Pa",
+            "num": len(values),
+            "spacing": raw.get("spacing", "log"),
+        }
     loads = [f"{v!r} Pa" for v in values]
     return loads[0] if scalar else loads
 

@@ -19,28 +19,47 @@ CONVENTIONS = "CF-1.11, ACDD-1.3"  # the versions the IOOS compliance-checker ve
 COORDS: dict[str, VarSpec] = {
     "zeta": VarSpec(("zeta",), "1", "magnification", description="zeta = q / q_L"),
     "p0": VarSpec(("p0",), "Pa", "nominal pressure", description="applied (squeezing) pressure"),
-    "p": VarSpec(("p",), "Pa", "local contact pressure",
-                 description="compressive positive; tensile negative"),
+    "p": VarSpec(
+        ("p",), "Pa", "local contact pressure", description="compressive positive; tensile negative"
+    ),
     "q": VarSpec(("zeta",), "m-1", "wavevector of the magnification", description="q = zeta q_L"),
     "q_psd": VarSpec(("q_psd",), "m-1", "wavevector of the power spectrum nodes"),
 }
 
 CORE_VARIABLES: dict[str, VarSpec] = {
-    "area_fraction": VarSpec(("p0", "zeta"), "1", "relative contact area A/A0",
-                             description="probability of contact at magnification zeta"),
-    "non_contact_fraction": VarSpec(("p0", "zeta"), "1", "1 - A/A0",
-                                    description="computed without cancellation (erfc or the "
-                                    "absorbed flux)"),
+    "area_fraction": VarSpec(
+        ("p0", "zeta"),
+        "1",
+        "relative contact area A/A0",
+        description="probability of contact at magnification zeta",
+    ),
+    "non_contact_fraction": VarSpec(
+        ("p0", "zeta"),
+        "1",
+        "1 - A/A0",
+        description="computed without cancellation (erfc or the absorbed flux)",
+    ),
     "G": VarSpec(("p0", "zeta"), "1", "Persson's G = tau / p0^2"),
     "diffusion_time": VarSpec(("zeta",), "Pa2", "diffusion time tau = int_1^zeta f dzeta"),
-    "effective_diffusion_time": VarSpec(("p0", "zeta"), "Pa2",
-                                        "diffusion time of the correction closure",
-                                        description="V/2 of the mirrored Gaussian"),
+    "effective_diffusion_time": VarSpec(
+        ("p0", "zeta"),
+        "Pa2",
+        "diffusion time of the correction closure",
+        description="V/2 of the mirrored Gaussian",
+    ),
     "diffusion_coefficient": VarSpec(("zeta",), "Pa2", "diffusion coefficient f(zeta)"),
-    "P": VarSpec(("p0", "zeta", "p"), "Pa-1", "probability density of the contact pressure",
-                 description="normalised to the contact area: int P dp = A/A0"),
-    "psd_C": VarSpec(("q_psd",), "m4", "isotropic power spectral density (Persson convention)",
-                     description="C(q) = (2 pi)^-2 int d2x <h(x) h(0)> exp(-i q.x)"),
+    "P": VarSpec(
+        ("p0", "zeta", "p"),
+        "Pa-1",
+        "probability density of the contact pressure",
+        description="normalised to the contact area: int P dp = A/A0",
+    ),
+    "psd_C": VarSpec(
+        ("q_psd",),
+        "m4",
+        "isotropic power spectral density (Persson convention)",
+        description="C(q) = (2 pi)^-2 int d2x <h(x) h(0)> exp(-i q.x)",
+    ),
     "E": VarSpec((), "Pa", "Young's modulus"),
     "nu": VarSpec((), "1", "Poisson ratio"),
     "E_star": VarSpec((), "Pa", "contact modulus E / (1 - nu^2)"),
@@ -49,17 +68,34 @@ CORE_VARIABLES: dict[str, VarSpec] = {
     "load": VarSpec(("p0", "zeta"), "Pa", "load carried in the domain int p P dp"),
     "absorbed_lower": VarSpec(("p0", "zeta"), "1", "probability absorbed at the lower wall"),
     "absorbed_upper": VarSpec(("p0", "zeta"), "1", "probability absorbed at the upper wall"),
-    "load_balance": VarSpec(("p0", "zeta"), "1", "residual of the load identity",
-                            description="e.g. int p P dp / p0 - 1 for the elastic wall",
-                            extra={"coverage_content_type": "qualityInformation"}),
-    "probability_balance": VarSpec(("p0", "zeta"), "1", "residual of the probability balance",
-                                   description="int P dp + absorbed - 1",
-                                   extra={"coverage_content_type": "qualityInformation"}),
-    "error_estimate": VarSpec(("p0", "zeta"), "1", "estimated absolute error of A/A0",
-                              extra={"coverage_content_type": "qualityInformation"}),
-    "solver_status": VarSpec(("p0",), "1", "engine status per load",
-                             extra={"flag_meanings": "success max_steps balance_violated "
-                                    "tolerance_not_met invalid_input"}),
+    "load_balance": VarSpec(
+        ("p0", "zeta"),
+        "1",
+        "residual of the load identity",
+        description="e.g. int p P dp / p0 - 1 for the elastic wall",
+        extra={"coverage_content_type": "qualityInformation"},
+    ),
+    "probability_balance": VarSpec(
+        ("p0", "zeta"),
+        "1",
+        "residual of the probability balance",
+        description="int P dp + absorbed - 1",
+        extra={"coverage_content_type": "qualityInformation"},
+    ),
+    "error_estimate": VarSpec(
+        ("p0", "zeta"),
+        "1",
+        "estimated absolute error of A/A0",
+        extra={"coverage_content_type": "qualityInformation"},
+    ),
+    "solver_status": VarSpec(
+        ("p0",),
+        "1",
+        "engine status per load",
+        extra={
+            "flag_meanings": "success max_steps balance_violated tolerance_not_met invalid_input"
+        },
+    ),
 }
 
 

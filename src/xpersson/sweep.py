@@ -266,8 +266,7 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
             path = f"{prefix}.{key}"
             if not spec.sweepable:
                 raise SceneError(
-                    f"{path}: this parameter is not sweepable; give one value "
-                    f"({spec.range_text()})"
+                    f"{path}: this parameter is not sweepable; give one value ({spec.range_text()})"
                 )
             found.append((path, spec, value))
     table = data.get("sweep", {})
@@ -278,8 +277,10 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
         raise SceneError(f"sweep.{unknown[0]}: unknown key; allowed: mode, zip, order")
     if not found:
         if table:
-            raise SceneError("sweep: the scene sweeps no parameter (give a list or a range to a "
-                             "sweepable parameter; load.p0 is the load dimension already)")
+            raise SceneError(
+                "sweep: the scene sweeps no parameter (give a list or a range to a "
+                "sweepable parameter; load.p0 is the load dimension already)"
+            )
         return None
     mode = table.get("mode", "product")
     if mode not in ("product", "zip"):
@@ -327,10 +328,13 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
             placed[gi].append(param)
     order = table.get("order", [])
     if not isinstance(order, list) or any(p not in params for p in order):
-        bad = next((p for p in order if p not in params), order) if isinstance(order, list) \
-            else order
-        raise SceneError(f"sweep.order: {bad!r} is not a swept parameter of this scene; swept: "
-                         f"{', '.join(params)}")
+        bad = (
+            next((p for p in order if p not in params), order) if isinstance(order, list) else order
+        )
+        raise SceneError(
+            f"sweep.order: {bad!r} is not a swept parameter of this scene; swept: "
+            f"{', '.join(params)}"
+        )
     rank = {path: i for i, path in enumerate(order)}
     groups.sort(key=lambda g: min(rank.get(p.path, len(rank)) for p in g))
     for group in groups:
@@ -342,8 +346,10 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
             )
         index = group[0].values
         if len(np.unique(index)) != len(index):
-            raise SceneError(f"{group[0].path}: swept values must be distinct (they index the "
-                             f"dimension {group[0].name!r})")
+            raise SceneError(
+                f"{group[0].path}: swept values must be distinct (they index the "
+                f"dimension {group[0].name!r})"
+            )
     base = copy.deepcopy(dict(data))
     base.pop("sweep", None)
     return SweepPlan(scene=scene, groups=groups, base=base)
@@ -356,8 +362,10 @@ def _dim_name(path: str, spec: ParamSpec, taken: set[str], used: dict[str, str])
                 f"{path}: its dimension {spec.dim!r} is already the dimension of {used[spec.dim]}"
             )
         if spec.dim in taken:
-            raise SceneError(f"{path}: its declared dimension {spec.dim!r} collides with a "
-                             "Dataset variable of that name")
+            raise SceneError(
+                f"{path}: its declared dimension {spec.dim!r} collides with a "
+                "Dataset variable of that name"
+            )
         return spec.dim
     if path in _SELF_NAMED:
         return _SELF_NAMED[path]

@@ -50,12 +50,23 @@ def test_auto_picks_exact_when_possible_and_cn_otherwise():
 def test_result_fields_and_balances():
     r = solve(TAU, 1.0, Wall.absorbing(-0.5), Wall.absorbing(4.0))
     assert isinstance(r, EngineResult) and r.success and r.status == "success"
-    for name in ("area", "non_area", "absorbed_lower", "absorbed_upper", "load", "wall_lower",
-                 "wall_upper", "error_estimate", "probability_balance", "load_balance"):
+    for name in (
+        "area",
+        "non_area",
+        "absorbed_lower",
+        "absorbed_upper",
+        "load",
+        "wall_lower",
+        "wall_upper",
+        "error_estimate",
+        "probability_balance",
+        "load_balance",
+    ):
         assert getattr(r, name).shape == TAU.shape
     np.testing.assert_array_equal(r.tau, TAU)
-    np.testing.assert_allclose(r.probability_balance,
-                               r.area + r.absorbed_lower + r.absorbed_upper - 1, atol=0)
+    np.testing.assert_allclose(
+        r.probability_balance, r.area + r.absorbed_lower + r.absorbed_upper - 1, atol=0
+    )
     # two fixed walls: (load + a*abs_l + b*abs_u - p0) / max(|p0|, |a|, |b|)
     lb = (r.load - 0.5 * r.absorbed_lower + 4.0 * r.absorbed_upper - 1.0) / 4.0
     np.testing.assert_allclose(r.load_balance, lb, atol=1e-16)

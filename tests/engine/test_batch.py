@@ -9,8 +9,18 @@ from xpersson.engine import EngineBatch, EngineResult, Wall, solve, solve_batch
 
 TAU = np.concatenate([[0.0], np.logspace(-3, 1.5, 12)])
 P0 = np.array([0.3, 1.0, 2.5])
-FIELDS = ("area", "non_area", "absorbed_lower", "absorbed_upper", "load", "wall_lower",
-          "wall_upper", "error_estimate", "probability_balance", "load_balance")
+FIELDS = (
+    "area",
+    "non_area",
+    "absorbed_lower",
+    "absorbed_upper",
+    "load",
+    "wall_lower",
+    "wall_upper",
+    "error_estimate",
+    "probability_balance",
+    "load_balance",
+)
 
 
 @pytest.mark.parametrize(
@@ -38,14 +48,18 @@ def test_batch_equals_per_load_solves(walls, method, tau):
             assert np.all(np.abs(got.area - one.area) <= 2e-4 * got.area + 2e-10)
             continue
         for name in FIELDS:
-            np.testing.assert_allclose(getattr(got, name), getattr(one, name), rtol=1e-12,
-                                       atol=1e-14 * max(1.0, p0))
+            np.testing.assert_allclose(
+                getattr(got, name), getattr(one, name), rtol=1e-12, atol=1e-14 * max(1.0, p0)
+            )
         np.testing.assert_allclose(got.P, one.P, rtol=1e-12, atol=1e-14)
 
 
 def test_batch_sequence_protocol_and_per_load_walls():
-    walls = [(Wall.absorbing(0.0), None), (Wall.absorbing(0.0), Wall.absorbing(3.0)),
-             (Wall.absorbing(0.0), None)]
+    walls = [
+        (Wall.absorbing(0.0), None),
+        (Wall.absorbing(0.0), Wall.absorbing(3.0)),
+        (Wall.absorbing(0.0), None),
+    ]
     batch = solve_batch(TAU, P0, walls)
     assert [r.method for r in batch] == ["exact"] * 3
     assert batch[-1].area is not None and np.array_equal(batch[-1].area, batch[2].area)
@@ -136,5 +150,4 @@ def test_cn_output_snapshots_equal_the_per_output_reductions(monkeypatch):
 @pytest.mark.parametrize("aim", [0.0, -0.5, 1.5, float("nan")])
 def test_cn_aim_outside_its_range_is_refused(aim):
     with pytest.raises(ValueError, match=r"options\['aim'\] \[1\].*\(0, 1\]"):
-        solve(TAU[:5], 1.0, Wall.absorbing(lambda t: -(0.2 + t)), method="cn",
-              options={"aim": aim})
+        solve(TAU[:5], 1.0, Wall.absorbing(lambda t: -(0.2 + t)), method="cn", options={"aim": aim})

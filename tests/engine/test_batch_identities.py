@@ -35,7 +35,10 @@ def test_two_walls_still_evaluate_their_balances():
     assert not batch.exact_balances.any()
     np.testing.assert_allclose(
         batch.probability_balance,
-        batch.area + batch.absorbed_lower + batch.absorbed_upper - 1.0, rtol=0, atol=0)
+        batch.area + batch.absorbed_lower + batch.absorbed_upper - 1.0,
+        rtol=0,
+        atol=0,
+    )
 
 
 def test_batch_screen_gives_the_per_load_status_when_the_tolerance_cannot_be_met():

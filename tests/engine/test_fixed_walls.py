@@ -56,8 +56,9 @@ def test_two_walls_check_values(rtol):
 def test_sine_two_walls_over_many_decades_with_field():
     tau = np.logspace(-9, 1, 41)
     p = np.linspace(-0.2, 1.3, 301)
-    res = solve(tau, 0.3, Wall.absorbing(-0.2), Wall.absorbing(1.3), rtol=1e-8, method="sine",
-                p_out=p)
+    res = solve(
+        tau, 0.3, Wall.absorbing(-0.2), Wall.absorbing(1.3), rtol=1e-8, method="sine", p_out=p
+    )
     ex = exact.two_wall_area(tau, 0.3, -0.2, 1.3)
     big = ex > 1e-300
     assert np.max(np.abs(res.area[big] / ex[big] - 1)) <= 1e-8

@@ -23,8 +23,15 @@ def _mc(tau, p0, lower=None, upper=None, **opts):
     kw = {} if lower is None else {"lower": lower}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return engine.solve(tau, p0, upper=upper, method="markov", rtol=0.09,
-                            options={"walkers": N_BIG, "seed": 7, **opts}, **kw)
+        return engine.solve(
+            tau,
+            p0,
+            upper=upper,
+            method="markov",
+            rtol=0.09,
+            options={"walkers": N_BIG, "seed": 7, **opts},
+            **kw,
+        )
 
 
 def _cell_probability(cdf, p):
@@ -49,19 +56,25 @@ def test_elastic_closed_form_at_five_magnifications():
     p = np.linspace(0.0, 6.0, 61)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        r = engine.solve(tau, p0, method="markov", rtol=0.09, p_out=p,
-                         options={"walkers": N_BIG, "seed": 7})
+        r = engine.solve(
+            tau, p0, method="markov", rtol=0.09, p_out=p, options={"walkers": N_BIG, "seed": 7}
+        )
     exact_area = exact.one_wall_area(tau, p0, 0.0)
     z = np.abs(r.area - exact_area) / r.error_estimate
     assert z.max() <= 4.0, z
     # the estimate is the binomial standard error (floored at 1/N where no walker was absorbed)
-    np.testing.assert_allclose(r.error_estimate[1:],
-                               np.sqrt(exact_area * (1 - exact_area) / N_BIG)[1:], rtol=0.05)
+    np.testing.assert_allclose(
+        r.error_estimate[1:], np.sqrt(exact_area * (1 - exact_area) / N_BIG)[1:], rtol=0.05
+    )
 
     def cdf(t):  # int_0^x of the mirrored Gaussian
         s = math.sqrt(2 * t)
-        return lambda x: (ndtr((np.maximum(x, 0) - p0) / s) - ndtr(-p0 / s)
-                          - ndtr((np.maximum(x, 0) + p0) / s) + ndtr(p0 / s))
+        return lambda x: (
+            ndtr((np.maximum(x, 0) - p0) / s)
+            - ndtr(-p0 / s)
+            - ndtr((np.maximum(x, 0) + p0) / s)
+            + ndtr(p0 / s)
+        )
 
     _assert_histogram(r, [cdf(t) for t in tau])
     # probability is counted exactly; the load identity holds within its standard error
@@ -74,8 +87,15 @@ def test_linear_moving_wall_of_section_2_2():
     p = np.linspace(-3.2, 4.0, 73)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        r = engine.solve(tau, p0, lower=Wall.linear(-s0, -c), method="markov", rtol=0.09,
-                         p_out=p, options={"walkers": N_BIG, "seed": 11})
+        r = engine.solve(
+            tau,
+            p0,
+            lower=Wall.linear(-s0, -c),
+            method="markov",
+            rtol=0.09,
+            p_out=p,
+            options={"walkers": N_BIG, "seed": 11},
+        )
     a = exact.linear_wall_area(tau, p0, s0, c)
     assert a[1] == pytest.approx(0.9185595730, abs=1e-9)  # physics.md check value
     assert np.max(np.abs(r.area - a) / r.error_estimate) <= 4.0
@@ -116,8 +136,9 @@ def test_standard_error_is_honest_over_50_seeds():
     a = exact.one_wall_area(tau, p0, 0.0)
     inside = []
     for seed in range(50):
-        r = engine.solve(tau, p0, method="markov", rtol=0.09,
-                         options={"walkers": 2000, "seed": seed})
+        r = engine.solve(
+            tau, p0, method="markov", rtol=0.09, options={"walkers": 2000, "seed": seed}
+        )
         inside.append(np.abs(r.area - a) <= 2.0 * r.error_estimate)
     inside = np.array(inside)
     frac_runs = inside[:, 2].mean()  # one magnification: 50 independent runs
@@ -133,8 +154,9 @@ def test_sticky_yield_wall_matches_crank_nicolson():
     tau = np.array([0.05, 0.3, 1.0])
     ref = engine.solve(tau, 0.5, upper=up, method="cn", rtol=1e-6)
     n = 50_000
-    r = engine.solve(tau, 0.5, upper=up, method="markov", rtol=0.09,
-                     options={"walkers": n, "seed": 5})
+    r = engine.solve(
+        tau, 0.5, upper=up, method="markov", rtol=0.09, options={"walkers": n, "seed": 5}
+    )
     for got, want in ((r.area, ref.area), (r.absorbed_upper, ref.absorbed_upper)):
         se = np.sqrt(want * (1 - want) / n)
         assert np.max(np.abs(got - want) / se) <= 4.0

@@ -57,8 +57,9 @@ def _yield(eps, y0=1.0):
 def test_yield_closure_conservation_identities():
     tau = np.logspace(-3, 1, 9)
     y = lambda t: 0.4 + 2.0 * t  # noqa: E731  fast rising yield wall
-    res = solve(tau, 0.3, Wall.absorbing(0.0), Wall.yield_closure(y, lambda t: 2.0 + 0 * t),
-                rtol=1e-6)
+    res = solve(
+        tau, 0.3, Wall.absorbing(0.0), Wall.yield_closure(y, lambda t: 2.0 + 0 * t), rtol=1e-6
+    )
     assert res.method == "cn" and res.status == "success", res.message
     # int P + A_pl + A_non = 1
     tot = res.area + res.absorbed_upper + res.absorbed_lower

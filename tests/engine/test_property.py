@@ -25,8 +25,7 @@ def test_sine_success_implies_tolerance(area_target, decades, rtol, two, ratio):
     tau = tau_max * np.logspace(-decades, 0, 25)
     upper = Wall.absorbing(p0 * ratio) if two else None
     res = solve(tau, p0, Wall.absorbing(0.0), upper, rtol=rtol, method="sine")
-    ex = (exact.two_wall_area(tau, p0, 0.0, p0 * ratio) if two
-          else exact.one_wall_area(tau, p0))
+    ex = exact.two_wall_area(tau, p0, 0.0, p0 * ratio) if two else exact.one_wall_area(tau, p0)
     assert np.all(np.isfinite(res.area)) and np.all(res.area >= 0)
     if res.status == "success":
         assert np.all(np.abs(res.area - ex) <= rtol * ex + res.error_estimate.max() + 1e-300)

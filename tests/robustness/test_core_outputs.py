@@ -16,27 +16,56 @@ from xpersson.engine._moving import _project
 from xpersson.plugins._registry import get_registry
 
 
-def _plastic(spectrum: dict, E: str, nu: float, p0: str, zpd: int, rtol: float, Y1: str,
-             n: float, **extra) -> dict:
-    return {"spectrum": {"model": "self_affine", **spectrum}, "material": {"E": E, "nu": nu},
-            "load": {"p0": p0}, "output": {"zeta_per_decade": zpd}, "solver": {"rtol": rtol},
-            "boundary": {"model": "plastic_scale_dependent", "Y1": Y1, "n": n}, **extra}
+def _plastic(
+    spectrum: dict, E: str, nu: float, p0: str, zpd: int, rtol: float, Y1: str, n: float, **extra
+) -> dict:
+    return {
+        "spectrum": {"model": "self_affine", **spectrum},
+        "material": {"E": E, "nu": nu},
+        "load": {"p0": p0},
+        "output": {"zeta_per_decade": zpd},
+        "solver": {"rtol": rtol},
+        "boundary": {"model": "plastic_scale_dependent", "Y1": Y1, "n": n},
+        **extra,
+    }
 
 
 # fuzz campaign scene 325: the work budget ran out after an unpaired finer grid (error inf)
 SCENE_BUDGET = _plastic(
-    {"H": 0.618768119255756, "q_L": "6792.99610389103 1/m", "q_r": "25681.861090831702 1/m",
-     "q_1": "5886956071.971901 1/m", "rms_slope": 2.6245626995912836},
-    "429480.1890168989 Pa", 0.1444138777200737, "0.013672229170790152 Pa", 8,
-    0.0007897298142343878, "0.05617793999513956 Pa", 0.6631961848278108)
+    {
+        "H": 0.618768119255756,
+        "q_L": "6792.99610389103 1/m",
+        "q_r": "25681.861090831702 1/m",
+        "q_1": "5886956071.971901 1/m",
+        "rms_slope": 2.6245626995912836,
+    },
+    "429480.1890168989 Pa",
+    0.1444138777200737,
+    "0.013672229170790152 Pa",
+    8,
+    0.0007897298142343878,
+    "0.05617793999513956 Pa",
+    0.6631961848278108,
+)
 
 # fuzz campaign scene 475: non_contact_fraction 1 + 7.7e-12 (round-off of the absorbed sums)
 SCENE_OVER_ONE = _plastic(
-    {"H": 0.5609626087902464, "q_L": "837.1762758191403 1/m", "q_r": "837.1762758191403 1/m",
-     "q_1": "3899.7862790436775 1/m", "h_rms": "8.311803081854393e-06 m"},
-    "24202268906.920994 Pa", 0.07171633074791195, "9.387676807454028 Pa", 7,
-    7.899766898280746e-08, "39.35763152939182 Pa", 0.3335619457845592,
-    analyses={"contact_area": {}})
+    {
+        "H": 0.5609626087902464,
+        "q_L": "837.1762758191403 1/m",
+        "q_r": "837.1762758191403 1/m",
+        "q_1": "3899.7862790436775 1/m",
+        "h_rms": "8.311803081854393e-06 m",
+    },
+    "24202268906.920994 Pa",
+    0.07171633074791195,
+    "9.387676807454028 Pa",
+    7,
+    7.899766898280746e-08,
+    "39.35763152939182 Pa",
+    0.3335619457845592,
+    analyses={"contact_area": {}},
+)
 
 
 def _in_unit(ds, name: str) -> None:
@@ -88,10 +117,18 @@ def test_projection_is_admissible_and_moves_only_the_inadmissible(rows):
     assert np.allclose(dist["area"], np.abs(pa - a), rtol=0, atol=0)
 
 
-ELASTIC = {"spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e4 1/m", "q_1": "1e7 1/m",
-                        "rms_slope": 0.5},
-           "material": {"E": "1e9 Pa", "nu": 0.3}, "load": {"p0": ["1e6 Pa", "2e6 Pa"]},
-           "output": {"zeta_per_decade": 4}}
+ELASTIC = {
+    "spectrum": {
+        "model": "self_affine",
+        "H": 0.8,
+        "q_L": "1e4 1/m",
+        "q_1": "1e7 1/m",
+        "rms_slope": 0.5,
+    },
+    "material": {"E": "1e9 Pa", "nu": 0.3},
+    "load": {"p0": ["1e6 Pa", "2e6 Pa"]},
+    "output": {"zeta_per_decade": 4},
+}
 
 
 def test_core_output_violation_is_a_status_not_a_silent_value(monkeypatch):

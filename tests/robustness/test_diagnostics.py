@@ -45,8 +45,11 @@ def test_unresolved_P_is_marked_and_warned():
 
 
 def test_resolved_P_raises_no_warning():
-    scene = _scene(pressure_pdf=True, zeta=[1.0, 1e4, 1e5], p=[f"{float(x)!r} Pa" for x in
-                                                              np.linspace(0, 3e6, 3001)])
+    scene = _scene(
+        pressure_pdf=True,
+        zeta=[1.0, 1e4, 1e5],
+        p=[f"{float(x)!r} Pa" for x in np.linspace(0, 3e6, 3001)],
+    )
     scene["load"]["p0"] = ["1e5 Pa"]
     ds, warned = _solve(scene)
     assert ds["P_resolved"].values[..., 1:].all()

@@ -42,11 +42,11 @@ def _cases() -> list[tuple[str, Any, list[str]]]:
     out: list[tuple[str, Any, list[str]]] = []
     for path, unit, outside, rng in QUANTITIES:
         out += [
-            (path, "3 s", [path, unit]),                  # wrong dimension
+            (path, "3 s", [path, unit]),  # wrong dimension
             (path, "12 blorps", [path, "cannot parse"]),  # unknown unit
             (path, "abc", [path, "cannot parse"]),
             (path, "", [path, "empty string"]),
-            (path, 12.5, [path, "no unit"]),               # bare number
+            (path, 12.5, [path, "no unit"]),  # bare number
             (path, True, [path, "boolean"]),
             (path, f"nan {unit}", [path, "finite"]),
             (path, f"inf {unit}", [path, "finite"]),
@@ -100,15 +100,17 @@ def _cases() -> list[tuple[str, Any, list[str]]]:
         ("load.p0", [], ["load.p0", "empty"]),
         ("load.p0", ["1 MPa", "1 MPa"], ["load.p0", "increasing"]),
         ("load.p0", ["1 MPa", "x"], ["load.p0[1]", "cannot parse"]),
-        ("load.p0", {"start": "1 kPa", "stop": "1 MPa", "num": 200_000},
-         ["load.p0.num", "100000"]),
+        ("load.p0", {"start": "1 kPa", "stop": "1 MPa", "num": 200_000}, ["load.p0.num", "100000"]),
         ("load.p0", {"start": "1 kPa", "stop": "1 MPa", "num": 0}, ["load.p0.num"]),
         ("load.p0", {"start": "1 kPa", "stop": "1 MPa"}, ["load.p0.num", "required"]),
         ("load.p0", {"start": "1 kPa", "stop": "1 MPa", "num": 3, "step": 2}, ["load.p0"]),
         ("load.p0", {"start": "1 MPa", "stop": "1 kPa", "num": 3}, ["load.p0", "stop"]),
         ("load.p0", {"start": "-1 kPa", "stop": "1 MPa", "num": 3}, ["load.p0", "start > 0"]),
-        ("load.p0", {"start": "1 kPa", "stop": "1 MPa", "num": 3, "spacing": "cubic"},
-         ["load.p0.spacing"]),
+        (
+            "load.p0",
+            {"start": "1 kPa", "stop": "1 MPa", "num": 3, "spacing": "cubic"},
+            ["load.p0.spacing"],
+        ),
         ("load.p0", _DELETE, ["load.p0", "required"]),
         ("load.force", "1 N", ["load.force", "unknown"]),
         ("material.nu", _DELETE, ["material.nu", "required"]),

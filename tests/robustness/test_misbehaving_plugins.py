@@ -52,22 +52,30 @@ def _raise(*a, **k):
 
 
 COEFFICIENTS = {
-    "nan_f": ({"f": lambda self, ctx, z: np.full(z.shape, np.nan)}, ["f(zeta)", "non-finite",
-                                                                     "nan"]),
+    "nan_f": (
+        {"f": lambda self, ctx, z: np.full(z.shape, np.nan)},
+        ["f(zeta)", "non-finite", "nan"],
+    ),
     "inf_tau": ({"tau": lambda self, ctx, z: np.full(z.shape, np.inf)}, ["tau(zeta)", "inf"]),
     "short_tau": ({"tau": lambda self, ctx, z: _tau(ctx, z)[:-1]}, ["tau(zeta)", "shape"]),
     "matrix_f": ({"f": lambda self, ctx, z: np.ones((2, z.size))}, ["f(zeta)", "shape"]),
     "negative_f": ({"f": lambda self, ctx, z: -_f(ctx, z)}, ["f(zeta)", "negative"]),
-    "decreasing_tau": ({"tau": lambda self, ctx, z: _tau(ctx, z)[::-1].copy()},
-                       ["tau(zeta)", "decreases"]),
+    "decreasing_tau": (
+        {"tau": lambda self, ctx, z: _tau(ctx, z)[::-1].copy()},
+        ["tau(zeta)", "decreases"],
+    ),
     "text_f": ({"f": lambda self, ctx, z: ["a"] * z.size}, ["f(zeta)", "non-numeric"]),
     "raising_tau": ({"tau": _raise}, ["tau(zeta)", "ZeroDivisionError", "a bug inside"]),
     "raising_f": ({"f": _raise}, ["f(zeta)", "ZeroDivisionError"]),
     "raising_eff": ({"effective_tau": _raise}, ["effective_tau(zeta)", "ZeroDivisionError"]),
-    "eff_shape": ({"effective_tau": lambda self, ctx, z: np.ones((ctx.p0.size + 1, z.size))},
-                  ["effective_tau(zeta)", "shape"]),
-    "eff_nan": ({"effective_tau": lambda self, ctx, z: np.full((ctx.p0.size, z.size), np.nan)},
-                ["effective_tau(zeta)", "non-finite"]),
+    "eff_shape": (
+        {"effective_tau": lambda self, ctx, z: np.ones((ctx.p0.size + 1, z.size))},
+        ["effective_tau(zeta)", "shape"],
+    ),
+    "eff_nan": (
+        {"effective_tau": lambda self, ctx, z: np.full((ctx.p0.size, z.size), np.nan)},
+        ["effective_tau(zeta)", "non-finite"],
+    ),
 }
 
 
@@ -101,44 +109,74 @@ def _grid(ctx, fill=0.5):
 
 
 BOUNDARIES = {
-    "nan_out": ({"interpret": _interpret(lambda c: {"contact_extra": (PZ, _grid(c, np.nan))})},
-                ["'contact_extra'", "non-finite", "nan at p0="]),
-    "inf_out": ({"interpret": _interpret(lambda c: {"contact_extra": (PZ, _grid(c, np.inf))})},
-                ["'contact_extra'", "non-finite", "inf"]),
-    "above_max": ({"interpret": _interpret(lambda c: {"contact_extra": (PZ, _grid(c, 1.5))})},
-                  ["'contact_extra'", "above valid_max", "1.5"]),
-    "below_min": ({"interpret": _interpret(lambda c: {"contact_extra": (PZ, _grid(c, -0.1))})},
-                  ["'contact_extra'", "below valid_min", "-0.1"]),
-    "wrong_dims": ({"interpret": _interpret(
-        lambda c: {"contact_extra": (("load", "zeta"), _grid(c))})},
-        ["'contact_extra'", "dims", "load"]),
-    "missing_dim": ({"interpret": _interpret(
-        lambda c: {"contact_extra": (("zeta",), np.zeros(c.zeta.size))})},
-        ["'contact_extra'", "missing ['p0']"]),
-    "wrong_shape": ({"interpret": _interpret(
-        lambda c: {"contact_extra": (PZ, np.zeros((c.p0.size, c.zeta.size + 2)))})},
-        ["'contact_extra'", "entries along 'zeta'"]),
-    "bad_pair": ({"interpret": _interpret(
-        lambda c: {"contact_extra": (PZ, np.zeros(c.zeta.size))})},
-        ["'contact_extra'", "(dims, data)"]),
-    "undeclared": ({"interpret": _interpret(lambda c: {"secret": (PZ, _grid(c))})},
-                   ["'secret'", "without declaring"]),
-    "clobber": ({"interpret": _interpret(lambda c: {"area_fraction": (PZ, _grid(c))})},
-                ["'area_fraction'", "already has"]),
+    "nan_out": (
+        {"interpret": _interpret(lambda c: {"contact_extra": (PZ, _grid(c, np.nan))})},
+        ["'contact_extra'", "non-finite", "nan at p0="],
+    ),
+    "inf_out": (
+        {"interpret": _interpret(lambda c: {"contact_extra": (PZ, _grid(c, np.inf))})},
+        ["'contact_extra'", "non-finite", "inf"],
+    ),
+    "above_max": (
+        {"interpret": _interpret(lambda c: {"contact_extra": (PZ, _grid(c, 1.5))})},
+        ["'contact_extra'", "above valid_max", "1.5"],
+    ),
+    "below_min": (
+        {"interpret": _interpret(lambda c: {"contact_extra": (PZ, _grid(c, -0.1))})},
+        ["'contact_extra'", "below valid_min", "-0.1"],
+    ),
+    "wrong_dims": (
+        {"interpret": _interpret(lambda c: {"contact_extra": (("load", "zeta"), _grid(c))})},
+        ["'contact_extra'", "dims", "load"],
+    ),
+    "missing_dim": (
+        {"interpret": _interpret(lambda c: {"contact_extra": (("zeta",), np.zeros(c.zeta.size))})},
+        ["'contact_extra'", "missing ['p0']"],
+    ),
+    "wrong_shape": (
+        {
+            "interpret": _interpret(
+                lambda c: {"contact_extra": (PZ, np.zeros((c.p0.size, c.zeta.size + 2)))}
+            )
+        },
+        ["'contact_extra'", "entries along 'zeta'"],
+    ),
+    "bad_pair": (
+        {"interpret": _interpret(lambda c: {"contact_extra": (PZ, np.zeros(c.zeta.size))})},
+        ["'contact_extra'", "(dims, data)"],
+    ),
+    "undeclared": (
+        {"interpret": _interpret(lambda c: {"secret": (PZ, _grid(c))})},
+        ["'secret'", "without declaring"],
+    ),
+    "clobber": (
+        {"interpret": _interpret(lambda c: {"area_fraction": (PZ, _grid(c))})},
+        ["'area_fraction'", "already has"],
+    ),
     "not_mapping": ({"interpret": _interpret([1, 2])}, ["list", "mapping"]),
     "raising_interpret": ({"interpret": _raise}, ["interpret()", "ZeroDivisionError"]),
     "raising_walls": ({"walls": _raise}, ["walls()", "ZeroDivisionError"]),
-    "walls_type": ({"walls": lambda self, ctx, p0, clock: Wall.absorbing(0.0)},
-                   ["walls()", "Wall"]),
-    "walls_above_load": ({"walls": lambda self, ctx, p0, clock: (Wall.absorbing(2 * p0), None)},
-                         ["lower wall", "not strictly below"]),
-    "walls_nan": ({"walls": lambda self, ctx, p0, clock: (Wall.absorbing(0.0),
-                                                          Wall.absorbing(np.nan))},
-                  ["upper wall", "finite"]),
+    "walls_type": (
+        {"walls": lambda self, ctx, p0, clock: Wall.absorbing(0.0)},
+        ["walls()", "Wall"],
+    ),
+    "walls_above_load": (
+        {"walls": lambda self, ctx, p0, clock: (Wall.absorbing(2 * p0), None)},
+        ["lower wall", "not strictly below"],
+    ),
+    "walls_nan": (
+        {"walls": lambda self, ctx, p0, clock: (Wall.absorbing(0.0), Wall.absorbing(np.nan))},
+        ["upper wall", "finite"],
+    ),
     "raising_validate": ({"validate": _raise}, ["validate()", "ZeroDivisionError"]),
-    "text_out": ({"interpret": _interpret(
-        lambda c: {"contact_extra": (PZ, np.full((c.p0.size, c.zeta.size), "x"))})},
-        ["'contact_extra'", "non-numeric"]),
+    "text_out": (
+        {
+            "interpret": _interpret(
+                lambda c: {"contact_extra": (PZ, np.full((c.p0.size, c.zeta.size), "x"))}
+            )
+        },
+        ["'contact_extra'", "non-numeric"],
+    ),
 }
 
 
@@ -209,10 +247,17 @@ def test_misbehaving_spectrum_is_caught_and_named(case):
 def _analysis(name: str, compute: Any, outputs: dict[str, VarSpec] | None = None) -> type:
     outputs = outputs or {"extra": VarSpec(PZ, "Pa", "an extra quantity", valid_min=0)}
     requires = ("non_contact_fraction",) if "area_fraction" in outputs else ("area_fraction",)
-    return type(name, (Analysis,), {
-        "summary": "misbehaving analysis", "requires": requires,
-        "provides": tuple(outputs), "outputs": outputs, "compute": compute,
-    })
+    return type(
+        name,
+        (Analysis,),
+        {
+            "summary": "misbehaving analysis",
+            "requires": requires,
+            "provides": tuple(outputs),
+            "outputs": outputs,
+            "compute": compute,
+        },
+    )
 
 
 def _area(ds):
@@ -241,28 +286,47 @@ def _delete(self, ctx, ds):
 
 NAN_OK = {"extra": VarSpec(PZ, "Pa", "an extra quantity", nan_meaning="no contact")}
 ANALYSES = {
-    "nan": (lambda self, ctx, ds: {"extra": (PZ, _area(ds) * np.nan)}, None,
-            ["'extra'", "non-finite"]),
-    "inf_where_nan_allowed": (lambda self, ctx, ds: {"extra": (PZ, _area(ds) * np.inf)},
-                              NAN_OK, ["'extra'", "NaN is allowed, inf is not"]),
-    "negative": (lambda self, ctx, ds: {"extra": (PZ, -_area(ds))}, None,
-                 ["'extra'", "below valid_min"]),
-    "dims": (lambda self, ctx, ds: {"extra": (("zeta", "p0"), _area(ds).T[:, :1])}, None,
-             ["'extra'", "entries along 'p0'"]),
-    "undeclared_dim": (lambda self, ctx, ds: {"extra": (("p0", "zeta", "k"),
-                                                        _area(ds)[..., None])}, None,
-                       ["'extra'", "undeclared ['k']"]),
+    "nan": (
+        lambda self, ctx, ds: {"extra": (PZ, _area(ds) * np.nan)},
+        None,
+        ["'extra'", "non-finite"],
+    ),
+    "inf_where_nan_allowed": (
+        lambda self, ctx, ds: {"extra": (PZ, _area(ds) * np.inf)},
+        NAN_OK,
+        ["'extra'", "NaN is allowed, inf is not"],
+    ),
+    "negative": (
+        lambda self, ctx, ds: {"extra": (PZ, -_area(ds))},
+        None,
+        ["'extra'", "below valid_min"],
+    ),
+    "dims": (
+        lambda self, ctx, ds: {"extra": (("zeta", "p0"), _area(ds).T[:, :1])},
+        None,
+        ["'extra'", "entries along 'p0'"],
+    ),
+    "undeclared_dim": (
+        lambda self, ctx, ds: {"extra": (("p0", "zeta", "k"), _area(ds)[..., None])},
+        None,
+        ["'extra'", "undeclared ['k']"],
+    ),
     "missing": (lambda self, ctx, ds: {}, None, ["did not provide", "extra"]),
     "raising": (_raise, None, ["compute()", "ZeroDivisionError"]),
     "in_place_write": (_inplace, None, ["compute()", "read-only"]),
     "replaces_core": (_replace, None, ["'area_fraction'", "replaced or removed"]),
     "deletes_core": (_delete, None, ["'non_contact_fraction'", "replaced or removed"]),
     "adds_in_place": (_add_in_place, None, ["'sneaky'", "added"]),
-    "declares_core": (lambda self, ctx, ds: {"area_fraction": (PZ, _area(ds))},
-                      {"area_fraction": VarSpec(PZ, "1", "area again")},
-                      ["'area_fraction'", "already has"]),
-    "complex": (lambda self, ctx, ds: {"extra": (PZ, _area(ds) + 1j)}, None,
-                ["'extra'", "complex"]),
+    "declares_core": (
+        lambda self, ctx, ds: {"area_fraction": (PZ, _area(ds))},
+        {"area_fraction": VarSpec(PZ, "1", "area again")},
+        ["'area_fraction'", "already has"],
+    ),
+    "complex": (
+        lambda self, ctx, ds: {"extra": (PZ, _area(ds) + 1j)},
+        None,
+        ["'extra'", "complex"],
+    ),
     "none": (lambda self, ctx, ds: None, None, ["did not provide"]),
 }
 

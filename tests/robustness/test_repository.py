@@ -15,8 +15,7 @@ PATTERN = "(/wo" + "rk/|/tm" + "p/[a-z]|/ho" + "me/[a-z]|/ro" + "ot/)"  # split:
 def test_no_machine_specific_path_in_tracked_files():
     if shutil.which("git") is None or not (ROOT / ".git").exists():
         pytest.skip("not a git checkout")
-    res = subprocess.run(["git", "grep", "-nE", PATTERN], cwd=ROOT, capture_output=True,
-                         text=True)
+    res = subprocess.run(["git", "grep", "-nE", PATTERN], cwd=ROOT, capture_output=True, text=True)
     assert res.returncode == 1, f"machine-specific paths:\n{res.stdout}"
 
 

@@ -23,8 +23,9 @@ VOLATILE = ("history", "date_created", "xpersson_solver")
 @pytest.fixture(scope="module")
 def client():
     """One LocalCluster for the module (starting one costs seconds)."""
-    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, silence_logs=40)
+    cluster = distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=40
+    )
     with distributed.Client(cluster) as c:
         yield c
     cluster.close()
@@ -32,10 +33,14 @@ def client():
 
 def _same(a: xr.Dataset, b: xr.Dataset) -> None:
     """Bit-for-bit equal values, coordinates and attributes (except timestamps/timings)."""
-    xr.testing.assert_identical(a.drop_attrs(deep=False).assign_attrs(
-        {k: v for k, v in a.attrs.items() if k not in VOLATILE}),
+    xr.testing.assert_identical(
+        a.drop_attrs(deep=False).assign_attrs(
+            {k: v for k, v in a.attrs.items() if k not in VOLATILE}
+        ),
         b.drop_attrs(deep=False).assign_attrs(
-        {k: v for k, v in b.attrs.items() if k not in VOLATILE}))
+            {k: v for k, v in b.attrs.items() if k not in VOLATILE}
+        ),
+    )
 
 
 def test_2x3x50_sweep_on_two_worker_processes_equals_serial(client):
@@ -55,13 +60,17 @@ def test_failing_point_is_recorded_and_the_rest_completes(client):
     assert msgs[0]["point"] == {"sigma_Y": 5e5} and "sigma_Y" in msgs[0]["message"]
     assert np.isnan(ds.area_fraction.isel(sigma_Y=0)).all()
     one = xpersson.solve(scene(boundary={"model": "plastic", "sigma_Y": "5 MPa"}))
-    np.testing.assert_array_equal(ds.area_fraction.sel(sigma_Y=5e6).values,
-                                  one.area_fraction.values)
+    np.testing.assert_array_equal(
+        ds.area_fraction.sel(sigma_Y=5e6).values, one.area_fraction.values
+    )
 
 
 def test_parts_reopen_lazily_and_equal_the_in_memory_result(tmp_path, client):
-    sc = scene(spectrum={"H": [0.6, 0.7, 0.8]}, material={"E": ["5 MPa", "10 MPa"]},
-               output={"pressure_pdf": True, "p_points": 32, "zeta_per_decade": 2})
+    sc = scene(
+        spectrum={"H": [0.6, 0.7, 0.8]},
+        material={"E": ["5 MPa", "10 MPa"]},
+        output={"pressure_pdf": True, "p_points": 32, "zeta_per_decade": 2},
+    )
     mem = xpersson.solve(sc)
     out = xpersson.solve(sc, scheduler=client, output=tmp_path / "parts", chunk=2)
     assert len(list((tmp_path / "parts").glob("part-*.nc"))) == 3
@@ -73,9 +82,21 @@ def test_parts_reopen_lazily_and_equal_the_in_memory_result(tmp_path, client):
 
 def test_cli_run_scheduler_parts_and_validate(tmp_path, client, capsys):
     target = tmp_path / "sweep"
-    code = main(["run", str(EXAMPLES / "sweep.toml"), "-o", f"{target}/", "--scheduler",
-                 client.scheduler.address, "--chunk", "3", "--quiet",
-                 "--set", 'load.p0=["0.1 MPa"]'])
+    code = main(
+        [
+            "run",
+            str(EXAMPLES / "sweep.toml"),
+            "-o",
+            f"{target}/",
+            "--scheduler",
+            client.scheduler.address,
+            "--chunk",
+            "3",
+            "--quiet",
+            "--set",
+            'load.p0=["0.1 MPa"]',
+        ]
+    )
     assert code == 0
     ds = xpersson.open_dataset(target)
     assert ds.area_fraction.dims == ("H", "E", "p0", "zeta") and ds.sizes["p0"] == 1

@@ -57,27 +57,31 @@ def test_zipped_group_equals_individual_solves(H, nu):
     assert ds["nu"].dims == ("H",)
     for i, (h, n) in enumerate(zip(H, nus, strict=True)):
         one = xpersson.solve(scene(spectrum={"H": h}, material={"nu": n}))
-        np.testing.assert_array_equal(ds.area_fraction.isel(H=i).values,
-                                      one.area_fraction.values)
+        np.testing.assert_array_equal(ds.area_fraction.isel(H=i).values, one.area_fraction.values)
 
 
 def test_plugin_declared_dims_v_and_T():
-    sc = scene(coefficient={"model": "sliding", "velocity": ["0 m/s", "1 m/s"],
-                            "temperature": {"start": "250 K", "stop": "350 K", "num": 3,
-                                            "spacing": "linear"}})
+    sc = scene(
+        coefficient={
+            "model": "sliding",
+            "velocity": ["0 m/s", "1 m/s"],
+            "temperature": {"start": "250 K", "stop": "350 K", "num": 3, "spacing": "linear"},
+        }
+    )
     with registry_with(coefficients={"sliding": SlidingCoefficient}):
         ds = xpersson.solve(sc)
-        one = xpersson.solve(scene(coefficient={"model": "sliding", "velocity": "1 m/s",
-                                                "temperature": "300 K"}))
+        one = xpersson.solve(
+            scene(coefficient={"model": "sliding", "velocity": "1 m/s", "temperature": "300 K"})
+        )
     assert ds.area_fraction.dims == ("v", "T", "p0", "zeta")
     assert ds["v"].attrs["units"] == "m s-1" and ds["T"].attrs["units"] == "K"
     np.testing.assert_array_equal(ds["T"].values, [250.0, 300.0, 350.0])
-    np.testing.assert_array_equal(ds.area_fraction.sel(v=1.0, T=300.0).values,
-                                  one.area_fraction.values)
+    np.testing.assert_array_equal(
+        ds.area_fraction.sel(v=1.0, T=300.0).values, one.area_fraction.values
+    )
     # each point saw its own scalar values: tau scales as (1 + v) T / 293 K
     tau = ds.diffusion_time.isel(zeta=slice(1, None))
-    np.testing.assert_allclose(tau.isel(v=1, T=2) / tau.isel(v=0, T=0), 2 * 350 / 250,
-                               rtol=1e-12)
+    np.testing.assert_allclose(tau.isel(v=1, T=2) / tau.isel(v=0, T=0), 2 * 350 / 250, rtol=1e-12)
 
 
 def test_naming_rule_falls_back_to_the_dotted_path():
@@ -88,28 +92,45 @@ def test_naming_rule_falls_back_to_the_dotted_path():
 
 def test_collisions_and_bad_sweeps_are_refused():
     class Clash(SlidingCoefficient):
-        parameters = {**SlidingCoefficient.parameters,
-                      "speed2": SlidingCoefficient.parameters["velocity"],
-                      "fixed": ParamSpec("1", default=1.0, description="not sweepable")}
+        parameters = {
+            **SlidingCoefficient.parameters,
+            "speed2": SlidingCoefficient.parameters["velocity"],
+            "fixed": ParamSpec("1", default=1.0, description="not sweepable"),
+        }
 
     with registry_with(coefficients={"clash": Clash}), pytest.raises(SceneError, match="'v'"):
-        xpersson.solve(scene(coefficient={"model": "clash", "velocity": ["1 m/s", "2 m/s"],
-                                          "speed2": ["1 m/s", "2 m/s"]}))
-    with registry_with(coefficients={"clash": Clash}), pytest.raises(
-        SceneError, match=r"coefficient\.fixed: this parameter is not sweepable"
+        xpersson.solve(
+            scene(
+                coefficient={
+                    "model": "clash",
+                    "velocity": ["1 m/s", "2 m/s"],
+                    "speed2": ["1 m/s", "2 m/s"],
+                }
+            )
+        )
+    with (
+        registry_with(coefficients={"clash": Clash}),
+        pytest.raises(SceneError, match=r"coefficient\.fixed: this parameter is not sweepable"),
     ):
         xpersson.solve(scene(coefficient={"model": "clash", "fixed": [1.0, 2.0]}))
     with pytest.raises(SceneError, match="output.zeta_per_decade"):
         xpersson.solve(scene(output={"zeta_per_decade": [2, 3]}))
     with pytest.raises(SceneError, match="same number of values"):
-        xpersson.solve({**scene(spectrum={"H": [0.6, 0.8]}, material={"nu": [0.3, 0.4, 0.5]}),
-                        "sweep": {"mode": "zip"}})
+        xpersson.solve(
+            {
+                **scene(spectrum={"H": [0.6, 0.8]}, material={"nu": [0.3, 0.4, 0.5]}),
+                "sweep": {"mode": "zip"},
+            }
+        )
     with pytest.raises(SceneError, match=r"material\.E\[1\].*outside"):
         xpersson.solve(scene(material={"E": ["1 MPa", "-1 MPa"]}))
     with pytest.raises(SceneError, match="magnification grid"):
         xpersson.solve(scene(spectrum={"q_1": ["1e7 1/m", "1e8 1/m"]}))
-    ds = xpersson.solve(scene(spectrum={"q_1": ["1e7 1/m", "1e8 1/m"]},
-                              output={"zeta_max": 1e4, "zeta_per_decade": 4}))
+    ds = xpersson.solve(
+        scene(
+            spectrum={"q_1": ["1e7 1/m", "1e8 1/m"]}, output={"zeta_max": 1e4, "zeta_per_decade": 4}
+        )
+    )
     assert ds.area_fraction.dims == ("q_1", "p0", "zeta")
 
 
@@ -168,17 +189,27 @@ def test_threads_scheduler_uses_the_requested_number_of_threads(swept, workers, 
 
 
 @settings(max_examples=150, deadline=None)
-@given(shape=st.lists(st.integers(1, 9), min_size=1, max_size=3),
-       per_block=st.integers(1, 60), multiple=st.integers(1, 3), workers=st.integers(1, 3))
-def test_blocks_tile_the_grid_evenly_and_workers_get_equal_shares(shape, per_block, multiple,
-                                                                  workers):
+@given(
+    shape=st.lists(st.integers(1, 9), min_size=1, max_size=3),
+    per_block=st.integers(1, 60),
+    multiple=st.integers(1, 3),
+    workers=st.integers(1, 3),
+)
+def test_blocks_tile_the_grid_evenly_and_workers_get_equal_shares(
+    shape, per_block, multiple, workers
+):
     from types import SimpleNamespace
 
     from xpersson._sweeprun import _assign, blocks_of
 
     dims = tuple(f"d{i}" for i in range(len(shape)))
-    plan = SimpleNamespace(shape=tuple(shape), dims=dims, coords=lambda: {
-        d: (d, np.arange(n, dtype=float), {}) for d, n in zip(dims, shape, strict=True)})
+    plan = SimpleNamespace(
+        shape=tuple(shape),
+        dims=dims,
+        coords=lambda: {
+            d: (d, np.arange(n, dtype=float), {}) for d, n in zip(dims, shape, strict=True)
+        },
+    )
     blocks = blocks_of(plan, per_block, multiple)
     cover = np.zeros(shape, int)
     for b in blocks:
@@ -194,8 +225,9 @@ def test_blocks_tile_the_grid_evenly_and_workers_get_equal_shares(shape, per_blo
         assert count % multiple == 0 or count == shape[split[-1]]
     sizes = sorted({b.size for b in blocks})
     owner = _assign(blocks, workers)
-    load = [sum(b.size for b, w in zip(blocks, owner, strict=True) if w == k)
-            for k in range(workers)]
+    load = [
+        sum(b.size for b, w in zip(blocks, owner, strict=True) if w == k) for k in range(workers)
+    ]
     assert sum(load) == int(np.prod(shape)) and max(load) - min(load) <= sizes[-1]
 
 
@@ -203,17 +235,28 @@ def test_blocks_tile_the_grid_evenly_and_workers_get_equal_shares(shape, per_blo
 def test_single_load_sweep_equals_individual_solves(chunk):
     """Points with one scalar load: stacked unsqueezed, the block squeezed once (p0 a scalar
     coordinate), identical to each point's own solve."""
-    data = scene(spectrum={"H": [0.6, 0.8]}, material={"E": ["5 MPa", "20 MPa"]},
-                 load={"p0": "1e5 Pa"}, analyses={"contact_area": {}})
+    data = scene(
+        spectrum={"H": [0.6, 0.8]},
+        material={"E": ["5 MPa", "20 MPa"]},
+        load={"p0": "1e5 Pa"},
+        analyses={"contact_area": {}},
+    )
     swept = xpersson.solve(data, chunk=chunk)
     assert swept.area_fraction.dims == ("H", "E", "zeta") and swept.p0.dims == ()
     for H in (0.6, 0.8):
         for E in ("5 MPa", "20 MPa"):
-            one = xpersson.solve(scene(spectrum={"H": H}, material={"E": E},
-                                       load={"p0": "1e5 Pa"}, analyses={"contact_area": {}}))
+            one = xpersson.solve(
+                scene(
+                    spectrum={"H": H},
+                    material={"E": E},
+                    load={"p0": "1e5 Pa"},
+                    analyses={"contact_area": {}},
+                )
+            )
             got = swept.sel(H=H, E=float(E.split()[0]) * 1e6)
             for name in one.data_vars:
                 if name in ("E", "H"):
                     continue
-                xr.testing.assert_identical(got[name].drop_vars(["E", "H"], errors="ignore"),
-                                            one[name])
+                xr.testing.assert_identical(
+                    got[name].drop_vars(["E", "H"], errors="ignore"), one[name]
+                )

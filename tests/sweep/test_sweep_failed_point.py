@@ -17,8 +17,13 @@ import pytest
 
 import xpersson
 
-EXAMPLE = (Path(__file__).resolve().parents[2] / "plugins" / "xpersson-adhesion" / "examples"
-           / "pdms_on_glass.toml")
+EXAMPLE = (
+    Path(__file__).resolve().parents[2]
+    / "plugins"
+    / "xpersson-adhesion"
+    / "examples"
+    / "pdms_on_glass.toml"
+)
 W = ["0.03 J/m**2", "0.05 J/m**2"]
 
 
@@ -36,8 +41,10 @@ def test_failed_point_is_flagged_and_the_other_equals_its_own_solve(chunk, tmp_p
     with pytest.raises(xpersson.SceneError, match="outside the allowed range"):
         xpersson.solve(_scene(W[0]))
     one = xpersson.solve(_scene(W[1]))
-    for ds in (xpersson.solve(_scene(W), chunk=chunk),
-               xpersson.solve(_scene(W), chunk=chunk, output=tmp_path / f"parts{chunk}")):
+    for ds in (
+        xpersson.solve(_scene(W), chunk=chunk),
+        xpersson.solve(_scene(W), chunk=chunk, output=tmp_path / f"parts{chunk}"),
+    ):
         assert ds.point_status.values.tolist() == [2, 0]
         assert ds.attrs["status"] == "failed"
         msgs = json.loads(ds.attrs["xpersson_point_messages"])
@@ -49,8 +56,9 @@ def test_failed_point_is_flagged_and_the_other_equals_its_own_solve(chunk, tmp_p
             # one solved point says nothing about a dependence: the dimension stays
             assert "work_of_adhesion" in ds[name].dims, name
             assert np.isnan(ds[name].sel(work_of_adhesion=0.03).values).all(), name
-            np.testing.assert_array_equal(ds[name].sel(work_of_adhesion=0.05).values,
-                                          one[name].values)
+            np.testing.assert_array_equal(
+                ds[name].sel(work_of_adhesion=0.05).values, one[name].values
+            )
 
 
 @pytest.mark.parametrize("chunk", [1, 2])
@@ -75,6 +83,9 @@ def test_sweep_whose_every_point_is_refused_raises_a_scene_error():
     works of adhesion): a SceneError naming the first point and the parameter, not a crash."""
     data = _scene(["0.02 J/m**2", "0.03 J/m**2"])
     data["load"]["p0"] = ["-6 kPa"]
-    with pytest.raises(xpersson.SceneError, match=r"every point of the sweep was refused; "
-                       r"first \(work_of_adhesion = 0.02\): .*load\.p0.*allowed range"):
+    with pytest.raises(
+        xpersson.SceneError,
+        match=r"every point of the sweep was refused; "
+        r"first \(work_of_adhesion = 0.02\): .*load\.p0.*allowed range",
+    ):
         xpersson.solve(data)

@@ -11,8 +11,14 @@ from xpersson.builtin.elastic import ElasticCoefficient
 from xpersson.plugins import ParamSpec
 
 BASE: dict[str, Any] = {
-    "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_r": "1e4 1/m",
-                 "q_1": "1e8 1/m", "h_rms": "1 um"},
+    "spectrum": {
+        "model": "self_affine",
+        "H": 0.8,
+        "q_L": "1e3 1/m",
+        "q_r": "1e4 1/m",
+        "q_1": "1e8 1/m",
+        "h_rms": "1 um",
+    },
     "material": {"E": "10 MPa", "nu": 0.5},
     "load": {"p0": ["1e4 Pa", "1e5 Pa", "1e6 Pa"]},
     "output": {"zeta_per_decade": 4},
@@ -33,10 +39,23 @@ class SlidingCoefficient(ElasticCoefficient):
     summary = "elastic f scaled by a sliding speed and a temperature (test double)"
     parameters = {
         **ElasticCoefficient.parameters,
-        "velocity": ParamSpec("m/s", default=0.0, bounds=(0, None), sweepable=True, dim="v",
-                              description="sliding speed"),
-        "temperature": ParamSpec("K", default=293.0, bounds=(0, None), inclusive=(False, True),
-                                 sweepable=True, dim="T", description="temperature"),
+        "velocity": ParamSpec(
+            "m/s",
+            default=0.0,
+            bounds=(0, None),
+            sweepable=True,
+            dim="v",
+            description="sliding speed",
+        ),
+        "temperature": ParamSpec(
+            "K",
+            default=293.0,
+            bounds=(0, None),
+            inclusive=(False, True),
+            sweepable=True,
+            dim="T",
+            description="temperature",
+        ),
     }
 
     def _scale(self) -> float:

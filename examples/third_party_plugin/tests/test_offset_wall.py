@@ -7,10 +7,10 @@ import sys
 
 import numpy as np
 import pytest
+
 import xpersson
 from xpersson.plugins import get_registry
 from xpersson.testing import check_plugin, constant_wall_area, constant_wall_load, tiny_scene
-
 from xpersson_example.offset_wall import OffsetWall
 
 SCENE_S = 2e4  # Pa

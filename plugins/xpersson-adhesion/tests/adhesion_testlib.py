@@ -56,8 +56,9 @@ def tau_of(zeta: np.ndarray, e_star: float) -> np.ndarray:
 
 def zeta_at(tau: float, e_star: float) -> float:
     """Magnification at which the diffusion time reaches ``tau`` [Pa^2]."""
-    return brentq(lambda z: float(tau_of(np.array([z]), e_star)[0]) - tau, 1.0, ZETA_1,
-                  xtol=1e-14, rtol=1e-15)
+    return brentq(
+        lambda z: float(tau_of(np.array([z]), e_star)[0]) - tau, 1.0, ZETA_1, xtol=1e-14, rtol=1e-15
+    )
 
 
 def with_(scene: dict, **sections: dict) -> dict:

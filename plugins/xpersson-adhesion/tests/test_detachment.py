@@ -26,8 +26,9 @@ E_STAR = 4.0e6 / 3.0
 @given(st.floats(1e-8, 1e3))
 @settings(max_examples=40, deadline=None)
 def test_true_area_ratio_is_the_exponential_average(s2):
-    exact, _ = quad(lambda x: math.exp(-x) * math.sqrt(1 + s2 * x), 0, np.inf, epsabs=0,
-                    epsrel=1e-12)
+    exact, _ = quad(
+        lambda x: math.exp(-x) * math.sqrt(1 + s2 * x), 0, np.inf, epsabs=0, epsrel=1e-12
+    )
     assert abs(float(true_area_ratio(s2)) - exact) <= 1e-10 * exact
 
 
@@ -105,8 +106,9 @@ def test_tabulated_model_wall_matches_the_exact_law():
     from xpersson.plugins import DiffusionClock
 
     law = ModelLaw(PSD, E_STAR, 0.03, 1.0)
-    clock = DiffusionClock(lambda z: diffusion_time(PSD, E_STAR, z),
-                           lambda z: coefficient_f(PSD, E_STAR, z), 1e4)
+    clock = DiffusionClock(
+        lambda z: diffusion_time(PSD, E_STAR, z), lambda z: coefficient_f(PSD, E_STAR, z), 1e4
+    )
     # the slope of sigma^2 is the derivative of sigma^2 (finite differences in zeta)
     z = np.geomspace(1.5, 9e3, 25)
     s2, ds2 = law.sigma2_and_slope(z)
@@ -117,8 +119,9 @@ def test_tabulated_model_wall_matches_the_exact_law():
     # the Hermite table in tau against sigma_a(zeta(tau)) evaluated exactly
     fast = DetachmentWall(law.in_tau(clock))
     exact = DetachmentWall(law=law, clock=clock)
-    t = float(clock.tau_of_zeta(1e4)) * np.concatenate([np.logspace(-12, 0, 300),
-                                                        np.linspace(0, 1, 301)])
+    t = float(clock.tau_of_zeta(1e4)) * np.concatenate(
+        [np.logspace(-12, 0, 300), np.linspace(0, 1, 301)]
+    )
     ref = exact.sigma(t)
     assert np.max(np.abs(fast.sigma(t) - ref)) <= 1e-9 * np.max(ref)
     np.testing.assert_array_equal(fast(t), -fast.sigma(t))

@@ -46,8 +46,17 @@ def test_laws_integrate_to_the_work_of_adhesion(law):
     work, rng = 0.02, 3e-9
     # in units of the range: int_0^inf sigma(rng x) rng dx
     parts = [(0.0, 1.0), (1.0, np.inf)]
-    val = sum(quad(lambda x: float(traction(law, rng * x, work, rng)) * rng, a, b, epsabs=0,
-                   epsrel=1e-11, limit=200)[0] for a, b in parts)
+    val = sum(
+        quad(
+            lambda x: float(traction(law, rng * x, work, rng)) * rng,
+            a,
+            b,
+            epsabs=0,
+            epsrel=1e-11,
+            limit=200,
+        )[0]
+        for a, b in parts
+    )
     assert abs(val - work) < 1e-8 * work
     assert np.all(traction(law, np.geomspace(1e-12, 1e-6, 50), work, rng) >= 0)
 
@@ -71,8 +80,9 @@ def test_vanishing_range():
         p_small = float(attraction_quadrature(law, det, work, 1e-14)[0][0])
         assert abs(p_small / (work * rho0) - 1) < 1e-3, law
         # fixed maximum traction (work ~ range): p_att -> 0
-        vals = [float(attraction_quadrature(law, det, 1e7 * r, r)[0][0]) for r in (1e-9, 1e-11,
-                                                                                 1e-13)]
+        vals = [
+            float(attraction_quadrature(law, det, 1e7 * r, r)[0][0]) for r in (1e-9, 1e-11, 1e-13)
+        ]
         assert vals[2] < 1e-3 * vals[0] and vals[1] < vals[0], law
 
 
@@ -142,14 +152,20 @@ def test_bad_input(solve, boundary, words):
 
 def test_tabor_warning_and_contract(solve):
     with pytest.warns(AdhesionLimitWarning, match="'jkr' limit"):
-        solve(with_(TINY, load={"p0": "20 kPa"},
-                    boundary=_dmt(work_of_adhesion="0.05 J/m**2", range="0.3 nm")))
+        solve(
+            with_(
+                TINY,
+                load={"p0": "20 kPa"},
+                boundary=_dmt(work_of_adhesion="0.05 J/m**2", range="0.3 nm"),
+            )
+        )
     from xpersson.testing import check_plugin
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AdhesionLimitWarning)
-        report = check_plugin(DMTBoundary, {"work_of_adhesion": 1e-3, "range": 5e-9,
-                                            "law": "exponential"})
+        report = check_plugin(
+            DMTBoundary, {"work_of_adhesion": 1e-3, "range": 5e-9, "law": "exponential"}
+        )
     assert report["metadata"] == "ok" and report["pickle"] == "ok"
     assert math.isfinite(DMTBoundary.outputs["p_att"].valid_min)
     # an instance that has solved a scene still pickles (dask ships instances)
@@ -161,8 +177,9 @@ def test_tabor_warning_and_contract(solve):
     inst = DMTBoundary(work_of_adhesion=1e-3, range=5e-9, law="dugdale")
     zeta = np.geomspace(1.0, 1e4, 9)
     ctx = SceneContext(psd=PSD, E=1e6, nu=0.5, E_star=E_STAR, p0=np.array([2e4]), zeta=zeta)
-    clock = DiffusionClock(lambda z: diffusion_time(PSD, E_STAR, z),
-                           lambda z: coefficient_f(PSD, E_STAR, z), 1e4)
+    clock = DiffusionClock(
+        lambda z: diffusion_time(PSD, E_STAR, z), lambda z: coefficient_f(PSD, E_STAR, z), 1e4
+    )
     inst.walls(ctx, 2e4, clock)
     assert pickle.loads(pickle.dumps(inst)) == inst
 
@@ -207,14 +224,22 @@ def test_curve_grid_nodes_are_separated(zeta_max, per_decade):
 def test_scene_with_near_duplicate_curve_nodes_solves(solve):
     """The fuzz scene that failed with "`x` must be strictly increasing sequence"."""
     sc = {
-        "spectrum": {"model": "self_affine", "H": 0.08770701236623936,
-                     "q_L": "2002.0669273387969 1/m", "q_r": "2002.0669273387969 1/m",
-                     "q_1": "5541.683342273044 1/m", "h_rms": "6.318420262971771e-09 m"},
+        "spectrum": {
+            "model": "self_affine",
+            "H": 0.08770701236623936,
+            "q_L": "2002.0669273387969 1/m",
+            "q_r": "2002.0669273387969 1/m",
+            "q_1": "5541.683342273044 1/m",
+            "h_rms": "6.318420262971771e-09 m",
+        },
         "material": {"E": "2398213099.2847214 Pa", "nu": 0.39554770728104216},
         "load": {"p0": ["0.05381634121038694 Pa", "148290.75137277704 Pa"]},
         "output": {"zeta_per_decade": 11},
-        "boundary": _dmt(work_of_adhesion="0.005043522597706408 J/m**2",
-                         range="2.386381796964268e-09 m", law="exponential"),
+        "boundary": _dmt(
+            work_of_adhesion="0.005043522597706408 J/m**2",
+            range="2.386381796964268e-09 m",
+            law="exponential",
+        ),
     }
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -19,8 +19,11 @@ def test_example_scene_adhesion_raises_the_area_at_every_load(solve):
     assert np.all(np.diff(area) > 0)
     assert -p0[0] < ds["sigma_a"].values[0]  # every tensile load is above -sigma_a(1)
     # the contact carries p0 plus the tensile stress of the detached patches
-    np.testing.assert_allclose(ds["contact_stress"] - ds["p0"], ds["detached_stress"],
-                               atol=1e-9 * float(ds["sigma_a"].max()))
+    np.testing.assert_allclose(
+        ds["contact_stress"] - ds["p0"],
+        ds["detached_stress"],
+        atol=1e-9 * float(ds["sigma_a"].max()),
+    )
 
 
 def test_comparison_script_builds_three_consistent_scenes():

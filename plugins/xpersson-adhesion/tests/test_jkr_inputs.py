@@ -18,16 +18,28 @@ JKR = {"model": "jkr", "work_of_adhesion": "0.05 J/m**2"}
 @pytest.mark.parametrize(
     ("boundary", "load", "words"),
     [
-        ({**JKR, "work_of_adhesion": "-0.01 J/m**2"}, None,
-         ["boundary.work_of_adhesion", "J/m**2", "[0, inf]"]),
+        (
+            {**JKR, "work_of_adhesion": "-0.01 J/m**2"},
+            None,
+            ["boundary.work_of_adhesion", "J/m**2", "[0, inf]"],
+        ),
         ({**JKR, "c_a": 0.0}, None, ["boundary.c_a", "(0, inf]"]),
         ({**JKR, "c_a": -2.0}, None, ["boundary.c_a", "outside the allowed range"]),
-        ({**JKR, "sigma_a": ["1 kPa", "-2 kPa"], "sigma_a_zeta": [1.0, 1e5]}, None,
-         ["boundary.sigma_a", "Pa", "[0, inf]"]),
-        ({**JKR, "sigma_a": ["1 kPa", "2 kPa", "3 kPa"], "sigma_a_zeta": [1.0, 1e4, 1e3]},
-         None, ["boundary.sigma_a_zeta", "strictly increasing"]),
-        ({**JKR, "sigma_a": ["1 kPa", "2 kPa"], "sigma_a_zeta": [1.0, 10.0]}, None,
-         ["boundary.sigma_a_zeta", "must span", "[1, 100000]"]),
+        (
+            {**JKR, "sigma_a": ["1 kPa", "-2 kPa"], "sigma_a_zeta": [1.0, 1e5]},
+            None,
+            ["boundary.sigma_a", "Pa", "[0, inf]"],
+        ),
+        (
+            {**JKR, "sigma_a": ["1 kPa", "2 kPa", "3 kPa"], "sigma_a_zeta": [1.0, 1e4, 1e3]},
+            None,
+            ["boundary.sigma_a_zeta", "strictly increasing"],
+        ),
+        (
+            {**JKR, "sigma_a": ["1 kPa", "2 kPa"], "sigma_a_zeta": [1.0, 10.0]},
+            None,
+            ["boundary.sigma_a_zeta", "must span", "[1, 100000]"],
+        ),
         ({**JKR, "sigma_a": ["1 kPa", "2 kPa"]}, None, ["boundary.sigma_a_zeta", "[1]"]),
         ({**JKR, "range": "0 nm"}, None, ["boundary.range", "m", "(0, inf]"]),
         (JKR, {"p0": ["-1 MPa", "1 kPa"]}, ["load.p0", "-1e+06 Pa", "-sigma_a(zeta=1)"]),
@@ -50,10 +62,22 @@ def test_bad_input_names_parameter_unit_and_range(solve, boundary, load, words):
     [
         ({"work_of_adhesion": -1.0}, ["work_of_adhesion", "J/m^2", "[0, inf]"]),
         ({"work_of_adhesion": 0.1, "c_a": 0.0}, ["c_a", "(0, inf]"]),
-        ({"work_of_adhesion": 0.1, "sigma_a": np.array([1.0, 2.0]),
-          "sigma_a_zeta": np.array([2.0, 1.0])}, ["sigma_a_zeta", "strictly increasing"]),
-        ({"work_of_adhesion": 0.1, "sigma_a": np.array([1.0, -2.0]),
-          "sigma_a_zeta": np.array([1.0, 2.0])}, ["sigma_a", "Pa", "[0, inf]"]),
+        (
+            {
+                "work_of_adhesion": 0.1,
+                "sigma_a": np.array([1.0, 2.0]),
+                "sigma_a_zeta": np.array([2.0, 1.0]),
+            },
+            ["sigma_a_zeta", "strictly increasing"],
+        ),
+        (
+            {
+                "work_of_adhesion": 0.1,
+                "sigma_a": np.array([1.0, -2.0]),
+                "sigma_a_zeta": np.array([1.0, 2.0]),
+            },
+            ["sigma_a", "Pa", "[0, inf]"],
+        ),
     ],
 )
 def test_bad_input_python_api(params, words):
@@ -72,8 +96,14 @@ def test_compressive_only_boundaries_refuse_tensile_loads(solve):
 
 def test_tabor_warning_when_the_limit_is_contradicted(solve):
     with pytest.warns(AdhesionLimitWarning, match="'dmt' limit"):
-        solve(with_(PDMS, load={"p0": "1 kPa"}, solver={"rtol": 1e-3},
-                    boundary={**JKR, "work_of_adhesion": "1e-4 J/m**2", "range": "10 nm"}))
+        solve(
+            with_(
+                PDMS,
+                load={"p0": "1 kPa"},
+                solver={"rtol": 1e-3},
+                boundary={**JKR, "work_of_adhesion": "1e-4 J/m**2", "range": "10 nm"},
+            )
+        )
     with warnings.catch_warnings():
         warnings.simplefilter("error", AdhesionLimitWarning)
         ds = solve(with_(PDMS, load={"p0": "1 kPa"}))  # soft PDMS, 0.05 J/m^2: JKR is right

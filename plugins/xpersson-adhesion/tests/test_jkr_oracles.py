@@ -143,9 +143,13 @@ def test_tensile_loads_and_adhesion_raise_the_area(solve):
 def test_pull_off_area_policy(solve):
     from xpersson.engine import Wall  # noqa: F401
 
-    ds = solve(with_(PDMS, load={"p0": ["1 kPa"]},
-                     boundary={"model": "jkr", "work_of_adhesion": "0.05 J/m**2",
-                               "pull_off_area": 0.3}))
+    ds = solve(
+        with_(
+            PDMS,
+            load={"p0": ["1 kPa"]},
+            boundary={"model": "jkr", "work_of_adhesion": "0.05 J/m**2", "pull_off_area": 0.3},
+        )
+    )
     off = float(ds["pull_off_stress"])
     assert 0 < off < ds["sigma_a"].values[0]
     # the contact area at -pull_off is the requested fraction (same scene, one load)
@@ -158,8 +162,11 @@ def test_gamma_eff_zero_crossing_meets_rtol(solve):
     sqrt(zeta - zeta_c). The wall declares that diffusion time as a breakpoint and the engine
     grades its steps there: rtol 1e-6 is met (status success, was max_steps at 3.3e-3), the load
     identity holds within 10 rtol and a coarser solve agrees within its own tolerance."""
-    base = with_(PDMS, load={"p0": ["1 kPa", "10 kPa", "100 kPa"]},
-                 boundary={"model": "jkr", "work_of_adhesion": "1e-2 J/m**2"})
+    base = with_(
+        PDMS,
+        load={"p0": ["1 kPa", "10 kPa", "100 kPa"]},
+        boundary={"model": "jkr", "work_of_adhesion": "1e-2 J/m**2"},
+    )
     ds = solve(with_(base, solver={"rtol": 1e-6}))
     assert ds.attrs["status"] == "success"
     sigma = ds["sigma_a"].values
@@ -167,5 +174,6 @@ def test_gamma_eff_zero_crossing_meets_rtol(solve):
     assert np.all(ds["load_identity_residual"].values <= 10 * 1e-6)
     coarse = solve(with_(base, solver={"rtol": 1e-4}))
     assert coarse.attrs["status"] == "success"
-    np.testing.assert_allclose(coarse["area_fraction"].values, ds["area_fraction"].values,
-                               rtol=1e-4, atol=1e-12)
+    np.testing.assert_allclose(
+        coarse["area_fraction"].values, ds["area_fraction"].values, rtol=1e-4, atol=1e-12
+    )

@@ -13,8 +13,11 @@ from xpersson_adhesion import JKRBoundary
 
 
 def _clock(tau_max: float) -> DiffusionClock:
-    return DiffusionClock(lambda z: tau_max * (np.asarray(z, float) - 1.0) / 99.0,
-                          lambda z: np.full(np.shape(z), tau_max / 99.0), 100.0)
+    return DiffusionClock(
+        lambda z: tau_max * (np.asarray(z, float) - 1.0) / 99.0,
+        lambda z: np.full(np.shape(z), tau_max / 99.0),
+        100.0,
+    )
 
 
 @given(
@@ -51,8 +54,9 @@ def test_table_affine_in_tau_is_the_linear_wall(s0, c, p0):
 def test_instance_pickles_after_building_its_wall():
     import pickle
 
-    inst = JKRBoundary(work_of_adhesion=0.0, sigma_a=np.array([1.0, 2.0]),
-                       sigma_a_zeta=np.array([1.0, 100.0]))
+    inst = JKRBoundary(
+        work_of_adhesion=0.0, sigma_a=np.array([1.0, 2.0]), sigma_a_zeta=np.array([1.0, 100.0])
+    )
     clock = _clock(1.0)  # holds lambdas: the cached wall must not travel with the instance
     inst.wall(None, clock)
     assert pickle.loads(pickle.dumps(inst)) == inst

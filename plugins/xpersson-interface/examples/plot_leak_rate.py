@@ -13,6 +13,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
 import xpersson  # noqa: E402
 
 HERE = Path(__file__).resolve().parent

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 from interface_testlib import H_RMS_ZHOU
+
 from xpersson.physics.psd import SelfAffineRollOff
 
 
@@ -17,4 +18,3 @@ def psd():
 def zhou():
     """Zhou/GFMD scene: E* = 1 Pa, C = C0 q^-3.6 on [1e4, 1e6] 1/m, h_rms = 6 um."""
     return SelfAffineRollOff.from_h_rms(H_RMS_ZHOU, 0.8, 1e4, 1e4, 1e6)
-

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import xpersson
 from interface_testlib import scene
+
+import xpersson
 from xpersson.scene import SceneError
 
 LOADS = [2e4, 1e5, 4e5]
@@ -20,9 +21,7 @@ def test_infinite_hardness_recovers_the_elastic_energy():
     el = xpersson.solve(scene(LOADS, analyses=ana))
     pl = xpersson.solve(scene(LOADS, boundary=_plastic(1e13), analyses=ana))
     np.testing.assert_allclose(pl["elastic_energy"], el["elastic_energy"], rtol=1e-8)
-    np.testing.assert_allclose(
-        pl["mean_contact_pressure"], el["mean_contact_pressure"], rtol=1e-8
-    )
+    np.testing.assert_allclose(pl["mean_contact_pressure"], el["mean_contact_pressure"], rtol=1e-8)
 
 
 def test_finite_hardness_energy_is_bounded_and_monotone():

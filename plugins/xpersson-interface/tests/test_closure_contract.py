@@ -12,8 +12,9 @@ import math
 
 import numpy as np
 import pytest
-import xpersson
 from interface_testlib import read_csv, scene
+
+import xpersson
 from xpersson.physics import closures, diffusion_time, elastic
 from xpersson.physics.psd import SelfAffineRollOff
 

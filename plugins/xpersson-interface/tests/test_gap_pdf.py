@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from interface_testlib import H_RMS_ZHOU as HR
 from interface_testlib import dense_zeta, detach, persson_curve
-from xpersson.physics import gap_cdf, gap_mean, gap_pdf, mean_gap
 
+from xpersson.physics import gap_cdf, gap_mean, gap_pdf, mean_gap
 from xpersson_interface import diffuse_with_injection
 
 P0 = np.array([1e-3, 0.01, 0.025, 0.04, 0.113])

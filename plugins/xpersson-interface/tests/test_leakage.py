@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import xpersson
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from interface_testlib import E_STAR, dense_zeta, detach, persson_curve, scene
+
+import xpersson
 from xpersson.physics import critical_magnification, separation_of_detaching_area
 from xpersson.scene import SceneError
-
 from xpersson_interface import bruggeman, bruggeman_gap, effective_pressure_drop, leak_rate
 
 LOADS = np.geomspace(2e4, 3e6, 10)

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import xpersson
 from interface_testlib import scene
-from xpersson.plugins import Analysis
 
+import xpersson
+from xpersson.plugins import Analysis
 from xpersson_interface.plugins import ContactStiffness, ElasticEnergy, GapPDF, Leakage, MeanGap
 
 ALL = {

@@ -9,10 +9,11 @@ Dataset's status is success.
 from __future__ import annotations
 
 import numpy as np
-import xpersson
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from interface_testlib import scene
+
+import xpersson
 
 ELASTIC = {"elastic_energy": {}, "mean_gap": {}, "contact_stiffness": {},
            "gap_pdf": {"u_points": 16, "n_bins": 40}, "leakage": {"n_bins": 30},

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from interface_testlib import H_RMS_ZHOU as HR
 from interface_testlib import detach, read_csv
+
 from xpersson.physics import gap_cdf, gap_mean
 
 # measured L1 distance (binned, in probability mass; 0 = identical, 2 = disjoint), gamma = 1

@@ -12,16 +12,26 @@ import pytest
 import xpersson
 
 BASE = {
-    "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_r": "1e4 1/m",
-                 "q_1": "1e6 1/m", "h_rms": "1 um"},
+    "spectrum": {
+        "model": "self_affine",
+        "H": 0.8,
+        "q_L": "1e3 1/m",
+        "q_r": "1e4 1/m",
+        "q_1": "1e6 1/m",
+        "h_rms": "1 um",
+    },
     "material": {"E": "210 GPa", "nu": 0.3},
     "output": {"zeta_per_decade": 8},
 }
 
 
 def _scene(p0, Y1, n, rtol=1e-4):
-    return dict(BASE, load={"p0": p0}, solver={"rtol": rtol},
-                boundary={"model": "plastic_scale_dependent", "Y1": Y1, "n": n})
+    return dict(
+        BASE,
+        load={"p0": p0},
+        solver={"rtol": rtol},
+        boundary={"model": "plastic_scale_dependent", "Y1": Y1, "n": n},
+    )
 
 
 def test_wall_never_reached_is_the_elastic_solution_by_the_exact_path():
@@ -44,11 +54,15 @@ def test_reached_wall_keeps_areas_in_range_and_balances(p0, Y1, n):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         ds = xpersson.solve(_scene(p0, Y1, n))
-    for name in ("elastic_area_fraction", "plastic_area_fraction", "non_contact_area_fraction",
-                 "total_contact_fraction"):
+    for name in (
+        "elastic_area_fraction",
+        "plastic_area_fraction",
+        "non_contact_area_fraction",
+        "total_contact_fraction",
+    ):
         v = ds[name].values
         assert np.all(np.isfinite(v)) and v.min() >= 0.0 and v.max() <= 1.0, name
-    total = (ds.elastic_area_fraction + ds.plastic_area_fraction + ds.non_contact_area_fraction)
+    total = ds.elastic_area_fraction + ds.plastic_area_fraction + ds.non_contact_area_fraction
     assert float(np.max(np.abs(total - 1.0))) < 1e-9  # conservative scheme: exact to the leak
     assert float(np.max(np.abs(ds.plastic_force_balance_residual))) < 1e-3
 
@@ -57,15 +71,23 @@ def test_failed_balance_never_reports_total_contact_above_one():
     """Fuzz scene (seed 11, index 2809): the work budget runs out (status max_steps) with a
     probability imbalance of 5 %; the total contact fraction stays a fraction (it was 1.05)."""
     scene = {
-        "spectrum": {"model": "self_affine", "H": 0.11878524125183135,
-                     "q_L": "123.36814751530633 1/m", "q_r": "1373.0607010032395 1/m",
-                     "q_1": "817107575.0063772 1/m", "rms_slope": 0.017213817051855283},
+        "spectrum": {
+            "model": "self_affine",
+            "H": 0.11878524125183135,
+            "q_L": "123.36814751530633 1/m",
+            "q_r": "1373.0607010032395 1/m",
+            "q_1": "817107575.0063772 1/m",
+            "rms_slope": 0.017213817051855283,
+        },
         "material": {"E": "18705140.31861233 Pa", "nu": 0.2893097474879475},
         "load": {"p0": "0.006615200781175351 Pa"},
         "output": {"zeta_per_decade": 14},
         "solver": {"rtol": 1.3290849877009342e-08},
-        "boundary": {"model": "plastic_scale_dependent", "Y1": "0.026286682074637323 Pa",
-                     "n": 0.8132448205604317},
+        "boundary": {
+            "model": "plastic_scale_dependent",
+            "Y1": "0.026286682074637323 Pa",
+            "n": 0.8132448205604317,
+        },
     }
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

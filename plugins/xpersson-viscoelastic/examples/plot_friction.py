@@ -62,8 +62,11 @@ def plot_friction(
         line = ax1.semilogx(r["v"], r["mu"][i, :, -1], label=f"T = {T - 273.15:.0f} °C")[0]
         ax1.semilogx(r["v"], r["mu_visc"][i, :, -1], "--", color=line.get_color())
         ax2.loglog(r["v"], r["area"][i, :, -1], color=line.get_color())
-    ax1.set(xlabel="sliding speed v [m/s]", ylabel="friction coefficient μ",
-            title=f"p0 = {r['p0'][-1] / 1e6:g} MPa (dashed: μ_visc)")
+    ax1.set(
+        xlabel="sliding speed v [m/s]",
+        ylabel="friction coefficient μ",
+        title=f"p0 = {r['p0'][-1] / 1e6:g} MPa (dashed: μ_visc)",
+    )
     ax2.set(xlabel="sliding speed v [m/s]", ylabel="relative contact area A/A0 at q_1")
     ax1.legend()
     out = Path(out)

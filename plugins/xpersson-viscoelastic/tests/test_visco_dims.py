@@ -25,8 +25,9 @@ def test_velocity_and_temperature_lists_become_dimensions(tmp_path):
     # each point equals the scalar solve of that (v, T)
     for i, vi in enumerate(v):
         for j, Tj in enumerate(T):
-            one = xpersson.solve(scene({"velocity": vi, "temperature": Tj, **WLF},
-                                       analyses=FRICTION))
+            one = xpersson.solve(
+                scene({"velocity": vi, "temperature": Tj, **WLF}, analyses=FRICTION)
+            )
             for name in ("mu", "mu_visc", "area_fraction", "loss_integral"):
                 np.testing.assert_array_equal(ds[name].isel(v=i, T=j).values, one[name].values)
     # physics across the dimensions: below the peak a colder rubber has more friction
@@ -40,8 +41,9 @@ def test_velocity_and_temperature_lists_become_dimensions(tmp_path):
 
 def test_velocity_range():
     pytest.importorskip("xpersson.sweep")
-    ds = xpersson.solve(scene({"velocity": {"start": "1e-6 m/s", "stop": "1 m/s", "num": 4}},
-                              analyses=FRICTION))
+    ds = xpersson.solve(
+        scene({"velocity": {"start": "1e-6 m/s", "stop": "1 m/s", "num": 4}}, analyses=FRICTION)
+    )
     np.testing.assert_allclose(ds["v"].values, np.geomspace(1e-6, 1.0, 4), rtol=1e-12)
     assert ds["mu_visc"].dims == ("v", "p0")
     assert np.all(np.diff(ds["mu_visc"].values, axis=0) > 0)  # below the peak: increasing

@@ -34,8 +34,7 @@ def test_flash_heats_along_the_scales_and_lowers_friction_below_the_peak():
     # a very good conductor does not heat up: back to the isothermal result
     cold = _solve(flash_temperature=True, thermal_conductivity="1e9 W/(m*K)")
     np.testing.assert_allclose(cold["mu_visc"].values, off["mu_visc"].values, rtol=1e-8)
-    np.testing.assert_allclose(cold["area_fraction"].values, off["area_fraction"].values,
-                               rtol=1e-8)
+    np.testing.assert_allclose(cold["area_fraction"].values, off["area_fraction"].values, rtol=1e-8)
 
 
 def test_flash_integral_matches_quadrature_without_shift():
@@ -53,9 +52,10 @@ def test_flash_integral_matches_quadrature_without_shift():
         return np.sqrt(D * v / q) / k * q**4 * float(psd.C(q)) * loss
 
     for q in (3e3, 1e5, 1e7):
-        ref = sum(quad(dens, a, b, epsabs=0, epsrel=1e-12, limit=200)[0]
-                  for a, b in ((np.log(1e3), np.log(min(q, 1e4))),
-                               (np.log(1e4), np.log(max(q, 1e4)))))
+        ref = sum(
+            quad(dens, a, b, epsabs=0, epsrel=1e-12, limit=200)[0]
+            for a, b in ((np.log(1e3), np.log(min(q, 1e4))), (np.log(1e4), np.log(max(q, 1e4))))
+        )
         assert prof(q) - 300.0 == pytest.approx(ref, rel=1e-8)
     half = solve_flash(psd, model, NoShift(), nu, v, 300.0, 2 * k, D)
     np.testing.assert_allclose(prof.dens, 2 * half.dens, rtol=1e-12)  # Delta T ∝ 1/k

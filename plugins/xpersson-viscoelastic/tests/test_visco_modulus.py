@@ -52,8 +52,9 @@ def test_sls_angular_integrals_match_quadrature_to_1e10(b):
 
 
 def test_single_scale_velocity_factor_peak():
-    res = minimize_scalar(lambda b: -u_over_b(b), bounds=(0.1, 10), method="bounded",
-                          options={"xatol": 1e-10})
+    res = minimize_scalar(
+        lambda b: -u_over_b(b), bounds=(0.1, 10), method="bounded", options={"xatol": 1e-10}
+    )
     assert round(float(res.x), 4) == 1.2720
     assert round(float(-res.fun), 5) == 0.30028
     assert u_over_b(0.0) == 0.0 and u_over_b(np.inf) == 0.0
@@ -65,8 +66,9 @@ def test_prony_closed_forms_match_quadrature(w):
     mean_sq, loss = model.angular(w)
 
     def E(x):  # x = w cos(phi) as an mpf
-        return 2e6 + sum(d * 1j * x * t / (1 + 1j * x * t)
-                         for d, t in zip(model.delta_E, model.tau, strict=True))
+        return 2e6 + sum(
+            d * 1j * x * t / (1 + 1j * x * t) for d, t in zip(model.delta_E, model.tau, strict=True)
+        )
 
     mp.mp.dps = 30
     pts = [0, mp.pi / 2, mp.pi, 3 * mp.pi / 2, 2 * mp.pi]
@@ -146,8 +148,11 @@ def test_master_curve_angular_rule_integrates_the_interpolant():
         return float(e1[0]), float(e2[0])
 
     def piecewise(fn):  # adaptive quadrature on every smooth piece
-        return sum(quad(fn, a, b, epsabs=0, epsrel=1e-11, limit=200)[0]
-                   for a, b in zip(cuts[:-1], cuts[1:], strict=True) if b > a)
+        return sum(
+            quad(fn, a, b, epsabs=0, epsrel=1e-11, limit=200)[0]
+            for a, b in zip(cuts[:-1], cuts[1:], strict=True)
+            if b > a
+        )
 
     loss = 4 * piecewise(lambda p: np.cos(p) * parts(p)[1])
     sq = (2 / np.pi) * piecewise(lambda p: parts(p)[0] ** 2 + parts(p)[1] ** 2)

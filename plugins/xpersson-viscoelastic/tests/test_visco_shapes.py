@@ -17,12 +17,12 @@ from xpersson.plugins import DiffusionClock, SceneContext
 from xpersson_viscoelastic import ViscoelasticCoefficient, kernel
 
 PSD = SelfAffineRollOff.from_h_rms(1e-5, 0.8, 1e3, 1e4, 1e7)
-CTX = SceneContext(psd=PSD, E=3e6, nu=0.5, E_star=4e6, p0=np.array([1e5]),
-                   zeta=np.geomspace(1.0, 1e4, 9))
+CTX = SceneContext(
+    psd=PSD, E=3e6, nu=0.5, E_star=4e6, p0=np.array([1e5]), zeta=np.geomspace(1.0, 1e4, 9)
+)
 COEFS = {
     "prony": {"velocity": 0.01},
-    "sls": {"velocity": 0.01, "modulus": "sls", "E_r": 3e6, "E_g": 3e9,
-            "relaxation_time": 1e-3},
+    "sls": {"velocity": 0.01, "modulus": "sls", "E_r": 3e6, "E_g": 3e9, "relaxation_time": 1e-3},
     "flash": {"velocity": 0.01, "flash_temperature": True},  # a_T(q): the callable path
 }
 Z2 = np.array([[1.0, 3.7, 41.0, 1e4], [2.0, 17.0, 900.0, 5e3], [1.5, 1.5, 8e3, 1e4]])
@@ -69,10 +69,23 @@ def test_clock_inverse_round_trips_on_2d_diffusion_times():
 
 def test_zero_speed_with_scale_dependent_plasticity_is_the_elastic_solve():
     """v = 0: the rubbery solid, so the plastic scene equals the elastic one with E = E_r."""
-    small = {"boundary": {"model": "plastic_scale_dependent", "Y1": "1 MPa", "n": 0.5},
-             "load": {"p0": ["0.1 MPa", "0.4 MPa"]}, "output": {"zeta_per_decade": 3}}
-    ve = xpersson.solve(scene({"modulus": "sls", "E_r": "3 MPa", "E_g": "3 GPa",
-                               "relaxation_time": "1 ms", "velocity": "0 m/s"}, **small))
+    small = {
+        "boundary": {"model": "plastic_scale_dependent", "Y1": "1 MPa", "n": 0.5},
+        "load": {"p0": ["0.1 MPa", "0.4 MPa"]},
+        "output": {"zeta_per_decade": 3},
+    }
+    ve = xpersson.solve(
+        scene(
+            {
+                "modulus": "sls",
+                "E_r": "3 MPa",
+                "E_g": "3 GPa",
+                "relaxation_time": "1 ms",
+                "velocity": "0 m/s",
+            },
+            **small,
+        )
+    )
     el = xpersson.solve(elastic_scene("3 MPa", **small))
     assert float(el["area_fraction"][0, -1]) > 0
     for name in ("area_fraction", "diffusion_time"):

@@ -18,8 +18,9 @@ def _solve(coef, **kw):
 
 
 @pytest.mark.parametrize("closure", ["persson01", "yp08"])
-@pytest.mark.parametrize(("v", "E"), [("0 m/s", "3 MPa"), ("1e-14 m/s", "3 MPa"),
-                                      ("1e25 m/s", "3 GPa")])
+@pytest.mark.parametrize(
+    ("v", "E"), [("0 m/s", "3 MPa"), ("1e-14 m/s", "3 MPa"), ("1e25 m/s", "3 GPa")]
+)
 def test_velocity_limits_reproduce_the_elastic_solve(v, E, closure):
     ve = _solve({**SLS, "velocity": v, "closure": closure})
     el = xpersson.solve(elastic_scene(E, coefficient={"closure": closure}))
@@ -34,16 +35,21 @@ def test_prony_limits_reproduce_the_elastic_solve():
     veinf = _solve({"velocity": "1e30 m/s"})
     el0 = xpersson.solve(elastic_scene("3 MPa"))
     elg = xpersson.solve(elastic_scene("3 GPa"))
-    np.testing.assert_allclose(ve0["area_fraction"].values, el0["area_fraction"].values,
-                               rtol=1e-8, atol=0)
-    np.testing.assert_allclose(veinf["area_fraction"].values, elg["area_fraction"].values,
-                               rtol=1e-8, atol=0)
+    np.testing.assert_allclose(
+        ve0["area_fraction"].values, el0["area_fraction"].values, rtol=1e-8, atol=0
+    )
+    np.testing.assert_allclose(
+        veinf["area_fraction"].values, elg["area_fraction"].values, rtol=1e-8, atol=0
+    )
 
 
-@pytest.mark.parametrize("coef", [
-    {**SLS, "E_g": "3 MPa"},
-    {"modulus": "prony", "delta_E": ["0 Pa", "0 Pa"], "relaxation_times": ["1 ms", "1 s"]},
-])
+@pytest.mark.parametrize(
+    "coef",
+    [
+        {**SLS, "E_g": "3 MPa"},
+        {"modulus": "prony", "delta_E": ["0 Pa", "0 Pa"], "relaxation_times": ["1 ms", "1 s"]},
+    ],
+)
 def test_no_loss_modulus_gives_exactly_zero_viscoelastic_friction(coef):
     ds = _solve({**coef, "velocity": "1 cm/s"}, analyses=FRICTION)
     assert np.all(ds["mu_visc"].values == 0.0)
@@ -55,8 +61,9 @@ def test_no_loss_modulus_gives_exactly_zero_viscoelastic_friction(coef):
 def test_scaling_moduli_and_pressures_leaves_area_and_mu_unchanged(lam):
     def run(k):
         coef = {"velocity": "3 cm/s", "E_r": f"{3e6 * k!r} Pa", "E_g": f"{3e9 * k!r} Pa"}
-        sc = scene(coef, analyses={"friction": {"tau_f": f"{5e5 * k!r} Pa",
-                                                "correction": "s_factor"}})
+        sc = scene(
+            coef, analyses={"friction": {"tau_f": f"{5e5 * k!r} Pa", "correction": "s_factor"}}
+        )
         sc["load"] = {"p0": [f"{1e5 * k!r} Pa", f"{4e5 * k!r} Pa"]}
         sc["material"] = {"E": f"{3e6 * k!r} Pa", "nu": 0.5}
         return xpersson.solve(sc)
@@ -83,8 +90,9 @@ def test_time_temperature_superposition():
     hot = _solve({"velocity": "1 cm/s", "temperature": "300 K", **wlf}, analyses=FRICTION)
     aT = float(hot["shift_factor"])
     assert aT == pytest.approx(10 ** (-17.44 * 50 / (51.6 + 50)), rel=1e-12)
-    ref = _solve({"velocity": f"{0.01 * aT!r} m/s", "temperature": "250 K", **wlf},
-                 analyses=FRICTION)
+    ref = _solve(
+        {"velocity": f"{0.01 * aT!r} m/s", "temperature": "250 K", **wlf}, analyses=FRICTION
+    )
     for name in ("area_fraction", "mu_visc", "loss_integral"):
         np.testing.assert_allclose(hot[name].values, ref[name].values, rtol=1e-12)
 
@@ -101,21 +109,24 @@ def test_friction_outputs_and_consistency_with_the_kernel():
             assert ds[name].attrs["valid_min"] == spec.valid_min
     assert ds["sliding_speed"].attrs["units"] == "m s-1"
     # mu_contact = tau_f A(zeta_max) / p0
-    np.testing.assert_allclose(ds["mu_contact"].values,
-                               5e5 * ds["area_fraction"].isel(zeta=-1).values / ds["p0"].values,
-                               rtol=1e-14)
+    np.testing.assert_allclose(
+        ds["mu_contact"].values,
+        5e5 * ds["area_fraction"].isel(zeta=-1).values / ds["p0"].values,
+        rtol=1e-14,
+    )
     # the analysis (cubic Stieltjes rule on the output grid) and the kernel (closed-form area
     # at the quadrature nodes) agree to the grid's accuracy (fourth order; 40 per decade)
-    ref = friction_curve(xpersson.scene.Scene(sc).resolve().psd, synthetic_tread(), 0.5,
-                         ds["p0"].values, [0.01])
+    ref = friction_curve(
+        xpersson.scene.Scene(sc).resolve().psd, synthetic_tread(), 0.5, ds["p0"].values, [0.01]
+    )
     np.testing.assert_allclose(ds["mu_visc"].values, ref["mu_visc"][0, 0], rtol=1e-6)
-    np.testing.assert_allclose(ds["area_fraction"].isel(zeta=-1).values,
-                               ref["area_fraction"][0, 0], rtol=1e-10)
+    np.testing.assert_allclose(
+        ds["area_fraction"].isel(zeta=-1).values, ref["area_fraction"][0, 0], rtol=1e-10
+    )
 
 
 def test_velocity_shear_law_and_contact_cutoff():
-    law = {"tau_f": "1 MPa", "shear_law": "velocity", "c": 0.1, "v_star": "1 mm/s",
-           "zeta_c": 100}
+    law = {"tau_f": "1 MPa", "shear_law": "velocity", "c": 0.1, "v_star": "1 mm/s", "zeta_c": 100}
     ds = _solve({"velocity": "1 m/s"}, analyses={"friction": law})
     assert float(ds["frictional_shear_stress"]) == pytest.approx(1e6 * np.exp(-0.1 * 9.0))
     A_c = ds["area_fraction"].sel(zeta=100, method="nearest")
@@ -137,8 +148,11 @@ def test_bad_input_is_refused_before_work(monkeypatch):
         raise AssertionError("the engine ran before the analysis refused the scene")
 
     monkeypatch.setattr(engine, "solve_batch", no_work)
-    with pytest.raises(ValueError, match=r"analyses\.friction: zeta_c: 100000 exceeds .*"
-                                         r"allowed \[1, 10000\]"):
+    with pytest.raises(
+        ValueError,
+        match=r"analyses\.friction: zeta_c: 100000 exceeds .*"
+        r"allowed \[1, 10000\]",
+    ):
         _solve({"velocity": "1 m/s"}, analyses={"friction": {"zeta_c": 1e5}})
 
 
@@ -164,10 +178,13 @@ def test_model_files_end_to_end(tmp_path):
     pf = tmp_path / "modes.txt"
     pf.write_text("tau [ms], delta_E [GPa]\n1, 2.997\n2, 0\n")
     ref = _solve({**SLS, "velocity": "1 cm/s"}, analyses=FRICTION)
-    pr = _solve({"modulus": "prony", "prony_file": str(pf), "velocity": "1 cm/s"},
-                analyses=FRICTION)
-    cu = _solve({"modulus": "master_curve", "master_curve": str(mc),
-                 "velocity": "1 cm/s"}, analyses=FRICTION)
+    pr = _solve(
+        {"modulus": "prony", "prony_file": str(pf), "velocity": "1 cm/s"}, analyses=FRICTION
+    )
+    cu = _solve(
+        {"modulus": "master_curve", "master_curve": str(mc), "velocity": "1 cm/s"},
+        analyses=FRICTION,
+    )
     for name in ("area_fraction", "mu_visc"):
         np.testing.assert_allclose(pr[name].values, ref[name].values, rtol=1e-12)
         np.testing.assert_allclose(cu[name].values, ref[name].values, rtol=3e-3)

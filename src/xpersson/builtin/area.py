@@ -29,14 +29,15 @@ class ContactArea(Analysis):
     requires = ("area_fraction",)
     provides = ("mean_contact_pressure", "kappa")
     outputs = {
-        "mean_contact_pressure": VarSpec(("p0", "zeta"), "Pa", "mean pressure in the real "
-                                         "contact area",
-                                         description="p0 / (A/A0), A the load-bearing contact "
-                                         "area declared by the boundary",
-                                         nan_meaning="no contact (A/A0 = 0, or so small that "
-                                         "p0 / (A/A0) exceeds the float range)"),
-        "kappa": VarSpec(("p0",), "1", "area-load slope kappa = (A/A0) E* h'_rms / p0 at "
-                         "zeta_max"),
+        "mean_contact_pressure": VarSpec(
+            ("p0", "zeta"),
+            "Pa",
+            "mean pressure in the real contact area",
+            description="p0 / (A/A0), A the load-bearing contact area declared by the boundary",
+            nan_meaning="no contact (A/A0 = 0, or so small that "
+            "p0 / (A/A0) exceeds the float range)",
+        ),
+        "kappa": VarSpec(("p0",), "1", "area-load slope kappa = (A/A0) E* h'_rms / p0 at zeta_max"),
     }
 
     def compute(self, ctx: SceneContext, ds: Any) -> dict[str, Any]:
@@ -54,7 +55,9 @@ class ContactArea(Analysis):
 def _loads_by_zeta(var: Any, n_loads: int) -> np.ndarray:
     """The values of ``var`` as (p0, everything else..., zeta) flattened to (p0, -1)."""
     dims = list(var.dims)
-    order = ([i for i, d in enumerate(dims) if d not in ("p0", "zeta")]
-             + [dims.index("p0"), dims.index("zeta")])
+    order = [i for i, d in enumerate(dims) if d not in ("p0", "zeta")] + [
+        dims.index("p0"),
+        dims.index("zeta"),
+    ]
     arr = np.transpose(np.asarray(var.values, float), order)
     return arr.reshape(n_loads, -1)

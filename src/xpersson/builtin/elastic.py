@@ -38,13 +38,21 @@ class ElasticCoefficient(Coefficient):
         "10.1007/s11249-024-01838-4",
     )
     parameters = {
-        "closure": ParamSpec("1", default="persson01", kind="choice",
-                             choices=("persson01", "yp08", "wm17", "xu24"),
-                             description="correction-factor closure of the variance"),
-        "gamma": ParamSpec("1", default=None, bounds=(0, 1), inclusive=(False, True),
-                           sweepable=True,
-                           description="closure parameter (default "
-                           f"{closures.GAMMA_DEFAULT}; wm17: 5/9)"),
+        "closure": ParamSpec(
+            "1",
+            default="persson01",
+            kind="choice",
+            choices=("persson01", "yp08", "wm17", "xu24"),
+            description="correction-factor closure of the variance",
+        ),
+        "gamma": ParamSpec(
+            "1",
+            default=None,
+            bounds=(0, 1),
+            inclusive=(False, True),
+            sweepable=True,
+            description=f"closure parameter (default {closures.GAMMA_DEFAULT}; wm17: 5/9)",
+        ),
     }
     outputs: dict[str, VarSpec] = {}
     traits = frozenset({"elastic_spectrum"})

@@ -27,21 +27,42 @@ class SelfAffine(Spectrum):
     summary = "self-affine isotropic PSD with roll-off, C(q) = C_r (q/q_r)^(-2(1+H))"
     references = ("10.1088/2051-672X/aa51f8", "10.1063/1.1388626")
     parameters = {
-        "H": ParamSpec("1", bounds=(0, 1), inclusive=(False, True), sweepable=True,
-                       description="Hurst exponent"),
+        "H": ParamSpec(
+            "1",
+            bounds=(0, 1),
+            inclusive=(False, True),
+            sweepable=True,
+            description="Hurst exponent",
+        ),
         "q_L": ParamSpec(**_WAVEVECTOR, description="lower cut-off wavevector (2 pi / L)"),
-        "q_r": ParamSpec(**_WAVEVECTOR, default=None,
-                         description="roll-off wavevector (default q_L: no plateau)"),
+        "q_r": ParamSpec(
+            **_WAVEVECTOR, default=None, description="roll-off wavevector (default q_L: no plateau)"
+        ),
         "q_1": ParamSpec(**_WAVEVECTOR, description="upper cut-off wavevector"),
-        "h_rms": ParamSpec("m", default=None, sweepable=True,
-                           bounds=(0, 1e6), inclusive=(False, True),
-                           description="rms height (give one of h_rms, rms_slope, C_r)"),
-        "rms_slope": ParamSpec("1", default=None, sweepable=True,
-                               bounds=(0, 1e6), inclusive=(False, True),
-                               description="rms 2-D gradient (give one of h_rms, rms_slope, C_r)"),
-        "C_r": ParamSpec("m**4", default=None, sweepable=True,
-                         bounds=(0, 1e60), inclusive=(False, True),
-                         description="plateau PSD value (give one of h_rms, rms_slope, C_r)"),
+        "h_rms": ParamSpec(
+            "m",
+            default=None,
+            sweepable=True,
+            bounds=(0, 1e6),
+            inclusive=(False, True),
+            description="rms height (give one of h_rms, rms_slope, C_r)",
+        ),
+        "rms_slope": ParamSpec(
+            "1",
+            default=None,
+            sweepable=True,
+            bounds=(0, 1e6),
+            inclusive=(False, True),
+            description="rms 2-D gradient (give one of h_rms, rms_slope, C_r)",
+        ),
+        "C_r": ParamSpec(
+            "m**4",
+            default=None,
+            sweepable=True,
+            bounds=(0, 1e60),
+            inclusive=(False, True),
+            description="plateau PSD value (give one of h_rms, rms_slope, C_r)",
+        ),
     }
 
     def __init__(self, **params: Any) -> None:
@@ -55,9 +76,7 @@ class SelfAffine(Spectrum):
             )
         q_r = p["q_L"] if p["q_r"] is None else p["q_r"]
         if not p["q_L"] <= q_r:
-            raise ValueError(
-                f"q_r = {q_r:g} 1/m must satisfy q_L <= q_r (q_L = {p['q_L']:g} 1/m)"
-            )
+            raise ValueError(f"q_r = {q_r:g} 1/m must satisfy q_L <= q_r (q_L = {p['q_L']:g} 1/m)")
         if not q_r < p["q_1"]:
             raise ValueError(
                 f"q_1 = {p['q_1']:g} 1/m must satisfy q_r < q_1 (q_r = {q_r:g} 1/m, q_L = "
@@ -69,13 +88,19 @@ class SelfAffine(Spectrum):
         (a scene solved again, the points of a sweep that do not change the spectrum)."""
         p = self._params
         q_r = p["q_L"] if p["q_r"] is None else p["q_r"]
-        return _self_affine(p["h_rms"], p["rms_slope"], p["C_r"], p["H"], p["q_L"], q_r,
-                            p["q_1"])
+        return _self_affine(p["h_rms"], p["rms_slope"], p["C_r"], p["H"], p["q_L"], q_r, p["q_1"])
 
 
 @functools.lru_cache(maxsize=64)
-def _self_affine(h_rms: float | None, rms_slope: float | None, C_r: float | None, H: float,
-                 q_L: float, q_r: float, q_1: float) -> SelfAffineRollOff:
+def _self_affine(
+    h_rms: float | None,
+    rms_slope: float | None,
+    C_r: float | None,
+    H: float,
+    q_L: float,
+    q_r: float,
+    q_1: float,
+) -> SelfAffineRollOff:
     """The frozen spectrum of these SI parameters (one of h_rms [m], rms_slope, C_r [m^4])."""
     geo = dict(H=H, q_L=q_L, q_r=q_r, q_1=q_1)
     if h_rms is not None:
@@ -99,19 +124,31 @@ class Tabulated(ArchivedTable, Spectrum):
     summary = "tabulated isotropic or 1-D PSD from a (q, C) file, log-log interpolated"
     references = ("10.1088/2051-672X/aa51f8",)
     parameters = {
-        "file": ParamSpec("1", kind="path", default=None,
-                          description="two-column text/CSV file: q, C"),
-        "q_unit": ParamSpec("1", default="1/m", kind="string",
-                            description="unit of the q column (pint syntax)"),
-        "C_unit": ParamSpec("1", default="m**4", kind="string",
-                            description="unit of the C column (m**4 isotropic, m**3 for 1-D)"),
-        "convention": ParamSpec("1", default="persson", kind="choice",
-                                choices=("persson", "surface_topography", "profile_1d"),
-                                description="PSD convention of the file"),
-        "q_L": ParamSpec(**_WAVEVECTOR, default=None,
-                         description="truncate below (default: first table point)"),
-        "q_1": ParamSpec(**_WAVEVECTOR, default=None,
-                         description="truncate above (default: last table point)"),
+        "file": ParamSpec(
+            "1", kind="path", default=None, description="two-column text/CSV file: q, C"
+        ),
+        "q_unit": ParamSpec(
+            "1", default="1/m", kind="string", description="unit of the q column (pint syntax)"
+        ),
+        "C_unit": ParamSpec(
+            "1",
+            default="m**4",
+            kind="string",
+            description="unit of the C column (m**4 isotropic, m**3 for 1-D)",
+        ),
+        "convention": ParamSpec(
+            "1",
+            default="persson",
+            kind="choice",
+            choices=("persson", "surface_topography", "profile_1d"),
+            description="PSD convention of the file",
+        ),
+        "q_L": ParamSpec(
+            **_WAVEVECTOR, default=None, description="truncate below (default: first table point)"
+        ),
+        "q_1": ParamSpec(
+            **_WAVEVECTOR, default=None, description="truncate above (default: last table point)"
+        ),
         **TABLE_PARAMETERS,
     }
 

@@ -25,12 +25,24 @@ __all__ = ["Topography", "sha256_of", "TABLE_PARAMETERS", "ArchivedTable"]
 _WAVEVECTOR = dict(unit="1/m", bounds=(0, None), inclusive=(False, True), sweepable=True)
 
 TABLE_PARAMETERS = {
-    "q": ParamSpec("1/m", default=None, array=True,
-                   description="inline table: wavevectors (instead of a file; archives use it)"),
-    "C": ParamSpec("m**4", default=None, array=True,
-                   description="inline table: isotropic PSD, Persson convention"),
-    "sha256": ParamSpec("1", default=None, kind="string",
-                        description="SHA-256 of the source file (recorded by xpersson)"),
+    "q": ParamSpec(
+        "1/m",
+        default=None,
+        array=True,
+        description="inline table: wavevectors (instead of a file; archives use it)",
+    ),
+    "C": ParamSpec(
+        "m**4",
+        default=None,
+        array=True,
+        description="inline table: isotropic PSD, Persson convention",
+    ),
+    "sha256": ParamSpec(
+        "1",
+        default=None,
+        kind="string",
+        description="SHA-256 of the source file (recorded by xpersson)",
+    ),
 }
 
 
@@ -64,8 +76,13 @@ class ArchivedTable:
         p = self._params
         if p.get("q") is None:
             return None
-        return _TabulatedPSD(np.asarray(p["q"], float), np.asarray(p["C"], float), "persson",
-                             q_L=p.get("q_L"), q_1=p.get("q_1"))
+        return _TabulatedPSD(
+            np.asarray(p["q"], float),
+            np.asarray(p["C"], float),
+            "persson",
+            q_L=p.get("q_L"),
+            q_1=p.get("q_1"),
+        )
 
     def archived_params(self, psd: Any) -> dict[str, Any]:
         """Parameters that rebuild ``psd`` without the source file (file and checksum kept as
@@ -91,16 +108,31 @@ class Topography(ArchivedTable, Spectrum):
     summary = "isotropic PSD of a topography file (SurfaceTopography), log-binned"
     references = ("10.1088/2051-672X/aa51f8", "10.1088/0953-8984/23/21/215004")
     parameters = {
-        "file": ParamSpec("1", kind="path", default=None,
-                          description="topography file in any format SurfaceTopography reads"),
-        "q_L": ParamSpec(**_WAVEVECTOR, default=None,
-                         description="truncate below (default: smallest reliable q)"),
-        "q_1": ParamSpec(**_WAVEVECTOR, default=None,
-                         description="truncate above (default: largest reliable q)"),
-        "points_per_decade": ParamSpec("1", default=20, kind="int", bounds=(2, 1000),
-                                       description="log bins of the PSD per decade of q"),
-        "unit": ParamSpec("1", default=None, kind="string",
-                          description="height/length unit when the file does not say (e.g. um)"),
+        "file": ParamSpec(
+            "1",
+            kind="path",
+            default=None,
+            description="topography file in any format SurfaceTopography reads",
+        ),
+        "q_L": ParamSpec(
+            **_WAVEVECTOR, default=None, description="truncate below (default: smallest reliable q)"
+        ),
+        "q_1": ParamSpec(
+            **_WAVEVECTOR, default=None, description="truncate above (default: largest reliable q)"
+        ),
+        "points_per_decade": ParamSpec(
+            "1",
+            default=20,
+            kind="int",
+            bounds=(2, 1000),
+            description="log bins of the PSD per decade of q",
+        ),
+        "unit": ParamSpec(
+            "1",
+            default=None,
+            kind="string",
+            description="height/length unit when the file does not say (e.g. um)",
+        ),
         **TABLE_PARAMETERS,
     }
 
@@ -123,8 +155,10 @@ class Topography(ArchivedTable, Spectrum):
             raise ValueError(f"file: cannot read {p['file']!r} ({exc})") from None
         unit = topo.unit or p["unit"]
         if unit is None:
-            raise ValueError(f"unit: the file {p['file']!r} does not give its length unit; "
-                             "set spectrum.unit (e.g. 'um')")
+            raise ValueError(
+                f"unit: the file {p['file']!r} does not give its length unit; "
+                "set spectrum.unit (e.g. 'um')"
+            )
         from ..units import to_si
 
         factor = to_si(f"1 {unit}", "m", "spectrum.unit")

@@ -23,8 +23,9 @@ __all__ = ["solve", "solve_batch"]
 _DEFAULT_LOWER = Wall.absorbing(0.0)
 
 
-def _pick(problem: Problem, method: str | type[EngineMethod]) -> tuple[type[EngineMethod],
-                                                                     Problem, float]:
+def _pick(
+    problem: Problem, method: str | type[EngineMethod]
+) -> tuple[type[EngineMethod], Problem, float]:
     """Method class, the problem it runs on (a clear moving wall dropped), the added error."""
     if isinstance(method, str) and method == "auto":
         if ExactMethod.admits(problem):
@@ -112,8 +113,9 @@ def solve(
     res = finish(run_on, _run(cls, run_on, bound), getattr(cls, "name", cls.__name__), t0)
     if run_on is not problem:  # report the real walls
         lo, up = problem.wall_positions(problem.tau)
-        res = dataclasses.replace(res, wall_lower=lo, wall_upper=up,
-                                  wall_time=time.perf_counter() - t0)
+        res = dataclasses.replace(
+            res, wall_lower=lo, wall_upper=up, wall_time=time.perf_counter() - t0
+        )
     return res
 
 
@@ -134,9 +136,14 @@ def _stack_raws(raws: list[Raw]) -> Raw:
 
     P = None if any(r.P is None for r in raws) else np.stack([r.P for r in raws])
     return Raw(
-        area=st("area"), non_area=st("non_area"), absorbed_lower=st("absorbed_lower"),
-        absorbed_upper=st("absorbed_upper"), load=st("load"), wall_term=st("wall_term"),
-        error_estimate=st("error_estimate"), P=P,
+        area=st("area"),
+        non_area=st("non_area"),
+        absorbed_lower=st("absorbed_lower"),
+        absorbed_upper=st("absorbed_upper"),
+        load=st("load"),
+        wall_term=st("wall_term"),
+        error_estimate=st("error_estimate"),
+        P=P,
         status=np.array([r.status for r in raws], dtype=object),  # type: ignore[arg-type]
         message=[r.message for r in raws],  # type: ignore[arg-type]
         nsteps=np.array([r.nsteps for r in raws]),  # type: ignore[arg-type]
@@ -219,19 +226,36 @@ def solve_batch(
         sel = np.asarray(idx) if len(groups) > 1 else slice(None)
         tau_g = tau[sel] if tau.ndim == 2 else tau
         if tau.ndim == 2 and tau.shape[0] != n:
-            raise ValueError(f"tau_out [Pa^2] must be shaped (n_tau,) or ({n}, n_tau); "
-                             f"got {tau.shape}")
-        problems.append((sel, make_problem(tau_g, p0v[sel], lower, upper, rtol, atol, p_out,
-                                           max_steps, options, batch=True)))
+            raise ValueError(
+                f"tau_out [Pa^2] must be shaped (n_tau,) or ({n}, n_tau); got {tau.shape}"
+            )
+        problems.append(
+            (
+                sel,
+                make_problem(
+                    tau_g, p0v[sel], lower, upper, rtol, atol, p_out, max_steps, options, batch=True
+                ),
+            )
+        )
     parts = [(sel, _run_group(pb, method)) for sel, pb in problems]
     if len(parts) == 1:
         out = parts[0][1]
     else:
         out = _merge(parts, n)
-    return EngineBatch(p0v, out["fields"], out["status"], out["message"], out["method"],
-                       out["nsteps"], out["n_nodes"], out["nfev"],
-                       problems[0][1].p_out, time.perf_counter() - t0,
-                       exact_balances=out.get("exact_balances"), success=out.get("success"))
+    return EngineBatch(
+        p0v,
+        out["fields"],
+        out["status"],
+        out["message"],
+        out["method"],
+        out["nsteps"],
+        out["n_nodes"],
+        out["nfev"],
+        problems[0][1].p_out,
+        time.perf_counter() - t0,
+        exact_balances=out.get("exact_balances"),
+        success=out.get("success"),
+    )
 
 
 def _merge(parts: list[tuple[np.ndarray, dict]], n: int) -> dict:
@@ -259,8 +283,9 @@ def _merge(parts: list[tuple[np.ndarray, dict]], n: int) -> dict:
     out["success"] = np.zeros(n, dtype=bool)
     for sel, part in parts:
         out["exact_balances"][sel] = part.get("exact_balances", False)
-        out["success"][sel] = (part["success"] if "success" in part
-                               else [s == "success" for s in part["status"]])
+        out["success"][sel] = (
+            part["success"] if "success" in part else [s == "success" for s in part["status"]]
+        )
     for key in ("nsteps", "n_nodes", "nfev"):
         arr = np.zeros(n, dtype=np.int64)
         for sel, part in parts:

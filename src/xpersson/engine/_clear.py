@@ -24,6 +24,7 @@ from ._problem import Problem, sample_times
 
 __all__ = ["drop_clear_upper", "hit_bound"]
 
+
 def hit_bound(problem: Problem) -> float:
     """Upper bound of the probability that the mass reaches the moving upper wall (or inf)."""
     up = problem.upper

@@ -67,8 +67,9 @@ def markov_options(options: dict[str, Any]) -> dict[str, Any]:
     allowed = {*_DEFAULTS, "mode", "nodes", "window_k", "ratio"}
     unknown = sorted(set(options) - allowed)
     if unknown:
-        raise ValueError(f"options: unknown keys {unknown} for the markov methods; allowed "
-                         f"{sorted(allowed)}")
+        raise ValueError(
+            f"options: unknown keys {unknown} for the markov methods; allowed {sorted(allowed)}"
+        )
     out = {**_DEFAULTS, **{k: v for k, v in options.items() if v is not None}}
     for key, lo in (("walkers", 1), ("steps_per_decade", 1), ("chunk", 1)):
         val = out[key]
@@ -205,10 +206,19 @@ def _sticky_release(rng: np.random.Generator, speed: float, durations: Array) ->
 
 _B_TABLE = np.concatenate([np.linspace(0.0, 2.0, 401), np.geomspace(2.0, 1e3, 300)[1:]])
 _X_FINE = np.concatenate([np.linspace(0.0, 2.0, 40_001), np.geomspace(2.0, 1e3, 20_000)[1:]])
-_INT = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(_X_FINE) * (
-    2 * _X_FINE[1:] * erfcx(_X_FINE[1:]) + 2 * _X_FINE[:-1] * erfcx(_X_FINE[:-1])))])
-_SCALE = np.where(_B_TABLE > 0, _B_TABLE**2 / np.maximum(np.interp(_B_TABLE, _X_FINE, _INT),
-                                                         1e-300), 1.0)
+_INT = np.concatenate(
+    [
+        [0.0],
+        np.cumsum(
+            0.5
+            * np.diff(_X_FINE)
+            * (2 * _X_FINE[1:] * erfcx(_X_FINE[1:]) + 2 * _X_FINE[:-1] * erfcx(_X_FINE[:-1]))
+        ),
+    ]
+)
+_SCALE = np.where(
+    _B_TABLE > 0, _B_TABLE**2 / np.maximum(np.interp(_B_TABLE, _X_FINE, _INT), 1e-300), 1.0
+)
 
 
 def _depth_scale(b: Array) -> Array:
@@ -218,7 +228,11 @@ def _depth_scale(b: Array) -> Array:
 
 
 def _walk(
-    pb: Problem, st: _Walkers, rng: np.random.Generator, dt: float, lower: tuple[float, float],
+    pb: Problem,
+    st: _Walkers,
+    rng: np.random.Generator,
+    dt: float,
+    lower: tuple[float, float],
     upper: tuple[float, float] | None,
 ) -> None:
     """Advance a batch by ``dt`` [Pa^2] (one exact step; bridge test at each wall).
@@ -286,8 +300,10 @@ def _simulate(pb: Problem, opts: dict[str, Any]) -> dict[str, Any]:
     times = step_times(pb, float(opts["steps_per_decade"]))
     out_idx = np.searchsorted(times, pb.tau)
     n_t = pb.tau.size
-    acc = {k: np.zeros(n_t) for k in ("area", "lower", "upper", "load", "mom_l", "mom_u",
-                                      "plastic", "load2")}
+    acc = {
+        k: np.zeros(n_t)
+        for k in ("area", "lower", "upper", "load", "mom_l", "mom_u", "plastic", "load2")
+    }
     hist = None
     if pb.p_out is not None:
         edges = _edges(np.sort(pb.p_out))
@@ -305,16 +321,27 @@ def _simulate(pb: Problem, opts: dict[str, Any]) -> dict[str, Any]:
         for k in range(times.size):
             if k > 0:
                 t0, t1 = float(times[k - 1]), float(times[k])
-                near = sticky and (st.n_plastic > 0 or (st.x.size > 0 and float(st.x.max())
-                       + 8.0 * math.sqrt(2.0 * (t1 - t0)) >= walls_up[k - 1]))
+                near = sticky and (
+                    st.n_plastic > 0
+                    or (
+                        st.x.size > 0
+                        and float(st.x.max()) + 8.0 * math.sqrt(2.0 * (t1 - t0)) >= walls_up[k - 1]
+                    )
+                )
                 gap = float(min(walls_up[k - 1] - walls_lo[k - 1], walls_up[k] - walls_lo[k]))
                 sub = _substeps(t0, t1, gap, float(max(speeds[k - 1], speeds[k])), near)
                 lo_s = np.interp(sub, times[k - 1 : k + 1], walls_lo[k - 1 : k + 1])
                 up_s = np.interp(sub, times[k - 1 : k + 1], walls_up[k - 1 : k + 1])
                 for m in range(sub.size - 1):
                     up_m = None if pb.upper is None else (float(up_s[m]), float(up_s[m + 1]))
-                    _walk(pb, st, rng, float(sub[m + 1] - sub[m]),
-                          (float(lo_s[m]), float(lo_s[m + 1])), up_m)
+                    _walk(
+                        pb,
+                        st,
+                        rng,
+                        float(sub[m + 1] - sub[m]),
+                        (float(lo_s[m]), float(lo_s[m + 1])),
+                        up_m,
+                    )
                     nsteps += 1
             for i in np.flatnonzero(out_idx == k):
                 acc["area"][i] += st.x.size
@@ -383,15 +410,18 @@ class MarkovMethod(EngineMethod):
         if np.any(z_load > 6.0):
             i = int(np.argmax(z_load))
             status = "balance_violated"
-            message = (f"load balance off by {z_load[i]:.1f} standard errors at tau = "
-                       f"{pb.tau[i]:.6g} Pa^2")
+            message = (
+                f"load balance off by {z_load[i]:.1f} standard errors at tau = {pb.tau[i]:.6g} Pa^2"
+            )
         elif np.any(se > tol):
             i = int(np.argmax(se / tol))
             status = "tolerance_not_met"
             need = int(math.ceil(n * (se[i] / tol[i]) ** 2))
-            message = (f"Monte Carlo standard error {se[i]:.2e} of A/A0 with {n} walkers exceeds "
-                       f"the tolerance {tol[i]:.2e} at tau = {pb.tau[i]:.6g} Pa^2 (about {need:.2g}"
-                       f" walkers would meet it; the error falls as N^-1/2)")
+            message = (
+                f"Monte Carlo standard error {se[i]:.2e} of A/A0 with {n} walkers exceeds "
+                f"the tolerance {tol[i]:.2e} at tau = {pb.tau[i]:.6g} Pa^2 (about {need:.2g}"
+                f" walkers would meet it; the error falls as N^-1/2)"
+            )
         else:
             message = f"{n} walkers, standard error <= tolerance"
         return Raw(

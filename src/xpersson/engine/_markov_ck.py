@@ -37,7 +37,10 @@ Array = NDArray[np.float64]
 
 
 def transition_kernel(
-    p: Array, p_from: Array, dtau: float, lower: tuple[float, float] | None = None,
+    p: Array,
+    p_from: Array,
+    dtau: float,
+    lower: tuple[float, float] | None = None,
     upper: tuple[float, float] | None = None,
 ) -> Array:
     """Transition density [1/Pa] of the pressure process over ``dtau`` [Pa^2].
@@ -127,7 +130,10 @@ def _level(pb: Problem, n: int, k: float, ratio: float) -> dict[str, Any]:
         xn = np.linspace(left, right, m + 1)
         wn = _trapezoid(xn)
         kern = transition_kernel(
-            xn, x, dt, (float(lo[0]), float(lo[1])),
+            xn,
+            x,
+            dt,
+            (float(lo[0]), float(lo[1])),
             None if pb.upper is None else (float(up[0]), float(up[1])),
         )
         mass_j = w * P

@@ -114,8 +114,9 @@ def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float
     return out
 
 
-def _level_times(base: Array, nsub: int, n_ie: int,
-                 zones: tuple[tuple[float, float], ...] = ()) -> tuple[Array, Array]:
+def _level_times(
+    base: Array, nsub: int, n_ie: int, zones: tuple[tuple[float, float], ...] = ()
+) -> tuple[Array, Array]:
     """Nested refinement of ``base`` plus Rannacher halves; returns (times, theta per step).
 
     Inside a graded zone ``(tau_b, tau_e)`` the steps are subdivided uniformly in
@@ -194,8 +195,18 @@ def _tracks(pb: Problem, taus: Array) -> dict:
         ys = pb.upper.speed(taus)
     else:
         up_vb = up_va = ys = np.zeros_like(taus)
-    return {"mid": mid, "lo_m": lo_m, "up_m": up_m, "lo": lo, "up": up, "lo_vb": lo_vb,
-            "lo_va": lo_va, "up_vb": up_vb, "up_va": up_va, "ys": ys}
+    return {
+        "mid": mid,
+        "lo_m": lo_m,
+        "up_m": up_m,
+        "lo": lo,
+        "up": up,
+        "lo_vb": lo_vb,
+        "lo_va": lo_va,
+        "up_vb": up_vb,
+        "up_va": up_va,
+        "ys": ys,
+    }
 
 
 def _edges(pb: Problem, plan: _Plan, taus: Array, tr: dict | None = None) -> dict:
@@ -264,8 +275,7 @@ def _edges_batch(pbs: list[Problem], plan: _Plan, taus: Array) -> dict:
     return {key: np.stack([e[key] for e in eds]) for key in eds[0]}
 
 
-def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
-           n_ie: int) -> dict:
+def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n_ie: int) -> dict:
     """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads.
 
     Returns per-load outputs ``(n_load, n_out)`` at the numerical output times.
@@ -309,7 +319,8 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
         W = ed["w" + tag][:, ms].T[..., None]
         D = (1.0 / W**2) * (1.0 / dxf)
         A = (ed["lv" + tag][:, ms].T[..., None] + xf * ed["wv" + tag][:, ms].T[..., None]) / (
-            2.0 * W)
+            2.0 * W
+        )
         amd = A - D
         A += D
         return amd, A
@@ -401,7 +412,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
         np.multiply(wn, amd, out=dl[..., :nf])  # coefficient of R_{j-1} in row j
         np.multiply(-wn, apd, out=du[..., :nf])  # coefficient of R_{j+1} in row j
         np.subtract(wi, dl[..., 1:nf], out=Dg[..., 1:-1])
-        Dg[..., 1:-1] -= du[..., :nf - 1]
+        Dg[..., 1:-1] -= du[..., : nf - 1]
         Dg[..., 0] = 1.0
         # last row of a real yield wall: half cell plus A_pl, closure R_N = g A_pl
         Dg[..., -1] = 1.0 + g * (w_last + wn[..., 0] * apd[..., -1])
@@ -466,7 +477,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
                 nxt += 1
             if (m + 1) % _REPORT_EVERY == 0:
                 _progress.report(_REPORT_EVERY * nn * nb)
-        hist[m0 + 1:m0 + c + 1] = states[1:, near]
+        hist[m0 + 1 : m0 + c + 1] = states[1:, near]
         r = r.copy()  # the last state outlives its block
     _progress.report((n_steps % _REPORT_EVERY) * nn * nb)
     if snaps is not None:
@@ -477,7 +488,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
         res["area"] = (R @ w).T
         res["load"] = lv * res["area"] + wv * (R @ (x * w)).T
     # wall fluxes of every step from the nodes next to the walls (R = 0 on an absorbing wall)
-    r0, r1, rm, rn = (hist[:, i * nb:(i + 1) * nb].T for i in range(4))  # (nb, n_steps + 1)
+    r0, r1, rm, rn = (hist[:, i * nb : (i + 1) * nb].T for i in range(4))  # (nb, n_steps + 1)
     am0a, ap0a, am1a, ap1a = end_faces("a")
     am0b, ap0b, am1b, ap1b = end_faces("b")
     f_old0 = am0a * r0[:, :-1] + ap0a * r1[:, :-1]
@@ -487,8 +498,9 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float,
     wn_, wo_ = wn_all[None, :], wo_all[None, :]
     zero = np.zeros((nb, 1))
     abs_l = np.hstack([zero, np.cumsum(np.where(rl, wn_ * f_new0 + wo_ * f_old0, 0.0), axis=1)])
-    mom_l = np.hstack([zero, np.cumsum(np.where(rl, wn_ * lb * f_new0 + wo_ * la * f_old0, 0.0),
-                                       axis=1)])
+    mom_l = np.hstack(
+        [zero, np.cumsum(np.where(rl, wn_ * lb * f_new0 + wo_ * la * f_old0, 0.0), axis=1)]
+    )
     res["abs_l"], res["mom_l"] = abs_l[:, out_at], mom_l[:, out_at]
     if yield_wall:
         res["abs_u"] = a_pl_at
@@ -545,8 +557,9 @@ class CNMethod(EngineMethod):
         pb = pbs[0]
         opt = pb.options
         n0 = int(opt.get("nodes", 24))
-        per_node = float(opt.get("steps_per_decade", 0.0)) / n0 if "steps_per_decade" in opt \
-            else 0.25
+        per_node = (
+            float(opt.get("steps_per_decade", 0.0)) / n0 if "steps_per_decade" in opt else 0.25
+        )
         max_levels = int(opt.get("levels", 10))
         max_work = float(opt.get("max_work", 1e8))  # node-steps per load over all grids
         stretch = float(opt.get("stretch", 1.0))
@@ -554,8 +567,10 @@ class CNMethod(EngineMethod):
         k = float(opt.get("window_k", window_k(pb.atol)))
         aim = float(opt.get("aim", AIM))
         if not 0.0 < aim <= 1.0:
-            raise ValueError(f"options['aim'] [1] (error estimate aimed at, as a fraction of "
-                             f"the tolerance) must be in (0, 1]; got {aim!r}")
+            raise ValueError(
+                f"options['aim'] [1] (error estimate aimed at, as a fraction of "
+                f"the tolerance) must be in (0, 1]; got {aim!r}"
+            )
         tau = pb.tau
         tau_s = min(_start_time(p, k) for p in pbs)
         analytic = tau <= tau_s
@@ -584,13 +599,15 @@ class CNMethod(EngineMethod):
                     plan = plans[n_base]
                     cost = (plan.base.size - 1) * mult + 2 * n_ie
                     if nsteps + cost > pb.max_steps:
-                        raise _Budget(f"max_steps = {pb.max_steps} reached before the "
-                                      "tolerance was met")
+                        raise _Budget(
+                            f"max_steps = {pb.max_steps} reached before the tolerance was met"
+                        )
                     if work + cost * n_base * mult > max_work:
                         raise _Budget(
                             f"the next grid (N = {n_base * mult}, {cost} steps) would exceed "
                             f"the work budget options['max_work'] = {max_work:.3g} node-steps; "
-                            "loosen rtol/atol or raise max_work")
+                            "loosen rtol/atol or raise max_work"
+                        )
                     work += cost * n_base * mult
                     if len(cache) >= max_levels:
                         raise _Levels(f"after {len(cache)} grids (levels = {max_levels})")
@@ -614,8 +631,9 @@ class CNMethod(EngineMethod):
                 while True:
                     l1, l2 = level(n_base, 1), level(n_base, 2)
                     e_r = 2.0 * np.abs(l2["area"] - l1["area"]) / 3.0  # ~2x error of R(2n)
-                    ratio = max(float(np.max(e_r / tol_of(l2["area"]))),
-                                load_ratio(l2, l1, 2.0 / 3.0))
+                    ratio = max(
+                        float(np.max(e_r / tol_of(l2["area"]))), load_ratio(l2, l1, 2.0 / 3.0)
+                    )
                     if mode == "R" and ratio <= 1.0:
                         best, err, n_used = _combine(l2, l1, False), e_r, 2 * n_base
                         break
@@ -623,16 +641,18 @@ class CNMethod(EngineMethod):
                         # after a missed prediction (slower than second order, e.g. kinks of a
                         # tabulated wall) grow at least 1.25x, so that the grids keep advancing
                         rounds += 1
-                        n_base = _round_grid(n_base * max(math.sqrt(ratio / aim),
-                                                          1.0 if rounds == 1 else 1.25))
+                        n_base = _round_grid(
+                            n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25)
+                        )
                         continue
                     mode = "E"  # fourth order: Richardson pairs on three nested grids
                     l4 = level(n_base, 4)
                     e_b = _combine(l4, l2, True)
                     e_a = _combine(l2, l1, True)
                     d = 2.0 * np.abs(e_b["area"] - e_a["area"]) / 15.0
-                    ratio = max(float(np.max(d / tol_of(e_b["area"]))),
-                                load_ratio(e_b, e_a, 2.0 / 15.0))
+                    ratio = max(
+                        float(np.max(d / tol_of(e_b["area"]))), load_ratio(e_b, e_a, 2.0 / 15.0)
+                    )
                     if ratio <= 1.0:
                         best, err, n_used = e_b, d, 4 * n_base
                         break
@@ -665,14 +685,16 @@ class CNMethod(EngineMethod):
                 return self._failed(nb, status, message or "no level completed", nsteps)
             # round-off of the sums over the grid (the level difference cannot see it)
             err = err + 16.0 * np.finfo(float).eps * math.sqrt(max(n_used, 1)) * np.abs(
-                best["area"])
+                best["area"]
+            )
             if status == "success" and np.any(err > tol_of(best["area"])):
                 status = "tolerance_not_met"
             if status != "success":
                 i = np.unravel_index(int(np.argmax(err / tol_of(best["area"]))), err.shape)
                 message = (message + "; " if message else "") + (
                     f"the error estimate {err[i]:.2e} exceeds the tolerance at tau = "
-                    f"{tau[num][i[1]]:.6g} Pa^2")
+                    f"{tau[num][i[1]]:.6g} Pa^2"
+                )
         shape = (nb, tau.size)
         area = np.ones(shape)
         ab_l = np.zeros(shape)
@@ -693,8 +715,9 @@ class CNMethod(EngineMethod):
             for key, d in dist.items():
                 if np.any(d > bound) and status == "success":
                     status = "tolerance_not_met"
-                    message = (f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its "
-                               "error estimate")
+                    message = (
+                        f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its error estimate"
+                    )
             err = np.maximum(err, dist["area"])
             area[:, num], ab_l[:, num], ab_u[:, num] = proj
             load[:, num] = best["load"]
@@ -707,12 +730,16 @@ class CNMethod(EngineMethod):
                 for j in np.flatnonzero(analytic & (tau > 0)):
                     t = tau[j]
                     P[i, j] = np.exp(-((p.p_out - p.p0) ** 2) / (4 * t)) / math.sqrt(
-                        4 * math.pi * t)
+                        4 * math.pi * t
+                    )
             if best is not None and num.any():
                 P[:, num] = np.maximum(best["P"], 0.0)
         if status == "success" and not message:
-            message = (f"{len(cache)} grids, finest N = {n_used}" if cache
-                       else "analytic start covers every output")
+            message = (
+                f"{len(cache)} grids, finest N = {n_used}"
+                if cache
+                else "analytic start covers every output"
+            )
         return Raw(
             area=area,
             non_area=ab_l + ab_u,
@@ -740,8 +767,9 @@ _BLOCK = 1 << 14  # operator entries built at once per array in _march (steps x 
 _SNAP = 1 << 20  # largest output snapshot array in _march (outputs x loads x nodes)
 
 
-def _project(area: Array, abs_l: Array, abs_u: Array) -> tuple[tuple[Array, Array, Array],
-                                                                 dict[str, Array]]:
+def _project(
+    area: Array, abs_l: Array, abs_u: Array
+) -> tuple[tuple[Array, Array, Array], dict[str, Array]]:
     """Nearest admissible probabilities and the distance each moved.
 
     ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
@@ -756,9 +784,12 @@ def _project(area: Array, abs_l: Array, abs_u: Array) -> tuple[tuple[Array, Arra
     lo = np.minimum(lo * scale, 1.0)
     up = np.where(over, np.minimum(up * scale, 1.0 - lo), up)
     up = np.where(lo + up > 1.0, np.nextafter(up, 0.0), up)  # the sum's round-off
-    dist = {"area": np.abs(a - area), "absorbed_lower": np.abs(lo - abs_l),
-            "absorbed_upper": np.abs(up - abs_u),
-            "non_contact_fraction": np.abs(lo + up - (abs_l + abs_u))}
+    dist = {
+        "area": np.abs(a - area),
+        "absorbed_lower": np.abs(lo - abs_l),
+        "absorbed_upper": np.abs(up - abs_u),
+        "non_contact_fraction": np.abs(lo + up - (abs_l + abs_u)),
+    }
     return (a, lo, up), dist
 
 
@@ -792,8 +823,9 @@ def _round_grid(n: float) -> int:
     return max(8, 2 * int(math.ceil(n / 2.0)))
 
 
-def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
-                kinks: list[float] | None = None) -> _Plan:
+def _joint_plan(
+    pbs: list[Problem], k: float, per_decade: float, tau_s: float, kinks: list[float] | None = None
+) -> _Plan:
     """One time schedule for a batch of loads: common analytic start, all kinks (the times
     where a real wall enters or leaves the window; found here unless given)."""
     pb = pbs[0]
@@ -821,8 +853,9 @@ def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
     return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall, zones)
 
 
-def _graded_zones(pbs: list[Problem], tau_s: float, tau_end: float,
-                  ratio: float) -> tuple[tuple[tuple[float, float], ...], Array]:
+def _graded_zones(
+    pbs: list[Problem], tau_s: float, tau_end: float, ratio: float
+) -> tuple[tuple[tuple[float, float], ...], Array]:
     """Graded stretches after the walls' declared breakpoints, and their step times.
 
     After a breakpoint ``tau_b`` the wall may move like ``sqrt(tau - tau_b)`` (unbounded speed):
@@ -832,8 +865,16 @@ def _graded_zones(pbs: list[Problem], tau_s: float, tau_end: float,
     clean second-order expansion for the Richardson control); at its end they match the
     geometric steps ``~ ratio tau``.
     """
-    bps = sorted({float(t) for p in pbs for w in (p.lower, p.upper) if w is not None
-                  for t in getattr(w, "breakpoints", ()) if tau_s < t < tau_end})
+    bps = sorted(
+        {
+            float(t)
+            for p in pbs
+            for w in (p.lower, p.upper)
+            if w is not None
+            for t in getattr(w, "breakpoints", ())
+            if tau_s < t < tau_end
+        }
+    )
     zones: list[tuple[float, float]] = []
     pts: list[Array] = []
     for i, tb in enumerate(bps):
@@ -846,8 +887,15 @@ def _graded_zones(pbs: list[Problem], tau_s: float, tau_end: float,
 
 
 def _unbatch(raw: Raw) -> Raw:
-    for name in ("area", "non_area", "absorbed_lower", "absorbed_upper", "load", "wall_term",
-                 "error_estimate"):
+    for name in (
+        "area",
+        "non_area",
+        "absorbed_lower",
+        "absorbed_upper",
+        "load",
+        "wall_term",
+        "error_estimate",
+    ):
         setattr(raw, name, getattr(raw, name)[0])
     if raw.P is not None:
         raw.P = raw.P[0]
@@ -855,9 +903,20 @@ def _unbatch(raw: Raw) -> Raw:
 
 
 def _stack(raws: list[Raw]) -> Raw:
-    out = Raw(*(np.concatenate([getattr(r, f) for r in raws]) for f in (
-        "area", "non_area", "absorbed_lower", "absorbed_upper", "load", "wall_term",
-        "error_estimate")))
+    out = Raw(
+        *(
+            np.concatenate([getattr(r, f) for r in raws])
+            for f in (
+                "area",
+                "non_area",
+                "absorbed_lower",
+                "absorbed_upper",
+                "load",
+                "wall_term",
+                "error_estimate",
+            )
+        )
+    )
     out.P = None if raws[0].P is None else np.concatenate([r.P for r in raws])
     out.status = np.array([r.status for r in raws], dtype=object)
     out.message = [r.message for r in raws]

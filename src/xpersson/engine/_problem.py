@@ -45,8 +45,9 @@ class Problem:
         """The single-load Problem of load ``i`` of a batch."""
         if not self.is_batch:
             return self
-        return dataclasses.replace(self, tau=np.ascontiguousarray(self.tau[i]),
-                                   p0=float(self.p0[i, 0]))
+        return dataclasses.replace(
+            self, tau=np.ascontiguousarray(self.tau[i]), p0=float(self.p0[i, 0])
+        )
 
     def tolerance(self, area: ArrayLike) -> Array:
         """Allowed absolute error of the area, ``rtol |area| + atol``."""
@@ -168,8 +169,9 @@ def make_problem(
         if p_arr.ndim != 1 or not np.all(np.isfinite(p_arr)):
             raise _fail("p_out", "Pa", "a 1-D array of finite pressures", p_out)
     p0_out: float | Array = p0v[:, None] if batch else float(p0v[0])
-    return Problem(tau, p0_out, lower, upper, rtol, atol, p_arr, int(max_steps),
-                   dict(options or {}))
+    return Problem(
+        tau, p0_out, lower, upper, rtol, atol, p_arr, int(max_steps), dict(options or {})
+    )
 
 
 def sample_times(tau: Array) -> Array:
@@ -187,8 +189,7 @@ def sample_times(tau: Array) -> Array:
     if hit is not None and hit[0] == key:
         return hit[1].copy()  # callers' walls may write into their argument
     t_end = float(np.max(t))
-    out = np.unique(np.concatenate([[0.0], t.ravel(), np.linspace(0.0, t_end, 65),
-                                    t_end * _LOG16]))
+    out = np.unique(np.concatenate([[0.0], t.ravel(), np.linspace(0.0, t_end, 65), t_end * _LOG16]))
     out.setflags(write=False)
     _SAMPLES["last"] = (key, out)
     return out.copy()
@@ -209,8 +210,12 @@ def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> 
         raise _fail("lower", "Pa", "finite at every tau in [0, tau_out[-1]]", "non-finite position")
     below = p0 <= lo[0]
     if np.any(below):
-        raise _fail("p0", "Pa", f"strictly above the lower wall (> {lo[0]:.6g} Pa)",
-                    float(p0[below][0]) if p0.size > 1 else float(p0[0]))
+        raise _fail(
+            "p0",
+            "Pa",
+            f"strictly above the lower wall (> {lo[0]:.6g} Pa)",
+            float(p0[below][0]) if p0.size > 1 else float(p0[0]),
+        )
     if upper is None:
         return
     up = upper.at(t_check)
@@ -218,8 +223,12 @@ def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> 
         raise _fail("upper", "Pa", "finite at every tau in [0, tau_out[-1]]", "non-finite")
     above = p0 >= up[0]
     if np.any(above):
-        raise _fail("p0", "Pa", f"strictly below the upper wall (< {up[0]:.6g} Pa)",
-                    float(p0[above][0]) if p0.size > 1 else float(p0[0]))
+        raise _fail(
+            "p0",
+            "Pa",
+            f"strictly below the upper wall (< {up[0]:.6g} Pa)",
+            float(p0[above][0]) if p0.size > 1 else float(p0[0]),
+        )
     if np.any(up <= lo):
         raise _fail("upper", "Pa", "above the lower wall at every tau", "walls cross")
     if upper.kind == "yield_closure" and not upper.is_fixed:

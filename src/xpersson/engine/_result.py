@@ -11,8 +11,16 @@ from numpy.typing import NDArray
 
 from ._problem import Problem
 
-__all__ = ["Outcome", "EngineResult", "EngineBatch", "Raw", "finish", "finish_batch",
-           "balance_status", "balance_tolerance"]
+__all__ = [
+    "Outcome",
+    "EngineResult",
+    "EngineBatch",
+    "Raw",
+    "finish",
+    "finish_batch",
+    "balance_status",
+    "balance_tolerance",
+]
 
 Array = NDArray[np.float64]
 
@@ -168,8 +176,13 @@ def _row_status(problem: Problem, raw: Raw, prob: Array, loadb: Array, row) -> t
     """Status and message of one load (``row`` indexes the batch axis, or ``...``)."""
     status = raw.status if isinstance(raw.status, str) else raw.status[row]
     message = raw.message if isinstance(raw.message, str) else raw.message[row]
-    arrays = (raw.area[row], raw.non_area[row], raw.absorbed_lower[row], raw.absorbed_upper[row],
-              raw.load[row])
+    arrays = (
+        raw.area[row],
+        raw.non_area[row],
+        raw.absorbed_lower[row],
+        raw.absorbed_upper[row],
+        raw.load[row],
+    )
     finite = all(np.all(np.isfinite(a)) for a in arrays)
     if raw.P is not None:
         finite = finite and bool(np.all(np.isfinite(raw.P[row])))
@@ -186,8 +199,7 @@ def _row_status(problem: Problem, raw: Raw, prob: Array, loadb: Array, row) -> t
             i = int(np.argmax(err / tol))
             tau = problem.tau[row]
             return "tolerance_not_met", (
-                f"error estimate {err[i]:.2e} > tolerance {tol[i]:.2e} at "
-                f"tau = {tau[i]:.6g} Pa^2"
+                f"error estimate {err[i]:.2e} > tolerance {tol[i]:.2e} at tau = {tau[i]:.6g} Pa^2"
             )
         if not message:
             message = "requested tolerance met"
@@ -249,9 +261,20 @@ def finish(problem: Problem, raw: Raw, method: str, t_start: float) -> EngineRes
     )
 
 
-_BATCH_FIELDS = ("tau", "area", "non_area", "absorbed_lower", "absorbed_upper", "load",
-                 "wall_lower", "wall_upper", "P", "error_estimate", "probability_balance",
-                 "load_balance")
+_BATCH_FIELDS = (
+    "tau",
+    "area",
+    "non_area",
+    "absorbed_lower",
+    "absorbed_upper",
+    "load",
+    "wall_lower",
+    "wall_upper",
+    "P",
+    "error_estimate",
+    "probability_balance",
+    "load_balance",
+)
 
 
 class EngineBatch(Sequence):
@@ -267,10 +290,21 @@ class EngineBatch(Sequence):
     not evaluated (read-only arrays).
     """
 
-    def __init__(self, p0: Array, fields: dict, status: list[str], message: list[str],
-                 method: list[str], nsteps: Array, n_nodes: Array, nfev: Array, p: Array | None,
-                 wall_time: float, exact_balances: Array | None = None,
-                 success: Array | None = None) -> None:
+    def __init__(
+        self,
+        p0: Array,
+        fields: dict,
+        status: list[str],
+        message: list[str],
+        method: list[str],
+        nsteps: Array,
+        n_nodes: Array,
+        nfev: Array,
+        p: Array | None,
+        wall_time: float,
+        exact_balances: Array | None = None,
+        success: Array | None = None,
+    ) -> None:
         self.p0 = p0
         self._lazy: dict[str, LazyField] = {}
         for name in _BATCH_FIELDS:
@@ -283,12 +317,18 @@ class EngineBatch(Sequence):
         self.status = status
         self.message = message
         self.method = method
-        self.success = (np.array([s == "success" for s in status], dtype=bool)
-                        if success is None else np.asarray(success, dtype=bool))
+        self.success = (
+            np.array([s == "success" for s in status], dtype=bool)
+            if success is None
+            else np.asarray(success, dtype=bool)
+        )
         self.nsteps, self.n_nodes, self.nfev = nsteps, n_nodes, nfev
         self.wall_time = wall_time
-        self.exact_balances = (np.zeros(len(p0), dtype=bool) if exact_balances is None
-                               else np.asarray(exact_balances, dtype=bool))
+        self.exact_balances = (
+            np.zeros(len(p0), dtype=bool)
+            if exact_balances is None
+            else np.asarray(exact_balances, dtype=bool)
+        )
         self._cache: dict[int, EngineResult] = {}
 
     def __getattr__(self, name: str):
@@ -316,20 +356,30 @@ class EngineBatch(Sequence):
         if not 0 <= i < len(self):
             raise IndexError(i)
         if i not in self._cache:
-            row = {name: getattr(self, name)[i] if getattr(self, name) is not None else None
-                   for name in _BATCH_FIELDS}
+            row = {
+                name: getattr(self, name)[i] if getattr(self, name) is not None else None
+                for name in _BATCH_FIELDS
+            }
             self._cache[i] = EngineResult(
-                **row, p=self.p, status=self.status[i], message=self.message[i],
-                success=bool(self.success[i]), method=self.method[i],
-                nsteps=int(self.nsteps[i]), n_nodes=int(self.n_nodes[i]), nfev=int(self.nfev[i]),
+                **row,
+                p=self.p,
+                status=self.status[i],
+                message=self.message[i],
+                success=bool(self.success[i]),
+                method=self.method[i],
+                nsteps=int(self.nsteps[i]),
+                n_nodes=int(self.n_nodes[i]),
+                nfev=int(self.nfev[i]),
                 wall_time=self.wall_time / max(len(self), 1),
             )
         return self._cache[i]
 
     def __repr__(self) -> str:
         n_bad = int(np.sum(~self.success))
-        return (f"EngineBatch(n_load={len(self)}, methods={sorted(set(self.method))}, "
-                f"failed={n_bad}, wall_time={self.wall_time:.3g} s)")
+        return (
+            f"EngineBatch(n_load={len(self)}, methods={sorted(set(self.method))}, "
+            f"failed={n_bad}, wall_time={self.wall_time:.3g} s)"
+        )
 
 
 class LazyField:
@@ -359,15 +409,19 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     else:
         lo, up, prob, loadb = _balances(problem, raw)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
-    raw_ok = (np.full(n, raw.status == "success") if isinstance(raw.status, str)
-              else np.asarray(raw.status) == "success")
+    raw_ok = (
+        np.full(n, raw.status == "success")
+        if isinstance(raw.status, str)
+        else np.asarray(raw.status) == "success"
+    )
     # NaN/inf in any field reaches a balance or one of the sums (max/min/sum propagate NaN)
     if raw.exact_balances:
         finite_all = bool(np.isfinite(np.sum(raw.area) + np.sum(raw.non_area)))
         worst_all = 0.0
     else:
-        worst_all = max(float(np.max(prob)), -float(np.min(prob)), float(np.max(loadb)),
-                        -float(np.min(loadb)))
+        worst_all = max(
+            float(np.max(prob)), -float(np.min(prob)), float(np.max(loadb)), -float(np.min(loadb))
+        )
         finite_all = bool(np.isfinite(worst_all) and np.isfinite(np.sum(raw.non_area)))
     if raw.P is not None:
         finite_all = finite_all and bool(np.isfinite(np.sum(raw.P)))
@@ -382,10 +436,19 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     if finite_all and worst_all <= bal_tol and tol_all:
         clean = raw_ok
     else:  # per-load screen: only loads that may fail get the detailed examination
-        worst = np.maximum.reduce([np.max(prob, axis=-1), -np.min(prob, axis=-1),
-                                   np.max(loadb, axis=-1), -np.min(loadb, axis=-1)])
-        finite = (np.isfinite(worst) & np.isfinite(np.sum(raw.non_area, axis=-1))
-                  & np.isfinite(np.sum(raw.area, axis=-1)))
+        worst = np.maximum.reduce(
+            [
+                np.max(prob, axis=-1),
+                -np.min(prob, axis=-1),
+                np.max(loadb, axis=-1),
+                -np.min(loadb, axis=-1),
+            ]
+        )
+        finite = (
+            np.isfinite(worst)
+            & np.isfinite(np.sum(raw.non_area, axis=-1))
+            & np.isfinite(np.sum(raw.area, axis=-1))
+        )
         if raw.P is not None:
             finite &= np.all(np.isfinite(raw.P), axis=(-2, -1))
         slack = np.abs(raw.area)
@@ -393,28 +456,45 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         slack += raw.error_estimate
         tol_ok = np.max(slack, axis=-1) <= problem.atol  # False where a row holds NaN
         clean = finite & (worst <= bal_tol) & tol_ok & raw_ok
-    default = raw.message if isinstance(raw.message, str) and raw.message else (
-        "requested tolerance met")
+    default = (
+        raw.message if isinstance(raw.message, str) and raw.message else ("requested tolerance met")
+    )
     status = ["success"] * n
-    message = [default] * n if isinstance(raw.message, str) else [
-        m or "requested tolerance met" for m in raw.message]
+    message = (
+        [default] * n
+        if isinstance(raw.message, str)
+        else [m or "requested tolerance met" for m in raw.message]
+    )
     success = np.array(clean, dtype=bool)
     for i in np.flatnonzero(~clean):
         status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
         success[i] = status[i] == "success"
     fields = {
-        "tau": problem.tau, "area": raw.area, "non_area": raw.non_area,
-        "absorbed_lower": raw.absorbed_lower, "absorbed_upper": raw.absorbed_upper,
-        "load": raw.load, "wall_lower": np.broadcast_to(lo, shape),
-        "wall_upper": np.broadcast_to(up, shape), "P": raw.P,
-        "error_estimate": raw.error_estimate, "probability_balance": prob,
+        "tau": problem.tau,
+        "area": raw.area,
+        "non_area": raw.non_area,
+        "absorbed_lower": raw.absorbed_lower,
+        "absorbed_upper": raw.absorbed_upper,
+        "load": raw.load,
+        "wall_lower": np.broadcast_to(lo, shape),
+        "wall_upper": np.broadcast_to(up, shape),
+        "P": raw.P,
+        "error_estimate": raw.error_estimate,
+        "probability_balance": prob,
         "load_balance": loadb,
     }
 
     def per_load(v) -> Array:
         return np.broadcast_to(np.asarray(v, dtype=np.int64), (n,))
 
-    return dict(fields=fields, status=status, message=message, method=[method] * n,
-                nsteps=per_load(raw.nsteps), n_nodes=per_load(raw.n_nodes),
-                nfev=per_load(raw.nfev), exact_balances=np.full(n, raw.exact_balances),
-                success=success)
+    return dict(
+        fields=fields,
+        status=status,
+        message=message,
+        method=[method] * n,
+        nsteps=per_load(raw.nsteps),
+        n_nodes=per_load(raw.n_nodes),
+        nfev=per_load(raw.nfev),
+        exact_balances=np.full(n, raw.exact_balances),
+        success=success,
+    )

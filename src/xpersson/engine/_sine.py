@@ -115,6 +115,16 @@ class SineMethod(EngineMethod):
                 P[idx[j], inside] = np.sin(np.outer(x[inside], nj) * math.pi / length[j]) @ coef
             P = P.reshape(*shape, pb.p_out.size)
         # Raw fields in order: area, non_area, absorbed (lower, upper), load, wall term, error
-        return Raw(area, non, ab_l, ab_u, load, wall_term, err, P,
-                   message=f"windowed sine series, k = {k:.3g}, modes <= {mmax}",
-                   n_nodes=mmax, nfev=int(m.sum()))
+        return Raw(
+            area,
+            non,
+            ab_l,
+            ab_u,
+            load,
+            wall_term,
+            err,
+            P,
+            message=f"windowed sine series, k = {k:.3g}, modes <= {mmax}",
+            n_nodes=mmax,
+            nfev=int(m.sum()),
+        )

@@ -336,7 +336,8 @@ def solve_sourced(
     total = np.maximum(w2.sum(axis=1), 1e-300)
     finite = bool(np.all(np.isfinite(P)) and np.all(np.isfinite(mass)))
     status, message = balance_status(
-        finite, {"relative mass balance": balance / total[:, None]},
+        finite,
+        {"relative mass balance": balance / total[:, None]},
         balance_tolerance(rtol, atol),
     )
     message = message or "mass balance within 10*(rtol+atol)"

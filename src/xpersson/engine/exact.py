@@ -118,8 +118,10 @@ def one_wall_area_non(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> t
     x0 = _f(p0) - _f(wall)
     t = _f(tau)
     shape = np.broadcast_shapes(x0.shape, t.shape)
-    if t.ndim == 2 and t.strides[0] == 0 and np.broadcast_shapes(x0.shape, (1, t.shape[1])) == (
-        shape
+    if (
+        t.ndim == 2
+        and t.strides[0] == 0
+        and np.broadcast_shapes(x0.shape, (1, t.shape[1])) == (shape)
     ):  # one tau row broadcast over loads: sqrt it once
         t = t[:1]
     with np.errstate(divide="ignore"):
@@ -371,7 +373,7 @@ def two_wall_load(tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayL
                 zb = (Li - m) / st
                 # int_0^L (x + lower) N(x; m, 2 tau) dx
                 mass = ndtr(zb) - ndtr(za)
-                mom = m * mass + st * (np.exp(-za**2 / 2) - np.exp(-zb**2 / 2)) / _SQRT2PI
+                mom = m * mass + st * (np.exp(-(za**2) / 2) - np.exp(-(zb**2) / 2)) / _SQRT2PI
                 acc += sign * (mom + li * mass)
         out[img] = acc
     return out.reshape(shape)

@@ -195,10 +195,8 @@ class _Curve:
         return a + (b - a) * t, (b - a) * w
 
 
-
 def _q_max(psd: object, zeta: NDArray[np.float64]) -> float:
     return min(float(psd.q_1), float(zeta[-1]) * float(psd.q_L))  # type: ignore[attr-defined]
-
 
 
 # -- mean gap -----------------------------------------------------------------------------------
@@ -268,6 +266,7 @@ def _loads(p0: ArrayLike, n_load: int) -> NDArray[np.float64]:
     if p.size != n_load or np.any(~(p > 0)) or np.any(~np.isfinite(p)):
         raise ValueError(f"p0 must hold {n_load} finite positive pressures [Pa], got {p0!r}")
     return p
+
 
 # -- sub-problems at magnification zeta -----------------------------------------------------------
 _SUB_EDGES = np.concatenate(([0.0], 0.4 ** np.arange(9, -1, -1)))

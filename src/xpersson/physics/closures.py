@@ -123,9 +123,7 @@ def closure_S(closure: str, A: ArrayLike, gamma: float | None = None) -> NDArray
     return g + (1.0 - g) * A_arr  # xu24
 
 
-def variance_factor(
-    closure: str, A: ArrayLike, gamma: float | None = None
-) -> NDArray[np.float64]:
+def variance_factor(closure: str, A: ArrayLike, gamma: float | None = None) -> NDArray[np.float64]:
     """``S = d tau_eff / d tau_c`` along a closure's path, as a function of the area (1).
 
     Parameters

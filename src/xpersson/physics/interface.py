@@ -105,6 +105,7 @@ __all__ = [
 
 _SQRT2 = math.sqrt(2.0)
 
+
 # -- energy -------------------------------------------------------------------------------------
 def full_contact_energy(
     psd: object, E_star: float, q_lo: ArrayLike | None = None, q_hi: float | None = None
@@ -175,7 +176,6 @@ def elastic_energy(
     """
     cur = _Curve(zeta, area, s_factor, non_area)
     return SolvedContact(psd, E_star, np.ones(cur.n_load), cur).elastic_energy()
-
 
 
 def mean_gap(
@@ -524,9 +524,7 @@ class SolvedContact:
         u1 = np.where(ok, dAu / np.where(ok, dA, 1.0), 0.0)
         h = np.sqrt(_h2(self.psd, np.sqrt(z[:-1] * z[1:]) * q_L, q_hi))
         h_rms = float(np.sqrt(_h2(self.psd, q_L, q_hi)))
-        return Detachment(
-            self.p0, z, A, ubar, np.where(ok, dA, 0.0), np.maximum(u1, 0.0), h, h_rms
-        )
+        return Detachment(self.p0, z, A, ubar, np.where(ok, dA, 0.0), np.maximum(u1, 0.0), h, h_rms)
 
     def critical_magnification(self, a_c: float) -> NDArray[np.float64]:
         """Where the contact area crosses ``a_c`` (see :func:`critical_magnification`)."""

@@ -158,8 +158,10 @@ class PowerSpectrum:
 
     def __setattr__(self, name: str, value: object) -> None:
         if getattr(self, "_frozen", False):
-            raise AttributeError(f"{type(self).__name__} is frozen (shared); build a new one "
-                                 f"instead of setting {name!r}")
+            raise AttributeError(
+                f"{type(self).__name__} is frozen (shared); build a new one "
+                f"instead of setting {name!r}"
+            )
         object.__setattr__(self, name, value)
 
     # ----------------------------------------------------------------- basics
@@ -554,8 +556,9 @@ class Tabulated(PowerSpectrum):
                         f"{path}: line {lineno}: cannot read columns {iq}, {iC} as numbers: "
                         f"{raw.rstrip()!r}"
                     ) from None
-                _check_row(path, lineno, qv, Cv, qs[-1] if qs else None,
-                           lines[-1] if lines else None)
+                _check_row(
+                    path, lineno, qv, Cv, qs[-1] if qs else None, lines[-1] if lines else None
+                )
                 qs.append(qv)
                 Cs.append(Cv)
                 lines.append(lineno)

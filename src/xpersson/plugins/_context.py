@@ -139,11 +139,15 @@ class DiffusionClock:
                 y = np.log(z[1:] - 1.0)
                 m = tau[1:] / (f[1:] * (z[1:] - 1.0))
                 h = np.diff(u)
-                usable = bool(tau[1] > 0 and np.all(h > 0) and np.all(np.isfinite(m))
-                              and np.all(np.isfinite(y)) and f[0] > 0)
+                usable = bool(
+                    tau[1] > 0
+                    and np.all(h > 0)
+                    and np.all(np.isfinite(m))
+                    and np.all(np.isfinite(y))
+                    and f[0] > 0
+                )
                 d0, d1, dy = h * m[:-1], h * m[1:], np.diff(y)
-                cubic = (u[:-1], 1.0 / h, y[:-1], d0, 3.0 * dy - 2.0 * d0 - d1,
-                         d0 + d1 - 2.0 * dy)
+                cubic = (u[:-1], 1.0 / h, y[:-1], d0, 3.0 * dy - 2.0 * d0 - d1, d0 + d1 - 2.0 * dy)
                 # first interval (from tau = 0): the cubic in (tau, zeta) with slopes 1/f
                 w = tau[1] - tau[0]
                 first = (tau[0], tau[1], z[0], z[1], w / f[0], w / f[1])

@@ -281,8 +281,9 @@ class VarSpec:
         if isinstance(out.get("flag_values"), str):  # CF: numbers of the variable's type
             import numpy as np
 
-            out["flag_values"] = np.array([int(v) for v in out["flag_values"].split()],
-                                          dtype=np.int8)
+            out["flag_values"] = np.array(
+                [int(v) for v in out["flag_values"].split()], dtype=np.int8
+            )
         out.update(self.valid_range())
         return out
 

@@ -72,8 +72,10 @@ def true_area_slope(slope2: ArrayLike) -> Array:
     small = a < 1e-4
     xi = np.sqrt(np.where(small, 1.0, a))
     u = 1.0 / xi
-    closed = math.sqrt(math.pi) / (4.0 * xi) * (
-        erfcx(u) * (1.0 - 2.0 * u * u) + 2.0 * u / math.sqrt(math.pi)
+    closed = (
+        math.sqrt(math.pi)
+        / (4.0 * xi)
+        * (erfcx(u) * (1.0 - 2.0 * u * u) + 2.0 * u / math.sqrt(math.pi))
     )
     series = 0.5 - 0.5 * a + 1.125 * a * a - 3.75 * a**3
     return np.where(small, series, closed)
@@ -185,8 +187,8 @@ class ModelLaw:
         cut = np.cumsum([z.size for z in zs_])[:-1]
         z_all, zo_all = np.concatenate(zs_), np.concatenate(zo_)
         both = self.sigma2_and_slope(np.concatenate([z_all, zo_all]))
-        s2_all = np.split(both[0][:z_all.size], cut)
-        ds2_all = np.split(both[1][z_all.size:], cut)
+        s2_all = np.split(both[0][: z_all.size], cut)
+        ds2_all = np.split(both[1][z_all.size :], cut)
         tau_of, f_of = clock.tau_of_zeta, clock.f  # type: ignore[attr-defined]
         t_all = np.split(np.asarray(tau_of(z_all), dtype=float), cut)
         f_all = np.split(np.asarray(f_of(zo_all), dtype=float), cut)
@@ -278,8 +280,11 @@ class TableLaw:
 
         t_nodes = np.asarray(tau_of_zeta(self.zeta), dtype=float)
         keep = np.concatenate(([True], np.diff(t_nodes) > 0))  # f = 0 bands: same tau
-        return _Pchip(PchipInterpolator(t_nodes[keep], self.sigma[keep], extrapolate=False),
-                      float(t_nodes[keep][0]), float(t_nodes[keep][-1]))
+        return _Pchip(
+            PchipInterpolator(t_nodes[keep], self.sigma[keep], extrapolate=False),
+            float(t_nodes[keep][0]),
+            float(t_nodes[keep][-1]),
+        )
 
     def check_range(self, zeta_max: float) -> None:
         """Raise ValueError unless the table covers ``[1, zeta_max]``."""
@@ -357,14 +362,19 @@ def _cubic_roots(poly: Any) -> Array:
     disc = np.maximum(a2 * a2 - 3.0 * a3 * a1, 0.0)
     with np.errstate(divide="ignore", invalid="ignore"):
         for sgn in (-1.0, 1.0):
-            t = np.where(a3 != 0, (-a2 + sgn * np.sqrt(disc)) / (3.0 * a3),
-                         np.where(a2 != 0, -a1 / (2.0 * a2), 0.0))
+            t = np.where(
+                a3 != 0,
+                (-a2 + sgn * np.sqrt(disc)) / (3.0 * a3),
+                np.where(a2 != 0, -a1 / (2.0 * a2), 0.0),
+            )
             ts.append(np.clip(np.nan_to_num(t), 0.0, h))
     vals = np.array([((a3 * t + a2) * t + a1) * t + a0 for t in ts])
     margin = 1e-9 * float(np.max(np.abs(vals))) if vals.size else 0.0
     cand = np.flatnonzero((vals.min(axis=0) <= margin) & (vals.max(axis=0) >= -margin))
-    out = [np.asarray(PPoly(c[:, i:i + 1], x[i:i + 2]).roots(extrapolate=False), dtype=float)
-           for i in cand]
+    out = [
+        np.asarray(PPoly(c[:, i : i + 1], x[i : i + 2]).roots(extrapolate=False), dtype=float)
+        for i in cand
+    ]
     return np.unique(np.concatenate(out)) if out else np.zeros(0)
 
 

@@ -93,12 +93,15 @@ def _curve_grid(zeta: np.ndarray, per_decade: int = 32) -> np.ndarray:
     if zmax <= 1.0:
         return np.array([1.0, 1.0 + 1e-9])
     dec = math.log10(zmax)
-    z = np.concatenate((
-        [1.0], zeta, 1.0 + np.geomspace(1e-6 * min(1.0, zmax - 1.0), zmax - 1.0,
-                                       int(12 * (dec + 6)) + 2),
-        np.geomspace(1.0, zmax, int(per_decade * dec) + 2),
-        zmax * (1.0 - np.geomspace(1e-6, 0.3, max(4, 3 * per_decade // 4))),
-    ))
+    z = np.concatenate(
+        (
+            [1.0],
+            zeta,
+            1.0 + np.geomspace(1e-6 * min(1.0, zmax - 1.0), zmax - 1.0, int(12 * (dec + 6)) + 2),
+            np.geomspace(1.0, zmax, int(per_decade * dec) + 2),
+            zmax * (1.0 - np.geomspace(1e-6, 0.3, max(4, 3 * per_decade // 4))),
+        )
+    )
     z = np.unique(z)
     return _separated(z[(z >= 1.0) & (z <= zmax)])
 
@@ -263,33 +266,56 @@ class DMTBoundary(Boundary):
         ),
     }
     outputs = {
-        "p_rep": VarSpec(("p0",), "Pa", "repulsive nominal pressure p_rep = p0 + p_att",
-                         valid_min=0.0),
-        "p_att": VarSpec(("p0",), "Pa", "attractive nominal stress in the gaps", valid_min=0.0,
-                         description="int_0^inf sigma(u) rho(u) du over the gap distribution"),
-        "mean_gap": VarSpec(("p0",), "m", "mean interfacial separation at p_rep", valid_min=0.0,
-                            description="Persson's u(p_rep) of the solved contact (§5.2)"),
-        "dmt_residual": VarSpec(("p0",), "1", "relative residual of p_rep = p0 + p_att(p_rep)",
-                                valid_min=0.0),
-        "dmt_iterations": VarSpec(("p0",), "1", "evaluations of the fixed-point map p_att",
-                                  valid_min=0.0, description="0 without adhesion"),
+        "p_rep": VarSpec(
+            ("p0",), "Pa", "repulsive nominal pressure p_rep = p0 + p_att", valid_min=0.0
+        ),
+        "p_att": VarSpec(
+            ("p0",),
+            "Pa",
+            "attractive nominal stress in the gaps",
+            valid_min=0.0,
+            description="int_0^inf sigma(u) rho(u) du over the gap distribution",
+        ),
+        "mean_gap": VarSpec(
+            ("p0",),
+            "m",
+            "mean interfacial separation at p_rep",
+            valid_min=0.0,
+            description="Persson's u(p_rep) of the solved contact (§5.2)",
+        ),
+        "dmt_residual": VarSpec(
+            ("p0",), "1", "relative residual of p_rep = p0 + p_att(p_rep)", valid_min=0.0
+        ),
+        "dmt_iterations": VarSpec(
+            ("p0",),
+            "1",
+            "evaluations of the fixed-point map p_att",
+            valid_min=0.0,
+            description="0 without adhesion",
+        ),
         "p_att_discretization_error": VarSpec(
-            ("p0",), "1", "relative change of p_att on a magnification grid of half density",
+            ("p0",),
+            "1",
+            "relative change of p_att on a magnification grid of half density",
             valid_min=0.0,
             description="sensitivity of the small-gap tail of the gap distribution to the "
-            "area curve's sampling; a DMTAccuracyWarning is issued above 0.05"),
+            "area curve's sampling; a DMTAccuracyWarning is issued above 0.05",
+        ),
         "gap_quadrature_error": VarSpec(
-            ("p0",), "1", "mass error of the gap-integral quadrature",
-            description="int rho du - (1 - A) on the rule used for p_att (0: closed form)"),
-        "tabor_parameter": VarSpec(("zeta",), "1", "Tabor parameter mu_T per scale",
-                                   valid_min=0.0),
+            ("p0",),
+            "1",
+            "mass error of the gap-integral quadrature",
+            description="int rho du - (1 - A) on the rule used for p_att (0: closed form)",
+        ),
+        "tabor_parameter": VarSpec(("zeta",), "1", "Tabor parameter mu_T per scale", valid_min=0.0),
         "w_eff": VarSpec((), "J m-2", "Persson-Tosatti stickiness w_eff"),
     }
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
-        _check_scalar("work_of_adhesion", self._params["work_of_adhesion"], self.parameters,
-                      "J/m^2")
+        _check_scalar(
+            "work_of_adhesion", self._params["work_of_adhesion"], self.parameters, "J/m^2"
+        )
         _check_scalar("range", self._params["range"], self.parameters, "m")
         if self._params["law"] not in LAWS:
             raise ValueError(f"boundary.law = {self._params['law']!r}: one of {', '.join(LAWS)}")
@@ -314,8 +340,15 @@ class DMTBoundary(Boundary):
         if key not in self._states:
             p = self._params
             self._states[key] = solve_dmt(
-                ctx.psd, ctx.E_star, float(p0), clock.tau_of_zeta, ctx.zeta, p["law"],
-                p["work_of_adhesion"], p["range"], rtol=ctx.rtol,
+                ctx.psd,
+                ctx.E_star,
+                float(p0),
+                clock.tau_of_zeta,
+                ctx.zeta,
+                p["law"],
+                p["work_of_adhesion"],
+                p["range"],
+                rtol=ctx.rtol,
             )
             self._clock = clock
         return self._states[key]

@@ -132,51 +132,78 @@ class JKRBoundary(Boundary):
     }
     outputs = {
         "detached_fraction": VarSpec(
-            _PZ, "1", "fraction of the nominal area detached at the adhesive wall",
+            _PZ,
+            "1",
+            "fraction of the nominal area detached at the adhesive wall",
             description="probability absorbed at p = -sigma_a(zeta) (cumulative)",
-            valid_min=0.0, valid_max=1.0,
+            valid_min=0.0,
+            valid_max=1.0,
         ),
         "contact_stress": VarSpec(
-            _PZ, "Pa", "stress carried by the remaining contact int p P dp",
+            _PZ,
+            "Pa",
+            "stress carried by the remaining contact int p P dp",
             description="exceeds p0 by the tensile stress left behind by detached patches",
         ),
         "detached_stress": VarSpec(
-            _PZ, "Pa", "tensile stress left behind by detached patches",
+            _PZ,
+            "Pa",
+            "tensile stress left behind by detached patches",
             description="int p P dp - p0 = int_1^zeta sigma_a |dA| (physics.md §2.2)",
             valid_min=0.0,
         ),
         "load_identity_residual": VarSpec(
-            ("p0",), "1", "residual of int p P dp = p0 + int sigma_a |dA|",
+            ("p0",),
+            "1",
+            "residual of int p P dp = p0 + int sigma_a |dA|",
             description="max over zeta of the engine's load balance (wall moment summed at "
             "every time step), relative to max(|p0|, sigma_a)",
             valid_min=0.0,
         ),
         "sigma_a": VarSpec(
-            ("zeta",), "Pa", "detachment stress sigma_a", valid_min=0.0,
+            ("zeta",),
+            "Pa",
+            "detachment stress sigma_a",
+            valid_min=0.0,
             description="the adhesive wall sits at p = -sigma_a(zeta)",
         ),
         "gamma_eff": VarSpec(
-            ("zeta",), "J m-2", "effective interfacial energy gamma_eff", valid_min=0.0,
+            ("zeta",),
+            "J m-2",
+            "effective interfacial energy gamma_eff",
+            valid_min=0.0,
             description="clipped at 0; with a sigma_a table: sigma_a^2/(c_a E* q)",
         ),
         "true_area_ratio": VarSpec(
-            ("zeta",), "1", "true (surface) area of the resolved roughness A*/A0",
+            ("zeta",),
+            "1",
+            "true (surface) area of the resolved roughness A*/A0",
             valid_min=1.0,
         ),
         "finer_scale_energy": VarSpec(
-            ("zeta",), "J m-2", "full-contact elastic energy of the scales finer than zeta",
+            ("zeta",),
+            "J m-2",
+            "full-contact elastic energy of the scales finer than zeta",
             valid_min=0.0,
         ),
         "tabor_parameter": VarSpec(
-            ("zeta",), "1", "Tabor parameter mu_T per scale", valid_min=0.0,
+            ("zeta",),
+            "1",
+            "Tabor parameter mu_T per scale",
+            valid_min=0.0,
             description="[R(q) dgamma^2/(E*^2 dr^3)]^(1/3); >> 1: JKR limit, << 1: DMT limit",
         ),
         "w_eff": VarSpec(
-            (), "J m-2", "Persson-Tosatti stickiness w_eff = dgamma A*/A0 - U_el,full/A0",
+            (),
+            "J m-2",
+            "Persson-Tosatti stickiness w_eff = dgamma A*/A0 - U_el,full/A0",
             description="> 0: the interface is sticky (physics.md §2.5)",
         ),
         "pull_off_stress": VarSpec(
-            (), "Pa", "pull-off stress", valid_min=0.0,
+            (),
+            "Pa",
+            "pull-off stress",
+            valid_min=0.0,
             description="-p0 of the most tensile load that keeps A(zeta_max)/A0 > "
             "pull_off_area (0: sigma_a(zeta=1)); 0 when no tensile load keeps that much contact",
         ),
@@ -229,8 +256,11 @@ class JKRBoundary(Boundary):
             raise ValueError(
                 f"load.p0 = {float(bad[0]):g} Pa is outside the allowed range p0 > "
                 f"-sigma_a(zeta=1) = {0.0 - s1:g} Pa (the contact would detach at once"
-                + ("; gamma_eff(1) <= 0: roughness destroys macroscopic adhesion)" if s1 == 0
-                   else ")")
+                + (
+                    "; gamma_eff(1) <= 0: roughness destroys macroscopic adhesion)"
+                    if s1 == 0
+                    else ")"
+                )
             )
         work = self._params["work_of_adhesion"]
         if work > 0 and ctx.psd is not None:
@@ -346,8 +376,7 @@ def _check_scalar(name: str, value: Any, specs: dict[str, ParamSpec], unit: str)
         or not spec.in_bounds(float(value))
     ):
         raise ValueError(
-            f"boundary.{name} = {value!r} [{unit}] is outside the allowed range "
-            f"{spec.range_text()}"
+            f"boundary.{name} = {value!r} [{unit}] is outside the allowed range {spec.range_text()}"
         )
 
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike
+
 from xpersson.engine import Wall, solve_sourced
 
 __all__ = ["diffuse_with_injection", "DiffusionResult"]

@@ -28,6 +28,7 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
 from xpersson.physics import Detachment, gap_cdf
 
 __all__ = ["bruggeman", "bruggeman_gap", "effective_pressure_drop", "leak_rate"]

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+
 from xpersson.physics.closures import GAMMA_DEFAULT
 
 __all__ = ["Solved", "solved_curve", "dense_zeta", "FORMS"]

@@ -23,6 +23,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 import xarray as xr
+
 from xpersson import physics
 from xpersson.physics.closures import GAMMA_DEFAULT
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
@@ -434,4 +435,3 @@ class Leakage(_Interface):
             "leak_rate_emt": (("p0",), leak_rate(u3, *args)),
             "leak_sealed_emt": (("p0",), (u3 <= 0).astype(np.int8)),
         }
-

@@ -282,7 +282,7 @@ class MasterCurve(ModulusModel):
         sq, loss = np.empty(flat.shape), np.empty(flat.shape)
         block = max(1, 200_000 // ((self.omega.size + 1) * int(self.phi_nodes)))
         for i in range(0, flat.size, block):
-            sq[i:i + block], loss[i:i + block] = self._angular_block(flat[i:i + block])
+            sq[i : i + block], loss[i : i + block] = self._angular_block(flat[i : i + block])
         return sq.reshape(w.shape), loss.reshape(w.shape)
 
     def breakpoints(self) -> Array:
@@ -296,9 +296,12 @@ class MasterCurve(ModulusModel):
         with np.errstate(divide="ignore", invalid="ignore"):
             t = np.clip(self.omega[None, :] / np.abs(W)[:, None], 0.0, 1.0)
         t = np.where(np.isfinite(t), t, 0.0)
-        cuts = np.sort(np.concatenate(
-            [np.arccos(t), np.zeros((W.size, 1)), np.full((W.size, 1), 0.5 * np.pi)], axis=1
-        ), axis=1)
+        cuts = np.sort(
+            np.concatenate(
+                [np.arccos(t), np.zeros((W.size, 1)), np.full((W.size, 1), 0.5 * np.pi)], axis=1
+            ),
+            axis=1,
+        )
         mid, half = 0.5 * (cuts[:, 1:] + cuts[:, :-1]), 0.5 * (cuts[:, 1:] - cuts[:, :-1])
         phi = mid[..., None] + half[..., None] * x
         cos = np.cos(phi)

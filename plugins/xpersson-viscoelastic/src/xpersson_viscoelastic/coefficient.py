@@ -31,29 +31,44 @@ _WLF1955 = "10.1021/ja01619a008"
 
 OUTPUTS: dict[str, VarSpec] = {
     "effective_modulus": VarSpec(
-        ("zeta",), "Pa", "angular rms contact modulus at scale q",
+        ("zeta",),
+        "Pa",
+        "angular rms contact modulus at scale q",
         description="sqrt(<|E(q v a_T cos phi)|^2>_phi) / (1 - nu^2): the E* the elastic theory "
-        "would need at this scale", valid_min=0.0,
+        "would need at this scale",
+        valid_min=0.0,
     ),
     "loss_angular_integral": VarSpec(
-        ("zeta",), "Pa", "angular loss integral at scale q",
-        description="int_0^2pi cos(phi) Im E(q v a_T cos phi) dphi / (1 - nu^2)", valid_min=0.0,
+        ("zeta",),
+        "Pa",
+        "angular loss integral at scale q",
+        description="int_0^2pi cos(phi) Im E(q v a_T cos phi) dphi / (1 - nu^2)",
+        valid_min=0.0,
     ),
     "loss_integral": VarSpec(
-        ("zeta",), "Pa", "cumulative viscoelastic loss integral L(zeta)",
+        ("zeta",),
+        "Pa",
+        "cumulative viscoelastic loss integral L(zeta)",
         description="int_{q_L}^{zeta q_L} q^3 C(q) int_0^2pi cos(phi) Im E(q v a_T cos phi) dphi "
-        "dq / (1 - nu^2); mu_visc = (1/(2 p0)) int P S dL", valid_min=0.0,
+        "dq / (1 - nu^2); mu_visc = (1/(2 p0)) int P S dL",
+        valid_min=0.0,
     ),
     "sliding_speed": VarSpec((), "m s-1", "sliding speed of the rubber", valid_min=0.0),
     "rubber_temperature": VarSpec((), "K", "temperature of the rubber", valid_min=0.0),
     "shift_factor": VarSpec(
-        (), "1", "time-temperature shift factor a_T",
-        description="E(omega, T) = E_ref(a_T omega)", valid_min=0.0,
+        (),
+        "1",
+        "time-temperature shift factor a_T",
+        description="E(omega, T) = E_ref(a_T omega)",
+        valid_min=0.0,
     ),
     "flash_temperature": VarSpec(
-        ("zeta",), "K", "rubber temperature seen at scale q",
+        ("zeta",),
+        "K",
+        "rubber temperature seen at scale q",
         description="temperature + flash heating from the longer scales (opt-in approximate "
-        "mode; equal to the temperature when flash_temperature is off)", valid_min=0.0,
+        "mode; equal to the temperature when flash_temperature is off)",
+        valid_min=0.0,
     ),
     "rubbery_modulus": VarSpec((), "Pa", "rubbery (low-frequency) modulus E_r", valid_min=0.0),
     "glassy_modulus": VarSpec((), "Pa", "glassy (high-frequency) modulus E_g", valid_min=0.0),
@@ -76,58 +91,152 @@ class ViscoelasticCoefficient(Coefficient):
     summary = "viscoelastic sliding contact: f(zeta; v, T) from E(omega) (Persson 2001)"
     references = (_PERSSON2001, _WLF1955, "10.1016/j.surfrep.2006.04.001")
     parameters: ClassVar = {
-        "velocity": ParamSpec("m/s", bounds=(0, None), sweepable=True, dim="v", example=0.01,
-                              description="sliding speed"),
-        "temperature": ParamSpec("K", default=293.15, bounds=(0, None), inclusive=(False, True),
-                                 sweepable=True, dim="T", description="rubber temperature"),
-        "modulus": ParamSpec("1", default="prony", kind="choice",
-                             choices=("sls", "prony", "master_curve"),
-                             description="modulus model at the reference temperature"),
-        "E_r": ParamSpec("Pa", default=3e6, bounds=(0, None), inclusive=(False, True),
-                         description="rubbery modulus (sls, prony)"),
-        "E_g": ParamSpec("Pa", default=3e9, bounds=(0, None), inclusive=(False, True),
-                         description="glassy modulus (sls; synthetic prony default)"),
-        "relaxation_time": ParamSpec("s", default=1e-3, bounds=(0, None), inclusive=(False, True),
-                                     description="relaxation time (sls)"),
-        "delta_E": ParamSpec("Pa", default=None, array=True, bounds=(0, None),
-                             description="Prony mode strengths (with relaxation_times)"),
-        "relaxation_times": ParamSpec("s", default=None, array=True, bounds=(0, None),
-                                      inclusive=(False, True),
-                                      description="Prony relaxation times (with delta_E)"),
-        "prony_file": ParamSpec("1", default=None, kind="path",
-                                description="Prony modes table: tau [s], delta_E [Pa]"),
-        "master_curve": ParamSpec("1", default=None, kind="path",
-                                  description="master curve table: omega [rad/s] (or f [Hz]), "
-                                  "E_storage [Pa], E_loss [Pa]"),
-        "phi_nodes": ParamSpec("1", default=6, bounds=(2, 64), kind="int",
-                               description="Gauss-Legendre nodes in phi per piece between "
-                               "table frequencies (master_curve)"),
-        "shift": ParamSpec("1", default="none", kind="choice",
-                           choices=("none", "wlf", "arrhenius", "table"),
-                           description="time-temperature shift a_T(T)"),
-        "T_ref": ParamSpec("K", default=293.15, bounds=(0, None), inclusive=(False, True),
-                           description="reference temperature of the modulus model"),
-        "C1": ParamSpec("1", default=WLF_UNIVERSAL[0], bounds=(0, None), inclusive=(False, True),
-                        description="WLF C1 (universal 17.44 with T_ref = T_g)"),
-        "C2": ParamSpec("K", default=WLF_UNIVERSAL[1], bounds=(0, None), inclusive=(False, True),
-                        description="WLF C2 (universal 51.6 K with T_ref = T_g)"),
-        "activation_energy": ParamSpec("J/mol", default=None, bounds=(0, None),
-                                       description="Arrhenius activation energy"),
-        "shift_table": ParamSpec("1", default=None, kind="path",
-                                 description="a_T table: T [K], a_T [1]"),
-        "flash_temperature": ParamSpec("1", default=False, kind="bool",
-                                       description="opt-in approximate flash temperature "
-                                       "(physics.md §4.5, structure only)"),
-        "thermal_conductivity": ParamSpec("W/(m*K)", default=0.25, bounds=(0, None),
-                                          inclusive=(False, True),
-                                          description="rubber thermal conductivity (flash)"),
-        "thermal_diffusivity": ParamSpec("m**2/s", default=1e-7, bounds=(0, None),
-                                         inclusive=(False, True),
-                                         description="rubber thermal diffusivity (flash)"),
-        "closure": ParamSpec("1", default="persson01", kind="choice", choices=closures.CLOSURES,
-                             description="correction-factor closure of the variance"),
-        "gamma": ParamSpec("1", default=None, bounds=(0, 1), inclusive=(False, True),
-                           description="closure parameter (default 0.42; wm17: 5/9)"),
+        "velocity": ParamSpec(
+            "m/s",
+            bounds=(0, None),
+            sweepable=True,
+            dim="v",
+            example=0.01,
+            description="sliding speed",
+        ),
+        "temperature": ParamSpec(
+            "K",
+            default=293.15,
+            bounds=(0, None),
+            inclusive=(False, True),
+            sweepable=True,
+            dim="T",
+            description="rubber temperature",
+        ),
+        "modulus": ParamSpec(
+            "1",
+            default="prony",
+            kind="choice",
+            choices=("sls", "prony", "master_curve"),
+            description="modulus model at the reference temperature",
+        ),
+        "E_r": ParamSpec(
+            "Pa",
+            default=3e6,
+            bounds=(0, None),
+            inclusive=(False, True),
+            description="rubbery modulus (sls, prony)",
+        ),
+        "E_g": ParamSpec(
+            "Pa",
+            default=3e9,
+            bounds=(0, None),
+            inclusive=(False, True),
+            description="glassy modulus (sls; synthetic prony default)",
+        ),
+        "relaxation_time": ParamSpec(
+            "s",
+            default=1e-3,
+            bounds=(0, None),
+            inclusive=(False, True),
+            description="relaxation time (sls)",
+        ),
+        "delta_E": ParamSpec(
+            "Pa",
+            default=None,
+            array=True,
+            bounds=(0, None),
+            description="Prony mode strengths (with relaxation_times)",
+        ),
+        "relaxation_times": ParamSpec(
+            "s",
+            default=None,
+            array=True,
+            bounds=(0, None),
+            inclusive=(False, True),
+            description="Prony relaxation times (with delta_E)",
+        ),
+        "prony_file": ParamSpec(
+            "1", default=None, kind="path", description="Prony modes table: tau [s], delta_E [Pa]"
+        ),
+        "master_curve": ParamSpec(
+            "1",
+            default=None,
+            kind="path",
+            description="master curve table: omega [rad/s] (or f [Hz]), "
+            "E_storage [Pa], E_loss [Pa]",
+        ),
+        "phi_nodes": ParamSpec(
+            "1",
+            default=6,
+            bounds=(2, 64),
+            kind="int",
+            description="Gauss-Legendre nodes in phi per piece between "
+            "table frequencies (master_curve)",
+        ),
+        "shift": ParamSpec(
+            "1",
+            default="none",
+            kind="choice",
+            choices=("none", "wlf", "arrhenius", "table"),
+            description="time-temperature shift a_T(T)",
+        ),
+        "T_ref": ParamSpec(
+            "K",
+            default=293.15,
+            bounds=(0, None),
+            inclusive=(False, True),
+            description="reference temperature of the modulus model",
+        ),
+        "C1": ParamSpec(
+            "1",
+            default=WLF_UNIVERSAL[0],
+            bounds=(0, None),
+            inclusive=(False, True),
+            description="WLF C1 (universal 17.44 with T_ref = T_g)",
+        ),
+        "C2": ParamSpec(
+            "K",
+            default=WLF_UNIVERSAL[1],
+            bounds=(0, None),
+            inclusive=(False, True),
+            description="WLF C2 (universal 51.6 K with T_ref = T_g)",
+        ),
+        "activation_energy": ParamSpec(
+            "J/mol", default=None, bounds=(0, None), description="Arrhenius activation energy"
+        ),
+        "shift_table": ParamSpec(
+            "1", default=None, kind="path", description="a_T table: T [K], a_T [1]"
+        ),
+        "flash_temperature": ParamSpec(
+            "1",
+            default=False,
+            kind="bool",
+            description="opt-in approximate flash temperature (physics.md §4.5, structure only)",
+        ),
+        "thermal_conductivity": ParamSpec(
+            "W/(m*K)",
+            default=0.25,
+            bounds=(0, None),
+            inclusive=(False, True),
+            description="rubber thermal conductivity (flash)",
+        ),
+        "thermal_diffusivity": ParamSpec(
+            "m**2/s",
+            default=1e-7,
+            bounds=(0, None),
+            inclusive=(False, True),
+            description="rubber thermal diffusivity (flash)",
+        ),
+        "closure": ParamSpec(
+            "1",
+            default="persson01",
+            kind="choice",
+            choices=closures.CLOSURES,
+            description="correction-factor closure of the variance",
+        ),
+        "gamma": ParamSpec(
+            "1",
+            default=None,
+            bounds=(0, 1),
+            inclusive=(False, True),
+            description="closure parameter (default 0.42; wm17: 5/9)",
+        ),
     }
     outputs: ClassVar = OUTPUTS
 
@@ -166,9 +275,16 @@ class ViscoelasticCoefficient(Coefficient):
         from ._flash import solve_flash
 
         p = self._params
-        prof = solve_flash(psd, self._model, self._shift, nu, self._v(),
-                           float(p["temperature"]), float(p["thermal_conductivity"]),
-                           float(p["thermal_diffusivity"]))
+        prof = solve_flash(
+            psd,
+            self._model,
+            self._shift,
+            nu,
+            self._v(),
+            float(p["temperature"]),
+            float(p["thermal_conductivity"]),
+            float(p["thermal_diffusivity"]),
+        )
         if not prof.converged:
             raise RuntimeError(
                 f"flash temperature: the fixed point did not converge in {prof.iterations} "
@@ -195,19 +311,30 @@ class ViscoelasticCoefficient(Coefficient):
     # -- the coefficient contract ------------------------------------------------------------
     def f(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """f(zeta) [Pa^2] at this (v, T)."""
-        return kernel.coefficient_f(ctx.psd, self._model, ctx.nu, zeta, self._v(),
-                                    self._a_T_of(ctx))
+        return kernel.coefficient_f(
+            ctx.psd, self._model, ctx.nu, zeta, self._v(), self._a_T_of(ctx)
+        )
 
     def tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """tau(zeta) [Pa^2] (Gauss-Legendre in ln q: ~1e-14 relative for Prony/SLS, below the
         scene's rtol for master curves; exact E_r^2 part)."""
-        return kernel.diffusion_time(ctx.psd, self._model, ctx.nu, zeta, self._v(),
-                                     self._a_T_of(ctx), panels_per_decade=self._ppd(ctx))
+        return kernel.diffusion_time(
+            ctx.psd,
+            self._model,
+            ctx.nu,
+            zeta,
+            self._v(),
+            self._a_T_of(ctx),
+            panels_per_decade=self._ppd(ctx),
+        )
 
     def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """Per-load diffusion time [Pa^2] of the selected correction closure."""
         return closures.effective_tau(
-            self.tau(ctx, zeta), ctx.p0, self._params["closure"], self._params["gamma"],
+            self.tau(ctx, zeta),
+            ctx.p0,
+            self._params["closure"],
+            self._params["gamma"],
             rtol=1e-10,
         )
 
@@ -216,8 +343,9 @@ class ViscoelasticCoefficient(Coefficient):
         zeta = ctx.zeta
         aT = self._a_T_of(ctx)
         rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
-        L = kernel.loss_integral(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT,
-                                 panels_per_decade=self._ppd(ctx))
+        L = kernel.loss_integral(
+            ctx.psd, self._model, ctx.nu, zeta, self._v(), aT, panels_per_decade=self._ppd(ctx)
+        )
         T0 = float(self._params["temperature"])
         if callable(aT):
             T_q = self._flash(ctx.psd, float(ctx.nu))(zeta * ctx.q_L)

@@ -35,41 +35,84 @@ class Friction(Analysis):
     """Rubber friction coefficient ``mu = mu_visc + mu_contact`` versus load (and v, T)."""
 
     summary = "rubber friction: viscoelastic mu_visc (Persson 2001) plus contact shear term"
-    references = ("10.1063/1.1388626", "10.1016/j.surfrep.2006.04.001",
-                  "10.1140/epje/i2010-10558-6")
+    references = (
+        "10.1063/1.1388626",
+        "10.1016/j.surfrep.2006.04.001",
+        "10.1140/epje/i2010-10558-6",
+    )
     requires: ClassVar = ("area_fraction", "loss_integral", "sliding_speed", "shift_factor")
-    provides: ClassVar = ("mu_visc", "mu_contact", "mu", "mu_visc_cumulative",
-                          "contact_area_cutoff", "frictional_shear_stress")
+    provides: ClassVar = (
+        "mu_visc",
+        "mu_contact",
+        "mu",
+        "mu_visc_cumulative",
+        "contact_area_cutoff",
+        "frictional_shear_stress",
+    )
     parameters: ClassVar = {
-        "correction": ParamSpec("1", default="none", kind="choice",
-                                choices=("none", "s_factor"),
-                                description="S = 1 (none) or S = gamma + (1 - gamma) P^2"),
-        "gamma": ParamSpec("1", default=0.5, bounds=(0, 1), inclusive=(False, True),
-                           description="gamma of the S factor"),
-        "tau_f": ParamSpec("Pa", default=0.0, bounds=(0, None),
-                           description="frictional shear stress in the real contact area "
-                           "(tau_f0 of the velocity law)"),
-        "shear_law": ParamSpec("1", default="constant", kind="choice",
-                               choices=("constant", "velocity"),
-                               description="tau_f constant or tau_f0 exp(-c log10(a_T v/v*)^2)"),
+        "correction": ParamSpec(
+            "1",
+            default="none",
+            kind="choice",
+            choices=("none", "s_factor"),
+            description="S = 1 (none) or S = gamma + (1 - gamma) P^2",
+        ),
+        "gamma": ParamSpec(
+            "1",
+            default=0.5,
+            bounds=(0, 1),
+            inclusive=(False, True),
+            description="gamma of the S factor",
+        ),
+        "tau_f": ParamSpec(
+            "Pa",
+            default=0.0,
+            bounds=(0, None),
+            description="frictional shear stress in the real contact area "
+            "(tau_f0 of the velocity law)",
+        ),
+        "shear_law": ParamSpec(
+            "1",
+            default="constant",
+            kind="choice",
+            choices=("constant", "velocity"),
+            description="tau_f constant or tau_f0 exp(-c log10(a_T v/v*)^2)",
+        ),
         "c": ParamSpec("1", default=0.1, bounds=(0, None), description="width c of the law"),
-        "v_star": ParamSpec("m/s", default=1e-2, bounds=(0, None), inclusive=(False, True),
-                            description="reference speed v* of the velocity law"),
-        "zeta_c": ParamSpec("1", default=None, bounds=(1, None),
-                            description="magnification of the contact area in mu_contact "
-                            "(default: the largest output magnification)"),
+        "v_star": ParamSpec(
+            "m/s",
+            default=1e-2,
+            bounds=(0, None),
+            inclusive=(False, True),
+            description="reference speed v* of the velocity law",
+        ),
+        "zeta_c": ParamSpec(
+            "1",
+            default=None,
+            bounds=(1, None),
+            description="magnification of the contact area in mu_contact "
+            "(default: the largest output magnification)",
+        ),
     }
     outputs: ClassVar = {
         "mu_visc": VarSpec(("p0",), "1", "viscoelastic friction coefficient", valid_min=0.0),
-        "mu_contact": VarSpec(("p0",), "1", "contact (shear) friction coefficient",
-                              description="tau_f A(zeta_c)/A0 / p0", valid_min=0.0),
+        "mu_contact": VarSpec(
+            ("p0",),
+            "1",
+            "contact (shear) friction coefficient",
+            description="tau_f A(zeta_c)/A0 / p0",
+            valid_min=0.0,
+        ),
         "mu": VarSpec(("p0",), "1", "friction coefficient mu_visc + mu_contact", valid_min=0.0),
-        "mu_visc_cumulative": VarSpec(_ZP, "1", "viscoelastic friction from scales up to zeta",
-                                      valid_min=0.0),
-        "contact_area_cutoff": VarSpec(("p0",), "1", "relative contact area at zeta_c",
-                                       valid_min=0.0, valid_max=1.0),
-        "frictional_shear_stress": VarSpec((), "Pa", "frictional shear stress tau_f",
-                                           valid_min=0.0),
+        "mu_visc_cumulative": VarSpec(
+            _ZP, "1", "viscoelastic friction from scales up to zeta", valid_min=0.0
+        ),
+        "contact_area_cutoff": VarSpec(
+            ("p0",), "1", "relative contact area at zeta_c", valid_min=0.0, valid_max=1.0
+        ),
+        "frictional_shear_stress": VarSpec(
+            (), "Pa", "frictional shear stress tau_f", valid_min=0.0
+        ),
     }
 
     def shear_stress(self, v: float, aT: float) -> float:
@@ -115,22 +158,27 @@ class Friction(Analysis):
             return np.concatenate([np.zeros(mu.shape[:-1] + (1,)), mu], axis=-1)
 
         mu_cum = xr.apply_ufunc(
-            running, g, L, p0, input_core_dims=[["zeta"], ["zeta"], []],
-            output_core_dims=[["zeta"]], dask="parallelized", output_dtypes=[float],
+            running,
+            g,
+            L,
+            p0,
+            input_core_dims=[["zeta"], ["zeta"], []],
+            output_core_dims=[["zeta"]],
+            dask="parallelized",
+            output_dtypes=[float],
         )
         mu_visc = mu_cum.isel(zeta=-1, drop=True)
         if zc == zeta[-1]:
             A_c = A.isel(zeta=-1, drop=True)
         else:  # linear in log zeta between output points
-            A_c = A.interp(zeta=zc, method="linear", kwargs={"fill_value": None}).drop_vars(
-                "zeta"
-            )
+            A_c = A.interp(zeta=zc, method="linear", kwargs={"fill_value": None}).drop_vars("zeta")
             A_c = A_c.drop_vars([c for c in A_c.coords if c not in A_c.dims])
         v = float(ds["sliding_speed"].values) if ds["sliding_speed"].ndim == 0 else None
         aT = float(ds["shift_factor"].values) if ds["shift_factor"].ndim == 0 else None
         if v is None or aT is None:  # already stacked over sweep dims: elementwise law
-            tau_f = xr.apply_ufunc(np.vectorize(self.shear_stress), ds["sliding_speed"],
-                                   ds["shift_factor"])
+            tau_f = xr.apply_ufunc(
+                np.vectorize(self.shear_stress), ds["sliding_speed"], ds["shift_factor"]
+            )
         else:
             tau_f = xr.DataArray(self.shear_stress(v, aT))
         mu_contact = tau_f * A_c / p0

@@ -59,9 +59,7 @@ def _rule(n: int) -> tuple[Array, Array, Array]:
     return x, w, Vint @ np.linalg.inv(V)
 
 
-def panel_edges(
-    psd: Any, q: ArrayLike, panels_per_decade: int = PANELS_PER_DECADE
-) -> Array:
+def panel_edges(psd: Any, q: ArrayLike, panels_per_decade: int = PANELS_PER_DECADE) -> Array:
     """Panel edges [1/m] from ``q_L`` to ``max(q)``: a log grid, the PSD breakpoints, ``q``.
 
     ``q`` [1/m] may have any shape (a scalar, the 2-D magnifications of a boundary's clock);
@@ -103,7 +101,13 @@ def _w(v: ArrayLike, aT: Any, q: Array) -> Array:
 
 
 def _cumulative_at(
-    psd: Any, model: ModulusModel, zeta: ArrayLike, v: ArrayLike, aT: Any, which: str, n: int,
+    psd: Any,
+    model: ModulusModel,
+    zeta: ArrayLike,
+    v: ArrayLike,
+    aT: Any,
+    which: str,
+    n: int,
     ppd: int,
 ) -> Array:
     """int_{q_L}^{zeta q_L} q^3 C(q) X(q scale) dq at ``zeta``; shape ``scale.shape + zeta``.
@@ -184,7 +188,11 @@ def diffusion_time(
 
 
 def coefficient_f(
-    psd: Any, model: ModulusModel, nu: float, zeta: ArrayLike, v: ArrayLike = 0.0,
+    psd: Any,
+    model: ModulusModel,
+    nu: float,
+    zeta: ArrayLike,
+    v: ArrayLike = 0.0,
     aT: ArrayLike = 1.0,
 ) -> Array:
     """Diffusion coefficient ``f = d tau / d zeta = (pi/4) q_L q^3 C(q) <|E|^2> / (1-nu^2)^2``
@@ -197,7 +205,11 @@ def coefficient_f(
 
 
 def angular_averages(
-    psd: Any, model: ModulusModel, nu: float, zeta: ArrayLike, v: ArrayLike = 0.0,
+    psd: Any,
+    model: ModulusModel,
+    nu: float,
+    zeta: ArrayLike,
+    v: ArrayLike = 0.0,
     aT: ArrayLike = 1.0,
 ) -> tuple[Array, Array]:
     """``(sqrt(<|E|^2>) / (1 - nu^2) [Pa], int cos(phi) Im E dphi / (1 - nu^2) [Pa])`` at
@@ -254,7 +266,7 @@ def _cubic_weights(x: tuple[float, ...]) -> tuple[Array, Array]:
     start = np.clip(np.arange(n - 1) - 1, 0, n - 4)
     P = np.polynomial.polynomial
     for i, s0 in enumerate(start):
-        nodes = xs[s0:s0 + 4] - xs[i]  # shift for conditioning
+        nodes = xs[s0 : s0 + 4] - xs[i]  # shift for conditioning
         h = xs[i + 1] - xs[i]
         basis = []
         for a in range(4):
@@ -353,8 +365,9 @@ def friction_curve(
     """
     fnu = _checked_nu(nu)
     p0 = np.atleast_1d(np.asarray(p0, dtype=float))
-    scale = np.multiply.outer(np.atleast_1d(np.asarray(aT, dtype=float)),
-                              np.atleast_1d(np.asarray(v, dtype=float)))  # (n_T, n_v)
+    scale = np.multiply.outer(
+        np.atleast_1d(np.asarray(aT, dtype=float)), np.atleast_1d(np.asarray(v, dtype=float))
+    )  # (n_T, n_v)
     zmax = float(psd.q_1 / psd.q_L) if zeta_max is None else float(zeta_max)
     edges = panel_edges(psd, [zmax * float(psd.q_L)], panels_per_decade)
     qn, wq, half = _nodes(edges, nodes)
@@ -365,8 +378,9 @@ def friction_curve(
     dens = q3C * qn * excess_sq  # integrand in ln q
     within = half[:, None] * np.einsum("ij,...pj->...pi", Q, dens)
     ends = np.sum(half[:, None] * wgl * dens, axis=-1)
-    before = np.concatenate([np.zeros(scale.shape + (1,)), np.cumsum(ends, axis=-1)[..., :-1]],
-                            axis=-1)
+    before = np.concatenate(
+        [np.zeros(scale.shape + (1,)), np.cumsum(ends, axis=-1)[..., :-1]], axis=-1
+    )
     excess = before[..., None] + within
     tau = (np.pi / 4.0) * (model.E_r**2 * np.asarray(psd.I3(qn)) + excess) / (fnu * fnu)
     tau = np.maximum(tau, 0.0)
@@ -377,8 +391,8 @@ def friction_curve(
     dL = (q3C * wq * loss / fnu)[..., None, :, :]
     mu = friction_integral((g * dL).reshape(g.shape[:-2] + (-1,)), p0)[..., -1]
     total = before[..., -1] + ends[..., -1]
-    tau_end = (np.pi / 4.0) * (model.E_r**2 * float(psd.I3(zmax * float(psd.q_L))) + total) / (
-        fnu * fnu
+    tau_end = (
+        (np.pi / 4.0) * (model.E_r**2 * float(psd.I3(zmax * float(psd.q_L))) + total) / (fnu * fnu)
     )
     G_end = tau_end[..., None] / p0**2
     r_end = effective_ratio(G_end, closure, closure_gamma) if closure != "persson01" else 1.0
