@@ -217,12 +217,10 @@ def _coefficient(rng: random.Random, registry: Any, name: str) -> dict[str, Any]
 
 
 # -- checking one result -----------------------------------------------------------------------
-def check(ds: Any, scene: dict[str, Any]) -> tuple[str, str]:
-    """Classify a solved Dataset: (category, message)."""
+def _variable_findings(ds: Any, findings: dict[str, list[str]]) -> None:
+    """NaN/inf and out-of-range values of every float variable."""
     import numpy as np
-    from scipy.special import erf, erfc
 
-    findings: dict[str, list[str]] = {"nan": [], "out_of_range": [], "dishonest": []}
     for name, var in ds.variables.items():
         if var.dtype.kind != "f":
             continue
@@ -247,41 +245,62 @@ def check(ds: Any, scene: dict[str, Any]) -> tuple[str, str]:
             )
         if name == "P" and fin.size and fin.min() < -1e-12 * max(1.0, float(np.abs(fin).max())):
             findings["out_of_range"].append(f"P negative: {fin.min()!r}")
+
+
+def _balance_findings(ds: Any, rtol: float, findings: dict[str, list[str]]) -> None:
+    """A success whose own balances exceed ten times the tolerance is dishonest."""
+    import numpy as np
+
+    pb = np.abs(np.asarray(ds["probability_balance"].values))
+    if np.nanmax(pb) > 10 * rtol + 1e-9:
+        findings["dishonest"].append(
+            f"probability_balance {np.nanmax(pb):.3g} with status success (rtol {rtol:g})"
+        )
+    for name in ("plastic_force_balance_residual", "exact_series_deviation"):
+        if name in ds:
+            dev = np.nanmax(np.abs(np.asarray(ds[name].values)))
+            if dev > 10 * rtol + 1e-9:
+                findings["dishonest"].append(
+                    f"{name} {dev:.3g} with status success (rtol {rtol:g})"
+                )
+
+
+def _closed_form_findings(
+    ds: Any, scene: dict[str, Any], rtol: float, findings: dict[str, list[str]]
+) -> None:
+    """Elastic Persson-01 scenes: A/A0 against erf(p0 / 2 sqrt(tau)) within ten times rtol."""
+    import numpy as np
+    from scipy.special import erf, erfc
+
+    tau = np.asarray(ds["diffusion_time"].values)
+    area = ds["area_fraction"].transpose(..., "zeta").values.reshape(-1, tau.size)
+    non = ds["non_contact_fraction"].transpose(..., "zeta").values.reshape(-1, tau.size)
+    p0 = np.atleast_1d(ds["p0"].values)[:, None]
+    with np.errstate(divide="ignore"):
+        x = np.where(tau > 0, p0 / (2 * np.sqrt(np.maximum(tau, 1e-300))), np.inf)
+    exact_a, exact_n = erf(x), erfc(x)
+    tol = 10 * (rtol * exact_a + float(scene["solver"].get("atol", 1e-12))) + 1e-12
+    err = np.minimum(np.abs(area - exact_a), np.abs(non - exact_n))
+    # relative error of the small one of (A, 1 - A) where it matters
+    bad = (np.abs(area - exact_a) > tol) & (np.abs(non - exact_n) > 10 * rtol * exact_n + 1e-300)
+    if bad.any():
+        findings["dishonest"].append(
+            f"A/A0 off the Persson-01 closed form by up to "
+            f"{float(err.max()):.3g} with status success"
+        )
+
+
+def check(ds: Any, scene: dict[str, Any]) -> tuple[str, str]:
+    """Classify a solved Dataset: (category, message)."""
+    findings: dict[str, list[str]] = {"nan": [], "out_of_range": [], "dishonest": []}
+    _variable_findings(ds, findings)
     status = ds.attrs.get("status")
     rtol = float(scene["solver"]["rtol"])
     if status == "success":
-        pb = np.abs(np.asarray(ds["probability_balance"].values))
-        if np.nanmax(pb) > 10 * rtol + 1e-9:
-            findings["dishonest"].append(
-                f"probability_balance {np.nanmax(pb):.3g} with status success (rtol {rtol:g})"
-            )
-        for name in ("plastic_force_balance_residual", "exact_series_deviation"):
-            if name in ds:
-                dev = np.nanmax(np.abs(np.asarray(ds[name].values)))
-                if dev > 10 * rtol + 1e-9:
-                    findings["dishonest"].append(
-                        f"{name} {dev:.3g} with status success (rtol {rtol:g})"
-                    )
+        _balance_findings(ds, rtol, findings)
         coef = scene.get("coefficient", {})
         if scene["boundary"]["model"] == "elastic" and coef.get("closure") == "persson01":
-            tau = np.asarray(ds["diffusion_time"].values)
-            area = ds["area_fraction"].transpose(..., "zeta").values.reshape(-1, tau.size)
-            non = ds["non_contact_fraction"].transpose(..., "zeta").values.reshape(-1, tau.size)
-            p0 = np.atleast_1d(ds["p0"].values)[:, None]
-            with np.errstate(divide="ignore"):
-                x = np.where(tau > 0, p0 / (2 * np.sqrt(np.maximum(tau, 1e-300))), np.inf)
-            exact_a, exact_n = erf(x), erfc(x)
-            tol = 10 * (rtol * exact_a + float(scene["solver"].get("atol", 1e-12))) + 1e-12
-            err = np.minimum(np.abs(area - exact_a), np.abs(non - exact_n))
-            # relative error of the small one of (A, 1 - A) where it matters
-            bad = (np.abs(area - exact_a) > tol) & (
-                np.abs(non - exact_n) > 10 * rtol * exact_n + 1e-300
-            )
-            if bad.any():
-                findings["dishonest"].append(
-                    f"A/A0 off the Persson-01 closed form by up to "
-                    f"{float(err.max()):.3g} with status success"
-                )
+            _closed_form_findings(ds, scene, rtol, findings)
     for cat in ("nan", "out_of_range", "dishonest"):
         if findings[cat]:
             return cat, "; ".join(findings[cat][:3])
@@ -372,6 +391,40 @@ class _Slot:
         self.start()
 
 
+def _count_coverage(coverage: dict[str, int], scene: dict[str, Any]) -> None:
+    """Count the plugins, closure and analyses a generated scene exercises."""
+    tags = [
+        f"{key}:{scene.get(key, {}).get('model', 'elastic')}" for key in ("boundary", "coefficient")
+    ]
+    tags.append(f"closure:{scene.get('coefficient', {}).get('closure', '-')}")
+    tags += [f"analysis:{a}" for a in scene["analyses"]]
+    for tag in tags:
+        coverage[tag] = coverage.get(tag, 0) + 1
+
+
+def _collect(slot: Any, ready: bool, limit: float, record: Any, notes: dict[str, int]) -> int:
+    """Record a busy slot's result (or its hang past ``limit`` seconds); 1 if it finished."""
+    assert slot.job is not None
+    index, scene = slot.job
+    if ready:
+        try:
+            cat, msg, dt, warn = slot.conn.recv()
+        except EOFError:  # the worker died (e.g. out of memory)
+            cat, msg, dt, warn = "crash", "worker died", 0.0, []
+            slot.kill()
+        for w in warn:
+            key = w.split(":")[1].strip()[:40] if ":" in w else w[:40]
+            notes[key] = notes.get(key, 0) + 1
+        record(index, scene, cat, msg, dt)
+        slot.job = None
+        return 1
+    if time.perf_counter() - slot.t0 > limit:
+        record(index, scene, "hang", f"exceeded {limit:g} s", limit)
+        slot.kill()
+        return 1
+    return 0
+
+
 def campaign(
     n: int, seed: int, workers: int, limit: float, out: Path | None, budget: float | None
 ) -> dict[str, Any]:
@@ -402,13 +455,7 @@ def campaign(
             for slot in slots:
                 if slot.job is None and next_index < n and not stop:
                     scene = make_scene(next_index, seed, registry, tmpdir)
-                    for key in ("boundary", "coefficient"):
-                        tag = f"{key}:{scene.get(key, {}).get('model', 'elastic')}"
-                        coverage[tag] = coverage.get(tag, 0) + 1
-                    tag = f"closure:{scene.get('coefficient', {}).get('closure', '-')}"
-                    coverage[tag] = coverage.get(tag, 0) + 1
-                    for a in scene["analyses"]:
-                        coverage[f"analysis:{a}"] = coverage.get(f"analysis:{a}", 0) + 1
+                    _count_coverage(coverage, scene)
                     slot.submit(next_index, scene)
                     next_index += 1
             busy = [s for s in slots if s.job is not None]
@@ -416,24 +463,7 @@ def campaign(
                 break
             ready = wait([s.conn for s in busy], timeout=0.5)
             for slot in busy:
-                assert slot.job is not None
-                index, scene = slot.job
-                if slot.conn in ready:
-                    try:
-                        cat, msg, dt, warn = slot.conn.recv()
-                    except EOFError:  # the worker died (e.g. out of memory)
-                        cat, msg, dt, warn = "crash", "worker died", 0.0, []
-                        slot.kill()
-                    for w in warn:
-                        key = w.split(":")[1].strip()[:40] if ":" in w else w[:40]
-                        notes[key] = notes.get(key, 0) + 1
-                    record(index, scene, cat, msg, dt)
-                    slot.job = None
-                    done += 1
-                elif time.perf_counter() - slot.t0 > limit:
-                    record(index, scene, "hang", f"exceeded {limit:g} s", limit)
-                    slot.kill()
-                    done += 1
+                done += _collect(slot, slot.conn in ready, limit, record, notes)
             if done and done % 500 == 0 and done != getattr(campaign, "_last", -1):
                 campaign._last = done  # type: ignore[attr-defined]
                 print(
