@@ -351,12 +351,12 @@ def _preload(registry: Any) -> None:
     import importlib
 
     for mod in (
-        "xpersson._pipeline",
+        "xpersson.api",
+        "xpersson.pipeline",
         "xpersson.scene",
         "xpersson.io",
         "xpersson.engine",
         "xpersson._checks",
-        "xpersson._diagnostics",
         "xpersson.plugins._analyses",
     ):
         with contextlib.suppress(ImportError):

@@ -7,8 +7,9 @@ import pytest
 import xarray as xr
 
 import xpersson
-from xpersson import _pipeline, memory, provenance
+from xpersson import memory, provenance
 from xpersson.engine import exact, solve
+from xpersson.pipeline import assemble
 from xpersson.units import to_si
 
 SCENE = {
@@ -41,11 +42,11 @@ def test_dataset_built_directly_is_identical_to_the_public_constructor(monkeypat
 
     def slow(data, coords):
         ds = xr.Dataset(data, coords=coords)
-        _pipeline.stamp(ds, _pipeline.COORDS)
-        _pipeline.stamp(ds, _pipeline.CORE_VARIABLES)
+        assemble.stamp(ds, assemble.COORDS)
+        assemble.stamp(ds, assemble.CORE_VARIABLES)
         return ds
 
-    monkeypatch.setattr(_pipeline, "_dataset", slow)
+    monkeypatch.setattr(assemble, "_dataset", slow)
     ref = xpersson.solve(scene)
     for ds in (fast, ref):
         for key in ("history", "date_created", "xpersson_solver"):

@@ -31,8 +31,8 @@ __all__ = [
 
 _LAZY = {
     "PluginFailure": "xpersson._checks",
-    "solve": "xpersson._pipeline",
-    "XperssonWarning": "xpersson._pipeline",
+    "solve": "xpersson.api",
+    "XperssonWarning": "xpersson.errors",
     "Scene": "xpersson.scene",
     "SceneError": "xpersson.scene",
     "load_scene": "xpersson.scene",
@@ -42,10 +42,8 @@ _LAZY = {
 
 
 def __getattr__(name: str) -> Any:
-    if name == "__version__":
-        from .provenance import version
-
-        return version()
+    if name == "__version__":  # import_module: no import edge from the package to provenance
+        return import_module("xpersson.provenance").version()
     if name in ("plot", "sweep"):
         return import_module(f"xpersson.{name}")
     if name in _LAZY:

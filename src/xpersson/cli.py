@@ -48,7 +48,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
         _err(f"xpersson: {out} exists; add --overwrite to replace it")
         return 2
     scene = _load(args)
-    from . import _pipeline, io
+    from . import io
+    from .api import solve
 
     progress = False if args.quiet else (True if args.progress else None)
     if as_parts:
@@ -60,7 +61,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
                 "give a .nc file"
             )
             return 2
-    ds = _pipeline.solve(
+    ds = solve(
         scene,
         scheduler=_scheduler(args.scheduler),
         progress=progress,
@@ -94,7 +95,7 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
     plan = expand(scene)
     if plan is not None:
-        from ._sweeprun import resolve_points
+        from .sweep import resolve_points
 
         points = resolve_points(plan, None)
         rs = points[0]
@@ -180,7 +181,8 @@ def _print_areas(ds: Any) -> None:
 def _cmd_reproduce(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from . import _pipeline, io
+    from . import io
+    from .api import solve
     from .scene import Scene
 
     out = Path(args.output)
@@ -189,7 +191,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         return 2
     old = io.open_dataset(args.archive)
     scene = Scene(json.loads(old.attrs["xpersson_scene"]), source=None)
-    ds = _pipeline.solve(scene)
+    ds = solve(scene)
     io.to_netcdf(ds, out, overwrite=args.overwrite)
     same = all(
         name in ds

@@ -11,7 +11,7 @@ import os
 import re
 import time
 
-from .scene import SceneError
+from .errors import MemoryBudgetError
 
 __all__ = [
     "MemoryBudgetError",
@@ -43,10 +43,6 @@ _override: int | None = None
 _PER_POINT = 8 * 40
 # the P field: engine result, closed-form temporaries, one copy for the Dataset
 _PER_P_VALUE = 8 * 6
-
-
-class MemoryBudgetError(SceneError):
-    """A request larger than the memory budget (raised before any work)."""
 
 
 def _parse(text: str) -> int:

@@ -12,8 +12,8 @@ from xpersson_core_reference import REFERENCE_SCENE
 
 import xpersson
 from xpersson import XperssonWarning
-from xpersson._diagnostics import P_RTOL
 from xpersson.cli import main
+from xpersson.pipeline.diagnostics import P_RTOL
 
 
 def _solve(scene):

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from xpersson import io
+from xpersson import archive, io
 
 pytestmark = pytest.mark.skipif(os.name != "posix", reason="POSIX signals and file modes")
 
@@ -139,7 +139,7 @@ def _dead_pid() -> int:
 
 
 def test_stale_temporary_of_a_dead_writer_is_removed(tmp_path):
-    host = io.socket.gethostname().replace(".", "_")
+    host = archive.socket.gethostname().replace(".", "_")
     stale = tmp_path / f".t.nc.{host}.{_dead_pid()}.0badc0de.part"
     stale.write_bytes(b"\0" * 1000)
     other = tmp_path / f".other.nc.{host}.{_dead_pid()}.0badc0de.part"  # another target's
@@ -152,7 +152,7 @@ def test_stale_temporary_of_a_dead_writer_is_removed(tmp_path):
 def test_live_writers_temporary_is_never_removed(tmp_path):
     """A temporary whose writer still runs (this process) and holds its lock stays."""
     target = tmp_path / "t.nc"
-    tmp, fd = io._create_temporary(target)
+    tmp, fd = archive._create_temporary(target)
     try:
         assert io.stale_temporaries(target) == []
         io.to_netcdf(_small(), target)  # a second writer, same target

@@ -172,16 +172,16 @@ def test_threads_scheduler_equals_serial(swept):
 def test_threads_scheduler_uses_the_requested_number_of_threads(swept, workers, monkeypatch):
     import threading
 
-    from xpersson import _sweeprun
+    from xpersson.sweep import execute
 
     seen: set[int] = set()
-    original = _sweeprun.run_block
+    original = execute.run_block
 
     def recording(*args, **kwargs):
         seen.add(threading.get_ident())
         return original(*args, **kwargs)
 
-    monkeypatch.setattr(_sweeprun, "run_block", recording)
+    monkeypatch.setattr(execute, "run_block", recording)
     threads = xpersson.solve(SWEEP_SCENE, scheduler="threads", chunk=1, workers=workers)
     assert 1 <= len(seen) <= workers  # six one-point blocks, at most `workers` threads
     assert threading.get_ident() not in seen
@@ -200,7 +200,7 @@ def test_blocks_tile_the_grid_evenly_and_workers_get_equal_shares(
 ):
     from types import SimpleNamespace
 
-    from xpersson._sweeprun import _assign, blocks_of
+    from xpersson.sweep.blocks import _assign, blocks_of
 
     dims = tuple(f"d{i}" for i in range(len(shape)))
     plan = SimpleNamespace(

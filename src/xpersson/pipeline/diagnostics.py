@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .plugins import VarSpec
+from ..plugins import VarSpec
 
 __all__ = ["P_RTOL", "SLOPE_LIMIT", "DIAGNOSTICS", "pdf_resolution", "regime_warnings"]
 

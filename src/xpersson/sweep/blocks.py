@@ -1,6 +1,7 @@
-"""Stack the per-point Datasets of one block of a sweep into one Dataset (numpy, no pint).
+"""Blocks of a sweep: split the grid into blocks, solve a block's points, stack them.
 
-Runs on the workers: a block of points is solved by the ordinary pipeline and reduced to one
+:func:`blocks_of` cuts the sweep grid into hyper-rectangles (the tasks). :func:`run_block` runs
+on the workers: a block of points is solved by the ordinary pipeline and reduced to one
 Dataset whose every variable carries the block's sweep dimensions in front of its own. A point
 that raised is filled with NaN (``""`` for strings) and flagged in ``point_status``.
 """
@@ -9,6 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import warnings
 from dataclasses import dataclass, field
 from typing import Any
@@ -16,7 +18,20 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-__all__ = ["Block", "BlockResult", "run_block", "stack", "POINT_STATUS"]
+from ..archive import to_netcdf
+from ..errors import XperssonWarning
+from ..pipeline import run, squeeze_p0
+from .plan import SweepPlan
+
+__all__ = [
+    "Block",
+    "BlockResult",
+    "blocks_of",
+    "block_points",
+    "run_block",
+    "stack",
+    "POINT_STATUS",
+]
 
 
 POINT_STATUS = {"success": 0, "tolerance_not_met": 1, "failed": 2}
@@ -69,6 +84,58 @@ class BlockResult:
     solver: list[dict[str, Any]] = field(default_factory=list)
 
 
+def blocks_of(plan: SweepPlan, points_per_block: int, multiple: int = 1) -> list[Block]:
+    """Split the sweep grid into hyper-rectangles of at most about ``points_per_block`` points.
+
+    Inner dimensions are taken whole while they fit; the dimension where the split happens is
+    cut into nearly equal pieces (lengths differ by at most one), their number rounded up to a
+    multiple of ``multiple`` where the dimension allows (the number of workers: every worker
+    then gets the same number of equal blocks).
+    """
+    shape = plan.shape
+    pieces: list[list[int]] = [[n] for n in shape]  # lengths of the pieces along each dim
+    remaining = max(1, int(points_per_block))
+    for d in range(len(shape) - 1, -1, -1):
+        if shape[d] <= remaining:  # the whole dimension fits: go outwards
+            remaining //= shape[d]
+            continue
+        count = math.ceil(shape[d] / max(1, remaining))
+        count = min(shape[d], math.ceil(count / multiple) * multiple)
+        pieces[d] = [len(a) for a in np.array_split(np.arange(shape[d]), count)]
+        for e in range(d):  # outer dimensions: one value per block
+            pieces[e] = [1] * shape[e]
+        break
+    starts = [np.concatenate([[0], np.cumsum(p)[:-1]]).astype(int) for p in pieces]
+    coords = plan.coords()
+    out = []
+    for number, gi in enumerate(np.ndindex(*(len(p) for p in pieces))):
+        start = tuple(int(starts[d][g]) for d, g in enumerate(gi))
+        stop = tuple(a + pieces[d][g] for d, (a, g) in enumerate(zip(start, gi, strict=True)))
+        bc = {}
+        for name, (dim, values, attrs) in coords.items():
+            d = plan.dims.index(dim)
+            bc[name] = (dim, values[start[d] : stop[d]], attrs)
+        out.append(Block(number, tuple(int(g) for g in gi), start, stop, plan.dims, bc))
+    return out
+
+
+def _assign(blocks: list[Block], n: int) -> list[int]:
+    """Worker index of each block: largest blocks first, each to the least loaded worker."""
+    load = [0] * max(1, n)
+    out = [0] * len(blocks)
+    for k in sorted(range(len(blocks)), key=lambda k: -blocks[k].size):
+        w = min(range(len(load)), key=load.__getitem__)
+        out[k] = w
+        load[w] += blocks[k].size
+    return out
+
+
+def block_points(plan: SweepPlan, points: list[Any], block: Block) -> list[Any]:
+    flat = np.arange(plan.size).reshape(plan.shape)
+    sl = tuple(slice(a, b) for a, b in zip(block.start, block.stop, strict=True))
+    return [points[i] for i in flat[sl].ravel()]
+
+
 def run_block(
     block: Block,
     points: list[Any],
@@ -94,8 +161,6 @@ def run_block(
     callback : callable, optional
         Called with no argument after each point (progress in the serial path).
     """
-    from . import _pipeline
-
     results: list[xr.Dataset | None] = []
     status = np.zeros(block.size, dtype=np.int8)
     messages: dict[int, str] = {}
@@ -103,8 +168,8 @@ def run_block(
         try:
             with warnings.catch_warnings():
                 if quiet_warnings:
-                    warnings.simplefilter("ignore", _pipeline.XperssonWarning)
-                ds = _pipeline.run(rs, registry, squeeze=False)
+                    warnings.simplefilter("ignore", XperssonWarning)
+                ds = run(rs, registry, squeeze=False)
         except Exception as exc:  # noqa: BLE001 - a failing point is recorded, not fatal
             results.append(None)
             status[k] = POINT_STATUS["failed"]
@@ -121,13 +186,11 @@ def run_block(
         return BlockResult(block, None, None, status.reshape(block.shape), messages)
     ds = stack(results, block, status.reshape(block.shape))
     if points[0].p0_scalar:  # single-load points: p0 a scalar coordinate, squeezed once here
-        ds = _pipeline.squeeze_p0(ds)
+        ds = squeeze_p0(ds)
     out = BlockResult(
         block, ds, None, status.reshape(block.shape), messages, _digests(results, ds, block), solver
     )
     if part is not None:
-        from .io import to_netcdf
-
         to_netcdf(ds, part, overwrite=True)
         out.dataset, out.part = None, part
     return out

@@ -1,34 +1,5 @@
-"""Parameter sweeps: expand a scene's lists and ranges into points, solve them, stack them.
-
-Any parameter declared ``sweepable`` (material, spectrum, coefficient, boundary and analysis
-parameters) accepts a list or a range table ``{start, stop, num, spacing}`` as ``load.p0`` does.
-``load.p0`` stays the engine's own load dimension; every other swept parameter becomes a
-Dataset dimension with its unit.
-
-Combination (the scene's ``[sweep]`` table)::
-
-    [sweep]
-    mode = "product"                          # default: outer product of all swept parameters
-    zip = [["material.E", "material.nu"]]     # zipped groups: one dimension per group
-
-With ``mode = "zip"`` all swept parameters form one zipped group. Dimensions are ordered as the
-parameters appear in the scene, or as ``order = ["spectrum.H", "material.E"]`` lists them
-(archives record the order, so a re-solved sweep has the same dimension order).
-
-Dimension naming rule:
-
-1. the ``dim`` a plugin declares for the parameter (``ParamSpec(dim="v")``);
-2. otherwise the parameter's own name (``material.E`` -> ``E``, ``spectrum.H`` -> ``H``);
-3. if that name is already used by the Dataset (a coordinate, a core variable or an output of
-   a selected plugin) or by another swept parameter, the dotted path with ``_``
-   (``spectrum.h_rms`` -> ``spectrum_h_rms``). ``material.E`` and ``material.nu`` keep ``E`` and
-   ``nu``: the core's variables of that name *are* the parameter and become its coordinate;
-4. a name still taken is refused with an error naming both parameters.
-
-A zipped group is one dimension named after its first parameter; the others are coordinates
-along it. Each point is solved by the ordinary one-scene pipeline with one scalar value per
-parameter (plugins never see a sweep), so the result equals stacking individual solves.
-"""
+"""Sweep plans: the swept parameters of a scene, their dimensions and points (see
+:mod:`xpersson.sweep`)."""
 
 from __future__ import annotations
 
@@ -41,9 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from .plugins import ParamSpec
-from .plugins._registry import PluginError, Registry
-from .scene import (
+from ..plugins import ParamSpec, PluginError, Registry, get_registry
+from ..scene import (
     CORE,
     DEFAULT_MODEL,
     PLUGIN_SECTIONS,
@@ -185,7 +155,7 @@ def cf_units(unit: str) -> str:
     """UDUNITS string of a pint unit (``"1/m"`` -> ``"m-1"``, ``"m**4"`` -> ``"m4"``)."""
     if unit in ("1", "", "dimensionless"):
         return "1"
-    from .units import ureg
+    from ..units import ureg
 
     u = ureg().Unit(unit)
     terms = []
@@ -233,7 +203,7 @@ def _section_specs(
 
 
 def _taken_names(data: Mapping[str, Any], classes: list[type]) -> set[str]:
-    from .schema import COORDS, CORE_VARIABLES
+    from ..schema import COORDS, CORE_VARIABLES
 
     taken = set(COORDS) | set(CORE_VARIABLES) | {"point_status"}
     for cls in classes:
@@ -250,31 +220,10 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
         A list given to a parameter that is not sweepable, a malformed ``[sweep]`` table,
         zipped lists of different lengths, or a dimension name collision.
     """
-    from .plugins import get_registry
-
     reg = registry or get_registry()
     data = scene.data
-    found: list[tuple[str, ParamSpec, Any]] = []
-    classes: list[type] = []
-    for prefix, specs, values, cls in _section_specs(data, reg):
-        if cls is not None:
-            classes.append(cls)
-        for key, value in values.items():
-            spec = specs.get(key)
-            if spec is None or not is_sweep_value(spec, value):
-                continue
-            path = f"{prefix}.{key}"
-            if not spec.sweepable:
-                raise SceneError(
-                    f"{path}: this parameter is not sweepable; give one value ({spec.range_text()})"
-                )
-            found.append((path, spec, value))
-    table = data.get("sweep", {})
-    if not isinstance(table, Mapping):
-        raise SceneError("sweep: must be a table (mode = 'product' | 'zip', zip = [[...]])")
-    unknown = sorted(set(table) - {"mode", "zip", "order"})
-    if unknown:
-        raise SceneError(f"sweep.{unknown[0]}: unknown key; allowed: mode, zip, order")
+    found, classes = _swept(data, reg)
+    table = _sweep_table(data)
     if not found:
         if table:
             raise SceneError(
@@ -300,6 +249,51 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
         if zips:
             raise SceneError("sweep.zip: give either mode = 'zip' (all zipped) or zip groups")
         zips = [list(params)]
+    groups = _groups(params, _zip_groups(zips, params))
+    _order(groups, table.get("order", []), params)
+    for group in groups:
+        _check_group(group)
+    base = copy.deepcopy(dict(data))
+    base.pop("sweep", None)
+    return SweepPlan(scene=scene, groups=groups, base=base)
+
+
+def _swept(
+    data: Mapping[str, Any], reg: Registry
+) -> tuple[list[tuple[str, ParamSpec, Any]], list[type]]:
+    """(path, spec, value) of every parameter given a list or a range, and the plugin classes
+    of the scene's sections."""
+    found: list[tuple[str, ParamSpec, Any]] = []
+    classes: list[type] = []
+    for prefix, specs, values, cls in _section_specs(data, reg):
+        if cls is not None:
+            classes.append(cls)
+        for key, value in values.items():
+            spec = specs.get(key)
+            if spec is None or not is_sweep_value(spec, value):
+                continue
+            path = f"{prefix}.{key}"
+            if not spec.sweepable:
+                raise SceneError(
+                    f"{path}: this parameter is not sweepable; give one value ({spec.range_text()})"
+                )
+            found.append((path, spec, value))
+    return found, classes
+
+
+def _sweep_table(data: Mapping[str, Any]) -> Mapping[str, Any]:
+    """The scene's ``[sweep]`` table, its keys checked."""
+    table = data.get("sweep", {})
+    if not isinstance(table, Mapping):
+        raise SceneError("sweep: must be a table (mode = 'product' | 'zip', zip = [[...]])")
+    unknown = sorted(set(table) - {"mode", "zip", "order"})
+    if unknown:
+        raise SceneError(f"sweep.{unknown[0]}: unknown key; allowed: mode, zip, order")
+    return table
+
+
+def _zip_groups(zips: Any, params: dict[str, SweepParam]) -> dict[str, int]:
+    """Zip group number of every zipped parameter path (checked)."""
     if not isinstance(zips, list) or not all(isinstance(g, list) for g in zips):
         raise SceneError("sweep.zip: expected a list of lists of dotted parameter names")
     grouped: dict[str, int] = {}
@@ -315,6 +309,11 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
             if path in grouped:
                 raise SceneError(f"sweep.zip: {path!r} appears in two groups")
             grouped[path] = gi
+    return grouped
+
+
+def _groups(params: dict[str, SweepParam], grouped: dict[str, int]) -> list[list[SweepParam]]:
+    """One group per dimension, in the order of the parameters' first appearance."""
     groups: list[list[SweepParam]] = []
     placed: dict[int, list[SweepParam]] = {}
     for path, param in params.items():
@@ -326,7 +325,11 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
             groups.append(placed[gi])
         else:
             placed[gi].append(param)
-    order = table.get("order", [])
+    return groups
+
+
+def _order(groups: list[list[SweepParam]], order: Any, params: dict[str, SweepParam]) -> None:
+    """Sort the groups (in place) as ``sweep.order`` lists their parameters."""
     if not isinstance(order, list) or any(p not in params for p in order):
         bad = (
             next((p for p in order if p not in params), order) if isinstance(order, list) else order
@@ -337,22 +340,22 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
         )
     rank = {path: i for i, path in enumerate(order)}
     groups.sort(key=lambda g: min(rank.get(p.path, len(rank)) for p in g))
-    for group in groups:
-        n = {len(p.values) for p in group}
-        if len(n) > 1:
-            raise SceneError(
-                "sweep.zip: zipped parameters need the same number of values; got "
-                + ", ".join(f"{p.path}: {len(p.values)}" for p in group)
-            )
-        index = group[0].values
-        if len(np.unique(index)) != len(index):
-            raise SceneError(
-                f"{group[0].path}: swept values must be distinct (they index the "
-                f"dimension {group[0].name!r})"
-            )
-    base = copy.deepcopy(dict(data))
-    base.pop("sweep", None)
-    return SweepPlan(scene=scene, groups=groups, base=base)
+
+
+def _check_group(group: list[SweepParam]) -> None:
+    """Zipped parameters have as many values; the values indexing a dimension are distinct."""
+    n = {len(p.values) for p in group}
+    if len(n) > 1:
+        raise SceneError(
+            "sweep.zip: zipped parameters need the same number of values; got "
+            + ", ".join(f"{p.path}: {len(p.values)}" for p in group)
+        )
+    index = group[0].values
+    if len(np.unique(index)) != len(index):
+        raise SceneError(
+            f"{group[0].path}: swept values must be distinct (they index the "
+            f"dimension {group[0].name!r})"
+        )
 
 
 def _dim_name(path: str, spec: ParamSpec, taken: set[str], used: dict[str, str]) -> str:

@@ -1,0 +1,310 @@
+"""Dataset assembly of a run: the core variables with their CF attributes, the plugins'
+checked contributions, the diagnostics and the global attributes."""
+
+from __future__ import annotations
+
+import json
+import warnings
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .. import _checks
+from ..errors import XperssonWarning
+from ..physics.grids import persson_G
+from ..plugins import SceneContext, VarSpec
+from ..scene import ResolvedScene
+from ..schema import COORDS, CORE_VARIABLES, stamp
+from .diagnostics import pdf_resolution, regime_warnings
+
+__all__ = ["assemble", "add_outputs", "attributes", "diagnostics_notes", "squeeze_p0"]
+
+
+def assemble(
+    rs: ResolvedScene,
+    ctx: SceneContext,
+    results: Any,
+    tau_c: np.ndarray,
+    f_z: np.ndarray,
+    tau_eff: np.ndarray | None,
+    p_grid: np.ndarray | None,
+) -> xr.Dataset:
+    """The core Dataset of a run: coordinates, the engine's results, the coefficient's arrays,
+    the spectrum and material scalars, each with its CF attributes from the schema."""
+
+    def stack(attr: str) -> np.ndarray:
+        return np.asarray(getattr(results, attr), float)  # EngineBatch: stacked arrays
+
+    psd = rs.psd
+    q_nodes = np.asarray(psd.nodes(), float)
+    coords: dict[str, Any] = {
+        "zeta": ("zeta", rs.zeta),
+        "p0": ("p0", rs.p0),
+        "q": ("zeta", rs.zeta * psd.q_L),
+        "q_psd": ("q_psd", q_nodes),
+    }
+    pz = ("p0", "zeta")
+    data: dict[str, Any] = {
+        "area_fraction": (pz, stack("area")),
+        "non_contact_fraction": (pz, stack("non_area")),
+        "G": (pz, persson_G(tau_c, rs.p0)),
+        "diffusion_time": (("zeta",), tau_c),
+        "diffusion_coefficient": (("zeta",), f_z),
+        "psd_C": (("q_psd",), np.asarray(psd.C(q_nodes), float)),
+        "E": ((), rs.E),
+        "nu": ((), rs.nu),
+        "E_star": ((), rs.E_star),
+        "h_rms": ((), float(psd.h_rms())),
+        "rms_slope": ((), float(psd.rms_slope())),
+        "load_balance": (pz, stack("load_balance")),
+        "probability_balance": (pz, stack("probability_balance")),
+        "error_estimate": (pz, stack("error_estimate")),
+        "solver_status": (("p0",), np.array(results.status, dtype=object)),
+    }
+    if tau_eff is not None:  # None: every load's effective tau is tau(zeta)
+        data["effective_diffusion_time"] = (pz, tau_eff)
+    if p_grid is not None:
+        coords["p"] = ("p", p_grid)
+        data["P"] = (("p0", "zeta", "p"), stack("P"))
+    ds = _dataset(data, coords)
+    for name, note in _balance_notes(results).items():  # appended to the schema's comment
+        attrs = ds.variables[name].attrs
+        attrs["comment"] = "; ".join(c for c in (attrs.get("comment"), note) if c)
+    return ds
+
+
+def _balance_notes(results: Any) -> dict[str, str]:
+    """A note for the ``comment`` of the balances where the engine reports them as identities
+    (zeros by construction of the one-wall closed form, not evaluated): the reader knows they
+    check nothing there."""
+    exact = np.asarray(getattr(results, "exact_balances", False), dtype=bool)
+    if not exact.any():
+        return {}
+    # one text for any mix of loads (and of the points of a sweep): true wherever it is copied
+    text = (
+        "exactly 0, not evaluated, for the loads solved by the one-wall closed form (an "
+        "identity there: non_contact_fraction = erfc = 1 - erf and load = p0 - wall * "
+        "non_contact_fraction); evaluated for every other solve"
+    )
+    return {name: text for name in ("load_balance", "probability_balance")}
+
+
+_ATTRS: dict[str, dict[str, Any]] = {}
+
+
+def _attrs_of(name: str) -> dict[str, Any]:
+    """CF attrs of a core variable or coordinate (computed once per process, copied out)."""
+    if name not in _ATTRS:
+        spec = COORDS.get(name) or CORE_VARIABLES.get(name)
+        _ATTRS[name] = spec.attrs() if spec is not None else {}
+    return dict(_ATTRS[name])
+
+
+def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
+    """Build the Dataset in one pass: variables carry their CF attrs from the schema table.
+
+    Equivalent to ``xr.Dataset(data, coords=coords)`` followed by :func:`stamp`; the direct
+    constructor skips xarray's merge/alignment (nothing to align: one set of coordinates).
+    """
+
+    def var(name: str, dims: Any, val: Any) -> xr.Variable:
+        arr = np.asarray(val)
+        if arr.dtype.kind in "fiub" or (arr.dtype == object and arr.ndim == 1):
+            return xr.Variable(dims, arr, _attrs_of(name), fastpath=True)  # already an ndarray
+        return xr.Variable(dims, val, _attrs_of(name))
+
+    variables = {name: var(name, dims, val) for name, (dims, val) in data.items()}
+    cvars = {name: var(name, dims, val) for name, (dims, val) in coords.items()}
+    try:
+        from xarray.core.indexes import PandasIndex
+
+        indexes = {}
+        for name, var in cvars.items():
+            if var.dims == (name,):
+                indexes[name], cvars[name] = _index(PandasIndex, name, var)
+        dims: dict[str, int] = {}
+        for var in (*variables.values(), *cvars.values()):
+            dims.update(zip(var.dims, var.shape, strict=True))
+        return xr.Dataset._construct_direct(  # noqa: SLF001 - see docstring
+            {**variables, **cvars}, set(cvars), dims, {}, indexes
+        )
+    except (AttributeError, TypeError, ImportError):  # pragma: no cover - other xarray versions
+        ds = xr.Dataset(data, coords=coords)
+        stamp(ds, COORDS)
+        stamp(ds, CORE_VARIABLES)
+        return ds
+
+
+_INDEXES: dict[tuple[str, bytes, tuple], tuple[Any, xr.Variable]] = {}
+
+
+def _index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variable]:
+    """The index of a dimension coordinate and its index variable, reused for equal values.
+
+    Solves of one scene share their zeta / q_psd (and often p0) coordinates; the pandas index
+    is immutable, so Datasets may share it (as ``isel`` and ``copy`` do). The variable is a
+    fresh shallow copy carrying ``var``'s attrs.
+    """
+    arr = np.asarray(var.values)
+    key = (name, arr.tobytes(), tuple(sorted((k, str(v)) for k, v in var.attrs.items())))
+    hit = _INDEXES.get(key)
+    if hit is None or hit[1].dtype != arr.dtype:
+        index = cls.from_variables({name: var}, options={})
+        hit = (index, index.create_variables({name: var})[name])
+        if len(_INDEXES) > 64:
+            _INDEXES.clear()
+        _INDEXES[key] = hit
+    out = hit[1].copy(deep=False)
+    out.attrs = dict(var.attrs)
+    return hit[0], out
+
+
+def add_outputs(
+    ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec], who: object
+) -> None:
+    """Check a plugin's contribution against its VarSpecs (see :mod:`xpersson._checks`), then
+    add it."""
+    checked = _checks.check_contributions(ds, values, specs, who)
+    if not checked:
+        return
+    for name, da in checked.items():
+        da.attrs.update(_spec_attrs(specs[name]))
+    if _insert_direct(ds, checked):
+        return
+    try:  # one Dataset update for all of the plugin's variables (one merge, not one each)
+        ds.update(checked)
+        return
+    except ValueError:  # conflicting sizes of a plugin's own dimension: find which variable
+        pass
+    for name, da in checked.items():
+        try:
+            ds[name] = da
+        except ValueError as exc:
+            raise _checks.PluginFailure(
+                f"{who}: variable {name!r}: {exc}", plugin=who, variable=name
+            ) from None
+
+
+def _insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
+    """Insert checked, coordinate-free variables whose dims the Dataset already has.
+
+    Such an insertion has nothing to align (:func:`xpersson._checks.checked_variable` has
+    checked the dims and sizes against ``ds``): the variables go into the Dataset as they are,
+    which is what ``ds.update`` ends with, without its merge and alignment of every variable.
+    Returns
+    False (nothing inserted) when any variable carries coordinates or a new dimension, or on an
+    xarray without the internal mapping; :meth:`xarray.Dataset.update` then does the work.
+    """
+    variables = getattr(ds, "_variables", None)
+    if not isinstance(variables, dict):  # pragma: no cover - other xarray versions
+        return False
+    sizes = dict(ds.sizes)
+    for da in checked.values():
+        if not isinstance(da, xr.Variable) and da.coords:  # a DataArray with coordinates
+            return False
+        if any(d not in sizes or sizes[d] != n for d, n in zip(da.dims, da.shape, strict=True)):
+            return False
+    for name, da in checked.items():
+        variables[name] = getattr(da, "variable", da)  # DataArray -> its Variable
+    return True
+
+
+_SPEC_ATTRS: dict[int, tuple[VarSpec, dict[str, Any]]] = {}
+
+
+def _spec_attrs(spec: VarSpec) -> dict[str, Any]:
+    """``spec.attrs()`` (computed once per VarSpec object; a fresh copy each call)."""
+    hit = _SPEC_ATTRS.get(id(spec))
+    if hit is None or hit[0] is not spec:
+        if len(_SPEC_ATTRS) > 4096:
+            _SPEC_ATTRS.clear()
+        hit = (spec, spec.attrs())
+        _SPEC_ATTRS[id(spec)] = hit
+    return dict(hit[1])
+
+
+def diagnostics_notes(ds: xr.Dataset) -> list[str]:
+    """Add the P-resolution diagnostics; collect them and the regime warnings as notes."""
+    notes = regime_warnings(ds)
+    ds.attrs["regime_warnings"] = json.dumps(notes)
+    unresolved = pdf_resolution(ds)
+    return notes + ([unresolved] if unresolved else [])
+
+
+def attributes(
+    ds: xr.Dataset,
+    rs: ResolvedScene,
+    provenance: Callable[[], Mapping[str, str]],
+    results: Any,
+    notes: list[str],
+    core: Mapping[int, str] | None = None,
+) -> None:
+    """Set the run's global attributes: provenance (``provenance()``: the CF/ACDD attributes
+    and the JSON provenance of the run), status, status message and solver summary; warn with
+    an :class:`XperssonWarning` when a load failed or ``notes`` are given."""
+    core = core or {}
+    status_of = ds["solver_status"].values  # the engine's, or the core output check's verdict
+    success = np.asarray(results.success, dtype=bool) & (status_of == "success")
+    bad = [
+        (
+            float(rs.p0[i]),
+            str(status_of[i]),
+            results[int(i)].message if not results[int(i)].success else core.get(int(i), ""),
+        )
+        for i in np.flatnonzero(~success)[:5]
+    ]
+    status = "success" if not bad else bad[0][1]
+    message = (
+        "all loads met the requested tolerance"
+        if not bad
+        else "; ".join(f"p0 = {p:g} Pa: {s}: {m}" for p, s, m in bad)
+    )
+    if notes:
+        message = "; ".join([message, *notes])
+    ds.attrs.update(provenance())
+    ds.attrs["status"] = status
+    ds.attrs["status_message"] = message
+    ds.attrs["xpersson_solver"] = json.dumps(
+        {
+            "method": rs.resolved["solver"]["method"],
+            "methods_used": sorted(set(results.method)),
+            "rtol": rs.rtol,
+            "atol": rs.atol,
+            "max_error_estimate": float(np.max(results.error_estimate)),
+            "work": {
+                "nsteps": int(np.sum(results.nsteps)),
+                "wall_time_s": float(results.wall_time),
+            },
+        }
+    )
+    if bad or notes:
+        warnings.warn(f"xpersson: {message}", XperssonWarning, stacklevel=4)
+
+
+def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
+    """``ds.isel(p0=0)`` for a one-load Dataset, built directly from the variables.
+
+    Every variable along ``p0`` (size 1) loses that dimension (a view of its data); ``p0``
+    becomes a scalar coordinate without an index; the other indexes are kept as they are.
+    Falls back to ``isel`` on an xarray without the direct constructor.
+    """
+    try:
+        variables = {}
+        for name, var in ds.variables.items():
+            if "p0" in var.dims:
+                axis = var.dims.index("p0")
+                dims = var.dims[:axis] + var.dims[axis + 1 :]
+                data = np.take(var.values, 0, axis=axis)
+                variables[name] = xr.Variable(dims, data, var.attrs, var.encoding, fastpath=True)
+            else:
+                variables[name] = var
+        indexes = {k: v for k, v in ds.xindexes.items() if k != "p0"}
+        dims = {d: n for d, n in ds.sizes.items() if d != "p0"}
+        out = xr.Dataset._construct_direct(  # noqa: SLF001 - see the docstring
+            variables, set(ds.coords), dims, dict(ds.attrs), indexes
+        )
+    except (AttributeError, TypeError):  # pragma: no cover - other xarray versions
+        return ds.isel(p0=0)
+    return out

@@ -1,0 +1,49 @@
+"""The analyses' ``ctx.solve_at``: the same solve at other magnifications (the one sanctioned
+call back from the analyses into the engine)."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from ..plugins import SceneContext
+from ..scene import ResolvedScene
+
+__all__ = ["make_solve_at"]
+
+
+def make_solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
+    """``(zeta, loads) -> area variables`` of the same solve at other magnifications."""
+    from .. import engine
+
+    cache: dict[bytes, dict[str, np.ndarray]] = {}
+
+    def solve_at(zeta: np.ndarray, loads: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        z = np.asarray(zeta, float)
+        idx = np.arange(rs.p0.size) if loads is None else np.asarray(loads, dtype=int)
+        key = z.tobytes() + idx.tobytes()
+        if key in cache:  # several analyses sample the same grid
+            return cache[key]
+        c = dataclasses.replace(ctx, zeta=z, p=None, p0=rs.p0[idx])
+        tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(idx.size, -1)
+        res = [
+            engine.solve(
+                tau_eff[k], float(rs.p0[i]), *walls[i], rtol=rs.rtol, atol=rs.atol, method=rs.method
+            )
+            for k, i in enumerate(idx)
+        ]
+        out = {
+            "area_fraction": np.stack([np.asarray(r.area, float) for r in res]),
+            "non_contact_fraction": np.stack([np.asarray(r.non_area, float) for r in res]),
+            "diffusion_time": np.asarray(rs.coefficient.tau(c, z), float),
+            "effective_diffusion_time": tau_eff,
+        }
+        for name, value in rs.boundary.interpret(c, res).items():
+            out[name] = np.asarray(value[1] if isinstance(value, tuple) else value, float)
+        cache.clear()
+        cache[key] = out
+        return out
+
+    return solve_at

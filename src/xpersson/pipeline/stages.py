@@ -1,0 +1,130 @@
+"""The checked plugin calls of a run before the engine: the plugins' own validation, the
+coefficient's arrays and the walls of every load (each result checked, each failure naming its
+plugin)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .. import _checks
+from ..plugins import Analysis, Coefficient, SceneContext
+from ..scene import ResolvedScene, SceneError
+
+__all__ = ["validate", "coefficient_arrays", "load_walls"]
+
+
+def validate(rs: ResolvedScene, ctx: SceneContext, boundary: Any, analyses: list[Any]) -> None:
+    """Run the boundary's and the analyses' ``validate(ctx)`` before any solving.
+
+    ``boundary`` and ``analyses`` are the plugin labels (one per entry of ``rs.analyses``);
+    a ``ValueError`` becomes a :class:`SceneError` naming the section and the plugin.
+    """
+    try:
+        with _checks.calling(boundary, "validate()", passthrough=(ValueError,)):
+            rs.boundary.validate(ctx)
+    except ValueError as exc:
+        raise SceneError(f"boundary: {exc} [{boundary}]") from None
+    for (name, analysis), label in zip(rs.analyses, analyses, strict=True):
+        if type(analysis).validate is Analysis.validate:
+            continue
+        try:
+            with _checks.calling(label, "validate()", passthrough=(ValueError,)):
+                analysis.validate(ctx)
+        except ValueError as exc:
+            raise SceneError(f"analyses.{name}: {exc} [{label}]") from None
+
+
+def load_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) -> list[Any]:
+    """The checked (lower, upper) walls of every load (asked once when the boundary declares
+    walls that do not depend on the load)."""
+    if getattr(type(rs.boundary), "walls_per_load", True):
+        walls = []
+        for p0 in rs.p0:
+            with _checks.calling(who, f"walls() for p0 = {float(p0):g} Pa"):
+                pair = rs.boundary.walls(ctx, float(p0), clock)
+            walls.append(_checks.check_walls(pair, float(p0), who))
+        return walls
+    return [_shared_walls(rs, ctx, clock, who)] * rs.p0.size
+
+
+def _shared_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) -> tuple:
+    """The walls of a boundary whose walls do not depend on the load, checked for every load.
+
+    Asked once (at the first load) and checked as :func:`xpersson._checks.check_walls` checks each
+    load, with the positions at ``tau = 0`` compared with all loads at once; the first load
+    left outside (if any) is reported exactly as the per-load check reports it.
+    """
+    p_first = float(rs.p0[0])
+    with _checks.calling(who, f"walls() for p0 = {p_first:g} Pa"):
+        pair = rs.boundary.walls(ctx, p_first, clock)
+    pair = _checks.check_walls(pair, p_first, who)
+    if rs.p0.size > 1:
+        lower, upper = pair
+        zero = np.zeros(1)
+        inside = rs.p0 > float(np.asarray(lower.at(zero), float)[0])
+        if upper is not None:
+            inside &= rs.p0 < float(np.asarray(upper.at(zero), float)[0])
+        outside = np.flatnonzero(~inside)
+        if outside.size:  # raises the per-load check's message for that load
+            _checks.check_walls(pair, float(rs.p0[outside[0]]), who)
+    return pair
+
+
+def coefficient_arrays(
+    coef: Any, ctx: SceneContext, who: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
+    """tau(zeta), f(zeta) and the per-load effective tau [Pa^2], each checked; and whether
+    every load's effective tau is tau(zeta) (then returned as a read-only broadcast)."""
+    nz, nl = ctx.zeta.size, ctx.p0.size
+    with _checks.calling(who, "tau(zeta)"):
+        tau_c = coef.tau(ctx, ctx.zeta)
+    tau_c = _checks.check_array(
+        tau_c, who, "tau(zeta)", (nz,), nonnegative=True, nondecreasing_axis=0, unit="Pa2"
+    )
+    with _checks.calling(who, "f(zeta)"):
+        f_z = coef.f(ctx, ctx.zeta)
+    f_z = _checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
+    if _default_effective_tau(coef):  # the base class broadcasts tau(zeta): nothing to ask
+        return tau_c, f_z, np.broadcast_to(tau_c, (nl, nz)), True
+    with _checks.calling(who, "effective_tau(zeta)"):
+        tau_eff = coef.effective_tau(ctx, ctx.zeta)
+    shared = _equals_rows(tau_eff, tau_c, (nl, nz))
+    if shared:  # every row is the checked tau(zeta): the same checks hold, nothing to repeat
+        tau_eff = np.broadcast_to(tau_c, (nl, nz))
+    else:
+        tau_eff = _checks.check_array(
+            tau_eff,
+            who,
+            "effective_tau(zeta)",
+            (nl, nz),
+            nonnegative=True,
+            nondecreasing_axis=1,
+            unit="Pa2",
+        )
+    return tau_c, f_z, tau_eff, shared
+
+
+def _default_effective_tau(coef: Any) -> bool:
+    """Whether ``coef``'s effective tau is tau(zeta) for every load: it inherits
+    :meth:`Coefficient.effective_tau` or declares ``tau_per_load = False``."""
+    cls = type(coef)
+    if getattr(cls, "effective_tau", None) is Coefficient.effective_tau:
+        return True
+
+    def owner(attr: str) -> type | None:
+        return next((c for c in cls.__mro__ if attr in vars(c)), None)
+
+    # the declaration counts only from the class whose effective_tau it describes (a subclass
+    # overriding effective_tau is asked as usual)
+    return getattr(coef, "tau_per_load", True) is False and owner("tau_per_load") is owner(
+        "effective_tau"
+    )
+
+
+def _equals_rows(value: Any, row: np.ndarray, shape: tuple[int, int]) -> bool:
+    """Whether ``value`` is a ``shape`` float array whose every row equals ``row`` exactly."""
+    if not isinstance(value, np.ndarray) or value.shape != shape or value.dtype != float:
+        return False
+    return bool(np.array_equal(value, np.broadcast_to(row, shape)))

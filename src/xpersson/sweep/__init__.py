@@ -1,0 +1,59 @@
+"""Parameter sweeps: expand a scene's lists and ranges into points, solve them, stack them.
+
+Any parameter declared ``sweepable`` (material, spectrum, coefficient, boundary and analysis
+parameters) accepts a list or a range table ``{start, stop, num, spacing}`` as ``load.p0`` does.
+``load.p0`` stays the engine's own load dimension; every other swept parameter becomes a
+Dataset dimension with its unit.
+
+Combination (the scene's ``[sweep]`` table)::
+
+    [sweep]
+    mode = "product"                          # default: outer product of all swept parameters
+    zip = [["material.E", "material.nu"]]     # zipped groups: one dimension per group
+
+With ``mode = "zip"`` all swept parameters form one zipped group. Dimensions are ordered as the
+parameters appear in the scene, or as ``order = ["spectrum.H", "material.E"]`` lists them
+(archives record the order, so a re-solved sweep has the same dimension order).
+
+Dimension naming rule:
+
+1. the ``dim`` a plugin declares for the parameter (``ParamSpec(dim="v")``);
+2. otherwise the parameter's own name (``material.E`` -> ``E``, ``spectrum.H`` -> ``H``);
+3. if that name is already used by the Dataset (a coordinate, a core variable or an output of
+   a selected plugin) or by another swept parameter, the dotted path with ``_``
+   (``spectrum.h_rms`` -> ``spectrum_h_rms``). ``material.E`` and ``material.nu`` keep ``E`` and
+   ``nu``: the core's variables of that name *are* the parameter and become its coordinate;
+4. a name still taken is refused with an error naming both parameters.
+
+A zipped group is one dimension named after its first parameter; the others are coordinates
+along it. Each point is solved by the ordinary one-scene pipeline with one scalar value per
+parameter (plugins never see a sweep), so the result equals stacking individual solves.
+
+Modules: :mod:`.plan` (expand a scene into a :class:`SweepPlan`), :mod:`.blocks` (cut the grid
+into blocks, solve and stack a block's points), :mod:`.execute` (resolve every point, schedule
+the blocks: serial, threads, dask), :mod:`.combine` (one Dataset from the blocks) and
+:mod:`.parts` (the folder format: one netCDF part per block plus an index).
+"""
+
+from .blocks import POINT_STATUS, Block, BlockResult, blocks_of, run_block, stack
+from .execute import resolve_points, solve_sweep
+from .parts import INDEX, finalize, open_parts
+from .plan import SweepParam, SweepPlan, cf_units, expand
+
+__all__ = [
+    "SweepParam",
+    "SweepPlan",
+    "expand",
+    "cf_units",
+    "solve_sweep",
+    "resolve_points",
+    "blocks_of",
+    "Block",
+    "BlockResult",
+    "run_block",
+    "stack",
+    "finalize",
+    "open_parts",
+    "INDEX",
+    "POINT_STATUS",
+]

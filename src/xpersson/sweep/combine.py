@@ -1,0 +1,270 @@
+"""Combine the blocks of a sweep into one Dataset: statuses, constant dimensions, attributes.
+
+In memory the block Datasets fill preallocated arrays (:func:`xarray.combine_nested` where they
+do not fit); for a sweep written to a folder the parts and the index are written and the
+folder is opened lazily (:mod:`.parts`).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..scene import SceneError
+from .blocks import POINT_STATUS, BlockResult, stack
+from .parts import finalize, open_parts, part_name, read_part, write_index, write_part
+from .plan import SweepPlan
+
+__all__ = ["finish", "combine"]
+
+
+def finish(
+    plan: SweepPlan,
+    points: list[Any],
+    results: list[BlockResult],
+    folder: Path | None,
+) -> xr.Dataset:
+    """Combine the blocks' results into the sweep's Dataset (written as parts to ``folder``
+    and opened lazily from there, when given)."""
+    status, messages = _point_messages(plan, results)
+    ok = [r for r in results if r.dataset is not None or r.part is not None]
+    if not ok:
+        first = messages[0]["message"] if messages else "no message"
+        if messages and all(m["message"].startswith("SceneError: ") for m in messages):
+            where = ", ".join(f"{k} = {v:g}" for k, v in messages[0]["point"].items())
+            raise SceneError(
+                f"every point of the sweep was refused; first ({where}): "
+                + first.removeprefix("SceneError: ")
+            )
+        raise RuntimeError("every point of the sweep failed; first: " + first)
+    template = _template(ok[0])
+    for res in results:  # blocks where every point failed: NaN blocks from a template
+        if res.dataset is None and res.part is None:
+            empty = [None] * res.block.size
+            ds = stack(empty, res.block, res.status, template=template)
+            if folder is not None:
+                res.part = str(folder / part_name(res.block.number))
+                write_part(ds, res.part)
+            else:
+                res.dataset = ds
+    constant = _constant_dims(plan, results)
+    attrs = _global_attrs(plan, points, results, status, messages, template)
+    if folder is not None:
+        write_index(
+            folder,
+            plan.dims,
+            plan.shape,
+            [(r.block.grid_index, r.part) for r in results],
+            constant,
+            attrs,
+        )
+        return open_parts(folder)
+    ds = _combine_in_memory(plan, results)
+    if ds is None:
+        ds = combine([r.dataset for r in results], [r.block.grid_index for r in results], plan.dims)
+    return finalize(ds, constant, attrs)
+
+
+def _point_messages(
+    plan: SweepPlan, results: list[BlockResult]
+) -> tuple[np.ndarray, list[dict[str, Any]]]:
+    """The status of every point and the message of every point that did not succeed."""
+    status = np.zeros(plan.shape, dtype=np.int8)
+    messages: list[dict[str, Any]] = []
+    coords = plan.coords()
+    for res in results:
+        b = res.block
+        status[tuple(slice(a, c) for a, c in zip(b.start, b.stop, strict=True))] = res.status
+        for k, msg in sorted(res.messages.items()):
+            local = np.unravel_index(k, b.shape)
+            index = tuple(int(a + i) for a, i in zip(b.start, local, strict=True))
+            where = {
+                name: float(values[index[plan.dims.index(dim)]])
+                for name, (dim, values, _) in coords.items()
+            }
+            st = int(res.status.ravel()[k])
+            messages.append({"point": where, "status": _status_name(st), "message": msg})
+    return status, messages
+
+
+def _template(res: BlockResult) -> xr.Dataset:
+    """The Dataset of a solved block (a template for failed blocks: :func:`stack` cuts it to one
+    point, dropping the sweep dimensions, their coordinates and ``point_status``)."""
+    if res.dataset is not None:
+        return res.dataset
+    return read_part(res.part)
+
+
+def _status_name(code: int) -> str:
+    return {v: k for k, v in POINT_STATUS.items()}[code]
+
+
+def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, list[str]]:
+    """For each stacked variable, the sweep dimensions along which it never changes (failed
+    points do not count)."""
+    names = {n for r in results for n in r.digests}
+    out: dict[str, list[str]] = {}
+    for name in names:
+        grid = np.full(plan.shape, None, dtype=object)
+        for r in results:
+            b = r.block
+            sl = tuple(slice(a, c) for a, c in zip(b.start, b.stop, strict=True))
+            if name in r.digests:
+                grid[sl] = np.array(r.digests[name], dtype=object).reshape(b.shape)
+        dims = []
+        for d, dim in enumerate(plan.dims):
+            if plan.shape[d] < 2:  # one value says nothing about a dependence: keep the dim
+                continue
+            moved = np.moveaxis(grid, d, -1).reshape(-1, plan.shape[d])
+            solved = [[x for x in row if x is not None] for row in moved]
+            # constant only where at least two solved points along the dimension agree (a
+            # single solved point, the others failed, says nothing: the dim and its NaN stay)
+            if any(len(row) >= 2 for row in solved) and all(len(set(row)) <= 1 for row in solved):
+                dims.append(dim)
+        if dims:
+            out[name] = dims
+    return out
+
+
+def combine(datasets: list[Any], grid_index: list[tuple[int, ...]], dims: tuple[str, ...]) -> Any:
+    """Combine block Datasets (in memory or lazily opened) into one over the sweep grid."""
+    counts = [max(g[d] for g in grid_index) + 1 for d in range(len(dims))]
+    nested: Any = np.empty(counts, dtype=object)
+    for ds, g in zip(datasets, grid_index, strict=True):
+        nested[g] = ds
+    return xr.combine_nested(
+        nested.tolist(),
+        concat_dim=list(dims),
+        data_vars="minimal",
+        coords="minimal",
+        join="outer",
+        compat="override",
+        combine_attrs="override",
+    )
+
+
+def _combine_in_memory(plan: SweepPlan, results: list[BlockResult]) -> xr.Dataset | None:
+    """Combine in-memory block Datasets by filling preallocated arrays (the common case).
+
+    Every block must hold the same variables with the same non-sweep dimensions and the same
+    non-sweep coordinates, and every sweep dimension of a variable must lead it in the order of
+    the sweep; otherwise ``None`` (the caller falls back to :func:`combine`).
+    """
+    dims = plan.dims
+    first = results[0].dataset
+    names = list(first.variables)
+    out: dict[str, xr.Variable] = {}
+    for name in names:
+        var = first.variables[name]
+        swept = [d for d in var.dims if d in dims]
+        if not swept:  # a non-sweep coordinate or constant: the same in every block
+            ref = var.values
+            for r in results[1:]:
+                other = r.dataset.variables.get(name)
+                if (
+                    other is None
+                    or other.dims != var.dims
+                    or not np.array_equal(other.values, ref, equal_nan=ref.dtype.kind in "fc")
+                ):
+                    return None
+            out[name] = var.copy(deep=False)
+            continue
+        k = len(swept)
+        if tuple(var.dims[:k]) != tuple(swept) or swept != [d for d in dims if d in swept]:
+            return None
+        axes = [dims.index(d) for d in swept]
+        parts = [r.dataset.variables.get(name) for r in results]
+        if any(p is None or p.dims != var.dims or p.shape[k:] != var.shape[k:] for p in parts):
+            return None
+        dtype = np.result_type(*(p.dtype for p in parts))
+        full = np.empty(tuple(plan.shape[a] for a in axes) + var.shape[k:], dtype=dtype)
+        filled = np.zeros(full.shape[:k], dtype=bool)
+        for r, p in zip(results, parts, strict=True):
+            sl = tuple(slice(r.block.start[a], r.block.stop[a]) for a in axes)
+            full[sl] = p.values
+            filled[sl] = True
+        if not filled.all():
+            return None
+        out[name] = xr.Variable(var.dims, full, dict(var.attrs))
+    if any(set(r.dataset.variables) != set(names) for r in results[1:]):
+        return None
+    coord_names = set(first.coords)
+    return xr.Dataset(
+        {n: v for n, v in out.items() if n not in coord_names},
+        coords={n: v for n, v in out.items() if n in coord_names},
+        attrs=dict(first.attrs),
+    )[list(first.data_vars)]
+
+
+def _global_attrs(
+    plan: SweepPlan,
+    points: list[Any],
+    results: list[BlockResult],
+    status: np.ndarray,
+    messages: list[dict[str, Any]],
+    template: xr.Dataset,
+) -> dict[str, Any]:
+    attrs = dict(template.attrs)
+    resolved = json.loads(attrs.get("xpersson_scene", "{}")) or dict(points[0].resolved)
+    for param in plan.params:
+        node = resolved
+        parts = param.path.split(".")
+        for part in parts[:-1]:
+            node = node.setdefault(part, {})
+        node[parts[-1]] = [param.scene_value(i) for i in range(len(param.values))]
+    if (
+        points[0].p is not None
+        and plan.base.get("output", {}).get("p") is None
+        and (points[0].pressure_pdf)
+    ):
+        resolved.setdefault("output", {})["p"] = [f"{float(x)!r} Pa" for x in points[0].p]
+    resolved["sweep"] = {
+        **dict(plan.scene.data.get("sweep", {})),
+        "order": [p.path for p in plan.params],
+    }
+    attrs["xpersson_scene"] = json.dumps(resolved, sort_keys=True)
+    attrs["xpersson_sweep"] = json.dumps(
+        {
+            "dims": list(plan.dims),
+            "shape": list(plan.shape),
+            "parameters": {p.path: p.name for p in plan.params},
+            "points": int(plan.size),
+        }
+    )
+    n_bad = int(np.count_nonzero(status))
+    n_fail = int(np.count_nonzero(status == POINT_STATUS["failed"]))
+    if n_bad == 0:
+        attrs["status"] = "success"
+        attrs["status_message"] = f"all {plan.size} sweep points met the requested tolerance"
+    else:
+        attrs["status"] = "failed" if n_fail else "tolerance_not_met"
+        head = "; ".join(
+            ", ".join(f"{k} = {v:g}" for k, v in m["point"].items()) + f": {m['message']}"
+            for m in messages[:3]
+        )
+        attrs["status_message"] = (
+            f"{n_bad} of {plan.size} sweep points did not succeed ({n_fail} failed): {head}"
+        )
+    attrs["xpersson_point_messages"] = json.dumps(messages)
+    solver = [s for r in results for s in r.solver]
+    if solver:
+        attrs["xpersson_solver"] = json.dumps(
+            {
+                "method": solver[0].get("method"),
+                "methods_used": sorted({m for s in solver for m in s.get("methods_used", [])}),
+                "rtol": solver[0].get("rtol"),
+                "atol": solver[0].get("atol"),
+                "max_error_estimate": float(max(s.get("max_error_estimate", 0.0) for s in solver)),
+                "work": {
+                    "nsteps": int(sum(s.get("work", {}).get("nsteps", 0) for s in solver)),
+                    "wall_time_s": float(
+                        sum(s.get("work", {}).get("wall_time_s", 0.0) for s in solver)
+                    ),
+                },
+            }
+        )
+    return attrs

@@ -1,0 +1,290 @@
+"""Execute a sweep: resolve every point first, split into blocks, run them, combine.
+
+Schedulers: ``None``/``"serial"`` (default, in this process), ``"threads"`` (a thread pool),
+``"processes"`` (a :class:`dask.distributed.LocalCluster`, one single-threaded worker process per
+core), the address of a running dask scheduler (``"tcp://host:8786"``) or a
+:class:`distributed.Client`. Tasks carry resolved scenes (SI floats, numpy arrays, plugin
+instances) and return stacked numpy-backed Datasets or write netCDF parts; no pint object
+enters the task graph.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import math
+import os
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..pipeline import default_pressure_grid, progress_bar
+from ..plugins import get_registry
+from ..scene import SceneError
+from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
+from .combine import finish
+from .parts import part_name
+from .plan import SweepPlan
+
+__all__ = ["solve_sweep", "resolve_points"]
+
+
+def _resolve_index(plan: SweepPlan, index: tuple[int, ...], registry: Any) -> Any:
+    """Resolve one point; a :class:`SceneError` names the point's swept values."""
+    try:
+        return plan.point_scene(index).resolve(registry)
+    except SceneError as exc:
+        where = ", ".join(
+            f"{g[0].path} = {g[0].values[i]:g}" for g, i in zip(plan.groups, index, strict=True)
+        )
+        raise SceneError(f"sweep point {where}: {exc}") from None
+
+
+_GRID_CHANGES = (
+    "sweep: the swept parameters change the magnification grid (q_1/q_L differs "
+    "between points); give output.zeta_max (at most the smallest q_1/q_L) or "
+    "output.zeta so that every point shares one grid"
+)
+
+
+def resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
+    """Resolve every point before any work (bad input fails here, naming the point)."""
+    registry = registry or get_registry()
+    points = [_resolve_index(plan, index, registry) for index in plan.indices()]
+    summary = _summary(points)
+    if summary[0] is None:
+        raise SceneError(_GRID_CHANGES)
+    if summary[1] is not None:
+        grid = np.linspace(*summary[1], points[0].p_points)
+        points = [dataclasses.replace(rs, p=grid) for rs in points]
+    return points
+
+
+def _summary(points: list[Any]) -> tuple[np.ndarray | None, tuple[float, float] | None]:
+    """(the shared zeta grid or None when the points differ, default pressure-grid bounds)."""
+    zeta = points[0].zeta
+    for rs in points[1:]:
+        if rs.zeta.shape != zeta.shape or not np.array_equal(rs.zeta, zeta):
+            return None, None
+    if not (points[0].pressure_pdf and points[0].p is None):
+        return zeta, None
+    lo, hi = math.inf, -math.inf
+    for rs in points:
+        grid = default_pressure_grid(rs)
+        lo, hi = min(lo, float(grid[0])), max(hi, float(grid[-1]))
+    return zeta, (lo, hi)
+
+
+def _resolve_block(plan: SweepPlan, block: Block, registry: Any) -> list[Any]:
+    """Resolve the points of one block (a worker's task), in C order."""
+    registry = registry or get_registry()
+    ranges = (range(a, b) for a, b in zip(block.start, block.stop, strict=True))
+    return [_resolve_index(plan, index, registry) for index in itertools.product(*ranges)]
+
+
+def _with_grid(points: list[Any], grid: np.ndarray) -> list[Any]:
+    return [dataclasses.replace(rs, p=grid) for rs in points]
+
+
+def _first(points: list[Any]) -> Any:
+    return points[0]
+
+
+def _resolve_on_workers(
+    plan: SweepPlan, registry: Any, client: Any, blocks: list[Block], parts: dict[int, Any]
+) -> tuple[Any, list[tuple[Block, Any, str | None]]]:
+    """Resolve every point on the workers before any solving; the points stay there.
+
+    Returns the first resolved point (for the archive's attributes) and the solve tasks, whose
+    points are futures. A bad point raises its :class:`SceneError` here, before any solve task
+    is submitted, as :func:`resolve_points` does in the serial path.
+    """
+    tag = f"{os.getpid()}-{id(blocks)}"
+    # blocks spread evenly over the workers (by points): solve tasks follow their points (data
+    # locality), so this placement is what balances the solving
+    addresses = sorted(client.scheduler_info().get("workers", {})) or [None]
+    owner = _assign(blocks, len(addresses))
+    resolved = [
+        client.submit(
+            _resolve_block,
+            plan,
+            b,
+            registry,
+            pure=False,
+            key=f"xpersson-resolve-{b.number}-{tag}",
+            workers=None if addresses[0] is None else [addresses[owner[i]]],
+            allow_other_workers=True,
+        )
+        for i, b in enumerate(blocks)
+    ]
+    # one round trip: every block's summary and the first point
+    summaries = [client.submit(_summary, f, pure=False) for f in resolved]
+    *summaries, first = client.gather([*summaries, client.submit(_first, resolved[0], pure=False)])
+    zeta = summaries[0][0]
+    if any(z is None or z.shape != zeta.shape or not np.array_equal(z, zeta) for z, _ in summaries):
+        raise SceneError(_GRID_CHANGES)
+    if summaries[0][1] is not None:
+        lo = min(b[0] for _, b in summaries)
+        hi = max(b[1] for _, b in summaries)
+        grid = np.linspace(lo, hi, first.p_points)
+        resolved = [client.submit(_with_grid, f, grid, pure=False) for f in resolved]
+        first = dataclasses.replace(first, p=grid)
+    return first, [(b, f, parts[b.number]) for b, f in zip(blocks, resolved, strict=True)]
+
+
+def _points_per_block(plan: SweepPlan, workers: int, requested: int | None) -> int:
+    if requested is not None:
+        if requested < 1:
+            raise ValueError(f"chunk: points per block must be >= 1, got {requested}")
+        return int(requested)
+    return max(1, math.ceil(plan.size / (4 * max(1, workers))))
+
+
+def solve_sweep(
+    plan: SweepPlan,
+    registry: Any,
+    *,
+    scheduler: Any = None,
+    progress: bool | None = False,
+    output: str | os.PathLike[str] | None = None,
+    chunk: int | None = None,
+    workers: int | None = None,
+) -> xr.Dataset:
+    """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`)."""
+    _check_scheduler(scheduler)
+    distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
+    points = None if distributed else resolve_points(plan, registry)
+    client, own_cluster, n_workers = _client(scheduler, workers)
+    try:
+        blocks = blocks_of(
+            plan,
+            _points_per_block(plan, n_workers, chunk),
+            multiple=n_workers if chunk is None else 1,
+        )
+        parts = {b.number: None for b in blocks}
+        tasks: list[tuple[Block, Any, str | None]]
+        if points is None:  # resolved (and checked) on the workers, before any solving
+            first, tasks = _resolve_on_workers(plan, registry, client, blocks, parts)
+            points = [first]
+        folder = None
+        if output is not None:
+            folder = Path(output)
+            folder.mkdir(parents=True, exist_ok=True)
+        parts = {
+            b.number: (None if folder is None else str(folder / part_name(b.number)))
+            for b in blocks
+        }
+        if not distributed:
+            tasks = [(b, block_points(plan, points, b), parts[b.number]) for b in blocks]
+        else:
+            tasks = [(b, pts, parts[b.number]) for b, pts, _ in tasks]
+        bar = progress_bar(plan.size, progress, "xpersson sweep")
+        try:
+            results = _execute(tasks, registry, scheduler, client, bar, n_workers)
+        finally:
+            if bar is not None:
+                bar.close()
+    finally:
+        if own_cluster is not None:
+            client.close()
+            own_cluster.close()
+    return finish(plan, points, results, folder)
+
+
+def _check_scheduler(scheduler: Any) -> None:
+    if scheduler is None or type(scheduler).__name__ == "Client":
+        return
+    if not isinstance(scheduler, str) or not (
+        scheduler in ("serial", "synchronous", "sync", "threads", "processes") or ":" in scheduler
+    ):
+        raise ValueError(
+            f"scheduler: {scheduler!r} is not allowed; one of None/'serial', 'threads', "
+            "'processes', a scheduler address 'tcp://host:port' or a distributed.Client"
+        )
+
+
+def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any, int]:
+    """(client, cluster we own, number of workers) for a scheduler request."""
+    if scheduler in (None, "serial", "synchronous", "sync"):
+        return None, None, 1
+    if scheduler == "threads":
+        return None, None, workers or os.cpu_count() or 1
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError as exc:
+        raise ImportError(
+            f"scheduler={scheduler!r} needs dask.distributed: pip install 'xpersson[parallel]'"
+        ) from exc
+    if isinstance(scheduler, Client):
+        return scheduler, None, max(1, len(scheduler.scheduler_info().get("workers", {})))
+    if scheduler == "processes":
+        n = workers or os.cpu_count() or 1
+        cluster = LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=50,
+        )
+        return Client(cluster), cluster, n
+    if isinstance(scheduler, str) and ":" in scheduler:  # tcp://host:8786, host:8786
+        client = Client(scheduler)
+        return client, client, max(1, len(client.scheduler_info().get("workers", {})))
+    raise ValueError(
+        f"scheduler: {scheduler!r} is not allowed; one of None/'serial', 'threads', 'processes', "
+        "a scheduler address 'tcp://host:port' or a distributed.Client"
+    )
+
+
+def _execute(
+    tasks: list[tuple[Block, list[Any], str | None]],
+    registry: Any,
+    scheduler: Any,
+    client: Any,
+    bar: Any,
+    n_workers: int = 1,
+) -> list[BlockResult]:
+    tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
+    if client is None and scheduler != "threads":
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return [run_block(b, pts, registry, part, True, tick) for b, pts, part in tasks]
+    if client is None:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            with ThreadPoolExecutor(max_workers=max(1, n_workers)) as pool:
+                futures = [
+                    pool.submit(run_block, b, pts, registry, part, False, tick)
+                    for b, pts, part in tasks
+                ]
+                return [f.result() for f in futures]
+    from distributed import as_completed
+
+    futures = [
+        client.submit(
+            run_block,
+            b,
+            pts,
+            registry,
+            part,
+            True,
+            None,
+            pure=False,
+            key=f"xpersson-block-{b.number}-{os.getpid()}-{id(tasks)}",
+        )
+        for b, pts, part in tasks
+    ]
+    order = {fut.key: i for i, fut in enumerate(futures)}
+    results: list[Any] = [None] * len(futures)
+    # results are fetched as their blocks finish: transfers overlap the blocks still running
+    for fut, res in as_completed(futures, with_results=True):
+        results[order[fut.key]] = res
+        if bar is not None:
+            bar.update(res.block.size)
+    return results
