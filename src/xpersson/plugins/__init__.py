@@ -21,6 +21,7 @@ from ._base import (
     Spectrum,
     check_plugin_class,
 )
+from ._groups import ENTRY_POINT_PREFIX, GROUP_NAMES, PLUGIN_GROUPS
 from ._registry import (
     PluginError,
     PluginInfo,
@@ -31,7 +32,7 @@ from ._registry import (
     set_registry,
     using_registry,
 )
-from ._specs import REQUIRED, ParamSpec, SpecError, VarSpec
+from ..specs import REQUIRED, ParamSpec, SpecError, VarSpec
 
 if TYPE_CHECKING:  # pragma: no cover
     from ._context import DiffusionClock, SceneContext
@@ -40,7 +41,10 @@ __all__ = [
     "API_VERSION",
     "BOUNDARY_TRAITS",
     "COEFFICIENT_TRAITS",
+    "ENTRY_POINT_PREFIX",
     "GROUPS",
+    "GROUP_NAMES",
+    "PLUGIN_GROUPS",
     "REQUIRED",
     "Analysis",
     "Boundary",
