@@ -336,7 +336,7 @@ def _preload(registry: Any) -> None:
         "xpersson.scene",
         "xpersson.io",
         "xpersson.engine",
-        "xpersson._checks",
+        "xpersson.checks",
         "xpersson._diagnostics",
         "xpersson.plugins._analyses",
     ):

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import xpersson
-from xpersson import _checks, _pipeline
+from xpersson import _pipeline, checks
 from xpersson.engine._moving import _project
 from xpersson.plugins._registry import get_registry
 
@@ -155,8 +155,8 @@ def test_core_check_passes_a_clean_solve_and_flags_non_finite_errors():
         ds = xpersson.solve(ELASTIC)
     assert ds.attrs["status"] == "success"
     ds = ds.copy(deep=True)
-    assert _checks.check_core(ds) == {}
+    assert checks.check_core(ds) == {}
     ds["error_estimate"].values[0, 2] = np.inf
-    found = _checks.check_core(ds)
+    found = checks.check_core(ds)
     assert list(found) == [0] and "error_estimate" in found[0] and "non-finite" in found[0]
     assert ds["solver_status"].values[0] == "balance_violated"
