@@ -53,10 +53,14 @@ def test_labels_and_records_are_captured_at_resolution():
         assert record == plugin_provenance(group, type(inst), reg)
     # the records are the registry's shared ones: a second scene reuses them
     again = _resolved(reg)
-    assert all(a is b for (a, _), (b, _) in zip(rs.plugin_records, again.plugin_records))
+    assert all(
+        a is b for (a, _), (b, _) in zip(rs.plugin_records, again.plugin_records, strict=True)
+    )
     reg.refresh()  # a new discovery computes them again
     third = _resolved(reg)
-    assert all(a is not b for (a, _), (b, _) in zip(rs.plugin_records, third.plugin_records))
+    assert all(
+        a is not b for (a, _), (b, _) in zip(rs.plugin_records, third.plugin_records, strict=True)
+    )
 
 
 def test_global_attributes_need_only_the_resolved_scene():
