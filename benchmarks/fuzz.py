@@ -356,7 +356,8 @@ def _preload(registry: Any) -> None:
         "xpersson.scene",
         "xpersson.io",
         "xpersson.engine",
-        "xpersson._checks",
+        "xpersson.checks",
+        "xpersson.pipeline",
         "xpersson.plugins._analyses",
     ):
         with contextlib.suppress(ImportError):

@@ -30,7 +30,7 @@ __all__ = [
 ]
 
 _LAZY = {
-    "PluginFailure": "xpersson._checks",
+    "PluginFailure": "xpersson.checks",
     "solve": "xpersson.api",
     "XperssonWarning": "xpersson.errors",
     "Scene": "xpersson.scene",

@@ -80,5 +80,5 @@ def solve(
         )
     rs = sc.resolve(reg)
     if progress is False or (progress is None and not sys.stderr.isatty()):
-        return run(rs, reg)
-    return run_with_progress(rs, reg, progress)
+        return run(rs)
+    return run_with_progress(rs, progress)

@@ -341,7 +341,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         _err(f"xpersson: error: {exc}")
         return 2
     except Exception as exc:  # plugin errors etc.: one clear line, no traceback
-        from ._checks import PluginFailure
+        from .checks import PluginFailure
         from .plugins import PluginError
 
         if isinstance(exc, PluginError | ValueError | PluginFailure):

@@ -18,7 +18,7 @@ import warnings
 from collections.abc import Iterator, Sequence
 from typing import Any, TextIO
 
-from .plugins._registry import (
+from .plugins import (
     GROUP_NAMES,
     PluginError,
     PluginInfo,

@@ -1,10 +1,22 @@
-"""Exception and warning classes raised by several layers of xpersson."""
+"""Exception and warning classes that several layers raise (the bottom layer: imports nothing of
+xpersson).
+
+Re-exported where they are public: :class:`SceneError` by :mod:`xpersson.scene` (and the top
+package), :class:`UnitError` by :mod:`xpersson.units`, :class:`XperssonWarning` by the top package,
+:class:`MemoryBudgetError` by :mod:`xpersson.memory`.
+"""
 
 from __future__ import annotations
 
-from .scene import SceneError
+__all__ = ["MemoryBudgetError", "SceneError", "UnitError", "XperssonWarning"]
 
-__all__ = ["XperssonWarning", "MemoryBudgetError"]
+
+class SceneError(ValueError):
+    """A scene is malformed; the message names the offending parameter."""
+
+
+class UnitError(ValueError):
+    """A quantity has the wrong dimensionality or cannot be parsed."""
 
 
 class XperssonWarning(UserWarning):

@@ -1,4 +1,8 @@
-"""Global attributes: CF/ACDD metadata and JSON provenance (scene, plugins, environment)."""
+"""Global attributes: CF/ACDD metadata and JSON provenance (scene, plugins, environment).
+
+Reads only the resolved scene: the plugins' provenance records are captured when the scene is
+resolved (this module imports neither the scene nor the registry).
+"""
 
 from __future__ import annotations
 
@@ -9,13 +13,9 @@ import json
 import platform
 import sys
 from importlib import metadata
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from .schema import CONVENTIONS
-
-if TYPE_CHECKING:  # pragma: no cover
-    from .plugins._registry import Registry
-    from .scene import ResolvedScene
 
 __all__ = ["global_attributes", "plugins_used", "environment", "version"]
 
@@ -45,74 +45,61 @@ def environment() -> dict[str, str]:
     return json.loads(_environment_json())
 
 
-_PLUGIN_RECORDS: dict[tuple[str, type, int], tuple[Any, Any, dict[str, Any]]] = {}
+def plugins_used(rs: Any) -> list[dict[str, Any]]:
+    """Group, name, distribution, version, class and references of every plugin of a run.
 
-
-def _shared_record(group: str, cls: type, reg: Registry) -> dict[str, Any]:
-    """:func:`plugin_provenance`, looked up once per (group, class, registry discovery).
-
-    Returns the cached record itself: callers must not modify it.
+    Parameters
+    ----------
+    rs : ResolvedScene
+        The resolved scene; its ``plugin_records`` were captured at resolution.
     """
-    from .plugins._registry import plugin_provenance
-
-    key = (group, cls, id(reg))
-    found = reg._discover()  # noqa: SLF001 - cached discovery; a refresh() replaces it
-    hit = _PLUGIN_RECORDS.get(key)
-    if hit is None or hit[0] is not reg or hit[1] is not found:
-        if len(_PLUGIN_RECORDS) > 256:
-            _PLUGIN_RECORDS.clear()
-        hit = (reg, found, plugin_provenance(group, cls, reg))
-        _PLUGIN_RECORDS[key] = hit
-    return hit[2]
+    return copy.deepcopy(_plugins_used(rs))
 
 
-def plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
-    """Group, name, distribution, version, class and references of every plugin of a run."""
-    return copy.deepcopy(_plugins_used(rs, reg))
-
-
-def _items(rs: ResolvedScene) -> list[tuple[str, Any, Any]]:
-    """(group, name, instance) of every plugin of a run."""
-    return [
-        ("spectra", rs.plugin_names.get("spectrum"), rs.spectrum),
-        ("coefficients", rs.plugin_names.get("coefficient"), rs.coefficient),
-        ("boundaries", rs.plugin_names.get("boundary"), rs.boundary),
-        *[("analyses", name, inst) for name, inst in rs.analyses],
-    ]
-
-
-def _plugins_used(rs: ResolvedScene, reg: Registry) -> list[dict[str, Any]]:
+def _plugins_used(rs: Any) -> list[dict[str, Any]]:
     """:func:`plugins_used` sharing the cached records (read-only: only serialised)."""
-    out = []
-    for group, name, inst in _items(rs):
-        record = _shared_record(group, type(inst), reg)
-        out.append({**record, "name": name} if name else record)
-    return out
+    return [{**record, "name": name} if name else record for record, name in rs.plugin_records]
 
 
-_PLUGINS_JSON: dict[tuple, tuple[Any, Any, str, list[str]]] = {}
+_PLUGINS_JSON: dict[tuple, tuple[tuple[Any, ...], str, list[str]]] = {}
 
 
-def _plugins_json(rs: ResolvedScene, reg: Registry) -> tuple[str, list[str]]:
+def _plugins_json(rs: Any) -> tuple[str, list[str]]:
     """JSON of :func:`plugins_used` and the sorted references, serialised once per set of
-    plugin classes and names (the records are cached per registry discovery)."""
-    key = (id(reg), *((group, type(inst), name) for group, name, inst in _items(rs)))
-    found = reg._discover()  # noqa: SLF001 - cached discovery; a refresh() replaces it
+    records and names (the records are the registry's shared ones, cached per discovery)."""
+    pairs = rs.plugin_records
+    key = tuple((id(record), name) for record, name in pairs)
     hit = _PLUGINS_JSON.get(key)
-    if hit is None or hit[0] is not reg or hit[1] is not found:
-        used = _plugins_used(rs, reg)
+    if hit is None or any(a is not b for a, (b, _) in zip(hit[0], pairs, strict=True)):
+        used = _plugins_used(rs)
         if len(_PLUGINS_JSON) > 256:
             _PLUGINS_JSON.clear()
         refs = sorted({r for p in used for r in p["references"]})
-        hit = (reg, found, json.dumps(used, sort_keys=True), refs)
+        hit = (tuple(record for record, _ in pairs), json.dumps(used, sort_keys=True), refs)
         _PLUGINS_JSON[key] = hit
-    return hit[2], hit[3]
+    return hit[1], hit[2]
 
 
-def global_attributes(rs: ResolvedScene, reg: Registry) -> dict[str, str]:
-    """CF-1.12 / ACDD-1.3 global attributes and the JSON provenance of a run."""
+def global_attributes(rs: Any, registry: Any = None) -> dict[str, str]:
+    """CF-1.12 / ACDD-1.3 global attributes and the JSON provenance of a run.
+
+    Parameters
+    ----------
+    rs : ResolvedScene
+        The resolved scene: its resolved values, source and the plugin records captured at
+        resolution (:attr:`~xpersson.scene.ResolvedScene.plugin_records`).
+    registry : object, optional
+        Ignored (the records were captured at resolution); accepted until every caller passes
+        ``rs`` alone.
+
+    Returns
+    -------
+    dict
+        Global attributes (str values).
+    """
+    del registry
     now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
-    plugins_json, refs = _plugins_json(rs, reg)
+    plugins_json, refs = _plugins_json(rs)
     title = rs.resolved.get("title") or "Persson contact-mechanics solution"
     return {
         "Conventions": CONVENTIONS,

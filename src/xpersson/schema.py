@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from .plugins import VarSpec
+from .specs import VarSpec
 
 __all__ = ["CORE_VARIABLES", "COORDS", "stamp", "CONVENTIONS"]
 

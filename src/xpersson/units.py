@@ -14,11 +14,9 @@ if TYPE_CHECKING:  # pragma: no cover
     import pint
     import xarray as xr
 
+from .errors import UnitError
+
 __all__ = ["ureg", "to_si", "udunits_to_pint", "quantify", "UnitError"]
-
-
-class UnitError(ValueError):
-    """A quantity has the wrong dimensionality or cannot be parsed."""
 
 
 @lru_cache(maxsize=1)

@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import xpersson
-from xpersson import _checks, pipeline
+from xpersson import checks, pipeline
 from xpersson.engine._moving import _project
 from xpersson.plugins._registry import get_registry
 
@@ -82,7 +82,7 @@ def test_budget_spent_leaves_a_finite_error_estimate():
     rs = dataclasses.replace(rs, solver_options={"max_work": 1e6})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ds = pipeline.run(rs, reg)
+        ds = pipeline.run(rs)
     err = ds["error_estimate"].values
     assert np.all(np.isfinite(err)) and err.min() >= 0.0
     assert ds.attrs["status"] == "max_steps"  # honest: the budget did not reach rtol
@@ -157,8 +157,8 @@ def test_core_check_passes_a_clean_solve_and_flags_non_finite_errors():
         ds = xpersson.solve(ELASTIC)
     assert ds.attrs["status"] == "success"
     ds = ds.copy(deep=True)
-    assert _checks.check_core(ds) == {}
+    assert checks.check_core(ds) == {}
     ds["error_estimate"].values[0, 2] = np.inf
-    found = _checks.check_core(ds)
+    found = checks.check_core(ds)
     assert list(found) == [0] and "error_estimate" in found[0] and "non-finite" in found[0]
     assert ds["solver_status"].values[0] == "balance_violated"

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..physics import closures, elastic
-from ..plugins import Boundary, Coefficient, ParamSpec, VarSpec
+from ..plugins import CLOSURE_PARAMETERS, Boundary, Coefficient, ParamSpec, VarSpec
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..engine import Wall
@@ -37,23 +37,7 @@ class ElasticCoefficient(Coefficient):
         "10.1007/s11249-017-0900-2",
         "10.1007/s11249-024-01838-4",
     )
-    parameters = {
-        "closure": ParamSpec(
-            "1",
-            default="persson01",
-            kind="choice",
-            choices=("persson01", "yp08", "wm17", "xu24"),
-            description="correction-factor closure of the variance",
-        ),
-        "gamma": ParamSpec(
-            "1",
-            default=None,
-            bounds=(0, 1),
-            inclusive=(False, True),
-            sweepable=True,
-            description=f"closure parameter (default {closures.GAMMA_DEFAULT}; wm17: 5/9)",
-        ),
-    }
+    parameters = dict(CLOSURE_PARAMETERS)  # closure, gamma: declared once for every coefficient
     outputs: dict[str, VarSpec] = {}
     traits = frozenset({"elastic_spectrum"})
 

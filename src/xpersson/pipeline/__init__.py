@@ -13,7 +13,7 @@ from .assemble import squeeze_p0
 from .diagnostics import DIAGNOSTICS, P_RTOL, SLOPE_LIMIT, pdf_resolution, regime_warnings
 from .frontend import as_scene, default_pressure_grid, scene_context
 from .progress import progress_bar, run_with_progress
-from .run import PluginRecords, plugin_records, run
+from .run import run
 
 __all__ = [
     "run",
@@ -23,8 +23,6 @@ __all__ = [
     "default_pressure_grid",
     "squeeze_p0",
     "progress_bar",
-    "plugin_records",
-    "PluginRecords",
     "DIAGNOSTICS",
     "P_RTOL",
     "SLOPE_LIMIT",

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .. import _checks
+from .. import checks
 from ..errors import XperssonWarning
 from ..physics.grids import persson_G
 from ..plugins import SceneContext, VarSpec
@@ -164,9 +164,9 @@ def _index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variable]:
 def add_outputs(
     ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec], who: object
 ) -> None:
-    """Check a plugin's contribution against its VarSpecs (see :mod:`xpersson._checks`), then
+    """Check a plugin's contribution against its VarSpecs (see :mod:`xpersson.checks`), then
     add it."""
-    checked = _checks.check_contributions(ds, values, specs, who)
+    checked = checks.check_contributions(ds, values, specs, who)
     if not checked:
         return
     for name, da in checked.items():
@@ -182,7 +182,7 @@ def add_outputs(
         try:
             ds[name] = da
         except ValueError as exc:
-            raise _checks.PluginFailure(
+            raise checks.PluginFailure(
                 f"{who}: variable {name!r}: {exc}", plugin=who, variable=name
             ) from None
 
@@ -190,7 +190,7 @@ def add_outputs(
 def _insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
     """Insert checked, coordinate-free variables whose dims the Dataset already has.
 
-    Such an insertion has nothing to align (:func:`xpersson._checks.checked_variable` has
+    Such an insertion has nothing to align (:func:`xpersson.checks.checked_variable` has
     checked the dims and sizes against ``ds``): the variables go into the Dataset as they are,
     which is what ``ds.update`` ends with, without its merge and alignment of every variable.
     Returns

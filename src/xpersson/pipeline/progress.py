@@ -8,7 +8,6 @@ from typing import Any
 
 import xarray as xr
 
-from ..plugins import Registry
 from ..scene import ResolvedScene
 from .run import run
 
@@ -36,7 +35,7 @@ def progress_bar(total: int | None, progress: bool | None, desc: str, unit: str 
     )
 
 
-def run_with_progress(rs: ResolvedScene, reg: Registry, progress: bool | None) -> xr.Dataset:
+def run_with_progress(rs: ResolvedScene, progress: bool | None) -> xr.Dataset:
     """:func:`run` with a counter of the engine's work on stderr (long moving-wall solves).
 
     The bar appears only once a solver reports work (closed-form solves print nothing).
@@ -53,7 +52,7 @@ def run_with_progress(rs: ResolvedScene, reg: Registry, progress: bool | None) -
 
     try:
         with progress_reporting(advance):
-            return run(rs, reg)
+            return run(rs)
     finally:
         if bar and bar[0] is not None:
             bar[0].close()

@@ -4,56 +4,20 @@ Dataset (the work of each step lives in :mod:`.frontend`, :mod:`.stages`, :mod:`
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Any
 
 import xarray as xr
 
-from .. import _checks, memory, provenance
-from ..plugins import Registry
+from .. import checks, memory, provenance
 from ..scene import ResolvedScene
 from .assemble import add_outputs, assemble, attributes, diagnostics_notes, squeeze_p0
 from .frontend import diffusion_clock, pressure_grid, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
 from .stages import coefficient_arrays, load_walls, validate
 
-__all__ = ["run", "PluginRecords", "plugin_records"]
+__all__ = ["run"]
 
 
-@dataclass(frozen=True)
-class PluginRecords:
-    """What a run needs of the plugin registry.
-
-    Attributes
-    ----------
-    labels : dict
-        ``"spectrum"``, ``"coefficient"``, ``"boundary"`` -> plugin label (name and
-        distribution, formatted lazily) for error messages.
-    analyses : list
-        The label of each entry of ``rs.analyses``, in order.
-    provenance : callable
-        ``() -> dict`` of the run's CF/ACDD global attributes and JSON provenance.
-    """
-
-    labels: dict[str, Any]
-    analyses: list[Any]
-    provenance: Callable[[], dict[str, str]]
-
-
-def plugin_records(rs: ResolvedScene, reg: Registry) -> PluginRecords:
-    """Plugin labels and provenance of a resolved scene: the ONE place a run reads the registry."""
-    labels = {
-        section: _checks.plugin_label(
-            section, getattr(rs, section), reg, rs.plugin_names.get(section)
-        )
-        for section in ("spectrum", "coefficient", "boundary")
-    }
-    analyses = [_checks.plugin_label("analyses", a, reg, name) for name, a in rs.analyses]
-    return PluginRecords(labels, analyses, lambda: provenance.global_attributes(rs, reg))
-
-
-def run(rs: ResolvedScene, reg: Registry, *, squeeze: bool = True) -> xr.Dataset:
+def run(rs: ResolvedScene, *, squeeze: bool = True) -> xr.Dataset:
     """Run a resolved scene (see :func:`xpersson.solve`).
 
     ``squeeze=False`` keeps a single load's ``p0`` dimension (a sweep squeezes its stacked
@@ -61,10 +25,10 @@ def run(rs: ResolvedScene, reg: Registry, *, squeeze: bool = True) -> xr.Dataset
     """
     from .. import engine
 
-    records = plugin_records(rs, reg)
-    who = records.labels
+    who = rs.labels  # plugin labels and provenance were captured when the scene was resolved
+    analysis_labels = [rs.labels[f"analyses.{name}"] for name, _ in rs.analyses]
     ctx = scene_context(rs)
-    validate(rs, ctx, who["boundary"], records.analyses)  # the plugins' own checks first
+    validate(rs, ctx, who["boundary"], analysis_labels)  # the plugins' own checks first
     coef = rs.coefficient
     tau_c, f_z, tau_eff, tau_shared = coefficient_arrays(coef, ctx, who["coefficient"])
     clock = diffusion_clock(ctx, coef, kinks=spectrum_kinks(rs.psd))
@@ -89,25 +53,27 @@ def run(rs: ResolvedScene, reg: Registry, *, squeeze: bool = True) -> xr.Dataset
         options=rs.solver_options or None,
     )
     ds = assemble(rs, ctx, results, tau_c, f_z, None if tau_shared else tau_eff, p_grid)
-    core = _checks.check_core(ds)  # the engine's outputs, like every plugin's (load -> message)
-    with _checks.calling(who["coefficient"], "interpret()"):
+    core = checks.check_core(ds)  # the engine's outputs, like every plugin's (load -> message)
+    with checks.calling(who["coefficient"], "interpret()"):
         coef_out = coef.interpret(ctx)
     add_outputs(ds, coef_out, type(coef).outputs, who["coefficient"])
-    with _checks.calling(who["boundary"], "interpret()"):
+    with checks.calling(who["boundary"], "interpret()"):
         extra = rs.boundary.interpret(ctx, results)
     add_outputs(ds, extra, type(rs.boundary).outputs, who["boundary"])
     if rs.analyses:  # analyses read the scene's declarations and may sample the solve densely
         ctx = dataclasses.replace(
             ctx, coefficient=coef, boundary=rs.boundary, solve_at=make_solve_at(rs, ctx, walls)
         )
-    for (_, analysis), label in zip(rs.analyses, records.analyses, strict=True):
-        with _checks.guard_dataset(ds, label) as view, _checks.calling(label, "compute()"):
+    for (_, analysis), label in zip(rs.analyses, analysis_labels, strict=True):
+        with checks.guard_dataset(ds, label) as view, checks.calling(label, "compute()"):
             out = analysis.compute(ctx, view)
         missing = [v for v in type(analysis).provides if v not in (out or {})]
         if missing:
-            raise _checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
+            raise checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
         add_outputs(ds, out, type(analysis).outputs, label)
-    attributes(ds, rs, records.provenance, results, diagnostics_notes(ds), core)
+    attributes(
+        ds, rs, lambda: provenance.global_attributes(rs), results, diagnostics_notes(ds), core
+    )
     if rs.p0_scalar and squeeze:
         ds = squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
     return ds

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from .. import _checks
+from .. import checks
 from ..plugins import Analysis, Coefficient, SceneContext
 from ..scene import ResolvedScene, SceneError
 
@@ -22,7 +22,7 @@ def validate(rs: ResolvedScene, ctx: SceneContext, boundary: Any, analyses: list
     a ``ValueError`` becomes a :class:`SceneError` naming the section and the plugin.
     """
     try:
-        with _checks.calling(boundary, "validate()", passthrough=(ValueError,)):
+        with checks.calling(boundary, "validate()", passthrough=(ValueError,)):
             rs.boundary.validate(ctx)
     except ValueError as exc:
         raise SceneError(f"boundary: {exc} [{boundary}]") from None
@@ -30,7 +30,7 @@ def validate(rs: ResolvedScene, ctx: SceneContext, boundary: Any, analyses: list
         if type(analysis).validate is Analysis.validate:
             continue
         try:
-            with _checks.calling(label, "validate()", passthrough=(ValueError,)):
+            with checks.calling(label, "validate()", passthrough=(ValueError,)):
                 analysis.validate(ctx)
         except ValueError as exc:
             raise SceneError(f"analyses.{name}: {exc} [{label}]") from None
@@ -42,9 +42,9 @@ def load_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) -> li
     if getattr(type(rs.boundary), "walls_per_load", True):
         walls = []
         for p0 in rs.p0:
-            with _checks.calling(who, f"walls() for p0 = {float(p0):g} Pa"):
+            with checks.calling(who, f"walls() for p0 = {float(p0):g} Pa"):
                 pair = rs.boundary.walls(ctx, float(p0), clock)
-            walls.append(_checks.check_walls(pair, float(p0), who))
+            walls.append(checks.check_walls(pair, float(p0), who))
         return walls
     return [_shared_walls(rs, ctx, clock, who)] * rs.p0.size
 
@@ -52,14 +52,14 @@ def load_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) -> li
 def _shared_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) -> tuple:
     """The walls of a boundary whose walls do not depend on the load, checked for every load.
 
-    Asked once (at the first load) and checked as :func:`xpersson._checks.check_walls` checks each
+    Asked once (at the first load) and checked as :func:`xpersson.checks.check_walls` checks each
     load, with the positions at ``tau = 0`` compared with all loads at once; the first load
     left outside (if any) is reported exactly as the per-load check reports it.
     """
     p_first = float(rs.p0[0])
-    with _checks.calling(who, f"walls() for p0 = {p_first:g} Pa"):
+    with checks.calling(who, f"walls() for p0 = {p_first:g} Pa"):
         pair = rs.boundary.walls(ctx, p_first, clock)
-    pair = _checks.check_walls(pair, p_first, who)
+    pair = checks.check_walls(pair, p_first, who)
     if rs.p0.size > 1:
         lower, upper = pair
         zero = np.zeros(1)
@@ -68,7 +68,7 @@ def _shared_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) ->
             inside &= rs.p0 < float(np.asarray(upper.at(zero), float)[0])
         outside = np.flatnonzero(~inside)
         if outside.size:  # raises the per-load check's message for that load
-            _checks.check_walls(pair, float(rs.p0[outside[0]]), who)
+            checks.check_walls(pair, float(rs.p0[outside[0]]), who)
     return pair
 
 
@@ -78,23 +78,23 @@ def coefficient_arrays(
     """tau(zeta), f(zeta) and the per-load effective tau [Pa^2], each checked; and whether
     every load's effective tau is tau(zeta) (then returned as a read-only broadcast)."""
     nz, nl = ctx.zeta.size, ctx.p0.size
-    with _checks.calling(who, "tau(zeta)"):
+    with checks.calling(who, "tau(zeta)"):
         tau_c = coef.tau(ctx, ctx.zeta)
-    tau_c = _checks.check_array(
+    tau_c = checks.check_array(
         tau_c, who, "tau(zeta)", (nz,), nonnegative=True, nondecreasing_axis=0, unit="Pa2"
     )
-    with _checks.calling(who, "f(zeta)"):
+    with checks.calling(who, "f(zeta)"):
         f_z = coef.f(ctx, ctx.zeta)
-    f_z = _checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
+    f_z = checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
     if _default_effective_tau(coef):  # the base class broadcasts tau(zeta): nothing to ask
         return tau_c, f_z, np.broadcast_to(tau_c, (nl, nz)), True
-    with _checks.calling(who, "effective_tau(zeta)"):
+    with checks.calling(who, "effective_tau(zeta)"):
         tau_eff = coef.effective_tau(ctx, ctx.zeta)
     shared = _equals_rows(tau_eff, tau_c, (nl, nz))
     if shared:  # every row is the checked tau(zeta): the same checks hold, nothing to repeat
         tau_eff = np.broadcast_to(tau_c, (nl, nz))
     else:
-        tau_eff = _checks.check_array(
+        tau_eff = checks.check_array(
             tau_eff,
             who,
             "effective_tau(zeta)",

@@ -1,13 +1,14 @@
 """Plugin contracts (base classes, specs), the scene context, the registry and the planner.
 
-Importing this package does not import numpy: :class:`SceneContext` and
-:class:`DiffusionClock` are loaded on first access.
+Importing this package does not import numpy: :class:`SceneContext`,
+:class:`DiffusionClock` and :data:`CLOSURE_PARAMETERS` are loaded on first access.
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from ..specs import REQUIRED, ParamSpec, SpecError, VarSpec
 from ._analyses import PlanError, plan_analyses
 from ._base import (
     API_VERSION,
@@ -21,6 +22,7 @@ from ._base import (
     Spectrum,
     check_plugin_class,
 )
+from ._groups import ENTRY_POINT_PREFIX, GROUP_NAMES, PLUGIN_GROUPS
 from ._registry import (
     PluginError,
     PluginInfo,
@@ -31,16 +33,20 @@ from ._registry import (
     set_registry,
     using_registry,
 )
-from ._specs import REQUIRED, ParamSpec, SpecError, VarSpec
 
 if TYPE_CHECKING:  # pragma: no cover
+    from ._closures import CLOSURE_PARAMETERS
     from ._context import DiffusionClock, SceneContext
 
 __all__ = [
     "API_VERSION",
     "BOUNDARY_TRAITS",
+    "CLOSURE_PARAMETERS",
     "COEFFICIENT_TRAITS",
+    "ENTRY_POINT_PREFIX",
     "GROUPS",
+    "GROUP_NAMES",
+    "PLUGIN_GROUPS",
     "REQUIRED",
     "Analysis",
     "Boundary",
@@ -65,16 +71,20 @@ __all__ = [
     "using_registry",
 ]
 
-_LAZY = {"SceneContext", "DiffusionClock"}
+_LAZY = {
+    "SceneContext": "_context",
+    "DiffusionClock": "_context",
+    "CLOSURE_PARAMETERS": "_closures",
+}
 
 
 def __getattr__(name: str) -> Any:
     if name in _LAZY:
-        from . import _context
+        from importlib import import_module
 
-        return getattr(_context, name)
+        return getattr(import_module(f"{__name__}.{_LAZY[name]}"), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | _LAZY)
+    return sorted(set(globals()) | set(_LAZY))

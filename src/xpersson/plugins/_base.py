@@ -14,7 +14,8 @@ from collections.abc import Mapping
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from ._specs import ParamSpec, SpecError, VarSpec
+from ..specs import ParamSpec, SpecError, VarSpec
+from ._groups import PLUGIN_GROUPS
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -197,7 +198,7 @@ class Spectrum(Plugin):
     convention; ``q_L``, ``q_1`` in 1/m; ``moment``, ``I3``, ``nodes``).
     """
 
-    group = "spectra"
+    group = PLUGIN_GROUPS["spectrum"]
     abstract = True
 
     def build(self) -> Any:
@@ -208,7 +209,7 @@ class Spectrum(Plugin):
 class Coefficient(Plugin):
     """The diffusion coefficient f(zeta) [Pa^2]. Group ``xpersson.coefficients``."""
 
-    group = "coefficients"
+    group = PLUGIN_GROUPS["coefficient"]
     abstract = True
     #: Physical properties analyses may rely on (see :data:`COEFFICIENT_TRAITS`).
     traits: ClassVar[frozenset[str]] = frozenset()
@@ -268,7 +269,7 @@ class Boundary(Plugin):
     ``clock.zeta_of_tau`` to express a wall law given in zeta.
     """
 
-    group = "boundaries"
+    group = PLUGIN_GROUPS["boundary"]
     abstract = True
     #: Physical properties analyses may rely on (see :data:`BOUNDARY_TRAITS`).
     traits: ClassVar[frozenset[str]] = frozenset()
@@ -314,7 +315,7 @@ class Analysis(Plugin):
     provides.
     """
 
-    group = "analyses"
+    group = PLUGIN_GROUPS["analysis"]
     abstract = True
     requires: ClassVar[tuple[str, ...]] = ()
     provides: ClassVar[tuple[str, ...]] = ()
@@ -420,11 +421,9 @@ def check_plugin_class(cls: type) -> None:
 
 
 GROUPS: dict[str, type[Plugin]] = {
-    "spectra": Spectrum,
-    "coefficients": Coefficient,
-    "boundaries": Boundary,
-    "analyses": Analysis,
+    base.group: base for base in (Spectrum, Coefficient, Boundary, Analysis)
 }
+"""Group -> base class (the groups of :data:`PLUGIN_GROUPS`)."""
 GROUP_CHECKS = {
     "analyses": _check_analysis,
     "boundaries": _check_boundary,

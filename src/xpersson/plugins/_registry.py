@@ -22,6 +22,8 @@ from dataclasses import dataclass, field
 from importlib.metadata import EntryPoint, entry_points
 from typing import Any
 
+from ._groups import ENTRY_POINT_PREFIX, GROUP_NAMES, PLUGIN_GROUPS
+
 __all__ = [
     "AUTOLOAD_ENV",
     "CORE_DIST",
@@ -37,18 +39,10 @@ __all__ = [
     "using_registry",
 ]
 
-ENTRY_POINT_PREFIX = "xpersson."
-GROUP_NAMES = ("spectra", "coefficients", "boundaries", "analyses")
 AUTOLOAD_ENV = "XPERSSON_DISABLE_PLUGIN_AUTOLOAD"
 CORE_DIST = "xpersson"
 DIRECT = "<direct>"
 _NAME = re.compile(r"^[a-z][a-z0-9_]*$")
-_GROUP_ALIASES = {
-    "spectrum": "spectra",
-    "coefficient": "coefficients",
-    "boundary": "boundaries",
-    "analysis": "analyses",
-}
 
 
 class PluginError(LookupError):
@@ -93,6 +87,11 @@ class PluginInfo:
         if self.error:
             return f"broken: {self.error}"
         return "ok" if self.loaded else "not loaded"
+
+    @property
+    def direct(self) -> bool:
+        """Whether the class was registered directly (no entry point, no distribution)."""
+        return self.dist == DIRECT
 
     @property
     def qualified(self) -> str:
@@ -140,6 +139,9 @@ class Registry:
     autoload: bool | None = None
     extra: dict[str, dict[str, type]] = field(default_factory=dict)
     _cache: dict[str, dict[str, list[PluginInfo]]] | None = field(default=None, repr=False)
+    _records: dict[tuple[str, type], tuple[Any, dict[str, Any]]] = field(
+        default_factory=dict, repr=False, compare=False
+    )
 
     def __post_init__(self) -> None:
         if self.autoload is None:
@@ -311,6 +313,22 @@ class Registry:
             out.append(info)
         return out
 
+    def provenance(self, group: str, cls: type) -> dict[str, Any]:
+        """:func:`plugin_provenance` of ``cls`` in this registry, computed once per discovery.
+
+        Returns the cached record itself (shared by every scene that uses the class): callers
+        must not modify it. :meth:`refresh` (a new discovery) makes it be computed again.
+        """
+        group = normalize_group(group)
+        found = self._discover()
+        hit = self._records.get((group, cls))
+        if hit is None or hit[0] is not found:
+            if len(self._records) > 256:
+                self._records.clear()
+            hit = (found, plugin_provenance(group, cls, self))
+            self._records[(group, cls)] = hit
+        return hit[1]
+
     def name_of(self, group: str, cls: type) -> tuple[str, PluginInfo | None]:
         """Registered name and info of a loaded class (``(module:qualname, None)`` if none)."""
         group = normalize_group(group)
@@ -346,7 +364,7 @@ def plugin_provenance(group: str, cls: type, registry: Registry | None = None) -
         name, info = reg.name_of(group, cls)
     except Exception:  # provenance must never fail a finished run
         name, info = _qualname(cls), None
-    if info is not None and info.dist != DIRECT:
+    if info is not None and not info.direct:
         dist, version = info.dist, info.version
     else:
         dist, version = _dist_of_module(cls.__module__)
@@ -365,7 +383,7 @@ def plugin_provenance(group: str, cls: type, registry: Registry | None = None) -
 def normalize_group(group: str) -> str:
     """``"boundaries"``, ``"boundary"`` or ``"xpersson.boundaries"`` -> ``"boundaries"``."""
     g = group.removeprefix(ENTRY_POINT_PREFIX) if isinstance(group, str) else group
-    g = _GROUP_ALIASES.get(g, g)
+    g = PLUGIN_GROUPS.get(g, g)
     if g not in GROUP_NAMES:
         raise ValueError(f"plugin group must be one of {GROUP_NAMES}, got {group!r}")
     return g

@@ -169,7 +169,7 @@ def run_block(
             with warnings.catch_warnings():
                 if quiet_warnings:
                     warnings.simplefilter("ignore", XperssonWarning)
-                ds = run(rs, registry, squeeze=False)
+                ds = run(rs, squeeze=False)
         except Exception as exc:  # noqa: BLE001 - a failing point is recorded, not fatal
             results.append(None)
             status[k] = POINT_STATUS["failed"]

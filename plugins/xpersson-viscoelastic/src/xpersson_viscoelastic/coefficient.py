@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from xpersson.physics import closures
-from xpersson.plugins import Coefficient, ParamSpec, VarSpec
+from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 
 from . import kernel
 from ._modulus import ModulusModel, Prony, sls, synthetic_tread
@@ -223,20 +223,7 @@ class ViscoelasticCoefficient(Coefficient):
             inclusive=(False, True),
             description="rubber thermal diffusivity (flash)",
         ),
-        "closure": ParamSpec(
-            "1",
-            default="persson01",
-            kind="choice",
-            choices=closures.CLOSURES,
-            description="correction-factor closure of the variance",
-        ),
-        "gamma": ParamSpec(
-            "1",
-            default=None,
-            bounds=(0, 1),
-            inclusive=(False, True),
-            description="closure parameter (default 0.42; wm17: 5/9)",
-        ),
+        **CLOSURE_PARAMETERS,  # closure, gamma: the core's one declaration
     }
     outputs: ClassVar = OUTPUTS
 

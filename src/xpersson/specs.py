@@ -1,4 +1,7 @@
-"""Declarative metadata of plugin parameters (:class:`ParamSpec`) and outputs (:class:`VarSpec`).
+"""Declarative metadata of parameters (:class:`ParamSpec`) and outputs (:class:`VarSpec`).
+
+Below both :mod:`xpersson.schema` (the core variables are VarSpecs) and :mod:`xpersson.plugins`
+(which re-exports these names for plugin authors).
 
 Specs are plain frozen dataclasses: cheap to import (no pint, no numpy) and checked when a plugin
 class is defined, so a malformed declaration fails at import time with a message naming the
@@ -124,6 +127,15 @@ class ParamSpec:
         where = f"{owner}.parameters[{name!r}]"
         if not _NAME.match(name):
             raise SpecError(f"{where}: parameter names must match {_NAME.pattern}")
+        self._check_fields(where)
+        self._check_kind_default(where)
+        if self.kind == "choice":
+            return
+        self._check_bounds(where)
+        self._check_numbers(where)
+
+    def _check_fields(self, where: str) -> None:
+        """kind, unit, description, flags, choices and dim have the right types."""
         if self.kind not in KINDS:
             raise SpecError(f"{where}: kind must be one of {KINDS}, got {self.kind!r}")
         if not isinstance(self.unit, str) or not self.unit.strip():
@@ -140,6 +152,9 @@ class ParamSpec:
                 raise SpecError(f"{where}: dim must be a dimension name matching {_NAME.pattern}")
             if not self.sweepable:
                 raise SpecError(f"{where}: dim is given but the parameter is not sweepable")
+
+    def _check_kind_default(self, where: str) -> None:
+        """The default of a bool, string, path or choice parameter fits its kind."""
         if self.kind == "bool" and not self.required and not isinstance(self.default, bool):
             raise SpecError(f"{where}: kind='bool' needs a bool default, got {self.default!r}")
         if (
@@ -154,7 +169,9 @@ class ParamSpec:
                 raise SpecError(f"{where}: kind='choice' needs a non-empty tuple of str choices")
             if not self.required and self.default not in self.choices:
                 raise SpecError(f"{where}: default {self.default!r} is not among the choices")
-            return
+
+    def _check_bounds(self, where: str) -> None:
+        """bounds and inclusive are pairs; the bounds are numbers (or None) in order."""
         if (
             not isinstance(self.bounds, tuple | list)
             or not isinstance(self.inclusive, tuple | list)
@@ -170,12 +187,11 @@ class ParamSpec:
                 raise SpecError(f"{where}: bounds must be numbers or None, got {b!r}")
         if lo is not None and hi is not None and lo > hi:
             raise SpecError(f"{where}: lower bound {lo} exceeds upper bound {hi}")
-        if (
-            self.kind in ("quantity", "int")
-            and not self.required
-            and self.default is not None
-            and not self.array
-        ):
+
+    def _check_numbers(self, where: str) -> None:
+        """A scalar quantity's or int's default and example lie in the declared range."""
+        scalar = self.kind in ("quantity", "int") and not self.array
+        if scalar and not self.required and self.default is not None:
             if not isinstance(self.default, int | float) or isinstance(self.default, bool):
                 raise SpecError(f"{where}: default must be a number in {self.unit!r}")
             if not self.in_bounds(float(self.default)):
@@ -184,9 +200,8 @@ class ParamSpec:
                     f"{self.range_text()}"
                 )
         if (
-            self.kind in ("quantity", "int")
+            scalar
             and self.example is not None
-            and not self.array
             and isinstance(self.example, int | float)
             and not self.in_bounds(float(self.example))
         ):

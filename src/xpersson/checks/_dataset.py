@@ -1,0 +1,339 @@
+"""Checks of the Dataset contributions of plugins and of the engine's core outputs."""
+
+from __future__ import annotations
+
+import contextlib
+import math
+from collections.abc import Iterator, Mapping
+from typing import Any
+
+import numpy as np
+
+from ._arrays import quote
+from ._failure import PluginFailure
+
+__all__ = [
+    "CORE_DIMS",
+    "CORE_RANGES",
+    "check_contributions",
+    "check_core",
+    "checked_variable",
+    "guard_dataset",
+]
+
+#: Dimensions the core owns; any other Dataset dimension is a sweep (or plugin) dimension.
+CORE_DIMS = ("p0", "zeta", "p", "q_psd")
+
+
+# -- Dataset contributions -----------------------------------------------------------------------
+def checked_variable(
+    ds: Any, name: str, value: Any, spec: Any, who: object, sizes: Mapping[str, int] | None = None
+) -> Any:
+    """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray
+    (a pair becomes a coordinate-free :class:`xarray.Variable`).
+
+    Checks, against the :class:`~xpersson.plugins.VarSpec`: dims (the declared ones, plus
+    only sweep dimensions of ``ds``), sizes (those of ``ds`` for shared dims), a numeric or
+    boolean dtype, finiteness (NaN only with ``nan_meaning``; never inf) and
+    ``valid_min`` / ``valid_max``.
+
+    ``sizes`` (optional) is ``dict(ds.sizes)`` when the caller has it.
+
+    Raises
+    ------
+    PluginFailure
+        Naming the plugin, the variable and the offending values.
+    """
+    import xarray as xr
+
+    var = _VarName(who, name)  # formatted only for a message
+    try:
+        if isinstance(value, xr.DataArray):
+            da = value.copy()
+            da.attrs = {}
+            da = da.reset_coords(drop=True) if da.coords else da
+        else:  # a plain Variable (no coordinates to carry): cheaper than a DataArray
+            dims, arr = value
+            if isinstance(dims, str):
+                dims = (dims,)
+            dims = tuple(dims)
+            arr = np.asarray(arr)
+            if (
+                arr.dtype.kind == "f"
+                and dims == tuple(spec.dims)
+                and len(dims) == arr.ndim
+                and all(type(d) is str for d in dims)
+                and arr.shape
+                == tuple((sizes if sizes is not None else dict(ds.sizes)).get(d, -1) for d in dims)
+            ):
+                # the common case: exactly the declared dims, the Dataset's sizes, floats;
+                # the remaining rule is the values' (finite, valid_min / valid_max)
+                da = xr.Variable(dims, arr, fastpath=True)
+                _check_values(da, ds, name, spec, var, who)
+                return da
+            # a numeric ndarray is already what xarray would make of it: skip the conversion
+            da = xr.Variable(dims, arr, fastpath=arr.dtype.kind in "iufb")
+    except PluginFailure:
+        raise
+    except Exception as exc:
+        raise PluginFailure(
+            f"{var}: expected a DataArray or a (dims, data) pair with matching dims ({exc})",
+            plugin=who,
+            variable=name,
+        ) from None
+    declared = tuple(spec.dims)
+    have = tuple(str(d) for d in da.dims)
+    ds_sizes = ds.sizes
+    sweep = {d for d in ds_sizes if d not in CORE_DIMS and d not in declared}
+    missing = [d for d in declared if d not in have and not (d == "p0" and "p0" not in ds_sizes)]
+    extra = [d for d in have if d not in declared and d not in sweep]
+    if missing or extra:
+        raise PluginFailure(
+            f"{var} has dims {have}; declared {declared}"
+            + (f" (missing {missing})" if missing else "")
+            + (f" (undeclared {extra})" if extra else ""),
+            plugin=who,
+            variable=name,
+        )
+    sizes = dict(zip(have, da.shape, strict=True))
+    wrong = [(d, sizes[d], ds_sizes[d]) for d in have if d in ds_sizes and sizes[d] != ds_sizes[d]]
+    if wrong:
+        d, got, want = wrong[0]
+        raise PluginFailure(
+            f"{var} has {got} entries along {d!r}; the Dataset has {want} (shape {da.shape} for "
+            f"dims {have})",
+            plugin=who,
+            variable=name,
+        )
+    order = [d for d in have if d not in declared] + [d for d in declared if d in have]
+    if tuple(order) != have:
+        da = da.transpose(*order)
+    _check_values(da, ds, name, spec, var, who)
+    return da
+
+
+class _VarName:
+    """``"<plugin>: variable 'name'"`` for error messages, formatted only when one is raised."""
+
+    __slots__ = ("who", "name")
+
+    def __init__(self, who: object, name: str) -> None:
+        self.who, self.name = who, name
+
+    def __str__(self) -> str:
+        return f"{self.who}: variable {self.name!r}"
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self), spec)
+
+
+def _check_values(da: Any, ds: Any, name: str, spec: Any, var: Any, who: object) -> None:
+    arr = np.asarray(da.values)
+    kind = arr.dtype.kind
+    if kind in "b":
+        return
+    if kind in "OUS":
+        if spec.valid_min is not None or spec.valid_max is not None or spec.units != "1":
+            raise PluginFailure(
+                f"{var} has non-numeric dtype {arr.dtype}; expected numbers in {spec.units}",
+                plugin=who,
+                variable=name,
+            )
+        return
+    if kind not in "iufc":
+        raise PluginFailure(f"{var} has unsupported dtype {arr.dtype}", plugin=who, variable=name)
+    if kind in "iuf" and (kind != "f" or spec.nan_meaning is None) and arr.size:
+        # fast path, the same rule in two reductions: min and max propagate NaN and show +-inf
+        lo_v, hi_v = float(arr.min()), float(arr.max())
+        if (
+            math.isfinite(lo_v)
+            and math.isfinite(hi_v)
+            and (spec.valid_min is None or lo_v >= spec.valid_min)
+            and (spec.valid_max is None or hi_v <= spec.valid_max)
+        ):
+            return
+        # else: the detailed checks below find and quote the offending values
+
+    def coords() -> dict[str, Any]:  # for the error message only (built when raising)
+        return {
+            "dims": tuple(da.dims),
+            "values": {
+                d: np.asarray(ds[d].values) for d in da.dims if d in ds.coords and ds[d].ndim == 1
+            },
+        }
+
+    unit = "" if spec.units in ("1", "") else f" {spec.units}"
+    if kind == "c":
+        raise PluginFailure(f"{var} is complex; expected real values", plugin=who, variable=name)
+    if kind == "f":
+        inf = np.isinf(arr)
+        nan = np.isnan(arr)
+        bad = inf | (nan if spec.nan_meaning is None else np.zeros_like(nan))
+        if bad.any():
+            why = "" if spec.nan_meaning is None else " (NaN is allowed, inf is not)"
+            raise PluginFailure(
+                f"{var} has {int(bad.sum())} non-finite value(s){why}: "
+                f"{quote(arr, bad, unit, coords())}",
+                plugin=who,
+                variable=name,
+            )
+    finite = np.isfinite(arr) if kind == "f" else np.ones(arr.shape, bool)
+    for bound, op, word in (
+        (spec.valid_min, np.less, "below valid_min"),
+        (spec.valid_max, np.greater, "above valid_max"),
+    ):
+        if bound is None:
+            continue
+        out = finite & op(arr, bound)
+        if out.any():
+            raise PluginFailure(
+                f"{var} has {int(out.sum())} value(s) {word} = {bound:g}{unit}: "
+                f"{quote(arr, out, unit, coords())}",
+                plugin=who,
+                variable=name,
+            )
+
+
+@contextlib.contextmanager
+def guard_dataset(ds: Any, who: object) -> Iterator[Any]:
+    """Hand an analysis ``ds`` with read-only numpy buffers; catch it changing the Dataset.
+
+    The buffers are read-only for the duration of the call, so an in-place write raises inside
+    the plugin (and is attributed to it); replacing, deleting or adding a variable of the
+    Dataset is reported as a :class:`PluginFailure` (the run stops, so the changed Dataset never
+    reaches the user). No copy is made: the check compares the variable objects themselves.
+    """
+    before = dict(ds.variables)
+    index_names = set(ds.xindexes)
+    frozen = []
+    for name, v in before.items():
+        if name in index_names:  # pandas-backed: immutable, checked by identity below
+            continue
+        data = v.data
+        if isinstance(data, np.ndarray) and data.flags.writeable:
+            data.flags.writeable = False
+            frozen.append(data)
+    try:
+        yield ds
+        after = ds.variables
+        added = [n for n in after if n not in before]
+        if added:
+            raise PluginFailure(
+                f"{who} added {added} to the Dataset it was handed; analyses must return new "
+                f"variables (declared in their outputs), never modify the Dataset",
+                plugin=who,
+                variable=str(added[0]),
+            )
+        touched = [n for n, v in before.items() if after.get(n) is not v]
+        if touched:  # name the variables whose values changed (xarray may rebuild others)
+            changed = [
+                n
+                for n in touched
+                if n not in after
+                or not (
+                    after[n].equals(before[n])
+                    if n in index_names
+                    else after[n].data is before[n].data
+                )
+            ]
+            vname = (changed or touched)[0]
+            raise PluginFailure(
+                f"{who} replaced or removed the Dataset variable {vname!r}; analyses must "
+                f"return new variables, never modify existing ones",
+                plugin=who,
+                variable=vname,
+            )
+    finally:
+        for data in frozen:
+            data.flags.writeable = True
+
+
+def check_contributions(
+    ds: Any, values: Any, specs: Mapping[str, Any], who: object
+) -> dict[str, Any]:
+    """Check a plugin's returned mapping ``{name: value}``; return ``{name: DataArray}``."""
+    if not isinstance(values, Mapping):
+        raise PluginFailure(
+            f"{who} returned {type(values).__name__}; expected a mapping "
+            f"name -> DataArray or (dims, data)",
+            plugin=who,
+        )
+    out = {}
+    sizes = dict(ds.sizes)
+    for name, value in values.items():
+        if name not in specs:
+            raise PluginFailure(
+                f"{who} returned {name!r} without declaring it in its outputs "
+                f"(declared: {sorted(specs)})",
+                plugin=who,
+                variable=str(name),
+            )
+        if name in ds.variables:
+            raise PluginFailure(
+                f"{who} returned {name!r}, which the Dataset already has (a "
+                f"core or another plugin's variable); choose another name",
+                plugin=who,
+                variable=name,
+            )
+        out[name] = checked_variable(ds, name, value, specs[name], who, sizes)
+    return out
+
+
+# -- the engine's own outputs --------------------------------------------------------------------
+#: admissible ranges of the core variables the engine fills (name -> (valid_min, valid_max))
+CORE_RANGES: dict[str, tuple[float | None, float | None]] = {
+    "area_fraction": (0.0, 1.0),
+    "non_contact_fraction": (0.0, 1.0),
+    "error_estimate": (0.0, None),
+    "P": (0.0, None),
+}
+
+
+def check_core(ds: Any, who: object = "engine") -> dict[int, str]:
+    """Check the engine's core outputs in ``ds`` (dims ``p0``, ...) per load.
+
+    Same checks as for plugin outputs (:func:`_check_values`: finite, ``valid_min`` /
+    ``valid_max``) against :data:`CORE_RANGES`. A load that fails gets ``solver_status``
+    ``balance_violated`` (unless already not ``success``); the values are left as they are.
+
+    Returns
+    -------
+    dict
+        Load index -> message, for each failing load (empty when every load passes).
+    """
+    import dataclasses
+
+    from ..schema import CORE_VARIABLES
+
+    def clean(name: str, lo: float | None, hi: float | None) -> bool:
+        # two reductions, no temporaries: min and max propagate NaN, and +-inf shows in them
+        arr = np.asarray(ds.variables[name].values)
+        if arr.size == 0:
+            return True
+        a_min, a_max = float(arr.min()), float(arr.max())
+        return bool(
+            math.isfinite(a_min)
+            and math.isfinite(a_max)
+            and (lo is None or a_min >= lo)
+            and (hi is None or a_max <= hi)
+        )
+
+    names = [n for n in CORE_RANGES if n in ds.variables]
+    if all(clean(n, *CORE_RANGES[n]) for n in names):  # one pass over the arrays: the rule
+        return {}
+    messages: dict[int, str] = {}
+    status = ds["solver_status"].values.copy()
+    for i in range(ds.sizes["p0"]):
+        for name in names:
+            lo, hi = CORE_RANGES[name]
+            spec = dataclasses.replace(CORE_VARIABLES[name], valid_min=lo, valid_max=hi)
+            da = ds[name].isel(p0=i)
+            try:
+                _check_values(da, ds, name, spec, f"{who}: variable {name!r}", who)
+            except PluginFailure as exc:
+                messages[i] = f"core output check failed: {exc}"
+                if status[i] == "success":
+                    status[i] = "balance_violated"
+                break
+    ds["solver_status"].values = status
+    return messages

@@ -1,0 +1,140 @@
+"""SolvedContact: energy, mean gap, stiffness, detachment of one solved area curve."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._curve import (
+    _Curve,
+    _edges,
+    _h2,
+    _loads,
+    _Phi,
+    _q_max,
+    _q_rule,
+    _sub_mean_gap,
+    _tau_c,
+)
+from ._energy import full_contact_energy
+from ._gap_distribution import Detachment
+from ._percolation import critical_magnification
+
+__all__ = ["SolvedContact"]
+
+
+class SolvedContact:
+    """The solved contact of every load: one area curve, every interface quantity (cached).
+
+    The functions of this module are thin wrappers; build one :class:`SolvedContact` when
+    several quantities of the same curve are needed (the curve's splines and ``Phi`` are built
+    once).
+
+    Parameters
+    ----------
+    psd : PowerSpectrum
+        Roughness spectrum (m^4).
+    E_star : float
+        Contact modulus [Pa].
+    p0 : array_like, (n_load,)
+        Nominal pressures [Pa].
+    zeta, area, s_factor, non_area
+        The curve, as in :func:`elastic_energy` (``zeta`` may also be a prepared curve object).
+    """
+
+    def __init__(
+        self,
+        psd: object,
+        E_star: float,
+        p0: ArrayLike,
+        zeta: ArrayLike | _Curve,
+        area: ArrayLike | None = None,
+        s_factor: ArrayLike | None = None,
+        non_area: ArrayLike | None = None,
+    ) -> None:
+        self.psd = psd
+        self.E_star = float(E_star)
+        self.curve = zeta if isinstance(zeta, _Curve) else _Curve(zeta, area, s_factor, non_area)
+        self.p0 = _loads(p0, self.curve.n_load)
+        self.q_L = float(psd.q_L)  # type: ignore[attr-defined]
+        self.q_hi = _q_max(psd, self.curve.zeta)
+        self._phi: _Phi | None = None
+        self._u: NDArray[np.float64] | None = None
+
+    @property
+    def phi(self) -> _Phi:
+        if self._phi is None:
+            self._phi = _Phi(self.psd, self.E_star, self.p0, self.curve)
+        return self._phi
+
+    def elastic_energy(self) -> NDArray[np.float64]:
+        """``U_el/A0`` [J/m^2], (n_load,) (see :func:`elastic_energy`)."""
+        r = _q_rule(self.psd, self.q_L, self.q_hi)
+        deficit = self.curve.nf(np.log(r.q / self.q_L)) @ (r.weights * r.q**2 * r.C)
+        full = full_contact_energy(self.psd, self.E_star, self.q_L, self.q_hi)
+        return full - 0.5 * math.pi * self.E_star * deficit
+
+    def mean_gap(self) -> NDArray[np.float64]:
+        """``u(p0)`` [m], (n_load,) (see :func:`mean_gap`)."""
+        if self._u is None:
+            r = _q_rule(self.psd, self.q_L, self.q_hi)
+            vals = self.phi.at_tau(0.25 * np.pi * self.E_star**2 * r.dI3)
+            self._u = math.pi * (vals @ (r.weights * r.q**2 * r.C * r.w))
+        return self._u.copy()
+
+    def mean_gap_slope(self) -> NDArray[np.float64]:
+        """``du/dp0`` [m/Pa], (n_load,) (see :func:`mean_gap_slope`)."""
+        xg, wg = self.curve.stieltjes_nodes()
+        q = np.exp(xg) * self.q_L
+        g = _tau_c(self.psd, self.E_star, q) / q * wg
+        dF = self.curve.dF(xg)
+        return -4.0 / (self.E_star * self.p0**2) * np.sum(dF * g[None], axis=(1, 2))
+
+    def contact_stiffness(self) -> NDArray[np.float64]:
+        """``K = -dp0/du`` [Pa/m], (n_load,) (see :func:`contact_stiffness`)."""
+        s = self.mean_gap_slope()
+        with np.errstate(divide="ignore"):
+            return np.where(s < 0, -1.0 / np.where(s < 0, s, -1.0), np.inf)
+
+    def detachment(self, zeta_edges: ArrayLike | None = None) -> Detachment:
+        """Detached-area bins (see :func:`detachment`)."""
+        cur, q_L, q_hi = self.curve, self.q_L, self.q_hi
+        z, A, N = _edges(cur, zeta_edges)
+        ubar = _sub_mean_gap(self.psd, self.E_star, self.phi, (z * q_L)[None, :], A, q_hi)
+        ubar[:, 0] = self.mean_gap()
+        ubar[:, -1] = 0.0
+        dA = N[:, 1:] - N[:, :-1]
+        dAu = A[:, :-1] * ubar[:, :-1] - A[:, 1:] * ubar[:, 1:]
+        ok = dA > 0
+        u1 = np.where(ok, dAu / np.where(ok, dA, 1.0), 0.0)
+        h = np.sqrt(_h2(self.psd, np.sqrt(z[:-1] * z[1:]) * q_L, q_hi))
+        h_rms = float(np.sqrt(_h2(self.psd, q_L, q_hi)))
+        return Detachment(self.p0, z, A, ubar, np.where(ok, dA, 0.0), np.maximum(u1, 0.0), h, h_rms)
+
+    def critical_magnification(self, a_c: float) -> NDArray[np.float64]:
+        """Where the contact area crosses ``a_c`` (see :func:`critical_magnification`)."""
+        return critical_magnification(self.curve.zeta, self.curve.area, a_c)
+
+    def separation_at(self, zeta_at: ArrayLike, *, rel_step: float = 1e-3) -> NDArray[np.float64]:
+        """``u1 = d(A u_zeta)/dA`` [m] at per-load ``zeta_at`` (see
+        :func:`separation_of_detaching_area`)."""
+        cur = self.curve
+        za = np.asarray(zeta_at, dtype=float).reshape(-1)
+        ok = np.isfinite(za)
+        out = np.full(self.p0.size, np.nan)
+        if not ok.any():
+            return out
+        zc = np.where(ok, za, 2.0)
+        zl = np.clip(zc * math.exp(-rel_step), 1.0, cur.zeta[-1])
+        zh = np.clip(zc * math.exp(rel_step), 1.0, cur.zeta[-1])
+        xs = np.log(np.stack([zl, zh], axis=1))  # (n_load, 2)
+        N = cur.non_area_at(xs)
+        A = 1.0 - N
+        u = _sub_mean_gap(self.psd, self.E_star, self.phi, np.exp(xs) * self.q_L, A, self.q_hi)
+        dA = N[:, 1] - N[:, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u1 = (A[:, 0] * u[:, 0] - A[:, 1] * u[:, 1]) / dA
+        out[ok] = np.maximum(u1[ok], 0.0)
+        return out

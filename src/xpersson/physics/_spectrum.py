@@ -1,0 +1,283 @@
+"""PowerSpectrum: a piecewise power-law spectrum with exact moments and slope integral."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.special import gammaln
+
+__all__ = ["profile_factor", "PowerSpectrum"]
+
+#: Allowed values of the ``convention`` argument of :class:`Tabulated`.
+CONVENTIONS: tuple[str, ...] = ("persson", "surface_topography", "profile_1d")
+
+_TWO_PI_SQ = (2.0 * np.pi) ** 2
+
+
+def profile_factor(H: ArrayLike) -> NDArray[np.float64] | float:
+    """Return the 1-D/2-D power-law factor :math:`K(H)` (physics.md §8.2).
+
+    For an isotropic power law :math:`C^{iso}(q) = C_0 q^{-2-2H}` (JJP convention) the line-scan
+    PSD is :math:`C^{1D}(q) = K(H)\\, C_0\\, q^{-1-2H}` with
+
+    .. math:: K(H) = \\frac{\\Gamma(H + 1/2)}{2\\sqrt{\\pi}\\,\\Gamma(H + 1)} .
+
+    Parameters
+    ----------
+    H : array_like
+        Hurst exponent(s), dimensionless, ``H > -1/2``.
+
+    Returns
+    -------
+    float or ndarray
+        :math:`K(H)`, dimensionless (``1/K = pi`` at ``H = 1/2``, ``4`` at ``H = 1``).
+    """
+    H_arr = np.asarray(H, dtype=float)
+    if np.any(~(H_arr > -0.5)):
+        raise ValueError("profile_factor: H must be > -1/2")
+    out = np.exp(gammaln(H_arr + 0.5) - gammaln(H_arr + 1.0)) / (2.0 * np.sqrt(np.pi))
+    return float(out) if out.ndim == 0 else out
+
+
+def _expm1_over_x(x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Return ``expm1(x)/x`` with the removable singularity (value 1) at ``x = 0``."""
+    x = np.asarray(x, dtype=float)
+    zero = x == 0.0
+    if not zero.any():
+        return np.expm1(x) / x
+    xs = np.where(zero, 1.0, x)
+    return np.where(zero, 1.0, np.expm1(xs) / xs)
+
+
+def _segment_integral(
+    a: NDArray[np.float64],
+    b: NDArray[np.float64],
+    Ca: NDArray[np.float64],
+    e: NDArray[np.float64],
+    k: float,
+) -> NDArray[np.float64]:
+    """Exact :math:`\\int_a^b q^k C(q) dq` for ``C(q) = Ca (q/a)^e`` (element-wise, ``b >= a > 0``).
+
+    Written as ``Ca a^{k+1} L expm1(s L)/(s L)`` with ``L = ln(b/a)``, ``s = k + e + 1``; the
+    logarithmic case ``s = 0`` is the continuous limit ``Ca a^{k+1} L``.
+    """
+    L = np.log(b / a)
+    s = k + e + 1.0
+    return Ca * a ** (k + 1.0) * L * _expm1_over_x(s * L)
+
+
+class PowerSpectrum:
+    """Abstract isotropic PSD made of power-law segments (Persson convention, m^4).
+
+    Subclasses call :meth:`_set_segments` with the breakpoints ``nodes`` (strictly increasing,
+    1/m), the PSD values at the *left* end of each segment ``C_left`` (m^4) and the log-log
+    exponents ``exponents`` of each segment (``C(q) = C_left (q/q_i)^e_i`` on
+    ``[q_i, q_{i+1}]``). ``C(q) = 0`` outside ``[q_L, q_1]``.
+
+    Attributes
+    ----------
+    q_L : float
+        Lower cut-off wavevector of the support [1/m] (defines the magnification
+        ``zeta = q / q_L``).
+    q_1 : float
+        Upper cut-off wavevector of the support [1/m].
+    """
+
+    q_L: float
+    q_1: float
+
+    # ------------------------------------------------------------------ set-up
+    def _set_segments(self, nodes: ArrayLike, C_left: ArrayLike, exponents: ArrayLike) -> None:
+        nodes = np.asarray(nodes, dtype=float)
+        C_left = np.asarray(C_left, dtype=float)
+        exponents = np.asarray(exponents, dtype=float)
+        if nodes.ndim != 1 or nodes.size < 2:
+            raise ValueError("a spectrum needs at least two breakpoints")
+        if not (C_left.shape == exponents.shape == (nodes.size - 1,)):
+            raise ValueError("C_left and exponents must have one entry per segment")
+        if np.any(np.diff(nodes) <= 0):
+            raise ValueError("breakpoints must be strictly increasing")
+        self._nodes = nodes
+        self._a = nodes[:-1]
+        self._b = nodes[1:]
+        self._Ca = C_left
+        self._e = exponents
+        self.q_L = float(nodes[0])
+        self.q_1 = float(nodes[-1])
+        self._cum_cache: dict[float, NDArray[np.float64]] = {}
+        self._moment_cache: dict[float, float] = {}
+
+    def freeze(self) -> PowerSpectrum:
+        """Make the spectrum immutable (read-only arrays, no attribute assignment); returns it.
+
+        A frozen spectrum may be shared (e.g. cached by a spectrum plugin for equal
+        parameters): its moments are computed once. Memo tables stay private.
+        """
+        for value in vars(self).values():
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+        object.__setattr__(self, "_frozen", True)
+        return self
+
+    @property
+    def frozen(self) -> bool:
+        """Whether :meth:`freeze` was called."""
+        return bool(getattr(self, "_frozen", False))
+
+    def __setattr__(self, name: str, value: object) -> None:
+        if getattr(self, "_frozen", False):
+            raise AttributeError(
+                f"{type(self).__name__} is frozen (shared); build a new one "
+                f"instead of setting {name!r}"
+            )
+        object.__setattr__(self, name, value)
+
+    # ----------------------------------------------------------------- basics
+    def nodes(self) -> NDArray[np.float64]:
+        """Return the breakpoints of the piecewise power-law PSD [1/m] (a copy).
+
+        Storing ``nodes()`` together with ``C(nodes())`` reproduces the spectrum exactly
+        (log-log interpolation, see :class:`Tabulated`).
+        """
+        return self._nodes.copy()
+
+    def C(self, q: ArrayLike) -> NDArray[np.float64] | float:
+        """Evaluate the PSD :math:`C(q)` [m^4] (Persson convention).
+
+        Parameters
+        ----------
+        q : array_like
+            Wavevector(s) [1/m].
+
+        Returns
+        -------
+        float or ndarray
+            ``C(q)``, zero outside ``[q_L, q_1]``. Same shape as ``q``.
+        """
+        q_arr = np.asarray(q, dtype=float)
+        idx = self._segment(q_arr)
+        inside = (q_arr >= self.q_L) & (q_arr <= self.q_1)
+        a = self._a[idx]
+        val = self._Ca[idx] * (np.where(inside, q_arr, a) / a) ** self._e[idx]
+        out = np.where(inside, val, 0.0)
+        return float(out) if out.ndim == 0 else out
+
+    def _segment(self, q: NDArray[np.float64]) -> NDArray[np.intp]:
+        """Index of the segment holding each ``q`` (clipped to the first / last segment)."""
+        idx = np.asarray(np.searchsorted(self._nodes, q, side="right"))
+        if idx.ndim == 0:  # scalar q
+            return np.intp(min(max(int(idx) - 1, 0), self._a.size - 1))
+        idx -= 1
+        np.maximum(idx, 0, out=idx)
+        np.minimum(idx, self._a.size - 1, out=idx)
+        return idx
+
+    # ---------------------------------------------------------------- moments
+    def moment(self, k: float, q_a: float | None = None, q_b: float | None = None) -> float:
+        """Exact moment :math:`\\int_{q_a}^{q_b} q^k C(q)\\, dq`.
+
+        Parameters
+        ----------
+        k : float
+            Power of ``q`` (any real; ``k = 1, 3, 5`` give height, slope, curvature moments).
+        q_a, q_b : float, optional
+            Integration limits [1/m]; default to the support ``q_L``, ``q_1``. Limits are
+            clipped to the support (``C = 0`` outside). ``q_b < q_a`` returns the negative.
+
+        Returns
+        -------
+        float
+            The moment in m^(4+k+1) (e.g. m^2 for ``k = 1``, dimensionless for ``k = 3``).
+        """
+        if q_a is None and q_b is None:  # the full moment: computed once per k
+            cache = getattr(self, "_moment_cache", None)
+            if cache is None:  # a subclass that does not use _set_segments
+                return self._moment(float(k), self.q_L, self.q_1)
+            key = float(k)
+            if key not in cache:
+                cache[key] = self._moment(key, self.q_L, self.q_1)
+            return cache[key]
+        qa = self.q_L if q_a is None else float(q_a)
+        qb = self.q_1 if q_b is None else float(q_b)
+        return self._moment(float(k), qa, qb)
+
+    def _moment(self, k: float, qa: float, qb: float) -> float:
+        if qb < qa:
+            return -self._moment(k, qb, qa)
+        lo = np.clip(np.maximum(self._a, qa), self._a, self._b)
+        hi = np.clip(np.minimum(self._b, qb), self._a, self._b)
+        use = hi > lo
+        if not np.any(use):
+            return 0.0
+        lo, hi = lo[use], hi[use]
+        a, Ca, e = self._a[use], self._Ca[use], self._e[use]
+        C_lo = Ca * (lo / a) ** e
+        return float(np.sum(_segment_integral(lo, hi, C_lo, e, float(k))))
+
+    def _cumulative(self, k: float) -> NDArray[np.float64]:
+        """Cumulative moment at the nodes, ``M_k(nodes[i]) = int_{q_L}^{nodes[i]} q^k C``."""
+        key = float(k)
+        cum = self._cum_cache.get(key)
+        if cum is None:
+            seg = _segment_integral(self._a, self._b, self._Ca, self._e, key)
+            cum = np.concatenate(([0.0], np.cumsum(seg)))
+            self._cum_cache[key] = cum
+        return cum
+
+    def running_moment(self, k: float, q: ArrayLike) -> NDArray[np.float64] | float:
+        """Exact :math:`\\int_{q_L}^{q} q'^k C(q')\\, dq'`, vectorised over ``q``.
+
+        Parameters
+        ----------
+        k : float
+            Power of ``q``.
+        q : array_like
+            Upper limit(s) [1/m]; values below ``q_L`` give 0, above ``q_1`` the full moment.
+
+        Returns
+        -------
+        float or ndarray
+            Same shape as ``q``.
+        """
+        q_arr = np.minimum(np.maximum(np.asarray(q, dtype=float), self.q_L), self.q_1)
+        cum = self._cumulative(k)
+        idx = self._segment(q_arr)
+        a = self._a[idx]
+        part = _segment_integral(a, q_arr, self._Ca[idx], self._e[idx], float(k))
+        out = cum[idx] + part
+        return float(out) if out.ndim == 0 else out
+
+    def I3(self, q: ArrayLike) -> NDArray[np.float64] | float:
+        """Exact slope integral :math:`I_3(q) = \\int_{q_L}^{q} q'^3 C(q')\\, dq'` (§1.2).
+
+        Parameters
+        ----------
+        q : array_like
+            Upper limit(s) [1/m], vectorised; clipped to ``[q_L, q_1]``.
+
+        Returns
+        -------
+        float or ndarray
+            ``I3(q)`` (dimensionless: m^-3 * m^4 * m^-1); ``<|grad h|^2>_q = 2 pi I3(q)``.
+        """
+        return self.running_moment(3.0, q)
+
+    def h_rms(self) -> float:
+        """Root-mean-square height [m]: ``sqrt(2 pi m_1)``."""
+        return math.sqrt(2.0 * np.pi * self.moment(1.0))
+
+    def rms_slope(self) -> float:
+        """Root-mean-square 2-D gradient ``sqrt(<|grad h|^2>) = sqrt(2 pi m_3)``.
+
+        Dimensionless. The profile (1-D) slope is this value divided by ``sqrt(2)``.
+        """
+        return math.sqrt(2.0 * np.pi * self.moment(3.0))
+
+    def rms_curvature(self) -> float:
+        """Root-mean-square Laplacian :math:`\\sqrt{\\langle(\\nabla^2 h)^2\\rangle}` [1/m]."""
+        return math.sqrt(2.0 * np.pi * self.moment(5.0))
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(q_L={self.q_L:.6g}, q_1={self.q_1:.6g})"

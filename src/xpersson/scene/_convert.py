@@ -1,0 +1,252 @@
+"""Conversion of scene values: kinds, units, ranges, sweep values; JSON-able records."""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from ..errors import SceneError, UnitError
+from ..specs import ParamSpec
+from ..units import to_si
+from ._core import CORE, MAX_POINTS
+
+__all__ = [
+    "RANGE_KEYS",
+    "convert_param",
+    "convert_params",
+    "is_sweep_value",
+    "jsonable",
+    "loads",
+    "resolved_loads",
+    "sweep_values",
+]
+
+
+def convert_param(spec: ParamSpec, value: Any, where: str) -> Any:
+    """Convert one scene value according to its spec, checking kind and range.
+
+    Parameters
+    ----------
+    spec : ParamSpec
+        The parameter's declaration (kind, unit, bounds).
+    value : object
+        The scene's value (a quantity string or number in ``spec.unit``, a bool, a string ...).
+    where : str
+        ``section.key`` for messages.
+
+    Returns
+    -------
+    object
+        The value in SI units (float or array for quantities), or as given for other kinds.
+
+    Raises
+    ------
+    SceneError
+        Wrong kind, unit or range; the message names ``where``, the unit and the range.
+    """
+    if spec.kind in ("bool", "string", "path", "choice"):
+        return _convert_literal(spec, value, where)
+    if spec.sweepable and is_sweep_value(spec, value):
+        raise SceneError(
+            f"{where}: several values sweep this parameter; solve the scene with "
+            "xpersson.solve (each point is resolved on its own)"
+        )
+    if spec.kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int | float) or value != int(value):
+            raise SceneError(f"{where}: expected an integer in {spec.range_text()}, got {value!r}")
+        if not spec.in_bounds(value):
+            raise SceneError(f"{where}: {value} is outside the allowed range {spec.range_text()}")
+        return int(value)
+    return _convert_quantity(spec, value, where)
+
+
+def _convert_literal(spec: ParamSpec, value: Any, where: str) -> Any:
+    """A bool, string, path or choice value, checked (returned as given)."""
+    if spec.kind == "bool":
+        if not isinstance(value, bool):
+            raise SceneError(f"{where}: expected true or false, got {value!r}")
+        return value
+    if spec.kind in ("string", "path"):
+        if not isinstance(value, str):
+            if isinstance(value, type):  # a class passed directly (Python API)
+                return value
+            raise SceneError(f"{where}: expected a string, got {value!r}")
+        return value
+    if value not in spec.choices:
+        raise SceneError(f"{where}: {value!r} is not allowed; {spec.range_text()}")
+    return value
+
+
+def _convert_quantity(spec: ParamSpec, value: Any, where: str) -> Any:
+    """A quantity (or array of quantities) in SI units, finite and inside the spec's range."""
+    try:
+        val = to_si(value, spec.unit, where, array=spec.array)
+    except UnitError as exc:
+        raise SceneError(str(exc)) from None
+    vals = np.atleast_1d(val)
+    if spec.array and vals.size == 0:
+        raise SceneError(f"{where}: empty list; give at least one value in {spec.range_text()}")
+    if spec.array and vals.size > MAX_POINTS:
+        raise SceneError(f"{where}: {vals.size} values; at most {MAX_POINTS} are allowed")
+    if not np.all(np.isfinite(vals)):
+        raise SceneError(f"{where}: must be finite, got {value!r}")
+    bad = [v for v in vals if not spec.in_bounds(float(v))]
+    if bad:
+        raise SceneError(
+            f"{where}: {bad[0]:g} {'' if spec.unit == '1' else spec.unit} is outside the allowed "
+            f"range {spec.range_text()}"
+        )
+    return val
+
+
+def convert_params(
+    specs: Mapping[str, ParamSpec], values: Mapping[str, Any], section: str
+) -> dict[str, Any]:
+    """Convert a section's values; unknown keys and missing required ones are errors."""
+    unknown = sorted(set(values) - set(specs))
+    if unknown:
+        raise SceneError(
+            f"{section}.{unknown[0]}: unknown parameter; allowed in [{section}]: "
+            f"{', '.join(sorted(specs)) or 'none'}"
+        )
+    out: dict[str, Any] = {}
+    for name, spec in specs.items():
+        where = f"{section}.{name}"
+        if name in values:
+            out[name] = convert_param(spec, values[name], where)
+        elif spec.required:
+            raise SceneError(
+                f"{where}: required ({spec.description or spec.unit}); "
+                f"allowed range {spec.range_text()}"
+            )
+        else:
+            out[name] = spec.default
+    return out
+
+
+RANGE_KEYS = ("start", "stop", "num", "spacing")
+
+
+def is_sweep_value(spec: ParamSpec, value: Any) -> bool:
+    """Whether ``value`` asks for several values of a scalar parameter (a list or a range
+    table ``{start, stop, num[, spacing]}``)."""
+    if spec.array or spec.kind not in ("quantity", "int"):
+        return False
+    if isinstance(value, list | tuple):
+        return True
+    return isinstance(value, Mapping) and bool(value) and set(value) <= set(RANGE_KEYS)
+
+
+def _in_bounds(spec: ParamSpec, values: np.ndarray) -> np.ndarray:
+    """:meth:`ParamSpec.in_bounds` for an array at once (NaN is never in bounds)."""
+    lo, hi = spec.bounds
+    ok = ~np.isnan(values)
+    if lo is not None:
+        ok &= (values >= lo) if spec.inclusive[0] else (values > lo)
+    if hi is not None:
+        ok &= (values <= hi) if spec.inclusive[1] else (values < hi)
+    return ok
+
+
+def sweep_values(spec: ParamSpec, value: Any, where: str) -> np.ndarray:
+    """The values of a list or range table ``{start, stop, num, spacing}`` in SI units.
+
+    ``spacing`` is ``"log"`` (default, as for ``load.p0``) or ``"linear"``; every value is
+    checked against the parameter's range.
+    """
+    if isinstance(value, Mapping):
+        unknown = sorted(set(value) - set(RANGE_KEYS))
+        if unknown:
+            raise SceneError(f"{where}.{unknown[0]}: unknown key; allowed: {list(RANGE_KEYS)}")
+        for k in ("start", "stop", "num"):
+            if k not in value:
+                raise SceneError(f"{where}.{k}: required for a range")
+        start = convert_param(spec, value["start"], f"{where}.start")
+        stop = convert_param(spec, value["stop"], f"{where}.stop")
+        num = value["num"]
+        if isinstance(num, bool) or not isinstance(num, int) or not 1 <= num <= MAX_POINTS:
+            raise SceneError(f"{where}.num: expected an integer in [1, {MAX_POINTS}], got {num!r}")
+        spacing = value.get("spacing", "log")
+        if spacing not in ("log", "linear"):
+            raise SceneError(f"{where}.spacing: {spacing!r} is not allowed; one of 'log', 'linear'")
+        if stop < start:
+            raise SceneError(f"{where}: stop must be >= start")
+        if spacing == "log" and start <= 0:
+            raise SceneError(f"{where}: a log-spaced range needs start > 0; use spacing = 'linear'")
+        grid = np.geomspace(start, stop, num) if spacing == "log" else np.linspace(start, stop, num)
+        if spec.kind == "int":
+            grid = np.unique(np.round(grid).astype(int))
+        bad = grid[~_in_bounds(spec, np.asarray(grid, float))]
+        if bad.size:
+            raise SceneError(
+                f"{where}: {float(bad[0]):g} is outside the allowed range {spec.range_text()}"
+            )
+        return grid
+    if not value:
+        raise SceneError(f"{where}: empty list; give at least one value in {spec.range_text()}")
+    if len(value) > MAX_POINTS:
+        raise SceneError(
+            f"{where}: {len(value)} values; at most {MAX_POINTS} are allowed (as for {where}.num)"
+        )
+    return np.array([convert_param(spec, v, f"{where}[{i}]") for i, v in enumerate(value)])
+
+
+def loads(value: Any, tensile: bool = False) -> tuple[np.ndarray, bool]:
+    """``load.p0`` in Pa and whether it was a scalar (``tensile`` lifts the sign bound)."""
+    spec = CORE["load"]["p0"]
+    if tensile:  # the boundary accepts tensile loads (adhesion) and checks their range itself
+        spec = dataclasses.replace(spec, bounds=(None, None))
+    if is_sweep_value(spec, value):
+        arr = sweep_values(spec, value, "load.p0")
+        if not isinstance(value, Mapping) and np.any(np.diff(arr) <= 0):
+            raise SceneError("load.p0: loads must be strictly increasing")
+        return arr, False
+    return np.array([convert_param(spec, value, "load.p0")]), True
+
+
+def resolved_loads(raw: Any, p0: np.ndarray, scalar: bool) -> Any:
+    """``load.p0`` of the resolved scene: re-loads to exactly ``p0``.
+
+    A range table stays a range table (its end points are the first and last loads exactly,
+    ``geomspace``/``linspace`` reproduce the values in between): a 1000-load sweep costs no
+    1000 formatted strings in the scene and its JSON. Lists and scalars: one string per load.
+    """
+    values = np.asarray(p0, float).tolist()
+    if isinstance(raw, Mapping) and len(values) == raw.get("num"):
+        return {
+            "start": f"{values[0]!r} Pa",
+            "stop": f"{values[-1]!r} Pa",
+            "num": len(values),
+            "spacing": raw.get("spacing", "log"),
+        }
+    texts = [f"{v!r} Pa" for v in values]
+    return texts[0] if scalar else texts
+
+
+def jsonable(
+    params: Mapping[str, Any], specs: Mapping[str, ParamSpec] | None = None
+) -> dict[str, Any]:
+    """JSON-able copy of resolved values; dimensional quantities as ``"value unit"`` strings so
+    that the resolved scene re-loads as a scene."""
+    out: dict[str, Any] = {}
+    for k, v in params.items():
+        spec = (specs or {}).get(k)
+        dimensional = spec is not None and spec.kind == "quantity" and spec.unit not in ("1", "")
+        if v is None:
+            continue
+        if dimensional and isinstance(v, np.ndarray):
+            out[k] = [f"{float(x)!r} {spec.unit}" for x in v]
+        elif dimensional and isinstance(v, int | float):
+            out[k] = f"{float(v)!r} {spec.unit}"
+        elif isinstance(v, np.ndarray):
+            out[k] = [float(x) for x in v]
+        elif isinstance(v, type):
+            out[k] = f"{v.__module__}:{v.__qualname__}"
+        elif isinstance(v, np.generic):
+            out[k] = v.item()
+        else:
+            out[k] = v
+    return out

@@ -1,0 +1,182 @@
+"""The core sections of a scene (their parameters and limits) and the resolved scene."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..plugins import PLUGIN_GROUPS, ParamSpec, Plugin
+
+__all__ = [
+    "CORE",
+    "DEFAULT_MODEL",
+    "MAX_POINTS",
+    "MAX_PRESSURE",
+    "MAX_ZETA",
+    "PLUGIN_SECTIONS",
+    "TOP_LEVEL",
+    "ResolvedScene",
+]
+
+# -- the core sections and their parameters ---------------------------------------------------
+MAX_PRESSURE = 1e13
+"""Largest modulus or pressure a scene may give [Pa] (beyond any solid; keeps f ~ E*^2 finite)."""
+MAX_ZETA = 1e12
+"""Largest magnification q_1/q_L a scene may ask for [1]."""
+MAX_POINTS = 100_000
+"""Longest list of loads, magnifications or pressures (as the range form's ``num``)."""
+CORE: dict[str, dict[str, ParamSpec]] = {
+    "material": {
+        "E": ParamSpec(
+            "Pa",
+            bounds=(0, MAX_PRESSURE),
+            inclusive=(False, True),
+            sweepable=True,
+            description="Young's modulus of the elastic solid",
+        ),
+        "nu": ParamSpec(
+            "1",
+            bounds=(-1, 0.5),
+            inclusive=(False, True),
+            sweepable=True,
+            description="Poisson ratio",
+        ),
+    },
+    "load": {
+        "p0": ParamSpec(
+            "Pa",
+            bounds=(0, MAX_PRESSURE),
+            inclusive=(False, True),
+            sweepable=True,
+            description="nominal pressure: scalar, list or {start, stop, num}",
+        ),
+    },
+    "output": {
+        "zeta_per_decade": ParamSpec(
+            "1",
+            default=10,
+            bounds=(1, 1000),
+            kind="int",
+            description="log-spaced output magnifications per decade",
+        ),
+        "zeta": ParamSpec(
+            "1",
+            default=None,
+            bounds=(1, MAX_ZETA),
+            array=True,
+            description="explicit output magnifications (>= 1)",
+        ),
+        "zeta_max": ParamSpec(
+            "1",
+            default=None,
+            bounds=(1, MAX_ZETA),
+            description="largest magnification (default q_1/q_L)",
+        ),
+        "pressure_pdf": ParamSpec(
+            "1", default=False, kind="bool", description="store the pressure PDF P(zeta, p)"
+        ),
+        "p_points": ParamSpec(
+            "1",
+            default=256,
+            bounds=(8, 100000),
+            kind="int",
+            description="points of the default pressure grid",
+        ),
+        "p_max": ParamSpec(
+            "Pa",
+            default=None,
+            bounds=(0, MAX_PRESSURE),
+            inclusive=(False, True),
+            description="upper end of the pressure grid",
+        ),
+        "p": ParamSpec(
+            "Pa",
+            default=None,
+            bounds=(-MAX_PRESSURE, MAX_PRESSURE),
+            array=True,
+            description="explicit pressure grid (increasing)",
+        ),
+    },
+    "solver": {
+        "method": ParamSpec(
+            "1",
+            default="auto",
+            kind="string",
+            description="engine method (auto: exact path where one exists)",
+        ),
+        "rtol": ParamSpec(
+            "1",
+            default=1e-6,
+            bounds=(1e-12, 0.1),
+            inclusive=(True, False),
+            description="relative tolerance on the contact area",
+        ),
+        "atol": ParamSpec(
+            "1",
+            default=1e-12,
+            bounds=(0, 0.1),
+            description="absolute tolerance on the contact area",
+        ),
+        "walkers": ParamSpec(
+            "1",
+            default=None,
+            bounds=(1, 1e9),
+            kind="int",
+            description="walkers of the Monte Carlo method 'markov'",
+        ),
+        "seed": ParamSpec(
+            "1",
+            default=None,
+            bounds=(0, None),
+            kind="int",
+            description="random seed of the Monte Carlo method 'markov'",
+        ),
+    },
+}
+PLUGIN_SECTIONS = {s: g for s, g in PLUGIN_GROUPS.items() if s != "analysis"}
+"""The scene's plugin sections -> their group (:data:`xpersson.plugins.PLUGIN_GROUPS`)."""
+DEFAULT_MODEL = {"coefficient": "elastic", "boundary": "elastic"}
+TOP_LEVEL = {"title", "description", "analyses", "sweep", *CORE, *PLUGIN_SECTIONS}
+
+
+@dataclass
+class ResolvedScene:
+    """A validated scene: plugin instances and SI arrays (no pint).
+
+    Besides the values, resolution captures what the run needs of the registry:
+    ``labels`` (section or ``"analyses.<name>"`` -> the plugin's label for messages, see
+    :func:`xpersson.checks.plugin_label`) and ``plugin_records`` (``(record, name)`` per plugin
+    in the order spectrum, coefficient, boundary, analyses: the shared read-only
+    :meth:`xpersson.plugins.Registry.provenance` record and the name the scene used).
+    """
+
+    scene: Any  # the Scene it was resolved from (a Scene; _scene imports this module)
+    spectrum: Plugin
+    coefficient: Plugin
+    boundary: Plugin
+    analyses: list[tuple[str, Plugin]]
+    psd: Any
+    E: float
+    nu: float
+    p0: np.ndarray
+    p0_scalar: bool
+    zeta: np.ndarray
+    pressure_pdf: bool
+    p: np.ndarray | None
+    p_points: int
+    p_max: float | None
+    rtol: float
+    atol: float
+    method: Any
+    plugin_names: dict[str, str] = field(default_factory=dict)
+    resolved: dict[str, Any] = field(default_factory=dict)
+    solver_options: dict[str, Any] = field(default_factory=dict)
+    labels: dict[str, Any] = field(default_factory=dict)
+    plugin_records: tuple[tuple[dict[str, Any], str | None], ...] = ()
+
+    @property
+    def E_star(self) -> float:
+        """Plane-strain modulus ``E / (1 - nu^2)`` [Pa]."""
+        return self.E / (1.0 - self.nu**2)

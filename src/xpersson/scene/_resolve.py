@@ -1,0 +1,322 @@
+"""Resolution: a scene's sections checked and converted into plugins and SI arrays.
+
+Everything is checked before any work starts (see :mod:`xpersson.scene`). Resolution also
+captures what a run needs of the registry: the plugins' labels for messages and their
+provenance records (:attr:`ResolvedScene.labels`, :attr:`ResolvedScene.plugin_records`).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..checks import calling, check_spectrum, plugin_label
+from ..errors import SceneError
+from ..plugins import ParamSpec, Plugin, PluginError, Registry
+from ._convert import (
+    convert_params,
+    jsonable,
+    loads,
+    resolved_loads,
+)
+from ._core import (
+    CORE,
+    DEFAULT_MODEL,
+    MAX_ZETA,
+    PLUGIN_SECTIONS,
+    TOP_LEVEL,
+    ResolvedScene,
+)
+
+__all__ = ["plugin_message", "resolve_scene"]
+
+
+def _plugin(
+    section: str, raw: Mapping[str, Any] | None, registry: Registry, base: Path | None = None
+) -> tuple[Plugin, str, dict[str, Any]]:
+    """The plugin instance of a scene section, its name and its converted parameters."""
+    group = PLUGIN_SECTIONS[section]
+    raw = dict(raw or {})
+    model = raw.pop("model", DEFAULT_MODEL.get(section))
+    if model is None:
+        raise SceneError(
+            f"{section}.model: required; choose one of "
+            f"{', '.join(registry.names(group)) or 'none installed'}"
+        )
+    try:
+        cls = registry.resolve(group, model)
+    except PluginError as exc:
+        raise SceneError(f"{section}.model: {exc}") from None
+    except TypeError as exc:
+        raise SceneError(f"{section}.model: {exc}") from None
+    params = convert_params(cls.parameters, raw, section)
+    params = _absolute_paths(cls.parameters, params, base)
+    try:
+        inst = cls(**params)
+    except (ValueError, TypeError) as exc:
+        raise SceneError(plugin_message(section, cls, exc)) from None
+    name = model if isinstance(model, str) else registry.name_of(group, cls)[0]
+    return inst, name, params
+
+
+def plugin_message(section: str, cls: Any, exc: BaseException) -> str:
+    """``"section.param: ..."`` when a plugin's message starts with one of its parameters."""
+    msg = str(exc)
+    head = re.split(r"[\s:=]", msg, maxsplit=1)[0]
+    if head in getattr(cls, "parameters", {}):
+        return f"{section}.{msg}"
+    return f"{section}: {msg}"
+
+
+def _absolute_paths(
+    specs: Mapping[str, ParamSpec], params: dict[str, Any], base: Path | None
+) -> dict[str, Any]:
+    """Paths in a scene file are relative to the file's folder."""
+    out = dict(params)
+    for name, spec in specs.items():
+        value = out.get(name)
+        if spec.kind == "path" and isinstance(value, str):
+            path = Path(value).expanduser()
+            if not path.is_absolute() and base is not None:
+                path = base / path
+            out[name] = str(path)
+    return out
+
+
+def _build_spectrum(spectrum: Plugin, who: Any) -> Any:
+    """Build the numerical spectrum and check it (cut-offs, nodes, C finite and >= 0)."""
+    try:
+        with calling(who, "build()", passthrough=(ValueError,)):
+            psd = spectrum.build()
+    except ValueError as exc:
+        raise SceneError(plugin_message("spectrum", type(spectrum), exc)) from None
+    check_spectrum(psd, who)
+    ratio = float(psd.q_1) / float(psd.q_L)
+    if ratio > MAX_ZETA:
+        raise SceneError(
+            f"spectrum: q_1/q_L = {ratio:g} exceeds the largest magnification "
+            f"{MAX_ZETA:g}; allowed q_1/q_L in (1, {MAX_ZETA:g}]"
+        )
+    return psd
+
+
+def _check_method(method: Any) -> None:
+    """``solver.method`` is ``"auto"``, a registered method name or an EngineMethod class."""
+    from ..engine import EngineMethod
+    from ..engine._methods import METHODS  # the engine's face exports no METHODS yet
+
+    if isinstance(method, type):
+        if not issubclass(method, EngineMethod):
+            raise SceneError(
+                f"solver.method: {method!r} is not an xpersson.engine.EngineMethod subclass"
+            )
+        return
+    if method != "auto" and method not in METHODS:
+        raise SceneError(
+            f"solver.method: {method!r} is not an engine method; one of "
+            f"{', '.join(['auto', *sorted(METHODS)])}"
+        )
+
+
+def _zeta_grid(out: Mapping[str, Any], zeta_support: float) -> np.ndarray:
+    """The output magnifications: explicit, or log-spaced up to ``zeta_max`` (from 1)."""
+    zmax = out["zeta_max"]
+    if zmax is not None and zmax > zeta_support * (1 + 1e-12):
+        raise SceneError(
+            f"output.zeta_max: {zmax:g} exceeds the spectrum's range q_1/q_L = {zeta_support:g}; "
+            f"allowed [1, {zeta_support:g}]"
+        )
+    zmax = min(zmax or zeta_support, zeta_support)
+    if out["zeta"] is not None:
+        z = np.unique(np.asarray(out["zeta"], float))
+        if z[-1] > zeta_support * (1 + 1e-12):
+            raise SceneError(
+                f"output.zeta: {z[-1]:g} exceeds q_1/q_L = {zeta_support:g}; allowed [1, "
+                f"{zeta_support:g}]"
+            )
+        if z[0] > 1.0:
+            z = np.concatenate([[1.0], z])
+        return z
+    n = max(1, math.ceil(out["zeta_per_decade"] * math.log10(zmax) - 1e-9)) if zmax > 1 else 0
+    if n == 0:
+        return np.array([1.0])
+    z = np.geomspace(1.0, zmax, n + 1)
+    z[0], z[-1] = 1.0, zmax
+    return z
+
+
+def _check_sections(data: Mapping[str, Any]) -> None:
+    """Top-level keys, section types and the required sections."""
+    unknown = sorted(set(data) - TOP_LEVEL)
+    if unknown:
+        raise SceneError(
+            f"{unknown[0]}: unknown section or key; allowed: {', '.join(sorted(TOP_LEVEL))}"
+        )
+    if "sweep" in data:
+        raise SceneError(
+            "sweep: a sweep scene is solved point by point; use xpersson.solve "
+            "(or xpersson.sweep.expand to list its points)"
+        )
+    for key in ("title", "description"):
+        if key in data and not isinstance(data[key], str):
+            raise SceneError(f"{key}: must be a string")
+    for sec in (*CORE, *PLUGIN_SECTIONS, "analyses"):
+        if sec in data and not isinstance(data[sec], Mapping):
+            raise SceneError(f"{sec}: must be a table, got {type(data[sec]).__name__}")
+    if "spectrum" not in data:
+        raise SceneError("spectrum: required section (e.g. model = 'self_affine')")
+    if "load" not in data or "p0" not in data["load"]:
+        raise SceneError("load.p0: required (nominal pressure, e.g. '1 MPa')")
+
+
+def _core_sections(data: Mapping[str, Any]) -> dict[str, Any]:
+    """The converted core sections: material, loads (raw and Pa), output and solver."""
+    material = convert_params(CORE["material"], data.get("material", {}), "material")
+    load_raw = dict(data["load"])
+    p0_raw = load_raw.pop("p0")
+    if load_raw:
+        raise SceneError(f"load.{sorted(load_raw)[0]}: unknown parameter; allowed in [load]: p0")
+    p0, scalar = loads(p0_raw, tensile=True)  # sign checked once the boundary is known
+    out = convert_params(CORE["output"], data.get("output", {}), "output")
+    solver = convert_params(CORE["solver"], data.get("solver", {}), "solver")
+    if out["p"] is not None and np.any(np.diff(out["p"]) <= 0):
+        raise SceneError("output.p: the pressure grid must be strictly increasing")
+    if out["p"] is not None and out["p"].size < 2:
+        raise SceneError(
+            "output.p: give at least 2 pressures (a grid to integrate P over) in "
+            + CORE["output"]["p"].range_text()
+        )
+    _check_method(solver["method"])
+    return {
+        "material": material,
+        "p0_raw": p0_raw,
+        "p0": p0,
+        "scalar": scalar,
+        "output": out,
+        "solver": solver,
+    }
+
+
+def _analyses(
+    requested: Mapping[str, Any],
+    plugins: Mapping[str, Plugin],
+    names: Mapping[str, str],
+    registry: Registry,
+) -> list[tuple[str, Plugin]]:
+    """The requested analyses and their providers, planned, instantiated and checked."""
+    for name, params in requested.items():
+        if not isinstance(params, Mapping):
+            raise SceneError(f"analyses.{name}: must be a table of the analysis' parameters")
+    if not requested:
+        return []
+    from ..plugins import plan_analyses  # noqa: PLC0415 - only when asked for
+    from ..schema import COORDS, CORE_VARIABLES  # noqa: PLC0415
+
+    try:
+        available = set(CORE_VARIABLES) | set(COORDS)
+        for section in ("coefficient", "boundary"):
+            available |= set(type(plugins[section]).outputs)
+        plan = plan_analyses(requested, available, registry)
+    except (PluginError, ValueError) as exc:
+        raise SceneError(f"analyses: {exc}") from None
+    analyses: list[tuple[str, Plugin]] = []
+    for name, cls, raw in plan:
+        params = convert_params(cls.parameters, raw, f"analyses.{name}")
+        try:
+            inst = cls(**params)
+            inst.check_scene(plugins["coefficient"], plugins["boundary"])
+            analyses.append((name, inst))
+        except (ValueError, TypeError) as exc:
+            msg = plugin_message(f"analyses.{name}", cls, exc)
+            raise SceneError(
+                f"{msg} (scene: boundary {names['boundary']!r}, "
+                f"coefficient {names['coefficient']!r})"
+            ) from None
+    return analyses
+
+
+def _records(
+    plugins: Mapping[str, Plugin],
+    names: Mapping[str, str],
+    analyses: list[tuple[str, Plugin]],
+    registry: Registry,
+) -> tuple[tuple[dict[str, Any], str | None], ...]:
+    """``(provenance record, name)`` of every plugin: spectrum, coefficient, boundary,
+    analyses (the records are the registry's shared read-only ones)."""
+    items = [(PLUGIN_SECTIONS[s], names.get(s), plugins[s]) for s in PLUGIN_SECTIONS]
+    items += [("analyses", name, inst) for name, inst in analyses]
+    return tuple((registry.provenance(group, type(inst)), name) for group, name, inst in items)
+
+
+def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
+    """Validate and resolve a :class:`~xpersson.scene.Scene` (see :meth:`Scene.resolve`)."""
+    data = scene.data
+    _check_sections(data)
+    core = _core_sections(data)
+    out, solver, p0 = core["output"], core["solver"], core["p0"]
+
+    names: dict[str, str] = {}
+    plugins: dict[str, Plugin] = {}
+    resolved: dict[str, Any] = {k: data[k] for k in ("title", "description") if k in data}
+    for section in PLUGIN_SECTIONS:
+        base = Path(scene.source).parent if scene.source else None
+        inst, name, params = _plugin(section, data.get(section), registry, base)
+        plugins[section], names[section] = inst, name
+        resolved[section] = {"model": name, **jsonable(params, type(inst).parameters)}
+    if not getattr(type(plugins["boundary"]), "tensile_loads", False) and np.any(p0 <= 0):
+        loads(core["p0_raw"])  # raises the range error of a compressive-only boundary
+    labels: dict[str, Any] = {
+        s: plugin_label(s, plugins[s], registry, names[s]) for s in PLUGIN_SECTIONS
+    }
+    psd = _build_spectrum(plugins["spectrum"], labels["spectrum"])
+    archived = getattr(plugins["spectrum"], "archived_params", None)
+    if callable(archived):  # file-based spectra: the table itself goes into the archive
+        spec_cls = type(plugins["spectrum"])
+        resolved["spectrum"] = {
+            "model": names["spectrum"],
+            **jsonable(archived(psd), spec_cls.parameters),
+        }
+    zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
+
+    analyses = _analyses(data.get("analyses", {}), plugins, names, registry)
+    resolved["analyses"] = {}
+    for name, inst in analyses:
+        labels[f"analyses.{name}"] = plugin_label("analyses", inst, registry, name)
+        # the instance's parameters: defaults it resolved (e.g. a gamma) are recorded too
+        resolved["analyses"][name] = jsonable(dict(inst.params), type(inst).parameters)
+    resolved["material"] = jsonable(core["material"], CORE["material"])
+    resolved["load"] = {"p0": resolved_loads(core["p0_raw"], p0, core["scalar"])}
+    resolved["output"] = jsonable(out, CORE["output"])
+    resolved["output"].pop("zeta_per_decade", None)
+    resolved["output"]["zeta"] = np.asarray(zeta, float).tolist()
+    resolved["solver"] = jsonable(solver, CORE["solver"])
+    return ResolvedScene(
+        scene=scene,
+        spectrum=plugins["spectrum"],
+        coefficient=plugins["coefficient"],
+        boundary=plugins["boundary"],
+        analyses=analyses,
+        psd=psd,
+        E=core["material"]["E"],
+        nu=core["material"]["nu"],
+        p0=p0,
+        p0_scalar=core["scalar"],
+        zeta=zeta,
+        pressure_pdf=bool(out["pressure_pdf"]) or out["p"] is not None,
+        p=None if out["p"] is None else np.asarray(out["p"], float),
+        p_points=int(out["p_points"]),
+        p_max=out["p_max"],
+        rtol=float(solver["rtol"]),
+        atol=float(solver["atol"]),
+        method=solver["method"],
+        plugin_names=names,
+        resolved=resolved,
+        solver_options={k: int(solver[k]) for k in ("walkers", "seed") if solver[k] is not None},
+        labels=labels,
+        plugin_records=_records(plugins, names, analyses, registry),
+    )

@@ -1,0 +1,103 @@
+"""Scenes as written by the user: a nested dict (from TOML or Python) and where it came from."""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ..errors import SceneError
+from ..plugins import Registry, get_registry
+from ._core import ResolvedScene
+from ._resolve import resolve_scene
+
+__all__ = ["Scene", "load_scene", "parse_cli_value", "set_value"]
+
+
+def _copy_tree(obj: Any) -> Any:
+    """A deep copy of a scene tree: tables and lists rebuilt, immutable leaves shared."""
+    if isinstance(obj, dict):
+        return {k: _copy_tree(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_copy_tree(v) for v in obj]
+    if obj is None or type(obj) in (str, int, float, bool):
+        return obj
+    return copy.deepcopy(obj)
+
+
+@dataclass
+class Scene:
+    """A scene as written by the user (a nested dict), plus where it came from.
+
+    Use :func:`load_scene` for files, ``Scene(dict)`` for dicts; :meth:`resolve` checks
+    everything and returns a :class:`ResolvedScene`.
+    """
+
+    data: dict[str, Any]
+    source: str | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.data, Mapping):
+            raise SceneError(f"a scene must be a mapping of sections, got {type(self.data)}")
+        self.data = _copy_tree(dict(self.data))
+
+    def with_values(self, **dotted: Any) -> Scene:
+        """Copy with ``section.key`` values replaced: ``with_values(**{"load.p0": "1 MPa"})``."""
+        new = Scene(self.data, self.source)
+        for key, value in dotted.items():
+            set_value(new.data, key, value)
+        return new
+
+    def resolve(self, registry: Registry | None = None) -> ResolvedScene:
+        """Validate and resolve; raises :class:`SceneError` before any work."""
+        return resolve_scene(self, registry or get_registry())
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read a TOML scene file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The ``.toml`` file.
+
+    Raises
+    ------
+    SceneError
+        The file is missing or is not valid TOML.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise SceneError(f"cannot read scene file {str(p)!r}: {exc.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{p}: invalid TOML: {exc}") from None
+    return Scene(data, source=str(p.resolve()))
+
+
+def set_value(data: dict[str, Any], dotted: str, value: Any) -> None:
+    """Set ``data[section][key] = value`` from a dotted name (creating the section)."""
+    parts = dotted.split(".")
+    if len(parts) < 2 or not all(parts):
+        raise SceneError(f"--set needs section.key=value, got {dotted!r}")
+    node = data
+    for part in parts[:-1]:
+        nxt = node.setdefault(part, {})
+        if not isinstance(nxt, dict):
+            raise SceneError(f"{dotted}: {part!r} is not a table")
+        node = nxt
+    node[parts[-1]] = value
+
+
+def parse_cli_value(text: str) -> Any:
+    """Interpret a ``--set`` value: a TOML value if it parses, else the raw string."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
