@@ -16,6 +16,10 @@ import warnings
 from collections.abc import Mapping
 from typing import Any
 
+from ._names import CHECK_NAME, qual
+from .registry import registry_with
+from .scenes import sample_params, tiny_scene
+
 __all__ = ["markov_cross_check"]
 
 _QUANTITIES = ("area", "absorbed_lower", "absorbed_upper")
@@ -39,7 +43,7 @@ def markov_cross_check(
     params : Mapping, optional
         Its SI parameters (default: declared defaults and ``example`` values).
     scene : Mapping, optional
-        Replacements of :data:`xpersson.testing.TINY_SCENE` sections.
+        Replacements of :data:`~xpersson.testing.TINY_SCENE` sections.
     walkers : int
         Monte Carlo walkers per load (the standard error falls as ``walkers**-0.5``).
     seed : int
@@ -61,17 +65,16 @@ def markov_cross_check(
     """
     import numpy as np
 
-    from . import engine
-    from .plugins._context import DiffusionClock, SceneContext
-    from .scene import Scene
-    from .testing import _CHECK_NAME, _qual, registry_with, sample_params, tiny_scene
+    from .. import engine
+    from ..plugins import DiffusionClock, SceneContext
+    from ..scene import Scene
 
-    who = _qual(cls)
+    who = qual(cls)
     if getattr(cls, "group", None) != "boundaries":
         raise AssertionError(f"{who}: the Markov cross-check applies to boundary plugins")
     values = sample_params(cls, params)
     sc = tiny_scene(cls, values, scene)
-    with registry_with(boundaries={_CHECK_NAME: cls}) as reg:
+    with registry_with(boundaries={CHECK_NAME: cls}) as reg:
         rs = Scene(sc).resolve(reg)
     ctx = SceneContext(
         psd=rs.psd,
