@@ -22,6 +22,11 @@ from xpersson.testing import (  # noqa: F401 - the last two are fixtures
     xpersson_oracles,
     xpersson_tiny_scene,
 )
+from xpersson.testing.pytest_plugin import (  # noqa: F401 - fixtures
+    xpersson_registry,
+    xpersson_scene,
+    xpersson_spectrum,
+)
 
 
 def _solve_available() -> bool:
@@ -160,3 +165,44 @@ def test_oracles_reproduce_physics_reference_numbers(xpersson_oracles):  # noqa:
 def test_tiny_scene_fixture_is_a_fresh_copy(xpersson_tiny_scene):  # noqa: F811
     xpersson_tiny_scene["load"]["p0"] = "1 Pa"
     assert testing.TINY_SCENE["load"]["p0"] == ["1e4 Pa", "1e5 Pa"]
+
+
+def test_scene_factories_write_the_tiny_scene_sections():
+    assert testing.spectrum() == testing.TINY_SCENE["spectrum"]
+    assert testing.material() == testing.TINY_SCENE["material"]
+    sc = testing.scene(p0=[1e4, "1e5 Pa"], zeta_per_decade=3, boundary={"model": "elastic"})
+    assert list(sc) == ["spectrum", "material", "load", "output", "boundary"]
+    assert sc["load"] == testing.TINY_SCENE["load"] | {"p0": ["10000.0 Pa", "1e5 Pa"]}
+    assert testing.pressures(np.array([2.5e3])) == ["2500.0 Pa"]
+    assert testing.pressures(1e5) == ["100000.0 Pa"] == testing.pressures(np.float64(1e5))
+
+
+def test_scene_factory_returns_independent_sections():
+    boundary = {"model": "x", "s": ["1 Pa"]}
+    a = testing.scene(boundary=boundary)
+    b = testing.scene(boundary=boundary)
+    a["spectrum"]["H"] = 0.1
+    a["boundary"]["s"].append("2 Pa")
+    assert b["spectrum"]["H"] == 0.8 and boundary["s"] == ["1 Pa"] == b["boundary"]["s"]
+
+
+def test_merge_scene_merges_nested_sections():
+    sc = testing.merge_scene(testing.TINY_SCENE, {"boundary": {"s": "1 kPa"}, "load": {}})
+    assert sc["boundary"] == {"model": "elastic", "s": "1 kPa"}
+    assert sc["load"] == testing.TINY_SCENE["load"]
+    assert "s" not in testing.TINY_SCENE["boundary"]
+
+
+_BEFORE = get_registry()
+
+
+def test_xpersson_registry_fixture_installs(xpersson_registry, xpersson_scene, xpersson_spectrum):  # noqa: F811
+    reg = xpersson_registry(boundaries={"shifted": ShiftedWall})
+    assert get_registry() is reg and reg.load("boundaries", "shifted") is ShiftedWall
+    again = xpersson_registry(coefficients={"half": HalfCoefficient})
+    assert get_registry() is again and again.load("coefficients", "half") is HalfCoefficient
+    assert xpersson_scene()["spectrum"] == xpersson_spectrum() == testing.TINY_SCENE["spectrum"]
+
+
+def test_xpersson_registry_fixture_restored_the_default_registry():
+    assert get_registry() is _BEFORE

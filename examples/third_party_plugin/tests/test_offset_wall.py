@@ -1,4 +1,8 @@
-"""Tests of the example plugin, written exactly as an outside plugin author would."""
+"""Tests of the example plugin, written exactly as an outside plugin author would.
+
+The ``xpersson_*`` fixtures come from xpersson's pytest plugin (the ``pytest11`` entry point
+``xpersson``), active wherever xpersson is installed.
+"""
 
 from __future__ import annotations
 
@@ -10,7 +14,7 @@ import pytest
 
 import xpersson
 from xpersson.plugins import get_registry
-from xpersson.testing import check_plugin, constant_wall_area, constant_wall_load, tiny_scene
+from xpersson.testing import check_plugin, tiny_scene
 from xpersson_example.offset_wall import OffsetWall
 
 SCENE_S = 2e4  # Pa
@@ -46,16 +50,15 @@ def test_cli_lists_the_plugin():
     assert row.split()[:4] == ["boundaries", "offset_wall", "xpersson-example", "0.1.0"]
 
 
-def test_scene_by_name_matches_the_exact_solution():
-    sc = tiny_scene()
-    sc["boundary"] = {"model": "offset_wall", "s": f"{SCENE_S} Pa"}
-    ds = xpersson.solve(sc)
+def test_scene_by_name_matches_the_exact_solution(xpersson_oracles):
+    wall = {"boundary": {"model": "offset_wall", "s": f"{SCENE_S} Pa"}}
+    ds = xpersson.solve(tiny_scene(scene=wall))
     p0 = ds["p0"].values[:, None]
     tau = ds["diffusion_time"].values[None, :]
-    area = constant_wall_area(p0, SCENE_S, tau)
+    area = xpersson_oracles.constant_wall_area(p0, SCENE_S, tau)
     np.testing.assert_allclose(ds["area_fraction"].values, area, rtol=1e-6, atol=1e-12)
     np.testing.assert_allclose(ds["detached_fraction"].values, 1 - area, rtol=1e-5, atol=1e-9)
-    excess = constant_wall_load(p0, SCENE_S, tau) - p0
+    excess = xpersson_oracles.constant_wall_load(p0, SCENE_S, tau) - p0
     np.testing.assert_allclose(ds["adhesive_load_excess"].values, excess, rtol=1e-5, atol=1e-6)
     if "load" in ds:
         np.testing.assert_allclose(ds["load"].values, p0 + excess, rtol=1e-6)
@@ -64,10 +67,10 @@ def test_scene_by_name_matches_the_exact_solution():
     assert np.all(ds["area_fraction"].values[:, -1] > elastic["area_fraction"].values[:, -1])
 
 
-def test_archive_records_the_plugin():
+def test_archive_records_the_plugin(xpersson_tiny_scene):
     import json
 
-    sc = tiny_scene()
+    sc = xpersson_tiny_scene
     sc["boundary"] = {"model": "offset_wall", "s": "1 kPa"}
     ds = xpersson.solve(sc)
     used = json.loads(ds.attrs["xpersson_plugins"])
@@ -77,8 +80,8 @@ def test_archive_records_the_plugin():
     assert "10.1016/j.surfrep.2006.04.001" in entry["references"]
 
 
-def test_out_of_range_parameter_is_refused():
-    sc = tiny_scene()
+def test_out_of_range_parameter_is_refused(xpersson_tiny_scene):
+    sc = xpersson_tiny_scene
     sc["boundary"] = {"model": "offset_wall", "s": "-1 kPa"}
     with pytest.raises(ValueError, match="boundary.s"):
         xpersson.solve(sc)

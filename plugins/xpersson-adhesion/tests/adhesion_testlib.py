@@ -9,34 +9,21 @@ import numpy as np
 from scipy.optimize import brentq
 
 from xpersson.physics import SelfAffineRollOff, diffusion_time
+from xpersson.testing import material, scene, spectrum
 
 # The spectrum of xpersson.testing's tiny scene: H = 0.8, q_L = 1e3, q_r = 1e4, q_1 = 1e7 1/m.
-SPECTRUM = {
-    "model": "self_affine",
-    "H": 0.8,
-    "q_L": "1e3 1/m",
-    "q_r": "1e4 1/m",
-    "q_1": "1e7 1/m",
-    "h_rms": "1 um",
-}
+SPECTRUM = spectrum()
 PSD = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e7)
 ZETA_1 = 1e4
 
 # PDMS-like elastomer on a rough glass-like surface (the plugin's example scene).
-PDMS = {
-    "spectrum": {
-        "model": "self_affine",
-        "H": 0.8,
-        "q_L": "1e4 1/m",
-        "q_r": "1e5 1/m",
-        "q_1": "1e9 1/m",
-        "h_rms": "1 um",
-    },
-    "material": {"E": "1 MPa", "nu": 0.5},
-    "load": {"p0": ["-2 kPa", "1 kPa", "10 kPa"]},
-    "boundary": {"model": "jkr", "work_of_adhesion": "0.05 J/m**2"},
-    "output": {"zeta_per_decade": 3},
-}
+PDMS = scene(
+    spectrum(q_L="1e4 1/m", q_r="1e5 1/m", q_1="1e9 1/m"),
+    material("1 MPa"),
+    p0=["-2 kPa", "1 kPa", "10 kPa"],
+    boundary={"model": "jkr", "work_of_adhesion": "0.05 J/m**2"},
+    output={"zeta_per_decade": 3},
+)
 
 
 def unit_scene(tau_max: float = 2.0) -> tuple[dict, float]:
@@ -45,8 +32,7 @@ def unit_scene(tau_max: float = 2.0) -> tuple[dict, float]:
     Returns the scene (nu = 0, so E* = E; no load, boundary or output yet) and E* [Pa].
     """
     e_star = math.sqrt(tau_max / float(diffusion_time(PSD, 1.0, ZETA_1)))
-    scene = {"spectrum": dict(SPECTRUM), "material": {"E": f"{e_star!r} Pa", "nu": 0.0}}
-    return scene, e_star
+    return scene(material=material(f"{e_star!r} Pa", nu=0.0)), e_star
 
 
 def tau_of(zeta: np.ndarray, e_star: float) -> np.ndarray:

@@ -7,7 +7,7 @@ import warnings
 
 import numpy as np
 import pytest
-from adhesion_testlib import PSD, SPECTRUM, ZETA_1, with_
+from adhesion_testlib import PSD, ZETA_1, with_
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
@@ -16,17 +16,13 @@ from scipy.special import erf, erfc
 from xpersson.physics import diffusion_time
 from xpersson.physics.interface import detachment, gap_pdf
 from xpersson.scene import SceneError
+from xpersson.testing import material, scene, spectrum
 from xpersson_adhesion import LAWS, AdhesionLimitWarning, DMTBoundary, traction
 from xpersson_adhesion._traction import attraction, attraction_quadrature
 from xpersson_adhesion.dmt import _curve_grid
 
 E_STAR = 4.0e6 / 3.0
-TINY = {
-    "spectrum": dict(SPECTRUM),
-    "material": {"E": "1 MPa", "nu": 0.5},
-    "load": {"p0": ["2 kPa", "20 kPa"]},
-    "output": {"zeta_per_decade": 4},
-}
+TINY = scene(material=material("1 MPa"), p0=["2 kPa", "20 kPa"], zeta_per_decade=4)
 
 
 def _dmt(**kw):
@@ -223,24 +219,23 @@ def test_curve_grid_nodes_are_separated(zeta_max, per_decade):
 
 def test_scene_with_near_duplicate_curve_nodes_solves(solve):
     """The fuzz scene that failed with "`x` must be strictly increasing sequence"."""
-    sc = {
-        "spectrum": {
-            "model": "self_affine",
-            "H": 0.08770701236623936,
-            "q_L": "2002.0669273387969 1/m",
-            "q_r": "2002.0669273387969 1/m",
-            "q_1": "5541.683342273044 1/m",
-            "h_rms": "6.318420262971771e-09 m",
-        },
-        "material": {"E": "2398213099.2847214 Pa", "nu": 0.39554770728104216},
-        "load": {"p0": ["0.05381634121038694 Pa", "148290.75137277704 Pa"]},
-        "output": {"zeta_per_decade": 11},
-        "boundary": _dmt(
+    sc = scene(
+        spectrum(
+            H=0.08770701236623936,
+            q_L="2002.0669273387969 1/m",
+            q_r="2002.0669273387969 1/m",
+            q_1="5541.683342273044 1/m",
+            h_rms="6.318420262971771e-09 m",
+        ),
+        material("2398213099.2847214 Pa", 0.39554770728104216),
+        p0=[0.05381634121038694, 148290.75137277704],
+        zeta_per_decade=11,
+        boundary=_dmt(
             work_of_adhesion="0.005043522597706408 J/m**2",
             range="2.386381796964268e-09 m",
             law="exponential",
         ),
-    }
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         ds = solve(sc)

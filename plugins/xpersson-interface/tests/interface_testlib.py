@@ -8,6 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from xpersson import testing
+
 E_STAR = 10e6 / (1.0 - 0.5**2)  # §1.4: E = 10 MPa, nu = 0.5
 H_RMS_ZHOU = 6e-6
 
@@ -37,24 +39,20 @@ def read_csv(name: str) -> dict[str, np.ndarray]:
 def scene(p0, *, psd="persson", closure="persson01", boundary=None, analyses=None, **out):
     """A scene dict on the physics.md §1.4 spectrum ("persson") or the Zhou GFMD one ("zhou")."""
     if psd == "persson":
-        spectrum = {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_r": "1e4 1/m",
-                    "q_1": "1e8 1/m", "h_rms": "1 um"}  # fmt: skip
-        material = {"E": "10 MPa", "nu": 0.5}
+        spectrum = testing.spectrum(q_1="1e8 1/m")
+        material = testing.material("10 MPa")
     else:
-        spectrum = {"model": "self_affine", "H": 0.8, "q_L": "1e4 1/m", "q_r": "1e4 1/m",
-                    "q_1": "1e6 1/m", "h_rms": "6 um"}  # fmt: skip
-        material = {"E": "0.75 Pa", "nu": 0.5}  # E* = 1 Pa
-    sc = {
-        "spectrum": spectrum,
-        "material": material,
-        "load": {"p0": [f"{float(p)!r} Pa" for p in np.atleast_1d(p0)]},
-        "coefficient": {"model": "elastic", "closure": closure},
-        "boundary": boundary or {"model": "elastic"},
-        "analyses": analyses or {},
-    }
-    if out:
-        sc["output"] = out
-    return sc
+        spectrum = testing.spectrum(q_L="1e4 1/m", q_r="1e4 1/m", q_1="1e6 1/m", h_rms="6 um")
+        material = testing.material("0.75 Pa")  # E* = 1 Pa
+    return testing.scene(
+        spectrum,
+        material,
+        p0=p0,
+        coefficient={"model": "elastic", "closure": closure},
+        boundary=boundary or {"model": "elastic"},
+        analyses=analyses or {},
+        **({"output": out} if out else {}),
+    )
 
 
 def dense_zeta(zeta_1: float, n: int = 300) -> np.ndarray:

@@ -80,10 +80,9 @@ def test_declared_support_is_listed_by_plugins_show():
     assert describe("boundaries", "plastic")["traits"] == ["repulsive"]
 
 
-def test_a_boundary_installed_later_is_judged_by_its_declaration():
+def test_a_boundary_installed_later_is_judged_by_its_declaration(xpersson_registry):
     """A new boundary (e.g. adhesion, issue 11) needs no edit here: its traits decide."""
     from xpersson.builtin.elastic import ElasticBoundary
-    from xpersson.testing import registry_with
 
     class Sticky(ElasticBoundary):
         summary = "test double: elastic wall declaring no repulsion"
@@ -93,11 +92,11 @@ def test_a_boundary_installed_later_is_judged_by_its_declaration():
         summary = "test double: elastic wall with every trait"
 
     sc = scene([1e5], boundary={"model": "sticky"}, analyses={"mean_gap": {}})
-    with registry_with(boundaries={"sticky": Sticky, "rep": Repulsive}):
-        with pytest.raises(SceneError, match="repulsive"):
-            xpersson.solve(sc)
-        sc["boundary"] = {"model": "rep"}
-        assert xpersson.solve(sc)["mean_gap"].values.ravel()[0] > 0
+    xpersson_registry(boundaries={"sticky": Sticky, "rep": Repulsive})
+    with pytest.raises(SceneError, match="repulsive"):
+        xpersson.solve(sc)
+    sc["boundary"] = {"model": "rep"}
+    assert xpersson.solve(sc)["mean_gap"].values.ravel()[0] > 0
 
 
 def test_the_archive_records_form_and_gamma():
@@ -111,9 +110,8 @@ def test_the_archive_records_form_and_gamma():
     assert json.loads(ds.attrs["xpersson_scene"])["coefficient"]["closure"] == "persson01"
 
 
-def test_a_missing_variable_names_who_could_provide_it():
+def test_a_missing_variable_names_who_could_provide_it(xpersson_registry):
     from xpersson.plugins import Analysis, VarSpec
-    from xpersson.testing import registry_with
 
     class PlasticShare(Analysis):
         summary = "test double: needs the plastic area"
@@ -121,6 +119,6 @@ def test_a_missing_variable_names_who_could_provide_it():
         provides = ("share",)
         outputs = {"share": VarSpec(("p0",), "1", "plastic share")}
 
-    with registry_with(analyses={"share": PlasticShare}):
-        with pytest.raises(SceneError, match=r"boundary 'plastic' \(xpersson-plasticity\)"):
-            xpersson.solve(scene([1e5], analyses={"share": {}}))
+    xpersson_registry(analyses={"share": PlasticShare})
+    with pytest.raises(SceneError, match=r"boundary 'plastic' \(xpersson-plasticity\)"):
+        xpersson.solve(scene([1e5], analyses={"share": {}}))

@@ -5,29 +5,16 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from xpersson.testing import check_plugin, material, scene, spectrum
 from xpersson_plasticity import PlasticBoundary, ScaleDependentPlasticBoundary
 
-STEEL = {
-    "spectrum": {
-        "model": "self_affine",
-        "H": 0.8,
-        "q_L": "1e4 1/m",
-        "q_r": "1e5 1/m",
-        "q_1": "1e9 1/m",
-        "h_rms": "1 um",
-    },
-    "material": {"E": "210 GPa", "nu": 0.3},
-    "load": {"p0": ["10 MPa", "100 MPa"]},
-    "output": {"zeta_per_decade": 4},
-}
+STEEL = scene(
+    spectrum(q_L="1e4 1/m", q_r="1e5 1/m", q_1="1e9 1/m"),
+    material("210 GPa", 0.3),
+    p0=["10 MPa", "100 MPa"],
+    zeta_per_decade=4,
+)
 AREAS = ("elastic_area_fraction", "plastic_area_fraction", "non_contact_area_fraction")
-
-
-def _check_plugin():
-    testing = pytest.importorskip("xpersson.testing")
-    if not hasattr(testing, "check_plugin"):
-        pytest.skip("xpersson.testing.check_plugin not available yet")
-    return testing.check_plugin
 
 
 def _solve():
@@ -51,7 +38,7 @@ def _solve():
     ],
 )
 def test_check_plugin(cls, params, balance_tol, recwarn):
-    report = _check_plugin()(cls, params, balance_tol=balance_tol)
+    report = check_plugin(cls, params, balance_tol=balance_tol)
     assert report["metadata"] == "ok" and report["pickle"] == "ok"
     assert report["methods"] == "ok"  # the tiny scene (p0 <= 1 MPa) is below the hardness
 

@@ -10,19 +10,9 @@ import numpy as np
 import pytest
 
 import xpersson
+from xpersson.testing import material, scene, spectrum
 
-BASE = {
-    "spectrum": {
-        "model": "self_affine",
-        "H": 0.8,
-        "q_L": "1e3 1/m",
-        "q_r": "1e4 1/m",
-        "q_1": "1e6 1/m",
-        "h_rms": "1 um",
-    },
-    "material": {"E": "210 GPa", "nu": 0.3},
-    "output": {"zeta_per_decade": 8},
-}
+BASE = scene(spectrum(q_1="1e6 1/m"), material("210 GPa", 0.3), zeta_per_decade=8)
 
 
 def _scene(p0, Y1, n, rtol=1e-4):

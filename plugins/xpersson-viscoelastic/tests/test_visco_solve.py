@@ -7,6 +7,7 @@ import pytest
 from visco_testlib import elastic_scene, scene
 
 import xpersson
+from xpersson.testing import material, pressures
 from xpersson_viscoelastic import Friction, ViscoelasticCoefficient
 
 SLS = {"modulus": "sls", "E_r": "3 MPa", "E_g": "3 GPa", "relaxation_time": "1 ms"}
@@ -64,8 +65,8 @@ def test_scaling_moduli_and_pressures_leaves_area_and_mu_unchanged(lam):
         sc = scene(
             coef, analyses={"friction": {"tau_f": f"{5e5 * k!r} Pa", "correction": "s_factor"}}
         )
-        sc["load"] = {"p0": [f"{1e5 * k!r} Pa", f"{4e5 * k!r} Pa"]}
-        sc["material"] = {"E": f"{3e6 * k!r} Pa", "nu": 0.5}
+        sc["load"] = {"p0": pressures([1e5 * k, 4e5 * k])}
+        sc["material"] = material(f"{3e6 * k!r} Pa")
         return xpersson.solve(sc)
 
     a, b = run(1.0), run(lam)

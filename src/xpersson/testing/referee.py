@@ -16,6 +16,10 @@ import warnings
 from collections.abc import Mapping
 from typing import Any
 
+from ._names import CHECK_NAME, qual
+from .registry import registry_with
+from .scenes import sample_params, tiny_scene
+
 __all__ = ["markov_cross_check"]
 
 _QUANTITIES = ("area", "absorbed_lower", "absorbed_upper")
@@ -39,7 +43,7 @@ def markov_cross_check(
     params : Mapping, optional
         Its SI parameters (default: declared defaults and ``example`` values).
     scene : Mapping, optional
-        Replacements of :data:`xpersson.testing.TINY_SCENE` sections.
+        Replacements of :data:`~xpersson.testing.TINY_SCENE` sections.
     walkers : int
         Monte Carlo walkers per load (the standard error falls as ``walkers**-0.5``).
     seed : int
@@ -61,29 +65,13 @@ def markov_cross_check(
     """
     import numpy as np
 
-    from . import engine
-    from .plugins._context import DiffusionClock, SceneContext
-    from .scene import Scene
-    from .testing import _CHECK_NAME, _qual, registry_with, sample_params, tiny_scene
+    from .. import engine
+    from ..plugins import DiffusionClock
 
-    who = _qual(cls)
+    who = qual(cls)
     if getattr(cls, "group", None) != "boundaries":
         raise AssertionError(f"{who}: the Markov cross-check applies to boundary plugins")
-    values = sample_params(cls, params)
-    sc = tiny_scene(cls, values, scene)
-    with registry_with(boundaries={_CHECK_NAME: cls}) as reg:
-        rs = Scene(sc).resolve(reg)
-    ctx = SceneContext(
-        psd=rs.psd,
-        E=rs.E,
-        nu=rs.nu,
-        E_star=rs.E_star,
-        p0=rs.p0,
-        zeta=rs.zeta,
-        rtol=rs.rtol,
-        atol=rs.atol,
-        method=rs.method,
-    )
+    rs, ctx = _resolved(cls, params, scene)
     boundary, coef = rs.boundary, rs.coefficient
     try:
         boundary.validate(ctx)
@@ -108,21 +96,56 @@ def markov_cross_check(
                 method="markov",
                 options={"walkers": int(walkers), "seed": int(seed)},
             )
-        for name in _QUANTITIES:
-            a = np.asarray(getattr(ref, name), dtype=float)
-            b = np.asarray(getattr(mc, name), dtype=float)
-            se = np.sqrt(np.maximum(b * (1.0 - b), 1.0 / walkers) / walkers)
-            z = np.abs(a - b) / (se + np.abs(ref.error_estimate))
-            j = int(np.argmax(z))
-            if z[j] > worst:
-                worst = float(z[j])
-                where = (
-                    f"{name} at p0 = {p0:g} Pa, zeta = {rs.zeta[j]:.4g}: engine "
-                    f"({ref.method}) {a[j]:.6g}, markov {b[j]:.6g} +- {se[j]:.2g}"
-                )
+        load_worst, load_where = _worst_difference(ref, mc, walkers, float(p0), rs.zeta)
+        if load_worst > worst:
+            worst, where = load_worst, load_where
     if not math.isfinite(worst) or worst > n_se:
         raise AssertionError(
             f"{who}: the engine's solution of the plugin's walls differs from the Markov process "
             f"by {worst:.1f} standard errors (> {n_se:g}) with {walkers} walkers: {where}"
         )
     return f"ok (markov, {walkers} walkers: within {worst:.1f} standard errors)"
+
+
+def _resolved(
+    cls: type, params: Mapping[str, Any] | None, scene: Mapping[str, Any] | None
+) -> tuple[Any, Any]:
+    """The tiny scene with ``cls`` injected, resolved, and its :class:`SceneContext`."""
+    from ..plugins import SceneContext
+    from ..scene import Scene
+
+    sc = tiny_scene(cls, sample_params(cls, params), scene)
+    with registry_with(boundaries={CHECK_NAME: cls}) as reg:
+        rs = Scene(sc).resolve(reg)
+    ctx = SceneContext(
+        psd=rs.psd,
+        E=rs.E,
+        nu=rs.nu,
+        E_star=rs.E_star,
+        p0=rs.p0,
+        zeta=rs.zeta,
+        rtol=rs.rtol,
+        atol=rs.atol,
+        method=rs.method,
+    )
+    return rs, ctx
+
+
+def _worst_difference(ref: Any, mc: Any, walkers: int, p0: float, zeta: Any) -> tuple[float, str]:
+    """Largest engine-walkers difference of one load [standard errors] and where it is."""
+    import numpy as np
+
+    worst, where = 0.0, ""
+    for name in _QUANTITIES:
+        a = np.asarray(getattr(ref, name), dtype=float)
+        b = np.asarray(getattr(mc, name), dtype=float)
+        se = np.sqrt(np.maximum(b * (1.0 - b), 1.0 / walkers) / walkers)
+        z = np.abs(a - b) / (se + np.abs(ref.error_estimate))
+        j = int(np.argmax(z))
+        if z[j] > worst:
+            worst = float(z[j])
+            where = (
+                f"{name} at p0 = {p0:g} Pa, zeta = {zeta[j]:.4g}: engine "
+                f"({ref.method}) {a[j]:.6g}, markov {b[j]:.6g} +- {se[j]:.2g}"
+            )
+    return worst, where
