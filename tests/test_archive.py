@@ -25,8 +25,8 @@ def test_every_variable_has_cf_units_and_long_name(solved):
         assert "long_name" in var.attrs, name
     assert solved.attrs["Conventions"] == "CF-1.11, ACDD-1.3"
     assert solved.P.dims == ("p0", "zeta", "p")
-    assert solved.P.attrs["units"] == "Pa-1"
-    assert solved.psd_C.attrs["units"] == "m4"
+    assert solved.P.attrs["units"] == "Pa^-1"
+    assert solved.psd_C.attrs["units"] == "m^4"
 
 
 def test_provenance_records_scene_plugins_environment(solved):

@@ -211,6 +211,23 @@ class ParamSpec:
             )
 
 
+_POWER = re.compile(r"^([A-Za-z_]+)(-?[0-9]+)$")
+
+
+def caret_units(units: str) -> str:
+    """Write a UDUNITS unit string with explicit ``^`` powers (``"Pa2 m-1"`` -> ``"Pa^2 m^-1"``).
+
+    UDUNITS reads both forms; pint (and so pint-xarray's ``ds.pint.quantify()``) reads only the
+    explicit one, so every stored ``units`` attribute uses it.
+    """
+    return (
+        " ".join(
+            m.expand(r"\1^\2") if (m := _POWER.match(token)) else token for token in units.split()
+        )
+        or units
+    )
+
+
 @dataclass(frozen=True)
 class VarSpec:
     """Declaration of one output variable (CF metadata).
@@ -280,7 +297,7 @@ class VarSpec:
 
     def attrs(self) -> dict[str, Any]:
         """CF attributes for a variable with this spec (``valid_min``/``valid_max`` as floats)."""
-        out: dict[str, Any] = {"units": self.units, "long_name": self.long_name}
+        out: dict[str, Any] = {"units": caret_units(self.units), "long_name": self.long_name}
         if self.standard_name:
             out["standard_name"] = self.standard_name
         comment = self.description

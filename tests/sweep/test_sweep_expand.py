@@ -74,7 +74,7 @@ def test_plugin_declared_dims_v_and_T():
             scene(coefficient={"model": "sliding", "velocity": "1 m/s", "temperature": "300 K"})
         )
     assert ds.area_fraction.dims == ("v", "T", "p0", "zeta")
-    assert ds["v"].attrs["units"] == "m s-1" and ds["T"].attrs["units"] == "K"
+    assert ds["v"].attrs["units"] == "m s^-1" and ds["T"].attrs["units"] == "K"
     np.testing.assert_array_equal(ds["T"].values, [250.0, 300.0, 350.0])
     np.testing.assert_array_equal(
         ds.area_fraction.sel(v=1.0, T=300.0).values, one.area_fraction.values

@@ -123,7 +123,7 @@ def test_check_plugin_contract():
 def test_dataset_metadata(solve):
     ds = solve(PDMS)
     for name, spec in JKRBoundary.outputs.items():
-        assert ds[name].attrs["units"] == spec.units
+        assert ds[name].attrs["units"] == spec.attrs()["units"]
         assert ds[name].dims == spec.dims
         if spec.valid_min is not None:
             assert float(ds[name].min()) >= spec.valid_min

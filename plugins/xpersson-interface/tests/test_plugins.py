@@ -40,10 +40,10 @@ def ds():
 
 def test_end_to_end_solve(ds):
     units = {
-        "mean_gap": "m", "contact_stiffness": "Pa m-1", "elastic_energy": "J m-2",
-        "elastic_energy_full": "J m-2", "gap_pdf": "m-1", "gap_contact_weight": "1",
-        "gap_mean": "m", "leak_rate": "m3 s-1", "leak_u1": "m", "leak_sealed": "1",
-        "leak_rate_emt": "m3 s-1",
+        "mean_gap": "m", "contact_stiffness": "Pa m^-1", "elastic_energy": "J m^-2",
+        "elastic_energy_full": "J m^-2", "gap_pdf": "m^-1", "gap_contact_weight": "1",
+        "gap_mean": "m", "leak_rate": "m^3 s^-1", "leak_u1": "m", "leak_sealed": "1",
+        "leak_rate_emt": "m^3 s^-1",
     }  # fmt: skip
     for name, unit in units.items():
         assert ds[name].attrs["units"] == unit, name

@@ -19,7 +19,7 @@ def test_velocity_and_temperature_lists_become_dimensions(tmp_path):
     ds = xpersson.solve(scene({"velocity": v, "temperature": T, **WLF}, analyses=FRICTION))
     assert ds["mu"].dims == ("v", "T", "p0")
     assert ds["mu_visc_cumulative"].dims == ("v", "T", "p0", "zeta")
-    assert ds["v"].attrs["units"] == "m s-1" and ds["T"].attrs["units"] == "K"
+    assert ds["v"].attrs["units"] == "m s^-1" and ds["T"].attrs["units"] == "K"
     np.testing.assert_allclose(ds["v"].values, [1e-4, 1e-2, 1.0], rtol=1e-15)
     np.testing.assert_allclose(ds["T"].values, [273.15, 313.15], rtol=1e-15)
     # each point equals the scalar solve of that (v, T)
@@ -36,7 +36,7 @@ def test_velocity_and_temperature_lists_become_dimensions(tmp_path):
     xpersson.to_netcdf(ds, path)
     back = xpersson.open_dataset(path)
     np.testing.assert_array_equal(back["mu"].values, ds["mu"].values)
-    assert back["v"].attrs["units"] == "m s-1"
+    assert back["v"].attrs["units"] == "m s^-1"
 
 
 def test_velocity_range():

@@ -56,7 +56,10 @@ def pdf_resolution(ds: Any) -> str | None:
     ds["P_resolved"] = (("p0", "zeta"), ok.astype(np.int8))
     for name, spec in DIAGNOSTICS.items():
         ds[name].attrs.update(spec.attrs())
-    ds["P_resolved"].attrs["flag_values"] = np.array([0, 1], np.int8)
+    flags = ds["P_resolved"].attrs
+    flags["flag_values"] = np.array([0, 1], np.int8)
+    # CF 2.5: the valid range has the variable's own type
+    flags["valid_min"], flags["valid_max"] = np.int8(0), np.int8(1)
     zeta = np.asarray(ds["zeta"].values, float)
     # at zeta = 1 (tau = 0) P is the initial delta: flagged, but no reason to warn
     ok_or_delta = ok | (np.asarray(ds["diffusion_time"].values, float) == 0)[None, :]

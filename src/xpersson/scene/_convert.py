@@ -135,9 +135,15 @@ def is_sweep_value(spec: ParamSpec, value: Any) -> bool:
     table ``{start, stop, num[, spacing]}``)."""
     if spec.array or spec.kind not in ("quantity", "int"):
         return False
-    if isinstance(value, list | tuple):
+    if isinstance(value, list | tuple) or _is_quantity_array(value):
         return True
     return isinstance(value, Mapping) and bool(value) and set(value) <= set(RANGE_KEYS)
+
+
+def _is_quantity_array(value: Any) -> bool:
+    """A pint Quantity (of any registry) holding an array: several values with one unit."""
+    magnitude = getattr(value, "magnitude", None)
+    return hasattr(value, "units") and magnitude is not None and np.ndim(magnitude) >= 1
 
 
 def _in_bounds(spec: ParamSpec, values: np.ndarray) -> np.ndarray:
@@ -185,7 +191,9 @@ def sweep_values(spec: ParamSpec, value: Any, where: str) -> np.ndarray:
                 f"{where}: {float(bad[0]):g} is outside the allowed range {spec.range_text()}"
             )
         return grid
-    if not value:
+    if _is_quantity_array(value):  # Quantity([1, 2], "MPa") -> [Quantity(1, "MPa"), ...]
+        value = [value[i] for i in range(len(value))]
+    if not len(value):
         raise SceneError(f"{where}: empty list; give at least one value in {spec.range_text()}")
     if len(value) > MAX_POINTS:
         raise SceneError(

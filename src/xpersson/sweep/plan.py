@@ -152,7 +152,7 @@ def _set_path(data: dict[str, Any], path: str, value: Any, copy_tables: bool = F
 
 
 def cf_units(unit: str) -> str:
-    """UDUNITS string of a pint unit (``"1/m"`` -> ``"m-1"``, ``"m**4"`` -> ``"m4"``)."""
+    """UDUNITS string of a pint unit (``"1/m"`` -> ``"m^-1"``, ``"m**4"`` -> ``"m^4"``)."""
     if unit in ("1", "", "dimensionless"):
         return "1"
     from ..units import ureg
@@ -162,7 +162,7 @@ def cf_units(unit: str) -> str:
     for name, power in u._units.items():  # noqa: SLF001 - pint's unit container
         sym = ureg().get_symbol(name)
         p = int(power) if float(power).is_integer() else power
-        terms.append(sym if p == 1 else f"{sym}{p}")
+        terms.append(sym if p == 1 else f"{sym}^{p}")
     return " ".join(terms) or "1"
 
 

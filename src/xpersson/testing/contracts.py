@@ -12,6 +12,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from ..plugins import API_VERSION, Plugin, SpecError, check_plugin_class
+from ..specs import caret_units
 from ._names import CHECK_NAME, qual
 from .referee import markov_cross_check
 from .registry import registry_with
@@ -281,7 +282,7 @@ def _check_engine(
         spec = cls.outputs.get(var)
         if spec is not None:
             got = {k: ds1[var].attrs.get(k) for k in ("units", "long_name")}
-            want = {"units": spec.units, "long_name": spec.long_name}
+            want = {"units": caret_units(spec.units), "long_name": spec.long_name}
             assert got == want, f"{who}: {var!r} has attrs {got}, declared {want}"
         a1, a2 = np.asarray(ds1[var].values), np.asarray(ds2[var].values)
         if a1.dtype.kind in "fc":
