@@ -47,10 +47,10 @@ from scipy.interpolate import CubicSpline
 from scipy.linalg.lapack import dgtsv
 from scipy.optimize import brentq
 
-from . import _progress
+from ._base import EngineMethod
 from ._grid import clustered
-from ._methods import EngineMethod
 from ._problem import Problem, window_k
+from ._progress import report as report_progress
 from ._result import Raw
 
 __all__ = ["CNMethod"]
@@ -476,10 +476,10 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
                 record(nxt, m + 1)
                 nxt += 1
             if (m + 1) % _REPORT_EVERY == 0:
-                _progress.report(_REPORT_EVERY * nn * nb)
+                report_progress(_REPORT_EVERY * nn * nb)
         hist[m0 + 1 : m0 + c + 1] = states[1:, near]
         r = r.copy()  # the last state outlives its block
-    _progress.report((n_steps % _REPORT_EVERY) * nn * nb)
+    report_progress((n_steps % _REPORT_EVERY) * nn * nb)
     if snaps is not None:
         # area int R dx and load int p R dx with p = l + W x, per output (nb, n_out)
         R = snaps.reshape(n_out, nb, nn)
