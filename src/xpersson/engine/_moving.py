@@ -44,10 +44,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
-from scipy.linalg.lapack import dgtsv
 from scipy.optimize import brentq
 
 from ._base import EngineMethod
+from ._cnstep import tridiagonal_solve
 from ._grid import clustered
 from ._problem import Problem, window_k
 from ._progress import report as report_progress
@@ -459,12 +459,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
                 rhs[bnd] = 0.0
             if ys[i]:
                 rhs[last] = ye_s[:, i] * r[last - 1] + ye_d[:, i] * r[last] + g[:, i] * a_pl
-            _, _, _, sol, info = dgtsv(dl_[i], Dg[i], du_[i], rhs, 1, 1, 1, 1)
-            if info != 0:
-                raise FloatingPointError(f"tridiagonal solve failed (info={info})")
-            if sol is not rhs:  # pragma: no cover - LAPACK wrapper made a copy
-                rhs[:] = sol
-                sol = rhs
+            sol = tridiagonal_solve(dl_[i], Dg[i], du_[i], rhs)
             if ys[i]:
                 # dA_pl = out-flux through the last face + the half cell's loss
                 f_new = bm1[:, m] * sol[last - 1] + bp1[:, m] * sol[last]
