@@ -21,11 +21,11 @@ from __future__ import annotations
 from . import exact as exact  # noqa: PLC0414 (the public closed-forms module)
 from ._api import solve, solve_batch
 from ._base import EngineMethod
+from ._cn import CNMethod
 from ._exactpath import ExactMethod
 from ._markov import MarkovMethod, sample_paths
 from ._markov_ck import ChapmanKolmogorovMethod, transition_kernel
 from ._methods import register_method
-from ._moving import CNMethod
 from ._progress import reporting as progress_reporting
 from ._result import EngineBatch, EngineResult
 from ._sine import SineMethod

@@ -7,10 +7,10 @@ The built-ins are listed here, not registered as a side effect of importing the 
 from __future__ import annotations
 
 from ._base import EngineMethod
+from ._cn import CNMethod
 from ._exactpath import ExactMethod
 from ._markov import MarkovMethod
 from ._markov_ck import ChapmanKolmogorovMethod
-from ._moving import CNMethod
 from ._sine import SineMethod
 
 __all__ = ["EngineMethod", "register_method", "get_method", "METHODS"]
