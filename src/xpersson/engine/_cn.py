@@ -39,6 +39,8 @@ Scheme
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -94,206 +96,19 @@ class CNMethod(EngineMethod):
     # -- the solver --------------------------------------------------------------------------
     def _run(self, pbs: list[Problem]) -> Raw:
         pb = pbs[0]
-        opt = pb.options
-        n0 = int(opt.get("nodes", 24))
-        per_node = (
-            float(opt.get("steps_per_decade", 0.0)) / n0 if "steps_per_decade" in opt else 0.25
-        )
-        max_levels = int(opt.get("levels", 10))
-        max_work = float(opt.get("max_work", 1e8))  # node-steps per load over all grids
-        stretch = float(opt.get("stretch", 1.0))
-        n_ie = int(opt.get("rannacher", 2))
-        k = float(opt.get("window_k", window_k(pb.atol)))
-        aim = float(opt.get("aim", AIM))
-        if not 0.0 < aim <= 1.0:
-            raise ValueError(
-                f"options['aim'] [1] (error estimate aimed at, as a fraction of "
-                f"the tolerance) must be in (0, 1]; got {aim!r}"
-            )
+        opts = CNOptions.read(pb.options, pb.atol)
         tau = pb.tau
-        tau_s = min(_start_time(p, k) for p in pbs)
+        tau_s = min(_start_time(p, opts.window_k) for p in pbs)
         analytic = tau <= tau_s
         num = ~analytic
         nb = len(pbs)
-        status, message = "success", ""
-        nsteps = 0
-        work = 0.0
-        n_used = 0
-        best: dict | None = None
-        err = np.full((nb, int(num.sum())), np.inf)
-        cache: dict[tuple[int, int], dict] = {}
-        plans: dict[int, _Plan] = {}
+        lv = _Grids(pbs, opts, tau_s, num)
+        fit = _Fit(np.full((nb, int(num.sum())), np.inf))
         if num.any():
-            # the kinks of the window edges do not depend on the grid: found once
-            t_end = float(tau[num][-1])
-            kinks = [t for p in pbs for t in _switch_times(p, k, tau_s, t_end)]
-
-            def level(n_base: int, mult: int) -> dict:
-                """Grid n_base * mult on the time plan of n_base subdivided mult times."""
-                nonlocal nsteps, work
-                key = (n_base, mult)
-                if key not in cache:
-                    if n_base not in plans:
-                        plans[n_base] = _joint_plan(pbs, k, per_node * n_base, tau_s, kinks)
-                    plan = plans[n_base]
-                    cost = (plan.base.size - 1) * mult + 2 * n_ie
-                    if nsteps + cost > pb.max_steps:
-                        raise _Budget(
-                            f"max_steps = {pb.max_steps} reached before the tolerance was met"
-                        )
-                    if work + cost * n_base * mult > max_work:
-                        raise _Budget(
-                            f"the next grid (N = {n_base * mult}, {cost} steps) would exceed "
-                            f"the work budget options['max_work'] = {max_work:.3g} node-steps; "
-                            "loosen rtol/atol or raise max_work"
-                        )
-                    work += cost * n_base * mult
-                    if len(cache) >= max_levels:
-                        raise _Levels(f"after {len(cache)} grids (levels = {max_levels})")
-                    cache[key] = _march(pbs, plan, n_base * mult, mult, stretch, n_ie)
-                    nsteps += cache[key]["nsteps"]
-                return cache[key]
-
-            def tol_of(area: Array) -> Array:
-                return pb.rtol * np.abs(area) + pb.atol
-
-            scale = _load_scale(pbs, tau[num])
-
-            def load_ratio(a: dict, b: dict, factor: float) -> float:
-                """Estimated error of the load identity of ``a`` against the tolerance."""
-                la_ = a["load"] + a["mom_l"] + a["mom_u"]
-                lb_ = b["load"] + b["mom_l"] + b["mom_u"]
-                return float(np.max(factor * np.abs(la_ - lb_) / scale)) / (pb.rtol + pb.atol)
-
-            try:
-                n_base, mode, rounds = n0, "R", 0
-                while True:
-                    l1, l2 = level(n_base, 1), level(n_base, 2)
-                    e_r = 2.0 * np.abs(l2["area"] - l1["area"]) / 3.0  # ~2x error of R(2n)
-                    ratio = max(
-                        float(np.max(e_r / tol_of(l2["area"]))), load_ratio(l2, l1, 2.0 / 3.0)
-                    )
-                    if mode == "R" and ratio <= 1.0:
-                        best, err, n_used = _combine(l2, l1, False), e_r, 2 * n_base
-                        break
-                    if mode == "R" and math.sqrt(ratio / aim) <= R_MAX_REFINE:
-                        # after a missed prediction (slower than second order, e.g. kinks of a
-                        # tabulated wall) grow at least 1.25x, so that the grids keep advancing
-                        rounds += 1
-                        n_base = _round_grid(
-                            n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25)
-                        )
-                        continue
-                    mode = "E"  # fourth order: Richardson pairs on three nested grids
-                    l4 = level(n_base, 4)
-                    e_b = _combine(l4, l2, True)
-                    e_a = _combine(l2, l1, True)
-                    d = 2.0 * np.abs(e_b["area"] - e_a["area"]) / 15.0
-                    ratio = max(
-                        float(np.max(d / tol_of(e_b["area"]))), load_ratio(e_b, e_a, 2.0 / 15.0)
-                    )
-                    if ratio <= 1.0:
-                        best, err, n_used = e_b, d, 4 * n_base
-                        break
-                    rounds += 1
-                    grow = max((ratio / aim) ** 0.25, 1.0 if rounds == 1 else 1.25)
-                    n_base = _round_grid(n_base * grow)
-            except (_Budget, _Levels) as exc:
-                status = "max_steps" if isinstance(exc, _Budget) else "tolerance_not_met"
-                message = str(exc)
-            except FloatingPointError as exc:
-                status, message = "tolerance_not_met", f"numerical failure: {exc}"
-            if best is None and cache:  # budget spent: the finest pair computed, flagged
-                # (a finer level whose partner was never reached has no error estimate: the
-                # finest level *with* a coarser partner is used instead)
-                paired = [c for c in cache if any(o[0] == c[0] and o[1] < c[1] for o in cache)]
-                (nbf, mf) = max(paired or cache, key=lambda c: c[0] * c[1])
-                pair = [c for c in cache if c[0] == nbf and c[1] < mf]
-                fine = cache[(nbf, mf)]
-                if pair:
-                    coarse = cache[max(pair, key=lambda c: c[1])]
-                    best = _combine(fine, coarse, False)
-                    err = 2.0 * np.abs(fine["area"] - coarse["area"]) / 3.0
-                else:
-                    best = _combine(fine, fine, False)
-                n_used = nbf * mf
-            # a probability projected onto [0, 1] is off by at most 1: no estimate (a single
-            # level) is reported as 1, never as inf
-            err = np.minimum(err, 1.0)
-            if best is None:
-                return self._failed(nb, status, message or "no level completed", nsteps)
-            # round-off of the sums over the grid (the level difference cannot see it)
-            err = err + 16.0 * np.finfo(float).eps * math.sqrt(max(n_used, 1)) * np.abs(
-                best["area"]
-            )
-            if status == "success" and np.any(err > tol_of(best["area"])):
-                status = "tolerance_not_met"
-            if status != "success":
-                i = np.unravel_index(int(np.argmax(err / tol_of(best["area"]))), err.shape)
-                message = (message + "; " if message else "") + (
-                    f"the error estimate {err[i]:.2e} exceeds the tolerance at tau = "
-                    f"{tau[num][i[1]]:.6g} Pa^2"
-                )
-        shape = (nb, tau.size)
-        area = np.ones(shape)
-        ab_l = np.zeros(shape)
-        ab_u = np.zeros(shape)
-        load = np.broadcast_to(np.array([p.p0 for p in pbs])[:, None], shape).copy()
-        wall_term = np.zeros(shape)
-        e_all = np.zeros(shape)
-        trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
-        e_all[:, analytic & (tau > 0)] = trunc
-        if best is not None and num.any():
-            # the probabilities are projected onto their admissible set (area, absorbed >= 0,
-            # area <= 1, absorbed_lower + absorbed_upper <= 1); the distance moved is a lower
-            # bound of the error, so the estimate is raised to it, and a distance beyond the
-            # estimate (round-off of the step sums included) is reported, not hidden
-            proj, dist = _project(best["area"], best["abs_l"], best["abs_u"])
-            roundoff = 16.0 * np.finfo(float).eps * (nsteps + math.sqrt(max(n_used, 1)))
-            bound = err + trunc + roundoff
-            for key, d in dist.items():
-                if np.any(d > bound) and status == "success":
-                    status = "tolerance_not_met"
-                    message = (
-                        f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its error estimate"
-                    )
-            err = np.maximum(err, dist["area"])
-            area[:, num], ab_l[:, num], ab_u[:, num] = proj
-            load[:, num] = best["load"]
-            wall_term[:, num] = best["mom_l"] + best["mom_u"]
-            e_all[:, num] = err + trunc
-        P = None
-        if pb.p_out is not None:
-            P = np.zeros((nb, tau.size, pb.p_out.size))
-            for i, p in enumerate(pbs):
-                for j in np.flatnonzero(analytic & (tau > 0)):
-                    t = tau[j]
-                    P[i, j] = np.exp(-((p.p_out - p.p0) ** 2) / (4 * t)) / math.sqrt(
-                        4 * math.pi * t
-                    )
-            if best is not None and num.any():
-                P[:, num] = np.maximum(best["P"], 0.0)
-        if status == "success" and not message:
-            message = (
-                f"{len(cache)} grids, finest N = {n_used}"
-                if cache
-                else "analytic start covers every output"
-            )
-        return Raw(
-            area=area,
-            non_area=ab_l + ab_u,
-            absorbed_lower=ab_l,
-            absorbed_upper=ab_u,
-            load=load,
-            wall_term=wall_term,
-            error_estimate=e_all,
-            P=P,
-            status=status,
-            message=message,
-            nsteps=nsteps,
-            n_nodes=n_used + 1 if n_used else 0,
-            nfev=nsteps,
-        )
+            fit = _control(lv, pb, opts, tau[num])
+            if fit.best is None:
+                return self._failed(nb, fit.status, fit.message or "no level completed", lv.nsteps)
+        return _assemble(pbs, opts.window_k, analytic, fit, lv)
 
     def _failed(self, nb: int, status: str, message: str, nsteps: int) -> Raw:
         n_t = self.problem.tau.shape[-1]
@@ -355,3 +170,283 @@ def _stack(raws: list[Raw]) -> Raw:
     out.n_nodes = np.array([r.n_nodes for r in raws])
     out.nfev = np.array([r.nfev for r in raws])
     return out
+
+
+@dataclass(frozen=True)
+class CNOptions:
+    """Options of ``cn`` (``solve(options=...)``), typed and checked.
+
+    Attributes
+    ----------
+    nodes : int
+        Intervals of the pilot grid (24).
+    per_node : float
+        Time steps per decade per grid interval (``steps_per_decade / nodes``; 0.25).
+    levels : int
+        Most grids solved (10).
+    max_work : float
+        Node-steps per load over all grids (1e8).
+    stretch : float
+        Clustering of the nodes at the walls (1).
+    rannacher : int
+        Implicit-Euler half-step pairs at the start (2).
+    window_k : float
+        Half-width of the window in units of ``sqrt(2 tau)`` (from ``atol``).
+    aim : float
+        Error estimate the next grid is aimed at, as a fraction of the tolerance, in (0, 1].
+    """
+
+    nodes: int
+    per_node: float
+    levels: int
+    max_work: float
+    stretch: float
+    rannacher: int
+    window_k: float
+    aim: float
+
+    @classmethod
+    def read(cls, opt: dict[str, Any], atol: float) -> CNOptions:
+        """The options of ``opt`` (defaults filled in); ValueError naming option and range."""
+        n0 = int(opt.get("nodes", 24))
+        per_node = (
+            float(opt.get("steps_per_decade", 0.0)) / n0 if "steps_per_decade" in opt else 0.25
+        )
+        aim = float(opt.get("aim", AIM))
+        if not 0.0 < aim <= 1.0:
+            raise ValueError(
+                f"options['aim'] [1] (error estimate aimed at, as a fraction of "
+                f"the tolerance) must be in (0, 1]; got {aim!r}"
+            )
+        return cls(
+            nodes=n0,
+            per_node=per_node,
+            levels=int(opt.get("levels", 10)),
+            max_work=float(opt.get("max_work", 1e8)),
+            stretch=float(opt.get("stretch", 1.0)),
+            rannacher=int(opt.get("rannacher", 2)),
+            window_k=float(opt.get("window_k", window_k(atol))),
+            aim=aim,
+        )
+
+
+class _Grids:
+    """The grid levels solved so far (``(n_base, mult)`` -> march output), within the budgets."""
+
+    def __init__(self, pbs: list[Problem], opts: CNOptions, tau_s: float, num: Array) -> None:
+        self.pbs, self.opts, self.tau_s = pbs, opts, tau_s
+        self.cache: dict[tuple[int, int], dict] = {}
+        self.plans: dict[int, _Plan] = {}
+        self.nsteps = 0
+        self.work = 0.0
+        self.kinks: list[float] = []
+        if num.any():
+            # the kinks of the window edges do not depend on the grid: found once
+            t_end = float(pbs[0].tau[num][-1])
+            k = opts.window_k
+            self.kinks = [t for p in pbs for t in _switch_times(p, k, tau_s, t_end)]
+
+    def level(self, n_base: int, mult: int) -> dict:
+        """Grid n_base * mult on the time plan of n_base subdivided mult times."""
+        key = (n_base, mult)
+        cache, opts, pb = self.cache, self.opts, self.pbs[0]
+        if key not in cache:
+            if n_base not in self.plans:
+                self.plans[n_base] = _joint_plan(
+                    self.pbs, opts.window_k, opts.per_node * n_base, self.tau_s, self.kinks
+                )
+            plan = self.plans[n_base]
+            cost = (plan.base.size - 1) * mult + 2 * opts.rannacher
+            if self.nsteps + cost > pb.max_steps:
+                raise _Budget(f"max_steps = {pb.max_steps} reached before the tolerance was met")
+            if self.work + cost * n_base * mult > opts.max_work:
+                raise _Budget(
+                    f"the next grid (N = {n_base * mult}, {cost} steps) would exceed "
+                    f"the work budget options['max_work'] = {opts.max_work:.3g} node-steps; "
+                    "loosen rtol/atol or raise max_work"
+                )
+            self.work += cost * n_base * mult
+            if len(cache) >= opts.levels:
+                raise _Levels(f"after {len(cache)} grids (levels = {opts.levels})")
+            cache[key] = _march(self.pbs, plan, n_base * mult, mult, opts.stretch, opts.rannacher)
+            self.nsteps += cache[key]["nsteps"]
+        return cache[key]
+
+
+@dataclass
+class _Fit:
+    """The accepted combination of levels, its error estimate and the outcome."""
+
+    err: Array
+    best: dict | None = None
+    n_used: int = 0
+    status: str = "success"
+    message: str = ""
+
+
+def _refine(lv: _Grids, pb: Problem, aim: float, scale: Array) -> _Fit:
+    """Second-order pairs, then fourth-order Richardson triples, until the estimate fits."""
+
+    def tol_of(area: Array) -> Array:
+        return pb.rtol * np.abs(area) + pb.atol
+
+    def load_ratio(a: dict, b: dict, factor: float) -> float:
+        """Estimated error of the load identity of ``a`` against the tolerance."""
+        la_ = a["load"] + a["mom_l"] + a["mom_u"]
+        lb_ = b["load"] + b["mom_l"] + b["mom_u"]
+        return float(np.max(factor * np.abs(la_ - lb_) / scale)) / (pb.rtol + pb.atol)
+
+    level = lv.level
+    n_base, mode, rounds = lv.opts.nodes, "R", 0
+    while True:
+        l1, l2 = level(n_base, 1), level(n_base, 2)
+        e_r = 2.0 * np.abs(l2["area"] - l1["area"]) / 3.0  # ~2x error of R(2n)
+        ratio = max(float(np.max(e_r / tol_of(l2["area"]))), load_ratio(l2, l1, 2.0 / 3.0))
+        if mode == "R" and ratio <= 1.0:
+            return _Fit(e_r, _combine(l2, l1, False), 2 * n_base)
+        if mode == "R" and math.sqrt(ratio / aim) <= R_MAX_REFINE:
+            # after a missed prediction (slower than second order, e.g. kinks of a
+            # tabulated wall) grow at least 1.25x, so that the grids keep advancing
+            rounds += 1
+            n_base = _round_grid(n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25))
+            continue
+        mode = "E"  # fourth order: Richardson pairs on three nested grids
+        l4 = level(n_base, 4)
+        e_b = _combine(l4, l2, True)
+        e_a = _combine(l2, l1, True)
+        d = 2.0 * np.abs(e_b["area"] - e_a["area"]) / 15.0
+        ratio = max(float(np.max(d / tol_of(e_b["area"]))), load_ratio(e_b, e_a, 2.0 / 15.0))
+        if ratio <= 1.0:
+            return _Fit(d, e_b, 4 * n_base)
+        rounds += 1
+        grow = max((ratio / aim) ** 0.25, 1.0 if rounds == 1 else 1.25)
+        n_base = _round_grid(n_base * grow)
+
+
+def _finest_pair(cache: dict[tuple[int, int], dict], fit: _Fit) -> None:
+    """Budget spent: the finest pair computed, flagged (into ``fit``).
+
+    A finer level whose partner was never reached has no error estimate: the finest level
+    *with* a coarser partner is used instead.
+    """
+    paired = [c for c in cache if any(o[0] == c[0] and o[1] < c[1] for o in cache)]
+    (nbf, mf) = max(paired or cache, key=lambda c: c[0] * c[1])
+    pair = [c for c in cache if c[0] == nbf and c[1] < mf]
+    fine = cache[(nbf, mf)]
+    if pair:
+        coarse = cache[max(pair, key=lambda c: c[1])]
+        fit.best = _combine(fine, coarse, False)
+        fit.err = 2.0 * np.abs(fine["area"] - coarse["area"]) / 3.0
+    else:
+        fit.best = _combine(fine, fine, False)
+    fit.n_used = nbf * mf
+
+
+def _control(lv: _Grids, pb: Problem, opts: CNOptions, tau_num: Array) -> _Fit:
+    """Levels until the error estimate meets the tolerance (or a budget ends the search)."""
+    scale = _load_scale(lv.pbs, tau_num)
+    fit = _Fit(np.full((len(lv.pbs), tau_num.size), np.inf))
+    try:
+        fit = _refine(lv, pb, opts.aim, scale)
+    except (_Budget, _Levels) as exc:
+        fit.status = "max_steps" if isinstance(exc, _Budget) else "tolerance_not_met"
+        fit.message = str(exc)
+    except FloatingPointError as exc:
+        fit.status, fit.message = "tolerance_not_met", f"numerical failure: {exc}"
+    if fit.best is None and lv.cache:
+        _finest_pair(lv.cache, fit)
+    # a probability projected onto [0, 1] is off by at most 1: no estimate (a single
+    # level) is reported as 1, never as inf
+    fit.err = np.minimum(fit.err, 1.0)
+    if fit.best is None:
+        return fit
+    best = fit.best
+    # round-off of the sums over the grid (the level difference cannot see it)
+    fit.err = fit.err + 16.0 * np.finfo(float).eps * math.sqrt(max(fit.n_used, 1)) * np.abs(
+        best["area"]
+    )
+    tol = pb.rtol * np.abs(best["area"]) + pb.atol
+    if fit.status == "success" and np.any(fit.err > tol):
+        fit.status = "tolerance_not_met"
+    if fit.status != "success":
+        i = np.unravel_index(int(np.argmax(fit.err / tol)), fit.err.shape)
+        fit.message = (fit.message + "; " if fit.message else "") + (
+            f"the error estimate {fit.err[i]:.2e} exceeds the tolerance at tau = "
+            f"{tau_num[i[1]]:.6g} Pa^2"
+        )
+    return fit
+
+
+def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Grids) -> Raw:
+    """The Raw of a batch: analytic start where ``analytic``, the fitted levels elsewhere."""
+    pb = pbs[0]
+    tau = pb.tau
+    num = ~analytic
+    nb = len(pbs)
+    best, err, n_used = fit.best, fit.err, fit.n_used
+    status, message, nsteps = fit.status, fit.message, lv.nsteps
+    shape = (nb, tau.size)
+    area = np.ones(shape)
+    ab_l = np.zeros(shape)
+    ab_u = np.zeros(shape)
+    load = np.broadcast_to(np.array([p.p0 for p in pbs])[:, None], shape).copy()
+    wall_term = np.zeros(shape)
+    e_all = np.zeros(shape)
+    trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
+    e_all[:, analytic & (tau > 0)] = trunc
+    if best is not None and num.any():
+        # the probabilities are projected onto their admissible set (area, absorbed >= 0,
+        # area <= 1, absorbed_lower + absorbed_upper <= 1); the distance moved is a lower
+        # bound of the error, so the estimate is raised to it, and a distance beyond the
+        # estimate (round-off of the step sums included) is reported, not hidden
+        proj, dist = _project(best["area"], best["abs_l"], best["abs_u"])
+        roundoff = 16.0 * np.finfo(float).eps * (nsteps + math.sqrt(max(n_used, 1)))
+        bound = err + trunc + roundoff
+        for key, d in dist.items():
+            if np.any(d > bound) and status == "success":
+                status = "tolerance_not_met"
+                message = (
+                    f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its error estimate"
+                )
+        err = np.maximum(err, dist["area"])
+        area[:, num], ab_l[:, num], ab_u[:, num] = proj
+        load[:, num] = best["load"]
+        wall_term[:, num] = best["mom_l"] + best["mom_u"]
+        e_all[:, num] = err + trunc
+    P = _densities(pbs, analytic, best) if pb.p_out is not None else None
+    if status == "success" and not message:
+        message = (
+            f"{len(lv.cache)} grids, finest N = {n_used}"
+            if lv.cache
+            else "analytic start covers every output"
+        )
+    return Raw(
+        area=area,
+        non_area=ab_l + ab_u,
+        absorbed_lower=ab_l,
+        absorbed_upper=ab_u,
+        load=load,
+        wall_term=wall_term,
+        error_estimate=e_all,
+        P=P,
+        status=status,
+        message=message,
+        nsteps=nsteps,
+        n_nodes=n_used + 1 if n_used else 0,
+        nfev=nsteps,
+    )
+
+
+def _densities(pbs: list[Problem], analytic: Array, best: dict | None) -> Array:
+    """Density [1/Pa] at ``p_out``: the free Gaussian in the analytic start, the march after."""
+    pb = pbs[0]
+    tau = pb.tau
+    num = ~analytic
+    P = np.zeros((len(pbs), tau.size, pb.p_out.size))
+    for i, p in enumerate(pbs):
+        for j in np.flatnonzero(analytic & (tau > 0)):
+            t = tau[j]
+            P[i, j] = np.exp(-((p.p_out - p.p0) ** 2) / (4 * t)) / math.sqrt(4 * math.pi * t)
+    if best is not None and num.any():
+        P[:, num] = np.maximum(best["P"], 0.0)
+    return P
