@@ -1,7 +1,14 @@
 """One grid level of the ``cn`` method: the front-fixed finite-volume Crank-Nicolson march of
 a batch of loads between moving walls (absorbing or yield closure), the Richardson combination
 of two levels and the projection onto admissible probabilities.  See :mod:`._cn` for the
-scheme; the implicit half of a step is :func:`._cnstep.tridiagonal_solve`."""
+scheme; the implicit half of a step is :func:`._cnstep.tridiagonal_solve`.
+
+The loads' systems are concatenated (boundary rows are identity rows, so they do not couple).
+The operators are built vectorised for a block of steps at a time (memory proportional to the
+grid times the block, see ``_BLOCK``); a step is then one explicit tridiagonal product, one
+LAPACK ``dgtsv`` solve and a gather of the nodes next to the walls, from which the wall fluxes
+(absorbed probabilities, wall moments) are summed after the march.
+"""
 
 from __future__ import annotations
 
@@ -35,111 +42,34 @@ _SNAP = 1 << 20  # largest output snapshot array in _march (outputs x loads x no
 
 
 def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n_ie: int) -> dict:
-    """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads.
-
-    Returns per-load outputs ``(n_load, n_out)`` at the numerical output times.
-
-    The loads' systems are concatenated (boundary rows are identity rows, so they do not
-    couple).  The operators are built vectorised for a block of steps at a time (memory
-    proportional to the grid times the block, see ``_BLOCK``); a step is then one explicit
-    tridiagonal product, one LAPACK ``dgtsv`` solve and a gather of the three nodes next to the
-    walls, from which the wall fluxes (absorbed probabilities, wall moments) are summed after
-    the march.
-    """
-    taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones)
+    """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads:
+    per-load outputs ``(n_load, n_out)`` at the numerical output times (see the module)."""
+    taus, theta, out_at, x, xf, dxf, w, ed = _level_grid(pbs, plan, n, nsub, stretch, n_ie)
     pb0 = pbs[0]
     nb = len(pbs)
-    out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
-    x = clustered(n, stretch)
     nn = x.size
-    xf, dxf, w = _faces(x)
-    ed = _edges_batch(pbs, plan, taus)
-    if np.any(ed["wa"] <= 0) or np.any(ed["wb"] <= 0):
-        raise FloatingPointError("the walls swept the whole window (area 0)")
     n_out = out_at.size
-    res = {key: np.zeros((nb, n_out)) for key in _KEYS}
-    want_p = pb0.p_out is not None
-    res["P"] = np.zeros((nb, n_out, pb0.p_out.size)) if want_p else None
+    res, snaps = _outputs(nb, n_out, nn, pb0.p_out)
     yield_wall = plan.yield_wall
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
-    la, wa_, lb, wb_ = ed["la"], ed["wa"], ed["lb"], ed["wb"]
+    la, wa_, wb_ = ed["la"], ed["wa"], ed["wb"]
     n_steps = taus.size - 1
     step = np.diff(taus)
     wn_all, wo_all = theta * step, (1.0 - theta) * step
-    rl, ru = ed["rl"], ed["ru"]
-    yreal = ru & yield_wall
-    # g = W Y' of the yield closure R_N = g A_pl (0 where the yield wall is not real)
-    g_all = np.where(yreal, wb_ * ed["ysb"], 0.0)
+    yreal = ed["ru"] & yield_wall
+    g_all = np.where(yreal, wb_ * ed["ysb"], 0.0)  # g = W Y' of the closure R_N = g A_pl
 
-    # face coefficients F = D (R_{j+1} - R_j) + A (R_j + R_{j+1}) at the start (a) and end (b)
-    # of a step are outer products: D = (1/W^2) (1/dx_f), A = (lv + x_f wv) / (2W); returned
-    # as (A - D, A + D), shaped (steps, loads, faces)
-    def coefs(tag: str, ms: slice) -> tuple[Array, Array]:
-        W = ed["w" + tag][:, ms].T[..., None]
-        D = (1.0 / W**2) * (1.0 / dxf)
-        A = (ed["lv" + tag][:, ms].T[..., None] + xf * ed["wv" + tag][:, ms].T[..., None]) / (
-            2.0 * W
-        )
-        amd = A - D
-        A += D
-        return amd, A
-
-    def end_faces(tag: str) -> tuple[Array, Array, Array, Array]:
-        """(A-D) and (A+D) at the first face, then at the last face; (nb, n_steps)."""
-        W = ed["w" + tag]
-        lv, wv = ed["lv" + tag], ed["wv" + tag]
-        # the same expressions as in coefs (bitwise): the wall fluxes must be the ones the
-        # solve used, or the balance of large CN fluxes loses digits
-        d0, d1 = (1.0 / W**2) * (1.0 / dxf[0]), (1.0 / W**2) * (1.0 / dxf[-1])
-        a0, a1 = (lv + xf[0] * wv) / (2.0 * W), (lv + xf[-1] * wv) / (2.0 * W)
-        return a0 - d0, a0 + d0, a1 - d1, a1 + d1
-
-    # initial free Gaussian (mass per unit x), normalised to the window mass erf(k / sqrt 2)
-    t0 = taus[0]
-    pn = la[:, :1] + wa_[:, :1] * x[None, :]
-    r2 = wa_[:, :1] * np.exp(-((pn - p0) ** 2) / (4.0 * t0)) / math.sqrt(4.0 * math.pi * t0)
-    r2[:, 0] = 0.0
-    r2[:, -1] = 0.0
-    r2 *= math.erf(plan.k / math.sqrt(2.0)) / (r2 @ w)[:, None]
-    r = r2.ravel()
-    rows = np.arange(nb) * nn  # first node of each load in the concatenated system
-    # the two nodes at each wall (the solve leaves round-off ~ eps on the wall nodes, which the
-    # wall fluxes must include for the balance to hold to round-off)
-    near = np.concatenate([rows, rows + 1, rows + nn - 2, rows + nn - 1])
-    last = rows + nn - 1
-    bnd = np.concatenate([rows, last])  # identity rows (the walls)
-    wflat = np.tile(w, nb)
-    wflat[bnd] = 0.0
+    r = _initial_state(la, wa_, x, w, p0, taus[0], plan.k)
+    near, last, bnd, wflat = _rows(nb, nn, w)
     hist = np.empty((n_steps + 1, 4 * nb))  # R at `near` after every step
     hist[0] = r[near]
     a_pl = np.zeros(nb)
     a_pl_at = np.zeros((nb, n_out))
-    if yield_wall:
-        _, _, am1, ap1 = end_faces("a")
-        _, _, bm1, bp1 = end_faces("b")
+    yfac = (_end_faces(ed, xf, dxf, "a"), _end_faces(ed, xf, dxf, "b")) if yield_wall else None
     w_last = w[-1]
 
-    # outputs: snapshots of the state, reduced after the march (one copy per output instead of
-    # a dozen small reductions), unless the density is wanted or the snapshots would be large
-    snaps = None if want_p or n_out * nb * nn > _SNAP else np.empty((n_out, nb * nn))
-
     def record(j: int, m: int) -> None:
-        """Outputs ``j`` after step ``m`` (the state ``r``; wall terms are added later)."""
-        a_pl_at[:, j] = a_pl
-        if snaps is not None:
-            snaps[j] = r
-            return
-        r_ = r.reshape(nb, nn)
-        lv, wv = (la[:, 0], wa_[:, 0]) if m == 0 else (lb[:, m - 1], wb_[:, m - 1])
-        pm = lv[:, None] + wv[:, None] * x[None, :]
-        res["area"][:, j] = r_ @ w
-        res["load"][:, j] = (pm * r_) @ w
-        if want_p:
-            pv = pb0.p_out
-            for i in range(nb):
-                cs = CubicSpline(pm[i], r_[i] / wv[i])
-                inside = (pv >= pm[i, 0]) & (pv <= pm[i, -1])
-                res["P"][i, j, inside] = cs(pv[inside])
+        _record(res, a_pl_at, snaps, r, a_pl, j, m, ed, x, w, pb0.p_out)
 
     out_steps = out_at.tolist() + [-1]
     nxt = 0
@@ -152,7 +82,6 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     G_hi, G_lo = G[1:], G[:-1]
     mul, sub = np.multiply, np.subtract
     wi = w[1:-1]
-    nf = nn - 1
     for m0 in range(0, n_steps, block):
         ms = slice(m0, min(m0 + block, n_steps))
         c = ms.stop - ms.start
@@ -164,37 +93,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
         # last slot of each load couples nothing (boundary rows are identity rows)
         # interior rows j = 1..n-1:
         #   w_j R_j - wn (F_{j+1/2} - F_{j-1/2}) = w_j R_j^old + wo (F^old_{j+1/2} - F^old_{j-1/2})
-        amd, apd = coefs("b", ms)
-        dl = np.empty((c, nb, nn))
-        du = np.empty((c, nb, nn))
-        Dg = np.empty((c, nb, nn))
-        np.multiply(wn, amd, out=dl[..., :nf])  # coefficient of R_{j-1} in row j
-        np.multiply(-wn, apd, out=du[..., :nf])  # coefficient of R_{j+1} in row j
-        np.subtract(wi, dl[..., 1:nf], out=Dg[..., 1:-1])
-        Dg[..., 1:-1] -= du[..., : nf - 1]
-        Dg[..., 0] = 1.0
-        # last row of a real yield wall: half cell plus A_pl, closure R_N = g A_pl
-        Dg[..., -1] = 1.0 + g * (w_last + wn[..., 0] * apd[..., -1])
-        dl[..., nf - 1] = g * wn[..., 0] * amd[..., -1]
-        dl[..., nf] = 0.0
-        du[..., 0] = 0.0
-        du[..., nf] = 0.0
-        # explicit half in flux form (the fluxes telescope: a product with the large
-        # coefficients of a stiff step would lose the balance to round-off):
-        #   rhs_j = w_j R_j + (G_{j+1/2} - G_{j-1/2}),  G = wo (A - D) R_j + wo (A + D) R_{j+1};
-        # face j of a load is slot j; slot n (between two loads' systems) stays 0
-        amd, apd = coefs("a", ms)
-        Ga = np.empty((c, nb, nn))
-        Gp = np.empty((c, nb, nn))
-        np.multiply(wo, amd, out=Ga[..., :nf])
-        np.multiply(wo, apd, out=Gp[..., :nf])
-        Ga[..., nf] = 0.0
-        Gp[..., nf] = 0.0
-        # last row of a real yield wall: g (w_N R_N + A_pl - wo F_{N-1/2})
-        ye_s = (-g * wo[..., 0] * amd[..., -1]).T
-        ye_d = (g * (w_last - wo[..., 0] * apd[..., -1])).T
-        del amd, apd
-        dl, du, Dg, Ga, Gp = (a.reshape(c, nb * nn) for a in (dl, du, Dg, Ga, Gp))
+        dl, du, Dg, Ga, Gp, ye_s, ye_d = _block_system(ed, xf, dxf, ms, wn, wo, g, wi, w_last)
         g = g.T
         ys = yreal[:, ms].any(axis=0).tolist()
         # the states of the block: row 0 the state before it, row i + 1 the state after step
@@ -220,11 +119,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
                 rhs[last] = ye_s[:, i] * r[last - 1] + ye_d[:, i] * r[last] + g[:, i] * a_pl
             sol = tridiagonal_solve(dl_[i], Dg[i], du_[i], rhs)
             if ys[i]:
-                # dA_pl = out-flux through the last face + the half cell's loss
-                f_new = bm1[:, m] * sol[last - 1] + bp1[:, m] * sol[last]
-                f_old = am1[:, m] * r[last - 1] + ap1[:, m] * r[last]
-                out_hi = -(wn_all[m] * f_new + wo_all[m] * f_old)
-                a_pl = a_pl + np.where(yreal[:, m], out_hi + w_last * (r[last] - sol[last]), 0.0)
+                a_pl = a_pl + _plastic_gain(yfac, m, sol, r, last, wn_all, wo_all, yreal, w_last)
             r = sol
             while out_steps[nxt] == m + 1:
                 record(nxt, m + 1)
@@ -235,16 +130,231 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
         r = r.copy()  # the last state outlives its block
     report_progress((n_steps % _REPORT_EVERY) * nn * nb)
     if snaps is not None:
-        # area int R dx and load int p R dx with p = l + W x, per output (nb, n_out)
-        R = snaps.reshape(n_out, nb, nn)
-        lv = np.hstack([la[:, :1], lb])[:, out_at]
-        wv = np.hstack([wa_[:, :1], wb_])[:, out_at]
-        res["area"] = (R @ w).T
-        res["load"] = lv * res["area"] + wv * (R @ (x * w)).T
-    # wall fluxes of every step from the nodes next to the walls (R = 0 on an absorbing wall)
+        _reduce_snapshots(res, snaps, ed, x, w, out_at)
+    fac = (_end_faces(ed, xf, dxf, "a"), _end_faces(ed, xf, dxf, "b"))
+    _wall_sums(res, ed, hist, fac, wn_all, wo_all, out_at, a_pl_at, yield_wall)
+    res["nsteps"] = n_steps
+    res["n_nodes"] = nn
+    return res
+
+
+def _outputs(nb: int, n_out: int, nn: int, p_out: Array | None) -> tuple[dict, Array | None]:
+    """Output arrays of a level, and the state snapshots: reduced after the march (one copy
+    per output instead of a dozen small reductions), unless the density is wanted or the
+    snapshots would be large (then None: each output is reduced when reached)."""
+    res = {key: np.zeros((nb, n_out)) for key in _KEYS}
+    want_p = p_out is not None
+    res["P"] = np.zeros((nb, n_out, p_out.size)) if want_p else None
+    snaps = None if want_p or n_out * nb * nn > _SNAP else np.empty((n_out, nb * nn))
+    return res, snaps
+
+
+def _level_grid(
+    pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n_ie: int
+) -> tuple:
+    """Times, theta per step, output steps, nodes ``x`` (faces, spacings, control volumes) and
+    the window edges of one grid level."""
+    taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones)
+    pb0 = pbs[0]
+    out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
+    x = clustered(n, stretch)
+    xf, dxf, w = _faces(x)
+    ed = _edges_batch(pbs, plan, taus)
+    if np.any(ed["wa"] <= 0) or np.any(ed["wb"] <= 0):
+        raise FloatingPointError("the walls swept the whole window (area 0)")
+    return taus, theta, out_at, x, xf, dxf, w, ed
+
+
+def _rows(nb: int, nn: int, w: Array) -> tuple[Array, Array, Array, Array]:
+    """Rows of the concatenated system: the two nodes at each wall (the solve leaves round-off
+    ~ eps on the wall nodes, which the wall fluxes must include for the balance to hold to
+    round-off), the last rows, the identity rows (the walls) and the control volumes (0 there)."""
+    rows = np.arange(nb) * nn  # first node of each load in the concatenated system
+    near = np.concatenate([rows, rows + 1, rows + nn - 2, rows + nn - 1])
+    last = rows + nn - 1
+    bnd = np.concatenate([rows, last])  # identity rows (the walls)
+    wflat = np.tile(w, nb)
+    wflat[bnd] = 0.0
+    return near, last, bnd, wflat
+
+
+def _plastic_gain(
+    yfac: tuple,
+    m: int,
+    sol: Array,
+    r: Array,
+    last: Array,
+    wn_all: Array,
+    wo_all: Array,
+    yreal: Array,
+    w_last: float,
+) -> Array:
+    """dA_pl of step ``m`` = out-flux through the last face + the half cell's loss."""
+    (_, _, am1, ap1), (_, _, bm1, bp1) = yfac
+    f_new = bm1[:, m] * sol[last - 1] + bp1[:, m] * sol[last]
+    f_old = am1[:, m] * r[last - 1] + ap1[:, m] * r[last]
+    out_hi = -(wn_all[m] * f_new + wo_all[m] * f_old)
+    return np.where(yreal[:, m], out_hi + w_last * (r[last] - sol[last]), 0.0)
+
+
+def _block_system(
+    ed: dict,
+    xf: Array,
+    dxf: Array,
+    ms: slice,
+    wn: Array,
+    wo: Array,
+    g: Array,
+    wi: Array,
+    w_last: float,
+) -> tuple[Array, ...]:
+    """The systems of the steps ``ms`` with the loads concatenated, one row per step.
+
+    dgtsv's sub-diagonal ``dl[r]`` (row r + 1), diagonal ``Dg[r]``, super-diagonal ``du[r]``
+    (row r); the last slot of each load couples nothing (boundary rows are identity rows).
+    Interior rows j = 1..n-1:
+    ``w_j R_j - wn (F_{j+1/2} - F_{j-1/2}) = w_j R_j^old + wo (F^old_{j+1/2} - F^old_{j-1/2})``.
+    Also the explicit half's face coefficients ``Ga``, ``Gp`` (flux form) and the yield wall's
+    last-row coefficients ``ye_s``, ``ye_d``.
+    """
+    c = ms.stop - ms.start
+    nb, nn = g.shape[1], xf.size + 1
+    nf = nn - 1
+    amd, apd = _coefs(ed, xf, dxf, "b", ms)
+    dl = np.empty((c, nb, nn))
+    du = np.empty((c, nb, nn))
+    Dg = np.empty((c, nb, nn))
+    np.multiply(wn, amd, out=dl[..., :nf])  # coefficient of R_{j-1} in row j
+    np.multiply(-wn, apd, out=du[..., :nf])  # coefficient of R_{j+1} in row j
+    np.subtract(wi, dl[..., 1:nf], out=Dg[..., 1:-1])
+    Dg[..., 1:-1] -= du[..., : nf - 1]
+    Dg[..., 0] = 1.0
+    # last row of a real yield wall: half cell plus A_pl, closure R_N = g A_pl
+    Dg[..., -1] = 1.0 + g * (w_last + wn[..., 0] * apd[..., -1])
+    dl[..., nf - 1] = g * wn[..., 0] * amd[..., -1]
+    dl[..., nf] = 0.0
+    du[..., 0] = 0.0
+    du[..., nf] = 0.0
+    # explicit half in flux form (the fluxes telescope: a product with the large
+    # coefficients of a stiff step would lose the balance to round-off):
+    #   rhs_j = w_j R_j + (G_{j+1/2} - G_{j-1/2}),  G = wo (A - D) R_j + wo (A + D) R_{j+1};
+    # face j of a load is slot j; slot n (between two loads' systems) stays 0
+    amd, apd = _coefs(ed, xf, dxf, "a", ms)
+    Ga = np.empty((c, nb, nn))
+    Gp = np.empty((c, nb, nn))
+    np.multiply(wo, amd, out=Ga[..., :nf])
+    np.multiply(wo, apd, out=Gp[..., :nf])
+    Ga[..., nf] = 0.0
+    Gp[..., nf] = 0.0
+    # last row of a real yield wall: g (w_N R_N + A_pl - wo F_{N-1/2})
+    ye_s = (-g * wo[..., 0] * amd[..., -1]).T
+    ye_d = (g * (w_last - wo[..., 0] * apd[..., -1])).T
+    del amd, apd
+    dl, du, Dg, Ga, Gp = (a.reshape(c, nb * nn) for a in (dl, du, Dg, Ga, Gp))
+    return dl, du, Dg, Ga, Gp, ye_s, ye_d
+
+
+def _initial_state(
+    la: Array, wa_: Array, x: Array, w: Array, p0: Array, t0: float, k: float
+) -> Array:
+    """The free Gaussian at ``t0`` [Pa^2] (mass per unit x, the loads concatenated),
+    normalised to the window mass ``erf(k / sqrt 2)``."""
+    pn = la[:, :1] + wa_[:, :1] * x[None, :]
+    r2 = wa_[:, :1] * np.exp(-((pn - p0) ** 2) / (4.0 * t0)) / math.sqrt(4.0 * math.pi * t0)
+    r2[:, 0] = 0.0
+    r2[:, -1] = 0.0
+    r2 *= math.erf(k / math.sqrt(2.0)) / (r2 @ w)[:, None]
+    r = r2.ravel()
+    return r
+
+
+def _reduce_snapshots(res: dict, snaps: Array, ed: dict, x: Array, w: Array, out_at: Array) -> None:
+    """Area ``int R dx`` and load ``int p R dx`` (``p = l + W x``) per output, into ``res``."""
+    la, wa_, lb, wb_ = ed["la"], ed["wa"], ed["lb"], ed["wb"]
+    n_out, nb = snaps.shape[0], la.shape[0]
+    R = snaps.reshape(n_out, nb, x.size)
+    lv = np.hstack([la[:, :1], lb])[:, out_at]
+    wv = np.hstack([wa_[:, :1], wb_])[:, out_at]
+    res["area"] = (R @ w).T
+    res["load"] = lv * res["area"] + wv * (R @ (x * w)).T
+
+
+def _record(
+    res: dict,
+    a_pl_at: Array,
+    snaps: Array | None,
+    r: Array,
+    a_pl: Array,
+    j: int,
+    m: int,
+    ed: dict,
+    x: Array,
+    w: Array,
+    p_out: Array | None,
+) -> None:
+    """Outputs ``j`` after step ``m`` (the state ``r``; wall terms are added later)."""
+    a_pl_at[:, j] = a_pl
+    if snaps is not None:
+        snaps[j] = r
+        return
+    la, wa_, lb, wb_ = ed["la"], ed["wa"], ed["lb"], ed["wb"]
+    nb, nn = a_pl_at.shape[0], x.size
+    r_ = r.reshape(nb, nn)
+    lv, wv = (la[:, 0], wa_[:, 0]) if m == 0 else (lb[:, m - 1], wb_[:, m - 1])
+    pm = lv[:, None] + wv[:, None] * x[None, :]
+    res["area"][:, j] = r_ @ w
+    res["load"][:, j] = (pm * r_) @ w
+    if p_out is not None:
+        pv = p_out
+        for i in range(nb):
+            cs = CubicSpline(pm[i], r_[i] / wv[i])
+            inside = (pv >= pm[i, 0]) & (pv <= pm[i, -1])
+            res["P"][i, j, inside] = cs(pv[inside])
+
+
+def _coefs(ed: dict, xf: Array, dxf: Array, tag: str, ms: slice) -> tuple[Array, Array]:
+    """Face coefficients at the start (``tag`` a) or end (b) of the steps ``ms``.
+
+    ``F = D (R_{j+1} - R_j) + A (R_j + R_{j+1})`` with the outer products
+    ``D = (1/W^2) (1/dx_f)``, ``A = (lv + x_f wv) / (2W)``; returned as ``(A - D, A + D)``,
+    shaped (steps, loads, faces).
+    """
+    W = ed["w" + tag][:, ms].T[..., None]
+    D = (1.0 / W**2) * (1.0 / dxf)
+    A = (ed["lv" + tag][:, ms].T[..., None] + xf * ed["wv" + tag][:, ms].T[..., None]) / (2.0 * W)
+    amd = A - D
+    A += D
+    return amd, A
+
+
+def _end_faces(ed: dict, xf: Array, dxf: Array, tag: str) -> tuple[Array, Array, Array, Array]:
+    """(A-D) and (A+D) at the first face, then at the last face; (nb, n_steps)."""
+    W = ed["w" + tag]
+    lv, wv = ed["lv" + tag], ed["wv" + tag]
+    # the same expressions as in _coefs (bitwise): the wall fluxes must be the ones the
+    # solve used, or the balance of large CN fluxes loses digits
+    d0, d1 = (1.0 / W**2) * (1.0 / dxf[0]), (1.0 / W**2) * (1.0 / dxf[-1])
+    a0, a1 = (lv + xf[0] * wv) / (2.0 * W), (lv + xf[-1] * wv) / (2.0 * W)
+    return a0 - d0, a0 + d0, a1 - d1, a1 + d1
+
+
+def _wall_sums(
+    res: dict,
+    ed: dict,
+    hist: Array,
+    fac: tuple,
+    wn_all: Array,
+    wo_all: Array,
+    out_at: Array,
+    a_pl_at: Array,
+    yield_wall: bool,
+) -> None:
+    """Absorbed probabilities and wall moments per output from the nodes next to the walls
+    after every step (R = 0 on an absorbing wall), into ``res``."""
+    nb = a_pl_at.shape[0]
+    la, wa_, lb, wb_, rl, ru = ed["la"], ed["wa"], ed["lb"], ed["wb"], ed["rl"], ed["ru"]
     r0, r1, rm, rn = (hist[:, i * nb : (i + 1) * nb].T for i in range(4))  # (nb, n_steps + 1)
-    am0a, ap0a, am1a, ap1a = end_faces("a")
-    am0b, ap0b, am1b, ap1b = end_faces("b")
+    (am0a, ap0a, am1a, ap1a), (am0b, ap0b, am1b, ap1b) = fac
     f_old0 = am0a * r0[:, :-1] + ap0a * r1[:, :-1]
     f_new0 = am0b * r0[:, 1:] + ap0b * r1[:, 1:]
     f_old1 = am1a * rm[:, :-1] + ap1a * rn[:, :-1]
@@ -265,9 +375,6 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
         mom = wn_ * (lb + wb_) * f_new1 + wo_ * (la + wa_) * f_old1
         res["abs_u"] = np.hstack([zero, np.cumsum(np.where(ru, out_hi, 0.0), axis=1)])[:, out_at]
         res["mom_u"] = -np.hstack([zero, np.cumsum(np.where(ru, mom, 0.0), axis=1)])[:, out_at]
-    res["nsteps"] = n_steps
-    res["n_nodes"] = nn
-    return res
 
 
 def _combine(fine: dict, coarse: dict, extrapolate: bool) -> dict:
