@@ -1,8 +1,8 @@
 """Base class of the engine methods (``solve(method=...)`` takes a name or a subclass).
 
 Each built-in method lives in a module named after it (``_exactpath``: ``exact``, ``_sine``,
-``_cn``-style ``_moving``: ``cn``, ``_markov``, ``_markov_ck``); :mod:`._methods` holds the
-literal name -> class table.
+``_cn`` (with ``_cn_plan`` and the march ``_moving``), ``_markov``, ``_markov_ck``);
+:mod:`._methods` holds the literal name -> class table.
 """
 
 from __future__ import annotations
