@@ -18,24 +18,19 @@ Units: pressures in Pa, diffusion time tau in Pa^2, densities in 1/Pa.
 
 from __future__ import annotations
 
-from . import exact
+from . import exact as exact  # noqa: PLC0414 (the public closed-forms module)
 from ._api import solve, solve_batch
+from ._base import EngineMethod
+from ._cn import CNMethod
 from ._exactpath import ExactMethod
-from ._markov import ChapmanKolmogorovMethod, MarkovMethod, sample_paths
-from ._markov_ck import transition_kernel
-from ._methods import EngineMethod, register_method
-from ._moving import CNMethod
+from ._markov import MarkovMethod, sample_paths
+from ._markov_ck import ChapmanKolmogorovMethod, transition_kernel
+from ._methods import register_method
 from ._progress import reporting as progress_reporting
 from ._result import EngineBatch, EngineResult
 from ._sine import SineMethod
 from ._sourced import SourcedResult, solve_sourced
 from ._walls import Wall
-
-register_method("exact", ExactMethod)
-register_method("sine", SineMethod)
-register_method("cn", CNMethod)
-register_method("markov", MarkovMethod)
-register_method("markov_ck", ChapmanKolmogorovMethod)
 
 __all__ = [
     "solve",

@@ -11,9 +11,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._clear import drop_clear_upper
+from ._cn import CNMethod
 from ._exactpath import ExactMethod
 from ._methods import EngineMethod, get_method
-from ._moving import CNMethod
 from ._problem import Problem, make_problem
 from ._result import EngineBatch, EngineResult, LazyField, Raw, finish, finish_batch
 from ._walls import Wall

@@ -4,10 +4,22 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import exact
-from ._methods import EngineMethod
+from ._base import EngineMethod
 from ._problem import Problem
 from ._result import Raw
+from .exact import (
+    linear_wall_absorbed_moment,
+    linear_wall_area,
+    linear_wall_density,
+    linear_wall_load,
+    linear_wall_non_area,
+    one_wall,
+    one_wall_area_non,
+    one_wall_density,
+    two_wall,
+    two_wall_density,
+    two_wall_load,
+)
 
 __all__ = ["ExactMethod"]
 
@@ -54,10 +66,10 @@ class ExactMethod(EngineMethod):
         if case == "one":
             a = float(pb.lower.position)
             if pb.is_batch and a == 0:  # load = p0 exactly: no array to compute
-                area, non = exact.one_wall_area_non(tau, p0, a)
+                area, non = one_wall_area_non(tau, p0, a)
                 load = np.broadcast_to(np.asarray(p0, float), np.shape(tau))
             else:
-                area, non, load = exact.one_wall(tau, p0, a)
+                area, non, load = one_wall(tau, p0, a)
             ab_l, ab_u = non, zeros
             wall_term = a * ab_l if a != 0 else 0.0  # only summed into the load balance
             err = np.maximum(area, 1e-300)
@@ -68,29 +80,29 @@ class ExactMethod(EngineMethod):
             if pb.is_batch:  # nothing in the batch writes into it: no memory for the zeros
                 ab_u = np.broadcast_to(np.zeros(()), np.shape(tau))
             if want_p:
-                P = exact.one_wall_density(pb.p_out, tp, pp, a)
+                P = one_wall_density(pb.p_out, tp, pp, a)
         elif case == "two":
             a, b = float(pb.lower.position), float(pb.upper.position)
-            area, ab_l, ab_u = exact.two_wall(tau, p0, a, b)
+            area, ab_l, ab_u = two_wall(tau, p0, a, b)
             non = ab_l + ab_u
-            load = exact.two_wall_load(tau, p0, a, b)
+            load = two_wall_load(tau, p0, a, b)
             wall_term = a * ab_l + b * ab_u
             err = 64 * _EPS * np.maximum(area, 1e-300) + 1e-16 * (tau > 0)
             if want_p:
-                P = exact.two_wall_density(pb.p_out, tp, pp, a, b)
+                P = two_wall_density(pb.p_out, tp, pp, a, b)
         else:
             p_start, vel = pb.lower.linear_motion(pb.tau_max)
             s0, c = -p_start, -vel
-            area = exact.linear_wall_area(tau, p0, s0, c)
-            non = exact.linear_wall_non_area(tau, p0, s0, c)
+            area = linear_wall_area(tau, p0, s0, c)
+            non = linear_wall_non_area(tau, p0, s0, c)
             ab_l, ab_u = non, zeros
-            load = exact.linear_wall_load(tau, p0, s0, c)
-            wall_term = exact.linear_wall_absorbed_moment(tau, p0, s0, c)
+            load = linear_wall_load(tau, p0, s0, c)
+            wall_term = linear_wall_absorbed_moment(tau, p0, s0, c)
             # cancellation of the two Phi terms when the wall runs into the mass (c < 0)
             amp = 1.0 + np.abs(c) * tau / (p0 + s0)
             err = 16 * _EPS * amp * np.maximum(area, 1e-300)
             if want_p:
-                P = exact.linear_wall_density(pb.p_out, tp, pp, s0, c)
+                P = linear_wall_density(pb.p_out, tp, pp, s0, c)
         return Raw(
             area=area,
             non_area=non,

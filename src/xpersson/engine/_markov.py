@@ -43,7 +43,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import erfc, erfcx
 
-from ._methods import EngineMethod
+from ._base import EngineMethod
+from ._markov_ck import run_kernel
+from ._markov_options import GAP_STEPS, markov_options
 from ._problem import Problem
 from ._result import Raw
 from ._walls import Wall
@@ -51,34 +53,6 @@ from ._walls import Wall
 __all__ = ["MarkovMethod", "markov_options", "sample_paths", "step_times", "walker_rng"]
 
 Array = NDArray[np.float64]
-
-_DEFAULTS = {"walkers": 100_000, "seed": 0, "steps_per_decade": 64, "chunk": 1_000_000}
-_GAP_STEPS = 6.0  # sqrt(2 dtau) <= gap / _GAP_STEPS when two walls are present
-
-
-def markov_options(options: dict[str, Any]) -> dict[str, Any]:
-    """Checked options of the markov methods (defaults filled in).
-
-    Raises
-    ------
-    ValueError
-        Naming the option and its allowed range.
-    """
-    allowed = {*_DEFAULTS, "mode", "nodes", "window_k", "ratio"}
-    unknown = sorted(set(options) - allowed)
-    if unknown:
-        raise ValueError(
-            f"options: unknown keys {unknown} for the markov methods; allowed {sorted(allowed)}"
-        )
-    out = {**_DEFAULTS, **{k: v for k, v in options.items() if v is not None}}
-    for key, lo in (("walkers", 1), ("steps_per_decade", 1), ("chunk", 1)):
-        val = out[key]
-        if isinstance(val, bool) or not isinstance(val, int | np.integer) or val < lo:
-            raise ValueError(f'options["{key}"] [1] must be an integer >= {lo}; got {val!r}')
-    seed = out["seed"]
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-        raise ValueError(f'options["seed"] [1] must be an integer >= 0; got {seed!r}')
-    return out
 
 
 def walker_rng(seed: int, p0: float) -> np.random.Generator:
@@ -124,7 +98,7 @@ def _substeps(t0: float, t1: float, gap: float, speed: float, sticky_near: bool)
     within reach) a step also keeps ``b = dY/dtau sqrt(dtau) <= 0.2`` (the release law neglects
     the wall's drift within a step), with at most 256 sub-steps per interval.
     """
-    dt_max = (gap / _GAP_STEPS) ** 2 / 2.0 if math.isfinite(gap) else math.inf
+    dt_max = (gap / GAP_STEPS) ** 2 / 2.0 if math.isfinite(gap) else math.inf
     if speed > 0 and sticky_near:
         dt_max = min(dt_max, max((0.2 / speed) ** 2, (t1 - t0) / 256.0))
     n = 1 if not math.isfinite(dt_max) else max(1, int(math.ceil((t1 - t0) / dt_max)))
@@ -374,8 +348,6 @@ class MarkovMethod(EngineMethod):
         pb = self.problem
         opts = markov_options(dict(pb.options))
         if opts.get("mode", "walkers") == "kernel":
-            from ._markov_ck import run_kernel
-
             return run_kernel(pb, opts)
         n = int(opts["walkers"])
         acc = _simulate(pb, opts)
@@ -440,23 +412,6 @@ class MarkovMethod(EngineMethod):
             nfev=int(acc["nsteps"]),
             extra={"load_standard_error": se_load},
         )
-
-
-class ChapmanKolmogorovMethod(MarkovMethod):
-    """The density of the process by the Chapman-Kolmogorov integral (``_markov_ck``)."""
-
-    name = "markov_ck"
-
-    @classmethod
-    def admits(cls, problem: Problem) -> bool:
-        up = problem.upper
-        return up is None or up.kind != "yield_closure" or up.is_fixed
-
-    def run(self) -> Raw:
-        from ._markov_ck import run_kernel
-
-        opts = markov_options(dict(self.problem.options))
-        return run_kernel(self.problem, opts)
 
 
 def sample_paths(

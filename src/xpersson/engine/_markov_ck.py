@@ -27,11 +27,12 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import erfc
 
-from ._markov import _GAP_STEPS
+from ._base import EngineMethod
+from ._markov_options import GAP_STEPS, markov_options
 from ._problem import Problem
 from ._result import Raw
 
-__all__ = ["run_kernel", "transition_kernel"]
+__all__ = ["ChapmanKolmogorovMethod", "run_kernel", "transition_kernel"]
 
 Array = NDArray[np.float64]
 
@@ -97,7 +98,7 @@ def _times(pb: Problem, ratio: float) -> Array:
     out = [t[:1]]
     for a, b in zip(t[:-1], t[1:], strict=True):  # a step reaches at most one wall
         lo, up = pb.wall_positions(np.linspace(a, b, 5))
-        dt_max = (float(np.min(up - lo)) / _GAP_STEPS) ** 2 / 2.0
+        dt_max = (float(np.min(up - lo)) / GAP_STEPS) ** 2 / 2.0
         m = max(1, int(math.ceil((b - a) / dt_max)))
         out.append(np.linspace(a, b, m + 1)[1:])
     return np.concatenate(out)
@@ -210,3 +211,18 @@ def run_kernel(pb: Problem, opts: dict[str, Any]) -> Raw:
         n_nodes=int(fine["n_nodes"]),
         nfev=int(coarse["nsteps"] + fine["nsteps"]),
     )
+
+
+class ChapmanKolmogorovMethod(EngineMethod):
+    """The density of the process by the Chapman-Kolmogorov integral (``_markov_ck``)."""
+
+    name = "markov_ck"
+
+    @classmethod
+    def admits(cls, problem: Problem) -> bool:
+        up = problem.upper
+        return up is None or up.kind != "yield_closure" or up.is_fixed
+
+    def run(self) -> Raw:
+        opts = markov_options(dict(self.problem.options))
+        return run_kernel(self.problem, opts)

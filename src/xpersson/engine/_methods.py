@@ -1,41 +1,27 @@
-"""Method base class and registry (``solve(method=...)`` takes a name or a class)."""
+"""The method table: a literal ``METHODS`` mapping of the built-in methods, plus
+:func:`register_method` for third-party methods and :func:`get_method` (name or class).
+
+The built-ins are listed here, not registered as a side effect of importing the package.
+"""
 
 from __future__ import annotations
 
-from ._problem import Problem
-from ._result import Raw
+from ._base import EngineMethod
+from ._cn import CNMethod
+from ._exactpath import ExactMethod
+from ._markov import MarkovMethod
+from ._markov_ck import ChapmanKolmogorovMethod
+from ._sine import SineMethod
 
 __all__ = ["EngineMethod", "register_method", "get_method", "METHODS"]
 
-
-class EngineMethod:
-    """Base class of engine methods.
-
-    Subclasses set ``name``, implement :meth:`admits` (can the method treat these walls?) and
-    :meth:`run`, which returns a :class:`~xpersson.engine._result.Raw`; the engine adds the
-    balances and the final status.  Register with :func:`register_method` or pass the class to
-    ``solve(method=cls)``.
-    """
-
-    name: str = "base"
-    #: True when :meth:`run` accepts a batch Problem (``tau`` ``(n_load, n_tau)``, ``p0`` a
-    #: ``(n_load, 1)`` column) and returns a Raw with a leading load axis.  Methods without it
-    #: are run once per load by :func:`~xpersson.engine.solve_batch`.
-    batched: bool = False
-
-    def __init__(self, problem: Problem) -> None:
-        self.problem = problem
-
-    @classmethod
-    def admits(cls, problem: Problem) -> bool:  # pragma: no cover - overridden
-        """True when the method can solve ``problem``."""
-        return True
-
-    def run(self) -> Raw:  # pragma: no cover - overridden
-        raise NotImplementedError
-
-
-METHODS: dict[str, type[EngineMethod]] = {}
+METHODS: dict[str, type[EngineMethod]] = {
+    "exact": ExactMethod,
+    "sine": SineMethod,
+    "cn": CNMethod,
+    "markov": MarkovMethod,
+    "markov_ck": ChapmanKolmogorovMethod,
+}
 
 
 def register_method(name: str, cls: type[EngineMethod]) -> type[EngineMethod]:

@@ -109,6 +109,33 @@ def make_problem(
     or ``(n_load, n_tau)``; the Problem then holds ``tau`` as ``(n_load, n_tau)`` and ``p0`` as
     a ``(n_load, 1)`` column, so that closed forms broadcast over loads.
     """
+    tau, p0v = _checked_times_and_loads(tau_out, p0, batch)
+    rtol, atol = _checked_tolerances(rtol, atol)
+    if int(max_steps) < 1:
+        raise _fail("max_steps", "1", ">= 1", max_steps)
+    _check_wall("lower", lower)
+    if upper is not None:
+        _check_wall("upper", upper)
+    if lower.kind == "yield_closure" and not lower.is_fixed:
+        raise ValueError("lower: a moving yield_closure wall is only supported as the upper wall")
+    _check_positions(tau, p0v, lower, upper)
+    if batch and tau.ndim == 1:
+        tau = np.broadcast_to(tau, (p0v.size, tau.size))
+    p_arr = None
+    if p_out is not None:
+        p_arr = np.atleast_1d(np.asarray(p_out, dtype=float))
+        if p_arr.ndim != 1 or not np.all(np.isfinite(p_arr)):
+            raise _fail("p_out", "Pa", "a 1-D array of finite pressures", p_out)
+    p0_out: float | Array = p0v[:, None] if batch else float(p0v[0])
+    return Problem(
+        tau, p0_out, lower, upper, rtol, atol, p_arr, int(max_steps), dict(options or {})
+    )
+
+
+def _checked_times_and_loads(
+    tau_out: ArrayLike, p0: float | ArrayLike, batch: bool
+) -> tuple[Array, Array]:
+    """``tau_out`` [Pa^2] and the loads ``p0`` [Pa] (always 1-D) checked; see make_problem."""
     try:
         tau = np.asarray(tau_out, dtype=float)
     except (TypeError, ValueError):
@@ -141,6 +168,11 @@ def make_problem(
         raise _fail("tau_out", "Pa^2", "strictly increasing", tau_out)
     if not np.all(np.isfinite(p0v)):
         raise _fail("p0", "Pa", "finite", p0)
+    return tau, p0v
+
+
+def _checked_tolerances(rtol: float, atol: float | None) -> tuple[float, float]:
+    """``rtol`` in (0, 0.1) and ``atol`` (default ``1e-7 rtol``) in (0, 0.1), as floats."""
     try:
         rtol = float(rtol)
     except (TypeError, ValueError):
@@ -153,25 +185,7 @@ def make_problem(
         atol = float(atol)
         if not (math.isfinite(atol) and 0.0 < atol < 0.1):
             raise _fail("atol", "1 (absolute error of A/A0)", "in the open interval (0, 0.1)", atol)
-    if int(max_steps) < 1:
-        raise _fail("max_steps", "1", ">= 1", max_steps)
-    _check_wall("lower", lower)
-    if upper is not None:
-        _check_wall("upper", upper)
-    if lower.kind == "yield_closure" and not lower.is_fixed:
-        raise ValueError("lower: a moving yield_closure wall is only supported as the upper wall")
-    _check_positions(tau, p0v, lower, upper)
-    if batch and tau.ndim == 1:
-        tau = np.broadcast_to(tau, (p0v.size, tau.size))
-    p_arr = None
-    if p_out is not None:
-        p_arr = np.atleast_1d(np.asarray(p_out, dtype=float))
-        if p_arr.ndim != 1 or not np.all(np.isfinite(p_arr)):
-            raise _fail("p_out", "Pa", "a 1-D array of finite pressures", p_out)
-    p0_out: float | Array = p0v[:, None] if batch else float(p0v[0])
-    return Problem(
-        tau, p0_out, lower, upper, rtol, atol, p_arr, int(max_steps), dict(options or {})
-    )
+    return rtol, atol
 
 
 def sample_times(tau: Array) -> Array:

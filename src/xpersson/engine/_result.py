@@ -395,6 +395,10 @@ class LazyField:
         return self._fn()
 
 
+def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report success?
+    return np.broadcast_to(np.asarray(raw.status) == "success", (n,)).copy()
+
+
 def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     """Balances and per-load status of a batched Raw: the pieces of an :class:`EngineBatch`.
 
@@ -409,11 +413,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     else:
         lo, up, prob, loadb = _balances(problem, raw)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
-    raw_ok = (
-        np.full(n, raw.status == "success")
-        if isinstance(raw.status, str)
-        else np.asarray(raw.status) == "success"
-    )
+    raw_ok = _raw_ok(raw, n)
     # NaN/inf in any field reaches a balance or one of the sums (max/min/sum propagate NaN)
     if raw.exact_balances:
         finite_all = bool(np.isfinite(np.sum(raw.area) + np.sum(raw.non_area)))

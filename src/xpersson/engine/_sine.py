@@ -21,7 +21,7 @@ import math
 import numpy as np
 from scipy.special import erfc
 
-from ._methods import EngineMethod
+from ._base import EngineMethod
 from ._problem import Problem, window_k
 from ._result import Raw
 

@@ -6,7 +6,9 @@ the two-wall functions switch from the image series (small ``tau``) to the sine 
 ``tau``) at ``tau / L**2 = 0.1`` where both agree to round-off (``series=`` forces one; each
 keeps as many terms as double precision needs at the tau it is given).  This module is the one
 home of these closed forms: the elastic built-in, the plasticity plugin and
-``xpersson.testing`` call it.
+``xpersson.testing`` call it.  It stays one module (over the 500-line limit) on purpose: the
+three families share their tail helpers and series switches, and a reader checks each closed
+form against physics.md in one place.
 
 Units: pressures ``p``, ``p0``, wall positions in Pa; diffusion time ``tau`` in Pa^2; the wall
 speed ``c`` of the linear wall in 1/Pa (``p_w = -(s0 + c tau)``); densities in 1/Pa; areas are

@@ -1,0 +1,308 @@
+"""Time plan and window of the ``cn`` method: analytic start, kinks of the window edges,
+graded stretches after wall breakpoints, the refined step sequences and the window edges (with
+their speeds) along them.  See :mod:`._cn` for the scheme."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import brentq
+
+from ._problem import Problem
+
+__all__ = [
+    "_Plan",
+    "_joint_plan",
+    "_level_times",
+    "_edges_batch",
+    "_faces",
+    "_start_time",
+    "_switch_times",
+]
+
+Array = NDArray[np.float64]
+
+
+@dataclass
+class _Plan:
+    base: Array  # level-0 time sequence tau_s ... tau_end
+    out_index: Array  # index in base of each numerical output
+    tau_s: float
+    k: float
+    yield_wall: bool
+    zones: tuple[tuple[float, float], ...] = ()  # graded stretches (tau_b, tau_end) after
+    # declared wall breakpoints: steps uniform in (tau - tau_b)^(1/4), implicit first step;
+    # chord mesh speeds from the first breakpoint on
+
+
+def _start_time(pb: Problem, k: float) -> float:
+    """Largest tau_s with every real wall outside the window on [0, tau_s]."""
+    cand = pb.tau_max * np.logspace(-18, 0, 721)
+    s = np.sqrt(2.0 * cand)
+    lo, up = pb.wall_positions(cand)
+    ok = (lo <= pb.p0 - k * s) & (up >= pb.p0 + k * s)
+    if ok.all():
+        return pb.tau_max
+    first = int(np.argmin(ok))
+    if first == 0:
+        return float(cand[0])
+    return float(cand[first - 1]) * 0.5
+
+
+def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float]:
+    """Times where a real wall enters/leaves the window (kinks of the window edges)."""
+    cand = t_lo * np.logspace(0.0, math.log10(t_hi / t_lo), 513) if t_hi > t_lo else []
+    if len(cand) < 2:
+        return []
+    out: list[float] = []
+
+    def gaps(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        s = np.sqrt(2.0 * t)
+        lo, up = pb.wall_positions(t)
+        return lo - (pb.p0 - k * s), up - (pb.p0 + k * s)
+
+    gl, gu = gaps(cand)
+    for g, which in ((gl, 0), (gu, 1)):
+        if pb.upper is None and which == 1:
+            continue
+        flips = np.flatnonzero(np.sign(g[:-1]) != np.sign(g[1:]))
+        for i in flips:
+            a, b = float(cand[i]), float(cand[i + 1])
+            try:
+                t = brentq(
+                    lambda t, w=which: float(gaps(np.array([t]))[w][0]), a, b, xtol=1e-15 * b
+                )
+            except ValueError:
+                continue
+            out.append(t)
+    return out
+
+
+def _level_times(
+    base: Array, nsub: int, n_ie: int, zones: tuple[tuple[float, float], ...] = ()
+) -> tuple[Array, Array]:
+    """Nested refinement of ``base`` plus Rannacher halves; returns (times, theta per step).
+
+    Inside a graded zone ``(tau_b, tau_e)`` the steps are subdivided uniformly in
+    ``(tau - tau_b)^(1/4)`` and the step starting at ``tau_b`` is implicit Euler (the wall's
+    speed may be unbounded there).
+    """
+    d = np.diff(base)
+    frac = np.arange(nsub) / nsub
+    a = base[:-1]
+    sub = a[:, None] + d[:, None] * frac[None, :]
+    for tb, te in zones:
+        m = (a >= tb) & (base[1:] <= te)
+        if m.any() and nsub > 1:
+            ua, ub = (a[m] - tb) ** (1 / _GRADE), (base[1:][m] - tb) ** (1 / _GRADE)
+            sub[m] = tb + (ua[:, None] + (ub - ua)[:, None] * frac[None, :]) ** _GRADE
+            sub[m, 0] = a[m]
+    t = np.append(sub.ravel(), base[-1])
+    n_ie = min(n_ie, t.size - 1)
+    if n_ie > 0:
+        mids = 0.5 * (t[:n_ie] + t[1 : n_ie + 1])
+        t = np.sort(np.concatenate([t, mids]))
+    theta = np.full(t.size - 1, 0.5)
+    theta[: 2 * n_ie] = 1.0
+    if zones:
+        theta[np.isin(t[:-1], [tb for tb, _ in zones])] = 1.0
+    return t, theta
+
+
+def _wall_speeds(wall, tau: Array) -> tuple[Array, Array]:
+    """dp_w/dtau [1/Pa] of a wall at ``tau`` just before and just after (declared, or by central
+    differences).
+
+    The two differ only at the wall's declared breakpoints, where the difference is one-sided
+    (the speed just before ends a step, the speed just after starts one).
+    """
+    if wall is None or wall.is_fixed:
+        z = np.zeros_like(tau)
+        return z, z
+    if wall.dposition is not None:
+        v = wall.speed(tau)
+        return v, v
+    if wall.motion is not None:
+        v = np.full_like(tau, wall.motion[1])
+        return v, v
+    h = 1e-5 * tau
+    bp = getattr(wall, "breakpoints", ())
+    if bp:
+        # never difference across a breakpoint: the step shrinks with the distance to it
+        b = np.asarray(bp)
+        dist = np.min(np.abs(tau[..., None] - b), axis=-1)
+        h = np.where(dist > 0, np.minimum(h, 1e-3 * dist), h)
+    hi, lo = tau + h, tau - h
+    p_hi, p_lo = np.split(wall.at(np.concatenate([hi, lo])), 2)  # one call of the wall
+    v = (p_hi - p_lo) / (hi - lo)
+    before, after = v, v
+    at_bp = np.isin(tau, bp) if bp else np.zeros(tau.shape, bool)
+    if at_bp.any():
+        t = tau[at_bp]
+        p_t = wall.at(t)
+        before, after = v.copy(), v.copy()
+        before[at_bp] = (p_t - p_lo[at_bp]) / (t - lo[at_bp])
+        after[at_bp] = (p_hi[at_bp] - p_t) / (hi[at_bp] - t)
+    return before, after
+
+
+def _tracks(pb: Problem, taus: Array) -> dict:
+    """The walls along a time sequence (shared by the loads of a batch): positions [Pa] at the
+    step midpoints and at ``taus``, speeds [1/Pa] just before / after each time."""
+    mid = 0.5 * (taus[:-1] + taus[1:])
+    lo, up = pb.wall_positions(np.concatenate([mid, taus]))  # one call of each wall
+    n = mid.size
+    lo_m, up_m, lo, up = lo[:n], up[:n], lo[n:], up[n:]
+    lo_vb, lo_va = _wall_speeds(pb.lower, taus)
+    if pb.upper is not None:
+        up_vb, up_va = _wall_speeds(pb.upper, taus)
+        ys = pb.upper.speed(taus)
+    else:
+        up_vb = up_va = ys = np.zeros_like(taus)
+    return {
+        "mid": mid,
+        "lo_m": lo_m,
+        "up_m": up_m,
+        "lo": lo,
+        "up": up,
+        "lo_vb": lo_vb,
+        "lo_va": lo_va,
+        "up_vb": up_vb,
+        "up_va": up_va,
+        "ys": ys,
+    }
+
+
+def _edges(pb: Problem, plan: _Plan, taus: Array, tr: dict | None = None) -> dict:
+    """Window edges and their speeds at the start (a) and end (b) of every step.
+
+    The regime of each edge (real wall or artificial edge ``p0 -/+ k sqrt(2 tau)``) is fixed per
+    step (at its midpoint); the kinks where it changes are step boundaries (see ``_plan``).
+    ``tr``: the walls along ``taus`` (:func:`_tracks`), computed here unless given.
+    """
+    if tr is None:
+        tr = _tracks(pb, taus)
+    k, p0 = plan.k, pb.p0
+    mid = tr["mid"]
+    s_m = np.sqrt(2.0 * mid)
+    rl = tr["lo_m"] >= p0 - k * s_m
+    if plan.yield_wall:
+        ru = np.logical_or.accumulate(tr["up_m"] <= p0 + k * s_m)
+    else:
+        ru = tr["up_m"] <= p0 + k * s_m
+    out = {"rl": rl, "ru": ru}
+    for tag, sl in (("a", slice(None, -1)), ("b", slice(1, None))):
+        t = taus[sl]
+        s = np.sqrt(2.0 * t)
+        ds = 1.0 / s
+        lo, up = tr["lo"][sl], tr["up"][sl]
+        lo_v, up_v = tr["lo_v" + tag][sl], tr["up_v" + tag][sl]
+        le = np.where(rl, lo, p0 - k * s)
+        ue = np.where(ru, up, p0 + k * s)
+        out["l" + tag] = le
+        out["w" + tag] = ue - le
+        out["lv" + tag] = np.where(rl, lo_v, -k * ds)
+        out["wv" + tag] = np.where(ru, up_v, k * ds) - out["lv" + tag]
+        out["ys" + tag] = np.where(ru, tr["ys"][sl], 0.0) if plan.yield_wall else 0.0 * t
+    # from the first breakpoint on, the mesh moves with the chord speeds of each step (the
+    # exact displacement of the edges: the wall may move like sqrt(tau - tau_b), whose point
+    # speeds are unbounded and made the scheme first order; after the graded stretch the chord
+    # speeds also keep the Richardson control's error expansion clean)
+    chord = np.zeros(mid.shape, bool)
+    if plan.zones:
+        chord |= taus[:-1] >= plan.zones[0][0]
+    if chord.any():
+        dt = np.diff(taus)
+        lvc = (out["lb"] - out["la"]) / dt
+        wvc = (out["wb"] - out["wa"]) / dt
+        for tag in ("a", "b"):
+            out["lv" + tag] = np.where(chord, lvc, out["lv" + tag])
+            out["wv" + tag] = np.where(chord, wvc, out["wv" + tag])
+    out["chord"] = chord
+    return out
+
+
+def _faces(x: Array) -> tuple[Array, Array, Array]:
+    """Face midpoints, node spacings and trapezoid weights (control volumes) of ``x``."""
+    w = np.zeros_like(x)
+    d = np.diff(x)
+    w[:-1] += d / 2
+    w[1:] += d / 2
+    return 0.5 * (x[1:] + x[:-1]), d, w
+
+
+def _edges_batch(pbs: list[Problem], plan: _Plan, taus: Array) -> dict:
+    tr = _tracks(pbs[0], taus)  # the loads of a batch share their walls
+    eds = [_edges(pb, plan, taus, tr) for pb in pbs]
+    if len(eds) == 1:
+        return {key: val[None] for key, val in eds[0].items()}
+    return {key: np.stack([e[key] for e in eds]) for key in eds[0]}
+
+
+_GRADE = 4.0  # steps uniform in (tau - tau_b)^(1/_GRADE) after a wall breakpoint
+
+
+def _joint_plan(
+    pbs: list[Problem], k: float, per_decade: float, tau_s: float, kinks: list[float] | None = None
+) -> _Plan:
+    """One time schedule for a batch of loads: common analytic start, all kinks (the times
+    where a real wall enters or leaves the window; found here unless given)."""
+    pb = pbs[0]
+    outs = pb.tau[pb.tau > tau_s]
+    yield_wall = pb.upper is not None and not pb.upper.acts_absorbing
+    if outs.size == 0:
+        return _Plan(np.array([tau_s]), np.zeros(0, int), tau_s, k, yield_wall)
+    per_decade = max(per_decade, 4.0)
+    decades = math.log10(outs[-1] / tau_s)
+    n_geo = max(1, int(math.ceil(decades * per_decade)))
+    geo = tau_s * np.logspace(0.0, decades, n_geo + 1)
+    if kinks is None:
+        kinks = [t for p in pbs for t in _switch_times(p, k, tau_s, float(outs[-1]))]
+    ratio = 10 ** (1.0 / per_decade) - 1.0
+    zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
+    fixed = np.union1d(np.union1d(outs, kinks), graded)
+    keep = np.ones(geo.size, bool)
+    for t in fixed:
+        keep &= np.abs(geo - t) > 0.3 * ratio * t
+    for tb, te in zones:
+        keep &= (geo <= tb) | (geo >= te)
+    keep[0] = True
+    base = np.union1d(geo[keep & (geo < outs[-1])], fixed)
+    base = base[base >= tau_s]
+    return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall, zones)
+
+
+def _graded_zones(
+    pbs: list[Problem], tau_s: float, tau_end: float, ratio: float
+) -> tuple[tuple[tuple[float, float], ...], Array]:
+    """Graded stretches after the walls' declared breakpoints, and their step times.
+
+    After a breakpoint ``tau_b`` the wall may move like ``sqrt(tau - tau_b)`` (unbounded speed):
+    on ``[tau_b, tau_b + H]``, ``H = min(tau_b, tau_end - tau_b)``, the steps are uniform in
+    ``u = (tau - tau_b)^(1/4)`` (in ``s = u^2`` the motion is smooth; the quartic grading also
+    removes the ``ds^2 log`` term that uniform steps in ``s`` leave, so that the error has a
+    clean second-order expansion for the Richardson control); at its end they match the
+    geometric steps ``~ ratio tau``.
+    """
+    bps = sorted(
+        {
+            float(t)
+            for p in pbs
+            for w in (p.lower, p.upper)
+            if w is not None
+            for t in getattr(w, "breakpoints", ())
+            if tau_s < t < tau_end
+        }
+    )
+    zones: list[tuple[float, float]] = []
+    pts: list[Array] = []
+    for i, tb in enumerate(bps):
+        nxt = bps[i + 1] if i + 1 < len(bps) else tau_end
+        h = min(tb, nxt - tb)
+        n_g = max(2, int(math.ceil(_GRADE * (h / tb) ** (1 / _GRADE) / ratio)))
+        pts.append(tb + h * (np.arange(n_g + 1) / n_g) ** _GRADE)
+        zones.append((tb, tb + h))
+    return tuple(zones), (np.concatenate(pts) if pts else np.zeros(0))
