@@ -25,7 +25,7 @@ from ._cn import CNMethod
 from ._exactpath import ExactMethod
 from ._markov import MarkovMethod, sample_paths
 from ._markov_ck import ChapmanKolmogorovMethod, transition_kernel
-from ._methods import register_method
+from ._methods import METHODS, register_method
 from ._progress import reporting as progress_reporting
 from ._result import EngineBatch, EngineResult
 from ._sine import SineMethod
@@ -42,6 +42,7 @@ __all__ = [
     "EngineBatch",
     "EngineMethod",
     "register_method",
+    "METHODS",
     "exact",
     "ExactMethod",
     "SineMethod",

@@ -107,8 +107,7 @@ def _build_spectrum(spectrum: Plugin, who: Any) -> Any:
 
 def _check_method(method: Any) -> None:
     """``solver.method`` is ``"auto"``, a registered method name or an EngineMethod class."""
-    from ..engine import EngineMethod
-    from ..engine._methods import METHODS  # the engine's face exports no METHODS yet
+    from ..engine import METHODS, EngineMethod
 
     if isinstance(method, type):
         if not issubclass(method, EngineMethod):
