@@ -15,7 +15,11 @@ the worked third-party example ``examples/third_party_plugin``. Steps:
 
 Usage::
 
-    python benchmarks/wheels.py [WORK]        # WORK defaults to a new temporary folder
+    python benchmarks/wheels.py [WORK [SHARED]]
+
+``WORK`` defaults to a new temporary folder; ``SHARED`` is the reference data folder (default
+``../shared`` next to the repository), linked as ``WORK/shared`` so the copy finds it as
+``../shared``.
 
 Exit status 0 when every step passes; the summary (files built, twine result, pytest's last
 line) is printed at the end.
@@ -74,7 +78,7 @@ def fresh_venv(venv: Path, wheels: list[Path]) -> Path:
     return py
 
 
-def source_free_tree(tree: Path) -> Path:
+def source_free_tree(tree: Path, shared: Path) -> Path:
     """Copy the tracked files without any ``src/`` folder (tests import the installed wheels)."""
     names = _run(["git", "ls-files"], cwd=ROOT, capture_output=True).stdout.split()
     for name in names:
@@ -84,7 +88,6 @@ def source_free_tree(tree: Path) -> Path:
         target = tree / name
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(ROOT / name, target)
-    shared = ROOT.parent / "shared"
     if shared.is_dir() and not (tree.parent / "shared").exists():
         (tree.parent / "shared").symlink_to(shared)
     return tree
@@ -98,7 +101,8 @@ def main(argv: list[str]) -> int:
     files = build_all(work / "dist")
     _run([sys.executable, "-m", "twine", "check", "--strict", *map(str, files)])
     py = fresh_venv(work / "venv", [f for f in files if f.suffix == ".whl"])
-    tree = source_free_tree(work / "repo")
+    shared = Path(argv[1]) if len(argv) > 1 else ROOT.parent / "shared"
+    tree = source_free_tree(work / "repo", shared.resolve())
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     where = _run(
         [

@@ -138,6 +138,9 @@ def _norm(values: np.ndarray) -> Any:
     import matplotlib.colors as mcolors
 
     v = np.asarray(values, float)
+    if v.size <= MAX_LEGEND:  # a legend: evenly spread colours, whatever the values
+        ranks = {float(x): i / max(v.size - 1, 1) for i, x in enumerate(np.sort(v))}
+        return lambda x: ranks[float(x)]
     lo, hi = float(np.min(v)), float(np.max(v))
     if lo > 0 and hi / lo > 20:
         return mcolors.LogNorm(lo, hi)
@@ -472,7 +475,7 @@ def friction(
     ax.set_ylabel(r"friction coefficient $\mu$")
     if point is not None:
         vf = human("m s-1", ds["v"].values)[0]
-        ax.plot(point[0] / vf, float(point[1].isel(p0=-1)), "k*", ms=11, label="_stored")
+        ax.plot(point[0] / vf, float(np.ravel(point[1].values)[-1]), "k*", ms=11, label="_stored")
     if "p0" in mu.coords:
         ax.set_title(f"$p_0$ = {_text(float(mu['p0']), 'Pa')}")
     return ax
