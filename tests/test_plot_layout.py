@@ -25,6 +25,15 @@ ROOT = Path(__file__).resolve().parents[1]
 PLUGINS = ROOT / "plugins"
 
 
+@pytest.fixture(autouse=True)
+def _close_figures():
+    """Every test's figures are closed after it (no pile-up of open pyplot figures)."""
+    yield
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+
+
 def _solve(path: Path, **overrides):
     if not path.is_file():
         pytest.skip(f"example {path.name} not in this checkout")
@@ -106,7 +115,7 @@ def _outside(fig, monkeypatch) -> list[str]:
 @pytest.mark.parametrize(("kind", "scene"), CASES)
 def test_no_text_outside_the_canvas(scenes, kind, scene, monkeypatch, tmp_path):
     ds = scenes[scene]
-    plt = xplot._plt()
+    plt = xplot.pyplot()
     closed = []
     monkeypatch.setattr(plt, "close", closed.append)  # keep the figure save() writes
     xplot.save(ds, kind, tmp_path / f"{kind}.png", dpi=72)
@@ -123,8 +132,8 @@ def test_human_units():
     assert xplot.human("Pa", [5e6, 1e8]) == (1e6, "MPa")
     assert xplot.human("m", [2e-6]) == (1e-6, "µm")
     assert xplot.human("m s-1", [1e-2]) == (1e-2, "cm/s")
-    assert xplot._text(1e4, "Pa") == "10 kPa"
-    assert xplot._text(293.15, "K") == "20 °C"
+    assert xplot.text(1e4, "Pa") == "10 kPa"
+    assert xplot.text(293.15, "K") == "20 °C"
 
 
 def test_plastic_area_shows_total_and_plastic(scenes):
@@ -178,7 +187,7 @@ def test_missing_matplotlib_is_one_clear_line(tmp_path):
         "import sys; sys.modules['matplotlib'] = None\n"
         "import xpersson, xpersson.plot as p\n"
         "try:\n"
-        "    p._plt()\n"
+        "    p.pyplot()\n"
         "except p.MatplotlibMissingError as e:\n"
         "    assert isinstance(e, ImportError); print(e)\n"
     )
@@ -190,7 +199,7 @@ def test_missing_matplotlib_is_one_clear_line(tmp_path):
 
 def test_the_check_sees_clipped_text(monkeypatch):
     """The canvas check itself: a label pushed off the figure is reported, one inside is not."""
-    plt = xplot._plt()
+    plt = xplot.pyplot()
     fig, ax = plt.subplots(figsize=(3, 2))
     ax.set_ylabel("a long label " * 6)
     ax.text(1.3, 0.5, "beyond the right edge", transform=ax.transAxes)

@@ -6,20 +6,10 @@ values; curves of a sweep differ in colour (one swept dimension, a sequential co
 bar when there are many values) *and* line style (the next dimension, or the quantity), so no
 curve hides another; legends sit outside the axes.
 
-==============  ==========================================================  ======================
-kind            what                                                        needs
-==============  ==========================================================  ======================
-area            A/A0 versus zeta (few loads) or versus p0 at zeta_max       core
-                (many loads, sweeps); total, elastic and plastic area for
-                plastic boundaries
-pressure_pdf    P(p) at the largest magnification                           output.pressure_pdf
-gap_pdf         gap distribution P(u)                                       analyses.gap_pdf
-leakage         leak rate versus p0, critical junction and EMT, sealed      analyses.leakage
-                loads marked
-energy          elastic energy versus p0                                    analyses.elastic_energy
-friction        mu(v) at each temperature (re-solved over v and T from the  a friction analysis
-                archive's scene when it holds one speed)
-==============  ==========================================================  ======================
+Kinds (:data:`KINDS`): ``area`` (A/A0 versus zeta, or versus p0 at zeta_max for many loads and
+sweeps; total, elastic and plastic area for plastic boundaries), ``pressure_pdf``, ``gap_pdf``,
+``leakage`` (both theories, sealed loads shaded), ``energy`` and ``friction`` (mu(v) at each
+temperature). The user guide's "Plots" page says what each needs in the scene.
 """
 
 from __future__ import annotations
@@ -27,6 +17,7 @@ from __future__ import annotations
 import json
 import os
 import textwrap
+import warnings
 from collections.abc import Callable
 from typing import Any
 
@@ -36,6 +27,9 @@ import xarray as xr
 __all__ = [
     "KINDS",
     "MatplotlibMissingError",
+    "human",
+    "pyplot",
+    "text",
     "plot",
     "area",
     "pressure_pdf",
@@ -64,7 +58,9 @@ class MatplotlibMissingError(ImportError):
     """matplotlib is not installed; ``str(error)`` is a one-line message saying how to get it."""
 
 
-def _plt() -> Any:
+def pyplot() -> Any:
+    """``matplotlib.pyplot`` (Agg backend without a display); :class:`MatplotlibMissingError`
+    when matplotlib is not installed."""
     try:
         import matplotlib
     except ImportError:
@@ -79,10 +75,7 @@ def _plt() -> Any:
 
 
 def _axes(ax: Any) -> Any:
-    if ax is not None:
-        return ax
-    _, ax = _plt().subplots(figsize=(6.4, 4.2), layout="constrained")
-    return ax
+    return ax if ax is not None else pyplot().subplots(figsize=(6.4, 4.2), layout="constrained")[1]
 
 
 def human(units: str, values: Any) -> tuple[float, str]:
@@ -115,19 +108,17 @@ def _num(value: float) -> str:
     return f"$10^{{{int(round(exp))}}}$" if abs(exp - round(exp)) < 1e-9 else f"{value:.3g}"
 
 
-def _text(value: float, units: str) -> str:
+def text(value: float, units: str) -> str:
     """One value with its human unit: ``10 kPa``, ``0.6``, ``20 °C``."""
     if units == "K":
         return f"{value - 273.15:.3g} °C"
-    factor, text = human(units, [value])
-    return f"{value / factor:.3g} {text}".strip()
+    factor, unit = human(units, [value])
+    return f"{value / factor:.3g} {unit}".strip()
 
 
-def _label(var: xr.DataArray, name: str, factor_text: tuple[float, str]) -> str:
-    text = str(var.attrs.get("long_name", name))
-    sym = _SYMBOLS.get(name, "")
-    unit = factor_text[1]
-    return f"{text} {sym}".strip() + (f" [{unit}]" if unit else "")
+def _label(var: xr.DataArray, name: str, factor_unit: tuple[float, str]) -> str:
+    words = f"{var.attrs.get('long_name', name)} {_SYMBOLS.get(name, '')}".strip()
+    return words + (f" [{factor_unit[1]}]" if factor_unit[1] else "")
 
 
 def _picks(n: int, most: int) -> np.ndarray:
@@ -202,8 +193,8 @@ def _lines(
                 )
                 k += 1
     ax.set_xlabel(_label(xs, x, xf))
-    text = ylabel or str(da0.attrs.get("long_name", da0.name))
-    ax.set_ylabel(f"{text} [{yf[1]}]" if yf[1] else text)
+    words = ylabel or str(da0.attrs.get("long_name", da0.name))
+    ax.set_ylabel(f"{words} [{yf[1]}]" if yf[1] else words)
     _legends(ax, items, cdim, cvals[cidx], norm, cmap, da0, sdims)
     return ax
 
@@ -215,52 +206,44 @@ def _flatten(curve: xr.DataArray, rest: list[str]) -> list[np.ndarray]:
     return [stacked.values[i] for i in range(stacked.sizes["_r"])]
 
 
-def _legends(ax, items, cdim, cvals, norm, cmap, da0, sdims) -> None:  # noqa: ANN001
-    from matplotlib.cm import ScalarMappable
+def _handle(label: str, ls: str = "-", marker: str | None = None, color: Any = "0.3") -> Any:
     from matplotlib.lines import Line2D
 
+    return Line2D([], [], color=color, ls=ls, marker=marker, ms=4.5, lw=1.6, label=label)
+
+
+def _legends(ax, items, cdim, cvals, norm, cmap, da0, sdims) -> None:  # noqa: ANN001
+    """Colour legend (or colour bar) and line-style legend, outside the axes of our figures."""
+    from matplotlib.cm import ScalarMappable
+
     units = da0[cdim].attrs.get("units", "1") if cdim else "1"
-    title = f"{_SYMBOLS.get(cdim, cdim)}" if cdim else None
-    colour = [Line2D([], [], color=cmap(norm(v)), lw=2, label=_text(v, units)) for v in cvals[::-1]]
+    colour = [_handle(text(v, units), color=cmap(norm(v))) for v in cvals[::-1]]
+    styles, stitle = [], None
     if len(items) > 1:
-        styles = [
-            Line2D([], [], color="0.3", ls=STYLES[i % 4], label=q) for i, (q, _) in enumerate(items)
-        ]
-        stitle = None
+        styles = [_handle(q, STYLES[i % 4]) for i, (q, _) in enumerate(items)]
     elif sdims:
-        d, su = sdims[0], da0[sdims[0]].attrs.get("units", "1")
-        styles = [
-            Line2D(
-                [],
-                [],
-                color="0.3",
-                ls=STYLES[i % 4],
-                marker=MARKERS[i % 6],
-                ms=4.5,
-                label=_text(float(v), su),
-            )
-            for i, v in enumerate(np.asarray(da0[d].values, float))
-        ]
-        stitle = _SYMBOLS.get(d, d)
-    else:
-        styles, stitle = [], None
+        su, stitle = da0[sdims[0]].attrs.get("units", "1"), _SYMBOLS.get(sdims[0], sdims[0])
+        values = np.asarray(da0[sdims[0]].values, float)
+        styles = [_handle(text(v, su), STYLES[i % 4], MARKERS[i % 6]) for i, v in enumerate(values)]
     kw: dict[str, Any] = {"fontsize": "small", "frameon": False}
     fig = ax.figure
     own = type(fig.get_layout_engine()).__name__ == "ConstrainedLayoutEngine" and (
         sum(not hasattr(a, "_colorbar") for a in fig.axes) == 1
     )
     if cdim and len(cvals) > MAX_LEGEND:
-        factor, text = human(units, cvals)
+        factor, unit = human(units, cvals)
         bar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, pad=0.02)
-        bar.set_label(_label(da0[cdim], cdim, (factor, text)))
+        bar.set_label(_label(da0[cdim], cdim, (factor, unit)))
         if factor != 1.0:
             bar.formatter = _scaled_formatter(factor)
             bar.update_ticks()
     elif cdim and len(cvals) > 1:
         if own:
-            fig.legend(handles=colour, title=title, loc="outside right upper", **kw)
+            fig.legend(
+                handles=colour, title=_SYMBOLS.get(cdim, cdim), loc="outside right upper", **kw
+            )
         else:
-            ax.add_artist(ax.legend(handles=colour, title=title, loc="upper right", **kw))
+            ax.add_artist(ax.legend(handles=colour, title=_SYMBOLS.get(cdim, cdim), **kw))
     if not styles:
         return
     if own and cdim and 1 < len(cvals) <= MAX_LEGEND:
@@ -295,6 +278,17 @@ def _log_limits(ax: Any, decades: float) -> None:
         ax.set_ylim(max(float(ys.min()), top * 10.0**-decades) / 1.5, top * 1.6)
 
 
+def _logx(ax: Any) -> None:
+    """Log x axis; tick labels as plain numbers (0.1, 1, 10) when it spans under 4 decades."""
+    from matplotlib.ticker import FuncFormatter
+
+    ax.set_xscale("log")
+    xs = np.concatenate([np.asarray(ln.get_xdata(), float) for ln in ax.lines] or [np.ones(1)])
+    xs = xs[np.isfinite(xs) & (xs > 0)]
+    if xs.size and xs.max() < 1e4 * xs.min():
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+
+
 def _sweep_dims(da: xr.DataArray) -> list[str]:
     return [d for d in da.dims if d not in ("p0", "zeta")]
 
@@ -327,20 +321,12 @@ def area(ds: xr.Dataset, ax: Any = None, max_curves: int = 12) -> Any:
         ax = _lines(ax, items, "p0", max_curves=max_curves)
         ax.set_title(rf"at the largest magnification $\zeta$ = {_num(float(ds.zeta[-1]))}")
         if float(ds["p0"].min()) > 0:
-            ax.set_xscale("log")
+            _logx(ax)
             _log_limits(ax, 5)
         else:  # tensile (adhesive) to compressive loads
             ax.axvline(0.0, color="0.6", lw=0.8, zorder=0)
-            ax.text(
-                0.0,
-                0.02,
-                "tensile | compressive ",
-                transform=ax.get_xaxis_transform(),
-                ha="center",
-                va="bottom",
-                fontsize="small",
-                color="0.4",
-            )
+            at = {"transform": ax.get_xaxis_transform(), "ha": "center", "color": "0.4"}
+            ax.text(0.0, 0.02, "tensile | compressive ", fontsize="small", **at)
     else:
         ax = _lines(ax, items, "zeta", max_curves=max_curves)
         ax.set_xscale("log")
@@ -386,7 +372,7 @@ def leakage(ds: xr.Dataset, ax: Any = None, max_curves: int = 12) -> Any:
         items.append(("effective medium (Bruggeman)", ds["leak_rate_emt"]))
     items = [(n, d.where(d > 0)) for n, d in items]
     ax = _lines(ax, items, "p0", max_curves=max_curves, ylabel="leak rate Q")
-    ax.set_xscale("log")
+    _logx(ax)
     _log_limits(ax, 10)
     sealed = ds.get("leak_sealed")
     if sealed is not None and sealed.dims == ("p0",) and bool(sealed.any()):
@@ -410,7 +396,7 @@ def energy(ds: xr.Dataset, ax: Any = None, max_curves: int = 12) -> Any:
     ax = _lines(
         ax, [("U", u.where(u > 0))], "p0", max_curves=max_curves, ylabel="elastic energy U/A0"
     )
-    ax.set_xscale("log")
+    _logx(ax)
     _log_limits(ax, 8)
     return ax
 
@@ -420,16 +406,17 @@ def _friction_sweep(ds: xr.Dataset, speeds: np.ndarray, temps: list[float]) -> x
     if "xpersson_scene" not in ds.attrs:
         return None
     from ._pipeline import solve  # deferred: plotting an archive needs no solver otherwise
-    from .scene import Scene
+    from .scene import Scene, SceneError
 
     data = json.loads(ds.attrs["xpersson_scene"])
     data["coefficient"]["velocity"] = [f"{float(v)!r} m/s" for v in speeds]
     data["coefficient"]["temperature"] = [f"{float(t)!r} K" for t in temps]
-    import warnings
-
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return solve(Scene(data, source=None))
+        try:
+            return solve(Scene(data, source=None))
+        except SceneError:  # e.g. the archive's coefficient plugin is not installed here
+            return None
 
 
 def friction(
@@ -477,7 +464,7 @@ def friction(
         vf = human("m s-1", ds["v"].values)[0]
         ax.plot(point[0] / vf, float(np.ravel(point[1].values)[-1]), "k*", ms=11, label="_stored")
     if "p0" in mu.coords:
-        ax.set_title(f"$p_0$ = {_text(float(mu['p0']), 'Pa')}")
+        ax.set_title(f"$p_0$ = {text(float(mu['p0']), 'Pa')}")
     return ax
 
 
@@ -502,7 +489,7 @@ def save(ds: xr.Dataset, kind: str, path: str | os.PathLike[str], dpi: int = 150
     """Draw ``kind`` into a new figure and write it to ``path`` (PNG, PDF, SVG); returns it.
 
     The Dataset's title is the figure's suptitle (wrapped); the kind's own subtitle stays."""
-    plt = _plt()
+    plt = pyplot()
     ax = plot(ds, kind)
     title = ds.attrs.get("title")
     if title:
