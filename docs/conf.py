@@ -28,6 +28,8 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",  # MathJax 3 copied into _static: equations render offline, no CDN
+    "sphinxcontrib.bibtex",
     "sphinx.ext.viewcode",
     "numpydoc",
     "myst_parser",
@@ -57,6 +59,11 @@ numpydoc_xref_param_type = False
 numpydoc_validation_checks: set[str] = set()
 # numpydoc reports malformed docstrings as Python warnings, which sphinx -W does not see
 warnings.filterwarnings("error", module="numpydoc")
+
+# -- bibliography (docs/references.bib, cited with :cite:p:`key`) ---------------------------------
+bibtex_bibfiles = ["references.bib"]
+bibtex_default_style = "unsrt"
+bibtex_reference_style = "author_year"
 
 # -- MyST ------------------------------------------------------------------------------------------
 myst_enable_extensions = ["dollarmath", "colon_fence"]

@@ -6,6 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import xpersson
@@ -13,6 +14,15 @@ from xpersson.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 PNG = b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    """Every test's figures are closed after it (no pile-up of open pyplot figures)."""
+    yield
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
 
 
 @pytest.fixture(scope="module")
@@ -42,31 +52,39 @@ def test_matplotlib_is_imported_only_when_plotting():
 def test_area_one_curve_per_load_log_zeta(elastic):
     ax = xpersson.plot.area(elastic)
     assert len(ax.lines) == elastic.sizes["p0"] == 3
-    assert ax.get_xscale() == "log" and ax.get_xlabel() == "magnification"
-    assert [t.get_text() for t in ax.get_legend().get_texts()][0] == "p0 = 1e+04 Pa"
+    assert ax.get_xscale() == "log" and ax.get_xlabel() == r"magnification $\zeta$"
+    legend = ax.figure.legends[0]  # outside the axes, human units, heaviest load first
+    assert [t.get_text() for t in legend.get_texts()] == ["1 MPa", "100 kPa", "10 kPa"]
 
 
 def test_sweep_area_one_curve_per_swept_value():
     ds = xpersson.solve(ROOT / "examples" / "sweep.toml")
     ax = xpersson.plot.plot(ds, "area")
     assert len(ax.lines) == 6 and ax.get_xscale() == ax.get_yscale() == "log"
-    assert ax.get_xlabel() == "nominal pressure [Pa]"
-    labels = {t.get_text() for t in ax.get_legend().get_texts()}
-    assert "H = 0.6, E = 5e+06 Pa" in labels
+    assert ax.get_xlabel() == "nominal pressure $p_0$ [MPa]"
+    # colour = H, line style and marker = E: no two curves look alike
+    looks = {(ln.get_color(), ln.get_linestyle(), ln.get_marker()) for ln in ax.lines}
+    assert len(looks) == 6
+    labels = [[t.get_text() for t in lg.get_texts()] for lg in ax.figure.legends]
+    assert labels == [["0.8", "0.7", "0.6"], ["5 MPa", "10 MPa"]]
 
 
 @pytest.mark.parametrize(
     ("kind", "xlabel", "lines", "points"),
     [
-        ("leakage", "nominal pressure [Pa]", 1, 5),  # one curve over the loads
-        ("energy", "nominal pressure [Pa]", 1, 5),
-        ("gap_pdf", "[m]", 5, 64),  # one curve per load over the gap grid
+        ("leakage", "nominal pressure $p_0$ [MPa]", 2, 5),  # critical junction and EMT
+        ("energy", "nominal pressure $p_0$ [MPa]", 1, 5),
+        ("gap_pdf", "[µm]", 5, 64),  # one curve per load over the gap grid
     ],
 )
 def test_interface_kinds(seal, kind, xlabel, lines, points):
     ax = xpersson.plot.plot(seal, kind)
     assert len(ax.lines) == lines and len(ax.lines[0].get_xdata()) == points
-    assert xlabel in ax.get_xlabel() and ax.get_yscale() == "log"
+    ys = np.concatenate([ln.get_ydata() for ln in ax.lines])
+    ys = ys[np.isfinite(ys) & (ys > 0)]
+    # log y exactly when the values span a decade or more
+    assert xlabel in ax.get_xlabel()
+    assert ax.get_yscale() == ("log" if ys.max() >= 10 * ys.min() else "linear")
 
 
 def test_every_kind_writes_a_png_via_the_cli(tmp_path, elastic, seal):
@@ -97,6 +115,9 @@ def test_friction_kind_versus_swept_sliding_speed():
     sc.data["output"] = {"zeta_per_decade": 4}
     ds = xpersson.solve(sc)
     ax = xpersson.plot.plot(ds, "friction")
-    assert len(ax.lines) == ds.sizes["p0"] == 2 and len(ax.lines[0].get_xdata()) == 3
-    assert ax.get_xscale() == "log" and "[m s-1]" in ax.get_xlabel()
+    # the heaviest load: total mu and its viscoelastic part, one point per speed
+    assert len(ax.lines) == 2 and len(ax.lines[0].get_xdata()) == 3
+    assert ax.get_xscale() == "log" and "[cm/s]" in ax.get_xlabel()
     assert ax.get_ylabel().startswith("friction coefficient")
+    mu = ds["mu"].isel(p0=-1).values
+    assert ax.lines[0].get_ydata() == pytest.approx(mu)
