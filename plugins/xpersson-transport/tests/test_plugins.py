@@ -1,0 +1,151 @@
+"""The analyses through xpersson.solve: identities on the solved Dataset, metadata, contract."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from transport_testlib import AIR, CU_RHO, E_STAR, electrical, scene, thermal
+
+import xpersson
+from xpersson.plugins import Analysis
+from xpersson_transport import _physics as ph
+from xpersson_transport.plugins import ElectricalContact, ThermalContact
+
+LOADS = [1e4, 1e5, 1e6]
+
+
+@pytest.fixture(scope="module")
+def ds():
+    ana = {"electrical_contact": electrical(nominal_area="1 cm**2"),
+           "thermal_contact": thermal(**AIR)}  # fmt: skip
+    return xpersson.solve(scene(LOADS, ana))
+
+
+@pytest.mark.parametrize("cls", [ElectricalContact, ThermalContact])
+def test_metadata(cls):
+    assert issubclass(cls, Analysis) and not cls.abstract
+    assert set(cls.provides) == set(cls.outputs)
+    assert "contact_stiffness" in cls.requires
+    assert all(r.startswith("10.") for r in cls.references)
+
+
+def test_units_are_cf(ds):
+    units = {
+        "electrical_constriction_conductance": "S m-2", "electrical_contact_resistance": "ohm",
+        "holm_conductance": "S m-2", "thermal_contact_conductance": "W m-2 K-1",
+        "thermal_gas_conductance": "W m-2 K-1", "thermal_contact_resistance": "K W-1",
+        "gas_jump_length": "m",
+    }  # fmt: skip
+    for name, unit in units.items():
+        assert ds[name].attrs["units"] == unit and ds[name].attrs["long_name"], name
+
+
+def test_conductance_over_stiffness_is_the_analogy_constant(ds):
+    K = ds["contact_stiffness"].values
+    g_e = ds["electrical_constriction_conductance"].values
+    g_t = ds["thermal_constriction_conductance"].values
+    np.testing.assert_allclose(g_e / K, 2.0 / (2 * CU_RHO * E_STAR), rtol=1e-14)
+    np.testing.assert_allclose(g_t / K, 2.0 * 200.0 / E_STAR, rtol=1e-14)  # kappa_s = 200
+    # no film: contact = constriction; resistance of 1 cm^2 = 1/(g A0)
+    np.testing.assert_array_equal(ds["electrical_contact_conductance"].values, g_e)
+    np.testing.assert_allclose(ds["electrical_contact_resistance"].values, 1 / (g_e * 1e-4),
+                               rtol=1e-15)  # fmt: skip
+    assert np.all(np.diff(g_e) > 0)  # conductance grows with load
+
+
+def test_scaling_with_moduli_at_fixed_reduced_load():
+    """Elastic Persson theory: K(p0; E*) = E* k(p0/E*) on a fixed spectrum, so at p0 ~ E* the
+    constriction conductance is independent of the modulus (to the solver's tolerance) and
+    scales with 1/(rho_1 + rho_2) and with kappa_s exactly."""
+    a = xpersson.solve(scene(LOADS, {"electrical_contact": electrical()}))
+    b = xpersson.solve(scene(np.multiply(LOADS, 7.0), {"electrical_contact": electrical(
+        3 * CU_RHO, 3 * CU_RHO)}, E="70 MPa"))  # fmt: skip
+    g_a = a["electrical_constriction_conductance"].values
+    g_b = b["electrical_constriction_conductance"].values
+    np.testing.assert_allclose(g_b, g_a / 3.0, rtol=1e-6)
+
+
+def test_single_load_scene():
+    sc = scene([2e5], {"electrical_contact": electrical(), "thermal_contact": thermal(**AIR)})
+    sc["load"]["p0"] = "2e5 Pa"  # a scalar load: p0 is a scalar coordinate
+    ds = xpersson.solve(sc)
+    assert ds["thermal_contact_conductance"].dims == ()
+    g = float(ds["electrical_constriction_conductance"])
+    assert g == pytest.approx(float(ds["contact_stiffness"]) / (CU_RHO * E_STAR), rel=1e-14)
+
+
+def test_film_in_series_on_the_finest_contact_area():
+    film = {"film_resistivity": "1e3 ohm*m", "film_thickness": "2 nm", "nominal_area": "1 mm**2"}
+    ds = xpersson.solve(scene(LOADS, {"electrical_contact": electrical(**film)}))
+    A = ds["area_fraction"].isel(zeta=-1).values
+    r_f = 1e3 * 2e-9 / (A * 1e-6)  # rho_f d / (A_c A0)
+    np.testing.assert_allclose(ds["electrical_film_resistance"].values, r_f, rtol=1e-14)
+    g_c = ds["electrical_constriction_conductance"].values
+    np.testing.assert_allclose(ds["electrical_contact_resistance"].values,
+                               1 / (g_c * 1e-6) + r_f, rtol=1e-14)  # fmt: skip
+    g = ds["electrical_contact_conductance"].values
+    np.testing.assert_allclose(1 / g, 1 / g_c + 1e3 * 2e-9 / A, rtol=1e-14)
+
+
+def test_holm_spots_beside_barber(ds):
+    """Holm's sum of the spots seen at zeta equals Barber's conductance at holm_magnification;
+    at the finest scale the non-interacting sum exceeds Barber (the spots interact)."""
+    g_b = ds["electrical_constriction_conductance"].values
+    g_h = ds["holm_conductance"].values
+    zeta = ds["zeta"].values
+    z_h = ds["holm_magnification"].values
+    for i in np.flatnonzero(np.isfinite(z_h)):
+        ratio = np.interp(np.log(z_h[i]), np.log(zeta), np.log(g_h[i] / g_b[i]))
+        assert abs(ratio) < 0.05  # log-linear interpolation of the same curve
+        assert g_h[i, -1] > g_b[i]
+    # low load: the spots that carry Barber's conductance are long-wavelength ones
+    assert z_h[0] < 10.0
+    q_L = 1e3
+    np.testing.assert_allclose(ds["holm_spot_radius"].values[:2],
+                               math.pi / 2 / (z_h[:2] * q_L), rtol=1e-14)  # fmt: skip
+
+
+def test_thermal_parts_add_up(ds):
+    g = ds["thermal_contact_conductance"].values
+    parts = sum(ds[f"thermal_{n}_conductance"].values for n in ("solid", "gas", "radiation"))
+    np.testing.assert_allclose(g, parts, rtol=1e-15)
+    lam = float(ds["gas_jump_length"])
+    assert lam == pytest.approx(ph.jump_length(68e-9), rel=1e-15)
+    # the gas part is the product-integrated gap distribution
+    want = ph.gas_gap_conductance(ds["u"].values, ds["gap_pdf"].values, 0.026, lam)
+    np.testing.assert_allclose(ds["thermal_gas_conductance"].values, want, rtol=1e-14)
+    assert np.all(ds["thermal_gas_conductance"].values > 0)
+
+
+def test_vacuum_gap_is_zero_and_gas_tends_to_the_log_continuum():
+    loads = 1e5
+    vac = xpersson.solve(scene(loads, {"thermal_contact": thermal()}))
+    assert float(vac["thermal_gas_conductance"]) == 0.0
+    assert float(vac["gas_jump_length"]) == 0.0
+    g = []
+    for mfp in ("1e-11 m", "1e-12 m", "1e-13 m"):
+        air = dict(AIR, gas_mean_free_path=mfp)
+        d = xpersson.solve(scene(loads, {"thermal_contact": thermal(**air)}))
+        g.append(float(d["thermal_gas_conductance"]))
+    # continuum limit: the gap density at u = 0+ makes g grow like -kappa pdf(0) ln(Lambda)
+    pdf0 = float(d["gap_pdf"].isel(u=0))
+    slope = (g[2] - g[1]) / math.log(10.0)
+    assert slope == pytest.approx(0.026 * pdf0, rel=2e-3)
+    assert g[0] < g[1] < g[2]
+
+
+def test_radiation_on_the_non_contact_area():
+    black = thermal(emissivity_1=1.0, emissivity_2=1.0, temperature="300 K")
+    ds = xpersson.solve(scene(1e4, {"thermal_contact": black}))
+    A = float(ds["gap_contact_weight"])
+    rad = 4 * ph.SIGMA_SB * 300.0**3 * (1 - A)
+    assert float(ds["thermal_radiation_conductance"]) == pytest.approx(rad, rel=1e-14)
+
+
+def test_check_plugin_contract():
+    from xpersson.testing import check_plugin
+
+    for cls in (ElectricalContact, ThermalContact):
+        check_plugin(cls, scene={"load": {"p0": ["20 kPa", "100 kPa"]}})
