@@ -120,9 +120,11 @@ def test_film_in_series():
     np.testing.assert_allclose(ph.in_series(3.0, 6.0), 2.0)
 
 
-def test_first_crossing():
+def test_closest_to_one():
     x = np.array([1.0, 10.0, 100.0])
-    y = np.array([[0.1, 1.0, 10.0], [2.0, 3.0, 4.0], [0.1, 0.2, 0.3], [0.1, 10.0, 0.1]])
-    z = ph.first_crossing(x, y)
-    assert z[0] == pytest.approx(10.0) and z[1] == 1.0 and np.isnan(z[2])
-    assert z[3] == pytest.approx(10.0**0.5)
+    y = np.array([[0.1, 1.0, 10.0], [2.0, 3.0, 4.0], [0.1, 0.2, 0.3], [5.0, 0.1, 10.0]])
+    z, r = ph.closest_to_one(x, y)
+    assert z[0] == pytest.approx(10.0) and r[0] == 1.0
+    assert z[1] == 1.0 and r[1] == 2.0  # no crossing: closest grid point
+    assert z[2] == 100.0 and r[2] == 0.3
+    assert z[3] == pytest.approx(10.0 ** (np.log(5) / np.log(50))) and r[3] == 1.0  # first one

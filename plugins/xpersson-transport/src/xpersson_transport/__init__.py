@@ -9,9 +9,9 @@ temperature-jump length, far-field radiation and a film in series (:mod:`._physi
 
 from ._physics import (
     SIGMA_SB,
+    closest_to_one,
     electrical_factor,
     film_conductance,
-    first_crossing,
     gas_gap_conductance,
     holm_stiffness,
     in_series,
@@ -25,9 +25,9 @@ __version__ = "0.1.0"
 
 __all__ = [
     "SIGMA_SB",
+    "closest_to_one",
     "electrical_factor",
     "film_conductance",
-    "first_crossing",
     "gas_gap_conductance",
     "holm_stiffness",
     "in_series",

@@ -33,7 +33,7 @@ __all__ = [
     "electrical_factor",
     "thermal_factor",
     "holm_stiffness",
-    "first_crossing",
+    "closest_to_one",
     "jump_length",
     "gas_gap_conductance",
     "radiation_conductance",
@@ -103,8 +103,10 @@ def holm_stiffness(
     return 2.0 * E_star * np.asarray(area, dtype=float) / (math.pi * r)
 
 
-def first_crossing(x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Smallest ``x`` where each row of ``y`` reaches 1 (log-linear interpolation; NaN: never).
+def closest_to_one(
+    x: NDArray[np.float64], y: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Per row of ``y``: where it equals 1, else where it comes closest to 1 (in ``ln y``).
 
     Parameters
     ----------
@@ -112,21 +114,26 @@ def first_crossing(x: NDArray[np.float64], y: NDArray[np.float64]) -> NDArray[np
         Increasing positive abscissa (magnifications).
     y : ndarray, shape (m, n)
         Positive ratios.
+
+    Returns
+    -------
+    x_star, y_star : ndarray, shape (m,)
+        The first crossing of 1 (log-log interpolation between the bracketing points, ``y_star
+        = 1``) or, without a crossing, the grid point of smallest ``|ln y|`` and its ``y``.
     """
+    x = np.asarray(x, dtype=float)
     y = np.atleast_2d(np.asarray(y, dtype=float))
-    out = np.full(y.shape[0], np.nan)
-    above = y >= 1.0
-    has = above.any(axis=1)
-    j = np.argmax(above, axis=1)
-    for i in np.flatnonzero(has):  # one scalar interpolation per load
-        k = int(j[i])
-        if k == 0:
-            out[i] = x[0]
-            continue
-        l0, l1 = math.log(y[i, k - 1]), math.log(y[i, k])
-        t = 0.0 if l1 == l0 else -l0 / (l1 - l0)
-        out[i] = math.exp(math.log(x[k - 1]) + t * (math.log(x[k]) - math.log(x[k - 1])))
-    return out
+    ly, lx = np.log(y), np.log(x)
+    k = np.argmin(np.abs(ly), axis=1)
+    xs, ys = x[k], y[np.arange(y.shape[0]), k]
+    cross = np.signbit(ly[:, :-1]) != np.signbit(ly[:, 1:])
+    has = cross.any(axis=1)
+    j = np.argmax(cross, axis=1)[has]
+    l0, l1 = ly[has, j], ly[has, j + 1]
+    t = np.where(l1 != l0, -l0 / np.where(l1 != l0, l1 - l0, 1.0), 0.0)
+    xs[has] = np.exp(lx[j] + t * (lx[j + 1] - lx[j]))
+    ys[has] = 1.0
+    return xs, ys
 
 
 def jump_length(

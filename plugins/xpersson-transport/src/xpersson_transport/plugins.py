@@ -32,6 +32,7 @@ PERSSON2022 = "10.1007/s11249-022-01630-2"
 PLV2010 = "10.1140/epje/i2010-10543-1"
 PERSSON2007 = "10.1103/PhysRevLett.99.125502"
 GREENWOOD1966 = "10.1088/0508-3443/17/12/310"
+HOLM1967 = "10.1007/978-3-662-06688-1"
 
 
 def _positive(unit: str, what: str, example: float | None = None, **kw: Any) -> ParamSpec:
@@ -121,11 +122,11 @@ class ElectricalContact(_Transport):
     ``rho_f d`` on the real contact area ``A_c`` (the boundary's contact area at the Dataset's
     finest magnification) in series: ``1/g = 1/g_c + rho_f d / A_c``. Holm's picture beside it:
     the spots seen at each magnification as non-interacting discs (``holm_conductance``), and
-    the magnification at which their sum first equals Barber's conductance.
+    the magnification at which their sum equals (or comes closest to) Barber's conductance.
     """
 
     summary = "Electrical contact conductance/resistance: Barber's stiffness analogy, Holm's spots"
-    references = (BARBER2003, PERSSON2022, PERSSON2007, GREENWOOD1966)
+    references = (BARBER2003, PERSSON2022, HOLM1967, GREENWOOD1966, PERSSON2007)
     requires = ("contact_stiffness", "area_fraction")
     parameters: ClassVar = {
         "resistivity_1": _positive("ohm*m", "electrical resistivity of body 1", 1.7e-8),
@@ -166,12 +167,16 @@ class ElectricalContact(_Transport):
             valid_min=0.0,
         ),
         "holm_magnification": VarSpec(
-            ("p0",), "1", "magnification at which Holm's spot sum first equals Barber's value",
-            valid_min=1.0, nan_meaning="the spot sum stays below Barber's value up to zeta_max",
+            ("p0",), "1",
+            "magnification at which Holm's spot sum equals (else comes closest to) Barber's value",
+            valid_min=1.0,
+        ),
+        "holm_ratio": VarSpec(
+            ("p0",), "1", "Holm's spot sum over Barber's conductance at holm_magnification",
+            valid_min=0.0,
         ),
         "holm_spot_radius": VarSpec(
-            ("p0",), "m", "Holm spot radius c_r/q at holm_magnification", valid_min=0.0,
-            nan_meaning="no holm_magnification",
+            ("p0",), "m", "Holm spot radius c_r/q at holm_magnification", valid_min=0.0
         ),
     }  # fmt: skip
     provides = tuple(outputs)
@@ -202,8 +207,8 @@ class ElectricalContact(_Transport):
         c_r = p["spot_radius_factor"]
         g_h = c * ph.holm_stiffness(area, q[None, :], ctx.E_star, c_r)
         with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(g_c[:, None] > 0, g_h / g_c[:, None], np.inf)
-        z_h = ph.first_crossing(zeta, ratio)
+            ratio = np.clip(g_h / g_c[:, None], 1e-300, 1e300)
+        z_h, r_h = ph.closest_to_one(zeta, ratio)
         with np.errstate(divide="ignore"):
             r_film = np.where(np.isfinite(g_f), 1.0 / (g_f * a0), 0.0)
         return {
@@ -214,6 +219,7 @@ class ElectricalContact(_Transport):
             "electrical_contact_resistance": (("p0",), 1.0 / (g_c * a0) + r_film),
             "holm_conductance": (("p0", "zeta"), g_h),
             "holm_magnification": (("p0",), z_h),
+            "holm_ratio": (("p0",), r_h),
             "holm_spot_radius": (("p0",), c_r / (z_h * ctx.q_L)),
         }
 
