@@ -33,6 +33,8 @@ ax.set_ylabel("thermal contact conductance [W m$^{-2}$ K$^{-1}$]")
 ax.legend()
 ax2.loglog(p0, ds.electrical_constriction_conductance.values, "o-", ms=3, label="Barber")
 ax2.loglog(p0, ds.holm_conductance.isel(zeta=-1).values, "--", label=r"Holm spots at $\zeta_1$")
+g_holm = ds.electrical_constriction_conductance.values * ds.holm_ratio.values
+ax2.loglog(p0, g_holm, "-.", label=r"Holm spots at $\zeta_H$ (roll-off)")
 ax2.set_xlabel("nominal pressure p0 [MPa]")
 ax2.set_ylabel("electrical contact conductance [S m$^{-2}$]")
 ax2.legend()

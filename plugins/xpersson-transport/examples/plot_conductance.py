@@ -13,6 +13,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 import xpersson  # noqa: E402
 
@@ -41,6 +42,9 @@ def main(out: Path = HERE / "heat_sink_conductance.png") -> Path:
     g_h = ds["holm_conductance"].isel(zeta=-1).values
     ax2.loglog(p0, g_b, "C0o-", ms=3, label="Barber: $2K/((\\rho_1+\\rho_2)E^*)$")
     ax2.loglog(p0, g_h, "C3--", label="Holm, non-interacting spots at $\\zeta_1$")
+    z_h = float(np.median(ds["holm_magnification"].values))
+    ax2.loglog(p0, g_b * ds["holm_ratio"].values, "C2-.",
+               label=f"Holm, spots at $\\zeta_H \\approx$ {z_h:.3g} ($q_r/q_L$ = 10)")  # fmt: skip
     ax2.set_xlabel("nominal pressure $p_0$ [MPa]")
     ax2.set_ylabel("electrical contact conductance [S m$^{-2}$]")
     r = ds["electrical_contact_resistance"].values
