@@ -256,7 +256,7 @@ _GAS: dict[str, ParamSpec] = {
         description="thermal accommodation coefficient of the gas on body 2",
     ),
     "heat_capacity_ratio": ParamSpec(
-        unit="1", default=1.4, bounds=(1.0, 5.0 / 3.0), inclusive=(False, True),
+        unit="1", default=1.4, bounds=(1.0, 1.7), inclusive=(False, True), sweepable=True,
         description="c_p/c_v of the gas (1.4: air, N2; 5/3: He, Ar)",
     ),
     "prandtl": _positive("1", "Prandtl number of the gas (0.71: air)", default=0.71),
