@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from xpersson_transport import _physics as ph
+from xpersson_transport._gap import gas_from_cdf
 
 pos = st.floats(1e-12, 1e12, allow_nan=False, allow_infinity=False)
 
@@ -128,3 +129,21 @@ def test_closest_to_one():
     assert z[1] == 1.0 and r[1] == 2.0  # no crossing: closest grid point
     assert z[2] == 100.0 and r[2] == 0.3
     assert z[3] == pytest.approx(10.0 ** (np.log(5) / np.log(50))) and r[3] == 1.0  # first one
+
+
+@pytest.mark.parametrize("lam", [0.0, 1e-12, 3e-9, 2e-7])
+def test_gas_by_parts_on_the_cdf(lam):
+    """int rho/(u + Lambda) = int F/(u + Lambda)^2: exact for piecewise-linear F (uniform
+    density on [0, 1 um]: kappa ln((1 um + Lambda)/Lambda)); equals the density rule."""
+    u = np.array([0.0, 0.25e-6, 1e-6, 3e-6])
+    F = np.interp(u, [0.0, 1e-6], [0.0, 1.0])
+    got = gas_from_cdf(u, F, 0.5, lam)
+    if lam == 0.0:
+        assert np.isinf(got)
+        return
+    assert got == pytest.approx(0.5 * 1e6 * math.log((1e-6 + lam) / lam), rel=1e-13)
+    rho = np.where(u < 1e-6, 1e6, 0.0)
+    u2 = np.array([0.0, 0.25e-6, 1e-6, 1e-6 * (1 + 1e-12), 3e-6])
+    rho2 = np.array([1e6, 1e6, 1e6, 0.0, 0.0])
+    assert ph.gas_gap_conductance(u2, rho2, 0.5, lam) == pytest.approx(got, rel=1e-9)
+    assert gas_from_cdf(u, F, 0.0, lam) == 0.0 and rho.size == 4

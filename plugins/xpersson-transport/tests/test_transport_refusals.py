@@ -42,6 +42,7 @@ def no_engine(monkeypatch):
         ("thermal_contact", thermal(film_thickness="2 nm"),
          r"film_conductivity \[W/\(m\*K\)\] is required when film_thickness > 0"),
         ("electrical_contact", electrical(film_thickness="-1 nm"), r"film_thickness: .*\[0, inf\]"),
+        ("thermal_contact", thermal(gamma=0.5), r"gamma applies to s_factor = 'yang_persson'"),
     ],
 )  # fmt: skip
 def test_bad_input_refused_before_work(no_engine, analysis, params, pattern):
