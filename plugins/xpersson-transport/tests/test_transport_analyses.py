@@ -187,3 +187,22 @@ def test_material_parameters_sweep():
     g = ds["electrical_constriction_conductance"].transpose("resistivity_1", "p0").values
     np.testing.assert_array_equal(ds["resistivity_1"].values, [1.7e-8, 5.1e-8])
     np.testing.assert_allclose(g[1] / g[0], 2 * CU_RHO / (6.8e-8), rtol=1e-12)
+
+
+def test_from_sparse_to_full_contact():
+    """Loads from A = 1e-3 to A ~ 1 (physics.md §1.4 scene): every output finite and inside
+    its range, the solid conductance grows with load; near full contact the gas part falls
+    again (the non-contact area closes) and stays below kappa_g (1 - A) / Lambda."""
+    loads = np.geomspace(1e3, 1e7, 9)
+    ana = {"electrical_contact": electrical(), "thermal_contact": thermal(**AIR)}
+    ds = xpersson.solve(scene(loads, ana))
+    for name in list(ElectricalContact.outputs) + list(ThermalContact.outputs):
+        v = ds[name].values
+        assert np.all(np.isfinite(v)) and np.all(v >= 0), name
+    assert np.all(np.diff(ds["thermal_solid_conductance"].values) > 0)
+    A = ds["area_fraction"].isel(zeta=-1).values
+    assert A[0] < 0.02 and A[-1] > 0.999
+    open_area = ds["non_contact_fraction"].isel(zeta=-1).values  # 1 - A without cancellation
+    bound = 0.026 * open_area / float(ds["gas_jump_length"])
+    assert np.all(ds["thermal_gas_conductance"].values <= bound * (1 + 1e-9))
+    assert np.argmax(ds["thermal_gas_conductance"].values) < loads.size - 1
