@@ -79,7 +79,7 @@ _WHY = [
 @pytest.mark.parametrize("cls", [ElectricalContact, ThermalContact])
 @pytest.mark.parametrize(("boundary", "why"), _WHY)
 def test_own_reason_names_both_plugins(cls, boundary, why):
-    """What ``xpersson plugins show analyses NAME`` and check_scene say for each boundary."""
+    """The analyses' own reason for each refused boundary (``supports``/``check_scene``)."""
     bnd = get_registry().load("boundaries", boundary)
     msg = cls.supports(bnd, None)
     assert msg is not None and why in msg
