@@ -1,0 +1,1 @@
+"""Make the shared test helpers importable and keep the suite's RuntimeWarning policy."""
