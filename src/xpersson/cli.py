@@ -210,7 +210,11 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from . import io, plot
 
     ds = io.open_dataset(args.archive)
-    out = plot.save(ds, args.kind, args.output, dpi=args.dpi)
+    try:
+        out = plot.save(ds, args.kind, args.output, dpi=args.dpi)
+    except plot.MatplotlibMissingError as exc:  # one line, no traceback
+        _err(f"xpersson: {exc}")
+        return 2
     _err(f"xpersson: wrote {out} ({args.kind})")
     return 0
 
