@@ -21,6 +21,7 @@ import numpy as np
 from xpersson.physics import closure_S
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
+from . import _resolve
 from .kernel import friction_integral, stieltjes_increments
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -139,6 +140,30 @@ class Friction(Analysis):
         """Refuse a ``zeta_c`` beyond the output magnifications before any solving."""
         self._zeta_c(np.asarray(ctx.zeta, float))
 
+    def _resolved(self, ctx: Any, ds: xr.Dataset, mu_cum: xr.DataArray) -> xr.DataArray:
+        """``mu_visc_cumulative`` with the loads whose area drop the output grid misses
+        evaluated on a dense grid (:mod:`~xpersson_viscoelastic._resolve`)."""
+        p = self._params
+        order = ("p0", "zeta") if "p0" in ds["area_fraction"].dims else ("zeta",)
+        area = np.atleast_2d(ds["area_fraction"].transpose(*order).values.astype(float))
+        G = np.atleast_2d(ds["G"].transpose(*order).values.astype(float))
+        zeta = ds["zeta"].values.astype(float)
+        need = _resolve.unresolved(area)
+        if not need.any() or zeta.size < 2:
+            return mu_cum
+        loads = np.flatnonzero(need)
+        zd, idx = _resolve.dense_grid(zeta, G[loads])
+        Ad = _resolve.dense_area(ctx, zeta, area, G, zd, loads)
+        Ld = _resolve.dense_loss(ctx, zeta, ds["loss_integral"].values, zd)
+        gd = Ad * (closure_S("yp08", Ad, p["gamma"]) if p["correction"] == "s_factor" else 1.0)
+        p0 = np.atleast_1d(ds["p0"].values.astype(float))[loads]
+        run = _resolve.running_integral(gd, Ld, zd)[:, idx] / (2.0 * p0[:, None])
+        out = mu_cum.transpose(*order).copy()
+        vals = np.atleast_2d(out.values)
+        vals[loads] = run
+        out.values = vals.reshape(out.shape)
+        return out.transpose(*mu_cum.dims)
+
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables, vectorised over loads (and any sweep dimension)."""
         import xarray as xr
@@ -167,6 +192,8 @@ class Friction(Analysis):
             dask="parallelized",
             output_dtypes=[float],
         )
+        if set(A.dims) <= {"p0", "zeta"} and set(L.dims) == {"zeta"} and "G" in ds:
+            mu_cum = self._resolved(ctx, ds, mu_cum)
         mu_visc = mu_cum.isel(zeta=-1, drop=True)
         if zc == zeta[-1]:
             A_c = A.isel(zeta=-1, drop=True)

@@ -32,6 +32,7 @@ from ._modulus import ModulusModel
 
 __all__ = [
     "panel_edges",
+    "graded_edges",
     "diffusion_time",
     "coefficient_f",
     "loss_integral",
@@ -76,13 +77,53 @@ def panel_edges(psd: Any, q: ArrayLike, panels_per_decade: int = PANELS_PER_DECA
     return edges
 
 
-def _nodes(edges: Array, n: int) -> tuple[Array, Array, float]:
-    """GL nodes q (n_panel, n) in ln q, weights ``dq`` (n_panel, n), and the rule."""
+def _nodes(edges: Array, n: int, q_L: float | None = None) -> tuple[Array, Array, Array, Array]:
+    """GL nodes q (n_panel, n), weights ``dq`` (n_panel, n), ``dq/du`` at the nodes and the
+    panels' half-widths in ``u``.
+
+    The variable ``u`` is ``ln q`` on every panel, except with ``q_L`` given (graded panels of
+    :func:`graded_edges`): ``ln(q - q_L)`` on panels inside ``(q_L, 2 q_L]`` and ``q`` itself on
+    the first panel ``[q_L, q_L (1 + d0)]``. Near ``q_L`` the contact area of a stiff rubber drops
+    like ``(q - q_L)^(-1/2)``; in ``ln(q - q_L)`` that drop is smooth.
+    """
     x, w, _ = _rule(n)
-    s = np.log(edges)
-    mid, half = 0.5 * (s[1:] + s[:-1]), 0.5 * (s[1:] - s[:-1])
-    qn = np.exp(mid[:, None] + half[:, None] * x)
-    return qn, half[:, None] * w * qn, half
+    a, b = edges[:-1], edges[1:]
+    kind = np.zeros(a.size, dtype=int)  # 0: ln q, 1: ln(q - q_L), 2: q
+    if q_L is not None:
+        kind[(a > q_L) & (b <= 2.0 * q_L)] = 1
+        kind[(a <= q_L) & (b <= 2.0 * q_L)] = 2
+    with np.errstate(divide="ignore"):
+        lo = np.select([kind == 1, kind == 2], [np.log(a - (q_L or 0.0)), a], np.log(a))
+        hi = np.select([kind == 1, kind == 2], [np.log(b - (q_L or 0.0)), b], np.log(b))
+    mid, half = 0.5 * (hi + lo), 0.5 * (hi - lo)
+    u = mid[:, None] + half[:, None] * x
+    k = kind[:, None]
+    with np.errstate(over="ignore"):
+        eu = np.exp(np.where(k == 2, 0.0, u))
+    qn = np.select([k == 1, k == 2], [(q_L or 0.0) + eu, u], eu)
+    jac = np.select([k == 1, k == 2], [eu, np.ones_like(u)], qn)
+    return qn, half[:, None] * w * jac, jac, half
+
+
+def graded_edges(
+    psd: Any, q_hi: float, d0: float, panels_per_decade: int = PANELS_PER_DECADE
+) -> Array:
+    """Panel edges [1/m] from ``q_L`` to ``q_hi``, graded towards ``q_L``.
+
+    ``q - q_L = q_L d0 10^(k/2)`` (two per decade of ``q - q_L``) up to ``2 q_L``, then the
+    log grid and PSD breakpoints of :func:`panel_edges` above ``2 q_L``. ``d0`` [1] is the
+    relative width of the first panel (where the area is still ~1); ``d0 >= 1`` gives
+    :func:`panel_edges`.
+    """
+    edges = panel_edges(psd, [q_hi], panels_per_decade)
+    q_L = float(psd.q_L)
+    if d0 >= 1.0 or q_hi <= 2.0 * q_L:
+        return edges
+    n = int(np.ceil(2.0 * np.log10(1.0 / d0)))
+    ladder = q_L * (1.0 + np.logspace(-n / 2.0, 0.0, n + 1))
+    keep = edges[(edges >= 2.0 * q_L) | (edges == q_L)]
+    inner = edges[(edges > q_L) & (edges < 2.0 * q_L) & np.isin(edges, psd.nodes())]
+    return np.unique(np.concatenate([keep, ladder, inner]))
 
 
 def _omega_scale(v: ArrayLike, aT: Any) -> Array:
@@ -128,7 +169,7 @@ def _cumulative_at(
     out_shape = scale.shape + z.shape
     if edges.size < 2:
         return np.zeros(out_shape)
-    qn, wq, _ = _nodes(edges, n)
+    qn, wq, _, _ = _nodes(edges, n)
     base = qn**3 * np.asarray(psd.C(qn), dtype=float) * wq  # (n_panel, n)
     w = _w(v, aT, qn)  # (..., n_panel, n)
     if which == "tau":
@@ -319,6 +360,24 @@ def _area_factor(A: Array, correction: str, gamma: float) -> Array:
     raise ValueError(f"correction must be 'none' or 's_factor', got {correction!r}")
 
 
+def first_panel_width(
+    psd: Any, model: ModulusModel, fnu: float, p0: float, scale: ArrayLike, q_hi: float
+) -> float:
+    """Relative width ``d0`` [1] of the first friction panel ``[q_L, q_L (1 + d0)]``.
+
+    Chosen so that ``G(q_L (1 + d0)) <= 1e-3`` (area ~1 across the panel) for every
+    ``scale = v a_T`` [m/s] at the smallest load ``p0`` [Pa], from a bound of ``dG/dzeta`` on
+    ``[q_L, 2 q_L]`` (``fnu = 1 - nu^2``). ``>= 1`` means no grading is needed.
+    """
+    q_L = float(psd.q_L)
+    qs = np.minimum(q_L * np.array([1.0, 1.25, 1.5, 1.75, 2.0]), q_hi)
+    w = np.ravel(np.asarray(scale, dtype=float))[:, None] * qs
+    mean_sq = np.max(np.asarray(model.angular(w)[0]), axis=0)
+    dens = np.max(qs**3 * np.asarray(psd.C(qs), dtype=float) * mean_sq)
+    slope = 2.0 * (np.pi / 4.0) * q_L * dens / (fnu * p0) ** 2  # dG/dzeta, with margin 2
+    return float(min(1.0, 1e-3 / slope)) if slope > 0 else 1.0
+
+
 def friction_curve(
     psd: Any,
     model: ModulusModel,
@@ -369,13 +428,15 @@ def friction_curve(
         np.atleast_1d(np.asarray(aT, dtype=float)), np.atleast_1d(np.asarray(v, dtype=float))
     )  # (n_T, n_v)
     zmax = float(psd.q_1 / psd.q_L) if zeta_max is None else float(zeta_max)
-    edges = panel_edges(psd, [zmax * float(psd.q_L)], panels_per_decade)
-    qn, wq, half = _nodes(edges, nodes)
+    q_hi = zmax * float(psd.q_L)
+    d0 = first_panel_width(psd, model, fnu, float(np.min(p0)), scale, q_hi)
+    edges = graded_edges(psd, q_hi, d0, panels_per_decade)
+    qn, wq, jac, half = _nodes(edges, nodes, float(psd.q_L) if d0 < 1.0 else None)
     _, wgl, Q = _rule(nodes)
     q3C = qn**3 * np.asarray(psd.C(qn), dtype=float)
     excess_sq, loss = model.parts(scale[..., None, None] * qn)  # (n_T, n_v, n_panel, n)
     # tau at every node: exact E_r^2 I3 plus the spectral cumulative of the excess
-    dens = q3C * qn * excess_sq  # integrand in ln q
+    dens = q3C * jac * excess_sq  # integrand in each panel's variable u
     within = half[:, None] * np.einsum("ij,...pj->...pi", Q, dens)
     ends = np.sum(half[:, None] * wgl * dens, axis=-1)
     before = np.concatenate(
