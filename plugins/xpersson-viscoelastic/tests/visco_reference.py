@@ -3,22 +3,27 @@
 Written from the formulas, sharing no code with ``xpersson`` or ``xpersson_viscoelastic``:
 
     G(q)    = (pi/4) / ((1 - nu^2) p0)^2 int_{q_L}^{q} q'^3 C(q') M(q') dq'
-    P(q)    = erf(1 / (2 sqrt(G(q))))                           (Persson 2001, S = 1)
-    mu_visc = 1 / (2 (1 - nu^2) p0) int_{q_L}^{q_1} q^3 C(q) P(q) Lambda(q) dq
+    P(q)    = erf(1 / (2 sqrt(G(q))))                           (Persson 2001)
+    mu_visc = 1 / (2 (1 - nu^2) p0) int_{q_L}^{q_1} q^3 C(q) P(q) S(q) Lambda(q) dq
+
+(``S = 1``, or ``S = gamma + (1 - gamma) P^2``)
 
 with, for the standard linear solid ``E(w) = (E_r + i w tau E_g) / (1 + i w tau)`` and
 ``b = q v a_T tau`` (physics.md §4.4),
 
-    M(q)      = (1/2pi) int_0^2pi |E(q v a_T cos phi)|^2 dphi = E_g^2 - (E_g^2 - E_r^2)/sqrt(1 + b^2)
-    Lambda(q) = int_0^2pi cos(phi) Im E(q v a_T cos phi) dphi = 2 pi (E_g - E_r) (1 - 1/sqrt(1 + b^2))/b
+    M(q)      = (1/2pi) int_0^2pi |E(q v a_T cos phi)|^2 dphi
+              = E_g^2 - (E_g^2 - E_r^2) / sqrt(1 + b^2)
+    Lambda(q) = int_0^2pi cos(phi) Im E(q v a_T cos phi) dphi
+              = 2 pi (E_g - E_r) (1 - 1 / sqrt(1 + b^2)) / b
 
 and the self-affine spectrum with roll-off of §8.2 (``C_r`` from the rms slope by its closed-form
 second moment). Both q-integrals are evaluated with ``scipy.integrate.quad`` (adaptive
-Gauss-Kronrod) on explicit breakpoints: a geometric ladder in ``q - q_L`` (two per decade,
-from where ``G < 1e-6`` up to ``q_1``), the roll-off ``q_r`` and the point where ``G = 1``. ``G`` at
-an outer node is the cumulative sum of converged quad integrals over the ladder plus one quad
-from the nearest ladder point. :func:`sls_angular_quad` checks the two angular forms against
-quad over ``phi`` directly.
+Gauss-Kronrod) in the offset ``d = q - q_L`` (``q_L (1 + 1e-15)`` is not representable in
+``q``) on explicit breakpoints: a geometric ladder in ``d`` (two per decade, from where
+``G < 1e-6`` up to ``q_1``), the roll-off ``q_r``, the loss peak and the point where
+``G = 1``. ``G`` at an outer node is the cumulative sum of converged quad integrals over the
+ladder plus one quad from the nearest ladder point. :func:`sls_angular_quad` checks the two
+angular forms against quad over ``phi`` directly.
 """
 
 from __future__ import annotations
@@ -54,8 +59,10 @@ class RefSpectrum:
     def C_r(self) -> float:
         """Plateau value [m^4] from ``<|grad h|^2> = 2 pi int q^3 C dq`` (§8.2)."""
         H, qL, qr, q1 = self.H, self.q_L, self.q_r, self.q_1
-        tail = qr**4 * math.log(q1 / qr) if H == 1.0 else qr**4 * ((q1 / qr) ** (2 - 2 * H) - 1) / (
-            2 - 2 * H
+        tail = (
+            qr**4 * math.log(q1 / qr)
+            if H == 1.0
+            else qr**4 * ((q1 / qr) ** (2 - 2 * H) - 1) / (2 - 2 * H)
         )
         m3 = (qr**4 - qL**4) / 4.0 + tail
         return self.rms_slope**2 / (2.0 * math.pi * m3)
@@ -96,13 +103,33 @@ class SLS:
 
 def sls_angular_quad(model: SLS, w: float) -> tuple[float, float]:
     """``(M, Lambda)`` by quad over ``phi`` on ``[0, pi/2]`` (4-fold symmetry of §4.2)."""
-    pts = None
-    if w * model.tau > 1.0:  # where w cos(phi) tau = 1
-        pts = [math.acos(1.0 / (w * model.tau))]
-    M = quad(lambda p: abs(model.E(w * math.cos(p))) ** 2, 0, math.pi / 2, points=pts,
-             epsabs=0, epsrel=1e-13, limit=400)[0] * 2.0 / math.pi
-    L = quad(lambda p: math.cos(p) * model.E(w * math.cos(p)).imag, 0, math.pi / 2, points=pts,
-             epsabs=0, epsrel=1e-13, limit=400)[0] * 4.0
+    b = w * model.tau  # breakpoints around w cos(phi) tau = 1 (a layer of width 1/b at pi/2)
+    pts = [math.acos(c / b) for c in (0.01, 0.1, 1.0, 10.0, 100.0) if c < b] or None
+    M = (
+        quad(
+            lambda p: abs(model.E(w * math.cos(p))) ** 2,
+            0,
+            math.pi / 2,
+            points=pts,
+            epsabs=0,
+            epsrel=1e-13,
+            limit=400,
+        )[0]
+        * 2.0
+        / math.pi
+    )
+    L = (
+        quad(
+            lambda p: math.cos(p) * model.E(w * math.cos(p)).imag,
+            0,
+            math.pi / 2,
+            points=pts,
+            epsabs=0,
+            epsrel=1e-13,
+            limit=400,
+        )[0]
+        * 4.0
+    )
     return M, L
 
 
@@ -123,8 +150,9 @@ def mu_reference(
     v: float,
     aT: float = 1.0,
     eps: float = 1e-11,
+    gamma: float | None = None,
 ) -> dict[str, float]:
-    """``mu_visc`` [1] and ``P(q_1)`` [1] of Persson 2001 (S = 1) by nested adaptive quad.
+    """``mu_visc`` [1] and ``P(q_1)`` [1] of Persson 2001 by nested adaptive quad.
 
     Parameters
     ----------
@@ -140,31 +168,42 @@ def mu_reference(
         Shift factor [1].
     eps : float
         Relative tolerance of every quad.
+    gamma : float, optional
+        With a value, ``P`` in the friction integral is multiplied by
+        ``S = gamma + (1 - gamma) P^2``.
     """
     fnu = 1.0 - nu * nu
     s = v * aT
     cG = (math.pi / 4.0) / (fnu * p0) ** 2
     qL, q1 = psd.q_L, psd.q_1
 
-    def dG(q: float) -> float:
+    # all integrals in the offset d = q - q_L (q_L (1 + 1e-15) is not representable in q)
+    def dG(d: float) -> float:
+        q = qL + d
         return cG * q**3 * psd.C(q) * model.angular(q * s)[0]
 
-    # ladder in q - q_L: from where G < 1e-6 (bound with M <= E_g^2) to q_1
+    # ladder in d: from where G < 1e-6 (bound with M <= E_g^2) to q_1 - q_L
     slope = cG * qL**3 * psd.C(qL) * model.E_g**2 * 8.0  # >= dG on [qL, 2 qL]
     d0 = min(1e-2 * qL, 1e-6 / slope)
-    ladder = qL + np.geomspace(d0, q1 - qL, max(2, int(2 * math.log10((q1 - qL) / d0)) + 1))
-    extra = [psd.q_r] if qL < psd.q_r < q1 else []
+    top = q1 - qL
+    ladder = np.geomspace(d0, top, max(2, int(2 * math.log10(top / d0)) + 1))
+    extra = [psd.q_r - qL] if qL < psd.q_r < q1 else []
     if s > 0:  # the loss peak b ~ 1
         qb = 1.0 / (s * model.tau)
         if qL < qb < q1:
-            extra.append(qb)
-    ladder = np.unique(np.concatenate([[qL], ladder, extra]))
-    ladder[-1] = q1
-    Gk = np.concatenate([[0.0], np.cumsum([_quad(dG, a, b, eps) for a, b in zip(ladder[:-1], ladder[1:], strict=True)])])
+            extra.append(qb - qL)
+    ladder = np.unique(np.concatenate([[0.0], ladder, extra]))
+    ladder[-1] = top
+    Gk = np.concatenate(
+        [
+            [0.0],
+            np.cumsum([_quad(dG, a, b, eps) for a, b in zip(ladder[:-1], ladder[1:], strict=True)]),
+        ]
+    )
     if Gk[-1] > 1.0 and Gk[1] < 1.0:  # the point where G = 1 (P drops there)
         k = int(np.searchsorted(Gk, 1.0))
         lo, hi = ladder[k - 1], ladder[k]
-        for _ in range(60):
+        while hi - lo > 1e-6 * (hi - ladder[k - 1]):
             mid = 0.5 * (lo + hi)
             if Gk[k - 1] + _quad(dG, ladder[k - 1], mid, eps) < 1.0:
                 lo = mid
@@ -173,8 +212,8 @@ def mu_reference(
         ladder = np.insert(ladder, k, 0.5 * (lo + hi))
         Gk = np.insert(Gk, k, Gk[k - 1] + _quad(dG, ladder[k - 1], ladder[k], eps))
 
-    def G_at(q: float, j: int) -> float:
-        return Gk[j] + _quad(dG, ladder[j], q, eps) if q > ladder[j] else Gk[j]
+    def G_at(d: float, j: int) -> float:
+        return Gk[j] + _quad(dG, ladder[j], d, eps) if d > ladder[j] else Gk[j]
 
     def P(G: float) -> float:
         return 1.0 if G <= 0.0 else float(erf(0.5 / math.sqrt(G)))
@@ -182,8 +221,11 @@ def mu_reference(
     total = 0.0
     for j in range(ladder.size - 1):
 
-        def dmu(q: float, j: int = j) -> float:
-            return q**3 * psd.C(q) * P(G_at(q, j)) * model.angular(q * s)[1]
+        def dmu(d: float, j: int = j) -> float:
+            q = qL + d
+            a = P(G_at(d, j))
+            S = 1.0 if gamma is None else gamma + (1.0 - gamma) * a * a
+            return q**3 * psd.C(q) * a * S * model.angular(q * s)[1]
 
         total += _quad(dmu, ladder[j], ladder[j + 1], eps)
     return {"mu_visc": total / (2.0 * fnu * p0), "area_fraction": P(Gk[-1])}

@@ -36,7 +36,7 @@ __all__ = ["PER_DECADE", "unresolved", "dense_grid", "running_integral"]
 Array = NDArray[np.float64]
 
 #: Dense points per decade of ``zeta - 1``.
-PER_DECADE = 12
+PER_DECADE = 24
 #: ``1 - P`` at the first output point above which the drop is sampled densely.
 MAX_FIRST = 1e-6
 #: Largest step of ``P`` between output points integrated on the output grid.
