@@ -162,11 +162,42 @@ def check_ode(points: list[tuple[float, float, float, float]]) -> float:
     return worst
 
 
+def cost(repeat: int = 3) -> None:
+    """Best-of-``repeat`` wall time of 50 speeds (1e-9..1e3 m/s) on the issue's scene (H = 0.7,
+    no plateau, p0 = 0.2 MPa, T_ref): the kernel, and xpersson.solve with friction."""
+    import xpersson
+    from xpersson.physics import SelfAffineRollOff
+    from xpersson_viscoelastic import friction_curve, sls
+
+    v50 = np.logspace(-9, 3, 50)
+    psd = SelfAffineRollOff.from_rms_slope(SLOPE, 0.7, Q_L, Q_L, Q_1)
+    model = sls(E_R, E_G, TAU)
+    scene = _scene(0.7, Q_L, v50, np.array([WLF[2]]))
+    scene["load"] = {"p0": "2e5 Pa"}
+
+    def best(fn) -> float:
+        fn()
+        times = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            fn()
+            times.append(time.perf_counter() - t0)
+        return min(times)
+
+    t_k = best(lambda: friction_curve(psd, model, NU, [2e5], v50))
+    t_s = best(lambda: xpersson.solve(scene))
+    print(f"kernel, 50 speeds: {t_k * 1e3:.1f} ms; xpersson.solve, 50 speeds: {t_s:.2f} s")
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--fast", action="store_true", help="v every third decade, T in 3 values")
     ap.add_argument("--tol", type=float, default=1e-3, help="allowed relative error")
+    ap.add_argument("--cost", action="store_true", help="only time 50 speeds (kernel, solve)")
     args = ap.parse_args(argv)
+    if args.cost:
+        cost()
+        return 0
     v, temps = (V[::3], T[::2]) if args.fast else (V, T)
     print(f"SLS angular closed forms vs quad over phi: {check_angular():.1e}")
     print(f"quad reference vs adaptive ODE (4 points): {check_ode(ODE_POINTS):.1e}")

@@ -6,8 +6,9 @@ above ``zeta = 1``, and most of ``mu_visc`` comes from there. A cubic through th
 cannot follow that drop (issue 22: +27 % at 1 m/s, 5.7x at 10 m/s on 20 points per decade).
 
 For such loads the integral is evaluated on a dense grid geometric in ``zeta - 1`` (from
-where ``G <= 1e-4`` up to ``zeta_max``, :data:`PER_DECADE` points per decade, merged with the
-output grid) in the variable ``ln(zeta - 1)``, in which the drop is smooth:
+where ``G <= 1e-4`` up to the output point of :func:`dense_top`, past ``zeta = 10`` and past the
+last large step of ``P``; :data:`PER_DECADE` points per decade, merged with the output grid) in
+the variable ``ln(zeta - 1)``, in which the drop is smooth, and continued on the output grid:
 
 * the area comes from the same solve at the dense magnifications (``ctx.solve_at``); without
   it, from the solved ``G`` (not ``P``): ``G / (zeta - 1)`` and ``P / erf(1/(2 sqrt(G)))`` are
@@ -31,7 +32,15 @@ from scipy.special import erf
 
 from .kernel import stieltjes_increments
 
-__all__ = ["PER_DECADE", "unresolved", "dense_grid", "running_integral"]
+__all__ = [
+    "PER_DECADE",
+    "unresolved",
+    "dense_top",
+    "dense_grid",
+    "dense_area",
+    "dense_loss",
+    "running_integral",
+]
 
 Array = NDArray[np.float64]
 
@@ -41,6 +50,8 @@ PER_DECADE = 24
 MAX_FIRST = 1e-6
 #: Largest step of ``P`` between output points integrated on the output grid.
 MAX_STEP = 0.02
+#: The dense grid reaches at least this magnification.
+TOP = 100.0
 
 
 def unresolved(area: Array) -> NDArray[np.bool_]:
@@ -49,6 +60,18 @@ def unresolved(area: Array) -> NDArray[np.bool_]:
         return np.ones(area.shape[0], dtype=bool)
     step = np.max(np.abs(np.diff(area, axis=-1)), axis=-1)
     return (1.0 - area[:, 1] > MAX_FIRST) | (step > MAX_STEP)
+
+
+def dense_top(zeta: Array, area: Array) -> int:
+    """Index of the last output point sampled densely: past ``zeta = 100`` (where the
+    ``(zeta - 1)^(-1/2)`` shape of the area is smooth in ``ln zeta``) and four points past the
+    last step of ``P`` above :data:`MAX_STEP` (``area`` (n_sel, n_zeta) of the loads)."""
+    n = zeta.size
+    k = int(np.searchsorted(zeta, TOP))
+    big = np.flatnonzero(np.max(np.abs(np.diff(area, axis=-1)), axis=0) > MAX_STEP)
+    if big.size:
+        k = max(k, int(big[-1]) + 5)
+    return min(k, n - 1)
 
 
 def dense_grid(zeta: Array, G: Array) -> tuple[Array, NDArray[np.intp]]:

@@ -32,6 +32,14 @@ __all__ = ["Friction"]
 _ZP = ("p0", "zeta")
 
 
+def _rows(da: xr.DataArray) -> np.ndarray:
+    """Values of a ``(p0, zeta)``, ``(zeta, p0)`` or ``(zeta,)`` variable as (n_load, n_zeta)."""
+    vals = np.asarray(da.values, dtype=float)
+    if da.dims == ("zeta",):
+        return vals[None, :]
+    return vals.T if da.dims[0] == "zeta" else vals
+
+
 class Friction(Analysis):
     """Rubber friction coefficient ``mu = mu_visc + mu_contact`` versus load (and v, T)."""
 
@@ -142,27 +150,30 @@ class Friction(Analysis):
 
     def _resolved(self, ctx: Any, ds: xr.Dataset, mu_cum: xr.DataArray) -> xr.DataArray:
         """``mu_visc_cumulative`` with the loads whose area drop the output grid misses
-        evaluated on a dense grid (:mod:`~xpersson_viscoelastic._resolve`)."""
+        evaluated on a dense grid up to the output point ``zeta_k`` and continued on the
+        output grid beyond (:mod:`~xpersson_viscoelastic._resolve`)."""
         p = self._params
-        order = ("p0", "zeta") if "p0" in ds["area_fraction"].dims else ("zeta",)
-        area = np.atleast_2d(ds["area_fraction"].transpose(*order).values.astype(float))
-        G = np.atleast_2d(ds["G"].transpose(*order).values.astype(float))
-        zeta = ds["zeta"].values.astype(float)
+        area = _rows(ds["area_fraction"])
+        zeta = np.asarray(ds["zeta"].values, dtype=float)
         need = _resolve.unresolved(area)
         if not need.any() or zeta.size < 2:
             return mu_cum
         loads = np.flatnonzero(need)
-        zd, idx = _resolve.dense_grid(zeta, G[loads])
-        Ad = _resolve.dense_area(ctx, zeta, area, G, zd, loads)
-        Ld = _resolve.dense_loss(ctx, zeta, ds["loss_integral"].values, zd)
+        k = _resolve.dense_top(zeta, area[loads])
+        G = _rows(ds["G"])[:, : k + 1]
+        zk = zeta[: k + 1]
+        zd, idx = _resolve.dense_grid(zk, G[loads])
+        Ad = _resolve.dense_area(ctx, zk, area[:, : k + 1], G, zd, loads)
+        Ld = _resolve.dense_loss(ctx, zk, np.asarray(ds["loss_integral"].values)[: k + 1], zd)
         gd = Ad * (closure_S("yp08", Ad, p["gamma"]) if p["correction"] == "s_factor" else 1.0)
-        p0 = np.atleast_1d(ds["p0"].values.astype(float))[loads]
+        p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))[loads]
         run = _resolve.running_integral(gd, Ld, zd)[:, idx] / (2.0 * p0[:, None])
-        out = mu_cum.transpose(*order).copy()
-        vals = np.atleast_2d(out.values)
-        vals[loads] = run
-        out.values = vals.reshape(out.shape)
-        return out.transpose(*mu_cum.dims)
+        vals = _rows(mu_cum).copy()
+        beyond = vals[loads, k + 1 :] - vals[loads, k : k + 1]  # the output-grid rule
+        vals[loads] = np.concatenate([run, run[:, -1:] + beyond], axis=-1)
+        if mu_cum.dims[0] != "zeta":  # (p0, zeta)
+            return mu_cum.copy(data=vals)
+        return mu_cum.copy(data=vals.T.reshape(mu_cum.shape))
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables, vectorised over loads (and any sweep dimension)."""
@@ -192,7 +203,7 @@ class Friction(Analysis):
             dask="parallelized",
             output_dtypes=[float],
         )
-        if set(A.dims) <= {"p0", "zeta"} and set(L.dims) == {"zeta"} and "G" in ds:
+        if set(A.dims) <= {"p0", "zeta"} and L.dims == ("zeta",) and "G" in ds:
             mu_cum = self._resolved(ctx, ds, mu_cum)
         mu_visc = mu_cum.isel(zeta=-1, drop=True)
         if zc == zeta[-1]:

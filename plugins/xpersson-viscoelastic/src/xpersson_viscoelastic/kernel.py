@@ -87,20 +87,24 @@ def _nodes(edges: Array, n: int, q_L: float | None = None) -> tuple[Array, Array
     like ``(q - q_L)^(-1/2)``; in ``ln(q - q_L)`` that drop is smooth.
     """
     x, w, _ = _rule(n)
+    if q_L is None:  # ln q everywhere
+        s = np.log(edges)
+        mid, half = 0.5 * (s[1:] + s[:-1]), 0.5 * (s[1:] - s[:-1])
+        qn = np.exp(mid[:, None] + half[:, None] * x)
+        return qn, half[:, None] * w * qn, qn, half
     a, b = edges[:-1], edges[1:]
     kind = np.zeros(a.size, dtype=int)  # 0: ln q, 1: ln(q - q_L), 2: q
-    if q_L is not None:
-        kind[(a > q_L) & (b <= 2.0 * q_L)] = 1
-        kind[(a <= q_L) & (b <= 2.0 * q_L)] = 2
+    kind[(a > q_L) & (b <= 2.0 * q_L)] = 1
+    kind[(a <= q_L) & (b <= 2.0 * q_L)] = 2
     with np.errstate(divide="ignore"):
-        lo = np.select([kind == 1, kind == 2], [np.log(a - (q_L or 0.0)), a], np.log(a))
-        hi = np.select([kind == 1, kind == 2], [np.log(b - (q_L or 0.0)), b], np.log(b))
+        lo = np.select([kind == 1, kind == 2], [np.log(a - q_L), a], np.log(a))
+        hi = np.select([kind == 1, kind == 2], [np.log(b - q_L), b], np.log(b))
     mid, half = 0.5 * (hi + lo), 0.5 * (hi - lo)
     u = mid[:, None] + half[:, None] * x
     k = kind[:, None]
     with np.errstate(over="ignore"):
         eu = np.exp(np.where(k == 2, 0.0, u))
-    qn = np.select([k == 1, k == 2], [(q_L or 0.0) + eu, u], eu)
+    qn = np.select([k == 1, k == 2], [q_L + eu, u], eu)
     jac = np.select([k == 1, k == 2], [eu, np.ones_like(u)], qn)
     return qn, half[:, None] * w * jac, jac, half
 
