@@ -162,3 +162,22 @@ def test_stieltjes_rule_is_exact_for_cubics_on_any_grid():
     exact = P.polyint(P.polymul(cg, P.polyder(cL)))
     want = P.polyval(x[1:], exact) - P.polyval(x[:-1], exact)
     np.testing.assert_allclose(inc, want, rtol=1e-10, atol=1e-12 * np.abs(want).max())
+
+
+def test_contact_term_at_a_zeta_c_between_output_points():
+    """mu_contact = tau_f(v) A(zeta_c)/A0 / p0 with zeta_c = 300 (output points 281.8, 316.2):
+    the area from the same solve at zeta_c (linear interpolation was 0.8 % off)."""
+    fr = {"tau_f": "0.3 MPa", "shear_law": "velocity", "c": 0.1, "v_star": "1 cm/s"}
+    ds = xpersson.solve(_scene(0.7, Q_L, [1e-3], [T_REF], [5e4], zeta_c=300.0, **fr))
+    ref = mu_reference(
+        RefSpectrum(0.7, Q_L, Q_L, Q_1, SLOPE), SLS(E_R, E_G, TAU), NU, 5e4, 1e-3, zeta=[300.0]
+    )
+    A_c = ref["profiles"]["area_fraction"][0]
+    tau_f = 3e5 * np.exp(-0.1 * np.log10(1e-3 / 1e-2) ** 2)
+    assert ds["contact_area_cutoff"].item() == pytest.approx(A_c, rel=1e-10)
+    assert ds["mu_contact"].item() == pytest.approx(tau_f * A_c / 5e4, rel=1e-10)
+    # without ctx.solve_at: from the solved G, within 1e-4
+    zeta = ds["zeta"].values
+    area = ds["area_fraction"].transpose(..., "zeta").values.reshape(1, -1)
+    G = ds["G"].transpose(..., "zeta").values.reshape(1, -1)
+    assert _resolve.area_at(None, zeta, area, G, 300.0)[0] == pytest.approx(A_c, rel=1e-4)

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.integrate import quad
@@ -151,8 +152,15 @@ def mu_reference(
     aT: float = 1.0,
     eps: float = 1e-11,
     gamma: float | None = None,
-) -> dict[str, float]:
+    zeta: np.ndarray | None = None,
+) -> dict[str, Any]:
     """``mu_visc`` [1] and ``P(q_1)`` [1] of Persson 2001 by nested adaptive quad.
+
+    With ``zeta`` [1] (magnifications in ``[1, q_1/q_L]``) also the profiles there (arrays):
+    ``G`` [1], ``area_fraction`` [1], ``loss_integral``
+    ``L = int_{q_L}^{zeta q_L} q^3 C Lambda dq / (1 - nu^2)`` [Pa], ``mu_visc_cumulative`` [1]
+    (the friction from the scales up to ``zeta``), ``effective_modulus`` ``sqrt(M)/(1 - nu^2)``
+    [Pa] and ``loss_angular_integral`` ``Lambda/(1 - nu^2)`` [Pa].
 
     Parameters
     ----------
@@ -192,7 +200,10 @@ def mu_reference(
         qb = 1.0 / (s * model.tau)
         if qL < qb < q1:
             extra.append(qb - qL)
-    ladder = np.unique(np.concatenate([[0.0], ladder, extra]))
+    z_off = np.zeros(0) if zeta is None else (np.asarray(zeta, dtype=float) - 1.0) * qL
+    z_off = np.minimum(z_off, top)
+    ladder = np.unique(np.concatenate([[0.0], ladder, extra, z_off]))
+    ladder = ladder[ladder <= top]
     ladder[-1] = top
     Gk = np.concatenate(
         [
@@ -218,7 +229,7 @@ def mu_reference(
     def P(G: float) -> float:
         return 1.0 if G <= 0.0 else float(erf(0.5 / math.sqrt(G)))
 
-    total = 0.0
+    mu_k, L_k = [0.0], [0.0]
     for j in range(ladder.size - 1):
 
         def dmu(d: float, j: int = j) -> float:
@@ -227,5 +238,25 @@ def mu_reference(
             S = 1.0 if gamma is None else gamma + (1.0 - gamma) * a * a
             return q**3 * psd.C(q) * a * S * model.angular(q * s)[1]
 
-        total += _quad(dmu, ladder[j], ladder[j + 1], eps)
-    return {"mu_visc": total / (2.0 * fnu * p0), "area_fraction": P(Gk[-1])}
+        mu_k.append(_quad(dmu, ladder[j], ladder[j + 1], eps))
+        if zeta is not None:
+
+            def dL(d: float) -> float:
+                q = qL + d
+                return q**3 * psd.C(q) * model.angular(q * s)[1]
+
+            L_k.append(_quad(dL, ladder[j], ladder[j + 1], eps))
+    mu_run = np.cumsum(mu_k) / (2.0 * fnu * p0)
+    out: dict[str, Any] = {"mu_visc": float(mu_run[-1]), "area_fraction": P(Gk[-1])}
+    if zeta is not None:
+        i = np.searchsorted(ladder, z_off)
+        ang = np.array([model.angular((qL + d) * s) for d in z_off]).reshape(-1, 2)
+        out["profiles"] = {
+            "G": Gk[i],
+            "area_fraction": np.array([P(g) for g in Gk[i]]),
+            "loss_integral": np.cumsum(L_k)[i] / fnu,
+            "mu_visc_cumulative": mu_run[i],
+            "effective_modulus": np.sqrt(ang[:, 0]) / fnu,
+            "loss_angular_integral": ang[:, 1] / fnu,
+        }
+    return out

@@ -39,6 +39,7 @@ __all__ = [
     "dense_grid",
     "dense_area",
     "dense_loss",
+    "area_at",
     "running_integral",
 ]
 
@@ -118,6 +119,19 @@ def dense_area(ctx: Any, zeta: Array, area: Array, G: Array, zd: Array, loads: A
     x = np.log(zeta)
     r = CubicSpline(x, ratio, axis=-1)(np.log(zd))
     return np.clip(r * _elastic_area(Gd), 0.0, 1.0)
+
+
+def area_at(ctx: Any, zeta: Array, area: Array, G: Array, zc: float) -> Array:
+    """``P`` (n_load,) at one magnification ``zc`` [1] between output points: the same solve
+    there (``ctx.solve_at``), else ``ratio erf(1/(2 sqrt(G)))`` with ``G / (zeta - 1)`` and the
+    ratio interpolated in ``ln zeta`` (see the module docstring)."""
+    solve_at = getattr(ctx, "solve_at", None)
+    if solve_at is not None:
+        return np.asarray(solve_at(np.array([1.0, zc]))["area_fraction"], dtype=float)[:, -1]
+    zd = np.array([1.0, zc])
+    Gc = np.maximum(_smooth(zeta, G, zd)[:, -1], 0.0)
+    ratio = CubicSpline(np.log(zeta), area / _elastic_area(G), axis=-1)(np.log(zc))
+    return np.clip(ratio * _elastic_area(Gc), 0.0, 1.0)
 
 
 def dense_loss(ctx: Any, zeta: Array, L: Array, zd: Array) -> Array:
