@@ -226,7 +226,7 @@ def check_ode(points: list[tuple[float, float, float, float]]) -> float:
     return worst
 
 
-def cost(repeat: int = 3) -> None:
+def cost(repeat: int = 7) -> None:
     """Best-of-``repeat`` wall time of 50 speeds (1e-9..1e3 m/s) on the issue's scene (H = 0.7,
     no plateau, p0 = 0.2 MPa, T_ref): the kernel, and xpersson.solve with friction."""
     import xpersson
