@@ -6,7 +6,7 @@ above ``zeta = 1``, and most of ``mu_visc`` comes from there. A cubic through th
 cannot follow that drop (issue 22: +27 % at 1 m/s, 5.7x at 10 m/s on 20 points per decade).
 
 For such loads the integral is evaluated on a dense grid geometric in ``zeta - 1`` (from
-where ``G <= 1e-4`` up to the output point of :func:`dense_top`, past ``zeta = 10`` and past the
+where ``G <= 1e-4`` up to the output point of :func:`dense_top`, past ``zeta = 100`` and past the
 last large step of ``P``; :data:`PER_DECADE` points per decade, merged with the output grid) in
 the variable ``ln(zeta - 1)``, in which the drop is smooth, and continued on the output grid:
 

@@ -125,19 +125,20 @@ def graded_edges(
 ) -> Array:
     """Panel edges [1/m] from ``q_L`` to ``q_hi``, graded towards ``q_L``.
 
-    ``q - q_L = q_L d0 10^(k/2)`` (two per decade of ``q - q_L``) up to ``2 q_L``, then the
-    log grid and PSD breakpoints of :func:`panel_edges` above ``2 q_L``. ``d0`` [1] is the
-    relative width of the first panel (where the area is still ~1); ``d0 >= 1`` gives
-    :func:`panel_edges`.
+    ``q - q_L = q_L t 10^(-k/2)`` (two per decade of ``q - q_L``, ``t = min(1, q_hi/q_L - 1)``)
+    down to ``<= q_L d0``, then the log grid and PSD breakpoints of :func:`panel_edges` above
+    ``q_L (1 + t)``. ``d0`` [1] is the relative width of the first panel (where the area is
+    still ~1); ``d0 >= t`` gives :func:`panel_edges`.
     """
     edges = panel_edges(psd, [q_hi], panels_per_decade)
     q_L = float(psd.q_L)
-    if d0 >= 1.0 or q_hi <= 2.0 * q_L:
+    top = min(1.0, q_hi / q_L - 1.0)
+    if d0 >= top:
         return edges
-    n = int(np.ceil(2.0 * np.log10(1.0 / d0)))
-    ladder = q_L * (1.0 + np.logspace(-n / 2.0, 0.0, n + 1))
-    keep = edges[(edges >= 2.0 * q_L) | (edges == q_L)]
-    inner = edges[(edges > q_L) & (edges < 2.0 * q_L) & np.isin(edges, psd.nodes())]
+    n = int(np.ceil(2.0 * np.log10(top / d0)))
+    ladder = q_L * (1.0 + top * np.logspace(-n / 2.0, 0.0, n + 1))
+    keep = edges[(edges >= ladder[-1]) | (edges == q_L)]
+    inner = edges[(edges > q_L) & (edges < ladder[-1]) & np.isin(edges, psd.nodes())]
     return np.unique(np.concatenate([keep, ladder, inner]))
 
 
@@ -449,13 +450,13 @@ def friction_curve(
     q_hi = zmax * float(psd.q_L)
     d0 = first_panel_width(psd, model, fnu, float(np.min(p0)), scale, q_hi)
     edges = graded_edges(psd, q_hi, d0, panels_per_decade)
-    qn, wq, jac, half = _nodes(edges, nodes, float(psd.q_L) if d0 < 1.0 else None)
+    graded = d0 < min(1.0, zmax - 1.0)
+    qn, wq, jac, half = _nodes(edges, nodes, float(psd.q_L) if graded else None)
     _, wgl, Q = _rule(nodes)
     q3C = qn**3 * np.asarray(psd.C(qn), dtype=float)
     excess_sq, loss = model.parts(scale[..., None, None] * qn)  # (n_T, n_v, n_panel, n)
     # tau at every node: exact E_r^2 I3 plus the spectral cumulative of the excess; graded:
     # all of <|E|^2> spectrally (I3(q) loses digits where q - q_L is near round-off of q)
-    graded = d0 < 1.0
     exact_sq = 0.0 if graded else model.E_r**2
     dens = q3C * jac * (excess_sq + (model.E_r**2 - exact_sq))  # integrand in u
     within = half[:, None] * np.einsum("ij,...pj->...pi", Q, dens)
