@@ -31,6 +31,7 @@ import os
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
@@ -41,8 +42,12 @@ sys.path.insert(0, str(ROOT / "plugins" / "xpersson-viscoelastic" / "tests"))
 
 from visco_reference import (  # noqa: E402
     SLS,
+    AngularTable,
+    PronyRef,
     RefSpectrum,
+    arrhenius_shift,
     mu_reference,
+    prony_angular_quad,
     sls_angular_quad,
     wlf_shift,
 )
@@ -56,6 +61,9 @@ P0 = np.array([5e4, 5e5])
 HURST = (0.3, 0.7, 1.0)
 PLATEAU = {"no plateau": 1.0, "plateau q_r = 10 q_L": 10.0}
 ZPD = 20
+#: second regime: a 3-mode Prony series with an Arrhenius shift (H = 0.7, one load)
+PRONY_DE, PRONY_TAU = (5e8, 1e9, 5e8), (1e-6, 1e-4, 1e-2)
+E_A, T_ARR, P0_ARR = 1e5, np.array([273.15, 313.15]), np.array([2e5])
 #: (H, q_r, p0, v a_T) where the quad reference is checked against the ODE solution
 ODE_POINTS = [
     (0.7, Q_L, 2e5, 1.0),
@@ -80,7 +88,32 @@ PROFILES = (
 )
 
 
-def _scene(H: float, q_r: float, v: np.ndarray, T: np.ndarray) -> dict:
+def _sls_wlf() -> dict:
+    return {
+        "modulus": "sls",
+        "E_r": f"{E_R!r} Pa",
+        "E_g": f"{E_G!r} Pa",
+        "relaxation_time": f"{TAU!r} s",
+        "shift": "wlf",
+        "C1": WLF[0],
+        "C2": f"{WLF[1]!r} K",
+        "T_ref": f"{WLF[2]!r} K",
+    }
+
+
+def _prony_arrhenius() -> dict:
+    return {
+        "modulus": "prony",
+        "E_r": f"{E_R!r} Pa",
+        "delta_E": [f"{x!r} Pa" for x in PRONY_DE],
+        "relaxation_times": [f"{x!r} s" for x in PRONY_TAU],
+        "shift": "arrhenius",
+        "activation_energy": f"{E_A!r} J/mol",
+        "T_ref": f"{WLF[2]!r} K",
+    }
+
+
+def _scene(H: float, q_r: float, v: np.ndarray, T: np.ndarray, coef: dict | None = None) -> dict:
     return {
         "spectrum": {
             "model": "self_affine",
@@ -94,14 +127,7 @@ def _scene(H: float, q_r: float, v: np.ndarray, T: np.ndarray) -> dict:
         "load": {"p0": [f"{float(p)!r} Pa" for p in P0]},
         "coefficient": {
             "model": "viscoelastic",
-            "modulus": "sls",
-            "E_r": f"{E_R!r} Pa",
-            "E_g": f"{E_G!r} Pa",
-            "relaxation_time": f"{TAU!r} s",
-            "shift": "wlf",
-            "C1": WLF[0],
-            "C2": f"{WLF[1]!r} K",
-            "T_ref": f"{WLF[2]!r} K",
+            **(coef or _sls_wlf()),
             "velocity": [f"{float(x)!r} m/s" for x in v],
             "temperature": [f"{float(x)!r} K" for x in T],
         },
@@ -119,17 +145,26 @@ def _scene(H: float, q_r: float, v: np.ndarray, T: np.ndarray) -> dict:
 
 
 def references(
-    H: float, q_r: float, v: np.ndarray, T: np.ndarray, zeta: np.ndarray
+    H: float,
+    q_r: float,
+    v: np.ndarray,
+    T: np.ndarray,
+    zeta: np.ndarray,
+    model: Any = None,
+    shift: Any = None,
+    p0s: np.ndarray = P0,
 ) -> dict[str, np.ndarray]:
     """Reference outputs on the grid: scalars (n_T, n_v, n_p0), ``<name>(zeta)`` profiles
-    (n_T, n_v, n_p0, n_zeta)."""
-    psd, model = RefSpectrum(H, Q_L, q_r, Q_1, SLOPE), SLS(E_R, E_G, TAU)
-    shape = (T.size, v.size, P0.size)
+    (n_T, n_v, n_p0, n_zeta). Default: the SLS with WLF."""
+    psd = RefSpectrum(H, Q_L, q_r, Q_1, SLOPE)
+    model = SLS(E_R, E_G, TAU) if model is None else model
+    shift = (lambda t: wlf_shift(t, *WLF)) if shift is None else shift
+    shape = (T.size, v.size, p0s.size)
     out = {k: np.empty(shape) for k in SCALARS}
     out.update({f"{k}(zeta)": np.empty(shape + zeta.shape) for k in PROFILES})
     zs = np.concatenate([zeta, [ZETA_C]])
-    for (i, t), (j, x), (k, p) in itertools.product(enumerate(T), enumerate(v), enumerate(P0)):
-        aT = wlf_shift(float(t), *WLF)
+    for (i, t), (j, x), (k, p) in itertools.product(enumerate(T), enumerate(v), enumerate(p0s)):
+        aT = shift(float(t))
         r = mu_reference(psd, model, NU, float(p), float(x), aT, zeta=zs)
         prof = r["profiles"]
         law = math.log10(aT * float(x) / V_STAR)
@@ -150,22 +185,33 @@ def references(
     return out
 
 
-def kernel(H: float, q_r: float, v: np.ndarray, T: np.ndarray) -> dict[str, np.ndarray]:
-    """``friction_curve`` on the grid (n_T, n_v, n_p0)."""
+def kernel(
+    H: float, q_r: float, v: np.ndarray, T: np.ndarray, prony: bool = False
+) -> dict[str, np.ndarray]:
+    """``friction_curve`` on the grid (n_T, n_v, n_p0): SLS/WLF, or Prony/Arrhenius."""
     from xpersson.physics import SelfAffineRollOff
     from xpersson_viscoelastic import WLF as WLFLaw
-    from xpersson_viscoelastic import friction_curve, sls
+    from xpersson_viscoelastic import Arrhenius, Prony, friction_curve, sls
 
     psd = SelfAffineRollOff.from_rms_slope(SLOPE, H, Q_L, q_r, Q_1)
-    aT = WLFLaw(*WLF).aT(T)
-    return friction_curve(psd, sls(E_R, E_G, TAU), NU, P0, v, aT)
+    if prony:
+        model = Prony(E_R, np.array(PRONY_DE), np.array(PRONY_TAU))
+        return friction_curve(psd, model, NU, P0_ARR, v, Arrhenius(E_A, WLF[2]).aT(T))
+    return friction_curve(psd, sls(E_R, E_G, TAU), NU, P0, v, WLFLaw(*WLF).aT(T))
 
 
-def pipeline(H: float, q_r: float, v: np.ndarray, T: np.ndarray) -> dict[str, np.ndarray]:
+def pipeline(
+    H: float, q_r: float, v: np.ndarray, T: np.ndarray, prony: bool = False
+) -> dict[str, np.ndarray]:
     """``xpersson.solve`` with v and T swept: the outputs as :func:`references`, and zeta."""
     import xpersson
 
-    ds = xpersson.solve(_scene(H, q_r, v, T))
+    if prony:
+        scene = _scene(H, q_r, v, T, _prony_arrhenius())
+        scene["load"] = {"p0": [f"{float(p)!r} Pa" for p in P0_ARR]}
+    else:
+        scene = _scene(H, q_r, v, T)
+    ds = xpersson.solve(scene)
 
     def arr(name: str, zeta: bool) -> np.ndarray:
         da = ds[name]
@@ -266,32 +312,48 @@ def main(argv: list[str] | None = None) -> int:
     print(f"SLS angular closed forms vs quad over phi: {check_angular():.1e}")
     print(f"quad reference vs adaptive ODE (4 points): {check_ode(ODE_POINTS):.1e}")
     regimes = [
-        (f"{'plateau' if r > 1 else 'no plateau'}, H={H}", r, H)
+        (f"{'plateau' if r > 1 else 'no plateau'}, H={H}", r, H, False)
         for r, H in itertools.product(PLATEAU.values(), HURST)
     ]
+    regimes += [(f"Prony+Arrhenius, {lab}", r, 0.7, True) for lab, r in PLATEAU.items()]
+    prony_ref = PronyRef(E_R, PRONY_DE, PRONY_TAU)
+    aTs = [arrhenius_shift(float(t), E_A, WLF[2]) for t in T_ARR]
+    table_ref = AngularTable(prony_ref, Q_L * v[0] * min(aTs), Q_1 * v[-1] * max(aTs))
+    worst_phi = max(
+        abs(a / b - 1.0)
+        for w in np.logspace(-3, 12, 16)
+        for a, b in zip(prony_ref.angular(w), prony_angular_quad(prony_ref, w), strict=True)
+    )
+    print(f"Prony angular rule vs quad over phi: {worst_phi:.1e}")
     table: dict[tuple[str, str], list[tuple[float, str]]] = {}
     t_ref = t_ker = t_pipe = 0.0
-    for _label, r, H in regimes:
+    for _label, r, H, prony in regimes:
+        tt, p0s = (T_ARR, P0_ARR) if prony else (temps, P0)
         t0 = time.perf_counter()
-        ker = kernel(H, r * Q_L, v, temps)
+        ker = kernel(H, r * Q_L, v, tt, prony)
         t1 = time.perf_counter()
-        pipe = pipeline(H, r * Q_L, v, temps)
+        pipe = pipeline(H, r * Q_L, v, tt, prony)
         t2 = time.perf_counter()
-        ref = references(H, r * Q_L, v, temps, pipe.pop("zeta"))
+        zeta = pipe.pop("zeta")
+        if prony:
+            shift = lambda t: arrhenius_shift(t, E_A, WLF[2])  # noqa: E731
+            ref = references(H, r * Q_L, v, tt, zeta, table_ref, shift, p0s)
+        else:
+            ref = references(H, r * Q_L, v, tt, zeta)
         t3 = time.perf_counter()
         t_ker, t_pipe, t_ref = t_ker + t1 - t0, t_pipe + t2 - t1, t_ref + t3 - t2
         for path, got in (("friction_curve", ker), ("xpersson.solve", pipe)):
             for out in got:
                 err = error(out, got[out], ref[out], ref)
                 idx = np.unravel_index(int(np.argmax(err)), err.shape)
-                where = f"v={v[idx[1]]:.0e} T={temps[idx[0]]:.0f} p0={P0[idx[2]]:.0e}"
+                where = f"v={v[idx[1]]:.0e} T={tt[idx[0]]:.0f} p0={p0s[idx[2]]:.0e}"
                 table.setdefault((path, out), []).append((float(err.max()), where))
     t_list = ", ".join(f"{t:.2f}" for t in temps)
     speeds = f"v = {v[0]:.0e}..{v[-1]:.0e} m/s ({v.size} speeds)"
     print(f"\nregime grid: {speeds}, T = {t_list} K (WLF),")
     print(f"p0 = {', '.join(f'{p:.0e}' for p in P0)} Pa; {ZPD} zeta per decade in xpersson.solve;")
     print(f"contact term: tau_f0 = {TAU_F0:g} Pa, velocity law, zeta_c = {ZETA_C:g}\n")
-    print("| path | output | " + " | ".join(lab for lab, _, _ in regimes) + " | worst at |")
+    print("| path | output | " + " | ".join(r[0] for r in regimes) + " | worst at |")
     print("|---|---|" + "---:|" * len(regimes) + "---|")
     worst_all = 0.0
     for (path, out), cells in table.items():
