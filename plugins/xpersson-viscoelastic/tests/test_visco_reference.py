@@ -181,3 +181,27 @@ def test_contact_term_at_a_zeta_c_between_output_points():
     area = ds["area_fraction"].transpose(..., "zeta").values.reshape(1, -1)
     G = ds["G"].transpose(..., "zeta").values.reshape(1, -1)
     assert _resolve.area_at(None, zeta, area, G, 300.0)[0] == pytest.approx(A_c, rel=1e-4)
+
+
+def test_three_mode_prony_kernel_and_solve_match_reference():
+    """A 3-mode Prony series at 1 m/s, no plateau (angular integrals of the reference by
+    quadrature over phi, not the plugin's closed forms): kernel 1e-8, solve 1e-4."""
+    from visco_reference import AngularTable, PronyRef
+
+    from xpersson_viscoelastic import Prony
+
+    dE, taus = (5e8, 1e9, 5e8), (1e-6, 1e-4, 1e-2)
+    table = AngularTable(PronyRef(E_R, dE, taus), Q_L, Q_1)
+    ref = mu_reference(RefSpectrum(0.7, Q_L, Q_L, Q_1, SLOPE), table, NU, 2e5, 1.0)["mu_visc"]
+    model = Prony(E_R, np.array(dE), np.array(taus))
+    ker = friction_curve(_psd(0.7, Q_L), model, NU, [2e5], [1.0])
+    assert ker["mu_visc"].item() == pytest.approx(ref, rel=1e-8)
+    sc = _scene(0.7, Q_L, [1.0], [T_REF], [2e5])
+    sc["coefficient"].update(
+        modulus="prony",
+        delta_E=[f"{x} Pa" for x in dE],
+        relaxation_times=[f"{x} s" for x in taus],
+    )
+    for key in ("E_g", "relaxation_time"):
+        sc["coefficient"].pop(key)
+    assert xpersson.solve(sc)["mu_visc"].item() == pytest.approx(ref, rel=1e-4)
