@@ -112,9 +112,11 @@ class PronyRef:
     """Generalised Maxwell solid ``E(w) = E_r + sum_k dE_k i w tau_k / (1 + i w tau_k)``
     [Pa, Pa, s] (physics.md §4.3), angular integrals by quadrature over ``phi``.
 
-    ``M`` and ``Lambda`` are composite 24-point Gauss-Legendre sums over ``phi`` in ``[0, pi/2]``
-    (4-fold symmetry), split at ``w cos(phi) tau_k = 10^(j/2)``, ``j = -4 .. 4``, of every mode
-    (the layers of width ``1/(w tau_k)`` at ``pi/2``): no closed form of the plugin is used.
+    ``M`` and ``Lambda`` are composite 24-point Gauss-Legendre sums over ``phi`` in ``[0, pi/4]``
+    and over ``c = cos(phi)`` in ``[0, 1/sqrt 2]`` (4-fold symmetry), split at
+    ``c w tau_k = 10^(j/2)``, ``j >= -4``, for every mode (the layers of width ``1/(w tau_k)``
+    at ``phi = pi/2``, and the ``1/(c w tau_k)`` tails above): no closed form of the plugin is
+    used.
     """
 
     E_r: float
@@ -134,18 +136,25 @@ class PronyRef:
 
     def angular(self, w: float) -> tuple[float, float]:
         """``(M, Lambda)`` [Pa^2, Pa] at ``w = q v a_T`` [rad/s]."""
-        cuts = [0.0, math.pi / 2]
-        for t in self.taus:
-            b = w * t
-            cuts += [math.acos(c / b) for c in 10.0 ** (np.arange(-4, 5) / 2.0) if c < b]
-        cuts = np.unique(cuts)
         x, wt = np.polynomial.legendre.leggauss(24)
-        mid, half = 0.5 * (cuts[1:] + cuts[:-1]), 0.5 * (cuts[1:] - cuts[:-1])
-        phi = (mid[:, None] + half[:, None] * x).ravel()
-        wphi = (half[:, None] * wt).ravel()
-        E = self.E(w * np.cos(phi))
-        M = float(np.sum(wphi * np.abs(E) ** 2)) * 2.0 / math.pi
-        return M, float(np.sum(wphi * np.cos(phi) * E.imag)) * 4.0
+
+        def rule(cuts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            cuts = np.unique(cuts)
+            mid, half = 0.5 * (cuts[1:] + cuts[:-1]), 0.5 * (cuts[1:] - cuts[:-1])
+            return (mid[:, None] + half[:, None] * x).ravel(), (half[:, None] * wt).ravel()
+
+        # phi in [0, pi/4]; then c = cos(phi) in [0, 1/sqrt 2] (dphi = dc / sqrt(1 - c^2)),
+        # where the layers c ~ 1/(w tau_k) are resolved without the round-off of pi/2 - phi
+        c_cut = [0.0, math.sqrt(0.5)] + [  # half decades from 1e-2 / (w tau_k) up
+            c / (w * t) for t in self.taus for c in 10.0 ** (np.arange(-4, 60) / 2.0)
+        ]
+        c_n, c_w = rule(np.clip(c_cut, 0.0, math.sqrt(0.5)))
+        p_n, p_w = rule(np.linspace(0.0, math.pi / 4, 4))
+        cos = np.concatenate([np.cos(p_n), c_n])
+        wts = np.concatenate([p_w, c_w / np.sqrt(1.0 - c_n**2)])
+        E = self.E(w * cos)
+        M = float(np.sum(wts * np.abs(E) ** 2)) * 2.0 / math.pi
+        return M, float(np.sum(wts * cos * E.imag)) * 4.0
 
 
 class AngularTable:
@@ -170,13 +179,20 @@ class AngularTable:
 
 
 def prony_angular_quad(model: PronyRef, w: float) -> tuple[float, float]:
-    """``(M, Lambda)`` of a :class:`PronyRef` by adaptive quad over ``phi`` (checks its rule)."""
-    cs = (0.01, 0.1, 1.0, 10.0, 100.0)
-    pts = sorted({math.acos(c / (w * t)) for t in model.taus for c in cs if w * t > c}) or None
-    kw = {"points": pts, "epsabs": 0, "epsrel": 1e-13, "limit": 400}
-    M = quad(lambda p: abs(complex(model.E(w * math.cos(p)))) ** 2, 0, math.pi / 2, **kw)[0]
-    L = quad(lambda p: math.cos(p) * complex(model.E(w * math.cos(p))).imag, 0, math.pi / 2, **kw)
-    return M * 2.0 / math.pi, L[0] * 4.0
+    """``(M, Lambda)`` of a :class:`PronyRef` by adaptive quad (checks its rule): over ``phi`` on
+    ``[0, pi/4]`` and over ``c = cos(phi)`` on ``[0, 1/sqrt 2]`` with breakpoints at the layers."""
+    top = math.sqrt(0.5)
+    pts = [c / (w * t) for t in model.taus for c in (0.1, 1.0, 10.0) if c / (w * t) < top] or None
+    kw = {"epsabs": 0, "epsrel": 1e-13, "limit": 400}
+
+    def both(f):  # f(cos) integrated over phi in [0, pi/2]
+        a = quad(lambda p: f(math.cos(p)), 0, math.pi / 4, **kw)[0]
+        b = quad(lambda c: f(c) / math.sqrt(1.0 - c * c), 0, top, points=pts, **kw)[0]
+        return a + b
+
+    M = both(lambda c: abs(complex(model.E(w * c))) ** 2)
+    L = both(lambda c: c * complex(model.E(w * c)).imag)
+    return M * 2.0 / math.pi, L * 4.0
 
 
 def sls_angular_quad(model: SLS, w: float) -> tuple[float, float]:
