@@ -241,6 +241,50 @@ def _quad(f, a: float, b: float, eps: float) -> float:
     return quad(f, a, b, epsabs=0.0, epsrel=eps, limit=500)[0]
 
 
+def _ladder(
+    psd: RefSpectrum, model: Any, s: float, bound: float, dG: Any, eps: float, zeta: Any
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Breakpoints in ``d = q - q_L`` [1/m], ``G`` there [1] and the offsets of ``zeta``.
+
+    A geometric ladder (two per decade) from where ``G < 1e-6`` (``bound``: a bound of
+    ``dG/dq / (q^3 C M)`` with ``M <= E_g^2``) to ``q_1 - q_L``, the roll-off, the loss peaks
+    ``q s tau_k = 1`` (``s = v a_T``), the magnifications ``zeta`` and the point where ``G = 1``.
+    """
+    qL, q1, cG8 = psd.q_L, psd.q_1, bound
+    slope = cG8 * qL**3 * psd.C(qL) * model.E_g**2  # >= dG on [qL, 2 qL]
+    d0 = min(1e-2 * qL, 1e-6 / slope)
+    top = q1 - qL
+    ladder = np.geomspace(d0, top, max(2, int(2 * math.log10(top / d0)) + 1))
+    extra = [psd.q_r - qL] if qL < psd.q_r < q1 else []
+    for tau in getattr(model, "taus", None) or [model.tau]:  # the loss peaks b ~ 1
+        qb = 1.0 / (s * tau) if s > 0 else 0.0
+        if qL < qb < q1:
+            extra.append(qb - qL)
+    z_off = np.zeros(0) if zeta is None else (np.asarray(zeta, dtype=float) - 1.0) * qL
+    z_off = np.minimum(z_off, top)
+    ladder = np.unique(np.concatenate([[0.0], ladder, extra, z_off]))
+    ladder = ladder[ladder <= top]
+    ladder[-1] = top
+    Gk = np.concatenate(
+        [
+            [0.0],
+            np.cumsum([_quad(dG, a, b, eps) for a, b in zip(ladder[:-1], ladder[1:], strict=True)]),
+        ]
+    )
+    if Gk[-1] > 1.0 and Gk[1] < 1.0:  # the point where G = 1 (P drops there)
+        k = int(np.searchsorted(Gk, 1.0))
+        lo, hi = ladder[k - 1], ladder[k]
+        while hi - lo > 1e-6 * (hi - ladder[k - 1]):
+            mid = 0.5 * (lo + hi)
+            if Gk[k - 1] + _quad(dG, ladder[k - 1], mid, eps) < 1.0:
+                lo = mid
+            else:
+                hi = mid
+        ladder = np.insert(ladder, k, 0.5 * (lo + hi))
+        Gk = np.insert(Gk, k, Gk[k - 1] + _quad(dG, ladder[k - 1], ladder[k], eps))
+    return ladder, Gk, z_off
+
+
 def mu_reference(
     psd: RefSpectrum,
     model: SLS,
@@ -281,45 +325,14 @@ def mu_reference(
     fnu = 1.0 - nu * nu
     s = v * aT
     cG = (math.pi / 4.0) / (fnu * p0) ** 2
-    qL, q1 = psd.q_L, psd.q_1
+    qL = psd.q_L
 
     # all integrals in the offset d = q - q_L (q_L (1 + 1e-15) is not representable in q)
     def dG(d: float) -> float:
         q = qL + d
         return cG * q**3 * psd.C(q) * model.angular(q * s)[0]
 
-    # ladder in d: from where G < 1e-6 (bound with M <= E_g^2) to q_1 - q_L
-    slope = cG * qL**3 * psd.C(qL) * model.E_g**2 * 8.0  # >= dG on [qL, 2 qL]
-    d0 = min(1e-2 * qL, 1e-6 / slope)
-    top = q1 - qL
-    ladder = np.geomspace(d0, top, max(2, int(2 * math.log10(top / d0)) + 1))
-    extra = [psd.q_r - qL] if qL < psd.q_r < q1 else []
-    for tau in getattr(model, "taus", None) or [model.tau]:  # the loss peaks b ~ 1
-        qb = 1.0 / (s * tau) if s > 0 else 0.0
-        if qL < qb < q1:
-            extra.append(qb - qL)
-    z_off = np.zeros(0) if zeta is None else (np.asarray(zeta, dtype=float) - 1.0) * qL
-    z_off = np.minimum(z_off, top)
-    ladder = np.unique(np.concatenate([[0.0], ladder, extra, z_off]))
-    ladder = ladder[ladder <= top]
-    ladder[-1] = top
-    Gk = np.concatenate(
-        [
-            [0.0],
-            np.cumsum([_quad(dG, a, b, eps) for a, b in zip(ladder[:-1], ladder[1:], strict=True)]),
-        ]
-    )
-    if Gk[-1] > 1.0 and Gk[1] < 1.0:  # the point where G = 1 (P drops there)
-        k = int(np.searchsorted(Gk, 1.0))
-        lo, hi = ladder[k - 1], ladder[k]
-        while hi - lo > 1e-6 * (hi - ladder[k - 1]):
-            mid = 0.5 * (lo + hi)
-            if Gk[k - 1] + _quad(dG, ladder[k - 1], mid, eps) < 1.0:
-                lo = mid
-            else:
-                hi = mid
-        ladder = np.insert(ladder, k, 0.5 * (lo + hi))
-        Gk = np.insert(Gk, k, Gk[k - 1] + _quad(dG, ladder[k - 1], ladder[k], eps))
+    ladder, Gk, z_off = _ladder(psd, model, s, cG * 8.0, dG, eps, zeta)
 
     def G_at(d: float, j: int) -> float:
         return Gk[j] + _quad(dG, ladder[j], d, eps) if d > ladder[j] else Gk[j]
