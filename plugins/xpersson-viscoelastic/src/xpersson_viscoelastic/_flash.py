@@ -121,7 +121,7 @@ def solve_flash(
 
     fnu = 1.0 - nu * nu
     edges = panel_edges(psd, [float(psd.q_1)], panels_per_decade)
-    qn, wq, half = _nodes(edges, nodes)
+    qn, _, _, half = _nodes(edges, nodes)
     _, wgl, Q = _rule(nodes)
     q3C = qn**3 * np.asarray(psd.C(qn), dtype=float)
     # heat weight per unit loss density: sqrt(D v / q) / k, integrand in ln q

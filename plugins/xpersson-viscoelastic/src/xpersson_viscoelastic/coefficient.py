@@ -325,14 +325,26 @@ class ViscoelasticCoefficient(Coefficient):
             rtol=1e-10,
         )
 
+    def loss_integral(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
+        """The cumulative loss integral ``L(zeta)`` [Pa] at any magnifications ``zeta`` [1]
+        (the Dataset's ``loss_integral``; the friction analysis samples it densely where the
+        output grid does not resolve the contact area)."""
+        return kernel.loss_integral(
+            ctx.psd,
+            self._model,
+            ctx.nu,
+            zeta,
+            self._v(),
+            self._a_T_of(ctx),
+            panels_per_decade=self._ppd(ctx),
+        )
+
     def interpret(self, ctx: SceneContext) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
         """The angular integrals and the cumulative loss integral on the output ``zeta``."""
         zeta = ctx.zeta
         aT = self._a_T_of(ctx)
         rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
-        L = kernel.loss_integral(
-            ctx.psd, self._model, ctx.nu, zeta, self._v(), aT, panels_per_decade=self._ppd(ctx)
-        )
+        L = self.loss_integral(ctx, zeta)
         T0 = float(self._params["temperature"])
         if callable(aT):
             T_q = self._flash(ctx.psd, float(ctx.nu))(zeta * ctx.q_L)

@@ -10,6 +10,12 @@ constant shear stress or the velocity law ``tau_f = tau_f0 exp(-c log10(a_T v / 
 On the output grid the Stieltjes integral is evaluated with ``g = P S`` and ``L`` both
 interpolated by cubics in ``ln zeta`` (:func:`~xpersson_viscoelastic.kernel.stieltjes_increments`;
 fourth order, see the README's convergence table for the accuracy per ``zeta_per_decade``).
+Loads whose area the output grid does not resolve (``1 - P > 1e-6`` at the first output point,
+or a step of ``P`` above 0.02: no roll-off plateau, fast or cold rubber) are integrated on a
+dense grid in ``ln(zeta - 1)`` from the same solve (``ctx.solve_at``) and the coefficient's
+``loss_integral(ctx, zeta)`` (:mod:`~xpersson_viscoelastic._resolve`; issue 22). The area at a
+``zeta_c`` between output points comes from the same solve at ``zeta_c`` (was: linear
+interpolation, up to 0.8 % off).
 """
 
 from __future__ import annotations
@@ -21,6 +27,7 @@ import numpy as np
 from xpersson.physics import closure_S
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
+from . import _resolve
 from .kernel import friction_integral, stieltjes_increments
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -29,6 +36,14 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["Friction"]
 
 _ZP = ("p0", "zeta")
+
+
+def _rows(da: xr.DataArray) -> np.ndarray:
+    """Values of a ``(p0, zeta)``, ``(zeta, p0)`` or ``(zeta,)`` variable as (n_load, n_zeta)."""
+    vals = np.asarray(da.values, dtype=float)
+    if da.dims == ("zeta",):
+        return vals[None, :]
+    return vals.T if da.dims[0] == "zeta" else vals
 
 
 class Friction(Analysis):
@@ -139,6 +154,33 @@ class Friction(Analysis):
         """Refuse a ``zeta_c`` beyond the output magnifications before any solving."""
         self._zeta_c(np.asarray(ctx.zeta, float))
 
+    def _resolved(self, ctx: Any, ds: xr.Dataset, mu_cum: xr.DataArray) -> xr.DataArray:
+        """``mu_visc_cumulative`` with the loads whose area drop the output grid misses
+        evaluated on a dense grid up to the output point ``zeta_k`` and continued on the
+        output grid beyond (:mod:`~xpersson_viscoelastic._resolve`)."""
+        p = self._params
+        area = _rows(ds["area_fraction"])
+        zeta = np.asarray(ds["zeta"].values, dtype=float)
+        need = _resolve.unresolved(area)
+        if not need.any() or zeta.size < 2:
+            return mu_cum
+        loads = np.flatnonzero(need)
+        k = _resolve.dense_top(zeta, area[loads])
+        G = _rows(ds["G"])[:, : k + 1]
+        zk = zeta[: k + 1]
+        zd, idx = _resolve.dense_grid(zk, G[loads])
+        Ad = _resolve.dense_area(ctx, zk, area[:, : k + 1], G, zd, loads)
+        Ld = _resolve.dense_loss(ctx, zk, np.asarray(ds["loss_integral"].values)[: k + 1], zd)
+        gd = Ad * (closure_S("yp08", Ad, p["gamma"]) if p["correction"] == "s_factor" else 1.0)
+        p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))[loads]
+        run = _resolve.running_integral(gd, Ld, zd)[:, idx] / (2.0 * p0[:, None])
+        vals = _rows(mu_cum).copy()
+        beyond = vals[loads, k + 1 :] - vals[loads, k : k + 1]  # the output-grid rule
+        vals[loads] = np.concatenate([run, run[:, -1:] + beyond], axis=-1)
+        if mu_cum.dims[0] != "zeta":  # (p0, zeta)
+            return mu_cum.copy(data=vals)
+        return mu_cum.copy(data=vals.T.reshape(mu_cum.shape))
+
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables, vectorised over loads (and any sweep dimension)."""
         import xarray as xr
@@ -167,10 +209,16 @@ class Friction(Analysis):
             dask="parallelized",
             output_dtypes=[float],
         )
+        if set(A.dims) <= {"p0", "zeta"} and L.dims == ("zeta",) and "G" in ds:
+            mu_cum = self._resolved(ctx, ds, mu_cum)
         mu_visc = mu_cum.isel(zeta=-1, drop=True)
         if zc == zeta[-1]:
             A_c = A.isel(zeta=-1, drop=True)
-        else:  # linear in log zeta between output points
+        elif set(A.dims) <= {"p0", "zeta"} and "G" in ds:  # between output points
+            at = _resolve.area_at(ctx, zeta, _rows(A), _rows(ds["G"]), zc)
+            last = A.isel(zeta=-1, drop=True)
+            A_c = last.copy(data=at.reshape(last.shape))
+        else:  # stacked over sweep dims: linear between output points
             A_c = A.interp(zeta=zc, method="linear", kwargs={"fill_value": None}).drop_vars("zeta")
             A_c = A_c.drop_vars([c for c in A_c.coords if c not in A_c.dims])
         v = float(ds["sliding_speed"].values) if ds["sliding_speed"].ndim == 0 else None
