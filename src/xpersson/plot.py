@@ -406,7 +406,7 @@ def _friction_sweep(ds: xr.Dataset, speeds: np.ndarray, temps: list[float]) -> x
     """Re-solve the archive's scene over sliding speeds [m/s] and temperatures [K]."""
     if "xpersson_scene" not in ds.attrs:
         return None
-    from ._pipeline import solve  # deferred: plotting an archive needs no solver otherwise
+    from .api import solve  # deferred: plotting an archive needs no solver otherwise
     from .scene import Scene, SceneError
 
     data = json.loads(ds.attrs["xpersson_scene"])
