@@ -93,8 +93,7 @@ def human(units: str, values: Any) -> tuple[float, str]:
     factor, text : float, str
         Divide the values by ``factor`` to express them in ``text`` (``(1e6, "MPa")``).
     """
-    units = units.replace("^", "")  # stored "m s^-1" and compact "m s-1" alike
-    table = _PREFIXES.get(units)
+    table = _PREFIXES.get(units := units.replace("^", ""))  # "m s^-1" as "m s-1"
     if not table:
         return 1.0, {"1": "", "m-1": "1/m", "m2": "m²", "K": "K"}.get(units, units)
     v = np.abs(np.asarray(values, float))

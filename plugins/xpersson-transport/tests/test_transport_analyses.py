@@ -33,9 +33,9 @@ def test_metadata(cls):
 
 def test_units_are_cf(ds):
     units = {
-        "electrical_constriction_conductance": "S m-2", "electrical_contact_resistance": "ohm",
-        "holm_conductance": "S m-2", "thermal_contact_conductance": "W m-2 K-1",
-        "thermal_gas_conductance": "W m-2 K-1", "thermal_contact_resistance": "K W-1",
+        "electrical_constriction_conductance": "S m^-2", "electrical_contact_resistance": "ohm",
+        "holm_conductance": "S m^-2", "thermal_contact_conductance": "W m^-2 K^-1",
+        "thermal_gas_conductance": "W m^-2 K^-1", "thermal_contact_resistance": "K W^-1",
         "gas_jump_length": "m",
     }  # fmt: skip
     for name, unit in units.items():
