@@ -176,13 +176,40 @@ class ContactStiffness(_Interface):
             valid_min=0.0,
             description="-1/(du/dp0) with du/dp0 = -(4/(E* p0^2)) int (tau_c/q) (-dF), F = A S; "
             "taken from ln(1 - F), so finite up to 1 - A ~ 1e-300",
+            nan_meaning="full contact: du/dp0 underflows (K exceeds the largest float, the "
+            "interface is rigid at the solve's resolution; contact_compliance holds 0 and "
+            "contact_stiffness_status 1)",
+        ),
+        "contact_compliance": VarSpec(
+            ("p0",), "m Pa-1", "normal contact compliance per nominal area -du/dp0",
+            valid_min=0.0,
+            description="1/contact_stiffness; finite at every load (0 at full contact)",
+        ),
+        "contact_stiffness_status": VarSpec(
+            ("p0",), "1", "validity of the stiffness per load",
+            description="0: K from the theory; 1: full contact, K not representable (NaN); "
+            "2: p0 above E*, outside the small-slope linear elasticity the theory assumes "
+            "(K is the theory's value, not the solid's)",
+            extra={"flag_values": np.array([0, 1, 2], dtype=np.int8),
+                   "flag_meanings": "valid rigid_full_contact above_contact_modulus"},
         ),
     }  # fmt: skip
-    provides = ("contact_stiffness",)
+    provides = ("contact_stiffness", "contact_compliance", "contact_stiffness_status")
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        _, sc = self._contact(ctx, ds)
-        return {"contact_stiffness": (("p0",), sc.contact_stiffness())}
+        s, sc = self._contact(ctx, ds)
+        slope = sc.mean_gap_slope()
+        compliance = np.maximum(-slope, 0.0)
+        with np.errstate(divide="ignore", over="ignore"):
+            K = np.where(compliance > 0.0, 1.0 / np.where(compliance > 0, compliance, 1.0), np.nan)
+        rigid = ~np.isfinite(K)
+        K[rigid] = np.nan
+        status = np.where(rigid, 1, np.where(s.p0 > float(ctx.E_star), 2, 0)).astype(np.int8)
+        return {
+            "contact_stiffness": (("p0",), K),
+            "contact_compliance": (("p0",), compliance),
+            "contact_stiffness_status": (("p0",), status),
+        }
 
 
 def _edges(s: Solved, n_bins: int) -> np.ndarray:
