@@ -49,9 +49,10 @@ README_LOADS = [1e4, 1e5, 3e5, 1e6]  # the README's spectrum (physics.md §1.4),
 
 @pytest.mark.parametrize("method", ["closed_form", "diffusion"])
 def test_gap_pdf_has_no_far_tail_at_high_load(method):
-    """Issue 22: at 1 MPa Almqvist's u1 = d(A u)/dA put 5.4 1/m at 12 h_rms. With the
-    pressure part of u1, at every load up to 1 MPa    kPa the density beyond 4 h_rms is bounded by the free area spread as one Gaussian of width
-    h_rms (none sits far out) and falls monotonically there (no second hump) at every load."""
+    """Issue 22: at 1 MPa Almqvist's u1 = d(A u)/dA put 5.4 1/m at 12 h_rms. With the pressure
+    part of u1, at 300 kPa and 1 MPa the density beyond 4 h_rms is bounded by the free area
+    spread as one Gaussian of width h_rms (none sits far out), and at every load it falls
+    monotonically there (no second hump)."""
     ana = {"gap_pdf": {"u_max": "15 um", "u_points": 151, "method": method}}
     ds = xpersson.solve(scene(README_LOADS, analyses=ana))
     u, rho = ds["u"].values, ds["gap_pdf"].values
@@ -65,10 +66,10 @@ def test_gap_pdf_has_no_far_tail_at_high_load(method):
 def test_almqvist_form_keeps_its_tail_and_identity():
     """The full d(A u)/dA stays selectable; its no-mirror mean is u(p0) (the identity) and it
     is what carries the far tail."""
+    from interface_testlib import dense_zeta, persson_curve
+
     from xpersson import physics
     from xpersson.physics.interface import SolvedContact
-
-    from interface_testlib import dense_zeta, persson_curve
 
     psd = xpersson.physics.psd.SelfAffineRollOff.from_h_rms(1e-6, H=0.8, q_L=1e3, q_r=1e4,
                                                             q_1=1e8)  # fmt: skip
