@@ -106,7 +106,8 @@ class SolvedContact:
         ``separation`` chooses the mean separation ``u1`` of the area detaching in a bin:
 
         * ``"almqvist"`` (default): ``u1 = d(A u)/dA`` over the bin (Almqvist et al. 2011).
-          Where the coarse scales are in full contact (high load, ``zeta`` near 1) ``dA`` vanishes like
+          Where the coarse scales are in full contact (high load, ``zeta`` near 1) ``dA``
+          vanishes like
           ``exp(-1/(4G))`` while ``u(zeta)`` still falls (removing scales at fixed pressure
           lowers Persson's mean gap), so ``u1 ~ A (du/dzeta)_p / A'`` runs off to many
           ``h_rms``: a far tail with vanishing weight (docs/verification.md, "gap PDF").
