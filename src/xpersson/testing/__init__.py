@@ -17,8 +17,9 @@ One job per module: :mod:`~xpersson.testing.contracts` (:func:`check_plugin`),
 :func:`material`), :mod:`~xpersson.testing.schema` (:func:`assert_schema`),
 :mod:`~xpersson.testing.oracles` (closed forms), :mod:`~xpersson.testing.referee`
 (:func:`markov_cross_check`), :mod:`~xpersson.testing.analysis_referee`
-(:func:`check_analysis`, the analysis-side referee) and :mod:`~xpersson.testing.pytest_plugin` (fixtures, registered
-through the ``pytest11`` entry point ``xpersson``).
+(:func:`check_analysis`, the analysis-side referee) and
+:mod:`~xpersson.testing.pytest_plugin` (fixtures, registered through the ``pytest11`` entry
+point ``xpersson``).
 
 Importing this package imports neither numpy-heavy libraries nor the core pipeline; they are
 imported by the checks that need them.

@@ -101,8 +101,9 @@ def check_analysis(
         alone = _solve(cls, _with(sc, load={"p0": [p]}))
         for n in names:
             if "p0" in base[n].dims:
-                worst = max(worst, _compare(base[n].isel(p0=i), alone[n].isel(p0=0), 1e-9, 0.0,
-                                            f"{who}: {n!r} at p0 = {p} alone vs in a batch"))  # fmt: skip
+                what = f"{who}: {n!r} at p0 = {p} alone vs in a batch"
+                err = _compare(base[n].isel(p0=i), alone[n].isel(p0=0), 1e-9, 0.0, what)
+                worst = max(worst, err)
     report["loads"] = f"ok (per-load independent within {worst:.1e})"
 
     worst, where = 0.0, ""
