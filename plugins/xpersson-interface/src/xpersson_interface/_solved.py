@@ -75,6 +75,8 @@ def dense_zeta(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64
 #: without sampling the solve more densely (and of ``1 - A`` over the first interval).
 MAX_STEP = 0.02
 MAX_FIRST = 1e-7
+#: Largest change of ln(1 - A) between output magnifications integrated without dense sampling.
+MAX_LOG_STEP = 5.0
 
 
 def _coarse(area: NDArray[np.float64], non: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -82,7 +84,10 @@ def _coarse(area: NDArray[np.float64], non: NDArray[np.float64]) -> NDArray[np.b
     if area.shape[1] < 3:
         return np.ones(area.shape[0], dtype=bool)
     step = np.max(np.abs(np.diff(area, axis=1)), axis=1)
-    return (step > MAX_STEP) | (non[:, 1] > MAX_FIRST)
+    with np.errstate(divide="ignore", invalid="ignore"):  # near full contact: 1 - A spans
+        ln = np.log(np.maximum(non[:, 1:], 1e-300))  # decades between nodes
+    jump = np.max(np.abs(np.diff(ln, axis=1)), axis=1) if ln.shape[1] > 1 else np.zeros(len(ln))
+    return (step > MAX_STEP) | (non[:, 1] > MAX_FIRST) | (jump > MAX_LOG_STEP)
 
 
 def _interp(z: NDArray, y: NDArray[np.float64], z_new: NDArray) -> NDArray[np.float64]:
@@ -149,6 +154,8 @@ def solved_curve(
         return _rows(_from_ds(ds, name), n)
 
     need = _coarse(get(el), sum(get(c) for c in comp)) if per_decade else np.zeros(n, bool)
+    if need.any() and solve_at is not None:
+        need[:] = True  # one grid for every load: a load's result never depends on the others
     if need.any() and solve_at is None:
         warnings.warn(
             f"{int(need.sum())} load(s) have an area curve too coarse for the zeta integrals "
