@@ -9,15 +9,14 @@ checked against (computed another way: adaptive quadrature with explicit breakpo
 forms, an image series, the Markov walkers, published tables), the regime grid, and the worst
 error measured. Rows come from ``verify_core`` (core, plasticity), ``verify_interface``
 (xpersson-interface), ``verify_friction`` (xpersson-viscoelastic, written by its own helper:
-included when the file exists and offers ``rows(fast)``) and the adhesion BEM comparison
-(``results/adhesion_bem_compare.json`` when present). GFMD data are read from
+included when the file exists and offers ``rows(fast)``) and ``verify_adhesion`` (the adhesion
+BEM comparison, same contract, when present). GFMD data are read from
 ``../shared/refdata`` relative to the repository root (``XPERSSON_REFDATA`` overrides).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
@@ -62,34 +61,20 @@ def friction_rows(fast: bool) -> list[dict]:
 
 
 def adhesion_rows(fast: bool) -> list[dict]:
-    """Adhesive areas against the BEM results of the adhesion helper, when present."""
-    path = HERE / "results" / "adhesion_bem_compare.json"
-    if not path.is_file():
-        return [_missing("adhesion (xpersson-adhesion)", "no BEM results in benchmarks/results")]
-    data = json.loads(path.read_text())
-    worst: dict[str, float] = {}
-    tabor: list[float] = []
-    for block in data.values():
-        for w in block.get("works", []):
-            tabor.append(float(w.get("tabor", math.nan)))
-            for model in ("jkr", "dmt", "adhesive"):
-                ratio = [r for r in (w.get(model) or {}).get("ratio", []) if r is not None]
-                if ratio:
-                    err = max(abs(float(r) - 1.0) for r in ratio)
-                    worst[model] = max(worst.get(model, 0.0), err)
-    regime = f"Tabor {min(tabor):g}-{max(tabor):g}, H {', '.join(data)}" if tabor else "-"
-    note = "theory vs BEM: Persson's adhesive area is a mean-field theory"
-    return [
-        {
-            "output": f"area_fraction ({m} boundary)",
-            "regime": regime,
-            "reference": "BEM (adhesion_bem_compare.json)",
-            "worst": e,
-            "measure": "|A/A_BEM - 1|",
-            "note": note,
-        }
-        for m, e in sorted(worst.items())
-    ]
+    """Rows of ``verify_adhesion.py`` (the adhesion BEM work's), when present.
+
+    Its contract is the one of every row source here: ``rows(fast) -> list[dict]`` with keys
+    output, regime, reference, worst, measure, note. The BEM results themselves
+    (``results/adhesion_bem_compare.json``) are not parsed here: their layout is the adhesion
+    work's to define.
+    """
+    try:
+        import verify_adhesion
+    except ImportError:
+        found = (HERE / "results" / "adhesion_bem_compare.json").is_file()
+        why = "BEM results present but no verify_adhesion.rows(fast)" if found else "no BEM rows"
+        return [_missing("adhesion (xpersson-adhesion)", why)]
+    return list(verify_adhesion.rows(fast))
 
 
 def _missing(output: str, why: str) -> dict:
