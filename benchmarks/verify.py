@@ -36,6 +36,7 @@ SECTIONS = (
         (
             verify_interface.energy_gap_stiffness_rows,
             verify_interface.gap_table_rows,
+            verify_interface.diffusion_rows,
             verify_interface.gfmd_rows,
             verify_interface.leakage_rows,
         ),

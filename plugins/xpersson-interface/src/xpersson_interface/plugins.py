@@ -18,7 +18,6 @@ The correction factor of energy and gap (``s_factor``):
 
 from __future__ import annotations
 
-import math
 from typing import Any, ClassVar
 
 import numpy as np
@@ -28,7 +27,7 @@ from xpersson import physics
 from xpersson.physics.closures import GAMMA_DEFAULT
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
-from ._gap_diffusion import diffuse_with_injection
+from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
 from ._solved import FORMS, Solved, solved_curve
 
@@ -320,32 +319,13 @@ class GapPDF(_Interface):
             rho = physics.gap_pdf(det, u)
             mean = physics.gap_mean(det)
         else:
-            rho, mean = _diffusion_pdf(ctx.psd, det, u, int(p["n_grid"]))
+            rho, mean = gap_pdf_by_diffusion(ctx.psd, det, u, int(p["n_grid"]))
         coord = xr.Variable(("u",), u, {"units": "m", "long_name": "interfacial separation"})
         return {
             "gap_pdf": xr.DataArray(np.maximum(rho, 0.0), dims=("p0", "u"), coords={"u": coord}),
             "gap_contact_weight": (("p0",), det.contact.copy()),
             "gap_mean": (("p0",), mean),
         }
-
-
-def _diffusion_pdf(psd: Any, det: Any, u: np.ndarray, n_grid: int) -> tuple[np.ndarray, np.ndarray]:
-    """Solve §5.5b on ``[0, max(u_max, u(p0) + 10 h_rms)]`` and sample on ``u``."""
-    q_L = float(psd.q_L)
-    q_hi = float(det.zeta[-1]) * q_L
-    m1 = psd.running_moment(1.0, np.minimum(det.zeta * q_L, q_hi))
-    h2 = 2.0 * math.pi * (float(psd.running_moment(1.0, q_hi)) - np.asarray(m1, dtype=float))
-    s = 0.5 * (det.h_rms**2 - h2)
-    g_max = max(float(u[-1]), float(np.max(det.mean_gap)) + 10.0 * det.h_rms)
-    res = diffuse_with_injection(g_max, n_grid, s, det.u1, det.weight)
-    rho = np.array([np.interp(u, res.g, r) for r in res.rho])
-    vol = np.full(res.g.size, res.g[1] - res.g[0])
-    vol[0] *= 0.5
-    # bins detaching beyond the far wall (vanishing area at huge u1 near zeta = 1) are not
-    # injected; their first moment is added as in the closed form
-    far = np.where(det.u1 >= g_max, det.weight * det.u1, 0.0).sum(axis=1)
-    mean = res.rho @ (vol * res.g) + far
-    return rho, mean
 
 
 class Leakage(_Interface):
