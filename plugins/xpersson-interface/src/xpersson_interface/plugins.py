@@ -457,13 +457,16 @@ class Leakage(_Interface):
         u1 = sc.separation_at(zc)
         det = sc.detachment(_edges(s, int(p["n_bins"])))
         ubar = det.mean_gap
-        u3 = bruggeman_gap(det, a_c=a_c if p["emt_threshold"] == "a_c" else None)
+        thr = a_c if p["emt_threshold"] == "a_c" else None
+        # one load at a time: the cells span that load's gaps, never the batch's
+        u3 = np.concatenate([bruggeman_gap(_one(det, i), a_c=thr) for i in range(det.p0.size)])
         u3 = np.where(np.isfinite(u3), u3, 0.0)
         args = (float(p["seal_width"]), float(p["seal_length"]), dp, float(p["viscosity"]))
         u1_3 = np.where(sealed, 0.0, np.nan_to_num(u1, nan=0.0) ** 3)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ff = np.where(ubar > 0, u1_3 / ubar**3, 0.0)
-            ff_emt = np.where(ubar > 0, u3 / ubar**3, 0.0)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # ratios first:
+            safe = np.where(ubar > 0, ubar, 1.0)  # u^3 underflows near full contact
+            ff = np.where(ubar > 0, (np.where(sealed, 0.0, np.nan_to_num(u1)) / safe) ** 3, 0.0)
+            ff_emt = np.where(ubar > 0, (np.cbrt(u3) / safe) ** 3, 0.0)
         return {
             "leak_zeta_c": (("p0",), zc),
             "leak_u1": (("p0",), np.where(sealed, np.nan, u1)),
@@ -474,3 +477,13 @@ class Leakage(_Interface):
             "leak_rate_emt": (("p0",), leak_rate(u3, *args)),
             "leak_sealed_emt": (("p0",), (u3 <= 0).astype(np.int8)),
         }
+
+
+def _one(det: Any, i: int) -> Any:
+    """The detachment bins of load ``i`` alone."""
+    import dataclasses
+
+    k = slice(i, i + 1)
+    return dataclasses.replace(
+        det, p0=det.p0[k], area=det.area[k], ubar=det.ubar[k], weight=det.weight[k], u1=det.u1[k]
+    )
