@@ -13,7 +13,7 @@ from functools import lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import CubicSpline, PchipInterpolator, PPoly
 
 _TINY = 1e-300
 _GL_ORDER = 6
@@ -91,7 +91,7 @@ def _tau_c(psd: object, E_star: float, q: ArrayLike) -> NDArray[np.float64]:
     return 0.25 * np.pi * E_star**2 * np.asarray(psd.I3(q), dtype=float)  # type: ignore[attr-defined]
 
 
-def _rows(spl: CubicSpline, knots: NDArray[np.float64], xq: NDArray[np.float64]) -> NDArray:
+def _rows(spl: PPoly, knots: NDArray[np.float64], xq: NDArray[np.float64]) -> NDArray:
     """Evaluate a spline fitted along axis 1 of ``(n_load, n_knot)`` data at per-load points.
 
     ``xq`` has shape ``(n_load, ...)``; row ``l`` is evaluated with load ``l``'s polynomial
@@ -108,6 +108,28 @@ def _rows(spl: CubicSpline, knots: NDArray[np.float64], xq: NDArray[np.float64])
 
 
 # -- the solved curve ---------------------------------------------------------------------------
+#: A jump of ln(1 - F) between two nodes larger than this (a factor e^40) is not a smooth curve
+#: but a solver's zero (below its absolute tolerance) next to a resolved value.
+_LOG_JUMP = 40.0
+
+
+def _log_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
+    """Spline of ``y = ln(1 - F)`` per load (rows): cubic where the curve is smooth, monotone
+    (PCHIP, no overshoot) for loads with a jump, where a cubic spline would ring up to
+    ``1 - F = 1`` (a solver path returning exact zeros below its atol, e.g. ``cn``)."""
+    cubic = CubicSpline(x, y, axis=1)
+    floor = y <= math.log(_TINY) + 1.0  # an exact zero next to a value 1 - F > e^-100: a
+    resolved = y > -100.0  # solver's zero below its atol, not the curve passing the magnitudes
+    big = np.abs(np.diff(y, axis=1)) > _LOG_JUMP
+    pair = (floor[:, :-1] & resolved[:, 1:]) | (resolved[:, :-1] & floor[:, 1:])
+    jump = np.any(big & pair, axis=1)
+    if not jump.any():
+        return cubic
+    mono = PchipInterpolator(x, y, axis=1)
+    cubic.c = np.where(jump[None, None, :], mono.c, cubic.c)  # same layout, axis kept
+    return cubic
+
+
 class _Curve:
     """Per-load curve ``F = A S`` on ``zeta``, interpolated in ``x = ln zeta``.
 
@@ -147,9 +169,9 @@ class _Curve:
         self.NF[:, 0] = 0.0
         y = np.log(np.maximum(self.NF, _TINY))
         self._y = y
-        self._spl = CubicSpline(self.x[1:], y[:, 1:], axis=1) if z.size > 2 else None
+        self._spl = _log_spline(self.x[1:], y[:, 1:]) if z.size > 2 else None
         yA = np.log(np.maximum(self.non_area, _TINY))
-        self._spl_a = CubicSpline(self.x[1:], yA[:, 1:], axis=1) if z.size > 2 else None
+        self._spl_a = _log_spline(self.x[1:], yA[:, 1:]) if z.size > 2 else None
 
     @property
     def n_load(self) -> int:

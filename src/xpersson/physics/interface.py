@@ -200,6 +200,7 @@ def detachment(
     *,
     zeta_edges: ArrayLike | None = None,
     refine: int = 1,
+    separation: str = "almqvist",
 ) -> Detachment:
     """Detached-area bins of the closed-form gap distribution (physics.md §5.5a).
 
@@ -217,6 +218,9 @@ def detachment(
         at the edges is interpolated on the curve.
     refine : int
         Without ``zeta_edges``: split every interval of the curve into this many bins.
+    separation : {"almqvist", "pressure"}
+        How ``u1`` is assigned (see :meth:`SolvedContact.detachment`): Almqvist's
+        ``d(A u)/dA``, or only its pressure part (no far tail at high load).
 
     Returns
     -------
@@ -227,7 +231,7 @@ def detachment(
         x, t = sc.curve.x, np.arange(int(refine)) / int(refine)
         inner = (x[:-1, None] + np.diff(x)[:, None] * t).ravel()
         zeta_edges = np.exp(np.concatenate((inner, x[-1:])))
-    return sc.detachment(zeta_edges)
+    return sc.detachment(zeta_edges, separation)
 
 
 def separation_of_detaching_area(

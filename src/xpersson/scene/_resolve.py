@@ -149,6 +149,24 @@ def _zeta_grid(out: Mapping[str, Any], zeta_support: float) -> np.ndarray:
     return z
 
 
+def _check_power(psd: Any, zeta: np.ndarray) -> None:
+    """Every output interval adds roughness: the diffusion time grows strictly in zeta.
+
+    A band where the PSD carries no power (a map with a short-wavelength cutoff, round-off
+    above it) leaves ``int q^3 C`` flat in floating point and the solve undefined there.
+    """
+    q = zeta * float(psd.q_L)
+    flat = np.flatnonzero(np.diff(np.asarray(psd.I3(q), dtype=float)) <= 0)
+    if flat.size:
+        a, b = q[flat[0]], q[flat[-1] + 1]
+        raise SceneError(
+            f"spectrum: the PSD carries no power (int q^3 C does not grow) between q = {a:.4g} "
+            f"and {b:.4g} 1/m, so the contact does not change over output.zeta "
+            f"{zeta[flat[0]]:.4g}..{zeta[flat[-1] + 1]:.4g}; set spectrum.q_1 <= {a:.4g} 1/m "
+            "(or output.zeta_max) to end the spectrum where its roughness ends"
+        )
+
+
 def _check_sections(data: Mapping[str, Any]) -> None:
     """Top-level keys, section types and the required sections."""
     unknown = sorted(set(data) - TOP_LEVEL)
@@ -281,6 +299,7 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
             **jsonable(archived(psd), spec_cls.parameters),
         }
     zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
+    _check_power(psd, zeta)
 
     analyses = _analyses(data.get("analyses", {}), plugins, names, registry)
     resolved["analyses"] = {}

@@ -28,6 +28,26 @@ def _copy_tree(obj: Any) -> Any:
     return copy.deepcopy(obj)
 
 
+def _surface_topography(data: dict[str, Any]) -> dict[str, Any]:
+    """A SurfaceTopography ``Topography`` given as the spectrum (or as ``spectrum.topography``)
+    becomes the inline PSD table it gives, with what reproduces it (issue 26)."""
+    from ..builtin.topography import from_surface_topography, is_surface_topography
+
+    spec = data.get("spectrum")
+    if is_surface_topography(spec):
+        data["spectrum"] = from_surface_topography(spec)
+    elif isinstance(spec, Mapping) and is_surface_topography(spec.get("topography")):
+        rest = {k: v for k, v in spec.items() if k not in ("topography", "model")}
+        if spec.get("model", "topography") != "topography":
+            raise SceneError("spectrum.topography: a Topography object needs model 'topography'")
+        ppd = rest.pop("points_per_decade", 20)
+        try:
+            data["spectrum"] = from_surface_topography(spec["topography"], ppd, **rest)
+        except ValueError as exc:
+            raise SceneError(f"spectrum.topography: {exc}") from None
+    return data
+
+
 @dataclass
 class Scene:
     """A scene as written by the user (a nested dict), plus where it came from.
@@ -42,7 +62,7 @@ class Scene:
     def __post_init__(self) -> None:
         if not isinstance(self.data, Mapping):
             raise SceneError(f"a scene must be a mapping of sections, got {type(self.data)}")
-        self.data = _copy_tree(dict(self.data))
+        self.data = _copy_tree(_surface_topography(dict(self.data)))
 
     def with_values(self, **dotted: Any) -> Scene:
         """Copy with ``section.key`` values replaced: ``with_values(**{"load.p0": "1 MPa"})``."""

@@ -16,8 +16,10 @@ One job per module: :mod:`~xpersson.testing.contracts` (:func:`check_plugin`),
 (:data:`TINY_SCENE`, :func:`tiny_scene`, the factories :func:`scene`, :func:`spectrum`,
 :func:`material`), :mod:`~xpersson.testing.schema` (:func:`assert_schema`),
 :mod:`~xpersson.testing.oracles` (closed forms), :mod:`~xpersson.testing.referee`
-(:func:`markov_cross_check`) and :mod:`~xpersson.testing.pytest_plugin` (fixtures, registered
-through the ``pytest11`` entry point ``xpersson``).
+(:func:`markov_cross_check`), :mod:`~xpersson.testing.analysis_referee`
+(:func:`check_analysis`, the analysis-side referee) and
+:mod:`~xpersson.testing.pytest_plugin` (fixtures, registered through the ``pytest11`` entry
+point ``xpersson``).
 
 Importing this package imports neither numpy-heavy libraries nor the core pipeline; they are
 imported by the checks that need them.
@@ -25,6 +27,7 @@ imported by the checks that need them.
 
 from __future__ import annotations
 
+from .analysis_referee import check_analysis
 from .contracts import HEAVY_MODULES, check_plugin
 from .oracles import (
     constant_wall_area,
@@ -59,6 +62,7 @@ __all__ = [
     "KNOWN_DIMS",
     "TINY_SCENE",
     "assert_schema",
+    "check_analysis",
     "check_plugin",
     "constant_wall_area",
     "constant_wall_load",

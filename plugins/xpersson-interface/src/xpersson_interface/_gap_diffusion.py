@@ -19,12 +19,15 @@ half a step).
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import numpy as np
 from numpy.typing import ArrayLike
 
 from xpersson.engine import Wall, solve_sourced
 
-__all__ = ["diffuse_with_injection", "DiffusionResult"]
+__all__ = ["diffuse_with_injection", "DiffusionResult", "gap_pdf_by_diffusion"]
 
 
 class DiffusionResult:
@@ -118,3 +121,37 @@ def diffuse_with_injection(
         res.status,
         res.message,
     )
+
+
+def gap_pdf_by_diffusion(
+    psd: Any, det: Any, u: np.ndarray, n_grid: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """``gap_pdf`` and ``gap_mean`` of the detachment bins ``det`` by §5.5b, sampled on ``u``.
+
+    Each load gets its own domain ``[0, g_max]``: many widths beyond the bins that carry its
+    detached area (weight above 1e-14 of it), at least ``u(p0) + 10 h`` of those bins, and no
+    larger than the output grid needs -- so at high load, where every gap is far below
+    ``h_rms``, the ``n_grid`` intervals resolve them (one shared 10 ``h_rms`` domain put them
+    all in the first cell).
+    """
+    q_L = float(psd.q_L)
+    q_hi = float(det.zeta[-1]) * q_L
+    m1 = psd.running_moment(1.0, np.minimum(det.zeta * q_L, q_hi))
+    h2 = 2.0 * math.pi * (float(psd.running_moment(1.0, q_hi)) - np.asarray(m1, dtype=float))
+    s = 0.5 * (det.h_rms**2 - h2)
+    rho = np.zeros((det.weight.shape[0], u.size))
+    mean = np.zeros(det.weight.shape[0])
+    for i in range(det.weight.shape[0]):
+        w, u1 = det.weight[i], det.u1[i]
+        big = w > 1e-14 * max(float(w.sum()), 1e-300)
+        reach = float(np.max(u1[big] + 10.0 * det.h[big])) if big.any() else float(u[-1])
+        g_max = max(min(reach, max(float(u[-1]), float(det.mean_gap[i]) + 10 * det.h_rms)),
+                    1e-300)  # fmt: skip
+        res = diffuse_with_injection(g_max, n_grid, s, u1[None, :], w[None, :])
+        rho[i] = np.interp(u, res.g, res.rho[0], right=0.0)
+        vol = np.full(res.g.size, res.g[1] - res.g[0])
+        vol[0] *= 0.5
+        # bins beyond the far wall (vanishing area at large u1) keep their first moment
+        far = float(np.sum(np.where(u1 >= g_max, w * u1, 0.0)))
+        mean[i] = float(res.rho[0] @ (vol * res.g)) + far
+    return rho, mean

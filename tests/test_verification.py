@@ -1,0 +1,111 @@
+"""The fast subset of the verification matrix (benchmarks/verify.py, docs/verification.md):
+every row's worst error against its independent reference stays below the documented bound."""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
+sys.path.insert(0, str(BENCH))
+
+verify = pytest.importorskip("verify")
+
+#: output -> largest worst error allowed in the fast grids (the measured values are ~10x lower)
+BOUNDS = {
+    "area_fraction": 1e-12,
+    "non_contact_fraction": 1e-10,
+    "diffusion_time": 1e-12,
+    "diffusion_coefficient": 1e-12,
+    "G": 1e-12,
+    "psd_C": 1e-12,
+    "rms_slope": 1e-12,
+    "h_rms": 1e-12,
+    "E_star": 1e-15,
+    "load_balance": 1e-12,
+    "probability_balance": 1e-12,
+    "error_estimate": 1.0,
+    "solver_status": 0,
+    "E": 0,
+    "nu": 0,
+    "kappa": 1e-12,
+    "mean_contact_pressure": 1e-12,
+    "P": 1e-10,
+    "P_integral": 3e-3,
+    "area_fraction (markov)": 5.0,
+    "elastic_area_fraction": 1e-12,
+    "plastic_area_fraction": 1e-12,
+    "non_contact_area_fraction": 1e-12,
+    "total_contact_fraction": 1e-12,
+    "elastic_load_share": 1e-12,
+    "plastic_load_share": 1e-12,
+    "yield_stress": 1e-15,
+    "plastic_force_balance_residual": 1e-12,
+    "elastic_energy": 1e-4,
+    "elastic_energy_full": 1e-12,
+    "mean_gap": 1e-4,
+    "contact_stiffness": 1e-4,
+    "contact_compliance": 1e-4,
+    "contact_stiffness_status": 0,
+    "gap_contact_weight": 1e-9,
+    "gap_mean (almqvist)": 2e-3,
+    "gap_pdf (almqvist)": 0.03,
+    "mean_gap (Zhou scene)": 1e-4,
+    "leak_zeta_c": 1e-5,
+    "leak_u1": 0.03,
+    "leak_flow_factor": 1e-12,
+    "leak_rate": 1e-12,
+    "leak_sealed": 0,
+}
+
+
+@pytest.fixture(scope="module")
+def rows():
+    return {r["output"]: r for _, r in verify.collect(fast=True)}
+
+
+def test_every_bounded_output_is_within_its_bound(rows):
+    bad = {n: rows[n]["worst"] for n, b in BOUNDS.items() if not rows[n]["worst"] <= b}
+    assert not bad, bad
+
+
+def test_no_output_without_a_row(rows):
+    """Every output variable of the core and the plasticity/interface plugins has a row."""
+    import xpersson
+
+    ana = {
+        "elastic_energy": {},
+        "mean_gap": {},
+        "contact_stiffness": {},
+        "gap_pdf": {},
+        "leakage": {},
+    }
+    sc = {
+        "spectrum": {
+            "model": "self_affine",
+            "H": 0.8,
+            "q_L": "1e3 1/m",
+            "q_r": "1e4 1/m",
+            "q_1": "1e6 1/m",
+            "h_rms": "1 um",
+        },
+        "material": {"E": "10 MPa", "nu": 0.5},
+        "load": {"p0": ["1e4 Pa", "1e5 Pa"]},
+        "output": {"pressure_pdf": True},
+        "analyses": ana,
+    }
+    ds = xpersson.solve(sc)
+    covered = " ".join(rows)
+    diagnostics: set[str] = set()
+    missing = [v for v in ds.data_vars if v not in covered and v not in diagnostics]
+    assert not missing, missing
+
+
+def test_missing_rows_say_so(rows):
+    """Rows without a reference carry NaN and a 'missing' note, never a made-up number."""
+    for r in rows.values():
+        if isinstance(r["worst"], float) and math.isnan(r["worst"]):
+            assert r["note"].startswith("missing") or "refdata absent" in r["reference"]
