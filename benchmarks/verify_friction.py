@@ -299,32 +299,27 @@ def cost(repeat: int = 7) -> None:
     print(f"kernel, 50 speeds: {t_k * 1e3:.1f} ms; xpersson.solve, 50 speeds: {t_s:.2f} s")
 
 
-def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--fast", action="store_true", help="v every third decade, T in 3 values")
-    ap.add_argument("--tol", type=float, default=1e-3, help="allowed relative error")
-    ap.add_argument("--cost", action="store_true", help="only time 50 speeds (kernel, solve)")
-    args = ap.parse_args(argv)
-    if args.cost:
-        cost()
-        return 0
-    v, temps = (V[::3], T[::2]) if args.fast else (V, T)
-    print(f"SLS angular closed forms vs quad over phi: {check_angular():.1e}")
-    print(f"quad reference vs adaptive ODE (4 points): {check_ode(ODE_POINTS):.1e}")
+def _regimes() -> list[tuple[str, float, float, bool]]:
+    """(label, q_r / q_L, H, Prony?) of every regime of the grid."""
     regimes = [
         (f"{'plateau' if r > 1 else 'no plateau'}, H={H}", r, H, False)
         for r, H in itertools.product(PLATEAU.values(), HURST)
     ]
     regimes += [(f"Prony+Arrhenius, {lab}", r, 0.7, True) for lab, r in PLATEAU.items()]
+    return regimes
+
+
+def measure(fast: bool) -> tuple[dict, list, np.ndarray, np.ndarray, tuple[float, float, float]]:
+    """Worst relative error per (path, output) and regime, against the quad reference.
+
+    Returns the table ``{(path, output): [(error, where) per regime]}``, the regimes, the speeds
+    and temperatures used, and the times (reference, kernel, xpersson.solve) in seconds.
+    """
+    v, temps = (V[::3], T[::2]) if fast else (V, T)
+    regimes = _regimes()
     prony_ref = PronyRef(E_R, PRONY_DE, PRONY_TAU)
     aTs = [arrhenius_shift(float(t), E_A, WLF[2]) for t in T_ARR]
     table_ref = AngularTable(prony_ref, Q_L * v[0] * min(aTs), Q_1 * v[-1] * max(aTs))
-    worst_phi = max(
-        abs(a / b - 1.0)
-        for w in np.logspace(-3, 12, 16)
-        for a, b in zip(prony_ref.angular(w), prony_angular_quad(prony_ref, w), strict=True)
-    )
-    print(f"Prony angular rule vs quad over phi: {worst_phi:.1e}")
     table: dict[tuple[str, str], list[tuple[float, str]]] = {}
     t_ref = t_ker = t_pipe = 0.0
     for _label, r, H, prony in regimes:
@@ -348,6 +343,51 @@ def main(argv: list[str] | None = None) -> int:
                 idx = np.unravel_index(int(np.argmax(err)), err.shape)
                 where = f"v={v[idx[1]]:.0e} T={tt[idx[0]]:.0f} p0={p0s[idx[2]]:.0e}"
                 table.setdefault((path, out), []).append((float(err.max()), where))
+    return table, regimes, v, temps, (t_ref, t_ker, t_pipe)
+
+
+def rows(fast: bool) -> list[dict]:
+    """The friction rows of the verification matrix (``benchmarks/verify.py``)."""
+    table, regimes, v, temps, _ = measure(fast)
+    grid = (
+        f"v {v[0]:.0e}..{v[-1]:.0e} m/s ({v.size}), T {temps.min():.0f}..{temps.max():.0f} K "
+        f"(WLF), H 0.3/0.7/1, with and without plateau; Prony+Arrhenius ({len(regimes)} regimes)"
+    )
+    out = []
+    for (path, name), cells in table.items():
+        worst, where = max(cells)
+        out.append(
+            {
+                "output": f"{name} ({path})",
+                "regime": grid,
+                "reference": "nested scipy quad with explicit breakpoints (visco_reference.py)",
+                "worst": worst,
+                "measure": "relative error",
+                "note": f"worst at {where}",
+            }
+        )
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--fast", action="store_true", help="v every third decade, T in 3 values")
+    ap.add_argument("--tol", type=float, default=1e-3, help="allowed relative error")
+    ap.add_argument("--cost", action="store_true", help="only time 50 speeds (kernel, solve)")
+    args = ap.parse_args(argv)
+    if args.cost:
+        cost()
+        return 0
+    print(f"SLS angular closed forms vs quad over phi: {check_angular():.1e}")
+    print(f"quad reference vs adaptive ODE (4 points): {check_ode(ODE_POINTS):.1e}")
+    prony_ref = PronyRef(E_R, PRONY_DE, PRONY_TAU)
+    worst_phi = max(
+        abs(a / b - 1.0)
+        for w in np.logspace(-3, 12, 16)
+        for a, b in zip(prony_ref.angular(w), prony_angular_quad(prony_ref, w), strict=True)
+    )
+    print(f"Prony angular rule vs quad over phi: {worst_phi:.1e}")
+    table, regimes, v, temps, (t_ref, t_ker, t_pipe) = measure(args.fast)
     t_list = ", ".join(f"{t:.2f}" for t in temps)
     speeds = f"v = {v[0]:.0e}..{v[-1]:.0e} m/s ({v.size} speeds)"
     print(f"\nregime grid: {speeds}, T = {t_list} K (WLF),")
