@@ -89,6 +89,7 @@ def gap_cdf_grid(
     n_bins: int = 80,
     jump: float = 0.0,
     u_per_decade: int = 100,
+    separation: str = "pressure",
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The solved contact's gap distribution as ``(u, F)`` on a geometric grid.
 
@@ -102,6 +103,8 @@ def gap_cdf_grid(
         The gas's ``Lambda`` [m]; the grid starts 1e-3 below ``min(Lambda, h_min)``.
     u_per_decade : int
         Grid points per decade of separation.
+    separation : {"pressure", "almqvist"}
+        The detaching area's mean separation, as ``gap_pdf``'s parameter of that name.
 
     Returns
     -------
@@ -114,7 +117,7 @@ def gap_cdf_grid(
 
     s = solved_curve(ctx, ds, s_factor, gamma, zeta_per_decade)
     sc = physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve)
-    det = sc.detachment(_edges(s.zeta, n_bins))
+    det = sc.detachment(_edges(s.zeta, n_bins), separation)
     h_pos = det.h[det.h > 0]
     small = min(h_pos.min() if h_pos.size else det.h_rms, jump if jump > 0 else np.inf)
     lo = max(1e-3 * small, 1e-18)

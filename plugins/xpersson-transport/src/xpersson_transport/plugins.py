@@ -288,6 +288,10 @@ _GAS: dict[str, ParamSpec] = {
         kind="int", default=100, bounds=(10, 10000),
         description="points per decade of the geometric separation grid of the gas integral",
     ),
+    "separation": ParamSpec(
+        kind="choice", choices=("pressure", "almqvist"), default="pressure",
+        description="mean separation of the detaching area, as gap_pdf's parameter of that name",
+    ),
     "emissivity_1": ParamSpec(
         unit="1", default=0.0, bounds=(0.0, 1.0), sweepable=True,
         description="emissivity of body 1 (0: no radiation)",
@@ -420,6 +424,7 @@ class ThermalContact(_Transport):
                 n_bins=int(p["n_bins"]),
                 jump=lam,
                 u_per_decade=int(p["u_per_decade"]),
+                separation=p["separation"],
             )
             g_gas = gas_from_cdf(u, F, p["gas_conductivity"], lam)
         else:
