@@ -25,6 +25,7 @@ import xarray as xr
 from ..pipeline import default_pressure_grid, progress_bar
 from ..plugins import get_registry
 from ..scene import SceneError
+from .batched import SweepPoints, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
 from .combine import finish
 from .parts import part_name
@@ -54,7 +55,11 @@ _GRID_CHANGES = (
 def resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
     """Resolve every point before any work (bad input fails here, naming the point)."""
     registry = registry or get_registry()
-    points = [_resolve_index(plan, index, registry) for index in plan.indices()]
+    points: Any = resolved_region(
+        plan.groups, (0,) * len(plan.shape), plan.shape, lambda i: _resolve_index(plan, i, registry)
+    )
+    if points is None:
+        points = [_resolve_index(plan, index, registry) for index in plan.indices()]
     summary = _summary(points)
     if summary[0] is None:
         raise SceneError(_GRID_CHANGES)
@@ -66,6 +71,11 @@ def resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
 
 def _summary(points: list[Any]) -> tuple[np.ndarray | None, tuple[float, float] | None]:
     """(the shared zeta grid or None when the points differ, default pressure-grid bounds)."""
+    if isinstance(points, SweepPoints):  # derived points share their sub-point's grids
+        if any(rs.pressure_pdf and rs.p is None for rs in points.distinct()):
+            points = list(points)
+        else:
+            points = points.distinct()
     zeta = points[0].zeta
     for rs in points[1:]:
         if rs.zeta.shape != zeta.shape or not np.array_equal(rs.zeta, zeta):
@@ -82,11 +92,16 @@ def _summary(points: list[Any]) -> tuple[np.ndarray | None, tuple[float, float] 
 def _resolve_block(plan: SweepPlan, block: Block, registry: Any) -> list[Any]:
     """Resolve the points of one block (a worker's task), in C order."""
     registry = registry or get_registry()
+    region = resolved_region(
+        plan.groups, block.start, block.stop, lambda i: _resolve_index(plan, i, registry)
+    )
+    if region is not None:
+        return region
     ranges = (range(a, b) for a, b in zip(block.start, block.stop, strict=True))
     return [_resolve_index(plan, index, registry) for index in itertools.product(*ranges)]
 
 
-def _with_grid(points: list[Any], grid: np.ndarray) -> list[Any]:
+def _with_grid(points: Any, grid: np.ndarray) -> list[Any]:
     return [dataclasses.replace(rs, p=grid) for rs in points]
 
 
