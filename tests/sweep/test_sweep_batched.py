@@ -80,3 +80,22 @@ def test_row_digests_equal_rows_equal_fingerprints():
     assert d[4] == d[1] and len(set(d)) == 5
     rows[4, 3] = np.nextafter(rows[4, 3], np.inf)  # one ulp apart: another fingerprint
     assert _row_digests(rows)[4] != d[1]
+
+
+def test_processes_on_a_small_study_falls_back_to_serial_with_a_message(monkeypatch):
+    """No cluster is started for a study cheaper than the stated start-up cost."""
+    import distributed
+
+    from xpersson.sweep import execute
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a cluster was started for a study smaller than its start-up")
+
+    monkeypatch.setattr(distributed, "LocalCluster", refuse)
+    data = scene(material={"E": ["5 MPa", "20 MPa"]}, load={"p0": "3e4 Pa"})
+    with pytest.warns(xpersson.XperssonWarning, match=r"starting the worker processes costs"):
+        got = xpersson.solve(data, scheduler="processes")
+    xr.testing.assert_identical(got.drop_attrs(), xpersson.solve(data).drop_attrs())
+    monkeypatch.setattr(execute, "CLUSTER_STARTUP_S", 0.0)  # a study that pays: the cluster
+    with pytest.raises(AssertionError, match="cluster was started"):
+        xpersson.solve(data, scheduler="processes")

@@ -30,7 +30,7 @@ import xarray as xr
 from ..errors import XperssonWarning
 from ..pipeline import run
 
-__all__ = ["SweepPoints", "MATERIAL", "material_dims", "batched_block", "ENABLED"]
+__all__ = ["SweepPoints", "MATERIAL", "material_dims", "batched_block", "batch_capable", "ENABLED"]
 
 #: Swept paths a batch of loads replaces (they enter the physics only through E*).
 MATERIAL = ("material.E", "material.nu")
@@ -169,6 +169,11 @@ def _scaled_ok(rs: Any) -> bool:
         and not rs.pressure_pdf
         and all(vars(type(p)).get("pressure_scaled", False) is True for p in plugins)
     )
+
+
+def batch_capable(groups: Sequence[Sequence[Any]], rs: Any) -> bool:
+    """Whether points like ``rs`` of a sweep with these groups are solved as batches."""
+    return ENABLED and any(material_dims(groups)) and _scaled_ok(rs)
 
 
 _PA = re.compile(r"(?<![A-Za-z])Pa(-?\d+)?(?![A-Za-z])")
