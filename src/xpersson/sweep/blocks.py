@@ -365,6 +365,10 @@ def _digests(
     """
     out: dict[str, list[Any]] = {}
     n = block.size
+    names: dict[int, set[str]] = {}  # the variables of each point Dataset, asked once
+    for r in results:
+        if r is not None and id(r) not in names:
+            names[id(r)] = set(r.variables)
     for name, var in ds.variables.items():
         if name in block.coords or name == "point_status" or name in ds.indexes:
             continue
@@ -373,7 +377,7 @@ def _digests(
         arr = np.asarray(var.values)
         digests = _row_digests(arr.reshape((n,) + arr.shape[len(block.dims) :]))
         out[name] = [
-            None if r is None else digests[k] if name in r.variables else "missing"
+            None if r is None else digests[k] if name in names[id(r)] else "missing"
             for k, r in enumerate(results)
         ]
     return out
