@@ -167,6 +167,7 @@ def _ode_solution(closure: str, gamma: float, rtol: float):  # noqa: ANN202 - Od
 
     s0, s1 = np.log(_G_START), np.log(_G_END)
     from scipy.integrate import solve_ivp  # lazily: scipy.integrate costs ~0.5 s to import
+
     sol = solve_ivp(
         rhs,
         (s0, s1),
