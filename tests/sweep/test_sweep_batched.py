@@ -99,3 +99,12 @@ def test_processes_on_a_small_study_falls_back_to_serial_with_a_message(monkeypa
     monkeypatch.setattr(execute, "CLUSTER_STARTUP_S", 0.0)  # a study that pays: the cluster
     with pytest.raises(AssertionError, match="cluster was started"):
         xpersson.solve(data, scheduler="processes")
+
+
+def test_batched_result_does_not_depend_on_the_blocks():
+    """Every block scales from the same reference point: any cut of the grid gives the same
+    bits (serial, threads and dask blocks alike)."""
+    whole = xpersson.solve(MATERIAL_SCENE)
+    for chunk in (1, 4, 7):
+        cut = xpersson.solve(MATERIAL_SCENE, chunk=chunk)
+        xr.testing.assert_identical(whole.drop_attrs(), cut.drop_attrs())

@@ -144,9 +144,10 @@ def resolved_region(
     if not ENABLED or not any(material):
         return None
     subs = {}
+    # material dimensions at their first value, whatever the region: every block then scales
+    # from the same reference E* (the result does not depend on how the grid is cut)
     ranges = [
-        range(a, b) if not m else range(a, a + 1)
-        for a, b, m in zip(start, stop, material, strict=True)
+        range(a, b) if not m else range(1) for a, b, m in zip(start, stop, material, strict=True)
     ]
     for index in itertools.product(*ranges):
         key = tuple(i for i, m in zip(index, material, strict=True) if not m)
