@@ -96,6 +96,7 @@ def sweep_rows(rounds: int) -> list[tuple[str, str, str, str]]:
         rounds,
     )
     per_pp, per_batched = t["small_pp"] / 900, t["sweep"] / 10_000
+    study = cpu(lambda: xpersson.solve(eh_scene(300, 100, 1)))  # 3e4 parameter points
     return [
         (
             "E x H sweep, 1e4 points x 1 load (batched as loads)",
@@ -109,6 +110,12 @@ def sweep_rows(rounds: int) -> list[tuple[str, str, str, str]]:
             f"{per_pp * 1e3:.2f} ms/point",
             f"batched (1e4 points): {per_batched * 1e3:.3f} ms/point",
             f"{per_pp / per_batched:.0f}x slower",
+        ),
+        (
+            "E x H study of 3e4 parameter points (50 zeta each), serial, one core",
+            f"{study:.2f} s",
+            "1e6 area curves per minute",
+            f"{3e4 / study * 60:.2g} curves/min",
         ),
     ]
 
