@@ -30,7 +30,15 @@ import xarray as xr
 from ..errors import XperssonWarning
 from ..pipeline import run
 
-__all__ = ["SweepPoints", "MATERIAL", "material_dims", "batched_block", "batch_capable", "ENABLED"]
+__all__ = [
+    "SweepPoints",
+    "MATERIAL",
+    "material_dims",
+    "batched_block",
+    "batch_capable",
+    "scaled_ok",
+    "ENABLED",
+]
 
 #: Swept paths a batch of loads replaces (they enter the physics only through E*).
 MATERIAL = ("material.E", "material.nu")
@@ -155,7 +163,7 @@ def resolved_region(
     return SweepPoints(groups, subs, start, stop)
 
 
-def _scaled_ok(rs: Any) -> bool:
+def scaled_ok(rs: Any) -> bool:
     """Whether every plugin of a point declares ``pressure_scaled`` and the point is one
     load without a pressure grid.
 
@@ -174,7 +182,7 @@ def _scaled_ok(rs: Any) -> bool:
 
 def batch_capable(groups: Sequence[Sequence[Any]], rs: Any) -> bool:
     """Whether points like ``rs`` of a sweep with these groups are solved as batches."""
-    return ENABLED and any(material_dims(groups)) and _scaled_ok(rs)
+    return ENABLED and any(material_dims(groups)) and scaled_ok(rs)
 
 
 _PA = re.compile(r"(?<![A-Za-z])Pa(-?\d+)?(?![A-Za-z])")
@@ -194,7 +202,7 @@ def batched_block(block: Any, points: SweepPoints, names: list[str], template: x
     solver records of the batched runs; ``None`` where the block must be solved point by point
     (a plugin without ``pressure_scaled``, a run that did not meet its tolerance, equal E*).
     """
-    if not all(_scaled_ok(rs) for rs in points.distinct()):
+    if not all(scaled_ok(rs) for rs in points.distinct()):
         return None
     mat = points.material
     shape = block.shape

@@ -21,7 +21,7 @@ import xarray as xr
 from ..archive import to_netcdf
 from ..errors import XperssonWarning
 from ..pipeline import run, squeeze_p0
-from .batched import SweepPoints, batched_block
+from .batched import SweepPoints, batched_block, scaled_ok
 from .plan import SweepPlan
 
 __all__ = [
@@ -212,6 +212,8 @@ def _batched(
     block: Block, points: SweepPoints, part: str | None, quiet_warnings: bool
 ) -> BlockResult | None:
     """The block solved as batches of loads (:mod:`.batched`), or ``None`` (point by point)."""
+    if not all(scaled_ok(rs) for rs in points.distinct()):
+        return None  # a plugin without pressure_scaled: no template run wasted
     try:
         with warnings.catch_warnings():
             if quiet_warnings:
