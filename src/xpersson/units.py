@@ -1,7 +1,9 @@
 """The pint boundary: parse user quantities, convert to SI floats, map to CF unit strings.
 
 pint is imported lazily (on the first parse) so that importing xpersson and ``xpersson --help``
-stay cheap. Inside the engine and the plugins there is no pint: only SI floats.
+stay cheap; quantities in simple SI units (``"10 MPa"``, ``"1e3 1/m"``, ``"1 um"``) are
+converted without it, to the same float (pint itself imports dask when it is installed).
+Inside the engine and the plugins there is no pint: only SI floats.
 """
 
 from __future__ import annotations
@@ -95,7 +97,57 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
 
 @lru_cache(maxsize=4096)
 def _str_to_si(value: str, unit: str) -> float:
-    return _to_si(value, unit, "", False)
+    fast = _simple_si(value, unit)
+    return _to_si(value, unit, "", False) if fast is None else fast
+
+
+_PREFIX = {"k": 1e3, "M": 1e6, "G": 1e9, "T": 1e12, "c": 1e-2, "m": 1e-3, "u": 1e-6}
+_PREFIX |= {"µ": 1e-6, "μ": 1e-6, "n": 1e-9, "p": 1e-12}
+_BASE = ("Pa", "m", "s", "K", "N", "J", "W")
+_NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
+_TERM = re.compile(r"([a-zA-Zµμ]+)(?:\^(-?\d+))?")
+
+
+@lru_cache(maxsize=256)
+def _simple_unit(text: str) -> tuple[float, tuple[tuple[str, int], ...]] | None:
+    """(factor to SI, base powers) of a product/quotient of (prefixed) SI symbols such as
+    ``"MPa"``, ``"1/m"``, ``"J/m**2"``, ``"um**4"``; ``None`` for anything else."""
+    if text in ("", "1"):
+        return 1.0, ()
+    factor, dims, sign = 1.0, {}, 1
+    for i, tok in enumerate(re.split(r"([*/])", text.replace("**", "^"))):
+        tok = tok.strip()
+        if tok in ("*", "/"):
+            sign = 1 if tok == "*" else -1
+            continue
+        if tok == "1" and i == 0:
+            continue
+        m = _TERM.fullmatch(tok)
+        if m is None:
+            return None
+        sym, power = m.group(1), sign * int(m.group(2) or 1)
+        if sym in _BASE:
+            base, pre = sym, 1.0
+        elif sym[1:] in _BASE and sym[0] in _PREFIX:
+            base, pre = sym[1:], _PREFIX[sym[0]]
+        else:
+            return None
+        factor *= pre**power
+        dims[base] = dims.get(base, 0) + power
+    return factor, tuple(sorted((k, v) for k, v in dims.items() if v))
+
+
+def _simple_si(value: str, unit: str) -> float | None:
+    """``value`` in ``unit`` without pint where both are simple SI expressions (the same
+    float pint gives: the magnitude times the prefix factor); ``None`` otherwise (pint)."""
+    m = _NUMBER.match(value)
+    if m is None:
+        return None
+    have, want = _simple_unit(m.group(2)), _simple_unit(unit)
+    if have is None or want is None or want[0] != 1.0 or have[1] != want[1]:
+        return None
+    x = float(m.group(1))
+    return x if have[0] == 1.0 else x * have[0]
 
 
 def _to_si(value: Any, unit: str, where: str, array: bool) -> Any:

@@ -170,3 +170,16 @@ def test_bad_curves_are_refused(psd):
         itf.elastic_energy(psd, E_STAR, zeta, np.array([1.0, 1.2, 0.5]))
     with pytest.raises(ValueError, match="p0 must hold 1 finite positive"):
         itf.mean_gap(psd, E_STAR, [-1.0], zeta, np.array([1.0, 0.5, 0.2]))
+
+
+def test_dF_at_the_stieltjes_nodes_equals_the_spline_evaluation():
+    """``_Curve.dF_nodes`` (from the spline's coefficients, each node in its known interval)
+    equals ``_Curve.dF`` at the nodes of ``stieltjes_nodes`` to rounding."""
+    from xpersson.physics._curve import _Curve
+
+    z = np.geomspace(1.0, 1e5, 60)
+    area = np.array([np.exp(-a * np.log(z)) for a in (0.05, 0.3, 0.9)])
+    curve = _Curve(z, area, None, None)
+    xg, _ = curve.stieltjes_nodes()
+    np.testing.assert_allclose(curve.dF_nodes(), curve.dF(xg), rtol=1e-13, atol=0)
+    assert curve.dF_nodes() is curve.dF_nodes()  # computed once

@@ -12,6 +12,7 @@ from xpersson_sweep_testlib import SlidingCoefficient, scene
 import xpersson
 from xpersson.plugins import ParamSpec
 from xpersson.scene import SceneError
+from xpersson.sweep import batched as batched_module
 from xpersson.testing import registry_with
 
 SWEEP_SCENE = scene(spectrum={"H": [0.6, 0.8]}, material={"E": ["5 MPa", "10 MPa", "20 MPa"]})
@@ -231,10 +232,13 @@ def test_blocks_tile_the_grid_evenly_and_workers_get_equal_shares(
     assert sum(load) == int(np.prod(shape)) and max(load) - min(load) <= sizes[-1]
 
 
+@pytest.mark.parametrize("batched", [False, True])
 @pytest.mark.parametrize("chunk", [1, 4])
-def test_single_load_sweep_equals_individual_solves(chunk):
+def test_single_load_sweep_equals_individual_solves(chunk, batched, monkeypatch):
     """Points with one scalar load: stacked unsqueezed, the block squeezed once (p0 a scalar
-    coordinate), identical to each point's own solve."""
+    coordinate), identical to each point's own solve point by point; solved as a batch of
+    equivalent loads (contact similarity, :mod:`xpersson.sweep.batched`) equal to 1e-13."""
+    monkeypatch.setattr(batched_module, "ENABLED", batched)
     data = scene(
         spectrum={"H": [0.6, 0.8]},
         material={"E": ["5 MPa", "20 MPa"]},
@@ -257,6 +261,9 @@ def test_single_load_sweep_equals_individual_solves(chunk):
             for name in one.data_vars:
                 if name in ("E", "H"):
                     continue
-                xr.testing.assert_identical(
-                    got[name].drop_vars(["E", "H"], errors="ignore"), one[name]
-                )
+                have = got[name].drop_vars(["E", "H"], errors="ignore")
+                if batched and have.dtype.kind == "f":
+                    xr.testing.assert_allclose(have, one[name], rtol=1e-13, atol=1e-300)
+                    assert have.attrs == one[name].attrs
+                else:
+                    xr.testing.assert_identical(have, one[name])

@@ -28,6 +28,8 @@ class ContactArea(Analysis):
     parameters: dict[str, ParamSpec] = {}
     requires = ("area_fraction",)
     provides = ("mean_contact_pressure", "kappa")
+    #: mean pressure scales with p0, kappa is a ratio: both similar in units of E*
+    pressure_scaled = True
     outputs = {
         "mean_contact_pressure": VarSpec(
             ("p0", "zeta"),

@@ -40,6 +40,8 @@ class ElasticCoefficient(Coefficient):
     parameters = dict(CLOSURE_PARAMETERS)  # closure, gamma: declared once for every coefficient
     outputs: dict[str, VarSpec] = {}
     traits = frozenset({"elastic_spectrum"})
+    #: tau and f are E*^2 times the spectrum's moment; the closures act through A(G)
+    pressure_scaled = True
 
     def corrects_variance(self) -> bool:
         """True for the yp08, wm17 and xu24 closures."""
@@ -100,6 +102,8 @@ class ElasticBoundary(Boundary):
     traits = frozenset({"repulsive", "load_similar", "conservative"})
     #: The walls do not depend on the load: the pipeline asks once for a batch of loads.
     walls_per_load = False
+    #: the wall p = 0 is the same in units of E*
+    pressure_scaled = True
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """One absorbing wall at p = 0 [Pa]; no upper wall."""

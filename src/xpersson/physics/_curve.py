@@ -8,6 +8,7 @@ Gauss-Legendre, exact for the ``(q - q_a)^(-1/2)`` singularity of ``w``). SI uni
 from __future__ import annotations
 
 import math
+from typing import Any
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -170,8 +171,16 @@ class _Curve:
         y = np.log(np.maximum(self.NF, _TINY))
         self._y = y
         self._spl = _log_spline(self.x[1:], y[:, 1:]) if z.size > 2 else None
-        yA = np.log(np.maximum(self.non_area, _TINY))
-        self._spl_a = _log_spline(self.x[1:], yA[:, 1:]) if z.size > 2 else None
+        self._spl_a_built: Any = False  # built on first use
+
+    @property
+    def _spl_a(self) -> Any:
+        """Spline of ``ln(1 - A)`` on the nodes after the first (built once, when first asked:
+        only the detachment step needs it)."""
+        if self._spl_a_built is False:
+            yA = np.log(np.maximum(self.non_area, _TINY))
+            self._spl_a_built = _log_spline(self.x[1:], yA[:, 1:]) if self.zeta.size > 2 else None
+        return self._spl_a_built
 
     @property
     def n_load(self) -> int:
@@ -210,6 +219,29 @@ class _Curve:
         dys = np.maximum(self._spl(xs, 1), 0.0)
         return np.where(x < x1, lin, np.exp(ys) * dys)
 
+    def dF_nodes(self) -> NDArray[np.float64]:
+        """``dF`` at the nodes of :meth:`stieltjes_nodes`, (n_load, n_int, m), computed once.
+
+        Each node lies inside a known interval, so the spline (value and derivative) is
+        evaluated from its coefficients directly, without searching the intervals.
+        """
+        cached = getattr(self, "_dF_at_nodes", None)
+        if cached is not None:
+            return cached
+        xg, _ = self.stieltjes_nodes()
+        if self._spl is None:
+            out = self.dF(xg)
+        else:
+            out = np.empty((self.n_load, *xg.shape))
+            out[:, 0, :] = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
+            c = np.moveaxis(self._spl.c, -1, 0)[..., None]  # (n_load, 4, n_int - 1, 1)
+            d = xg[1:] - self.x[1:-1, None]  # local coordinate in spline interval i - 1
+            y = ((c[:, 0] * d + c[:, 1]) * d + c[:, 2]) * d + c[:, 3]
+            dy = (3.0 * c[:, 0] * d + 2.0 * c[:, 1]) * d + c[:, 2]
+            out[:, 1:, :] = np.exp(np.minimum(y, 0.0)) * np.maximum(dy, 0.0)
+        self._dF_at_nodes = out
+        return out
+
     def stieltjes_nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Gauss-Legendre nodes ``x`` (n_int, m) and weights (n_int, m) per interval."""
         t, w = _gauss(_GL_ORDER)
@@ -229,7 +261,7 @@ class _Phi:
         q_L = float(psd.q_L)  # type: ignore[attr-defined]
         xg, wg = cur.stieltjes_nodes()
         sqrt_tau = np.sqrt(_tau_c(psd, E_star, np.exp(xg) * q_L))
-        inc = np.sum(cur.dF(xg) * (sqrt_tau * wg)[None], axis=-1) / p0[:, None]
+        inc = np.sum(cur.dF_nodes() * (sqrt_tau * wg)[None], axis=-1) / p0[:, None]
         phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
         tau = _tau_c(psd, E_star, cur.zeta * q_L)
         self.tau1 = float(tau[1])

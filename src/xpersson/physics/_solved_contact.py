@@ -89,7 +89,7 @@ class SolvedContact:
         xg, wg = self.curve.stieltjes_nodes()
         q = np.exp(xg) * self.q_L
         g = _tau_c(self.psd, self.E_star, q) / q * wg
-        dF = self.curve.dF(xg)
+        dF = self.curve.dF_nodes()  # = self.curve.dF(xg), computed once per curve
         return -4.0 / (self.E_star * self.p0**2) * np.sum(dF * g[None], axis=(1, 2))
 
     def contact_stiffness(self) -> NDArray[np.float64]:

@@ -37,7 +37,6 @@ from functools import lru_cache
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.integrate import solve_ivp
 from scipy.special import erf, erfinv
 
 __all__ = [
@@ -167,6 +166,8 @@ def _ode_solution(closure: str, gamma: float, rtol: float):  # noqa: ANN202 - Od
         return closure_S(closure, A, gamma) - r
 
     s0, s1 = np.log(_G_START), np.log(_G_END)
+    from scipy.integrate import solve_ivp  # lazily: scipy.integrate costs ~0.5 s to import
+
     sol = solve_ivp(
         rhs,
         (s0, s1),

@@ -28,15 +28,21 @@ def make_solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any
             return cache[key]
         c = dataclasses.replace(ctx, zeta=z, p=None, p0=rs.p0[idx])
         tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(idx.size, -1)
-        res = [
-            engine.solve(
-                tau_eff[k], float(rs.p0[i]), *walls[i], rtol=rs.rtol, atol=rs.atol, method=rs.method
-            )
-            for k, i in enumerate(idx)
-        ]
+        pairs = [walls[i] for i in idx]
+        shared = all(pair is pairs[0] for pair in pairs)  # identity: cheap for shared walls
+        # one engine call for every load (each load gets what engine.solve gives it)
+        res = engine.solve_batch(
+            tau_eff,
+            rs.p0[idx],
+            pairs[0] if shared else pairs,
+            rtol=rs.rtol,
+            atol=rs.atol,
+            method=rs.method,
+            options=rs.solver_options or None,
+        )
         out = {
-            "area_fraction": np.stack([np.asarray(r.area, float) for r in res]),
-            "non_contact_fraction": np.stack([np.asarray(r.non_area, float) for r in res]),
+            "area_fraction": np.asarray(res.area, float).reshape(idx.size, -1),
+            "non_contact_fraction": np.asarray(res.non_area, float).reshape(idx.size, -1),
             "diffusion_time": np.asarray(rs.coefficient.tau(c, z), float),
             "effective_diffusion_time": tau_eff,
         }

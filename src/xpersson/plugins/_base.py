@@ -90,6 +90,12 @@ class Plugin:
     outputs: ClassVar[Mapping[str, VarSpec]] = {}
     #: set on abstract intermediate classes to skip the metadata check
     abstract: ClassVar[bool] = True
+    #: Contact similarity: the plugin's outputs depend on the material only through E* and
+    #: are unchanged in units of E* when E* and every load scale together (an output in
+    #: Pa^n scales as E*^n). Lets a sweep over ``material.E`` / ``material.nu`` be solved as
+    #: one batch of loads (:mod:`xpersson.sweep.batched`); without it, point by point. It
+    #: counts only on the class that declares it (subclasses declare it again).
+    pressure_scaled: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)

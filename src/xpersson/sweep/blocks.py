@@ -21,6 +21,7 @@ import xarray as xr
 from ..archive import to_netcdf
 from ..errors import XperssonWarning
 from ..pipeline import run, squeeze_p0
+from .batched import SweepPoints, batched_block, scaled_ok
 from .plan import SweepPlan
 
 __all__ = [
@@ -130,7 +131,11 @@ def _assign(blocks: list[Block], n: int) -> list[int]:
     return out
 
 
-def block_points(plan: SweepPlan, points: list[Any], block: Block) -> list[Any]:
+def block_points(plan: SweepPlan, points: Any, block: Block) -> Any:
+    """The resolved points of a block, in C order (a :class:`SweepPoints` region where the
+    sweep's points are one)."""
+    if isinstance(points, SweepPoints):
+        return points.region(block.start, block.stop)
     flat = np.arange(plan.size).reshape(plan.shape)
     sl = tuple(slice(a, b) for a, b in zip(block.start, block.stop, strict=True))
     return [points[i] for i in flat[sl].ravel()]
@@ -161,6 +166,13 @@ def run_block(
     callback : callable, optional
         Called with no argument after each point (progress in the serial path).
     """
+    if isinstance(points, SweepPoints):
+        fast = _batched(block, points, part, quiet_warnings)
+        if fast is not None:
+            if callback is not None:
+                for _ in range(block.size):
+                    callback()
+            return fast
     results: list[xr.Dataset | None] = []
     status = np.zeros(block.size, dtype=np.int8)
     messages: dict[int, str] = {}
@@ -189,6 +201,40 @@ def run_block(
         ds = squeeze_p0(ds)
     out = BlockResult(
         block, ds, None, status.reshape(block.shape), messages, _digests(results, ds, block), solver
+    )
+    if part is not None:
+        to_netcdf(ds, part, overwrite=True)
+        out.dataset, out.part = None, part
+    return out
+
+
+def _batched(
+    block: Block, points: SweepPoints, part: str | None, quiet_warnings: bool
+) -> BlockResult | None:
+    """The block solved as batches of loads (:mod:`.batched`), or ``None`` (point by point)."""
+    if not all(scaled_ok(rs) for rs in points.distinct()):
+        return None  # a plugin without pressure_scaled: no template run wasted
+    try:
+        with warnings.catch_warnings():
+            if quiet_warnings:
+                warnings.simplefilter("ignore", XperssonWarning)
+            template = run(points[0], squeeze=False)
+    except Exception:  # noqa: BLE001 - the point-by-point path records the failure
+        return None
+    if template.attrs.get("status") != "success":
+        return None
+    template = _point_shaped(template, block)
+    names = _own_names(template, block)
+    got = batched_block(block, points, names, template)
+    if got is None:
+        return None
+    rows, solver = got
+    status = np.zeros(block.shape, dtype=np.int8)
+    ds = stack_rows(rows, block, status, template)
+    if points[0].p0_scalar:
+        ds = squeeze_p0(ds)
+    out = BlockResult(
+        block, ds, None, status, {}, _digests([template] * block.size, ds, block), solver
     )
     if part is not None:
         to_netcdf(ds, part, overwrite=True)
@@ -232,21 +278,32 @@ def stack(
             for ds in results:
                 if ds is not None and not np.array_equal(ds.variables[name].values, ref):
                     raise ValueError(f"points of a sweep must share the {name} grid")
-    names = _own_names(template, block)
+    rows = {}
+    for name in _own_names(template, block):
+        fill = _fill(template[name])
+        rows[name] = np.stack(
+            [
+                fill
+                if ds is None or name not in ds.variables
+                else np.asarray(ds.variables[name].values)
+                for ds in results
+            ]
+        )
+    return stack_rows(rows, block, status, template)
+
+
+def stack_rows(
+    rows: dict[str, np.ndarray], block: Block, status: np.ndarray, template: xr.Dataset
+) -> xr.Dataset:
+    """The block's Dataset from the rows of each variable (``(block.size, *point shape)``, in C
+    order of the block) and a point-shaped template (coordinates, attributes)."""
     shape = block.shape
     dims = block.dims
     data_vars: dict[str, Any] = {}
     coords: dict[str, Any] = {}
-    for name in names:
+    for name, rows_of in rows.items():
         var = template[name]
-        fill = _fill(var)
-        arrs = [
-            fill
-            if ds is None or name not in ds.variables
-            else np.asarray(ds.variables[name].values)
-            for ds in results
-        ]
-        arr = np.stack(arrs).reshape(shape + var.shape)
+        arr = rows_of.reshape(shape + var.shape)
         entry = (dims + var.dims, arr, dict(var.attrs))
         if name in template.coords:
             coords[name] = entry
@@ -301,30 +358,59 @@ def _fill(var: xr.DataArray) -> np.ndarray:
 
 def _digests(
     results: list[xr.Dataset | None], ds: xr.Dataset, block: Block
-) -> dict[str, list[str | None]]:
+) -> dict[str, list[Any]]:
     """Per point fingerprints of every stacked variable (``None`` for a failed point).
 
     Taken from the stacked block (the block's sweep dimensions lead every stacked variable),
-    so a point's fingerprint is that of the values the combined Dataset holds for it.
+    so a point's fingerprint is that of the values the combined Dataset holds for it. Numeric
+    rows get a 128-bit hash (an int) computed for all rows at once (:func:`_row_digests`).
     """
-    out: dict[str, list[str | None]] = {}
+    out: dict[str, list[Any]] = {}
     n = block.size
+    names: dict[int, set[str]] = {}  # the variables of each point Dataset, asked once
+    for r in results:
+        if r is not None and id(r) not in names:
+            names[id(r)] = set(r.variables)
     for name, var in ds.variables.items():
         if name in block.coords or name == "point_status" or name in ds.indexes:
             continue
         if tuple(var.dims[: len(block.dims)]) != tuple(block.dims):
             continue
         arr = np.asarray(var.values)
-        rows = arr.reshape((n,) + arr.shape[len(block.dims) :])
+        digests = _row_digests(arr.reshape((n,) + arr.shape[len(block.dims) :]))
         out[name] = [
-            None
-            if r is None
-            else _digest(np.asarray(rows[k]))
-            if name in r.variables
-            else "missing"
+            None if r is None else digests[k] if name in names[id(r)] else "missing"
             for k, r in enumerate(results)
         ]
     return out
+
+
+_MULTIPLIERS = np.random.default_rng(20251125).integers(
+    1, 2**63, size=(2, 4096), dtype=np.uint64
+) | np.uint64(1)
+
+
+def _row_digests(rows: np.ndarray) -> list[Any]:
+    """A fingerprint of each row of ``rows`` (equal rows, equal fingerprints).
+
+    Numeric rows: two 64-bit multiply-add hashes of the row's bytes (odd random multipliers,
+    fixed seed: the same in every process), computed for all rows at once; object rows and
+    very long rows: the SHA-1 of the row.
+    """
+    n = rows.shape[0]
+    if rows.dtype.kind == "O" or n == 0:
+        return [_digest(np.asarray(r)) for r in rows]
+    raw = np.ascontiguousarray(rows).view(np.uint8).reshape(n, -1)
+    pad = (-raw.shape[1]) % 8
+    if pad:
+        raw = np.concatenate([raw, np.zeros((n, pad), np.uint8)], axis=1)
+    words = raw.view(np.uint64)
+    if words.shape[1] > _MULTIPLIERS.shape[1]:
+        return [_digest(np.asarray(r)) for r in rows]
+    mult = _MULTIPLIERS[:, : words.shape[1]]
+    h1 = (words * mult[0]).sum(axis=1, dtype=np.uint64).tolist()
+    h2 = (words * mult[1]).sum(axis=1, dtype=np.uint64).tolist()
+    return [a << 64 | b for a, b in zip(h1, h2, strict=True)]
 
 
 def _digest(arr: np.ndarray) -> str:

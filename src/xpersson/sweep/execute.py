@@ -22,9 +22,11 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..errors import XperssonWarning
 from ..pipeline import default_pressure_grid, progress_bar
 from ..plugins import get_registry
 from ..scene import SceneError
+from .batched import SweepPoints, batch_capable, material_dims, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
 from .combine import finish
 from .parts import part_name
@@ -54,7 +56,11 @@ _GRID_CHANGES = (
 def resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
     """Resolve every point before any work (bad input fails here, naming the point)."""
     registry = registry or get_registry()
-    points = [_resolve_index(plan, index, registry) for index in plan.indices()]
+    points: Any = resolved_region(
+        plan.groups, (0,) * len(plan.shape), plan.shape, lambda i: _resolve_index(plan, i, registry)
+    )
+    if points is None:
+        points = [_resolve_index(plan, index, registry) for index in plan.indices()]
     summary = _summary(points)
     if summary[0] is None:
         raise SceneError(_GRID_CHANGES)
@@ -66,6 +72,11 @@ def resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
 
 def _summary(points: list[Any]) -> tuple[np.ndarray | None, tuple[float, float] | None]:
     """(the shared zeta grid or None when the points differ, default pressure-grid bounds)."""
+    if isinstance(points, SweepPoints):  # derived points share their sub-point's grids
+        if any(rs.pressure_pdf and rs.p is None for rs in points.distinct()):
+            points = list(points)
+        else:
+            points = points.distinct()
     zeta = points[0].zeta
     for rs in points[1:]:
         if rs.zeta.shape != zeta.shape or not np.array_equal(rs.zeta, zeta):
@@ -82,11 +93,16 @@ def _summary(points: list[Any]) -> tuple[np.ndarray | None, tuple[float, float] 
 def _resolve_block(plan: SweepPlan, block: Block, registry: Any) -> list[Any]:
     """Resolve the points of one block (a worker's task), in C order."""
     registry = registry or get_registry()
+    region = resolved_region(
+        plan.groups, block.start, block.stop, lambda i: _resolve_index(plan, i, registry)
+    )
+    if region is not None:
+        return region
     ranges = (range(a, b) for a, b in zip(block.start, block.stop, strict=True))
     return [_resolve_index(plan, index, registry) for index in itertools.product(*ranges)]
 
 
-def _with_grid(points: list[Any], grid: np.ndarray) -> list[Any]:
+def _with_grid(points: Any, grid: np.ndarray) -> list[Any]:
     return [dataclasses.replace(rs, p=grid) for rs in points]
 
 
@@ -156,6 +172,8 @@ def solve_sweep(
 ) -> xr.Dataset:
     """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`)."""
     _check_scheduler(scheduler)
+    if scheduler == "processes" and _too_small_for_a_cluster(plan, registry):
+        scheduler = None
     distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
     points = None if distributed else resolve_points(plan, registry)
     client, own_cluster, n_workers = _client(scheduler, workers)
@@ -193,6 +211,51 @@ def solve_sweep(
             client.close()
             own_cluster.close()
     return finish(plan, points, results, folder)
+
+
+#: What ``scheduler="processes"`` costs before the first point is solved [s]: starting a
+#: LocalCluster of single-threaded workers and importing xpersson in each (3-5 s measured by
+#: ``benchmarks/sweep_scaling.py`` on a shared 2-core machine; the lower end is stated here).
+CLUSTER_STARTUP_S = 3.0
+
+
+def _too_small_for_a_cluster(plan: SweepPlan, registry: Any) -> bool:
+    """Whether the study, solved serially, takes less than starting a cluster (then a
+    warning says so and the sweep runs serially).
+
+    The serial time is estimated from the first point (resolved and solved here, CPU time)
+    times the number of solves: one per point, or one per combination of the non-material
+    values where the points are solved as batches of loads (:mod:`.batched`).
+    """
+    import time
+
+    from ..pipeline import run
+
+    t0 = time.process_time()
+    rs = _resolve_index(plan, (0,) * len(plan.shape), registry or get_registry())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            run(rs, squeeze=False)
+        except Exception:  # noqa: BLE001 - the sweep reports failing points itself
+            return False
+    per_solve = time.process_time() - t0
+    solves = plan.size
+    if batch_capable(plan.groups, rs):
+        material = material_dims(plan.groups)
+        solves = math.prod(n for n, m in zip(plan.shape, material, strict=True) if not m)
+    estimate = per_solve * solves
+    if estimate >= CLUSTER_STARTUP_S:
+        return False
+    warnings.warn(
+        f"scheduler='processes': starting the worker processes costs about "
+        f"{CLUSTER_STARTUP_S:g} s, more than this study of {plan.size} points takes serially "
+        f"(about {estimate:.2g} s, estimated from its first point); solving it serially. "
+        "Pass a distributed.Client to use a running cluster.",
+        XperssonWarning,
+        stacklevel=4,
+    )
+    return True
 
 
 def _check_scheduler(scheduler: Any) -> None:

@@ -6,6 +6,8 @@ integrates a traction-gap law (:mod:`._traction`) over the gap distribution ``rh
 solved contact (:func:`xpersson.physics.interface.detachment`, physics.md §5.5a). ``p_rep`` is
 solved self-consistently, ``g(p_rep) = p_rep - p0 - p_att(p_rep) = 0``, to the scene's ``rtol``
 (Brent's method on a bracket; the largest root, i.e. the branch reached from high loads).
+A compressive load solved after others is bracketed around the root predicted from them
+(``p_att`` linear in ``p0``): about 4 evaluations of ``p_att`` instead of 12-14.
 
 Each evaluation of ``p_att`` solves the elastic contact at the trial ``p_rep`` with the core
 engine (``Wall.absorbing(0.0)``; exact path) on a dense magnification grid. The final contact
@@ -141,6 +143,7 @@ def solve_dmt(
     work: float,
     rng: float,
     rtol: float = 1e-6,
+    guess: float | None = None,
 ) -> DMTState:
     """Solve ``p_rep = p0 + p_att(p_rep)`` for one load.
 
@@ -164,14 +167,17 @@ def solve_dmt(
         Range of the law [m], > 0.
     rtol : float
         Relative tolerance of ``p_rep``.
+    guess : float, optional
+        A predicted ``p_rep`` [Pa] (from the solved neighbouring loads): for a compressive
+        ``p0`` the root is then bracketed around it (:func:`_bracket_near`) instead of on
+        ``[p0, p0 + max traction]``: fewer evaluations, the same root to ``rtol`` where the
+        bracket holds one root.
 
     Raises
     ------
     ValueError
         No repulsive pressure balances a tensile ``p0`` (the load is beyond pull-off).
     """
-    from scipy.optimize import brentq
-
     from xpersson.engine import Wall, solve
     from xpersson.physics.interface import detachment
 
@@ -199,30 +205,7 @@ def solve_dmt(
     def g(p_rep: float) -> float:
         return p_rep - p0 - evaluate(p_rep)[0]
 
-    if work == 0.0:
-        p_rep = p0
-    else:
-        hi = max(p0, 0.0) + max_traction(law, work, rng)
-        if p0 > 0 and g(p0) >= 0:
-            p_rep = p0
-        else:
-            lo = p0 if p0 > 0 else None
-            if lo is None:  # tensile: scan down from hi for the largest root
-                p = hi
-                for _ in range(64):
-                    p *= 0.5
-                    if g(p) < 0:
-                        lo = p
-                        break
-                    hi = p
-                if lo is None:
-                    raise ValueError(
-                        f"load.p0 = {p0:g} Pa is beyond the DMT pull-off: no repulsive pressure "
-                        f"p_rep > 0 [Pa] balances p0 + p_att(p_rep) for law {law!r} "
-                        f"(work_of_adhesion = {work:g} J/m^2, range = {rng:g} m); allowed range: "
-                        "p0 above the pull-off stress"
-                    )
-            p_rep = brentq(g, lo, hi, xtol=1e-300, rtol=max(rtol, 4 * np.finfo(float).eps))
+    p_rep = p0 if work == 0.0 else _root(g, p0, law, work, rng, rtol, guess)
     if p_rep <= 0:
         raise ValueError(f"load.p0 = {p0:g} Pa: the DMT contact needs p_rep > 0 Pa")
     p_att, mgap, mass, area = evaluate(p_rep)
@@ -233,6 +216,74 @@ def solve_dmt(
         coarse = p_att_on(z2, np.asarray(tau_of_zeta(z2), dtype=float), p_rep)[0]
         disc = abs(coarse - p_att) / max(p_att, 1e-300)
     return DMTState(p0, p_rep, p_rep - p0, resid, len(calls), mgap, mass, area, disc)
+
+
+def _root(
+    g: Any, p0: float, law: str, work: float, rng: float, rtol: float, guess: float | None
+) -> float:
+    """The root ``p_rep`` [Pa] of ``g(p_rep) = p_rep - p0 - p_att(p_rep)`` (see
+    :func:`solve_dmt`): ``p0`` itself where ``g(p0) >= 0``; otherwise Brent's method on a
+    bracket (around ``guess``, or ``[p0, p0 + max traction]``; tensile ``p0``: scanned down
+    from the maximum traction for the largest root)."""
+    from scipy.optimize import brentq
+
+    hi = max(p0, 0.0) + max_traction(law, work, rng)
+    if p0 > 0 and g(p0) >= 0:
+        return p0
+    lo = p0 if p0 > 0 else None
+    if lo is not None and guess is not None and lo < guess < hi:
+        lo, hi = _bracket_near(g, lo, hi, guess)
+    if lo is None:  # tensile: scan down from hi for the largest root
+        p = hi
+        for _ in range(64):
+            p *= 0.5
+            if g(p) < 0:
+                lo = p
+                break
+            hi = p
+        if lo is None:
+            raise ValueError(
+                f"load.p0 = {p0:g} Pa is beyond the DMT pull-off: no repulsive pressure "
+                f"p_rep > 0 [Pa] balances p0 + p_att(p_rep) for law {law!r} "
+                f"(work_of_adhesion = {work:g} J/m^2, range = {rng:g} m); allowed range: "
+                "p0 above the pull-off stress"
+            )
+    return float(brentq(g, lo, hi, xtol=1e-300, rtol=max(rtol, 4 * np.finfo(float).eps)))
+
+
+def _bracket_near(g: Any, lo: float, hi: float, guess: float) -> tuple[float, float]:
+    """A bracket ``[a, b]`` of ``[lo, hi]`` around ``guess`` with ``g(a) < 0 <= g(b)`` [Pa].
+
+    ``g(lo) < 0 < g(hi)`` holds on entry. The side of ``guess`` holding the sign change is
+    searched with steps growing tenfold from ``1e-4 guess``; at worst the bracket is
+    ``[lo, guess]`` or ``[guess, hi]``.
+    """
+    if g(guess) >= 0:
+        step = 1e-4 * guess
+        while guess - step > lo:
+            if g(guess - step) < 0:
+                return guess - step, guess
+            step *= 10.0
+        return lo, guess
+    step = 1e-4 * guess
+    while guess + step < hi:
+        if g(guess + step) >= 0:
+            return guess, guess + step
+        step *= 10.0
+    return guess, hi
+
+
+def _predicted_p_rep(solved: list[DMTState], p0: float) -> float | None:
+    """``p0 + p_att`` [Pa] with ``p_att`` extrapolated linearly in ``p0`` from the two solved
+    loads nearest to ``p0`` (one: its ``p_att``); ``None`` without a solved load."""
+    near = sorted(solved, key=lambda st: abs(st.p0 - p0))[:2]
+    if not near:
+        return None
+    if len(near) == 1 or near[0].p0 == near[1].p0:
+        return p0 + near[0].p_att
+    a, b = near
+    slope = (b.p_att - a.p_att) / (b.p0 - a.p0)
+    return p0 + a.p_att + slope * (p0 - a.p0)
 
 
 class DMTBoundary(Boundary):
@@ -339,6 +390,7 @@ class DMTBoundary(Boundary):
         key = (id(clock), float(p0))
         if key not in self._states:
             p = self._params
+            solved = [st for (c, _), st in self._states.items() if c == id(clock)]
             self._states[key] = solve_dmt(
                 ctx.psd,
                 ctx.E_star,
@@ -349,6 +401,7 @@ class DMTBoundary(Boundary):
                 p["work_of_adhesion"],
                 p["range"],
                 rtol=ctx.rtol,
+                guess=_predicted_p_rep(solved, float(p0)) if float(p0) > 0 else None,
             )
             self._clock = clock
         return self._states[key]

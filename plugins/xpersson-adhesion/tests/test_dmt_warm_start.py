@@ -1,0 +1,60 @@
+"""``dmt`` loads bracketed around the root predicted from their solved neighbours: the same
+``p_rep`` as a cold solve of each load, to the requested tolerance, in fewer evaluations."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+from adhesion_testlib import with_
+
+import xpersson
+from xpersson.testing import material, scene
+from xpersson_adhesion import AdhesionLimitWarning
+from xpersson_adhesion.dmt import _bracket_near, _predicted_p_rep
+
+LOADS = ["2 kPa", "6 kPa", "12 kPa", "20 kPa"]
+BASE = scene(material=material("1 MPa"), p0=LOADS, zeta_per_decade=4)
+DMT = {"model": "dmt", "work_of_adhesion": "0.005 J/m**2", "range": "2 nm"}
+
+
+def _solve(data):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AdhesionLimitWarning)
+        return xpersson.solve(data)
+
+
+def test_warm_started_loads_equal_cold_solves_to_rtol():
+    rtol = 1e-7
+    together = _solve(with_(BASE, boundary=DMT, solver={"rtol": rtol}))
+    for k, p0 in enumerate(LOADS):
+        alone = _solve(with_(BASE, boundary=DMT, solver={"rtol": rtol}, load={"p0": p0}))
+        np.testing.assert_allclose(
+            together["p_rep"].values[k], alone["p_rep"].values, rtol=4 * rtol
+        )
+        assert together["dmt_residual"].values[k] <= rtol
+    iterations = together["dmt_iterations"].values
+    assert np.all(iterations[2:] < iterations[0])  # extrapolated from two neighbours
+
+
+def test_bracket_near_holds_the_sign_change():
+    root = 3.7
+
+    def g(p):
+        return p - root
+
+    for guess in (3.69999, 3.7, 3.8, 1.0, 9.0):
+        a, b = _bracket_near(g, 0.5, 10.0, guess)
+        assert 0.5 <= a < b <= 10.0 and g(a) < 0 <= g(b)
+
+
+def test_prediction_is_linear_in_p0():
+    from xpersson_adhesion.dmt import DMTState
+
+    def state(p0, p_att):
+        return DMTState(p0, p0 + p_att, p_att, 0.0, 1, 0.0, 0.0, 0.5)
+
+    assert _predicted_p_rep([], 1.0) is None
+    assert _predicted_p_rep([state(1.0, 5.0)], 2.0) == 7.0
+    solved = [state(1.0, 5.0), state(2.0, 4.0), state(9.0, 0.0)]
+    assert np.isclose(_predicted_p_rep(solved, 3.0), 3.0 + 3.0)

@@ -1,0 +1,278 @@
+"""Batched sweep points: material sweeps solved as one batch of loads (contact similarity).
+
+Where every plugin of a scene declares ``pressure_scaled`` (:attr:`xpersson.plugins.Plugin.
+pressure_scaled`: its outputs depend on the material only through E* and scale as E*^n with
+their unit Pa^n when E* and the load scale together), a point (E*_k, p0) is the point
+(E*_ref, p0 E*_ref / E*_k) with every Pa^n output multiplied by (E*_k / E*_ref)^n. The points
+of a block that differ only in ``material.E`` / ``material.nu`` are then solved by one pipeline
+run whose loads are those equivalent loads (one engine call), and the block's Dataset is filled
+from it directly (no Dataset per point). Blocks where a plugin does not declare it, or where a
+point has several loads or a pressure grid, are solved point by point as before.
+
+:class:`SweepPoints` holds the resolved points of a sweep (or of a block) without building
+every one: only one point per combination of the non-material sweep values is resolved (the
+material values were range-checked when the plan was expanded); the others are derived from it
+on demand.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import re
+import warnings
+from collections.abc import Iterator, Sequence
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..errors import XperssonWarning
+from ..pipeline import run
+
+__all__ = [
+    "SweepPoints",
+    "MATERIAL",
+    "material_dims",
+    "batched_block",
+    "batch_capable",
+    "scaled_ok",
+    "ENABLED",
+]
+
+#: Swept paths a batch of loads replaces (they enter the physics only through E*).
+MATERIAL = ("material.E", "material.nu")
+#: Switch for the batched path (tests compare it with the point-by-point path).
+ENABLED = True
+
+
+def material_dims(groups: Sequence[Sequence[Any]]) -> tuple[bool, ...]:
+    """Per sweep dimension: whether all its parameters are material parameters."""
+    return tuple(all(p.path in MATERIAL for p in g) for g in groups)
+
+
+class SweepPoints(Sequence[Any]):
+    """Resolved points of the region ``start:stop`` of a sweep grid, in C order.
+
+    Parameters
+    ----------
+    groups : list of list of SweepParam
+        The plan's groups (one per dimension).
+    subs : dict
+        Non-material global indices -> the resolved point at those indices (any material
+        indices: the material values are set from ``groups`` when a point is derived).
+    start, stop : tuple of int
+        The region (the whole plan or one block).
+    """
+
+    def __init__(
+        self,
+        groups: Sequence[Sequence[Any]],
+        subs: dict[tuple[int, ...], Any],
+        start: tuple[int, ...],
+        stop: tuple[int, ...],
+    ) -> None:
+        self.material = material_dims(groups)
+        # per dimension: (path, SI values) of each parameter, material dimensions only
+        self.values = [
+            [(p.path, np.asarray(p.values, float)) for p in g] if m else []
+            for g, m in zip(groups, self.material, strict=True)
+        ]
+        self.subs = subs
+        self.start, self.stop = tuple(start), tuple(stop)
+        self.shape = tuple(b - a for a, b in zip(self.start, self.stop, strict=True))
+
+    def __len__(self) -> int:
+        return int(np.prod(self.shape))
+
+    def __getitem__(self, k: Any) -> Any:
+        if isinstance(k, slice):
+            return [self[i] for i in range(*k.indices(len(self)))]
+        local = np.unravel_index(int(k), self.shape)
+        glob = tuple(int(a + i) for a, i in zip(self.start, local, strict=True))
+        return self.point(glob)
+
+    def __iter__(self) -> Iterator[Any]:
+        for k in range(len(self)):
+            yield self[k]
+
+    def key(self, glob: tuple[int, ...]) -> tuple[int, ...]:
+        """The non-material indices of a global index."""
+        return tuple(i for i, m in zip(glob, self.material, strict=True) if not m)
+
+    def material_of(self, glob: tuple[int, ...], rs: Any) -> tuple[float, float]:
+        """(E [Pa], nu [1]) of the point at global index ``glob`` (``rs``: its sub-point)."""
+        E, nu = float(rs.E), float(rs.nu)
+        for d, i in enumerate(glob):
+            for path, values in self.values[d]:
+                if path == "material.E":
+                    E = float(values[i])
+                else:
+                    nu = float(values[i])
+        return E, nu
+
+    def point(self, glob: tuple[int, ...]) -> Any:
+        """The resolved point at global index ``glob``."""
+        rs = self.subs[self.key(glob)]
+        E, nu = self.material_of(glob, rs)
+        if E == rs.E and nu == rs.nu:
+            return rs
+        resolved = dict(rs.resolved)
+        resolved["material"] = {**resolved.get("material", {}), "E": f"{E!r} Pa", "nu": nu}
+        return dataclasses.replace(rs, E=E, nu=nu, resolved=resolved)
+
+    def distinct(self) -> list[Any]:
+        """One resolved point per combination of the non-material values."""
+        return list(self.subs.values())
+
+    def region(self, start: tuple[int, ...], stop: tuple[int, ...]) -> SweepPoints:
+        """The points of a sub-region (a block), sharing the resolved sub-points."""
+        out = SweepPoints.__new__(SweepPoints)
+        out.material, out.values = self.material, self.values
+        keep = [
+            range(a, b)
+            for (a, b), m in zip(zip(start, stop, strict=True), self.material, strict=True)
+            if not m
+        ]
+        out.subs = {k: self.subs[k] for k in itertools.product(*keep)}
+        out.start, out.stop = tuple(start), tuple(stop)
+        out.shape = tuple(b - a for a, b in zip(start, stop, strict=True))
+        return out
+
+
+def resolved_region(
+    groups: Sequence[Sequence[Any]],
+    start: tuple[int, ...],
+    stop: tuple[int, ...],
+    resolve: Any,
+) -> SweepPoints | None:
+    """The points of a region with one resolve per non-material combination, or ``None`` when
+    the sweep has no material dimension (``resolve(index)`` resolves the point at ``index``)."""
+    material = material_dims(groups)
+    if not ENABLED or not any(material):
+        return None
+    subs = {}
+    # material dimensions at their first value, whatever the region: every block then scales
+    # from the same reference E* (the result does not depend on how the grid is cut)
+    ranges = [
+        range(a, b) if not m else range(1) for a, b, m in zip(start, stop, material, strict=True)
+    ]
+    for index in itertools.product(*ranges):
+        key = tuple(i for i, m in zip(index, material, strict=True) if not m)
+        subs[key] = resolve(index)
+    return SweepPoints(groups, subs, start, stop)
+
+
+def scaled_ok(rs: Any) -> bool:
+    """Whether every plugin of a point declares ``pressure_scaled`` and the point is one
+    load without a pressure grid.
+
+    The declaration counts only on the plugin's own class: a subclass (which may change the
+    physics) is solved point by point unless it declares it again.
+    """
+    plugins = [rs.coefficient, rs.boundary, *(a for _, a in rs.analyses)]
+    return (
+        rs.p0_scalar
+        and rs.p0.size == 1
+        and float(rs.p0[0]) > 0
+        and not rs.pressure_pdf
+        and all(vars(type(p)).get("pressure_scaled", False) is True for p in plugins)
+    )
+
+
+def batch_capable(groups: Sequence[Sequence[Any]], rs: Any) -> bool:
+    """Whether points like ``rs`` of a sweep with these groups are solved as batches."""
+    return ENABLED and any(material_dims(groups)) and scaled_ok(rs)
+
+
+_PA = re.compile(r"(?<![A-Za-z])Pa(-?\d+)?(?![A-Za-z])")
+
+
+def pressure_power(units: Any) -> int:
+    """The power of Pa in a CF unit string (``"Pa2"`` -> 2, ``"Pa-1 m"`` -> -1, ``"1"`` -> 0)."""
+    if not isinstance(units, str):
+        return 0
+    return sum(int(m.group(1) or 1) for m in _PA.finditer(units))
+
+
+def batched_block(block: Any, points: SweepPoints, names: list[str], template: xr.Dataset) -> Any:
+    """The rows of every variable of a block (point-shaped as ``template``), or ``None``.
+
+    Returns ``(rows, solver)``: name -> array ``(block.size, *template[name].shape)`` and the
+    solver records of the batched runs; ``None`` where the block must be solved point by point
+    (a plugin without ``pressure_scaled``, a run that did not meet its tolerance, equal E*).
+    """
+    if not all(scaled_ok(rs) for rs in points.distinct()):
+        return None
+    mat = points.material
+    shape = block.shape
+    rows = {n: np.empty((block.size, *template[n].shape), template[n].dtype) for n in names}
+    solver = []
+    flat = np.arange(block.size).reshape(shape)
+    mat_ranges = [range(n) if m else range(1) for n, m in zip(shape, mat, strict=True)]
+    for sub_local in itertools.product(
+        *(range(n) if not m else [0] for n, m in zip(shape, mat, strict=True))
+    ):
+        sel = tuple(
+            slice(None) if m else i for i, m in zip(sub_local, mat, strict=True)
+        )  # the material points of this sub-point, C order
+        where = flat[sel].ravel()
+        glob0 = tuple(a + i for a, i in zip(block.start, sub_local, strict=True))
+        rs = points.subs[points.key(glob0)]
+        estar = np.empty(where.size)
+        for j, loc in enumerate(itertools.product(*mat_ranges)):
+            glob = tuple(
+                a + (li if m else si)
+                for a, li, si, m in zip(block.start, loc, sub_local, mat, strict=True)
+            )
+            E, nu = points.material_of(glob, rs)
+            estar[j] = E / (1.0 - nu**2)
+        got = _similar_run(rs, estar, names, template)
+        if got is None:
+            return None
+        sub_rows, record = got
+        for n in names:
+            rows[n][where] = sub_rows[n]
+        solver.append(record)
+    return rows, solver
+
+
+def _similar_run(
+    rs: Any, estar: np.ndarray, names: list[str], template: xr.Dataset
+) -> tuple[dict[str, np.ndarray], dict[str, Any]] | None:
+    """One run of ``rs`` with the loads equivalent to (E*_k, p0); rows per point k."""
+    import json
+
+    ref = float(rs.E_star)
+    loads = float(rs.p0[0]) * ref / estar
+    order = np.argsort(loads)
+    if np.any(np.diff(loads[order]) <= 0):
+        return None  # equal E* (zipped E and nu): no distinct loads
+    inverse = np.empty_like(order)
+    inverse[order] = np.arange(order.size)
+    rs_ref = dataclasses.replace(rs, p0=loads[order], p0_scalar=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", XperssonWarning)
+        ds = run(rs_ref, squeeze=False)
+    if ds.attrs.get("status") != "success":
+        return None
+    for name, index in template.indexes.items():
+        if name != "p0" and not np.array_equal(ds.indexes[name].values, index.values):
+            return None  # another grid or other spectrum nodes: stacked point by point
+    scale = estar / ref
+    out = {}
+    for n in names:
+        var, want = ds.variables[n], template.variables[n]
+        if var.dims != want.dims:
+            return None
+        arr = np.asarray(var.values)
+        if "p0" in var.dims:
+            axis = var.dims.index("p0")
+            arr = np.expand_dims(np.moveaxis(arr, axis, 0)[inverse], axis + 1)
+        else:
+            arr = np.broadcast_to(arr, (estar.size, *arr.shape))
+        power = 0 if n == "E" or arr.dtype.kind != "f" else pressure_power(var.attrs.get("units"))
+        if power:
+            arr = arr * scale.reshape((-1,) + (1,) * (arr.ndim - 1)) ** power
+        out[n] = arr
+    return out, json.loads(ds.attrs["xpersson_solver"])

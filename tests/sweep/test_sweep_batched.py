@@ -1,0 +1,110 @@
+"""Material sweeps solved as batches of equivalent loads (contact similarity) equal the
+point-by-point path to rounding; plugins that do not declare it are solved point by point."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from xpersson_sweep_testlib import scene
+
+import xpersson
+from xpersson.builtin.elastic import ElasticBoundary
+from xpersson.sweep import batched
+from xpersson.sweep.blocks import _row_digests
+from xpersson.testing import registry_with
+
+MATERIAL_SCENE = scene(
+    spectrum={"H": [0.6, 0.9]},
+    material={"E": ["2 MPa", "5 MPa", "40 MPa"], "nu": [0.2, 0.45]},
+    load={"p0": "3e4 Pa"},
+    analyses={"contact_area": {}},
+    coefficient={"closure": "yp08"},
+)
+
+
+def _both(data, monkeypatch, **kw):
+    monkeypatch.setattr(batched, "ENABLED", False)
+    point = xpersson.solve(data, **kw)
+    monkeypatch.setattr(batched, "ENABLED", True)
+    return point, xpersson.solve(data, **kw)
+
+
+@pytest.mark.parametrize("chunk", [None, 5])
+def test_batched_material_sweep_equals_point_by_point(monkeypatch, chunk):
+    point, batch = _both(MATERIAL_SCENE, monkeypatch, chunk=chunk)
+    assert list(batch.variables) == list(point.variables)
+    for name, var in point.variables.items():
+        got = batch[name]
+        assert got.dims == var.dims, name  # constant dimensions found alike
+        if var.dtype.kind == "f":
+            np.testing.assert_allclose(got.values, var.values, rtol=1e-12, atol=1e-300)
+        else:
+            np.testing.assert_array_equal(got.values, var.values)
+    skip = {"history", "date_created", "xpersson_solver"}
+    assert {k: v for k, v in batch.attrs.items() if k not in skip} == {
+        k: v for k, v in point.attrs.items() if k not in skip
+    }
+
+
+class _Undeclared(ElasticBoundary):
+    """The elastic wall in a subclass that does not declare ``pressure_scaled`` again."""
+
+    summary = "elastic wall, similarity not declared (test double)"
+
+
+def test_undeclared_plugin_is_solved_point_by_point(monkeypatch):
+    data = scene(material={"E": ["5 MPa", "20 MPa"]}, boundary={"model": "undeclared"})
+    calls = []
+    with registry_with(boundaries={"undeclared": _Undeclared}):
+        monkeypatch.setattr(batched, "_similar_run", lambda *a: calls.append(a))
+        xpersson.solve(data)
+        assert calls == []  # the undeclared subclass never reaches the batched path
+        monkeypatch.undo()
+        point, batch = _both(data, monkeypatch)
+    xr.testing.assert_identical(point.drop_attrs(), batch.drop_attrs())
+
+
+@pytest.mark.parametrize(
+    ("units", "power"), [("Pa", 1), ("Pa2", 2), ("Pa-1 m", -1), ("1", 0), ("m4", 0), (None, 0)]
+)
+def test_pressure_power(units, power):
+    assert batched.pressure_power(units) == power
+
+
+def test_row_digests_equal_rows_equal_fingerprints():
+    rng = np.random.default_rng(1)
+    rows = rng.normal(size=(6, 7))
+    rows[4] = rows[1]
+    d = _row_digests(rows)
+    assert d[4] == d[1] and len(set(d)) == 5
+    rows[4, 3] = np.nextafter(rows[4, 3], np.inf)  # one ulp apart: another fingerprint
+    assert _row_digests(rows)[4] != d[1]
+
+
+def test_processes_on_a_small_study_falls_back_to_serial_with_a_message(monkeypatch):
+    """No cluster is started for a study cheaper than the stated start-up cost."""
+    import distributed
+
+    from xpersson.sweep import execute
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a cluster was started for a study smaller than its start-up")
+
+    monkeypatch.setattr(distributed, "LocalCluster", refuse)
+    data = scene(material={"E": ["5 MPa", "20 MPa"]}, load={"p0": "3e4 Pa"})
+    with pytest.warns(xpersson.XperssonWarning, match=r"starting the worker processes costs"):
+        got = xpersson.solve(data, scheduler="processes")
+    xr.testing.assert_identical(got.drop_attrs(), xpersson.solve(data).drop_attrs())
+    monkeypatch.setattr(execute, "CLUSTER_STARTUP_S", 0.0)  # a study that pays: the cluster
+    with pytest.raises(AssertionError, match="cluster was started"):
+        xpersson.solve(data, scheduler="processes")
+
+
+def test_batched_result_does_not_depend_on_the_blocks():
+    """Every block scales from the same reference point: any cut of the grid gives the same
+    bits (serial, threads and dask blocks alike)."""
+    whole = xpersson.solve(MATERIAL_SCENE)
+    for chunk in (1, 4, 7):
+        cut = xpersson.solve(MATERIAL_SCENE, chunk=chunk)
+        xr.testing.assert_identical(whole.drop_attrs(), cut.drop_attrs())
