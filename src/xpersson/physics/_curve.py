@@ -8,9 +8,9 @@ Gauss-Legendre, exact for the ``(q - q_a)^(-1/2)`` singularity of ``w``). SI uni
 from __future__ import annotations
 
 import math
-from typing import Any
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
