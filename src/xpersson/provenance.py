@@ -114,6 +114,7 @@ def global_attributes(rs: Any, registry: Any = None) -> dict[str, str]:
         "date_created": now,
         "references": "; ".join(f"doi:{r}" if r.startswith("10.") else r for r in refs),
         "keywords": "contact mechanics, roughness, Persson theory, contact area",
+        **dict(rs.resolved.get("metadata", {})),  # the scene's ACDD attributes win
         "xpersson_version": version(),
         "xpersson_scene": json.dumps(rs.resolved, sort_keys=True),
         "xpersson_scene_source": rs.scene.source or "<dict>",

@@ -28,6 +28,7 @@ from ._core import (
     CORE,
     DEFAULT_MODEL,
     MAX_ZETA,
+    METADATA_KEYS,
     PLUGIN_SECTIONS,
     TOP_LEVEL,
     ResolvedScene,
@@ -182,6 +183,7 @@ def _check_sections(data: Mapping[str, Any]) -> None:
     for key in ("title", "description"):
         if key in data and not isinstance(data[key], str):
             raise SceneError(f"{key}: must be a string")
+    _check_metadata(data.get("metadata", {}))
     for sec in (*CORE, *PLUGIN_SECTIONS, "analyses"):
         if sec in data and not isinstance(data[sec], Mapping):
             raise SceneError(f"{sec}: must be a table, got {type(data[sec]).__name__}")
@@ -189,6 +191,18 @@ def _check_sections(data: Mapping[str, Any]) -> None:
         raise SceneError("spectrum: required section (e.g. model = 'self_affine')")
     if "load" not in data or "p0" not in data["load"]:
         raise SceneError("load.p0: required (nominal pressure, e.g. '1 MPa')")
+
+
+def _check_metadata(meta: Any) -> None:
+    """``[metadata]``: ACDD discovery attributes, strings, from :data:`METADATA_KEYS`."""
+    if not isinstance(meta, Mapping):
+        raise SceneError(f"metadata: must be a table, got {type(meta).__name__}")
+    for key, value in meta.items():
+        if key not in METADATA_KEYS:
+            allowed = ", ".join(sorted(METADATA_KEYS))
+            raise SceneError(f"metadata.{key}: unknown key; allowed (ACDD-1.3): {allowed}")
+        if not isinstance(value, str):
+            raise SceneError(f"metadata.{key}: must be a string, got {type(value).__name__}")
 
 
 def _core_sections(data: Mapping[str, Any]) -> dict[str, Any]:
@@ -279,7 +293,9 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
 
     names: dict[str, str] = {}
     plugins: dict[str, Plugin] = {}
-    resolved: dict[str, Any] = {k: data[k] for k in ("title", "description") if k in data}
+    resolved: dict[str, Any] = {
+        k: data[k] for k in ("title", "description", "metadata") if k in data
+    }
     for section in PLUGIN_SECTIONS:
         base = Path(scene.source).parent if scene.source else None
         inst, name, params = _plugin(section, data.get(section), registry, base)
