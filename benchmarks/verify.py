@@ -61,6 +61,17 @@ def friction_rows(fast: bool) -> list[dict]:
     return list(rows(fast))
 
 
+def transport_rows(fast: bool) -> list[dict]:
+    """Rows of ``verify_transport.py`` (xpersson-transport), when the plugin is installed."""
+    try:
+        import verify_transport
+
+        import xpersson_transport  # noqa: F401
+    except ImportError:
+        return [_missing("transport (xpersson-transport)", "xpersson-transport not installed")]
+    return list(verify_transport.rows(fast))
+
+
 def adhesion_rows(fast: bool) -> list[dict]:
     """Rows of ``verify_adhesion.py`` (the adhesion BEM work's), when present.
 
@@ -97,6 +108,7 @@ def collect(fast: bool) -> list[tuple[str, dict]]:
             out.extend((name, r) for r in f(fast))
     out.extend(("xpersson-viscoelastic", r) for r in friction_rows(fast))
     out.extend(("xpersson-adhesion", r) for r in adhesion_rows(fast))
+    out.extend(("xpersson-transport", r) for r in transport_rows(fast))
     return out
 
 
