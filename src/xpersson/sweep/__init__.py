@@ -32,11 +32,13 @@ parameter (plugins never see a sweep), so the result equals stacking individual 
 Modules: :mod:`.plan` (expand a scene into a :class:`SweepPlan`), :mod:`.blocks` (cut the grid
 into blocks, solve and stack a block's points), :mod:`.execute` (resolve every point, schedule
 the blocks: serial, threads, dask), :mod:`.combine` (one Dataset from the blocks) and
-:mod:`.parts` (the folder format: one netCDF part per block plus an index).
+:mod:`.parts` (the folder format: one netCDF part per block plus an index) and :mod:`.folder`
+(a run into a folder as a transaction: lock, identity, resume).
 """
 
 from .blocks import POINT_STATUS, Block, BlockResult, blocks_of, run_block, stack
 from .execute import resolve_points, solve_sweep
+from .folder import LOCK, Transaction, study_hash
 from .parts import INDEX, finalize, open_parts
 from .plan import SweepParam, SweepPlan, cf_units, expand
 
@@ -55,5 +57,8 @@ __all__ = [
     "finalize",
     "open_parts",
     "INDEX",
+    "LOCK",
+    "Transaction",
+    "study_hash",
     "POINT_STATUS",
 ]

@@ -16,7 +16,6 @@ import math
 import os
 import warnings
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -27,6 +26,7 @@ from ..plugins import get_registry
 from ..scene import SceneError
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
 from .combine import finish
+from .folder import Transaction
 from .parts import part_name
 from .plan import SweepPlan
 
@@ -153,46 +153,71 @@ def solve_sweep(
     output: str | os.PathLike[str] | None = None,
     chunk: int | None = None,
     workers: int | None = None,
+    resume: bool | None = None,
+    overwrite: bool = False,
 ) -> xr.Dataset:
-    """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`)."""
+    """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`).
+
+    With ``output`` the run is a transaction on that folder (:mod:`.folder`): locked, resumed
+    when the folder holds the same study (``resume``), refused when it holds another one
+    unless ``overwrite``.
+    """
     _check_scheduler(scheduler)
     distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
     points = None if distributed else resolve_points(plan, registry)
     client, own_cluster, n_workers = _client(scheduler, workers)
+    txn = None
     try:
-        blocks = blocks_of(
-            plan,
-            _points_per_block(plan, n_workers, chunk),
-            multiple=n_workers if chunk is None else 1,
-        )
-        parts = {b.number: None for b in blocks}
+        layout = {
+            "points_per_block": _points_per_block(plan, n_workers, chunk),
+            "multiple": n_workers if chunk is None else 1,
+        }
+        if output is not None:
+            txn = Transaction.begin(output, plan, layout, resume=resume, overwrite=overwrite)
+            layout = txn.layout
+        blocks = blocks_of(plan, layout["points_per_block"], multiple=layout["multiple"])
+        done = {} if txn is None else txn.reusable(blocks)
+        parts = {
+            b.number: (None if txn is None else str(txn.folder / part_name(b.number)))
+            for b in blocks
+        }
         tasks: list[tuple[Block, Any, str | None]]
         if points is None:  # resolved (and checked) on the workers, before any solving
             first, tasks = _resolve_on_workers(plan, registry, client, blocks, parts)
             points = [first]
-        folder = None
-        if output is not None:
-            folder = Path(output)
-            folder.mkdir(parents=True, exist_ok=True)
-        parts = {
-            b.number: (None if folder is None else str(folder / part_name(b.number)))
-            for b in blocks
-        }
-        if not distributed:
-            tasks = [(b, block_points(plan, points, b), parts[b.number]) for b in blocks]
         else:
-            tasks = [(b, pts, parts[b.number]) for b, pts, _ in tasks]
-        bar = progress_bar(plan.size, progress, "xpersson sweep")
-        try:
-            results = _execute(tasks, registry, scheduler, client, bar, n_workers)
-        finally:
-            if bar is not None:
-                bar.close()
+            tasks = [(b, block_points(plan, points, b), parts[b.number]) for b in blocks]
+        tasks = [t for t in tasks if t[0].number not in done]
+        results = _run_tasks(plan, tasks, registry, scheduler, client, n_workers, progress, txn)
+        results = sorted([*results, *done.values()], key=lambda r: r.block.number)
+        return finish(plan, points, results, txn)
     finally:
+        if txn is not None:
+            txn.release()
         if own_cluster is not None:
             client.close()
             own_cluster.close()
-    return finish(plan, points, results, folder)
+
+
+def _run_tasks(
+    plan: SweepPlan,
+    tasks: list[tuple[Block, Any, str | None]],
+    registry: Any,
+    scheduler: Any,
+    client: Any,
+    n_workers: int,
+    progress: bool | None,
+    txn: Any,
+) -> list[BlockResult]:
+    bar = progress_bar(plan.size, progress, "xpersson sweep")
+    if bar is not None:
+        bar.update(plan.size - sum(b.size for b, _, _ in tasks))  # reused parts
+    attrs = None if txn is None else txn.part_attrs()
+    try:
+        return _execute(tasks, registry, scheduler, client, bar, n_workers, attrs)
+    finally:
+        if bar is not None:
+            bar.close()
 
 
 def _check_scheduler(scheduler: Any) -> None:
@@ -247,12 +272,13 @@ def _execute(
     client: Any,
     bar: Any,
     n_workers: int = 1,
+    attrs: dict[str, Any] | None = None,
 ) -> list[BlockResult]:
     tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
     if client is None and scheduler != "threads":
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return [run_block(b, pts, registry, part, True, tick) for b, pts, part in tasks]
+            return [run_block(b, pts, registry, part, True, tick, attrs) for b, pts, part in tasks]
     if client is None:
         from concurrent.futures import ThreadPoolExecutor
 
@@ -260,7 +286,7 @@ def _execute(
             warnings.simplefilter("ignore")
             with ThreadPoolExecutor(max_workers=max(1, n_workers)) as pool:
                 futures = [
-                    pool.submit(run_block, b, pts, registry, part, False, tick)
+                    pool.submit(run_block, b, pts, registry, part, False, tick, attrs)
                     for b, pts, part in tasks
                 ]
                 return [f.result() for f in futures]
@@ -275,6 +301,7 @@ def _execute(
             part,
             True,
             None,
+            attrs,
             pure=False,
             key=f"xpersson-block-{b.number}-{os.getpid()}-{id(tasks)}",
         )
