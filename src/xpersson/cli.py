@@ -102,8 +102,9 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
     plan = expand(scene)
     if plan is not None:
-        from .sweep import resolve_points
+        from .sweep import check_size, resolve_points
 
+        check_size(plan, None, None, None, None, False)  # before resolving every point
         points = resolve_points(plan, None)
         rs = points[0]
         sweep = ", ".join(f"{p.path} -> {p.name} ({len(p.values)})" for p in plan.params)

@@ -37,7 +37,7 @@ the blocks: serial, threads, dask), :mod:`.combine` (one Dataset from the blocks
 """
 
 from .blocks import POINT_STATUS, Block, BlockResult, blocks_of, run_block, stack
-from .execute import resolve_points, solve_sweep
+from .execute import check_size, resolve_points, solve_sweep
 from .folder import LOCK, Transaction, study_hash
 from .parts import INDEX, finalize, open_parts
 from .plan import SweepParam, SweepPlan, cf_units, expand
@@ -49,6 +49,7 @@ __all__ = [
     "cf_units",
     "solve_sweep",
     "resolve_points",
+    "check_size",
     "blocks_of",
     "Block",
     "BlockResult",

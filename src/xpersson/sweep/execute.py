@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..memory import check_study
 from ..pipeline import default_pressure_grid, progress_bar
 from ..plugins import get_registry
 from ..scene import SceneError
@@ -30,7 +31,7 @@ from .folder import Transaction
 from .parts import part_name
 from .plan import SweepPlan
 
-__all__ = ["solve_sweep", "resolve_points"]
+__all__ = ["solve_sweep", "resolve_points", "check_size"]
 
 
 def _resolve_index(plan: SweepPlan, index: tuple[int, ...], registry: Any) -> Any:
@@ -164,6 +165,7 @@ def solve_sweep(
     """
     _check_scheduler(scheduler)
     distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
+    check_size(plan, registry, scheduler, chunk, workers, output is None)
     points = None if distributed else resolve_points(plan, registry)
     client, own_cluster, n_workers = _client(scheduler, workers)
     txn = None
@@ -197,6 +199,31 @@ def solve_sweep(
         if own_cluster is not None:
             client.close()
             own_cluster.close()
+
+
+def check_size(
+    plan: SweepPlan,
+    registry: Any,
+    scheduler: Any,
+    chunk: int | None,
+    workers: int | None,
+    in_memory: bool,
+) -> None:
+    """Refuse (before resolving the points) a study larger than the memory budget, from its
+    first point's loads, magnifications and pressures."""
+    rs = _resolve_index(plan, next(iter(plan.indices())), registry or get_registry())
+    n_workers = 1 if scheduler in (None, "serial", "synchronous", "sync") else workers
+    n_workers = n_workers or os.cpu_count() or 1
+    n_p = (rs.p.size if rs.p is not None else rs.p_points) if rs.pressure_pdf else None
+    check_study(
+        plan.size,
+        rs.p0.size,
+        rs.zeta.size,
+        n_p,
+        block_points=chunk or max(1, math.ceil(plan.size / (4 * n_workers))),
+        workers=n_workers,
+        in_memory=in_memory,
+    )
 
 
 def _run_tasks(
