@@ -23,6 +23,7 @@ from importlib.metadata import EntryPoint, entry_points
 from typing import Any
 
 from ._groups import ENTRY_POINT_PREFIX, GROUP_NAMES, PLUGIN_GROUPS
+from ._limits import PluginTimeout, limited
 
 __all__ = [
     "AUTOLOAD_ENV",
@@ -271,6 +272,8 @@ class Registry:
                     info.error = f"import failed (module {info.module!r} not found)"
                 else:
                     info.error = f"import failed (missing optional dependency {missing!r})"
+            except PluginTimeout as exc:
+                info.error = f"import {exc or 'exceeded its time limit'}"
             except Exception as exc:  # a broken plugin must not break the caller's listing
                 info.error = f"import failed ({type(exc).__name__}: {exc})"
             else:
@@ -301,14 +304,16 @@ class Registry:
             f"{group} plugin must be a name or a plugin class, got {type(name_or_class).__name__}"
         )
 
-    def check(self, group: str | None = None) -> list[PluginInfo]:
+    def check(self, group: str | None = None, time_limit: float | None = None) -> list[PluginInfo]:
         """Import every discovered plugin (optionally of one group) and return all infos.
 
-        Broken plugins are not raised; their :attr:`PluginInfo.status` says why.
+        Broken plugins are not raised; their :attr:`PluginInfo.status` says why. An import
+        running longer than ``time_limit`` [s] is interrupted and reported as broken (see
+        :mod:`._limits` for what can be interrupted).
         """
         out = []
         for info in list(self.infos(group)):
-            with contextlib.suppress(PluginError):
+            with contextlib.suppress(PluginError, PluginTimeout), limited(time_limit):
                 self.load(info.group, info.qualified if info.dist != DIRECT else info.name)
             out.append(info)
         return out
