@@ -25,6 +25,7 @@ from xpersson.archive import file_digest
 from xpersson.cli import main
 from xpersson.errors import ArchiveError, FolderBusyError
 from xpersson.sweep import INDEX, LOCK, Transaction, expand
+from xpersson.sweep.parts import seal_index
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "sweep"))
 from xpersson_sweep_testlib import scene  # noqa: E402
@@ -154,9 +155,12 @@ def test_a_different_study_is_refused_unless_overwrite(reference, tmp_path, caps
     assert (tmp_path / "foreign" / "notes.txt").read_text(encoding="utf-8") == "mine"
 
 
-def _edit_index(folder: Path, edit) -> None:
+def _edit_index(folder: Path, edit, reseal: bool = True) -> None:
+    """Edit the index; ``reseal`` recomputes its checksum (a crafted index, not a damaged one)."""
     index = json.loads((folder / INDEX).read_text(encoding="utf-8"))
     edit(index)
+    if reseal:
+        index = seal_index(index)
     (folder / INDEX).write_text(json.dumps(index), encoding="utf-8")
 
 
@@ -178,7 +182,24 @@ HOSTILE = {
     "scene changed": (lambda ix: ix["attrs"].update(xpersson_scene="{}"), "scene"),
     "coordinate changed": (lambda ix: ix["coords"]["E"][1].__setitem__(0, 6e6), "'E'"),
     "run changed": (lambda ix: ix["parts"][0].update(run="0" * 32), "part-00000.nc"),
+    "constant malformed": (lambda ix: ix["constant"].update(area_fraction=7), "constant"),
+    "attrs malformed": (lambda ix: ix.update(attrs=1.5), "attrs"),
 }
+
+
+@pytest.mark.parametrize("case", ["attrs", "constant", "status"])
+def test_an_edited_index_fails_its_checksum(reference, tmp_path, case):
+    _, ref_folder = reference
+    folder = tmp_path / "e"
+    shutil.copytree(ref_folder, folder)
+    edits = {
+        "attrs": lambda ix: ix["attrs"].update(title="changed"),
+        "constant": lambda ix: ix["constant"].clear(),
+        "status": lambda ix: ix["attrs"].update(status="failed"),
+    }
+    _edit_index(folder, edits[case], reseal=False)
+    with pytest.raises(ArchiveError, match="index fails its checksum"):
+        xpersson.open_dataset(folder)
 
 
 @pytest.mark.parametrize("case", list(HOSTILE))

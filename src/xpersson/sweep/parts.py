@@ -11,7 +11,8 @@
 - ``parts``: per block its number, grid index, index range, file name, the run that wrote it
   and the sha256 of the file;
 - ``constant`` (the variables that do not depend on some sweep dimensions), ``scene_sha256``
-  (of the scene stored in ``attrs``) and ``attrs`` (the sweep's global attributes).
+  (of the scene stored in ``attrs``) and ``attrs`` (the sweep's global attributes);
+- ``sha256``: of all the above (canonical JSON), verified on every read.
 
 Every part carries the study hash, its run id and its block number in its ``xpersson_part``
 attribute. :func:`open_parts` trusts nothing: the index's sizes and names are checked before
@@ -39,7 +40,7 @@ from ..errors import ArchiveError
 from .blocks import PART_ATTR, POINT_STATUS
 
 __all__ = ["INDEX", "FORMAT", "part_name", "write_part", "read_part", "write_index", "finalize"]
-__all__ += ["open_parts", "load_index", "read_index_file", "PART_NAME"]
+__all__ += ["open_parts", "load_index", "read_index_file", "PART_NAME", "seal_index"]
 
 INDEX = "xpersson_index.json"
 FORMAT = "xpersson-parts-2"
@@ -67,14 +68,27 @@ def read_part(path: str | os.PathLike[str]) -> xr.Dataset:
 def write_index(folder: Path, index: dict[str, Any]) -> None:
     """Write the folder's index in one atomic step (temporary file, fsync, rename)."""
     index = {"format": FORMAT, **index}
+    index.pop("sha256", None)
     if "attrs" in index:
         index["scene_sha256"] = _scene_sha(index["attrs"])
+    index["sha256"] = _index_sha(index)
     tmp = folder / f".{INDEX}.{os.getpid()}.tmp"
     with open(tmp, "w", encoding="utf-8") as f:
         f.write(json.dumps(index, indent=1))
         f.flush()
         os.fsync(f.fileno())
     os.replace(tmp, folder / INDEX)
+
+
+def seal_index(index: dict[str, Any]) -> dict[str, Any]:
+    """``index`` with its ``sha256`` recomputed (for tools and tests that edit an index)."""
+    index = {k: v for k, v in index.items() if k != "sha256"}
+    return {**index, "sha256": _index_sha(index)}
+
+
+def _index_sha(index: dict[str, Any]) -> str:
+    body = {k: v for k, v in index.items() if k != "sha256"}
+    return hashlib.sha256(json.dumps(body, sort_keys=True).encode()).hexdigest()
 
 
 def _scene_sha(attrs: dict[str, Any]) -> str:
@@ -101,6 +115,8 @@ def read_index_file(folder: Path) -> dict[str, Any]:
             f"{path}: format {str(index.get('format'))[:40]!r} is not {FORMAT!r} (written by "
             "another program or an older xpersson; solve the study again into a new folder)"
         )
+    if index.get("sha256") != _index_sha(index):
+        raise ArchiveError(f"{path}: the index fails its checksum (changed after writing)")
     return index
 
 
@@ -136,10 +152,13 @@ def load_index(folder: Path) -> dict[str, Any]:
     counts = [max(g[d] for g in seen) + 1 for d in range(len(dims))]
     if len(seen) != len(parts) or math.prod(counts) != len(parts):
         raise ArchiveError(f"{path}: the parts do not tile the block grid {counts} exactly once")
-    if index.get("scene_sha256") != _scene_sha(index.get("attrs") or {}):
-        raise ArchiveError(f"{path}: the stored scene does not match the index (scene_sha256)")
     if not isinstance(index.get("constant"), dict) or not isinstance(index.get("attrs"), dict):
         raise ArchiveError(f"{path}: constant and attrs must be JSON objects")
+    for name, along in index["constant"].items():
+        if not (isinstance(along, list) and all(d in dims for d in along)):
+            raise ArchiveError(f"{path}: constant[{str(name)[:40]!r}] must list sweep dims")
+    if index.get("scene_sha256") != _scene_sha(index["attrs"]):
+        raise ArchiveError(f"{path}: the stored scene does not match the index (scene_sha256)")
     _check_coords(index.get("coords"), dims, shape, path)
     return index
 
