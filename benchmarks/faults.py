@@ -399,7 +399,8 @@ def hang_campaign(n: int, rng: random.Random, work: Path) -> dict[str, Any]:
             tally["traceback"] += 1
             continue
         ds = xpersson.open_dataset(out)
-        status = dict(zip((ds["E"].values / 1e6).round().astype(int), ds["point_status"].values))
+        e_mpa = (ds["E"].values / 1e6).round().astype(int)
+        status = dict(zip(e_mpa, ds["point_status"].values, strict=True))
         msgs = json.loads(ds.attrs["xpersson_point_messages"])
         tally["points"] += len(status)
         tally["hung_points"] += len(hang)
