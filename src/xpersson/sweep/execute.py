@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..errors import XperssonWarning
 from ..memory import check_study
 from ..pipeline import default_pressure_grid, progress_bar
 from ..plugins import get_registry
@@ -179,6 +180,12 @@ def solve_sweep(
             layout = txn.layout
         blocks = blocks_of(plan, layout["points_per_block"], multiple=layout["multiple"])
         done = {} if txn is None else txn.reusable(blocks)
+        if txn is not None and txn.damaged:
+            warnings.warn(
+                f"{len(txn.damaged)} damaged part(s) solved again; first: {txn.damaged[0]}",
+                XperssonWarning,
+                stacklevel=3,
+            )
         parts = {
             b.number: (None if txn is None else str(txn.folder / part_name(b.number)))
             for b in blocks
