@@ -272,8 +272,6 @@ class Registry:
                     info.error = f"import failed (module {info.module!r} not found)"
                 else:
                     info.error = f"import failed (missing optional dependency {missing!r})"
-            except PluginTimeout as exc:
-                info.error = f"import {exc or 'exceeded its time limit'}"
             except Exception as exc:  # a broken plugin must not break the caller's listing
                 info.error = f"import failed ({type(exc).__name__}: {exc})"
             else:
@@ -308,8 +306,7 @@ class Registry:
         """Import every discovered plugin (optionally of one group) and return all infos.
 
         Broken plugins are not raised; their :attr:`PluginInfo.status` says why. An import
-        running longer than ``time_limit`` [s] is interrupted and reported as broken (see
-        :mod:`._limits` for what can be interrupted).
+        running longer than ``time_limit`` [s] is interrupted and reported broken (:mod:`._limits`).
         """
         out = []
         for info in list(self.infos(group)):
