@@ -62,6 +62,8 @@ BASE: dict[str, Any] = {
 OTHER = json.loads(json.dumps(BASE))
 OTHER["material"]["E"][2] = "11 MPa"
 CHUNK = 1
+DELAY = 0.25
+"""Seconds added to every point of a killed run (spreads the kills over the solving)."""
 RUNNER = """
 import json, sys, time
 import xpersson
@@ -121,7 +123,12 @@ def _new_tally() -> dict[str, int]:
 
 # -- kill -----------------------------------------------------------------------------------------
 def kill_campaign(n: int, rng: random.Random, work: Path, refs: dict[str, Any]) -> dict[str, Any]:
-    out: dict[str, Any] = {}
+    """SIGKILL at a moment drawn uniformly over an uninterrupted run's duration (timed first)."""
+    t0 = time.perf_counter()
+    _run_killed(work / "kill-timing", BASE, False, 600.0)
+    duration = time.perf_counter() - t0
+    shutil.rmtree(work / "kill-timing")
+    out: dict[str, Any] = {"run_seconds": round(duration, 2)}
     for mode in ("fresh", "overwrite", "resume"):
         tally = _new_tally() | {"killed_mid_run": 0, "parts_reused": 0, "open_error": 0}
         for i in range(n):
@@ -129,8 +136,9 @@ def kill_campaign(n: int, rng: random.Random, work: Path, refs: dict[str, Any]) 
             if mode == "overwrite":
                 shutil.copytree(refs["other_folder"], folder)
             elif mode == "resume":  # an interrupted run to resume
-                _run_killed(folder, BASE, False, rng.uniform(1.0, 3.0))
-            alive = _run_killed(folder, BASE, mode == "overwrite", rng.uniform(0.3, 4.0), tally)
+                _run_killed(folder, BASE, False, rng.uniform(0.0, duration))
+            after = rng.uniform(0.0, duration)
+            alive = _run_killed(folder, BASE, mode == "overwrite", after, tally)
             tally["runs"] += 1
             tally["killed_mid_run"] += int(alive)
             seen = _open(folder, [refs["base"], refs["other"]], tally)
@@ -144,8 +152,8 @@ def kill_campaign(n: int, rng: random.Random, work: Path, refs: dict[str, Any]) 
                 ds = xpersson.solve(BASE, output=folder, chunk=CHUNK, overwrite=True)
             if not _same(ds, refs["base"]):
                 tally["lost"] += 1
-            after = {p.name: p.stat().st_mtime_ns for p in folder.glob("part-*.nc")}
-            tally["parts_reused"] += sum(before.get(k) == v for k, v in after.items())
+            after_run = {p.name: p.stat().st_mtime_ns for p in folder.glob("part-*.nc")}
+            tally["parts_reused"] += sum(before.get(k) == v for k, v in after_run.items())
             shutil.rmtree(folder)
         out[mode] = tally
     return out
@@ -156,7 +164,7 @@ def _run_killed(
 ) -> bool:
     """Start a slowed sweep into ``folder``; SIGKILL it ``after`` seconds; True if it was
     still running."""
-    code = RUNNER.format(delay=0.05, chunk=CHUNK)
+    code = RUNNER.format(delay=DELAY, chunk=CHUNK)
     args = [sys.executable, "-c", code, json.dumps(scene), str(folder), "1" if overwrite else "0"]
     proc = subprocess.Popen(args, stderr=subprocess.PIPE, text=True)
     try:
