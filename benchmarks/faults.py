@@ -306,7 +306,6 @@ HOSTILE_SCENES = [
     ("spectrum", "H", {"start": 0.3, "stop": 0.9, "num": 100_000}),
     ("load", "p0", {"start": "1 kPa", "stop": "1 MPa", "num": 100_000}),
     ("output", "zeta_per_decade", 10**9),
-    ("spectrum", "file", "/etc/passwd"),
 ]
 
 
@@ -337,10 +336,7 @@ def hostile_campaign(n: int, rng: random.Random, work: Path, refs: dict[str, Any
     for section, key, value in HOSTILE_SCENES:
         sc = json.loads(json.dumps(BASE))
         sc.setdefault(section, {})
-        if section == "spectrum" and key == "file":
-            sc["spectrum"] = {"model": "tabulated", "file": value}
-        else:
-            sc[section][key] = value
+        sc[section][key] = value
         f = work / "hostile.toml"
         f.write_text(_toml(sc), encoding="utf-8")
         scenes["runs"] += 1
@@ -356,9 +352,26 @@ def hostile_campaign(n: int, rng: random.Random, work: Path, refs: dict[str, Any
             scenes["traceback"] += 1
         elif res.returncode == 2 and len(lines) == 1:
             scenes["refused_one_line"] += 1
-        if "root:" in res.stderr:  # a file's content in a message
-            scenes["content_leaked"] += 1
+    scenes["content_leaked"] = _reproduce_hostile(work, refs)
     return {"indexes": tally, "crafted_indexes": crafted, "scenes": scenes}
+
+
+def _reproduce_hostile(work: Path, refs: dict[str, Any]) -> int:
+    """``reproduce`` of an archive whose scene names a system file, with and without
+    ``--read-files``: how many runs printed a line of that file."""
+    secret = work / "secret.txt"
+    secret.write_text("root:x:0:0:SECRET-LINE\n" * 3, encoding="utf-8")
+    ds = xpersson.open_dataset(refs["archive"])
+    scene = json.loads(ds.attrs["xpersson_scene"])
+    scene["spectrum"] = {"model": "tabulated", "file": str(secret)}
+    ds.attrs["xpersson_scene"] = json.dumps(scene)
+    hostile = xpersson.to_netcdf(ds, work / "hostile.nc", overwrite=True)
+    leaked = 0
+    for extra in ([], ["--read-files"]):
+        cmd = ["xpersson", "reproduce", str(hostile), "-o", str(work / "rep.nc"), *extra]
+        res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+        leaked += int("SECRET-LINE" in res.stderr or res.returncode != 2)
+    return leaked
 
 
 # -- hang -----------------------------------------------------------------------------------------

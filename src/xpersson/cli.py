@@ -209,7 +209,14 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         return 2
     old = _open(args.archive)
     data = _archived_scene(old, args.archive, args.read_files)
-    ds = solve(Scene(data, source=None)).load()
+    try:
+        ds = solve(Scene(data, source=None)).load()
+    except ValueError as exc:  # quotes (a file's lines, a stored value) are withheld
+        import re
+
+        text = re.sub(r"'[^']*'|\"[^\"]*\"", "'...'", str(exc))
+        _err(f"xpersson: error: {args.archive}: its scene cannot be solved again ({text})")
+        return 2
     if Path(args.archive).is_dir():
         old = old.load()
     io.to_netcdf(ds, out, overwrite=args.overwrite)

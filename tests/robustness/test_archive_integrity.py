@@ -155,3 +155,7 @@ def test_reproduce_reads_no_file_an_archive_names(archive, tmp_path, capsys):
     assert "spectrum.file" in err and "--read-files" in err
     assert "TOP-SECRET" not in err
     assert not (tmp_path / "r.nc").exists()
+    args = ["reproduce", str(hostile), "-o", str(tmp_path / "r.nc"), "--read-files"]
+    assert main(args) == 2  # read on request; the file's lines are still not printed
+    err = capsys.readouterr().err
+    assert "secret.txt" in err and "TOP-SECRET" not in err
