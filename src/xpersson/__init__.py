@@ -16,6 +16,8 @@ from importlib import import_module
 from typing import Any
 
 __all__ = [
+    "ArchiveError",
+    "FolderBusyError",
     "PluginFailure",
     "Scene",
     "SceneError",
@@ -30,6 +32,8 @@ __all__ = [
 ]
 
 _LAZY = {
+    "ArchiveError": "xpersson.errors",
+    "FolderBusyError": "xpersson.errors",
     "PluginFailure": "xpersson.checks",
     "solve": "xpersson.api",
     "XperssonWarning": "xpersson.errors",

@@ -26,6 +26,8 @@ def solve(
     output: str | Path | None = None,
     chunk: int | None = None,
     workers: int | None = None,
+    resume: bool | None = None,
+    overwrite: bool = False,
     **overrides: Any,
 ) -> xr.Dataset:
     """Solve a scene and return the Dataset over (sweep dims..., p0, zeta[, p]).
@@ -49,6 +51,12 @@ def solve(
         Points per block (task); default about a quarter of the points per worker.
     workers : int, optional
         Worker count for ``"threads"``/``"processes"`` (default: the number of cores).
+    resume : bool or None
+        With ``output``: ``None`` (default) resumes when the folder holds the same study
+        (only missing or damaged parts are solved), ``True`` requires that, ``False`` never
+        reuses parts. A folder holding another study is refused unless ``overwrite``.
+    overwrite : bool
+        With ``output``: start over whatever the folder holds.
     **overrides
         ``section__key=value`` replacements, e.g. ``load__p0="1 MPa"``.
 
@@ -62,6 +70,10 @@ def solve(
     ------
     SceneError
         Malformed scene (raised before any work, naming the parameter).
+    FolderBusyError
+        Another run is writing into ``output``.
+    ArchiveError
+        ``output`` holds another study (and ``overwrite`` is false).
     """
     sc = as_scene(scene)
     if overrides:
@@ -77,6 +89,8 @@ def solve(
             output=output,
             chunk=chunk,
             workers=workers,
+            resume=resume,
+            overwrite=overwrite,
         )
     rs = sc.resolve(reg)
     if progress is False or (progress is None and not sys.stderr.isatty()):

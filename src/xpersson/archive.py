@@ -17,6 +17,11 @@ it, and :func:`decode` undoes it, so an archive re-opens identical.
 - String status variables (``solver_status``) are stored as ``int8`` flags with numeric
   ``flag_values`` and ``flag_meanings`` (CF §3.5); decoded back to strings on reading.
 - ``flag_values`` are stored with the variable's own type.
+- Integrity: every variable with a dimension is stored with HDF5's ``fletcher32`` checksum,
+  and every variable carries ``xpersson_sha256`` (a digest of its stored values and attributes);
+  the global ``xpersson_attrs_sha256`` covers the global attributes and the variable names.
+  :func:`read` verifies them: a mismatch is an :class:`~xpersson.errors.ArchiveError` naming
+  the file and the variable. Archives written before digests existed are read unchecked.
 - The pressure PDF ``P`` is stored as ``pressure_pdf``: CF forbids variable names that differ
   only by case, and ``p`` is the pressure coordinate. The stored variable says so in its
   ``xpersson_name`` attribute; :func:`decode` restores ``P``.
@@ -26,6 +31,8 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import hashlib
+import json
 import os
 import secrets
 import socket
@@ -36,6 +43,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from .errors import ArchiveError
+
 __all__ = [
     "ENGINE",
     "to_netcdf",
@@ -45,6 +54,10 @@ __all__ = [
     "RENAMED",
     "stale_temporaries",
     "remove_stale_temporaries",
+    "seal",
+    "verify",
+    "DIGEST",
+    "file_digest",
 ]
 
 ENGINE = "netcdf4"
@@ -96,6 +109,7 @@ def to_netcdf(ds: xr.Dataset, path: str | os.PathLike[str], *, overwrite: bool =
     tmp, fd = _create_temporary(target)
     try:
         stored, encoding = encode(ds)
+        stored = seal(stored, encoding)
         try:
             stored.to_netcdf(tmp, engine=ENGINE, format="NETCDF4", encoding=encoding)
         except PermissionError:  # a file system emulating flock with our lock (NFS): unlock
@@ -241,12 +255,120 @@ def _locked(tmp: Path) -> bool:
 
 
 def read(path: str | os.PathLike[str], **kwargs: object) -> xr.Dataset:
-    """Open one archive file, load it into memory (the file is closed) and :func:`decode` it.
+    """Open one archive file, load it into memory (the file is closed), verify and decode it.
 
     ``kwargs`` are passed to :func:`xarray.open_dataset`.
+
+    Raises
+    ------
+    ArchiveError
+        The file is not a readable netCDF file, a variable fails its checksum, or its
+        attributes are malformed; the message names the file (and the variable).
     """
-    with xr.open_dataset(path, engine=ENGINE, **kwargs) as ds:  # type: ignore[arg-type]
-        return decode(ds.load())
+    try:
+        handle = xr.open_dataset(path, engine=ENGINE, **kwargs)  # type: ignore[arg-type]
+    except Exception as exc:  # noqa: BLE001 - netCDF/HDF5 errors come as many classes
+        raise ArchiveError(f"{path}: not a readable netCDF archive ({_short(exc)})") from None
+    with handle as ds:
+        for name in list(ds.variables):
+            try:
+                ds[name].load()
+            except Exception as exc:  # noqa: BLE001 - HDF errors come as several classes
+                raise ArchiveError(
+                    f"{path}: variable {name!r} cannot be read, the file is corrupt ({_short(exc)})"
+                ) from None
+        verify(ds, path)
+        try:
+            return decode(ds.load())
+        except Exception as exc:  # noqa: BLE001 - any malformed attribute
+            raise ArchiveError(f"{path}: malformed encoding attributes ({_short(exc)})") from None
+
+
+def _short(exc: BaseException) -> str:
+    text = f"{type(exc).__name__}: {exc}".splitlines()[0] if str(exc) else type(exc).__name__
+    return text if len(text) <= 160 else text[:157] + "..."
+
+
+# -- content integrity ----------------------------------------------------------------------------
+DIGEST = "xpersson_sha256"
+_ATTRS_DIGEST = "xpersson_attrs_sha256"
+_NOT_HASHED = {DIGEST, "_FillValue", "coordinates", "dtype", "missing_value"}
+
+
+def _canonical(value: Any) -> Any:
+    if isinstance(value, str | bytes):
+        return str(value)
+    return [repr(x) for x in np.atleast_1d(np.asarray(value)).ravel().tolist()]
+
+
+def _attrs_bytes(attrs: Any) -> bytes:
+    items = {str(k): _canonical(v) for k, v in attrs.items() if k not in _NOT_HASHED}
+    return json.dumps(items, sort_keys=True).encode()
+
+
+def _variable_digest(var: xr.Variable) -> str:
+    arr = np.asarray(var.values)
+    h = hashlib.sha256(repr((var.dims, arr.shape)).encode())
+    if arr.dtype.kind in "OUS":
+        h.update(json.dumps([str(x) for x in arr.ravel().tolist()]).encode())
+    elif arr.dtype.kind == "b":
+        h.update(arr.astype(np.uint8).tobytes())
+    else:
+        h.update(np.ascontiguousarray(arr).tobytes())
+    h.update(_attrs_bytes(var.attrs))
+    return h.hexdigest()
+
+
+def _global_digest(ds: xr.Dataset) -> str:
+    h = hashlib.sha256(json.dumps(sorted(map(str, ds.variables))).encode())
+    h.update(_attrs_bytes({k: v for k, v in ds.attrs.items() if k != _ATTRS_DIGEST}))
+    return h.hexdigest()
+
+
+def file_digest(path: str | os.PathLike[str]) -> str:
+    """sha256 of a file's bytes (hex)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def seal(stored: xr.Dataset, encoding: dict[str, dict[str, Any]]) -> xr.Dataset:
+    """Add the digests and the ``fletcher32`` checksums to an encoded Dataset (in place for
+    ``encoding``; returns a shallow copy of ``stored``)."""
+    out = stored.copy(deep=False)
+    for name in list(out.variables):
+        var = out.variables[name]
+        var.attrs.pop(DIGEST, None)
+        var.attrs[DIGEST] = _variable_digest(var)
+        if var.ndim:
+            encoding.setdefault(str(name), {})["fletcher32"] = True
+    out.attrs.pop(_ATTRS_DIGEST, None)
+    out.attrs[_ATTRS_DIGEST] = _global_digest(out)
+    return out
+
+
+def verify(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
+    """Check the digests :func:`seal` stored (loads every variable).
+
+    Raises
+    ------
+    ArchiveError
+        Naming ``path`` and the first variable (or the global attributes) that changed.
+    """
+    for name, var in ds.variables.items():
+        stored = var.attrs.get(DIGEST)
+        if stored is not None and stored != _variable_digest(var):
+            raise ArchiveError(
+                f"{path}: variable {name!r} fails its checksum: its stored values or "
+                "attributes changed after writing (the file is corrupt)"
+            )
+    stored = ds.attrs.get(_ATTRS_DIGEST)
+    if stored is not None and stored != _global_digest(ds):
+        raise ArchiveError(
+            f"{path}: the global attributes fail their checksum (the file is corrupt)"
+        )
 
 
 # -- CF encoding ----------------------------------------------------------------------------------
@@ -306,7 +428,10 @@ def encode(ds: xr.Dataset) -> tuple[xr.Dataset, dict[str, dict[str, Any]]]:
 
 
 def decode(ds: xr.Dataset) -> xr.Dataset:
-    """Undo :func:`encode` (works on lazily opened Datasets too)."""
+    """Undo :func:`encode` and :func:`seal` (works on lazily opened Datasets too)."""
+    ds.attrs.pop(_ATTRS_DIGEST, None)
+    for name in list(ds.variables):
+        ds.variables[name].attrs.pop(DIGEST, None)
     for name in list(ds.variables):
         how = ds[name].attrs.get(_ENCODED)
         if how is None:

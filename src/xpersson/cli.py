@@ -44,8 +44,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
     out = Path(args.output)
     as_parts = args.output.endswith(("/", "\\")) or out.is_dir()
-    if out.exists() and not args.overwrite and not (as_parts and not any(out.iterdir())):
+    if not as_parts and out.exists() and not args.overwrite:
         _err(f"xpersson: {out} exists; add --overwrite to replace it")
+        return 2
+    if args.resume and args.overwrite:
+        _err("xpersson: --resume and --overwrite exclude each other")
+        return 2
+    if args.resume and not as_parts:
+        _err(f"xpersson: --resume applies to a sweep folder (DIR/), not to {out}")
         return 2
     scene = _load(args)
     from . import io
@@ -68,6 +74,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         output=out if as_parts else None,
         chunk=args.chunk,
         workers=args.workers,
+        **({"resume": args.resume or None, "overwrite": args.overwrite} if as_parts else {}),
     )
     if as_parts:
         _err(
@@ -95,8 +102,9 @@ def _cmd_validate(args: argparse.Namespace) -> int:
 
     plan = expand(scene)
     if plan is not None:
-        from .sweep import resolve_points
+        from .sweep import check_size, resolve_points
 
+        check_size(plan, None, None, None, None, False)  # before resolving every point
         points = resolve_points(plan, None)
         rs = points[0]
         sweep = ", ".join(f"{p.path} -> {p.name} ({len(p.values)})" for p in plan.params)
@@ -119,10 +127,17 @@ def _cmd_validate(args: argparse.Namespace) -> int:
     return 0
 
 
-def _cmd_info(args: argparse.Namespace) -> int:
+def _open(path: str) -> Any:
+    """An xpersson result (file or sweep folder) or one clear error naming the file."""
     from . import io
 
-    ds = io.open_dataset(args.archive)
+    ds = io.open_dataset(path)
+    io.check_attributes(ds, path, require=True)
+    return ds
+
+
+def _cmd_info(args: argparse.Namespace) -> int:
+    ds = _open(args.archive)
     print(f"{args.archive}: {ds.attrs.get('title', '')}")
     print(f"  source: {ds.attrs.get('source')}, created {ds.attrs.get('date_created')}")
     print(f"  status: {ds.attrs.get('status')} ({ds.attrs.get('status_message')})")
@@ -135,7 +150,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
         )
     plugins = json.loads(ds.attrs.get("xpersson_plugins", "[]"))
     for p in plugins:
-        print(f"  plugin {p['group']}/{p['name']}: {p['distribution']} {p['version']}")
+        print(f"  plugin {p['group']}/{p['name']}: {p.get('distribution')} {p.get('version')}")
     _print_areas(ds)
     return 0
 
@@ -189,27 +204,82 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     if out.exists() and not args.overwrite:
         _err(f"xpersson: {out} exists; add --overwrite to replace it")
         return 2
-    old = io.open_dataset(args.archive)
-    scene = Scene(json.loads(old.attrs["xpersson_scene"]), source=None)
-    ds = solve(scene)
+    if not (args.rtol >= 0 and args.atol >= 0):
+        _err("xpersson: --rtol and --atol must be >= 0")
+        return 2
+    old = _open(args.archive)
+    data = _archived_scene(old, args.archive, args.read_files)
+    try:
+        ds = solve(Scene(data, source=None)).load()
+    except ValueError as exc:  # quotes (a file's lines, a stored value) are withheld
+        import re
+
+        text = re.sub(r"'[^']*'|\"[^\"]*\"", "'...'", str(exc))
+        _err(f"xpersson: error: {args.archive}: its scene cannot be solved again ({text})")
+        return 2
+    if Path(args.archive).is_dir():
+        old = old.load()
     io.to_netcdf(ds, out, overwrite=args.overwrite)
-    same = all(
-        name in ds
-        and ds[name].shape == old[name].shape
-        and bool((abs(ds[name] - old[name]) <= 1e-12 + 1e-9 * abs(old[name])).all())
-        for name in ("area_fraction",)
-    )
+    n, diffs = io.compare(old, ds, rtol=args.rtol, atol=args.atol)
+    for line in diffs:
+        _err(f"xpersson: {line}")
+    verdict = "matches" if not diffs else f"DIFFERS FROM ({len(diffs)} differences)"
     _err(
-        f"xpersson: wrote {out}; area_fraction {'matches' if same else 'DIFFERS FROM'} "
-        f"{args.archive}"
+        f"xpersson: wrote {out}; {n} coordinates and variables compared (coordinates exactly, "
+        f"values within rtol={args.rtol:g}, atol={args.atol:g}): {verdict} {args.archive}"
     )
-    return 0 if same else 4
+    return 0 if not diffs else 4
+
+
+def _archived_scene(ds: Any, archive: str, read_files: bool) -> dict[str, Any]:
+    """The archive's scene; files it names are refused unless ``read_files`` (a tabulated
+    spectrum's stored ``q``/``C`` table replaces its file)."""
+    from .plugins import get_registry
+
+    data = json.loads(ds.attrs["xpersson_scene"])
+    if read_files:
+        return data
+    names = set()
+    registry = get_registry()
+    for info in registry.infos():
+        try:
+            cls = registry.load(info.group, info.name)
+        except Exception:  # noqa: BLE001, S112 - a broken plugin names no path parameter
+            continue
+        params = getattr(cls, "parameters", {}) or {}
+        names |= {k for k, spec in params.items() if getattr(spec, "kind", None) == "path"}
+    refs = _file_references(data, names, "")
+    if refs:
+        from .errors import ArchiveError
+
+        raise ArchiveError(
+            f"{archive}: its scene names files ({', '.join(refs)}); reproduce reads no file an "
+            "archive names unless --read-files is given"
+        )
+    return data
+
+
+def _file_references(node: Any, names: set[str], where: str) -> list[str]:
+    out: list[str] = []
+    if not isinstance(node, dict):
+        return out
+    inline = node.get("q") is not None and node.get("C") is not None
+    for key in list(node):
+        path = f"{where}{key}"
+        if key in names and node[key] is not None:
+            if inline:  # the stored table is used; the file stays out of reach
+                del node[key]
+            else:
+                out.append(path)
+        else:
+            out += _file_references(node[key], names, path + ".")
+    return out
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from . import io, plot
+    from . import plot
 
-    ds = io.open_dataset(args.archive)
+    ds = _open(args.archive)
     try:
         out = plot.save(ds, args.kind, args.output, dpi=args.dpi)
     except plot.MatplotlibMissingError as exc:  # one line, no traceback
@@ -228,41 +298,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="store_true", help="print the version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
-    run = sub.add_parser("run", help="solve a scene and write a netCDF archive")
-    run.add_argument("scene", help="scene TOML file")
-    run.add_argument(
-        "-o",
-        "--output",
-        required=True,
-        help="output .nc file, or DIR/ for a sweep written as netCDF parts",
-    )
-    run.add_argument(
-        "--set",
-        action="append",
-        metavar="KEY=VALUE",
-        help="override a scene value, e.g. --set 'load.p0=\"1 MPa\"'",
-    )
-    run.add_argument("--overwrite", action="store_true", help="replace an existing output")
-    run.add_argument(
-        "--scheduler",
-        default=None,
-        metavar="S",
-        help="where sweep points run: serial (default), threads, processes "
-        "(dask LocalCluster) or a dask scheduler address tcp://host:port",
-    )
-    run.add_argument(
-        "--workers",
-        type=int,
-        default=None,
-        help="workers for threads/processes (default: number of cores)",
-    )
-    run.add_argument("--chunk", type=int, default=None, help="sweep points per task / netCDF part")
-    noise = run.add_mutually_exclusive_group()
-    noise.add_argument("--quiet", action="store_true", help="no progress bar")
-    noise.add_argument(
-        "--progress", action="store_true", help="progress bar even when stderr is not a terminal"
-    )
-    run.set_defaults(func=_cmd_run)
+    _add_run(sub)
 
     val = sub.add_parser("validate", help="check a scene without solving it")
     val.add_argument("scene", help="scene TOML file")
@@ -286,11 +322,7 @@ def build_parser() -> argparse.ArgumentParser:
     plo.add_argument("--dpi", type=int, default=110, help="resolution of raster figures")
     plo.set_defaults(func=_cmd_plot)
 
-    rep = sub.add_parser("reproduce", help="re-solve an archive from its own scene")
-    rep.add_argument("archive", help=".nc file written by xpersson run")
-    rep.add_argument("-o", "--output", required=True, help="output .nc file")
-    rep.add_argument("--overwrite", action="store_true", help="replace an existing output")
-    rep.set_defaults(func=_cmd_reproduce)
+    _add_reproduce(sub)
 
     try:
         from . import cli_plugins
@@ -299,6 +331,75 @@ def build_parser() -> argparse.ArgumentParser:
     else:
         cli_plugins.register(sub)
     return parser
+
+
+def _add_run(sub: Any) -> None:
+    """The ``run`` sub-command's parser."""
+    run = sub.add_parser("run", help="solve a scene and write a netCDF archive")
+    run.add_argument("scene", help="scene TOML file")
+    run.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="output .nc file, or DIR/ for a sweep written as netCDF parts",
+    )
+    run.add_argument(
+        "--set",
+        action="append",
+        metavar="KEY=VALUE",
+        help="override a scene value, e.g. --set 'load.p0=\"1 MPa\"'",
+    )
+    run.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace an existing output (a sweep folder: start the study over)",
+    )
+    run.add_argument(
+        "--resume",
+        action="store_true",
+        help="a sweep folder must hold this study: solve only its missing or damaged parts "
+        "(the default when it does)",
+    )
+    run.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="S",
+        help="where sweep points run: serial (default), threads, processes "
+        "(dask LocalCluster) or a dask scheduler address tcp://host:port",
+    )
+    run.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        help="workers for threads/processes (default: number of cores)",
+    )
+    run.add_argument("--chunk", type=int, default=None, help="sweep points per task / netCDF part")
+    noise = run.add_mutually_exclusive_group()
+    noise.add_argument("--quiet", action="store_true", help="no progress bar")
+    noise.add_argument(
+        "--progress", action="store_true", help="progress bar even when stderr is not a terminal"
+    )
+    run.set_defaults(func=_cmd_run)
+
+
+def _add_reproduce(sub: Any) -> None:
+    """The ``reproduce`` sub-command's parser."""
+    rep = sub.add_parser("reproduce", help="re-solve an archive from its own scene")
+    rep.add_argument("archive", help=".nc file written by xpersson run")
+    rep.add_argument("-o", "--output", required=True, help="output .nc file")
+    rep.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    rep.add_argument(
+        "--rtol", type=float, default=1e-9, help="relative tolerance of values (default 1e-9)"
+    )
+    rep.add_argument(
+        "--atol", type=float, default=0.0, help="absolute tolerance of values (default 0)"
+    )
+    rep.add_argument(
+        "--read-files",
+        action="store_true",
+        help="read the files the archive's scene names (never done otherwise)",
+    )
+    rep.set_defaults(func=_cmd_reproduce)
 
 
 def _one_line_warnings() -> None:

@@ -57,6 +57,14 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     pl.add_argument(
         "--check", action="store_true", help="import every plugin and report broken ones"
     )
+    pl.add_argument(
+        "--time-limit",
+        type=float,
+        default=IMPORT_TIME_LIMIT,
+        metavar="S",
+        help=f"with --check: seconds an import may take (default {IMPORT_TIME_LIMIT:g}); "
+        "a slower one is reported broken",
+    )
     pl.set_defaults(func=cmd_list)
 
     ps = sub.add_parser("show", help="describe one plugin (imports it)")
@@ -65,6 +73,10 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
     ps.add_argument("--json", action="store_true", help="machine-readable output")
     ps.set_defaults(func=cmd_show)
     return p
+
+
+IMPORT_TIME_LIMIT = 60.0
+"""Seconds a plugin import may take under ``plugins list --check``."""
 
 
 def _group(text: str) -> str:
@@ -89,7 +101,11 @@ def cmd_list(
     out = out or sys.stdout
     reg = registry or get_registry()
     with _warnings_to_stderr():
-        infos = reg.check(args.group) if args.check else list(reg.infos(args.group))
+        limit = getattr(args, "time_limit", IMPORT_TIME_LIMIT)
+        if not limit > 0:
+            print("xpersson: --time-limit must be > 0 seconds", file=sys.stderr)
+            return 2
+        infos = reg.check(args.group, limit) if args.check else list(reg.infos(args.group))
     if args.json:
         json.dump([i.as_dict() for i in infos], out, indent=2)
         out.write("\n")

@@ -19,6 +19,8 @@ __all__ = [
     "set_budget",
     "estimate",
     "check_request",
+    "estimate_study",
+    "check_study",
     "DEFAULT_FRACTION",
 ]
 
@@ -43,6 +45,11 @@ _override: int | None = None
 _PER_POINT = 8 * 40
 # the P field: engine result, closed-form temporaries, one copy for the Dataset
 _PER_P_VALUE = 8 * 6
+# a sweep point resolved before any work and held until its block runs (measured: ~9 kB)
+_PER_RESOLVED = 12 * 2**10
+# stored per point of a sweep: ~16 doubles per (p0, zeta) and P with its flags
+_PER_STORED = 8 * 16
+_PER_STORED_P = 8 * 2
 
 
 def _parse(text: str) -> int:
@@ -142,5 +149,64 @@ def check_request(n_load: int, n_zeta: int, n_p: int | None = None) -> int:
             "(output.p_points) or drop output.pressure_pdf, fewer loads or output.zeta_per_decade, "
             "or a sweep written in parts; the budget is set by XPERSSON_MEMORY_BUDGET "
             "(e.g. '8 GB') or xpersson.memory.set_budget()"
+        )
+    return need
+
+
+def estimate_study(
+    n_points: int,
+    n_load: int,
+    n_zeta: int,
+    n_p: int | None = None,
+    *,
+    block_points: int = 1,
+    workers: int = 1,
+    in_memory: bool = True,
+) -> int:
+    """Peak memory [bytes] of a sweep of ``n_points`` points: the resolved points, the stored
+    results (all of them in memory, or a block per worker when written to a folder) and one
+    solve per worker."""
+    point = _PER_STORED * n_load * n_zeta + (_PER_STORED_P * n_load * n_zeta * n_p if n_p else 0)
+    held = n_points * point if in_memory else 2 * block_points * max(1, workers) * point
+    resolved = n_points * (_PER_RESOLVED + 16 * n_zeta)
+    return int(resolved + held + max(1, workers) * estimate(n_load, n_zeta, n_p))
+
+
+def check_study(
+    n_points: int,
+    n_load: int,
+    n_zeta: int,
+    n_p: int | None = None,
+    *,
+    block_points: int = 1,
+    workers: int = 1,
+    in_memory: bool = True,
+) -> int:
+    """Raise :class:`MemoryBudgetError` before any work when a whole sweep exceeds the budget
+    (:func:`estimate_study`); returns the estimate [bytes]."""
+    need = estimate_study(
+        n_points,
+        n_load,
+        n_zeta,
+        n_p,
+        block_points=block_points,
+        workers=workers,
+        in_memory=in_memory,
+    )
+    have = budget()
+    if need > have:
+        field = f" x {n_p} pressures" if n_p else ""
+        advice = (
+            "write it to a folder in parts (output=DIR, CLI: -o DIR/) with smaller chunks"
+            if in_memory
+            else "use smaller chunks (chunk=, CLI: --chunk) or fewer workers"
+        )
+        raise MemoryBudgetError(
+            f"the sweep needs about {_human(need)} ({n_points} points x {n_load} loads x "
+            f"{n_zeta} magnifications{field}), above the memory budget of {_human(have)}: "
+            f"{advice}, sweep fewer points (fewer values or a coarser range num), fewer loads, "
+            "fewer magnifications (output.zeta_per_decade) or p points (output.p_points); the "
+            "budget is set by XPERSSON_MEMORY_BUDGET (e.g. '8 GB') or "
+            "xpersson.memory.set_budget()"
         )
     return need

@@ -18,7 +18,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 from .errors import UnitError
 
-__all__ = ["ureg", "to_si", "udunits_to_pint", "quantify", "UnitError"]
+__all__ = ["ureg", "to_si", "udunits_to_pint", "quantify", "UnitError", "check_expression"]
 
 
 @lru_cache(maxsize=1)
@@ -29,6 +29,60 @@ def ureg() -> pint.UnitRegistry:
     reg = pint.UnitRegistry(force_ndarray_like=True)
     reg.formatter.default_format = "~P"
     return reg
+
+
+MAX_TEXT = 200
+"""Longest quantity text parsed [characters]."""
+MAX_EXPONENT = 64.0
+"""Largest magnitude of an exponent in a unit expression."""
+MAX_NESTING = 8
+"""Deepest nesting of parentheses in a unit expression."""
+_EXPONENT = re.compile(
+    r"(?:\*\*|\^)\s*(\(\s*[-+]?\d+(?:\.\d*)?(?:\s*/\s*\d+)?\s*\)"
+    r"|[-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
+)
+
+
+def check_expression(text: str, where: str) -> None:
+    """Refuse a quantity text that could make the unit parser work without bound.
+
+    Bounds: at most :data:`MAX_TEXT` characters, parentheses nested at most
+    :data:`MAX_NESTING` deep, and every exponent (``**`` or ``^``) a plain number (or a plain
+    fraction in parentheses) of magnitude at most :data:`MAX_EXPONENT`, never itself raised to
+    a power (no towers such as ``m**9**9**9``).
+
+    Raises
+    ------
+    UnitError
+        Naming ``where`` and the bound.
+    """
+    if len(text) > MAX_TEXT:
+        raise UnitError(f"{where}: quantity text of {len(text)} characters (at most {MAX_TEXT})")
+    depth = deepest = 0
+    for c in text:
+        depth += (c == "(") - (c == ")")
+        deepest = max(deepest, depth)
+    if deepest > MAX_NESTING:
+        raise UnitError(f"{where}: parentheses nested {deepest} deep (at most {MAX_NESTING})")
+    bare = text.replace("**", "^")
+    n_ops = bare.count("^")
+    found = list(_EXPONENT.finditer(text))
+    rest = _EXPONENT.sub(" ", text)
+    if len(found) != n_ops or "^" in rest.replace("**", "^"):
+        raise UnitError(
+            f"{where}: {text[:60]!r}: every exponent must be a plain number (no expressions "
+            "or towers of exponents such as 'm**9**9')"
+        )
+    for m in found:
+        value = m.group(1).strip("() ")
+        num, _, den = value.partition("/")
+        if abs(float(num) / float(den or 1)) > MAX_EXPONENT:
+            raise UnitError(
+                f"{where}: exponent {value} in {text[:60]!r} is beyond +-{MAX_EXPONENT:g}"
+            )
+    for k in range(len(found) - 1):  # an exponent directly followed by another: a tower
+        if not text[found[k].end() : found[k + 1].start()].strip(" )"):
+            raise UnitError(f"{where}: {text[:60]!r}: towers of exponents are not allowed")
 
 
 def _parse(value: Any, where: str) -> Any:
@@ -43,6 +97,7 @@ def _parse(value: Any, where: str) -> Any:
         text = value.strip()
         if not text:
             raise UnitError(f"{where}: empty string, expected a quantity such as '3 MPa'")
+        check_expression(text, where)
         try:
             return reg.Quantity(text)
         except Exception as exc:

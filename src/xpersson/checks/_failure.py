@@ -6,6 +6,8 @@ import contextlib
 from collections.abc import Iterator
 from typing import Any
 
+from ..plugins import PluginTimeout, current_limit, limited
+
 __all__ = ["PluginFailure", "calling", "make_failure"]
 
 
@@ -79,9 +81,22 @@ def calling(
         The call, e.g. ``"f(zeta)"``.
     passthrough : tuple of exception types
         Exceptions the caller handles itself (re-raised unchanged).
+
+    Under a time limit (:func:`xpersson.plugins.time_limit`, ``[solver] plugin_time_limit``)
+    a call running longer is interrupted and raised as a :class:`PluginFailure` (also a
+    ``TimeoutError``) naming the plugin and the call.
     """
     try:
-        yield
+        with limited():
+            yield
+    except PluginTimeout:
+        raise make_failure(
+            TimeoutError,
+            f"{who}: {what} exceeded the time limit of {current_limit():g} s "
+            "([solver] plugin_time_limit)",
+            who,
+            what,
+        ) from None
     except (PluginFailure, MemoryError, *passthrough):
         raise
     except Exception as exc:

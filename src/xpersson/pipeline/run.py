@@ -7,7 +7,7 @@ import dataclasses
 
 import xarray as xr
 
-from .. import checks, memory, provenance
+from .. import checks, memory, plugins, provenance
 from ..scene import ResolvedScene
 from .assemble import add_outputs, assemble, attributes, diagnostics_notes, squeeze_p0
 from .frontend import diffusion_clock, pressure_grid, scene_context, spectrum_kinks
@@ -21,8 +21,14 @@ def run(rs: ResolvedScene, *, squeeze: bool = True) -> xr.Dataset:
     """Run a resolved scene (see :func:`xpersson.solve`).
 
     ``squeeze=False`` keeps a single load's ``p0`` dimension (a sweep squeezes its stacked
-    blocks once instead of every point; see :func:`squeeze_p0`).
+    blocks once instead of every point; see :func:`squeeze_p0`). Every plugin call runs under
+    ``[solver] plugin_time_limit`` when the scene sets one (:mod:`xpersson.plugins._limits`).
     """
+    with plugins.time_limit(rs.plugin_time_limit):
+        return _run(rs, squeeze)
+
+
+def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
     from .. import engine
 
     who = rs.labels  # plugin labels and provenance were captured when the scene was resolved

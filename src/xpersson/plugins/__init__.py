@@ -23,6 +23,7 @@ from ._base import (
     check_plugin_class,
 )
 from ._groups import ENTRY_POINT_PREFIX, GROUP_NAMES, PLUGIN_GROUPS
+from ._limits import PluginTimeout, current_limit, limited, time_limit
 from ._registry import (
     PluginError,
     PluginInfo,
@@ -57,17 +58,21 @@ __all__ = [
     "Plugin",
     "PluginError",
     "PluginInfo",
+    "PluginTimeout",
     "Registry",
     "SceneContext",
     "SpecError",
     "Spectrum",
     "VarSpec",
     "check_plugin_class",
+    "current_limit",
     "get_registry",
+    "limited",
     "normalize_group",
     "plan_analyses",
     "plugin_provenance",
     "set_registry",
+    "time_limit",
     "using_registry",
 ]
 

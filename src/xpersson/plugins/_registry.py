@@ -23,6 +23,7 @@ from importlib.metadata import EntryPoint, entry_points
 from typing import Any
 
 from ._groups import ENTRY_POINT_PREFIX, GROUP_NAMES, PLUGIN_GROUPS
+from ._limits import PluginTimeout, limited
 
 __all__ = [
     "AUTOLOAD_ENV",
@@ -301,14 +302,15 @@ class Registry:
             f"{group} plugin must be a name or a plugin class, got {type(name_or_class).__name__}"
         )
 
-    def check(self, group: str | None = None) -> list[PluginInfo]:
+    def check(self, group: str | None = None, time_limit: float | None = None) -> list[PluginInfo]:
         """Import every discovered plugin (optionally of one group) and return all infos.
 
-        Broken plugins are not raised; their :attr:`PluginInfo.status` says why.
+        Broken plugins are not raised; their :attr:`PluginInfo.status` says why. An import
+        running longer than ``time_limit`` [s] is interrupted and reported broken (:mod:`._limits`).
         """
         out = []
         for info in list(self.infos(group)):
-            with contextlib.suppress(PluginError):
+            with contextlib.suppress(PluginError, PluginTimeout), limited(time_limit):
                 self.load(info.group, info.qualified if info.dist != DIRECT else info.name)
             out.append(info)
         return out

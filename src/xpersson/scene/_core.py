@@ -133,6 +133,14 @@ CORE: dict[str, dict[str, ParamSpec]] = {
             kind="int",
             description="random seed of the Monte Carlo method 'markov'",
         ),
+        "plugin_time_limit": ParamSpec(
+            "s",
+            default=None,
+            bounds=(0, 1e6),
+            inclusive=(False, True),
+            description="wall-clock limit of each plugin call (none by default); a call "
+            "running longer fails naming the plugin (a sweep marks the point failed)",
+        ),
     },
 }
 PLUGIN_SECTIONS = {s: g for s, g in PLUGIN_GROUPS.items() if s != "analysis"}
@@ -186,6 +194,7 @@ class ResolvedScene:
     solver_options: dict[str, Any] = field(default_factory=dict)
     labels: dict[str, Any] = field(default_factory=dict)
     plugin_records: tuple[tuple[dict[str, Any], str | None], ...] = ()
+    plugin_time_limit: float | None = None
 
     @property
     def E_star(self) -> float:

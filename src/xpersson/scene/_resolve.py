@@ -353,4 +353,5 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         solver_options={k: int(solver[k]) for k in ("walkers", "seed") if solver[k] is not None},
         labels=labels,
         plugin_records=_records(plugins, names, analyses, registry),
+        plugin_time_limit=solver["plugin_time_limit"],
     )

@@ -35,12 +35,13 @@ that differ only in ``material.E`` / ``material.nu`` are solved as one batch of 
 Modules: :mod:`.plan` (expand a scene into a :class:`SweepPlan`), :mod:`.blocks` (cut the grid
 into blocks, solve and stack a block's points), :mod:`.batched` (material sweeps as batches),
 :mod:`.execute` (resolve every point, schedule the blocks: serial, threads, dask), :mod:`.combine`
-(one Dataset from the blocks) and :mod:`.parts` (the folder format: one netCDF part per block
-plus an index).
+(one Dataset from the blocks), :mod:`.parts` (the folder format: one netCDF part per block plus
+an index) and :mod:`.folder` (a run into a folder as a transaction: lock, identity, resume).
 """
 
 from .blocks import POINT_STATUS, Block, BlockResult, blocks_of, run_block, stack
-from .execute import resolve_points, solve_sweep
+from .execute import check_size, resolve_points, solve_sweep
+from .folder import LOCK, Transaction, study_hash
 from .parts import INDEX, finalize, open_parts
 from .plan import SweepParam, SweepPlan, cf_units, expand
 
@@ -51,6 +52,7 @@ __all__ = [
     "cf_units",
     "solve_sweep",
     "resolve_points",
+    "check_size",
     "blocks_of",
     "Block",
     "BlockResult",
@@ -59,5 +61,8 @@ __all__ = [
     "finalize",
     "open_parts",
     "INDEX",
+    "LOCK",
+    "Transaction",
+    "study_hash",
     "POINT_STATUS",
 ]

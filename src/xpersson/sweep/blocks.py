@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..archive import to_netcdf
+from ..archive import file_digest, to_netcdf
 from ..errors import XperssonWarning
 from ..pipeline import run, squeeze_p0
 from .batched import SweepPoints, batched_block, scaled_ok
@@ -32,10 +32,14 @@ __all__ = [
     "run_block",
     "stack",
     "POINT_STATUS",
+    "PART_ATTR",
+    "write_block_part",
 ]
 
 
 POINT_STATUS = {"success": 0, "tolerance_not_met": 1, "failed": 2}
+PART_ATTR = "xpersson_part"
+"""Global attribute of a part: JSON with the run identity and the block's summary."""
 
 
 @dataclass(frozen=True)
@@ -83,6 +87,8 @@ class BlockResult:
     messages: dict[int, str]
     digests: dict[str, list[str | None]] = field(default_factory=dict)
     solver: list[dict[str, Any]] = field(default_factory=list)
+    sha256: str | None = None
+    run: str | None = None
 
 
 def blocks_of(plan: SweepPlan, points_per_block: int, multiple: int = 1) -> list[Block]:
@@ -148,6 +154,7 @@ def run_block(
     part: str | None = None,
     quiet_warnings: bool = True,
     callback: Any = None,
+    part_attrs: dict[str, Any] | None = None,
 ) -> BlockResult:
     """Solve the points of a block and stack them (the task a worker runs).
 
@@ -165,9 +172,11 @@ def run_block(
         Silence :class:`~xpersson.XperssonWarning` per point (statuses are recorded instead).
     callback : callable, optional
         Called with no argument after each point (progress in the serial path).
+    part_attrs : dict, optional
+        The run identity stored in the part (see :func:`write_block_part`).
     """
     if isinstance(points, SweepPoints):
-        fast = _batched(block, points, part, quiet_warnings)
+        fast = _batched(block, points, part, quiet_warnings, part_attrs)
         if fast is not None:
             if callback is not None:
                 for _ in range(block.size):
@@ -199,17 +208,26 @@ def run_block(
     ds = stack(results, block, status.reshape(block.shape))
     if points[0].p0_scalar:  # single-load points: p0 a scalar coordinate, squeezed once here
         ds = squeeze_p0(ds)
-    out = BlockResult(
-        block, ds, None, status.reshape(block.shape), messages, _digests(results, ds, block), solver
-    )
+    present = [None if r is None else set(r.variables) for r in results]
+    digests = _digests(present, ds, block)
+    out = BlockResult(block, ds, None, status.reshape(block.shape), messages, digests, solver)
     if part is not None:
-        to_netcdf(ds, part, overwrite=True)
+        missing = {
+            n: [k for k, p in enumerate(present) if p is not None and n not in p] for n in digests
+        }
+        out.sha256 = write_block_part(
+            ds, part, out, part_attrs, {n: v for n, v in missing.items() if v}
+        )
         out.dataset, out.part = None, part
     return out
 
 
 def _batched(
-    block: Block, points: SweepPoints, part: str | None, quiet_warnings: bool
+    block: Block,
+    points: SweepPoints,
+    part: str | None,
+    quiet_warnings: bool,
+    part_attrs: dict[str, Any] | None = None,
 ) -> BlockResult | None:
     """The block solved as batches of loads (:mod:`.batched`), or ``None`` (point by point)."""
     if not all(scaled_ok(rs) for rs in points.distinct()):
@@ -234,12 +252,46 @@ def _batched(
     if points[0].p0_scalar:
         ds = squeeze_p0(ds)
     out = BlockResult(
-        block, ds, None, status, {}, _digests([template] * block.size, ds, block), solver
+        block,
+        ds,
+        None,
+        status,
+        {},
+        _digests([set(template.variables)] * block.size, ds, block),
+        solver,
     )
     if part is not None:
-        to_netcdf(ds, part, overwrite=True)
+        out.sha256 = write_block_part(ds, part, out, part_attrs)
         out.dataset, out.part = None, part
     return out
+
+
+def write_block_part(
+    ds: xr.Dataset,
+    part: str,
+    result: BlockResult,
+    part_attrs: dict[str, Any] | None,
+    missing: dict[str, list[int]] | None = None,
+) -> str:
+    """Write a block's Dataset as a part carrying its identity and summary; returns its sha256.
+
+    The global attribute :data:`PART_ATTR` holds ``part_attrs`` (the run identity: study hash,
+    run id), the block's number and grid index, the messages of its points that did not
+    succeed, the solver summaries and, per variable, the solved points that lack it: what a
+    resumed run needs to reuse the part without solving it again.
+    """
+    info = {
+        **(part_attrs or {}),
+        "number": result.block.number,
+        "grid_index": list(result.block.grid_index),
+        "messages": {str(k): v for k, v in sorted(result.messages.items())},
+        "solver": result.solver,
+        "missing": missing or {},
+    }
+    ds = ds.copy(deep=False)
+    ds.attrs = {**ds.attrs, PART_ATTR: json.dumps(info, sort_keys=True)}
+    to_netcdf(ds, part, overwrite=True)
+    return file_digest(part)
 
 
 def _own_names(template: xr.Dataset, block: Block) -> list[str]:
@@ -356,10 +408,10 @@ def _fill(var: xr.DataArray) -> np.ndarray:
     return np.full(var.shape, fill, dtype=var.dtype)
 
 
-def _digests(
-    results: list[xr.Dataset | None], ds: xr.Dataset, block: Block
-) -> dict[str, list[Any]]:
+def _digests(present: list[set[Any] | None], ds: xr.Dataset, block: Block) -> dict[str, list[Any]]:
     """Per point fingerprints of every stacked variable (``None`` for a failed point).
+
+    ``present`` holds, per point, the names of its variables (``None``: the point failed).
 
     Taken from the stacked block (the block's sweep dimensions lead every stacked variable),
     so a point's fingerprint is that of the values the combined Dataset holds for it. Numeric
@@ -367,10 +419,6 @@ def _digests(
     """
     out: dict[str, list[Any]] = {}
     n = block.size
-    names: dict[int, set[str]] = {}  # the variables of each point Dataset, asked once
-    for r in results:
-        if r is not None and id(r) not in names:
-            names[id(r)] = set(r.variables)
     for name, var in ds.variables.items():
         if name in block.coords or name == "point_status" or name in ds.indexes:
             continue
@@ -379,8 +427,8 @@ def _digests(
         arr = np.asarray(var.values)
         digests = _row_digests(arr.reshape((n,) + arr.shape[len(block.dims) :]))
         out[name] = [
-            None if r is None else digests[k] if name in names[id(r)] else "missing"
-            for k, r in enumerate(results)
+            None if p is None else digests[k] if name in p else "missing"
+            for k, p in enumerate(present)
         ]
     return out
 
@@ -416,4 +464,6 @@ def _row_digests(rows: np.ndarray) -> list[Any]:
 def _digest(arr: np.ndarray) -> str:
     if arr.dtype.kind == "O":
         return hashlib.sha1(repr(arr.tolist()).encode()).hexdigest()
+    if arr.dtype.kind in "fc":  # one NaN pattern: a NaN read back from a file equals its source
+        arr = np.where(np.isnan(arr), np.nan, arr)
     return hashlib.sha1(np.ascontiguousarray(arr).tobytes() + str(arr.shape).encode()).hexdigest()

@@ -15,8 +15,8 @@ import numpy as np
 import xarray as xr
 
 from ..scene import SceneError
-from .blocks import POINT_STATUS, BlockResult, stack
-from .parts import finalize, open_parts, part_name, read_part, write_index, write_part
+from .blocks import PART_ATTR, POINT_STATUS, BlockResult, stack, write_block_part
+from .parts import finalize, open_parts, part_name, read_part
 from .plan import SweepPlan
 
 __all__ = ["finish", "combine"]
@@ -26,10 +26,11 @@ def finish(
     plan: SweepPlan,
     points: list[Any],
     results: list[BlockResult],
-    folder: Path | None,
+    txn: Any = None,
 ) -> xr.Dataset:
-    """Combine the blocks' results into the sweep's Dataset (written as parts to ``folder``
-    and opened lazily from there, when given)."""
+    """Combine the blocks' results into the sweep's Dataset (written as parts to the folder of
+    the :class:`~.folder.Transaction` ``txn`` and opened lazily from there, when given)."""
+    folder: Path | None = None if txn is None else txn.folder
     status, messages = _point_messages(plan, results)
     ok = [r for r in results if r.dataset is not None or r.part is not None]
     if not ok:
@@ -48,20 +49,13 @@ def finish(
             ds = stack(empty, res.block, res.status, template=template)
             if folder is not None:
                 res.part = str(folder / part_name(res.block.number))
-                write_part(ds, res.part)
+                res.sha256 = write_block_part(ds, res.part, res, txn.part_attrs())
             else:
                 res.dataset = ds
     constant = _constant_dims(plan, results)
     attrs = _global_attrs(plan, points, results, status, messages, template)
     if folder is not None:
-        write_index(
-            folder,
-            plan.dims,
-            plan.shape,
-            [(r.block.grid_index, r.part) for r in results],
-            constant,
-            attrs,
-        )
+        txn.complete(plan, results, {"constant": constant, "attrs": attrs})
         return open_parts(folder)
     ds = _combine_in_memory(plan, results)
     if ds is None:
@@ -96,7 +90,9 @@ def _template(res: BlockResult) -> xr.Dataset:
     point, dropping the sweep dimensions, their coordinates and ``point_status``)."""
     if res.dataset is not None:
         return res.dataset
-    return read_part(res.part)
+    ds = read_part(res.part)
+    ds.attrs.pop(PART_ATTR, None)
+    return ds
 
 
 def _status_name(code: int) -> str:

@@ -16,23 +16,24 @@ import math
 import os
 import warnings
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
 from ..errors import XperssonWarning
+from ..memory import check_study
 from ..pipeline import default_pressure_grid, progress_bar
 from ..plugins import get_registry
 from ..scene import SceneError
 from .batched import SweepPoints, batch_capable, material_dims, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
 from .combine import finish
+from .folder import Transaction
 from .parts import part_name
 from .plan import SweepPlan
 
-__all__ = ["solve_sweep", "resolve_points"]
+__all__ = ["solve_sweep", "resolve_points", "check_size"]
 
 
 def _resolve_index(plan: SweepPlan, index: tuple[int, ...], registry: Any) -> Any:
@@ -169,48 +170,105 @@ def solve_sweep(
     output: str | os.PathLike[str] | None = None,
     chunk: int | None = None,
     workers: int | None = None,
+    resume: bool | None = None,
+    overwrite: bool = False,
 ) -> xr.Dataset:
-    """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`)."""
+    """Solve every point of ``plan`` and return one Dataset (see :func:`xpersson.solve`).
+
+    With ``output`` the run is a transaction on that folder (:mod:`.folder`): locked, resumed
+    when the folder holds the same study (``resume``), refused when it holds another one
+    unless ``overwrite``.
+    """
     _check_scheduler(scheduler)
     if scheduler == "processes" and _too_small_for_a_cluster(plan, registry):
         scheduler = None
     distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
+    check_size(plan, registry, scheduler, chunk, workers, output is None)
     points = None if distributed else resolve_points(plan, registry)
     client, own_cluster, n_workers = _client(scheduler, workers)
+    txn = None
     try:
-        blocks = blocks_of(
-            plan,
-            _points_per_block(plan, n_workers, chunk),
-            multiple=n_workers if chunk is None else 1,
-        )
-        parts = {b.number: None for b in blocks}
+        layout = {
+            "points_per_block": _points_per_block(plan, n_workers, chunk),
+            "multiple": n_workers if chunk is None else 1,
+        }
+        if output is not None:
+            txn = Transaction.begin(output, plan, layout, resume=resume, overwrite=overwrite)
+            layout = txn.layout
+        blocks = blocks_of(plan, layout["points_per_block"], multiple=layout["multiple"])
+        done = {} if txn is None else txn.reusable(blocks)
+        if txn is not None and txn.damaged:
+            warnings.warn(
+                f"{len(txn.damaged)} damaged part(s) solved again; first: {txn.damaged[0]}",
+                XperssonWarning,
+                stacklevel=3,
+            )
+        parts = {
+            b.number: (None if txn is None else str(txn.folder / part_name(b.number)))
+            for b in blocks
+        }
         tasks: list[tuple[Block, Any, str | None]]
         if points is None:  # resolved (and checked) on the workers, before any solving
             first, tasks = _resolve_on_workers(plan, registry, client, blocks, parts)
             points = [first]
-        folder = None
-        if output is not None:
-            folder = Path(output)
-            folder.mkdir(parents=True, exist_ok=True)
-        parts = {
-            b.number: (None if folder is None else str(folder / part_name(b.number)))
-            for b in blocks
-        }
-        if not distributed:
-            tasks = [(b, block_points(plan, points, b), parts[b.number]) for b in blocks]
         else:
-            tasks = [(b, pts, parts[b.number]) for b, pts, _ in tasks]
-        bar = progress_bar(plan.size, progress, "xpersson sweep")
-        try:
-            results = _execute(tasks, registry, scheduler, client, bar, n_workers)
-        finally:
-            if bar is not None:
-                bar.close()
+            tasks = [(b, block_points(plan, points, b), parts[b.number]) for b in blocks]
+        tasks = [t for t in tasks if t[0].number not in done]
+        results = _run_tasks(plan, tasks, registry, scheduler, client, n_workers, progress, txn)
+        results = sorted([*results, *done.values()], key=lambda r: r.block.number)
+        return finish(plan, points, results, txn)
     finally:
+        if txn is not None:
+            txn.release()
         if own_cluster is not None:
             client.close()
             own_cluster.close()
-    return finish(plan, points, results, folder)
+
+
+def check_size(
+    plan: SweepPlan,
+    registry: Any,
+    scheduler: Any,
+    chunk: int | None,
+    workers: int | None,
+    in_memory: bool,
+) -> None:
+    """Refuse (before resolving the points) a study larger than the memory budget, from its
+    first point's loads, magnifications and pressures."""
+    rs = _resolve_index(plan, next(iter(plan.indices())), registry or get_registry())
+    n_workers = 1 if scheduler in (None, "serial", "synchronous", "sync") else workers
+    n_workers = n_workers or os.cpu_count() or 1
+    n_p = (rs.p.size if rs.p is not None else rs.p_points) if rs.pressure_pdf else None
+    check_study(
+        plan.size,
+        rs.p0.size,
+        rs.zeta.size,
+        n_p,
+        block_points=chunk or max(1, math.ceil(plan.size / (4 * n_workers))),
+        workers=n_workers,
+        in_memory=in_memory,
+    )
+
+
+def _run_tasks(
+    plan: SweepPlan,
+    tasks: list[tuple[Block, Any, str | None]],
+    registry: Any,
+    scheduler: Any,
+    client: Any,
+    n_workers: int,
+    progress: bool | None,
+    txn: Any,
+) -> list[BlockResult]:
+    bar = progress_bar(plan.size, progress, "xpersson sweep")
+    if bar is not None:
+        bar.update(plan.size - sum(b.size for b, _, _ in tasks))  # reused parts
+    attrs = None if txn is None else txn.part_attrs()
+    try:
+        return _execute(tasks, registry, scheduler, client, bar, n_workers, attrs)
+    finally:
+        if bar is not None:
+            bar.close()
 
 
 #: What ``scheduler="processes"`` costs before the first point is solved [s]: starting a
@@ -310,12 +368,13 @@ def _execute(
     client: Any,
     bar: Any,
     n_workers: int = 1,
+    attrs: dict[str, Any] | None = None,
 ) -> list[BlockResult]:
     tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
     if client is None and scheduler != "threads":
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return [run_block(b, pts, registry, part, True, tick) for b, pts, part in tasks]
+            return [run_block(b, pts, registry, part, True, tick, attrs) for b, pts, part in tasks]
     if client is None:
         from concurrent.futures import ThreadPoolExecutor
 
@@ -323,7 +382,7 @@ def _execute(
             warnings.simplefilter("ignore")
             with ThreadPoolExecutor(max_workers=max(1, n_workers)) as pool:
                 futures = [
-                    pool.submit(run_block, b, pts, registry, part, False, tick)
+                    pool.submit(run_block, b, pts, registry, part, False, tick, attrs)
                     for b, pts, part in tasks
                 ]
                 return [f.result() for f in futures]
@@ -338,6 +397,7 @@ def _execute(
             part,
             True,
             None,
+            attrs,
             pure=False,
             key=f"xpersson-block-{b.number}-{os.getpid()}-{id(tasks)}",
         )

@@ -1,16 +1,33 @@
 """The parts format of a sweep written to a folder: one netCDF file per block plus an index.
 
 ``part-NNNNN.nc`` holds the stacked Dataset of block ``NNNNN`` (see :mod:`.blocks`);
-``xpersson_index.json`` names the parts, their place on the block grid, the variables that do
-not depend on some sweep dimensions and the global attributes of the sweep. :func:`open_parts`
-opens the folder lazily as the Dataset an in-memory sweep returns (:func:`finalize` is the
-last step of both).
+``xpersson_index.json`` (format ``xpersson-parts-2``) holds:
+
+- ``state``: ``"running"`` from the moment a run starts (the index is invalidated first) until
+  the run completes, then ``"complete"``;
+- ``study`` (the scene's hash, see :mod:`.folder`), ``run`` (the id of the run that wrote the
+  index) and ``layout`` (how the grid is cut into blocks: a resumed run cuts it the same way);
+- ``dims``, ``shape``, ``coords`` (the values of every sweep coordinate);
+- ``parts``: per block its number, grid index, index range, file name, the run that wrote it
+  and the sha256 of the file;
+- ``constant`` (the variables that do not depend on some sweep dimensions), ``scene_sha256``
+  (of the scene stored in ``attrs``) and ``attrs`` (the sweep's global attributes);
+- ``sha256``: of all the above (canonical JSON), verified on every read.
+
+Every part carries the study hash, its run id and its block number in its ``xpersson_part``
+attribute. :func:`open_parts` trusts nothing: the index's sizes and names are checked before
+anything is allocated or opened (part names are confined to the folder), every part's bytes
+against the index's sha256 and every part's identity and coordinates against the index; any
+mismatch is an :class:`~xpersson.errors.ArchiveError` naming the part.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
+import math
 import os
+import re
 import warnings
 from pathlib import Path
 from typing import Any
@@ -18,14 +35,19 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..archive import ENGINE, decode, read, to_netcdf
-from .blocks import POINT_STATUS
+from ..archive import ENGINE, decode, file_digest, read, to_netcdf
+from ..errors import ArchiveError
+from .blocks import PART_ATTR, POINT_STATUS
 
 __all__ = ["INDEX", "FORMAT", "part_name", "write_part", "read_part", "write_index", "finalize"]
-__all__ += ["open_parts"]
+__all__ += ["open_parts", "load_index", "read_index_file", "PART_NAME", "seal_index"]
 
 INDEX = "xpersson_index.json"
-FORMAT = "xpersson-parts-1"
+FORMAT = "xpersson-parts-2"
+PART_NAME = re.compile(r"part-[0-9]{5,9}\.nc")
+"""What a part may be called: a plain file name inside the folder."""
+MAX_INDEX_BYTES = 256 * 2**20
+"""Largest index read [bytes] (a crafted index cannot request more)."""
 
 
 def part_name(number: int) -> str:
@@ -39,34 +61,141 @@ def write_part(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
 
 
 def read_part(path: str | os.PathLike[str]) -> xr.Dataset:
-    """One part, loaded into memory and decoded."""
+    """One part, loaded into memory, verified (checksums) and decoded."""
     return read(path)
 
 
-def write_index(
-    folder: Path,
-    dims: tuple[str, ...],
-    shape: tuple[int, ...],
-    parts: list[tuple[tuple[int, ...], str]],
-    constant: dict[str, list[str]],
-    attrs: dict[str, Any],
-) -> None:
-    """Write the folder's index in one atomic step.
-
-    ``parts`` lists (block grid index, part path) pairs; ``constant`` maps a variable to the
-    sweep dimensions along which it never changes; ``attrs`` are the sweep's global attributes.
-    """
-    index = {
-        "format": FORMAT,
-        "dims": list(dims),
-        "shape": list(shape),
-        "parts": [[list(grid_index), Path(part).name] for grid_index, part in parts],
-        "constant": constant,
-        "attrs": attrs,
-    }
-    tmp = folder / f".{INDEX}.tmp"
-    tmp.write_text(json.dumps(index, indent=1), encoding="utf-8")
+def write_index(folder: Path, index: dict[str, Any]) -> None:
+    """Write the folder's index in one atomic step (temporary file, fsync, rename)."""
+    index = {"format": FORMAT, **index}
+    index.pop("sha256", None)
+    if "attrs" in index:
+        index["scene_sha256"] = _scene_sha(index["attrs"])
+    index["sha256"] = _index_sha(index)
+    tmp = folder / f".{INDEX}.{os.getpid()}.tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write(json.dumps(index, indent=1))
+        f.flush()
+        os.fsync(f.fileno())
     os.replace(tmp, folder / INDEX)
+
+
+def seal_index(index: dict[str, Any]) -> dict[str, Any]:
+    """``index`` with its ``sha256`` recomputed (for tools and tests that edit an index)."""
+    index = {k: v for k, v in index.items() if k != "sha256"}
+    return {**index, "sha256": _index_sha(index)}
+
+
+def _index_sha(index: dict[str, Any]) -> str:
+    body = {k: v for k, v in index.items() if k != "sha256"}
+    return hashlib.sha256(json.dumps(body, sort_keys=True).encode()).hexdigest()
+
+
+def _scene_sha(attrs: dict[str, Any]) -> str:
+    return hashlib.sha256(str(attrs.get("xpersson_scene", "")).encode()).hexdigest()
+
+
+def read_index_file(folder: Path) -> dict[str, Any]:
+    """The folder's index as JSON (size-checked), or an :class:`ArchiveError` naming it."""
+    path = folder / INDEX
+    try:
+        size = path.stat().st_size
+    except FileNotFoundError:
+        raise FileNotFoundError(f"{folder} is not a sweep folder (no {INDEX})") from None
+    if size > MAX_INDEX_BYTES:
+        raise ArchiveError(f"{path}: {size} bytes, more than an index may hold ({MAX_INDEX_BYTES})")
+    try:
+        index = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise ArchiveError(f"{path}: not a readable sweep index ({type(exc).__name__})") from None
+    if not isinstance(index, dict):
+        raise ArchiveError(f"{path}: not a sweep index (a JSON object expected)")
+    if index.get("format") != FORMAT:
+        raise ArchiveError(
+            f"{path}: format {str(index.get('format'))[:40]!r} is not {FORMAT!r} (written by "
+            "another program or an older xpersson; solve the study again into a new folder)"
+        )
+    if index.get("sha256") != _index_sha(index):
+        raise ArchiveError(f"{path}: the index fails its checksum (changed after writing)")
+    return index
+
+
+def _ints(value: Any, n: int | None, what: str, path: Path) -> list[int]:
+    ok = isinstance(value, list) and all(type(v) is int and v >= 0 for v in value)
+    if not ok or (n is not None and len(value) != n):
+        raise ArchiveError(f"{path}: {what} must be a list of {n or ''} non-negative integers")
+    return value
+
+
+def load_index(folder: Path) -> dict[str, Any]:
+    """Read and check a complete index: types, sizes and names before any allocation."""
+    index = read_index_file(folder)
+    path = folder / INDEX
+    if index.get("state") != "complete":
+        raise ArchiveError(
+            f"{folder}: the sweep in this folder is incomplete (interrupted or still running); "
+            "solve the same study into it again to resume it"
+        )
+    dims = index.get("dims")
+    if not (isinstance(dims, list) and dims and all(isinstance(d, str) for d in dims)):
+        raise ArchiveError(f"{path}: dims must be a non-empty list of names")
+    shape = _ints(index.get("shape"), len(dims), "shape", path)
+    parts = index.get("parts")
+    if not isinstance(parts, list) or not parts:
+        raise ArchiveError(f"{path}: parts must be a non-empty list")
+    if any(s < 1 for s in shape) or math.prod(shape) < len(parts):
+        raise ArchiveError(f"{path}: shape {shape} cannot hold {len(parts)} parts")
+    seen: set[tuple[int, ...]] = set()
+    for entry in parts:
+        _check_entry(entry, dims, shape, path)
+        seen.add(tuple(entry["grid_index"]))
+    counts = [max(g[d] for g in seen) + 1 for d in range(len(dims))]
+    if len(seen) != len(parts) or math.prod(counts) != len(parts):
+        raise ArchiveError(f"{path}: the parts do not tile the block grid {counts} exactly once")
+    if not isinstance(index.get("constant"), dict) or not isinstance(index.get("attrs"), dict):
+        raise ArchiveError(f"{path}: constant and attrs must be JSON objects")
+    for name, along in index["constant"].items():
+        if not (isinstance(along, list) and all(d in dims for d in along)):
+            raise ArchiveError(f"{path}: constant[{str(name)[:40]!r}] must list sweep dims")
+    if index.get("scene_sha256") != _scene_sha(index["attrs"]):
+        raise ArchiveError(f"{path}: the stored scene does not match the index (scene_sha256)")
+    _check_coords(index.get("coords"), dims, shape, path)
+    return index
+
+
+def _check_coords(coords: Any, dims: list[str], shape: list[int], path: Path) -> None:
+    if not isinstance(coords, dict):
+        raise ArchiveError(f"{path}: coords must be a JSON object")
+    for name, value in coords.items():
+        ok = isinstance(value, list) and len(value) == 2 and value[0] in dims
+        if ok:
+            values = value[1]
+            ok = (
+                isinstance(values, list)
+                and len(values) == shape[dims.index(value[0])]
+                and all(type(v) in (int, float) for v in values)
+            )
+        if not ok:
+            raise ArchiveError(f"{path}: coordinate {str(name)[:40]!r} is malformed")
+
+
+def _check_entry(entry: Any, dims: list[str], shape: list[int], path: Path) -> None:
+    if not isinstance(entry, dict):
+        raise ArchiveError(f"{path}: each part must be a JSON object")
+    name = entry.get("name")
+    if not isinstance(name, str) or not PART_NAME.fullmatch(name):
+        raise ArchiveError(
+            f"{path}: part name {str(name)[:80]!r} is not allowed (part-NNNNN.nc inside the folder)"
+        )
+    n = len(dims)
+    _ints(entry.get("grid_index"), n, f"{name}: grid_index", path)
+    start = _ints(entry.get("start"), n, f"{name}: start", path)
+    stop = _ints(entry.get("stop"), n, f"{name}: stop", path)
+    if any(not (a < b <= s) for a, b, s in zip(start, stop, shape, strict=True)):
+        raise ArchiveError(f"{path}: {name}: range {start}..{stop} outside the shape {shape}")
+    for key in ("run", "sha256"):
+        if not isinstance(entry.get(key), str):
+            raise ArchiveError(f"{path}: {name}: {key} missing")
 
 
 def finalize(ds: xr.Dataset, constant: dict[str, list[str]], attrs: dict[str, Any]) -> xr.Dataset:
@@ -102,27 +231,75 @@ def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:
 
     The folder's index (``xpersson_index.json``) names the parts, their place on the sweep
     grid, the variables that do not depend on some sweep dimensions and the global attributes.
+    Every part is verified first (see the module's docstring).
+
+    Raises
+    ------
+    ArchiveError
+        The index is malformed or incomplete, or a part is missing, damaged or does not belong
+        to the index; the message names the part.
     """
     folder = Path(folder)
-    index_file = folder / INDEX
-    if not index_file.is_file():
-        raise FileNotFoundError(f"{folder} is not a sweep folder (no {INDEX})")
-    index = json.loads(index_file.read_text(encoding="utf-8"))
+    index = load_index(folder)
+    entries = {e["name"]: e for e in index["parts"]}
+    for name, entry in entries.items():
+        _verify_bytes(folder / name, entry)
     dims = index["dims"]
-    counts = [max(g[d] for g, _ in index["parts"]) + 1 for d in range(len(dims))]
+    counts = [max(e["grid_index"][d] for e in entries.values()) + 1 for d in range(len(dims))]
     nested = np.empty(counts, dtype=object)
-    for grid_index, name in index["parts"]:
-        nested[tuple(grid_index)] = str(folder / name)
-    ds = xr.open_mfdataset(
-        nested.tolist(),
-        combine="nested",
-        concat_dim=dims,
-        engine=ENGINE,
-        chunks={},
-        data_vars="minimal",
-        coords="minimal",
-        join="outer",
-        compat="override",
-        combine_attrs="override",
-    )
+    for name, entry in entries.items():
+        nested[tuple(entry["grid_index"])] = str(folder / name)
+
+    def check(ds: xr.Dataset) -> xr.Dataset:
+        name = Path(ds.encoding["source"]).name
+        return _check_part(ds, folder / name, entries[name], index)
+
+    try:
+        ds = xr.open_mfdataset(
+            nested.tolist(),
+            combine="nested",
+            concat_dim=dims,
+            engine=ENGINE,
+            chunks={},
+            data_vars="minimal",
+            coords="minimal",
+            join="outer",
+            compat="override",
+            combine_attrs="override",
+            preprocess=check,
+        )
+    except ArchiveError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - verified bytes that still do not combine
+        raise ArchiveError(f"{folder}: the parts do not combine ({type(exc).__name__})") from None
     return finalize(decode(ds), index["constant"], index["attrs"])
+
+
+def _verify_bytes(path: Path, entry: dict[str, Any]) -> None:
+    if not path.is_file():
+        raise ArchiveError(f"{path}: part missing (the index lists it)")
+    if file_digest(path) == entry["sha256"]:
+        return
+    read(path)  # names the damaged variable when it can
+    raise ArchiveError(f"{path}: part differs from the checksum its index holds (damaged)")
+
+
+def _check_part(ds: xr.Dataset, path: Path, entry: dict[str, Any], index: dict[str, Any]) -> Any:
+    try:
+        info = json.loads(ds.attrs.get(PART_ATTR, "{}"))
+    except ValueError:
+        info = {}
+    for key, want in (
+        ("study", index.get("study")),
+        ("run", entry["run"]),
+        ("grid_index", entry["grid_index"]),
+    ):
+        if info.get(key) != want:
+            raise ArchiveError(f"{path}: part does not belong to this index ({key} differs)")
+    coords = index.get("coords") or {}
+    for name, (dim, values) in coords.items():
+        d = index["dims"].index(dim)
+        want = np.asarray(values)[entry["start"][d] : entry["stop"][d]]
+        if name not in ds.variables or not np.array_equal(ds[name].values, want):
+            raise ArchiveError(f"{path}: coordinate {name!r} differs from the index")
+    return ds

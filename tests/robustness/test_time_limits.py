@@ -1,0 +1,138 @@
+"""Plugin time limits (issue 24): a plugin call running longer than ``[solver]
+plugin_time_limit`` fails naming the plugin (a sweep marks the point failed and completes the
+rest), in the main thread (SIGALRM) and in worker threads (an exception injected into the
+thread); a plugin import running longer than the limit of ``plugins list --check`` is reported
+as broken."""
+
+from __future__ import annotations
+
+import json
+import sys
+import threading
+import time
+import types
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import xpersson
+from xpersson.plugins import Analysis, PluginTimeout, Registry, VarSpec, limited, time_limit
+from xpersson.testing import registry_with
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "sweep"))
+from xpersson_sweep_testlib import scene  # noqa: E402
+
+PZ = ("p0", "zeta")
+
+
+def _hang(self, ctx, ds):
+    if float(ctx.E) > 15e6:  # hangs only at the stiffest material of a sweep
+        while True:
+            pass
+    return {"extra": (PZ, ds["area_fraction"].transpose(*PZ).values.copy())}
+
+
+def _sleepy(self, ctx, ds):
+    time.sleep(3600)
+
+
+Hanging = type(
+    "Hanging",
+    (Analysis,),
+    {
+        "summary": "an analysis that never returns for E > 15 MPa",
+        "requires": ("area_fraction",),
+        "provides": ("extra",),
+        "outputs": {"extra": VarSpec(PZ, "1", "copy of the area fraction")},
+        "compute": _hang,
+    },
+)
+Sleepy = type("Sleepy", (Hanging,), {"compute": _sleepy})
+
+
+def _scene(limit: str | None, e: object = "20 MPa", name: str = "hanging") -> dict:
+    sc = scene(material={"E": e}, output={"zeta_per_decade": 2}, analyses={name: {}})
+    if limit is not None:
+        sc["solver"] = {"plugin_time_limit": limit}
+    return sc
+
+
+@pytest.mark.parametrize("name", ["hanging", "sleepy"])
+def test_a_hanging_plugin_call_fails_naming_the_plugin(name):
+    with registry_with(analyses={"hanging": Hanging, "sleepy": Sleepy}):
+        t0 = time.perf_counter()
+        with pytest.raises(xpersson.PluginFailure, match="exceeded the time limit") as info:
+            xpersson.solve(_scene("0.3 s", name=name))
+        assert time.perf_counter() - t0 < 10
+    assert f"analysis plugin {name!r}" in str(info.value) and "compute()" in str(info.value)
+    assert isinstance(info.value, TimeoutError)
+    assert threading.active_count() < 20
+
+
+@pytest.mark.parametrize("scheduler", [None, "threads"])
+def test_a_sweep_marks_the_hanging_point_failed_and_completes_the_rest(scheduler):
+    with registry_with(analyses={"hanging": Hanging}):
+        ds = xpersson.solve(
+            _scene("0.5 s", e=["5 MPa", "10 MPa", "20 MPa"]), scheduler=scheduler, workers=2
+        )
+        one = xpersson.solve(_scene(None, e="10 MPa"))
+    assert ds["point_status"].values.tolist() == [0, 0, 2]
+    msgs = json.loads(ds.attrs["xpersson_point_messages"])
+    assert "analysis plugin 'hanging'" in msgs[0]["message"]
+    assert "exceeded the time limit of 0.5 s" in msgs[0]["message"]
+    np.testing.assert_array_equal(ds["extra"].sel(E=10e6).values, one["extra"].values)
+
+
+def test_the_limit_must_be_a_positive_time():
+    with registry_with(analyses={"hanging": Hanging}):
+        for bad in ("-1 s", "0 s", "1 m"):
+            with pytest.raises(xpersson.SceneError, match="solver.plugin_time_limit"):
+                xpersson.solve(_scene(bad))
+
+
+def test_no_limit_arms_nothing_and_a_fast_call_is_untouched():
+    with time_limit(None), limited():
+        assert threading.active_count() >= 1
+    with time_limit(5.0), limited():
+        x = sum(range(1000))
+    assert x == 499500
+    time.sleep(0.05)  # nothing fires later
+
+
+def test_a_hanging_import_is_reported_broken_within_the_limit(monkeypatch, tmp_path):
+    module = tmp_path / "xpersson_hanging_import.py"
+    module.write_text("while True:\n    pass\n", encoding="utf-8")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    ep = types.SimpleNamespace(
+        name="hang", value="xpersson_hanging_import:Cls", group="xpersson.analyses", dist=None
+    )
+    from xpersson.plugins import _registry
+
+    monkeypatch.setattr(
+        _registry, "_entry_points", lambda group: [ep] if group == "xpersson.analyses" else []
+    )
+    reg = Registry()
+    t0 = time.perf_counter()
+    infos = reg.check("analysis", time_limit=0.5)
+    assert time.perf_counter() - t0 < 10
+    (info,) = [i for i in infos if i.name == "hang"]
+    assert "exceeded the time limit of 0.5 s" in (info.error or "")
+    assert "xpersson_hanging_import" not in sys.modules
+
+
+def test_limits_in_threads_interrupt_a_python_loop():
+    out = {}
+
+    def work():
+        try:
+            with limited(0.3):
+                while True:
+                    pass
+        except PluginTimeout:
+            out["ok"] = True
+
+    t = threading.Thread(target=work)
+    t.start()
+    t.join(10)
+    assert out == {"ok": True} and not t.is_alive()
