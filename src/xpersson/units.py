@@ -143,6 +143,7 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
     if isinstance(value, bool):
         raise UnitError(f"{where}: expected a quantity in {unit}, got a boolean")
     if isinstance(value, str) and not array:
+        check_expression(value.strip(), where)  # the bounds hold for the fast path too
         try:  # sweeps resolve the same strings at every point: parse each once
             return _str_to_si(value, unit)
         except UnitError:
