@@ -109,6 +109,7 @@ class AdhesiveBoundary(Boundary):
             "1",
             "expected accuracy: worst factor on A(w)/A(0) against the BEM in this regime",
             description="from docs/adhesion_bem.md; NaN where the regime was not verified",
+            nan_meaning="regime not verified against the BEM",
         ),
         "pull_off_stress": VarSpec(
             (),
@@ -143,33 +144,39 @@ class AdhesiveBoundary(Boundary):
     def __getstate__(self) -> dict[str, Any]:
         state = dict(self.__dict__)
         state["_tables"] = {}
-        state.pop("_clock", None)
         return state
 
     # -- the mean field ----------------------------------------------------------------------
-    def table(self, ctx: SceneContext, clock: DiffusionClock) -> MeanField | None:
-        """The scene's ``p_att(p_rep)`` table (None without adhesion); cached per clock."""
+    def table(self, ctx: SceneContext) -> MeanField | None:
+        """The scene's ``p_att(p_rep)`` table (None without adhesion), built once per scene.
+
+        The area curve is Persson's elastic one, ``erf(p_rep / (2 sqrt(tau)))`` with the
+        diffusion time of the spectrum (:func:`xpersson.physics.diffusion_time`).
+        """
+        from xpersson.physics import diffusion_time
+
         p = self._params
         if p["work_of_adhesion"] == 0.0:
             return None
-        key = id(clock)
+        zeta = np.asarray(ctx.zeta, dtype=float)
+        law, work, rng = p["law"], p["work_of_adhesion"], p["range"]
+        p_hi = p_hi_of(ctx.p0, law, work, rng)
+        psd = ctx.psd
+        key = (id(psd), float(psd.q_L), float(psd.I3(psd.q_1)), ctx.E_star, zeta[-1], p_hi)
         if key not in self._tables:
-            z = _curve_grid(np.asarray(ctx.zeta, dtype=float), per_decade=8)
-            tau = np.asarray(clock.tau_of_zeta(z), dtype=float)
+            z = _curve_grid(zeta, per_decade=8)
+            tau = np.asarray(diffusion_time(ctx.psd, ctx.E_star, z), dtype=float)
             z, tau = _increasing(z, tau)
-            law, work, rng = p["law"], p["work_of_adhesion"], p["range"]
 
             def evaluate(prep: np.ndarray) -> np.ndarray:
                 return attraction_curve(ctx.psd, ctx.E_star, z, tau, law, work, rng, prep)
 
-            p_hi = p_hi_of(ctx.p0, law, work, rng)
             self._tables = {key: MeanField(evaluate, math.sqrt(tau[-1]), p_hi)}
-            self._clock = clock
         return self._tables[key]
 
-    def p_att(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> float:
+    def p_att(self, ctx: SceneContext, p0: float) -> float:
         """``p_att`` [Pa] of load ``p0`` [Pa]; a clear error beyond pull-off."""
-        mf = self.table(ctx, clock)
+        mf = self.table(ctx)
         if mf is None:
             if p0 <= 0:
                 raise ValueError(
@@ -188,28 +195,25 @@ class AdhesiveBoundary(Boundary):
 
     # -- the plugin interface ----------------------------------------------------------------
     def validate(self, ctx: SceneContext) -> None:
-        """Nothing beyond the parameter checks (loads are checked against the pull-off)."""
+        """Every load against the pull-off (before any solve): builds the scene's table."""
+        for p0 in np.asarray(ctx.p0, dtype=float):
+            self.p_att(ctx, float(p0))
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """Absorbing wall at ``-p_att`` [Pa]: the elastic contact at ``p_rep`` shifted."""
         from xpersson.engine import Wall
 
-        return Wall.absorbing(-self.p_att(ctx, p0, clock)), None
+        return Wall.absorbing(-self.p_att(ctx, p0)), None
 
     def interpret(
         self, ctx: SceneContext, results: list[EngineResult]
     ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
         """p_rep, p_att, regime, expected accuracy, pull-off, Tabor parameter."""
         p = self._params
-        clock = getattr(self, "_clock", None)
         p0 = np.asarray(ctx.p0, dtype=float)
-        if clock is None:
-            att = np.zeros_like(p0)
-            pull, k0 = 0.0, 0.0
-        else:
-            att = np.array([self.p_att(ctx, float(x), clock) for x in p0])
-            mf = self.table(ctx, clock)
-            pull, k0 = (mf.pull_off(), mf.small_load_ratio) if mf is not None else (0.0, 0.0)
+        att = np.array([self.p_att(ctx, float(x)) for x in p0])
+        mf = self.table(ctx)
+        pull, k0 = (mf.pull_off(), mf.small_load_ratio) if mf is not None else (0.0, 0.0)
         rep = p0 + att
         ratio = np.where(rep > 0, att / np.where(rep > 0, rep, 1.0), 0.0)
         work = p["work_of_adhesion"]
