@@ -123,8 +123,17 @@ def test_pull_off_bounds_the_tensile_loads(solve):
     assert held["area_fraction"].isel(zeta=-1).values[0] > 0
     with pytest.raises(SceneError, match=r"load.p0 = .* Pa is beyond pull-off.*allowed range"):
         quiet(solve, scene(adhesive(WORKS[1]), [-1.02 * pull]))
-    weak = quiet(solve, scene(adhesive(WORKS[0] / 4), [1e3]))
-    assert float(weak["pull_off_stress"]) == 0.0 and float(weak["small_load_ratio"]) < 1
+    # below the mean field's stickiness: the finite-size floor, the highest summit in DMT
+    # contact (radius 1/kappa_rms) over the nominal area (2 pi/q_L)^2
+    w = WORKS[0] / 4
+    weak = quiet(solve, scene(adhesive(w), [1e3]))
+    assert float(weak["small_load_ratio"]) < 1
+    floor = 2 * math.pi * w / float(PSD.rms_curvature()) * (Q_L / (2 * math.pi)) ** 2
+    assert float(weak["pull_off_stress"]) == pytest.approx(floor, rel=1e-9)
+    held = quiet(solve, scene(adhesive(w), [-0.5 * floor]))
+    assert held["regime"].values[0] == 4 and held["area_fraction"].values[0, -1] > 0
+    with pytest.raises(SceneError, match=r"beyond pull-off"):
+        quiet(solve, scene(adhesive(w), [-1.01 * floor]))
 
 
 def test_area_grows_with_work_and_load(solve):
@@ -146,6 +155,7 @@ def test_regime_and_expected_accuracy(solve):
     np.testing.assert_array_equal(ds["regime"].values, [2.0, 0.0])  # 1 MPa: adhesion negligible
     assert ds["expected_factor"].values[0] == EXPECTED_FACTOR[2]
     assert regime_of(0.1, np.array([0.5]))[0] == 1 and regime_of(10.0, np.array([0.5]))[0] == 3
+    assert regime_of(1.0, np.array([0.5]), np.array([True]))[0] == 4
 
 
 def test_limit_warnings_follow_the_finest_scale_tabor_parameter(solve):

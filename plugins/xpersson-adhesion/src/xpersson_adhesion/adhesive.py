@@ -10,9 +10,14 @@ mean field gives the area enhancement ``A(w)/A(0)`` and the pull-off stress acro
 parameters 0.6-1.6, where Persson's detachment wall (``jkr``) under-predicts the enhancement
 several-fold and declares the interfaces non-sticky.
 
+Below the mean field's stickiness a finite nominal area ``(2 pi/q_L)^2`` still holds its
+highest summit in contact until that summit's own (DMT) pull-off (:class:`._meanfield.Summit`):
+a finite-size floor of the contact area and of the pull-off stress, which vanishes as ``q_L^2``
+for macroscopic nominal areas; loads it carries are flagged (regime 4).
+
 Per load it reports the regime (``regime``) and the accuracy measured in the verification
 (``expected_factor``); per scene the pull-off stress and the small-load ratio
-``k0 = p_att/p_rep`` (``k0 > 1``: the interface holds tension, i.e. it is sticky).
+``k0 = p_att/p_rep`` (``k0 > 1``: the mean field holds tension, i.e. the interface is sticky).
 """
 
 from __future__ import annotations
@@ -24,7 +29,7 @@ import numpy as np
 
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
-from ._meanfield import MeanField, attraction_curve, p_hi_of
+from ._meanfield import MeanField, Summit, attraction_curve, p_hi_of
 from ._tabor import tabor_parameter
 from .dmt import _curve_grid, _increasing
 from .jkr import ADHESION_PARAMETERS, _check_scalar, stickiness
@@ -41,19 +46,25 @@ REGIMES = {
     1: "DMT-like scene (Tabor parameter at zeta_1 below the verified range)",
     2: "intermediate scene, inside the verified Tabor range",
     3: "JKR-ward scene (Tabor parameter at zeta_1 above the verified range)",
+    4: "finite-size floor: the highest summit's DMT contact carries the load (mean field "
+    "detached or smaller)",
 }
 #: Tabor parameters at the finest scale covered by the BEM verification.
 VERIFIED_TABOR = (0.5, 2.0)
 #: Worst factor between this model's and the BEM's A(w)/A(0) per regime (docs/adhesion_bem.md);
 #: NaN: not verified.
-EXPECTED_FACTOR = {0: 1.5, 1: math.nan, 2: 2.0, 3: math.nan}
+EXPECTED_FACTOR = {0: 1.5, 1: math.nan, 2: 2.0, 3: math.nan, 4: math.nan}
 
 
-def regime_of(tabor_1: float, ratio: np.ndarray) -> np.ndarray:
-    """Regime code per load from the finest-scale Tabor parameter and ``p_att/p_rep``."""
+def regime_of(tabor_1: float, ratio: np.ndarray, summit: np.ndarray | None = None) -> np.ndarray:
+    """Regime code per load from the finest-scale Tabor parameter, ``p_att/p_rep`` and the
+    loads carried by the finite-size summit floor."""
     lo, hi = VERIFIED_TABOR
     scene = 1 if tabor_1 < lo else (3 if tabor_1 > hi else 2)
-    return np.where(np.asarray(ratio, float) < 0.1, 0, scene).astype(float)
+    code = np.where(np.asarray(ratio, float) < 0.1, 0, scene).astype(float)
+    if summit is not None:
+        code = np.where(np.asarray(summit, bool), 4.0, code)
+    return code
 
 
 class AdhesiveBoundary(Boundary):
@@ -101,7 +112,7 @@ class AdhesiveBoundary(Boundary):
             "1",
             "adhesion regime code",
             valid_min=0.0,
-            valid_max=3.0,
+            valid_max=4.0,
             description="; ".join(f"{k}: {v}" for k, v in REGIMES.items()),
         ),
         "expected_factor": VarSpec(
@@ -116,8 +127,8 @@ class AdhesiveBoundary(Boundary):
             "Pa",
             "pull-off stress",
             valid_min=0.0,
-            description="-min over p_rep of (p_rep - p_att(p_rep)); 0: no tensile load holds "
-            "contact (non-sticky)",
+            description="max of the mean field's -min_p (p - p_att(p)) and the finite-size summit "
+            "floor 2 pi w R_s (q_L / 2 pi)^2",
         ),
         "small_load_ratio": VarSpec(
             (),
@@ -174,8 +185,25 @@ class AdhesiveBoundary(Boundary):
             self._tables = {key: MeanField(evaluate, math.sqrt(tau[-1]), p_hi)}
         return self._tables[key]
 
-    def p_att(self, ctx: SceneContext, p0: float) -> float:
-        """``p_att`` [Pa] of load ``p0`` [Pa]; a clear error beyond pull-off."""
+    def summit(self, ctx: SceneContext) -> Summit:
+        """The finite-size summit floor of the scene."""
+        return Summit(ctx.psd, ctx.E_star, self._params["work_of_adhesion"])
+
+    def pull_off(self, ctx: SceneContext) -> float:
+        """Pull-off stress [Pa]: the mean field's, or the summit floor's when larger."""
+        mf = self.table(ctx)
+        if mf is None:
+            return 0.0
+        return max(mf.pull_off(), self.summit(ctx).pull_off)
+
+    def solve_load(self, ctx: SceneContext, p0: float) -> tuple[float, bool]:
+        """``(p_att [Pa], summit)`` of load ``p0`` [Pa]; a clear error beyond pull-off.
+
+        The mean-field root, unless the summit floor gives a larger area (then ``p_att`` is
+        the shift that gives the elastic contact the summit's area at ``zeta_max``).
+        """
+        from scipy.special import erf, erfinv
+
         mf = self.table(ctx)
         if mf is None:
             if p0 <= 0:
@@ -183,15 +211,26 @@ class AdhesiveBoundary(Boundary):
                     f"load.p0 = {p0:g} Pa: without adhesion (work_of_adhesion = 0) the load must "
                     "be compressive (p0 > 0 Pa)"
                 )
-            return 0.0
+            return 0.0, False
         try:
-            return mf.root(float(p0)) - float(p0)
+            att = mf.root(float(p0)) - float(p0)
+            area = float(erf((p0 + att) / (2.0 * mf.scale)))
         except ValueError:
+            att, area = math.nan, 0.0
+        a_s = self.summit(ctx).area(float(p0))
+        if a_s > area:
+            return 2.0 * mf.scale * float(erfinv(a_s)) - float(p0), True
+        if math.isnan(att):
             raise ValueError(
                 f"load.p0 = {p0:g} Pa is beyond pull-off: allowed range p0 > "
-                f"-{mf.pull_off():g} Pa (pull-off stress; 0: the interface is not sticky, "
-                f"small-load ratio p_att/p_rep = {mf.small_load_ratio:.3g} < 1)"
-            ) from None
+                f"-{self.pull_off(ctx):g} Pa (pull-off stress; small-load ratio p_att/p_rep = "
+                f"{mf.small_load_ratio:.3g}, > 1 is sticky)"
+            )
+        return att, False
+
+    def p_att(self, ctx: SceneContext, p0: float) -> float:
+        """``p_att`` [Pa] of load ``p0`` [Pa]; a clear error beyond pull-off."""
+        return self.solve_load(ctx, p0)[0]
 
     # -- the plugin interface ----------------------------------------------------------------
     def validate(self, ctx: SceneContext) -> None:
@@ -211,14 +250,17 @@ class AdhesiveBoundary(Boundary):
         """p_rep, p_att, regime, expected accuracy, pull-off, Tabor parameter."""
         p = self._params
         p0 = np.asarray(ctx.p0, dtype=float)
-        att = np.array([self.p_att(ctx, float(x)) for x in p0])
+        solved = [self.solve_load(ctx, float(x)) for x in p0]
+        att = np.array([a for a, _ in solved])
+        on_summit = np.array([s for _, s in solved])
         mf = self.table(ctx)
-        pull, k0 = (mf.pull_off(), mf.small_load_ratio) if mf is not None else (0.0, 0.0)
+        k0 = mf.small_load_ratio if mf is not None else 0.0
+        pull = self.pull_off(ctx)
         rep = p0 + att
         ratio = np.where(rep > 0, att / np.where(rep > 0, rep, 1.0), 0.0)
         work = p["work_of_adhesion"]
         mu = tabor_parameter(ctx.psd, ctx.E_star, work, p["range"], ctx.zeta)
-        reg = regime_of(float(mu[-1]), ratio)
+        reg = regime_of(float(mu[-1]), ratio, on_summit)
         expected = np.array([EXPECTED_FACTOR[int(r)] for r in reg])
         return {
             "p_rep": (("p0",), rep),
