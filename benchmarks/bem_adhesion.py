@@ -299,6 +299,8 @@ def summarise(data: dict[str, Any]) -> dict[str, Any]:
         el_all = np.array(sp["elastic_area"], dtype=float)
         rows = []
         for entry in sp["works"]:
+            if not entry["area"]:  # a partial run: this work not solved yet
+                continue
             el = el_all[: len(entry["area"])]  # the surfaces solved with adhesion
             a = np.array([[np.nan if x is None else x for x in r] for r in entry["area"]])
             mean = np.nanmean(np.where(np.isnan(a), np.nan, a), axis=0)
