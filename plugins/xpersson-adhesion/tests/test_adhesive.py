@@ -40,7 +40,7 @@ def scene(boundary: dict, loads: list[float]) -> dict:
             "rms_slope": 0.1,
         },
         "material": {"E": "0.75 MPa", "nu": 0.5},
-        "load": {"p0": [f"{x!r} Pa" for x in loads]},
+        "load": {"p0": [f"{float(x)!r} Pa" for x in loads]},
         "boundary": boundary,
         "output": {"zeta_per_decade": 8},
     }
@@ -49,7 +49,7 @@ def scene(boundary: dict, loads: list[float]) -> dict:
 def adhesive(work: float, **kw) -> dict:
     return {
         "model": "adhesive",
-        "work_of_adhesion": f"{work!r} J/m**2",
+        "work_of_adhesion": f"{float(work)!r} J/m**2",
         "range": f"{RANGE!r} m",
         **kw,
     }
@@ -194,5 +194,8 @@ def test_against_the_bem_reference_numbers(solve):
         assert ok.sum() >= 2
         factor = np.maximum(ratio[ok] / ref[ok], ref[ok] / ratio[ok])
         assert np.all(factor < 2.0), (row["tabor"], ratio, ref)
-        if row["pull_off_Pa"] > 0 and float(ds["pull_off_stress"]) > 0:
-            assert 1 / 3 < float(ds["pull_off_stress"]) / row["pull_off_Pa"] < 3
+        if row["pull_off_Pa"] > 0:  # the BEM holds tension: a non-zero pull-off
+            pull = float(ds["pull_off_stress"])
+            assert pull > 0
+            if float(ds["small_load_ratio"]) > 1:  # sticky mean field: the magnitude too
+                assert 1 / 2 < pull / row["pull_off_Pa"] < 2
