@@ -13,7 +13,7 @@ from scipy.special import erf
 
 from xpersson.physics import SelfAffineRollOff, diffusion_time
 from xpersson.scene import SceneError
-from xpersson_adhesion import AdhesionLimitWarning
+from xpersson_adhesion import AdhesionLimitWarning, AdhesiveBoundary
 from xpersson_adhesion._meanfield import MeanField, attraction_curve
 from xpersson_adhesion.adhesive import EXPECTED_FACTOR, regime_of
 from xpersson_adhesion.dmt import _curve_grid
@@ -199,3 +199,13 @@ def test_against_the_bem_reference_numbers(solve):
             assert pull > 0
             if float(ds["small_load_ratio"]) > 1:  # sticky mean field: the magnitude too
                 assert 1 / 2 < pull / row["pull_off_Pa"] < 2
+
+
+def test_check_plugin_contract():
+    from xpersson.testing import check_plugin
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AdhesionLimitWarning)
+        report = check_plugin(AdhesiveBoundary, {"work_of_adhesion": 1e-3, "range": 5e-9})
+    assert report["metadata"] == "ok" and report["pickle"] == "ok"
+    assert report["engine"].startswith("ok") and report["markov"].startswith("ok")
