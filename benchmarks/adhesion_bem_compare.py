@@ -184,7 +184,9 @@ def write_doc(
         for row, prow in zip(tab["works"], pred[name]["works"], strict=True):
             cells = [_cell(a, r) for a, r in zip(row["area"], row["ratio"], strict=True)]
             lines.append(
-                f"| {row['tabor']} | BEM | " + " | ".join(cells) + f" | {row['pull_off_Pa']:.3g} |"
+                f"| {row['tabor']} | BEM (n={max(row['n_surfaces'])}) | "
+                + " | ".join(cells)
+                + f" | {row['pull_off_Pa']:.3g} |"
             )
             for model in MODELS:
                 m = prow[model]
@@ -197,6 +199,7 @@ def write_doc(
                 verdict.setdefault(model, []).append(_check(row, m))
         lines.append("")
     lines += _verdict_lines(verdict, pred) + [""] + extra + grid_lines()
+    lines += LIMITS.splitlines()
     path.write_text("\n".join(lines) + "\n")
     return verdict
 
@@ -310,6 +313,27 @@ OPTIONS = """## Options evaluated (why `adhesive`)
   field's stickiness, where the BEM's small cell still holds a few pascals of tension.
 * Joe-Thouless-Barber's traction-gap law inside the diffusion picture: not implemented here
   (the mean field already meets the factor on this range; see what is missing).
+
+"""
+
+
+LIMITS = """## Limits and what is missing
+
+* Surfaces: the referee averages the surfaces listed in `benchmarks/results/bem_adhesion.json`
+  (`seeds_done` per spectrum); on the shared machine each adhesive path at 256^2 took 1-2 CPU
+  minutes, so fewer surfaces than planned were solved at the strongest adhesion. The ratios of
+  single surfaces scatter by about 20 % (see the per-surface areas in the JSON).
+* Tabor range: verified at mu_T(zeta_1) = 0.6-1.6 only (`regime` 2; `expected_factor` is the
+  worst factor measured here). Deeper in the JKR regime (mu_T >> 1) the mean field's
+  attraction in the gaps must give way to Persson's detachment wall; that crossover is not
+  covered by this referee, and `adhesive` flags such scenes as regime 3 (accuracy unknown).
+* Pull-off below the mean field's stickiness comes from the finite-size floor (one summit in
+  DMT contact per nominal area `(2 pi/q_L)^2`): the right order of magnitude against the small
+  periodic cell, 1.6-3.4x below it; the BEM holds contact at some tensile loads beyond it.
+* Absolute areas: the BEM's non-adhesive area on this small cell is above Persson's (the
+  cell has few long-wavelength modes), so absolute adhesive areas differ by the same factor;
+  the enhancement ratio is the measure the must-show uses.
+* Joe-Thouless-Barber's traction-gap law in the diffusion picture was not implemented.
 
 """
 

@@ -332,31 +332,30 @@ def write_md(data: dict[str, Any], path: Path) -> None:
         "# BEM referee: adhesive rough contact (tamaas)",
         "",
         f"`{data['provenance']['command']}` -- tamaas {data['provenance']['tamaas_version']}, "
-        f"{data['provenance']['grid']}^2 grid, {len(next(iter(data['spectra'].values()))['seeds'])}"
-        " surfaces per spectrum, retraction branch. Loads in units of E* h'_rms "
+        f"{data['provenance']['grid']}^2 grid, retraction branch; column n: surfaces averaged. "
+        "Loads in units of E* h'_rms "
         f"(E* = {E_STAR:g} Pa, h'_rms = {SLOPE}).",
         "",
     ]
     for name, tab in data["table"].items():
         lines += [f"## {name} (H = {tab['H']})", ""]
-        head = "| mu_T | w [J/m^2] | pull-off [Pa] | " + " | ".join(f"{x:g}" for x in LOADS)
-        lines += [head + " |", "|" + "---|" * (3 + len(LOADS))]
+        head = "| mu_T | n | w [J/m^2] | pull-off [Pa] | " + " | ".join(f"{x:g}" for x in LOADS)
+        lines += [head + " |", "|" + "---|" * (4 + len(LOADS))]
         el = ["", "", ""] + ["" if x < 0 else "" for x in LOADS]
         j = 0
         for i, x in enumerate(LOADS):
             if x > 0:
                 el[3 + i] = f"{tab['elastic_area'][j]:.4f}"
                 j += 1
-        lines.append("| 0 (A) | 0 | 0 | " + " | ".join(el[3:]) + " |")
+        lines.append("| 0 (A) | | 0 | 0 | " + " | ".join(el[3:]) + " |")
         for row in tab["works"]:
             cells = [
                 "-" if a is None else f"{a:.4f}" + ("" if r is None else f" ({r:.2f}x)")
                 for a, r in zip(row["area"], row["ratio"], strict=True)
             ]
             lines.append(
-                f"| {row['tabor']} | {row['work_J_m2']:.4g} | {row['pull_off_Pa']:.4g} | "
-                + " | ".join(cells)
-                + " |"
+                f"| {row['tabor']} | {max(row['n_surfaces'])} | {row['work_J_m2']:.4g} | "
+                f"{row['pull_off_Pa']:.4g} | " + " | ".join(cells) + " |"
             )
         lines.append("")
     lines.append("Cells: surface-averaged A/A0 (ratio A(w)/A(0) at compressive loads).")
