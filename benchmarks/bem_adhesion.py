@@ -358,7 +358,11 @@ def write_md(data: dict[str, Any], path: Path) -> None:
                 f"{row['pull_off_Pa']:.4g} | " + " | ".join(cells) + " |"
             )
         lines.append("")
-    lines.append("Cells: surface-averaged A/A0 (ratio A(w)/A(0) at compressive loads).")
+    lines.append(
+        "Cells: surface-averaged A/A0 (ratio A(w)/A(0) at compressive loads); at tensile loads "
+        "the mean over the surfaces that hold contact there (`-`: none). Pull-off: mean over "
+        "the surfaces. Grid convergence: `bem_adhesion_grid.json`."
+    )
     path.write_text("\n".join(lines) + "\n")
 
 
