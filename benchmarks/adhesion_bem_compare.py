@@ -194,7 +194,11 @@ def write_doc(
                 lines.append(
                     f"| {row['tabor']} | {model} | "
                     + " | ".join(cells)
-                    + f" | {m['pull_off_Pa']:.3g} |"
+                    + (
+                        f" | {m['pull_off_Pa']:.3g} |"
+                        if np.isfinite(m["pull_off_Pa"])
+                        else " | - |"
+                    )
                 )
                 verdict.setdefault(model, []).append(_check(row, m))
         lines.append("")
@@ -307,8 +311,8 @@ OPTIONS = """## Options evaluated (why `adhesive`)
   with `c_a = 1/4`, against the BEM's 3.3x to 2.1x); a partial reduction (a fraction of the
   finer scales' energy) switches abruptly between the two behaviours. No single constant fits.
 * **DMT mean field with the referee's own law** (`dmt`, exponential law): the attraction over
-  the gap distribution of Persson's contact at `p_rep = p0 + p_att`. Within the factor below at
-  every compressive load, the right fall with load, and the pull-off where it is sticky.
+  the gap distribution of Persson's contact at `p_rep = p0 + p_att`. Within 2x at 25 of 27
+  compressive points (worst 2.12x), the right fall with load, the pull-off where it is sticky.
   Kept, as `adhesive`: tabulated (fast), with pull-off, stickiness, regime and a finite-size
   floor (the highest summit of the nominal area in DMT contact) for the scenes below the mean
   field's stickiness, where the BEM's small cell still holds a few pascals of tension.
@@ -318,19 +322,27 @@ OPTIONS = """## Options evaluated (why `adhesive`)
 """
 
 
-LIMITS = """## Limits and what is missing
+LIMITS = """## Findings, limits and what is missing
 
-* Surfaces: the referee averages the surfaces listed in `benchmarks/results/bem_adhesion.json`
-  (`seeds_done` per spectrum); on the shared machine each adhesive path at 256^2 took 1-2 CPU
-  minutes, so fewer surfaces than planned were solved at the strongest adhesion. The ratios of
-  single surfaces scatter by about 20 % (see the per-surface areas in the JSON).
+* `adhesive` (= the `dmt` mean field with the referee's law, tabulated): the enhancement
+  within a factor 2 of the BEM at 25 of the 27 compressive points that the BEM covers, and
+  2.03x / 2.12x at the remaining two (the lightest load, mu_T = 1.0, both spectra: the model
+  over-predicts there, 17x and 14x against 8.3x and 6.8x); it falls with load as the BEM's;
+  the pull-off where the mean field is sticky is 0.9-1.0x the BEM's at mu_T = 1.0 and 2.2-2.3x
+  at 1.6. Persson's wall (`jkr`) is 1.9-24x off and never sticky on these scenes.
+* Surfaces: 2 per spectrum at mu_T = 0.6 and 1.0, 1 at 1.6 (each adhesive path at 256^2 took
+  1-4 CPU minutes on the shared machine; the third surface was not reached). At the lightest
+  loads the two surfaces' own ratios differ by up to 2x (H08, mu_T = 1.0: 11.3x and 5.2x), the
+  size of the two misses above; more surfaces would settle them.
+* Compressive range at mu_T = 1.6: the approach stopped at a mean gap of 0.6 h_rms, which
+  carries less than the heaviest loads there (`-` in the BEM row).
 * Tabor range: verified at mu_T(zeta_1) = 0.6-1.6 only (`regime` 2; `expected_factor` is the
   worst factor measured here). Deeper in the JKR regime (mu_T >> 1) the mean field's
   attraction in the gaps must give way to Persson's detachment wall; that crossover is not
   covered by this referee, and `adhesive` flags such scenes as regime 3 (accuracy unknown).
 * Pull-off below the mean field's stickiness comes from the finite-size floor (one summit in
   DMT contact per nominal area `(2 pi/q_L)^2`): the right order of magnitude against the small
-  periodic cell, 1.6-3.4x below it; the BEM holds contact at some tensile loads beyond it.
+  periodic cell, 3-4x below it; the BEM holds contact at some tensile loads beyond it.
 * Absolute areas: the BEM's non-adhesive area on this small cell is above Persson's (the
   cell has few long-wavelength modes), so absolute adhesive areas differ by the same factor;
   the enhancement ratio is the measure the must-show uses.
