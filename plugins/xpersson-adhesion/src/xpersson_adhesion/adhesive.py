@@ -7,8 +7,9 @@ attraction ``p_att`` of a traction-gap law integrated over the gap distribution 
 then a scalar root per load. Chosen by evidence: against tamaas' boundary-element solution with
 the same exponential law (``benchmarks/bem_adhesion.py``, ``docs/adhesion_bem.md``) this
 mean field gives the area enhancement ``A(w)/A(0)`` (within 2x at 25 of 27 points, worst
-2.12x) and the pull-off stress across Tabor parameters 0.6-1.6, where Persson's detachment wall (``jkr``) under-predicts the enhancement
-several-fold and declares the interfaces non-sticky.
+2.12x) and the pull-off stress across Tabor parameters 0.6-1.6, where Persson's detachment
+wall (``jkr``) under-predicts the enhancement several-fold and declares the interfaces
+non-sticky.
 
 Below the mean field's stickiness a finite nominal area ``(2 pi/q_L)^2`` still holds its
 highest summit in contact until that summit's own (DMT) pull-off (:class:`._meanfield.Summit`):
