@@ -231,7 +231,13 @@ def run_spectrum(name: str, n_surf: int, n: int) -> dict[str, Any]:
     rho = RANGE_FRACTION * h_rms
     loads = np.array(LOADS) * SLOPE  # in E*
     comp = [float(x) for x in loads if x > 0]
-    out: dict[str, Any] = {"H": H, "grid": n, "seeds": list(range(n_surf)), "works": []}
+    part = RESULTS / f"bem_adhesion_{name}.part.json"
+    if part.exists():  # resume: keep every (surface, work) already solved
+        out = json.loads(part.read_text())
+        if out["grid"] == n and len(out["elastic_area"]) >= n_surf:
+            out["seeds"] = list(range(n_surf))
+            return _solve_paths(name, out, n_surf, n, rho, h_rms, loads)
+    out = {"H": H, "grid": n, "seeds": list(range(n_surf)), "works": []}
     elastic = []
     for seed in range(n_surf):
         surf = surface(H, seed, n)
@@ -244,9 +250,19 @@ def run_spectrum(name: str, n_surf: int, n: int) -> dict[str, Any]:
         entry: dict[str, Any] = {"tabor": mu, "work_J_m2": work_si, "paths": [], "area": []}
         entry["pull_off_Pa"] = []
         out["works"].append(entry)
-    for seed in range(n_surf):  # seeds outer: a partial run has every work
+    return _solve_paths(name, out, n_surf, n, rho, h_rms, loads)
+
+
+def _solve_paths(
+    name: str, out: dict[str, Any], n_surf: int, n: int, rho: float, h_rms: float, loads: Any
+) -> dict[str, Any]:
+    """The adhesive paths not yet in ``out`` (seeds outer: a partial run has every work)."""
+    H = out["H"]
+    for seed in range(n_surf):
         surf = surface(H, seed, n)
         for entry in out["works"]:
+            if len(entry["paths"]) > seed:
+                continue
             t0 = time.process_time()
             work = entry["work_J_m2"] / (E_STAR * L_CELL)
             path = adhesive_path(surf, work, rho, h_rms)
