@@ -19,7 +19,21 @@ import warnings
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["AdhesionLimitWarning", "tabor_parameter", "warn_if_contradicted"]
+__all__ = [
+    "AdhesionLimitWarning",
+    "JKR_MIN_TABOR",
+    "DMT_MAX_TABOR",
+    "tabor_parameter",
+    "warn_if_contradicted",
+    "warn_outside_limit",
+]
+
+#: Finest-scale Tabor parameter below which ``jkr`` is outside its limit: the BEM referee
+#: (docs/adhesion_bem.md) finds ``jkr`` several-fold low at 0.6-1.6; the Johnson-Greenwood
+#: adhesion map puts the JKR regime at Maugis parameters above about 5.
+JKR_MIN_TABOR = 5.0
+#: Finest-scale Tabor parameter above which ``dmt`` leaves the range verified against the BEM.
+DMT_MAX_TABOR = 2.0
 
 _HALF_OCTAVE = math.sqrt(2.0)
 
@@ -81,3 +95,32 @@ def warn_if_contradicted(mu: NDArray[np.float64], limit: str, stacklevel: int = 
             stacklevel=stacklevel,
         )
     return frac
+
+
+def warn_outside_limit(mu_1: float, limit: str, stacklevel: int = 3) -> bool:
+    """Warn when the finest-scale Tabor parameter ``mu_1`` puts the scene outside ``limit``.
+
+    ``jkr``: ``mu_1 < JKR_MIN_TABOR``; ``dmt``: ``mu_1 > DMT_MAX_TABOR``. The finest scale
+    carries the contact spots, so its Tabor parameter decides the regime (physics.md §2.3;
+    docs/adhesion_bem.md). Returns True when a warning was issued.
+    """
+    if limit == "jkr" and mu_1 < JKR_MIN_TABOR:
+        text = (
+            f"below {JKR_MIN_TABOR:g}: outside the JKR limit (against the BEM referee jkr "
+            "under-predicts the adhesive area several-fold at 0.6-1.6); the 'adhesive' model "
+            "or the 'dmt' limit describes this scene better"
+        )
+    elif limit == "dmt" and mu_1 > DMT_MAX_TABOR:
+        text = (
+            f"above {DMT_MAX_TABOR:g}: beyond the range where dmt was verified against the BEM "
+            "referee (0.6-1.6), towards the 'jkr' limit"
+        )
+    else:
+        return False
+    warnings.warn(
+        f"boundary {limit!r}: the Tabor parameter at the finest scale mu_T(zeta_max) = "
+        f"{mu_1:.3g} is {text} (physics.md §2.3, docs/adhesion_bem.md)",
+        AdhesionLimitWarning,
+        stacklevel=stacklevel,
+    )
+    return True

@@ -27,7 +27,7 @@ import numpy as np
 
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
-from ._tabor import tabor_parameter, warn_if_contradicted
+from ._tabor import tabor_parameter, warn_outside_limit
 from ._traction import LAWS, attraction, attraction_quadrature, max_traction
 from .jkr import ADHESION_PARAMETERS, _check_scalar, stickiness
 
@@ -383,7 +383,7 @@ class DMTBoundary(Boundary):
         work = self._params["work_of_adhesion"]
         if work > 0 and ctx.psd is not None:
             mu = tabor_parameter(ctx.psd, ctx.E_star, work, self._params["range"], ctx.zeta)
-            warn_if_contradicted(mu, "dmt", stacklevel=4)
+            warn_outside_limit(float(mu[-1]), "dmt", stacklevel=4)
 
     def state(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> DMTState:
         """The self-consistent state of load ``p0`` [Pa] (cached per clock and load)."""

@@ -31,7 +31,7 @@ from ._detachment import (
     onset_times,
     true_area_ratio,
 )
-from ._tabor import tabor_parameter, warn_if_contradicted
+from ._tabor import tabor_parameter, warn_outside_limit
 
 if TYPE_CHECKING:  # pragma: no cover
     from xpersson.engine import EngineResult, Wall
@@ -265,7 +265,7 @@ class JKRBoundary(Boundary):
         work = self._params["work_of_adhesion"]
         if work > 0 and ctx.psd is not None:
             mu = tabor_parameter(ctx.psd, ctx.E_star, work, self._params["range"], ctx.zeta)
-            warn_if_contradicted(mu, "jkr", stacklevel=4)
+            warn_outside_limit(float(mu[-1]), "jkr", stacklevel=4)
 
     def wall(self, ctx: SceneContext, clock: DiffusionClock) -> Wall:
         """The adhesive wall for a clock (the same for every load; cached per clock)."""

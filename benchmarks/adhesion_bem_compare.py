@@ -1,0 +1,404 @@
+"""Adhesion models of xpersson against the BEM referee (``results/bem_adhesion.json``).
+
+For each spectrum and work of adhesion of the referee, solves the same scene (spectrum, modulus,
+work, range; physics.md conventions) with the boundaries ``elastic`` (compressive loads),
+``jkr`` (Persson's wall, ``c_a = 1``), ``dmt`` (exponential traction-gap law, the BEM's law)
+and ``adhesive`` (this issue's model), and tabulates the area enhancement ``A(w)/A(0)`` (each
+model against its own non-adhesive area; the BEM against the BEM) at the referee's loads,
+the absolute areas at tensile loads and the pull-off stress. Writes ``docs/adhesion_bem.md``.
+
+Usage (from the repository root)::
+
+    python benchmarks/adhesion_bem_compare.py [--bem benchmarks/results/bem_adhesion.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+import warnings
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import xpersson
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+MODELS = ("jkr", "dmt", "adhesive")
+
+
+def scene(meta: dict[str, Any], H: float, boundary: dict[str, Any], loads: list[float]) -> dict:
+    """xpersson scene of the referee's spectrum (SI), loads [Pa]."""
+    L = meta["cell_side_m"]
+    q_L = 2.0 * math.pi / L
+    return {
+        "spectrum": {
+            "model": "self_affine",
+            "H": H,
+            "q_L": f"{q_L!r} 1/m",
+            "q_1": f"{meta['q1_over_qL'] * q_L!r} 1/m",
+            "rms_slope": meta["rms_slope"],
+        },
+        "material": {"E": f"{meta['E_Pa']!r} Pa", "nu": meta["nu"]},
+        "load": {"p0": [f"{float(x)!r} Pa" for x in loads]},
+        "boundary": boundary,
+        "output": {"zeta_per_decade": 8},
+    }
+
+
+def solve_areas(sc: dict[str, Any]) -> tuple[np.ndarray, float, Any]:
+    """A/A0 at the largest magnification per load, seconds per load, Dataset (None: refused)."""
+    t0 = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ds = xpersson.solve(sc)
+    except (xpersson.SceneError, xpersson.PluginFailure):
+        return np.full(len(sc["load"]["p0"]), np.nan), float("nan"), None
+    dt = (time.perf_counter() - t0) / len(sc["load"]["p0"])
+    return np.asarray(ds["area_fraction"].isel(zeta=-1).values, float), dt, ds
+
+
+def boundary(model: str, work: float, rng: float) -> dict[str, Any]:
+    """Boundary table of a model at work [J/m^2] and range [m]."""
+    b: dict[str, Any] = {
+        "model": model,
+        "work_of_adhesion": f"{work!r} J/m**2",
+        "range": f"{rng!r} m",
+    }
+    if model == "dmt":
+        b["law"] = "exponential"
+    return b
+
+
+def predictions(bem: dict[str, Any]) -> dict[str, Any]:
+    """Every model on every referee case: areas at the referee loads, pull-off, cost."""
+    meta = bem["provenance"]
+    e_star, slope = meta["E_star_Pa"], meta["rms_slope"]
+    loads = np.array(meta["loads_over_Estar_hprime"]) * e_star * slope
+    comp = loads > 0
+    out: dict[str, Any] = {}
+    for name, tab in bem["table"].items():
+        H = tab["H"]
+        rng = meta["range_over_h_rms"] * float(_psd(meta, H).h_rms())
+        el, _, _ = solve_areas(scene(meta, H, {"model": "elastic"}, list(loads[comp])))
+        rows = []
+        for row in tab["works"]:
+            w = row["work_J_m2"]
+            res: dict[str, Any] = {"tabor": row["tabor"], "work_J_m2": w}
+            for model in MODELS:
+                area = np.full(loads.size, np.nan)
+                a_c, dt, ds = solve_areas(
+                    scene(meta, H, boundary(model, w, rng), list(loads[comp]))
+                )
+                area[comp] = a_c
+                for i in np.where(~comp)[0]:  # tensile loads one by one (may be refused)
+                    a_t, _, _ = solve_areas(scene(meta, H, boundary(model, w, rng), [loads[i]]))
+                    area[i] = a_t[0]
+                ratio = np.full(loads.size, np.nan)
+                ratio[comp] = area[comp] / el
+                pull = (
+                    float(ds["pull_off_stress"])
+                    if ds is not None and "pull_off_stress" in ds
+                    else float("nan")
+                )
+                res[model] = {
+                    "area": _clean(area),
+                    "ratio": _clean(ratio),
+                    "pull_off_Pa": pull,
+                    "s_per_load": dt,
+                }
+            rows.append(res)
+        out[name] = {"H": H, "elastic_area": _clean(el), "works": rows}
+    return out
+
+
+def cost(bem: dict[str, Any], repeats: int = 7) -> list[str]:
+    """CPU time per load of xpersson.solve (best / median of ``repeats``), one and 8 loads."""
+    meta = bem["provenance"]
+    name, tab = next(iter(bem["table"].items()))
+    row = tab["works"][len(tab["works"]) // 2]
+    rng = meta["range_over_h_rms"] * float(_psd(meta, tab["H"]).h_rms())
+    loads = np.array(meta["loads_over_Estar_hprime"]) * meta["E_star_Pa"] * meta["rms_slope"]
+    lines = [
+        "## Cost",
+        "",
+        f"CPU time of `xpersson.solve` per load (spectrum {name}, mu_T = {row['tabor']}; "
+        f"best / median of {repeats}; scene resolution and output included; one BLAS thread, "
+        "shared machine):",
+        "",
+        "| model | 1 load [ms] | 5 loads, per load [ms] |",
+        "|---|---|---|",
+    ]
+    for model in ("jkr", "adhesive", "dmt"):
+        cells = []
+        for sel in ([loads[loads > 0][2]], list(loads[loads > 0])):
+            sc = scene(meta, tab["H"], boundary(model, row["work_J_m2"], rng), sel)
+            times = []
+            for _ in range(repeats if model != "dmt" else 2):
+                t0 = time.process_time()
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    xpersson.solve(sc)
+                times.append((time.process_time() - t0) / len(sel) * 1e3)
+            cells.append(f"{min(times):.1f} / {float(np.median(times)):.1f}")
+        lines.append(f"| {model} | " + " | ".join(cells) + " |")
+    return lines + [""]
+
+
+def _psd(meta: dict[str, Any], H: float) -> Any:
+    from xpersson.physics import SelfAffineRollOff
+
+    q_L = 2.0 * math.pi / meta["cell_side_m"]
+    return SelfAffineRollOff.from_rms_slope(
+        meta["rms_slope"], H=H, q_L=q_L, q_r=q_L, q_1=meta["q1_over_qL"] * q_L
+    )
+
+
+def _clean(a: np.ndarray) -> list[float | None]:
+    return [None if not np.isfinite(x) else float(x) for x in np.asarray(a, float)]
+
+
+def _fmt(x: float | None, nd: int = 2) -> str:
+    return "-" if x is None else (f"{x:.{nd}f}" if abs(x) >= 0.01 else f"{x:.2g}")
+
+
+def write_doc(
+    bem: dict[str, Any], pred: dict[str, Any], path: Path, extra: list[str]
+) -> dict[str, Any]:
+    """The comparison page; returns the must-show verdicts."""
+    meta = bem["provenance"]
+    loads = meta["loads_over_Estar_hprime"]
+    verdict: dict[str, Any] = {}
+    lines = _header(bem) + OPTIONS.splitlines()
+    for name, tab in bem["table"].items():
+        lines += [f"## Spectrum {name} (H = {tab['H']})", ""]
+        lines += [
+            "| mu_T | model | " + " | ".join(f"{x:g}" for x in loads) + " | pull-off [Pa] |",
+            "|" + "---|" * (len(loads) + 3),
+        ]
+        for row, prow in zip(tab["works"], pred[name]["works"], strict=True):
+            cells = [_cell(a, r) for a, r in zip(row["area"], row["ratio"], strict=True)]
+            lines.append(
+                f"| {row['tabor']} | BEM (n={max(row['n_surfaces'])}) | "
+                + " | ".join(cells)
+                + f" | {row['pull_off_Pa']:.3g} |"
+            )
+            for model in MODELS:
+                m = prow[model]
+                cells = [_cell(a, r) for a, r in zip(m["area"], m["ratio"], strict=True)]
+                lines.append(
+                    f"| {row['tabor']} | {model} | "
+                    + " | ".join(cells)
+                    + (
+                        f" | {m['pull_off_Pa']:.3g} |"
+                        if np.isfinite(m["pull_off_Pa"])
+                        else " | - |"
+                    )
+                )
+                verdict.setdefault(model, []).append(_check(row, m))
+        lines.append("")
+    lines += _verdict_lines(verdict, pred) + [""] + extra + grid_lines()
+    lines += LIMITS.splitlines()
+    path.write_text("\n".join(lines) + "\n")
+    return verdict
+
+
+def _cell(a: float | None, r: float | None) -> str:
+    if a is None:
+        return "-"
+    return f"{_fmt(a, 3)}" + ("" if r is None else f" ({r:.2g}x)")
+
+
+def _check(row: dict[str, Any], m: dict[str, Any]) -> dict[str, Any]:
+    """Factor-2 test of the ratio at every compressive load, trend, tensile contact."""
+    worst = 1.0
+    for rb, rm in zip(row["ratio"], m["ratio"], strict=True):
+        if rb is None:
+            continue
+        if rm is None:
+            worst = math.inf
+            continue
+        worst = max(worst, rm / rb, rb / rm)
+    both = [(b, x) for b, x in zip(row["ratio"], m["ratio"], strict=True) if None not in (b, x)]
+    # the BEM's ratio falls by more than 10 % from the lightest to the heaviest common load:
+    # so must the model's (a constant enhancement, as jkr's, fails)
+    falls = len(both) >= 2 and both[0][0] > 1.1 * both[-1][0]
+    trend = (not falls) or both[0][1] > 1.1 * both[-1][1]
+    tens = [
+        (ab is not None, am is not None and am > 0)
+        for ab, am, r in zip(row["area"], m["area"], row["ratio"], strict=True)
+        if r is None
+    ]
+    held = any(ab for ab, _ in tens)
+    pull = m["pull_off_Pa"]
+    return {
+        "worst_factor": worst,
+        "trend": trend,
+        "pull_off": (not held) or (np.isfinite(pull) and pull > 0),
+        "tensile_contact": all(am for ab, am in tens if ab),
+    }
+
+
+def _header(bem: dict[str, Any]) -> list[str]:
+    meta = bem["provenance"]
+    return [
+        "# Adhesion: xpersson's models against a boundary-element referee",
+        "",
+        "Regenerate: `python benchmarks/bem_adhesion.py` (the referee, tamaas; about an hour on",
+        "two cores) then `python benchmarks/adhesion_bem_compare.py` (this page).",
+        "",
+        f"Referee: tamaas {meta['tamaas_version']} `PolonskyKeerRey` with its exponential",
+        "adhesion functional (energy `-w exp(-g/rho)` per area, `rho = 0.1 h_rms`), periodic",
+        f"Gaussian self-affine surfaces on a {meta['grid']}^2 grid, `q_1/q_L = "
+        f"{meta['q1_over_qL']}`, rms slope {meta['rms_slope']}, no roll-off, Persson's PSD",
+        "convention; retraction branch under displacement control, read at imposed mean",
+        "stresses (load control: stable states up to the most tensile stress), averaged over",
+        "the surfaces (`benchmarks/results/bem_adhesion.md` has the referee alone and its",
+        "provenance). xpersson solves the same scene (spectrum, `E* = 1 MPa`, work, range).",
+        "",
+        "Columns: loads `p0/(E* h'_rms)`. Cells: `A/A0` at the finest scale and, at compressive",
+        "loads, the enhancement `A(w)/A(0)` (each method against its own non-adhesive area: the",
+        "BEM's small cell has 1.4-2.7x Persson's non-adhesive area). `-`: no contact (beyond",
+        "pull-off) or refused (`jkr` refuses tensile loads when `gamma_eff(1) = 0`); BEM cells at",
+        "tensile loads average the surfaces that hold contact there; `n`: surfaces averaged.",
+        "",
+    ]
+
+
+def grid_lines() -> list[str]:
+    """The referee's grid-convergence check (results/bem_adhesion_grid.json), if present."""
+    path = HERE / "results" / "bem_adhesion_grid.json"
+    if not path.exists():
+        return ["## BEM grid convergence", "", "(not run: `bem_adhesion.py --grid-check`)", ""]
+    data = json.loads(path.read_text())
+    loads = data["provenance"]["loads_over_Estar_hprime"]
+    lines = [
+        "## BEM grid convergence",
+        "",
+        f"One case ({data['case']}), the same surface sampled on each grid "
+        "(`python benchmarks/bem_adhesion.py --grid-check`). A/A0 (adhesive; non-adhesive in "
+        "brackets at compressive loads) and pull-off:",
+        "",
+        "| grid | " + " | ".join(f"{x:g}" for x in loads) + " | pull-off [Pa] |",
+        "|" + "---|" * (len(loads) + 2),
+    ]
+    for n, g in sorted(data["grids"].items(), key=lambda kv: int(kv[0])):
+        el = iter(g["elastic_area"])
+        cells = []
+        for x, a in zip(loads, g["area"], strict=True):
+            c = "-" if a is None else f"{a:.4f}"
+            cells.append(c + (f" [{next(el):.4f}]" if x > 0 else ""))
+        lines.append(f"| {n}^2 | " + " | ".join(cells) + f" | {g['pull_off_Pa']:.3g} |")
+    return lines + [""]
+
+
+OPTIONS = """## Options evaluated (why `adhesive`)
+
+* **Persson's wall, `jkr`** (`sigma_a = [c_a gamma_eff E* q]^(1/2)`, `gamma_eff` reduced by
+  the full-contact elastic energy of the finer scales): on these scenes `gamma_eff(1) = 0`
+  (Persson-Tosatti `w_eff < 0`), so the wall starts at `p = 0`, the enhancement is the same at
+  every load (1.2-1.4x at mu_T = 0.6, 1.6-1.8x at 1.0; `c_a = 2`: +6 %) and tensile loads are
+  refused. Rejected (table below).
+* **Wall variants** (explored on one 128^2 surface, H = 0.8, not kept): the local balance
+  without the `gamma_eff` reduction and capped at the cohesive strength `w/rho`
+  (`sigma_a = (sigma_J^-2 + (w/rho)^-2)^(-1/2)`) puts a wall of several kPa at zeta = 1: a
+  large area at zero load and a flat `A(p0)` (enhancement 25x falling to 2.8x at mu_T = 0.6
+  with `c_a = 1/4`, against the BEM's 3.3x to 2.1x); a partial reduction (a fraction of the
+  finer scales' energy) switches abruptly between the two behaviours. No single constant fits.
+* **DMT mean field with the referee's own law** (`dmt`, exponential law): the attraction over
+  the gap distribution of Persson's contact at `p_rep = p0 + p_att`. Within 2x at 27 of 30
+  compressive points (worst 2.47x), the right fall with load, the pull-off where it is sticky.
+  Kept, as `adhesive`: tabulated (fast), with pull-off, stickiness, regime and a finite-size
+  floor (the highest summit of the nominal area in DMT contact) for the scenes below the mean
+  field's stickiness, where the BEM's small cell still holds a few pascals of tension.
+* Joe-Thouless-Barber's traction-gap law inside the diffusion picture: not implemented here
+  (the mean field already meets the factor on this range; see what is missing).
+
+"""
+
+
+LIMITS = """## Findings, limits and what is missing
+
+* `adhesive` (= the `dmt` mean field with the referee's law, tabulated): the enhancement
+  within a factor 2 of the BEM at 27 of the 30 compressive points, and 2.18-2.47x at the
+  remaining three (the two lightest loads at mu_T = 1.0: the model over-predicts there, 17x and
+  14x against 6.9x and 5.9x at the lightest); it falls with load as the BEM's; the pull-off
+  where the mean field is sticky is 1.1-1.2x the BEM's at mu_T = 1.0 and 2.8-3.6x at 1.6.
+  Persson's wall (`jkr`) is 1.8-17x off and never sticky on these scenes.
+* Surfaces: 3 per spectrum and work (each adhesive path at 256^2 takes 1-4 CPU minutes). At
+  the lightest loads single surfaces' ratios differ by up to 2x (H08, mu_T = 1.0: 11.3x and
+  5.2x for the first two), and one surface in three holds no tension at mu_T = 0.6: the
+  misses above are of the size of this scatter.
+* Tabor range: verified at mu_T(zeta_1) = 0.6-1.6 only (`regime` 2; `expected_factor` is the
+  worst factor measured here). Deeper in the JKR regime (mu_T >> 1) the mean field's
+  attraction in the gaps must give way to Persson's detachment wall; that crossover is not
+  covered by this referee, and `adhesive` flags such scenes as regime 3 (accuracy unknown).
+* Pull-off below the mean field's stickiness comes from the finite-size floor (one summit in
+  DMT contact per nominal area `(2 pi/q_L)^2`): the right order of magnitude against the small
+  periodic cell, 3-4x below it; the BEM holds contact at some tensile loads beyond it.
+* Absolute areas: the BEM's non-adhesive area on this small cell is above Persson's (the
+  cell has few long-wavelength modes), so absolute adhesive areas differ by the same factor;
+  the enhancement ratio is the measure the must-show uses.
+* Joe-Thouless-Barber's traction-gap law in the diffusion picture was not implemented.
+
+"""
+
+
+def _verdict_lines(verdict: dict[str, Any], pred: dict[str, Any]) -> list[str]:
+    lines = [
+        "## Must-show verdict",
+        "",
+        "| model | worst factor on A(w)/A(0) | ratio falls with load like the BEM's | non-zero "
+        "pull-off where the BEM holds tension | contact at every tensile load the BEM holds |",
+        "|---|---|---|---|---|",
+    ]
+    yes = {True: "yes", False: "no"}
+    for model, rows in verdict.items():
+        worst = max(r["worst_factor"] for r in rows)
+        trend = yes[all(r["trend"] for r in rows)]
+        pull = yes[all(r["pull_off"] for r in rows)]
+        tens = yes[all(r["tensile_contact"] for r in rows)]
+        lines.append(f"| {model} | {worst:.2f} | {trend} | {pull} | {tens} |")
+    return lines
+
+
+def ensure_registered() -> None:
+    """Register ``adhesive`` in-process when the installed entry points predate it."""
+    from xpersson.plugins import get_registry
+
+    reg = get_registry()
+    if "adhesive" not in reg.names("boundaries"):
+        from xpersson_adhesion.adhesive import AdhesiveBoundary
+
+        reg.register("boundaries", "adhesive", AdhesiveBoundary)
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Command line."""
+    ensure_registered()
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--bem", type=Path, default=HERE / "results" / "bem_adhesion.json")
+    ap.add_argument("--out", type=Path, default=ROOT / "docs" / "adhesion_bem.md")
+    ap.add_argument(
+        "--reuse", action="store_true", help="reuse results/adhesion_bem_compare.json (no solves)"
+    )
+    args = ap.parse_args(argv)
+    bem = json.loads(args.bem.read_text())
+    store = HERE / "results" / "adhesion_bem_compare.json"
+    if args.reuse:
+        pred = json.loads(store.read_text())
+    else:
+        pred = predictions(bem)
+        store.write_text(json.dumps(pred, indent=1))
+    verdict = write_doc(bem, pred, args.out, cost(bem))
+    for model, rows in verdict.items():
+        print(model, [round(r["worst_factor"], 2) for r in rows])
+
+
+if __name__ == "__main__":
+    main()
