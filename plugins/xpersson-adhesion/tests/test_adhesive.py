@@ -214,3 +214,31 @@ def test_check_plugin_contract():
         report = check_plugin(AdhesiveBoundary, {"work_of_adhesion": 1e-3, "range": 5e-9})
     assert report["metadata"] == "ok" and report["pickle"] == "ok"
     assert report["engine"].startswith("ok") and report["markov"].startswith("ok")
+
+
+def test_a_summit_floor_at_full_contact_gives_a_finite_wall(solve):
+    """Found by the fuzz campaign (seed 11): a tiny, very rough scene whose summit floor covers
+    the whole nominal area gave erfinv(1) = inf and a wall at -inf Pa. The wall is finite, and
+    the contact is full."""
+    sc = {
+        "spectrum": {
+            "model": "self_affine",
+            "H": 0.30341912764496937,
+            "q_L": "435.62670173900875 1/m",
+            "q_r": "786.023481223007 1/m",
+            "q_1": "1439.3037253334144 1/m",
+            "h_rms": "1.804493980098388e-08 m",
+        },
+        "material": {"E": "7639637.699589073 Pa", "nu": 0.4883496464796308},
+        "load": {"p0": "595.0830482032546 Pa"},
+        "output": {"zeta_per_decade": 5},
+        "boundary": {
+            "model": "adhesive",
+            "work_of_adhesion": "0.058372937960340404 J/m**2",
+            "range": "9.486417832115186e-10 m",
+            "law": "dugdale",
+        },
+    }
+    ds = quiet(solve, sc)
+    assert np.isfinite(ds["p_att"].values).all() and np.isfinite(ds["p_rep"].values).all()
+    assert float(ds["area_fraction"].isel(zeta=-1)) > 1 - 1e-9

@@ -219,7 +219,9 @@ class AdhesiveBoundary(Boundary):
             area = float(erf((p0 + att) / (2.0 * mf.scale)))
         except ValueError:
             att, area = math.nan, 0.0
-        a_s = self.summit(ctx).area(float(p0))
+        # the summit's area, kept below 1 so that the shift stays finite (erfinv(1) = inf: a
+        # summit floor at full contact is the full-contact wall, not an infinite one)
+        a_s = min(self.summit(ctx).area(float(p0)), math.nextafter(1.0, 0.0))
         if a_s > area:
             return 2.0 * mf.scale * float(erfinv(a_s)) - float(p0), True
         if math.isnan(att):
