@@ -66,8 +66,13 @@ def test_undeclared_plugin_is_solved_point_by_point(monkeypatch):
 
 
 @pytest.mark.parametrize(
-    ("units", "power"), [("Pa", 1), ("Pa2", 2), ("Pa-1 m", -1), ("1", 0), ("m4", 0), (None, 0)]
-)
+    ("units", "power"),
+    [
+        ("Pa", 1), ("Pa2", 2), ("Pa^2", 2), ("Pa-1 m", -1), ("Pa^-1 m", -1), ("1", 0),
+        ("m4", 0), (None, 0), ("J m^-2", 1), ("N m^-1", 1), ("W m^-2 K^-1", 1), ("m s^-1", 0),
+        ("S m^-2", 0), ("K", 0), ("Pa m^-1", 1),
+    ],
+)  # fmt: skip
 def test_pressure_power(units, power):
     assert batched.pressure_power(units) == power
 

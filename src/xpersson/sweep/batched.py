@@ -185,12 +185,14 @@ def batch_capable(groups: Sequence[Sequence[Any]], rs: Any) -> bool:
     return ENABLED and any(material_dims(groups)) and scaled_ok(rs)
 
 
-_PA = re.compile(r"(?<![A-Za-z])Pa(?:\^?(-?\d+))?(?![A-Za-z])")
+# units that carry one power of pressure: Pa, and N = Pa m^2, J = Pa m^3, W = Pa m^3 s^-1
+# (under contact similarity forces, energies and powers scale with E* like a pressure)
+_PA = re.compile(r"(?<![A-Za-z])(?:Pa|N|J|W)(?:\^?(-?\d+))?(?![A-Za-z])")
 
 
 def pressure_power(units: Any) -> int:
-    """The power of Pa in a CF unit string (``"Pa^2"`` or ``"Pa2"`` -> 2, ``"Pa^-1 m"`` -> -1,
-    ``"1"`` -> 0)."""
+    """The power of pressure in a CF unit string (``"Pa^2"`` or ``"Pa2"`` -> 2, ``"Pa^-1 m"``
+    -> -1, ``"J m^-2"`` -> 1 (J = Pa m^3), ``"1"`` -> 0)."""
     if not isinstance(units, str):
         return 0
     return sum(int(m.group(1) or 1) for m in _PA.finditer(units))
