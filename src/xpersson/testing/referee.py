@@ -111,23 +111,13 @@ def _resolved(
     cls: type, params: Mapping[str, Any] | None, scene: Mapping[str, Any] | None
 ) -> tuple[Any, Any]:
     """The tiny scene with ``cls`` injected, resolved, and its :class:`SceneContext`."""
-    from ..plugins import SceneContext
+    from ..pipeline import scene_context
     from ..scene import Scene
 
     sc = tiny_scene(cls, sample_params(cls, params), scene)
     with registry_with(boundaries={CHECK_NAME: cls}) as reg:
         rs = Scene(sc).resolve(reg)
-    ctx = SceneContext(
-        psd=rs.psd,
-        E=rs.E,
-        nu=rs.nu,
-        E_star=rs.E_star,
-        p0=rs.p0,
-        zeta=rs.zeta,
-        rtol=rs.rtol,
-        atol=rs.atol,
-        method=rs.method,
-    )
+    ctx = scene_context(rs)  # the context the pipeline builds for this scene
     return rs, ctx
 
 
