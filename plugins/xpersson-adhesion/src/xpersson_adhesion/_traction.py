@@ -94,6 +94,8 @@ def attraction_quadrature(
     ``e^-40``). The window's panels are the union of ``window`` equal panels (the Gaussian) and
     the law's panels ``{0} + rng * geomspace(1e-3, 1e4)`` (``per_decade`` per decade) clipped to
     the window, 8 Gauss-Legendre nodes each. Bins narrower than ``1e-9 rng`` are deltas.
+    Bins of zero weight and panels of zero width (law edges clipped to the window) add nothing
+    and are skipped (about 8x less work than the full ``(n_load, n_bin, n_panel, 8)`` array).
 
     Returns
     -------
@@ -103,28 +105,56 @@ def attraction_quadrature(
         ``int rho du - (1 - A(zeta_max))`` on the same rule [1].
     """
     m = det.u1  # (n_load, n_bin)
-    h = np.broadcast_to(np.maximum(det.h, 1e-300)[None, :], m.shape)
+    weight = np.broadcast_to(det.weight, m.shape)
+    h_bin = np.broadcast_to(det.h[None, :], m.shape)
+    delta = h_bin < 1e-9 * rng
+    # bins of zero weight contribute nothing: only the others are integrated
+    row, col = np.nonzero((weight != 0.0) & ~delta)
+    val, mass = _window_integrals(law, m[row, col], h_bin[row, col], work, rng, per_decade, window)
+    p_att = np.zeros(m.shape[0])
+    mass_error = np.zeros(m.shape[0])
+    np.add.at(p_att, row, weight[row, col] * val)
+    np.add.at(mass_error, row, weight[row, col] * (mass - 1.0))
+    drow, dcol = np.nonzero(delta & (weight != 0.0))
+    with np.errstate(over="ignore", under="ignore"):
+        np.add.at(p_att, drow, weight[drow, dcol] * _sigma(law, m[drow, dcol], work, rng))
+    return p_att, mass_error
+
+
+def _sigma(law: str, u: Array, work: float, rng: float) -> Array:
+    """:func:`traction` [Pa] at gaps ``u >= 0`` [m] (products instead of powers for ``lj93``)."""
+    if law != "lj93":
+        return traction(law, u, work, rng)
+    s = rng / (rng + u)
+    s3 = s * s * s
+    return (8.0 / 3.0) * (work / rng) * (s3 - s3 * s3 * s3)
+
+
+def _window_integrals(
+    law: str, m: Array, h: Array, work: float, rng: float, per_decade: int, window: int
+) -> tuple[Array, Array]:
+    """Per bin (centre ``m``, width ``h`` [m], 1-d): ``int sigma psi du`` [Pa] and
+    ``int psi du`` [1] on the rule of :func:`attraction_quadrature`, its panels of zero width
+    (law edges clipped to the window) skipped."""
+    h = np.maximum(h, 1e-300)
     a = np.maximum(m - 9.0 * h, 0.0)
     b = m + 9.0 * h
     law_edges = np.concatenate(([0.0], rng * np.geomspace(1e-3, 1e4, 7 * per_decade + 1)))
-    clipped = np.clip(law_edges, a[..., None], b[..., None])
-    win = a[..., None] + (b - a)[..., None] * np.linspace(0.0, 1.0, window + 1)
+    clipped = np.clip(law_edges, a[:, None], b[:, None])
+    win = a[:, None] + (b - a)[:, None] * np.linspace(0.0, 1.0, window + 1)
     edges = np.sort(np.concatenate([clipped, win], axis=-1), axis=-1)
+    lo, hi = edges[:, :-1], edges[:, 1:]
+    pi, pj = np.nonzero(hi > lo)
+    lo, width = lo[pi, pj][:, None], (hi - lo)[pi, pj][:, None]
     x, w = np.polynomial.legendre.leggauss(8)
     x, w = 0.5 * (x + 1.0), 0.5 * w
-    lo, hi = edges[..., :-1, None], edges[..., 1:, None]
-    u = lo + (hi - lo) * x  # (n_load, n_bin, n_panel, 8)
-    wu = (hi - lo) * w
-    hh, mm = h[..., None, None], m[..., None, None]
+    u = lo + width * x  # (n_panel, 8)
+    hh, mm = h[pi][:, None], m[pi][:, None]
     with np.errstate(under="ignore", over="ignore"):
-        psi = (np.exp(-0.5 * ((u - mm) / hh) ** 2) + np.exp(-0.5 * ((u + mm) / hh) ** 2)) / (
-            math.sqrt(2.0 * math.pi) * hh
-        )
-    mass = np.sum(psi * wu, axis=(-2, -1))
-    val = np.sum(psi * wu * traction(law, u, work, rng), axis=(-2, -1))
-    delta = det.h[None, :] < 1e-9 * rng
-    mass = np.where(delta, 1.0, mass)
-    val = np.where(delta, traction(law, m, work, rng), val)
-    p_att = np.sum(det.weight * val, axis=1)
-    mass_error = np.sum(det.weight * (mass - 1.0), axis=1)
-    return p_att, mass_error
+        psi = np.exp(-0.5 * ((u - mm) / hh) ** 2)
+        psi += np.exp(-0.5 * ((u + mm) / hh) ** 2)
+        psi *= width * w / (math.sqrt(2.0 * math.pi) * hh)
+    n = m.size
+    mass = np.bincount(pi, weights=psi.sum(axis=1), minlength=n)
+    val = np.bincount(pi, weights=(psi * _sigma(law, u, work, rng)).sum(axis=1), minlength=n)
+    return val, mass
