@@ -27,6 +27,7 @@ import numpy as np
 
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
+from ._dmt_batch import AttractionMap, solve_loads
 from ._tabor import tabor_parameter, warn_outside_limit
 from ._traction import LAWS, attraction, attraction_quadrature, max_traction
 from .jkr import ADHESION_PARAMETERS, _check_scalar, stickiness
@@ -376,6 +377,7 @@ class DMTBoundary(Boundary):
         state = dict(self.__dict__)
         state["_states"] = {}
         state.pop("_clock", None)  # holds the pipeline's closures: not picklable, rebuilt per run
+        state.pop("_maps", None)  # the same (the sampled p_att of a scene, per clock)
         return state
 
     def validate(self, ctx: SceneContext) -> None:
@@ -386,25 +388,50 @@ class DMTBoundary(Boundary):
             warn_outside_limit(float(mu[-1]), "dmt", stacklevel=4)
 
     def state(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> DMTState:
-        """The self-consistent state of load ``p0`` [Pa] (cached per clock and load)."""
+        """The self-consistent state of load ``p0`` [Pa] (cached per clock and load).
+
+        On a miss every load of ``ctx.p0`` not yet solved is solved with it, sharing the
+        exact evaluations of ``p_att`` (:func:`._dmt_batch.solve_loads`); the result of a load
+        does not depend on the others.
+        """
         key = (id(clock), float(p0))
         if key not in self._states:
-            p = self._params
-            solved = [st for (c, _), st in self._states.items() if c == id(clock)]
-            self._states[key] = solve_dmt(
-                ctx.psd,
-                ctx.E_star,
-                float(p0),
-                clock.tau_of_zeta,
-                ctx.zeta,
-                p["law"],
-                p["work_of_adhesion"],
-                p["range"],
-                rtol=ctx.rtol,
-                guess=_predicted_p_rep(solved, float(p0)) if float(p0) > 0 else None,
-            )
+            todo = [
+                float(q) for q in np.atleast_1d(ctx.p0) if (id(clock), float(q)) not in self._states
+            ]
+            todo = list(dict.fromkeys(todo + [float(p0)]))
+            cols = solve_loads(self._map(ctx, clock), np.array(todo))
+            for i, q in enumerate(todo):
+                p_rep = float(cols["p_rep"][i])
+                self._states[(id(clock), q)] = DMTState(
+                    q,
+                    p_rep,
+                    p_rep - q,
+                    float(cols["residual"][i]),
+                    int(cols["iterations"][i]),
+                    float(cols["mean_gap"][i]),
+                    float(cols["mass_error"][i]),
+                    float(cols["area"][i]),
+                    float(cols["discretization_error"][i]),
+                )
             self._clock = clock
         return self._states[key]
+
+    def _map(self, ctx: SceneContext, clock: DiffusionClock) -> AttractionMap:
+        """The scene's :class:`._dmt_batch.AttractionMap` (one per clock; holds the clock)."""
+        maps = self.__dict__.setdefault("_maps", {})
+        if id(clock) not in maps:
+            p = self._params
+            zeta = np.asarray(ctx.zeta, dtype=float)
+            curves = tuple(
+                _increasing(z, np.asarray(clock.tau_of_zeta(z), dtype=float))
+                for z in (_curve_grid(zeta), _curve_grid(zeta, per_decade=16))
+            )
+            amap = AttractionMap(
+                ctx.psd, ctx.E_star, curves, p["law"], p["work_of_adhesion"], p["range"], ctx.rtol
+            )
+            maps[id(clock)] = (clock, amap)
+        return maps[id(clock)][1]
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """Absorbing wall at ``-p_att`` [Pa]: the elastic contact at ``p_rep`` shifted."""
