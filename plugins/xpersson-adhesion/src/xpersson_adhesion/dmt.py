@@ -5,12 +5,19 @@ nominal pressure ``p_rep = p0 + p_att``; the attraction ``p_att = int_0^inf sigm
 integrates a traction-gap law (:mod:`._traction`) over the gap distribution ``rho`` of that
 solved contact (:func:`xpersson.physics.interface.detachment`, physics.md §5.5a). ``p_rep`` is
 solved self-consistently, ``g(p_rep) = p_rep - p0 - p_att(p_rep) = 0``, to the scene's ``rtol``
-(Brent's method on a bracket; the largest root, i.e. the branch reached from high loads).
-A compressive load solved after others is bracketed around the root predicted from them
-(``p_att`` linear in ``p0``): about 4 evaluations of ``p_att`` instead of 12-14.
+(the largest root, i.e. the branch reached from high loads).
 
-Each evaluation of ``p_att`` solves the elastic contact at the trial ``p_rep`` with the core
-engine (``Wall.absorbing(0.0)``; exact path) on a dense magnification grid. The final contact
+``p_att(p_rep)`` does not depend on the load: the boundary solves all loads of a scene at once
+(:mod:`._dmt_batch`): exact evaluations of ``p_att`` on load-independent pressures (powers of
+two, then Chebyshev points of the octave holding a root), one vectorised call for many
+pressures, a root per load on the octave's interpolant, and an exact check at every root
+(Brent's method on the exact map where the check fails). A load's result does not depend on
+the loads solved with it. :func:`solve_dmt` is the per-load reference (Brent's method on the
+engine's map, as before the batched path; used by the tests).
+
+Each evaluation of ``p_att`` solves the elastic contact at the trial ``p_rep`` (the core
+engine's exact path for ``Wall.absorbing(0.0)``: ``A = erf(p_rep / (2 sqrt(tau)))``) on a
+dense magnification grid. The final contact
 is handed to the engine as the elastic problem shifted by ``p_att``: the delta at ``p0`` and the
 absorbing wall at ``p = -p_att`` (translation invariance), so that the core's ``area_fraction``
 is the contact area at ``p_rep`` and its pressure axis is the local repulsive stress minus the
@@ -146,7 +153,10 @@ def solve_dmt(
     rtol: float = 1e-6,
     guess: float | None = None,
 ) -> DMTState:
-    """Solve ``p_rep = p0 + p_att(p_rep)`` for one load.
+    """Solve ``p_rep = p0 + p_att(p_rep)`` for one load: the per-load reference.
+
+    Brent's method on the map ``p_att`` evaluated through the core engine, one load at a time
+    (the boundary itself uses :func:`._dmt_batch.solve_loads`; the tests compare the two).
 
     Parameters
     ----------
