@@ -35,6 +35,8 @@ __all__ = ["LAWS", "traction", "max_traction", "attraction", "attraction_quadrat
 Array = NDArray[np.float64]
 LAWS = ("dugdale", "lj93", "exponential")
 _LJ_PEAK = (8.0 / 3.0) * (2.0 / 3.0) / math.sqrt(3.0)  # max of (8/3)(s^3 - s^9): 1.0264
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(8)
+_GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W  # 8-point Gauss-Legendre on [0, 1]
 
 
 def traction(law: str, u: ArrayLike, work: float, rng: float) -> Array:
@@ -146,14 +148,14 @@ def _window_integrals(
     lo, hi = edges[:, :-1], edges[:, 1:]
     pi, pj = np.nonzero(hi > lo)
     lo, width = lo[pi, pj][:, None], (hi - lo)[pi, pj][:, None]
-    x, w = np.polynomial.legendre.leggauss(8)
-    x, w = 0.5 * (x + 1.0), 0.5 * w
-    u = lo + width * x  # (n_panel, 8)
+    u = lo + width * _GL_X  # (n_panel, 8)
     hh, mm = h[pi][:, None], m[pi][:, None]
     with np.errstate(under="ignore", over="ignore"):
         psi = np.exp(-0.5 * ((u - mm) / hh) ** 2)
-        psi += np.exp(-0.5 * ((u + mm) / hh) ** 2)
-        psi *= width * w / (math.sqrt(2.0 * math.pi) * hh)
+        # the mirror Gaussian at u >= 0 is below exp(-800) = 0.0 where u1 > 40 h: skipped
+        near = np.nonzero(m[pi] < 40.0 * h[pi])[0]
+        psi[near] += np.exp(-0.5 * ((u[near] + mm[near]) / hh[near]) ** 2)
+        psi *= width * _GL_W / (math.sqrt(2.0 * math.pi) * hh)
     n = m.size
     mass = np.bincount(pi, weights=psi.sum(axis=1), minlength=n)
     val = np.bincount(pi, weights=(psi * _sigma(law, u, work, rng)).sum(axis=1), minlength=n)
