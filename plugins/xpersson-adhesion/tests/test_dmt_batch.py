@@ -87,3 +87,15 @@ def test_chebyshev_coefficients_and_nodes():
     # nested nodes: the octave's ends are exact powers of two shared with the neighbours
     assert node_p(5, NMAX) == 32.0 and node_p(5, 0) == 64.0 and key(5, 0) == (6, NMAX)
     assert np.isclose(node_p(5, NMAX // 2), 32.0 * np.sqrt(2.0), rtol=1e-15)
+
+
+def test_unconverged_octaves_fall_back_to_brent_on_the_exact_map(monkeypatch):
+    from xpersson_adhesion._dmt_batch import AttractionMap
+
+    fast = _solve(with_(BASE, boundary=_dmt("lj93"), solver={"rtol": RTOL}))
+    monkeypatch.setattr(AttractionMap, "_converged", lambda self, k, n: False)
+    slow = _solve(with_(BASE, boundary=_dmt("lj93"), solver={"rtol": RTOL}))
+    np.testing.assert_allclose(slow["p_rep"].values, fast["p_rep"].values, rtol=2 * RTOL)
+    assert np.all(slow["dmt_residual"].values <= RTOL)
+    # Brent's evaluations on top of the scan and the (unconverged) degree-64 nodes
+    assert np.all(slow["dmt_iterations"].values > fast["dmt_iterations"].values)

@@ -114,9 +114,10 @@ class AttractionMap:
         return len(new)
 
     def nodes(self, k: int) -> set[tuple[int, int]]:
-        """Keys of the nodes of octave ``k``'s interpolant (empty: not converged)."""
-        n = self.degree.get(k, 0)
-        return {key(k, j) for j in range(0, NMAX + 1, NMAX // n)} if n else set()
+        """Keys of the nodes evaluated for octave ``k``'s interpolant (all :data:`NMAX` + 1
+        where it did not converge)."""
+        n = self.degree.get(k, 0) or NMAX
+        return {key(k, j) for j in range(0, NMAX + 1, NMAX // n)}
 
     def grid(self, k: int) -> float:
         """``p_att(2^k)`` [Pa] (must be known)."""
