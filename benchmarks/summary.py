@@ -138,7 +138,7 @@ def analysis_rows(rounds: int) -> list[tuple[str, str, str, str]]:
 
 
 def dmt_rows(rounds: int) -> list[tuple[str, str, str, str]]:
-    """``dmt`` on the adhesion plugin's example (13 loads)."""
+    """``dmt`` on the adhesion plugin's example (13 loads, 3 tensile) against the elastic solve."""
     path = HERE.parent / "plugins" / "xpersson-adhesion" / "examples" / "pdms_on_glass.toml"
     if not path.is_file():
         return []
@@ -146,13 +146,14 @@ def dmt_rows(rounds: int) -> list[tuple[str, str, str, str]]:
     sc["boundary"] = {"model": "dmt", "work_of_adhesion": "0.05 J/m**2", "range": "0.5 nm"}
     el = dict(sc, boundary={"model": "elastic"})
     el["load"] = {"p0": {"start": "1 kPa", "stop": "40 kPa", "num": 13}}
-    t = best({"dmt": lambda: xpersson.solve(sc), "el": lambda: xpersson.solve(el)}, 1)
+    t = best({"dmt": lambda: xpersson.solve(sc), "el": lambda: xpersson.solve(el)}, rounds)
+    ms = t["dmt"] / 13 * 1e3
     return [
         (
             "`dmt`, adhesion example (13 loads)",
-            f"{t['dmt'] / 13 * 1e3:.0f} ms/load",
+            f"{ms:.1f} ms/load",
             f"elastic solve: {t['el'] / 13 * 1e3:.2f} ms/load",
-            f"{t['dmt'] / t['el']:.0f}x (target <= 20 ms/load)",
+            f"{t['dmt'] / t['el']:.0f}x (target <= 20 ms/load: {'met' if ms <= 20 else 'not met'})",
         )
     ]
 
