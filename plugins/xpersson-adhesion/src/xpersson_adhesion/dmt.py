@@ -351,9 +351,10 @@ class DMTBoundary(Boundary):
         "dmt_iterations": VarSpec(
             ("p0",),
             "1",
-            "evaluations of the fixed-point map p_att",
+            "exact evaluations of p_att the root rests on",
             valid_min=0.0,
-            description="0 without adhesion",
+            description="shared ones included (the scan, the octave's interpolant, the check at "
+            "the root); 1 without adhesion (the check at p0)",
         ),
         "p_att_discretization_error": VarSpec(
             ("p0",),
