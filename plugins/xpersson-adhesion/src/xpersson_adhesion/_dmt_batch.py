@@ -131,7 +131,8 @@ class AttractionMap:
         Raises
         ------
         ValueError
-            A tensile load beyond pull-off (no sign change within :data:`SCAN_DEPTH` octaves).
+            A tensile load beyond pull-off (no sign change within :data:`SCAN_DEPTH` octaves;
+            a compressive load's scan ends at ``p0``).
         """
         peak = max_traction(self.law, self.work, self.rng)
         top = np.array([math.ceil(math.log2(max(q, 0.0) + peak)) for q in p0])
@@ -140,7 +141,7 @@ class AttractionMap:
         todo = list(range(p0.size))
         while todo:
             for i in todo:
-                if top[i] - k[i] > SCAN_DEPTH:
+                if p0[i] <= 0 and top[i] - k[i] > SCAN_DEPTH:  # compressive: ends at p0
                     raise ValueError(_beyond(p0[i], self.law, self.work, self.rng))
             # two octaves per round and load, all loads' pressures in one call
             self.fill(
@@ -240,6 +241,8 @@ def root_in_octave(p_att: Callable[[float], float], p0: float, k: int, rtol: flo
 
     if g(lo) >= 0:  # the lower end at p0 itself (p_att = 0 there)
         return lo
+    if g(hi) < 0:  # the upper end is the root (g = 0 there, the interpolant's rounding)
+        return hi
     return float(brentq(g, lo, hi, xtol=1e-300, rtol=max(rtol, 4 * np.finfo(float).eps)))
 
 
