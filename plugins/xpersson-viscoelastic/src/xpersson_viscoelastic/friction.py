@@ -64,6 +64,8 @@ class Friction(Analysis):
         "contact_area_cutoff",
         "frictional_shear_stress",
     )
+    #: a block of (v, T) points is computed at once (:meth:`compute_stacked`)
+    batched: ClassVar = frozenset()
     parameters: ClassVar = {
         "correction": ParamSpec(
             "1",
@@ -180,6 +182,24 @@ class Friction(Analysis):
         if mu_cum.dims[0] != "zeta":  # (p0, zeta)
             return mu_cum.copy(data=vals)
         return mu_cum.copy(data=vals.T.reshape(mu_cum.shape))
+
+    def compute_stacked(self, ctx_of: Any, ds: xr.Dataset) -> dict[str, Any]:
+        """The friction variables of a block of (v, T) points (leading ``point`` dimension)
+        at once; points with loads whose area drop the output grid misses (and a ``zeta_c``
+        between output points) are computed point by point, as :meth:`compute` does."""
+        zeta = np.asarray(ds["zeta"].values, dtype=float)
+        if self._zeta_c(zeta) != zeta[-1] or "G" not in ds:
+            return super().compute_stacked(ctx_of, ds)
+        out = {n: da.transpose("point", ...) for n, da in self.compute(ctx_of(0), ds).items()}
+        area = np.asarray(ds["area_fraction"].transpose("point", "p0", "zeta").values)
+        redo = [k for k in range(area.shape[0]) if _resolve.unresolved(area[k]).any()]
+        if not redo or zeta.size < 2:
+            return out
+        out = {n: da.copy() for n, da in out.items()}
+        for k in redo:
+            for n, da in self.compute(ctx_of(k), ds.isel(point=k)).items():
+                out[n][{"point": k}] = da.transpose(*(d for d in out[n].dims if d != "point"))
+        return out
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables, vectorised over loads (and any sweep dimension)."""
