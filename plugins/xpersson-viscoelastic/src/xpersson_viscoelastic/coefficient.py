@@ -20,6 +20,7 @@ from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 from . import kernel
 from ._build import build_model, build_shift
 from ._modulus import ModulusModel
+from ._paired import cumulative_paired
 from ._shift import WLF_UNIVERSAL
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -348,6 +349,23 @@ class ViscoelasticCoefficient(Coefficient):
             ctx.psd, self._model, ctx.nu, zeta, v, aT, panels_per_decade=self._ppd(ctx)
         )
         return tau, kernel.coefficient_f(ctx.psd, self._model, ctx.nu, zeta, v, aT)
+
+    def dense_stacked(
+        self, ctxs: Sequence[SceneContext], points: Sequence[Any], zeta: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(tau [Pa^2], L [Pa])`` of a block of points, row k at its own magnifications
+        ``zeta[k]`` (K, m): each row equals :meth:`tau` and :meth:`loss_integral` of point k
+        there (the friction analysis's dense grids). ``None`` where the block is not one call."""
+        if not self._one_call(ctxs, points):
+            return None
+        ctx = ctxs[0]
+        v, aT = self._stacked_vT(points)
+        ppd = self._ppd(ctx)
+        f = kernel._checked_nu(ctx.nu)
+        z = np.asarray(zeta, dtype=float)
+        exact = self._model.E_r**2 * np.asarray(ctx.psd.I3(z * float(ctx.psd.q_L)), dtype=float)
+        rest, loss = cumulative_paired(ctx.psd, self._model, z, v, aT, ppd=ppd)
+        return (np.pi / 4.0) * (exact + rest) / (f * f), loss / f
 
     def interpret_stacked(
         self, ctxs: Sequence[SceneContext], points: Sequence[Any]
