@@ -158,6 +158,21 @@ def dmt_rows(rounds: int) -> list[tuple[str, str, str, str]]:
     ]
 
 
+def friction_rows(rounds: int) -> list[tuple[str, str, str, str]]:
+    """mu(v) for 50 v x 3 T through ``xpersson.solve`` against the ``friction_curve`` kernel."""
+    from viscoelastic_friction import solve_vs_kernel
+
+    _, solve, kernel, pp = solve_vs_kernel(rounds)
+    return [
+        (
+            "friction mu(v), 50 v x 3 T x 2 loads through `xpersson.solve` (blocks stacked)",
+            f"{solve * 1e3:.0f} ms (point by point: {pp * 1e3:.0f} ms)",
+            f"`friction_curve` kernel: {kernel * 1e3:.1f} ms",
+            f"{solve / kernel:.0f}x (target <= 10x)",
+        )
+    ]
+
+
 def fresh_rows(rounds: int) -> list[tuple[str, str, str, str]]:
     """First solve in a fresh interpreter against ``import xarray, pint``."""
 
@@ -195,7 +210,7 @@ def main(argv: list[str] | None = None) -> str:
     args = ap.parse_args(argv)
     xpersson.solve(loads_scene(3))  # warm-up: imports, entry points
     rows = []
-    for part in (sweep_rows, analysis_rows, dmt_rows, fresh_rows):
+    for part in (sweep_rows, analysis_rows, dmt_rows, friction_rows, fresh_rows):
         rows += part(args.rounds)
         print(table(rows), flush=True)
     text = table(rows)

@@ -11,7 +11,7 @@ from xpersson_sweep_testlib import scene
 import xpersson
 from xpersson.builtin.elastic import ElasticBoundary
 from xpersson.sweep import batched
-from xpersson.sweep.blocks import _row_digests
+from xpersson.sweep.stacking import _row_digests
 from xpersson.testing import registry_with
 
 MATERIAL_SCENE = scene(

@@ -104,3 +104,11 @@ def test_cli_run_scheduler_parts_and_validate(tmp_path, client, capsys):
     assert "a sweep of 6 points" in capsys.readouterr().err
     code = main(["run", str(EXAMPLES / "elastic.toml"), "-o", f"{tmp_path / 'x'}/"])
     assert code == 2
+
+
+def test_stacked_spectrum_sweep_on_two_worker_processes_equals_serial(client):
+    """Blocks of points stacked in one run (issue 25) on the workers: equal to serial."""
+    sc = scene(spectrum={"H": [0.6, 0.7, 0.8, 0.9], "h_rms": ["0.5 um", "1 um", "2 um"]})
+    serial = xpersson.solve(sc)
+    par = xpersson.solve(sc, scheduler=client, chunk=3)  # 4 blocks of 3 stacked points
+    _same(serial, par)

@@ -42,6 +42,8 @@ class ElasticCoefficient(Coefficient):
     traits = frozenset({"elastic_spectrum"})
     #: tau and f are E*^2 times the spectrum's moment; the closures act through A(G)
     pressure_scaled = True
+    #: a block of points (other spectra, other E*) stacked: tau and f asked per point
+    batched: frozenset[str] = frozenset()
 
     def corrects_variance(self) -> bool:
         """True for the yp08, wm17 and xu24 closures."""
@@ -104,6 +106,8 @@ class ElasticBoundary(Boundary):
     walls_per_load = False
     #: the wall p = 0 is the same in units of E*
     pressure_scaled = True
+    #: walls at p = 0 for every point of a block
+    batched: frozenset[str] = frozenset()
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """One absorbing wall at p = 0 [Pa]; no upper wall."""

@@ -64,6 +64,9 @@ class SelfAffine(Spectrum):
             description="plateau PSD value (give one of h_rms, rms_slope, C_r)",
         ),
     }
+    #: points of a sweep block may differ in the exponent and the amplitude (one spectrum each,
+    #: the same q nodes and output grid)
+    batched = frozenset({"H", "h_rms", "rms_slope", "C_r"})
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)

@@ -10,7 +10,7 @@ are deterministic, side-effect free and picklable.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -96,6 +96,14 @@ class Plugin:
     #: one batch of loads (:mod:`xpersson.sweep.batched`); without it, point by point. It
     #: counts only on the class that declares it (subclasses declare it again).
     pressure_scaled: ClassVar[bool] = False
+    #: Stacked points (issue 25): ``None`` (the default) or the names of the plugin's own
+    #: parameters that may differ between the points of a sweep block solved as one run. A
+    #: declaring plugin accepts a block stacked over a point axis (its ``*_stacked`` hooks
+    #: below; the defaults loop over the points). A block is stacked only when every plugin of
+    #: the scene declares it and the points differ only in declared parameters
+    #: (:mod:`xpersson.pipeline.stacked`); like ``pressure_scaled``, it counts only on the
+    #: class that declares it.
+    batched: ClassVar[frozenset[str] | None] = None
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
@@ -267,6 +275,35 @@ class Coefficient(Plugin):
         """
         return {}
 
+    def tau_stacked(
+        self, ctxs: Sequence[SceneContext], points: Sequence[Coefficient], zeta: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``(tau, f)`` [Pa^2] of a block of points, each ``(n_point, n_zeta)``.
+
+        ``points`` are the points' coefficients (``self`` is the first; their parameters differ
+        only in :attr:`batched` ones), ``ctxs`` their contexts. The default asks each point.
+        """
+        import numpy as np
+
+        tau = np.stack(
+            [np.asarray(c.tau(x, zeta), float) for c, x in zip(points, ctxs, strict=True)]
+        )
+        f = np.stack([np.asarray(c.f(x, zeta), float) for c, x in zip(points, ctxs, strict=True)])
+        return tau, f
+
+    def interpret_stacked(
+        self, ctxs: Sequence[SceneContext], points: Sequence[Coefficient]
+    ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
+        """:meth:`interpret` of a block: every value with a leading point axis (its dims
+        without it). The default asks each point."""
+        import numpy as np
+
+        outs = [c.interpret(x) for c, x in zip(points, ctxs, strict=True)]
+        return {
+            n: (dims, np.stack([np.asarray(o[n][1]) for o in outs]))
+            for n, (dims, _) in outs[0].items()
+        }
+
 
 class Boundary(Plugin):
     """The walls of the pressure domain and the meaning of what they absorb.
@@ -374,6 +411,28 @@ class Analysis(Plugin):
     def compute(self, ctx: SceneContext, ds: xr.Dataset) -> dict[str, Any]:
         """Return ``{name: DataArray or (dims, data)}`` for every name in :attr:`provides`."""
         raise NotImplementedError
+
+    def compute_stacked(
+        self, ctx_of: Callable[[int], SceneContext], ds: xr.Dataset
+    ) -> dict[str, Any]:
+        """:meth:`compute` of a block: ``ds`` carries the points on a leading ``point``
+        dimension, ``ctx_of(k)`` is point k's context (with ``solve_at``). Return
+        ``{name: DataArray}`` with the ``point`` dimension. The default computes each point.
+        """
+        import xarray as xr
+
+        outs = [self.compute(ctx_of(k), ds.isel(point=k)) for k in range(ds.sizes["point"])]
+        return {
+            n: xr.concat([_as_array(o[n]) for o in outs], dim="point", coords="minimal")
+            for n in outs[0]
+        }
+
+
+def _as_array(value: Any) -> Any:
+    """A DataArray of a plugin's ``DataArray or (dims, data)`` value."""
+    import xarray as xr
+
+    return value if isinstance(value, xr.DataArray) else xr.DataArray(value[1], dims=value[0])
 
 
 def _check_analysis(cls: type[Plugin], name: str) -> None:

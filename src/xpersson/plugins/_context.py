@@ -47,7 +47,9 @@ class SceneContext:
         magnifications for the loads with indices ``loads`` (default all), returning
         ``area_fraction``, ``non_contact_fraction``, ``diffusion_time`` (n_zeta,),
         ``effective_diffusion_time`` and the boundary's variables. Analyses that integrate over
-        zeta use it to sample the area curve densely where the output grid is too coarse.
+        zeta use it to sample the area curve densely where the output grid is too coarse. An
+        analysis that already has tau(zeta) [Pa^2] there (a block's stacked call) passes it as
+        ``tau=`` (used where the coefficient's effective tau is tau for every load).
     """
 
     psd: Any

@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import XperssonWarning
-from ..pipeline import run
+from ..pipeline import run, stacked
 
 __all__ = [
     "SweepPoints",
@@ -204,25 +204,26 @@ def batched_block(block: Any, points: SweepPoints, names: list[str], template: x
     Returns ``(rows, solver)``: name -> array ``(block.size, *template[name].shape)`` and the
     solver records of the batched runs; ``None`` where the block must be solved point by point
     (a plugin without ``pressure_scaled``, a run that did not meet its tolerance, equal E*).
+    The sub-points (one per combination of the non-material values) are solved by one stacked
+    run where their plugins allow it (:mod:`xpersson.pipeline.stacked`), else one run each.
     """
     if not all(scaled_ok(rs) for rs in points.distinct()):
         return None
     mat = points.material
     shape = block.shape
     rows = {n: np.empty((block.size, *template[n].shape), template[n].dtype) for n in names}
-    solver = []
     flat = np.arange(block.size).reshape(shape)
     mat_ranges = [range(n) if m else range(1) for n, m in zip(shape, mat, strict=True)]
+    subs = []  # (where, rs, estar) per sub-point
     for sub_local in itertools.product(
         *(range(n) if not m else [0] for n, m in zip(shape, mat, strict=True))
     ):
         sel = tuple(
             slice(None) if m else i for i, m in zip(sub_local, mat, strict=True)
         )  # the material points of this sub-point, C order
-        where = flat[sel].ravel()
         glob0 = tuple(a + i for a, i in zip(block.start, sub_local, strict=True))
         rs = points.subs[points.key(glob0)]
-        estar = np.empty(where.size)
+        estar = np.empty(flat[sel].size)
         for j, loc in enumerate(itertools.product(*mat_ranges)):
             glob = tuple(
                 a + (li if m else si)
@@ -230,14 +231,62 @@ def batched_block(block: Any, points: SweepPoints, names: list[str], template: x
             )
             E, nu = points.material_of(glob, rs)
             estar[j] = E / (1.0 - nu**2)
-        got = _similar_run(rs, estar, names, template)
-        if got is None:
+        subs.append((flat[sel].ravel(), rs, estar))
+    got = _stacked_subs(subs, names, template)
+    solver = [] if got is None else [got[0][1]]  # one record for the stacked run
+    if got is None:
+        got = [_similar_run(rs, estar, names, template) for _, rs, estar in subs]
+        if any(g is None for g in got):
             return None
-        sub_rows, record = got
+        solver = [record for _, record in got]
+    for (where, _, _), (sub_rows, _) in zip(subs, got, strict=True):
         for n in names:
             rows[n][where] = sub_rows[n]
-        solver.append(record)
     return rows, solver
+
+
+def _similar_loads(rs: Any, estar: np.ndarray) -> tuple[Any, np.ndarray] | None:
+    """``rs`` at the loads equivalent to (E*_k, p0), increasing, and the inverse order."""
+    loads = float(rs.p0[0]) * float(rs.E_star) / estar
+    order = np.argsort(loads)
+    if np.any(np.diff(loads[order]) <= 0):
+        return None  # equal E* (zipped E and nu): no distinct loads
+    inverse = np.empty_like(order)
+    inverse[order] = np.arange(order.size)
+    return dataclasses.replace(rs, p0=loads[order], p0_scalar=False), inverse
+
+
+def _stacked_subs(subs: list[Any], names: list[str], template: xr.Dataset) -> Any:
+    """Every sub-point's rows from one stacked run, or ``None`` (solve them one by one)."""
+    if len(subs) < 2:
+        return None
+    refs = [_similar_loads(rs, estar) for _, rs, estar in subs]
+    if any(r is None for r in refs) or stacked.stack_reason([r[0] for r in refs]):
+        return None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", XperssonWarning)
+            got = stacked.run_stacked([r[0] for r in refs])
+    except Exception:  # noqa: BLE001 - solved one by one, which records the failure
+        return None
+    if got is None or any(n not in got for n in names):
+        return None
+    record = {"stacked_points": len(subs), "method": "stacked"}
+    out = []
+    for k, ((_, rs, estar), (_, inverse)) in enumerate(zip(subs, refs, strict=True)):
+
+        def var(n: str, k: int = k) -> tuple[tuple[str, ...], np.ndarray, Any]:
+            dims, arr = got[n]
+            units = template.variables[n].attrs.get("units")
+            if stacked.POINT in dims:
+                return dims[1:], np.asarray(arr)[k], units
+            return dims, np.asarray(arr), units
+
+        rows = _scaled_rows(var, estar, float(rs.E_star), inverse, names, template)
+        if rows is None:
+            return None
+        out.append((rows, record))
+    return out
 
 
 def _similar_run(
@@ -246,14 +295,10 @@ def _similar_run(
     """One run of ``rs`` with the loads equivalent to (E*_k, p0); rows per point k."""
     import json
 
-    ref = float(rs.E_star)
-    loads = float(rs.p0[0]) * ref / estar
-    order = np.argsort(loads)
-    if np.any(np.diff(loads[order]) <= 0):
-        return None  # equal E* (zipped E and nu): no distinct loads
-    inverse = np.empty_like(order)
-    inverse[order] = np.arange(order.size)
-    rs_ref = dataclasses.replace(rs, p0=loads[order], p0_scalar=False)
+    ref = _similar_loads(rs, estar)
+    if ref is None:
+        return None
+    rs_ref, inverse = ref
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", XperssonWarning)
         ds = run(rs_ref, squeeze=False)
@@ -262,20 +307,38 @@ def _similar_run(
     for name, index in template.indexes.items():
         if name != "p0" and not np.array_equal(ds.indexes[name].values, index.values):
             return None  # another grid or other spectrum nodes: stacked point by point
+
+    def var(n: str) -> tuple[tuple[str, ...], np.ndarray, Any]:
+        v = ds.variables[n]
+        return v.dims, np.asarray(v.values), v.attrs.get("units")
+
+    rows = _scaled_rows(var, estar, float(rs.E_star), inverse, names, template)
+    return None if rows is None else (rows, json.loads(ds.attrs["xpersson_solver"]))
+
+
+def _scaled_rows(
+    var: Any,
+    estar: np.ndarray,
+    ref: float,
+    inverse: np.ndarray,
+    names: list[str],
+    template: xr.Dataset,
+) -> dict[str, np.ndarray] | None:
+    """Rows per point k of a run at the equivalent loads: the loads back in the points' order,
+    every Pa^n output scaled by (E*_k / E*_ref)^n (``var(name) -> (dims, values, units)``)."""
     scale = estar / ref
     out = {}
     for n in names:
-        var, want = ds.variables[n], template.variables[n]
-        if var.dims != want.dims:
+        dims, arr, units = var(n)
+        if dims != template.variables[n].dims:
             return None
-        arr = np.asarray(var.values)
-        if "p0" in var.dims:
-            axis = var.dims.index("p0")
+        if "p0" in dims:
+            axis = dims.index("p0")
             arr = np.expand_dims(np.moveaxis(arr, axis, 0)[inverse], axis + 1)
         else:
             arr = np.broadcast_to(arr, (estar.size, *arr.shape))
-        power = 0 if n == "E" or arr.dtype.kind != "f" else pressure_power(var.attrs.get("units"))
+        power = 0 if n == "E" or arr.dtype.kind != "f" else pressure_power(units)
         if power:
             arr = arr * scale.reshape((-1,) + (1,) * (arr.ndim - 1)) ** power
         out[n] = arr
-    return out, json.loads(ds.attrs["xpersson_solver"])
+    return out

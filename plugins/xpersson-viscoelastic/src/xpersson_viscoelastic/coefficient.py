@@ -9,6 +9,7 @@ dimensions ``v`` and ``T``.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -17,9 +18,10 @@ from xpersson.physics import closures
 from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 
 from . import kernel
-from ._modulus import ModulusModel, Prony, sls, synthetic_tread
-from ._shift import WLF, WLF_UNIVERSAL, Arrhenius, NoShift, ShiftLaw
-from ._tables import load_master_curve, load_prony, load_shift_table
+from ._build import build_model, build_shift
+from ._modulus import ModulusModel
+from ._paired import cumulative_paired
+from ._shift import WLF_UNIVERSAL
 
 if TYPE_CHECKING:  # pragma: no cover
     from xpersson.plugins import SceneContext
@@ -226,6 +228,8 @@ class ViscoelasticCoefficient(Coefficient):
         **CLOSURE_PARAMETERS,  # closure, gamma: the core's one declaration
     }
     outputs: ClassVar = OUTPUTS
+    #: a block of (v, T) points is one kernel call (:meth:`tau_stacked`, :meth:`interpret_stacked`)
+    batched: ClassVar = frozenset({"velocity", "temperature"})
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
@@ -315,6 +319,87 @@ class ViscoelasticCoefficient(Coefficient):
             panels_per_decade=self._ppd(ctx),
         )
 
+    @property
+    def tau_per_load(self) -> bool:
+        """Whether :meth:`effective_tau` differs from :meth:`tau` per load (only the closures)."""
+        return self._params["closure"] != "persson01"
+
+    def _one_call(self, ctxs: Sequence[SceneContext], points: Sequence[Any]) -> bool:
+        """Whether a block is one kernel call: one spectrum and Poisson ratio, no flash."""
+        return not self._params["flash_temperature"] and all(
+            x.psd is ctxs[0].psd and x.nu == ctxs[0].nu and x.rtol == ctxs[0].rtol for x in ctxs
+        )
+
+    @staticmethod
+    def _stacked_vT(points: Sequence[Any]) -> tuple[np.ndarray, np.ndarray]:
+        """Sliding speeds [m/s] and shift factors [1] of a block, shape ``(n_point,)``."""
+        v = np.array([float(c._params["velocity"]) for c in points])
+        return v, np.array([c._aT for c in points])
+
+    def tau_stacked(
+        self, ctxs: Sequence[SceneContext], points: Sequence[Any], zeta: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``(tau, f)`` [Pa^2] of a block of (v, T) points, ``(n_point, n_zeta)``: one kernel
+        call over the stacked speeds and shift factors."""
+        if not self._one_call(ctxs, points):
+            return super().tau_stacked(ctxs, points, zeta)
+        ctx = ctxs[0]
+        v, aT = self._stacked_vT(points)
+        tau = kernel.diffusion_time(
+            ctx.psd, self._model, ctx.nu, zeta, v, aT, panels_per_decade=self._ppd(ctx)
+        )
+        return tau, kernel.coefficient_f(ctx.psd, self._model, ctx.nu, zeta, v, aT)
+
+    def dense_stacked(
+        self, ctxs: Sequence[SceneContext], points: Sequence[Any], zeta: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(tau [Pa^2], L [Pa])`` of a block of points, row k at its own magnifications
+        ``zeta[k]`` (K, m): each row equals :meth:`tau` and :meth:`loss_integral` of point k
+        there (the friction analysis's dense grids). ``None`` where the block is not one call."""
+        if not self._one_call(ctxs, points):
+            return None
+        ctx = ctxs[0]
+        v, aT = self._stacked_vT(points)
+        ppd = self._ppd(ctx)
+        f = kernel._checked_nu(ctx.nu)
+        z = np.asarray(zeta, dtype=float)
+        exact = self._model.E_r**2 * np.asarray(ctx.psd.I3(z * float(ctx.psd.q_L)), dtype=float)
+        rest, loss = cumulative_paired(ctx.psd, self._model, z, v, aT, ppd=ppd)
+        return (np.pi / 4.0) * (exact + rest) / (f * f), loss / f
+
+    def interpret_stacked(
+        self, ctxs: Sequence[SceneContext], points: Sequence[Any]
+    ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
+        """:meth:`interpret` of a block of (v, T) points (each value with a leading point
+        axis): one kernel call over the stacked speeds and shift factors."""
+        if not self._one_call(ctxs, points):
+            return super().interpret_stacked(ctxs, points)
+        ctx = ctxs[0]
+        zeta = ctx.zeta
+        v, aT = self._stacked_vT(points)
+        rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, v, aT)
+        L = kernel.loss_integral(
+            ctx.psd, self._model, ctx.nu, zeta, v, aT, panels_per_decade=self._ppd(ctx)
+        )
+        T0 = np.array([float(c._params["temperature"]) for c in points])
+        n = len(points)
+        out = {
+            "effective_modulus": (("zeta",), rms),
+            "loss_angular_integral": (("zeta",), loss),
+            "loss_integral": (("zeta",), L),
+            "flash_temperature": (("zeta",), np.repeat(T0[:, None], zeta.size, axis=1)),
+            "sliding_speed": ((), v),
+            "rubber_temperature": ((), T0),
+            "shift_factor": ((), aT),
+            "rubbery_modulus": ((), np.full(n, float(self._model.E_r))),
+            "glassy_modulus": ((), np.full(n, float(self._model.E_g))),
+        }
+        for name, (dims, arr) in out.items():  # the checks of interpret, per point
+            check_outputs({name: (dims, arr[0])}, OUTPUTS, "coefficient 'viscoelastic'")
+            check_outputs({name: (dims, arr.min(axis=0))}, OUTPUTS, "coefficient 'viscoelastic'")
+            check_outputs({name: (dims, arr.max(axis=0))}, OUTPUTS, "coefficient 'viscoelastic'")
+        return out
+
     def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """Per-load diffusion time [Pa^2] of the selected correction closure."""
         return closures.effective_tau(
@@ -382,56 +467,3 @@ def check_outputs(
                 f"(min {arr.min():g}, max {arr.max():g})"
             )
     return values
-
-
-def build_model(p: dict[str, Any]) -> ModulusModel:
-    """The modulus model named by ``p["modulus"]`` (SI parameters), checked."""
-    kind = p["modulus"]
-    if kind == "sls":
-        if not p["E_g"] >= p["E_r"]:
-            raise ValueError(
-                f"E_g: {p['E_g']:g} Pa is below E_r = {p['E_r']:g} Pa; allowed [E_r, inf) Pa"
-            )
-        return sls(p["E_r"], p["E_g"], p["relaxation_time"])
-    if kind == "master_curve":
-        if p["master_curve"] is None:
-            raise ValueError("master_curve: required for modulus = 'master_curve' (a file path)")
-        return load_master_curve(p["master_curve"], phi_nodes=int(p["phi_nodes"]))
-    inline = p["delta_E"] is not None or p["relaxation_times"] is not None
-    if inline and p["prony_file"] is not None:
-        raise ValueError("prony_file: give either prony_file or delta_E/relaxation_times")
-    if inline:
-        if p["delta_E"] is None or p["relaxation_times"] is None:
-            raise ValueError("delta_E and relaxation_times must be given together")
-        dE = np.atleast_1d(np.asarray(p["delta_E"], dtype=float))
-        tau = np.atleast_1d(np.asarray(p["relaxation_times"], dtype=float))
-        if dE.shape != tau.shape:
-            raise ValueError(
-                f"delta_E ({dE.size} values, Pa) and relaxation_times ({tau.size} values, s) "
-                "must have the same length"
-            )
-        return Prony(p["E_r"], dE, tau)
-    if p["prony_file"] is not None:
-        dE, tau = load_prony(p["prony_file"])
-        return Prony(p["E_r"], dE, tau)
-    if not p["E_g"] >= p["E_r"]:
-        raise ValueError(
-            f"E_g: {p['E_g']:g} Pa is below E_r = {p['E_r']:g} Pa; allowed [E_r, inf) Pa"
-        )
-    return synthetic_tread(p["E_r"], p["E_g"])
-
-
-def build_shift(p: dict[str, Any]) -> ShiftLaw:
-    """The shift law named by ``p["shift"]`` (SI parameters)."""
-    kind = p["shift"]
-    if kind == "wlf":
-        return WLF(float(p["C1"]), float(p["C2"]), float(p["T_ref"]))
-    if kind == "arrhenius":
-        if p["activation_energy"] is None:
-            raise ValueError("activation_energy: required for shift = 'arrhenius' (J/mol, >= 0)")
-        return Arrhenius(float(p["activation_energy"]), float(p["T_ref"]))
-    if kind == "table":
-        if p["shift_table"] is None:
-            raise ValueError("shift_table: required for shift = 'table' (a file path)")
-        return load_shift_table(p["shift_table"])
-    return NoShift()

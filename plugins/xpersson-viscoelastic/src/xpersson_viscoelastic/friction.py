@@ -64,6 +64,8 @@ class Friction(Analysis):
         "contact_area_cutoff",
         "frictional_shear_stress",
     )
+    #: a block of (v, T) points is computed at once (:meth:`compute_stacked`)
+    batched: ClassVar = frozenset()
     parameters: ClassVar = {
         "correction": ParamSpec(
             "1",
@@ -181,6 +183,57 @@ class Friction(Analysis):
             return mu_cum.copy(data=vals)
         return mu_cum.copy(data=vals.T.reshape(mu_cum.shape))
 
+    def compute_stacked(self, ctx_of: Any, ds: xr.Dataset) -> dict[str, Any]:
+        """The friction variables of a block of (v, T) points (leading ``point`` dimension)
+        at once: the output-grid rule for every point, then the loads whose area drop the
+        output grid misses on their dense grids, as :meth:`compute` does per point, with the
+        coefficient's q-integrals of every such point in one call (``dense_stacked``)."""
+        zeta = np.asarray(ds["zeta"].values, dtype=float)
+        if self._zeta_c(zeta) != zeta[-1] or "G" not in ds or zeta.size < 2:
+            return super().compute_stacked(ctx_of, ds)
+        zp = ("point", "p0", "zeta")
+        out = {n: da.transpose("point", ...) for n, da in self.compute(ctx_of(0), ds).items()}
+        area = np.asarray(ds["area_fraction"].transpose(*zp).values, dtype=float)
+        redo = [k for k in range(area.shape[0]) if _resolve.unresolved(area[k]).any()]
+        if not redo:
+            return out
+        G = np.asarray(ds["G"].transpose(*zp).values, dtype=float)
+        L = np.asarray(ds["loss_integral"].transpose("point", "zeta").values, dtype=float)
+        p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))
+        plans = []
+        for k in redo:
+            loads = np.flatnonzero(_resolve.unresolved(area[k]))
+            top = _resolve.dense_top(zeta, area[k][loads])
+            zd, idx = _resolve.dense_grid(zeta[: top + 1], G[k][:, : top + 1][loads])
+            plans.append((k, loads, top, zd, idx))
+        dense = _dense_integrals(ctx_of, redo, [plan[3] for plan in plans])
+        mu_cum = np.array(out["mu_visc_cumulative"].transpose(*zp).values, dtype=float)
+        for r, (k, loads, top, zd, idx) in enumerate(plans):
+            ctx, zk = ctx_of(k), zeta[: top + 1]
+            if dense is None:
+                Ad = _resolve.dense_area(
+                    ctx, zk, area[k][:, : top + 1], G[k][:, : top + 1], zd, loads
+                )
+                Ld = _resolve.dense_loss(ctx, zk, L[k][: top + 1], zd)
+            else:
+                got = ctx.solve_at(zd, loads, tau=dense[0][r, : zd.size])
+                Ad = np.asarray(got["area_fraction"], dtype=float).reshape(loads.size, -1)
+                Ld = dense[1][r, : zd.size]
+            gd = Ad * (
+                closure_S("yp08", Ad, self._params["gamma"])
+                if self._params["correction"] == "s_factor"
+                else 1.0
+            )
+            run = _resolve.running_integral(gd, Ld, zd)[:, idx] / (2.0 * p0[loads][:, None])
+            vals = mu_cum[k]
+            beyond = vals[loads, top + 1 :] - vals[loads, top : top + 1]  # the output-grid rule
+            vals[loads] = np.concatenate([run, run[:, -1:] + beyond], axis=-1)
+        out["mu_visc_cumulative"] = out["mu_visc_cumulative"].transpose(*zp).copy(data=mu_cum)
+        out["mu_visc"] = out["mu_visc_cumulative"].isel(zeta=-1, drop=True)
+        out["mu"] = out["mu_visc"] + out["mu_contact"]
+        self._check(out)
+        return out
+
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables, vectorised over loads (and any sweep dimension)."""
         import xarray as xr
@@ -238,6 +291,11 @@ class Friction(Analysis):
             "contact_area_cutoff": A_c,
             "frictional_shear_stress": tau_f,
         }
+        self._check(out)
+        return out
+
+    def _check(self, out: dict[str, Any]) -> None:
+        """Finite values inside each output's declared range."""
         for name, da in out.items():
             vals = np.asarray(da.values, dtype=float)
             spec = self.outputs[name]
@@ -247,4 +305,15 @@ class Friction(Analysis):
                 raise RuntimeError(f"analysis 'friction': {name!r} below {spec.valid_min}")
             if spec.valid_max is not None and np.any(vals > spec.valid_max + 1e-15):
                 raise RuntimeError(f"analysis 'friction': {name!r} above {spec.valid_max}")
-        return out
+
+
+def _dense_integrals(ctx_of: Any, points: list[int], grids: list[np.ndarray]) -> Any:
+    """``(tau, L)`` of the points at their dense grids (rows padded with their last value) from
+    the coefficient's ``dense_stacked`` (one call), or ``None`` (each point asks its own)."""
+    coefs = [ctx_of(k).coefficient for k in points]
+    hook = getattr(coefs[0], "dense_stacked", None)
+    if hook is None or any(type(c) is not type(coefs[0]) for c in coefs):
+        return None
+    m = max(z.size for z in grids)
+    Z = np.stack([np.concatenate([z, np.full(m - z.size, z[-1])]) for z in grids])
+    return hook([ctx_of(k) for k in points], coefs, Z)

@@ -313,6 +313,9 @@ def friction_integral(increments: ArrayLike, p0: ArrayLike) -> Array:
     return np.cumsum(inc, axis=-1) / (2.0 * p0[..., None])
 
 
+_GL3 = np.polynomial.legendre.leggauss(3)  # 3-point Gauss-Legendre (once, not per grid)
+
+
 @lru_cache(maxsize=32)
 def _cubic_weights(x: tuple[float, ...]) -> tuple[Array, Array]:
     """Per-interval weights ``W[i, a, b] = int_{x_i}^{x_i+1} l_a(x) l_b'(x) dx`` of the
@@ -326,7 +329,7 @@ def _cubic_weights(x: tuple[float, ...]) -> tuple[Array, Array]:
     start = np.clip(np.arange(n - 1) - 1, 0, n - 4)
     h = np.diff(xs)
     S = xs[start[:, None] + np.arange(4)] - xs[:-1, None]  # stencil, shifted: (n - 1, 4)
-    tg, wg = np.polynomial.legendre.leggauss(3)
+    tg, wg = _GL3
     d = (0.5 * h[:, None] * (tg + 1.0))[:, :, None] - S[:, None, :]  # t - s_m: (n - 1, 3, 4)
     val = np.empty_like(d)
     der = np.zeros_like(d)

@@ -1,0 +1,56 @@
+"""A (v, T) friction sweep stacked in one run (issue 25): one kernel call for the block,
+equal to the point-by-point path to 1e-12; the paired kernel equals the per-point one."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import xpersson
+from xpersson.physics import SelfAffineRollOff
+from xpersson.pipeline import stacked
+from xpersson.sweep import batched
+from xpersson_viscoelastic import kernel, synthetic_tread
+from xpersson_viscoelastic._paired import cumulative_paired
+
+SCENE = Path(__file__).resolve().parents[1] / "examples" / "tread_on_asphalt.toml"
+
+
+def test_paired_integrals_equal_the_per_point_kernel():
+    psd = SelfAffineRollOff.from_h_rms(6e-5, 0.8, 600.0, 3000.0, 1e7)
+    model = synthetic_tread()
+    v, aT = np.array([1e-3, 1.0, 30.0]), np.array([1.0, 0.3, 5.0])
+    grids = [np.geomspace(1, 1e3, 40), np.geomspace(1, 50, 70), 1 + np.geomspace(1e-6, 1e4, 100)]
+    m = max(z.size for z in grids)
+    padded = np.stack([np.concatenate([z, np.full(m - z.size, z[-1])]) for z in grids])
+    rest, loss = cumulative_paired(psd, model, padded, v, aT)
+    for k, z in enumerate(grids):
+        for which, got in (("tau", rest), ("loss", loss)):
+            ref = kernel._cumulative_at(
+                psd, model, z, v[k], aT[k], which, kernel.NODES, kernel.PANELS_PER_DECADE
+            )
+            np.testing.assert_allclose(got[k, : z.size], ref, rtol=1e-14, atol=0)
+
+
+@pytest.mark.parametrize("chunk", [None, 3])
+def test_friction_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
+    kw = {
+        "coefficient__velocity": ["1e-6 m/s", "1e-3 m/s", "0.1 m/s", "10 m/s"],
+        "coefficient__temperature": ["273.15 K", "313.15 K"],
+    }
+    calls = []
+    run = stacked.run_stacked
+    monkeypatch.setattr(stacked, "run_stacked", lambda pts: calls.append(len(pts)) or run(pts))
+    batch = xpersson.solve(SCENE, chunk=chunk, **kw)
+    assert sum(calls) == 8  # every point solved stacked
+    monkeypatch.setattr(batched, "ENABLED", False)
+    point = xpersson.solve(SCENE, chunk=chunk, **kw)
+    assert list(batch.variables) == list(point.variables)
+    for name, var in point.variables.items():
+        if var.dtype.kind == "f":
+            np.testing.assert_allclose(batch[name].values, var.values, rtol=1e-12, atol=1e-300)
+        else:
+            np.testing.assert_array_equal(batch[name].values, var.values)
+    assert batch.mu_visc.dims == ("v", "T", "p0")

@@ -1,0 +1,308 @@
+"""Stacked points: a block of sweep points solved by one run (issue 25).
+
+Points whose plugins all declare :attr:`xpersson.plugins.Plugin.batched` and that differ only
+in declared parameters (same classes, material, loads count, output grid, spectrum nodes,
+accuracy) are solved together: the coefficient is asked once for the block
+(:meth:`~xpersson.plugins.Coefficient.tau_stacked`), the engine once for every (point, load)
+with each load's own ``tau(zeta)`` row, the boundary's walls per point, the coefficient's
+:meth:`~xpersson.plugins.Coefficient.interpret_stacked` and each analysis's
+:meth:`~xpersson.plugins.Analysis.compute_stacked` once, on one Dataset whose variables carry a
+leading ``point`` dimension. :func:`run_stacked` returns that Dataset's variables as
+``name -> (dims, array)``; the sweep (:mod:`xpersson.sweep.fast`) reads its rows per point.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .. import checks, plugins
+from ..scene import ResolvedScene
+from .assemble import assemble
+from .frontend import diffusion_clock, scene_context, spectrum_kinks
+from .solve_at import make_solve_at
+from .stages import _default_effective_tau, coefficient_arrays, load_walls, validate
+
+__all__ = ["POINT", "stack_reason", "run_stacked", "rows_of"]
+
+#: The leading dimension of a stacked block's variables.
+POINT = "point"
+
+
+def _roles(rs: ResolvedScene) -> list[tuple[str, Any]]:
+    return [
+        ("spectrum", rs.spectrum),
+        ("coefficient", rs.coefficient),
+        ("boundary", rs.boundary),
+        *((f"analyses.{n}", a) for n, a in rs.analyses),
+    ]
+
+
+def _equal(a: Any, b: Any) -> bool:
+    try:
+        return bool(a == b)
+    except ValueError:  # arrays
+        return bool(np.array_equal(np.asarray(a), np.asarray(b)))
+
+
+def _differs(rs: ResolvedScene, rs0: ResolvedScene) -> str | None:
+    """What makes ``rs`` differ from ``rs0`` beyond declared plugin parameters (or None)."""
+    if (rs.E, rs.nu, rs.rtol, rs.atol, rs.method) != (
+        rs0.E,
+        rs0.nu,
+        rs0.rtol,
+        rs0.atol,
+        rs0.method,
+    ):
+        return "material or accuracy"
+    if rs.p0.shape != rs0.p0.shape or not np.array_equal(rs.zeta, rs0.zeta):
+        return "loads count or output grid"
+    if rs.solver_options != rs0.solver_options or rs.plugin_time_limit != rs0.plugin_time_limit:
+        return "solver options"
+    if rs0.analyses and not np.array_equal(rs.p0, rs0.p0):
+        return "loads (with analyses)"
+    if rs.psd is not rs0.psd and not np.array_equal(rs.psd.nodes(), rs0.psd.nodes()):
+        return "spectrum nodes"
+    first, other = _roles(rs0), _roles(rs)
+    if [r for r, _ in first] != [r for r, _ in other]:
+        return "analyses"
+    for (role, a), (_, b) in zip(first, other, strict=True):
+        if type(a) is not type(b):
+            return f"{role}: plugin"
+        declared = vars(type(a)).get("batched") or frozenset()
+        if any(k not in declared and not _equal(v, b.params[k]) for k, v in a.params.items()):
+            return f"{role}: a parameter not declared batched"
+    return None
+
+
+def stack_reason(points: Sequence[ResolvedScene]) -> str | None:
+    """Why a block of resolved points cannot be solved stacked (``None``: it can)."""
+    rs0 = points[0]
+    if len(points) < 2:
+        return "one point"
+    if rs0.pressure_pdf or rs0.p0.size == 0:
+        return "pressure grid"
+    if getattr(type(rs0.boundary), "walls_per_load", True):
+        return "walls per load"
+    for role, plugin in _roles(rs0):
+        if vars(type(plugin)).get("batched") is None:
+            return f"{role}: {type(plugin).__name__} does not declare batched"
+    for rs in points[1:]:
+        why = _differs(rs, rs0)
+        if why:
+            return why
+    return None
+
+
+def run_stacked(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], Any]] | None:
+    """Solve a block of points (see :func:`stack_reason`) as one run.
+
+    Returns ``name -> (dims, array)`` of every variable of the points' Datasets (a leading
+    ``point`` dimension where it differs between points), or ``None`` where a load did not
+    meet its tolerance (the caller then solves point by point, recording each status).
+    """
+    with plugins.time_limit(points[0].plugin_time_limit):
+        return _run(points)
+
+
+def _coefficient(points: Sequence[ResolvedScene], ctxs: list[Any]) -> tuple[Any, Any, Any]:
+    """tau (K, nz), f (K, nz) and the per-load effective tau (K, nl, nz) or None (= tau)."""
+    rs0 = points[0]
+    who = rs0.labels["coefficient"]
+    coefs = [rs.coefficient for rs in points]
+    K, nz = len(points), rs0.zeta.size
+    if all(_default_effective_tau(c) for c in coefs):
+        with checks.calling(who, "tau(zeta)"):
+            tau, f = rs0.coefficient.tau_stacked(ctxs, coefs, rs0.zeta)
+        kw: dict[str, Any] = dict(nonnegative=True, unit="Pa2")
+        tau = checks.check_array(tau, who, "tau(zeta)", (K, nz), nondecreasing_axis=1, **kw)
+        f = checks.check_array(f, who, "f(zeta)", (K, nz), **kw)
+        return tau, f, None
+    got = [coefficient_arrays(c, x, who) for c, x in zip(coefs, ctxs, strict=True)]
+    tau = np.stack([g[0] for g in got])
+    f = np.stack([g[1] for g in got])
+    eff = None if all(g[3] for g in got) else np.stack([g[2] for g in got])
+    return tau, f, eff
+
+
+def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], Any]] | None:
+    from .. import engine
+
+    rs0 = points[0]
+    who = rs0.labels
+    labels = [who[f"analyses.{name}"] for name, _ in rs0.analyses]
+    ctxs = [scene_context(rs) for rs in points]
+    for rs, ctx in zip(points, ctxs, strict=True):
+        validate(rs, ctx, who["boundary"], labels)
+    tau, f, eff = _coefficient(points, ctxs)
+    K, nl, nz = len(points), rs0.p0.size, rs0.zeta.size
+    walls = []
+    for rs, ctx in zip(points, ctxs, strict=True):
+        coef = rs.coefficient
+        clock = diffusion_clock(ctx, coef, kinks=spectrum_kinks(rs.psd))
+        walls.append(load_walls(rs, ctx, clock, who["boundary"])[0])
+    shared = all(w == walls[0] for w in walls)
+    loads = np.concatenate([rs.p0 for rs in points])
+    rows = np.repeat(tau, nl, axis=0) if eff is None else eff.reshape(K * nl, nz)
+    results = engine.solve_batch(
+        rows,
+        loads,
+        walls[0] if shared else [w for w in walls for _ in range(nl)],
+        rtol=rs0.rtol,
+        atol=rs0.atol,
+        method=rs0.method,
+        options=rs0.solver_options or None,
+    )
+    if any(s != "success" for s in results.status):
+        return None
+    flat = dataclasses.replace(rs0, p0=loads, p0_scalar=False)
+    ds = assemble(flat, dataclasses.replace(ctxs[0], p0=loads), results, tau[0], f[0], None, None)
+    if checks.check_core(ds):  # a load outside the core ranges: its status is recorded per point
+        return None
+    out = _unflatten(ds, K, nl)
+    p2 = (loads * loads).reshape(K, nl)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        G = tau[:, None, :] / p2[:, :, None]
+    if not np.all(p2 != 0):
+        G = np.where(np.isnan(G), np.inf, G)
+    out["G"] = ((POINT, "p0", "zeta"), G)
+    out["diffusion_time"] = ((POINT, "zeta"), tau)
+    out["diffusion_coefficient"] = ((POINT, "zeta"), f)
+    if eff is not None:
+        out["effective_diffusion_time"] = ((POINT, "p0", "zeta"), eff)
+    _spectra(points, ds, out)
+    coef_out = rs0.coefficient.interpret_stacked(ctxs, [rs.coefficient for rs in points])
+    for name, (dims, arr) in coef_out.items():
+        out[name] = ((POINT, *dims), np.asarray(arr))
+    for k, (rs, ctx) in enumerate(zip(points, ctxs, strict=True)):
+        extra = rs.boundary.interpret(ctx, _Loads(results, k * nl, nl))
+        for name, value in (extra or {}).items():
+            out.setdefault(name, [])  # type: ignore[arg-type]
+            out[name].append(value)  # type: ignore[union-attr]
+    for name, value in list(out.items()):
+        if isinstance(value, list):  # the boundary's per-point values
+            da = [_as_dataarray(v) for v in value]
+            out[name] = ((POINT, *da[0].dims), np.stack([d.values for d in da]))
+    if rs0.analyses:
+        _analyses(points, ctxs, walls, out, ds)
+    return out
+
+
+class _Loads(Sequence[Any]):
+    """Point k's engine results: a view of the block's batch (each built on access only)."""
+
+    def __init__(self, results: Any, start: int, n: int) -> None:
+        self._results, self._start, self._n = results, start, n
+
+    def __len__(self) -> int:
+        return self._n
+
+    def __getitem__(self, i: Any) -> Any:
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(self._n))]
+        i = int(i) + (self._n if int(i) < 0 else 0)
+        if not 0 <= i < self._n:
+            raise IndexError(i)
+        return self._results[self._start + i]
+
+    def __getattr__(self, name: str) -> Any:  # the stacked arrays of the point's loads
+        value = getattr(self._results, name)
+        if isinstance(value, np.ndarray) and value.ndim and value.shape[0] == len(self._results):
+            return value[self._start : self._start + self._n]
+        if isinstance(value, list) and len(value) == len(self._results):
+            return value[self._start : self._start + self._n]
+        return value
+
+
+def _spectra(points: Sequence[ResolvedScene], ds: xr.Dataset, out: dict[str, Any]) -> None:
+    """The spectrum's variables per point (one spectrum may serve every point)."""
+    psds = [rs.psd for rs in points]
+    if all(p is psds[0] for p in psds):
+        return
+    q_nodes = np.asarray(ds["q_psd"].values, float)
+    out["psd_C"] = ((POINT, "q_psd"), np.stack([np.asarray(p.C(q_nodes), float) for p in psds]))
+    out["h_rms"] = ((POINT,), np.array([float(p.h_rms()) for p in psds]))
+    out["rms_slope"] = ((POINT,), np.array([float(p.rms_slope()) for p in psds]))
+
+
+def _unflatten(ds: xr.Dataset, K: int, nl: int) -> dict[str, tuple[tuple[str, ...], Any]]:
+    """The variables of the flat (K * nl loads) Dataset, the loads split as (point, p0)."""
+    out = {}
+    for name, var in ds.variables.items():
+        arr = np.asarray(var.values)
+        if "p0" not in var.dims:
+            out[name] = (var.dims, arr)
+            continue
+        axis = var.dims.index("p0")
+        arr = np.moveaxis(arr, axis, 0).reshape((K, nl, *arr.shape[:axis], *arr.shape[axis + 1 :]))
+        out[name] = ((POINT, *var.dims), np.moveaxis(arr, 1, axis + 1))
+    return out
+
+
+def _as_dataarray(value: Any) -> xr.DataArray:
+    return value if isinstance(value, xr.DataArray) else xr.DataArray(value[1], dims=value[0])
+
+
+def _analyses(
+    points: Sequence[ResolvedScene],
+    ctxs: list[Any],
+    walls: list[Any],
+    out: dict[str, Any],
+    flat: xr.Dataset,
+) -> None:
+    """Each analysis once for the block, on the stacked Dataset (loads shared by every point)."""
+    rs0 = points[0]
+    coords = {
+        n: (flat[n].dims, flat[n].values, dict(flat[n].attrs)) for n in ("zeta", "q", "q_psd")
+    }
+    coords["p0"] = (("p0",), rs0.p0, dict(flat["p0"].attrs))
+    data = {
+        n: xr.Variable(dims, arr, dict(flat[n].attrs) if n in flat.variables else {})
+        for n, (dims, arr) in out.items()
+        if n not in coords
+    }
+    sds = xr.Dataset(data, coords=coords)
+    cache: dict[int, Any] = {}
+
+    def ctx_of(k: int) -> Any:
+        if k not in cache:
+            rs, ctx = points[k], ctxs[k]
+            cache[k] = dataclasses.replace(
+                ctx,
+                coefficient=rs.coefficient,
+                boundary=rs.boundary,
+                solve_at=make_solve_at(rs, ctx, [walls[k]] * rs.p0.size),
+            )
+        return cache[k]
+
+    for name, analysis in rs0.analyses:
+        label = rs0.labels[f"analyses.{name}"]
+        with checks.calling(label, "compute_stacked()"):
+            got = analysis.compute_stacked(ctx_of, sds)
+        missing = [v for v in type(analysis).provides if v not in (got or {})]
+        if missing:
+            raise checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
+        for vname, value in got.items():
+            da = _as_dataarray(value)
+            if POINT in da.dims:
+                da = da.transpose(POINT, ...)
+            out[vname] = (da.dims, np.asarray(da.values))
+            sds[vname] = xr.Variable(da.dims, np.asarray(da.values))
+
+
+def rows_of(
+    stacked: dict[str, tuple[tuple[str, ...], Any]], name: str, dims: tuple[str, ...], K: int
+) -> np.ndarray:
+    """Point ``k``'s values of ``name`` in ``dims`` order, stacked: ``(K, *shape)``."""
+    sdims, arr = stacked[name]
+    arr = np.asarray(arr)
+    if POINT not in sdims:
+        order = [sdims.index(d) for d in dims]
+        arr = np.transpose(arr, order) if order != list(range(len(order))) else arr
+        return np.broadcast_to(arr, (K, *arr.shape))
+    order = [0] + [sdims.index(d) for d in dims]
+    return np.transpose(arr, order) if order != list(range(len(order))) else arr

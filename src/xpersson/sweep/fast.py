@@ -1,0 +1,120 @@
+"""The fast paths of a block (issue 25): points solved as batches of equivalent loads
+(:mod:`.batched`, contact similarity) or stacked in one run (:mod:`xpersson.pipeline.stacked`);
+``None`` sends the block point by point (:func:`xpersson.sweep.blocks.run_block`)."""
+
+from __future__ import annotations
+
+import json
+import warnings
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..errors import XperssonWarning
+from ..pipeline import run, squeeze_p0, stacked
+from . import batched
+from .batched import SweepPoints, batched_block, scaled_ok
+from .stacking import (
+    Block,
+    BlockResult,
+    _digests,
+    _own_names,
+    _point_shaped,
+    stack_rows,
+    write_block_part,
+)
+
+__all__ = ["similar_block", "stacked_block"]
+
+
+def _template(rs: Any, block: Block, quiet_warnings: bool) -> xr.Dataset | None:
+    """The first point solved on its own (coordinates, attributes; ``None`` if it failed)."""
+    try:
+        with warnings.catch_warnings():
+            if quiet_warnings:
+                warnings.simplefilter("ignore", XperssonWarning)
+            template = run(rs, squeeze=False)
+    except Exception:  # noqa: BLE001 - the point-by-point path records the failure
+        return None
+    if template.attrs.get("status") != "success":
+        return None
+    return _point_shaped(template, block)
+
+
+def _result(
+    block: Block,
+    rows: dict[str, np.ndarray],
+    template: xr.Dataset,
+    solver: list[dict[str, Any]],
+    p0_scalar: bool,
+    part: str | None,
+    part_attrs: dict[str, Any] | None,
+) -> BlockResult:
+    """The block's Dataset from its rows (every point solved), written as a part if asked."""
+    status = np.zeros(block.shape, dtype=np.int8)
+    ds = stack_rows(rows, block, status, template)
+    if p0_scalar:
+        ds = squeeze_p0(ds)
+    digests = _digests([set(template.variables)] * block.size, ds, block)
+    out = BlockResult(block, ds, None, status, {}, digests, solver)
+    if part is not None:
+        out.sha256 = write_block_part(ds, part, out, part_attrs)
+        out.dataset, out.part = None, part
+    return out
+
+
+def similar_block(
+    block: Block,
+    points: SweepPoints,
+    part: str | None,
+    quiet_warnings: bool,
+    part_attrs: dict[str, Any] | None = None,
+) -> BlockResult | None:
+    """The block solved as batches of loads (:mod:`.batched`), or ``None`` (point by point)."""
+    if not all(scaled_ok(rs) for rs in points.distinct()):
+        return None  # a plugin without pressure_scaled: no template run wasted
+    template = _template(points[0], block, quiet_warnings)
+    if template is None:
+        return None
+    got = batched_block(block, points, _own_names(template, block), template)
+    if got is None:
+        return None
+    rows, solver = got
+    return _result(block, rows, template, solver, points[0].p0_scalar, part, part_attrs)
+
+
+def stacked_block(
+    block: Block,
+    points: list[Any],
+    part: str | None,
+    quiet_warnings: bool,
+    part_attrs: dict[str, Any] | None = None,
+) -> BlockResult | None:
+    """The block's points stacked in one run (:func:`xpersson.pipeline.stacked.run_stacked`),
+    or ``None`` (point by point: a plugin without ``batched``, points that differ otherwise,
+    a load that did not meet its tolerance, a failure)."""
+    if not batched.ENABLED or stacked.stack_reason(points) is not None:
+        return None
+    template = _template(points[0], block, quiet_warnings)
+    if template is None:
+        return None
+    try:
+        with warnings.catch_warnings():
+            if quiet_warnings:
+                warnings.simplefilter("ignore", XperssonWarning)
+            got = stacked.run_stacked(points)
+    except Exception:  # noqa: BLE001 - the point-by-point path records the failure
+        return None
+    names = _own_names(template, block)
+    if got is None or any(n not in got for n in names):
+        return None
+    rows = {}
+    for n in names:
+        want = template.variables[n]
+        r = stacked.rows_of(got, n, want.dims, len(points))
+        if r.shape[1:] != want.shape:
+            return None
+        rows[n] = r.astype(want.dtype, copy=False)
+    solver = [json.loads(template.attrs["xpersson_solver"])]
+    return _result(block, rows, template, solver, points[0].p0_scalar, part, part_attrs)

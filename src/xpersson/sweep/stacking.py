@@ -1,0 +1,281 @@
+"""Stacked block data: the block and its result, a block's Dataset from point Datasets or rows,
+its part file and the per-point fingerprints of its variables (split from :mod:`.blocks`)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..archive import file_digest, to_netcdf
+
+__all__ = [
+    "Block",
+    "BlockResult",
+    "stack",
+    "stack_rows",
+    "POINT_STATUS",
+    "PART_ATTR",
+    "write_block_part",
+]
+
+
+POINT_STATUS = {"success": 0, "tolerance_not_met": 1, "failed": 2}
+PART_ATTR = "xpersson_part"
+"""Global attribute of a part: JSON with the run identity and the block's summary."""
+
+
+@dataclass(frozen=True)
+class Block:
+    """A hyper-rectangle of sweep points.
+
+    Attributes
+    ----------
+    number : int
+        Position of the block in C order of the block grid.
+    grid_index : tuple of int
+        Position of the block along each sweep dimension (in blocks).
+    start, stop : tuple of int
+        Index range of the block along each sweep dimension.
+    dims : tuple of str
+        The sweep dimensions.
+    coords : dict
+        name -> (dim, values of this block, attrs) of the sweep coordinates.
+    """
+
+    number: int
+    grid_index: tuple[int, ...]
+    start: tuple[int, ...]
+    stop: tuple[int, ...]
+    dims: tuple[str, ...]
+    coords: dict[str, tuple[str, np.ndarray, dict[str, Any]]]
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(b - a for a, b in zip(self.start, self.stop, strict=True))
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape))
+
+
+@dataclass
+class BlockResult:
+    """What a worker sends back: the block's Dataset (or the part file it wrote) and a summary."""
+
+    block: Block
+    dataset: xr.Dataset | None
+    part: str | None
+    status: np.ndarray
+    messages: dict[int, str]
+    digests: dict[str, list[str | None]] = field(default_factory=dict)
+    solver: list[dict[str, Any]] = field(default_factory=list)
+    sha256: str | None = None
+    run: str | None = None
+
+
+def write_block_part(
+    ds: xr.Dataset,
+    part: str,
+    result: BlockResult,
+    part_attrs: dict[str, Any] | None,
+    missing: dict[str, list[int]] | None = None,
+) -> str:
+    """Write a block's Dataset as a part carrying its identity and summary; returns its sha256.
+
+    The global attribute :data:`PART_ATTR` holds ``part_attrs`` (the run identity: study hash,
+    run id), the block's number and grid index, the messages of its points that did not
+    succeed, the solver summaries and, per variable, the solved points that lack it: what a
+    resumed run needs to reuse the part without solving it again.
+    """
+    info = {
+        **(part_attrs or {}),
+        "number": result.block.number,
+        "grid_index": list(result.block.grid_index),
+        "messages": {str(k): v for k, v in sorted(result.messages.items())},
+        "solver": result.solver,
+        "missing": missing or {},
+    }
+    ds = ds.copy(deep=False)
+    ds.attrs = {**ds.attrs, PART_ATTR: json.dumps(info, sort_keys=True)}
+    to_netcdf(ds, part, overwrite=True)
+    return file_digest(part)
+
+
+def _own_names(template: xr.Dataset, block: Block) -> list[str]:
+    """Variables of a point Dataset that get the sweep dimensions (not the index coordinates)."""
+    skip = set(block.coords) | set(template.indexes)
+    names = [n for n in template.data_vars if n not in skip]
+    names += [n for n, c in template.coords.items() if n not in skip and c.dims]
+    return names
+
+
+def stack(
+    results: list[xr.Dataset | None],
+    block: Block,
+    status: np.ndarray,
+    template: xr.Dataset | None = None,
+) -> xr.Dataset:
+    """Stack point Datasets (``None`` for a failed point) into the block's Dataset.
+
+    ``template`` (used when every point of the block failed) may be a point Dataset or another
+    block's Dataset: it is cut to one point first, so the block's sweep dimensions are added once.
+    """
+    ok = [ds for ds in results if ds is not None]
+    template = ok[0] if ok else template
+    if template is None:
+        raise ValueError("a block needs at least one solved point or a template")
+    template = _point_shaped(template, block)
+    if "q_psd" in template.dims:
+        nodes = [ds.variables["q_psd"].values for ds in ok]
+        if any(len(n) != len(nodes[0]) or not np.array_equal(n, nodes[0]) for n in nodes):
+            union = np.unique(np.concatenate(nodes))
+            results = [None if ds is None else ds.reindex(q_psd=union) for ds in results]
+            template = template.reindex(q_psd=union)
+    for name in ("zeta", "p"):
+        if name in template.indexes:
+            ref = template.variables[name].values
+            for ds in results:
+                if ds is not None and not np.array_equal(ds.variables[name].values, ref):
+                    raise ValueError(f"points of a sweep must share the {name} grid")
+    rows = {}
+    for name in _own_names(template, block):
+        fill = _fill(template[name])
+        rows[name] = np.stack(
+            [
+                fill
+                if ds is None or name not in ds.variables
+                else np.asarray(ds.variables[name].values)
+                for ds in results
+            ]
+        )
+    return stack_rows(rows, block, status, template)
+
+
+def stack_rows(
+    rows: dict[str, np.ndarray], block: Block, status: np.ndarray, template: xr.Dataset
+) -> xr.Dataset:
+    """The block's Dataset from the rows of each variable (``(block.size, *point shape)``, in C
+    order of the block) and a point-shaped template (coordinates, attributes)."""
+    shape = block.shape
+    dims = block.dims
+    data_vars: dict[str, Any] = {}
+    coords: dict[str, Any] = {}
+    for name, rows_of in rows.items():
+        var = template[name]
+        arr = rows_of.reshape(shape + var.shape)
+        entry = (dims + var.dims, arr, dict(var.attrs))
+        if name in template.coords:
+            coords[name] = entry
+        else:
+            data_vars[name] = entry
+    for name, index in template.indexes.items():
+        if name not in block.coords:
+            coords[name] = (template[name].dims, index.values, dict(template[name].attrs))
+    for name, c in template.coords.items():
+        if not c.dims and name not in coords:
+            coords[name] = ((), c.values, dict(c.attrs))
+    for name, (dim, values, attrs) in block.coords.items():
+        coords[name] = ((dim,), values, dict(attrs))
+    data_vars["point_status"] = (
+        dims,
+        status.astype(np.int8),
+        {
+            "units": "1",
+            "long_name": "status of the sweep point",
+            "flag_values": np.array(list(POINT_STATUS.values()), dtype=np.int8),
+            "flag_meanings": " ".join(POINT_STATUS),
+            "coverage_content_type": "qualityInformation",
+        },
+    )
+    ds = xr.Dataset(data_vars, coords=coords, attrs=dict(template.attrs))
+    order = [n for n in template.data_vars if n in ds.data_vars] + ["point_status"]
+    return ds[order]
+
+
+def _point_shaped(template: xr.Dataset, block: Block) -> xr.Dataset:
+    """The template as one point: without the sweep dimensions, their coordinates and
+    ``point_status`` (a template cut from another block's Dataset may still carry them)."""
+    sweep = [d for d in block.dims if d in template.dims]
+    if sweep:
+        template = template.isel({d: 0 for d in sweep}, drop=True)
+    drop = [n for n in (*block.coords, "point_status") if n in template.variables]
+    return template.drop_vars(drop) if drop else template
+
+
+def _fill(var: xr.DataArray) -> np.ndarray:
+    kind = var.dtype.kind
+    if kind in "fc":
+        return np.full(var.shape, np.nan, dtype=var.dtype)
+    if kind in "OUS":
+        return np.full(var.shape, "", dtype=object)
+    if kind == "b":
+        return np.zeros(var.shape, dtype=bool)
+    flags = var.attrs.get("flag_values")
+    fill = -1 if flags is None else np.max(np.atleast_1d(flags)) + 1
+    return np.full(var.shape, fill, dtype=var.dtype)
+
+
+def _digests(present: list[set[Any] | None], ds: xr.Dataset, block: Block) -> dict[str, list[Any]]:
+    """Per point fingerprints of every stacked variable (``None`` for a failed point).
+
+    ``present`` holds, per point, the names of its variables (``None``: the point failed).
+
+    Taken from the stacked block (the block's sweep dimensions lead every stacked variable),
+    so a point's fingerprint is that of the values the combined Dataset holds for it. Numeric
+    rows get a 128-bit hash (an int) computed for all rows at once (:func:`_row_digests`).
+    """
+    out: dict[str, list[Any]] = {}
+    n = block.size
+    for name, var in ds.variables.items():
+        if name in block.coords or name == "point_status" or name in ds.indexes:
+            continue
+        if tuple(var.dims[: len(block.dims)]) != tuple(block.dims):
+            continue
+        arr = np.asarray(var.values)
+        digests = _row_digests(arr.reshape((n,) + arr.shape[len(block.dims) :]))
+        out[name] = [
+            None if p is None else digests[k] if name in p else "missing"
+            for k, p in enumerate(present)
+        ]
+    return out
+
+
+_MULTIPLIERS = np.random.default_rng(20251125).integers(
+    1, 2**63, size=(2, 4096), dtype=np.uint64
+) | np.uint64(1)
+
+
+def _row_digests(rows: np.ndarray) -> list[Any]:
+    """A fingerprint of each row of ``rows`` (equal rows, equal fingerprints).
+
+    Numeric rows: two 64-bit multiply-add hashes of the row's bytes (odd random multipliers,
+    fixed seed: the same in every process), computed for all rows at once; object rows and
+    very long rows: the SHA-1 of the row.
+    """
+    n = rows.shape[0]
+    if rows.dtype.kind == "O" or n == 0:
+        return [_digest(np.asarray(r)) for r in rows]
+    raw = np.ascontiguousarray(rows).view(np.uint8).reshape(n, -1)
+    pad = (-raw.shape[1]) % 8
+    if pad:
+        raw = np.concatenate([raw, np.zeros((n, pad), np.uint8)], axis=1)
+    words = raw.view(np.uint64)
+    if words.shape[1] > _MULTIPLIERS.shape[1]:
+        return [_digest(np.asarray(r)) for r in rows]
+    mult = _MULTIPLIERS[:, : words.shape[1]]
+    h1 = (words * mult[0]).sum(axis=1, dtype=np.uint64).tolist()
+    h2 = (words * mult[1]).sum(axis=1, dtype=np.uint64).tolist()
+    return [a << 64 | b for a, b in zip(h1, h2, strict=True)]
+
+
+def _digest(arr: np.ndarray) -> str:
+    if arr.dtype.kind == "O":
+        return hashlib.sha1(repr(arr.tolist()).encode()).hexdigest()
+    if arr.dtype.kind in "fc":  # one NaN pattern: a NaN read back from a file equals its source
+        arr = np.where(np.isnan(arr), np.nan, arr)
+    return hashlib.sha1(np.ascontiguousarray(arr).tobytes() + str(arr.shape).encode()).hexdigest()

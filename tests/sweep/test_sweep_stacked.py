@@ -1,0 +1,107 @@
+"""Sweep points stacked in one run (issue 25): equal to the point-by-point path to 1e-12,
+used only where every plugin declares ``batched`` and the points differ only in declared
+parameters."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from xpersson_sweep_testlib import scene
+
+import xpersson
+from xpersson.builtin.elastic import ElasticBoundary
+from xpersson.pipeline import stacked
+from xpersson.sweep import batched
+from xpersson.testing import registry_with
+
+SPECTRUM_SCENE = scene(
+    spectrum={"H": [0.6, 0.75, 0.9], "h_rms": ["0.5 um", "2 um"]},
+    analyses={"contact_area": {}},
+)
+H_E_SCENE = scene(
+    spectrum={"H": [0.55, 0.7, 0.85, 0.95]},
+    material={"E": ["2 MPa", "5 MPa", "40 MPa"]},
+    load={"p0": "3e4 Pa"},
+    analyses={"contact_area": {}},
+)
+
+
+def _counted(monkeypatch) -> list[int]:
+    """Count the stacked runs (and the points they solve)."""
+    calls: list[int] = []
+    run = stacked.run_stacked
+
+    def counting(points):
+        calls.append(len(points))
+        return run(points)
+
+    monkeypatch.setattr(stacked, "run_stacked", counting)
+    return calls
+
+
+def _both(data, monkeypatch, **kw):
+    monkeypatch.setattr(batched, "ENABLED", False)
+    point = xpersson.solve(data, **kw)
+    monkeypatch.setattr(batched, "ENABLED", True)
+    return point, xpersson.solve(data, **kw)
+
+
+def _assert_equal(point, batch):
+    assert list(batch.variables) == list(point.variables)
+    for name, var in point.variables.items():
+        got = batch[name]
+        assert got.dims == var.dims, name
+        if var.dtype.kind == "f":
+            np.testing.assert_allclose(got.values, var.values, rtol=1e-12, atol=1e-300)
+        else:
+            np.testing.assert_array_equal(got.values, var.values)
+    skip = {"history", "date_created", "xpersson_solver"}
+    assert {k: v for k, v in batch.attrs.items() if k not in skip} == {
+        k: v for k, v in point.attrs.items() if k not in skip
+    }
+
+
+@pytest.mark.parametrize("chunk", [None, 4])
+def test_spectrum_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
+    calls = _counted(monkeypatch)
+    point, batch = _both(SPECTRUM_SCENE, monkeypatch, chunk=chunk)
+    assert calls and sum(calls) == 6  # every point of the 3 x 2 sweep solved stacked
+    _assert_equal(point, batch)
+    assert batch.psd_C.dims[:2] == ("H", "spectrum_h_rms")  # the spectrum per point
+
+
+def test_h_by_e_sweep_stacks_the_spectra_of_the_equivalent_loads(monkeypatch):
+    calls = _counted(monkeypatch)
+    point, batch = _both(H_E_SCENE, monkeypatch, chunk=6)
+    assert calls == [2, 2]  # each block: its 2 H values in one run of the equivalent loads
+    _assert_equal(point, batch)
+
+
+class _Undeclared(ElasticBoundary):
+    """The elastic wall in a subclass that does not declare ``batched`` again."""
+
+    summary = "elastic wall, batched not declared (test double)"
+
+
+def test_undeclared_plugin_is_not_stacked(monkeypatch):
+    calls = _counted(monkeypatch)
+    data = scene(spectrum={"H": [0.6, 0.8]}, boundary={"model": "undeclared"})
+    with registry_with(boundaries={"undeclared": _Undeclared}):
+        ds = xpersson.solve(data)
+        monkeypatch.setattr(batched, "ENABLED", False)
+        point = xpersson.solve(data)
+    assert calls == []
+    np.testing.assert_array_equal(ds.area_fraction.values, point.area_fraction.values)
+
+
+def test_points_differing_in_an_undeclared_parameter_are_not_stacked():
+    from xpersson.pipeline import as_scene
+
+    a = as_scene(scene(spectrum={"q_r": "1e4 1/m"})).resolve()
+    b = as_scene(scene(coefficient={"closure": "yp08"})).resolve()
+    d = as_scene(scene(spectrum={"q_r": "2e4 1/m"})).resolve()
+    c = as_scene(scene(spectrum={"H": 0.6})).resolve()
+    assert stacked.stack_reason([a, c]) is None
+    assert "not declared batched" in stacked.stack_reason([a, b])
+    assert stacked.stack_reason([a, d]) == "spectrum nodes"
+    assert stacked.stack_reason([a]) == "one point"
