@@ -65,7 +65,10 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     near, last, bnd, wflat = _rows(nb, nn, w)
     hist = np.empty((n_steps + 1, 4 * nb))  # R at `near` after every step
     hist[0] = r[near]
-    a_pl = np.zeros(nb)
+    # the yield wall's last rows: z = (R_{N-1}, R_N before the step, A_pl, R_{N-1}, R_N after)
+    z = np.zeros((5, nb))
+    a_pl, z_old, z_new, z_rhs = z[2], z[:2].reshape(-1), z[3:].reshape(-1), z[:3]  # views
+    pair = np.concatenate([last - 1, last])
     a_pl_at = np.zeros((nb, n_out))
     # the end faces' coefficients the solve used, (8, loads, steps): see _block_system
     ends = np.empty((8, nb, n_steps))
@@ -91,10 +94,9 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
         ms = slice(m0, min(m0 + block, n_steps))
         c = ms.stop - ms.start
         g = g_all[:, ms].T  # (steps, loads)
-        dl, du, Dg, Ga, Gp, ye_s, ye_d = _block_system(
-            ed, basis, ms, wn_all[ms], wo_all[ms], g, wi, w_last, ends
+        dl, du, Dg, Ga, Gp, k_rhs, k_gain = _block_system(
+            ed, basis, ms, wn_all[ms], wo_all[ms], g, wi, w_last, ends, yreal[:, ms].T
         )
-        g = g.T
         ys = yreal[:, ms].any(axis=0).tolist()
         # the states of the block: row 0 the state before it, row i + 1 the state after step
         # m0 + i (the solve overwrites its right-hand side in place)
@@ -114,15 +116,17 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
             s_in[i + 1] += dG
             if nb > 1:
                 rhs[bnd] = 0.0
-            if ys[i]:
-                rhs[last] = ye_s[:, i] * r[last - 1] + ye_d[:, i] * r[last] + g[:, i] * a_pl
+            if ys[i]:  # last row: g (w_N R_N + A_pl - wo F_{N-1/2})
+                np.take(r, pair, out=z_old)
+                rhs[last] = (k_rhs[i] * z_rhs).sum(axis=0)
             # LAPACK dgtsv in place (the 1-D C-contiguous rows are passed without copies)
             sol, info_m = dgtsv(dl_[i], Dg[i], du_[i], rhs, 1, 1, 1, 1)[3:]
             info |= info_m
             if sol is not rhs:  # the wrapper made a copy: the block's states must hold it
                 rhs[...] = sol
-            if ys[i]:
-                a_pl = a_pl + _plastic_gain(ends, m, sol, r, last, yreal, w_last)
+            if ys[i]:  # dA_pl: out-flux through the last face + the half cell's loss
+                np.take(sol, pair, out=z_new)
+                a_pl += (k_gain[i] * z).sum(axis=0)
             r = sol
             while out_steps[nxt] == m + 1:
                 record(nxt, m + 1)
@@ -182,15 +186,6 @@ def _rows(nb: int, nn: int, w: Array) -> tuple[Array, Array, Array, Array]:
     return near, last, bnd, wflat
 
 
-def _plastic_gain(
-    ends: Array, m: int, sol: Array, r: Array, last: Array, yreal: Array, w_last: float
-) -> Array:
-    """dA_pl of step ``m`` = out-flux through the last face + the half cell's loss."""
-    out_hi = -(ends[2, :, m] * sol[last - 1] + ends[3, :, m] * sol[last])
-    out_hi -= ends[6, :, m] * r[last - 1] + ends[7, :, m] * r[last]
-    return np.where(yreal[:, m], out_hi + w_last * (r[last] - sol[last]), 0.0)
-
-
 def _basis(xf: Array, dxf: Array) -> Array:
     """Face functions ``1, x_f, 1/dx_f`` (3, nodes); the last slot (no face) is 0."""
     nf = xf.size
@@ -211,6 +206,7 @@ def _block_system(
     wi: Array,
     w_last: float,
     ends: Array,
+    yreal: Array,
 ) -> tuple[Array, ...]:
     """The systems of the steps ``ms`` with the loads concatenated, one row per step.
 
@@ -224,10 +220,13 @@ def _block_system(
     each load couples nothing (boundary rows are identity rows).  Interior rows j = 1..n-1:
     ``w_j R_j - wn (F_{j+1/2} - F_{j-1/2}) = w_j R_j^old + wo (F^old_{j+1/2} - F^old_{j-1/2})``.
     Also the explicit half's face coefficients ``Ga = wo (A - D)``, ``Gp = wo (A + D)`` at the
-    start of the step (flux form) and the yield wall's last-row coefficients ``ye_s``,
-    ``ye_d``.  The coefficients of the first and last faces, as used, are written into
-    ``ends[:, :, ms]`` (order: wn(A-D), wn(A+D) at the first face, then at the last face;
-    then the same four of the explicit half): the wall fluxes are summed from them.
+    start of the step (flux form) and the yield wall's last-row coefficients of
+    ``(R_{N-1}, R_N, A_pl)`` before the step for the right-hand side (``k_rhs``, (steps, 3,
+    loads)) and of ``(R_{N-1}, R_N, A_pl, R_{N-1}, R_N)`` before / after it for the gain of
+    ``A_pl`` (``k_gain``, (steps, 5, loads), 0 where ``yreal`` (steps, loads) is False).  The
+    coefficients of the first and last faces, as used, are written into ``ends[:, :, ms]``
+    (order: wn(A-D), wn(A+D) at the first face, then at the last face; then the same four of
+    the explicit half): the wall fluxes are summed from them.
     """
     c = ms.stop - ms.start
     nb, nn = g.shape[1], basis.shape[1]
@@ -257,10 +256,12 @@ def _block_system(
     dl[..., nf - 1] = g * ends[2, :, ms].T
     du[..., 0] = 0.0
     # last row of a real yield wall: g (w_N R_N + A_pl - wo F_{N-1/2})
-    ye_s = (-g * ends[6, :, ms].T).T
-    ye_d = (g * (w_last - ends[7, :, ms].T)).T
+    k_rhs = np.stack([-g * ends[6, :, ms].T, g * (w_last - ends[7, :, ms].T), g], axis=1)
+    mb1, pb1, ma1, pa1 = (ends[k, :, ms].T for k in (2, 3, 6, 7))
+    k_gain = np.stack([-ma1, w_last - pa1, 0.0 * g, -mb1, -(pb1 + w_last)], axis=1)
+    k_gain *= yreal[:, None, :]
     dl, du, Dg, Ga, Gp = (a.reshape(c, nb * nn) for a in (dl, du, Dg, Ga, Gp))
-    return dl, du, Dg, Ga, Gp, ye_s, ye_d
+    return dl, du, Dg, Ga, Gp, k_rhs, k_gain
 
 
 def _initial_state(
