@@ -84,6 +84,9 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
         record(nxt, 0)
         nxt += 1
     block = max(1, _BLOCK // (nb * nn))
+    # buffers reused by every block: operators, and the states (row 0 the state before it)
+    work = (np.empty((block, 4, nb, nn)), np.empty((block, nb, nn)))
+    states_buf = np.empty((block + 1, nb * nn))
     # work buffers of a step: face fluxes G, G2 and their differences dG
     G, G2, dG = np.empty(nb * nn - 1), np.empty(nb * nn - 1), np.empty(nb * nn - 2)
     G_hi, G_lo = G[1:], G[:-1]
@@ -95,13 +98,14 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
         c = ms.stop - ms.start
         g = g_all[:, ms].T  # (steps, loads)
         dl, du, Dg, Ga, Gp, k_rhs, k_gain = _block_system(
-            ed, basis, ms, wn_all[ms], wo_all[ms], g, wi, w_last, ends, yreal[:, ms].T
+            ed, basis, ms, wn_all[ms], wo_all[ms], g, wi, w_last, ends, yreal[:, ms].T, work
         )
         ys = yreal[:, ms].any(axis=0).tolist()
         # the states of the block: row 0 the state before it, row i + 1 the state after step
         # m0 + i (the solve overwrites its right-hand side in place)
-        states = np.empty((c + 1, nb * nn))
+        states = states_buf[: c + 1]
         states[0] = r
+        r = states[0]
         # views made once per block (a step is ~10 numpy calls: their count is its cost)
         s_lo, s_hi, s_in = states[:, :-1], states[:, 1:], states[:, 1:-1]
         ga, gp, dl_, du_ = Ga[:, :-1], Gp[:, :-1], dl[:, :-1], du[:, :-1]
@@ -136,7 +140,6 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
         if info != 0:
             raise FloatingPointError(f"tridiagonal solve failed (info={info})")
         hist[m0 + 1 : m0 + c + 1] = states[1:, near]
-        r = r.copy()  # the last state outlives its block
     report_progress((n_steps % _REPORT_EVERY) * nn * nb)
     if snaps is not None:
         _reduce_snapshots(res, snaps, ed, x, w, out_at)
@@ -207,6 +210,7 @@ def _block_system(
     w_last: float,
     ends: Array,
     yreal: Array,
+    work: tuple[Array, Array],
 ) -> tuple[Array, ...]:
     """The systems of the steps ``ms`` with the loads concatenated, one row per step.
 
@@ -226,28 +230,31 @@ def _block_system(
     ``A_pl`` (``k_gain``, (steps, 5, loads), 0 where ``yreal`` (steps, loads) is False).  The
     coefficients of the first and last faces, as used, are written into ``ends[:, :, ms]``
     (order: wn(A-D), wn(A+D) at the first face, then at the last face; then the same four of
-    the explicit half): the wall fluxes are summed from them.
+    the explicit half): the wall fluxes are summed from them.  ``work``: buffers (steps,
+    4, loads, nodes) and (steps, loads, nodes) for the arrays, ``steps >= c`` (reused from block
+    to block: fresh memory would cost a page fault per 4 kB on every block).
     """
     c = ms.stop - ms.start
     nb, nn = g.shape[1], basis.shape[1]
     nf = nn - 1
-    coef = np.empty((4, c, nb, 3))
+    coef = np.empty((c, 4, nb, 3))
     for k, (tag, th) in enumerate((("b", wn), ("a", wo))):
         W = ed["w" + tag][:, ms].T
         th = th[:, None]
         a_ = th * (ed["lv" + tag][:, ms].T / (2.0 * W))
         b_ = th * (ed["wv" + tag][:, ms].T / (2.0 * W))
         d_ = th / W**2
-        coef[2 * k, ..., 0], coef[2 * k, ..., 1], coef[2 * k, ..., 2] = a_, b_, -d_
-        coef[2 * k + 1, ..., 0], coef[2 * k + 1, ..., 1], coef[2 * k + 1, ..., 2] = a_, b_, d_
-    # one BLAS product (4 c nb, 3) x (3, nodes): wn(A-D), wn(A+D), wo(A-D), wo(A+D)
-    ops = (coef.reshape(-1, 3) @ basis).reshape(4, c, nb, nn)
+        coef[:, 2 * k, :, 0], coef[:, 2 * k, :, 1], coef[:, 2 * k, :, 2] = a_, b_, -d_
+        coef[:, 2 * k + 1, :, 0], coef[:, 2 * k + 1, :, 1], coef[:, 2 * k + 1, :, 2] = a_, b_, d_
+    # one BLAS product (c 4 nb, 3) x (3, nodes): wn(A-D), wn(A+D), wo(A-D), wo(A+D)
+    ops = work[0][:c]
+    np.matmul(coef.reshape(-1, 3), basis, out=ops.reshape(-1, nn))
     for k, face in enumerate((0, 0, nf - 1, nf - 1)):
-        ends[k, :, ms] = ops[k % 2, :, :, face].T
-        ends[k + 4, :, ms] = ops[2 + k % 2, :, :, face].T
-    dl, du, Ga, Gp = ops
+        ends[k, :, ms] = ops[:, k % 2, :, face].T
+        ends[k + 4, :, ms] = ops[:, 2 + k % 2, :, face].T
+    dl, du, Ga, Gp = (ops[:, k] for k in range(4))
     np.negative(du, out=du)
-    Dg = np.empty((c, nb, nn))
+    Dg = work[1][:c]
     np.subtract(wi, dl[..., 1:nf], out=Dg[..., 1:-1])
     Dg[..., 1:-1] -= du[..., : nf - 1]
     Dg[..., 0] = 1.0
