@@ -83,7 +83,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     while nxt < n_out and out_steps[nxt] == 0:
         record(nxt, 0)
         nxt += 1
-    block = max(1, _BLOCK // (nb * nn))
+    block = max(1, min(_BLOCK // (nb * nn), n_steps))
     # buffers reused by every block: operators, and the states (row 0 the state before it)
     work = (np.empty((block, 4, nb, nn)), np.empty((block, nb, nn)))
     states_buf = np.empty((block + 1, nb * nn))
