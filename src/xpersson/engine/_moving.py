@@ -38,7 +38,7 @@ _KEYS = ("area", "abs_l", "abs_u", "load", "mom_l", "mom_u")
 _REPORT_EVERY = 64  # time steps between progress reports (see _progress)
 
 
-_BLOCK = 1 << 15  # operator entries built at once per array in _march (steps x loads x nodes)
+_BLOCK = 1 << 16  # operator entries built at once per array in _march (steps x loads x nodes)
 
 
 _SNAP = 1 << 20  # largest output snapshot array in _march (outputs x loads x nodes)
