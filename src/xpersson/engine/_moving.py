@@ -48,15 +48,11 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads:
     per-load outputs ``(n_load, n_out)`` at the numerical output times (see the module)."""
     taus, theta, out_at, x, xf, dxf, w, ed = _level_grid(pbs, plan, n, nsub, stretch, n_ie)
-    pb0 = pbs[0]
-    nb = len(pbs)
-    nn = x.size
-    n_out = out_at.size
+    pb0, nb, nn, n_out = pbs[0], len(pbs), x.size, out_at.size
     res, snaps = _outputs(nb, n_out, nn, pb0.p_out)
     yield_wall = plan.yield_wall
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
-    n_steps = taus.size - 1
-    step = np.diff(taus)
+    n_steps, step = taus.size - 1, np.diff(taus)
     wn_all, wo_all = theta * step, (1.0 - theta) * step
     yreal = ed["ru"] & yield_wall
     g_all = np.where(yreal, ed["wb"] * ed["ysb"], 0.0)  # g = W Y' of the closure R_N = g A_pl
@@ -72,8 +68,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     a_pl_at = np.zeros((nb, n_out))
     # the end faces' coefficients the solve used, (8, loads, steps): see _block_system
     ends = np.empty((8, nb, n_steps))
-    basis = _basis(xf, dxf)
-    w_last = w[-1]
+    basis, w_last, wi = _basis(xf, dxf), w[-1], w[1:-1]
 
     def record(j: int, m: int) -> None:
         _record(res, a_pl_at, snaps, r, a_pl, j, m, ed, x, w, pb0.p_out)
@@ -90,9 +85,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     # work buffers of a step: face fluxes G, G2 and their differences dG
     G, G2, dG = np.empty(nb * nn - 1), np.empty(nb * nn - 1), np.empty(nb * nn - 2)
     G_hi, G_lo = G[1:], G[:-1]
-    mul, sub = np.multiply, np.subtract
-    wi = w[1:-1]
-    info = 0
+    mul, sub, info = np.multiply, np.subtract, 0
     for m0 in range(0, n_steps, block):
         ms = slice(m0, min(m0 + block, n_steps))
         c = ms.stop - ms.start
