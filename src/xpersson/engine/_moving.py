@@ -238,15 +238,18 @@ def _block_system(
         b_ = th * (ed["wv" + tag][:, ms].T / (2.0 * W))
         d_ = th / W**2
         coef[:, 2 * k, :, 0], coef[:, 2 * k, :, 1], coef[:, 2 * k, :, 2] = a_, b_, -d_
-        coef[:, 2 * k + 1, :, 0], coef[:, 2 * k + 1, :, 1], coef[:, 2 * k + 1, :, 2] = a_, b_, d_
-    # one BLAS product (c 4 nb, 3) x (3, nodes): wn(A-D), wn(A+D), wo(A-D), wo(A+D)
+        sign = -1.0 if tag == "b" else 1.0  # dgtsv's super-diagonal is -wn (A + D)
+        coef[:, 2 * k + 1, :, 0], coef[:, 2 * k + 1, :, 1] = sign * a_, sign * b_
+        coef[:, 2 * k + 1, :, 2] = sign * d_
+    # one BLAS product (c 4 nb, 3) x (3, nodes): wn(A-D), -wn(A+D), wo(A-D), wo(A+D)
+    # (negating every weight negates the product exactly: round to nearest is symmetric)
     ops = work[0][:c]
     np.matmul(coef.reshape(-1, 3), basis, out=ops.reshape(-1, nn))
     for k, face in enumerate((0, 0, nf - 1, nf - 1)):
         ends[k, :, ms] = ops[:, k % 2, :, face].T
         ends[k + 4, :, ms] = ops[:, 2 + k % 2, :, face].T
+    ends[[1, 3], :, ms] *= -1.0  # wn(A + D), as the solve used it
     dl, du, Ga, Gp = (ops[:, k] for k in range(4))
-    np.negative(du, out=du)
     Dg = work[1][:c]
     np.subtract(wi, dl[..., 1:nf], out=Dg[..., 1:-1])
     Dg[..., 1:-1] -= du[..., : nf - 1]
