@@ -173,6 +173,36 @@ def friction_rows(rounds: int) -> list[tuple[str, str, str, str]]:
     ]
 
 
+def cn_wall_rows(rounds: int) -> list[tuple[str, str, str, str]]:
+    """Moving walls through ``cn`` (``cn_walls.py``): ``jkr`` at rtol 1e-6 and
+    ``plastic_scale_dependent`` with the yield wall reached, against bare O(N) steps (numpy
+    flux product + LAPACK ``dgtsv``) of the same grids and step counts."""
+    from cn_walls import measure
+
+    cost = measure(rounds)
+    rows = []
+    for key, label, target in (
+        ("jkr, 3 loads in one call", "`jkr`, 3 loads in one call (rtol 1e-6)", 10),
+        ("jkr, 1000 Pa alone", "`jkr`, one load (rtol 1e-6)", 10),
+        (
+            "plastic_scale_dependent (wall reached), 3 loads in one call",
+            "`plastic_scale_dependent`, yield wall reached, 3 loads",
+            20,
+        ),
+    ):
+        c = cost[key]
+        n = c["loads"]
+        rows.append(
+            (
+                label,
+                f"{c['cpu'] / n * 1e3:.1f} ms/load",
+                f"bare O(N) steps of its grids: {c['bare'] / n * 1e3:.1f} ms/load",
+                f"{c['cpu'] / c['bare']:.1f}x (target <= {target} ms/load)",
+            )
+        )
+    return rows
+
+
 def fresh_rows(rounds: int) -> list[tuple[str, str, str, str]]:
     """First solve in a fresh interpreter against ``import xarray, pint``."""
 
@@ -210,7 +240,14 @@ def main(argv: list[str] | None = None) -> str:
     args = ap.parse_args(argv)
     xpersson.solve(loads_scene(3))  # warm-up: imports, entry points
     rows = []
-    for part in (sweep_rows, analysis_rows, dmt_rows, friction_rows, fresh_rows):
+    for part in (
+        sweep_rows,
+        analysis_rows,
+        dmt_rows,
+        cn_wall_rows,
+        friction_rows,
+        fresh_rows,
+    ):
         rows += part(args.rounds)
         print(table(rows), flush=True)
     text = table(rows)

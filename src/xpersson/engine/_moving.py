@@ -1,13 +1,16 @@
 """One grid level of the ``cn`` method: the front-fixed finite-volume Crank-Nicolson march of
 a batch of loads between moving walls (absorbing or yield closure), the Richardson combination
 of two levels and the projection onto admissible probabilities.  See :mod:`._cn` for the
-scheme; the implicit half of a step is :func:`._cnstep.tridiagonal_solve`.
+scheme.
 
 The loads' systems are concatenated (boundary rows are identity rows, so they do not couple).
 The operators are built vectorised for a block of steps at a time (memory proportional to the
-grid times the block, see ``_BLOCK``); a step is then one explicit tridiagonal product, one
-LAPACK ``dgtsv`` solve and a gather of the nodes next to the walls, from which the wall fluxes
-(absorbed probabilities, wall moments) are summed after the march.
+grid times the block, see ``_BLOCK``): every face coefficient is a combination of three face
+functions, so a block's four coefficient arrays are one BLAS product.  A step is then one
+explicit tridiagonal product in flux form, one LAPACK ``dgtsv`` solve (called directly, as in
+:func:`._cnstep.tridiagonal_solve`) and a gather of the nodes next to the walls, from which
+the wall fluxes (absorbed probabilities, wall moments) are summed after the march with the
+end faces' coefficients the solve used.
 """
 
 from __future__ import annotations
@@ -17,9 +20,9 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
+from scipy.linalg.lapack import dgtsv
 
 from ._cn_plan import _edges_batch, _faces, _level_times, _Plan
-from ._cnstep import tridiagonal_solve
 from ._grid import clustered
 from ._problem import Problem
 from ._progress import report as report_progress
@@ -35,7 +38,7 @@ _KEYS = ("area", "abs_l", "abs_u", "load", "mom_l", "mom_u")
 _REPORT_EVERY = 64  # time steps between progress reports (see _progress)
 
 
-_BLOCK = 1 << 14  # operator entries built at once per array in _march (steps x loads x nodes)
+_BLOCK = 1 << 16  # operator entries built at once per array in _march (steps x loads x nodes)
 
 
 _SNAP = 1 << 20  # largest output snapshot array in _march (outputs x loads x nodes)
@@ -45,28 +48,27 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads:
     per-load outputs ``(n_load, n_out)`` at the numerical output times (see the module)."""
     taus, theta, out_at, x, xf, dxf, w, ed = _level_grid(pbs, plan, n, nsub, stretch, n_ie)
-    pb0 = pbs[0]
-    nb = len(pbs)
-    nn = x.size
-    n_out = out_at.size
+    pb0, nb, nn, n_out = pbs[0], len(pbs), x.size, out_at.size
     res, snaps = _outputs(nb, n_out, nn, pb0.p_out)
     yield_wall = plan.yield_wall
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
-    la, wa_, wb_ = ed["la"], ed["wa"], ed["wb"]
-    n_steps = taus.size - 1
-    step = np.diff(taus)
+    n_steps, step = taus.size - 1, np.diff(taus)
     wn_all, wo_all = theta * step, (1.0 - theta) * step
     yreal = ed["ru"] & yield_wall
-    g_all = np.where(yreal, wb_ * ed["ysb"], 0.0)  # g = W Y' of the closure R_N = g A_pl
+    g_all = np.where(yreal, ed["wb"] * ed["ysb"], 0.0)  # g = W Y' of the closure R_N = g A_pl
 
-    r = _initial_state(la, wa_, x, w, p0, taus[0], plan.k)
+    r = _initial_state(ed["la"], ed["wa"], x, w, p0, taus[0], plan.k)
     near, last, bnd, wflat = _rows(nb, nn, w)
     hist = np.empty((n_steps + 1, 4 * nb))  # R at `near` after every step
     hist[0] = r[near]
-    a_pl = np.zeros(nb)
+    # the yield wall's last rows: z = (R_{N-1}, R_N before the step, A_pl, R_{N-1}, R_N after)
+    z = np.zeros((5, nb))
+    a_pl, z_old, z_new, z_rhs = z[2], z[:2].reshape(-1), z[3:].reshape(-1), z[:3]  # views
+    pair = np.concatenate([last - 1, last])
     a_pl_at = np.zeros((nb, n_out))
-    yfac = (_end_faces(ed, xf, dxf, "a"), _end_faces(ed, xf, dxf, "b")) if yield_wall else None
-    w_last = w[-1]
+    # the end faces' coefficients the solve used, (8, loads, steps): see _block_system
+    ends = np.empty((8, nb, n_steps))
+    basis, w_last, wi = _basis(xf, dxf), w[-1], w[1:-1]
 
     def record(j: int, m: int) -> None:
         _record(res, a_pl_at, snaps, r, a_pl, j, m, ed, x, w, pb0.p_out)
@@ -76,30 +78,27 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     while nxt < n_out and out_steps[nxt] == 0:
         record(nxt, 0)
         nxt += 1
-    block = max(1, _BLOCK // (nb * nn))
+    block = max(1, min(_BLOCK // (nb * nn), n_steps))
+    # buffers reused by every block: operators, and the states (row 0 the state before it)
+    work = (np.empty((block, 4, nb, nn)), np.empty((block, nb, nn)))
+    states_buf = np.empty((block + 1, nb * nn))
     # work buffers of a step: face fluxes G, G2 and their differences dG
     G, G2, dG = np.empty(nb * nn - 1), np.empty(nb * nn - 1), np.empty(nb * nn - 2)
     G_hi, G_lo = G[1:], G[:-1]
-    mul, sub = np.multiply, np.subtract
-    wi = w[1:-1]
+    mul, sub, info = np.multiply, np.subtract, 0
     for m0 in range(0, n_steps, block):
         ms = slice(m0, min(m0 + block, n_steps))
         c = ms.stop - ms.start
-        wn = wn_all[ms, None, None]
-        wo = wo_all[ms, None, None]
         g = g_all[:, ms].T  # (steps, loads)
-        # the system of a step, one row per step with the loads concatenated: dgtsv's
-        # sub-diagonal dl[r] (row r + 1), diagonal Dg[r], super-diagonal du[r] (row r); the
-        # last slot of each load couples nothing (boundary rows are identity rows)
-        # interior rows j = 1..n-1:
-        #   w_j R_j - wn (F_{j+1/2} - F_{j-1/2}) = w_j R_j^old + wo (F^old_{j+1/2} - F^old_{j-1/2})
-        dl, du, Dg, Ga, Gp, ye_s, ye_d = _block_system(ed, xf, dxf, ms, wn, wo, g, wi, w_last)
-        g = g.T
+        dl, du, Dg, Ga, Gp, k_rhs, k_gain = _block_system(
+            ed, basis, ms, wn_all[ms], wo_all[ms], g, wi, w_last, ends, yreal[:, ms].T, work
+        )
         ys = yreal[:, ms].any(axis=0).tolist()
         # the states of the block: row 0 the state before it, row i + 1 the state after step
         # m0 + i (the solve overwrites its right-hand side in place)
-        states = np.empty((c + 1, nb * nn))
+        states = states_buf[: c + 1]
         states[0] = r
+        r = states[0]
         # views made once per block (a step is ~10 numpy calls: their count is its cost)
         s_lo, s_hi, s_in = states[:, :-1], states[:, 1:], states[:, 1:-1]
         ga, gp, dl_, du_ = Ga[:, :-1], Gp[:, :-1], dl[:, :-1], du[:, :-1]
@@ -111,28 +110,33 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
             rhs = states[i + 1]
             mul(wflat, r, out=rhs)  # 0 on the walls' identity rows
             sub(G_hi, G_lo, out=dG)
-            inner = s_in[i + 1]
-            inner += dG
+            s_in[i + 1] += dG
             if nb > 1:
                 rhs[bnd] = 0.0
-            if ys[i]:
-                rhs[last] = ye_s[:, i] * r[last - 1] + ye_d[:, i] * r[last] + g[:, i] * a_pl
-            sol = tridiagonal_solve(dl_[i], Dg[i], du_[i], rhs)
-            if ys[i]:
-                a_pl = a_pl + _plastic_gain(yfac, m, sol, r, last, wn_all, wo_all, yreal, w_last)
+            if ys[i]:  # last row: g (w_N R_N + A_pl - wo F_{N-1/2})
+                np.take(r, pair, out=z_old)
+                rhs[last] = (k_rhs[i] * z_rhs).sum(axis=0)
+            # LAPACK dgtsv in place (the 1-D C-contiguous rows are passed without copies)
+            sol, info_m = dgtsv(dl_[i], Dg[i], du_[i], rhs, 1, 1, 1, 1)[3:]
+            info |= info_m
+            if sol is not rhs:  # the wrapper made a copy: the block's states must hold it
+                rhs[...] = sol
+            if ys[i]:  # dA_pl: out-flux through the last face + the half cell's loss
+                np.take(sol, pair, out=z_new)
+                a_pl += (k_gain[i] * z).sum(axis=0)
             r = sol
             while out_steps[nxt] == m + 1:
                 record(nxt, m + 1)
                 nxt += 1
             if (m + 1) % _REPORT_EVERY == 0:
                 report_progress(_REPORT_EVERY * nn * nb)
+        if info != 0:
+            raise FloatingPointError(f"tridiagonal solve failed (info={info})")
         hist[m0 + 1 : m0 + c + 1] = states[1:, near]
-        r = r.copy()  # the last state outlives its block
     report_progress((n_steps % _REPORT_EVERY) * nn * nb)
     if snaps is not None:
         _reduce_snapshots(res, snaps, ed, x, w, out_at)
-    fac = (_end_faces(ed, xf, dxf, "a"), _end_faces(ed, xf, dxf, "b"))
-    _wall_sums(res, ed, hist, fac, wn_all, wo_all, out_at, a_pl_at, yield_wall)
+    _wall_sums(res, ed, hist, ends, out_at, a_pl_at, yield_wall)
     res["nsteps"] = n_steps
     res["n_nodes"] = nn
     return res
@@ -178,80 +182,89 @@ def _rows(nb: int, nn: int, w: Array) -> tuple[Array, Array, Array, Array]:
     return near, last, bnd, wflat
 
 
-def _plastic_gain(
-    yfac: tuple,
-    m: int,
-    sol: Array,
-    r: Array,
-    last: Array,
-    wn_all: Array,
-    wo_all: Array,
-    yreal: Array,
-    w_last: float,
-) -> Array:
-    """dA_pl of step ``m`` = out-flux through the last face + the half cell's loss."""
-    (_, _, am1, ap1), (_, _, bm1, bp1) = yfac
-    f_new = bm1[:, m] * sol[last - 1] + bp1[:, m] * sol[last]
-    f_old = am1[:, m] * r[last - 1] + ap1[:, m] * r[last]
-    out_hi = -(wn_all[m] * f_new + wo_all[m] * f_old)
-    return np.where(yreal[:, m], out_hi + w_last * (r[last] - sol[last]), 0.0)
+def _basis(xf: Array, dxf: Array) -> Array:
+    """Face functions ``1, x_f, 1/dx_f`` (3, nodes); the last slot (no face) is 0."""
+    nf = xf.size
+    basis = np.zeros((3, nf + 1))
+    basis[0, :nf] = 1.0
+    basis[1, :nf] = xf
+    basis[2, :nf] = 1.0 / dxf
+    return basis
 
 
 def _block_system(
     ed: dict,
-    xf: Array,
-    dxf: Array,
+    basis: Array,
     ms: slice,
     wn: Array,
     wo: Array,
     g: Array,
     wi: Array,
     w_last: float,
+    ends: Array,
+    yreal: Array,
+    work: tuple[Array, Array],
 ) -> tuple[Array, ...]:
     """The systems of the steps ``ms`` with the loads concatenated, one row per step.
 
-    dgtsv's sub-diagonal ``dl[r]`` (row r + 1), diagonal ``Dg[r]``, super-diagonal ``du[r]``
-    (row r); the last slot of each load couples nothing (boundary rows are identity rows).
-    Interior rows j = 1..n-1:
+    Face fluxes ``F = D (R_{j+1} - R_j) + A (R_j + R_{j+1})`` with ``D = 1 / (W^2 dx_f)``,
+    ``A = (l' + x_f W') / (2 W)``: every face coefficient is a combination of the three face
+    functions of ``basis`` with per-(step, load) weights, so the four coefficient arrays of a
+    block are one matrix product (one pass over memory instead of a dozen broadcasts).
+
+    dgtsv's sub-diagonal ``dl[r]`` (row r + 1) ``= wn (A - D)`` at the end of the step,
+    diagonal ``Dg[r]``, super-diagonal ``du[r]`` (row r) ``= -wn (A + D)``; the last slot of
+    each load couples nothing (boundary rows are identity rows).  Interior rows j = 1..n-1:
     ``w_j R_j - wn (F_{j+1/2} - F_{j-1/2}) = w_j R_j^old + wo (F^old_{j+1/2} - F^old_{j-1/2})``.
-    Also the explicit half's face coefficients ``Ga``, ``Gp`` (flux form) and the yield wall's
-    last-row coefficients ``ye_s``, ``ye_d``.
+    Also the explicit half's face coefficients ``Ga = wo (A - D)``, ``Gp = wo (A + D)`` at the
+    start of the step (flux form) and the yield wall's last-row coefficients of
+    ``(R_{N-1}, R_N, A_pl)`` before the step for the right-hand side (``k_rhs``, (steps, 3,
+    loads)) and of ``(R_{N-1}, R_N, A_pl, R_{N-1}, R_N)`` before / after it for the gain of
+    ``A_pl`` (``k_gain``, (steps, 5, loads), 0 where ``yreal`` (steps, loads) is False).  The
+    coefficients of the first and last faces, as used, are written into ``ends[:, :, ms]``
+    (order: wn(A-D), wn(A+D) at the first face, then at the last face; then the same four of
+    the explicit half): the wall fluxes are summed from them.  ``work``: buffers (steps,
+    4, loads, nodes) and (steps, loads, nodes) for the arrays, ``steps >= c`` (reused from block
+    to block: fresh memory would cost a page fault per 4 kB on every block).
     """
     c = ms.stop - ms.start
-    nb, nn = g.shape[1], xf.size + 1
+    nb, nn = g.shape[1], basis.shape[1]
     nf = nn - 1
-    amd, apd = _coefs(ed, xf, dxf, "b", ms)
-    dl = np.empty((c, nb, nn))
-    du = np.empty((c, nb, nn))
-    Dg = np.empty((c, nb, nn))
-    np.multiply(wn, amd, out=dl[..., :nf])  # coefficient of R_{j-1} in row j
-    np.multiply(-wn, apd, out=du[..., :nf])  # coefficient of R_{j+1} in row j
+    coef = np.empty((c, 4, nb, 3))
+    for k, (tag, th) in enumerate((("b", wn), ("a", wo))):
+        W = ed["w" + tag][:, ms].T
+        th = th[:, None]
+        a_ = th * (ed["lv" + tag][:, ms].T / (2.0 * W))
+        b_ = th * (ed["wv" + tag][:, ms].T / (2.0 * W))
+        d_ = th / W**2
+        coef[:, 2 * k, :, 0], coef[:, 2 * k, :, 1], coef[:, 2 * k, :, 2] = a_, b_, -d_
+        sign = -1.0 if tag == "b" else 1.0  # dgtsv's super-diagonal is -wn (A + D)
+        coef[:, 2 * k + 1, :, 0], coef[:, 2 * k + 1, :, 1] = sign * a_, sign * b_
+        coef[:, 2 * k + 1, :, 2] = sign * d_
+    # one BLAS product (c 4 nb, 3) x (3, nodes): wn(A-D), -wn(A+D), wo(A-D), wo(A+D)
+    # (negating every weight negates the product exactly: round to nearest is symmetric)
+    ops = work[0][:c]
+    np.matmul(coef.reshape(-1, 3), basis, out=ops.reshape(-1, nn))
+    for k, face in enumerate((0, 0, nf - 1, nf - 1)):
+        ends[k, :, ms] = ops[:, k % 2, :, face].T
+        ends[k + 4, :, ms] = ops[:, 2 + k % 2, :, face].T
+    ends[[1, 3], :, ms] *= -1.0  # wn(A + D), as the solve used it
+    dl, du, Ga, Gp = (ops[:, k] for k in range(4))
+    Dg = work[1][:c]
     np.subtract(wi, dl[..., 1:nf], out=Dg[..., 1:-1])
     Dg[..., 1:-1] -= du[..., : nf - 1]
     Dg[..., 0] = 1.0
     # last row of a real yield wall: half cell plus A_pl, closure R_N = g A_pl
-    Dg[..., -1] = 1.0 + g * (w_last + wn[..., 0] * apd[..., -1])
-    dl[..., nf - 1] = g * wn[..., 0] * amd[..., -1]
-    dl[..., nf] = 0.0
+    Dg[..., -1] = 1.0 + g * (w_last + ends[3, :, ms].T)
+    dl[..., nf - 1] = g * ends[2, :, ms].T
     du[..., 0] = 0.0
-    du[..., nf] = 0.0
-    # explicit half in flux form (the fluxes telescope: a product with the large
-    # coefficients of a stiff step would lose the balance to round-off):
-    #   rhs_j = w_j R_j + (G_{j+1/2} - G_{j-1/2}),  G = wo (A - D) R_j + wo (A + D) R_{j+1};
-    # face j of a load is slot j; slot n (between two loads' systems) stays 0
-    amd, apd = _coefs(ed, xf, dxf, "a", ms)
-    Ga = np.empty((c, nb, nn))
-    Gp = np.empty((c, nb, nn))
-    np.multiply(wo, amd, out=Ga[..., :nf])
-    np.multiply(wo, apd, out=Gp[..., :nf])
-    Ga[..., nf] = 0.0
-    Gp[..., nf] = 0.0
     # last row of a real yield wall: g (w_N R_N + A_pl - wo F_{N-1/2})
-    ye_s = (-g * wo[..., 0] * amd[..., -1]).T
-    ye_d = (g * (w_last - wo[..., 0] * apd[..., -1])).T
-    del amd, apd
+    k_rhs = np.stack([-g * ends[6, :, ms].T, g * (w_last - ends[7, :, ms].T), g], axis=1)
+    mb1, pb1, ma1, pa1 = (ends[k, :, ms].T for k in (2, 3, 6, 7))
+    k_gain = np.stack([-ma1, w_last - pa1, 0.0 * g, -mb1, -(pb1 + w_last)], axis=1)
+    k_gain *= yreal[:, None, :]
     dl, du, Dg, Ga, Gp = (a.reshape(c, nb * nn) for a in (dl, du, Dg, Ga, Gp))
-    return dl, du, Dg, Ga, Gp, ye_s, ye_d
+    return dl, du, Dg, Ga, Gp, k_rhs, k_gain
 
 
 def _initial_state(
@@ -312,67 +325,38 @@ def _record(
             res["P"][i, j, inside] = cs(pv[inside])
 
 
-def _coefs(ed: dict, xf: Array, dxf: Array, tag: str, ms: slice) -> tuple[Array, Array]:
-    """Face coefficients at the start (``tag`` a) or end (b) of the steps ``ms``.
-
-    ``F = D (R_{j+1} - R_j) + A (R_j + R_{j+1})`` with the outer products
-    ``D = (1/W^2) (1/dx_f)``, ``A = (lv + x_f wv) / (2W)``; returned as ``(A - D, A + D)``,
-    shaped (steps, loads, faces).
-    """
-    W = ed["w" + tag][:, ms].T[..., None]
-    D = (1.0 / W**2) * (1.0 / dxf)
-    A = (ed["lv" + tag][:, ms].T[..., None] + xf * ed["wv" + tag][:, ms].T[..., None]) / (2.0 * W)
-    amd = A - D
-    A += D
-    return amd, A
-
-
-def _end_faces(ed: dict, xf: Array, dxf: Array, tag: str) -> tuple[Array, Array, Array, Array]:
-    """(A-D) and (A+D) at the first face, then at the last face; (nb, n_steps)."""
-    W = ed["w" + tag]
-    lv, wv = ed["lv" + tag], ed["wv" + tag]
-    # the same expressions as in _coefs (bitwise): the wall fluxes must be the ones the
-    # solve used, or the balance of large CN fluxes loses digits
-    d0, d1 = (1.0 / W**2) * (1.0 / dxf[0]), (1.0 / W**2) * (1.0 / dxf[-1])
-    a0, a1 = (lv + xf[0] * wv) / (2.0 * W), (lv + xf[-1] * wv) / (2.0 * W)
-    return a0 - d0, a0 + d0, a1 - d1, a1 + d1
-
-
 def _wall_sums(
     res: dict,
     ed: dict,
     hist: Array,
-    fac: tuple,
-    wn_all: Array,
-    wo_all: Array,
+    ends: Array,
     out_at: Array,
     a_pl_at: Array,
     yield_wall: bool,
 ) -> None:
     """Absorbed probabilities and wall moments per output from the nodes next to the walls
-    after every step (R = 0 on an absorbing wall), into ``res``."""
+    after every step (R = 0 on an absorbing wall) and the end faces' coefficients the solve
+    used (``ends``, see :func:`_block_system`), into ``res``."""
     nb = a_pl_at.shape[0]
     la, wa_, lb, wb_, rl, ru = ed["la"], ed["wa"], ed["lb"], ed["wb"], ed["rl"], ed["ru"]
     r0, r1, rm, rn = (hist[:, i * nb : (i + 1) * nb].T for i in range(4))  # (nb, n_steps + 1)
-    (am0a, ap0a, am1a, ap1a), (am0b, ap0b, am1b, ap1b) = fac
-    f_old0 = am0a * r0[:, :-1] + ap0a * r1[:, :-1]
-    f_new0 = am0b * r0[:, 1:] + ap0b * r1[:, 1:]
-    f_old1 = am1a * rm[:, :-1] + ap1a * rn[:, :-1]
-    f_new1 = am1b * rm[:, 1:] + ap1b * rn[:, 1:]
-    wn_, wo_ = wn_all[None, :], wo_all[None, :]
+    mb0, pb0, mb1, pb1, ma0, pa0, ma1, pa1 = ends
+    # the wall fluxes times the step's weights: new (end of step) and old (start) halves
+    f_new0 = mb0 * r0[:, 1:] + pb0 * r1[:, 1:]
+    f_old0 = ma0 * r0[:, :-1] + pa0 * r1[:, :-1]
+    f_new1 = mb1 * rm[:, 1:] + pb1 * rn[:, 1:]
+    f_old1 = ma1 * rm[:, :-1] + pa1 * rn[:, :-1]
     zero = np.zeros((nb, 1))
-    abs_l = np.hstack([zero, np.cumsum(np.where(rl, wn_ * f_new0 + wo_ * f_old0, 0.0), axis=1)])
-    mom_l = np.hstack(
-        [zero, np.cumsum(np.where(rl, wn_ * lb * f_new0 + wo_ * la * f_old0, 0.0), axis=1)]
-    )
+    abs_l = np.hstack([zero, np.cumsum(np.where(rl, f_new0 + f_old0, 0.0), axis=1)])
+    mom_l = np.hstack([zero, np.cumsum(np.where(rl, lb * f_new0 + la * f_old0, 0.0), axis=1)])
     res["abs_l"], res["mom_l"] = abs_l[:, out_at], mom_l[:, out_at]
     if yield_wall:
         res["abs_u"] = a_pl_at
-        ends = np.hstack([la[:, :1] + wa_[:, :1], lb + wb_])[:, out_at]
-        res["mom_u"] = ends * a_pl_at
+        ends_ = np.hstack([la[:, :1] + wa_[:, :1], lb + wb_])[:, out_at]
+        res["mom_u"] = ends_ * a_pl_at
     else:
-        out_hi = -(wn_ * f_new1 + wo_ * f_old1)
-        mom = wn_ * (lb + wb_) * f_new1 + wo_ * (la + wa_) * f_old1
+        out_hi = -(f_new1 + f_old1)
+        mom = (lb + wb_) * f_new1 + (la + wa_) * f_old1
         res["abs_u"] = np.hstack([zero, np.cumsum(np.where(ru, out_hi, 0.0), axis=1)])[:, out_at]
         res["mom_u"] = -np.hstack([zero, np.cumsum(np.where(ru, mom, 0.0), axis=1)])[:, out_at]
 
