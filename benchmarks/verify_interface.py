@@ -393,14 +393,6 @@ def leakage_rows(fast: bool) -> list[dict]:
             float(np.sum(ds["leak_sealed"].values != sealed)),
             "mismatches",
         ),
-        _row(
-            "leak_flow_factor_emt, leak_rate_emt, leak_sealed_emt",
-            regime,
-            "none independent here (Bruggeman root of the same gap bins)",
-            math.nan,
-            "-",
-            "missing: needs an independent EMT solver",
-        ),
     ]
 
 

@@ -59,12 +59,38 @@ BOUNDS = {
     "leak_flow_factor": 1e-12,
     "leak_rate": 1e-12,
     "leak_sealed": 0,
+    # the light-load EMT error is the detachment bins' (verify_leakage._REGIMES): 0.13 measured
+    "leak_flow_factor_emt": 0.2,
+    "leak_rate_emt": 0.2,
+    "leak_flow_factor_emt, leak_rate_emt": 0.0,
+    "leak_sealed_emt": 0,
 }
 
 
 @pytest.fixture(scope="module")
-def rows():
-    return {r["output"]: r for _, r in verify.collect(fast=True)}
+def all_rows():
+    return [r for _, r in verify.collect(fast=True)]
+
+
+@pytest.fixture(scope="module")
+def rows(all_rows):
+    out: dict[str, dict] = {}
+    for r in all_rows:  # an output in several regimes: its worst row
+        old = out.get(r["output"])
+        if old is None or not r["worst"] <= old["worst"]:
+            out[r["output"]] = r
+    return out
+
+
+def test_emt_leakage_away_from_light_load(all_rows):
+    """The effective medium against the continuous reference where the bins are right."""
+    mid = [
+        r
+        for r in all_rows
+        if r["output"] in ("leak_flow_factor_emt", "leak_rate_emt") and "0.1 .. 0.42" in r["regime"]
+    ]
+    assert len(mid) == 2
+    assert all(r["worst"] < 1e-2 for r in mid), mid
 
 
 def test_every_bounded_output_is_within_its_bound(rows):
