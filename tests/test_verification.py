@@ -64,6 +64,10 @@ BOUNDS = {
     "leak_rate_emt": 0.2,
     "leak_flow_factor_emt, leak_rate_emt": 0.0,
     "leak_sealed_emt": 0,
+    "holm_conductance": 1e-12,
+    "holm_magnification": 0.1,  # the grid's: half a step of 20 per decade at most
+    "holm_ratio": 0.02,
+    "holm_spot_radius": 0.1,
 }
 
 
