@@ -31,7 +31,15 @@ import verify_interface  # noqa: E402
 import verify_leakage  # noqa: E402
 
 SECTIONS = (
-    ("core", (verify_core.core_rows, verify_core.pressure_pdf_rows, verify_core.markov_rows)),
+    (
+        "core",
+        (
+            verify_core.core_rows,
+            verify_core.pressure_pdf_rows,
+            verify_core.markov_rows,
+            verify_core.validity_rows,
+        ),
+    ),
     ("xpersson-plasticity (constant hardness)", (verify_core.plastic_rows,)),
     (
         "xpersson-interface",

@@ -64,6 +64,7 @@ BOUNDS = {
     "leak_rate_emt": 0.2,
     "leak_flow_factor_emt, leak_rate_emt": 0.0,
     "leak_sealed_emt": 0,
+    "theory_validity": 0,
     "holm_conductance": 1e-12,
     "holm_magnification": 0.1,  # the grid's: half a step of 20 per decade at most
     "holm_ratio": 0.02,
