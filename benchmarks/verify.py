@@ -50,6 +50,7 @@ SECTIONS = (
             verify_interface.gfmd_rows,
             verify_interface.leakage_rows,
             verify_leakage.emt_rows,
+            verify_leakage.network_rows,
         ),
     ),
 )
