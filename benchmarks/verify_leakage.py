@@ -171,13 +171,13 @@ _REGIMES = (
         " u1 are clipped to 0 and sum w u1 misses u(p0) by up to +15 %; not binning (n_bins 400"
         " gives the same); the library's EMT root on this reference's mixture agrees to 6e-5",
     ),
-    ("A/A0 0.1 .. 0.41", (0.1, 0.3, 0.41), (0.1, 0.3), ""),
+    ("A/A0 0.1 .. 0.3", (0.1, 0.3), (0.1, 0.3), ""),
     (
-        "A/A0 0.45 .. 0.49 (near the threshold 1/2)",
-        (0.45, 0.49),
+        "A/A0 0.41 .. 0.49 (near the threshold: 1/2, or a_c 0.42 rescaled to 1/2)",
+        (0.41, 0.45, 0.49),
         (),
-        "discretisation: sigma_eff ~ (1/2 - A) amplifies the bin error; n_bins 400 gives 1 %"
-        " at 0.45, 12 % at 0.49",
+        "discretisation: sigma_eff ~ (1/2 - weight) amplifies the bin error; n_bins 400 gives"
+        " 1 % at 0.45, 12 % at 0.49 (plain threshold)",
     ),
     ("sealed: A/A0 0.6 .. 1 - 1e-10", (0.6, 0.9, 1 - 1e-6, 1 - 1e-10), (0.7,), ""),
 )
