@@ -8,10 +8,11 @@ Prints, per output variable of the core and of the first-party plugins, the refe
 checked against (computed another way: adaptive quadrature with explicit breakpoints, closed
 forms, an image series, the Markov walkers, published tables), the regime grid, and the worst
 error measured. Rows come from ``verify_core`` (core, plasticity), ``verify_interface``
-(xpersson-interface), ``verify_friction`` (xpersson-viscoelastic, written by its own helper:
-included when the file exists and offers ``rows(fast)``) and ``verify_adhesion`` (the adhesion
-BEM comparison, same contract, when present). GFMD data are read from
-``../shared/refdata`` relative to the repository root (``XPERSSON_REFDATA`` overrides).
+(xpersson-interface), ``verify_leakage`` (its effective medium), ``verify_friction`` (xpersson-
+viscoelastic, written by its own helper: included when the file exists and offers
+``rows(fast)``) and ``verify_adhesion`` (the adhesion BEM comparison, same contract, when
+present). GFMD data are read from ``../shared/refdata`` relative to the repository root
+(``XPERSSON_REFDATA`` overrides).
 """
 
 from __future__ import annotations
@@ -27,9 +28,18 @@ sys.path.insert(0, str(HERE))
 
 import verify_core  # noqa: E402
 import verify_interface  # noqa: E402
+import verify_leakage  # noqa: E402
 
 SECTIONS = (
-    ("core", (verify_core.core_rows, verify_core.pressure_pdf_rows, verify_core.markov_rows)),
+    (
+        "core",
+        (
+            verify_core.core_rows,
+            verify_core.pressure_pdf_rows,
+            verify_core.markov_rows,
+            verify_core.validity_rows,
+        ),
+    ),
     ("xpersson-plasticity (constant hardness)", (verify_core.plastic_rows,)),
     (
         "xpersson-interface",
@@ -39,6 +49,8 @@ SECTIONS = (
             verify_interface.diffusion_rows,
             verify_interface.gfmd_rows,
             verify_interface.leakage_rows,
+            verify_leakage.emt_rows,
+            verify_leakage.network_rows,
         ),
     ),
 )

@@ -287,6 +287,45 @@ def plastic_rows(fast: bool) -> list[dict]:
     ]
 
 
+def validity_rows(fast: bool) -> list[dict]:
+    """theory_validity against the conditions evaluated from the closed forms and quadrature."""
+    del fast
+    worst = 0
+    for h_rms in (1e-6, 1e-4):  # rms slope ~0.6 and ~60 (above the small-slope limit 3)
+        ref = Ref(0.8, 1e3, 1e4, 1e8, h_rms)
+        tau1 = float(_tau(ref, ref.q_1)[0])
+        slope = math.sqrt(2 * math.pi * _lnquad(ref, 3, ref.q_L, ref.q_r)
+                          + 2 * math.pi * _lnquad(ref, 3, ref.q_r, ref.q_1))  # fmt: skip
+        loads = sorted({1e-303, 1e-6, 1e4, 1e6, 2 * math.sqrt(tau1) * 6.0, 2e7, 1e9})
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ds = xpersson.solve(
+                {
+                    "spectrum": ref.scene_spectrum(),
+                    "material": {"E": f"{E} Pa", "nu": NU},
+                    "load": {"p0": [f"{p!r} Pa" for p in loads]},
+                }
+            )
+        x = np.array(loads) / (2 * math.sqrt(tau1))
+        want = (
+            (np.array(loads) > E_STAR) * 1
+            + (slope > 3.0) * 2
+            + (erfc(x) < 2.0**-53) * 4
+            + (np.array([erf(v) for v in x]) < np.finfo(float).tiny) * 8
+        )
+        worst += int(np.sum(ds["theory_validity"].values != want))
+    return [
+        _row(
+            "theory_validity",
+            "p0 1e-303 Pa .. 1e9 Pa (A/A0 underflow .. full contact, p0 > E*), rms slope 0.6"
+            " and 60",
+            "p0 > E*, slope by quad > 3, erfc(p0/2sqrt(tau_1)) < 2^-53, erf(..) < float64 tiny",
+            float(worst),
+            "mismatches",
+        )
+    ]
+
+
 def _image_series(p0: float, Y: float, tau: np.ndarray, n: int = 60):
     """Elastic area and elastic load of absorbing walls at 0 and Y (images of period 2Y)."""
     s = np.sqrt(2 * tau)[:, None]  # Gaussian sd of the pressure

@@ -10,7 +10,10 @@ note):
 - the constriction conductance (Barber's analogy) against the conduction problem solved
   directly on boundary-element contact sets, read from ``results/transport_bem.md`` (made by
   ``transport_bem.py``; tamaas);
-- resistances against their conductances (exact identities).
+- resistances against their conductances (exact identities);
+- Holm's spots against Holm's constriction formula written from scratch (``holm_rows``) and
+  against the conduction solved on BEM contact sets (``holm_bem_rows``, read from
+  ``results/holm_bem.md``, made by ``holm_bem.py``).
 """
 
 from __future__ import annotations
@@ -119,17 +122,125 @@ def identity_rows(fast: bool) -> list[dict]:
     ]
 
 
-def rows(fast: bool) -> list[dict]:
-    """Every transport row; the Holm picture has no independent reference here."""
-    missing = _row(
-        "holm_conductance, holm_magnification, holm_ratio, holm_spot_radius",
-        "-",
-        "-",
-        math.nan,
-        "-",
-        "missing: Holm's spot picture has no independent reference here (a model beside Barber's)",
+#: electrical_contact defaults (copper on copper) and the spot radius factor
+_RHO_SUM, _C_R = 2 * 1.7e-8, math.pi / 2
+
+
+def holm_rows(fast: bool) -> list[dict]:
+    """Holm's spots against the formula written from Holm's constriction resistance.
+
+    ``R = rho_1/(4a) + rho_2/(4a)`` per disc of radius ``a = c_r/q``, ``A(zeta)/(pi a^2)`` discs
+    per nominal area, ``A`` = Persson's ``erf(p0/2sqrt(tau))`` with tau's moment in closed form;
+    Barber's ``g = 2K/((rho_1 + rho_2) E*)`` with ``K`` by adaptive quadrature
+    (``verify_interface.stiffness``); ``holm_magnification`` the root of ``g_H(zeta) = g_B`` in
+    the continuous ``ln zeta`` (``brentq``), else the end closest to 1.
+    """
+    import sys
+
+    sys.path.insert(0, str(HERE))
+    from scipy.optimize import brentq, minimize_scalar
+    from scipy.special import erf, erfinv
+    from verify_core import E_STAR
+    from verify_interface import I3, README, _solve, stiffness
+
+    ref = README
+    targets = (1e-4, 0.01, 0.3, 0.9) if fast else (1e-6, 1e-4, 1e-2, 0.1, 0.3, 0.6, 0.9, 0.999)
+    tau = lambda z: 0.25 * math.pi * E_STAR**2 * float(I3(ref, z * ref.q_L))  # noqa: E731
+    z1 = ref.q_1 / ref.q_L
+    loads = [2 * math.sqrt(tau(z1)) * erfinv(a) for a in targets]
+    ec = {"resistivity_1": "1.7e-8 ohm*m", "resistivity_2": "1.7e-8 ohm*m"}
+    ds = _solve(ref, loads, {"electrical_contact": ec})
+    zeta = ds["zeta"].values
+
+    def g_holm(p0: float, z: float) -> float:
+        t = tau(z)
+        A = 1.0 if t <= 0 else float(erf(p0 / (2 * math.sqrt(t))))
+        a = _C_R / (z * ref.q_L)
+        return A / (math.pi * a * a) * 4 * a / _RHO_SUM
+
+    got = ds["holm_conductance"].transpose("p0", "zeta").values
+    err_g, err_z, err_r, err_a, where = 0.0, 0.0, 0.0, 0.0, ""
+    for i, p in enumerate(loads):
+        want = np.array([g_holm(p, z) for z in zeta])
+        err_g = max(err_g, float(np.max(np.abs(got[i] / want - 1))))
+        K = stiffness(ref, p)
+        if not math.isfinite(K):
+            continue
+        gb = 2 * K / (_RHO_SUM * E_STAR)
+        f = lambda x, p=p, gb=gb: math.log(g_holm(p, math.exp(x)) / gb)  # noqa: E731
+        xs = np.linspace(0.0, math.log(z1), 4001)
+        fs = np.array([f(x) for x in xs])
+        cross = np.flatnonzero(np.signbit(fs[:-1]) != np.signbit(fs[1:]))
+        if cross.size:  # the first crossing, as documented
+            k = int(cross[0])
+            zh, rh = math.exp(brentq(f, xs[k], xs[k + 1], xtol=1e-14, rtol=1e-14)), 1.0
+        else:  # closest to 1: minimise |ln ratio| around the scan's best point
+            k = int(np.argmin(np.abs(fs)))
+            a, b = xs[max(k - 1, 0)], xs[min(k + 1, xs.size - 1)]
+            res = minimize_scalar(lambda x, f=f: abs(f(x)), bounds=(a, b), method="bounded",
+                                  options={"xatol": 1e-12})  # fmt: skip
+            x = res.x if abs(f(res.x)) < abs(fs[k]) else xs[k]
+            zh, rh = math.exp(x), math.exp(f(x))
+        ez = abs(float(ds["holm_magnification"].values[i]) / zh - 1)
+        if ez > err_z:
+            err_z, where = ez, f"worst at A/A0 {targets[i]:g}"
+        err_r = max(err_r, abs(float(ds["holm_ratio"].values[i]) / rh - 1))
+        err_a = max(
+            err_a, abs(float(ds["holm_spot_radius"].values[i]) / (_C_R / (zh * ref.q_L)) - 1)
+        )
+    regime = f"A/A0(zeta_1) {targets[0]:g} .. {targets[-1]:g}, README spectrum, copper"
+    interp = (
+        "the grid's: a root is interpolated log-log between the Dataset's magnifications;"
+        " without a root (light load: the ratio has a minimum above 1) the nearest grid point"
+        " is taken (up to half a grid step off)"
     )
-    return [*gas_rows(fast), *bem_rows(fast), *identity_rows(fast), missing]
+    return [
+        _row("holm_conductance", regime + ", every zeta", "Holm's 4a/(rho_1+rho_2) per disc"
+             " a = c_r/q, A(zeta)/(pi a^2) discs, A closed form", err_g, "rel"),
+        _row("holm_magnification", regime, "first root of g_Holm(zeta) = 2K/((rho_1+rho_2)E*)"
+             " (scan + brentq), else the continuous minimum of |ln ratio|; K by quad", err_z,
+             "rel", "; ".join(x for x in (where, interp) if x)),
+        _row("holm_ratio", regime, "1 at the root, else the continuous minimum's ratio", err_r,
+             "rel", "no root: the Dataset's grid point nearest the minimum (the grid's)"),
+        _row("holm_spot_radius", regime, "c_r / (zeta_root q_L)", err_a, "rel", interp),
+    ]  # fmt: skip
+
+
+def holm_bem_rows(fast: bool) -> list[dict]:
+    """Holm's spot picture against the BEM contact sets (stored: results/holm_bem.md)."""
+    del fast
+    path = HERE / "results" / "holm_bem.md"
+    text = path.read_text() if path.is_file() else ""
+    rows = re.findall(
+        r"^\| [0-9.e-]+ \| [0-9.]+ \| [0-9]+ \| ([0-9.]+) \| ([0-9.]+) \|", text, re.M
+    )
+    if not rows:
+        return [_row("holm_conductance (BEM)", "-", "holm_bem.py results absent", math.nan, "-",
+                     "missing: run benchmarks/holm_bem.py")]  # fmt: skip
+    cl = [float(a) for a, _ in rows]
+    pl = [float(b) for _, b in rows]
+    fac = lambda v: max(max(v), 1 / min(v))  # noqa: E731
+    regime = "transport_bem spectrum (H 0.8), A/A0 0.5-5 %, BEM contact sets"
+    return [
+        _row("holm_conductance at zeta_1 (BEM)", regime, "conduction solved on the BEM contact"
+             " sets (holm_bem.py, tamaas)", fac(pl), "factor", f"plugin/BEM {min(pl):.2f}-"
+             f"{max(pl):.2f}: the theory's (spots of radius c_r/q_1 on Persson's area, no"
+             " interaction)"),
+        _row("Holm's picture on the BEM clusters", regime, "same", fac(cl), "factor",
+             f"non-interacting cluster discs / BEM {min(cl):.2f}-{max(cl):.2f}: the picture's"
+             " (interaction neglected), not the code's"),
+    ]  # fmt: skip
+
+
+def rows(fast: bool) -> list[dict]:
+    """Every transport row."""
+    return [
+        *gas_rows(fast),
+        *bem_rows(fast),
+        *identity_rows(fast),
+        *holm_rows(fast),
+        *holm_bem_rows(fast),
+    ]
 
 
 if __name__ == "__main__":

@@ -52,19 +52,51 @@ BOUNDS = {
     "contact_stiffness_status": 0,
     "gap_contact_weight": 1e-9,
     "gap_mean (almqvist)": 2e-3,
-    "gap_pdf (almqvist)": 0.03,
+    "gap_pdf (almqvist)": 2e-3,
+    "gap_mean (diffusion)": 5e-3,
     "mean_gap (Zhou scene)": 1e-4,
     "leak_zeta_c": 1e-5,
     "leak_u1": 0.03,
     "leak_flow_factor": 1e-12,
     "leak_rate": 1e-12,
     "leak_sealed": 0,
+    # the light-load EMT error is the detachment bins' (verify_leakage._REGIMES): 0.13 measured
+    "leak_flow_factor_emt": 0.2,
+    "leak_rate_emt": 0.2,
+    "leak_flow_factor_emt, leak_rate_emt": 0.0,
+    "leak_sealed_emt": 0,
+    "theory_validity": 0,
+    "holm_conductance": 1e-12,
+    "holm_magnification": 0.1,  # the grid's: half a step of 20 per decade at most
+    "holm_ratio": 0.02,
+    "holm_spot_radius": 0.1,
 }
 
 
 @pytest.fixture(scope="module")
-def rows():
-    return {r["output"]: r for _, r in verify.collect(fast=True)}
+def all_rows():
+    return [r for _, r in verify.collect(fast=True)]
+
+
+@pytest.fixture(scope="module")
+def rows(all_rows):
+    out: dict[str, dict] = {}
+    for r in all_rows:  # an output in several regimes: its worst row
+        old = out.get(r["output"])
+        if old is None or not r["worst"] <= old["worst"]:
+            out[r["output"]] = r
+    return out
+
+
+def test_emt_leakage_away_from_light_load(all_rows):
+    """The effective medium against the continuous reference where the bins are right."""
+    mid = [
+        r
+        for r in all_rows
+        if r["output"] in ("leak_flow_factor_emt", "leak_rate_emt") and "0.1 .. 0.3" in r["regime"]
+    ]
+    assert len(mid) == 2
+    assert all(r["worst"] < 1e-2 for r in mid), mid
 
 
 def test_every_bounded_output_is_within_its_bound(rows):

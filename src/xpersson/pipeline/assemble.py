@@ -17,7 +17,7 @@ from ..physics.grids import persson_G
 from ..plugins import SceneContext, VarSpec
 from ..scene import ResolvedScene
 from ..schema import COORDS, CORE_VARIABLES, stamp
-from .diagnostics import pdf_resolution, regime_warnings
+from .diagnostics import pdf_resolution, regime_warnings, theory_validity
 
 __all__ = ["assemble", "add_outputs", "attributes", "diagnostics_notes", "squeeze_p0"]
 
@@ -226,7 +226,9 @@ def _spec_attrs(spec: VarSpec) -> dict[str, Any]:
 
 
 def diagnostics_notes(ds: xr.Dataset) -> list[str]:
-    """Add the P-resolution diagnostics; collect them and the regime warnings as notes."""
+    """Add the P-resolution diagnostics and the per-load ``theory_validity``; collect the
+    regime warnings and the unresolved P as notes."""
+    theory_validity(ds)
     notes = regime_warnings(ds)
     ds.attrs["regime_warnings"] = json.dumps(notes)
     unresolved = pdf_resolution(ds)

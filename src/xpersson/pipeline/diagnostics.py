@@ -6,6 +6,9 @@
   magnification, or mass beyond the grid's ends). The contact area itself never comes from P.
 * regime warnings: the scene lies outside the range where Persson's small-slope, linear-elastic
   theory holds (rms slope far above 1, nominal pressure above the contact modulus).
+* ``theory_validity(p0)``: the same per load, as a CF bit field (0: inside the theory's
+  regime), from what is already solved (``p0``, ``E_star``, ``rms_slope``, the contact and
+  non-contact fractions at the finest magnification): nothing is recomputed.
 """
 
 from __future__ import annotations
@@ -16,12 +19,38 @@ import numpy as np
 
 from ..plugins import VarSpec
 
-__all__ = ["P_RTOL", "SLOPE_LIMIT", "DIAGNOSTICS", "pdf_resolution", "regime_warnings"]
+__all__ = [
+    "P_RTOL",
+    "SLOPE_LIMIT",
+    "DIAGNOSTICS",
+    "VALIDITY_FLAGS",
+    "pdf_resolution",
+    "regime_warnings",
+    "theory_validity",
+]
 
 P_RTOL = 1e-3
 """Relative agreement of int P dp with A/A0 that counts as resolved."""
 SLOPE_LIMIT = 3.0
 """rms slope above which the small-slope theory is reported as left [1]."""
+
+#: bit -> (CF flag meaning, description) of ``theory_validity``
+VALIDITY_FLAGS: dict[int, tuple[str, str]] = {
+    1: ("p0_above_contact_modulus", "p0 > E*: strains of order 1, outside linear elasticity"),
+    2: (
+        "rms_slope_above_small_slope_limit",
+        f"rms slope > {SLOPE_LIMIT:g}: outside the small-slope theory",
+    ),
+    4: (
+        "full_contact_beyond_float64",
+        "1 - A/A0 at zeta_1 below 2^-53: A/A0 rounds to 1 in float64 (read the open area from"
+        " non_contact_fraction); gaps there are far below atomic scales",
+    ),
+    8: (
+        "contact_area_underflow",
+        "A/A0 at zeta_1 below the smallest normal float64 (2.2e-308): the area is 0 in float64",
+    ),
+}
 
 DIAGNOSTICS: dict[str, VarSpec] = {
     "P_integral": VarSpec(
@@ -38,6 +67,15 @@ DIAGNOSTICS: dict[str, VarSpec] = {
         extra={"flag_meanings": "unresolved resolved"},
         valid_min=0,
         valid_max=1,
+    ),
+    "theory_validity": VarSpec(
+        ("p0",),
+        "1",
+        "where the load lies outside the theory's regime (bit field, 0: inside)",
+        description="; ".join(f"{b}: {d}" for b, (_, d) in VALIDITY_FLAGS.items()),
+        extra={"flag_meanings": " ".join(m for m, _ in VALIDITY_FLAGS.values())},
+        valid_min=0,
+        valid_max=sum(VALIDITY_FLAGS),
     ),
 }
 
@@ -94,3 +132,31 @@ def regime_warnings(ds: Any) -> list[str]:
             f"E* = {e_star:.4g} Pa: strains of order 1 are outside linear elasticity"
         )
     return out
+
+
+def theory_validity(ds: Any) -> None:
+    """Add ``theory_validity(p0)`` to ``ds``: a CF bit field of :data:`VALIDITY_FLAGS`.
+
+    Read from the Dataset only (``p0``, ``E_star``, ``rms_slope``, ``area_fraction`` and
+    ``non_contact_fraction`` at the last magnification); 0 where the load is inside the regime.
+    """
+    var = ds.variables
+    p0 = np.atleast_1d(np.asarray(var["p0"].values, float))
+    flags = np.zeros(p0.size, np.int8)
+    flags |= np.where(p0 > float(var["E_star"].values), 1, 0).astype(np.int8)
+    if float(var["rms_slope"].values) > SLOPE_LIMIT:
+        flags |= np.int8(2)
+    area = ds["area_fraction"].transpose("p0", "zeta").values[:, -1]
+    if "non_contact_fraction" in ds:
+        non = ds["non_contact_fraction"].transpose("p0", "zeta").values[:, -1]
+    else:
+        non = 1.0 - area
+    flags |= np.where(np.asarray(non, float) < 2.0**-53, 4, 0).astype(np.int8)
+    flags |= np.where(np.asarray(area, float) < np.finfo(float).tiny, 8, 0).astype(np.int8)
+    ds["theory_validity"] = (("p0",), flags)
+    attrs = ds["theory_validity"].attrs
+    attrs.update(DIAGNOSTICS["theory_validity"].attrs())
+    bits = np.array(list(VALIDITY_FLAGS), np.int8)
+    attrs["flag_masks"], attrs["flag_values"] = bits, bits
+    # CF 2.5: the valid range has the variable's own type
+    attrs["valid_min"], attrs["valid_max"] = np.int8(0), np.int8(sum(VALIDITY_FLAGS))

@@ -1,0 +1,77 @@
+"""The per-load validity flag of the core result (``theory_validity``, issue 22 item 4)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from scipy.special import erfc
+
+import xpersson
+from xpersson.pipeline.diagnostics import SLOPE_LIMIT, VALIDITY_FLAGS
+
+E, NU = 10e6, 0.5
+E_STAR = E / (1 - NU**2)
+
+
+def _solve(p0, *, h_rms: str = "1 um") -> object:
+    scene = {
+        "spectrum": {
+            "model": "self_affine",
+            "H": 0.8,
+            "q_L": "1e3 1/m",
+            "q_r": "1e4 1/m",
+            "q_1": "1e8 1/m",
+            "h_rms": h_rms,
+        },
+        "material": {"E": f"{E} Pa", "nu": NU},
+        "load": {"p0": [f"{p!r} Pa" for p in p0] if isinstance(p0, list) else f"{p0!r} Pa"},
+    }
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return xpersson.solve(scene)
+
+
+def test_each_bit_is_set_exactly_where_its_condition_holds():
+    loads = [1e-303, 1e4, 1e6, 2e7]
+    ds = _solve(loads)
+    flags = ds["theory_validity"].values
+    assert flags.dtype == np.int8
+    tau1 = float(ds["diffusion_time"].values[-1])
+    # closed forms: 1 - A = erfc(p0 / 2 sqrt(tau_1)), A = erf(...) ~ p0 / sqrt(pi tau_1)
+    open_ = np.array([erfc(p / (2 * math.sqrt(tau1))) for p in loads])
+    area = np.array([p / math.sqrt(math.pi * tau1) for p in loads])
+    want = (
+        (np.array(loads) > E_STAR) * 1 + (open_ < 2.0**-53) * 4 + (area < np.finfo(float).tiny) * 8
+    )
+    np.testing.assert_array_equal(flags, want)
+    assert flags[1] == 0 and flags[2] == 0  # ordinary loads: inside the regime
+    assert flags[3] == 1 | 4  # above E* and at full contact
+    assert flags[0] == 8  # the area underflows
+
+
+def test_steep_surface_flags_every_load():
+    ds = _solve([1e4, 1e6], h_rms="100 um")  # rms slope ~ 100 x that of the 1 um surface
+    assert float(ds["rms_slope"].values) > SLOPE_LIMIT
+    assert np.all(ds["theory_validity"].values & 2)
+
+
+def test_cf_flag_attributes():
+    ds = _solve(1e4)
+    v = ds["theory_validity"]
+    assert v.dims == ()  # a scalar load squeezes like every per-load output
+    a = v.attrs
+    masks, values = a["flag_masks"], a["flag_values"]
+    meanings = a["flag_meanings"].split()
+    assert list(masks) == list(VALIDITY_FLAGS) == list(values)
+    assert len(meanings) == len(masks)
+    assert all(m.replace("_", "").isalnum() for m in meanings)  # CF: blank-separated words
+    assert masks.dtype == v.dtype and a["valid_max"] == sum(VALIDITY_FLAGS)
+    assert int(v) == 0
+
+
+@pytest.mark.parametrize("bit", list(VALIDITY_FLAGS))
+def test_bits_are_distinct_powers_of_two(bit):
+    assert bit & (bit - 1) == 0
