@@ -152,7 +152,7 @@ def test_lazy_names_resolve_to_their_modules():
     assert all(getattr(sweep, n) is not None for n in sweep.__all__)
     assert engine.CNMethod is CNMethod and engine.solve_sourced is solve_sourced
     assert sweep.solve_sweep is solve_sweep and io.open_parts is open_parts is sweep.open_parts
-    assert sorted(METHODS) == ["cn", "exact", "markov", "markov_ck", "sine"]
+    assert {"cn", "exact", "markov", "markov_ck", "sine"} <= set(METHODS)  # other tests add
     assert METHODS["cn"] is CNMethod and get_method("markov") is MarkovMethod
     assert dict(METHODS)["cn"] is CNMethod and "cn" in METHODS and "auto" not in METHODS
     register_method("lazy_test", CNMethod)
