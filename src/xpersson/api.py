@@ -12,7 +12,7 @@ import xarray as xr
 from .pipeline import as_scene, run, run_with_progress
 from .plugins import Registry, get_registry
 from .scene import Scene
-from .sweep import expand, solve_sweep
+from .sweep import expand
 
 __all__ = ["solve"]
 
@@ -81,6 +81,8 @@ def solve(
     reg = registry or get_registry()
     plan = expand(sc, reg)
     if plan is not None:
+        from .sweep import solve_sweep  # lazily: a solve without a sweep never needs it
+
         return solve_sweep(
             plan,
             reg,

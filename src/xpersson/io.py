@@ -11,15 +11,26 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import xarray as xr
 
 from .archive import read, stale_temporaries, to_netcdf
 from .errors import ArchiveError
-from .sweep import open_parts
+
+if TYPE_CHECKING:
+    from .sweep import open_parts
 
 __all__ = ["to_netcdf", "open_dataset", "open_parts", "stale_temporaries", "compare"]
+
+
+def __getattr__(name: str) -> Any:
+    if name == "open_parts":  # re-exported, imported on first access
+        from .sweep import open_parts
+
+        return open_parts
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def open_dataset(path: str | os.PathLike[str], **kwargs: object) -> xr.Dataset:
@@ -45,6 +56,8 @@ def open_dataset(path: str | os.PathLike[str], **kwargs: object) -> xr.Dataset:
     """
     p = Path(path)
     if p.is_dir():
+        from .sweep import open_parts  # lazily: a file needs no sweep code
+
         ds = open_parts(p)
     elif not p.exists():
         raise FileNotFoundError(f"{p}: no such file")

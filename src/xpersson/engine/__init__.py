@@ -14,23 +14,31 @@ MarkovMethod ("markov": walkers), ChapmanKolmogorovMethod ("markov_ck"), sample_
 transition_kernel
 
 Units: pressures in Pa, diffusion time tau in Pa^2, densities in 1/Pa.
+
+The methods other than ``exact`` and ``solve_sourced`` are imported on first access: the
+modules of ``cn`` and ``solve_sourced`` import ``scipy.optimize``, ``scipy.interpolate`` and
+``scipy.linalg`` (~0.5 s), which the closed-form path never needs.
 """
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from . import exact as exact  # noqa: PLC0414 (the public closed-forms module)
 from ._api import solve, solve_batch
 from ._base import EngineMethod
-from ._cn import CNMethod
 from ._exactpath import ExactMethod
-from ._markov import MarkovMethod, sample_paths
-from ._markov_ck import ChapmanKolmogorovMethod, transition_kernel
 from ._methods import METHODS, register_method
 from ._progress import reporting as progress_reporting
 from ._result import EngineBatch, EngineResult
-from ._sine import SineMethod
-from ._sourced import SourcedResult, solve_sourced
 from ._walls import Wall
+
+if TYPE_CHECKING:
+    from ._cn import CNMethod
+    from ._markov import MarkovMethod, sample_paths
+    from ._markov_ck import ChapmanKolmogorovMethod, transition_kernel
+    from ._sine import SineMethod
+    from ._sourced import SourcedResult, solve_sourced
 
 __all__ = [
     "solve",
@@ -53,3 +61,28 @@ __all__ = [
     "transition_kernel",
     "progress_reporting",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    # lazily: see the module docstring (function-level imports, so that import-linter sees them)
+    if name == "CNMethod":
+        from ._cn import CNMethod
+
+        return CNMethod
+    if name == "SineMethod":
+        from ._sine import SineMethod
+
+        return SineMethod
+    if name in ("MarkovMethod", "sample_paths"):
+        from . import _markov
+
+        return getattr(_markov, name)
+    if name in ("ChapmanKolmogorovMethod", "transition_kernel"):
+        from . import _markov_ck
+
+        return getattr(_markov_ck, name)
+    if name in ("SourcedResult", "solve_sourced"):
+        from . import _sourced
+
+        return getattr(_sourced, name)
+    raise AttributeError(f"module 'xpersson.engine' has no attribute {name!r}")

@@ -11,7 +11,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._clear import drop_clear_upper
-from ._cn import CNMethod
 from ._exactpath import ExactMethod
 from ._methods import EngineMethod, get_method
 from ._problem import Problem, make_problem
@@ -33,6 +32,8 @@ def _pick(
         cleared = drop_clear_upper(problem)
         if cleared is not None and ExactMethod.admits(cleared[0]):
             return ExactMethod, cleared[0], cleared[1]
+        from ._cn import CNMethod  # lazily: scipy.optimize/interpolate/linalg, ~0.5 s
+
         return CNMethod, problem, 0.0
     cls = get_method(method)
     if not cls.admits(problem):

@@ -10,11 +10,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.interpolate import CubicSpline, PchipInterpolator, PPoly
+
+if TYPE_CHECKING:
+    from scipy.interpolate import PPoly
 
 _TINY = 1e-300
 _GL_ORDER = 6
@@ -118,6 +120,8 @@ def _log_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     """Spline of ``y = ln(1 - F)`` per load (rows): cubic where the curve is smooth, monotone
     (PCHIP, no overshoot) for loads with a jump, where a cubic spline would ring up to
     ``1 - F = 1`` (a solver path returning exact zeros below its atol, e.g. ``cn``)."""
+    from scipy.interpolate import CubicSpline, PchipInterpolator  # lazily: ~0.2 s to import
+
     cubic = CubicSpline(x, y, axis=1)
     floor = y <= math.log(_TINY) + 1.0  # an exact zero next to a value 1 - F > e^-100: a
     resolved = y > -100.0  # solver's zero below its atol, not the curve passing the magnitudes
@@ -268,6 +272,8 @@ class _Phi:
         self.s = np.log(tau[1:])
         self.phi = phi
         self.p0 = p0
+        from scipy.interpolate import CubicSpline  # lazily: ~0.2 s to import
+
         self._spl = CubicSpline(self.s, phi[:, 1:], axis=1) if self.s.size > 1 else None
         self._tab: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
 

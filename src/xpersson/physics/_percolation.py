@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.interpolate import CubicSpline
 
 __all__ = ["critical_magnification"]
 
@@ -27,6 +26,8 @@ def critical_magnification(zeta: ArrayLike, area: ArrayLike, a_c: float) -> NDAr
     out = np.full(A.shape[0], np.nan)
     if not crossed.any():
         return out
+    from scipy.interpolate import CubicSpline  # lazily: ~0.2 s to import
+
     spl = CubicSpline(x, A, axis=1) if z.size > 2 else None
     rows = np.arange(A.shape[0])
     lo, hi = x[j - 1], x[j]

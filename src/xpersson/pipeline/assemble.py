@@ -299,7 +299,11 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
                 axis = var.dims.index("p0")
                 dims = var.dims[:axis] + var.dims[axis + 1 :]
                 data = np.take(var.values, 0, axis=axis)
-                variables[name] = xr.Variable(dims, data, var.attrs, var.encoding, fastpath=True)
+                fast = True
+                if getattr(data, "ndim", None) is None:  # a Python object (an object array's):
+                    data = np.asarray(data)  # converted as xarray would, without its probe of
+                    fast = data.dtype.kind not in "OMm"  # dask, which imports dask.array
+                variables[name] = xr.Variable(dims, data, var.attrs, var.encoding, fastpath=fast)
             else:
                 variables[name] = var
         indexes = {k: v for k, v in ds.xindexes.items() if k != "p0"}

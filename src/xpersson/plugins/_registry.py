@@ -19,11 +19,14 @@ import re
 import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from importlib.metadata import EntryPoint, entry_points
+from importlib.metadata import EntryPoint
 from typing import Any
 
 from ._groups import ENTRY_POINT_PREFIX, GROUP_NAMES, PLUGIN_GROUPS
 from ._limits import PluginTimeout, limited
+from ._metadata import dist_of as _dist_of
+from ._metadata import forget as _forget_scan
+from ._metadata import scan as _scan
 
 __all__ = [
     "AUTOLOAD_ENV",
@@ -161,6 +164,7 @@ class Registry:
         if self._cache is not None:
             return self._cache
         found: dict[str, dict[str, list[PluginInfo]]] = {g: {} for g in GROUP_NAMES}
+        _forget_scan()  # one scan of the installed distributions for all groups of this pass
         for group in GROUP_NAMES:
             for ep in _entry_points(ENTRY_POINT_PREFIX + group):
                 dist, version = _dist_of(ep)
@@ -405,22 +409,11 @@ def _duplicate_message(group: str, name: str, bucket: list[PluginInfo]) -> str:
 
 
 def _entry_points(group: str) -> list[EntryPoint]:
-    return list(entry_points(group=group))
+    return list(_scan().select(group=group))
 
 
 def _norm(dist: str) -> str:
     return re.sub(r"[-_.]+", "-", dist).lower()
-
-
-def _dist_of(ep: EntryPoint) -> tuple[str, str]:
-    dist = getattr(ep, "dist", None)
-    if dist is None:
-        return "<unknown>", ""
-    try:
-        name = dist.metadata["Name"] or getattr(dist, "name", None) or "<unknown>"
-        return str(name), str(dist.version or "")
-    except Exception:  # unreadable metadata must not break listing
-        return "<unknown>", ""
 
 
 @functools.lru_cache(maxsize=256)

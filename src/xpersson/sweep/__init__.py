@@ -39,11 +39,15 @@ into blocks, solve and stack a block's points), :mod:`.batched` (material sweeps
 an index) and :mod:`.folder` (a run into a folder as a transaction: lock, identity, resume).
 """
 
-from .blocks import POINT_STATUS, Block, BlockResult, blocks_of, run_block, stack
-from .execute import check_size, resolve_points, solve_sweep
-from .folder import LOCK, Transaction, study_hash
-from .parts import INDEX, finalize, open_parts
-from .plan import SweepParam, SweepPlan, cf_units, expand
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # imported on first access (below): a scene without a sweep needs only .plan
+    from .blocks import POINT_STATUS, Block, BlockResult, blocks_of, run_block, stack
+    from .execute import check_size, resolve_points, solve_sweep
+    from .folder import LOCK, Transaction, study_hash
+    from .parts import INDEX, finalize, open_parts
+    from .plan import SweepParam, SweepPlan, cf_units, expand
 
 __all__ = [
     "SweepParam",
@@ -66,3 +70,24 @@ __all__ = [
     "study_hash",
     "POINT_STATUS",
 ]
+
+#: The submodule of each public name: imported when the name is first accessed, so that
+#: ``xpersson validate`` and a solve without a sweep import neither xarray nor the folder code.
+_WHERE = {
+    **dict.fromkeys(("POINT_STATUS", "Block", "BlockResult", "blocks_of", "run_block"), "blocks"),
+    "stack": "blocks",
+    **dict.fromkeys(("check_size", "resolve_points", "solve_sweep"), "execute"),
+    **dict.fromkeys(("LOCK", "Transaction", "study_hash"), "folder"),
+    **dict.fromkeys(("INDEX", "finalize", "open_parts"), "parts"),
+    **dict.fromkeys(("SweepParam", "SweepPlan", "cf_units", "expand"), "plan"),
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _WHERE:
+        return getattr(import_module(f"{__name__}.{_WHERE[name]}"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)
