@@ -166,10 +166,9 @@ _REGIMES = (
         "A/A0 1e-6 .. 1e-2 (light)",
         (1e-6, 1e-4, 1e-2),
         (1e-3,),
-        "the code's: u(zeta) of the detachment bins (physics _curve._sub_mean_gap) is 5.6-6.7 %"
-        " low for cut-offs inside the roll-off plateau, so A u rises in 25-36 of 60 bins, negative"
-        " u1 are clipped to 0 and sum w u1 misses u(p0) by up to +15 %; not binning (n_bins 400"
-        " gives the same); the library's EMT root on this reference's mixture agrees to 6e-5",
+        "was 13-16 % (the code's: the detachment bins' u(zeta), physics _curve._sub_mean_gap, ran"
+        " its rule across the roll-off kink, 5.6-6.7 % low; fixed by splitting at the PSD"
+        " breakpoints); the library's EMT root on this reference's mixture agrees to 6e-5",
     ),
     ("A/A0 0.1 .. 0.3", (0.1, 0.3), (0.1, 0.3), ""),
     (
