@@ -83,6 +83,9 @@ class Transaction:
     mode: str
     fd: int | None = None
     damaged: list[str] = field(default_factory=list)
+    #: sha256 of the parts an earlier run recorded (block number -> digest): a resumed run
+    #: reuses a part only when its bytes are still these (attributes carry no fletcher32)
+    known: dict[str, str] = field(default_factory=dict)
 
     @classmethod
     def begin(
@@ -125,7 +128,7 @@ class Transaction:
         txn = cls(folder, study_hash(plan), uuid.uuid4().hex, dict(layout), "fresh", fd)
         try:
             txn._decide(resume, overwrite)
-            write_index(folder, txn.header(plan, "running"))
+            write_index(folder, {**txn.header(plan, "running"), "known": txn.known})
             if txn.mode == "overwrite":
                 for old in folder.glob("part-*.nc"):
                     if PART_NAME.fullmatch(old.name):
@@ -176,6 +179,7 @@ class Transaction:
         ):
             raise ArchiveError(f"{folder / INDEX}: malformed layout; pass overwrite=True")
         self.layout = {k: layout[k] for k in self.layout}
+        self.known = _known_digests(index)
         self.mode = "resume"
 
     def header(self, plan: SweepPlan, state: str) -> dict[str, Any]:
@@ -207,6 +211,9 @@ class Transaction:
             if not path.is_file():
                 continue
             try:
+                want = self.known.get(str(block.number))
+                if want is not None and file_digest(path) != want:
+                    raise ArchiveError(f"{path}: differs from the checksum the study recorded")
                 out[block.number] = _reuse(path, block, self.study)
             except ArchiveError as exc:
                 self.damaged.append(str(exc))
@@ -233,6 +240,16 @@ class Transaction:
         if self.fd is not None:
             os.close(self.fd)
             self.fd = None
+
+
+def _known_digests(index: dict[str, Any]) -> dict[str, str]:
+    """Part digests an index holds: a complete one's ``parts``, a running one's ``known``."""
+    known = index.get("known")
+    out = {str(k): v for k, v in known.items()} if isinstance(known, dict) else {}
+    for entry in index.get("parts") or ():
+        if isinstance(entry, dict) and isinstance(entry.get("sha256"), str):
+            out[str(entry.get("number"))] = entry["sha256"]
+    return {k: v for k, v in out.items() if isinstance(v, str)}
 
 
 def _acquire(folder: Path) -> int | None:
