@@ -9,9 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf
 
-from ._curve import (
-    _TINY,
-)
+from ._curve import _TINY, _exp
 
 __all__ = ["Detachment", "gap_pdf", "gap_cdf", "gap_mean"]
 
@@ -76,10 +74,12 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
         d = b - a
         d *= d
         d *= -0.5
-        e = np.exp(d, out=d)  # mirror pair: N(u - u1) (1 + exp(-2 u u1 / h^2))
+        e = _exp(d)  # mirror pair: N(u - u1) (1 + exp(-2 u u1 / h^2))
         m = b * a
         m *= -2.0
-        e *= 1.0 + np.exp(m, out=m)
+        m = _exp(m)
+        m += 1.0
+        e *= m
     return np.einsum("lk,lku->lu", det.weight * inv_h / math.sqrt(2.0 * math.pi), e)
 
 

@@ -150,8 +150,12 @@ def solved_curve(
     zeta = np.asarray(ds["zeta"].values, dtype=float)
     solve_at = getattr(ctx, "solve_at", None)
 
-    def get(name: str) -> NDArray[np.float64]:
-        return _rows(_from_ds(ds, name), n)
+    memo: dict[str, NDArray[np.float64]] = {}
+
+    def get(name: str) -> NDArray[np.float64]:  # each variable read (and copied) once
+        if name not in memo:
+            memo[name] = _rows(_from_ds(ds, name), n)
+        return memo[name]
 
     need = _coarse(get(el), sum(get(c) for c in comp)) if per_decade else np.zeros(n, bool)
     if need.any() and solve_at is not None:
@@ -168,12 +172,17 @@ def solved_curve(
     if need.any() and solve_at is not None:
         z_ds, zeta = zeta, dense_zeta(zeta, per_decade)
         v = solve_at(zeta, np.flatnonzero(need))
-        coarse_get = get
+        coarse_get, memo_dense = get, {}
 
         def get(name: str) -> NDArray[np.float64]:  # solved where coarse, else interpolated
-            rows = _interp(z_ds, coarse_get(name), zeta)
-            rows[need] = _rows(v[name], int(need.sum()))
-            return rows
+            if name not in memo_dense:
+                if need.all():  # every load re-solved: nothing to interpolate
+                    rows = _rows(v[name], n)
+                else:
+                    rows = _interp(z_ds, coarse_get(name), zeta)
+                    rows[need] = _rows(v[name], int(need.sum()))
+                memo_dense[name] = rows
+            return memo_dense[name]
 
     area = get(el)
     non = sum(get(c) for c in comp)
