@@ -489,8 +489,8 @@ class Leakage(_Interface):
         det = sc.detachment(_edges(s, int(p["n_bins"])))
         ubar = det.mean_gap
         thr = a_c if p["emt_threshold"] == "a_c" else None
-        # one load at a time: the cells span that load's gaps, never the batch's
-        u3 = np.concatenate([bruggeman_gap(_one(det, i), a_c=thr) for i in range(det.p0.size)])
+        # per load: the cells span that load's gaps, never the batch's (all loads at once)
+        u3 = bruggeman_gap(det, a_c=thr, per_load=True)
         u3 = np.where(np.isfinite(u3), u3, 0.0)
         args = (float(p["seal_width"]), float(p["seal_length"]), dp, float(p["viscosity"]))
         u1_3 = np.where(sealed, 0.0, np.nan_to_num(u1, nan=0.0) ** 3)
@@ -508,13 +508,3 @@ class Leakage(_Interface):
             "leak_rate_emt": (("p0",), leak_rate(u3, *args)),
             "leak_sealed_emt": (("p0",), (u3 <= 0).astype(np.int8)),
         }
-
-
-def _one(det: Any, i: int) -> Any:
-    """The detachment bins of load ``i`` alone."""
-    import dataclasses
-
-    k = slice(i, i + 1)
-    return dataclasses.replace(
-        det, p0=det.p0[k], area=det.area[k], ubar=det.ubar[k], weight=det.weight[k], u1=det.u1[k]
-    )
