@@ -34,13 +34,16 @@ def _exp(y: NDArray[np.float64]) -> NDArray[np.float64]:
 
     Bit-identical where ``exp(y)`` is a normal float; below (results < 3.3e-308) the value is
     ``exp(y + 700) exp(-700)``, equal to within the subnormal spacing (exact zero below
-    ``y = -800``).
+    ``y = -746``).
     """
     y = np.asarray(y, dtype=float)
     out = np.exp(np.maximum(y, _EXP_LO))
     low = y < _EXP_LO
     if low.any():
-        out[low] = np.exp(np.maximum(y[low], -800.0) + _EXP_SHIFT) * _EXP_SCALE
+        np.putmask(out, low, 0.0)
+        band = low & (y > -746.0)  # the subnormal results (exp(-745.2) is the smallest)
+        if band.any():
+            out[band] = np.exp(y[band] + _EXP_SHIFT) * _EXP_SCALE
     return out
 
 
@@ -390,6 +393,38 @@ class _Phi:
             val = np.where(low, lin, val)
         return val.reshape(shape)
 
+    def at_log_tau_per_load(self, log_tau: NDArray[np.float64], rows: slice) -> NDArray:
+        """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``.
+
+        As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up).
+        """
+        shape = log_tau.shape
+        l2 = log_tau.reshape(shape[0], -1)
+        phi1 = self.phi[rows, 1:2]
+        if self._spl is None:
+            t = _exp(np.minimum(l2, math.log(self.tau1)))
+            return (phi1 * np.clip(t / self.tau1, 0.0, 1.0)).reshape(shape)
+        grid, table = self._table()
+        n = grid.size
+        u = l2 - grid[0]
+        u *= 1.0 / (grid[1] - grid[0])
+        np.clip(u, 0.0, n - 1.000001, out=u)
+        i = u.astype(np.intp)
+        u -= i
+        i += (np.arange(rows.start or 0, (rows.start or 0) + shape[0]) * n)[:, None]
+        flat = table.ravel()
+        v0 = flat.take(i)
+        val = flat.take(i + 1)
+        val -= v0
+        val *= u
+        val += v0
+        log_tau1 = math.log(self.tau1)
+        low = l2 < log_tau1
+        if low.any():
+            lin = phi1 * np.clip(_exp(np.minimum(l2, log_tau1)) / self.tau1, 0.0, 1.0)
+            val = np.where(low, lin, val)
+        return val.reshape(shape)
+
     def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6)."""
         if getattr(self, "_tab", None) is None:
@@ -433,10 +468,22 @@ def _sub_mean_gap(
     dI3 = _delta_I3(psd, qaf, q.ravel()).reshape(q.shape)
     C = np.asarray(psd.C(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
     kern = dq * q**2 * C / np.sqrt(np.pi * dI3)
-    tau_eq = 0.25 * np.pi * E_star**2 * dI3 * (area_a**2)[..., None]
-    tau_eq = np.broadcast_to(tau_eq, (phi.p0.size,) + tau_eq.shape[1:])
-    vals = phi.at_tau_per_load(tau_eq)
-    return math.pi * np.sum(vals * kern, axis=-1)
+    # ln tau_eq = ln(tau_c,a) + 2 ln A_a: logs of the small factors, not of the tensor
+    log_tc = np.log(0.25 * np.pi * E_star**2 * dI3)
+    with np.errstate(divide="ignore"):
+        log_a2 = 2.0 * np.log(np.asarray(area_a, dtype=float))[..., None]
+    n = phi.p0.size
+    shape = (n,) + np.broadcast_shapes(log_tc.shape, log_a2.shape)[1:]
+    log_tc, log_a2 = np.broadcast_to(log_tc, shape), np.broadcast_to(log_a2, shape)
+    kern = np.broadcast_to(kern, shape)
+    out = np.empty(shape[:-1])
+    step = _block(math.prod(shape[1:]))
+    for i in range(0, n, step):  # blocks of loads: the tensor's temporaries stay in cache
+        k = slice(i, i + step)
+        vals = phi.at_log_tau_per_load(log_tc[k] + log_a2[k], k)
+        vals *= kern[k]
+        out[k] = vals.sum(axis=-1)
+    return math.pi * out
 
 
 def _h2(psd: object, q: ArrayLike, q_hi: float) -> NDArray[np.float64]:

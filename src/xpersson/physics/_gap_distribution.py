@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf
 
-from ._curve import _TINY, _exp
+from ._curve import _TINY, _block, _exp
 
 __all__ = ["Detachment", "gap_pdf", "gap_cdf", "gap_mean"]
 
@@ -68,19 +68,26 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
     """
     u = np.asarray(u, dtype=float)
     inv_h = 1.0 / np.maximum(det.h, _TINY)  # (n_bin,)
+    w = det.weight * inv_h / math.sqrt(2.0 * math.pi)
+    n_load = det.u1.shape[0]
+    out = np.empty((n_load, u.size))
     with np.errstate(under="ignore", over="ignore", invalid="ignore"):
-        a = np.minimum(det.u1 * inv_h, 1e150)[:, :, None]  # (n_load, n_bin, 1), finite
         b = np.minimum(u[None, :] * inv_h[:, None], 1e150)[None]  # (1, n_bin, n_u)
-        d = b - a
-        d *= d
-        d *= -0.5
-        e = _exp(d)  # mirror pair: N(u - u1) (1 + exp(-2 u u1 / h^2))
-        m = b * a
-        m *= -2.0
-        m = _exp(m)
-        m += 1.0
-        e *= m
-    return np.einsum("lk,lku->lu", det.weight * inv_h / math.sqrt(2.0 * math.pi), e)
+        step = _block(b.size)
+        for i in range(0, n_load, step):  # blocks of loads: the tensor stays in cache
+            k = slice(i, i + step)
+            a = np.minimum(det.u1[k] * inv_h, 1e150)[:, :, None]  # (rows, n_bin, 1), finite
+            d = b - a
+            d *= d
+            d *= -0.5
+            e = _exp(d)  # mirror pair: N(u - u1) (1 + exp(-2 u u1 / h^2))
+            m = b * a
+            m *= -2.0
+            m = _exp(m)
+            m += 1.0
+            e *= m
+            out[k] = np.einsum("lk,lku->lu", w[k], e)
+    return out
 
 
 def gap_cdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
