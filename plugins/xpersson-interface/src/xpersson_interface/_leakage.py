@@ -28,7 +28,6 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.special import erf
 
 from xpersson.physics import Detachment, gap_cdf
 
@@ -171,7 +170,7 @@ def bruggeman_gap(
         top = det.mean_gap + 10.0 * det.h_rms if u_max is None else np.full(det.p0.size, u_max)
         inner = np.geomspace(u_min * det.h_rms, top, n_u, axis=1)  # (n_load, n_u)
         edges = np.concatenate((np.zeros((det.p0.size, 1)), inner), axis=1)
-        cdf = _gap_cdf_rows(det, edges)
+        cdf = gap_cdf(det, edges)
     else:
         umax = float(np.max(det.mean_gap)) + 10.0 * det.h_rms if u_max is None else u_max
         edges = np.concatenate(([0.0], np.geomspace(u_min * det.h_rms, umax, n_u)))
@@ -187,22 +186,6 @@ def bruggeman_gap(
     mid = np.sqrt(edges[..., :-1] * edges[..., 1:])
     mid[..., 0] = 0.5 * edges[..., 1]
     return _bruggeman_rows(a, m, mid**3, far, per_row=per_load)
-
-
-def _gap_cdf_rows(det: Detachment, u: NDArray[np.float64]) -> NDArray[np.float64]:
-    """:func:`xpersson.physics.gap_cdf` at per-load separations ``u`` (n_load, n_u) [m]."""
-    inv = 1.0 / (math.sqrt(2.0) * np.maximum(det.h, 1e-300))
-    out = np.empty(u.shape)
-    step = max(1, (1 << 16) // max(inv.size * u.shape[1], 1))  # blocks of loads: in cache
-    for i in range(0, u.shape[0], step):
-        k = slice(i, i + step)
-        with np.errstate(over="ignore", invalid="ignore"):
-            a = np.minimum(det.u1[k] * inv, 1e150)[:, :, None]  # no inf - inf below
-            b = np.minimum(u[k, None, :] * inv[None, :, None], 1e150)
-            lo = erf(b - a)
-            lo += erf(b + a)
-        out[k] = 0.5 * np.einsum("lk,lku->lu", det.weight[k], lo)
-    return out
 
 
 def effective_pressure_drop(
