@@ -252,7 +252,12 @@ class _Curve:
         only the detachment step needs it)."""
         if self._spl_a_built is False:
             yA = np.log(np.maximum(self.non_area, _TINY))
-            self._spl_a_built = _log_spline(self.x[1:], yA[:, 1:]) if self.zeta.size > 2 else None
+            if np.array_equal(yA[:, 1:], self._y[:, 1:]):  # S = 1: the same data as 1 - F
+                self._spl_a_built = self._spl
+            else:
+                self._spl_a_built = (
+                    _log_spline(self.x[1:], yA[:, 1:]) if self.zeta.size > 2 else None
+                )
         return self._spl_a_built
 
     @property
