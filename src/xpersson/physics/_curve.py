@@ -435,7 +435,8 @@ class _Phi:
         if getattr(self, "_tab", None) is None:
             n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
             grid = np.linspace(self.s[0], self.s[-1], n)
-            self._tab = (grid, np.maximum(self._spl(grid), 0.0))  # type: ignore[misc]
+            tab = np.ascontiguousarray(np.maximum(self._spl(grid), 0.0))  # type: ignore[misc]
+            self._tab = (grid, tab)  # C order: the look-ups take from its flat view
         return self._tab
 
 
