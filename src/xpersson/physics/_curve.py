@@ -304,35 +304,56 @@ class _Curve:
         evaluated from its coefficients directly, without searching the intervals.
         """
         cached = getattr(self, "_dF_at_nodes", None)
+        if cached is None:
+            xg, _ = self.stieltjes_nodes()
+            cached = np.empty((self.n_load, *xg.shape))
+            for k, block in self._dF_blocks():
+                cached[k] = block
+            self._dF_at_nodes = cached
+        return cached
+
+    def dF_weighted(self, weights: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``sum_m dF[:, i, m] weights[i, m]`` (n_load, n_int): the node sums of the
+        Stieltjes integrals, without keeping the (n_load, n_int, m) tensor."""
+        cached = getattr(self, "_dF_at_nodes", None)
         if cached is not None:
-            return cached
-        xg, _ = self.stieltjes_nodes()
-        if self._spl is None:
-            out = self.dF(xg)
-        else:
-            out = np.empty((self.n_load, *xg.shape))
-            out[:, 0, :] = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
-            c = np.ascontiguousarray(np.moveaxis(self._spl.c, -1, 0))[..., None]
-            d = xg[1:] - self.x[1:-1, None]  # local coordinate in spline interval i - 1
-            step = _block(d.size)
-            for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
-                c0, c1, c2, c3 = (c[i : i + step, k] for k in range(4))  # (rows, n_int - 1, 1)
-                y = c0 * d
-                y += c1
-                y *= d
-                y += c2
-                y *= d
-                y += c3
-                np.minimum(y, 0.0, out=y)
-                dy = 3.0 * c0 * d
-                dy += 2.0 * c1
-                dy *= d
-                dy += c2
-                np.maximum(dy, 0.0, out=dy)
-                dy *= _exp(y)
-                out[i : i + step, 1:, :] = dy
-        self._dF_at_nodes = out
+            return np.sum(cached * weights[None], axis=-1)
+        out = np.empty((self.n_load, weights.shape[0]))
+        for k, block in self._dF_blocks():
+            block *= weights
+            out[k] = block.sum(axis=-1)
         return out
+
+    def _dF_blocks(self) -> Any:
+        """``(rows, dF[rows])`` in cache-sized blocks of loads (see :meth:`dF_nodes`)."""
+        xg, _ = self.stieltjes_nodes()
+        first = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
+        if self._spl is None:
+            yield slice(0, self.n_load), self.dF(xg)
+            return
+        c = np.ascontiguousarray(np.moveaxis(self._spl.c, -1, 0))[..., None]
+        d = xg[1:] - self.x[1:-1, None]  # local coordinate in spline interval i - 1
+        step = _block(xg.size)
+        for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
+            k = slice(i, i + step)
+            c0, c1, c2, c3 = (c[k, j] for j in range(4))  # (rows, n_int - 1, 1)
+            y = c0 * d
+            y += c1
+            y *= d
+            y += c2
+            y *= d
+            y += c3
+            np.minimum(y, 0.0, out=y)
+            dy = 3.0 * c0 * d
+            dy += 2.0 * c1
+            dy *= d
+            dy += c2
+            np.maximum(dy, 0.0, out=dy)
+            dy *= _exp(y)
+            out = np.empty((dy.shape[0], *xg.shape))
+            out[:, 0, :] = first[k]
+            out[:, 1:, :] = dy
+            yield k, out
 
     def stieltjes_nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Gauss-Legendre nodes ``x`` (n_int, m) and weights (n_int, m) per interval."""
@@ -353,7 +374,7 @@ class _Phi:
         q_L = float(psd.q_L)  # type: ignore[attr-defined]
         xg, wg = cur.stieltjes_nodes()
         sqrt_tau = np.sqrt(_tau_c(psd, E_star, np.exp(xg) * q_L))
-        inc = np.sum(cur.dF_nodes() * (sqrt_tau * wg)[None], axis=-1) / p0[:, None]
+        inc = cur.dF_weighted(sqrt_tau * wg) / p0[:, None]
         phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
         tau = _tau_c(psd, E_star, cur.zeta * q_L)
         self.tau1 = float(tau[1])

@@ -89,8 +89,8 @@ class SolvedContact:
         xg, wg = self.curve.stieltjes_nodes()
         q = np.exp(xg) * self.q_L
         g = _tau_c(self.psd, self.E_star, q) / q * wg
-        dF = self.curve.dF_nodes()  # = self.curve.dF(xg), computed once per curve
-        return -4.0 / (self.E_star * self.p0**2) * np.sum(dF * g[None], axis=(1, 2))
+        dF = self.curve.dF_weighted(g)  # node sums of dF(xg) g
+        return -4.0 / (self.E_star * self.p0**2) * np.sum(dF, axis=1)
 
     def contact_stiffness(self) -> NDArray[np.float64]:
         """``K = -dp0/du`` [Pa/m], (n_load,) (see :func:`contact_stiffness`)."""
