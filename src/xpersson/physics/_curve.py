@@ -419,10 +419,11 @@ class _Phi:
             val = np.where(low, lin, val)
         return val.reshape(shape)
 
-    def at_log_tau_per_load(self, log_tau: NDArray[np.float64], rows: slice) -> NDArray:
+    def at_log_tau_per_load(self, log_tau: NDArray[np.float64], rows: slice | NDArray) -> NDArray:
         """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``.
 
-        As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up).
+        As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up); ``rows``
+        a slice of the loads or one load index per row.
         """
         shape = log_tau.shape
         l2 = log_tau.reshape(shape[0], -1)
@@ -437,7 +438,9 @@ class _Phi:
         np.clip(u, 0.0, n - 1.000001, out=u)
         i = u.astype(np.intp)
         u -= i
-        i += (np.arange(rows.start or 0, (rows.start or 0) + shape[0]) * n)[:, None]
+        if isinstance(rows, slice):
+            rows = np.arange(rows.start or 0, (rows.start or 0) + shape[0])
+        i += (rows * n)[:, None]
         flat = table.ravel()
         v0 = flat.take(i)
         val = flat.take(i + 1)
@@ -479,12 +482,14 @@ def _sub_mean_gap(
     q_a: NDArray[np.float64],
     area_a: NDArray[np.float64],
     q_hi: float,
+    where: NDArray[np.bool_] | None = None,
 ) -> NDArray[np.float64]:
     """Mean separation [m] of the apparent contact at ``q_a`` (n_load, n_a) under ``p0/A_a``.
 
     ``u_a = pi int_{q_a}^{q_hi} q^2 C w_a Phi(tau_a(q) A_a^2 / p0^2) dq`` with ``tau_a``, ``w_a``
     counted from ``q_a`` (physics.md §5.5a, §6.1). Vectorised: ``q = q_a exp(V s^2)``,
-    ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``.
+    ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``. ``where`` (n_load, n_a):
+    compute only these entries (the others are 0).
     """
     s, ws = _panels(_SUB_EDGES, 6)
     qa = np.asarray(q_a, dtype=float)
@@ -503,6 +508,17 @@ def _sub_mean_gap(
     shape = (n,) + np.broadcast_shapes(log_tc.shape, log_a2.shape)[1:]
     log_tc, log_a2 = np.broadcast_to(log_tc, shape), np.broadcast_to(log_a2, shape)
     kern = np.broadcast_to(kern, shape)
+    if where is not None:  # the selected (load, magnification) pairs only
+        ls, ks = np.nonzero(where)
+        out = np.zeros(shape[:-1])
+        step = _block(shape[-1])
+        for i in range(0, ls.size, step):
+            p = slice(i, i + step)
+            lp, kp = ls[p], ks[p]
+            vals = phi.at_log_tau_per_load(log_tc[lp, kp] + log_a2[lp, kp], lp)
+            vals *= kern[lp, kp]
+            out[lp, kp] = vals.sum(axis=-1)
+        return math.pi * out
     out = np.empty(shape[:-1])
     step = _block(math.prod(shape[1:]))
     for i in range(0, n, step):  # blocks of loads: the tensor's temporaries stay in cache
