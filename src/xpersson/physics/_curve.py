@@ -37,6 +37,8 @@ def _exp(y: NDArray[np.float64]) -> NDArray[np.float64]:
     ``y = -746``).
     """
     y = np.asarray(y, dtype=float)
+    if y.size == 0 or not y.min() < _EXP_LO:  # the common case: one pass, no masks
+        return np.exp(y)
     out = np.exp(np.maximum(y, _EXP_LO))
     low = y < _EXP_LO
     if low.any():
@@ -76,7 +78,7 @@ def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     ab[1, 1:-1] = 2.0 * (dx[:-1, 0] + dx[1:, 0])
     ab[0, 2:] = dx[:-1, 0]
     ab[2, :-2] = dx[1:, 0]
-    b = np.empty_like(yt)
+    b = np.empty((yt.shape[1], n)).T  # Fortran order: LAPACK solves it in place
     b[1:-1] = 3.0 * (dx[1:] * slope[:-1] + dx[:-1] * slope[1:])
     d0, d1 = x[2] - x[0], x[-1] - x[-3]
     ab[1, 0], ab[0, 1] = dx[1, 0], d0
