@@ -21,31 +21,25 @@ _TINY = 1e-300
 _GL_ORDER = 6
 
 
-#: exp(x) is normal (not subnormal) for x >= _EXP_LO; below, numpy's exp takes a slow path
-#: (50x for subnormal results, 8x for underflow to zero), and 1 - A near full contact spans
-#: hundreds of decades, so most values of a dense curve can lie there.
+#: exp(x) is normal (not subnormal) for x >= _EXP_LO, and exactly 0 for x <= _EXP_ZERO; below
+#: _EXP_LO numpy's exp takes a slow path (50x for subnormal results, 8x for underflow to zero),
+#: and 1 - A near full contact spans hundreds of decades, so most values of a dense curve or of
+#: the gap tensor can lie there.
 _EXP_LO = -708.0
-_EXP_SHIFT = 700.0
-_EXP_SCALE = math.exp(-_EXP_SHIFT)
+_EXP_ZERO = -746.0
 
 
 def _exp(y: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``np.exp(y)`` without numpy's slow path for tiny results (a new array).
+    """``np.exp(y)`` (bit-identical, a new array) without numpy's slow path where it is 0.
 
-    Bit-identical where ``exp(y)`` is a normal float; below (results < 3.3e-308) the value is
-    ``exp(y + 700) exp(-700)``, equal to within the subnormal spacing (exact zero below
-    ``y = -746``).
+    Where ``y <= -746`` the result is exactly 0 and is not computed; only the thin band of
+    subnormal results (``-746 < y < -708``) goes through numpy's slow path.
     """
     y = np.asarray(y, dtype=float)
     if y.size == 0 or not y.min() < _EXP_LO:  # the common case: one pass, no masks
         return np.exp(y)
-    out = np.exp(np.maximum(y, _EXP_LO))
-    low = y < _EXP_LO
-    if low.any():
-        np.putmask(out, low, 0.0)
-        band = low & (y > -746.0)  # the subnormal results (exp(-745.2) is the smallest)
-        if band.any():
-            out[band] = np.exp(y[band] + _EXP_SHIFT) * _EXP_SCALE
+    out = np.zeros(y.shape)
+    np.exp(y, out=out, where=y > _EXP_ZERO)
     return out
 
 

@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf
 
-from ._curve import _BLOCK, _TINY, _exp
+from ._curve import _BLOCK, _EXP_LO, _TINY, _exp
 
 __all__ = ["Detachment", "gap_pdf", "gap_cdf", "gap_mean"]
 
@@ -109,7 +109,8 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
             e = _exp(d)  # mirror pair: N(u - u1) (1 + exp(-2 u u1 / h^2))
             b *= a
             b *= -2.0
-            m = _exp(b)
+            np.maximum(b, _EXP_LO, out=b)  # 1 + exp(x) is exactly 1 below: same factor
+            m = np.exp(b)
             m += 1.0
             e *= m
         return e
