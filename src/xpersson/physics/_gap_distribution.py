@@ -10,7 +10,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf
 
-from ._curve import _BLOCK, _EXP_LO, _TINY, _exp
+from ._curve import _TINY
+from ._fastnum import _BLOCK, _EXP_LO, _exp
 
 __all__ = ["Detachment", "gap_pdf", "gap_cdf", "gap_mean"]
 

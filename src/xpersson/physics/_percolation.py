@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._curve import _row_spline
+from ._fastnum import _row_spline
 
 __all__ = ["critical_magnification"]
 

@@ -11,6 +11,8 @@ integrals over zeta need the fast drop of ``A`` near ``zeta = 1`` at small loads
 from __future__ import annotations
 
 import warnings
+import weakref
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,7 +21,7 @@ from numpy.typing import NDArray
 
 from xpersson.physics.closures import GAMMA_DEFAULT
 
-__all__ = ["Solved", "solved_curve", "dense_zeta", "FORMS"]
+__all__ = ["Solved", "solved_curve", "dense_zeta", "per_solve", "FORMS"]
 
 #: Forms of the correction factor in energy and gap.
 FORMS = ("closure", "yang_persson")
@@ -202,3 +204,24 @@ def solved_curve(
                 S = np.gradient(te, axis=1) / np.maximum(np.gradient(tc, axis=1), 1e-300)
             S = np.clip(np.asarray(S, dtype=float), 1e-12, 1.0)
     return Solved(p0, zeta, area, np.clip(non, 0.0, 1.0), np.clip(contact, 0.0, 1.0), S, form, g)
+
+
+#: Per-solve cache: the solved curve and its SolvedContact (splines, Phi, tables) built once per
+#: solve and shared by every analysis of that solve with the same curve parameters. Keyed weakly
+#: on the solve's ``ctx.solve_at`` (one closure per solve, freed with it): nothing outlives the
+#: solve, and a scene without ``solve_at`` (direct calls) is not cached at all.
+SOLVES: weakref.WeakKeyDictionary[Any, dict[tuple[Any, ...], Any]] = weakref.WeakKeyDictionary()
+
+
+def per_solve(ctx: Any, key: tuple[Any, ...], build: Callable[[], Any]) -> Any:
+    """``build()`` once per solve and ``key`` (see :data:`SOLVES`)."""
+    owner = getattr(ctx, "solve_at", None)
+    if owner is None:
+        return build()
+    try:
+        memo = SOLVES.setdefault(owner, {})
+    except TypeError:  # a solve_at that cannot be weakly referenced: no cache
+        return build()
+    if key not in memo:
+        memo[key] = build()
+    return memo[key]

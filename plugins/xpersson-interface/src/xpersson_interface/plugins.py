@@ -18,8 +18,6 @@ The correction factor of energy and gap (``s_factor``):
 
 from __future__ import annotations
 
-import weakref
-from collections.abc import Callable
 from typing import Any, ClassVar
 
 import numpy as np
@@ -31,7 +29,7 @@ from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
-from ._solved import FORMS, Solved, solved_curve
+from ._solved import FORMS, Solved, per_solve, solved_curve
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
 
@@ -70,27 +68,6 @@ _FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "open 
 _GAP_TRAITS = frozenset({"repulsive", "load_similar"})
 
 
-#: Per-solve cache: the solved curve and its SolvedContact (splines, Phi, tables) built once per
-#: solve and shared by every analysis of that solve with the same curve parameters. Keyed weakly
-#: on the solve's ``ctx.solve_at`` (one closure per solve, freed with it): nothing outlives the
-#: solve, and a scene without ``solve_at`` (direct calls) is not cached at all.
-_SOLVES: weakref.WeakKeyDictionary[Any, dict[tuple[Any, ...], Any]] = weakref.WeakKeyDictionary()
-
-
-def _per_solve(ctx: Any, key: tuple[Any, ...], build: Callable[[], Any]) -> Any:
-    """``build()`` once per solve and ``key`` (see :data:`_SOLVES`)."""
-    owner = getattr(ctx, "solve_at", None)
-    if owner is None:
-        return build()
-    try:
-        memo = _SOLVES.setdefault(owner, {})
-    except TypeError:  # a solve_at that cannot be weakly referenced: no cache
-        return build()
-    if key not in memo:
-        memo[key] = build()
-    return memo[key]
-
-
 class _Interface(Analysis):
     """Shared: S-factor form, refusal rules, reading the solved curve."""
 
@@ -125,13 +102,13 @@ class _Interface(Analysis):
         return self.params.get("s_factor", "closure"), self.params.get("gamma"), per
 
     def _solved(self, ctx: Any, ds: Any, dense: bool = True) -> Solved:
-        return _per_solve(
+        return per_solve(
             ctx, ("solved", *self._key(dense)), lambda: solved_curve(ctx, ds, *self._key(dense))
         )
 
     def _contact(self, ctx: Any, ds: Any) -> tuple[Solved, physics.SolvedContact]:
         s = self._solved(ctx, ds)
-        sc = _per_solve(
+        sc = per_solve(
             ctx,
             ("contact", *self._key(True)),
             lambda: physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve),
