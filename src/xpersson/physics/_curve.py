@@ -18,6 +18,8 @@ from numpy.typing import ArrayLike, NDArray
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
+from ._fastnum import _block, _exp, _row_spline
+
 _TINY = 1e-300
 _GL_ORDER = 6
 
@@ -120,9 +122,9 @@ def _log_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     """Spline of ``y = ln(1 - F)`` per load (rows): cubic where the curve is smooth, monotone
     (PCHIP, no overshoot) for loads with a jump, where a cubic spline would ring up to
     ``1 - F = 1`` (a solver path returning exact zeros below its atol, e.g. ``cn``)."""
-    from scipy.interpolate import CubicSpline, PchipInterpolator  # lazily: ~0.2 s to import
+    from scipy.interpolate import PchipInterpolator  # lazily: ~0.2 s to import
 
-    cubic = CubicSpline(x, y, axis=1)
+    cubic = _row_spline(x, y)
     floor = y <= math.log(_TINY) + 1.0  # an exact zero next to a value 1 - F > e^-100: a
     resolved = y > -100.0  # solver's zero below its atol, not the curve passing the magnitudes
     big = np.abs(np.diff(y, axis=1)) > _LOG_JUMP
@@ -183,7 +185,12 @@ class _Curve:
         only the detachment step needs it)."""
         if self._spl_a_built is False:
             yA = np.log(np.maximum(self.non_area, _TINY))
-            self._spl_a_built = _log_spline(self.x[1:], yA[:, 1:]) if self.zeta.size > 2 else None
+            if np.array_equal(yA[:, 1:], self._y[:, 1:]):  # S = 1: the same data as 1 - F
+                self._spl_a_built = self._spl
+            else:
+                self._spl_a_built = (
+                    _log_spline(self.x[1:], yA[:, 1:]) if self.zeta.size > 2 else None
+                )
         return self._spl_a_built
 
     @property
@@ -197,7 +204,7 @@ class _Curve:
         lin = self.non_area[:, 1].reshape((-1,) + (1,) * (x.ndim - 1)) * np.clip(x / x1, 0, 1)
         if self._spl_a is None:
             return lin
-        val = np.exp(np.minimum(_rows(self._spl_a, self.x[1:], x), 0.0))
+        val = _exp(np.minimum(_rows(self._spl_a, self.x[1:], x), 0.0))
         return np.clip(np.where(x < x1, lin, val), 0.0, 1.0)
 
     def nf(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -209,7 +216,7 @@ class _Curve:
             return np.clip(lin, 0.0, 1.0)
         xs = np.clip(x, x1, self.x[-1])
         ys = np.minimum(self._spl(xs), 0.0)
-        return np.where(x < x1, lin, np.exp(ys))
+        return np.where(x < x1, lin, _exp(ys))
 
     def dF(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
         """``-dF/dx`` (>= 0) at ``x = ln zeta``, per load."""
@@ -221,7 +228,7 @@ class _Curve:
         xs = np.clip(x, x1, self.x[-1])
         ys = np.minimum(self._spl(xs), 0.0)
         dys = np.maximum(self._spl(xs, 1), 0.0)
-        return np.where(x < x1, lin, np.exp(ys) * dys)
+        return np.where(x < x1, lin, _exp(ys) * dys)
 
     def dF_nodes(self) -> NDArray[np.float64]:
         """``dF`` at the nodes of :meth:`stieltjes_nodes`, (n_load, n_int, m), computed once.
@@ -230,21 +237,56 @@ class _Curve:
         evaluated from its coefficients directly, without searching the intervals.
         """
         cached = getattr(self, "_dF_at_nodes", None)
+        if cached is None:
+            xg, _ = self.stieltjes_nodes()
+            cached = np.empty((self.n_load, *xg.shape))
+            for k, block in self._dF_blocks():
+                cached[k] = block
+            self._dF_at_nodes = cached
+        return cached
+
+    def dF_weighted(self, weights: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``sum_m dF[:, i, m] weights[i, m]`` (n_load, n_int): the node sums of the
+        Stieltjes integrals, without keeping the (n_load, n_int, m) tensor."""
+        cached = getattr(self, "_dF_at_nodes", None)
         if cached is not None:
-            return cached
-        xg, _ = self.stieltjes_nodes()
-        if self._spl is None:
-            out = self.dF(xg)
-        else:
-            out = np.empty((self.n_load, *xg.shape))
-            out[:, 0, :] = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
-            c = np.moveaxis(self._spl.c, -1, 0)[..., None]  # (n_load, 4, n_int - 1, 1)
-            d = xg[1:] - self.x[1:-1, None]  # local coordinate in spline interval i - 1
-            y = ((c[:, 0] * d + c[:, 1]) * d + c[:, 2]) * d + c[:, 3]
-            dy = (3.0 * c[:, 0] * d + 2.0 * c[:, 1]) * d + c[:, 2]
-            out[:, 1:, :] = np.exp(np.minimum(y, 0.0)) * np.maximum(dy, 0.0)
-        self._dF_at_nodes = out
+            return np.sum(cached * weights[None], axis=-1)
+        out = np.empty((self.n_load, weights.shape[0]))
+        for k, block in self._dF_blocks():
+            block *= weights
+            out[k] = block.sum(axis=-1)
         return out
+
+    def _dF_blocks(self) -> Any:
+        """``(rows, dF[rows])`` in cache-sized blocks of loads (see :meth:`dF_nodes`)."""
+        xg, _ = self.stieltjes_nodes()
+        first = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
+        if self._spl is None:
+            yield slice(0, self.n_load), self.dF(xg)
+            return
+        c = np.ascontiguousarray(np.moveaxis(self._spl.c, -1, 0))[..., None]
+        d = xg[1:] - self.x[1:-1, None]  # local coordinate in spline interval i - 1
+        step = _block(xg.size)
+        for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
+            k = slice(i, i + step)
+            c0, c1, c2, c3 = (c[k, j] for j in range(4))  # (rows, n_int - 1, 1)
+            y = c0 * d
+            y += c1
+            y *= d
+            y += c2
+            y *= d
+            y += c3
+            np.minimum(y, 0.0, out=y)
+            dy = 3.0 * c0 * d
+            dy += 2.0 * c1
+            dy *= d
+            dy += c2
+            np.maximum(dy, 0.0, out=dy)
+            dy *= _exp(y)
+            out = np.empty((dy.shape[0], *xg.shape))
+            out[:, 0, :] = first[k]
+            out[:, 1:, :] = dy
+            yield k, out
 
     def stieltjes_nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Gauss-Legendre nodes ``x`` (n_int, m) and weights (n_int, m) per interval."""
@@ -265,16 +307,14 @@ class _Phi:
         q_L = float(psd.q_L)  # type: ignore[attr-defined]
         xg, wg = cur.stieltjes_nodes()
         sqrt_tau = np.sqrt(_tau_c(psd, E_star, np.exp(xg) * q_L))
-        inc = np.sum(cur.dF_nodes() * (sqrt_tau * wg)[None], axis=-1) / p0[:, None]
+        inc = cur.dF_weighted(sqrt_tau * wg) / p0[:, None]
         phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
         tau = _tau_c(psd, E_star, cur.zeta * q_L)
         self.tau1 = float(tau[1])
         self.s = np.log(tau[1:])
         self.phi = phi
         self.p0 = p0
-        from scipy.interpolate import CubicSpline  # lazily: ~0.2 s to import
-
-        self._spl = CubicSpline(self.s, phi[:, 1:], axis=1) if self.s.size > 1 else None
+        self._spl = _row_spline(self.s, phi[:, 1:]) if self.s.size > 1 else None
         self._tab: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
 
     def at_tau(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -312,12 +352,48 @@ class _Phi:
             val = np.where(low, lin, val)
         return val.reshape(shape)
 
+    def at_log_tau_per_load(self, log_tau: NDArray[np.float64], rows: slice | NDArray) -> NDArray:
+        """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``.
+
+        As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up); ``rows``
+        a slice of the loads or one load index per row.
+        """
+        shape = log_tau.shape
+        l2 = log_tau.reshape(shape[0], -1)
+        phi1 = self.phi[rows, 1:2]
+        if self._spl is None:
+            t = _exp(np.minimum(l2, math.log(self.tau1)))
+            return (phi1 * np.clip(t / self.tau1, 0.0, 1.0)).reshape(shape)
+        grid, table = self._table()
+        n = grid.size
+        u = l2 - grid[0]
+        u *= 1.0 / (grid[1] - grid[0])
+        np.clip(u, 0.0, n - 1.000001, out=u)
+        i = u.astype(np.intp)
+        u -= i
+        if isinstance(rows, slice):
+            rows = np.arange(rows.start or 0, (rows.start or 0) + shape[0])
+        i += (rows * n)[:, None]
+        flat = table.ravel()
+        v0 = flat.take(i)
+        val = flat.take(i + 1)
+        val -= v0
+        val *= u
+        val += v0
+        log_tau1 = math.log(self.tau1)
+        low = l2 < log_tau1
+        if low.any():
+            lin = phi1 * np.clip(_exp(np.minimum(l2, log_tau1)) / self.tau1, 0.0, 1.0)
+            val = np.where(low, lin, val)
+        return val.reshape(shape)
+
     def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6)."""
         if getattr(self, "_tab", None) is None:
             n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
             grid = np.linspace(self.s[0], self.s[-1], n)
-            self._tab = (grid, np.maximum(self._spl(grid), 0.0))  # type: ignore[misc]
+            tab = np.ascontiguousarray(np.maximum(self._spl(grid), 0.0))  # type: ignore[misc]
+            self._tab = (grid, tab)  # C order: the look-ups take from its flat view
         return self._tab
 
 
@@ -362,12 +438,14 @@ def _sub_mean_gap(
     q_a: NDArray[np.float64],
     area_a: NDArray[np.float64],
     q_hi: float,
+    where: NDArray[np.bool_] | None = None,
 ) -> NDArray[np.float64]:
     """Mean separation [m] of the apparent contact at ``q_a`` (n_load, n_a) under ``p0/A_a``.
 
     ``u_a = pi int_{q_a}^{q_hi} q^2 C w_a Phi(tau_a(q) A_a^2 / p0^2) dq`` with ``tau_a``, ``w_a``
     counted from ``q_a`` (physics.md §5.5a, §6.1). Vectorised: ``q = q_a exp(V s^2)``,
-    ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``.
+    ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``. ``where`` (n_load, n_a):
+    compute only these entries (the others are 0).
     """
     qa = np.asarray(q_a, dtype=float)
     V = np.log(np.maximum(q_hi / qa, 1.0))
@@ -378,10 +456,33 @@ def _sub_mean_gap(
     dI3 = _delta_I3(psd, qaf, q.ravel()).reshape(q.shape)
     C = np.asarray(psd.C(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
     kern = dq * q**2 * C / np.sqrt(np.pi * dI3)
-    tau_eq = 0.25 * np.pi * E_star**2 * dI3 * (area_a**2)[..., None]
-    tau_eq = np.broadcast_to(tau_eq, (phi.p0.size,) + tau_eq.shape[1:])
-    vals = phi.at_tau_per_load(tau_eq)
-    return math.pi * np.sum(vals * kern, axis=-1)
+    # ln tau_eq = ln(tau_c,a) + 2 ln A_a: logs of the small factors, not of the tensor
+    log_tc = np.log(0.25 * np.pi * E_star**2 * dI3)
+    with np.errstate(divide="ignore"):
+        log_a2 = 2.0 * np.log(np.asarray(area_a, dtype=float))[..., None]
+    n = phi.p0.size
+    shape = (n,) + np.broadcast_shapes(log_tc.shape, log_a2.shape)[1:]
+    log_tc, log_a2 = np.broadcast_to(log_tc, shape), np.broadcast_to(log_a2, shape)
+    kern = np.broadcast_to(kern, shape)
+    if where is not None:  # the selected (load, magnification) pairs only
+        ls, ks = np.nonzero(where)
+        out = np.zeros(shape[:-1])
+        step = _block(shape[-1])
+        for i in range(0, ls.size, step):
+            p = slice(i, i + step)
+            lp, kp = ls[p], ks[p]
+            vals = phi.at_log_tau_per_load(log_tc[lp, kp] + log_a2[lp, kp], lp)
+            vals *= kern[lp, kp]
+            out[lp, kp] = vals.sum(axis=-1)
+        return math.pi * out
+    out = np.empty(shape[:-1])
+    step = _block(math.prod(shape[1:]))
+    for i in range(0, n, step):  # blocks of loads: the tensor's temporaries stay in cache
+        k = slice(i, i + step)
+        vals = phi.at_log_tau_per_load(log_tc[k] + log_a2[k], k)
+        vals *= kern[k]
+        out[k] = vals.sum(axis=-1)
+    return math.pi * out
 
 
 def _h2(psd: object, q: ArrayLike, q_hi: float) -> NDArray[np.float64]:

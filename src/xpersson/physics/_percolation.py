@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._fastnum import _row_spline
+
 __all__ = ["critical_magnification"]
 
 
@@ -26,9 +28,7 @@ def critical_magnification(zeta: ArrayLike, area: ArrayLike, a_c: float) -> NDAr
     out = np.full(A.shape[0], np.nan)
     if not crossed.any():
         return out
-    from scipy.interpolate import CubicSpline  # lazily: ~0.2 s to import
-
-    spl = CubicSpline(x, A, axis=1) if z.size > 2 else None
+    spl = _row_spline(x, A) if z.size > 2 else None  # CubicSpline(x, A, axis=1)
     rows = np.arange(A.shape[0])
     lo, hi = x[j - 1], x[j]
     a_lo, a_hi = A[rows, j - 1], A[rows, j]

@@ -89,8 +89,8 @@ class SolvedContact:
         xg, wg = self.curve.stieltjes_nodes()
         q = np.exp(xg) * self.q_L
         g = _tau_c(self.psd, self.E_star, q) / q * wg
-        dF = self.curve.dF_nodes()  # = self.curve.dF(xg), computed once per curve
-        return -4.0 / (self.E_star * self.p0**2) * np.sum(dF * g[None], axis=(1, 2))
+        dF = self.curve.dF_weighted(g)  # node sums of dF(xg) g
+        return -4.0 / (self.E_star * self.p0**2) * np.sum(dF, axis=1)
 
     def contact_stiffness(self) -> NDArray[np.float64]:
         """``K = -dp0/du`` [Pa/m], (n_load,) (see :func:`contact_stiffness`)."""
@@ -141,8 +141,14 @@ class SolvedContact:
     def _pressure_part(self, z, A, ubar, dA, ok, safe) -> NDArray[np.float64]:  # noqa: ANN001
         """``u1 = u + A (du/dA)_zeta`` of every bin: the pressure part of ``d(A u)/dA``."""
         # u at the bin's upper cut-off under the bin's *initial* pressure p0/A_k
-        mixed = _sub_mean_gap(
-            self.psd, self.E_star, self.phi, (z[1:] * self.q_L)[None, :], A[:, :-1], self.q_hi
+        mixed = _sub_mean_gap(  # needed in the bins that detach area only
+            self.psd,
+            self.E_star,
+            self.phi,
+            (z[1:] * self.q_L)[None, :],
+            A[:, :-1],
+            self.q_hi,
+            where=ok,
         )
         mixed[:, -1] = 0.0  # no scales left above the last edge
         u_next = ubar[:, 1:]

@@ -16,6 +16,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+import xarray as xr
 
 from ..plugins import VarSpec
 
@@ -153,7 +154,9 @@ def theory_validity(ds: Any) -> None:
         non = 1.0 - area
     flags |= np.where(np.asarray(non, float) < 2.0**-53, 4, 0).astype(np.int8)
     flags |= np.where(np.asarray(area, float) < np.finfo(float).tiny, 8, 0).astype(np.int8)
-    ds["theory_validity"] = (("p0",), flags)
+    # a Variable on xarray's fast path: a (dims, data) tuple makes xarray probe for dask arrays,
+    # which imports dask.array (~0.12 s) in a solve that has no use for it
+    ds["theory_validity"] = xr.Variable(("p0",), flags, fastpath=True)
     attrs = ds["theory_validity"].attrs
     attrs.update(DIAGNOSTICS["theory_validity"].attrs())
     bits = np.array(list(VALIDITY_FLAGS), np.int8)

@@ -41,13 +41,15 @@ def _bruggeman_rows(
     infinite: NDArray[np.float64],
     *,
     rtol: float = 1e-12,
+    per_row: bool = False,
 ) -> NDArray[np.float64]:
     """Vectorised root of ``-c + sum m_k (s_k - s)/(s_k + s) + m_inf = 0`` per row.
 
     ``contact`` (n,), ``masses`` (n, k), ``sigma`` (k,) or (n, k) >= 0 (``inf`` allowed),
     ``infinite`` (n,) the weight of further elements with infinite conductance. Returns 0 where
     the contact weight reaches the percolation value (half of the total weight), ``inf`` where
-    the infinite elements percolate.
+    the infinite elements percolate. ``per_row``: bracket each row by its own conductances
+    (each row's root then equals that of the row solved alone), else by all rows'.
     """
     c = np.asarray(contact, dtype=float)
     m = np.asarray(masses, dtype=float)
@@ -65,10 +67,18 @@ def _bruggeman_rows(
     if not work.any():
         return out
     c, m, m_inf, s_k = c[work], m[work], m_inf[work], s_k[work]
-    pos = s_k[s_k > 0]
-    lo = np.full(c.size, math.log(float(pos.min() if pos.size else 1.0)) - 60.0)
-    hi = np.full(c.size, math.log(float(pos.max() if pos.size else 1.0)) + 60.0)
+    if per_row:  # each row bracketed by its own conductances (as if solved alone)
+        pos = s_k > 0
+        any_pos = pos.any(axis=1)
+        smin = np.where(any_pos, np.min(np.where(pos, s_k, np.inf), axis=1), 1.0)
+        smax = np.where(any_pos, np.max(np.where(pos, s_k, -np.inf), axis=1), 1.0)
+        lo, hi = np.log(smin) - 60.0, np.log(smax) + 60.0
+    else:
+        pos = s_k[s_k > 0]
+        lo = np.full(c.size, math.log(float(pos.min() if pos.size else 1.0)) - 60.0)
+        hi = np.full(c.size, math.log(float(pos.max() if pos.size else 1.0)) + 60.0)
     x = 0.5 * (lo + hi)
+    active = np.ones(c.size, dtype=bool)  # a converged row keeps its value (as if solved alone)
     for _ in range(200):
         s = np.exp(x)[:, None]
         with np.errstate(over="ignore"):
@@ -81,8 +91,9 @@ def _bruggeman_rows(
         bad = ~((xn > lo) & (xn < hi)) | ~(df < 0)
         xn = np.where(bad, 0.5 * (lo + hi), xn)
         done = np.abs(xn - x) <= rtol
-        x = xn
-        if np.all(done):
+        x = np.where(active, xn, x)
+        active &= ~done
+        if not active.any():
             break
     out[work] = np.exp(x)
     return out
@@ -128,6 +139,7 @@ def bruggeman_gap(
     n_u: int = 240,
     u_min: float = 1e-6,
     u_max: float | None = None,
+    per_load: bool = False,
 ) -> NDArray[np.float64]:
     """Effective ``<u^3>_EMT`` [m^3] over the closed-form gap distribution, per load.
 
@@ -149,10 +161,20 @@ def bruggeman_gap(
         First cell edge in units of ``h_rms``.
     u_max : float, optional
         Upper end of the cells [m] (default ``max(u(p0)) + 10 h_rms``).
+    per_load : bool
+        Give every load its own cells, spanning that load's gaps (``u_max`` default
+        ``u(p0) + 10 h_rms`` of the load): each load's result is then that of the load alone,
+        never dependent on the others in the batch. Still computed for all loads at once.
     """
-    umax = float(np.max(det.mean_gap)) + 10.0 * det.h_rms if u_max is None else u_max
-    edges = np.concatenate(([0.0], np.geomspace(u_min * det.h_rms, umax, n_u)))
-    cdf = gap_cdf(det, edges)
+    if per_load:
+        top = det.mean_gap + 10.0 * det.h_rms if u_max is None else np.full(det.p0.size, u_max)
+        inner = np.geomspace(u_min * det.h_rms, top, n_u, axis=1)  # (n_load, n_u)
+        edges = np.concatenate((np.zeros((det.p0.size, 1)), inner), axis=1)
+        cdf = gap_cdf(det, edges)
+    else:
+        umax = float(np.max(det.mean_gap)) + 10.0 * det.h_rms if u_max is None else u_max
+        edges = np.concatenate(([0.0], np.geomspace(u_min * det.h_rms, umax, n_u)))
+        cdf = gap_cdf(det, edges)
     a = np.asarray(det.contact, dtype=float)
     m = np.diff(cdf, axis=1)
     m[:, 0] += cdf[:, 0]
@@ -161,9 +183,9 @@ def bruggeman_gap(
         a_new = np.minimum(1.0, a * 0.5 / a_c)
         scale = np.where(a < 1.0, (1.0 - a_new) / np.where(a < 1.0, 1.0 - a, 1.0), 0.0)
         m, far, a = m * scale[:, None], far * scale, a_new
-    mid = np.sqrt(edges[:-1] * edges[1:])
-    mid[0] = 0.5 * edges[1]
-    return _bruggeman_rows(a, m, mid**3, far)
+    mid = np.sqrt(edges[..., :-1] * edges[..., 1:])
+    mid[..., 0] = 0.5 * edges[..., 1]
+    return _bruggeman_rows(a, m, mid**3, far, per_row=per_load)
 
 
 def effective_pressure_drop(

@@ -11,6 +11,8 @@ integrals over zeta need the fast drop of ``A`` near ``zeta = 1`` at small loads
 from __future__ import annotations
 
 import warnings
+import weakref
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,7 +21,7 @@ from numpy.typing import NDArray
 
 from xpersson.physics.closures import GAMMA_DEFAULT
 
-__all__ = ["Solved", "solved_curve", "dense_zeta", "FORMS"]
+__all__ = ["Solved", "solved_curve", "dense_zeta", "per_solve", "FORMS"]
 
 #: Forms of the correction factor in energy and gap.
 FORMS = ("closure", "yang_persson")
@@ -150,8 +152,12 @@ def solved_curve(
     zeta = np.asarray(ds["zeta"].values, dtype=float)
     solve_at = getattr(ctx, "solve_at", None)
 
-    def get(name: str) -> NDArray[np.float64]:
-        return _rows(_from_ds(ds, name), n)
+    memo: dict[str, NDArray[np.float64]] = {}
+
+    def get(name: str) -> NDArray[np.float64]:  # each variable read (and copied) once
+        if name not in memo:
+            memo[name] = _rows(_from_ds(ds, name), n)
+        return memo[name]
 
     need = _coarse(get(el), sum(get(c) for c in comp)) if per_decade else np.zeros(n, bool)
     if need.any() and solve_at is not None:
@@ -168,12 +174,17 @@ def solved_curve(
     if need.any() and solve_at is not None:
         z_ds, zeta = zeta, dense_zeta(zeta, per_decade)
         v = solve_at(zeta, np.flatnonzero(need))
-        coarse_get = get
+        coarse_get, memo_dense = get, {}
 
         def get(name: str) -> NDArray[np.float64]:  # solved where coarse, else interpolated
-            rows = _interp(z_ds, coarse_get(name), zeta)
-            rows[need] = _rows(v[name], int(need.sum()))
-            return rows
+            if name not in memo_dense:
+                if need.all():  # every load re-solved: nothing to interpolate
+                    rows = _rows(v[name], n)
+                else:
+                    rows = _interp(z_ds, coarse_get(name), zeta)
+                    rows[need] = _rows(v[name], int(need.sum()))
+                memo_dense[name] = rows
+            return memo_dense[name]
 
     area = get(el)
     non = sum(get(c) for c in comp)
@@ -193,3 +204,24 @@ def solved_curve(
                 S = np.gradient(te, axis=1) / np.maximum(np.gradient(tc, axis=1), 1e-300)
             S = np.clip(np.asarray(S, dtype=float), 1e-12, 1.0)
     return Solved(p0, zeta, area, np.clip(non, 0.0, 1.0), np.clip(contact, 0.0, 1.0), S, form, g)
+
+
+#: Per-solve cache: the solved curve and its SolvedContact (splines, Phi, tables) built once per
+#: solve and shared by every analysis of that solve with the same curve parameters. Keyed weakly
+#: on the solve's ``ctx.solve_at`` (one closure per solve, freed with it): nothing outlives the
+#: solve, and a scene without ``solve_at`` (direct calls) is not cached at all.
+SOLVES: weakref.WeakKeyDictionary[Any, dict[tuple[Any, ...], Any]] = weakref.WeakKeyDictionary()
+
+
+def per_solve(ctx: Any, key: tuple[Any, ...], build: Callable[[], Any]) -> Any:
+    """``build()`` once per solve and ``key`` (see :data:`SOLVES`)."""
+    owner = getattr(ctx, "solve_at", None)
+    if owner is None:
+        return build()
+    try:
+        memo = SOLVES.setdefault(owner, {})
+    except TypeError:  # a solve_at that cannot be weakly referenced: no cache
+        return build()
+    if key not in memo:
+        memo[key] = build()
+    return memo[key]

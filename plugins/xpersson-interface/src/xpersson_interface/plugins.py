@@ -29,7 +29,7 @@ from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
-from ._solved import FORMS, Solved, solved_curve
+from ._solved import FORMS, Solved, per_solve, solved_curve
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
 
@@ -97,15 +97,23 @@ class _Interface(Analysis):
                 "scene's closure and its coefficient.gamma decide S"
             )
 
-    def _solved(self, ctx: Any, ds: Any, dense: bool = True) -> Solved:
+    def _key(self, dense: bool) -> tuple[Any, ...]:
         per = int(self.params.get("zeta_per_decade", 0)) if dense else 0
-        return solved_curve(
-            ctx, ds, self.params.get("s_factor", "closure"), self.params.get("gamma"), per
+        return self.params.get("s_factor", "closure"), self.params.get("gamma"), per
+
+    def _solved(self, ctx: Any, ds: Any, dense: bool = True) -> Solved:
+        return per_solve(
+            ctx, ("solved", *self._key(dense)), lambda: solved_curve(ctx, ds, *self._key(dense))
         )
 
     def _contact(self, ctx: Any, ds: Any) -> tuple[Solved, physics.SolvedContact]:
         s = self._solved(ctx, ds)
-        return s, physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve)
+        sc = per_solve(
+            ctx,
+            ("contact", *self._key(True)),
+            lambda: physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve),
+        )
+        return s, sc
 
 
 class ElasticEnergy(_Interface):
@@ -458,8 +466,8 @@ class Leakage(_Interface):
         det = sc.detachment(_edges(s, int(p["n_bins"])))
         ubar = det.mean_gap
         thr = a_c if p["emt_threshold"] == "a_c" else None
-        # one load at a time: the cells span that load's gaps, never the batch's
-        u3 = np.concatenate([bruggeman_gap(_one(det, i), a_c=thr) for i in range(det.p0.size)])
+        # per load: the cells span that load's gaps, never the batch's (all loads at once)
+        u3 = bruggeman_gap(det, a_c=thr, per_load=True)
         u3 = np.where(np.isfinite(u3), u3, 0.0)
         args = (float(p["seal_width"]), float(p["seal_length"]), dp, float(p["viscosity"]))
         u1_3 = np.where(sealed, 0.0, np.nan_to_num(u1, nan=0.0) ** 3)
@@ -477,13 +485,3 @@ class Leakage(_Interface):
             "leak_rate_emt": (("p0",), leak_rate(u3, *args)),
             "leak_sealed_emt": (("p0",), (u3 <= 0).astype(np.int8)),
         }
-
-
-def _one(det: Any, i: int) -> Any:
-    """The detachment bins of load ``i`` alone."""
-    import dataclasses
-
-    k = slice(i, i + 1)
-    return dataclasses.replace(
-        det, p0=det.p0[k], area=det.area[k], ubar=det.ubar[k], weight=det.weight[k], u1=det.u1[k]
-    )

@@ -1,0 +1,82 @@
+"""Fast numerics shared by the interface physics (private): exp without numpy's slow path for
+vanishing results, cache-sized blocks of loads, and many cubic splines on shared knots."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from scipy.interpolate import PPoly
+
+#: exp(x) is normal (not subnormal) for x >= _EXP_LO, and exactly 0 for x <= _EXP_ZERO; below
+#: _EXP_LO numpy's exp takes a slow path (50x for subnormal results, 8x for underflow to zero),
+#: and 1 - A near full contact spans hundreds of decades, so most values of a dense curve or of
+#: the gap tensor can lie there.
+_EXP_LO = -708.0
+_EXP_ZERO = -746.0
+
+
+def _exp(y: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``np.exp(y)`` (bit-identical, a new array) without numpy's slow path where it is 0.
+
+    Where ``y <= -746`` the result is exactly 0 and is not computed; only the thin band of
+    subnormal results (``-746 < y < -708``) goes through numpy's slow path.
+    """
+    y = np.asarray(y, dtype=float)
+    if y.size == 0 or not y.min() < _EXP_LO:  # the common case: one pass, no masks
+        return np.exp(y)
+    out = np.zeros(y.shape)
+    np.exp(y, out=out, where=y > _EXP_ZERO)
+    return out
+
+
+#: Elements per block of loads in the large per-load tensors (about 0.5 MB of float64: the
+#: temporaries of one block stay in the cache; whole-batch temporaries are memory-bound).
+_BLOCK = 1 << 16
+
+
+def _block(per_load: int) -> int:
+    """Loads per block for a tensor of ``per_load`` elements per load."""
+    return max(1, _BLOCK // max(int(per_load), 1))
+
+
+def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
+    """``CubicSpline(x, y, axis=1)`` (not-a-knot) of many rows on shared knots, built fast.
+
+    The same banded system and Hermite coefficients as scipy's ``CubicSpline``, assembled in the
+    layout its ``PPoly`` keeps (``c`` of shape ``(4, n - 1, n_row)``) without its axis moves and
+    stacking copies (3-6x faster for 100 rows of 600 knots). Fewer than 4 knots: scipy's own.
+    """
+    from scipy.interpolate import CubicSpline, PPoly  # lazily: ~0.2 s to import
+    from scipy.linalg import solve_banded
+
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    n = x.size
+    if n < 4 or y.ndim != 2:
+        return CubicSpline(x, y, axis=1)
+    yt = np.ascontiguousarray(y.T)  # (n, n_row)
+    dx = np.diff(x)[:, None]
+    slope = np.diff(yt, axis=0) / dx
+    ab = np.zeros((3, n))
+    ab[1, 1:-1] = 2.0 * (dx[:-1, 0] + dx[1:, 0])
+    ab[0, 2:] = dx[:-1, 0]
+    ab[2, :-2] = dx[1:, 0]
+    b = np.empty((yt.shape[1], n)).T  # Fortran order: LAPACK solves it in place
+    b[1:-1] = 3.0 * (dx[1:] * slope[:-1] + dx[:-1] * slope[1:])
+    d0, d1 = x[2] - x[0], x[-1] - x[-3]
+    ab[1, 0], ab[0, 1] = dx[1, 0], d0
+    b[0] = ((dx[0] + 2.0 * d0) * dx[1] * slope[0] + dx[0] ** 2 * slope[1]) / d0
+    ab[1, -1], ab[2, -2] = dx[-2, 0], d1
+    b[-1] = (dx[-1] ** 2 * slope[-2] + (2.0 * d1 + dx[-1]) * dx[-2] * slope[-1]) / d1
+    sl = solve_banded((1, 1), ab, b, overwrite_ab=True, overwrite_b=True, check_finite=False)
+    t = (sl[:-1] + sl[1:] - 2.0 * slope) / dx
+    c = np.empty((4, n - 1, yt.shape[1]))
+    np.divide(t, dx, out=c[0])
+    np.subtract((slope - sl[:-1]) / dx, t, out=c[1])
+    c[2] = sl[:-1]
+    c[3] = yt[:-1]
+    return PPoly.construct_fast(c, x, extrapolate=True, axis=1)
