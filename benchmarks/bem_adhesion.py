@@ -108,12 +108,22 @@ def range_of(H: float) -> float:
     return RANGE_FRACTION * float(continuum_psd(H).h_rms())
 
 
-def works_of(H: float) -> list[float]:
+def works_of(H: float, targets: tuple[float, ...] = TABOR_TARGETS) -> list[float]:
     """Works of adhesion [J/m^2] giving the target Tabor parameters at zeta_1."""
     from xpersson_adhesion import tabor_parameter
 
     mu1 = float(tabor_parameter(continuum_psd(H), E_STAR, 1.0, range_of(H), [RATIO])[0])
-    return [float((m / mu1) ** 1.5) for m in TABOR_TARGETS]  # mu ~ w^(2/3)
+    return [float((m / mu1) ** 1.5) for m in targets]  # mu ~ w^(2/3)
+
+
+def _add_works(out: dict[str, Any], targets: tuple[float, ...]) -> None:
+    """Append work entries for Tabor targets not yet in ``out`` (a stronger case on a resume)."""
+    have = {e["tabor"] for e in out["works"]}
+    new = tuple(m for m in targets if m not in have)
+    for work_si, mu in zip(works_of(out["H"], new), new, strict=True):
+        out["works"].append(
+            {"tabor": mu, "work_J_m2": work_si, "paths": [], "area": [], "pull_off_Pa": []}
+        )
 
 
 def surface(H: float, seed: int, n: int) -> np.ndarray:
@@ -223,8 +233,27 @@ def branch_area(path: list[dict[str, float]], loads: np.ndarray) -> tuple[np.nda
     return out, pull
 
 
-def run_spectrum(name: str, n_surf: int, n: int) -> dict[str, Any]:
-    """Every work and surface of one spectrum; a JSON-ready dict (SI and reduced units)."""
+def _extend_elastic(name: str, out: dict[str, Any], n_surf: int, n: int, comp: list) -> None:
+    """Non-adhesive areas for the seeds not yet in ``out`` (more surfaces on a resume)."""
+    H = out["H"]
+    for seed in range(len(out["elastic_area"]), n_surf):
+        surf = surface(H, seed, n)
+        t0 = time.process_time()
+        out["elastic_area"].append(elastic_areas(surf, comp))
+        out["surface_h_rms_over_L"].append(float(surf.std()))
+        print(f"{name} seed {seed} elastic {time.process_time() - t0:.1f} s", flush=True)
+        (RESULTS / f"bem_adhesion_{name}.part.json").write_text(json.dumps(out))
+    out["seeds"] = list(range(max(n_surf, len(out["elastic_area"]))))
+
+
+def run_spectrum(
+    name: str, n_surf: int, n: int, only: tuple[float, ...] | None = None
+) -> dict[str, Any]:
+    """Every work and surface of one spectrum; a JSON-ready dict (SI and reduced units).
+
+    ``only``: solve the adhesive paths of these Tabor targets only (more surfaces for the
+    cases whose surface scatter is large; the other works keep their surfaces).
+    """
     H = SPECTRA[name]
     psd = continuum_psd(H)
     h_rms = float(psd.h_rms()) / L_CELL
@@ -234,9 +263,10 @@ def run_spectrum(name: str, n_surf: int, n: int) -> dict[str, Any]:
     part = RESULTS / f"bem_adhesion_{name}.part.json"
     if part.exists():  # resume: keep every (surface, work) already solved
         out = json.loads(part.read_text())
-        if out["grid"] == n and len(out["elastic_area"]) >= n_surf:
-            out["seeds"] = list(range(n_surf))
-            return _solve_paths(name, out, n_surf, n, rho, h_rms, loads)
+        if out["grid"] == n:
+            _extend_elastic(name, out, n_surf, n, comp)
+            _add_works(out, only or ())
+            return _solve_paths(name, out, n_surf, n, rho, h_rms, loads, only)
     out = {"H": H, "grid": n, "seeds": list(range(n_surf)), "works": []}
     elastic = []
     for seed in range(n_surf):
@@ -250,18 +280,25 @@ def run_spectrum(name: str, n_surf: int, n: int) -> dict[str, Any]:
         entry: dict[str, Any] = {"tabor": mu, "work_J_m2": work_si, "paths": [], "area": []}
         entry["pull_off_Pa"] = []
         out["works"].append(entry)
-    return _solve_paths(name, out, n_surf, n, rho, h_rms, loads)
+    return _solve_paths(name, out, n_surf, n, rho, h_rms, loads, only)
 
 
 def _solve_paths(
-    name: str, out: dict[str, Any], n_surf: int, n: int, rho: float, h_rms: float, loads: Any
+    name: str,
+    out: dict[str, Any],
+    n_surf: int,
+    n: int,
+    rho: float,
+    h_rms: float,
+    loads: Any,
+    only: tuple[float, ...] | None = None,
 ) -> dict[str, Any]:
     """The adhesive paths not yet in ``out`` (seeds outer: a partial run has every work)."""
     H = out["H"]
     for seed in range(n_surf):
         surf = surface(H, seed, n)
         for entry in out["works"]:
-            if len(entry["paths"]) > seed:
+            if len(entry["paths"]) != seed or (only and entry["tabor"] not in only):
                 continue
             t0 = time.process_time()
             work = entry["work_J_m2"] / (E_STAR * L_CELL)
@@ -308,6 +345,25 @@ def provenance(n: int) -> dict[str, Any]:
     }
 
 
+def ratio_se(adh: np.ndarray, el: np.ndarray) -> np.ndarray:
+    """Standard error of the ratio of means ``R = mean(adh)/mean(el)`` per load [1].
+
+    ``adh``, ``el``: (n_surfaces, n_load) areas of the same surfaces with and without adhesion.
+    Delta method for a ratio estimator: ``se^2 = var(adh - R el) / (n mean(el)^2)`` with the
+    sample variance (n - 1), per load over the surfaces with a value there (the others are
+    NaN: load not on their retraction branch); NaN with fewer than two.
+    """
+    out = np.full(adh.shape[1], np.nan)
+    for j in range(adh.shape[1]):
+        ok = np.isfinite(adh[:, j])
+        n = int(ok.sum())
+        if n >= 2:
+            r = adh[ok, j].mean() / el[ok, j].mean()
+            resid = adh[ok, j] - r * el[ok, j]
+            out[j] = math.sqrt(resid.var(ddof=1) / n) / el[ok, j].mean()
+    return out
+
+
 def summarise(data: dict[str, Any]) -> dict[str, Any]:
     """Surface-averaged areas, ratios A(w)/A(0) and pull-off per spectrum and work."""
     table = {}
@@ -324,6 +380,8 @@ def summarise(data: dict[str, Any]) -> dict[str, Any]:
             comp = np.array(LOADS) > 0
             ratio = np.full(len(LOADS), np.nan)
             ratio[comp] = mean[comp] / el.mean(axis=0)
+            se = np.full(len(LOADS), np.nan)
+            se[comp] = ratio_se(a[:, comp], el)
             rows.append(
                 {
                     "tabor": entry["tabor"],
@@ -331,6 +389,7 @@ def summarise(data: dict[str, Any]) -> dict[str, Any]:
                     "area": [None if math.isnan(x) else float(x) for x in mean],
                     "n_surfaces": [int(c) for c in count],
                     "ratio": [None if math.isnan(x) else float(x) for x in ratio],
+                    "ratio_se": [None if math.isnan(x) else float(x) for x in se],
                     "pull_off_Pa": float(np.mean(entry["pull_off_Pa"])),
                 }
             )
@@ -442,6 +501,9 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--grid", type=int, default=256)
     ap.add_argument("--grid-check", action="store_true")
     ap.add_argument("--merge", action="store_true")
+    ap.add_argument(
+        "--tabor", type=float, nargs="*", default=None, help="only these targets (new: added)"
+    )
     args = ap.parse_args(argv)
     RESULTS.mkdir(exist_ok=True)
     if args.grid_check:
@@ -451,7 +513,8 @@ def main(argv: list[str] | None = None) -> None:
         merge()
         return
     for name in [args.spectrum] if args.spectrum else list(SPECTRA):
-        part = run_spectrum(name, args.surfaces, args.grid)
+        only = tuple(args.tabor) if args.tabor else None
+        part = run_spectrum(name, args.surfaces, args.grid, only)
         (RESULTS / f"bem_adhesion_{name}.part.json").write_text(json.dumps(part))
     merge()
 

@@ -31,9 +31,12 @@ from ._traction import attraction, max_traction
 __all__ = ["attraction_curve", "MeanField", "Summit"]
 
 Array = NDArray[np.float64]
-#: Nodes of the table per decade of p_rep, and its span below sqrt(tau_max) [decades].
+#: Nodes of the table per decade of p_rep, and its span below sqrt(tau_max) [decades]
+#: (4 decades: contact fractions down to ~6e-5; below, ``k`` is held constant).
 PER_DECADE = 6
-SPAN_BELOW = 5.0
+SPAN_BELOW = 4.0
+#: Light loads for the stickiness ratio: ``p_rep <= LIGHT sqrt(tau_max)`` (area below 0.6 %).
+LIGHT = 1e-2
 
 
 def attraction_curve(
@@ -111,8 +114,13 @@ class MeanField:
 
     @property
     def small_load_ratio(self) -> float:
-        """``k0 = p_att/p_rep`` in the small-load limit [1]; > 1: sticky (tension held)."""
-        return float(self.k[0])
+        """``k0``: the largest ``p_att/p_rep`` at light loads [1]; > 1: sticky (tension held).
+
+        Light loads: the table's nodes up to ``LIGHT sqrt(tau_max)`` (contact area below
+        0.6 %), where ``k`` has its plateau.
+        """
+        light = self.p <= max(LIGHT * self.scale, self.p[0])
+        return float(np.max(self.k[light]))
 
     def pull_off(self) -> float:
         """Pull-off stress [Pa]: ``-min (p - p_att(p))`` over the table, or 0."""

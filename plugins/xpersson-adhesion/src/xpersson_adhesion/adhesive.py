@@ -41,6 +41,24 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["AdhesiveBoundary", "REGIMES", "VERIFIED_TABOR", "EXPECTED_FACTOR", "regime_of"]
 
+#: Area-curve nodes closer than this to zeta = 1 are dropped from the table's grid [1]
+#: (they resolve contact fractions below the table's first node; areas change < 1e-4).
+ZETA_TRIM = 1e-5
+#: Tables shared by boundaries of the same scene in one process (repeated solves, load sweeps
+#: one call at a time), keyed by the spectrum's fingerprint and the scene's parameters; the
+#: oldest is dropped beyond ``_SHARED_SIZE``.
+_SHARED: dict[tuple, MeanField] = {}
+_SHARED_SIZE = 8
+
+
+def _fingerprint(psd: Any) -> tuple:
+    """Values that identify a spectrum [SI]: type, cut-offs, three moments, C at three q."""
+    q_L, q_1 = float(psd.q_L), float(psd.q_1)
+    q = np.geomspace(q_L, q_1, 5)[1:4]
+    moments = tuple(float(psd.running_moment(k, q_1)) for k in (1.0, 3.0, 5.0))
+    return (type(psd).__name__, q_L, q_1, *moments, *np.asarray(psd.C(q), float).tolist())
+
+
 #: Regime codes of the ``regime`` output.
 REGIMES = {
     0: "adhesion negligible at this load (p_att < 0.1 p_rep)",
@@ -178,13 +196,24 @@ class AdhesiveBoundary(Boundary):
         key = (id(psd), float(psd.q_L), float(psd.I3(psd.q_1)), ctx.E_star, zeta[-1], p_hi)
         if key not in self._tables:
             z = _curve_grid(zeta, per_decade=8)
+            # the nodes within 1e-5 of zeta = 1 resolve loads below the table (cost only)
+            z = np.concatenate((z[:1], z[1:][z[1:] - 1.0 >= ZETA_TRIM]))
             tau = np.asarray(diffusion_time(ctx.psd, ctx.E_star, z), dtype=float)
             z, tau = _increasing(z, tau)
+            scale = math.sqrt(tau[-1])
+            # the table's nodes depend on p_hi only above 10 scale (MeanField): one shared
+            # table serves every load set of the same scene
+            shared = (_fingerprint(psd), ctx.E_star, zeta.tobytes(), law, work, rng)
+            shared += (max(p_hi, 10.0 * scale),)
+            if shared not in _SHARED:
 
-            def evaluate(prep: np.ndarray) -> np.ndarray:
-                return attraction_curve(ctx.psd, ctx.E_star, z, tau, law, work, rng, prep)
+                def evaluate(prep: np.ndarray) -> np.ndarray:
+                    return attraction_curve(psd, ctx.E_star, z, tau, law, work, rng, prep)
 
-            self._tables = {key: MeanField(evaluate, math.sqrt(tau[-1]), p_hi)}
+                while len(_SHARED) >= _SHARED_SIZE:
+                    _SHARED.pop(next(iter(_SHARED)))
+                _SHARED[shared] = MeanField(evaluate, scale, p_hi)
+            self._tables = {key: _SHARED[shared]}
         return self._tables[key]
 
     def summit(self, ctx: SceneContext) -> Summit:
