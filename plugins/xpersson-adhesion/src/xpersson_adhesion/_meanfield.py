@@ -35,8 +35,10 @@ Array = NDArray[np.float64]
 #: (4 decades: contact fractions down to ~6e-5; below, ``k`` is held constant).
 PER_DECADE = 6
 SPAN_BELOW = 4.0
-#: Light loads for the stickiness ratio: ``p_rep <= LIGHT sqrt(tau_max)`` (area below 0.6 %).
-LIGHT = 1e-2
+#: Light loads for the stickiness ratio: ``LIGHT[0] <= p_rep / sqrt(tau_max) <= LIGHT[1]``
+#: (contact fractions 0.06-0.6 %: the plateau of ``k``; below, the closed-form gap
+#: distribution's ``k`` wanders by tens of percent with the magnification grid).
+LIGHT = (1e-3, 1e-2)
 
 
 def attraction_curve(
@@ -116,11 +118,12 @@ class MeanField:
     def small_load_ratio(self) -> float:
         """``k0``: the largest ``p_att/p_rep`` at light loads [1]; > 1: sticky (tension held).
 
-        Light loads: the table's nodes up to ``LIGHT sqrt(tau_max)`` (contact area below
-        0.6 %), where ``k`` has its plateau.
+        Light loads: the table's nodes with ``p_rep / sqrt(tau_max)`` in :data:`LIGHT`
+        (contact area 0.06-0.6 %), where ``k`` has its plateau.
         """
-        light = self.p <= max(LIGHT * self.scale, self.p[0])
-        return float(np.max(self.k[light]))
+        x = self.p / self.scale
+        light = (x >= LIGHT[0]) & (x <= LIGHT[1])
+        return float(np.max(self.k[light])) if np.any(light) else float(self.k[0])
 
     def pull_off(self) -> float:
         """Pull-off stress [Pa]: ``-min (p - p_att(p))`` over the table, or 0."""
