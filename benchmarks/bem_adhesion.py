@@ -10,7 +10,7 @@ traction ``w/rho``). Non-adhesive control: the same solver at imposed mean press
 
 * Spectra: ``H = 0.8`` (the issue's) and ``H = 0.5``; each with three works of adhesion chosen
   so that the plugin's Tabor parameter ``tabor_parameter(psd, E*, w, rho, zeta_1)`` is 0.6, 1.0
-  and 1.6 at the finest scale.
+  and 1.6 at the finest scale, and a stronger case (3.0; ``--tabor 3.0``) beyond them.
 * Surfaces: Gaussian random fields with Persson's isotropic PSD ``C_P(q)``. On a periodic cell
   of side ``L`` the Fourier amplitude of the mode ``q`` has variance ``C_P(q) (2 pi/L)^2``
   (``<h^2> = sum_q C_P (2 pi / L)^2 -> int d^2q C_P``); Persson's ``C_P`` is the
@@ -19,7 +19,8 @@ traction ``w/rho``). Non-adhesive control: the same solver at imposed mean press
   so the same surface is sampled exactly on 128^2, 256^2 and 512^2 grids (grid-convergence
   check). Each realisation is scaled to the exact rms slope 0.1 (its discrete ``h_rms`` is
   stored).
-* Path: approach from mean gap ``2.4 h_rms`` to ``0.6 h_rms`` (coarse steps, the warm start),
+* Path: approach from mean gap ``2.4 h_rms`` to ``0.6 h_rms`` (coarse steps, the warm start;
+  for Tabor targets above 2 on to at most ``0.06 h_rms`` until the largest load is exceeded),
   then retract in steps of ``0.1 h_rms`` until the contact is lost. The retraction branch up to
   its most tensile mean stress (pull-off under load control) is the reference; ``A(p)`` is
   interpolated at common loads ``p0/(E* h'_rms)``.
@@ -70,6 +71,11 @@ SPECTRA = {"H08": 0.8, "H05": 0.5}
 #: Common loads p0 / (E* h'_rms) of the reference table.
 LOADS = (-0.001, -0.0005, -0.00025, 0.0025, 0.005, 0.01, 0.02, 0.04)
 APPROACH = (2.4, 1.4, 0.9, 0.6)
+#: Strong adhesion (Tabor targets above 2): the mean stress at gap 0.6 h_rms is already tensile,
+#: so the approach goes on in these steps until the compressive stress exceeds the largest
+#: load (or the gap reaches its last step) [h_rms].
+APPROACH_DEEP = (0.45, 0.3, 0.2, 0.12, 0.06)
+STRONG = 2.0
 #: Retraction: fine steps (the compressive loads change fast near the turning point at strong
 #: adhesion), then coarse ones until the contact is lost [h_rms].
 RETRACT_FINE = (0.03, 10)
@@ -181,17 +187,26 @@ def _state(model: Any, rho: float) -> dict[str, float]:
     }
 
 
-def adhesive_path(surf: np.ndarray, work: float, rho: float, h_rms: float) -> dict[str, list]:
-    """Approach then retraction under displacement control (dimensionless units)."""
+def adhesive_path(
+    surf: np.ndarray, work: float, rho: float, h_rms: float, deep: bool = False
+) -> dict[str, list]:
+    """Approach then retraction under displacement control (dimensionless units).
+
+    ``deep``: approach on through :data:`APPROACH_DEEP` until the mean stress exceeds the
+    largest load (strong adhesion).
+    """
     import tamaas as tm
 
     model, solver, _keep = _solver(tm, surf, work, rho, "gap")
     approach = []
-    for g in APPROACH:
+    g = APPROACH[0]
+    for step in APPROACH + (APPROACH_DEEP if deep else ()):
+        if step in APPROACH_DEEP and approach[-1]["p"] > max(LOADS) * SLOPE:
+            break
+        g = step
         solver.solve(g * h_rms)
         approach.append(_state(model, rho))
     retract = [approach[-1]]
-    g = APPROACH[-1]
     while True:
         fine = len(retract) <= RETRACT_FINE[1]
         g = round(g + (RETRACT_FINE[0] if fine else RETRACT_STEP), 10)
@@ -302,7 +317,7 @@ def _solve_paths(
                 continue
             t0 = time.process_time()
             work = entry["work_J_m2"] / (E_STAR * L_CELL)
-            path = adhesive_path(surf, work, rho, h_rms)
+            path = adhesive_path(surf, work, rho, h_rms, deep=entry["tabor"] > STRONG)
             area, pull = branch_area(path["retract"], loads)
             entry["paths"].append(path)
             entry["area"].append([None if math.isnan(x) else float(x) for x in area])
@@ -338,6 +353,8 @@ def provenance(n: int) -> dict[str, Any]:
         "tabor_targets": list(TABOR_TARGETS),
         "loads_over_Estar_hprime": list(LOADS),
         "approach_gaps_over_h_rms": list(APPROACH),
+        "approach_deep_gaps_over_h_rms": f"{list(APPROACH_DEEP)} for tabor > {STRONG:g}, until "
+        "the mean stress exceeds the largest load",
         "retract_steps_over_h_rms": f"{RETRACT_FINE[1]} x {RETRACT_FINE[0]}, then {RETRACT_STEP}",
         "contact": "gap == 0 (adhesive, gap control); traction > 0 (non-adhesive, load control)",
         "reference_branch": "retraction, stable part up to the most tensile mean stress",
