@@ -90,7 +90,7 @@ class MeanField:
         Pressure scale of the contact, ``sqrt(tau(zeta_max))`` [Pa] (the table spans
         ``scale 10^-SPAN_BELOW`` to ``p_hi``).
     p_hi : float
-        Largest repulsive pressure needed [Pa] (``max(p0) + max traction`` bounds every root).
+        Largest repulsive pressure needed [Pa] besides ``10 scale`` (:func:`p_hi_of`).
     """
 
     def __init__(self, evaluate: Callable[[Array], Array], scale: float, p_hi: float) -> None:
@@ -164,8 +164,17 @@ class MeanField:
 
 
 def p_hi_of(loads: ArrayLike, law: str, work: float, rng: float) -> float:
-    """Upper end of the table [Pa]: every root lies below ``max(p0, 0) + max traction``."""
-    return float(max(np.max(np.asarray(loads, dtype=float)), 0.0)) + max_traction(law, work, rng)
+    """Upper end of the table [Pa] beside its floor ``10 sqrt(tau_max)`` (:class:`MeanField`).
+
+    Above ``p_rep = 10 sqrt(tau_max)`` the gaps cover ``erfc(5) = 1.5e-12`` of the nominal
+    area, so ``p_att <= erfc(5) T`` (``T`` the law's maximum traction) and every root there lies
+    below ``max(p0, 0) + erfc(5) T``. (Bounding by ``p0 + T`` instead made the table span
+    ``T`` = 100 MPa for a 0.5 nm range: twice the nodes for nothing.)
+    """
+    from scipy.special import erfc
+
+    top = float(max(np.max(np.asarray(loads, dtype=float)), 0.0))
+    return top + float(erfc(5.0)) * max_traction(law, work, rng)
 
 
 class Summit:
