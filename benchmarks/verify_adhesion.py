@@ -108,6 +108,23 @@ def rows(fast: bool) -> list[dict]:
             "sticky mean field (Tabor 1.6) within 2x; below, the finite-size floor, low",
         ),
     ]
+    strong = RESULTS / "adhesion_bem_strong.json"
+    bounds = json.loads(strong.read_text()) if strong.is_file() else []
+    for case in bounds:  # regime 3 from the BEM's area bounds (adhesion_bem_compare.py)
+        f = max(case["factor"])
+        pull_f = _factor(case["model_pull_off_Pa"], sum(case["pull_off_Pa"]) / case["n"])
+        out.append(
+            _row(
+                "area_fraction, adhesive, regime 3 (A(w)/A(0))",
+                f"{case['spectrum']}, Tabor {case['tabor']:g} (outside the calibration), "
+                f"compressive loads, {case['n']} surface(s)",
+                reference,
+                f,
+                "factor",
+                "BEM contact nearly full: its ratio bounded between the branch start and full "
+                f"contact; pull-off factor {pull_f:.2f}",
+            )
+        )
     s_worst, s_within, s_points, _ = _scan(model, bem, strong=True)
     if s_points:
         out.append(
