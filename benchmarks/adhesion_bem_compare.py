@@ -476,6 +476,7 @@ OPTIONS = """## Options evaluated (why `adhesive`)
   mu_T = 1 and its moderate light-load enhancement at once: the BEM's cells are sticky with a
   small area, each in its own way (per-surface pull-off 40-260 Pa).
 * Joe-Thouless-Barber's traction-gap law inside the diffusion picture: not implemented here.
+
 """
 
 
