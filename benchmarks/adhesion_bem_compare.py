@@ -129,25 +129,44 @@ def cost(bem: dict[str, Any], repeats: int = 7) -> list[str]:
         "",
         f"CPU time of `xpersson.solve` per load (spectrum {name}, mu_T = {row['tabor']}; "
         f"best / median of {repeats}; scene resolution and output included; one BLAS thread, "
-        "shared machine):",
+        "shared machine). `adhesive` shares its table between solves of the same scene in one "
+        "process: *new scene* is the first solve of a scene (the work changed by 1e-9 each "
+        "time: a fresh table), *repeated* the same scene again.",
         "",
-        "| model | 1 load [ms] | 5 loads, per load [ms] |",
-        "|---|---|---|",
+        "| model | 1 load, new scene [ms] | 1 load, repeated [ms] | 5 loads, per load [ms] |",
+        "|---|---|---|---|",
     ]
     for model in ("jkr", "adhesive", "dmt"):
+        n_rep = repeats if model != "dmt" else 2
         cells = []
-        for sel in ([loads[loads > 0][2]], list(loads[loads > 0])):
-            sc = scene(meta, tab["H"], boundary(model, row["work_J_m2"], rng), sel)
+        for sel, fresh in (([loads[loads > 0][2]], True), ([loads[loads > 0][2]], False)):
             times = []
-            for _ in range(repeats if model != "dmt" else 2):
+            for k in range(n_rep):
+                w = row["work_J_m2"] * (1.0 + 1e-9 * (k + 1) if fresh else 1.0)
+                sc = scene(meta, tab["H"], boundary(model, w, rng), sel)
+                if not fresh and k == 0:
+                    _solve_quiet(sc)  # the table of the repeated scene
                 t0 = time.process_time()
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    xpersson.solve(sc)
+                _solve_quiet(sc)
                 times.append((time.process_time() - t0) / len(sel) * 1e3)
             cells.append(f"{min(times):.1f} / {float(np.median(times)):.1f}")
+        sel = list(loads[loads > 0])
+        times = []
+        for k in range(n_rep):
+            w = row["work_J_m2"] * (1.0 + 2e-9 * (k + 1))
+            sc = scene(meta, tab["H"], boundary(model, w, rng), sel)
+            t0 = time.process_time()
+            _solve_quiet(sc)
+            times.append((time.process_time() - t0) / len(sel) * 1e3)
+        cells.append(f"{min(times):.1f} / {float(np.median(times)):.1f}")
         lines.append(f"| {model} | " + " | ".join(cells) + " |")
     return lines + [""]
+
+
+def _solve_quiet(sc: dict[str, Any]) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        xpersson.solve(sc)
 
 
 def _psd(meta: dict[str, Any], H: float) -> Any:
@@ -182,7 +201,8 @@ def write_doc(
             "|" + "---|" * (len(loads) + 3),
         ]
         for row, prow in zip(tab["works"], pred[name]["works"], strict=True):
-            cells = [_cell(a, r) for a, r in zip(row["area"], row["ratio"], strict=True)]
+            se = row.get("ratio_se", [None] * len(loads))
+            cells = [_cell(a, r, e) for a, r, e in zip(row["area"], row["ratio"], se, strict=True)]
             lines.append(
                 f"| {row['tabor']} | BEM (n={max(row['n_surfaces'])}) | "
                 + " | ".join(cells)
@@ -200,18 +220,140 @@ def write_doc(
                         else " | - |"
                     )
                 )
-                verdict.setdefault(model, []).append(_check(row, m))
+                if row["tabor"] <= VERIFIED_MAX:
+                    verdict.setdefault(model, []).append(_check(row, m))
         lines.append("")
-    lines += _verdict_lines(verdict, pred) + [""] + extra + grid_lines()
+    lines += _verdict_lines(verdict, pred) + [""] + factor_table(bem, pred) + extra
+    lines += grid_lines()
     lines += LIMITS.splitlines()
     path.write_text("\n".join(lines) + "\n")
     return verdict
 
 
-def _cell(a: float | None, r: float | None) -> str:
+def _cell(a: float | None, r: float | None, se: float | None = None) -> str:
     if a is None:
         return "-"
-    return f"{_fmt(a, 3)}" + ("" if r is None else f" ({r:.2g}x)")
+    if r is None:
+        return f"{_fmt(a, 3)}"
+    err = "" if se is None else f" +- {se:.2g}"
+    return f"{_fmt(a, 3)} ({r:.2g}{err}x)"
+
+
+#: Largest Tabor parameter of the verified range (stronger cases: regime 3, reported apart).
+VERIFIED_MAX = 2.0
+
+
+def factor_table(bem: dict[str, Any], pred: dict[str, Any]) -> list[str]:
+    """Per case and compressive load: BEM mean ratio +- s.e. (n), adhesive's ratio, factor."""
+    loads = bem["provenance"]["loads_over_Estar_hprime"]
+    comp = [i for i, x in enumerate(loads) if x > 0]
+    lines = [
+        "## Measured factors of `adhesive`",
+        "",
+        "Per case and compressive load: the BEM's `A(w)/A(0)` (ratio of the surface means) +- its",
+        "standard error (delta method over the surfaces, `n` of them), `adhesive`'s ratio, and",
+        "the factor between them (`max(m/b, b/m)`). Rows with mu_T > "
+        f"{VERIFIED_MAX:g} lie outside the calibrated range (regime 3).",
+        "",
+        "| spectrum | mu_T | n | " + " | ".join(f"{loads[i]:g}" for i in comp) + " |",
+        "|" + "---|" * (3 + len(comp)),
+    ]
+    for name, tab in bem["table"].items():
+        for row, prow in zip(tab["works"], pred[name]["works"], strict=True):
+            se = row.get("ratio_se", [None] * len(loads))
+            cells = []
+            for i in comp:
+                b, m = row["ratio"][i], prow["adhesive"]["ratio"][i]
+                if b is None or m is None:
+                    cells.append("-")
+                    continue
+                e = "" if se[i] is None else f" +- {se[i]:.2g}"
+                cells.append(f"{b:.3g}{e} / {m:.3g} / **{max(m / b, b / m):.2f}**")
+            n = max(row["n_surfaces"])
+            lines.append(f"| {name} | {row['tabor']} | {n} | " + " | ".join(cells) + " |")
+    lines.append("")
+    lines.append("Cells: BEM +- s.e. / adhesive / factor.")
+    return lines + [""] + strong_lines(bem, pred)
+
+
+def strong_bounds(bem: dict[str, Any], pred: dict[str, Any]) -> list[dict[str, Any]]:
+    """Cases beyond the calibrated range whose BEM branch starts below every load.
+
+    At strong adhesion the approach ends (gap 0.06 h_rms) at a tensile mean stress with the
+    contact nearly full; on the retraction branch every load above that start has at least
+    the start's area and at most full contact. So the BEM's ``A(w)/A(0)`` lies in
+    ``[mean A_start / mean A(0), 1 / mean A(0)]`` (surface means); the factor of ``adhesive``
+    is its distance to that interval (1 inside).
+    """
+    loads = np.array(bem["provenance"]["loads_over_Estar_hprime"])
+    stress = loads * bem["provenance"]["E_star_Pa"] * bem["provenance"]["rms_slope"]
+    comp = np.where(loads > 0)[0]
+    out = []
+    for name, sp in bem["spectra"].items():
+        for k, entry in enumerate(sp["works"]):
+            if entry["tabor"] <= VERIFIED_MAX or not entry["paths"]:
+                continue
+            starts = [path["retract"][0] for path in entry["paths"]]
+            if max(s["p"] for s in starts) * bem["provenance"]["E_star_Pa"] > stress.min():
+                continue  # the branch reaches the loads: the ordinary table applies
+            n = len(starts)
+            el = np.mean(np.array(sp["elastic_area"][:n], float), axis=0)
+            lo = float(np.mean([s["area"] for s in starts])) / el
+            hi = 1.0 / el
+            model = np.array(pred[name]["works"][k]["adhesive"]["ratio"], float)[comp]
+            factor = np.where(model < lo, lo / model, np.where(model > hi, model / hi, 1.0))
+            out.append(
+                {
+                    "spectrum": name,
+                    "tabor": entry["tabor"],
+                    "n": n,
+                    "start_area": [s["area"] for s in starts],
+                    "start_stress_Pa": [s["p"] * bem["provenance"]["E_star_Pa"] for s in starts],
+                    "lo": lo.tolist(),
+                    "hi": hi.tolist(),
+                    "model": model.tolist(),
+                    "factor": factor.tolist(),
+                    "pull_off_Pa": entry["pull_off_Pa"],
+                    "model_pull_off_Pa": pred[name]["works"][k]["adhesive"]["pull_off_Pa"],
+                }
+            )
+    return out
+
+
+def strong_lines(bem: dict[str, Any], pred: dict[str, Any]) -> list[str]:
+    """The strong-adhesion cases as bounds (see :func:`strong_bounds`)."""
+    rows = strong_bounds(bem, pred)
+    if not rows:
+        return []
+    loads = [x for x in bem["provenance"]["loads_over_Estar_hprime"] if x > 0]
+    lines = [
+        f"### Beyond the calibrated range (mu_T > {VERIFIED_MAX:g}, regime 3)",
+        "",
+        "Here the BEM's approach ends (mean gap 0.06 h_rms) with the contact nearly full and the",
+        "mean stress still tensile, so its retraction branch starts below every load of the",
+        "table: at each load the BEM's area lies between the branch's first area and full",
+        "contact. Cells: BEM `A(w)/A(0)` bounds / adhesive / factor (distance to the bounds).",
+        "",
+        "| spectrum | mu_T | n | branch start | " + " | ".join(f"{x:g}" for x in loads) + " |"
+        " pull-off BEM / adhesive [Pa] |",
+        "|" + "---|" * (5 + len(loads)),
+    ]
+    for r in rows:
+        start = ", ".join(
+            f"A {a:.2f} at {p:.3g} Pa"
+            for a, p in zip(r["start_area"], r["start_stress_Pa"], strict=True)
+        )
+        cells = [
+            f"{lo:.3g}-{hi:.3g} / {m:.3g} / **{f:.2f}**"
+            for lo, hi, m, f in zip(r["lo"], r["hi"], r["model"], r["factor"], strict=True)
+        ]
+        pulls = ", ".join(f"{x:.3g}" for x in r["pull_off_Pa"])
+        lines.append(
+            f"| {r['spectrum']} | {r['tabor']} | {r['n']} | {start} | "
+            + " | ".join(cells)
+            + f" | {pulls} / {r['model_pull_off_Pa']:.3g} |"
+        )
+    return lines + [""]
 
 
 def _check(row: dict[str, Any], m: dict[str, Any]) -> dict[str, Any]:
@@ -265,7 +407,8 @@ def _header(bem: dict[str, Any]) -> list[str]:
         "loads, the enhancement `A(w)/A(0)` (each method against its own non-adhesive area: the",
         "BEM's small cell has 1.4-2.7x Persson's non-adhesive area). `-`: no contact (beyond",
         "pull-off) or refused (`jkr` refuses tensile loads when `gamma_eff(1) = 0`); BEM cells at",
-        "tensile loads average the surfaces that hold contact there; `n`: surfaces averaged.",
+        "tensile loads average the surfaces that hold contact there; `n`: surfaces averaged;",
+        "`+-`: standard error of the BEM's mean ratio over its surfaces.",
         "",
     ]
 
@@ -311,40 +454,56 @@ OPTIONS = """## Options evaluated (why `adhesive`)
   with `c_a = 1/4`, against the BEM's 3.3x to 2.1x); a partial reduction (a fraction of the
   finer scales' energy) switches abruptly between the two behaviours. No single constant fits.
 * **DMT mean field with the referee's own law** (`dmt`, exponential law): the attraction over
-  the gap distribution of Persson's contact at `p_rep = p0 + p_att`. Within 2x at 27 of 30
-  compressive points (worst 2.47x), the right fall with load, the pull-off where it is sticky.
-  Kept, as `adhesive`: tabulated (fast), with pull-off, stickiness, regime and a finite-size
-  floor (the highest summit of the nominal area in DMT contact) for the scenes below the mean
-  field's stickiness, where the BEM's small cell still holds a few pascals of tension.
-* Joe-Thouless-Barber's traction-gap law inside the diffusion picture: not implemented here
-  (the mean field already meets the factor on this range; see what is missing).
+  the gap distribution of Persson's contact at `p_rep = p0 + p_att`. The right fall with load
+  and the right pull-off at mu_T = 1, but near its stickiness threshold (mu_T = 1) it
+  over-predicts the enhancement at the lightest loads (14-17x against the BEM's 6-7 +- 1.5x
+  with six surfaces: beyond every single surface's ratio, so model error, not scatter).
+  Reading the BEM's retraction curves as `k = p_att/p_rep` against the area (each surface's
+  `p_rep` from its own non-adhesive `A(p)`): the BEM's `k` falls below 1 already at
+  `A = 0.01-0.05` where the mean field's stays above 1 up to `A = 0.05`, and it grows more
+  slowly with the work (about `w^0.5` against `w`).
+* **Scaled mean field, kept as `adhesive`**: the same mean field with its attraction scaled by
+  `ATTRACTION_SCALE = 0.85` (one constant, chosen on the H = 0.8 spectrum, where 0.8-0.9 keep
+  every point within 1.8x; H = 0.5 is the check). Tabulated (fast), with pull-off,
+  stickiness, regime and a finite-size floor (the highest summit of the nominal area in DMT
+  contact) for scenes below the mean field's stickiness. The price: at mu_T = 1 the scaled
+  mean field is just below its stickiness (`k0 = 0.94`), so its pull-off is the floor's,
+  several times below the BEM's (table below).
+* Other transforms of the attraction tried on the same data (not kept): `k -> k^0.5` (the
+  JKR-like `sqrt(w)` growth) keeps the stickiness threshold where it is, so the lightest loads
+  at mu_T = 1 stay 2.8x off; an area-dependent scale (1 at small area falling to 0.8) loses
+  the tension as the constant does. A single mean field cannot hold the BEM's tension at
+  mu_T = 1 and its moderate light-load enhancement at once: the BEM's cells are sticky with a
+  small area, each in its own way (per-surface pull-off 40-260 Pa).
+* Joe-Thouless-Barber's traction-gap law inside the diffusion picture: not implemented here.
 
 """
 
 
 LIMITS = """## Findings, limits and what is missing
 
-* `adhesive` (= the `dmt` mean field with the referee's law, tabulated): the enhancement
-  within a factor 2 of the BEM at 27 of the 30 compressive points, and 2.18-2.47x at the
-  remaining three (the two lightest loads at mu_T = 1.0: the model over-predicts there, 17x and
-  14x against 6.9x and 5.9x at the lightest); it falls with load as the BEM's; the pull-off
-  where the mean field is sticky is 1.1-1.2x the BEM's at mu_T = 1.0 and 2.8-3.6x at 1.6.
-  Persson's wall (`jkr`) is 1.8-17x off and never sticky on these scenes.
-* Surfaces: 3 per spectrum and work (each adhesive path at 256^2 takes 1-4 CPU minutes). At
-  the lightest loads single surfaces' ratios differ by up to 2x (H08, mu_T = 1.0: 11.3x and
-  5.2x for the first two), and one surface in three holds no tension at mu_T = 0.6: the
-  misses above are of the size of this scatter.
-* Tabor range: verified at mu_T(zeta_1) = 0.6-1.6 only (`regime` 2; `expected_factor` is the
-  worst factor measured here). Deeper in the JKR regime (mu_T >> 1) the mean field's
-  attraction in the gaps must give way to Persson's detachment wall; that crossover is not
-  covered by this referee, and `adhesive` flags such scenes as regime 3 (accuracy unknown).
-* Pull-off below the mean field's stickiness comes from the finite-size floor (one summit in
-  DMT contact per nominal area `(2 pi/q_L)^2`): the right order of magnitude against the small
-  periodic cell, 3-4x below it; the BEM holds contact at some tensile loads beyond it.
+* `adhesive` (the scaled mean field): the enhancement within the factor 2 of the BEM at every
+  compressive point of the calibrated range (table above), falling with load as the BEM's.
+  Its pull-off: the mean field's where it is sticky (mu_T = 1.6: within 2x of the BEM's), the
+  finite-size floor below (mu_T <= 1): non-zero wherever the BEM holds tension, but 2-8x
+  below the BEM's, so the model lets go at tensile loads where BEM cells still hold: -25 and
+  -50 Pa at mu_T = 0.6 (H08; 3 and 1 of 6 BEM surfaces hold there) and every tensile load
+  at mu_T = 1 (3-6 of 6 surfaces hold). The unscaled `dmt` is the better pull-off model at
+  mu_T = 1 (1.0-1.2x); no single mean field gets both the light-load area and that tension.
+* Surfaces: 3-6 per spectrum and work (each adhesive path at 256^2 takes 1-4 CPU minutes, the
+  strong case 5); the cases with the largest scatter (mu_T = 1) have 6. The s.e. shows the
+  former misses (2.2-2.5x at mu_T = 1) were model error: the unscaled mean field's 14-17x lay
+  above every single surface's ratio.
+* Stronger adhesion (mu_T = 3, one surface: what the shared machine allowed; the approach
+  goes on to 0.06 h_rms so the branch reaches the compressive loads): the row beyond the
+  calibrated range in the factor table is `adhesive`'s regime-3 figure.
+* Calibration: one constant fitted on the referee itself (H = 0.8, then checked on H = 0.5):
+  this is a calibrated model, validated on a second spectrum only, not a prediction from
+  first principles. Deeper in the JKR regime (mu_T >> 1) the mean field's attraction in the
+  gaps must give way to Persson's detachment wall; `adhesive` flags such scenes as regime 3.
 * Absolute areas: the BEM's non-adhesive area on this small cell is above Persson's (the
   cell has few long-wavelength modes), so absolute adhesive areas differ by the same factor;
   the enhancement ratio is the measure the must-show uses.
-* Joe-Thouless-Barber's traction-gap law in the diffusion picture was not implemented.
 
 """
 
@@ -395,6 +554,8 @@ def main(argv: list[str] | None = None) -> None:
     else:
         pred = predictions(bem)
         store.write_text(json.dumps(pred, indent=1))
+    bounds = strong_bounds(bem, pred)
+    (HERE / "results" / "adhesion_bem_strong.json").write_text(json.dumps(bounds, indent=1))
     verdict = write_doc(bem, pred, args.out, cost(bem))
     for model, rows in verdict.items():
         print(model, [round(r["worst_factor"], 2) for r in rows])

@@ -10,7 +10,7 @@ traction ``w/rho``). Non-adhesive control: the same solver at imposed mean press
 
 * Spectra: ``H = 0.8`` (the issue's) and ``H = 0.5``; each with three works of adhesion chosen
   so that the plugin's Tabor parameter ``tabor_parameter(psd, E*, w, rho, zeta_1)`` is 0.6, 1.0
-  and 1.6 at the finest scale.
+  and 1.6 at the finest scale, and a stronger case (3.0; ``--tabor 3.0``) beyond them.
 * Surfaces: Gaussian random fields with Persson's isotropic PSD ``C_P(q)``. On a periodic cell
   of side ``L`` the Fourier amplitude of the mode ``q`` has variance ``C_P(q) (2 pi/L)^2``
   (``<h^2> = sum_q C_P (2 pi / L)^2 -> int d^2q C_P``); Persson's ``C_P`` is the
@@ -19,7 +19,8 @@ traction ``w/rho``). Non-adhesive control: the same solver at imposed mean press
   so the same surface is sampled exactly on 128^2, 256^2 and 512^2 grids (grid-convergence
   check). Each realisation is scaled to the exact rms slope 0.1 (its discrete ``h_rms`` is
   stored).
-* Path: approach from mean gap ``2.4 h_rms`` to ``0.6 h_rms`` (coarse steps, the warm start),
+* Path: approach from mean gap ``2.4 h_rms`` to ``0.6 h_rms`` (coarse steps, the warm start;
+  for Tabor targets above 2 on to at most ``0.06 h_rms`` until the largest load is exceeded),
   then retract in steps of ``0.1 h_rms`` until the contact is lost. The retraction branch up to
   its most tensile mean stress (pull-off under load control) is the reference; ``A(p)`` is
   interpolated at common loads ``p0/(E* h'_rms)``.
@@ -70,6 +71,11 @@ SPECTRA = {"H08": 0.8, "H05": 0.5}
 #: Common loads p0 / (E* h'_rms) of the reference table.
 LOADS = (-0.001, -0.0005, -0.00025, 0.0025, 0.005, 0.01, 0.02, 0.04)
 APPROACH = (2.4, 1.4, 0.9, 0.6)
+#: Strong adhesion (Tabor targets above 2): the mean stress at gap 0.6 h_rms is already tensile,
+#: so the approach goes on in these steps until the compressive stress exceeds the largest
+#: load (or the gap reaches its last step) [h_rms].
+APPROACH_DEEP = (0.45, 0.3, 0.2, 0.12, 0.06)
+STRONG = 2.0
 #: Retraction: fine steps (the compressive loads change fast near the turning point at strong
 #: adhesion), then coarse ones until the contact is lost [h_rms].
 RETRACT_FINE = (0.03, 10)
@@ -108,12 +114,22 @@ def range_of(H: float) -> float:
     return RANGE_FRACTION * float(continuum_psd(H).h_rms())
 
 
-def works_of(H: float) -> list[float]:
+def works_of(H: float, targets: tuple[float, ...] = TABOR_TARGETS) -> list[float]:
     """Works of adhesion [J/m^2] giving the target Tabor parameters at zeta_1."""
     from xpersson_adhesion import tabor_parameter
 
     mu1 = float(tabor_parameter(continuum_psd(H), E_STAR, 1.0, range_of(H), [RATIO])[0])
-    return [float((m / mu1) ** 1.5) for m in TABOR_TARGETS]  # mu ~ w^(2/3)
+    return [float((m / mu1) ** 1.5) for m in targets]  # mu ~ w^(2/3)
+
+
+def _add_works(out: dict[str, Any], targets: tuple[float, ...]) -> None:
+    """Append work entries for Tabor targets not yet in ``out`` (a stronger case on a resume)."""
+    have = {e["tabor"] for e in out["works"]}
+    new = tuple(m for m in targets if m not in have)
+    for work_si, mu in zip(works_of(out["H"], new), new, strict=True):
+        out["works"].append(
+            {"tabor": mu, "work_J_m2": work_si, "paths": [], "area": [], "pull_off_Pa": []}
+        )
 
 
 def surface(H: float, seed: int, n: int) -> np.ndarray:
@@ -171,17 +187,26 @@ def _state(model: Any, rho: float) -> dict[str, float]:
     }
 
 
-def adhesive_path(surf: np.ndarray, work: float, rho: float, h_rms: float) -> dict[str, list]:
-    """Approach then retraction under displacement control (dimensionless units)."""
+def adhesive_path(
+    surf: np.ndarray, work: float, rho: float, h_rms: float, deep: bool = False
+) -> dict[str, list]:
+    """Approach then retraction under displacement control (dimensionless units).
+
+    ``deep``: approach on through :data:`APPROACH_DEEP` until the mean stress exceeds the
+    largest load (strong adhesion).
+    """
     import tamaas as tm
 
     model, solver, _keep = _solver(tm, surf, work, rho, "gap")
     approach = []
-    for g in APPROACH:
+    g = APPROACH[0]
+    for step in APPROACH + (APPROACH_DEEP if deep else ()):
+        if step in APPROACH_DEEP and approach[-1]["p"] > max(LOADS) * SLOPE:
+            break
+        g = step
         solver.solve(g * h_rms)
         approach.append(_state(model, rho))
     retract = [approach[-1]]
-    g = APPROACH[-1]
     while True:
         fine = len(retract) <= RETRACT_FINE[1]
         g = round(g + (RETRACT_FINE[0] if fine else RETRACT_STEP), 10)
@@ -223,8 +248,27 @@ def branch_area(path: list[dict[str, float]], loads: np.ndarray) -> tuple[np.nda
     return out, pull
 
 
-def run_spectrum(name: str, n_surf: int, n: int) -> dict[str, Any]:
-    """Every work and surface of one spectrum; a JSON-ready dict (SI and reduced units)."""
+def _extend_elastic(name: str, out: dict[str, Any], n_surf: int, n: int, comp: list) -> None:
+    """Non-adhesive areas for the seeds not yet in ``out`` (more surfaces on a resume)."""
+    H = out["H"]
+    for seed in range(len(out["elastic_area"]), n_surf):
+        surf = surface(H, seed, n)
+        t0 = time.process_time()
+        out["elastic_area"].append(elastic_areas(surf, comp))
+        out["surface_h_rms_over_L"].append(float(surf.std()))
+        print(f"{name} seed {seed} elastic {time.process_time() - t0:.1f} s", flush=True)
+        (RESULTS / f"bem_adhesion_{name}.part.json").write_text(json.dumps(out))
+    out["seeds"] = list(range(max(n_surf, len(out["elastic_area"]))))
+
+
+def run_spectrum(
+    name: str, n_surf: int, n: int, only: tuple[float, ...] | None = None
+) -> dict[str, Any]:
+    """Every work and surface of one spectrum; a JSON-ready dict (SI and reduced units).
+
+    ``only``: solve the adhesive paths of these Tabor targets only (more surfaces for the
+    cases whose surface scatter is large; the other works keep their surfaces).
+    """
     H = SPECTRA[name]
     psd = continuum_psd(H)
     h_rms = float(psd.h_rms()) / L_CELL
@@ -234,9 +278,10 @@ def run_spectrum(name: str, n_surf: int, n: int) -> dict[str, Any]:
     part = RESULTS / f"bem_adhesion_{name}.part.json"
     if part.exists():  # resume: keep every (surface, work) already solved
         out = json.loads(part.read_text())
-        if out["grid"] == n and len(out["elastic_area"]) >= n_surf:
-            out["seeds"] = list(range(n_surf))
-            return _solve_paths(name, out, n_surf, n, rho, h_rms, loads)
+        if out["grid"] == n:
+            _extend_elastic(name, out, n_surf, n, comp)
+            _add_works(out, only or ())
+            return _solve_paths(name, out, n_surf, n, rho, h_rms, loads, only)
     out = {"H": H, "grid": n, "seeds": list(range(n_surf)), "works": []}
     elastic = []
     for seed in range(n_surf):
@@ -250,22 +295,29 @@ def run_spectrum(name: str, n_surf: int, n: int) -> dict[str, Any]:
         entry: dict[str, Any] = {"tabor": mu, "work_J_m2": work_si, "paths": [], "area": []}
         entry["pull_off_Pa"] = []
         out["works"].append(entry)
-    return _solve_paths(name, out, n_surf, n, rho, h_rms, loads)
+    return _solve_paths(name, out, n_surf, n, rho, h_rms, loads, only)
 
 
 def _solve_paths(
-    name: str, out: dict[str, Any], n_surf: int, n: int, rho: float, h_rms: float, loads: Any
+    name: str,
+    out: dict[str, Any],
+    n_surf: int,
+    n: int,
+    rho: float,
+    h_rms: float,
+    loads: Any,
+    only: tuple[float, ...] | None = None,
 ) -> dict[str, Any]:
     """The adhesive paths not yet in ``out`` (seeds outer: a partial run has every work)."""
     H = out["H"]
     for seed in range(n_surf):
         surf = surface(H, seed, n)
         for entry in out["works"]:
-            if len(entry["paths"]) > seed:
+            if len(entry["paths"]) != seed or (only and entry["tabor"] not in only):
                 continue
             t0 = time.process_time()
             work = entry["work_J_m2"] / (E_STAR * L_CELL)
-            path = adhesive_path(surf, work, rho, h_rms)
+            path = adhesive_path(surf, work, rho, h_rms, deep=entry["tabor"] > STRONG)
             area, pull = branch_area(path["retract"], loads)
             entry["paths"].append(path)
             entry["area"].append([None if math.isnan(x) else float(x) for x in area])
@@ -301,11 +353,32 @@ def provenance(n: int) -> dict[str, Any]:
         "tabor_targets": list(TABOR_TARGETS),
         "loads_over_Estar_hprime": list(LOADS),
         "approach_gaps_over_h_rms": list(APPROACH),
+        "approach_deep_gaps_over_h_rms": f"{list(APPROACH_DEEP)} for tabor > {STRONG:g}, until "
+        "the mean stress exceeds the largest load",
         "retract_steps_over_h_rms": f"{RETRACT_FINE[1]} x {RETRACT_FINE[0]}, then {RETRACT_STEP}",
         "contact": "gap == 0 (adhesive, gap control); traction > 0 (non-adhesive, load control)",
         "reference_branch": "retraction, stable part up to the most tensile mean stress",
         "command": "python benchmarks/bem_adhesion.py",
     }
+
+
+def ratio_se(adh: np.ndarray, el: np.ndarray) -> np.ndarray:
+    """Standard error of the ratio of means ``R = mean(adh)/mean(el)`` per load [1].
+
+    ``adh``, ``el``: (n_surfaces, n_load) areas of the same surfaces with and without adhesion.
+    Delta method for a ratio estimator: ``se^2 = var(adh - R el) / (n mean(el)^2)`` with the
+    sample variance (n - 1), per load over the surfaces with a value there (the others are
+    NaN: load not on their retraction branch); NaN with fewer than two.
+    """
+    out = np.full(adh.shape[1], np.nan)
+    for j in range(adh.shape[1]):
+        ok = np.isfinite(adh[:, j])
+        n = int(ok.sum())
+        if n >= 2:
+            r = adh[ok, j].mean() / el[ok, j].mean()
+            resid = adh[ok, j] - r * el[ok, j]
+            out[j] = math.sqrt(resid.var(ddof=1) / n) / el[ok, j].mean()
+    return out
 
 
 def summarise(data: dict[str, Any]) -> dict[str, Any]:
@@ -324,6 +397,8 @@ def summarise(data: dict[str, Any]) -> dict[str, Any]:
             comp = np.array(LOADS) > 0
             ratio = np.full(len(LOADS), np.nan)
             ratio[comp] = mean[comp] / el.mean(axis=0)
+            se = np.full(len(LOADS), np.nan)
+            se[comp] = ratio_se(a[:, comp], el)
             rows.append(
                 {
                     "tabor": entry["tabor"],
@@ -331,6 +406,7 @@ def summarise(data: dict[str, Any]) -> dict[str, Any]:
                     "area": [None if math.isnan(x) else float(x) for x in mean],
                     "n_surfaces": [int(c) for c in count],
                     "ratio": [None if math.isnan(x) else float(x) for x in ratio],
+                    "ratio_se": [None if math.isnan(x) else float(x) for x in se],
                     "pull_off_Pa": float(np.mean(entry["pull_off_Pa"])),
                 }
             )
@@ -442,6 +518,9 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--grid", type=int, default=256)
     ap.add_argument("--grid-check", action="store_true")
     ap.add_argument("--merge", action="store_true")
+    ap.add_argument(
+        "--tabor", type=float, nargs="*", default=None, help="only these targets (new: added)"
+    )
     args = ap.parse_args(argv)
     RESULTS.mkdir(exist_ok=True)
     if args.grid_check:
@@ -451,7 +530,8 @@ def main(argv: list[str] | None = None) -> None:
         merge()
         return
     for name in [args.spectrum] if args.spectrum else list(SPECTRA):
-        part = run_spectrum(name, args.surfaces, args.grid)
+        only = tuple(args.tabor) if args.tabor else None
+        part = run_spectrum(name, args.surfaces, args.grid, only)
         (RESULTS / f"bem_adhesion_{name}.part.json").write_text(json.dumps(part))
     merge()
 

@@ -15,7 +15,7 @@ from xpersson.physics import SelfAffineRollOff, diffusion_time
 from xpersson.scene import SceneError
 from xpersson_adhesion import AdhesionLimitWarning, AdhesiveBoundary
 from xpersson_adhesion._meanfield import MeanField, attraction_curve
-from xpersson_adhesion.adhesive import EXPECTED_FACTOR, regime_of
+from xpersson_adhesion.adhesive import ATTRACTION_SCALE, EXPECTED_FACTOR, regime_of
 from xpersson_adhesion.dmt import _curve_grid
 
 # The BEM referee's H = 0.8 scene (benchmarks/bem_adhesion.py): L = 100 um, q_1/q_L = 32,
@@ -98,31 +98,38 @@ def test_root_and_table_identities():
         p_rep = mf.root(p0)
         assert abs(p_rep - float(mf(np.array([p_rep]))[0]) - p0) < 1e-9 * max(p_rep, 1.0)
     # the PCHIP table against direct evaluation between its nodes
-    mid = np.sqrt(mf.p[10:30] * mf.p[11:31])
+    mid = np.sqrt(mf.p[:-1] * mf.p[1:])
+    mid = mid[(mid > 4e-4 * mf.scale) & (mid < mf.scale)]  # light loads to A = erf(1/2)
     direct = mf._evaluate(mid)
     np.testing.assert_allclose(mf(mid), direct, rtol=2e-3, atol=1e-6 * float(direct.max()))
 
 
-def test_adhesive_is_the_dmt_mean_field(solve):
-    """Same law, same gap distribution: the tabulated model reproduces dmt's p_att."""
+def test_adhesive_is_the_scaled_dmt_mean_field(solve):
+    """Same law, same gap distribution: adhesive's p_att is ATTRACTION_SCALE x dmt's curve."""
     b = adhesive(WORKS[1])
     dmt = {**b, "model": "dmt", "law": "exponential"}
     a = quiet(solve, scene(b, [1e3]))
     d = quiet(solve, scene(dmt, [1e3]))
-    np.testing.assert_allclose(a["p_att"].values, d["p_att"].values, rtol=2e-3)
-    np.testing.assert_allclose(
-        a["area_fraction"].isel(zeta=-1).values, d["area_fraction"].isel(zeta=-1).values, rtol=2e-3
-    )
+    mf = table(WORKS[1])  # the unscaled curve
+    for ds, scale in ((a, ATTRACTION_SCALE), (d, 1.0)):
+        p_rep = ds["p_rep"].values
+        np.testing.assert_allclose(ds["p_att"].values, scale * mf(p_rep), rtol=2e-3)
+        np.testing.assert_allclose(p_rep - ds["p_att"].values, 1e3, rtol=1e-6)
+    assert 0.5 < ATTRACTION_SCALE < 1.0
+    assert a["area_fraction"].values[0, -1] < d["area_fraction"].values[0, -1]
 
 
 def test_pull_off_bounds_the_tensile_loads(solve):
-    ds = quiet(solve, scene(adhesive(WORKS[1]), [1e3]))
+    ds = quiet(solve, scene(adhesive(WORKS[2]), [1e3]))
     pull = float(ds["pull_off_stress"])
-    assert pull > 0 and float(ds["small_load_ratio"]) > 1  # sticky
-    held = quiet(solve, scene(adhesive(WORKS[1]), [-0.9 * pull]))
+    assert pull > 0 and float(ds["small_load_ratio"]) > 1  # sticky (mu_T = 1.6)
+    held = quiet(solve, scene(adhesive(WORKS[2]), [-0.9 * pull]))
     assert held["area_fraction"].isel(zeta=-1).values[0] > 0
     with pytest.raises(SceneError, match=r"load.p0 = .* Pa is beyond pull-off.*allowed range"):
-        quiet(solve, scene(adhesive(WORKS[1]), [-1.02 * pull]))
+        quiet(solve, scene(adhesive(WORKS[2]), [-1.02 * pull]))
+    # mu_T = 1: the scaled mean field is just below its stickiness (k0 = 0.94 = 0.85 x 1.11)
+    mid = quiet(solve, scene(adhesive(WORKS[1]), [1e3]))
+    assert 0.9 < float(mid["small_load_ratio"]) < 1
     # below the mean field's stickiness: the finite-size floor, the highest summit in DMT
     # contact (radius 1/kappa_rms) over the nominal area (2 pi/q_L)^2
     w = WORKS[0] / 4
@@ -179,26 +186,24 @@ def test_bad_input(solve):
 
 @pytest.mark.skipif(not BEM_JSON.exists(), reason="BEM reference file absent")
 def test_against_the_bem_reference_numbers(solve):
-    """A(w)/A(0) against the stored BEM references (H = 0.8, three works).
-
-    The must-show factor is 2; the stored comparison (docs/adhesion_bem.md) misses it at the
-    lightest loads at mu_T = 1 (2.2-2.5x; single surfaces' own ratios differ by 2x there), so
-    the regression bound is 2.5.
-    """
+    """A(w)/A(0) against the stored BEM references (H = 0.8, Tabor 0.6-1.6): within the
+    must-show factor 2 at every compressive load (docs/adhesion_bem.md: worst 1.7x)."""
     bem = json.loads(BEM_JSON.read_text())
     meta = bem["provenance"]
     loads = np.array(meta["loads_over_Estar_hprime"]) * meta["E_star_Pa"] * meta["rms_slope"]
-    comp = np.where(loads > 0)[0][::2]  # a fast subset of the compressive loads
+    comp = np.where(loads > 0)[0]
     el = solve(scene({"model": "elastic"}, list(loads[comp])))
     el_area = el["area_fraction"].isel(zeta=-1).values
-    for row in bem["table"]["H08"]["works"]:
+    rows = [r for r in bem["table"]["H08"]["works"] if r["tabor"] <= 2.0]  # verified range
+    assert len(rows) == 3
+    for row in rows:
         ds = quiet(solve, scene(adhesive(row["work_J_m2"]), list(loads[comp])))
         ratio = ds["area_fraction"].isel(zeta=-1).values / el_area
         ref = np.array([row["ratio"][i] for i in comp], dtype=float)
         ok = np.isfinite(ref)
-        assert ok.sum() >= 2
+        assert ok.sum() >= 4
         factor = np.maximum(ratio[ok] / ref[ok], ref[ok] / ratio[ok])
-        assert np.all(factor < 2.5), (row["tabor"], ratio, ref)
+        assert np.all(factor < 2.0), (row["tabor"], ratio, ref)
         if row["pull_off_Pa"] > 0:  # the BEM holds tension: a non-zero pull-off
             pull = float(ds["pull_off_stress"])
             assert pull > 0

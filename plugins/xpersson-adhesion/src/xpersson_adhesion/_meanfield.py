@@ -31,9 +31,14 @@ from ._traction import attraction, max_traction
 __all__ = ["attraction_curve", "MeanField", "Summit"]
 
 Array = NDArray[np.float64]
-#: Nodes of the table per decade of p_rep, and its span below sqrt(tau_max) [decades].
+#: Nodes of the table per decade of p_rep, and its span below sqrt(tau_max) [decades]
+#: (4 decades: contact fractions down to ~6e-5; below, ``k`` is held constant).
 PER_DECADE = 6
-SPAN_BELOW = 5.0
+SPAN_BELOW = 4.0
+#: Light loads for the stickiness ratio: ``LIGHT[0] <= p_rep / sqrt(tau_max) <= LIGHT[1]``
+#: (contact fractions 0.06-0.6 %: the plateau of ``k``; below, the closed-form gap
+#: distribution's ``k`` wanders by tens of percent with the magnification grid).
+LIGHT = (1e-3, 1e-2)
 
 
 def attraction_curve(
@@ -85,7 +90,7 @@ class MeanField:
         Pressure scale of the contact, ``sqrt(tau(zeta_max))`` [Pa] (the table spans
         ``scale 10^-SPAN_BELOW`` to ``p_hi``).
     p_hi : float
-        Largest repulsive pressure needed [Pa] (``max(p0) + max traction`` bounds every root).
+        Largest repulsive pressure needed [Pa] besides ``10 scale`` (:func:`p_hi_of`).
     """
 
     def __init__(self, evaluate: Callable[[Array], Array], scale: float, p_hi: float) -> None:
@@ -111,8 +116,14 @@ class MeanField:
 
     @property
     def small_load_ratio(self) -> float:
-        """``k0 = p_att/p_rep`` in the small-load limit [1]; > 1: sticky (tension held)."""
-        return float(self.k[0])
+        """``k0``: the largest ``p_att/p_rep`` at light loads [1]; > 1: sticky (tension held).
+
+        Light loads: the table's nodes with ``p_rep / sqrt(tau_max)`` in :data:`LIGHT`
+        (contact area 0.06-0.6 %), where ``k`` has its plateau.
+        """
+        x = self.p / self.scale
+        light = (x >= LIGHT[0]) & (x <= LIGHT[1])
+        return float(np.max(self.k[light])) if np.any(light) else float(self.k[0])
 
     def pull_off(self) -> float:
         """Pull-off stress [Pa]: ``-min (p - p_att(p))`` over the table, or 0."""
@@ -153,8 +164,17 @@ class MeanField:
 
 
 def p_hi_of(loads: ArrayLike, law: str, work: float, rng: float) -> float:
-    """Upper end of the table [Pa]: every root lies below ``max(p0, 0) + max traction``."""
-    return float(max(np.max(np.asarray(loads, dtype=float)), 0.0)) + max_traction(law, work, rng)
+    """Upper end of the table [Pa] beside its floor ``10 sqrt(tau_max)`` (:class:`MeanField`).
+
+    Above ``p_rep = 10 sqrt(tau_max)`` the gaps cover ``erfc(5) = 1.5e-12`` of the nominal
+    area, so ``p_att <= erfc(5) T`` (``T`` the law's maximum traction) and every root there lies
+    below ``max(p0, 0) + erfc(5) T``. (Bounding by ``p0 + T`` instead made the table span
+    ``T`` = 100 MPa for a 0.5 nm range: twice the nodes for nothing.)
+    """
+    from scipy.special import erfc
+
+    top = float(max(np.max(np.asarray(loads, dtype=float)), 0.0))
+    return top + float(erfc(5.0)) * max_traction(law, work, rng)
 
 
 class Summit:
