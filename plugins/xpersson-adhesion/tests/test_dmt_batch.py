@@ -99,3 +99,30 @@ def test_unconverged_octaves_fall_back_to_brent_on_the_exact_map(monkeypatch):
     assert np.all(slow["dmt_residual"].values <= RTOL)
     # Brent's evaluations on top of the scan and the (unconverged) degree-64 nodes
     assert np.all(slow["dmt_iterations"].values > fast["dmt_iterations"].values)
+
+
+def test_tensile_loads_just_inside_pull_off_are_solved_just_outside_refused():
+    """Near pull-off ``h(p) = p - p_att(p)`` dips below ``p0`` only between two powers of two
+    (the scan's nodes): such a load has a root and must be solved, not refused. The pull-off
+    stress ``-min h`` is taken from a dense independent sampling of the exact map."""
+    from xpersson_adhesion._dmt_batch import AttractionMap
+    from xpersson_adhesion.dmt import _curve_grid, _increasing
+
+    zeta = _solve(with_(BASE, boundary=_dmt("exponential")))["zeta"].values
+    curves = tuple(
+        _increasing(z, diffusion_time(PSD, E_STAR, z))
+        for z in (_curve_grid(zeta), _curve_grid(zeta, per_decade=16))
+    )
+    amap = AttractionMap(PSD, E_STAR, curves, "exponential", 0.005, 2e-9, 1e-8)
+    p = np.geomspace(1e2, 1e7, 801)
+    h = p - amap.exact(p)[0]
+    i = int(np.argmin(h))
+    fine = np.geomspace(p[max(i - 1, 0)], p[min(i + 1, p.size - 1)], 401)
+    pull_off = -float(np.min(fine - amap.exact(fine)[0]))
+    assert pull_off > 0
+    inside = -0.995 * pull_off
+    ds = _solve(with_(BASE, boundary=_dmt("exponential"), load={"p0": f"{inside} Pa"}))
+    p_rep = float(ds["p_rep"].values)
+    assert abs(p_rep - float(amap.exact(np.array([p_rep]))[0][0]) - inside) <= 1e-6 * p_rep
+    with pytest.raises(ValueError, match="pull-off"):
+        _solve(with_(BASE, boundary=_dmt("exponential"), load={"p0": f"{-1.005 * pull_off} Pa"}))

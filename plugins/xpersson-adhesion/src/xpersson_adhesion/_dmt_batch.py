@@ -40,6 +40,8 @@ Array = NDArray[np.float64]
 NMAX = 64
 #: Lowest octave scanned below the first power of two above the largest root (halvings).
 SCAN_DEPTH = 66
+#: Octave of a tensile load whose scan found no sign change on the powers of two.
+LOST = -(1 << 40)
 #: Pressures evaluated per vectorised call (bounds the memory of the quadrature).
 CHUNK = 8
 
@@ -131,8 +133,8 @@ class AttractionMap:
         Raises
         ------
         ValueError
-            A tensile load beyond pull-off (no sign change within :data:`SCAN_DEPTH` octaves;
-            a compressive load's scan ends at ``p0``).
+        Tensile loads without a sign change within :data:`SCAN_DEPTH` octaves get octave
+        :data:`LOST` (a compressive load's scan ends at ``p0``).
         """
         peak = max_traction(self.law, self.work, self.rng)
         top = np.array([math.ceil(math.log2(max(q, 0.0) + peak)) for q in p0])
@@ -140,9 +142,14 @@ class AttractionMap:
         used: list[set[tuple[int, int]]] = [set() for _ in p0]
         todo = list(range(p0.size))
         while todo:
-            for i in todo:
-                if p0[i] <= 0 and top[i] - k[i] > SCAN_DEPTH:  # compressive: ends at p0
-                    raise ValueError(_beyond(p0[i], self.law, self.work, self.rng))
+            # tensile, no sign change on the powers of two (compressive: the scan ends at p0);
+            # the root may still lie between two of them: see near_pull_off
+            lost = {i for i in todo if p0[i] <= 0 and top[i] - k[i] > SCAN_DEPTH}
+            for i in lost:
+                k[i] = LOST
+            todo = [i for i in todo if i not in lost]
+            if not todo:
+                break
             # two octaves per round and load, all loads' pressures in one call
             self.fill(
                 [(int(k[i]) - d, NMAX) for i in todo for d in (0, 1) if 2.0 ** (k[i] - d) > p0[i]]
@@ -246,6 +253,47 @@ def root_in_octave(p_att: Callable[[float], float], p0: float, k: int, rtol: flo
     return float(brentq(g, lo, hi, xtol=1e-300, rtol=max(rtol, 4 * np.finfo(float).eps)))
 
 
+def near_pull_off(amap: AttractionMap, p0: float) -> float:
+    """The largest root ``p_rep`` [Pa] of a tensile ``p0`` [Pa] whose scan found no sign change
+    on the powers of two: near pull-off, ``h(p) = p - p_att(p)`` dips below ``p0`` only between
+    two of them. ``h`` is minimised (bounded Brent in ``ln p``, exact map) around the scanned
+    power of two with the least ``h``; below ``p0`` there, the root is bracketed between the
+    minimum and the next power of two above it, where ``h > p0`` (scanned).
+
+    Raises
+    ------
+    ValueError
+        ``min h >= p0``: the load is beyond pull-off (the message gives ``-min h``, the
+        pull-off stress this search found).
+    """
+    from scipy.optimize import minimize_scalar
+
+    def h(p: float) -> float:
+        return p - float(amap.exact(np.array([p]))[0][0])
+
+    scanned = [k for (k, j) in amap.values if j == NMAX]
+    k_min = min(scanned, key=lambda k: 2.0**k - amap.values[(k, NMAX)])
+    lo, hi = math.log(2.0 ** (k_min - 1)), math.log(2.0 ** (k_min + 1))
+    res = minimize_scalar(
+        lambda x: h(math.exp(x)), bounds=(lo, hi), method="bounded", options={"xatol": 1e-4}
+    )
+    p_min, h_min = math.exp(float(res.x)), float(res.fun)
+    if not h_min < p0:
+        raise ValueError(
+            _beyond(p0, amap.law, amap.work, amap.rng) + f" (pull-off about {-h_min:.4g} Pa)"
+        )
+    top = math.exp(hi)
+    return float(
+        brentq(
+            lambda p: h(p) - p0,
+            p_min,
+            top,
+            xtol=1e-300,
+            rtol=max(amap.rtol, 4 * np.finfo(float).eps),
+        )
+    )
+
+
 def _beyond(p0: float, law: str, work: float, rng: float) -> str:
     return (
         f"load.p0 = {p0:g} Pa is beyond the DMT pull-off: no repulsive pressure "
@@ -278,12 +326,24 @@ def solve_loads(amap: AttractionMap, p0: Array) -> dict[str, Array]:
         p_rep, cost = p0.copy(), np.zeros(p0.size, dtype=np.int64)
     else:
         k, used = amap.octaves(p0)
-        cheb = amap.interpolant([int(x) for x in k])
+        lost = k == LOST
+        cheb = amap.interpolant([int(x) for x in k[~lost]])
         cost = np.array(
-            [len(u | amap.nodes(int(ki))) for u, ki in zip(used, k, strict=True)], dtype=np.int64
+            [
+                len(u if ki == LOST else u | amap.nodes(int(ki)))
+                for u, ki in zip(used, k, strict=True)
+            ],
+            dtype=np.int64,
         )
         p_rep, slope = np.full(p0.size, np.nan), np.full(p0.size, np.nan)
+        for i in np.nonzero(lost)[0]:
+            n0 = amap.evaluations
+            p_rep[i] = near_pull_off(amap, float(p0[i]))  # Brent on the exact map
+            slope[i] = np.inf  # no interpolant: the root is exact, not checked again
+            cost[i] += amap.evaluations - n0
         for i, (q, ki) in enumerate(zip(p0, k, strict=True)):
+            if lost[i]:
+                continue
             f = cheb[int(ki)]
             if f is not None:
                 p_rep[i] = root_in_octave(f, q, int(ki), amap.rtol)
