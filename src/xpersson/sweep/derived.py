@@ -19,8 +19,7 @@ from collections.abc import Callable
 from typing import Any
 
 from ..checks import plugin_label
-from ..scene import SceneError, plugin_message
-from ..scene._convert import convert_param, jsonable
+from ..scene import SceneError, convert_param, plugin_message
 from . import batched
 from .plan import SweepPlan
 
@@ -88,8 +87,8 @@ def derived_region(
         spec = type(getattr(rs0, section)).parameters[key]
         got = {}
         for i in range(start[d], stop[d]):
-            si = convert_param(spec, p.scene_value(i), p.path)
-            got[i] = (si, jsonable({key: si}, {key: spec}).get(key))
+            entry = p.scene_value(i)  # what the point's scene holds, as it archives it
+            got[i] = (convert_param(spec, entry, p.path), entry)
         values[p.path] = got
     ranges = [range(a, b) for a, b in zip(start, stop, strict=True)]
     out = []
