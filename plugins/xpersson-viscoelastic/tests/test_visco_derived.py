@@ -67,3 +67,21 @@ def test_bad_temperature_names_point_parameter_unit_and_range(monkeypatch, enabl
     assert msg.startswith("sweep point coefficient.velocity = 0.0001")
     assert "coefficient.temperature: 150 K is outside the range of the WLF law" in msg
     assert "allowed (T_ref - C2, inf) = (178.4, inf) K" in msg
+
+
+def test_stacked_stieltjes_weights_equal_the_per_grid_weights():
+    from xpersson_viscoelastic._stencil import stacked_weights
+    from xpersson_viscoelastic.kernel import _cubic_weights, stieltjes_increments
+
+    rng = np.random.default_rng(3)
+    grids = [np.sort(rng.uniform(-5, 5, n)) for n in (3, 4, 17, 60)]
+    got = stacked_weights(grids)
+    assert got[0] is None
+    for x, w in zip(grids[1:], got[1:], strict=True):
+        W, start = _cubic_weights(tuple(float(v) for v in x))
+        np.testing.assert_array_equal(w[1], start)
+        np.testing.assert_allclose(w[0], W, rtol=1e-13, atol=0)
+        g, L = rng.uniform(0, 1, (2, x.size)), np.cumsum(rng.uniform(0, 1, x.size))
+        np.testing.assert_allclose(
+            stieltjes_increments(g, L, x, w), stieltjes_increments(g, L, x), rtol=1e-13, atol=0
+        )
