@@ -279,7 +279,8 @@ def _analyses(
             )
         return cache[k]
 
-    for name, analysis in rs0.analyses:
+    last = len(rs0.analyses) - 1
+    for i, (name, analysis) in enumerate(rs0.analyses):
         label = rs0.labels[f"analyses.{name}"]
         with checks.calling(label, "compute_stacked()"):
             got = analysis.compute_stacked(ctx_of, sds)
@@ -291,7 +292,8 @@ def _analyses(
             if POINT in da.dims:
                 da = da.transpose(POINT, ...)
             out[vname] = (da.dims, np.asarray(da.values))
-            sds[vname] = xr.Variable(da.dims, np.asarray(da.values))
+            if i < last:  # the next analyses may read it
+                sds[vname] = xr.Variable(da.dims, out[vname][1])
 
 
 def rows_of(

@@ -29,6 +29,7 @@ from ..scene import SceneError
 from .batched import SweepPoints, batch_capable, material_dims, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
 from .combine import finish
+from .derived import derived_region
 from .folder import Transaction
 from .parts import part_name
 from .plan import SweepPlan
@@ -36,15 +37,36 @@ from .plan import SweepPlan
 __all__ = ["solve_sweep", "resolve_points", "check_size"]
 
 
+def _where(plan: SweepPlan, index: tuple[int, ...]) -> str:
+    """A point's swept values, for messages."""
+    return ", ".join(
+        f"{g[0].path} = {g[0].values[i]:g}" for g, i in zip(plan.groups, index, strict=True)
+    )
+
+
 def _resolve_index(plan: SweepPlan, index: tuple[int, ...], registry: Any) -> Any:
     """Resolve one point; a :class:`SceneError` names the point's swept values."""
     try:
         return plan.point_scene(index).resolve(registry)
     except SceneError as exc:
-        where = ", ".join(
-            f"{g[0].path} = {g[0].values[i]:g}" for g, i in zip(plan.groups, index, strict=True)
-        )
-        raise SceneError(f"sweep point {where}: {exc}") from None
+        raise SceneError(f"sweep point {_where(plan, index)}: {exc}") from None
+
+
+def _region(plan: SweepPlan, start: tuple[int, ...], stop: tuple[int, ...], registry: Any) -> Any:
+    """The resolved points of a region: one resolve per non-material combination
+    (:func:`.batched.resolved_region`), one per region where the swept parameters are declared
+    batched (:func:`.derived.derived_region`), or ``None`` (resolve every point)."""
+    region = resolved_region(plan.groups, start, stop, lambda i: _resolve_index(plan, i, registry))
+    if region is not None:
+        return region
+    return derived_region(
+        plan,
+        start,
+        stop,
+        lambda i: _resolve_index(plan, i, registry),
+        lambda i: _where(plan, i),
+        registry,
+    )
 
 
 _GRID_CHANGES = (
@@ -57,9 +79,7 @@ _GRID_CHANGES = (
 def resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
     """Resolve every point before any work (bad input fails here, naming the point)."""
     registry = registry or get_registry()
-    points: Any = resolved_region(
-        plan.groups, (0,) * len(plan.shape), plan.shape, lambda i: _resolve_index(plan, i, registry)
-    )
+    points: Any = _region(plan, (0,) * len(plan.shape), plan.shape, registry)
     if points is None:
         points = [_resolve_index(plan, index, registry) for index in plan.indices()]
     summary = _summary(points)
@@ -94,9 +114,7 @@ def _summary(points: list[Any]) -> tuple[np.ndarray | None, tuple[float, float] 
 def _resolve_block(plan: SweepPlan, block: Block, registry: Any) -> list[Any]:
     """Resolve the points of one block (a worker's task), in C order."""
     registry = registry or get_registry()
-    region = resolved_region(
-        plan.groups, block.start, block.stop, lambda i: _resolve_index(plan, i, registry)
-    )
+    region = _region(plan, block.start, block.stop, registry)
     if region is not None:
         return region
     ranges = (range(a, b) for a, b in zip(block.start, block.stop, strict=True))

@@ -203,6 +203,8 @@ def finalize(ds: xr.Dataset, constant: dict[str, list[str]], attrs: dict[str, An
 
     The kept value is the one of any solved point (failed points hold NaN and are skipped).
     """
+    new_coords: dict[str, xr.DataArray] = {}
+    new_vars: dict[str, xr.DataArray] = {}
     for name, dims in constant.items():
         if name not in ds.variables:
             continue
@@ -218,10 +220,11 @@ def finalize(ds: xr.Dataset, constant: dict[str, list[str]], attrs: dict[str, An
         else:
             reduced = var.isel({d: 0 for d in dims}, drop=True)
         reduced.attrs = dict(var.attrs)
-        if name in ds.coords:
-            ds = ds.assign_coords({name: reduced})
-        else:
-            ds[name] = reduced
+        (new_coords if name in ds.coords else new_vars)[name] = reduced
+    if new_coords:
+        ds = ds.assign_coords(new_coords)
+    if new_vars:  # one merge for all of them (in place of a merge per variable)
+        ds.update(new_vars)
     ds.attrs = dict(attrs)
     return ds
 

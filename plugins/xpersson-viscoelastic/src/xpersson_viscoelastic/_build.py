@@ -3,6 +3,7 @@ parameters (split from :mod:`.coefficient`)."""
 
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -48,7 +49,15 @@ def build_model(p: dict[str, Any]) -> ModulusModel:
         raise ValueError(
             f"E_g: {p['E_g']:g} Pa is below E_r = {p['E_r']:g} Pa; allowed [E_r, inf) Pa"
         )
-    return synthetic_tread(p["E_r"], p["E_g"])
+    return _synthetic(float(p["E_r"]), float(p["E_g"]))
+
+
+@lru_cache(maxsize=64)
+def _synthetic(E_r: float, E_g: float) -> Prony:
+    """The synthetic tread default between ``E_r`` and ``E_g`` [Pa], built once per pair (a
+    sweep over speed and temperature builds one coefficient per point; the model is immutable
+    and shared)."""
+    return synthetic_tread(E_r, E_g)
 
 
 def build_shift(p: dict[str, Any]) -> ShiftLaw:

@@ -60,6 +60,17 @@ def _ratio(b: Array) -> Array:
     return out
 
 
+def _small_ratio(b: Array) -> Array:
+    """:func:`_ratio` where every ``b <= 1e150`` (no overflow check: the same arithmetic)."""
+    s = b * b
+    s += 1.0
+    np.sqrt(s, out=s)
+    den = s + 1.0
+    den *= s
+    np.divide(b, den, out=den)
+    return den
+
+
 def u_of_b(b: ArrayLike) -> Array:
     """``u(b) = 1 - (1 + b^2)^(-1/2)`` without cancellation (``b >= 0``, may be ``inf``)."""
     b = np.asarray(b, dtype=float)
@@ -164,12 +175,16 @@ class Prony(ModulusModel):
         return self.parts(w)[0]
 
     def parts(self, w: ArrayLike) -> tuple[Array, Array]:
-        b = np.asarray(w, dtype=float)[..., None] * self.tau
-        r = _ratio(b)  # u(b) / b
+        w = np.asarray(w, dtype=float)
+        b = w[..., None] * self.tau
+        # every b = w tau_k <= max(w) max(tau) (rounding is monotone): one check on w only
+        small = w.size > 0 and float(np.max(w)) * float(self.tau.max()) <= 1e150
+        small = small and float(np.min(w)) > -np.inf  # (nan fails the first test)
+        r = _small_ratio(b) if small else _ratio(b)  # u(b) / b
         loss = (2.0 * np.pi) * (r @ self.delta_E)
         with np.errstate(invalid="ignore"):
             r *= b  # u(b) (b = inf gives nan here: u = 1)
-        if np.isinf(b).any():
+        if not small and np.isinf(b).any():
             r[np.isinf(b)] = 1.0
         excess = 2.0 * (r @ (self.delta_E * self._c))
         return excess, loss

@@ -41,6 +41,7 @@ __all__ = [
     "dense_loss",
     "area_at",
     "running_integral",
+    "dense_x",
 ]
 
 Array = NDArray[np.float64]
@@ -142,13 +143,21 @@ def dense_loss(ctx: Any, zeta: Array, L: Array, zd: Array) -> Array:
     return _smooth(zeta, np.asarray(L, dtype=float), zd)
 
 
-def running_integral(g: Array, L: Array, zd: Array) -> Array:
+def running_integral(
+    g: Array, L: Array, zd: Array, weights: tuple[Array, Array] | None = None
+) -> Array:
     """Running ``int_1^zeta g dL`` on the dense grid ``zd`` (``zd[0] = 1``), last axis.
 
     The first interval ``[1, zd[1]]`` (where ``g ~ 1`` and ``L`` is linear) by the trapezoid,
-    the rest by :func:`~xpersson_viscoelastic.kernel.stieltjes_increments` in ``ln(zeta - 1)``.
+    the rest by :func:`~xpersson_viscoelastic.kernel.stieltjes_increments` in ``ln(zeta - 1)``
+    (``weights``: its cubic weights on that grid, computed already for a block of grids).
     """
     first = 0.5 * (g[..., :1] + g[..., 1:2]) * (L[..., 1:2] - L[..., :1])
-    rest = stieltjes_increments(g[..., 1:], L[..., 1:], np.log(zd[1:] - 1.0))
+    rest = stieltjes_increments(g[..., 1:], L[..., 1:], dense_x(zd), weights)
     inc = np.concatenate([first, rest], axis=-1)
     return np.concatenate([np.zeros(g.shape[:-1] + (1,)), np.cumsum(inc, axis=-1)], axis=-1)
+
+
+def dense_x(zd: Array) -> Array:
+    """The grid ``ln(zeta - 1)`` of :func:`running_integral`'s cubic rule on ``zd``."""
+    return np.log(zd[1:] - 1.0)

@@ -28,6 +28,7 @@ from xpersson.physics import closure_S
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
 from . import _resolve
+from ._stencil import stacked_weights
 from .kernel import friction_integral, stieltjes_increments
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -207,6 +208,7 @@ class Friction(Analysis):
             zd, idx = _resolve.dense_grid(zeta[: top + 1], G[k][:, : top + 1][loads])
             plans.append((k, loads, top, zd, idx))
         dense = _dense_integrals(ctx_of, redo, [plan[3] for plan in plans])
+        weights = stacked_weights([_resolve.dense_x(plan[3]) for plan in plans])  # one call
         mu_cum = np.array(out["mu_visc_cumulative"].transpose(*zp).values, dtype=float)
         for r, (k, loads, top, zd, idx) in enumerate(plans):
             ctx, zk = ctx_of(k), zeta[: top + 1]
@@ -224,7 +226,8 @@ class Friction(Analysis):
                 if self._params["correction"] == "s_factor"
                 else 1.0
             )
-            run = _resolve.running_integral(gd, Ld, zd)[:, idx] / (2.0 * p0[loads][:, None])
+            run = _resolve.running_integral(gd, Ld, zd, weights[r])[:, idx]
+            run /= 2.0 * p0[loads][:, None]
             vals = mu_cum[k]
             beyond = vals[loads, top + 1 :] - vals[loads, top : top + 1]  # the output-grid rule
             vals[loads] = np.concatenate([run, run[:, -1:] + beyond], axis=-1)

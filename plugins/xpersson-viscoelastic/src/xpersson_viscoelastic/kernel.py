@@ -39,6 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 from xpersson.physics import area_fraction, closure_S, effective_ratio
 
 from ._modulus import ModulusModel
+from ._stencil import interval_weights
 
 __all__ = [
     "panel_edges",
@@ -313,38 +314,21 @@ def friction_integral(increments: ArrayLike, p0: ArrayLike) -> Array:
     return np.cumsum(inc, axis=-1) / (2.0 * p0[..., None])
 
 
-_GL3 = np.polynomial.legendre.leggauss(3)  # 3-point Gauss-Legendre (once, not per grid)
-
-
 @lru_cache(maxsize=32)
 def _cubic_weights(x: tuple[float, ...]) -> tuple[Array, Array]:
     """Per-interval weights ``W[i, a, b] = int_{x_i}^{x_i+1} l_a(x) l_b'(x) dx`` of the
-    4-point Lagrange basis of the stencil ``s_i .. s_i + 3`` (``s_i = clip(i - 1, 0, n - 4)``).
-
-    The integrand is a polynomial of degree 5: 3-point Gauss-Legendre on each interval is
-    exact. Vectorised over the intervals (dense grids of a few hundred points in microseconds).
+    4-point Lagrange basis of the stencil ``s_i .. s_i + 3`` (``s_i = clip(i - 1, 0, n - 4)``)
+    (:func:`._stencil.interval_weights`; dense grids of a few hundred points in microseconds).
     """
     xs = np.asarray(x)
     n = xs.size
     start = np.clip(np.arange(n - 1) - 1, 0, n - 4)
-    h = np.diff(xs)
-    S = xs[start[:, None] + np.arange(4)] - xs[:-1, None]  # stencil, shifted: (n - 1, 4)
-    tg, wg = _GL3
-    d = (0.5 * h[:, None] * (tg + 1.0))[:, :, None] - S[:, None, :]  # t - s_m: (n - 1, 3, 4)
-    val = np.empty_like(d)
-    der = np.zeros_like(d)
-    for a in range(4):
-        others = [m for m in range(4) if m != a]
-        denom = np.prod(S[:, a, None] - S[:, others], axis=-1)[:, None]  # (n - 1, 1)
-        val[..., a] = np.prod(d[..., others], axis=-1) / denom
-        for m in others:
-            rest = [k for k in others if k != m]
-            der[..., a] += np.prod(d[..., rest], axis=-1) / denom
-    W = np.einsum("ig,iga,igb->iab", 0.5 * h[:, None] * wg, val, der)
-    return W, start
+    return interval_weights(xs, np.arange(n - 1), start), start
 
 
-def stieltjes_increments(g: ArrayLike, L: ArrayLike, x: ArrayLike) -> Array:
+def stieltjes_increments(
+    g: ArrayLike, L: ArrayLike, x: ArrayLike, weights: tuple[Array, Array] | None = None
+) -> Array:
     """``int_{x_i}^{x_{i+1}} g dL`` per interval, from values on a grid ``x`` (last axis).
 
     ``g`` and ``L`` are both interpolated by cubics in ``x`` (4-point stencils; fourth order
@@ -361,6 +345,8 @@ def stieltjes_increments(g: ArrayLike, L: ArrayLike, x: ArrayLike) -> Array:
         Cumulative measure (e.g. the loss integral [Pa]).
     x : array_like, (n,)
         Strictly increasing grid (e.g. ``ln zeta``).
+    weights : tuple, optional
+        ``(W, start)`` of ``x`` computed already (:func:`._stencil.stacked_weights`).
     """
     g = np.asarray(g, dtype=float)
     L = np.asarray(L, dtype=float)
@@ -368,7 +354,7 @@ def stieltjes_increments(g: ArrayLike, L: ArrayLike, x: ArrayLike) -> Array:
     trap = 0.5 * (g[..., 1:] + g[..., :-1]) * np.diff(L, axis=-1)
     if xs.size < 4:
         return trap
-    W, start = _cubic_weights(tuple(float(v) for v in xs))
+    W, start = weights or _cubic_weights(tuple(float(v) for v in xs))
     idx = start[:, None] + np.arange(4)  # (n - 1, 4)
     cubic = np.einsum("...ia,iab,...ib->...i", g[..., idx], W, L[..., idx])
     return np.where((cubic < 0) & (trap >= 0), trap, cubic)

@@ -1,0 +1,136 @@
+"""Sweep points derived from one resolved point (issue 25: stacked sweeps resolved per block).
+
+Where every swept parameter is a parameter of the scene's ``coefficient`` or ``boundary`` that
+its plugin declares :attr:`~xpersson.plugins.Plugin.batched`, the points of a region differ
+from its first point only in those plugins' parameters. Only that first point is resolved in
+full (scene checks, spectrum, grids, provenance); the swept values are converted and
+range-checked once per value (as a point's resolution converts them), and every other point is
+the first with new plugin instances built from the merged parameters (the plugin's own
+``__init__`` checks run per point, so a bad combination fails here, before any work, with the
+message point-by-point resolution gives: the point's swept values, the section and parameter,
+its unit and allowed range).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+from collections.abc import Callable
+from typing import Any
+
+from ..checks import plugin_label
+from ..scene import SceneError, convert_param, plugin_message
+from . import batched
+from .plan import SweepPlan
+
+__all__ = ["derived_region"]
+
+#: The scene sections whose swept parameters may be derived (one plugin instance per point).
+SECTIONS = ("coefficient", "boundary")
+
+
+def _swept(plan: SweepPlan) -> list[tuple[int, Any, str, str]] | None:
+    """``(dimension, param, section, key)`` of every swept parameter, or ``None`` when one is
+    not a coefficient or boundary parameter."""
+    out = []
+    for d, group in enumerate(plan.groups):
+        for p in group:
+            section, _, key = p.path.partition(".")
+            if section not in SECTIONS or not key or "." in key:
+                return None
+            out.append((d, p, section, key))
+    return out
+
+
+def _declared(rs: Any, swept: list[tuple[int, Any, str, str]]) -> bool:
+    """Whether each swept parameter is declared ``batched`` by its plugin's own class."""
+    for _, _, section, key in swept:
+        declared = vars(type(getattr(rs, section))).get("batched") or frozenset()
+        if key not in declared:
+            return False
+    return True
+
+
+def derived_region(
+    plan: SweepPlan,
+    start: tuple[int, ...],
+    stop: tuple[int, ...],
+    resolve: Callable[[tuple[int, ...]], Any],
+    where: Callable[[tuple[int, ...]], str],
+    registry: Any,
+) -> list[Any] | None:
+    """The resolved points of the region ``start:stop`` (C order) from one resolved point, or
+    ``None`` where the sweep's parameters are not all declared batched (resolve each point).
+
+    Parameters
+    ----------
+    plan : SweepPlan
+        The sweep.
+    start, stop : tuple of int
+        The region (the whole plan or one block).
+    resolve : callable
+        ``resolve(index)`` resolves the point at a global index (raising its SceneError).
+    where : callable
+        ``where(index)`` names a point's swept values for messages.
+    registry : Registry
+        The plugin registry (labels of the derived plugins).
+    """
+    swept = _swept(plan)
+    if not batched.ENABLED or swept is None or plan.size < 2:
+        return None
+    rs0 = resolve(tuple(start))
+    if not _declared(rs0, swept):
+        return None
+    # each swept value converted once, as a point's resolution converts it (SI value, archive)
+    values: dict[str, dict[int, tuple[Any, Any]]] = {}
+    for d, p, section, key in swept:
+        spec = type(getattr(rs0, section)).parameters[key]
+        got = {}
+        for i in range(start[d], stop[d]):
+            entry = p.scene_value(i)  # what the point's scene holds, as it archives it
+            got[i] = (convert_param(spec, entry, p.path), entry)
+        values[p.path] = got
+    ranges = [range(a, b) for a, b in zip(start, stop, strict=True)]
+    out = []
+    for index in itertools.product(*ranges):
+        if index == tuple(start):
+            out.append(rs0)
+            continue
+        changes: dict[str, dict[str, tuple[Any, Any]]] = {}
+        for d, p, section, key in swept:
+            changes.setdefault(section, {})[key] = values[p.path][index[d]]
+        try:
+            out.append(_derive(rs0, changes, registry))
+        except SceneError as exc:
+            raise SceneError(f"sweep point {where(index)}: {exc}") from None
+    return out
+
+
+def _derive(rs0: Any, changes: dict[str, dict[str, tuple[Any, Any]]], registry: Any) -> Any:
+    """``rs0`` with the plugins of ``changes`` (section -> key -> (SI value, archived value))
+    rebuilt; the analyses' scene checks run again against them."""
+    plugins = {s: getattr(rs0, s) for s in SECTIONS}
+    resolved = dict(rs0.resolved)
+    labels = dict(rs0.labels)
+    for section, new in changes.items():
+        cls = type(plugins[section])
+        params = {**plugins[section].params, **{k: v[0] for k, v in new.items()}}
+        try:
+            plugins[section] = cls(**params)
+        except (ValueError, TypeError) as exc:
+            raise SceneError(plugin_message(section, cls, exc)) from None
+        resolved[section] = {**resolved[section], **{k: v[1] for k, v in new.items()}}
+        labels[section] = plugin_label(
+            section, plugins[section], registry, rs0.plugin_names[section]
+        )
+    names = rs0.plugin_names
+    for name, inst in rs0.analyses:
+        try:
+            inst.check_scene(plugins["coefficient"], plugins["boundary"])
+        except (ValueError, TypeError) as exc:
+            msg = plugin_message(f"analyses.{name}", type(inst), exc)
+            raise SceneError(
+                f"{msg} (scene: boundary {names['boundary']!r}, "
+                f"coefficient {names['coefficient']!r})"
+            ) from None
+    return dataclasses.replace(rs0, **plugins, resolved=resolved, labels=labels)
