@@ -412,13 +412,9 @@ _SUB_ORDER = 6
 def _sub_panels(
     psd: object, qa: NDArray[np.float64], V: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Gauss-Legendre nodes and weights in ``s`` (``q = q_a exp(V s^2)``), per element of ``qa``.
-
-    The graded edges ``_SUB_EDGES`` plus the PSD breakpoints above ``q_a`` (kinks of ``C``, e.g.
-    the roll-off ``q_r``): a rule across a kink converges only to first order, which made the
-    mean gap of a cut-off inside the plateau 5-7 % low. Breakpoints outside ``(q_a, q_hi)`` give
-    panels of zero width (zero weight).
-    """
+    """Gauss nodes, weights in ``s`` (``q = q_a exp(V s^2)``) per ``qa``: ``_SUB_EDGES`` plus the
+    PSD's kinks above ``q_a`` (across the roll-off the mean gap was 5-7 % low); kinks outside
+    ``(q_a, q_hi)`` give zero-width panels."""
     nodes = np.asarray(psd.nodes(), dtype=float)  # type: ignore[attr-defined]
     with np.errstate(divide="ignore", invalid="ignore"):
         sk = np.sqrt(np.clip(np.log(nodes / qa[..., None]) / V[..., None], 0.0, 1.0))
