@@ -406,7 +406,6 @@ def _loads(p0: ArrayLike, n_load: int) -> NDArray[np.float64]:
 
 # -- sub-problems at magnification zeta -----------------------------------------------------------
 _SUB_EDGES = np.concatenate(([0.0], 0.4 ** np.arange(9, -1, -1)))
-_SUB_ORDER = 6
 
 
 def _sub_panels(
@@ -421,9 +420,8 @@ def _sub_panels(
     sk = np.where(V[..., None] > 0.0, sk, 0.0)
     base = np.broadcast_to(_SUB_EDGES, qa.shape + _SUB_EDGES.shape)
     edges = np.sort(np.concatenate((base, sk), axis=-1), axis=-1)
-    x, w = _gauss(_SUB_ORDER)
-    a, b = edges[..., :-1, None], edges[..., 1:, None]
-    flat = qa.shape + (-1,)
+    x, w = _gauss(6)
+    a, b, flat = edges[..., :-1, None], edges[..., 1:, None], qa.shape + (-1,)
     return (a + (b - a) * x).reshape(flat), ((b - a) * w).reshape(flat)
 
 
