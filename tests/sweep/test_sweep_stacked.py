@@ -11,7 +11,7 @@ from xpersson_sweep_testlib import scene
 import xpersson
 from xpersson.builtin.elastic import ElasticBoundary
 from xpersson.pipeline import stacked
-from xpersson.sweep import batched
+from xpersson.sweep import batched, blocks
 from xpersson.testing import registry_with
 
 SPECTRUM_SCENE = scene(
@@ -27,15 +27,22 @@ H_E_SCENE = scene(
 
 
 def _counted(monkeypatch) -> list[int]:
-    """Count the stacked runs (and the points they solve)."""
+    """Count the stacked runs (and the points they solve); a run whose result the sweep does
+    not use (the block solved point by point after it) is recorded as ``-1``."""
     calls: list[int] = []
-    run = stacked.run_stacked
+    run, point_run = stacked.run_stacked, blocks.run
 
     def counting(points):
         calls.append(len(points))
         return run(points)
 
+    def fallback(*args, **kw):
+        if batched.ENABLED:  # not the reference solve of the point-by-point path
+            calls.append(-1)
+        return point_run(*args, **kw)
+
     monkeypatch.setattr(stacked, "run_stacked", counting)
+    monkeypatch.setattr(blocks, "run", fallback)
     return calls
 
 
@@ -90,7 +97,7 @@ def test_undeclared_plugin_is_not_stacked(monkeypatch):
         ds = xpersson.solve(data)
         monkeypatch.setattr(batched, "ENABLED", False)
         point = xpersson.solve(data)
-    assert calls == []
+    assert calls == [-1, -1]  # no stacked run: both points solved one by one
     np.testing.assert_array_equal(ds.area_fraction.values, point.area_fraction.values)
 
 

@@ -23,6 +23,7 @@ import xarray as xr
 from .. import checks, plugins
 from ..scene import ResolvedScene
 from .assemble import assemble
+from .diagnostics import validity_flags
 from .frontend import diffusion_clock, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
 from .stages import _default_effective_tau, coefficient_arrays, load_walls, validate
@@ -189,7 +190,22 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
             out[name] = ((POINT, *da[0].dims), np.stack([d.values for d in da]))
     if rs0.analyses:
         _analyses(points, ctxs, walls, out, ds)
+    out["theory_validity"] = ((POINT, "p0"), _validity(out, K))
     return out
+
+
+def _validity(out: dict[str, Any], K: int) -> np.ndarray:
+    """``theory_validity`` (K, n_load) of the block, as
+    :func:`~xpersson.pipeline.diagnostics.theory_validity` gives each point."""
+    p0 = rows_of(out, "p0", ("p0",), K)
+    area = rows_of(out, "area_fraction", ("p0", "zeta"), K)[..., -1]
+    if "non_contact_fraction" in out:
+        non = rows_of(out, "non_contact_fraction", ("p0", "zeta"), K)[..., -1]
+    else:
+        non = 1.0 - area
+    slope = rows_of(out, "rms_slope", (), K)
+    e_star = float(np.asarray(out["E_star"][1]))
+    return validity_flags(p0, e_star, slope, area, non)
 
 
 class _Loads(Sequence[Any]):
