@@ -11,7 +11,7 @@ import pytest
 import xpersson
 from xpersson.physics import SelfAffineRollOff
 from xpersson.pipeline import stacked
-from xpersson.sweep import batched, blocks
+from xpersson.sweep import batched, blocks, fast
 from xpersson_viscoelastic import kernel, synthetic_tread
 from xpersson_viscoelastic._paired import cumulative_paired
 
@@ -45,8 +45,12 @@ def test_friction_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
     monkeypatch.setattr(stacked, "run_stacked", lambda pts: calls.append(len(pts)) or run(pts))
     point_run = blocks.run  # the point-by-point path of a block the stacked run did not solve
     monkeypatch.setattr(blocks, "run", lambda *a, **k: calls.append(-1) or point_run(*a, **k))
+    templates = []
+    template = fast._template
+    monkeypatch.setattr(fast, "_template", lambda *a: templates.append(1) or template(*a))
     batch = xpersson.solve(SCENE, chunk=chunk, **kw)
     assert sum(calls) == 8 and -1 not in calls  # every point solved stacked, the result used
+    assert len(templates) == 1  # one template point for every block of the sweep
     monkeypatch.setattr(batched, "ENABLED", False)
     point = xpersson.solve(SCENE, chunk=chunk, **kw)
     assert list(batch.variables) == list(point.variables)
