@@ -48,9 +48,18 @@ def test_friction_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
     templates = []
     template = fast._template
     monkeypatch.setattr(fast, "_template", lambda *a: templates.append(1) or template(*a))
+    rows = []
+    solve_rows = stacked._PointContexts.solve_rows
+    monkeypatch.setattr(
+        stacked._PointContexts,
+        "solve_rows",
+        lambda self, *a: rows.append(solve_rows(self, *a)) or rows[-1],
+    )
     batch = xpersson.solve(SCENE, chunk=chunk, **kw)
     assert sum(calls) == 8 and -1 not in calls  # every point solved stacked, the result used
     assert len(templates) == 1  # one template point for every block of the sweep
+    # the dense areas of a block: one engine call for all its (point, load) rows
+    assert len(rows) == len(calls) and all(r is not None and r.shape[0] >= 1 for r in rows)
     monkeypatch.setattr(batched, "ENABLED", False)
     point = xpersson.solve(SCENE, chunk=chunk, **kw)
     assert list(batch.variables) == list(point.variables)
