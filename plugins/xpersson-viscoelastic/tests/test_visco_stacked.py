@@ -69,3 +69,23 @@ def test_friction_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
         else:
             np.testing.assert_array_equal(batch[name].values, var.values)
     assert batch.mu_visc.dims == ("v", "T", "p0")
+
+
+def test_block_integrals_are_the_kernel_functions_bitwise():
+    from xpersson_viscoelastic._paired import block_integrals
+
+    psd = SelfAffineRollOff.from_h_rms(6e-5, 0.8, 600.0, 3000.0, 1e7)
+    model = synthetic_tread()
+    zeta, v, aT = np.geomspace(1, 1e4, 81), np.geomspace(1e-8, 1e2, 7), np.linspace(0.1, 9, 7)
+    got = block_integrals(psd, model, 0.5, zeta, v, aT, 4)
+    kw = {"panels_per_decade": 4}
+    np.testing.assert_array_equal(
+        got["tau"], kernel.diffusion_time(psd, model, 0.5, zeta, v, aT, **kw)
+    )
+    np.testing.assert_array_equal(
+        got["L"], kernel.loss_integral(psd, model, 0.5, zeta, v, aT, **kw)
+    )
+    np.testing.assert_array_equal(got["f"], kernel.coefficient_f(psd, model, 0.5, zeta, v, aT))
+    rms, loss = kernel.angular_averages(psd, model, 0.5, zeta, v, aT)
+    np.testing.assert_array_equal(got["rms"], rms)
+    np.testing.assert_array_equal(got["loss"], loss)

@@ -10,9 +10,9 @@ from numpy.typing import NDArray
 
 from ._modulus import ModulusModel
 from ._panels import grouped_sums, reduced_ok
-from .kernel import NODES, PANELS_PER_DECADE, panel_edges
+from .kernel import NODES, PANELS_PER_DECADE, _checked_nu, _cumulative_at, _w, panel_edges
 
-__all__ = ["cumulative_paired"]
+__all__ = ["cumulative_paired", "block_integrals"]
 
 Array = NDArray[np.float64]
 
@@ -71,3 +71,27 @@ def cumulative_paired(
         cum = np.concatenate([np.zeros((K, 1)), np.cumsum(panel, axis=-1)], axis=-1)
         out.append(np.take_along_axis(cum, idx, axis=-1))
     return out[0], out[1]
+
+
+def block_integrals(
+    psd: Any, model: ModulusModel, nu: float, zeta: Array, v: Array, aT: Array, ppd: int
+) -> dict[str, Array]:
+    """The output-grid arrays of a block of (v, T) points, each ``(K, n_zeta)``, from one
+    evaluation of the modulus on the q panels and one at the output scales: ``tau`` [Pa^2],
+    ``f`` [Pa^2], ``L`` [Pa], ``rms`` and ``loss`` [Pa]; each bitwise what
+    :func:`~xpersson_viscoelastic.kernel.diffusion_time`, ``coefficient_f``,
+    ``loss_integral`` and ``angular_averages`` give."""
+    f = _checked_nu(nu)
+    z = np.asarray(zeta, dtype=float)
+    q_L = float(psd.q_L)
+    exact = model.E_r**2 * np.asarray(psd.I3(z * q_L), dtype=float)
+    rest, cum_loss = _cumulative_at(psd, model, z, v, aT, "both", NODES, ppd)
+    q = z * q_L
+    mean_sq, loss = model.angular(_w(v, aT, q))
+    return {
+        "tau": (np.pi / 4.0) * (exact + rest) / (f * f),
+        "f": (np.pi / 4.0) * q_L * q**3 * np.asarray(psd.C(q)) * mean_sq / (f * f),
+        "L": cum_loss / f,
+        "rms": np.sqrt(mean_sq) / f,
+        "loss": loss / f,
+    }
