@@ -11,7 +11,7 @@ from xpersson_sweep_testlib import scene
 import xpersson
 from xpersson.builtin.elastic import ElasticBoundary
 from xpersson.pipeline import stacked
-from xpersson.sweep import batched
+from xpersson.sweep import batched, blocks
 from xpersson.testing import registry_with
 
 SPECTRUM_SCENE = scene(
@@ -27,15 +27,22 @@ H_E_SCENE = scene(
 
 
 def _counted(monkeypatch) -> list[int]:
-    """Count the stacked runs (and the points they solve)."""
+    """Count the stacked runs (and the points they solve); a run whose result the sweep does
+    not use (the block solved point by point after it) is recorded as ``-1``."""
     calls: list[int] = []
-    run = stacked.run_stacked
+    run, point_run = stacked.run_stacked, blocks.run
 
     def counting(points):
         calls.append(len(points))
         return run(points)
 
+    def fallback(*args, **kw):
+        if batched.ENABLED:  # not the reference solve of the point-by-point path
+            calls.append(-1)
+        return point_run(*args, **kw)
+
     monkeypatch.setattr(stacked, "run_stacked", counting)
+    monkeypatch.setattr(blocks, "run", fallback)
     return calls
 
 
@@ -90,7 +97,7 @@ def test_undeclared_plugin_is_not_stacked(monkeypatch):
         ds = xpersson.solve(data)
         monkeypatch.setattr(batched, "ENABLED", False)
         point = xpersson.solve(data)
-    assert calls == []
+    assert calls == [-1, -1]  # no stacked run: both points solved one by one
     np.testing.assert_array_equal(ds.area_fraction.values, point.area_fraction.values)
 
 
@@ -105,3 +112,31 @@ def test_points_differing_in_an_undeclared_parameter_are_not_stacked():
     assert "not declared batched" in stacked.stack_reason([a, b])
     assert stacked.stack_reason([a, d]) == "spectrum nodes"
     assert stacked.stack_reason([a]) == "one point"
+
+
+@pytest.mark.parametrize("failed", [False, True])
+def test_constant_dims_of_the_digests(failed):
+    """A variable is reduced along the dimensions its digests never change along (the
+    all-solved fast comparison and the per-row rule with failed points agree)."""
+    from types import SimpleNamespace
+
+    from xpersson.sweep.combine import _constant_dims
+
+    plan = SimpleNamespace(shape=(4, 3), dims=("v", "T"))
+    rng = np.random.default_rng(1)
+    by_v = rng.integers(0, 2**62, 4)
+    grids = {
+        "const": np.full((4, 3), 7, dtype=object),
+        "by_v": np.repeat(by_v[:, None], 3, axis=1).astype(object),
+        "both": rng.integers(0, 2**62, (4, 3)).astype(object),
+    }
+    if failed:
+        for g in grids.values():
+            g[1, 2] = None
+    results = []
+    for start, stop in (((0, 0), (2, 3)), ((2, 0), (4, 3))):
+        block = SimpleNamespace(start=start, stop=stop, shape=(2, 3))
+        digests = {n: list(g[start[0] : stop[0]].ravel()) for n, g in grids.items()}
+        results.append(SimpleNamespace(block=block, digests=digests))
+    got = _constant_dims(plan, results)
+    assert got == {"const": ["v", "T"], "by_v": ["T"]}

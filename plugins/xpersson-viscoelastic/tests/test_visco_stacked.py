@@ -11,7 +11,7 @@ import pytest
 import xpersson
 from xpersson.physics import SelfAffineRollOff
 from xpersson.pipeline import stacked
-from xpersson.sweep import batched
+from xpersson.sweep import batched, blocks, fast
 from xpersson_viscoelastic import kernel, synthetic_tread
 from xpersson_viscoelastic._paired import cumulative_paired
 
@@ -43,8 +43,23 @@ def test_friction_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
     calls = []
     run = stacked.run_stacked
     monkeypatch.setattr(stacked, "run_stacked", lambda pts: calls.append(len(pts)) or run(pts))
+    point_run = blocks.run  # the point-by-point path of a block the stacked run did not solve
+    monkeypatch.setattr(blocks, "run", lambda *a, **k: calls.append(-1) or point_run(*a, **k))
+    templates = []
+    template = fast._template
+    monkeypatch.setattr(fast, "_template", lambda *a: templates.append(1) or template(*a))
+    rows = []
+    solve_rows = stacked._PointContexts.solve_rows
+    monkeypatch.setattr(
+        stacked._PointContexts,
+        "solve_rows",
+        lambda self, *a: rows.append(solve_rows(self, *a)) or rows[-1],
+    )
     batch = xpersson.solve(SCENE, chunk=chunk, **kw)
-    assert sum(calls) == 8  # every point solved stacked
+    assert sum(calls) == 8 and -1 not in calls  # every point solved stacked, the result used
+    assert len(templates) == 1  # one template point for every block of the sweep
+    # the dense areas of a block: one engine call for all its (point, load) rows
+    assert len(rows) == len(calls) and all(r is not None and r.shape[0] >= 1 for r in rows)
     monkeypatch.setattr(batched, "ENABLED", False)
     point = xpersson.solve(SCENE, chunk=chunk, **kw)
     assert list(batch.variables) == list(point.variables)
@@ -54,3 +69,23 @@ def test_friction_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
         else:
             np.testing.assert_array_equal(batch[name].values, var.values)
     assert batch.mu_visc.dims == ("v", "T", "p0")
+
+
+def test_block_integrals_are_the_kernel_functions_bitwise():
+    from xpersson_viscoelastic._paired import block_integrals
+
+    psd = SelfAffineRollOff.from_h_rms(6e-5, 0.8, 600.0, 3000.0, 1e7)
+    model = synthetic_tread()
+    zeta, v, aT = np.geomspace(1, 1e4, 81), np.geomspace(1e-8, 1e2, 7), np.linspace(0.1, 9, 7)
+    got = block_integrals(psd, model, 0.5, zeta, v, aT, 4)
+    kw = {"panels_per_decade": 4}
+    np.testing.assert_array_equal(
+        got["tau"], kernel.diffusion_time(psd, model, 0.5, zeta, v, aT, **kw)
+    )
+    np.testing.assert_array_equal(
+        got["L"], kernel.loss_integral(psd, model, 0.5, zeta, v, aT, **kw)
+    )
+    np.testing.assert_array_equal(got["f"], kernel.coefficient_f(psd, model, 0.5, zeta, v, aT))
+    rms, loss = kernel.angular_averages(psd, model, 0.5, zeta, v, aT)
+    np.testing.assert_array_equal(got["rms"], rms)
+    np.testing.assert_array_equal(got["loss"], loss)

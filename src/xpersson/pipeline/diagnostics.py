@@ -28,6 +28,7 @@ __all__ = [
     "pdf_resolution",
     "regime_warnings",
     "theory_validity",
+    "validity_flags",
 ]
 
 P_RTOL = 1e-3
@@ -135,6 +136,22 @@ def regime_warnings(ds: Any) -> list[str]:
     return out
 
 
+def validity_flags(
+    p0: np.ndarray, e_star: float, rms_slope: Any, area: np.ndarray, non: np.ndarray
+) -> np.ndarray:
+    """The ``theory_validity`` bits (int8, shape of ``area``) of loads ``p0`` [Pa] with the
+    contact modulus ``e_star`` [Pa], the rms slope [1] (a scalar, or one per leading row of
+    ``area``) and the contact and non-contact fractions [1] at the finest magnification."""
+    area = np.asarray(area, float)
+    slope = np.asarray(rms_slope, float).reshape(np.shape(rms_slope) + (1,) * (area.ndim - 1))
+    flags = np.zeros(area.shape, np.int8)
+    flags |= np.where(np.asarray(p0, float) > e_star, 1, 0).astype(np.int8)
+    flags |= np.where(slope > SLOPE_LIMIT, 2, 0).astype(np.int8)
+    flags |= np.where(np.asarray(non, float) < 2.0**-53, 4, 0).astype(np.int8)
+    flags |= np.where(area < np.finfo(float).tiny, 8, 0).astype(np.int8)
+    return flags
+
+
 def theory_validity(ds: Any) -> None:
     """Add ``theory_validity(p0)`` to ``ds``: a CF bit field of :data:`VALIDITY_FLAGS`.
 
@@ -143,17 +160,14 @@ def theory_validity(ds: Any) -> None:
     """
     var = ds.variables
     p0 = np.atleast_1d(np.asarray(var["p0"].values, float))
-    flags = np.zeros(p0.size, np.int8)
-    flags |= np.where(p0 > float(var["E_star"].values), 1, 0).astype(np.int8)
-    if float(var["rms_slope"].values) > SLOPE_LIMIT:
-        flags |= np.int8(2)
     area = ds["area_fraction"].transpose("p0", "zeta").values[:, -1]
     if "non_contact_fraction" in ds:
         non = ds["non_contact_fraction"].transpose("p0", "zeta").values[:, -1]
     else:
         non = 1.0 - area
-    flags |= np.where(np.asarray(non, float) < 2.0**-53, 4, 0).astype(np.int8)
-    flags |= np.where(np.asarray(area, float) < np.finfo(float).tiny, 8, 0).astype(np.int8)
+    flags = validity_flags(
+        p0, float(var["E_star"].values), float(var["rms_slope"].values), area, non
+    )
     # a Variable on xarray's fast path: a (dims, data) tuple makes xarray probe for dask arrays,
     # which imports dask.array (~0.12 s) in a solve that has no use for it
     ds["theory_validity"] = xr.Variable(("p0",), flags, fastpath=True)

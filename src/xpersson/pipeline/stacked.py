@@ -23,6 +23,7 @@ import xarray as xr
 from .. import checks, plugins
 from ..scene import ResolvedScene
 from .assemble import assemble
+from .diagnostics import validity_flags
 from .frontend import diffusion_clock, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
 from .stages import _default_effective_tau, coefficient_arrays, load_walls, validate
@@ -189,7 +190,22 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
             out[name] = ((POINT, *da[0].dims), np.stack([d.values for d in da]))
     if rs0.analyses:
         _analyses(points, ctxs, walls, out, ds)
+    out["theory_validity"] = ((POINT, "p0"), _validity(out, K))
     return out
+
+
+def _validity(out: dict[str, Any], K: int) -> np.ndarray:
+    """``theory_validity`` (K, n_load) of the block, as
+    :func:`~xpersson.pipeline.diagnostics.theory_validity` gives each point."""
+    p0 = rows_of(out, "p0", ("p0",), K)
+    area = rows_of(out, "area_fraction", ("p0", "zeta"), K)[..., -1]
+    if "non_contact_fraction" in out:
+        non = rows_of(out, "non_contact_fraction", ("p0", "zeta"), K)[..., -1]
+    else:
+        non = 1.0 - area
+    slope = rows_of(out, "rms_slope", (), K)
+    e_star = float(np.asarray(out["E_star"][1]))
+    return validity_flags(p0, e_star, slope, area, non)
 
 
 class _Loads(Sequence[Any]):
@@ -266,19 +282,7 @@ def _analyses(
         if n not in coords
     }
     sds = xr.Dataset(data, coords=coords)
-    cache: dict[int, Any] = {}
-
-    def ctx_of(k: int) -> Any:
-        if k not in cache:
-            rs, ctx = points[k], ctxs[k]
-            cache[k] = dataclasses.replace(
-                ctx,
-                coefficient=rs.coefficient,
-                boundary=rs.boundary,
-                solve_at=make_solve_at(rs, ctx, [walls[k]] * rs.p0.size),
-            )
-        return cache[k]
-
+    ctx_of = _PointContexts(points, ctxs, walls)
     last = len(rs0.analyses) - 1
     for i, (name, analysis) in enumerate(rs0.analyses):
         label = rs0.labels[f"analyses.{name}"]
@@ -294,6 +298,51 @@ def _analyses(
             out[vname] = (da.dims, np.asarray(da.values))
             if i < last:  # the next analyses may read it
                 sds[vname] = xr.Variable(da.dims, out[vname][1])
+
+
+class _PointContexts:
+    """``ctx_of(k)``: point k's analysis context (with its ``solve_at``), built on first use;
+    :meth:`solve_rows` solves (point, load) rows of given ``tau`` in one engine call."""
+
+    def __init__(self, points: Sequence[ResolvedScene], ctxs: list[Any], walls: list[Any]):
+        self._points, self._ctxs, self._walls = points, ctxs, walls
+        self._cache: dict[int, Any] = {}
+
+    def __call__(self, k: int) -> Any:
+        if k not in self._cache:
+            rs, ctx = self._points[k], self._ctxs[k]
+            self._cache[k] = dataclasses.replace(
+                ctx,
+                coefficient=rs.coefficient,
+                boundary=rs.boundary,
+                solve_at=make_solve_at(rs, ctx, [self._walls[k]] * rs.p0.size),
+            )
+        return self._cache[k]
+
+    def solve_rows(self, point: np.ndarray, load: np.ndarray, tau: np.ndarray) -> Any:
+        """``A/A0`` (n_row, n_tau) of load ``load[i]`` of point ``point[i]`` at the diffusion
+        times ``tau[i]`` [Pa^2] (each row strictly increasing): what point k's
+        ``solve_at(zeta, loads, tau)`` gives each row, in one engine call. ``None`` where a
+        coefficient's effective tau differs per load (``solve_at`` then computes it)."""
+        from .. import engine
+
+        pts = [self._points[int(k)] for k in np.unique(point)]
+        if any(getattr(rs.coefficient, "tau_per_load", True) is not False for rs in pts):
+            return None
+        rs0 = self._points[0]
+        p0 = np.array([self._points[int(k)].p0[int(i)] for k, i in zip(point, load, strict=True)])
+        pairs = [self._walls[int(k)] for k in point]
+        shared = all(pair is pairs[0] for pair in pairs)
+        res = engine.solve_batch(
+            np.asarray(tau, float),
+            p0,
+            pairs[0] if shared else pairs,
+            rtol=rs0.rtol,
+            atol=rs0.atol,
+            method=rs0.method,
+            options=rs0.solver_options or None,
+        )
+        return np.asarray(res.area, float).reshape(len(p0), -1)
 
 
 def rows_of(

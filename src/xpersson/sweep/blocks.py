@@ -110,6 +110,7 @@ def run_block(
     quiet_warnings: bool = True,
     callback: Any = None,
     part_attrs: dict[str, Any] | None = None,
+    shared: dict[str, Any] | None = None,
 ) -> BlockResult:
     """Solve the points of a block and stack them (the task a worker runs).
 
@@ -129,11 +130,14 @@ def run_block(
         Called with no argument after each point (progress in the serial path).
     part_attrs : dict, optional
         The run identity stored in the part (see :func:`write_block_part`).
+    shared : dict, optional
+        Kept across the blocks of one serial in-memory sweep: the stacked path's template
+        point (see :func:`~xpersson.sweep.fast.stacked_block`).
     """
     if isinstance(points, SweepPoints):
         fast = similar_block(block, points, part, quiet_warnings, part_attrs)
     else:
-        fast = stacked_block(block, points, part, quiet_warnings, part_attrs)
+        fast = stacked_block(block, points, part, quiet_warnings, part_attrs, shared)
     if fast is not None:
         if callback is not None:
             for _ in range(block.size):

@@ -112,8 +112,13 @@ def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, lis
             if name in r.digests:
                 grid[sl] = np.array(r.digests[name], dtype=object).reshape(b.shape)
         dims = []
+        every = all(x is not None for x in grid.flat)  # every point solved: compare slices
         for d, dim in enumerate(plan.dims):
             if plan.shape[d] < 2:  # one value says nothing about a dependence: keep the dim
+                continue
+            if every:
+                if np.all(grid == np.take(grid, [0], axis=d)):
+                    dims.append(dim)
                 continue
             moved = np.moveaxis(grid, d, -1).reshape(-1, plan.shape[d])
             solved = [[x for x in row if x is not None] for row in moved]

@@ -392,7 +392,11 @@ def _execute(
     if client is None and scheduler != "threads":
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return [run_block(b, pts, registry, part, True, tick, attrs) for b, pts, part in tasks]
+            shared: dict[str, Any] = {}  # the stacked path's template, reused across blocks
+            return [
+                run_block(b, pts, registry, part, True, tick, attrs, shared)
+                for b, pts, part in tasks
+            ]
     if client is None:
         from concurrent.futures import ThreadPoolExecutor
 

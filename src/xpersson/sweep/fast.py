@@ -84,21 +84,45 @@ def similar_block(
     return _result(block, rows, template, solver, points[0].p0_scalar, part, part_attrs)
 
 
+def _shared_template(shared: dict[str, Any] | None, rs: Any) -> xr.Dataset | None:
+    """An earlier block's template where it serves this block's first point ``rs``: the two
+    points stack (same plugins, grids, loads and spectrum nodes; only declared parameters
+    differ), so coordinates, variables and their attributes agree."""
+    if not shared or "template" not in shared:
+        return None
+    rs0 = shared["point"]
+    if not np.array_equal(rs.p0, rs0.p0) or stacked.stack_reason([rs0, rs]) is not None:
+        return None
+    return shared["template"]
+
+
 def stacked_block(
     block: Block,
     points: list[Any],
     part: str | None,
     quiet_warnings: bool,
     part_attrs: dict[str, Any] | None = None,
+    shared: dict[str, Any] | None = None,
 ) -> BlockResult | None:
     """The block's points stacked in one run (:func:`xpersson.pipeline.stacked.run_stacked`),
     or ``None`` (point by point: a plugin without ``batched``, points that differ otherwise,
-    a load that did not meet its tolerance, a failure)."""
+    a load that did not meet its tolerance, a failure).
+
+    ``shared`` (a dict kept across the blocks of one in-memory sweep) holds the first
+    template: a later block whose points stack with it reuses it instead of solving its own
+    first point again (the sweep's Dataset takes its global attributes from the first block;
+    a block written as a part always solves its own).
+    """
     if not batched.ENABLED or stacked.stack_reason(points) is not None:
         return None
-    template = _template(points[0], block, quiet_warnings)
+    template = _shared_template(shared if part is None else None, points[0])
+    reused = template is not None
+    if template is None:
+        template = _template(points[0], block, quiet_warnings)
     if template is None:
         return None
+    if shared is not None and part is None and not reused:
+        shared.update(template=template, point=points[0])
     try:
         with warnings.catch_warnings():
             if quiet_warnings:
@@ -116,5 +140,5 @@ def stacked_block(
         if r.shape[1:] != want.shape:
             return None
         rows[n] = r.astype(want.dtype, copy=False)
-    solver = [json.loads(template.attrs["xpersson_solver"])]
+    solver = [] if reused else [json.loads(template.attrs["xpersson_solver"])]
     return _result(block, rows, template, solver, points[0].p0_scalar, part, part_attrs)

@@ -9,9 +9,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._modulus import ModulusModel
-from .kernel import NODES, PANELS_PER_DECADE, _nodes, panel_edges
+from ._panels import grouped_sums, reduced_ok
+from .kernel import NODES, PANELS_PER_DECADE, _checked_nu, _cumulative_at, _w, panel_edges
 
-__all__ = ["cumulative_paired"]
+__all__ = ["cumulative_paired", "block_integrals"]
 
 Array = NDArray[np.float64]
 
@@ -29,8 +30,8 @@ def cumulative_paired(
     own magnifications: row k of ``zeta`` (K, m) with ``v[k]``, ``aT[k]`` (K,). Returns the
     ``"tau"`` and the ``"loss"`` integrals, each (K, m), from one evaluation of the modulus.
 
-    Every row gets the panels :func:`_cumulative_at` gives it alone (its own edges; the rows'
-    panels padded with zero weights to one count), so each row equals that call. A row may
+    Every row gets the panels :func:`_cumulative_at` gives it alone (its own edges and node
+    counts; the rows' panels evaluated as one flat list), so each row equals that call. A row may
     end in repeats of its last magnification (padding of shorter grids).
     """
     z = np.asarray(zeta, dtype=float)
@@ -44,21 +45,53 @@ def cumulative_paired(
             qk = kinks / float(scale[k])
             e = np.unique(np.concatenate([e, qk[(qk > e[0]) & (qk < e[-1])]]))
         edges.append(e)
-    P = max(e.size for e in edges) - 1
-    qn = np.full((z.shape[0], max(P, 1), n), float(psd.q_L))  # padding: zero weights
-    wq = np.zeros_like(qn)
+    K = z.shape[0]
+    P = max(max(e.size for e in edges) - 1, 1)
+    rows = np.concatenate([np.full(max(e.size - 1, 0), k) for k, e in enumerate(edges)])
+    cols = np.concatenate([np.arange(max(e.size - 1, 0)) for e in edges])
+    lo = np.concatenate([e[:-1] for e in edges])
+    hi = np.concatenate([e[1:] for e in edges])
+
+    def sums(sel: NDArray[np.intp], qn: Array, wq: Array) -> Array:
+        base = qn**3 * np.asarray(psd.C(qn), dtype=float) * wq
+        excess, loss = model.parts(scale[rows[sel], None] * qn)  # excess_mean_sq, angular[1]
+        return np.stack([np.sum(excess * base, axis=-1), np.sum(loss * base, axis=-1)])
+
+    # every row's panels in one flat list (no padding), narrow ones at fewer nodes (_panels)
+    flat = grouped_sums(lo, hi, n, sums, reduced_ok(model, aT)) if lo.size else None
     idx = np.zeros(z.shape, dtype=int)
     for k, e in enumerate(edges):
         if e.size >= 2:
-            qk, wk = _nodes(e, n)[:2]
-            qn[k, : qk.shape[0]], wq[k, : qk.shape[0]] = qk, wk
             idx[k] = np.searchsorted(e, np.clip(q[k], e[0], e[-1]))
-    base = qn**3 * np.asarray(psd.C(qn), dtype=float) * wq
-    w = scale[:, None, None] * qn
-    excess, loss = model.parts(w)  # what excess_mean_sq and angular(w)[1] give
     out = []
-    for X in (excess, loss):
-        panel = np.sum(X * base, axis=-1)
-        cum = np.concatenate([np.zeros((z.shape[0], 1)), np.cumsum(panel, axis=-1)], axis=-1)
+    for which in range(2):
+        panel = np.zeros((K, P))
+        if flat is not None:
+            panel[rows, cols] = flat[which]
+        cum = np.concatenate([np.zeros((K, 1)), np.cumsum(panel, axis=-1)], axis=-1)
         out.append(np.take_along_axis(cum, idx, axis=-1))
     return out[0], out[1]
+
+
+def block_integrals(
+    psd: Any, model: ModulusModel, nu: float, zeta: Array, v: Array, aT: Array, ppd: int
+) -> dict[str, Array]:
+    """The output-grid arrays of a block of (v, T) points, each ``(K, n_zeta)``, from one
+    evaluation of the modulus on the q panels and one at the output scales: ``tau`` [Pa^2],
+    ``f`` [Pa^2], ``L`` [Pa], ``rms`` and ``loss`` [Pa]; each bitwise what
+    :func:`~xpersson_viscoelastic.kernel.diffusion_time`, ``coefficient_f``,
+    ``loss_integral`` and ``angular_averages`` give."""
+    f = _checked_nu(nu)
+    z = np.asarray(zeta, dtype=float)
+    q_L = float(psd.q_L)
+    exact = model.E_r**2 * np.asarray(psd.I3(z * q_L), dtype=float)
+    rest, cum_loss = _cumulative_at(psd, model, z, v, aT, "both", NODES, ppd)
+    q = z * q_L
+    mean_sq, loss = model.angular(_w(v, aT, q))
+    return {
+        "tau": (np.pi / 4.0) * (exact + rest) / (f * f),
+        "f": (np.pi / 4.0) * q_L * q**3 * np.asarray(psd.C(q)) * mean_sq / (f * f),
+        "L": cum_loss / f,
+        "rms": np.sqrt(mean_sq) / f,
+        "loss": loss / f,
+    }

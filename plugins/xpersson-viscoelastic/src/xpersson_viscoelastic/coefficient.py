@@ -20,7 +20,7 @@ from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 from . import kernel
 from ._build import build_model, build_shift
 from ._modulus import ModulusModel
-from ._paired import cumulative_paired
+from ._paired import block_integrals, cumulative_paired
 from ._shift import WLF_UNIVERSAL
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -343,12 +343,25 @@ class ViscoelasticCoefficient(Coefficient):
         call over the stacked speeds and shift factors."""
         if not self._one_call(ctxs, points):
             return super().tau_stacked(ctxs, points, zeta)
+        got = self._block(ctxs, points, zeta)
+        return got["tau"], got["f"]
+
+    def _block(
+        self, ctxs: Sequence[SceneContext], points: Sequence[Any], zeta: np.ndarray
+    ) -> dict[str, np.ndarray]:
+        """:func:`~xpersson_viscoelastic._paired.block_integrals` of a block (one call serves
+        ``tau_stacked`` and ``interpret_stacked`` of the same block: kept from the first to
+        the second)."""
         ctx = ctxs[0]
         v, aT = self._stacked_vT(points)
-        tau = kernel.diffusion_time(
-            ctx.psd, self._model, ctx.nu, zeta, v, aT, panels_per_decade=self._ppd(ctx)
-        )
-        return tau, kernel.coefficient_f(ctx.psd, self._model, ctx.nu, zeta, v, aT)
+        z = np.asarray(zeta, dtype=float)
+        key = (id(ctx.psd), ctx.nu, self._ppd(ctx), z.tobytes(), v.tobytes(), aT.tobytes())
+        last = self.__dict__.get("_last_block")
+        if last is None or last[0] != key:
+            got = block_integrals(ctx.psd, self._model, ctx.nu, z, v, aT, self._ppd(ctx))
+            last = (key, got, ctx.psd)  # the spectrum held: its id stays its own
+            self.__dict__["_last_block"] = last
+        return last[1]
 
     def dense_stacked(
         self, ctxs: Sequence[SceneContext], points: Sequence[Any], zeta: np.ndarray
@@ -377,10 +390,9 @@ class ViscoelasticCoefficient(Coefficient):
         ctx = ctxs[0]
         zeta = ctx.zeta
         v, aT = self._stacked_vT(points)
-        rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, v, aT)
-        L = kernel.loss_integral(
-            ctx.psd, self._model, ctx.nu, zeta, v, aT, panels_per_decade=self._ppd(ctx)
-        )
+        got = self._block(ctxs, points, zeta)
+        self.__dict__.pop("_last_block", None)  # its last reader: not kept (nor pickled)
+        rms, loss, L = got["rms"], got["loss"], got["L"]
         T0 = np.array([float(c._params["temperature"]) for c in points])
         n = len(points)
         out = {

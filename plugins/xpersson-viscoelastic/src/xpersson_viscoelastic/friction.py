@@ -210,6 +210,7 @@ class Friction(Analysis):
         dense = _dense_integrals(ctx_of, redo, [plan[3] for plan in plans])
         weights = stacked_weights([_resolve.dense_x(plan[3]) for plan in plans])  # one call
         mu_cum = np.array(out["mu_visc_cumulative"].transpose(*zp).values, dtype=float)
+        rows = _dense_rows(ctx_of, plans, dense)
         for r, (k, loads, top, zd, idx) in enumerate(plans):
             ctx, zk = ctx_of(k), zeta[: top + 1]
             if dense is None:
@@ -218,8 +219,11 @@ class Friction(Analysis):
                 )
                 Ld = _resolve.dense_loss(ctx, zk, L[k][: top + 1], zd)
             else:
-                got = ctx.solve_at(zd, loads, tau=dense[0][r, : zd.size])
-                Ad = np.asarray(got["area_fraction"], dtype=float).reshape(loads.size, -1)
+                if rows is None:
+                    got = ctx.solve_at(zd, loads, tau=dense[0][r, : zd.size])["area_fraction"]
+                else:
+                    got = rows[1][rows[0] == r, : zd.size]
+                Ad = np.asarray(got, dtype=float).reshape(loads.size, -1)
                 Ld = dense[1][r, : zd.size]
             gd = Ad * (
                 closure_S("yp08", Ad, self._params["gamma"])
@@ -320,3 +324,21 @@ def _dense_integrals(ctx_of: Any, points: list[int], grids: list[np.ndarray]) ->
     m = max(z.size for z in grids)
     Z = np.stack([np.concatenate([z, np.full(m - z.size, z[-1])]) for z in grids])
     return hook([ctx_of(k) for k in points], coefs, Z)
+
+
+def _dense_rows(ctx_of: Any, plans: list[Any], dense: Any) -> Any:
+    """``(plan index, A/A0)`` of every (point, load) the dense path solves, from one engine
+    call (``ctx_of.solve_rows`` of a stacked run), or ``None`` (each point's ``solve_at``).
+    Padded tau rows get a strictly increasing tail (the engine's requirement), not read."""
+    solve_rows = getattr(ctx_of, "solve_rows", None)
+    if dense is None or solve_rows is None:
+        return None
+    tau = np.array(dense[0], dtype=float)
+    for r, plan in enumerate(plans):
+        n = plan[3].size
+        tau[r, n:] = tau[r, n - 1] * (1.0 + 1e-12 * np.arange(1, tau.shape[1] - n + 1))
+    plan_of = np.concatenate([np.full(plan[1].size, r) for r, plan in enumerate(plans)])
+    point = np.array([plans[r][0] for r in plan_of])
+    load = np.concatenate([plan[1] for plan in plans])
+    got = solve_rows(point, load, tau[plan_of])
+    return None if got is None else (plan_of, got)

@@ -39,6 +39,7 @@ from numpy.typing import ArrayLike, NDArray
 from xpersson.physics import area_fraction, closure_S, effective_ratio
 
 from ._modulus import ModulusModel
+from ._panels import grouped_sums, reduced_ok
 from ._stencil import interval_weights
 
 __all__ = [
@@ -170,8 +171,12 @@ def _cumulative_at(
 ) -> Array:
     """int_{q_L}^{zeta q_L} q^3 C(q) X(q scale) dq at ``zeta``; shape ``scale.shape + zeta``.
 
-    ``X`` is ``mean_sq - E_r^2`` (``which="tau"``) or ``loss`` (``which="loss"``). ``zeta``
-    may have any shape (a scalar gives ``scale.shape``).
+    Panels narrower than the ``panels_per_decade`` grid (a dense ``zeta``) get the reduced
+    node counts of :mod:`~xpersson_viscoelastic._panels` (Prony models).
+
+    ``X`` is ``mean_sq - E_r^2`` (``which="tau"``) or ``loss`` (``which="loss"``); ``"both"``
+    gives the two stacked on a leading axis of 2. ``zeta`` may have any shape (a scalar gives
+    ``scale.shape``).
     """
     z = np.asarray(zeta, dtype=float)
     q = z * float(psd.q_L)
@@ -183,20 +188,23 @@ def _cumulative_at(
         qk = kinks / float(scale)
         qk = qk[(qk > edges[0]) & (qk < edges[-1])]
         edges = np.unique(np.concatenate([edges, qk]))
-    out_shape = scale.shape + z.shape
     if edges.size < 2:
-        return np.zeros(out_shape)
-    qn, wq, _, _ = _nodes(edges, n)
-    base = qn**3 * np.asarray(psd.C(qn), dtype=float) * wq  # (n_panel, n)
-    w = _w(v, aT, qn)  # (..., n_panel, n)
-    if which == "tau":
-        X = model.excess_mean_sq(w)
-    else:
-        X = model.angular(w)[1]
-    panel = np.sum(X * base, axis=-1)
-    cum = np.concatenate([np.zeros(scale.shape + (1,)), np.cumsum(panel, axis=-1)], axis=-1)
+        return np.zeros(((2,) if which == "both" else ()) + scale.shape + z.shape)
+
+    def sums(sel: Any, qn: Array, wq: Array) -> Array:
+        base = qn**3 * np.asarray(psd.C(qn), dtype=float) * wq  # (n_panel, n)
+        w = _w(v, aT, qn)  # (..., n_panel, n)
+        if which == "both":  # (excess, loss) from one pass: each what the single call gives
+            return np.stack([np.sum(X * base, axis=-1) for X in model.parts(w)])
+        X = model.excess_mean_sq(w) if which == "tau" else model.angular(w)[1]
+        return np.sum(X * base, axis=-1)
+
+    # narrow panels (dense grids) with fewer nodes where that stays at round-off (_panels)
+    panel = grouped_sums(edges[:-1], edges[1:], n, sums, reduced_ok(model, aT))
+    lead = panel.shape[:-1]  # scale.shape, (2,) + scale.shape for "both"
+    cum = np.concatenate([np.zeros(lead + (1,)), np.cumsum(panel, axis=-1)], axis=-1)
     idx = np.searchsorted(edges, np.clip(q, edges[0], edges[-1]))
-    return cum[..., idx].reshape(out_shape)
+    return cum[..., idx].reshape(lead + z.shape)
 
 
 def _checked_nu(nu: float) -> float:
