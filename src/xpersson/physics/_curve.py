@@ -382,9 +382,10 @@ class _Phi:
         val += v0
         log_tau1 = math.log(self.tau1)
         low = l2 < log_tau1
-        if low.any():
-            lin = phi1 * np.clip(_exp(np.minimum(l2, log_tau1)) / self.tau1, 0.0, 1.0)
-            val = np.where(low, lin, val)
+        if low.any():  # the linear first interval, evaluated where it applies only
+            r, c = np.nonzero(low)
+            lin = phi1[r, 0] * np.clip(_exp(l2[r, c]) / self.tau1, 0.0, 1.0)
+            val[r, c] = lin
         return val.reshape(shape)
 
     def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
