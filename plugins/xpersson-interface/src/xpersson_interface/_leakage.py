@@ -78,22 +78,22 @@ def _bruggeman_rows(
         lo = np.full(c.size, math.log(float(pos.min() if pos.size else 1.0)) - 60.0)
         hi = np.full(c.size, math.log(float(pos.max() if pos.size else 1.0)) + 60.0)
     x = 0.5 * (lo + hi)
-    active = np.ones(c.size, dtype=bool)  # a converged row keeps its value (as if solved alone)
+    act = np.arange(c.size)  # rows still iterating; a converged row keeps its value
     for _ in range(200):
-        s = np.exp(x)[:, None]
+        xa, la, ha, ma = x[act], lo[act], hi[act], m[act]
+        s = np.exp(xa)[:, None]
         with np.errstate(over="ignore"):
-            r = s_k / (s_k + s)  # in [0, 1]: (s_k - s)/(s_k + s) = 2r - 1, stable
-        f = -c + np.sum(m * (2.0 * r - 1.0), axis=1) + m_inf
-        df = -np.sum(m * 2.0 * r * (1.0 - r), axis=1)  # d f / d ln s  (< 0)
-        lo = np.where(f > 0, x, lo)
-        hi = np.where(f <= 0, x, hi)
-        xn = x - f / np.where(df < 0, df, -1.0)
-        bad = ~((xn > lo) & (xn < hi)) | ~(df < 0)
-        xn = np.where(bad, 0.5 * (lo + hi), xn)
-        done = np.abs(xn - x) <= rtol
-        x = np.where(active, xn, x)
-        active &= ~done
-        if not active.any():
+            r = s_k[act] / (s_k[act] + s)  # in [0, 1]: (s_k - s)/(s_k + s) = 2r - 1, stable
+        f = -c[act] + np.sum(ma * (2.0 * r - 1.0), axis=1) + m_inf[act]
+        df = -np.sum(ma * 2.0 * r * (1.0 - r), axis=1)  # d f / d ln s  (< 0)
+        la = np.where(f > 0, xa, la)
+        ha = np.where(f <= 0, xa, ha)
+        xn = xa - f / np.where(df < 0, df, -1.0)
+        bad = ~((xn > la) & (xn < ha)) | ~(df < 0)
+        xn = np.where(bad, 0.5 * (la + ha), xn)
+        x[act], lo[act], hi[act] = xn, la, ha
+        act = act[~(np.abs(xn - xa) <= rtol)]
+        if not act.size:
             break
     out[work] = np.exp(x)
     return out
