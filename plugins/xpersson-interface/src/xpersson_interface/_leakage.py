@@ -88,8 +88,11 @@ def _bruggeman_rows(
         df = -np.sum(ma * 2.0 * r * (1.0 - r), axis=1)  # d f / d ln s  (< 0)
         la = np.where(f > 0, xa, la)
         ha = np.where(f <= 0, xa, ha)
-        xn = xa - f / np.where(df < 0, df, -1.0)
-        bad = ~((xn > la) & (xn < ha)) | ~(df < 0)
+        step = f / np.where(df < 0, df, -1.0)
+        xn = xa - step
+        # a Newton step below rtol is converged even where it rounds onto the bracket's end
+        # (x itself): bisecting there instead halved the bracket down to rtol (30-40 steps)
+        bad = ~((xn > la) & (xn < ha) | (np.abs(step) <= rtol)) | ~(df < 0)
         xn = np.where(bad, 0.5 * (la + ha), xn)
         x[act], lo[act], hi[act] = xn, la, ha
         act = act[~(np.abs(xn - xa) <= rtol)]
