@@ -135,6 +135,11 @@ def bruggeman(contact: float, masses: ArrayLike, sigma: ArrayLike, *, rtol: floa
     )
 
 
+#: Bins of detached weight below this fraction of the load's largest are left out of the cell
+#: masses: their share of the Bruggeman sum is round-off (the conductance changes <= 1e-14 rel).
+NEGLIGIBLE = 1e-30
+
+
 def bruggeman_gap(
     det: Detachment,
     *,
@@ -149,7 +154,8 @@ def bruggeman_gap(
     ``sigma_eff = result / (12 eta)``. Cells geometric in ``u`` on ``[u_min h_rms, u_max]``
     carry the exact closed-form mass (analytic CDF, :func:`xpersson.physics.gap_cdf`) at their
     geometric-midpoint conductance; the mass below is one cell at half the first edge, the
-    mass beyond ``u_max`` one element of infinite conductance. All loads at once.
+    mass beyond ``u_max`` one element of infinite conductance. All loads at once; bins of
+    weight below :data:`NEGLIGIBLE` of the load's largest are left out (round-off).
 
     Parameters
     ----------
@@ -173,11 +179,11 @@ def bruggeman_gap(
         top = det.mean_gap + 10.0 * det.h_rms if u_max is None else np.full(det.p0.size, u_max)
         inner = np.geomspace(u_min * det.h_rms, top, n_u, axis=1)  # (n_load, n_u)
         edges = np.concatenate((np.zeros((det.p0.size, 1)), inner), axis=1)
-        cdf = gap_cdf(det, edges)
+        cdf = gap_cdf(det, edges, negligible=NEGLIGIBLE)
     else:
         umax = float(np.max(det.mean_gap)) + 10.0 * det.h_rms if u_max is None else u_max
         edges = np.concatenate(([0.0], np.geomspace(u_min * det.h_rms, umax, n_u)))
-        cdf = gap_cdf(det, edges)
+        cdf = gap_cdf(det, edges, negligible=NEGLIGIBLE)
     a = np.asarray(det.contact, dtype=float)
     m = np.diff(cdf, axis=1)
     m[:, 0] += cdf[:, 0]
