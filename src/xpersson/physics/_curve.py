@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
-from ._fastnum import _block, _exp, _row_spline
+from ._fastnum import _EXP_ZERO, _block, _exp, _row_spline
 
 _TINY = 1e-300
 _GL_ORDER = 6
@@ -397,10 +397,13 @@ class _Phi:
         val += v0
         log_tau1 = math.log(self.tau1)
         low = l2 < log_tau1
-        if low.any():  # the linear first interval, evaluated where it applies only
-            r, c = np.nonzero(low)
-            lin = phi1[r, 0] * np.clip(_exp(l2[r, c]) / self.tau1, 0.0, 1.0)
-            val[r, c] = lin
+        if low.any():  # the linear first interval; its exp where it applies only (as _exp)
+            t = np.zeros(l2.shape)
+            np.exp(l2, out=t, where=low & (l2 > _EXP_ZERO))
+            t /= self.tau1
+            np.clip(t, 0.0, 1.0, out=t)
+            t *= phi1
+            np.copyto(val, t, where=low)
         return val.reshape(shape)
 
     def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
