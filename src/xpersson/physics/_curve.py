@@ -481,19 +481,10 @@ def _sub_mean_gap(
         log_a2 = 2.0 * np.log(np.asarray(area_a, dtype=float))[..., None]
     n = phi.p0.size
     shape = (n,) + np.broadcast_shapes(log_tc.shape, log_a2.shape)[1:]
+    if where is not None:  # the selected (load, magnification) pairs only
+        return math.pi * _sub_pairs(phi, log_tc, log_a2, kern, shape, where)
     log_tc, log_a2 = np.broadcast_to(log_tc, shape), np.broadcast_to(log_a2, shape)
     kern = np.broadcast_to(kern, shape)
-    if where is not None:  # the selected (load, magnification) pairs only
-        ls, ks = np.nonzero(where)
-        out = np.zeros(shape[:-1])
-        step = _block(shape[-1])
-        for i in range(0, ls.size, step):
-            p = slice(i, i + step)
-            lp, kp = ls[p], ks[p]
-            vals = phi.at_log_tau_per_load(log_tc[lp, kp] + log_a2[lp, kp], lp)
-            vals *= kern[lp, kp]
-            out[lp, kp] = vals.sum(axis=-1)
-        return math.pi * out
     out = np.empty(shape[:-1])
     step = _block(math.prod(shape[1:]))
     for i in range(0, n, step):  # blocks of loads: the tensor's temporaries stay in cache
@@ -502,6 +493,38 @@ def _sub_mean_gap(
         vals *= kern[k]
         out[k] = vals.sum(axis=-1)
     return math.pi * out
+
+
+def _sub_pairs(
+    phi: _Phi,
+    log_tc: NDArray[np.float64],
+    log_a2: NDArray[np.float64],
+    kern: NDArray[np.float64],
+    shape: tuple[int, ...],
+    where: NDArray[np.bool_],
+) -> NDArray[np.float64]:
+    """The sums of :func:`_sub_mean_gap` (without its factor pi) at the ``where`` pairs only.
+
+    Magnification-only factors (a leading axis of 1) are gathered by magnification from the
+    small array, not through a broadcast view of every load (the same values, fewer bytes).
+    """
+    ls, ks = np.nonzero(where)
+    out = np.zeros(shape[:-1])
+    step = _block(shape[-1])
+
+    def gather(a: NDArray[np.float64], lp: NDArray, kp: NDArray) -> NDArray[np.float64]:
+        if a.shape[0] == 1:
+            a = a[0]
+            return a[kp] if a.shape[0] > 1 else np.broadcast_to(a[0], (kp.size, a.shape[-1]))
+        return np.broadcast_to(a, shape[:-1] + a.shape[-1:])[lp, kp]
+
+    for i in range(0, ls.size, step):
+        p = slice(i, i + step)
+        lp, kp = ls[p], ks[p]
+        vals = phi.at_log_tau_per_load(gather(log_tc, lp, kp) + gather(log_a2, lp, kp), lp)
+        vals *= gather(kern, lp, kp)
+        out[lp, kp] = vals.sum(axis=-1)
+    return out
 
 
 def _h2(psd: object, q: ArrayLike, q_hi: float) -> NDArray[np.float64]:
