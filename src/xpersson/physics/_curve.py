@@ -397,7 +397,9 @@ class _Phi:
         val += v0
         log_tau1 = math.log(self.tau1)
         low = l2 < log_tau1
-        if low.any():  # the linear first interval; its exp where it applies only (as _exp)
+        if not np.any(phi1):  # the linear first interval is 0 (every load in full contact
+            np.copyto(val, 0.0, where=low)  # at the first node: the dense grid's 1 + 1e-9)
+        elif low.any():  # the linear first interval; its exp where it applies only (as _exp)
             t = np.zeros(l2.shape)
             np.exp(l2, out=t, where=low & (l2 > _EXP_ZERO))
             t /= self.tau1
