@@ -107,11 +107,13 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
     """
     u = np.asarray(u, dtype=float)
     inv_h = 1.0 / np.maximum(det.h, _TINY)  # (n_bin,)
+    with np.errstate(over="ignore", invalid="ignore"):  # u / h per bin, gathered per pair
+        u_h = np.minimum(u[None, :] * inv_h[:, None], 1e150)  # (n_bin, n_u)
 
     def kernel(ls: NDArray, ks: NDArray) -> NDArray[np.float64]:
         with np.errstate(under="ignore", over="ignore", invalid="ignore"):
             a = np.minimum(det.u1[ls, ks] * inv_h[ks], 1e150)[:, None]  # (n_pair, 1), finite
-            b = np.minimum(u[None, :] * inv_h[ks, None], 1e150)  # (n_pair, n_u)
+            b = u_h[ks]  # (n_pair, n_u)
             d = b - a
             d *= d
             d *= -0.5
