@@ -264,50 +264,54 @@ class _Curve:
         if self._spl is None:
             yield slice(0, self.n_load), self.dF(xg)
             return
-        j0 = self._first_open()  # spline intervals before j0: 1 - F <= 1e-300 for every load
+        dead = self._y[:, 1:] <= math.log(_TINY)  # (n_load, n_node - 1): 1 - F clamped
+        j0 = _first_open(dead)  # spline intervals before j0: negligible for every load
         c = np.ascontiguousarray(np.moveaxis(self._spl.c[:, j0:], -1, 0))[..., None]
         d = xg[1 + j0 :] - self.x[1 + j0 : -1, None]  # local coordinate in spline interval
         step = _block(xg.size)
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
-            c0, c1, c2, c3 = (c[k, j] for j in range(4))  # (rows, n_int - 1 - j0, 1)
-            y = c0 * d
+            jb = _first_open(dead[k])  # this block's own (later) start
+            off = jb - j0
+            c0, c1, c2, c3 = (c[k, j, off:] for j in range(4))  # (rows, n_int - 1 - jb, 1)
+            db = d[off:]
+            y = c0 * db
             y += c1
-            y *= d
+            y *= db
             y += c2
-            y *= d
+            y *= db
             y += c3
             np.minimum(y, 0.0, out=y)
-            dy = 3.0 * c0 * d
+            dy = 3.0 * c0 * db
             dy += 2.0 * c1
-            dy *= d
+            dy *= db
             dy += c2
             np.maximum(dy, 0.0, out=dy)
             dy *= _exp(y)
             out = np.empty((dy.shape[0], *xg.shape))
             out[:, 0, :] = first[k]
-            out[:, 1 : 1 + j0, :] = 0.0
-            out[:, 1 + j0 :, :] = dy
+            out[:, 1 : 1 + jb, :] = 0.0
+            out[:, 1 + jb :, :] = dy
             yield k, out
-
-    def _first_open(self) -> int:
-        """First spline interval of ``ln(1 - F)`` whose ``-dF`` is not negligible for some load.
-
-        Near ``zeta = 1`` every load is in full contact (40 % of the dense grid on the README
-        spectrum): there ``1 - F`` is clamped at 1e-300 (``ln`` = -690.8) at the nodes, and
-        ``-dF`` in an interval whose own nodes and both neighbours are clamped is below
-        ``exp(-680)``, round-off against any Stieltjes sum (exactly 0 here, not computed).
-        """
-        dead = np.all(self._y[:, 1:] <= math.log(_TINY), axis=0)  # per spline node
-        pad = np.concatenate(([True], dead, [False]))  # interval j: nodes j-1 .. j+2
-        quiet = pad[:-3] & pad[1:-2] & pad[2:-1] & pad[3:]
-        return int(np.argmin(quiet))  # leading quiet intervals (the last is never quiet)
 
     def stieltjes_nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Gauss-Legendre nodes ``x`` (n_int, m) and weights (n_int, m) per interval."""
         t, w = _gauss(_GL_ORDER)
         a, b = self.x[:-1, None], self.x[1:, None]
         return a + (b - a) * t, (b - a) * w
+
+
+def _first_open(dead: NDArray[np.bool_]) -> int:
+    """First spline interval of ``ln(1 - F)`` whose ``-dF`` is not negligible for some row.
+
+    ``dead`` (n_row, n_node): ``1 - F`` clamped at 1e-300 (``ln`` = -690.8) at the spline's
+    nodes. Near ``zeta = 1`` every load is in full contact (and at high load far beyond):
+    ``-dF`` in an interval whose own nodes and both neighbours are clamped is below
+    ``exp(-680)``, round-off against any Stieltjes sum (exactly 0 here, not computed).
+    """
+    pad = np.concatenate(([True], np.all(dead, axis=0), [False]))  # interval j: nodes j-1..j+2
+    quiet = pad[:-3] & pad[1:-2] & pad[2:-1] & pad[3:]
+    return int(np.argmin(quiet))  # leading quiet intervals (the last is never quiet)
 
 
 def _q_max(psd: object, zeta: NDArray[np.float64]) -> float:
