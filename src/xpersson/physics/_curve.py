@@ -319,6 +319,10 @@ def _q_max(psd: object, zeta: NDArray[np.float64]) -> float:
 
 
 # -- mean gap -----------------------------------------------------------------------------------
+#: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
+_TABLE_MARGIN = 8
+
+
 class _Phi:
     """``Phi(G) = int_0^G sqrt(G') (-dF)`` per load as a spline in ``s = ln tau_c``."""
 
@@ -417,7 +421,15 @@ class _Phi:
         if getattr(self, "_tab", None) is None:
             n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
             grid = np.linspace(self.s[0], self.s[-1], n)
-            tab = np.ascontiguousarray(np.maximum(self._spl(grid), 0.0))  # type: ignore[misc]
+            # Phi = 0 at the nodes where every load is in full contact (the dense grid's first
+            # nodes); the table is evaluated from _TABLE_MARGIN such nodes before the first
+            # non-zero one and is 0 below (the spline's values there are its ringing between
+            # zeros, below 1e-30 of Phi: round-off in any look-up)
+            live = np.flatnonzero(np.any(self.phi[:, 1:] != 0.0, axis=0))
+            j = max(0, int(live[0]) - _TABLE_MARGIN) if live.size else 0
+            g0 = int(np.searchsorted(grid, self.s[j], side="left"))
+            tab = np.zeros((self.phi.shape[0], n))
+            tab[:, g0:] = np.maximum(self._spl(grid[g0:]), 0.0)  # type: ignore[misc]
             self._tab = (grid, tab)  # C order: the look-ups take from its flat view
         return self._tab
 
