@@ -116,10 +116,11 @@ def _rows(arr: Any, n_load: int) -> NDArray[np.float64]:
 
 
 def _from_ds(ds: Any, name: str) -> NDArray[np.float64]:
-    da = ds[name]
-    if "p0" in da.dims:
-        da = da.transpose("p0", "zeta")
-    return np.asarray(da.values, dtype=float)
+    var = ds.variables[name]  # the bare Variable: no DataArray built, no xarray transpose
+    vals = np.asarray(var.values, dtype=float)
+    if "p0" in var.dims:
+        vals = np.transpose(vals, (var.dims.index("p0"), var.dims.index("zeta")))
+    return vals
 
 
 def solved_curve(
