@@ -240,8 +240,12 @@ class _Curve:
         if cached is None:
             xg, _ = self.stieltjes_nodes()
             cached = np.empty((self.n_load, *xg.shape))
-            for k, block in self._dF_blocks():
-                cached[k] = block
+            first = (self.NF[:, 1] / self.x[1])[:, None]
+            for k, start, vals in self._dF_blocks():
+                if start:
+                    cached[k, 0] = first[k]
+                    cached[k, 1:start] = 0.0
+                cached[k, start:] = vals
             self._dF_at_nodes = cached
         return cached
 
@@ -252,17 +256,22 @@ class _Curve:
         if cached is not None:
             return np.sum(cached * weights[None], axis=-1)
         out = np.empty((self.n_load, weights.shape[0]))
-        for k, block in self._dF_blocks():
-            block *= weights
-            out[k] = block.sum(axis=-1)
+        first = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
+        for k, start, vals in self._dF_blocks():
+            if start:
+                out[k, 0] = np.sum(first[k] * weights[0], axis=-1)
+                out[k, 1:start] = 0.0
+            vals *= weights[start:]
+            out[k, start:] = vals.sum(axis=-1)
         return out
 
     def _dF_blocks(self) -> Any:
-        """``(rows, dF[rows])`` in cache-sized blocks of loads (see :meth:`dF_nodes`)."""
+        """``(rows, start, dF[rows, start:])`` in cache-sized blocks of loads (see
+        :meth:`dF_nodes`): for ``start > 0`` interval 0 is the linear first interval and the
+        intervals ``1 .. start - 1`` are 0 (every load of the block in full contact)."""
         xg, _ = self.stieltjes_nodes()
-        first = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
         if self._spl is None:
-            yield slice(0, self.n_load), self.dF(xg)
+            yield slice(0, self.n_load), 0, self.dF(xg)
             return
         dead = self._y[:, 1:] <= math.log(_TINY)  # (n_load, n_node - 1): 1 - F clamped
         j0 = _first_open(dead)  # spline intervals before j0: negligible for every load
@@ -288,11 +297,7 @@ class _Curve:
             dy += c2
             np.maximum(dy, 0.0, out=dy)
             dy *= _exp(y)
-            out = np.empty((dy.shape[0], *xg.shape))
-            out[:, 0, :] = first[k]
-            out[:, 1 : 1 + jb, :] = 0.0
-            out[:, 1 + jb :, :] = dy
-            yield k, out
+            yield k, 1 + jb, dy
 
     def stieltjes_nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Gauss-Legendre nodes ``x`` (n_int, m) and weights (n_int, m) per interval."""
