@@ -166,7 +166,7 @@ _REGIMES = (
         "A/A0 1e-6 .. 1e-2 (light)",
         (1e-6, 1e-4, 1e-2),
         (1e-3,),
-        "was 13-16 % (the code's: the detachment bins' u(zeta), physics _curve._sub_mean_gap, ran"
+        "was 13-16 % (the code's: the detachment bins' u(zeta), physics _subgap._sub_mean_gap, ran"
         " its rule across the roll-off kink, 5.6-6.7 % low; fixed by splitting at the PSD"
         " breakpoints); the library's EMT root on this reference's mixture agrees to 6e-5",
     ),

@@ -94,3 +94,81 @@ def test_analyses_of_one_solve_share_one_curve_and_free_it():
     np.testing.assert_array_equal(ds["gap_pdf"].values, alone["gap_pdf"].values)
     gc.collect()
     assert len(_solved.SOLVES) == before  # nothing outlives the solve
+
+
+def test_erf_band_is_scipys_erf_bit_for_bit():
+    from scipy.special import erf
+
+    from xpersson.physics._gap_distribution import _erf_band
+
+    x = np.concatenate([np.linspace(-40.0, 40.0, 160001), [-np.inf, np.inf, np.nan, -0.0]])
+    np.testing.assert_array_equal(_erf_band(x), erf(x))
+
+
+def test_gap_cdf_negligible_bins_change_values_by_their_weight_only(psd):
+    d = detach(psd, E_STAR, LOADS, n=150)
+    w = np.where(d.weight > 0, d.weight, 0.0)
+    cut = 1e-12  # larger than the 1e-30 the leakage uses, so that bins are actually left out
+    small = (w > 0) & (w < cut * w.max(axis=1, keepdims=True))
+    assert small.any()
+    u = np.linspace(0.0, float(d.mean_gap.max()) + 6 * d.h_rms, 64)
+    full, part = gap_cdf(d, u), gap_cdf(d, u, negligible=cut)
+    np.testing.assert_array_equal(gap_cdf(d, u, negligible=0.0), full)
+    left_out = np.sum(np.where(small, w, 0.0), axis=1)[:, None]
+    assert np.all(full - part <= left_out * (1 + 1e-12) + 1e-15 * full)  # + round-off
+    assert np.all(full - part >= -1e-15 * full)
+    assert np.any(full != part)
+
+
+def test_bruggeman_root_is_brents_root():
+    """The batched Newton iteration's root = brentq's on the same equation (1e-12 in ln s)."""
+    from scipy.optimize import brentq
+
+    from xpersson_interface._leakage import _bruggeman_rows
+
+    rng = np.random.default_rng(3)
+    n, k = 12, 200
+    sigma = np.exp(rng.uniform(-60.0, 5.0, (n, k)))  # conductances over 28 decades
+    m = rng.uniform(0.0, 1.0, (n, k))
+    m /= m.sum(axis=1, keepdims=True)
+    c = rng.uniform(0.0, 0.9, n)
+    got = _bruggeman_rows(c, m, sigma, np.zeros(n), per_row=True)
+    for i in range(n):
+        if c[i] >= 0.5 * (c[i] + 1.0):
+            assert got[i] == 0.0
+            continue
+
+        def f(x, i=i):
+            r = sigma[i] / (sigma[i] + np.exp(x))
+            return -c[i] + np.sum(m[i] * (2.0 * r - 1.0))
+
+        x = brentq(f, -200.0, 50.0, xtol=1e-14, rtol=1e-15)
+        assert abs(np.log(got[i]) - x) <= 1e-11 * max(1.0, abs(x))
+
+
+def test_full_contact_nodes_are_dropped_without_changing_results(monkeypatch):
+    """The dense grid's nodes in exact full contact (every load) are dropped: same outputs."""
+    from xpersson_interface._solved import _past_full_contact
+
+    non = np.zeros((2, 100))
+    non[0, 60:] = np.geomspace(1e-200, 0.5, 40)
+    keep = _past_full_contact(1.0 - non, non, None)
+    np.testing.assert_array_equal(keep[:2], [0, 1])
+    assert keep[2] == 60 - _solved.PLATEAU_MARGIN and keep[-1] == 99
+    an = {"gap_pdf": {}, "leakage": {}, "mean_gap": {}, "contact_stiffness": {}}
+    p0 = np.geomspace(1e3, 3e6, 7)
+    kept = []
+
+    def spy(area, non, S):
+        kept.append((_past_full_contact(area, non, S).size, area.shape[1]))
+        return _past_full_contact(area, non, S)
+
+    monkeypatch.setattr(_solved, "_past_full_contact", spy)
+    trimmed = xpersson.solve(scene(p0, analyses=an))
+    assert kept and all(n < 0.8 * total for n, total in kept)  # nodes were dropped
+    monkeypatch.setattr(_solved, "PLATEAU_MARGIN", 10**9)  # keeps every node
+    full = xpersson.solve(scene(p0, analyses=an))
+    for name in ("gap_pdf", "gap_mean", "leak_u1", "leak_flow_factor_emt", "mean_gap",
+                 "contact_stiffness"):  # fmt: skip
+        a, b = trimmed[name].values, full[name].values
+        np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-14 * np.nanmax(np.abs(b)))

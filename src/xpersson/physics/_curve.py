@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
-from ._fastnum import _block, _exp, _row_spline
+from ._fastnum import _EXP_ZERO, _block, _exp, _row_spline
 
 _TINY = 1e-300
 _GL_ORDER = 6
@@ -240,8 +240,12 @@ class _Curve:
         if cached is None:
             xg, _ = self.stieltjes_nodes()
             cached = np.empty((self.n_load, *xg.shape))
-            for k, block in self._dF_blocks():
-                cached[k] = block
+            first = (self.NF[:, 1] / self.x[1])[:, None]
+            for k, start, vals in self._dF_blocks():
+                if start:
+                    cached[k, 0] = first[k]
+                    cached[k, 1:start] = 0.0
+                cached[k, start:] = vals
             self._dF_at_nodes = cached
         return cached
 
@@ -252,41 +256,48 @@ class _Curve:
         if cached is not None:
             return np.sum(cached * weights[None], axis=-1)
         out = np.empty((self.n_load, weights.shape[0]))
-        for k, block in self._dF_blocks():
-            block *= weights
-            out[k] = block.sum(axis=-1)
+        first = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
+        for k, start, vals in self._dF_blocks():
+            if start:
+                out[k, 0] = np.sum(first[k] * weights[0], axis=-1)
+                out[k, 1:start] = 0.0
+            vals *= weights[start:]
+            out[k, start:] = vals.sum(axis=-1)
         return out
 
     def _dF_blocks(self) -> Any:
-        """``(rows, dF[rows])`` in cache-sized blocks of loads (see :meth:`dF_nodes`)."""
+        """``(rows, start, dF[rows, start:])`` in cache-sized blocks of loads (see
+        :meth:`dF_nodes`): for ``start > 0`` interval 0 is the linear first interval and the
+        intervals ``1 .. start - 1`` are 0 (every load of the block in full contact)."""
         xg, _ = self.stieltjes_nodes()
-        first = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
         if self._spl is None:
-            yield slice(0, self.n_load), self.dF(xg)
+            yield slice(0, self.n_load), 0, self.dF(xg)
             return
-        c = np.ascontiguousarray(np.moveaxis(self._spl.c, -1, 0))[..., None]
-        d = xg[1:] - self.x[1:-1, None]  # local coordinate in spline interval i - 1
+        dead = self._y[:, 1:] <= math.log(_TINY)  # (n_load, n_node - 1): 1 - F clamped
+        j0 = _first_open(dead)  # spline intervals before j0: negligible for every load
+        c = np.ascontiguousarray(np.moveaxis(self._spl.c[:, j0:], -1, 0))[..., None]
+        d = xg[1 + j0 :] - self.x[1 + j0 : -1, None]  # local coordinate in spline interval
         step = _block(xg.size)
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
-            c0, c1, c2, c3 = (c[k, j] for j in range(4))  # (rows, n_int - 1, 1)
-            y = c0 * d
+            jb = _first_open(dead[k])  # this block's own (later) start
+            off = jb - j0
+            c0, c1, c2, c3 = (c[k, j, off:] for j in range(4))  # (rows, n_int - 1 - jb, 1)
+            db = d[off:]
+            y = c0 * db
             y += c1
-            y *= d
+            y *= db
             y += c2
-            y *= d
+            y *= db
             y += c3
             np.minimum(y, 0.0, out=y)
-            dy = 3.0 * c0 * d
+            dy = 3.0 * c0 * db
             dy += 2.0 * c1
-            dy *= d
+            dy *= db
             dy += c2
             np.maximum(dy, 0.0, out=dy)
             dy *= _exp(y)
-            out = np.empty((dy.shape[0], *xg.shape))
-            out[:, 0, :] = first[k]
-            out[:, 1:, :] = dy
-            yield k, out
+            yield k, 1 + jb, dy
 
     def stieltjes_nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Gauss-Legendre nodes ``x`` (n_int, m) and weights (n_int, m) per interval."""
@@ -295,11 +306,28 @@ class _Curve:
         return a + (b - a) * t, (b - a) * w
 
 
+def _first_open(dead: NDArray[np.bool_]) -> int:
+    """First spline interval of ``ln(1 - F)`` whose ``-dF`` is not negligible for some row.
+
+    ``dead`` (n_row, n_node): ``1 - F`` clamped at 1e-300 (``ln`` = -690.8) at the spline's
+    nodes. Near ``zeta = 1`` every load is in full contact (and at high load far beyond):
+    ``-dF`` in an interval whose own nodes and both neighbours are clamped is below
+    ``exp(-680)``, round-off against any Stieltjes sum (exactly 0 here, not computed).
+    """
+    pad = np.concatenate(([True], np.all(dead, axis=0), [False]))  # interval j: nodes j-1..j+2
+    quiet = pad[:-3] & pad[1:-2] & pad[2:-1] & pad[3:]
+    return int(np.argmin(quiet))  # leading quiet intervals (the last is never quiet)
+
+
 def _q_max(psd: object, zeta: NDArray[np.float64]) -> float:
     return min(float(psd.q_1), float(zeta[-1]) * float(psd.q_L))  # type: ignore[attr-defined]
 
 
 # -- mean gap -----------------------------------------------------------------------------------
+#: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
+_TABLE_MARGIN = 8
+
+
 class _Phi:
     """``Phi(G) = int_0^G sqrt(G') (-dF)`` per load as a spline in ``s = ln tau_c``."""
 
@@ -382,9 +410,15 @@ class _Phi:
         val += v0
         log_tau1 = math.log(self.tau1)
         low = l2 < log_tau1
-        if low.any():
-            lin = phi1 * np.clip(_exp(np.minimum(l2, log_tau1)) / self.tau1, 0.0, 1.0)
-            val = np.where(low, lin, val)
+        if not np.any(phi1):  # the linear first interval is 0 (every load in full contact
+            np.copyto(val, 0.0, where=low)  # at the first node: the dense grid's 1 + 1e-9)
+        elif low.any():  # the linear first interval; its exp where it applies only (as _exp)
+            t = np.zeros(l2.shape)
+            np.exp(l2, out=t, where=low & (l2 > _EXP_ZERO))
+            t /= self.tau1
+            np.clip(t, 0.0, 1.0, out=t)
+            t *= phi1
+            np.copyto(val, t, where=low)
         return val.reshape(shape)
 
     def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -392,7 +426,15 @@ class _Phi:
         if getattr(self, "_tab", None) is None:
             n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
             grid = np.linspace(self.s[0], self.s[-1], n)
-            tab = np.ascontiguousarray(np.maximum(self._spl(grid), 0.0))  # type: ignore[misc]
+            # Phi = 0 at the nodes where every load is in full contact (the dense grid's first
+            # nodes); the table is evaluated from _TABLE_MARGIN such nodes before the first
+            # non-zero one and is 0 below (the spline's values there are its ringing between
+            # zeros, below 1e-30 of Phi: round-off in any look-up)
+            live = np.flatnonzero(np.any(self.phi[:, 1:] != 0.0, axis=0))
+            j = max(0, int(live[0]) - _TABLE_MARGIN) if live.size else 0
+            g0 = int(np.searchsorted(grid, self.s[j], side="left"))
+            tab = np.zeros((self.phi.shape[0], n))
+            tab[:, g0:] = np.maximum(self._spl(grid[g0:]), 0.0)  # type: ignore[misc]
             self._tab = (grid, tab)  # C order: the look-ups take from its flat view
         return self._tab
 
@@ -402,87 +444,6 @@ def _loads(p0: ArrayLike, n_load: int) -> NDArray[np.float64]:
     if p.size != n_load or np.any(~(p > 0)) or np.any(~np.isfinite(p)):
         raise ValueError(f"p0 must hold {n_load} finite positive pressures [Pa], got {p0!r}")
     return p
-
-
-# -- sub-problems at magnification zeta -----------------------------------------------------------
-_SUB_EDGES = np.concatenate(([0.0], 0.4 ** np.arange(9, -1, -1)))
-
-
-def _sub_panels(
-    psd: object, qa: NDArray[np.float64], V: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Gauss nodes, weights in ``s`` (``q = q_a exp(V s^2)``) per ``qa``: ``_SUB_EDGES`` plus the
-    PSD's kinks above ``q_a`` (across the roll-off the mean gap was 5-7 % low); kinks outside
-    ``(q_a, q_hi)`` give zero-width panels."""
-    nodes = np.asarray(psd.nodes(), dtype=float)  # type: ignore[attr-defined]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        sk = np.sqrt(np.clip(np.log(nodes / qa[..., None]) / V[..., None], 0.0, 1.0))
-    sk = np.where(V[..., None] > 0.0, sk, 0.0)
-    base = np.broadcast_to(_SUB_EDGES, qa.shape + _SUB_EDGES.shape)
-    edges = np.sort(np.concatenate((base, sk), axis=-1), axis=-1)
-    x, w = _gauss(6)
-    a, b, flat = edges[..., :-1, None], edges[..., 1:, None], qa.shape + (-1,)
-    return (a + (b - a) * x).reshape(flat), ((b - a) * w).reshape(flat)
-
-
-def _sub_mean_gap(
-    psd: object,
-    E_star: float,
-    phi: _Phi,
-    q_a: NDArray[np.float64],
-    area_a: NDArray[np.float64],
-    q_hi: float,
-    where: NDArray[np.bool_] | None = None,
-) -> NDArray[np.float64]:
-    """Mean separation [m] of the apparent contact at ``q_a`` (n_load, n_a) under ``p0/A_a``.
-
-    ``u_a = pi int_{q_a}^{q_hi} q^2 C w_a Phi(tau_a(q) A_a^2 / p0^2) dq`` with ``tau_a``, ``w_a``
-    counted from ``q_a`` (physics.md §5.5a, §6.1). Vectorised: ``q = q_a exp(V s^2)``,
-    ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``. ``where`` (n_load, n_a):
-    compute only these entries (the others are 0).
-    """
-    qa = np.asarray(q_a, dtype=float)
-    V = np.log(np.maximum(q_hi / qa, 1.0))
-    s, ws = _sub_panels(psd, qa, V)
-    q = qa[..., None] * np.exp(V[..., None] * s * s)
-    dq = q * (2.0 * V[..., None] * s) * ws
-    qaf = np.broadcast_to(qa[..., None], q.shape).ravel()
-    dI3 = _delta_I3(psd, qaf, q.ravel()).reshape(q.shape)
-    C = np.asarray(psd.C(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
-    kern = dq * q**2 * C / np.sqrt(np.pi * dI3)
-    # ln tau_eq = ln(tau_c,a) + 2 ln A_a: logs of the small factors, not of the tensor
-    log_tc = np.log(0.25 * np.pi * E_star**2 * dI3)
-    with np.errstate(divide="ignore"):
-        log_a2 = 2.0 * np.log(np.asarray(area_a, dtype=float))[..., None]
-    n = phi.p0.size
-    shape = (n,) + np.broadcast_shapes(log_tc.shape, log_a2.shape)[1:]
-    log_tc, log_a2 = np.broadcast_to(log_tc, shape), np.broadcast_to(log_a2, shape)
-    kern = np.broadcast_to(kern, shape)
-    if where is not None:  # the selected (load, magnification) pairs only
-        ls, ks = np.nonzero(where)
-        out = np.zeros(shape[:-1])
-        step = _block(shape[-1])
-        for i in range(0, ls.size, step):
-            p = slice(i, i + step)
-            lp, kp = ls[p], ks[p]
-            vals = phi.at_log_tau_per_load(log_tc[lp, kp] + log_a2[lp, kp], lp)
-            vals *= kern[lp, kp]
-            out[lp, kp] = vals.sum(axis=-1)
-        return math.pi * out
-    out = np.empty(shape[:-1])
-    step = _block(math.prod(shape[1:]))
-    for i in range(0, n, step):  # blocks of loads: the tensor's temporaries stay in cache
-        k = slice(i, i + step)
-        vals = phi.at_log_tau_per_load(log_tc[k] + log_a2[k], k)
-        vals *= kern[k]
-        out[k] = vals.sum(axis=-1)
-    return math.pi * out
-
-
-def _h2(psd: object, q: ArrayLike, q_hi: float) -> NDArray[np.float64]:
-    m_hi = float(psd.running_moment(1.0, q_hi))  # type: ignore[attr-defined]
-    m = np.asarray(psd.running_moment(1.0, np.minimum(q, q_hi)), dtype=float)  # type: ignore[attr-defined]
-    return np.maximum(2.0 * math.pi * (m_hi - m), 0.0)
 
 
 def _edges(cur: _Curve, zeta_edges: ArrayLike | None) -> tuple[NDArray, NDArray, NDArray]:

@@ -10,17 +10,16 @@ from numpy.typing import ArrayLike, NDArray
 from ._curve import (
     _Curve,
     _edges,
-    _h2,
     _loads,
     _Phi,
     _q_max,
     _q_rule,
-    _sub_mean_gap,
     _tau_c,
 )
 from ._energy import full_contact_energy
 from ._gap_distribution import Detachment
 from ._percolation import critical_magnification
+from ._subgap import _h2, _sub_mean_gap
 
 __all__ = ["SolvedContact"]
 

@@ -78,22 +78,25 @@ def _bruggeman_rows(
         lo = np.full(c.size, math.log(float(pos.min() if pos.size else 1.0)) - 60.0)
         hi = np.full(c.size, math.log(float(pos.max() if pos.size else 1.0)) + 60.0)
     x = 0.5 * (lo + hi)
-    active = np.ones(c.size, dtype=bool)  # a converged row keeps its value (as if solved alone)
+    act = np.arange(c.size)  # rows still iterating; a converged row keeps its value
     for _ in range(200):
-        s = np.exp(x)[:, None]
+        xa, la, ha, ma = x[act], lo[act], hi[act], m[act]
+        s = np.exp(xa)[:, None]
         with np.errstate(over="ignore"):
-            r = s_k / (s_k + s)  # in [0, 1]: (s_k - s)/(s_k + s) = 2r - 1, stable
-        f = -c + np.sum(m * (2.0 * r - 1.0), axis=1) + m_inf
-        df = -np.sum(m * 2.0 * r * (1.0 - r), axis=1)  # d f / d ln s  (< 0)
-        lo = np.where(f > 0, x, lo)
-        hi = np.where(f <= 0, x, hi)
-        xn = x - f / np.where(df < 0, df, -1.0)
-        bad = ~((xn > lo) & (xn < hi)) | ~(df < 0)
-        xn = np.where(bad, 0.5 * (lo + hi), xn)
-        done = np.abs(xn - x) <= rtol
-        x = np.where(active, xn, x)
-        active &= ~done
-        if not active.any():
+            r = s_k[act] / (s_k[act] + s)  # in [0, 1]: (s_k - s)/(s_k + s) = 2r - 1, stable
+        f = -c[act] + np.sum(ma * (2.0 * r - 1.0), axis=1) + m_inf[act]
+        df = -np.sum(ma * 2.0 * r * (1.0 - r), axis=1)  # d f / d ln s  (< 0)
+        la = np.where(f > 0, xa, la)
+        ha = np.where(f <= 0, xa, ha)
+        step = f / np.where(df < 0, df, -1.0)
+        xn = xa - step
+        # a Newton step below rtol is converged even where it rounds onto the bracket's end
+        # (x itself): bisecting there instead halved the bracket down to rtol (30-40 steps)
+        bad = ~((xn > la) & (xn < ha) | (np.abs(step) <= rtol)) | ~(df < 0)
+        xn = np.where(bad, 0.5 * (la + ha), xn)
+        x[act], lo[act], hi[act] = xn, la, ha
+        act = act[~(np.abs(xn - xa) <= rtol)]
+        if not act.size:
             break
     out[work] = np.exp(x)
     return out
@@ -132,6 +135,11 @@ def bruggeman(contact: float, masses: ArrayLike, sigma: ArrayLike, *, rtol: floa
     )
 
 
+#: Bins of detached weight below this fraction of the load's largest are left out of the cell
+#: masses: their share of the Bruggeman sum is round-off (the conductance changes <= 1e-14 rel).
+NEGLIGIBLE = 1e-30
+
+
 def bruggeman_gap(
     det: Detachment,
     *,
@@ -146,7 +154,8 @@ def bruggeman_gap(
     ``sigma_eff = result / (12 eta)``. Cells geometric in ``u`` on ``[u_min h_rms, u_max]``
     carry the exact closed-form mass (analytic CDF, :func:`xpersson.physics.gap_cdf`) at their
     geometric-midpoint conductance; the mass below is one cell at half the first edge, the
-    mass beyond ``u_max`` one element of infinite conductance. All loads at once.
+    mass beyond ``u_max`` one element of infinite conductance. All loads at once; bins of
+    weight below :data:`NEGLIGIBLE` of the load's largest are left out (round-off).
 
     Parameters
     ----------
@@ -170,11 +179,11 @@ def bruggeman_gap(
         top = det.mean_gap + 10.0 * det.h_rms if u_max is None else np.full(det.p0.size, u_max)
         inner = np.geomspace(u_min * det.h_rms, top, n_u, axis=1)  # (n_load, n_u)
         edges = np.concatenate((np.zeros((det.p0.size, 1)), inner), axis=1)
-        cdf = gap_cdf(det, edges)
+        cdf = gap_cdf(det, edges, negligible=NEGLIGIBLE)
     else:
         umax = float(np.max(det.mean_gap)) + 10.0 * det.h_rms if u_max is None else u_max
         edges = np.concatenate(([0.0], np.geomspace(u_min * det.h_rms, umax, n_u)))
-        cdf = gap_cdf(det, edges)
+        cdf = gap_cdf(det, edges, negligible=NEGLIGIBLE)
     a = np.asarray(det.contact, dtype=float)
     m = np.diff(cdf, axis=1)
     m[:, 0] += cdf[:, 0]

@@ -116,10 +116,11 @@ def _rows(arr: Any, n_load: int) -> NDArray[np.float64]:
 
 
 def _from_ds(ds: Any, name: str) -> NDArray[np.float64]:
-    da = ds[name]
-    if "p0" in da.dims:
-        da = da.transpose("p0", "zeta")
-    return np.asarray(da.values, dtype=float)
+    var = ds.variables[name]  # the bare Variable: no DataArray built, no xarray transpose
+    vals = np.asarray(var.values, dtype=float)
+    if "p0" in var.dims:
+        vals = np.transpose(vals, (var.dims.index("p0"), var.dims.index("zeta")))
+    return vals
 
 
 def solved_curve(
@@ -203,7 +204,35 @@ def solved_curve(
                 tc = np.asarray(get("diffusion_time"), dtype=float)
                 S = np.gradient(te, axis=1) / np.maximum(np.gradient(tc, axis=1), 1e-300)
             S = np.clip(np.asarray(S, dtype=float), 1e-12, 1.0)
+    if need.any() and solve_at is not None:
+        keep = _past_full_contact(area, non, S)
+        S = None if S is None else np.broadcast_to(S, area.shape)[:, keep]
+        zeta, area, non, contact = zeta[keep], area[:, keep], non[:, keep], contact[:, keep]
     return Solved(p0, zeta, area, np.clip(non, 0.0, 1.0), np.clip(contact, 0.0, 1.0), S, form, g)
+
+
+#: Dense magnifications kept in full contact before the first one out of it (see
+#: :func:`_past_full_contact`): the splines of ``ln(1 - F)`` are global, and a boundary this many
+#: nodes away changes their values by ~0.27**PLATEAU_MARGIN (round-off).
+PLATEAU_MARGIN = 24
+
+
+def _past_full_contact(
+    area: NDArray[np.float64], non: NDArray[np.float64], S: NDArray[np.float64] | None
+) -> NDArray[np.intp]:
+    """Indices of the dense magnifications to keep: ``zeta = 1`` and the first above it, then
+    from :data:`PLATEAU_MARGIN` nodes before the first where any load leaves exact full contact.
+
+    Near ``zeta = 1`` every load is in full contact (``1 - F = 0`` exactly, 40 % of the dense
+    grid on the README spectrum): those nodes add nothing to any zeta integral but cost every
+    spline, node sum and table. The first node above 1 is kept: it fixes the curve's linear
+    first interval and the range of ``Phi``'s look-up table, which stay as before.
+    """
+    nf = non + (0.0 if S is None else area * (1.0 - S))
+    open_ = np.flatnonzero(np.any(nf != 0.0, axis=0)[1:]) + 1  # NaN counts as open
+    first = int(open_[0]) if open_.size else nf.shape[1] - 1
+    start = max(2, first - PLATEAU_MARGIN)
+    return np.concatenate((np.arange(min(2, nf.shape[1])), np.arange(start, nf.shape[1])))
 
 
 #: Per-solve cache: the solved curve and its SolvedContact (splines, Phi, tables) built once per
