@@ -25,9 +25,9 @@ import warnings
 import numpy as np
 from scipy.integrate import quad, simpson
 from scipy.special import erf
+from verify_core import E_STAR, NU, E, Ref, _lnquad, _tau
 
 import xpersson
-from verify_core import E_STAR, NU, Ref, _lnquad, _tau, E
 
 SPEC = Ref(0.8, 1e3, 1e4, 1e6, 1e-6)
 ZETA_1 = SPEC.q_1 / SPEC.q_L
@@ -422,7 +422,7 @@ def _expected_factor_row() -> dict:
 
     claimed = {2: 1.7, 3: 1.2}  # as the Dataset reports them (regime 2 and 3 scenes below)
     got = {}
-    for rng, reg in ((200e-9, 2), (10e-9, 3)):
+    for rng in (200e-9, 10e-9):  # a regime-2 and a regime-3 scene
         bnd = {"model": "adhesive", "work_of_adhesion": "0.05 J/m**2", "range": f"{rng} m"}
         ds = _solve([1e4], bnd)
         got[int(ds["regime"].values[0])] = float(ds["expected_factor"].values[0])
