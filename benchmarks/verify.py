@@ -11,7 +11,8 @@ error measured. Rows come from ``verify_core`` (core, plasticity), ``verify_inte
 (xpersson-interface), ``verify_leakage`` (its effective medium), ``verify_friction`` (xpersson-
 viscoelastic, written by its own helper: included when the file exists and offers
 ``rows(fast)``), ``verify_adhesion`` (the adhesion BEM comparison, same contract, when
-present), ``verify_boundaries`` (every other output of the adhesion boundaries) and
+present), ``verify_boundaries`` (every other output of the adhesion boundaries),
+``verify_coefficient`` (the viscoelastic coefficient's scalars, flash temperature) and
 ``verify_transport`` (xpersson-transport). GFMD data are read from ``../shared/refdata``
 relative to the repository root (``XPERSSON_REFDATA`` overrides).
 """
@@ -28,6 +29,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import verify_boundaries  # noqa: E402
+import verify_coefficient  # noqa: E402
 import verify_core  # noqa: E402
 import verify_interface  # noqa: E402
 import verify_leakage  # noqa: E402
@@ -121,6 +123,7 @@ def collect(fast: bool) -> list[tuple[str, dict]]:
         for f in funcs:
             out.extend((name, r) for r in f(fast))
     out.extend(("xpersson-viscoelastic", r) for r in friction_rows(fast))
+    out.extend(("xpersson-viscoelastic", r) for r in verify_coefficient.rows(fast))
     out.extend(("xpersson-adhesion", r) for r in adhesion_rows(fast))
     out.extend(("xpersson-adhesion", r) for r in verify_boundaries.rows(fast))
     out.extend(("xpersson-transport", r) for r in transport_rows(fast))
