@@ -200,6 +200,8 @@ def _wall_rows(fast: bool) -> list[dict]:
         _up(worst, "load_identity_residual", np.max(np.abs(claimed - actual)))
         _up(worst, "claimed", np.max(claimed))
         _up(worst, "actual", np.max(actual))
+        _up(worst, "pull_off_stress", abs(ds["pull_off_stress"].item() / s0 - 1))  # sigma_a(1)
+    _up(worst, "pull_off_stress", _pull_off_err(s0, c, tau1))
     regime = (
         f"walls sigma_a = {s0:g} Pa + c tau, c tau_1/s0 0 and 3, p0/s0 "
         f"{loads[0] / s0:g}..{loads[-1] / s0:g} (tensile to compressive)"
@@ -209,6 +211,8 @@ def _wall_rows(fast: bool) -> list[dict]:
         "detached_fraction": "1 - A",
         "contact_stress": "Gaussian partial moment; relative to max(|p0|, sigma_a)",
         "detached_stress": "s0 - sigma_a A + c int A dtau (quad); relative to max(|p0|, sigma_a)",
+        "pull_off_stress": "pull_off_area 0: sigma_a(1) = s0; 0.3: -p0 of the most tensile "
+        "load whose exact A(zeta_1) > 0.3",
         "load_identity_residual": f"its claim vs the actual error of contact_stress: claimed <= "
         f"{worst['claimed']:.2g}, actual <= {worst['actual']:.2g}",
     }
@@ -218,7 +222,26 @@ def _wall_rows(fast: bool) -> list[dict]:
     return out
 
 
-_WALL = ("detached_fraction", "contact_stress", "detached_stress", "load_identity_residual")
+_WALL = (
+    "detached_fraction",
+    "contact_stress",
+    "detached_stress",
+    "load_identity_residual",
+    "pull_off_stress",
+)
+
+
+def _pull_off_err(s0: float, c: float, tau1: float) -> float:
+    """pull_off_area = 0.3 on the moving wall: the most tensile load keeping A > 0.3."""
+    loads = np.linspace(-0.95, 0.5, 8) * s0
+    zt = np.array([1.0, math.sqrt(ZETA_1), ZETA_1])
+    table = [f"{float(s0 + c * t)!r} Pa" for t in _tau(SPEC, zt * SPEC.q_L)]
+    bnd = {"model": "jkr", "work_of_adhesion": "0.05 J/m**2", "pull_off_area": 0.3}
+    ds = _solve(loads, {**bnd, "sigma_a": table, "sigma_a_zeta": [float(x) for x in zt]})
+    area = np.array([wall_exact(p, s0, c, tau1)[0] for p in loads])
+    held = loads[(area > 0.3) & (loads < 0)]
+    want = -float(held.min()) if held.size else 0.0
+    return abs(ds["pull_off_stress"].item() - want) / s0
 
 
 def _tabor_rows(model: str, worst: dict, regime: str) -> list[dict]:
