@@ -12,7 +12,8 @@ error measured. Rows come from ``verify_core`` (core, plasticity), ``verify_inte
 viscoelastic, written by its own helper: included when the file exists and offers
 ``rows(fast)``), ``verify_adhesion`` (the adhesion BEM comparison, same contract, when
 present), ``verify_boundaries`` (every other output of the adhesion boundaries),
-``verify_coefficient`` (the viscoelastic coefficient's scalars, flash temperature) and
+``verify_coefficient`` (the viscoelastic coefficient's scalars, flash temperature),
+``verify_plasticity`` (plastic_scale_dependent) and
 ``verify_transport`` (xpersson-transport). GFMD data are read from ``../shared/refdata``
 relative to the repository root (``XPERSSON_REFDATA`` overrides).
 """
@@ -33,6 +34,7 @@ import verify_coefficient  # noqa: E402
 import verify_core  # noqa: E402
 import verify_interface  # noqa: E402
 import verify_leakage  # noqa: E402
+import verify_plasticity  # noqa: E402
 
 SECTIONS = (
     (
@@ -45,6 +47,7 @@ SECTIONS = (
         ),
     ),
     ("xpersson-plasticity (constant hardness)", (verify_core.plastic_rows,)),
+    ("xpersson-plasticity (scale-dependent)", (verify_plasticity.rows,)),
     (
         "xpersson-interface",
         (
