@@ -174,8 +174,17 @@ def wall_exact(p0: float, s0: float, c: float, tau: float) -> tuple[float, float
 
     a = area(tau)
     stress = moment(p0) - k * moment(-p0 - 2 * s0)
-    lost = c * quad(area, 0.0, tau, epsabs=0.0, epsrel=1e-12, limit=200)[0] if c else 0.0
+    lost = c * _int_area(area, tau) if c else 0.0
     return a, stress, s0 - (s0 + c * tau) * a + lost
+
+
+def _int_area(area, tau: float) -> float:
+    """int_0^tau A dt, over ln t below tau (A = 1 to 1e-300 below 1e-14 tau)."""
+    lo = 1e-14 * tau
+    f = lambda s: area(math.exp(s)) * math.exp(s)  # noqa: E731
+    with warnings.catch_warnings():  # roundoff at 1e-10 where A is 1 - 1e-16 over decades
+        warnings.simplefilter("ignore")
+        return lo + quad(f, math.log(lo), math.log(tau), epsabs=0.0, epsrel=1e-10, limit=400)[0]
 
 
 def _wall_rows(fast: bool) -> list[dict]:
