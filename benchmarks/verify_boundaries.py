@@ -18,7 +18,6 @@ here from physics.md §2 and never by calling the plugin's helpers:
 
 from __future__ import annotations
 
-import json
 import math
 import warnings
 
@@ -32,9 +31,6 @@ import xpersson
 
 SPEC = Ref(0.8, 1e3, 1e4, 1e6, 1e-6)
 ZETA_1 = SPEC.q_1 / SPEC.q_L
-#: adhesive's calibration constants as documented (docs/adhesion_bem.md, the VarSpecs)
-ATTRACTION_SCALE = 0.85
-VERIFIED_TABOR = (0.5, 2.0)
 
 
 def _row(output, regime, reference, worst, measure, note=""):
@@ -297,7 +293,7 @@ def reference_p_att(law: str, p_rep, w: float, rng: float, fast: bool):
 
 def _simpson(law, p_rep, w, rng, span, n, start):
     """Simpson of sigma x gap_pdf over [start, span] on gap_pdf's linear grid (+ lj93 tail)."""
-    gap = {"n_bins": 400, "zeta_per_decade": 160, "u_max": f"{span!r} m", "u_points": n}
+    gap = {"n_bins": 2000, "zeta_per_decade": 640, "u_max": f"{span!r} m", "u_points": n}
     gap["separation"] = "almqvist"  # the plugins' gap distribution
     g = _solve(p_rep, analyses={"gap_pdf": gap, "mean_gap": {}})
     u = g["u"].values
@@ -320,7 +316,7 @@ def dmt_rows(fast: bool) -> list[dict]:
     """dmt: p_att by quadrature at p_rep, the identity p_rep = p0 + p_att, the diagnostics."""
     loads = [-5e2, 1e3, 1e5] if fast else [-5e2, -1e2, 1e3, 1e4, 1e5, 1e6]
     worst: dict[str, float] = {}
-    tabors = []
+    tabors, where = [], {"p_att": "-", "p_att high": "-"}
     for law, w, rng in _dmt_cases(fast):
         bnd = {"model": "dmt", "law": law, "work_of_adhesion": f"{w} J/m**2", "range": f"{rng} m"}
         ds = _solve(loads, bnd)
@@ -329,7 +325,15 @@ def dmt_rows(fast: bool) -> list[dict]:
         ref, ugap = reference_p_att(law, prep, w, rng, fast)
         actual = np.abs(patt / ref - 1)
         est = ds["p_att_discretization_error"].values
-        _up(worst, "p_att", float(np.max(actual)))
+        high = p0 >= 1e6  # the far tail of the gap distribution matters (see the row)
+        for key, err in (
+            ("p_att", np.max(actual[~high])),
+            ("p_att high", np.max(actual[high], initial=0.0)),
+        ):
+            if err >= worst.get(key, 0.0):
+                where[key] = f"{law}, dr {rng:g} m"
+            _up(worst, key, float(err))
+        actual, est = actual[~high], est[~high]
         _up(worst, "p_rep", float(np.max(np.abs(prep - p0 - ref) / prep)))
         _up(worst, "mean_gap", _rel(ds["mean_gap"].values, ugap))
         resid = np.abs(prep - p0 - patt) / prep
@@ -345,9 +349,9 @@ def dmt_rows(fast: bool) -> list[dict]:
     _up(worst, "dmt_iterations", float(np.sum(it0 != 1)))
     regime = (
         f"laws {'/'.join(sorted({c[0] for c in _dmt_cases(fast)}))}, Tabor(zeta_1) "
-        f"{min(tabors):.2g}-{max(tabors):.2g}, p0 {loads[0]:g}..{loads[-1]:g} Pa"
+        f"{min(tabors):.2g}-{max(tabors):.2g}, p0 {loads[0]:g}..{min(loads[-1], 1e5):g} Pa"
     )
-    ref = "Simpson of sigma(u) x gap_pdf at p_rep (400 bins, 160/decade; this file)"
+    ref = "Simpson of sigma(u) x gap_pdf at p_rep (2000 bins, 640/decade; this file)"
     return [
         _row(
             "p_att (dmt)",
@@ -355,8 +359,27 @@ def dmt_rows(fast: bool) -> list[dict]:
             ref,
             worst["p_att"],
             "rel",
-            "gap_pdf with separation 'almqvist' (the plugins'); worst at the shortest range "
-            "(Tabor 10), where the plugin's magnification sampling shows",
+            f"worst at {where['p_att']}; gap_pdf with separation 'almqvist' (the plugins'); "
+            "lj93 at dr 10 nm: 1.8e-3 (the plugin's estimate 8e-4), dr 1 um at 1e5 Pa: 6.7e-4 "
+            "(the far tail, see the 1e6 Pa row)",
+        ),
+        *(
+            [
+                _row(
+                    "p_att (dmt), p0 1e6 Pa",
+                    regime.split(", p0")[0] + ", p0 = 1e6 Pa (p0/E* 0.075, A/A0 0.3-0.5)",
+                    ref,
+                    worst["p_att high"],
+                    "rel",
+                    f"worst at {where['p_att high']}; not converging away with the "
+                    "reference's bins (400 to 2000): the two paths' gap distributions differ at"
+                    " high load (dmt's own detachment bins on its area curve vs the gap_pdf "
+                    "analysis's; see 'Gap PDF at high load' below); p_att is 1e-4 of p_rep "
+                    "there",
+                )
+            ]
+            if not fast
+            else []
         ),
         _row("p_rep (dmt)", regime, "p0 + the reference p_att(p_rep)", worst["p_rep"], "rel"),
         _row(
@@ -379,8 +402,9 @@ def dmt_rows(fast: bool) -> list[dict]:
             "the actual error |p_att/reference - 1| (as in the p_att row)",
             worst["p_att_discretization_error"],
             "actual/estimate",
-            "both floored at 1e-4; the estimate is the error's order, up to this factor low "
-            "(lj93 at Tabor 2: 1.8e-3 actual, 4e-4 estimated)",
+            "floors 1e-4; where the magnification sampling dominates (short range) the estimate"
+            " is the error's order (within 2.2x); it does not see the far-tail difference of "
+            "long-range laws at high load (dr 1 um, 1e5 Pa: 6.7e-4 vs 4e-5)",
         ),
         _row(
             "gap_quadrature_error",
@@ -405,119 +429,11 @@ def _up(worst: dict, name: str, err: float) -> None:
     worst[name] = max(worst.get(name, 0.0), float(err))
 
 
-def adhesive_rows(fast: bool) -> list[dict]:
-    """adhesive: ATTRACTION_SCALE x the reference p_att at p_rep, its ratio, regime, factor."""
-    loads = [-50.0, 1e3, 1e5] if fast else [-200.0, -50.0, 1e3, 1e4, 1e5, 1e6]
-    ranges = (50e-9, 1e-6) if fast else (10e-9, 50e-9, 200e-9, 1e-6)
-    w = 0.05
-    worst: dict[str, float] = {}
-    tabors, skipped = [], 0
-    for rng in ranges:
-        bnd = {"model": "adhesive", "work_of_adhesion": f"{w} J/m**2", "range": f"{rng} m"}
-        ds = _solve(loads, bnd)
-        p0 = np.asarray(loads, float)
-        prep, patt = ds["p_rep"].values, ds["p_att"].values
-        code = ds["regime"].values
-        mean_field = code != 4  # regime 4: the summit floor carries the load, not the field
-        skipped += int(np.sum(~mean_field))
-        ref = ATTRACTION_SCALE * reference_p_att("exponential", prep, w, rng, fast)[0]
-        _up(worst, "p_att", float(np.max(np.abs(patt / ref - 1)[mean_field], initial=0.0)))
-        _up(worst, "p_rep", float(np.max(np.abs(prep - p0 - patt) / prep)))
-        _up(worst, "adhesion_ratio", _rel(ds["adhesion_ratio"].values, ref / prep))
-        mu1 = tabor(ZETA_1, w, rng)
-        tabors.append(mu1)
-        lo, hi = VERIFIED_TABOR
-        scene = 1 if mu1 < lo else (3 if mu1 > hi else 2)
-        want = np.where(ref / prep < 0.1, 0, scene)
-        _up(worst, "regime", float(np.sum((code != want) & mean_field)))
-        p_small = np.array([1e-3, 3e-3]) * math.sqrt(float(_tau(SPEC, [SPEC.q_1])[0]))
-        small = ATTRACTION_SCALE * reference_p_att("exponential", p_small, w, rng, fast)[0]
-        _up(worst, "small_load_ratio", _rel(ds["small_load_ratio"].values, small[0] / p_small[0]))
-        _geometry_err(ds, w, rng, worst)
-    regime = (
-        f"exponential law, Tabor(zeta_1) {min(tabors):.2g}-{max(tabors):.2g}, "
-        f"p0 {loads[0]:g}..{loads[-1]:g} Pa"
-    )
-    ref = f"{ATTRACTION_SCALE} x Simpson of sigma(u) x gap_pdf at p_rep (this file)"
-    return [
-        _row(
-            "p_att (adhesive)",
-            regime,
-            ref,
-            worst["p_att"],
-            "rel",
-            f"mean-field loads ({skipped} summit-floor loads, regime 4, left out)",
-        ),
-        _row("p_rep (adhesive)", regime, "p0 + p_att (identity)", worst["p_rep"], "rel"),
-        _row(
-            "adhesion_ratio (adhesive)",
-            regime,
-            "reference p_att / p_rep",
-            worst["adhesion_ratio"],
-            "rel",
-        ),
-        _row(
-            "regime (adhesive)",
-            regime,
-            "its definition: 0 if p_att/p_rep < 0.1, else 1/2/3 by Tabor(zeta_1) vs 0.5, 2",
-            worst["regime"],
-            "count",
-            "mismatching loads counted",
-        ),
-        _row(
-            "small_load_ratio (adhesive)",
-            regime,
-            "reference p_att(p)/p at p = 1e-3 sqrt(tau_1) (3e-3: converged to the row's worst)",
-            worst["small_load_ratio"],
-            "rel",
-            "as p_att (adhesive): the reference's finer detachment bins at light load",
-        ),
-        _expected_factor_row(),
-        *_tabor_rows("adhesive", worst, regime),
-    ]
-
-
-def _expected_factor_row() -> dict:
-    """expected_factor claims the worst BEM factor of its regime: measured / claimed <= 1."""
-    import verify_adhesion as va
-
-    claimed = {2: 1.7, 3: 1.2}  # as the Dataset reports them (regime 2 and 3 scenes below)
-    got = {}
-    for rng in (200e-9, 10e-9):  # a regime-2 and a regime-3 scene
-        bnd = {"model": "adhesive", "work_of_adhesion": "0.05 J/m**2", "range": f"{rng} m"}
-        ds = _solve([1e4], bnd)
-        got[int(ds["regime"].values[0])] = float(ds["expected_factor"].values[0])
-    bem, model = va.RESULTS / "bem_adhesion.json", va.RESULTS / "adhesion_bem_compare.json"
-    if not (bem.is_file() and model.is_file()) or set(got) != set(claimed):
-        return _row(
-            "expected_factor (adhesive)",
-            "-",
-            "-",
-            math.nan,
-            "-",
-            f"missing: BEM results or regimes {sorted(got)}",
-        )
-    tab = json.loads(bem.read_text())["table"]
-    res = json.loads(model.read_text())
-    measured2 = va._scan(res, tab, strong=False)[0]["adhesive"]
-    strong = va.RESULTS / "adhesion_bem_strong.json"
-    cases = json.loads(strong.read_text()) if strong.is_file() else []
-    measured3 = max((max(c["factor"]) for c in cases), default=math.nan)
-    worst = max(measured2 / got[2], measured3 / got[3] if cases else 0.0)
-    return _row(
-        "expected_factor (adhesive)",
-        "regime 2 (Tabor 0.5-2) and 3 (above) scenes",
-        "worst factor of the BEM comparison in that regime (verify_adhesion's stored results)",
-        worst,
-        "measured/claimed",
-        f"regime 2: {measured2:.2f} vs {got[2]}; regime 3: {measured3:.2f} vs {got[3]}"
-        "; <= 1: the claim holds",
-    )
-
-
 def rows(fast: bool) -> list[dict]:
     """Every row of this module."""
-    return jkr_rows(fast) + dmt_rows(fast) + adhesive_rows(fast)
+    import verify_adhesive
+
+    return jkr_rows(fast) + dmt_rows(fast) + verify_adhesive.rows(fast)
 
 
 if __name__ == "__main__":
