@@ -133,6 +133,11 @@ def collect(fast: bool) -> list[tuple[str, dict]]:
     return out
 
 
+def _cell(text: object) -> str:
+    """A markdown table cell: pipes in the text escaped."""
+    return str(text).replace("|", "\\|")
+
+
 def _fmt(x: float) -> str:
     return "-" if x != x else f"{x:.3g}"
 
@@ -148,9 +153,10 @@ def main(argv: list[str] | None = None) -> int:
         print("| section | output | reference | regime | worst | measure | note |")
         print("|---|---|---|---|---|---|---|")
         for sec, r in rows:
+            cells = [_cell(r[k]) for k in ("reference", "regime")]
             print(
-                f"| {sec} | `{r['output']}` | {r['reference']} | {r['regime']} | "
-                f"{_fmt(r['worst'])} | {r['measure']} | {r['note']} |"
+                f"| {sec} | `{r['output']}` | {cells[0]} | {cells[1]} | "
+                f"{_fmt(r['worst'])} | {_cell(r['measure'])} | {_cell(r['note'])} |"
             )
     else:
         for sec, r in rows:

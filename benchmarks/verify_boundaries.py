@@ -372,10 +372,11 @@ def dmt_rows(fast: bool) -> list[dict]:
                     worst["p_att high"],
                     "rel",
                     f"worst at {where['p_att high']}; not converging away with the "
-                    "reference's bins (400 to 2000): the two paths' gap distributions differ at"
-                    " high load (dmt's own detachment bins on its area curve vs the gap_pdf "
-                    "analysis's; see 'Gap PDF at high load' below); p_att is 1e-4 of p_rep "
-                    "there",
+                    "reference's bins for exponential and dugdale at dr 1 um (3 %, the same at "
+                    "400 and 2000 bins): the two paths' gap distributions differ at high load "
+                    "(dmt's own detachment bins on its area curve vs the gap_pdf analysis's; "
+                    "see 'Gap PDF at high load' below); lj93 not analysed further; p_att is "
+                    "1e-4 of p_rep there",
                 )
             ]
             if not fast
