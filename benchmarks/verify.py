@@ -10,9 +10,12 @@ forms, an image series, the Markov walkers, published tables), the regime grid, 
 error measured. Rows come from ``verify_core`` (core, plasticity), ``verify_interface``
 (xpersson-interface), ``verify_leakage`` (its effective medium), ``verify_friction`` (xpersson-
 viscoelastic, written by its own helper: included when the file exists and offers
-``rows(fast)``) and ``verify_adhesion`` (the adhesion BEM comparison, same contract, when
-present). GFMD data are read from ``../shared/refdata`` relative to the repository root
-(``XPERSSON_REFDATA`` overrides).
+``rows(fast)``), ``verify_adhesion`` (the adhesion BEM comparison, same contract, when
+present), ``verify_boundaries`` (every other output of the adhesion boundaries),
+``verify_coefficient`` (the viscoelastic coefficient's scalars, flash temperature),
+``verify_plasticity`` (plastic_scale_dependent) and
+``verify_transport`` (xpersson-transport). GFMD data are read from ``../shared/refdata``
+relative to the repository root (``XPERSSON_REFDATA`` overrides).
 """
 
 from __future__ import annotations
@@ -26,9 +29,12 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
+import verify_boundaries  # noqa: E402
+import verify_coefficient  # noqa: E402
 import verify_core  # noqa: E402
 import verify_interface  # noqa: E402
 import verify_leakage  # noqa: E402
+import verify_plasticity  # noqa: E402
 
 SECTIONS = (
     (
@@ -41,6 +47,7 @@ SECTIONS = (
         ),
     ),
     ("xpersson-plasticity (constant hardness)", (verify_core.plastic_rows,)),
+    ("xpersson-plasticity (scale-dependent)", (verify_plasticity.rows,)),
     (
         "xpersson-interface",
         (
@@ -119,9 +126,16 @@ def collect(fast: bool) -> list[tuple[str, dict]]:
         for f in funcs:
             out.extend((name, r) for r in f(fast))
     out.extend(("xpersson-viscoelastic", r) for r in friction_rows(fast))
+    out.extend(("xpersson-viscoelastic", r) for r in verify_coefficient.rows(fast))
     out.extend(("xpersson-adhesion", r) for r in adhesion_rows(fast))
+    out.extend(("xpersson-adhesion", r) for r in verify_boundaries.rows(fast))
     out.extend(("xpersson-transport", r) for r in transport_rows(fast))
     return out
+
+
+def _cell(text: object) -> str:
+    """A markdown table cell: pipes in the text escaped."""
+    return str(text).replace("|", "\\|")
 
 
 def _fmt(x: float) -> str:
@@ -139,9 +153,10 @@ def main(argv: list[str] | None = None) -> int:
         print("| section | output | reference | regime | worst | measure | note |")
         print("|---|---|---|---|---|---|---|")
         for sec, r in rows:
+            cells = [_cell(r[k]) for k in ("reference", "regime")]
             print(
-                f"| {sec} | `{r['output']}` | {r['reference']} | {r['regime']} | "
-                f"{_fmt(r['worst'])} | {r['measure']} | {r['note']} |"
+                f"| {sec} | `{r['output']}` | {cells[0]} | {cells[1]} | "
+                f"{_fmt(r['worst'])} | {_cell(r['measure'])} | {_cell(r['note'])} |"
             )
     else:
         for sec, r in rows:

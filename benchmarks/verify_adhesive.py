@@ -1,0 +1,165 @@
+"""Verification rows of the ``adhesive`` boundary's own outputs (the scaled mean field).
+
+Part of ``verify_boundaries.py`` (same references, written from physics.md §2): ``p_att`` as
+``ATTRACTION_SCALE`` times Simpson's rule of the exponential law over the ``gap_pdf`` analysis's
+density at ``p_rep`` (an elastic solve), the ratio and the regime code from their definitions,
+the small-load ratio from the reference at light load, and ``expected_factor`` against the BEM
+factors measured in its regime (``verify_adhesion``'s stored results).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+from verify_boundaries import (
+    SPEC,
+    ZETA_1,
+    _geometry_err,
+    _rel,
+    _row,
+    _solve,
+    _tabor_rows,
+    _tau,
+    _up,
+    reference_p_att,
+    tabor,
+)
+
+#: adhesive's calibration constants as documented (docs/adhesion_bem.md, the VarSpecs)
+ATTRACTION_SCALE = 0.85
+VERIFIED_TABOR = (0.5, 2.0)
+
+
+def rows(fast: bool) -> list[dict]:
+    """adhesive: ATTRACTION_SCALE x the reference p_att at p_rep, its ratio, regime, factor."""
+    loads = [-50.0, 1e3, 1e5] if fast else [-200.0, -50.0, 1e3, 1e4, 1e5, 1e6]
+    ranges = (50e-9, 1e-6) if fast else (10e-9, 50e-9, 200e-9, 1e-6)
+    w = 0.05
+    worst: dict[str, float] = {}
+    tabors, skipped = [], 0
+    for rng in ranges:
+        bnd = {"model": "adhesive", "work_of_adhesion": f"{w} J/m**2", "range": f"{rng} m"}
+        ds = _solve(loads, bnd)
+        p0 = np.asarray(loads, float)
+        prep, patt = ds["p_rep"].values, ds["p_att"].values
+        code = ds["regime"].values
+        mean_field = code != 4  # regime 4: the summit floor carries the load, not the field
+        skipped += int(np.sum(~mean_field))
+        ref = ATTRACTION_SCALE * reference_p_att("exponential", prep, w, rng, fast)[0]
+        tail = ref / prep < 1e-3  # the table's interpolation where p_att is negligible
+        keep = mean_field & ~tail
+        rel = np.abs(patt / ref - 1)
+        _up(worst, "p_att", float(np.max(rel[keep], initial=0.0)))
+        _up(worst, "tail rel", float(np.max(rel[tail], initial=0.0)))
+        _up(worst, "tail", float(np.max(np.abs(patt - ref)[tail] / prep[tail], initial=0.0)))
+        _up(worst, "p_rep", float(np.max(np.abs(prep - p0 - patt) / prep)))
+        got = ds["adhesion_ratio"].values
+        _up(worst, "adhesion_ratio", float(np.max(np.abs(got / (ref / prep) - 1)[keep])))
+        mu1 = tabor(ZETA_1, w, rng)
+        tabors.append(mu1)
+        lo, hi = VERIFIED_TABOR
+        scene = 1 if mu1 < lo else (3 if mu1 > hi else 2)
+        want = np.where(ref / prep < 0.1, 0, scene)
+        _up(worst, "regime", float(np.sum((code != want) & mean_field)))
+        p_small = np.array([1e-3, 3e-3]) * math.sqrt(float(_tau(SPEC, [SPEC.q_1])[0]))
+        small = ATTRACTION_SCALE * reference_p_att("exponential", p_small, w, rng, fast)[0]
+        _up(worst, "small_load_ratio", _rel(ds["small_load_ratio"].values, small[0] / p_small[0]))
+        _geometry_err(ds, w, rng, worst)
+    regime = (
+        f"exponential law, Tabor(zeta_1) {min(tabors):.2g}-{max(tabors):.2g}, "
+        f"p0 {loads[0]:g}..{loads[-1]:g} Pa"
+    )
+    ref = f"{ATTRACTION_SCALE} x Simpson of sigma(u) x gap_pdf at p_rep (this file)"
+    return [
+        _row(
+            "p_att (adhesive)",
+            regime,
+            ref,
+            worst["p_att"],
+            "rel",
+            f"mean-field loads with p_att/p_rep >= 1e-3 ({skipped} summit-floor loads, regime 4, "
+            "left out; the tail in the next row)",
+        ),
+        *(
+            [
+                _row(
+                    "p_att (adhesive), tail",
+                    regime + " where p_att/p_rep < 1e-3 (p0 1e6 Pa)",
+                    ref,
+                    worst["tail"],
+                    "abs / p_rep",
+                    f"relative error up to {worst['tail rel']:.2g}: the mean-field table "
+                    "interpolates a p_att of 1e-5 p_rep (it depends on the load set); p_rep "
+                    "unaffected at this level",
+                )
+            ]
+            if worst["tail rel"] > 0
+            else []
+        ),
+        _row("p_rep (adhesive)", regime, "p0 + p_att (identity)", worst["p_rep"], "rel"),
+        _row(
+            "adhesion_ratio (adhesive)",
+            regime,
+            "reference p_att / p_rep",
+            worst["adhesion_ratio"],
+            "rel",
+        ),
+        _row(
+            "regime (adhesive)",
+            regime,
+            "its definition: 0 if p_att/p_rep < 0.1, else 1/2/3 by Tabor(zeta_1) vs 0.5, 2",
+            worst["regime"],
+            "count",
+            "mismatching loads counted",
+        ),
+        _row(
+            "small_load_ratio (adhesive)",
+            regime,
+            "reference p_att(p)/p at p = 1e-3 sqrt(tau_1) (3e-3: converged to the row's worst)",
+            worst["small_load_ratio"],
+            "rel",
+            "the limit against the reference at the lightest loads",
+        ),
+        _expected_factor_row(),
+        *_tabor_rows("adhesive", worst, regime),
+    ]
+
+
+def _expected_factor_row() -> dict:
+    """expected_factor claims the worst BEM factor of its regime: measured / claimed <= 1."""
+    import verify_adhesion as va
+
+    claimed = {2: 1.7, 3: 1.2}  # as the Dataset reports them (regime 2 and 3 scenes below)
+    got = {}
+    for rng in (200e-9, 10e-9):  # a regime-2 and a regime-3 scene
+        bnd = {"model": "adhesive", "work_of_adhesion": "0.05 J/m**2", "range": f"{rng} m"}
+        ds = _solve([1e4], bnd)
+        got[int(ds["regime"].values[0])] = float(ds["expected_factor"].values[0])
+    bem, model = va.RESULTS / "bem_adhesion.json", va.RESULTS / "adhesion_bem_compare.json"
+    if not (bem.is_file() and model.is_file()) or set(got) != set(claimed):
+        return _row(
+            "expected_factor (adhesive)",
+            "-",
+            "-",
+            math.nan,
+            "-",
+            f"missing: BEM results or regimes {sorted(got)}",
+        )
+    tab = json.loads(bem.read_text())["table"]
+    res = json.loads(model.read_text())
+    measured2 = va._scan(res, tab, strong=False)[0]["adhesive"]
+    strong = va.RESULTS / "adhesion_bem_strong.json"
+    cases = json.loads(strong.read_text()) if strong.is_file() else []
+    measured3 = max((max(c["factor"]) for c in cases), default=math.nan)
+    worst = max(measured2 / got[2], measured3 / got[3] if cases else 0.0)
+    return _row(
+        "expected_factor (adhesive)",
+        "regime 2 (Tabor 0.5-2) and 3 (above) scenes",
+        "worst factor of the BEM comparison in that regime (verify_adhesion's stored results)",
+        worst,
+        "measured/claimed",
+        f"regime 2: {measured2:.2f} vs {got[2]}; regime 3: {measured3:.2f} vs {got[3]}"
+        "; <= 1: the claim holds",
+    )
