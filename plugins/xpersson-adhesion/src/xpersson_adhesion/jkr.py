@@ -204,8 +204,8 @@ class JKRBoundary(Boundary):
             "Pa",
             "pull-off stress",
             valid_min=0.0,
-            description="-p0 of the most tensile load that keeps A(zeta_max)/A0 > "
-            "pull_off_area (0: sigma_a(zeta=1)); 0 when no tensile load keeps that much contact",
+            description="-p0 at which A(zeta_max)/A0 = pull_off_area (root of the area over the "
+            "load); pull_off_area = 0: sigma_a(zeta=1); 0 when even p0 = 0 leaves less contact",
         ),
     }
 
