@@ -14,18 +14,9 @@ import json
 import math
 from pathlib import Path
 
+from verify_core import _row
+
 RESULTS = Path(__file__).resolve().parent / "results"
-
-
-def _row(output, regime, reference, worst, measure, note=""):
-    return {
-        "output": output,
-        "regime": regime,
-        "reference": reference,
-        "worst": worst,
-        "measure": measure,
-        "note": note,
-    }
 
 
 def _factor(a: float | None, b: float | None) -> float:

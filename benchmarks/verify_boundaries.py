@@ -25,23 +25,12 @@ import numpy as np
 from scipy.integrate import quad, simpson
 from scipy.optimize import brentq
 from scipy.stats import norm
-from verify_core import E_STAR, NU, E, Ref, _lnquad, _tau
+from verify_core import E_STAR, NU, E, Ref, _lnquad, _row, _tau
 
 import xpersson
 
 SPEC = Ref(0.8, 1e3, 1e4, 1e6, 1e-6)
 ZETA_1 = SPEC.q_1 / SPEC.q_L
-
-
-def _row(output, regime, reference, worst, measure, note=""):
-    return {
-        "output": output,
-        "regime": regime,
-        "reference": reference,
-        "worst": float(worst),
-        "measure": measure,
-        "note": note,
-    }
 
 
 def _solve(loads, boundary: dict | None = None, analyses: dict | None = None):

@@ -29,6 +29,7 @@ import xpersson
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "plugins" / "xpersson-viscoelastic" / "tests"))
 
+from verify_core import _row  # noqa: E402
 from visco_reference import SLS, RefSpectrum, wlf_shift  # noqa: E402
 
 E_R, E_G, TAU, NU = 2e6, 2e9, 1e-4, 0.5
@@ -36,17 +37,6 @@ WLF = (7.84, 114.75, 293.15)
 SPEC = RefSpectrum(0.7, 2e3, 2e4, 2e6, 0.5)
 K_TH, D_TH = 0.25, 1e-7
 TAU_F0, C_LAW, V_STAR = 3e5, 0.1, 1e-2
-
-
-def _row(output, regime, reference, worst, measure, note=""):
-    return {
-        "output": output,
-        "regime": regime,
-        "reference": reference,
-        "worst": float(worst),
-        "measure": measure,
-        "note": note,
-    }
 
 
 def _scene(v_mm: list[float], temps: list[float], coef: dict, friction: dict) -> dict:

@@ -432,7 +432,7 @@ def _row(
         "output": output,
         "regime": regime,
         "reference": reference,
-        "worst": worst,
+        "worst": float(worst),
         "measure": measure,
         "note": note,
     }

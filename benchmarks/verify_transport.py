@@ -25,20 +25,10 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from verify_core import _row
 
 HERE = Path(__file__).resolve().parent
 EXAMPLE = HERE.parent / "plugins" / "xpersson-transport" / "examples" / "heat_sink.toml"
-
-
-def _row(output, regime, reference, worst, measure, note=""):
-    return {
-        "output": output,
-        "regime": regime,
-        "reference": reference,
-        "worst": worst,
-        "measure": measure,
-        "note": note,
-    }
 
 
 def _solve(fast: bool):
