@@ -267,3 +267,18 @@ def test_single_load_sweep_equals_individual_solves(chunk, batched, monkeypatch)
                     assert have.attrs == one[name].attrs
                 else:
                     xr.testing.assert_identical(have, one[name])
+
+
+def test_serial_in_memory_sweeps_take_fewer_larger_blocks():
+    from types import SimpleNamespace
+
+    from xpersson.sweep.execute import SERIAL_BLOCK_POINTS, _points_per_block
+
+    for size in (1, 150, SERIAL_BLOCK_POINTS, 4 * SERIAL_BLOCK_POINTS + 4, 10_000):
+        plan = SimpleNamespace(size=size)
+        quarter = -(-size // 4)
+        assert _points_per_block(plan, 1, None) == quarter  # workers, folders: unchanged
+        serial = _points_per_block(plan, 1, None, serial_in_memory=True)
+        assert serial == max(quarter, min(size, SERIAL_BLOCK_POINTS))
+        assert serial == size or serial >= SERIAL_BLOCK_POINTS
+        assert _points_per_block(plan, 1, 7, serial_in_memory=True) == 7  # chunk= wins

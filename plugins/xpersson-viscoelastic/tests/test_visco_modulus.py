@@ -174,3 +174,23 @@ def test_master_curve_q_integrals_meet_rtol():
     ref = kernel.diffusion_time(psd, mc, 0.5, z, 0.01, nodes=16, panels_per_decade=32)
     got = kernel.diffusion_time(psd, mc, 0.5, z, 0.01)  # the coefficient's rtol >= 1e-6 rule
     np.testing.assert_allclose(got, ref, rtol=1e-6)
+
+
+def test_prony_parts_in_passes_keep_shape_and_closed_forms():
+    # more frequencies than one pass of Prony.parts (4096): the result keeps the input's shape
+    # and every frequency matches its own evaluation and the closed form of the sls
+    m = sls(3e6, 3e9, 1e-3)
+    w = np.geomspace(1e-6, 1e12, 7 * 1800).reshape(7, -1)
+    excess, loss = m.parts(w)
+    assert excess.shape == loss.shape == w.shape
+    k = [0, 4095, 4096, 4097, 8192, w.size - 1]
+    one = [m.parts(w.flat[i]) for i in k]
+    np.testing.assert_allclose(excess.flat[k], [e for e, _ in one], rtol=1e-14)
+    np.testing.assert_allclose(loss.flat[k], [lo for _, lo in one], rtol=1e-14)
+    b = w * 1e-3
+    s = np.sqrt(1 + b * b)
+    dE = 3e9 - 3e6
+    np.testing.assert_allclose(loss, 2 * np.pi * dE * b / (s * (1 + s)), rtol=1e-13)
+    c = 3e6 + dE / 2  # E_r + dE tau / (tau + tau)
+    u = b * b / (s * (1 + s))  # 1 - 1/s without cancellation
+    np.testing.assert_allclose(excess, 2 * dE * c * u, rtol=1e-13)
