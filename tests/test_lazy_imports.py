@@ -214,3 +214,18 @@ def test_simple_si_equals_pint(x, pair):
 )
 def test_simple_si_leaves_the_rest_to_pint(text, unit):
     assert _simple_si(text, unit) is None
+
+
+def test_info_on_an_archive_imports_neither_dask_array_nor_a_solver(tmp_path):
+    """``xpersson info`` decodes the flag strings and prints one column per load with numpy:
+    xarray's converting constructors and ``isel`` would import ``dask.array`` (~0.1 s)."""
+    import xpersson
+
+    xpersson.to_netcdf(xpersson.solve(SCENE_DICT), tmp_path / "a.nc")
+    code = (
+        "import contextlib, io\nfrom xpersson.cli import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()) as out:\n    main(['info', 'a.nc'])\n"
+        "assert 'area_fraction' in out.getvalue() and 'status: success' in out.getvalue()"
+    )
+    watch = ["dask.array", "xpersson.pipeline", "xpersson.engine", "matplotlib"]
+    assert _loaded_after(code, watch, tmp_path) == []

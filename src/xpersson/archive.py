@@ -445,7 +445,8 @@ def decode(ds: xr.Dataset) -> xr.Dataset:
             strings[codes == len(meanings) - 1] = ""
             attrs = {k: v for k, v in var.attrs.items() if k not in ("flag_values", _ENCODED)}
             attrs["flag_meanings"] = " ".join(meanings[:n_declared])
-            ds[name] = xr.DataArray(strings, dims=var.dims, attrs=attrs)
+            # fastpath: a plain object ndarray; the duck-array checks would import dask.array
+            ds[name] = xr.Variable(var.dims, strings, attrs, fastpath=True)
         elif how.startswith("renamed_from:"):
             old = how.split(":", 1)[1]
             ds = ds.rename({name: old})

@@ -174,7 +174,7 @@ def _print_areas(ds: Any) -> None:
     n_loads = len(loads)
     shown = min(n_loads, SHOWN_LOADS) if n_loads else 1
     print(
-        f"  area fractions at zeta_max = {float(ds['zeta'][-1]):.6g}"
+        f"  area fractions at zeta_max = {float(ds['zeta'].values[-1]):.6g}"
         + (
             f" (first {shown} of {n_loads} loads; {n_loads - shown} more not shown)"
             if n_loads > shown
@@ -184,7 +184,11 @@ def _print_areas(ds: Any) -> None:
     if n_loads:
         print(f"    {'p0 [Pa]':28s} " + " ".join(f"{v:.6g}" for v in loads[:shown]))
     for name in names:
-        values = ds[name].isel(zeta=-1).values.ravel()[:shown]
+        # numpy indexing: xarray's isel would import dask.array (~0.1 s) for one column
+        import numpy as np
+
+        var = ds[name]
+        values = np.take(var.values, -1, axis=var.dims.index("zeta")).ravel()[:shown]
         label = f"{name}"
         print(
             f"    {label:28s} "
