@@ -18,10 +18,12 @@ scale: at mu_T = 1 the scaled mean field is not sticky (``k0`` 0.93) while every
 holds 40-260 Pa of tension; its pull-off is then the finite-size floor's (below), several times
 below the BEM's (the unscaled ``dmt`` mean field gets that pull-off right and the area wrong).
 
-Below the mean field's stickiness a finite nominal area ``(2 pi/q_L)^2`` still holds its
-highest summit in contact until that summit's own (DMT) pull-off (:class:`._meanfield.Summit`):
-a finite-size floor of the contact area and of the pull-off stress, which vanishes as ``q_L^2``
-for macroscopic nominal areas; loads it carries are flagged (regime 4).
+Below the mean field's stickiness a finite nominal area (side ``nominal_size``, default the
+roughness' longest wavelength ``2 pi/q_L``) still holds its highest bump in contact until that
+bump's own (DMT) pull-off (:class:`._bump.Bump`: the surface smoothed at the scale that holds
+best, with Persson and Tosatti's effective interfacial energy of the finer roughness): a
+finite-size floor of the contact area and of the pull-off stress, which vanishes as
+``nominal_size^-2`` for macroscopic nominal areas; loads it carries are flagged (regime 4).
 
 Per load it reports the regime (``regime``) and the accuracy measured in the verification
 (``expected_factor``); per scene the pull-off stress and the small-load ratio
@@ -37,7 +39,8 @@ import numpy as np
 
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
-from ._meanfield import MeanField, Summit, attraction_curve, p_hi_of
+from ._bump import Bump
+from ._meanfield import MeanField, attraction_curve, p_hi_of
 from ._tabor import tabor_parameter
 from .dmt import _curve_grid, _increasing
 from .jkr import ADHESION_PARAMETERS, _check_scalar, stickiness
@@ -82,8 +85,8 @@ REGIMES = {
     1: "DMT-like scene (Tabor parameter at zeta_1 below the verified range)",
     2: "intermediate scene, inside the verified Tabor range",
     3: "JKR-ward scene (Tabor parameter at zeta_1 above the calibrated range; checked at 3)",
-    4: "finite-size floor: the highest summit's DMT contact carries the load (mean field "
-    "detached or smaller)",
+    4: "finite-size floor: the nominal area's highest bump in DMT contact carries the load "
+    "(mean field detached or smaller)",
 }
 #: Tabor parameters at the finest scale covered by the BEM verification.
 VERIFIED_TABOR = (0.5, 2.0)
@@ -96,7 +99,7 @@ EXPECTED_FACTOR = {0: 1.7, 1: 0.0, 2: 1.7, 3: 1.2, 4: 0.0}
 
 def regime_of(tabor_1: float, ratio: np.ndarray, summit: np.ndarray | None = None) -> np.ndarray:
     """Regime code per load from the finest-scale Tabor parameter, ``p_att/p_rep`` and the
-    loads carried by the finite-size summit floor."""
+    loads carried by the finite-size floor (the highest bump)."""
     lo, hi = VERIFIED_TABOR
     scene = 1 if tabor_1 < lo else (3 if tabor_1 > hi else 2)
     code = np.where(np.asarray(ratio, float) < 0.1, 0, scene).astype(float)
@@ -132,6 +135,13 @@ class AdhesiveBoundary(Boundary):
             default="exponential",
             description="attractive traction-gap law (integral = work_of_adhesion)",
         ),
+        "nominal_size": ParamSpec(
+            unit="m",
+            default=0.0,
+            bounds=(0.0, None),
+            description="side L of the nominal area for the finite-size floor (0: the "
+            "roughness' longest wavelength 2 pi/q_L, a BEM cell); the floor scales as L^-2",
+        ),
     }
     outputs = {
         "p_rep": VarSpec(("p0",), "Pa", "repulsive nominal pressure p0 + p_att", valid_min=0.0),
@@ -166,8 +176,8 @@ class AdhesiveBoundary(Boundary):
             "Pa",
             "pull-off stress",
             valid_min=0.0,
-            description="max of the mean field's -min_p (p - p_att(p)) and the finite-size summit "
-            "floor 2 pi w R_s (q_L / 2 pi)^2",
+            description="max of the mean field's -min_p (p - p_att(p)) and the finite-size floor "
+            "max_zeta 2 pi gamma_eff(zeta) R(zeta) / nominal_size^2 (highest bump, DMT)",
         ),
         "small_load_ratio": VarSpec(
             (),
@@ -236,12 +246,25 @@ class AdhesiveBoundary(Boundary):
             self._tables = {key: _SHARED[shared]}
         return self._tables[key]
 
-    def summit(self, ctx: SceneContext) -> Summit:
-        """The finite-size summit floor of the scene."""
-        return Summit(ctx.psd, ctx.E_star, self._params["work_of_adhesion"])
+    def side(self, ctx: SceneContext) -> float:
+        """Side of the nominal area [m]: ``nominal_size``, or ``2 pi / q_L`` when 0."""
+        cell = 2.0 * math.pi / float(ctx.psd.q_L)
+        side = float(self._params["nominal_size"])
+        if side == 0.0:
+            return cell
+        if side < cell * (1.0 - 1e-12):
+            raise ValueError(
+                f"boundary.nominal_size = {side:g} m: must be 0 (the cell 2 pi/q_L) or at least "
+                f"the roughness' longest wavelength 2 pi/q_L = {cell:g} m"
+            )
+        return side
+
+    def summit(self, ctx: SceneContext) -> Bump:
+        """The finite-size floor of the scene: its highest bump in DMT contact."""
+        return Bump(ctx.psd, ctx.E_star, self._params["work_of_adhesion"], self.side(ctx))
 
     def pull_off(self, ctx: SceneContext) -> float:
-        """Pull-off stress [Pa]: the mean field's, or the summit floor's when larger."""
+        """Pull-off stress [Pa]: the mean field's, or the floor's (highest bump) when larger."""
         mf = self.table(ctx)
         if mf is None:
             return 0.0
@@ -250,8 +273,8 @@ class AdhesiveBoundary(Boundary):
     def solve_load(self, ctx: SceneContext, p0: float) -> tuple[float, bool]:
         """``(p_att [Pa], summit)`` of load ``p0`` [Pa]; a clear error beyond pull-off.
 
-        The mean-field root, unless the summit floor gives a larger area (then ``p_att`` is
-        the shift that gives the elastic contact the summit's area at ``zeta_max``).
+        The mean-field root, unless the floor (highest bump) gives a larger area (then
+        ``p_att`` is the shift that gives the elastic contact the bump's area at ``zeta_max``).
         """
         from scipy.special import erf, erfinv
 
@@ -268,8 +291,8 @@ class AdhesiveBoundary(Boundary):
             area = float(erf((p0 + att) / (2.0 * mf.scale)))
         except ValueError:
             att, area = math.nan, 0.0
-        # the summit's area, kept below 1 so that the shift stays finite (erfinv(1) = inf: a
-        # summit floor at full contact is the full-contact wall, not an infinite one)
+        # the bump's area, kept below 1 so that the shift stays finite (erfinv(1) = inf: a
+        # floor at full contact is the full-contact wall, not an infinite one)
         a_s = min(self.summit(ctx).area(float(p0)), math.nextafter(1.0, 0.0))
         if a_s > area:
             return 2.0 * mf.scale * float(erfinv(a_s)) - float(p0), True
@@ -288,6 +311,7 @@ class AdhesiveBoundary(Boundary):
     # -- the plugin interface ----------------------------------------------------------------
     def validate(self, ctx: SceneContext) -> None:
         """Every load against the pull-off (before any solve): builds the scene's table."""
+        self.side(ctx)
         for p0 in np.asarray(ctx.p0, dtype=float):
             self.p_att(ctx, float(p0))
 

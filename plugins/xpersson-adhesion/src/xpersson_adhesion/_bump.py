@@ -1,0 +1,84 @@
+"""Finite-size floor of ``adhesive``: the highest bump of the nominal area in DMT contact.
+
+Below the mean field's stickiness (small-load ratio ``k0 < 1``) no tensile load holds contact
+in the mean field, yet a finite nominal area of side ``L`` keeps its highest bump in contact
+until that bump's own pull-off. A bump at magnification ``zeta`` is the surface smoothed at
+``q = zeta q_L``: a sphere of radius ``R(zeta) = 1/kappa(zeta)``,
+``kappa(zeta)^2 = 2 pi int_{q_L}^{zeta q_L} q^5 C dq`` (the rms curvature of the resolved
+roughness), whose interface carries Persson and Tosatti's effective interfacial energy
+``gamma_eff(zeta)`` (the work of adhesion less the full-contact elastic energy of the finer
+roughness, physics.md §2.1; :func:`._detachment.gamma_effective`). In DMT contact
+(Derjaguin, Muller, Toporov 1975) its pull-off force is ``2 pi gamma_eff(zeta) R(zeta)``; the
+floor takes the scale that holds best,
+
+    ``F = max_{zeta in [ZETA_MIN, zeta_1]} 2 pi gamma_eff(zeta) R(zeta)``,
+
+which at ``zeta_1`` is the smooth highest summit (``gamma_eff = dgamma``, ``R = 1/kappa_rms``,
+the floor of the previous version) and at ``zeta ~ 2-20`` the cell's long-wavelength bump.
+Contact radius ``a^3 = R (F0 + F) / K`` (``K = 4 E*/3``, ``F0 = p0 L^2``), area fraction
+``pi a^2 / L^2``. Per nominal area the pull-off stress is ``F / L^2``: a finite-size effect
+that vanishes as ``L^-2`` for nominal areas larger than the roughness' longest wavelength.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._detachment import gamma_effective
+
+__all__ = ["Bump", "ZETA_MIN", "N_SCALES"]
+
+#: Smallest magnification of a bump [1]: a bump is at least one octave of roughness
+#: (``q_L .. 2 q_L``); below, ``R -> inf`` and the "bump" is the flat nominal area (the mean
+#: field's job).
+ZETA_MIN = 2.0
+#: Magnifications scanned for the best bump (log-spaced, ``zeta_1`` included) [1].
+N_SCALES = 48
+
+
+class Bump:
+    """The highest bump of a nominal area of side ``side`` in DMT contact (SI units).
+
+    Parameters
+    ----------
+    psd : PowerSpectrum
+        Roughness spectrum (Persson convention, m^4).
+    E_star : float
+        Contact modulus [Pa].
+    work : float
+        Work of adhesion [J/m^2], >= 0.
+    side : float
+        Side of the nominal area [m], > 0 (the BEM's periodic cell: ``2 pi / q_L``).
+    """
+
+    def __init__(self, psd: object, E_star: float, work: float, side: float) -> None:
+        q_L, q_1 = float(psd.q_L), float(psd.q_1)  # type: ignore[attr-defined]
+        z1 = q_1 / q_L
+        z = np.geomspace(min(ZETA_MIN, z1), z1, N_SCALES)
+        z[-1] = z1
+        gamma = gamma_effective(psd, E_star, work, z)[0]
+        m5 = np.asarray(psd.running_moment(5.0, z * q_L), dtype=float)  # type: ignore[attr-defined]
+        radius = 1.0 / np.sqrt(np.maximum(2.0 * math.pi * m5, 1e-300))
+        force = 2.0 * math.pi * gamma * radius
+        i = int(np.argmax(force))
+        self.zeta = float(z[i])
+        self.radius = float(radius[i])
+        self.gamma = float(gamma[i])
+        self.force = float(force[i])
+        self.cell = float(side) ** 2
+        self.K = 4.0 * float(E_star) / 3.0
+
+    @property
+    def pull_off(self) -> float:
+        """Pull-off stress of the bump over the nominal area [Pa]."""
+        return self.force / self.cell
+
+    def area(self, p0: float) -> float:
+        """Contact-area fraction of the bump at nominal stress ``p0`` [Pa] (0 beyond)."""
+        f = p0 * self.cell + self.force
+        if f <= 0.0 or self.force <= 0.0 and p0 <= 0.0:
+            return 0.0
+        a = (self.radius * f / self.K) ** (1.0 / 3.0)
+        return min(math.pi * a * a / self.cell, 1.0)
