@@ -14,6 +14,7 @@ from scipy.special import erf
 from xpersson.physics import SelfAffineRollOff, diffusion_time
 from xpersson.scene import SceneError
 from xpersson_adhesion import AdhesionLimitWarning, AdhesiveBoundary
+from xpersson_adhesion._bump import BUMPS
 from xpersson_adhesion._meanfield import MeanField, attraction_curve
 from xpersson_adhesion.adhesive import ATTRACTION_SCALE, EXPECTED_FACTOR, regime_of
 from xpersson_adhesion.dmt import _curve_grid
@@ -130,12 +131,13 @@ def test_pull_off_bounds_the_tensile_loads(solve):
     # mu_T = 1: the scaled mean field is just below its stickiness (k0 = 0.94 = 0.85 x 1.11)
     mid = quiet(solve, scene(adhesive(WORKS[1]), [1e3]))
     assert 0.9 < float(mid["small_load_ratio"]) < 1
-    # below the mean field's stickiness: the finite-size floor, the highest summit in DMT
-    # contact (radius 1/kappa_rms) over the nominal area (2 pi/q_L)^2
+    # below the mean field's stickiness: the finite-size floor, BUMPS bumps in DMT contact
+    # over the nominal area (2 pi/q_L)^2; at this weak work the best bump is the smooth
+    # highest summit (zeta_1: radius 1/kappa_rms, gamma_eff = w)
     w = WORKS[0] / 4
     weak = quiet(solve, scene(adhesive(w), [1e3]))
     assert float(weak["small_load_ratio"]) < 1
-    floor = 2 * math.pi * w / float(PSD.rms_curvature()) * (Q_L / (2 * math.pi)) ** 2
+    floor = BUMPS * 2 * math.pi * w / float(PSD.rms_curvature()) * (Q_L / (2 * math.pi)) ** 2
     assert float(weak["pull_off_stress"]) == pytest.approx(floor, rel=1e-9)
     held = quiet(solve, scene(adhesive(w), [-0.5 * floor]))
     assert held["regime"].values[0] == 4 and held["area_fraction"].values[0, -1] > 0

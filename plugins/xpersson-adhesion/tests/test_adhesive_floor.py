@@ -1,0 +1,124 @@
+"""``adhesive``'s finite-size floor (the nominal area's highest bumps, :mod:`._bump`)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+# the BEM referee's H = 0.8 scene (as test_adhesive.py)
+from test_adhesive import E_STAR, PSD, Q_L, WORKS, adhesive, scene, table
+
+from xpersson.scene import SceneError
+from xpersson_adhesion import AdhesionLimitWarning
+from xpersson_adhesion._bump import BUMPS, ZETA_MIN, Bump
+from xpersson_adhesion._detachment import gamma_effective
+from xpersson_adhesion.adhesive import ATTRACTION_SCALE
+
+CELL = 2.0 * math.pi / Q_L
+
+
+def quiet(solve, sc):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AdhesionLimitWarning)
+        return solve(sc)
+
+
+def brute_force(work: float, n: int = 4000) -> tuple[float, float]:
+    """max over a dense zeta grid of 2 pi gamma_eff R [N], and its zeta (independent scan)."""
+    z = np.geomspace(ZETA_MIN, 32.0, n)
+    gamma = gamma_effective(PSD, E_STAR, work, z)[0]
+    # R = 1/kappa: kappa^2 = 2 pi int_{q_L}^{zeta q_L} q^5 C dq, by quadrature of C itself
+    q = np.geomspace(Q_L, 32 * Q_L, 20001)
+    f = q**5 * np.asarray(PSD.C(q), float)
+    cum = np.concatenate(([0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(q))))
+    radius = 1.0 / np.sqrt(2 * math.pi * np.interp(z * Q_L, q, cum))
+    force = 2 * math.pi * gamma * radius
+    i = int(np.argmax(force))
+    return float(force[i]), float(z[i])
+
+
+@pytest.mark.parametrize("work", WORKS[:2])
+def test_floor_is_the_best_bump_of_an_independent_scan(work):
+    bump = Bump(PSD, E_STAR, work, CELL)
+    force, zeta = brute_force(work)
+    assert bump.force == pytest.approx(force, rel=2e-3)
+    assert bump.pull_off == pytest.approx(BUMPS * force / CELL**2, rel=2e-3)
+    # at Tabor 0.6 and 1 the cell's long-wavelength bump (zeta ~ 8-18), not the finest summit,
+    # holds best: above the smooth-summit value at zeta_1
+    assert 2.0 < bump.zeta < 30.0 and zeta == pytest.approx(bump.zeta, rel=0.1)
+    summit = 2 * math.pi * work / float(PSD.rms_curvature())
+    assert bump.force > 1.2 * summit  # 1.25x at Tabor 0.6, 2.4x at 1.0
+
+
+def test_floor_numbers_against_the_bem_mean_pull_off():
+    """The one calibrated constant: BUMPS fitted on these two (H = 0.8, Tabor 0.6 and 1.0;
+    BEM mean pull-off 28.3 and 111 Pa over six surfaces, docs/adhesion_bem.md)."""
+    pulls = [Bump(PSD, E_STAR, w, CELL).pull_off for w in WORKS[:2]]
+    assert pulls[0] == pytest.approx(28.3, rel=0.1)
+    assert pulls[1] == pytest.approx(111.3, rel=0.1)
+
+
+def test_pull_off_grows_with_the_work(solve):
+    works = np.geomspace(1e-5, 6e-3, 9)
+    pulls = [float(quiet(solve, scene(adhesive(w), [1e3]))["pull_off_stress"]) for w in works]
+    assert np.all(np.diff(pulls) > 0), pulls
+    # w -> 0: the floor vanishes linearly (gamma_eff(zeta_1) = w at the smooth summit)
+    assert pulls[0] < 1e-3 * pulls[-1]
+
+
+def test_small_work_recovers_the_elastic_contact(solve):
+    loads = [250.0, 1e3, 4e3]
+    el = quiet(solve, scene({"model": "elastic"}, loads))["area_fraction"].isel(zeta=-1).values
+    ds = quiet(solve, scene(adhesive(1e-7), loads))
+    area = ds["area_fraction"].isel(zeta=-1).values
+    np.testing.assert_allclose(area, el, rtol=2e-3)
+    assert np.all(ds["regime"].values == 0)
+
+
+def test_nominal_size_scales_the_floor_and_not_the_mean_field(solve):
+    w = WORKS[1]  # the mean field is not sticky: the floor is the pull-off
+    base = float(quiet(solve, scene(adhesive(w), [1e3]))["pull_off_stress"])
+    big = quiet(solve, scene(adhesive(w, nominal_size=f"{10 * CELL!r} m"), [1e3]))
+    assert float(big["pull_off_stress"]) == pytest.approx(base / 100, rel=1e-9)
+    # sticky mean field (Tabor 1.6): its pull-off is intensive, the same for any size
+    s1 = quiet(solve, scene(adhesive(WORKS[2]), [1e3]))
+    s2 = quiet(solve, scene(adhesive(WORKS[2], nominal_size="1 m"), [1e3]))
+    assert float(s1["pull_off_stress"]) == float(s2["pull_off_stress"])
+    # the cell's loads beyond the larger area's pull-off are refused
+    with pytest.raises(SceneError, match="beyond pull-off"):
+        quiet(solve, scene(adhesive(w, nominal_size=f"{10 * CELL!r} m"), [-0.5 * base]))
+
+
+def test_nominal_size_below_the_longest_wavelength_is_refused(solve):
+    with pytest.raises(SceneError, match=r"nominal_size = .* m.*2 pi/q_L"):
+        quiet(solve, scene(adhesive(WORKS[1], nominal_size=f"{0.5 * CELL!r} m"), [1e3]))
+
+
+def test_compressive_branch_is_the_mean_field_where_the_floor_is_smaller(solve):
+    """At the referee's compressive loads the floor stays below the mean field (regime != 4)
+    and the solution is the scaled mean field's root, as before the floor changed."""
+    loads = [250.0, 500.0, 1e3, 2e3, 4e3]
+    for w in WORKS:
+        ds = quiet(solve, scene(adhesive(w), loads))
+        assert np.all(ds["regime"].values != 4)
+        p_rep = ds["p_rep"].values
+        np.testing.assert_allclose(p_rep - ds["p_att"].values, loads, rtol=1e-6)
+        mean_field = ATTRACTION_SCALE * table(w)(p_rep)
+        np.testing.assert_allclose(ds["p_att"].values, mean_field, rtol=2e-3)
+        floor = [Bump(PSD, E_STAR, w, CELL).area(p) for p in loads]
+        assert np.all(ds["area_fraction"].isel(zeta=-1).values > floor)
+
+
+def test_tensile_loads_held_by_the_floor_flag_regime_4(solve):
+    w = WORKS[1]
+    loads = [-100.0, -50.0, -25.0]
+    ds = quiet(solve, scene(adhesive(w), loads))
+    assert np.all(ds["regime"].values == 4)
+    area = ds["area_fraction"].isel(zeta=-1).values
+    assert np.all(area > 0) and np.all(np.diff(area) > 0)  # less contact under more tension
+    bump = Bump(PSD, E_STAR, w, CELL)
+    expect = [bump.area(p) for p in loads]
+    np.testing.assert_allclose(area, expect, rtol=1e-6)
