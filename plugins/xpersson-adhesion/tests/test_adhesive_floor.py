@@ -15,7 +15,7 @@ from xpersson.scene import SceneError
 from xpersson_adhesion import AdhesionLimitWarning
 from xpersson_adhesion._bump import BUMPS, ZETA_MIN, Bump
 from xpersson_adhesion._detachment import gamma_effective
-from xpersson_adhesion.adhesive import ATTRACTION_SCALE
+from xpersson_adhesion.adhesive import ATTRACTION_SCALE, PULL_OFF_FACTOR
 
 CELL = 2.0 * math.pi / Q_L
 
@@ -122,3 +122,17 @@ def test_tensile_loads_held_by_the_floor_flag_regime_4(solve):
     bump = Bump(PSD, E_STAR, w, CELL)
     expect = [bump.area(p) for p in loads]
     np.testing.assert_allclose(area, expect, rtol=1e-6)
+
+
+def test_pull_off_expected_factor_follows_its_origin(solve):
+    """The pull-off's accuracy from the tension table: floor (Tabor <= 1) or sticky mean field
+    (Tabor 1.6); 0 for a nominal area the BEM did not check, and without adhesion."""
+    got = [
+        float(quiet(solve, scene(adhesive(w), [1e3]))["pull_off_expected_factor"]) for w in WORKS
+    ]
+    assert got == [PULL_OFF_FACTOR[("floor", 2)]] * 2 + [PULL_OFF_FACTOR[("mean field", 2)]]
+    big = quiet(solve, scene(adhesive(WORKS[1], nominal_size=f"{4 * CELL!r} m"), [1e3]))
+    assert float(big["pull_off_expected_factor"]) == 0.0
+    sticky = quiet(solve, scene(adhesive(WORKS[2], nominal_size=f"{4 * CELL!r} m"), [1e3]))
+    assert float(sticky["pull_off_expected_factor"]) == PULL_OFF_FACTOR[("mean field", 2)]
+    assert float(quiet(solve, scene(adhesive(0.0), [1e3]))["pull_off_expected_factor"]) == 0.0

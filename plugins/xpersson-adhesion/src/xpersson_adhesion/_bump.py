@@ -1,8 +1,8 @@
-"""Finite-size floor of ``adhesive``: the highest bump of the nominal area in DMT contact.
+"""Finite-size floor of ``adhesive``: the nominal area's highest bumps in DMT contact.
 
 Below the mean field's stickiness (small-load ratio ``k0 < 1``) no tensile load holds contact
-in the mean field, yet a finite nominal area of side ``L`` keeps its highest bump in contact
-until that bump's own pull-off. A bump at magnification ``zeta`` is the surface smoothed at
+in the mean field, yet a finite nominal area of side ``L`` keeps its highest bumps in contact
+until their own pull-off. A bump at magnification ``zeta`` is the surface smoothed at
 ``q = zeta q_L``: a sphere of radius ``R(zeta) = 1/kappa(zeta)``,
 ``kappa(zeta)^2 = 2 pi int_{q_L}^{zeta q_L} q^5 C dq`` (the rms curvature of the resolved
 roughness), whose interface carries Persson and Tosatti's effective interfacial energy
@@ -13,11 +13,14 @@ floor takes the scale that holds best,
 
     ``F = max_{zeta in [ZETA_MIN, zeta_1]} 2 pi gamma_eff(zeta) R(zeta)``,
 
-which at ``zeta_1`` is the smooth highest summit (``gamma_eff = dgamma``, ``R = 1/kappa_rms``,
-the floor of the previous version) and at ``zeta ~ 2-20`` the cell's long-wavelength bump.
-Contact radius ``a^3 = R (F0 + F) / K`` (``K = 4 E*/3``, ``F0 = p0 L^2``), area fraction
-``pi a^2 / L^2``. Per nominal area the pull-off stress is ``F / L^2``: a finite-size effect
-that vanishes as ``L^-2`` for nominal areas larger than the roughness' longest wavelength.
+which at ``zeta_1`` is the smooth highest summit (``gamma_eff = dgamma``, ``R = 1/kappa_rms``)
+and at ``zeta ~ 2-20`` the long-wavelength bump. :data:`BUMPS` such bumps hold (the one
+calibrated constant: the BEM's cells hold 2.6-2.8x one bump's force on H = 0.8, several
+contact clusters under tension and a single cluster holding 2.4-4x one bump's force;
+``docs/adhesion_bem.md``). Each carries ``p0 L^2 / BUMPS``: contact radius
+``a^3 = R (p0 L^2 / BUMPS + F) / K`` (``K = 4 E*/3``), area fraction ``BUMPS pi a^2 / L^2``.
+Per nominal area the pull-off stress is ``BUMPS F / L^2``: a finite-size effect that vanishes
+as ``L^-2`` for nominal areas larger than the roughness' longest wavelength.
 """
 
 from __future__ import annotations
