@@ -7,10 +7,12 @@ import warnings
 
 import numpy as np
 import pytest
+from scipy.special import erf
 
 # the BEM referee's H = 0.8 scene (as test_adhesive.py)
 from test_adhesive import E_STAR, PSD, Q_L, WORKS, adhesive, scene, table
 
+from xpersson.physics import diffusion_time
 from xpersson.scene import SceneError
 from xpersson_adhesion import AdhesionLimitWarning
 from xpersson_adhesion._bump import BUMPS, ZETA_MIN, Bump
@@ -97,31 +99,44 @@ def test_nominal_size_below_the_longest_wavelength_is_refused(solve):
         quiet(solve, scene(adhesive(WORKS[1], nominal_size=f"{0.5 * CELL!r} m"), [1e3]))
 
 
-def test_compressive_branch_is_the_mean_field_where_the_floor_is_smaller(solve):
-    """At the referee's compressive loads the floor stays below the mean field (regime != 4)
-    and the solution is the scaled mean field's root, as before the floor changed."""
-    loads = [250.0, 500.0, 1e3, 2e3, 4e3]
+def test_every_load_is_the_mean_field_root_at_the_shifted_load(solve):
+    """p_rep - 0.85 p_att,mf(p_rep) = p0 + d with d = floor_stress: 0 where the mean field is
+    sticky and holds more than the floor (Tabor 1.6: unchanged), the floor's pull-off below."""
+    loads = [250.0, 500.0, 1e3, 2e3, 4e3]  # the referee's compressive loads
+    shifts = []
     for w in WORKS:
         ds = quiet(solve, scene(adhesive(w), loads))
-        assert np.all(ds["regime"].values != 4)
+        d = float(ds["floor_stress"])
+        shifts.append(d)
         p_rep = ds["p_rep"].values
-        np.testing.assert_allclose(p_rep - ds["p_att"].values, loads, rtol=1e-6)
+        np.testing.assert_allclose(p_rep - ds["p_att"].values, loads, rtol=1e-9)
         mean_field = ATTRACTION_SCALE * table(w)(p_rep)
-        np.testing.assert_allclose(ds["p_att"].values, mean_field, rtol=2e-3)
-        floor = [Bump(PSD, E_STAR, w, CELL).area(p) for p in loads]
-        assert np.all(ds["area_fraction"].isel(zeta=-1).values > floor)
+        # the table's interpolation (2e-3 of p_att, PCHIP between nodes) relative to p_rep
+        assert np.all(np.abs(p_rep - mean_field - np.array(loads) - d) <= 2e-3 * p_rep)
+        # the area is the elastic contact at p_rep (the engine's, against the closed form)
+        tau = float(diffusion_time(PSD, E_STAR, 32.0))
+        np.testing.assert_allclose(
+            ds["area_fraction"].isel(zeta=-1).values, erf(p_rep / (2 * math.sqrt(tau))), rtol=1e-6
+        )
+    pull = [Bump(PSD, E_STAR, w, CELL).pull_off for w in WORKS]
+    assert shifts[0] == pytest.approx(pull[0], rel=1e-3)
+    assert shifts[1] == pytest.approx(pull[1], rel=1e-3)
+    assert shifts[2] == 0.0
 
 
-def test_tensile_loads_held_by_the_floor_flag_regime_4(solve):
+def test_tensile_loads_beyond_the_mean_field_flag_regime_4(solve):
     w = WORKS[1]
-    loads = [-100.0, -50.0, -25.0]
+    loads = [-100.0, -50.0, -25.0, 250.0]
     ds = quiet(solve, scene(adhesive(w), loads))
-    assert np.all(ds["regime"].values == 4)
+    assert list(ds["regime"].values) == [4, 4, 4, 2]
     area = ds["area_fraction"].isel(zeta=-1).values
     assert np.all(area > 0) and np.all(np.diff(area) > 0)  # less contact under more tension
-    bump = Bump(PSD, E_STAR, w, CELL)
-    expect = [bump.area(p) for p in loads]
-    np.testing.assert_allclose(area, expect, rtol=1e-6)
+    # the floor's pull-off bounds them: just inside holds, just outside is refused
+    pull = float(ds["pull_off_stress"])
+    held = quiet(solve, scene(adhesive(w), [-0.99 * pull]))
+    assert 0 < held["area_fraction"].values[0, -1] < area[0]
+    with pytest.raises(SceneError, match="beyond pull-off"):
+        quiet(solve, scene(adhesive(w), [-1.01 * pull]))
 
 
 def test_pull_off_expected_factor_follows_its_origin(solve):

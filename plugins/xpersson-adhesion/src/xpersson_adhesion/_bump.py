@@ -76,20 +76,8 @@ class Bump:
         #: pull-off force of one bump [N]
         self.force = float(force[i])
         self.cell = float(side) ** 2
-        self.K = 4.0 * float(E_star) / 3.0
 
     @property
     def pull_off(self) -> float:
         """Pull-off stress of the :data:`BUMPS` bumps over the nominal area [Pa]."""
         return BUMPS * self.force / self.cell
-
-    def area(self, p0: float) -> float:
-        """Contact-area fraction of the bumps at nominal stress ``p0`` [Pa] (0 beyond).
-
-        Each of the :data:`BUMPS` bumps carries ``p0 L^2 / BUMPS`` in DMT contact.
-        """
-        f = p0 * self.cell / BUMPS + self.force
-        if f <= 0.0:
-            return 0.0
-        a = (self.radius * f / self.K) ** (1.0 / 3.0)
-        return min(BUMPS * math.pi * a * a / self.cell, 1.0)
