@@ -15,12 +15,12 @@ floor takes the scale that holds best,
 
 which at ``zeta_1`` is the smooth highest summit (``gamma_eff = dgamma``, ``R = 1/kappa_rms``)
 and at ``zeta ~ 2-20`` the long-wavelength bump. :data:`BUMPS` such bumps hold (the one
-calibrated constant: the BEM's cells hold 2.6-2.8x one bump's force on H = 0.8, several
+calibrated constant: the BEM's cells hold 2.6-2.8x one bump's force on H = 0.8, with several
 contact clusters under tension and a single cluster holding 2.4-4x one bump's force;
-``docs/adhesion_bem.md``). Each carries ``p0 L^2 / BUMPS``: contact radius
-``a^3 = R (p0 L^2 / BUMPS + F) / K`` (``K = 4 E*/3``), area fraction ``BUMPS pi a^2 / L^2``.
-Per nominal area the pull-off stress is ``BUMPS F / L^2``: a finite-size effect that vanishes
-as ``L^-2`` for nominal areas larger than the roughness' longest wavelength.
+``docs/adhesion_bem.md``). Per nominal area the pull-off stress is ``BUMPS F / L^2``: a
+finite-size effect that vanishes as ``L^-2`` for nominal areas larger than the roughness'
+longest wavelength. ``adhesive`` adds it to the mean field's attraction where it exceeds the
+mean field's own pull-off (:meth:`.adhesive.AdhesiveBoundary.floor_shift`).
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ __all__ = ["Bump", "BUMPS", "ZETA_MIN", "N_SCALES"]
 
 #: Smallest magnification of a bump [1]: a bump is at least one octave of roughness
 #: (``q_L .. 2 q_L``); below, ``R -> inf`` and the "bump" is the flat nominal area (the mean
-#: field's job).
+#: field's job). Not active in the verified cases (their best scales: zeta 3-32).
 ZETA_MIN = 2.0
 #: Bumps holding at pull-off [1]: the one calibrated constant of the floor (fitted on the BEM
 #: referee's H = 0.8 cell at Tabor 0.6 and 1.0, where the single best bump holds 2.8 and 2.6
