@@ -113,14 +113,14 @@ EXPECTED_FACTOR = {0: 1.6, 1: 0.0, 2: 1.6, 3: 1.2, 4: 0.0}
 PULL_OFF_FACTOR = {("mean field", 2): 2.3, ("floor", 2): 2.6, ("mean field", 3): 1.3}
 
 
-def regime_of(tabor_1: float, ratio: np.ndarray, summit: np.ndarray | None = None) -> np.ndarray:
+def regime_of(tabor_1: float, ratio: np.ndarray, floor: np.ndarray | None = None) -> np.ndarray:
     """Regime code per load from the finest-scale Tabor parameter, ``p_att/p_rep`` and the
-    loads carried by the finite-size floor (the highest bump)."""
+    tensile loads held only thanks to the finite-size floor (regime 4)."""
     lo, hi = VERIFIED_TABOR
     scene = 1 if tabor_1 < lo else (3 if tabor_1 > hi else 2)
     code = np.where(np.asarray(ratio, float) < 0.1, 0, scene).astype(float)
-    if summit is not None:
-        code = np.where(np.asarray(summit, bool), 4.0, code)
+    if floor is not None:
+        code = np.where(np.asarray(floor, bool), 4.0, code)
     return code
 
 
@@ -298,7 +298,7 @@ class AdhesiveBoundary(Boundary):
             )
         return side
 
-    def summit(self, ctx: SceneContext) -> Bump:
+    def bump(self, ctx: SceneContext) -> Bump:
         """The finite-size floor of the scene: its highest bump in DMT contact."""
         return Bump(ctx.psd, ctx.E_star, self._params["work_of_adhesion"], self.side(ctx))
 
@@ -307,7 +307,7 @@ class AdhesiveBoundary(Boundary):
         mf = self.table(ctx)
         if mf is None:
             return 0.0
-        return max(mf.pull_off(), self.summit(ctx).pull_off)
+        return max(mf.pull_off(), self.bump(ctx).pull_off)
 
     def floor_shift(self, ctx: SceneContext) -> float:
         """The floor's extra attraction [Pa]: ``max(floor pull-off - mean field's, 0)``.
@@ -319,7 +319,7 @@ class AdhesiveBoundary(Boundary):
         mf = self.table(ctx)
         if mf is None:
             return 0.0
-        return max(self.summit(ctx).pull_off - mf.pull_off(), 0.0)
+        return max(self.bump(ctx).pull_off - mf.pull_off(), 0.0)
 
     def solve_load(self, ctx: SceneContext, p0: float) -> tuple[float, bool]:
         """``(p_att [Pa], floor)`` of load ``p0`` [Pa]; a clear error beyond pull-off.
@@ -372,7 +372,7 @@ class AdhesiveBoundary(Boundary):
         p0 = np.asarray(ctx.p0, dtype=float)
         solved = [self.solve_load(ctx, float(x)) for x in p0]
         att = np.array([a for a, _ in solved])
-        on_summit = np.array([s for _, s in solved])
+        on_floor = np.array([s for _, s in solved])
         mf = self.table(ctx)
         k0 = mf.small_load_ratio if mf is not None else 0.0
         pull = self.pull_off(ctx)
@@ -383,7 +383,7 @@ class AdhesiveBoundary(Boundary):
         ratio = np.where(rep > 0, att / np.where(rep > 0, rep, 1.0), 0.0)
         work = p["work_of_adhesion"]
         mu = tabor_parameter(ctx.psd, ctx.E_star, work, p["range"], ctx.zeta)
-        reg = regime_of(float(mu[-1]), ratio, on_summit)
+        reg = regime_of(float(mu[-1]), ratio, on_floor)
         expected = np.array([EXPECTED_FACTOR[int(r)] for r in reg])
         return {
             "p_rep": (("p0",), rep),
