@@ -239,10 +239,12 @@ class AdhesiveBoundary(Boundary):
                 f"boundary.law = {p['law']!r}: one of exponential, dugdale ('lj93': use 'dmt')"
             )
         self._tables: dict[int, MeanField] = {}
+        self._floors: dict[tuple, tuple[Bump, float]] = {}
 
     def __getstate__(self) -> dict[str, Any]:
         state = dict(self.__dict__)
         state["_tables"] = {}
+        state["_floors"] = {}
         return state
 
     # -- the mean field ----------------------------------------------------------------------
@@ -299,15 +301,25 @@ class AdhesiveBoundary(Boundary):
         return side
 
     def bump(self, ctx: SceneContext) -> Bump:
-        """The finite-size floor of the scene: its highest bump in DMT contact."""
-        return Bump(ctx.psd, ctx.E_star, self._params["work_of_adhesion"], self.side(ctx))
+        """The finite-size floor of the scene: its highest bumps in DMT contact."""
+        return self._floor(ctx)[0]
+
+    def _floor(self, ctx: SceneContext) -> tuple[Bump, float]:
+        """``(bump, P_mf)``: the floor and the mean field's own pull-off [Pa], once per scene."""
+        mf = self.table(ctx)
+        side = self.side(ctx)
+        key = (id(mf), side, id(ctx.psd), ctx.E_star)
+        if key not in self._floors:
+            bump = Bump(ctx.psd, ctx.E_star, self._params["work_of_adhesion"], side)
+            self._floors = {key: (bump, mf.pull_off() if mf is not None else 0.0)}
+        return self._floors[key]
 
     def pull_off(self, ctx: SceneContext) -> float:
         """Pull-off stress [Pa]: the mean field's, or the floor's (highest bumps) when larger."""
-        mf = self.table(ctx)
-        if mf is None:
+        if self.table(ctx) is None:
             return 0.0
-        return max(mf.pull_off(), self.bump(ctx).pull_off)
+        bump, p_mf = self._floor(ctx)
+        return max(p_mf, bump.pull_off)
 
     def floor_shift(self, ctx: SceneContext) -> float:
         """The floor's extra attraction [Pa]: ``max(floor pull-off - mean field's, 0)``.
@@ -316,10 +328,10 @@ class AdhesiveBoundary(Boundary):
         field does not have, added to the mean field's attraction; none where the mean field
         holds more on its own (sticky), so the pull-off is the larger of the two.
         """
-        mf = self.table(ctx)
-        if mf is None:
+        if self.table(ctx) is None:
             return 0.0
-        return max(self.bump(ctx).pull_off - mf.pull_off(), 0.0)
+        bump, p_mf = self._floor(ctx)
+        return max(bump.pull_off - p_mf, 0.0)
 
     def solve_load(self, ctx: SceneContext, p0: float) -> tuple[float, bool]:
         """``(p_att [Pa], floor)`` of load ``p0`` [Pa]; a clear error beyond pull-off.
@@ -345,7 +357,7 @@ class AdhesiveBoundary(Boundary):
                 f"-{self.pull_off(ctx):g} Pa (pull-off stress; small-load ratio p_att/p_rep = "
                 f"{mf.small_load_ratio:.3g}, > 1 is sticky)"
             ) from None
-        return att, bool(d > 0.0 and p0 < -mf.pull_off())
+        return att, bool(d > 0.0 and p0 < -self._floor(ctx)[1])
 
     def p_att(self, ctx: SceneContext, p0: float) -> float:
         """``p_att`` [Pa] of load ``p0`` [Pa]; a clear error beyond pull-off."""
@@ -376,7 +388,7 @@ class AdhesiveBoundary(Boundary):
         mf = self.table(ctx)
         k0 = mf.small_load_ratio if mf is not None else 0.0
         pull = self.pull_off(ctx)
-        origin = "mean field" if mf is not None and mf.pull_off() >= pull else "floor"
+        origin = "mean field" if mf is not None and self._floor(ctx)[1] >= pull else "floor"
         if pull <= 0.0 or (origin == "floor" and self._params["nominal_size"] != 0.0):
             origin = "not verified"  # no pull-off; or the floor of a nominal area != the cell
         rep = p0 + att
