@@ -17,14 +17,17 @@ from verify_boundaries import (
     SPEC,
     ZETA_1,
     _geometry_err,
+    _moment,
     _rel,
     _row,
     _solve,
     _tabor_rows,
     _tau,
     _up,
+    finer_energy,
     reference_p_att,
     tabor,
+    true_area,
 )
 
 #: adhesive's calibration constants as documented (docs/adhesion_bem.md, the VarSpecs)
@@ -124,6 +127,7 @@ def rows(fast: bool) -> list[dict]:
         ),
         _expected_factor_row(),
         _pull_factor_row(),
+        _floor_row(fast),
         *_tabor_rows("adhesive", worst, regime),
     ]
 
@@ -197,4 +201,64 @@ def _pull_factor_row() -> dict:
         "measured/claimed",
         "; ".join(f"{o}: {measured[o]:.2f} vs {claimed[o]}" for o in measured)
         + "; <= 1: the claim holds",
+    )
+
+
+#: adhesive's floor constant as documented (docs/adhesion_bem.md): bumps holding at pull-off.
+BUMPS = 2.7
+
+
+def floor_reference(work: float, n: int) -> float:
+    """``BUMPS max_zeta 2 pi gamma_eff(zeta) R(zeta) / L^2`` [Pa] by quadrature (physics.md §2.1).
+
+    ``gamma_eff = (w A*(zeta_1) - U_el(zeta)) / A*(zeta)``, ``R^-2 = 2 pi int_{q_L}^{zeta q_L}
+    q^5 C dq``, ``L = 2 pi/q_L``, over the scales with ``sqrt(2 R h_f) <= pi/(2 zeta q_L)``
+    (``h_f^2 = 2 pi int_{zeta q_L}^{q_1} q C dq``); the maximum over ``n`` log-spaced
+    magnifications from 2 to ``zeta_1``, refined by a bounded scalar search around the best one.
+    """
+    from scipy.optimize import minimize_scalar
+
+    a1 = true_area(ZETA_1)
+
+    def force(lnz: float) -> float:
+        z = math.exp(lnz)
+        gamma = max((work * a1 - finer_energy(z)) / true_area(z), 0.0)
+        radius = 1.0 / math.sqrt(2 * math.pi * _moment(5, SPEC.q_L, z * SPEC.q_L))
+        h_f = math.sqrt(2 * math.pi * _moment(1, z * SPEC.q_L, SPEC.q_1))
+        if math.sqrt(2 * radius * h_f) > math.pi / (2 * z * SPEC.q_L):
+            return 0.0  # the interaction zone does not fit the bump (Derjaguin)
+        return 2 * math.pi * gamma * radius
+
+    grid = np.linspace(math.log(2.0), math.log(ZETA_1), n)
+    vals = [force(x) for x in grid]
+    i = int(np.argmax(vals))
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, n - 1)]
+    best = max(vals[i], -minimize_scalar(lambda x: -force(x), bounds=(lo, hi)).fun)
+    return BUMPS * best * (SPEC.q_L / (2 * math.pi)) ** 2
+
+
+def _floor_row(fast: bool) -> dict:
+    """floor_stress where the mean field holds no tension (there it is the floor's pull-off);
+    0 where the mean field's own pull-off is the larger (the sticky scenes)."""
+    works = (1e-3, 0.01, 0.1) if fast else (1e-4, 1e-3, 3e-3, 0.01, 0.03, 0.1)
+    worst, sticky_bad, n_ok = 0.0, 0, 0
+    for w in works:
+        for rng in (50e-9, 1e-6):
+            bnd = {"model": "adhesive", "work_of_adhesion": f"{w} J/m**2", "range": f"{rng} m"}
+            ds = _solve([1e3], bnd)
+            d, pull = float(ds["floor_stress"]), float(ds["pull_off_stress"])
+            ref = floor_reference(w, 24 if fast else 96)
+            if d > 0 and abs(d - pull) <= 1e-6 * pull:  # mean field holds ~nothing: d = P_f
+                worst = max(worst, abs(d / ref - 1))
+                n_ok += 1
+            elif pull > ref * (1 + 1e-3):  # the mean field holds more: no extra attraction
+                sticky_bad += d != 0.0
+    return _row(
+        "floor_stress (adhesive)",
+        f"SPEC scene, work {works[0]:g}-{works[-1]:g} J/m^2, range 50 nm and 1 um "
+        f"({n_ok} non-sticky scenes)",
+        "BUMPS max_zeta 2 pi gamma_eff R / L^2 by quadrature of C (physics.md §2.1, this file)",
+        worst if n_ok else math.nan,
+        "rel",
+        f"the plugin scans 48 magnifications; sticky scenes with d != 0: {sticky_bad}",
     )

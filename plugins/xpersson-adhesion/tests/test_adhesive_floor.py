@@ -151,3 +151,26 @@ def test_pull_off_expected_factor_follows_its_origin(solve):
     sticky = quiet(solve, scene(adhesive(WORKS[2], nominal_size=f"{4 * CELL!r} m"), [1e3]))
     assert float(sticky["pull_off_expected_factor"]) == PULL_OFF_FACTOR[("mean field", 2)]
     assert float(quiet(solve, scene(adhesive(0.0), [1e3]))["pull_off_expected_factor"]) == 0.0
+
+
+def test_the_best_bump_fits_its_interaction_zone():
+    """A rolled-off spectrum (flat plateau below q_r = 10 q_L) at strong adhesion: without the
+    Derjaguin condition the best 'bump' was the plateau at ZETA_MIN with R = 520 L; with it the
+    interaction zone sqrt(2 R h_f) stays within a quarter wavelength and R below L."""
+    from xpersson.physics import SelfAffineRollOff
+
+    q_L = 1e3
+    psd = SelfAffineRollOff.from_h_rms(1e-6, H=0.8, q_L=q_L, q_r=1e4, q_1=1e6)
+    side = 2 * math.pi / q_L
+    bump = Bump(psd, 1e6, 0.1, side)
+    q_c = bump.zeta * q_L
+    h_f = math.sqrt(
+        2 * math.pi * (float(psd.running_moment(1.0, 1e6)) - float(psd.running_moment(1.0, q_c)))
+    )
+    assert math.sqrt(2 * bump.radius * h_f) <= math.pi / (2 * q_c) * (1 + 1e-6)
+    assert bump.radius < side and bump.zeta > ZETA_MIN
+    # on the BEM scene the condition does not bind at Tabor <= 1 (the fitted cases)
+    for w in WORKS[:2]:
+        b = Bump(PSD, E_STAR, w, CELL)
+        force, _ = brute_force(w)
+        assert b.force == pytest.approx(force, rel=2e-3)
