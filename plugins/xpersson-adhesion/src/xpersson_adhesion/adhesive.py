@@ -12,8 +12,9 @@ Chosen by evidence against tamaas' boundary-element solution with the same expon
 enhancement ``A(w)/A(0)`` at the lightest loads near its stickiness threshold (mu_T = 1: 14-17x
 against the BEM's 6-7 +- 1.5x) because its attraction per contact falls too slowly with the
 area; scaled by 0.85 (chosen on the H = 0.8 spectrum, checked on H = 0.5) the enhancement is
-within a factor 1.7 of the BEM at every compressive point. Persson's detachment wall (``jkr``)
-under-predicts it several-fold and declares these interfaces non-sticky. The price of the
+within a factor 1.54 of the BEM at every compressive point (with the floor below). Persson's
+detachment wall (``jkr``) under-predicts it several-fold and declares these interfaces
+non-sticky. The price of the
 scale: at mu_T = 1 the scaled mean field is not sticky (``k0`` 0.94) while most BEM cells there
 hold 40-260 Pa of tension (the unscaled ``dmt`` gets that pull-off and not the area).
 
