@@ -122,6 +122,9 @@ OPTIONS = """## Options evaluated (why `adhesive`)
 
 ### The tensile branch (this pass; all on the stored BEM data)
 
+`python benchmarks/bem_adhesion_tension.py` reprints the numbers below (no BEM solve);
+`python benchmarks/bem_adhesion_clusters.py` re-solves one path and counts its contacts.
+
 Reading the BEM's retraction paths as `k = p_att/p_rep` against the area (`p_rep` from each
 surface's own non-adhesive `A(p)`, surface means), against the unscaled mean field at the
 same Persson-equivalent area (`A/1.45`, the cell's non-adhesive area excess):
@@ -146,7 +149,8 @@ BEM means H08 28 / 111, H05 7.2 / 64 at mu_T 0.6 / 1.0):
   `R = 1/kappa(zeta_c)`, the finer band through the (scaled) mean field as an effective
   traction-gap law `p_rep(u) - p_att(u)` of the mean gap (Joe, Thouless and Barber's idea of
   a rough interface's effective law, evaluated in the mean field). Pull-off
-  `2 pi R W_eff / L^2`: H08 7-8 / 23-39, H05 0-1 / 8-9 (zeta_c 8-16). Not kept.
+  `2 pi R W_eff / L^2`: H08 7-9 / 24-39, H05 0-1.3 / 8-10 (zeta_c 8-16; zeta_c = 4 gives
+  0 / 56 and 0 / 7). Not kept.
 * **Rough bump, elastic (Hertz nominal pressure, local mean field inside)**: 0-2 Pa at
   mu_T <= 1 (the local pressures of a Hertz patch are too high for the band's attraction).
 * **Cell-corrected mean field** (the BEM cell's non-adhesive area, 1.2-1.9x Persson's, as the
