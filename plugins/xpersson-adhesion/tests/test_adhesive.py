@@ -14,6 +14,7 @@ from scipy.special import erf
 from xpersson.physics import SelfAffineRollOff, diffusion_time
 from xpersson.scene import SceneError
 from xpersson_adhesion import AdhesionLimitWarning, AdhesiveBoundary
+from xpersson_adhesion._bump import BUMPS
 from xpersson_adhesion._meanfield import MeanField, attraction_curve
 from xpersson_adhesion.adhesive import ATTRACTION_SCALE, EXPECTED_FACTOR, regime_of
 from xpersson_adhesion.dmt import _curve_grid
@@ -105,15 +106,19 @@ def test_root_and_table_identities():
 
 
 def test_adhesive_is_the_scaled_dmt_mean_field(solve):
-    """Same law, same gap distribution: adhesive's p_att is ATTRACTION_SCALE x dmt's curve."""
+    """Same law, same gap distribution: adhesive's p_att is ATTRACTION_SCALE x dmt's curve
+    plus the finite-size floor's constant extra attraction (floor_stress; 0 for dmt)."""
     b = adhesive(WORKS[1])
     dmt = {**b, "model": "dmt", "law": "exponential"}
     a = quiet(solve, scene(b, [1e3]))
     d = quiet(solve, scene(dmt, [1e3]))
     mf = table(WORKS[1])  # the unscaled curve
-    for ds, scale in ((a, ATTRACTION_SCALE), (d, 1.0)):
+    shift = float(a["floor_stress"])
+    # the scaled mean field holds ~0 on its own here (k0 = 0.94): the floor is the pull-off
+    assert shift == pytest.approx(float(a["pull_off_stress"]), rel=1e-3)
+    for ds, scale, extra in ((a, ATTRACTION_SCALE, shift), (d, 1.0, 0.0)):
         p_rep = ds["p_rep"].values
-        np.testing.assert_allclose(ds["p_att"].values, scale * mf(p_rep), rtol=2e-3)
+        np.testing.assert_allclose(ds["p_att"].values - extra, scale * mf(p_rep), rtol=2e-3)
         np.testing.assert_allclose(p_rep - ds["p_att"].values, 1e3, rtol=1e-6)
     assert 0.5 < ATTRACTION_SCALE < 1.0
     assert a["area_fraction"].values[0, -1] < d["area_fraction"].values[0, -1]
@@ -130,12 +135,13 @@ def test_pull_off_bounds_the_tensile_loads(solve):
     # mu_T = 1: the scaled mean field is just below its stickiness (k0 = 0.94 = 0.85 x 1.11)
     mid = quiet(solve, scene(adhesive(WORKS[1]), [1e3]))
     assert 0.9 < float(mid["small_load_ratio"]) < 1
-    # below the mean field's stickiness: the finite-size floor, the highest summit in DMT
-    # contact (radius 1/kappa_rms) over the nominal area (2 pi/q_L)^2
+    # below the mean field's stickiness: the finite-size floor, BUMPS bumps in DMT contact
+    # over the nominal area (2 pi/q_L)^2; at this weak work the best bump is the smooth
+    # highest summit (zeta_1: radius 1/kappa_rms, gamma_eff = w)
     w = WORKS[0] / 4
     weak = quiet(solve, scene(adhesive(w), [1e3]))
     assert float(weak["small_load_ratio"]) < 1
-    floor = 2 * math.pi * w / float(PSD.rms_curvature()) * (Q_L / (2 * math.pi)) ** 2
+    floor = BUMPS * 2 * math.pi * w / float(PSD.rms_curvature()) * (Q_L / (2 * math.pi)) ** 2
     assert float(weak["pull_off_stress"]) == pytest.approx(floor, rel=1e-9)
     held = quiet(solve, scene(adhesive(w), [-0.5 * floor]))
     assert held["regime"].values[0] == 4 and held["area_fraction"].values[0, -1] > 0
@@ -187,7 +193,9 @@ def test_bad_input(solve):
 @pytest.mark.skipif(not BEM_JSON.exists(), reason="BEM reference file absent")
 def test_against_the_bem_reference_numbers(solve):
     """A(w)/A(0) against the stored BEM references (H = 0.8, Tabor 0.6-1.6): within the
-    must-show factor 2 at every compressive load (docs/adhesion_bem.md: worst 1.7x)."""
+    must-show factor 2 at every compressive load (docs/adhesion_bem.md: worst 1.54x); the
+    pull-off within 2.3x of the BEM's mean (the floor fitted here: 1.02-1.04x; the sticky mean
+    field at Tabor 1.6: 2.2x); contact at every tensile load most BEM surfaces hold."""
     bem = json.loads(BEM_JSON.read_text())
     meta = bem["provenance"]
     loads = np.array(meta["loads_over_Estar_hprime"]) * meta["E_star_Pa"] * meta["rms_slope"]
@@ -204,11 +212,16 @@ def test_against_the_bem_reference_numbers(solve):
         assert ok.sum() >= 4
         factor = np.maximum(ratio[ok] / ref[ok], ref[ok] / ratio[ok])
         assert np.all(factor < 2.0), (row["tabor"], ratio, ref)
-        if row["pull_off_Pa"] > 0:  # the BEM holds tension: a non-zero pull-off
-            pull = float(ds["pull_off_stress"])
-            assert pull > 0
-            if float(ds["small_load_ratio"]) > 1:  # sticky mean field: the magnitude too
-                assert 1 / 3 < pull / row["pull_off_Pa"] < 3
+        pull = float(ds["pull_off_stress"])
+        assert 1 / 2.3 < pull / row["pull_off_Pa"] < 2.3, (row["tabor"], pull)
+        per_surface = next(w for w in bem["spectra"]["H08"]["works"] if w["tabor"] == row["tabor"])[
+            "area"
+        ]
+        for i in np.where(loads < 0)[0]:
+            held = sum(a[i] is not None for a in per_surface)
+            if 2 * held > len(per_surface):  # most BEM surfaces hold contact at this load
+                t = quiet(solve, scene(adhesive(row["work_J_m2"]), [loads[i]]))
+                assert t["area_fraction"].values[0, -1] > 0
 
 
 def test_check_plugin_contract():

@@ -28,7 +28,7 @@ from scipy.optimize import brentq
 
 from ._traction import attraction, max_traction
 
-__all__ = ["attraction_curve", "MeanField", "Summit"]
+__all__ = ["attraction_curve", "MeanField"]
 
 Array = NDArray[np.float64]
 #: Nodes of the table per decade of p_rep, and its span below sqrt(tau_max) [decades]
@@ -175,47 +175,3 @@ def p_hi_of(loads: ArrayLike, law: str, work: float, rng: float) -> float:
 
     top = float(max(np.max(np.asarray(loads, dtype=float)), 0.0))
     return top + float(erfc(5.0)) * max_traction(law, work, rng)
-
-
-class Summit:
-    """The highest summit of a finite nominal area in DMT contact (finite-size floor).
-
-    Below the mean field's stickiness (small-load ratio < 1) no tensile load holds contact in
-    the mean field, yet a finite nominal area ``L^2 = (2 pi / q_L)^2`` keeps its highest summit
-    in contact until that summit's own pull-off. The summit is a sphere of radius
-    ``R_s = 1/kappa_rms`` (``kappa_rms^2 = 2 pi int q^5 C dq``, the rms curvature of the
-    roughness) in DMT contact (Derjaguin, Muller, Toporov 1975): pull-off force
-    ``2 pi w R_s``, contact radius ``a^3 = R_s (F + 2 pi w R_s) / K``, ``K = 4 E*/3``. Per
-    nominal area the pull-off stress is ``2 pi w R_s / L^2``; it vanishes as ``q_L^2`` for
-    macroscopic nominal areas.
-
-    Parameters
-    ----------
-    psd : PowerSpectrum
-        Roughness spectrum (Persson convention, m^4).
-    E_star : float
-        Contact modulus [Pa].
-    work : float
-        Work of adhesion [J/m^2].
-    """
-
-    def __init__(self, psd: object, E_star: float, work: float) -> None:
-        q_1 = float(psd.q_1)  # type: ignore[attr-defined]
-        m5 = float(psd.running_moment(5.0, q_1))  # type: ignore[attr-defined]
-        self.radius = 1.0 / math.sqrt(max(2.0 * math.pi * m5, 1e-300))
-        self.cell = (2.0 * math.pi / float(psd.q_L)) ** 2  # type: ignore[attr-defined]
-        self.K = 4.0 * float(E_star) / 3.0
-        self.force = 2.0 * math.pi * float(work) * self.radius
-
-    @property
-    def pull_off(self) -> float:
-        """Pull-off stress of the summit over the nominal area [Pa]."""
-        return self.force / self.cell
-
-    def area(self, p0: float) -> float:
-        """Contact-area fraction of the summit at nominal stress ``p0`` [Pa] (0 beyond)."""
-        f = p0 * self.cell + self.force
-        if f <= 0.0:
-            return 0.0
-        a = (self.radius * f / self.K) ** (1.0 / 3.0)
-        return min(math.pi * a * a / self.cell, 1.0)
