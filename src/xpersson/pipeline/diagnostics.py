@@ -158,22 +158,38 @@ def theory_validity(ds: Any) -> None:
     Read from the Dataset only (``p0``, ``E_star``, ``rms_slope``, ``area_fraction`` and
     ``non_contact_fraction`` at the last magnification); 0 where the load is inside the regime.
     """
-    var = ds.variables
+    var = ds.variables  # plain Variables: no DataArray (with its coordinates) per lookup
     p0 = np.atleast_1d(np.asarray(var["p0"].values, float))
-    area = ds["area_fraction"].transpose("p0", "zeta").values[:, -1]
-    if "non_contact_fraction" in ds:
-        non = ds["non_contact_fraction"].transpose("p0", "zeta").values[:, -1]
-    else:
-        non = 1.0 - area
+    area = _last_zeta(var["area_fraction"])
+    non = _last_zeta(var["non_contact_fraction"]) if "non_contact_fraction" in var else 1.0 - area
     flags = validity_flags(
         p0, float(var["E_star"].values), float(var["rms_slope"].values), area, non
     )
+    attrs = _validity_attrs()
     # a Variable on xarray's fast path: a (dims, data) tuple makes xarray probe for dask arrays,
     # which imports dask.array (~0.12 s) in a solve that has no use for it
-    ds["theory_validity"] = xr.Variable(("p0",), flags, fastpath=True)
-    attrs = ds["theory_validity"].attrs
-    attrs.update(DIAGNOSTICS["theory_validity"].attrs())
+    flag_var = xr.Variable(("p0",), flags, attrs, fastpath=True)
+    variables = getattr(ds, "_variables", None)
+    if isinstance(variables, dict) and ds.sizes.get("p0") == flags.size:
+        # nothing to align (a coordinate-free variable along the Dataset's own p0): inserted as
+        # ``Dataset.__setitem__`` ends, without its merge and alignment of every variable
+        variables["theory_validity"] = flag_var
+    else:  # pragma: no cover - other xarray versions
+        ds["theory_validity"] = flag_var
+
+
+def _last_zeta(var: Any) -> np.ndarray:
+    """The values [1] of a ``(p0, zeta)`` Variable at the last magnification, one per load."""
+    if var.dims != ("p0", "zeta"):
+        var = var.transpose("p0", "zeta")
+    return np.asarray(var.values)[:, -1]
+
+
+def _validity_attrs() -> dict[str, Any]:
+    """The CF attributes of ``theory_validity`` (a fresh dict; the arrays are fresh too)."""
+    attrs = DIAGNOSTICS["theory_validity"].attrs()
     bits = np.array(list(VALIDITY_FLAGS), np.int8)
-    attrs["flag_masks"], attrs["flag_values"] = bits, bits
+    attrs["flag_masks"], attrs["flag_values"] = bits, bits.copy()
     # CF 2.5: the valid range has the variable's own type
     attrs["valid_min"], attrs["valid_max"] = np.int8(0), np.int8(sum(VALIDITY_FLAGS))
+    return attrs
