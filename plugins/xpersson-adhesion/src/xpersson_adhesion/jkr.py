@@ -31,6 +31,7 @@ from ._detachment import (
     onset_times,
     true_area_ratio,
 )
+from ._memo import memo
 from ._tabor import tabor_parameter, warn_outside_limit
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -63,6 +64,11 @@ ADHESION_PARAMETERS: dict[str, ParamSpec] = {
 
 def stickiness(psd: Any, E_star: float, work: float) -> float:
     """Persson-Tosatti stickiness ``w_eff = dgamma A*/A0 - U_el,full/A0`` [J/m^2] (§2.5)."""
+    key = ("stickiness", float(E_star), float(work))
+    return memo(psd, key, lambda: _stickiness(psd, E_star, work))
+
+
+def _stickiness(psd: Any, E_star: float, work: float) -> float:
     a_star = float(true_area_ratio(2.0 * math.pi * float(psd.I3(psd.q_1))))
     return work * a_star - float(full_contact_energy(psd, E_star))
 
@@ -244,7 +250,23 @@ class JKRBoundary(Boundary):
         """sigma_a(zeta = 1) [Pa]: tensile loads must stay above -sigma_a(1)."""
         if self._table is not None:
             return float(self._table.sigma[0])
-        return float(self._model(ctx)(np.array([1.0]))[0])
+        law = self._model(ctx)
+        return memo(ctx.psd, ("ModelLaw.sigma_a(1)", *law._key()), lambda: float(law([1.0])[0]))
+
+    def _scales(self, ctx: SceneContext) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Unclipped gamma_eff [J/m^2], A*/A0 [1], the finer scales' energy [J/m^2] and the
+        Tabor parameter [1] at the output magnifications (read-only; memoised per frozen
+        spectrum: :func:`~xpersson_adhesion._memo.memo`)."""
+        p = self._params
+        zeta = np.asarray(ctx.zeta, dtype=float)
+        work, rng = p["work_of_adhesion"], p["range"]
+
+        def compute() -> tuple[np.ndarray, ...]:
+            _, raw, a_star, energy = gamma_effective(ctx.psd, ctx.E_star, work, zeta)
+            return raw, a_star, energy, tabor_parameter(ctx.psd, ctx.E_star, work, rng, zeta)
+
+        key = ("JKRBoundary.scales", float(ctx.E_star), work, rng, zeta.tobytes())
+        return memo(ctx.psd, key, compute)
 
     def validate(self, ctx: SceneContext) -> None:
         """Table coverage, p0 > -sigma_a(1), and the Tabor-parameter warning."""
@@ -264,7 +286,7 @@ class JKRBoundary(Boundary):
             )
         work = self._params["work_of_adhesion"]
         if work > 0 and ctx.psd is not None:
-            mu = tabor_parameter(ctx.psd, ctx.E_star, work, self._params["range"], ctx.zeta)
+            mu = self._scales(ctx)[3]
             warn_outside_limit(float(mu[-1]), "jkr", stacklevel=4)
 
     def wall(self, ctx: SceneContext, clock: DiffusionClock) -> Wall:
@@ -306,12 +328,11 @@ class JKRBoundary(Boundary):
         sigma = np.maximum(-np.asarray(results[0].wall_lower, dtype=float), 0.0)
         q = zeta * ctx.q_L
         p = self._params
-        _, raw, a_star, energy = gamma_effective(ctx.psd, ctx.E_star, p["work_of_adhesion"], zeta)
+        raw, a_star, energy, mu = (a.copy() for a in self._scales(ctx))  # copies: data of ds
         if self._table is None:
             gamma = np.maximum(raw, 0.0)
         else:
             gamma = sigma**2 / (p["c_a"] * ctx.E_star * q)
-        mu = tabor_parameter(ctx.psd, ctx.E_star, p["work_of_adhesion"], p["range"], zeta)
         return {
             "detached_fraction": (_PZ, np.clip(detached, 0.0, 1.0)),
             "contact_stress": (_PZ, load),

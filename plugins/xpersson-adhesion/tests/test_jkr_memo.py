@@ -1,0 +1,91 @@
+"""What ``jkr`` derives from a frozen spectrum is computed once (``_memo.memo``): the values
+are those of a fresh computation, shared read-only, and never leak into a returned Dataset."""
+
+from __future__ import annotations
+
+import copy
+import warnings
+
+import numpy as np
+from adhesion_testlib import PDMS, PSD
+
+from xpersson.physics import SelfAffineRollOff, coefficient_f, diffusion_time
+from xpersson.plugins import DiffusionClock
+from xpersson_adhesion._detachment import ModelLaw, onset_times
+from xpersson_adhesion._memo import memo
+
+E_STAR = 1e6 / 0.75
+
+
+def _frozen() -> SelfAffineRollOff:
+    return SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e7).freeze()
+
+
+def _clock(psd: object) -> DiffusionClock:
+    return DiffusionClock(
+        lambda z: diffusion_time(psd, E_STAR, z), lambda z: coefficient_f(psd, E_STAR, z), 1e4
+    )
+
+
+def test_memo_computes_once_per_frozen_spectrum_and_key():
+    psd, calls = _frozen(), []
+
+    def compute() -> tuple[np.ndarray, float]:
+        calls.append(1)
+        return np.arange(3.0), 2.5
+
+    first = memo(psd, ("k", 1.0), compute)
+    again = memo(psd, ("k", 1.0), compute)
+    assert again is first and len(calls) == 1
+    assert not first[0].flags.writeable  # shared: read-only
+    memo(psd, ("k", 2.0), compute)  # another key
+    memo(_frozen(), ("k", 1.0), compute)  # another (equal but distinct) spectrum
+    assert len(calls) == 3
+
+
+def test_memo_does_not_keep_results_of_a_mutable_spectrum():
+    calls = []
+    assert not PSD.frozen
+    for _ in range(2):
+        memo(PSD, ("k",), lambda: calls.append(1) or 1.0)
+    assert len(calls) == 2
+
+
+def test_memoised_table_equals_a_fresh_one_and_follows_the_clock():
+    psd = _frozen()
+    law = ModelLaw(psd, E_STAR, 0.03, 1.0)
+    clock = _clock(psd)
+    table = law.in_tau(clock)
+    assert law.in_tau(_clock(psd)) is table  # an equal clock: the same table
+    fresh = ModelLaw(SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e7), E_STAR, 0.03, 1.0)
+    ref = fresh.in_tau(_clock(fresh.psd))  # a spectrum that is not frozen: no memo
+    t = float(clock.tau_of_zeta(1e4)) * np.linspace(0.0, 1.0, 101)
+    np.testing.assert_array_equal(table(t), ref(t))
+    np.testing.assert_array_equal(onset_times(table), onset_times(ref))
+    # another modulus: another clock and another law, another table
+    other = ModelLaw(psd, 2 * E_STAR, 0.03, 1.0).in_tau(
+        DiffusionClock(
+            lambda z: diffusion_time(psd, 2 * E_STAR, z),
+            lambda z: coefficient_f(psd, 2 * E_STAR, z),
+            1e4,
+        )
+    )
+    assert other is not table and not np.array_equal(other(t[1:]), table(t[1:]))
+
+
+def test_repeated_solves_are_identical_and_own_their_arrays(solve):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        first = solve(copy.deepcopy(PDMS))
+        second = solve(copy.deepcopy(PDMS))
+    for name in ("area_fraction", "sigma_a", "gamma_eff", "true_area_ratio", "tabor_parameter"):
+        np.testing.assert_array_equal(first[name].values, second[name].values)
+    for name in ("gamma_eff", "true_area_ratio", "finer_scale_energy", "tabor_parameter"):
+        values = second[name].values
+        assert values.flags.writeable
+        values[...] = -1.0  # the caller's copy: the next solve is unaffected
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        third = solve(copy.deepcopy(PDMS))
+    np.testing.assert_array_equal(first["tabor_parameter"].values, third["tabor_parameter"].values)
+    np.testing.assert_array_equal(first["gamma_eff"].values, third["gamma_eff"].values)
