@@ -247,7 +247,8 @@ def attributes(
     and the JSON provenance of the run), status, status message and solver summary; warn with
     an :class:`XperssonWarning` when a load failed or ``notes`` are given."""
     core = core or {}
-    status_of = ds["solver_status"].values  # the engine's, or the core output check's verdict
+    # the engine's, or the core output check's verdict (the Variable: no DataArray to build)
+    status_of = ds.variables["solver_status"].values
     success = np.asarray(results.success, dtype=bool) & (status_of == "success")
     bad = [
         (

@@ -325,7 +325,7 @@ class JKRBoundary(Boundary):
         detached = _stack(results, "absorbed_lower", zeta.size)
         load = _stack(results, "load", zeta.size)
         balance = _stack(results, "load_balance", zeta.size)
-        sigma = np.maximum(-np.asarray(results[0].wall_lower, dtype=float), 0.0)
+        sigma = np.maximum(-np.asarray(_row0(results, "wall_lower"), dtype=float), 0.0)
         q = zeta * ctx.q_L
         p = self._params
         raw, a_star, energy, mu = (a.copy() for a in self._scales(ctx))  # copies: data of ds
@@ -344,7 +344,10 @@ class JKRBoundary(Boundary):
             "finer_scale_energy": (("zeta",), energy),
             "tabor_parameter": (("zeta",), mu),
             "w_eff": ((), np.asarray(stickiness(ctx.psd, ctx.E_star, p["work_of_adhesion"]))),
-            "pull_off_stress": ((), np.asarray(self.pull_off(ctx, float(results[0].tau[-1])))),
+            "pull_off_stress": (
+                (),
+                np.asarray(self.pull_off(ctx, float(_row0(results, "tau")[-1]))),
+            ),
         }
 
     def pull_off(self, ctx: SceneContext, tau_end: float) -> float:
@@ -401,7 +404,20 @@ def _check_scalar(name: str, value: Any, specs: dict[str, ParamSpec], unit: str)
         )
 
 
-def _stack(results: list[Any], name: str, n_zeta: int) -> np.ndarray:
+def _row0(results: Any, name: str) -> Any:
+    """Field ``name`` of the first load: a row of the batch's stacked array when it has one
+    (no per-load result built), else of ``results[0]``."""
+    stacked = getattr(results, name, None) if not isinstance(results, list | tuple) else None
+    if isinstance(stacked, np.ndarray) and stacked.ndim == 2 and len(stacked) == len(results):
+        return stacked[0]
+    return getattr(results[0], name)
+
+
+def _stack(results: Any, name: str, n_zeta: int) -> np.ndarray:
+    """Field ``name`` of every load, ``(n_load, n_zeta)`` (a fresh float array)."""
+    stacked = getattr(results, name, None) if not isinstance(results, list | tuple) else None
+    if isinstance(stacked, np.ndarray) and stacked.shape == (len(results), n_zeta):
+        return np.array(stacked, dtype=float)  # an EngineBatch's stacked array (a copy)
     rows = [np.asarray(getattr(r, name), dtype=float).reshape(-1) for r in results]
     for row in rows:
         if row.size != n_zeta:
