@@ -89,3 +89,29 @@ def test_repeated_solves_are_identical_and_own_their_arrays(solve):
         third = solve(copy.deepcopy(PDMS))
     np.testing.assert_array_equal(first["tabor_parameter"].values, third["tabor_parameter"].values)
     np.testing.assert_array_equal(first["gamma_eff"].values, third["gamma_eff"].values)
+
+
+def test_memo_keeps_a_bounded_number_of_results():
+    from xpersson_adhesion import _memo
+
+    spectra = [_frozen() for _ in range(3)]
+    for i in range(3 * _memo._MEMO_SIZE):
+        memo(spectra[i % 3], ("bound", i), lambda i=i: float(i))
+    kept = sum(1 for psd in spectra for key in _memo._MEMO.get(psd, {}) if key[0] == "bound")
+    assert kept <= _memo._MEMO_SIZE
+    calls = []
+    last = 3 * _memo._MEMO_SIZE - 1
+    assert memo(spectra[last % 3], ("bound", last), lambda: calls.append(1)) == float(last)
+    assert not calls  # the newest result is still there
+    memo(spectra[0], ("bound", 0), lambda: calls.append(1))
+    assert calls  # the oldest was dropped
+
+
+def test_digest_tells_arrays_apart():
+    from xpersson_adhesion._memo import digest
+
+    a = np.linspace(0.0, 1.0, 1000)
+    b = a.copy()
+    b[500] = np.nextafter(b[500], 2.0)
+    assert digest(a) == digest(a.copy()) != digest(b)
+    assert digest(a, b) != digest(b, a)

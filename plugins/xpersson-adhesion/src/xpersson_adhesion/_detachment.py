@@ -29,7 +29,7 @@ from scipy.special import erfcx
 
 from xpersson.physics.interface import full_contact_energy
 
-from ._memo import memo
+from ._memo import digest, memo
 
 __all__ = [
     "true_area_ratio",
@@ -184,7 +184,7 @@ class ModelLaw:
         f_nodes = np.asarray(clock.f(zo_all), dtype=float)  # type: ignore[attr-defined]
         # the table depends on the clock only through these samples: equal samples (the same
         # scene solved again) reuse it
-        key = ("ModelLaw.in_tau", *self._key(), per_decade, t_nodes.tobytes(), f_nodes.tobytes())
+        key = ("ModelLaw.in_tau", *self._key(), per_decade, digest(t_nodes, f_nodes))
         return memo(
             self.psd,
             key,

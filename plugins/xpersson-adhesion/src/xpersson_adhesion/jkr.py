@@ -31,7 +31,7 @@ from ._detachment import (
     onset_times,
     true_area_ratio,
 )
-from ._memo import memo
+from ._memo import digest, memo
 from ._tabor import tabor_parameter, warn_outside_limit
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -265,7 +265,7 @@ class JKRBoundary(Boundary):
             _, raw, a_star, energy = gamma_effective(ctx.psd, ctx.E_star, work, zeta)
             return raw, a_star, energy, tabor_parameter(ctx.psd, ctx.E_star, work, rng, zeta)
 
-        key = ("JKRBoundary.scales", float(ctx.E_star), work, rng, zeta.tobytes())
+        key = ("JKRBoundary.scales", float(ctx.E_star), work, rng, digest(zeta))
         return memo(ctx.psd, key, compute)
 
     def validate(self, ctx: SceneContext) -> None:
