@@ -184,7 +184,7 @@ class ModelLaw:
         f_nodes = np.asarray(clock.f(zo_all), dtype=float)  # type: ignore[attr-defined]
         # the table depends on the clock only through these samples: equal samples (the same
         # scene solved again) reuse it
-        key = ("ModelLaw.in_tau", *self._key(), per_decade, digest(t_nodes, f_nodes))
+        key = ("ModelLaw.in_tau", *self._key(), zmax, per_decade, digest(t_nodes, f_nodes))
         return memo(
             self.psd,
             key,
@@ -197,6 +197,7 @@ class ModelLaw:
         )
 
     def _key(self) -> tuple[Any, ...]:
+        """What the law depends on besides its (memo-keying) spectrum."""
         return (self.E_star, self.work, self.c_a)
 
     def _samples(self, zmax: float, per_decade: int) -> tuple[Array, Array, Array, Array, Array]:
