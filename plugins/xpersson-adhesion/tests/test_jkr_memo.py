@@ -115,3 +115,31 @@ def test_digest_tells_arrays_apart():
     b[500] = np.nextafter(b[500], 2.0)
     assert digest(a) == digest(a.copy()) != digest(b)
     assert digest(a, b) != digest(b, a)
+
+
+def test_sigma_a_at_the_grid_ends_equals_the_law_bit_for_bit():
+    """sigma_a(1) and sigma_a(zeta_max) read from the memoised gamma_eff are the law's."""
+    from xpersson.plugins import SceneContext
+    from xpersson_adhesion import JKRBoundary
+
+    psd = _frozen()
+    for work in (0.03, 1e-6):
+        zeta = np.geomspace(1.0, 300.0, 9)
+        ctx = SceneContext(
+            psd=psd,
+            E=1e6,
+            nu=0.5,
+            E_star=E_STAR,
+            p0=np.array([1e3]),
+            zeta=zeta,
+            p=None,
+            rtol=1e-6,
+            atol=0.0,
+            method="auto",
+        )
+        bnd = JKRBoundary(work_of_adhesion=work)
+        law = bnd._model(ctx)
+        for z in (1.0, 300.0, 17.0):  # the ends from the memo, an inner value from the law
+            assert bnd._at(ctx, law, z) == float(law(np.array([z]))[0])
+        assert bnd.sigma_a_start(ctx) == float(law(np.array([1.0]))[0])
+    assert law.is_constant(300.0) == bool(np.all(law(np.geomspace(1.0, 300.0, 257)) == 0.0))

@@ -254,16 +254,22 @@ class ModelLaw:
         poly = PPoly(np.concatenate(cs, axis=1), x, extrapolate=False)
         return _Pchip(_SqrtPos(poly), float(x[0]), float(x[-1]))
 
-    def is_constant(self, zeta_max: float) -> bool:
-        """True when sigma_a vanishes on the whole range (then the wall is the elastic one)."""
+    def is_constant(self, zeta_max: float, sigma_end: Callable[[], float] | None = None) -> bool:
+        """True when sigma_a vanishes on the whole range (then the wall is the elastic one).
+
+        ``sigma_end`` (optional) gives ``self([zeta_max])[0]`` [Pa] from values at hand.
+        """
         if self.work == 0.0:
             return True
         key = ("ModelLaw.is_constant", *self._key(), float(zeta_max))
-        return memo(self.psd, key, lambda: self._is_constant(zeta_max))
+        return memo(self.psd, key, lambda: self._is_constant(zeta_max, sigma_end))
 
-    def _is_constant(self, zeta_max: float) -> bool:
+    def _is_constant(self, zeta_max: float, sigma_end: Callable[[], float] | None) -> bool:
         z_end = max(zeta_max, 1.0)
-        if self(np.array([z_end]))[0] != 0.0:  # the last of the samples below: not constant
+        end = sigma_end() if sigma_end is not None and z_end == zeta_max else None
+        if end is None:
+            end = self(np.array([z_end]))[0]
+        if end != 0.0:  # the last of the samples below: not constant
             return False
         z = np.geomspace(1.0, z_end, 257)
         return bool(np.all(self(z) == 0.0))

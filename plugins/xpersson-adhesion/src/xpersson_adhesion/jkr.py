@@ -27,6 +27,7 @@ from ._detachment import (
     DetachmentWall,
     ModelLaw,
     TableLaw,
+    detachment_stress,
     gamma_effective,
     onset_times,
     true_area_ratio,
@@ -251,7 +252,19 @@ class JKRBoundary(Boundary):
         if self._table is not None:
             return float(self._table.sigma[0])
         law = self._model(ctx)
-        return memo(ctx.psd, ("ModelLaw.sigma_a(1)", *law._key()), lambda: float(law([1.0])[0]))
+        return memo(ctx.psd, ("ModelLaw.sigma_a(1)", *law._key()), lambda: self._at(ctx, law, 1.0))
+
+    def _at(self, ctx: SceneContext, law: ModelLaw, zeta: float) -> float:
+        """``law([zeta])[0]``, sigma_a [Pa]: from the memoised gamma_eff of :meth:`_scales` when
+        ``zeta`` is the first or last output magnification (the same element-wise operations
+        on the same values: the same number), else from the law."""
+        z = np.asarray(ctx.zeta, dtype=float)
+        for i in (0, -1):
+            if ctx.psd is not None and z.size and z[i] == zeta:
+                gamma = np.maximum(self._scales(ctx)[0][[i]], 0.0)
+                q = z[[i]] * float(ctx.psd.q_L)
+                return float(detachment_stress(gamma, law.E_star, q, law.c_a)[0])
+        return float(law(np.array([zeta]))[0])
 
     def _scales(self, ctx: SceneContext) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Unclipped gamma_eff [J/m^2], A*/A0 [1], the finer scales' energy [J/m^2] and the
@@ -303,7 +316,7 @@ class JKRBoundary(Boundary):
                 wall = Wall.absorbing(DetachmentWall(sig), breakpoints=onset_times(sig))
         else:
             law = self._model(ctx)
-            if law.is_constant(ctx.zeta_max):
+            if law.is_constant(ctx.zeta_max, lambda: self._at(ctx, law, ctx.zeta_max)):
                 wall = Wall.absorbing(0.0)
             else:
                 sig = law.in_tau(clock)
