@@ -206,9 +206,9 @@ def theory_validity(ds: Any) -> None:
 def _insert(ds: Any, new: dict[str, xr.Variable]) -> None:
     """Add coordinate-free Variables along dimensions ``ds`` has, with their sizes.
 
-    Nothing to align: they go into the Dataset as ``Dataset.__setitem__`` ends, without its
-    merge and alignment of every variable (~1 ms a variable); ``__setitem__`` on an xarray
-    without the internal mapping.
+    Nothing to align: new names go into the Dataset as ``Dataset.__setitem__`` ends, without
+    its merge and alignment of every variable (~1 ms a variable); ``__setitem__`` for a name
+    the Dataset has (a variable replaced) or on an xarray without the internal mapping.
     """
     variables = getattr(ds, "_variables", None)
     sizes = ds.sizes
@@ -216,9 +216,9 @@ def _insert(ds: Any, new: dict[str, xr.Variable]) -> None:
         sizes.get(d) == n for v in new.values() for d, n in zip(v.dims, v.shape, strict=True)
     )
     for name, value in new.items():
-        if isinstance(variables, dict) and fits:
+        if isinstance(variables, dict) and fits and name not in variables:
             variables[name] = value
-        else:  # pragma: no cover - other xarray versions
+        else:
             ds[name] = value
 
 
