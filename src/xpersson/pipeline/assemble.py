@@ -247,7 +247,8 @@ def attributes(
     and the JSON provenance of the run), status, status message and solver summary; warn with
     an :class:`XperssonWarning` when a load failed or ``notes`` are given."""
     core = core or {}
-    status_of = ds["solver_status"].values  # the engine's, or the core output check's verdict
+    # the engine's, or the core output check's verdict (the Variable: no DataArray to build)
+    status_of = ds.variables["solver_status"].values
     success = np.asarray(results.success, dtype=bool) & (status_of == "success")
     bad = [
         (
@@ -298,7 +299,8 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
             if "p0" in var.dims:
                 axis = var.dims.index("p0")
                 dims = var.dims[:axis] + var.dims[axis + 1 :]
-                data = np.take(var.values, 0, axis=axis)
+                # a view (basic indexing; np.take copied: a large P in fresh memory pages)
+                data = np.asarray(var.values)[(slice(None),) * axis + (0,)]
                 fast = True
                 if getattr(data, "ndim", None) is None:  # a Python object (an object array's):
                     data = np.asarray(data)  # converted as xarray would, without its probe of

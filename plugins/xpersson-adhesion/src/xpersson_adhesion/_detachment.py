@@ -29,6 +29,8 @@ from scipy.special import erfcx
 
 from xpersson.physics.interface import full_contact_energy
 
+from ._memo import digest, memo
+
 __all__ = [
     "true_area_ratio",
     "true_area_slope",
@@ -108,14 +110,23 @@ def gamma_effective(
     energy : ndarray
         ``U_el(zeta)/A0`` [J/m^2], full-contact elastic energy of the scales finer than zeta.
     """
+    raw, a_star, energy, _ = _gamma_parts(psd, E_star, work, zeta)
+    return np.maximum(raw, 0.0), raw, a_star, energy
+
+
+def _gamma_parts(
+    psd: object, E_star: float, work: float, zeta: ArrayLike
+) -> tuple[Array, Array, Array, Array]:
+    """Unclipped gamma_eff [J/m^2], ``A*/A0`` [1], ``U_el/A0`` [J/m^2] and the mean-square
+    slope ``xi^2`` [1] of the resolved roughness at magnifications ``zeta`` (element-wise)."""
     z = np.asarray(zeta, dtype=float)
-    q_L, q_1 = float(psd.q_L), float(psd.q_1)
-    slope2 = 2.0 * math.pi * np.asarray(psd.I3(z * q_L), dtype=float)
+    q_L, q_1 = float(psd.q_L), float(psd.q_1)  # type: ignore[attr-defined]
+    slope2 = 2.0 * math.pi * np.asarray(psd.I3(z * q_L), dtype=float)  # type: ignore[attr-defined]
     a_star = true_area_ratio(slope2)
-    a_star_1 = float(true_area_ratio(2.0 * math.pi * float(psd.I3(q_1))))
+    a_star_1 = float(true_area_ratio(2.0 * math.pi * float(psd.I3(q_1))))  # type: ignore[attr-defined]
     energy = np.asarray(full_contact_energy(psd, E_star, z * q_L), dtype=float)
     raw = (work * a_star_1 - energy) / a_star
-    return np.maximum(raw, 0.0), raw, a_star, energy
+    return raw, a_star, energy, slope2
 
 
 def detachment_stress(gamma: ArrayLike, E_star: float, q: ArrayLike, c_a: float) -> Array:
@@ -151,9 +162,8 @@ class ModelLaw:
         z = np.asarray(zeta, dtype=float)
         q_L = float(psd.q_L)
         q = z * q_L
-        C = np.asarray(psd.C(q), dtype=float)
-        _, raw, a_star, _ = gamma_effective(psd, E, self.work, z)
-        s2 = 2.0 * math.pi * np.asarray(psd.I3(q), dtype=float)
+        C = np.asarray(psd.C(q), dtype=float)  # type: ignore[attr-defined]
+        raw, a_star, _, s2 = _gamma_parts(psd, E, self.work, z)
         da_star = true_area_slope(s2) * 2.0 * math.pi * q**3 * C * q_L
         du = -0.5 * math.pi * E * q**2 * C * q_L
         dgamma = (-du - raw * da_star) / a_star
@@ -168,30 +178,67 @@ class ModelLaw:
         its positive part. Relative error ~1e-10 of max sigma_a (tested); evaluating it costs a
         spline call instead of the clock's inverse and the spectrum moments.
         """
-        from scipy.interpolate import PPoly
-
         zmax = float(clock.zeta_max)  # type: ignore[attr-defined]
-        q_L = float(self.psd.q_L)
-        brk = np.asarray(self.psd.nodes(), dtype=float) / q_L
+        z_all, zo_all, cut, s2_nodes, ds2_nodes = self._samples(zmax, per_decade)
+        t_nodes = np.asarray(clock.tau_of_zeta(z_all), dtype=float)  # type: ignore[attr-defined]
+        f_nodes = np.asarray(clock.f(zo_all), dtype=float)  # type: ignore[attr-defined]
+        # the table depends on the clock only through these samples: equal samples (the same
+        # scene solved again) reuse it
+        key = ("ModelLaw.in_tau", *self._key(), zmax, per_decade, digest(t_nodes, f_nodes))
+        return memo(
+            self.psd,
+            key,
+            lambda: self._fit(
+                np.split(s2_nodes, cut),
+                np.split(ds2_nodes, cut),
+                np.split(t_nodes, cut),
+                np.split(f_nodes, cut),
+            ),
+        )
+
+    def _key(self) -> tuple[Any, ...]:
+        """What the law depends on besides its (memo-keying) spectrum."""
+        return (self.E_star, self.work, self.c_a)
+
+    def _samples(self, zmax: float, per_decade: int) -> tuple[Array, Array, Array, Array, Array]:
+        """The magnifications of :meth:`in_tau`'s table (nodes, and nodes with the pieces'
+        ends moved inside: one-sided slopes), the cuts between pieces, ``sigma_a^2`` at the
+        nodes [Pa^2] and its one-sided slopes in zeta [Pa^2] (memoised per frozen spectrum)."""
+        key = ("ModelLaw.samples", *self._key(), zmax, per_decade)
+        return memo(self.psd, key, lambda: self._sample(zmax, per_decade))
+
+    def _sample(self, zmax: float, per_decade: int) -> tuple[Array, Array, Array, Array, Array]:
+        q_L = float(self.psd.q_L)  # type: ignore[attr-defined]
+        brk = np.asarray(self.psd.nodes(), dtype=float) / q_L  # type: ignore[attr-defined]
         brk = np.unique(np.concatenate(([1.0], brk[(brk > 1.0) & (brk < zmax)], [zmax])))
-        zs_, zo_ = [], []
+        zs_, ends = [], []
         for a, b in zip(brk[:-1], brk[1:], strict=True):
             n = max(4, int(math.ceil(per_decade * math.log10(b / a))) + 1)
             z = np.geomspace(a, b, n)
             z[0], z[-1] = a, b
-            zo = z.copy()  # one-sided: slopes from inside the piece
-            zo[0], zo[-1] = a * (1 + 1e-12), b * (1 - 1e-12)
             zs_.append(z)
-            zo_.append(zo)
-        # every piece in one call of the model and of the clock (the calls' fixed cost dominated)
-        cut = np.cumsum([z.size for z in zs_])[:-1]
-        z_all, zo_all = np.concatenate(zs_), np.concatenate(zo_)
-        both = self.sigma2_and_slope(np.concatenate([z_all, zo_all]))
-        s2_all = np.split(both[0][: z_all.size], cut)
-        ds2_all = np.split(both[1][z_all.size :], cut)
-        tau_of, f_of = clock.tau_of_zeta, clock.f  # type: ignore[attr-defined]
-        t_all = np.split(np.asarray(tau_of(z_all), dtype=float), cut)
-        f_all = np.split(np.asarray(f_of(zo_all), dtype=float), cut)
+            ends += [a * (1 + 1e-12), b * (1 - 1e-12)]  # one-sided: slopes from inside the piece
+        # every piece in one call of the model and of the clock (the calls' fixed cost dominated);
+        # the slopes differ from the values' nodes only at the pieces' ends: evaluated there only
+        sizes = np.array([z.size for z in zs_])
+        cut = np.cumsum(sizes)[:-1]
+        first = np.concatenate(([0], cut))
+        at_ends = np.column_stack((first, first + sizes - 1)).ravel()
+        z_all = np.concatenate(zs_)
+        zo_all = z_all.copy()
+        zo_all[at_ends] = ends
+        s2_nodes, ds2_nodes = self.sigma2_and_slope(np.concatenate([z_all, ends]))
+        ds2_one_sided = ds2_nodes[: z_all.size].copy()
+        ds2_one_sided[at_ends] = ds2_nodes[z_all.size :]
+        return z_all, zo_all, cut, s2_nodes[: z_all.size].copy(), ds2_one_sided
+
+    def _fit(
+        self, s2_all: list[Array], ds2_all: list[Array], t_all: list[Array], f_all: list[Array]
+    ) -> _Pchip:
+        """The table of :meth:`in_tau` from its samples per piece (``sigma_a^2`` [Pa^2], its
+        slope in zeta [Pa^2], tau [Pa^2] and f = dtau/dzeta [Pa^2])."""
+        from scipy.interpolate import PPoly
+
         xs, cs = [], []
         for s2, ds2, t, f in zip(s2_all, ds2_all, t_all, f_all, strict=True):
             keep = np.concatenate(([True], np.diff(t) > 0))
@@ -207,11 +254,24 @@ class ModelLaw:
         poly = PPoly(np.concatenate(cs, axis=1), x, extrapolate=False)
         return _Pchip(_SqrtPos(poly), float(x[0]), float(x[-1]))
 
-    def is_constant(self, zeta_max: float) -> bool:
-        """True when sigma_a vanishes on the whole range (then the wall is the elastic one)."""
+    def is_constant(self, zeta_max: float, sigma_end: Callable[[], float] | None = None) -> bool:
+        """True when sigma_a vanishes on the whole range (then the wall is the elastic one).
+
+        ``sigma_end`` (optional) gives ``self([zeta_max])[0]`` [Pa] from values at hand.
+        """
         if self.work == 0.0:
             return True
-        z = np.geomspace(1.0, max(zeta_max, 1.0), 257)
+        key = ("ModelLaw.is_constant", *self._key(), float(zeta_max))
+        return memo(self.psd, key, lambda: self._is_constant(zeta_max, sigma_end))
+
+    def _is_constant(self, zeta_max: float, sigma_end: Callable[[], float] | None) -> bool:
+        z_end = max(zeta_max, 1.0)
+        end = sigma_end() if sigma_end is not None and z_end == zeta_max else None
+        if end is None:
+            end = self(np.array([z_end]))[0]
+        if end != 0.0:  # the last of the samples below: not constant
+            return False
+        z = np.geomspace(1.0, z_end, 257)
         return bool(np.all(self(z) == 0.0))
 
 
@@ -301,6 +361,7 @@ class _Pchip:
 
     def __init__(self, spline: Callable[[Array], Array], t_lo: float, t_hi: float) -> None:
         self.spline, self.t_lo, self.t_hi = spline, t_lo, t_hi
+        self.onsets: Array | None = None  # see onset_times
 
     def __call__(self, tau: ArrayLike) -> Array:
         t = np.clip(np.asarray(tau, dtype=float), self.t_lo, self.t_hi)
@@ -327,6 +388,15 @@ def onset_times(sigma_of_tau: Callable[[Array], Array]) -> Array:
     """
     if not isinstance(sigma_of_tau, _Pchip):
         return np.zeros(0)
+    found = getattr(sigma_of_tau, "onsets", None)  # a table is immutable: found once
+    if found is None:
+        found = _onset_times(sigma_of_tau)
+        found.setflags(write=False)
+        sigma_of_tau.onsets = found
+    return found.copy()
+
+
+def _onset_times(sigma_of_tau: _Pchip) -> Array:
     sp = sigma_of_tau.spline
     t_lo, t_hi = sigma_of_tau.t_lo, sigma_of_tau.t_hi
     if isinstance(sp, _SqrtPos):

@@ -27,10 +27,12 @@ from ._detachment import (
     DetachmentWall,
     ModelLaw,
     TableLaw,
+    detachment_stress,
     gamma_effective,
     onset_times,
     true_area_ratio,
 )
+from ._memo import digest, memo
 from ._tabor import tabor_parameter, warn_outside_limit
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -63,6 +65,11 @@ ADHESION_PARAMETERS: dict[str, ParamSpec] = {
 
 def stickiness(psd: Any, E_star: float, work: float) -> float:
     """Persson-Tosatti stickiness ``w_eff = dgamma A*/A0 - U_el,full/A0`` [J/m^2] (§2.5)."""
+    key = ("stickiness", float(E_star), float(work))
+    return memo(psd, key, lambda: _stickiness(psd, E_star, work))
+
+
+def _stickiness(psd: Any, E_star: float, work: float) -> float:
     a_star = float(true_area_ratio(2.0 * math.pi * float(psd.I3(psd.q_1))))
     return work * a_star - float(full_contact_energy(psd, E_star))
 
@@ -244,7 +251,35 @@ class JKRBoundary(Boundary):
         """sigma_a(zeta = 1) [Pa]: tensile loads must stay above -sigma_a(1)."""
         if self._table is not None:
             return float(self._table.sigma[0])
-        return float(self._model(ctx)(np.array([1.0]))[0])
+        law = self._model(ctx)
+        return memo(ctx.psd, ("ModelLaw.sigma_a(1)", *law._key()), lambda: self._at(ctx, law, 1.0))
+
+    def _at(self, ctx: SceneContext, law: ModelLaw, zeta: float) -> float:
+        """``law([zeta])[0]``, sigma_a [Pa]: from the memoised gamma_eff of :meth:`_scales` when
+        ``zeta`` is the first or last output magnification (the same element-wise operations
+        on the same values: the same number), else from the law."""
+        z = np.asarray(ctx.zeta, dtype=float)
+        for i in (0, -1):
+            if ctx.psd is not None and z.size and z[i] == zeta:
+                gamma = np.maximum(self._scales(ctx)[0][[i]], 0.0)
+                q = z[[i]] * float(ctx.psd.q_L)
+                return float(detachment_stress(gamma, law.E_star, q, law.c_a)[0])
+        return float(law(np.array([zeta]))[0])
+
+    def _scales(self, ctx: SceneContext) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Unclipped gamma_eff [J/m^2], A*/A0 [1], the finer scales' energy [J/m^2] and the
+        Tabor parameter [1] at the output magnifications (read-only; memoised per frozen
+        spectrum: :func:`~xpersson_adhesion._memo.memo`)."""
+        p = self._params
+        zeta = np.asarray(ctx.zeta, dtype=float)
+        work, rng = p["work_of_adhesion"], p["range"]
+
+        def compute() -> tuple[np.ndarray, ...]:
+            _, raw, a_star, energy = gamma_effective(ctx.psd, ctx.E_star, work, zeta)
+            return raw, a_star, energy, tabor_parameter(ctx.psd, ctx.E_star, work, rng, zeta)
+
+        key = ("JKRBoundary.scales", float(ctx.E_star), work, rng, digest(zeta))
+        return memo(ctx.psd, key, compute)
 
     def validate(self, ctx: SceneContext) -> None:
         """Table coverage, p0 > -sigma_a(1), and the Tabor-parameter warning."""
@@ -264,7 +299,7 @@ class JKRBoundary(Boundary):
             )
         work = self._params["work_of_adhesion"]
         if work > 0 and ctx.psd is not None:
-            mu = tabor_parameter(ctx.psd, ctx.E_star, work, self._params["range"], ctx.zeta)
+            mu = self._scales(ctx)[3]
             warn_outside_limit(float(mu[-1]), "jkr", stacklevel=4)
 
     def wall(self, ctx: SceneContext, clock: DiffusionClock) -> Wall:
@@ -281,7 +316,7 @@ class JKRBoundary(Boundary):
                 wall = Wall.absorbing(DetachmentWall(sig), breakpoints=onset_times(sig))
         else:
             law = self._model(ctx)
-            if law.is_constant(ctx.zeta_max):
+            if law.is_constant(ctx.zeta_max, lambda: self._at(ctx, law, ctx.zeta_max)):
                 wall = Wall.absorbing(0.0)
             else:
                 sig = law.in_tau(clock)
@@ -303,15 +338,14 @@ class JKRBoundary(Boundary):
         detached = _stack(results, "absorbed_lower", zeta.size)
         load = _stack(results, "load", zeta.size)
         balance = _stack(results, "load_balance", zeta.size)
-        sigma = np.maximum(-np.asarray(results[0].wall_lower, dtype=float), 0.0)
+        sigma = np.maximum(-np.asarray(_row0(results, "wall_lower"), dtype=float), 0.0)
         q = zeta * ctx.q_L
         p = self._params
-        _, raw, a_star, energy = gamma_effective(ctx.psd, ctx.E_star, p["work_of_adhesion"], zeta)
+        raw, a_star, energy, mu = (a.copy() for a in self._scales(ctx))  # copies: data of ds
         if self._table is None:
             gamma = np.maximum(raw, 0.0)
         else:
             gamma = sigma**2 / (p["c_a"] * ctx.E_star * q)
-        mu = tabor_parameter(ctx.psd, ctx.E_star, p["work_of_adhesion"], p["range"], zeta)
         return {
             "detached_fraction": (_PZ, np.clip(detached, 0.0, 1.0)),
             "contact_stress": (_PZ, load),
@@ -323,7 +357,10 @@ class JKRBoundary(Boundary):
             "finer_scale_energy": (("zeta",), energy),
             "tabor_parameter": (("zeta",), mu),
             "w_eff": ((), np.asarray(stickiness(ctx.psd, ctx.E_star, p["work_of_adhesion"]))),
-            "pull_off_stress": ((), np.asarray(self.pull_off(ctx, float(results[0].tau[-1])))),
+            "pull_off_stress": (
+                (),
+                np.asarray(self.pull_off(ctx, float(_row0(results, "tau")[-1]))),
+            ),
         }
 
     def pull_off(self, ctx: SceneContext, tau_end: float) -> float:
@@ -380,7 +417,20 @@ def _check_scalar(name: str, value: Any, specs: dict[str, ParamSpec], unit: str)
         )
 
 
-def _stack(results: list[Any], name: str, n_zeta: int) -> np.ndarray:
+def _row0(results: Any, name: str) -> Any:
+    """Field ``name`` of the first load: a row of the batch's stacked array when it has one
+    (no per-load result built), else of ``results[0]``."""
+    stacked = getattr(results, name, None) if not isinstance(results, list | tuple) else None
+    if isinstance(stacked, np.ndarray) and stacked.ndim == 2 and len(stacked) == len(results):
+        return stacked[0]
+    return getattr(results[0], name)
+
+
+def _stack(results: Any, name: str, n_zeta: int) -> np.ndarray:
+    """Field ``name`` of every load, ``(n_load, n_zeta)`` (a fresh float array)."""
+    stacked = getattr(results, name, None) if not isinstance(results, list | tuple) else None
+    if isinstance(stacked, np.ndarray) and stacked.shape == (len(results), n_zeta):
+        return np.array(stacked, dtype=float)  # an EngineBatch's stacked array (a copy)
     rows = [np.asarray(getattr(r, name), dtype=float).reshape(-1) for r in results]
     for row in rows:
         if row.size != n_zeta:
