@@ -27,7 +27,7 @@ from ._grid import clustered
 from ._problem import Problem
 from ._progress import report as report_progress
 
-__all__ = ["_march", "_combine", "_project"]
+__all__ = ["_march", "_combine", "_weighted", "_project"]
 
 Array = NDArray[np.float64]
 
@@ -372,6 +372,18 @@ def _combine(fine: dict, coarse: dict, extrapolate: bool) -> dict:
             out[key] = fine[key] + (fine[key] - coarse[key]) / 3.0
         else:
             out[key] = fine[key]
+    return out
+
+
+def _weighted(levels: list[dict], weights: Array) -> dict:
+    """The combination ``sum_i weights[i] levels[i]`` of every output (weights summing to 1,
+    e.g. Richardson's: the probability balance, linear in the levels, is kept)."""
+    out = {}
+    for key in (*_KEYS, "P"):
+        if levels[0][key] is None:
+            out[key] = None
+        else:
+            out[key] = sum(float(c) * lv[key] for c, lv in zip(weights, levels, strict=True))
     return out
 
 
