@@ -45,6 +45,10 @@ AIM = 0.5  # the next grid is aimed at an error estimate of AIM x tolerance (abo
 R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else sixth order)
 
 
+R_SKIP = 64.0  # a second-order pilot asking for a refinement beyond R_SKIP: sixth-order pilot
+# first (where it fits), the fourth-order one only if the sixth order would cost more
+
+
 DENSE = 2  # steps per node of the sixth-order levels, in units of the pilot's
 
 
@@ -148,7 +152,7 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit:
         # wall) grow at least 1.25x, so that the grids keep advancing
         rounds += 1
         n_base = _round_grid(n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25))
-    return _high_order(lv, judge, n_base, aim)
+    return _high_order(lv, judge, n_base, aim, math.sqrt(ratio / aim) > R_SKIP)
 
 
 def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float]:
@@ -173,16 +177,26 @@ def _sixth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float]:
     return _Fit(tol * np.max(err / tol, axis=-1, keepdims=True), s_b, 4 * n), ratio
 
 
-def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float) -> _Fit:
+def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _Fit:
     """Fourth-order triples, or sixth-order quadruples where a moving wall makes the fourth
     order's grid large and the sixth order's pilot predicts less work, until the estimate
-    fits (see the module)."""
-    fit, ratio = _fourth(lv, judge, n_base)
-    grow = (ratio / aim) ** 0.25
-    if ratio > 1.0 and grow > S_GROW and _sixth_order_fits(judge.pb):
+    fits (see the module).  ``far``: the second-order pilot asked for a grid so fine that the
+    sixth order's pilot comes first (the fourth order's is solved only if it is needed)."""
+    six = _sixth_order_fits(judge.pb)
+    s_fit = s_ratio = None
+    if six and far:
         s_fit, s_ratio = _sixth(lv, judge, n_base)
         if s_ratio <= 1.0:
             return s_fit
+        if (s_ratio / aim) ** (1.0 / S_ORDER) <= S_GROW:  # the sixth order is near
+            return _sixth_rounds(lv, judge, n_base, s_ratio, aim)
+    fit, ratio = _fourth(lv, judge, n_base)
+    grow = (ratio / aim) ** 0.25
+    if ratio > 1.0 and grow > S_GROW and six:
+        if s_ratio is None:
+            s_fit, s_ratio = _sixth(lv, judge, n_base)
+            if s_ratio <= 1.0:
+                return s_fit
         s_grow = max((s_ratio / aim) ** (1.0 / S_ORDER), 1.25)
         if S_WORK * s_grow**2 < E_WORK * grow**2:  # the work of the next round
             return _sixth_rounds(lv, judge, n_base, s_ratio, aim)
