@@ -48,7 +48,7 @@ from numpy.typing import NDArray
 
 from ._base import EngineMethod
 from ._cn_control import AIM, _Budget, _control, _Fit, _Levels
-from ._cn_plan import _joint_plan, _Plan, _start_time, _switch_times
+from ._cn_plan import _joint_plan, _Plan, _start_time, _switch_times_batch
 from ._moving import _march, _project
 from ._problem import Problem, window_k
 from ._result import Raw
@@ -216,7 +216,7 @@ class _Grids:
             # the kinks of the window edges do not depend on the grid: found once
             t_end = float(pbs[0].tau[num][-1])
             k = opts.window_k
-            self.kinks = [t for p in pbs for t in _switch_times(p, k, tau_s, t_end)]
+            self.kinks = _switch_times_batch(pbs, k, tau_s, t_end)
 
     def level(self, n_base: int, mult: int, dense: int = 1) -> dict:
         """Grid ``n_base * mult`` on the time plan of ``n_base`` (at ``dense`` times the steps
