@@ -154,7 +154,7 @@ class CNOptions:
     per_node : float
         Time steps per decade per grid interval (``steps_per_decade / nodes``; 0.25).
     levels : int
-        Most grids solved (16: room for a pilot pair, a triple and three quadruples).
+        Most grids solved (20).
     max_work : float
         Node-steps per load over all grids (1e8).
     stretch : float
@@ -192,7 +192,7 @@ class CNOptions:
         return cls(
             nodes=n0,
             per_node=per_node,
-            levels=int(opt.get("levels", 16)),
+            levels=int(opt.get("levels", 20)),
             max_work=float(opt.get("max_work", 1e8)),
             stretch=float(opt.get("stretch", 1.0)),
             rannacher=int(opt.get("rannacher", 2)),

@@ -59,6 +59,18 @@ E_WORK, S_WORK = 21.0, 60.0  # node-steps of a triple / quadruple over (n^2 x th
 # per node): sum of mult^2 over the levels (1 + 4 + 16; 1 + 4 + 9 + 16 at twice the steps)
 
 
+S_MARGIN = 15.0  # the sixth order's estimate: S_MARGIN x the asymptotic error of its answer
+
+
+S_LMAX = 8  # most levels of one sixth-order grid
+
+
+S_MISS = 2.0  # a sixth-order round missing its prediction by more: back to the fourth order
+
+
+S_FAVOR = 2.0  # the sixth order taken over a fourth-order round predicted S_FAVOR x dearer
+
+
 S_ORDER = 4.0  # order assumed when growing the sixth-order grid (measured: 4-6 pre-asymptotic)
 
 
@@ -95,9 +107,6 @@ def richardson_weights(mults: tuple[int, ...] | list[int]) -> Array:
     rhs = np.zeros(m.size)
     rhs[0] = 1.0
     return np.linalg.solve(V, rhs)
-
-
-_W_A, _W_B = richardson_weights((1, 2, 3)), richardson_weights((2, 3, 4))
 
 
 def _round_grid(n: float) -> int:
@@ -164,17 +173,48 @@ def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float]:
     return _Fit(err, e_b, 4 * n), ratio
 
 
-def _sixth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float]:
-    """The sixth-order quadruple at ``n`` (see the module) and its estimate / tolerance.
+def _k6(mults: tuple[int, ...]) -> float:
+    """``sum w m^-6`` of the sixth-order weights of three levels: ``prod m^-2`` [1]."""
+    return float(np.prod(np.asarray(mults, dtype=float) ** -2.0))
 
-    The estimate reported is a uniform fraction of the tolerance per load, the largest
-    measured: the difference ``S_b - S_a`` crosses zero where the actual error need not.
+
+def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float]:
+    """The sixth-order combinations of the levels ``top - 2 .. top`` (the answer) and
+    ``top - 3 .. top - 1`` of grid ``n`` (see the module), and the estimate / tolerance.
+
+    The estimate is ``S_MARGIN`` times the asymptotic error of the answer,
+    ``|S_b - S_a| K_b / (K_a - K_b)`` (``K = prod m^-2``: for ``top = 4`` it is
+    ``|S_b - S_a|``); it is reported as a uniform fraction of the tolerance per load, the
+    largest measured (the difference crosses zero where the actual error need not).
     """
-    lvs = [lv.level(n, m, DENSE) for m in (1, 2, 3, 4)]
-    s_b, s_a = _weighted(lvs[1:], _W_B), _weighted(lvs[:3], _W_A)
-    err, ratio = judge.ratio(s_b, s_a, 1.0)
+    ma, mb = tuple(range(top - 3, top)), tuple(range(top - 2, top + 1))
+    lvs = [lv.level(n, m, DENSE) for m in range(top - 3, top + 1)]
+    s_b = _weighted(lvs[1:], richardson_weights(mb))
+    s_a = _weighted(lvs[:3], richardson_weights(ma))
+    ka, kb = _k6(ma), _k6(mb)
+    err, ratio = judge.ratio(s_b, s_a, S_MARGIN * kb / (ka - kb))
     tol = judge.tol(s_b["area"])
-    return _Fit(tol * np.max(err / tol, axis=-1, keepdims=True), s_b, 4 * n), ratio
+    return _Fit(tol * np.max(err / tol, axis=-1, keepdims=True), s_b, top * n), ratio
+
+
+def _sixth_next(top: int, ratio: float, aim: float) -> tuple[float, bool, float]:
+    """The cheaper way on from a sixth-order estimate / tolerance ``ratio`` at ``top``:
+    (work [pilot node-steps per n^2], extend, grid growth).  Extending adds the level
+    ``top + 1`` (the asymptotic error falls by ``K(top + 1) / K(top) = ((top - 2) /
+    (top + 1))^2``), as often as predicted to reach ``aim`` (at most ``S_LMAX``); a new grid
+    (four levels) grows by ``(ratio K(2, 3, 4) / K(top) / aim)^(1 / S_ORDER)``, at least 1.25x."""
+    # a new grid starts again with levels 2-4, whose constant K is larger than K(top)
+    r4 = ratio * _k6((2, 3, 4)) / _k6((top - 2, top - 1, top))
+    grow = max((r4 / aim) ** (1.0 / S_ORDER), 1.25)
+    new = DENSE * S_WORK / 2.0 * grow**2  # S_WORK counts the four levels at twice the steps
+    work, r, t = 0.0, ratio, top
+    while t < S_LMAX:
+        t += 1
+        work += DENSE * t**2
+        r *= ((t - 3.0) / t) ** 2
+        if r <= aim:
+            return (work, True, 1.0) if work < new else (new, False, grow)
+    return new, False, grow
 
 
 def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _Fit:
@@ -188,8 +228,11 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
         s_fit, s_ratio = _sixth(lv, judge, n_base)
         if s_ratio <= 1.0:
             return s_fit
-        if (s_ratio / aim) ** (1.0 / S_ORDER) <= S_GROW:  # the sixth order is near
-            return _sixth_rounds(lv, judge, n_base, s_ratio, aim)
+        if _sixth_next(4, s_ratio, aim)[0] <= E_WORK * S_GROW**2:  # the sixth order is near
+            s_fit = _sixth_rounds(lv, judge, n_base, s_ratio, aim)
+            if s_fit is not None:
+                return s_fit
+            six = False
     fit, ratio = _fourth(lv, judge, n_base)
     grow = (ratio / aim) ** 0.25
     if ratio > 1.0 and grow > S_GROW and six:
@@ -197,9 +240,11 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
             s_fit, s_ratio = _sixth(lv, judge, n_base)
             if s_ratio <= 1.0:
                 return s_fit
-        s_grow = max((s_ratio / aim) ** (1.0 / S_ORDER), 1.25)
-        if S_WORK * s_grow**2 < E_WORK * grow**2:  # the work of the next round
-            return _sixth_rounds(lv, judge, n_base, s_ratio, aim)
+        # the work of the next round, the sixth order's at least S_FAVOR x less (it may miss)
+        if S_FAVOR * _sixth_next(4, s_ratio, aim)[0] < E_WORK * grow**2:
+            s_fit = _sixth_rounds(lv, judge, n_base, s_ratio, aim)
+            if s_fit is not None:
+                return s_fit
     rounds = 0
     while ratio > 1.0:
         rounds += 1
@@ -209,18 +254,25 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
     return fit
 
 
-def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _Fit:
-    """Sixth-order quadruples after the one at ``n`` (estimate / tolerance ``ratio``): the
-    grid grows by the order observed between the last two (``S_ORDER`` first, clipped to
-    [2, 6]), at least 1.25x."""
-    order = S_ORDER
+def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _Fit | None:
+    """Sixth-order rounds after the quadruple at ``n`` (estimate / tolerance ``ratio``): the
+    next level of the same grid, or a new grid, whichever :func:`_sixth_next` finds
+    cheaper, until the estimate fits; None (back to the fourth order) when a round misses
+    its prediction by more than ``S_MISS`` (the error is not in its sixth-order regime)."""
+    top = 4
     while True:
-        n_new = _round_grid(n * max((ratio / aim) ** (1.0 / order), 1.25))
-        fit, r_new = _sixth(lv, judge, n_new)
-        if r_new <= 1.0:
+        _, extend, grow = _sixth_next(top, ratio, aim)
+        if extend:
+            top += 1
+            predicted = ratio * ((top - 3.0) / top) ** 2
+        else:
+            k_ratio = _k6((2, 3, 4)) / _k6((top - 2, top - 1, top))
+            n, top, predicted = _round_grid(n * grow), 4, ratio * k_ratio / grow**S_ORDER
+        fit, ratio = _sixth(lv, judge, n, top)
+        if ratio <= 1.0:
             return fit
-        order = float(np.clip(math.log(max(ratio / r_new, 1.0)) / math.log(n_new / n), 2, 6))
-        n, ratio = n_new, r_new
+        if ratio > S_MISS * max(predicted, aim):
+            return None
 
 
 def _sixth_order_fits(pb: Problem) -> bool:
