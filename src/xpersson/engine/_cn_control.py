@@ -130,6 +130,9 @@ class _Judge:
 
     def __init__(self, pb: Problem, scale: Array) -> None:
         self.pb, self.scale = pb, scale
+        # steps per node of the second- and fourth-order levels: where the sixth order may
+        # follow, those of its levels (the pilot pair is then its first two levels)
+        self.dense = DENSE if _sixth_order_fits(pb) else 1
 
     def tol(self, area: Array) -> Array:
         return self.pb.rtol * np.abs(area) + self.pb.atol
@@ -151,7 +154,7 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit:
     judge = _Judge(pb, scale)
     n_base, rounds = lv.opts.nodes, 0
     while True:  # mode R
-        l1, l2 = lv.level(n_base, 1), lv.level(n_base, 2)
+        l1, l2 = lv.level(n_base, 1, judge.dense), lv.level(n_base, 2, judge.dense)
         e_r, ratio = judge.ratio(l2, l1, 2.0 / 3.0)  # ~2x error of R(2n)
         if ratio <= 1.0:
             return _Fit(e_r, _combine(l2, l1, False), 2 * n_base)
@@ -167,7 +170,7 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit:
 def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float]:
     """The fourth-order triple at ``n`` (answer ``E(2n, 4n)``, estimate ~2x asymptotic) and
     its estimate / tolerance."""
-    l1, l2, l4 = lv.level(n, 1), lv.level(n, 2), lv.level(n, 4)
+    l1, l2, l4 = (lv.level(n, m, judge.dense) for m in (1, 2, 4))
     e_b, e_a = _combine(l4, l2, True), _combine(l2, l1, True)
     err, ratio = judge.ratio(e_b, e_a, 2.0 / 15.0)
     return _Fit(err, e_b, 4 * n), ratio
@@ -228,7 +231,8 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
         s_fit, s_ratio = _sixth(lv, judge, n_base)
         if s_ratio <= 1.0:
             return s_fit
-        if _sixth_next(4, s_ratio, aim)[0] <= E_WORK * S_GROW**2:  # the sixth order is near
+        near = E_WORK * judge.dense * S_GROW**2
+        if _sixth_next(4, s_ratio, aim)[0] <= near:  # the sixth order is near
             s_fit = _sixth_rounds(lv, judge, n_base, s_ratio, aim)
             if s_fit is not None:
                 return s_fit
@@ -241,7 +245,7 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
             if s_ratio <= 1.0:
                 return s_fit
         # the work of the next round, the sixth order's at least S_FAVOR x less (it may miss)
-        if S_FAVOR * _sixth_next(4, s_ratio, aim)[0] < E_WORK * grow**2:
+        if S_FAVOR * _sixth_next(4, s_ratio, aim)[0] < E_WORK * judge.dense * grow**2:
             s_fit = _sixth_rounds(lv, judge, n_base, s_ratio, aim)
             if s_fit is not None:
                 return s_fit
