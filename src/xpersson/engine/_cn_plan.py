@@ -92,26 +92,26 @@ def _bracketed_roots(f, a: Array, b: Array, fa: Array, fb: Array, xtol: Array) -
     """Roots of ``f(t, idx)`` (values at ``t`` of the brackets ``idx``) in the brackets
     ``[a, b]`` (``fa``, ``fb`` of opposite signs or 0), to ``|b - a| <= xtol``, all at once.
 
-    Illinois (regula falsi halving the retained end's value), with a bisection step wherever
-    the previous step did not halve the bracket: superlinear, never slower than bisection.
-    A bracket without a sign change (NaN values) gives NaN.
+    Illinois (regula falsi halving the retained end's value: superlinear, and the far end
+    moves), with steps of at least ``xtol`` towards the far end (as Brent's method: the
+    bracket then closes around the root).  A bracket without a sign change gives NaN.
     """
     a, b, fa, fb = (np.array(v, dtype=float) for v in (a, b, fa, fb))
     root = np.where(fb == 0, b, np.where(fa == 0, a, np.nan))
     live = np.isnan(root) & (np.sign(fa) * np.sign(fb) < 0)
-    bisect = np.zeros(a.shape, bool)
     for _ in range(200):
         idx = np.flatnonzero(live)
         if idx.size == 0:
             break
         a_, b_, fa_, fb_ = a[idx], b[idx], fa[idx], fb[idx]
-        c = np.where(bisect[idx], 0.5 * (a_ + b_), b_ - fb_ * (b_ - a_) / (fb_ - fa_))
+        c = b_ - fb_ * (b_ - a_) / (fb_ - fa_)
+        nudge = np.minimum(xtol[idx], 0.5 * np.abs(a_ - b_))
+        c = np.where(np.abs(c - b_) < nudge, b_ + np.copysign(nudge, a_ - b_), c)
         fc = np.asarray(f(c, idx), dtype=float)
         flip = np.sign(fc) * np.sign(fb_) < 0  # the root lies between c and b
         new_a = np.where(flip, b_, a_)
         fa[idx] = np.where(flip, fb_, 0.5 * fa_)
         a[idx], b[idx], fb[idx] = new_a, c, fc
-        bisect[idx] = np.abs(c - new_a) > 0.5 * np.abs(b_ - a_)
         hit = (fc == 0) | (np.abs(c - new_a) <= xtol[idx]) | ~np.isfinite(fc)
         root[idx[hit]] = np.where(np.isfinite(fc[hit]), c[hit], np.nan)
         live[idx[hit]] = False
