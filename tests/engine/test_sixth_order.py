@@ -122,3 +122,22 @@ def test_switch_times_of_a_linear_wall_closed_form():
         disc = math.sqrt(k * k - 2.0 * c * (S0 + p))
         want += [((k - disc) / c) ** 2 / 2.0, ((k + disc) / c) ** 2 / 2.0]
     np.testing.assert_allclose(got, sorted(want), rtol=1e-13)
+
+
+@pytest.mark.parametrize("c, rtol", [(1.0, 1e-4), (-2.0, 1e-4), (5.0, 1e-5)])
+def test_reported_estimate_bounds_the_error_at_every_output(c, rtol):
+    """Second- and fourth-order answers too: the estimate is reported as a uniform fraction
+    of the tolerance (the largest estimated), so it bounds the error of the exact moving wall
+    at every output, not only at the worst one (level differences cross zero)."""
+    tau = np.logspace(-3, 0, 13)
+    res = solve(tau, P0, Wall.absorbing(lambda t: -(S0 + c * t)), rtol=rtol, method="cn")
+    assert res.status == "success", res.message
+    ex = exact.linear_wall_area(tau, P0, S0, c)
+    assert np.all(np.abs(res.area - ex) <= res.error_estimate)
+    # a uniform fraction of the tolerance on the marched outputs (the analytic start's
+    # outputs carry the window truncation only)
+    frac = res.error_estimate / (rtol * np.abs(res.area))
+    marched = frac > 1e-3
+    assert marched.sum() >= 10
+    np.testing.assert_allclose(frac[marched], np.max(frac), rtol=1e-4)
+    assert np.max(frac) <= 1.0

@@ -59,6 +59,9 @@ E_WORK, S_WORK = 21.0, 60.0  # node-steps of a triple / quadruple over (n^2 x th
 # per node): sum of mult^2 over the levels (1 + 4 + 16; 1 + 4 + 9 + 16 at twice the steps)
 
 
+S_RTOL = 1e-5  # the pilot pair takes the sixth order's steps per node at rtol <= S_RTOL only
+
+
 S_MARGIN = 15.0  # the sixth order's estimate: S_MARGIN x the asymptotic error of its answer
 
 
@@ -131,8 +134,9 @@ class _Judge:
     def __init__(self, pb: Problem, scale: Array) -> None:
         self.pb, self.scale = pb, scale
         # steps per node of the second- and fourth-order levels: where the sixth order may
-        # follow, those of its levels (the pilot pair is then its first two levels)
-        self.dense = DENSE if _sixth_order_fits(pb) else 1
+        # follow (and the tolerance is tight enough for it to pay), those of its levels (the
+        # pilot pair is then its first two levels)
+        self.dense = DENSE if _sixth_order_fits(pb) and pb.rtol <= S_RTOL else 1
 
     def tol(self, area: Array) -> Array:
         return self.pb.rtol * np.abs(area) + self.pb.atol
