@@ -9,16 +9,27 @@ the step, which Richardson extrapolation cancels).
 * Second order (mode ``R``): the pair ``mult = 1, 2``; the finer level is the answer, its error
   estimate ``2 |R_2 - R_1| / 3`` (twice the asymptotic value).  Used while the grid it predicts
   is at most ``R_MAX_REFINE`` times the pilot's.
-* Sixth order (mode ``S``, tight tolerances): four levels ``mult = 1, 2, 3, 4`` at twice the
-  pilot's steps per node (the time error dominates the space error of these problems: measured
-  on the yield-wall and ``jkr`` scenes of ``benchmarks/cn_walls.py``, this halves the work for a
-  given error).  Two Richardson combinations cancel the ``h^2`` and ``h^4`` terms: ``S_a`` of
-  levels 1, 2, 3 and ``S_b`` of levels 2, 3, 4 (weights :func:`richardson_weights`).  The answer
-  is ``S_b``, its error estimate ``|S_b - S_a|``: asymptotically the ``h^6`` error of ``S_a``,
-  which is 16x that of ``S_b`` (the constants ``sum w m^-6`` are 1/36 and 1/576); so the
-  estimate is ~15x the asymptotic error of the answer, a margin kept for the pre-asymptotic
-  and non-smooth parts of the error (kinks of tabulated walls: measured actual / estimate
-  <= 0.6 on those scenes, against their reference solutions).
+* Fourth order (mode ``E``): the triple ``mult = 1, 2, 4``, answer ``E(2, 4)``, estimate
+  ``2 |E(2, 4) - E(1, 2)| / 15`` (twice the asymptotic value).
+* Sixth order (mode ``S``; moving walls without declared breakpoints and without densities,
+  where the fourth order's grid would be large): four levels ``mult = 1, 2, 3, 4`` at twice
+  the pilot's steps per node (the time error dominates the space error of these problems:
+  measured on the yield-wall and ``jkr`` scenes of ``benchmarks/cn_walls.py``, this halves the
+  work for a given error).  Two Richardson combinations cancel the ``h^2`` and ``h^4`` terms:
+  ``S_a`` of levels 1, 2, 3 and ``S_b`` of levels 2, 3, 4 (weights :func:`richardson_weights`).
+  The answer is ``S_b``, its error estimate ``|S_b - S_a|``: asymptotically the ``h^6`` error
+  of ``S_a``, which is 16x that of ``S_b`` (the constants ``sum w m^-6 = prod m^-2`` are 1/36
+  and 1/576); so the estimate is ~15x the asymptotic error of the answer, a margin kept for
+  the pre-asymptotic and non-smooth parts of the error (kinks of tabulated walls: measured
+  actual / estimate <= 0.6 on those scenes, against their reference solutions).  A miss is
+  answered by the next level of the same grid (``mult = 5, 6, ...``: the last three levels
+  answer, the estimate stays ``S_MARGIN`` x asymptotic) or a new grid, whichever is predicted
+  cheaper (:func:`_sixth_next`); a round that misses its prediction by ``S_MISS`` returns to
+  the fourth order.  Where the sixth order may follow (and ``rtol <= S_RTOL``), the pilot pair
+  and the fourth-order levels take its steps per node, so that they share levels.
+
+An accepted estimate is reported as a uniform fraction of the tolerance per load, the largest
+estimated: a difference of levels crosses zero where the actual error need not.
 """
 
 from __future__ import annotations
