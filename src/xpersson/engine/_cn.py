@@ -25,15 +25,16 @@ Scheme
 * Yield closure.  ``P(Y) = A_pl Y'``: the last node is a half cell whose mass plus ``A_pl``
   changes by the flux through its inner face (``dA_pl/dtau = -Y' P(Y) - P_p(Y)`` at the wall),
   solved implicitly with the interior (one row of the tridiagonal system).
-* Accuracy (aimed at the request).  A pilot pair of grids ``(N0, 2 N0)`` measures the constant
-  of the second-order error; the final grid ``N`` is chosen so that the error estimate of the
-  result is about ``AIM = 0.5`` times ``rtol |A| + atol`` (the actual error about half of it:
-  0.15-0.4 rtol on the benchmark scenes) and the pair ``(N/2, N)`` is solved; the result is the
-  finer solution, its error estimate ``2 |R_N - R_{N/2}| / 3`` (twice the asymptotic value).
-  For tight tolerances, where second order would need very fine grids, the pair is combined by
-  Richardson extrapolation and its (fourth-order) error predicted from three pilot levels.
-  If an estimate misses the tolerance the grid is refined again, up to ``max_steps`` /
-  ``levels``; ``status`` says when it could not.
+* Accuracy (aimed at the request, see :mod:`._cn_control`).  A pilot pair of grids
+  ``(N0, 2 N0)`` measures the constant of the second-order error; the final grid ``N`` is chosen
+  so that the error estimate of the result is about ``AIM = 0.5`` times ``rtol |A| + atol`` and
+  the pair ``(N/2, N)`` is solved; the result is the finer solution, its error estimate
+  ``2 |R_N - R_{N/2}| / 3`` (twice the asymptotic value).  For tight tolerances, where second
+  order would need very fine grids, four nested levels ``N, 2N, 3N, 4N`` (twice the steps per
+  node) are combined by Richardson extrapolation to sixth order, twice (levels 1-3 and 2-4):
+  the result is the finer combination, its error estimate their difference.  If an estimate
+  misses the tolerance the grid is refined again, up to ``max_steps`` / ``levels``; ``status``
+  says when it could not.
 """
 
 from __future__ import annotations
@@ -46,29 +47,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._base import EngineMethod
-from ._cn_plan import _joint_plan, _Plan, _start_time, _switch_times
-from ._moving import _combine, _march, _project
+from ._cn_control import AIM, _Budget, _control, _Fit, _Levels
+from ._cn_plan import _joint_plan, _Plan, _start_time, _switch_times_batch
+from ._moving import _march, _project
 from ._problem import Problem, window_k
 from ._result import Raw
 
 __all__ = ["CNMethod"]
 
 Array = NDArray[np.float64]
-
-
-AIM = 0.5  # the next grid is aimed at an error estimate of AIM x tolerance (about half the
-# estimate is the actual error: AIM/2 x rtol expected; 0.5 leaves a factor 2 for the prediction)
-
-
-R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else Richardson)
-
-
-class _Budget(Exception):
-    pass
-
-
-class _Levels(Exception):
-    pass
 
 
 class CNMethod(EngineMethod):
@@ -105,7 +92,7 @@ class CNMethod(EngineMethod):
         lv = _Grids(pbs, opts, tau_s, num)
         fit = _Fit(np.full((nb, int(num.sum())), np.inf))
         if num.any():
-            fit = _control(lv, pb, opts, tau[num])
+            fit = _control(lv, pb, opts.aim, tau[num])
             if fit.best is None:
                 return self._failed(nb, fit.status, fit.message or "no level completed", lv.nsteps)
         return _assemble(pbs, opts.window_k, analytic, fit, lv)
@@ -114,22 +101,6 @@ class CNMethod(EngineMethod):
         n_t = self.problem.tau.shape[-1]
         nan = np.full((nb, n_t), np.nan)
         return Raw(nan, nan, nan, nan, nan, nan, nan, None, status, message, nsteps, 0, nsteps)
-
-
-def _load_scale(pbs: list[Problem], tau: Array) -> Array:
-    """Scale of the load identity per (load, output): max(|p0|, |walls|) [Pa] (as in finish)."""
-    out = []
-    for p in pbs:
-        lo, up = p.wall_positions(tau)
-        sc = np.maximum(abs(p.p0), np.abs(lo))
-        sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
-        out.append(np.where(sc > 0, sc, 1.0))
-    return np.array(out)
-
-
-def _round_grid(n: float) -> int:
-    """Even grid size >= 8 (the coarse partner of a pair is n // 2)."""
-    return max(8, 2 * int(math.ceil(n / 2.0)))
 
 
 def _unbatch(raw: Raw) -> Raw:
@@ -183,7 +154,7 @@ class CNOptions:
     per_node : float
         Time steps per decade per grid interval (``steps_per_decade / nodes``; 0.25).
     levels : int
-        Most grids solved (10).
+        Most grids solved (20).
     max_work : float
         Node-steps per load over all grids (1e8).
     stretch : float
@@ -221,7 +192,7 @@ class CNOptions:
         return cls(
             nodes=n0,
             per_node=per_node,
-            levels=int(opt.get("levels", 10)),
+            levels=int(opt.get("levels", 20)),
             max_work=float(opt.get("max_work", 1e8)),
             stretch=float(opt.get("stretch", 1.0)),
             rannacher=int(opt.get("rannacher", 2)),
@@ -231,12 +202,13 @@ class CNOptions:
 
 
 class _Grids:
-    """The grid levels solved so far (``(n_base, mult)`` -> march output), within the budgets."""
+    """The grid levels solved so far (``(n_base, mult, dense)`` -> march output, see
+    :mod:`._cn_control`), within the budgets."""
 
     def __init__(self, pbs: list[Problem], opts: CNOptions, tau_s: float, num: Array) -> None:
         self.pbs, self.opts, self.tau_s = pbs, opts, tau_s
-        self.cache: dict[tuple[int, int], dict] = {}
-        self.plans: dict[int, _Plan] = {}
+        self.cache: dict[tuple[int, int, int], dict] = {}
+        self.plans: dict[tuple[int, int], _Plan] = {}
         self.nsteps = 0
         self.work = 0.0
         self.kinks: list[float] = []
@@ -244,18 +216,19 @@ class _Grids:
             # the kinks of the window edges do not depend on the grid: found once
             t_end = float(pbs[0].tau[num][-1])
             k = opts.window_k
-            self.kinks = [t for p in pbs for t in _switch_times(p, k, tau_s, t_end)]
+            self.kinks = _switch_times_batch(pbs, k, tau_s, t_end)
 
-    def level(self, n_base: int, mult: int) -> dict:
-        """Grid n_base * mult on the time plan of n_base subdivided mult times."""
-        key = (n_base, mult)
+    def level(self, n_base: int, mult: int, dense: int = 1) -> dict:
+        """Grid ``n_base * mult`` on the time plan of ``n_base`` (at ``dense`` times the steps
+        per decade of ``options['per_node']``) subdivided ``mult`` times."""
+        key = (n_base, mult, dense)
         cache, opts, pb = self.cache, self.opts, self.pbs[0]
         if key not in cache:
-            if n_base not in self.plans:
-                self.plans[n_base] = _joint_plan(
-                    self.pbs, opts.window_k, opts.per_node * n_base, self.tau_s, self.kinks
+            if (n_base, dense) not in self.plans:
+                self.plans[n_base, dense] = _joint_plan(
+                    self.pbs, opts.window_k, opts.per_node * n_base * dense, self.tau_s, self.kinks
                 )
-            plan = self.plans[n_base]
+            plan = self.plans[n_base, dense]
             cost = (plan.base.size - 1) * mult + 2 * opts.rannacher
             if self.nsteps + cost > pb.max_steps:
                 raise _Budget(f"max_steps = {pb.max_steps} reached before the tolerance was met")
@@ -271,110 +244,6 @@ class _Grids:
             cache[key] = _march(self.pbs, plan, n_base * mult, mult, opts.stretch, opts.rannacher)
             self.nsteps += cache[key]["nsteps"]
         return cache[key]
-
-
-@dataclass
-class _Fit:
-    """The accepted combination of levels, its error estimate and the outcome."""
-
-    err: Array
-    best: dict | None = None
-    n_used: int = 0
-    status: str = "success"
-    message: str = ""
-
-
-def _refine(lv: _Grids, pb: Problem, aim: float, scale: Array) -> _Fit:
-    """Second-order pairs, then fourth-order Richardson triples, until the estimate fits."""
-
-    def tol_of(area: Array) -> Array:
-        return pb.rtol * np.abs(area) + pb.atol
-
-    def load_ratio(a: dict, b: dict, factor: float) -> float:
-        """Estimated error of the load identity of ``a`` against the tolerance."""
-        la_ = a["load"] + a["mom_l"] + a["mom_u"]
-        lb_ = b["load"] + b["mom_l"] + b["mom_u"]
-        return float(np.max(factor * np.abs(la_ - lb_) / scale)) / (pb.rtol + pb.atol)
-
-    level = lv.level
-    n_base, mode, rounds = lv.opts.nodes, "R", 0
-    while True:
-        l1, l2 = level(n_base, 1), level(n_base, 2)
-        e_r = 2.0 * np.abs(l2["area"] - l1["area"]) / 3.0  # ~2x error of R(2n)
-        ratio = max(float(np.max(e_r / tol_of(l2["area"]))), load_ratio(l2, l1, 2.0 / 3.0))
-        if mode == "R" and ratio <= 1.0:
-            return _Fit(e_r, _combine(l2, l1, False), 2 * n_base)
-        if mode == "R" and math.sqrt(ratio / aim) <= R_MAX_REFINE:
-            # after a missed prediction (slower than second order, e.g. kinks of a
-            # tabulated wall) grow at least 1.25x, so that the grids keep advancing
-            rounds += 1
-            n_base = _round_grid(n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25))
-            continue
-        mode = "E"  # fourth order: Richardson pairs on three nested grids
-        l4 = level(n_base, 4)
-        e_b = _combine(l4, l2, True)
-        e_a = _combine(l2, l1, True)
-        d = 2.0 * np.abs(e_b["area"] - e_a["area"]) / 15.0
-        ratio = max(float(np.max(d / tol_of(e_b["area"]))), load_ratio(e_b, e_a, 2.0 / 15.0))
-        if ratio <= 1.0:
-            return _Fit(d, e_b, 4 * n_base)
-        rounds += 1
-        grow = max((ratio / aim) ** 0.25, 1.0 if rounds == 1 else 1.25)
-        n_base = _round_grid(n_base * grow)
-
-
-def _finest_pair(cache: dict[tuple[int, int], dict], fit: _Fit) -> None:
-    """Budget spent: the finest pair computed, flagged (into ``fit``).
-
-    A finer level whose partner was never reached has no error estimate: the finest level
-    *with* a coarser partner is used instead.
-    """
-    paired = [c for c in cache if any(o[0] == c[0] and o[1] < c[1] for o in cache)]
-    (nbf, mf) = max(paired or cache, key=lambda c: c[0] * c[1])
-    pair = [c for c in cache if c[0] == nbf and c[1] < mf]
-    fine = cache[(nbf, mf)]
-    if pair:
-        coarse = cache[max(pair, key=lambda c: c[1])]
-        fit.best = _combine(fine, coarse, False)
-        fit.err = 2.0 * np.abs(fine["area"] - coarse["area"]) / 3.0
-    else:
-        fit.best = _combine(fine, fine, False)
-    fit.n_used = nbf * mf
-
-
-def _control(lv: _Grids, pb: Problem, opts: CNOptions, tau_num: Array) -> _Fit:
-    """Levels until the error estimate meets the tolerance (or a budget ends the search)."""
-    scale = _load_scale(lv.pbs, tau_num)
-    fit = _Fit(np.full((len(lv.pbs), tau_num.size), np.inf))
-    try:
-        fit = _refine(lv, pb, opts.aim, scale)
-    except (_Budget, _Levels) as exc:
-        fit.status = "max_steps" if isinstance(exc, _Budget) else "tolerance_not_met"
-        fit.message = str(exc)
-    except FloatingPointError as exc:
-        fit.status, fit.message = "tolerance_not_met", f"numerical failure: {exc}"
-    if fit.best is None and lv.cache:
-        _finest_pair(lv.cache, fit)
-    # a probability projected onto [0, 1] is off by at most 1: no estimate (a single
-    # level) is reported as 1, never as inf
-    fit.err = np.minimum(fit.err, 1.0)
-    if fit.best is None:
-        return fit
-    best = fit.best
-    # round-off of the sums over the grid (the level difference cannot see it)
-    fit.err = fit.err + 16.0 * np.finfo(float).eps * math.sqrt(max(fit.n_used, 1)) * np.abs(
-        best["area"]
-    )
-    tol = pb.rtol * np.abs(best["area"]) + pb.atol
-    if fit.status == "success" and np.any(fit.err > tol):
-        fit.status = "tolerance_not_met"
-    if fit.status != "success":
-        i = np.unravel_index(int(np.argmax(fit.err / tol)), fit.err.shape)
-        fit.message = (fit.message + "; " if fit.message else "") + (
-            f"the error estimate {fit.err[i]:.2e} exceeds the tolerance at tau = "
-            f"{tau_num[i[1]]:.6g} Pa^2"
-        )
-    return fit
 
 
 def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Grids) -> Raw:

@@ -27,7 +27,7 @@ from ._grid import clustered
 from ._problem import Problem
 from ._progress import report as report_progress
 
-__all__ = ["_march", "_combine", "_project"]
+__all__ = ["_march", "_combine", "_weighted", "_project"]
 
 Array = NDArray[np.float64]
 
@@ -85,7 +85,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     # work buffers of a step: face fluxes G, G2 and their differences dG
     G, G2, dG = np.empty(nb * nn - 1), np.empty(nb * nn - 1), np.empty(nb * nn - 2)
     G_hi, G_lo = G[1:], G[:-1]
-    mul, sub, info = np.multiply, np.subtract, 0
+    mul, sub, add_r, info = np.multiply, np.subtract, np.add.reduce, 0
     for m0 in range(0, n_steps, block):
         ms = slice(m0, min(m0 + block, n_steps))
         c = ms.stop - ms.start
@@ -114,16 +114,16 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
             if nb > 1:
                 rhs[bnd] = 0.0
             if ys[i]:  # last row: g (w_N R_N + A_pl - wo F_{N-1/2})
-                np.take(r, pair, out=z_old)
-                rhs[last] = (k_rhs[i] * z_rhs).sum(axis=0)
+                r.take(pair, out=z_old)  # (the method: no dispatch through np.take)
+                rhs[last] = add_r(k_rhs[i] * z_rhs, 0)
             # LAPACK dgtsv in place (the 1-D C-contiguous rows are passed without copies)
             sol, info_m = dgtsv(dl_[i], Dg[i], du_[i], rhs, 1, 1, 1, 1)[3:]
             info |= info_m
             if sol is not rhs:  # the wrapper made a copy: the block's states must hold it
                 rhs[...] = sol
             if ys[i]:  # dA_pl: out-flux through the last face + the half cell's loss
-                np.take(sol, pair, out=z_new)
-                a_pl += (k_gain[i] * z).sum(axis=0)
+                sol.take(pair, out=z_new)
+                a_pl += add_r(k_gain[i] * z, 0)
             r = sol
             while out_steps[nxt] == m + 1:
                 record(nxt, m + 1)
@@ -372,6 +372,18 @@ def _combine(fine: dict, coarse: dict, extrapolate: bool) -> dict:
             out[key] = fine[key] + (fine[key] - coarse[key]) / 3.0
         else:
             out[key] = fine[key]
+    return out
+
+
+def _weighted(levels: list[dict], weights: Array) -> dict:
+    """The combination ``sum_i weights[i] levels[i]`` of every output (weights summing to 1,
+    e.g. Richardson's: the probability balance, linear in the levels, is kept)."""
+    out = {}
+    for key in (*_KEYS, "P"):
+        if levels[0][key] is None:
+            out[key] = None
+        else:
+            out[key] = sum(float(c) * lv[key] for c, lv in zip(weights, levels, strict=True))
     return out
 
 

@@ -1,0 +1,368 @@
+"""Error control of the ``cn`` method: which grid levels to solve and how to combine them.
+
+Levels are keyed ``(n_base, mult, dense)``: ``n_base mult`` intervals on the time plan of
+``n_base`` intervals at ``dense`` times the pilot's steps per decade per interval, each base
+step subdivided ``mult`` times (so the levels of one ``(n_base, dense)`` have their space and
+time steps in the exact ratios ``1/mult``: their errors share one expansion in even powers of
+the step, which Richardson extrapolation cancels).
+
+* Second order (mode ``R``): the pair ``mult = 1, 2``; the finer level is the answer, its error
+  estimate ``2 |R_2 - R_1| / 3`` (twice the asymptotic value).  Used while the grid it predicts
+  is at most ``R_MAX_REFINE`` times the pilot's.
+* Fourth order (mode ``E``): the triple ``mult = 1, 2, 4``, answer ``E(2, 4)``, estimate
+  ``2 |E(2, 4) - E(1, 2)| / 15`` (twice the asymptotic value).
+* Sixth order (mode ``S``; moving walls without declared breakpoints and without densities,
+  where the fourth order's grid would be large): four levels ``mult = 1, 2, 3, 4`` at twice
+  the pilot's steps per node (the time error dominates the space error of these problems:
+  measured on the yield-wall and ``jkr`` scenes of ``benchmarks/cn_walls.py``, this halves the
+  work for a given error).  Two Richardson combinations cancel the ``h^2`` and ``h^4`` terms:
+  ``S_a`` of levels 1, 2, 3 and ``S_b`` of levels 2, 3, 4 (weights :func:`richardson_weights`).
+  The answer is ``S_b``, its error estimate ``|S_b - S_a|``: asymptotically the ``h^6`` error
+  of ``S_a``, which is 16x that of ``S_b`` (the constants ``sum w m^-6 = prod m^-2`` are 1/36
+  and 1/576); so the estimate is ~15x the asymptotic error of the answer, a margin kept for
+  the pre-asymptotic and non-smooth parts of the error (kinks of tabulated walls: measured
+  actual / estimate <= 0.6 on those scenes, against their reference solutions).  A miss is
+  answered by the next level of the same grid (``mult = 5, 6, ...``: the last three levels
+  answer, the estimate stays ``S_MARGIN`` x asymptotic) or a new grid, whichever is predicted
+  cheaper (:func:`_sixth_next`); a round that misses its prediction by ``S_MISS`` returns to
+  the fourth order.  Where the sixth order may follow (and ``rtol <= S_RTOL``), the pilot pair
+  and the fourth-order levels take its steps per node, so that they share levels.
+
+An accepted estimate is reported as a uniform fraction of the tolerance per load, the largest
+estimated: a difference of levels crosses zero where the actual error need not.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._moving import _combine, _weighted
+from ._problem import Problem
+
+__all__ = ["_Budget", "_Levels", "_Fit", "_control", "richardson_weights"]
+
+Array = NDArray[np.float64]
+
+
+AIM = 0.5  # the next grid is aimed at an error estimate of AIM x tolerance (about half the
+# estimate is the actual error: AIM/2 x rtol expected; 0.5 leaves a factor 2 for the prediction)
+
+
+R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else sixth order)
+
+
+R_SKIP = 64.0  # a second-order pilot asking for a refinement beyond R_SKIP: sixth-order pilot
+# first (where it fits), the fourth-order one only if the sixth order would cost more
+
+
+DENSE = 2  # steps per node of the sixth-order levels, in units of the pilot's
+
+
+S_GROW = 2.0  # a fourth-order pilot asking for a grid more than S_GROW x finer: sixth order
+
+
+E_WORK, S_WORK = 21.0, 60.0  # node-steps of a triple / quadruple over (n^2 x the pilot's steps
+# per node): sum of mult^2 over the levels (1 + 4 + 16; 1 + 4 + 9 + 16 at twice the steps)
+
+
+S_RTOL = 1e-5  # the pilot pair takes the sixth order's steps per node at rtol <= S_RTOL only
+
+
+S_MARGIN = 15.0  # the sixth order's estimate: S_MARGIN x the asymptotic error of its answer
+
+
+S_LMAX = 8  # most levels of one sixth-order grid
+
+
+S_MISS = 2.0  # a sixth-order round missing its prediction by more: back to the fourth order
+
+
+S_FAVOR = 2.0  # the sixth order taken over a fourth-order round predicted S_FAVOR x dearer
+
+
+S_ORDER = 4.0  # order assumed when growing the sixth-order grid (measured: 4-6 pre-asymptotic)
+
+
+class _Budget(Exception):
+    pass
+
+
+class _Levels(Exception):
+    pass
+
+
+@dataclass
+class _Fit:
+    """The accepted combination of levels, its error estimate and the outcome."""
+
+    err: Array
+    best: dict | None = None
+    n_used: int = 0
+    status: str = "success"
+    message: str = ""
+
+
+def richardson_weights(mults: tuple[int, ...] | list[int]) -> Array:
+    """Weights ``w`` [1] of levels with steps ``h / m`` (``m`` in ``mults``) whose combination
+    ``sum w_i R(h / m_i)`` cancels the error terms ``h^2, h^4, ..., h^(2 (len - 1))``.
+
+    They solve ``sum_i w_i = 1``, ``sum_i w_i m_i^(-2 k) = 0`` for ``k = 1 .. len - 1`` (a
+    Vandermonde system in ``m^-2``).  For ``(1, 2)``: ``(-1/3, 4/3)``.
+    """
+    m = np.asarray(mults, dtype=float)
+    if m.ndim != 1 or m.size < 1 or np.any(m <= 0) or np.unique(m).size != m.size:
+        raise ValueError(f"mults [1] must be distinct positive numbers; got {mults!r}")
+    V = m[None, :] ** (-2.0 * np.arange(m.size)[:, None])
+    rhs = np.zeros(m.size)
+    rhs[0] = 1.0
+    return np.linalg.solve(V, rhs)
+
+
+def _round_grid(n: float) -> int:
+    """Even grid size >= 8 (the coarse partner of a pair is n // 2)."""
+    return max(8, 2 * int(math.ceil(n / 2.0)))
+
+
+def _load_scale(pbs: list[Problem], tau: Array) -> Array:
+    """Scale of the load identity per (load, output): max(|p0|, |walls|) [Pa] (as in finish)."""
+    out = []
+    for p in pbs:
+        lo, up = p.wall_positions(tau)
+        sc = np.maximum(abs(p.p0), np.abs(lo))
+        sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
+        out.append(np.where(sc > 0, sc, 1.0))
+    return np.array(out)
+
+
+class _Judge:
+    """Error estimates of candidate answers against the tolerance (area and load identity)."""
+
+    def __init__(self, pb: Problem, scale: Array) -> None:
+        self.pb, self.scale = pb, scale
+        # steps per node of the second- and fourth-order levels: where the sixth order may
+        # follow (and the tolerance is tight enough for it to pay), those of its levels (the
+        # pilot pair is then its first two levels)
+        self.dense = DENSE if _sixth_order_fits(pb) and pb.rtol <= S_RTOL else 1
+
+    def tol(self, area: Array) -> Array:
+        return self.pb.rtol * np.abs(area) + self.pb.atol
+
+    def ratio(self, a: dict, b: dict, factor: float) -> tuple[Array, float]:
+        """Estimate ``factor |a - b|`` of the area, and the worst estimate / tolerance of the
+        area and of the load identity of ``a``."""
+        pb = self.pb
+        err = factor * np.abs(a["area"] - b["area"])
+        la_ = a["load"] + a["mom_l"] + a["mom_u"]
+        lb_ = b["load"] + b["mom_l"] + b["mom_u"]
+        load = float(np.max(factor * np.abs(la_ - lb_) / self.scale)) / (pb.rtol + pb.atol)
+        return err, max(float(np.max(err / self.tol(a["area"]))), load)
+
+
+def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit:
+    """Second-order pairs, then fourth- or sixth-order Richardson combinations, until the
+    estimate fits."""
+    judge = _Judge(pb, scale)
+    n_base, rounds = lv.opts.nodes, 0
+    while True:  # mode R
+        l1, l2 = lv.level(n_base, 1, judge.dense), lv.level(n_base, 2, judge.dense)
+        e_r, ratio = judge.ratio(l2, l1, 2.0 / 3.0)  # ~2x error of R(2n)
+        if ratio <= 1.0:
+            return _Fit(e_r, _combine(l2, l1, False), 2 * n_base)
+        if math.sqrt(ratio / aim) > R_MAX_REFINE:
+            break
+        # after a missed prediction (slower than second order, e.g. kinks of a tabulated
+        # wall) grow at least 1.25x, so that the grids keep advancing
+        rounds += 1
+        n_base = _round_grid(n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25))
+    return _high_order(lv, judge, n_base, aim, math.sqrt(ratio / aim) > R_SKIP)
+
+
+def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float]:
+    """The fourth-order triple at ``n`` (answer ``E(2n, 4n)``, estimate ~2x asymptotic) and
+    its estimate / tolerance."""
+    l1, l2, l4 = (lv.level(n, m, judge.dense) for m in (1, 2, 4))
+    e_b, e_a = _combine(l4, l2, True), _combine(l2, l1, True)
+    err, ratio = judge.ratio(e_b, e_a, 2.0 / 15.0)
+    return _Fit(err, e_b, 4 * n), ratio
+
+
+def _k6(mults: tuple[int, ...]) -> float:
+    """``sum w m^-6`` of the sixth-order weights of three levels: ``prod m^-2`` [1]."""
+    return float(np.prod(np.asarray(mults, dtype=float) ** -2.0))
+
+
+def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float]:
+    """The sixth-order combinations of the levels ``top - 2 .. top`` (the answer) and
+    ``top - 3 .. top - 1`` of grid ``n`` (see the module), and the estimate / tolerance.
+
+    The estimate is ``S_MARGIN`` times the asymptotic error of the answer,
+    ``|S_b - S_a| K_b / (K_a - K_b)`` (``K = prod m^-2``: for ``top = 4`` it is
+    ``|S_b - S_a|``).
+    """
+    ma, mb = tuple(range(top - 3, top)), tuple(range(top - 2, top + 1))
+    lvs = [lv.level(n, m, DENSE) for m in range(top - 3, top + 1)]
+    s_b = _weighted(lvs[1:], richardson_weights(mb))
+    s_a = _weighted(lvs[:3], richardson_weights(ma))
+    ka, kb = _k6(ma), _k6(mb)
+    err, ratio = judge.ratio(s_b, s_a, S_MARGIN * kb / (ka - kb))
+    return _Fit(err, s_b, top * n), ratio
+
+
+def _sixth_next(top: int, ratio: float, aim: float) -> tuple[float, bool, float]:
+    """The cheaper way on from a sixth-order estimate / tolerance ``ratio`` at ``top``:
+    (work [pilot node-steps per n^2], extend, grid growth).  Extending adds the level
+    ``top + 1`` (the asymptotic error falls by ``K(top + 1) / K(top) = ((top - 2) /
+    (top + 1))^2``), as often as predicted to reach ``aim`` (at most ``S_LMAX``); a new grid
+    (four levels) grows by ``(ratio K(2, 3, 4) / K(top) / aim)^(1 / S_ORDER)``, at least 1.25x."""
+    # a new grid starts again with levels 2-4, whose constant K is larger than K(top)
+    r4 = ratio * _k6((2, 3, 4)) / _k6((top - 2, top - 1, top))
+    grow = max((r4 / aim) ** (1.0 / S_ORDER), 1.25)
+    new = DENSE * S_WORK / 2.0 * grow**2  # S_WORK counts the four levels at twice the steps
+    work, r, t = 0.0, ratio, top
+    while t < S_LMAX:
+        t += 1
+        work += DENSE * t**2
+        r *= ((t - 3.0) / t) ** 2
+        if r <= aim:
+            return (work, True, 1.0) if work < new else (new, False, grow)
+    return new, False, grow
+
+
+def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _Fit:
+    """Fourth-order triples, or sixth-order quadruples where a moving wall makes the fourth
+    order's grid large and the sixth order's pilot predicts less work, until the estimate
+    fits (see the module).  ``far``: the second-order pilot asked for a grid so fine that the
+    sixth order's pilot comes first (the fourth order's is solved only if it is needed)."""
+    six = _sixth_order_fits(judge.pb)
+    s_fit = s_ratio = None
+    if six and far:
+        s_fit, s_ratio = _sixth(lv, judge, n_base)
+        if s_ratio <= 1.0:
+            return s_fit
+        near = E_WORK * judge.dense * S_GROW**2
+        if _sixth_next(4, s_ratio, aim)[0] <= near:  # the sixth order is near
+            s_fit = _sixth_rounds(lv, judge, n_base, s_ratio, aim)
+            if s_fit is not None:
+                return s_fit
+            six = False
+    fit, ratio = _fourth(lv, judge, n_base)
+    grow = (ratio / aim) ** 0.25
+    if ratio > 1.0 and grow > S_GROW and six:
+        if s_ratio is None:
+            s_fit, s_ratio = _sixth(lv, judge, n_base)
+            if s_ratio <= 1.0:
+                return s_fit
+        # the work of the next round, the sixth order's at least S_FAVOR x less (it may miss)
+        if S_FAVOR * _sixth_next(4, s_ratio, aim)[0] < E_WORK * judge.dense * grow**2:
+            s_fit = _sixth_rounds(lv, judge, n_base, s_ratio, aim)
+            if s_fit is not None:
+                return s_fit
+    rounds = 0
+    while ratio > 1.0:
+        rounds += 1
+        n_base = _round_grid(n_base * max(grow, 1.0 if rounds == 1 else 1.25))
+        fit, ratio = _fourth(lv, judge, n_base)
+        grow = (ratio / aim) ** 0.25
+    return fit
+
+
+def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _Fit | None:
+    """Sixth-order rounds after the quadruple at ``n`` (estimate / tolerance ``ratio``): the
+    next level of the same grid, or a new grid, whichever :func:`_sixth_next` finds
+    cheaper, until the estimate fits; None (back to the fourth order) when a round misses
+    its prediction by more than ``S_MISS`` (the error is not in its sixth-order regime)."""
+    top = 4
+    while True:
+        _, extend, grow = _sixth_next(top, ratio, aim)
+        if extend:
+            top += 1
+            predicted = ratio * ((top - 3.0) / top) ** 2
+        else:
+            k_ratio = _k6((2, 3, 4)) / _k6((top - 2, top - 1, top))
+            n, top, predicted = _round_grid(n * grow), 4, ratio * k_ratio / grow**S_ORDER
+        fit, ratio = _sixth(lv, judge, n, top)
+        if ratio <= 1.0:
+            return fit
+        if ratio > S_MISS * max(predicted, aim):
+            return None
+
+
+def _sixth_order_fits(pb: Problem) -> bool:
+    """Whether the sixth-order mode may be used for ``pb``: a wall moves (on fixed walls the
+    fourth order keeps the error aimed at the request: the sixth order's estimate is
+    conservative), no wall declares breakpoints (the graded steps after them give a clean
+    second-order expansion only) and no density is wanted (it is interpolated on the nodes,
+    whose spacing the sixth-order levels do not refine as far)."""
+    walls = [w for w in (pb.lower, pb.upper) if w is not None]
+    moving = any(not w.is_fixed for w in walls)
+    return moving and pb.p_out is None and not any(w.breakpoints for w in walls)
+
+
+def _finest_pair(cache: dict[tuple[int, int, int], dict], fit: _Fit) -> None:
+    """Budget spent: the finest level that has a coarser partner (same ``n_base`` and time
+    plan), with the second-order estimate of the pair, flagged (into ``fit``).
+
+    A finer level whose partner was never reached has no error estimate: the finest level
+    *with* a coarser partner is used instead.
+    """
+
+    def partners(c: tuple[int, int, int]) -> list[tuple[int, int, int]]:
+        return [o for o in cache if o[0] == c[0] and o[2] == c[2] and o[1] < c[1]]
+
+    paired = [c for c in cache if partners(c)]
+    key = max(paired or cache, key=lambda c: (c[0] * c[1], c[2]))
+    fine = cache[key]
+    fit.best = _combine(fine, fine, False)
+    if partners(key):
+        ck = max(partners(key), key=lambda c: c[1])
+        # second order: R_f - R = (R_f - R_c) / ((m_f / m_c)^2 - 1); twice that
+        fit.err = 2.0 * np.abs(fine["area"] - cache[ck]["area"]) / ((key[1] / ck[1]) ** 2 - 1.0)
+    fit.n_used = key[0] * key[1]
+
+
+def _control(lv: Any, pb: Problem, aim: float, tau_num: Array) -> _Fit:
+    """Levels until the error estimate meets the tolerance (or a budget ends the search).
+
+    ``lv``: the grid levels (``_cn._Grids``: ``level(n_base, mult, dense=1)``, ``cache``,
+    ``opts``, ``pbs``).
+    """
+    scale = _load_scale(lv.pbs, tau_num)
+    fit = _Fit(np.full((len(lv.pbs), tau_num.size), np.inf))
+    try:
+        fit = _refine(lv, pb, aim, scale)
+    except (_Budget, _Levels) as exc:
+        fit.status = "max_steps" if isinstance(exc, _Budget) else "tolerance_not_met"
+        fit.message = str(exc)
+    except FloatingPointError as exc:
+        fit.status, fit.message = "tolerance_not_met", f"numerical failure: {exc}"
+    if fit.best is None and lv.cache:
+        _finest_pair(lv.cache, fit)
+    # a probability projected onto [0, 1] is off by at most 1: no estimate (a single
+    # level) is reported as 1, never as inf
+    fit.err = np.minimum(fit.err, 1.0)
+    if fit.best is None:
+        return fit
+    best = fit.best
+    # round-off of the sums over the grid (the level difference cannot see it)
+    fit.err = fit.err + 16.0 * np.finfo(float).eps * math.sqrt(max(fit.n_used, 1)) * np.abs(
+        best["area"]
+    )
+    tol = pb.rtol * np.abs(best["area"]) + pb.atol
+    if fit.status == "success" and np.any(fit.err > tol):
+        fit.status = "tolerance_not_met"
+    if fit.status == "success":
+        # reported as a uniform fraction of the tolerance per load, the largest estimated:
+        # a difference of levels crosses zero where the actual error need not
+        fit.err = tol * np.max(fit.err / tol, axis=-1, keepdims=True)
+    if fit.status != "success":
+        i = np.unravel_index(int(np.argmax(fit.err / tol)), fit.err.shape)
+        fit.message = (fit.message + "; " if fit.message else "") + (
+            f"the error estimate {fit.err[i]:.2e} exceeds the tolerance at tau = "
+            f"{tau_num[i[1]]:.6g} Pa^2"
+        )
+    return fit
