@@ -17,9 +17,9 @@ import numpy as np
 from xpersson.physics import closures
 from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 
-from . import kernel
+from . import _graded, kernel
 from ._build import build_model, build_shift
-from ._modulus import ModulusModel
+from ._modulus import ModulusModel, Prony
 from ._paired import block_integrals, cumulative_paired
 from ._shift import WLF_UNIVERSAL
 
@@ -379,6 +379,22 @@ class ViscoelasticCoefficient(Coefficient):
         exact = self._model.E_r**2 * np.asarray(ctx.psd.I3(z * float(ctx.psd.q_L)), dtype=float)
         rest, loss = cumulative_paired(ctx.psd, self._model, z, v, aT, ppd=ppd)
         return (np.pi / 4.0) * (exact + rest) / (f * f), loss / f
+
+    def graded_stacked(
+        self, ctxs: Sequence[SceneContext], points: Sequence[Any], lay: _graded.Layout
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """``tau`` [Pa^2] and ``dL`` [Pa] at the nodes of the friction analysis's graded
+        panels (:mod:`~xpersson_viscoelastic._graded`), each (K, N), of a block of points;
+        ``None`` unless a Prony model (the points share the spectrum and ``nu``)."""
+        if not isinstance(self._model, Prony):
+            return None
+        if self._one_call(ctxs, points):
+            v, aT = self._stacked_vT(points)
+            w = (v * aT)[:, None] * lay.qn
+        else:  # the flash temperature's a_T(q): each point's frequencies at the nodes
+            pairs = zip(points, ctxs, strict=True)
+            w = np.stack([kernel._w(c._v(), c._a_T_of(x), lay.qn) for c, x in pairs])
+        return _graded.integrals(ctxs[0].psd, self._model, ctxs[0].nu, lay, w)
 
     def interpret_stacked(
         self, ctxs: Sequence[SceneContext], points: Sequence[Any]

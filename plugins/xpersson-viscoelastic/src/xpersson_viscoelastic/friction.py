@@ -27,7 +27,7 @@ import numpy as np
 from xpersson.physics import closure_S
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
-from . import _resolve
+from . import _graded, _resolve
 from ._stencil import stacked_weights
 from .kernel import friction_integral, stieltjes_increments
 
@@ -161,7 +161,6 @@ class Friction(Analysis):
         """``mu_visc_cumulative`` with the loads whose area drop the output grid misses
         evaluated on a dense grid up to the output point ``zeta_k`` and continued on the
         output grid beyond (:mod:`~xpersson_viscoelastic._resolve`)."""
-        p = self._params
         area = _rows(ds["area_fraction"])
         zeta = np.asarray(ds["zeta"].values, dtype=float)
         need = _resolve.unresolved(area)
@@ -169,14 +168,21 @@ class Friction(Analysis):
             return mu_cum
         loads = np.flatnonzero(need)
         k = _resolve.dense_top(zeta, area[loads])
-        G = _rows(ds["G"])[:, : k + 1]
-        zk = zeta[: k + 1]
-        zd, idx = _resolve.dense_grid(zk, G[loads])
-        Ad = _resolve.dense_area(ctx, zk, area[:, : k + 1], G, zd, loads)
-        Ld = _resolve.dense_loss(ctx, zk, np.asarray(ds["loss_integral"].values)[: k + 1], zd)
-        gd = Ad * (closure_S("yp08", Ad, p["gamma"]) if p["correction"] == "s_factor" else 1.0)
-        p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))[loads]
-        run = _resolve.running_integral(gd, Ld, zd)[:, idx] / (2.0 * p0[:, None])
+        p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))
+        G_all = _rows(ds["G"])
+        got = _graded.graded_runs(
+            lambda _: ctx, [(0, loads, k)], zeta, lambda _: G_all, p0, self._factor
+        )
+        if got is not None:
+            run = got[0]
+        else:  # dense grids (models without graded panels)
+            G = G_all[:, : k + 1]
+            zk = zeta[: k + 1]
+            zd, idx = _resolve.dense_grid(zk, G[loads])
+            Ad = _resolve.dense_area(ctx, zk, area[:, : k + 1], G, zd, loads)
+            Ld = _resolve.dense_loss(ctx, zk, np.asarray(ds["loss_integral"].values)[: k + 1], zd)
+            run = _resolve.running_integral(self._factor(Ad), Ld, zd)[:, idx]
+            run /= 2.0 * p0[loads][:, None]
         vals = _rows(mu_cum).copy()
         beyond = vals[loads, k + 1 :] - vals[loads, k : k + 1]  # the output-grid rule
         vals[loads] = np.concatenate([run, run[:, -1:] + beyond], axis=-1)
@@ -184,33 +190,70 @@ class Friction(Analysis):
             return mu_cum.copy(data=vals)
         return mu_cum.copy(data=vals.T.reshape(mu_cum.shape))
 
+    def _factor(self, A: np.ndarray) -> np.ndarray:
+        """The integrand ``P S`` [1] from the area ``P``."""
+        if self._params["correction"] == "s_factor":
+            return A * closure_S("yp08", A, self._params["gamma"])
+        return A
+
     def compute_stacked(self, ctx_of: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables of a block of (v, T) points (leading ``point`` dimension)
         at once: the output-grid rule for every point, then the loads whose area drop the
-        output grid misses on their dense grids, as :meth:`compute` does per point, with the
-        coefficient's q-integrals of every such point in one call (``dense_stacked``)."""
+        output grid misses on the graded panels of :mod:`~xpersson_viscoelastic._graded`
+        (grouped points in one call each), else on their dense grids with the coefficient's
+        q-integrals of every such point in one call (``dense_stacked``), as :meth:`compute`
+        does per point."""
         zeta = np.asarray(ds["zeta"].values, dtype=float)
         if self._zeta_c(zeta) != zeta[-1] or "G" not in ds or zeta.size < 2:
             return super().compute_stacked(ctx_of, ds)
         zp = ("point", "p0", "zeta")
         out = {n: da.transpose("point", ...) for n, da in self.compute(ctx_of(0), ds).items()}
         area = np.asarray(ds["area_fraction"].transpose(*zp).values, dtype=float)
-        redo = [k for k in range(area.shape[0]) if _resolve.unresolved(area[k]).any()]
-        if not redo:
+        items = []
+        for k in range(area.shape[0]):
+            loads = np.flatnonzero(_resolve.unresolved(area[k]))
+            if loads.size:
+                items.append((k, loads, _resolve.dense_top(zeta, area[k][loads])))
+        if not items:
             return out
         G = np.asarray(ds["G"].transpose(*zp).values, dtype=float)
-        L = np.asarray(ds["loss_integral"].transpose("point", "zeta").values, dtype=float)
         p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))
+        mu_cum = np.array(out["mu_visc_cumulative"].transpose(*zp).values, dtype=float)
+        runs = _graded.graded_runs(ctx_of, items, zeta, lambda k: G[k], p0, self._factor)
+        if runs is None:
+            L = np.asarray(ds["loss_integral"].transpose("point", "zeta").values, dtype=float)
+            runs = self._dense_block(ctx_of, items, zeta, area, G, L, p0)
+        for k, loads, top in items:
+            vals = mu_cum[k]
+            beyond = vals[loads, top + 1 :] - vals[loads, top : top + 1]  # the output-grid rule
+            vals[loads] = np.concatenate([runs[k], runs[k][:, -1:] + beyond], axis=-1)
+        out["mu_visc_cumulative"] = out["mu_visc_cumulative"].transpose(*zp).copy(data=mu_cum)
+        out["mu_visc"] = out["mu_visc_cumulative"].isel(zeta=-1, drop=True)
+        out["mu"] = out["mu_visc"] + out["mu_contact"]
+        self._check(out)
+        return out
+
+    def _dense_block(
+        self,
+        ctx_of: Any,
+        items: list[Any],
+        zeta: np.ndarray,
+        area: np.ndarray,
+        G: np.ndarray,
+        L: np.ndarray,
+        p0: np.ndarray,
+    ) -> dict[int, np.ndarray]:
+        """The running integral (n_sel, top + 1) of every item ``(k, loads, top)`` on its
+        dense grid (:mod:`~xpersson_viscoelastic._resolve`; models without graded panels)."""
         plans = []
-        for k in redo:
-            loads = np.flatnonzero(_resolve.unresolved(area[k]))
-            top = _resolve.dense_top(zeta, area[k][loads])
+        for k, loads, top in items:
             zd, idx = _resolve.dense_grid(zeta[: top + 1], G[k][:, : top + 1][loads])
             plans.append((k, loads, top, zd, idx))
+        redo = [plan[0] for plan in plans]
         dense = _dense_integrals(ctx_of, redo, [plan[3] for plan in plans])
         weights = stacked_weights([_resolve.dense_x(plan[3]) for plan in plans])  # one call
-        mu_cum = np.array(out["mu_visc_cumulative"].transpose(*zp).values, dtype=float)
         rows = _dense_rows(ctx_of, plans, dense)
+        runs = {}
         for r, (k, loads, top, zd, idx) in enumerate(plans):
             ctx, zk = ctx_of(k), zeta[: top + 1]
             if dense is None:
@@ -225,21 +268,9 @@ class Friction(Analysis):
                     got = rows[1][rows[0] == r, : zd.size]
                 Ad = np.asarray(got, dtype=float).reshape(loads.size, -1)
                 Ld = dense[1][r, : zd.size]
-            gd = Ad * (
-                closure_S("yp08", Ad, self._params["gamma"])
-                if self._params["correction"] == "s_factor"
-                else 1.0
-            )
-            run = _resolve.running_integral(gd, Ld, zd, weights[r])[:, idx]
-            run /= 2.0 * p0[loads][:, None]
-            vals = mu_cum[k]
-            beyond = vals[loads, top + 1 :] - vals[loads, top : top + 1]  # the output-grid rule
-            vals[loads] = np.concatenate([run, run[:, -1:] + beyond], axis=-1)
-        out["mu_visc_cumulative"] = out["mu_visc_cumulative"].transpose(*zp).copy(data=mu_cum)
-        out["mu_visc"] = out["mu_visc_cumulative"].isel(zeta=-1, drop=True)
-        out["mu"] = out["mu_visc"] + out["mu_contact"]
-        self._check(out)
-        return out
+            run = _resolve.running_integral(self._factor(Ad), Ld, zd, weights[r])[:, idx]
+            runs[k] = run / (2.0 * p0[loads][:, None])
+        return runs
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables, vectorised over loads (and any sweep dimension)."""
