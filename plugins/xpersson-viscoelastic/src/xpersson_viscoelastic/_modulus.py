@@ -63,7 +63,7 @@ def _ratio(b: Array) -> Array:
 #: Frequencies per pass of :meth:`Prony.parts`: its (frequencies x modes) temporaries then stay
 #: in cache and below malloc's mmap threshold (a stacked block's dense grids hold ~1e5 nodes:
 #: one pass of 40 modes allocated ~40 MB arrays afresh, page faults included, on every call).
-_PARTS_CHUNK = 4096
+_PARTS_CHUNK = 1024
 
 
 def _small_ratio(b: Array) -> Array:
