@@ -198,38 +198,50 @@ class Friction(Analysis):
 
     def compute_stacked(self, ctx_of: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables of a block of (v, T) points (leading ``point`` dimension)
-        at once: the output-grid rule for every point, then the loads whose area drop the
-        output grid misses on the graded panels of :mod:`~xpersson_viscoelastic._graded`
-        (grouped points in one call each), else on their dense grids with the coefficient's
-        q-integrals of every such point in one call (``dense_stacked``), as :meth:`compute`
-        does per point."""
+        at once, as :meth:`compute` gives each point: the output-grid rule for every point
+        (numpy on the block's arrays), then the loads whose area drop the output grid misses
+        on the graded panels of :mod:`~xpersson_viscoelastic._graded` (points with equal
+        panels in one call each, one engine call for the block), else on their dense grids
+        with the coefficient's q-integrals of every such point in one call
+        (``dense_stacked``)."""
+        import xarray as xr
+
         zeta = np.asarray(ds["zeta"].values, dtype=float)
         if self._zeta_c(zeta) != zeta[-1] or "G" not in ds or zeta.size < 2:
             return super().compute_stacked(ctx_of, ds)
         zp = ("point", "p0", "zeta")
-        out = {n: da.transpose("point", ...) for n, da in self.compute(ctx_of(0), ds).items()}
         area = np.asarray(ds["area_fraction"].transpose(*zp).values, dtype=float)
-        items = []
-        for k in range(area.shape[0]):
-            loads = np.flatnonzero(_resolve.unresolved(area[k]))
-            if loads.size:
-                items.append((k, loads, _resolve.dense_top(zeta, area[k][loads])))
-        if not items:
-            return out
-        G = np.asarray(ds["G"].transpose(*zp).values, dtype=float)
+        L = np.asarray(ds["loss_integral"].transpose("point", "zeta").values, dtype=float)
         p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))
-        mu_cum = np.array(out["mu_visc_cumulative"].transpose(*zp).values, dtype=float)
-        runs = _graded.graded_runs(ctx_of, items, zeta, lambda k: G[k], p0, self._factor)
-        if runs is None:
-            L = np.asarray(ds["loss_integral"].transpose("point", "zeta").values, dtype=float)
-            runs = self._dense_block(ctx_of, items, zeta, area, G, L, p0)
-        for k, loads, top in items:
-            vals = mu_cum[k]
-            beyond = vals[loads, top + 1 :] - vals[loads, top : top + 1]  # the output-grid rule
-            vals[loads] = np.concatenate([runs[k], runs[k][:, -1:] + beyond], axis=-1)
-        out["mu_visc_cumulative"] = out["mu_visc_cumulative"].transpose(*zp).copy(data=mu_cum)
-        out["mu_visc"] = out["mu_visc_cumulative"].isel(zeta=-1, drop=True)
-        out["mu"] = out["mu_visc"] + out["mu_contact"]
+        inc = stieltjes_increments(self._factor(area), L[:, None, :], np.log(zeta))
+        mu = friction_integral(inc, p0)
+        mu_cum = np.concatenate([np.zeros(mu.shape[:-1] + (1,)), mu], axis=-1)
+        need = _resolve.unresolved(area.reshape(-1, zeta.size)).reshape(area.shape[:2])
+        tops = _resolve.dense_tops(zeta, area, need)
+        items = [(k, np.flatnonzero(need[k]), int(tops[k])) for k in np.flatnonzero(need.any(1))]
+        if items:
+            G = np.asarray(ds["G"].transpose(*zp).values, dtype=float)
+            runs = _graded.graded_runs(ctx_of, items, zeta, lambda k: G[k], p0, self._factor)
+            if runs is None:
+                runs = self._dense_block(ctx_of, items, zeta, area, G, L, p0)
+            for k, loads, top in items:
+                vals = mu_cum[k]
+                beyond = vals[loads, top + 1 :] - vals[loads, top : top + 1]  # output grid
+                vals[loads] = np.concatenate([runs[k], runs[k][:, -1:] + beyond], axis=-1)
+        v = np.asarray(ds["sliding_speed"].transpose("point").values, dtype=float)
+        aT = np.asarray(ds["shift_factor"].transpose("point").values, dtype=float)
+        tau_f = np.vectorize(self.shear_stress, otypes=[float])(v, aT)
+        A_c = area[..., -1]
+        mu_contact = tau_f[:, None] * A_c / p0
+        pp = ("point", "p0")
+        out = {
+            "mu_visc": xr.DataArray(mu_cum[..., -1], dims=pp),
+            "mu_contact": xr.DataArray(mu_contact, dims=pp),
+            "mu": xr.DataArray(mu_cum[..., -1] + mu_contact, dims=pp),
+            "mu_visc_cumulative": xr.DataArray(mu_cum, dims=zp),
+            "contact_area_cutoff": xr.DataArray(A_c, dims=pp),
+            "frictional_shear_stress": xr.DataArray(tau_f, dims=("point",)),
+        }
         self._check(out)
         return out
 
