@@ -87,9 +87,10 @@ def layout(psd: Any, zeta: Array, top: int, n: int, ppd: int) -> Layout:
     kind = np.zeros(a.size, dtype=int)  # 0: ln q, 1: ln(q - q_L), 2: q (the first panel)
     kind[(a > q_L) & (b <= 2.0 * q_L)] = 1
     kind[(a <= q_L) & (b <= 2.0 * q_L)] = 2
+    shift = np.where(kind == 1, q_L, 0.0)
     with np.errstate(divide="ignore"):
-        lo = np.select([kind == 1, kind == 2], [np.log(a - q_L), a], np.log(a))
-        hi = np.select([kind == 1, kind == 2], [np.log(b - q_L), b], np.log(b))
+        lo = np.where(kind == 2, a, np.log(a - shift))
+        hi = np.where(kind == 2, b, np.log(b - shift))
     mid, half = 0.5 * (hi + lo), 0.5 * (hi - lo)
     counts = np.full(a.size, NODES, dtype=np.intp)
     counts[kind == 0] = node_counts(half[kind == 0], NODES)  # narrow ln q panels: fewer nodes
@@ -101,11 +102,11 @@ def layout(psd: Any, zeta: Array, top: int, n: int, ppd: int) -> Layout:
         sel = np.flatnonzero(counts == m)
         x, w, Q = _rule(int(m))
         u = mid[sel, None] + half[sel, None] * x
-        k = kind[sel, None]
+        first = kind[sel, None] == 2
         with np.errstate(over="ignore"):
-            eu = np.exp(np.where(k == 2, 0.0, u))
-        qs = np.select([k == 1, k == 2], [q_L + eu, u], eu)
-        js = np.select([k == 1, k == 2], [eu, np.ones_like(u)], qs)
+            eu = np.exp(np.where(first, 0.0, u))
+        qs = np.where(first, u, eu + shift[sel, None])  # q_L + e^u, u or e^u
+        js = np.where(first, 1.0, np.where(kind[sel, None] == 1, eu, qs))
         pos = start[sel, None] + np.arange(int(m))
         qn[pos], jac[pos], wq[pos] = qs, js, half[sel, None] * w * js
         groups.append((sel, pos, half[sel], Q))
