@@ -364,7 +364,9 @@ def stieltjes_increments(
         return trap
     W, start = weights or _cubic_weights(tuple(float(v) for v in xs))
     idx = start[:, None] + np.arange(4)  # (n - 1, 4)
-    cubic = np.einsum("...ia,iab,...ib->...i", g[..., idx], W, L[..., idx])
+    # sum_a g_a sum_b W_ab L_b: two short contractions (a three-operand einsum is ~9x slower)
+    WL = np.sum(W * L[..., idx][..., None, :], axis=-1)
+    cubic = np.sum(g[..., idx] * WL, axis=-1)
     return np.where((cubic < 0) & (trap >= 0), trap, cubic)
 
 
