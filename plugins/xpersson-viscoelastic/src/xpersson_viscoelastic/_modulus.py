@@ -27,7 +27,6 @@ is no cancellation at small ``b`` (``u`` is evaluated as ``b^2 / (s (1 + s))``,
 
 from __future__ import annotations
 
-import threading
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -67,18 +66,6 @@ def _ratio(b: Array) -> Array:
 #: allocated once per call (fresh ~1.3 MB temporaries per pass were returned to the system
 #: and page-faulted again on every pass: 3x the arithmetic's time in a fresh process).
 _PARTS_CHUNK = 4096
-_WORK = threading.local()
-
-
-def _work_arrays(n_modes: int) -> Array:
-    """The three (:data:`_PARTS_CHUNK`, ``n_modes``) work arrays of :meth:`Prony.parts`, kept
-    per thread (3 x 4096 x 40 doubles: 3.9 MB for the tread model): an array of that size
-    allocated afresh is mapped anew by malloc and page-faulted on every call."""
-    buf = getattr(_WORK, "buf", None)
-    if buf is None or buf.shape[2] != n_modes:
-        buf = np.empty((3, _PARTS_CHUNK, n_modes))
-        _WORK.buf = buf
-    return buf
 
 
 def _small_ratio(b: Array, work: Array | None = None) -> Array:
@@ -203,7 +190,7 @@ class Prony(ModulusModel):
             return self._parts(w)
         flat = w.reshape(-1)
         excess, loss = np.empty(n), np.empty(n)
-        work = _work_arrays(self.tau.size)  # shared by the passes (and the calls)
+        work = np.empty((3, _PARTS_CHUNK, self.tau.size))  # shared by the passes
         for a in range(0, n, _PARTS_CHUNK):  # each frequency on its own: the same arithmetic
             part = flat[a : a + _PARTS_CHUNK]
             excess[a : a + part.size], loss[a : a + part.size] = self._parts(
