@@ -29,7 +29,16 @@ from numpy.typing import NDArray
 from ._panels import node_counts
 from .kernel import NODES, PANELS_PER_DECADE, _checked_nu, _rule, panel_edges
 
-__all__ = ["FIRST_G", "Layout", "rungs", "layout", "integrals", "running", "graded_runs"]
+__all__ = [
+    "FIRST_G",
+    "Layout",
+    "rungs",
+    "layout",
+    "known_nodes",
+    "integrals",
+    "running",
+    "graded_runs",
+]
 
 Array = NDArray[np.float64]
 
@@ -59,6 +68,9 @@ class Layout:
     wq: Array  #: weights ``dq`` [1/m], (N,)
     jac: Array  #: ``dq/du`` at the nodes (``u``: the panel's variable)
     start: NDArray[np.intp]  #: first node of each panel, (P,)
+    counts: NDArray[np.intp]  #: nodes of each panel, (P,)
+    base: Array  #: the output grid's q panel edges [1/m] (the coefficient's)
+    block: NDArray[np.intp]  #: the panel of ``base`` each panel is (-1: none), (P,)
     groups: tuple[tuple[NDArray[np.intp], NDArray[np.intp], Array, Array], ...]
     #: per node count m: (panels, node positions (n_p, m), half-widths (n_p,), Q (m, m))
 
@@ -75,10 +87,11 @@ def layout(psd: Any, zeta: Array, top: int, n: int, ppd: int) -> Layout:
     t = min(1.0, float(zeta[top]) - 1.0)
     q_out = np.asarray(zeta[: top + 1], dtype=float) * q_L
     ladder = q_L * (1.0 + t * 10.0 ** (-np.arange(n, -1, -1) / 2.0))
-    base = panel_edges(psd, q_out[-1:], ppd)
+    base = panel_edges(psd, np.asarray(zeta, dtype=float) * q_L, ppd)  # the output grid's
     nodes = np.asarray(psd.nodes(), dtype=float)
     inner = nodes[(nodes > q_L) & (nodes < ladder[-1])]
-    extra = np.unique(np.concatenate([ladder, base[base >= ladder[-1]], inner]))
+    above = base[(base >= ladder[-1]) & (base <= q_out[-1])]
+    extra = np.unique(np.concatenate([ladder, above, inner]))
     near = np.searchsorted(q_out, extra).clip(1, q_out.size - 1)
     gap = np.minimum(np.abs(extra - q_out[near - 1]), np.abs(extra - q_out[near]))
     # an edge within round-off of an output magnification would make an empty panel
@@ -111,15 +124,59 @@ def layout(psd: Any, zeta: Array, top: int, n: int, ppd: int) -> Layout:
         qn[pos], jac[pos], wq[pos] = qs, js, half[sel, None] * w * js
         groups.append((sel, pos, half[sel], Q))
     out = np.searchsorted(edges, q_out)
-    return Layout(edges, out, qn, wq, jac, start, tuple(groups))
+    at = np.searchsorted(base, a).clip(0, base.size - 2)
+    same = (kind == 0) & (base[at] == a) & (base[at + 1] == b)
+    block = np.where(same, at, -1).astype(np.intp)
+    return Layout(edges, out, qn, wq, jac, start, counts, base, block, tuple(groups))
 
 
-def integrals(psd: Any, model: Any, nu: float, lay: Layout, w: Array) -> tuple[Array, Array]:
+def known_nodes(last: Any, ctx: Any, v: Array, aT: Array, index: Any) -> Any:
+    """``(rows, keep)``: the node values a coefficient kept from its output-grid integrals
+    (``last = (psd, nu, v, aT, keep)`` of its block, see
+    :func:`~xpersson_viscoelastic.kernel._cumulative_at`) for the block's points ``index``
+    with speeds ``v`` [m/s] and shift factors ``aT`` [1]; ``None`` where they do not apply."""
+    if last is None or index is None:
+        return None
+    psd, nu, v0, aT0, keep = last
+    rows = np.asarray(index, dtype=np.intp)
+    if psd is not ctx.psd or nu != ctx.nu or rows.size == 0 or int(rows.max()) >= v0.size:
+        return None
+    if not (np.array_equal(v0[rows], v) and np.array_equal(aT0[rows], aT)):
+        return None
+    return rows, keep
+
+
+def _parts(model: Any, lay: Layout, w: Array, known: Any) -> tuple[Array, Array]:
+    """``model.parts(w)`` (K, N), the nodes of panels the output grid's integrals evaluated
+    already (``known``, :func:`known_nodes`) taken from there."""
+    if known is None or not np.array_equal(known[1].get("edges"), lay.base):
+        return model.parts(w)
+    rows, keep = known
+    excess, loss = np.empty(w.shape), np.empty(w.shape)
+    fresh = np.ones(w.shape[1], dtype=bool)
+    for m, (sel, ex, lo) in ((m, v) for m, v in keep.items() if m != "edges"):
+        at = np.full(lay.base.size - 1, -1)
+        at[sel] = np.arange(sel.size)
+        p = np.flatnonzero((lay.block >= 0) & (lay.counts == m))
+        j = at[lay.block[p]]
+        p, j = p[j >= 0], j[j >= 0]
+        pos = lay.start[p, None] + np.arange(m)
+        excess[:, pos], loss[:, pos] = ex[rows][:, j], lo[rows][:, j]
+        fresh[pos.ravel()] = False
+    if fresh.any():
+        excess[:, fresh], loss[:, fresh] = model.parts(w[:, fresh])
+    return excess, loss
+
+
+def integrals(
+    psd: Any, model: Any, nu: float, lay: Layout, w: Array, known: Any = None
+) -> tuple[Array, Array]:
     """``tau`` [Pa^2] at the nodes and the nodes' ``dL`` [Pa] (each (K, N)) of K points from
-    one evaluation of the Prony modulus at ``w = q v a_T`` [rad/s] (K, N) of the nodes."""
+    one evaluation of the Prony modulus at ``w = q v a_T`` [rad/s] (K, N) of the nodes
+    (``known``: node values evaluated already, :func:`known_nodes`)."""
     f = _checked_nu(nu)
     q3C = lay.qn**3 * np.asarray(psd.C(lay.qn), dtype=float)
-    excess, loss = model.parts(w)  # (K, N)
+    excess, loss = _parts(model, lay, w, known)  # (K, N)
     mean_sq = excess + model.E_r**2
     ends = np.add.reduceat(mean_sq * (q3C * lay.wq), lay.start, axis=-1)  # (K, P)
     before = np.concatenate([np.zeros((w.shape[0], 1)), np.cumsum(ends, axis=-1)[:, :-1]], -1)
@@ -193,7 +250,7 @@ def graded_runs(
     ``G(k)`` gives point k's ``G`` (n_load, n_zeta) [1], ``p0`` the loads [Pa] and ``factor(A)``
     the integrand ``P S`` from the area ``P``.
     """
-    coef0 = ctx_of(items[0][0]).coefficient
+    coef0 = ctx_of(0).coefficient  # the block's first: it integrated the output grid
     hook = getattr(coef0, "graded_stacked", None)
     if hook is None or getattr(ctx_of(items[0][0]), "solve_at", None) is None:
         return None
@@ -209,7 +266,7 @@ def graded_runs(
         if any(type(c) is not type(coef0) for c in coefs):
             return None
         lay = layout(ctxs[0].psd, zeta, top, n, PANELS_PER_DECADE)
-        got = hook(ctxs, coefs, lay)
+        got = hook(ctxs, coefs, lay, np.array([k for k, _ in members]))
         if got is None or not np.all(np.diff(got[0], axis=-1) > 0):
             return None  # not a Prony block, or tau not strictly increasing at the nodes
         parts.append((members, lay, *got))

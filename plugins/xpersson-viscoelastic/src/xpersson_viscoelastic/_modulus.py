@@ -185,36 +185,43 @@ class Prony(ModulusModel):
 
     def parts(self, w: ArrayLike) -> tuple[Array, Array]:
         w = np.asarray(w, dtype=float)
-        n = w.size
-        if n <= _PARTS_CHUNK:
-            return self._parts(w)
         flat = w.reshape(-1)
+        n = flat.size
+        if n == 0:
+            return np.zeros(w.shape), np.zeros(w.shape)
         excess, loss = np.empty(n), np.empty(n)
-        work = np.empty((3, _PARTS_CHUNK, self.tau.size))  # shared by the passes
+        work = np.empty((3, min(_rows4(n), _PARTS_CHUNK), self.tau.size))  # every pass's
         for a in range(0, n, _PARTS_CHUNK):  # each frequency on its own: the same arithmetic
             part = flat[a : a + _PARTS_CHUNK]
-            excess[a : a + part.size], loss[a : a + part.size] = self._parts(
-                part, work[:, : part.size]
-            )
+            excess[a : a + part.size], loss[a : a + part.size] = self._parts(part, work)
         return excess.reshape(w.shape), loss.reshape(w.shape)
 
-    def _parts(self, w: Array, work: Array | None = None) -> tuple[Array, Array]:
-        """``parts`` of ``w`` in one pass; ``work`` (3, w.size, n_modes) to compute in."""
-        if work is None:
-            b = w[..., None] * self.tau
-        else:
-            b = np.multiply(w[:, None], self.tau, out=work[0])
+    def _parts(self, w: Array, work: Array) -> tuple[Array, Array]:
+        """``parts`` of the 1-D ``w`` in one pass, computed in ``work`` (3, >= w.size rounded
+        up to a multiple of 4, n_modes). The mode sums run over a multiple of 4 rows (zero
+        padded): BLAS then takes every row through the same kernel, so each frequency's value
+        does not depend on where it sits in the call (a stacked block equals its points)."""
+        m = w.size
+        m4 = _rows4(m)
+        b = work[0, :m4]
+        np.multiply(w[:, None], self.tau, out=b[:m])
+        b[m:] = 0.0
         # every b = w tau_k <= max(w) max(tau) (rounding is monotone): one check on w only
-        small = w.size > 0 and float(np.max(w)) * float(self.tau.max()) <= 1e150
+        small = float(np.max(w)) * float(self.tau.max()) <= 1e150
         small = small and float(np.min(w)) > -np.inf  # (nan fails the first test)
-        r = _small_ratio(b, None if work is None else work[1:]) if small else _ratio(b)  # u/b
-        loss = (2.0 * np.pi) * (r @ self.delta_E)
+        r = _small_ratio(b, work[1:, :m4]) if small else _ratio(b)  # u(b) / b
+        loss = (2.0 * np.pi) * (r @ self.delta_E)[:m]
         with np.errstate(invalid="ignore"):
             r *= b  # u(b) (b = inf gives nan here: u = 1)
         if not small and np.isinf(b).any():
             r[np.isinf(b)] = 1.0
-        excess = 2.0 * (r @ (self.delta_E * self._c))
+        excess = 2.0 * (r @ (self.delta_E * self._c))[:m]
         return excess, loss
+
+
+def _rows4(n: int) -> int:
+    """``n`` rounded up to a multiple of 4."""
+    return -(-n // 4) * 4
 
 
 def sls(E_r: float, E_g: float, relaxation_time: float) -> Prony:

@@ -20,7 +20,7 @@ from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 from . import _graded, kernel
 from ._build import build_model, build_shift
 from ._modulus import ModulusModel, Prony
-from ._paired import block_integrals, cumulative_paired
+from ._paired import block_integrals, dense_block
 from ._shift import WLF_UNIVERSAL
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -358,9 +358,11 @@ class ViscoelasticCoefficient(Coefficient):
         key = (id(ctx.psd), ctx.nu, self._ppd(ctx), z.tobytes(), v.tobytes(), aT.tobytes())
         last = self.__dict__.get("_last_block")
         if last is None or last[0] != key:
-            got = block_integrals(ctx.psd, self._model, ctx.nu, z, v, aT, self._ppd(ctx))
+            keep: dict[Any, Any] = {}  # the q panels' node values: graded_stacked reuses them
+            got = block_integrals(ctx.psd, self._model, ctx.nu, z, v, aT, self._ppd(ctx), keep)
             last = (key, got, ctx.psd)  # the spectrum held: its id stays its own
             self.__dict__["_last_block"] = last
+            self.__dict__["_last_nodes"] = (ctx.psd, ctx.nu, v, aT, keep)
         return last[1]
 
     def dense_stacked(
@@ -371,30 +373,27 @@ class ViscoelasticCoefficient(Coefficient):
         there (the friction analysis's dense grids). ``None`` where the block is not one call."""
         if not self._one_call(ctxs, points):
             return None
-        ctx = ctxs[0]
         v, aT = self._stacked_vT(points)
-        ppd = self._ppd(ctx)
-        f = kernel._checked_nu(ctx.nu)
-        z = np.asarray(zeta, dtype=float)
-        exact = self._model.E_r**2 * np.asarray(ctx.psd.I3(z * float(ctx.psd.q_L)), dtype=float)
-        rest, loss = cumulative_paired(ctx.psd, self._model, z, v, aT, ppd=ppd)
-        return (np.pi / 4.0) * (exact + rest) / (f * f), loss / f
+        return dense_block(ctxs[0].psd, self._model, ctxs[0].nu, zeta, v, aT, self._ppd(ctxs[0]))
 
     def graded_stacked(
-        self, ctxs: Sequence[SceneContext], points: Sequence[Any], lay: _graded.Layout
+        self, ctxs: Sequence[SceneContext], points: Sequence[Any], lay: Any, index: Any = None
     ) -> tuple[np.ndarray, np.ndarray] | None:
         """``tau`` [Pa^2] and ``dL`` [Pa] at the nodes of the friction analysis's graded
-        panels (:mod:`~xpersson_viscoelastic._graded`), each (K, N), of a block of points;
-        ``None`` unless a Prony model (the points share the spectrum and ``nu``)."""
+        panels (:mod:`~xpersson_viscoelastic._graded`), each (K, N), of points ``index`` of
+        the block whose output grid this coefficient integrated last (its node values reused
+        where the panels coincide); ``None`` unless a Prony model (shared spectrum, ``nu``)."""
         if not isinstance(self._model, Prony):
             return None
+        known = None
         if self._one_call(ctxs, points):
             v, aT = self._stacked_vT(points)
             w = (v * aT)[:, None] * lay.qn
+            known = _graded.known_nodes(self.__dict__.get("_last_nodes"), ctxs[0], v, aT, index)
         else:  # the flash temperature's a_T(q): each point's frequencies at the nodes
             pairs = zip(points, ctxs, strict=True)
             w = np.stack([kernel._w(c._v(), c._a_T_of(x), lay.qn) for c, x in pairs])
-        return _graded.integrals(ctxs[0].psd, self._model, ctxs[0].nu, lay, w)
+        return _graded.integrals(ctxs[0].psd, self._model, ctxs[0].nu, lay, w, known)
 
     def interpret_stacked(
         self, ctxs: Sequence[SceneContext], points: Sequence[Any]
