@@ -37,6 +37,15 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["Friction"]
 
 _ZP = ("p0", "zeta")
+#: the dims of each output of one point
+_DIMS = {
+    "mu_visc": ("p0",),
+    "mu_contact": ("p0",),
+    "mu": ("p0",),
+    "mu_visc_cumulative": _ZP,
+    "contact_area_cutoff": ("p0",),
+    "frictional_shear_stress": (),
+}
 
 
 def _rows(da: xr.DataArray) -> np.ndarray:
@@ -198,21 +207,69 @@ class Friction(Analysis):
 
     def compute_stacked(self, ctx_of: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables of a block of (v, T) points (leading ``point`` dimension)
-        at once, as :meth:`compute` gives each point: the output-grid rule for every point
-        (numpy on the block's arrays), then the loads whose area drop the output grid misses
-        on the graded panels of :mod:`~xpersson_viscoelastic._graded` (points with equal
-        panels in one call each, one engine call for the block), else on their dense grids
-        with the coefficient's q-integrals of every such point in one call
-        (``dense_stacked``)."""
+        at once, as :meth:`compute` gives each point (:meth:`_arrays` on the block's
+        arrays)."""
         import xarray as xr
 
         zeta = np.asarray(ds["zeta"].values, dtype=float)
         if self._zeta_c(zeta) != zeta[-1] or "G" not in ds or zeta.size < 2:
             return super().compute_stacked(ctx_of, ds)
         zp = ("point", "p0", "zeta")
-        area = np.asarray(ds["area_fraction"].transpose(*zp).values, dtype=float)
-        L = np.asarray(ds["loss_integral"].transpose("point", "zeta").values, dtype=float)
-        p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))
+        got = self._arrays(
+            ctx_of,
+            zeta,
+            np.asarray(ds["area_fraction"].transpose(*zp).values, dtype=float),
+            np.asarray(ds["loss_integral"].transpose("point", "zeta").values, dtype=float),
+            np.asarray(ds["G"].transpose(*zp).values, dtype=float),
+            np.atleast_1d(np.asarray(ds["p0"].values, dtype=float)),
+            np.asarray(ds["sliding_speed"].transpose("point").values, dtype=float),
+            np.asarray(ds["shift_factor"].transpose("point").values, dtype=float),
+        )
+        out = {n: xr.DataArray(v, dims=("point", *_DIMS[n])) for n, v in got.items()}
+        self._check(out)
+        return out
+
+    def _simple(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any] | None:
+        """:meth:`compute` of one point's Dataset (loads and magnifications only, the cut-off
+        at the last output point) by :meth:`_arrays`, else ``None``."""
+        import xarray as xr
+
+        A, L = ds["area_fraction"], ds["loss_integral"]
+        zeta = np.asarray(ds["zeta"].values, dtype=float)
+        simple = set(A.dims) == {"p0", "zeta"} and L.dims == ("zeta",) and "G" in ds
+        simple = simple and ds["sliding_speed"].ndim == 0 and ds["shift_factor"].ndim == 0
+        if not simple or zeta.size < 2 or self._zeta_c(zeta) != zeta[-1]:
+            return None
+        got = self._arrays(
+            lambda _: ctx,
+            zeta,
+            _rows(A)[None],
+            np.asarray(L.values, dtype=float)[None],
+            _rows(ds["G"])[None],
+            np.atleast_1d(np.asarray(ds["p0"].values, dtype=float)),
+            np.atleast_1d(np.asarray(ds["sliding_speed"].values, dtype=float)),
+            np.atleast_1d(np.asarray(ds["shift_factor"].values, dtype=float)),
+        )
+        out = {n: xr.DataArray(v[0], dims=_DIMS[n]) for n, v in got.items()}
+        self._check(out)
+        return out
+
+    def _arrays(
+        self,
+        ctx_of: Any,
+        zeta: np.ndarray,
+        area: np.ndarray,
+        L: np.ndarray,
+        G: np.ndarray,
+        p0: np.ndarray,
+        v: np.ndarray,
+        aT: np.ndarray,
+    ) -> dict[str, np.ndarray]:
+        """The friction variables of K points (``area``, ``G`` (K, n_load, n_zeta), ``L``
+        (K, n_zeta), ``v``, ``aT`` (K,)), each with a leading point axis: the output-grid rule
+        for every load, then the loads whose area drop the output grid misses on the graded
+        panels of :mod:`~xpersson_viscoelastic._graded` (points with equal panels in one call
+        each, one engine call), else on their dense grids (:meth:`_dense_block`)."""
         inc = stieltjes_increments(self._factor(area), L[:, None, :], np.log(zeta))
         mu = friction_integral(inc, p0)
         mu_cum = np.concatenate([np.zeros(mu.shape[:-1] + (1,)), mu], axis=-1)
@@ -220,7 +277,6 @@ class Friction(Analysis):
         tops = _resolve.dense_tops(zeta, area, need)
         items = [(k, np.flatnonzero(need[k]), int(tops[k])) for k in np.flatnonzero(need.any(1))]
         if items:
-            G = np.asarray(ds["G"].transpose(*zp).values, dtype=float)
             runs = _graded.graded_runs(ctx_of, items, zeta, lambda k: G[k], p0, self._factor)
             if runs is None:
                 runs = self._dense_block(ctx_of, items, zeta, area, G, L, p0)
@@ -228,22 +284,17 @@ class Friction(Analysis):
                 vals = mu_cum[k]
                 beyond = vals[loads, top + 1 :] - vals[loads, top : top + 1]  # output grid
                 vals[loads] = np.concatenate([runs[k], runs[k][:, -1:] + beyond], axis=-1)
-        v = np.asarray(ds["sliding_speed"].transpose("point").values, dtype=float)
-        aT = np.asarray(ds["shift_factor"].transpose("point").values, dtype=float)
         tau_f = np.vectorize(self.shear_stress, otypes=[float])(v, aT)
         A_c = area[..., -1]
         mu_contact = tau_f[:, None] * A_c / p0
-        pp = ("point", "p0")
-        out = {
-            "mu_visc": xr.DataArray(mu_cum[..., -1], dims=pp),
-            "mu_contact": xr.DataArray(mu_contact, dims=pp),
-            "mu": xr.DataArray(mu_cum[..., -1] + mu_contact, dims=pp),
-            "mu_visc_cumulative": xr.DataArray(mu_cum, dims=zp),
-            "contact_area_cutoff": xr.DataArray(A_c, dims=pp),
-            "frictional_shear_stress": xr.DataArray(tau_f, dims=("point",)),
+        return {
+            "mu_visc": mu_cum[..., -1],
+            "mu_contact": mu_contact,
+            "mu": mu_cum[..., -1] + mu_contact,
+            "mu_visc_cumulative": mu_cum,
+            "contact_area_cutoff": A_c,
+            "frictional_shear_stress": tau_f,
         }
-        self._check(out)
-        return out
 
     def _dense_block(
         self,
@@ -288,6 +339,9 @@ class Friction(Analysis):
         """The friction variables, vectorised over loads (and any sweep dimension)."""
         import xarray as xr
 
+        simple = self._simple(ctx, ds)
+        if simple is not None:
+            return simple
         p = self._params
         A = ds["area_fraction"]
         L = ds["loss_integral"]
