@@ -80,14 +80,16 @@ class Layout:
         return self.qn / self.edges[0]
 
 
-def layout(psd: Any, zeta: Array, top: int, n: int, ppd: int) -> Layout:
+def layout(psd: Any, zeta: Array, top: int, n: int, ppd: int, base: Array | None = None) -> Layout:
     """The panels of output grid ``zeta`` [1] up to ``zeta[top]`` with ``n`` graded rungs
-    (:func:`rungs`) and ``ppd`` log panels per decade above ``2 q_L``."""
+    (:func:`rungs`) and above ``2 q_L`` the output grid's q panels (``ppd`` log panels per
+    decade; ``base``: their edges [1/m] computed already)."""
     q_L = float(psd.q_L)
     t = min(1.0, float(zeta[top]) - 1.0)
     q_out = np.asarray(zeta[: top + 1], dtype=float) * q_L
     ladder = q_L * (1.0 + t * 10.0 ** (-np.arange(n, -1, -1) / 2.0))
-    base = panel_edges(psd, np.asarray(zeta, dtype=float) * q_L, ppd)  # the output grid's
+    if base is None:  # the output grid's q panels
+        base = panel_edges(psd, np.asarray(zeta, dtype=float) * q_L, ppd)
     nodes = np.asarray(psd.nodes(), dtype=float)
     inner = nodes[(nodes > q_L) & (nodes < ladder[-1])]
     above = base[(base >= ladder[-1]) & (base <= q_out[-1])]
@@ -260,12 +262,16 @@ def graded_runs(
         ctx = ctx_of(k)
         groups.setdefault((top, n, id(ctx.psd), ctx.nu), []).append((k, loads))
     parts = []
-    for (top, n, _, _), members in groups.items():
+    bases: dict[int, Array] = {}  # the output grid's q panels, once per spectrum
+    for (top, n, psd_id, _), members in groups.items():
         ctxs = [ctx_of(k) for k, _ in members]
         coefs = [c.coefficient for c in ctxs]
         if any(type(c) is not type(coef0) for c in coefs):
             return None
-        lay = layout(ctxs[0].psd, zeta, top, n, PANELS_PER_DECADE)
+        psd = ctxs[0].psd
+        if psd_id not in bases:
+            bases[psd_id] = panel_edges(psd, zeta * float(psd.q_L), PANELS_PER_DECADE)
+        lay = layout(psd, zeta, top, n, PANELS_PER_DECADE, bases[psd_id])
         got = hook(ctxs, coefs, lay, np.array([k for k, _ in members]))
         if got is None or not np.all(np.diff(got[0], axis=-1) > 0):
             return None  # not a Prony block, or tau not strictly increasing at the nodes
