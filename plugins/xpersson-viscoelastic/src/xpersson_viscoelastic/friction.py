@@ -11,9 +11,13 @@ On the output grid the Stieltjes integral is evaluated with ``g = P S`` and ``L`
 interpolated by cubics in ``ln zeta`` (:func:`~xpersson_viscoelastic.kernel.stieltjes_increments`;
 fourth order, see the README's convergence table for the accuracy per ``zeta_per_decade``).
 Loads whose area the output grid does not resolve (``1 - P > 1e-6`` at the first output point,
-or a step of ``P`` above 0.02: no roll-off plateau, fast or cold rubber) are integrated on a
-dense grid in ``ln(zeta - 1)`` from the same solve (``ctx.solve_at``) and the coefficient's
-``loss_integral(ctx, zeta)`` (:mod:`~xpersson_viscoelastic._resolve`; issue 22). The area at a
+or a step of ``P`` above 0.02: no roll-off plateau, fast or cold rubber) are integrated up to
+past ``zeta = 100`` as the kernel ``friction_curve`` integrates them: Gauss-Legendre panels
+graded towards ``q_L`` with ``tau``, ``dL`` at the nodes from the coefficient
+(``graded_stacked``, Prony models) and the area there from the same solve (``ctx.solve_at``,
+one engine call for a stacked block; :mod:`~xpersson_viscoelastic._graded`); for other models
+on a dense grid in ``ln(zeta - 1)`` with the coefficient's ``loss_integral(ctx, zeta)``
+(:mod:`~xpersson_viscoelastic._resolve`; issue 22). The area at a
 ``zeta_c`` between output points comes from the same solve at ``zeta_c`` (was: linear
 interpolation, up to 0.8 % off).
 """
