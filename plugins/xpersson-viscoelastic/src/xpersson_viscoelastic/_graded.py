@@ -49,12 +49,14 @@ FIRST_G = 5e-4
 
 def rungs(zeta: Array, G: Array, top: int) -> int:
     """Number of graded rungs (two per decade of ``zeta - 1``) below ``1 + min(1, zeta[top] - 1)``
-    for loads with ``G`` rows (n_sel, n_zeta) [1]: down to where ``G <= FIRST_G``."""
+    for loads with ``G`` rows (n_sel, n_zeta) [1]: down to where ``G <= FIRST_G``, rounded up
+    to an even number (a block's points then share their panels in fewer groups)."""
     t = min(1.0, float(zeta[top]) - 1.0)
     z1 = float(zeta[1]) - 1.0
     slope = float(np.max(G[:, 1])) / z1
     d0 = min(t, FIRST_G / slope) if slope > 0 else t
-    return max(1, int(np.ceil(2.0 * np.log10(t / d0) - 1e-9)))
+    n = max(1, int(np.ceil(2.0 * np.log10(t / d0) - 1e-9)))
+    return n + n % 2
 
 
 @dataclass(frozen=True)
