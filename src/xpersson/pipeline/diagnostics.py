@@ -170,7 +170,12 @@ def theory_validity(ds: Any) -> None:
     )
     # a Variable on xarray's fast path: a (dims, data) tuple makes xarray probe for dask arrays,
     # which imports dask.array (~0.12 s) in a solve that has no use for it
-    ds["theory_validity"] = xr.Variable(("p0",), flags, fastpath=True)
+    variable = xr.Variable(("p0",), flags, fastpath=True)
+    variables = getattr(ds, "_variables", None)  # coordinate-free, dims present: no merge
+    if isinstance(variables, dict) and ds.sizes.get("p0") == flags.size:  # (~3 ms a solve)
+        variables["theory_validity"] = variable
+    else:  # another xarray, or no p0 dimension yet
+        ds["theory_validity"] = variable
     attrs = ds["theory_validity"].attrs
     attrs.update(DIAGNOSTICS["theory_validity"].attrs())
     bits = np.array(list(VALIDITY_FLAGS), np.int8)
