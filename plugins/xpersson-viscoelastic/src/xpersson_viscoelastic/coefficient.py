@@ -340,8 +340,9 @@ class ViscoelasticCoefficient(Coefficient):
         self, ctxs: Sequence[SceneContext], points: Sequence[Any], zeta: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         """``(tau, f)`` [Pa^2] of a block of (v, T) points, ``(n_point, n_zeta)``: one kernel
-        call over the stacked speeds and shift factors."""
-        if not self._one_call(ctxs, points):
+        call over the stacked speeds and shift factors (per point for a tabulated curve: its
+        q panels split where ``q v a_T`` crosses a table frequency, different per point)."""
+        if not self._one_call(ctxs, points) or self._model.breakpoints().size:
             return super().tau_stacked(ctxs, points, zeta)
         got = self._block(ctxs, points, zeta)
         return got["tau"], got["f"]
@@ -400,7 +401,7 @@ class ViscoelasticCoefficient(Coefficient):
     ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
         """:meth:`interpret` of a block of (v, T) points (each value with a leading point
         axis): one kernel call over the stacked speeds and shift factors."""
-        if not self._one_call(ctxs, points):
+        if not self._one_call(ctxs, points) or self._model.breakpoints().size:
             return super().interpret_stacked(ctxs, points)
         ctx = ctxs[0]
         zeta = ctx.zeta
