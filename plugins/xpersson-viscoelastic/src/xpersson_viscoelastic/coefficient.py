@@ -20,6 +20,7 @@ from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 from . import _graded, kernel
 from ._build import build_model, build_shift
 from ._modulus import ModulusModel, Prony
+from ._outputs import check_outputs
 from ._paired import block_integrals, dense_block
 from ._shift import WLF_UNIVERSAL
 
@@ -300,8 +301,19 @@ class ViscoelasticCoefficient(Coefficient):
         return lambda q: shift.aT(prof(q))
 
     # -- the coefficient contract ------------------------------------------------------------
+    def _own_block(self, ctx: SceneContext, zeta: np.ndarray) -> dict[str, np.ndarray] | None:
+        """The output grid's integrals of this point as a block of one (tau, f and
+        :meth:`interpret` from one modulus pass; bitwise the kernel functions), or ``None``
+        (other magnifications, the flash temperature, a tabulated curve)."""
+        if zeta is not ctx.zeta or not self._one_call([ctx], [self]):
+            return None
+        return None if self._model.breakpoints().size else self._block([ctx], [self], zeta)
+
     def f(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """f(zeta) [Pa^2] at this (v, T)."""
+        own = self._own_block(ctx, zeta)
+        if own is not None:
+            return own["f"][0]
         return kernel.coefficient_f(
             ctx.psd, self._model, ctx.nu, zeta, self._v(), self._a_T_of(ctx)
         )
@@ -309,6 +321,9 @@ class ViscoelasticCoefficient(Coefficient):
     def tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """tau(zeta) [Pa^2] (Gauss-Legendre in ln q: ~1e-14 relative for Prony/SLS, below the
         scene's rtol for master curves; exact E_r^2 part)."""
+        own = self._own_block(ctx, zeta)
+        if own is not None:
+            return own["tau"][0]
         return kernel.diffusion_time(
             ctx.psd,
             self._model,
@@ -456,8 +471,13 @@ class ViscoelasticCoefficient(Coefficient):
         """The angular integrals and the cumulative loss integral on the output ``zeta``."""
         zeta = ctx.zeta
         aT = self._a_T_of(ctx)
-        rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
-        L = self.loss_integral(ctx, zeta)
+        own = self._own_block(ctx, zeta)
+        if own is not None:
+            rms, loss, L = own["rms"][0], own["loss"][0], own["L"][0]
+            self.__dict__.pop("_last_block", None)  # its last reader
+        else:
+            rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
+            L = self.loss_integral(ctx, zeta)
         T0 = float(self._params["temperature"])
         if callable(aT):
             T_q = self._flash(ctx.psd, float(ctx.nu))(zeta * ctx.q_L)
@@ -475,23 +495,3 @@ class ViscoelasticCoefficient(Coefficient):
             "glassy_modulus": ((), np.float64(self._model.E_g)),
         }
         return check_outputs(out, OUTPUTS, "coefficient 'viscoelastic'")
-
-
-def check_outputs(
-    values: dict[str, tuple[tuple[str, ...], Any]], specs: dict[str, VarSpec], who: str
-) -> dict[str, tuple[tuple[str, ...], Any]]:
-    """Check dims, finiteness and the declared valid range before values enter a Dataset."""
-    for name, (dims, data) in values.items():
-        spec = specs[name]
-        arr = np.asarray(data, dtype=float)
-        if tuple(dims) != spec.dims or arr.ndim != len(dims):
-            raise RuntimeError(f"{who}: {name!r} has dims {dims}, declared {spec.dims}")
-        if not np.all(np.isfinite(arr)):
-            raise RuntimeError(f"{who}: {name!r} has non-finite values")
-        lo, hi = spec.valid_min, spec.valid_max
-        if (lo is not None and np.any(arr < lo)) or (hi is not None and np.any(arr > hi)):
-            raise RuntimeError(
-                f"{who}: {name!r} outside its declared range [{lo}, {hi}] "
-                f"(min {arr.min():g}, max {arr.max():g})"
-            )
-    return values
