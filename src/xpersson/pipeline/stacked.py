@@ -74,8 +74,11 @@ def _differs(rs: ResolvedScene, rs0: ResolvedScene) -> str | None:
     for (role, a), (_, b) in zip(first, other, strict=True):
         if type(a) is not type(b):
             return f"{role}: plugin"
+        if a is b:
+            continue
         declared = vars(type(a)).get("batched") or frozenset()
-        if any(k not in declared and not _equal(v, b.params[k]) for k, v in a.params.items()):
+        pa, pb = a.params, b.params  # (one mapping view each, not one per parameter)
+        if any(k not in declared and not _equal(v, pb[k]) for k, v in pa.items()):
             return f"{role}: a parameter not declared batched"
     return None
 

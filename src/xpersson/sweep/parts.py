@@ -198,35 +198,60 @@ def _check_entry(entry: Any, dims: list[str], shape: list[int], path: Path) -> N
             raise ArchiveError(f"{path}: {name}: {key} missing")
 
 
+def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
+    """Variable ``name`` with the sweep dimensions ``dims`` dropped (the value of any solved
+    point: the largest, skipping NaN; integers of failed points skipped)."""
+    var = ds.variables[name]
+    dims = [d for d in dims if d in var.dims]
+    kind = var.dtype.kind
+    status = ds.variables.get("point_status")
+    ints_ok = status is not None and set(status.dims) <= set(var.dims)
+    if isinstance(var.data, np.ndarray) and (kind == "f" or (kind in "iub" and ints_ok)):
+        axes = tuple(var.dims.index(d) for d in dims)
+        keep = tuple(d for d in var.dims if d not in dims)
+        if kind == "f":
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                data = np.nanmax(var.data, axis=axes)
+        else:  # the failed points' values replaced by the smallest of all
+            shape = dict(zip(var.dims, var.shape, strict=True))
+            ok = (status != POINT_STATUS["failed"]).set_dims(shape)
+            arr = np.asarray(var.data)
+            data = np.where(ok.data, arr, arr.min()).max(axis=axes).astype(var.dtype)
+        return xr.Variable(keep, data, dict(var.attrs), dict(var.encoding))
+    da = ds[name]
+    if var.dtype.kind in "fc":
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            reduced = da.max(dims, skipna=True, keep_attrs=True)
+    elif var.dtype.kind in "iub":
+        ok = ds["point_status"] != POINT_STATUS["failed"]
+        reduced = da.where(ok, da.min()).max(dims, keep_attrs=True).astype(var.dtype)
+    else:
+        reduced = da.isel({d: 0 for d in dims}, drop=True)
+    out = reduced.variable.copy(deep=False)
+    out.attrs = dict(var.attrs)
+    return out
+
+
 def finalize(ds: xr.Dataset, constant: dict[str, list[str]], attrs: dict[str, Any]) -> xr.Dataset:
     """Drop the sweep dimensions along which a variable never changes; set the sweep's attrs.
 
     The kept value is the one of any solved point (failed points hold NaN and are skipped).
+    The Dataset is built once from its variables (in their order), not merged per variable.
     """
-    new_coords: dict[str, xr.DataArray] = {}
-    new_vars: dict[str, xr.DataArray] = {}
-    for name, dims in constant.items():
-        if name not in ds.variables:
-            continue
-        var = ds[name]
-        dims = [d for d in dims if d in var.dims]
-        if var.dtype.kind in "fc":
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", RuntimeWarning)
-                reduced = var.max(dims, skipna=True, keep_attrs=True)
-        elif var.dtype.kind in "iub":
-            ok = ds["point_status"] != POINT_STATUS["failed"]
-            reduced = var.where(ok, var.min()).max(dims, keep_attrs=True).astype(var.dtype)
-        else:
-            reduced = var.isel({d: 0 for d in dims}, drop=True)
-        reduced.attrs = dict(var.attrs)
-        (new_coords if name in ds.coords else new_vars)[name] = reduced
-    if new_coords:
-        ds = ds.assign_coords(new_coords)
-    if new_vars:  # one merge for all of them (in place of a merge per variable)
-        ds.update(new_vars)
-    ds.attrs = dict(attrs)
-    return ds
+    reduced = {n: _reduced(ds, n, dims) for n, dims in constant.items() if n in ds.variables}
+    coords = set(ds.coords)
+    variables = {n: reduced.get(n, v) for n, v in ds.variables.items()}
+    out = xr.Dataset(
+        {n: v for n, v in variables.items() if n not in coords},
+        coords={n: v for n, v in variables.items() if n in coords},
+        attrs=dict(attrs),
+    )
+    out.encoding = dict(ds.encoding)
+    if list(out.variables) != list(variables):  # keep the order of the combined Dataset
+        out = out[[n for n in variables if n not in coords]]
+    return out
 
 
 def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:

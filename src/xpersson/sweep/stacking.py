@@ -165,9 +165,10 @@ def stack_rows(
     dims = block.dims
     data_vars: dict[str, Any] = {}
     coords: dict[str, Any] = {}
-    for name, rows_of in rows.items():
-        var = template[name]
-        arr = rows_of.reshape(shape + var.shape)
+    first = [n for n in template.data_vars if n in rows]  # the template's order, then the rest
+    for name in [*first, *(n for n in rows if n not in set(first))]:
+        var = template.variables[name]
+        arr = rows[name].reshape(shape + var.shape)
         entry = (dims + var.dims, arr, dict(var.attrs))
         if name in template.coords:
             coords[name] = entry
@@ -194,7 +195,7 @@ def stack_rows(
     )
     ds = xr.Dataset(data_vars, coords=coords, attrs=dict(template.attrs))
     order = [n for n in template.data_vars if n in ds.data_vars] + ["point_status"]
-    return ds[order]
+    return ds if list(ds.data_vars) == order else ds[order]
 
 
 def _point_shaped(template: xr.Dataset, block: Block) -> xr.Dataset:

@@ -12,7 +12,7 @@ from ._modulus import ModulusModel
 from ._panels import grouped_sums, reduced_ok
 from .kernel import NODES, PANELS_PER_DECADE, _checked_nu, _cumulative_at, _w, panel_edges
 
-__all__ = ["cumulative_paired", "block_integrals"]
+__all__ = ["cumulative_paired", "block_integrals", "dense_block"]
 
 Array = NDArray[np.float64]
 
@@ -74,18 +74,26 @@ def cumulative_paired(
 
 
 def block_integrals(
-    psd: Any, model: ModulusModel, nu: float, zeta: Array, v: Array, aT: Array, ppd: int
+    psd: Any,
+    model: ModulusModel,
+    nu: float,
+    zeta: Array,
+    v: Array,
+    aT: Array,
+    ppd: int,
+    keep: dict[Any, Any] | None = None,
 ) -> dict[str, Array]:
     """The output-grid arrays of a block of (v, T) points, each ``(K, n_zeta)``, from one
     evaluation of the modulus on the q panels and one at the output scales: ``tau`` [Pa^2],
     ``f`` [Pa^2], ``L`` [Pa], ``rms`` and ``loss`` [Pa]; each bitwise what
     :func:`~xpersson_viscoelastic.kernel.diffusion_time`, ``coefficient_f``,
-    ``loss_integral`` and ``angular_averages`` give."""
+    ``loss_integral`` and ``angular_averages`` give (``keep``: the q panels' node values, see
+    :func:`~xpersson_viscoelastic.kernel._cumulative_at`)."""
     f = _checked_nu(nu)
     z = np.asarray(zeta, dtype=float)
     q_L = float(psd.q_L)
     exact = model.E_r**2 * np.asarray(psd.I3(z * q_L), dtype=float)
-    rest, cum_loss = _cumulative_at(psd, model, z, v, aT, "both", NODES, ppd)
+    rest, cum_loss = _cumulative_at(psd, model, z, v, aT, "both", NODES, ppd, keep)
     q = z * q_L
     mean_sq, loss = model.angular(_w(v, aT, q))
     return {
@@ -95,3 +103,16 @@ def block_integrals(
         "rms": np.sqrt(mean_sq) / f,
         "loss": loss / f,
     }
+
+
+def dense_block(
+    psd: Any, model: ModulusModel, nu: float, zeta: Array, v: Array, aT: Array, ppd: int
+) -> tuple[Array, Array]:
+    """``(tau [Pa^2], L [Pa])`` of K points, row k at its own magnifications ``zeta[k]``
+    (K, m), as :func:`~xpersson_viscoelastic.kernel.diffusion_time` and ``loss_integral``
+    give each row (the friction analysis's dense grids)."""
+    f = _checked_nu(nu)
+    z = np.asarray(zeta, dtype=float)
+    exact = model.E_r**2 * np.asarray(psd.I3(z * float(psd.q_L)), dtype=float)
+    rest, loss = cumulative_paired(psd, model, z, v, aT, ppd=ppd)
+    return (np.pi / 4.0) * (exact + rest) / (f * f), loss / f

@@ -36,6 +36,7 @@ __all__ = [
     "PER_DECADE",
     "unresolved",
     "dense_top",
+    "dense_tops",
     "dense_grid",
     "dense_area",
     "dense_loss",
@@ -74,6 +75,18 @@ def dense_top(zeta: Array, area: Array) -> int:
     if big.size:
         k = max(k, int(big[-1]) + 5)
     return min(k, n - 1)
+
+
+def dense_tops(zeta: Array, area: Array, need: NDArray[np.bool_]) -> NDArray[np.intp]:
+    """:func:`dense_top` of every point of a block at once: ``area`` (K, n_load, n_zeta),
+    ``need`` (K, n_load) the loads each point samples densely (:func:`unresolved`)."""
+    n = zeta.size
+    k = int(np.searchsorted(zeta, TOP))
+    big = (np.abs(np.diff(area, axis=-1)) > MAX_STEP) & need[..., None]
+    big = big.any(axis=1)  # (K, n_zeta - 1)
+    last = big.shape[1] - 1 - np.argmax(big[:, ::-1], axis=1)
+    tops = np.where(big.any(axis=1), np.maximum(k, last + 5), k)
+    return np.minimum(tops, n - 1)
 
 
 def dense_grid(zeta: Array, G: Array) -> tuple[Array, NDArray[np.intp]]:

@@ -17,10 +17,11 @@ import numpy as np
 from xpersson.physics import closures
 from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 
-from . import kernel
+from . import _graded, kernel
 from ._build import build_model, build_shift
-from ._modulus import ModulusModel
-from ._paired import block_integrals, cumulative_paired
+from ._modulus import ModulusModel, Prony
+from ._outputs import check_outputs
+from ._paired import block_integrals, dense_block
 from ._shift import WLF_UNIVERSAL
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -300,8 +301,19 @@ class ViscoelasticCoefficient(Coefficient):
         return lambda q: shift.aT(prof(q))
 
     # -- the coefficient contract ------------------------------------------------------------
+    def _own_block(self, ctx: SceneContext, zeta: np.ndarray) -> dict[str, np.ndarray] | None:
+        """The output grid's integrals of this point as a block of one (tau, f and
+        :meth:`interpret` from one modulus pass; bitwise the kernel functions), or ``None``
+        (other magnifications, the flash temperature, a tabulated curve)."""
+        if zeta is not ctx.zeta or not self._one_call([ctx], [self]):
+            return None
+        return None if self._model.breakpoints().size else self._block([ctx], [self], zeta)
+
     def f(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """f(zeta) [Pa^2] at this (v, T)."""
+        own = self._own_block(ctx, zeta)
+        if own is not None:
+            return own["f"][0]
         return kernel.coefficient_f(
             ctx.psd, self._model, ctx.nu, zeta, self._v(), self._a_T_of(ctx)
         )
@@ -309,6 +321,9 @@ class ViscoelasticCoefficient(Coefficient):
     def tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """tau(zeta) [Pa^2] (Gauss-Legendre in ln q: ~1e-14 relative for Prony/SLS, below the
         scene's rtol for master curves; exact E_r^2 part)."""
+        own = self._own_block(ctx, zeta)
+        if own is not None:
+            return own["tau"][0]
         return kernel.diffusion_time(
             ctx.psd,
             self._model,
@@ -340,8 +355,9 @@ class ViscoelasticCoefficient(Coefficient):
         self, ctxs: Sequence[SceneContext], points: Sequence[Any], zeta: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         """``(tau, f)`` [Pa^2] of a block of (v, T) points, ``(n_point, n_zeta)``: one kernel
-        call over the stacked speeds and shift factors."""
-        if not self._one_call(ctxs, points):
+        call over the stacked speeds and shift factors (per point for a tabulated curve: its
+        q panels split where ``q v a_T`` crosses a table frequency, different per point)."""
+        if not self._one_call(ctxs, points) or self._model.breakpoints().size:
             return super().tau_stacked(ctxs, points, zeta)
         got = self._block(ctxs, points, zeta)
         return got["tau"], got["f"]
@@ -358,9 +374,11 @@ class ViscoelasticCoefficient(Coefficient):
         key = (id(ctx.psd), ctx.nu, self._ppd(ctx), z.tobytes(), v.tobytes(), aT.tobytes())
         last = self.__dict__.get("_last_block")
         if last is None or last[0] != key:
-            got = block_integrals(ctx.psd, self._model, ctx.nu, z, v, aT, self._ppd(ctx))
+            keep: dict[Any, Any] = {}  # the q panels' node values: graded_stacked reuses them
+            got = block_integrals(ctx.psd, self._model, ctx.nu, z, v, aT, self._ppd(ctx), keep)
             last = (key, got, ctx.psd)  # the spectrum held: its id stays its own
             self.__dict__["_last_block"] = last
+            self.__dict__["_last_nodes"] = (ctx.psd, ctx.nu, v, aT, keep)
         return last[1]
 
     def dense_stacked(
@@ -371,21 +389,34 @@ class ViscoelasticCoefficient(Coefficient):
         there (the friction analysis's dense grids). ``None`` where the block is not one call."""
         if not self._one_call(ctxs, points):
             return None
-        ctx = ctxs[0]
         v, aT = self._stacked_vT(points)
-        ppd = self._ppd(ctx)
-        f = kernel._checked_nu(ctx.nu)
-        z = np.asarray(zeta, dtype=float)
-        exact = self._model.E_r**2 * np.asarray(ctx.psd.I3(z * float(ctx.psd.q_L)), dtype=float)
-        rest, loss = cumulative_paired(ctx.psd, self._model, z, v, aT, ppd=ppd)
-        return (np.pi / 4.0) * (exact + rest) / (f * f), loss / f
+        return dense_block(ctxs[0].psd, self._model, ctxs[0].nu, zeta, v, aT, self._ppd(ctxs[0]))
+
+    def graded_stacked(
+        self, ctxs: Sequence[SceneContext], points: Sequence[Any], lay: Any, index: Any = None
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """``tau`` [Pa^2] and ``dL`` [Pa] at the nodes of the friction analysis's graded
+        panels (:mod:`~xpersson_viscoelastic._graded`), each (K, N), of points ``index`` of
+        the block whose output grid this coefficient integrated last (its node values reused
+        where the panels coincide); ``None`` unless a Prony model (shared spectrum, ``nu``)."""
+        if not isinstance(self._model, Prony):
+            return None
+        known = None
+        if self._one_call(ctxs, points):
+            v, aT = self._stacked_vT(points)
+            w = (v * aT)[:, None] * lay.qn
+            known = _graded.known_nodes(self.__dict__.get("_last_nodes"), ctxs[0], v, aT, index)
+        else:  # the flash temperature's a_T(q): each point's frequencies at the nodes
+            pairs = zip(points, ctxs, strict=True)
+            w = np.stack([kernel._w(c._v(), c._a_T_of(x), lay.qn) for c, x in pairs])
+        return _graded.integrals(ctxs[0].psd, self._model, ctxs[0].nu, lay, w, known)
 
     def interpret_stacked(
         self, ctxs: Sequence[SceneContext], points: Sequence[Any]
     ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
         """:meth:`interpret` of a block of (v, T) points (each value with a leading point
         axis): one kernel call over the stacked speeds and shift factors."""
-        if not self._one_call(ctxs, points):
+        if not self._one_call(ctxs, points) or self._model.breakpoints().size:
             return super().interpret_stacked(ctxs, points)
         ctx = ctxs[0]
         zeta = ctx.zeta
@@ -440,8 +471,13 @@ class ViscoelasticCoefficient(Coefficient):
         """The angular integrals and the cumulative loss integral on the output ``zeta``."""
         zeta = ctx.zeta
         aT = self._a_T_of(ctx)
-        rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
-        L = self.loss_integral(ctx, zeta)
+        own = self._own_block(ctx, zeta)
+        if own is not None:
+            rms, loss, L = own["rms"][0], own["loss"][0], own["L"][0]
+            self.__dict__.pop("_last_block", None)  # its last reader
+        else:
+            rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
+            L = self.loss_integral(ctx, zeta)
         T0 = float(self._params["temperature"])
         if callable(aT):
             T_q = self._flash(ctx.psd, float(ctx.nu))(zeta * ctx.q_L)
@@ -459,23 +495,3 @@ class ViscoelasticCoefficient(Coefficient):
             "glassy_modulus": ((), np.float64(self._model.E_g)),
         }
         return check_outputs(out, OUTPUTS, "coefficient 'viscoelastic'")
-
-
-def check_outputs(
-    values: dict[str, tuple[tuple[str, ...], Any]], specs: dict[str, VarSpec], who: str
-) -> dict[str, tuple[tuple[str, ...], Any]]:
-    """Check dims, finiteness and the declared valid range before values enter a Dataset."""
-    for name, (dims, data) in values.items():
-        spec = specs[name]
-        arr = np.asarray(data, dtype=float)
-        if tuple(dims) != spec.dims or arr.ndim != len(dims):
-            raise RuntimeError(f"{who}: {name!r} has dims {dims}, declared {spec.dims}")
-        if not np.all(np.isfinite(arr)):
-            raise RuntimeError(f"{who}: {name!r} has non-finite values")
-        lo, hi = spec.valid_min, spec.valid_max
-        if (lo is not None and np.any(arr < lo)) or (hi is not None and np.any(arr > hi)):
-            raise RuntimeError(
-                f"{who}: {name!r} outside its declared range [{lo}, {hi}] "
-                f"(min {arr.min():g}, max {arr.max():g})"
-            )
-    return values

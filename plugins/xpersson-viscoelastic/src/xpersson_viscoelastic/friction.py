@@ -11,9 +11,13 @@ On the output grid the Stieltjes integral is evaluated with ``g = P S`` and ``L`
 interpolated by cubics in ``ln zeta`` (:func:`~xpersson_viscoelastic.kernel.stieltjes_increments`;
 fourth order, see the README's convergence table for the accuracy per ``zeta_per_decade``).
 Loads whose area the output grid does not resolve (``1 - P > 1e-6`` at the first output point,
-or a step of ``P`` above 0.02: no roll-off plateau, fast or cold rubber) are integrated on a
-dense grid in ``ln(zeta - 1)`` from the same solve (``ctx.solve_at``) and the coefficient's
-``loss_integral(ctx, zeta)`` (:mod:`~xpersson_viscoelastic._resolve`; issue 22). The area at a
+or a step of ``P`` above 0.02: no roll-off plateau, fast or cold rubber) are integrated up to
+past ``zeta = 100`` as the kernel ``friction_curve`` integrates them: Gauss-Legendre panels
+graded towards ``q_L`` with ``tau``, ``dL`` at the nodes from the coefficient
+(``graded_stacked``, Prony models) and the area there from the same solve (``ctx.solve_at``,
+one engine call for a stacked block; :mod:`~xpersson_viscoelastic._graded`); for other models
+on a dense grid in ``ln(zeta - 1)`` with the coefficient's ``loss_integral(ctx, zeta)``
+(:mod:`~xpersson_viscoelastic._resolve`; issue 22). The area at a
 ``zeta_c`` between output points comes from the same solve at ``zeta_c`` (was: linear
 interpolation, up to 0.8 % off).
 """
@@ -27,7 +31,7 @@ import numpy as np
 from xpersson.physics import closure_S
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
-from . import _resolve
+from . import _graded, _resolve
 from ._stencil import stacked_weights
 from .kernel import friction_integral, stieltjes_increments
 
@@ -37,6 +41,15 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["Friction"]
 
 _ZP = ("p0", "zeta")
+#: the dims of each output of one point
+_DIMS = {
+    "mu_visc": ("p0",),
+    "mu_contact": ("p0",),
+    "mu": ("p0",),
+    "mu_visc_cumulative": _ZP,
+    "contact_area_cutoff": ("p0",),
+    "frictional_shear_stress": (),
+}
 
 
 def _rows(da: xr.DataArray) -> np.ndarray:
@@ -161,7 +174,6 @@ class Friction(Analysis):
         """``mu_visc_cumulative`` with the loads whose area drop the output grid misses
         evaluated on a dense grid up to the output point ``zeta_k`` and continued on the
         output grid beyond (:mod:`~xpersson_viscoelastic._resolve`)."""
-        p = self._params
         area = _rows(ds["area_fraction"])
         zeta = np.asarray(ds["zeta"].values, dtype=float)
         need = _resolve.unresolved(area)
@@ -169,14 +181,21 @@ class Friction(Analysis):
             return mu_cum
         loads = np.flatnonzero(need)
         k = _resolve.dense_top(zeta, area[loads])
-        G = _rows(ds["G"])[:, : k + 1]
-        zk = zeta[: k + 1]
-        zd, idx = _resolve.dense_grid(zk, G[loads])
-        Ad = _resolve.dense_area(ctx, zk, area[:, : k + 1], G, zd, loads)
-        Ld = _resolve.dense_loss(ctx, zk, np.asarray(ds["loss_integral"].values)[: k + 1], zd)
-        gd = Ad * (closure_S("yp08", Ad, p["gamma"]) if p["correction"] == "s_factor" else 1.0)
-        p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))[loads]
-        run = _resolve.running_integral(gd, Ld, zd)[:, idx] / (2.0 * p0[:, None])
+        p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))
+        G_all = _rows(ds["G"])
+        got = _graded.graded_runs(
+            lambda _: ctx, [(0, loads, k)], zeta, lambda _: G_all, p0, self._factor
+        )
+        if got is not None:
+            run = got[0]
+        else:  # dense grids (models without graded panels)
+            G = G_all[:, : k + 1]
+            zk = zeta[: k + 1]
+            zd, idx = _resolve.dense_grid(zk, G[loads])
+            Ad = _resolve.dense_area(ctx, zk, area[:, : k + 1], G, zd, loads)
+            Ld = _resolve.dense_loss(ctx, zk, np.asarray(ds["loss_integral"].values)[: k + 1], zd)
+            run = _resolve.running_integral(self._factor(Ad), Ld, zd)[:, idx]
+            run /= 2.0 * p0[loads][:, None]
         vals = _rows(mu_cum).copy()
         beyond = vals[loads, k + 1 :] - vals[loads, k : k + 1]  # the output-grid rule
         vals[loads] = np.concatenate([run, run[:, -1:] + beyond], axis=-1)
@@ -184,33 +203,124 @@ class Friction(Analysis):
             return mu_cum.copy(data=vals)
         return mu_cum.copy(data=vals.T.reshape(mu_cum.shape))
 
+    def _factor(self, A: np.ndarray) -> np.ndarray:
+        """The integrand ``P S`` [1] from the area ``P``."""
+        if self._params["correction"] == "s_factor":
+            return A * closure_S("yp08", A, self._params["gamma"])
+        return A
+
     def compute_stacked(self, ctx_of: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables of a block of (v, T) points (leading ``point`` dimension)
-        at once: the output-grid rule for every point, then the loads whose area drop the
-        output grid misses on their dense grids, as :meth:`compute` does per point, with the
-        coefficient's q-integrals of every such point in one call (``dense_stacked``)."""
+        at once, as :meth:`compute` gives each point (:meth:`_arrays` on the block's
+        arrays)."""
+        import xarray as xr
+
         zeta = np.asarray(ds["zeta"].values, dtype=float)
         if self._zeta_c(zeta) != zeta[-1] or "G" not in ds or zeta.size < 2:
             return super().compute_stacked(ctx_of, ds)
         zp = ("point", "p0", "zeta")
-        out = {n: da.transpose("point", ...) for n, da in self.compute(ctx_of(0), ds).items()}
-        area = np.asarray(ds["area_fraction"].transpose(*zp).values, dtype=float)
-        redo = [k for k in range(area.shape[0]) if _resolve.unresolved(area[k]).any()]
-        if not redo:
-            return out
-        G = np.asarray(ds["G"].transpose(*zp).values, dtype=float)
-        L = np.asarray(ds["loss_integral"].transpose("point", "zeta").values, dtype=float)
-        p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))
+        got = self._arrays(
+            ctx_of,
+            zeta,
+            np.asarray(ds["area_fraction"].transpose(*zp).values, dtype=float),
+            np.asarray(ds["loss_integral"].transpose("point", "zeta").values, dtype=float),
+            np.asarray(ds["G"].transpose(*zp).values, dtype=float),
+            np.atleast_1d(np.asarray(ds["p0"].values, dtype=float)),
+            np.asarray(ds["sliding_speed"].transpose("point").values, dtype=float),
+            np.asarray(ds["shift_factor"].transpose("point").values, dtype=float),
+        )
+        out = {n: xr.DataArray(v, dims=("point", *_DIMS[n])) for n, v in got.items()}
+        self._check(out)
+        return out
+
+    def _simple(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any] | None:
+        """:meth:`compute` of one point's Dataset (loads and magnifications only, the cut-off
+        at the last output point) by :meth:`_arrays`, else ``None``."""
+        import xarray as xr
+
+        A, L = ds["area_fraction"], ds["loss_integral"]
+        zeta = np.asarray(ds["zeta"].values, dtype=float)
+        simple = set(A.dims) == {"p0", "zeta"} and L.dims == ("zeta",) and "G" in ds
+        simple = simple and ds["sliding_speed"].ndim == 0 and ds["shift_factor"].ndim == 0
+        if not simple or zeta.size < 2 or self._zeta_c(zeta) != zeta[-1]:
+            return None
+        got = self._arrays(
+            lambda _: ctx,
+            zeta,
+            _rows(A)[None],
+            np.asarray(L.values, dtype=float)[None],
+            _rows(ds["G"])[None],
+            np.atleast_1d(np.asarray(ds["p0"].values, dtype=float)),
+            np.atleast_1d(np.asarray(ds["sliding_speed"].values, dtype=float)),
+            np.atleast_1d(np.asarray(ds["shift_factor"].values, dtype=float)),
+        )
+        out = {n: xr.DataArray(v[0], dims=_DIMS[n]) for n, v in got.items()}
+        self._check(out)
+        return out
+
+    def _arrays(
+        self,
+        ctx_of: Any,
+        zeta: np.ndarray,
+        area: np.ndarray,
+        L: np.ndarray,
+        G: np.ndarray,
+        p0: np.ndarray,
+        v: np.ndarray,
+        aT: np.ndarray,
+    ) -> dict[str, np.ndarray]:
+        """The friction variables of K points (``area``, ``G`` (K, n_load, n_zeta), ``L``
+        (K, n_zeta), ``v``, ``aT`` (K,)), each with a leading point axis: the output-grid rule
+        for every load, then the loads whose area drop the output grid misses on the graded
+        panels of :mod:`~xpersson_viscoelastic._graded` (points with equal panels in one call
+        each, one engine call), else on their dense grids (:meth:`_dense_block`)."""
+        inc = stieltjes_increments(self._factor(area), L[:, None, :], np.log(zeta))
+        mu = friction_integral(inc, p0)
+        mu_cum = np.concatenate([np.zeros(mu.shape[:-1] + (1,)), mu], axis=-1)
+        need = _resolve.unresolved(area.reshape(-1, zeta.size)).reshape(area.shape[:2])
+        tops = _resolve.dense_tops(zeta, area, need)
+        items = [(k, np.flatnonzero(need[k]), int(tops[k])) for k in np.flatnonzero(need.any(1))]
+        if items:
+            runs = _graded.graded_runs(ctx_of, items, zeta, lambda k: G[k], p0, self._factor)
+            if runs is None:
+                runs = self._dense_block(ctx_of, items, zeta, area, G, L, p0)
+            for k, loads, top in items:
+                vals = mu_cum[k]
+                beyond = vals[loads, top + 1 :] - vals[loads, top : top + 1]  # output grid
+                vals[loads] = np.concatenate([runs[k], runs[k][:, -1:] + beyond], axis=-1)
+        tau_f = np.vectorize(self.shear_stress, otypes=[float])(v, aT)
+        A_c = area[..., -1]
+        mu_contact = tau_f[:, None] * A_c / p0
+        return {
+            "mu_visc": mu_cum[..., -1],
+            "mu_contact": mu_contact,
+            "mu": mu_cum[..., -1] + mu_contact,
+            "mu_visc_cumulative": mu_cum,
+            "contact_area_cutoff": A_c,
+            "frictional_shear_stress": tau_f,
+        }
+
+    def _dense_block(
+        self,
+        ctx_of: Any,
+        items: list[Any],
+        zeta: np.ndarray,
+        area: np.ndarray,
+        G: np.ndarray,
+        L: np.ndarray,
+        p0: np.ndarray,
+    ) -> dict[int, np.ndarray]:
+        """The running integral (n_sel, top + 1) of every item ``(k, loads, top)`` on its
+        dense grid (:mod:`~xpersson_viscoelastic._resolve`; models without graded panels)."""
         plans = []
-        for k in redo:
-            loads = np.flatnonzero(_resolve.unresolved(area[k]))
-            top = _resolve.dense_top(zeta, area[k][loads])
+        for k, loads, top in items:
             zd, idx = _resolve.dense_grid(zeta[: top + 1], G[k][:, : top + 1][loads])
             plans.append((k, loads, top, zd, idx))
+        redo = [plan[0] for plan in plans]
         dense = _dense_integrals(ctx_of, redo, [plan[3] for plan in plans])
         weights = stacked_weights([_resolve.dense_x(plan[3]) for plan in plans])  # one call
-        mu_cum = np.array(out["mu_visc_cumulative"].transpose(*zp).values, dtype=float)
         rows = _dense_rows(ctx_of, plans, dense)
+        runs = {}
         for r, (k, loads, top, zd, idx) in enumerate(plans):
             ctx, zk = ctx_of(k), zeta[: top + 1]
             if dense is None:
@@ -225,26 +335,17 @@ class Friction(Analysis):
                     got = rows[1][rows[0] == r, : zd.size]
                 Ad = np.asarray(got, dtype=float).reshape(loads.size, -1)
                 Ld = dense[1][r, : zd.size]
-            gd = Ad * (
-                closure_S("yp08", Ad, self._params["gamma"])
-                if self._params["correction"] == "s_factor"
-                else 1.0
-            )
-            run = _resolve.running_integral(gd, Ld, zd, weights[r])[:, idx]
-            run /= 2.0 * p0[loads][:, None]
-            vals = mu_cum[k]
-            beyond = vals[loads, top + 1 :] - vals[loads, top : top + 1]  # the output-grid rule
-            vals[loads] = np.concatenate([run, run[:, -1:] + beyond], axis=-1)
-        out["mu_visc_cumulative"] = out["mu_visc_cumulative"].transpose(*zp).copy(data=mu_cum)
-        out["mu_visc"] = out["mu_visc_cumulative"].isel(zeta=-1, drop=True)
-        out["mu"] = out["mu_visc"] + out["mu_contact"]
-        self._check(out)
-        return out
+            run = _resolve.running_integral(self._factor(Ad), Ld, zd, weights[r])[:, idx]
+            runs[k] = run / (2.0 * p0[loads][:, None])
+        return runs
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         """The friction variables, vectorised over loads (and any sweep dimension)."""
         import xarray as xr
 
+        simple = self._simple(ctx, ds)
+        if simple is not None:
+            return simple
         p = self._params
         A = ds["area_fraction"]
         L = ds["loss_integral"]
