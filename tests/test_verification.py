@@ -113,6 +113,10 @@ BOUNDS = {
     "expected_factor (adhesive)": 1.0,  # measured BEM factor / claimed
     "tabor_parameter (adhesive)": 1e-12,
     "w_eff (adhesive)": 1e-12,
+    # adhesion against the BEM referee (verify_adhesion.py, stored references)
+    "area_fraction, adhesive (A(w)/A(0))": 2.0,  # must-show of issue 23
+    "pull_off_stress, adhesive": 2.6,  # pull_off_expected_factor's claim for the floor
+    "BEM referee: area_fraction and pull-off, 256^2 vs 512^2": 0.1,
     # viscoelastic coefficient and friction analysis (verify_coefficient.py)
     "sliding_speed": 1e-14,
     "rubber_temperature": 1e-10,
