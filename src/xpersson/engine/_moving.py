@@ -16,6 +16,7 @@ end faces' coefficients the solve used.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -161,12 +162,22 @@ def _level_grid(
     taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones)
     pb0 = pbs[0]
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
-    x = clustered(n, stretch)
-    xf, dxf, w = _faces(x)
+    x, xf, dxf, w = _nodes(n, stretch)
     ed = _edges_batch(pbs, plan, taus)
     if np.any(ed["wa"] <= 0) or np.any(ed["wb"] <= 0):
         raise FloatingPointError("the walls swept the whole window (area 0)")
     return taus, theta, out_at, x, xf, dxf, w, ed
+
+
+@lru_cache(maxsize=32)
+def _nodes(n: int, stretch: float) -> tuple[Array, Array, Array, Array]:
+    """Nodes ``x`` of a level (:func:`.clustered`), face midpoints, spacings and control
+    volumes (:func:`._cn_plan._faces`), read-only: the levels of every solve reuse a few."""
+    x = clustered(n, stretch)
+    out = (x, *_faces(x))
+    for a in out:
+        a.setflags(write=False)
+    return out
 
 
 def _rows(nb: int, nn: int, w: Array) -> tuple[Array, Array, Array, Array]:
