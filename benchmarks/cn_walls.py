@@ -102,29 +102,17 @@ def levels_of(scene: dict) -> list[tuple[int, int, int]]:
 
     seen: list[tuple[int, int, int]] = []
     orig = _cn._march
-    orig_many = getattr(_cn, "_march_levels", None)  # levels marched together (newer trees)
 
     def spy(pbs, plan, n, *args):
         res = orig(pbs, plan, n, *args)
         seen.append((len(pbs), n + 1, int(res["nsteps"])))
         return res
 
-    def spy_many(pbs, plan, grids, *args):
-        out = orig_many(pbs, plan, grids, *args)
-        seen.extend(
-            (len(pbs), n + 1, int(r["nsteps"])) for (n, _), r in zip(grids, out, strict=True)
-        )
-        return out
-
     _cn._march = spy
-    if orig_many is not None:
-        _cn._march_levels = spy_many
     try:
         xpersson.solve(scene)
     finally:
         _cn._march = orig
-        if orig_many is not None:
-            _cn._march_levels = orig_many
     return seen
 
 

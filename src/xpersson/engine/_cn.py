@@ -49,7 +49,7 @@ from numpy.typing import NDArray
 from ._base import EngineMethod
 from ._cn_control import AIM, _Budget, _control, _Fit, _Levels
 from ._cn_plan import _joint_plan, _Plan, _start_time, _switch_times_batch
-from ._moving import _march, _march_levels, _project
+from ._moving import _march, _project
 from ._problem import Problem, window_k
 from ._result import Raw
 
@@ -210,7 +210,6 @@ class _Grids:
         self.cache: dict[tuple[int, int, int], dict] = {}
         self.plans: dict[tuple[int, int], _Plan] = {}
         self.nsteps = 0
-        self.steps: dict[tuple[int, int, int], int] = {}  # of each level admitted
         self.work = 0.0
         self.kinks: list[float] = []
         if num.any():
@@ -222,86 +221,29 @@ class _Grids:
     def level(self, n_base: int, mult: int, dense: int = 1) -> dict:
         """Grid ``n_base * mult`` on the time plan of ``n_base`` (at ``dense`` times the steps
         per decade of ``options['per_node']``) subdivided ``mult`` times."""
-        return self.levels([(n_base, mult, dense)])[0]
-
-    def levels(self, keys: list[tuple[int, int, int]]) -> list[dict]:
-        """The levels ``keys`` (``(n_base, mult, dense)``, see :meth:`level`): those not yet
-        solved that share a time plan are marched together (:func:`._moving._march_levels`),
-        with the budgets checked level by level in the order given, as one by one."""
-        todo: list[tuple[int, int, int]] = []
-        try:
-            for key in keys:
-                if key not in self.cache and key not in todo:
-                    self._admit(key, len(todo))
-                    todo.append(key)
-        except (_Budget, _Levels):
-            self._march(todo)  # the levels admitted before the budget ended
-            raise
-        self._march(todo)
-        return [self.cache[key] for key in keys]
-
-    def _plan(self, n_base: int, dense: int) -> _Plan:
-        if (n_base, dense) not in self.plans:
-            opts = self.opts
-            self.plans[n_base, dense] = _joint_plan(
-                self.pbs, opts.window_k, opts.per_node * n_base * dense, self.tau_s, self.kinks
-            )
-        return self.plans[n_base, dense]
-
-    def _admit(self, key: tuple[int, int, int], pending: int) -> None:
-        """Budgets for the level ``key`` after ``pending`` admitted ones (their steps and work
-        already counted): raise _Budget / _Levels as the march of one level would."""
-        n_base, mult, dense = key
-        opts, pb = self.opts, self.pbs[0]
-        plan = self._plan(n_base, dense)
-        n_base_steps = plan.base.size - 1
-        cost = n_base_steps * mult + 2 * opts.rannacher
-        if self.nsteps + cost > pb.max_steps:
-            raise _Budget(f"max_steps = {pb.max_steps} reached before the tolerance was met")
-        if self.work + cost * n_base * mult > opts.max_work:
-            raise _Budget(
-                f"the next grid (N = {n_base * mult}, {cost} steps) would exceed "
-                f"the work budget options['max_work'] = {opts.max_work:.3g} node-steps; "
-                "loosen rtol/atol or raise max_work"
-            )
-        self.work += cost * n_base * mult
-        if len(self.cache) + pending >= opts.levels:
-            raise _Levels(f"after {len(self.cache) + pending} grids (levels = {opts.levels})")
-        # the steps the march will take (see _level_times): counted before it runs
-        self.steps[key] = n_base_steps * mult + min(opts.rannacher, n_base_steps * mult)
-        self.nsteps += self.steps[key]
-
-    def _march(self, todo: list[tuple[int, int, int]]) -> None:
-        """March the admitted levels ``todo`` (together where they share a plan, for one load
-        without densities); a failure falls back to one by one, so that the levels before a
-        failing one are kept, as when marched alone."""
-        opts = self.opts
-        groups: dict[tuple[int, int], list[int]] = {}
-        for key in todo:
-            groups.setdefault((key[0], key[2]), []).append(key[1])
-        for (n_base, dense), mults in groups.items():
-            plan = self._plan(n_base, dense)
-            run = [(n_base * m, m) for m in mults]
-            # together only for one load: with several, each level's system is already a few
-            # hundred rows and the joints' resets cost what the fewer numpy calls save
-            if len(run) > 1 and len(self.pbs) == 1 and self.pbs[0].p_out is None:
-                try:
-                    res = _march_levels(self.pbs, plan, run, opts.stretch, opts.rannacher)
-                except FloatingPointError:
-                    pass
-                else:
-                    self.cache.update(
-                        {(n_base, m, dense): r for m, r in zip(mults, res, strict=True)}
-                    )
-                    continue
-            for m in mults:
-                try:
-                    r = _march(self.pbs, plan, n_base * m, m, opts.stretch, opts.rannacher)
-                except FloatingPointError:
-                    # the steps of the levels not marched were counted in _admit
-                    self.nsteps -= sum(self.steps[k] for k in todo if k not in self.cache)
-                    raise
-                self.cache[n_base, m, dense] = r
+        key = (n_base, mult, dense)
+        cache, opts, pb = self.cache, self.opts, self.pbs[0]
+        if key not in cache:
+            if (n_base, dense) not in self.plans:
+                self.plans[n_base, dense] = _joint_plan(
+                    self.pbs, opts.window_k, opts.per_node * n_base * dense, self.tau_s, self.kinks
+                )
+            plan = self.plans[n_base, dense]
+            cost = (plan.base.size - 1) * mult + 2 * opts.rannacher
+            if self.nsteps + cost > pb.max_steps:
+                raise _Budget(f"max_steps = {pb.max_steps} reached before the tolerance was met")
+            if self.work + cost * n_base * mult > opts.max_work:
+                raise _Budget(
+                    f"the next grid (N = {n_base * mult}, {cost} steps) would exceed "
+                    f"the work budget options['max_work'] = {opts.max_work:.3g} node-steps; "
+                    "loosen rtol/atol or raise max_work"
+                )
+            self.work += cost * n_base * mult
+            if len(cache) >= opts.levels:
+                raise _Levels(f"after {len(cache)} grids (levels = {opts.levels})")
+            cache[key] = _march(self.pbs, plan, n_base * mult, mult, opts.stretch, opts.rannacher)
+            self.nsteps += cache[key]["nsteps"]
+        return cache[key]
 
 
 def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Grids) -> Raw:

@@ -180,7 +180,7 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit:
     judge = _Judge(pb, scale)
     n_base, rounds = lv.opts.nodes, 0
     while True:  # mode R
-        l1, l2 = lv.levels([(n_base, 1, judge.dense), (n_base, 2, judge.dense)])
+        l1, l2 = lv.level(n_base, 1, judge.dense), lv.level(n_base, 2, judge.dense)
         e_r, ratio = judge.ratio(l2, l1, 2.0 / 3.0)  # ~2x error of R(2n)
         if ratio <= 1.0:
             return _Fit(e_r, _combine(l2, l1, False), 2 * n_base)
@@ -196,7 +196,7 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit:
 def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float]:
     """The fourth-order triple at ``n`` (answer ``E(2n, 4n)``, estimate ~2x asymptotic) and
     its estimate / tolerance."""
-    l1, l2, l4 = lv.levels([(n, m, judge.dense) for m in (1, 2, 4)])
+    l1, l2, l4 = (lv.level(n, m, judge.dense) for m in (1, 2, 4))
     e_b, e_a = _combine(l4, l2, True), _combine(l2, l1, True)
     err, ratio = judge.ratio(e_b, e_a, 2.0 / 15.0)
     return _Fit(err, e_b, 4 * n), ratio
@@ -216,7 +216,7 @@ def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float]:
     ``|S_b - S_a|``).
     """
     ma, mb = tuple(range(top - 3, top)), tuple(range(top - 2, top + 1))
-    lvs = lv.levels([(n, m, DENSE) for m in range(top - 3, top + 1)])
+    lvs = [lv.level(n, m, DENSE) for m in range(top - 3, top + 1)]
     s_b = _weighted(lvs[1:], _weights(tuple(map(float, mb))))
     s_a = _weighted(lvs[:3], _weights(tuple(map(float, ma))))
     ka, kb = _k6(ma), _k6(mb)
@@ -339,7 +339,7 @@ def _finest_pair(cache: dict[tuple[int, int, int], dict], fit: _Fit) -> None:
 def _control(lv: Any, pb: Problem, aim: float, tau_num: Array) -> _Fit:
     """Levels until the error estimate meets the tolerance (or a budget ends the search).
 
-    ``lv``: the grid levels (``_cn._Grids``: ``levels([(n_base, mult, dense), ...])``, ``cache``,
+    ``lv``: the grid levels (``_cn._Grids``: ``level(n_base, mult, dense=1)``, ``cache``,
     ``opts``, ``pbs``).
     """
     scale = _load_scale(lv.pbs, tau_num)

@@ -15,19 +15,25 @@ end faces' coefficients the solve used.
 
 from __future__ import annotations
 
+import math
+from functools import lru_cache
+
 import numpy as np
 from numpy.typing import NDArray
+from scipy.interpolate import CubicSpline
 from scipy.linalg.lapack import dgtsv
 
-from ._cn_level import _KEYS, _finish_level, _Level, _setup_level
-from ._cn_plan import _Plan
+from ._cn_plan import _edges_batch, _faces, _level_times, _Plan
+from ._grid import clustered
 from ._problem import Problem
 from ._progress import report as report_progress
-from ._scratch import pool
 
-__all__ = ["_march", "_march_levels", "_combine", "_weighted", "_project"]
+__all__ = ["_march", "_combine", "_weighted", "_project"]
 
 Array = NDArray[np.float64]
+
+
+_KEYS = ("area", "abs_l", "abs_u", "load", "mom_l", "mom_u")
 
 
 _REPORT_EVERY = 64  # time steps between progress reports (see _progress)
@@ -42,149 +48,56 @@ _SNAP = 1 << 20  # largest output snapshot array in _march (outputs x loads x no
 def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n_ie: int) -> dict:
     """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads:
     per-load outputs ``(n_load, n_out)`` at the numerical output times (see the module)."""
-    return _march_levels(pbs, plan, [(n, nsub)], stretch, n_ie)[0]
+    taus, theta, out_at, x, xf, dxf, w, ed = _level_grid(pbs, plan, n, nsub, stretch, n_ie)
+    pb0, nb, nn, n_out = pbs[0], len(pbs), x.size, out_at.size
+    res, snaps = _outputs(nb, n_out, nn, pb0.p_out)
+    yield_wall = plan.yield_wall
+    p0 = np.array([pb.p0 for pb in pbs])[:, None]
+    n_steps, step = taus.size - 1, np.diff(taus)
+    wn_all, wo_all = theta * step, (1.0 - theta) * step
+    yreal = ed["ru"] & yield_wall
+    g_all = np.where(yreal, ed["wb"] * ed["ysb"], 0.0)  # g = W Y' of the closure R_N = g A_pl
 
-
-def _march_levels(
-    pbs: list[Problem], plan: _Plan, grids: list[tuple[int, int]], stretch: float, n_ie: int
-) -> list[dict]:
-    """Several grid levels ``(n, nsub)`` of one plan marched together: while more than one
-    has steps left, their systems are concatenated (identity rows on the walls: they do not
-    couple, and every level's numbers are those of its own march), so that a step of all of
-    them is one set of numpy calls and one ``dgtsv``; per level the outputs of :func:`_march`."""
-    lvs = [_setup_level(pbs, plan, n, nsub, stretch, n_ie, _SNAP) for n, nsub in grids]
-    states = [lv.r0 for lv in lvs]
-    a_pls = [np.zeros(lv.nb) for lv in lvs]
-    m = 0
-    for end in sorted({lv.n_steps for lv in lvs}):
-        if end <= m:
-            continue
-        act = [i for i, lv in enumerate(lvs) if lv.n_steps >= end]
-        r, a_pl = _phase(
-            [lvs[i] for i in act], m, end, [states[i] for i in act], [a_pls[i] for i in act]
-        )
-        for i, ri, ai in zip(act, r, a_pl, strict=True):
-            states[i], a_pls[i] = ri, ai
-        m = end
-    return [_finish_level(lv) for lv in lvs]
-
-
-def _phase(
-    lvs: list[_Level], m_start: int, m_end: int, r_in: list[Array], a_in: list[Array]
-) -> tuple[list[Array], list[Array]]:
-    """Steps ``m_start .. m_end - 1`` of the levels ``lvs`` (states ``r_in``, plastic areas
-    ``a_in``) with their systems concatenated; returns their states and plastic areas."""
-    n_rows = [lv.nb * lv.nn for lv in lvs]
-    off = np.cumsum([0] + n_rows)
-    seg = np.cumsum([0] + [lv.nb for lv in lvs])
-    ntot, nseg = int(off[-1]), int(seg[-1])
-    last = np.concatenate([lv.last + o for lv, o in zip(lvs, off, strict=False)])
-    bnd = np.concatenate([lv.bnd + o for lv, o in zip(lvs, off, strict=False)])
-    wflat = np.concatenate([lv.wflat for lv in lvs])
+    r = _initial_state(ed["la"], ed["wa"], x, w, p0, taus[0], plan.k)
+    near, last, bnd, wflat = _rows(nb, nn, w)
+    hist = np.empty((n_steps + 1, 4 * nb))  # R at `near` after every step
+    hist[0] = r[near]
     # the yield wall's last rows: z = (R_{N-1}, R_N before the step, A_pl, R_{N-1}, R_N after)
-    z = np.zeros((5, nseg))
-    z[2] = np.concatenate(a_in)
+    z = np.zeros((5, nb))
+    a_pl, z_old, z_new, z_rhs = z[2], z[:2].reshape(-1), z[3:].reshape(-1), z[:3]  # views
     pair = np.concatenate([last - 1, last])
-    # outputs in step order: (step, level, index)
-    rec = sorted(
-        (int(s), k, j)
-        for k, lv in enumerate(lvs)
-        for j, s in enumerate(lv.out_at)
-        if m_start < s <= m_end
-    )
-    n_steps = m_end - m_start
-    block = max(1, min(_BLOCK // ntot, n_steps))
-    with pool() as buf:
-        for k, lv in enumerate(lvs):  # buffers reused by every block
-            lv.work = (
-                buf.empty(f"ops{k}", (block, 4, lv.nb, lv.nn)),
-                buf.empty(f"dg{k}", (block, lv.nb, lv.nn)),
-            )
-        ctx = _Steps(lvs, off, seg, wflat, bnd, last, pair, z, rec + [(-1, 0, 0)], ntot, nseg)
-        ctx.cat = [buf.empty(f"cat{k}", (block, ntot)) for k in range(5)] if len(lvs) > 1 else []
-        states_buf = buf.empty("states", (block + 1, ntot))
-        r = np.concatenate(r_in)
-        for m0 in range(m_start, m_end, block):
-            c = min(m0 + block, m_end) - m0
-            r = ctx.block(m0, c, states_buf[: c + 1], r)
-        r_out = [r[off[k] : off[k + 1]].copy() for k in range(len(lvs))]
-    # the steps not reported in the loop (which reports at every _REPORT_EVERY-th global step)
-    e = _REPORT_EVERY
-    report_progress((n_steps - e * (m_end // e - m_start // e)) * ntot)
-    a_out = [z[2, seg[k] : seg[k + 1]].copy() for k in range(len(lvs))]
-    return r_out, a_out
+    a_pl_at = np.zeros((nb, n_out))
+    # the end faces' coefficients the solve used, (8, loads, steps): see _block_system
+    ends = np.empty((8, nb, n_steps))
+    basis, w_last, wi = _basis(xf, dxf), w[-1], w[1:-1]
 
+    def record(j: int, m: int) -> None:
+        _record(res, a_pl_at, snaps, r, a_pl, j, m, ed, x, w, pb0.p_out)
 
-class _Steps:
-    """The step loop of a phase of :func:`_march_levels` (see the module)."""
-
-    def __init__(self, lvs, off, seg, wflat, bnd, last, pair, z, rec, ntot, nseg) -> None:
-        self.lvs, self.off, self.seg, self.wflat, self.bnd = lvs, off, seg, wflat, bnd
-        self.last, self.pair, self.z, self.rec, self.nxt = last, pair, z, rec, 0
-        self.nseg, self.cat = nseg, []
-        # rows whose right-hand side is reset to 0 at every step: the identity rows between
-        # the systems (the flux differences reach them); one pair of rows as a slice
-        inner = bnd[(bnd > 0) & (bnd < ntot - 1)]
-        pair_ = inner.size == 2 and inner[1] == inner[0] + 1
-        self.joints = slice(int(inner[0]), int(inner[1]) + 1) if pair_ else bnd
-        # work buffers of a step: face fluxes G, G2 and their differences dG
-        self.G, self.G2, self.dG = np.empty(ntot - 1), np.empty(ntot - 1), np.empty(ntot - 2)
-
-    def _system(self, m0: int, c: int) -> tuple[Array, ...]:
-        """The concatenated systems of steps ``m0 .. m0 + c - 1`` (see :func:`_block_system`)
-        and whether a yield wall is real at each step."""
-        ms = slice(m0, m0 + c)
-        parts = [
-            _block_system(
-                lv.ed,
-                lv.basis,
-                ms,
-                lv.wn_all[ms],
-                lv.wo_all[ms],
-                lv.g_all[:, ms].T,
-                lv.w[1:-1],
-                lv.w[-1],
-                lv.ends,
-                lv.yreal[:, ms].T,
-                lv.work,
-            )
-            for lv in self.lvs
-        ]
-        ys = np.any([lv.yreal[:, ms].any(axis=0) for lv in self.lvs], axis=0).tolist()
-        if len(parts) == 1:
-            return (*parts[0], ys)
-        cat = [a[:c] for a in self.cat]  # (the pool's: no fresh pages at every phase)
-        for k in range(5):
-            for j, p in enumerate(parts):
-                cat[k][:, self.off[j] : self.off[j + 1]] = p[k]
-        k_rhs, k_gain = (np.concatenate([p[k] for p in parts], axis=2) for k in (5, 6))
-        return (*cat, k_rhs, k_gain, ys)
-
-    def block(self, m0: int, c: int, states: Array, r: Array) -> Array:
-        """Steps ``m0 .. m0 + c - 1`` from the state ``r``; the state after them (a view of
-        ``states``: row 0 the state before the block, row i + 1 after step m0 + i)."""
-        dl, du, Dg, Ga, Gp, k_rhs, k_gain, ys = self._system(m0, c)
-        G, G2, dG, z, pair, wflat, last, bnd = (
-            self.G,
-            self.G2,
-            self.dG,
-            self.z,
-            self.pair,
-            self.wflat,
-            self.last,
-            self.joints,
+    out_steps = out_at.tolist() + [-1]
+    nxt = 0
+    while nxt < n_out and out_steps[nxt] == 0:
+        record(nxt, 0)
+        nxt += 1
+    block = max(1, min(_BLOCK // (nb * nn), n_steps))
+    # buffers reused by every block: operators, and the states (row 0 the state before it)
+    work = (np.empty((block, 4, nb, nn)), np.empty((block, nb, nn)))
+    states_buf = np.empty((block + 1, nb * nn))
+    # work buffers of a step: face fluxes G, G2 and their differences dG
+    G, G2, dG = np.empty(nb * nn - 1), np.empty(nb * nn - 1), np.empty(nb * nn - 2)
+    G_hi, G_lo = G[1:], G[:-1]
+    mul, sub, add_r, info = np.multiply, np.subtract, np.add.reduce, 0
+    for m0 in range(0, n_steps, block):
+        ms = slice(m0, min(m0 + block, n_steps))
+        c = ms.stop - ms.start
+        g = g_all[:, ms].T  # (steps, loads)
+        dl, du, Dg, Ga, Gp, k_rhs, k_gain = _block_system(
+            ed, basis, ms, wn_all[ms], wo_all[ms], g, wi, w_last, ends, yreal[:, ms].T, work
         )
-        G_hi, G_lo = G[1:], G[:-1]
-        a_pl, z_old, z_new, z_rhs = z[2], z[:2].reshape(-1), z[3:].reshape(-1), z[:3]  # views
-        mul, sub, add_r, info, rec, nxt = (
-            np.multiply,
-            np.subtract,
-            np.add.reduce,
-            0,
-            self.rec,
-            self.nxt,
-        )
-        joints = self.nseg > 1
+        ys = yreal[:, ms].any(axis=0).tolist()
+        # the states of the block: row 0 the state before it, row i + 1 the state after step
+        # m0 + i (the solve overwrites its right-hand side in place)
+        states = states_buf[: c + 1]
         states[0] = r
         r = states[0]
         # views made once per block (a step is ~10 numpy calls: their count is its cost)
@@ -199,7 +112,7 @@ class _Steps:
             mul(wflat, r, out=rhs)  # 0 on the walls' identity rows
             sub(G_hi, G_lo, out=dG)
             s_in[i + 1] += dG
-            if joints:
+            if nb > 1:
                 rhs[bnd] = 0.0
             if ys[i]:  # last row: g (w_N R_N + A_pl - wo F_{N-1/2})
                 r.take(pair, out=z_old)  # (the method: no dispatch through np.take)
@@ -213,22 +126,81 @@ class _Steps:
                 sol.take(pair, out=z_new)
                 a_pl += add_r(k_gain[i] * z, 0)
             r = sol
-            while rec[nxt][0] == m + 1:
-                self._record(rec[nxt], r)
+            while out_steps[nxt] == m + 1:
+                record(nxt, m + 1)
                 nxt += 1
             if (m + 1) % _REPORT_EVERY == 0:
-                report_progress(_REPORT_EVERY * r.size)
-        self.nxt = nxt
+                report_progress(_REPORT_EVERY * nn * nb)
         if info != 0:
             raise FloatingPointError(f"tridiagonal solve failed (info={info})")
-        for k, lv in enumerate(self.lvs):
-            lv.hist[m0 + 1 : m0 + c + 1] = states[1:, lv.near + self.off[k]]
-        return r
+        hist[m0 + 1 : m0 + c + 1] = states[1:, near]
+    report_progress((n_steps % _REPORT_EVERY) * nn * nb)
+    if snaps is not None:
+        _reduce_snapshots(res, snaps, ed, x, w, out_at)
+    _wall_sums(res, ed, hist, ends, out_at, a_pl_at, yield_wall)
+    res["nsteps"] = n_steps
+    res["n_nodes"] = nn
+    return res
 
-    def _record(self, item: tuple[int, int, int], r: Array) -> None:
-        m, k, j = item
-        off, seg = self.off, self.seg
-        self.lvs[k].record(r[off[k] : off[k + 1]], self.z[2, seg[k] : seg[k + 1]], j, m)
+
+def _outputs(nb: int, n_out: int, nn: int, p_out: Array | None) -> tuple[dict, Array | None]:
+    """Output arrays of a level, and the state snapshots: reduced after the march (one copy
+    per output instead of a dozen small reductions), unless the density is wanted or the
+    snapshots would be large (then None: each output is reduced when reached)."""
+    res = {key: np.zeros((nb, n_out)) for key in _KEYS}
+    want_p = p_out is not None
+    res["P"] = np.zeros((nb, n_out, p_out.size)) if want_p else None
+    snaps = None if want_p or n_out * nb * nn > _SNAP else np.empty((n_out, nb * nn))
+    return res, snaps
+
+
+def _level_grid(
+    pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n_ie: int
+) -> tuple:
+    """Times, theta per step, output steps, nodes ``x`` (faces, spacings, control volumes) and
+    the window edges of one grid level."""
+    taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones)
+    pb0 = pbs[0]
+    out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
+    x, xf, dxf, w = _nodes(n, stretch)
+    ed = _edges_batch(pbs, plan, taus)
+    if np.any(ed["wa"] <= 0) or np.any(ed["wb"] <= 0):
+        raise FloatingPointError("the walls swept the whole window (area 0)")
+    return taus, theta, out_at, x, xf, dxf, w, ed
+
+
+@lru_cache(maxsize=32)
+def _nodes(n: int, stretch: float) -> tuple[Array, Array, Array, Array]:
+    """Nodes ``x`` of a level (:func:`.clustered`), face midpoints, spacings and control
+    volumes (:func:`._cn_plan._faces`), read-only: the levels of every solve reuse a few."""
+    x = clustered(n, stretch)
+    out = (x, *_faces(x))
+    for a in out:
+        a.setflags(write=False)
+    return out
+
+
+def _rows(nb: int, nn: int, w: Array) -> tuple[Array, Array, Array, Array]:
+    """Rows of the concatenated system: the two nodes at each wall (the solve leaves round-off
+    ~ eps on the wall nodes, which the wall fluxes must include for the balance to hold to
+    round-off), the last rows, the identity rows (the walls) and the control volumes (0 there)."""
+    rows = np.arange(nb) * nn  # first node of each load in the concatenated system
+    near = np.concatenate([rows, rows + 1, rows + nn - 2, rows + nn - 1])
+    last = rows + nn - 1
+    bnd = np.concatenate([rows, last])  # identity rows (the walls)
+    wflat = np.tile(w, nb)
+    wflat[bnd] = 0.0
+    return near, last, bnd, wflat
+
+
+def _basis(xf: Array, dxf: Array) -> Array:
+    """Face functions ``1, x_f, 1/dx_f`` (3, nodes); the last slot (no face) is 0."""
+    nf = xf.size
+    basis = np.zeros((3, nf + 1))
+    basis[0, :nf] = 1.0
+    basis[1, :nf] = xf
+    basis[2, :nf] = 1.0 / dxf
+    return basis
 
 
 def _block_system(
@@ -304,6 +276,100 @@ def _block_system(
     k_gain *= yreal[:, None, :]
     dl, du, Dg, Ga, Gp = (a.reshape(c, nb * nn) for a in (dl, du, Dg, Ga, Gp))
     return dl, du, Dg, Ga, Gp, k_rhs, k_gain
+
+
+def _initial_state(
+    la: Array, wa_: Array, x: Array, w: Array, p0: Array, t0: float, k: float
+) -> Array:
+    """The free Gaussian at ``t0`` [Pa^2] (mass per unit x, the loads concatenated),
+    normalised to the window mass ``erf(k / sqrt 2)``."""
+    pn = la[:, :1] + wa_[:, :1] * x[None, :]
+    r2 = wa_[:, :1] * np.exp(-((pn - p0) ** 2) / (4.0 * t0)) / math.sqrt(4.0 * math.pi * t0)
+    r2[:, 0] = 0.0
+    r2[:, -1] = 0.0
+    r2 *= math.erf(k / math.sqrt(2.0)) / (r2 @ w)[:, None]
+    r = r2.ravel()
+    return r
+
+
+def _reduce_snapshots(res: dict, snaps: Array, ed: dict, x: Array, w: Array, out_at: Array) -> None:
+    """Area ``int R dx`` and load ``int p R dx`` (``p = l + W x``) per output, into ``res``."""
+    la, wa_, lb, wb_ = ed["la"], ed["wa"], ed["lb"], ed["wb"]
+    n_out, nb = snaps.shape[0], la.shape[0]
+    R = snaps.reshape(n_out, nb, x.size)
+    lv = np.hstack([la[:, :1], lb])[:, out_at]
+    wv = np.hstack([wa_[:, :1], wb_])[:, out_at]
+    res["area"] = (R @ w).T
+    res["load"] = lv * res["area"] + wv * (R @ (x * w)).T
+
+
+def _record(
+    res: dict,
+    a_pl_at: Array,
+    snaps: Array | None,
+    r: Array,
+    a_pl: Array,
+    j: int,
+    m: int,
+    ed: dict,
+    x: Array,
+    w: Array,
+    p_out: Array | None,
+) -> None:
+    """Outputs ``j`` after step ``m`` (the state ``r``; wall terms are added later)."""
+    a_pl_at[:, j] = a_pl
+    if snaps is not None:
+        snaps[j] = r
+        return
+    la, wa_, lb, wb_ = ed["la"], ed["wa"], ed["lb"], ed["wb"]
+    nb, nn = a_pl_at.shape[0], x.size
+    r_ = r.reshape(nb, nn)
+    lv, wv = (la[:, 0], wa_[:, 0]) if m == 0 else (lb[:, m - 1], wb_[:, m - 1])
+    pm = lv[:, None] + wv[:, None] * x[None, :]
+    res["area"][:, j] = r_ @ w
+    res["load"][:, j] = (pm * r_) @ w
+    if p_out is not None:
+        pv = p_out
+        for i in range(nb):
+            cs = CubicSpline(pm[i], r_[i] / wv[i])
+            inside = (pv >= pm[i, 0]) & (pv <= pm[i, -1])
+            res["P"][i, j, inside] = cs(pv[inside])
+
+
+def _wall_sums(
+    res: dict,
+    ed: dict,
+    hist: Array,
+    ends: Array,
+    out_at: Array,
+    a_pl_at: Array,
+    yield_wall: bool,
+) -> None:
+    """Absorbed probabilities and wall moments per output from the nodes next to the walls
+    after every step (R = 0 on an absorbing wall) and the end faces' coefficients the solve
+    used (``ends``, see :func:`_block_system`), into ``res``."""
+    nb = a_pl_at.shape[0]
+    la, wa_, lb, wb_, rl, ru = ed["la"], ed["wa"], ed["lb"], ed["wb"], ed["rl"], ed["ru"]
+    r0, r1, rm, rn = (hist[:, i * nb : (i + 1) * nb].T for i in range(4))  # (nb, n_steps + 1)
+    mb0, pb0, mb1, pb1, ma0, pa0, ma1, pa1 = ends
+    # the wall fluxes times the step's weights: new (end of step) and old (start) halves
+    f_new0 = mb0 * r0[:, 1:] + pb0 * r1[:, 1:]
+    f_old0 = ma0 * r0[:, :-1] + pa0 * r1[:, :-1]
+    f_new1 = mb1 * rm[:, 1:] + pb1 * rn[:, 1:]
+    f_old1 = ma1 * rm[:, :-1] + pa1 * rn[:, :-1]
+    zero = np.zeros((nb, 1))
+    abs_l = np.hstack([zero, np.cumsum(np.where(rl, f_new0 + f_old0, 0.0), axis=1)])
+    mom_l = np.hstack([zero, np.cumsum(np.where(rl, lb * f_new0 + la * f_old0, 0.0), axis=1)])
+    res["abs_l"], res["mom_l"] = abs_l[:, out_at], mom_l[:, out_at]
+    if yield_wall:
+        res["abs_u"] = a_pl_at
+        ends_ = np.hstack([la[:, :1] + wa_[:, :1], lb + wb_])[:, out_at]
+        res["mom_u"] = ends_ * a_pl_at
+    else:
+        out_hi = -(f_new1 + f_old1)
+        mom = (lb + wb_) * f_new1 + (la + wa_) * f_old1
+        res["abs_u"] = np.hstack([zero, np.cumsum(np.where(ru, out_hi, 0.0), axis=1)])[:, out_at]
+        res["mom_u"] = -np.hstack([zero, np.cumsum(np.where(ru, mom, 0.0), axis=1)])[:, out_at]
 
 
 def _combine(fine: dict, coarse: dict, extrapolate: bool) -> dict:
