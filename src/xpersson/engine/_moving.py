@@ -231,7 +231,8 @@ def _block_system(
     start of the step (flux form) and the yield wall's last-row coefficients of
     ``(R_{N-1}, R_N, A_pl)`` before the step for the right-hand side (``k_rhs``, (steps, 3,
     loads)) and of ``(R_{N-1}, R_N, A_pl, R_{N-1}, R_N)`` before / after it for the gain of
-    ``A_pl`` (``k_gain``, (steps, 5, loads), 0 where ``yreal`` (steps, loads) is False).  The
+    ``A_pl`` (``k_gain``, (steps, 5, loads), 0 where ``yreal`` (steps, loads) is False; both
+    None where it is False throughout the block).  The
     coefficients of the first and last faces, as used, are written into ``ends[:, :, ms]``
     (order: wn(A-D), wn(A+D) at the first face, then at the last face; then the same four of
     the explicit half): the wall fluxes are summed from them.  ``work``: buffers (steps,
@@ -269,12 +270,14 @@ def _block_system(
     Dg[..., -1] = 1.0 + g * (w_last + ends[3, :, ms].T)
     dl[..., nf - 1] = g * ends[2, :, ms].T
     du[..., 0] = 0.0
+    dl, du, Dg, Ga, Gp = (a.reshape(c, nb * nn) for a in (dl, du, Dg, Ga, Gp))
+    if not yreal.any():  # no real yield wall in the block: the last-row terms are not used
+        return dl, du, Dg, Ga, Gp, None, None
     # last row of a real yield wall: g (w_N R_N + A_pl - wo F_{N-1/2})
     k_rhs = np.stack([-g * ends[6, :, ms].T, g * (w_last - ends[7, :, ms].T), g], axis=1)
     mb1, pb1, ma1, pa1 = (ends[k, :, ms].T for k in (2, 3, 6, 7))
     k_gain = np.stack([-ma1, w_last - pa1, 0.0 * g, -mb1, -(pb1 + w_last)], axis=1)
     k_gain *= yreal[:, None, :]
-    dl, du, Dg, Ga, Gp = (a.reshape(c, nb * nn) for a in (dl, du, Dg, Ga, Gp))
     return dl, du, Dg, Ga, Gp, k_rhs, k_gain
 
 
