@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -117,10 +118,20 @@ def richardson_weights(mults: tuple[int, ...] | list[int]) -> Array:
     m = np.asarray(mults, dtype=float)
     if m.ndim != 1 or m.size < 1 or np.any(m <= 0) or np.unique(m).size != m.size:
         raise ValueError(f"mults [1] must be distinct positive numbers; got {mults!r}")
+    return _weights(tuple(m.tolist())).copy()
+
+
+@lru_cache(maxsize=64)
+def _weights(m_: tuple[float, ...]) -> Array:
+    """:func:`richardson_weights` of checked ``m_`` (memoised: the controller asks for the
+    same few level sets at every solve)."""
+    m = np.array(m_)
     V = m[None, :] ** (-2.0 * np.arange(m.size)[:, None])
     rhs = np.zeros(m.size)
     rhs[0] = 1.0
-    return np.linalg.solve(V, rhs)
+    w = np.linalg.solve(V, rhs)
+    w.setflags(write=False)
+    return w
 
 
 def _round_grid(n: float) -> int:
@@ -206,8 +217,8 @@ def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float]:
     """
     ma, mb = tuple(range(top - 3, top)), tuple(range(top - 2, top + 1))
     lvs = [lv.level(n, m, DENSE) for m in range(top - 3, top + 1)]
-    s_b = _weighted(lvs[1:], richardson_weights(mb))
-    s_a = _weighted(lvs[:3], richardson_weights(ma))
+    s_b = _weighted(lvs[1:], _weights(tuple(map(float, mb))))
+    s_a = _weighted(lvs[:3], _weights(tuple(map(float, ma))))
     ka, kb = _k6(ma), _k6(mb)
     err, ratio = judge.ratio(s_b, s_a, S_MARGIN * kb / (ka - kb))
     return _Fit(err, s_b, top * n), ratio

@@ -149,12 +149,30 @@ def _level_times(
     return t, theta
 
 
-def _wall_speeds(wall, tau: Array) -> tuple[Array, Array]:
+def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
+    """Times ``(tau + h, tau - h)`` [Pa^2] of the central differences of :func:`_wall_speeds`,
+    or None where the speed needs none (fixed wall, declared speed or linear motion)."""
+    if wall is None or wall.is_fixed or wall.dposition is not None or wall.motion is not None:
+        return None
+    h = 1e-5 * tau
+    bp = getattr(wall, "breakpoints", ())
+    if bp:
+        # never difference across a breakpoint: the step shrinks with the distance to it
+        b = np.asarray(bp)
+        dist = np.min(np.abs(tau[..., None] - b), axis=-1)
+        h = np.where(dist > 0, np.minimum(h, 1e-3 * dist), h)
+    return tau + h, tau - h
+
+
+def _wall_speeds(
+    wall, tau: Array, probed: tuple[Array, Array] | None = None
+) -> tuple[Array, Array]:
     """dp_w/dtau [1/Pa] of a wall at ``tau`` just before and just after (declared, or by central
     differences).
 
     The two differ only at the wall's declared breakpoints, where the difference is one-sided
-    (the speed just before ends a step, the speed just after starts one).
+    (the speed just before ends a step, the speed just after starts one).  ``probed``: the
+    wall's positions at the times of :func:`_probe_times` (evaluated here unless given).
     """
     if wall is None or wall.is_fixed:
         z = np.zeros_like(tau)
@@ -165,17 +183,13 @@ def _wall_speeds(wall, tau: Array) -> tuple[Array, Array]:
     if wall.motion is not None:
         v = np.full_like(tau, wall.motion[1])
         return v, v
-    h = 1e-5 * tau
-    bp = getattr(wall, "breakpoints", ())
-    if bp:
-        # never difference across a breakpoint: the step shrinks with the distance to it
-        b = np.asarray(bp)
-        dist = np.min(np.abs(tau[..., None] - b), axis=-1)
-        h = np.where(dist > 0, np.minimum(h, 1e-3 * dist), h)
-    hi, lo = tau + h, tau - h
-    p_hi, p_lo = np.split(wall.at(np.concatenate([hi, lo])), 2)  # one call of the wall
+    hi, lo = _probe_times(wall, tau)
+    if probed is None:
+        probed = np.split(wall.at(np.concatenate([hi, lo])), 2)  # one call of the wall
+    p_hi, p_lo = probed
     v = (p_hi - p_lo) / (hi - lo)
     before, after = v, v
+    bp = getattr(wall, "breakpoints", ())
     at_bp = np.isin(tau, bp) if bp else np.zeros(tau.shape, bool)
     if at_bp.any():
         t = tau[at_bp]
@@ -186,19 +200,29 @@ def _wall_speeds(wall, tau: Array) -> tuple[Array, Array]:
     return before, after
 
 
+def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Array]:
+    """A wall's positions [Pa] at ``mid`` and ``taus`` and its speeds [1/Pa] just before / after
+    each of ``taus``, from one call of the wall (+inf and 0 without a wall)."""
+    if wall is None:
+        z = np.zeros_like(taus)
+        return np.full(mid.shape, np.inf), np.full(taus.shape, np.inf), z, z
+    probe = _probe_times(wall, taus)
+    parts = [mid, taus] if probe is None else [mid, taus, *probe]
+    p = wall.at(np.concatenate(parts))
+    n, m = mid.size, taus.size
+    probed = None if probe is None else (p[n + m : n + 2 * m], p[n + 2 * m :])
+    vb, va = _wall_speeds(wall, taus, probed)
+    return p[:n], p[n : n + m], vb, va
+
+
 def _tracks(pb: Problem, taus: Array) -> dict:
     """The walls along a time sequence (shared by the loads of a batch): positions [Pa] at the
-    step midpoints and at ``taus``, speeds [1/Pa] just before / after each time."""
+    step midpoints and at ``taus``, speeds [1/Pa] just before / after each time (one call of
+    each wall)."""
     mid = 0.5 * (taus[:-1] + taus[1:])
-    lo, up = pb.wall_positions(np.concatenate([mid, taus]))  # one call of each wall
-    n = mid.size
-    lo_m, up_m, lo, up = lo[:n], up[:n], lo[n:], up[n:]
-    lo_vb, lo_va = _wall_speeds(pb.lower, taus)
-    if pb.upper is not None:
-        up_vb, up_va = _wall_speeds(pb.upper, taus)
-        ys = pb.upper.speed(taus)
-    else:
-        up_vb = up_va = ys = np.zeros_like(taus)
+    lo_m, lo, lo_vb, lo_va = _track_wall(pb.lower, mid, taus)
+    up_m, up, up_vb, up_va = _track_wall(pb.upper, mid, taus)
+    ys = pb.upper.speed(taus) if pb.upper is not None else np.zeros_like(taus)
     return {
         "mid": mid,
         "lo_m": lo_m,

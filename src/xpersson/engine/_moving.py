@@ -16,6 +16,7 @@ end faces' coefficients the solve used.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -161,12 +162,22 @@ def _level_grid(
     taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones)
     pb0 = pbs[0]
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
-    x = clustered(n, stretch)
-    xf, dxf, w = _faces(x)
+    x, xf, dxf, w = _nodes(n, stretch)
     ed = _edges_batch(pbs, plan, taus)
     if np.any(ed["wa"] <= 0) or np.any(ed["wb"] <= 0):
         raise FloatingPointError("the walls swept the whole window (area 0)")
     return taus, theta, out_at, x, xf, dxf, w, ed
+
+
+@lru_cache(maxsize=32)
+def _nodes(n: int, stretch: float) -> tuple[Array, Array, Array, Array]:
+    """Nodes ``x`` of a level (:func:`.clustered`), face midpoints, spacings and control
+    volumes (:func:`._cn_plan._faces`), read-only: the levels of every solve reuse a few."""
+    x = clustered(n, stretch)
+    out = (x, *_faces(x))
+    for a in out:
+        a.setflags(write=False)
+    return out
 
 
 def _rows(nb: int, nn: int, w: Array) -> tuple[Array, Array, Array, Array]:
@@ -220,7 +231,8 @@ def _block_system(
     start of the step (flux form) and the yield wall's last-row coefficients of
     ``(R_{N-1}, R_N, A_pl)`` before the step for the right-hand side (``k_rhs``, (steps, 3,
     loads)) and of ``(R_{N-1}, R_N, A_pl, R_{N-1}, R_N)`` before / after it for the gain of
-    ``A_pl`` (``k_gain``, (steps, 5, loads), 0 where ``yreal`` (steps, loads) is False).  The
+    ``A_pl`` (``k_gain``, (steps, 5, loads), 0 where ``yreal`` (steps, loads) is False; both
+    None where it is False throughout the block).  The
     coefficients of the first and last faces, as used, are written into ``ends[:, :, ms]``
     (order: wn(A-D), wn(A+D) at the first face, then at the last face; then the same four of
     the explicit half): the wall fluxes are summed from them.  ``work``: buffers (steps,
@@ -258,12 +270,14 @@ def _block_system(
     Dg[..., -1] = 1.0 + g * (w_last + ends[3, :, ms].T)
     dl[..., nf - 1] = g * ends[2, :, ms].T
     du[..., 0] = 0.0
+    dl, du, Dg, Ga, Gp = (a.reshape(c, nb * nn) for a in (dl, du, Dg, Ga, Gp))
+    if not yreal.any():  # no real yield wall in the block: the last-row terms are not used
+        return dl, du, Dg, Ga, Gp, None, None
     # last row of a real yield wall: g (w_N R_N + A_pl - wo F_{N-1/2})
     k_rhs = np.stack([-g * ends[6, :, ms].T, g * (w_last - ends[7, :, ms].T), g], axis=1)
     mb1, pb1, ma1, pa1 = (ends[k, :, ms].T for k in (2, 3, 6, 7))
     k_gain = np.stack([-ma1, w_last - pa1, 0.0 * g, -mb1, -(pb1 + w_last)], axis=1)
     k_gain *= yreal[:, None, :]
-    dl, du, Dg, Ga, Gp = (a.reshape(c, nb * nn) for a in (dl, du, Dg, Ga, Gp))
     return dl, du, Dg, Ga, Gp, k_rhs, k_gain
 
 
