@@ -279,23 +279,27 @@ def plot(rows, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    def label_of(method: str) -> str:
+        parts = method.split(" (")
+        return parts[0] + (" (" + parts[1] if "MoL" in method else "")
+
     names = [n for n in (*SCENES, "moving") if any(r["scene"] == n for r in rows)]
+    # one colour per method across every panel (a panel without some method keeps the others')
+    labels = list(dict.fromkeys(label_of(r["method"]) for r in rows))
+    colour = {lab: plt.get_cmap("tab10")(i % 10) for i, lab in enumerate(labels)}
     fig, axes = plt.subplots(1, len(names), figsize=(4 * len(names), 3.6), squeeze=False)
     for ax, name in zip(axes[0], names, strict=True):
         groups = {}
         for r in rows:
             if r["scene"] == name and math.isfinite(r["time_s"]) and math.isfinite(r["curve_err"]):
-                groups.setdefault(
-                    r["method"].split(" (")[0]
-                    + (" (" + r["method"].split(" (")[1] if "MoL" in r["method"] else ""),
-                    [],
-                ).append(r)
+                groups.setdefault(label_of(r["method"]), []).append(r)
         for label, rs in groups.items():
             rs.sort(key=lambda r: r["time_s"])
             ax.loglog(
                 [r["time_s"] for r in rs],
                 [max(r["curve_err"], 1e-16) for r in rs],
                 "o-" if "xpersson" in label else "s--",
+                color=colour[label],
                 label=label,
                 ms=4,
             )
@@ -303,7 +307,8 @@ def plot(rows, path):
         ax.set_title(f"{name} (sine: semi-analytic; cn vs scipy: grid to grid)", fontsize=7)
         ax.set_xlabel("time [s]")
         ax.set_ylabel("max rel. error of A/A0")
-    axes[0][0].legend(fontsize=6)
+        if ax is axes[0][0] or name == "moving":  # the moving wall has its own peer
+            ax.legend(fontsize=6)
     fig.tight_layout()
     fig.savefig(path, dpi=120)
 
