@@ -405,9 +405,12 @@ class _Phi:
         pair = self._pairs().take(i)  # (v0, v1 - v0) in one gather
         val = pair.imag * u  # the same (v1 - v0) u + v0 as two look-ups, bit for bit
         val += pair.real
+        phi1_zero = not np.any(phi1)
+        if phi1_zero and self._first_zero:  # below the grid: u = 0 at node 0, (0, 0): val = 0
+            return val.reshape(shape)  # already (the masked copy of 0 below changes nothing)
         log_tau1 = math.log(self.tau1)
         low = l2 < log_tau1
-        if not np.any(phi1):  # the linear first interval is 0 (every load in full contact
+        if phi1_zero:  # the linear first interval is 0 (every load in full contact
             np.copyto(val, 0.0, where=low)  # at the first node: the dense grid's 1 + 1e-9)
         elif low.any():  # the linear first interval; its exp where it applies only (as _exp)
             t = np.zeros(l2.shape)
@@ -443,6 +446,8 @@ class _Phi:
             pair = np.zeros(tab.shape + (2,))
             pair[..., 0] = tab
             np.subtract(tab[:, 1:], tab[:, :-1], out=pair[:, :-1, 1])
+            # every row's node 0 is (0, finite step): a look-up below the grid gives +0.0
+            self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(pair[:, 0, 1])))
             self._pair = pair.view(np.complex128).ravel()
         return self._pair
 
