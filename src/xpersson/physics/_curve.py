@@ -392,7 +392,7 @@ class _Phi:
         if self._spl is None:
             t = _exp(np.minimum(l2, math.log(self.tau1)))
             return (phi1 * np.clip(t / self.tau1, 0.0, 1.0)).reshape(shape)
-        grid, _ = self._table()
+        grid, table = self._table()
         n = grid.size
         u = l2 - grid[0]
         u *= 1.0 / (grid[1] - grid[0])
@@ -402,11 +402,14 @@ class _Phi:
         if isinstance(rows, slice):
             rows = np.arange(rows.start or 0, (rows.start or 0) + shape[0])
         i += (rows * n)[:, None]
-        pair = self._pairs().take(i)  # (v0, v1 - v0) in one gather
-        val = pair.imag * u  # the same (v1 - v0) u + v0 as two look-ups, bit for bit
-        val += pair.real
+        flat = table.ravel()
+        v0 = flat.take(i)
+        val = flat.take(i + 1)
+        val -= v0
+        val *= u
+        val += v0
         phi1_zero = not np.any(phi1)
-        if phi1_zero and self._first_zero:  # below the grid: u = 0 at node 0, (0, 0): val = 0
+        if phi1_zero and self._first_zero:  # below the grid: u = 0 at node 0: val = 0
             return val.reshape(shape)  # already (the masked copy of 0 below changes nothing)
         log_tau1 = math.log(self.tau1)
         low = l2 < log_tau1
@@ -436,20 +439,9 @@ class _Phi:
             tab = np.zeros((self.phi.shape[0], n))
             tab[:, g0:] = np.maximum(self._spl(grid[g0:]), 0.0)  # type: ignore[misc]
             self._tab = (grid, tab)  # C order: the look-ups take from its flat view
+            # every row's node 0 is 0 and node 1 finite: a look-up below the grid gives +0.0
+            self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
         return self._tab
-
-    def _pairs(self) -> NDArray[np.complex128]:
-        """The table as flat ``(value, next value - value)`` pairs (one complex per node): a
-        look-up gathers both ends of its interval at once (the last node's step is unused)."""
-        if getattr(self, "_pair", None) is None:
-            _, tab = self._table()
-            pair = np.zeros(tab.shape + (2,))
-            pair[..., 0] = tab
-            np.subtract(tab[:, 1:], tab[:, :-1], out=pair[:, :-1, 1])
-            # every row's node 0 is (0, finite step): a look-up below the grid gives +0.0
-            self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(pair[:, 0, 1])))
-            self._pair = pair.view(np.complex128).ravel()
-        return self._pair
 
 
 def _loads(p0: ArrayLike, n_load: int) -> NDArray[np.float64]:
