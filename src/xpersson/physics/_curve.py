@@ -383,11 +383,14 @@ class _Phi:
             val = np.where(low, lin, val)
         return val.reshape(shape)
 
-    def at_log_tau_per_load(self, log_tau: NDArray[np.float64], rows: slice | NDArray) -> NDArray:
+    def at_log_tau_per_load(
+        self, log_tau: NDArray[np.float64], rows: slice | NDArray, overwrite: bool = False
+    ) -> NDArray:
         """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``.
 
         As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up); ``rows``
-        a slice of the loads or one load index per row.
+        a slice of the loads or one load index per row. ``overwrite``: ``log_tau`` is a
+        temporary of the caller and may be used as scratch space.
         """
         shape = log_tau.shape
         l2 = log_tau.reshape(shape[0], -1)
@@ -397,7 +400,9 @@ class _Phi:
             return (phi1 * np.clip(t / self.tau1, 0.0, 1.0)).reshape(shape)
         grid, table = self._table()
         n = grid.size
-        u = l2 - grid[0]
+        phi1_zero = not np.any(phi1)
+        quiet = phi1_zero and self._first_zero  # below the grid: u = 0 at node 0, val = 0
+        u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else None)
         u *= 1.0 / (grid[1] - grid[0])
         np.clip(u, 0.0, n - 1.000001, out=u)
         i = u.astype(np.intp)
@@ -407,13 +412,12 @@ class _Phi:
         i += (rows * n)[:, None]
         flat = table.ravel()
         v0 = flat.take(i)
-        val = flat.take(i + 1)
+        val = flat[1:].take(i)  # the next nodes, without an array i + 1
         val -= v0
         val *= u
         val += v0
-        phi1_zero = not np.any(phi1)
-        if phi1_zero and self._first_zero:  # below the grid: u = 0 at node 0: val = 0
-            return val.reshape(shape)  # already (the masked copy of 0 below changes nothing)
+        if quiet:  # the masked copy of 0 below would change nothing
+            return val.reshape(shape)
         log_tau1 = math.log(self.tau1)
         low = l2 < log_tau1
         if phi1_zero:  # the linear first interval is 0 (every load in full contact

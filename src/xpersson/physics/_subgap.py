@@ -92,7 +92,7 @@ def _sub_mean_gap(
     step = _block(math.prod(shape[1:]))
     for i in range(0, n, step):  # blocks of loads: the tensor's temporaries stay in cache
         k = slice(i, i + step)
-        vals = phi.at_log_tau_per_load(log_tc[k] + log_a2[k], k)
+        vals = phi.at_log_tau_per_load(log_tc[k] + log_a2[k], k, overwrite=True)
         vals *= kern[k]
         out[k] = vals.sum(axis=-1)
     return math.pi * out
@@ -124,7 +124,8 @@ def _sub_pairs(
     for i in range(0, ls.size, step):
         p = slice(i, i + step)
         lp, kp = ls[p], ks[p]
-        vals = phi.at_log_tau_per_load(gather(log_tc, lp, kp) + gather(log_a2, lp, kp), lp)
+        lt = gather(log_tc, lp, kp) + gather(log_a2, lp, kp)
+        vals = phi.at_log_tau_per_load(lt, lp, overwrite=True)
         vals *= gather(kern, lp, kp)
         out[lp, kp] = vals.sum(axis=-1)
     return out
