@@ -443,8 +443,9 @@ class _Phi:
             live = np.flatnonzero(np.any(self.phi[:, 1:] != 0.0, axis=0))
             j = max(0, int(live[0]) - _TABLE_MARGIN) if live.size else 0
             g0 = int(np.searchsorted(grid, self.s[j], side="left"))
-            tab = np.zeros((self.phi.shape[0], n))
-            tab[:, g0:] = np.maximum(self._spl(grid[g0:]), 0.0)  # type: ignore[misc]
+            tab = np.empty((self.phi.shape[0], n))
+            tab[:, :g0] = 0.0
+            np.maximum(self._spl(grid[g0:]), 0.0, out=tab[:, g0:])  # type: ignore[misc]
             self._tab = (grid, tab)  # C order: the look-ups take from its flat view
             # every row's node 0 is 0 and node 1 finite: a look-up below the grid gives +0.0
             self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
