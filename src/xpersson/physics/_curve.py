@@ -245,7 +245,7 @@ class _Curve:
                 if start:
                     cached[k, 0] = first[k]
                     cached[k, 1:start] = 0.0
-                cached[k, start:] = vals
+                cached[k, start:] = vals.transpose(0, 2, 1)
             self._dF_at_nodes = cached
         return cached
 
@@ -257,33 +257,36 @@ class _Curve:
             return np.sum(cached * weights[None], axis=-1)
         out = np.empty((self.n_load, weights.shape[0]))
         first = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
+        w_t = weights.T  # (m, n_int): the blocks' layout
         for k, start, vals in self._dF_blocks():
             if start:
                 out[k, 0] = np.sum(first[k] * weights[0], axis=-1)
                 out[k, 1:start] = 0.0
-            vals *= weights[start:]
-            out[k, start:] = vals.sum(axis=-1)
+            vals *= w_t[:, start:]
+            out[k, start:] = vals.sum(axis=1)  # in node order, as a sum over a last axis
         return out
 
     def _dF_blocks(self) -> Any:
         """``(rows, start, dF[rows, start:])`` in cache-sized blocks of loads (see
-        :meth:`dF_nodes`): for ``start > 0`` interval 0 is the linear first interval and the
-        intervals ``1 .. start - 1`` are 0 (every load of the block in full contact)."""
+        :meth:`dF_nodes`), each block laid out (rows, m, n_int - start): the long interval
+        axis innermost (an inner axis of m = 6 nodes costs numpy a loop call per 6 values).
+        For ``start > 0`` interval 0 is the linear first interval and the intervals
+        ``1 .. start - 1`` are 0 (every load of the block in full contact)."""
         xg, _ = self.stieltjes_nodes()
         if self._spl is None:
-            yield slice(0, self.n_load), 0, self.dF(xg)
+            yield slice(0, self.n_load), 0, self.dF(xg).transpose(0, 2, 1)
             return
         dead = self._y[:, 1:] <= math.log(_TINY)  # (n_load, n_node - 1): 1 - F clamped
         j0 = _first_open(dead)  # spline intervals before j0: negligible for every load
-        c = np.ascontiguousarray(np.moveaxis(self._spl.c[:, j0:], -1, 0))[..., None]
-        d = xg[1 + j0 :] - self.x[1 + j0 : -1, None]  # local coordinate in spline interval
+        c = np.ascontiguousarray(np.moveaxis(self._spl.c[:, j0:], -1, 0))[:, :, None]
+        d = np.ascontiguousarray((xg[1 + j0 :] - self.x[1 + j0 : -1, None]).T)  # local: (m, n)
         step = _block(xg.size)
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
             jb = _first_open(dead[k])  # this block's own (later) start
             off = jb - j0
-            c0, c1, c2, c3 = (c[k, j, off:] for j in range(4))  # (rows, n_int - 1 - jb, 1)
-            db = d[off:]
+            c0, c1, c2, c3 = (c[k, j, :, off:] for j in range(4))  # (rows, 1, n_int - 1 - jb)
+            db = d[:, off:]
             y = c0 * db
             y += c1
             y *= db
@@ -380,11 +383,14 @@ class _Phi:
             val = np.where(low, lin, val)
         return val.reshape(shape)
 
-    def at_log_tau_per_load(self, log_tau: NDArray[np.float64], rows: slice | NDArray) -> NDArray:
+    def at_log_tau_per_load(
+        self, log_tau: NDArray[np.float64], rows: slice | NDArray, overwrite: bool = False
+    ) -> NDArray:
         """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``.
 
         As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up); ``rows``
-        a slice of the loads or one load index per row.
+        a slice of the loads or one load index per row. ``overwrite``: ``log_tau`` is a
+        temporary of the caller and may be used as scratch space.
         """
         shape = log_tau.shape
         l2 = log_tau.reshape(shape[0], -1)
@@ -394,7 +400,9 @@ class _Phi:
             return (phi1 * np.clip(t / self.tau1, 0.0, 1.0)).reshape(shape)
         grid, table = self._table()
         n = grid.size
-        u = l2 - grid[0]
+        phi1_zero = not np.any(phi1)
+        quiet = phi1_zero and self._first_zero  # below the grid: u = 0 at node 0, val = 0
+        u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else None)
         u *= 1.0 / (grid[1] - grid[0])
         np.clip(u, 0.0, n - 1.000001, out=u)
         i = u.astype(np.intp)
@@ -404,13 +412,15 @@ class _Phi:
         i += (rows * n)[:, None]
         flat = table.ravel()
         v0 = flat.take(i)
-        val = flat.take(i + 1)
+        val = flat[1:].take(i)  # the next nodes, without an array i + 1
         val -= v0
         val *= u
         val += v0
+        if quiet:  # the masked copy of 0 below would change nothing
+            return val.reshape(shape)
         log_tau1 = math.log(self.tau1)
         low = l2 < log_tau1
-        if not np.any(phi1):  # the linear first interval is 0 (every load in full contact
+        if phi1_zero:  # the linear first interval is 0 (every load in full contact
             np.copyto(val, 0.0, where=low)  # at the first node: the dense grid's 1 + 1e-9)
         elif low.any():  # the linear first interval; its exp where it applies only (as _exp)
             t = np.zeros(l2.shape)
@@ -433,9 +443,12 @@ class _Phi:
             live = np.flatnonzero(np.any(self.phi[:, 1:] != 0.0, axis=0))
             j = max(0, int(live[0]) - _TABLE_MARGIN) if live.size else 0
             g0 = int(np.searchsorted(grid, self.s[j], side="left"))
-            tab = np.zeros((self.phi.shape[0], n))
-            tab[:, g0:] = np.maximum(self._spl(grid[g0:]), 0.0)  # type: ignore[misc]
+            tab = np.empty((self.phi.shape[0], n))
+            tab[:, :g0] = 0.0
+            np.maximum(self._spl(grid[g0:]), 0.0, out=tab[:, g0:])  # type: ignore[misc]
             self._tab = (grid, tab)  # C order: the look-ups take from its flat view
+            # every row's node 0 is 0 and node 1 finite: a look-up below the grid gives +0.0
+            self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
         return self._tab
 
 

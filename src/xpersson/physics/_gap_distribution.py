@@ -118,8 +118,7 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
             d *= d
             d *= -0.5
             e = _exp(d)  # mirror pair: N(u - u1) (1 + exp(-2 u u1 / h^2))
-            b *= a
-            b *= -2.0
+            b *= -2.0 * a  # = (b a) (-2) bit for bit: scaling by 2 is exact (|b a| <= 1e300)
             np.maximum(b, _EXP_LO, out=b)  # 1 + exp(x) is exactly 1 below: same factor
             m = np.exp(b)
             m += 1.0

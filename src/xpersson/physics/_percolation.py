@@ -35,12 +35,13 @@ def critical_magnification(zeta: ArrayLike, area: ArrayLike, a_c: float) -> NDAr
     t = (a_lo - a_c) / np.where(a_lo > a_hi, a_lo - a_hi, 1.0)
     xc = lo + np.clip(t, 0.0, 1.0) * (hi - lo)
     if spl is not None:
-        c = spl.c  # (4, n_int, n_load)
         k = j - 1
+        c0, c1, c2, c3 = spl.c[:, k, rows]  # each load's crossing interval (fixed): once
+        c0_3, c1_2, xk = 3.0 * c0, 2.0 * c1, x[k]
         for _ in range(60):
-            d = xc - x[k]
-            f = ((c[0][k, rows] * d + c[1][k, rows]) * d + c[2][k, rows]) * d + c[3][k, rows]
-            df = (3.0 * c[0][k, rows] * d + 2.0 * c[1][k, rows]) * d + c[2][k, rows]
+            d = xc - xk
+            f = ((c0 * d + c1) * d + c2) * d + c3
+            df = (c0_3 * d + c1_2) * d + c2
             r = f - a_c
             lo = np.where(r > 0, xc, lo)
             hi = np.where(r <= 0, xc, hi)

@@ -19,7 +19,7 @@ from ._curve import (
 from ._energy import full_contact_energy
 from ._gap_distribution import Detachment
 from ._percolation import critical_magnification
-from ._subgap import _h2, _sub_mean_gap
+from ._subgap import _h2, _sub_mean_gap, _sub_prep
 
 __all__ = ["SolvedContact"]
 
@@ -122,7 +122,8 @@ class SolvedContact:
             raise ValueError(f"separation must be 'almqvist' or 'pressure', got {separation!r}")
         cur, q_L, q_hi = self.curve, self.q_L, self.q_hi
         z, A, N = _edges(cur, zeta_edges)
-        ubar = _sub_mean_gap(self.psd, self.E_star, self.phi, (z * q_L)[None, :], A, q_hi)
+        prep = _sub_prep(self.psd, self.E_star, (z * q_L)[None, :], q_hi)
+        ubar = _sub_mean_gap(self.psd, self.E_star, self.phi, None, A, q_hi, prep=prep)
         ubar[:, 0] = self.mean_gap()
         ubar[:, -1] = 0.0
         dA = N[:, 1:] - N[:, :-1]
@@ -132,22 +133,26 @@ class SolvedContact:
             dAu = A[:, :-1] * ubar[:, :-1] - A[:, 1:] * ubar[:, 1:]
             u1 = np.where(ok, dAu / safe, 0.0)
         else:
-            u1 = self._pressure_part(z, A, ubar, dA, ok, safe)
+            u1 = self._pressure_part(z, A, ubar, dA, ok, safe, prep)
         h = np.sqrt(_h2(self.psd, np.sqrt(z[:-1] * z[1:]) * q_L, q_hi))
         h_rms = float(np.sqrt(_h2(self.psd, q_L, q_hi)))
         return Detachment(self.p0, z, A, ubar, np.where(ok, dA, 0.0), np.maximum(u1, 0.0), h, h_rms)
 
-    def _pressure_part(self, z, A, ubar, dA, ok, safe) -> NDArray[np.float64]:  # noqa: ANN001
-        """``u1 = u + A (du/dA)_zeta`` of every bin: the pressure part of ``d(A u)/dA``."""
+    def _pressure_part(self, z, A, ubar, dA, ok, safe, prep) -> NDArray[np.float64]:  # noqa: ANN001
+        """``u1 = u + A (du/dA)_zeta`` of every bin: the pressure part of ``d(A u)/dA``.
+
+        ``prep``: :func:`_sub_prep` at every edge (the upper cut-offs are its edges 1..).
+        """
         # u at the bin's upper cut-off under the bin's *initial* pressure p0/A_k
         mixed = _sub_mean_gap(  # needed in the bins that detach area only
             self.psd,
             self.E_star,
             self.phi,
-            (z[1:] * self.q_L)[None, :],
+            None,
             A[:, :-1],
             self.q_hi,
             where=ok,
+            prep=(prep[0][:, 1:], prep[1][:, 1:]),
         )
         mixed[:, -1] = 0.0  # no scales left above the last edge
         u_next = ubar[:, 1:]

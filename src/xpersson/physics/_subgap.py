@@ -40,21 +40,13 @@ def _sub_panels(
     return (a + (b - a) * x).reshape(flat), ((b - a) * w).reshape(flat)
 
 
-def _sub_mean_gap(
-    psd: object,
-    E_star: float,
-    phi: _Phi,
-    q_a: NDArray[np.float64],
-    area_a: NDArray[np.float64],
-    q_hi: float,
-    where: NDArray[np.bool_] | None = None,
-) -> NDArray[np.float64]:
-    """Mean separation [m] of the apparent contact at ``q_a`` (n_load, n_a) under ``p0/A_a``.
+def _sub_prep(
+    psd: object, E_star: float, q_a: NDArray[np.float64], q_hi: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(ln tau_c,a, kernel)`` on the nodes of every ``q_a`` (shape ``q_a.shape + (m,)``).
 
-    ``u_a = pi int_{q_a}^{q_hi} q^2 C w_a Phi(tau_a(q) A_a^2 / p0^2) dq`` with ``tau_a``, ``w_a``
-    counted from ``q_a`` (physics.md §5.5a, §6.1). Vectorised: ``q = q_a exp(V s^2)``,
-    ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``. ``where`` (n_load, n_a):
-    compute only these entries (the others are 0).
+    Element by element in ``q_a``: the prepared nodes of a subset of cut-offs are the same
+    subset (bit for bit) of those of all cut-offs.
     """
     qa = np.asarray(q_a, dtype=float)
     V = np.log(np.maximum(q_hi / qa, 1.0))
@@ -66,7 +58,28 @@ def _sub_mean_gap(
     C = np.asarray(psd.C(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
     kern = dq * q**2 * C / np.sqrt(np.pi * dI3)
     # ln tau_eq = ln(tau_c,a) + 2 ln A_a: logs of the small factors, not of the tensor
-    log_tc = np.log(0.25 * np.pi * E_star**2 * dI3)
+    return np.log(0.25 * np.pi * E_star**2 * dI3), kern
+
+
+def _sub_mean_gap(
+    psd: object,
+    E_star: float,
+    phi: _Phi,
+    q_a: NDArray[np.float64],
+    area_a: NDArray[np.float64],
+    q_hi: float,
+    where: NDArray[np.bool_] | None = None,
+    prep: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+) -> NDArray[np.float64]:
+    """Mean separation [m] of the apparent contact at ``q_a`` (n_load, n_a) under ``p0/A_a``.
+
+    ``u_a = pi int_{q_a}^{q_hi} q^2 C w_a Phi(tau_a(q) A_a^2 / p0^2) dq`` with ``tau_a``, ``w_a``
+    counted from ``q_a`` (physics.md §5.5a, §6.1). Vectorised: ``q = q_a exp(V s^2)``,
+    ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``. ``where`` (n_load, n_a):
+    compute only these entries (the others are 0). ``prep``: :func:`_sub_prep` of ``q_a``,
+    when already at hand.
+    """
+    log_tc, kern = _sub_prep(psd, E_star, q_a, q_hi) if prep is None else prep
     with np.errstate(divide="ignore"):
         log_a2 = 2.0 * np.log(np.asarray(area_a, dtype=float))[..., None]
     n = phi.p0.size
@@ -79,7 +92,7 @@ def _sub_mean_gap(
     step = _block(math.prod(shape[1:]))
     for i in range(0, n, step):  # blocks of loads: the tensor's temporaries stay in cache
         k = slice(i, i + step)
-        vals = phi.at_log_tau_per_load(log_tc[k] + log_a2[k], k)
+        vals = phi.at_log_tau_per_load(log_tc[k] + log_a2[k], k, overwrite=True)
         vals *= kern[k]
         out[k] = vals.sum(axis=-1)
     return math.pi * out
@@ -111,7 +124,8 @@ def _sub_pairs(
     for i in range(0, ls.size, step):
         p = slice(i, i + step)
         lp, kp = ls[p], ks[p]
-        vals = phi.at_log_tau_per_load(gather(log_tc, lp, kp) + gather(log_a2, lp, kp), lp)
+        lt = gather(log_tc, lp, kp) + gather(log_a2, lp, kp)
+        vals = phi.at_log_tau_per_load(lt, lp, overwrite=True)
         vals *= gather(kern, lp, kp)
         out[lp, kp] = vals.sum(axis=-1)
     return out

@@ -188,27 +188,56 @@ def add_outputs(
 
 
 def _insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
-    """Insert checked, coordinate-free variables whose dims the Dataset already has.
+    """Insert checked variables whose dims the Dataset already has, or whose new dims carry
+    their own dimension coordinate (e.g. ``gap_pdf`` on ``u``).
 
     Such an insertion has nothing to align (:func:`xpersson.checks.checked_variable` has
-    checked the dims and sizes against ``ds``): the variables go into the Dataset as they are,
-    which is what ``ds.update`` ends with, without its merge and alignment of every variable.
-    Returns
-    False (nothing inserted) when any variable carries coordinates or a new dimension, or on an
-    xarray without the internal mapping; :meth:`xarray.Dataset.update` then does the work.
+    checked the dims and sizes against ``ds``): the variables, and a new dimension's coordinate
+    with its index, go into the Dataset as they are, which is what ``ds.update`` ends with,
+    without its merge and alignment of every variable. Returns False (nothing inserted) when a
+    variable carries any other coordinate, a new dimension without one or of conflicting
+    sizes, or on an xarray without the internal mappings; :meth:`xarray.Dataset.update` then
+    does the work.
     """
-    variables = getattr(ds, "_variables", None)
-    if not isinstance(variables, dict):  # pragma: no cover - other xarray versions
+    parts = [getattr(ds, a, None) for a in ("_variables", "_dims", "_indexes", "_coord_names")]
+    if not all(isinstance(p, dict | set) for p in parts):  # pragma: no cover - other xarray
         return False
-    sizes = dict(ds.sizes)
-    for da in checked.values():
-        if not isinstance(da, xr.Variable) and da.coords:  # a DataArray with coordinates
+    variables, dims, indexes, coord_names = parts
+    new = _new_coords(ds, checked)
+    if new is None:
+        return False
+    if new:
+        try:
+            from xarray.core.indexes import PandasIndex
+        except ImportError:  # pragma: no cover - other xarray versions
             return False
-        if any(d not in sizes or sizes[d] != n for d, n in zip(da.dims, da.shape, strict=True)):
-            return False
+        for name, var in new.items():
+            indexes[name], variables[name] = _index(PandasIndex, name, var)
+            coord_names.add(name)
+            dims[name] = var.shape[0]
     for name, da in checked.items():
         variables[name] = getattr(da, "variable", da)  # DataArray -> its Variable
     return True
+
+
+def _new_coords(ds: xr.Dataset, checked: Mapping[str, Any]) -> dict[str, xr.Variable] | None:
+    """The new dimensions' coordinates of ``checked`` (see :func:`_insert_direct`), or None
+    when the contribution needs :meth:`xarray.Dataset.update`."""
+    sizes = dict(ds.sizes)
+    new: dict[str, xr.Variable] = {}
+    for da in checked.values():
+        coords = {} if isinstance(da, xr.Variable) else da.coords
+        for c in coords:
+            var = coords[c].variable
+            if c in sizes or c in ds.variables or c in checked or var.dims != (c,):
+                return None  # an existing dim's coordinate, or not a dimension coordinate
+            if c in new and not new[c].identical(var):
+                return None
+            new[c] = var
+        for d, n in zip(da.dims, da.shape, strict=True):
+            if sizes.get(d, n) != n or (d not in sizes and d not in coords):
+                return None
+    return new
 
 
 _SPEC_ATTRS: dict[int, tuple[VarSpec, dict[str, Any]]] = {}
