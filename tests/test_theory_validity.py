@@ -18,7 +18,7 @@ E, NU = 10e6, 0.5
 E_STAR = E / (1 - NU**2)
 
 
-def _solve(p0, *, h_rms: str = "1 um") -> object:
+def _solve(p0, *, h_rms: str = "1 um", output: dict | None = None) -> object:
     scene = {
         "spectrum": {
             "model": "self_affine",
@@ -31,6 +31,8 @@ def _solve(p0, *, h_rms: str = "1 um") -> object:
         "material": {"E": f"{E} Pa", "nu": NU},
         "load": {"p0": [f"{p!r} Pa" for p in p0] if isinstance(p0, list) else f"{p0!r} Pa"},
     }
+    if output:
+        scene["output"] = output
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return xpersson.solve(scene)
@@ -82,22 +84,7 @@ def test_bits_are_distinct_powers_of_two(bit):
 def test_cf_flag_attributes_keep_the_variable_type_with_a_pressure_grid():
     """The P diagnostics (added after the flag) leave its CF attributes as they are: the valid
     range has the flag's own type (int8) with or without a stored P."""
-    scene = {
-        "spectrum": {
-            "model": "self_affine",
-            "H": 0.8,
-            "q_L": "1e3 1/m",
-            "q_r": "1e4 1/m",
-            "q_1": "1e8 1/m",
-            "h_rms": "1 um",
-        },
-        "material": {"E": f"{E} Pa", "nu": NU},
-        "load": {"p0": ["1e4 Pa", "1e5 Pa"]},
-        "output": {"zeta_per_decade": 2, "pressure_pdf": True, "p_points": 200},
-    }
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        ds = xpersson.solve(scene)
+    ds = _solve([1e4, 1e5], output={"zeta_per_decade": 2, "pressure_pdf": True, "p_points": 200})
     for name in ("theory_validity", "P_resolved"):
         attrs = ds[name].attrs
         assert attrs["valid_min"].dtype == attrs["valid_max"].dtype == ds[name].dtype == np.int8
