@@ -17,6 +17,7 @@ from ..physics.grids import persson_G
 from ..plugins import SceneContext, VarSpec
 from ..scene import ResolvedScene
 from ..schema import COORDS, CORE_VARIABLES, stamp
+from ._insert import cached_index, insert_direct
 from .diagnostics import pdf_resolution, regime_warnings, theory_validity
 
 __all__ = ["assemble", "add_outputs", "attributes", "diagnostics_notes", "squeeze_p0"]
@@ -123,7 +124,7 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
         indexes = {}
         for name, var in cvars.items():
             if var.dims == (name,):
-                indexes[name], cvars[name] = _index(PandasIndex, name, var)
+                indexes[name], cvars[name] = cached_index(PandasIndex, name, var)
         dims: dict[str, int] = {}
         for var in (*variables.values(), *cvars.values()):
             dims.update(zip(var.dims, var.shape, strict=True))
@@ -137,30 +138,6 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
         return ds
 
 
-_INDEXES: dict[tuple[str, bytes, tuple], tuple[Any, xr.Variable]] = {}
-
-
-def _index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variable]:
-    """The index of a dimension coordinate and its index variable, reused for equal values.
-
-    Solves of one scene share their zeta / q_psd (and often p0) coordinates; the pandas index
-    is immutable, so Datasets may share it (as ``isel`` and ``copy`` do). The variable is a
-    fresh shallow copy carrying ``var``'s attrs.
-    """
-    arr = np.asarray(var.values)
-    key = (name, arr.tobytes(), tuple(sorted((k, str(v)) for k, v in var.attrs.items())))
-    hit = _INDEXES.get(key)
-    if hit is None or hit[1].dtype != arr.dtype:
-        index = cls.from_variables({name: var}, options={})
-        hit = (index, index.create_variables({name: var})[name])
-        if len(_INDEXES) > 64:
-            _INDEXES.clear()
-        _INDEXES[key] = hit
-    out = hit[1].copy(deep=False)
-    out.attrs = dict(var.attrs)
-    return hit[0], out
-
-
 def add_outputs(
     ds: xr.Dataset, values: Mapping[str, Any], specs: Mapping[str, VarSpec], who: object
 ) -> None:
@@ -171,7 +148,7 @@ def add_outputs(
         return
     for name, da in checked.items():
         da.attrs.update(_spec_attrs(specs[name]))
-    if _insert_direct(ds, checked):
+    if insert_direct(ds, checked):
         return
     try:  # one Dataset update for all of the plugin's variables (one merge, not one each)
         ds.update(checked)
@@ -185,59 +162,6 @@ def add_outputs(
             raise checks.PluginFailure(
                 f"{who}: variable {name!r}: {exc}", plugin=who, variable=name
             ) from None
-
-
-def _insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
-    """Insert checked variables whose dims the Dataset already has, or whose new dims carry
-    their own dimension coordinate (e.g. ``gap_pdf`` on ``u``).
-
-    Such an insertion has nothing to align (:func:`xpersson.checks.checked_variable` has
-    checked the dims and sizes against ``ds``): the variables, and a new dimension's coordinate
-    with its index, go into the Dataset as they are, which is what ``ds.update`` ends with,
-    without its merge and alignment of every variable. Returns False (nothing inserted) when a
-    variable carries any other coordinate, a new dimension without one or of conflicting
-    sizes, or on an xarray without the internal mappings; :meth:`xarray.Dataset.update` then
-    does the work.
-    """
-    parts = [getattr(ds, a, None) for a in ("_variables", "_dims", "_indexes", "_coord_names")]
-    if not all(isinstance(p, dict | set) for p in parts):  # pragma: no cover - other xarray
-        return False
-    variables, dims, indexes, coord_names = parts
-    new = _new_coords(ds, checked)
-    if new is None:
-        return False
-    if new:
-        try:
-            from xarray.core.indexes import PandasIndex
-        except ImportError:  # pragma: no cover - other xarray versions
-            return False
-        for name, var in new.items():
-            indexes[name], variables[name] = _index(PandasIndex, name, var)
-            coord_names.add(name)
-            dims[name] = var.shape[0]
-    for name, da in checked.items():
-        variables[name] = getattr(da, "variable", da)  # DataArray -> its Variable
-    return True
-
-
-def _new_coords(ds: xr.Dataset, checked: Mapping[str, Any]) -> dict[str, xr.Variable] | None:
-    """The new dimensions' coordinates of ``checked`` (see :func:`_insert_direct`), or None
-    when the contribution needs :meth:`xarray.Dataset.update`."""
-    sizes = dict(ds.sizes)
-    new: dict[str, xr.Variable] = {}
-    for da in checked.values():
-        coords = {} if isinstance(da, xr.Variable) else da.coords
-        for c in coords:
-            var = coords[c].variable
-            if c in sizes or c in ds.variables or c in checked or var.dims != (c,):
-                return None  # an existing dim's coordinate, or not a dimension coordinate
-            if c in new and not new[c].identical(var):
-                return None
-            new[c] = var
-        for d, n in zip(da.dims, da.shape, strict=True):
-            if sizes.get(d, n) != n or (d not in sizes and d not in coords):
-                return None
-    return new
 
 
 _SPEC_ATTRS: dict[int, tuple[VarSpec, dict[str, Any]]] = {}

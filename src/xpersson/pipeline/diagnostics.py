@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ..plugins import VarSpec
+from ._insert import insert_or_set
 
 __all__ = [
     "P_RTOL",
@@ -103,7 +104,7 @@ def pdf_resolution(ds: Any) -> str | None:
     flags["flag_values"] = np.array([0, 1], np.int8)
     # CF 2.5: the valid range has the variable's own type
     flags["valid_min"], flags["valid_max"] = np.int8(0), np.int8(1)
-    _insert(
+    insert_or_set(
         ds,
         {
             "P_integral": xr.Variable(("p0", "zeta"), integral, attrs["P_integral"], fastpath=True),
@@ -200,26 +201,7 @@ def theory_validity(ds: Any) -> None:
     attrs = _validity_attrs()
     # a Variable on xarray's fast path: a (dims, data) tuple makes xarray probe for dask arrays,
     # which imports dask.array (~0.12 s) in a solve that has no use for it
-    _insert(ds, {"theory_validity": xr.Variable(("p0",), flags, attrs, fastpath=True)})
-
-
-def _insert(ds: Any, new: dict[str, xr.Variable]) -> None:
-    """Add coordinate-free Variables along dimensions ``ds`` has, with their sizes.
-
-    Nothing to align: new names go into the Dataset as ``Dataset.__setitem__`` ends, without
-    its merge and alignment of every variable (~1 ms a variable); ``__setitem__`` for a name
-    the Dataset has (a variable replaced) or on an xarray without the internal mapping.
-    """
-    variables = getattr(ds, "_variables", None)
-    sizes = ds.sizes
-    fits = all(
-        sizes.get(d) == n for v in new.values() for d, n in zip(v.dims, v.shape, strict=True)
-    )
-    for name, value in new.items():
-        if isinstance(variables, dict) and fits and name not in variables:
-            variables[name] = value
-        else:
-            ds[name] = value
+    insert_or_set(ds, {"theory_validity": xr.Variable(("p0",), flags, attrs, fastpath=True)})
 
 
 def _last_zeta(var: Any) -> np.ndarray:
