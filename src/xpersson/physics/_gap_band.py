@@ -67,43 +67,41 @@ def windowed_sum(
     j1: NDArray[np.intp],
     shape: tuple[int, int],
     values: Callable[[NDArray[np.intp], NDArray[np.intp]], NDArray[np.float64]],
-) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.intp]]:
-    """``sum_t values_t[u]`` over each term's window of columns, per load.
+) -> NDArray[np.float64]:
+    """``sum_t values_t[u]`` over each term's window of columns ``[j0, j1)``, per load.
 
     Parameters
     ----------
     load, j0, j1 : ndarray of int, (n_term,)
-        Each term's load and the columns ``[j0, j1)`` it must be evaluated on.
+        Each term's load and the columns ``[j0, j1)`` it is evaluated on (0 elsewhere).
     shape : (int, int)
         ``(n_load, n_u)`` of the result.
     values : callable
         ``values(terms, cols)`` gives the terms' values ``(n, w)`` on the columns ``cols``
-        ``(n, w)`` (a window may be widened beyond ``[j0, j1)``: values there must be exact).
+        ``(n, w)``; terms of similar width are padded to a common one, the padding columns
+        set to ``n_u`` (a dump column: its values, which must be finite, are dropped).
 
     Returns
     -------
-    out : ndarray, (n_load, n_u)
-        Sum of the windows' values (0 outside every window).
-    start, stop : ndarray of int, (n_term,)
-        The columns ``[start, stop)`` each term was evaluated on (``[j0, j0)`` if empty).
+    ndarray, (n_load, n_u)
+        Sum of the windows' values.
     """
     n_load, n_u = shape
     width = j1 - j0
     order = np.argsort(width, kind="stable")
     ws = width[order]
-    start, stop = j0.copy(), j0.copy()
-    out = np.zeros(n_load * n_u)
+    out = np.zeros(n_load * (n_u + 1))
     i = int(np.searchsorted(ws, 1))  # empty windows: nothing to evaluate
     while i < order.size:
         # the largest run of terms whose padded block (count x widest) fits the block size
         size = np.arange(1, order.size - i + 1) * ws[i:]
         c = max(1, int(np.searchsorted(size, _WIN_BLOCK, side="right")))
         sel, w = order[i : i + c], int(ws[i + c - 1])
-        s = np.minimum(j0[sel], n_u - w)
-        start[sel], stop[sel] = s, s + w
-        cols = s[:, None] + np.arange(w)
+        cols = j0[sel, None] + np.arange(w)
+        if ws[i] < w:
+            cols = np.where(cols < j1[sel, None], cols, n_u)
         v = values(sel, cols)
-        cols += (load[sel] * n_u)[:, None]
+        cols += (load[sel] * (n_u + 1))[:, None]
         out += np.bincount(cols.ravel(), weights=v.ravel(), minlength=out.size)
         i += c
-    return out.reshape(n_load, n_u), start, stop
+    return out.reshape(n_load, n_u + 1)[:, :n_u]

@@ -12,8 +12,8 @@ from scipy.special import erf
 
 from ._curve import _TINY
 from ._fasterf import fast_erf
-from ._gap_band import _WIN_BLOCK, pairs, rank, sorted_rows, windowed_sum
 from ._fastnum import _BLOCK, _EXP_LO, _exp
+from ._gap_band import _WIN_BLOCK, pairs, rank, sorted_rows, windowed_sum
 
 __all__ = ["Detachment", "gap_pdf", "gap_cdf", "gap_mean"]
 
@@ -164,13 +164,14 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
     ls, ks = pairs(weight)
     a, w = centre(ls, ks), weight[ls, ks]
     j0, j1 = _bands(u[None, :], np.zeros_like(ls), a, inv_h[ks], _GAUSS_BAND, w)
+    u_h = np.concatenate((u_h, np.zeros((u_h.shape[0], 1))), axis=1)  # + the dump column
 
     def values(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
-        e = kernel(np.take(u_h, (ks[t] * u.size)[:, None] + cols), a[t][:, None])
+        e = kernel(np.take(u_h, (ks[t] * (u.size + 1))[:, None] + cols), a[t][:, None])
         e *= w[t][:, None]
         return e
 
-    return windowed_sum(ls, j0, j1, (det.weight.shape[0], u.size), values)[0]
+    return windowed_sum(ls, j0, j1, (det.weight.shape[0], u.size), values)
 
 
 def _erf_terms_dense(det: Detachment, u: NDArray, inv: NDArray, negligible: float) -> NDArray:
@@ -207,39 +208,48 @@ def gap_cdf(det: Detachment, u: ArrayLike, *, negligible: float = 0.0) -> NDArra
     inv = 1.0 / (_SQRT2 * np.maximum(det.h, _TINY))
     rows = u.ndim == 2
     u2 = u if rows else u[None, :]
-    if not sorted_rows(u2):
+    if not (sorted_rows(u2) and np.all(u2[:, 0] >= 0.0)):
         return 0.5 * _erf_terms_dense(det, u, inv, negligible)
     n_load, n_u = det.weight.shape[0], u.shape[-1]
     ls, ks = pairs(det.weight, negligible)
     with np.errstate(over="ignore", invalid="ignore"):
-        a = np.minimum(det.u1[ls, ks] * inv[ks], 1e150)
-    # erf(b - a) + erf(b + a) = [1 + erf(b - s)] + [erf(b - s') - 1] with s = a, s' = -a:
-    # the first term is 0 left of its band, the second 0 right of it (2 beyond the other side)
-    s = np.concatenate((a, -a))
-    one = np.repeat([1.0, -1.0], ls.size)
-    load = np.concatenate((ls, ls))
-    iv, w = np.tile(inv[ks], 2), np.tile(det.weight[ls, ks], 2)
-    row = load if rows else np.zeros_like(load)
-    j0, j1 = _bands(u2, row, s, iv, _ERF_BAND, w)
+        a = np.minimum(np.abs(det.u1[ls, ks]) * inv[ks], 1e150)  # the sum is even in u1
+    iv, w = inv[ks], det.weight[ls, ks]
+    row = ls if rows else np.zeros_like(ls)
+    # u >= 0: erf(b + a) varies on [0, j2), erf(b - a) on [j0, j1) (j0 = 0 where j2 > 0)
+    j0, j1 = _bands(u2, row, a, iv, _ERF_BAND, w)
+    j2 = _bands(u2, row, -a, iv, _ERF_BAND, w)[1]
+    j0 = np.maximum(j0, j2)  # both vary on [0, j2), erf(b + a) = 1 on [j2, j1)
+    u2 = np.concatenate((u2, np.zeros((u2.shape[0], 1))), axis=1)  # + the dump column
 
-    def values(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
+    def scaled(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
+        """``u / (sqrt2 h)`` on the columns (as the dense form: no inf - inf below)."""
         with np.errstate(over="ignore", invalid="ignore"):
-            b = np.take(u2, (row[t] * n_u)[:, None] + cols)
+            b = np.take(u2, (row[t] * (n_u + 1))[:, None] + cols)
             b *= iv[t][:, None]
-            np.minimum(b, 1e150, out=b)
-            b -= s[t][:, None]
-        fast_erf(b, out=b)
-        b += one[t][:, None]
-        b *= w[t][:, None]
-        return b
+            return np.minimum(b, 1e150, out=b)
 
-    cdf, start, stop = windowed_sum(load, j0, j1, (n_load, n_u), values)
-    # outside its window a term is 0 or 2 w: a difference array summed along u
-    first, base = one > 0, load * (n_u + 1)
-    left = ~first & (start > 0)  # the mirror term left of its band (u < 0 only)
-    at = np.concatenate((base[first] + stop[first], base[left], base[left] + start[left]))
-    step = 2.0 * np.concatenate((w[first], -w[left], w[left]))
-    diff = np.bincount(at, weights=step, minlength=n_load * (n_u + 1))
+    def both(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
+        b, at = scaled(t, cols), a[t][:, None]
+        v = fast_erf(b - at)
+        b += at
+        v += fast_erf(b, out=b)
+        v *= w[t][:, None]
+        return v
+
+    def one(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
+        b = scaled(t, cols)
+        b -= a[t][:, None]
+        v = fast_erf(b, out=b)
+        v += 1.0
+        v *= w[t][:, None]
+        return v
+
+    shape = (n_load, n_u)
+    cdf = windowed_sum(ls, np.zeros_like(j2), j2, shape, both)
+    cdf += windowed_sum(ls, j0, j1, shape, one)
+    # right of its band each pair adds 2 w (left of it 0): a difference array summed along u
+    diff = np.bincount(ls * (n_u + 1) + j1, weights=2.0 * w, minlength=n_load * (n_u + 1))
     cdf += np.cumsum(diff.reshape(n_load, n_u + 1)[:, :n_u], axis=1)
     cdf *= 0.5
     return np.maximum.accumulate(cdf, axis=1, out=cdf)
