@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import erf as _scipy_erf
 
-__all__ = ["ERF_ERROR", "fast_erf"]
+__all__ = ["ERF_DIFF_B", "ERF_DIFF_ERROR", "ERF_ERROR", "erf_diff_coefficients", "fast_erf"]
 
 #: Nodes per unit of ``x`` (a power of 2: ``|x| * _N`` and its fractional part are exact).
 _N = 512
@@ -83,3 +83,32 @@ def fast_erf(x: NDArray[np.float64], out: NDArray[np.float64] | None = None) -> 
     if nan is not None:
         res[nan] = np.nan
     return res
+
+
+#: ``|b|`` up to which :func:`erf_diff_coefficients` apply, and their error bound (absolute).
+ERF_DIFF_B = 0.5
+ERF_DIFF_ERROR = 5e-14
+_N_DIFF = 10
+
+
+def erf_diff_coefficients(a: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Coefficients ``c_n(a)`` of ``erf(a + b) - erf(a - b) = b sum_n c_n (b^2)^n``, (10, n_a).
+
+    ``c_n = (4/sqrt(pi)) exp(-a^2) H_2n(a) / (2n + 1)!`` (``H`` the physicists' Hermite
+    polynomials: the odd derivatives of ``erf`` at ``a``), ``n = 0..9``. For ``|b| <= 0.5`` the
+    omitted terms total below :data:`ERF_DIFF_ERROR` for every ``a`` (Cramer's bound
+    ``|H_m(x)| exp(-x^2/2) <= 1.0865 sqrt(2^m m!)`` makes the first, ``n = 10``, at most
+    3.7e-14 and each next one 20x smaller). Evaluating the series costs a fifth of two
+    :func:`fast_erf`. ``a`` is clipped to 6 (larger ``a`` leave the series unused).
+    """
+    a = np.minimum(np.asarray(a, dtype=float), 6.0)
+    h_prev, h = np.ones_like(a), 2.0 * a  # H_0, H_1
+    out = np.empty((_N_DIFF, a.size))
+    scale = (4.0 / math.sqrt(math.pi)) * np.exp(-a * a)
+    out[0] = scale
+    for m in range(1, 2 * _N_DIFF - 1):  # H_{m+1} = 2a H_m - 2m H_{m-1}
+        h_prev, h = h, 2.0 * a * h - 2.0 * m * h_prev
+        if m % 2:  # h = H_{m+1}, m + 1 even
+            n = (m + 1) // 2
+            out[n] = scale * h / math.factorial(2 * n + 1)
+    return out

@@ -77,8 +77,8 @@ def windowed_sum(
     shape : (int, int)
         ``(n_load, n_u)`` of the result.
     values : callable
-        ``values(terms, cols)`` gives the terms' values ``(n, w)`` on the columns ``cols``
-        ``(n, w)``; terms of similar width are padded to a common one, the padding columns
+        ``values(terms, cols)`` gives the terms' values ``(w, n)`` on the columns ``cols``
+        ``(w, n)`` (terms along the rows: per-term factors broadcast as ``x[terms]``); terms of similar width are padded to a common one, the padding columns
         set to ``n_u`` (a dump column: its values, which must be finite, are dropped).
 
     Returns
@@ -97,11 +97,11 @@ def windowed_sum(
         size = np.arange(1, order.size - i + 1) * ws[i:]
         c = max(1, int(np.searchsorted(size, _WIN_BLOCK, side="right")))
         sel, w = order[i : i + c], int(ws[i + c - 1])
-        cols = j0[sel, None] + np.arange(w)
+        cols = np.arange(w)[:, None] + j0[sel]  # (w, n): long rows, the terms along them
         if ws[i] < w:
-            cols = np.where(cols < j1[sel, None], cols, n_u)
+            cols = np.where(cols < j1[sel], cols, n_u)
         v = values(sel, cols)
-        cols += (load[sel] * (n_u + 1))[:, None]
+        cols += load[sel] * (n_u + 1)
         out += np.bincount(cols.ravel(), weights=v.ravel(), minlength=out.size)
         i += c
     return out.reshape(n_load, n_u + 1)[:, :n_u]

@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf
 
 from ._curve import _TINY
-from ._fasterf import fast_erf
+from ._fasterf import ERF_DIFF_B, erf_diff_coefficients, fast_erf
 from ._fastnum import _BLOCK, _EXP_LO, _exp
 from ._gap_band import _WIN_BLOCK, pairs, rank, sorted_rows, windowed_sum
 
@@ -167,8 +167,8 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
     u_h = np.concatenate((u_h, np.zeros((u_h.shape[0], 1))), axis=1)  # + the dump column
 
     def values(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
-        e = kernel(np.take(u_h, (ks[t] * (u.size + 1))[:, None] + cols), a[t][:, None])
-        e *= w[t][:, None]
+        e = kernel(np.take(u_h, ks[t] * (u.size + 1) + cols), a[t])
+        e *= w[t]
         return e
 
     return windowed_sum(ls, j0, j1, (det.weight.shape[0], u.size), values)
@@ -210,7 +210,15 @@ def gap_cdf(det: Detachment, u: ArrayLike, *, negligible: float = 0.0) -> NDArra
     u2 = u if rows else u[None, :]
     if not (sorted_rows(u2) and np.all(u2[:, 0] >= 0.0)):
         return 0.5 * _erf_terms_dense(det, u, inv, negligible)
-    n_load, n_u = det.weight.shape[0], u.shape[-1]
+    return _cdf_banded(det, u2, inv, rows, negligible)
+
+
+def _cdf_banded(
+    det: Detachment, u2: NDArray, inv: NDArray, rows: bool, negligible: float
+) -> NDArray[np.float64]:
+    """:func:`gap_cdf` for rows of ``u >= 0`` sorted ascending: each pair on the columns where
+    its terms vary (the rest as constants), by a Taylor series where ``u/(sqrt2 h) <= 0.5``."""
+    n_load, n_u = det.weight.shape[0], u2.shape[1]
     ls, ks = pairs(det.weight, negligible)
     with np.errstate(over="ignore", invalid="ignore"):
         a = np.minimum(np.abs(det.u1[ls, ks]) * inv[ks], 1e150)  # the sum is even in u1
@@ -220,33 +228,50 @@ def gap_cdf(det: Detachment, u: ArrayLike, *, negligible: float = 0.0) -> NDArra
     j0, j1 = _bands(u2, row, a, iv, _ERF_BAND, w)
     j2 = _bands(u2, row, -a, iv, _ERF_BAND, w)[1]
     j0 = np.maximum(j0, j2)  # both vary on [0, j2), erf(b + a) = 1 on [j2, j1)
+    ok = np.isfinite(a) & np.isfinite(w)
+    jt = np.where(ok, np.minimum(rank(u2, row, ERF_DIFF_B / iv), j2), 0)  # series on [0, jt)
+    with np.errstate(invalid="ignore", over="ignore"):
+        coef = erf_diff_coefficients(a) * w  # (10, n_pair), unused where a > 5.3
     u2 = np.concatenate((u2, np.zeros((u2.shape[0], 1))), axis=1)  # + the dump column
 
     def scaled(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
         """``u / (sqrt2 h)`` on the columns (as the dense form: no inf - inf below)."""
         with np.errstate(over="ignore", invalid="ignore"):
-            b = np.take(u2, (row[t] * (n_u + 1))[:, None] + cols)
-            b *= iv[t][:, None]
+            b = np.take(u2, row[t] * (n_u + 1) + cols)
+            b *= iv[t]
             return np.minimum(b, 1e150, out=b)
 
+    def series(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
+        b = scaled(t, cols)
+        b2 = b * b
+        c = coef[:, t]
+        v = b2 * c[-1]
+        for n in range(c.shape[0] - 2, 0, -1):
+            v += c[n]
+            v *= b2
+        v += c[0]
+        v *= b
+        return v
+
     def both(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
-        b, at = scaled(t, cols), a[t][:, None]
+        b, at = scaled(t, cols), a[t]
         v = fast_erf(b - at)
         b += at
         v += fast_erf(b, out=b)
-        v *= w[t][:, None]
+        v *= w[t]
         return v
 
     def one(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
         b = scaled(t, cols)
-        b -= a[t][:, None]
+        b -= a[t]
         v = fast_erf(b, out=b)
         v += 1.0
-        v *= w[t][:, None]
+        v *= w[t]
         return v
 
     shape = (n_load, n_u)
-    cdf = windowed_sum(ls, np.zeros_like(j2), j2, shape, both)
+    cdf = windowed_sum(ls, np.zeros_like(jt), jt, shape, series)
+    cdf += windowed_sum(ls, jt, j2, shape, both)
     cdf += windowed_sum(ls, j0, j1, shape, one)
     # right of its band each pair adds 2 w (left of it 0): a difference array summed along u
     diff = np.bincount(ls * (n_u + 1) + j1, weights=2.0 * w, minlength=n_load * (n_u + 1))
