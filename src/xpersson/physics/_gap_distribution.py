@@ -213,6 +213,45 @@ def gap_cdf(det: Detachment, u: ArrayLike, *, negligible: float = 0.0) -> NDArra
     return _cdf_banded(det, u2, inv, rows, negligible)
 
 
+def _series_sum(
+    ls: NDArray, jt: NDArray, coef: NDArray, iv: NDArray, u2: NDArray, rows: bool, n_load: int
+) -> NDArray[np.float64]:
+    """``sum_k w [erf(a + b) - erf(a - b)]`` over each load's pairs on their columns ``[0, jt)``
+    (where ``b = u iv <= 0.5``), as one polynomial in ``u sigma`` per (load, column).
+
+    ``coef`` (n_term, n_pair) holds ``w c_n (iv/sigma)^(2n+1)``; a column's polynomial sums the
+    coefficients of the pairs whose prefix holds it, accumulated from the largest ``jt`` down
+    (no differences: every term stays bounded by ``w |c_n| 0.5^(2n+1)`` where it is used).
+    """
+    n_u = u2.shape[1]
+    out = np.zeros((n_load, n_u))
+    use = np.flatnonzero(jt > 0)
+    if not use.size:
+        return out
+    sigma = float(np.max(iv[use]))
+    lu, ju = ls[use], jt[use]
+    order = np.lexsort((-ju, lu))  # per load, the longest prefix first
+    lu, ju, c = lu[order], ju[order], coef[:, use[order]]
+    first = np.searchsorted(lu, lu)  # slot of each pair within its load
+    slot = np.arange(lu.size) - first
+    acc = np.zeros((c.shape[0], n_load, int(slot.max()) + 2))
+    acc[:, lu, slot + 1] = c
+    np.cumsum(acc, axis=2, out=acc)  # acc[:, l, m]: the m longest prefixes of load l
+    # columns j of load l lie in the prefixes of the pairs with jt > j: count them
+    cnt = np.bincount(lu * (n_u + 1) + ju, minlength=n_load * (n_u + 1)).reshape(n_load, -1)
+    cnt = np.cumsum(cnt[:, ::-1], axis=1)[:, ::-1][:, 1:]  # (n_load, n_u)
+    x = np.broadcast_to(u2 * sigma, (n_load, n_u)) if not rows else u2 * sigma
+    x2 = x * x
+    take = lambda n: np.take_along_axis(acc[n], cnt, axis=1)  # noqa: E731
+    np.multiply(x2, take(c.shape[0] - 1), out=out)
+    for n in range(c.shape[0] - 2, 0, -1):
+        out += take(n)
+        out *= x2
+    out += take(0)
+    out *= x
+    return out
+
+
 def _cdf_banded(
     det: Detachment, u2: NDArray, inv: NDArray, rows: bool, negligible: float
 ) -> NDArray[np.float64]:
@@ -232,6 +271,10 @@ def _cdf_banded(
     jt = np.where(ok, np.minimum(rank(u2, row, ERF_DIFF_B / iv), j2), 0)  # series on [0, jt)
     with np.errstate(invalid="ignore", over="ignore"):
         coef = erf_diff_coefficients(a) * w  # (10, n_pair), unused where a > 5.3
+    if np.any(jt > 0):  # the series in u sigma: its bins' 1/h within 1e10 of sigma
+        sigma = float(np.max(iv[jt > 0]))
+        jt[iv < 1e-10 * sigma] = 0
+        coef *= (iv / sigma) ** (2 * np.arange(coef.shape[0]) + 1)[:, None]
     u2 = np.concatenate((u2, np.zeros((u2.shape[0], 1))), axis=1)  # + the dump column
 
     def scaled(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
@@ -240,18 +283,6 @@ def _cdf_banded(
             b = np.take(u2, row[t] * (n_u + 1) + cols)
             b *= iv[t]
             return np.minimum(b, 1e150, out=b)
-
-    def series(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
-        b = scaled(t, cols)
-        b2 = b * b
-        c = coef[:, t]
-        v = b2 * c[-1]
-        for n in range(c.shape[0] - 2, 0, -1):
-            v += c[n]
-            v *= b2
-        v += c[0]
-        v *= b
-        return v
 
     def both(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
         b, at = scaled(t, cols), a[t]
@@ -270,7 +301,7 @@ def _cdf_banded(
         return v
 
     shape = (n_load, n_u)
-    cdf = windowed_sum(ls, np.zeros_like(jt), jt, shape, series)
+    cdf = _series_sum(ls, jt, coef, iv, u2[:, :n_u], rows, n_load)
     cdf += windowed_sum(ls, jt, j2, shape, both)
     cdf += windowed_sum(ls, j0, j1, shape, one)
     # right of its band each pair adds 2 w (left of it 0): a difference array summed along u
