@@ -48,16 +48,16 @@ def rank(u: NDArray[np.float64], row: NDArray[np.intp], x: NDArray[np.float64]) 
     n_u = u.shape[1]
     flat = u.ravel()
     base = row * n_u
+    if u.shape[0] == 1:  # one row: numpy's own
+        return np.searchsorted(flat, x, side="left").astype(np.intp)
     lo = np.zeros(x.size, dtype=np.intp)
     hi = np.full(x.size, n_u, dtype=np.intp)
-    for _ in range(int(n_u).bit_length() + 1):
-        act = lo < hi
-        if not act.any():
-            break
+    for _ in range(int(n_u).bit_length()):
         mid = (lo + hi) >> 1
         below = np.take(flat, base + np.minimum(mid, n_u - 1)) < x
-        lo = np.where(act & below, mid + 1, lo)
-        hi = np.where(act & ~below, mid, hi)
+        below &= mid < hi
+        lo = np.where(below, mid + 1, lo)
+        hi = np.where(below, hi, mid)
     return lo
 
 

@@ -240,14 +240,15 @@ def _series_sum(
     # columns j of load l lie in the prefixes of the pairs with jt > j: count them
     cnt = np.bincount(lu * (n_u + 1) + ju, minlength=n_load * (n_u + 1)).reshape(n_load, -1)
     cnt = np.cumsum(cnt[:, ::-1], axis=1)[:, ::-1][:, 1:]  # (n_load, n_u)
-    x = np.broadcast_to(u2 * sigma, (n_load, n_u)) if not rows else u2 * sigma
+    x = u2 * sigma if rows else np.broadcast_to(u2 * sigma, (n_load, n_u))
     x2 = x * x
-    take = lambda n: np.take_along_axis(acc[n], cnt, axis=1)  # noqa: E731
-    np.multiply(x2, take(c.shape[0] - 1), out=out)
-    for n in range(c.shape[0] - 2, 0, -1):
-        out += take(n)
+    cnt += (np.arange(n_load) * acc.shape[2])[:, None]
+    d = np.take(acc.reshape(acc.shape[0], -1), cnt, axis=1)  # (n_term, n_load, n_u)
+    np.multiply(x2, d[-1], out=out)
+    for n in range(d.shape[0] - 2, 0, -1):
+        out += d[n]
         out *= x2
-    out += take(0)
+    out += d[0]
     out *= x
     return out
 
@@ -263,12 +264,16 @@ def _cdf_banded(
         a = np.minimum(np.abs(det.u1[ls, ks]) * inv[ks], 1e150)  # the sum is even in u1
     iv, w = inv[ks], det.weight[ls, ks]
     row = ls if rows else np.zeros_like(ls)
-    # u >= 0: erf(b + a) varies on [0, j2), erf(b - a) on [j0, j1) (j0 = 0 where j2 > 0)
-    j0, j1 = _bands(u2, row, a, iv, _ERF_BAND, w)
-    j2 = _bands(u2, row, -a, iv, _ERF_BAND, w)[1]
+    # u >= 0: erf(b + a) varies on [0, j2), erf(b - a) on [j0, j1), the series serves [0, jt)
+    with np.errstate(over="ignore", invalid="ignore"):
+        top = np.full_like(a, ERF_DIFF_B)
+        bounds = np.concatenate((a - _ERF_BAND, a + _ERF_BAND, _ERF_BAND - a, top)) / np.tile(iv, 4)
+    j0, j1, j2, jt = rank(u2, np.tile(row, 4), bounds).reshape(4, -1)
+    ok = np.isfinite(a) & np.isfinite(w) & np.isfinite(bounds[: 3 * a.size].reshape(3, -1)).all(0)
+    j0[~ok], j1[~ok], j2[~ok] = n_u, n_u, n_u  # evaluated everywhere by both erfs
+    jt = np.where(ok, np.minimum(jt, j2), 0)
+    j1 = np.maximum(j1, j0)
     j0 = np.maximum(j0, j2)  # both vary on [0, j2), erf(b + a) = 1 on [j2, j1)
-    ok = np.isfinite(a) & np.isfinite(w)
-    jt = np.where(ok, np.minimum(rank(u2, row, ERF_DIFF_B / iv), j2), 0)  # series on [0, jt)
     with np.errstate(invalid="ignore", over="ignore"):
         coef = erf_diff_coefficients(a) * w  # (10, n_pair), unused where a > 5.3
     if np.any(jt > 0):  # the series in u sigma: its bins' 1/h within 1e10 of sigma
