@@ -106,6 +106,8 @@ def _by_pairs(
 #: 38.61 widths (``exp(-745.14)`` underflows to 0) and an ``erf`` exactly +-1 beyond 5.93.
 _GAUSS_BAND = 39.0
 _ERF_BAND = 5.3
+#: Windows wider than this fraction of the grid are evaluated as whole rows.
+_WIDE = 0.9
 
 
 def _bands(
@@ -164,6 +166,12 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
     ls, ks = pairs(weight)
     a, w = centre(ls, ks), weight[ls, ks]
     j0, j1 = _bands(u[None, :], np.zeros_like(ls), a, inv_h[ks], _GAUSS_BAND, w)
+    wide = j1 - j0 > _WIDE * u.size  # these whole rows at once: no scatter to pay
+    dense = np.zeros_like(weight)
+    dense[ls[wide], ks[wide]] = w[wide]
+    rho = _by_pairs(
+        dense, u.size, lambda ls, ks: kernel(u_h[ks], centre(ls, ks)[:, None]), 0.0, _WIN_BLOCK
+    )
     u_h = np.concatenate((u_h, np.zeros((u_h.shape[0], 1))), axis=1)  # + the dump column
 
     def values(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
@@ -171,7 +179,11 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
         e *= w[t]
         return e
 
-    return windowed_sum(ls, j0, j1, (det.weight.shape[0], u.size), values)
+    narrow = np.flatnonzero(~wide)
+    rho += windowed_sum(
+        ls[narrow], j0[narrow], j1[narrow], rho.shape, lambda t, c: values(narrow[t], c)
+    )
+    return rho
 
 
 def _erf_terms_dense(det: Detachment, u: NDArray, inv: NDArray, negligible: float) -> NDArray:
