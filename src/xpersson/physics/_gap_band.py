@@ -6,7 +6,8 @@ inside a band of ``u`` around its centre (a Gaussian is exactly 0 farther than 3
 (term, ``u``) tensor is such constant. Here each term is evaluated on a window of columns that
 holds its band (terms of similar width padded to a common width, blocks kept cache-sized) and
 the windows are summed per load with ``np.bincount``; the constant parts outside the windows
-are added by the caller (a difference array and one ``cumsum``).
+are added by the caller (a difference array and one ``cumsum``). The windows are laid out
+``(width, terms)``: the per-term factors broadcast along long rows.
 """
 
 from __future__ import annotations
@@ -78,8 +79,9 @@ def windowed_sum(
         ``(n_load, n_u)`` of the result.
     values : callable
         ``values(terms, cols)`` gives the terms' values ``(w, n)`` on the columns ``cols``
-        ``(w, n)`` (terms along the rows: per-term factors broadcast as ``x[terms]``); terms of similar width are padded to a common one, the padding columns
-        set to ``n_u`` (a dump column: its values, which must be finite, are dropped).
+        ``(w, n)`` (terms along the rows: per-term factors broadcast as ``x[terms]``). Terms
+        of similar width are padded to a common one, the padding columns set to ``n_u`` (a
+        dump column: its values, which must be finite, are dropped).
 
     Returns
     -------

@@ -252,7 +252,8 @@ def _series_sum(
     # columns j of load l lie in the prefixes of the pairs with jt > j: count them
     cnt = np.bincount(lu * (n_u + 1) + ju, minlength=n_load * (n_u + 1)).reshape(n_load, -1)
     cnt = np.cumsum(cnt[:, ::-1], axis=1)[:, ::-1][:, 1:]  # (n_load, n_u)
-    x = u2 * sigma if rows else np.broadcast_to(u2 * sigma, (n_load, n_u))
+    x = np.minimum(u2 * sigma, 1e150)  # no 0 * inf where no prefix holds the column
+    x = x if rows else np.broadcast_to(x, (n_load, n_u))
     x2 = x * x
     cnt += (np.arange(n_load) * acc.shape[2])[:, None]
     d = np.take(acc.reshape(acc.shape[0], -1), cnt, axis=1)  # (n_term, n_load, n_u)
