@@ -220,7 +220,7 @@ def gap_cdf(det: Detachment, u: ArrayLike, *, negligible: float = 0.0) -> NDArra
     inv = 1.0 / (_SQRT2 * np.maximum(det.h, _TINY))
     rows = u.ndim == 2
     u2 = u if rows else u[None, :]
-    if not (sorted_rows(u2) and np.all(u2[:, 0] >= 0.0)):
+    if not (u2.shape[1] and sorted_rows(u2) and np.all(u2[:, 0] >= 0.0)):
         return 0.5 * _erf_terms_dense(det, u, inv, negligible)
     return _cdf_banded(det, u2, inv, rows, negligible)
 
