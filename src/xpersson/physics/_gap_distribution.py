@@ -106,8 +106,8 @@ def _by_pairs(
 #: 38.61 widths (``exp(-745.14)`` underflows to 0) and an ``erf`` exactly +-1 beyond 5.93.
 _GAUSS_BAND = 39.0
 _ERF_BAND = 5.3
-#: Windows wider than this fraction of the grid are evaluated as whole rows.
-_WIDE = 0.9
+#: ``|b - a|`` below which ``exp(-(b - a)^2/2)`` stays normal (exponent above -708).
+_EXP_SAFE = math.sqrt(-2.0 * _EXP_LO)
 
 
 def _bands(
@@ -143,16 +143,18 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
         u_h = np.minimum(u[None, :] * inv_h[:, None], 1e150)  # (n_bin, n_u)
     weight = det.weight * inv_h / math.sqrt(2.0 * math.pi)
 
-    def kernel(b: NDArray, a: NDArray) -> NDArray[np.float64]:
-        """``exp(-(b - a)^2/2) (1 + exp(-2 a b))``, ``b`` overwritten."""
+    def kernel(b: NDArray, a: NDArray, plain: bool = False) -> NDArray[np.float64]:
+        """``exp(-(b - a)^2/2) (1 + exp(-2 a b))``, ``b`` overwritten. ``plain``: no exponent
+        below -708 (``|b - a| < 37.6``, ``2ab < 708``): numpy's exp needs no guard there."""
         with np.errstate(under="ignore", over="ignore", invalid="ignore"):
             d = b - a
             d *= d
             d *= -0.5
-            e = _exp(d)  # mirror pair: N(u - u1) (1 + exp(-2 u u1 / h^2))
+            e = np.exp(d) if plain else _exp(d)  # mirror pair: N(u - u1) (1 + exp(-2uu1/h^2))
             b *= -2.0 * a  # = (b a) (-2) bit for bit: scaling by 2 is exact (|b a| <= 1e300)
-            np.maximum(b, _EXP_LO, out=b)  # 1 + exp(x) is exactly 1 below: same factor
-            m = np.exp(b)
+            if not plain:
+                np.maximum(b, _EXP_LO, out=b)  # 1 + exp(x) is exactly 1 below: same factor
+            m = np.exp(b, out=b)
             m += 1.0
             e *= m
         return e
@@ -161,17 +163,32 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
         with np.errstate(under="ignore", over="ignore", invalid="ignore"):
             return np.minimum(det.u1[ls, ks] * inv_h[ks], 1e150)  # finite
 
-    if u.ndim != 1 or not sorted_rows(u[None, :]):
+    if u.ndim != 1 or not u.size or not sorted_rows(u[None, :]):
         return _by_pairs(weight, u.size, lambda ls, ks: kernel(u_h[ks], centre(ls, ks)[:, None]))
     ls, ks = pairs(weight)
     a, w = centre(ls, ks), weight[ls, ks]
-    j0, j1 = _bands(u[None, :], np.zeros_like(ls), a, inv_h[ks], _GAUSS_BAND, w)
-    wide = j1 - j0 > _WIDE * u.size  # these whole rows at once: no scatter to pay
+    # pairs whose exponents stay above -708 on the whole grid (b is monotone: check the ends)
+    # as whole rows, unguarded; the others on the columns within 39 widths of u1
+    with np.errstate(over="ignore", invalid="ignore"):
+        lo, hi = u_h[ks, 0] - a, u_h[ks, -1] - a
+        full = (
+            (np.abs(lo) < _EXP_SAFE)
+            & (np.abs(hi) < _EXP_SAFE)
+            & (a * u_h[ks, -1] < _EXP_SAFE**2 / 4)
+        )
+    full &= np.isfinite(w)
     dense = np.zeros_like(weight)
-    dense[ls[wide], ks[wide]] = w[wide]
+    dense[ls[full], ks[full]] = w[full]
     rho = _by_pairs(
-        dense, u.size, lambda ls, ks: kernel(u_h[ks], centre(ls, ks)[:, None]), 0.0, _WIN_BLOCK
+        dense,
+        u.size,
+        lambda l_, k_: kernel(u_h[k_], centre(l_, k_)[:, None], True),
+        0.0,
+        _WIN_BLOCK,
     )
+    part = np.flatnonzero(~full)
+    ls, ks, a, w = ls[part], ks[part], a[part], w[part]
+    j0, j1 = _bands(u[None, :], np.zeros_like(ls), a, inv_h[ks], _GAUSS_BAND, w)
     u_h = np.concatenate((u_h, np.zeros((u_h.shape[0], 1))), axis=1)  # + the dump column
 
     def values(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
@@ -179,11 +196,7 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
         e *= w[t]
         return e
 
-    narrow = np.flatnonzero(~wide)
-    rho += windowed_sum(
-        ls[narrow], j0[narrow], j1[narrow], rho.shape, lambda t, c: values(narrow[t], c)
-    )
-    return rho
+    return rho + windowed_sum(ls, j0, j1, rho.shape, values)
 
 
 def _erf_terms_dense(det: Detachment, u: NDArray, inv: NDArray, negligible: float) -> NDArray:
