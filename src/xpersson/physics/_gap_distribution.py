@@ -264,7 +264,7 @@ def _series_sum(
     np.cumsum(acc, axis=2, out=acc)  # acc[:, l, m]: the m longest prefixes of load l
     # columns j of load l lie in the prefixes of the pairs with jt > j: count them
     cnt = np.bincount(lu * (n_u + 1) + ju, minlength=n_load * (n_u + 1)).reshape(n_load, -1)
-    cnt = np.cumsum(cnt[:, ::-1], axis=1)[:, ::-1][:, 1:]  # (n_load, n_u)
+    cnt = np.ascontiguousarray(np.cumsum(cnt[:, ::-1], axis=1)[:, -2::-1])  # (n_load, n_u)
     x = np.minimum(u2 * sigma, 1e150)  # no 0 * inf where no prefix holds the column
     x = x if rows else np.broadcast_to(x, (n_load, n_u))
     x2 = x * x
