@@ -1,4 +1,4 @@
-"""A table-driven ``erf`` for the gap kernels (private): 3-4x cheaper than scipy's, |error| < 2e-13.
+"""A table-driven ``erf`` for the gap kernels (private): ~2.5x cheaper than scipy's, error < 2e-13.
 
 ``erf`` on ``[0, 6]`` is interpolated by piecewise cubic Hermite polynomials on nodes spaced
 ``h = 1/512`` with the exact values (scipy's ``erf``) and the exact derivative
