@@ -228,7 +228,7 @@ def gap_cdf(det: Detachment, u: ArrayLike, *, negligible: float = 0.0) -> NDArra
     so each value is within ``2e-13 (1 - A)`` of the exact sum, plus round-off. For ``u >= 0``
     sorted along each row, each ``erf`` is evaluated only where it differs from +-1 by more
     than ``erfc(5.3) = 6.6e-14``, ``erf(a + b) - erf(a - b)`` by its Taylor series in
-    ``b = u/(sqrt2 h) <= 0.5`` (within 5e-14), and the result is made non-decreasing along the
+    ``b = u/(sqrt2 h) <= 1`` (within 2e-14), and the result is made non-decreasing along the
     row (the exact CDF is; the correction stays within the same bound). Other ``u``: every
     element, densely.
     """
@@ -245,11 +245,11 @@ def _series_sum(
     ls: NDArray, jt: NDArray, coef: NDArray, iv: NDArray, u2: NDArray, rows: bool, n_load: int
 ) -> NDArray[np.float64]:
     """``sum_k w [erf(a + b) - erf(a - b)]`` over each load's pairs on their columns ``[0, jt)``
-    (where ``b = u iv <= 0.5``), as one polynomial in ``u sigma`` per (load, column).
+    (where ``b = u iv <= 1``), as one polynomial in ``u sigma`` per (load, column).
 
     ``coef`` (n_term, n_pair) holds ``w c_n (iv/sigma)^(2n+1)``; a column's polynomial sums the
     coefficients of the pairs whose prefix holds it, accumulated from the largest ``jt`` down
-    (no differences: every term stays bounded by ``w |c_n| 0.5^(2n+1)`` where it is used).
+    (no differences: every term stays bounded by ``w |c_n|`` where it is used).
     """
     n_u = u2.shape[1]
     out = np.zeros((n_load, n_u))
@@ -286,7 +286,7 @@ def _cdf_banded(
     det: Detachment, u2: NDArray, inv: NDArray, rows: bool, negligible: float
 ) -> NDArray[np.float64]:
     """:func:`gap_cdf` for rows of ``u >= 0`` sorted ascending: each pair on the columns where
-    its terms vary (the rest as constants), by a Taylor series where ``u/(sqrt2 h) <= 0.5``."""
+    its terms vary (the rest as constants), by a Taylor series where ``u/(sqrt2 h) <= 1``."""
     n_load, n_u = det.weight.shape[0], u2.shape[1]
     ls, ks = pairs(det.weight, negligible)
     with np.errstate(over="ignore", invalid="ignore"):
@@ -305,9 +305,9 @@ def _cdf_banded(
     j0 = np.maximum(j0, j2)  # both vary on [0, j2), erf(b + a) = 1 on [j2, j1)
     with np.errstate(invalid="ignore", over="ignore"):
         coef = erf_diff_coefficients(a) * w  # (10, n_pair), unused where a > 5.3
-    if np.any(jt > 0):  # the series in u sigma: its bins' 1/h within 1e10 of sigma
-        sigma = float(np.max(iv[jt > 0]))
-        jt[iv < 1e-10 * sigma] = 0
+    if np.any(jt > 0):  # the series in u sigma: its bins' 1/h within 1e9 of sigma (no
+        sigma = float(np.max(iv[jt > 0]))  # overflow of (u sigma)^31, no underflow of coef)
+        jt[iv < 1e-9 * sigma] = 0
         coef *= (iv / sigma) ** (2 * np.arange(coef.shape[0]) + 1)[:, None]
     u2 = np.concatenate((u2, np.zeros((u2.shape[0], 1))), axis=1)  # + the dump column
 
