@@ -11,7 +11,6 @@ from ._curve import (
     _Curve,
     _edges,
     _loads,
-    _Phi,
     _q_max,
     _q_rule,
     _tau_c,
@@ -19,6 +18,7 @@ from ._curve import (
 from ._energy import full_contact_energy
 from ._gap_distribution import Detachment
 from ._percolation import critical_magnification
+from ._phi import _Phi
 from ._subgap import _h2, _sub_mean_gap, _sub_prep
 
 __all__ = ["SolvedContact"]
@@ -143,19 +143,23 @@ class SolvedContact:
 
         ``prep``: :func:`_sub_prep` at every edge (the upper cut-offs are its edges 1..).
         """
-        # u at the bin's upper cut-off under the bin's *initial* pressure p0/A_k
-        mixed = _sub_mean_gap(  # needed in the bins that detach area only
+        # u at the bin's upper cut-off under the bin's *initial* pressure p0/A_k, needed in the
+        # bins that detach area only; where A_k = A_k+1 (dA below the round-off of A: both 1
+        # near full contact) it is u_next itself, the same look-ups and sums bit for bit
+        u_next = ubar[:, 1:]
+        same = A[:, :-1] == A[:, 1:]
+        mixed = _sub_mean_gap(
             self.psd,
             self.E_star,
             self.phi,
             None,
             A[:, :-1],
             self.q_hi,
-            where=ok,
+            where=ok & ~same,
             prep=(prep[0][:, 1:], prep[1][:, 1:]),
         )
+        np.copyto(mixed, u_next, where=same)
         mixed[:, -1] = 0.0  # no scales left above the last edge
-        u_next = ubar[:, 1:]
         # A_k (u(z_k+1, A_k) - u(z_k+1, A_k+1)) / dA >= 0 stays finite as dA -> 0
         return np.where(ok, u_next + A[:, :-1] * (mixed - u_next) / safe, 0.0)
 

@@ -11,8 +11,9 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._curve import _delta_I3, _gauss, _Phi
+from ._curve import _delta_I3, _gauss
 from ._fastnum import _block
+from ._phi import _Phi
 
 _SUB_EDGES = np.concatenate(([0.0], 0.4 ** np.arange(9, -1, -1)))
 _SUB_ORDER = 6
