@@ -86,7 +86,7 @@ def _ppoly_at(
     spl: PPoly, xs: NDArray[np.float64], out: NDArray[np.float64] | None = None
 ) -> NDArray[np.float64]:
     """``spl(xs).T`` of a spline of :func:`_row_spline` (rows on axis 1), bit for bit, at
-    sorted ``xs`` inside its breakpoints: (xs.size, n_row).
+    1-D ``xs`` inside its breakpoints: (xs.size, n_row).
 
     The same arithmetic as scipy's ``PPoly`` evaluation (``c3 + c2 s + c1 s^2 + c0 s^3`` with
     the powers of ``s = x - x_i`` by repeated products), in the layout of the coefficients

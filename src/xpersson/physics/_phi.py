@@ -44,11 +44,25 @@ class _Phi:
     def at_tau(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
         """``Phi`` at ``G = tau/p0^2`` for every load (shared ``tau``): (n_load,) + tau.shape."""
         tau = np.asarray(tau, dtype=float)
+        if self._spl is not None and tau.ndim == 1:
+            return self._at_tau_1d(tau)
         lin = self.phi[:, 1].reshape((-1,) + (1,) * tau.ndim) * np.clip(tau / self.tau1, 0, 1)
         if self._spl is None:
             return lin
         s = np.clip(np.log(np.maximum(tau, _TINY)), self.s[0], self.s[-1])
         return np.where(tau < self.tau1, lin, np.maximum(self._spl(s), 0.0))
+
+    def _at_tau_1d(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
+        """:meth:`at_tau` of 1-D ``tau`` (bit for bit): the spline's values from its
+        coefficients, written in the C order of ``self._spl(s)`` (the callers' matrix-vector
+        products keep their summation order); the linear first interval where it applies."""
+        s = np.clip(np.log(np.maximum(tau, _TINY)), self.s[0], self.s[-1])
+        out = np.empty((self.phi.shape[0], tau.size))
+        np.maximum(_ppoly_at(self._spl, s).T, 0.0, out=out)  # type: ignore[arg-type]
+        low = tau < self.tau1
+        if low.any():
+            out[:, low] = self.phi[:, 1:2] * np.clip(tau[low] / self.tau1, 0, 1)
+        return out
 
     def at_tau_per_load(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
         """``Phi`` at per-load ``tau`` of shape (n_load, ...) (uniform-table look-up)."""
