@@ -111,11 +111,22 @@ def _ppoly_at(
     """
     b, c = spl.x, spl.c
     i = np.clip(np.searchsorted(b, xs, side="right") - 1, 0, b.size - 2)
-    s = (xs - b[i])[:, None]
-    res = np.multiply(c[2].take(i, axis=0), s, out=out)
-    res += c[3].take(i, axis=0)
-    z = s * s
-    res += c[1].take(i, axis=0) * z
-    z *= s
-    res += c[0].take(i, axis=0) * z
+    s = xs - b[i]
+    res = np.empty((xs.size, c.shape[2])) if out is None else out
+    step = max(1, (1 << 12) // c.shape[2])
+    tmp = np.empty((min(step, xs.size), c.shape[2]))
+    for lo in range(0, xs.size, step):  # blocks of points: the temporaries stay in cache
+        k, sk = i[lo : lo + step], s[lo : lo + step, None]
+        r, t = res[lo : lo + step], tmp[: k.size]
+        np.take(c[2], k, axis=0, out=r)
+        r *= sk
+        r += np.take(c[3], k, axis=0, out=t)
+        z = sk * sk
+        np.take(c[1], k, axis=0, out=t)
+        t *= z
+        r += t
+        z *= sk
+        np.take(c[0], k, axis=0, out=t)
+        t *= z
+        r += t
     return res

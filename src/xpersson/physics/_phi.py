@@ -142,8 +142,8 @@ class _Phi:
         """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6).
 
         ``(grid, table)``, the table (n_load, n_grid) in C order (the per-load look-ups take
-        from its flat view); its transpose (n_grid, n_load) is kept as ``_tab_t`` (the sums
-        over loads sharing their arguments, :meth:`sums_at_log_tau`).
+        from its flat view), evaluated from the spline's coefficients (as ``self._spl(grid)``,
+        bit for bit).
         """
         if getattr(self, "_tab", None) is None:
             n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
@@ -155,12 +155,11 @@ class _Phi:
             live = np.flatnonzero(np.any(self.phi[:, 1:] != 0.0, axis=0))
             j = max(0, int(live[0]) - _TABLE_MARGIN) if live.size else 0
             g0 = int(np.searchsorted(grid, self.s[j], side="left"))
-            tab_t = np.empty((n, self.phi.shape[0]))
-            tab_t[:g0] = 0.0
-            _ppoly_at(self._spl, grid[g0:], out=tab_t[g0:])  # as self._spl(grid), bit for bit
-            np.maximum(tab_t[g0:], 0.0, out=tab_t[g0:])
-            tab = np.ascontiguousarray(tab_t.T)
-            self._tab, self._tab_t, self._g0 = (grid, tab), tab_t, g0
+            tab = np.empty((self.phi.shape[0], n))
+            tab[:, :g0] = 0.0
+            vals = _ppoly_at(self._spl, grid[g0:])  # (n - g0, n_load): self._spl(grid).T
+            np.maximum(vals.T, 0.0, out=tab[:, g0:])  # type: ignore[arg-type]
+            self._tab = (grid, tab)
             # every row's node 0 is 0 and node 1 finite: a look-up below the grid gives +0.0
             self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
         return self._tab
