@@ -113,7 +113,7 @@ def _ppoly_at(
     i = np.clip(np.searchsorted(b, xs, side="right") - 1, 0, b.size - 2)
     s = xs - b[i]
     res = np.empty((xs.size, c.shape[2])) if out is None else out
-    step = max(1, (1 << 12) // c.shape[2])
+    step = _block(c.shape[2])
     tmp = np.empty((min(step, xs.size), c.shape[2]))
     for lo in range(0, xs.size, step):  # blocks of points: the temporaries stay in cache
         k, sk = i[lo : lo + step], s[lo : lo + step, None]
