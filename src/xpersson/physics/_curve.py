@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
-from ._fastnum import _block, _exp, _row_spline
+from ._fastnum import _block, _exp, _exp_inplace, _row_spline
 
 _TINY = 1e-300
 _GL_ORDER = 6
@@ -281,26 +281,28 @@ class _Curve:
         c = np.ascontiguousarray(np.moveaxis(self._spl.c[:, j0:], -1, 0))[:, :, None]
         d = np.ascontiguousarray((xg[1 + j0 :] - self.x[1 + j0 : -1, None]).T)  # local: (m, n)
         step = _block(xg.size)
+        buf = np.empty((2, min(step, self.n_load) * d.size))  # y and dy of every block
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
             jb = _first_open(dead[k])  # this block's own (later) start
             off = jb - j0
             c0, c1, c2, c3 = (c[k, j, :, off:] for j in range(4))  # (rows, 1, n_int - 1 - jb)
             db = d[:, off:]
-            y = c0 * db
+            shape = (c0.shape[0], *db.shape)
+            y = np.multiply(c0, db, out=buf[0, : math.prod(shape)].reshape(shape))
             y += c1
             y *= db
             y += c2
             y *= db
             y += c3
             np.minimum(y, 0.0, out=y)
-            dy = 3.0 * c0 * db
+            dy = np.multiply(3.0 * c0, db, out=buf[1, : y.size].reshape(shape))
             dy += 2.0 * c1
             dy *= db
             dy += c2
             np.maximum(dy, 0.0, out=dy)
-            dy *= _exp(y)
-            yield k, 1 + jb, dy
+            dy *= _exp_inplace(y)
+            yield k, 1 + jb, dy  # buffers reused by the next block: consumed before it
 
     def stieltjes_nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Gauss-Legendre nodes ``x`` (n_int, m) and weights (n_int, m) per interval."""

@@ -33,6 +33,16 @@ def _exp(y: NDArray[np.float64]) -> NDArray[np.float64]:
     return out
 
 
+def _exp_inplace(y: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`_exp` of a float array, written over ``y`` (bit-identical to ``np.exp(y)``)."""
+    if y.size == 0 or not y.min() < _EXP_LO:
+        return np.exp(y, out=y)
+    keep = y > _EXP_ZERO
+    np.exp(y, out=y, where=keep)
+    y[~keep] = 0.0
+    return y
+
+
 #: Elements per block of loads in the large per-load tensors (about 0.5 MB of float64: the
 #: temporaries of one block stay in the cache; whole-batch temporaries are memory-bound).
 _BLOCK = 1 << 16
