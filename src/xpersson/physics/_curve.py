@@ -278,15 +278,19 @@ class _Curve:
             return
         dead = self._y[:, 1:] <= math.log(_TINY)  # (n_load, n_node - 1): 1 - F clamped
         j0 = _first_open(dead)  # spline intervals before j0: negligible for every load
-        c = np.ascontiguousarray(np.moveaxis(self._spl.c[:, j0:], -1, 0))[:, :, None]
         d = np.ascontiguousarray((xg[1 + j0 :] - self.x[1 + j0 : -1, None]).T)  # local: (m, n)
         step = _block(xg.size)
-        buf = np.empty((2, min(step, self.n_load) * d.size))  # y and dy of every block
+        rows = min(step, self.n_load)
+        buf = np.empty((2, rows * d.size))  # y and dy of every block
+        cbuf = np.empty(4 * rows * d.shape[1])  # the block's coefficients, loads first
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
             jb = _first_open(dead[k])  # this block's own (later) start
             off = jb - j0
-            c0, c1, c2, c3 = (c[k, j, :, off:] for j in range(4))  # (rows, 1, n_int - 1 - jb)
+            ck = self._spl.c[:, j0 + off :, k]  # (4, n_int - 1 - jb, rows)
+            c = cbuf[: ck.size].reshape(ck.shape[2], 4, 1, ck.shape[1])
+            np.copyto(c[:, :, 0, :], np.moveaxis(ck, -1, 0))
+            c0, c1, c2, c3 = (c[:, j] for j in range(4))  # (rows, 1, n_int - 1 - jb)
             db = d[:, off:]
             shape = (c0.shape[0], *db.shape)
             y = np.multiply(c0, db, out=buf[0, : math.prod(shape)].reshape(shape))

@@ -3,7 +3,8 @@ vanishing results, cache-sized blocks of loads, and many cubic splines on shared
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -48,9 +49,30 @@ def _exp_inplace(y: NDArray[np.float64]) -> NDArray[np.float64]:
 _BLOCK = 1 << 16
 
 
+#: Elements of a small buffer (64 kB): below malloc's threshold for fresh memory (mmap), so
+#: reused from the heap without page faults.
+_SMALL = 1 << 13
+
+
 def _block(per_load: int) -> int:
     """Loads per block for a tensor of ``per_load`` elements per load."""
     return max(1, _BLOCK // max(int(per_load), 1))
+
+
+class _Scratch:
+    """Flat buffers reused by the blocks of one computation (no large temporary per block:
+    each would be fresh memory, page faults and cache misses). A view of buffer ``key`` is
+    valid until the next :meth:`get` of that key."""
+
+    def __init__(self) -> None:
+        self._bufs: dict[str, NDArray[Any]] = {}
+
+    def get(self, key: str, shape: tuple[int, ...], dtype: Any = np.float64) -> NDArray[Any]:
+        size = math.prod(shape)
+        buf = self._bufs.get(key)
+        if buf is None or buf.size < size or buf.dtype != dtype:
+            buf = self._bufs[key] = np.empty(size, dtype=dtype)
+        return buf[:size].reshape(shape)
 
 
 def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
@@ -112,22 +134,23 @@ def _row_slopes(x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray
 def _ppoly_at(
     spl: PPoly, xs: NDArray[np.float64], out: NDArray[np.float64] | None = None
 ) -> NDArray[np.float64]:
-    """``spl(xs).T`` of a spline of :func:`_row_spline` (rows on axis 1), bit for bit, at
-    1-D ``xs`` inside its breakpoints: (xs.size, n_row).
+    """``max(spl(xs), 0)`` of a spline of :func:`_row_spline` (rows on axis 1), bit for bit,
+    at 1-D ``xs`` inside its breakpoints: (n_row, xs.size), written into ``out`` if given.
 
     The same arithmetic as scipy's ``PPoly`` evaluation (``c3 + c2 s + c1 s^2 + c0 s^3`` with
-    the powers of ``s = x - x_i`` by repeated products), in the layout of the coefficients
-    (rows innermost) and without its search per point and axis moves.
+    the powers of ``s = x - x_i`` by repeated products), in blocks of points laid out as the
+    coefficients (rows innermost) with two small buffers, each block clipped at 0 into its
+    columns of ``out``: no per-point search, axis moves or large temporaries.
     """
     b, c = spl.x, spl.c
     i = np.clip(np.searchsorted(b, xs, side="right") - 1, 0, b.size - 2)
     s = xs - b[i]
-    res = np.empty((xs.size, c.shape[2])) if out is None else out
-    step = _block(c.shape[2])
-    tmp = np.empty((min(step, xs.size), c.shape[2]))
+    res = np.empty((c.shape[2], xs.size)) if out is None else out
+    step = max(1, _SMALL // c.shape[2])
+    buf = np.empty((2, min(step, xs.size), c.shape[2]))
     for lo in range(0, xs.size, step):  # blocks of points: the temporaries stay in cache
         k, sk = i[lo : lo + step], s[lo : lo + step, None]
-        r, t = res[lo : lo + step], tmp[: k.size]
+        r, t = buf[0, : k.size], buf[1, : k.size]
         np.take(c[2], k, axis=0, out=r)
         r *= sk
         r += np.take(c[3], k, axis=0, out=t)
@@ -139,4 +162,5 @@ def _ppoly_at(
         np.take(c[0], k, axis=0, out=t)
         t *= z
         r += t
+        np.maximum(r.T, 0.0, out=res[:, lo : lo + k.size])
     return res

@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._curve import _TINY, _Curve, _tau_c
-from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
+from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline, _Scratch
 
 #: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
 _TABLE_MARGIN = 8
@@ -57,8 +57,7 @@ class _Phi:
         coefficients, written in the C order of ``self._spl(s)`` (the callers' matrix-vector
         products keep their summation order); the linear first interval where it applies."""
         s = np.clip(np.log(np.maximum(tau, _TINY)), self.s[0], self.s[-1])
-        out = np.empty((self.phi.shape[0], tau.size))
-        np.maximum(_ppoly_at(self._spl, s).T, 0.0, out=out)  # type: ignore[arg-type]
+        out = _ppoly_at(self._spl, s)  # type: ignore[arg-type]
         low = tau < self.tau1
         if low.any():
             out[:, low] = self.phi[:, 1:2] * np.clip(tau[low] / self.tau1, 0, 1)
@@ -91,13 +90,19 @@ class _Phi:
         return val.reshape(shape)
 
     def at_log_tau_per_load(
-        self, log_tau: NDArray[np.float64], rows: slice | NDArray, overwrite: bool = False
+        self,
+        log_tau: NDArray[np.float64],
+        rows: slice | NDArray,
+        overwrite: bool = False,
+        scratch: _Scratch | None = None,
     ) -> NDArray:
         """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``.
 
         As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up); ``rows``
         a slice of the loads or one load index per row. ``overwrite``: ``log_tau`` is a
-        temporary of the caller and may be used as scratch space.
+        temporary of the caller and may be used as scratch space. ``scratch``: buffers reused
+        across the caller's blocks (the result is then a view of one, valid until the next
+        call with it).
         """
         shape = log_tau.shape
         l2 = log_tau.reshape(shape[0], -1)
@@ -109,17 +114,19 @@ class _Phi:
         n = grid.size
         phi1_zero = not np.any(phi1)
         quiet = phi1_zero and self._first_zero  # below the grid: u = 0 at node 0, val = 0
-        u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else None)
+        work = _Scratch() if scratch is None else scratch
+        u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else work.get("u", l2.shape))
         u *= 1.0 / (grid[1] - grid[0])
         np.clip(u, 0.0, n - 1.000001, out=u)
-        i = u.astype(np.intp)
+        i = work.get("i", l2.shape, np.intp)
+        np.copyto(i, u, casting="unsafe")  # as u.astype(np.intp)
         u -= i
         if isinstance(rows, slice):
             rows = np.arange(rows.start or 0, (rows.start or 0) + shape[0])
         i += (rows * n)[:, None]
-        flat = table.ravel()
-        v0 = flat.take(i)
-        val = flat[1:].take(i)  # the next nodes, without an array i + 1
+        flat = table.ravel()  # indices in range: mode "clip" takes them unbuffered
+        v0 = flat.take(i, out=work.get("v0", l2.shape), mode="clip")
+        val = flat[1:].take(i, out=work.get("val", l2.shape), mode="clip")  # the next nodes
         val -= v0
         val *= u
         val += v0
@@ -157,8 +164,7 @@ class _Phi:
             g0 = int(np.searchsorted(grid, self.s[j], side="left"))
             tab = np.empty((self.phi.shape[0], n))
             tab[:, :g0] = 0.0
-            vals = _ppoly_at(self._spl, grid[g0:])  # (n - g0, n_load): self._spl(grid).T
-            np.maximum(vals.T, 0.0, out=tab[:, g0:])  # type: ignore[arg-type]
+            _ppoly_at(self._spl, grid[g0:], out=tab[:, g0:])  # type: ignore[arg-type]
             self._tab = (grid, tab)
             # every row's node 0 is 0 and node 1 finite: a look-up below the grid gives +0.0
             self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
