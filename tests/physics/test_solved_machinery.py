@@ -79,13 +79,14 @@ def test_phi_table_is_the_spline_on_the_grid(contact):
     """The table is max(spline, 0) on its grid from the first live nodes on, 0 below."""
     ph = _Phi(contact.psd, E_STAR, contact.p0, contact.curve)
     grid, tab = ph._table()
+    tab = _full_table(ph)
     ref = np.maximum(ph._spl(grid), 0.0)  # scipy's PPoly evaluation
     live = np.flatnonzero(np.any(ph.phi[:, 1:] != 0.0, axis=0))
     g0 = int(np.searchsorted(grid, ph.s[max(0, int(live[0]) - 8)]))
     assert 0 < g0 < grid.size  # the zero block is there (full contact near zeta = 1)
     np.testing.assert_array_equal(tab[:, g0:], ref[:, g0:])
     assert np.all(tab[:, :g0] == 0.0) and np.all(np.abs(ref[:, :g0]) < 1e-30 * tab.max())
-    assert tab.flags["C_CONTIGUOUS"]
+    assert ph._table()[1].flags["C_CONTIGUOUS"] and ph._lo == g0 - 2
 
 
 def test_phi_at_tau_is_the_spline_and_its_linear_first_interval(contact):
@@ -99,9 +100,17 @@ def test_phi_at_tau_is_the_spline_and_its_linear_first_interval(contact):
     assert got.flags["C_CONTIGUOUS"]  # the mean gap's matrix product keeps its order
 
 
+def _full_table(ph):
+    """The table on every grid node (the nodes below ``_lo`` are 0)."""
+    grid, tab = ph._table()
+    full = np.zeros((tab.shape[0], grid.size))
+    full[:, ph._lo :] = tab
+    return full
+
+
 def _plain_look_up(ph, lt, load):
     """Phi of load ``load`` at ``ln tau = lt`` (any shape): the linear table look-up."""
-    grid, tab = ph._table()
+    grid, tab = ph._table()[0], _full_table(ph)
     n = grid.size
     u = np.clip((lt - grid[0]) * (1.0 / (grid[1] - grid[0])), 0.0, n - 1.000001)
     i = u.astype(np.intp)
@@ -185,3 +194,20 @@ def test_critical_magnification_solves_the_spline(contact, a_c):
     assert np.array_equal(np.isfinite(zc), crossed) and crossed.any()
     for load in np.flatnonzero(crossed):
         assert spl(np.log(zc[load]))[load] == pytest.approx(a_c, abs=1e-12)
+
+
+def test_per_load_look_ups_are_the_plain_look_up(contact):
+    """Both per-load look-ups (tau or ln tau given) over the whole range, below the table's
+    kept nodes included, equal the look-up on the full table."""
+    ph = contact.phi
+    rng = np.random.default_rng(3)
+    grid = ph._table()[0]
+    lt = rng.uniform(grid[0] - 5.0, grid[-1] + 5.0, (LOADS.size, 3000))
+    ref = np.array([_plain_look_up(ph, lt[k], k) for k in range(LOADS.size)])
+    np.testing.assert_array_equal(ph.at_log_tau_per_load(lt.copy(), slice(0, LOADS.size)), ref)
+    rows = np.array([3, 0, 7])
+    np.testing.assert_array_equal(ph.at_log_tau_per_load(lt[rows], rows), ref[rows])
+    tau = np.exp(np.maximum(lt, math.log(ph.tau1) + 1e-9))  # at_tau_per_load's table part
+    ref_tau = np.array([_plain_look_up(ph, np.log(tau[k]), k) for k in range(LOADS.size)])
+    np.testing.assert_array_equal(ph.at_tau_per_load(tau), ref_tau)
+    assert (lt < grid[ph._lo]).any() and np.count_nonzero(ref) > ref.size // 4

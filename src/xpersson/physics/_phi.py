@@ -71,15 +71,15 @@ class _Phi:
         if self._spl is None:
             return (self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)).reshape(shape)
         grid, table = self._table()
-        n = grid.size
+        n, lo = grid.size, self._lo
         with np.errstate(divide="ignore"):
             u = np.log(t2)
         u -= grid[0]
         u *= 1.0 / (grid[1] - grid[0])
-        np.clip(u, 0.0, n - 1.000001, out=u)
+        np.clip(u, lo, n - 1.000001, out=u)  # below node lo + 1 the table is 0: same values
         i = u.astype(np.intp)
         u -= i
-        i += (np.arange(shape[0]) * n)[:, None]
+        i += (np.arange(shape[0]) * table.shape[1] - lo)[:, None]
         flat = table.ravel()
         v0 = flat.take(i)
         val = v0 + u * (flat.take(i + 1) - v0)
@@ -111,19 +111,19 @@ class _Phi:
             t = _exp(np.minimum(l2, math.log(self.tau1)))
             return (phi1 * np.clip(t / self.tau1, 0.0, 1.0)).reshape(shape)
         grid, table = self._table()
-        n = grid.size
+        n, lo = grid.size, self._lo
         phi1_zero = not np.any(phi1)
         quiet = phi1_zero and self._first_zero  # below the grid: u = 0 at node 0, val = 0
         work = _Scratch() if scratch is None else scratch
         u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else work.get("u", l2.shape))
         u *= 1.0 / (grid[1] - grid[0])
-        np.clip(u, 0.0, n - 1.000001, out=u)
+        np.clip(u, lo, n - 1.000001, out=u)  # below node lo + 1 the table is 0: same values
         i = work.get("i", l2.shape, np.intp)
         np.copyto(i, u, casting="unsafe")  # as u.astype(np.intp)
         u -= i
         if isinstance(rows, slice):
             rows = np.arange(rows.start or 0, (rows.start or 0) + shape[0])
-        i += (rows * n)[:, None]
+        i += (rows * table.shape[1] - lo)[:, None]
         flat = table.ravel()  # indices in range: mode "clip" takes them unbuffered
         v0 = flat.take(i, out=work.get("v0", l2.shape), mode="clip")
         val = flat[1:].take(i, out=work.get("val", l2.shape), mode="clip")  # the next nodes
@@ -148,9 +148,10 @@ class _Phi:
     def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6).
 
-        ``(grid, table)``, the table (n_load, n_grid) in C order (the per-load look-ups take
-        from its flat view), evaluated from the spline's coefficients (as ``self._spl(grid)``,
-        bit for bit).
+        ``(grid, table)``: the table (n_load, n_grid - lo) holds the grid's nodes from ``lo =
+        self._lo`` on (those below are 0 for every load) in C order (the per-load look-ups
+        take from its flat view), evaluated from the spline's coefficients (as
+        ``self._spl(grid)``, bit for bit).
         """
         if getattr(self, "_tab", None) is None:
             n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
@@ -162,10 +163,13 @@ class _Phi:
             live = np.flatnonzero(np.any(self.phi[:, 1:] != 0.0, axis=0))
             j = max(0, int(live[0]) - _TABLE_MARGIN) if live.size else 0
             g0 = int(np.searchsorted(grid, self.s[j], side="left"))
-            tab = np.empty((self.phi.shape[0], n))
-            tab[:, :g0] = 0.0
-            _ppoly_at(self._spl, grid[g0:], out=tab[:, g0:])  # type: ignore[arg-type]
-            self._tab = (grid, tab)
-            # every row's node 0 is 0 and node 1 finite: a look-up below the grid gives +0.0
+            # kept from grid node lo = g0 - 2 on: a look-up below it is clipped to node lo, where
+            # it takes 0 + 0 (0 - 0), the 0 it took from the zero nodes below (bit for bit)
+            lo = max(g0 - 2, 0)
+            tab = np.empty((self.phi.shape[0], n - lo))
+            tab[:, : g0 - lo] = 0.0
+            _ppoly_at(self._spl, grid[g0:], out=tab[:, g0 - lo :])  # type: ignore[arg-type]
+            self._tab, self._lo = (grid, tab), lo
+            # every row's node lo is 0 and node lo + 1 finite: a look-up below gives +0.0
             self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
         return self._tab
