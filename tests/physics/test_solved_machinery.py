@@ -16,7 +16,7 @@ from scipy.interpolate import CubicSpline
 
 from xpersson.physics import SolvedContact, critical_magnification
 from xpersson.physics._curve import _Curve, _edges
-from xpersson.physics._fastnum import _exp_inplace, _ppoly_at, _row_slopes, _Scratch
+from xpersson.physics._fastnum import _exp_inplace, _ppoly_at, _row_slopes
 from xpersson.physics._percolation import _crossing_coefficients
 from xpersson.physics._phi import _Phi
 from xpersson.physics._subgap import _sub_mean_gap, _sub_prep
@@ -64,15 +64,6 @@ def test_exp_inplace_is_numpys_exp():
     np.testing.assert_array_equal(_exp_inplace(y.copy()), np.exp(y))
     fast = np.linspace(-700.0, 1.0, 1001)  # no value below the slow band: one pass
     np.testing.assert_array_equal(_exp_inplace(fast.copy()), np.exp(fast))
-
-
-def test_scratch_reuses_its_buffers():
-    s = _Scratch()
-    a = s.get("x", (4, 5))
-    b = s.get("x", (2, 3))
-    assert a.shape == (4, 5) and b.shape == (2, 3) and np.shares_memory(a, b)
-    assert not np.shares_memory(a, s.get("y", (4, 5)))
-    assert s.get("i", (3,), np.intp).dtype == np.intp
 
 
 def test_phi_table_is_the_spline_on_the_grid(contact):

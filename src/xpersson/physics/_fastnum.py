@@ -3,8 +3,7 @@ vanishing results, cache-sized blocks of loads, and many cubic splines on shared
 
 from __future__ import annotations
 
-import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -57,22 +56,6 @@ _SMALL = 1 << 13
 def _block(per_load: int) -> int:
     """Loads per block for a tensor of ``per_load`` elements per load."""
     return max(1, _BLOCK // max(int(per_load), 1))
-
-
-class _Scratch:
-    """Flat buffers reused by the blocks of one computation (no large temporary per block:
-    each would be fresh memory, page faults and cache misses). A view of buffer ``key`` is
-    valid until the next :meth:`get` of that key."""
-
-    def __init__(self) -> None:
-        self._bufs: dict[str, NDArray[Any]] = {}
-
-    def get(self, key: str, shape: tuple[int, ...], dtype: Any = np.float64) -> NDArray[Any]:
-        size = math.prod(shape)
-        buf = self._bufs.get(key)
-        if buf is None or buf.size < size or buf.dtype != dtype:
-            buf = self._bufs[key] = np.empty(size, dtype=dtype)
-        return buf[:size].reshape(shape)
 
 
 def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:

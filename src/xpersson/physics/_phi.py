@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._curve import _TINY, _Curve, _tau_c
-from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline, _Scratch
+from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
 
 #: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
 _TABLE_MARGIN = 8
@@ -90,19 +90,13 @@ class _Phi:
         return val.reshape(shape)
 
     def at_log_tau_per_load(
-        self,
-        log_tau: NDArray[np.float64],
-        rows: slice | NDArray,
-        overwrite: bool = False,
-        scratch: _Scratch | None = None,
+        self, log_tau: NDArray[np.float64], rows: slice | NDArray, overwrite: bool = False
     ) -> NDArray:
         """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``.
 
         As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up); ``rows``
         a slice of the loads or one load index per row. ``overwrite``: ``log_tau`` is a
-        temporary of the caller and may be used as scratch space. ``scratch``: buffers reused
-        across the caller's blocks (the result is then a view of one, valid until the next
-        call with it).
+        temporary of the caller and may be used as scratch space.
         """
         shape = log_tau.shape
         l2 = log_tau.reshape(shape[0], -1)
@@ -114,19 +108,17 @@ class _Phi:
         n, lo = grid.size, self._lo
         phi1_zero = not np.any(phi1)
         quiet = phi1_zero and self._first_zero  # below the grid: u = 0 at node 0, val = 0
-        work = _Scratch() if scratch is None else scratch
-        u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else work.get("u", l2.shape))
+        u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else None)
         u *= 1.0 / (grid[1] - grid[0])
         np.clip(u, lo, n - 1.000001, out=u)  # below node lo + 1 the table is 0: same values
-        i = work.get("i", l2.shape, np.intp)
-        np.copyto(i, u, casting="unsafe")  # as u.astype(np.intp)
+        i = u.astype(np.intp)
         u -= i
         if isinstance(rows, slice):
             rows = np.arange(rows.start or 0, (rows.start or 0) + shape[0])
         i += (rows * table.shape[1] - lo)[:, None]
-        flat = table.ravel()  # indices in range: mode "clip" takes them unbuffered
-        v0 = flat.take(i, out=work.get("v0", l2.shape), mode="clip")
-        val = flat[1:].take(i, out=work.get("val", l2.shape), mode="clip")  # the next nodes
+        flat = table.ravel()
+        v0 = flat.take(i)
+        val = flat[1:].take(i)  # the next nodes, without an array i + 1
         val -= v0
         val *= u
         val += v0

@@ -12,7 +12,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._curve import _delta_I3, _gauss
-from ._fastnum import _block, _Scratch
+from ._fastnum import _block
 from ._phi import _Phi
 
 _SUB_EDGES = np.concatenate(([0.0], 0.4 ** np.arange(9, -1, -1)))
@@ -91,11 +91,9 @@ def _sub_mean_gap(
     kern = np.broadcast_to(kern, shape)
     out = np.empty(shape[:-1])
     step = _block(math.prod(shape[1:]))
-    work = _Scratch()
     for i in range(0, n, step):  # blocks of loads: the tensor's temporaries stay in cache
         k = slice(i, i + step)
-        lt = np.add(log_tc[k], log_a2[k], out=work.get("lt", (min(n, i + step) - i, *shape[1:])))
-        vals = phi.at_log_tau_per_load(lt, k, overwrite=True, scratch=work)
+        vals = phi.at_log_tau_per_load(log_tc[k] + log_a2[k], k, overwrite=True)
         vals *= kern[k]
         out[k] = vals.sum(axis=-1)
     return math.pi * out
@@ -124,13 +122,11 @@ def _sub_pairs(
             return a[kp] if a.shape[0] > 1 else np.broadcast_to(a[0], (kp.size, a.shape[-1]))
         return np.broadcast_to(a, shape[:-1] + a.shape[-1:])[lp, kp]
 
-    work = _Scratch()
     for i in range(0, ls.size, step):
         p = slice(i, i + step)
         lp, kp = ls[p], ks[p]
-        lt = work.get("lt", (lp.size, shape[-1]))
-        np.add(gather(log_tc, lp, kp), gather(log_a2, lp, kp), out=lt)
-        vals = phi.at_log_tau_per_load(lt, lp, overwrite=True, scratch=work)
+        lt = gather(log_tc, lp, kp) + gather(log_a2, lp, kp)
+        vals = phi.at_log_tau_per_load(lt, lp, overwrite=True)
         vals *= gather(kern, lp, kp)
         out[lp, kp] = vals.sum(axis=-1)
     return out
