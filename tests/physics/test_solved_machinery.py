@@ -2,8 +2,9 @@
 
 Every fast path of ``_phi``/``_curve``/``_subgap``/``_percolation`` is checked against a plain
 evaluation over all elements written here (scipy's ``PPoly``/``CubicSpline``, the linear
-table look-up in one expression, ``np.exp``), bit for bit: the gap distribution's far tail
-(``u1 = d(A u)/dA`` of bins whose ``dA`` is ~1e-60) amplifies any round-off of the mean gaps.
+table look-up in one expression, ``np.exp``): bit for bit where only the layout or the blocks
+changed, to 1e-14 (stated) where the sums are regrouped (the sparse product of the sub-gaps
+in full contact).
 """
 
 from __future__ import annotations
@@ -132,13 +133,18 @@ def test_sub_mean_gap_is_the_plain_sum_of_look_ups(contact):
     for load in range(LOADS.size):
         lt = log_tc[0] + la2[load][:, None]
         ref[load] = (_plain_look_up(contact.phi, lt, load) * kern[0]).sum(axis=-1)
-    np.testing.assert_array_equal(got, math.pi * ref)
+    # A_a = 1 (shared arguments): one sparse product, the same terms in another order and
+    # (1 - u) T_i + u T_i+1 for T_i + u (T_i+1 - T_i): round-off of sums of terms >= 0
+    full = A == 1.0
+    np.testing.assert_allclose(got[full], math.pi * ref[full], rtol=1e-14, atol=0.0)
+    np.testing.assert_array_equal(got[~full], math.pi * ref[~full])  # the look-ups themselves
     np.testing.assert_array_equal(part, np.where(where, math.pi * ref, 0.0))
-    assert (A == 1.0).any() and np.count_nonzero(got) > got.size // 2
+    assert full.mean() > 0.2 and np.count_nonzero(got[full]) > full.sum() // 2
 
 
 def test_pressure_part_equals_every_pair_computed(contact):
-    """Pairs with A_k = A_k+1 take u_next (the same look-ups): the same u1 as computing all."""
+    """Pairs with A_k = A_k+1 take u_next (the same arguments): u1 of the other pairs as
+    computing them all."""
     z = np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 60)))
     det = contact.detachment(z, "pressure")
     zz, A, N = _edges(contact.curve, z)
@@ -157,9 +163,14 @@ def test_pressure_part_equals_every_pair_computed(contact):
     )
     mixed[:, -1] = 0.0
     u_next = det.ubar[:, 1:]
+    same = ok & (A[:, :-1] == A[:, 1:])  # dA below the round-off of A (both 1)
+    assert same.any()  # the skipped pairs exist here
+    # there the mixed gap is u_next itself (the same arguments), up to the round-off of the
+    # two sums (the shared sparse product for u_next), which 1/dA ~ 1e300 would amplify
+    np.testing.assert_allclose(mixed[same], u_next[same], rtol=1e-14, atol=0.0)
+    mixed = np.where(same, u_next, mixed)
     safe = np.where(ok, dA, 1.0)
     u1 = np.where(ok, u_next + A[:, :-1] * (mixed - u_next) / safe, 0.0)
-    assert (ok & (A[:, :-1] == A[:, 1:])).any()  # the skipped pairs exist here
     np.testing.assert_array_equal(det.u1, np.maximum(u1, 0.0))
 
 

@@ -161,7 +161,47 @@ class _Phi:
             tab = np.empty((self.phi.shape[0], n - lo))
             tab[:, : g0 - lo] = 0.0
             _ppoly_at(self._spl, grid[g0:], out=tab[:, g0 - lo :])  # type: ignore[arg-type]
-            self._tab, self._lo = (grid, tab), lo
+            self._tab, self._lo, self._g0 = (grid, tab), lo, g0
             # every row's node lo is 0 and node lo + 1 finite: a look-up below gives +0.0
             self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
         return self._tab
+
+    def sums_at_log_tau(
+        self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """``sum_m kern[k, m] Phi_l(ln tau = log_tau[k, m])`` for every load ``l``: (n_load, K).
+
+        For arguments shared by every load (a sub-problem in full contact, ``A_a = 1``): the
+        look-up positions are found once, and the sums of all loads are one sparse product of
+        the interpolation weights with the table, ``kern (1 - u) T[i] + kern u T[i + 1]``: the
+        linear look-up of :meth:`at_log_tau_per_load` up to round-off (~1e-16 relative; the
+        terms are >= 0). Table nodes that are 0 for every load are left out.
+        """
+        from scipy.sparse import csr_array  # lazily (imported with scipy.interpolate)
+
+        grid, tab = self._table()
+        n, lo = grid.size, self._lo
+        u = np.subtract(log_tau, grid[0])
+        u *= 1.0 / (grid[1] - grid[0])
+        np.clip(u, lo, n - 1.000001, out=u)
+        i = u.astype(np.intp)
+        u -= i
+        low = log_tau < math.log(self.tau1)  # the linear first interval, added below
+        keep = ~low & (i + 1 >= self._g0)  # nodes i, i + 1 not both 0 for every load
+        w1 = kern[keep] * u[keep]
+        data = np.stack((kern[keep] - w1, w1), axis=-1).ravel()
+        col = i[keep] - lo
+        cols = np.stack((col, col + 1), axis=-1).ravel()
+        ptr = np.concatenate(([0], np.cumsum(2 * np.count_nonzero(keep, axis=1))))
+        w = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[1]))
+        if getattr(self, "_tab_t", None) is None:
+            self._tab_t = np.ascontiguousarray(tab.T)  # (nodes, loads): rows of the product
+        out = np.ascontiguousarray((w @ self._tab_t).T)
+        phi1 = self.phi[:, 1:2]
+        if low.any() and np.any(phi1):
+            t = np.zeros(log_tau.shape)
+            np.exp(log_tau, out=t, where=low & (log_tau > _EXP_ZERO))
+            t /= self.tau1
+            np.clip(t, 0.0, 1.0, out=t)
+            out += phi1 * np.sum(kern * t, axis=-1)
+        return out
