@@ -79,6 +79,7 @@ def test_phi_table_is_the_spline_on_the_grid(contact):
     np.testing.assert_array_equal(tab[:, g0:], ref[:, g0:])
     assert np.all(tab[:, :g0] == 0.0) and np.all(np.abs(ref[:, :g0]) < 1e-30 * tab.max())
     assert ph._table()[1].flags["C_CONTIGUOUS"] and ph._lo == g0 - 2
+    np.testing.assert_array_equal(ph._tab_t, ph._table()[1].T)  # the sparse sums' layout
 
 
 def test_phi_at_tau_is_the_spline_and_its_linear_first_interval(contact):

@@ -115,7 +115,10 @@ def _row_slopes(x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray
 
 
 def _ppoly_at(
-    spl: PPoly, xs: NDArray[np.float64], out: NDArray[np.float64] | None = None
+    spl: PPoly,
+    xs: NDArray[np.float64],
+    out: NDArray[np.float64] | None = None,
+    out_t: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     """``max(spl(xs), 0)`` of a spline of :func:`_row_spline` (rows on axis 1), bit for bit,
     at 1-D ``xs`` inside its breakpoints: (n_row, xs.size), written into ``out`` if given.
@@ -123,7 +126,8 @@ def _ppoly_at(
     The same arithmetic as scipy's ``PPoly`` evaluation (``c3 + c2 s + c1 s^2 + c0 s^3`` with
     the powers of ``s = x - x_i`` by repeated products), in blocks of points laid out as the
     coefficients (rows innermost) with two small buffers, each block clipped at 0 into its
-    columns of ``out``: no per-point search, axis moves or large temporaries.
+    columns of ``out``: no per-point search, axis moves or large temporaries. ``out_t``
+    (xs.size, n_row): the same values also written in the transposed layout.
     """
     b, c = spl.x, spl.c
     i = np.clip(np.searchsorted(b, xs, side="right") - 1, 0, b.size - 2)
@@ -145,5 +149,8 @@ def _ppoly_at(
         np.take(c[0], k, axis=0, out=t)
         t *= z
         r += t
-        np.maximum(r.T, 0.0, out=res[:, lo : lo + k.size])
+        np.maximum(r, 0.0, out=r)
+        res[:, lo : lo + k.size] = r.T
+        if out_t is not None:
+            out_t[lo : lo + k.size] = r
     return res

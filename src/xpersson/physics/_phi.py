@@ -160,7 +160,11 @@ class _Phi:
             lo = max(g0 - 2, 0)
             tab = np.empty((self.phi.shape[0], n - lo))
             tab[:, : g0 - lo] = 0.0
-            _ppoly_at(self._spl, grid[g0:], out=tab[:, g0 - lo :])  # type: ignore[arg-type]
+            tab_t = np.empty((n - lo, self.phi.shape[0]))  # (nodes, loads): the sparse sums
+            tab_t[: g0 - lo] = 0.0
+            kept = slice(g0 - lo, None)
+            _ppoly_at(self._spl, grid[g0:], out=tab[:, kept], out_t=tab_t[kept])  # type: ignore[arg-type]
+            self._tab_t = tab_t
             self._tab, self._lo, self._g0 = (grid, tab), lo, g0
             # every row's node lo is 0 and node lo + 1 finite: a look-up below gives +0.0
             self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
@@ -194,9 +198,7 @@ class _Phi:
         cols = np.stack((col, col + 1), axis=-1).ravel()
         ptr = np.concatenate(([0], np.cumsum(2 * np.count_nonzero(keep, axis=1))))
         w = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[1]))
-        if getattr(self, "_tab_t", None) is None:
-            self._tab_t = np.ascontiguousarray(tab.T)  # (nodes, loads): rows of the product
-        out = np.ascontiguousarray((w @ self._tab_t).T)
+        out = np.ascontiguousarray((w @ self._tab_t).T)  # the table (nodes, loads)
         phi1 = self.phi[:, 1:2]
         if low.any() and np.any(phi1):
             t = np.zeros(log_tau.shape)
