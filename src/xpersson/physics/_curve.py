@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
-from ._fastnum import _EXP_ZERO, _block, _exp, _row_spline
+from ._fastnum import _block, _exp, _exp_inplace, _row_spline
 
 _TINY = 1e-300
 _GL_ORDER = 6
@@ -278,29 +278,35 @@ class _Curve:
             return
         dead = self._y[:, 1:] <= math.log(_TINY)  # (n_load, n_node - 1): 1 - F clamped
         j0 = _first_open(dead)  # spline intervals before j0: negligible for every load
-        c = np.ascontiguousarray(np.moveaxis(self._spl.c[:, j0:], -1, 0))[:, :, None]
         d = np.ascontiguousarray((xg[1 + j0 :] - self.x[1 + j0 : -1, None]).T)  # local: (m, n)
         step = _block(xg.size)
+        rows = min(step, self.n_load)
+        buf = np.empty((2, rows * d.size))  # y and dy of every block
+        cbuf = np.empty(4 * rows * d.shape[1])  # the block's coefficients, loads first
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
             jb = _first_open(dead[k])  # this block's own (later) start
             off = jb - j0
-            c0, c1, c2, c3 = (c[k, j, :, off:] for j in range(4))  # (rows, 1, n_int - 1 - jb)
+            ck = self._spl.c[:, j0 + off :, k]  # (4, n_int - 1 - jb, rows)
+            c = cbuf[: ck.size].reshape(ck.shape[2], 4, 1, ck.shape[1])
+            np.copyto(c[:, :, 0, :], np.moveaxis(ck, -1, 0))
+            c0, c1, c2, c3 = (c[:, j] for j in range(4))  # (rows, 1, n_int - 1 - jb)
             db = d[:, off:]
-            y = c0 * db
+            shape = (c0.shape[0], *db.shape)
+            y = np.multiply(c0, db, out=buf[0, : math.prod(shape)].reshape(shape))
             y += c1
             y *= db
             y += c2
             y *= db
             y += c3
             np.minimum(y, 0.0, out=y)
-            dy = 3.0 * c0 * db
+            dy = np.multiply(3.0 * c0, db, out=buf[1, : y.size].reshape(shape))
             dy += 2.0 * c1
             dy *= db
             dy += c2
             np.maximum(dy, 0.0, out=dy)
-            dy *= _exp(y)
-            yield k, 1 + jb, dy
+            dy *= _exp_inplace(y)
+            yield k, 1 + jb, dy  # buffers reused by the next block: consumed before it
 
     def stieltjes_nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Gauss-Legendre nodes ``x`` (n_int, m) and weights (n_int, m) per interval."""
@@ -324,132 +330,6 @@ def _first_open(dead: NDArray[np.bool_]) -> int:
 
 def _q_max(psd: object, zeta: NDArray[np.float64]) -> float:
     return min(float(psd.q_1), float(zeta[-1]) * float(psd.q_L))  # type: ignore[attr-defined]
-
-
-# -- mean gap -----------------------------------------------------------------------------------
-#: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
-_TABLE_MARGIN = 8
-
-
-class _Phi:
-    """``Phi(G) = int_0^G sqrt(G') (-dF)`` per load as a spline in ``s = ln tau_c``."""
-
-    def __init__(self, psd: object, E_star: float, p0: NDArray[np.float64], cur: _Curve) -> None:
-        q_L = float(psd.q_L)  # type: ignore[attr-defined]
-        xg, wg = cur.stieltjes_nodes()
-        sqrt_tau = np.sqrt(_tau_c(psd, E_star, np.exp(xg) * q_L))
-        inc = cur.dF_weighted(sqrt_tau * wg) / p0[:, None]
-        phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
-        tau = _tau_c(psd, E_star, cur.zeta * q_L)
-        self.tau1 = float(tau[1])
-        self.s = np.log(tau[1:])
-        self.phi = phi
-        self.p0 = p0
-        self._spl = _row_spline(self.s, phi[:, 1:]) if self.s.size > 1 else None
-        self._tab: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
-
-    def at_tau(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``Phi`` at ``G = tau/p0^2`` for every load (shared ``tau``): (n_load,) + tau.shape."""
-        tau = np.asarray(tau, dtype=float)
-        lin = self.phi[:, 1].reshape((-1,) + (1,) * tau.ndim) * np.clip(tau / self.tau1, 0, 1)
-        if self._spl is None:
-            return lin
-        s = np.clip(np.log(np.maximum(tau, _TINY)), self.s[0], self.s[-1])
-        return np.where(tau < self.tau1, lin, np.maximum(self._spl(s), 0.0))
-
-    def at_tau_per_load(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``Phi`` at per-load ``tau`` of shape (n_load, ...) (uniform-table look-up)."""
-        tau = np.asarray(tau, dtype=float)
-        shape = tau.shape
-        t2 = tau.reshape(shape[0], -1)
-        if self._spl is None:
-            return (self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)).reshape(shape)
-        grid, table = self._table()
-        n = grid.size
-        with np.errstate(divide="ignore"):
-            u = np.log(t2)
-        u -= grid[0]
-        u *= 1.0 / (grid[1] - grid[0])
-        np.clip(u, 0.0, n - 1.000001, out=u)
-        i = u.astype(np.intp)
-        u -= i
-        i += (np.arange(shape[0]) * n)[:, None]
-        flat = table.ravel()
-        v0 = flat.take(i)
-        val = v0 + u * (flat.take(i + 1) - v0)
-        low = t2 < self.tau1
-        if low.any():
-            lin = self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)
-            val = np.where(low, lin, val)
-        return val.reshape(shape)
-
-    def at_log_tau_per_load(
-        self, log_tau: NDArray[np.float64], rows: slice | NDArray, overwrite: bool = False
-    ) -> NDArray:
-        """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``.
-
-        As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up); ``rows``
-        a slice of the loads or one load index per row. ``overwrite``: ``log_tau`` is a
-        temporary of the caller and may be used as scratch space.
-        """
-        shape = log_tau.shape
-        l2 = log_tau.reshape(shape[0], -1)
-        phi1 = self.phi[rows, 1:2]
-        if self._spl is None:
-            t = _exp(np.minimum(l2, math.log(self.tau1)))
-            return (phi1 * np.clip(t / self.tau1, 0.0, 1.0)).reshape(shape)
-        grid, table = self._table()
-        n = grid.size
-        phi1_zero = not np.any(phi1)
-        quiet = phi1_zero and self._first_zero  # below the grid: u = 0 at node 0, val = 0
-        u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else None)
-        u *= 1.0 / (grid[1] - grid[0])
-        np.clip(u, 0.0, n - 1.000001, out=u)
-        i = u.astype(np.intp)
-        u -= i
-        if isinstance(rows, slice):
-            rows = np.arange(rows.start or 0, (rows.start or 0) + shape[0])
-        i += (rows * n)[:, None]
-        flat = table.ravel()
-        v0 = flat.take(i)
-        val = flat[1:].take(i)  # the next nodes, without an array i + 1
-        val -= v0
-        val *= u
-        val += v0
-        if quiet:  # the masked copy of 0 below would change nothing
-            return val.reshape(shape)
-        log_tau1 = math.log(self.tau1)
-        low = l2 < log_tau1
-        if phi1_zero:  # the linear first interval is 0 (every load in full contact
-            np.copyto(val, 0.0, where=low)  # at the first node: the dense grid's 1 + 1e-9)
-        elif low.any():  # the linear first interval; its exp where it applies only (as _exp)
-            t = np.zeros(l2.shape)
-            np.exp(l2, out=t, where=low & (l2 > _EXP_ZERO))
-            t /= self.tau1
-            np.clip(t, 0.0, 1.0, out=t)
-            t *= phi1
-            np.copyto(val, t, where=low)
-        return val.reshape(shape)
-
-    def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6)."""
-        if getattr(self, "_tab", None) is None:
-            n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
-            grid = np.linspace(self.s[0], self.s[-1], n)
-            # Phi = 0 at the nodes where every load is in full contact (the dense grid's first
-            # nodes); the table is evaluated from _TABLE_MARGIN such nodes before the first
-            # non-zero one and is 0 below (the spline's values there are its ringing between
-            # zeros, below 1e-30 of Phi: round-off in any look-up)
-            live = np.flatnonzero(np.any(self.phi[:, 1:] != 0.0, axis=0))
-            j = max(0, int(live[0]) - _TABLE_MARGIN) if live.size else 0
-            g0 = int(np.searchsorted(grid, self.s[j], side="left"))
-            tab = np.empty((self.phi.shape[0], n))
-            tab[:, :g0] = 0.0
-            np.maximum(self._spl(grid[g0:]), 0.0, out=tab[:, g0:])  # type: ignore[misc]
-            self._tab = (grid, tab)  # C order: the look-ups take from its flat view
-            # every row's node 0 is 0 and node 1 finite: a look-up below the grid gives +0.0
-            self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
-        return self._tab
 
 
 def _loads(p0: ArrayLike, n_load: int) -> NDArray[np.float64]:

@@ -33,9 +33,24 @@ def _exp(y: NDArray[np.float64]) -> NDArray[np.float64]:
     return out
 
 
+def _exp_inplace(y: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`_exp` of a float array, written over ``y`` (bit-identical to ``np.exp(y)``)."""
+    if y.size == 0 or not y.min() < _EXP_LO:
+        return np.exp(y, out=y)
+    keep = y > _EXP_ZERO
+    np.exp(y, out=y, where=keep)
+    y[~keep] = 0.0
+    return y
+
+
 #: Elements per block of loads in the large per-load tensors (about 0.5 MB of float64: the
 #: temporaries of one block stay in the cache; whole-batch temporaries are memory-bound).
 _BLOCK = 1 << 16
+
+
+#: Elements of a small buffer (64 kB): below malloc's threshold for fresh memory (mmap), so
+#: reused from the heap without page faults.
+_SMALL = 1 << 13
 
 
 def _block(per_load: int) -> int:
@@ -51,32 +66,91 @@ def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     stacking copies (3-6x faster for 100 rows of 600 knots). Fewer than 4 knots: scipy's own.
     """
     from scipy.interpolate import CubicSpline, PPoly  # lazily: ~0.2 s to import
-    from scipy.linalg import solve_banded
 
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     n = x.size
     if n < 4 or y.ndim != 2:
         return CubicSpline(x, y, axis=1)
+    yt, dx, slope, sl = _row_slopes(x, y)
+    c = np.empty((4, n - 1, yt.shape[1]))
+    t = np.add(sl[:-1], sl[1:], out=c[3])  # c[3] as scratch
+    t -= 2.0 * slope
+    t /= dx
+    np.divide(t, dx, out=c[0])
+    np.subtract(slope, sl[:-1], out=c[1])
+    c[1] /= dx
+    c[1] -= t
+    c[2] = sl[:-1]
+    c[3] = yt[:-1]
+    return PPoly.construct_fast(c, x, extrapolate=True, axis=1)
+
+
+def _row_slopes(x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+    """``(y.T, dx, slope, sl)`` of :func:`_row_spline` (``n >= 4`` knots): the data by knot
+    (n, n_row), the knot steps (n - 1, 1), the secants (n - 1, n_row) and the spline's slopes
+    at the knots (n, n_row), from which every interval's coefficients follow."""
+    from scipy.linalg import solve_banded
+
+    n = x.size
     yt = np.ascontiguousarray(y.T)  # (n, n_row)
     dx = np.diff(x)[:, None]
-    slope = np.diff(yt, axis=0) / dx
+    slope = np.diff(yt, axis=0)
+    slope /= dx
     ab = np.zeros((3, n))
     ab[1, 1:-1] = 2.0 * (dx[:-1, 0] + dx[1:, 0])
     ab[0, 2:] = dx[:-1, 0]
     ab[2, :-2] = dx[1:, 0]
     b = np.empty((yt.shape[1], n)).T  # Fortran order: LAPACK solves it in place
-    b[1:-1] = 3.0 * (dx[1:] * slope[:-1] + dx[:-1] * slope[1:])
+    mid = np.multiply(dx[1:], slope[:-1], out=b[1:-1])
+    mid += dx[:-1] * slope[1:]
+    mid *= 3.0
     d0, d1 = x[2] - x[0], x[-1] - x[-3]
     ab[1, 0], ab[0, 1] = dx[1, 0], d0
     b[0] = ((dx[0] + 2.0 * d0) * dx[1] * slope[0] + dx[0] ** 2 * slope[1]) / d0
     ab[1, -1], ab[2, -2] = dx[-2, 0], d1
     b[-1] = (dx[-1] ** 2 * slope[-2] + (2.0 * d1 + dx[-1]) * dx[-2] * slope[-1]) / d1
     sl = solve_banded((1, 1), ab, b, overwrite_ab=True, overwrite_b=True, check_finite=False)
-    t = (sl[:-1] + sl[1:] - 2.0 * slope) / dx
-    c = np.empty((4, n - 1, yt.shape[1]))
-    np.divide(t, dx, out=c[0])
-    np.subtract((slope - sl[:-1]) / dx, t, out=c[1])
-    c[2] = sl[:-1]
-    c[3] = yt[:-1]
-    return PPoly.construct_fast(c, x, extrapolate=True, axis=1)
+    return yt, dx, slope, sl
+
+
+def _ppoly_at(
+    spl: PPoly,
+    xs: NDArray[np.float64],
+    out: NDArray[np.float64] | None = None,
+    out_t: NDArray[np.float64] | None = None,
+) -> NDArray[np.float64]:
+    """``max(spl(xs), 0)`` of a spline of :func:`_row_spline` (rows on axis 1), bit for bit,
+    at 1-D ``xs`` inside its breakpoints: (n_row, xs.size), written into ``out`` if given.
+
+    The same arithmetic as scipy's ``PPoly`` evaluation (``c3 + c2 s + c1 s^2 + c0 s^3`` with
+    the powers of ``s = x - x_i`` by repeated products), in blocks of points laid out as the
+    coefficients (rows innermost) with two small buffers, each block clipped at 0 into its
+    columns of ``out``: no per-point search, axis moves or large temporaries. ``out_t``
+    (xs.size, n_row): the same values also written in the transposed layout.
+    """
+    b, c = spl.x, spl.c
+    i = np.clip(np.searchsorted(b, xs, side="right") - 1, 0, b.size - 2)
+    s = xs - b[i]
+    res = np.empty((c.shape[2], xs.size)) if out is None else out
+    step = max(1, _SMALL // c.shape[2])
+    buf = np.empty((2, min(step, xs.size), c.shape[2]))
+    for lo in range(0, xs.size, step):  # blocks of points: the temporaries stay in cache
+        k, sk = i[lo : lo + step], s[lo : lo + step, None]
+        r, t = buf[0, : k.size], buf[1, : k.size]
+        np.take(c[2], k, axis=0, out=r)
+        r *= sk
+        r += np.take(c[3], k, axis=0, out=t)
+        z = sk * sk
+        np.take(c[1], k, axis=0, out=t)
+        t *= z
+        r += t
+        z *= sk
+        np.take(c[0], k, axis=0, out=t)
+        t *= z
+        r += t
+        np.maximum(r, 0.0, out=r)
+        res[:, lo : lo + k.size] = r.T
+        if out_t is not None:
+            out_t[lo : lo + k.size] = r
+    return res

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._fastnum import _row_spline
+from ._fastnum import _row_slopes, _row_spline
 
 __all__ = ["critical_magnification"]
 
@@ -28,30 +28,73 @@ def critical_magnification(zeta: ArrayLike, area: ArrayLike, a_c: float) -> NDAr
     out = np.full(A.shape[0], np.nan)
     if not crossed.any():
         return out
-    spl = _row_spline(x, A) if z.size > 2 else None  # CubicSpline(x, A, axis=1)
     rows = np.arange(A.shape[0])
     lo, hi = x[j - 1], x[j]
     a_lo, a_hi = A[rows, j - 1], A[rows, j]
     t = (a_lo - a_c) / np.where(a_lo > a_hi, a_lo - a_hi, 1.0)
     xc = lo + np.clip(t, 0.0, 1.0) * (hi - lo)
-    if spl is not None:
-        k = j - 1
-        c0, c1, c2, c3 = spl.c[:, k, rows]  # each load's crossing interval (fixed): once
-        c0_3, c1_2, xk = 3.0 * c0, 2.0 * c1, x[k]
-        for _ in range(60):
-            d = xc - xk
-            f = ((c0 * d + c1) * d + c2) * d + c3
-            df = (c0_3 * d + c1_2) * d + c2
-            r = f - a_c
-            lo = np.where(r > 0, xc, lo)
-            hi = np.where(r <= 0, xc, hi)
-            step = np.where(df < 0, r / np.where(df < 0, df, -1.0), 0.0)
-            xn = xc - step
-            bad = ~((xn > lo) & (xn < hi))
-            xn = np.where(bad, 0.5 * (lo + hi), xn)
-            if np.all(np.abs(xn - xc) <= 1e-15 * np.maximum(1.0, np.abs(xc))):
-                xc = xn
-                break
-            xc = xn
-    out[crossed] = np.exp(xc[crossed])
+    c = crossed  # the loads that stay above a_c take no steps (their NaN is known)
+    if z.size > 2:  # each load's crossing interval (fixed) of CubicSpline(x, A, axis=1)
+        coef = _crossing_coefficients(x, A[c], j[c] - 1)
+        xc = _newton(coef, x[j[c] - 1], xc[c], lo[c], hi[c], a_c)
+    else:
+        xc = xc[c]
+    out[c] = np.exp(xc)
     return out
+
+
+def _crossing_coefficients(
+    x: NDArray[np.float64], A: NDArray[np.float64], k: NDArray[np.intp]
+) -> tuple[NDArray[np.float64], ...]:
+    """``CubicSpline(x, A, axis=1).c[:, k[l], l]`` for every row ``l`` (bit for bit): the
+    coefficients of one interval per row, from the spline's slopes at the knots."""
+    if x.size < 4:
+        return tuple(_row_spline(x, A).c[:, k, np.arange(A.shape[0])])
+    yt, dx, slope, sl = _row_slopes(x, A)
+    rows = np.arange(A.shape[0])
+    h, m, s0, s1 = dx[k, 0], slope[k, rows], sl[k, rows], sl[k + 1, rows]
+    t = (s0 + s1 - 2.0 * m) / h
+    return t / h, (m - s0) / h - t, s0, yt[k, rows]
+
+
+def _newton(
+    coef: tuple[NDArray[np.float64], ...],
+    xk: NDArray[np.float64],
+    xc: NDArray[np.float64],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    a_c: float,
+) -> NDArray[np.float64]:
+    """Safeguarded Newton steps for ``A(x) = a_c`` on every row's cubic (bracket ``lo, hi``),
+    until every row's step is below 1e-15 (relative) or 60 steps."""
+    c0, c1, c2, c3 = coef
+    c0_3, c1_2 = 3.0 * c0, 2.0 * c1
+    lo, hi = lo.copy(), hi.copy()
+    for _ in range(60):
+        d = xc - xk
+        f = c0 * d
+        f += c1
+        f *= d
+        f += c2
+        f *= d
+        f += c3
+        df = c0_3 * d
+        df += c1_2
+        df *= d
+        df += c2
+        r = f - a_c
+        up = r > 0
+        np.copyto(lo, xc, where=up)
+        np.copyto(hi, xc, where=r <= 0)
+        neg = df < 0
+        step = r / np.where(neg, df, -1.0)
+        step[~neg] = 0.0
+        xn = xc - step
+        bad = ~((xn > lo) & (xn < hi))
+        if bad.any():
+            np.copyto(xn, 0.5 * (lo + hi), where=bad)
+        done = np.abs(xn - xc) <= 1e-15 * np.maximum(1.0, np.abs(xc))
+        xc = xn
+        if done.all():
+            break
+    return xc

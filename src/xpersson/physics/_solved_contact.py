@@ -11,14 +11,15 @@ from ._curve import (
     _Curve,
     _edges,
     _loads,
-    _Phi,
     _q_max,
     _q_rule,
+    _QRule,
     _tau_c,
 )
 from ._energy import full_contact_energy
 from ._gap_distribution import Detachment
 from ._percolation import critical_magnification
+from ._phi import _Phi
 from ._subgap import _h2, _sub_mean_gap, _sub_prep
 
 __all__ = ["SolvedContact"]
@@ -61,6 +62,7 @@ class SolvedContact:
         self.q_hi = _q_max(psd, self.curve.zeta)
         self._phi: _Phi | None = None
         self._u: NDArray[np.float64] | None = None
+        self._rule: _QRule | None = None
 
     @property
     def phi(self) -> _Phi:
@@ -68,9 +70,16 @@ class SolvedContact:
             self._phi = _Phi(self.psd, self.E_star, self.p0, self.curve)
         return self._phi
 
+    @property
+    def rule(self) -> _QRule:
+        """The quadrature rule over ``[q_L, q_hi]`` of the energy and the mean gap (built once)."""
+        if self._rule is None:
+            self._rule = _q_rule(self.psd, self.q_L, self.q_hi)
+        return self._rule
+
     def elastic_energy(self) -> NDArray[np.float64]:
         """``U_el/A0`` [J/m^2], (n_load,) (see :func:`elastic_energy`)."""
-        r = _q_rule(self.psd, self.q_L, self.q_hi)
+        r = self.rule
         deficit = self.curve.nf(np.log(r.q / self.q_L)) @ (r.weights * r.q**2 * r.C)
         full = full_contact_energy(self.psd, self.E_star, self.q_L, self.q_hi)
         return full - 0.5 * math.pi * self.E_star * deficit
@@ -78,7 +87,7 @@ class SolvedContact:
     def mean_gap(self) -> NDArray[np.float64]:
         """``u(p0)`` [m], (n_load,) (see :func:`mean_gap`)."""
         if self._u is None:
-            r = _q_rule(self.psd, self.q_L, self.q_hi)
+            r = self.rule
             vals = self.phi.at_tau(0.25 * np.pi * self.E_star**2 * r.dI3)
             self._u = math.pi * (vals @ (r.weights * r.q**2 * r.C * r.w))
         return self._u.copy()
@@ -143,19 +152,23 @@ class SolvedContact:
 
         ``prep``: :func:`_sub_prep` at every edge (the upper cut-offs are its edges 1..).
         """
-        # u at the bin's upper cut-off under the bin's *initial* pressure p0/A_k
-        mixed = _sub_mean_gap(  # needed in the bins that detach area only
+        # u at the bin's upper cut-off under the bin's *initial* pressure p0/A_k, needed in the
+        # bins that detach area only; where A_k = A_k+1 (dA below the round-off of A: both 1
+        # near full contact) it is u_next itself, the same look-ups and sums bit for bit
+        u_next = ubar[:, 1:]
+        same = A[:, :-1] == A[:, 1:]
+        mixed = _sub_mean_gap(
             self.psd,
             self.E_star,
             self.phi,
             None,
             A[:, :-1],
             self.q_hi,
-            where=ok,
+            where=ok & ~same,
             prep=(prep[0][:, 1:], prep[1][:, 1:]),
         )
+        np.copyto(mixed, u_next, where=same)
         mixed[:, -1] = 0.0  # no scales left above the last edge
-        u_next = ubar[:, 1:]
         # A_k (u(z_k+1, A_k) - u(z_k+1, A_k+1)) / dA >= 0 stays finite as dA -> 0
         return np.where(ok, u_next + A[:, :-1] * (mixed - u_next) / safe, 0.0)
 

@@ -1,0 +1,209 @@
+"""``Phi(G)`` of the virtual-work mean gap (private): a spline per load and its look-up table.
+
+``Phi(G) = int_0^G sqrt(G') (-dF)`` per load, a cubic spline in ``s = ln tau_c`` of the node
+integrals of the solved curve (:class:`xpersson.physics._curve._Curve`), and its samples on a
+uniform grid in ``s`` for the many look-ups of the sub-problems (:mod:`._subgap`). SI units.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._curve import _TINY, _Curve, _tau_c
+from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
+
+#: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
+_TABLE_MARGIN = 8
+
+
+class _Phi:
+    """``Phi(G) = int_0^G sqrt(G') (-dF)`` per load as a spline in ``s = ln tau_c``."""
+
+    def __init__(self, psd: object, E_star: float, p0: NDArray[np.float64], cur: _Curve) -> None:
+        q_L = float(psd.q_L)  # type: ignore[attr-defined]
+        xg, wg = cur.stieltjes_nodes()
+        sqrt_tau = np.sqrt(_tau_c(psd, E_star, np.exp(xg) * q_L))
+        inc = cur.dF_weighted(sqrt_tau * wg) / p0[:, None]
+        phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
+        tau = _tau_c(psd, E_star, cur.zeta * q_L)
+        self.tau1 = float(tau[1])
+        self.s = np.log(tau[1:])
+        self.phi = phi
+        self.p0 = p0
+        self._spl = _row_spline(self.s, phi[:, 1:]) if self.s.size > 1 else None
+        self._tab: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+
+    @property
+    def has_table(self) -> bool:
+        """Whether the look-ups go through the uniform table (a spline of >= 2 nodes)."""
+        return self._spl is not None
+
+    def at_tau(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``Phi`` at ``G = tau/p0^2`` for every load (shared ``tau``): (n_load,) + tau.shape."""
+        tau = np.asarray(tau, dtype=float)
+        if self._spl is not None and tau.ndim == 1:
+            return self._at_tau_1d(tau)
+        lin = self.phi[:, 1].reshape((-1,) + (1,) * tau.ndim) * np.clip(tau / self.tau1, 0, 1)
+        if self._spl is None:
+            return lin
+        s = np.clip(np.log(np.maximum(tau, _TINY)), self.s[0], self.s[-1])
+        return np.where(tau < self.tau1, lin, np.maximum(self._spl(s), 0.0))
+
+    def _at_tau_1d(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
+        """:meth:`at_tau` of 1-D ``tau`` (bit for bit): the spline's values from its
+        coefficients, written in the C order of ``self._spl(s)`` (the callers' matrix-vector
+        products keep their summation order); the linear first interval where it applies."""
+        s = np.clip(np.log(np.maximum(tau, _TINY)), self.s[0], self.s[-1])
+        out = _ppoly_at(self._spl, s)  # type: ignore[arg-type]
+        low = tau < self.tau1
+        if low.any():
+            out[:, low] = self.phi[:, 1:2] * np.clip(tau[low] / self.tau1, 0, 1)
+        return out
+
+    def at_tau_per_load(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``Phi`` at per-load ``tau`` of shape (n_load, ...) (uniform-table look-up)."""
+        tau = np.asarray(tau, dtype=float)
+        shape = tau.shape
+        t2 = tau.reshape(shape[0], -1)
+        if self._spl is None:
+            return (self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)).reshape(shape)
+        grid, table = self._table()
+        n, lo = grid.size, self._lo
+        with np.errstate(divide="ignore"):
+            u = np.log(t2)
+        u -= grid[0]
+        u *= 1.0 / (grid[1] - grid[0])
+        np.clip(u, lo, n - 1.000001, out=u)  # below node lo + 1 the table is 0: same values
+        i = u.astype(np.intp)
+        u -= i
+        i += (np.arange(shape[0]) * table.shape[1] - lo)[:, None]
+        flat = table.ravel()
+        v0 = flat.take(i)
+        val = v0 + u * (flat.take(i + 1) - v0)
+        low = t2 < self.tau1
+        if low.any():
+            lin = self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)
+            val = np.where(low, lin, val)
+        return val.reshape(shape)
+
+    def at_log_tau_per_load(
+        self, log_tau: NDArray[np.float64], rows: slice | NDArray, overwrite: bool = False
+    ) -> NDArray:
+        """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``.
+
+        As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up); ``rows``
+        a slice of the loads or one load index per row. ``overwrite``: ``log_tau`` is a
+        temporary of the caller and may be used as scratch space.
+        """
+        shape = log_tau.shape
+        l2 = log_tau.reshape(shape[0], -1)
+        phi1 = self.phi[rows, 1:2]
+        if self._spl is None:
+            t = _exp(np.minimum(l2, math.log(self.tau1)))
+            return (phi1 * np.clip(t / self.tau1, 0.0, 1.0)).reshape(shape)
+        grid, table = self._table()
+        n, lo = grid.size, self._lo
+        phi1_zero = not np.any(phi1)
+        quiet = phi1_zero and self._first_zero  # below the grid: u = 0 at node 0, val = 0
+        u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else None)
+        u *= 1.0 / (grid[1] - grid[0])
+        np.clip(u, lo, n - 1.000001, out=u)  # below node lo + 1 the table is 0: same values
+        i = u.astype(np.intp)
+        u -= i
+        if isinstance(rows, slice):
+            rows = np.arange(rows.start or 0, (rows.start or 0) + shape[0])
+        i += (rows * table.shape[1] - lo)[:, None]
+        flat = table.ravel()
+        v0 = flat.take(i)
+        val = flat[1:].take(i)  # the next nodes, without an array i + 1
+        val -= v0
+        val *= u
+        val += v0
+        if quiet:  # the masked copy of 0 below would change nothing
+            return val.reshape(shape)
+        log_tau1 = math.log(self.tau1)
+        low = l2 < log_tau1
+        if phi1_zero:  # the linear first interval is 0 (every load in full contact
+            np.copyto(val, 0.0, where=low)  # at the first node: the dense grid's 1 + 1e-9)
+        elif low.any():  # the linear first interval; its exp where it applies only (as _exp)
+            t = np.zeros(l2.shape)
+            np.exp(l2, out=t, where=low & (l2 > _EXP_ZERO))
+            t /= self.tau1
+            np.clip(t, 0.0, 1.0, out=t)
+            t *= phi1
+            np.copyto(val, t, where=low)
+        return val.reshape(shape)
+
+    def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6).
+
+        ``(grid, table)``: the table (n_load, n_grid - lo) holds the grid's nodes from ``lo =
+        self._lo`` on (those below are 0 for every load) in C order (the per-load look-ups
+        take from its flat view), evaluated from the spline's coefficients (as
+        ``self._spl(grid)``, bit for bit).
+        """
+        if getattr(self, "_tab", None) is None:
+            n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
+            grid = np.linspace(self.s[0], self.s[-1], n)
+            # Phi = 0 at the nodes where every load is in full contact (the dense grid's first
+            # nodes); the table is evaluated from _TABLE_MARGIN such nodes before the first
+            # non-zero one and is 0 below (the spline's values there are its ringing between
+            # zeros, below 1e-30 of Phi: round-off in any look-up)
+            live = np.flatnonzero(np.any(self.phi[:, 1:] != 0.0, axis=0))
+            j = max(0, int(live[0]) - _TABLE_MARGIN) if live.size else 0
+            g0 = int(np.searchsorted(grid, self.s[j], side="left"))
+            # kept from grid node lo = g0 - 2 on: a look-up below it is clipped to node lo, where
+            # it takes 0 + 0 (0 - 0), the 0 it took from the zero nodes below (bit for bit)
+            lo = max(g0 - 2, 0)
+            tab = np.empty((self.phi.shape[0], n - lo))
+            tab[:, : g0 - lo] = 0.0
+            tab_t = np.empty((n - lo, self.phi.shape[0]))  # (nodes, loads): the sparse sums
+            tab_t[: g0 - lo] = 0.0
+            kept = slice(g0 - lo, None)
+            _ppoly_at(self._spl, grid[g0:], out=tab[:, kept], out_t=tab_t[kept])  # type: ignore[arg-type]
+            self._tab_t = tab_t
+            self._tab, self._lo, self._g0 = (grid, tab), lo, g0
+            # every row's node lo is 0 and node lo + 1 finite: a look-up below gives +0.0
+            self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
+        return self._tab
+
+    def sums_at_log_tau(
+        self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """``sum_m kern[k, m] Phi_l(ln tau = log_tau[k, m])`` for every load ``l``: (n_load, K).
+
+        For arguments shared by every load (a sub-problem in full contact, ``A_a = 1``): the
+        look-up positions are found once, and the sums of all loads are one sparse product of
+        the interpolation weights with the table, ``kern (1 - u) T[i] + kern u T[i + 1]``: the
+        linear look-up of :meth:`at_log_tau_per_load` up to round-off (~1e-16 relative; the
+        terms are >= 0). Table nodes that are 0 for every load are left out.
+        """
+        from scipy.sparse import csr_array  # lazily (imported with scipy.interpolate)
+
+        grid, tab = self._table()
+        n, lo = grid.size, self._lo
+        u = np.subtract(log_tau, grid[0])
+        u *= 1.0 / (grid[1] - grid[0])
+        np.clip(u, lo, n - 1.000001, out=u)
+        i = u.astype(np.intp)
+        u -= i
+        low = log_tau < math.log(self.tau1)  # the linear first interval, added below
+        keep = ~low & (i + 1 >= self._g0)  # nodes i, i + 1 not both 0 for every load
+        w1 = kern[keep] * u[keep]
+        data = np.stack((kern[keep] - w1, w1), axis=-1).ravel()
+        col = i[keep] - lo
+        cols = np.stack((col, col + 1), axis=-1).ravel()
+        ptr = np.concatenate(([0], np.cumsum(2 * np.count_nonzero(keep, axis=1))))
+        w = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[1]))
+        out = np.ascontiguousarray((w @ self._tab_t).T)  # the table (nodes, loads)
+        phi1 = self.phi[:, 1:2]
+        if low.any() and np.any(phi1):
+            t = np.zeros(log_tau.shape)
+            np.exp(log_tau, out=t, where=low & (log_tau > _EXP_ZERO))
+            t /= self.tau1
+            np.clip(t, 0.0, 1.0, out=t)
+            out += phi1 * np.sum(kern * t, axis=-1)
+        return out

@@ -1,0 +1,216 @@
+"""The solved-curve machinery's fast paths equal plain reference evaluations (issue 25).
+
+Every fast path of ``_phi``/``_curve``/``_subgap``/``_percolation`` is checked against a plain
+evaluation over all elements written here (scipy's ``PPoly``/``CubicSpline``, the linear
+table look-up in one expression, ``np.exp``): bit for bit where only the layout or the blocks
+changed, to 1e-14 (stated) where the sums are regrouped (the sparse product of the sub-gaps
+in full contact).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.interpolate import CubicSpline
+
+from xpersson.physics import SolvedContact, critical_magnification
+from xpersson.physics._curve import _Curve, _edges
+from xpersson.physics._fastnum import _exp_inplace, _ppoly_at, _row_slopes
+from xpersson.physics._percolation import _crossing_coefficients
+from xpersson.physics._phi import _Phi
+from xpersson.physics._subgap import _sub_mean_gap, _sub_prep
+from xpersson.physics.elastic import area_fraction, diffusion_time
+from xpersson.physics.psd import SelfAffineRollOff
+
+E_STAR = 10e6 / (1.0 - 0.5**2)
+LOADS = np.geomspace(1e3, 3e6, 12)
+
+
+@pytest.fixture(scope="module")
+def psd():
+    return SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e8)
+
+
+@pytest.fixture(scope="module")
+def contact(psd):
+    """A dense Persson curve (full contact over the first decades at high load)."""
+    zeta = np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 400)))
+    A, N = area_fraction(LOADS[:, None], diffusion_time(psd, E_STAR, zeta)[None, :])
+    return SolvedContact(psd, E_STAR, LOADS, zeta, A, None, N)
+
+
+def _spline(rng, n_knot=40, n_row=5):
+    x = np.sort(rng.uniform(-3.0, 7.0, n_knot))
+    return CubicSpline(x, rng.normal(size=(n_row, n_knot)), axis=1)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_ppoly_at_is_scipys_evaluation(seed):
+    rng = np.random.default_rng(seed)
+    spl = _spline(rng)
+    # random points, every breakpoint and both ends; more points than one block
+    xs = np.concatenate((rng.uniform(spl.x[0], spl.x[-1], 20000), spl.x))
+    ref = np.maximum(spl(xs), 0.0)
+    np.testing.assert_array_equal(_ppoly_at(spl, xs), ref)
+    out = np.full((5, xs.size + 3), np.nan)
+    _ppoly_at(spl, xs, out=out[:, 3:])
+    np.testing.assert_array_equal(out[:, 3:], ref)
+    assert np.all(np.isnan(out[:, :3]))  # only its columns written
+
+
+def test_exp_inplace_is_numpys_exp():
+    y = np.concatenate([np.linspace(-800.0, 5.0, 40001), [-np.inf, np.nan, 0.0]])
+    np.testing.assert_array_equal(_exp_inplace(y.copy()), np.exp(y))
+    fast = np.linspace(-700.0, 1.0, 1001)  # no value below the slow band: one pass
+    np.testing.assert_array_equal(_exp_inplace(fast.copy()), np.exp(fast))
+
+
+def test_phi_table_is_the_spline_on_the_grid(contact):
+    """The table is max(spline, 0) on its grid from the first live nodes on, 0 below."""
+    ph = _Phi(contact.psd, E_STAR, contact.p0, contact.curve)
+    grid, tab = ph._table()
+    tab = _full_table(ph)
+    ref = np.maximum(ph._spl(grid), 0.0)  # scipy's PPoly evaluation
+    live = np.flatnonzero(np.any(ph.phi[:, 1:] != 0.0, axis=0))
+    g0 = int(np.searchsorted(grid, ph.s[max(0, int(live[0]) - 8)]))
+    assert 0 < g0 < grid.size  # the zero block is there (full contact near zeta = 1)
+    np.testing.assert_array_equal(tab[:, g0:], ref[:, g0:])
+    assert np.all(tab[:, :g0] == 0.0) and np.all(np.abs(ref[:, :g0]) < 1e-30 * tab.max())
+    assert ph._table()[1].flags["C_CONTIGUOUS"] and ph._lo == g0 - 2
+    np.testing.assert_array_equal(ph._tab_t, ph._table()[1].T)  # the sparse sums' layout
+
+
+def test_phi_at_tau_is_the_spline_and_its_linear_first_interval(contact):
+    ph = contact.phi
+    tau = np.concatenate((np.geomspace(1e-3, 1e3, 500) * ph.tau1, [0.0, ph.tau1]))
+    lin = ph.phi[:, 1:2] * np.clip(tau / ph.tau1, 0.0, 1.0)
+    s = np.clip(np.log(np.maximum(tau, 1e-300)), ph.s[0], ph.s[-1])
+    ref = np.where(tau < ph.tau1, lin, np.maximum(ph._spl(s), 0.0))  # scipy's PPoly
+    got = ph.at_tau(tau)
+    np.testing.assert_array_equal(got, ref)
+    assert got.flags["C_CONTIGUOUS"]  # the mean gap's matrix product keeps its order
+
+
+def _full_table(ph):
+    """The table on every grid node (the nodes below ``_lo`` are 0)."""
+    grid, tab = ph._table()
+    full = np.zeros((tab.shape[0], grid.size))
+    full[:, ph._lo :] = tab
+    return full
+
+
+def _plain_look_up(ph, lt, load):
+    """Phi of load ``load`` at ``ln tau = lt`` (any shape): the linear table look-up."""
+    grid, tab = ph._table()[0], _full_table(ph)
+    n = grid.size
+    u = np.clip((lt - grid[0]) * (1.0 / (grid[1] - grid[0])), 0.0, n - 1.000001)
+    i = u.astype(np.intp)
+    u = u - i
+    row = tab[load]
+    val = row[i] + u * (row[i + 1] - row[i])
+    low = lt < math.log(ph.tau1)
+    phi1 = ph.phi[load, 1]
+    t = np.exp(np.where(low, lt, 0.0)) / ph.tau1
+    return np.where(low, phi1 * np.clip(t, 0.0, 1.0), val)
+
+
+def test_sub_mean_gap_is_the_plain_sum_of_look_ups(contact):
+    """The blocked, buffered sums at every edge and at selected pairs = a plain loop."""
+    z = np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 30)))
+    qa = z * contact.q_L
+    A = 1.0 - contact.curve.non_area_at(np.broadcast_to(np.log(z), (LOADS.size, z.size)))
+    prep = _sub_prep(contact.psd, E_STAR, qa[None, :], contact.q_hi)
+    got = _sub_mean_gap(contact.psd, E_STAR, contact.phi, None, A, contact.q_hi, prep=prep)
+    where = (A > 0.2) & (A < 1.0)
+    part = _sub_mean_gap(
+        contact.psd, E_STAR, contact.phi, None, A, contact.q_hi, where=where, prep=prep
+    )
+    log_tc, kern = prep
+    with np.errstate(divide="ignore"):
+        la2 = 2.0 * np.log(A)
+    ref = np.empty(A.shape)
+    for load in range(LOADS.size):
+        lt = log_tc[0] + la2[load][:, None]
+        ref[load] = (_plain_look_up(contact.phi, lt, load) * kern[0]).sum(axis=-1)
+    # A_a = 1 (shared arguments): one sparse product, the same terms in another order and
+    # (1 - u) T_i + u T_i+1 for T_i + u (T_i+1 - T_i): round-off of sums of terms >= 0
+    full = A == 1.0
+    np.testing.assert_allclose(got[full], math.pi * ref[full], rtol=1e-14, atol=0.0)
+    np.testing.assert_array_equal(got[~full], math.pi * ref[~full])  # the look-ups themselves
+    np.testing.assert_array_equal(part, np.where(where, math.pi * ref, 0.0))
+    assert full.mean() > 0.2 and np.count_nonzero(got[full]) > full.sum() // 2
+
+
+def test_pressure_part_equals_every_pair_computed(contact):
+    """Pairs with A_k = A_k+1 take u_next (the same arguments): u1 of the other pairs as
+    computing them all."""
+    z = np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 60)))
+    det = contact.detachment(z, "pressure")
+    zz, A, N = _edges(contact.curve, z)
+    prep = _sub_prep(contact.psd, E_STAR, (zz * contact.q_L)[None, :], contact.q_hi)
+    dA = np.diff(N, axis=1)
+    ok = dA > 0
+    mixed = _sub_mean_gap(
+        contact.psd,
+        E_STAR,
+        contact.phi,
+        None,
+        A[:, :-1],
+        contact.q_hi,
+        where=ok,
+        prep=(prep[0][:, 1:], prep[1][:, 1:]),
+    )
+    mixed[:, -1] = 0.0
+    u_next = det.ubar[:, 1:]
+    same = ok & (A[:, :-1] == A[:, 1:])  # dA below the round-off of A (both 1)
+    assert same.any()  # the skipped pairs exist here
+    # there the mixed gap is u_next itself (the same arguments), up to the round-off of the
+    # two sums (the shared sparse product for u_next), which 1/dA ~ 1e300 would amplify
+    np.testing.assert_allclose(mixed[same], u_next[same], rtol=1e-14, atol=0.0)
+    mixed = np.where(same, u_next, mixed)
+    safe = np.where(ok, dA, 1.0)
+    u1 = np.where(ok, u_next + A[:, :-1] * (mixed - u_next) / safe, 0.0)
+    np.testing.assert_array_equal(det.u1, np.maximum(u1, 0.0))
+
+
+def test_crossing_coefficients_are_the_cubic_splines():
+    rng = np.random.default_rng(5)
+    x = np.sort(rng.uniform(0.0, 9.0, 50))
+    A = np.sort(rng.uniform(0.0, 1.0, (7, 50)), axis=1)[:, ::-1]
+    k = rng.integers(0, 49, 7)
+    ref = CubicSpline(x, A, axis=1).c[:, k, np.arange(7)]
+    np.testing.assert_array_equal(np.array(_crossing_coefficients(x, A, k)), ref)
+    yt, dx, slope, sl = _row_slopes(x, A)
+    np.testing.assert_array_equal(yt, A.T)
+    np.testing.assert_array_equal(sl[:-1], CubicSpline(x, A, axis=1).c[2])  # knot slopes
+
+
+@pytest.mark.parametrize("a_c", [0.05, 0.42, 0.9])
+def test_critical_magnification_solves_the_spline(contact, a_c):
+    """A(zeta_c) = a_c on CubicSpline(ln zeta, A) (exact at the crossing), NaN if not crossed."""
+    cur: _Curve = contact.curve
+    zc = critical_magnification(cur.zeta, cur.area, a_c)
+    spl = CubicSpline(cur.x, cur.area, axis=1)
+    crossed = np.any(cur.area <= a_c, axis=1)
+    assert np.array_equal(np.isfinite(zc), crossed) and crossed.any()
+    for load in np.flatnonzero(crossed):
+        assert spl(np.log(zc[load]))[load] == pytest.approx(a_c, abs=1e-12)
+
+
+def test_per_load_look_ups_are_the_plain_look_up(contact):
+    """Both per-load look-ups (tau or ln tau given) over the whole range, below the table's
+    kept nodes included, equal the look-up on the full table."""
+    ph = contact.phi
+    rng = np.random.default_rng(3)
+    grid = ph._table()[0]
+    lt = rng.uniform(grid[0] - 5.0, grid[-1] + 5.0, (LOADS.size, 3000))
+    ref = np.array([_plain_look_up(ph, lt[k], k) for k in range(LOADS.size)])
+    np.testing.assert_array_equal(ph.at_log_tau_per_load(lt.copy(), slice(0, LOADS.size)), ref)
+    rows = np.array([3, 0, 7])
+    np.testing.assert_array_equal(ph.at_log_tau_per_load(lt[rows], rows), ref[rows])
+    tau = np.exp(np.maximum(lt, math.log(ph.tau1) + 1e-9))  # at_tau_per_load's table part
+    ref_tau = np.array([_plain_look_up(ph, np.log(tau[k]), k) for k in range(LOADS.size)])
+    np.testing.assert_array_equal(ph.at_tau_per_load(tau), ref_tau)
+    assert (lt < grid[ph._lo]).any() and np.count_nonzero(ref) > ref.size // 4
