@@ -42,6 +42,7 @@ def _bruggeman_rows(
     *,
     rtol: float = 1e-12,
     per_row: bool = False,
+    ln_sigma: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     """Vectorised root of ``-c + sum m_k (s_k - s)/(s_k + s) + m_inf = 0`` per row.
 
@@ -50,15 +51,26 @@ def _bruggeman_rows(
     the contact weight reaches the percolation value (half of the total weight), ``inf`` where
     the infinite elements percolate. ``per_row``: bracket each row by its own conductances
     (each row's root then equals that of the row solved alone), else by all rows'.
+    ``ln_sigma`` (n, k): ``ln sigma`` where known (used for the start and the bracket only, where
+    ``sigma`` is finite and > 0 everywhere; an error there only costs iterations).
+
+    Safeguarded Newton in ``x = ln s`` from the mass-weighted mean of ``ln s_k`` (4-6 steps on
+    the leakage cells). With ``r_k = s_k/(s_k + s)``, ``f' = -2 sum m r (1 - r)`` and
+    ``|f''| <= |f'|``, so a Newton step of length ``d`` leaves an error below
+    ``d^2 exp(d)/2``: the iteration stops after a step ``<= sqrt(rtol)`` (error
+    ``<= 0.51 rtol``) or once the bracket is narrower than ``rtol``.
     """
     c = np.asarray(contact, dtype=float)
     m = np.asarray(masses, dtype=float)
     s_k = np.broadcast_to(np.atleast_2d(np.asarray(sigma, dtype=float)), m.shape)
+    m_inf = np.asarray(infinite, dtype=float)
     big = ~np.isfinite(s_k)
-    m_inf = np.asarray(infinite, dtype=float) + np.sum(np.where(big, m, 0.0), axis=1)
-    m = np.where(big, 0.0, m)
-    s_k = np.where(big, 1.0, s_k)
-    total = c + m.sum(axis=1) + m_inf
+    if big.any():
+        m_inf = m_inf + np.sum(np.where(big, m, 0.0), axis=1)
+        m = np.where(big, 0.0, m)
+        s_k = np.where(big, 1.0, s_k)
+    m_sum = m.sum(axis=1)
+    total = c + m_sum + m_inf
     out = np.zeros(c.size)
     sealed = c >= 0.5 * total
     flooded = m_inf >= 0.5 * total
@@ -66,38 +78,61 @@ def _bruggeman_rows(
     out[flooded & ~sealed] = np.inf
     if not work.any():
         return out
-    c, m, m_inf, s_k = c[work], m[work], m_inf[work], s_k[work]
-    if per_row:  # each row bracketed by its own conductances (as if solved alone)
-        pos = s_k > 0
-        any_pos = pos.any(axis=1)
-        smin = np.where(any_pos, np.min(np.where(pos, s_k, np.inf), axis=1), 1.0)
-        smax = np.where(any_pos, np.max(np.where(pos, s_k, -np.inf), axis=1), 1.0)
-        lo, hi = np.log(smin) - 60.0, np.log(smax) + 60.0
+    c, m, m_sum, m_inf = c[work], m[work], m_sum[work], m_inf[work]
+    s_k = np.ascontiguousarray(s_k[work])
+    pos = s_k > 0
+    every = bool(pos.all())  # the usual case: no masking below
+    if every and ln_sigma is not None and not big.any():
+        ln_s = np.broadcast_to(np.atleast_2d(ln_sigma), big.shape)[work]
     else:
-        pos = s_k[s_k > 0]
-        lo = np.full(c.size, math.log(float(pos.min() if pos.size else 1.0)) - 60.0)
-        hi = np.full(c.size, math.log(float(pos.max() if pos.size else 1.0)) + 60.0)
-    x = 0.5 * (lo + hi)
-    act = np.arange(c.size)  # rows still iterating; a converged row keeps its value
+        with np.errstate(divide="ignore"):
+            ln_s = np.log(s_k)
+    if per_row:  # each row bracketed by its own conductances (as if solved alone)
+        low = ln_s if every else np.where(pos, ln_s, np.inf)
+        any_pos = pos.any(axis=1)
+        lo = np.where(any_pos, np.min(low, axis=1), 0.0) - 60.0
+        hi = np.where(any_pos, np.max(ln_s, axis=1), 0.0) + 60.0
+    else:
+        ln_pos = ln_s if every else ln_s[pos]
+        lo = np.full(c.size, float(ln_pos.min() if ln_pos.size else 0.0) - 60.0)
+        hi = np.full(c.size, float(ln_pos.max() if ln_pos.size else 0.0) + 60.0)
+    # start: the open masses' weighted mean of ln s_k (the exact root of a symmetric mixture)
+    mp = m if every else np.where(pos, m, 0.0)
+    mp_sum = m_sum if every else mp.sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        x = np.einsum("ij,ij->i", mp, ln_s if every else np.where(pos, ln_s, 0.0)) / mp_sum
+    x = np.where((mp_sum > 0) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
+    base = m_inf - c - m_sum  # f = base + 2 sum m r
+    tol = math.sqrt(rtol)
+    # the rows held in ma, sa (compacted once half of them converged); `live` of those iterate
+    cur, ma, sa, buf, buf2 = np.arange(c.size), m, s_k, np.empty_like(m), np.empty_like(m)
+    live = np.ones(c.size, dtype=bool)
     for _ in range(200):
-        xa, la, ha, ma = x[act], lo[act], hi[act], m[act]
-        s = np.exp(xa)[:, None]
+        xa, la, ha = x[cur], lo[cur], hi[cur]
         with np.errstate(over="ignore"):
-            r = s_k[act] / (s_k[act] + s)  # in [0, 1]: (s_k - s)/(s_k + s) = 2r - 1, stable
-        f = -c[act] + np.sum(ma * (2.0 * r - 1.0), axis=1) + m_inf[act]
-        df = -np.sum(ma * 2.0 * r * (1.0 - r), axis=1)  # d f / d ln s  (< 0)
+            r = np.add(sa, np.exp(xa)[:, None], out=buf)
+            np.divide(sa, r, out=r)  # in [0, 1]: (s_k - s)/(s_k + s) = 2r - 1, stable
+        mr = np.multiply(ma, r, out=buf2)
+        s1 = mr.sum(axis=1)
+        f = base[cur] + 2.0 * s1
+        df = 2.0 * (np.einsum("ij,ij->i", mr, r) - s1)  # d f / d ln s = -2 sum m r (1 - r)
         la = np.where(f > 0, xa, la)
         ha = np.where(f <= 0, xa, ha)
         step = f / np.where(df < 0, df, -1.0)
         xn = xa - step
-        # a Newton step below rtol is converged even where it rounds onto the bracket's end
-        # (x itself): bisecting there instead halved the bracket down to rtol (30-40 steps)
-        bad = ~((xn > la) & (xn < ha) | (np.abs(step) <= rtol)) | ~(df < 0)
-        xn = np.where(bad, 0.5 * (la + ha), xn)
-        x[act], lo[act], hi[act] = xn, la, ha
-        act = act[~(np.abs(xn - xa) <= rtol)]
-        if not act.size:
+        # a step within tol is final even where it rounds onto the bracket's end
+        newton = ((xn > la) & (xn < ha) | (np.abs(step) <= tol)) & (df < 0)
+        xn = np.where(newton, xn, 0.5 * (la + ha))
+        upd = cur[live]
+        x[upd], lo[upd], hi[upd] = xn[live], la[live], ha[live]
+        live &= ~((newton & (np.abs(step) <= tol)) | ~(ha - la > rtol))
+        n_live = int(np.count_nonzero(live))
+        if not n_live:
             break
+        if 2 * n_live <= live.size:
+            cur, ma, sa = cur[live], ma[live], sa[live]
+            buf, buf2 = buf[: ma.shape[0]], buf2[: ma.shape[0]]
+            live = np.ones(n_live, dtype=bool)
     out[work] = np.exp(x)
     return out
 
@@ -177,13 +212,12 @@ def bruggeman_gap(
     """
     if per_load:
         top = det.mean_gap + 10.0 * det.h_rms if u_max is None else np.full(det.p0.size, u_max)
-        inner = np.geomspace(u_min * det.h_rms, top, n_u, axis=1)  # (n_load, n_u)
-        edges = np.concatenate((np.zeros((det.p0.size, 1)), inner), axis=1)
-        cdf = gap_cdf(det, edges, negligible=NEGLIGIBLE)
+        edges, ln_sigma = _cells(u_min * det.h_rms, top, n_u)  # (n_load, n_u + 1)
     else:
         umax = float(np.max(det.mean_gap)) + 10.0 * det.h_rms if u_max is None else u_max
-        edges = np.concatenate(([0.0], np.geomspace(u_min * det.h_rms, umax, n_u)))
-        cdf = gap_cdf(det, edges, negligible=NEGLIGIBLE)
+        edges, ln_sigma = _cells(u_min * det.h_rms, np.array([umax]), n_u)
+        edges = edges[0]
+    cdf = gap_cdf(det, edges, negligible=NEGLIGIBLE)
     a = np.asarray(det.contact, dtype=float)
     m = np.diff(cdf, axis=1)
     m[:, 0] += cdf[:, 0]
@@ -194,7 +228,29 @@ def bruggeman_gap(
         m, far, a = m * scale[:, None], far * scale, a_new
     mid = np.sqrt(edges[..., :-1] * edges[..., 1:])
     mid[..., 0] = 0.5 * edges[..., 1]
-    return _bruggeman_rows(a, m, mid**3, far, per_row=per_load)
+    sigma = mid * mid
+    sigma *= mid
+    return _bruggeman_rows(a, m, sigma, far, per_row=per_load, ln_sigma=ln_sigma)
+
+
+def _cells(
+    u0: float, top: NDArray[np.float64], n_u: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Cell edges ``(n, n_u + 1)`` [m]: 0, then ``n_u`` geometric from ``u0`` to ``top`` (n,)
+    (both ends exact, as :func:`numpy.geomspace`), and ``ln`` of the cells' midpoint
+    conductances ``mid^3`` (``mid`` the geometric midpoint, half the first edge for the first
+    cell), to round-off, from the exponents themselves."""
+    ln0 = math.log(u0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lr = (np.log(top) - ln0) / max(n_u - 1, 1)  # ln of each row's ratio
+    j = np.arange(n_u, dtype=float)
+    edges = np.zeros((top.size, n_u + 1))
+    np.exp(np.multiply.outer(lr, j) + ln0, out=edges[:, 1:])
+    edges[:, -1], edges[:, 1] = top, u0  # (one cell: [0, u0], as geomspace)
+    ln_sigma = np.multiply.outer(3.0 * lr, j - 0.5)
+    ln_sigma += 3.0 * ln0
+    ln_sigma[:, 0] = 3.0 * (ln0 - math.log(2.0))
+    return edges, ln_sigma
 
 
 def effective_pressure_drop(
