@@ -44,22 +44,43 @@ def sorted_rows(u: NDArray[np.float64]) -> bool:
 def rank(u: NDArray[np.float64], row: NDArray[np.intp], x: NDArray[np.float64]) -> NDArray:
     """Number of entries of ``u[row[t]]`` below ``x[t]``, per term ``t`` (sorted rows of ``u``).
 
-    A vectorised bisection (``log2(n_u) + 1`` steps over all terms at once); NaN ``x`` gives 0.
+    Each count is first guessed as if the row were geometric from its second entry on (the
+    leakage cells: ``0, u_1, u_1 r, ...``) and kept where the row's entries around it confirm
+    it; the others by a vectorised bisection (``log2(n_u) + 1`` steps over those terms at
+    once). NaN ``x`` gives 0.
     """
     n_u = u.shape[1]
     flat = u.ravel()
-    base = row * n_u
     if u.shape[0] == 1:  # one row: numpy's own
         return np.searchsorted(flat, x, side="left").astype(np.intp)
-    lo = np.zeros(x.size, dtype=np.intp)
-    hi = np.full(x.size, n_u, dtype=np.intp)
+    base = row * n_u
+    out = np.zeros(x.size, dtype=np.intp)
+    todo = np.arange(x.size)
+    if n_u > 2:
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            ln1 = np.log(u[:, 1])
+            step = (np.log(u[:, -1]) - ln1) / (n_u - 2)
+            g = np.ceil((np.log(x) - ln1[row]) / step[row])
+        g = np.where(g > -1.0, g, -1.0)  # NaN -> -1
+        g = np.minimum(g, n_u - 1).astype(np.intp) + 1  # in [0, n_u]
+        left = np.take(flat, base + np.maximum(g - 1, 0))
+        right = np.take(flat, base + np.minimum(g, n_u - 1))
+        ok = ((g == 0) | (left < x)) & ((g == n_u) | (right >= x))
+        out[ok] = g[ok]
+        todo = np.flatnonzero(~ok)
+        if not todo.size:
+            return out
+    base, xt = base[todo], x[todo]
+    lo = np.zeros(todo.size, dtype=np.intp)
+    hi = np.full(todo.size, n_u, dtype=np.intp)
     for _ in range(int(n_u).bit_length()):
         mid = (lo + hi) >> 1
-        below = np.take(flat, base + np.minimum(mid, n_u - 1)) < x
+        below = np.take(flat, base + np.minimum(mid, n_u - 1)) < xt
         below &= mid < hi
         lo = np.where(below, mid + 1, lo)
         hi = np.where(below, hi, mid)
-    return lo
+    out[todo] = lo
+    return out
 
 
 def windowed_sum(
