@@ -91,7 +91,11 @@ ERF_DIFF_ERROR = 2e-14
 _N_DIFF = 16
 
 
-def erf_diff_coefficients(a: NDArray[np.float64]) -> NDArray[np.float64]:
+def erf_diff_coefficients(
+    a: NDArray[np.float64],
+    factor: NDArray[np.float64] | None = None,
+    q2: NDArray[np.float64] | None = None,
+) -> NDArray[np.float64]:
     """Coefficients ``c_n(a)`` of ``erf(a + b) - erf(a - b) = b sum_n c_n (b^2)^n``, (16, n_a).
 
     ``c_n = (4/sqrt(pi)) exp(-a^2) H_2n(a) / (2n + 1)!`` (``H`` the physicists' Hermite
@@ -100,16 +104,27 @@ def erf_diff_coefficients(a: NDArray[np.float64]) -> NDArray[np.float64]:
     ``|H_m(x)| exp(-x^2/2) <= 1.0865 sqrt(2^m m!)`` makes the first, ``n = 16``, at most
     9.5e-15 and each next one 18x smaller); the terms sum to at most 3.3 in magnitude, so
     round-off adds a few 1e-16: :data:`ERF_DIFF_ERROR` bounds both. ``a`` is clipped to 6
-    (larger ``a`` leave the series unused).
+    (larger ``a`` leave the series unused). ``factor``, ``q2`` (n_a,): the coefficients of
+    ``factor * (erf(a + q b) - erf(a - q b)) / q`` instead, ``c_n factor q2^n`` (``q2 = q^2``).
     """
     a = np.minimum(np.asarray(a, dtype=float), 6.0)
-    h_prev, h = np.ones_like(a), 2.0 * a  # H_0, H_1
+    two_a = 2.0 * a
+    h_prev, h, tmp = np.ones_like(a), two_a.copy(), np.empty_like(a)  # H_0, H_1
     out = np.empty((_N_DIFF, a.size))
-    scale = (4.0 / math.sqrt(math.pi)) * np.exp(-a * a)
+    scale = np.exp(-a * a)
+    scale *= 4.0 / math.sqrt(math.pi)
+    if factor is not None:
+        scale *= factor
     out[0] = scale
     for m in range(1, 2 * _N_DIFF - 1):  # H_{m+1} = 2a H_m - 2m H_{m-1}
-        h_prev, h = h, 2.0 * a * h - 2.0 * m * h_prev
+        np.multiply(two_a, h, out=tmp)
+        h_prev *= -2.0 * m
+        h_prev += tmp  # now H_{m+1}
+        h_prev, h = h, h_prev
         if m % 2:  # h = H_{m+1}, m + 1 even
             n = (m + 1) // 2
-            out[n] = scale * h / math.factorial(2 * n + 1)
+            if q2 is not None:
+                scale *= q2
+            np.multiply(scale, h, out=out[n])
+            out[n] *= 1.0 / math.factorial(2 * n + 1)
     return out

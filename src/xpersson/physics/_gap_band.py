@@ -61,8 +61,8 @@ def rank(u: NDArray[np.float64], row: NDArray[np.intp], x: NDArray[np.float64]) 
             ln1 = np.log(u[:, 1])
             step = (np.log(u[:, -1]) - ln1) / (n_u - 2)
             g = np.ceil((np.log(x) - ln1[row]) / step[row])
-        g = np.where(g > -1.0, g, -1.0)  # NaN -> -1
-        g = np.minimum(g, n_u - 1).astype(np.intp) + 1  # in [0, n_u]
+        g = np.minimum(np.where(g > 0.0, g, 0.0), n_u - 1).astype(np.intp) + 1  # NaN -> 1
+        g[~(x > np.take(flat, base))] = 0  # at most the row's first entry (or NaN)
         left = np.take(flat, base + np.maximum(g - 1, 0))
         right = np.take(flat, base + np.minimum(g, n_u - 1))
         ok = ((g == 0) | (left < x)) & ((g == n_u) | (right >= x))

@@ -241,44 +241,78 @@ def gap_cdf(det: Detachment, u: ArrayLike, *, negligible: float = 0.0) -> NDArra
     return _cdf_banded(det, u2, inv, rows, negligible)
 
 
+#: Relative size (to the load's detached weight) below which the tail of a pair's series is
+#: dropped on a column, and Cramer's bound ``K_n`` on ``|c_n(a)| exp(a^2/2)`` (the tail from
+#: term ``n`` on stays below ``2 K_n b^(2n+1)`` for ``b <= 1``: each next bound < 0.47x).
+_SERIES_TAU = 1e-18
+_K = np.log(
+    [
+        2.0
+        * (4.0 / math.sqrt(math.pi))
+        * 1.0865
+        * math.sqrt(4.0**n * math.factorial(2 * n))
+        / math.factorial(2 * n + 1)
+        for n in range(16)
+    ]
+)
+
+
 def _series_sum(
-    ls: NDArray, jt: NDArray, coef: NDArray, iv: NDArray, u2: NDArray, rows: bool, n_load: int
+    ls: NDArray, jt: NDArray, a: NDArray, w: NDArray, iv: NDArray, u2: NDArray, n_load: int
 ) -> NDArray[np.float64]:
     """``sum_k w [erf(a + b) - erf(a - b)]`` over each load's pairs on their columns ``[0, jt)``
-    (where ``b = u iv <= 1``), as one polynomial in ``u sigma`` per (load, column).
+    (where ``b = u iv <= 1``), as one polynomial in ``x = u sigma`` per (load, column).
 
-    ``coef`` (n_term, n_pair) holds ``w c_n (iv/sigma)^(2n+1)``; a column's polynomial sums the
-    coefficients of the pairs whose prefix holds it, accumulated from the largest ``jt`` down
-    (no differences: every term stays bounded by ``w |c_n|`` where it is used).
+    Pairs (all finite, ``jt > 0``) ordered by load. Coefficients ``w c_n (iv/sigma)^(2n+1)``;
+    a column's polynomial sums those of the pairs whose prefix holds it, accumulated from the
+    largest ``jt`` down (no differences: every term stays bounded by ``w |c_n|`` where it is
+    used). Term ``n`` is evaluated only from the first column (of any row) where some pair's
+    tail from ``n`` on may exceed ``_SERIES_TAU`` times its load's weight: each value changes
+    by at most ``1e-18`` times the number of its load's pairs times that weight.
     """
     n_u = u2.shape[1]
     out = np.zeros((n_load, n_u))
-    use = np.flatnonzero(jt > 0)
-    if not use.size:
-        return out
-    sigma = float(np.max(iv[use]))
-    lu, ju = ls[use], jt[use]
-    order = np.lexsort((-ju, lu))  # per load, the longest prefix first
-    lu, ju, c = lu[order], ju[order], coef[:, use[order]]
+    sigma = float(np.max(iv))
+    q = iv / sigma
+    coef = erf_diff_coefficients(a, w * q, q * q)  # (n_term, n_pair)
+    n_term = coef.shape[0]
+    # the first column where term n may count: ln u >= (ln tau - ln(2 K_n w/W) + a^2/2)/(2n+1)
+    aw = np.abs(w)
+    ln_rel = np.log(aw / np.bincount(ls, aw, minlength=n_load)[ls]) - 0.5 * np.minimum(a, 6.0) ** 2
+    with np.errstate(divide="ignore"):
+        lim = (math.log(_SERIES_TAU) - _K[:, None] - ln_rel) / (2 * np.arange(n_term) + 1)[:, None]
+    lim = np.exp(np.min(lim - np.log(iv), axis=1))  # (n_term,) [m]
+    # columns below it in every row: below it in the rows' column-wise largest entries
+    start = np.searchsorted(np.max(u2, axis=0), lim, side="left")
+    start = np.minimum.accumulate(start[::-1])[::-1]  # non-decreasing in n
+    top = int(np.max(jt))  # no pair's prefix holds a column beyond
+    order = np.lexsort((-jt, ls))  # per load, the longest prefix first
+    lu, ju, c = ls[order], jt[order], coef[:, order]
     first = np.searchsorted(lu, lu)  # slot of each pair within its load
     slot = np.arange(lu.size) - first
-    acc = np.zeros((c.shape[0], n_load, int(slot.max()) + 2))
-    acc[:, lu, slot + 1] = c
-    np.cumsum(acc, axis=2, out=acc)  # acc[:, l, m]: the m longest prefixes of load l
+    acc = np.zeros((n_term, int(slot.max()) + 2, n_load))
+    acc[:, slot + 1, lu] = c
+    for m in range(2, acc.shape[1]):  # acc[:, m, l]: the m longest prefixes of load l
+        acc[:, m] += acc[:, m - 1]
+    acc = acc.reshape(n_term, -1)
     # columns j of load l lie in the prefixes of the pairs with jt > j: count them
     cnt = np.bincount(lu * (n_u + 1) + ju, minlength=n_load * (n_u + 1)).reshape(n_load, -1)
-    cnt = np.ascontiguousarray(np.cumsum(cnt[:, ::-1], axis=1)[:, -2::-1])  # (n_load, n_u)
-    x = np.minimum(u2 * sigma, 1e150)  # no 0 * inf where no prefix holds the column
-    x = x if rows else np.broadcast_to(x, (n_load, n_u))
+    cnt = np.cumsum(cnt[:, top:0:-1], axis=1)[:, ::-1].T  # (top, n_load): columns [0, top)
+    cnt = cnt * n_load  # the layout (column, load): a term's first columns are whole rows
+    cnt += np.arange(n_load)
+    x = np.minimum(u2[:, :top].T * sigma, 1e150)  # no 0 * inf where no prefix holds the column
     x2 = x * x
-    cnt += (np.arange(n_load) * acc.shape[2])[:, None]
-    d = np.take(acc.reshape(acc.shape[0], -1), cnt, axis=1)  # (n_term, n_load, n_u)
-    np.multiply(x2, d[-1], out=out)
-    for n in range(d.shape[0] - 2, 0, -1):
-        out += d[n]
-        out *= x2
-    out += d[0]
-    out *= x
+    d = np.take(acc, cnt, axis=1)  # (n_term, top, n_load)
+    res = np.zeros((top, n_load))
+    for n in range(n_term - 1, 0, -1):  # Horner, term n from its first column on
+        j = int(start[n])
+        if j < top:
+            part = res[j:]
+            part += d[n, j:]
+            part *= x2[j:]
+    res += d[0]
+    res *= x
+    out[:, :top] = res.T
     return out
 
 
@@ -303,12 +337,11 @@ def _cdf_banded(
     jt = np.where(ok, np.minimum(jt, j2), 0)
     j1 = np.maximum(j1, j0)
     j0 = np.maximum(j0, j2)  # both vary on [0, j2), erf(b + a) = 1 on [j2, j1)
-    with np.errstate(invalid="ignore", over="ignore"):
-        coef = erf_diff_coefficients(a) * w  # (10, n_pair), unused where a > 5.3
-    if np.any(jt > 0):  # the series in u sigma: its bins' 1/h within 1e9 of sigma (no
-        sigma = float(np.max(iv[jt > 0]))  # overflow of (u sigma)^31, no underflow of coef)
+    ser = np.flatnonzero(jt > 0)
+    if ser.size:  # the series in u sigma: its bins' 1/h within 1e9 of sigma (no overflow of
+        sigma = float(np.max(iv[ser]))  # (u sigma)^31, no underflow of the coefficients)
         jt[iv < 1e-9 * sigma] = 0
-        coef *= (iv / sigma) ** (2 * np.arange(coef.shape[0]) + 1)[:, None]
+        ser = np.flatnonzero(jt > 0)
     u2 = np.concatenate((u2, np.zeros((u2.shape[0], 1))), axis=1)  # + the dump column
 
     def scaled(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
@@ -335,7 +368,9 @@ def _cdf_banded(
         return v
 
     shape = (n_load, n_u)
-    cdf = _series_sum(ls, jt, coef, iv, u2[:, :n_u], rows, n_load)
+    cdf = np.zeros(shape)
+    if ser.size:
+        cdf += _series_sum(ls[ser], jt[ser], a[ser], w[ser], iv[ser], u2[:, :n_u], n_load)
     cdf += windowed_sum(ls, jt, j2, shape, both)
     cdf += windowed_sum(ls, j0, j1, shape, one)
     # right of its band each pair adds 2 w (left of it 0): a difference array summed along u
