@@ -102,7 +102,9 @@ def windowed_sum(
         ``values(terms, cols)`` gives the terms' values ``(w, n)`` on the columns ``cols``
         ``(w, n)`` (terms along the rows: per-term factors broadcast as ``x[terms]``). Terms
         of similar width are padded to a common one, the padding columns set to ``n_u`` (a
-        dump column: its values, which must be finite, are dropped).
+        dump column: its values, which must be finite, are dropped); where that would pad
+        by more than half, each window's columns are laid along one row ``(1, n)`` instead,
+        with ``terms`` (n,) repeated per column.
 
     Returns
     -------
@@ -115,16 +117,48 @@ def windowed_sum(
     ws = width[order]
     out = np.zeros(n_load * (n_u + 1))
     i = int(np.searchsorted(ws, 1))  # empty windows: nothing to evaluate
+    blocks = []
     while i < order.size:
         # the largest run of terms whose padded block (count x widest) fits the block size
         size = np.arange(1, order.size - i + 1) * ws[i:]
         c = max(1, int(np.searchsorted(size, _WIN_BLOCK, side="right")))
-        sel, w = order[i : i + c], int(ws[i + c - 1])
+        blocks.append((i, c, int(ws[i + c - 1])))
+        i += c
+    if sum(c * w for _, c, w in blocks) > 1.5 * float(np.sum(ws)):  # widths spread: no padding
+        _flat(order[ws > 0], j0, width, load, n_u, values, out)
+        blocks = []
+    for i, c, w in blocks:
+        sel = order[i : i + c]
         cols = np.arange(w)[:, None] + j0[sel]  # (w, n): long rows, the terms along them
         if ws[i] < w:
             cols = np.where(cols < j1[sel], cols, n_u)
         v = values(sel, cols)
         cols += load[sel] * (n_u + 1)
         out += np.bincount(cols.ravel(), weights=v.ravel(), minlength=out.size)
-        i += c
     return out.reshape(n_load, n_u + 1)[:, :n_u]
+
+
+def _flat(
+    terms: NDArray[np.intp],
+    j0: NDArray[np.intp],
+    width: NDArray[np.intp],
+    load: NDArray[np.intp],
+    n_u: int,
+    values: Callable[[NDArray[np.intp], NDArray[np.intp]], NDArray[np.float64]],
+    out: NDArray[np.float64],
+) -> None:
+    """:func:`windowed_sum`'s windows of ``terms`` unpadded: each element of a window one
+    column of a single row ``(1, n)`` (its term repeated), in blocks of about ``_WIN_BLOCK``
+    elements; the sums added to ``out`` (flat, ``n_load * (n_u + 1)``)."""
+    wt = width[terms]
+    ends = np.cumsum(wt)
+    cut = np.searchsorted(ends, np.arange(1, int(ends[-1]) // _WIN_BLOCK + 1) * _WIN_BLOCK)
+    for sel, w in zip(np.split(terms, cut + 1), np.split(wt, cut + 1), strict=True):
+        if not sel.size:
+            continue
+        t = np.repeat(sel, w)
+        offset = np.cumsum(w) - w
+        cols = np.arange(t.size) - np.repeat(offset - j0[sel], w)
+        v = values(t, cols[None, :])
+        cols += load[t] * (n_u + 1)
+        out += np.bincount(cols, weights=v.ravel(), minlength=out.size)
