@@ -297,20 +297,21 @@ def _series_sum(
     acc = acc.reshape(n_term, -1)
     # columns j of load l lie in the prefixes of the pairs with jt > j: count them
     cnt = np.bincount(lu * (n_u + 1) + ju, minlength=n_load * (n_u + 1)).reshape(n_load, -1)
-    cnt = np.cumsum(cnt[:, top:0:-1], axis=1)[:, ::-1].T  # (top, n_load): columns [0, top)
-    cnt = cnt * n_load  # the layout (column, load): a term's first columns are whole rows
+    cnt = np.cumsum(cnt[:, top:0:-1], axis=1)[:, ::-1]
+    cnt = np.ascontiguousarray(cnt.T)  # (top, n_load): a term's first columns are whole rows
+    cnt *= n_load
     cnt += np.arange(n_load)
-    x = np.minimum(u2[:, :top].T * sigma, 1e150)  # no 0 * inf where no prefix holds the column
+    x = np.multiply(u2[:, :top].T, sigma, out=np.empty((top, u2.shape[0])))  # (never u2 itself)
+    np.minimum(x, 1e150, out=x)  # no 0 * inf where no prefix holds the column
     x2 = x * x
-    d = np.take(acc, cnt, axis=1)  # (n_term, top, n_load)
-    res = np.zeros((top, n_load))
+    res, d = np.zeros((top, n_load)), np.empty((top, n_load))
     for n in range(n_term - 1, 0, -1):  # Horner, term n from its first column on
         j = int(start[n])
-        if j < top:
+        if j < top:  # (a cache-sized row block at a time: no (n_term, top, n_load) tensor)
             part = res[j:]
-            part += d[n, j:]
+            part += np.take(acc[n], cnt[j:], out=d[j:], mode="clip")
             part *= x2[j:]
-    res += d[0]
+    res += np.take(acc[0], cnt, out=d, mode="clip")
     res *= x
     out[:, :top] = res.T
     return out
