@@ -155,6 +155,25 @@ def test_bruggeman_root_is_brents_root():
         assert abs(np.log(got[i]) - x) <= 1e-11 * max(1.0, abs(x))
 
 
+def test_bruggeman_start_and_bracket_hints_change_no_root():
+    """``ln_sigma`` only seeds the Newton start and the bracket: a wrong hint (shifted by 7 or
+    reversed) still gives brentq's root to 1e-12 in ln s (more steps only)."""
+    from xpersson_interface._leakage import _bruggeman_rows
+
+    rng = np.random.default_rng(5)
+    n, k = 10, 240
+    sigma = np.exp(np.sort(rng.uniform(-50.0, 0.0, (n, k)), axis=1))
+    m = rng.uniform(0.0, 1.0, (n, k))
+    m /= m.sum(axis=1, keepdims=True)
+    c = rng.uniform(0.0, 0.95, n)
+    plain = _bruggeman_rows(c, m, sigma, np.zeros(n), per_row=True)
+    for hint in (np.log(sigma), np.log(sigma) + 7.0, np.log(sigma)[:, ::-1]):
+        got = _bruggeman_rows(c, m, sigma, np.zeros(n), per_row=True, ln_sigma=hint)
+        open_ = plain > 0
+        np.testing.assert_array_equal(got > 0, open_)
+        np.testing.assert_allclose(np.log(got[open_]), np.log(plain[open_]), rtol=0, atol=2e-12)
+
+
 def test_full_contact_nodes_are_dropped_without_changing_results(monkeypatch):
     """The dense grid's nodes in exact full contact (every load) are dropped: same outputs."""
     from xpersson_interface._solved import _past_full_contact

@@ -158,3 +158,74 @@ def test_bruggeman_gap_equals_the_exact_cdfs(det, per_load, monkeypatch):
     ref = bruggeman_gap(det, a_c=0.42, per_load=per_load)
     np.testing.assert_allclose(fast, ref, rtol=1e-9, atol=0.0)
     assert np.all(np.isfinite(fast))
+
+
+def test_gap_cdf_leaves_u_unchanged_in_either_memory_order(det):
+    """Rows laid out column-major (``np.geomspace(..., axis=1)`` gives such) are read, never
+    written, and give the row-major result bit for bit."""
+    per = _grids(det)["per_load"]
+    f_order, c_order = np.asfortranarray(per), np.ascontiguousarray(per)
+    keep = f_order.copy()
+    got = gap_cdf(det, f_order, negligible=_leakage.NEGLIGIBLE)
+    np.testing.assert_array_equal(f_order, keep)
+    np.testing.assert_array_equal(got, gap_cdf(det, c_order, negligible=_leakage.NEGLIGIBLE))
+
+
+def test_rank_is_searchsorted_per_row():
+    """The geometric guess (kept only where confirmed) + bisection = numpy's per-row count."""
+    from xpersson.physics._gap_band import rank
+
+    rng = np.random.default_rng(7)
+    for kind in range(4):
+        n, m = 6, 40
+        if kind == 0:  # the leakage cells: 0, then geometric per row
+            u = np.geomspace(1e-12, rng.uniform(1e-6, 1e-4, n), m - 1, axis=1)
+            u = np.concatenate((np.zeros((n, 1)), u), axis=1)
+        elif kind == 1:
+            u = np.sort(rng.uniform(0.0, 1.0, (n, m)), axis=1)
+        elif kind == 2:  # ties
+            u = np.sort(rng.integers(0, 6, (n, m)).astype(float), axis=1)
+        else:  # geometric with a repeated first entry and an infinite last one
+            u = np.concatenate(
+                (np.zeros((n, 2)), np.geomspace(1e-3, 1.0, m - 2)[None].repeat(n, 0)), 1
+            )
+            u[:, -1] = np.inf
+        row = rng.integers(0, n, 400)
+        x = np.concatenate(
+            (
+                u[row[:150], rng.integers(0, m, 150)],  # the entries themselves
+                rng.uniform(-0.5, 1.5, 150) * np.nanmax(u[np.isfinite(u)]),
+                [np.nan, np.inf, -np.inf, 0.0, -0.0] * 10,
+                np.geomspace(1e-14, 10.0, 50),
+            )
+        )
+        ref = np.array(
+            [
+                np.searchsorted(u[r], v) if not np.isnan(v) else 0
+                for r, v in zip(row, x, strict=True)
+            ]
+        )
+        np.testing.assert_array_equal(rank(u, row, x), ref)
+
+
+def test_windowed_sum_without_padding_is_the_plain_sum():
+    """Windows of widely spread widths (laid along one row, unpadded) = a plain loop."""
+    from xpersson.physics._gap_band import windowed_sum
+
+    rng = np.random.default_rng(11)
+    n_load, n_u, n_term = 5, 300, 400
+    width = np.where(
+        rng.random(n_term) < 0.9, rng.integers(0, 3, n_term), rng.integers(50, 300, n_term)
+    )
+    j0 = rng.integers(0, n_u - width + 1)
+    load, scale = rng.integers(0, n_load, n_term), rng.normal(size=n_term)
+
+    def values(t, cols):
+        return np.sin(0.01 * cols * (1.0 + t % 7)) * scale[t]
+
+    ref = np.zeros((n_load, n_u))
+    for t in range(n_term):
+        cols = np.arange(j0[t], j0[t] + width[t])
+        ref[load[t], cols] += values(np.array([t]), cols)
+    got = windowed_sum(load, j0, j0 + width, (n_load, n_u), values)
+    np.testing.assert_allclose(got, ref, rtol=1e-13, atol=1e-13)
