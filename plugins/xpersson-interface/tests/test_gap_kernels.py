@@ -23,6 +23,7 @@ from xpersson.physics._fasterf import (
     ERF_DIFF_ERROR,
     ERF_ERROR,
     erf_diff_coefficients,
+    erf_nonneg,
     fast_erf,
 )
 from xpersson_interface import _leakage, bruggeman_gap
@@ -72,6 +73,11 @@ def test_fast_erf_property(x):
     assert abs(got - erf(x)) <= ERF_ERROR
     if abs(x) >= 6.0:
         assert got == np.sign(x)
+
+
+def test_erf_nonneg_is_fast_erf_bit_for_bit():
+    x = np.concatenate((np.linspace(0.0, 7.0, 200_001), [5.999999999, 6.0, 1e300, np.inf, 0.0]))
+    np.testing.assert_array_equal(erf_nonneg(x.copy()), fast_erf(x))
 
 
 def test_fast_erf_is_non_decreasing_across_every_node():

@@ -19,7 +19,14 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.special import erf as _scipy_erf
 
-__all__ = ["ERF_DIFF_B", "ERF_DIFF_ERROR", "ERF_ERROR", "erf_diff_coefficients", "fast_erf"]
+__all__ = [
+    "ERF_DIFF_B",
+    "ERF_DIFF_ERROR",
+    "ERF_ERROR",
+    "erf_diff_coefficients",
+    "erf_nonneg",
+    "fast_erf",
+]
 
 #: Nodes per unit of ``x`` (a power of 2: ``|x| * _N`` and its fractional part are exact).
 _N = 512
@@ -86,6 +93,23 @@ def fast_erf(x: NDArray[np.float64], out: NDArray[np.float64] | None = None) -> 
     if nan is not None:
         res[nan] = np.nan
     return res
+
+
+def erf_nonneg(x: NDArray[np.float64]) -> NDArray[np.float64]:
+    """:func:`fast_erf` (the same values) of ``x >= 0`` free of NaN (``+inf`` allowed), without
+    its sign and NaN passes. ``x`` (float64) is overwritten (scratch)."""
+    t = np.multiply(x, float(_N), out=x)  # exact (power of 2)
+    np.minimum(t, _X_ONE * _N, out=t)
+    i = t.astype(np.intp)
+    t -= i
+    p = np.take(_C3, i)
+    p *= t
+    p += np.take(_C2, i)
+    p *= t
+    p += np.take(_C1, i)
+    p *= t
+    p += np.take(_C0, i)
+    return p
 
 
 #: ``|b|`` up to which :func:`erf_diff_coefficients` apply, and their error bound (absolute).

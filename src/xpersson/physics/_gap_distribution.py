@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf
 
 from ._curve import _TINY
-from ._fasterf import ERF_DIFF_B, erf_diff_coefficients, fast_erf
+from ._fasterf import ERF_DIFF_B, erf_diff_coefficients, erf_nonneg, fast_erf
 from ._fastnum import _BLOCK, _EXP_LO, _exp
 from ._gap_band import _WIN_BLOCK, pairs, rank, sorted_rows, windowed_sum
 
@@ -352,11 +352,13 @@ def _cdf_banded(
             b *= iv[t]
             return np.minimum(b, 1e150, out=b)
 
+    plain = bool(ok.all())  # b + a >= 0 and finite everywhere: erf without sign or NaN passes
+
     def both(t: NDArray, cols: NDArray) -> NDArray[np.float64]:
         b, at = scaled(t, cols), a[t]
         v = fast_erf(b - at)
         b += at
-        v += fast_erf(b, out=b)
+        v += erf_nonneg(b) if plain else fast_erf(b, out=b)
         v *= w[t]
         return v
 
