@@ -380,6 +380,8 @@ def _cdf_banded(
     diff = np.bincount(ls * (n_u + 1) + j1, weights=2.0 * w, minlength=n_load * (n_u + 1))
     cdf += np.cumsum(diff.reshape(n_load, n_u + 1)[:, :n_u], axis=1)
     cdf *= 0.5
+    if np.all(cdf[:, 1:] >= cdf[:, :-1]):  # already non-decreasing (and free of NaN)
+        return cdf
     return np.maximum.accumulate(cdf, axis=1, out=cdf)
 
 
