@@ -102,11 +102,26 @@ def _bruggeman_rows(
     with np.errstate(invalid="ignore", divide="ignore"):
         x = np.einsum("ij,ij->i", mp, ln_s if every else np.where(pos, ln_s, 0.0)) / mp_sum
     x = np.where((mp_sum > 0) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
-    base = m_inf - c - m_sum  # f = base + 2 sum m r
+    out[work] = np.exp(_newton(x, lo, hi, m, s_k, m_inf - c - m_sum, rtol))
+    return out
+
+
+def _newton(
+    x: NDArray[np.float64],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    m: NDArray[np.float64],
+    s_k: NDArray[np.float64],
+    base: NDArray[np.float64],
+    rtol: float,
+) -> NDArray[np.float64]:
+    """:func:`_bruggeman_rows`' safeguarded Newton in ``x = ln s`` for the roots of
+    ``f = base + 2 sum m s_k/(s_k + s)`` (decreasing), from ``x`` in the brackets
+    ``[lo, hi]`` (all three updated in place; ``x`` returned)."""
     tol = math.sqrt(rtol)
     # the rows held in ma, sa (compacted once half of them converged); `live` of those iterate
-    cur, ma, sa, buf, buf2 = np.arange(c.size), m, s_k, np.empty_like(m), np.empty_like(m)
-    live = np.ones(c.size, dtype=bool)
+    cur, ma, sa, buf, buf2 = np.arange(x.size), m, s_k, np.empty_like(m), np.empty_like(m)
+    live = np.ones(x.size, dtype=bool)
     for _ in range(200):
         xa, la, ha = x[cur], lo[cur], hi[cur]
         with np.errstate(over="ignore"):
@@ -133,8 +148,7 @@ def _bruggeman_rows(
             cur, ma, sa = cur[live], ma[live], sa[live]
             buf, buf2 = buf[: ma.shape[0]], buf2[: ma.shape[0]]
             live = np.ones(n_live, dtype=bool)
-    out[work] = np.exp(x)
-    return out
+    return x
 
 
 def bruggeman(contact: float, masses: ArrayLike, sigma: ArrayLike, *, rtol: float = 1e-12) -> float:
