@@ -77,19 +77,26 @@ def _q_rule(
         parts_w.append(wt * np.exp(t))
     q = np.concatenate(parts_q)
     C = np.asarray(psd.C(q), dtype=float)  # type: ignore[attr-defined]
-    dI3 = _delta_I3(psd, np.full(q.shape, qa), q)
+    dI3 = _delta_I3(psd, np.array([qa]), q)
     return _QRule(q, np.concatenate(parts_w), C, 1.0 / np.sqrt(np.pi * dI3), dI3)
 
 
 def _delta_I3(psd: object, qa: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``int_{qa}^{q} q'^3 C dq'`` without cancellation for ``q`` close to ``qa``."""
-    d = np.asarray(psd.I3(q), dtype=float) - np.asarray(psd.I3(qa), dtype=float)  # type: ignore[attr-defined]
+    """``int_{qa}^{q} q'^3 C dq'`` without cancellation for ``q`` close to ``qa``.
+
+    ``qa`` broadcasts against ``q`` (e.g. one cut-off per row of nodes): ``I3(qa)`` is
+    evaluated on ``qa``'s own elements (the same values as on the broadcast ones).
+    """
+    i3 = np.asarray(psd.I3(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
+    i3a = np.asarray(psd.I3(qa.ravel()), dtype=float).reshape(qa.shape)  # type: ignore[attr-defined]
+    d = i3 - i3a
+    qa = np.broadcast_to(qa, q.shape)
     dq = q - qa
     small = dq < 1e-6 * qa
     if np.any(small):
         qm = qa[small] + 0.5 * dq[small]
         d[small] = dq[small] * qm**3 * np.asarray(psd.C(qm), dtype=float)  # type: ignore[attr-defined]
-    return np.maximum(d, np.finfo(float).tiny)
+    return np.maximum(d, np.finfo(float).tiny, out=d)
 
 
 def _tau_c(psd: object, E_star: float, q: ArrayLike) -> NDArray[np.float64]:

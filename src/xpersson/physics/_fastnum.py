@@ -73,6 +73,7 @@ def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     if n < 4 or y.ndim != 2:
         return CubicSpline(x, y, axis=1)
     yt, dx, slope, sl = _row_slopes(x, y)
+    sl = np.ascontiguousarray(sl)  # LAPACK's (n_row, n) memory: one transposed copy, then rows
     c = np.empty((4, n - 1, yt.shape[1]))
     t = np.add(sl[:-1], sl[1:], out=c[3])  # c[3] as scratch
     t -= 2.0 * slope
