@@ -128,17 +128,21 @@ def _ppoly_at(
     the powers of ``s = x - x_i`` by repeated products), in blocks of points laid out as the
     coefficients (rows innermost) with two small buffers, each block clipped at 0 into its
     columns of ``out``: no per-point search, axis moves or large temporaries. ``out_t``
-    (xs.size, n_row): the same values also written in the transposed layout.
+    (xs.size, n_row): the values in the transposed layout instead (computed in place there,
+    nothing else written; returned).
     """
     b, c = spl.x, spl.c
     i = np.clip(np.searchsorted(b, xs, side="right") - 1, 0, b.size - 2)
     s = xs - b[i]
-    res = np.empty((c.shape[2], xs.size)) if out is None else out
+    if out_t is None:
+        res = np.empty((c.shape[2], xs.size)) if out is None else out
     step = max(1, _SMALL // c.shape[2])
     buf = np.empty((2, min(step, xs.size), c.shape[2]))
     for lo in range(0, xs.size, step):  # blocks of points: the temporaries stay in cache
         k, sk = i[lo : lo + step], s[lo : lo + step, None]
         r, t = buf[0, : k.size], buf[1, : k.size]
+        if out_t is not None:
+            r = out_t[lo : lo + k.size]
         np.take(c[2], k, axis=0, out=r)
         r *= sk
         r += np.take(c[3], k, axis=0, out=t)
@@ -151,7 +155,6 @@ def _ppoly_at(
         t *= z
         r += t
         np.maximum(r, 0.0, out=r)
-        res[:, lo : lo + k.size] = r.T
-        if out_t is not None:
-            out_t[lo : lo + k.size] = r
-    return res
+        if out_t is None:
+            res[:, lo : lo + k.size] = r.T
+    return res if out_t is None else out_t
