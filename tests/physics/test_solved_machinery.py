@@ -218,3 +218,53 @@ def test_per_load_look_ups_are_the_plain_look_up(contact):
     ref_tau = np.array([_plain_look_up(ph, np.log(tau[k]), k) for k in range(LOADS.size)])
     np.testing.assert_array_equal(ph.at_tau_per_load(tau), ref_tau)
     assert (lt < grid[ph._lo]).any() and np.count_nonzero(ref) > ref.size // 4
+
+
+@pytest.mark.parametrize("with_s", [False, True])
+def test_curve_is_the_plain_log_spline(contact, with_s):
+    """``ln(1 - F)``, its spline, the spline of ``ln(1 - A)`` and the dead-node mask equal the
+    plain formulas (``F = A S``, ``1 - F = 1 - A + A (1 - S)``, 0 at ``zeta = 1``), bit for bit,
+    with and without ``S``."""
+    ref = contact.curve
+    A, N = ref.area, ref.non_area
+    S = (0.6 + 0.4 * A**2) if with_s else None
+    cur = _Curve(ref.zeta, A, S, N)
+    S1 = np.ones_like(A) if S is None else S
+    nf = np.clip(N + A * (1.0 - S1), 0.0, 1.0)
+    nf[:, 0] = 0.0
+    np.testing.assert_array_equal(cur.NF, nf)
+    np.testing.assert_array_equal(cur.F, A * S1)
+    y = np.log(np.maximum(nf, 1e-300))
+    spl = CubicSpline(cur.x[1:], y[:, 1:], axis=1)  # no jump: the cubic spline throughout
+    np.testing.assert_array_equal(cur._spl.c, spl.c)
+    np.testing.assert_array_equal(cur._dead, y[:, 1:] <= math.log(1e-300))
+    yA = np.log(np.maximum(N, 1e-300))
+    np.testing.assert_array_equal(cur._spl_a.c, CubicSpline(cur.x[1:], yA[:, 1:], axis=1).c)
+    assert (cur._spl_a is cur._spl) == (not with_s)
+    x = np.linspace(-1.0, cur.x[-1], 400)
+    lin = nf[:, 1:2] * np.clip(x / cur.x[1], 0.0, 1.0)
+    ref_nf = np.where(x < cur.x[1], lin, np.exp(np.minimum(spl(np.maximum(x, cur.x[1])), 0.0)))
+    np.testing.assert_array_equal(cur.nf(x), ref_nf)
+
+
+def test_spectrum_memo_is_the_plain_evaluation(psd):
+    """The rule and the bin edges' sub-problem nodes of a frozen spectrum are computed once
+    (read-only, shared by the next solve) and equal those of a mutable copy, computed anew."""
+    zeta = np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 200)))
+    A, N = area_fraction(LOADS[:, None], diffusion_time(psd, E_STAR, zeta)[None, :])
+    mutable = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e8)
+    frozen = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e8).freeze()
+    assert not mutable.frozen
+    edges = 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 30)
+    edges = np.concatenate(([1.0], edges))
+    plain = SolvedContact(mutable, E_STAR, LOADS, zeta, A, None, N)
+    first = SolvedContact(frozen, E_STAR, LOADS, zeta, A, None, N)
+    second = SolvedContact(frozen, E_STAR, LOADS, zeta, A, None, N)
+    d0, d1, d2 = (sc.detachment(edges) for sc in (plain, first, second))
+    for name in ("ubar", "u1", "h", "weight"):
+        np.testing.assert_array_equal(getattr(d1, name), getattr(d0, name))
+        np.testing.assert_array_equal(getattr(d2, name), getattr(d0, name))
+    assert d1.h is d2.h and d0.h is not d1.h and not d1.h.flags.writeable
+    np.testing.assert_array_equal(second.mean_gap(), plain.mean_gap())
+    assert first.rule is second.rule and plain.rule is not first.rule
+    assert not second.rule.dI3.flags.writeable
