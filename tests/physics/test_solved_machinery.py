@@ -267,4 +267,6 @@ def test_spectrum_memo_is_the_plain_evaluation(psd):
     assert d1.h is d2.h and d0.h is not d1.h and not d1.h.flags.writeable
     np.testing.assert_array_equal(second.mean_gap(), plain.mean_gap())
     assert first.rule is second.rule and plain.rule is not first.rule
+    np.testing.assert_array_equal(second.phi.phi, plain.phi.phi)  # Phi's memoised weights
+    np.testing.assert_array_equal(second.phi.s, plain.phi.s)
     assert not second.rule.dI3.flags.writeable

@@ -3,7 +3,11 @@ vanishing results, cache-sized blocks of loads, and many cubic splines on shared
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import dataclasses
+import weakref
+from collections import OrderedDict
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -158,3 +162,45 @@ def _ppoly_at(
         if out_t is None:
             res[:, lo : lo + k.size] = r.T
     return res if out_t is None else out_t
+
+
+#: Results of pure functions of a frozen spectrum (immutable, shared by the solves of a scene:
+#: the spectrum plugin caches it), e.g. the quadrature rule of the mean gap and the sub-problem
+#: nodes of the detachment's bin edges: computed once, not in every solve. Keyed weakly on the
+#: spectrum (freed with it), at most _MEMO_SIZE results per spectrum (least recently used out).
+_MEMO: weakref.WeakKeyDictionary[Any, OrderedDict[tuple[Any, ...], Any]] = (
+    weakref.WeakKeyDictionary()
+)
+_MEMO_SIZE = 16
+
+
+def _per_psd(psd: object, key: tuple[Any, ...], build: Callable[[], Any]) -> Any:
+    """``build()``, memoised per frozen spectrum and ``key`` (its arrays made read-only).
+
+    A spectrum that is not frozen (mutable), or cannot be weakly referenced or hashed, is not
+    memoised: ``build()`` every time.
+    """
+    if not getattr(psd, "frozen", False):
+        return build()
+    try:
+        memo = _MEMO.get(psd)
+        if memo is None:
+            memo = _MEMO.setdefault(psd, OrderedDict())
+    except TypeError:
+        return build()
+    if key in memo:
+        memo.move_to_end(key)
+        return memo[key]
+    val = build()
+    parts = (
+        [getattr(val, f.name) for f in dataclasses.fields(val)]
+        if dataclasses.is_dataclass(val)
+        else list(val if isinstance(val, tuple) else (val,))
+    )
+    for a in parts:
+        if isinstance(a, np.ndarray):
+            a.setflags(write=False)
+    memo[key] = val
+    while len(memo) > _MEMO_SIZE:
+        memo.popitem(last=False)
+    return val

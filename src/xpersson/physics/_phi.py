@@ -13,10 +13,22 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._curve import _TINY, _Curve, _tau_c
-from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
+from ._fastnum import _EXP_ZERO, _exp, _per_psd, _ppoly_at, _row_spline
 
 #: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
 _TABLE_MARGIN = 8
+
+
+def _phi_weights(
+    psd: object, E_star: float, cur: _Curve
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """What ``Phi``'s node integrals take from the spectrum alone: the Stieltjes weights
+    ``sqrt(tau_c) w`` on the curve's nodes (n_int, m) [Pa] and ``tau_c`` at the
+    magnifications (n_zeta,) [Pa^2]."""
+    q_L = float(psd.q_L)  # type: ignore[attr-defined]
+    xg, wg = cur.stieltjes_nodes()
+    sqrt_tau = np.sqrt(_tau_c(psd, E_star, np.exp(xg) * q_L))
+    return sqrt_tau * wg, _tau_c(psd, E_star, cur.zeta * q_L)
 
 
 class _Phi:
@@ -24,11 +36,10 @@ class _Phi:
 
     def __init__(self, psd: object, E_star: float, p0: NDArray[np.float64], cur: _Curve) -> None:
         q_L = float(psd.q_L)  # type: ignore[attr-defined]
-        xg, wg = cur.stieltjes_nodes()
-        sqrt_tau = np.sqrt(_tau_c(psd, E_star, np.exp(xg) * q_L))
-        inc = cur.dF_weighted(sqrt_tau * wg) / p0[:, None]
+        key = ("phi", E_star, q_L, cur.zeta.tobytes())
+        weights, tau = _per_psd(psd, key, lambda: _phi_weights(psd, E_star, cur))
+        inc = cur.dF_weighted(weights) / p0[:, None]
         phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
-        tau = _tau_c(psd, E_star, cur.zeta * q_L)
         self.tau1 = float(tau[1])
         self.s = np.log(tau[1:])
         self.phi = phi

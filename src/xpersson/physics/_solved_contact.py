@@ -18,10 +18,11 @@ from ._curve import (
     _tau_c,
 )
 from ._energy import full_contact_energy
+from ._fastnum import _per_psd
 from ._gap_distribution import Detachment
 from ._percolation import critical_magnification
 from ._phi import _Phi
-from ._subgap import _h2, _per_psd, _sub_mean_gap, _sub_prep
+from ._subgap import _h2, _sub_mean_gap, _sub_prep
 
 __all__ = ["SolvedContact"]
 
