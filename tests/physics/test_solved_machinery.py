@@ -17,7 +17,7 @@ from scipy.interpolate import CubicSpline
 
 from xpersson.physics import SolvedContact, critical_magnification
 from xpersson.physics._curve import _Curve, _edges
-from xpersson.physics._fastnum import _exp_inplace, _ppoly_at, _row_slopes
+from xpersson.physics._fastnum import _MEMO, _exp_inplace, _ppoly_at, _row_slopes
 from xpersson.physics._percolation import _crossing_coefficients
 from xpersson.physics._phi import _Phi
 from xpersson.physics._subgap import _sub_mean_gap, _sub_prep
@@ -270,6 +270,16 @@ def test_spectrum_memo_is_the_plain_evaluation(psd):
     np.testing.assert_array_equal(second.phi.phi, plain.phi.phi)  # Phi's memoised weights
     np.testing.assert_array_equal(second.phi.s, plain.phi.s)
     assert not second.rule.dI3.flags.writeable
+    memo = next(iter(_MEMO[frozen].values()))  # every array of every result read-only
+    stack = [memo]
+    while stack:
+        v = stack.pop()
+        if isinstance(v, np.ndarray):
+            assert not v.flags.writeable
+        elif isinstance(v, tuple):
+            stack.extend(v)
+    assert all(not v[0][0].flags.writeable for k, v in _MEMO[frozen].items() if k[0] == "edges")
+    assert mutable not in _MEMO  # a mutable spectrum is never memoised
 
 
 def test_dense_zeta_memo_is_the_plain_merge():

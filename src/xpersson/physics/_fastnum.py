@@ -188,19 +188,31 @@ def _per_psd(psd: object, key: tuple[Any, ...], build: Callable[[], Any]) -> Any
             memo = _MEMO.setdefault(psd, OrderedDict())
     except TypeError:
         return build()
-    if key in memo:
-        memo.move_to_end(key)
-        return memo[key]
+    val = memo.get(key)
+    if val is not None:
+        try:
+            memo.move_to_end(key)
+        except KeyError:  # dropped meanwhile by another thread: the value stays valid
+            pass
+        return val
     val = build()
-    parts = (
-        [getattr(val, f.name) for f in dataclasses.fields(val)]
-        if dataclasses.is_dataclass(val)
-        else list(val if isinstance(val, tuple) else (val,))
-    )
-    for a in parts:
-        if isinstance(a, np.ndarray):
-            a.setflags(write=False)
+    _read_only(val)
     memo[key] = val
     while len(memo) > _MEMO_SIZE:
-        memo.popitem(last=False)
+        try:
+            memo.popitem(last=False)
+        except KeyError:  # emptied meanwhile by another thread
+            break
     return val
+
+
+def _read_only(val: Any) -> None:
+    """Make the arrays of ``val`` (an array, a tuple or a dataclass of them, nested) read-only."""
+    if isinstance(val, np.ndarray):
+        val.setflags(write=False)
+    elif isinstance(val, tuple):
+        for v in val:
+            _read_only(v)
+    elif dataclasses.is_dataclass(val) and not isinstance(val, type):
+        for f in dataclasses.fields(val):
+            _read_only(getattr(val, f.name))
