@@ -17,7 +17,7 @@ from scipy.interpolate import CubicSpline
 
 from xpersson.physics import SolvedContact, critical_magnification
 from xpersson.physics._curve import _Curve, _edges
-from xpersson.physics._fastnum import _exp_inplace, _ppoly_at, _row_slopes
+from xpersson.physics._fastnum import _MEMO, _exp_inplace, _ppoly_at, _row_slopes
 from xpersson.physics._percolation import _crossing_coefficients
 from xpersson.physics._phi import _Phi
 from xpersson.physics._subgap import _sub_mean_gap, _sub_prep
@@ -58,6 +58,10 @@ def test_ppoly_at_is_scipys_evaluation(seed):
     _ppoly_at(spl, xs, out=out[:, 3:])
     np.testing.assert_array_equal(out[:, 3:], ref)
     assert np.all(np.isnan(out[:, :3]))  # only its columns written
+    out_t = np.full((xs.size + 3, 5), np.nan)  # the transposed layout: its rows only
+    assert _ppoly_at(spl, xs, out_t=out_t[3:]) is not None
+    np.testing.assert_array_equal(out_t[3:], ref.T)
+    assert np.all(np.isnan(out_t[:3]))
 
 
 def test_exp_inplace_is_numpys_exp():
@@ -79,7 +83,7 @@ def test_phi_table_is_the_spline_on_the_grid(contact):
     np.testing.assert_array_equal(tab[:, g0:], ref[:, g0:])
     assert np.all(tab[:, :g0] == 0.0) and np.all(np.abs(ref[:, :g0]) < 1e-30 * tab.max())
     assert ph._table()[1].flags["C_CONTIGUOUS"] and ph._lo == g0 - 2
-    np.testing.assert_array_equal(ph._tab_t, ph._table()[1].T)  # the sparse sums' layout
+    assert ph._table()[1].shape == (grid.size - ph._lo, LOADS.size)  # (nodes, loads)
 
 
 def test_phi_at_tau_is_the_spline_and_its_linear_first_interval(contact):
@@ -96,8 +100,8 @@ def test_phi_at_tau_is_the_spline_and_its_linear_first_interval(contact):
 def _full_table(ph):
     """The table on every grid node (the nodes below ``_lo`` are 0)."""
     grid, tab = ph._table()
-    full = np.zeros((tab.shape[0], grid.size))
-    full[:, ph._lo :] = tab
+    full = np.zeros((tab.shape[1], grid.size))
+    full[:, ph._lo :] = tab.T
     return full
 
 
@@ -214,3 +218,78 @@ def test_per_load_look_ups_are_the_plain_look_up(contact):
     ref_tau = np.array([_plain_look_up(ph, np.log(tau[k]), k) for k in range(LOADS.size)])
     np.testing.assert_array_equal(ph.at_tau_per_load(tau), ref_tau)
     assert (lt < grid[ph._lo]).any() and np.count_nonzero(ref) > ref.size // 4
+
+
+@pytest.mark.parametrize("with_s", [False, True])
+def test_curve_is_the_plain_log_spline(contact, with_s):
+    """``ln(1 - F)``, its spline, the spline of ``ln(1 - A)`` and the dead-node mask equal the
+    plain formulas (``F = A S``, ``1 - F = 1 - A + A (1 - S)``, 0 at ``zeta = 1``), bit for bit,
+    with and without ``S``."""
+    ref = contact.curve
+    A, N = ref.area, ref.non_area
+    S = (0.6 + 0.4 * A**2) if with_s else None
+    cur = _Curve(ref.zeta, A, S, N)
+    S1 = np.ones_like(A) if S is None else S
+    nf = np.clip(N + A * (1.0 - S1), 0.0, 1.0)
+    nf[:, 0] = 0.0
+    np.testing.assert_array_equal(cur.NF, nf)
+    np.testing.assert_array_equal(cur.F, A * S1)
+    y = np.log(np.maximum(nf, 1e-300))
+    spl = CubicSpline(cur.x[1:], y[:, 1:], axis=1)  # no jump: the cubic spline throughout
+    np.testing.assert_array_equal(cur._spl.c, spl.c)
+    np.testing.assert_array_equal(cur._dead, y[:, 1:] <= math.log(1e-300))
+    yA = np.log(np.maximum(N, 1e-300))
+    np.testing.assert_array_equal(cur._spl_a.c, CubicSpline(cur.x[1:], yA[:, 1:], axis=1).c)
+    assert (cur._spl_a is cur._spl) == (not with_s)
+    x = np.linspace(-1.0, cur.x[-1], 400)
+    lin = nf[:, 1:2] * np.clip(x / cur.x[1], 0.0, 1.0)
+    ref_nf = np.where(x < cur.x[1], lin, np.exp(np.minimum(spl(np.maximum(x, cur.x[1])), 0.0)))
+    np.testing.assert_array_equal(cur.nf(x), ref_nf)
+
+
+def test_spectrum_memo_is_the_plain_evaluation(psd):
+    """The rule and the bin edges' sub-problem nodes of a frozen spectrum are computed once
+    (read-only, shared by the next solve) and equal those of a mutable copy, computed anew."""
+    zeta = np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 200)))
+    A, N = area_fraction(LOADS[:, None], diffusion_time(psd, E_STAR, zeta)[None, :])
+    mutable = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e8)
+    frozen = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e8).freeze()
+    assert not mutable.frozen
+    edges = 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 30)
+    edges = np.concatenate(([1.0], edges))
+    plain = SolvedContact(mutable, E_STAR, LOADS, zeta, A, None, N)
+    first = SolvedContact(frozen, E_STAR, LOADS, zeta, A, None, N)
+    second = SolvedContact(frozen, E_STAR, LOADS, zeta, A, None, N)
+    d0, d1, d2 = (sc.detachment(edges) for sc in (plain, first, second))
+    for name in ("ubar", "u1", "h", "weight"):
+        np.testing.assert_array_equal(getattr(d1, name), getattr(d0, name))
+        np.testing.assert_array_equal(getattr(d2, name), getattr(d0, name))
+    assert d1.h is d2.h and d0.h is not d1.h and not d1.h.flags.writeable
+    np.testing.assert_array_equal(second.mean_gap(), plain.mean_gap())
+    assert first.rule is second.rule and plain.rule is not first.rule
+    np.testing.assert_array_equal(second.phi.phi, plain.phi.phi)  # Phi's memoised weights
+    np.testing.assert_array_equal(second.phi.s, plain.phi.s)
+    assert not second.rule.dI3.flags.writeable
+    memo = next(iter(_MEMO[frozen].values()))  # every array of every result read-only
+    stack = [memo]
+    while stack:
+        v = stack.pop()
+        if isinstance(v, np.ndarray):
+            assert not v.flags.writeable
+        elif isinstance(v, tuple):
+            stack.extend(v)
+    assert all(not v[0][0].flags.writeable for k, v in _MEMO[frozen].items() if k[0] == "edges")
+    assert mutable not in _MEMO  # a mutable spectrum is never memoised
+
+
+def test_dense_zeta_memo_is_the_plain_merge():
+    """The interface plugin's dense grid (memoised per scene grid) is the plain merge, and a
+    fresh writable copy every call."""
+    solved = pytest.importorskip("xpersson_interface._solved")
+    z = np.concatenate(([1.0], np.geomspace(1.5, 1e4, 30)))
+    n = int(12 * (9.0 + np.log10(1e4 - 1.0)))
+    plain = np.unique(np.concatenate((z, 1.0 + np.geomspace(1e-9, 1e4 - 1.0, n)[:-1])))
+    first = solved.dense_zeta(z, 12)
+    np.testing.assert_array_equal(first, plain)
+    first[:] = 0.0  # the caller's copy: the next call is unaffected
+    np.testing.assert_array_equal(solved.dense_zeta(z, 12), plain)

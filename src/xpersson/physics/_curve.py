@@ -77,19 +77,26 @@ def _q_rule(
         parts_w.append(wt * np.exp(t))
     q = np.concatenate(parts_q)
     C = np.asarray(psd.C(q), dtype=float)  # type: ignore[attr-defined]
-    dI3 = _delta_I3(psd, np.full(q.shape, qa), q)
+    dI3 = _delta_I3(psd, np.array([qa]), q)
     return _QRule(q, np.concatenate(parts_w), C, 1.0 / np.sqrt(np.pi * dI3), dI3)
 
 
 def _delta_I3(psd: object, qa: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``int_{qa}^{q} q'^3 C dq'`` without cancellation for ``q`` close to ``qa``."""
-    d = np.asarray(psd.I3(q), dtype=float) - np.asarray(psd.I3(qa), dtype=float)  # type: ignore[attr-defined]
+    """``int_{qa}^{q} q'^3 C dq'`` without cancellation for ``q`` close to ``qa``.
+
+    ``qa`` broadcasts against ``q`` (e.g. one cut-off per row of nodes): ``I3(qa)`` is
+    evaluated on ``qa``'s own elements (the same values as on the broadcast ones).
+    """
+    i3 = np.asarray(psd.I3(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
+    i3a = np.asarray(psd.I3(qa.ravel()), dtype=float).reshape(qa.shape)  # type: ignore[attr-defined]
+    d = i3 - i3a
+    qa = np.broadcast_to(qa, q.shape)
     dq = q - qa
     small = dq < 1e-6 * qa
     if np.any(small):
         qm = qa[small] + 0.5 * dq[small]
         d[small] = dq[small] * qm**3 * np.asarray(psd.C(qm), dtype=float)  # type: ignore[attr-defined]
-    return np.maximum(d, np.finfo(float).tiny)
+    return np.maximum(d, np.finfo(float).tiny, out=d)
 
 
 def _tau_c(psd: object, E_star: float, q: ArrayLike) -> NDArray[np.float64]:
@@ -164,20 +171,42 @@ class _Curve:
         if not np.all(np.isfinite(A)) or np.any(A < 0) or np.any(A > 1):
             raise ValueError("area fractions must be finite and lie in [0, 1]")
         N = 1.0 - A if non_area is None else np.atleast_2d(np.asarray(non_area, dtype=float))
-        S = np.ones_like(A) if s_factor is None else np.broadcast_to(s_factor, A.shape)
-        if np.any(~np.isfinite(S)) or np.any(S <= 0) or np.any(S > 1 + 1e-12):
+        S = None if s_factor is None else np.broadcast_to(s_factor, A.shape)
+        if S is not None and (np.any(~np.isfinite(S)) or np.any(S <= 0) or np.any(S > 1 + 1e-12)):
             raise ValueError("s_factor must lie in (0, 1]")
         self.zeta = z
         self.x = np.log(z)
         self.area = A
         self.non_area = np.clip(N, 0.0, 1.0)
-        self.F = A * S
-        self.NF = np.clip(self.non_area + A * (1.0 - S), 0.0, 1.0)
-        self.NF[:, 0] = 0.0
-        y = np.log(np.maximum(self.NF, _TINY))
-        self._y = y
+        self._S = S
+        if S is None:  # 1 - F = 1 - A: its logarithm from the non-area, no (n_load, n) copies
+            y = np.maximum(self.non_area, _TINY)
+            y[:, 0] = _TINY  # 1 - F = 0 at zeta = 1
+            self._nf1 = self.non_area[:, 1] + 0.0  # as non_area + A (1 - 1): -0 -> +0
+        else:
+            y = self.NF
+            self._nf1 = y[:, 1].copy()
+            y = np.maximum(y, _TINY)
+        y = np.log(y, out=y)
+        # kept for the S spline's comparison only (1 - A is 1 - F without S)
+        self._y = None if S is None else y
+        self._dead = y[:, 1:] <= math.log(_TINY)  # 1 - F clamped at the spline's nodes
         self._spl = _log_spline(self.x[1:], y[:, 1:]) if z.size > 2 else None
-        self._spl_a_built: Any = False  # built on first use
+        # the spline of ln(1 - A): the same as ln(1 - F)'s without S; else built on first use
+        self._spl_a_built: Any = self._spl if S is None else False
+
+    @property
+    def F(self) -> NDArray[np.float64]:
+        """``F = A S`` [1] at the nodes, (n_load, n_zeta)."""
+        return self.area * (1.0 if self._S is None else self._S)
+
+    @property
+    def NF(self) -> NDArray[np.float64]:
+        """``1 - F`` [1] at the nodes, (n_load, n_zeta) (0 at ``zeta = 1``)."""
+        S = 1.0 if self._S is None else self._S
+        nf = np.clip(self.non_area + self.area * (1.0 - S), 0.0, 1.0)
+        nf[:, 0] = 0.0
+        return nf
 
     @property
     def _spl_a(self) -> Any:
@@ -185,7 +214,7 @@ class _Curve:
         only the detachment step needs it)."""
         if self._spl_a_built is False:
             yA = np.log(np.maximum(self.non_area, _TINY))
-            if np.array_equal(yA[:, 1:], self._y[:, 1:]):  # S = 1: the same data as 1 - F
+            if np.array_equal(yA[:, 1:], self._y[:, 1:]):  # type: ignore[index]  # S = 1
                 self._spl_a_built = self._spl
             else:
                 self._spl_a_built = (
@@ -211,7 +240,7 @@ class _Curve:
         """``1 - F`` at ``x = ln zeta`` (any shape), per load: shape ``(n_load,) + x.shape``."""
         x = np.asarray(x, dtype=float)
         x1 = self.x[1]
-        lin = self.NF[:, 1].reshape((-1,) + (1,) * x.ndim) * np.clip(x / x1, 0.0, 1.0)
+        lin = self._nf1.reshape((-1,) + (1,) * x.ndim) * np.clip(x / x1, 0.0, 1.0)
         if self._spl is None:
             return np.clip(lin, 0.0, 1.0)
         xs = np.clip(x, x1, self.x[-1])
@@ -222,7 +251,7 @@ class _Curve:
         """``-dF/dx`` (>= 0) at ``x = ln zeta``, per load."""
         x = np.asarray(x, dtype=float)
         x1 = self.x[1]
-        lin = (self.NF[:, 1] / x1).reshape((-1,) + (1,) * x.ndim) * np.ones_like(x)
+        lin = (self._nf1 / x1).reshape((-1,) + (1,) * x.ndim) * np.ones_like(x)
         if self._spl is None:
             return lin
         xs = np.clip(x, x1, self.x[-1])
@@ -240,7 +269,7 @@ class _Curve:
         if cached is None:
             xg, _ = self.stieltjes_nodes()
             cached = np.empty((self.n_load, *xg.shape))
-            first = (self.NF[:, 1] / self.x[1])[:, None]
+            first = (self._nf1 / self.x[1])[:, None]
             for k, start, vals in self._dF_blocks():
                 if start:
                     cached[k, 0] = first[k]
@@ -256,7 +285,7 @@ class _Curve:
         if cached is not None:
             return np.sum(cached * weights[None], axis=-1)
         out = np.empty((self.n_load, weights.shape[0]))
-        first = (self.NF[:, 1] / self.x[1])[:, None]  # the linear first interval
+        first = (self._nf1 / self.x[1])[:, None]  # the linear first interval
         w_t = weights.T  # (m, n_int): the blocks' layout
         for k, start, vals in self._dF_blocks():
             if start:
@@ -276,7 +305,7 @@ class _Curve:
         if self._spl is None:
             yield slice(0, self.n_load), 0, self.dF(xg).transpose(0, 2, 1)
             return
-        dead = self._y[:, 1:] <= math.log(_TINY)  # (n_load, n_node - 1): 1 - F clamped
+        dead = self._dead  # (n_load, n_node - 1): 1 - F clamped
         j0 = _first_open(dead)  # spline intervals before j0: negligible for every load
         d = np.ascontiguousarray((xg[1 + j0 :] - self.x[1 + j0 : -1, None]).T)  # local: (m, n)
         step = _block(xg.size)

@@ -3,7 +3,11 @@ vanishing results, cache-sized blocks of loads, and many cubic splines on shared
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import dataclasses
+import weakref
+from collections import OrderedDict
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -73,6 +77,7 @@ def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     if n < 4 or y.ndim != 2:
         return CubicSpline(x, y, axis=1)
     yt, dx, slope, sl = _row_slopes(x, y)
+    sl = np.ascontiguousarray(sl)  # LAPACK's (n_row, n) memory: one transposed copy, then rows
     c = np.empty((4, n - 1, yt.shape[1]))
     t = np.add(sl[:-1], sl[1:], out=c[3])  # c[3] as scratch
     t -= 2.0 * slope
@@ -127,17 +132,21 @@ def _ppoly_at(
     the powers of ``s = x - x_i`` by repeated products), in blocks of points laid out as the
     coefficients (rows innermost) with two small buffers, each block clipped at 0 into its
     columns of ``out``: no per-point search, axis moves or large temporaries. ``out_t``
-    (xs.size, n_row): the same values also written in the transposed layout.
+    (xs.size, n_row): the values in the transposed layout instead (computed in place there,
+    nothing else written; returned).
     """
     b, c = spl.x, spl.c
     i = np.clip(np.searchsorted(b, xs, side="right") - 1, 0, b.size - 2)
     s = xs - b[i]
-    res = np.empty((c.shape[2], xs.size)) if out is None else out
+    if out_t is None:
+        res = np.empty((c.shape[2], xs.size)) if out is None else out
     step = max(1, _SMALL // c.shape[2])
     buf = np.empty((2, min(step, xs.size), c.shape[2]))
     for lo in range(0, xs.size, step):  # blocks of points: the temporaries stay in cache
         k, sk = i[lo : lo + step], s[lo : lo + step, None]
         r, t = buf[0, : k.size], buf[1, : k.size]
+        if out_t is not None:
+            r = out_t[lo : lo + k.size]
         np.take(c[2], k, axis=0, out=r)
         r *= sk
         r += np.take(c[3], k, axis=0, out=t)
@@ -150,7 +159,60 @@ def _ppoly_at(
         t *= z
         r += t
         np.maximum(r, 0.0, out=r)
-        res[:, lo : lo + k.size] = r.T
-        if out_t is not None:
-            out_t[lo : lo + k.size] = r
-    return res
+        if out_t is None:
+            res[:, lo : lo + k.size] = r.T
+    return res if out_t is None else out_t
+
+
+#: Results of pure functions of a frozen spectrum (immutable, shared by the solves of a scene:
+#: the spectrum plugin caches it), e.g. the quadrature rule of the mean gap and the sub-problem
+#: nodes of the detachment's bin edges: computed once, not in every solve. Keyed weakly on the
+#: spectrum (freed with it), at most _MEMO_SIZE results per spectrum (least recently used out).
+_MEMO: weakref.WeakKeyDictionary[Any, OrderedDict[tuple[Any, ...], Any]] = (
+    weakref.WeakKeyDictionary()
+)
+_MEMO_SIZE = 16
+
+
+def _per_psd(psd: object, key: tuple[Any, ...], build: Callable[[], Any]) -> Any:
+    """``build()``, memoised per frozen spectrum and ``key`` (its arrays made read-only).
+
+    A spectrum that is not frozen (mutable), or cannot be weakly referenced or hashed, is not
+    memoised: ``build()`` every time.
+    """
+    if not getattr(psd, "frozen", False):
+        return build()
+    try:
+        memo = _MEMO.get(psd)
+        if memo is None:
+            memo = _MEMO.setdefault(psd, OrderedDict())
+    except TypeError:
+        return build()
+    val = memo.get(key)
+    if val is not None:
+        try:
+            memo.move_to_end(key)
+        except KeyError:  # dropped meanwhile by another thread: the value stays valid
+            pass
+        return val
+    val = build()
+    _read_only(val)
+    memo[key] = val
+    while len(memo) > _MEMO_SIZE:
+        try:
+            memo.popitem(last=False)
+        except KeyError:  # emptied meanwhile by another thread
+            break
+    return val
+
+
+def _read_only(val: Any) -> None:
+    """Make the arrays of ``val`` (an array, a tuple or a dataclass of them, nested) read-only."""
+    if isinstance(val, np.ndarray):
+        val.setflags(write=False)
+    elif isinstance(val, tuple):
+        for v in val:
+            _read_only(v)
+    elif dataclasses.is_dataclass(val) and not isinstance(val, type):
+        for f in dataclasses.fields(val):
+            _read_only(getattr(val, f.name))

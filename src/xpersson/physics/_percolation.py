@@ -35,7 +35,8 @@ def critical_magnification(zeta: ArrayLike, area: ArrayLike, a_c: float) -> NDAr
     xc = lo + np.clip(t, 0.0, 1.0) * (hi - lo)
     c = crossed  # the loads that stay above a_c take no steps (their NaN is known)
     if z.size > 2:  # each load's crossing interval (fixed) of CubicSpline(x, A, axis=1)
-        coef = _crossing_coefficients(x, A[c], j[c] - 1)
+        every = bool(c.all())  # every load crosses: no row copies
+        coef = _crossing_coefficients(x, A if every else A[c], j[c] - 1)
         xc = _newton(coef, x[j[c] - 1], xc[c], lo[c], hi[c], a_c)
     else:
         xc = xc[c]

@@ -13,10 +13,22 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._curve import _TINY, _Curve, _tau_c
-from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
+from ._fastnum import _EXP_ZERO, _exp, _per_psd, _ppoly_at, _row_spline
 
 #: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
 _TABLE_MARGIN = 8
+
+
+def _phi_weights(
+    psd: object, E_star: float, cur: _Curve
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """What ``Phi``'s node integrals take from the spectrum alone: the Stieltjes weights
+    ``sqrt(tau_c) w`` on the curve's nodes (n_int, m) [Pa] and ``tau_c`` at the
+    magnifications (n_zeta,) [Pa^2]."""
+    q_L = float(psd.q_L)  # type: ignore[attr-defined]
+    xg, wg = cur.stieltjes_nodes()
+    sqrt_tau = np.sqrt(_tau_c(psd, E_star, np.exp(xg) * q_L))
+    return sqrt_tau * wg, _tau_c(psd, E_star, cur.zeta * q_L)
 
 
 class _Phi:
@@ -24,11 +36,10 @@ class _Phi:
 
     def __init__(self, psd: object, E_star: float, p0: NDArray[np.float64], cur: _Curve) -> None:
         q_L = float(psd.q_L)  # type: ignore[attr-defined]
-        xg, wg = cur.stieltjes_nodes()
-        sqrt_tau = np.sqrt(_tau_c(psd, E_star, np.exp(xg) * q_L))
-        inc = cur.dF_weighted(sqrt_tau * wg) / p0[:, None]
+        key = ("phi", E_star, q_L, cur.zeta.tobytes())
+        weights, tau = _per_psd(psd, key, lambda: _phi_weights(psd, E_star, cur))
+        inc = cur.dF_weighted(weights) / p0[:, None]
         phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
-        tau = _tau_c(psd, E_star, cur.zeta * q_L)
         self.tau1 = float(tau[1])
         self.s = np.log(tau[1:])
         self.phi = phi
@@ -71,7 +82,7 @@ class _Phi:
         if self._spl is None:
             return (self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)).reshape(shape)
         grid, table = self._table()
-        n, lo = grid.size, self._lo
+        n, lo, n_load = grid.size, self._lo, table.shape[1]
         with np.errstate(divide="ignore"):
             u = np.log(t2)
         u -= grid[0]
@@ -79,10 +90,11 @@ class _Phi:
         np.clip(u, lo, n - 1.000001, out=u)  # below node lo + 1 the table is 0: same values
         i = u.astype(np.intp)
         u -= i
-        i += (np.arange(shape[0]) * table.shape[1] - lo)[:, None]
+        i *= n_load  # node i of load l at (i - lo) n_load + l
+        i += (np.arange(shape[0]) - lo * n_load)[:, None]
         flat = table.ravel()
         v0 = flat.take(i)
-        val = v0 + u * (flat.take(i + 1) - v0)
+        val = v0 + u * (flat[n_load:].take(i) - v0)
         low = t2 < self.tau1
         if low.any():
             lin = self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)
@@ -105,7 +117,7 @@ class _Phi:
             t = _exp(np.minimum(l2, math.log(self.tau1)))
             return (phi1 * np.clip(t / self.tau1, 0.0, 1.0)).reshape(shape)
         grid, table = self._table()
-        n, lo = grid.size, self._lo
+        n, lo, n_load = grid.size, self._lo, table.shape[1]
         phi1_zero = not np.any(phi1)
         quiet = phi1_zero and self._first_zero  # below the grid: u = 0 at node 0, val = 0
         u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else None)
@@ -115,10 +127,11 @@ class _Phi:
         u -= i
         if isinstance(rows, slice):
             rows = np.arange(rows.start or 0, (rows.start or 0) + shape[0])
-        i += (rows * table.shape[1] - lo)[:, None]
+        i *= n_load  # node i of load l at (i - lo) n_load + l
+        i += (rows - lo * n_load)[:, None]
         flat = table.ravel()
         v0 = flat.take(i)
-        val = flat[1:].take(i)  # the next nodes, without an array i + 1
+        val = flat[n_load:].take(i)  # the next nodes, without an array i + n_load
         val -= v0
         val *= u
         val += v0
@@ -140,10 +153,11 @@ class _Phi:
     def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6).
 
-        ``(grid, table)``: the table (n_load, n_grid - lo) holds the grid's nodes from ``lo =
-        self._lo`` on (those below are 0 for every load) in C order (the per-load look-ups
-        take from its flat view), evaluated from the spline's coefficients (as
-        ``self._spl(grid)``, bit for bit).
+        ``(grid, table)``: the table (n_grid - lo, n_load) holds the grid's nodes from ``lo =
+        self._lo`` on (those below are 0 for every load), nodes by rows (the layout of the
+        sparse sums of :meth:`sums_at_log_tau`; the per-load look-ups take from its flat
+        view), evaluated from the spline's coefficients (as ``self._spl(grid).T``, bit for
+        bit). One layout only: a second one cost as much as the evaluation (fresh memory).
         """
         if getattr(self, "_tab", None) is None:
             n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
@@ -158,16 +172,12 @@ class _Phi:
             # kept from grid node lo = g0 - 2 on: a look-up below it is clipped to node lo, where
             # it takes 0 + 0 (0 - 0), the 0 it took from the zero nodes below (bit for bit)
             lo = max(g0 - 2, 0)
-            tab = np.empty((self.phi.shape[0], n - lo))
-            tab[:, : g0 - lo] = 0.0
-            tab_t = np.empty((n - lo, self.phi.shape[0]))  # (nodes, loads): the sparse sums
-            tab_t[: g0 - lo] = 0.0
-            kept = slice(g0 - lo, None)
-            _ppoly_at(self._spl, grid[g0:], out=tab[:, kept], out_t=tab_t[kept])  # type: ignore[arg-type]
-            self._tab_t = tab_t
+            tab = np.empty((n - lo, self.phi.shape[0]))  # (nodes, loads)
+            tab[: g0 - lo] = 0.0
+            _ppoly_at(self._spl, grid[g0:], out_t=tab[g0 - lo :])  # type: ignore[arg-type]
             self._tab, self._lo, self._g0 = (grid, tab), lo, g0
-            # every row's node lo is 0 and node lo + 1 finite: a look-up below gives +0.0
-            self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
+            # every load's node lo is 0 and node lo + 1 finite: a look-up below gives +0.0
+            self._first_zero = bool(np.all(tab[0] == 0.0) and np.all(np.isfinite(tab[1])))
         return self._tab
 
     def sums_at_log_tau(
@@ -197,8 +207,8 @@ class _Phi:
         col = i[keep] - lo
         cols = np.stack((col, col + 1), axis=-1).ravel()
         ptr = np.concatenate(([0], np.cumsum(2 * np.count_nonzero(keep, axis=1))))
-        w = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[1]))
-        out = np.ascontiguousarray((w @ self._tab_t).T)  # the table (nodes, loads)
+        w = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[0]))
+        out = np.ascontiguousarray((w @ tab).T)  # the table (nodes, loads)
         phi1 = self.phi[:, 1:2]
         if low.any() and np.any(phi1):
             t = np.zeros(log_tau.shape)

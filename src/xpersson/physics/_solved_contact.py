@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -17,6 +18,7 @@ from ._curve import (
     _tau_c,
 )
 from ._energy import full_contact_energy
+from ._fastnum import _per_psd
 from ._gap_distribution import Detachment
 from ._percolation import critical_magnification
 from ._phi import _Phi
@@ -74,7 +76,8 @@ class SolvedContact:
     def rule(self) -> _QRule:
         """The quadrature rule over ``[q_L, q_hi]`` of the energy and the mean gap (built once)."""
         if self._rule is None:
-            self._rule = _q_rule(self.psd, self.q_L, self.q_hi)
+            key = ("rule", self.q_L, self.q_hi)
+            self._rule = _per_psd(self.psd, key, lambda: _q_rule(self.psd, self.q_L, self.q_hi))
         return self._rule
 
     def elastic_energy(self) -> NDArray[np.float64]:
@@ -131,7 +134,11 @@ class SolvedContact:
             raise ValueError(f"separation must be 'almqvist' or 'pressure', got {separation!r}")
         cur, q_L, q_hi = self.curve, self.q_L, self.q_hi
         z, A, N = _edges(cur, zeta_edges)
-        prep = _sub_prep(self.psd, self.E_star, (z * q_L)[None, :], q_hi)
+        prep, h, h_rms = _per_psd(
+            self.psd,
+            ("edges", self.E_star, q_L, q_hi, z.tobytes()),
+            lambda: self._edge_prep(z),
+        )
         ubar = _sub_mean_gap(self.psd, self.E_star, self.phi, None, A, q_hi, prep=prep)
         ubar[:, 0] = self.mean_gap()
         ubar[:, -1] = 0.0
@@ -143,9 +150,16 @@ class SolvedContact:
             u1 = np.where(ok, dAu / safe, 0.0)
         else:
             u1 = self._pressure_part(z, A, ubar, dA, ok, safe, prep)
-        h = np.sqrt(_h2(self.psd, np.sqrt(z[:-1] * z[1:]) * q_L, q_hi))
-        h_rms = float(np.sqrt(_h2(self.psd, q_L, q_hi)))
         return Detachment(self.p0, z, A, ubar, np.where(ok, dA, 0.0), np.maximum(u1, 0.0), h, h_rms)
+
+    def _edge_prep(self, z: NDArray[np.float64]) -> tuple[Any, NDArray[np.float64], float]:
+        """What the bins of :meth:`detachment` take from the spectrum alone: the sub-problem
+        nodes at every edge (:func:`_sub_prep`), the rms height of the roughness finer than
+        each bin's centre and of the whole roughness [m]."""
+        q_L, q_hi = self.q_L, self.q_hi
+        prep = _sub_prep(self.psd, self.E_star, (z * q_L)[None, :], q_hi)
+        h = np.sqrt(_h2(self.psd, np.sqrt(z[:-1] * z[1:]) * q_L, q_hi))
+        return prep, h, float(np.sqrt(_h2(self.psd, q_L, q_hi)))
 
     def _pressure_part(self, z, A, ubar, dA, ok, safe, prep) -> NDArray[np.float64]:  # noqa: ANN001
         """``u1 = u + A (du/dA)_zeta`` of every bin: the pressure part of ``d(A u)/dA``.

@@ -54,8 +54,7 @@ def _sub_prep(
     s, ws = _sub_panels(psd, qa, V)
     q = qa[..., None] * np.exp(V[..., None] * s * s)
     dq = q * (2.0 * V[..., None] * s) * ws
-    qaf = np.broadcast_to(qa[..., None], q.shape).ravel()
-    dI3 = _delta_I3(psd, qaf, q.ravel()).reshape(q.shape)
+    dI3 = _delta_I3(psd, qa[..., None], q)
     C = np.asarray(psd.C(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
     kern = dq * q**2 * C / np.sqrt(np.pi * dI3)
     # ln tau_eq = ln(tau_c,a) + 2 ln A_a: logs of the small factors, not of the tensor

@@ -14,6 +14,7 @@ import warnings
 import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -65,7 +66,25 @@ class Solved:
 
 
 def dense_zeta(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64]:
-    """The Dataset's magnifications merged with ``1 + geomspace(1e-9, zeta_max - 1)``."""
+    """The Dataset's magnifications merged with ``1 + geomspace(1e-9, zeta_max - 1)``.
+
+    The same grid for every solve of a scene: merged once (memoised on the magnifications and
+    ``per_decade``), a fresh copy returned.
+    """
+    z = np.asarray(zeta, dtype=float)
+    if z.ndim != 1:
+        return _merged(z, per_decade)
+    return _dense_zeta(z.tobytes(), int(per_decade)).copy()
+
+
+@lru_cache(maxsize=8)
+def _dense_zeta(zeta_bytes: bytes, per_decade: int) -> NDArray[np.float64]:
+    out = _merged(np.frombuffer(zeta_bytes, dtype=float), per_decade)
+    out.setflags(write=False)
+    return out
+
+
+def _merged(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64]:
     z_max = float(zeta[-1])
     n = max(2, int(per_decade * (9.0 + np.log10(max(z_max - 1.0, 1e-9)))))
     extra = 1.0 + np.geomspace(1e-9, z_max - 1.0, n) if z_max > 1.0 else np.zeros(0)
