@@ -80,16 +80,7 @@ def fast_erf(x: NDArray[np.float64], out: NDArray[np.float64] | None = None) -> 
     t *= float(_N)  # exact (power of 2)
     nan = np.isnan(t) if math.isnan(np.add.reduce(t, axis=None)) else None  # rare path
     np.fmin(t, _X_ONE * _N, out=t)  # NaN -> the last piece (put back below)
-    i = t.astype(np.intp)  # = floor(t), t >= 0
-    t -= i  # fractional part f in [0, 1): exact
-    p = np.take(_C3, i)
-    p *= t
-    p += np.take(_C2, i)
-    p *= t
-    p += np.take(_C1, i)
-    p *= t
-    p += np.take(_C0, i)
-    res = np.copysign(p, x, out=out)
+    res = np.copysign(_pieces(t), x, out=out)
     if nan is not None:
         res[nan] = np.nan
     return res
@@ -100,8 +91,13 @@ def erf_nonneg(x: NDArray[np.float64]) -> NDArray[np.float64]:
     its sign and NaN passes. ``x`` (float64) is overwritten (scratch)."""
     t = np.multiply(x, float(_N), out=x)  # exact (power of 2)
     np.minimum(t, _X_ONE * _N, out=t)
-    i = t.astype(np.intp)
-    t -= i
+    return _pieces(t)
+
+
+def _pieces(t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The table's cubic at ``t = |x| N`` in ``[0, 6 N]`` (``t`` is overwritten: scratch)."""
+    i = t.astype(np.intp)  # = floor(t), t >= 0
+    t -= i  # fractional part f in [0, 1): exact
     p = np.take(_C3, i)
     p *= t
     p += np.take(_C2, i)
