@@ -1,5 +1,6 @@
-"""What ``jkr`` derives from a frozen spectrum is computed once (``_memo.memo``): the values
-are those of a fresh computation, shared read-only, and never leak into a returned Dataset."""
+"""What ``jkr`` derives from a frozen spectrum is computed once
+(``xpersson.physics.spectrum_memo``): the values are those of a fresh computation, shared
+read-only, and never leak into a returned Dataset."""
 
 from __future__ import annotations
 
@@ -10,9 +11,9 @@ import numpy as np
 from adhesion_testlib import PDMS, PSD
 
 from xpersson.physics import SelfAffineRollOff, coefficient_f, diffusion_time
+from xpersson.physics import spectrum_memo as memo
 from xpersson.plugins import DiffusionClock
 from xpersson_adhesion._detachment import ModelLaw, onset_times
-from xpersson_adhesion._memo import memo
 
 E_STAR = 1e6 / 0.75
 
@@ -92,7 +93,7 @@ def test_repeated_solves_are_identical_and_own_their_arrays(solve):
 
 
 def test_memo_keeps_a_bounded_number_of_results():
-    from xpersson_adhesion import _memo
+    from xpersson.physics import _memo
 
     spectra = [_frozen() for _ in range(3)]
     for i in range(3 * _memo._MEMO_SIZE):
@@ -108,7 +109,7 @@ def test_memo_keeps_a_bounded_number_of_results():
 
 
 def test_digest_tells_arrays_apart():
-    from xpersson_adhesion._memo import digest
+    from xpersson.physics import array_digest as digest
 
     a = np.linspace(0.0, 1.0, 1000)
     b = a.copy()

@@ -14,6 +14,7 @@ interface
     finer scales at full contact), mean gap, stiffness, gap distribution, percolation.
 """
 
+from ._memo import array_digest, spectrum_memo
 from .closures import (
     CLOSURES,
     DEFAULT_GAMMA,
@@ -64,6 +65,7 @@ __all__ = [
     "SolvedContact",
     "Tabulated",
     "area_fraction",
+    "array_digest",
     "closure_S",
     "coefficient_f",
     "contact_stiffness",
@@ -85,5 +87,6 @@ __all__ = [
     "profile_factor",
     "second_moment",
     "separation_of_detaching_area",
+    "spectrum_memo",
     "variance_factor",
 ]

@@ -3,11 +3,7 @@ vanishing results, cache-sized blocks of loads, and many cubic splines on shared
 
 from __future__ import annotations
 
-import dataclasses
-import weakref
-from collections import OrderedDict
-from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -162,57 +158,3 @@ def _ppoly_at(
         if out_t is None:
             res[:, lo : lo + k.size] = r.T
     return res if out_t is None else out_t
-
-
-#: Results of pure functions of a frozen spectrum (immutable, shared by the solves of a scene:
-#: the spectrum plugin caches it), e.g. the quadrature rule of the mean gap and the sub-problem
-#: nodes of the detachment's bin edges: computed once, not in every solve. Keyed weakly on the
-#: spectrum (freed with it), at most _MEMO_SIZE results per spectrum (least recently used out).
-_MEMO: weakref.WeakKeyDictionary[Any, OrderedDict[tuple[Any, ...], Any]] = (
-    weakref.WeakKeyDictionary()
-)
-_MEMO_SIZE = 16
-
-
-def _per_psd(psd: object, key: tuple[Any, ...], build: Callable[[], Any]) -> Any:
-    """``build()``, memoised per frozen spectrum and ``key`` (its arrays made read-only).
-
-    A spectrum that is not frozen (mutable), or cannot be weakly referenced or hashed, is not
-    memoised: ``build()`` every time.
-    """
-    if not getattr(psd, "frozen", False):
-        return build()
-    try:
-        memo = _MEMO.get(psd)
-        if memo is None:
-            memo = _MEMO.setdefault(psd, OrderedDict())
-    except TypeError:
-        return build()
-    val = memo.get(key)
-    if val is not None:
-        try:
-            memo.move_to_end(key)
-        except KeyError:  # dropped meanwhile by another thread: the value stays valid
-            pass
-        return val
-    val = build()
-    _read_only(val)
-    memo[key] = val
-    while len(memo) > _MEMO_SIZE:
-        try:
-            memo.popitem(last=False)
-        except KeyError:  # emptied meanwhile by another thread
-            break
-    return val
-
-
-def _read_only(val: Any) -> None:
-    """Make the arrays of ``val`` (an array, a tuple or a dataclass of them, nested) read-only."""
-    if isinstance(val, np.ndarray):
-        val.setflags(write=False)
-    elif isinstance(val, tuple):
-        for v in val:
-            _read_only(v)
-    elif dataclasses.is_dataclass(val) and not isinstance(val, type):
-        for f in dataclasses.fields(val):
-            _read_only(getattr(val, f.name))

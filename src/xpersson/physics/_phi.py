@@ -13,7 +13,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._curve import _TINY, _Curve, _tau_c
-from ._fastnum import _EXP_ZERO, _exp, _per_psd, _ppoly_at, _row_spline
+from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
+from ._memo import spectrum_memo
 
 #: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
 _TABLE_MARGIN = 8
@@ -37,7 +38,7 @@ class _Phi:
     def __init__(self, psd: object, E_star: float, p0: NDArray[np.float64], cur: _Curve) -> None:
         q_L = float(psd.q_L)  # type: ignore[attr-defined]
         key = ("phi", E_star, q_L, cur.zeta.tobytes())
-        weights, tau = _per_psd(psd, key, lambda: _phi_weights(psd, E_star, cur))
+        weights, tau = spectrum_memo(psd, key, lambda: _phi_weights(psd, E_star, cur))
         inc = cur.dF_weighted(weights) / p0[:, None]
         phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
         self.tau1 = float(tau[1])

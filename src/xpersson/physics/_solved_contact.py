@@ -18,8 +18,8 @@ from ._curve import (
     _tau_c,
 )
 from ._energy import full_contact_energy
-from ._fastnum import _per_psd
 from ._gap_distribution import Detachment
+from ._memo import spectrum_memo
 from ._percolation import critical_magnification
 from ._phi import _Phi
 from ._subgap import _h2, _sub_mean_gap, _sub_prep
@@ -77,7 +77,9 @@ class SolvedContact:
         """The quadrature rule over ``[q_L, q_hi]`` of the energy and the mean gap (built once)."""
         if self._rule is None:
             key = ("rule", self.q_L, self.q_hi)
-            self._rule = _per_psd(self.psd, key, lambda: _q_rule(self.psd, self.q_L, self.q_hi))
+            self._rule = spectrum_memo(
+                self.psd, key, lambda: _q_rule(self.psd, self.q_L, self.q_hi)
+            )
         return self._rule
 
     def elastic_energy(self) -> NDArray[np.float64]:
@@ -134,7 +136,7 @@ class SolvedContact:
             raise ValueError(f"separation must be 'almqvist' or 'pressure', got {separation!r}")
         cur, q_L, q_hi = self.curve, self.q_L, self.q_hi
         z, A, N = _edges(cur, zeta_edges)
-        prep, h, h_rms = _per_psd(
+        prep, h, h_rms = spectrum_memo(
             self.psd,
             ("edges", self.E_star, q_L, q_hi, z.tobytes()),
             lambda: self._edge_prep(z),

@@ -27,9 +27,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erfcx
 
+from xpersson.physics import array_digest, spectrum_memo
 from xpersson.physics.interface import full_contact_energy
-
-from ._memo import digest, memo
 
 __all__ = [
     "true_area_ratio",
@@ -184,8 +183,8 @@ class ModelLaw:
         f_nodes = np.asarray(clock.f(zo_all), dtype=float)  # type: ignore[attr-defined]
         # the table depends on the clock only through these samples: equal samples (the same
         # scene solved again) reuse it
-        key = ("ModelLaw.in_tau", *self._key(), zmax, per_decade, digest(t_nodes, f_nodes))
-        return memo(
+        key = ("ModelLaw.in_tau", *self._key(), zmax, per_decade, array_digest(t_nodes, f_nodes))
+        return spectrum_memo(
             self.psd,
             key,
             lambda: self._fit(
@@ -205,7 +204,7 @@ class ModelLaw:
         ends moved inside: one-sided slopes), the cuts between pieces, ``sigma_a^2`` at the
         nodes [Pa^2] and its one-sided slopes in zeta [Pa^2] (memoised per frozen spectrum)."""
         key = ("ModelLaw.samples", *self._key(), zmax, per_decade)
-        return memo(self.psd, key, lambda: self._sample(zmax, per_decade))
+        return spectrum_memo(self.psd, key, lambda: self._sample(zmax, per_decade))
 
     def _sample(self, zmax: float, per_decade: int) -> tuple[Array, Array, Array, Array, Array]:
         q_L = float(self.psd.q_L)  # type: ignore[attr-defined]
@@ -262,7 +261,7 @@ class ModelLaw:
         if self.work == 0.0:
             return True
         key = ("ModelLaw.is_constant", *self._key(), float(zeta_max))
-        return memo(self.psd, key, lambda: self._is_constant(zeta_max, sigma_end))
+        return spectrum_memo(self.psd, key, lambda: self._is_constant(zeta_max, sigma_end))
 
     def _is_constant(self, zeta_max: float, sigma_end: Callable[[], float] | None) -> bool:
         z_end = max(zeta_max, 1.0)

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from xpersson.physics import array_digest, spectrum_memo
 from xpersson.physics.interface import full_contact_energy
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
@@ -32,7 +33,6 @@ from ._detachment import (
     onset_times,
     true_area_ratio,
 )
-from ._memo import digest, memo
 from ._tabor import tabor_parameter, warn_outside_limit
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -66,7 +66,7 @@ ADHESION_PARAMETERS: dict[str, ParamSpec] = {
 def stickiness(psd: Any, E_star: float, work: float) -> float:
     """Persson-Tosatti stickiness ``w_eff = dgamma A*/A0 - U_el,full/A0`` [J/m^2] (§2.5)."""
     key = ("stickiness", float(E_star), float(work))
-    return memo(psd, key, lambda: _stickiness(psd, E_star, work))
+    return spectrum_memo(psd, key, lambda: _stickiness(psd, E_star, work))
 
 
 def _stickiness(psd: Any, E_star: float, work: float) -> float:
@@ -252,7 +252,9 @@ class JKRBoundary(Boundary):
         if self._table is not None:
             return float(self._table.sigma[0])
         law = self._model(ctx)
-        return memo(ctx.psd, ("ModelLaw.sigma_a(1)", *law._key()), lambda: self._at(ctx, law, 1.0))
+        return spectrum_memo(
+            ctx.psd, ("ModelLaw.sigma_a(1)", *law._key()), lambda: self._at(ctx, law, 1.0)
+        )
 
     def _at(self, ctx: SceneContext, law: ModelLaw, zeta: float) -> float:
         """``law([zeta])[0]``, sigma_a [Pa]: from the memoised gamma_eff of :meth:`_scales` when
@@ -269,7 +271,7 @@ class JKRBoundary(Boundary):
     def _scales(self, ctx: SceneContext) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Unclipped gamma_eff [J/m^2], A*/A0 [1], the finer scales' energy [J/m^2] and the
         Tabor parameter [1] at the output magnifications (read-only; memoised per frozen
-        spectrum: :func:`~xpersson_adhesion._memo.memo`)."""
+        spectrum: :func:`~xpersson.physics.spectrum_memo`)."""
         p = self._params
         zeta = np.asarray(ctx.zeta, dtype=float)
         work, rng = p["work_of_adhesion"], p["range"]
@@ -278,8 +280,8 @@ class JKRBoundary(Boundary):
             _, raw, a_star, energy = gamma_effective(ctx.psd, ctx.E_star, work, zeta)
             return raw, a_star, energy, tabor_parameter(ctx.psd, ctx.E_star, work, rng, zeta)
 
-        key = ("JKRBoundary.scales", float(ctx.E_star), work, rng, digest(zeta))
-        return memo(ctx.psd, key, compute)
+        key = ("JKRBoundary.scales", float(ctx.E_star), work, rng, array_digest(zeta))
+        return spectrum_memo(ctx.psd, key, compute)
 
     def validate(self, ctx: SceneContext) -> None:
         """Table coverage, p0 > -sigma_a(1), and the Tabor-parameter warning."""
