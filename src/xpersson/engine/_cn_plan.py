@@ -145,7 +145,7 @@ def _level_times(
     theta = np.full(t.size - 1, 0.5)
     theta[: 2 * n_ie] = 1.0
     if zones:
-        theta[np.isin(t[:-1], [tb for tb, _ in zones])] = 1.0
+        theta[_is_in(t[:-1], [tb for tb, _ in zones])] = 1.0
     return t, theta
 
 
@@ -190,7 +190,7 @@ def _wall_speeds(
     v = (p_hi - p_lo) / (hi - lo)
     before, after = v, v
     bp = getattr(wall, "breakpoints", ())
-    at_bp = np.isin(tau, bp) if bp else np.zeros(tau.shape, bool)
+    at_bp = _is_in(tau, bp)
     if at_bp.any():
         t = tau[at_bp]
         p_t = wall.at(t)
@@ -198,6 +198,14 @@ def _wall_speeds(
         before[at_bp] = (p_t - p_lo[at_bp]) / (t - lo[at_bp])
         after[at_bp] = (p_hi[at_bp] - p_t) / (hi[at_bp] - t)
     return before, after
+
+
+def _is_in(t: Array, values: tuple[float, ...] | list[float]) -> Array:
+    """``np.isin(t, values)`` for a few ``values`` (without its set-up cost)."""
+    out = np.zeros(t.shape, bool)
+    for v in values:
+        out |= t == v
+    return out
 
 
 def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Array]:
@@ -255,19 +263,22 @@ def _edges(pb: Problem, plan: _Plan, taus: Array, tr: dict | None = None) -> dic
     else:
         ru = tr["up_m"] <= p0 + k * s_m
     out = {"rl": rl, "ru": ru}
+    # the artificial edges and their speeds at every time, once (pointwise: sliced per end)
+    s = np.sqrt(2.0 * taus)
+    ds = 1.0 / s
+    art = (p0 - k * s, p0 + k * s, -k * ds, k * ds)
     for tag, sl in (("a", slice(None, -1)), ("b", slice(1, None))):
-        t = taus[sl]
-        s = np.sqrt(2.0 * t)
-        ds = 1.0 / s
         lo, up = tr["lo"][sl], tr["up"][sl]
         lo_v, up_v = tr["lo_v" + tag][sl], tr["up_v" + tag][sl]
-        le = np.where(rl, lo, p0 - k * s)
-        ue = np.where(ru, up, p0 + k * s)
+        le = np.where(rl, lo, art[0][sl])
+        ue = np.where(ru, up, art[1][sl])
         out["l" + tag] = le
         out["w" + tag] = ue - le
-        out["lv" + tag] = np.where(rl, lo_v, -k * ds)
-        out["wv" + tag] = np.where(ru, up_v, k * ds) - out["lv" + tag]
-        out["ys" + tag] = np.where(ru, tr["ys"][sl], 0.0) if plan.yield_wall else 0.0 * t
+        out["lv" + tag] = np.where(rl, lo_v, art[2][sl])
+        out["wv" + tag] = np.where(ru, up_v, art[3][sl]) - out["lv" + tag]
+        out["ys" + tag] = (
+            np.where(ru, tr["ys"][sl], 0.0) if plan.yield_wall else np.zeros(taus.size - 1)
+        )
     # from the first breakpoint on, the mesh moves with the chord speeds of each step (the
     # exact displacement of the edges: the wall may move like sqrt(tau - tau_b), whose point
     # speeds are unbounded and made the scheme first order; after the graded stretch the chord
