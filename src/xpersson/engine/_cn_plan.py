@@ -145,7 +145,10 @@ def _level_times(
     n_ie = min(n_ie, t.size - 1)
     if n_ie > 0:
         mids = 0.5 * (t[:n_ie] + t[1 : n_ie + 1])
-        t = np.sort(np.concatenate([t, mids]))
+        # each between its two times: interleaved (what sorting the union gives)
+        tt = np.empty(t.size + n_ie)
+        tt[: 2 * n_ie : 2], tt[1 : 2 * n_ie : 2], tt[2 * n_ie :] = t[:n_ie], mids, t[n_ie:]
+        t = tt
     theta = np.full(t.size - 1, 0.5)
     theta[: 2 * n_ie] = 1.0
     if zones:

@@ -260,7 +260,8 @@ def _block_system(
     for k, face in enumerate((0, 0, nf - 1, nf - 1)):
         ends[k, :, ms] = ops[:, k % 2, :, face].T
         ends[k + 4, :, ms] = ops[:, 2 + k % 2, :, face].T
-    ends[[1, 3], :, ms] *= -1.0  # wn(A + D), as the solve used it
+    ends[1, :, ms] *= -1.0  # wn(A + D), as the solve used it
+    ends[3, :, ms] *= -1.0
     dl, du, Ga, Gp = (ops[:, k] for k in range(4))
     Dg = work[1][:c]
     np.subtract(wi, dl[..., 1:nf], out=Dg[..., 1:-1])
@@ -360,9 +361,8 @@ def _wall_sums(
     f_old0 = ma0 * r0[:, :-1] + pa0 * r1[:, :-1]
     f_new1 = mb1 * rm[:, 1:] + pb1 * rn[:, 1:]
     f_old1 = ma1 * rm[:, :-1] + pa1 * rn[:, :-1]
-    zero = np.zeros((nb, 1))
-    abs_l = np.hstack([zero, np.cumsum(np.where(rl, f_new0 + f_old0, 0.0), axis=1)])
-    mom_l = np.hstack([zero, np.cumsum(np.where(rl, lb * f_new0 + la * f_old0, 0.0), axis=1)])
+    abs_l = _cumsum0(np.where(rl, f_new0 + f_old0, 0.0))
+    mom_l = _cumsum0(np.where(rl, lb * f_new0 + la * f_old0, 0.0))
     res["abs_l"], res["mom_l"] = abs_l[:, out_at], mom_l[:, out_at]
     if yield_wall:
         res["abs_u"] = a_pl_at
@@ -371,8 +371,16 @@ def _wall_sums(
     else:
         out_hi = -(f_new1 + f_old1)
         mom = (lb + wb_) * f_new1 + (la + wa_) * f_old1
-        res["abs_u"] = np.hstack([zero, np.cumsum(np.where(ru, out_hi, 0.0), axis=1)])[:, out_at]
-        res["mom_u"] = -np.hstack([zero, np.cumsum(np.where(ru, mom, 0.0), axis=1)])[:, out_at]
+        res["abs_u"] = _cumsum0(np.where(ru, out_hi, 0.0))[:, out_at]
+        res["mom_u"] = -_cumsum0(np.where(ru, mom, 0.0))[:, out_at]
+
+
+def _cumsum0(a: Array) -> Array:
+    """Running sums along the rows of ``a`` after a column of zeros, ``(nb, 1 + steps)``."""
+    out = np.empty((a.shape[0], a.shape[1] + 1))
+    out[:, 0] = 0.0
+    np.cumsum(a, axis=1, out=out[:, 1:])
+    return out
 
 
 def _combine(fine: dict, coarse: dict, extrapolate: bool) -> dict:
