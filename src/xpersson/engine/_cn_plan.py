@@ -107,18 +107,19 @@ def _bracketed_roots(f, a: Array, b: Array, fa: Array, fb: Array, xtol: Array) -
         idx = np.flatnonzero(live)
         if idx.size == 0:
             break
-        a_, b_, fa_, fb_ = a[idx], b[idx], fa[idx], fb[idx]
+        a_, b_, fa_, fb_, xt = a[idx], b[idx], fa[idx], fb[idx], xtol[idx]
         c = b_ - fb_ * (b_ - a_) / (fb_ - fa_)
-        nudge = np.minimum(xtol[idx], 0.5 * np.abs(a_ - b_))
+        nudge = np.minimum(xt, 0.5 * np.abs(a_ - b_))
         c = np.where(np.abs(c - b_) < nudge, b_ + np.copysign(nudge, a_ - b_), c)
         fc = np.asarray(f(c, idx), dtype=float)
         flip = np.sign(fc) * np.sign(fb_) < 0  # the root lies between c and b
         new_a = np.where(flip, b_, a_)
         fa[idx] = np.where(flip, fb_, 0.5 * fa_)
         a[idx], b[idx], fb[idx] = new_a, c, fc
-        hit = (fc == 0) | (np.abs(c - new_a) <= xtol[idx]) | ~np.isfinite(fc)
-        root[idx[hit]] = np.where(np.isfinite(fc[hit]), c[hit], np.nan)
-        live[idx[hit]] = False
+        hit = (fc == 0) | (np.abs(c - new_a) <= xt) | ~np.isfinite(fc)
+        if hit.any():
+            root[idx[hit]] = np.where(np.isfinite(fc[hit]), c[hit], np.nan)
+            live[idx[hit]] = False
     return root
 
 
