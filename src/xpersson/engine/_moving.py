@@ -313,10 +313,19 @@ def _reduce_snapshots(res: dict, snaps: Array, ed: dict, x: Array, w: Array, out
     la, wa_, lb, wb_ = ed["la"], ed["wa"], ed["lb"], ed["wb"]
     n_out, nb = snaps.shape[0], la.shape[0]
     R = snaps.reshape(n_out, nb, x.size)
-    lv = np.hstack([la[:, :1], lb])[:, out_at]
-    wv = np.hstack([wa_[:, :1], wb_])[:, out_at]
+    lv, wv = _at_outputs(la, lb, out_at), _at_outputs(wa_, wb_, out_at)
     res["area"] = (R @ w).T
     res["load"] = lv * res["area"] + wv * (R @ (x * w)).T
+
+
+def _at_outputs(start: Array, end: Array, out_at: Array) -> Array:
+    """A window edge at the output steps: ``start[:, 0]`` at step 0, else ``end[:, m - 1]``
+    (``np.hstack([start[:, :1], end])[:, out_at]`` without building the whole)."""
+    v = end[:, out_at - 1]
+    first = out_at == 0
+    if first.any():
+        v[:, first] = start[:, :1]
+    return v
 
 
 def _record(
