@@ -59,7 +59,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     g_all = np.where(yreal, ed["wb"] * ed["ysb"], 0.0)  # g = W Y' of the closure R_N = g A_pl
 
     r = _initial_state(ed["la"], ed["wa"], x, w, p0, taus[0], plan.k)
-    near, last, bnd, wflat = _rows(nb, nn, w)
+    near, last, bnd, wflat = _rows(nb, n, stretch)
     hist = np.empty((n_steps + 1, 4 * nb))  # R at `near` after every step
     hist[0] = r[near]
     # the yield wall's last rows: z = (R_{N-1}, R_N before the step, A_pl, R_{N-1}, R_N after)
@@ -69,7 +69,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     a_pl_at = np.zeros((nb, n_out))
     # the end faces' coefficients the solve used, (8, loads, steps): see _block_system
     ends = np.empty((8, nb, n_steps))
-    basis, w_last, wi = _basis(xf, dxf), w[-1], w[1:-1]
+    basis, w_last, wi = _basis(n, stretch), w[-1], w[1:-1]
 
     def record(j: int, m: int) -> None:
         _record(res, a_pl_at, snaps, r, a_pl, j, m, ed, x, w, pb0.p_out)
@@ -164,7 +164,7 @@ def _level_grid(
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
     x, xf, dxf, w = _nodes(n, stretch)
     ed = _edges_batch(pbs, plan, taus)
-    if np.any(ed["wa"] <= 0) or np.any(ed["wb"] <= 0):
+    if (ed["wa"] <= 0).any() or (ed["wb"] <= 0).any():
         raise FloatingPointError("the walls swept the whole window (area 0)")
     return taus, theta, out_at, x, xf, dxf, w, ed
 
@@ -180,26 +180,38 @@ def _nodes(n: int, stretch: float) -> tuple[Array, Array, Array, Array]:
     return out
 
 
-def _rows(nb: int, nn: int, w: Array) -> tuple[Array, Array, Array, Array]:
-    """Rows of the concatenated system: the two nodes at each wall (the solve leaves round-off
-    ~ eps on the wall nodes, which the wall fluxes must include for the balance to hold to
-    round-off), the last rows, the identity rows (the walls) and the control volumes (0 there)."""
+@lru_cache(maxsize=32)
+def _rows(nb: int, n: int, stretch: float) -> tuple[Array, Array, Array, Array]:
+    """Rows of the concatenated system of ``nb`` loads on the nodes of :func:`_nodes`: the two
+    nodes at each wall (the solve leaves round-off ~ eps on the wall nodes, which the wall
+    fluxes must include for the balance to hold to round-off), the last rows, the identity rows
+    (the walls) and the control volumes (0 there); read-only (the levels of every solve reuse
+    a few)."""
+    w = _nodes(n, stretch)[3]
+    nn = w.size
     rows = np.arange(nb) * nn  # first node of each load in the concatenated system
     near = np.concatenate([rows, rows + 1, rows + nn - 2, rows + nn - 1])
     last = rows + nn - 1
     bnd = np.concatenate([rows, last])  # identity rows (the walls)
     wflat = np.tile(w, nb)
     wflat[bnd] = 0.0
-    return near, last, bnd, wflat
+    out = (near, last, bnd, wflat)
+    for a in out:
+        a.setflags(write=False)
+    return out
 
 
-def _basis(xf: Array, dxf: Array) -> Array:
-    """Face functions ``1, x_f, 1/dx_f`` (3, nodes); the last slot (no face) is 0."""
+@lru_cache(maxsize=32)
+def _basis(n: int, stretch: float) -> Array:
+    """Face functions ``1, x_f, 1/dx_f`` (3, nodes) of :func:`_nodes`; the last slot (no face)
+    is 0; read-only."""
+    xf, dxf = _nodes(n, stretch)[1:3]
     nf = xf.size
     basis = np.zeros((3, nf + 1))
     basis[0, :nf] = 1.0
     basis[1, :nf] = xf
     basis[2, :nf] = 1.0 / dxf
+    basis.setflags(write=False)
     return basis
 
 
@@ -260,7 +272,8 @@ def _block_system(
     for k, face in enumerate((0, 0, nf - 1, nf - 1)):
         ends[k, :, ms] = ops[:, k % 2, :, face].T
         ends[k + 4, :, ms] = ops[:, 2 + k % 2, :, face].T
-    ends[[1, 3], :, ms] *= -1.0  # wn(A + D), as the solve used it
+    ends[1, :, ms] *= -1.0  # wn(A + D), as the solve used it
+    ends[3, :, ms] *= -1.0
     dl, du, Ga, Gp = (ops[:, k] for k in range(4))
     Dg = work[1][:c]
     np.subtract(wi, dl[..., 1:nf], out=Dg[..., 1:-1])
@@ -300,10 +313,19 @@ def _reduce_snapshots(res: dict, snaps: Array, ed: dict, x: Array, w: Array, out
     la, wa_, lb, wb_ = ed["la"], ed["wa"], ed["lb"], ed["wb"]
     n_out, nb = snaps.shape[0], la.shape[0]
     R = snaps.reshape(n_out, nb, x.size)
-    lv = np.hstack([la[:, :1], lb])[:, out_at]
-    wv = np.hstack([wa_[:, :1], wb_])[:, out_at]
+    lv, wv = _at_outputs(la, lb, out_at), _at_outputs(wa_, wb_, out_at)
     res["area"] = (R @ w).T
     res["load"] = lv * res["area"] + wv * (R @ (x * w)).T
+
+
+def _at_outputs(start: Array, end: Array, out_at: Array) -> Array:
+    """A window edge at the output steps: ``start[:, 0]`` at step 0, else ``end[:, m - 1]``
+    (``np.hstack([start[:, :1], end])[:, out_at]`` without building the whole)."""
+    v = end[:, out_at - 1]
+    first = out_at == 0
+    if first.any():
+        v[:, first] = start[:, :1]
+    return v
 
 
 def _record(
@@ -360,9 +382,8 @@ def _wall_sums(
     f_old0 = ma0 * r0[:, :-1] + pa0 * r1[:, :-1]
     f_new1 = mb1 * rm[:, 1:] + pb1 * rn[:, 1:]
     f_old1 = ma1 * rm[:, :-1] + pa1 * rn[:, :-1]
-    zero = np.zeros((nb, 1))
-    abs_l = np.hstack([zero, np.cumsum(np.where(rl, f_new0 + f_old0, 0.0), axis=1)])
-    mom_l = np.hstack([zero, np.cumsum(np.where(rl, lb * f_new0 + la * f_old0, 0.0), axis=1)])
+    abs_l = _cumsum0(np.where(rl, f_new0 + f_old0, 0.0))
+    mom_l = _cumsum0(np.where(rl, lb * f_new0 + la * f_old0, 0.0))
     res["abs_l"], res["mom_l"] = abs_l[:, out_at], mom_l[:, out_at]
     if yield_wall:
         res["abs_u"] = a_pl_at
@@ -371,8 +392,16 @@ def _wall_sums(
     else:
         out_hi = -(f_new1 + f_old1)
         mom = (lb + wb_) * f_new1 + (la + wa_) * f_old1
-        res["abs_u"] = np.hstack([zero, np.cumsum(np.where(ru, out_hi, 0.0), axis=1)])[:, out_at]
-        res["mom_u"] = -np.hstack([zero, np.cumsum(np.where(ru, mom, 0.0), axis=1)])[:, out_at]
+        res["abs_u"] = _cumsum0(np.where(ru, out_hi, 0.0))[:, out_at]
+        res["mom_u"] = -_cumsum0(np.where(ru, mom, 0.0))[:, out_at]
+
+
+def _cumsum0(a: Array) -> Array:
+    """Running sums along the rows of ``a`` after a column of zeros, ``(nb, 1 + steps)``."""
+    out = np.empty((a.shape[0], a.shape[1] + 1))
+    out[:, 0] = 0.0
+    np.cumsum(a, axis=1, out=out[:, 1:])
+    return out
 
 
 def _combine(fine: dict, coarse: dict, extrapolate: bool) -> dict:

@@ -148,6 +148,8 @@ class Wall:
         if self.is_fixed:
             return np.full(t.shape, float(self.position))
         out = np.asarray(self.position(t), dtype=float)
+        if out.shape == t.shape:
+            return out.copy()  # (a copy: the callable may return an array it keeps)
         return np.broadcast_to(out, t.shape).astype(float, copy=True)
 
     def speed(self, tau: ArrayLike) -> NDArray[np.float64]:
