@@ -8,6 +8,7 @@ Public API (imported lazily so that ``import xpersson`` and the CLI's ``--help``
     xpersson.to_netcdf(ds, path)
     xpersson.plot.area(ds)            # matplotlib, imported only when plotting
     xpersson.sweep                    # the sweep mechanism (lists and ranges of parameters)
+    xpersson.set_options(cache=False) # library options (xpersson.options), as xarray's
 """
 
 from __future__ import annotations
@@ -22,11 +23,13 @@ __all__ = [
     "Scene",
     "SceneError",
     "XperssonWarning",
+    "get_options",
     "load_scene",
     "open_dataset",
     "solve",
     "to_netcdf",
     "plot",
+    "set_options",
     "sweep",
     "__version__",
 ]
@@ -40,6 +43,8 @@ _LAZY = {
     "Scene": "xpersson.scene",
     "SceneError": "xpersson.scene",
     "load_scene": "xpersson.scene",
+    "get_options": "xpersson.options",
+    "set_options": "xpersson.options",
     "open_dataset": "xpersson.io",
     "to_netcdf": "xpersson.io",
 }

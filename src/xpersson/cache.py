@@ -1,0 +1,316 @@
+"""The one cache mechanism of xpersson: named, scoped, content-keyed, bounded, read-only.
+
+Everything xpersson keeps in order to reuse it goes through a :class:`Cache` made here; no other
+module keeps a dictionary of results, an ``lru_cache`` or an instance attribute filled by one
+call and read by another. Each cache has
+
+* a **name** (``"engine.level_rows"``), listed by :func:`caches` with its size and hit counts;
+* a **scope**, which says how long a value lives:
+
+  ``"solve"``
+      one solve: the values live until the :func:`solve_scope` they were made in exits (the
+      pipeline opens one per run); outside any solve scope nothing is kept;
+  ``"spectrum"``
+      values derived from one roughness spectrum (and a few numbers), reused by the later solves
+      of scenes with that spectrum; the key holds the spectrum's content key;
+  ``"process"``
+      pure functions of their arguments (unit parsing, quadrature rules), kept for the process;
+
+* a **content key**: :func:`content_key` turns numbers, strings, arrays (by dtype, shape and a
+  128-bit digest of their bytes) and objects that define ``cache_key()`` (spectra, plugin
+  instances) into a hashable key; it refuses anything else, so nothing is ever keyed on
+  ``id()`` or a partial fingerprint;
+* a **bound** ``maxsize`` (least recently used dropped first);
+* **read-only values**: the arrays of a value (also inside tuples, lists, dicts and
+  dataclasses) are made read-only, whether or not the cache keeps them, so code that would
+  write into a shared value fails the same way with the caches on and off;
+* a lock: every cache is thread-safe.
+
+One switch turns every cache off: ``xpersson.set_options(cache=False)`` or the environment
+variable ``XPERSSON_CACHE=off`` (:mod:`xpersson.options`). Then every value is computed afresh,
+and results are the same bit for bit (CI runs the whole test suite both ways).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import contextvars
+import dataclasses
+import functools
+import hashlib
+import threading
+from collections import OrderedDict
+from collections.abc import Callable, Hashable, Iterator
+from typing import Any, TypeVar
+
+import numpy as np
+
+from .options import cache_enabled
+
+__all__ = [
+    "SCOPES",
+    "Cache",
+    "CacheInfo",
+    "cache",
+    "caches",
+    "clear_caches",
+    "content_key",
+    "digest",
+    "freeze",
+    "memoize",
+    "solve_scope",
+]
+
+T = TypeVar("T")
+
+SCOPES: dict[str, str] = {
+    "solve": "one solve (until the pipeline's solve_scope exits; nothing kept outside one)",
+    "spectrum": "derived from one roughness spectrum, reused by later solves of that spectrum",
+    "process": "a pure function of its arguments, kept for the process",
+}
+"""The scopes a cache may have, with what they mean."""
+
+_REGISTRY: dict[str, Cache] = {}
+_REGISTRY_LOCK = threading.Lock()
+#: the stores of the solve now running in this context (``None``: no solve scope open)
+_SOLVE: contextvars.ContextVar[dict[str, OrderedDict[Hashable, Any]] | None] = (
+    contextvars.ContextVar("xpersson_solve_caches", default=None)
+)
+
+
+@dataclasses.dataclass(frozen=True)
+class CacheInfo:
+    """What :func:`caches` reports of one cache."""
+
+    name: str
+    scope: str
+    maxsize: int
+    size: int
+    hits: int
+    misses: int
+    doc: str
+
+
+class Cache:
+    """A named, scoped, bounded, thread-safe store of read-only values keyed on content.
+
+    Parameters
+    ----------
+    name : str
+        Unique dotted name (``"physics.phi_weights"``).
+    scope : {"solve", "spectrum", "process"}
+        How long values live (:data:`SCOPES`).
+    maxsize : int
+        Values kept at most (per solve for scope ``"solve"``); the least recently used goes.
+    doc : str
+        One line: what the values are.
+    """
+
+    def __init__(self, name: str, *, scope: str, maxsize: int, doc: str = "") -> None:
+        if scope not in SCOPES:
+            raise ValueError(
+                f"cache {name!r}: scope must be one of {sorted(SCOPES)}, got {scope!r}"
+            )
+        if not isinstance(maxsize, int) or isinstance(maxsize, bool) or maxsize < 1:
+            raise ValueError(f"cache {name!r}: maxsize must be a positive int, got {maxsize!r}")
+        self.name, self.scope, self.maxsize, self.doc = name, scope, maxsize, doc
+        self._store: OrderedDict[Hashable, Any] = OrderedDict()
+        self._lock = threading.Lock()
+        self.hits = 0
+        self.misses = 0
+        with _REGISTRY_LOCK:
+            if name in _REGISTRY:
+                raise ValueError(f"a cache named {name!r} exists already")
+            _REGISTRY[name] = self
+
+    def _table(self) -> OrderedDict[Hashable, Any] | None:
+        """The store values go to now (``None``: keep nothing)."""
+        if not cache_enabled():
+            return None
+        if self.scope != "solve":
+            return self._store
+        stores = _SOLVE.get()
+        if stores is None:
+            return None
+        return stores.setdefault(self.name, OrderedDict())
+
+    def get(self, key: Any, compute: Callable[[], T]) -> T:
+        """The value for ``key`` (normalised by :func:`content_key`), computed on a miss.
+
+        The value's arrays are made read-only (:func:`freeze`), also when nothing is kept.
+        """
+        table = self._table()
+        if table is None:
+            return freeze(compute())
+        k = content_key(key)
+        with self._lock:
+            if k in table:
+                table.move_to_end(k)
+                self.hits += 1
+                return table[k]  # type: ignore[no-any-return]
+            self.misses += 1
+        value = freeze(compute())
+        with self._lock:
+            value = table.setdefault(k, value)  # another thread's equal value wins
+            table.move_to_end(k)
+            while len(table) > self.maxsize:
+                table.popitem(last=False)
+        return value
+
+    def clear(self) -> None:
+        """Drop every kept value (of the current solve too, for scope ``"solve"``)."""
+        with self._lock:
+            self._store.clear()
+            stores = _SOLVE.get()
+            if stores is not None:
+                stores.pop(self.name, None)
+            self.hits = self.misses = 0
+
+    def __len__(self) -> int:
+        if self.scope != "solve":
+            return len(self._store)
+        stores = _SOLVE.get() or {}
+        return len(stores.get(self.name, ()))
+
+    def info(self) -> CacheInfo:
+        """Name, scope, bound, size now and the hit counts."""
+        return CacheInfo(
+            self.name, self.scope, self.maxsize, len(self), self.hits, self.misses, self.doc
+        )
+
+    def __repr__(self) -> str:
+        return f"Cache({self.name!r}, scope={self.scope!r}, maxsize={self.maxsize})"
+
+    def __reduce__(self) -> tuple[Any, ...]:  # a module-level cache pickles by name
+        return (cache, (self.name,))
+
+
+def cache(name: str) -> Cache:
+    """The cache named ``name`` (``KeyError`` naming the known ones if there is none)."""
+    try:
+        return _REGISTRY[name]
+    except KeyError:
+        raise KeyError(f"no cache named {name!r}; known: {sorted(_REGISTRY)}") from None
+
+
+def caches() -> list[CacheInfo]:
+    """Every cache made so far (imported modules only), sorted by name."""
+    with _REGISTRY_LOCK:
+        found = list(_REGISTRY.values())
+    return sorted((c.info() for c in found), key=lambda i: i.name)
+
+
+def clear_caches() -> None:
+    """Drop every kept value of every cache."""
+    with _REGISTRY_LOCK:
+        found = list(_REGISTRY.values())
+    for c in found:
+        c.clear()
+
+
+@contextlib.contextmanager
+def solve_scope() -> Iterator[None]:
+    """Open a solve: the ``"solve"``-scoped caches keep values until the block exits.
+
+    A nested scope (an analysis re-solving through ``ctx.solve_at``) has stores of its own.
+    Context-local, so threads and dask tasks each have theirs.
+    """
+    token = _SOLVE.set({})
+    try:
+        yield
+    finally:
+        _SOLVE.reset(token)
+
+
+def memoize(
+    name: str, *, scope: str = "process", maxsize: int = 64
+) -> Callable[[Callable[..., T]], Callable[..., T]]:
+    """Decorator: a function memoised in a :class:`Cache` named ``name``.
+
+    The key is the arguments' :func:`content_key` (positional and keyword), so arguments must
+    be numbers, strings, arrays, tuples of them, or objects with ``cache_key()``. The wrapper's
+    ``cache`` attribute is the :class:`Cache`.
+    """
+
+    def decorate(fn: Callable[..., T]) -> Callable[..., T]:
+        doc = (fn.__doc__ or "").strip().splitlines()[0] if fn.__doc__ else fn.__qualname__
+        store = Cache(name, scope=scope, maxsize=maxsize, doc=doc)
+
+        @functools.wraps(fn)
+        def wrapper(*args: Any, **kwargs: Any) -> T:
+            key = (args, tuple(sorted(kwargs.items()))) if kwargs else args
+            return store.get(key, lambda: fn(*args, **kwargs))
+
+        wrapper.cache = store  # type: ignore[attr-defined]
+        return wrapper
+
+    return decorate
+
+
+def digest(*arrays: Any) -> bytes:
+    """A 128-bit BLAKE2b digest of arrays' dtypes, shapes and bytes (a content key part)."""
+    h = hashlib.blake2b(digest_size=16)
+    for a in arrays:
+        arr = np.asarray(a)
+        h.update(f"{arr.dtype.str}{arr.shape}".encode())
+        h.update(np.ascontiguousarray(arr).tobytes())
+    return h.digest()
+
+
+_PLAIN = (str, bytes, int, bool, type(None))
+
+
+def content_key(item: Any) -> Hashable:
+    """A hashable key made of ``item``'s content (recursively).
+
+    Strings, bytes, ints, bools and ``None`` stand for themselves; floats by their exact bits
+    (``float.hex``: ``0.0`` and ``-0.0`` differ); numpy scalars as Python numbers; arrays as
+    ``(dtype, shape, digest)``; tuples, lists, frozensets and dicts by their items; an object
+    with a ``cache_key()`` method by its type and that key; a module-level class or function by
+    its qualified name.
+
+    Raises
+    ------
+    TypeError
+        For anything else (naming its type): a cache never keys on object identity.
+    """
+    if isinstance(item, _PLAIN):
+        return item
+    if isinstance(item, float):
+        return ("f", item.hex())
+    if isinstance(item, tuple | list):
+        return tuple(content_key(v) for v in item)
+    if isinstance(item, np.ndarray):
+        return ("a", item.dtype.str, item.shape, digest(item))
+    if isinstance(item, np.generic):
+        return content_key(item.item())
+    if isinstance(item, frozenset | set):
+        return ("s", frozenset(content_key(v) for v in item))
+    if isinstance(item, dict):
+        return ("d", tuple(sorted((content_key(k), content_key(v)) for k, v in item.items())))
+    method = getattr(item, "cache_key", None)
+    if callable(method) and not isinstance(item, type):
+        return ("o", f"{type(item).__module__}.{type(item).__qualname__}", method())
+    name = getattr(item, "__qualname__", "<")
+    if (isinstance(item, type) or callable(item)) and "<" not in name:  # not a lambda or local
+        return ("c", f"{item.__module__}.{name}")
+    raise TypeError(
+        f"cannot key a cache on the content of a {type(item).__module__}."
+        f"{type(item).__qualname__} (give it a cache_key() method, or key on its numbers)"
+    )
+
+
+def freeze(value: T) -> T:
+    """``value`` with its arrays made read-only (also inside tuples, lists, dicts, dataclasses)."""
+    if isinstance(value, np.ndarray):
+        value.setflags(write=False)
+    elif isinstance(value, tuple | list):
+        for v in value:
+            freeze(v)
+    elif isinstance(value, dict):
+        for v in value.values():
+            freeze(v)
+    elif dataclasses.is_dataclass(value) and not isinstance(value, type):
+        for f in dataclasses.fields(value):
+            freeze(getattr(value, f.name))
+    return value

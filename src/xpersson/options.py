@@ -1,0 +1,113 @@
+"""Library-wide options, set like :func:`xarray.set_options`.
+
+One option so far:
+
+``cache`` : bool
+    Whether the caches of :mod:`xpersson.cache` keep anything. ``False`` turns every cache of
+    the core and of the first-party plugins off: every value is computed afresh, so a result
+    cannot depend on what was solved before (it never should; CI runs the whole suite both
+    ways). The default comes from the environment variable ``XPERSSON_CACHE`` (``on``/``off``,
+    also ``1``/``0``, ``true``/``false``, ``yes``/``no``; unset means on), read on every look-up,
+    so dask workers started with that variable follow it.
+
+Examples
+--------
+>>> import xpersson
+>>> with xpersson.set_options(cache=False):  # doctest: +SKIP
+...     ds = xpersson.solve("examples/elastic.toml")
+>>> xpersson.set_options(cache=False)  # doctest: +SKIP  (for the rest of the process)
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from types import TracebackType
+from typing import Any
+
+__all__ = ["CACHE_ENV", "get_options", "set_options", "cache_enabled"]
+
+CACHE_ENV = "XPERSSON_CACHE"
+"""The environment variable that sets the default of the ``cache`` option."""
+
+_ON = frozenset({"", "1", "on", "true", "yes"})
+_OFF = frozenset({"0", "off", "false", "no"})
+_LOCK = threading.Lock()
+#: options set by :func:`set_options`; a missing key means "the default" (for ``cache``: the
+#: environment variable)
+_SET: dict[str, Any] = {}
+_VALID = {"cache": "a bool"}
+
+
+def _env_cache() -> bool:
+    raw = os.environ.get(CACHE_ENV, "")
+    text = raw.strip().lower()
+    if text in _ON:
+        return True
+    if text in _OFF:
+        return False
+    raise ValueError(
+        f"environment variable {CACHE_ENV}={raw[:40]!r} is not one of on/off (also 1/0, "
+        "true/false, yes/no); unset it for the default (on)"
+    )
+
+
+def cache_enabled() -> bool:
+    """Whether caches keep values now: :func:`set_options` ``cache``, else ``XPERSSON_CACHE``."""
+    value = _SET.get("cache")
+    return _env_cache() if value is None else bool(value)
+
+
+def get_options() -> dict[str, Any]:
+    """The options in force (a copy): ``{"cache": bool}``."""
+    return {"cache": cache_enabled()}
+
+
+class set_options:  # noqa: N801 - named as xarray.set_options, used as a function
+    """Set options for the rest of the process, or inside a ``with`` block.
+
+    Parameters
+    ----------
+    cache : bool or None
+        ``False`` turns every cache off, ``True`` on; ``None`` returns to the default (the
+        environment variable ``XPERSSON_CACHE``).
+
+    Raises
+    ------
+    ValueError
+        For an unknown option or a value of the wrong type (naming the option).
+    """
+
+    def __init__(self, **options: Any) -> None:
+        unknown = sorted(set(options) - set(_VALID))
+        if unknown:
+            raise ValueError(
+                f"unknown option(s) {unknown}; allowed: "
+                + ", ".join(f"{k} ({v})" for k, v in _VALID.items())
+            )
+        for name, value in options.items():
+            if value is not None and not isinstance(value, bool):
+                raise ValueError(f"option {name!r} must be {_VALID[name]} or None, got {value!r}")
+        with _LOCK:
+            self._old = {k: _SET.get(k) for k in options}
+            for name, value in options.items():
+                if value is None:
+                    _SET.pop(name, None)
+                else:
+                    _SET[name] = value
+
+    def __enter__(self) -> set_options:
+        return self
+
+    def __exit__(
+        self,
+        exc_type: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> None:
+        with _LOCK:
+            for name, value in self._old.items():
+                if value is None:
+                    _SET.pop(name, None)
+                else:
+                    _SET[name] = value

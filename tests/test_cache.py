@@ -1,0 +1,150 @@
+"""The one cache mechanism (xpersson.cache) and its switch (xpersson.options)."""
+
+from __future__ import annotations
+
+import pickle
+import threading
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+import xpersson
+from xpersson import cache as xc
+from xpersson.options import CACHE_ENV, cache_enabled
+
+
+def _fresh(name: str, **kw: object) -> xc.Cache:
+    try:
+        old = xc.cache(name)
+    except KeyError:
+        return xc.Cache(name, **kw)  # type: ignore[arg-type]
+    old.clear()
+    return old
+
+
+def test_content_key_distinguishes_bits_not_identity() -> None:
+    assert xc.content_key(0.0) != xc.content_key(-0.0)
+    a = np.arange(4.0)
+    assert xc.content_key(a) == xc.content_key(a.copy())
+    assert xc.content_key(a) != xc.content_key(a.astype(np.float32))
+    assert xc.content_key(a) != xc.content_key(a.reshape(2, 2))
+    assert xc.content_key((1, "x", None)) == (1, "x", None)
+
+    class Opaque:
+        pass
+
+    with pytest.raises(TypeError, match="cannot key a cache on the content"):
+        xc.content_key(Opaque())
+    with pytest.raises(TypeError):
+        xc.content_key(lambda: 0)
+
+
+@given(st.lists(st.floats(allow_nan=False, allow_infinity=False), min_size=1, max_size=8))
+def test_content_key_equal_iff_equal_bits(values: list[float]) -> None:
+    a = np.array(values)
+    b = a.copy()
+    assert xc.content_key(a) == xc.content_key(b)
+    b[0] = np.nextafter(b[0], np.inf)
+    assert xc.content_key(a) != xc.content_key(b)
+
+
+def test_bounded_lru_and_read_only_values() -> None:
+    c = _fresh("test.lru", scope="process", maxsize=2)
+    calls: list[int] = []
+
+    def make(k: int) -> np.ndarray:
+        calls.append(k)
+        return np.full(3, float(k))
+
+    for k in (1, 2, 1, 3, 1, 2):
+        v = c.get(k, lambda k=k: make(k))
+        assert not v.flags.writeable
+        assert v[0] == k
+    assert calls == [1, 2, 3, 2]  # 2 was dropped when 3 came (1 had been used more recently)
+    assert len(c) == 2
+
+
+def test_solve_scope_keeps_values_only_inside() -> None:
+    c = _fresh("test.solve", scope="solve", maxsize=8)
+    n = [0]
+
+    def make() -> int:
+        n[0] += 1
+        return n[0]
+
+    assert c.get("k", make) == 1 and c.get("k", make) == 2  # outside a solve: nothing kept
+    with xc.solve_scope():
+        assert c.get("k", make) == 3 and c.get("k", make) == 3
+        with xc.solve_scope():  # a nested solve has its own store
+            assert c.get("k", make) == 4
+        assert c.get("k", make) == 3
+    assert c.get("k", make) == 5
+
+
+def test_switch_turns_every_cache_off(monkeypatch: pytest.MonkeyPatch) -> None:
+    c = _fresh("test.switch", scope="process", maxsize=8)
+    n = [0]
+
+    def make() -> np.ndarray:
+        n[0] += 1
+        return np.zeros(2)
+
+    with xpersson.set_options(cache=False):
+        assert not xpersson.get_options()["cache"]
+        v = c.get("k", make)
+        c.get("k", make)
+        assert n[0] == 2 and not v.flags.writeable  # read-only also when not kept
+    c.get("k", make)
+    c.get("k", make)
+    assert n[0] == 3
+    monkeypatch.setenv(CACHE_ENV, "off")
+    assert not cache_enabled()
+    with xpersson.set_options(cache=True):
+        assert cache_enabled()
+    monkeypatch.setenv(CACHE_ENV, "sometimes")
+    with pytest.raises(ValueError, match=CACHE_ENV):
+        cache_enabled()
+    with pytest.raises(ValueError, match="unknown option"):
+        xpersson.set_options(cash=False)
+    with pytest.raises(ValueError, match="'cache' must be a bool"):
+        xpersson.set_options(cache="no")
+
+
+def test_memoize_and_pickle_by_name() -> None:
+    calls: list[tuple] = []
+
+    @xc.memoize("test.memoize", maxsize=4)
+    def f(x: float, *, scale: float = 1.0) -> float:
+        calls.append((x, scale))
+        return x * scale
+
+    assert f(2.0, scale=3.0) == f(2.0, scale=3.0) == 6.0
+    assert f(np.float64(2.0), scale=3.0) == 6.0  # a numpy scalar keys as the Python number
+    assert len(calls) == 1
+    assert pickle.loads(pickle.dumps(f.cache)) is f.cache  # type: ignore[attr-defined]
+    assert any(i.name == "test.memoize" for i in xc.caches())
+    with pytest.raises(ValueError, match="exists already"):
+        xc.Cache("test.memoize", scope="process", maxsize=1)
+    with pytest.raises(ValueError, match="scope"):
+        xc.Cache("test.badscope", scope="forever", maxsize=1)
+
+
+def test_threads_get_one_value() -> None:
+    c = _fresh("test.threads", scope="process", maxsize=4)
+    got: list[object] = []
+    barrier = threading.Barrier(8)
+
+    def work() -> None:
+        barrier.wait()
+        got.append(c.get("k", lambda: np.ones(10_000)))
+
+    threads = [threading.Thread(target=work) for _ in range(8)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len({id(v) for v in got}) >= 1
+    kept = c.get("k", lambda: np.zeros(1))
+    assert all(np.array_equal(v, kept) for v in got)
