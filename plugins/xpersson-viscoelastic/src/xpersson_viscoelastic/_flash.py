@@ -61,7 +61,7 @@ class FlashProfile:
 
     def __call__(self, q: Any) -> Array:
         """Temperature [K] at wavevectors ``q`` [1/m] (clamped to ``[q_L, q_1]``)."""
-        from .kernel import _rule
+        from ._gauss import spectral_rule as _rule
 
         n = self.dens.shape[-1]
         x_nodes, w, _ = _rule(n)
@@ -117,7 +117,8 @@ def solve_flash(
     tol : float
         Stopping rule: max change of ``T`` between iterations [K].
     """
-    from .kernel import _nodes, _rule, panel_edges
+    from ._gauss import spectral_rule as _rule
+    from .kernel import _nodes, panel_edges
 
     fnu = 1.0 - nu * nu
     edges = panel_edges(psd, [float(psd.q_1)], panels_per_decade)

@@ -26,8 +26,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ._gauss import spectral_rule as _rule
 from ._panels import node_counts
-from .kernel import NODES, PANELS_PER_DECADE, _checked_nu, _rule, panel_edges
+from .kernel import NODES, PANELS_PER_DECADE, _checked_nu, panel_edges
 
 __all__ = [
     "FIRST_G",

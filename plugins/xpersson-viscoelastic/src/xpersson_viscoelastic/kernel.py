@@ -38,6 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from xpersson.physics import area_fraction, closure_S, effective_ratio
 
+from ._gauss import spectral_rule as _rule
 from ._modulus import ModulusModel
 from ._panels import grouped_sums, reduced_ok
 from ._stencil import interval_weights
@@ -57,20 +58,6 @@ __all__ = [
 Array = NDArray[np.float64]
 PANELS_PER_DECADE = 4
 NODES = 8
-
-
-@lru_cache(maxsize=8)
-def _rule(n: int) -> tuple[Array, Array, Array]:
-    """Gauss-Legendre nodes/weights on [-1, 1] and the spectral integration matrix
-    ``Q[i, j] = int_{-1}^{x_i} l_j(x) dx`` (l_j the Lagrange basis on the nodes)."""
-    x, w = np.polynomial.legendre.leggauss(n)
-    V = np.polynomial.legendre.legvander(x, n - 1)  # V[i, k] = P_k(x_i)
-    Vint = np.empty_like(V)
-    for k in range(n):
-        c = np.zeros(n)
-        c[k] = 1.0
-        Vint[:, k] = np.polynomial.legendre.legval(x, np.polynomial.legendre.legint(c, lbnd=-1))
-    return x, w, Vint @ np.linalg.inv(V)
 
 
 def panel_edges(psd: Any, q: ArrayLike, panels_per_decade: int = PANELS_PER_DECADE) -> Array:
