@@ -14,6 +14,7 @@ that fails is a prompt to split a module or a function by its jobs, never to fol
 from __future__ import annotations
 
 import ast
+import configparser
 import tomllib
 from collections.abc import Iterator
 from pathlib import Path
@@ -134,6 +135,25 @@ def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
 
 def test_every_first_party_plugin_is_covered():
     assert {p.name.removeprefix("xpersson_") for p in PLUGINS} == FIRST_PARTY
+
+
+def test_the_import_contract_covers_every_package():
+    """.importlinter's root packages, faces, acyclic and independence contracts name the core
+    and every first-party plugin package found here."""
+    config = configparser.ConfigParser()
+    config.read(ROOT / ".importlinter")
+    plugins = {p.name for p in PLUGINS}
+    listed = {
+        "root_packages": config["importlinter"]["root_packages"],
+        "faces": config["importlinter:contract:faces"]["packages_with_private_modules"],
+        "acyclic": config["importlinter:contract:acyclic"]["ancestors"],
+    }
+    for key, value in listed.items():
+        assert set(value.split()) == {"xpersson"} | plugins, key
+    independent = config["importlinter:contract:plugins-independent"]["modules"]
+    assert set(independent.split()) == plugins
+    forbidden = config["importlinter:contract:core-names-no-plugin"]["forbidden_modules"]
+    assert set(forbidden.split()) == plugins
 
 
 def test_cycle_finder_finds_a_planted_cycle():
