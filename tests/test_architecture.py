@@ -1,29 +1,50 @@
-"""The layout's habits as tests (issue 21): no import cycle, small modules, short functions, faces.
+"""The layout's habits as tests (issues 21, 33): no import cycle, small modules, short functions,
+faces, for the core and for each first-party plugin package alike.
 
-`lint-imports` (.importlinter, run by .ci/run) checks the layers and the private-module rule; these
-tests check what it does not: cycles between single modules (function-level imports included),
-module and function sizes, and that no ``_private`` name is imported across a package border.
+`lint-imports` (.importlinter, run by .ci/run) checks the layers, the private-module rule, the
+plugins' independence and that the core never imports a plugin; these tests check what it does
+not: cycles between single modules (function-level imports included), module and function sizes,
+that no ``_private`` name is imported across a package border, that the plugins use public core
+names only, and, once more in plain Python, that plugins and core stay apart.
+
+Every check runs over ``src/xpersson`` and each ``plugins/xpersson-*/src/xpersson_*``. A limit
+that fails is a prompt to split a module or a function by its jobs, never to fold lines.
 """
 
 from __future__ import annotations
 
 import ast
+import configparser
+import tomllib
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
-SRC = Path(__file__).resolve().parents[1] / "src" / "xpersson"
+ROOT = Path(__file__).resolve().parents[1]
+SRC = ROOT / "src" / "xpersson"
+PLUGINS = sorted(ROOT.glob("plugins/xpersson-*/src/xpersson_*"))
+PACKAGES = [SRC, *PLUGINS]
+FIRST_PARTY = {"adhesion", "interface", "plasticity", "transport", "viscoelastic"}
 MAX_MODULE_LINES = 500
 MAX_FUNCTION_LINES = 100
 # The closed forms stay in one page so that each formula sits next to its siblings (the image
 # sums, the sine series and the linear wall share their helpers); see the module docstring.
-LONG_MODULES_ALLOWED = {"engine/exact.py"}
+LONG_MODULES_ALLOWED = {"xpersson/engine/exact.py"}
+# xpersson-transport declares xpersson-interface as a dependency and builds its gas gap
+# distribution on the public ``xpersson_interface.solved_curve``: the one plugin-to-plugin edge
+# (also the one ``ignore_imports`` of the independence contract in .importlinter).
+ALLOWED_PLUGIN_IMPORTS = {("xpersson_transport", "xpersson_interface")}
+
+every_package = pytest.mark.parametrize("package", PACKAGES, ids=lambda p: p.name)
+every_plugin = pytest.mark.parametrize("package", PLUGINS, ids=lambda p: p.name)
 
 
-def _modules() -> dict[str, Path]:
+def _modules(package: Path) -> dict[str, Path]:
+    """Dotted module name -> file, for every module of ``package`` (a source directory)."""
     mods = {}
-    for path in sorted(SRC.rglob("*.py")):
-        parts = list(path.relative_to(SRC.parent).with_suffix("").parts)
+    for path in sorted(package.rglob("*.py")):
+        parts = list(path.relative_to(package.parent).with_suffix("").parts)
         if parts[-1] == "__init__":
             parts = parts[:-1]
         mods[".".join(parts)] = path
@@ -34,8 +55,9 @@ def _package_of(module: str, path: Path) -> str:
     return module if path.name == "__init__.py" else module.rpartition(".")[0]
 
 
-def _imports(module: str, path: Path, known: dict[str, Path]):
-    """(target module, imported names) of every import statement, at any depth of the file."""
+def _imports(module: str, path: Path, known: dict[str, Path]) -> Iterator[tuple[str, str | None]]:
+    """(target module, imported name or None) of every import statement, at any depth of the
+    file (function-level imports included)."""
     package = _package_of(module, path)
     for node in ast.walk(ast.parse(path.read_text())):
         if isinstance(node, ast.ImportFrom):
@@ -56,8 +78,8 @@ def _imports(module: str, path: Path, known: dict[str, Path]):
                 yield alias.name, None
 
 
-def _graph() -> dict[str, set[str]]:
-    mods = _modules()
+def _graph(package: Path) -> dict[str, set[str]]:
+    mods = _modules(package)
     graph: dict[str, set[str]] = {m: set() for m in mods}
     for module, path in mods.items():
         for target, _ in _imports(module, path, mods):
@@ -111,58 +133,82 @@ def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
     return found
 
 
+def test_every_first_party_plugin_is_covered():
+    assert {p.name.removeprefix("xpersson_") for p in PLUGINS} == FIRST_PARTY
+
+
+def test_the_import_contract_covers_every_package():
+    """.importlinter's root packages, faces, acyclic and independence contracts name the core
+    and every first-party plugin package found here."""
+    config = configparser.ConfigParser()
+    config.read(ROOT / ".importlinter")
+    plugins = {p.name for p in PLUGINS}
+    listed = {
+        "root_packages": config["importlinter"]["root_packages"],
+        "faces": config["importlinter:contract:faces"]["packages_with_private_modules"],
+        "acyclic": config["importlinter:contract:acyclic"]["ancestors"],
+    }
+    for key, value in listed.items():
+        assert set(value.split()) == {"xpersson"} | plugins, key
+    independent = config["importlinter:contract:plugins-independent"]["modules"]
+    assert set(independent.split()) == plugins
+    forbidden = config["importlinter:contract:core-names-no-plugin"]["forbidden_modules"]
+    assert set(forbidden.split()) == plugins
+
+
 def test_cycle_finder_finds_a_planted_cycle():
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}, "e": set()}
     assert _cycles(graph) == [["a", "b", "c"]]
 
 
-def test_no_import_cycle_between_modules():
-    assert _cycles(_graph()) == []
+def test_cycle_finder_sees_a_function_level_import(tmp_path):
+    pkg = tmp_path / "pkg"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "a.py").write_text("from .b import g\n")
+    (pkg / "b.py").write_text("def g():\n    from .a import f\n")
+    assert _cycles(_graph(pkg)) == [["pkg.a", "pkg.b"]]
 
 
-def test_modules_are_small():
-    too_long = {
-        str(path.relative_to(SRC)): n
-        for path in SRC.rglob("*.py")
-        if (n := len(path.read_text().splitlines())) > MAX_MODULE_LINES
-        and str(path.relative_to(SRC)) not in LONG_MODULES_ALLOWED
-    }
+@every_package
+def test_no_import_cycle_between_modules(package):
+    assert _cycles(_graph(package)) == []
+
+
+@every_package
+def test_modules_are_small(package):
+    too_long = {}
+    for path in package.rglob("*.py"):
+        name = str(path.relative_to(package.parent))
+        n = len(path.read_text().splitlines())
+        if n > MAX_MODULE_LINES and name not in LONG_MODULES_ALLOWED:
+            too_long[name] = n
     assert too_long == {}
 
 
-def test_functions_are_short():
+@every_package
+def test_functions_are_short(package):
     too_long = {}
-    for path in SRC.rglob("*.py"):
+    for path in package.rglob("*.py"):
         for node in ast.walk(ast.parse(path.read_text())):
             if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
                 n = node.end_lineno - node.lineno + 1
                 if n > MAX_FUNCTION_LINES:
-                    too_long[f"{path.relative_to(SRC)}:{node.name}"] = n
+                    too_long[f"{path.relative_to(package.parent)}:{node.name}"] = n
     assert too_long == {}
 
 
-def _top_package(module: str) -> str:
+def _border(module: str) -> str:
+    """The package whose private names ``module`` may import: a sub-package (or top-level module)
+    of the core, or the whole of a (flat) plugin package."""
     parts = module.split(".")
-    return ".".join(parts[:2])
+    return ".".join(parts[:2]) if parts[0] == "xpersson" else parts[0]
 
 
-@pytest.mark.parametrize("plugins_root", [SRC.parents[1] / "plugins"])
-def test_plugins_use_public_core_names_only(plugins_root):
-    """First-party plugins reach the core through public names only (as a third party must)."""
-    offenders = []
-    for path in plugins_root.glob("*/src/**/*.py"):
-        for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("xpersson."):
-                if any(p.startswith("_") for p in node.module.split(".")) or any(
-                    a.name.startswith("_") for a in node.names
-                ):
-                    offenders.append(f"{path.relative_to(plugins_root)}:{node.lineno}")
-    assert offenders == []
-
-
-def test_no_private_name_crosses_a_package_border():
+@every_package
+def test_no_private_name_crosses_a_package_border(package):
     """``from xpersson.a import _x`` is allowed only inside package ``xpersson.a``'s own tree."""
-    mods = _modules()
+    mods = _modules(package)
     offenders = []
     for module, path in mods.items():
         for target, name in _imports(module, path, mods):
@@ -170,6 +216,58 @@ def test_no_private_name_crosses_a_package_border():
                 continue
             if name.startswith("__"):
                 continue
-            if _top_package(target) != _top_package(module):
+            if _border(target) != _border(module):
                 offenders.append(f"{module} imports {target}.{name}")
     assert offenders == []
+
+
+@every_plugin
+def test_plugins_use_public_core_names_only(package):
+    """First-party plugins reach the core through public names only (as a third party must):
+    no ``_private`` module of ``xpersson`` and no ``_private`` name imported from it."""
+    mods = _modules(package)
+    offenders = []
+    for module, path in mods.items():
+        for target, name in _imports(module, path, mods):
+            if target != "xpersson" and not target.startswith("xpersson."):
+                continue
+            private_module = any(p.startswith("_") for p in target.split("."))
+            if private_module or (name or "").startswith("_"):
+                offenders.append(f"{module} imports {target}" + (f".{name}" if name else ""))
+    assert offenders == []
+
+
+def _foreign(package: Path, allowed: set[str]) -> list[str]:
+    """Imports in ``package`` of a first-party plugin package not in ``allowed``; a private
+    module or name of an allowed one counts too."""
+    mods = _modules(package)
+    hits = []
+    for module, path in mods.items():
+        for target, name in _imports(module, path, mods):
+            top, *rest = target.split(".")
+            private = any(p.startswith("_") for p in rest) or (name or "").startswith("_")
+            if top.startswith("xpersson_") and (top not in allowed or private):
+                if top != package.name:
+                    hits.append(f"{module} imports {target}" + (f".{name}" if name else ""))
+    return hits
+
+
+@every_plugin
+def test_plugins_never_import_each_other(package):
+    """Only a declared dependency, by its public names (ALLOWED_PLUGIN_IMPORTS)."""
+    allowed = {b for a, b in ALLOWED_PLUGIN_IMPORTS if a == package.name}
+    assert _foreign(package, allowed) == []
+
+
+@pytest.mark.parametrize(("importer", "imported"), sorted(ALLOWED_PLUGIN_IMPORTS))
+def test_an_allowed_plugin_import_is_a_declared_dependency(importer, imported):
+    pyproject = tomllib.loads(
+        (ROOT / "plugins" / importer.replace("_", "-") / "pyproject.toml").read_text()
+    )
+    declared = {d.split(">")[0].split("=")[0].strip() for d in pyproject["project"]["dependencies"]}
+    assert imported.replace("_", "-") in declared
+
+
+def test_core_never_imports_a_plugin():
+    """The core finds plugins through entry points only; it never names a plugin package."""
+    assert _foreign(SRC, allowed=set()) == []

@@ -7,6 +7,7 @@ artist's window extent (matplotlib's renderer) must lie inside the figure's canv
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import warnings
@@ -169,17 +170,47 @@ def test_friction_draws_mu_of_v_at_each_temperature(scenes):
         assert any(np.allclose(d, row) for d in drawn)
 
 
-def test_friction_of_one_speed_is_resolved_over_speeds(scenes):
-    ds = _solve(
+@pytest.fixture(scope="module")
+def one_speed():
+    """The tread example at one sliding speed and one load (small grid)."""
+    return _solve(
         PLUGINS / "xpersson-viscoelastic" / "examples" / "tread_on_asphalt.toml",
         output__zeta_per_decade=4,
         load__p0="0.3 MPa",
     )
+
+
+def test_friction_of_one_speed_is_resolved_over_speeds(one_speed):
+    ds = one_speed
     ax = xplot.friction(ds, speeds=[1e-4, 1e-2, 1.0])
     curves = [ln for ln in ax.lines if len(ln.get_xdata()) == 3]
     assert len(curves) == 6  # 3 temperatures x (total, viscoelastic part)
     star = [ln for ln in ax.lines if ln.get_marker() == "*"]
     assert len(star) == 1 and star[0].get_ydata()[0] == pytest.approx(float(ds["mu"]))
+
+
+def test_friction_that_cannot_resolve_is_an_error_not_another_figure(one_speed):
+    """No silent fallback: a one-speed Dataset without its scene is refused, naming the way out
+    (resolve=False), which draws mu versus p0 at the one speed."""
+    ds = one_speed.copy()
+    del ds.attrs["xpersson_scene"]
+    with pytest.raises(ValueError, match="stores no scene.*resolve=False"):
+        xplot.friction(ds)
+    with pytest.raises(ValueError, match="rubber_temperature.*resolve=False"):
+        xplot.friction(one_speed.drop_vars("rubber_temperature"))
+    ax = xplot.friction(ds, resolve=False)
+    assert len(ax.lines) == 1 and ax.lines[0].get_ydata() == pytest.approx([float(ds["mu"])])
+
+
+def test_pyplot_leaves_the_backend_to_matplotlib():
+    """No process-wide side effect: a backend the user chose stays, display or not."""
+    code = "import matplotlib, xpersson.plot as p\np.pyplot()\nprint(matplotlib.get_backend())\n"
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"} | {"MPLBACKEND": "svg"}
+    run = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env=env
+    )
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "svg"
 
 
 def test_missing_matplotlib_is_one_clear_line(tmp_path):
