@@ -10,10 +10,10 @@ import pytest
 
 from xpersson.engine import Wall
 from xpersson.engine import _cn_control as ctl
-from xpersson.engine._level import level_nodes
-from xpersson.options import cache_enabled
 from xpersson.engine._cn_plan import _faces, _probe_times, _track_wall, _wall_speeds
 from xpersson.engine._grid import clustered
+from xpersson.engine._level import level_nodes
+from xpersson.options import cache_enabled
 
 
 @pytest.mark.parametrize("n, stretch", [(24, 1.0), (97, 1.0), (10, 0.0)])

@@ -49,12 +49,12 @@ from numpy.typing import NDArray
 from ._base import EngineMethod
 from ._cn_control import AIM, _control, _Fit
 from ._cn_plan import _joint_plan, _Plan, _start_time, _switch_times_batch
-from ._level import Outputs, project
-from ._moving import _march
+from ._level import Level, Outputs, project
+from ._moving import LevelInputs, _march, level_inputs
 from ._problem import Problem, window_k
 from ._result import Raw
 
-__all__ = ["CNMethod"]
+__all__ = ["CNMethod", "grid_level"]
 
 Array = NDArray[np.float64]
 
@@ -248,11 +248,7 @@ class _Grids:
         key = (n_base, mult, dense)
         opts, pb = self.opts, self.pbs[0]
         if key not in self.solved:
-            if (n_base, dense) not in self.plans:
-                self.plans[n_base, dense] = _joint_plan(
-                    self.pbs, opts.window_k, opts.per_node * n_base * dense, self.tau_s, self.kinks
-                )
-            plan = self.plans[n_base, dense]
+            plan = self.plan(n_base, dense)
             cost = (plan.base.size - 1) * mult + 2 * opts.rannacher
             if self.nsteps + cost > pb.max_steps:
                 msg = f"max_steps = {pb.max_steps} reached before the tolerance was met"
@@ -275,9 +271,34 @@ class _Grids:
             self.nsteps += level.nsteps
         return self.solved[key]
 
+    def plan(self, n_base: int, dense: int) -> _Plan:
+        """The time plan of the levels ``(n_base, *, dense)`` (made on first use)."""
+        if (n_base, dense) not in self.plans:
+            self.plans[n_base, dense] = _joint_plan(
+                self.pbs,
+                self.opts.window_k,
+                self.opts.per_node * n_base * dense,
+                self.tau_s,
+                self.kinks,
+            )
+        return self.plans[n_base, dense]
+
     def _stop(self, status: str, message: str) -> None:
         """End the search: ``status`` and ``message`` go to the result."""
         self.stop = (status, message)
+
+
+def grid_level(
+    pbs: list[Problem], n_base: int, mult: int = 1, dense: int = 1
+) -> tuple[LevelInputs, Level]:
+    """The inputs and the march of the grid level ``(n_base, mult, dense)`` (see
+    :mod:`._cn_control`) of the loads ``pbs`` (one batch), as :class:`CNMethod` solves it:
+    for tests (the reference solver of ``tests/engine``) and benchmarks."""
+    opts = CNOptions.read(pbs[0].options, pbs[0].atol)
+    tau_s = min(_start_time(p, opts.window_k) for p in pbs)
+    plan = _Grids(pbs, opts, tau_s, pbs[0].tau > tau_s).plan(n_base, dense)
+    args = (pbs, plan, n_base * mult, mult, opts.stretch, opts.rannacher)
+    return level_inputs(*args), _march(*args)
 
 
 def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Grids) -> Raw:
