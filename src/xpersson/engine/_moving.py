@@ -53,7 +53,7 @@ from ._moving_block import Block, block_system
 from ._problem import Problem
 from ._progress import report as report_progress
 
-__all__ = ["LevelInputs", "level_inputs", "_march"]
+__all__ = ["LevelInputs", "level_inputs", "march_level", "_march"]
 
 Array = NDArray[np.float64]
 
@@ -161,7 +161,10 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
 
 
 def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
-    """The march of one level on ``inp`` (densities at ``p_out`` [Pa] if given)."""
+    """The march of one level on ``inp`` (densities at ``p_out`` [Pa] if given; ``stretch``
+    the nodes' clustering, which names the level's memoised rows): the start, then blocks of
+    steps (operators by :func:`._moving_block.block_system`, steps by :func:`_steps`), then
+    the outputs; a failed solve ends the march with ``Level.failure`` set."""
     win, x, w = inp.window, inp.nodes.x, inp.nodes.w
     nb, nn, n_out, n_steps = inp.p0.shape[0], x.size, inp.out_at.size, inp.taus.size - 1
     n = nn - 1
@@ -196,8 +199,11 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     area, load = rec.area, rec.load
     if rec.snaps is not None:
         area, load = _reduce_snapshots(rec.snaps, win, x, w, inp.out_at)
-    walls = _wall_sums(win, rec, inp.out_at, inp.yield_wall)
-    return Level(Outputs(area, walls[0], walls[1], load, walls[2], walls[3], rec.P), n_steps, nn)
+    absorbed_lower, absorbed_upper, moment_lower, moment_upper = _wall_sums(
+        win, rec, inp.out_at, inp.yield_wall
+    )
+    outputs = Outputs(area, absorbed_lower, absorbed_upper, load, moment_lower, moment_upper, rec.P)
+    return Level(outputs, n_steps, nn)
 
 
 def _steps(
