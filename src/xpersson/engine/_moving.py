@@ -237,7 +237,7 @@ def _steps(
     pair = np.concatenate([last - 1, last])
     out_steps = inp.out_at.tolist() + [-1]
     mul, sub, add_r = np.multiply, np.subtract, np.add.reduce
-    r, info = st.r, 0
+    r, info, next_out = st.r, 0, out_steps[st.next_out]
     for i in range(states.shape[0] - 1):
         # explicit half (flux form): b = w R + wo (F_{j+1/2} - F_{j-1/2}), F of the old state
         mul(flux_lo[i], r_lo[i], out=F)
@@ -257,12 +257,16 @@ def _steps(
         if yields[i]:  # A_pl' = A_pl - wo F_{N-1/2} - wn F'_{N-1/2} + w_N (R_N - R_N')
             b.take(pair, out=z_new)
             a_pl += add_r(yield_gain[i] * z, 0)
-        st.r = r = b
+        r = b
         m = m0 + i + 1
-        while out_steps[st.next_out] == m:
-            _record(rec, st, inp, m, p_out)
+        if m == next_out:  # outputs after this step
+            st.r = r
+            while out_steps[st.next_out] == m:
+                _record(rec, st, inp, m, p_out)
+            next_out = out_steps[st.next_out]
         if m % _REPORT_EVERY == 0:
             report_progress(_REPORT_EVERY * nn * nb)
+    st.r = r
     st.info |= info
 
 
