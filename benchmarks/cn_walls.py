@@ -105,7 +105,9 @@ def levels_of(scene: dict) -> list[tuple[int, int, int]]:
 
     def spy(pbs, plan, n, *args):
         res = orig(pbs, plan, n, *args)
-        seen.append((len(pbs), n + 1, int(res["nsteps"])))
+        # (a dict before issue 33's typed level result: --before may run an older tree)
+        nsteps = res["nsteps"] if isinstance(res, dict) else res.nsteps
+        seen.append((len(pbs), n + 1, int(nsteps)))
         return res
 
     _cn._march = spy

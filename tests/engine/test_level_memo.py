@@ -8,20 +8,22 @@ import dataclasses
 import numpy as np
 import pytest
 
-from xpersson.engine import Wall, _moving
+from xpersson.engine import Wall
 from xpersson.engine import _cn_control as ctl
 from xpersson.engine._cn_plan import _faces, _probe_times, _track_wall, _wall_speeds
 from xpersson.engine._grid import clustered
+from xpersson.engine._level import level_nodes
+from xpersson.options import cache_enabled
 
 
 @pytest.mark.parametrize("n, stretch", [(24, 1.0), (97, 1.0), (10, 0.0)])
 def test_memoised_nodes_equal_fresh_ones_and_are_read_only(n, stretch):
-    x, xf, dxf, w = _moving._nodes(n, stretch)
+    x, xf, dxf, w = level_nodes(n, stretch)
     fresh = (clustered(n, stretch), *_faces(clustered(n, stretch)))
     for got, want in zip((x, xf, dxf, w), fresh, strict=True):
         np.testing.assert_array_equal(got, want)
-        assert not got.flags.writeable
-    assert _moving._nodes(n, stretch)[0] is x  # memoised
+        assert not got.flags.writeable  # read-only with the caches on and off
+    assert (level_nodes(n, stretch).x is x) == cache_enabled()  # memoised (caches on)
 
 
 def test_memoised_richardson_weights_are_a_private_copy():

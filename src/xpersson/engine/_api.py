@@ -163,12 +163,12 @@ def _run_group(problem: Problem, method: str | type[EngineMethod]) -> dict:
         raw = _stack_raws([_run(cls, run_on.load(i), bound) for i in range(problem.tau.shape[0])])
     out = finish_batch(run_on, raw, name)
     if run_on is not problem:  # report the real walls (positions computed when asked for)
-        memo: list[tuple[np.ndarray, np.ndarray]] = []
+        positions: list[tuple[np.ndarray, np.ndarray]] = []  # both fields: one evaluation
 
         def walls(side: int) -> np.ndarray:
-            if not memo:
-                memo.append(problem.wall_positions(problem.tau))
-            return np.broadcast_to(memo[0][side], problem.tau.shape)
+            if not positions:
+                positions.append(problem.wall_positions(problem.tau))
+            return np.broadcast_to(positions[0][side], problem.tau.shape)
 
         out["fields"]["wall_lower"] = LazyField(lambda: walls(0))
         out["fields"]["wall_upper"] = LazyField(lambda: walls(1))

@@ -47,13 +47,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._base import EngineMethod
-from ._cn_control import AIM, _Budget, _control, _Fit, _Levels
+from ._cn_control import AIM, _control, _Fit
 from ._cn_plan import _joint_plan, _Plan, _start_time, _switch_times_batch
-from ._moving import _march, _project
+from ._level import Level, Outputs, project
+from ._moving import LevelInputs, _march, level_inputs
 from ._problem import Problem, window_k
 from ._result import Raw
 
-__all__ = ["CNMethod"]
+__all__ = ["CNMethod", "grid_level"]
 
 Array = NDArray[np.float64]
 
@@ -202,13 +203,22 @@ class CNOptions:
 
 
 class _Grids:
-    """The grid levels solved so far (``(n_base, mult, dense)`` -> march output, see
-    :mod:`._cn_control`), within the budgets."""
+    """The grid levels of one solve: each solved once, within the budgets.
+
+    Levels are keyed ``(n_base, mult, dense)`` (see :mod:`._cn_control`).  ``solved`` holds
+    the outputs of every level solved so far and ``plans`` the time plan of every
+    ``(n_base, dense)``: these are the solve's own state, not caches (the levels of one
+    plan must share it to be nested; the budgets count the levels solved, and a search
+    ended by a budget falls back to the finest solved pair, see
+    :func:`._cn_control._finest_pair`).  ``stop``: ``(status, message)`` once a budget (or a
+    failed level) ended the search; then no level is returned any more.
+    """
 
     def __init__(self, pbs: list[Problem], opts: CNOptions, tau_s: float, num: Array) -> None:
         self.pbs, self.opts, self.tau_s = pbs, opts, tau_s
-        self.cache: dict[tuple[int, int, int], dict] = {}
+        self.solved: dict[tuple[int, int, int], Outputs] = {}
         self.plans: dict[tuple[int, int], _Plan] = {}
+        self.stop: tuple[str, str] | None = None
         self.nsteps = 0
         self.work = 0.0
         self.kinks: list[float] = []
@@ -218,32 +228,77 @@ class _Grids:
             k = opts.window_k
             self.kinks = _switch_times_batch(pbs, k, tau_s, t_end)
 
-    def level(self, n_base: int, mult: int, dense: int = 1) -> dict:
+    def levels(self, n_base: int, mults: tuple[int, ...], dense: int) -> list[Outputs] | None:
+        """The levels ``(n_base, m, dense)`` for ``m`` in ``mults``, solved in this order
+        (None as soon as one cannot be: ``stop`` says why)."""
+        out = []
+        for m in mults:
+            level = self.level(n_base, m, dense)
+            if level is None:
+                return None
+            out.append(level)
+        return out
+
+    def level(self, n_base: int, mult: int, dense: int = 1) -> Outputs | None:
         """Grid ``n_base * mult`` on the time plan of ``n_base`` (at ``dense`` times the steps
-        per decade of ``options['per_node']``) subdivided ``mult`` times."""
+        per decade of ``options['per_node']``) subdivided ``mult`` times; None (and ``stop``
+        set) when a budget ends the search or the level fails."""
+        if self.stop is not None:
+            return None
         key = (n_base, mult, dense)
-        cache, opts, pb = self.cache, self.opts, self.pbs[0]
-        if key not in cache:
-            if (n_base, dense) not in self.plans:
-                self.plans[n_base, dense] = _joint_plan(
-                    self.pbs, opts.window_k, opts.per_node * n_base * dense, self.tau_s, self.kinks
-                )
-            plan = self.plans[n_base, dense]
+        opts, pb = self.opts, self.pbs[0]
+        if key not in self.solved:
+            plan = self.plan(n_base, dense)
             cost = (plan.base.size - 1) * mult + 2 * opts.rannacher
             if self.nsteps + cost > pb.max_steps:
-                raise _Budget(f"max_steps = {pb.max_steps} reached before the tolerance was met")
+                msg = f"max_steps = {pb.max_steps} reached before the tolerance was met"
+                return self._stop("max_steps", msg)
             if self.work + cost * n_base * mult > opts.max_work:
-                raise _Budget(
+                return self._stop(
+                    "max_steps",
                     f"the next grid (N = {n_base * mult}, {cost} steps) would exceed "
                     f"the work budget options['max_work'] = {opts.max_work:.3g} node-steps; "
-                    "loosen rtol/atol or raise max_work"
+                    "loosen rtol/atol or raise max_work",
                 )
             self.work += cost * n_base * mult
-            if len(cache) >= opts.levels:
-                raise _Levels(f"after {len(cache)} grids (levels = {opts.levels})")
-            cache[key] = _march(self.pbs, plan, n_base * mult, mult, opts.stretch, opts.rannacher)
-            self.nsteps += cache[key]["nsteps"]
-        return cache[key]
+            if len(self.solved) >= opts.levels:
+                msg = f"after {len(self.solved)} grids (levels = {opts.levels})"
+                return self._stop("tolerance_not_met", msg)
+            level = _march(self.pbs, plan, n_base * mult, mult, opts.stretch, opts.rannacher)
+            if not level.ok:
+                return self._stop("tolerance_not_met", f"numerical failure: {level.failure}")
+            self.solved[key] = level.outputs
+            self.nsteps += level.nsteps
+        return self.solved[key]
+
+    def plan(self, n_base: int, dense: int) -> _Plan:
+        """The time plan of the levels ``(n_base, *, dense)`` (made on first use)."""
+        if (n_base, dense) not in self.plans:
+            self.plans[n_base, dense] = _joint_plan(
+                self.pbs,
+                self.opts.window_k,
+                self.opts.per_node * n_base * dense,
+                self.tau_s,
+                self.kinks,
+            )
+        return self.plans[n_base, dense]
+
+    def _stop(self, status: str, message: str) -> None:
+        """End the search: ``status`` and ``message`` go to the result."""
+        self.stop = (status, message)
+
+
+def grid_level(
+    pbs: list[Problem], n_base: int, mult: int = 1, dense: int = 1
+) -> tuple[LevelInputs, Level]:
+    """The inputs and the march of the grid level ``(n_base, mult, dense)`` (see
+    :mod:`._cn_control`) of the loads ``pbs`` (one batch), as :class:`CNMethod` solves it:
+    for tests (the reference solver of ``tests/engine``) and benchmarks."""
+    opts = CNOptions.read(pbs[0].options, pbs[0].atol)
+    tau_s = min(_start_time(p, opts.window_k) for p in pbs)
+    plan = _Grids(pbs, opts, tau_s, pbs[0].tau > tau_s).plan(n_base, dense)
+    args = (pbs, plan, n_base * mult, mult, opts.stretch, opts.rannacher)
+    return level_inputs(*args), _march(*args)
 
 
 def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Grids) -> Raw:
@@ -268,7 +323,7 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
         # area <= 1, absorbed_lower + absorbed_upper <= 1); the distance moved is a lower
         # bound of the error, so the estimate is raised to it, and a distance beyond the
         # estimate (round-off of the step sums included) is reported, not hidden
-        proj, dist = _project(best["area"], best["abs_l"], best["abs_u"])
+        proj, dist = project(best.area, best.absorbed_lower, best.absorbed_upper)
         roundoff = 16.0 * np.finfo(float).eps * (nsteps + math.sqrt(max(n_used, 1)))
         bound = err + trunc + roundoff
         for key, d in dist.items():
@@ -279,14 +334,14 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
                 )
         err = np.maximum(err, dist["area"])
         area[:, num], ab_l[:, num], ab_u[:, num] = proj
-        load[:, num] = best["load"]
-        wall_term[:, num] = best["mom_l"] + best["mom_u"]
+        load[:, num] = best.load
+        wall_term[:, num] = best.moment_lower + best.moment_upper
         e_all[:, num] = err + trunc
     P = _densities(pbs, analytic, best) if pb.p_out is not None else None
     if status == "success" and not message:
         message = (
-            f"{len(lv.cache)} grids, finest N = {n_used}"
-            if lv.cache
+            f"{len(lv.solved)} grids, finest N = {n_used}"
+            if lv.solved
             else "analytic start covers every output"
         )
     return Raw(
@@ -306,7 +361,7 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
     )
 
 
-def _densities(pbs: list[Problem], analytic: Array, best: dict | None) -> Array:
+def _densities(pbs: list[Problem], analytic: Array, best: Outputs | None) -> Array:
     """Density [1/Pa] at ``p_out``: the free Gaussian in the analytic start, the march after."""
     pb = pbs[0]
     tau = pb.tau
@@ -317,5 +372,5 @@ def _densities(pbs: list[Problem], analytic: Array, best: dict | None) -> Array:
             t = tau[j]
             P[i, j] = np.exp(-((p.p_out - p.p0) ** 2) / (4 * t)) / math.sqrt(4 * math.pi * t)
     if best is not None and num.any():
-        P[:, num] = np.maximum(best["P"], 0.0)
+        P[:, num] = np.maximum(best.P, 0.0)
     return P

@@ -36,16 +36,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ._moving import _combine, _weighted
+from ..cache import memoize
+from ._level import Outputs, combine, weighted
 from ._problem import Problem
 
-__all__ = ["_Budget", "_Levels", "_Fit", "_control", "richardson_weights"]
+__all__ = ["_Fit", "_control", "richardson_weights"]
 
 Array = NDArray[np.float64]
 
@@ -89,20 +89,12 @@ S_FAVOR = 2.0  # the sixth order taken over a fourth-order round predicted S_FAV
 S_ORDER = 4.0  # order assumed when growing the sixth-order grid (measured: 4-6 pre-asymptotic)
 
 
-class _Budget(Exception):
-    pass
-
-
-class _Levels(Exception):
-    pass
-
-
 @dataclass
 class _Fit:
     """The accepted combination of levels, its error estimate and the outcome."""
 
     err: Array
-    best: dict | None = None
+    best: Outputs | None = None
     n_used: int = 0
     status: str = "success"
     message: str = ""
@@ -121,17 +113,15 @@ def richardson_weights(mults: tuple[int, ...] | list[int]) -> Array:
     return _weights(tuple(m.tolist())).copy()
 
 
-@lru_cache(maxsize=64)
+@memoize("engine.richardson_weights", scope="process", maxsize=64)
 def _weights(m_: tuple[float, ...]) -> Array:
-    """:func:`richardson_weights` of checked ``m_`` (memoised: the controller asks for the
-    same few level sets at every solve)."""
+    """:func:`richardson_weights` of checked ``m_`` (read-only; memoised: the controller
+    asks for the same few level sets at every solve)."""
     m = np.array(m_)
     V = m[None, :] ** (-2.0 * np.arange(m.size)[:, None])
     rhs = np.zeros(m.size)
     rhs[0] = 1.0
-    w = np.linalg.solve(V, rhs)
-    w.setflags(write=False)
-    return w
+    return np.linalg.solve(V, rhs)
 
 
 def _round_grid(n: float) -> int:
@@ -163,27 +153,30 @@ class _Judge:
     def tol(self, area: Array) -> Array:
         return self.pb.rtol * np.abs(area) + self.pb.atol
 
-    def ratio(self, a: dict, b: dict, factor: float) -> tuple[Array, float]:
+    def ratio(self, a: Outputs, b: Outputs, factor: float) -> tuple[Array, float]:
         """Estimate ``factor |a - b|`` of the area, and the worst estimate / tolerance of the
         area and of the load identity of ``a``."""
         pb = self.pb
-        err = factor * np.abs(a["area"] - b["area"])
-        la_ = a["load"] + a["mom_l"] + a["mom_u"]
-        lb_ = b["load"] + b["mom_l"] + b["mom_u"]
+        err = factor * np.abs(a.area - b.area)
+        la_ = a.load + a.moment_lower + a.moment_upper
+        lb_ = b.load + b.moment_lower + b.moment_upper
         load = float(np.max(factor * np.abs(la_ - lb_) / self.scale)) / (pb.rtol + pb.atol)
-        return err, max(float(np.max(err / self.tol(a["area"]))), load)
+        return err, max(float(np.max(err / self.tol(a.area))), load)
 
 
-def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit:
+def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
     """Second-order pairs, then fourth- or sixth-order Richardson combinations, until the
-    estimate fits."""
+    estimate fits (None: a budget ended the search, ``lv.stop`` says which)."""
     judge = _Judge(pb, scale)
     n_base, rounds = lv.opts.nodes, 0
     while True:  # mode R
-        l1, l2 = lv.level(n_base, 1, judge.dense), lv.level(n_base, 2, judge.dense)
+        pair = lv.levels(n_base, (1, 2), judge.dense)
+        if pair is None:
+            return None
+        l1, l2 = pair
         e_r, ratio = judge.ratio(l2, l1, 2.0 / 3.0)  # ~2x error of R(2n)
         if ratio <= 1.0:
-            return _Fit(e_r, _combine(l2, l1, False), 2 * n_base)
+            return _Fit(e_r, combine(l2, l1, False), 2 * n_base)
         if math.sqrt(ratio / aim) > R_MAX_REFINE:
             break
         # after a missed prediction (slower than second order, e.g. kinks of a tabulated
@@ -193,11 +186,14 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit:
     return _high_order(lv, judge, n_base, aim, math.sqrt(ratio / aim) > R_SKIP)
 
 
-def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float]:
+def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float] | None:
     """The fourth-order triple at ``n`` (answer ``E(2n, 4n)``, estimate ~2x asymptotic) and
-    its estimate / tolerance."""
-    l1, l2, l4 = (lv.level(n, m, judge.dense) for m in (1, 2, 4))
-    e_b, e_a = _combine(l4, l2, True), _combine(l2, l1, True)
+    its estimate / tolerance (None: a budget ended the search)."""
+    triple = lv.levels(n, (1, 2, 4), judge.dense)
+    if triple is None:
+        return None
+    l1, l2, l4 = triple
+    e_b, e_a = combine(l4, l2, True), combine(l2, l1, True)
     err, ratio = judge.ratio(e_b, e_a, 2.0 / 15.0)
     return _Fit(err, e_b, 4 * n), ratio
 
@@ -207,18 +203,20 @@ def _k6(mults: tuple[int, ...]) -> float:
     return float(np.prod(np.asarray(mults, dtype=float) ** -2.0))
 
 
-def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float]:
+def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float] | None:
     """The sixth-order combinations of the levels ``top - 2 .. top`` (the answer) and
     ``top - 3 .. top - 1`` of grid ``n`` (see the module), and the estimate / tolerance.
 
     The estimate is ``S_MARGIN`` times the asymptotic error of the answer,
     ``|S_b - S_a| K_b / (K_a - K_b)`` (``K = prod m^-2``: for ``top = 4`` it is
-    ``|S_b - S_a|``).
+    ``|S_b - S_a|``).  None: a budget ended the search.
     """
     ma, mb = tuple(range(top - 3, top)), tuple(range(top - 2, top + 1))
-    lvs = [lv.level(n, m, DENSE) for m in range(top - 3, top + 1)]
-    s_b = _weighted(lvs[1:], _weights(tuple(map(float, mb))))
-    s_a = _weighted(lvs[:3], _weights(tuple(map(float, ma))))
+    lvs = lv.levels(n, tuple(range(top - 3, top + 1)), DENSE)
+    if lvs is None:
+        return None
+    s_b = weighted(lvs[1:], _weights(tuple(map(float, mb))))
+    s_a = weighted(lvs[:3], _weights(tuple(map(float, ma))))
     ka, kb = _k6(ma), _k6(mb)
     err, ratio = judge.ratio(s_b, s_a, S_MARGIN * kb / (ka - kb))
     return _Fit(err, s_b, top * n), ratio
@@ -244,40 +242,56 @@ def _sixth_next(top: int, ratio: float, aim: float) -> tuple[float, bool, float]
     return new, False, grow
 
 
-def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _Fit:
+def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _Fit | None:
     """Fourth-order triples, or sixth-order quadruples where a moving wall makes the fourth
     order's grid large and the sixth order's pilot predicts less work, until the estimate
     fits (see the module).  ``far``: the second-order pilot asked for a grid so fine that the
-    sixth order's pilot comes first (the fourth order's is solved only if it is needed)."""
+    sixth order's pilot comes first (the fourth order's is solved only if it is needed).
+    None: a budget ended the search (``lv.stop`` says which)."""
     six = _sixth_order_fits(judge.pb)
-    s_fit = s_ratio = None
+    sixth = None
     if six and far:
-        s_fit, s_ratio = _sixth(lv, judge, n_base)
-        if s_ratio <= 1.0:
-            return s_fit
+        sixth = _sixth(lv, judge, n_base)
+        if sixth is None or sixth[1] <= 1.0:
+            return None if sixth is None else sixth[0]
         near = E_WORK * judge.dense * S_GROW**2
-        if _sixth_next(4, s_ratio, aim)[0] <= near:  # the sixth order is near
-            s_fit = _sixth_rounds(lv, judge, n_base, s_ratio, aim)
-            if s_fit is not None:
+        if _sixth_next(4, sixth[1], aim)[0] <= near:  # the sixth order is near
+            s_fit = _sixth_rounds(lv, judge, n_base, sixth[1], aim)
+            if s_fit is not None or lv.stop is not None:
                 return s_fit
             six = False
-    fit, ratio = _fourth(lv, judge, n_base)
-    grow = (ratio / aim) ** 0.25
-    if ratio > 1.0 and grow > S_GROW and six:
-        if s_ratio is None:
-            s_fit, s_ratio = _sixth(lv, judge, n_base)
-            if s_ratio <= 1.0:
-                return s_fit
+    fourth = _fourth(lv, judge, n_base)
+    if fourth is None:
+        return None
+    grow = (fourth[1] / aim) ** 0.25
+    if fourth[1] > 1.0 and grow > S_GROW and six:
+        if sixth is None:
+            sixth = _sixth(lv, judge, n_base)
+            if sixth is None or sixth[1] <= 1.0:
+                return None if sixth is None else sixth[0]
         # the work of the next round, the sixth order's at least S_FAVOR x less (it may miss)
-        if S_FAVOR * _sixth_next(4, s_ratio, aim)[0] < E_WORK * judge.dense * grow**2:
-            s_fit = _sixth_rounds(lv, judge, n_base, s_ratio, aim)
-            if s_fit is not None:
+        if S_FAVOR * _sixth_next(4, sixth[1], aim)[0] < E_WORK * judge.dense * grow**2:
+            s_fit = _sixth_rounds(lv, judge, n_base, sixth[1], aim)
+            if s_fit is not None or lv.stop is not None:
                 return s_fit
+    return _fourth_rounds(lv, judge, n_base, fourth, aim)
+
+
+def _fourth_rounds(
+    lv: Any, judge: _Judge, n_base: int, fourth: tuple[_Fit, float], aim: float
+) -> _Fit | None:
+    """Fourth-order triples on grids grown from ``n_base`` (whose triple gave ``fourth``)
+    until the estimate fits (None: a budget ended the search)."""
+    fit, ratio = fourth
+    grow = (ratio / aim) ** 0.25
     rounds = 0
     while ratio > 1.0:
         rounds += 1
         n_base = _round_grid(n_base * max(grow, 1.0 if rounds == 1 else 1.25))
-        fit, ratio = _fourth(lv, judge, n_base)
+        nxt = _fourth(lv, judge, n_base)
+        if nxt is None:
+            return None
+        fit, ratio = nxt
         grow = (ratio / aim) ** 0.25
     return fit
 
@@ -286,7 +300,8 @@ def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _
     """Sixth-order rounds after the quadruple at ``n`` (estimate / tolerance ``ratio``): the
     next level of the same grid, or a new grid, whichever :func:`_sixth_next` finds
     cheaper, until the estimate fits; None (back to the fourth order) when a round misses
-    its prediction by more than ``S_MISS`` (the error is not in its sixth-order regime)."""
+    its prediction by more than ``S_MISS`` (the error is not in its sixth-order regime), or
+    when a budget ended the search (then ``lv.stop`` is set)."""
     top = 4
     while True:
         _, extend, grow = _sixth_next(top, ratio, aim)
@@ -296,7 +311,10 @@ def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _
         else:
             k_ratio = _k6((2, 3, 4)) / _k6((top - 2, top - 1, top))
             n, top, predicted = _round_grid(n * grow), 4, ratio * k_ratio / grow**S_ORDER
-        fit, ratio = _sixth(lv, judge, n, top)
+        sixth = _sixth(lv, judge, n, top)
+        if sixth is None:
+            return None
+        fit, ratio = sixth
         if ratio <= 1.0:
             return fit
         if ratio > S_MISS * max(predicted, aim):
@@ -314,7 +332,7 @@ def _sixth_order_fits(pb: Problem) -> bool:
     return moving and pb.p_out is None and not any(w.breakpoints for w in walls)
 
 
-def _finest_pair(cache: dict[tuple[int, int, int], dict], fit: _Fit) -> None:
+def _finest_pair(solved: dict[tuple[int, int, int], Outputs], fit: _Fit) -> None:
     """Budget spent: the finest level that has a coarser partner (same ``n_base`` and time
     plan), with the second-order estimate of the pair, flagged (into ``fit``).
 
@@ -323,36 +341,32 @@ def _finest_pair(cache: dict[tuple[int, int, int], dict], fit: _Fit) -> None:
     """
 
     def partners(c: tuple[int, int, int]) -> list[tuple[int, int, int]]:
-        return [o for o in cache if o[0] == c[0] and o[2] == c[2] and o[1] < c[1]]
+        return [o for o in solved if o[0] == c[0] and o[2] == c[2] and o[1] < c[1]]
 
-    paired = [c for c in cache if partners(c)]
-    key = max(paired or cache, key=lambda c: (c[0] * c[1], c[2]))
-    fine = cache[key]
-    fit.best = _combine(fine, fine, False)
+    paired = [c for c in solved if partners(c)]
+    key = max(paired or solved, key=lambda c: (c[0] * c[1], c[2]))
+    fine = solved[key]
+    fit.best = combine(fine, fine, False)
     if partners(key):
         ck = max(partners(key), key=lambda c: c[1])
         # second order: R_f - R = (R_f - R_c) / ((m_f / m_c)^2 - 1); twice that
-        fit.err = 2.0 * np.abs(fine["area"] - cache[ck]["area"]) / ((key[1] / ck[1]) ** 2 - 1.0)
+        fit.err = 2.0 * np.abs(fine.area - solved[ck].area) / ((key[1] / ck[1]) ** 2 - 1.0)
     fit.n_used = key[0] * key[1]
 
 
 def _control(lv: Any, pb: Problem, aim: float, tau_num: Array) -> _Fit:
     """Levels until the error estimate meets the tolerance (or a budget ends the search).
 
-    ``lv``: the grid levels (``_cn._Grids``: ``level(n_base, mult, dense=1)``, ``cache``,
-    ``opts``, ``pbs``).
+    ``lv``: the grid levels (``_cn._Grids``: ``levels(n_base, mults, dense)``, ``solved``,
+    ``stop``, ``opts``, ``pbs``).
     """
     scale = _load_scale(lv.pbs, tau_num)
-    fit = _Fit(np.full((len(lv.pbs), tau_num.size), np.inf))
-    try:
-        fit = _refine(lv, pb, aim, scale)
-    except (_Budget, _Levels) as exc:
-        fit.status = "max_steps" if isinstance(exc, _Budget) else "tolerance_not_met"
-        fit.message = str(exc)
-    except FloatingPointError as exc:
-        fit.status, fit.message = "tolerance_not_met", f"numerical failure: {exc}"
-    if fit.best is None and lv.cache:
-        _finest_pair(lv.cache, fit)
+    fit = _refine(lv, pb, aim, scale)
+    if fit is None:  # a budget ended the search: the finest solved pair, flagged
+        status, message = lv.stop
+        fit = _Fit(np.full((len(lv.pbs), tau_num.size), np.inf), None, 0, status, message)
+    if fit.best is None and lv.solved:
+        _finest_pair(lv.solved, fit)
     # a probability projected onto [0, 1] is off by at most 1: no estimate (a single
     # level) is reported as 1, never as inf
     fit.err = np.minimum(fit.err, 1.0)
@@ -361,9 +375,9 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array) -> _Fit:
     best = fit.best
     # round-off of the sums over the grid (the level difference cannot see it)
     fit.err = fit.err + 16.0 * np.finfo(float).eps * math.sqrt(max(fit.n_used, 1)) * np.abs(
-        best["area"]
+        best.area
     )
-    tol = pb.rtol * np.abs(best["area"]) + pb.atol
+    tol = pb.rtol * np.abs(best.area) + pb.atol
     if fit.status == "success" and np.any(fit.err > tol):
         fit.status = "tolerance_not_met"
     if fit.status == "success":

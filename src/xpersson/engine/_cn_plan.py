@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -13,6 +14,8 @@ from numpy.typing import NDArray
 from ._problem import Problem
 
 __all__ = [
+    "Edge",
+    "Window",
     "_Plan",
     "_joint_plan",
     "_level_times",
@@ -314,12 +317,52 @@ def _faces(x: Array) -> tuple[Array, Array, Array]:
     return 0.5 * (x[1:] + x[:-1]), d, w
 
 
-def _edges_batch(pbs: list[Problem], plan: _Plan, taus: Array) -> dict:
+class Edge(NamedTuple):
+    """The window's edges at one end of every step, per load: arrays ``(loads, steps)``.
+
+    The nodes are ``p_j = lower + width x_j`` [Pa] (``x_j`` in [0, 1], see
+    :func:`._grid.clustered`).
+    """
+
+    lower: Array
+    """Lower edge ``l`` [Pa]: the real lower wall, or the artificial edge ``p0 - k sqrt(2 tau)``."""
+    width: Array
+    """Window width ``W`` = upper edge - lower edge [Pa]."""
+    lower_speed: Array
+    """``dl/dtau`` [1/Pa] (the chord speed of the step from the first breakpoint on)."""
+    width_speed: Array
+    """``dW/dtau`` [1/Pa] (idem)."""
+    yield_speed: Array
+    """``dY/dtau`` [1/Pa] of a real yield wall (0 elsewhere and without one)."""
+
+
+class Window(NamedTuple):
+    """The window of one grid level along its steps, per load (see :func:`_edges`)."""
+
+    real_lower: Array
+    """``(loads, steps)`` bool: the lower edge is the real wall during the step."""
+    real_upper: Array
+    """``(loads, steps)`` bool: the upper edge is the real wall during the step."""
+    start: Edge
+    """The edges at the start of every step."""
+    end: Edge
+    """The edges at the end of every step."""
+    chord: Array
+    """``(loads, steps)`` bool: the speeds are the chord speeds of the step."""
+
+
+def _edges_batch(pbs: list[Problem], plan: _Plan, taus: Array) -> Window:
+    """The window of the loads ``pbs`` (which share their walls) along ``taus`` [Pa^2]."""
     tr = _tracks(pbs[0], taus)  # the loads of a batch share their walls
     eds = [_edges(pb, plan, taus, tr) for pb in pbs]
     if len(eds) == 1:
-        return {key: val[None] for key, val in eds[0].items()}
-    return {key: np.stack([e[key] for e in eds]) for key in eds[0]}
+        ed = {key: val[None] for key, val in eds[0].items()}
+    else:
+        ed = {key: np.stack([e[key] for e in eds]) for key in eds[0]}
+    start, end = (
+        Edge(ed["l" + t], ed["w" + t], ed["lv" + t], ed["wv" + t], ed["ys" + t]) for t in "ab"
+    )
+    return Window(ed["rl"], ed["ru"], start, end, ed["chord"])
 
 
 _GRADE = 4.0  # steps uniform in (tau - tau_b)^(1/_GRADE) after a wall breakpoint

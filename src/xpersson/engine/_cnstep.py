@@ -20,8 +20,9 @@ __all__ = ["implicit_operator", "tridiagonal_solve"]
 Array = NDArray[np.float64]
 
 
-def tridiagonal_solve(dl: Array, d: Array, du: Array, rhs: Array) -> Array:
-    """Solve the tridiagonal system ``(dl, d, du) x = rhs`` in place of ``rhs``; returns it.
+def tridiagonal_solve(dl: Array, d: Array, du: Array, rhs: Array) -> int:
+    """Solve the tridiagonal system ``(dl, d, du) x = rhs`` in place of ``rhs`` (LAPACK
+    ``dgtsv``, Gaussian elimination with partial pivoting).
 
     Parameters
     ----------
@@ -31,17 +32,17 @@ def tridiagonal_solve(dl: Array, d: Array, du: Array, rhs: Array) -> Array:
     rhs : ndarray, (n,) or (n, k)
         Right-hand side(s); holds the solution on return.
 
-    Raises
-    ------
-    FloatingPointError
-        When LAPACK reports a singular or invalid system.
+    Returns
+    -------
+    int
+        LAPACK's ``info``: 0 on success, ``i > 0`` when the ``i``-th pivot is exactly zero
+        (the system is singular; ``rhs`` then holds no solution), ``< 0`` for an invalid
+        argument.  The caller decides what a failure means.
     """
     _, _, _, sol, info = dgtsv(dl, d, du, rhs, 1, 1, 1, 1)
-    if info != 0:
-        raise FloatingPointError(f"tridiagonal solve failed (info={info})")
     if sol is not rhs:  # the LAPACK wrapper made a (Fortran-ordered) copy
         rhs[...] = sol
-    return rhs
+    return info  # type: ignore[no-any-return]
 
 
 def implicit_operator(

@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erfcinv
 
+from ..cache import Cache
 from ._walls import Wall
 
 __all__ = ["Problem", "make_problem", "window_k", "sample_times"]
@@ -198,19 +199,23 @@ def sample_times(tau: Array) -> Array:
     t = np.asarray(tau, dtype=float)
     if t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0:  # one row shared by the loads
         t = t[0]
-    key = (t.shape, t.tobytes())
-    hit = _SAMPLES.get("last")
-    if hit is not None and hit[0] == key:
-        return hit[1].copy()  # callers' walls may write into their argument
-    t_end = float(np.max(t))
-    out = np.unique(np.concatenate([[0.0], t.ravel(), np.linspace(0.0, t_end, 65), t_end * _LOG16]))
-    out.setflags(write=False)
-    _SAMPLES["last"] = (key, out)
-    return out.copy()
+
+    def compute() -> Array:
+        t_end = float(np.max(t))
+        return np.unique(
+            np.concatenate([[0.0], t.ravel(), np.linspace(0.0, t_end, 65), t_end * _LOG16])
+        )
+
+    return _SAMPLES.get(t, compute).copy()  # a copy: callers' walls may write into it
 
 
 _LOG16 = np.logspace(-16, 0, 96)
-_SAMPLES: dict[str, tuple[Any, Array]] = {}  # the last request (checks, then the bound)
+_SAMPLES = Cache(
+    "engine.sample_times",
+    scope="process",
+    maxsize=4,
+    doc="times where moving walls are checked, per output-time array (checks, then the bound)",
+)
 
 
 def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> None:

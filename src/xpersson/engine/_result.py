@@ -306,11 +306,11 @@ class EngineBatch(Sequence):
         success: Array | None = None,
     ) -> None:
         self.p0 = p0
-        self._lazy: dict[str, LazyField] = {}
+        self._pending: dict[str, LazyField] = {}
         for name in _BATCH_FIELDS:
             value = fields.get(name)
             if isinstance(value, LazyField):  # computed on first access (see __getattr__)
-                self._lazy[name] = value
+                self._pending[name] = value
             else:
                 setattr(self, name, value)
         self.p = p
@@ -329,10 +329,10 @@ class EngineBatch(Sequence):
             if exact_balances is None
             else np.asarray(exact_balances, dtype=bool)
         )
-        self._cache: dict[int, EngineResult] = {}
+        self._loads: dict[int, EngineResult] = {}  # built on first access, by index
 
     def __getattr__(self, name: str):
-        lazy = self.__dict__.get("_lazy", {})
+        lazy = self.__dict__.get("_pending", {})
         if name in lazy:
             value = lazy.pop(name)()
             setattr(self, name, value)
@@ -340,7 +340,7 @@ class EngineBatch(Sequence):
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def __getstate__(self) -> dict:  # pickled with every field computed
-        for name in list(self._lazy):
+        for name in list(self._pending):
             getattr(self, name)
         return dict(self.__dict__)
 
@@ -355,12 +355,12 @@ class EngineBatch(Sequence):
             i += len(self)
         if not 0 <= i < len(self):
             raise IndexError(i)
-        if i not in self._cache:
+        if i not in self._loads:
             row = {
                 name: getattr(self, name)[i] if getattr(self, name) is not None else None
                 for name in _BATCH_FIELDS
             }
-            self._cache[i] = EngineResult(
+            self._loads[i] = EngineResult(
                 **row,
                 p=self.p,
                 status=self.status[i],
@@ -372,7 +372,7 @@ class EngineBatch(Sequence):
                 nfev=int(self.nfev[i]),
                 wall_time=self.wall_time / max(len(self), 1),
             )
-        return self._cache[i]
+        return self._loads[i]
 
     def __repr__(self) -> str:
         n_bad = int(np.sum(~self.success))

@@ -378,7 +378,10 @@ def _march(
         return out
 
     def implicit(r: Array, theta_dt: float) -> Array:
-        return tridiagonal_solve(*implicit_operator(theta_dt, lo, diag, up), r)
+        info = tridiagonal_solve(*implicit_operator(theta_dt, lo, diag, up), r)
+        if info != 0:  # I - theta dt L is diagonally dominant: this is a bug, not a status
+            raise FloatingPointError(f"tridiagonal solve failed (info={info})")
+        return r
 
     # source j is injected at the first grid time > tau_j
     where = np.searchsorted(nodes_t, src_t, side="right")

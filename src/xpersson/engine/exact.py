@@ -29,11 +29,11 @@ Families
 
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf, erfc, erfcx, log_ndtr, ndtr
+
+from ..cache import memoize
 
 __all__ = [
     "one_wall_area",
@@ -509,14 +509,11 @@ def linear_wall_load(tau: ArrayLike, p0: ArrayLike, s0: ArrayLike, c: ArrayLike)
     return np.where(tau > 0, p0 * ndtr(z1) + (p0 + 2.0 * s0) * t2, p0)
 
 
-@functools.lru_cache(maxsize=8)
+@memoize("engine.gauss_legendre01", scope="process", maxsize=8)
 def _gauss_legendre01(nodes: int) -> tuple[Array, Array]:
-    """Gauss-Legendre nodes and weights on [0, 1] (computed once per node count)."""
+    """Gauss-Legendre nodes and weights on [0, 1] (read-only; computed once per node count)."""
     u, w = np.polynomial.legendre.leggauss(nodes)
-    u, w = 0.5 * (u + 1.0), 0.5 * w
-    u.setflags(write=False)
-    w.setflags(write=False)
-    return u, w
+    return 0.5 * (u + 1.0), 0.5 * w
 
 
 def linear_wall_absorbed_moment(

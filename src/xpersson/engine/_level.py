@@ -1,0 +1,205 @@
+"""What one grid level of the ``cn`` method is made of and gives: its nodes and system rows
+(memoised per grid in :mod:`xpersson.cache`), its outputs, their combination over levels
+(Richardson) and their projection onto admissible probabilities.  The march itself is in
+:mod:`._moving`; the scheme is described in :mod:`._cn`.
+
+Units: diffusion time ``tau`` in Pa^2, pressures ``p`` in Pa; the unknown ``R = W P`` (mass
+per unit of the mapped coordinate ``x`` in [0, 1]) is dimensionless.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..cache import Cache
+from ._cn_plan import _faces
+from ._grid import clustered
+
+__all__ = [
+    "Level",
+    "LevelNodes",
+    "Outputs",
+    "SystemRows",
+    "combine",
+    "face_basis",
+    "level_nodes",
+    "project",
+    "system_rows",
+    "weighted",
+]
+
+Array = NDArray[np.float64]
+
+
+class LevelNodes(NamedTuple):
+    """The nodes of a level on the unit interval (read-only arrays)."""
+
+    x: Array
+    """Nodes ``x_j``, ``j = 0 .. n`` in [0, 1], clustered at both ends (:func:`.clustered`)."""
+    xf: Array
+    """Face midpoints ``x_{j+1/2} = (x_j + x_{j+1}) / 2``, ``(n,)``."""
+    dxf: Array
+    """Node spacings ``x_{j+1} - x_j``, ``(n,)``."""
+    w: Array
+    """Control volumes (trapezoid weights; half cells at the ends), ``(n + 1,)``."""
+
+
+class SystemRows(NamedTuple):
+    """Rows of the system of ``loads`` loads concatenated (``loads x nodes`` rows, read-only)."""
+
+    near: Array
+    """The two rows at each wall of every load: first, second, second-to-last, last node
+    (four groups of ``loads``)."""
+    last: Array
+    """The last row of every load (the upper wall)."""
+    walls: Array
+    """The identity rows: the first and last row of every load."""
+    volumes: Array
+    """The control volumes of every row, 0 on the identity rows."""
+
+
+_NODES = Cache("engine.level_nodes", scope="process", maxsize=32, doc="nodes of a cn grid level")
+_ROWS = Cache("engine.system_rows", scope="process", maxsize=32, doc="rows of a cn level system")
+_BASIS = Cache("engine.face_basis", scope="process", maxsize=32, doc="face functions of a level")
+
+
+def level_nodes(n: int, stretch: float) -> LevelNodes:
+    """The nodes of a level of ``n`` intervals clustered by ``stretch`` (see
+    :class:`LevelNodes`); the levels of every solve reuse a few, hence the cache."""
+
+    def compute() -> LevelNodes:
+        x = clustered(n, stretch)
+        return LevelNodes(x, *_faces(x))
+
+    return _NODES.get((n, stretch), compute)
+
+
+def system_rows(loads: int, n: int, stretch: float) -> SystemRows:
+    """The rows of ``loads`` systems on the nodes of :func:`level_nodes` (see
+    :class:`SystemRows`).  The wall fluxes use both rows at each wall: the solve leaves
+    round-off ~ eps on the wall rows, which the fluxes must include for the probability
+    balance to hold to round-off."""
+
+    def compute() -> SystemRows:
+        w = level_nodes(n, stretch).w
+        nn = w.size
+        first = np.arange(loads) * nn  # first row of each load in the concatenated system
+        near = np.concatenate([first, first + 1, first + nn - 2, first + nn - 1])
+        last = first + nn - 1
+        walls = np.concatenate([first, last])
+        volumes = np.tile(w, loads)
+        volumes[walls] = 0.0
+        return SystemRows(near, last, walls, volumes)
+
+    return _ROWS.get((loads, n, stretch), compute)
+
+
+def face_basis(n: int, stretch: float) -> Array:
+    """The face functions ``1, x_f, 1/dx_f`` (3, nodes) of :func:`level_nodes` (the last
+    slot, where there is no face, is 0): every face coefficient of the scheme is a
+    combination of them."""
+
+    def compute() -> Array:
+        nodes = level_nodes(n, stretch)
+        nf = nodes.xf.size
+        basis = np.zeros((3, nf + 1))
+        basis[0, :nf] = 1.0
+        basis[1, :nf] = nodes.xf
+        basis[2, :nf] = 1.0 / nodes.dxf
+        return basis
+
+    return _BASIS.get((n, stretch), compute)
+
+
+@dataclass(frozen=True)
+class Outputs:
+    """Per-load outputs of a level (or of a combination of levels) at the numerical output
+    times: arrays ``(loads, outputs)`` (``P``: ``(loads, outputs, len(p_out))``)."""
+
+    area: Array
+    """``int R dx``: the probability still in the window [1]."""
+    absorbed_lower: Array
+    """Probability absorbed by the real lower wall [1]."""
+    absorbed_upper: Array
+    """Probability absorbed by the real upper wall, or the plastic area ``A_pl`` [1]."""
+    load: Array
+    """``int p R dx`` [Pa]."""
+    moment_lower: Array
+    """``int p_l d(absorbed_lower)``, the lower wall's term of the load identity [Pa]."""
+    moment_upper: Array
+    """The upper wall's term of the load identity [Pa]."""
+    P: Array | None
+    """Density at ``p_out`` [1/Pa], or None."""
+
+
+@dataclass(frozen=True)
+class Level:
+    """What the march of one grid level gives (:func:`._moving._march`)."""
+
+    outputs: Outputs | None
+    """The outputs; None when the level failed."""
+    nsteps: int
+    """Time steps marched."""
+    n_nodes: int
+    """Nodes per load."""
+    failure: str = ""
+    """Why the level failed (the walls swept the window; a singular system), or ``""``."""
+
+    @property
+    def ok(self) -> bool:
+        """Whether the level completed (its outputs are usable)."""
+        return not self.failure
+
+
+def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
+    """The finer level, or its Richardson combination with the coarser (linear in the levels:
+    the probability balance is kept)."""
+    out = {}
+    for f in dataclasses.fields(Outputs):
+        a, b = getattr(fine, f.name), getattr(coarse, f.name)
+        out[f.name] = None if a is None else (a + (a - b) / 3.0 if extrapolate else a)
+    return Outputs(**out)
+
+
+def weighted(levels: list[Outputs], weights: Array) -> Outputs:
+    """The combination ``sum_i weights[i] levels[i]`` of every output (weights summing to 1,
+    e.g. Richardson's: the probability balance, linear in the levels, is kept)."""
+    out = {}
+    for f in dataclasses.fields(Outputs):
+        if getattr(levels[0], f.name) is None:
+            out[f.name] = None
+        else:
+            values = (getattr(lv, f.name) for lv in levels)
+            out[f.name] = sum(float(c) * v for c, v in zip(weights, values, strict=True))
+    return Outputs(**out)
+
+
+def project(
+    area: Array, abs_l: Array, abs_u: Array
+) -> tuple[tuple[Array, Array, Array], dict[str, Array]]:
+    """Nearest admissible probabilities and the distance each moved.
+
+    ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
+    non-contact fraction) exceeds 1, scaled down to sum to 1.
+    """
+    a = np.clip(area, 0.0, 1.0)
+    lo = np.maximum(abs_l, 0.0)
+    up = np.maximum(abs_u, 0.0)
+    total = lo + up
+    over = total > 1.0
+    scale = np.where(over, 1.0 / np.where(over, total, 1.0), 1.0)
+    lo = np.minimum(lo * scale, 1.0)
+    up = np.where(over, np.minimum(up * scale, 1.0 - lo), up)
+    up = np.where(lo + up > 1.0, np.nextafter(up, 0.0), up)  # the sum's round-off
+    dist = {
+        "area": np.abs(a - area),
+        "absorbed_lower": np.abs(lo - abs_l),
+        "absorbed_upper": np.abs(up - abs_u),
+        "non_contact_fraction": np.abs(lo + up - (abs_l + abs_u)),
+    }
+    return (a, lo, up), dist
