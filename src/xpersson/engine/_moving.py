@@ -49,12 +49,11 @@ from ._level import (
     level_nodes,
     system_rows,
 )
-from ._level import project as _project  # (its old home: tests/robustness imports it here)
 from ._moving_block import Block, block_system
 from ._problem import Problem
 from ._progress import report as report_progress
 
-__all__ = ["LevelInputs", "level_inputs", "march_level", "_march", "_project"]
+__all__ = ["LevelInputs", "level_inputs", "march_level", "_march"]
 
 Array = NDArray[np.float64]
 
