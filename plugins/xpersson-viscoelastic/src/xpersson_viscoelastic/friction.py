@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from xpersson.physics import closure_S
-from xpersson.plugins import Analysis, ParamSpec, VarSpec
+from xpersson.plugins import Analysis, FastPaths, ParamSpec, VarSpec
 
 from . import _graded, _resolve
 from ._stencil import stacked_weights
@@ -79,7 +79,7 @@ class Friction(Analysis):
         "frictional_shear_stress",
     )
     #: a block of (v, T) points is computed at once (:meth:`compute_stacked`)
-    batched: ClassVar = frozenset()
+    fast_paths: ClassVar = FastPaths(stacked_params=frozenset())
     parameters: ClassVar = {
         "correction": ParamSpec(
             "1",
