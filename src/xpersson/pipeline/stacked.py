@@ -3,8 +3,9 @@
 Points whose plugins all declare a stacked path (``fast_paths.stacked_params``,
 :class:`xpersson.plugins.FastPaths`) and that differ only in those parameters (same classes,
 material, loads count, output grid, spectrum nodes, accuracy) are solved together: the
-coefficient is asked once for the block (:meth:`~xpersson.plugins.Coefficient.tau_stacked`), the engine once for every (point, load)
-with each load's own ``tau(zeta)`` row, the boundary's walls per point, the coefficient's
+coefficient is asked once for the block (:meth:`~xpersson.plugins.Coefficient.tau_stacked`),
+the engine once for every (point, load) with each load's own ``tau(zeta)`` row, the
+boundary's walls per point, the coefficient's
 :meth:`~xpersson.plugins.Coefficient.interpret_stacked` and each analysis's
 :meth:`~xpersson.plugins.Analysis.compute_stacked` once, on one Dataset whose variables carry a
 leading ``point`` dimension. :func:`run_stacked` returns that Dataset's variables as
