@@ -14,6 +14,7 @@ from typing import Any
 from ..plugins import API_VERSION, Plugin, SpecError, check_plugin_class
 from ..specs import caret_units
 from ._names import CHECK_NAME, qual
+from .fastpaths import check_fast_paths
 from .referee import markov_cross_check
 from .registry import registry_with
 from .scenes import sample_params, tiny_scene
@@ -45,7 +46,10 @@ def check_plugin(
     ``engine=True``, a solve of :data:`TINY_SCENE` through
     :func:`xpersson.solve` with the plugin injected: finite outputs with the declared
     attributes, :func:`assert_schema`, two runs equal, and for boundaries and coefficients the
-    probability balance (``|probability_balance| <= balance_tol``).
+    probability balance (``|probability_balance| <= balance_tol``); then every fast path the
+    class declares (``fast_paths``) against the plain path on generated scenes, to 1e-12
+    relative (:func:`xpersson.testing.fastpaths.check_fast_paths`; with ``engine=False`` only
+    the unit checks of shared walls and shared tau).
 
     Parameters
     ----------
@@ -72,7 +76,8 @@ def check_plugin(
     Returns
     -------
     dict
-        What was checked (``{"metadata": "ok", "pickle": "ok", ...}``).
+        What was checked (``{"metadata": "ok", "pickle": "ok", ...,
+        "fast_paths.shared_walls": "ok ..."}``).
 
     Raises
     ------
@@ -116,6 +121,7 @@ def check_plugin(
         report["engine"] = _check_engine(cls, values, scene, balance_tol)
         if markov and group == "boundaries":
             report["markov"] = markov_cross_check(cls, values, scene, walkers=markov)
+    report.update(check_fast_paths(cls, values, scene, engine=engine))
     return report
 
 
