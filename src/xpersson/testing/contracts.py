@@ -17,7 +17,7 @@ from ._names import CHECK_NAME, qual
 from .fastpaths import check_fast_paths
 from .referee import markov_cross_check
 from .registry import registry_with
-from .scenes import sample_params, tiny_scene
+from .scenes import _tiny_context, sample_params, tiny_scene
 from .schema import assert_schema
 
 __all__ = ["HEAVY_MODULES", "check_plugin"]
@@ -153,24 +153,6 @@ def _check_import(cls: type, budget: float) -> str:
     )
     assert res["t"] <= budget, f"importing {module} took {res['t']:.2f} s (> {budget} s)"
     return f"ok ({res['t'] * 1e3:.0f} ms)"
-
-
-def _tiny_context(p0: tuple[float, ...] = (1e5, 1e6)) -> Any:
-    import numpy as np
-
-    from ..physics.psd import SelfAffineRollOff
-    from ..plugins import SceneContext
-
-    psd = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e6)
-    E, nu = 1e7, 0.5
-    return SceneContext(
-        psd=psd,
-        E=E,
-        nu=nu,
-        E_star=E / (1 - nu**2),
-        p0=np.asarray(p0, dtype=float),
-        zeta=np.geomspace(1.0, 1e3, 10),
-    )
 
 
 def _equal(a: Any, b: Any, what: str) -> None:

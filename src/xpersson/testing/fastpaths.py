@@ -31,7 +31,7 @@ from typing import Any
 from ..plugins import Plugin, plain_paths
 from ._names import CHECK_NAME, SECTION, qual
 from .registry import registry_with
-from .scenes import _scene_value, tiny_scene
+from .scenes import _scene_value, _tiny_context, tiny_scene
 
 __all__ = ["RTOL", "check_fast_paths"]
 
@@ -183,7 +183,6 @@ def _shared_walls(cls: type, params: dict[str, Any], scene: Any, engine: bool) -
 
     from ..physics import elastic
     from ..plugins import DiffusionClock
-    from .contracts import _tiny_context
 
     ctx = _tiny_context((1e4, 3e4, 1e5))
     inst = cls(**params)
@@ -215,8 +214,6 @@ def _shared_walls(cls: type, params: dict[str, Any], scene: Any, engine: bool) -
 
 def _shared_tau(cls: type, params: dict[str, Any], scene: Any, engine: bool) -> str:
     from collections.abc import Mapping as _Mapping
-
-    from .contracts import _tiny_context
 
     cond = cls.fast_paths.shared_tau
     if isinstance(cond, _Mapping):  # an instance that meets the declared condition
