@@ -50,9 +50,10 @@ class FastPaths:
         through its ``*_stacked`` methods (:meth:`~xpersson.plugins.Coefficient.tau_stacked`,
         :meth:`~xpersson.plugins.Coefficient.interpret_stacked`,
         :meth:`~xpersson.plugins.Analysis.compute_stacked`; the base classes' versions loop over
-        the points). Used when every plugin of the scene declares it and the points differ only
-        in declared parameters. Check: a sweep over the declared parameters through the stacked
-        path equals the point-by-point path (1e-12 relative).
+        the points). Used when every plugin of the scene declares it, the boundary also declares
+        ``shared_walls``, and the points differ only in declared parameters. Check: a sweep
+        over the declared parameters through the stacked path equals the point-by-point path
+        (1e-12 relative).
     shared_walls : bool
         Boundaries. Promise: :meth:`~xpersson.plugins.Boundary.walls` gives the same walls for
         every load ``p0``. Path: the walls are asked once for every load of a run (and of a
@@ -79,6 +80,14 @@ class FastPaths:
             object.__setattr__(self, "stacked_params", frozenset(sp))
         if isinstance(self.shared_tau, Mapping):  # read-only
             object.__setattr__(self, "shared_tau", types.MappingProxyType(dict(self.shared_tau)))
+
+    def __repr__(self) -> str:
+        given = {
+            f.name: dict(v) if isinstance(v, Mapping) else v
+            for f in dataclasses.fields(self)
+            if (v := getattr(self, f.name)) != f.default
+        }
+        return f"FastPaths({', '.join(f'{k}={v!r}' for k, v in given.items())})"
 
     def declared(self) -> tuple[str, ...]:
         """The names of the paths declared (``stacked`` for ``stacked_params``)."""
