@@ -39,7 +39,7 @@ from interface_analyses import scene as loads_scene  # noqa: E402
 from sweep_scaling import scene as eh_scene  # noqa: E402
 
 import xpersson  # noqa: E402
-from xpersson.sweep import batched  # noqa: E402
+from xpersson.sweep import plain_paths  # noqa: E402
 
 START, END = "<!-- speed-table:start -->", "<!-- speed-table:end -->"
 ANALYSES = ("mean_gap", "contact_stiffness", "gap_pdf", "leakage")
@@ -74,11 +74,8 @@ def best(fns: dict, rounds: int) -> dict[str, float]:
 
 def _point_by_point(sc: dict):
     def fn():
-        batched.ENABLED = False
-        try:
+        with plain_paths():
             xpersson.solve(sc)
-        finally:
-            batched.ENABLED = True
 
     return fn
 

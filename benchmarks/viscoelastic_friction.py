@@ -168,7 +168,7 @@ def solve_vs_kernel(rounds: int) -> tuple[dict, float, float, float]:
     import warnings
 
     import xpersson
-    from xpersson.sweep import batched
+    from xpersson.sweep import plain_paths
 
     scene = str(HERE.parent / "plugins/xpersson-viscoelastic/examples/tread_on_asphalt.toml")
     kw = {
@@ -179,11 +179,8 @@ def solve_vs_kernel(rounds: int) -> tuple[dict, float, float, float]:
     p0 = [1e5, 3e5]  # the example's two loads
 
     def point_by_point():
-        batched.ENABLED = False
-        try:
+        with plain_paths():
             xpersson.solve(scene, **kw)
-        finally:
-            batched.ENABLED = True
 
     fns = {
         "solve": lambda: xpersson.solve(scene, **kw),

@@ -75,3 +75,5 @@ def test_check_plugin(group, name, tmp_path):
         )
     assert report["metadata"] == "ok" and report["pickle"] == "ok"
     assert report["engine"].startswith("ok")
+    for path in cls.fast_paths.declared():  # each declared fast path run against the plain path
+        assert report[f"fast_paths.{path}"].startswith("ok"), report

@@ -10,7 +10,7 @@ from xpersson_sweep_testlib import scene
 
 import xpersson
 from xpersson.builtin.elastic import ElasticBoundary
-from xpersson.sweep import batched
+from xpersson.sweep import batched, plain_paths
 from xpersson.sweep.stacking import _row_digests
 from xpersson.testing import registry_with
 
@@ -24,9 +24,8 @@ MATERIAL_SCENE = scene(
 
 
 def _both(data, monkeypatch, **kw):
-    monkeypatch.setattr(batched, "ENABLED", False)
-    point = xpersson.solve(data, **kw)
-    monkeypatch.setattr(batched, "ENABLED", True)
+    with plain_paths():
+        point = xpersson.solve(data, **kw)
     return point, xpersson.solve(data, **kw)
 
 
@@ -34,9 +33,8 @@ def _both(data, monkeypatch, **kw):
 def test_batched_material_sweep_equals_point_by_point(monkeypatch, chunk):
     from xpersson.sweep import blocks
 
-    monkeypatch.setattr(batched, "ENABLED", False)
-    point = xpersson.solve(MATERIAL_SCENE, chunk=chunk)
-    monkeypatch.setattr(batched, "ENABLED", True)
+    with plain_paths():
+        point = xpersson.solve(MATERIAL_SCENE, chunk=chunk)
 
     def no_fallback(*a, **k):  # a block that falls back would pass the comparison silently
         raise AssertionError("a block fell back to point by point")
@@ -58,7 +56,7 @@ def test_batched_material_sweep_equals_point_by_point(monkeypatch, chunk):
 
 
 class _Undeclared(ElasticBoundary):
-    """The elastic wall in a subclass that does not declare ``pressure_scaled`` again."""
+    """The elastic wall in a subclass that does not declare its ``fast_paths`` again."""
 
     summary = "elastic wall, similarity not declared (test double)"
 

@@ -12,7 +12,7 @@ from xpersson_sweep_testlib import SlidingCoefficient, scene
 import xpersson
 from xpersson.plugins import ParamSpec
 from xpersson.scene import SceneError
-from xpersson.sweep import batched as batched_module
+from xpersson.sweep import plain_paths
 from xpersson.testing import registry_with
 
 SWEEP_SCENE = scene(spectrum={"H": [0.6, 0.8]}, material={"E": ["5 MPa", "10 MPa", "20 MPa"]})
@@ -234,18 +234,21 @@ def test_blocks_tile_the_grid_evenly_and_workers_get_equal_shares(
 
 @pytest.mark.parametrize("batched", [False, True])
 @pytest.mark.parametrize("chunk", [1, 4])
-def test_single_load_sweep_equals_individual_solves(chunk, batched, monkeypatch):
+def test_single_load_sweep_equals_individual_solves(chunk, batched):
     """Points with one scalar load: stacked unsqueezed, the block squeezed once (p0 a scalar
     coordinate), identical to each point's own solve point by point; solved as a batch of
     equivalent loads (contact similarity, :mod:`xpersson.sweep.batched`) equal to 1e-13."""
-    monkeypatch.setattr(batched_module, "ENABLED", batched)
     data = scene(
         spectrum={"H": [0.6, 0.8]},
         material={"E": ["5 MPa", "20 MPa"]},
         load={"p0": "1e5 Pa"},
         analyses={"contact_area": {}},
     )
-    swept = xpersson.solve(data, chunk=chunk)
+    if batched:
+        swept = xpersson.solve(data, chunk=chunk)
+    else:
+        with plain_paths():
+            swept = xpersson.solve(data, chunk=chunk)
     assert swept.area_fraction.dims == ("H", "E", "zeta") and swept.p0.dims == ()
     for H in (0.6, 0.8):
         for E in ("5 MPa", "20 MPa"):

@@ -1,6 +1,6 @@
 """Sweep points stacked in one run (issue 25): equal to the point-by-point path to 1e-12,
-used only where every plugin declares ``batched`` and the points differ only in declared
-parameters."""
+used only where every plugin declares ``fast_paths.stacked_params`` and the points differ only
+in declared parameters."""
 
 from __future__ import annotations
 
@@ -11,7 +11,8 @@ from xpersson_sweep_testlib import scene
 import xpersson
 from xpersson.builtin.elastic import ElasticBoundary
 from xpersson.pipeline import stacked
-from xpersson.sweep import batched, blocks
+from xpersson.plugins import fast_paths_on
+from xpersson.sweep import blocks, plain_paths
 from xpersson.testing import registry_with
 
 SPECTRUM_SCENE = scene(
@@ -37,7 +38,7 @@ def _counted(monkeypatch) -> list[int]:
         return run(points)
 
     def fallback(*args, **kw):
-        if batched.ENABLED:  # not the reference solve of the point-by-point path
+        if fast_paths_on():  # not the reference solve of the point-by-point path
             calls.append(-1)
         return point_run(*args, **kw)
 
@@ -47,9 +48,8 @@ def _counted(monkeypatch) -> list[int]:
 
 
 def _both(data, monkeypatch, **kw):
-    monkeypatch.setattr(batched, "ENABLED", False)
-    point = xpersson.solve(data, **kw)
-    monkeypatch.setattr(batched, "ENABLED", True)
+    with plain_paths():
+        point = xpersson.solve(data, **kw)
     return point, xpersson.solve(data, **kw)
 
 
@@ -85,9 +85,9 @@ def test_h_by_e_sweep_stacks_the_spectra_of_the_equivalent_loads(monkeypatch):
 
 
 class _Undeclared(ElasticBoundary):
-    """The elastic wall in a subclass that does not declare ``batched`` again."""
+    """The elastic wall in a subclass that does not declare its ``fast_paths`` again."""
 
-    summary = "elastic wall, batched not declared (test double)"
+    summary = "elastic wall, fast paths not declared (test double)"
 
 
 def test_undeclared_plugin_is_not_stacked(monkeypatch):
@@ -95,8 +95,8 @@ def test_undeclared_plugin_is_not_stacked(monkeypatch):
     data = scene(spectrum={"H": [0.6, 0.8]}, boundary={"model": "undeclared"})
     with registry_with(boundaries={"undeclared": _Undeclared}):
         ds = xpersson.solve(data)
-        monkeypatch.setattr(batched, "ENABLED", False)
-        point = xpersson.solve(data)
+        with plain_paths():
+            point = xpersson.solve(data)
     assert calls == [-1, -1]  # no stacked run: both points solved one by one
     np.testing.assert_array_equal(ds.area_fraction.values, point.area_fraction.values)
 
@@ -109,7 +109,7 @@ def test_points_differing_in_an_undeclared_parameter_are_not_stacked():
     d = as_scene(scene(spectrum={"q_r": "2e4 1/m"})).resolve()
     c = as_scene(scene(spectrum={"H": 0.6})).resolve()
     assert stacked.stack_reason([a, c]) is None
-    assert "not declared batched" in stacked.stack_reason([a, b])
+    assert "not declared in fast_paths.stacked_params" in stacked.stack_reason([a, b])
     assert stacked.stack_reason([a, d]) == "spectrum nodes"
     assert stacked.stack_reason([a]) == "one point"
 

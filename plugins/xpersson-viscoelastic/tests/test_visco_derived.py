@@ -10,7 +10,7 @@ import pytest
 
 import xpersson
 from xpersson.plugins import get_registry
-from xpersson.sweep import batched, derived
+from xpersson.sweep import derived, plain_paths
 from xpersson.sweep.execute import _resolve_index, resolve_points
 from xpersson.sweep.plan import expand
 
@@ -48,21 +48,23 @@ def test_only_declared_parameters_are_derived(monkeypatch):
         plan, (0,), (2,), lambda i: calls.append(i) or _resolve_index(plan, i, reg), str, reg
     )
     assert calls == [(0,)] and len(got) == 2
-    monkeypatch.setattr(batched, "ENABLED", False)
-    assert derived.derived_region(plan, (0,), (2,), None, str, reg) is None
-    monkeypatch.setattr(batched, "ENABLED", True)
-    plan = _plan(gamma=[0.4, 0.5])  # not declared batched: each point resolved
+    with plain_paths():
+        assert derived.derived_region(plan, (0,), (2,), None, str, reg) is None
+    plan = _plan(gamma=[0.4, 0.5])  # not a declared stacked parameter: each point resolved
     one = lambda i: _resolve_index(plan, i, reg)  # noqa: E731
     assert derived.derived_region(plan, (0,), (2,), one, str, reg) is None
 
 
 @pytest.mark.parametrize("enabled", [True, False])
-def test_bad_temperature_names_point_parameter_unit_and_range(monkeypatch, enabled):
+def test_bad_temperature_names_point_parameter_unit_and_range(enabled):
     # WLF with T_ref = 293.15 K, C2 = 114.75 K: temperatures at or below 178.4 K are refused
-    monkeypatch.setattr(batched, "ENABLED", enabled)
     plan = _plan(velocity=["1e-4 m/s", "0.03 m/s"], temperature=["300 K", "150 K"])
     with pytest.raises(xpersson.SceneError) as err:
-        resolve_points(plan, get_registry())
+        if enabled:
+            resolve_points(plan, get_registry())
+        else:
+            with plain_paths():
+                resolve_points(plan, get_registry())
     msg = str(err.value)
     assert msg.startswith("sweep point coefficient.velocity = 0.0001")
     assert "coefficient.temperature: 150 K is outside the range of the WLF law" in msg

@@ -11,7 +11,7 @@ import pytest
 import xpersson
 from xpersson.physics import SelfAffineRollOff
 from xpersson.pipeline import stacked
-from xpersson.sweep import batched, blocks, fast
+from xpersson.sweep import blocks, fast, plain_paths
 from xpersson_viscoelastic import kernel, synthetic_tread
 from xpersson_viscoelastic._paired import cumulative_paired
 
@@ -60,8 +60,8 @@ def test_friction_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
     assert len(templates) == 1  # one template point for every block of the sweep
     # the dense areas of a block: one engine call for all its (point, load) rows
     assert len(rows) == len(calls) and all(r is not None and r.shape[0] >= 1 for r in rows)
-    monkeypatch.setattr(batched, "ENABLED", False)
-    point = xpersson.solve(SCENE, chunk=chunk, **kw)
+    with plain_paths():
+        point = xpersson.solve(SCENE, chunk=chunk, **kw)
     assert list(batch.variables) == list(point.variables)
     for name, var in point.variables.items():
         if var.dtype.kind == "f":

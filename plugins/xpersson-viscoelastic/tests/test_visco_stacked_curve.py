@@ -8,7 +8,7 @@ from visco_testlib import scene
 
 import xpersson
 from xpersson.pipeline import stacked
-from xpersson.sweep import batched
+from xpersson.sweep import plain_paths
 
 FRICTION = {"friction": {"tau_f": "0.5 MPa", "shear_law": "velocity"}}
 WLF = {"shift": "wlf", "T_ref": "293.15 K", "C1": 7.84, "C2": "114.75 K"}
@@ -32,8 +32,8 @@ def test_master_curve_sweep_stacked_equals_point_by_point(tmp_path, monkeypatch)
     monkeypatch.setattr(stacked, "run_stacked", lambda pts: calls.append(len(pts)) or run(pts))
     batch = xpersson.solve(scene(coef, analyses=FRICTION))
     assert calls == [6]
-    monkeypatch.setattr(batched, "ENABLED", False)
-    point = xpersson.solve(scene(coef, analyses=FRICTION))
+    with plain_paths():
+        point = xpersson.solve(scene(coef, analyses=FRICTION))
     for name, var in point.variables.items():
         if var.dtype.kind == "f":
             np.testing.assert_allclose(batch[name].values, var.values, rtol=1e-12, atol=1e-300)

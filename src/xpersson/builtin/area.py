@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ..plugins import Analysis, ParamSpec, SceneContext, VarSpec
+from ..plugins import Analysis, FastPaths, ParamSpec, SceneContext, VarSpec
 
 __all__ = ["ContactArea"]
 
@@ -28,10 +28,9 @@ class ContactArea(Analysis):
     parameters: dict[str, ParamSpec] = {}
     requires = ("area_fraction",)
     provides = ("mean_contact_pressure", "kappa")
-    #: mean pressure scales with p0, kappa is a ratio: both similar in units of E*
-    pressure_scaled = True
-    #: a block of points at once (:meth:`compute_stacked`)
-    batched: frozenset[str] = frozenset()
+    #: contact similarity: the mean pressure scales with p0, kappa is a ratio (both similar in
+    #: units of E*); stacked: a block of points at once (:meth:`compute_stacked`)
+    fast_paths = FastPaths(contact_similarity=True, stacked_params=frozenset())
     outputs = {
         "mean_contact_pressure": VarSpec(
             ("p0", "zeta"),

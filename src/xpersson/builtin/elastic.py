@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..physics import closures, elastic
-from ..plugins import CLOSURE_PARAMETERS, Boundary, Coefficient, ParamSpec, VarSpec
+from ..plugins import CLOSURE_PARAMETERS, Boundary, Coefficient, FastPaths, ParamSpec, VarSpec
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..engine import Wall
@@ -40,10 +40,14 @@ class ElasticCoefficient(Coefficient):
     parameters = dict(CLOSURE_PARAMETERS)  # closure, gamma: declared once for every coefficient
     outputs: dict[str, VarSpec] = {}
     traits = frozenset({"elastic_spectrum"})
-    #: tau and f are E*^2 times the spectrum's moment; the closures act through A(G)
-    pressure_scaled = True
-    #: a block of points (other spectra, other E*) stacked: tau and f asked per point
-    batched: frozenset[str] = frozenset()
+    #: contact similarity: tau and f are E*^2 times the spectrum's moment, the closures act
+    #: through A(G); stacked: a block of points (other spectra, other E*), tau and f asked per
+    #: point; shared tau: without a closure, effective_tau only broadcasts tau(zeta)
+    fast_paths = FastPaths(
+        contact_similarity=True,
+        stacked_params=frozenset(),
+        shared_tau={"closure": "persson01"},
+    )
 
     def corrects_variance(self) -> bool:
         """True for the yp08, wm17 and xu24 closures."""
@@ -71,15 +75,6 @@ class ElasticCoefficient(Coefficient):
         """tau(zeta) = (pi/4) E*^2 int_{q_L}^{zeta q_L} q^3 C dq [Pa^2] (exact)."""
         return np.asarray(elastic.diffusion_time(ctx.psd, ctx.E_star, zeta), dtype=float)
 
-    @property
-    def tau_per_load(self) -> bool:
-        """Whether :meth:`effective_tau` differs from :meth:`tau` per load (only the closures).
-
-        ``False`` lets the pipeline use ``tau(zeta)`` for every load without asking
-        :meth:`effective_tau` (which would only broadcast it).
-        """
-        return self._params["closure"] != "persson01"
-
     def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """Per-load diffusion time [Pa^2]; the closures solve their ODE/fixed point to 1e-10.
 
@@ -102,12 +97,9 @@ class ElasticBoundary(Boundary):
     parameters: dict[str, ParamSpec] = {}
     outputs: dict[str, VarSpec] = {}
     traits = frozenset({"repulsive", "load_similar", "conservative"})
-    #: The walls do not depend on the load: the pipeline asks once for a batch of loads.
-    walls_per_load = False
-    #: the wall p = 0 is the same in units of E*
-    pressure_scaled = True
-    #: walls at p = 0 for every point of a block
-    batched: frozenset[str] = frozenset()
+    #: the wall p = 0 is the same for every load (asked once), the same in units of E*
+    #: (contact similarity) and for every point of a stacked block
+    fast_paths = FastPaths(contact_similarity=True, stacked_params=frozenset(), shared_walls=True)
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """One absorbing wall at p = 0 [Pa]; no upper wall."""

@@ -7,7 +7,7 @@ from typing import Any
 
 from ..physics.psd import PowerSpectrum, SelfAffineRollOff
 from ..physics.psd import Tabulated as _TabulatedPSD
-from ..plugins import ParamSpec, Spectrum
+from ..plugins import FastPaths, ParamSpec, Spectrum
 from .topography import TABLE_PARAMETERS, ArchivedTable
 
 __all__ = ["SelfAffine", "Tabulated"]
@@ -66,7 +66,7 @@ class SelfAffine(Spectrum):
     }
     #: points of a sweep block may differ in the exponent and the amplitude (one spectrum each,
     #: the same q nodes and output grid)
-    batched = frozenset({"H", "h_rms", "rms_slope", "C_r"})
+    fast_paths = FastPaths(stacked_params=frozenset({"H", "h_rms", "rms_slope", "C_r"}))
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)

@@ -1,10 +1,11 @@
 """Stacked points: a block of sweep points solved by one run (issue 25).
 
-Points whose plugins all declare :attr:`xpersson.plugins.Plugin.batched` and that differ only
-in declared parameters (same classes, material, loads count, output grid, spectrum nodes,
-accuracy) are solved together: the coefficient is asked once for the block
-(:meth:`~xpersson.plugins.Coefficient.tau_stacked`), the engine once for every (point, load)
-with each load's own ``tau(zeta)`` row, the boundary's walls per point, the coefficient's
+Points whose plugins all declare a stacked path (``fast_paths.stacked_params``,
+:class:`xpersson.plugins.FastPaths`) and that differ only in those parameters (same classes,
+material, loads count, output grid, spectrum nodes, accuracy) are solved together: the
+coefficient is asked once for the block (:meth:`~xpersson.plugins.Coefficient.tau_stacked`),
+the engine once for every (point, load) with each load's own ``tau(zeta)`` row, the
+boundary's walls per point, the coefficient's
 :meth:`~xpersson.plugins.Coefficient.interpret_stacked` and each analysis's
 :meth:`~xpersson.plugins.Analysis.compute_stacked` once, on one Dataset whose variables carry a
 leading ``point`` dimension. :func:`run_stacked` returns that Dataset's variables as
@@ -21,12 +22,13 @@ import numpy as np
 import xarray as xr
 
 from .. import checks, plugins
+from ..cache import solve_scope
 from ..scene import ResolvedScene
 from .assemble import assemble
 from .diagnostics import validity_flags
 from .frontend import diffusion_clock, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
-from .stages import _default_effective_tau, coefficient_arrays, load_walls, validate
+from .stages import coefficient_arrays, load_walls, shared_tau, validate
 
 __all__ = ["POINT", "stack_reason", "run_stacked", "rows_of"]
 
@@ -76,10 +78,10 @@ def _differs(rs: ResolvedScene, rs0: ResolvedScene) -> str | None:
             return f"{role}: plugin"
         if a is b:
             continue
-        declared = vars(type(a)).get("batched") or frozenset()
+        fp = type(a).fast_paths
         pa, pb = a.params, b.params  # (one mapping view each, not one per parameter)
-        if any(k not in declared and not _equal(v, pb[k]) for k, v in pa.items()):
-            return f"{role}: a parameter not declared batched"
+        if any(not fp.stacks(k) and not _equal(v, pb[k]) for k, v in pa.items()):
+            return f"{role}: a parameter not declared in fast_paths.stacked_params"
     return None
 
 
@@ -90,11 +92,11 @@ def stack_reason(points: Sequence[ResolvedScene]) -> str | None:
         return "one point"
     if rs0.pressure_pdf or rs0.p0.size == 0:
         return "pressure grid"
-    if getattr(type(rs0.boundary), "walls_per_load", True):
+    if not type(rs0.boundary).fast_paths.shared_walls:
         return "walls per load"
     for role, plugin in _roles(rs0):
-        if vars(type(plugin)).get("batched") is None:
-            return f"{role}: {type(plugin).__name__} does not declare batched"
+        if type(plugin).fast_paths.stacked_params is None:
+            return f"{role}: {type(plugin).__name__} does not declare a stacked path"
     for rs in points[1:]:
         why = _differs(rs, rs0)
         if why:
@@ -109,7 +111,7 @@ def run_stacked(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, .
     ``point`` dimension where it differs between points), or ``None`` where a load did not
     meet its tolerance (the caller then solves point by point, recording each status).
     """
-    with plugins.time_limit(points[0].plugin_time_limit):
+    with plugins.time_limit(points[0].plugin_time_limit), solve_scope():
         return _run(points)
 
 
@@ -119,7 +121,7 @@ def _coefficient(points: Sequence[ResolvedScene], ctxs: list[Any]) -> tuple[Any,
     who = rs0.labels["coefficient"]
     coefs = [rs.coefficient for rs in points]
     K, nz = len(points), rs0.zeta.size
-    if all(_default_effective_tau(c) for c in coefs):
+    if all(shared_tau(c) for c in coefs):
         with checks.calling(who, "tau(zeta)"):
             tau, f = rs0.coefficient.tau_stacked(ctxs, coefs, rs0.zeta)
         kw: dict[str, Any] = dict(nonnegative=True, unit="Pa2")
@@ -309,18 +311,18 @@ class _PointContexts:
 
     def __init__(self, points: Sequence[ResolvedScene], ctxs: list[Any], walls: list[Any]):
         self._points, self._ctxs, self._walls = points, ctxs, walls
-        self._cache: dict[int, Any] = {}
+        self._built: list[Any] = [None] * len(points)  # each point's context, once made
 
     def __call__(self, k: int) -> Any:
-        if k not in self._cache:
+        if self._built[k] is None:
             rs, ctx = self._points[k], self._ctxs[k]
-            self._cache[k] = dataclasses.replace(
+            self._built[k] = dataclasses.replace(
                 ctx,
                 coefficient=rs.coefficient,
                 boundary=rs.boundary,
                 solve_at=make_solve_at(rs, ctx, [self._walls[k]] * rs.p0.size),
             )
-        return self._cache[k]
+        return self._built[k]
 
     def solve_rows(self, point: np.ndarray, load: np.ndarray, tau: np.ndarray) -> Any:
         """``A/A0`` (n_row, n_tau) of load ``load[i]`` of point ``point[i]`` at the diffusion
@@ -330,7 +332,7 @@ class _PointContexts:
         from .. import engine
 
         pts = [self._points[int(k)] for k in np.unique(point)]
-        if any(getattr(rs.coefficient, "tau_per_load", True) is not False for rs in pts):
+        if not all(shared_tau(rs.coefficient) for rs in pts):
             return None
         rs0 = self._points[0]
         p0 = np.array([self._points[int(k)].p0[int(i)] for k, i in zip(point, load, strict=True)])

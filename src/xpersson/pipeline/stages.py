@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..plugins import Analysis, Coefficient, SceneContext
+from ..plugins import Analysis, Coefficient, SceneContext, fast_paths_on
 from ..scene import ResolvedScene, SceneError
 
-__all__ = ["validate", "coefficient_arrays", "load_walls"]
+__all__ = ["validate", "coefficient_arrays", "load_walls", "shared_tau"]
 
 
 def validate(rs: ResolvedScene, ctx: SceneContext, boundary: Any, analyses: list[Any]) -> None:
@@ -38,8 +38,9 @@ def validate(rs: ResolvedScene, ctx: SceneContext, boundary: Any, analyses: list
 
 def load_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) -> list[Any]:
     """The checked (lower, upper) walls of every load (asked once when the boundary declares
-    walls that do not depend on the load)."""
-    if getattr(type(rs.boundary), "walls_per_load", True):
+    walls that do not depend on the load, ``fast_paths.shared_walls``, outside
+    :func:`~xpersson.plugins.plain_paths`)."""
+    if not (type(rs.boundary).fast_paths.shared_walls and fast_paths_on()):
         walls = []
         for p0 in rs.p0:
             with checks.calling(who, f"walls() for p0 = {float(p0):g} Pa"):
@@ -86,7 +87,7 @@ def coefficient_arrays(
     with checks.calling(who, "f(zeta)"):
         f_z = coef.f(ctx, ctx.zeta)
     f_z = checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
-    if _default_effective_tau(coef):  # the base class broadcasts tau(zeta): nothing to ask
+    if shared_tau(coef):  # effective tau only broadcasts tau(zeta): nothing to ask
         return tau_c, f_z, np.broadcast_to(tau_c, (nl, nz)), True
     with checks.calling(who, "effective_tau(zeta)"):
         tau_eff = coef.effective_tau(ctx, ctx.zeta)
@@ -106,21 +107,17 @@ def coefficient_arrays(
     return tau_c, f_z, tau_eff, shared
 
 
-def _default_effective_tau(coef: Any) -> bool:
-    """Whether ``coef``'s effective tau is tau(zeta) for every load: it inherits
-    :meth:`Coefficient.effective_tau` or declares ``tau_per_load = False``."""
+def shared_tau(coef: Any) -> bool:
+    """Whether ``coef``'s effective tau is tau(zeta) for every load: its class inherits
+    :meth:`Coefficient.effective_tau` (which broadcasts it) or declares it
+    (``fast_paths.shared_tau``, for this instance's parameters); ``False`` inside
+    :func:`~xpersson.plugins.plain_paths` (then every load is asked)."""
     cls = type(coef)
-    if getattr(cls, "effective_tau", None) is Coefficient.effective_tau:
+    if not fast_paths_on():
+        return False
+    if cls.effective_tau is Coefficient.effective_tau:
         return True
-
-    def owner(attr: str) -> type | None:
-        return next((c for c in cls.__mro__ if attr in vars(c)), None)
-
-    # the declaration counts only from the class whose effective_tau it describes (a subclass
-    # overriding effective_tau is asked as usual)
-    return getattr(coef, "tau_per_load", True) is False and owner("tau_per_load") is owner(
-        "effective_tau"
-    )
+    return cls.fast_paths.tau_shared(coef.params)
 
 
 def _equals_rows(value: Any, row: np.ndarray, shape: tuple[int, int]) -> bool:

@@ -22,6 +22,7 @@ from ._base import (
     Spectrum,
     check_plugin_class,
 )
+from ._fastpaths import NO_FAST_PATHS, FastPaths, fast_paths_on, plain_paths
 from ._groups import ENTRY_POINT_PREFIX, GROUP_NAMES, PLUGIN_GROUPS
 from ._limits import PluginTimeout, current_limit, limited, time_limit
 from ._registry import (
@@ -45,6 +46,7 @@ __all__ = [
     "CLOSURE_PARAMETERS",
     "COEFFICIENT_TRAITS",
     "ENTRY_POINT_PREFIX",
+    "NO_FAST_PATHS",
     "GROUPS",
     "GROUP_NAMES",
     "PLUGIN_GROUPS",
@@ -53,6 +55,7 @@ __all__ = [
     "Boundary",
     "Coefficient",
     "DiffusionClock",
+    "FastPaths",
     "ParamSpec",
     "PlanError",
     "Plugin",
@@ -66,9 +69,11 @@ __all__ = [
     "VarSpec",
     "check_plugin_class",
     "current_limit",
+    "fast_paths_on",
     "get_registry",
     "limited",
     "normalize_group",
+    "plain_paths",
     "plan_analyses",
     "plugin_provenance",
     "set_registry",

@@ -15,6 +15,7 @@ from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from ..specs import ParamSpec, SpecError, VarSpec
+from ._fastpaths import NO_FAST_PATHS, FastPaths, settle
 from ._groups import PLUGIN_GROUPS
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -80,6 +81,8 @@ class Plugin:
         Scene parameters with SI units, defaults and bounds.
     outputs : Mapping[str, VarSpec]
         Dataset variables the plugin contributes.
+    fast_paths : FastPaths
+        The faster paths the pipeline may take (:mod:`xpersson.plugins._fastpaths`).
     """
 
     group: ClassVar[str] = ""
@@ -90,23 +93,14 @@ class Plugin:
     outputs: ClassVar[Mapping[str, VarSpec]] = {}
     #: set on abstract intermediate classes to skip the metadata check
     abstract: ClassVar[bool] = True
-    #: Contact similarity: the plugin's outputs depend on the material only through E* and
-    #: are unchanged in units of E* when E* and every load scale together (an output in
-    #: Pa^n scales as E*^n). Lets a sweep over ``material.E`` / ``material.nu`` be solved as
-    #: one batch of loads (:mod:`xpersson.sweep.batched`); without it, point by point. It
-    #: counts only on the class that declares it (subclasses declare it again).
-    pressure_scaled: ClassVar[bool] = False
-    #: Stacked points (issue 25): ``None`` (the default) or the names of the plugin's own
-    #: parameters that may differ between the points of a sweep block solved as one run. A
-    #: declaring plugin accepts a block stacked over a point axis (its ``*_stacked`` hooks
-    #: below; the defaults loop over the points). A block is stacked only when every plugin of
-    #: the scene declares it and the points differ only in declared parameters
-    #: (:mod:`xpersson.pipeline.stacked`); like ``pressure_scaled``, it counts only on the
-    #: class that declares it.
-    batched: ClassVar[frozenset[str] | None] = None
+    #: The fast paths the class declares (:class:`~xpersson.plugins.FastPaths`: contact
+    #: similarity, stacked parameters, shared walls, shared tau); checked at class creation,
+    #: not inherited (a subclass declares its own; without one, every path is plain).
+    fast_paths: ClassVar[FastPaths] = NO_FAST_PATHS
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
+        settle(cls, f"{cls.__module__}.{cls.__qualname__}")
         if cls.__dict__.get("abstract", False):
             return
         cls.abstract = False
@@ -202,6 +196,7 @@ def _check_class(cls: type[Plugin]) -> None:
     extra = GROUP_CHECKS.get(cls.group)
     if extra is not None:
         extra(cls, name)
+    settle(cls, name)
 
 
 class Spectrum(Plugin):
@@ -281,7 +276,8 @@ class Coefficient(Plugin):
         """``(tau, f)`` [Pa^2] of a block of points, each ``(n_point, n_zeta)``.
 
         ``points`` are the points' coefficients (``self`` is the first; their parameters differ
-        only in :attr:`batched` ones), ``ctxs`` their contexts. The default asks each point.
+        only in the declared ``fast_paths.stacked_params``), ``ctxs`` their contexts. Called
+        only for classes that declare a stacked path; the default asks each point.
         """
         import numpy as np
 
@@ -295,7 +291,7 @@ class Coefficient(Plugin):
         self, ctxs: Sequence[SceneContext], points: Sequence[Coefficient]
     ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
         """:meth:`interpret` of a block: every value with a leading point axis (its dims
-        without it). The default asks each point."""
+        without it). Called as :meth:`tau_stacked` is; the default asks each point."""
         import numpy as np
 
         outs = [c.interpret(x) for c, x in zip(points, ctxs, strict=True)]
@@ -417,7 +413,8 @@ class Analysis(Plugin):
     ) -> dict[str, Any]:
         """:meth:`compute` of a block: ``ds`` carries the points on a leading ``point``
         dimension, ``ctx_of(k)`` is point k's context (with ``solve_at``). Return
-        ``{name: DataArray}`` with the ``point`` dimension. The default computes each point.
+        ``{name: DataArray}`` with the ``point`` dimension. Called only for classes that
+        declare ``fast_paths.stacked_params``; the default computes each point.
         """
         import xarray as xr
 

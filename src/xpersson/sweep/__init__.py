@@ -28,9 +28,13 @@ Dimension naming rule:
 A zipped group is one dimension named after its first parameter; the others are coordinates
 along it. Each point is solved by the ordinary one-scene pipeline with one scalar value per
 parameter (plugins never see a sweep), so the result equals stacking individual solves.
-Where every plugin declares contact similarity (``pressure_scaled``), the points of a block
-that differ only in ``material.E`` / ``material.nu`` are solved as one batch of equivalent loads
-(:mod:`.batched`): equal to the individual solves to rounding (1e-13 relative).
+Where every plugin declares contact similarity (``fast_paths.contact_similarity``), the points
+of a block that differ only in ``material.E`` / ``material.nu`` are solved as one batch of
+equivalent loads (:mod:`.batched`): equal to the individual solves to rounding (1e-13
+relative); where every plugin declares stacked parameters (``fast_paths.stacked_params``) and
+the points differ only in those, a block is one stacked run (:mod:`.fast`). Inside
+:func:`plain_paths` every point is solved on its own (the reference the fast paths are
+checked against).
 
 Modules: :mod:`.plan` (expand a scene into a :class:`SweepPlan`), :mod:`.blocks` (cut the grid
 into blocks, solve and stack a block's points), :mod:`.batched` (material sweeps as batches),
@@ -42,6 +46,8 @@ an index) and :mod:`.folder` (a run into a folder as a transaction: lock, identi
 from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
+from ..plugins import plain_paths
+
 if TYPE_CHECKING:  # imported on first access (below): a scene without a sweep needs only .plan
     from .blocks import POINT_STATUS, Block, BlockResult, blocks_of, run_block, stack
     from .execute import check_size, resolve_points, solve_sweep
@@ -50,6 +56,7 @@ if TYPE_CHECKING:  # imported on first access (below): a scene without a sweep n
     from .plan import SweepParam, SweepPlan, cf_units, expand
 
 __all__ = [
+    "plain_paths",
     "SweepParam",
     "SweepPlan",
     "expand",

@@ -1,9 +1,10 @@
 """Batched sweep points: material sweeps solved as one batch of loads (contact similarity).
 
-Where every plugin of a scene declares ``pressure_scaled`` (:attr:`xpersson.plugins.Plugin.
-pressure_scaled`: its outputs depend on the material only through E* and scale as E*^n with
-their unit Pa^n when E* and the load scale together), a point (E*_k, p0) is the point
-(E*_ref, p0 E*_ref / E*_k) with every Pa^n output multiplied by (E*_k / E*_ref)^n. The points
+Where every plugin of a scene declares contact similarity (``fast_paths.contact_similarity``,
+:class:`xpersson.plugins.FastPaths`: its outputs depend on the material only through E* and
+scale as E*^n with their unit Pa^n when E* and the load scale together), a point (E*_k, p0)
+is the point (E*_ref, p0 E*_ref / E*_k) with every Pa^n output multiplied by
+(E*_k / E*_ref)^n. The points
 of a block that differ only in ``material.E`` / ``material.nu`` are then solved by one pipeline
 run whose loads are those equivalent loads (one engine call), and the block's Dataset is filled
 from it directly (no Dataset per point). Blocks where a plugin does not declare it, or where a
@@ -29,6 +30,7 @@ import xarray as xr
 
 from ..errors import XperssonWarning
 from ..pipeline import run, stacked
+from ..plugins import fast_paths_on
 
 __all__ = [
     "SweepPoints",
@@ -37,13 +39,10 @@ __all__ = [
     "batched_block",
     "batch_capable",
     "scaled_ok",
-    "ENABLED",
 ]
 
 #: Swept paths a batch of loads replaces (they enter the physics only through E*).
 MATERIAL = ("material.E", "material.nu")
-#: Switch for the batched path (tests compare it with the point-by-point path).
-ENABLED = True
 
 
 def material_dims(groups: Sequence[Sequence[Any]]) -> tuple[bool, ...]:
@@ -149,7 +148,7 @@ def resolved_region(
     """The points of a region with one resolve per non-material combination, or ``None`` when
     the sweep has no material dimension (``resolve(index)`` resolves the point at ``index``)."""
     material = material_dims(groups)
-    if not ENABLED or not any(material):
+    if not fast_paths_on() or not any(material):
         return None
     subs = {}
     # material dimensions at their first value, whatever the region: every block then scales
@@ -164,11 +163,12 @@ def resolved_region(
 
 
 def scaled_ok(rs: Any) -> bool:
-    """Whether every plugin of a point declares ``pressure_scaled`` and the point is one
+    """Whether every plugin of a point declares contact similarity and the point is one
     load without a pressure grid.
 
-    The declaration counts only on the plugin's own class: a subclass (which may change the
-    physics) is solved point by point unless it declares it again.
+    The declaration counts only on the plugin's own class (:class:`~xpersson.plugins.FastPaths`
+    is not inherited): a subclass (which may change the physics) is solved point by point
+    unless it declares it again.
     """
     plugins = [rs.coefficient, rs.boundary, *(a for _, a in rs.analyses)]
     return (
@@ -176,13 +176,13 @@ def scaled_ok(rs: Any) -> bool:
         and rs.p0.size == 1
         and float(rs.p0[0]) > 0
         and not rs.pressure_pdf
-        and all(vars(type(p)).get("pressure_scaled", False) is True for p in plugins)
+        and all(type(p).fast_paths.contact_similarity for p in plugins)
     )
 
 
 def batch_capable(groups: Sequence[Sequence[Any]], rs: Any) -> bool:
     """Whether points like ``rs`` of a sweep with these groups are solved as batches."""
-    return ENABLED and any(material_dims(groups)) and scaled_ok(rs)
+    return fast_paths_on() and any(material_dims(groups)) and scaled_ok(rs)
 
 
 # units that carry one power of pressure: Pa, and N = Pa m^2, J = Pa m^3, W = Pa m^3 s^-1
@@ -203,7 +203,7 @@ def batched_block(block: Any, points: SweepPoints, names: list[str], template: x
 
     Returns ``(rows, solver)``: name -> array ``(block.size, *template[name].shape)`` and the
     solver records of the batched runs; ``None`` where the block must be solved point by point
-    (a plugin without ``pressure_scaled``, a run that did not meet its tolerance, equal E*).
+    (a plugin without contact similarity, a run that did not meet its tolerance, equal E*).
     The sub-points (one per combination of the non-material values) are solved by one stacked
     run where their plugins allow it (:mod:`xpersson.pipeline.stacked`), else one run each.
     """

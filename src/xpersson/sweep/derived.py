@@ -1,7 +1,7 @@
 """Sweep points derived from one resolved point (issue 25: stacked sweeps resolved per block).
 
 Where every swept parameter is a parameter of the scene's ``coefficient`` or ``boundary`` that
-its plugin declares :attr:`~xpersson.plugins.Plugin.batched`, the points of a region differ
+its plugin declares stackable (``fast_paths.stacked_params``), the points of a region differ
 from its first point only in those plugins' parameters. Only that first point is resolved in
 full (scene checks, spectrum, grids, provenance); the swept values are converted and
 range-checked once per value (as a point's resolution converts them), and every other point is
@@ -19,8 +19,8 @@ from collections.abc import Callable
 from typing import Any
 
 from ..checks import plugin_label
+from ..plugins import fast_paths_on
 from ..scene import SceneError, convert_param, plugin_message
-from . import batched
 from .plan import SweepPlan
 
 __all__ = ["derived_region"]
@@ -43,12 +43,8 @@ def _swept(plan: SweepPlan) -> list[tuple[int, Any, str, str]] | None:
 
 
 def _declared(rs: Any, swept: list[tuple[int, Any, str, str]]) -> bool:
-    """Whether each swept parameter is declared ``batched`` by its plugin's own class."""
-    for _, _, section, key in swept:
-        declared = vars(type(getattr(rs, section))).get("batched") or frozenset()
-        if key not in declared:
-            return False
-    return True
+    """Whether each swept parameter is in its plugin's ``fast_paths.stacked_params``."""
+    return all(type(getattr(rs, section)).fast_paths.stacks(key) for _, _, section, key in swept)
 
 
 def derived_region(
@@ -60,7 +56,7 @@ def derived_region(
     registry: Any,
 ) -> list[Any] | None:
     """The resolved points of the region ``start:stop`` (C order) from one resolved point, or
-    ``None`` where the sweep's parameters are not all declared batched (resolve each point).
+    ``None`` where the sweep's parameters are not all declared stackable (resolve each point).
 
     Parameters
     ----------
@@ -76,7 +72,7 @@ def derived_region(
         The plugin registry (labels of the derived plugins).
     """
     swept = _swept(plan)
-    if not batched.ENABLED or swept is None or plan.size < 2:
+    if not fast_paths_on() or swept is None or plan.size < 2:
         return None
     rs0 = resolve(tuple(start))
     if not _declared(rs0, swept):

@@ -55,7 +55,8 @@ def _resolve_index(plan: SweepPlan, index: tuple[int, ...], registry: Any) -> An
 def _region(plan: SweepPlan, start: tuple[int, ...], stop: tuple[int, ...], registry: Any) -> Any:
     """The resolved points of a region: one resolve per non-material combination
     (:func:`.batched.resolved_region`), one per region where the swept parameters are declared
-    batched (:func:`.derived.derived_region`), or ``None`` (resolve every point)."""
+    stackable (``fast_paths.stacked_params``, :func:`.derived.derived_region`), or ``None``
+    (resolve every point)."""
     region = resolved_region(plan.groups, start, stop, lambda i: _resolve_index(plan, i, registry))
     if region is not None:
         return region

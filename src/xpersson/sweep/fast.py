@@ -4,11 +4,8 @@
 
 from __future__ import annotations
 
-import contextlib
-import gc
 import json
 import warnings
-from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -16,7 +13,7 @@ import xarray as xr
 
 from ..errors import XperssonWarning
 from ..pipeline import run, squeeze_p0, stacked
-from . import batched
+from ..plugins import fast_paths_on
 from .batched import SweepPoints, batched_block, scaled_ok
 from .stacking import (
     Block,
@@ -76,7 +73,7 @@ def similar_block(
 ) -> BlockResult | None:
     """The block solved as batches of loads (:mod:`.batched`), or ``None`` (point by point)."""
     if not all(scaled_ok(rs) for rs in points.distinct()):
-        return None  # a plugin without pressure_scaled: no template run wasted
+        return None  # a plugin without contact similarity: no template run wasted
     template = _template(points[0], block, quiet_warnings)
     if template is None:
         return None
@@ -99,23 +96,6 @@ def _shared_template(shared: dict[str, Any] | None, rs: Any) -> xr.Dataset | Non
     return shared["template"]
 
 
-@contextlib.contextmanager
-def _collector_paused() -> Iterator[None]:
-    """Python's cyclic garbage collector paused while a block is stacked (and on again after,
-    unless it was off already). A block's run allocates thousands of short-lived containers
-    (Datasets, per-point contexts) freed by reference counting; the collections they trigger
-    each walk the process's ~1e5 long-lived objects (the imported libraries): ~13 ms of a
-    150-point friction sweep's ~90 ms. Collection is only deferred, not skipped."""
-    if not gc.isenabled():
-        yield
-        return
-    gc.disable()
-    try:
-        yield
-    finally:
-        gc.enable()
-
-
 def stacked_block(
     block: Block,
     points: list[Any],
@@ -125,7 +105,7 @@ def stacked_block(
     shared: dict[str, Any] | None = None,
 ) -> BlockResult | None:
     """The block's points stacked in one run (:func:`xpersson.pipeline.stacked.run_stacked`),
-    or ``None`` (point by point: a plugin without ``batched``, points that differ otherwise,
+    or ``None`` (point by point: a plugin without a stacked path, points that differ otherwise,
     a load that did not meet its tolerance, a failure).
 
     ``shared`` (a dict kept across the blocks of one in-memory sweep) holds the first
@@ -133,10 +113,9 @@ def stacked_block(
     first point again (the sweep's Dataset takes its global attributes from the first block;
     a block written as a part always solves its own).
     """
-    if not batched.ENABLED or stacked.stack_reason(points) is not None:
+    if not fast_paths_on() or stacked.stack_reason(points) is not None:
         return None
-    with _collector_paused():
-        return _stacked(block, points, part, quiet_warnings, part_attrs, shared)
+    return _stacked(block, points, part, quiet_warnings, part_attrs, shared)
 
 
 def _stacked(

@@ -12,6 +12,8 @@ Typical use in a plugin's own test-suite::
             ds = xpersson.solve({..., "boundary": {"model": "mywall", "s": "1 kPa"}})
 
 One job per module: :mod:`~xpersson.testing.contracts` (:func:`check_plugin`),
+:mod:`~xpersson.testing.fastpaths` (:func:`check_fast_paths`: each declared fast path against
+the plain path),
 :mod:`~xpersson.testing.registry` (:func:`registry_with`), :mod:`~xpersson.testing.scenes`
 (:data:`TINY_SCENE`, :func:`tiny_scene`, the factories :func:`scene`, :func:`spectrum`,
 :func:`material`), :mod:`~xpersson.testing.schema` (:func:`assert_schema`),
@@ -29,6 +31,7 @@ from __future__ import annotations
 
 from .analysis_referee import check_analysis
 from .contracts import HEAVY_MODULES, check_plugin
+from .fastpaths import check_fast_paths
 from .oracles import (
     constant_wall_area,
     constant_wall_load,
@@ -63,6 +66,7 @@ __all__ = [
     "TINY_SCENE",
     "assert_schema",
     "check_analysis",
+    "check_fast_paths",
     "check_plugin",
     "constant_wall_area",
     "constant_wall_load",

@@ -14,9 +14,10 @@ from typing import Any
 from ..plugins import API_VERSION, Plugin, SpecError, check_plugin_class
 from ..specs import caret_units
 from ._names import CHECK_NAME, qual
+from .fastpaths import check_fast_paths
 from .referee import markov_cross_check
 from .registry import registry_with
-from .scenes import sample_params, tiny_scene
+from .scenes import _tiny_context, sample_params, tiny_scene
 from .schema import assert_schema
 
 __all__ = ["HEAVY_MODULES", "check_plugin"]
@@ -45,7 +46,10 @@ def check_plugin(
     ``engine=True``, a solve of :data:`TINY_SCENE` through
     :func:`xpersson.solve` with the plugin injected: finite outputs with the declared
     attributes, :func:`assert_schema`, two runs equal, and for boundaries and coefficients the
-    probability balance (``|probability_balance| <= balance_tol``).
+    probability balance (``|probability_balance| <= balance_tol``); then every fast path the
+    class declares (``fast_paths``) against the plain path on generated scenes, to 1e-12
+    relative (:func:`xpersson.testing.fastpaths.check_fast_paths`; with ``engine=False`` only
+    the unit checks of shared walls and shared tau).
 
     Parameters
     ----------
@@ -72,7 +76,8 @@ def check_plugin(
     Returns
     -------
     dict
-        What was checked (``{"metadata": "ok", "pickle": "ok", ...}``).
+        What was checked (``{"metadata": "ok", "pickle": "ok", ...,
+        "fast_paths.shared_walls": "ok ..."}``).
 
     Raises
     ------
@@ -116,6 +121,7 @@ def check_plugin(
         report["engine"] = _check_engine(cls, values, scene, balance_tol)
         if markov and group == "boundaries":
             report["markov"] = markov_cross_check(cls, values, scene, walkers=markov)
+    report.update(check_fast_paths(cls, values, scene, engine=engine))
     return report
 
 
@@ -147,24 +153,6 @@ def _check_import(cls: type, budget: float) -> str:
     )
     assert res["t"] <= budget, f"importing {module} took {res['t']:.2f} s (> {budget} s)"
     return f"ok ({res['t'] * 1e3:.0f} ms)"
-
-
-def _tiny_context(p0: tuple[float, ...] = (1e5, 1e6)) -> Any:
-    import numpy as np
-
-    from ..physics.psd import SelfAffineRollOff
-    from ..plugins import SceneContext
-
-    psd = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e6)
-    E, nu = 1e7, 0.5
-    return SceneContext(
-        psd=psd,
-        E=E,
-        nu=nu,
-        E_star=E / (1 - nu**2),
-        p0=np.asarray(p0, dtype=float),
-        zeta=np.geomspace(1.0, 1e3, 10),
-    )
 
 
 def _equal(a: Any, b: Any, what: str) -> None:

@@ -196,3 +196,23 @@ def tiny_scene(
         else:
             sc[section] = {"model": CHECK_NAME, **raw}
     return sc
+
+
+def _tiny_context(p0: tuple[float, ...] = (1e5, 1e6)) -> Any:
+    """The tiny scene's context (spectrum, material, loads ``p0`` [Pa], 10 zeta points) for
+    the unit checks of plugin methods."""
+    import numpy as np
+
+    from ..physics.psd import SelfAffineRollOff
+    from ..plugins import SceneContext
+
+    psd = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e6)
+    E, nu = 1e7, 0.5
+    return SceneContext(
+        psd=psd,
+        E=E,
+        nu=nu,
+        E_star=E / (1 - nu**2),
+        p0=np.asarray(p0, dtype=float),
+        zeta=np.geomspace(1.0, 1e3, 10),
+    )

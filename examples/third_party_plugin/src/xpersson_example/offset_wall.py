@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from xpersson.plugins import Boundary, ParamSpec, VarSpec
+from xpersson.plugins import Boundary, FastPaths, ParamSpec, VarSpec
 
 if TYPE_CHECKING:  # only for type checkers: importing the engine here would slow listing
     from xpersson.engine import Wall
@@ -59,6 +59,9 @@ class OffsetWall(Boundary):
             description="int p P dp - p0 = s (1 - A/A0) for the constant wall",
         ),
     }
+    #: The wall p = -s is the same for every load: the pipeline may ask once for all loads
+    #: (check_plugin compares that with asking each load).
+    fast_paths = FastPaths(shared_walls=True)
 
     def validate(self, ctx: SceneContext) -> None:
         """Every load must lie above the wall (always true for p0 > 0)."""

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from xpersson.plugins import Boundary, ParamSpec, VarSpec
+from xpersson.plugins import Boundary, FastPaths, ParamSpec, VarSpec
 
 from ._outputs import AREA_OUTPUTS, assemble, stack
 from ._series import three_gaussian_areas
@@ -120,10 +120,10 @@ class PlasticBoundary(Boundary):
     contact_area = ("elastic_area_fraction", "plastic_area_fraction")
     elastic_area = "elastic_area_fraction"
     elastic_area_complement = ("plastic_area_fraction", "non_contact_area_fraction")
+    #: Same walls for every load (validate() checks every p0): the pipeline asks once.
+    fast_paths = FastPaths(shared_walls=True)
 
     approximation_tolerance: ClassVar[float] = 1e-3
-    #: Same walls for every load (validate() checks every p0): the pipeline asks once.
-    walls_per_load = False
     """Deviation of the three-Gaussian area fractions from the exact series that is flagged."""
 
     def __init__(self, **params: Any) -> None:

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from xpersson.plugins import Boundary, ParamSpec
+from xpersson.plugins import Boundary, FastPaths, ParamSpec
 
 from ._hardness import HardnessLaw, PowerLaw, load_table
 from ._outputs import AREA_OUTPUTS, assemble, stack
@@ -157,7 +157,7 @@ class ScaleDependentPlasticBoundary(Boundary):
     elastic_area = "elastic_area_fraction"
     elastic_area_complement = ("plastic_area_fraction", "non_contact_area_fraction")
     #: Same walls for every load (validate() checks every p0): the pipeline asks once.
-    walls_per_load = False
+    fast_paths = FastPaths(shared_walls=True)
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)

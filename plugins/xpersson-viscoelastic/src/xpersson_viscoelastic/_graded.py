@@ -249,15 +249,15 @@ def graded_runs(
     factor: Any,
 ) -> dict[int, Array] | None:
     """``mu_visc_cumulative`` (n_sel, top + 1) at ``zeta[: top + 1]`` of every item
-    ``(point k, loads, top)`` on graded panels, or ``None`` where the coefficient does not
-    offer them (``graded_stacked``) or a point cannot take them (then the dense grids).
+    ``(point k, loads, top)`` on graded panels, or ``None`` where the block's coefficient
+    does not give them (``graded_stacked`` of the viscoelastic coefficient, which the caller
+    checks the block has) or a point cannot take them (then the dense grids).
 
     ``G(k)`` gives point k's ``G`` (n_load, n_zeta) [1], ``p0`` the loads [Pa] and ``factor(A)``
     the integrand ``P S`` from the area ``P``.
     """
     coef0 = ctx_of(0).coefficient  # the block's first: it integrated the output grid
-    hook = getattr(coef0, "graded_stacked", None)
-    if hook is None or getattr(ctx_of(items[0][0]), "solve_at", None) is None:
+    if getattr(ctx_of(items[0][0]), "solve_at", None) is None:
         return None
     groups: dict[tuple[Any, ...], list[tuple[int, Array]]] = {}
     for k, loads, top in items:
@@ -275,7 +275,7 @@ def graded_runs(
         if psd_id not in bases:
             bases[psd_id] = panel_edges(psd, zeta * float(psd.q_L), PANELS_PER_DECADE)
         lay = layout(psd, zeta, top, n, PANELS_PER_DECADE, bases[psd_id])
-        got = hook(ctxs, coefs, lay, np.array([k for k, _ in members]))
+        got = coef0.graded_stacked(ctxs, coefs, lay, np.array([k for k, _ in members]))
         if got is None or not np.all(np.diff(got[0], axis=-1) > 0):
             return None  # not a Prony block, or tau not strictly increasing at the nodes
         parts.append((members, lay, *got))

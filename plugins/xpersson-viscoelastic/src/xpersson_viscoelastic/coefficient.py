@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from xpersson.physics import closures
-from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
+from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, FastPaths, ParamSpec, VarSpec
 
 from . import _graded, kernel
 from ._build import build_model, build_shift
@@ -229,8 +229,12 @@ class ViscoelasticCoefficient(Coefficient):
         **CLOSURE_PARAMETERS,  # closure, gamma: the core's one declaration
     }
     outputs: ClassVar = OUTPUTS
-    #: a block of (v, T) points is one kernel call (:meth:`tau_stacked`, :meth:`interpret_stacked`)
-    batched: ClassVar = frozenset({"velocity", "temperature"})
+    #: stacked: a block of (v, T) points is one kernel call (:meth:`tau_stacked`,
+    #: :meth:`interpret_stacked`); shared tau: without a closure, effective_tau is tau(zeta)
+    fast_paths: ClassVar = FastPaths(
+        stacked_params=frozenset({"velocity", "temperature"}),
+        shared_tau={"closure": "persson01"},
+    )
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
@@ -333,11 +337,6 @@ class ViscoelasticCoefficient(Coefficient):
             self._a_T_of(ctx),
             panels_per_decade=self._ppd(ctx),
         )
-
-    @property
-    def tau_per_load(self) -> bool:
-        """Whether :meth:`effective_tau` differs from :meth:`tau` per load (only the closures)."""
-        return self._params["closure"] != "persson01"
 
     def _one_call(self, ctxs: Sequence[SceneContext], points: Sequence[Any]) -> bool:
         """Whether a block is one kernel call: one spectrum and Poisson ratio, no flash."""

@@ -29,10 +29,11 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from xpersson.physics import closure_S
-from xpersson.plugins import Analysis, ParamSpec, VarSpec
+from xpersson.plugins import Analysis, FastPaths, ParamSpec, VarSpec
 
 from . import _graded, _resolve
 from ._stencil import stacked_weights
+from .coefficient import ViscoelasticCoefficient
 from .kernel import friction_integral, stieltjes_increments
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -79,7 +80,7 @@ class Friction(Analysis):
         "frictional_shear_stress",
     )
     #: a block of (v, T) points is computed at once (:meth:`compute_stacked`)
-    batched: ClassVar = frozenset()
+    fast_paths: ClassVar = FastPaths(stacked_params=frozenset())
     parameters: ClassVar = {
         "correction": ParamSpec(
             "1",
@@ -183,9 +184,11 @@ class Friction(Analysis):
         k = _resolve.dense_top(zeta, area[loads])
         p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))
         G_all = _rows(ds["G"])
-        got = _graded.graded_runs(
-            lambda _: ctx, [(0, loads, k)], zeta, lambda _: G_all, p0, self._factor
-        )
+        got = None
+        if _stacked_integrals(ctx.coefficient):
+            got = _graded.graded_runs(
+                lambda _: ctx, [(0, loads, k)], zeta, lambda _: G_all, p0, self._factor
+            )
         if got is not None:
             run = got[0]
         else:  # dense grids (models without graded panels)
@@ -281,7 +284,9 @@ class Friction(Analysis):
         tops = _resolve.dense_tops(zeta, area, need)
         items = [(k, np.flatnonzero(need[k]), int(tops[k])) for k in np.flatnonzero(need.any(1))]
         if items:
-            runs = _graded.graded_runs(ctx_of, items, zeta, lambda k: G[k], p0, self._factor)
+            runs = None
+            if _stacked_integrals(ctx_of(0).coefficient):
+                runs = _graded.graded_runs(ctx_of, items, zeta, lambda k: G[k], p0, self._factor)
             if runs is None:
                 runs = self._dense_block(ctx_of, items, zeta, area, G, L, p0)
             for k, loads, top in items:
@@ -419,12 +424,19 @@ def _dense_integrals(ctx_of: Any, points: list[int], grids: list[np.ndarray]) ->
     """``(tau, L)`` of the points at their dense grids (rows padded with their last value) from
     the coefficient's ``dense_stacked`` (one call), or ``None`` (each point asks its own)."""
     coefs = [ctx_of(k).coefficient for k in points]
-    hook = getattr(coefs[0], "dense_stacked", None)
-    if hook is None or any(type(c) is not type(coefs[0]) for c in coefs):
+    if not _stacked_integrals(coefs[0]) or any(type(c) is not type(coefs[0]) for c in coefs):
         return None
     m = max(z.size for z in grids)
     Z = np.stack([np.concatenate([z, np.full(m - z.size, z[-1])]) for z in grids])
-    return hook([ctx_of(k) for k in points], coefs, Z)
+    return coefs[0].dense_stacked([ctx_of(k) for k in points], coefs, Z)
+
+
+def _stacked_integrals(coef: Any) -> bool:
+    """Whether ``coef`` is this distribution's coefficient, which computes the integrals of
+    several points at once (:meth:`~.ViscoelasticCoefficient.dense_stacked`,
+    :meth:`~.ViscoelasticCoefficient.graded_stacked`); another coefficient that provides
+    ``loss_integral`` is asked point by point."""
+    return isinstance(coef, ViscoelasticCoefficient)
 
 
 def _dense_rows(ctx_of: Any, plans: list[Any], dense: Any) -> Any:
