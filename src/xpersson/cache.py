@@ -252,6 +252,8 @@ def digest(*arrays: Any) -> bytes:
     h = hashlib.blake2b(digest_size=16)
     for a in arrays:
         arr = np.asarray(a)
+        if arr.dtype.hasobject:
+            raise TypeError("digest: an object array's bytes are pointers, not its content")
         h.update(f"{arr.dtype.str}{arr.shape}".encode())
         h.update(np.ascontiguousarray(arr).tobytes())
     return h.digest()
@@ -267,7 +269,7 @@ def content_key(item: Any) -> Hashable:
     (``float.hex``: ``0.0`` and ``-0.0`` differ); numpy scalars as Python numbers; arrays as
     ``(dtype, shape, digest)``; tuples, lists, frozensets and dicts by their items; an object
     with a ``cache_key()`` method by its type and that key; a module-level class or function by
-    its qualified name.
+    its qualified name. An object array keys as its items do.
 
     Raises
     ------
@@ -281,6 +283,8 @@ def content_key(item: Any) -> Hashable:
     if isinstance(item, tuple | list):
         return tuple(content_key(v) for v in item)
     if isinstance(item, np.ndarray):
+        if item.dtype.hasobject:  # its bytes are pointers: identity, not content
+            return ("A", item.shape, tuple(content_key(v) for v in item.ravel().tolist()))
         return ("a", item.dtype.str, item.shape, digest(item))
     if isinstance(item, np.generic):
         return content_key(item.item())
