@@ -48,7 +48,14 @@ def _ctx(psd: object, p0: float = 1e3) -> SceneContext:
     )
 
 
-def test_stickiness_is_computed_once_per_spectrum_content():
+@pytest.fixture
+def caches_on():
+    """The caches on, also in CI's run with XPERSSON_CACHE=off."""
+    with xpersson.set_options(cache=True):
+        yield
+
+
+def test_stickiness_is_computed_once_per_spectrum_content(caches_on):
     store = cache("adhesion.stickiness")
     store.clear()
     first = stickiness(_frozen(), E_STAR, 0.03)
@@ -60,7 +67,7 @@ def test_stickiness_is_computed_once_per_spectrum_content():
         assert stickiness(_frozen(), E_STAR, 0.03) == first
 
 
-def test_cached_table_equals_a_fresh_one_and_follows_the_clock():
+def test_cached_table_equals_a_fresh_one_and_follows_the_clock(caches_on):
     psd = _frozen()
     law = ModelLaw(psd, E_STAR, 0.03, 1.0)
     clock = _clock(psd)
