@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 from scipy.interpolate import CubicSpline
 
+import xpersson
+from xpersson.cache import cache
 from xpersson.physics import SolvedContact, critical_magnification
 from xpersson.physics._curve import _Curve, _edges
 from xpersson.physics._fastnum import _exp_inplace, _ppoly_at, _row_slopes
-import xpersson
-from xpersson.cache import cache
 from xpersson.physics._percolation import _crossing_coefficients
 from xpersson.physics._phi import _Phi
 from xpersson.physics._subgap import _sub_mean_gap, _sub_prep

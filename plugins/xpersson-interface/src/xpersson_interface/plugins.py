@@ -103,13 +103,17 @@ class _Interface(Analysis):
 
     def _solved(self, ctx: Any, ds: Any, dense: bool = True) -> Solved:
         return per_solve(
-            ctx, ("solved", *self._key(dense)), lambda: solved_curve(ctx, ds, *self._key(dense))
+            ctx,
+            ds,
+            ("solved", *self._key(dense)),
+            lambda: solved_curve(ctx, ds, *self._key(dense)),
         )
 
     def _contact(self, ctx: Any, ds: Any) -> tuple[Solved, physics.SolvedContact]:
         s = self._solved(ctx, ds)
         sc = per_solve(
             ctx,
+            ds,
             ("contact", *self._key(True)),
             lambda: physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve),
         )

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from xpersson.cache import Cache
 from xpersson.physics import closures
 from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 
@@ -76,6 +77,26 @@ OUTPUTS: dict[str, VarSpec] = {
     "rubbery_modulus": VarSpec((), "Pa", "rubbery (low-frequency) modulus E_r", valid_min=0.0),
     "glassy_modulus": VarSpec((), "Pa", "glassy (high-frequency) modulus E_g", valid_min=0.0),
 }
+
+
+_FLASH = Cache(
+    "viscoelastic.flash",
+    scope="spectrum",
+    maxsize=8,
+    doc="the solved flash-temperature profile of a spectrum, modulus and sliding",
+)
+_BLOCKS = Cache(
+    "viscoelastic.block_integrals",
+    scope="solve",
+    maxsize=4,
+    doc="tau, f and the angular integrals of a block of (v, T) points on the output grid",
+)
+_NODES = Cache(
+    "viscoelastic.block_nodes",
+    scope="solve",
+    maxsize=4,
+    doc="(v, aT, q-panel node values) of the first block on a spectrum's output grid",
+)
 
 
 class ViscoelasticCoefficient(Coefficient):
@@ -260,29 +281,27 @@ class ViscoelasticCoefficient(Coefficient):
         return float(self._params["velocity"])
 
     def _flash(self, psd: Any, nu: float) -> Any:
-        """The solved flash-temperature profile (cached per spectrum and Poisson ratio)."""
-        cached = getattr(self, "_flash_cache", None)
-        if cached is not None and cached[0] is psd and cached[1] == nu:
-            return cached[2]
+        """The solved flash-temperature profile (cached per spectrum, modulus, shift law,
+        Poisson ratio and the thermal parameters: ``"viscoelastic.flash"``)."""
         from ._flash import solve_flash
 
         p = self._params
-        prof = solve_flash(
+        args = (
             psd,
             self._model,
             self._shift,
-            nu,
+            float(nu),
             self._v(),
             float(p["temperature"]),
             float(p["thermal_conductivity"]),
             float(p["thermal_diffusivity"]),
         )
+        prof = _FLASH.get(args, lambda: solve_flash(*args))
         if not prof.converged:
             raise RuntimeError(
                 f"flash temperature: the fixed point did not converge in {prof.iterations} "
                 "iterations; lower the sliding speed or raise thermal_conductivity"
             )
-        self._flash_cache = (psd, nu, prof)
         return prof
 
     def _ppd(self, ctx: SceneContext) -> int:
@@ -301,6 +320,13 @@ class ViscoelasticCoefficient(Coefficient):
         return lambda q: shift.aT(prof(q))
 
     # -- the coefficient contract ------------------------------------------------------------
+    def _known(self, ctx: SceneContext) -> Any:
+        """``(v, aT, keep)`` of the first block of this solve that integrated the output grid
+        of ``ctx``'s spectrum and Poisson ratio with this modulus (its q panels' node values,
+        see :func:`._graded.known_nodes`), or ``None``."""
+        key = (ctx.psd, self._model, float(ctx.nu), self._ppd(ctx))
+        return _NODES.peek(key)
+
     def _own_block(self, ctx: SceneContext, zeta: np.ndarray) -> dict[str, np.ndarray] | None:
         """The output grid's integrals of this point as a block of one (tau, f and
         :meth:`interpret` from one modulus pass; bitwise the kernel functions), or ``None``
@@ -371,15 +397,16 @@ class ViscoelasticCoefficient(Coefficient):
         ctx = ctxs[0]
         v, aT = self._stacked_vT(points)
         z = np.asarray(zeta, dtype=float)
-        key = (id(ctx.psd), ctx.nu, self._ppd(ctx), z.tobytes(), v.tobytes(), aT.tobytes())
-        last = self.__dict__.get("_last_block")
-        if last is None or last[0] != key:
+        grid = (ctx.psd, self._model, float(ctx.nu), self._ppd(ctx), z)
+
+        def compute() -> tuple[dict[str, np.ndarray], dict[Any, Any]]:
             keep: dict[Any, Any] = {}  # the q panels' node values: graded_stacked reuses them
             got = block_integrals(ctx.psd, self._model, ctx.nu, z, v, aT, self._ppd(ctx), keep)
-            last = (key, got, ctx.psd)  # the spectrum held: its id stays its own
-            self.__dict__["_last_block"] = last
-            self.__dict__["_last_nodes"] = (ctx.psd, ctx.nu, v, aT, keep)
-        return last[1]
+            return got, keep
+
+        got, keep = _BLOCKS.get((*grid, v, aT), compute)
+        _NODES.get(grid[:4], lambda: (v, aT, keep))  # the first block of the solve's grid
+        return got
 
     def dense_stacked(
         self, ctxs: Sequence[SceneContext], points: Sequence[Any], zeta: np.ndarray
@@ -405,7 +432,7 @@ class ViscoelasticCoefficient(Coefficient):
         if self._one_call(ctxs, points):
             v, aT = self._stacked_vT(points)
             w = (v * aT)[:, None] * lay.qn
-            known = _graded.known_nodes(self.__dict__.get("_last_nodes"), ctxs[0], v, aT, index)
+            known = _graded.known_nodes(self._known(ctxs[0]), v, aT, index)
         else:  # the flash temperature's a_T(q): each point's frequencies at the nodes
             pairs = zip(points, ctxs, strict=True)
             w = np.stack([kernel._w(c._v(), c._a_T_of(x), lay.qn) for c, x in pairs])
@@ -422,7 +449,6 @@ class ViscoelasticCoefficient(Coefficient):
         zeta = ctx.zeta
         v, aT = self._stacked_vT(points)
         got = self._block(ctxs, points, zeta)
-        self.__dict__.pop("_last_block", None)  # its last reader: not kept (nor pickled)
         rms, loss, L = got["rms"], got["loss"], got["L"]
         T0 = np.array([float(c._params["temperature"]) for c in points])
         n = len(points)
@@ -474,7 +500,6 @@ class ViscoelasticCoefficient(Coefficient):
         own = self._own_block(ctx, zeta)
         if own is not None:
             rms, loss, L = own["rms"][0], own["loss"][0], own["L"][0]
-            self.__dict__.pop("_last_block", None)  # its last reader
         else:
             rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
             L = self.loss_integral(ctx, zeta)
