@@ -26,6 +26,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from xpersson.cache import content_key
+
 from ._gauss import spectral_rule as _rule
 from ._panels import node_counts
 from .kernel import NODES, PANELS_PER_DECADE, _checked_nu, panel_edges
@@ -263,9 +265,9 @@ def graded_runs(
     for k, loads, top in items:
         n = rungs(zeta, G(k)[loads], top)
         ctx = ctx_of(k)
-        groups.setdefault((top, n, id(ctx.psd), ctx.nu), []).append((k, loads))
+        groups.setdefault((top, n, content_key(ctx.psd), ctx.nu), []).append((k, loads))
     parts = []
-    bases: dict[int, Array] = {}  # the output grid's q panels, once per spectrum
+    bases: dict[Any, Array] = {}  # the output grid's q panels, once per spectrum
     for (top, n, psd_id, _), members in groups.items():
         ctxs = [ctx_of(k) for k, _ in members]
         coefs = [c.coefficient for c in ctxs]

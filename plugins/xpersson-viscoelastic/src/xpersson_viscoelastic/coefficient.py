@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from xpersson.cache import Cache
+from xpersson.cache import Cache, content_key
 from xpersson.physics import closures
 from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 
@@ -366,9 +366,15 @@ class ViscoelasticCoefficient(Coefficient):
         return self._params["closure"] != "persson01"
 
     def _one_call(self, ctxs: Sequence[SceneContext], points: Sequence[Any]) -> bool:
-        """Whether a block is one kernel call: one spectrum and Poisson ratio, no flash."""
+        """Whether a block is one kernel call: one spectrum (by content: equal spectra are
+        one, shared or not) and Poisson ratio, no flash."""
+        first = ctxs[0]
+        psd = content_key(first.psd)
         return not self._params["flash_temperature"] and all(
-            x.psd is ctxs[0].psd and x.nu == ctxs[0].nu and x.rtol == ctxs[0].rtol for x in ctxs
+            (x.psd is first.psd or content_key(x.psd) == psd)
+            and x.nu == first.nu
+            and x.rtol == first.rtol
+            for x in ctxs
         )
 
     @staticmethod
