@@ -45,24 +45,11 @@ __all__ = [
 Array = NDArray[np.float64]
 
 
-_SAMPLES = Cache(
-    "adhesion.detachment_samples",
-    scope="spectrum",
-    maxsize=32,
-    doc="ModelLaw: sigma_a^2 and its slopes at the magnifications of its table in tau",
-)
-_TABLES = Cache(
-    "adhesion.detachment_table",
-    scope="spectrum",
-    maxsize=32,
-    doc="ModelLaw: the table sigma_a(tau) of one clock's samples",
-)
-_CONSTANT = Cache(
-    "adhesion.detachment_constant",
-    scope="spectrum",
-    maxsize=64,
-    doc="ModelLaw: whether sigma_a vanishes on [1, zeta_max]",
-)
+#: What ModelLaw derives from a spectrum: sigma_a^2 and its slopes at the magnifications of its
+#: table in tau; the table sigma_a(tau) of a clock's samples; whether sigma_a vanishes.
+_SAMPLES = Cache("adhesion.detachment_samples", scope="spectrum", maxsize=32, doc="sigma_a^2")
+_TABLES = Cache("adhesion.detachment_table", scope="spectrum", maxsize=32, doc="sigma_a(tau)")
+_CONSTANT = Cache("adhesion.detachment_constant", scope="spectrum", maxsize=64, doc="sigma_a = 0")
 
 
 def true_area_ratio(slope2: ArrayLike) -> Array:

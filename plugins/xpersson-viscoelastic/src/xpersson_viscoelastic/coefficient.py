@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from xpersson.cache import Cache, content_key
+from xpersson.cache import content_key
 from xpersson.physics import closures
 from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, ParamSpec, VarSpec
 
@@ -22,7 +22,7 @@ from . import _graded, kernel
 from ._build import build_model, build_shift
 from ._modulus import ModulusModel, Prony
 from ._outputs import check_outputs
-from ._paired import block_integrals, dense_block
+from ._paired import block_nodes, dense_block, shared_block
 from ._shift import WLF_UNIVERSAL
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -77,26 +77,6 @@ OUTPUTS: dict[str, VarSpec] = {
     "rubbery_modulus": VarSpec((), "Pa", "rubbery (low-frequency) modulus E_r", valid_min=0.0),
     "glassy_modulus": VarSpec((), "Pa", "glassy (high-frequency) modulus E_g", valid_min=0.0),
 }
-
-
-_FLASH = Cache(
-    "viscoelastic.flash",
-    scope="spectrum",
-    maxsize=8,
-    doc="the solved flash-temperature profile of a spectrum, modulus and sliding",
-)
-_BLOCKS = Cache(
-    "viscoelastic.block_integrals",
-    scope="solve",
-    maxsize=4,
-    doc="tau, f and the angular integrals of a block of (v, T) points on the output grid",
-)
-_NODES = Cache(
-    "viscoelastic.block_nodes",
-    scope="solve",
-    maxsize=4,
-    doc="(v, aT, q-panel node values) of the first block on a spectrum's output grid",
-)
 
 
 class ViscoelasticCoefficient(Coefficient):
@@ -281,28 +261,14 @@ class ViscoelasticCoefficient(Coefficient):
         return float(self._params["velocity"])
 
     def _flash(self, psd: Any, nu: float) -> Any:
-        """The solved flash-temperature profile (cached per spectrum, modulus, shift law,
-        Poisson ratio and the thermal parameters: ``"viscoelastic.flash"``)."""
-        from ._flash import solve_flash
+        """The solved flash-temperature profile (:func:`._flash.flash_profile`, cached)."""
+        from ._flash import flash_profile
 
         p = self._params
-        args = (
-            psd,
-            self._model,
-            self._shift,
-            float(nu),
-            self._v(),
-            float(p["temperature"]),
-            float(p["thermal_conductivity"]),
-            float(p["thermal_diffusivity"]),
+        T, k, D = (
+            float(p[n]) for n in ("temperature", "thermal_conductivity", "thermal_diffusivity")
         )
-        prof = _FLASH.get(args, lambda: solve_flash(*args))
-        if not prof.converged:
-            raise RuntimeError(
-                f"flash temperature: the fixed point did not converge in {prof.iterations} "
-                "iterations; lower the sliding speed or raise thermal_conductivity"
-            )
-        return prof
+        return flash_profile(psd, self._model, self._shift, float(nu), self._v(), T, k, D)
 
     def _ppd(self, ctx: SceneContext) -> int:
         """q panels per decade: Prony integrands are analytic (4 give ~1e-14); tabulated
@@ -320,13 +286,6 @@ class ViscoelasticCoefficient(Coefficient):
         return lambda q: shift.aT(prof(q))
 
     # -- the coefficient contract ------------------------------------------------------------
-    def _known(self, ctx: SceneContext) -> Any:
-        """``(v, aT, keep)`` of the first block of this solve that integrated the output grid
-        of ``ctx``'s spectrum and Poisson ratio with this modulus (its q panels' node values,
-        see :func:`._graded.known_nodes`), or ``None``."""
-        key = (ctx.psd, self._model, float(ctx.nu), self._ppd(ctx))
-        return _NODES.peek(key)
-
     def _own_block(self, ctx: SceneContext, zeta: np.ndarray) -> dict[str, np.ndarray] | None:
         """The output grid's integrals of this point as a block of one (tau, f and
         :meth:`interpret` from one modulus pass; bitwise the kernel functions), or ``None``
@@ -403,16 +362,11 @@ class ViscoelasticCoefficient(Coefficient):
         ctx = ctxs[0]
         v, aT = self._stacked_vT(points)
         z = np.asarray(zeta, dtype=float)
-        grid = (ctx.psd, self._model, float(ctx.nu), self._ppd(ctx), z)
+        return shared_block(ctx.psd, self._model, ctx.nu, z, v, aT, self._ppd(ctx))
 
-        def compute() -> tuple[dict[str, np.ndarray], dict[Any, Any]]:
-            keep: dict[Any, Any] = {}  # the q panels' node values: graded_stacked reuses them
-            got = block_integrals(ctx.psd, self._model, ctx.nu, z, v, aT, self._ppd(ctx), keep)
-            return got, keep
-
-        got, keep = _BLOCKS.get((*grid, v, aT), compute)
-        _NODES.get(grid[:4], lambda: (v, aT, keep))  # the first block of the solve's grid
-        return got
+    def _nodes(self, ctx: SceneContext) -> Any:
+        """The q panels' node values of this solve's first block (:func:`._paired.block_nodes`)."""
+        return block_nodes(ctx.psd, self._model, ctx.nu, self._ppd(ctx))
 
     def dense_stacked(
         self, ctxs: Sequence[SceneContext], points: Sequence[Any], zeta: np.ndarray
@@ -438,7 +392,7 @@ class ViscoelasticCoefficient(Coefficient):
         if self._one_call(ctxs, points):
             v, aT = self._stacked_vT(points)
             w = (v * aT)[:, None] * lay.qn
-            known = _graded.known_nodes(self._known(ctxs[0]), v, aT, index)
+            known = _graded.known_nodes(self._nodes(ctxs[0]), v, aT, index)
         else:  # the flash temperature's a_T(q): each point's frequencies at the nodes
             pairs = zip(points, ctxs, strict=True)
             w = np.stack([kernel._w(c._v(), c._a_T_of(x), lay.qn) for c, x in pairs])
