@@ -260,7 +260,7 @@ _SOLVES = Cache(
     maxsize=16,
     doc="the solved area curve of every load and its SolvedContact, per curve parameters",
 )
-#: What an analysis' solved curve is read from, besides the Dataset's area variables.
+#: The scene's numbers a solve is made of (with its coefficient and boundary).
 _CTX_FIELDS = ("psd", "E", "nu", "E_star", "p0", "zeta", "p", "rtol", "atol", "method")
 
 
@@ -273,27 +273,16 @@ def _plugin_key(plugin: Any) -> Any:
     return f"{cls.__module__}.{cls.__qualname__}", dict(getattr(plugin, "params", {}))
 
 
-def solve_key(ctx: Any, ds: Any) -> tuple[Any, ...]:
-    """The content key of one solve as the analyses see it: the scene's numbers, its
-    coefficient and boundary (class and parameters) and the Dataset's area variables and
-    diffusion times (what :func:`solved_curve` reads, also through ``ctx.solve_at``)."""
-    bnd = type(ctx.boundary) if ctx.boundary is not None else None
-    names = [getattr(bnd, "elastic_area", "area_fraction")]
-    names += list(getattr(bnd, "elastic_area_complement", ("non_contact_fraction",)))
-    names += list(getattr(bnd, "contact_area", ("area_fraction",)))
-    names += ["effective_diffusion_time", "diffusion_time", "zeta"]
-    data = tuple(
-        (n, tuple(ds.variables[n].dims), np.asarray(ds.variables[n].values))
-        for n in dict.fromkeys(names)
-        if n in ds.variables
-    )
+def solve_key(ctx: Any) -> tuple[Any, ...]:
+    """The content key of one solve: the scene's numbers, solver options, coefficient and
+    boundary (class and parameters), which determine the Dataset the analyses read and what
+    ``ctx.solve_at`` returns (the points of a stacked block differ in them)."""
     scene = tuple(getattr(ctx, f, None) for f in _CTX_FIELDS)
     options = dict(getattr(ctx, "options", None) or {})
-    plugins = (_plugin_key(ctx.coefficient), _plugin_key(ctx.boundary))
-    return (*scene, options, plugins, data)
+    return (*scene, options, _plugin_key(ctx.coefficient), _plugin_key(ctx.boundary))
 
 
-def per_solve(ctx: Any, ds: Any, key: tuple[Any, ...], build: Callable[[], Any]) -> Any:
+def per_solve(ctx: Any, key: tuple[Any, ...], build: Callable[[], Any]) -> Any:
     """``build()`` once per solve (its content, :func:`solve_key`) and ``key`` (the curve
     parameters); computed afresh outside a solve (direct calls) or with the caches off."""
-    return _SOLVES.get((key, solve_key(ctx, ds)), build)
+    return _SOLVES.get((key, solve_key(ctx)), build)

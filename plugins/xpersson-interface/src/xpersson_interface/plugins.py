@@ -104,7 +104,6 @@ class _Interface(Analysis):
     def _solved(self, ctx: Any, ds: Any, dense: bool = True) -> Solved:
         return per_solve(
             ctx,
-            ds,
             ("solved", *self._key(dense)),
             lambda: solved_curve(ctx, ds, *self._key(dense)),
         )
@@ -113,7 +112,6 @@ class _Interface(Analysis):
         s = self._solved(ctx, ds)
         sc = per_solve(
             ctx,
-            ds,
             ("contact", *self._key(True)),
             lambda: physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve),
         )
