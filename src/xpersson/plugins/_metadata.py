@@ -27,8 +27,7 @@ def dist_of(ep: EntryPoint) -> tuple[str, str]:
     if dist is None:
         return _UNKNOWN
     try:
-        meta = dist.metadata
-        name = meta["Name"] or getattr(dist, "name", None) or "<unknown>"
-        return str(name), str(meta["Version"] or "")
+        name = dist.metadata["Name"] or getattr(dist, "name", None) or "<unknown>"
+        return str(name), str(dist.version or "")
     except Exception:  # unreadable metadata must not break listing
         return _UNKNOWN
