@@ -6,6 +6,7 @@ import json
 import pickle
 import threading
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +18,13 @@ from hypothesis import strategies as st
 import xpersson
 from xpersson import cache as xc
 from xpersson.options import CACHE_ENV, cache_enabled
+
+
+@pytest.fixture(autouse=True)
+def _caches_on() -> Iterator[None]:
+    """The caches on (also in CI's run with XPERSSON_CACHE=off); tests turn them off inside."""
+    with xpersson.set_options(cache=True):
+        yield
 
 
 def _fresh(name: str, **kw: object) -> xc.Cache:
@@ -104,12 +112,13 @@ def test_switch_turns_every_cache_off(monkeypatch: pytest.MonkeyPatch) -> None:
     c.get("k", make)
     assert n[0] == 3
     monkeypatch.setenv(CACHE_ENV, "off")
-    assert not cache_enabled()
-    with xpersson.set_options(cache=True):
-        assert cache_enabled()
-    monkeypatch.setenv(CACHE_ENV, "sometimes")
-    with pytest.raises(ValueError, match=CACHE_ENV):
-        cache_enabled()
+    with xpersson.set_options(cache=None):  # back to the default: the environment variable
+        assert not cache_enabled()
+        with xpersson.set_options(cache=True):
+            assert cache_enabled()
+        monkeypatch.setenv(CACHE_ENV, "sometimes")
+        with pytest.raises(ValueError, match=CACHE_ENV):
+            cache_enabled()
     with pytest.raises(ValueError, match="unknown option"):
         xpersson.set_options(cash=False)
     with pytest.raises(ValueError, match="'cache' must be a bool"):

@@ -120,8 +120,9 @@ def test_elastic_balances_are_identities_said_so_in_their_attrs():
 
 
 def test_self_affine_spectrum_is_built_once_and_frozen():
-    a = xpersson.Scene(SCENE).resolve().psd
-    b = xpersson.Scene(SCENE).resolve().psd
+    with xpersson.set_options(cache=True):  # shared: also in CI's run with the caches off
+        a = xpersson.Scene(SCENE).resolve().psd
+        b = xpersson.Scene(SCENE).resolve().psd
     assert a is b and a.frozen
     with pytest.raises(AttributeError, match="frozen"):
         a.C_r = 1.0

@@ -249,6 +249,14 @@ def test_curve_is_the_plain_log_spline(contact, with_s):
     np.testing.assert_array_equal(cur.nf(x), ref_nf)
 
 
+@pytest.fixture
+def caches_on():
+    """The caches on, also in CI's run with XPERSSON_CACHE=off."""
+    with xpersson.set_options(cache=True):
+        yield
+
+
+@pytest.mark.usefixtures("caches_on")
 def test_spectrum_caches_are_the_plain_evaluation(psd):
     """The rule and the bin edges' sub-problem nodes of a spectrum are computed once per
     content (read-only, shared by the next solve and by an equal spectrum) and equal those
