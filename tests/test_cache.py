@@ -2,8 +2,13 @@
 
 from __future__ import annotations
 
+import json
 import pickle
 import threading
+import warnings
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -13,6 +18,13 @@ from hypothesis import strategies as st
 import xpersson
 from xpersson import cache as xc
 from xpersson.options import CACHE_ENV, cache_enabled
+
+
+@pytest.fixture(autouse=True)
+def _caches_on() -> Iterator[None]:
+    """The caches on (also in CI's run with XPERSSON_CACHE=off); tests turn them off inside."""
+    with xpersson.set_options(cache=True):
+        yield
 
 
 def _fresh(name: str, **kw: object) -> xc.Cache:
@@ -100,12 +112,13 @@ def test_switch_turns_every_cache_off(monkeypatch: pytest.MonkeyPatch) -> None:
     c.get("k", make)
     assert n[0] == 3
     monkeypatch.setenv(CACHE_ENV, "off")
-    assert not cache_enabled()
-    with xpersson.set_options(cache=True):
-        assert cache_enabled()
-    monkeypatch.setenv(CACHE_ENV, "sometimes")
-    with pytest.raises(ValueError, match=CACHE_ENV):
-        cache_enabled()
+    with xpersson.set_options(cache=None):  # back to the default: the environment variable
+        assert not cache_enabled()
+        with xpersson.set_options(cache=True):
+            assert cache_enabled()
+        monkeypatch.setenv(CACHE_ENV, "sometimes")
+        with pytest.raises(ValueError, match=CACHE_ENV):
+            cache_enabled()
     with pytest.raises(ValueError, match="unknown option"):
         xpersson.set_options(cash=False)
     with pytest.raises(ValueError, match="'cache' must be a bool"):
@@ -148,3 +161,76 @@ def test_threads_get_one_value() -> None:
     assert len({id(v) for v in got}) >= 1
     kept = c.get("k", lambda: np.zeros(1))
     assert all(np.array_equal(v, kept) for v in got)
+
+
+# -- the caches do not change results ------------------------------------------------------------
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = sorted(ROOT.glob("examples/*.toml")) + sorted(ROOT.glob("plugins/*/examples/*.toml"))
+#: global attributes that differ from run to run (time stamps, run ids, timings)
+VOLATILE = ("history", "date_created", "date_modified", "environment", "run_id", "provenance")
+
+
+def _steady(value: Any) -> Any:
+    """An attribute without its timings (JSON keys naming a time, e.g. ``wall_time_s``)."""
+
+    def drop(obj: Any) -> Any:
+        if isinstance(obj, dict):
+            return {k: drop(v) for k, v in obj.items() if "time" not in k}
+        return [drop(v) for v in obj] if isinstance(obj, list) else obj
+
+    if isinstance(value, str) and value.startswith("{"):
+        try:
+            return drop(json.loads(value))
+        except ValueError:
+            return value
+    return value
+
+
+def _values(ds: Any) -> dict[str, Any]:
+    """Every variable's dims, dtype and bytes, its attributes, and the steady global attrs."""
+    out: dict[str, Any] = {}
+    for name, var in ds.variables.items():
+        arr = np.asarray(var.values)
+        data = repr(arr.tolist()) if arr.dtype.kind == "O" else arr.tobytes()
+        out[str(name)] = (var.dims, arr.dtype.str, arr.shape, data, repr(sorted(var.attrs.items())))
+    steady = [(k, _steady(v)) for k, v in ds.attrs.items() if k not in VOLATILE]
+    out[".attrs"] = repr(sorted(steady))
+    return out
+
+
+def _solve(path: Path) -> dict[str, Any]:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return _values(xpersson.solve(path))
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
+def test_examples_are_bitwise_equal_with_caches_on_warm_and_off(path: Path) -> None:
+    """A cold solve (caches emptied), a warm one (the same process, caches filled) and one with
+    every cache off give the same bits: no result depends on what was solved before."""
+    with xpersson.set_options(cache=True):
+        xc.clear_caches()
+        cold = _solve(path)
+        warm = _solve(path)
+        assert any(i.size for i in xc.caches() if i.scope != "solve")  # the caches were used
+    with xpersson.set_options(cache=False):
+        off = _solve(path)
+    assert warm.keys() == cold.keys() == off.keys()
+    for name in cold:
+        assert warm[name] == cold[name], f"{path.name}: {name} differs when the caches are warm"
+        assert off[name] == cold[name], f"{path.name}: {name} differs with the caches off"
+
+
+def test_every_cache_is_named_scoped_and_bounded() -> None:
+    """The caches of the core and the plugins (imported by the example solves): dotted names,
+    a known scope, a bound; none keeps anything with the caches off."""
+    for path in EXAMPLES[:1]:
+        _solve(path)
+    found = {i.name: i for i in xc.caches() if not i.name.startswith("test.")}
+    assert {"physics.spectrum_moments", "units.str_to_si", "checks.spectrum"} <= set(found)
+    for info in found.values():
+        assert "." in info.name and info.scope in xc.SCOPES and info.maxsize >= 1
+    with xpersson.set_options(cache=False):
+        xc.clear_caches()
+        _solve(EXAMPLES[0])
+        assert all(i.size == 0 for i in xc.caches())

@@ -157,6 +157,16 @@ class Cache:
                 table.popitem(last=False)
         return value
 
+    def peek(self, key: Any) -> Any:
+        """The value kept for ``key``, or ``None`` (nothing computed; nothing kept with the
+        caches off or, for scope ``"solve"``, outside a solve)."""
+        table = self._table()
+        if table is None:
+            return None
+        k = content_key(key)
+        with self._lock:
+            return table.get(k)
+
     def clear(self) -> None:
         """Drop every kept value (of the current solve too, for scope ``"solve"``)."""
         with self._lock:
@@ -252,6 +262,8 @@ def digest(*arrays: Any) -> bytes:
     h = hashlib.blake2b(digest_size=16)
     for a in arrays:
         arr = np.asarray(a)
+        if arr.dtype.hasobject:
+            raise TypeError("digest: an object array's bytes are pointers, not its content")
         h.update(f"{arr.dtype.str}{arr.shape}".encode())
         h.update(np.ascontiguousarray(arr).tobytes())
     return h.digest()
@@ -266,8 +278,9 @@ def content_key(item: Any) -> Hashable:
     Strings, bytes, ints, bools and ``None`` stand for themselves; floats by their exact bits
     (``float.hex``: ``0.0`` and ``-0.0`` differ); numpy scalars as Python numbers; arrays as
     ``(dtype, shape, digest)``; tuples, lists, frozensets and dicts by their items; an object
-    with a ``cache_key()`` method by its type and that key; a module-level class or function by
-    its qualified name.
+    with a ``cache_key()`` method by its type and the content key of what that returns; a
+    module-level class or function by its qualified name. An object array keys as its items
+    do.
 
     Raises
     ------
@@ -281,6 +294,8 @@ def content_key(item: Any) -> Hashable:
     if isinstance(item, tuple | list):
         return tuple(content_key(v) for v in item)
     if isinstance(item, np.ndarray):
+        if item.dtype.hasobject:  # its bytes are pointers: identity, not content
+            return ("A", item.shape, tuple(content_key(v) for v in item.ravel().tolist()))
         return ("a", item.dtype.str, item.shape, digest(item))
     if isinstance(item, np.generic):
         return content_key(item.item())
@@ -290,7 +305,7 @@ def content_key(item: Any) -> Hashable:
         return ("d", tuple(sorted((content_key(k), content_key(v)) for k, v in item.items())))
     method = getattr(item, "cache_key", None)
     if callable(method) and not isinstance(item, type):
-        return ("o", f"{type(item).__module__}.{type(item).__qualname__}", method())
+        return ("o", f"{type(item).__module__}.{type(item).__qualname__}", content_key(method()))
     name = getattr(item, "__qualname__", "<")
     if (isinstance(item, type) or callable(item)) and "<" not in name:  # not a lambda or local
         return ("c", f"{item.__module__}.{name}")

@@ -8,19 +8,19 @@ from __future__ import annotations
 
 import copy
 import datetime as _dt
-import functools
 import json
 import platform
 import sys
 from importlib import metadata
 from typing import Any
 
+from .cache import Cache, memoize
 from .schema import CONVENTIONS
 
 __all__ = ["global_attributes", "plugins_used", "environment", "version"]
 
 
-@functools.lru_cache(maxsize=1)
+@memoize("provenance.version", scope="process", maxsize=1)
 def version() -> str:
     """Installed version of xpersson (read once per process)."""
     try:
@@ -29,7 +29,7 @@ def version() -> str:
         return "0+unknown"
 
 
-@functools.lru_cache(maxsize=1)
+@memoize("provenance.environment", scope="process", maxsize=1)
 def _environment_json() -> str:
     env = {"python": sys.version.split()[0], "platform": platform.platform()}
     for pkg in ("numpy", "scipy", "xarray", "netCDF4", "pint"):
@@ -61,23 +61,24 @@ def _plugins_used(rs: Any) -> list[dict[str, Any]]:
     return [{**record, "name": name} if name else record for record, name in rs.plugin_records]
 
 
-_PLUGINS_JSON: dict[tuple, tuple[tuple[Any, ...], str, list[str]]] = {}
+_PLUGINS_JSON = Cache(
+    "provenance.plugins_json",
+    scope="process",
+    maxsize=256,
+    doc="JSON of the plugins of a run and their sorted references, per set of records",
+)
 
 
 def _plugins_json(rs: Any) -> tuple[str, list[str]]:
     """JSON of :func:`plugins_used` and the sorted references, serialised once per set of
-    records and names (the records are the registry's shared ones, cached per discovery)."""
-    pairs = rs.plugin_records
-    key = tuple((id(record), name) for record, name in pairs)
-    hit = _PLUGINS_JSON.get(key)
-    if hit is None or any(a is not b for a, (b, _) in zip(hit[0], pairs, strict=True)):
+    records and names (keyed on their content)."""
+
+    def compute() -> tuple[str, list[str]]:
         used = _plugins_used(rs)
-        if len(_PLUGINS_JSON) > 256:
-            _PLUGINS_JSON.clear()
-        refs = sorted({r for p in used for r in p["references"]})
-        hit = (tuple(record for record, _ in pairs), json.dumps(used, sort_keys=True), refs)
-        _PLUGINS_JSON[key] = hit
-    return hit[1], hit[2]
+        return json.dumps(used, sort_keys=True), sorted({r for p in used for r in p["references"]})
+
+    json_text, refs = _PLUGINS_JSON.get(rs.plugin_records, compute)
+    return json_text, list(refs)
 
 
 def global_attributes(rs: Any, registry: Any = None) -> dict[str, str]:

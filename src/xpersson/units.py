@@ -9,26 +9,37 @@ Inside the engine and the plugins there is no pint: only SI floats.
 from __future__ import annotations
 
 import re
-from functools import lru_cache
+import threading
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
     import pint
     import xarray as xr
 
+from .cache import memoize
 from .errors import UnitError
 
 __all__ = ["ureg", "to_si", "udunits_to_pint", "quantify", "UnitError", "check_expression"]
 
 
-@lru_cache(maxsize=1)
-def ureg() -> pint.UnitRegistry:
-    """The package's pint registry (created on first use)."""
-    import pint
+_UREG: list[pint.UnitRegistry] = []
+_UREG_LOCK = threading.Lock()
 
-    reg = pint.UnitRegistry(force_ndarray_like=True)
-    reg.formatter.default_format = "~P"
-    return reg
+
+def ureg() -> pint.UnitRegistry:
+    """The package's pint registry (created on first use).
+
+    One registry per process by design, not a cache: quantities of different pint registries
+    do not combine, so this stays the same object when the caches are off.
+    """
+    with _UREG_LOCK:
+        if not _UREG:
+            import pint
+
+            reg = pint.UnitRegistry(force_ndarray_like=True)
+            reg.formatter.default_format = "~P"
+            _UREG.append(reg)
+        return _UREG[0]
 
 
 MAX_TEXT = 200
@@ -151,7 +162,7 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
     return _to_si(value, unit, where, array)
 
 
-@lru_cache(maxsize=4096)
+@memoize("units.str_to_si", scope="process", maxsize=4096)
 def _str_to_si(value: str, unit: str) -> float:
     fast = _simple_si(value, unit)
     return _to_si(value, unit, "", False) if fast is None else fast
@@ -164,7 +175,7 @@ _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s
 _TERM = re.compile(r"([a-zA-Zµμ]+)(?:\^(-?\d+))?")
 
 
-@lru_cache(maxsize=256)
+@memoize("units.simple_unit", scope="process", maxsize=256)
 def _simple_unit(text: str) -> tuple[float, tuple[tuple[str, int], ...]] | None:
     """(factor to SI, base powers) of a product/quotient of (prefixed) SI symbols such as
     ``"MPa"``, ``"1/m"``, ``"J/m**2"``, ``"um**4"``; ``None`` for anything else."""

@@ -217,7 +217,7 @@ def test_shapes():
 
 
 def test_performance_500_loads_200_zeta():
-    closures._ode_solution.cache_clear()
+    closures._ode_solution.cache.clear()
     p0 = np.geomspace(1e-4, 0.5, 500)
     tau_c = np.concatenate(([0.0], np.geomspace(1e-8, 0.02, 199)))
     t0 = time.perf_counter()

@@ -15,10 +15,11 @@ import numpy as np
 import pytest
 from scipy.interpolate import CubicSpline
 
+import xpersson
+from xpersson.cache import cache
 from xpersson.physics import SolvedContact, critical_magnification
 from xpersson.physics._curve import _Curve, _edges
 from xpersson.physics._fastnum import _exp_inplace, _ppoly_at, _row_slopes
-from xpersson.physics._memo import _MEMO
 from xpersson.physics._percolation import _crossing_coefficients
 from xpersson.physics._phi import _Phi
 from xpersson.physics._subgap import _sub_mean_gap, _sub_prep
@@ -248,39 +249,49 @@ def test_curve_is_the_plain_log_spline(contact, with_s):
     np.testing.assert_array_equal(cur.nf(x), ref_nf)
 
 
-def test_spectrum_memo_is_the_plain_evaluation(psd):
-    """The rule and the bin edges' sub-problem nodes of a frozen spectrum are computed once
-    (read-only, shared by the next solve) and equal those of a mutable copy, computed anew."""
+@pytest.fixture
+def caches_on():
+    """The caches on, also in CI's run with XPERSSON_CACHE=off."""
+    with xpersson.set_options(cache=True):
+        yield
+
+
+@pytest.mark.usefixtures("caches_on")
+def test_spectrum_caches_are_the_plain_evaluation(psd):
+    """The rule and the bin edges' sub-problem nodes of a spectrum are computed once per
+    content (read-only, shared by the next solve and by an equal spectrum) and equal those
+    computed with the caches off."""
     zeta = np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 200)))
     A, N = area_fraction(LOADS[:, None], diffusion_time(psd, E_STAR, zeta)[None, :])
     mutable = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e8)
     frozen = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e8).freeze()
-    assert not mutable.frozen
+    assert not mutable.frozen and mutable.cache_key() == frozen.cache_key()
     edges = 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 30)
     edges = np.concatenate(([1.0], edges))
-    plain = SolvedContact(mutable, E_STAR, LOADS, zeta, A, None, N)
+    with xpersson.set_options(cache=False):
+        plain = SolvedContact(frozen, E_STAR, LOADS, zeta, A, None, N)
+        d0 = plain.detachment(edges)
+        plain_gap, plain_rule = plain.mean_gap(), plain.rule
     first = SolvedContact(frozen, E_STAR, LOADS, zeta, A, None, N)
-    second = SolvedContact(frozen, E_STAR, LOADS, zeta, A, None, N)
-    d0, d1, d2 = (sc.detachment(edges) for sc in (plain, first, second))
+    second = SolvedContact(mutable, E_STAR, LOADS, zeta, A, None, N)  # equal content
+    d1, d2 = (sc.detachment(edges) for sc in (first, second))
     for name in ("ubar", "u1", "h", "weight"):
         np.testing.assert_array_equal(getattr(d1, name), getattr(d0, name))
         np.testing.assert_array_equal(getattr(d2, name), getattr(d0, name))
     assert d1.h is d2.h and d0.h is not d1.h and not d1.h.flags.writeable
-    np.testing.assert_array_equal(second.mean_gap(), plain.mean_gap())
-    assert first.rule is second.rule and plain.rule is not first.rule
-    np.testing.assert_array_equal(second.phi.phi, plain.phi.phi)  # Phi's memoised weights
+    np.testing.assert_array_equal(second.mean_gap(), plain_gap)
+    assert first.rule is second.rule and plain_rule is not first.rule
+    np.testing.assert_array_equal(second.phi.phi, plain.phi.phi)  # Phi's cached weights
     np.testing.assert_array_equal(second.phi.s, plain.phi.s)
     assert not second.rule.dI3.flags.writeable
-    memo = next(iter(_MEMO[frozen].values()))  # every array of every result read-only
-    stack = [memo]
+    stack = list(cache("physics.edge_prep")._store.values())  # every array of every value
+    assert stack
     while stack:
         v = stack.pop()
         if isinstance(v, np.ndarray):
             assert not v.flags.writeable
-        elif isinstance(v, tuple):
+        elif isinstance(v, tuple | list):
             stack.extend(v)
-    assert all(not v[0][0].flags.writeable for k, v in _MEMO[frozen].items() if k[0] == "edges")
-    assert mutable not in _MEMO  # a mutable spectrum is never memoised
 
 
 def test_dense_zeta_memo_is_the_plain_merge():

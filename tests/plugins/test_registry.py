@@ -36,7 +36,9 @@ def test_discovery_is_cached_until_refresh(monkeypatch):
     calls = []
     install_eps(monkeypatch, [fake_ep("boundaries", "offset", f"{M}:OffsetWall")])
     inner = _registry._entry_points
-    monkeypatch.setattr(_registry, "_entry_points", lambda g: calls.append(g) or inner(g))
+    monkeypatch.setattr(
+        _registry, "_entry_points", lambda g, installed=None: calls.append(g) or inner(g)
+    )
     reg = Registry(autoload=True)
     reg.names("boundaries")
     reg.names("coefficients")

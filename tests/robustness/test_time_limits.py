@@ -110,7 +110,9 @@ def test_a_hanging_import_is_reported_broken_within_the_limit(monkeypatch, tmp_p
     from xpersson.plugins import _registry
 
     monkeypatch.setattr(
-        _registry, "_entry_points", lambda group: [ep] if group == "xpersson.analyses" else []
+        _registry,
+        "_entry_points",
+        lambda group, installed=None: [ep] if group == "xpersson.analyses" else [],
     )
     reg = Registry()
     t0 = time.perf_counter()

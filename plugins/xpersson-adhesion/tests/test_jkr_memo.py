@@ -1,19 +1,24 @@
-"""What ``jkr`` derives from a frozen spectrum is computed once
-(``xpersson.physics.spectrum_memo``): the values are those of a fresh computation, shared
-read-only, and never leak into a returned Dataset."""
+"""What ``jkr`` derives from a spectrum is computed once per content (:mod:`xpersson.cache`):
+the values are those of a fresh computation (caches off), shared read-only, never leak into a
+returned Dataset; and its pull-off never falls back silently to another policy."""
 
 from __future__ import annotations
 
 import copy
+import pickle
 import warnings
 
 import numpy as np
-from adhesion_testlib import PDMS, PSD
+import pytest
+from adhesion_testlib import PDMS
 
+import xpersson
+from xpersson.cache import cache
 from xpersson.physics import SelfAffineRollOff, coefficient_f, diffusion_time
-from xpersson.physics import spectrum_memo as memo
-from xpersson.plugins import DiffusionClock
+from xpersson.plugins import DiffusionClock, SceneContext
+from xpersson_adhesion import JKRBoundary
 from xpersson_adhesion._detachment import ModelLaw, onset_times
+from xpersson_adhesion.jkr import stickiness
 
 E_STAR = 1e6 / 0.75
 
@@ -22,55 +27,60 @@ def _frozen() -> SelfAffineRollOff:
     return SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e7).freeze()
 
 
-def _clock(psd: object) -> DiffusionClock:
+def _clock(psd: object, e_star: float = E_STAR) -> DiffusionClock:
     return DiffusionClock(
-        lambda z: diffusion_time(psd, E_STAR, z), lambda z: coefficient_f(psd, E_STAR, z), 1e4
+        lambda z: diffusion_time(psd, e_star, z), lambda z: coefficient_f(psd, e_star, z), 1e4
     )
 
 
-def test_memo_computes_once_per_frozen_spectrum_and_key():
-    psd, calls = _frozen(), []
-
-    def compute() -> tuple[np.ndarray, float]:
-        calls.append(1)
-        return np.arange(3.0), 2.5
-
-    first = memo(psd, ("k", 1.0), compute)
-    again = memo(psd, ("k", 1.0), compute)
-    assert again is first and len(calls) == 1
-    assert not first[0].flags.writeable  # shared: read-only
-    memo(psd, ("k", 2.0), compute)  # another key
-    memo(_frozen(), ("k", 1.0), compute)  # another (equal but distinct) spectrum
-    assert len(calls) == 3
-
-
-def test_memo_does_not_keep_results_of_a_mutable_spectrum():
-    calls = []
-    assert not PSD.frozen
-    for _ in range(2):
-        memo(PSD, ("k",), lambda: calls.append(1) or 1.0)
-    assert len(calls) == 2
+def _ctx(psd: object, p0: float = 1e3) -> SceneContext:
+    return SceneContext(
+        psd=psd,
+        E=1e6,
+        nu=0.5,
+        E_star=E_STAR,
+        p0=np.array([p0]),
+        zeta=np.geomspace(1.0, 1e4, 9),
+        p=None,
+        rtol=1e-6,
+        atol=0.0,
+        method="auto",
+    )
 
 
-def test_memoised_table_equals_a_fresh_one_and_follows_the_clock():
+@pytest.fixture
+def caches_on():
+    """The caches on, also in CI's run with XPERSSON_CACHE=off."""
+    with xpersson.set_options(cache=True):
+        yield
+
+
+def test_stickiness_is_computed_once_per_spectrum_content(caches_on):
+    store = cache("adhesion.stickiness")
+    store.clear()
+    first = stickiness(_frozen(), E_STAR, 0.03)
+    again = stickiness(SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e7), E_STAR, 0.03)
+    assert again == first and (store.hits, store.misses) == (1, 1)  # equal content: one value
+    stickiness(_frozen(), E_STAR, 0.04)  # another work of adhesion: another value
+    assert store.misses == 2
+    with xpersson.set_options(cache=False):
+        assert stickiness(_frozen(), E_STAR, 0.03) == first
+
+
+def test_cached_table_equals_a_fresh_one_and_follows_the_clock(caches_on):
     psd = _frozen()
     law = ModelLaw(psd, E_STAR, 0.03, 1.0)
     clock = _clock(psd)
     table = law.in_tau(clock)
     assert law.in_tau(_clock(psd)) is table  # an equal clock: the same table
-    fresh = ModelLaw(SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e7), E_STAR, 0.03, 1.0)
-    ref = fresh.in_tau(_clock(fresh.psd))  # a spectrum that is not frozen: no memo
+    with xpersson.set_options(cache=False):
+        ref = ModelLaw(_frozen(), E_STAR, 0.03, 1.0).in_tau(_clock(psd))
+    assert ref is not table
     t = float(clock.tau_of_zeta(1e4)) * np.linspace(0.0, 1.0, 101)
     np.testing.assert_array_equal(table(t), ref(t))
     np.testing.assert_array_equal(onset_times(table), onset_times(ref))
     # another modulus: another clock and another law, another table
-    other = ModelLaw(psd, 2 * E_STAR, 0.03, 1.0).in_tau(
-        DiffusionClock(
-            lambda z: diffusion_time(psd, 2 * E_STAR, z),
-            lambda z: coefficient_f(psd, 2 * E_STAR, z),
-            1e4,
-        )
-    )
+    other = ModelLaw(psd, 2 * E_STAR, 0.03, 1.0).in_tau(_clock(psd, 2 * E_STAR))
     assert other is not table and not np.array_equal(other(t[1:]), table(t[1:]))
 
 
@@ -92,55 +102,37 @@ def test_repeated_solves_are_identical_and_own_their_arrays(solve):
     np.testing.assert_array_equal(first["gamma_eff"].values, third["gamma_eff"].values)
 
 
-def test_memo_keeps_a_bounded_number_of_results():
-    from xpersson.physics import _memo
-
-    spectra = [_frozen() for _ in range(3)]
-    for i in range(3 * _memo._MEMO_SIZE):
-        memo(spectra[i % 3], ("bound", i), lambda i=i: float(i))
-    kept = sum(1 for psd in spectra for key in _memo._MEMO.get(psd, {}) if key[0] == "bound")
-    assert kept <= _memo._MEMO_SIZE
-    calls = []
-    last = 3 * _memo._MEMO_SIZE - 1
-    assert memo(spectra[last % 3], ("bound", last), lambda: calls.append(1)) == float(last)
-    assert not calls  # the newest result is still there
-    memo(spectra[0], ("bound", 0), lambda: calls.append(1))
-    assert calls  # the oldest was dropped
-
-
-def test_digest_tells_arrays_apart():
-    from xpersson.physics import array_digest as digest
-
-    a = np.linspace(0.0, 1.0, 1000)
-    b = a.copy()
-    b[500] = np.nextafter(b[500], 2.0)
-    assert digest(a) == digest(a.copy()) != digest(b)
-    assert digest(a, b) != digest(b, a)
+def test_pull_off_at_an_area_never_falls_back_to_sigma_a():
+    """``pull_off_area > 0`` solves the wall of the scene's clock: without the clock it is an
+    error (it used to return sigma_a(1), the other policy, silently), and a boundary that has
+    not seen the clock (a fresh or unpickled copy) cannot interpret."""
+    psd = _frozen()
+    ctx, clock = _ctx(psd), _clock(psd)
+    bnd = JKRBoundary(work_of_adhesion=0.03, pull_off_area=1e-3)
+    s1 = bnd.sigma_a_start(ctx)
+    tau_end = float(clock.tau_of_zeta(1e4))
+    with pytest.raises(ValueError, match="pull_off_area = 0.001 .* diffusion clock"):
+        bnd.pull_off(ctx, tau_end)
+    solved = bnd.pull_off(ctx, tau_end, clock)
+    assert 0.0 < solved < s1  # the area policy, not sigma_a(1)
+    with xpersson.set_options(cache=False):
+        assert bnd.pull_off(ctx, tau_end, clock) == solved
+    bnd.walls(ctx, 1e3, clock)
+    copy_ = pickle.loads(pickle.dumps(bnd))
+    with pytest.raises(ValueError, match="diffusion clock"):
+        copy_.pull_off(ctx, tau_end, copy_._clock)
+    assert JKRBoundary(work_of_adhesion=0.03).pull_off(ctx, tau_end) == s1  # the default policy
 
 
 def test_sigma_a_at_the_grid_ends_equals_the_law_bit_for_bit():
-    """sigma_a(1) and sigma_a(zeta_max) read from the memoised gamma_eff are the law's."""
-    from xpersson.plugins import SceneContext
-    from xpersson_adhesion import JKRBoundary
-
+    """sigma_a(1) and sigma_a(zeta_max) read from the cached gamma_eff are the law's."""
     psd = _frozen()
     for work in (0.03, 1e-6):
-        zeta = np.geomspace(1.0, 300.0, 9)
-        ctx = SceneContext(
-            psd=psd,
-            E=1e6,
-            nu=0.5,
-            E_star=E_STAR,
-            p0=np.array([1e3]),
-            zeta=zeta,
-            p=None,
-            rtol=1e-6,
-            atol=0.0,
-            method="auto",
-        )
+        ctx = _ctx(psd)
+        ctx = SceneContext(**{**ctx.__dict__, "zeta": np.geomspace(1.0, 300.0, 9)})
         bnd = JKRBoundary(work_of_adhesion=work)
         law = bnd._model(ctx)
-        for z in (1.0, 300.0, 17.0):  # the ends from the memo, an inner value from the law
+        for z in (1.0, 300.0, 17.0):  # the ends from the cache, an inner value from the law
             assert bnd._at(ctx, law, z) == float(law(np.array([z]))[0])
         assert bnd.sigma_a_start(ctx) == float(law(np.array([1.0]))[0])
     assert law.is_constant(300.0) == bool(np.all(law(np.geomspace(1.0, 300.0, 257)) == 0.0))

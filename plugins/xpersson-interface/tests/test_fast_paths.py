@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import gc
 
 import numpy as np
 import pytest
@@ -11,6 +10,7 @@ from interface_testlib import E_STAR, detach, scene
 from scipy.interpolate import CubicSpline
 
 import xpersson
+from xpersson.cache import cache
 from xpersson.physics import gap_cdf, gap_pdf
 from xpersson.physics._fastnum import _exp, _row_spline
 from xpersson_interface import _solved, bruggeman_gap
@@ -72,9 +72,8 @@ def test_exp_is_numpys_exp_bit_for_bit():
 
 
 def test_analyses_of_one_solve_share_one_curve_and_free_it():
-    """mean_gap, contact_stiffness and gap_pdf of one solve build one SolvedContact."""
-    gc.collect()
-    before = len(_solved.SOLVES)
+    """mean_gap, contact_stiffness and gap_pdf of one solve build one SolvedContact (the
+    solve-scoped cache "interface.solved"; with the caches on also in CI's caches-off run)."""
     made = []
     real = xpersson.physics.SolvedContact
 
@@ -86,14 +85,18 @@ def test_analyses_of_one_solve_share_one_curve_and_free_it():
     xpersson.physics.SolvedContact = Counting
     try:
         an = {"mean_gap": {}, "contact_stiffness": {}, "gap_pdf": {}}
-        ds = xpersson.solve(scene(LOADS, analyses=an))
-        alone = xpersson.solve(scene(LOADS, analyses={"gap_pdf": {}}))
+        with xpersson.set_options(cache=True):
+            ds = xpersson.solve(scene(LOADS, analyses=an))
+            alone = xpersson.solve(scene(LOADS, analyses={"gap_pdf": {}}))
+        with xpersson.set_options(cache=False):
+            off = xpersson.solve(scene(LOADS, analyses=an))
     finally:
         xpersson.physics.SolvedContact = real
-    assert len(made) == 2  # one per solve
+    assert len(made) == 2 + 3  # one per solve; with the caches off one per analysis
     np.testing.assert_array_equal(ds["gap_pdf"].values, alone["gap_pdf"].values)
-    gc.collect()
-    assert len(_solved.SOLVES) == before  # nothing outlives the solve
+    for name in an:
+        np.testing.assert_array_equal(ds[name].values, off[name].values)
+    assert len(cache("interface.solved")) == 0  # nothing outlives the solve
 
 
 def test_fast_erf_is_scipys_erf_within_its_bound():

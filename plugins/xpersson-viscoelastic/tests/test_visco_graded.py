@@ -66,18 +66,13 @@ def test_shared_node_values_equal_fresh_ones():
     assert (lay.block >= 0).sum() > 20  # most panels above 2 q_L are the output grid's
     rows = np.array([2, 0])
     w = (v * aT)[rows, None] * lay.qn[None, :]
-    known = _graded.known_nodes((PSD, NU, v, aT, keep), _Ctx(), v[rows], aT[rows], rows)
+    known = _graded.known_nodes((v, aT, keep), v[rows], aT[rows], rows)
     shared = _graded.integrals(PSD, model, NU, lay, w, known)
     fresh = _graded.integrals(PSD, model, NU, lay, w)
     for a, b in zip(shared, fresh, strict=True):
         np.testing.assert_array_equal(a, b)
     # another block's values are not taken
-    assert _graded.known_nodes((PSD, NU, v, aT, keep), _Ctx(), v[:2], aT[:2], rows) is None
-
-
-class _Ctx:
-    psd = PSD
-    nu = NU
+    assert _graded.known_nodes((v, aT, keep), v[:2], aT[:2], rows) is None
 
 
 def test_prony_parts_do_not_depend_on_the_position_in_a_call():

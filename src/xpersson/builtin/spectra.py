@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import functools
 from typing import Any
 
+from ..cache import memoize
 from ..physics.psd import PowerSpectrum, SelfAffineRollOff
 from ..physics.psd import Tabulated as _TabulatedPSD
 from ..plugins import FastPaths, ParamSpec, Spectrum
@@ -94,7 +94,7 @@ class SelfAffine(Spectrum):
         return _self_affine(p["h_rms"], p["rms_slope"], p["C_r"], p["H"], p["q_L"], q_r, p["q_1"])
 
 
-@functools.lru_cache(maxsize=64)
+@memoize("spectra.self_affine", scope="process", maxsize=64)
 def _self_affine(
     h_rms: float | None,
     rms_slope: float | None,

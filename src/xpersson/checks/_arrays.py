@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import math
-import weakref
 from typing import Any
 
 import numpy as np
 
+from ..cache import Cache
 from ._failure import PluginFailure, calling
 
 __all__ = ["check_array", "check_spectrum", "check_walls", "quote"]
@@ -117,24 +117,22 @@ def check_spectrum(psd: Any, who: object) -> None:
     PluginFailure
         Naming the plugin and the attribute at fault.
 
-    A frozen spectrum (:meth:`xpersson.physics.psd.PowerSpectrum.freeze`: immutable, shared by
-    the builds of equal parameters) that passed once is not checked again.
+    A spectrum with a content key (``cache_key()``, as every
+    :class:`~xpersson.physics.PowerSpectrum`) whose content passed once is not checked again
+    (cache ``"checks.spectrum"``); one without is checked every time.
     """
-    frozen = getattr(psd, "frozen", False) is True
-    if frozen and id(psd) in _CHECKED_SPECTRA and _CHECKED_SPECTRA[id(psd)]() is psd:
+    if not callable(getattr(psd, "cache_key", None)):
+        _check_spectrum(psd, who)
         return
-    _check_spectrum(psd, who)
-    if frozen:
-        try:
-            ref = weakref.ref(psd)
-        except TypeError:  # pragma: no cover - not weak-referenceable: checked every time
-            return
-        if len(_CHECKED_SPECTRA) > 256:
-            _CHECKED_SPECTRA.clear()
-        _CHECKED_SPECTRA[id(psd)] = ref
+    _CHECKED_SPECTRA.get(psd, lambda: _check_spectrum(psd, who))
 
 
-_CHECKED_SPECTRA: dict[int, Any] = {}
+_CHECKED_SPECTRA = Cache(
+    "checks.spectrum",
+    scope="spectrum",
+    maxsize=256,
+    doc="spectra (by content) whose numbers passed check_spectrum",
+)
 
 
 def _check_spectrum(psd: Any, who: object) -> None:

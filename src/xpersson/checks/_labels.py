@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import functools
-from collections.abc import Mapping
 from typing import Any
 
 from ..plugins import PLUGIN_GROUPS, get_registry, normalize_group
@@ -64,28 +62,16 @@ def _label_text(group: str, plugin: Any, registry: Any, name: str | None) -> str
         if info is not None and not info.direct:
             dist = f"{info.dist} {info.version}".strip()
         else:
-            dist = _distribution_of(cls.__module__)
+            dist = _distribution_of(cls.__module__, reg)
     except Exception:  # a label must never fail
         dist, reg_name = "unknown", f"{cls.__module__}:{cls.__qualname__}"
     word = _GROUP_WORD.get(group, group)
     return f"{word} plugin {name or reg_name!r} (distribution {dist})"
 
 
-@functools.lru_cache(maxsize=1)
-def _packages() -> Mapping[str, list[str]]:
-    from importlib.metadata import packages_distributions
-
-    return packages_distributions()
-
-
-def _distribution_of(module: str) -> str:
+def _distribution_of(module: str, registry: Any) -> str:
     """Distribution and version of a class passed directly (not registered by entry point)."""
-    from importlib.metadata import version
-
-    try:
-        dists = _packages().get(module.partition(".")[0], [])
-        if dists:
-            return f"{dists[0]} {version(dists[0])}"
-    except Exception:
-        pass
+    dist, version = registry.module_distribution(module)
+    if not dist.startswith("<"):  # "<direct>": no installed distribution provides it
+        return f"{dist} {version}"
     return f"none: class {module} passed directly"

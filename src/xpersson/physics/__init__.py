@@ -14,7 +14,6 @@ interface
     finer scales at full contact), mean gap, stiffness, gap distribution, percolation.
 """
 
-from ._memo import array_digest, spectrum_memo
 from .closures import (
     CLOSURES,
     DEFAULT_GAMMA,
@@ -65,7 +64,6 @@ __all__ = [
     "SolvedContact",
     "Tabulated",
     "area_fraction",
-    "array_digest",
     "closure_S",
     "coefficient_f",
     "contact_stiffness",
@@ -87,6 +85,5 @@ __all__ = [
     "profile_factor",
     "second_moment",
     "separation_of_detaching_area",
-    "spectrum_memo",
     "variance_factor",
 ]

@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from ..cache import memoize
 
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
@@ -25,7 +26,7 @@ _GL_ORDER = 6
 
 
 # -- quadrature ---------------------------------------------------------------------------------
-@lru_cache(maxsize=16)
+@memoize("physics.gauss_legendre", scope="process", maxsize=16)
 def _gauss(n: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Gauss-Legendre nodes and weights on ``[0, 1]``."""
     x, w = np.polynomial.legendre.leggauss(n)

@@ -12,12 +12,20 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from ..cache import Cache
 from ._curve import _TINY, _Curve, _tau_c
 from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
-from ._memo import spectrum_memo
 
 #: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
 _TABLE_MARGIN = 8
+
+
+_PHI_WEIGHTS = Cache(
+    "physics.phi_weights",
+    scope="spectrum",
+    maxsize=64,
+    doc="Phi's Stieltjes weights on an area curve's nodes and tau_c at its magnifications",
+)
 
 
 def _phi_weights(
@@ -37,8 +45,8 @@ class _Phi:
 
     def __init__(self, psd: object, E_star: float, p0: NDArray[np.float64], cur: _Curve) -> None:
         q_L = float(psd.q_L)  # type: ignore[attr-defined]
-        key = ("phi", E_star, q_L, cur.zeta.tobytes())
-        weights, tau = spectrum_memo(psd, key, lambda: _phi_weights(psd, E_star, cur))
+        key = (psd, float(E_star), q_L, cur.zeta)
+        weights, tau = _PHI_WEIGHTS.get(key, lambda: _phi_weights(psd, E_star, cur))
         inc = cur.dF_weighted(weights) / p0[:, None]
         phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
         self.tau1 = float(tau[1])

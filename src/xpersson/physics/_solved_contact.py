@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..cache import Cache
 from ._curve import (
     _Curve,
     _edges,
@@ -19,12 +20,24 @@ from ._curve import (
 )
 from ._energy import full_contact_energy
 from ._gap_distribution import Detachment
-from ._memo import spectrum_memo
 from ._percolation import critical_magnification
 from ._phi import _Phi
 from ._subgap import _h2, _sub_mean_gap, _sub_prep
 
 __all__ = ["SolvedContact"]
+
+_Q_RULES = Cache(
+    "physics.q_rule",
+    scope="spectrum",
+    maxsize=64,
+    doc="quadrature rule over [q_L, q_hi] of the elastic energy and the mean gap",
+)
+_EDGE_PREP = Cache(
+    "physics.edge_prep",
+    scope="spectrum",
+    maxsize=32,
+    doc="sub-problem nodes and rms heights at the detachment bins' edges",
+)
 
 
 class SolvedContact:
@@ -76,10 +89,8 @@ class SolvedContact:
     def rule(self) -> _QRule:
         """The quadrature rule over ``[q_L, q_hi]`` of the energy and the mean gap (built once)."""
         if self._rule is None:
-            key = ("rule", self.q_L, self.q_hi)
-            self._rule = spectrum_memo(
-                self.psd, key, lambda: _q_rule(self.psd, self.q_L, self.q_hi)
-            )
+            key = (self.psd, self.q_L, self.q_hi)
+            self._rule = _Q_RULES.get(key, lambda: _q_rule(self.psd, self.q_L, self.q_hi))
         return self._rule
 
     def elastic_energy(self) -> NDArray[np.float64]:
@@ -136,10 +147,8 @@ class SolvedContact:
             raise ValueError(f"separation must be 'almqvist' or 'pressure', got {separation!r}")
         cur, q_L, q_hi = self.curve, self.q_L, self.q_hi
         z, A, N = _edges(cur, zeta_edges)
-        prep, h, h_rms = spectrum_memo(
-            self.psd,
-            ("edges", self.E_star, q_L, q_hi, z.tobytes()),
-            lambda: self._edge_prep(z),
+        prep, h, h_rms = _EDGE_PREP.get(
+            (self.psd, self.E_star, q_L, q_hi, z), lambda: self._edge_prep(z)
         )
         ubar = _sub_mean_gap(self.psd, self.E_star, self.phi, None, A, q_hi, prep=prep)
         ubar[:, 0] = self.mean_gap()

@@ -8,12 +8,21 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import gammaln
 
+from ..cache import Cache, digest
+
 __all__ = ["profile_factor", "PowerSpectrum"]
 
 #: Allowed values of the ``convention`` argument of :class:`Tabulated`.
 CONVENTIONS: tuple[str, ...] = ("persson", "surface_topography", "profile_1d")
 
 _TWO_PI_SQ = (2.0 * np.pi) ** 2
+
+_MOMENTS = Cache(
+    "physics.spectrum_moments",
+    scope="spectrum",
+    maxsize=512,
+    doc="full moments and cumulative moments at the nodes of a spectrum, per power k",
+)
 
 
 def profile_factor(H: ArrayLike) -> NDArray[np.float64] | float:
@@ -106,18 +115,41 @@ class PowerSpectrum:
         self._e = exponents
         self.q_L = float(nodes[0])
         self.q_1 = float(nodes[-1])
-        self._cum_cache: dict[float, NDArray[np.float64]] = {}
-        self._moment_cache: dict[float, float] = {}
+
+    def cache_key(self) -> bytes:
+        """The spectrum's content key for :mod:`xpersson.cache`: a 128-bit digest of its
+        breakpoints [1/m], left-end values [m^4] and exponents [1], which define it.
+
+        Computed once when the spectrum is frozen (:meth:`freeze`), else at each call.
+
+        Raises
+        ------
+        TypeError
+            For a subclass that does not define its segments with :meth:`_set_segments`
+            (it must define ``cache_key()`` itself).
+        """
+        key = self.__dict__.get("_content_key")
+        if key is not None:
+            return key  # type: ignore[no-any-return]
+        if "_nodes" not in self.__dict__:
+            raise TypeError(
+                f"{type(self).__qualname__} does not call _set_segments: define cache_key() "
+                "(the numbers that define the spectrum) so that results derived from it can "
+                "be cached"
+            )
+        return digest(self._nodes, self._Ca, self._e)
 
     def freeze(self) -> PowerSpectrum:
         """Make the spectrum immutable (read-only arrays, no attribute assignment); returns it.
 
-        A frozen spectrum may be shared (e.g. cached by a spectrum plugin for equal
-        parameters): its moments are computed once. Memo tables stay private.
+        A frozen spectrum may be shared (e.g. by a spectrum plugin for equal parameters); its
+        content key (:meth:`cache_key`) is computed here, once.
         """
         for value in vars(self).values():
             if isinstance(value, np.ndarray):
                 value.setflags(write=False)
+        if "_nodes" in self.__dict__:
+            object.__setattr__(self, "_content_key", self.cache_key())
         object.__setattr__(self, "_frozen", True)
         return self
 
@@ -191,14 +223,13 @@ class PowerSpectrum:
         float
             The moment in m^(4+k+1) (e.g. m^2 for ``k = 1``, dimensionless for ``k = 3``).
         """
-        if q_a is None and q_b is None:  # the full moment: computed once per k
-            cache = getattr(self, "_moment_cache", None)
-            if cache is None:  # a subclass that does not use _set_segments
-                return self._moment(float(k), self.q_L, self.q_1)
+        if q_a is None and q_b is None:  # the full moment: computed once per k and spectrum
             key = float(k)
-            if key not in cache:
-                cache[key] = self._moment(key, self.q_L, self.q_1)
-            return cache[key]
+            if "_nodes" not in self.__dict__:  # a subclass that does not use _set_segments
+                return self._moment(key, self.q_L, self.q_1)
+            return _MOMENTS.get(
+                (self, "moment", key), lambda: self._moment(key, self.q_L, self.q_1)
+            )
         qa = self.q_L if q_a is None else float(q_a)
         qb = self.q_1 if q_b is None else float(q_b)
         return self._moment(float(k), qa, qb)
@@ -219,12 +250,12 @@ class PowerSpectrum:
     def _cumulative(self, k: float) -> NDArray[np.float64]:
         """Cumulative moment at the nodes, ``M_k(nodes[i]) = int_{q_L}^{nodes[i]} q^k C``."""
         key = float(k)
-        cum = self._cum_cache.get(key)
-        if cum is None:
+
+        def compute() -> NDArray[np.float64]:
             seg = _segment_integral(self._a, self._b, self._Ca, self._e, key)
-            cum = np.concatenate(([0.0], np.cumsum(seg)))
-            self._cum_cache[key] = cum
-        return cum
+            return np.concatenate(([0.0], np.cumsum(seg)))
+
+        return _MOMENTS.get((self, "cumulative", key), compute)
 
     def running_moment(self, k: float, q: ArrayLike) -> NDArray[np.float64] | float:
         """Exact :math:`\\int_{q_L}^{q} q'^k C(q')\\, dq'`, vectorised over ``q``.

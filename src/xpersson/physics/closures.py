@@ -33,11 +33,11 @@ independent of how finely ``tau_c`` is sampled.
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf, erfinv
+
+from ..cache import memoize
 
 __all__ = [
     "CLOSURES",
@@ -155,7 +155,7 @@ def variance_factor(closure: str, A: ArrayLike, gamma: float | None = None) -> N
     return r - c * xE / (2.0 * (1.0 + c * xE / (2.0 * r)))
 
 
-@lru_cache(maxsize=64)
+@memoize("physics.closure_ode", scope="process", maxsize=64)
 def _ode_solution(closure: str, gamma: float, rtol: float):  # noqa: ANN202 - OdeSolution
     """Dense solution ``r(s)``, ``s = ln G``, of ``dr/ds = S(A(rG)) - r``, ``r(s0) = 1``."""
 

@@ -14,10 +14,17 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..cache import Cache
+
 __all__ = ["cached_index", "insert_direct", "insert_or_set"]
 
 
-_INDEXES: dict[tuple[str, bytes, tuple], tuple[Any, xr.Variable]] = {}
+_INDEXES = Cache(
+    "pipeline.coord_index",
+    scope="process",
+    maxsize=64,
+    doc="pandas index and index variable of a dimension coordinate, by name, values, attrs",
+)
 
 
 def cached_index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variable]:
@@ -27,18 +34,16 @@ def cached_index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variabl
     is immutable, so Datasets may share it (as ``isel`` and ``copy`` do). The variable is a
     fresh shallow copy carrying ``var``'s attrs.
     """
-    arr = np.asarray(var.values)
-    key = (name, arr.tobytes(), tuple(sorted((k, str(v)) for k, v in var.attrs.items())))
-    hit = _INDEXES.get(key)
-    if hit is None or hit[1].dtype != arr.dtype:
+    attrs = tuple(sorted((k, str(v)) for k, v in var.attrs.items()))
+
+    def compute() -> tuple[Any, xr.Variable]:
         index = cls.from_variables({name: var}, options={})
-        hit = (index, index.create_variables({name: var})[name])
-        if len(_INDEXES) > 64:
-            _INDEXES.clear()
-        _INDEXES[key] = hit
-    out = hit[1].copy(deep=False)
+        return index, index.create_variables({name: var})[name]
+
+    index, variable = _INDEXES.get((cls, name, np.asarray(var.values), attrs), compute)
+    out = variable.copy(deep=False)
     out.attrs = dict(var.attrs)
-    return hit[0], out
+    return index, out
 
 
 def insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:

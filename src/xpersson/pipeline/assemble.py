@@ -12,6 +12,7 @@ import numpy as np
 import xarray as xr
 
 from .. import checks
+from ..cache import Cache
 from ..errors import XperssonWarning
 from ..physics.grids import persson_G
 from ..plugins import SceneContext, VarSpec
@@ -92,15 +93,22 @@ def _balance_notes(results: Any) -> dict[str, str]:
     return {name: text for name in ("load_balance", "probability_balance")}
 
 
-_ATTRS: dict[str, dict[str, Any]] = {}
+_ATTRS = Cache(
+    "pipeline.core_attrs",
+    scope="process",
+    maxsize=256,
+    doc="CF attrs of a core variable or coordinate of the schema, by name",
+)
 
 
 def _attrs_of(name: str) -> dict[str, Any]:
     """CF attrs of a core variable or coordinate (computed once per process, copied out)."""
-    if name not in _ATTRS:
+
+    def compute() -> dict[str, Any]:
         spec = COORDS.get(name) or CORE_VARIABLES.get(name)
-        _ATTRS[name] = spec.attrs() if spec is not None else {}
-    return dict(_ATTRS[name])
+        return spec.attrs() if spec is not None else {}
+
+    return dict(_ATTRS.get(name, compute))
 
 
 def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
@@ -147,7 +155,7 @@ def add_outputs(
     if not checked:
         return
     for name, da in checked.items():
-        da.attrs.update(_spec_attrs(specs[name]))
+        da.attrs.update(specs[name].attrs())
     if insert_direct(ds, checked):
         return
     try:  # one Dataset update for all of the plugin's variables (one merge, not one each)
@@ -162,20 +170,6 @@ def add_outputs(
             raise checks.PluginFailure(
                 f"{who}: variable {name!r}: {exc}", plugin=who, variable=name
             ) from None
-
-
-_SPEC_ATTRS: dict[int, tuple[VarSpec, dict[str, Any]]] = {}
-
-
-def _spec_attrs(spec: VarSpec) -> dict[str, Any]:
-    """``spec.attrs()`` (computed once per VarSpec object; a fresh copy each call)."""
-    hit = _SPEC_ATTRS.get(id(spec))
-    if hit is None or hit[0] is not spec:
-        if len(_SPEC_ATTRS) > 4096:
-            _SPEC_ATTRS.clear()
-        hit = (spec, spec.attrs())
-        _SPEC_ATTRS[id(spec)] = hit
-    return dict(hit[1])
 
 
 def diagnostics_notes(ds: xr.Dataset) -> list[str]:

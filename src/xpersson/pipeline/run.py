@@ -8,6 +8,7 @@ import dataclasses
 import xarray as xr
 
 from .. import checks, memory, plugins, provenance
+from ..cache import solve_scope
 from ..scene import ResolvedScene
 from .assemble import add_outputs, assemble, attributes, diagnostics_notes, squeeze_p0
 from .frontend import diffusion_clock, pressure_grid, scene_context, spectrum_kinks
@@ -23,8 +24,10 @@ def run(rs: ResolvedScene, *, squeeze: bool = True) -> xr.Dataset:
     ``squeeze=False`` keeps a single load's ``p0`` dimension (a sweep squeezes its stacked
     blocks once instead of every point; see :func:`squeeze_p0`). Every plugin call runs under
     ``[solver] plugin_time_limit`` when the scene sets one (:mod:`xpersson.plugins._limits`).
+    The run is one solve of :mod:`xpersson.cache`: its ``"solve"``-scoped caches live until it
+    returns.
     """
-    with plugins.time_limit(rs.plugin_time_limit):
+    with plugins.time_limit(rs.plugin_time_limit), solve_scope():
         return _run(rs, squeeze)
 
 

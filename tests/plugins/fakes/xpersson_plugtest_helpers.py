@@ -45,7 +45,7 @@ STANDARD = [
 def install_eps(monkeypatch, eps):
     """Make the registry discover exactly ``eps`` (for the duration of the test)."""
 
-    def entry_points(group: str):
+    def entry_points(group: str, installed: object = None):
         return [ep for ep in eps if ep.group == group]
 
     monkeypatch.setattr(_registry, "_entry_points", entry_points)

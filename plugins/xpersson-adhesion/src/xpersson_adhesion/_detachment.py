@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erfcx
 
-from xpersson.physics import array_digest, spectrum_memo
+from xpersson.cache import Cache
 from xpersson.physics.interface import full_contact_energy
 
 __all__ = [
@@ -43,6 +43,13 @@ __all__ = [
 ]
 
 Array = NDArray[np.float64]
+
+
+#: What ModelLaw derives from a spectrum: sigma_a^2 and its slopes at the magnifications of its
+#: table in tau; the table sigma_a(tau) of a clock's samples; whether sigma_a vanishes.
+_SAMPLES = Cache("adhesion.detachment_samples", scope="spectrum", maxsize=32, doc="sigma_a^2")
+_TABLES = Cache("adhesion.detachment_table", scope="spectrum", maxsize=32, doc="sigma_a(tau)")
+_CONSTANT = Cache("adhesion.detachment_constant", scope="spectrum", maxsize=64, doc="sigma_a = 0")
 
 
 def true_area_ratio(slope2: ArrayLike) -> Array:
@@ -177,15 +184,10 @@ class ModelLaw:
         its positive part. Relative error ~1e-10 of max sigma_a (tested); evaluating it costs a
         spline call instead of the clock's inverse and the spectrum moments.
         """
-        zmax = float(clock.zeta_max)  # type: ignore[attr-defined]
-        z_all, zo_all, cut, s2_nodes, ds2_nodes = self._samples(zmax, per_decade)
-        t_nodes = np.asarray(clock.tau_of_zeta(z_all), dtype=float)  # type: ignore[attr-defined]
-        f_nodes = np.asarray(clock.f(zo_all), dtype=float)  # type: ignore[attr-defined]
-        # the table depends on the clock only through these samples: equal samples (the same
-        # scene solved again) reuse it
-        key = ("ModelLaw.in_tau", *self._key(), zmax, per_decade, array_digest(t_nodes, f_nodes))
-        return spectrum_memo(
-            self.psd,
+        key = self.clock_key(clock, per_decade)
+        _, _, cut, s2_nodes, ds2_nodes = self._samples(key[-4], per_decade)
+        t_nodes, f_nodes = key[-2:]
+        return _TABLES.get(
             key,
             lambda: self._fit(
                 np.split(s2_nodes, cut),
@@ -195,16 +197,26 @@ class ModelLaw:
             ),
         )
 
+    def clock_key(self, clock: object, per_decade: int = 200) -> tuple[Any, ...]:
+        """The content key of :meth:`in_tau`'s table for ``clock``: the law's numbers, the
+        clock's ``zeta_max`` and its samples tau [Pa^2] and f [Pa^2] at the table's
+        magnifications (the table depends on the clock only through these)."""
+        zmax = float(clock.zeta_max)  # type: ignore[attr-defined]
+        z_all, zo_all, _, _, _ = self._samples(zmax, per_decade)
+        t_nodes = np.asarray(clock.tau_of_zeta(z_all), dtype=float)  # type: ignore[attr-defined]
+        f_nodes = np.asarray(clock.f(zo_all), dtype=float)  # type: ignore[attr-defined]
+        return (self.psd, *self._key(), zmax, per_decade, t_nodes, f_nodes)
+
     def _key(self) -> tuple[Any, ...]:
-        """What the law depends on besides its (memo-keying) spectrum."""
+        """What the law depends on besides its spectrum (cache keys)."""
         return (self.E_star, self.work, self.c_a)
 
     def _samples(self, zmax: float, per_decade: int) -> tuple[Array, Array, Array, Array, Array]:
         """The magnifications of :meth:`in_tau`'s table (nodes, and nodes with the pieces'
         ends moved inside: one-sided slopes), the cuts between pieces, ``sigma_a^2`` at the
-        nodes [Pa^2] and its one-sided slopes in zeta [Pa^2] (memoised per frozen spectrum)."""
-        key = ("ModelLaw.samples", *self._key(), zmax, per_decade)
-        return spectrum_memo(self.psd, key, lambda: self._sample(zmax, per_decade))
+        nodes [Pa^2] and its one-sided slopes in zeta [Pa^2] (cached per spectrum)."""
+        key = (self.psd, *self._key(), zmax, per_decade)
+        return _SAMPLES.get(key, lambda: self._sample(zmax, per_decade))
 
     def _sample(self, zmax: float, per_decade: int) -> tuple[Array, Array, Array, Array, Array]:
         q_L = float(self.psd.q_L)  # type: ignore[attr-defined]
@@ -260,8 +272,8 @@ class ModelLaw:
         """
         if self.work == 0.0:
             return True
-        key = ("ModelLaw.is_constant", *self._key(), float(zeta_max))
-        return spectrum_memo(self.psd, key, lambda: self._is_constant(zeta_max, sigma_end))
+        key = (self.psd, *self._key(), float(zeta_max))
+        return _CONSTANT.get(key, lambda: self._is_constant(zeta_max, sigma_end))
 
     def _is_constant(self, zeta_max: float, sigma_end: Callable[[], float] | None) -> bool:
         z_end = max(zeta_max, 1.0)

@@ -46,6 +46,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from xpersson.cache import Cache
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
 from ._bump import Bump
@@ -74,19 +75,27 @@ ATTRACTION_SCALE = 0.85
 #: Area-curve nodes closer than this to zeta = 1 are dropped from the table's grid [1]
 #: (they resolve contact fractions below the table's first node; areas change < 1e-4).
 ZETA_TRIM = 1e-5
-#: Tables shared by boundaries of the same scene in one process (repeated solves, load sweeps
-#: one call at a time), keyed by the spectrum's fingerprint and the scene's parameters; the
-#: oldest is dropped beyond ``_SHARED_SIZE``.
-_SHARED: dict[tuple, MeanField] = {}
-_SHARED_SIZE = 8
-
-
-def _fingerprint(psd: Any) -> tuple:
-    """Values that identify a spectrum [SI]: type, cut-offs, three moments, C at three q."""
-    q_L, q_1 = float(psd.q_L), float(psd.q_1)
-    q = np.geomspace(q_L, q_1, 5)[1:4]
-    moments = tuple(float(psd.running_moment(k, q_1)) for k in (1.0, 3.0, 5.0))
-    return (type(psd).__name__, q_L, q_1, *moments, *np.asarray(psd.C(q), float).tolist())
+#: The scene's mean-field table, shared by the boundaries of equal scenes (repeated solves,
+#: load sweeps one call at a time): keyed on the spectrum's content and the scene's numbers.
+_TABLES = Cache(
+    "adhesion.mean_field",
+    scope="spectrum",
+    maxsize=8,
+    doc="adhesive: the tabulated p_att(p_rep) of a scene (MeanField)",
+)
+_TAU = Cache(
+    "adhesion.area_curve",
+    scope="spectrum",
+    maxsize=8,
+    doc="adhesive: the magnifications of the mean field's area curve and tau there [Pa^2]",
+)
+#: The scene's finite-size floor and the mean field's own pull-off.
+_FLOORS = Cache(
+    "adhesion.floor",
+    scope="spectrum",
+    maxsize=8,
+    doc="adhesive: the finite-size floor (Bump) and the mean field's pull-off [Pa]",
+)
 
 
 #: Regime codes of the ``regime`` output.
@@ -112,6 +121,18 @@ EXPECTED_FACTOR = {0: 1.6, 1: 0.0, 2: 1.6, 3: 1.2, 4: 0.0}
 #: 2.57 (H = 0.5, mu_T = 1) at mu_T <= 1, for the BEM's cell only (nominal_size 0); rounded
 #: up. Not listed: 0 (not verified).
 PULL_OFF_FACTOR = {("mean field", 2): 2.3, ("floor", 2): 2.6, ("mean field", 3): 1.3}
+
+
+def _area_curve(psd: Any, E_star: float, zeta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The mean field's area curve: magnifications [1] (8 per decade, without the nodes within
+    :data:`ZETA_TRIM` of 1, which resolve loads below the table) and Persson's elastic
+    diffusion time there [Pa^2], strictly increasing."""
+    from xpersson.physics import diffusion_time
+
+    z = _curve_grid(zeta, per_decade=8)
+    z = np.concatenate((z[:1], z[1:][z[1:] - 1.0 >= ZETA_TRIM]))
+    tau = np.asarray(diffusion_time(psd, E_star, z), dtype=float)
+    return _increasing(z, tau)
 
 
 def regime_of(tabor_1: float, ratio: np.ndarray, floor: np.ndarray | None = None) -> np.ndarray:
@@ -239,14 +260,6 @@ class AdhesiveBoundary(Boundary):
             raise ValueError(
                 f"boundary.law = {p['law']!r}: one of exponential, dugdale ('lj93': use 'dmt')"
             )
-        self._tables: dict[int, MeanField] = {}
-        self._floors: dict[tuple, tuple[Bump, float]] = {}
-
-    def __getstate__(self) -> dict[str, Any]:
-        state = dict(self.__dict__)
-        state["_tables"] = {}
-        state["_floors"] = {}
-        return state
 
     # -- the mean field ----------------------------------------------------------------------
     def table(self, ctx: SceneContext) -> MeanField | None:
@@ -255,8 +268,6 @@ class AdhesiveBoundary(Boundary):
         The area curve is Persson's elastic one, ``erf(p_rep / (2 sqrt(tau)))`` with the
         diffusion time of the spectrum (:func:`xpersson.physics.diffusion_time`).
         """
-        from xpersson.physics import diffusion_time
-
         p = self._params
         if p["work_of_adhesion"] == 0.0:
             return None
@@ -264,29 +275,21 @@ class AdhesiveBoundary(Boundary):
         law, work, rng = p["law"], p["work_of_adhesion"], p["range"]
         p_hi = p_hi_of(ctx.p0, law, work, rng)
         psd = ctx.psd
-        key = (id(psd), float(psd.q_L), float(psd.I3(psd.q_1)), ctx.E_star, zeta[-1], p_hi)
-        if key not in self._tables:
-            z = _curve_grid(zeta, per_decade=8)
-            # the nodes within 1e-5 of zeta = 1 resolve loads below the table (cost only)
-            z = np.concatenate((z[:1], z[1:][z[1:] - 1.0 >= ZETA_TRIM]))
-            tau = np.asarray(diffusion_time(ctx.psd, ctx.E_star, z), dtype=float)
-            z, tau = _increasing(z, tau)
-            scale = math.sqrt(tau[-1])
-            # the table's nodes depend on p_hi only above 10 scale (MeanField): one shared
-            # table serves every load set of the same scene
-            shared = (_fingerprint(psd), ctx.E_star, zeta.tobytes(), law, work, rng)
-            shared += (max(p_hi, 10.0 * scale),)
-            if shared not in _SHARED:
+        # the table's nodes depend on p_hi only above 10 scale (MeanField): one shared table
+        # serves every load set of the same scene
+        key = (psd, float(ctx.E_star), zeta, law, work, rng)
+        z, tau = _TAU.get(key[:3], lambda: _area_curve(psd, float(ctx.E_star), zeta))
+        scale = math.sqrt(tau[-1])
 
-                def evaluate(prep: np.ndarray) -> np.ndarray:
-                    att = attraction_curve(psd, ctx.E_star, z, tau, law, work, rng, prep)
-                    return ATTRACTION_SCALE * att
+        def build() -> MeanField:
+            def evaluate(prep: np.ndarray) -> np.ndarray:
+                att = attraction_curve(psd, ctx.E_star, z, tau, law, work, rng, prep)
+                return ATTRACTION_SCALE * att
 
-                while len(_SHARED) >= _SHARED_SIZE:
-                    _SHARED.pop(next(iter(_SHARED)))
-                _SHARED[shared] = MeanField(evaluate, scale, p_hi)
-            self._tables = {key: _SHARED[shared]}
-        return self._tables[key]
+            return MeanField(evaluate, scale, hi)
+
+        hi = max(p_hi, 10.0 * scale)
+        return _TABLES.get((*key, hi), build)
 
     def side(self, ctx: SceneContext) -> float:
         """Side of the nominal area [m]: ``nominal_size``, or ``2 pi / q_L`` when 0."""
@@ -307,13 +310,18 @@ class AdhesiveBoundary(Boundary):
 
     def _floor(self, ctx: SceneContext) -> tuple[Bump, float]:
         """``(bump, P_mf)``: the floor and the mean field's own pull-off [Pa], once per scene."""
-        mf = self.table(ctx)
+        p = self._params
         side = self.side(ctx)
-        key = (id(mf), side, id(ctx.psd), ctx.E_star)
-        if key not in self._floors:
-            bump = Bump(ctx.psd, ctx.E_star, self._params["work_of_adhesion"], side)
-            self._floors = {key: (bump, mf.pull_off() if mf is not None else 0.0)}
-        return self._floors[key]
+        zeta = np.asarray(ctx.zeta, dtype=float)
+        p_hi = p_hi_of(ctx.p0, p["law"], p["work_of_adhesion"], p["range"])
+        key = (ctx.psd, float(ctx.E_star), zeta, p["law"], p["work_of_adhesion"], p["range"])
+
+        def build() -> tuple[Bump, float]:
+            mf = self.table(ctx)
+            bump = Bump(ctx.psd, ctx.E_star, p["work_of_adhesion"], side)
+            return bump, mf.pull_off() if mf is not None else 0.0
+
+        return _FLOORS.get((*key, p_hi, side), build)
 
     def pull_off(self, ctx: SceneContext) -> float:
         """Pull-off stress [Pa]: the mean field's, or the floor's (highest bumps) when larger."""

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from xpersson.cache import Cache
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
 from ._dmt_batch import AttractionMap, solve_loads
@@ -83,6 +84,14 @@ class DMTState:
     mass_error: float
     area: float
     discretization_error: float = 0.0
+
+
+_STATES = Cache(
+    "adhesion.dmt_states",
+    scope="solve",
+    maxsize=8,
+    doc="dmt: the self-consistent states of a scene's loads on a clock's area curves",
+)
 
 
 def _curve_grid(zeta: np.ndarray, per_decade: int = 32) -> np.ndarray:
@@ -382,13 +391,13 @@ class DMTBoundary(Boundary):
         _check_scalar("range", self._params["range"], self.parameters, "m")
         if self._params["law"] not in LAWS:
             raise ValueError(f"boundary.law = {self._params['law']!r}: one of {', '.join(LAWS)}")
-        self._states: dict[tuple[int, float], DMTState] = {}
+        #: the clock of the loads solved last (:meth:`walls`), which :meth:`interpret` needs
+        #: for their states: an input of the run, not a cache (interpret() has no clock)
+        self._clock: DiffusionClock | None = None
 
     def __getstate__(self) -> dict[str, Any]:
         state = dict(self.__dict__)
-        state["_states"] = {}
-        state.pop("_clock", None)  # holds the pipeline's closures: not picklable, rebuilt per run
-        state.pop("_maps", None)  # the same (the sampled p_att of a scene, per clock)
+        state["_clock"] = None  # holds the pipeline's closures: not picklable, set per run
         return state
 
     def validate(self, ctx: SceneContext) -> None:
@@ -399,22 +408,34 @@ class DMTBoundary(Boundary):
             warn_outside_limit(float(mu[-1]), "dmt", stacklevel=4)
 
     def state(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> DMTState:
-        """The self-consistent state of load ``p0`` [Pa] (cached per clock and load).
+        """The self-consistent state of load ``p0`` [Pa] on ``clock``.
 
-        On a miss every load of ``ctx.p0`` not yet solved is solved with it, sharing the
-        exact evaluations of ``p_att`` (:func:`._dmt_batch.solve_loads`); the result of a load
-        does not depend on the others.
+        Every load of ``ctx.p0`` (and ``p0``) is solved at once, sharing the exact evaluations
+        of ``p_att`` (:func:`._dmt_batch.solve_loads`; the result of a load does not depend on
+        the others), kept for the solve (cache ``"adhesion.dmt_states"``).
         """
-        key = (id(clock), float(p0))
-        if key not in self._states:
-            todo = [
-                float(q) for q in np.atleast_1d(ctx.p0) if (id(clock), float(q)) not in self._states
-            ]
-            todo = list(dict.fromkeys(todo + [float(p0)]))
-            cols = solve_loads(self._map(ctx, clock), np.array(todo))
-            for i, q in enumerate(todo):
+        loads = tuple(dict.fromkeys([float(q) for q in np.atleast_1d(ctx.p0)] + [float(p0)]))
+        return self._states(ctx, clock, loads)[float(p0)]
+
+    def _states(
+        self, ctx: SceneContext, clock: DiffusionClock, loads: tuple[float, ...]
+    ) -> dict[float, DMTState]:
+        """The states of ``loads`` [Pa], keyed on the scene's content and the clock's samples."""
+        p = self._params
+        zeta = np.asarray(ctx.zeta, dtype=float)
+        curves = tuple(
+            _increasing(z, np.asarray(clock.tau_of_zeta(z), dtype=float))
+            for z in (_curve_grid(zeta), _curve_grid(zeta, per_decade=16))
+        )
+        scene = (p["law"], p["work_of_adhesion"], p["range"], float(ctx.rtol))
+
+        def solve() -> dict[float, DMTState]:
+            amap = AttractionMap(ctx.psd, ctx.E_star, curves, *scene)  # type: ignore[arg-type]
+            cols = solve_loads(amap, np.array(loads))
+            out = {}
+            for i, q in enumerate(loads):
                 p_rep = float(cols["p_rep"][i])
-                self._states[(id(clock), q)] = DMTState(
+                out[q] = DMTState(
                     q,
                     p_rep,
                     p_rep - q,
@@ -425,29 +446,15 @@ class DMTBoundary(Boundary):
                     float(cols["area"][i]),
                     float(cols["discretization_error"][i]),
                 )
-            self._clock = clock
-        return self._states[key]
+            return out
 
-    def _map(self, ctx: SceneContext, clock: DiffusionClock) -> AttractionMap:
-        """The scene's :class:`._dmt_batch.AttractionMap` (one per clock; holds the clock)."""
-        maps = self.__dict__.setdefault("_maps", {})
-        if id(clock) not in maps:
-            p = self._params
-            zeta = np.asarray(ctx.zeta, dtype=float)
-            curves = tuple(
-                _increasing(z, np.asarray(clock.tau_of_zeta(z), dtype=float))
-                for z in (_curve_grid(zeta), _curve_grid(zeta, per_decade=16))
-            )
-            amap = AttractionMap(
-                ctx.psd, ctx.E_star, curves, p["law"], p["work_of_adhesion"], p["range"], ctx.rtol
-            )
-            maps[id(clock)] = (clock, amap)
-        return maps[id(clock)][1]
+        return _STATES.get((ctx.psd, float(ctx.E_star), curves, scene, loads), solve)
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """Absorbing wall at ``-p_att`` [Pa]: the elastic contact at ``p_rep`` shifted."""
         from xpersson.engine import Wall
 
+        self._clock = clock
         st = self.state(ctx, p0, clock)
         return Wall.absorbing(-st.p_att), None
 
@@ -455,8 +462,14 @@ class DMTBoundary(Boundary):
         self, ctx: SceneContext, results: list[EngineResult]
     ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
         """p_rep, p_att, mean gap and the fixed-point diagnostics per load."""
-        clock = getattr(self, "_clock", None)
-        states = [self._states[(id(clock), float(p0))] for p0 in ctx.p0]
+        if self._clock is None:
+            raise ValueError(
+                "boundary 'dmt': interpret() reads the states that walls() solved on the "
+                "scene's diffusion clock; call walls() first"
+            )
+        loads = tuple(dict.fromkeys(float(q) for q in np.atleast_1d(ctx.p0)))
+        found = self._states(ctx, self._clock, loads)
+        states = [found[float(p0)] for p0 in ctx.p0]
         p = self._params
 
         def col(name: str) -> np.ndarray:

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from xpersson.physics import array_digest, spectrum_memo
+from xpersson.cache import Cache
 from xpersson.physics.interface import full_contact_energy
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
@@ -63,10 +63,24 @@ ADHESION_PARAMETERS: dict[str, ParamSpec] = {
 }
 
 
+_STICKINESS = Cache(
+    "adhesion.stickiness", scope="spectrum", maxsize=64, doc="Persson-Tosatti w_eff [J/m^2]"
+)
+_SIGMA_START = Cache(
+    "adhesion.jkr_sigma_a_start", scope="spectrum", maxsize=64, doc="jkr: sigma_a(1) [Pa]"
+)
+_SCALES = Cache(
+    "adhesion.jkr_scales",
+    scope="spectrum",
+    maxsize=32,
+    doc="jkr: gamma_eff, A*/A0, the finer scales' energy and the Tabor parameter per zeta",
+)
+
+
 def stickiness(psd: Any, E_star: float, work: float) -> float:
     """Persson-Tosatti stickiness ``w_eff = dgamma A*/A0 - U_el,full/A0`` [J/m^2] (§2.5)."""
-    key = ("stickiness", float(E_star), float(work))
-    return spectrum_memo(psd, key, lambda: _stickiness(psd, E_star, work))
+    key = (psd, float(E_star), float(work))
+    return _STICKINESS.get(key, lambda: _stickiness(psd, E_star, work))
 
 
 def _stickiness(psd: Any, E_star: float, work: float) -> float:
@@ -105,6 +119,7 @@ class JKRBoundary(Boundary):
         "arXiv:cond-mat/0603807",
     )
     tensile_loads = True
+    walls_per_load = False  # one wall for every load (see wall())
     parameters = {
         **ADHESION_PARAMETERS,
         "c_a": ParamSpec(
@@ -235,11 +250,13 @@ class JKRBoundary(Boundary):
             self._table = TableLaw(zeta, table)
             p["sigma_a"] = self._table.sigma.copy()
             p["sigma_a_zeta"] = None if tz is None else self._table.zeta.copy()
-        self._wall_cache: tuple[Any, Any] | None = None
+        #: the clock of the loads solved last (:meth:`walls`), which :meth:`pull_off` needs
+        #: for its own solves: an input of the run, not a cache (interpret() has no clock)
+        self._clock: DiffusionClock | None = None
 
     def __getstate__(self) -> dict[str, Any]:
         state = dict(self.__dict__)
-        state["_wall_cache"] = None
+        state["_clock"] = None  # holds the pipeline's closures: not picklable, set per run
         return state
 
     # -- detachment law --------------------------------------------------------------------
@@ -252,9 +269,8 @@ class JKRBoundary(Boundary):
         if self._table is not None:
             return float(self._table.sigma[0])
         law = self._model(ctx)
-        return spectrum_memo(
-            ctx.psd, ("ModelLaw.sigma_a(1)", *law._key()), lambda: self._at(ctx, law, 1.0)
-        )
+        key = (ctx.psd, *law._key(), ctx.zeta, float(ctx.q_L))
+        return _SIGMA_START.get(key, lambda: self._at(ctx, law, 1.0))
 
     def _at(self, ctx: SceneContext, law: ModelLaw, zeta: float) -> float:
         """``law([zeta])[0]``, sigma_a [Pa]: from the memoised gamma_eff of :meth:`_scales` when
@@ -270,8 +286,7 @@ class JKRBoundary(Boundary):
 
     def _scales(self, ctx: SceneContext) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Unclipped gamma_eff [J/m^2], A*/A0 [1], the finer scales' energy [J/m^2] and the
-        Tabor parameter [1] at the output magnifications (read-only; memoised per frozen
-        spectrum: :func:`~xpersson.physics.spectrum_memo`)."""
+        Tabor parameter [1] at the output magnifications (read-only; cached per spectrum)."""
         p = self._params
         zeta = np.asarray(ctx.zeta, dtype=float)
         work, rng = p["work_of_adhesion"], p["range"]
@@ -280,8 +295,8 @@ class JKRBoundary(Boundary):
             _, raw, a_star, energy = gamma_effective(ctx.psd, ctx.E_star, work, zeta)
             return raw, a_star, energy, tabor_parameter(ctx.psd, ctx.E_star, work, rng, zeta)
 
-        key = ("JKRBoundary.scales", float(ctx.E_star), work, rng, array_digest(zeta))
-        return spectrum_memo(ctx.psd, key, compute)
+        key = (ctx.psd, float(ctx.E_star), work, rng, zeta)
+        return _SCALES.get(key, compute)
 
     def validate(self, ctx: SceneContext) -> None:
         """Table coverage, p0 > -sigma_a(1), and the Tabor-parameter warning."""
@@ -305,29 +320,24 @@ class JKRBoundary(Boundary):
             warn_outside_limit(float(mu[-1]), "jkr", stacklevel=4)
 
     def wall(self, ctx: SceneContext, clock: DiffusionClock) -> Wall:
-        """The adhesive wall for a clock (the same for every load; cached per clock)."""
+        """The adhesive wall for a clock (the same for every load: the pipeline asks once,
+        ``walls_per_load = False``, and the engine solves the loads together)."""
         from xpersson.engine import Wall
 
-        if self._wall_cache is not None and self._wall_cache[0] is clock:
-            return self._wall_cache[1]
         if self._table is not None:
             if self._table.is_constant:
-                wall = Wall.absorbing(-float(self._table.sigma[0]))
-            else:
-                sig = self._table.in_tau(clock.tau_of_zeta)
-                wall = Wall.absorbing(DetachmentWall(sig), breakpoints=onset_times(sig))
+                return Wall.absorbing(-float(self._table.sigma[0]))
+            sig = self._table.in_tau(clock.tau_of_zeta)
         else:
             law = self._model(ctx)
             if law.is_constant(ctx.zeta_max, lambda: self._at(ctx, law, ctx.zeta_max)):
-                wall = Wall.absorbing(0.0)
-            else:
-                sig = law.in_tau(clock)
-                wall = Wall.absorbing(DetachmentWall(sig), breakpoints=onset_times(sig))
-        self._wall_cache = (clock, wall)
-        return wall
+                return Wall.absorbing(0.0)
+            sig = law.in_tau(clock)
+        return Wall.absorbing(DetachmentWall(sig), breakpoints=onset_times(sig))
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """Absorbing wall at ``-sigma_a(zeta(tau))`` [Pa]; no upper wall."""
+        self._clock = clock
         return self.wall(ctx, clock), None
 
     # -- outputs ---------------------------------------------------------------------------
@@ -361,11 +371,13 @@ class JKRBoundary(Boundary):
             "w_eff": ((), np.asarray(stickiness(ctx.psd, ctx.E_star, p["work_of_adhesion"]))),
             "pull_off_stress": (
                 (),
-                np.asarray(self.pull_off(ctx, float(_row0(results, "tau")[-1]))),
+                np.asarray(self.pull_off(ctx, float(_row0(results, "tau")[-1]), self._clock)),
             ),
         }
 
-    def pull_off(self, ctx: SceneContext, tau_end: float) -> float:
+    def pull_off(
+        self, ctx: SceneContext, tau_end: float, clock: DiffusionClock | None = None
+    ) -> float:
         """Pull-off stress [Pa] (documented policy).
 
         ``pull_off_area = 0`` (default): the most tensile load that keeps contact at zeta_max.
@@ -377,18 +389,30 @@ class JKRBoundary(Boundary):
         ``p0 = -sigma_a(1) (1 - 10^-k)`` and polished by ``scipy.optimize.brentq`` with the core
         engine at the final diffusion time ``tau_end`` [Pa^2] (``rtol = max(rtol, 1e-4)``;
         relative accuracy about 1e-6 of sigma_a(1)); 0 when even ``p0 = 0`` leaves less contact.
+        That needs the scene's wall, hence its diffusion ``clock``.
+
+        Raises
+        ------
+        ValueError
+            For ``pull_off_area > 0`` without a ``clock``.
         """
         s1 = self.sigma_a_start(ctx)
         target = self._params["pull_off_area"]
         if s1 <= 0:
             return 0.0
-        if target == 0.0 or tau_end <= 0 or self._wall_cache is None:
+        if target == 0.0 or tau_end <= 0:
             return s1
+        if clock is None:
+            raise ValueError(
+                f"boundary 'jkr': the pull-off at pull_off_area = {target:g} solves the scene's "
+                "detachment wall, which needs its diffusion clock: pass clock= (interpret() "
+                "uses the clock of the loads solved by walls())"
+            )
         from scipy.optimize import brentq
 
         from xpersson.engine import solve
 
-        wall = self._wall_cache[1]
+        wall = self.wall(ctx, clock)
         rtol = max(ctx.rtol, 1e-4)
 
         def excess(load: float) -> float:

@@ -11,15 +11,14 @@ integrals over zeta need the fast drop of ``A`` near ``zeta = 1`` at small loads
 from __future__ import annotations
 
 import warnings
-import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from xpersson.cache import Cache, memoize
 from xpersson.physics.closures import GAMMA_DEFAULT
 
 __all__ = ["Solved", "solved_curve", "dense_zeta", "per_solve", "FORMS"]
@@ -68,20 +67,19 @@ class Solved:
 def dense_zeta(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64]:
     """The Dataset's magnifications merged with ``1 + geomspace(1e-9, zeta_max - 1)``.
 
-    The same grid for every solve of a scene: merged once (memoised on the magnifications and
+    The same grid for every solve of a scene: merged once (cached on the magnifications and
     ``per_decade``), a fresh copy returned.
     """
     z = np.asarray(zeta, dtype=float)
     if z.ndim != 1:
         return _merged(z, per_decade)
-    return _dense_zeta(z.tobytes(), int(per_decade)).copy()
+    return _dense_zeta(z, int(per_decade)).copy()
 
 
-@lru_cache(maxsize=8)
-def _dense_zeta(zeta_bytes: bytes, per_decade: int) -> NDArray[np.float64]:
-    out = _merged(np.frombuffer(zeta_bytes, dtype=float), per_decade)
-    out.setflags(write=False)
-    return out
+@memoize("interface.dense_zeta", scope="process", maxsize=8)
+def _dense_zeta(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64]:
+    """:func:`_merged` (cached)."""
+    return _merged(zeta, per_decade)
 
 
 def _merged(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64]:
@@ -254,22 +252,37 @@ def _past_full_contact(
     return np.concatenate((np.arange(min(2, nf.shape[1])), np.arange(start, nf.shape[1])))
 
 
-#: Per-solve cache: the solved curve and its SolvedContact (splines, Phi, tables) built once per
-#: solve and shared by every analysis of that solve with the same curve parameters. Keyed weakly
-#: on the solve's ``ctx.solve_at`` (one closure per solve, freed with it): nothing outlives the
-#: solve, and a scene without ``solve_at`` (direct calls) is not cached at all.
-SOLVES: weakref.WeakKeyDictionary[Any, dict[tuple[Any, ...], Any]] = weakref.WeakKeyDictionary()
+#: The solved curve and its SolvedContact (splines, Phi, tables), built once per solve and shared
+#: by every analysis of that solve with the same curve parameters: nothing outlives the solve.
+_SOLVES = Cache(
+    "interface.solved",
+    scope="solve",
+    maxsize=16,
+    doc="the solved area curve of every load and its SolvedContact, per curve parameters",
+)
+#: The scene's numbers a solve is made of (with its coefficient and boundary).
+_CTX_FIELDS = ("psd", "E", "nu", "E_star", "p0", "zeta", "p", "rtol", "atol", "method")
+
+
+def _plugin_key(plugin: Any) -> Any:
+    """A plugin instance's content: its class's qualified name (local classes too: within one
+    solve the classes are the scene's) and parameters (``None`` for none)."""
+    if plugin is None:
+        return None
+    cls = type(plugin)
+    return f"{cls.__module__}.{cls.__qualname__}", dict(getattr(plugin, "params", {}))
+
+
+def solve_key(ctx: Any) -> tuple[Any, ...]:
+    """The content key of one solve: the scene's numbers, solver options, coefficient and
+    boundary (class and parameters), which determine the Dataset the analyses read and what
+    ``ctx.solve_at`` returns (the points of a stacked block differ in them)."""
+    scene = tuple(getattr(ctx, f, None) for f in _CTX_FIELDS)
+    options = dict(getattr(ctx, "options", None) or {})
+    return (*scene, options, _plugin_key(ctx.coefficient), _plugin_key(ctx.boundary))
 
 
 def per_solve(ctx: Any, key: tuple[Any, ...], build: Callable[[], Any]) -> Any:
-    """``build()`` once per solve and ``key`` (see :data:`SOLVES`)."""
-    owner = getattr(ctx, "solve_at", None)
-    if owner is None:
-        return build()
-    try:
-        memo = SOLVES.setdefault(owner, {})
-    except TypeError:  # a solve_at that cannot be weakly referenced: no cache
-        return build()
-    if key not in memo:
-        memo[key] = build()
-    return memo[key]
+    """``build()`` once per solve (its content, :func:`solve_key`) and ``key`` (the curve
+    parameters); computed afresh outside a solve (direct calls) or with the caches off."""
+    return _SOLVES.get((key, solve_key(ctx)), build)

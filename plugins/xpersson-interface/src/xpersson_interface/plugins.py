@@ -103,7 +103,9 @@ class _Interface(Analysis):
 
     def _solved(self, ctx: Any, ds: Any, dense: bool = True) -> Solved:
         return per_solve(
-            ctx, ("solved", *self._key(dense)), lambda: solved_curve(ctx, ds, *self._key(dense))
+            ctx,
+            ("solved", *self._key(dense)),
+            lambda: solved_curve(ctx, ds, *self._key(dense)),
         )
 
     def _contact(self, ctx: Any, ds: Any) -> tuple[Solved, physics.SolvedContact]:

@@ -51,7 +51,6 @@ class YieldWallLaw:
         self.law = law
         self.clock = clock
         self.derivative = derivative
-        self._memo: list[tuple[np.ndarray, np.ndarray]] = []  # the last two (tau, value) asked
 
     def __eq__(self, other: object) -> bool:
         # equal laws on one clock are one wall: the engine solves such loads together
@@ -63,20 +62,13 @@ class YieldWallLaw:
         )
 
     def __hash__(self) -> int:
-        return hash((id(self.law), id(self.clock), self.derivative))
-
-    def __getstate__(self) -> dict[str, Any]:
-        return {**self.__dict__, "_memo": []}
+        # consistent with __eq__ (the same law object has the same type): the engine groups
+        # loads by their walls in a dict
+        return hash((type(self.law).__qualname__, self.derivative))
 
     def __call__(self, tau: np.ndarray | float) -> np.ndarray | float:
-        t = np.asarray(tau, dtype=float)
-        # the engine asks at the same times more than once (input checks, clearance bound)
-        for seen, value in getattr(self, "_memo", ()):
-            if seen.shape == t.shape and np.array_equal(seen, t):
-                return float(value) if value.ndim == 0 else value.copy()
-        val = self._evaluate(t)
-        self._memo = [(t.copy(), val), *getattr(self, "_memo", [])[:1]]
-        return float(val) if val.ndim == 0 else val.copy()
+        val = self._evaluate(np.asarray(tau, dtype=float))
+        return float(val) if val.ndim == 0 else val
 
     def _evaluate(self, t: np.ndarray) -> np.ndarray:
         # the inverse clock may overshoot zeta_max by round-off, where f drops to 0 (q > q_1)

@@ -3,10 +3,11 @@ parameters (split from :mod:`.coefficient`)."""
 
 from __future__ import annotations
 
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
+
+from xpersson.cache import memoize
 
 from ._modulus import ModulusModel, Prony, sls, synthetic_tread
 from ._shift import WLF, Arrhenius, NoShift, ShiftLaw
@@ -52,7 +53,7 @@ def build_model(p: dict[str, Any]) -> ModulusModel:
     return _synthetic(float(p["E_r"]), float(p["E_g"]))
 
 
-@lru_cache(maxsize=64)
+@memoize("viscoelastic.synthetic_tread", scope="process", maxsize=64)
 def _synthetic(E_r: float, E_g: float) -> Prony:
     """The synthetic tread default between ``E_r`` and ``E_g`` [Pa], built once per pair (a
     sweep over speed and temperature builds one coefficient per point; the model is immutable

@@ -23,10 +23,19 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from xpersson.cache import Cache
+
 from ._modulus import ModulusModel
 from ._shift import ShiftLaw
 
-__all__ = ["FlashProfile", "solve_flash"]
+__all__ = ["FlashProfile", "flash_profile", "solve_flash"]
+
+_FLASH = Cache(
+    "viscoelastic.flash",
+    scope="spectrum",
+    maxsize=8,
+    doc="the solved flash-temperature profile of a spectrum, modulus and sliding",
+)
 
 Array = NDArray[np.float64]
 
@@ -145,3 +154,30 @@ def solve_flash(
     if it:  # the density of the converged temperatures
         dens = weight * model.parts(v * shift.aT(T) * qn)[1]
     return FlashProfile(float(T0), np.log(edges), dens, it, bool(converged))
+
+
+def flash_profile(
+    psd: Any,
+    model: ModulusModel,
+    shift: ShiftLaw,
+    nu: float,
+    v: float,
+    T0: float,
+    conductivity: float,
+    diffusivity: float,
+) -> FlashProfile:
+    """:func:`solve_flash` once per content of its arguments (``"viscoelastic.flash"``).
+
+    Raises
+    ------
+    RuntimeError
+        When the fixed point does not converge.
+    """
+    args = (psd, model, shift, nu, v, T0, conductivity, diffusivity)
+    prof = _FLASH.get(args, lambda: solve_flash(*args))
+    if not prof.converged:
+        raise RuntimeError(
+            f"flash temperature: the fixed point did not converge in {prof.iterations} "
+            "iterations; lower the sliding speed or raise thermal_conductivity"
+        )
+    return prof

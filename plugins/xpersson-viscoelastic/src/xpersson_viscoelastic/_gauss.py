@@ -3,17 +3,17 @@ quadratures of the kernel, the flash-temperature integrals and the graded output
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 from numpy.typing import NDArray
+
+from xpersson.cache import memoize
 
 Array = NDArray[np.float64]
 
 __all__ = ["spectral_rule"]
 
 
-@lru_cache(maxsize=8)
+@memoize("viscoelastic.spectral_rule", scope="process", maxsize=8)
 def spectral_rule(n: int) -> tuple[Array, Array, Array]:
     """Gauss-Legendre nodes/weights on [-1, 1] and the spectral integration matrix
     ``Q[i, j] = int_{-1}^{x_i} l_j(x) dx`` (l_j the Lagrange basis on the nodes)."""

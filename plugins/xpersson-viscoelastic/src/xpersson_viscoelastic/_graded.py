@@ -26,6 +26,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from xpersson.cache import content_key
+
 from ._gauss import spectral_rule as _rule
 from ._panels import node_counts
 from .kernel import NODES, PANELS_PER_DECADE, _checked_nu, panel_edges
@@ -135,16 +137,16 @@ def layout(psd: Any, zeta: Array, top: int, n: int, ppd: int, base: Array | None
     return Layout(edges, out, qn, wq, jac, start, counts, base, block, tuple(groups))
 
 
-def known_nodes(last: Any, ctx: Any, v: Array, aT: Array, index: Any) -> Any:
+def known_nodes(last: Any, v: Array, aT: Array, index: Any) -> Any:
     """``(rows, keep)``: the node values a coefficient kept from its output-grid integrals
-    (``last = (psd, nu, v, aT, keep)`` of its block, see
+    (``last = (v, aT, keep)`` of its block on the same spectrum and Poisson ratio, see
     :func:`~xpersson_viscoelastic.kernel._cumulative_at`) for the block's points ``index``
     with speeds ``v`` [m/s] and shift factors ``aT`` [1]; ``None`` where they do not apply."""
     if last is None or index is None:
         return None
-    psd, nu, v0, aT0, keep = last
+    v0, aT0, keep = last
     rows = np.asarray(index, dtype=np.intp)
-    if psd is not ctx.psd or nu != ctx.nu or rows.size == 0 or int(rows.max()) >= v0.size:
+    if rows.size == 0 or int(rows.max()) >= v0.size:
         return None
     if not (np.array_equal(v0[rows], v) and np.array_equal(aT0[rows], aT)):
         return None
@@ -263,9 +265,9 @@ def graded_runs(
     for k, loads, top in items:
         n = rungs(zeta, G(k)[loads], top)
         ctx = ctx_of(k)
-        groups.setdefault((top, n, id(ctx.psd), ctx.nu), []).append((k, loads))
+        groups.setdefault((top, n, content_key(ctx.psd), ctx.nu), []).append((k, loads))
     parts = []
-    bases: dict[int, Array] = {}  # the output grid's q panels, once per spectrum
+    bases: dict[Any, Array] = {}  # the output grid's q panels, once per spectrum
     for (top, n, psd_id, _), members in groups.items():
         ctxs = [ctx_of(k) for k, _ in members]
         coefs = [c.coefficient for c in ctxs]

@@ -27,7 +27,9 @@ is no cancellation at small ``b`` (``u`` is evaluated as ``b^2 / (s (1 + s))``,
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -123,6 +125,11 @@ class ModulusModel:
     def excess_mean_sq(self, w: ArrayLike) -> Array:
         """``mean_sq(w) - E_r^2`` [Pa^2] (without cancellation where the model allows)."""
         return self.angular(w)[0] - self.E_r**2
+
+    def cache_key(self) -> tuple[Any, ...]:
+        """The model's content for :mod:`xpersson.cache`: its defining (init) fields."""
+        fields = dataclasses.fields(self)  # type: ignore[arg-type]
+        return tuple(getattr(self, f.name) for f in fields if f.init)
 
     def breakpoints(self) -> Array:
         """Frequencies ``w`` [rad/s] where the angular integrals are not smooth (none)."""

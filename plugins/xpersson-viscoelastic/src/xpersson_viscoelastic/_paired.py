@@ -8,11 +8,26 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from xpersson.cache import Cache
+
 from ._modulus import ModulusModel
 from ._panels import grouped_sums, reduced_ok
 from .kernel import NODES, PANELS_PER_DECADE, _checked_nu, _cumulative_at, _w, panel_edges
 
-__all__ = ["cumulative_paired", "block_integrals", "dense_block"]
+__all__ = ["cumulative_paired", "block_integrals", "block_nodes", "dense_block", "shared_block"]
+
+_BLOCKS = Cache(
+    "viscoelastic.block_integrals",
+    scope="solve",
+    maxsize=4,
+    doc="tau, f and the angular integrals of a block of (v, T) points on the output grid",
+)
+_NODES = Cache(
+    "viscoelastic.block_nodes",
+    scope="solve",
+    maxsize=4,
+    doc="(v, aT, q-panel node values) of the first block on a spectrum's output grid",
+)
 
 Array = NDArray[np.float64]
 
@@ -103,6 +118,30 @@ def block_integrals(
         "rms": np.sqrt(mean_sq) / f,
         "loss": loss / f,
     }
+
+
+def shared_block(
+    psd: Any, model: ModulusModel, nu: float, zeta: Array, v: Array, aT: Array, ppd: int
+) -> dict[str, Array]:
+    """:func:`block_integrals` once per solve (its ``tau_stacked``, ``interpret_stacked`` and
+    the single-scene ``tau``, ``f``, ``interpret`` share it; ``"viscoelastic.block_integrals"``);
+    the first block on a spectrum's output grid leaves its q panels' node values for
+    :func:`block_nodes`."""
+    grid = (psd, model, float(nu), int(ppd))
+
+    def compute() -> tuple[dict[str, Array], dict[Any, Any]]:
+        keep: dict[Any, Any] = {}  # the q panels' node values: graded_stacked reuses them
+        return block_integrals(psd, model, nu, zeta, v, aT, ppd, keep), keep
+
+    got, keep = _BLOCKS.get((*grid, zeta, v, aT), compute)
+    _NODES.get(grid, lambda: (v, aT, keep))
+    return got
+
+
+def block_nodes(psd: Any, model: ModulusModel, nu: float, ppd: int) -> Any:
+    """``(v [m/s], aT [1], keep)`` of the first block of this solve on the output grid of
+    ``psd`` and ``nu`` with ``model`` (see :func:`._graded.known_nodes`), or ``None``."""
+    return _NODES.peek((psd, model, float(nu), int(ppd)))
 
 
 def dense_block(

@@ -6,7 +6,9 @@ reference temperature (the rubber is stiffer). All functions are vectorised over
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -39,6 +41,11 @@ class ShiftLaw:
     def aT(self, T: ArrayLike) -> Array:
         """Shift factor ``a_T`` [1] at ``T`` [K]."""
         return 10.0 ** self.log10_aT(T)
+
+    def cache_key(self) -> tuple[Any, ...]:
+        """The law's content for :mod:`xpersson.cache`: its defining (init) fields."""
+        fields = dataclasses.fields(self)  # type: ignore[arg-type]
+        return tuple(getattr(self, f.name) for f in fields if f.init)
 
     def check(self, T: ArrayLike) -> None:  # noqa: B027 - optional hook
         """Raise ``ValueError`` naming ``temperature`` [K] and the allowed range if outside."""

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from xpersson.cache import content_key
 from xpersson.physics import closures
 from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, FastPaths, ParamSpec, VarSpec
 
@@ -21,7 +22,7 @@ from . import _graded, kernel
 from ._build import build_model, build_shift
 from ._modulus import ModulusModel, Prony
 from ._outputs import check_outputs
-from ._paired import block_integrals, dense_block
+from ._paired import block_nodes, dense_block, shared_block
 from ._shift import WLF_UNIVERSAL
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -264,30 +265,14 @@ class ViscoelasticCoefficient(Coefficient):
         return float(self._params["velocity"])
 
     def _flash(self, psd: Any, nu: float) -> Any:
-        """The solved flash-temperature profile (cached per spectrum and Poisson ratio)."""
-        cached = getattr(self, "_flash_cache", None)
-        if cached is not None and cached[0] is psd and cached[1] == nu:
-            return cached[2]
-        from ._flash import solve_flash
+        """The solved flash-temperature profile (:func:`._flash.flash_profile`, cached)."""
+        from ._flash import flash_profile
 
         p = self._params
-        prof = solve_flash(
-            psd,
-            self._model,
-            self._shift,
-            nu,
-            self._v(),
-            float(p["temperature"]),
-            float(p["thermal_conductivity"]),
-            float(p["thermal_diffusivity"]),
+        T, k, D = (
+            float(p[n]) for n in ("temperature", "thermal_conductivity", "thermal_diffusivity")
         )
-        if not prof.converged:
-            raise RuntimeError(
-                f"flash temperature: the fixed point did not converge in {prof.iterations} "
-                "iterations; lower the sliding speed or raise thermal_conductivity"
-            )
-        self._flash_cache = (psd, nu, prof)
-        return prof
+        return flash_profile(psd, self._model, self._shift, float(nu), self._v(), T, k, D)
 
     def _ppd(self, ctx: SceneContext) -> int:
         """q panels per decade: Prony integrands are analytic (4 give ~1e-14); tabulated
@@ -339,9 +324,15 @@ class ViscoelasticCoefficient(Coefficient):
         )
 
     def _one_call(self, ctxs: Sequence[SceneContext], points: Sequence[Any]) -> bool:
-        """Whether a block is one kernel call: one spectrum and Poisson ratio, no flash."""
+        """Whether a block is one kernel call: one spectrum (by content: equal spectra are
+        one, shared or not) and Poisson ratio, no flash."""
+        first = ctxs[0]
+        psd = content_key(first.psd)
         return not self._params["flash_temperature"] and all(
-            x.psd is ctxs[0].psd and x.nu == ctxs[0].nu and x.rtol == ctxs[0].rtol for x in ctxs
+            (x.psd is first.psd or content_key(x.psd) == psd)
+            and x.nu == first.nu
+            and x.rtol == first.rtol
+            for x in ctxs
         )
 
     @staticmethod
@@ -370,15 +361,11 @@ class ViscoelasticCoefficient(Coefficient):
         ctx = ctxs[0]
         v, aT = self._stacked_vT(points)
         z = np.asarray(zeta, dtype=float)
-        key = (id(ctx.psd), ctx.nu, self._ppd(ctx), z.tobytes(), v.tobytes(), aT.tobytes())
-        last = self.__dict__.get("_last_block")
-        if last is None or last[0] != key:
-            keep: dict[Any, Any] = {}  # the q panels' node values: graded_stacked reuses them
-            got = block_integrals(ctx.psd, self._model, ctx.nu, z, v, aT, self._ppd(ctx), keep)
-            last = (key, got, ctx.psd)  # the spectrum held: its id stays its own
-            self.__dict__["_last_block"] = last
-            self.__dict__["_last_nodes"] = (ctx.psd, ctx.nu, v, aT, keep)
-        return last[1]
+        return shared_block(ctx.psd, self._model, ctx.nu, z, v, aT, self._ppd(ctx))
+
+    def _nodes(self, ctx: SceneContext) -> Any:
+        """The q panels' node values of this solve's first block (:func:`._paired.block_nodes`)."""
+        return block_nodes(ctx.psd, self._model, ctx.nu, self._ppd(ctx))
 
     def dense_stacked(
         self, ctxs: Sequence[SceneContext], points: Sequence[Any], zeta: np.ndarray
@@ -404,7 +391,7 @@ class ViscoelasticCoefficient(Coefficient):
         if self._one_call(ctxs, points):
             v, aT = self._stacked_vT(points)
             w = (v * aT)[:, None] * lay.qn
-            known = _graded.known_nodes(self.__dict__.get("_last_nodes"), ctxs[0], v, aT, index)
+            known = _graded.known_nodes(self._nodes(ctxs[0]), v, aT, index)
         else:  # the flash temperature's a_T(q): each point's frequencies at the nodes
             pairs = zip(points, ctxs, strict=True)
             w = np.stack([kernel._w(c._v(), c._a_T_of(x), lay.qn) for c, x in pairs])
@@ -421,7 +408,6 @@ class ViscoelasticCoefficient(Coefficient):
         zeta = ctx.zeta
         v, aT = self._stacked_vT(points)
         got = self._block(ctxs, points, zeta)
-        self.__dict__.pop("_last_block", None)  # its last reader: not kept (nor pickled)
         rms, loss, L = got["rms"], got["loss"], got["L"]
         T0 = np.array([float(c._params["temperature"]) for c in points])
         n = len(points)
@@ -473,7 +459,6 @@ class ViscoelasticCoefficient(Coefficient):
         own = self._own_block(ctx, zeta)
         if own is not None:
             rms, loss, L = own["rms"][0], own["loss"][0], own["L"][0]
-            self.__dict__.pop("_last_block", None)  # its last reader
         else:
             rms, loss = kernel.angular_averages(ctx.psd, self._model, ctx.nu, zeta, self._v(), aT)
             L = self.loss_integral(ctx, zeta)

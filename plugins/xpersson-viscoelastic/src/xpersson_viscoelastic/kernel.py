@@ -30,12 +30,12 @@ near the round-off of ``q``). Verified against an independent quad reference to 
 
 from __future__ import annotations
 
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from xpersson.cache import memoize
 from xpersson.physics import area_fraction, closure_S, effective_ratio
 
 from ._gauss import spectral_rule as _rule
@@ -316,8 +316,8 @@ def friction_integral(increments: ArrayLike, p0: ArrayLike) -> Array:
     return np.cumsum(inc, axis=-1) / (2.0 * p0[..., None])
 
 
-@lru_cache(maxsize=32)
-def _cubic_weights(x: tuple[float, ...]) -> tuple[Array, Array]:
+@memoize("viscoelastic.cubic_weights", scope="process", maxsize=32)
+def _cubic_weights(x: Array) -> tuple[Array, Array]:
     """Per-interval weights ``W[i, a, b] = int_{x_i}^{x_i+1} l_a(x) l_b'(x) dx`` of the
     4-point Lagrange basis of the stencil ``s_i .. s_i + 3`` (``s_i = clip(i - 1, 0, n - 4)``)
     (:func:`._stencil.interval_weights`; dense grids of a few hundred points in microseconds).
@@ -356,7 +356,7 @@ def stieltjes_increments(
     trap = 0.5 * (g[..., 1:] + g[..., :-1]) * np.diff(L, axis=-1)
     if xs.size < 4:
         return trap
-    W, start = weights or _cubic_weights(tuple(float(v) for v in xs))
+    W, start = weights or _cubic_weights(np.asarray(xs, dtype=float))
     idx = start[:, None] + np.arange(4)  # (n - 1, 4)
     # sum_a g_a sum_b W_ab L_b: two short contractions (a three-operand einsum is ~9x slower)
     WL = np.sum(W * L[..., idx][..., None, :], axis=-1)
