@@ -18,7 +18,8 @@ from xpersson_adhesion import (
     tabor_parameter,
     true_area_ratio,
 )
-from xpersson_adhesion._detachment import DetachmentWall, ModelLaw, TableLaw, true_area_slope
+from xpersson_adhesion._detachment import ModelLaw, TableLaw, true_area_slope
+from xpersson_adhesion._wallpos import DetachmentWall
 
 E_STAR = 4.0e6 / 3.0
 
@@ -134,7 +135,7 @@ def test_onset_roots_are_the_roots_of_the_whole_table(n, seed, shift):
     PPoly.roots over every piece."""
     from scipy.interpolate import CubicHermiteSpline, PPoly
 
-    from xpersson_adhesion._detachment import _cubic_roots
+    from xpersson_adhesion._wallpos import _cubic_roots
 
     rng = np.random.default_rng(seed)
     x = np.cumsum(rng.random(n + 1) + 0.01)
@@ -147,3 +148,15 @@ def test_onset_roots_are_the_roots_of_the_whole_table(n, seed, shift):
     fast = _cubic_roots(poly)
     fast = fast[np.isfinite(fast)]
     np.testing.assert_allclose(fast, full, rtol=0, atol=1e-12 * x[-1])
+
+
+def test_detachment_walls_equal_by_content_key():
+    """Walls built from the same content are equal and hash equal (the engine then solves
+    their loads in one batch on the plain path as on the shared-walls path); without a key a
+    wall equals only itself."""
+    f = lambda t: np.zeros_like(t)  # noqa: E731
+    a, b = DetachmentWall(f, key=("model", 1.0)), DetachmentWall(f, key=("model", 1.0))
+    assert a == b and hash(a) == hash(b) and len({a, b}) == 1
+    assert a != DetachmentWall(f, key=("model", 2.0))
+    plain = DetachmentWall(f)
+    assert plain == plain and plain != DetachmentWall(f) and a != plain

@@ -17,7 +17,8 @@ from xpersson.cache import cache
 from xpersson.physics import SelfAffineRollOff, coefficient_f, diffusion_time
 from xpersson.plugins import DiffusionClock, SceneContext
 from xpersson_adhesion import JKRBoundary
-from xpersson_adhesion._detachment import ModelLaw, onset_times
+from xpersson_adhesion._detachment import ModelLaw
+from xpersson_adhesion._wallpos import onset_times
 from xpersson_adhesion.jkr import stickiness
 
 E_STAR = 1e6 / 0.75

@@ -30,6 +30,8 @@ from scipy.special import erfcx
 from xpersson.cache import Cache
 from xpersson.physics.interface import full_contact_energy
 
+from ._wallpos import _Pchip, _SqrtPos
+
 __all__ = [
     "true_area_ratio",
     "true_area_slope",
@@ -37,9 +39,7 @@ __all__ = [
     "detachment_stress",
     "ModelLaw",
     "TableLaw",
-    "DetachmentWall",
     "check_table",
-    "onset_times",
 ]
 
 Array = NDArray[np.float64]
@@ -365,132 +365,3 @@ class TableLaw:
                 f"boundary.sigma_a_zeta covers zeta in [{lo:g}, {hi:g}] but the scene needs "
                 f"[1, {zeta_max:g}]: the table must span every output magnification"
             )
-
-
-class _Pchip:
-    """Picklable clipped PCHIP evaluation ``tau [Pa^2] -> sigma_a [Pa]``."""
-
-    def __init__(self, spline: Callable[[Array], Array], t_lo: float, t_hi: float) -> None:
-        self.spline, self.t_lo, self.t_hi = spline, t_lo, t_hi
-        self.onsets: Array | None = None  # see onset_times
-
-    def __call__(self, tau: ArrayLike) -> Array:
-        # np.clip's definition, without its dispatch
-        t = np.minimum(np.maximum(np.asarray(tau, dtype=float), self.t_lo), self.t_hi)
-        return np.asarray(self.spline(t), dtype=float)
-
-
-class _SqrtPos:
-    """``sqrt(max(poly(t), 0))`` (picklable)."""
-
-    def __init__(self, poly: Callable[[Array], Array]) -> None:
-        self.poly = poly
-
-    def __call__(self, t: ArrayLike) -> Array:
-        return np.sqrt(np.maximum(np.asarray(self.poly(t), dtype=float), 0.0))
-
-
-def onset_times(sigma_of_tau: Callable[[Array], Array]) -> Array:
-    """Diffusion times [Pa^2] where the detachment stress leaves 0 (the wall starts moving).
-
-    For the model (``sigma_a^2`` a piecewise cubic in tau, :meth:`ModelLaw.in_tau`): the roots
-    of ``sigma_a^2`` where it turns positive, i.e. where gamma_eff crosses 0 and ``sigma_a``
-    starts like ``sqrt(tau - tau_c)``.  For a table: the last node of each stretch of zeros.
-    Given to the engine as the wall's ``breakpoints`` (graded steps after each).
-    """
-    if not isinstance(sigma_of_tau, _Pchip):
-        return np.zeros(0)
-    found = getattr(sigma_of_tau, "onsets", None)  # a table is immutable: found once
-    if found is None:
-        found = _onset_times(sigma_of_tau)
-        found.setflags(write=False)
-        sigma_of_tau.onsets = found
-    return found.copy()
-
-
-def _onset_times(sigma_of_tau: _Pchip) -> Array:
-    sp = sigma_of_tau.spline
-    t_lo, t_hi = sigma_of_tau.t_lo, sigma_of_tau.t_hi
-    if isinstance(sp, _SqrtPos):
-        poly = sp.poly
-        roots = _cubic_roots(poly)
-        roots = roots[np.isfinite(roots) & (roots > t_lo) & (roots < t_hi)]
-        span = t_hi - t_lo
-        h = 1e-9 * span
-        up = (poly(np.minimum(roots + h, t_hi)) > 0) & (poly(np.maximum(roots - h, t_lo)) <= 0)
-        return np.unique(roots[up])
-    x = np.asarray(getattr(sp, "x", []), dtype=float)
-    if x.size < 2:
-        return np.zeros(0)
-    y = np.asarray(sp(x), dtype=float)
-    start = (y[:-1] == 0) & (y[1:] > 0)
-    return np.unique(x[:-1][start & (x[:-1] > t_lo)])
-
-
-def _cubic_roots(poly: Any) -> Array:
-    """Real roots of a piecewise polynomial (``PPoly.roots(extrapolate=False)``), solved only on
-    the pieces that can hold one: for cubics, those whose minimum over the piece (ends and
-    interior critical points) is <= 0 and maximum >= 0 (a 1000-piece table has ~1 such piece,
-    and the full solve of every piece dominated the cost of building the wall)."""
-    from scipy.interpolate import PPoly
-
-    c, x = np.asarray(poly.c, dtype=float), np.asarray(poly.x, dtype=float)
-    if c.ndim != 2 or c.shape[0] != 4:
-        return np.asarray(poly.roots(extrapolate=False), dtype=float)
-    h = np.diff(x)
-    a3, a2, a1, a0 = c
-    ts = [np.zeros_like(h), h]
-    # critical points 3 a3 t^2 + 2 a2 t + a1 = 0 (clipped into the piece)
-    disc = np.maximum(a2 * a2 - 3.0 * a3 * a1, 0.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for sgn in (-1.0, 1.0):
-            t = np.where(
-                a3 != 0,
-                (-a2 + sgn * np.sqrt(disc)) / (3.0 * a3),
-                np.where(a2 != 0, -a1 / (2.0 * a2), 0.0),
-            )
-            ts.append(np.clip(np.nan_to_num(t), 0.0, h))
-    vals = np.array([((a3 * t + a2) * t + a1) * t + a0 for t in ts])
-    margin = 1e-9 * float(np.max(np.abs(vals))) if vals.size else 0.0
-    cand = np.flatnonzero((vals.min(axis=0) <= margin) & (vals.max(axis=0) >= -margin))
-    out = [
-        np.asarray(PPoly(c[:, i : i + 1], x[i : i + 2]).roots(extrapolate=False), dtype=float)
-        for i in cand
-    ]
-    return np.unique(np.concatenate(out)) if out else np.zeros(0)
-
-
-class DetachmentWall:
-    """Wall position ``p_w(tau) = -sigma_a(zeta(tau))`` [Pa] for ``Wall.absorbing``.
-
-    Parameters
-    ----------
-    sigma_of_tau : callable, optional
-        sigma_a as a function of tau [Pa^2 -> Pa] (table laws).
-    law : callable, optional
-        sigma_a as a function of zeta [1 -> Pa] (the model), with ``clock``.
-    clock : DiffusionClock, optional
-        Maps tau to zeta.
-    """
-
-    def __init__(
-        self,
-        sigma_of_tau: Callable[[Array], Array] | None = None,
-        law: Callable[[Array], Array] | None = None,
-        clock: object | None = None,
-    ) -> None:
-        self.sigma_of_tau = sigma_of_tau
-        self.law = law
-        self.clock = clock
-
-    def sigma(self, tau: ArrayLike) -> Array:
-        """sigma_a [Pa] at diffusion times ``tau`` [Pa^2]."""
-        t = np.asarray(tau, dtype=float)
-        if self.sigma_of_tau is not None:
-            return np.asarray(self.sigma_of_tau(t), dtype=float).reshape(t.shape)
-        z = np.asarray(self.clock.zeta_of_tau(t), dtype=float)  # type: ignore[union-attr]
-        z = np.clip(z, 1.0, self.clock.zeta_max)  # type: ignore[union-attr]
-        return np.asarray(self.law(z), dtype=float).reshape(t.shape)  # type: ignore[misc]
-
-    def __call__(self, tau: ArrayLike) -> Array:
-        return -self.sigma(tau)

@@ -20,20 +20,19 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from xpersson.cache import Cache
+from xpersson.cache import Cache, content_key, digest
 from xpersson.physics.interface import full_contact_energy
-from xpersson.plugins import Boundary, ParamSpec, VarSpec
+from xpersson.plugins import Boundary, FastPaths, ParamSpec, VarSpec
 
 from ._detachment import (
-    DetachmentWall,
     ModelLaw,
     TableLaw,
     detachment_stress,
     gamma_effective,
-    onset_times,
     true_area_ratio,
 )
 from ._tabor import tabor_parameter, warn_outside_limit
+from ._wallpos import DetachmentWall, onset_times
 
 if TYPE_CHECKING:  # pragma: no cover
     from xpersson.engine import EngineResult, Wall
@@ -119,7 +118,8 @@ class JKRBoundary(Boundary):
         "arXiv:cond-mat/0603807",
     )
     tensile_loads = True
-    walls_per_load = False  # one wall for every load (see wall())
+    #: one wall for every load (see :meth:`wall`): asked once per run
+    fast_paths = FastPaths(shared_walls=True)
     parameters = {
         **ADHESION_PARAMETERS,
         "c_a": ParamSpec(
@@ -321,19 +321,23 @@ class JKRBoundary(Boundary):
 
     def wall(self, ctx: SceneContext, clock: DiffusionClock) -> Wall:
         """The adhesive wall for a clock (the same for every load: the pipeline asks once,
-        ``walls_per_load = False``, and the engine solves the loads together)."""
+        ``FastPaths(shared_walls=True)``, and the engine solves the loads together)."""
         from xpersson.engine import Wall
 
         if self._table is not None:
             if self._table.is_constant:
                 return Wall.absorbing(-float(self._table.sigma[0]))
             sig = self._table.in_tau(clock.tau_of_zeta)
+            t_nodes = np.asarray(clock.tau_of_zeta(self._table.zeta), dtype=float)
+            key: Any = ("table", digest(self._table.zeta, self._table.sigma, t_nodes))
         else:
             law = self._model(ctx)
             if law.is_constant(ctx.zeta_max, lambda: self._at(ctx, law, ctx.zeta_max)):
                 return Wall.absorbing(0.0)
             sig = law.in_tau(clock)
-        return Wall.absorbing(DetachmentWall(sig), breakpoints=onset_times(sig))
+            key = ("model", content_key(law.clock_key(clock)))
+        # equal content, equal walls: the loads are solved together on either path
+        return Wall.absorbing(DetachmentWall(sig, key=key), breakpoints=onset_times(sig))
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """Absorbing wall at ``-sigma_a(zeta(tau))`` [Pa]; no upper wall."""
