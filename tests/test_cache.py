@@ -234,3 +234,24 @@ def test_every_cache_is_named_scoped_and_bounded() -> None:
         xc.clear_caches()
         _solve(EXAMPLES[0])
         assert all(i.size == 0 for i in xc.caches())
+
+
+def test_fast_paths_option_and_plain_paths(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``set_options(fast_paths=False)``, ``XPERSSON_FAST_PATHS=off`` and ``plain_paths()`` each
+    send everything down the plain path; blocks nest."""
+    from xpersson.options import FAST_PATHS_ENV
+    from xpersson.plugins import fast_paths_on, plain_paths
+
+    monkeypatch.delenv(FAST_PATHS_ENV, raising=False)
+    assert fast_paths_on() and xpersson.get_options()["fast_paths"]
+    with xpersson.set_options(fast_paths=False):
+        assert not fast_paths_on()
+    with plain_paths():
+        with plain_paths():
+            assert not fast_paths_on()
+        assert not fast_paths_on()
+    assert fast_paths_on()
+    monkeypatch.setenv(FAST_PATHS_ENV, "off")
+    assert not fast_paths_on()
+    with xpersson.set_options(fast_paths=True):
+        assert fast_paths_on()

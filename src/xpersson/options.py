@@ -1,6 +1,6 @@
 """Library-wide options, set like :func:`xarray.set_options`.
 
-One option so far:
+Two options:
 
 ``cache`` : bool
     Whether the caches of :mod:`xpersson.cache` keep anything. ``False`` turns every cache of
@@ -9,6 +9,13 @@ One option so far:
     ways). The default comes from the environment variable ``XPERSSON_CACHE`` (``on``/``off``,
     also ``1``/``0``, ``true``/``false``, ``yes``/``no``; unset means on), read on every look-up,
     so dask workers started with that variable follow it.
+``fast_paths`` : bool
+    Whether the fast paths that plugins declare (:class:`xpersson.plugins.FastPaths`: batches
+    of loads, stacked sweep blocks, walls and diffusion times asked once) may be taken.
+    ``False`` sends every load and every sweep point down the plain path, the reference the
+    fast paths are checked against (:func:`xpersson.sweep.plain_paths` is the same as a
+    ``with`` block). The default comes from ``XPERSSON_FAST_PATHS`` (same values as
+    ``XPERSSON_CACHE``).
 
 Examples
 --------
@@ -25,10 +32,19 @@ import threading
 from types import TracebackType
 from typing import Any
 
-__all__ = ["CACHE_ENV", "get_options", "set_options", "cache_enabled"]
+__all__ = [
+    "CACHE_ENV",
+    "FAST_PATHS_ENV",
+    "get_options",
+    "set_options",
+    "cache_enabled",
+    "fast_paths_enabled",
+]
 
 CACHE_ENV = "XPERSSON_CACHE"
 """The environment variable that sets the default of the ``cache`` option."""
+FAST_PATHS_ENV = "XPERSSON_FAST_PATHS"
+"""The environment variable that sets the default of the ``fast_paths`` option."""
 
 _ON = frozenset({"", "1", "on", "true", "yes"})
 _OFF = frozenset({"0", "off", "false", "no"})
@@ -36,31 +52,42 @@ _LOCK = threading.Lock()
 #: options set by :func:`set_options`; a missing key means "the default" (for ``cache``: the
 #: environment variable)
 _SET: dict[str, Any] = {}
-_VALID = {"cache": "a bool"}
+_VALID = {"cache": "a bool", "fast_paths": "a bool"}
+_ENV = {"cache": CACHE_ENV, "fast_paths": FAST_PATHS_ENV}
 
 
-def _env_cache() -> bool:
-    raw = os.environ.get(CACHE_ENV, "")
+def _env_flag(name: str) -> bool:
+    raw = os.environ.get(name, "")
     text = raw.strip().lower()
     if text in _ON:
         return True
     if text in _OFF:
         return False
     raise ValueError(
-        f"environment variable {CACHE_ENV}={raw[:40]!r} is not one of on/off (also 1/0, "
+        f"environment variable {name}={raw[:40]!r} is not one of on/off (also 1/0, "
         "true/false, yes/no); unset it for the default (on)"
     )
 
 
+def _flag(option: str) -> bool:
+    value = _SET.get(option)
+    return _env_flag(_ENV[option]) if value is None else bool(value)
+
+
 def cache_enabled() -> bool:
     """Whether caches keep values now: :func:`set_options` ``cache``, else ``XPERSSON_CACHE``."""
-    value = _SET.get("cache")
-    return _env_cache() if value is None else bool(value)
+    return _flag("cache")
+
+
+def fast_paths_enabled() -> bool:
+    """Whether declared fast paths may be taken: :func:`set_options` ``fast_paths``, else
+    ``XPERSSON_FAST_PATHS``."""
+    return _flag("fast_paths")
 
 
 def get_options() -> dict[str, Any]:
-    """The options in force (a copy): ``{"cache": bool}``."""
-    return {"cache": cache_enabled()}
+    """The options in force (a copy): ``{"cache": bool, "fast_paths": bool}``."""
+    return {name: _flag(name) for name in _VALID}
 
 
 class set_options:  # noqa: N801 - named as xarray.set_options, used as a function
@@ -71,6 +98,9 @@ class set_options:  # noqa: N801 - named as xarray.set_options, used as a functi
     cache : bool or None
         ``False`` turns every cache off, ``True`` on; ``None`` returns to the default (the
         environment variable ``XPERSSON_CACHE``).
+    fast_paths : bool or None
+        ``False`` sends everything down the plain path, ``True`` lets declared fast paths
+        run; ``None`` returns to the default (``XPERSSON_FAST_PATHS``).
 
     Raises
     ------

@@ -25,6 +25,7 @@ import types
 from collections.abc import Iterator, Mapping
 from typing import Any
 
+from ..options import fast_paths_enabled
 from ..specs import SpecError
 
 __all__ = ["FastPaths", "NO_FAST_PATHS", "fast_paths_on", "plain_paths", "settle"]
@@ -130,7 +131,8 @@ def plain_paths() -> Iterator[None]:
 
     The reference the fast paths are checked against (the tests,
     :func:`xpersson.testing.check_plugin`). Process-wide while open, like
-    :func:`xpersson.set_options` (threads see it; dask worker processes do not); blocks nest.
+    ``xpersson.set_options(fast_paths=False)`` (threads see it; dask worker processes do not:
+    start them with ``XPERSSON_FAST_PATHS=off`` for that); blocks nest, also across threads.
 
     Examples
     --------
@@ -148,8 +150,9 @@ def plain_paths() -> Iterator[None]:
 
 
 def fast_paths_on() -> bool:
-    """Whether declared fast paths may be taken (no :func:`plain_paths` block is open)."""
-    return _PLAIN[0] == 0
+    """Whether declared fast paths may be taken: no :func:`plain_paths` block is open and the
+    ``fast_paths`` option (:func:`xpersson.set_options`, ``XPERSSON_FAST_PATHS``) is on."""
+    return _PLAIN[0] == 0 and fast_paths_enabled()
 
 
 #: Field -> the groups it applies to.
