@@ -294,4 +294,5 @@ def _reuse(path: Path, block: Block, study: str) -> BlockResult:
     result = BlockResult(block, None, str(path), status, messages, digests, info.get("solver", []))
     result.sha256 = file_digest(path)
     result.run = str(info.get("run"))
+    result.fast_path_failures = list(info.get("fast_path_failures") or [])
     return result
