@@ -2,7 +2,10 @@
 
 The budget is, in this order: the value given to :func:`set_budget`, the environment variable
 ``XPERSSON_MEMORY_BUDGET`` (bytes, or a number with a unit: ``"2 GB"``, ``"500 MiB"``), or
-:data:`DEFAULT_FRACTION` of the memory the operating system reports as available.
+:data:`DEFAULT_FRACTION` of the memory the operating system reports as available. Where the
+operating system does not report it, :data:`UNKNOWN_AVAILABLE` is assumed and a
+:class:`~xpersson.XperssonWarning` says so once per process, naming the two ways to state
+the budget.
 """
 
 from __future__ import annotations
@@ -10,8 +13,9 @@ from __future__ import annotations
 import os
 import re
 import time
+import warnings
 
-from .errors import MemoryBudgetError
+from .errors import MemoryBudgetError, XperssonWarning
 
 __all__ = [
     "MemoryBudgetError",
@@ -22,10 +26,15 @@ __all__ = [
     "estimate_study",
     "check_study",
     "DEFAULT_FRACTION",
+    "UNKNOWN_AVAILABLE",
 ]
 
 #: Fraction of the available memory one request may use by default.
 DEFAULT_FRACTION = 0.5
+
+#: Available memory [bytes] assumed where the operating system does not report it (with a
+#: warning): 4 GiB.
+UNKNOWN_AVAILABLE = 4 * 2**30
 
 _UNITS = {
     "": 1,
@@ -66,7 +75,8 @@ def _parse(text: str) -> int:
 
 
 def available() -> int:
-    """Memory the operating system reports as available [bytes] (4 GiB when unknown).
+    """Memory the operating system reports as available [bytes] (:data:`UNKNOWN_AVAILABLE`,
+    with a warning once per process, when it reports none).
 
     Read at most once a second (a solve costs well under a millisecond otherwise).
     """
@@ -79,20 +89,34 @@ def available() -> int:
 
 
 _AVAILABLE: list = []
+_WARNED: list[bool] = []  # the unknown-memory warning was given (once per process)
 
 
 def _read_available() -> int:
+    """Available memory [bytes]: ``/proc/meminfo``, else ``sysconf``, else
+    :data:`UNKNOWN_AVAILABLE` with a warning (once per process)."""
     try:
         with open("/proc/meminfo") as fh:
             for line in fh:
                 if line.startswith("MemAvailable:"):
                     return int(line.split()[1]) * 1024
     except OSError:
-        pass
+        pass  # not Linux: ask sysconf
     try:
         return int(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
     except (ValueError, OSError, AttributeError):
-        return 4 * 2**30
+        pass
+    if not _WARNED:
+        _WARNED.append(True)
+        warnings.warn(
+            f"xpersson: the operating system does not report the available memory; the "
+            f"memory budget assumes {UNKNOWN_AVAILABLE / 2**30:g} GiB available "
+            f"({DEFAULT_FRACTION:g} of it per request). State the budget with the environment "
+            "variable XPERSSON_MEMORY_BUDGET (e.g. '2 GB') or xpersson.memory.set_budget().",
+            XperssonWarning,
+            stacklevel=4,
+        )
+    return UNKNOWN_AVAILABLE
 
 
 def set_budget(nbytes: int | str | None) -> None:

@@ -60,11 +60,17 @@ def diffusion_clock(ctx: SceneContext, coef: Any, kinks: tuple[float, ...] = ())
 
 def spectrum_kinks(psd: Any) -> tuple[float, ...]:
     """The spectrum's nodes as magnifications q/q_L (where f may have kinks: a hint for the
-    clock's inverse); none for a spectrum with very many nodes or without ``nodes()``."""
-    try:
-        nodes = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
-    except Exception:  # noqa: BLE001 - only a hint
+    clock's inverse); none for a spectrum with very many nodes or without nodes (no ``nodes``
+    method, or one that raises :class:`NotImplementedError`). Any other error of ``nodes()``
+    or ``q_L`` propagates: a broken spectrum is not a spectrum without nodes."""
+    nodes_of = getattr(psd, "nodes", None)
+    if nodes_of is None:
         return ()
+    try:
+        raw = nodes_of()
+    except NotImplementedError:
+        return ()
+    nodes = np.asarray(raw, dtype=float) / float(psd.q_L)
     if nodes.ndim != 1 or nodes.size > 4096:
         return ()
     return tuple(nodes.tolist())

@@ -21,16 +21,15 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import re
-import warnings
 from collections.abc import Iterator, Sequence
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from ..errors import XperssonWarning
 from ..pipeline import run, stacked
 from ..plugins import fast_paths_on
+from ._fastfail import failed
 
 __all__ = [
     "SweepPoints",
@@ -206,6 +205,12 @@ def batched_block(block: Any, points: SweepPoints, names: list[str], template: x
     (a plugin without contact similarity, a run that did not meet its tolerance, equal E*).
     The sub-points (one per combination of the non-material values) are solved by one stacked
     run where their plugins allow it (:mod:`xpersson.pipeline.stacked`), else one run each.
+
+    Raises
+    ------
+    FastPathFailed
+        A run at the equivalent loads raised: the caller solves the block point by point and
+        judges the failure there (:mod:`._fastfail`). The warning filters are not touched.
     """
     if not all(scaled_ok(rs) for rs in points.distinct()):
         return None
@@ -264,11 +269,9 @@ def _stacked_subs(subs: list[Any], names: list[str], template: xr.Dataset) -> An
     if any(r is None for r in refs) or stacked.stack_reason([r[0] for r in refs]):
         return None
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", XperssonWarning)
-            got = stacked.run_stacked([r[0] for r in refs])
-    except Exception:  # noqa: BLE001 - solved one by one, which records the failure
-        return None
+        got = stacked.run_stacked([r[0] for r in refs])
+    except Exception as exc:  # noqa: BLE001 - judged against the plain path by run_block
+        raise failed("stacked_params", subs[0][1], exc) from exc
     if got is None or any(n not in got for n in names):
         return None
     record = {"stacked_points": len(subs), "method": "stacked"}
@@ -299,9 +302,10 @@ def _similar_run(
     if ref is None:
         return None
     rs_ref, inverse = ref
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", XperssonWarning)
+    try:
         ds = run(rs_ref, squeeze=False)
+    except Exception as exc:  # noqa: BLE001 - judged against the plain path by run_block
+        raise failed("contact_similarity", rs, exc) from exc
     if ds.attrs.get("status") != "success":
         return None
     for name, index in template.indexes.items():

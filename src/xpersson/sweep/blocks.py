@@ -1,23 +1,23 @@
 """Blocks of a sweep: split the grid into blocks, solve a block's points, stack them.
 
 :func:`blocks_of` cuts the sweep grid into hyper-rectangles (the tasks). :func:`run_block` runs
-on the workers: a block of points is solved by the ordinary pipeline and reduced to one
-Dataset whose every variable carries the block's sweep dimensions in front of its own. A point
-that raised is filled with NaN (``""`` for strings) and flagged in ``point_status``.
+on the workers: a block of points is solved by a declared fast path or point by point by the
+ordinary pipeline and reduced to one Dataset whose every variable carries the block's sweep
+dimensions in front of its own. A point that raised is filled with NaN (``""`` for strings) and
+flagged in ``point_status``.
 """
 
 from __future__ import annotations
 
 import json
 import math
-import warnings
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from ..errors import XperssonWarning
 from ..pipeline import run, squeeze_p0
+from ._fastfail import FastPathFailed
 from .batched import SweepPoints
 from .fast import similar_block, stacked_block
 from .plan import SweepPlan
@@ -107,12 +107,18 @@ def run_block(
     points: list[Any],
     registry: Any,
     part: str | None = None,
-    quiet_warnings: bool = True,
     callback: Any = None,
     part_attrs: dict[str, Any] | None = None,
     shared: dict[str, Any] | None = None,
 ) -> BlockResult:
     """Solve the points of a block and stack them (the task a worker runs).
+
+    A declared fast path is tried first (:mod:`.fast`); the point-by-point path is the
+    reference and isolates a failing point (recorded in ``point_status``, its message kept). A
+    fast path that failed (:class:`~._fastfail.FastPathFailed`) where the point-by-point path
+    then solved every point is recorded in the result's ``fast_path_failures`` (the rule:
+    :mod:`._fastfail`). The warning filters are not touched here: the caller decides, in its
+    own thread, what the points' warnings do (:func:`xpersson.sweep.execute.solve_sweep`).
 
     Parameters
     ----------
@@ -124,8 +130,6 @@ def run_block(
         Plugin registry (pickles).
     part : str, optional
         Write the stacked Dataset to this netCDF file and return only the summary.
-    quiet_warnings : bool
-        Silence :class:`~xpersson.XperssonWarning` per point (statuses are recorded instead).
     callback : callable, optional
         Called with no argument after each point (progress in the serial path).
     part_attrs : dict, optional
@@ -134,24 +138,37 @@ def run_block(
         Kept across the blocks of one serial in-memory sweep: the stacked path's template
         point (see :func:`~xpersson.sweep.fast.stacked_block`).
     """
-    if isinstance(points, SweepPoints):
-        fast = similar_block(block, points, part, quiet_warnings, part_attrs)
-    else:
-        fast = stacked_block(block, points, part, quiet_warnings, part_attrs, shared)
+    failure = None
+    try:
+        if isinstance(points, SweepPoints):
+            fast = similar_block(block, points, part, part_attrs)
+        else:
+            fast = stacked_block(block, points, part, part_attrs, shared)
+    except FastPathFailed as exc:
+        fast, failure = None, exc
     if fast is not None:
         if callback is not None:
             for _ in range(block.size):
                 callback()
         return fast
+    return _point_by_point(block, points, part, callback, part_attrs, failure)
+
+
+def _point_by_point(
+    block: Block,
+    points: list[Any],
+    part: str | None,
+    callback: Any,
+    part_attrs: dict[str, Any] | None,
+    failure: FastPathFailed | None,
+) -> BlockResult:
+    """:func:`run_block` on the plain path: every point solved on its own."""
     results: list[xr.Dataset | None] = []
     status = np.zeros(block.size, dtype=np.int8)
     messages: dict[int, str] = {}
     for k, rs in enumerate(points):
         try:
-            with warnings.catch_warnings():
-                if quiet_warnings:
-                    warnings.simplefilter("ignore", XperssonWarning)
-                ds = run(rs, squeeze=False)
+            ds = run(rs, squeeze=False)
         except Exception as exc:  # noqa: BLE001 - a failing point is recorded, not fatal
             results.append(None)
             status[k] = POINT_STATUS["failed"]
@@ -172,6 +189,8 @@ def run_block(
     present = [None if r is None else set(r.variables) for r in results]
     digests = _digests(present, ds, block)
     out = BlockResult(block, ds, None, status.reshape(block.shape), messages, digests, solver)
+    if failure is not None and not np.any(status == POINT_STATUS["failed"]):
+        out.fast_path_failures = [str(failure)]  # the fast path failed, the plain one did not
     if part is not None:
         missing = {
             n: [k for k, p in enumerate(present) if p is not None and n not in p] for n in digests

@@ -15,6 +15,7 @@ import numpy as np
 import xarray as xr
 
 from ..scene import SceneError
+from ._fastfail import failure_attrs
 from .blocks import PART_ATTR, POINT_STATUS, BlockResult, stack, write_block_part
 from .parts import finalize, open_parts, part_name, read_part
 from .plan import SweepPlan
@@ -268,4 +269,5 @@ def _global_attrs(
                 },
             }
         )
+    attrs.update(failure_attrs(results))  # fast paths that failed where the plain did not
     return attrs

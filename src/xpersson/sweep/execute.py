@@ -26,6 +26,8 @@ from ..memory import check_study
 from ..pipeline import default_pressure_grid, progress_bar
 from ..plugins import get_registry
 from ..scene import SceneError
+from ._fastfail import warn_failures
+from ._quiet import silenced
 from .batched import SweepPoints, batch_capable, material_dims, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
 from .combine import finish
@@ -248,6 +250,7 @@ def solve_sweep(
             tasks = [(b, block_points(plan, points, b), parts[b.number]) for b in blocks]
         tasks = [t for t in tasks if t[0].number not in done]
         results = _run_tasks(plan, tasks, registry, scheduler, client, n_workers, progress, txn)
+        warn_failures(results, stacklevel=4)  # out of the silenced run: the user sees it
         results = sorted([*results, *done.values()], key=lambda r: r.block.number)
         return finish(plan, points, results, txn)
     finally:
@@ -324,8 +327,7 @@ def _too_small_for_a_cluster(plan: SweepPlan, registry: Any) -> bool:
 
     t0 = time.process_time()
     rs = _resolve_index(plan, (0,) * len(plan.shape), registry or get_registry())
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
+    with silenced():
         try:
             run(rs, squeeze=False)
         except Exception:  # noqa: BLE001 - the sweep reports failing points itself
@@ -403,37 +405,33 @@ def _execute(
     n_workers: int = 1,
     attrs: dict[str, Any] | None = None,
 ) -> list[BlockResult]:
+    """Run the block tasks; the points' warnings are silenced (:func:`._quiet.silenced`) by
+    this thread around the whole in-process run, by each task on a dask worker."""
     tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
     if client is None and scheduler != "threads":
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+        with silenced():
             shared: dict[str, Any] = {}  # the stacked path's template, reused across blocks
             return [
-                run_block(b, pts, registry, part, True, tick, attrs, shared)
-                for b, pts, part in tasks
+                run_block(b, pts, registry, part, tick, attrs, shared) for b, pts, part in tasks
             ]
     if client is None:
         from concurrent.futures import ThreadPoolExecutor
 
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            with ThreadPoolExecutor(max_workers=max(1, n_workers)) as pool:
-                futures = [
-                    pool.submit(run_block, b, pts, registry, part, False, tick, attrs)
-                    for b, pts, part in tasks
-                ]
-                return [f.result() for f in futures]
+        with silenced(), ThreadPoolExecutor(max_workers=max(1, n_workers)) as pool:
+            futures = [
+                pool.submit(run_block, b, pts, registry, part, tick, attrs)
+                for b, pts, part in tasks
+            ]
+            return [f.result() for f in futures]
     from distributed import as_completed
 
     futures = [
         client.submit(
-            run_block,
+            _silenced_block,
             b,
             pts,
             registry,
             part,
-            True,
-            None,
             attrs,
             pure=False,
             key=f"xpersson-block-{b.number}-{os.getpid()}-{id(tasks)}",
@@ -448,3 +446,11 @@ def _execute(
         if bar is not None:
             bar.update(res.block.size)
     return results
+
+
+def _silenced_block(
+    block: Block, points: Any, registry: Any, part: str | None, attrs: dict[str, Any] | None
+) -> BlockResult:
+    """A block task on a dask worker, its points' warnings silenced there."""
+    with silenced():
+        return run_block(block, points, registry, part, None, attrs)

@@ -1,19 +1,27 @@
 """The fast paths of a block (issue 25): points solved as batches of equivalent loads
 (:mod:`.batched`, contact similarity) or stacked in one run (:mod:`xpersson.pipeline.stacked`);
-``None`` sends the block point by point (:func:`xpersson.sweep.blocks.run_block`)."""
+``None`` sends the block point by point (:func:`xpersson.sweep.blocks.run_block`).
+
+``None`` means the fast path does not apply or cannot tell (a plugin without the declaration,
+points that differ otherwise, a load that did not meet its tolerance, a first point that
+failed on its own). A declared fast path that raises, or whose run lacks a variable of the plain
+path or gives it another shape, raises :class:`~._fastfail.FastPathFailed` instead: the block is
+then solved point by point and the failure is reported unless a point fails there too (the rule
+is stated in :mod:`._fastfail`). These functions never change the warning filters: the sweep
+silences the points' warnings once, in the calling thread (:mod:`.execute`).
+"""
 
 from __future__ import annotations
 
 import json
-import warnings
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from ..errors import XperssonWarning
 from ..pipeline import run, squeeze_p0, stacked
 from ..plugins import fast_paths_on
+from ._fastfail import FastPathFailed, declaring, failed
 from .batched import SweepPoints, batched_block, scaled_ok
 from .stacking import (
     Block,
@@ -28,14 +36,15 @@ from .stacking import (
 __all__ = ["similar_block", "stacked_block"]
 
 
-def _template(rs: Any, block: Block, quiet_warnings: bool) -> xr.Dataset | None:
-    """The first point solved on its own (coordinates, attributes; ``None`` if it failed)."""
+def _template(rs: Any, block: Block) -> xr.Dataset | None:
+    """The first point solved on its own: coordinates and attributes of the block's Dataset.
+
+    This is the plain path of that point, so a failure here is the point's own: ``None`` (it
+    raised or did not meet its tolerance) sends the block point by point, which records it.
+    """
     try:
-        with warnings.catch_warnings():
-            if quiet_warnings:
-                warnings.simplefilter("ignore", XperssonWarning)
-            template = run(rs, squeeze=False)
-    except Exception:  # noqa: BLE001 - the point-by-point path records the failure
+        template = run(rs, squeeze=False)
+    except Exception:  # noqa: BLE001 - the plain path of point 0: recorded point by point
         return None
     if template.attrs.get("status") != "success":
         return None
@@ -68,13 +77,18 @@ def similar_block(
     block: Block,
     points: SweepPoints,
     part: str | None,
-    quiet_warnings: bool,
     part_attrs: dict[str, Any] | None = None,
 ) -> BlockResult | None:
-    """The block solved as batches of loads (:mod:`.batched`), or ``None`` (point by point)."""
+    """The block solved as batches of loads (:mod:`.batched`), or ``None`` (point by point).
+
+    Raises
+    ------
+    FastPathFailed
+        The batched run raised (see :func:`.batched.batched_block`).
+    """
     if not all(scaled_ok(rs) for rs in points.distinct()):
         return None  # a plugin without contact similarity: no template run wasted
-    template = _template(points[0], block, quiet_warnings)
+    template = _template(points[0], block)
     if template is None:
         return None
     got = batched_block(block, points, _own_names(template, block), template)
@@ -100,29 +114,33 @@ def stacked_block(
     block: Block,
     points: list[Any],
     part: str | None,
-    quiet_warnings: bool,
     part_attrs: dict[str, Any] | None = None,
     shared: dict[str, Any] | None = None,
 ) -> BlockResult | None:
     """The block's points stacked in one run (:func:`xpersson.pipeline.stacked.run_stacked`),
     or ``None`` (point by point: a plugin without a stacked path, points that differ otherwise,
-    a load that did not meet its tolerance, a failure).
+    a load that did not meet its tolerance, a first point that failed on its own).
 
     ``shared`` (a dict kept across the blocks of one in-memory sweep) holds the first
     template: a later block whose points stack with it reuses it instead of solving its own
     first point again (the sweep's Dataset takes its global attributes from the first block;
     a block written as a part always solves its own).
+
+    Raises
+    ------
+    FastPathFailed
+        The stacked run raised, or lacks a variable of the plain path, or gives it another
+        shape.
     """
     if not fast_paths_on() or stacked.stack_reason(points) is not None:
         return None
-    return _stacked(block, points, part, quiet_warnings, part_attrs, shared)
+    return _stacked(block, points, part, part_attrs, shared)
 
 
 def _stacked(
     block: Block,
     points: list[Any],
     part: str | None,
-    quiet_warnings: bool,
     part_attrs: dict[str, Any] | None,
     shared: dict[str, Any] | None,
 ) -> BlockResult | None:
@@ -130,27 +148,30 @@ def _stacked(
     template = _shared_template(shared if part is None else None, points[0])
     reused = template is not None
     if template is None:
-        template = _template(points[0], block, quiet_warnings)
+        template = _template(points[0], block)
     if template is None:
         return None
     if shared is not None and part is None and not reused:
         shared.update(template=template, point=points[0])
     try:
-        with warnings.catch_warnings():
-            if quiet_warnings:
-                warnings.simplefilter("ignore", XperssonWarning)
-            got = stacked.run_stacked(points)
-    except Exception:  # noqa: BLE001 - the point-by-point path records the failure
-        return None
+        got = stacked.run_stacked(points)
+    except Exception as exc:  # noqa: BLE001 - judged against the plain path by run_block
+        raise failed("stacked_params", points[0], exc) from exc
+    if got is None:
+        return None  # a load did not meet its tolerance: each status recorded point by point
     names = _own_names(template, block)
-    if got is None or any(n not in got for n in names):
-        return None
     rows = {}
     for n in names:
         want = template.variables[n]
-        r = stacked.rows_of(got, n, want.dims, len(points))
-        if r.shape[1:] != want.shape:
-            return None
+        r = None if n not in got else stacked.rows_of(got, n, want.dims, len(points))
+        if r is None or r.shape[1:] != want.shape:
+            got_shape = "missing" if r is None else f"shape {r.shape[1:]}"
+            raise FastPathFailed(
+                "stacked_params",
+                declaring(points[0], "stacked_params"),
+                f"variable {n!r} of the plain path (shape {want.shape}): {got_shape} in the "
+                "stacked run",
+            )
         rows[n] = r.astype(want.dtype, copy=False)
     solver = [] if reused else [json.loads(template.attrs["xpersson_solver"])]
     return _result(block, rows, template, solver, points[0].p0_scalar, part, part_attrs)

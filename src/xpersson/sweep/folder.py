@@ -4,7 +4,10 @@ A run into a folder
 
 1. takes the folder's lock (``.xpersson.lock``, an advisory ``flock`` that dies with the process):
    of two runs into one folder exactly one proceeds, the other gets a
-   :class:`~xpersson.errors.FolderBusyError` (CLI: exit 2);
+   :class:`~xpersson.errors.FolderBusyError` (CLI: exit 2). On a file system without ``flock``
+   (``ENOLCK``, ``EOPNOTSUPP``: some network file systems) the run proceeds unlocked and an
+   :class:`~xpersson.XperssonWarning` names the folder and the risk (two runs into it at once
+   would mix their parts); any other error of the lock is raised;
 2. compares the study with what the folder holds: the *study hash* is the sha256 of the scene
    with every swept parameter as a list of SI values (:meth:`SweepPlan.scene_lists`), the
    contents of the files it names and the xpersson version. A folder holding another study is
@@ -23,10 +26,12 @@ the same points, the same stored bytes for every reused part.
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
 import os
 import uuid
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -34,7 +39,7 @@ from typing import Any
 import numpy as np
 
 from ..archive import file_digest, read
-from ..errors import ArchiveError, FolderBusyError
+from ..errors import ArchiveError, FolderBusyError, XperssonWarning
 from ..provenance import version
 from .blocks import PART_ATTR, Block, BlockResult, _digests
 from .parts import INDEX, PART_NAME, part_name, read_index_file, write_index
@@ -264,9 +269,22 @@ def _acquire(folder: Path) -> int | None:
             f"{folder}: another run is writing into this folder; wait for it to finish "
             "or choose another folder"
         ) from None
-    except OSError:  # pragma: no cover - a file system without flock: no lock
-        pass
+    except OSError as exc:
+        if exc.errno not in _NO_LOCKS:
+            os.close(fd)
+            raise
+        warnings.warn(
+            f"{folder}: the file system does not support locks ({errno.errorcode[exc.errno]}); "
+            "this run writes into the folder without its lock, so a second run started into "
+            "the same folder at the same time would mix its parts with this one's",
+            XperssonWarning,
+            stacklevel=5,
+        )
     return fd
+
+
+#: errno of ``flock`` on a file system without locks (the run then proceeds unlocked)
+_NO_LOCKS = frozenset({errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOTSUP})
 
 
 def _reuse(path: Path, block: Block, study: str) -> BlockResult:
@@ -294,4 +312,5 @@ def _reuse(path: Path, block: Block, study: str) -> BlockResult:
     result = BlockResult(block, None, str(path), status, messages, digests, info.get("solver", []))
     result.sha256 = file_digest(path)
     result.run = str(info.get("run"))
+    result.fast_path_failures = list(info.get("fast_path_failures") or [])
     return result

@@ -65,7 +65,11 @@ class Block:
 
 @dataclass
 class BlockResult:
-    """What a worker sends back: the block's Dataset (or the part file it wrote) and a summary."""
+    """What a worker sends back: the block's Dataset (or the part file it wrote) and a summary.
+
+    ``fast_path_failures`` names the declared fast paths that failed on this block where the
+    point-by-point path then solved every point (see :func:`xpersson.sweep.blocks.run_block`).
+    """
 
     block: Block
     dataset: xr.Dataset | None
@@ -76,6 +80,7 @@ class BlockResult:
     solver: list[dict[str, Any]] = field(default_factory=list)
     sha256: str | None = None
     run: str | None = None
+    fast_path_failures: list[str] = field(default_factory=list)
 
 
 def write_block_part(
@@ -100,6 +105,8 @@ def write_block_part(
         "solver": result.solver,
         "missing": missing or {},
     }
+    if result.fast_path_failures:
+        info["fast_path_failures"] = result.fast_path_failures
     ds = ds.copy(deep=False)
     ds.attrs = {**ds.attrs, PART_ATTR: json.dumps(info, sort_keys=True)}
     to_netcdf(ds, part, overwrite=True)

@@ -12,20 +12,14 @@ __all__ = ["KNOWN_DIMS", "assert_schema"]
 KNOWN_DIMS = ("p0", "zeta", "p", "q_psd")
 
 
-def _unit_parser() -> Any:
-    try:
-        return ureg()
-    except Exception:  # pint missing: units are not checkable
-        return None
-
-
 def assert_schema(ds: Any, extra_dims: tuple[str, ...] = ()) -> None:
     """Assert the CF conventions of an xpersson Dataset.
 
     Every variable and coordinate has non-empty ``units`` and ``long_name`` attributes; every
     dimension is one of :data:`KNOWN_DIMS` (plus ``extra_dims``) or a sweep dimension with its
-    own coordinate; units parse as UDUNITS strings (checked through pint when available, with
-    :func:`xpersson.units.udunits_to_pint`).
+    own coordinate; units parse as UDUNITS strings (checked through pint, a dependency of
+    xpersson, with :func:`xpersson.units.udunits_to_pint`; a unit registry that cannot be
+    built raises instead of skipping the unit checks).
 
     Raises
     ------
@@ -33,7 +27,7 @@ def assert_schema(ds: Any, extra_dims: tuple[str, ...] = ()) -> None:
         Listing every problem found.
     """
     problems: list[str] = []
-    reg = _unit_parser()
+    reg = ureg()
     for name in list(ds.variables):
         var = ds[name]
         attrs = var.attrs
@@ -45,7 +39,7 @@ def assert_schema(ds: Any, extra_dims: tuple[str, ...] = ()) -> None:
             if dim not in KNOWN_DIMS and dim not in extra_dims and dim not in ds.coords:
                 problems.append(f"{name}: unknown dimension {dim!r} (no coordinate)")
         units = attrs.get("units")
-        if reg is not None and isinstance(units, str) and units.strip():
+        if isinstance(units, str) and units.strip():
             try:
                 reg.Unit(udunits_to_pint(units))
             except Exception as exc:
