@@ -5,9 +5,9 @@ the one cache mechanism, the readable march) is checked by fingerprinting every 
 coordinate and (non-volatile) attribute of
 
 * every example scene (``examples/*.toml`` and ``plugins/*/examples/*.toml``),
-* ``--scenes`` generated single scenes (``benchmarks/fuzz.py``'s generator, seed ``--seed``;
+* ``--scenes`` (600) generated single scenes (``benchmarks/fuzz.py``'s generator, seed ``--seed``;
   refused scenes are recorded with their message, so a change of what is refused shows too),
-* ``--sweeps`` generated sweeps (E x H, E x nu x loads, H x loads, analyses on), which take the
+* ``--sweeps`` (40) generated sweeps (E x H, E x nu x loads, H x loads, analyses on), which take the
   batched and stacked fast paths of :mod:`xpersson.sweep`,
 
 before and after the change, and comparing the two files::
@@ -234,8 +234,8 @@ def main(argv: list[str] | None = None) -> int:
     sub = parser.add_subparsers(dest="cmd", required=True)
     rec = sub.add_parser("record")
     rec.add_argument("--out", required=True)
-    rec.add_argument("--scenes", type=int, default=200)
-    rec.add_argument("--sweeps", type=int, default=24)
+    rec.add_argument("--scenes", type=int, default=600)
+    rec.add_argument("--sweeps", type=int, default=40)
     rec.add_argument("--seed", type=int, default=33)
     rec.add_argument("--time-limit", type=int, default=120)
     rec.add_argument("--no-examples", action="store_true")
