@@ -292,16 +292,3 @@ def test_spectrum_caches_are_the_plain_evaluation(psd):
             assert not v.flags.writeable
         elif isinstance(v, tuple | list):
             stack.extend(v)
-
-
-def test_dense_zeta_memo_is_the_plain_merge():
-    """The interface plugin's dense grid (memoised per scene grid) is the plain merge, and a
-    fresh writable copy every call."""
-    solved = pytest.importorskip("xpersson_interface._solved")
-    z = np.concatenate(([1.0], np.geomspace(1.5, 1e4, 30)))
-    n = int(12 * (9.0 + np.log10(1e4 - 1.0)))
-    plain = np.unique(np.concatenate((z, 1.0 + np.geomspace(1e-9, 1e4 - 1.0, n)[:-1])))
-    first = solved.dense_zeta(z, 12)
-    np.testing.assert_array_equal(first, plain)
-    first[:] = 0.0  # the caller's copy: the next call is unaffected
-    np.testing.assert_array_equal(solved.dense_zeta(z, 12), plain)

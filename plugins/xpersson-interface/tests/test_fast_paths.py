@@ -13,7 +13,8 @@ import xpersson
 from xpersson.cache import cache
 from xpersson.physics import gap_cdf, gap_pdf
 from xpersson.physics._fastnum import _exp, _row_spline
-from xpersson_interface import _solved, bruggeman_gap
+from xpersson.plugins import solved
+from xpersson_interface import bruggeman_gap
 
 LOADS = np.geomspace(2e3, 3e6, 9)  # A/A0 about 1e-3 .. 0.9
 
@@ -73,7 +74,7 @@ def test_exp_is_numpys_exp_bit_for_bit():
 
 def test_analyses_of_one_solve_share_one_curve_and_free_it():
     """mean_gap, contact_stiffness and gap_pdf of one solve build one SolvedContact (the
-    solve-scoped cache "interface.solved"; with the caches on also in CI's caches-off run)."""
+    solve-scoped cache "plugins.solved"; with the caches on also in CI's caches-off run)."""
     made = []
     real = xpersson.physics.SolvedContact
 
@@ -96,7 +97,7 @@ def test_analyses_of_one_solve_share_one_curve_and_free_it():
     np.testing.assert_array_equal(ds["gap_pdf"].values, alone["gap_pdf"].values)
     for name in an:
         np.testing.assert_array_equal(ds[name].values, off[name].values)
-    assert len(cache("interface.solved")) == 0  # nothing outlives the solve
+    assert len(cache("plugins.solved")) == 0  # nothing outlives the solve
 
 
 def test_fast_erf_is_scipys_erf_within_its_bound():
@@ -178,14 +179,10 @@ def test_bruggeman_start_and_bracket_hints_change_no_root():
 
 
 def test_full_contact_nodes_are_dropped_without_changing_results(monkeypatch):
-    """The dense grid's nodes in exact full contact (every load) are dropped: same outputs."""
-    from xpersson_interface._solved import _past_full_contact
+    """The dense grid's nodes in exact full contact (every load) are dropped: same outputs
+    (which nodes: tests/plugins/test_solved.py)."""
+    from xpersson.plugins.solved import _past_full_contact
 
-    non = np.zeros((2, 100))
-    non[0, 60:] = np.geomspace(1e-200, 0.5, 40)
-    keep = _past_full_contact(1.0 - non, non, None)
-    np.testing.assert_array_equal(keep[:2], [0, 1])
-    assert keep[2] == 60 - _solved.PLATEAU_MARGIN and keep[-1] == 99
     an = {"gap_pdf": {}, "leakage": {}, "mean_gap": {}, "contact_stiffness": {}}
     p0 = np.geomspace(1e3, 3e6, 7)
     kept = []
@@ -194,10 +191,10 @@ def test_full_contact_nodes_are_dropped_without_changing_results(monkeypatch):
         kept.append((_past_full_contact(area, non, S).size, area.shape[1]))
         return _past_full_contact(area, non, S)
 
-    monkeypatch.setattr(_solved, "_past_full_contact", spy)
+    monkeypatch.setattr(solved, "_past_full_contact", spy)
     trimmed = xpersson.solve(scene(p0, analyses=an))
     assert kept and all(n < 0.8 * total for n, total in kept)  # nodes were dropped
-    monkeypatch.setattr(_solved, "PLATEAU_MARGIN", 10**9)  # keeps every node
+    monkeypatch.setattr(solved, "PLATEAU_MARGIN", 10**9)  # keeps every node
     full = xpersson.solve(scene(p0, analyses=an))
     for name in ("gap_pdf", "gap_mean", "leak_u1", "leak_flow_factor_emt", "mean_gap",
                  "contact_stiffness"):  # fmt: skip

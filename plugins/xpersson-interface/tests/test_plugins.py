@@ -76,3 +76,13 @@ def test_diffusion_method_matches_closed_form():
     sc["analyses"]["gap_pdf"]["method"] = "closed_form"
     b = xpersson.solve(sc)
     np.testing.assert_allclose(a["gap_mean"].values, b["gap_mean"].values, rtol=0.01)
+
+
+def test_the_solved_curve_names_are_the_cores():
+    """``solved_curve``, ``Solved``, ``dense_zeta`` and ``FORMS`` moved to the core
+    (:mod:`xpersson.plugins.solved`, shared with xpersson-transport); the old names still work."""
+    import xpersson_interface
+    from xpersson.plugins import solved
+
+    for name in ("solved_curve", "Solved", "dense_zeta", "FORMS"):
+        assert getattr(xpersson_interface, name) is getattr(solved, name), name

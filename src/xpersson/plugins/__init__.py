@@ -1,7 +1,9 @@
 """Plugin contracts (base classes, specs), the scene context, the registry and the planner.
 
 Importing this package does not import numpy: :class:`SceneContext`,
-:class:`DiffusionClock` and :data:`CLOSURE_PARAMETERS` are loaded on first access.
+:class:`DiffusionClock` and :data:`CLOSURE_PARAMETERS` are loaded on first access. The public
+module :mod:`xpersson.plugins.solved` (the solved area curve that analyses of several plugins
+read) is imported on its own.
 """
 
 from __future__ import annotations

@@ -1,9 +1,10 @@
 """Thin analysis classes (group ``xpersson.analyses``) over :mod:`xpersson.physics.interface`.
 
-Every analysis computes from the solved contact (:mod:`._solved`): the boundary's declared area
-variables, the coefficient's correction factor, all loads at once. Which boundaries an analysis
-supports is declared as the boundary traits it needs (``boundary_traits``), so boundaries
-installed later are accepted or refused by what they declare, never by name.
+Every analysis computes from the solved contact (:mod:`xpersson.plugins.solved`, in the core):
+the boundary's declared area variables, the coefficient's correction factor, all loads at once.
+Which boundaries an analysis supports is declared as the boundary traits it needs
+(``boundary_traits``), so boundaries installed later are accepted or refused by what they
+declare, never by name.
 
 The correction factor of energy and gap (``s_factor``):
 
@@ -26,10 +27,10 @@ import xarray as xr
 from xpersson import physics
 from xpersson.physics.closures import GAMMA_DEFAULT
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
+from xpersson.plugins.solved import FORMS, Solved, per_solve, solved_curve
 
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
-from ._solved import FORMS, Solved, per_solve, solved_curve
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
 

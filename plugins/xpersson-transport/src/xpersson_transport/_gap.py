@@ -6,7 +6,7 @@ The gap distribution is the closed form of physics.md §5.5a (Almqvist et al. 20
 on every scale down to the finest roughness's rms height (the area detaching at the last
 magnifications). A linear grid of a few hundred points cannot resolve that, which overestimated
 the gas conductance of the heat-sink example 1.5-3x at 1-10 MPa. So this module builds the same
-distribution (:func:`xpersson_interface.solved_curve` on the solved Dataset, then
+distribution (:func:`xpersson.plugins.solved.solved_curve` on the solved Dataset, then
 :func:`xpersson.physics.detachment` and the exact cumulative mass
 :func:`xpersson.physics.gap_cdf`). It then integrates
 
@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from xpersson import physics
+from xpersson.plugins.solved import solved_curve
 
 __all__ = ["gas_from_cdf", "gap_cdf_grid"]
 
@@ -113,8 +114,6 @@ def gap_cdf_grid(
     F : ndarray, shape (n_load, n_u)
         Detached mass in ``[0, u]`` [1] (the contact weight excluded).
     """
-    from xpersson_interface import solved_curve
-
     s = solved_curve(ctx, ds, s_factor, gamma, zeta_per_decade)
     sc = physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve)
     det = sc.detachment(_edges(s.zeta, n_bins), separation)

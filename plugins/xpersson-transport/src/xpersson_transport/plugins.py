@@ -5,7 +5,7 @@ Both compute from the solved Dataset, all loads at once: the incremental normal 
 scene's closure) turns into the constriction conductance by Barber's analogy
 (:mod:`._physics`); the contact area the boundary declares gives the film term and Holm's spots;
 the gap distribution of ``gap_pdf`` (its closed form on the same solved curve, through
-``xpersson_interface.solved_curve`` and ``xpersson.physics.gap_cdf``) gives the heat carried by
+``xpersson.plugins.solved.solved_curve`` and ``xpersson.physics.gap_cdf``) gives the heat carried by
 the gas in the gaps (:mod:`._gap`).
 
 Boundaries: the analogy holds for an elastic contact's incremental (unloading) stiffness. The

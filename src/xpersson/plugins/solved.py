@@ -1,5 +1,9 @@
 """The solved contact as the analyses see it: the area curve per load, and its S factor.
 
+A public module of the plugin-author layer: every analysis that integrates over the solved
+curve (``xpersson-interface``'s energy, gap and leakage, ``xpersson-transport``'s gas gap) reads
+it here, so that no plugin imports another (docs/architecture.md, "Where each formula lives").
+
 Everything comes from the solve: the boundary declares which variables hold the elastic contact
 area, its complement and the load-bearing contact area (:class:`xpersson.plugins.Boundary`); the
 coefficient gives the correction factor ``S = d tau_eff/d tau_c`` of its closure. Nothing is
@@ -21,7 +25,7 @@ from numpy.typing import NDArray
 from xpersson.cache import Cache, memoize
 from xpersson.physics.closures import GAMMA_DEFAULT
 
-__all__ = ["Solved", "solved_curve", "dense_zeta", "per_solve", "FORMS"]
+__all__ = ["Solved", "solved_curve", "dense_zeta", "per_solve", "solve_key", "FORMS"]
 
 #: Forms of the correction factor in energy and gap.
 FORMS = ("closure", "yang_persson")
@@ -76,7 +80,7 @@ def dense_zeta(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64
     return _dense_zeta(z, int(per_decade)).copy()
 
 
-@memoize("interface.dense_zeta", scope="process", maxsize=8)
+@memoize("plugins.dense_zeta", scope="process", maxsize=8)
 def _dense_zeta(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64]:
     """:func:`_merged` (cached)."""
     return _merged(zeta, per_decade)
@@ -255,7 +259,7 @@ def _past_full_contact(
 #: The solved curve and its SolvedContact (splines, Phi, tables), built once per solve and shared
 #: by every analysis of that solve with the same curve parameters: nothing outlives the solve.
 _SOLVES = Cache(
-    "interface.solved",
+    "plugins.solved",
     scope="solve",
     maxsize=16,
     doc="the solved area curve of every load and its SolvedContact, per curve parameters",

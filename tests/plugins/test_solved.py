@@ -1,0 +1,112 @@
+"""``xpersson.plugins.solved``: the solved curve that the analyses of several plugins read.
+
+Its end-to-end use (the interface analyses sharing one curve per solve, the dropped
+full-contact nodes changing no output) is tested with the analyses, in
+``plugins/xpersson-interface/tests/test_fast_paths.py``; here the module on its own, on a
+core-only solve.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import xpersson
+from xpersson.cache import cache, solve_scope
+from xpersson.physics.closures import GAMMA_DEFAULT
+from xpersson.plugins import solved
+from xpersson.testing import TINY_SCENE
+
+
+@pytest.fixture(scope="module")
+def tiny():
+    """A core-only solve (elastic, 2 loads, 3 magnifications per decade) and a bare context."""
+    ds = xpersson.solve(TINY_SCENE)
+    ctx = SimpleNamespace(p0=ds["p0"].values, boundary=None, coefficient=None, solve_at=None)
+    return ctx, ds
+
+
+def test_solved_curve_reads_the_datasets_area_rows(tiny):
+    ctx, ds = tiny
+    s = solved.solved_curve(ctx, ds)
+    area = ds["area_fraction"].transpose("p0", "zeta").values
+    np.testing.assert_array_equal(s.zeta, ds["zeta"].values)
+    np.testing.assert_array_equal(s.area, area)
+    np.testing.assert_array_equal(s.contact, np.clip(area, 0.0, 1.0))
+    np.testing.assert_array_equal(
+        s.non_area, np.clip(ds["non_contact_fraction"].transpose("p0", "zeta").values, 0.0, 1.0)
+    )
+    assert s.s_factor is None and s.form == "closure" and s.gamma is None
+    assert s.curve == (s.zeta, s.area, None, s.non_area)
+
+
+def test_yang_persson_form_is_gamma_plus_area_squared(tiny):
+    ctx, ds = tiny
+    s = solved.solved_curve(ctx, ds, form="yang_persson")
+    assert s.gamma == GAMMA_DEFAULT
+    np.testing.assert_array_equal(s.s_factor, GAMMA_DEFAULT + (1.0 - GAMMA_DEFAULT) * s.area**2)
+    assert solved.solved_curve(ctx, ds, "yang_persson", gamma=0.3).gamma == 0.3
+
+
+def test_an_unknown_form_is_refused_naming_the_forms(tiny):
+    ctx, ds = tiny
+    with pytest.raises(ValueError, match=r"s_factor must be one of \('closure', 'yang_persson'\)"):
+        solved.solved_curve(ctx, ds, form="persson")
+
+
+def test_a_coarse_curve_without_solve_at_warns(tiny):
+    """Dense sampling asked for, but no ``ctx.solve_at``: the Dataset's curve, and a warning."""
+    ctx, ds = tiny
+    with pytest.warns(UserWarning, match="too coarse for the zeta integrals"):
+        s = solved.solved_curve(ctx, ds, per_decade=12)
+    np.testing.assert_array_equal(s.zeta, ds["zeta"].values)
+
+
+def test_per_solve_builds_once_inside_a_solve_and_afresh_outside(tiny):
+    ctx, _ = tiny
+    built = []
+
+    def build():
+        built.append(1)
+        return np.arange(3.0)
+
+    with xpersson.set_options(cache=True):
+        first, second = solved.per_solve(ctx, ("k",), build), solved.per_solve(ctx, ("k",), build)
+        assert len(built) == 2  # outside a solve nothing is kept
+        with solve_scope():
+            a = solved.per_solve(ctx, ("k",), build)
+            b = solved.per_solve(ctx, ("k",), build)
+            solved.per_solve(ctx, ("other",), build)
+            assert len(cache("plugins.solved")) == 2
+        assert len(built) == 4 and a is b and not a.flags.writeable
+        assert len(cache("plugins.solved")) == 0  # nothing outlives the solve
+    np.testing.assert_array_equal(first, second)
+
+
+def test_dense_zeta_memo_is_the_plain_merge():
+    """The dense grid (memoised per scene grid) is the plain merge, and a fresh writable copy
+    every call."""
+    z = np.concatenate(([1.0], np.geomspace(1.5, 1e4, 30)))
+    n = int(12 * (9.0 + np.log10(1e4 - 1.0)))
+    plain = np.unique(np.concatenate((z, 1.0 + np.geomspace(1e-9, 1e4 - 1.0, n)[:-1])))
+    first = solved.dense_zeta(z, 12)
+    np.testing.assert_array_equal(first, plain)
+    first[:] = 0.0  # the caller's copy: the next call is unaffected
+    np.testing.assert_array_equal(solved.dense_zeta(z, 12), plain)
+
+
+def test_past_full_contact_keeps_the_first_two_nodes_and_a_margin():
+    """Nodes where every load is in exact full contact are dropped, but for ``zeta = 1``, the
+    first node above it and :data:`PLATEAU_MARGIN` nodes before the first open one."""
+    non = np.zeros((2, 100))
+    non[0, 60:] = np.geomspace(1e-200, 0.5, 40)
+    keep = solved._past_full_contact(1.0 - non, non, None)
+    np.testing.assert_array_equal(keep[:2], [0, 1])
+    np.testing.assert_array_equal(keep[2:], np.arange(60 - solved.PLATEAU_MARGIN, 100))
+    # S < 1 opens the contact for the energy and gap integrals too: F = A (1 - S) counts
+    S = np.ones((2, 100))
+    S[1, 40:] = 0.5
+    keep = solved._past_full_contact(1.0 - non, non, S)
+    assert keep[2] == 40 - solved.PLATEAU_MARGIN
