@@ -11,8 +11,9 @@ The declaration is **not inherited**: a subclass may change the physics a promis
 a class without its own ``fast_paths`` gets :data:`NO_FAST_PATHS` (every path plain) and
 declares its paths again where they still hold.
 
-:func:`plain_paths` is the one switch that sends everything down the plain path (tests and
-:func:`~xpersson.testing.check_plugin` compare the two).
+:func:`plain_paths` (a ``with`` block) and the option ``fast_paths``
+(``xpersson.set_options(fast_paths=False)``, ``XPERSSON_FAST_PATHS=off``) send everything down
+the plain path (tests and :func:`~xpersson.testing.check_plugin` compare the two).
 """
 
 from __future__ import annotations
