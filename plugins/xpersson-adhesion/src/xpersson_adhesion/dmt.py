@@ -391,14 +391,6 @@ class DMTBoundary(Boundary):
         _check_scalar("range", self._params["range"], self.parameters, "m")
         if self._params["law"] not in LAWS:
             raise ValueError(f"boundary.law = {self._params['law']!r}: one of {', '.join(LAWS)}")
-        #: the clock of the loads solved last (:meth:`walls`), which :meth:`interpret` needs
-        #: for their states: an input of the run, not a cache (interpret() has no clock)
-        self._clock: DiffusionClock | None = None
-
-    def __getstate__(self) -> dict[str, Any]:
-        state = dict(self.__dict__)
-        state["_clock"] = None  # holds the pipeline's closures: not picklable, set per run
-        return state
 
     def validate(self, ctx: SceneContext) -> None:
         """The Tabor-parameter warning (tensile loads are checked when solved)."""
@@ -454,21 +446,22 @@ class DMTBoundary(Boundary):
         """Absorbing wall at ``-p_att`` [Pa]: the elastic contact at ``p_rep`` shifted."""
         from xpersson.engine import Wall
 
-        self._clock = clock
         st = self.state(ctx, p0, clock)
         return Wall.absorbing(-st.p_att), None
 
     def interpret(
         self, ctx: SceneContext, results: list[EngineResult]
     ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
-        """p_rep, p_att, mean gap and the fixed-point diagnostics per load."""
-        if self._clock is None:
+        """p_rep, p_att, mean gap and the fixed-point diagnostics per load (the states that
+        :meth:`walls` solved, on the run's clock ``ctx.clock``)."""
+        if ctx.clock is None:
             raise ValueError(
-                "boundary 'dmt': interpret() reads the states that walls() solved on the "
-                "scene's diffusion clock; call walls() first"
+                "boundary 'dmt': interpret() reads the states solved on the scene's diffusion "
+                "clock, ctx.clock, which the pipeline sets for interpret(); got a context "
+                "without a clock"
             )
         loads = tuple(dict.fromkeys(float(q) for q in np.atleast_1d(ctx.p0)))
-        found = self._states(ctx, self._clock, loads)
+        found = self._states(ctx, ctx.clock, loads)
         states = [found[float(p0)] for p0 in ctx.p0]
         p = self._params
 
