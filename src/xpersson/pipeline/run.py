@@ -71,7 +71,10 @@ def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
     add_outputs(ds, extra, type(rs.boundary).outputs, who["boundary"])
     if rs.analyses:  # analyses read the scene's declarations and may sample the solve densely
         ctx = dataclasses.replace(
-            ctx, coefficient=coef, boundary=rs.boundary, solve_at=make_solve_at(rs, ctx, walls, clock)
+            ctx,
+            coefficient=coef,
+            boundary=rs.boundary,
+            solve_at=make_solve_at(rs, ctx, walls, clock),
         )
     for (_, analysis), label in zip(rs.analyses, analysis_labels, strict=True):
         with checks.guard_dataset(ds, label) as view, checks.calling(label, "compute()"):

@@ -328,9 +328,7 @@ class _PointContexts:
                 ctx,
                 coefficient=rs.coefficient,
                 boundary=rs.boundary,
-                solve_at=make_solve_at(
-                    rs, ctx, [self._walls[k]] * rs.p0.size, self._clocks[k]
-                ),
+                solve_at=make_solve_at(rs, ctx, [self._walls[k]] * rs.p0.size, self._clocks[k]),
             )
         return self._built[k]
 
