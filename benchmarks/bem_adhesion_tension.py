@@ -39,13 +39,13 @@ AREAS = (0.003, 0.005, 0.01, 0.02, 0.03, 0.05)
 def mean_field(psd: Any, work: float, rng: float, scale: float, zmax: float) -> Any:
     """``adhesive``'s tabulated mean field (``_meanfield.MeanField``) on a spectrum."""
     from xpersson.physics import diffusion_time
+    from xpersson_adhesion._curves import curve_grid, increasing
     from xpersson_adhesion._meanfield import MeanField, attraction_curve
-    from xpersson_adhesion.dmt import _curve_grid, _increasing
 
-    z = _curve_grid(np.geomspace(1.0, zmax, 41), per_decade=8)
+    z = curve_grid(np.geomspace(1.0, zmax, 41), per_decade=8)
     z = np.concatenate((z[:1], z[1:][z[1:] - 1.0 >= 1e-5]))
     tau = np.asarray(diffusion_time(psd, E_STAR, z), float)
-    z, tau = _increasing(z, tau)
+    z, tau = increasing(z, tau)
     s = math.sqrt(tau[-1])
 
     def evaluate(p: np.ndarray) -> np.ndarray:
@@ -100,13 +100,13 @@ def rigid_bump(psd: Any, H: float, zeta_c: float, work: float, rng: float) -> fl
     """Derjaguin pull-off [Pa] of the bump smoothed at ``zeta_c``, the finer band's mean field
     (scaled 0.85) as its traction-gap law of the mean gap, per cell."""
     from xpersson.physics import SelfAffineRollOff, diffusion_time, mean_gap
+    from xpersson_adhesion._curves import curve_grid
     from xpersson_adhesion._meanfield import attraction_curve
-    from xpersson_adhesion.dmt import _curve_grid
 
     qc = zeta_c * Q_L
     radius = 1.0 / math.sqrt(2.0 * math.pi * float(psd.running_moment(5.0, qc)))
     band = SelfAffineRollOff(float(psd.C(np.array([qc]))[0]), H, qc, qc, float(psd.q_1))
-    z = _curve_grid(np.geomspace(1.0, float(band.q_1) / qc, 20), per_decade=8)
+    z = curve_grid(np.geomspace(1.0, float(band.q_1) / qc, 20), per_decade=8)
     tau = np.asarray(diffusion_time(band, E_STAR, z), float)
     s = math.sqrt(tau[-1])
     p = np.geomspace(1e-3 * s, 10.0 * s, 100)

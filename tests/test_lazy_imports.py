@@ -168,10 +168,10 @@ def test_one_scan_discovery_equals_per_group_entry_points():
     what ``importlib.metadata.entry_points(group=...)`` lists."""
     from importlib.metadata import entry_points
 
-    from xpersson.plugins import ENTRY_POINT_PREFIX, GROUP_NAMES, _metadata, _registry
+    from xpersson.plugins import ENTRY_POINT_PREFIX, GROUP_NAMES, _discovery, _metadata
 
     for group in GROUP_NAMES:
-        ours = _registry._entry_points(ENTRY_POINT_PREFIX + group)
+        ours = _discovery._entry_points(ENTRY_POINT_PREFIX + group)
         theirs = list(entry_points(group=ENTRY_POINT_PREFIX + group))
         assert sorted((e.name, e.value) for e in ours) == sorted((e.name, e.value) for e in theirs)
         for ep in ours:

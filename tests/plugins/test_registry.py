@@ -13,6 +13,7 @@ from xpersson.plugins import (
     PluginError,
     Registry,
     SpecError,
+    _discovery,
     _registry,
     plugin_provenance,
 )
@@ -35,9 +36,9 @@ def test_listing_imports_no_plugin(monkeypatch):
 def test_discovery_is_cached_until_refresh(monkeypatch):
     calls = []
     install_eps(monkeypatch, [fake_ep("boundaries", "offset", f"{M}:OffsetWall")])
-    inner = _registry._entry_points
+    inner = _discovery._entry_points
     monkeypatch.setattr(
-        _registry, "_entry_points", lambda g, installed=None: calls.append(g) or inner(g)
+        _discovery, "_entry_points", lambda g, installed=None: calls.append(g) or inner(g)
     )
     reg = Registry(autoload=True)
     reg.names("boundaries")

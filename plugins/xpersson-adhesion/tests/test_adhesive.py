@@ -15,9 +15,9 @@ from xpersson.physics import SelfAffineRollOff, diffusion_time
 from xpersson.scene import SceneError
 from xpersson_adhesion import AdhesionLimitWarning, AdhesiveBoundary
 from xpersson_adhesion._bump import BUMPS
+from xpersson_adhesion._curves import curve_grid
 from xpersson_adhesion._meanfield import MeanField, attraction_curve
 from xpersson_adhesion.adhesive import ATTRACTION_SCALE, EXPECTED_FACTOR, regime_of
-from xpersson_adhesion.dmt import _curve_grid
 
 # The BEM referee's H = 0.8 scene (benchmarks/bem_adhesion.py): L = 100 um, q_1/q_L = 32,
 # rms slope 0.1, no roll-off, E* = 1 MPa; range 0.1 h_rms; works for Tabor 0.6, 1.0, 1.6.
@@ -63,7 +63,7 @@ def quiet(solve, sc):
 
 
 def table(work: float, loads=(1e3,)) -> MeanField:
-    z = _curve_grid(np.array([1.0, 32.0]), per_decade=8)
+    z = curve_grid(np.array([1.0, 32.0]), per_decade=8)
     tau = np.asarray(diffusion_time(PSD, E_STAR, z), float)
     return MeanField(
         lambda p: attraction_curve(PSD, E_STAR, z, tau, "exponential", work, RANGE, p),
@@ -84,7 +84,7 @@ def test_zero_work_is_the_elastic_contact(solve):
 
 
 def test_attraction_is_linear_in_the_work_at_fixed_contact():
-    z = _curve_grid(np.array([1.0, 32.0]), per_decade=8)
+    z = curve_grid(np.array([1.0, 32.0]), per_decade=8)
     tau = np.asarray(diffusion_time(PSD, E_STAR, z), float)
     p = np.array([100.0, 2e3, 5e5])
     one = attraction_curve(PSD, E_STAR, z, tau, "exponential", 1e-3, RANGE, p)

@@ -18,8 +18,8 @@ from xpersson.physics.interface import detachment, gap_pdf
 from xpersson.scene import SceneError
 from xpersson.testing import material, scene, spectrum
 from xpersson_adhesion import LAWS, AdhesionLimitWarning, DMTBoundary, traction
+from xpersson_adhesion._curves import curve_grid
 from xpersson_adhesion._traction import attraction, attraction_quadrature
-from xpersson_adhesion.dmt import _curve_grid
 
 E_STAR = 4.0e6 / 3.0
 TINY = scene(material=material("1 MPa"), p0=["2 kPa", "20 kPa"], zeta_per_decade=4)
@@ -30,7 +30,7 @@ def _dmt(**kw):
 
 
 def _det(p0=6.6e4, zeta_out=(1.0, 1e4)):
-    zeta = _curve_grid(np.asarray(zeta_out, float))
+    zeta = curve_grid(np.asarray(zeta_out, float))
     tau = diffusion_time(PSD, E_STAR, zeta)
     with np.errstate(divide="ignore"):
         x = p0 / (2.0 * np.sqrt(tau))
@@ -210,7 +210,7 @@ FUZZ_ZMAX = 5541.683342273044 / 2002.0669273387969
 def test_curve_grid_nodes_are_separated(zeta_max, per_decade):
     zeta = _core_zeta(zeta_max, per_decade)
     for dense in (16, 32):
-        z = _curve_grid(zeta, per_decade=dense)
+        z = curve_grid(zeta, per_decade=dense)
         assert z[0] == 1.0 and z[-1] == zeta[-1]
         assert np.all(np.diff(np.log(z)) > 1e-9)
         tau = diffusion_time(PSD, E_STAR, z)
@@ -246,11 +246,11 @@ def test_scene_with_near_duplicate_curve_nodes_solves(solve):
 
 
 def test_flat_diffusion_time_keeps_the_first_node_of_the_stretch():
-    from xpersson_adhesion.dmt import _increasing
+    from xpersson_adhesion._curves import increasing
 
     z = np.geomspace(1.0, 2e4, 40)  # beyond q_1/q_L = 1e4 the spectrum is zero: tau is flat
     tau = diffusion_time(PSD, E_STAR, z)
-    zz, tt = _increasing(z, tau)
+    zz, tt = increasing(z, tau)
     assert np.all(np.diff(tt) > 0) and zz[0] == 1.0
     assert zz[-1] == z[np.argmax(tau)] and zz.size < z.size
     assert tt[-1] == tau.max()

@@ -15,7 +15,7 @@ from xpersson.physics import diffusion_time
 from xpersson.testing import material, scene
 from xpersson_adhesion import LAWS, AdhesionLimitWarning
 from xpersson_adhesion._dmt_batch import NMAX, _cheb_coefficients, key, node_p
-from xpersson_adhesion.dmt import solve_dmt
+from xpersson_adhesion._dmt_reference import solve_dmt
 
 E_STAR = 4.0e6 / 3.0  # material("1 MPa"), nu = 0.5
 LOADS = ["-150 Pa", "2 kPa", "7 kPa", "20 kPa", "300 kPa"]
@@ -105,13 +105,13 @@ def test_tensile_loads_just_inside_pull_off_are_solved_just_outside_refused():
     """Near pull-off ``h(p) = p - p_att(p)`` dips below ``p0`` only between two powers of two
     (the scan's nodes): such a load has a root and must be solved, not refused. The pull-off
     stress ``-min h`` is taken from a dense independent sampling of the exact map."""
+    from xpersson_adhesion._curves import curve_grid, increasing
     from xpersson_adhesion._dmt_batch import AttractionMap
-    from xpersson_adhesion.dmt import _curve_grid, _increasing
 
     zeta = _solve(with_(BASE, boundary=_dmt("exponential")))["zeta"].values
     curves = tuple(
-        _increasing(z, diffusion_time(PSD, E_STAR, z))
-        for z in (_curve_grid(zeta), _curve_grid(zeta, per_decade=16))
+        increasing(z, diffusion_time(PSD, E_STAR, z))
+        for z in (curve_grid(zeta), curve_grid(zeta, per_decade=16))
     )
     amap = AttractionMap(PSD, E_STAR, curves, "exponential", 0.005, 2e-9, 1e-8)
     p = np.geomspace(1e2, 1e7, 801)

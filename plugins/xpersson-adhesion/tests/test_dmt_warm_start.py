@@ -11,7 +11,7 @@ from adhesion_testlib import with_
 import xpersson
 from xpersson.testing import material, scene
 from xpersson_adhesion import AdhesionLimitWarning
-from xpersson_adhesion.dmt import _bracket_near, _predicted_p_rep
+from xpersson_adhesion._dmt_reference import _bracket_near, _predicted_p_rep
 
 LOADS = ["2 kPa", "6 kPa", "12 kPa", "20 kPa"]
 BASE = scene(material=material("1 MPa"), p0=LOADS, zeta_per_decade=4)

@@ -105,8 +105,8 @@ def test_repeated_solves_are_identical_and_own_their_arrays(solve):
 
 def test_pull_off_at_an_area_never_falls_back_to_sigma_a():
     """``pull_off_area > 0`` solves the wall of the scene's clock: without the clock it is an
-    error (it used to return sigma_a(1), the other policy, silently), and a boundary that has
-    not seen the clock (a fresh or unpickled copy) cannot interpret."""
+    error (it used to return sigma_a(1), the other policy, silently): interpret() passes
+    ``ctx.clock``, so a context without the run's clock cannot give the pull-off."""
     psd = _frozen()
     ctx, clock = _ctx(psd), _clock(psd)
     bnd = JKRBoundary(work_of_adhesion=0.03, pull_off_area=1e-3)
@@ -118,10 +118,12 @@ def test_pull_off_at_an_area_never_falls_back_to_sigma_a():
     assert 0.0 < solved < s1  # the area policy, not sigma_a(1)
     with xpersson.set_options(cache=False):
         assert bnd.pull_off(ctx, tau_end, clock) == solved
+    before = pickle.dumps(bnd)
     bnd.walls(ctx, 1e3, clock)
-    copy_ = pickle.loads(pickle.dumps(bnd))
+    assert pickle.dumps(bnd) == before  # walls() keeps nothing for interpret() on the instance
+    assert ctx.clock is None
     with pytest.raises(ValueError, match="diffusion clock"):
-        copy_.pull_off(ctx, tau_end, copy_._clock)
+        bnd.pull_off(ctx, tau_end, ctx.clock)
     assert JKRBoundary(work_of_adhesion=0.03).pull_off(ctx, tau_end) == s1  # the default policy
 
 

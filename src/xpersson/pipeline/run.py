@@ -67,11 +67,14 @@ def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
         coef_out = coef.interpret(ctx)
     add_outputs(ds, coef_out, type(coef).outputs, who["coefficient"])
     with checks.calling(who["boundary"], "interpret()"):
-        extra = rs.boundary.interpret(ctx, results)
+        extra = rs.boundary.interpret(dataclasses.replace(ctx, clock=clock), results)
     add_outputs(ds, extra, type(rs.boundary).outputs, who["boundary"])
     if rs.analyses:  # analyses read the scene's declarations and may sample the solve densely
         ctx = dataclasses.replace(
-            ctx, coefficient=coef, boundary=rs.boundary, solve_at=make_solve_at(rs, ctx, walls)
+            ctx,
+            coefficient=coef,
+            boundary=rs.boundary,
+            solve_at=make_solve_at(rs, ctx, walls, clock),
         )
     for (_, analysis), label in zip(rs.analyses, analysis_labels, strict=True):
         with checks.guard_dataset(ds, label) as view, checks.calling(label, "compute()"):

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from ..cache import Cache
-from ..plugins import SceneContext
+from ..plugins import DiffusionClock, SceneContext
 from ..scene import ResolvedScene
 from .stages import shared_tau
 
@@ -29,8 +29,13 @@ _ANSWERS = Cache(
 _SERIAL = itertools.count()
 
 
-def make_solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any:
+def make_solve_at(
+    rs: ResolvedScene, ctx: SceneContext, walls: list[Any], clock: DiffusionClock
+) -> Any:
     """``(zeta, loads, tau) -> area variables`` of the same solve at other magnifications.
+
+    ``walls`` are the loads' walls on ``clock``, the run's diffusion clock (which the
+    boundary's ``interpret`` reads as ``ctx.clock``).
 
     Answers are kept for the solve (:data:`_ANSWERS`, scope ``"solve"``): several analyses
     sample the same grid. Values are read-only.
@@ -44,7 +49,7 @@ def make_solve_at(rs: ResolvedScene, ctx: SceneContext, walls: list[Any]) -> Any
         idx = np.arange(rs.p0.size) if loads is None else np.asarray(loads, dtype=int)
         given = None if tau is None else np.asarray(tau, float)
         key = ("solve_at", serial, z, idx, given)
-        return _ANSWERS.get(key, lambda: _solve(rs, ctx, walls, z, idx, given))
+        return _ANSWERS.get(key, lambda: _solve(rs, ctx, walls, clock, z, idx, given))
 
     return solve_at
 
@@ -53,6 +58,7 @@ def _solve(
     rs: ResolvedScene,
     ctx: SceneContext,
     walls: list[Any],
+    clock: DiffusionClock,
     z: np.ndarray,
     idx: np.ndarray,
     tau: np.ndarray | None,
@@ -87,6 +93,6 @@ def _solve(
         "diffusion_time": tau_c if given else np.asarray(rs.coefficient.tau(c, z), float),
         "effective_diffusion_time": tau_eff,
     }
-    for name, value in rs.boundary.interpret(c, res).items():
+    for name, value in rs.boundary.interpret(dataclasses.replace(c, clock=clock), res).items():
         out[name] = np.asarray(value[1] if isinstance(value, tuple) else value, float)
     return out

@@ -146,11 +146,11 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
         validate(rs, ctx, who["boundary"], labels)
     tau, f, eff = _coefficient(points, ctxs)
     K, nl, nz = len(points), rs0.p0.size, rs0.zeta.size
-    walls = []
+    walls, clocks = [], []  # each point's walls on its own clock
     for rs, ctx in zip(points, ctxs, strict=True):
         coef = rs.coefficient
-        clock = diffusion_clock(ctx, coef, kinks=spectrum_kinks(rs.psd))
-        walls.append(load_walls(rs, ctx, clock, who["boundary"])[0])
+        clocks.append(diffusion_clock(ctx, coef, kinks=spectrum_kinks(rs.psd)))
+        walls.append(load_walls(rs, ctx, clocks[-1], who["boundary"])[0])
     shared = all(w == walls[0] for w in walls)
     loads = np.concatenate([rs.p0 for rs in points])
     rows = np.repeat(tau, nl, axis=0) if eff is None else eff.reshape(K * nl, nz)
@@ -184,8 +184,9 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
     coef_out = rs0.coefficient.interpret_stacked(ctxs, [rs.coefficient for rs in points])
     for name, (dims, arr) in coef_out.items():
         out[name] = ((POINT, *dims), np.asarray(arr))
-    for k, (rs, ctx) in enumerate(zip(points, ctxs, strict=True)):
-        extra = rs.boundary.interpret(ctx, _Loads(results, k * nl, nl))
+    for k, (rs, ctx, clock) in enumerate(zip(points, ctxs, clocks, strict=True)):
+        at_clock = dataclasses.replace(ctx, clock=clock)  # interpret reads its point's clock
+        extra = rs.boundary.interpret(at_clock, _Loads(results, k * nl, nl))
         for name, value in (extra or {}).items():
             out.setdefault(name, [])  # type: ignore[arg-type]
             out[name].append(value)  # type: ignore[union-attr]
@@ -194,7 +195,7 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
             da = [_as_dataarray(v) for v in value]
             out[name] = ((POINT, *da[0].dims), np.stack([d.values for d in da]))
     if rs0.analyses:
-        _analyses(points, ctxs, walls, out, ds)
+        _analyses(points, ctxs, walls, clocks, out, ds)
     out["theory_validity"] = ((POINT, "p0"), _validity(out, K))
     return out
 
@@ -272,6 +273,7 @@ def _analyses(
     points: Sequence[ResolvedScene],
     ctxs: list[Any],
     walls: list[Any],
+    clocks: list[Any],
     out: dict[str, Any],
     flat: xr.Dataset,
 ) -> None:
@@ -287,7 +289,7 @@ def _analyses(
         if n not in coords
     }
     sds = xr.Dataset(data, coords=coords)
-    ctx_of = _PointContexts(points, ctxs, walls)
+    ctx_of = _PointContexts(points, ctxs, walls, clocks)
     last = len(rs0.analyses) - 1
     for i, (name, analysis) in enumerate(rs0.analyses):
         label = rs0.labels[f"analyses.{name}"]
@@ -309,8 +311,14 @@ class _PointContexts:
     """``ctx_of(k)``: point k's analysis context (with its ``solve_at``), built on first use;
     :meth:`solve_rows` solves (point, load) rows of given ``tau`` in one engine call."""
 
-    def __init__(self, points: Sequence[ResolvedScene], ctxs: list[Any], walls: list[Any]):
-        self._points, self._ctxs, self._walls = points, ctxs, walls
+    def __init__(
+        self,
+        points: Sequence[ResolvedScene],
+        ctxs: list[Any],
+        walls: list[Any],
+        clocks: list[Any],
+    ) -> None:
+        self._points, self._ctxs, self._walls, self._clocks = points, ctxs, walls, clocks
         self._built: list[Any] = [None] * len(points)  # each point's context, once made
 
     def __call__(self, k: int) -> Any:
@@ -320,7 +328,7 @@ class _PointContexts:
                 ctx,
                 coefficient=rs.coefficient,
                 boundary=rs.boundary,
-                solve_at=make_solve_at(rs, ctx, [self._walls[k]] * rs.p0.size),
+                solve_at=make_solve_at(rs, ctx, [self._walls[k]] * rs.p0.size, self._clocks[k]),
             )
         return self._built[k]
 

@@ -9,12 +9,12 @@ are deterministic, side-effect free and picklable.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Callable, Mapping, Sequence
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from ..specs import ParamSpec, SpecError, VarSpec
+from ._classcheck import check_class
 from ._fastpaths import NO_FAST_PATHS, FastPaths, settle
 from ._groups import PLUGIN_GROUPS
 
@@ -61,10 +61,6 @@ COEFFICIENT_TRAITS: dict[str, str] = {
 }
 """Known coefficient traits (see :data:`BOUNDARY_TRAITS`)."""
 
-_TRAIT = re.compile(r"^[a-z][a-z0-9_]*$")
-
-_DOI = re.compile(r"^(doi:)?10\.\d{4,9}/\S+$|^arXiv:\S+$|^https?://\S+$", re.IGNORECASE)
-
 
 class Plugin:
     """Common base of all plugins.
@@ -104,7 +100,7 @@ class Plugin:
         if cls.__dict__.get("abstract", False):
             return
         cls.abstract = False
-        _check_class(cls)
+        check_class(cls)
 
     def __init__(self, **params: Any) -> None:
         unknown = sorted(set(params) - set(self.parameters))
@@ -158,45 +154,6 @@ def _same(a: Any, b: Any) -> bool:
         import numpy as np
 
         return bool(np.array_equal(np.asarray(a), np.asarray(b)))
-
-
-def _check_class(cls: type[Plugin]) -> None:
-    name = f"{cls.__module__}.{cls.__qualname__}"
-    if cls.group not in GROUPS:
-        raise SpecError(f"{name}: derive from Spectrum, Coefficient, Boundary or Analysis")
-    if (
-        not isinstance(cls.api_version, int)
-        or isinstance(cls.api_version, bool)
-        or cls.api_version < 1
-    ):
-        raise SpecError(f"{name}: api_version must be a positive int, got {cls.api_version!r}")
-    if not isinstance(cls.summary, str) or not cls.summary.strip():
-        raise SpecError(f"{name}: summary must be a non-empty one-line string")
-    if isinstance(cls.references, str) or not isinstance(cls.references, tuple | list):
-        raise SpecError(
-            f"{name}: references must be a tuple of DOIs ('10.xxxx/...'), 'arXiv:...' ids or URLs"
-        )
-    bad = [r for r in cls.references if not (isinstance(r, str) and _DOI.match(r))]
-    if bad:
-        raise SpecError(
-            f"{name}: references {bad} are not DOIs ('10.xxxx/...'), 'arXiv:...' ids or URLs"
-        )
-    if not isinstance(cls.parameters, Mapping):
-        raise SpecError(f"{name}: parameters must be a mapping name -> ParamSpec")
-    for pname, spec in cls.parameters.items():
-        if not isinstance(spec, ParamSpec):
-            raise SpecError(f"{name}.parameters[{pname!r}] must be a ParamSpec, got {spec!r}")
-        spec.check(name, pname)
-    if not isinstance(cls.outputs, Mapping):
-        raise SpecError(f"{name}: outputs must be a mapping name -> VarSpec")
-    for vname, vspec in cls.outputs.items():
-        if not isinstance(vspec, VarSpec):
-            raise SpecError(f"{name}.outputs[{vname!r}] must be a VarSpec, got {vspec!r}")
-        vspec.check(name, vname)
-    extra = GROUP_CHECKS.get(cls.group)
-    if extra is not None:
-        extra(cls, name)
-    settle(cls, name)
 
 
 class Spectrum(Plugin):
@@ -432,62 +389,14 @@ def _as_array(value: Any) -> Any:
     return value if isinstance(value, xr.DataArray) else xr.DataArray(value[1], dims=value[0])
 
 
-def _check_analysis(cls: type[Plugin], name: str) -> None:
-    _check_traits(cls, name)
-    for attr in ("requires", "provides"):
-        val = getattr(cls, attr)
-        if isinstance(val, str) or not all(isinstance(v, str) for v in val):
-            raise SpecError(f"{name}: {attr} must be a tuple of variable names")
-    missing = [v for v in cls.provides if v not in cls.outputs]  # type: ignore[attr-defined]
-    if missing:
-        raise SpecError(f"{name}: provides {missing} without declaring them in outputs")
-    both = sorted(set(cls.requires) & set(cls.provides))  # type: ignore[attr-defined]
-    if both:
-        raise SpecError(f"{name}: {both} both required and provided (a cycle of one)")
-
-
-def _check_traits(cls: type[Plugin], name: str) -> None:
-    attrs = ("traits",)
-    if cls.group == "analyses":
-        attrs = ("boundary_traits", "coefficient_traits")
-    for attr in attrs:
-        val = getattr(cls, attr)
-        if not isinstance(val, frozenset) or not all(
-            isinstance(t, str) and _TRAIT.match(t) for t in val
-        ):
-            raise SpecError(f"{name}: {attr} must be a frozenset of snake_case trait names")
-
-
-def _check_boundary(cls: type[Plugin], name: str) -> None:
-    _check_traits(cls, name)
-    core = ("area_fraction", "non_contact_fraction")
-    ca, ea, comp = cls.contact_area, cls.elastic_area, cls.elastic_area_complement  # type: ignore[attr-defined]
-    if isinstance(ca, str) or isinstance(comp, str) or not isinstance(ea, str):
-        raise SpecError(
-            f"{name}: contact_area and elastic_area_complement must be tuples of variable "
-            "names, elastic_area one name"
-        )
-    for var in (*ca, ea, *comp):
-        if var not in core and var not in cls.outputs:
-            raise SpecError(
-                f"{name}: area variable {var!r} is neither a core variable ({', '.join(core)}) "
-                "nor declared in outputs"
-            )
-
-
 def check_plugin_class(cls: type) -> None:
     """Check a plugin class as at definition time (raises :class:`SpecError`)."""
     if not isinstance(cls, type) or not issubclass(cls, Plugin):
         raise SpecError(f"{cls!r} is not a plugin class (derive from Spectrum, Coefficient, ...)")
-    _check_class(cls)
+    check_class(cls)
 
 
 GROUPS: dict[str, type[Plugin]] = {
     base.group: base for base in (Spectrum, Coefficient, Boundary, Analysis)
 }
 """Group -> base class (the groups of :data:`PLUGIN_GROUPS`)."""
-GROUP_CHECKS = {
-    "analyses": _check_analysis,
-    "boundaries": _check_boundary,
-    "coefficients": _check_traits,
-}

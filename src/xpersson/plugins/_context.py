@@ -50,6 +50,11 @@ class SceneContext:
         zeta use it to sample the area curve densely where the output grid is too coarse. An
         analysis that already has tau(zeta) [Pa^2] there (a block's stacked call) passes it as
         ``tau=`` (used where the coefficient's effective tau is tau for every load).
+    clock : DiffusionClock or None
+        The run's diffusion clock for the same loads, the one :meth:`Boundary.walls` received:
+        set by the pipeline for :meth:`Boundary.interpret` (whose signature has no clock), so a
+        boundary reads it from the context instead of keeping it on ``self`` between calls;
+        ``None`` in every other call.
     """
 
     psd: Any
@@ -68,6 +73,7 @@ class SceneContext:
     solve_at: Callable[..., Mapping[str, np.ndarray]] | None = field(
         default=None, compare=False, repr=False
     )
+    clock: DiffusionClock | None = field(default=None, compare=False, repr=False)
 
     @property
     def q_L(self) -> float:

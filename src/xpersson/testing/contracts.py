@@ -42,7 +42,9 @@ def check_plugin(
     Checks, in order: class metadata (as at class definition, plus the API version); a cheap
     module import in a fresh interpreter (no :data:`HEAVY_MODULES`, within ``import_budget``
     seconds of CPU time, so a loaded machine does not fail it); pickle round trip of an
-    instance; determinism and finite values of the group's methods on a tiny scene; and, with
+    instance; determinism and finite values of the group's methods on a tiny scene (a
+    boundary's ``walls()`` must leave the instance as it was: nothing passes between plugin
+    calls through ``self``); and, with
     ``engine=True``, a solve of :data:`TINY_SCENE` through
     :func:`xpersson.solve` with the plugin injected: finite outputs with the declared
     attributes, :func:`assert_schema`, two runs equal, and for boundaries and coefficients the
@@ -212,6 +214,7 @@ def _check_boundary(inst: Any, clone: Any) -> str:
         ctx.zeta_max,
     )
     taus = np.asarray(clock.tau_of_zeta(ctx.zeta), dtype=float)
+    before = _state(inst)
     for p0 in ctx.p0:
         w1, w2 = inst.walls(ctx, float(p0), clock), clone.walls(ctx, float(p0), clock)
         assert isinstance(w1, tuple) and len(w1) == 2, f"{who}.walls must return (lower, upper)"
@@ -220,7 +223,37 @@ def _check_boundary(inst: Any, clone: Any) -> str:
             assert (a is None) == (b is None), f"{who}.walls: two identical calls differ"
             if a is not None:
                 _equal(a.at(taus), b.at(taus), f"{who}.walls()[{k}] position")
+    changed = _changed(before, _state(inst))
+    assert not changed, (
+        f"{who}.walls() changed the instance's attributes {changed}: plugin methods are "
+        "side-effect free, so nothing may pass from walls() to interpret() through self "
+        "(interpret() reads the run's clock as ctx.clock)"
+    )
     return "ok"
+
+
+def _state(inst: Any) -> dict[str, tuple[int, bytes]]:
+    """Each attribute of ``inst``: the object bound to it (its id) and its pickled content
+    (what :meth:`__getstate__` ships, so that a container filled in place shows too)."""
+    shipped = inst.__getstate__()
+    if not isinstance(shipped, dict):  # a class with its own state format: compare it whole
+        shipped = {"__getstate__()": shipped}
+    out = {name: (id(value), b"") for name, value in vars(inst).items()}
+    for name, value in shipped.items():
+        out[name] = (out.get(name, (id(value), b""))[0], _pickled(value))
+    return out
+
+
+def _pickled(value: Any) -> bytes:
+    try:
+        return pickle.dumps(value)
+    except Exception as exc:  # e.g. a clock's closures: the snapshot still tells it apart
+        return f"unpicklable ({type(exc).__name__})".encode()
+
+
+def _changed(before: dict[str, Any], after: dict[str, Any]) -> list[str]:
+    """Names of the attributes added, removed, rebound or modified between two snapshots."""
+    return sorted(k for k in before.keys() | after.keys() if before.get(k) != after.get(k))
 
 
 def _check_analysis(inst: Any, clone: Any) -> str:

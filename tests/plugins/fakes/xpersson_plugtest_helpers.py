@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from importlib.metadata import EntryPoint
 
-from xpersson.plugins import _registry
+from xpersson.plugins import _discovery, _registry
 
 FAKE_MODULES = (
     "xpersson_fake_plugins",
@@ -48,7 +48,7 @@ def install_eps(monkeypatch, eps):
     def entry_points(group: str, installed: object = None):
         return [ep for ep in eps if ep.group == group]
 
-    monkeypatch.setattr(_registry, "_entry_points", entry_points)
+    monkeypatch.setattr(_discovery, "_entry_points", entry_points)
     return eps
 
 

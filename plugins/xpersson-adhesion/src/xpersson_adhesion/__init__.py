@@ -14,10 +14,11 @@ Physics helpers (pure numpy, SI units) are re-exported: :func:`true_area_ratio`,
 """
 
 from ._detachment import detachment_stress, gamma_effective, true_area_ratio
+from ._dmt_reference import solve_dmt
 from ._tabor import AdhesionLimitWarning, tabor_parameter
 from ._traction import LAWS, traction
 from .adhesive import AdhesiveBoundary
-from .dmt import DMTAccuracyWarning, DMTBoundary, DMTState, solve_dmt
+from .dmt import DMTAccuracyWarning, DMTBoundary, DMTState
 from .jkr import JKRBoundary, stickiness
 
 __version__ = "0.1.0"

@@ -50,9 +50,9 @@ from xpersson.cache import Cache
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
 from ._bump import Bump
+from ._curves import curve_grid, increasing
 from ._meanfield import MeanField, attraction_curve, p_hi_of
 from ._tabor import tabor_parameter
-from .dmt import _curve_grid, _increasing
 from .jkr import ADHESION_PARAMETERS, _check_scalar, stickiness
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -129,10 +129,10 @@ def _area_curve(psd: Any, E_star: float, zeta: np.ndarray) -> tuple[np.ndarray, 
     diffusion time there [Pa^2], strictly increasing."""
     from xpersson.physics import diffusion_time
 
-    z = _curve_grid(zeta, per_decade=8)
+    z = curve_grid(zeta, per_decade=8)
     z = np.concatenate((z[:1], z[1:][z[1:] - 1.0 >= ZETA_TRIM]))
     tau = np.asarray(diffusion_time(psd, E_star, z), dtype=float)
-    return _increasing(z, tau)
+    return increasing(z, tau)
 
 
 def regime_of(tabor_1: float, ratio: np.ndarray, floor: np.ndarray | None = None) -> np.ndarray:

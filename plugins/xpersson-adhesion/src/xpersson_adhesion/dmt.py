@@ -12,8 +12,8 @@ solved self-consistently, ``g(p_rep) = p_rep - p0 - p_att(p_rep) = 0``, to the s
 two, then Chebyshev points of the octave holding a root), one vectorised call for many
 pressures, a root per load on the octave's interpolant, and an exact check at every root
 (Brent's method on the exact map where the check fails). A load's result does not depend on
-the loads solved with it. :func:`solve_dmt` is the per-load reference (Brent's method on the
-engine's map, as before the batched path; used by the tests).
+the loads solved with it. :func:`._dmt_reference.solve_dmt` is the per-load reference (Brent's
+method on the engine's map, as before the batched path; used by the tests).
 
 Each evaluation of ``p_att`` solves the elastic contact at the trial ``p_rep`` (the core
 engine's exact path for ``Wall.absorbing(0.0)``: ``A = erf(p_rep / (2 sqrt(tau)))``) on a
@@ -26,7 +26,6 @@ is the contact area at ``p_rep`` and its pressure axis is the local repulsive st
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -35,16 +34,17 @@ import numpy as np
 from xpersson.cache import Cache
 from xpersson.plugins import Boundary, ParamSpec, VarSpec
 
+from ._curves import curve_grid, increasing
 from ._dmt_batch import AttractionMap, solve_loads
 from ._tabor import tabor_parameter, warn_outside_limit
-from ._traction import LAWS, attraction, attraction_quadrature, max_traction
+from ._traction import LAWS
 from .jkr import ADHESION_PARAMETERS, _check_scalar, stickiness
 
 if TYPE_CHECKING:  # pragma: no cover
     from xpersson.engine import EngineResult, Wall
     from xpersson.plugins import DiffusionClock, SceneContext
 
-__all__ = ["DMTAccuracyWarning", "DMTBoundary", "DMTState", "solve_dmt"]
+__all__ = ["DMTAccuracyWarning", "DMTBoundary", "DMTState"]
 
 
 class DMTAccuracyWarning(UserWarning):
@@ -92,218 +92,6 @@ _STATES = Cache(
     maxsize=8,
     doc="dmt: the self-consistent states of a scene's loads on a clock's area curves",
 )
-
-
-def _curve_grid(zeta: np.ndarray, per_decade: int = 32) -> np.ndarray:
-    """Magnifications of the area curve the gap distribution is built from [1].
-
-    The output magnifications, ``1 + geomspace(1e-6, zeta_max - 1)`` (12 per decade: the fast
-    change near zeta = 1 at small loads), ``per_decade`` log-spaced points and a tail
-    ``zeta_max (1 - geomspace(1e-6, 0.3))`` (``3 per_decade / 4`` points) where the finer
-    roughness ``h`` vanishes.
-
-    Nodes closer than :data:`_MIN_LOG_STEP` in ``ln zeta`` are merged (the larger one is kept,
-    so ``zeta_max`` stays the last node): the pieces above are built by different formulas, so
-    the same magnification can come out a few ulps apart from two of them, and a pair like that
-    has equal diffusion times and equal ``ln tau_c``, which the engine (strictly increasing
-    ``tau_out``) and the gap distribution's splines (strictly increasing knots) refuse.
-    """
-    zmax = float(zeta[-1])
-    if zmax <= 1.0:
-        return np.array([1.0, 1.0 + 1e-9])
-    dec = math.log10(zmax)
-    z = np.concatenate(
-        (
-            [1.0],
-            zeta,
-            1.0 + np.geomspace(1e-6 * min(1.0, zmax - 1.0), zmax - 1.0, int(12 * (dec + 6)) + 2),
-            np.geomspace(1.0, zmax, int(per_decade * dec) + 2),
-            zmax * (1.0 - np.geomspace(1e-6, 0.3, max(4, 3 * per_decade // 4))),
-        )
-    )
-    z = np.unique(z)
-    return _separated(z[(z >= 1.0) & (z <= zmax)])
-
-
-#: Smallest step in ``ln zeta`` between two nodes of the area curve [1].
-_MIN_LOG_STEP = 1e-9
-
-
-def _separated(z: np.ndarray) -> np.ndarray:
-    """Sorted unique ``z`` (>= 1) thinned so that consecutive ``ln z`` differ by more than
-    :data:`_MIN_LOG_STEP`; the first and the last node are kept."""
-    if z.size < 3:
-        return z
-    s = np.log(z)
-    keep = [z.size - 1]
-    for i in range(z.size - 2, 0, -1):
-        if s[keep[-1]] - s[i] > _MIN_LOG_STEP and s[i] - s[0] > _MIN_LOG_STEP:
-            keep.append(i)
-    keep.append(0)
-    return z[keep[::-1]]
-
-
-def _increasing(z: np.ndarray, tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The (z, tau) pairs on which ``tau`` [Pa^2] strictly increases: a flat stretch (the
-    spectrum numerically zero there, so the area does not change either) keeps its first node."""
-    keep = np.concatenate(([True], np.diff(np.maximum.accumulate(tau)) > 0))
-    return (z, tau) if keep.all() else (z[keep], tau[keep])
-
-
-def solve_dmt(
-    psd: Any,
-    E_star: float,
-    p0: float,
-    tau_of_zeta: Any,
-    zeta: np.ndarray,
-    law: str,
-    work: float,
-    rng: float,
-    rtol: float = 1e-6,
-    guess: float | None = None,
-) -> DMTState:
-    """Solve ``p_rep = p0 + p_att(p_rep)`` for one load: the per-load reference.
-
-    Brent's method on the map ``p_att`` evaluated through the core engine, one load at a time
-    (the boundary itself uses :func:`._dmt_batch.solve_loads`; the tests compare the two).
-
-    Parameters
-    ----------
-    psd : PowerSpectrum
-        Roughness spectrum (Persson convention, m^4).
-    E_star : float
-        Contact modulus [Pa].
-    p0 : float
-        Nominal pressure [Pa] (tensile if negative).
-    tau_of_zeta : callable
-        Diffusion time [Pa^2] at magnifications [1] (the scene's clock).
-    zeta : ndarray
-        Output magnifications [1], from 1.
-    law : {"dugdale", "lj93", "exponential"}
-        Traction-gap law.
-    work : float
-        Work of adhesion [J/m^2], >= 0.
-    rng : float
-        Range of the law [m], > 0.
-    rtol : float
-        Relative tolerance of ``p_rep``.
-    guess : float, optional
-        A predicted ``p_rep`` [Pa] (from the solved neighbouring loads): for a compressive
-        ``p0`` the root is then bracketed around it (:func:`_bracket_near`) instead of on
-        ``[p0, p0 + max traction]``: fewer evaluations, the same root to ``rtol`` where the
-        bracket holds one root.
-
-    Raises
-    ------
-    ValueError
-        No repulsive pressure balances a tensile ``p0`` (the load is beyond pull-off).
-    """
-    from xpersson.engine import Wall, solve
-    from xpersson.physics.interface import detachment
-
-    zeta = np.asarray(zeta, dtype=float)
-    z = _curve_grid(zeta)
-    tau = np.asarray(tau_of_zeta(z), dtype=float)
-    calls: dict[float, tuple[float, float, float, float]] = {}
-
-    def p_att_on(zz: np.ndarray, tt: np.ndarray, p_rep: float) -> tuple[float, float, Any, Any]:
-        zz, tt = _increasing(zz, tt)
-        res = solve(tt, p_rep, Wall.absorbing(0.0), rtol=min(rtol, 1e-8))
-        area = np.clip(res.area, 0.0, 1.0)
-        det = detachment(psd, E_star, p_rep, zz, area, non_area=res.non_area)
-        if law == "lj93":
-            pa, merr = attraction_quadrature(law, det, work, rng)
-            return float(pa[0]), float(merr[0]), det, area
-        return float(attraction(law, det, work, rng)[0]), 0.0, det, area
-
-    def evaluate(p_rep: float) -> tuple[float, float, float, float]:
-        if p_rep not in calls:
-            p_att, mass, det, area = p_att_on(z, tau, p_rep)
-            calls[p_rep] = (p_att, float(det.mean_gap[0]), mass, float(area[-1]))
-        return calls[p_rep]
-
-    def g(p_rep: float) -> float:
-        return p_rep - p0 - evaluate(p_rep)[0]
-
-    p_rep = p0 if work == 0.0 else _root(g, p0, law, work, rng, rtol, guess)
-    if p_rep <= 0:
-        raise ValueError(f"load.p0 = {p0:g} Pa: the DMT contact needs p_rep > 0 Pa")
-    p_att, mgap, mass, area = evaluate(p_rep)
-    resid = abs(p_rep - p0 - p_att) / max(abs(p0), p_rep)
-    disc = 0.0
-    if work > 0:
-        z2 = _curve_grid(zeta, per_decade=16)
-        coarse = p_att_on(z2, np.asarray(tau_of_zeta(z2), dtype=float), p_rep)[0]
-        disc = abs(coarse - p_att) / max(p_att, 1e-300)
-    return DMTState(p0, p_rep, p_rep - p0, resid, len(calls), mgap, mass, area, disc)
-
-
-def _root(
-    g: Any, p0: float, law: str, work: float, rng: float, rtol: float, guess: float | None
-) -> float:
-    """The root ``p_rep`` [Pa] of ``g(p_rep) = p_rep - p0 - p_att(p_rep)`` (see
-    :func:`solve_dmt`): ``p0`` itself where ``g(p0) >= 0``; otherwise Brent's method on a
-    bracket (around ``guess``, or ``[p0, p0 + max traction]``; tensile ``p0``: scanned down
-    from the maximum traction for the largest root)."""
-    from scipy.optimize import brentq
-
-    hi = max(p0, 0.0) + max_traction(law, work, rng)
-    if p0 > 0 and g(p0) >= 0:
-        return p0
-    lo = p0 if p0 > 0 else None
-    if lo is not None and guess is not None and lo < guess < hi:
-        lo, hi = _bracket_near(g, lo, hi, guess)
-    if lo is None:  # tensile: scan down from hi for the largest root
-        p = hi
-        for _ in range(64):
-            p *= 0.5
-            if g(p) < 0:
-                lo = p
-                break
-            hi = p
-        if lo is None:
-            raise ValueError(
-                f"load.p0 = {p0:g} Pa is beyond the DMT pull-off: no repulsive pressure "
-                f"p_rep > 0 [Pa] balances p0 + p_att(p_rep) for law {law!r} "
-                f"(work_of_adhesion = {work:g} J/m^2, range = {rng:g} m); allowed range: "
-                "p0 above the pull-off stress"
-            )
-    return float(brentq(g, lo, hi, xtol=1e-300, rtol=max(rtol, 4 * np.finfo(float).eps)))
-
-
-def _bracket_near(g: Any, lo: float, hi: float, guess: float) -> tuple[float, float]:
-    """A bracket ``[a, b]`` of ``[lo, hi]`` around ``guess`` with ``g(a) < 0 <= g(b)`` [Pa].
-
-    ``g(lo) < 0 < g(hi)`` holds on entry. The side of ``guess`` holding the sign change is
-    searched with steps growing tenfold from ``1e-4 guess``; at worst the bracket is
-    ``[lo, guess]`` or ``[guess, hi]``.
-    """
-    if g(guess) >= 0:
-        step = 1e-4 * guess
-        while guess - step > lo:
-            if g(guess - step) < 0:
-                return guess - step, guess
-            step *= 10.0
-        return lo, guess
-    step = 1e-4 * guess
-    while guess + step < hi:
-        if g(guess + step) >= 0:
-            return guess, guess + step
-        step *= 10.0
-    return guess, hi
-
-
-def _predicted_p_rep(solved: list[DMTState], p0: float) -> float | None:
-    """``p0 + p_att`` [Pa] with ``p_att`` extrapolated linearly in ``p0`` from the two solved
-    loads nearest to ``p0`` (one: its ``p_att``); ``None`` without a solved load."""
-    near = sorted(solved, key=lambda st: abs(st.p0 - p0))[:2]
-    if not near:
-        return None
-    if len(near) == 1 or near[0].p0 == near[1].p0:
-        return p0 + near[0].p_att
-    a, b = near
-    slope = (b.p_att - a.p_att) / (b.p0 - a.p0)
-    return p0 + a.p_att + slope * (p0 - a.p0)
 
 
 class DMTBoundary(Boundary):
@@ -391,14 +179,6 @@ class DMTBoundary(Boundary):
         _check_scalar("range", self._params["range"], self.parameters, "m")
         if self._params["law"] not in LAWS:
             raise ValueError(f"boundary.law = {self._params['law']!r}: one of {', '.join(LAWS)}")
-        #: the clock of the loads solved last (:meth:`walls`), which :meth:`interpret` needs
-        #: for their states: an input of the run, not a cache (interpret() has no clock)
-        self._clock: DiffusionClock | None = None
-
-    def __getstate__(self) -> dict[str, Any]:
-        state = dict(self.__dict__)
-        state["_clock"] = None  # holds the pipeline's closures: not picklable, set per run
-        return state
 
     def validate(self, ctx: SceneContext) -> None:
         """The Tabor-parameter warning (tensile loads are checked when solved)."""
@@ -424,8 +204,8 @@ class DMTBoundary(Boundary):
         p = self._params
         zeta = np.asarray(ctx.zeta, dtype=float)
         curves = tuple(
-            _increasing(z, np.asarray(clock.tau_of_zeta(z), dtype=float))
-            for z in (_curve_grid(zeta), _curve_grid(zeta, per_decade=16))
+            increasing(z, np.asarray(clock.tau_of_zeta(z), dtype=float))
+            for z in (curve_grid(zeta), curve_grid(zeta, per_decade=16))
         )
         scene = (p["law"], p["work_of_adhesion"], p["range"], float(ctx.rtol))
 
@@ -454,21 +234,22 @@ class DMTBoundary(Boundary):
         """Absorbing wall at ``-p_att`` [Pa]: the elastic contact at ``p_rep`` shifted."""
         from xpersson.engine import Wall
 
-        self._clock = clock
         st = self.state(ctx, p0, clock)
         return Wall.absorbing(-st.p_att), None
 
     def interpret(
         self, ctx: SceneContext, results: list[EngineResult]
     ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
-        """p_rep, p_att, mean gap and the fixed-point diagnostics per load."""
-        if self._clock is None:
+        """p_rep, p_att, mean gap and the fixed-point diagnostics per load (the states that
+        :meth:`walls` solved, on the run's clock ``ctx.clock``)."""
+        if ctx.clock is None:
             raise ValueError(
-                "boundary 'dmt': interpret() reads the states that walls() solved on the "
-                "scene's diffusion clock; call walls() first"
+                "boundary 'dmt': interpret() reads the states solved on the scene's diffusion "
+                "clock, ctx.clock, which the pipeline sets for interpret(); got a context "
+                "without a clock"
             )
         loads = tuple(dict.fromkeys(float(q) for q in np.atleast_1d(ctx.p0)))
-        found = self._states(ctx, self._clock, loads)
+        found = self._states(ctx, ctx.clock, loads)
         states = [found[float(p0)] for p0 in ctx.p0]
         p = self._params
 

@@ -250,14 +250,6 @@ class JKRBoundary(Boundary):
             self._table = TableLaw(zeta, table)
             p["sigma_a"] = self._table.sigma.copy()
             p["sigma_a_zeta"] = None if tz is None else self._table.zeta.copy()
-        #: the clock of the loads solved last (:meth:`walls`), which :meth:`pull_off` needs
-        #: for its own solves: an input of the run, not a cache (interpret() has no clock)
-        self._clock: DiffusionClock | None = None
-
-    def __getstate__(self) -> dict[str, Any]:
-        state = dict(self.__dict__)
-        state["_clock"] = None  # holds the pipeline's closures: not picklable, set per run
-        return state
 
     # -- detachment law --------------------------------------------------------------------
     def _model(self, ctx: SceneContext) -> ModelLaw:
@@ -341,14 +333,14 @@ class JKRBoundary(Boundary):
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """Absorbing wall at ``-sigma_a(zeta(tau))`` [Pa]; no upper wall."""
-        self._clock = clock
         return self.wall(ctx, clock), None
 
     # -- outputs ---------------------------------------------------------------------------
     def interpret(
         self, ctx: SceneContext, results: list[EngineResult]
     ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
-        """Detached area, contact stress, identity residual, sigma_a, gamma_eff, pull-off."""
+        """Detached area, contact stress, identity residual, sigma_a, gamma_eff, pull-off (which
+        solves the scene's wall on the run's clock, ``ctx.clock``, when ``pull_off_area > 0``)."""
         zeta = np.asarray(ctx.zeta, dtype=float)
         p0 = np.asarray(ctx.p0, dtype=float)
         detached = _stack(results, "absorbed_lower", zeta.size)
@@ -375,7 +367,7 @@ class JKRBoundary(Boundary):
             "w_eff": ((), np.asarray(stickiness(ctx.psd, ctx.E_star, p["work_of_adhesion"]))),
             "pull_off_stress": (
                 (),
-                np.asarray(self.pull_off(ctx, float(_row0(results, "tau")[-1]), self._clock)),
+                np.asarray(self.pull_off(ctx, float(_row0(results, "tau")[-1]), ctx.clock)),
             ),
         }
 
@@ -410,7 +402,7 @@ class JKRBoundary(Boundary):
             raise ValueError(
                 f"boundary 'jkr': the pull-off at pull_off_area = {target:g} solves the scene's "
                 "detachment wall, which needs its diffusion clock: pass clock= (interpret() "
-                "uses the clock of the loads solved by walls())"
+                "passes ctx.clock, the clock walls() received, which the pipeline sets)"
             )
         from scipy.optimize import brentq
 
