@@ -156,8 +156,8 @@ def _stack_raws(raws: list[Raw]) -> Raw:
 def _run_group(problem: Problem, method: str | type[EngineMethod]) -> dict:
     """Solve one group of loads sharing their walls; the pieces of an EngineBatch."""
     cls, run_on, bound = _pick(problem, method)
-    name = getattr(cls, "name", cls.__name__)
-    if getattr(cls, "batched", False):
+    name = cls.name  # declared on EngineMethod (get_method admits only its subclasses)
+    if cls.batched:
         raw = _run(cls, run_on, bound)
     else:
         raw = _stack_raws([_run(cls, run_on.load(i), bound) for i in range(problem.tau.shape[0])])
