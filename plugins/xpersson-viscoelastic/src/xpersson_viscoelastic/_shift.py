@@ -6,12 +6,12 @@ reference temperature (the rubber is stiffer). All functions are vectorised over
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from xpersson.cache import dataclass_key
 
 __all__ = [
     "GAS_CONSTANT",
@@ -42,10 +42,10 @@ class ShiftLaw:
         """Shift factor ``a_T`` [1] at ``T`` [K]."""
         return 10.0 ** self.log10_aT(T)
 
-    def cache_key(self) -> tuple[Any, ...]:
-        """The law's content for :mod:`xpersson.cache`: its defining (init) fields."""
-        fields = dataclasses.fields(self)  # type: ignore[arg-type]
-        return tuple(getattr(self, f.name) for f in fields if f.init)
+    def cache_key(self) -> bytes:
+        """The law's content for :mod:`xpersson.cache`: a digest of its defining (init)
+        fields, computed once (:func:`xpersson.cache.dataclass_key`)."""
+        return dataclass_key(self)
 
     def check(self, T: ArrayLike) -> None:  # noqa: B027 - optional hook
         """Raise ``ValueError`` naming ``temperature`` [K] and the allowed range if outside."""
