@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 
 import xpersson
 from xpersson import cache as xc
+from xpersson import options
 from xpersson.options import CACHE_ENV, cache_enabled
 
 
@@ -25,6 +26,14 @@ def _caches_on() -> Iterator[None]:
     """The caches on (also in CI's run with XPERSSON_CACHE=off); tests turn them off inside."""
     with xpersson.set_options(cache=True):
         yield
+
+
+@pytest.fixture(autouse=True)
+def _environment_read_again() -> Iterator[None]:
+    """Set up first, torn down last: after monkeypatch has restored the environment, the
+    options read it again (they keep what they read)."""
+    yield
+    options._FROM_ENV.clear()
 
 
 def _fresh(name: str, **kw: object) -> xc.Cache:
@@ -117,6 +126,7 @@ def test_switch_turns_every_cache_off(monkeypatch: pytest.MonkeyPatch) -> None:
         with xpersson.set_options(cache=True):
             assert cache_enabled()
         monkeypatch.setenv(CACHE_ENV, "sometimes")
+        xpersson.set_options(cache=None)
         with pytest.raises(ValueError, match=CACHE_ENV):
             cache_enabled()
     with pytest.raises(ValueError, match="unknown option"):
@@ -243,6 +253,7 @@ def test_fast_paths_option_and_plain_paths(monkeypatch: pytest.MonkeyPatch) -> N
     from xpersson.plugins import fast_paths_on, plain_paths
 
     monkeypatch.delenv(FAST_PATHS_ENV, raising=False)
+    xpersson.set_options(fast_paths=None)
     assert fast_paths_on() and xpersson.get_options()["fast_paths"]
     with xpersson.set_options(fast_paths=False):
         assert not fast_paths_on()
@@ -252,6 +263,7 @@ def test_fast_paths_option_and_plain_paths(monkeypatch: pytest.MonkeyPatch) -> N
         assert not fast_paths_on()
     assert fast_paths_on()
     monkeypatch.setenv(FAST_PATHS_ENV, "off")
+    xpersson.set_options(fast_paths=None)
     assert not fast_paths_on()
     with xpersson.set_options(fast_paths=True):
         assert fast_paths_on()

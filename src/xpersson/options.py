@@ -7,8 +7,9 @@ Two options:
     the core and of the first-party plugins off: every value is computed afresh, so a result
     cannot depend on what was solved before (it never should; CI runs the whole suite both
     ways). The default comes from the environment variable ``XPERSSON_CACHE`` (``on``/``off``,
-    also ``1``/``0``, ``true``/``false``, ``yes``/``no``; unset means on), read on every look-up,
-    so dask workers started with that variable follow it.
+    also ``1``/``0``, ``true``/``false``, ``yes``/``no``; unset means on), read when first
+    needed in a process (so dask workers started with it follow it) and read again by
+    ``set_options(cache=None)``.
 ``fast_paths`` : bool
     Whether the fast paths that plugins declare (:class:`xpersson.plugins.FastPaths`: batches
     of loads, stacked sweep blocks, walls and diffusion times asked once) may be taken.
@@ -53,10 +54,22 @@ _LOCK = threading.Lock()
 #: environment variable)
 _SET: dict[str, Any] = {}
 _VALID = {"cache": "a bool", "fast_paths": "a bool"}
+#: the environment variables' flags as read (cleared by ``set_options(option=None)``)
+_FROM_ENV: dict[str, bool] = {}
 _ENV = {"cache": CACHE_ENV, "fast_paths": FAST_PATHS_ENV}
 
 
 def _env_flag(name: str) -> bool:
+    """The environment variable ``name`` as a flag, read once (again after
+    ``set_options(option=None)``): a look-up is on every cache access."""
+    value = _FROM_ENV.get(name)
+    if value is None:
+        value = _parse_env(name)
+        _FROM_ENV[name] = value
+    return value
+
+
+def _parse_env(name: str) -> bool:
     raw = os.environ.get(name, "")
     text = raw.strip().lower()
     if text in _ON:
@@ -121,8 +134,9 @@ class set_options:  # noqa: N801 - named as xarray.set_options, used as a functi
         with _LOCK:
             self._old = {k: _SET.get(k) for k in options}
             for name, value in options.items():
-                if value is None:
+                if value is None:  # back to the default: the environment, read again
                     _SET.pop(name, None)
+                    _FROM_ENV.pop(_ENV[name], None)
                 else:
                     _SET[name] = value
 
@@ -139,5 +153,6 @@ class set_options:  # noqa: N801 - named as xarray.set_options, used as a functi
             for name, value in self._old.items():
                 if value is None:
                     _SET.pop(name, None)
+                    _FROM_ENV.pop(_ENV[name], None)
                 else:
                     _SET[name] = value
