@@ -20,14 +20,14 @@ in diffusion time ``tau(zeta_i)``, so that a table affine in tau is an exactly l
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Hashable
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erfcx
 
-from xpersson.cache import Cache
+from xpersson.cache import Cache, content_key, digest
 from xpersson.physics.interface import full_contact_energy
 
 from ._wallpos import _Pchip, _SqrtPos
@@ -184,11 +184,17 @@ class ModelLaw:
         its positive part. Relative error ~1e-10 of max sigma_a (tested); evaluating it costs a
         spline call instead of the clock's inverse and the spectrum moments.
         """
+        return self.table_and_key(clock, per_decade)[0]
+
+    def table_and_key(self, clock: object, per_decade: int = 200) -> tuple[_Pchip, Hashable]:
+        """:meth:`in_tau`'s table and its content key (:func:`xpersson.cache.content_key` of
+        :meth:`clock_key`): equal keys, equal tables (the jkr wall compares by it)."""
         key = self.clock_key(clock, per_decade)
         _, _, cut, s2_nodes, ds2_nodes = self._samples(key[-4], per_decade)
         t_nodes, f_nodes = key[-2:]
-        return _TABLES.get(
-            key,
+        ck = content_key(key)
+        table = _TABLES.get(
+            ck,
             lambda: self._fit(
                 np.split(s2_nodes, cut),
                 np.split(ds2_nodes, cut),
@@ -196,6 +202,7 @@ class ModelLaw:
                 np.split(f_nodes, cut),
             ),
         )
+        return table, ck
 
     def clock_key(self, clock: object, per_decade: int = 200) -> tuple[Any, ...]:
         """The content key of :meth:`in_tau`'s table for ``clock``: the law's numbers, the
@@ -344,18 +351,26 @@ class TableLaw:
 
     def in_tau(self, tau_of_zeta: Callable[[Array], Array]) -> Callable[[Array], Array]:
         """sigma_a as a function of diffusion time [Pa^2] -> [Pa] for a given clock."""
+        return self.table_and_key(tau_of_zeta)[0]
+
+    def table_and_key(
+        self, tau_of_zeta: Callable[[Array], Array]
+    ) -> tuple[Callable[[Array], Array], Hashable]:
+        """:meth:`in_tau`'s function and its content key (the table and the clock's tau at
+        its magnifications): equal keys, equal functions."""
         if self.is_constant:
             value = float(self.sigma[0])
-            return lambda t: np.full(np.shape(t), value)
+            return lambda t: np.full(np.shape(t), value), ("table", value)
         from scipy.interpolate import PchipInterpolator
 
         t_nodes = np.asarray(tau_of_zeta(self.zeta), dtype=float)
         keep = np.concatenate(([True], np.diff(t_nodes) > 0))  # f = 0 bands: same tau
-        return _Pchip(
+        table = _Pchip(
             PchipInterpolator(t_nodes[keep], self.sigma[keep], extrapolate=False),
             float(t_nodes[keep][0]),
             float(t_nodes[keep][-1]),
         )
+        return table, ("table", digest(self.zeta, self.sigma, t_nodes))
 
     def check_range(self, zeta_max: float) -> None:
         """Raise ValueError unless the table covers ``[1, zeta_max]``."""

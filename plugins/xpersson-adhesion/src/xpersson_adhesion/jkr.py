@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from xpersson.cache import Cache, content_key, digest
+from xpersson.cache import Cache
 from xpersson.physics.interface import full_contact_energy
 from xpersson.plugins import Boundary, FastPaths, ParamSpec, VarSpec
 
@@ -319,15 +319,12 @@ class JKRBoundary(Boundary):
         if self._table is not None:
             if self._table.is_constant:
                 return Wall.absorbing(-float(self._table.sigma[0]))
-            sig = self._table.in_tau(clock.tau_of_zeta)
-            t_nodes = np.asarray(clock.tau_of_zeta(self._table.zeta), dtype=float)
-            key: Any = ("table", digest(self._table.zeta, self._table.sigma, t_nodes))
+            sig, key = self._table.table_and_key(clock.tau_of_zeta)
         else:
             law = self._model(ctx)
             if law.is_constant(ctx.zeta_max, lambda: self._at(ctx, law, ctx.zeta_max)):
                 return Wall.absorbing(0.0)
-            sig = law.in_tau(clock)
-            key = ("model", content_key(law.clock_key(clock)))
+            sig, key = law.table_and_key(clock)
         # equal content, equal walls: the loads are solved together on either path
         return Wall.absorbing(DetachmentWall(sig, key=key), breakpoints=onset_times(sig))
 
