@@ -150,11 +150,12 @@ def _both(cls: type, sc: Mapping[str, Any]) -> tuple[Any, Any]:
 
 # -- generated scenes ------------------------------------------------------------------------
 def _pascal(value: Any) -> float:
+    """A scene's pressure (a number in Pa, or a quantity) in Pa, by the scene's own converter."""
     if isinstance(value, int | float):
         return float(value)
-    from ..units import ureg
+    from ..units import to_si
 
-    return float(ureg().Quantity(str(value)).to("Pa").magnitude)
+    return float(to_si(value, "Pa", "load.p0"))
 
 
 def _scenes(cls: type, params: Mapping[str, Any], scene: Any) -> Iterator[dict[str, Any]]:
