@@ -14,6 +14,7 @@ import dataclasses
 import itertools
 import math
 import os
+import uuid
 import warnings
 from collections.abc import Callable
 from typing import Any
@@ -124,6 +125,13 @@ def _resolve_block(plan: SweepPlan, block: Block, registry: Any) -> list[Any]:
     return [_resolve_index(plan, index, registry) for index in itertools.product(*ranges)]
 
 
+def _run_token() -> str:
+    """A dask key part unique to one submission: never an object's ``id()``, which a later
+    sweep in the same process can reuse while the scheduler still knows the old key (a key
+    collision leaves ``as_completed`` waiting for ever)."""
+    return uuid.uuid4().hex
+
+
 def _with_grid(points: Any, grid: np.ndarray) -> list[Any]:
     return [dataclasses.replace(rs, p=grid) for rs in points]
 
@@ -141,7 +149,7 @@ def _resolve_on_workers(
     points are futures. A bad point raises its :class:`SceneError` here, before any solve task
     is submitted, as :func:`resolve_points` does in the serial path.
     """
-    tag = f"{os.getpid()}-{id(blocks)}"
+    tag = _run_token()
     # blocks spread evenly over the workers (by points): solve tasks follow their points (data
     # locality), so this placement is what balances the solving
     addresses = sorted(client.scheduler_info().get("workers", {})) or [None]
@@ -425,6 +433,7 @@ def _execute(
             return [f.result() for f in futures]
     from distributed import as_completed
 
+    token = _run_token()
     futures = [
         client.submit(
             _silenced_block,
@@ -434,7 +443,7 @@ def _execute(
             part,
             attrs,
             pure=False,
-            key=f"xpersson-block-{b.number}-{os.getpid()}-{id(tasks)}",
+            key=f"xpersson-block-{b.number}-{token}",
         )
         for b, pts, part in tasks
     ]
