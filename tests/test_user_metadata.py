@@ -69,7 +69,7 @@ def test_a_bad_users_file_is_one_error_naming_it(tmp_path, monkeypatch, text, ma
     with pytest.raises(xpersson.SceneError, match=match):
         provenance.user_metadata()
     monkeypatch.setenv("XPERSSON_METADATA", str(tmp_path / "missing.toml"))
-    with pytest.raises(xpersson.SceneError, match="XPERSSON_METADATA: .*missing.toml does not exist"):
+    with pytest.raises(xpersson.SceneError, match="XPERSSON_METADATA: .*missing.toml does not"):
         provenance.user_metadata()
 
 
@@ -86,3 +86,16 @@ def test_standard_names_come_from_the_cf_table():
     names = {s.standard_name for s in CORE_VARIABLES.values() if s.standard_name}
     assert names == {"area_fraction", "status_flag"}
     assert all(n in table for n in names)
+
+
+def test_cf_xarray_finds_the_standard_names_of_an_archive(tmp_path, monkeypatch):
+    cf_xarray = pytest.importorskip("cf_xarray")  # noqa: F841 - registers ds.cf
+    monkeypatch.setenv("XPERSSON_METADATA", "")
+    path = xpersson.to_netcdf(_solve(_scene()), tmp_path / "e.nc")
+    import xarray as xr
+
+    with xr.open_dataset(path) as ds:
+        assert ds.cf.standard_names == {
+            "area_fraction": ["area_fraction"],
+            "status_flag": ["solver_status"],
+        }
