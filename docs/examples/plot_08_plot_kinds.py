@@ -50,7 +50,8 @@ def draw(name: str) -> None:
         except ValueError as exc:
             print(f"{name}, {kind}: {exc}")
             continue
-        ax.figure.suptitle(f"{ds.attrs['title']}\n(kind {kind!r})", fontsize="large")
+        # the archive's title, swept values and --set overrides, as `xpersson plot` writes them
+        ax.figure.suptitle(f"{xpersson.plot.suptitle(ds)}\n(kind {kind!r})", fontsize="large")
 
 
 # %%

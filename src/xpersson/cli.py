@@ -97,6 +97,8 @@ def _scheduler(text: str | None) -> str | None:
 
 
 def _cmd_validate(args: argparse.Namespace) -> int:
+    """Check a scene without solving it: a readable summary on stderr; ``--json`` adds the
+    resolved scene (a sweep: the scene with its swept lists) as JSON on stdout."""
     scene = _load(args)
     from .sweep import expand
 
@@ -105,25 +107,23 @@ def _cmd_validate(args: argparse.Namespace) -> int:
         from .sweep import check_size, resolve_points
 
         check_size(plan, None, None, None, None, False)  # before resolving every point
-        points = resolve_points(plan, None)
-        rs = points[0]
-        sweep = ", ".join(f"{p.path} -> {p.name} ({len(p.values)})" for p in plan.params)
-        _err(
-            f"xpersson: {args.scene} is valid: a sweep of {plan.size} points ({sweep}), "
-            f"{rs.p0.size} load(s) each, {rs.zeta.size} zeta points, plugins "
-            f"{rs.plugin_names}"
-        )
-        if args.json:
-            print(json.dumps(plan.scene_lists(), indent=1, sort_keys=True))
-        return 0
-    rs = scene.resolve()
+        rs = resolve_points(plan, None)[0]
+        dims = ", ".join(f"{p.name} = {p.path} ({len(p.values)} values)" for p in plan.params)
+        _err(f"xpersson: {args.scene} is valid: a sweep of {plan.size} points ({dims})")
+    else:
+        rs = scene.resolve()
+        _err(f"xpersson: {args.scene} is valid")
+    each = " per point" if plan is not None else ""
     _err(
-        f"xpersson: {args.scene} is valid: {rs.p0.size} load(s), {rs.zeta.size} zeta points "
-        f"from 1 to {rs.zeta[-1]:g}, plugins {rs.plugin_names}"
-        + (f", analyses {[n for n, _ in rs.analyses]}" if rs.analyses else "")
+        f"  loads: {rs.p0.size}{each}; magnification: {rs.zeta.size} points from 1 to "
+        f"{rs.zeta[-1]:g}"
     )
+    _err("  plugins: " + ", ".join(f"{k} {v}" for k, v in rs.plugin_names.items()))
+    if rs.analyses:
+        _err("  analyses: " + ", ".join(n for n, _ in rs.analyses))
     if args.json:
-        print(json.dumps(rs.resolved, indent=1, sort_keys=True))
+        resolved = plan.scene_lists() if plan is not None else rs.resolved
+        print(json.dumps(resolved, indent=1, sort_keys=True))
     return 0
 
 
@@ -137,64 +137,10 @@ def _open(path: str) -> Any:
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
-    ds = _open(args.archive)
-    print(f"{args.archive}: {ds.attrs.get('title', '')}")
-    print(f"  source: {ds.attrs.get('source')}, created {ds.attrs.get('date_created')}")
-    print(f"  status: {ds.attrs.get('status')} ({ds.attrs.get('status_message')})")
-    print("  dimensions: " + ", ".join(f"{k}={v}" for k, v in ds.sizes.items()))
-    for name, var in {**ds.coords, **ds.data_vars}.items():
-        dims = ",".join(var.dims)
-        print(
-            f"  {name:28s} ({dims}) [{var.attrs.get('units', '?')}] "
-            f"{var.attrs.get('long_name', '')}"
-        )
-    plugins = json.loads(ds.attrs.get("xpersson_plugins", "[]"))
-    for p in plugins:
-        print(f"  plugin {p['group']}/{p['name']}: {p.get('distribution')} {p.get('version')}")
-    _print_areas(ds)
+    from .cli_info import info
+
+    info(_open(args.archive), args.archive, args.point or [])
     return 0
-
-
-SHOWN_LOADS = 10
-"""Loads listed by ``xpersson info`` (the rest are counted)."""
-
-
-def _print_areas(ds: Any) -> None:
-    """Every area fraction of the archive (core and boundary) at zeta_max, per load."""
-    names = [
-        n
-        for n, v in ds.data_vars.items()
-        if "zeta" in v.dims
-        and v.attrs.get("units") == "1"
-        and (n.endswith("area_fraction") or n in ("area_fraction", "total_contact_fraction"))
-    ]
-    if not names or "zeta" not in ds.dims:
-        return
-    loads = ds["p0"].values.ravel() if "p0" in ds.coords else []
-    n_loads = len(loads)
-    shown = min(n_loads, SHOWN_LOADS) if n_loads else 1
-    print(
-        f"  area fractions at zeta_max = {float(ds['zeta'].values[-1]):.6g}"
-        + (
-            f" (first {shown} of {n_loads} loads; {n_loads - shown} more not shown)"
-            if n_loads > shown
-            else ""
-        )
-    )
-    if n_loads:
-        print(f"    {'p0 [Pa]':28s} " + " ".join(f"{v:.6g}" for v in loads[:shown]))
-    for name in names:
-        # numpy indexing: xarray's isel would import dask.array (~0.1 s) for one column
-        import numpy as np
-
-        var = ds[name]
-        values = np.take(var.values, -1, axis=var.dims.index("zeta")).ravel()[:shown]
-        label = f"{name}"
-        print(
-            f"    {label:28s} "
-            + " ".join(f"{v:.6g}" for v in values)
-            + f"  ({ds[name].attrs.get('long_name', '')})"
-        )
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> int:
@@ -307,11 +253,19 @@ def build_parser() -> argparse.ArgumentParser:
     val = sub.add_parser("validate", help="check a scene without solving it")
     val.add_argument("scene", help="scene TOML file")
     val.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a value")
-    val.add_argument("--json", action="store_true", help="print the resolved scene as JSON")
+    val.add_argument(
+        "--json", action="store_true", help="print the summary and the resolved scene as JSON"
+    )
     val.set_defaults(func=_cmd_validate)
 
     info = sub.add_parser("info", help="summarise an archive")
     info.add_argument("archive", help=".nc file written by xpersson run")
+    info.add_argument(
+        "--point",
+        action="append",
+        metavar="DIM=INDEX",
+        help="the sweep point whose area fractions are shown (default: index 0 of each)",
+    )
     info.set_defaults(func=_cmd_info)
 
     plo = sub.add_parser("plot", help="plot an archive (matplotlib)")

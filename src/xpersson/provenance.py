@@ -2,6 +2,11 @@
 
 Reads only the resolved scene: the plugins' provenance records are captured when the scene is
 resolved (this module imports neither the scene nor the registry).
+
+ACDD discovery attributes (creator, institution, project, license, ...) come, weakest first,
+from xpersson's defaults, the user's metadata file (:func:`user_metadata`: the TOML file named by
+``XPERSSON_METADATA``, else ``$XDG_CONFIG_HOME/xpersson/metadata.toml``, by default
+``~/.config/xpersson/metadata.toml``) and the scene's ``[metadata]`` table.
 """
 
 from __future__ import annotations
@@ -9,15 +14,30 @@ from __future__ import annotations
 import copy
 import datetime as _dt
 import json
+import os
 import platform
 import sys
+import tomllib
 from importlib import metadata
+from pathlib import Path
 from typing import Any
 
 from .cache import memoize
-from .schema import CONVENTIONS
+from .errors import SceneError
+from .schema import CONVENTIONS, METADATA_KEYS, STANDARD_NAME_VOCABULARY
 
-__all__ = ["global_attributes", "plugins_used", "environment", "version"]
+__all__ = [
+    "global_attributes",
+    "plugins_used",
+    "environment",
+    "version",
+    "user_metadata",
+    "user_metadata_path",
+    "METADATA_ENV",
+]
+
+METADATA_ENV = "XPERSSON_METADATA"
+"""Environment variable naming the user's metadata file (an empty value: no file)."""
 
 
 @memoize("provenance.version", scope="process", maxsize=1)
@@ -38,6 +58,60 @@ def _environment_json() -> str:
         except metadata.PackageNotFoundError:
             env[pkg] = "not installed"
     return json.dumps(env, sort_keys=True)
+
+
+def user_metadata_path() -> Path | None:
+    """The user's metadata file: ``$XPERSSON_METADATA`` when set (empty: none), else
+    ``$XDG_CONFIG_HOME/xpersson/metadata.toml`` (``~/.config/...``) when it exists, else None."""
+    named = os.environ.get(METADATA_ENV)
+    if named is not None:
+        return Path(named).expanduser() if named.strip() else None
+    base = os.environ.get("XDG_CONFIG_HOME") or str(Path.home() / ".config")
+    path = Path(base) / "xpersson" / "metadata.toml"
+    return path if path.is_file() else None
+
+
+def user_metadata() -> dict[str, str]:
+    """ACDD attributes of the user's metadata file (:func:`user_metadata_path`; {} without one).
+
+    The file is TOML: the keys of a scene's ``[metadata]`` table, at the top level or in a
+    ``[metadata]`` table, strings. Read at every solve (parsed once per content).
+
+    Raises
+    ------
+    SceneError
+        When the file named by ``XPERSSON_METADATA`` does not exist, is not TOML, or holds an
+        unknown key or a value that is not a string (the message names the file and the key).
+    """
+    path = user_metadata_path()
+    if path is None:
+        return {}
+    try:
+        content = path.read_bytes()
+    except OSError:
+        raise SceneError(f"{METADATA_ENV}: {path} does not exist or cannot be read") from None
+    return dict(_parse_metadata(str(path), content))
+
+
+@memoize("provenance.user_metadata", scope="process", maxsize=4)
+def _parse_metadata(path: str, content: bytes) -> tuple[tuple[str, str], ...]:
+    """The validated (key, value) pairs of metadata file ``path`` holding ``content``."""
+    try:
+        data = tomllib.loads(content.decode("utf-8"))
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise SceneError(f"metadata file {path}: {exc}") from None
+    table = data["metadata"] if isinstance(data.get("metadata"), dict) else data
+    for key, value in table.items():
+        if key not in METADATA_KEYS:
+            allowed = ", ".join(sorted(METADATA_KEYS))
+            raise SceneError(
+                f"metadata file {path}: {key}: unknown key; allowed (ACDD-1.3): {allowed}"
+            )
+        if not isinstance(value, str):
+            raise SceneError(
+                f"metadata file {path}: {key}: must be a string, got {type(value).__name__}"
+            )
+    return tuple(sorted(table.items()))
 
 
 def environment() -> dict[str, str]:
@@ -102,10 +176,15 @@ def global_attributes(rs: Any, registry: Any = None) -> dict[str, str]:
         "date_created": now,
         "references": "; ".join(f"doi:{r}" if r.startswith("10.") else r for r in refs),
         "keywords": "contact mechanics, roughness, Persson theory, contact area",
+        "standard_name_vocabulary": STANDARD_NAME_VOCABULARY,
+        "processing_level": "model output",
+        "product_version": version(),
+        **user_metadata(),  # the user's defaults (a metadata file)
         **dict(rs.resolved.get("metadata", {})),  # the scene's ACDD attributes win
         "xpersson_version": version(),
         "xpersson_scene": json.dumps(rs.resolved, sort_keys=True),
-        "xpersson_scene_source": rs.scene.source or "<dict>",
+        # the file name only: no machine-specific path goes into an archive
+        "xpersson_scene_source": Path(rs.scene.source).name if rs.scene.source else "<dict>",
         "xpersson_plugins": plugins_json,
         "xpersson_environment": _environment_json(),
     }

@@ -12,9 +12,35 @@ from typing import Any
 
 from .specs import VarSpec
 
-__all__ = ["CORE_VARIABLES", "COORDS", "stamp", "CONVENTIONS"]
+__all__ = [
+    "CORE_VARIABLES",
+    "COORDS",
+    "stamp",
+    "CONVENTIONS",
+    "METADATA_KEYS",
+    "STANDARD_NAME_VOCABULARY",
+]
 
 CONVENTIONS = "CF-1.11, ACDD-1.3"  # the versions the IOOS compliance-checker verifies
+
+# The CF standard-name table the ``standard_name`` attributes come from. Contact mechanics has
+# almost no names there: only ``area_fraction`` (the fraction of an area, here the nominal one,
+# with some characteristic: in contact) and ``status_flag`` fit, and no invented name is used
+# (a name outside the table would be a CF error); every variable has a ``long_name``.
+STANDARD_NAME_VOCABULARY = "CF Standard Name Table v93"
+
+# ACDD-1.3 discovery attributes a scene's [metadata] table or the user's metadata file may set
+# (strings; stored as global attributes of the archive, overriding xpersson's defaults for
+# summary and keywords)
+METADATA_KEYS = frozenset(
+    {
+        "acknowledgement", "comment", "contributor_name", "contributor_role", "creator_email",
+        "creator_institution", "creator_name", "creator_type", "creator_url", "id",
+        "institution", "keywords", "keywords_vocabulary", "license", "naming_authority",
+        "processing_level", "product_version", "program", "project", "publisher_email",
+        "publisher_institution", "publisher_name", "publisher_type", "publisher_url", "summary",
+    }
+)  # fmt: skip
 
 COORDS: dict[str, VarSpec] = {
     "zeta": VarSpec(("zeta",), "1", "magnification", description="zeta = q / q_L"),
@@ -32,6 +58,7 @@ CORE_VARIABLES: dict[str, VarSpec] = {
         "1",
         "relative contact area A/A0",
         description="probability of contact at magnification zeta",
+        standard_name="area_fraction",
     ),
     "non_contact_fraction": VarSpec(
         ("p0", "zeta"),
@@ -92,6 +119,7 @@ CORE_VARIABLES: dict[str, VarSpec] = {
         ("p0",),
         "1",
         "engine status per load",
+        standard_name="status_flag",
         extra={
             "flag_meanings": "success max_steps balance_violated tolerance_not_met invalid_input"
         },

@@ -9,7 +9,8 @@ Usage (from ``plugins/xpersson-adhesion``)::
 
     python examples/plot_area_vs_load.py [output.png]
 
-Writes ``pdms_area_vs_load.png`` next to this script by default.
+Writes ``pdms_area_vs_load.png`` in the current directory by default (never into the
+source tree).
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ def scenes() -> dict[str, dict]:
 
 def main(argv: list[str] | None = None) -> Path:
     argv = sys.argv[1:] if argv is None else argv
-    out = Path(argv[0]) if argv else HERE / "pdms_area_vs_load.png"
+    out = Path(argv[0]) if argv else Path("pdms_area_vs_load.png")
     results = {}
     for name, scene in scenes().items():
         with warnings.catch_warnings():

@@ -1,7 +1,8 @@
 """Leak rate of a rubber seal versus squeezing pressure (critical junction and Bruggeman EMT).
 
-Solves ``rubber_seal.toml`` with :func:`xpersson.solve` and writes ``leak_rate.png`` next to this
-file. Requires xpersson and xpersson-interface installed (``pip install -e``) and matplotlib.
+Solves ``rubber_seal.toml`` with :func:`xpersson.solve` and writes ``leak_rate.png`` in the
+current directory (never into the source tree). Requires xpersson and xpersson-interface
+installed (``pip install -e``) and matplotlib.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ import xpersson  # noqa: E402
 HERE = Path(__file__).resolve().parent
 
 
-def main(out: Path = HERE / "leak_rate.png") -> Path:
+def main(out: Path = Path("leak_rate.png")) -> Path:
     """Solve the example scene and plot the leak rates [m^3/s] versus p0 [MPa]."""
     ds = xpersson.solve(HERE / "rubber_seal.toml")
     p0 = ds["p0"].values / 1e6

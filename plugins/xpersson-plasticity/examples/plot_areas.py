@@ -2,7 +2,7 @@
 
 Solves ``steel_on_steel.toml`` (next to this script) with :func:`xpersson.solve` and plots the
 three area fractions against the magnification zeta (log axis), one line style per load, to
-``steel_on_steel_areas.png``.
+``steel_on_steel_areas.png`` in the current directory.
 
 Usage::
 
@@ -65,5 +65,5 @@ def plot_areas(scene: str | Path, out: str | Path) -> Path:
 
 if __name__ == "__main__":
     scene = sys.argv[1] if len(sys.argv) > 1 else HERE / "steel_on_steel.toml"
-    out = sys.argv[2] if len(sys.argv) > 2 else HERE / "steel_on_steel_areas.png"
+    out = sys.argv[2] if len(sys.argv) > 2 else Path("steel_on_steel_areas.png")
     print(plot_areas(scene, out))

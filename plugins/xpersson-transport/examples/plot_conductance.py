@@ -1,8 +1,8 @@
 """Contact conductance of an aluminium heat sink versus nominal pressure (thermal and electric).
 
 Solves ``heat_sink.toml`` with :func:`xpersson.solve` and writes ``heat_sink_conductance.png``
-next to this file. Requires xpersson, xpersson-interface and xpersson-transport installed
-(``pip install -e``) and matplotlib.
+in the current directory (never into the source tree). Requires xpersson,
+xpersson-interface and xpersson-transport installed (``pip install -e``) and matplotlib.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import xpersson  # noqa: E402
 HERE = Path(__file__).resolve().parent
 
 
-def main(out: Path = HERE / "heat_sink_conductance.png") -> Path:
+def main(out: Path = Path("heat_sink_conductance.png")) -> Path:
     """Solve the example scene and plot the conductances [W/(m^2 K), S/m^2] versus p0 [MPa]."""
     ds = xpersson.solve(HERE / "heat_sink.toml")
     p0 = ds["p0"].values / 1e6

@@ -1,7 +1,7 @@
 """mu(v) at three temperatures and A/A0 versus v for the tread-on-asphalt example.
 
 Run from this folder (or anywhere): ``python plot_friction.py`` writes
-``tread_on_asphalt_friction.png`` next to this script. matplotlib is imported only here.
+``tread_on_asphalt_friction.png`` in the current directory. matplotlib is imported only here.
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ def friction_curves(
 
 def plot_friction(
     scene: str | Path = SCENE,
-    out: str | Path = HERE / "tread_on_asphalt_friction.png",
+    out: str | Path = Path("tread_on_asphalt_friction.png"),
     velocities: np.ndarray | None = None,
 ) -> Path:
     """Plot mu(v) (solid: total, dashed: viscoelastic) and A/A0(v) for the heaviest load."""

@@ -1,6 +1,6 @@
 """The Markov process behind the diffusion equation, simulated: engine methods ``markov``.
 
-Persson's derivation (Appendix B of Persson 2001, physics.md §1.1) treats the contact pressure
+Persson's derivation (Appendix B of Persson 2001, :cite:p:`persson2001`) treats the contact pressure
 at a point as a Markov process in the magnification: each added band of roughness changes the
 pressure by a Gaussian increment (Chapman-Kolmogorov, B2), whose variance in diffusion time
 ``tau`` is ``2 d tau`` (B3-B5).  This module simulates that process instead of solving its
@@ -15,7 +15,8 @@ Fokker-Planck equation, as an independent referee for the engine's other methods
   load identity).  Non-linear wall motion is followed by geometric sub-steps
   (``steps_per_decade``); two walls limit a step to ``sqrt(2 dtau) <= gap / 6`` so that a step
   reaches at most one wall.  The moving yield wall (``Wall.yield_closure``, Lambert's closure,
-  physics.md §3.2) is the process with a *sticky* wall: walkers that reach ``Y`` become plastic
+  :cite:p:`lambert2025`) is the process with a *sticky* wall: walkers that reach ``Y`` become
+  plastic
   and ride the wall up; in each step a fraction ``q = dY / E|dp|`` of the plastic walkers is
   released into the elastic domain at a half-normal depth ``|dp|`` below the wall, which is the
   release that conserves the expected pressure (the force balance ``int p P dp + Y A_pl = p0``
@@ -149,7 +150,8 @@ def _sticky_release(rng: np.random.Generator, speed: float, durations: Array) ->
 
     In the frame of the wall the plastic mass ``m`` and the density ``rho(D)`` at depth ``D``
     obey ``rho_t = rho_DD``, ``rho(0) = a m``, ``m' = rho_D(0)`` with ``a = dY/dtau`` (Lambert's
-    closure ``P(Y) = A_pl dY/dtau``, physics.md §3.2; the wall's drift is carried by the moving
+    closure ``P(Y) = A_pl dY/dtau``, :cite:p:`lambert2025`; the wall's drift is carried by the
+    moving
     wall itself).  From one stuck walker: ``m(t) = exp(a^2 t) erfc(a sqrt t)``, and the mass
     deeper than ``D`` is ``S(z) = erfc(z) - exp(-z^2) erfcx(z + a sqrt t)``, ``z = D/(2 sqrt t)``,
     which is inverted by bisection.

@@ -7,7 +7,8 @@
     \\partial_p \\rho = 0 \\text{ at the wall},
 
 with no upper wall (the domain is truncated at ``p_max``, where ``rho = 0``, far beyond the mass).
-This is the gap-distribution problem of physics.md §5.5b in diffusion time (moved here from
+This is the gap-distribution problem of :doc:`/theory/04_gap_equation` in diffusion time (moved
+here from
 ``xpersson_interface._gap_diffusion``); it knows nothing about contact mechanics.
 
 Scheme (unchanged from the plugin solver): finite volumes on a uniform grid (exactly

@@ -33,7 +33,8 @@ class Wall:
         ``dY/dtau`` [1/Pa] for the yield closure wall.
     motion : tuple of float or None
         ``(p_start, velocity)`` [Pa, 1/Pa] when the motion is known to be
-        ``p = p_start + velocity * tau`` (enables the exact path of physics.md §2.2).
+        ``p = p_start + velocity * tau`` (enables the exact path of
+        :doc:`/theory/03_absorbing_wall`).
     breakpoints : tuple of float
         Diffusion times [Pa^2] where the motion is not smooth: the wall starts moving, has a
         kink, or leaves a position with a square-root onset ``p ~ sqrt(tau - tau_b)``
@@ -114,7 +115,7 @@ class Wall:
         """Moving yield wall (Lambert 2025), upper walls only.
 
         ``P(Y, tau) = A_pl(tau) dY/dtau`` and ``dA_pl/dtau = -dY/dtau P(Y) - dP/dp(Y)``
-        (physics.md §3.2 in diffusion time).  For ``dY/dtau -> 0`` this is the absorbing wall
+        (:cite:p:`lambert2025` in diffusion time).  For ``dY/dtau -> 0`` this is the absorbing wall
         ``P(Y) = 0`` with ``A_pl`` the probability absorbed there.
 
         Parameters

@@ -8,7 +8,7 @@ keeps as many terms as double precision needs at the tau it is given).  This mod
 home of these closed forms: the elastic built-in, the plasticity plugin and
 ``xpersson.testing`` call it.  It stays one module (over the 500-line limit) on purpose: the
 three families share their tail helpers and series switches, and a reader checks each closed
-form against physics.md in one place.
+form against its source (the theory pages, the bibliography) in one place.
 
 Units: pressures ``p``, ``p0``, wall positions in Pa; diffusion time ``tau`` in Pa^2; the wall
 speed ``c`` of the linear wall in 1/Pa (``p_w = -(s0 + c tau)``); densities in 1/Pa; areas are
@@ -20,11 +20,13 @@ return their initial values (area 1, nothing absorbed).
 Families
 --------
 ``one_wall_*``
-    Absorbing wall at ``wall`` (default 0), no upper wall: mirrored Gaussian (physics.md §1.2).
+    Absorbing wall at ``wall`` (default 0), no upper wall: mirrored Gaussian
+    (:cite:p:`persson2001`).
 ``two_wall_*``
-    Absorbing walls at ``lower < p0 < upper`` (physics.md §3.1: constant hardness).
+    Absorbing walls at ``lower < p0 < upper`` (:cite:p:`persson2006`: constant hardness).
 ``linear_wall_*``
-    Absorbing lower wall ``p_w(tau) = -(s0 + c tau)``, no upper wall (physics.md §2.2).
+    Absorbing lower wall ``p_w(tau) = -(s0 + c tau)``, no upper wall
+    (:doc:`/theory/03_absorbing_wall`).
 """
 
 from __future__ import annotations
@@ -320,7 +322,7 @@ def two_wall_non_area(
 def two_wall_area(
     tau: ArrayLike, p0: ArrayLike, lower: ArrayLike, upper: ArrayLike, series: str = "auto"
 ) -> Array:
-    """Area fraction between two absorbing walls (physics.md §3.1 ``A_el/A0``).
+    """Area fraction between two absorbing walls (:cite:p:`persson2006` ``A_el/A0``).
 
     Image series for ``tau < 0.1 (upper - lower)^2``, sine series
     ``sum_{n odd} 4/(n pi) sin(n pi x0/L) exp(-(n pi/L)^2 tau)`` above (see

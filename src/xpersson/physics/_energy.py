@@ -1,4 +1,5 @@
-"""Elastic energy of roughness pressed fully flat: ``(pi E*/2) int q^2 C dq`` (physics.md §5.1)."""
+"""Elastic energy of roughness pressed fully flat: ``(pi E*/2) int q^2 C dq``
+(:cite:p:`persson2007,yang2008`)."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ def full_contact_energy(
 ) -> NDArray[np.float64] | float:
     """Elastic energy per nominal area of the roughness in ``[q_lo, q_hi]`` at full contact.
 
-    ``U/A0 = (pi E*/2) int_{q_lo}^{q_hi} q^2 C(q) dq`` [J/m^2] (physics.md §5.1 with
+    ``U/A0 = (pi E*/2) int_{q_lo}^{q_hi} q^2 C(q) dq`` [J/m^2] (:cite:p:`persson2007,yang2008` with
     ``A = S = 1``): the exact linear-elastic energy of a half-space forced into the shape of
     those scales.
 

@@ -1,4 +1,4 @@
-"""Gap distribution from detached-area bins (Almqvist et al. 2011; physics.md §5.5a)."""
+"""Gap distribution from detached-area bins :cite:p:`almqvist2011`."""
 
 from __future__ import annotations
 
@@ -389,7 +389,7 @@ def gap_mean(det: Detachment) -> NDArray[np.float64]:
     """Mean of the gap distribution (mirror term included) [m], (n_load,).
 
     ``sum w [u1 erf(u1/(sqrt2 h)) + h sqrt(2/pi) exp(-u1^2/(2h^2))]``; exceeds ``u(p0)``
-    (physics.md §5.5a).
+    (:cite:p:`almqvist2011`).
     """
     h = np.maximum(det.h, _TINY)[None, :]
     u1 = det.u1

@@ -1,4 +1,5 @@
-"""The self-affine spectrum with roll-off (physics.md §8): C ~ q^(-2(1+H)) above q_r."""
+"""The self-affine spectrum with roll-off (:cite:p:`persson2005,jacobs2017`): C ~ q^(-2(1+H)) above
+q_r."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ __all__ = ["SelfAffineRollOff"]
 
 
 class SelfAffineRollOff(PowerSpectrum):
-    """Self-affine PSD with roll-off (physics.md §8.2, Persson convention).
+    """Self-affine PSD with roll-off (:cite:p:`persson2005,jacobs2017`, Persson convention).
 
     .. math::
 

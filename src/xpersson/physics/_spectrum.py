@@ -26,7 +26,7 @@ _MOMENTS = Cache(
 
 
 def profile_factor(H: ArrayLike) -> NDArray[np.float64] | float:
-    """Return the 1-D/2-D power-law factor :math:`K(H)` (physics.md §8.2).
+    """Return the 1-D/2-D power-law factor :math:`K(H)` (:cite:p:`persson2005,jacobs2017`).
 
     For an isotropic power law :math:`C^{iso}(q) = C_0 q^{-2-2H}` (JJP convention) the line-scan
     PSD is :math:`C^{1D}(q) = K(H)\\, C_0\\, q^{-1-2H}` with

@@ -1,6 +1,7 @@
 """Sub-problems of the interface physics at a magnification ``zeta`` (private): the mean
 separation of the apparent contact at ``q_a = zeta q_L`` under ``p0/A`` (virtual work of the
-roughness finer than ``q_a``, physics.md §5.5a, §6.1) and the rms height of that roughness.
+roughness finer than ``q_a``, :cite:p:`almqvist2011,persson2008leak`) and the rms height of that
+roughness.
 SI units throughout.
 """
 
@@ -74,7 +75,8 @@ def _sub_mean_gap(
     """Mean separation [m] of the apparent contact at ``q_a`` (n_load, n_a) under ``p0/A_a``.
 
     ``u_a = pi int_{q_a}^{q_hi} q^2 C w_a Phi(tau_a(q) A_a^2 / p0^2) dq`` with ``tau_a``, ``w_a``
-    counted from ``q_a`` (physics.md §5.5a, §6.1). Vectorised: ``q = q_a exp(V s^2)``,
+    counted from ``q_a`` (:cite:p:`almqvist2011,persson2008leak`). Vectorised: ``q = q_a exp(V
+    s^2)``,
     ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``. ``where`` (n_load, n_a):
     compute only these entries (the others are 0). ``prep``: :func:`_sub_prep` of ``q_a``,
     when already at hand.

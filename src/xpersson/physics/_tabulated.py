@@ -34,7 +34,8 @@ class Tabulated(PowerSpectrum):
     convention : {"persson", "surface_topography", "profile_1d"}
         * ``"persson"``: isotropic Persson convention [m^4], used as is.
         * ``"surface_topography"``: isotropic Jacobs-Junge-Pastewka / SurfaceTopography
-          convention [m^4]; converted with ``C_P = C_JJP / (2 pi)^2`` (physics.md §8.1).
+          convention [m^4]; converted with ``C_P = C_JJP / (2 pi)^2``
+          (:cite:p:`persson2005,jacobs2017`).
         * ``"profile_1d"``: line-scan PSD in the JJP convention [m^3]
           (``h_rms^2 = (1/pi) int_0^inf C1D dq``). Converted with the **local power-law
           approximation** ``C_P(q) = C1D(q) / (K(H_loc) q (2 pi)^2)``, where

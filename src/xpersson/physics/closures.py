@@ -1,4 +1,5 @@
-"""Correction-factor ("fudge factor") closures of Persson's elastic theory (physics.md §1.5).
+"""Correction-factor ("fudge factor") closures of Persson's elastic theory
+(:cite:p:`yang2008,wang2017,xu2024`).
 
 All variants keep the mirrored-Gaussian pressure PDF but replace its variance ``V_c = 2 tau_c``
 (complete-contact variance) by an effective variance ``V = 2 tau_eff``; the contact area is

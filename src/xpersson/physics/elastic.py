@@ -1,6 +1,6 @@
 """Persson (2001) elastic contact theory: closed forms (pure numpy, SI units).
 
-Implements physics.md §1. The pressure distribution obeys the diffusion equation
+Implements :cite:p:`persson2001`. The pressure distribution obeys the diffusion equation
 ``dP/dzeta = f(zeta) d^2P/dp^2`` with ``P(p, 1) = delta(p - p0)`` and the absorbing boundary
 ``P(0, zeta) = 0``. In the diffusion "time"
 
@@ -187,7 +187,7 @@ def area_fraction(p0: ArrayLike, tau: ArrayLike) -> tuple[FloatOrArray, FloatOrA
 
 
 def pressure_pdf(p: ArrayLike, p0: ArrayLike, tau: ArrayLike) -> FloatOrArray:
-    """Mirrored-Gaussian pressure distribution ``P(p, zeta)`` [1/Pa] (physics.md §1.2).
+    """Mirrored-Gaussian pressure distribution ``P(p, zeta)`` [1/Pa] (:cite:p:`persson2001`).
 
     ``P = [exp(-(p-p0)^2/(4 tau)) - exp(-(p+p0)^2/(4 tau))] / sqrt(4 pi tau)``, evaluated stably
     as ``N(p - p0) * (-expm1(-p p0 / tau))`` with ``N`` the Gaussian of variance ``2 tau``.
@@ -298,7 +298,7 @@ def rayleigh_pdf(p: ArrayLike, V: ArrayLike) -> FloatOrArray:
     """Small-load conditional pressure PDF ``(p/V) exp(-p^2/(2V))`` [1/Pa], zero for ``p < 0``.
 
     This is the load-independent limit of ``P(p)/(A/A0)`` for ``p0 << sqrt(V)``
-    (physics.md §1.3-5); its mean is ``sqrt(pi V / 2)``.
+    (:cite:p:`persson2001`); its mean is ``sqrt(pi V / 2)``.
 
     Parameters
     ----------

@@ -7,7 +7,8 @@ or boundary changed reaches every quantity below. The spectrum enters only throu
 the integrals (``q^2 C``, the diffusion time ``tau_c = (pi/4) E*^2 int q^3 C`` of the elastic
 coefficient, the rms height of the finer scales).
 
-Conventions (physics.md §5): ``q = zeta q_L`` [1/m], ``G = tau_c / p0^2`` [1], arrays of a curve
+Conventions (:cite:p:`persson2007,yang2008`): ``q = zeta q_L`` [1/m], ``G = tau_c / p0^2`` [1],
+arrays of a curve
 have shape ``(n_load, n_zeta)`` (a 1-D curve is one load), ``zeta[0] == 1``. The curve that enters
 the energy is ``F = A S`` with the correction factor ``S = d tau_eff / d tau_c`` of the scene's
 closure (``S = 1`` without a closure; Yang & Persson 2008 use ``S = gamma + (1 - gamma) A^2``).
@@ -19,7 +20,7 @@ full_contact_energy(psd, E_star, q_lo=None, q_hi=None)
     flat, ``(pi E*/2) int_{q_lo}^{q_hi} q^2 C dq`` [J/m^2]; vectorised over ``q_lo`` (the
     adhesion plugin's ``U_el`` of the finer scales).
 elastic_energy(psd, E_star, zeta, area, s_factor=None, non_area=None)
-    ``U_el/A0 = (pi E*/2) int q^2 C A S dq`` [J/m^2] per load (physics.md §5.1).
+    ``U_el/A0 = (pi E*/2) int q^2 C A S dq`` [J/m^2] per load (:cite:p:`persson2007,yang2008`).
 mean_gap(psd, E_star, p0, zeta, area, s_factor=None, non_area=None)
     Mean interfacial separation ``u(p0)`` [m] from virtual work ``p = -dU_el/du`` (§5.2).
 mean_gap_slope(psd, E_star, p0, zeta, area, s_factor=None, non_area=None)
@@ -53,7 +54,7 @@ universal function, and exchanging the integrals gives
     u(p0) = pi int q^2 C(q) w(q) Phi(G(q)) dq,    Phi(G) = int_0^G sqrt(G') (-dF(G')),
 
 ``w = (pi int_{q_L}^q q'^3 C)^(-1/2)``; for Persson 2001 ``Phi = E1(1/(4G)) / (2 sqrt(pi))``,
-the exponential-integral form of physics.md §5.2. Likewise
+the exponential-integral form of :cite:p:`persson2007,yang2008`. Likewise
 ``du/dp0 = -(4/(E* p0^2)) int (tau_c/q) (-dF)``. The mean separation of the apparent contact at
 magnification ``zeta`` (lower cut-off ``zeta q_L``, pressure ``p0/A(zeta)``; §5.5, §6.1) uses the
 same ``Phi`` with ``tau_c`` counted from ``zeta``.
@@ -140,7 +141,8 @@ def mean_gap(
     s_factor: ArrayLike | None = None,
     non_area: ArrayLike | None = None,
 ) -> NDArray[np.float64]:
-    """Mean interfacial separation ``u(p0)`` [m] of the solved curve (physics.md §5.2).
+    """Mean interfacial separation ``u(p0)`` [m] of the solved curve
+    (:cite:p:`persson2007,yang2008`).
 
     Virtual work ``p = -dU_el/du`` with ``U_el`` of :func:`elastic_energy`, for a curve that is
     a function of ``G = tau_c/p0^2`` alone (see the module docstring).
@@ -180,7 +182,8 @@ def contact_stiffness(
     s_factor: ArrayLike | None = None,
     non_area: ArrayLike | None = None,
 ) -> NDArray[np.float64]:
-    """Normal contact stiffness per nominal area ``K = -dp0/du`` [Pa/m] (physics.md §5.4).
+    """Normal contact stiffness per nominal area ``K = -dp0/du`` [Pa/m]
+    (:cite:p:`persson2007,yang2008`).
 
     ``-du/dp0`` is a positive integral of ``-dF`` taken from ``ln(1 - F)``, so near full contact
     (``1 - A`` down to 1e-12 and below) ``K`` follows its asymptote ``K ~ 1/int (tau_c/q) dN``
@@ -202,7 +205,7 @@ def detachment(
     refine: int = 1,
     separation: str = "almqvist",
 ) -> Detachment:
-    """Detached-area bins of the closed-form gap distribution (physics.md §5.5a).
+    """Detached-area bins of the closed-form gap distribution (:cite:p:`almqvist2011`).
 
     Bin ``k`` between edges ``zeta_{k-1}, zeta_k`` carries the detached area ``A_{k-1} - A_k``
     at ``u1 = (A_{k-1} u_{k-1} - A_k u_k) / (A_{k-1} - A_k)`` (finite-volume ``d(A u)/dA``), so
@@ -250,7 +253,7 @@ def separation_of_detaching_area(
 
     Central finite volume over ``zeta_at exp(+-rel_step)`` (second order) with the area
     interpolated on the curve and the sub-problem mean separation of :func:`detachment`
-    (physics.md §6.1, the critical constriction of the leakage theory).
+    (:cite:p:`persson2008leak`, the critical constriction of the leakage theory).
     """
     sc = SolvedContact(psd, E_star, p0, zeta, area, s_factor, non_area)
     return sc.separation_at(zeta_at, rel_step=rel_step)

@@ -1,6 +1,7 @@
 """Isotropic surface-roughness power spectra (pure numpy, SI units).
 
-All spectra are stored internally in **Persson's isotropic convention** (physics.md §0, §8.1):
+All spectra are stored internally in **Persson's isotropic convention**
+(:cite:p:`jacobs2017,persson2005`):
 
 .. math::
 

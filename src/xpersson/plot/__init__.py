@@ -14,14 +14,14 @@ temperature). The user guide's "Plots" page says what each needs in the scene.
 
 The package, one job per module: ``_units`` (human units and labels), ``_figure`` (matplotlib
 access, new axes, log axes), ``_lines`` (curves, legends, colour bar), ``_kinds`` (the kinds drawn
-straight from the Dataset), ``_friction`` (mu(v), re-solving a one-speed scene); this face holds
-the kind table, :func:`plot` and :func:`save`.
+straight from the Dataset), ``_friction`` (mu(v), re-solving a one-speed scene), ``_titles`` (the
+suptitle from the archive's metadata); this face holds the kind table, :func:`plot` and
+:func:`save`.
 """
 
 from __future__ import annotations
 
 import os
-import textwrap
 from collections.abc import Callable
 from typing import Any
 
@@ -30,6 +30,7 @@ import xarray as xr
 from ._figure import MatplotlibMissingError, pyplot
 from ._friction import friction
 from ._kinds import area, energy, gap_pdf, leakage, pressure_pdf
+from ._titles import suptitle
 from ._units import human, text
 
 __all__ = [
@@ -46,6 +47,7 @@ __all__ = [
     "energy",
     "friction",
     "save",
+    "suptitle",
 ]
 
 KINDS: dict[str, Callable[..., Any]] = {
@@ -68,12 +70,14 @@ def plot(ds: xr.Dataset, kind: str = "area", ax: Any = None, **kwargs: Any) -> A
 def save(ds: xr.Dataset, kind: str, path: str | os.PathLike[str], dpi: int = 150) -> str:
     """Draw ``kind`` into a new figure and write it to ``path`` (PNG, PDF, SVG); returns it.
 
-    The Dataset's title is the figure's suptitle (wrapped); the kind's own subtitle stays."""
+    The figure's suptitle comes from the archive's own metadata (:func:`suptitle`: its title,
+    the swept values it holds, the ``--set`` overrides in its history); the kind's own axes
+    title says what is drawn."""
     plt = pyplot()
     ax = plot(ds, kind)
-    title = ds.attrs.get("title")
+    title = suptitle(ds)
     if title:
-        ax.figure.suptitle(textwrap.fill(str(title), 60), fontsize="large")
+        ax.figure.suptitle(title, fontsize="large")
         ax.title.set_fontsize("medium")
     ax.figure.savefig(path, dpi=dpi)
     plt.close(ax.figure)

@@ -46,6 +46,17 @@ def _friction_sweep(ds: xr.Dataset, speeds: np.ndarray, temps: list[float]) -> x
             ) from exc
 
 
+def _star(speed: float, temperature: float) -> Any:
+    """The legend entry of the archive's own point: a star at its speed [m/s] and temperature
+    [K]."""
+    from matplotlib.lines import Line2D
+
+    where = f"{text(speed, 'm s-1')}, {text(temperature, 'K')}"
+    return Line2D(
+        [], [], color="k", ls="none", marker="*", ms=9, label=f"the archive's point ({where})"
+    )
+
+
 def friction(
     ds: xr.Dataset,
     ax: Any = None,
@@ -67,9 +78,9 @@ def friction(
     resolve : bool
         When ``ds`` holds one sliding speed, re-solve its stored scene over ``speeds`` at its
         temperature (``rubber_temperature`` [K]) and 20 K below and above (about 10 s); the
-        stored point is marked. A Dataset that cannot be re-solved (no stored scene, no
-        ``rubber_temperature``, a plugin missing here) is a ValueError; ``resolve=False`` draws
-        mu versus p0 at the one speed instead.
+        stored point is marked by a star, explained in the legend. A Dataset that cannot be
+        re-solved (no stored scene, no ``rubber_temperature``, a plugin missing here) is a
+        ValueError; ``resolve=False`` draws mu versus p0 at the one speed instead.
     speeds : array_like, optional
         Sliding speeds [m/s] of the re-solve (default 17 values from 1e-8 to 1e2 m/s).
     """
@@ -79,7 +90,7 @@ def friction(
         speed = need(ds, "sliding_speed", _NO_RESOLVE)
         t0 = float(need(ds, "rubber_temperature", _NO_RESOLVE))
         v = np.geomspace(1e-8, 1e2, 17) if speeds is None else np.asarray(speeds, float)
-        point = (float(speed), ds["mu"])
+        point = (float(speed), ds["mu"], t0)
         ds = _friction_sweep(ds, v, [t0 - 20.0, t0, t0 + 20.0])
         mu = ds["mu"]
     if "v" not in mu.dims:
@@ -89,7 +100,8 @@ def friction(
     if "mu_visc" in ds:
         items.append(("viscoelastic part", ds["mu_visc"].isel(heavy)))
     mu = items[0][1]
-    ax = lines(ax, items, "v", max_curves=max_curves)
+    extra = [] if point is None else [_star(point[0], point[2])]
+    ax = lines(ax, items, "v", max_curves=max_curves, extra=extra)
     ax.set_xscale("log")
     ax.set_ylim(bottom=0)
     ax.set_ylabel(r"friction coefficient $\mu$")

@@ -97,6 +97,7 @@ def gap_pdf(ds: xr.Dataset, ax: Any = None, max_curves: int = 12) -> Any:
         ax, [("P(u)", g.where(g > 0))], x, max_curves=max_curves, ylabel="gap distribution P(u)"
     )
     log_limits(ax, 6)
+    ax.set_title("distribution of interfacial separations")
     return ax
 
 
@@ -140,4 +141,5 @@ def energy(ds: xr.Dataset, ax: Any = None, max_curves: int = 12) -> Any:
     )
     logx(ax)
     log_limits(ax, 8)
+    ax.set_title("elastic energy stored in the deformed solid")
     return ax

@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from ._figure import new_axes, scaled_formatter
-from ._units import SYMBOLS, human, label, text
+from ._units import SYMBOLS, compact, human, label, text
 
 __all__ = ["lines"]
 
@@ -54,9 +54,14 @@ def lines(
     *,
     max_curves: int = 12,
     ylabel: str | None = None,
+    extra: list[Any] | None = None,
 ) -> Any:
     """Draw every quantity of ``items`` (name, DataArray) along dimension ``x`` on ``ax`` (a new
-    figure when None) and return the Axes; at most ``max_curves`` curves per quantity."""
+    figure when None) and return the Axes; at most ``max_curves`` curves per quantity.
+
+    When fewer than all values of the colour dimension are drawn, its legend title (or colour
+    bar label) says how many of how many; ``extra`` legend handles (a marked point) join the
+    line-style legend."""
     ax = new_axes(ax)
     da0 = items[0][1]
     others = sorted((d for d in da0.dims if d != x), key=lambda d: -da0.sizes[d])
@@ -64,7 +69,8 @@ def lines(
     xs = da0[x]
     xf = human(xs.attrs.get("units", "1"), xs.values)
     yf = human(da0.attrs.get("units", "1"), np.concatenate([d.values.ravel() for _, d in items]))
-    if da0.attrs.get("units") == f"{xs.attrs.get('units')}-1":  # a density along x: 1/(x unit)
+    # a density along x (P [Pa^-1] along p [Pa]): 1/(x unit), whatever the caret form
+    if compact(da0.attrs.get("units", "1")) == compact(f"{xs.attrs.get('units')}-1"):
         yf = (1.0 / xf[0], f"1/{xf[1]}")
     n_style = max([len(items)] + [da0.sizes[d] for d in sdims[:1]])
     cvals = np.asarray(da0[cdim].values, float) if cdim else np.zeros(1)
@@ -95,7 +101,8 @@ def lines(
     ax.set_xlabel(label(xs, x, xf))
     words = ylabel or str(da0.attrs.get("long_name", da0.name))
     ax.set_ylabel(f"{words} [{yf[1]}]" if yf[1] else words)
-    _legends(ax, items, cdim, cvals[cidx], norm, cmap, da0, sdims)
+    note = f" ({cidx.size} of {cvals.size} drawn)" if cidx.size < cvals.size else ""
+    _legends(ax, items, (cdim, note), cvals[cidx], norm, cmap, da0, sdims, extra or [])
     return ax
 
 
@@ -113,10 +120,12 @@ def _handle(entry: str, ls: str = "-", marker: str | None = None, color: Any = "
     return Line2D([], [], color=color, ls=ls, marker=marker, ms=4.5, lw=1.6, label=entry)
 
 
-def _legends(ax, items, cdim, cvals, norm, cmap, da0, sdims) -> None:  # noqa: ANN001
-    """Colour legend (or colour bar) and line-style legend, outside the axes of our figures."""
+def _legends(ax, items, cdim_note, cvals, norm, cmap, da0, sdims, extra) -> None:  # noqa: ANN001
+    """Colour legend (or colour bar) and line-style legend, outside the axes of our figures;
+    ``cdim_note`` is the colour dimension and the note on how many of its values are drawn."""
     from matplotlib.cm import ScalarMappable
 
+    cdim, note = cdim_note
     units = da0[cdim].attrs.get("units", "1") if cdim else "1"
     colour = [_handle(text(v, units), color=cmap(norm(v))) for v in cvals[::-1]]
     styles, stitle = [], None
@@ -126,6 +135,7 @@ def _legends(ax, items, cdim, cvals, norm, cmap, da0, sdims) -> None:  # noqa: A
         su, stitle = da0[sdims[0]].attrs.get("units", "1"), SYMBOLS.get(sdims[0], sdims[0])
         values = np.asarray(da0[sdims[0]].values, float)
         styles = [_handle(text(v, su), STYLES[i % 4], MARKERS[i % 6]) for i, v in enumerate(values)]
+    styles = styles + list(extra)
     kw: dict[str, Any] = {"fontsize": "small", "frameon": False}
     fig = ax.figure
     own = type(fig.get_layout_engine()).__name__ == "ConstrainedLayoutEngine" and (
@@ -134,17 +144,16 @@ def _legends(ax, items, cdim, cvals, norm, cmap, da0, sdims) -> None:  # noqa: A
     if cdim and len(cvals) > MAX_LEGEND:
         factor, unit = human(units, cvals)
         bar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, pad=0.02)
-        bar.set_label(label(da0[cdim], cdim, (factor, unit)))
+        bar.set_label(label(da0[cdim], cdim, (factor, unit)) + note)
         if factor != 1.0:
             bar.formatter = scaled_formatter(factor)
             bar.update_ticks()
     elif cdim and len(cvals) > 1:
+        title = SYMBOLS.get(cdim, cdim) + note
         if own:
-            fig.legend(
-                handles=colour, title=SYMBOLS.get(cdim, cdim), loc="outside right upper", **kw
-            )
+            fig.legend(handles=colour, title=title, loc="outside right upper", **kw)
         else:
-            ax.add_artist(ax.legend(handles=colour, title=SYMBOLS.get(cdim, cdim), **kw))
+            ax.add_artist(ax.legend(handles=colour, title=title, **kw))
     if not styles:
         return
     if own and cdim and 1 < len(cvals) <= MAX_LEGEND:

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-__all__ = ["human", "text"]
+__all__ = ["human", "text", "compact"]
 
 # human prefixes per CF unit: (factor in SI, text), largest first
 _PREFIXES: dict[str, list[tuple[float, str]]] = {
@@ -24,6 +24,11 @@ _PREFIXES: dict[str, list[tuple[float, str]]] = {
 # units without prefixes: their text
 _PLAIN = {"1": "", "m-1": "1/m", "m2": "m²", "K": "K"}
 SYMBOLS = {"p0": "$p_0$", "zeta": r"$\zeta$", "v": "$v$", "T": "$T$", "p": "$p$", "u": "$u$"}
+
+
+def compact(units: str) -> str:
+    """A CF unit string without carets: the stored ``"Pa^-1"`` and the compact ``"Pa-1"`` alike."""
+    return str(units).replace("^", "")
 
 
 def human(units: str, values: Any) -> tuple[float, str]:
@@ -42,7 +47,7 @@ def human(units: str, values: Any) -> tuple[float, str]:
     factor, text : float, str
         Divide the values by ``factor`` to express them in ``text`` (``(1e6, "MPa")``).
     """
-    units = units.replace("^", "")  # stored "m s^-1" and compact "m s-1" alike
+    units = compact(units)  # stored "m s^-1" and compact "m s-1" alike
     table = _PREFIXES.get(units)
     if not table:
         return 1.0, _PLAIN.get(units, units)

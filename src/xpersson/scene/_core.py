@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from ..plugins import PLUGIN_GROUPS, ParamSpec, Plugin
+from ..schema import METADATA_KEYS  # noqa: F401 - re-exported: the scene validates [metadata]
 
 __all__ = [
     "CORE",
@@ -147,17 +148,6 @@ PLUGIN_SECTIONS = {s: g for s, g in PLUGIN_GROUPS.items() if s != "analysis"}
 """The scene's plugin sections -> their group (:data:`xpersson.plugins.PLUGIN_GROUPS`)."""
 DEFAULT_MODEL = {"coefficient": "elastic", "boundary": "elastic"}
 TOP_LEVEL = {"title", "description", "metadata", "analyses", "sweep", *CORE, *PLUGIN_SECTIONS}
-# ACDD-1.3 discovery attributes a scene's [metadata] table may set (strings; stored as global
-# attributes of the archive, overriding xpersson's defaults for summary and keywords)
-METADATA_KEYS = frozenset(
-    {
-        "acknowledgement", "comment", "contributor_name", "contributor_role", "creator_email",
-        "creator_institution", "creator_name", "creator_type", "creator_url", "id",
-        "institution", "keywords", "keywords_vocabulary", "license", "naming_authority",
-        "processing_level", "product_version", "program", "project", "publisher_email",
-        "publisher_institution", "publisher_name", "publisher_type", "publisher_url", "summary",
-    }
-)  # fmt: skip
 
 
 @dataclass

@@ -29,6 +29,7 @@ from ..plugins import get_registry
 from ..scene import SceneError
 from ._fastfail import warn_failures
 from ._quiet import silenced
+from ._workers import check_workers, ran_on
 from .batched import SweepPoints, batch_capable, material_dims, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
 from .combine import finish
@@ -221,6 +222,7 @@ def solve_sweep(
     unless ``overwrite``.
     """
     _check_scheduler(scheduler)
+    asked = scheduler
     if scheduler == "processes" and _too_small_for_a_cluster(plan, registry):
         scheduler = None
     distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
@@ -229,6 +231,13 @@ def solve_sweep(
     client, own_cluster, n_workers = _client(scheduler, workers)
     txn = None
     try:
+        if client is not None:  # every worker has the scene's plugins: one line if not
+            check_workers(
+                client,
+                _resolve_index(
+                    plan, (0,) * len(plan.shape), registry or get_registry()
+                ).plugin_records,
+            )
         layout = {
             "points_per_block": _points_per_block(
                 plan, n_workers, chunk, client is None and scheduler != "threads" and output is None
@@ -260,7 +269,10 @@ def solve_sweep(
         results = _run_tasks(plan, tasks, registry, scheduler, client, n_workers, progress, txn)
         warn_failures(results, stacklevel=4)  # out of the silenced run: the user sees it
         results = sorted([*results, *done.values()], key=lambda r: r.block.number)
-        return finish(plan, points, results, txn)
+        ds = finish(plan, points, results, txn)
+        if asked != scheduler:  # e.g. a small study asked for processes ran serially
+            ds.attrs["xpersson_scheduler"] = ran_on(asked, scheduler, n_workers)
+        return ds
     finally:
         if txn is not None:
             txn.release()

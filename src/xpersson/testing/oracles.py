@@ -1,4 +1,5 @@
-"""Independent closed forms (physics.md §1.2, §2.2, §3.1) to test solutions against.
+"""Independent closed forms (:cite:p:`persson2001,persson2006`, :doc:`/theory/03_absorbing_wall`)
+to test solutions against.
 
 Plain functions of SI floats or arrays; numpy and scipy are imported when called.
 """
@@ -27,7 +28,7 @@ def _erf(x: Any) -> Any:
 
 
 def mirrored_gaussian_area(p0: Any, tau: Any) -> Any:
-    """Elastic contact area A/A0 = erf(p0 / (2 sqrt(tau))) (physics.md §1.2).
+    """Elastic contact area A/A0 = erf(p0 / (2 sqrt(tau))) (:cite:p:`persson2001`).
 
     Parameters
     ----------
@@ -78,7 +79,8 @@ def _linear_wall_terms(p0: Any, s0: Any, c: Any, tau: Any) -> tuple[Any, ...]:
 
 
 def linear_wall_area(p0: Any, s0: Any, c: Any, tau: Any) -> Any:
-    """Exact area for the absorbing wall p_w(tau) = -(s0 + c tau) (physics.md §2.2).
+    """Exact area for the absorbing wall p_w(tau) = -(s0 + c tau)
+    (:doc:`/theory/03_absorbing_wall`).
 
     A/A0 = Phi((y0 + c tau)/sqrt(2 tau)) - exp(-c y0) Phi((c tau - y0)/sqrt(2 tau)),
     y0 = p0 + s0. Units: p0, s0 [Pa], c [1/Pa], tau [Pa^2].
@@ -100,7 +102,7 @@ def linear_wall_load(p0: Any, s0: Any, c: Any, tau: Any) -> Any:
 
 
 def two_wall_areas(p0: float, sigma_y: float, tau: Any) -> tuple[Any, Any]:
-    """Elastic and plastic area for fixed walls at 0 and sigma_y (physics.md §3.1).
+    """Elastic and plastic area for fixed walls at 0 and sigma_y (:cite:p:`persson2006`).
 
     Sine series ``A_el = sum_odd 4/(n pi) sin(n pi p0/sY) exp(-(n pi/sY)^2 tau)`` and
     ``A_pl = p0/sY - sum_n 2/(n pi) (-1)^(n+1) sin(n pi p0/sY) exp(-(n pi/sY)^2 tau)`` (image

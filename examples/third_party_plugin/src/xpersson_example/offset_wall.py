@@ -1,8 +1,8 @@
 """A constant-offset absorbing wall: P(-s, zeta) = 0 (constant adhesive stress sigma_a = s).
 
-Persson's adhesive boundary condition (physics.md §2.1) with a scale-independent detachment
+Persson's adhesive boundary condition (Persson & Tosatti 2001) with a scale-independent detachment
 stress: contact patches carry tensile stress down to ``-s`` and detach when they reach it. The
-exact image solution (physics.md §2.2, diffusion time tau in Pa^2) is
+exact image solution (of a linearly moving absorbing wall, diffusion time tau in Pa^2) is
 
 .. math::
 
