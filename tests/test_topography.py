@@ -87,7 +87,7 @@ def test_topography_default_range_and_bad_range(topography_file):
         }
     )
     assert ds.q_psd[0] == pytest.approx(Q_L, rel=1e-6)
-    with pytest.raises(SceneError, match=r"spectrum: q_L, q_1: need"):
+    with pytest.raises(SceneError, match=r"spectrum.q_1: need q_L < q_1 <= "):
         xpersson.solve(
             {
                 "spectrum": {"model": "topography", "file": str(topography_file), "q_1": "1e9 1/m"},

@@ -72,14 +72,17 @@ def test_topography_object_in_a_python_scene(cut_map):
 
 
 def test_psd_computed_by_surface_topography(cut_map):
-    """(q, C) from power_spectrum_from_area, in its convention and the map's units."""
+    """(q, C) from power_spectrum_from_area, in its convention and the map's units, solves;
+    it loses part of the map's roughness (the |k| = 1 ring at q_L, the band above its last
+    bin centre), which the map's own table keeps (issue 35)."""
     q, C = cut_map.power_spectrum_from_area(nb_points_per_decade=20)
     q, C = q[C > 1e-40], C[C > 1e-40]
     spectrum = {"model": "tabulated", "convention": "surface_topography",
                 "q": [f"{x} 1/m" for x in q], "C": [f"{x} m**4" for x in C]}  # fmt: skip
     ds = xpersson.solve({"spectrum": spectrum, **SOLID})
     obj = xpersson.solve({"spectrum": cut_map, **SOLID})
-    np.testing.assert_allclose(ds.area_fraction.values, obj.area_fraction.values, rtol=1e-10)
+    assert float(ds.h_rms) < 0.995e-6  # the binned table: 0.988 um of 1 um
+    assert float(obj.h_rms) == pytest.approx(1e-6, rel=1e-9)
     rec = json.loads(ds.attrs["xpersson_scene"])["spectrum"]
     assert rec["convention"] == "persson"  # the archived table is converted once
 

@@ -20,6 +20,7 @@ Wavevectors ``q`` are in rad/m (written 1/m).
 
 from __future__ import annotations
 
+from ._map_spectrum import Rings, combine_tables, map_rings, profile_rings, table_from_rings
 from ._self_affine import SelfAffineRollOff
 from ._spectrum import CONVENTIONS, PowerSpectrum, profile_factor
 from ._tabulated import Convention, Tabulated
@@ -28,7 +29,12 @@ __all__ = [
     "CONVENTIONS",
     "Convention",
     "PowerSpectrum",
+    "Rings",
     "SelfAffineRollOff",
     "Tabulated",
     "profile_factor",
+    "map_rings",
+    "profile_rings",
+    "table_from_rings",
+    "combine_tables",
 ]
