@@ -269,7 +269,7 @@ def table_of(parts: list[Measured], ppd: int) -> tuple[np.ndarray, np.ndarray, d
     tables = []
     for m in parts:
         rings = _rings(m, ppd)
-        q, C = _psd.table_from_rings(rings)
+        q, C = _psd.table_from_rings(rings, low_end=m.heights.ndim == 1)
         weight = np.concatenate(([rings.modes[0]], rings.modes, [rings.modes[-1]]))
         if m.q_reliable is not None and m.q_reliable < q[-1]:  # the tip's limit
             m.provenance["tip_limit_1_per_m"] = m.q_reliable

@@ -6,20 +6,22 @@ convention). The estimator (docs: "From a measured surface"):
 1. **Rings of modes** (:func:`map_rings`, periodic maps): the discrete Fourier transform gives
    each wavevector ``k`` of the map the variance ``v_k = |h_k|^2`` (``sum v_k`` is the map's
    variance, Parseval) and the mean-square gradient ``|k|^2 v_k`` (the spectral derivative).
-   The modes are grouped into logarithmic rings starting at the smallest ``|k|`` (``q_L =
-   2 pi / L``); empty rings are merged into the ring below.
+   The modes are grouped into logarithmic rings of ``|k|``; each mode owns the cell
+   ``(2 pi)^2 / A`` of wavevector space (``A`` the map's area), and a ring of ``M`` modes is
+   the annulus of area ``M (2 pi)^2 / A`` (equal measure, the mean's own cell a disk at the
+   centre). The PSD of a ring is then its mean variance density, unbiased for an isotropic
+   surface even where the rings hold a handful of modes; the table starts at the mean's cell,
+   ``q_0 = 2 pi / sqrt(pi A)`` (0.56 times ``2 pi / L`` for a square map), where the cells of
+   the ``|k| = 2 pi / L`` modes begin.
 2. **The table** (:func:`table_from_rings`): one node at the log-centre of each ring, plus the
-   ring system's two ends (``q_L`` and the largest ``|k|`` with power); the values are set so
-   that the table's integral ``2 pi int q C dq`` over every ring equals the ring's variance
-   (fixed-point iteration), then multiplied by a power law ``a (q / q_g)^b`` so that the
-   table's mean-square height and gradient, integrated as the engine integrates them
-   (piecewise power law), equal the map's exactly.
+   ring system's two ends; the values are set so that the table's integral
+   ``2 pi int q C dq`` over every ring equals the ring's variance (fixed-point iteration),
+   then multiplied by a power law ``a (q / q_g)^b`` so that the table's mean-square height and
+   gradient, integrated as the engine integrates them (piecewise power law), equal the map's
+   exactly (``b`` is a few 1e-3: the modes' ``|k|^2`` within a ring).
 
-The map's variance and slope are kept to round-off; what the table shows in each ring is the
-mean variance density of the ring's modes (unbiased for an isotropic surface, with the
-periodogram's scatter: relative error ``1/sqrt(modes)`` per ring). The first ring (the |k| = 1
-modes, four of them) keeps its whole variance on ``[q_L, q_L 10^(1/ppd)]``, so its C is higher
-than a continuum estimate would put there; its slope share is exact within the tilt.
+The map's variance and slope are kept to round-off; each ring's variance to a few 1e-3; the
+scatter of a measured ring is the periodogram's, ``1 / sqrt(modes)`` relative.
 """
 
 from __future__ import annotations
@@ -29,9 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import brentq
+from scipy.optimize import brentq, nnls
 
-from ._spectrum import _TWO_PI_SQ, profile_factor
 from ._tabulated import Tabulated
 
 __all__ = ["Rings", "map_rings", "profile_rings", "table_from_rings", "combine_tables"]
@@ -68,34 +69,38 @@ def _ring_index(k: NDArray[np.float64], k0: float, ppd: int) -> NDArray[np.intp]
     return np.floor(ppd * np.log10(k / k0) + 1e-9).astype(np.intp)
 
 
-def _rings_of_modes(k: NDArray[np.float64], v: NDArray[np.float64], ppd: int) -> Rings:
-    """Rings of the modes ``k`` [1/m] with variances ``v`` [m^2] (zero-power tail cut)."""
+def _cell_edge(count: NDArray[np.float64], cell: float, dim: int) -> NDArray[np.float64]:
+    """The wavevector [1/m] enclosing ``count`` modes (the mean included), each owning the
+    measure ``cell`` of wavevector space: ``pi q^2 = count cell`` (2-D), ``q = (count - 1/2)
+    cell`` (1-D: ``+k`` and ``-k`` each own ``cell``, half the spacing of the modes)."""
+    if dim == 2:
+        return np.sqrt(count * cell / np.pi)
+    return count * cell
+
+
+def _rings_of_modes(
+    k: NDArray[np.float64], v: NDArray[np.float64], ppd: int, cell: float, dim: int
+) -> Rings:
+    """Rings of the modes ``k`` [1/m] with variances ``v`` [m^2] (zero-power tail cut).
+
+    Each ring holds the modes whose ``|k|`` falls in one logarithmic bin; its edges are the
+    wavevectors enclosing as many cells as there are modes below (equal measure), so that the
+    mean variance density of a ring, ``var / (modes cell)``, is the ring's PSD.
+    """
     keep = k > 0
     k, v = k[keep], v[keep]
     total = float(v.sum())
     if not total > 0:
         raise ValueError("the heights are constant (no roughness)")
-    powered = v > ROUND_OFF * total
-    k_top = float(k[powered].max())
+    k_top = float(k[v > ROUND_OFF * total].max())
     inside = k <= k_top
     k, v = k[inside], v[inside]
-    k0 = float(k.min())
-    idx = _ring_index(k, k0, ppd)
-    used = np.unique(idx)
-    var = np.bincount(np.searchsorted(used, idx), weights=v)
-    modes = np.bincount(np.searchsorted(used, idx))
-    ring = np.searchsorted(used, idx)
-    k_lo = np.full(used.size, np.inf)
-    k_hi = np.zeros(used.size)
-    np.minimum.at(k_lo, ring, k)
-    np.maximum.at(k_hi, ring, k)
-    if used.size > 1 and k_hi[-1] == k_lo[-1]:  # one shell alone on top: merge it below
-        var[-2] += var[-1]
-        modes[-2] += modes[-1]
-        k_hi[-2] = k_hi[-1]
-        var, modes, k_lo, k_hi = var[:-1], modes[:-1], k_lo[:-1], k_hi[:-1]
-    # edges in the middle (log) of the gaps between the rings' modes; the ends at the modes
-    edges = np.concatenate(([k0], np.sqrt(k_hi[:-1] * k_lo[1:]), [k_top]))
+    idx = _ring_index(k, float(k.min()), ppd)
+    used, ring = np.unique(idx, return_inverse=True)
+    var = np.bincount(ring, weights=v)
+    modes = np.bincount(ring)
+    below = np.concatenate(([1.0], 1.0 + np.cumsum(modes)))  # the mean's own cell first
+    edges = _cell_edge(below, cell, dim)
     return Rings(edges, var, modes.astype(np.int64), float(v.sum()), float((k**2 * v).sum()))
 
 
@@ -113,57 +118,65 @@ def map_rings(heights: NDArray[np.float64], sizes: tuple[float, float], ppd: int
     """
     h = np.asarray(heights, float)
     nx, ny = h.shape
-    hk = np.fft.rfft2(h - h.mean()) / h.size
-    v = np.abs(hk) ** 2
-    v[:, 1:] *= 2.0  # the rfft's half plane: every column but q_y = 0 (and Nyquist) twice
-    if ny % 2 == 0:
-        v[:, -1] /= 2.0
+    v = np.abs(np.fft.fft2(h - h.mean()) / h.size) ** 2
     kx = 2 * np.pi * np.fft.fftfreq(nx, sizes[0] / nx)
-    ky = 2 * np.pi * np.fft.rfftfreq(ny, sizes[1] / ny)
+    ky = 2 * np.pi * np.fft.fftfreq(ny, sizes[1] / ny)
     k = np.hypot(kx[:, None], ky[None, :])
-    return _rings_of_modes(k.ravel(), v.ravel(), ppd)
+    cell = (2 * np.pi) ** 2 / (sizes[0] * sizes[1])
+    return _rings_of_modes(k.ravel(), v.ravel(), ppd, cell, 2)
 
 
 def profile_rings(heights: NDArray[np.float64], length: float, ppd: int) -> Rings:
     """Rings of an isotropic surface seen through a periodic line scan (2-D, Persson).
 
-    The scan's 1-D periodogram (JJP convention, ``C1D``) is binned in rings; each ring's 2-D
-    density is ``C_iso = C1D / (K(H) q (2 pi)^2)`` with the local Hurst exponent of the binned
-    ``C1D`` (:func:`~xpersson.physics.psd.profile_factor`: the inverse of the Abel-type
-    relation ``C1D(q_x) = int dq_y C_iso(|q|)``, exact for a power law), and the whole
-    is normalised to the scan's variance and to twice its mean-square profile slope (an
-    isotropic surface's 2-D gradient).
+    The scan's variance in the band ``a <= |q_x| < b`` is the isotropic PSD integrated over
+    the strip ``a <= |q_x| < b`` of the plane (the Abel-type relation between the 1-D and the
+    2-D spectrum). With a constant PSD on each ring, this is a triangular linear system
+    (the areas of annulus-strip intersections, in closed form), solved for non-negative ring
+    densities (``scipy.optimize.nnls``). The totals are the scan's variance and twice its
+    mean-square profile slope (an isotropic surface's mean-square 2-D gradient).
 
     Parameters
     ----------
     heights : ndarray
-        ``(n,)`` heights [m] of a periodic line scan.
+        ``(n,)`` heights [m] of a periodic line scan, or ``(m, n)``: ``m`` parallel scans
+        (their periodograms averaged).
     length : float
         Scan length [m].
     ppd : int
         Rings per decade of wavevector.
     """
-    h = np.asarray(heights, float)
-    n = h.size
-    hk = np.fft.rfft(h - h.mean()) / n
-    v = np.abs(hk) ** 2
-    v[1:] *= 2.0
-    if n % 2 == 0:
-        v[-1] /= 2.0
-    k = 2 * np.pi * np.fft.rfftfreq(n, length / n)
-    r1 = _rings_of_modes(k, v, ppd)
-    dk = 2 * np.pi / length
-    width = np.maximum(np.diff(r1.edges), dk)
-    c1d = np.pi * r1.var / width  # JJP: h^2 = (1/pi) int C1D dq
-    centre = np.sqrt(r1.edges[:-1] * r1.edges[1:])
-    if centre.size > 2:
-        slope = np.gradient(np.log(c1d), np.log(centre), edge_order=1)
-    else:
-        slope = np.full(centre.size, -2.0)
-    h_loc = np.clip(-(1.0 + slope) / 2.0, 0.0, 1.0)
-    c_iso = c1d / (profile_factor(h_loc) * centre) / _TWO_PI_SQ
-    var = c_iso * np.pi * (r1.edges[1:] ** 2 - r1.edges[:-1] ** 2)
-    return Rings(r1.edges, var, r1.modes, r1.h2, 2.0 * r1.s2)
+    h = np.atleast_2d(np.asarray(heights, float))
+    n = h.shape[1]
+    v = np.mean(np.abs(np.fft.fft(h - h.mean(axis=1, keepdims=True), axis=1) / n) ** 2, axis=0)
+    k = np.abs(2 * np.pi * np.fft.fftfreq(n, length / n))
+    r1 = _rings_of_modes(k, v, ppd, np.pi / length, 1)
+    e = r1.edges
+    area = np.pi * (e[1:] ** 2 - e[:-1] ** 2)
+    density = nnls(_strip_areas(e) / area, r1.var / r1.var.sum())[0] * r1.var.sum()
+    if not np.any(density > 0):
+        raise ValueError("the line scan's spectrum has no isotropic counterpart")
+    keep = density > 0  # rings the inversion leaves empty: merged into the ring below
+    keep[0] = True
+    var = np.add.reduceat(density, np.flatnonzero(keep))
+    edges = np.append(e[:-1][keep], e[-1])
+    var = np.maximum(var, ROUND_OFF * var.sum())
+    modes = np.add.reduceat(r1.modes, np.flatnonzero(keep))
+    return Rings(edges, var, modes, r1.h2, 2.0 * r1.s2)
+
+
+def _disk_strip(x: NDArray[np.float64], r: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Area of ``{|q| < r, |q_x| < x}`` (element-wise, ``x, r >= 0``)."""
+    t = np.minimum(x, r)
+    return 2.0 * (t * np.sqrt(np.maximum(r**2 - t**2, 0.0)) + r**2 * np.arcsin(t / r))
+
+
+def _strip_areas(e: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``A[i, j]``: area of the annulus ``e[j] <= |q| < e[j+1]`` within the strips
+    ``e[i] <= |q_x| < e[i+1]`` (both signs of ``q_x``, all ``q_y``) [1/m^2]."""
+    a, b = e[:-1, None], e[1:, None]
+    lo, hi = e[None, :-1], e[None, 1:]
+    return _disk_strip(b, hi) - _disk_strip(a, hi) - _disk_strip(b, lo) + _disk_strip(a, lo)
 
 
 def _ring_integrals(table: Tabulated, edges: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -189,7 +202,7 @@ def _nodes_values(rings: Rings, centre_C: NDArray[np.float64]) -> tuple[NDArray,
 
 
 def table_from_rings(
-    rings: Rings, iterations: int = 200, rtol: float = 1e-10
+    rings: Rings, iterations: int = 200, rtol: float = 1e-10, low_end: bool = False
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """A piecewise power-law table (Persson, SI) that keeps every ring's variance and the
     whole map's mean-square height and gradient.
@@ -200,6 +213,11 @@ def table_from_rings(
         From :func:`map_rings` or :func:`profile_rings`.
     iterations, rtol
         Of the fixed-point iteration on the ring integrals.
+    low_end : bool
+        Match the totals with an amplitude and the first ring's own factor instead of the
+        power-law tilt (a line scan: its first ring, ``q < 3 pi / L``, carries the
+        difference between the isotropic surface's variance and the profile's, which misses
+        the modes with ``|q_x| < pi / L``; the shape above is kept).
 
     Returns
     -------
@@ -217,7 +235,34 @@ def table_from_rings(
         if np.max(np.abs(ratio - 1.0)) < rtol:
             break
     q, C = _nodes_values(rings, c)
+    if low_end:
+        fitted = _low_end(q, C, rings.h2, rings.s2)
+        if fitted is not None:
+            return q, fitted
     return q, _tilt(Tabulated(q, C), rings.h2, rings.s2)
+
+
+def _low_end(
+    q: NDArray[np.float64], C: NDArray[np.float64], h2: float, s2: float
+) -> NDArray[np.float64] | None:
+    """``C`` scaled by ``a`` with its first ring (two nodes) by a further ``f``: the mean-square
+    gradient ``s2`` [1] and height ``h2`` [m^2] exactly, the shape above the first ring kept.
+    ``None`` when no ``f`` in (1e-6, 1e6) does it."""
+    first = np.zeros(q.size, bool)
+    first[:2] = True
+
+    def scaled(log_f: float) -> NDArray[np.float64]:
+        out = np.where(first, C * math.exp(log_f), C)
+        table = Tabulated(q, out)
+        return np.asarray(out * s2 / (2 * np.pi * table.moment(3.0)), float)
+
+    def gap(log_f: float) -> float:
+        return math.log(2 * np.pi * Tabulated(q, scaled(log_f)).moment(1.0) / h2)
+
+    lo, hi = math.log(1e-6), math.log(1e6)
+    if not gap(lo) < 0 < gap(hi):
+        return None
+    return scaled(brentq(gap, lo, hi, xtol=1e-12))
 
 
 def _tilt(table: Tabulated, h2: float, s2: float) -> NDArray[np.float64]:
