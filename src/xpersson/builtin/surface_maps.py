@@ -252,7 +252,7 @@ def _rings(m: Measured, ppd: int) -> _psd.Rings:
         r = _psd.map_rings(h, (m.sizes[0], m.sizes[1]), ppd)
     if m.periodic:
         m.s2 = r.s2  # a periodic map's own gradient: the spectral derivative
-    return _psd.Rings(r.edges, r.var, r.modes, m.h2, m.s2)
+    return _psd.Rings(r.edges, r.var, r.modes, m.h2, m.s2, r.centre)
 
 
 def table_of(parts: list[Measured], ppd: int) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
@@ -267,6 +267,7 @@ def table_of(parts: list[Measured], ppd: int) -> tuple[np.ndarray, np.ndarray, d
         for several), ``parts`` (each scan's provenance and band).
     """
     tables = []
+    finest = min(parts, key=lambda m: min(s / k for s, k in zip(m.sizes, m.heights.shape, strict=True)))
     for m in parts:
         rings = _rings(m, ppd)
         q, C = _psd.table_from_rings(rings, low_end=m.heights.ndim == 1)
@@ -282,6 +283,13 @@ def table_of(parts: list[Measured], ppd: int) -> tuple[np.ndarray, np.ndarray, d
             weight = np.append(weight[: cut.q_table.size - 1], weight[cut.q_table.size - 1])
             q, C = cut.q_table, cut.C_table
         tables.append((q, C, np.maximum(weight, 1).astype(float)))
+        nyquist = math.pi * min(k / s for s, k in zip(m.sizes, m.heights.shape, strict=True))
+        if len(parts) > 1 and m is not finest and nyquist < q[-1]:
+            # beyond its Nyquist wavevector a scan's rings are incomplete (the FFT grid's
+            # corners): there the finer scans speak
+            cut = _psd.Tabulated(q, C, q_1=nyquist)
+            weight = np.append(weight[: cut.q_table.size - 1], weight[cut.q_table.size - 1])
+            q, C = cut.q_table, cut.C_table
         m.provenance["band_1_per_m"] = [float(q[0]), float(q[-1])]
     if len(parts) == 1:
         q, C = tables[0][0], tables[0][1]

@@ -234,7 +234,8 @@ class Topography(ArchivedTable, Spectrum):
             parts = [measured_from_file(f, map_keys(p)) for f in files]
             q, C, record = table_of(parts, int(p["points_per_decade"]))
             self._params.update(record_params(record))
-            inline = _truncated(q, C, p["q_L"], p["q_1"], " and ".join(map(repr, files)))
+            what = " and ".join(map(repr, files))
+            inline = _truncated(q, C, p["q_L"], p["q_1"], what, int(p["points_per_decade"]))
         return attach_record(inline, self._params)
 
 
@@ -261,8 +262,10 @@ def record_params(record: dict[str, Any]) -> dict[str, Any]:
 
 
 def _truncated(
-    q: np.ndarray, C: np.ndarray, q_L: float | None, q_1: float | None, what: str
+    q: np.ndarray, C: np.ndarray, q_L: float | None, q_1: float | None, what: str, ppd: int
 ) -> _TabulatedPSD:
+    """The table on ``[q_L, q_1]``: a ``q_1`` within the last ring (the table ends at the
+    ring's equal-measure edge, a little below its last mode) is the table's end."""
     lo = float(q[0]) if q_L is None else q_L
     hi = float(q[-1]) if q_1 is None else q_1
     if not lo >= q[0] * (1 - 1e-6):
@@ -270,9 +273,9 @@ def _truncated(
             f"q_L: {lo:g} 1/m asks for wavelengths up to {2 * np.pi / lo:.4g} m, longer than "
             f"the scan {what} ({2 * np.pi / q[0]:.4g} m; q_L >= {q[0]:g} 1/m)"
         )
-    if not hi <= q[-1] * (1 + 1e-6) or not lo < hi:
+    if not hi <= q[-1] * 10 ** (1 / ppd) or not lo < hi:
         raise ValueError(
-            f"q_1: need q_L < q_1 <= {q[-1]:g} 1/m (the last mode with power of {what}); got "
+            f"q_1: need q_L < q_1 <= {q[-1]:g} 1/m (the end of the roughness of {what}); got "
             f"q_L = {lo:g}, q_1 = {hi:g} 1/m"
         )
     return _TabulatedPSD(q, C, "persson", q_L=max(lo, float(q[0])), q_1=min(hi, float(q[-1])))

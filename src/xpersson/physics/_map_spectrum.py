@@ -56,6 +56,9 @@ class Rings:
         Number of Fourier modes in each ring (0 where the ring comes from a binned PSD).
     h2, s2 : float
         The whole map's mean-square height [m^2] and mean-square (2-D) gradient [1].
+    centre : ndarray or None
+        Where each ring's PSD is placed [1/m]: the geometric mean of its modes' ``|k|``
+        (kept inside the ring); ``None``: the ring's log-centre.
     """
 
     edges: NDArray[np.float64]
@@ -63,6 +66,7 @@ class Rings:
     modes: NDArray[np.int64]
     h2: float
     s2: float
+    centre: NDArray[np.float64] | None = None
 
 
 def _ring_index(k: NDArray[np.float64], k0: float, ppd: int) -> NDArray[np.intp]:
@@ -101,7 +105,10 @@ def _rings_of_modes(
     modes = np.bincount(ring)
     below = np.concatenate(([1.0], 1.0 + np.cumsum(modes)))  # the mean's own cell first
     edges = _cell_edge(below, cell, dim)
-    return Rings(edges, var, modes.astype(np.int64), float(v.sum()), float((k**2 * v).sum()))
+    centre = np.exp(np.bincount(ring, weights=np.log(k)) / modes)
+    centre = np.clip(centre, edges[:-1] * 1.001, edges[1:] / 1.001)
+    s2 = float((k**2 * v).sum())
+    return Rings(edges, var, modes.astype(np.int64), float(v.sum()), s2, centre)
 
 
 def map_rings(heights: NDArray[np.float64], sizes: tuple[float, float], ppd: int) -> Rings:
@@ -187,7 +194,7 @@ def _ring_integrals(table: Tabulated, edges: NDArray[np.float64]) -> NDArray[np.
 def _nodes_values(rings: Rings, centre_C: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
     """Nodes (edges' ends and ring centres) and values (ends extrapolated log-log)."""
     e = rings.edges
-    centre = np.sqrt(e[:-1] * e[1:])
+    centre = np.sqrt(e[:-1] * e[1:]) if rings.centre is None else rings.centre
     q = np.concatenate(([e[0]], centre, [e[-1]]))
     lc = np.log(centre_C)
     if centre.size > 1:
@@ -297,24 +304,28 @@ def combine_tables(
     -------
     q, C : ndarray
         On a log grid from the smallest to the largest wavevector of all scans; where bands
-        overlap, ``log C`` is the weighted mean of the scans that cover the point (each
-        interpolated log-log on its own band).
+        overlap, the scan with the most modes at that wavevector (the better-resolved
+        estimate: the larger scan, up to the end of its band) gives ``C``, interpolated
+        log-log on its own nodes.
     """
     lo = min(float(t[0][0]) for t in tables)
     hi = max(float(t[0][-1]) for t in tables)
     n = max(2, int(math.ceil(ppd * math.log10(hi / lo))) + 1)
     q = np.geomspace(lo, hi, n)
-    num = np.zeros(n)
-    den = np.zeros(n)
+    best = np.zeros(n)
+    out = np.full(n, np.nan)
     for tq, tc, tw in tables:
         inside = (q >= tq[0] * (1 - 1e-12)) & (q <= tq[-1] * (1 + 1e-12))
         lq = np.log(np.clip(q[inside], tq[0], tq[-1]))
         w = np.interp(lq, np.log(tq), tw)
-        num[inside] += w * np.interp(lq, np.log(tq), np.log(tc))
-        den[inside] += w
-    if np.any(den == 0):
-        gap = q[den == 0]
+        wins = w > best[inside]
+        idx = np.flatnonzero(inside)[wins]
+        out[idx] = np.exp(np.interp(lq[wins], np.log(tq), np.log(tc)))
+        best[idx] = w[wins]
+    if np.any(np.isnan(out)):
+        gap = q[np.isnan(out)]
         raise ValueError(
-            f"the scans leave a gap in wavevector: no scan covers {gap[0]:.4g} to {gap[-1]:.4g} 1/m"
+            f"the scans leave a gap in wavevector: no scan covers {gap[0]:.4g} to "
+            f"{gap[-1]:.4g} 1/m"
         )
-    return q, np.exp(num / den)
+    return q, out
