@@ -162,7 +162,7 @@ def test_two_scan_sizes_combine_to_the_known_spectrum(tmp_path):
 
 
 def _matrix(tmp_path, name="map.txt", n=64, nan=False):
-    h = synthetic_map(n, L, rolled_off(0.8, Q, 2 * Q, None), seed=4) * 1e6  # in um
+    h = synthetic_map(n, L, rolled_off(0.8, Q, 2 * Q, None), 1e-6, seed=4) * 1e6  # in um
     if nan:
         h[3, 5] = np.nan
     np.savetxt(tmp_path / name, h)

@@ -267,7 +267,9 @@ def table_of(parts: list[Measured], ppd: int) -> tuple[np.ndarray, np.ndarray, d
         for several), ``parts`` (each scan's provenance and band).
     """
     tables = []
-    finest = min(parts, key=lambda m: min(s / k for s, k in zip(m.sizes, m.heights.shape, strict=True)))
+    finest = min(
+        parts, key=lambda m: min(s / k for s, k in zip(m.sizes, m.heights.shape, strict=True))
+    )
     for m in parts:
         rings = _rings(m, ppd)
         q, C = _psd.table_from_rings(rings, low_end=m.heights.ndim == 1)

@@ -325,7 +325,6 @@ def combine_tables(
     if np.any(np.isnan(out)):
         gap = q[np.isnan(out)]
         raise ValueError(
-            f"the scans leave a gap in wavevector: no scan covers {gap[0]:.4g} to "
-            f"{gap[-1]:.4g} 1/m"
+            f"the scans leave a gap in wavevector: no scan covers {gap[0]:.4g} to {gap[-1]:.4g} 1/m"
         )
     return q, out

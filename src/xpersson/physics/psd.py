@@ -21,6 +21,7 @@ Wavevectors ``q`` are in rad/m (written 1/m).
 from __future__ import annotations
 
 from ._map_spectrum import Rings, combine_tables, map_rings, profile_rings, table_from_rings
+from ._psd_fit import SelfAffineFit, fit_self_affine
 from ._self_affine import SelfAffineRollOff
 from ._spectrum import CONVENTIONS, PowerSpectrum, profile_factor
 from ._tabulated import Convention, Tabulated
@@ -30,6 +31,7 @@ __all__ = [
     "Convention",
     "PowerSpectrum",
     "Rings",
+    "SelfAffineFit",
     "SelfAffineRollOff",
     "Tabulated",
     "profile_factor",
@@ -37,4 +39,5 @@ __all__ = [
     "profile_rings",
     "table_from_rings",
     "combine_tables",
+    "fit_self_affine",
 ]

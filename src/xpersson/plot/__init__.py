@@ -30,6 +30,7 @@ import xarray as xr
 from ._figure import MatplotlibMissingError, pyplot
 from ._friction import friction
 from ._kinds import area, energy, gap_pdf, leakage, pressure_pdf
+from ._psd import psd
 from ._units import human, text
 
 __all__ = [
@@ -45,6 +46,7 @@ __all__ = [
     "leakage",
     "energy",
     "friction",
+    "psd",
     "save",
 ]
 
@@ -55,6 +57,7 @@ KINDS: dict[str, Callable[..., Any]] = {
     "leakage": leakage,
     "energy": energy,
     "friction": friction,
+    "psd": psd,
 }
 
 
