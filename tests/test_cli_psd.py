@@ -25,7 +25,7 @@ def maps(tmp_path_factory):
     folder = tmp_path_factory.mktemp("psd")
     shape = rolled_off(0.8, Q, 4 * Q, None)
     for name, size, seed in (("coarse.nc", L, 1), ("fine.nc", L / 8, 2)):
-        h = synthetic_map(128, size, shape, seed=seed) * 1e-3  # ~1 um
+        h = synthetic_map(128, size, shape, seed=seed) * 2e-11  # coarse h_rms ~ 1 um
         ST.Topography(h, (size, size), periodic=True, unit="m").to_netcdf(str(folder / name))
     return folder
 
