@@ -133,8 +133,7 @@ def cmd_psd(args: argparse.Namespace) -> int:
 
 def _figure(record: dict[str, Any], fit: Any, q: Any, C: Any) -> Any:
     """The figure of ``--plot`` (drawn before anything is written: no matplotlib, no files)."""
-    from .plot import MatplotlibMissingError
-    from .plot._psd import draw_psd
+    from .plot import MatplotlibMissingError, draw_psd
 
     bands = [
         (p["band_1_per_m"][0], p["band_1_per_m"][1], str(p["file"]).rsplit("/", 1)[-1])

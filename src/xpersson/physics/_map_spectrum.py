@@ -31,7 +31,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import brentq, nnls
 
 from ._tabulated import Tabulated
 
@@ -158,6 +157,8 @@ def profile_rings(heights: NDArray[np.float64], length: float, ppd: int) -> Ring
     v = np.mean(np.abs(np.fft.fft(h - h.mean(axis=1, keepdims=True), axis=1) / n) ** 2, axis=0)
     k = np.abs(2 * np.pi * np.fft.fftfreq(n, length / n))
     r1 = _rings_of_modes(k, v, ppd, np.pi / length, 1)
+    from scipy.optimize import nnls  # noqa: PLC0415 - scipy.optimize only for line scans
+
     e = r1.edges
     area = np.pi * (e[1:] ** 2 - e[:-1] ** 2)
     density = nnls(_strip_areas(e) / area, r1.var / r1.var.sum())[0] * r1.var.sum()
@@ -255,6 +256,8 @@ def _low_end(
     """``C`` scaled by ``a`` with its first ring (two nodes) by a further ``f``: the mean-square
     gradient ``s2`` [1] and height ``h2`` [m^2] exactly, the shape above the first ring kept.
     ``None`` when no ``f`` in (1e-6, 1e6) does it."""
+    from scipy.optimize import brentq  # noqa: PLC0415 - only when a map is read
+
     first = np.zeros(q.size, bool)
     first[:2] = True
 
@@ -274,6 +277,8 @@ def _low_end(
 
 def _tilt(table: Tabulated, h2: float, s2: float) -> NDArray[np.float64]:
     """``C a (q/q_g)^b``: the table's ``2 pi m_1 = h2`` and ``2 pi m_3 = s2`` exactly."""
+    from scipy.optimize import brentq  # noqa: PLC0415 - only when a map is read
+
     q, C = table.q_table, table.C_table
     qg = math.sqrt(q[0] * q[-1])
     target = math.log(s2 / h2) - 2.0 * math.log(qg)

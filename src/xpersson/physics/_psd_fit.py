@@ -7,7 +7,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import least_squares
 
 from ._self_affine import SelfAffineRollOff
 
@@ -82,6 +81,8 @@ def fit_self_affine(q: ArrayLike, C: ArrayLike, weight: ArrayLike | None = None)
         ``(J^T W J)^-1``); ``h_rms_err`` propagated from them (the fit's H clipped to (0, 1]
         for the rms height).
     """
+    from scipy.optimize import least_squares  # noqa: PLC0415 - only when a fit is asked for
+
     lq, lc = np.log(np.asarray(q, float)), np.log(np.asarray(C, float))
     w = np.ones_like(lq) if weight is None else np.asarray(weight, float)
     sw = np.sqrt(w / w.mean())

@@ -30,7 +30,7 @@ import xarray as xr
 from ._figure import MatplotlibMissingError, pyplot
 from ._friction import friction
 from ._kinds import area, energy, gap_pdf, leakage, pressure_pdf
-from ._psd import psd
+from ._psd import draw_psd, psd
 from ._units import human, text
 
 __all__ = [
@@ -47,6 +47,7 @@ __all__ = [
     "energy",
     "friction",
     "psd",
+    "draw_psd",
     "save",
 ]
 
