@@ -273,3 +273,26 @@ def test_bad_input_is_one_line_naming_the_file_and_nothing_is_written(tmp_path, 
     assert "\n" not in str(err.value)
     assert main(["run", str(scene), "-o", str(tmp_path / "out.nc")]) != 0
     assert not (tmp_path / "out.nc").exists()
+
+
+EXAMPLES = __import__("pathlib").Path(__file__).resolve().parents[1] / "examples" / "measured"
+
+
+@pytest.mark.parametrize(
+    ("scene", "heights", "factor"),
+    [("text_matrix", "map.txt", 1e-9), ("line_scan", "line.txt", 1e-6), ("netcdf", None, 1e-6)],
+)
+def test_the_documented_examples_keep_their_files_roughness(scene, heights, factor):
+    """examples/measured: each scene solves, h_rms is its file's (read here with numpy or
+    SurfaceTopography; the text matrix's mean plane removed here by least squares)."""
+    ds = _solve_quietly(str(EXAMPLES / f"{scene}.toml"))
+    if heights is None:
+        raw = ST.read_topography(str(EXAMPLES / "map.nc")).heights() * factor
+    else:
+        raw = np.loadtxt(EXAMPLES / heights) * factor
+    assert float(ds.h_rms) == pytest.approx(float(ds.map_h_rms), rel=1e-9)
+    if scene == "text_matrix":  # detrend = "height": the least-squares plane removed
+        i, j = np.indices(raw.shape)
+        basis = np.column_stack([np.ones(raw.size), i.ravel(), j.ravel()])
+        raw = raw.ravel() - basis @ np.linalg.lstsq(basis, raw.ravel(), rcond=None)[0]
+    assert float(ds.map_h_rms) == pytest.approx(raw.std(), rel=1e-6)
