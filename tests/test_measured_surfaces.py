@@ -235,7 +235,7 @@ def test_object_without_unit_takes_the_scenes(tmp_path):
 def test_tip_radius_and_q_1_drop_roughness_with_a_warning():
     """A tip radius (SurfaceTopography's reliability cutoff) ends the table at its limit; the
     roughness dropped is recorded and warned about per spectrum."""
-    h = synthetic_map(256, L, rolled_off(0.8, Q, 2 * Q, None), 1e-6, seed=1)
+    h = synthetic_map(128, L, rolled_off(0.8, Q, 2 * Q, None), 1e-6, seed=1)
     topo = ST.Topography(h, (L, L), periodic=True, unit="m")
     tip = topo.scanning_probe_reliability_cutoff(50e-6)  # a 50 um radius tip: lambda_c [m]
     with pytest.warns(XperssonWarning, match=r"the table keeps .*rms slope .* tip_radius"):

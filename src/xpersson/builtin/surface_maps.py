@@ -206,13 +206,14 @@ def _measured(
     if unit is None:
         raise ValueError(f"unit: {what} does not state its length unit; set spectrum.unit")
     _check_heights(topo, what)
-    periodic = bool(getattr(topo, "is_periodic", False))
+    periodic = bool(getattr(topo, "is_periodic", False)) or keys.periodic
     detrended = topo.detrend(keys.detrend)
     heights = _check_heights(detrended, what)
     factor = _factor(unit, what)
     sizes = tuple(float(s) * factor for s in topo.physical_sizes)
-    if detrended.dim == 1:
-        s2 = 2.0 * float(detrended.rms_slope_from_profile()) ** 2
+    if detrended.dim == 1:  # twice the profile's (forward differences, as SurfaceTopography)
+        dx = float(topo.physical_sizes[0]) / heights.size
+        s2 = 2.0 * float(np.mean((np.diff(heights) / dx) ** 2))
     else:
         s2 = float(detrended.rms_gradient()) ** 2
     measured = Measured(
