@@ -10,6 +10,7 @@ used (the table, Persson convention, SI) in the resolved scene, so an archive re
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import warnings
 from pathlib import Path
@@ -17,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from ..cache import memoize
 from ..errors import XperssonWarning
 from ..physics.psd import PowerSpectrum
 from ..physics.psd import Tabulated as _TabulatedPSD
@@ -230,13 +232,29 @@ class Topography(ArchivedTable, Spectrum):
                 raise ValueError(
                     "model 'topography' needs SurfaceTopography: pip install 'xpersson[topography]'"
                 ) from None
-            files = [p[k] for k in ("file", "file_2", "file_3") if p.get(k)]
-            parts = [measured_from_file(f, map_keys(p)) for f in files]
-            q, C, record = table_of(parts, int(p["points_per_decade"]))
-            self._params.update(record_params(record))
+            files = tuple(p[k] for k in ("file", "file_2", "file_3") if p.get(k))
+            digests = tuple(sha256_of(f) if Path(f).is_file() else "" for f in files)
+            ppd = int(p["points_per_decade"])
+            keys = dataclasses.astuple(map_keys(p))
+            q, C, record = _file_table(files, digests, keys, ppd)
+            self._params.update(record_params(json.loads(record)))
             what = " and ".join(map(repr, files))
             inline = _truncated(q, C, p["q_L"], p["q_1"], what, int(p["points_per_decade"]))
         return attach_record(inline, self._params)
+
+
+@memoize("topography.file_table", scope="process", maxsize=8)
+def _file_table(
+    files: tuple[str, ...], digests: tuple[str, ...], keys: tuple[Any, ...], ppd: int
+) -> tuple[np.ndarray, np.ndarray, str]:
+    """The table of the files (read once per content: ``digests`` are their SHA-256) and its
+    record as JSON; the arrays are read-only (shared by the points of a sweep)."""
+    del digests  # part of the key only
+    parts = [measured_from_file(f, MapKeys(*keys)) for f in files]
+    q, C, record = table_of(parts, ppd)
+    q.setflags(write=False)
+    C.setflags(write=False)
+    return q, C, json.dumps(record)
 
 
 def map_keys(p: dict[str, Any]) -> MapKeys:
