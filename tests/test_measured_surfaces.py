@@ -214,8 +214,15 @@ def test_netcdf_unit_the_file_wins(tmp_path):
     same = xpersson.solve(_toml(tmp_path, 'file = "m.nc"\nunit = "micrometer"'))
     assert float(same.h_rms) == pytest.approx(1e-6, rel=1e-5)  # float32 in the file
     with pytest.raises(SceneError, match=r"spectrum.unit: the file '.*m.nc' states 'µm'; the "
-                                         r"scene gives 'nm'\. The file wins"):  # fmt: skip
+                                         r"scene gives 'nm'\. What the file"):  # fmt: skip
         xpersson.solve(_toml(tmp_path, 'file = "m.nc"\nunit = "nm"'))
+    with pytest.raises(SceneError, match=r"spectrum.physical_sizes: the file '.*m.nc' states "
+                                         r"\(0.001, 0.001\)"):  # fmt: skip
+        xpersson.solve(_toml(tmp_path, 'file = "m.nc"\nphysical_sizes = ["2 mm", "2 mm"]'))
+    corrupt = tmp_path / "bad.nc"
+    corrupt.write_bytes(b"CDF\x01 not really")
+    with pytest.raises(SceneError, match=r"spectrum.file: cannot read '.*bad.nc'"):
+        xpersson.solve(_toml(tmp_path, 'file = "bad.nc"'))
 
 
 def test_object_without_unit_takes_the_scenes(tmp_path):

@@ -98,8 +98,8 @@ def _factor(unit: str, what: str) -> float:
 
 def _contradiction(key: str, what: str, stated: Any, given: Any) -> ValueError:
     return ValueError(
-        f"{key}: {what} states {stated!r}; the scene gives {given!r}. The file wins: remove "
-        f"spectrum.{key} (or give the file's value)"
+        f"{key}: {what} states {stated!r}; the scene gives {given!r}. What the file (or "
+        f"object) states wins: remove spectrum.{key} (or give the same value)"
     )
 
 
@@ -113,6 +113,13 @@ def _fill(channel: Any, keys: MapKeys, what: str) -> dict[str, Any]:
         elif not math.isclose(_factor(unit, what), _factor(keys.unit, what), rel_tol=1e-9):
             raise _contradiction("unit", what, unit, keys.unit)
     sizes = getattr(channel, "physical_sizes", None)
+    if sizes is not None and keys.physical_sizes is not None:
+        factor = _factor(kw.get("unit") or unit or "m", what)
+        own = tuple(float(x) * factor for x in sizes)
+        if len(own) != len(keys.physical_sizes) or not np.allclose(
+            own, keys.physical_sizes, rtol=1e-6
+        ):
+            raise _contradiction("physical_sizes", what, own, keys.physical_sizes)
     if sizes is None:
         if keys.physical_sizes is None:
             raise ValueError(
@@ -142,6 +149,7 @@ def _fill(channel: Any, keys: MapKeys, what: str) -> dict[str, Any]:
 def measured_from_file(path: str, keys: MapKeys) -> Measured:
     """Read a map or line scan in any format SurfaceTopography reads."""
     import SurfaceTopography as ST
+    from SurfaceTopography.Exceptions import ReadFileError
 
     what = f"the file {path!r}"
     try:
@@ -149,8 +157,8 @@ def measured_from_file(path: str, keys: MapKeys) -> Measured:
         channel = reader.channels[0]
         kw = _fill(channel, keys, what)
         topo = reader.topography(**kw)
-    except OSError as exc:
-        raise ValueError(f"file: cannot read {path!r} ({exc})") from None
+    except (OSError, ReadFileError) as exc:
+        raise ValueError(f"file: cannot read {path!r} ({type(exc).__name__}: {exc})") from None
     except ValueError as exc:
         if str(exc).split(":", 1)[0] in ("unit", "physical_sizes", "height_scale"):
             raise
@@ -187,7 +195,8 @@ def _check_heights(topo: Any, what: str) -> np.ndarray:
             f"file: {what} is a non-uniform line scan (unequal x spacing); resample it to a "
             "uniform grid (SurfaceTopography: .to_uniform(n, 0))"
         )
-    heights = np.asarray(topo.heights(), dtype=float)
+    raw = topo.heights()
+    heights = np.ma.filled(np.ma.asarray(raw, dtype=float), np.nan)  # masked: undefined
     bad = int(np.count_nonzero(~np.isfinite(heights)))
     if bad:
         raise ValueError(
