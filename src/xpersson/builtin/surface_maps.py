@@ -77,11 +77,6 @@ class Measured:
     q_reliable: float | None = None
     provenance: dict[str, Any] = field(default_factory=dict)
 
-    @property
-    def q_longest(self) -> float:
-        """The smallest wavevector of the map, ``2 pi / max(L)`` [1/m]."""
-        return 2 * math.pi / max(self.sizes)
-
 
 def sha256_of(path: str | Path) -> str:
     """SHA-256 hex digest of a file."""
