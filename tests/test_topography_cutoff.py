@@ -46,19 +46,18 @@ def test_cutoff_map_file_runs_with_the_default_range(cut_map, tmp_path):
     assert main(["validate", str(tmp_path / "cut.toml")]) == 0
     assert main(["run", str(tmp_path / "cut.toml"), "-o", str(tmp_path / "cut_out.nc")]) == 0
     ds = xpersson.open_dataset(tmp_path / "cut_out.nc")
-    z = float(ds.zeta[-1])
-    assert 55.0 < z <= 64.0  # the last PSD bin with power, below q_s / q_L = 64
-    a, b = ds.area_fraction.isel(zeta=-1).values, _analytic(z).area_fraction.isel(zeta=-1)
-    np.testing.assert_allclose(a, b.values, rtol=0.02)  # measured: 1.0 %
+    q_end = float(ds.q[-1])
+    assert 0.98 * 64 * Q_L < q_end <= 64 * Q_L  # the roughness ends at q_s = 64 q_L
+    a, b = ds.area_fraction.isel(zeta=-1).values, _analytic(64.0).area_fraction.isel(zeta=-1)
+    np.testing.assert_allclose(a, b.values, rtol=0.02)
 
 
 def test_topography_object_in_a_python_scene(cut_map):
     """A Topography object is accepted; the archive records the table and the map's identity."""
     ds = xpersson.solve({"spectrum": cut_map, **SOLID})
-    z = float(ds.zeta[-1])
     np.testing.assert_allclose(
         ds.area_fraction.isel(zeta=-1).values,
-        _analytic(z).area_fraction.isel(zeta=-1).values,
+        _analytic(64.0).area_fraction.isel(zeta=-1).values,
         rtol=0.02,
     )
     rec = json.loads(ds.attrs["xpersson_scene"])["spectrum"]
@@ -72,14 +71,17 @@ def test_topography_object_in_a_python_scene(cut_map):
 
 
 def test_psd_computed_by_surface_topography(cut_map):
-    """(q, C) from power_spectrum_from_area, in its convention and the map's units."""
+    """(q, C) from power_spectrum_from_area, in its convention and the map's units, solves;
+    it loses part of the map's roughness (the |k| = 1 ring at q_L, the band above its last
+    bin centre), which the map's own table keeps (issue 35)."""
     q, C = cut_map.power_spectrum_from_area(nb_points_per_decade=20)
     q, C = q[C > 1e-40], C[C > 1e-40]
     spectrum = {"model": "tabulated", "convention": "surface_topography",
                 "q": [f"{x} 1/m" for x in q], "C": [f"{x} m**4" for x in C]}  # fmt: skip
     ds = xpersson.solve({"spectrum": spectrum, **SOLID})
     obj = xpersson.solve({"spectrum": cut_map, **SOLID})
-    np.testing.assert_allclose(ds.area_fraction.values, obj.area_fraction.values, rtol=1e-10)
+    assert float(ds.h_rms) < 0.995e-6  # the binned table: 0.988 um of 1 um
+    assert float(obj.h_rms) == pytest.approx(1e-6, rel=1e-9)
     rec = json.loads(ds.attrs["xpersson_scene"])["spectrum"]
     assert rec["convention"] == "persson"  # the archived table is converted once
 

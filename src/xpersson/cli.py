@@ -273,7 +273,7 @@ def build_parser() -> argparse.ArgumentParser:
     plo.add_argument(
         "--kind",
         default="area",
-        choices=["area", "pressure_pdf", "gap_pdf", "leakage", "energy", "friction"],
+        choices=["area", "pressure_pdf", "gap_pdf", "leakage", "energy", "friction", "psd"],
         help="what to plot (default: area)",
     )
     plo.add_argument("-o", "--output", required=True, help="figure file (.png, .pdf, .svg)")
@@ -288,6 +288,9 @@ def build_parser() -> argparse.ArgumentParser:
         pass
     else:
         cli_plugins.register(sub)
+    from . import cli_psd
+
+    cli_psd.register(sub)
     return parser
 
 

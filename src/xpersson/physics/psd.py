@@ -21,6 +21,8 @@ Wavevectors ``q`` are in rad/m (written 1/m).
 
 from __future__ import annotations
 
+from ._map_spectrum import Rings, combine_tables, map_rings, profile_rings, table_from_rings
+from ._psd_fit import SelfAffineFit, fit_self_affine
 from ._self_affine import SelfAffineRollOff
 from ._spectrum import CONVENTIONS, PowerSpectrum, profile_factor
 from ._tabulated import Convention, Tabulated
@@ -29,7 +31,14 @@ __all__ = [
     "CONVENTIONS",
     "Convention",
     "PowerSpectrum",
+    "Rings",
+    "SelfAffineFit",
     "SelfAffineRollOff",
     "Tabulated",
     "profile_factor",
+    "map_rings",
+    "profile_rings",
+    "table_from_rings",
+    "combine_tables",
+    "fit_self_affine",
 ]

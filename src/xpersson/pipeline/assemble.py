@@ -65,6 +65,9 @@ def assemble(
         "error_estimate": (pz, stack("error_estimate")),
         "solver_status": (("p0",), np.array(results.status, dtype=object)),
     }
+    record = getattr(psd, "map_record", None)  # a measured map: its own roughness
+    if record:
+        data.update({name: ((), float(value)) for name, value in record.items()})
     if tau_eff is not None:  # None: every load's effective tau is tau(zeta)
         data["effective_diffusion_time"] = (pz, tau_eff)
     if p_grid is not None:

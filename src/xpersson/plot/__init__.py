@@ -30,6 +30,7 @@ import xarray as xr
 from ._figure import MatplotlibMissingError, pyplot
 from ._friction import friction
 from ._kinds import area, energy, gap_pdf, leakage, pressure_pdf
+from ._psd import draw_psd, psd
 from ._titles import suptitle
 from ._units import human, text
 
@@ -46,6 +47,8 @@ __all__ = [
     "leakage",
     "energy",
     "friction",
+    "psd",
+    "draw_psd",
     "save",
     "suptitle",
 ]
@@ -57,6 +60,7 @@ KINDS: dict[str, Callable[..., Any]] = {
     "leakage": leakage,
     "energy": energy,
     "friction": friction,
+    "psd": psd,
 }
 
 

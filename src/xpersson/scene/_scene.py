@@ -35,7 +35,10 @@ def _surface_topography(data: dict[str, Any]) -> dict[str, Any]:
 
     spec = data.get("spectrum")
     if is_surface_topography(spec):
-        data["spectrum"] = from_surface_topography(spec)
+        try:
+            data["spectrum"] = from_surface_topography(spec)
+        except ValueError as exc:
+            raise SceneError(f"spectrum: {exc}") from None
     elif isinstance(spec, Mapping) and is_surface_topography(spec.get("topography")):
         rest = {k: v for k, v in spec.items() if k not in ("topography", "model")}
         if spec.get("model", "topography") != "topography":
