@@ -120,7 +120,8 @@ def map_moments(h: np.ndarray, L: float) -> tuple[float, float]:
     fh = np.fft.fft2(h - h.mean(axis=(-2, -1), keepdims=True))
     power = np.abs(fh) ** 2 / n**4
     h_rms = math.sqrt(float(power.sum(axis=(-2, -1)).mean()))
-    slope = math.sqrt(float((power * (q[:, None] ** 2 + q[None, :] ** 2)).sum(axis=(-2, -1)).mean()))
+    q2 = q[:, None] ** 2 + q[None, :] ** 2
+    slope = math.sqrt(float((power * q2).sum(axis=(-2, -1)).mean()))
     return h_rms, slope
 
 
