@@ -18,9 +18,19 @@ does not import it.
 
 from __future__ import annotations
 
+from .derived import (
+    adhesive_path,
+    conductance_direct,
+    electrical_factor,
+    gap_pdf,
+    retraction_branch,
+    stiffness,
+    thermal_factor,
+)
 from .solve import (
     BemConvergenceError,
     BemState,
+    GapSolver,
     MissingTamaasError,
     require_tamaas,
     solve,
@@ -38,8 +48,16 @@ from .synthesis import (
 __all__ = [
     "BemConvergenceError",
     "BemState",
+    "GapSolver",
     "MissingTamaasError",
+    "adhesive_path",
+    "conductance_direct",
     "discrete_moments",
+    "electrical_factor",
+    "gap_pdf",
+    "retraction_branch",
+    "stiffness",
+    "thermal_factor",
     "map_moments",
     "require_tamaas",
     "solve",
