@@ -18,6 +18,8 @@ does not import it.
 
 from __future__ import annotations
 
+from ._plan import CrosscheckError
+from .crosscheck import crosscheck, estimate_line
 from .derived import (
     adhesive_path,
     conductance_direct,
@@ -46,6 +48,9 @@ from .synthesis import (
 )
 
 __all__ = [
+    "CrosscheckError",
+    "crosscheck",
+    "estimate_line",
     "BemConvergenceError",
     "BemState",
     "GapSolver",
