@@ -43,11 +43,13 @@ CANNOT = {
     "friction": "viscoelastic friction (the BEM here is frictionless and elastic)",
 }
 #: Bytes per grid point of one realisation's solves (tamaas model, solver work arrays, FFT
-#: buffers, the gap maps read back); measured peak RSS over n^2 at 256^2 and 512^2.
-BYTES_PER_POINT = 900
-#: CPU seconds per grid point and per solve (log n growth ignored; measured at 256^2,
-#: OPENBLAS_NUM_THREADS=1, one core): the time estimate printed before the work.
-SECONDS_PER_POINT_SOLVE = 2.0e-6
+#: buffers, the gap maps read back): peak RSS above the imports at 512^2 (98 MB measured).
+BYTES_PER_POINT = 400
+#: Resident memory of the process before any solve (python, numpy, xarray, tamaas) [bytes].
+BASELINE_BYTES = 128 * 2**20
+#: CPU seconds of one tamaas solve per ``n^2.5`` grid points (FFTs and iteration count both
+#: grow with n; measured 256^2 and 512^2, OPENBLAS_NUM_THREADS=1, upper end).
+SECONDS_PER_SOLVE = 6.5e-7
 
 
 class CrosscheckError(SceneError):
@@ -184,11 +186,11 @@ def _conductance(rs: Any) -> dict[str, float]:
     from .derived import electrical_factor, thermal_factor
 
     out = {}
-    for a in rs.analyses:
+    for name, a in rs.analyses:
         p = getattr(a, "params", {}) or {}
-        if "resistivity_1" in p:
+        if name == "electrical_contact":
             out["electrical"] = electrical_factor(p["resistivity_1"], p["resistivity_2"], rs.E_star)
-        elif "conductivity_1" in p:
+        elif name == "thermal_contact":
             out["thermal"] = thermal_factor(p["conductivity_1"], p["conductivity_2"], rs.E_star)
     return out
 
@@ -198,10 +200,12 @@ def _estimate(plan: Plan, workers: int) -> None:
     from .. import memory
 
     n2 = plan.grid**2
-    plan.memory = int(BYTES_PER_POINT * n2 * max(1, workers)) + memory.estimate(
-        max(1, plan.p0.size), 200
+    plan.memory = (
+        BASELINE_BYTES
+        + int(BYTES_PER_POINT * n2 * max(1, workers))
+        + memory.estimate(max(1, plan.p0.size), 200)
     )
-    plan.seconds = SECONDS_PER_POINT_SOLVE * n2 * plan.solves * plan.realisations
+    plan.seconds = SECONDS_PER_SOLVE * plan.grid**2.5 * plan.solves * plan.realisations
     have = memory.budget()
     if plan.memory > have:
         raise _refuse(

@@ -124,7 +124,8 @@ def _compare(ds: xr.Dataset, th: xr.Dataset, theory_name: str, values: np.ndarra
 def _gap(ds: xr.Dataset, th: xr.Dataset, values: np.ndarray) -> None:
     """The BEM gap pdf on the theory's ``u`` and the L1 distance of the two distributions."""
     ref = th["gap_pdf"]
-    mean = np.nanmean(values, axis=0)
+    n = np.isfinite(values).sum(axis=0)
+    mean = np.where(n > 0, np.nansum(values, axis=0) / np.maximum(n, 1), np.nan)
     du = np.diff(_edges(th["u"].values))
     w_bem = ds["gap_contact_weight"].values
     w_th = th["gap_contact_weight"].values

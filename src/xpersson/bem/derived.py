@@ -129,6 +129,8 @@ def adhesive_path(
     p_max: float | None = None,
     strict: bool = True,
     max_gap: float = 4.0,
+    h_rms: float | None = None,
+    keep_fields: bool = False,
 ) -> dict[str, list[BemState]]:
     """Approach, then retraction to pull-off, under displacement control (exponential law).
 
@@ -137,17 +139,20 @@ def adhesive_path(
     :data:`RETRACT_FINE` then :data:`RETRACT_STEP` steps until no contact is left (or the mean
     gap exceeds ``max_gap`` h_rms). ``work`` [J/m^2], ``rho`` [m] as in
     :func:`~xpersson.bem.solve_gaps`. One solver carries the state along the whole path.
+    ``h_rms`` [m]: the unit of the gap steps (default: the map's own rms height);
+    ``keep_fields``: keep each state's maps. With ``strict=False`` a non-converged state is
+    kept, flagged and NaN (the retraction then goes on to its next step).
 
     Returns
     -------
     dict
         ``{"approach": [...], "retract": [...]}`` lists of :class:`BemState`.
     """
-    h_rms = float(np.std(heights))
+    h_rms = float(np.std(heights)) if h_rms is None else h_rms
     gaps = [g * h_rms for g in APPROACH]
     if p_max is not None:
         gaps += [g * h_rms for g in APPROACH_DEEP]
-    path = GapSolver(heights, L, E_star, work=work, rho=rho, strict=strict)
+    path = GapSolver(heights, L, E_star, work=work, rho=rho, strict=strict, keep_fields=keep_fields)
     approach: list[BemState] = []
     for g in gaps:
         if len(approach) >= len(APPROACH) and p_max is not None and approach[-1].p0 > p_max:

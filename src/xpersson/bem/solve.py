@@ -98,6 +98,8 @@ class BemState:
         The boolean contact map (``keep_fields=True`` only).
     gap : numpy.ndarray or None
         The gap map [m] (``keep_fields=True`` only).
+    pressure : numpy.ndarray or None
+        The traction map [Pa] (``keep_fields=True`` only; negative: adhesive tension).
     """
 
     p0: float
@@ -115,6 +117,7 @@ class BemState:
     converged: bool
     contact: np.ndarray | None = field(default=None, repr=False)
     gap: np.ndarray | None = field(default=None, repr=False)
+    pressure: np.ndarray | None = field(default=None, repr=False)
 
 
 def _model(tm: Any, n: int) -> Any:
@@ -173,7 +176,7 @@ def _state(
         "pressure_m2": float(np.mean(p**2)),
         "pressure_contact_mean": float(p[contact].mean()) if contact.any() else 0.0,
         "pressure_max": float(p.max()),
-        "plastic_area_fraction": float(np.mean(p >= hard * (1 - 1e-9))) if hard else 0.0,
+        "plastic_area_fraction": float(np.mean(tr >= hard * (1 - 1e-9))) if hard else 0.0,
     }
     if not converged:
         vals = {k: math.nan for k in vals}
@@ -188,6 +191,7 @@ def _state(
         converged=converged,
         contact=contact.copy() if keep else None,
         gap=gap_si if keep else None,
+        pressure=p.copy() if keep else None,
     )
 
 
