@@ -73,14 +73,19 @@ def _pressure_controlled(t: Task, h: np.ndarray) -> dict[str, np.ndarray]:
 def _adhesive(t: Task, h: np.ndarray) -> dict[str, np.ndarray]:
     """Area on the stable retraction branch at the loads, and the pull-off stress."""
     path = adhesive_path(h, t.L, t.E_star, t.work, t.rho, p_max=float(t.p0.max()), strict=False)
-    states = path["approach"] + path["retract"]
-    area, pull = retraction_branch(path["retract"], t.p0)
+    retract = path["retract"]
+    p = np.array([s.p0 for s in retract])
+    # the reference uses the approach and the retraction up to its most tensile state: every
+    # solve there must have converged (later ones, past the pull-off, are not used)
+    used = path["approach"] + retract[: int(np.nanargmin(p)) + 1]
+    ok = all(s.converged for s in used)
+    area, pull = retraction_branch(retract, t.p0)
     return {
-        "area_fraction": area,
-        "pull_off_stress": np.array(pull),
-        "converged": np.array(all(s.converged for s in states)),
-        "bem_error": np.array(max(s.error for s in states)),
-        "path_steps": np.array(len(states)),
+        "area_fraction": area if ok else np.full(t.p0.size, np.nan),
+        "pull_off_stress": np.array(pull if ok else np.nan),
+        "converged": np.array(ok),
+        "bem_error": np.array(max(s.error for s in used)),
+        "path_steps": np.array(len(path["approach"]) + len(retract)),
     }
 
 

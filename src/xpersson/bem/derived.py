@@ -136,8 +136,9 @@ def adhesive_path(
 
     Mean gaps are in units of the map's rms height: :data:`APPROACH`, then while the mean
     stress stays below ``p_max`` [Pa] :data:`APPROACH_DEEP`; retraction in
-    :data:`RETRACT_FINE` then :data:`RETRACT_STEP` steps until no contact is left (or the mean
-    gap exceeds ``max_gap`` h_rms). ``work`` [J/m^2], ``rho`` [m] as in
+    :data:`RETRACT_FINE` then :data:`RETRACT_STEP` steps until no contact is left, the mean
+    stress has stayed above a tenth of its most tensile value for three steps after it (past
+    the pull-off), or the mean gap exceeds ``max_gap`` h_rms. ``work`` [J/m^2], ``rho`` [m] as in
     :func:`~xpersson.bem.solve_gaps`. One solver carries the state along the whole path.
     ``h_rms`` [m]: the unit of the gap steps (default: the map's own rms height);
     ``keep_fields``: keep each state's maps. With ``strict=False`` a non-converged state is
@@ -165,9 +166,20 @@ def adhesive_path(
         g = round(g + (RETRACT_FINE[0] if step <= RETRACT_FINE[1] else RETRACT_STEP), 10)
         st = path.at(g * h_rms)
         retract.append(st)
-        if (st.converged and st.area_fraction == 0.0) or g > max_gap:
+        if (st.converged and st.area_fraction == 0.0) or g > max_gap or _past(retract):
             break
     return {"approach": approach, "retract": retract}
+
+
+def _past(retract: list[BemState], after: int = 3) -> bool:
+    """Whether the last ``after`` states are past the most tensile one and below a tenth of
+    it: the stable branch ended (pull-off) and the rest is not used."""
+    p = np.array([s.p0 for s in retract], dtype=float)
+    if not np.isfinite(p).any() or p.size <= after:
+        return False
+    i = int(np.nanargmin(p))
+    tail = p[-after:]
+    return i < p.size - after and bool(np.all(np.nan_to_num(tail, nan=0.0) > 0.1 * p[i]))
 
 
 def retraction_branch(retract: Sequence[BemState], loads: np.ndarray) -> tuple[np.ndarray, float]:

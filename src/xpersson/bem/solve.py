@@ -42,8 +42,12 @@ __all__ = [
 TOL = 1e-10
 #: Default relative tolerance of the gap-controlled (adhesive) solves.
 TOL_GAP = 1e-8
-#: Default iteration limit of one solve.
-MAX_ITER = 5000
+#: Default iteration limit of one solve attempt.
+MAX_ITER = 1000
+#: Restarts of a solve that did not reach its tolerance (each continues from the last
+#: iterate with a fresh conjugate-gradient history: tamaas' iteration sometimes stalls on an
+#: adhesive path and a restart converges); after them the solve is "not converged".
+RETRIES = 4
 
 
 class MissingTamaasError(ImportError):
@@ -195,6 +199,16 @@ def _state(
     )
 
 
+def _attempt(solver: Any, target: float, tol: float) -> float:
+    """Solve, restarting up to :data:`RETRIES` times while the error is not below ``tol``."""
+    err = float(solver.solve(target))
+    for _ in range(RETRIES):
+        if err < tol:
+            break
+        err = float(solver.solve(target))
+    return err
+
+
 def _finish(state: BemState, strict: bool, what: str) -> BemState:
     if strict and not state.converged:
         raise BemConvergenceError(
@@ -237,7 +251,8 @@ def solve(
         Indentation hardness [Pa]: the contact pressure is capped there (``KatoSaturated``);
         ``None``: elastic (``PolonskyKeerRey``).
     tol, max_iter
-        Solver tolerance [1] and iteration limit.
+        Solver tolerance [1] and iteration limit of one attempt (a solve above the tolerance
+        is restarted from its last iterate up to :data:`RETRIES` times).
     strict
         Raise :class:`BemConvergenceError` on a non-converged solve (default); False: return
         it flagged, its values NaN.
@@ -276,7 +291,7 @@ def solve(
     }
     out = []
     for p in loads:
-        err = float(solver.solve(float(p / E_star)))
+        err = _attempt(solver, float(p / E_star), tol)
         st = _state(model, surf, (L, E_star), err, tol, opts)
         out.append(_finish(st, strict, f"p0 = {p:.6g} Pa"))
     return out
@@ -328,7 +343,7 @@ class GapSolver:
 
     def at(self, gap: float) -> BemState:
         """Solve at the mean gap ``gap`` [m], starting from the previous state."""
-        err = float(self._solver.solve(float(gap / self._scale[0])))
+        err = _attempt(self._solver, float(gap / self._scale[0]), self._tol)
         st = _state(self._model, self._surf, self._scale, err, self._tol, self._opts)
         return _finish(st, self._strict, f"mean gap {gap:.6g} m")
 
