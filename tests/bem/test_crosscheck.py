@@ -134,6 +134,8 @@ def test_missing_tamaas_is_one_line(
         ({"boundary": {"model": "dmt", "work_of_adhesion": "0.01 J/m**2", "range": "1 nm"}},
          "law 'lj93'"),
         ({"material": {"E": ["5 MPa", "10 MPa"], "nu": 0.5}}, "sweeps parameters"),
+        ({"boundary": {"model": "adhesive", "work_of_adhesion": "0.05 J/m**2",
+                       "range": "0.5 nm"}}, "cohesive zone"),
     ],
 )  # fmt: skip
 def test_physics_the_bem_cannot_do(change: dict, words: str) -> None:

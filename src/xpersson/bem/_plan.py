@@ -42,6 +42,8 @@ CANNOT = {
     "plastic_scale_dependent": "scale-dependent yield (the BEM's hardness is one constant)",
     "friction": "viscoelastic friction (the BEM here is frictionless and elastic)",
 }
+#: Grid spacings the adhesive cohesive zone ``E* rho^2 / w`` should span (a note below it).
+ZONE_PIXELS = 4
 #: Bytes per grid point of one realisation's solves (tamaas model, solver work arrays, FFT
 #: buffers, the gap maps read back): peak RSS above the imports at 512^2 (98 MB measured).
 BYTES_PER_POINT = 400
@@ -124,6 +126,29 @@ def _physics(rs: Any, data: dict[str, Any]) -> dict[str, Any]:
         return {"kind": "adhesive", "work": float(params["work_of_adhesion"]),
                 "rho": float(params["range"])}  # fmt: skip
     raise _refuse(f"the BEM cannot do boundary {b!r} (elastic, plastic, adhesive, dmt, jkr)")
+
+
+def _process_zone(plan: Plan) -> None:
+    """Refuse an adhesive law whose cohesive zone ``E* rho^2 / w`` (Maugis) is below one grid
+    spacing: the BEM cannot resolve it and turns into a sticky-contact artefact; note it below
+    :data:`ZONE_PIXELS` spacings."""
+    if plan.kind != "adhesive":
+        return
+    zone = plan.E_star * plan.rho**2 / plan.work
+    pixel = plan.L / plan.grid
+    if zone < pixel:
+        need = math.sqrt(plan.work * pixel / plan.E_star)
+        raise _refuse(
+            f"the adhesive law's cohesive zone E* rho^2 / w = {zone:.3g} m is below the grid "
+            f"spacing {pixel:.3g} m: the BEM cannot resolve this adhesion (range >= "
+            f"{need:.3g} m or a grid of {math.ceil(plan.L / zone)}^2 would); the short-range "
+            "(JKR-like) limit is not checked"
+        )
+    if zone < ZONE_PIXELS * pixel:
+        plan.notes.append(
+            f"the adhesive cohesive zone E* rho^2 / w = {zone:.3g} m spans fewer than "
+            f"{ZONE_PIXELS} grid spacings: the BEM's adhesion is under-resolved"
+        )
 
 
 def _band(rs: Any, grid: int) -> tuple[float, float, float]:
@@ -254,5 +279,6 @@ def make_plan(scene: Scene, grid: int, realisations: int, seed: int, workers: in
             f"the {grid}^2 grid resolves q_L..{q_max:.4g} 1/m (zeta = {q_max / q_L:.4g}) of the "
             f"scene's q_L..{q_1:.4g} 1/m; theory and BEM are compared on that band"
         )
+    _process_zone(plan)
     _estimate(plan, workers)
     return plan

@@ -75,9 +75,10 @@ def _adhesive(t: Task, h: np.ndarray) -> dict[str, np.ndarray]:
     path = adhesive_path(h, t.L, t.E_star, t.work, t.rho, p_max=float(t.p0.max()), strict=False)
     retract = path["retract"]
     p = np.array([s.p0 for s in retract])
-    # the reference uses the approach and the retraction up to its most tensile state: every
-    # solve there must have converged (later ones, past the pull-off, are not used)
-    used = path["approach"] + retract[: int(np.nanargmin(p)) + 1]
+    # the reference is the retraction (from the deepest approach state) up to its most
+    # tensile state: every solve there must have converged (the approach before it is the
+    # warm-up; states past the pull-off are not used)
+    used = retract[: int(np.nanargmin(p)) + 1] if np.isfinite(p).any() else retract
     ok = all(s.converged for s in used)
     area, pull = retraction_branch(retract, t.p0)
     return {
