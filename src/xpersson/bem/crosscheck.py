@@ -8,6 +8,7 @@ variable names.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -107,18 +108,21 @@ def _compare(ds: xr.Dataset, th: xr.Dataset, theory_name: str, values: np.ndarra
     ratio = np.where(np.isfinite(mean) & (mean != 0), ratio, np.nan)  # full contact: no ratio
     units = ref.attrs.get("units", "1")
     long = ref.attrs.get("long_name", theory_name)
-    anc = f"{theory_name}_se {theory_name}_theory {theory_name}_ratio"
-    ds[theory_name] = (ref.dims, mean, {"units": units, "ancillary_variables": anc,
-                       "long_name": f"BEM (tamaas), mean over realisations: {long}"})  # fmt: skip
-    ds[f"{theory_name}_se"] = (ref.dims, se, {"units": units,
-        "long_name": f"standard error of the BEM mean of {theory_name} across realisations",
-        "standard_name": "standard_error"})  # fmt: skip
-    ds[f"{theory_name}_theory"] = (ref.dims, ref.values, {"units": units,
-        "long_name": f"theory: {long}"})  # fmt: skip
-    ds[f"{theory_name}_ratio"] = (ref.dims, ratio, {"units": "1",
-        "long_name": f"theory / BEM of {theory_name}"})  # fmt: skip
-    ds[f"{theory_name}_realisations"] = (dims, values, {"units": units,
-        "long_name": f"BEM {theory_name} per realisation (NaN: not converged)"})  # fmt: skip
+    n_ = theory_name
+    rows = {
+        n_: (mean, units, f"BEM (tamaas), mean over realisations: {long}"),
+        f"{n_}_se": (se, units, f"standard error of the BEM mean of {n_} across realisations"),
+        f"{n_}_theory": (ref.values, units, f"theory: {long}"),
+        f"{n_}_ratio": (ratio, "1", f"theory / BEM of {n_}"),
+    }
+    for key, (val, unit, text) in rows.items():
+        ds[key] = (ref.dims, val, {"units": unit, "long_name": text})
+    ds[n_].attrs["ancillary_variables"] = f"{n_}_se {n_}_theory {n_}_ratio {n_}_realisations"
+    ds[f"{n_}_realisations"] = (
+        dims,
+        values,
+        {"units": units, "long_name": f"BEM {n_} per realisation (NaN: not converged)"},
+    )
 
 
 def _gap(ds: xr.Dataset, th: xr.Dataset, values: np.ndarray) -> None:
@@ -130,13 +134,22 @@ def _gap(ds: xr.Dataset, th: xr.Dataset, values: np.ndarray) -> None:
     w_bem = ds["gap_contact_weight"].values
     w_th = th["gap_contact_weight"].values
     l1 = np.sum(np.abs(ref.values - mean) * du, axis=-1) + np.abs(w_th - w_bem)
-    ds["gap_pdf"] = (ref.dims, mean, {"units": ref.attrs.get("units", "m-1"),
-        "long_name": "BEM (tamaas), mean over realisations: " + ref.attrs.get("long_name", ""),
-        "ancillary_variables": "gap_pdf_theory gap_pdf_l1"})  # fmt: skip
-    ds["gap_pdf_theory"] = (ref.dims, ref.values, {"units": ref.attrs.get("units", "m-1"),
-        "long_name": "theory: " + ref.attrs.get("long_name", "")})  # fmt: skip
-    ds["gap_pdf_l1"] = (("p0",), l1, {"units": "1", "long_name": "L1 distance of the theory's "
-        "gap distribution (pdf and contact weight) to the BEM's"})  # fmt: skip
+    unit, long = ref.attrs.get("units", "m-1"), ref.attrs.get("long_name", "gap pdf")
+    ds["gap_pdf"] = (ref.dims, mean, _meta(unit, f"BEM (tamaas), mean over realisations: {long}"))
+    ds["gap_pdf"].attrs["ancillary_variables"] = "gap_pdf_theory gap_pdf_l1"
+    ds["gap_pdf_theory"] = (ref.dims, ref.values, _meta(unit, f"theory: {long}"))
+    ds["gap_pdf_l1"] = (
+        ("p0",),
+        l1,
+        _meta(
+            "1",
+            "L1 distance of the theory's gap distribution (pdf and contact weight) to the BEM's",
+        ),
+    )
+
+
+def _meta(units: str, long_name: str) -> dict[str, str]:
+    return {"units": units, "long_name": long_name}
 
 
 def _attrs(plan: Plan, th: xr.Dataset, version: str) -> dict[str, Any]:
@@ -183,18 +196,31 @@ def _assemble(plan: Plan, th: xr.Dataset, results: list[dict[str, np.ndarray]]) 
         ds = ds.assign_coords(u=th["u"])
         _gap(ds, th, values["gap_pdf"])
     conv = _stack(results, "converged").astype("i1")
-    ds["bem_converged"] = (("realisation",) + (("p0",) if conv.ndim == 2 else ()), conv,
-        {"units": "1", "long_name": "1: every tamaas solve of this point reached its "
-         "tolerance; 0: not (its values are NaN)"})  # fmt: skip
+    ds["bem_converged"] = (
+        ("realisation", "p0")[: conv.ndim],
+        conv,
+        _meta("1", "1: every tamaas solve of this point reached its tolerance; 0: not (NaN)"),
+    )
     if plan.kind != "adhesive":
-        full = _stack(results, "full_contact").astype("i1")
-        ds["bem_full_contact"] = (("realisation", "p0"), full, {"units": "1",
-            "long_name": "1: the whole cell is in contact at p0 exp(+step) in the BEM (gap, "
-            "stiffness and conductance not compared there)"})  # fmt: skip
-    for k in ("h_rms", "rms_slope"):
-        ds[f"bem_{k}"] = (("realisation",), _stack(results, k),
-            {"units": "m" if k == "h_rms" else "1",
-             "long_name": f"{k} of the synthesised map"})  # fmt: skip
+        ds["bem_full_contact"] = (
+            ("realisation", "p0"),
+            _stack(results, "full_contact").astype("i1"),
+            _meta(
+                "1",
+                "1: the whole cell is in contact at p0 exp(+step) in the BEM (gap, "
+                "stiffness and conductance not compared there)",
+            ),
+        )
+    ds["bem_h_rms"] = (
+        ("realisation",),
+        _stack(results, "h_rms"),
+        _meta("m", "rms height of the synthesised map"),
+    )
+    ds["bem_rms_slope"] = (
+        ("realisation",),
+        _stack(results, "rms_slope"),
+        _meta("1", "rms slope of the synthesised map"),
+    )
     return ds
 
 
@@ -205,7 +231,7 @@ def crosscheck(
     scheduler: Any = None,
     seed: int = 0,
     *,
-    workers: int = 1,
+    workers: int | None = None,
     echo: Callable[[str], None] | None = None,
 ) -> xr.Dataset:
     """Solve a scene with the theory and with a boundary-element solver; compare.
@@ -226,8 +252,9 @@ def crosscheck(
         schedulers), a scheduler address or a ``Client``; the numbers do not depend on it.
     seed : int
         Base seed of the maps (realisation ``i`` uses ``[seed, i]``).
-    workers : int
-        Concurrent realisations assumed by the memory check.
+    workers : int, optional
+        Concurrent realisations assumed by the memory check (default: the number of cores
+        for ``"threads"``/``"processes"``, else 1).
     echo : callable, optional
         Receives the estimate line (and notes) before any work, e.g. ``print``.
 
@@ -251,6 +278,8 @@ def crosscheck(
     from ..pipeline import as_scene
 
     version = str(require_tamaas().__version__)
+    if workers is None:
+        workers = (os.cpu_count() or 1) if scheduler in ("threads", "processes") else 1
     plan = make_plan(as_scene(scene), grid, realisations, seed, workers)
     if echo is not None:
         echo(estimate_line(plan))
