@@ -178,6 +178,7 @@ def _attrs(plan: Plan, th: xr.Dataset, version: str) -> dict[str, Any]:
         "surfaces": "Gaussian periodic maps of the scene's spectrum (Persson's C(q), "
         "(2 pi / L)^2 per mode), realisation i seeded numpy default_rng([seed, i])",
         "theory_band": "the theory is solved on the scene's spectrum cut at q_max (same C(q))",
+        "theory_status": str(th.attrs.get("status", "success")),
         "theory_h_rms_m": float(th["h_rms"]),
         "theory_rms_slope": float(th["rms_slope"]),
         "not_compared": "; ".join(plan.not_compared) or "none",
@@ -286,6 +287,10 @@ def crosscheck(
         for note in plan.notes + [f"not compared: {x}" for x in plan.not_compared]:
             echo(f"crosscheck: {note}")
     th = solve(plan.theory_scene)
+    if th.attrs.get("status", "success") != "success":
+        plan.notes.append(f"the theory's solve reports status {th.attrs.get('status')!r}")
+        if echo is not None:
+            echo(f"crosscheck: {plan.notes[-1]}")
     edges = _edges(th["u"].values) if "gap_pdf" in th else None
     tasks = [Task(plan, i, edges) for i in range(realisations)]
     ds = _assemble(plan, th, run_all(tasks, scheduler))
