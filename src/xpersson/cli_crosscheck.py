@@ -40,6 +40,8 @@ def _err(line: str) -> None:
 
 def _table(ds: Any) -> list[str]:
     """Theory/BEM ratio (and the BEM's relative standard error) per output and load."""
+    import numpy as np
+
     names = [v[: -len("_ratio")] for v in ds.data_vars if v.endswith("_ratio")]
     lines = ["theory / BEM (+- relative standard error of the BEM mean)"]
     head = f"{'p0 [Pa]':>12}  " + "  ".join(f"{n:>24}" for n in names)
@@ -65,6 +67,11 @@ def _table(ds: Any) -> list[str]:
             "full contact in the BEM at p0 = "
             + ", ".join(f"{p:.4g}" for p in full)
             + " Pa: gap, stiffness and conductance not compared there"
+        )
+    if ds.attrs.get("crosscheck_kind") == "adhesive" and np.isnan(ds["area_fraction"]).any():
+        lines.append(
+            "NaN area: the load lies outside the BEM's stable retraction branch (above its "
+            "deepest approach, or beyond its pull-off)"
         )
     bad = int((ds["bem_converged"].values == 0).sum())
     if bad:
