@@ -291,6 +291,9 @@ def build_parser() -> argparse.ArgumentParser:
     from . import cli_psd
 
     cli_psd.register(sub)
+    from . import cli_crosscheck
+
+    cli_crosscheck.register(sub)
     return parser
 
 
