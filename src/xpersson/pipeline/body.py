@@ -1,0 +1,188 @@
+"""A finite body on the solved rough flat: the per-force outputs of a ``[geometry]`` scene.
+
+The run has solved the rough interface at a grid of nominal pressures ``p0`` in one batch
+(:func:`xpersson.scene` chose the grid). Here the separation ``u(p0)`` and its slope
+(virtual work on the solved area curve, :class:`xpersson.physics.SolvedContact`, the curve read
+by :func:`xpersson.plugins.solved.solved_curve` as the interface analyses read it) and the
+load-bearing area ``A/A0(p0)`` become the interfacial spring of the body, and
+:func:`xpersson.physics.body.solve_body` solves the nominal pressure of every force: a coarse
+pass finds the extent of the nominal contact, then the grid of ``N`` and ``2N`` cells gives the
+result (the finer) and its error estimate (their difference).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .. import physics
+from ..errors import XperssonWarning
+from ..physics.body import BodySolution, Separation, force_radius, solve_body
+from ..plugins.solved import solved_curve
+from ..scene import ResolvedScene
+
+__all__ = ["CELLS", "FORCE_FRACTION", "body_dataset"]
+
+FORCE_FRACTION = 0.99
+"""The nominal contact radius holds this fraction of the force [1]."""
+CELLS = 160
+"""Cells of the radial grid of the result (the error estimate compares with half as many)."""
+_R_POINTS = 201
+_PER_DECADE = 40  # dense magnifications of the area curve (as the interface analyses)
+
+
+def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
+    """``u(p0)``, ``du/dln p0`` and ``A/A0(p0)`` of the solved interface."""
+    solved = solved_curve(ctx, ds, "closure", per_decade=_PER_DECADE)
+    sc = physics.SolvedContact(rs.psd, rs.E_star, solved.p0, *solved.curve)
+    p = np.asarray(solved.p0, float)
+    return Separation(p, sc.mean_gap(), sc.mean_gap_slope() * p, solved.contact[:, -1])
+
+
+def _solve_force(rs: ResolvedScene, sep: Separation, load: float) -> tuple[BodySolution, float]:
+    """The solution on ``CELLS`` cells and the relative change from ``CELLS // 2`` [1]."""
+    geo = rs.geometry
+    assert geo is not None
+    sym = geo.symmetry
+    a, delta_h, peak = geo.reference(load, rs.E_star)
+    alpha = geo.roughness_parameter(rs.psd.h_rms(), load, rs.E_star)
+    alpha = 1.0 if not math.isfinite(alpha) else alpha
+    datum = float(geo.params.get("radius", a))
+
+    def hertz(r: np.ndarray) -> np.ndarray:
+        return peak * np.sqrt(np.clip(1.0 - (r / a) ** 2, 1e-6, None))
+
+    def run(r_max: float, n: int, guess: Any) -> BodySolution:
+        return solve_body(
+            sym, geo.profile, load, rs.E_star, sep, r_max, n, scale=delta_h, guess=guess,
+            datum=datum,
+        )  # fmt: skip
+
+    r_max = a * (1.3 + 3.0 * math.sqrt(alpha))
+    for _ in range(6):  # the coarse pass: where the force acts
+        coarse = run(r_max, CELLS // 2, hertz)
+        outer = force_radius(coarse, 0.9999, sym)
+        if outer < 0.9 * r_max:
+            break
+        r_max *= 2.0
+
+    def from_coarse(r: np.ndarray) -> np.ndarray:
+        return np.exp(np.interp(r, coarse.r, np.log(coarse.p)))
+
+    r_max = 1.2 * outer
+    half = run(r_max, CELLS // 2, from_coarse)
+    full = run(r_max, CELLS, from_coarse)
+    err = 0.0
+    for fn in (lambda s: force_radius(s, FORCE_FRACTION, sym), lambda s: _real_area(s, sep)):
+        x1, x2 = fn(half), fn(full)
+        err = max(err, abs(x2 - x1) / max(abs(x2), 1e-300))
+    return full, err
+
+
+def _real_area(sol: BodySolution, sep: Separation) -> float:
+    """``int A/A0(p) dA`` [m^2] (per length of a line contact [m])."""
+    return float(np.dot(sep.area_fraction(sol.p), sol.cell))
+
+
+def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
+    """The solved flat ``ds`` with the body's per-force variables (dimension ``force``)."""
+    geo = rs.geometry
+    assert geo is not None and rs.force is not None
+    sep = separation(rs, ctx, ds)
+    length = 1.0 if geo.symmetry == "axisymmetric" else float(geo.params["length"])
+    sols, rows = [], []
+    for f in rs.force:
+        load = geo.solver_load(float(f))
+        sol, err = _solve_force(rs, sep, load)
+        a, delta_h, _ = geo.reference(load, rs.E_star)
+        sols.append(sol)
+        rows.append(
+            (
+                _real_area(sol, sep) * length,
+                force_radius(sol, FORCE_FRACTION, geo.symmetry),
+                sol.delta,
+                float(sol.p.max()),
+                geo.roughness_parameter(rs.psd.h_rms(), load, rs.E_star),
+                sol.stiffness * length,
+                a,
+                delta_h,
+                sol.residual,
+                err,
+            )
+        )
+    cols = np.array(rows, dtype=float).T
+    r_out = np.linspace(0.0, max(s.edges[-1] for s in sols), _R_POINTS)
+    p_r = np.array([np.interp(r_out, s.r, s.p, right=0.0) for s in sols])
+    u_r = np.array([sep(np.log(np.maximum(p, 1e-300)))[0] for p in p_r])
+    out = ds.copy()
+    out.coords["force"] = ("force", np.asarray(rs.force, float), _FORCE_ATTRS)
+    out.coords["r"] = ("r", r_out, _R_ATTRS[geo.symmetry])
+    for (name, units, long_name), col in zip(_SCALARS, cols, strict=True):
+        out[name] = xr.Variable(("force",), col, {"units": units, "long_name": long_name})
+    out["nominal_pressure"] = xr.Variable(
+        ("force", "r"), p_r, {"units": "Pa", "long_name": "nominal pressure p(r) on the body"}
+    )
+    out["local_area_fraction"] = xr.Variable(
+        ("force", "r"),
+        sep.area_fraction(p_r),
+        {"units": "1", "long_name": "real contact area fraction A/A0 at p(r)"},
+    )
+    out["interfacial_separation"] = xr.Variable(
+        ("force", "r"),
+        np.where(p_r > 0, u_r, np.nan),
+        {"units": "m", "long_name": "mean interfacial separation u(p(r))"},
+    )
+    out["separation_of_pressure"] = xr.Variable(
+        ("p0",), sep.u, {"units": "m", "long_name": "interfacial separation u(p0) of the flat"}
+    )
+    _attributes(out, rs, cols)
+    if rs.force_scalar:
+        out = out.isel(force=0)
+    return out
+
+
+_FORCE_ATTRS = {"units": "N", "long_name": "total force on the body"}
+_R_ATTRS = {
+    "axisymmetric": {"units": "m", "long_name": "radial distance from the axis of the body"},
+    "plane": {"units": "m", "long_name": "distance from the line of the contact"},
+}
+_SCALARS = (
+    ("real_contact_area", "m2", "real contact area, int A/A0(p(r)) dA"),
+    ("nominal_contact_radius", "m", "radius holding 99 % of the force"),
+    ("approach", "m", "rigid-body approach of the mean planes"),
+    ("peak_pressure", "Pa", "largest nominal pressure"),
+    ("johnson_parameter", "1", "Johnson's roughness parameter sigma R / a0^2"),
+    ("normal_stiffness", "N m-1", "normal contact stiffness dF/d(approach)"),
+    ("hertz_radius", "m", "Hertz contact radius of the smooth body at the force"),
+    ("hertz_approach", "m", "Hertz approach of the smooth body at the force"),
+    ("body_residual", "1", "gap residual of the solved pressure per Hertz approach"),
+    ("body_grid_error", "1", "relative change of radius and real area from half the cells"),
+)
+
+
+def _attributes(out: xr.Dataset, rs: ResolvedScene, cols: np.ndarray) -> None:
+    """Global attributes of the body and the warnings of a contact beyond the theory."""
+    geo = rs.geometry
+    assert geo is not None
+    out.attrs["geometry"] = type(geo).__name__.lower()
+    out.attrs["geometry_parameters"] = str(dict(geo.params))
+    out.attrs["nominal_contact_radius_force_fraction"] = FORCE_FRACTION
+    out.attrs["geometry_cells"] = CELLS
+    radius = cols[1]
+    if np.any(radius > geo.extent()):
+        warnings.warn(
+            f"the nominal contact radius reaches {radius.max():.4g} m, beyond "
+            f"{geo.extent():.4g} m where the body's small-slope profile holds",
+            XperssonWarning,
+            stacklevel=3,
+        )
+    if np.any(cols[3] > float(rs.p0[-1])):
+        warnings.warn(
+            "the peak nominal pressure exceeds the solved pressure grid; u(p) extrapolated",
+            XperssonWarning,
+            stacklevel=3,
+        )
