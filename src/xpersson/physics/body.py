@@ -267,12 +267,40 @@ def solve_body(
         g = (u - K @ p + delta - hr) / scale
         return np.append(g, np.dot(weights, p) - 1.0), du
 
+    s_max = math.log(load / float(cell.min()))  # the whole load on the smallest cell
+    with np.errstate(over="ignore", invalid="ignore"):  # a rejected trial step may overflow
+        s, delta, g, du, iterations = _newton(
+            resid, K, weights, np.minimum(s, s_max), delta, scale, tol, max_iter, s_max
+        )
+    p = np.exp(s)
+    Js = -K * p[None, :]
+    Js[np.arange(n), np.arange(n)] += du
+    dsdd = np.linalg.solve(Js, -np.ones(n))
+    stiffness = float(np.dot(cell * p, dsdd))
+    residual = float(np.max(np.abs(g[:n])))
+    return BodySolution(r, edges, cell, p, delta, stiffness, residual, iterations)
+
+
+def _newton(
+    resid: Callable[[FloatArray, float], tuple[FloatArray, FloatArray]],
+    K: FloatArray,
+    weights: FloatArray,
+    s: FloatArray,
+    delta: float,
+    scale: float,
+    tol: float,
+    max_iter: int,
+    s_max: float,
+) -> tuple[FloatArray, float, FloatArray, FloatArray, int]:
+    """Newton's method on ``(ln p, delta)`` with a backtracking line search on ``|g|^2``."""
+    n = s.size
+    diag = np.arange(n)
     g, du = resid(s, delta)
     for it in range(1, max_iter + 1):
         p = np.exp(s)
         J = np.empty((n + 1, n + 1))
         J[:n, :n] = -K * p[None, :]
-        J[np.arange(n), np.arange(n)] += du
+        J[diag, diag] += du
         J[:n, :n] /= scale
         J[:n, n] = 1.0 / scale
         J[n, :n] = weights * p
@@ -280,22 +308,16 @@ def solve_body(
         step = np.linalg.solve(J, -g)
         merit, lam = float(np.dot(g, g)), 1.0
         while True:
-            s_new = np.minimum(s + lam * step[:n], 700.0)
+            s_new = np.minimum(s + lam * step[:n], s_max)
             g_new, du_new = resid(s_new, delta + lam * step[n])
-            if float(np.dot(g_new, g_new)) <= (1 - 1e-4 * lam) * merit or lam < 1e-6:
+            trial = float(np.dot(g_new, g_new))
+            if (math.isfinite(trial) and trial <= (1 - 1e-4 * lam) * merit) or lam < 1e-6:
                 break
             lam *= 0.5
         s, delta, g, du = s_new, delta + lam * step[n], g_new, du_new
         if np.max(np.abs(g[:n])) < tol and abs(g[n]) < tol:
-            break
-    else:
-        raise ArithmeticError(
-            f"the nominal pressure did not converge in {max_iter} Newton iterations "
-            f"(gap residual {np.max(np.abs(g[:n])):.3g} of the approach scale)"
-        )
-    p = np.exp(s)
-    Js = -K * p[None, :]
-    Js[np.arange(n), np.arange(n)] += du
-    dsdd = np.linalg.solve(Js, -np.ones(n))
-    stiffness = float(np.dot(cell * p, dsdd))
-    return BodySolution(r, edges, cell, p, delta, stiffness, float(np.max(np.abs(g[:n]))), it)
+            return s, delta, g, du, it
+    raise ArithmeticError(
+        f"the nominal pressure did not converge in {max_iter} Newton iterations "
+        f"(gap residual {np.max(np.abs(g[:n])):.3g} of the approach scale)"
+    )

@@ -71,7 +71,7 @@ def _solve_force(rs: ResolvedScene, sep: Separation, load: float) -> tuple[BodyS
         r_max *= 2.0
 
     def from_coarse(r: np.ndarray) -> np.ndarray:
-        return np.exp(np.interp(r, coarse.r, np.log(coarse.p)))
+        return np.exp(np.interp(r, coarse.r, np.log(np.maximum(coarse.p, 1e-300))))
 
     r_max = 1.2 * outer
     half = run(r_max, CELLS // 2, from_coarse)
@@ -84,7 +84,7 @@ def _solve_force(rs: ResolvedScene, sep: Separation, load: float) -> tuple[BodyS
 
 
 def _real_area(sol: BodySolution, sep: Separation) -> float:
-    """``int A/A0(p) dA`` [m^2] (per length of a line contact [m])."""
+    """``int A/A0(p) dA`` [m^2] over the cells (per length of a line contact [m])."""
     return float(np.dot(sep.area_fraction(sol.p), sol.cell))
 
 

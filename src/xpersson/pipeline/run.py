@@ -10,8 +10,8 @@ import xarray as xr
 from .. import checks, memory, plugins, provenance
 from ..cache import solve_scope
 from ..scene import ResolvedScene
-from .body import body_dataset
 from .assemble import add_outputs, assemble, attributes, diagnostics_notes, squeeze_p0
+from .body import body_dataset
 from .frontend import diffusion_clock, pressure_grid, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
 from .stages import coefficient_arrays, load_walls, validate

@@ -443,6 +443,7 @@ class Geometry(Plugin):
             f"allowed force in (0, {lo:.4g}] N"
         )
 
+
 def _as_array(value: Any) -> Any:
     """A DataArray of a plugin's ``DataArray or (dims, data)`` value."""
     import xarray as xr

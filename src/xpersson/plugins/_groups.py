@@ -1,7 +1,8 @@
 """The one group mapping: a plugin group's short name -> its group.
 
 The short name is the scene's section (``[spectrum]``, ``[coefficient]``, ``[boundary]``,
-``[geometry]``) or the singular of the group; the group names the entry-point group ``xpersson.<group>``.
+``[geometry]``) or the singular of the group; the group names the entry-point group
+``xpersson.<group>``.
 """
 
 from __future__ import annotations

@@ -24,7 +24,6 @@ from ._convert import (
     loads,
     resolved_loads,
 )
-from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
 from ._core import (
     CORE,
     DEFAULT_MODEL,
@@ -34,6 +33,7 @@ from ._core import (
     TOP_LEVEL,
     ResolvedScene,
 )
+from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
 
 __all__ = ["plugin_message", "resolve_scene"]
 
