@@ -24,7 +24,7 @@ def body_scene(
             "H": 0.8,
             "q_L": "1e5 1/m",
             "q_r": "1e6 1/m",
-            "q_1": "1e8 1/m",
+            "q_1": "1e7 1/m",
             "h_rms": h_rms,
         },
         "material": {"E": "1 MPa", "nu": 0.5},
