@@ -128,9 +128,17 @@ class Separation:
     dudlnp: FloatArray
     area: FloatArray
 
+    def __post_init__(self) -> None:
+        from scipy.interpolate import PchipInterpolator
+
+        x = np.log(self.p)  # the interpolants, built once (an object's own lazily built fields)
+        object.__setattr__(self, "_x", x)
+        ln_area = np.log(np.maximum(self.area, 1e-300))
+        object.__setattr__(self, "_ln_area", PchipInterpolator(x, ln_area))
+
     def __call__(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
         """``(u, du/ds)`` at ``s = ln p``."""
-        x = np.log(self.p)
+        x = self._x  # type: ignore[attr-defined]
         i = np.clip(np.searchsorted(x, s) - 1, 0, x.size - 2)
         h = x[i + 1] - x[i]
         t = np.clip((s - x[i]) / h, 0.0, 1.0)
@@ -148,13 +156,11 @@ class Separation:
 
     def area_fraction(self, p: FloatArray) -> FloatArray:
         """``A/A0`` [1] at nominal pressures ``p`` [Pa] (0 where ``p = 0``)."""
-        from scipy.interpolate import PchipInterpolator
-
-        x, y = np.log(self.p), np.log(np.maximum(self.area, 1e-300))
+        x = self._x  # type: ignore[attr-defined]
         p = np.asarray(p, float)
         with np.errstate(divide="ignore"):
             s = np.log(p)
-        inner = np.exp(PchipInterpolator(x, y)(np.clip(s, x[0], x[-1])))
+        inner = np.exp(self._ln_area(np.clip(s, x[0], x[-1])))  # type: ignore[attr-defined]
         below = self.area[0] * p / self.p[0]
         return np.minimum(np.where(s < x[0], below, inner), 1.0)
 

@@ -29,8 +29,9 @@ __all__ = ["CELLS", "FORCE_FRACTION", "body_dataset"]
 
 FORCE_FRACTION = 0.99
 """The nominal contact radius holds this fraction of the force [1]."""
-CELLS = 160
+CELLS = 128
 """Cells of the radial grid of the result (the error estimate compares with half as many)."""
+_COARSE = 32  # cells of the pass that finds the extent of the nominal contact
 _R_POINTS = 201
 _PER_DECADE = 40  # dense magnifications of the area curve (as the interface analyses)
 
@@ -64,7 +65,7 @@ def _solve_force(rs: ResolvedScene, sep: Separation, load: float) -> tuple[BodyS
 
     r_max = a * (1.3 + 3.0 * math.sqrt(alpha))
     for _ in range(6):  # the coarse pass: where the force acts
-        coarse = run(r_max, CELLS // 2, hertz)
+        coarse = run(r_max, _COARSE, hertz)
         outer = force_radius(coarse, 0.9999, sym)
         if outer < 0.9 * r_max:
             break
@@ -75,7 +76,11 @@ def _solve_force(rs: ResolvedScene, sep: Separation, load: float) -> tuple[BodyS
 
     r_max = 1.2 * outer
     half = run(r_max, CELLS // 2, from_coarse)
-    full = run(r_max, CELLS, from_coarse)
+
+    def from_half(r: np.ndarray) -> np.ndarray:
+        return np.exp(np.interp(r, half.r, np.log(np.maximum(half.p, 1e-300))))
+
+    full = run(r_max, CELLS, from_half)
     err = 0.0
     for fn in (lambda s: force_radius(s, FORCE_FRACTION, sym), lambda s: _real_area(s, sep)):
         x1, x2 = fn(half), fn(full)
@@ -118,27 +123,24 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     r_out = np.linspace(0.0, max(s.edges[-1] for s in sols), _R_POINTS)
     p_r = np.array([np.interp(r_out, s.r, s.p, right=0.0) for s in sols])
     u_r = np.array([sep(np.log(np.maximum(p, 1e-300)))[0] for p in p_r])
-    out = ds.copy()
-    out.coords["force"] = ("force", np.asarray(rs.force, float), _FORCE_ATTRS)
-    out.coords["r"] = ("r", r_out, _R_ATTRS[geo.symmetry])
-    for (name, units, long_name), col in zip(_SCALARS, cols, strict=True):
-        out[name] = xr.Variable(("force",), col, {"units": units, "long_name": long_name})
-    out["nominal_pressure"] = xr.Variable(
-        ("force", "r"), p_r, {"units": "Pa", "long_name": "nominal pressure p(r) on the body"}
-    )
-    out["local_area_fraction"] = xr.Variable(
-        ("force", "r"),
-        sep.area_fraction(p_r),
-        {"units": "1", "long_name": "real contact area fraction A/A0 at p(r)"},
-    )
-    out["interfacial_separation"] = xr.Variable(
-        ("force", "r"),
-        np.where(p_r > 0, u_r, np.nan),
-        {"units": "m", "long_name": "mean interfacial separation u(p(r))"},
-    )
-    out["separation_of_pressure"] = xr.Variable(
+    body = {
+        name: xr.Variable(("force",), col, {"units": units, "long_name": long_name})
+        for (name, units, long_name), col in zip(_SCALARS, cols, strict=True)
+    }
+    for name, data, units, long_name in (
+        ("nominal_pressure", p_r, "Pa", "nominal pressure p(r) on the body"),
+        ("local_area_fraction", sep.area_fraction(p_r), "1",
+         "real contact area fraction A/A0 at p(r)"),
+        ("interfacial_separation", np.where(p_r > 0, u_r, np.nan), "m",
+         "mean interfacial separation u(p(r))"),
+    ):  # fmt: skip
+        body[name] = xr.Variable(("force", "r"), data, {"units": units, "long_name": long_name})
+    body["separation_of_pressure"] = xr.Variable(
         ("p0",), sep.u, {"units": "m", "long_name": "interfacial separation u(p0) of the flat"}
     )
+    body["force"] = xr.Variable(("force",), np.asarray(rs.force, float), _FORCE_ATTRS)
+    body["r"] = xr.Variable(("r",), r_out, _R_ATTRS[geo.symmetry])
+    out = ds.assign(body)  # one merge for every variable (a dim's namesake is its coordinate)
     _attributes(out, rs, cols)
     if rs.force_scalar:
         out = out.isel(force=0)
