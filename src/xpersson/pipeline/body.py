@@ -25,10 +25,12 @@ from ..physics.body import BodySolution, Separation, force_radius, solve_body
 from ..plugins.solved import solved_curve
 from ..scene import ResolvedScene
 
-__all__ = ["CELLS", "FORCE_FRACTION", "body_dataset"]
+__all__ = ["ASYMPTOTE", "CELLS", "FORCE_FRACTION", "body_dataset"]
 
 FORCE_FRACTION = 0.99
 """The nominal contact radius holds this fraction of the force [1]."""
+ASYMPTOTE = 1e-3
+"""Contact area fraction [1] below which the separation follows Persson's asymptotic law."""
 CELLS = 128
 """Cells of the radial grid of the result (the error estimate compares with half as many)."""
 _COARSE = 32  # cells of the pass that finds the extent of the nominal contact
@@ -37,11 +39,20 @@ _PER_DECADE = 40  # dense magnifications of the area curve (as the interface ana
 
 
 def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
-    """``u(p0)``, ``du/dln p0`` and ``A/A0(p0)`` of the solved interface."""
+    """``u(p0)``, ``du/dln p0`` and ``A/A0(p0)`` of the solved interface.
+
+    Below the pressure where the contact area is :data:`ASYMPTOTE` of the nominal one the
+    separation is continued by Persson's asymptotic law ``u = u0 ln(p*/p)`` with its slope
+    there (Persson 2007): at smaller areas only the highest asperities of a finite body touch,
+    and the curve of the infinite flat (whose separation grows without bound) no longer
+    describes them.
+    """
     solved = solved_curve(ctx, ds, "closure", per_decade=_PER_DECADE)
     sc = physics.SolvedContact(rs.psd, rs.E_star, solved.p0, *solved.curve)
     p = np.asarray(solved.p0, float)
-    return Separation(p, sc.mean_gap(), sc.mean_gap_slope() * p, solved.contact[:, -1])
+    area = solved.contact[:, -1]
+    keep = slice(max(0, min(int(np.searchsorted(area, ASYMPTOTE)), p.size - 4)), None)
+    return Separation(p[keep], sc.mean_gap()[keep], (sc.mean_gap_slope() * p)[keep], area[keep])
 
 
 def _solve_force(rs: ResolvedScene, sep: Separation, load: float) -> tuple[BodySolution, float]:
@@ -136,7 +147,9 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     ):  # fmt: skip
         body[name] = xr.Variable(("force", "r"), data, {"units": units, "long_name": long_name})
     body["separation_of_pressure"] = xr.Variable(
-        ("p0",), sep.u, {"units": "m", "long_name": "interfacial separation u(p0) of the flat"}
+        ("p0",),
+        sep(np.log(np.asarray(rs.p0, float)))[0],
+        {"units": "m", "long_name": "interfacial separation u(p0) the body couples to"},
     )
     body["force"] = xr.Variable(("force",), np.asarray(rs.force, float), _FORCE_ATTRS)
     body["r"] = xr.Variable(("r",), r_out, _R_ATTRS[geo.symmetry])
