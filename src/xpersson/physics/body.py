@@ -34,9 +34,10 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from ..cache import memoize
 
@@ -211,119 +212,181 @@ def force_radius(sol: BodySolution, fraction: float, symmetry: str) -> float:
 def solve_body(
     symmetry: str,
     profile: Callable[[FloatArray], FloatArray],
-    load: float,
+    load: ArrayLike,
     E_star: float,
     sep: Separation,
-    r_max: float,
+    r_max: ArrayLike,
     n: int,
     *,
-    scale: float,
+    scale: ArrayLike,
     guess: Callable[[FloatArray], FloatArray],
     datum: float = 1.0,
     tol: float = 1e-10,
     max_iter: int = 200,
-) -> BodySolution:
-    """Solve the gap equation and the load balance on ``n`` cells of ``[0, r_max]``.
+) -> list[BodySolution]:
+    """Solve the gap equation and the load balance of one or more loads (batched).
 
     Parameters
     ----------
     symmetry : {"axisymmetric", "plane"}
     profile : callable
-        ``h(r)`` [m].
-    load : float
-        Force [N] (axisymmetric) or force per length [N/m] (plane).
+        ``h(r)`` [m] (elementwise).
+    load : float or array_like
+        Forces [N] (axisymmetric) or forces per length [N/m] (plane), one per body.
     E_star : float
         Contact modulus [Pa].
     sep : Separation
         The interface ``u(p)``.
-    r_max : float
-        Outer radius of the grid [m].
+    r_max : float or array_like
+        Outer radius of each body's grid [m] (``n`` uniform cells on ``[0, r_max]``).
     n : int
         Cells.
-    scale : float
-        Length [m] the gap residual is measured in (the smooth approach).
+    scale : float or array_like
+        Length [m] each gap residual is measured in (the smooth approach).
     guess : callable
-        Starting pressure [Pa] at radii [m] (positive).
+        Starting pressure [Pa] at radii [m], shape ``(n_load, n)`` (positive).
     datum : float
         Plane contact: the distance ``R`` [m] of the displacement datum.
     tol : float
         Newton stops when the gap residual is below ``tol * scale`` and the load balance
         below ``tol``.
 
+    Returns
+    -------
+    list of BodySolution
+        One per load.
+
     Raises
     ------
     ArithmeticError
         No convergence within ``max_iter`` iterations.
     """
-    h = r_max / n
-    edges = np.arange(n + 1, dtype=float) * h
-    r = edges[:-1] + 0.5 * h
-    cell = cell_areas(symmetry, n, h)
-    K = kernel(symmetry, n) * (h / E_star)
+    loads = np.atleast_1d(np.asarray(load, float))
+    m = loads.size
+    h = np.broadcast_to(np.asarray(r_max, float), (m,)) / n
+    scales = np.broadcast_to(np.asarray(scale, float), (m,)).copy()
+    edges = np.arange(n + 1, dtype=float)[None, :] * h[:, None]
+    r = edges[:, :-1] + 0.5 * h[:, None]
+    cell = (
+        cell_areas(symmetry, n, 1.0)[None, :]
+        * (h * h if symmetry == "axisymmetric" else h)[:, None]
+    )
+    sys = _System(kernel(symmetry, n), h / E_star, np.asarray(profile(r), float), scales)
     if symmetry == "plane":
-        K = K - (4.0 / math.pi) * math.log(h / datum) * (h / E_star)
-    hr = np.asarray(profile(r), float)
+        sys.shift = -(4.0 / math.pi) * np.log(h / datum) * (h / E_star)
+    sys.weights = cell / loads[:, None]
+    sys.sep = sep
     s = np.log(np.maximum(guess(r), 1e-300))
-    delta = float(np.dot(hr + K @ np.exp(s) - sep(s)[0], cell * np.exp(s)) / load)
-    weights = cell / load
-
-    def resid(s: FloatArray, delta: float) -> tuple[FloatArray, FloatArray]:
-        p = np.exp(s)
-        u, du = sep(s)
-        g = (u - K @ p + delta - hr) / scale
-        return np.append(g, np.dot(weights, p) - 1.0), du
-
-    s_max = math.log(load / float(cell.min()))  # the whole load on the smallest cell
-    with np.errstate(over="ignore", invalid="ignore"):  # a rejected trial step may overflow
-        s, delta, g, du, iterations = _newton(
-            resid, K, weights, np.minimum(s, s_max), delta, scale, tol, max_iter, s_max
-        )
+    s_max = np.log(loads / cell.min(axis=1))[:, None]  # the whole load on the smallest cell
+    s = np.minimum(s, s_max)
     p = np.exp(s)
-    Js = -K * p[None, :]
-    Js[np.arange(n), np.arange(n)] += du
-    dsdd = np.linalg.solve(Js, -np.ones(n))
-    stiffness = float(np.dot(cell * p, dsdd))
-    residual = float(np.max(np.abs(g[:n])))
-    return BodySolution(r, edges, cell, p, delta, stiffness, residual, iterations)
+    delta = np.sum((sys.hr + sys.Kp(p, slice(None)) - sep(s)[0]) * sys.weights * p, axis=1)
+    with np.errstate(over="ignore", invalid="ignore"):  # a rejected trial step may overflow
+        s, delta, g, du, iters = _newton(sys, s, delta, tol, max_iter, s_max)
+    p = np.exp(s)
+    Js = -sys.K(slice(None)) * p[:, None, :]
+    Js[:, np.arange(n), np.arange(n)] += du
+    dsdd = np.linalg.solve(Js, -np.ones((m, n, 1)))[..., 0]
+    stiffness = np.sum(cell * p * dsdd, axis=1)
+    residual = np.max(np.abs(g[:, :n]), axis=1)
+    return [
+        BodySolution(
+            r[k],
+            edges[k],
+            cell[k],
+            p[k],
+            float(delta[k]),
+            float(stiffness[k]),
+            float(residual[k]),
+            int(iters[k]),
+        )  # fmt: skip
+        for k in range(m)
+    ]
+
+
+class _System:
+    """The discretised equations of a batch of bodies (rows ``k`` of every array)."""
+
+    def __init__(self, K0: FloatArray, c: FloatArray, hr: FloatArray, scale: FloatArray) -> None:
+        self.K0, self.c, self.hr, self.scale = K0, c, hr, scale
+        self.shift: FloatArray | None = None  # plane: the datum's constant, per body [m/Pa]
+        self.weights = np.empty(0)
+        self.sep: Separation | None = None
+
+    def K(self, k: Any) -> FloatArray:
+        """Influence matrices [m/Pa] of bodies ``k``, ``(len(k), n, n)``."""
+        out = self.K0[None, :, :] * self.c[k][:, None, None]
+        if self.shift is not None:
+            out = out + self.shift[k][:, None, None]
+        return out
+
+    def Kp(self, p: FloatArray, k: Any) -> FloatArray:
+        """Displacements [m] of pressures ``p`` of bodies ``k``."""
+        out = (p @ self.K0.T) * self.c[k][:, None]
+        if self.shift is not None:
+            out = out + self.shift[k][:, None] * p.sum(axis=1)[:, None]
+        return out
+
+    def resid(self, s: FloatArray, delta: FloatArray, k: Any) -> tuple[FloatArray, FloatArray]:
+        """Scaled gap residuals and the load balance ``(len(k), n + 1)``, and ``du/ds``."""
+        assert self.sep is not None
+        p = np.exp(s)
+        u, du = self.sep(s)
+        g = (u - self.Kp(p, k) + delta[:, None] - self.hr[k]) / self.scale[k][:, None]
+        return np.concatenate([g, np.sum(self.weights[k] * p, axis=1)[:, None] - 1.0], 1), du
+
+    def jacobian(self, s: FloatArray, du: FloatArray, k: Any) -> FloatArray:
+        """``d(resid)/d(s, delta)``, ``(len(k), n + 1, n + 1)``."""
+        m, n = s.shape
+        p = np.exp(s)
+        J = np.zeros((m, n + 1, n + 1))
+        J[:, :n, :n] = -self.K(k) * p[:, None, :]
+        J[:, np.arange(n), np.arange(n)] += du
+        J[:, :n, :n] /= self.scale[k][:, None, None]
+        J[:, :n, n] = 1.0 / self.scale[k][:, None]
+        J[:, n, :n] = self.weights[k] * p
+        return J
 
 
 def _newton(
-    resid: Callable[[FloatArray, float], tuple[FloatArray, FloatArray]],
-    K: FloatArray,
-    weights: FloatArray,
-    s: FloatArray,
-    delta: float,
-    scale: float,
-    tol: float,
-    max_iter: int,
-    s_max: float,
-) -> tuple[FloatArray, float, FloatArray, FloatArray, int]:
-    """Newton's method on ``(ln p, delta)`` with a backtracking line search on ``|g|^2``."""
-    n = s.size
-    diag = np.arange(n)
-    g, du = resid(s, delta)
+    sys: _System, s: FloatArray, delta: FloatArray, tol: float, max_iter: int, s_max: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.int64]]:
+    """Newton's method on ``(ln p, delta)`` of every body, with a backtracking line search on
+    ``|g|^2`` per body; converged bodies drop out of the batch."""
+    m, n = s.shape
+    everyone = np.arange(m)
+    g, du = sys.resid(s, delta, everyone)
+    iters = np.zeros(m, dtype=np.int64)
+    active = everyone[~_done(g, tol)]
     for it in range(1, max_iter + 1):
-        p = np.exp(s)
-        J = np.empty((n + 1, n + 1))
-        J[:n, :n] = -K * p[None, :]
-        J[diag, diag] += du
-        J[:n, :n] /= scale
-        J[:n, n] = 1.0 / scale
-        J[n, :n] = weights * p
-        J[n, n] = 0.0
-        step = np.linalg.solve(J, -g)
-        merit, lam = float(np.dot(g, g)), 1.0
-        while True:
-            s_new = np.minimum(s + lam * step[:n], s_max)
-            g_new, du_new = resid(s_new, delta + lam * step[n])
-            trial = float(np.dot(g_new, g_new))
-            if (math.isfinite(trial) and trial <= (1 - 1e-4 * lam) * merit) or lam < 1e-6:
-                break
-            lam *= 0.5
-        s, delta, g, du = s_new, delta + lam * step[n], g_new, du_new
-        if np.max(np.abs(g[:n])) < tol and abs(g[n]) < tol:
-            return s, delta, g, du, it
+        if active.size == 0:
+            return s, delta, g, du, iters
+        step = np.linalg.solve(sys.jacobian(s[active], du[active], active), -g[active][..., None])
+        step = step[..., 0]
+        merit = np.sum(g[active] ** 2, axis=1)
+        lam = np.ones(active.size)
+        todo = np.arange(active.size)  # positions in active still searching
+        while todo.size:
+            k = active[todo]
+            s_new = np.minimum(s[k] + lam[todo, None] * step[todo, :n], s_max[k])
+            d_new = delta[k] + lam[todo] * step[todo, n]
+            g_new, du_new = sys.resid(s_new, d_new, k)
+            trial = np.sum(g_new**2, axis=1)
+            ok = (np.isfinite(trial) & (trial <= (1 - 1e-4 * lam[todo]) * merit[todo])) | (
+                lam[todo] < 1e-6
+            )
+            kk = k[ok]
+            s[kk], delta[kk], g[kk], du[kk] = s_new[ok], d_new[ok], g_new[ok], du_new[ok]
+            lam[todo[~ok]] *= 0.5
+            todo = todo[~ok]
+        iters[active] = it
+        active = active[~_done(g[active], tol)]
     raise ArithmeticError(
         f"the nominal pressure did not converge in {max_iter} Newton iterations "
-        f"(gap residual {np.max(np.abs(g[:n])):.3g} of the approach scale)"
+        f"(gap residual {np.max(np.abs(g[:, :n])):.3g} of the approach scale)"
     )
+
+
+def _done(g: FloatArray, tol: float) -> NDArray[np.bool_]:
+    """Bodies whose gap residual and load balance are below ``tol``."""
+    return (np.max(np.abs(g[:, :-1]), axis=1) < tol) & (np.abs(g[:, -1]) < tol)

@@ -12,7 +12,6 @@ result (the finer) and its error estimate (their difference).
 
 from __future__ import annotations
 
-import math
 import warnings
 from typing import Any
 
@@ -55,47 +54,61 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     return Separation(p[keep], sc.mean_gap()[keep], (sc.mean_gap_slope() * p)[keep], area[keep])
 
 
-def _solve_force(rs: ResolvedScene, sep: Separation, load: float) -> tuple[BodySolution, float]:
-    """The solution on ``CELLS`` cells and the relative change from ``CELLS // 2`` [1]."""
+def _interpolated(sols: list[BodySolution]) -> Any:
+    """A starting pressure [Pa] at radii ``(n_load, n)`` from solutions on other grids."""
+
+    def guess(r: np.ndarray) -> np.ndarray:
+        return np.exp(
+            [
+                np.interp(rk, s.r, np.log(np.maximum(s.p, 1e-300)))
+                for rk, s in zip(r, sols, strict=True)
+            ]
+        )
+
+    return guess
+
+
+def _solve_forces(
+    rs: ResolvedScene, sep: Separation, loads: np.ndarray
+) -> tuple[list[BodySolution], np.ndarray]:
+    """The solutions on ``CELLS`` cells and their relative change from ``CELLS // 2`` [1]."""
     geo = rs.geometry
     assert geo is not None
     sym = geo.symmetry
-    a, delta_h, peak = geo.reference(load, rs.E_star)
-    alpha = geo.roughness_parameter(rs.psd.h_rms(), load, rs.E_star)
-    alpha = 1.0 if not math.isfinite(alpha) else alpha
-    datum = float(geo.params.get("radius", a))
+    ref = np.array([geo.reference(float(f), rs.E_star) for f in loads])  # a, delta, peak
+    a, delta_h, peak = ref.T
+    alpha = np.array([geo.roughness_parameter(rs.psd.h_rms(), f, rs.E_star) for f in loads])
+    alpha = np.where(np.isfinite(alpha), alpha, 1.0)
+    datum = float(geo.params.get("radius", a[0]))
 
-    def hertz(r: np.ndarray) -> np.ndarray:
-        return peak * np.sqrt(np.clip(1.0 - (r / a) ** 2, 1e-6, None))
-
-    def run(r_max: float, n: int, guess: Any) -> BodySolution:
+    def run(k: np.ndarray, r_max: np.ndarray, n: int, guess: Any) -> list[BodySolution]:
         return solve_body(
-            sym, geo.profile, load, rs.E_star, sep, r_max, n, scale=delta_h, guess=guess,
-            datum=datum,
+            sym, geo.profile, loads[k], rs.E_star, sep, r_max[k], n, scale=delta_h[k],
+            guess=guess, datum=datum,
         )  # fmt: skip
 
-    r_max = a * (1.3 + 3.0 * math.sqrt(alpha))
-    for _ in range(6):  # the coarse pass: where the force acts
-        coarse = run(r_max, _COARSE, hertz)
-        outer = force_radius(coarse, 0.9999, sym)
-        if outer < 0.9 * r_max:
+    def hertz(k: np.ndarray) -> Any:
+        return lambda r: peak[k, None] * np.sqrt(np.clip(1 - (r / a[k, None]) ** 2, 1e-6, None))
+
+    r_max = a * (1.3 + 3.0 * np.sqrt(alpha))
+    coarse: list[Any] = [None] * loads.size
+    outer = np.zeros(loads.size)
+    todo = np.arange(loads.size)
+    for _ in range(6):  # the coarse pass: where the force acts (wider where it does not fit)
+        for k, sol in zip(todo, run(todo, r_max, _COARSE, hertz(todo)), strict=True):
+            coarse[k], outer[k] = sol, force_radius(sol, 0.9999, sym)
+        todo = todo[outer[todo] >= 0.9 * r_max[todo]]
+        if todo.size == 0:
             break
-        r_max *= 2.0
-
-    def from_coarse(r: np.ndarray) -> np.ndarray:
-        return np.exp(np.interp(r, coarse.r, np.log(np.maximum(coarse.p, 1e-300))))
-
+        r_max[todo] *= 2.0
+    every = np.arange(loads.size)
     r_max = 1.2 * outer
-    half = run(r_max, CELLS // 2, from_coarse)
-
-    def from_half(r: np.ndarray) -> np.ndarray:
-        return np.exp(np.interp(r, half.r, np.log(np.maximum(half.p, 1e-300))))
-
-    full = run(r_max, CELLS, from_half)
-    err = 0.0
+    half = run(every, r_max, CELLS // 2, _interpolated(coarse))
+    full = run(every, r_max, CELLS, _interpolated(half))
+    err = np.zeros(loads.size)
     for fn in (lambda s: force_radius(s, FORCE_FRACTION, sym), lambda s: _real_area(s, sep)):
-        x1, x2 = fn(half), fn(full)
-        err = max(err, abs(x2 - x1) / max(abs(x2), 1e-300))
+        x1, x2 = np.array([fn(s) for s in half]), np.array([fn(s) for s in full])
+        err = np.maximum(err, np.abs(x2 - x1) / np.maximum(np.abs(x2), 1e-300))
     return full, err
 
 
@@ -110,19 +123,18 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     assert geo is not None and rs.force is not None
     sep = separation(rs, ctx, ds)
     length = 1.0 if geo.symmetry == "axisymmetric" else float(geo.params["length"])
-    sols, rows = [], []
-    for f in rs.force:
-        load = geo.solver_load(float(f))
-        sol, err = _solve_force(rs, sep, load)
-        a, delta_h, _ = geo.reference(load, rs.E_star)
-        sols.append(sol)
+    loads = np.array([geo.solver_load(float(f)) for f in rs.force])
+    sols, errs = _solve_forces(rs, sep, loads)
+    rows = []
+    for load, sol, err in zip(loads, sols, errs, strict=True):
+        a, delta_h, _ = geo.reference(float(load), rs.E_star)
         rows.append(
             (
                 _real_area(sol, sep) * length,
                 force_radius(sol, FORCE_FRACTION, geo.symmetry),
                 sol.delta,
                 float(sol.p.max()),
-                geo.roughness_parameter(rs.psd.h_rms(), load, rs.E_star),
+                geo.roughness_parameter(rs.psd.h_rms(), float(load), rs.E_star),
                 sol.stiffness * length,
                 a,
                 delta_h,
