@@ -110,3 +110,9 @@ def test_a_malformed_geometry_fails_at_class_creation() -> None:
             summary = "x"
             references = ("10.1017/CBO9781139171731",)
             symmetry = "helical"
+
+
+def test_a_body_sweeps_only_its_forces() -> None:
+    scene = body_scene()
+    scene["material"]["E"] = ["1 MPa", "2 MPa"]
+    _refused(scene, "sweep", "load.force", "material.E")
