@@ -60,6 +60,7 @@ from typing import Any
 
 import numpy as np
 
+from xpersson import bem
 from xpersson.bem import derived as D
 
 HERE = Path(__file__).resolve().parent
@@ -140,8 +141,6 @@ def surface(H: float, seed: int, n: int) -> np.ndarray:
     ``1 <= |k| <= RATIO``) and Fourier-interpolated to ``n`` (exact: the map is band-limited),
     so the same surface is sampled on every grid; scaled to the exact rms slope.
     """
-    from xpersson import bem
-
     q_L = 2.0 * math.pi / L_CELL
     h0 = bem.synthesise(continuum_psd(H).C, L_CELL, NOISE_GRID, seed=seed, q_max=RATIO * q_L)
     spec = np.fft.fft2(h0[0] / L_CELL)
@@ -176,8 +175,6 @@ def adhesive_path(
 
     ``deep``: approach on until the mean stress exceeds the largest load (strong adhesion).
     """
-    from xpersson import bem
-
     p_max = max(LOADS) * SLOPE if deep else None
     path = bem.adhesive_path(surf, 1.0, 1.0, work, rho, p_max=p_max, strict=False,
                              h_rms=h_rms, keep_fields=True)  # fmt: skip
@@ -186,8 +183,6 @@ def adhesive_path(
 
 def elastic_areas(surf: np.ndarray, loads: list[float]) -> list[float]:
     """Non-adhesive contact area at imposed mean pressures (dimensionless, E* = 1)."""
-    from xpersson import bem
-
     return [st.area_fraction for st in bem.solve(surf, 1.0, 1.0, loads, tol=1e-8)]
 
 
@@ -195,8 +190,6 @@ def branch_area(path: list[dict[str, Any]], loads: np.ndarray) -> tuple[np.ndarr
     """A at the loads on the stable part of a retraction branch; and its pull-off [E*]
     (:func:`xpersson.bem.retraction_branch`; non-converged states are skipped)."""
     from types import SimpleNamespace
-
-    from xpersson import bem
 
     states = [
         SimpleNamespace(p0=s["p"], area_fraction=s["area"])
@@ -292,8 +285,6 @@ def _solve_paths(
 
 def provenance(n: int) -> dict[str, Any]:
     """Versions, parameters and units of the run."""
-    from xpersson import bem
-
     return {
         "tamaas_version": bem.tamaas_version(),
         "generator": GENERATOR,

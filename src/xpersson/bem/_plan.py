@@ -159,25 +159,28 @@ def _theory_data(data: dict[str, Any], rs: Any, q_max: float, kind: str) -> dict
     return out
 
 
-def _supported(theory: dict[str, Any]) -> tuple[dict[str, Any], list[str]]:
-    """Drop the added analyses the installation or the boundary does not support."""
+def _supported(theory: dict[str, Any], user: set[str]) -> tuple[dict[str, Any], list[str]]:
+    """Drop the added analyses (not the user's own) that no installed plugin provides or that
+    the boundary does not support: each is tried on top of those already kept."""
     from ..plugins import get_registry
 
-    reg = get_registry()
+    installed = set(get_registry().names("analyses"))
+    kept = {k: v for k, v in theory["analyses"].items() if k in user}
     dropped = []
     for name in ADDED_ANALYSES:
-        if name not in theory["analyses"] or theory["analyses"][name]:
+        if name in user:
             continue
-        trial = copy.deepcopy(theory)
-        if name not in reg.names("analyses"):
-            del theory["analyses"][name]
-            dropped.append(f"{name} (plugin not installed)")
+        if name not in installed:
+            dropped.append(f"{name} (no installed plugin provides it)")
             continue
+        trial = copy.deepcopy(theory) | {"analyses": kept | {name: {}}}
         try:
             Scene(trial).resolve()
         except SceneError:
-            del theory["analyses"][name]
             dropped.append(f"{name} (not supported for this boundary)")
+            continue
+        kept[name] = {}
+    theory["analyses"] = kept
     return theory, dropped
 
 
@@ -233,7 +236,8 @@ def make_plan(scene: Scene, grid: int, realisations: int, seed: int, workers: in
     if phys.get("hardness") and np.any(p0 >= phys["hardness"]):
         raise _refuse("load.p0 [Pa] must stay below boundary.sigma_Y for the plastic BEM")
     q_L, q_max, q_1 = _band(rs, grid)
-    theory, dropped = _supported(_theory_data(scene.data, rs, q_max, phys["kind"]))
+    user = set(scene.data.get("analyses", {}))
+    theory, dropped = _supported(_theory_data(scene.data, rs, q_max, phys["kind"]), user)
     plan = Plan(
         scene=scene, theory_scene=Scene(theory), grid=grid, realisations=realisations,
         seed=int(seed), L=2 * math.pi / q_L, q_L=q_L, q_max=q_max, q_1=q_1,
