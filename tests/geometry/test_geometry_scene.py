@@ -116,3 +116,14 @@ def test_a_body_sweeps_only_its_forces() -> None:
     scene = body_scene()
     scene["material"]["E"] = ["1 MPa", "2 MPa"]
     _refused(scene, "sweep", "load.force", "material.E")
+
+
+def test_the_archived_scene_solves_again_to_the_same_body() -> None:
+    import json
+
+    ds = xpersson.solve(body_scene(force=["1 mN", "3 mN"], h_rms="100 nm"))
+    archived = json.loads(ds.attrs["xpersson_scene"])
+    assert archived["geometry"] == {"model": "sphere", "radius": "0.01 m"}
+    assert archived["load"]["force"] == ["0.001 N", "0.003 N"]
+    again = xpersson.solve(archived)
+    xr.testing.assert_equal(ds["nominal_pressure"], again["nominal_pressure"])

@@ -126,7 +126,8 @@ def geometry_part(data: Mapping[str, Any], registry: Registry, E_star: float) ->
         except ValueError as exc:
             raise SceneError(f"load.{exc} (geometry {model!r})") from None
     name = model if isinstance(model, str) else registry.name_of("geometries", cls)[0]
-    force_res = float(force[0]) if scalar else force.tolist()
+    texts = [f"{v!r} N" for v in force.tolist()]  # re-loads to exactly these forces
+    force_res = texts[0] if scalar else texts
     return GeometryPart(
         geo, name, force, scalar, {"model": name, **jsonable(params, cls.parameters)}, force_res
     )
