@@ -23,8 +23,9 @@ from ..errors import XperssonWarning
 from ..physics.body import BodySolution, Separation, force_radius, solve_body
 from ..plugins.solved import solved_curve
 from ..scene import ResolvedScene
+from ..specs import VarSpec
 
-__all__ = ["ASYMPTOTE", "CELLS", "FORCE_FRACTION", "body_dataset"]
+__all__ = ["ASYMPTOTE", "CELLS", "FORCE_FRACTION", "OUTPUTS", "body_dataset"]
 
 FORCE_FRACTION = 0.99
 """The nominal contact radius holds this fraction of the force [1]."""
@@ -146,23 +147,14 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     r_out = np.linspace(0.0, max(s.edges[-1] for s in sols), _R_POINTS)
     p_r = np.array([np.interp(r_out, s.r, s.p, right=0.0) for s in sols])
     u_r = np.array([sep(np.log(np.maximum(p, 1e-300)))[0] for p in p_r])
-    body = {
-        name: xr.Variable(("force",), col, {"units": units, "long_name": long_name})
-        for (name, units, long_name), col in zip(_SCALARS, cols, strict=True)
+    values = dict(zip(_SCALARS, cols, strict=True))
+    values |= {
+        "nominal_pressure": p_r,
+        "local_area_fraction": sep.area_fraction(p_r),
+        "interfacial_separation": np.where(p_r > 0, u_r, np.nan),
+        "separation_of_pressure": sep(np.log(np.asarray(rs.p0, float)))[0],
     }
-    for name, data, units, long_name in (
-        ("nominal_pressure", p_r, "Pa", "nominal pressure p(r) on the body"),
-        ("local_area_fraction", sep.area_fraction(p_r), "1",
-         "real contact area fraction A/A0 at p(r)"),
-        ("interfacial_separation", np.where(p_r > 0, u_r, np.nan), "m",
-         "mean interfacial separation u(p(r))"),
-    ):  # fmt: skip
-        body[name] = xr.Variable(("force", "r"), data, {"units": units, "long_name": long_name})
-    body["separation_of_pressure"] = xr.Variable(
-        ("p0",),
-        sep(np.log(np.asarray(rs.p0, float)))[0],
-        {"units": "m", "long_name": "interfacial separation u(p0) the body couples to"},
-    )
+    body = {n: xr.Variable(OUTPUTS[n].dims, v, OUTPUTS[n].attrs()) for n, v in values.items()}
     body["force"] = xr.Variable(("force",), np.asarray(rs.force, float), _FORCE_ATTRS)
     body["r"] = xr.Variable(("r",), r_out, _R_ATTRS[geo.symmetry])
     out = ds.assign(body)  # one merge for every variable (a dim's namesake is its coordinate)
@@ -177,18 +169,49 @@ _R_ATTRS = {
     "axisymmetric": {"units": "m", "long_name": "radial distance from the axis of the body"},
     "plane": {"units": "m", "long_name": "distance from the line of the contact"},
 }
-_SCALARS = (
-    ("real_contact_area", "m2", "real contact area, int A/A0(p(r)) dA"),
-    ("nominal_contact_radius", "m", "radius holding 99 % of the force"),
-    ("approach", "m", "rigid-body approach of the mean planes"),
-    ("peak_pressure", "Pa", "largest nominal pressure"),
-    ("johnson_parameter", "1", "Johnson's roughness parameter sigma R / a0^2"),
-    ("normal_stiffness", "N m-1", "normal contact stiffness dF/d(approach)"),
-    ("hertz_radius", "m", "Hertz contact radius of the smooth body at the force"),
-    ("hertz_approach", "m", "Hertz approach of the smooth body at the force"),
-    ("body_residual", "1", "gap residual of the solved pressure per Hertz approach"),
-    ("body_grid_error", "1", "relative change of radius and real area from half the cells"),
-)
+_QUALITY = {"coverage_content_type": "qualityInformation"}
+OUTPUTS: dict[str, VarSpec] = {
+    "real_contact_area": VarSpec(
+        ("force",), "m^2", "real contact area",
+        description="int A/A0(p(r)) dA over the nominal contact (a cylinder: over its length)",
+    ),
+    "nominal_contact_radius": VarSpec(
+        ("force",), "m", "nominal contact radius holding 99 % of the force",
+        description="a cylinder: the half-width",
+    ),
+    "approach": VarSpec(
+        ("force",), "m", "rigid-body approach of the mean planes",
+        description="a cylinder: the displacement referred to the distance R from the line",
+    ),
+    "peak_pressure": VarSpec(("force",), "Pa", "largest nominal pressure"),
+    "johnson_parameter": VarSpec(
+        ("force",), "1", "Johnson's roughness parameter sigma R / a0^2",
+        nan_meaning="not defined for this geometry",
+    ),
+    "normal_stiffness": VarSpec(("force",), "N/m", "normal contact stiffness dF/d(approach)"),
+    "hertz_radius": VarSpec(("force",), "m", "Hertz contact radius of the smooth body"),
+    "hertz_approach": VarSpec(("force",), "m", "Hertz approach of the smooth body"),
+    "body_residual": VarSpec(
+        ("force",), "1", "gap residual of the nominal pressure per Hertz approach", extra=_QUALITY
+    ),
+    "body_grid_error": VarSpec(
+        ("force",), "1", "relative change of radius and real area from half the cells",
+        extra=_QUALITY,
+    ),
+    "nominal_pressure": VarSpec(("force", "r"), "Pa", "nominal pressure p(r) on the body"),
+    "local_area_fraction": VarSpec(
+        ("force", "r"), "1", "real contact area fraction A/A0 at the nominal pressure"
+    ),
+    "interfacial_separation": VarSpec(
+        ("force", "r"), "m", "mean interfacial separation u(p(r))",
+        nan_meaning="no nominal pressure (outside the solved domain)",
+    ),
+    "separation_of_pressure": VarSpec(
+        ("p0",), "m", "interfacial separation u(p0) the body couples to"
+    ),
+}  # fmt: skip
+"""The variables a finite body adds to the Dataset."""
+_SCALARS = tuple(n for n, spec in OUTPUTS.items() if spec.dims == ("force",))
 
 
 def _attributes(out: xr.Dataset, rs: ResolvedScene, cols: np.ndarray) -> None:
