@@ -54,5 +54,5 @@ def test_cylinder_is_hertz_line_contact() -> None:
     delta = P / (np.pi * E_star) * (2 * np.log(2 * 0.01 / b) + 1)
     np.testing.assert_allclose(ds["approach"], delta, rtol=0.01)
     np.testing.assert_allclose(ds["peak_pressure"], 2 * P / (np.pi * b), rtol=0.01)
-    assert ds["real_contact_area"].attrs["units"] == "m2"
+    assert ds["real_contact_area"].attrs["units"] == "m^2"
     np.testing.assert_allclose(ds["real_contact_area"], 2 * b * 0.02, rtol=0.02)
