@@ -48,7 +48,7 @@ MALFORMED = [
     ("load.p0", "0 Pa", ["load.p0", "(0, 1e+13] Pa"]),
     ("load.p0", ["1e5 Pa", "1e4 Pa"], ["load.p0", "increasing"]),
     ("load.p0", "1 N", ["load.p0", "Pa"]),
-    ("load.force", "1 N", ["load.force", "unknown"]),
+    ("load.force", "1 N", ["load.force", "finite body", "geometry"]),
     ("coefficient.closure", "yp09", ["coefficient.closure", "yp08"]),
     ("coefficient.gamma", 1.5, ["coefficient.gamma", "(0, 1]"]),
     ("solver.rtol", 0.5, ["solver.rtol", "[1e-12, 0.1)"]),

@@ -20,7 +20,7 @@ from xpersson.plugins import (
 
 
 def test_one_group_mapping_derives_every_group_list():
-    assert GROUP_NAMES == ("spectra", "coefficients", "boundaries", "analyses")
+    assert GROUP_NAMES == ("spectra", "coefficients", "boundaries", "analyses", "geometries")
     assert tuple(GROUPS) == GROUP_NAMES
     assert all(base.group == group for group, base in GROUPS.items())
     for short, group in PLUGIN_GROUPS.items():

@@ -112,7 +112,7 @@ def _cases() -> list[tuple[str, Any, list[str]]]:
             ["load.p0.spacing"],
         ),
         ("load.p0", _DELETE, ["load.p0", "required"]),
-        ("load.force", "1 N", ["load.force", "unknown"]),
+        ("load.force", "1 N", ["load.force", "finite body", "geometry"]),
         ("material.nu", _DELETE, ["material.nu", "required"]),
         ("material.G", "1 GPa", ["material.G", "unknown parameter"]),
         ("spectrum.model", "fractal_magic", ["spectrum.model", "fractal_magic"]),

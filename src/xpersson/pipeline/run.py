@@ -11,6 +11,7 @@ from .. import checks, memory, plugins, provenance
 from ..cache import solve_scope
 from ..scene import ResolvedScene
 from .assemble import add_outputs, assemble, attributes, diagnostics_notes, squeeze_p0
+from .body import body_dataset
 from .frontend import diffusion_clock, pressure_grid, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
 from .stages import coefficient_arrays, load_walls, validate
@@ -69,7 +70,7 @@ def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
     with checks.calling(who["boundary"], "interpret()"):
         extra = rs.boundary.interpret(dataclasses.replace(ctx, clock=clock), results)
     add_outputs(ds, extra, type(rs.boundary).outputs, who["boundary"])
-    if rs.analyses:  # analyses read the scene's declarations and may sample the solve densely
+    if rs.analyses or rs.geometry is not None:  # they may sample the solve densely
         ctx = dataclasses.replace(
             ctx,
             coefficient=coef,
@@ -86,6 +87,8 @@ def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
     attributes(
         ds, rs, lambda: provenance.global_attributes(rs), results, diagnostics_notes(ds), core
     )
+    if rs.geometry is not None:  # a finite body: its nominal pressure on the solved interface
+        return body_dataset(rs, ctx, ds)
     if rs.p0_scalar and squeeze:
         ds = squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
     return ds

@@ -1,4 +1,4 @@
-"""Base classes of the four plugin groups and their class-level contract.
+"""Base classes of the five plugin groups and their class-level contract.
 
 Every concrete plugin class declares ``api_version``, ``summary``, ``references``,
 ``parameters`` and ``outputs``; they are checked when the class is defined
@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 from ..specs import ParamSpec, SpecError, VarSpec
 from ._classcheck import check_class
 from ._fastpaths import NO_FAST_PATHS, FastPaths, settle
-from ._groups import PLUGIN_GROUPS
+from ._groups import GEOMETRY_SYMMETRIES, PLUGIN_GROUPS
 
 if TYPE_CHECKING:  # pragma: no cover
     import numpy as np
@@ -35,6 +35,8 @@ __all__ = [
     "Coefficient",
     "Boundary",
     "Analysis",
+    "Geometry",
+    "GEOMETRY_SYMMETRIES",
     "GROUPS",
 ]
 
@@ -382,6 +384,66 @@ class Analysis(Plugin):
         }
 
 
+class Geometry(Plugin):
+    """A finite body pressed on the rough flat by a total force. Group ``xpersson.geometries``.
+
+    The body is given by its undeformed gap above the flat's mean plane, :meth:`profile`
+    ``h(r)`` [m] with ``h(0) = 0``, over the radius ``r`` of an axisymmetric body or the distance
+    ``x`` from the line of a plane (line) contact. The core solves the nominal pressure
+    ``p(r)`` from the elastic half-space and the interfacial separation ``u(p)`` of the solved
+    rough contact (:mod:`xpersson.physics.body`); a geometry only describes the body. The
+    :meth:`reference` smooth contact (Hertz for a sphere) sets the scale of the radial grid.
+    Declares no ``outputs``: the per-force variables are the core's.
+    """
+
+    group = PLUGIN_GROUPS["geometry"]
+    abstract = True
+    #: One of :data:`GEOMETRY_SYMMETRIES`.
+    symmetry: ClassVar[str] = "axisymmetric"
+
+    def profile(self, r: np.ndarray) -> np.ndarray:
+        """Undeformed gap ``h(r)`` [m] at radii (or distances) ``r`` [m] >= 0; ``h(0) = 0``."""
+        raise NotImplementedError
+
+    def extent(self) -> float:
+        """Largest radius [m] the nominal contact may reach (small slopes, the body's size)."""
+        raise NotImplementedError
+
+    def reference(self, load: float, E_star: float) -> tuple[float, float, float]:
+        """The smooth contact at ``load`` (see :meth:`solver_load`) and contact modulus
+        ``E_star`` [Pa]: ``(radius [m], approach [m], peak pressure [Pa])``."""
+        raise NotImplementedError
+
+    def solver_load(self, force: float) -> float:
+        """The load the pressure carries: the force [N] (axisymmetric) or, for a plane
+        contact, the force per length [N/m]."""
+        return float(force)
+
+    def roughness_parameter(self, h_rms: float, load: float, E_star: float) -> float:
+        """Johnson's roughness parameter ``sigma R / a0^2`` [1] (NaN when undefined)."""
+        return float("nan")
+
+    def check_force(self, force: float, E_star: float) -> None:
+        """Refuse a force whose smooth contact outgrows :meth:`extent` (``ValueError`` naming
+        the force, its unit and the allowed range)."""
+        limit = self.extent()
+        radius = self.reference(self.solver_load(force), E_star)[0]
+        if radius <= limit:
+            return
+        lo, hi = 0.0, float(force)  # the reference radius grows with the force: bisect
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if self.reference(self.solver_load(mid), E_star)[0] <= limit:
+                lo = mid
+            else:
+                hi = mid
+        raise ValueError(
+            f"force = {force:g} N: its smooth contact radius {radius:.4g} m exceeds "
+            f"{limit:.4g} m, the largest this body and the small-slope theory allow; "
+            f"allowed force in (0, {lo:.4g}] N"
+        )
+
+
 def _as_array(value: Any) -> Any:
     """A DataArray of a plugin's ``DataArray or (dims, data)`` value."""
     import xarray as xr
@@ -397,6 +459,6 @@ def check_plugin_class(cls: type) -> None:
 
 
 GROUPS: dict[str, type[Plugin]] = {
-    base.group: base for base in (Spectrum, Coefficient, Boundary, Analysis)
+    base.group: base for base in (Spectrum, Coefficient, Boundary, Analysis, Geometry)
 }
 """Group -> base class (the groups of :data:`PLUGIN_GROUPS`)."""

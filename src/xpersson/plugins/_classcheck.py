@@ -15,7 +15,7 @@ from typing import Any
 
 from ..specs import ParamSpec, SpecError, VarSpec
 from ._fastpaths import settle
-from ._groups import GROUP_NAMES
+from ._groups import GEOMETRY_SYMMETRIES, GROUP_NAMES
 
 __all__ = ["check_class"]
 
@@ -109,8 +109,16 @@ def _check_boundary(cls: type[Any], name: str) -> None:
             )
 
 
+def _check_geometry(cls: type[Any], name: str) -> None:
+    if cls.symmetry not in GEOMETRY_SYMMETRIES:
+        raise SpecError(f"{name}: symmetry must be one of {GEOMETRY_SYMMETRIES}")
+    if cls.outputs:
+        raise SpecError(f"{name}: a geometry declares no outputs (the per-force ones are core)")
+
+
 _GROUP_CHECKS = {
     "analyses": _check_analysis,
+    "geometries": _check_geometry,
     "boundaries": _check_boundary,
     "coefficients": _check_traits,
 }

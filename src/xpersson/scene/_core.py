@@ -144,10 +144,12 @@ CORE: dict[str, dict[str, ParamSpec]] = {
         ),
     },
 }
-PLUGIN_SECTIONS = {s: g for s, g in PLUGIN_GROUPS.items() if s != "analysis"}
+PLUGIN_SECTIONS = {s: g for s, g in PLUGIN_GROUPS.items() if s not in ("analysis", "geometry")}
 """The scene's plugin sections -> their group (:data:`xpersson.plugins.PLUGIN_GROUPS`)."""
 DEFAULT_MODEL = {"coefficient": "elastic", "boundary": "elastic"}
-TOP_LEVEL = {"title", "description", "metadata", "analyses", "sweep", *CORE, *PLUGIN_SECTIONS}
+TOP_LEVEL = {
+    "title", "description", "metadata", "analyses", "sweep", "geometry", *CORE, *PLUGIN_SECTIONS
+}  # fmt: skip
 
 
 @dataclass
@@ -185,6 +187,11 @@ class ResolvedScene:
     labels: dict[str, Any] = field(default_factory=dict)
     plugin_records: tuple[tuple[dict[str, Any], str | None], ...] = ()
     plugin_time_limit: float | None = None
+    #: A finite body (:mod:`._geometry`): the geometry plugin, the forces [N] and whether the
+    #: force was a scalar; ``p0`` is then the grid of pressures the body samples.
+    geometry: Plugin | None = None
+    force: np.ndarray | None = None
+    force_scalar: bool = False
 
     @property
     def E_star(self) -> float:

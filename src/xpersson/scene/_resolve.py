@@ -33,6 +33,7 @@ from ._core import (
     TOP_LEVEL,
     ResolvedScene,
 )
+from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
 
 __all__ = ["plugin_message", "resolve_scene"]
 
@@ -189,7 +190,8 @@ def _check_sections(data: Mapping[str, Any]) -> None:
             raise SceneError(f"{sec}: must be a table, got {type(data[sec]).__name__}")
     if "spectrum" not in data:
         raise SceneError("spectrum: required section (e.g. model = 'self_affine')")
-    if "load" not in data or "p0" not in data["load"]:
+    check_load_keys(data)
+    if "load" not in data or ("p0" not in data["load"] and is_flat(data)):
         raise SceneError("load.p0: required (nominal pressure, e.g. '1 MPa')")
 
 
@@ -209,7 +211,8 @@ def _core_sections(data: Mapping[str, Any]) -> dict[str, Any]:
     """The converted core sections: material, loads (raw and Pa), output and solver."""
     material = convert_params(CORE["material"], data.get("material", {}), "material")
     load_raw = dict(data["load"])
-    p0_raw = load_raw.pop("p0")
+    load_raw.pop("force", None)  # a finite body's (checked by check_load_keys)
+    p0_raw = load_raw.pop("p0", "1 Pa")  # a body's pressures are a grid (see resolve_scene)
     if load_raw:
         raise SceneError(f"load.{sorted(load_raw)[0]}: unknown parameter; allowed in [load]: p0")
     p0, scalar = loads(p0_raw, tensile=True)  # sign checked once the boundary is known
@@ -291,6 +294,12 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
     core = _core_sections(data)
     out, solver, p0 = core["output"], core["solver"], core["p0"]
 
+    body = None
+    if not is_flat(data):
+        E_star = core["material"]["E"] / (1.0 - core["material"]["nu"] ** 2)
+        body = geometry_part(data, registry, E_star)
+        p0 = core["p0"] = pressure_grid(body, E_star)
+        core["scalar"] = False
     names: dict[str, str] = {}
     plugins: dict[str, Plugin] = {}
     resolved: dict[str, Any] = {
@@ -301,6 +310,8 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         inst, name, params = _plugin(section, data.get(section), registry, base)
         plugins[section], names[section] = inst, name
         resolved[section] = {"model": name, **jsonable(params, type(inst).parameters)}
+    if body is not None:
+        check_plugins(plugins, body.name)
     if not getattr(type(plugins["boundary"]), "tensile_loads", False) and np.any(p0 <= 0):
         loads(core["p0_raw"])  # raises the range error of a compressive-only boundary
     labels: dict[str, Any] = {
@@ -325,6 +336,11 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         resolved["analyses"][name] = jsonable(dict(inst.params), type(inst).parameters)
     resolved["material"] = jsonable(core["material"], CORE["material"])
     resolved["load"] = {"p0": resolved_loads(core["p0_raw"], p0, core["scalar"])}
+    records = _records(plugins, names, analyses, registry)
+    if body is not None:
+        resolved["geometry"], resolved["load"] = body.resolved, {"force": body.force_resolved}
+        labels["geometry"] = plugin_label("geometry", body.geometry, registry, body.name)
+        records += ((registry.provenance("geometries", type(body.geometry)), body.name),)
     resolved["output"] = jsonable(out, CORE["output"])
     resolved["output"].pop("zeta_per_decade", None)
     resolved["output"]["zeta"] = np.asarray(zeta, float).tolist()
@@ -352,6 +368,9 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         resolved=resolved,
         solver_options={k: int(solver[k]) for k in ("walkers", "seed") if solver[k] is not None},
         labels=labels,
-        plugin_records=_records(plugins, names, analyses, registry),
+        plugin_records=records,
         plugin_time_limit=solver["plugin_time_limit"],
+        geometry=None if body is None else body.geometry,
+        force=None if body is None else body.force,
+        force_scalar=body is not None and body.scalar,
     )

@@ -231,6 +231,12 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
                 "sweepable parameter; load.p0 is the load dimension already)"
             )
         return None
+    geometry = data.get("geometry")
+    if isinstance(geometry, Mapping) and geometry.get("model", "flat") != "flat":
+        raise SceneError(
+            f"sweep: a scene with a finite body (geometry {geometry.get('model')!r}) sweeps "
+            f"only its forces (load.force); solve one scene per {found[0][0]} value"
+        )
     mode = table.get("mode", "product")
     if mode not in ("product", "zip"):
         raise SceneError(f"sweep.mode: {mode!r} is not allowed; one of 'product', 'zip'")
