@@ -158,6 +158,11 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
     if array and isinstance(value, list | tuple):
         import numpy as np
 
+        if unit in ("1", "") and all(type(v) in (int, float) for v in value):
+            return np.array(value, float)  # bare numbers (a zeta grid): as float() of each
+        fast = strings_to_si(value, unit) if unit not in ("1", "") else None
+        if fast is not None:
+            return fast
         return np.array([to_si(v, unit, f"{where}[{i}]") for i, v in enumerate(value)], float)
     if isinstance(value, bool):
         raise UnitError(f"{where}: expected a quantity in {unit}, got a boolean")
