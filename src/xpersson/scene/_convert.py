@@ -93,8 +93,11 @@ def _convert_quantity(spec: ParamSpec, value: Any, where: str) -> Any:
         raise SceneError(f"{where}: {vals.size} values; at most {MAX_POINTS} are allowed")
     if not np.all(np.isfinite(vals)):
         raise SceneError(f"{where}: must be finite, got {value!r}")
-    bad = vals[~_in_bounds(spec, np.asarray(vals, float))]
-    if bad.size:
+    if vals.size > 8:  # an array (a zeta grid): checked at once
+        bad = vals[~_in_bounds(spec, np.asarray(vals, float))].tolist()
+    else:
+        bad = [v for v in vals if not spec.in_bounds(float(v))]
+    if bad:
         raise SceneError(
             f"{where}: {bad[0]:g} {'' if spec.unit == '1' else spec.unit} is outside the allowed "
             f"range {spec.range_text()}"

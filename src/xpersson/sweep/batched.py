@@ -216,12 +216,16 @@ def batched_block(block: Any, points: SweepPoints, names: list[str], template: x
     if not all(scaled_ok(rs) for rs in points.distinct()):
         return None
     subs = _sub_points(block, points)
-    rows = {n: np.empty((block.size, *template[n].shape), template[n].dtype) for n in names}
     got = _stacked_subs(subs, names, template)
+    rows = {n: np.empty((block.size, *template[n].shape), template[n].dtype) for n in names}
     if got is not None:
         where = np.concatenate([w for w, _, _ in subs])
+        identity = bool(np.all(where == np.arange(where.size)))  # material dims innermost
         for n in names:
-            rows[n][where] = got[0][n]
+            if identity:  # the rows as computed where they are C-ordered arrays of the dtype
+                rows[n] = np.require(got[0][n], rows[n].dtype, ["C", "W"])
+            else:
+                rows[n][where] = got[0][n]
         return rows, [got[1]]  # one record for the stacked run
     solver = []
     for where, rs, estar in subs:
@@ -247,7 +251,9 @@ def _sub_points(block: Any, points: SweepPoints) -> list[tuple[np.ndarray, Any, 
     mat_dims = [d for d, m in enumerate(mat) if m]
     mat_shape = tuple(shape[d] for d in mat_dims)
     subs = []
-    for sub_local in itertools.product(*(range(n) if not m else [0] for n, m in zip(shape, mat))):
+    for sub_local in itertools.product(
+        *(range(n) if not m else [0] for n, m in zip(shape, mat, strict=True))
+    ):
         sel = tuple(slice(None) if m else i for i, m in zip(sub_local, mat, strict=True))
         glob0 = tuple(a + i for a, i in zip(block.start, sub_local, strict=True))
         rs = points.subs[points.key(glob0)]
@@ -352,6 +358,7 @@ def _scaled_rows(
     P, M = estar.shape
     scale = (estar / ref[:, None]).ravel()
     n_loads = inverse.shape[1] // M
+    same = bool(np.all(inverse == inverse[:1]))
     out = {}
     for n in names:
         dims, arr, units = var(n)
@@ -362,16 +369,22 @@ def _scaled_rows(
             moved = np.moveaxis(arr, axis + 1, 1)  # (P or 1, run loads, rest)
             if moved.shape[0] == 1:
                 picked = moved[0][inverse]
+            elif same:  # every sub-point at the same equivalent loads: one index along them
+                picked = moved[:, inverse[0]]
             else:
                 picked = np.take_along_axis(moved, inverse.reshape(P, -1, *[1] * (arr.ndim - 2)), 1)
             picked = picked.reshape(P * M, n_loads, *moved.shape[2:])
-            arr = np.moveaxis(picked, 1, axis + 1)
+            arr, fresh = np.moveaxis(picked, 1, axis + 1), True
         else:
-            arr = np.broadcast_to(arr[:, None], (P, M, *arr.shape[1:])).reshape(
-                P * M, *arr.shape[1:]
-            )
+            wide = np.broadcast_to(arr[:, None], (P, M, *arr.shape[1:]))
+            arr = wide.reshape(P * M, *arr.shape[1:])
+            fresh = not np.shares_memory(arr, wide)
         power = 0 if n == "E" or arr.dtype.kind != "f" else pressure_power(units)
         if power:
-            arr = arr * scale.reshape((-1,) + (1,) * (arr.ndim - 1)) ** power
+            factor = scale.reshape((-1,) + (1,) * (arr.ndim - 1)) ** power
+            if fresh:  # picked or reshaped above: scaled in place, no second array
+                np.multiply(arr, factor, out=arr)
+            else:
+                arr = arr * factor
         out[n] = arr
     return out

@@ -33,6 +33,7 @@ from .batched import SweepPoints, batch_capable, material_dims, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
 from .combine import finish
 from .derived import derived_region
+from .filling import Filling
 from .folder import Transaction
 from .parts import part_name
 from .plan import SweepPlan
@@ -257,10 +258,13 @@ def solve_sweep(
         else:
             tasks = [(b, block_points(plan, points, b), parts[b.number]) for b in blocks]
         tasks = [t for t in tasks if t[0].number not in done]
-        results = _run_tasks(plan, tasks, registry, scheduler, client, n_workers, progress, txn)
+        filling = Filling(plan)  # in memory: each block copied into the sweep's arrays
+        results = _run_tasks(
+            plan, tasks, registry, scheduler, client, n_workers, progress, txn, filling.add
+        )
         warn_failures(results, stacklevel=4)  # out of the silenced run: the user sees it
         results = sorted([*results, *done.values()], key=lambda r: r.block.number)
-        return finish(plan, points, results, txn)
+        return finish(plan, points, results, txn, filling)
     finally:
         if txn is not None:
             txn.release()
@@ -303,13 +307,14 @@ def _run_tasks(
     n_workers: int,
     progress: bool | None,
     txn: Any,
+    take: Callable[[BlockResult], None] | None = None,
 ) -> list[BlockResult]:
     bar = progress_bar(plan.size, progress, "xpersson sweep")
     if bar is not None:
         bar.update(plan.size - sum(b.size for b, _, _ in tasks))  # reused parts
     attrs = None if txn is None else txn.part_attrs()
     try:
-        return _execute(tasks, registry, scheduler, client, bar, n_workers, attrs)
+        return _execute(tasks, registry, scheduler, client, bar, n_workers, attrs, take)
     finally:
         if bar is not None:
             bar.close()
@@ -412,16 +417,23 @@ def _execute(
     bar: Any,
     n_workers: int = 1,
     attrs: dict[str, Any] | None = None,
+    take: Callable[[BlockResult], None] | None = None,
 ) -> list[BlockResult]:
     """Run the block tasks; the points' warnings are silenced (:func:`._quiet.silenced`) by
-    this thread around the whole in-process run, by each task on a dask worker."""
+    this thread around the whole in-process run, by each task on a dask worker.
+
+    ``take(result)`` is called on each result as it arrives (the in-memory fill,
+    :class:`~.filling.Filling`: the block's Dataset is copied and dropped at once)."""
     tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
+    take = take or (lambda res: None)
+    out = []
     if client is None and scheduler != "threads":
         with silenced():
             shared: dict[str, Any] = {}  # the stacked path's template, reused across blocks
-            return [
-                run_block(b, pts, registry, part, tick, attrs, shared) for b, pts, part in tasks
-            ]
+            for b, pts, part in tasks:
+                out.append(run_block(b, pts, registry, part, tick, attrs, shared))
+                take(out[-1])
+        return out
     if client is None:
         from concurrent.futures import ThreadPoolExecutor
 
@@ -430,7 +442,10 @@ def _execute(
                 pool.submit(run_block, b, pts, registry, part, tick, attrs)
                 for b, pts, part in tasks
             ]
-            return [f.result() for f in futures]
+            for f in futures:
+                out.append(f.result())
+                take(out[-1])
+        return out
     from distributed import as_completed
 
     token = _run_token()
@@ -452,6 +467,8 @@ def _execute(
     # results are fetched as their blocks finish: transfers overlap the blocks still running
     for fut, res in as_completed(futures, with_results=True):
         results[order[fut.key]] = res
+        take(res)
+        fut.release()  # the worker's copy too: the fill holds the values now
         if bar is not None:
             bar.update(res.block.size)
     return results
