@@ -190,17 +190,34 @@ def _resolve_on_workers(
 SERIAL_BLOCK_POINTS = 256
 
 
+#: Curves (points x loads) per block of a batched sweep: large enough that a block's fixed
+#: costs (its first point solved alone, one stacked run, its Dataset) are a few per cent,
+#: small enough that a block's intermediate arrays (about 7 times its rows) stay a fraction
+#: of the result (peak memory of a 1e5-curve study: 1.8x its result) and fit the caches
+#: (1e5 curves in one block took twice as long as in 10 blocks;
+#: ``benchmarks/summary.py``).
+BLOCK_CURVES = 10_000
+
+
 def _points_per_block(
-    plan: SweepPlan, workers: int, requested: int | None, serial_in_memory: bool = False
+    plan: SweepPlan,
+    workers: int,
+    requested: int | None,
+    serial_in_memory: bool = False,
+    loads: int = 1,
 ) -> int:
+    """Points per block: ``requested``, else as many as make :data:`BLOCK_CURVES` curves
+    (``loads`` per point), at least :data:`SERIAL_BLOCK_POINTS` points in a serial in-memory
+    sweep, and at most a quarter of each worker's share elsewhere."""
     if requested is not None:
         if requested < 1:
             raise ValueError(f"chunk: points per block must be >= 1, got {requested}")
         return int(requested)
-    default = max(1, math.ceil(plan.size / (4 * max(1, workers))))
+    by_curves = max(1, BLOCK_CURVES // max(1, loads))
     if serial_in_memory:
-        return max(default, min(plan.size, SERIAL_BLOCK_POINTS))
-    return default
+        return max(by_curves, min(plan.size, SERIAL_BLOCK_POINTS))
+    share = max(1, math.ceil(plan.size / (4 * max(1, workers))))
+    return min(share, by_curves)
 
 
 def solve_sweep(
