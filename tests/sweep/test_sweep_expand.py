@@ -281,16 +281,26 @@ def test_single_load_sweep_equals_individual_solves(chunk, batched):
                     xr.testing.assert_identical(have, one[name])
 
 
-def test_serial_in_memory_sweeps_take_fewer_larger_blocks():
+def test_block_sizes_serial_and_on_workers():
+    """Serial in memory: blocks of BLOCK_CURVES curves (points x loads), at least
+    SERIAL_BLOCK_POINTS points; on workers with a measured serial time: tasks of about TASK_S,
+    2 to 16 per worker; without one: a quarter of each worker's share; chunk= wins."""
     from types import SimpleNamespace
 
-    from xpersson.sweep.execute import SERIAL_BLOCK_POINTS, _points_per_block
+    from xpersson.sweep.schedule import (
+        BLOCK_CURVES,
+        SERIAL_BLOCK_POINTS,
+        TASK_S,
+        points_per_block,
+    )
 
-    for size in (1, 150, SERIAL_BLOCK_POINTS, 4 * SERIAL_BLOCK_POINTS + 4, 10_000):
+    for size in (1, 150, SERIAL_BLOCK_POINTS, 4 * SERIAL_BLOCK_POINTS + 4, 10_000, 10**5):
         plan = SimpleNamespace(size=size)
-        quarter = -(-size // 4)
-        assert _points_per_block(plan, 1, None) == quarter  # workers, folders: unchanged
-        serial = _points_per_block(plan, 1, None, serial_in_memory=True)
-        assert serial == max(quarter, min(size, SERIAL_BLOCK_POINTS))
-        assert serial == size or serial >= SERIAL_BLOCK_POINTS
-        assert _points_per_block(plan, 1, 7, serial_in_memory=True) == 7  # chunk= wins
+        assert points_per_block(plan, 1, None) == -(-size // 4)  # no estimate: unchanged
+        for loads in (1, 10, 100):
+            serial = points_per_block(plan, 1, None, serial_in_memory=True, loads=loads)
+            assert serial == max(BLOCK_CURVES // loads, min(size, SERIAL_BLOCK_POINTS))
+        for estimate, tasks in ((0.1, 4), (3 * TASK_S, 4), (10 * TASK_S, 10), (1e3, 32)):
+            got = points_per_block(plan, 2, None, estimate=estimate)
+            assert got == max(1, -(-size // tasks))
+        assert points_per_block(plan, 1, 7, serial_in_memory=True) == 7  # chunk= wins
