@@ -24,6 +24,7 @@ ZETA = [float(z) for z in np.geomspace(1.0, 1e3, 50)]
 def spectrum(H: float, roll: bool, decades: float, q_L: float) -> dict:
     """A self-affine spectrum (``q_r = q_L``: no roll-off)."""
     q_L, H = float(q_L), float(H)
+    q_L, H = float(q_L), float(H)
     q_r = q_L * (10 ** (0.5 + 0.5 * (H % 0.1) / 0.1) if roll else 1.0)
     return {
         "model": "self_affine",
