@@ -161,12 +161,14 @@ def c_march_lib(peers: Path):
     return lib
 
 
-def _vs_march(lib, sc: dict, loads: int, rounds: int) -> dict:
+def _vs_march(lib, sc: dict, loads: int, rounds: int, strict: bool) -> dict:
     """``xpersson.solve(sc)`` against the C march over the grid levels it marched."""
     from cn_walls import levels_of  # the project's spy on the engine's cn march
     from march_vs_engine import c_march
 
     levels = levels_of(sc)
+    if not levels and strict:
+        raise RuntimeError("no cn level marched (another method)")
     if not levels:  # another method than cn (closed form, sine): its time against itself
         t = best({"s": lambda: xpersson.solve(sc)}, rounds)["s"]
         ms = t / loads * 1e3
@@ -197,7 +199,7 @@ def march_paths(lib, scenes, rounds: int, quick: bool) -> dict:
             cases[f"engine (jkr) vs C march, rtol {rtol}"] = (tight, 1)
         for name, (sc, loads) in cases.items():
             try:
-                out[name][label] = _vs_march(lib, sc, loads, rounds)
+                out[name][label] = _vs_march(lib, sc, loads, rounds, "rtol" in name)
             except Exception as exc:  # noqa: BLE001 - reported in the table
                 out[name][label] = {"error": f"{type(exc).__name__}: {str(exc)[:160]}"}
             print(f"{label:22s} {name:34s} {out[name][label].get('note', out[name][label])}")
