@@ -138,7 +138,7 @@ def table(rows: list[dict], meta: dict) -> str:
     return head + "\n".join(lines) + "\n"
 
 
-def _fmt(seconds: float) -> str:
+def _fmt(seconds: float) -> str:  # (the memory row's "time" / "kernel" are MiB)
     return f"{seconds:.2f} s" if seconds >= 1 else f"{seconds * 1e3:.3g} ms"
 
 

@@ -39,6 +39,7 @@ TARGETS = {
     "engine (jkr) vs C march, rtol 1e-8": ("x", 3),
     "friction curve, 50 speeds vs kernel": ("x", 5),
     "LocalCluster(2) wall vs serial wall": ("x", 1),
+    "E x H x p0 study: peak memory / result": ("x", 2),
 }
 STEEL = {"E": "210 GPa", "nu": 0.3}
 PLASTIC = {"model": "plastic_scale_dependent", "Y1": "3 GPa", "n": 0.1}
@@ -269,8 +270,26 @@ def peer_path(peers: Path, scenes, rounds: int, quick: bool) -> dict:
     return {"BDF two-grid peer / engine (cn, rtol 1e-6)": out}
 
 
+def study_memory(scenes, quick: bool) -> dict:
+    """The issue's E x H x p0 study (20 E x 100 H x 50 loads = 1e5 curves; --quick: 2e4) on
+    the worst sweep scene: peak traced memory over the result's size (ratio), CPU time."""
+    out = {}
+    for label, spec in scenes[:2]:
+        sc = _eh(spec, 1, load_range(50))
+        sc["material"]["E"] = {"start": "1 MPa", "stop": "100 MPa", "num": 20}
+        sc["spectrum"]["H"] = _h_range(spec["H"], 20 if quick else 100)
+        t = cpu(lambda sc=sc: xpersson.solve(sc))
+        size = xpersson.solve(sc).nbytes / 2**20
+        peak = peak_mib(lambda sc=sc: xpersson.solve(sc))
+        curves = 20 * (20 if quick else 100) * 50
+        note = f"({peak:.0f} MiB peak for {size:.0f} MiB; {curves / t * 60:.2g} curves/min/core)"
+        out[label] = {"time": peak, "kernel": size, "ratio": peak / size, "note": note}
+        print(f"{label:22s} study memory {note}", flush=True)
+    return {"E x H x p0 study: peak memory / result": out}
+
+
 def single_paths(peers: Path, scenes, rounds: int, quick: bool) -> dict:
-    out: dict[str, dict] = {}
+    out: dict[str, dict] = study_memory(scenes, quick)
     lib = c_march_lib(peers)
     if lib is not None:
         out.update(march_paths(lib, scenes, rounds, quick))

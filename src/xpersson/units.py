@@ -13,6 +13,7 @@ import threading
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
+    import numpy as np
     import pint
     import xarray as xr
 
@@ -232,8 +233,8 @@ def _simple_si(value: str, unit: str) -> float | None:
 
 def strings_to_si(values: Any, unit: str) -> np.ndarray | None:
     """Several quantity strings (``["1 MPa", "2 MPa", ...]``) in ``unit`` with one unit parse
-    per distinct unit text and one regular-expression scan for all values (a list of 1000
-    loads), not one parse per value.
+    per distinct unit text and one scan of all the numbers (a list of 1000 loads), not one
+    parse per value.
 
     The floats are those :func:`to_si` gives for each string (the magnitude times the unit's
     SI factor, :func:`_simple_si`). ``None`` where a value is not a plain number with a simple

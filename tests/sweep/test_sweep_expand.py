@@ -283,7 +283,7 @@ def test_single_load_sweep_equals_individual_solves(chunk, batched):
 
 def test_block_sizes_serial_and_on_workers():
     """Serial in memory: blocks of BLOCK_CURVES curves (points x loads), at least
-    SERIAL_BLOCK_POINTS points; on workers with a measured serial time: tasks of about TASK_S,
+    SERIAL_BLOCK_POINTS curves; on workers with a measured serial time: tasks of about TASK_S,
     2 to 16 per worker; without one: a quarter of each worker's share; chunk= wins."""
     from types import SimpleNamespace
 
@@ -299,7 +299,8 @@ def test_block_sizes_serial_and_on_workers():
         assert points_per_block(plan, 1, None) == -(-size // 4)  # no estimate: unchanged
         for loads in (1, 10, 100):
             serial = points_per_block(plan, 1, None, serial_in_memory=True, loads=loads)
-            assert serial == max(BLOCK_CURVES // loads, min(size, SERIAL_BLOCK_POINTS))
+            assert serial == max(BLOCK_CURVES // loads, min(size, SERIAL_BLOCK_POINTS // loads), 1)
+            assert serial == size or serial * loads >= min(BLOCK_CURVES, SERIAL_BLOCK_POINTS)
         for estimate, tasks in ((0.1, 4), (3 * TASK_S, 4), (10 * TASK_S, 10), (1e3, 32)):
             got = points_per_block(plan, 2, None, estimate=estimate)
             assert got == max(1, -(-size // tasks))

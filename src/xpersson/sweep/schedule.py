@@ -31,20 +31,18 @@ __all__ = [
 ]
 
 
-#: Fewest points per block (when the sweep has that many) of a serial in-memory sweep: a
-#: stacked block pays a fixed cost to assemble its Dataset, and a serial run has no workers to
-#: balance (150 friction points: one block instead of 5, ~10 % less CPU). Larger sweeps get
-#: larger blocks anyway (a quarter of the points).
+#: Fewest curves (points x loads, when the sweep has that many) per block of a serial in-memory
+#: sweep: a stacked block pays a fixed cost to assemble its Dataset, and a serial run has no
+#: workers to balance (150 friction points: one block instead of 5, ~10 % less CPU).
 SERIAL_BLOCK_POINTS = 256
 
 
-#: Curves (points x loads) per block of a batched sweep: large enough that a block's fixed
-#: costs (its first point solved alone, one stacked run, its Dataset) are a few per cent,
-#: small enough that a block's intermediate arrays (about 7 times its rows) stay a fraction
-#: of the result (peak memory of a 1e5-curve study: 1.8x its result) and fit the caches
-#: (1e5 curves in one block took twice as long as in 10 blocks;
-#: ``benchmarks/summary.py``).
-BLOCK_CURVES = 10_000
+#: Curves (points x loads) per block of a serial in-memory sweep: large enough that a block's
+#: fixed costs (its first point solved alone, one stacked run, its Dataset) stay small, small
+#: enough that a block's intermediate arrays (about 7 times its rows) stay a fraction of the
+#: result: a 1e5-curve E x H x p0 study peaks at 1.7x its result with blocks of 5000 curves
+#: (2.0x with 12 800, 2.5x with 25 000; ``benchmarks/summary.py``).
+BLOCK_CURVES = 5_000
 
 
 def points_per_block(
@@ -58,7 +56,7 @@ def points_per_block(
     """Points per block: ``requested``, else
 
     * serial in memory: as many as make :data:`BLOCK_CURVES` curves (``loads`` per point), at
-      least :data:`SERIAL_BLOCK_POINTS`;
+      least :data:`SERIAL_BLOCK_POINTS` curves;
     * on workers, with the study's measured serial time ``estimate`` [s]
       (:func:`serial_estimate`): tasks of about :data:`TASK_S` each, 2 to 16 per worker;
     * else a quarter of each worker's share.
@@ -68,7 +66,8 @@ def points_per_block(
             raise ValueError(f"chunk: points per block must be >= 1, got {requested}")
         return int(requested)
     if serial_in_memory:
-        return max(max(1, BLOCK_CURVES // max(1, loads)), min(plan.size, SERIAL_BLOCK_POINTS))
+        loads = max(1, loads)
+        return max(BLOCK_CURVES // loads, min(plan.size, SERIAL_BLOCK_POINTS // loads), 1)
     workers = max(1, workers)
     if estimate is not None and math.isfinite(estimate):
         tasks = min(16 * workers, max(2 * workers, math.ceil(estimate / TASK_S)))
