@@ -44,6 +44,16 @@ from summary_design import design  # noqa: E402
 import xpersson  # noqa: E402
 
 START, END = "<!-- speed-table:start -->", "<!-- speed-table:end -->"
+#: The README's one-load solve in a fresh interpreter and its imports (``startup.py``).
+FIRST_SOLVE = (
+    "import time; t = time.process_time(); import xpersson; "
+    "xpersson.solve({'spectrum': {'model': 'self_affine', 'H': 0.8, 'q_L': '1e3 1/m', "
+    "'q_r': '1e4 1/m', 'q_1': '1e8 1/m', 'h_rms': '1 um'}, 'material': {'E': '10 MPa', "
+    "'nu': 0.5}, 'load': {'p0': '1 MPa'}}); print(time.process_time() - t)"
+)
+IMPORTS = (
+    "import time; t = time.process_time(); import xarray, pint; print(time.process_time() - t)"
+)
 
 
 def over_design(scenes, paths, rounds, quick) -> dict:
