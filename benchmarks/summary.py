@@ -11,9 +11,10 @@ a seeded design across the documented domain (:mod:`summary_design`: H 0.3-0.95,
 without roll-off, 3-6 decades). Per path: the median and the **worst** ratio over the design and
 the scene of the worst; the peak traced memory (``tracemalloc``) of the path on its worst scene.
 Honest denominators: plain loads are given as range tables, the kernel runs on the same curves.
-The C march (``/work/shared/peers/c_march``, built here with ``$CC``/``cc``; skipped without a
-compiler) and the two-grid scipy BDF peer (``/work/shared/peers``) are the engine's limit and
-peer. Wall times of the parallel row are noisy on a shared machine (re-measure when quiet).
+The C march (``../shared/peers/c_march`` beside the checkout or ``$XPERSSON_PEERS/c_march``,
+built here with ``$CC``/``cc``; skipped without a compiler) and the two-grid scipy BDF peer
+(``peer_scipy_mol.py`` there) are the engine's limit and peer. Wall times of the parallel row
+are noisy on a shared machine (re-measure when quiet).
 
 Writes ``benchmarks/results/summary.json`` and ``summary.md`` and the block between
 ``<!-- speed-table:start -->`` and ``<!-- speed-table:end -->`` of ``README.md``.
@@ -35,7 +36,9 @@ from pathlib import Path  # noqa: E402
 import numpy as np  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-PEERS = Path(os.environ.get("XPERSSON_PEERS", "/work/shared/peers"))
+#: The peers (``../shared/peers`` beside the checkout, as ``engine_vs_peers.py``; or
+#: ``$XPERSSON_PEERS``).
+PEERS = Path(os.environ.get("XPERSSON_PEERS", HERE.parents[1] / "shared" / "peers"))
 sys.path.insert(0, str(HERE))
 
 import summary_paths as P  # noqa: E402
@@ -101,7 +104,7 @@ def summarize(results: dict, targets: dict, memory: dict) -> list[dict]:
                 "worst_scene": worst,
                 "time": ok[worst]["time"],
                 "kernel": ok[worst]["kernel"],
-                "unit": ok[worst].get("unit", "x its kernel"),
+                "unit": ok[worst].get("unit", "s"),
                 "target": target,
                 "met": _met(target, ok[worst]),
                 "note": ok[worst].get("note", ""),
@@ -142,24 +145,29 @@ def table(rows: list[dict], meta: dict) -> str:
         mem = "" if r["peak_mib"] is None else f"{r['peak_mib']:.0f}"
         lines.append(
             f"| {r['path']} | {r['median']:.2f} | **{r['worst']:.2f}** ({r['worst_scene']}) | "
-            f"{_fmt(r['time'])} / {_fmt(r['kernel'])}{(' ' + r['note']) if r['note'] else ''} "
+            f"{_fmt(r['time'], r['unit'])} / {_fmt(r['kernel'], r['unit'])}"
+            f"{(' ' + r['note']) if r['note'] else ''} "
             f"| {target} | {mem} |"
         )
     return head + "\n".join(lines) + "\n"
 
 
-def _fmt(seconds: float) -> str:  # (the memory row's "time" / "kernel" are MiB)
-    return f"{seconds:.2f} s" if seconds >= 1 else f"{seconds * 1e3:.3g} ms"
+def _fmt(value: float, unit: str = "s") -> str:
+    if unit != "s":  # the memory row: MiB
+        return f"{value:.0f} {unit}"
+    return f"{value:.2f} s" if value >= 1 else f"{value * 1e3:.3g} ms"
 
 
-def write(rows: list[dict], meta: dict, raw: dict, check: bool) -> str:
+def write(rows: list[dict], meta: dict, raw: dict, check: bool, memory: dict) -> str:
     text = table(rows, meta)
     print(text)
     if check:
         return text
     out = HERE / "results"
     (out / "summary.json").write_text(
-        json.dumps({"meta": meta, "rows": rows, "raw": raw}, indent=1, default=float)
+        json.dumps(
+            {"meta": meta, "rows": rows, "raw": raw, "memory": memory}, indent=1, default=float
+        )
     )
     (out / "summary.md").write_text("# Speed summary\n\n" + text)
     readme = HERE.parent / "README.md"
@@ -177,7 +185,14 @@ def main(argv: list[str] | None = None) -> str:
     ap.add_argument("--quick", action="store_true", help="1 round, smaller sweeps")
     ap.add_argument("--check", action="store_true", help="print only; write nothing")
     ap.add_argument("--no-parallel", action="store_true", help="skip the LocalCluster row")
+    ap.add_argument(
+        "--from-json", action="store_true", help="re-render results/summary.json (no measuring)"
+    )
     args = ap.parse_args(argv)
+    if args.from_json:
+        saved = json.loads((HERE / "results" / "summary.json").read_text())
+        rows = summarize(saved["raw"], P.TARGETS, dict(saved.get("memory", {})))
+        return write(rows, saved["meta"], saved["raw"], args.check, saved.get("memory", {}))
     rounds = args.rounds or (1 if args.quick else 3)
     scenes = design(max(12, args.scenes))
     xpersson.solve(P.scene(scenes[0][1], P.load_range(3)))  # warm-up: imports, entry points
@@ -195,7 +210,7 @@ def main(argv: list[str] | None = None) -> str:
         f"{platform.python_version()}, numpy {np.__version__}",
         "design": dict(scenes),
     }
-    return write(summarize(raw, P.TARGETS, memory), meta, raw, args.check)
+    return write(summarize(raw, P.TARGETS, memory), meta, raw, args.check, memory)
 
 
 if __name__ == "__main__":

@@ -284,6 +284,7 @@ def study_memory(scenes, quick: bool) -> dict:
         curves = 20 * (20 if quick else 100) * 50
         note = f"({peak:.0f} MiB peak for {size:.0f} MiB; {curves / t * 60:.2g} curves/min/core)"
         out[label] = {"time": peak, "kernel": size, "ratio": peak / size, "note": note}
+        out[label]["unit"] = "MiB"
         print(f"{label:22s} study memory {note}", flush=True)
     return {"E x H x p0 study: peak memory / result": out}
 
