@@ -13,13 +13,22 @@ import threading
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
+    import numpy as np
     import pint
     import xarray as xr
 
 from .cache import memoize
 from .errors import UnitError
 
-__all__ = ["ureg", "to_si", "udunits_to_pint", "quantify", "UnitError", "check_expression"]
+__all__ = [
+    "ureg",
+    "to_si",
+    "strings_to_si",
+    "udunits_to_pint",
+    "quantify",
+    "UnitError",
+    "check_expression",
+]
 
 
 _UREG: list[pint.UnitRegistry] = []
@@ -150,6 +159,11 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
     if array and isinstance(value, list | tuple):
         import numpy as np
 
+        if unit in ("1", "") and all(type(v) in (int, float) for v in value):
+            return np.array(value, float)  # bare numbers (a zeta grid): as float() of each
+        fast = strings_to_si(value, unit) if unit not in ("1", "") else None
+        if fast is not None:
+            return fast
         return np.array([to_si(v, unit, f"{where}[{i}]") for i, v in enumerate(value)], float)
     if isinstance(value, bool):
         raise UnitError(f"{where}: expected a quantity in {unit}, got a boolean")
@@ -215,6 +229,76 @@ def _simple_si(value: str, unit: str) -> float | None:
         return None
     x = float(m.group(1))
     return x if have[0] == 1.0 else x * have[0]
+
+
+def strings_to_si(values: Any, unit: str) -> np.ndarray | None:
+    """Several quantity strings (``["1 MPa", "2 MPa", ...]``) in ``unit`` with one unit parse
+    per distinct unit text and one scan of all the numbers (a list of 1000 loads), not one
+    parse per value.
+
+    The floats are those :func:`to_si` gives for each string (the magnitude times the unit's
+    SI factor, :func:`_simple_si`). ``None`` where a value is not a plain number with a simple
+    SI unit of ``unit``'s dimension, or breaks a bound of :func:`check_expression`: the caller
+    then converts value by value, which raises the message naming the value's index.
+    """
+    import numpy as np
+
+    want = _simple_unit(unit)
+    if want is None or want[0] != 1.0 or not values or any(type(v) is not str for v in values):
+        return None
+    if max(map(len, values)) > MAX_TEXT:
+        return None
+    split = _number_and_unit(values)
+    if split is None:
+        return None
+    nums, units = split
+    factors = {}
+    for u in set(units):
+        have = _simple_unit(u)
+        if have is None or have[1] != want[1] or not _bounded(f"1 {u}"):
+            return None
+        factors[u] = have[0]
+    try:
+        x = np.array(list(map(float, nums)), float)
+    except ValueError:  # "1.2.3", "e5": not a number
+        return None
+    if len(factors) == 1:
+        f = next(iter(factors.values()))
+        return x if f == 1.0 else x * f
+    return x * np.array([factors[u] for u in units], float)
+
+
+def _number_and_unit(values: list[str]) -> tuple[tuple[str, ...], tuple[str, ...]] | None:
+    """(number texts, unit texts) of strings ``"<number> <unit>"`` as :data:`_NUMBER` reads
+    them, or ``None`` (a value that is not one)."""
+    pairs = [v.split(None, 1) for v in values]
+    if set(map(len, pairs)) == {2}:  # "1.5 MPa": numbers checked by one scan of all
+        nums, units = zip(*pairs, strict=True)
+        # over these characters Python's float() reads exactly the numbers _NUMBER reads
+        if _NUMBER_CHARS.fullmatch("\n".join(nums)):
+            return nums, units  # a unit's trailing blanks: _simple_unit strips them
+    found = _NUMBERS.findall("\n".join(values))  # "1.5MPa", "1.5", ...: one scan, slower
+    if len(found) != len(values):
+        return None  # a value that is not a plain number and unit (or holds a line break)
+    nums, units = zip(*found, strict=True)
+    return nums, units
+
+
+_NUMBER_CHARS = re.compile(r"[0-9.eE+\-\n]*")
+#: :data:`_NUMBER` of every line of a text at once (line breaks separate the values).
+_NUMBERS = re.compile(
+    r"^[^\S\n]*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)[^\S\n]*(.*?)[^\S\n]*$", re.M
+)
+
+
+def _bounded(text: str) -> bool:
+    """Whether ``text`` passes :func:`check_expression` (its unit part decides: a plain number
+    holds no parenthesis or exponent)."""
+    try:
+        check_expression(text.strip(), "")
+    except UnitError:
+        return False
+    return True
 
 
 def _to_si(value: Any, unit: str, where: str, array: bool) -> Any:

@@ -99,17 +99,18 @@ def test_processes_on_a_small_study_falls_back_to_serial_with_a_message(monkeypa
     """No cluster is started for a study cheaper than the stated start-up cost."""
     import distributed
 
-    from xpersson.sweep import execute
+    from xpersson.sweep import schedule
 
     def refuse(*args, **kwargs):
         raise AssertionError("a cluster was started for a study smaller than its start-up")
 
     monkeypatch.setattr(distributed, "LocalCluster", refuse)
     data = scene(material={"E": ["5 MPa", "20 MPa"]}, load={"p0": "3e4 Pa"})
-    with pytest.warns(xpersson.XperssonWarning, match=r"starting the worker processes costs"):
+    with pytest.warns(xpersson.XperssonWarning, match=r"starting the worker processes and sending"):
         got = xpersson.solve(data, scheduler="processes")
     xr.testing.assert_identical(got.drop_attrs(), xpersson.solve(data).drop_attrs())
-    monkeypatch.setattr(execute, "CLUSTER_STARTUP_S", 0.0)  # a study that pays: the cluster
+    monkeypatch.setattr(schedule, "CLUSTER_STARTUP_S", 0.0)  # a study that pays: the cluster
+    monkeypatch.setattr(schedule, "PARALLEL_MIN_S", 0.0)
     with pytest.raises(AssertionError, match="cluster was started"):
         xpersson.solve(data, scheduler="processes")
 

@@ -38,14 +38,23 @@ def test_dims_units_and_order(swept):
     assert swept.point_status.dims == ("H", "E") and int(swept.point_status.max()) == 0
 
 
-def test_sweep_equals_stacked_individual_solves(swept):
+@pytest.mark.parametrize("plain", [False, True])
+def test_sweep_equals_stacked_individual_solves(swept, plain):
+    """Point by point (``plain_paths``): bit for bit; batched (several loads per point solved
+    as one batch of equivalent loads, contact similarity): to the contract's 1e-12."""
+    if plain:
+        with plain_paths():
+            swept = xpersson.solve(SWEEP_SCENE)
     for H in (0.6, 0.8):
         for E in (5e6, 1e7, 2e7):
             one = _single(E, H)
             for name in ("area_fraction", "non_contact_fraction", "G", "psd_C", "E_star"):
                 var = swept[name]
                 got = var.sel({k: v for k, v in {"E": E, "H": H}.items() if k in var.dims})
-                np.testing.assert_array_equal(got.values, one[name].values, err_msg=name)
+                if plain:
+                    np.testing.assert_array_equal(got.values, one[name].values, err_msg=name)
+                else:
+                    np.testing.assert_allclose(got.values, one[name].values, 1e-12, 0, name)
 
 
 @pytest.mark.parametrize(("H", "nu"), [([1.0], 0.25), ([0.3, 0.9, 0.6], 0.4)])
@@ -272,16 +281,27 @@ def test_single_load_sweep_equals_individual_solves(chunk, batched):
                     xr.testing.assert_identical(have, one[name])
 
 
-def test_serial_in_memory_sweeps_take_fewer_larger_blocks():
+def test_block_sizes_serial_and_on_workers():
+    """Serial in memory: blocks of BLOCK_CURVES curves (points x loads), at least
+    SERIAL_BLOCK_POINTS curves; on workers with a measured serial time: tasks of about TASK_S,
+    2 to 16 per worker; without one: a quarter of each worker's share; chunk= wins."""
     from types import SimpleNamespace
 
-    from xpersson.sweep.execute import SERIAL_BLOCK_POINTS, _points_per_block
+    from xpersson.sweep.schedule import (
+        BLOCK_CURVES,
+        SERIAL_BLOCK_POINTS,
+        TASK_S,
+        points_per_block,
+    )
 
-    for size in (1, 150, SERIAL_BLOCK_POINTS, 4 * SERIAL_BLOCK_POINTS + 4, 10_000):
+    for size in (1, 150, SERIAL_BLOCK_POINTS, 4 * SERIAL_BLOCK_POINTS + 4, 10_000, 10**5):
         plan = SimpleNamespace(size=size)
-        quarter = -(-size // 4)
-        assert _points_per_block(plan, 1, None) == quarter  # workers, folders: unchanged
-        serial = _points_per_block(plan, 1, None, serial_in_memory=True)
-        assert serial == max(quarter, min(size, SERIAL_BLOCK_POINTS))
-        assert serial == size or serial >= SERIAL_BLOCK_POINTS
-        assert _points_per_block(plan, 1, 7, serial_in_memory=True) == 7  # chunk= wins
+        assert points_per_block(plan, 1, None) == -(-size // 4)  # no estimate: unchanged
+        for loads in (1, 10, 100):
+            serial = points_per_block(plan, 1, None, serial_in_memory=True, loads=loads)
+            assert serial == max(BLOCK_CURVES // loads, min(size, SERIAL_BLOCK_POINTS // loads), 1)
+            assert serial == size or serial * loads >= min(BLOCK_CURVES, SERIAL_BLOCK_POINTS)
+        for estimate, tasks in ((0.1, 4), (3 * TASK_S, 4), (10 * TASK_S, 10), (1e3, 32)):
+            got = points_per_block(plan, 2, None, estimate=estimate)
+            assert got == max(1, -(-size // tasks))
+        assert points_per_block(plan, 1, 7, serial_in_memory=True) == 7  # chunk= wins

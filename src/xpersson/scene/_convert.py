@@ -10,7 +10,7 @@ import numpy as np
 
 from ..errors import SceneError, UnitError
 from ..specs import ParamSpec
-from ..units import to_si
+from ..units import strings_to_si, to_si
 from ._core import CORE, MAX_POINTS
 
 __all__ = [
@@ -93,7 +93,10 @@ def _convert_quantity(spec: ParamSpec, value: Any, where: str) -> Any:
         raise SceneError(f"{where}: {vals.size} values; at most {MAX_POINTS} are allowed")
     if not np.all(np.isfinite(vals)):
         raise SceneError(f"{where}: must be finite, got {value!r}")
-    bad = [v for v in vals if not spec.in_bounds(float(v))]
+    if vals.size > 8:  # an array (a zeta grid): checked at once
+        bad = vals[~_in_bounds(spec, np.asarray(vals, float))].tolist()
+    else:
+        bad = [v for v in vals if not spec.in_bounds(float(v))]
     if bad:
         raise SceneError(
             f"{where}: {bad[0]:g} {'' if spec.unit == '1' else spec.unit} is outside the allowed "
@@ -199,7 +202,25 @@ def sweep_values(spec: ParamSpec, value: Any, where: str) -> np.ndarray:
         raise SceneError(
             f"{where}: {len(value)} values; at most {MAX_POINTS} are allowed (as for {where}.num)"
         )
+    fast = _strings_in_bounds(spec, value)
+    if fast is not None:
+        return fast
     return np.array([convert_param(spec, v, f"{where}[{i}]") for i, v in enumerate(value)])
+
+
+def _strings_in_bounds(spec: ParamSpec, value: Any) -> np.ndarray | None:
+    """A list of quantity strings converted at once (:func:`~xpersson.units.strings_to_si`:
+    one unit parse per distinct unit), or ``None`` where a value needs the value-by-value path
+    (another kind of value, a unit pint must parse, a value out of range: its message)."""
+    if spec.kind != "quantity" or spec.unit in ("1", "") or type(value) is not list:
+        return None
+    got = strings_to_si(value, spec.unit)
+    if got is None:
+        return None
+    arr = got
+    if not np.all(np.isfinite(arr)) or not np.all(_in_bounds(spec, arr)):
+        return None
+    return arr
 
 
 def loads(value: Any, tensile: bool = False) -> tuple[np.ndarray, bool]:
@@ -230,7 +251,8 @@ def resolved_loads(raw: Any, p0: np.ndarray, scalar: bool) -> Any:
             "num": len(values),
             "spacing": raw.get("spacing", "log"),
         }
-    texts = [f"{v!r} Pa" for v in values]
+    # one join and one split: 1000 loads cost a third less than a formatted string each
+    texts = (" Pa\n".join(map(repr, values)) + " Pa").split("\n")
     return texts[0] if scalar else texts
 
 

@@ -7,8 +7,10 @@ is the point (E*_ref, p0 E*_ref / E*_k) with every Pa^n output multiplied by
 (E*_k / E*_ref)^n. The points
 of a block that differ only in ``material.E`` / ``material.nu`` are then solved by one pipeline
 run whose loads are those equivalent loads (one engine call), and the block's Dataset is filled
-from it directly (no Dataset per point). Blocks where a plugin does not declare it, or where a
-point has several loads or a pressure grid, are solved point by point as before.
+from it directly (no Dataset per point). A point with several loads p0_j contributes the loads
+p0_j E*_ref / E*_k; loads two points share (log-spaced E and p0) are solved once. Blocks where a
+plugin does not declare it, or where a point has a tensile load or a pressure grid, are solved
+point by point as before.
 
 :class:`SweepPoints` holds the resolved points of a sweep (or of a block) without building
 every one: only one point per combination of the non-material sweep values is resolved (the
@@ -162,8 +164,8 @@ def resolved_region(
 
 
 def scaled_ok(rs: Any) -> bool:
-    """Whether every plugin of a point declares contact similarity and the point is one
-    load without a pressure grid.
+    """Whether every plugin of a point declares contact similarity and the point has only
+    compressive loads (any number) and no pressure grid.
 
     The declaration counts only on the plugin's own class (:class:`~xpersson.plugins.FastPaths`
     is not inherited): a subclass (which may change the physics) is solved point by point
@@ -171,9 +173,8 @@ def scaled_ok(rs: Any) -> bool:
     """
     plugins = [rs.coefficient, rs.boundary, *(a for _, a in rs.analyses)]
     return (
-        rs.p0_scalar
-        and rs.p0.size == 1
-        and float(rs.p0[0]) > 0
+        rs.p0.size >= 1
+        and bool(np.all(rs.p0 > 0))
         and not rs.pressure_pdf
         and all(type(p).fast_paths.contact_similarity for p in plugins)
     )
@@ -202,7 +203,7 @@ def batched_block(block: Any, points: SweepPoints, names: list[str], template: x
 
     Returns ``(rows, solver)``: name -> array ``(block.size, *template[name].shape)`` and the
     solver records of the batched runs; ``None`` where the block must be solved point by point
-    (a plugin without contact similarity, a run that did not meet its tolerance, equal E*).
+    (a plugin without contact similarity, a run that did not meet its tolerance).
     The sub-points (one per combination of the non-material values) are solved by one stacked
     run where their plugins allow it (:mod:`xpersson.pipeline.stacked`), else one run each.
 
@@ -214,59 +215,81 @@ def batched_block(block: Any, points: SweepPoints, names: list[str], template: x
     """
     if not all(scaled_ok(rs) for rs in points.distinct()):
         return None
-    mat = points.material
-    shape = block.shape
-    rows = {n: np.empty((block.size, *template[n].shape), template[n].dtype) for n in names}
-    flat = np.arange(block.size).reshape(shape)
-    mat_ranges = [range(n) if m else range(1) for n, m in zip(shape, mat, strict=True)]
-    subs = []  # (where, rs, estar) per sub-point
-    for sub_local in itertools.product(
-        *(range(n) if not m else [0] for n, m in zip(shape, mat, strict=True))
-    ):
-        sel = tuple(
-            slice(None) if m else i for i, m in zip(sub_local, mat, strict=True)
-        )  # the material points of this sub-point, C order
-        glob0 = tuple(a + i for a, i in zip(block.start, sub_local, strict=True))
-        rs = points.subs[points.key(glob0)]
-        estar = np.empty(flat[sel].size)
-        for j, loc in enumerate(itertools.product(*mat_ranges)):
-            glob = tuple(
-                a + (li if m else si)
-                for a, li, si, m in zip(block.start, loc, sub_local, mat, strict=True)
-            )
-            E, nu = points.material_of(glob, rs)
-            estar[j] = E / (1.0 - nu**2)
-        subs.append((flat[sel].ravel(), rs, estar))
+    subs = _sub_points(block, points)
     got = _stacked_subs(subs, names, template)
-    solver = [] if got is None else [got[0][1]]  # one record for the stacked run
-    if got is None:
-        got = [_similar_run(rs, estar, names, template) for _, rs, estar in subs]
-        if any(g is None for g in got):
-            return None
-        solver = [record for _, record in got]
-    for (where, _, _), (sub_rows, _) in zip(subs, got, strict=True):
+    rows = {n: np.empty((block.size, *template[n].shape), template[n].dtype) for n in names}
+    if got is not None:
+        where = np.concatenate([w for w, _, _ in subs])
+        identity = bool(np.all(where == np.arange(where.size)))  # material dims innermost
         for n in names:
-            rows[n][where] = sub_rows[n]
+            if identity:  # the rows as computed where they are C-ordered arrays of the dtype
+                rows[n] = np.require(got[0][n], rows[n].dtype, ["C", "W"])
+            else:
+                rows[n][where] = got[0][n]
+        return rows, [got[1]]  # one record for the stacked run
+    solver = []
+    for where, rs, estar in subs:
+        one = _similar_run(rs, estar, names, template)
+        if one is None:
+            return None
+        for n in names:
+            rows[n][where] = one[0][n]
+        solver.append(one[1])
     return rows, solver
 
 
-def _similar_loads(rs: Any, estar: np.ndarray) -> tuple[Any, np.ndarray] | None:
-    """``rs`` at the loads equivalent to (E*_k, p0), increasing, and the inverse order."""
-    loads = float(rs.p0[0]) * float(rs.E_star) / estar
-    order = np.argsort(loads)
-    if np.any(np.diff(loads[order]) <= 0):
-        return None  # equal E* (zipped E and nu): no distinct loads
-    inverse = np.empty_like(order)
-    inverse[order] = np.arange(order.size)
-    return dataclasses.replace(rs, p0=loads[order], p0_scalar=False), inverse
+def _sub_points(block: Any, points: SweepPoints) -> list[tuple[np.ndarray, Any, np.ndarray]]:
+    """(block positions of its material points in C order, sub-point, E* [Pa] of each of them)
+    per sub-point of a block (a combination of the non-material values).
+
+    E* = E / (1 - nu^2) of every point as :meth:`SweepPoints.material_of` gives E and nu, one
+    array operation per sub-point (``1 - nu^2`` in Python floats per distinct nu: the same
+    floats as point by point).
+    """
+    mat, shape = points.material, block.shape
+    flat = np.arange(block.size).reshape(shape)
+    mat_dims = [d for d, m in enumerate(mat) if m]
+    mat_shape = tuple(shape[d] for d in mat_dims)
+    subs = []
+    for sub_local in itertools.product(
+        *(range(n) if not m else [0] for n, m in zip(shape, mat, strict=True))
+    ):
+        sel = tuple(slice(None) if m else i for i, m in zip(sub_local, mat, strict=True))
+        glob0 = tuple(a + i for a, i in zip(block.start, sub_local, strict=True))
+        rs = points.subs[points.key(glob0)]
+        grids = {"material.E": np.full(mat_shape, float(rs.E))}
+        grids["material.nu"] = np.full(mat_shape, float(rs.nu))
+        for j, d in enumerate(mat_dims):
+            along = [1] * len(mat_dims)
+            along[j] = -1
+            for path, values in points.values[d]:
+                grids[path][...] = values[block.start[d] : block.stop[d]].reshape(along)
+        nus, at = np.unique(grids["material.nu"], return_inverse=True)
+        denom = np.array([1.0 - nu**2 for nu in nus.tolist()])[at.reshape(mat_shape)]
+        subs.append((flat[sel].ravel(), rs, (grids["material.E"] / denom).ravel()))
+    return subs
+
+
+def _similar_loads(rs: Any, estar: np.ndarray) -> tuple[Any, np.ndarray]:
+    """``rs`` at the loads equivalent to (E*_k, p0_j), distinct and increasing, and where each
+    (k, j) is among them (``inverse``, C order: point k, then load j).
+
+    Equal equivalent loads (equal E*, or log-spaced E and p0 that share a ratio) are solved
+    once: a load's result does not depend on the other loads of the run (the contact
+    similarity a plugin declares is per load).
+    """
+    loads = (np.asarray(rs.p0, float)[None, :] * float(rs.E_star)) / estar[:, None]
+    unique, inverse = np.unique(loads.ravel(), return_inverse=True)
+    return dataclasses.replace(rs, p0=unique, p0_scalar=False), inverse.ravel()
 
 
 def _stacked_subs(subs: list[Any], names: list[str], template: xr.Dataset) -> Any:
-    """Every sub-point's rows from one stacked run, or ``None`` (solve them one by one)."""
+    """The rows of every sub-point (concatenated in the order of ``subs``) from one stacked
+    run and its solver record, or ``None`` (solve them one by one)."""
     if len(subs) < 2:
         return None
     refs = [_similar_loads(rs, estar) for _, rs, estar in subs]
-    if any(r is None for r in refs) or stacked.stack_reason([r[0] for r in refs]):
+    if stacked.stack_reason([r[0] for r in refs]):
         return None
     try:
         got = stacked.run_stacked([r[0] for r in refs])
@@ -274,22 +297,19 @@ def _stacked_subs(subs: list[Any], names: list[str], template: xr.Dataset) -> An
         raise failed("stacked_params", subs[0][1], exc) from exc
     if got is None or any(n not in got for n in names):
         return None
-    record = {"stacked_points": len(subs), "method": "stacked"}
-    out = []
-    for k, ((_, rs, estar), (_, inverse)) in enumerate(zip(subs, refs, strict=True)):
+    estar = np.stack([e for _, _, e in subs])
+    ref = np.array([float(rs.E_star) for _, rs, _ in subs])
+    inverse = np.stack([inv for _, inv in refs])
 
-        def var(n: str, k: int = k) -> tuple[tuple[str, ...], np.ndarray, Any]:
-            dims, arr = got[n]
-            units = template.variables[n].attrs.get("units")
-            if stacked.POINT in dims:
-                return dims[1:], np.asarray(arr)[k], units
-            return dims, np.asarray(arr), units
+    def var(n: str) -> tuple[tuple[str, ...], np.ndarray, Any]:
+        dims, arr = got[n]
+        arr = np.asarray(arr)
+        if stacked.POINT in dims:
+            return dims[1:], arr, template.variables[n].attrs.get("units")
+        return dims, arr[None], template.variables[n].attrs.get("units")
 
-        rows = _scaled_rows(var, estar, float(rs.E_star), inverse, names, template)
-        if rows is None:
-            return None
-        out.append((rows, record))
-    return out
+    rows = _scaled_rows(var, estar, ref, inverse, names, template)
+    return None if rows is None else (rows, {"stacked_points": len(subs), "method": "stacked"})
 
 
 def _similar_run(
@@ -298,10 +318,7 @@ def _similar_run(
     """One run of ``rs`` with the loads equivalent to (E*_k, p0); rows per point k."""
     import json
 
-    ref = _similar_loads(rs, estar)
-    if ref is None:
-        return None
-    rs_ref, inverse = ref
+    rs_ref, inverse = _similar_loads(rs, estar)
     try:
         ds = run(rs_ref, squeeze=False)
     except Exception as exc:  # noqa: BLE001 - judged against the plain path by run_block
@@ -314,23 +331,34 @@ def _similar_run(
 
     def var(n: str) -> tuple[tuple[str, ...], np.ndarray, Any]:
         v = ds.variables[n]
-        return v.dims, np.asarray(v.values), v.attrs.get("units")
+        return v.dims, np.asarray(v.values)[None], v.attrs.get("units")
 
-    rows = _scaled_rows(var, estar, float(rs.E_star), inverse, names, template)
+    rows = _scaled_rows(
+        var, estar[None], np.array([float(rs.E_star)]), inverse[None], names, template
+    )
     return None if rows is None else (rows, json.loads(ds.attrs["xpersson_solver"]))
 
 
 def _scaled_rows(
     var: Any,
     estar: np.ndarray,
-    ref: float,
+    ref: np.ndarray,
     inverse: np.ndarray,
     names: list[str],
     template: xr.Dataset,
 ) -> dict[str, np.ndarray] | None:
-    """Rows per point k of a run at the equivalent loads: the loads back in the points' order,
-    every Pa^n output scaled by (E*_k / E*_ref)^n (``var(name) -> (dims, values, units)``)."""
-    scale = estar / ref
+    """Rows of the P sub-points' M points each (``(P * M, *point shape)``, sub-point major) of
+    a run at the equivalent loads: each point's loads back in its order (``inverse[s]``: index
+    in the run of load (k, j) of sub-point s), every Pa^n output scaled by (E*_k / E*_ref,s)^n.
+
+    ``var(name) -> (dims, values, units)``: ``values`` with a leading sub-point axis (of length
+    P, or 1 where the run shares the variable between its points), ``dims`` without it.
+    ``estar``: (P, M) [Pa]; ``ref``: (P,) [Pa]; ``inverse``: (P, M * n_loads).
+    """
+    P, M = estar.shape
+    scale = (estar / ref[:, None]).ravel()
+    n_loads = inverse.shape[1] // M
+    same = bool(np.all(inverse == inverse[:1]))
     out = {}
     for n in names:
         dims, arr, units = var(n)
@@ -338,11 +366,25 @@ def _scaled_rows(
             return None
         if "p0" in dims:
             axis = dims.index("p0")
-            arr = np.expand_dims(np.moveaxis(arr, axis, 0)[inverse], axis + 1)
+            moved = np.moveaxis(arr, axis + 1, 1)  # (P or 1, run loads, rest)
+            if moved.shape[0] == 1:
+                picked = moved[0][inverse]
+            elif same:  # every sub-point at the same equivalent loads: one index along them
+                picked = moved[:, inverse[0]]
+            else:
+                picked = np.take_along_axis(moved, inverse.reshape(P, -1, *[1] * (arr.ndim - 2)), 1)
+            picked = picked.reshape(P * M, n_loads, *moved.shape[2:])
+            arr, fresh = np.moveaxis(picked, 1, axis + 1), True
         else:
-            arr = np.broadcast_to(arr, (estar.size, *arr.shape))
+            wide = np.broadcast_to(arr[:, None], (P, M, *arr.shape[1:]))
+            arr = wide.reshape(P * M, *arr.shape[1:])
+            fresh = not np.shares_memory(arr, wide)
         power = 0 if n == "E" or arr.dtype.kind != "f" else pressure_power(units)
         if power:
-            arr = arr * scale.reshape((-1,) + (1,) * (arr.ndim - 1)) ** power
+            factor = scale.reshape((-1,) + (1,) * (arr.ndim - 1)) ** power
+            if fresh:  # picked or reshaped above: scaled in place, no second array
+                np.multiply(arr, factor, out=arr)
+            else:
+                arr = arr * factor
         out[n] = arr
     return out

@@ -1,8 +1,8 @@
 """Combine the blocks of a sweep into one Dataset: statuses, constant dimensions, attributes.
 
-In memory the block Datasets fill preallocated arrays (:func:`xarray.combine_nested` where they
-do not fit); for a sweep written to a folder the parts and the index are written and the
-folder is opened lazily (:mod:`.parts`).
+In memory the block Datasets fill preallocated arrays as they arrive (:mod:`.filling`;
+:func:`xarray.combine_nested` where they do not fit); for a sweep written to a folder the parts
+and the index are written and the folder is opened lazily (:mod:`.parts`).
 """
 
 from __future__ import annotations
@@ -17,8 +17,10 @@ import xarray as xr
 from ..scene import SceneError
 from ._fastfail import failure_attrs
 from .blocks import PART_ATTR, POINT_STATUS, BlockResult, stack, write_block_part
+from .filling import Filling
 from .parts import finalize, open_parts, part_name, read_part
 from .plan import SweepPlan
+from .stacking import digest_list
 
 __all__ = ["finish", "combine"]
 
@@ -28,12 +30,18 @@ def finish(
     points: list[Any],
     results: list[BlockResult],
     txn: Any = None,
+    filling: Filling | None = None,
 ) -> xr.Dataset:
     """Combine the blocks' results into the sweep's Dataset (written as parts to the folder of
-    the :class:`~.folder.Transaction` ``txn`` and opened lazily from there, when given)."""
+    the :class:`~.folder.Transaction` ``txn`` and opened lazily from there, when given).
+
+    ``filling`` holds the blocks already copied into the sweep's arrays as they arrived
+    (:class:`~.filling.Filling`); the others are copied in here."""
     folder: Path | None = None if txn is None else txn.folder
+    filling = filling or Filling(plan)
     status, messages = _point_messages(plan, results)
-    ok = [r for r in results if r.dataset is not None or r.part is not None]
+    absorbed = {id(r) for r in filling.absorbed}
+    ok = [r for r in results if r.dataset is not None or r.part is not None or id(r) in absorbed]
     if not ok:
         first = messages[0]["message"] if messages else "no message"
         if messages and all(m["message"].startswith("SceneError: ") for m in messages):
@@ -43,9 +51,9 @@ def finish(
                 + first.removeprefix("SceneError: ")
             )
         raise RuntimeError("every point of the sweep failed; first: " + first)
-    template = _template(ok[0])
+    template = filling.template if filling.absorbed else _template(ok[0])
     for res in results:  # blocks where every point failed: NaN blocks from a template
-        if res.dataset is None and res.part is None:
+        if res.dataset is None and res.part is None and id(res) not in absorbed:
             empty = [None] * res.block.size
             ds = stack(empty, res.block, res.status, template=template)
             if folder is not None:
@@ -58,8 +66,10 @@ def finish(
     if folder is not None:
         txn.complete(plan, results, {"constant": constant, "attrs": attrs})
         return open_parts(folder)
-    ds = _combine_in_memory(plan, results)
-    if ds is None:
+    for res in results:
+        filling.add(res)
+    ds = filling.dataset()
+    if ds is None:  # blocks of other layouts: every result has its Dataset back
         ds = combine([r.dataset for r in results], [r.block.grid_index for r in results], plan.dims)
     return finalize(ds, constant, attrs)
 
@@ -106,14 +116,8 @@ def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, lis
     names = {n for r in results for n in r.digests}
     out: dict[str, list[str]] = {}
     for name in names:
-        grid = np.full(plan.shape, None, dtype=object)
-        for r in results:
-            b = r.block
-            sl = tuple(slice(a, c) for a, c in zip(b.start, b.stop, strict=True))
-            if name in r.digests:
-                grid[sl] = np.array(r.digests[name], dtype=object).reshape(b.shape)
+        grid, every = _digest_grid(plan, results, name)
         dims = []
-        every = all(x is not None for x in grid.flat)  # every point solved: compare slices
         for d, dim in enumerate(plan.dims):
             if plan.shape[d] < 2:  # one value says nothing about a dependence: keep the dim
                 continue
@@ -132,6 +136,28 @@ def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, lis
     return out
 
 
+def _digest_grid(plan: SweepPlan, results: list[BlockResult], name: str) -> tuple[Any, bool]:
+    """The fingerprints of ``name`` over the sweep grid and whether every point has one: a
+    ``(*shape, 2)`` uint64 array where every block holds them as an array (every point
+    solved, :func:`~.stacking._digests`), else an object array (``None``: a failed point)."""
+    held = [r.digests.get(name) for r in results]
+    if all(isinstance(h, np.ndarray) for h in held):
+        grid = np.empty((*plan.shape, 2), np.uint64)
+        for r, h in zip(results, held, strict=True):
+            b = r.block
+            grid[tuple(slice(a, c) for a, c in zip(b.start, b.stop, strict=True))] = h.reshape(
+                (*b.shape, 2)
+            )
+        return grid, True
+    grid = np.full(plan.shape, None, dtype=object)
+    for r, h in zip(results, held, strict=True):
+        b = r.block
+        sl = tuple(slice(a, c) for a, c in zip(b.start, b.stop, strict=True))
+        if h is not None:
+            grid[sl] = np.array(digest_list(h), dtype=object).reshape(b.shape)
+    return grid, all(x is not None for x in grid.flat)
+
+
 def combine(datasets: list[Any], grid_index: list[tuple[int, ...]], dims: tuple[str, ...]) -> Any:
     """Combine block Datasets (in memory or lazily opened) into one over the sweep grid."""
     counts = [max(g[d] for g in grid_index) + 1 for d in range(len(dims))]
@@ -147,59 +173,6 @@ def combine(datasets: list[Any], grid_index: list[tuple[int, ...]], dims: tuple[
         compat="override",
         combine_attrs="override",
     )
-
-
-def _combine_in_memory(plan: SweepPlan, results: list[BlockResult]) -> xr.Dataset | None:
-    """Combine in-memory block Datasets by filling preallocated arrays (the common case).
-
-    Every block must hold the same variables with the same non-sweep dimensions and the same
-    non-sweep coordinates, and every sweep dimension of a variable must lead it in the order of
-    the sweep; otherwise ``None`` (the caller falls back to :func:`combine`).
-    """
-    dims = plan.dims
-    first = results[0].dataset
-    names = list(first.variables)
-    out: dict[str, xr.Variable] = {}
-    for name in names:
-        var = first.variables[name]
-        swept = [d for d in var.dims if d in dims]
-        if not swept:  # a non-sweep coordinate or constant: the same in every block
-            ref = var.values
-            for r in results[1:]:
-                other = r.dataset.variables.get(name)
-                if (
-                    other is None
-                    or other.dims != var.dims
-                    or not np.array_equal(other.values, ref, equal_nan=ref.dtype.kind in "fc")
-                ):
-                    return None
-            out[name] = var.copy(deep=False)
-            continue
-        k = len(swept)
-        if tuple(var.dims[:k]) != tuple(swept) or swept != [d for d in dims if d in swept]:
-            return None
-        axes = [dims.index(d) for d in swept]
-        parts = [r.dataset.variables.get(name) for r in results]
-        if any(p is None or p.dims != var.dims or p.shape[k:] != var.shape[k:] for p in parts):
-            return None
-        dtype = np.result_type(*(p.dtype for p in parts))
-        full = np.empty(tuple(plan.shape[a] for a in axes) + var.shape[k:], dtype=dtype)
-        filled = np.zeros(full.shape[:k], dtype=bool)
-        for r, p in zip(results, parts, strict=True):
-            sl = tuple(slice(r.block.start[a], r.block.stop[a]) for a in axes)
-            full[sl] = p.values
-            filled[sl] = True
-        if not filled.all():
-            return None
-        out[name] = xr.Variable(var.dims, full, dict(var.attrs))
-    if any(set(r.dataset.variables) != set(names) for r in results[1:]):
-        return None
-    coord_names = set(first.coords)
-    return xr.Dataset(
-        {n: v for n, v in out.items() if n not in coord_names},
-        coords={n: v for n, v in out.items() if n in coord_names},
-        attrs=dict(first.attrs),
-    )[list(first.data_vars)]
 
 
 def _global_attrs(

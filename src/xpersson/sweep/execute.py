@@ -30,13 +30,21 @@ from ..scene import SceneError
 from ._fastfail import warn_failures
 from ._quiet import silenced
 from ._workers import check_workers, ran_on
-from .batched import SweepPoints, batch_capable, material_dims, resolved_region
+from .batched import SweepPoints, batch_capable, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
 from .combine import finish
 from .derived import derived_region
+from .filling import Filling
 from .folder import Transaction
 from .parts import part_name
 from .plan import SweepPlan
+from .schedule import (
+    BLOCK_CURVES,
+    check_scheduler,
+    client_for,
+    points_per_block,
+    too_small_for_a_cluster,
+)
 
 __all__ = ["solve_sweep", "resolve_points", "check_size"]
 
@@ -183,26 +191,6 @@ def _resolve_on_workers(
     return first, [(b, f, parts[b.number]) for b, f in zip(blocks, resolved, strict=True)]
 
 
-#: Fewest points per block (when the sweep has that many) of a serial in-memory sweep: a
-#: stacked block pays a fixed cost to assemble its Dataset, and a serial run has no workers to
-#: balance (150 friction points: one block instead of 5, ~10 % less CPU). Larger sweeps get
-#: larger blocks anyway (a quarter of the points).
-SERIAL_BLOCK_POINTS = 256
-
-
-def _points_per_block(
-    plan: SweepPlan, workers: int, requested: int | None, serial_in_memory: bool = False
-) -> int:
-    if requested is not None:
-        if requested < 1:
-            raise ValueError(f"chunk: points per block must be >= 1, got {requested}")
-        return int(requested)
-    default = max(1, math.ceil(plan.size / (4 * max(1, workers))))
-    if serial_in_memory:
-        return max(default, min(plan.size, SERIAL_BLOCK_POINTS))
-    return default
-
-
 def solve_sweep(
     plan: SweepPlan,
     registry: Any,
@@ -221,14 +209,15 @@ def solve_sweep(
     when the folder holds the same study (``resume``), refused when it holds another one
     unless ``overwrite``.
     """
-    _check_scheduler(scheduler)
+    check_scheduler(scheduler)
     asked = scheduler
-    if scheduler == "processes" and _too_small_for_a_cluster(plan, registry):
-        scheduler = None
     distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
+    estimate = serial_estimate(plan, registry) if distributed and chunk is None else None
+    if scheduler == "processes" and too_small_for_a_cluster(plan, estimate):
+        scheduler, distributed = None, False
     check_size(plan, registry, scheduler, chunk, workers, output is None)
     points = None if distributed else resolve_points(plan, registry)
-    client, own_cluster, n_workers = _client(scheduler, workers)
+    client, own_cluster, n_workers = client_for(scheduler, workers)
     txn = None
     try:
         if client is not None:  # every worker has the scene's plugins: one line if not
@@ -239,8 +228,13 @@ def solve_sweep(
                 ).plugin_records,
             )
         layout = {
-            "points_per_block": _points_per_block(
-                plan, n_workers, chunk, client is None and scheduler != "threads" and output is None
+            "points_per_block": points_per_block(
+                plan,
+                n_workers,
+                chunk,
+                client is None and scheduler != "threads" and output is None,
+                points[0].p0.size if points is not None else 1,
+                estimate,
             ),
             "multiple": n_workers if chunk is None else 1,
         }
@@ -266,10 +260,13 @@ def solve_sweep(
         else:
             tasks = [(b, block_points(plan, points, b), parts[b.number]) for b in blocks]
         tasks = [t for t in tasks if t[0].number not in done]
-        results = _run_tasks(plan, tasks, registry, scheduler, client, n_workers, progress, txn)
+        filling = Filling(plan)  # in memory: each block copied into the sweep's arrays
+        results = _run_tasks(
+            plan, tasks, registry, scheduler, client, n_workers, progress, txn, filling.add
+        )
         warn_failures(results, stacklevel=4)  # out of the silenced run: the user sees it
         results = sorted([*results, *done.values()], key=lambda r: r.block.number)
-        ds = finish(plan, points, results, txn)
+        ds = finish(plan, points, results, txn, filling)
         if asked != scheduler:  # e.g. a small study asked for processes ran serially
             ds.attrs["xpersson_scheduler"] = ran_on(asked, scheduler, n_workers)
         return ds
@@ -315,105 +312,39 @@ def _run_tasks(
     n_workers: int,
     progress: bool | None,
     txn: Any,
+    take: Callable[[BlockResult], None] | None = None,
 ) -> list[BlockResult]:
     bar = progress_bar(plan.size, progress, "xpersson sweep")
     if bar is not None:
         bar.update(plan.size - sum(b.size for b, _, _ in tasks))  # reused parts
     attrs = None if txn is None else txn.part_attrs()
     try:
-        return _execute(tasks, registry, scheduler, client, bar, n_workers, attrs)
+        return _execute(tasks, registry, scheduler, client, bar, n_workers, attrs, take)
     finally:
         if bar is not None:
             bar.close()
 
 
-#: What ``scheduler="processes"`` costs before the first point is solved [s]: starting a
-#: LocalCluster of single-threaded workers and importing xpersson in each (3-5 s measured by
-#: ``benchmarks/sweep_scaling.py`` on a shared 2-core machine; the lower end is stated here).
-CLUSTER_STARTUP_S = 3.0
-
-
-def _too_small_for_a_cluster(plan: SweepPlan, registry: Any) -> bool:
-    """Whether the study, solved serially, takes less than starting a cluster (then a
-    warning says so and the sweep runs serially).
-
-    The serial time is estimated from the first point (resolved and solved here, CPU time)
-    times the number of solves: one per point, or one per combination of the non-material
-    values where the points are solved as batches of loads (:mod:`.batched`).
+def serial_estimate(plan: SweepPlan, registry: Any) -> float:
+    """The study's serial CPU time [s], measured on a probe: its first block of the layout a
+    serial run would use, capped at :data:`BLOCK_CURVES` curves where its points are solved as
+    batches of loads (:mod:`.batched`), else its first 4 points; resolved and solved here
+    (CPU time of this process), the result discarded.
     """
     import time
 
-    from ..pipeline import run
-
+    registry = registry or get_registry()
     t0 = time.process_time()
-    rs = _resolve_index(plan, (0,) * len(plan.shape), registry or get_registry())
+    rs = _resolve_index(plan, (0,) * len(plan.shape), registry)
+    loads = max(1, rs.p0.size)
+    size = BLOCK_CURVES // loads if batch_capable(plan.groups, rs) else 4
+    probe = blocks_of(plan, max(1, min(plan.size, size)))[0]
     with silenced():
         try:
-            run(rs, squeeze=False)
+            run_block(probe, _resolve_block(plan, probe, registry), registry)
         except Exception:  # noqa: BLE001 - the sweep reports failing points itself
-            return False
-    per_solve = time.process_time() - t0
-    solves = plan.size
-    if batch_capable(plan.groups, rs):
-        material = material_dims(plan.groups)
-        solves = math.prod(n for n, m in zip(plan.shape, material, strict=True) if not m)
-    estimate = per_solve * solves
-    if estimate >= CLUSTER_STARTUP_S:
-        return False
-    warnings.warn(
-        f"scheduler='processes': starting the worker processes costs about "
-        f"{CLUSTER_STARTUP_S:g} s, more than this study of {plan.size} points takes serially "
-        f"(about {estimate:.2g} s, estimated from its first point); solving it serially. "
-        "Pass a distributed.Client to use a running cluster.",
-        XperssonWarning,
-        stacklevel=4,
-    )
-    return True
-
-
-def _check_scheduler(scheduler: Any) -> None:
-    if scheduler is None or type(scheduler).__name__ == "Client":
-        return
-    if not isinstance(scheduler, str) or not (
-        scheduler in ("serial", "synchronous", "sync", "threads", "processes") or ":" in scheduler
-    ):
-        raise ValueError(
-            f"scheduler: {scheduler!r} is not allowed; one of None/'serial', 'threads', "
-            "'processes', a scheduler address 'tcp://host:port' or a distributed.Client"
-        )
-
-
-def _client(scheduler: Any, workers: int | None) -> tuple[Any, Any, int]:
-    """(client, cluster we own, number of workers) for a scheduler request."""
-    if scheduler in (None, "serial", "synchronous", "sync"):
-        return None, None, 1
-    if scheduler == "threads":
-        return None, None, workers or os.cpu_count() or 1
-    try:
-        from distributed import Client, LocalCluster
-    except ImportError as exc:
-        raise ImportError(
-            f"scheduler={scheduler!r} needs dask.distributed: pip install 'xpersson[parallel]'"
-        ) from exc
-    if isinstance(scheduler, Client):
-        return scheduler, None, max(1, len(scheduler.scheduler_info().get("workers", {})))
-    if scheduler == "processes":
-        n = workers or os.cpu_count() or 1
-        cluster = LocalCluster(
-            n_workers=n,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            silence_logs=50,
-        )
-        return Client(cluster), cluster, n
-    if isinstance(scheduler, str) and ":" in scheduler:  # tcp://host:8786, host:8786
-        client = Client(scheduler)
-        return client, client, max(1, len(client.scheduler_info().get("workers", {})))
-    raise ValueError(
-        f"scheduler: {scheduler!r} is not allowed; one of None/'serial', 'threads', 'processes', "
-        "a scheduler address 'tcp://host:port' or a distributed.Client"
-    )
+            return math.inf
+    return (time.process_time() - t0) / probe.size * plan.size
 
 
 def _execute(
@@ -424,16 +355,23 @@ def _execute(
     bar: Any,
     n_workers: int = 1,
     attrs: dict[str, Any] | None = None,
+    take: Callable[[BlockResult], None] | None = None,
 ) -> list[BlockResult]:
     """Run the block tasks; the points' warnings are silenced (:func:`._quiet.silenced`) by
-    this thread around the whole in-process run, by each task on a dask worker."""
+    this thread around the whole in-process run, by each task on a dask worker.
+
+    ``take(result)`` is called on each result as it arrives (the in-memory fill,
+    :class:`~.filling.Filling`: the block's Dataset is copied and dropped at once)."""
     tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
+    take = take or (lambda res: None)
+    out = []
     if client is None and scheduler != "threads":
         with silenced():
             shared: dict[str, Any] = {}  # the stacked path's template, reused across blocks
-            return [
-                run_block(b, pts, registry, part, tick, attrs, shared) for b, pts, part in tasks
-            ]
+            for b, pts, part in tasks:
+                out.append(run_block(b, pts, registry, part, tick, attrs, shared))
+                take(out[-1])
+        return out
     if client is None:
         from concurrent.futures import ThreadPoolExecutor
 
@@ -442,7 +380,10 @@ def _execute(
                 pool.submit(run_block, b, pts, registry, part, tick, attrs)
                 for b, pts, part in tasks
             ]
-            return [f.result() for f in futures]
+            for f in futures:
+                out.append(f.result())
+                take(out[-1])
+        return out
     from distributed import as_completed
 
     token = _run_token()
@@ -464,6 +405,8 @@ def _execute(
     # results are fetched as their blocks finish: transfers overlap the blocks still running
     for fut, res in as_completed(futures, with_results=True):
         results[order[fut.key]] = res
+        take(res)
+        fut.release()  # the worker's copy too: the fill holds the values now
         if bar is not None:
             bar.update(res.block.size)
     return results

@@ -228,24 +228,33 @@ def _fill(var: xr.DataArray) -> np.ndarray:
     return np.full(var.shape, fill, dtype=var.dtype)
 
 
-def _digests(present: list[set[Any] | None], ds: xr.Dataset, block: Block) -> dict[str, list[Any]]:
+def _digests(present: list[set[Any] | None], ds: xr.Dataset, block: Block) -> dict[str, Any]:
     """Per point fingerprints of every stacked variable (``None`` for a failed point).
 
     ``present`` holds, per point, the names of its variables (``None``: the point failed).
 
     Taken from the stacked block (the block's sweep dimensions lead every stacked variable),
     so a point's fingerprint is that of the values the combined Dataset holds for it. Numeric
-    rows get a 128-bit hash (an int) computed for all rows at once (:func:`_row_digests`).
+    rows get a 128-bit hash computed for all rows at once (:func:`_row_hashes`): where every
+    point holds the variable, the ``(points, 2)`` uint64 array of the hashes (no Python int
+    per point), else a list (an int per point, ``None``, ``"missing"``).
     """
-    out: dict[str, list[Any]] = {}
+    out: dict[str, Any] = {}
     n = block.size
+    distinct = {id(p): p for p in present}.values()  # a fast path: one set for every point
     for name, var in ds.variables.items():
         if name in block.coords or name == "point_status" or name in ds.indexes:
             continue
         if tuple(var.dims[: len(block.dims)]) != tuple(block.dims):
             continue
         arr = np.asarray(var.values)
-        digests = _row_digests(arr.reshape((n,) + arr.shape[len(block.dims) :]))
+        rows = arr.reshape((n,) + arr.shape[len(block.dims) :])
+        if all(p is not None and name in p for p in distinct):
+            hashes = _row_hashes(rows)
+            if hashes is not None:
+                out[name] = hashes
+                continue
+        digests = _row_digests(rows)
         out[name] = [
             None if p is None else digests[k] if name in p else "missing"
             for k, p in enumerate(present)
@@ -253,32 +262,54 @@ def _digests(present: list[set[Any] | None], ds: xr.Dataset, block: Block) -> di
     return out
 
 
+def digest_list(digests: Any) -> list[Any]:
+    """The per-point list of fingerprints of :func:`_digests`' entry (either form)."""
+    if isinstance(digests, np.ndarray):
+        return [a << 64 | b for a, b in zip(*digests.T.tolist(), strict=True)]
+    return list(digests)
+
+
 _MULTIPLIERS = np.random.default_rng(20251125).integers(
     1, 2**63, size=(2, 4096), dtype=np.uint64
 ) | np.uint64(1)
 
 
-def _row_digests(rows: np.ndarray) -> list[Any]:
-    """A fingerprint of each row of ``rows`` (equal rows, equal fingerprints).
-
-    Numeric rows: two 64-bit multiply-add hashes of the row's bytes (odd random multipliers,
-    fixed seed: the same in every process), computed for all rows at once; object rows and
-    very long rows: the SHA-1 of the row.
-    """
+def _row_hashes(rows: np.ndarray) -> np.ndarray | None:
+    """Two 64-bit multiply-add hashes of each numeric row's bytes (odd random multipliers,
+    fixed seed: the same in every process) as a ``(rows, 2)`` uint64 array, or ``None``
+    (object rows, very long rows)."""
     n = rows.shape[0]
     if rows.dtype.kind == "O" or n == 0:
-        return [_digest(np.asarray(r)) for r in rows]
+        return None
     raw = np.ascontiguousarray(rows).view(np.uint8).reshape(n, -1)
     pad = (-raw.shape[1]) % 8
     if pad:
         raw = np.concatenate([raw, np.zeros((n, pad), np.uint8)], axis=1)
     words = raw.view(np.uint64)
     if words.shape[1] > _MULTIPLIERS.shape[1]:
-        return [_digest(np.asarray(r)) for r in rows]
-    mult = _MULTIPLIERS[:, : words.shape[1]]
-    h1 = (words * mult[0]).sum(axis=1, dtype=np.uint64).tolist()
-    h2 = (words * mult[1]).sum(axis=1, dtype=np.uint64).tolist()
-    return [a << 64 | b for a, b in zip(h1, h2, strict=True)]
+        return None
+    return words @ _MULTIPLIERS[:, : words.shape[1]].T  # sums modulo 2^64, no temporaries
+
+
+def _row_digests(rows: np.ndarray) -> list[Any]:
+    """A fingerprint of each row of ``rows`` (equal rows, equal fingerprints).
+
+    Numeric rows: the two hashes of :func:`_row_hashes` as one 128-bit int; object rows and
+    very long rows: the SHA-1 of the row (once per distinct row).
+    """
+    hashes = _row_hashes(rows)
+    if hashes is not None:
+        return digest_list(hashes)
+    if rows.shape[0] == 0:
+        return []
+    known: dict[Any, str] = {}
+    out = []
+    for r, key in zip(rows, map(repr, rows.tolist()), strict=True):
+        got = known.get(key)
+        if got is None:
+            got = known[key] = _digest(np.asarray(r))
+        out.append(got)
+    return out
 
 
 def _digest(arr: np.ndarray) -> str:

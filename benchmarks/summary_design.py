@@ -1,0 +1,103 @@
+"""The scene design of ``benchmarks/summary.py`` and its timing helpers.
+
+``design(n, seed)`` draws ``n`` (>= 12) scenes across the documented domain: H stratified over
+0.3-0.95, with and without roll-off (roll-off decade 0.5-1), 3-6 decades of q_1/q_L, q_L 1e2-1e4
+1/m; the two scenes the issue named are always in (roll-off H = 0.3 over 6 decades, steep
+H = 0.95 without roll-off over 6 decades). Each scene is an elastic contact (rubber,
+E* = 13.3 MPa); the paths that need another boundary (``jkr``, ``plastic_scale_dependent``) put
+theirs on the same spectrum.
+"""
+
+from __future__ import annotations
+
+import time
+import tracemalloc
+import warnings
+from collections.abc import Callable
+
+import numpy as np
+
+#: Magnifications of every output curve (as ``sweep_scaling.scene``): 50 points.
+ZETA = [float(z) for z in np.geomspace(1.0, 1e3, 50)]
+
+
+def spectrum(H: float, roll: bool, decades: float, q_L: float) -> dict:
+    """A self-affine spectrum (``q_r = q_L``: no roll-off)."""
+    q_L, H = float(q_L), float(H)
+    q_L, H = float(q_L), float(H)
+    q_r = q_L * (10 ** (0.5 + 0.5 * (H % 0.1) / 0.1) if roll else 1.0)
+    return {
+        "model": "self_affine",
+        "H": round(float(H), 4),
+        "q_L": f"{q_L!r} 1/m",
+        "q_r": f"{q_r!r} 1/m",
+        "q_1": f"{q_L * 10**decades!r} 1/m",
+        "h_rms": "1 um",
+    }
+
+
+def design(n: int = 12, seed: int = 36) -> list[tuple[str, dict]]:
+    """``n`` named spectra (seeded): the two named ones first, then a stratified draw."""
+    rng = np.random.default_rng(seed)
+    out = [
+        ("roll H=0.30 6dec", spectrum(0.3, True, 6, 1e2)),
+        ("steep H=0.95 6dec", spectrum(0.95, False, 6, 1e2)),
+    ]
+    hs = 0.3 + 0.65 * (np.arange(n - 2) + rng.random(n - 2)) / (n - 2)
+    rng.shuffle(hs)
+    for k, H in enumerate(hs):
+        roll = bool(k % 2)
+        decades = float(rng.integers(3, 7))
+        q_L = float(10 ** rng.uniform(2, 4))
+        name = f"{'roll' if roll else 'flat'} H={H:.2f} {decades:.0f}dec"
+        out.append((name, spectrum(H, roll, decades, q_L)))
+    return out
+
+
+def scene(spec: dict, loads: object = "100 kPa", **sections: object) -> dict:
+    """An elastic scene on ``spec`` with the shared 50-point zeta grid."""
+    out = {
+        "spectrum": dict(spec),
+        "material": {"E": "10 MPa", "nu": 0.5},
+        "load": {"p0": loads},
+        "output": {"zeta": ZETA},
+    }
+    out.update(sections)
+    return out
+
+
+def load_range(n: int, lo: float = 1e3, hi: float = 1e6) -> dict:
+    """``n`` log-spaced loads as a range table."""
+    return {"start": f"{lo!r} Pa", "stop": f"{hi!r} Pa", "num": n}
+
+
+def cpu(fn: Callable[[], object]) -> float:
+    """CPU time [s] of one call (warnings silenced)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        t = time.process_time()
+        fn()
+        return time.process_time() - t
+
+
+def best(fns: dict[str, Callable[[], object]], rounds: int) -> dict[str, float]:
+    """Best CPU time [s] of each function over ``rounds`` interleaved rounds (one warm-up)."""
+    for fn in fns.values():
+        cpu(fn)
+    out = dict.fromkeys(fns, np.inf)
+    for _ in range(rounds):
+        for k, fn in fns.items():
+            out[k] = min(out[k], cpu(fn))
+    return out
+
+
+def peak_mib(fn: Callable[[], object]) -> float:
+    """Peak traced memory [MiB] of one call (``tracemalloc``: Python and numpy buffers)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tracemalloc.start()
+        try:
+            fn()
+            return tracemalloc.get_traced_memory()[1] / 2**20
+        finally:
+            tracemalloc.stop()

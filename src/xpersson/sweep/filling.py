@@ -1,0 +1,147 @@
+"""An in-memory sweep's arrays filled block by block, as the blocks arrive.
+
+Each block's Dataset is copied into preallocated arrays of the sweep's shape and dropped at once,
+so the peak memory of a sweep is its result plus the blocks in flight (the blocks a scheduler
+has sent back, one block's intermediate arrays), not the result twice over (every block kept,
+then a combined copy).
+
+Where the blocks do not fit one layout (other variables, other non-sweep coordinates, another
+dtype, a sweep dimension that does not lead a variable in the order of the sweep) the blocks
+taken so far are cut back out of the arrays (exactly the values they brought) and the caller
+joins the Datasets with :func:`xarray.combine_nested` (:func:`.combine.combine`).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .stacking import BlockResult, _point_shaped
+
+__all__ = ["Filling"]
+
+
+class Filling:
+    """The sweep's variables as preallocated arrays, filled by :meth:`add`.
+
+    Parameters
+    ----------
+    plan : SweepPlan
+        The sweep (its dimensions and shape).
+
+    Attributes
+    ----------
+    absorbed : list of BlockResult
+        The results whose Datasets were copied in (their ``dataset`` is ``None`` since).
+    template : xarray.Dataset or None
+        The lowest-numbered absorbed block's Dataset cut to one point (coordinates and
+        attributes for blocks where every point failed, and the sweep's global attributes).
+    """
+
+    def __init__(self, plan: Any) -> None:
+        self.dims, self.shape = tuple(plan.dims), tuple(plan.shape)
+        self.absorbed: list[BlockResult] = []
+        self.template: xr.Dataset | None = None
+        self._number = -1
+        self._vars: dict[str, Any] = {}  # name -> ("const", Variable) | ("swept", ...)
+        self._order: list[str] = []
+        self._coords: set[str] = set()
+        self.broken = False
+
+    def add(self, res: BlockResult) -> None:
+        """Copy a block's Dataset in and drop it from ``res`` (nothing when it has none)."""
+        ds = res.dataset
+        if self.broken or ds is None:
+            return
+        if not self._vars and not self._allocate(ds):
+            self.broken = True
+            return
+        if not self._fits(ds):
+            self.restore()
+            return
+        sl = tuple(slice(a, b) for a, b in zip(res.block.start, res.block.stop, strict=True))
+        for name, entry in self._vars.items():
+            if entry[0] == "swept":
+                _, _, full, filled, axes = entry
+                sub = tuple(sl[a] for a in axes)
+                full[sub] = ds.variables[name].values
+                filled[sub] = True
+        if self.template is None or res.block.number < self._number:
+            self.template, self._number = _point_shaped(ds, res.block), res.block.number
+        res.dataset = None
+        self.absorbed.append(res)
+
+    def _allocate(self, ds: xr.Dataset) -> bool:
+        """The arrays from the first block's layout; ``False`` where it does not fit one."""
+        for name, var in ds.variables.items():
+            swept = [d for d in var.dims if d in self.dims]
+            if not swept:
+                self._vars[name] = ("const", var.copy(deep=False))
+                continue
+            k = len(swept)
+            if tuple(var.dims[:k]) != tuple(swept) or swept != [d for d in self.dims if d in swept]:
+                return False
+            axes = [self.dims.index(d) for d in swept]
+            full = np.empty(tuple(self.shape[a] for a in axes) + var.shape[k:], dtype=var.dtype)
+            filled = np.zeros(full.shape[:k], dtype=bool)
+            self._vars[name] = ("swept", var, full, filled, axes)
+        self._order = list(ds.data_vars)
+        self._coords = set(ds.coords)
+        return True
+
+    def _fits(self, ds: xr.Dataset) -> bool:
+        """Whether a block has the first block's variables, dims, dtypes and constants."""
+        if set(ds.variables) != set(self._vars):
+            return False
+        for name, entry in self._vars.items():
+            var, ref = ds.variables[name], entry[1]
+            if var.dims != ref.dims or var.dtype != ref.dtype:
+                return False
+            if entry[0] == "const":
+                values = ref.values
+                if not np.array_equal(var.values, values, equal_nan=values.dtype.kind in "fc"):
+                    return False
+            elif var.shape[len(entry[4]) :] != ref.shape[len(entry[4]) :]:
+                return False
+        return True
+
+    def restore(self) -> None:
+        """Give the absorbed results their Datasets back (cut from the arrays) and stop."""
+        for res in self.absorbed:
+            sl = tuple(slice(a, b) for a, b in zip(res.block.start, res.block.stop, strict=True))
+            variables = {}
+            for name, entry in self._vars.items():
+                if entry[0] == "const":
+                    variables[name] = entry[1]
+                else:
+                    _, ref, full, _, axes = entry
+                    part = full[tuple(sl[a] for a in axes)].copy()
+                    variables[name] = xr.Variable(ref.dims, part, dict(ref.attrs))
+            res.dataset = self._dataset(variables, {} if self.template is None else self.template)
+        self.absorbed, self._vars, self.broken = [], {}, True
+
+    def _dataset(self, variables: dict[str, Any], attrs: Any) -> xr.Dataset:
+        ds = xr.Dataset(
+            {n: v for n, v in variables.items() if n not in self._coords},
+            coords={n: v for n, v in variables.items() if n in self._coords},
+            attrs=dict(getattr(attrs, "attrs", attrs)),
+        )
+        return ds[self._order]
+
+    def dataset(self) -> xr.Dataset | None:
+        """The sweep's Dataset, or ``None`` (the blocks did not fit one layout, or a point was
+        never filled: the absorbed results have their Datasets back)."""
+        if self.broken or not self._vars:
+            return None
+        if not all(e[3].all() for e in self._vars.values() if e[0] == "swept"):
+            self.restore()
+            return None
+        variables = {
+            name: entry[1]
+            if entry[0] == "const"
+            else xr.Variable(entry[1].dims, entry[2], dict(entry[1].attrs))
+            for name, entry in self._vars.items()
+        }
+        return self._dataset(variables, self.template)

@@ -1,0 +1,153 @@
+"""How a sweep is spread: block sizes, when workers pay, the scheduler's client.
+
+Serial in memory, blocks hold about :data:`BLOCK_CURVES` curves. On workers (a
+:class:`distributed.LocalCluster` or a running scheduler), the study's serial CPU time is
+measured first on a probe (:func:`xpersson.sweep.execute.serial_estimate`) and the study is cut
+into tasks of about :data:`TASK_S` each (2 to 16 per worker); ``scheduler="processes"`` solves a
+study serially, with a warning, when it takes less than :data:`CLUSTER_STARTUP_S` +
+:data:`PARALLEL_MIN_S` serially (the threshold above which the cluster is faster in wall time).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from typing import Any
+
+from ..errors import XperssonWarning
+from .plan import SweepPlan
+
+__all__ = [
+    "BLOCK_CURVES",
+    "CLUSTER_STARTUP_S",
+    "PARALLEL_MIN_S",
+    "SERIAL_BLOCK_POINTS",
+    "TASK_S",
+    "points_per_block",
+    "too_small_for_a_cluster",
+    "check_scheduler",
+    "client_for",
+]
+
+
+#: Fewest curves (points x loads, when the sweep has that many) per block of a serial in-memory
+#: sweep: a stacked block pays a fixed cost to assemble its Dataset, and a serial run has no
+#: workers to balance (150 friction points: one block instead of 5, ~10 % less CPU).
+SERIAL_BLOCK_POINTS = 256
+
+
+#: Curves (points x loads) per block of a serial in-memory sweep: large enough that a block's
+#: fixed costs (its first point solved alone, one stacked run, its Dataset) stay small, small
+#: enough that a block's intermediate arrays (about 7 times its rows) stay a fraction of the
+#: result: a 1e5-curve E x H x p0 study peaks at 1.7x its result with blocks of 5000 curves
+#: (2.0x with 12 800, 2.5x with 25 000; ``benchmarks/summary.py``).
+BLOCK_CURVES = 5_000
+
+
+def points_per_block(
+    plan: SweepPlan,
+    workers: int,
+    requested: int | None,
+    serial_in_memory: bool = False,
+    loads: int = 1,
+    estimate: float | None = None,
+) -> int:
+    """Points per block: ``requested``, else
+
+    * serial in memory: as many as make :data:`BLOCK_CURVES` curves (``loads`` per point), at
+      least :data:`SERIAL_BLOCK_POINTS` curves;
+    * on workers, with the study's measured serial time ``estimate`` [s]
+      (:func:`serial_estimate`): tasks of about :data:`TASK_S` each, 2 to 16 per worker;
+    * else a quarter of each worker's share.
+    """
+    if requested is not None:
+        if requested < 1:
+            raise ValueError(f"chunk: points per block must be >= 1, got {requested}")
+        return int(requested)
+    if serial_in_memory:
+        loads = max(1, loads)
+        return max(BLOCK_CURVES // loads, min(plan.size, SERIAL_BLOCK_POINTS // loads), 1)
+    workers = max(1, workers)
+    if estimate is not None and math.isfinite(estimate):
+        tasks = min(16 * workers, max(2 * workers, math.ceil(estimate / TASK_S)))
+        return max(1, math.ceil(plan.size / tasks))
+    return max(1, math.ceil(plan.size / (4 * workers)))
+
+
+#: What ``scheduler="processes"`` costs before the first point is solved [s]: starting a
+#: LocalCluster of single-threaded workers and importing xpersson in each (3-5 s measured by
+#: ``benchmarks/sweep_scaling.py`` on a shared 2-core machine; the lower end is stated here).
+CLUSTER_STARTUP_S = 3.0
+#: Serial CPU time [s] of a study below which workers do not pay (on top of the cluster's
+#: start-up where ``scheduler="processes"`` starts one): sending the tasks, the points and the
+#: results between processes and filling the result in this process cost about this much
+#: (``benchmarks/summary.py``, parallel row). Longer studies are cut into tasks of about
+#: :data:`TASK_S` each.
+PARALLEL_MIN_S = 2.0
+#: Serial CPU time [s] of one task on a worker: long enough that the scheduler's per-task
+#: cost (a few ms) and the transfer of its result are small, short enough for 2 to 16 tasks
+#: per worker (balance, results combined while others run).
+TASK_S = 0.5
+
+
+def too_small_for_a_cluster(plan: SweepPlan, estimate: float) -> bool:
+    """Whether the study, solved serially (``estimate`` [s], :func:`serial_estimate`), takes
+    less than starting a cluster and using it (then a warning says so and the sweep runs
+    serially)."""
+    if estimate >= CLUSTER_STARTUP_S + PARALLEL_MIN_S:
+        return False
+    warnings.warn(
+        f"scheduler='processes': starting the worker processes and sending them the work costs "
+        f"about {CLUSTER_STARTUP_S + PARALLEL_MIN_S:g} s, more than this study of {plan.size} "
+        f"points takes serially (about {estimate:.2g} s, measured on its first points); solving "
+        "it serially. Pass a distributed.Client to use a running cluster.",
+        XperssonWarning,
+        stacklevel=4,
+    )
+    return True
+
+
+def check_scheduler(scheduler: Any) -> None:
+    if scheduler is None or type(scheduler).__name__ == "Client":
+        return
+    if not isinstance(scheduler, str) or not (
+        scheduler in ("serial", "synchronous", "sync", "threads", "processes") or ":" in scheduler
+    ):
+        raise ValueError(
+            f"scheduler: {scheduler!r} is not allowed; one of None/'serial', 'threads', "
+            "'processes', a scheduler address 'tcp://host:port' or a distributed.Client"
+        )
+
+
+def client_for(scheduler: Any, workers: int | None) -> tuple[Any, Any, int]:
+    """(client, cluster we own, number of workers) for a scheduler request."""
+    if scheduler in (None, "serial", "synchronous", "sync"):
+        return None, None, 1
+    if scheduler == "threads":
+        return None, None, workers or os.cpu_count() or 1
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError as exc:
+        raise ImportError(
+            f"scheduler={scheduler!r} needs dask.distributed: pip install 'xpersson[parallel]'"
+        ) from exc
+    if isinstance(scheduler, Client):
+        return scheduler, None, max(1, len(scheduler.scheduler_info().get("workers", {})))
+    if scheduler == "processes":
+        n = workers or os.cpu_count() or 1
+        cluster = LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=50,
+        )
+        return Client(cluster), cluster, n
+    if isinstance(scheduler, str) and ":" in scheduler:  # tcp://host:8786, host:8786
+        client = Client(scheduler)
+        return client, client, max(1, len(client.scheduler_info().get("workers", {})))
+    raise ValueError(
+        f"scheduler: {scheduler!r} is not allowed; one of None/'serial', 'threads', 'processes', "
+        "a scheduler address 'tcp://host:port' or a distributed.Client"
+    )

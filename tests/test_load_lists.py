@@ -1,0 +1,74 @@
+"""Lists of quantity strings converted at once (issue 36): the same floats and the same error
+messages as value by value."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import xpersson
+from xpersson.scene import SceneError
+from xpersson.scene._convert import loads
+from xpersson.units import strings_to_si, to_si
+
+PREFIXES = ["", "k", "M", "G", "m", "u", "n"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(
+        st.tuples(
+            st.floats(1e-3, 1e12, allow_nan=False, allow_infinity=False),
+            st.sampled_from(PREFIXES),
+            st.sampled_from(["{}{}Pa", "{} {}Pa", "  {}  {}Pa  ", "{} {}N/m**2"]),
+        ),
+        min_size=1,
+        max_size=20,
+    )
+)
+def test_strings_to_si_equals_to_si_of_each(entries):
+    values = [form.format(repr(x), pre) for x, pre, form in entries]
+    got = strings_to_si(values, "Pa")
+    want = [to_si(v, "Pa", "w") for v in values]
+    if got is not None:  # None: the caller converts value by value (pint units)
+        assert got.tolist() == want  # bit for bit
+
+
+@pytest.mark.parametrize(
+    "values",
+    [["1 MPa", "2 m"], ["1 MPa", "nan MPa"], ["1 MPa", "1.2.3 MPa"], ["1 MPa", 2.0], ["1_0 Pa"]],
+)
+def test_values_it_cannot_read_go_value_by_value(values):
+    assert strings_to_si(values, "Pa") is None
+
+
+@pytest.mark.parametrize(
+    ("values", "match"),
+    [
+        (["1 MPa", "2 m"], r"load\.p0\[1\]: .*dimension"),
+        (["1 MPa", "-2 MPa"], r"load\.p0\[1\]: -2e\+06 Pa is outside the allowed range"),
+        (["1 MPa", "1e400 MPa"], r"load\.p0\[1\]: must be finite"),
+        (["1 MPa", "m**9**9 MPa"], r"load\.p0\[1\]"),
+        (["2 MPa", "1 MPa"], r"load\.p0: loads must be strictly increasing"),
+    ],
+)
+def test_bad_load_lists_keep_their_messages(values, match):
+    with pytest.raises(SceneError, match=match):
+        loads(values)
+
+
+def test_a_list_of_load_strings_solves_as_value_by_value(monkeypatch):
+    """The whole solve from a list of strings equals the value-by-value conversion's."""
+    from xpersson.scene import _convert
+
+    listed = [f"{float(p) / 1e3!r} kPa" for p in np.geomspace(1e3, 1e6, 200)]
+    spec = {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_1": "1e7 1/m", "h_rms": "1 um"}
+    data = {"spectrum": spec, "material": {"E": "10 MPa", "nu": 0.5}, "load": {"p0": listed}}
+    fast = xpersson.solve(data)
+    monkeypatch.setattr(_convert, "strings_to_si", lambda values, unit: None)
+    slow = xpersson.solve(data)
+    np.testing.assert_array_equal(fast.p0.values, slow.p0.values)
+    np.testing.assert_array_equal(fast.area_fraction.values, slow.area_fraction.values)
+    assert fast.attrs["xpersson_scene"] == slow.attrs["xpersson_scene"]
