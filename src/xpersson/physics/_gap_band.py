@@ -134,8 +134,22 @@ def windowed_sum(
             cols = np.where(cols < j1[sel], cols, n_u)
         v = values(sel, cols)
         cols += load[sel] * (n_u + 1)
-        out += np.bincount(cols.ravel(), weights=v.ravel(), minlength=out.size)
+        _add(out, cols.ravel(), v.ravel())
     return out.reshape(n_load, n_u + 1)[:, :n_u]
+
+
+def _add(out: NDArray[np.float64], idx: NDArray[np.intp], v: NDArray[np.float64]) -> None:
+    """``out += np.bincount(idx, weights=v, minlength=out.size)``, bit for bit, in time
+    linear in ``idx.size`` (not ``out.size``: a block's sums over every load's columns made the
+    sum quadratic in the number of loads). Each touched entry gets the block's sum of its
+    values in input order, as ``np.bincount`` forms it; untouched entries are left alone
+    (``x + 0.0 == x``: ``out`` never holds ``-0.0``, a sum started at ``0.0`` never is)."""
+    lo, hi = int(idx.min()), int(idx.max()) + 1
+    if hi - lo <= 4 * idx.size:  # a narrow span: a slice of out
+        out[lo:hi] += np.bincount(idx - lo, weights=v, minlength=hi - lo)
+        return
+    touched, inv = np.unique(idx, return_inverse=True)
+    out[touched] += np.bincount(inv.ravel(), weights=v, minlength=touched.size)
 
 
 def _flat(
@@ -161,4 +175,4 @@ def _flat(
         cols = np.arange(t.size) - np.repeat(offset - j0[sel], w)
         v = values(t, cols[None, :])
         cols += load[t] * (n_u + 1)
-        out += np.bincount(cols, weights=v.ravel(), minlength=out.size)
+        _add(out, cols, v.ravel())
