@@ -293,12 +293,12 @@ def _compiled_steps(
     nb, n = st.z.shape[1], states.shape[0] - 1
     nn = states.shape[1] // nb
     out_steps = inp.out_at.tolist() + [-1]
-    no_yield = np.zeros((0, 5, nb))
+    no_yield = np.zeros((0, 5, nb)), np.zeros((0, 3, nb))  # (C-ordered: one signature)
     args = (
         states, ops.flux_lo, ops.flux_hi, ops.lower, ops.diag, ops.upper, rows.volumes,
         rows.walls, rows.last, np.array(yields, dtype=bool),
-        no_yield[:, :3] if ops.yield_rhs is None else ops.yield_rhs,
-        no_yield if ops.yield_gain is None else ops.yield_gain, st.z,
+        no_yield[1] if ops.yield_rhs is None else ops.yield_rhs,
+        no_yield[0] if ops.yield_gain is None else ops.yield_gain, st.z,
     )  # fmt: skip
     i = 0
     while i < n:
