@@ -12,9 +12,10 @@ the tests hold them to 1e-12).
 
 numba is an optional accelerator (``pip install numba``): without it, or with
 ``xpersson.set_options(compiled=False)`` (environment ``XPERSSON_COMPILED=off``), the numpy
-path runs. Levels below :data:`MIN_WORK` node-steps keep the numpy path too, so that small
-solves never import numba (its import and first compilation cost about a second per process;
-the compiled code is kept on disk by numba's own ``cache=True``).
+path runs. Until a level of :data:`MIN_WORK` node-steps asks for it, the numpy path runs too,
+so that small solves never import numba (its import and loading cost about 0.4 s per process,
+the first compilation a few seconds; the compiled code is kept on disk by numba's own
+``cache=True``); from then on every level of the process takes the compiled path.
 """
 
 from __future__ import annotations
@@ -35,8 +36,9 @@ _STATE: dict[str, Any] = {}  # the compiled function once built (or None: numba 
 
 def kernel(work: float) -> Callable[..., int] | None:
     """The compiled :func:`march_steps`, or None: the option is off, numba is missing, or the
-    ``work`` [node-steps] is below :data:`MIN_WORK`."""
-    if work < MIN_WORK or not compiled_enabled():
+    ``work`` [node-steps] is below :data:`MIN_WORK` and the kernel is not built yet (once
+    built, every level takes it: the import is paid, and the results are the same)."""
+    if not compiled_enabled() or (work < MIN_WORK and "fn" not in _STATE):
         return None
     if "fn" not in _STATE:
         _STATE["fn"] = _build()
