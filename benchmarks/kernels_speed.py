@@ -21,7 +21,8 @@ reports each and the worst:
 * ``engine``: every grid level the ``cn`` engine marches (a spy on
   ``xpersson.engine._cn._march``) is replayed by the C Thomas march of
   ``/work/shared/peers/c_march/thomas.c`` (built here with ``gcc -O2``; skipped without a
-  compiler or without the peer) at rtol 1e-6 and 1e-8: solve / C.
+  compiler or without the peer) at rtol 1e-6 and 1e-8: solve / C, with the compiled inner
+  march (numba, where installed) and with ``set_options(compiled=False)`` (numpy path).
 
 Writes ``benchmarks/results/kernels_speed.md``.
 """
@@ -250,14 +251,20 @@ def c_march(lib: ctypes.CDLL, levels: list[tuple[int, int, int]]) -> None:
         lib.march(m, steps, r.ctypes.data_as(dp), ws.ctypes.data_as(dp))
 
 
+def _numpy_solve(sc: dict) -> None:
+    """The solve with the compiled march off (the pure-numpy path)."""
+    with xpersson.set_options(compiled=False):
+        xpersson.solve(sc)
+
+
 def engine_part(rounds: int) -> list[str]:
     """solve / C march on the plastic and jkr scenes at rtol 1e-6 and 1e-8."""
     lib = build_c()
     if lib is None:
         return ["## Engine against the C march", "", "skipped: no compiler or no peer source"]
     lines = ["## Engine against the C march (gcc -O2)", "",
-             "| scene | rtol | node-steps | solve [ms] | C [ms] | solve / C |",
-             "|---|---:|---:|---:|---:|---:|"]  # fmt: skip
+             "| scene | rtol | node-steps | solve [ms] | numpy path [ms] | C [ms] | solve / C "
+             "| numpy path / C |", "|---|---:|---:|---:|---:|---:|---:|---:|"]  # fmt: skip
     cases = {f"plastic {k}": (lambda r, s=s: _plastic(s, r)) for k, s in PLASTIC_SPECTRA.items()}
     jkr = _jkr_scene(spectrum(0.8, True, 4, q_L=1e4))
     cases["jkr README H=0.8"] = lambda r: dict(copy.deepcopy(jkr), solver={"rtol": r})
@@ -271,9 +278,11 @@ def engine_part(rounds: int) -> list[str]:
                 continue
             ns = sum(a * b * c for a, b, c in levels)
             t = best({"solve": lambda sc=sc: xpersson.solve(sc),
+                      "numpy": lambda sc=sc: _numpy_solve(sc),
                       "c": lambda lv=levels: c_march(lib, lv)}, rounds)  # fmt: skip
             lines.append(f"| {name} | {rtol:g} | {ns:.3g} | {t['solve'] * 1e3:.1f} | "
-                         f"{t['c'] * 1e3:.1f} | {t['solve'] / t['c']:.1f}x |")  # fmt: skip
+                         f"{t['numpy'] * 1e3:.1f} | {t['c'] * 1e3:.1f} | "
+                         f"{t['solve'] / t['c']:.1f}x | {t['numpy'] / t['c']:.1f}x |")  # fmt: skip
     return lines
 
 
