@@ -20,7 +20,7 @@ reports each and the worst:
   H = 0.3 scene (and H = 0.8 for comparison).
 * ``engine``: every grid level the ``cn`` engine marches (a spy on
   ``xpersson.engine._cn._march``) is replayed by the C Thomas march of
-  ``/work/shared/peers/c_march/thomas.c`` (built here with ``gcc -O2``; skipped without a
+  ``../shared/peers/c_march/thomas.c`` (built here with ``gcc -O2``; skipped without a
   compiler or without the peer) at rtol 1e-6 and 1e-8: solve / C, with the compiled inner
   march (numba, where installed) and with ``set_options(compiled=False)`` (numpy path).
 
@@ -51,7 +51,10 @@ import numpy as np  # noqa: E402
 import xpersson  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-C_MARCH = Path("/work/shared/peers/c_march/thomas.c")
+#: the peer C march (``../shared/peers``, as the other peer benchmarks; ``XPERSSON_PEERS``
+#: overrides the folder, e.g. from a worktree)
+PEERS = Path(os.environ.get("XPERSSON_PEERS", HERE.parents[1] / "shared" / "peers"))
+C_MARCH = PEERS / "c_march" / "thomas.c"
 ANALYSES = ("gap_pdf", "leakage", "mean_gap")
 LOADS = (100, 1000, 10_000)
 #: (name, H, roll-off, decades above q_r)
