@@ -1,6 +1,6 @@
 """Library-wide options, set like :func:`xarray.set_options`.
 
-Two options:
+Three options:
 
 ``cache`` : bool
     Whether the caches of :mod:`xpersson.cache` keep anything. ``False`` turns every cache of
@@ -17,6 +17,11 @@ Two options:
     fast paths are checked against (:func:`xpersson.sweep.plain_paths` is the same as a
     ``with`` block). The default comes from ``XPERSSON_FAST_PATHS`` (same values as
     ``XPERSSON_CACHE``).
+``compiled`` : bool
+    Whether the engine may run its compiled inner march (numba, an optional dependency; see
+    :mod:`xpersson.engine._compiled`) where it pays. ``False`` keeps the pure-numpy path, the
+    reference the compiled one is tested against. The default comes from
+    ``XPERSSON_COMPILED`` (same values; on, and a no-op without numba).
 
 Examples
 --------
@@ -40,12 +45,16 @@ __all__ = [
     "set_options",
     "cache_enabled",
     "fast_paths_enabled",
+    "COMPILED_ENV",
+    "compiled_enabled",
 ]
 
 CACHE_ENV = "XPERSSON_CACHE"
 """The environment variable that sets the default of the ``cache`` option."""
 FAST_PATHS_ENV = "XPERSSON_FAST_PATHS"
 """The environment variable that sets the default of the ``fast_paths`` option."""
+COMPILED_ENV = "XPERSSON_COMPILED"
+"""The environment variable that sets the default of the ``compiled`` option."""
 
 _ON = frozenset({"", "1", "on", "true", "yes"})
 _OFF = frozenset({"0", "off", "false", "no"})
@@ -53,10 +62,10 @@ _LOCK = threading.Lock()
 #: options set by :func:`set_options`; a missing key means "the default" (for ``cache``: the
 #: environment variable)
 _SET: dict[str, Any] = {}
-_VALID = {"cache": "a bool", "fast_paths": "a bool"}
+_VALID = {"cache": "a bool", "fast_paths": "a bool", "compiled": "a bool"}
 #: the environment variables' flags as read (cleared by ``set_options(option=None)``)
 _FROM_ENV: dict[str, bool] = {}
-_ENV = {"cache": CACHE_ENV, "fast_paths": FAST_PATHS_ENV}
+_ENV = {"cache": CACHE_ENV, "fast_paths": FAST_PATHS_ENV, "compiled": COMPILED_ENV}
 
 
 def _env_flag(name: str) -> bool:
@@ -98,8 +107,14 @@ def fast_paths_enabled() -> bool:
     return _flag("fast_paths")
 
 
+def compiled_enabled() -> bool:
+    """Whether compiled accelerators (numba, when installed) may run: :func:`set_options`
+    ``compiled``, else ``XPERSSON_COMPILED``."""
+    return _flag("compiled")
+
+
 def get_options() -> dict[str, Any]:
-    """The options in force (a copy): ``{"cache": bool, "fast_paths": bool}``."""
+    """The options in force (a copy): ``{"cache": bool, "fast_paths": bool, "compiled": bool}``."""
     return {name: _flag(name) for name in _VALID}
 
 
@@ -114,6 +129,9 @@ class set_options:  # noqa: N801 - named as xarray.set_options, used as a functi
     fast_paths : bool or None
         ``False`` sends everything down the plain path, ``True`` lets declared fast paths
         run; ``None`` returns to the default (``XPERSSON_FAST_PATHS``).
+    compiled : bool or None
+        ``False`` keeps the engine on its pure-numpy path; ``None`` returns to the default
+        (``XPERSSON_COMPILED``).
 
     Raises
     ------

@@ -31,6 +31,7 @@ count is its cost on the small grids of the method).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -38,6 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
 
+from . import _compiled
 from ._cn_plan import Window, _edges_batch, _level_times, _Plan
 from ._cnstep import tridiagonal_solve
 from ._level import (
@@ -224,6 +226,10 @@ def _steps(
     and buffers are made once per block (a step is about ten numpy calls).
     """
     nb, nn = st.z.shape[1], inp.nodes.x.size
+    fast = _compiled.kernel(nb * nn * (inp.taus.size - 1))  # the level's node-steps
+    if fast is not None:
+        _compiled_steps(fast, st, rec, inp, ops, states, m0, yields, rows, p_out)
+        return
     volumes, walls, last = rows.volumes, rows.walls, rows.last
     # the explicit half's face fluxes of the state before each step: R_j, R_{j+1} per face
     r_lo, r_hi, r_in = states[:, :-1], states[:, 1:], states[:, 1:-1]
@@ -268,6 +274,48 @@ def _steps(
             report_progress(_REPORT_EVERY * nn * nb)
     st.r = r
     st.info |= info
+
+
+def _compiled_steps(
+    fast: Callable[..., int],
+    st: _State,
+    rec: _Record,
+    inp: LevelInputs,
+    ops: Block,
+    states: Array,
+    m0: int,
+    yields: list[bool],
+    rows: SystemRows,
+    p_out: Array | None,
+) -> None:
+    """:func:`_steps` by the compiled march ``fast`` (:mod:`._compiled`), run from one output
+    or progress report to the next (the outputs are recorded here, as there)."""
+    nb, n = st.z.shape[1], states.shape[0] - 1
+    nn = states.shape[1] // nb
+    out_steps = inp.out_at.tolist() + [-1]
+    no_yield = np.zeros((0, 5, nb)), np.zeros((0, 3, nb))  # (C-ordered: one signature)
+    args = (
+        states, ops.flux_lo, ops.flux_hi, ops.lower, ops.diag, ops.upper, rows.volumes,
+        rows.walls, rows.last, np.array(yields, dtype=bool),
+        no_yield[1] if ops.yield_rhs is None else ops.yield_rhs,
+        no_yield[0] if ops.yield_gain is None else ops.yield_gain, st.z,
+    )  # fmt: skip
+    i = 0
+    while i < n:
+        nxt = out_steps[st.next_out]
+        stop = min(n, (m0 + i) // _REPORT_EVERY * _REPORT_EVERY + _REPORT_EVERY - m0)
+        if nxt > m0 + i:
+            stop = min(stop, nxt - m0)
+        info = fast(i, stop, *args)
+        st.r, i = states[stop], stop
+        if info != 0:
+            st.info |= info
+            return
+        m = m0 + i
+        while out_steps[st.next_out] == m:
+            _record(rec, st, inp, m, p_out)
+        if m % _REPORT_EVERY == 0:
+            report_progress(_REPORT_EVERY * nn * nb)
 
 
 def _record_for(nb: int, n_out: int, nn: int, n_steps: int, p_out: Array | None) -> _Record:

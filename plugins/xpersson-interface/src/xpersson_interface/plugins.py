@@ -29,6 +29,7 @@ from xpersson.physics.closures import GAMMA_DEFAULT
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 from xpersson.plugins.solved import FORMS, Solved, per_solve, solved_curve
 
+from ._chunks import CHUNK, Part, bin_edges, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
 
@@ -118,6 +119,13 @@ class _Interface(Analysis):
         )
         return s, sc
 
+    def _parts(self, ctx: Any, ds: Any) -> tuple[Solved, list[Part]]:
+        """The solved curve and its loads in chunks (:mod:`._chunks`; one up to CHUNK)."""
+        s = self._solved(ctx, ds)
+        if s.p0.size <= CHUNK:
+            return s, [(slice(None), s, self._contact(ctx, ds)[1])]
+        return s, contacts(ctx, s, self._key(True))
+
 
 class ElasticEnergy(_Interface):
     """Elastic energy per nominal area versus load from the solved area (physics.md §5.1).
@@ -181,8 +189,8 @@ class MeanGap(_Interface):
     provides = ("mean_gap",)
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        _, sc = self._contact(ctx, ds)
-        return {"mean_gap": (("p0",), sc.mean_gap())}
+        _, parts = self._parts(ctx, ds)
+        return {"mean_gap": (("p0",), joined(parts, lambda part: part[2].mean_gap()))}
 
 
 class ContactStiffness(_Interface):
@@ -232,15 +240,6 @@ class ContactStiffness(_Interface):
             "contact_compliance": (("p0",), compliance),
             "contact_stiffness_status": (("p0",), status),
         }
-
-
-def _edges(s: Solved, n_bins: int) -> np.ndarray:
-    """About ``n_bins`` bin edges: geometric in ``zeta - 1``, plus 1 and ``zeta_max``."""
-    z_max = float(s.zeta[-1])
-    if z_max <= 1.0:
-        return s.zeta
-    inner = 1.0 + np.geomspace(1e-9, z_max - 1.0, n_bins)
-    return np.unique(np.concatenate(([1.0], inner[inner < z_max], [z_max])))
 
 
 class GapPDF(_Interface):
@@ -320,21 +319,25 @@ class GapPDF(_Interface):
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
-        s, sc = self._contact(ctx, ds)
-        det = sc.detachment(_edges(s, int(p["n_bins"])), p["separation"])
+        s, parts = self._parts(ctx, ds)
+        edges = bin_edges(s, int(p["n_bins"]))
+        dets = [sc.detachment(edges, p["separation"]) for _, _, sc in parts]
         umax = p["u_max"]
-        if umax is None:
-            umax = float(np.max(det.mean_gap)) + 6.0 * det.h_rms
+        if umax is None:  # over every load
+            umax = max(float(np.max(d.mean_gap)) for d in dets) + 6.0 * dets[0].h_rms
         u = np.linspace(0.0, float(umax), int(p["u_points"]))
-        if p["method"] == "closed_form":
-            rho = physics.gap_pdf(det, u)
-            mean = physics.gap_mean(det)
-        else:
+
+        def one(det: physics.Detachment) -> tuple[np.ndarray, ...]:
+            if p["method"] == "closed_form":
+                return physics.gap_pdf(det, u), physics.gap_mean(det), det.contact.copy()
             rho, mean = gap_pdf_by_diffusion(ctx.psd, det, u, int(p["n_grid"]))
+            return rho, mean, det.contact.copy()
+
+        rho, mean, contact = joined(dets, one)
         coord = xr.Variable(("u",), u, {"units": "m", "long_name": "interfacial separation"})
         return {
             "gap_pdf": xr.DataArray(np.maximum(rho, 0.0), dims=("p0", "u"), coords={"u": coord}),
-            "gap_contact_weight": (("p0",), det.contact.copy()),
+            "gap_contact_weight": (("p0",), contact),
             "gap_mean": (("p0",), mean),
         }
 
@@ -462,15 +465,19 @@ class Leakage(_Interface):
         p = self.params
         a_c = float(p["a_c"])
         dp = self._pressure_drop()
-        s, sc = self._contact(ctx, ds)
+        s, parts = self._parts(ctx, ds)
         zc = physics.critical_magnification(s.zeta, s.contact, a_c)
         sealed = ~np.isfinite(zc)
-        u1 = sc.separation_at(zc)
-        det = sc.detachment(_edges(s, int(p["n_bins"])))
-        ubar = det.mean_gap
-        thr = a_c if p["emt_threshold"] == "a_c" else None
-        # per load: the cells span that load's gaps, never the batch's (all loads at once)
-        u3 = bruggeman_gap(det, a_c=thr, per_load=True)
+        edges, thr = bin_edges(s, int(p["n_bins"])), a_c if p["emt_threshold"] == "a_c" else None
+
+        def one(part: Part) -> tuple[np.ndarray, ...]:
+            rows, _, sc = part
+            det = sc.detachment(edges)
+            # per load: the cells span that load's gaps, never the batch's (all loads at once)
+            u3 = bruggeman_gap(det, a_c=thr, per_load=True)
+            return sc.separation_at(zc[rows]), det.mean_gap, u3
+
+        u1, ubar, u3 = joined(parts, one)
         u3 = np.where(np.isfinite(u3), u3, 0.0)
         args = (float(p["seal_width"]), float(p["seal_length"]), dp, float(p["viscosity"]))
         u1_3 = np.where(sealed, 0.0, np.nan_to_num(u1, nan=0.0) ** 3)

@@ -1,0 +1,52 @@
+"""Loads in chunks (:mod:`xpersson_interface._chunks`): the same results as all loads at once."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from interface_testlib import scene
+
+import xpersson
+import xpersson_interface.plugins as plugins_mod
+from xpersson_interface._chunks import chunk_rows, joined
+
+LOADS = list(np.geomspace(1e3, 3e6, 7))
+ANALYSES = {"mean_gap": {}, "gap_pdf": {"u_points": 40},
+            "leakage": {"viscosity": "1 mPa*s", "n_bins": 60}}  # fmt: skip
+
+
+def test_chunk_rows_cover_the_loads_once():
+    rows = chunk_rows(11, 4)
+    assert [(r.start, r.stop) for r in rows] == [(0, 4), (4, 8), (8, 11)]
+    assert joined([np.arange(3), np.arange(3, 5)], lambda a: (a, 2 * a))[1].tolist() == [
+        0, 2, 4, 6, 8,
+    ]  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def both():
+    """The scene solved with all 7 loads at once and in chunks of 3 (3 + 3 + 1 loads)."""
+    whole = xpersson.solve(scene(LOADS, analyses=ANALYSES))
+    mp = pytest.MonkeyPatch()
+    mp.setattr(plugins_mod, "CHUNK", 3)
+    try:
+        chunked = xpersson.solve(scene(LOADS, analyses=ANALYSES))
+    finally:
+        mp.undo()
+    return whole, chunked
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["mean_gap", "gap_pdf", "gap_mean", "gap_contact_weight", "leak_zeta_c", "leak_u1",
+     "leak_rate", "leak_rate_emt", "leak_flow_factor_emt", "leak_sealed_emt"],
+)  # fmt: skip
+def test_chunked_equals_whole(both, name):
+    """A load's values do not depend on the chunk it is in: equal up to round-off (the order
+    of the band sums; the EMT's Newton solve to 1e-12), the contact weight bit for bit."""
+    whole, chunked = (np.asarray(d[name].values, dtype=float) for d in both)
+    assert whole.shape == chunked.shape and np.isfinite(whole).any()
+    if name in ("gap_contact_weight", "leak_zeta_c", "leak_sealed_emt"):
+        np.testing.assert_array_equal(chunked, whole)
+    else:
+        np.testing.assert_allclose(chunked, whole, rtol=1e-11, atol=1e-14 * np.nanmax(whole))

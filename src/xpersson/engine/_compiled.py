@@ -1,0 +1,153 @@
+"""Optional compiled inner march of the ``cn`` method (numba), the numpy path's arithmetic.
+
+The steps of :func:`._moving._steps` between two outputs are about ten numpy calls and one
+LAPACK ``dgtsv`` call each; on the levels of steep or wide spectra (thousands of steps of a
+few hundred nodes) their per-call overhead and the passes over memory are most of a solve
+(measured in ``benchmarks/kernels_speed.py``: the engine at 3-14x the C march of the same
+levels). :func:`march_steps` does the same steps in one compiled loop: the explicit half in
+flux form, the yield closure's rows, and the tridiagonal solve as LAPACK's ``dgtsv`` does it
+(Gaussian elimination with partial pivoting, the same operations in the same order), so the
+results equal the numpy path's (bit for bit where the compiler contracts no multiply-add;
+the tests hold them to 1e-12).
+
+numba is an optional accelerator (``pip install numba``): without it, or with
+``xpersson.set_options(compiled=False)`` (environment ``XPERSSON_COMPILED=off``), the numpy
+path runs. Until a level of :data:`MIN_WORK` node-steps asks for it, the numpy path runs too,
+so that small solves never import numba (its import and loading cost about 0.4 s per process,
+the first compilation a few seconds; the compiled code is kept on disk by numba's own
+``cache=True``); from then on every level of the process takes the compiled path.
+"""
+
+from __future__ import annotations
+
+import types
+from collections.abc import Callable
+from typing import Any
+
+from ..options import compiled_enabled
+
+__all__ = ["MIN_WORK", "march_steps", "kernel"]
+
+MIN_WORK = 500_000
+"""Node-steps of a level below which the numpy path runs (no numba import for small solves)."""
+
+_STATE: dict[str, Any] = {}  # the compiled function once built (or None: numba missing)
+
+
+def kernel(work: float) -> Callable[..., int] | None:
+    """The compiled :func:`march_steps`, or None: the option is off, numba is missing, or the
+    ``work`` [node-steps] is below :data:`MIN_WORK` and the kernel is not built yet (once
+    built, every level takes it: the import is paid, and the results are the same)."""
+    if not compiled_enabled() or (work < MIN_WORK and "fn" not in _STATE):
+        return None
+    if "fn" not in _STATE:
+        _STATE["fn"] = _build()
+    return _STATE["fn"]  # type: ignore[no-any-return]
+
+
+def _build() -> Callable[..., int] | None:
+    try:
+        import numba
+    except ImportError:
+        return None
+    jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+    # march_steps calls the compiled _gtsv: the same code, its global bound to the dispatcher
+    scope = {**globals(), "_gtsv": jit(_gtsv)}
+    return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
+
+
+def _gtsv(dl: Any, d: Any, du: Any, b: Any) -> int:  # pragma: no cover - compiled
+    """LAPACK ``dgtsv`` for one right-hand side, in place (``dl``, ``d``, ``du``, ``b`` of
+    lengths ``n - 1, n, n - 1, n``): its ``info`` (0, or the index of a zero pivot)."""
+    n = d.shape[0]
+    for i in range(n - 1):
+        if abs(d[i]) >= abs(dl[i]):  # no row interchange
+            if d[i] == 0.0:
+                return i + 1
+            fact = dl[i] / d[i]
+            d[i + 1] = d[i + 1] - fact * du[i]
+            b[i + 1] = b[i + 1] - fact * b[i]
+            if i < n - 2:
+                dl[i] = 0.0
+        else:  # interchange rows i and i + 1
+            fact = d[i] / dl[i]
+            d[i] = dl[i]
+            temp = d[i + 1]
+            d[i + 1] = du[i] - fact * temp
+            if i < n - 2:
+                dl[i] = du[i + 1]
+                du[i + 1] = -fact * dl[i]
+            du[i] = temp
+            temp = b[i]
+            b[i] = b[i + 1]
+            b[i + 1] = temp - fact * b[i + 1]
+    if d[n - 1] == 0.0:
+        return n
+    b[n - 1] = b[n - 1] / d[n - 1]
+    if n > 1:
+        b[n - 2] = (b[n - 2] - du[n - 2] * b[n - 1]) / d[n - 2]
+    for i in range(n - 3, -1, -1):
+        b[i] = (b[i] - du[i] * b[i + 1] - dl[i] * b[i + 2]) / d[i]
+    return 0
+
+
+def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path holds them
+    i0: int,
+    i1: int,
+    states: Any,
+    flux_lo: Any,
+    flux_hi: Any,
+    lower: Any,
+    diag: Any,
+    upper: Any,
+    volumes: Any,
+    walls: Any,
+    last: Any,
+    yields: Any,
+    yield_rhs: Any,
+    yield_gain: Any,
+    z: Any,
+) -> int:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The steps ``i0 .. i1 - 1`` of a block (see :func:`._moving._steps`): the state after
+    step ``i`` into ``states[i + 1]``, the yield rows into ``z`` (5, loads); returns LAPACK's
+    ``info`` of the first failed solve (0: all succeeded; the march stops there).
+
+    ``flux_*``, ``lower``, ``diag``, ``upper``: (steps, rows) as in ``Block`` (``lower`` and
+    ``upper`` overwritten, as ``dgtsv`` does); ``yields[i]`` whether a real yield wall closes
+    step ``i``, then ``yield_rhs[i]`` (3, loads) and ``yield_gain[i]`` (5, loads) apply.
+    """
+    m = states.shape[1]
+    nb = last.shape[0]
+    for i in range(i0, i1):
+        r = states[i]
+        b = states[i + 1]
+        fl, fh = flux_lo[i], flux_hi[i]
+        for k in range(m):
+            b[k] = volumes[k] * r[k]
+        f_prev = fl[0] * r[0] + fh[0] * r[1]
+        for k in range(1, m - 1):
+            f = fl[k] * r[k] + fh[k] * r[k + 1]
+            b[k] += f - f_prev
+            f_prev = f
+        if nb > 1:
+            for k in range(walls.shape[0]):
+                b[walls[k]] = 0.0
+        if yields[i]:
+            for j in range(nb):
+                z[0, j] = r[last[j] - 1]
+                z[1, j] = r[last[j]]
+                yr = yield_rhs[i]
+                b[last[j]] = yr[0, j] * z[0, j] + yr[1, j] * z[1, j] + yr[2, j] * z[2, j]
+        info = _gtsv(lower[i, : m - 1], diag[i], upper[i, : m - 1], b)
+        if info != 0:
+            return info
+        if yields[i]:
+            yg = yield_gain[i]
+            for j in range(nb):
+                z[3, j] = b[last[j] - 1]
+                z[4, j] = b[last[j]]
+                gain = yg[0, j] * z[0, j]
+                for k in range(1, 5):
+                    gain += yg[k, j] * z[k, j]
+                z[2, j] += gain
+    return 0

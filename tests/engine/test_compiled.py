@@ -1,0 +1,93 @@
+"""The compiled inner march (:mod:`xpersson.engine._compiled`) against the numpy path.
+
+The kernel's Python source is the reference-equal algorithm (tested here without numba, as
+plain Python on small levels); with numba installed, the compiled kernel is tested too.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.linalg.lapack import dgtsv
+from test_march_reference import CASES, _level  # the dense reference's cases
+
+import xpersson
+from xpersson.engine import _compiled
+
+
+def _system(rng: np.random.Generator, n: int, dominant: bool):
+    dl, du = rng.normal(size=n - 1), rng.normal(size=n - 1)
+    d = rng.normal(size=n) + (4.0 * np.sign(rng.normal(size=n)) if dominant else 0.0)
+    return dl, d, du, rng.normal(size=n)
+
+
+@pytest.mark.parametrize("dominant", [True, False])
+@pytest.mark.parametrize("n", [2, 3, 17])
+def test_gtsv_is_lapack_dgtsv(n, dominant):
+    """With and without row interchanges: LAPACK's result (to 1e-12; same operations)."""
+    rng = np.random.default_rng(n + 100 * dominant)
+    for _ in range(5):
+        dl, d, du, b = _system(rng, n, dominant)
+        *_, ref, info = dgtsv(dl.copy(), d.copy(), du.copy(), b.copy())
+        x = b.copy()
+        assert _compiled._gtsv(dl.copy(), d.copy(), du.copy(), x) == info == 0
+        np.testing.assert_allclose(x, ref, rtol=1e-12, atol=1e-12 * np.max(np.abs(ref)))
+
+
+def test_gtsv_reports_a_zero_pivot_as_lapack():
+    dl, d, du, b = np.zeros(2), np.array([0.0, 1.0, 1.0]), np.ones(2), np.ones(3)
+    info = dgtsv(dl.copy(), d.copy(), du.copy(), b.copy())[-1]
+    assert _compiled._gtsv(dl, d, du, b.copy()) == info == 1
+
+
+OUT = ("area", "absorbed_lower", "absorbed_upper", "load", "moment_lower", "moment_upper")
+
+
+def _outputs(name: str, **kw):
+    lower, upper, p0 = CASES[name]
+    inp, level = _level(lower, upper, p0, **kw)
+    assert level.ok and inp.out_at.size > 0
+    return level.outputs
+
+
+def _assert_same(ref, got) -> None:
+    for key in OUT:
+        want, have = getattr(ref, key), getattr(got, key)
+        scale = max(float(np.max(np.abs(want))), 1e-300)
+        assert np.max(np.abs(have - want)) <= 1e-12 * scale, key
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_python_kernel_equals_numpy_march(name, monkeypatch):
+    """The kernel's algorithm, run as plain Python on the level, gives the numpy path's
+    outputs: yield closure rows, batches (the walls' identity rows), output segments."""
+    with xpersson.set_options(compiled=False):
+        ref = _outputs(name)
+    calls = []
+
+    def kernel(*args):
+        calls.append(args[:2])
+        return _compiled.march_steps(*args)
+
+    monkeypatch.setattr(_compiled, "kernel", lambda work: kernel)
+    _assert_same(ref, _outputs(name))
+    assert calls  # the kernel ran
+
+
+def test_off_switch_and_small_levels_keep_numpy(monkeypatch):
+    with xpersson.set_options(compiled=False):
+        assert not xpersson.get_options()["compiled"]
+        assert _compiled.kernel(1e12) is None
+    assert xpersson.get_options()["compiled"]
+    monkeypatch.setattr(_compiled, "_STATE", {})  # not built yet: small levels stay numpy
+    assert _compiled.kernel(_compiled.MIN_WORK - 1) is None
+
+
+@pytest.mark.parametrize("name", ["yield closure, batch", "two walls, batch", "moving lower"])
+def test_compiled_kernel_equals_numpy_march(name, monkeypatch):
+    pytest.importorskip("numba")
+    monkeypatch.setattr(_compiled, "MIN_WORK", 0)
+    assert _compiled.kernel(1.0) is not None
+    with xpersson.set_options(compiled=False):
+        ref = _outputs(name, mult=2)
+    _assert_same(ref, _outputs(name, mult=2))
