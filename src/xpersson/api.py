@@ -9,7 +9,7 @@ from typing import Any
 
 import xarray as xr
 
-from .pipeline import as_scene, run, run_with_progress
+from .pipeline import as_scene, model_error, run, run_with_progress
 from .plugins import Registry, get_registry
 from .scene import Scene
 from .sweep import expand
@@ -83,7 +83,7 @@ def solve(
     if plan is not None:
         from .sweep import solve_sweep  # lazily: a solve without a sweep never needs it
 
-        return solve_sweep(
+        ds = solve_sweep(
             plan,
             reg,
             scheduler=scheduler,
@@ -94,7 +94,15 @@ def solve(
             resume=resume,
             overwrite=overwrite,
         )
+        if model_error.covered(ds):  # the points' spectra and options set each band
+            from .sweep import resolve_points
+
+            model_error.attach(ds, resolve_points(plan, reg), plan.dims)
+        return ds
     rs = sc.resolve(reg)
     if progress is False or (progress is None and not sys.stderr.isatty()):
-        return run(rs)
-    return run_with_progress(rs, progress)
+        ds = run(rs)
+    else:
+        ds = run_with_progress(rs, progress)
+    model_error.attach(ds, rs)
+    return ds
