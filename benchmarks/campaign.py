@@ -24,7 +24,7 @@ twice as fine (same modes).
 Resumable: every finished scene is one JSON line appended to ``results/campaign_<name>.jsonl``
 (provenance in each line: seed, grid, realisations, tamaas and xpersson versions, date);
 scenes already there are skipped. Alternate blocks of four scenes (one of each kind in
-``KINDS``) are the calibration and the held-out half; ``--seed`` other than the design's gives a new test set.
+``KINDS``) are the calibration and the held-out half; another ``--seed`` gives a new test set.
 
 Usage::
 
@@ -140,8 +140,9 @@ def elastic_theory(sc: dict[str, Any], p0: np.ndarray) -> dict[str, Any]:
         "mean_gap": ds["mean_gap"].values.tolist(),
         "gap_mean": ds["gap_mean"].values.tolist(),
         "contact_stiffness": ds["contact_stiffness"].values.tolist(),
-        "electrical_constriction_conductance": ds["electrical_constriction_conductance"]
-        .values.tolist(),
+        "electrical_constriction_conductance": ds[
+            "electrical_constriction_conductance"
+        ].values.tolist(),
         "barber_constant": c,
         "contact_stiffness@yang_persson": ds_yp["contact_stiffness"].values.tolist(),
         "mean_gap@yang_persson": ds_yp["mean_gap"].values.tolist(),
@@ -272,8 +273,7 @@ def main(argv: list[str] | None = None) -> None:
     scenes = design(args.seed, args.scenes, args.grid)
     if args.grid_check:
         scenes = [
-            {**s, "id": s["id"].replace(f"n{args.grid}", f"n{2 * args.grid}")}
-            for s in scenes[::4]
+            {**s, "id": s["id"].replace(f"n{args.grid}", f"n{2 * args.grid}")} for s in scenes[::4]
         ]
     kinds = None if args.only is None else set(args.only.split(","))
     prov = provenance(args.seed, 2 * args.grid if args.grid_check else args.grid, args.realisations)

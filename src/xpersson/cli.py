@@ -152,6 +152,9 @@ def _cmd_info(args: argparse.Namespace) -> int:
     for p in plugins:
         print(f"  plugin {p['group']}/{p['name']}: {p.get('distribution')} {p.get('version')}")
     _print_areas(ds)
+    from .pipeline.model_error import describe
+
+    print("\n".join(describe(ds, SHOWN_LOADS)) or "  model error: none stored")
     return 0
 
 

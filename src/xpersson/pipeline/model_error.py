@@ -48,6 +48,7 @@ __all__ = [
     "SUFFIXES",
     "attach",
     "covered",
+    "describe",
     "band_table",
     "bands_of",
     "features_of",
@@ -93,6 +94,9 @@ def scene_features(rs: Any) -> dict[str, Any]:
         "coefficient": rs.plugin_names.get("coefficient"),
         "closure": rs.resolved.get("coefficient", {}).get("closure"),
     }
+    for key, value in rs.resolved.get("boundary", {}).items():
+        if key != "model" and isinstance(value, (str, int, float, bool)):
+            feats[f"boundary.{key}"] = value  # e.g. match {"boundary.nominal_size": "0.0 m"}
     psd = rs.psd
     hurst = getattr(psd, "H", None)
     q_l, q_r, q_1 = (getattr(psd, n, None) for n in ("q_L", "q_r", "q_1"))
@@ -137,17 +141,21 @@ def _matches(entry: dict[str, Any], feats: dict[str, Any], options: dict[str, An
 
 
 def bands_of(
-    variable: str, feats: dict[str, Any], options: dict[str, Any], shape: tuple[int, ...]
+    variable: str,
+    feats: dict[str, Any],
+    options: dict[str, Any],
+    shape: tuple[int, ...],
+    table: dict[str, Any] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(low, high, status)`` of ``variable`` over ``shape`` (the loads, or ``()``).
 
     ``low``/``high`` are the factors on the theory's value (NaN where not verified); ``status``
-    is 1 where an entry of the table covers the point, else 0.
+    is 1 where an entry of ``table`` (default the packaged one) covers the point, else 0.
     """
     low = np.full(shape, np.nan)
     high = np.full(shape, np.nan)
     done = np.zeros(shape, dtype=bool)
-    for entry in band_table()["bands"]:
+    for entry in (table or band_table())["bands"]:
         if entry["variable"] != variable:
             continue
         hit = np.broadcast_to(np.asarray(_matches(entry, feats, options), bool), shape) & ~done
@@ -157,32 +165,39 @@ def bands_of(
 
 
 def _options_of(rs: Any, variable: str) -> dict[str, Any]:
-    """The parameters of the analysis that provides ``variable`` (empty for core variables)."""
-    for _, analysis in rs.analyses:
+    """The analyses' parameters: ``"<analysis>.<param>"`` for every analysis of the scene, and
+    the bare names of the one that provides ``variable`` (e.g. the conductance's band matches
+    ``contact_stiffness.s_factor``, the stiffness's ``s_factor``)."""
+    out: dict[str, Any] = {}
+    own: dict[str, Any] = {}
+    for name, analysis in rs.analyses:
+        out.update({f"{name}.{k}": v for k, v in analysis.params.items()})
         if variable in type(analysis).outputs:
-            return dict(analysis.params)
-    return {}
+            own = dict(analysis.params)
+    return {**out, **own}
 
 
-def covered(ds: xr.Dataset) -> list[str]:
+def covered(ds: xr.Dataset, table: dict[str, Any] | None = None) -> list[str]:
     """The outputs of ``ds`` that the table lists (the variables :func:`attach` annotates)."""
-    table = band_table()
+    table = table or band_table()
     names = {e["variable"] for e in table["bands"]} | set(table.get("variables", ()))
     return sorted(n for n in names if n in ds.data_vars)
 
 
-def attach(ds: xr.Dataset, points: Any, dims: tuple[str, ...] = ()) -> None:
+def attach(
+    ds: xr.Dataset, points: Any, dims: tuple[str, ...] = (), table: dict[str, Any] | None = None
+) -> None:
     """Add the model-error ancillary variables of every covered output of ``ds`` (in place).
 
     ``points`` is the resolved scene of ``ds`` (a single scene), or for a sweep over ``dims``
-    the list of its points' resolved scenes in C order of those dimensions. Does nothing when
-    the scene sets ``[output] model_error = false``.
+    the list of its points' resolved scenes in C order of those dimensions; ``table``: the
+    packaged one by default. Does nothing when the scene sets ``[output] model_error = false``.
     """
     points = list(points) if dims else [points]
     if not points or not points[0].resolved.get("output", {}).get("model_error", True):
         return
-    table = band_table()
-    names = covered(ds)
+    table = table or band_table()
+    names = covered(ds, table)
     if not names:
         return
     scenes = [scene_features(rs) for rs in points]
@@ -212,7 +227,7 @@ def _attach_one(
     for k, idx in enumerate(np.ndindex(sweep_shape)):
         feats = features_of(views[k], scenes[k])
         low[idx], high[idx], status[idx] = bands_of(
-            name, feats, _options_of(points[k], name), shape[len(dims) :]
+            name, feats, _options_of(points[k], name), shape[len(dims) :], table
         )
     units = var.attrs.get("units", "1")
     x = np.asarray(value.values, float)
@@ -244,3 +259,23 @@ def _attach_one(
         },
     )
     ds[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
+
+
+def describe(ds: xr.Dataset, most: int = 10) -> list[str]:
+    """Lines for ``xpersson info``: each annotated output's band per load (first ``most``)."""
+    lines = []
+    for name in ds.data_vars:
+        status = ds.get(name + "_model_error_status")
+        if status is None:
+            continue
+        low = np.ravel(ds[name + "_exact_low"].values)[:most]
+        high = np.ravel(ds[name + "_exact_high"].values)[:most]
+        ok = np.ravel(status.values)[:most]
+        cells = [
+            f"[{lo:.3g}, {hi:.3g}]" if flag else "not verified"
+            for lo, hi, flag in zip(low, high, ok, strict=True)
+        ]
+        lines.append(f"    {name:28s} " + " ".join(cells))
+    if lines:
+        lines.insert(0, "  model error: interval where exact contact lies (validation campaign)")
+    return lines
