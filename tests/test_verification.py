@@ -125,6 +125,7 @@ BOUNDS = {
     "flash_temperature": 1e-5,
     # transport: formulas written in verify_transport.py, fed with the quadrature stiffness and
     # the closed-form area (not the Dataset's own conductances: ~6e-6 measured)
+    "thermal_gas_conductance (almqvist)": 2e-3,  # over the independent gap mixture
     "electrical_constriction_conductance": 1e-4,
     "thermal_constriction_conductance": 1e-4,
     "electrical_contact_conductance": 1e-4,
