@@ -97,7 +97,7 @@ def gas_mixture_rows(fast: bool) -> list[dict]:
         "separation": "almqvist",
     }
     th = {**_TRANSPORT["thermal_contact"], **gas}
-    ds = _solve(ref, loads, {"thermal_contact": th, "contact_stiffness": {}})
+    ds = _solve(ref, loads, {"thermal_contact": th, "contact_stiffness": {"s_factor": "closure"}})
     lam = 2 * (2 - 1.0) / 1.0 * (2 * 1.4 / 2.4) * 68e-9 / 0.71  # accommodation 1 (default)
     panels, order = (6, 6) if fast else (24, 8)
     want = []
@@ -156,7 +156,7 @@ def constriction_rows(fast: bool) -> list[dict]:
     targets = (1e-3, 0.05, 0.5) if fast else (1e-5, 1e-3, 0.01, 0.05, 0.2, 0.5, 0.9)
     tau1 = 0.25 * math.pi * E_STAR**2 * float(I3(ref, ref.q_1))
     loads = [2 * math.sqrt(tau1) * float(erfinv(a)) for a in targets]
-    ds = _solve(ref, loads, {**_TRANSPORT, "contact_stiffness": {}})
+    ds = _solve(ref, loads, {**_TRANSPORT, "contact_stiffness": {"s_factor": "closure"}})
     K = np.array([stiffness(ref, p) for p in loads])
     kappa_s = 1 / (1 / 167.0 + 1 / 167.0)
     want = {
@@ -170,7 +170,7 @@ def constriction_rows(fast: bool) -> list[dict]:
     }
     return [
         _row(n, regime, reference[n], float(np.max(np.abs(ds[n].values / w - 1))), "rel",
-             "default s_factor; the quadrature is Persson 2007's u(p) (closure persson01)")
+             "s_factor closure: the quadrature is Persson 2007's u(p) (closure persson01)")
         for n, w in want.items()
     ]  # fmt: skip
 
@@ -320,7 +320,11 @@ def series_rows(fast: bool) -> list[dict]:
     th = {**_TRANSPORT["thermal_contact"], "film_conductivity": "1 W/(m*K)"}
     th |= {"film_thickness": "100 nm", "nominal_area": "16 cm^2", "temperature": "300 K"}
     th |= {"emissivity_1": 0.1, "emissivity_2": 0.1}
-    ana = {"electrical_contact": el, "thermal_contact": th, "contact_stiffness": {}}
+    ana = {
+        "electrical_contact": el,
+        "thermal_contact": th,
+        "contact_stiffness": {"s_factor": "closure"},
+    }
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         ds = _solve(ref, loads, ana)
