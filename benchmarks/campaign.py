@@ -230,7 +230,8 @@ def run_scene(sc: dict[str, Any], grid: int, realisations: int, seed: int) -> di
         rec["bem"] = elastic_bem(maps, p0)
     elif sc["kind"] == "plastic":
         sigma_y = sc["hardness_ratio"] * E_STAR * h_slope
-        keep = p0 < 0.5 * sigma_y
+        keep = (p0 < 0.5 * sigma_y) & (np.arange(p0.size) % 2 == 1)  # 3 loads: KatoSaturated
+        # costs ~10x the elastic solve
         p0 = p0[keep]
         rec["p0"], rec["sigma_Y"] = p0.tolist(), sigma_y
         rec["theory"] = plastic_theory(sc, p0, sigma_y)
