@@ -14,11 +14,14 @@ traction ``w/rho``). Non-adhesive control: the same solver at imposed mean press
 * Surfaces: Gaussian random fields with Persson's isotropic PSD ``C_P(q)``. On a periodic cell
   of side ``L`` the Fourier amplitude of the mode ``q`` has variance ``C_P(q) (2 pi/L)^2``
   (``<h^2> = sum_q C_P (2 pi / L)^2 -> int d^2q C_P``); Persson's ``C_P`` is the
-  SurfaceTopography/JJP ``C^iso`` divided by ``(2 pi)^2`` (physics.md §8.1). The white noise is
-  drawn on a fixed 128^2 lattice from the seed and only the modes ``1 <= |k| <= 32`` are kept,
-  so the same surface is sampled exactly on 128^2, 256^2 and 512^2 grids (grid-convergence
-  check). Each realisation is scaled to the exact rms slope 0.1 (its discrete ``h_rms`` is
-  stored).
+  SurfaceTopography/JJP ``C^iso`` divided by ``(2 pi)^2``. The maps come from
+  :func:`xpersson.bem.synthesise` on a fixed 128^2 lattice (modes ``1 <= |k| <= 32``),
+  Fourier-interpolated, so the same surface is sampled exactly on 128^2, 256^2 and 512^2
+  grids (grid-convergence check). Each realisation is scaled to the exact rms slope 0.1 (its
+  discrete ``h_rms`` is stored). The solves are :mod:`xpersson.bem`'s; every state records
+  tamaas' convergence and a non-converged state never enters the reference (skipped on the
+  retraction branch). Results written before this generator (part files without
+  ``generator``) came from an in-script generator with other seeds and are not resumed.
 * Path: approach from mean gap ``2.4 h_rms`` to ``0.6 h_rms`` (coarse steps, the warm start;
   for Tabor targets above 2 on to at most ``0.06 h_rms`` until the largest load is exceeded),
   then retract in steps of ``0.1 h_rms`` until the contact is lost. The retraction branch up to
@@ -57,6 +60,9 @@ from typing import Any
 
 import numpy as np
 
+from xpersson import bem
+from xpersson.bem import derived as D
+
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
 
@@ -70,17 +76,13 @@ TABOR_TARGETS = (0.6, 1.0, 1.6)
 SPECTRA = {"H08": 0.8, "H05": 0.5}
 #: Common loads p0 / (E* h'_rms) of the reference table.
 LOADS = (-0.001, -0.0005, -0.00025, 0.0025, 0.005, 0.01, 0.02, 0.04)
-APPROACH = (2.4, 1.4, 0.9, 0.6)
-#: Strong adhesion (Tabor targets above 2): the mean stress at gap 0.6 h_rms is already tensile,
-#: so the approach goes on in these steps until the compressive stress exceeds the largest
-#: load (or the gap reaches its last step) [h_rms].
-APPROACH_DEEP = (0.45, 0.3, 0.2, 0.12, 0.06)
+#: Strong adhesion (Tabor targets above this): the mean stress at gap 0.6 h_rms is already
+#: tensile, so the approach goes on (xpersson.bem.derived.APPROACH_DEEP) until the compressive
+#: stress exceeds the largest load.
 STRONG = 2.0
-#: Retraction: fine steps (the compressive loads change fast near the turning point at strong
-#: adhesion), then coarse ones until the contact is lost [h_rms].
-RETRACT_FINE = (0.03, 10)
-RETRACT_STEP = 0.1
 NOISE_GRID = 128
+#: Surface generator of the part files: parts written by another one are not resumed.
+GENERATOR = "xpersson.bem.synthesise [seed, 0] on NOISE_GRID^2, Fourier-interpolated"
 
 
 def scene(H: float, work: float = 0.0) -> dict[str, Any]:
@@ -133,119 +135,68 @@ def _add_works(out: dict[str, Any], targets: tuple[float, ...]) -> None:
 
 
 def surface(H: float, seed: int, n: int) -> np.ndarray:
-    """Gaussian self-affine surface on an n x n grid, cell side 1, rms 2-D slope SLOPE."""
-    rng = np.random.default_rng(seed)
-    white = np.fft.fft2(rng.standard_normal((NOISE_GRID, NOISE_GRID))) / NOISE_GRID
-    k = np.fft.fftfreq(NOISE_GRID, d=1.0 / NOISE_GRID)
-    kx, ky = np.meshgrid(k, k, indexing="ij")
-    kk = np.hypot(kx, ky)
-    keep = (kk >= 1) & (kk <= RATIO)
-    amp = np.where(keep, np.where(kk > 0, kk, 1.0) ** (-(1.0 + H)), 0.0)
-    spec = np.zeros((n, n), dtype=complex)
-    idx = np.fft.fftfreq(n, d=1.0 / n).astype(int)
-    sel = np.ix_(
-        np.where(np.abs(idx) <= NOISE_GRID // 2 - 1)[0],
-        np.where(np.abs(idx) <= NOISE_GRID // 2 - 1)[0],
-    )
-    src = idx[np.abs(idx) <= NOISE_GRID // 2 - 1] % NOISE_GRID
-    spec[sel] = (white * amp)[np.ix_(src, src)]
-    h = np.real(np.fft.ifft2(spec)) * n * n
-    kn = np.fft.fftfreq(n, d=1.0 / n)
-    kxn, kyn = np.meshgrid(kn, kn, indexing="ij")
-    fh = np.fft.fft2(h)
-    gx = np.real(np.fft.ifft2(2j * math.pi * kxn * fh))
-    gy = np.real(np.fft.ifft2(2j * math.pi * kyn * fh))
-    h *= SLOPE / math.sqrt(float(np.mean(gx**2 + gy**2)))
+    """Gaussian self-affine surface on an n x n grid, cell side 1, rms 2-D slope SLOPE.
+
+    Synthesised by :func:`xpersson.bem.synthesise` on the fixed NOISE_GRID^2 lattice (modes
+    ``1 <= |k| <= RATIO``) and Fourier-interpolated to ``n`` (exact: the map is band-limited),
+    so the same surface is sampled on every grid; scaled to the exact rms slope.
+    """
+    q_L = 2.0 * math.pi / L_CELL
+    h0 = bem.synthesise(continuum_psd(H).C, L_CELL, NOISE_GRID, seed=seed, q_max=RATIO * q_L)
+    spec = np.fft.fft2(h0[0] / L_CELL)
+    idx = np.fft.fftfreq(NOISE_GRID, d=1.0 / NOISE_GRID).astype(int) % n
+    big = np.zeros((n, n), dtype=complex)
+    big[np.ix_(idx, idx)] = spec
+    h = np.fft.ifft2(big).real * (n / NOISE_GRID) ** 2
+    h *= SLOPE / bem.map_moments(h, 1.0)[1]
     return h - h.max()
 
 
-def _solver(tm: Any, surf: np.ndarray, work: float, rho: float, control: str) -> tuple[Any, ...]:
-    """Model, solver and adhesion term (keep all three alive: the solver holds raw pointers)."""
-    tm.set_log_level(tm.LogLevel.error)
-    n = surf.shape[0]
-    model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [1.0, 1.0], [n, n])
-    model.E, model.nu = 1.0, 0.0  # E* = 1
-    kind = tm.PolonskyKeerRey.gap if control == "gap" else tm.PolonskyKeerRey.pressure
-    solver = tm.PolonskyKeerRey(model, surf, 1e-8, kind, kind)
-    adh = None
-    if work > 0:
-        adh = tm.ExponentialAdhesionFunctional(surf)
-        adh.parameters = {"rho": rho, "surface_energy": work}
-        solver.addFunctionalTerm(adh)
-    return model, solver, adh
-
-
-def _state(model: Any, rho: float) -> dict[str, float]:
-    gap = np.asarray(model["gap"])
-    tr = np.asarray(model.traction)
+def _as_dict(st: Any, rho: float) -> dict[str, Any]:
+    """A BEM state as stored in the JSON paths (dimensionless: E* = 1, L = 1)."""
+    if not st.converged:
+        return {"converged": False, "error": st.error}
     return {
-        "gap": float(gap.mean()),
-        "p": float(tr.mean()),
-        "area": float(np.mean(gap <= 0.0)),
-        "area_in_range": float(np.mean(gap < rho)),
-        "p_contact": float(np.sum(np.where(gap <= 0.0, tr, 0.0)) / tr.size),
+        "gap": st.mean_gap,
+        "p": st.p0,
+        "area": st.area_fraction,
+        "area_in_range": float(np.mean(st.gap < rho)),
+        "p_contact": float(np.sum(np.where(st.contact, st.pressure, 0.0)) / st.pressure.size),
+        "converged": True,
+        "error": st.error,
     }
 
 
 def adhesive_path(
     surf: np.ndarray, work: float, rho: float, h_rms: float, deep: bool = False
 ) -> dict[str, list]:
-    """Approach then retraction under displacement control (dimensionless units).
+    """Approach then retraction under displacement control (dimensionless units), by
+    :func:`xpersson.bem.adhesive_path`; non-converged states are kept flagged (never used).
 
-    ``deep``: approach on through :data:`APPROACH_DEEP` until the mean stress exceeds the
-    largest load (strong adhesion).
+    ``deep``: approach on until the mean stress exceeds the largest load (strong adhesion).
     """
-    import tamaas as tm
-
-    model, solver, _keep = _solver(tm, surf, work, rho, "gap")
-    approach = []
-    g = APPROACH[0]
-    for step in APPROACH + (APPROACH_DEEP if deep else ()):
-        if step in APPROACH_DEEP and approach[-1]["p"] > max(LOADS) * SLOPE:
-            break
-        g = step
-        solver.solve(g * h_rms)
-        approach.append(_state(model, rho))
-    retract = [approach[-1]]
-    while True:
-        fine = len(retract) <= RETRACT_FINE[1]
-        g = round(g + (RETRACT_FINE[0] if fine else RETRACT_STEP), 10)
-        solver.solve(g * h_rms)
-        st = _state(model, rho)
-        retract.append(st)
-        if st["area"] == 0.0 or g > 4.0:
-            break
-    return {"approach": approach, "retract": retract}
+    p_max = max(LOADS) * SLOPE if deep else None
+    path = bem.adhesive_path(surf, 1.0, 1.0, work, rho, p_max=p_max, strict=False,
+                             h_rms=h_rms, keep_fields=True)  # fmt: skip
+    return {k: [_as_dict(st, rho) for st in v] for k, v in path.items()}
 
 
 def elastic_areas(surf: np.ndarray, loads: list[float]) -> list[float]:
     """Non-adhesive contact area at imposed mean pressures (dimensionless, E* = 1)."""
-    import tamaas as tm
-
-    model, solver, _keep = _solver(tm, surf, 0.0, 1.0, "pressure")
-    out = []
-    for p in loads:
-        solver.solve(p)
-        out.append(float(np.mean(np.asarray(model.traction) > 0.0)))
-    return out
+    return [st.area_fraction for st in bem.solve(surf, 1.0, 1.0, loads, tol=1e-8)]
 
 
-def branch_area(path: list[dict[str, float]], loads: np.ndarray) -> tuple[np.ndarray, float]:
-    """A at the loads on the stable part of a retraction branch; and its pull-off [E*]."""
-    p = np.array([s["p"] for s in path])
-    a = np.array([s["area"] for s in path])
-    pull = max(-float(p.min()), 0.0)
-    # Load control follows the running minimum of p along the retraction (each new record
-    # is a stable state; snap-off saw-teeth in between are skipped).
-    keep = [0]
-    for i in range(1, p.size):
-        if p[i] < p[keep[-1]]:
-            keep.append(i)
-    ps, as_ = p[keep][::-1], a[keep][::-1]  # p increasing
-    out = np.full(loads.shape, np.nan)
-    ok = (loads >= ps[0]) & (loads <= ps[-1])
-    out[ok] = np.interp(loads[ok], ps, as_)
-    return out, pull
+def branch_area(path: list[dict[str, Any]], loads: np.ndarray) -> tuple[np.ndarray, float]:
+    """A at the loads on the stable part of a retraction branch; and its pull-off [E*]
+    (:func:`xpersson.bem.retraction_branch`; non-converged states are skipped)."""
+    from types import SimpleNamespace
+
+    states = [
+        SimpleNamespace(p0=s["p"], area_fraction=s["area"])
+        for s in path
+        if s.get("converged", True)
+    ]
+    return bem.retraction_branch(states, loads)
 
 
 def _extend_elastic(name: str, out: dict[str, Any], n_surf: int, n: int, comp: list) -> None:
@@ -278,11 +229,11 @@ def run_spectrum(
     part = RESULTS / f"bem_adhesion_{name}.part.json"
     if part.exists():  # resume: keep every (surface, work) already solved
         out = json.loads(part.read_text())
-        if out["grid"] == n:
+        if out["grid"] == n and out.get("generator") == GENERATOR:
             _extend_elastic(name, out, n_surf, n, comp)
             _add_works(out, only or ())
             return _solve_paths(name, out, n_surf, n, rho, h_rms, loads, only)
-    out = {"H": H, "grid": n, "seeds": list(range(n_surf)), "works": []}
+    out = {"H": H, "grid": n, "seeds": list(range(n_surf)), "works": [], "generator": GENERATOR}
     elastic = []
     for seed in range(n_surf):
         surf = surface(H, seed, n)
@@ -334,13 +285,13 @@ def _solve_paths(
 
 def provenance(n: int) -> dict[str, Any]:
     """Versions, parameters and units of the run."""
-    import tamaas as tm
-
     return {
-        "tamaas_version": tm.__version__,
+        "tamaas_version": bem.tamaas_version(),
+        "generator": GENERATOR,
         "numpy_version": np.__version__,
         "python": platform.python_version(),
-        "solver": "tamaas.PolonskyKeerRey(gap, gap), tol 1e-8; ExponentialAdhesionFunctional",
+        "solver": "xpersson.bem: tamaas.PolonskyKeerRey(gap, gap), tol 1e-8; "
+        "ExponentialAdhesionFunctional; non-converged states flagged and skipped",
         "elastic_solver": "tamaas.PolonskyKeerRey(pressure, pressure), tol 1e-8",
         "grid": n,
         "cell_side_m": L_CELL,
@@ -352,10 +303,11 @@ def provenance(n: int) -> dict[str, Any]:
         "range_over_h_rms": RANGE_FRACTION,
         "tabor_targets": list(TABOR_TARGETS),
         "loads_over_Estar_hprime": list(LOADS),
-        "approach_gaps_over_h_rms": list(APPROACH),
-        "approach_deep_gaps_over_h_rms": f"{list(APPROACH_DEEP)} for tabor > {STRONG:g}, until "
-        "the mean stress exceeds the largest load",
-        "retract_steps_over_h_rms": f"{RETRACT_FINE[1]} x {RETRACT_FINE[0]}, then {RETRACT_STEP}",
+        "approach_gaps_over_h_rms": list(D.APPROACH),
+        "approach_deep_gaps_over_h_rms": f"{list(D.APPROACH_DEEP)} for tabor > {STRONG:g}, "
+        "until the mean stress exceeds the largest load",
+        "retract_steps_over_h_rms": f"{D.RETRACT_FINE[1]} x {D.RETRACT_FINE[0]}, then "
+        f"{D.RETRACT_STEP}",
         "contact": "gap == 0 (adhesive, gap control); traction > 0 (non-adhesive, load control)",
         "reference_branch": "retraction, stable part up to the most tensile mean stress",
         "command": "python benchmarks/bem_adhesion.py",

@@ -30,7 +30,8 @@ def clusters(contact: np.ndarray, merge: int) -> tuple[int, int]:
 
 def main(argv: list[str] | None = None) -> None:
     """Command line."""
-    import tamaas as tm
+    from xpersson import bem
+    from xpersson.bem import derived as D
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--H", type=float, default=0.8)
@@ -45,25 +46,26 @@ def main(argv: list[str] | None = None) -> None:
     works = dict(zip(B.TABOR_TARGETS, B.works_of(args.H), strict=True))
     work = works[args.tabor] / (B.E_STAR * B.L_CELL)
     rho = B.RANGE_FRACTION * h_rms
-    model, solver, _keep = B._solver(tm, surf, work, rho, "gap")
-    g = B.APPROACH[0]
-    for g in B.APPROACH:
-        solver.solve(g * h_rms)
+    solver = bem.GapSolver(surf, 1.0, 1.0, work=work, rho=rho, strict=False, keep_fields=True)
+    g = D.APPROACH[0]
+    for g in D.APPROACH:
+        solver.at(g * h_rms)
     step = 0
     while True:
         step += 1
-        fine = step <= B.RETRACT_FINE[1]
-        g = round(g + (B.RETRACT_FINE[0] if fine else B.RETRACT_STEP), 10)
-        solver.solve(g * h_rms)
-        gap = np.asarray(model["gap"]).reshape(n, n)
-        p = float(np.asarray(model.traction).mean()) * B.E_STAR
-        contact = gap <= 0.0
+        fine = step <= D.RETRACT_FINE[1]
+        g = round(g + (D.RETRACT_FINE[0] if fine else D.RETRACT_STEP), 10)
+        st = solver.at(g * h_rms)
+        if not st.converged:
+            print(f"gap {g:.2f} h_rms  not converged (error {st.error:.3g}): skipped", flush=True)
+            continue
+        contact = st.contact
         if not contact.any() or g > 4.0:
             break
         spots, merged = clusters(contact, args.merge)
         print(
-            f"gap {g:.2f} h_rms  p {p:9.1f} Pa  A {contact.mean():.4f}  spots {spots}  "
-            f"clusters {merged}",
+            f"gap {g:.2f} h_rms  p {st.p0 * B.E_STAR:9.1f} Pa  A {contact.mean():.4f}  "
+            f"spots {spots}  clusters {merged}",
             flush=True,
         )
 

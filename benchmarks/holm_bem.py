@@ -74,24 +74,11 @@ def holm_clusters(contact: np.ndarray) -> tuple[float, int]:
 
 def bem_run(n: int, seed: int) -> dict[str, np.ndarray]:
     """Per load: contact fraction, direct conductance, Holm cluster sum, cluster count."""
-    import tamaas as tm
-
-    sp = tm.Isopowerlaw2D()
-    sp.q0, sp.q1, sp.q2, sp.hurst = tb.Q0, tb.Q1, tb.Q2, tb.HURST
-    gen = tm.SurfaceGeneratorFilter2D([n, n])
-    gen.spectrum, gen.random_seed = sp, seed
-    h = np.array(gen.buildSurface())
-    h *= tb.H_RMS / h.std()
-    model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [1.0, 1.0], [n, n])
-    model.E, model.nu = 1.0, 0.0
-    solver = tm.PolonskyKeerRey(model, h, 1e-12)
     out: dict[str, list] = {"A": [], "g": [], "holm": [], "spots": []}
-    for p in tb.LOADS:
-        solver.solve(float(p))
-        contact = np.array(model.traction) > 0
-        g_h, k = holm_clusters(contact)
-        out["A"].append(contact.mean())
-        out["g"].append(tb.conduction(contact))
+    for st in tb.bem_states(n, seed):
+        g_h, k = holm_clusters(st.contact)
+        out["A"].append(st.area_fraction)
+        out["g"].append(tb.conduction(st.contact))
         out["holm"].append(g_h)
         out["spots"].append(k)
     return {k: np.array(v, dtype=float) for k, v in out.items()}

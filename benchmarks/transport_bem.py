@@ -4,9 +4,9 @@ Barber's analogy makes the constriction conductance ``g = c K`` with one materia
 ``c``, so comparing the conductance of the theory with a BEM computation *is* comparing the
 incremental contact stiffness ``K = -dp0/du`` on the same spectrum. This script:
 
-1. generates ``--seeds`` periodic self-affine surfaces with tamaas (``Isopowerlaw2D``: plateau
-   for ``q0 <= q < q1``, ``C ~ q^-2(1+H)`` up to ``q2``; wavevectors in units of ``2 pi/L``),
-   each scaled to the rms height ``h_rms``;
+1. synthesises ``--seeds`` periodic self-affine surfaces with :func:`xpersson.bem.synthesise`
+   (plateau for ``q0 <= q < q1``, ``C ~ q^-2(1+H)`` up to ``q2``; wavevectors in units of
+   ``2 pi/L``), each scaled to the rms height ``h_rms``;
 2. solves the frictionless, non-adhesive elastic contact (Polonsky-Keer-Rey, rigid rough
    surface on an elastic half-space, E* = 1) at log-spaced nominal pressures, and takes the mean
    gap ``u`` (gap zero on the contact points) and ``K = -p0 / (du/dln p0)`` (central
@@ -50,57 +50,40 @@ RHO_SUM = 2 * 1.7e-8  # rho_1 + rho_2 [ohm m] (copper on copper)
 
 
 def conduction(contact: np.ndarray, rtol: float = 1e-10) -> float:
-    """Constriction conductance per area [S m-2] of a periodic contact set, solved directly.
+    """Constriction conductance per area [S m-2] of a periodic contact set (L = 1 m), solved
+    directly (:func:`xpersson.bem.conductance_direct`)."""
+    from xpersson import bem
 
-    Unit potential jump on the contact points, no current elsewhere; the jump of the surface
-    potential is ``(rho_1 + rho_2) j_q / |q|`` (each half-space: ``rho j_q/|q|``, the Fourier
-    transform of ``rho/(2 pi r)``), its mean being the extrapolated jump of the far fields, so
-    ``g = mean(j)`` [A m-2 V-1]. Conjugate gradients on the contact points (own code: numpy FFT,
-    scipy CG), independent of the stiffness and of the contact solver.
-    """
-    from scipy.sparse.linalg import LinearOperator, cg
+    return bem.conductance_direct(contact, 1.0, RHO_SUM, rtol=rtol)
 
-    n = contact.shape[0]
-    q = 2 * np.pi * np.fft.fftfreq(n, d=1.0 / n)  # L = 1 m
-    qn = np.hypot(q[:, None], q[None, :])
-    kern = np.where(qn > 0, RHO_SUM / np.where(qn > 0, qn, 1.0), 0.0)
-    idx = np.flatnonzero(contact.ravel())
 
-    def apply(x: np.ndarray) -> np.ndarray:
-        j = np.zeros(n * n)
-        j[idx] = x
-        v = np.fft.ifft2(kern * np.fft.fft2(j.reshape(n, n))).real.ravel()
-        return v[idx]
+def surface(n: int, seed: int) -> np.ndarray:
+    """Periodic map [m] (L = 1 m) of the scene's spectrum, scaled to ``H_RMS``
+    (:func:`xpersson.bem.synthesise`: plateau q0..q1, power law to q2, x 2 pi / L)."""
+    from xpersson import bem
+    from xpersson.physics import SelfAffineRollOff
 
-    op = LinearOperator((idx.size, idx.size), matvec=apply, dtype=float)
-    x, info = cg(op, np.ones(idx.size), rtol=rtol, maxiter=5000)
-    if info != 0:
-        raise RuntimeError(f"CG did not converge (info = {info})")
-    return float(x.sum()) / (n * n)
+    two_pi = 2.0 * math.pi
+    psd = SelfAffineRollOff.from_h_rms(
+        H_RMS, H=HURST, q_L=two_pi * Q0, q_r=two_pi * Q1, q_1=two_pi * Q2
+    )
+    h = bem.synthesise(psd.C, 1.0, n, seed=seed, q_min=two_pi * Q0, q_max=two_pi * Q2)[0]
+    return h * (H_RMS / h.std())
+
+
+def bem_states(n: int, seed: int) -> list:
+    """Converged BEM states (fields kept) at LOADS on one surface (E* = 1 Pa, L = 1 m)."""
+    from xpersson import bem
+
+    return bem.solve(surface(n, seed), 1.0, 1.0, LOADS, tol=1e-12, keep_fields=True)
 
 
 def bem_gaps(n: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Mean gap [m], contact fraction and direct conductance [S m-2] at LOADS, one surface."""
-    import tamaas as tm
-
-    sp = tm.Isopowerlaw2D()
-    sp.q0, sp.q1, sp.q2, sp.hurst = Q0, Q1, Q2, HURST
-    gen = tm.SurfaceGeneratorFilter2D([n, n])
-    gen.spectrum, gen.random_seed = sp, seed
-    h = np.array(gen.buildSurface())
-    h *= H_RMS / h.std()
-    model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [1.0, 1.0], [n, n])
-    model.E, model.nu = 1.0, 0.0
-    solver = tm.PolonskyKeerRey(model, h, 1e-12)
-    u_mean, area, g = [], [], []
-    for p in LOADS:
-        solver.solve(float(p))
-        gap = np.array(model.displacement) - h
-        contact = np.array(model.traction) > 0
-        gap -= gap[contact].mean()
-        u_mean.append(gap.mean())
-        area.append(contact.mean())
-        g.append(conduction(contact))
+    states = bem_states(n, seed)
+    u_mean = [s.mean_gap for s in states]
+    area = [s.area_fraction for s in states]
+    g = [conduction(s.contact) for s in states]
     return np.array(u_mean), np.array(area), np.array(g)
 
 

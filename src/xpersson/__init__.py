@@ -3,6 +3,7 @@
 Public API (imported lazily so that ``import xpersson`` and the CLI's ``--help`` stay cheap)::
 
     xpersson.solve(scene) -> xarray.Dataset
+    xpersson.crosscheck(scene)        # the theory against a BEM (tamaas, extra [bem])
     xpersson.load_scene(path) -> Scene
     xpersson.open_dataset(path) -> xarray.Dataset
     xpersson.to_netcdf(ds, path)
@@ -23,6 +24,7 @@ __all__ = [
     "Scene",
     "SceneError",
     "XperssonWarning",
+    "crosscheck",
     "get_options",
     "load_scene",
     "open_dataset",
@@ -38,6 +40,7 @@ _LAZY = {
     "ArchiveError": "xpersson.errors",
     "FolderBusyError": "xpersson.errors",
     "PluginFailure": "xpersson.checks",
+    "crosscheck": "xpersson.bem",
     "solve": "xpersson.api",
     "XperssonWarning": "xpersson.errors",
     "Scene": "xpersson.scene",

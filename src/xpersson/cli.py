@@ -337,6 +337,9 @@ def build_parser() -> argparse.ArgumentParser:
         pass
     else:
         cli_plugins.register(sub)
+    from . import cli_crosscheck
+
+    cli_crosscheck.register(sub)
     return parser
 
 

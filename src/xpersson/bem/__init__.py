@@ -18,9 +18,21 @@ does not import it.
 
 from __future__ import annotations
 
+from ._plan import CrosscheckError
+from .crosscheck import crosscheck, estimate_line
+from .derived import (
+    adhesive_path,
+    conductance_direct,
+    electrical_factor,
+    gap_pdf,
+    retraction_branch,
+    stiffness,
+    thermal_factor,
+)
 from .solve import (
     BemConvergenceError,
     BemState,
+    GapSolver,
     MissingTamaasError,
     require_tamaas,
     solve,
@@ -36,10 +48,21 @@ from .synthesis import (
 )
 
 __all__ = [
+    "CrosscheckError",
+    "crosscheck",
+    "estimate_line",
     "BemConvergenceError",
     "BemState",
+    "GapSolver",
     "MissingTamaasError",
+    "adhesive_path",
+    "conductance_direct",
     "discrete_moments",
+    "electrical_factor",
+    "gap_pdf",
+    "retraction_branch",
+    "stiffness",
+    "thermal_factor",
     "map_moments",
     "require_tamaas",
     "solve",

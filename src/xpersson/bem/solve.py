@@ -35,14 +35,19 @@ __all__ = [
     "tamaas_version",
     "solve",
     "solve_gaps",
+    "GapSolver",
 ]
 
 #: Default relative tolerance of the pressure-controlled solves.
 TOL = 1e-10
 #: Default relative tolerance of the gap-controlled (adhesive) solves.
 TOL_GAP = 1e-8
-#: Default iteration limit of one solve.
-MAX_ITER = 5000
+#: Default iteration limit of one solve attempt.
+MAX_ITER = 1000
+#: Restarts of a solve that did not reach its tolerance (each continues from the last
+#: iterate with a fresh conjugate-gradient history: tamaas' iteration sometimes stalls on an
+#: adhesive path and a restart converges); after them the solve is "not converged".
+RETRIES = 4
 
 
 class MissingTamaasError(ImportError):
@@ -97,6 +102,8 @@ class BemState:
         The boolean contact map (``keep_fields=True`` only).
     gap : numpy.ndarray or None
         The gap map [m] (``keep_fields=True`` only).
+    pressure : numpy.ndarray or None
+        The traction map [Pa] (``keep_fields=True`` only; negative: adhesive tension).
     """
 
     p0: float
@@ -114,6 +121,7 @@ class BemState:
     converged: bool
     contact: np.ndarray | None = field(default=None, repr=False)
     gap: np.ndarray | None = field(default=None, repr=False)
+    pressure: np.ndarray | None = field(default=None, repr=False)
 
 
 def _model(tm: Any, n: int) -> Any:
@@ -172,7 +180,7 @@ def _state(
         "pressure_m2": float(np.mean(p**2)),
         "pressure_contact_mean": float(p[contact].mean()) if contact.any() else 0.0,
         "pressure_max": float(p.max()),
-        "plastic_area_fraction": float(np.mean(p >= hard * (1 - 1e-9))) if hard else 0.0,
+        "plastic_area_fraction": float(np.mean(tr >= hard * (1 - 1e-9))) if hard else 0.0,
     }
     if not converged:
         vals = {k: math.nan for k in vals}
@@ -187,7 +195,18 @@ def _state(
         converged=converged,
         contact=contact.copy() if keep else None,
         gap=gap_si if keep else None,
+        pressure=p.copy() if keep else None,
     )
+
+
+def _attempt(solver: Any, target: float, tol: float) -> float:
+    """Solve, restarting up to :data:`RETRIES` times while the error is not below ``tol``."""
+    err = float(solver.solve(target))
+    for _ in range(RETRIES):
+        if err < tol:
+            break
+        err = float(solver.solve(target))
+    return err
 
 
 def _finish(state: BemState, strict: bool, what: str) -> BemState:
@@ -232,7 +251,8 @@ def solve(
         Indentation hardness [Pa]: the contact pressure is capped there (``KatoSaturated``);
         ``None``: elastic (``PolonskyKeerRey``).
     tol, max_iter
-        Solver tolerance [1] and iteration limit.
+        Solver tolerance [1] and iteration limit of one attempt (a solve above the tolerance
+        is restarted from its last iterate up to :data:`RETRIES` times).
     strict
         Raise :class:`BemConvergenceError` on a non-converged solve (default); False: return
         it flagged, its values NaN.
@@ -271,10 +291,61 @@ def solve(
     }
     out = []
     for p in loads:
-        err = float(solver.solve(float(p / E_star)))
+        err = _attempt(solver, float(p / E_star), tol)
         st = _state(model, surf, (L, E_star), err, tol, opts)
         out.append(_finish(st, strict, f"p0 = {p:.6g} Pa"))
     return out
+
+
+class GapSolver:
+    """A gap-controlled tamaas solver that keeps its state between solves (a loading path).
+
+    Parameters are those of :func:`solve_gaps`; :meth:`at` solves at one mean gap [m].
+    """
+
+    def __init__(
+        self,
+        heights: np.ndarray,
+        L: float,
+        E_star: float,
+        *,
+        work: float = 0.0,
+        rho: float | None = None,
+        tol: float = TOL_GAP,
+        max_iter: int = MAX_ITER,
+        strict: bool = True,
+        gap_bins: int = 64,
+        gap_edges: np.ndarray | None = None,
+        keep_fields: bool = False,
+    ) -> None:
+        tm = require_tamaas()
+        self._surf = _check_map(heights, L, E_star)
+        if work < 0 or (work > 0 and not (rho is not None and rho > 0)):
+            raise ValueError(f"need work [J/m^2] >= 0 and rho [m] > 0; got {work!r}, {rho!r}")
+        self._scale = (L, E_star)
+        self._tol, self._strict = tol, strict
+        self._model = _model(tm, self._surf.shape[0])
+        kind = tm.PolonskyKeerRey.gap
+        self._solver = tm.PolonskyKeerRey(self._model, self._surf, tol, kind, kind)
+        self._solver.max_iter = int(max_iter)
+        self._adh = None  # kept alive: the solver holds a raw pointer to it
+        if work > 0:
+            self._adh = tm.ExponentialAdhesionFunctional(self._surf)
+            self._adh.parameters = {"rho": rho / L, "surface_energy": work / (E_star * L)}
+            self._solver.addFunctionalTerm(self._adh)
+        self._opts = {
+            "gap_control": True,
+            "gap_bins": gap_bins,
+            "gap_edges": gap_edges,
+            "hardness": None,
+            "keep_fields": keep_fields,
+        }
+
+    def at(self, gap: float) -> BemState:
+        """Solve at the mean gap ``gap`` [m], starting from the previous state."""
+        err = _attempt(self._solver, float(gap / self._scale[0]), self._tol)
+        st = _state(self._model, self._surf, self._scale, err, self._tol, self._opts)
+        return _finish(st, self._strict, f"mean gap {gap:.6g} m")
 
 
 def solve_gaps(
@@ -282,15 +353,7 @@ def solve_gaps(
     L: float,
     E_star: float,
     gaps: Sequence[float] | np.ndarray,
-    *,
-    work: float = 0.0,
-    rho: float | None = None,
-    tol: float = TOL_GAP,
-    max_iter: int = MAX_ITER,
-    strict: bool = True,
-    gap_bins: int = 64,
-    gap_edges: np.ndarray | None = None,
-    keep_fields: bool = False,
+    **kwargs: Any,
 ) -> list[BemState]:
     """Contact at imposed mean gaps, optionally adhesive (exponential law), in sequence.
 
@@ -304,42 +367,15 @@ def solve_gaps(
         As in :func:`solve` ([m], [m], [Pa]).
     gaps
         Mean gaps [m], solved in order (a path: each solve starts from the previous one).
-    work
-        Work of adhesion [J/m^2] (0: non-adhesive).
-    rho
-        Range of the exponential law [m] (needed when ``work > 0``).
-    tol, max_iter, strict, gap_bins, gap_edges, keep_fields
-        As in :func:`solve`.
+    **kwargs
+        ``work`` [J/m^2] (default 0: non-adhesive), ``rho`` [m] (the law's range, needed
+        when ``work > 0``), and ``tol``, ``max_iter``, ``strict``, ``gap_bins``,
+        ``gap_edges``, ``keep_fields`` as in :func:`solve` (see :class:`GapSolver`).
 
     Returns
     -------
     list of BemState
         One per gap; ``p0`` is the mean stress reached [Pa] (negative: tensile).
     """
-    tm = require_tamaas()
-    surf = _check_map(heights, L, E_star)
-    if work < 0 or (work > 0 and not (rho is not None and rho > 0)):
-        raise ValueError(f"need work [J/m^2] >= 0 and rho [m] > 0; got {work!r}, {rho!r}")
-    model = _model(tm, surf.shape[0])
-    kind = tm.PolonskyKeerRey.gap
-    solver = tm.PolonskyKeerRey(model, surf, tol, kind, kind)
-    solver.max_iter = int(max_iter)
-    adh = None
-    if work > 0:
-        adh = tm.ExponentialAdhesionFunctional(surf)
-        adh.parameters = {"rho": rho / L, "surface_energy": work / (E_star * L)}
-        solver.addFunctionalTerm(adh)
-    opts = {
-        "gap_control": True,
-        "gap_bins": gap_bins,
-        "gap_edges": gap_edges,
-        "hardness": None,
-        "keep_fields": keep_fields,
-    }
-    out = []
-    for g in np.atleast_1d(np.asarray(gaps, dtype=float)):
-        err = float(solver.solve(float(g / L)))
-        st = _state(model, surf, (L, E_star), err, tol, opts)
-        out.append(_finish(st, strict, f"mean gap {g:.6g} m"))
-    del adh  # the solver held a raw pointer to it until here
-    return out
+    path = GapSolver(heights, L, E_star, **kwargs)
+    return [path.at(g) for g in np.atleast_1d(np.asarray(gaps, dtype=float))]

@@ -1,0 +1,95 @@
+"""``xpersson crosscheck SCENE``: the theory against a boundary-element solver (tamaas).
+
+Prints the estimate before any work (stderr), then one table of theory/BEM ratios per load
+(stdout); ``-o OUT.nc`` archives the Dataset. A missing tamaas, a physics the BEM cannot do
+or a grid above the memory budget is one line on stderr and exit status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+__all__ = ["register"]
+
+
+def register(sub: Any) -> None:
+    """Add the ``crosscheck`` sub-command to the ``xpersson`` parser's sub-parsers."""
+    cc = sub.add_parser(
+        "crosscheck", help="compare the theory with a boundary-element solver (tamaas)"
+    )
+    cc.add_argument("scene", help="scene TOML file (one scene; lists only in load.p0)")
+    cc.add_argument("-o", "--output", default=None, help="archive the comparison (.nc)")
+    cc.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    cc.add_argument("--realisations", type=int, default=4, help="synthesised maps (default 4)")
+    cc.add_argument("--grid", type=int, default=256, help="grid points per side (default 256)")
+    cc.add_argument("--seed", type=int, default=0, help="base seed of the maps (default 0)")
+    cc.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="S",
+        help="serial (default), threads, processes, synchronous or tcp://host:port",
+    )
+    cc.set_defaults(func=_cmd_crosscheck)
+
+
+def _err(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
+
+
+def _table(ds: Any) -> list[str]:
+    """Theory/BEM ratio (and the BEM's relative standard error) per output and load."""
+    names = [v[: -len("_ratio")] for v in ds.data_vars if v.endswith("_ratio")]
+    lines = ["theory / BEM (+- relative standard error of the BEM mean)"]
+    head = f"{'p0 [Pa]':>12}  " + "  ".join(f"{n:>24}" for n in names)
+    if "gap_pdf_l1" in ds:
+        head += f"  {'gap_pdf_l1':>10}"
+    lines.append(head)
+    for i, p in enumerate(ds["p0"].values):
+        cells = []
+        for n in names:
+            r = ds[f"{n}_ratio"].values.reshape(-1)
+            se = ds[f"{n}_se"].values.reshape(-1)
+            bem = ds[n].values.reshape(-1)
+            k = min(i, r.size - 1)
+            rel = abs(se[k] / bem[k]) if bem[k] else float("nan")
+            cells.append(f"{r[k]:>13.3f} +- {rel:>7.3f}")
+        row = f"{p:>12.4g}  " + "  ".join(f"{c:>24}" for c in cells)
+        if "gap_pdf_l1" in ds:
+            row += f"  {ds['gap_pdf_l1'].values[i]:>10.3f}"
+        lines.append(row)
+    if "bem_full_contact" in ds and ds["bem_full_contact"].values.any():
+        full = ds["p0"].values[ds["bem_full_contact"].values.any(axis=0)]
+        lines.append(
+            "full contact in the BEM at p0 = "
+            + ", ".join(f"{p:.4g}" for p in full)
+            + " Pa: gap, stiffness and conductance not compared there"
+        )
+    bad = int((ds["bem_converged"].values == 0).sum())
+    if bad:
+        lines.append(f"{bad} realisation x load point(s) did not converge: NaN, not averaged")
+    return lines
+
+
+def _cmd_crosscheck(args: argparse.Namespace) -> int:
+    from .bem import MissingTamaasError, crosscheck
+    from .io import to_netcdf
+
+    try:
+        ds = crosscheck(
+            args.scene,
+            realisations=args.realisations,
+            grid=args.grid,
+            scheduler=args.scheduler,
+            seed=args.seed,
+            echo=_err,
+        )
+    except MissingTamaasError as exc:
+        _err(f"xpersson: error: {exc}")
+        return 2
+    print("\n".join(_table(ds)))
+    if args.output:
+        to_netcdf(ds, args.output, overwrite=args.overwrite)
+        _err(f"crosscheck: wrote {args.output}")
+    return 0
