@@ -372,6 +372,10 @@ def grid_check() -> list[str]:
     return lines
 
 
+def pts_cal(pts: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    return [p for p in pts if p["split"] == "calibration"]
+
+
 def provenance(records: list[dict[str, Any]], new: list[dict[str, Any]]) -> dict[str, Any]:
     p = dict(records[0]["provenance"]) if records else {}
     return {
@@ -405,6 +409,11 @@ def main(argv: list[str] | None = None) -> None:
     print(text)
     if args.write_table:
         variables = sorted({v[0] for v in OUTPUTS.values()} | set(CONDUCTANCES))
+        prov["coverage"] = {
+            name: {split: c for split, c in splits.items() if split != "calibration"}
+            for name, splits in cov.items()
+        }
+        prov["domain"] = {k: list(v) for k, v in domain(pts_cal(pts)).items()}
         data = {"provenance": prov, "variables": variables, "bands": table}
         TABLE.write_text(json.dumps(data, indent=1) + "\n")
 
