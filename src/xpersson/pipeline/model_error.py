@@ -246,6 +246,7 @@ def _attach_one(
                 "long_name": f"{side} end of the interval where exact contact's {name} lies"
                 + where,
                 "comment": source,
+                "coverage_content_type": "qualityInformation",
             },
         )
     ds[name + "_model_error_status"] = xr.Variable(
@@ -256,6 +257,7 @@ def _attach_one(
             "long_name": f"whether the validation campaign covers {name} in this regime",
             "flag_values": FLAG["flag_values"],
             "flag_meanings": FLAG["flag_meanings"],
+            "coverage_content_type": "qualityInformation",
         },
     )
     ds[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
