@@ -213,7 +213,9 @@ def holm_rows(fast: bool) -> list[dict]:
     z1 = ref.q_1 / ref.q_L
     loads = [2 * math.sqrt(tau(z1)) * erfinv(a) for a in targets]
     ec = {"resistivity_1": "1.7e-8 ohm*m", "resistivity_2": "1.7e-8 ohm*m"}
-    ds = _solve(ref, loads, {"electrical_contact": ec})
+    ds = _solve(
+        ref, loads, {"electrical_contact": ec, "contact_stiffness": {"s_factor": "closure"}}
+    )
     zeta = ds["zeta"].values
 
     def g_holm(p0: float, z: float) -> float:
