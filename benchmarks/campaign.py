@@ -21,7 +21,7 @@ alternatives measured side by side (``s_factor``, the gap's ``separation``). The
 :func:`xpersson.bem.synthesise` (the scene's own spectrum, ``seed = design seed x 1000 +
 scene``); a solve that did not converge never enters a reference (its scene/load is recorded
 as ``not converged`` and skipped). ``--grid-check`` solves every fourth scene also on a grid
-twice as fine (same modes).
+twice as fine (same spectrum band; other realisations, as the noise is drawn on the grid).
 
 Resumable: every finished scene is one JSON line appended to ``results/campaign_<name>.jsonl``
 (provenance in each line: seed, grid, realisations, tamaas and xpersson versions, date);
