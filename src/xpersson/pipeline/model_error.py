@@ -219,15 +219,18 @@ def _attach_one(
     """The three ancillary variables of output ``name``, point by point of the sweep."""
     var = ds[name]
     value = var.isel(zeta=-1) if "zeta" in var.dims else var
-    value = value.transpose(*dims, ...)
+    own = tuple(d for d in dims if d in value.dims)  # a sweep's output need not span every dim
+    value = value.transpose(*own, ...)
     shape = tuple(value.shape)
     low, high = np.full(shape, np.nan), np.full(shape, np.nan)
     status = np.zeros(shape, dtype=np.int8)
-    sweep_shape = shape[: len(dims)]
-    for k, idx in enumerate(np.ndindex(sweep_shape)):
+    full = tuple(ds.sizes[d] for d in dims)
+    for idx in np.ndindex(shape[: len(own)]):
+        at = dict(zip(own, idx, strict=True))
+        k = int(np.ravel_multi_index(tuple(at.get(d, 0) for d in dims), full)) if dims else 0
         feats = features_of(views[k], scenes[k])
         low[idx], high[idx], status[idx] = bands_of(
-            name, feats, _options_of(points[k], name), shape[len(dims) :], table
+            name, feats, _options_of(points[k], name), shape[len(own) :], table
         )
     units = var.attrs.get("units", "1")
     x = np.asarray(value.values, float)

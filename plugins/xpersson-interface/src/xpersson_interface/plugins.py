@@ -34,10 +34,11 @@ import xarray as xr
 from xpersson import physics
 from xpersson.physics.closures import GAMMA_DEFAULT
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
-from xpersson.plugins.solved import FORMS, Solved, per_solve, solved_curve
+from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
+from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
 
@@ -49,36 +50,6 @@ _PERSSON_YANG2008 = "10.1088/0953-8984/20/31/315011"
 _LORENZ2010 = "10.1140/epje/i2010-10558-6"
 _XU2024 = "10.1007/s11249-024-01838-4"
 
-_FORM = ParamSpec(
-    kind="choice",
-    choices=FORMS,
-    default="closure",
-    description="correction factor S in energy and gap: the scene's closure, or Yang-Persson"
-    " 2008 (S = gamma + (1 - gamma) A^2 with Persson's area; needs closure = persson01)",
-)
-_FORM_AUTO = ParamSpec(
-    kind="choice",
-    choices=("auto", *FORMS),
-    default="auto",
-    description="correction factor S in energy and gap: auto (yang_persson with an uncorrected"
-    " area, else the closure's; chosen by accuracy against the BEM, docs/verification.md),"
-    " the scene's closure, or Yang-Persson 2008 (needs closure = persson01)",
-)
-_GAMMA = ParamSpec(
-    unit="1",
-    default=None,
-    bounds=(0.0, 1.0),
-    inclusive=(False, True),
-    description=f"gamma of s_factor = 'yang_persson' (default {GAMMA_DEFAULT}, the package-wide"
-    " default); the closure form uses the coefficient's gamma",
-)
-_DENSE = ParamSpec(
-    kind="int",
-    default=40,
-    bounds=(0, 10000),
-    description="points per decade of zeta - 1 at which the solve is sampled for the zeta"
-    " integrals (0: the Dataset's magnifications only)",
-)
 #: CF flags: numeric flag_values of the variable's type
 _FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "open sealed"}
 _GAP_TRAITS = frozenset({"repulsive", "load_similar"})
