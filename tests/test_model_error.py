@@ -139,7 +139,9 @@ def test_packaged_table_states_its_provenance_and_ordered_bands():
 
 def test_describe_lists_band_or_not_verified():
     ds = solved(scene(["100 Pa", "2 kPa", "0.5 MPa"]))
-    lines = model_error.describe(ds)
+    from xpersson.cli import model_error_lines
+
+    lines = model_error_lines(ds)
     assert "model error" in lines[0]
     row = next(line for line in lines if "area_fraction" in line)
     assert row.count("not verified") == 1 and row.count("[") == 2

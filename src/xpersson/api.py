@@ -83,7 +83,7 @@ def solve(
     if plan is not None:
         from .sweep import solve_sweep  # lazily: a solve without a sweep never needs it
 
-        ds = solve_sweep(
+        return solve_sweep(
             plan,
             reg,
             scheduler=scheduler,
@@ -94,11 +94,6 @@ def solve(
             resume=resume,
             overwrite=overwrite,
         )
-        if model_error.covered(ds):  # the points' spectra and options set each band
-            from .sweep import resolve_points
-
-            model_error.attach(ds, resolve_points(plan, reg), plan.dims)
-        return ds
     rs = sc.resolve(reg)
     if progress is False or (progress is None and not sys.stderr.isatty()):
         ds = run(rs)

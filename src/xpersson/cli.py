@@ -152,10 +152,28 @@ def _cmd_info(args: argparse.Namespace) -> int:
     for p in plugins:
         print(f"  plugin {p['group']}/{p['name']}: {p.get('distribution')} {p.get('version')}")
     _print_areas(ds)
-    from .pipeline.model_error import describe
-
-    print("\n".join(describe(ds, SHOWN_LOADS)) or "  model error: none stored")
+    print("\n".join(model_error_lines(ds, SHOWN_LOADS)) or "  model error: none stored")
     return 0
+
+
+def model_error_lines(ds: Any, most: int = 10) -> list[str]:
+    """Each output's model-error band per load (first ``most``), or "not verified"."""
+    import numpy as np
+
+    lines = []
+    for name in ds.data_vars:
+        if name + "_model_error_status" not in ds.variables:
+            continue
+        lo, hi, ok = (
+            np.ravel(ds.variables[name + s].values)[:most]
+            for s in ("_exact_low", "_exact_high", "_model_error_status")
+        )
+        rows = zip(lo, hi, ok, strict=True)
+        cells = [f"[{a:.3g}, {b:.3g}]" if f else "not verified" for a, b, f in rows]
+        lines.append(f"    {name:28s} " + " ".join(cells))
+    if lines:
+        lines.insert(0, "  model error: interval where exact contact lies (validation campaign)")
+    return lines
 
 
 SHOWN_LOADS = 10

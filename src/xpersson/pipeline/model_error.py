@@ -26,7 +26,9 @@ of the analysis that provides the variable, e.g. ``s_factor``) to its required v
 maps a numeric feature (``hurst``, ``rolloff``, ``decades``, ``area_fraction``, ``tabor``,
 ``tensile``) to ``[lo, hi)``. The first matching entry of a variable wins.
 
-The scene switch ``[output] model_error = false`` leaves the variables out (default ``true``: a
+:func:`xpersson.solve` attaches them to single scenes; a sweep's Dataset does not carry them
+yet (``attach`` takes a sweep's points, but the parts a sweep writes to a folder would lack
+them). The scene switch ``[output] model_error = false`` leaves the variables out (default ``true``: a
 table look-up per output, microseconds, and the issue's demand that every number carries its
 error bar; nothing is solved for it).
 """
@@ -42,13 +44,13 @@ import numpy as np
 import xarray as xr
 
 from ..cache import Cache
+from ._insert import insert_or_set
 
 __all__ = [
     "FLAG",
     "SUFFIXES",
     "attach",
     "covered",
-    "describe",
     "band_table",
     "bands_of",
     "features_of",
@@ -114,15 +116,23 @@ def features_of(ds: xr.Dataset, scene: dict[str, Any]) -> dict[str, Any]:
     ``tabor`` (the finest-scale ``tabor_parameter`` when the Dataset has one).
     """
     feats = dict(scene)
-    if "area_fraction" in ds:
-        a = ds["area_fraction"]
-        feats["area_fraction"] = np.asarray(a.isel(zeta=-1) if "zeta" in a.dims else a, float)
-    if "p0" in ds.coords:
-        feats["tensile"] = (np.asarray(ds["p0"].values, float) < 0).astype(float)
-    if "tabor_parameter" in ds:
-        mu = ds["tabor_parameter"]
-        feats["tabor"] = float(np.asarray(mu.isel(zeta=-1) if "zeta" in mu.dims else mu))
+    if "area_fraction" in ds.variables:
+        feats["area_fraction"] = _finest(ds.variables["area_fraction"])[1]
+    if "p0" in ds.variables:
+        feats["tensile"] = (np.asarray(ds.variables["p0"].values, float) < 0).astype(float)
+    if "tabor_parameter" in ds.variables:
+        feats["tabor"] = float(np.ravel(_finest(ds.variables["tabor_parameter"])[1])[0])
     return feats
+
+
+def _finest(var: Any) -> tuple[tuple[str, ...], np.ndarray]:
+    """``(dims, values)`` of a Variable at the largest magnification (numpy indexing: xarray's
+    ``isel`` would import dask.array)."""
+    values = np.asarray(var.values, float)
+    if "zeta" not in var.dims:
+        return tuple(var.dims), values
+    axis = var.dims.index("zeta")
+    return tuple(d for d in var.dims if d != "zeta"), np.take(values, -1, axis=axis)
 
 
 def _matches(entry: dict[str, Any], feats: dict[str, Any], options: dict[str, Any]) -> Any:
@@ -203,6 +213,7 @@ def attach(
     scenes = [scene_features(rs) for rs in points]
     sweep_shape = tuple(ds.sizes[d] for d in dims)
     views = [ds.isel(dict(zip(dims, idx, strict=True))) for idx in np.ndindex(sweep_shape)]
+    views = views if dims else [ds]
     for name in names:
         _attach_one(ds, name, dims, views, scenes, points, table)
 
@@ -217,11 +228,13 @@ def _attach_one(
     table: dict[str, Any],
 ) -> None:
     """The three ancillary variables of output ``name``, point by point of the sweep."""
-    var = ds[name]
-    value = var.isel(zeta=-1) if "zeta" in var.dims else var
-    own = tuple(d for d in dims if d in value.dims)  # a sweep's output need not span every dim
-    value = value.transpose(*own, ...)
-    shape = tuple(value.shape)
+    var = ds.variables[name]
+    vdims, x = _finest(var)
+    own = tuple(d for d in dims if d in vdims)  # a sweep's output need not span every dim
+    order = [vdims.index(d) for d in own] + [i for i, d in enumerate(vdims) if d not in own]
+    x = np.transpose(x, order)
+    vdims = tuple(vdims[i] for i in order)
+    shape = x.shape
     low, high = np.full(shape, np.nan), np.full(shape, np.nan)
     status = np.zeros(shape, dtype=np.int8)
     full = tuple(ds.sizes[d] for d in dims)
@@ -233,17 +246,17 @@ def _attach_one(
             name, feats, _options_of(points[k], name), shape[len(own) :], table
         )
     units = var.attrs.get("units", "1")
-    x = np.asarray(value.values, float)
     where = " at the largest magnification (the full roughness)" if "zeta" in var.dims else ""
     prov = table.get("provenance", {})
     source = (
         f"validation campaign {prov.get('campaign', '?')} ({prov.get('date', '?')}): 90 % of "
         "exact/theory over its calibration points in the scene's regime (docs/verification.md)"
     )
+    new = {}
     for suffix, factor, side in (("_exact_low", low, "lower"), ("_exact_high", high, "upper")):
-        ds[name + suffix] = xr.Variable(
-            value.dims,
-            x * factor,
+        new[name + suffix] = xr.Variable(
+            vdims,
+            np.asarray(x * factor, float),
             {
                 "units": units,
                 "long_name": f"{side} end of the interval where exact contact's {name} lies"
@@ -251,9 +264,10 @@ def _attach_one(
                 "comment": source,
                 "coverage_content_type": "qualityInformation",
             },
+            fastpath=True,  # numpy data: no probe of dask (a closed-form solve never imports it)
         )
-    ds[name + "_model_error_status"] = xr.Variable(
-        value.dims,
+    new[name + "_model_error_status"] = xr.Variable(
+        vdims,
         status,
         {
             "units": "1",
@@ -262,25 +276,8 @@ def _attach_one(
             "flag_meanings": FLAG["flag_meanings"],
             "coverage_content_type": "qualityInformation",
         },
+        fastpath=True,
     )
-    ds[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
+    insert_or_set(ds, new)
+    ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
 
-
-def describe(ds: xr.Dataset, most: int = 10) -> list[str]:
-    """Lines for ``xpersson info``: each annotated output's band per load (first ``most``)."""
-    lines = []
-    for name in ds.data_vars:
-        status = ds.get(name + "_model_error_status")
-        if status is None:
-            continue
-        low = np.ravel(ds[name + "_exact_low"].values)[:most]
-        high = np.ravel(ds[name + "_exact_high"].values)[:most]
-        ok = np.ravel(status.values)[:most]
-        cells = [
-            f"[{lo:.3g}, {hi:.3g}]" if flag else "not verified"
-            for lo, hi, flag in zip(low, high, ok, strict=True)
-        ]
-        lines.append(f"    {name:28s} " + " ".join(cells))
-    if lines:
-        lines.insert(0, "  model error: interval where exact contact lies (validation campaign)")
-    return lines
