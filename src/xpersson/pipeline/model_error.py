@@ -28,9 +28,9 @@ maps a numeric feature (``hurst``, ``rolloff``, ``decades``, ``area_fraction``, 
 
 :func:`xpersson.solve` attaches them to single scenes; a sweep's Dataset does not carry them
 yet (``attach`` takes a sweep's points, but the parts a sweep writes to a folder would lack
-them). The scene switch ``[output] model_error = false`` leaves the variables out (default ``true``: a
-table look-up per output, microseconds, and the issue's demand that every number carries its
-error bar; nothing is solved for it).
+them). The scene switch ``[output] model_error = false`` leaves the variables out (default
+``true``: a table look-up per output, microseconds, and the issue's demand that every number
+carries its error bar; nothing is solved for it).
 """
 
 from __future__ import annotations
@@ -280,4 +280,3 @@ def _attach_one(
     )
     insert_or_set(ds, new)
     ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
-
