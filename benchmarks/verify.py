@@ -16,6 +16,12 @@ present), ``verify_boundaries`` (every other output of the adhesion boundaries),
 ``verify_plasticity`` (plastic_scale_dependent) and
 ``verify_transport`` (xpersson-transport). GFMD data are read from ``../shared/refdata``
 relative to the repository root (``XPERSSON_REFDATA`` overrides).
+
+Two parts (docs/verification.md): part I, the code against an independent implementation of
+its formula (every row reads the plugin's output); part II, the theory against exact
+simulation (BEM, GFMD, networks: rows with ``part = "theory"``, the sources in :data:`THEORY`
+and every BEM row of the adhesion work). The validation campaign (``campaign.py``,
+``campaign_report.py``) is part II's main table.
 """
 
 from __future__ import annotations
@@ -63,6 +69,10 @@ SECTIONS = (
 )
 
 
+#: row sources that compare the theory with a simulation of exact contact (part II)
+THEORY = (verify_interface.gfmd_rows, verify_leakage.network_rows)
+
+
 def friction_rows(fast: bool) -> list[dict]:
     """Rows of ``verify_friction.py`` (the friction helper's), when present."""
     try:
@@ -105,7 +115,7 @@ def adhesion_rows(fast: bool) -> list[dict]:
         found = (HERE / "results" / "adhesion_bem_compare.json").is_file()
         why = "BEM results present but no verify_adhesion.rows(fast)" if found else "no BEM rows"
         return [_missing("adhesion (xpersson-adhesion)", why)]
-    return list(verify_adhesion.rows(fast))
+    return [{**r, "part": "theory"} for r in verify_adhesion.rows(fast)]
 
 
 def _missing(output: str, why: str) -> dict:
@@ -124,7 +134,8 @@ def collect(fast: bool) -> list[tuple[str, dict]]:
     out = []
     for name, funcs in SECTIONS:
         for f in funcs:
-            out.extend((name, r) for r in f(fast))
+            mark = {"part": "theory"} if f in THEORY else {}
+            out.extend((name, {**r, **mark}) for r in f(fast))
     out.extend(("xpersson-viscoelastic", r) for r in friction_rows(fast))
     out.extend(("xpersson-viscoelastic", r) for r in verify_coefficient.rows(fast))
     out.extend(("xpersson-adhesion", r) for r in adhesion_rows(fast))
@@ -150,14 +161,18 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     rows = collect(args.fast)
     if args.markdown:
-        print("| section | output | reference | regime | worst | measure | note |")
-        print("|---|---|---|---|---|---|---|")
-        for sec, r in rows:
-            cells = [_cell(r[k]) for k in ("reference", "regime")]
-            print(
-                f"| {sec} | `{r['output']}` | {cells[0]} | {cells[1]} | "
-                f"{_fmt(r['worst'])} | {_cell(r['measure'])} | {_cell(r['note'])} |"
-            )
+        for part, title in (("code", "Part I: code"), ("theory", "Part II: theory")):
+            print(f"\n{title}\n")
+            print("| section | output | reference | regime | worst | measure | note |")
+            print("|---|---|---|---|---|---|---|")
+            for sec, r in rows:
+                if r.get("part", "code") != part:
+                    continue
+                cells = [_cell(r[k]) for k in ("reference", "regime")]
+                print(
+                    f"| {sec} | `{r['output']}` | {cells[0]} | {cells[1]} | "
+                    f"{_fmt(r['worst'])} | {_cell(r['measure'])} | {_cell(r['note'])} |"
+                )
     else:
         for sec, r in rows:
             print(

@@ -10,10 +10,13 @@ here from physics.md §2 and never by calling the plugin's helpers:
   from its definition (``verify_core.Ref``, roll-off as a breakpoint) and
   ``A*/A0 = int_0^inf exp(-x) sqrt(1 + xi^2 x) dx`` by ``quad``;
 - the constant detachment wall (a flat ``sigma_a`` table) by its image solution (§2.2);
-- ``p_att`` by Simpson's rule of the traction law written here times the ``gap_pdf`` analysis's
-  density, on a fine linear grid, of an *elastic* solve at the loads ``p_rep`` (another path
-  than the plugins' bin-by-bin closed forms), finer in magnification and bins than the
-  plugins' own; the diagnostics against what they claim.
+- ``p_att`` as the traction law written here integrated over the gap distribution of
+  ``verify_leakage.mixture`` at the loads ``p_rep``: the continuous mixture over the
+  magnification written from {cite:p}`almqvist2011` (Gauss-Legendre in ``ln(zeta - 1)``, each node's
+  folded normal by Gauss-Legendre panels), none of the library's gap code (before: the
+  ``gap_pdf`` analysis's density, the project's own gap distribution); the mean gap at
+  ``p_rep`` by the exponential-integral quadrature (``verify_interface.mean_gap``); the
+  diagnostics against what they claim.
 """
 
 from __future__ import annotations
@@ -22,7 +25,7 @@ import math
 import warnings
 
 import numpy as np
-from scipy.integrate import quad, simpson
+from scipy.integrate import quad
 from scipy.optimize import brentq
 from scipy.stats import norm
 from verify_core import E_STAR, NU, E, Ref, _lnquad, _row, _tau
@@ -126,7 +129,7 @@ def jkr_rows(fast: bool) -> list[dict]:
             f"{n} (jkr)",
             f"H 0.8, zeta 1-1e3, dgamma {works[0]}-{works[-1]} J/m^2 (gamma_eff clipped to 0 "
             "at the coarse scales)",
-            "physics.md §2.1/§2.3/§2.5 by quad (this file)",
+            "{cite:p}`persson2001adhesion,persson2006,derjaguin1975` by quad (this file)",
             worst[n],
             "rel",
         )
@@ -201,7 +204,7 @@ def _wall_rows(fast: bool) -> list[dict]:
         f"walls sigma_a = {s0:g} Pa + c tau, c tau_1/s0 0 and 3, p0/s0 "
         f"{loads[0] / s0:g}..{loads[-1] / s0:g} (tensile to compressive)"
     )
-    ref = "exact image solution of the moving wall (physics.md §2.2), tau by quad"
+    ref = "exact image solution of the moving wall ({doc}`/theory/03_absorbing_wall`), tau by quad"
     notes = {
         "detached_fraction": "1 - A",
         "contact_stress": "Gaussian partial moment; relative to max(|p0|, sigma_a)",
@@ -268,30 +271,21 @@ def _law(law: str, u: np.ndarray, w: float, rng: float) -> np.ndarray:
 
 
 def reference_p_att(law: str, p_rep, w: float, rng: float, fast: bool):
-    """int sigma(u) rho(u) du at p_rep, rho the gap_pdf analysis's density (elastic solve).
+    """int sigma(u) rho(u) du at p_rep, rho the independent continuous gap mixture.
 
-    Returns p_att [Pa] per load and Persson's mean separation at p_rep [m].
+    Returns p_att [Pa] per load and Persson's mean separation at p_rep [m] (quadrature).
     """
-    span = {"exponential": 40 * rng, "dugdale": rng, "lj93": 40 * rng}[law]
-    att, ugap = _simpson(law, p_rep, w, rng, span, 8001 if fast else 32001, 0.0)
-    if law == "lj93":  # 40-2000 dr on a coarser grid, and the u^-3 tail beyond (< 1e-6)
-        far, _ = _simpson(law, p_rep, w, rng, 50 * span, 8001 if fast else 32001, span)
-        att = att + far
-    return att, ugap
+    from verify_interface import mean_gap
+    from verify_leakage import _expect, mixture
 
-
-def _simpson(law, p_rep, w, rng, span, n, start):
-    """Simpson of sigma x gap_pdf over [start, span] on gap_pdf's linear grid (+ lj93 tail)."""
-    gap = {"n_bins": 2000, "zeta_per_decade": 640, "u_max": f"{span!r} m", "u_points": n}
-    gap["separation"] = "almqvist"  # the plugins' gap distribution
-    g = _solve(p_rep, analyses={"gap_pdf": gap, "mean_gap": {}})
-    u = g["u"].values
-    keep = u >= start * (1 - 1e-12)
-    pdf = g["gap_pdf"].transpose("p0", "u").values[:, keep]
-    att = simpson(pdf * _law(law, u[keep], w, rng)[None, :], x=u[keep])
-    if law == "lj93" and start > 0:
-        att = att + pdf[:, -1] * (8 * w / (3 * rng)) * rng**3 / (2 * (rng + span) ** 2)
-    return att, g["mean_gap"].values
+    panels, order = (6, 6) if fast else (24, 8)
+    att, ugap = [], []
+    for p in np.atleast_1d(np.asarray(p_rep, float)):
+        mix = mixture(SPEC, float(p), panels=panels, order=order)
+        dens = _expect(mix["u1"], mix["h"], rng**3, lambda u: _law(law, u, w, rng))
+        att.append(float(np.sum(mix["weight"] * dens)))  # beyond u1 + 9 h: < e^-40
+        ugap.append(mean_gap(SPEC, float(p)))
+    return np.array(att), np.array(ugap)
 
 
 def _dmt_cases(fast: bool):
@@ -340,7 +334,7 @@ def dmt_rows(fast: bool) -> list[dict]:
         f"laws {'/'.join(sorted({c[0] for c in _dmt_cases(fast)}))}, Tabor(zeta_1) "
         f"{min(tabors):.2g}-{max(tabors):.2g}, p0 {loads[0]:g}..{min(loads[-1], 1e5):g} Pa"
     )
-    ref = "Simpson of sigma(u) x gap_pdf at p_rep (2000 bins, 640/decade; this file)"
+    ref = "sigma(u) over the continuous gap mixture at p_rep (verify_leakage.mixture; no gap code)"
     return [
         _row(
             "p_att (dmt)",
@@ -348,9 +342,8 @@ def dmt_rows(fast: bool) -> list[dict]:
             ref,
             worst["p_att"],
             "rel",
-            f"worst at {where['p_att']}; gap_pdf with separation 'almqvist' (the plugins'); "
-            "lj93 at dr 10 nm: 1.8e-3 (the plugin's estimate 8e-4), dr 1 um at 1e5 Pa: 6.7e-4 "
-            "(the far tail, see the 1e6 Pa row)",
+            f"worst at {where['p_att']}; the mixture is Almqvist's separation (the plugins'); "
+            "see the 1e6 Pa row for the far tail",
         ),
         *(
             [
@@ -360,12 +353,9 @@ def dmt_rows(fast: bool) -> list[dict]:
                     ref,
                     worst["p_att high"],
                     "rel",
-                    f"worst at {where['p_att high']}; not converging away with the "
-                    "reference's bins for exponential and dugdale at dr 1 um (3 %, the same at "
-                    "400 and 2000 bins): the two paths' gap distributions differ at high load "
-                    "(dmt's own detachment bins on its area curve vs the gap_pdf analysis's; "
-                    "see 'Gap PDF at high load' below); lj93 not analysed further; p_att is "
-                    "1e-4 of p_rep there",
+                    f"worst at {where['p_att high']}; at high load the plugin's detachment "
+                    "bins on its own area curve and the continuous mixture differ (see 'Gap "
+                    "PDF at high load' below); p_att is 1e-4 of p_rep there",
                 )
             ]
             if not fast
@@ -375,7 +365,7 @@ def dmt_rows(fast: bool) -> list[dict]:
         _row(
             "mean_gap (dmt)",
             regime,
-            "mean_gap analysis of an elastic solve at p_rep",
+            "exponential-integral mean gap at p_rep by quad (verify_interface.mean_gap)",
             worst["mean_gap"],
             "rel",
         ),

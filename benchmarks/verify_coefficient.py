@@ -7,11 +7,11 @@
 - ``frictional_shear_stress``: ``tau_f0 exp(-c log10(a_T v / v*)^2)`` (physics.md §7) with the
   WLF ``a_T`` of ``visco_reference`` (the plugin tests' independent model), and the constant law.
 - ``flash_temperature``: off, the temperature at every scale; on, the Volterra equation of
-  physics.md §4.5 as the plugin states it, ``dT/dq = (1/k) sqrt(D v / q) q^3 C(q)
+  {cite:p}`persson2006flash` as the plugin states it, ``dT/dq = (1/k) sqrt(D v / q) q^3 C(q)
   Lambda(q v a_T(T(q))) / (1 - nu^2)``, integrated here as an ODE in ``ln q`` (DOP853, rtol
   1e-11, the roll-off as a breakpoint) with the SLS angular closed form ``Lambda`` of
   ``visco_reference``. The reference checks the equation's solution, not Persson's kernel
-  (which the plugin calls approximate: physics.md §4.5 is structure only).
+  (which the plugin calls approximate: {cite:p}`persson2006flash` is structure only).
 """
 
 from __future__ import annotations
@@ -193,7 +193,7 @@ def _flash_row(fast: bool, err_off: float, regime_off: str) -> dict:
     return _row(
         "flash_temperature",
         f"off: {regime_off}; on: v {v_mm[0] * 1e-3:g}..{v_mm[-1] * 1e-3:g} m/s at {T0} K",
-        "off: the temperature; on: physics.md §4.5 Volterra equation as an ODE (this file)",
+        "off: the temperature; on: {cite:p}`persson2006flash` Volterra equation as an ODE (this file)",
         max(worst, err_off),
         "rel (rise)",
         f"off: {err_off:.1g} K; on: relative to the rise (up to {rise:.3g} K), floor 1 K; "

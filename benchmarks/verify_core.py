@@ -1,9 +1,9 @@
 """Verification rows of the core and of xpersson-plasticity (imported by ``verify.py``).
 
 Every reference here is computed another way than xpersson computes it: the spectrum is
-re-implemented from its definition (physics.md §8.2) with its moments checked against
+re-implemented from its definition ({cite:p}`persson2005,jacobs2017`) with its moments checked against
 ``scipy.integrate.quad`` with the roll-off as an explicit breakpoint; the Persson 2001 area and
-pressure distribution are the closed forms of physics.md §1.2; the constant-hardness
+pressure distribution are the closed forms of {cite:p}`persson2001`; the constant-hardness
 elastoplastic walls are an image series written here (not the engine's ``exact`` module); the
 Markov walkers (``method="markov"``) referee the engine's paths by Monte Carlo.
 """
@@ -159,7 +159,7 @@ def core_rows(fast: bool) -> list[dict]:
 
 
 def pressure_pdf_rows(fast: bool) -> list[dict]:
-    """P(p, zeta) against the mirrored Gaussian (physics.md §1.2), relative to max P."""
+    """P(p, zeta) against the mirrored Gaussian ({cite:p}`persson2001`), relative to max P."""
     ref = Ref(0.8, 1e3, 1e4, 1e7, 1e-6)
     loads = _loads(_tau(ref, ref.q_1), (0.01, 0.3, 0.9))
     ds = xpersson.solve(

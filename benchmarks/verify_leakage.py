@@ -3,7 +3,7 @@
 Two references for ``leak_flow_factor_emt``, ``leak_rate_emt`` and ``leak_sealed_emt``
 (physics.md §6.2), written from the formulas, none of the library's EMT code:
 
-1. **Continuous effective medium.** The gap distribution of physics.md §5.5a is kept as a
+1. **Continuous effective medium.** The gap distribution of {cite:p}`almqvist2011` is kept as a
    continuous mixture over the magnification (no bins): at each node of a composite
    Gauss-Legendre rule in ``t = ln(zeta - 1)`` the detached area ``-dA/dt`` is analytic (Persson's
    erf area, the spectrum's moment in closed form with ``expm1`` near ``zeta = 1``), ``u1 =

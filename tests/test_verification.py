@@ -110,12 +110,11 @@ BOUNDS = {
     "adhesion_ratio (adhesive)": 1e-2,
     "regime (adhesive)": 0,
     "small_load_ratio (adhesive)": 1e-2,
-    "expected_factor (adhesive)": 1.0,  # measured BEM factor / claimed
     "tabor_parameter (adhesive)": 1e-12,
     "w_eff (adhesive)": 1e-12,
     # adhesion against the BEM referee (verify_adhesion.py, stored references)
     "area_fraction, adhesive (A(w)/A(0))": 2.0,  # must-show of issue 23
-    "pull_off_stress, adhesive": 2.6,  # pull_off_expected_factor's claim for the floor
+    "pull_off_stress, adhesive": 2.6,  # the stored BEM comparison (part II)
     "BEM referee: area_fraction and pull-off, 256^2 vs 512^2": 0.1,
     # viscoelastic coefficient and friction analysis (verify_coefficient.py)
     "sliding_speed": 1e-14,
@@ -124,15 +123,19 @@ BOUNDS = {
     "glassy_modulus": 1e-14,
     "frictional_shear_stress": 1e-12,
     "flash_temperature": 1e-5,
-    # transport: formulas written in verify_transport.py
-    "electrical_contact_conductance": 1e-12,
-    "electrical_constriction_resistance": 1e-12,
+    # transport: formulas written in verify_transport.py, fed with the quadrature stiffness and
+    # the closed-form area (not the Dataset's own conductances: ~6e-6 measured)
+    "thermal_gas_conductance (almqvist)": 2e-3,  # over the independent gap mixture
+    "electrical_constriction_conductance": 1e-4,
+    "thermal_constriction_conductance": 1e-4,
+    "electrical_contact_conductance": 1e-4,
+    "electrical_constriction_resistance": 1e-4,
     "electrical_film_resistance": 1e-12,
-    "electrical_contact_resistance": 1e-12,
-    "thermal_solid_conductance": 1e-12,
+    "electrical_contact_resistance": 1e-4,
+    "thermal_solid_conductance": 1e-4,
     "thermal_radiation_conductance": 1e-9,
-    "thermal_contact_conductance": 1e-12,
-    "thermal_contact_resistance": 1e-12,
+    "thermal_contact_conductance": 1e-4,
+    "thermal_contact_resistance": 1e-4,
     "gas_jump_length": 1e-12,
 }
 
@@ -183,6 +186,7 @@ def test_every_bounded_output_is_within_its_bound(rows):
 def test_no_output_without_a_row(rows):
     """Every output variable of the core and the plasticity/interface plugins has a row."""
     import xpersson
+    from xpersson.pipeline import model_error
 
     ana = {
         "elastic_energy": {},
@@ -207,7 +211,8 @@ def test_no_output_without_a_row(rows):
     }
     ds = xpersson.solve(sc)
     covered = " ".join(rows)
-    diagnostics: set[str] = set()
+    # the model-error ancillaries are the campaign's bands (part II), not formulas of the code
+    diagnostics = {v for v in ds.data_vars if v.endswith(model_error.SUFFIXES)}
     missing = [v for v in ds.data_vars if v not in covered and v not in diagnostics]
     assert not missing, missing
 

@@ -29,7 +29,9 @@ def info(ds: Any, archive: str, picks: Sequence[str]) -> None:
     plugins = json.loads(ds.attrs.get("xpersson_plugins", "[]"))
     for p in plugins:
         print(f"  plugin {p['group']}/{p['name']}: {p.get('distribution')} {p.get('version')}")
-    _print_areas(_point(ds, swept, picks))
+    shown = _point(ds, swept, picks)
+    _print_areas(shown)
+    print("\n".join(model_error_lines(shown, SHOWN_LOADS)) or "  model error: none stored")
 
 
 def _swept(ds: Any) -> list[str]:
@@ -106,3 +108,23 @@ def _print_areas(ds: Any) -> None:
             + " ".join(f"{v:.6g}" for v in values)
             + f"  ({ds[name].attrs.get('long_name', '')})"
         )
+
+
+def model_error_lines(ds: Any, most: int = 10) -> list[str]:
+    """Each output's model-error band per load (the first ``most``), or "not verified"."""
+    import numpy as np
+
+    lines = []
+    for name in ds.data_vars:
+        if name + "_model_error_status" not in ds.variables:
+            continue
+        lo, hi, ok = (
+            np.ravel(ds.variables[name + s].values)[:most]
+            for s in ("_exact_low", "_exact_high", "_model_error_status")
+        )
+        rows = zip(lo, hi, ok, strict=True)
+        cells = [f"[{a:.3g}, {b:.3g}]" if f else "not verified" for a, b, f in rows]
+        lines.append(f"    {name:28s} " + " ".join(cells))
+    if lines:
+        lines.insert(0, "  model error: interval where exact contact lies (validation campaign)")
+    return lines

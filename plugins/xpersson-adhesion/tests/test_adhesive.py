@@ -17,7 +17,7 @@ from xpersson_adhesion import AdhesionLimitWarning, AdhesiveBoundary
 from xpersson_adhesion._bump import BUMPS
 from xpersson_adhesion._curves import curve_grid
 from xpersson_adhesion._meanfield import MeanField, attraction_curve
-from xpersson_adhesion.adhesive import ATTRACTION_SCALE, EXPECTED_FACTOR, regime_of
+from xpersson_adhesion.adhesive import ATTRACTION_SCALE, regime_of
 
 # The BEM referee's H = 0.8 scene (benchmarks/bem_adhesion.py): L = 100 um, q_1/q_L = 32,
 # rms slope 0.1, no roll-off, E* = 1 MPa; range 0.1 h_rms; works for Tabor 0.6, 1.0, 1.6.
@@ -161,12 +161,11 @@ def test_area_grows_with_work_and_load(solve):
         assert np.all(np.diff(a) > 0)
 
 
-def test_regime_and_expected_accuracy(solve):
+def test_regime_follows_the_calibrated_tabor_range(solve):
     ds = quiet(solve, scene(adhesive(WORKS[1]), [250.0, 1e6]))
     mu_1 = float(ds["tabor_parameter"].values[-1])
     assert 0.9 < mu_1 < 1.1  # the referee's work was chosen for mu_T(zeta_1) = 1
     np.testing.assert_array_equal(ds["regime"].values, [2.0, 0.0])  # 1 MPa: adhesion negligible
-    assert ds["expected_factor"].values[0] == EXPECTED_FACTOR[2]
     assert regime_of(0.1, np.array([0.5]))[0] == 1 and regime_of(10.0, np.array([0.5]))[0] == 3
     assert regime_of(1.0, np.array([0.5]), np.array([True]))[0] == 4
 

@@ -17,7 +17,7 @@ from xpersson.scene import SceneError
 from xpersson_adhesion import AdhesionLimitWarning
 from xpersson_adhesion._bump import BUMPS, ZETA_MIN, Bump
 from xpersson_adhesion._detachment import gamma_effective
-from xpersson_adhesion.adhesive import ATTRACTION_SCALE, PULL_OFF_FACTOR
+from xpersson_adhesion.adhesive import ATTRACTION_SCALE
 
 CELL = 2.0 * math.pi / Q_L
 
@@ -137,20 +137,6 @@ def test_tensile_loads_beyond_the_mean_field_flag_regime_4(solve):
     assert 0 < held["area_fraction"].values[0, -1] < area[0]
     with pytest.raises(SceneError, match="beyond pull-off"):
         quiet(solve, scene(adhesive(w), [-1.01 * pull]))
-
-
-def test_pull_off_expected_factor_follows_its_origin(solve):
-    """The pull-off's accuracy from the tension table: floor (Tabor <= 1) or sticky mean field
-    (Tabor 1.6); 0 for a nominal area the BEM did not check, and without adhesion."""
-    got = [
-        float(quiet(solve, scene(adhesive(w), [1e3]))["pull_off_expected_factor"]) for w in WORKS
-    ]
-    assert got == [PULL_OFF_FACTOR[("floor", 2)]] * 2 + [PULL_OFF_FACTOR[("mean field", 2)]]
-    big = quiet(solve, scene(adhesive(WORKS[1], nominal_size=f"{4 * CELL!r} m"), [1e3]))
-    assert float(big["pull_off_expected_factor"]) == 0.0
-    sticky = quiet(solve, scene(adhesive(WORKS[2], nominal_size=f"{4 * CELL!r} m"), [1e3]))
-    assert float(sticky["pull_off_expected_factor"]) == PULL_OFF_FACTOR[("mean field", 2)]
-    assert float(quiet(solve, scene(adhesive(0.0), [1e3]))["pull_off_expected_factor"]) == 0.0
 
 
 def test_the_best_bump_fits_its_interaction_zone():

@@ -58,7 +58,8 @@ def psd():
 @pytest.fixture(scope="module", params=CLOSURES)
 def solved(request):
     closure = request.param
-    ana = {"elastic_energy": {"zeta_per_decade": 120}, "mean_gap": {"zeta_per_decade": 120},
+    ana = {"elastic_energy": {"zeta_per_decade": 120},
+           "mean_gap": {"zeta_per_decade": 120, "s_factor": "closure"},
            "leakage": {"zeta_per_decade": 120, "n_bins": 40}}  # fmt: skip
     return closure, xpersson.solve(scene(LOADS, closure=closure, analyses=ana))
 

@@ -85,7 +85,8 @@ def test_analyses_of_one_solve_share_one_curve_and_free_it():
 
     xpersson.physics.SolvedContact = Counting
     try:
-        an = {"mean_gap": {}, "contact_stiffness": {}, "gap_pdf": {}}
+        one = {"s_factor": "closure"}  # one form: one curve (auto would pick yang_persson)
+        an = {"mean_gap": one, "contact_stiffness": one, "gap_pdf": {}}
         with xpersson.set_options(cache=True):
             ds = xpersson.solve(scene(LOADS, analyses=an))
             alone = xpersson.solve(scene(LOADS, analyses={"gap_pdf": {}}))

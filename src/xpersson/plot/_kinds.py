@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ._band import band
 from ._figure import log_limits, logx
 from ._lines import lines
 from ._units import human, number
@@ -56,6 +57,7 @@ def area(ds: xr.Dataset, ax: Any = None, max_curves: int = 12) -> Any:
     if many:
         items = [(q, d.isel(zeta=-1)) for q, d in items]
         ax = lines(ax, items, "p0", max_curves=max_curves)
+        band(ax, ds, "area_fraction", "p0", human("Pa", ds["p0"].values)[0])
         ax.set_title(_largest_zeta_title(ds))
         if float(ds["p0"].min()) > 0:
             logx(ax)
@@ -66,6 +68,7 @@ def area(ds: xr.Dataset, ax: Any = None, max_curves: int = 12) -> Any:
             ax.text(0.0, 0.02, "tensile | compressive ", fontsize="small", **at)
     else:
         ax = lines(ax, items, "zeta", max_curves=max_curves)
+        band(ax, ds, "area_fraction", "zeta")
         ax.set_xscale("log")
         log_limits(ax, 5)
     ax.set_ylabel("contact area fraction A/A0" if len(items) > 1 else "relative contact area A/A0")

@@ -78,6 +78,12 @@ CORE: dict[str, dict[str, ParamSpec]] = {
         "pressure_pdf": ParamSpec(
             "1", default=False, kind="bool", description="store the pressure PDF P(zeta, p)"
         ),
+        "model_error": ParamSpec(
+            "1",
+            default=True,
+            kind="bool",
+            description="add each covered output's model-error band (X_exact_low/high, status)",
+        ),
         "p_points": ParamSpec(
             "1",
             default=256,

@@ -343,6 +343,8 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         records += ((registry.provenance("geometries", type(body.geometry)), body.name),)
     resolved["output"] = jsonable(out, CORE["output"])
     resolved["output"].pop("zeta_per_decade", None)
+    if resolved["output"].get("model_error") is True:  # the default: archives stay as before
+        resolved["output"].pop("model_error")
     resolved["output"]["zeta"] = np.asarray(zeta, float).tolist()
     resolved["solver"] = jsonable(solver, CORE["solver"])
     return ResolvedScene(

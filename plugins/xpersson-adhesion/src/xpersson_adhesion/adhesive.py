@@ -34,9 +34,12 @@ vanishes as ``nominal_size^-2``: for macroscopic nominal areas the model holds t
 where the mean field is sticky. Tensile loads held only thanks to ``d`` are flagged (regime 4):
 their pull-off is verified, their contact area is not (1.4-70x below the BEM's).
 
-Per load it reports the regime (``regime``) and the accuracy measured in the verification
-(``expected_factor``); per scene the pull-off stress and the small-load ratio
-``k0 = p_att/p_rep`` (``k0 > 1``: the mean field holds tension, i.e. the interface is sticky).
+Per load it reports the regime (``regime``); per scene the pull-off stress and the small-load
+ratio ``k0 = p_att/p_rep`` (``k0 > 1``: the mean field holds tension, i.e. the interface is
+sticky). How far the area and the pull-off are from exact contact is not this plugin's claim:
+the core's model error (``area_fraction_exact_low``/``_high``, ``pull_off_stress_exact_low``/
+``_high`` and their ``_model_error_status``, from the validation campaign's table, by Tabor
+parameter and load sign) says it, or says "not verified".
 """
 
 from __future__ import annotations
@@ -63,9 +66,7 @@ __all__ = [
     "AdhesiveBoundary",
     "ATTRACTION_SCALE",
     "REGIMES",
-    "VERIFIED_TABOR",
-    "EXPECTED_FACTOR",
-    "PULL_OFF_FACTOR",
+    "CALIBRATED_TABOR",
     "regime_of",
 ]
 
@@ -101,26 +102,15 @@ _FLOORS = Cache(
 #: Regime codes of the ``regime`` output.
 REGIMES = {
     0: "adhesion negligible at this load (p_att < 0.1 p_rep)",
-    1: "DMT-like scene (Tabor parameter at zeta_1 below the verified range)",
-    2: "intermediate scene, inside the verified Tabor range",
-    3: "JKR-ward scene (Tabor parameter at zeta_1 above the calibrated range; checked at 3)",
+    1: "DMT-like scene (Tabor parameter at zeta_1 below the calibrated range 0.6-1.6)",
+    2: "intermediate scene, inside the calibrated Tabor range 0.6-1.6",
+    3: "JKR-ward scene (Tabor parameter at zeta_1 above the calibrated range 0.6-1.6)",
     4: "finite-size floor: the nominal area's highest bumps in DMT contact carry the load "
     "(mean field detached or smaller; pull-off verified, area not)",
 }
-#: Tabor parameters at the finest scale covered by the BEM verification.
-VERIFIED_TABOR = (0.5, 2.0)
-#: Worst factor between this model's and the BEM's A(w)/A(0) per regime (docs/adhesion_bem.md:
-#: 1.54 measured in regime 2 over 30 compressive points, rounded up; regime 0, where adhesion
-#: is negligible, bounded by it; regime 3: 1.19 against the BEM's bounds at mu_T = 3, one
-#: spectrum and one surface only, rounded up; regime 4, tensile loads held by the floor: areas
-#: 1.4-70x below the BEM's, not verified); 0: not verified.
-EXPECTED_FACTOR = {0: 1.6, 1: 0.0, 2: 1.6, 3: 1.2, 4: 0.0}
-#: Worst factor between this model's pull-off and the BEM's mean pull-off (docs/adhesion_bem.md
-#: tension table), by origin and scene regime (2: verified Tabor range; 3: mu_T = 3, one
-#: surface, 1.27): the sticky mean field 2.21-2.26 at mu_T = 1.6, the floor 1.02-1.36 and
-#: 2.57 (H = 0.5, mu_T = 1) at mu_T <= 1, for the BEM's cell only (nominal_size 0); rounded
-#: up. Not listed: 0 (not verified).
-PULL_OFF_FACTOR = {("mean field", 2): 2.3, ("floor", 2): 2.6, ("mean field", 3): 1.3}
+#: Tabor parameters at the finest scale that ATTRACTION_SCALE and BUMPS were calibrated on
+#: (docs/adhesion_bem.md: 0.6, 1.0 and 1.6); the regime code says where a scene lies.
+CALIBRATED_TABOR = (0.6, 1.6)
 
 
 def _area_curve(psd: Any, E_star: float, zeta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -138,19 +128,12 @@ def _area_curve(psd: Any, E_star: float, zeta: np.ndarray) -> tuple[np.ndarray, 
 def regime_of(tabor_1: float, ratio: np.ndarray, floor: np.ndarray | None = None) -> np.ndarray:
     """Regime code per load from the finest-scale Tabor parameter, ``p_att/p_rep`` and the
     tensile loads held only thanks to the finite-size floor (regime 4)."""
-    lo, hi = VERIFIED_TABOR
+    lo, hi = CALIBRATED_TABOR
     scene = 1 if tabor_1 < lo else (3 if tabor_1 > hi else 2)
     code = np.where(np.asarray(ratio, float) < 0.1, 0, scene).astype(float)
     if floor is not None:
         code = np.where(np.asarray(floor, bool), 4.0, code)
     return code
-
-
-def _pull_factor(origin: str, tabor_1: float) -> float:
-    """Expected factor of the pull-off [1] (:data:`PULL_OFF_FACTOR`; 0: not verified)."""
-    lo, hi = VERIFIED_TABOR
-    scene = 1 if tabor_1 < lo else (3 if tabor_1 > hi else 2)
-    return PULL_OFF_FACTOR.get((origin, scene), 0.0)
 
 
 class AdhesiveBoundary(Boundary):
@@ -209,13 +192,6 @@ class AdhesiveBoundary(Boundary):
             valid_max=4.0,
             description="; ".join(f"{k}: {v}" for k, v in REGIMES.items()),
         ),
-        "expected_factor": VarSpec(
-            ("p0",),
-            "1",
-            "expected accuracy: worst factor on A(w)/A(0) against the BEM in this regime",
-            description="from docs/adhesion_bem.md; 0 where the regime was not verified",
-            valid_min=0.0,
-        ),
         "pull_off_stress": VarSpec(
             (),
             "Pa",
@@ -223,14 +199,6 @@ class AdhesiveBoundary(Boundary):
             valid_min=0.0,
             description="max of the mean field's -min_p (p - p_att(p)) and the finite-size floor "
             "BUMPS max_zeta 2 pi gamma_eff(zeta) R(zeta) / nominal_size^2 (highest bumps, DMT)",
-        ),
-        "pull_off_expected_factor": VarSpec(
-            (),
-            "1",
-            "expected accuracy of the pull-off: worst factor against the BEM's mean",
-            description="from docs/adhesion_bem.md, by the pull-off's origin (mean field or "
-            "floor) and the scene's Tabor range; 0 where not verified",
-            valid_min=0.0,
         ),
         "floor_stress": VarSpec(
             (),
@@ -388,7 +356,7 @@ class AdhesiveBoundary(Boundary):
     def interpret(
         self, ctx: SceneContext, results: list[EngineResult]
     ) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
-        """p_rep, p_att, regime, expected accuracy, pull-off, Tabor parameter."""
+        """p_rep, p_att, regime, pull-off, Tabor parameter."""
         p = self._params
         p0 = np.asarray(ctx.p0, dtype=float)
         solved = [self.solve_load(ctx, float(x)) for x in p0]
@@ -397,24 +365,18 @@ class AdhesiveBoundary(Boundary):
         mf = self.table(ctx)
         k0 = mf.small_load_ratio if mf is not None else 0.0
         pull = self.pull_off(ctx)
-        origin = "mean field" if mf is not None and self._floor(ctx)[1] >= pull else "floor"
-        if pull <= 0.0 or (origin == "floor" and self._params["nominal_size"] != 0.0):
-            origin = "not verified"  # no pull-off; or the floor of a nominal area != the cell
         rep = p0 + att
         ratio = np.where(rep > 0, att / np.where(rep > 0, rep, 1.0), 0.0)
         work = p["work_of_adhesion"]
         mu = tabor_parameter(ctx.psd, ctx.E_star, work, p["range"], ctx.zeta)
         reg = regime_of(float(mu[-1]), ratio, on_floor)
-        expected = np.array([EXPECTED_FACTOR[int(r)] for r in reg])
         return {
             "p_rep": (("p0",), rep),
             "p_att": (("p0",), np.maximum(att, 0.0)),
             "adhesion_ratio": (("p0",), ratio),
             "regime": (("p0",), reg),
-            "expected_factor": (("p0",), expected),
             "pull_off_stress": ((), np.asarray(pull)),
             "floor_stress": ((), np.asarray(self.floor_shift(ctx))),
-            "pull_off_expected_factor": ((), np.asarray(_pull_factor(origin, float(mu[-1])))),
             "small_load_ratio": ((), np.asarray(k0)),
             "tabor_parameter": (("zeta",), mu),
             "w_eff": ((), np.asarray(stickiness(ctx.psd, ctx.E_star, work))),

@@ -1,0 +1,282 @@
+"""The model error of an output: the band in which exact contact lies, from the validation campaign.
+
+The theory is an approximation of the contact it describes. How far it is was measured by the
+validation campaign (``benchmarks/campaign.py``): scenes drawn from a seeded random design, each
+solved by the theory and by a boundary-element solution of the same spectrum (exact contact
+within its discretisation). The campaign writes the packaged table ``xpersson/data/
+model_error.json``: per output variable and regime, the interval ``[low, high]`` of the ratio
+``exact / theory`` that holds 90 % of the campaign's calibration points (with its median, the
+number of points, and the provenance: seed, size, date, solver and versions).
+
+:func:`attach` adds to every covered output ``X`` of a Dataset three CF ancillary variables
+(named in ``X.attrs["ancillary_variables"]``):
+
+* ``X_exact_low``, ``X_exact_high`` (units of ``X``): ``low X`` and ``high X``, the interval
+  where exact contact lies (for a variable over ``zeta``: at the largest magnification, the full
+  roughness, which is what the campaign compared);
+* ``X_model_error_status`` (flag: ``0 not_verified``, ``1 verified``): ``not_verified`` where the
+  scene lies outside what the campaign covered (another spectrum model, parameters or an area
+  fraction outside its ranges, options it did not test); the bounds are NaN there, never a made-up
+  band.
+
+The table is data keyed by variable name and by the scene's plugin names and options: the core
+never names a plugin. A band entry is ``{"variable", "match", "ranges", "low", "high",
+"median", "n"}``: ``match`` maps a feature (``boundary``, ``closure``, ``spectrum``, or an option
+of the analysis that provides the variable, e.g. ``s_factor``) to its required value; ``ranges``
+maps a numeric feature (``hurst``, ``rolloff``, ``decades``, ``area_fraction``, ``tabor``,
+``tensile``) to ``[lo, hi)``. The first matching entry of a variable wins.
+
+:func:`xpersson.solve` attaches them to single scenes; a sweep's Dataset does not carry them
+yet (``attach`` takes a sweep's points, but the parts a sweep writes to a folder would lack
+them). The scene switch ``[output] model_error = false`` leaves the variables out (default
+``true``: a table look-up per output, microseconds, and the issue's demand that every number
+carries its error bar; nothing is solved for it).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from importlib import resources
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..cache import Cache
+from ._insert import insert_or_set
+
+__all__ = [
+    "FLAG",
+    "SUFFIXES",
+    "attach",
+    "covered",
+    "band_table",
+    "bands_of",
+    "features_of",
+    "scene_features",
+]
+
+#: Suffixes of the three ancillary variables of an output.
+SUFFIXES = ("_exact_low", "_exact_high", "_model_error_status")
+#: CF flag attributes of ``X_model_error_status``.
+FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "not_verified verified"}
+
+_TABLE = Cache(
+    "model_error.table",
+    scope="process",
+    maxsize=2,
+    doc="the packaged model-error table (xpersson/data/model_error.json), read once",
+)
+
+
+def band_table(path: str | None = None) -> dict[str, Any]:
+    """The model-error table (the packaged one, or the JSON file ``path``), read once."""
+
+    def read() -> dict[str, Any]:
+        if path is not None:
+            with open(path, encoding="utf-8") as fh:
+                return json.load(fh)
+        text = resources.files("xpersson").joinpath("data", "model_error.json").read_text("utf-8")
+        return json.loads(text)
+
+    return _TABLE.get(path or "", read)
+
+
+def scene_features(rs: Any) -> dict[str, Any]:
+    """The scene-level features of a resolved scene: plugin names, closure, spectrum numbers.
+
+    ``hurst`` [1], ``rolloff`` (1 with a roll-off ``q_r > q_L``, else 0), ``decades`` (log10 of
+    ``q_1/q_r``, the self-affine range) for a spectrum with these attributes; absent otherwise
+    (then every range on them fails: not verified).
+    """
+    feats: dict[str, Any] = {
+        "spectrum": rs.plugin_names.get("spectrum"),
+        "boundary": rs.plugin_names.get("boundary"),
+        "coefficient": rs.plugin_names.get("coefficient"),
+        "closure": rs.resolved.get("coefficient", {}).get("closure"),
+    }
+    for key, value in rs.resolved.get("boundary", {}).items():
+        if key != "model" and isinstance(value, (str, int, float, bool)):
+            feats[f"boundary.{key}"] = value  # e.g. match {"boundary.nominal_size": "0.0 m"}
+    psd = rs.psd
+    hurst = getattr(psd, "H", None)
+    q_l, q_r, q_1 = (getattr(psd, n, None) for n in ("q_L", "q_r", "q_1"))
+    if hurst is not None and None not in (q_l, q_r, q_1):
+        feats["hurst"] = float(hurst)
+        feats["rolloff"] = 1.0 if float(q_r) > float(q_l) * (1.0 + 1e-9) else 0.0
+        feats["decades"] = math.log10(float(q_1) / float(q_r))
+    return feats
+
+
+def features_of(ds: xr.Dataset, scene: dict[str, Any]) -> dict[str, Any]:
+    """Scene features plus the per-load ones read from the Dataset (arrays over ``p0``).
+
+    ``area_fraction`` (at the largest magnification), ``tensile`` (1 where ``p0 < 0``) and
+    ``tabor`` (the finest-scale ``tabor_parameter`` when the Dataset has one).
+    """
+    feats = dict(scene)
+    if "area_fraction" in ds.variables:
+        feats["area_fraction"] = _finest(ds.variables["area_fraction"])[1]
+    if "p0" in ds.variables:
+        feats["tensile"] = (np.asarray(ds.variables["p0"].values, float) < 0).astype(float)
+    if "tabor_parameter" in ds.variables:
+        feats["tabor"] = float(np.ravel(_finest(ds.variables["tabor_parameter"])[1])[0])
+    return feats
+
+
+def _finest(var: Any) -> tuple[tuple[str, ...], np.ndarray]:
+    """``(dims, values)`` of a Variable at the largest magnification (numpy indexing: xarray's
+    ``isel`` would import dask.array)."""
+    values = np.asarray(var.values, float)
+    if "zeta" not in var.dims:
+        return tuple(var.dims), values
+    axis = var.dims.index("zeta")
+    return tuple(d for d in var.dims if d != "zeta"), np.take(values, -1, axis=axis)
+
+
+def _matches(entry: dict[str, Any], feats: dict[str, Any], options: dict[str, Any]) -> Any:
+    """Boolean (array over loads) of the points where ``entry`` applies."""
+    for key, want in entry.get("match", {}).items():
+        have = options.get(key, feats.get(key))
+        if have != want:
+            return False
+    ok: Any = True
+    for key, (lo, hi) in entry.get("ranges", {}).items():
+        if key not in feats:
+            return False
+        v = np.asarray(feats[key], float)
+        ok = ok & (v >= lo) & (v < hi)
+    return ok
+
+
+def bands_of(
+    variable: str,
+    feats: dict[str, Any],
+    options: dict[str, Any],
+    shape: tuple[int, ...],
+    table: dict[str, Any] | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(low, high, status)`` of ``variable`` over ``shape`` (the loads, or ``()``).
+
+    ``low``/``high`` are the factors on the theory's value (NaN where not verified); ``status``
+    is 1 where an entry of ``table`` (default the packaged one) covers the point, else 0.
+    """
+    low = np.full(shape, np.nan)
+    high = np.full(shape, np.nan)
+    done = np.zeros(shape, dtype=bool)
+    for entry in (table or band_table())["bands"]:
+        if entry["variable"] != variable:
+            continue
+        hit = np.broadcast_to(np.asarray(_matches(entry, feats, options), bool), shape) & ~done
+        low[hit], high[hit] = entry["low"], entry["high"]
+        done |= hit
+    return low, high, done.astype(np.int8)
+
+
+def _options_of(rs: Any, variable: str) -> dict[str, Any]:
+    """The analyses' parameters: ``"<analysis>.<param>"`` for every analysis of the scene, and
+    the bare names of the one that provides ``variable`` (e.g. the conductance's band matches
+    ``contact_stiffness.s_factor``, the stiffness's ``s_factor``)."""
+    out: dict[str, Any] = {}
+    own: dict[str, Any] = {}
+    for name, analysis in rs.analyses:
+        out.update({f"{name}.{k}": v for k, v in analysis.params.items()})
+        if variable in type(analysis).outputs:
+            own = dict(analysis.params)
+    return {**out, **own}
+
+
+def covered(ds: xr.Dataset, table: dict[str, Any] | None = None) -> list[str]:
+    """The outputs of ``ds`` that the table lists (the variables :func:`attach` annotates)."""
+    table = table or band_table()
+    names = {e["variable"] for e in table["bands"]} | set(table.get("variables", ()))
+    return sorted(n for n in names if n in ds.data_vars)
+
+
+def attach(
+    ds: xr.Dataset, points: Any, dims: tuple[str, ...] = (), table: dict[str, Any] | None = None
+) -> None:
+    """Add the model-error ancillary variables of every covered output of ``ds`` (in place).
+
+    ``points`` is the resolved scene of ``ds`` (a single scene), or for a sweep over ``dims``
+    the list of its points' resolved scenes in C order of those dimensions; ``table``: the
+    packaged one by default. Does nothing when the scene sets ``[output] model_error = false``.
+    """
+    points = list(points) if dims else [points]
+    if not points or not points[0].resolved.get("output", {}).get("model_error", True):
+        return
+    table = table or band_table()
+    names = covered(ds, table)
+    if not names:
+        return
+    scenes = [scene_features(rs) for rs in points]
+    sweep_shape = tuple(ds.sizes[d] for d in dims)
+    views = [ds.isel(dict(zip(dims, idx, strict=True))) for idx in np.ndindex(sweep_shape)]
+    views = views if dims else [ds]
+    for name in names:
+        _attach_one(ds, name, dims, views, scenes, points, table)
+
+
+def _attach_one(
+    ds: xr.Dataset,
+    name: str,
+    dims: tuple[str, ...],
+    views: list[xr.Dataset],
+    scenes: list[dict[str, Any]],
+    points: list[Any],
+    table: dict[str, Any],
+) -> None:
+    """The three ancillary variables of output ``name``, point by point of the sweep."""
+    var = ds.variables[name]
+    vdims, x = _finest(var)
+    own = tuple(d for d in dims if d in vdims)  # a sweep's output need not span every dim
+    order = [vdims.index(d) for d in own] + [i for i, d in enumerate(vdims) if d not in own]
+    x = np.transpose(x, order)
+    vdims = tuple(vdims[i] for i in order)
+    shape = x.shape
+    low, high = np.full(shape, np.nan), np.full(shape, np.nan)
+    status = np.zeros(shape, dtype=np.int8)
+    full = tuple(ds.sizes[d] for d in dims)
+    for idx in np.ndindex(shape[: len(own)]):
+        at = dict(zip(own, idx, strict=True))
+        k = int(np.ravel_multi_index(tuple(at.get(d, 0) for d in dims), full)) if dims else 0
+        feats = features_of(views[k], scenes[k])
+        low[idx], high[idx], status[idx] = bands_of(
+            name, feats, _options_of(points[k], name), shape[len(own) :], table
+        )
+    units = var.attrs.get("units", "1")
+    where = " at the largest magnification (the full roughness)" if "zeta" in var.dims else ""
+    prov = table.get("provenance", {})
+    source = (
+        f"validation campaign {prov.get('campaign', '?')} ({prov.get('date', '?')}): 90 % of "
+        "exact/theory over its calibration points in the scene's regime (docs/verification.md)"
+    )
+    new = {}
+    for suffix, factor, side in (("_exact_low", low, "lower"), ("_exact_high", high, "upper")):
+        new[name + suffix] = xr.Variable(
+            vdims,
+            np.asarray(x * factor, float),
+            {
+                "units": units,
+                "long_name": f"{side} end of the interval where exact contact's {name} lies"
+                + where,
+                "comment": source,
+                "coverage_content_type": "qualityInformation",
+            },
+            fastpath=True,  # numpy data: no probe of dask (a closed-form solve never imports it)
+        )
+    new[name + "_model_error_status"] = xr.Variable(
+        vdims,
+        status,
+        {
+            "units": "1",
+            "long_name": f"whether the validation campaign covers {name} in this regime",
+            "flag_values": FLAG["flag_values"],
+            "flag_meanings": FLAG["flag_meanings"],
+            "coverage_content_type": "qualityInformation",
+        },
+        fastpath=True,
+    )
+    insert_or_set(ds, new)
+    ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
