@@ -183,7 +183,8 @@ def _floor_row(fast: bool) -> dict:
         "floor_stress (adhesive)",
         f"SPEC scene, work {works[0]:g}-{works[-1]:g} J/m^2, range 50 nm and 1 um "
         f"({n_ok} non-sticky scenes)",
-        "BUMPS max_zeta 2 pi gamma_eff R / L^2 by quadrature of C ({cite:p}`persson2001adhesion,persson2006`, this file)",
+        "BUMPS max_zeta 2 pi gamma_eff R / L^2 by quadrature of C "
+        "({cite:p}`persson2001adhesion,persson2006`, this file)",
         worst if n_ok else math.nan,
         "rel",
         f"the plugin scans 48 magnifications; sticky scenes with d != 0: {sticky_bad}",

@@ -193,7 +193,8 @@ def _flash_row(fast: bool, err_off: float, regime_off: str) -> dict:
     return _row(
         "flash_temperature",
         f"off: {regime_off}; on: v {v_mm[0] * 1e-3:g}..{v_mm[-1] * 1e-3:g} m/s at {T0} K",
-        "off: the temperature; on: {cite:p}`persson2006flash` Volterra equation as an ODE (this file)",
+        "off: the temperature; on: {cite:p}`persson2006flash` Volterra equation as an ODE "
+        "(this file)",
         max(worst, err_off),
         "rel (rise)",
         f"off: {err_off:.1g} K; on: relative to the rise (up to {rise:.3g} K), floor 1 K; "

@@ -1,9 +1,9 @@
 """Verification rows of the core and of xpersson-plasticity (imported by ``verify.py``).
 
 Every reference here is computed another way than xpersson computes it: the spectrum is
-re-implemented from its definition ({cite:p}`persson2005,jacobs2017`) with its moments checked against
-``scipy.integrate.quad`` with the roll-off as an explicit breakpoint; the Persson 2001 area and
-pressure distribution are the closed forms of {cite:p}`persson2001`; the constant-hardness
+re-implemented from its definition (Persson 2005; Jacobs et al. 2017) with its moments checked
+against ``scipy.integrate.quad`` with the roll-off as an explicit breakpoint; the Persson 2001 area
+and pressure distribution are the closed forms of Persson (2001); the constant-hardness
 elastoplastic walls are an image series written here (not the engine's ``exact`` module); the
 Markov walkers (``method="markov"``) referee the engine's paths by Monte Carlo.
 """

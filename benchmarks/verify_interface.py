@@ -265,7 +265,13 @@ def gap_table_rows(fast: bool) -> list[dict]:
             " h_rms, p0/E* 0.113) is 1.7e-2 off, every other point < 1.1e-3: the bins'"
             " discretisation (the tail is set by the few bins with the largest h)",
         ),
-        _row("mean_gap (Zhou scene)", regime, "{cite:p}`almqvist2011` table", _rel(ub, ZHOU_UBAR), "rel"),
+        _row(
+            "mean_gap (Zhou scene)",
+            regime,
+            "{cite:p}`almqvist2011` table",
+            _rel(ub, ZHOU_UBAR),
+            "rel",
+        ),
     ]
 
 
