@@ -7,6 +7,7 @@ provenance records (:attr:`ResolvedScene.labels`, :attr:`ResolvedScene.plugin_re
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from collections.abc import Mapping
@@ -34,7 +35,7 @@ from ._core import (
     ResolvedScene,
 )
 
-__all__ = ["plugin_message", "resolve_scene"]
+__all__ = ["plugin_message", "resolve_scene", "with_spectrum"]
 
 
 def _plugin(
@@ -306,16 +307,7 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
     labels: dict[str, Any] = {
         s: plugin_label(s, plugins[s], registry, names[s]) for s in PLUGIN_SECTIONS
     }
-    psd = _build_spectrum(plugins["spectrum"], labels["spectrum"])
-    archived = getattr(plugins["spectrum"], "archived_params", None)
-    if callable(archived):  # file-based spectra: the table itself goes into the archive
-        spec_cls = type(plugins["spectrum"])
-        resolved["spectrum"] = {
-            "model": names["spectrum"],
-            **jsonable(archived(psd), spec_cls.parameters),
-        }
-    zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
-    _check_power(psd, zeta)
+    psd, zeta = _spectrum_and_grid(plugins["spectrum"], labels["spectrum"], out, resolved, names)
 
     analyses = _analyses(data.get("analyses", {}), plugins, names, registry)
     resolved["analyses"] = {}
@@ -354,4 +346,60 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         labels=labels,
         plugin_records=_records(plugins, names, analyses, registry),
         plugin_time_limit=solver["plugin_time_limit"],
+    )
+
+
+def _spectrum_and_grid(
+    spectrum: Plugin,
+    label: Any,
+    out: Mapping[str, Any],
+    resolved: dict[str, Any],
+    names: Mapping[str, str],
+) -> tuple[Any, np.ndarray]:
+    """The built and checked spectrum and the output grid on it (a file-based spectrum's
+    table replaces ``resolved["spectrum"]``)."""
+    psd = _build_spectrum(spectrum, label)
+    archived = getattr(spectrum, "archived_params", None)
+    if callable(archived):  # file-based spectra: the table itself goes into the archive
+        resolved["spectrum"] = {
+            "model": names["spectrum"],
+            **jsonable(archived(psd), type(spectrum).parameters),
+        }
+    zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
+    _check_power(psd, zeta)
+    return psd, zeta
+
+
+def with_spectrum(rs: ResolvedScene, scene: Any, registry: Registry) -> ResolvedScene:
+    """``scene`` resolved as :func:`resolve_scene` would, when it differs from the scene of
+    ``rs`` (resolved with the same registry) only in its ``[spectrum]`` section: only the
+    spectrum, its checks and the output grid are made again; the other sections' plugins,
+    conversions and checks are those of ``rs`` (a sweep over spectrum parameters)."""
+    data = scene.data
+    base = Path(scene.source).parent if scene.source else None
+    inst, name, params = _plugin("spectrum", data.get("spectrum"), registry, base)
+    names = {**rs.plugin_names, "spectrum": name}
+    labels = {**rs.labels, "spectrum": plugin_label("spectrum", inst, registry, name)}
+    resolved = {
+        **rs.resolved,
+        "spectrum": {"model": name, **jsonable(params, type(inst).parameters)},
+    }
+    out = convert_params(CORE["output"], data.get("output", {}), "output")
+    psd, zeta = _spectrum_and_grid(inst, labels["spectrum"], out, resolved, names)
+    resolved["output"] = {**rs.resolved["output"], "zeta": np.asarray(zeta, float).tolist()}
+    return dataclasses.replace(
+        rs,
+        scene=scene,
+        spectrum=inst,
+        psd=psd,
+        zeta=zeta,
+        plugin_names=names,
+        resolved=resolved,
+        labels=labels,
+        plugin_records=_records(
+            {"spectrum": inst, "coefficient": rs.coefficient, "boundary": rs.boundary},
+            names,
+            rs.analyses,
+            registry,
+        ),
     )
