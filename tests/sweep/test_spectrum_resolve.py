@@ -8,8 +8,7 @@ import pytest
 
 import xpersson
 from xpersson.plugins import get_registry
-from xpersson.scene import SceneError
-from xpersson.scene._resolve import with_spectrum
+from xpersson.scene import SceneError, with_spectrum
 from xpersson.sweep.batched import material_dims
 from xpersson.sweep.execute import resolve_points
 from xpersson.sweep.plan import expand

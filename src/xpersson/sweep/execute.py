@@ -26,8 +26,7 @@ from ..errors import XperssonWarning
 from ..memory import check_study
 from ..pipeline import default_pressure_grid, progress_bar
 from ..plugins import get_registry
-from ..scene import SceneError
-from ..scene._resolve import with_spectrum
+from ..scene import SceneError, with_spectrum
 from ._fastfail import warn_failures
 from ._quiet import silenced
 from .batched import SweepPoints, batch_capable, material_dims, resolved_region
