@@ -20,6 +20,7 @@ from ..checks import calling, check_spectrum, plugin_label
 from ..errors import SceneError
 from ..plugins import ParamSpec, Plugin, PluginError, Registry
 from ._convert import (
+    convert_param,
     convert_params,
     jsonable,
     loads,
@@ -39,9 +40,14 @@ __all__ = ["plugin_message", "resolve_scene", "with_spectrum"]
 
 
 def _plugin(
-    section: str, raw: Mapping[str, Any] | None, registry: Registry, base: Path | None = None
+    section: str,
+    raw: Mapping[str, Any] | None,
+    registry: Registry,
+    base: Path | None = None,
+    memo: dict[Any, Any] | None = None,
 ) -> tuple[Plugin, str, dict[str, Any]]:
-    """The plugin instance of a scene section, its name and its converted parameters."""
+    """The plugin instance of a scene section, its name and its converted parameters
+    (``memo``: values converted before, by parameter, type and value; see :func:`_convert`)."""
     group = PLUGIN_SECTIONS[section]
     raw = dict(raw or {})
     model = raw.pop("model", DEFAULT_MODEL.get(section))
@@ -56,7 +62,7 @@ def _plugin(
         raise SceneError(f"{section}.model: {exc}") from None
     except TypeError as exc:
         raise SceneError(f"{section}.model: {exc}") from None
-    params = convert_params(cls.parameters, raw, section)
+    params = _convert(cls.parameters, raw, section, memo)
     params = _absolute_paths(cls.parameters, params, base)
     try:
         inst = cls(**params)
@@ -64,6 +70,38 @@ def _plugin(
         raise SceneError(plugin_message(section, cls, exc)) from None
     name = model if isinstance(model, str) else registry.name_of(group, cls)[0]
     return inst, name, params
+
+
+def _convert(
+    specs: Mapping[str, ParamSpec],
+    raw: Mapping[str, Any],
+    section: str,
+    memo: dict[Any, Any] | None,
+) -> dict[str, Any]:
+    """:func:`convert_params`, each hashable value converted once per ``memo`` (a sweep over
+    one spectrum parameter converts the others once: the same values, the same results)."""
+    if (
+        memo is None
+        or not set(raw) <= set(specs)
+        or any(s.required and n not in raw for n, s in specs.items())
+    ):
+        return convert_params(specs, raw, section)  # its messages
+    out: dict[str, Any] = {}
+    for name, spec in specs.items():
+        if name not in raw:
+            out[name] = spec.default
+            continue
+        value = raw[name]
+        try:
+            key = (section, name, type(value), value)
+            hash(key)
+        except TypeError:  # a list: converted each time
+            out[name] = convert_param(spec, value, f"{section}.{name}")
+            continue
+        if key not in memo:
+            memo[key] = convert_param(spec, value, f"{section}.{name}")
+        out[name] = memo[key]
+    return out
 
 
 def plugin_message(section: str, cls: Any, exc: BaseException) -> str:
@@ -370,14 +408,17 @@ def _spectrum_and_grid(
     return psd, zeta
 
 
-def with_spectrum(rs: ResolvedScene, scene: Any, registry: Registry) -> ResolvedScene:
+def with_spectrum(
+    rs: ResolvedScene, scene: Any, registry: Registry, memo: dict[Any, Any] | None = None
+) -> ResolvedScene:
     """``scene`` resolved as :func:`resolve_scene` would, when it differs from the scene of
     ``rs`` (resolved with the same registry) only in its ``[spectrum]`` section: only the
     spectrum, its checks and the output grid are made again; the other sections' plugins,
-    conversions and checks are those of ``rs`` (a sweep over spectrum parameters)."""
+    conversions and checks are those of ``rs`` (a sweep over spectrum parameters). ``memo``
+    (a dict kept between the calls of one sweep) converts each spectrum value once."""
     data = scene.data
     base = Path(scene.source).parent if scene.source else None
-    inst, name, params = _plugin("spectrum", data.get("spectrum"), registry, base)
+    inst, name, params = _plugin("spectrum", data.get("spectrum"), registry, base, memo)
     names = {**rs.plugin_names, "spectrum": name}
     labels = {**rs.labels, "spectrum": plugin_label("spectrum", inst, registry, name)}
     resolved = {

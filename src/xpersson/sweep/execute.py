@@ -76,13 +76,14 @@ def _spectrum_resolver(plan: SweepPlan, registry: Any) -> Callable[[tuple[int, .
         for p in g
     )
     first: list[Any] = []
+    memo: dict[Any, Any] = {}  # spectrum values converted once for the whole sweep
 
     def resolve(index: tuple[int, ...]) -> Any:
         if not (spectral and first):
             first.append(_resolve_index(plan, index, registry))
             return first[-1]
         try:
-            return with_spectrum(first[0], plan.point_scene(index), registry)
+            return with_spectrum(first[0], plan.point_scene(index), registry, memo)
         except SceneError as exc:
             raise SceneError(f"sweep point {_where(plan, index)}: {exc}") from None
 
