@@ -382,7 +382,9 @@ def _execute(
     out = []
     if client is None and scheduler != "threads":
         with silenced():
-            shared: dict[str, Any] = {}  # the stacked path's template, reused across blocks
+            # the stacked path's template, reused across blocks; the fill batched rows go to
+            fill = getattr(take, "__self__", None)
+            shared: dict[str, Any] = {"sink": fill if isinstance(fill, Filling) else None}
             for b, pts, part in tasks:
                 out.append(run_block(b, pts, registry, part, tick, attrs, shared))
                 take(out[-1])
