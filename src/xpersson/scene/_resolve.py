@@ -92,12 +92,10 @@ def _convert(
             out[name] = spec.default
             continue
         value = raw[name]
-        try:
-            key = (section, name, type(value), value)
-            hash(key)
-        except TypeError:  # a list: converted each time
+        if type(value) not in (str, float, int, bool):  # a list, a Quantity: each time
             out[name] = convert_param(spec, value, f"{section}.{name}")
             continue
+        key = (section, name, type(value), value)
         if key not in memo:
             memo[key] = convert_param(spec, value, f"{section}.{name}")
         out[name] = memo[key]
