@@ -3,6 +3,7 @@
 Run from the checkout (one command regenerates the results and the README table)::
 
     python benchmarks/summary.py [--quick] [--rounds 3] [--scenes 12] [--check]
+    python benchmarks/summary.py --paths "sweep E x H" "load strings"   # some rows again
 
 One process, ``OPENBLAS_NUM_THREADS=1`` (set here before numpy is imported), CPU time of this
 process (``time.process_time``; the machine may be shared), each quantity the best of
@@ -128,7 +129,9 @@ def table(rows: list[dict], meta: dict) -> str:
         f"scenes: H 0.3-0.95, with and without roll-off, 3-6 decades; one process, "
         f"OPENBLAS_NUM_THREADS=1, CPU time, best of {meta['rounds']} interleaved rounds; "
         f"{meta['machine']}). Ratio: the path's time over its kernel's on the same curves; "
-        "worst over the design, and its scene. Memory: peak traced on the worst scene.\n\n"
+        "worst over the design, and its scene. Memory: peak traced on the worst scene."
+        + _partial(meta)
+        + "\n\n"
         "| path | median | worst (scene) | worst: time / kernel | target | peak MiB |\n"
         "|---|---:|---|---|---|---:|\n"
     )
@@ -150,6 +153,15 @@ def table(rows: list[dict], meta: dict) -> str:
             f"| {target} | {mem} |"
         )
     return head + "\n".join(lines) + "\n"
+
+
+def _partial(meta: dict) -> str:
+    """The rows measured again after the full run (``--paths``), and when."""
+    again = meta.get("partial") or {}
+    if not again:
+        return ""
+    rows = "; ".join(f"{name} ({when})" for name, when in again.items())
+    return f" Measured again (`--paths`, same design and rounds): {rows}."
 
 
 def _fmt(value: float, unit: str = "s") -> str:
@@ -178,6 +190,24 @@ def write(rows: list[dict], meta: dict, raw: dict, check: bool, memory: dict) ->
     return text
 
 
+def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
+    """Measure the design paths named by ``texts`` again over the saved design; keep the rest
+    of ``results/summary.json`` (its date and rounds note the full run)."""
+    saved = json.loads((HERE / "results" / "summary.json").read_text())
+    paths = {k: f for k, f in P.DESIGN_PATHS.items() if any(t in k for t in texts)}
+    if not paths:
+        raise SystemExit(f"no design path matches {texts}; paths: {list(P.DESIGN_PATHS)}")
+    scenes = list(saved["meta"]["design"].items())
+    xpersson.solve(P.scene(scenes[0][1], P.load_range(3)))  # warm-up
+    rounds = rounds or int(saved["meta"]["rounds"])
+    raw = {**saved["raw"], **over_design(scenes, paths, rounds, False)}
+    memory = {**saved.get("memory", {}), **P.memory({k: raw[k] for k in paths}, scenes, False)}
+    meta = dict(saved["meta"])
+    now = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    meta["partial"] = {**meta.get("partial", {}), **dict.fromkeys(paths, now)}
+    return write(summarize(raw, P.TARGETS, memory), meta, raw, check, memory)
+
+
 def main(argv: list[str] | None = None) -> str:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=None, help="default 3 (--quick: 1)")
@@ -188,7 +218,17 @@ def main(argv: list[str] | None = None) -> str:
     ap.add_argument(
         "--from-json", action="store_true", help="re-render results/summary.json (no measuring)"
     )
+    ap.add_argument(
+        "--paths",
+        nargs="+",
+        metavar="TEXT",
+        help="measure only the design paths whose name contains one of these texts (no single "
+        "or parallel rows); the other rows are kept from results/summary.json, the table is "
+        "rendered in full",
+    )
     args = ap.parse_args(argv)
+    if args.paths:
+        return some_paths(args.paths, args.rounds, args.check)
     if args.from_json:
         saved = json.loads((HERE / "results" / "summary.json").read_text())
         rows = summarize(saved["raw"], P.TARGETS, dict(saved.get("memory", {})))

@@ -122,3 +122,29 @@ def test_batched_result_does_not_depend_on_the_blocks():
     for chunk in (1, 4, 7):
         cut = xpersson.solve(MATERIAL_SCENE, chunk=chunk)
         xr.testing.assert_identical(whole.drop_attrs(), cut.drop_attrs())
+
+
+@pytest.mark.parametrize("outer", ["material", "spectrum"])
+@pytest.mark.parametrize("loads", ["3e4 Pa", ["1e4 Pa", "3e4 Pa", "1e5 Pa"]])
+def test_rows_written_into_the_sweep_arrays_equal_copied_rows(monkeypatch, outer, loads):
+    """A serial in-memory sweep writes batched rows straight into its arrays (the fill's
+    sink); threads copy each block in: the same bits, whichever dimension is outer, with one
+    load (squeezed) or several."""
+    sweep_first = {"material": {"E": ["2 MPa", "5 MPa", "40 MPa"], "nu": 0.5}}
+    data = scene(spectrum={"H": [0.6, 0.75, 0.9]}, load={"p0": loads}, **sweep_first)
+    if outer == "spectrum":  # the spectrum's dimension first (material dims innermost)
+        data = {"spectrum": data["spectrum"], **{k: v for k, v in data.items() if k != "spectrum"}}
+    else:
+        data = {"material": data["material"], **{k: v for k, v in data.items() if k != "material"}}
+    from xpersson.sweep.filling import Filling
+
+    given = []
+    rows = Filling.rows
+    monkeypatch.setattr(Filling, "rows", lambda *a: given.append(rows(*a)) or given[-1])
+    direct = xpersson.solve(data, chunk=4)
+    assert any(r is not None for r in given)  # the rows did go to the sweep's arrays
+    copied = xpersson.solve(data, chunk=4, scheduler="threads")
+    assert list(direct.variables) == list(copied.variables)
+    for name, var in copied.variables.items():
+        assert direct[name].dims == var.dims, name
+        np.testing.assert_array_equal(direct[name].values, var.values, err_msg=name)

@@ -30,7 +30,7 @@ from ._core import (
     TOP_LEVEL,
     ResolvedScene,
 )
-from ._resolve import plugin_message
+from ._resolve import plugin_message, with_spectrum
 from ._scene import Scene, load_scene, parse_cli_value, set_value
 
 __all__ = [
@@ -53,4 +53,5 @@ __all__ = [
     "plugin_message",
     "set_value",
     "sweep_values",
+    "with_spectrum",
 ]

@@ -7,6 +7,7 @@ provenance records (:attr:`ResolvedScene.labels`, :attr:`ResolvedScene.plugin_re
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from collections.abc import Mapping
@@ -19,6 +20,7 @@ from ..checks import calling, check_spectrum, plugin_label
 from ..errors import SceneError
 from ..plugins import ParamSpec, Plugin, PluginError, Registry
 from ._convert import (
+    convert_param,
     convert_params,
     jsonable,
     loads,
@@ -35,13 +37,18 @@ from ._core import (
 )
 from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
 
-__all__ = ["plugin_message", "resolve_scene"]
+__all__ = ["plugin_message", "resolve_scene", "with_spectrum"]
 
 
 def _plugin(
-    section: str, raw: Mapping[str, Any] | None, registry: Registry, base: Path | None = None
+    section: str,
+    raw: Mapping[str, Any] | None,
+    registry: Registry,
+    base: Path | None = None,
+    memo: dict[Any, Any] | None = None,
 ) -> tuple[Plugin, str, dict[str, Any]]:
-    """The plugin instance of a scene section, its name and its converted parameters."""
+    """The plugin instance of a scene section, its name and its converted parameters
+    (``memo``: values converted before, by parameter, type and value; see :func:`_convert`)."""
     group = PLUGIN_SECTIONS[section]
     raw = dict(raw or {})
     model = raw.pop("model", DEFAULT_MODEL.get(section))
@@ -56,7 +63,7 @@ def _plugin(
         raise SceneError(f"{section}.model: {exc}") from None
     except TypeError as exc:
         raise SceneError(f"{section}.model: {exc}") from None
-    params = convert_params(cls.parameters, raw, section)
+    params = _convert(cls.parameters, raw, section, memo)
     params = _absolute_paths(cls.parameters, params, base)
     try:
         inst = cls(**params)
@@ -64,6 +71,36 @@ def _plugin(
         raise SceneError(plugin_message(section, cls, exc)) from None
     name = model if isinstance(model, str) else registry.name_of(group, cls)[0]
     return inst, name, params
+
+
+def _convert(
+    specs: Mapping[str, ParamSpec],
+    raw: Mapping[str, Any],
+    section: str,
+    memo: dict[Any, Any] | None,
+) -> dict[str, Any]:
+    """:func:`convert_params`, each hashable value converted once per ``memo`` (a sweep over
+    one spectrum parameter converts the others once: the same values, the same results)."""
+    if (
+        memo is None
+        or not set(raw) <= set(specs)
+        or any(s.required and n not in raw for n, s in specs.items())
+    ):
+        return convert_params(specs, raw, section)  # its messages
+    out: dict[str, Any] = {}
+    for name, spec in specs.items():
+        if name not in raw:
+            out[name] = spec.default
+            continue
+        value = raw[name]
+        if type(value) not in (str, float, int, bool):  # a list, a Quantity: each time
+            out[name] = convert_param(spec, value, f"{section}.{name}")
+            continue
+        key = (section, name, type(value), value)
+        if key not in memo:
+            memo[key] = convert_param(spec, value, f"{section}.{name}")
+        out[name] = memo[key]
+    return out
 
 
 def plugin_message(section: str, cls: Any, exc: BaseException) -> str:
@@ -317,16 +354,7 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
     labels: dict[str, Any] = {
         s: plugin_label(s, plugins[s], registry, names[s]) for s in PLUGIN_SECTIONS
     }
-    psd = _build_spectrum(plugins["spectrum"], labels["spectrum"])
-    archived = getattr(plugins["spectrum"], "archived_params", None)
-    if callable(archived):  # file-based spectra: the table itself goes into the archive
-        spec_cls = type(plugins["spectrum"])
-        resolved["spectrum"] = {
-            "model": names["spectrum"],
-            **jsonable(archived(psd), spec_cls.parameters),
-        }
-    zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
-    _check_power(psd, zeta)
+    psd, zeta = _spectrum_and_grid(plugins["spectrum"], labels["spectrum"], out, resolved, names)
 
     analyses = _analyses(data.get("analyses", {}), plugins, names, registry)
     resolved["analyses"] = {}
@@ -375,4 +403,63 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         geometry=None if body is None else body.geometry,
         force=None if body is None else body.force,
         force_scalar=body is not None and body.scalar,
+    )
+
+
+def _spectrum_and_grid(
+    spectrum: Plugin,
+    label: Any,
+    out: Mapping[str, Any],
+    resolved: dict[str, Any],
+    names: Mapping[str, str],
+) -> tuple[Any, np.ndarray]:
+    """The built and checked spectrum and the output grid on it (a file-based spectrum's
+    table replaces ``resolved["spectrum"]``)."""
+    psd = _build_spectrum(spectrum, label)
+    archived = getattr(spectrum, "archived_params", None)
+    if callable(archived):  # file-based spectra: the table itself goes into the archive
+        resolved["spectrum"] = {
+            "model": names["spectrum"],
+            **jsonable(archived(psd), type(spectrum).parameters),
+        }
+    zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
+    _check_power(psd, zeta)
+    return psd, zeta
+
+
+def with_spectrum(
+    rs: ResolvedScene, scene: Any, registry: Registry, memo: dict[Any, Any] | None = None
+) -> ResolvedScene:
+    """``scene`` resolved as :func:`resolve_scene` would, when it differs from the scene of
+    ``rs`` (resolved with the same registry) only in its ``[spectrum]`` section: only the
+    spectrum, its checks and the output grid are made again; the other sections' plugins,
+    conversions and checks are those of ``rs`` (a sweep over spectrum parameters). ``memo``
+    (a dict kept between the calls of one sweep) converts each spectrum value once."""
+    data = scene.data
+    base = Path(scene.source).parent if scene.source else None
+    inst, name, params = _plugin("spectrum", data.get("spectrum"), registry, base, memo)
+    names = {**rs.plugin_names, "spectrum": name}
+    labels = {**rs.labels, "spectrum": plugin_label("spectrum", inst, registry, name)}
+    resolved = {
+        **rs.resolved,
+        "spectrum": {"model": name, **jsonable(params, type(inst).parameters)},
+    }
+    out = convert_params(CORE["output"], data.get("output", {}), "output")
+    psd, zeta = _spectrum_and_grid(inst, labels["spectrum"], out, resolved, names)
+    resolved["output"] = {**rs.resolved["output"], "zeta": np.asarray(zeta, float).tolist()}
+    return dataclasses.replace(
+        rs,
+        scene=scene,
+        spectrum=inst,
+        psd=psd,
+        zeta=zeta,
+        plugin_names=names,
+        resolved=resolved,
+        labels=labels,
+        plugin_records=_records(
+            {"spectrum": inst, "coefficient": rs.coefficient, "boundary": rs.boundary},
+            names,
+            rs.analyses,
+            registry,
+        ),
     )

@@ -198,7 +198,13 @@ def pressure_power(units: Any) -> int:
     return sum(int(m.group(1) or 1) for m in _PA.finditer(units))
 
 
-def batched_block(block: Any, points: SweepPoints, names: list[str], template: xr.Dataset) -> Any:
+def batched_block(
+    block: Any,
+    points: SweepPoints,
+    names: list[str],
+    template: xr.Dataset,
+    sink: Any = None,
+) -> Any:
     """The rows of every variable of a block (point-shaped as ``template``), or ``None``.
 
     Returns ``(rows, solver)``: name -> array ``(block.size, *template[name].shape)`` and the
@@ -216,12 +222,19 @@ def batched_block(block: Any, points: SweepPoints, names: list[str], template: x
     if not all(scaled_ok(rs) for rs in points.distinct()):
         return None
     subs = _sub_points(block, points)
-    got = _stacked_subs(subs, names, template)
-    rows = {n: np.empty((block.size, *template[n].shape), template[n].dtype) for n in names}
+    rows = {n: _rows(sink, n, block, template) for n in names}
+    where = np.concatenate([w for w, _, _ in subs])
+    identity = bool(np.all(where == np.arange(where.size)))  # material dims innermost
+    into = {n: r for n, r in rows.items() if identity and r is not None}
+    got = _stacked_subs(subs, names, template, into)
+    rows = {
+        n: np.empty((block.size, *template[n].shape), template[n].dtype) if r is None else r
+        for n, r in rows.items()
+    }
     if got is not None:
-        where = np.concatenate([w for w, _, _ in subs])
-        identity = bool(np.all(where == np.arange(where.size)))  # material dims innermost
         for n in names:
+            if got[0][n] is rows[n]:  # written in place (the sink's rows)
+                continue
             if identity:  # the rows as computed where they are C-ordered arrays of the dtype
                 rows[n] = np.require(got[0][n], rows[n].dtype, ["C", "W"])
             else:
@@ -236,6 +249,15 @@ def batched_block(block: Any, points: SweepPoints, names: list[str], template: x
             rows[n][where] = one[0][n]
         solver.append(one[1])
     return rows, solver
+
+
+def _rows(sink: Any, name: str, block: Any, template: xr.Dataset) -> np.ndarray | None:
+    """The sweep's own rows of ``name`` for ``block`` where the caller gives a sink (an
+    in-memory serial sweep's :class:`~.filling.Filling`), else ``None``."""
+    if sink is None:
+        return None
+    var = template.variables[name]
+    return sink.rows(name, block, tuple(var.shape), var.dtype)
 
 
 def _sub_points(block: Any, points: SweepPoints) -> list[tuple[np.ndarray, Any, np.ndarray]]:
@@ -283,9 +305,12 @@ def _similar_loads(rs: Any, estar: np.ndarray) -> tuple[Any, np.ndarray]:
     return dataclasses.replace(rs, p0=unique, p0_scalar=False), inverse.ravel()
 
 
-def _stacked_subs(subs: list[Any], names: list[str], template: xr.Dataset) -> Any:
+def _stacked_subs(
+    subs: list[Any], names: list[str], template: xr.Dataset, into: dict[str, np.ndarray]
+) -> Any:
     """The rows of every sub-point (concatenated in the order of ``subs``) from one stacked
-    run and its solver record, or ``None`` (solve them one by one)."""
+    run and its solver record, or ``None`` (solve them one by one); ``into``: arrays some
+    rows are written in (see :func:`_scaled_rows`)."""
     if len(subs) < 2:
         return None
     refs = [_similar_loads(rs, estar) for _, rs, estar in subs]
@@ -308,7 +333,7 @@ def _stacked_subs(subs: list[Any], names: list[str], template: xr.Dataset) -> An
             return dims[1:], arr, template.variables[n].attrs.get("units")
         return dims, arr[None], template.variables[n].attrs.get("units")
 
-    rows = _scaled_rows(var, estar, ref, inverse, names, template)
+    rows = _scaled_rows(var, estar, ref, inverse, names, template, into)
     return None if rows is None else (rows, {"stacked_points": len(subs), "method": "stacked"})
 
 
@@ -346,6 +371,7 @@ def _scaled_rows(
     inverse: np.ndarray,
     names: list[str],
     template: xr.Dataset,
+    into: dict[str, np.ndarray] | None = None,
 ) -> dict[str, np.ndarray] | None:
     """Rows of the P sub-points' M points each (``(P * M, *point shape)``, sub-point major) of
     a run at the equivalent loads: each point's loads back in its order (``inverse[s]``: index
@@ -353,7 +379,9 @@ def _scaled_rows(
 
     ``var(name) -> (dims, values, units)``: ``values`` with a leading sub-point axis (of length
     P, or 1 where the run shares the variable between its points), ``dims`` without it.
-    ``estar``: (P, M) [Pa]; ``ref``: (P,) [Pa]; ``inverse``: (P, M * n_loads).
+    ``estar``: (P, M) [Pa]; ``ref``: (P,) [Pa]; ``inverse``: (P, M * n_loads). ``into``:
+    name -> a C-ordered ``(P * M, *point shape)`` array the rows are written into (the same
+    values, one pass fewer), returned as that variable's rows.
     """
     P, M = estar.shape
     scale = (estar / ref[:, None]).ravel()
@@ -364,7 +392,10 @@ def _scaled_rows(
         dims, arr, units = var(n)
         if dims != template.variables[n].dims:
             return None
-        if "p0" in dims:
+        dest = (into or {}).get(n)
+        if dest is not None and _rows_into(dest, arr, dims, inverse, same):
+            arr, fresh = dest, True
+        elif "p0" in dims:
             axis = dims.index("p0")
             moved = np.moveaxis(arr, axis + 1, 1)  # (P or 1, run loads, rest)
             if moved.shape[0] == 1:
@@ -388,3 +419,31 @@ def _scaled_rows(
                 arr = arr * factor
         out[n] = arr
     return out
+
+
+def _rows_into(
+    dest: np.ndarray, arr: np.ndarray, dims: tuple[str, ...], inverse: np.ndarray, same: bool
+) -> bool:
+    """:func:`_scaled_rows`' unscaled rows of one variable written into ``dest`` (``(P * M,
+    *point shape)``, C order) by one gather or one broadcast copy; ``False`` (nothing written)
+    where the layout needs the general path (``p0`` not the first point dimension, sub-points
+    at different equivalent loads, another dtype)."""
+    if dest.dtype != arr.dtype or not dest.flags.c_contiguous:
+        return False
+    P = inverse.shape[0]
+    if "p0" not in dims:
+        if arr.shape[0] not in (1, P):
+            return False
+        rest = arr.shape[1:]
+        np.copyto(dest.reshape(P, -1, *rest), arr[:, None])  # broadcast over each P's M rows
+        return True
+    if dims.index("p0") != 0:
+        return False
+    rest = arr.shape[2:]
+    if arr.shape[0] == 1:  # one run shared by every sub-point: one gather of all rows
+        np.take(arr[0], inverse.ravel(), axis=0, out=dest.reshape(-1, *rest), mode="clip")
+        return True
+    if not same:
+        return False
+    np.take(arr, inverse[0], axis=1, out=dest.reshape(P, -1, *rest), mode="clip")
+    return True

@@ -136,12 +136,14 @@ def run_block(
         The run identity stored in the part (see :func:`write_block_part`).
     shared : dict, optional
         Kept across the blocks of one serial in-memory sweep: the stacked path's template
-        point (see :func:`~xpersson.sweep.fast.stacked_block`).
+        point (see :func:`~xpersson.sweep.fast.stacked_block`) and ``"sink"``, the sweep's
+        :class:`~.filling.Filling` (batched rows written into its arrays).
     """
     failure = None
     try:
         if isinstance(points, SweepPoints):
-            fast = similar_block(block, points, part, part_attrs)
+            sink = None if part is not None or shared is None else shared.get("sink")
+            fast = similar_block(block, points, part, part_attrs, sink)
         else:
             fast = stacked_block(block, points, part, part_attrs, shared)
     except FastPathFailed as exc:

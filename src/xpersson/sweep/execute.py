@@ -26,11 +26,11 @@ from ..errors import XperssonWarning
 from ..memory import check_study
 from ..pipeline import default_pressure_grid, progress_bar
 from ..plugins import get_registry
-from ..scene import SceneError
+from ..scene import SceneError, with_spectrum
 from ._fastfail import warn_failures
 from ._quiet import silenced
 from ._workers import check_workers, ran_on
-from .batched import SweepPoints, batch_capable, resolved_region
+from .batched import SweepPoints, batch_capable, material_dims, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
 from .combine import finish
 from .derived import derived_region
@@ -64,12 +64,39 @@ def _resolve_index(plan: SweepPlan, index: tuple[int, ...], registry: Any) -> An
         raise SceneError(f"sweep point {_where(plan, index)}: {exc}") from None
 
 
+def _spectrum_resolver(plan: SweepPlan, registry: Any) -> Callable[[tuple[int, ...]], Any]:
+    """``resolve(index)`` for the sub-points of a batched region: when every swept parameter
+    outside the material is a spectrum parameter, the first point is resolved in full and
+    every later one rebuilds only its spectrum (:func:`~xpersson.scene._resolve.with_spectrum`:
+    the same checks of the same inputs, the same result)."""
+    material = material_dims(plan.groups)
+    spectral = all(
+        p.path.startswith("spectrum.")
+        for g, m in zip(plan.groups, material, strict=True)
+        if not m
+        for p in g
+    )
+    first: list[Any] = []
+    memo: dict[Any, Any] = {}  # spectrum values converted once for the whole sweep
+
+    def resolve(index: tuple[int, ...]) -> Any:
+        if not (spectral and first):
+            first.append(_resolve_index(plan, index, registry))
+            return first[-1]
+        try:
+            return with_spectrum(first[0], plan.point_scene(index), registry, memo)
+        except SceneError as exc:
+            raise SceneError(f"sweep point {_where(plan, index)}: {exc}") from None
+
+    return resolve
+
+
 def _region(plan: SweepPlan, start: tuple[int, ...], stop: tuple[int, ...], registry: Any) -> Any:
     """The resolved points of a region: one resolve per non-material combination
     (:func:`.batched.resolved_region`), one per region where the swept parameters are declared
     stackable (``fast_paths.stacked_params``, :func:`.derived.derived_region`), or ``None``
     (resolve every point)."""
-    region = resolved_region(plan.groups, start, stop, lambda i: _resolve_index(plan, i, registry))
+    region = resolved_region(plan.groups, start, stop, _spectrum_resolver(plan, registry))
     if region is not None:
         return region
     return derived_region(
@@ -367,7 +394,9 @@ def _execute(
     out = []
     if client is None and scheduler != "threads":
         with silenced():
-            shared: dict[str, Any] = {}  # the stacked path's template, reused across blocks
+            # the stacked path's template, reused across blocks; the fill batched rows go to
+            fill = getattr(take, "__self__", None)
+            shared: dict[str, Any] = {"sink": fill if isinstance(fill, Filling) else None}
             for b, pts, part in tasks:
                 out.append(run_block(b, pts, registry, part, tick, attrs, shared))
                 take(out[-1])

@@ -78,8 +78,10 @@ def similar_block(
     points: SweepPoints,
     part: str | None,
     part_attrs: dict[str, Any] | None = None,
+    sink: Any = None,
 ) -> BlockResult | None:
-    """The block solved as batches of loads (:mod:`.batched`), or ``None`` (point by point).
+    """The block solved as batches of loads (:mod:`.batched`), or ``None`` (point by point);
+    ``sink``: the in-memory sweep's fill, whose arrays the rows are written into.
 
     Raises
     ------
@@ -91,7 +93,7 @@ def similar_block(
     template = _template(points[0], block)
     if template is None:
         return None
-    got = batched_block(block, points, _own_names(template, block), template)
+    got = batched_block(block, points, _own_names(template, block), template, sink)
     if got is None:
         return None
     rows, solver = got

@@ -13,6 +13,7 @@ joins the Datasets with :func:`xarray.combine_nested` (:func:`.combine.combine`)
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -49,6 +50,32 @@ class Filling:
         self._order: list[str] = []
         self._coords: set[str] = set()
         self.broken = False
+        #: name -> an array of the sweep's shape (then the point's) that batched blocks write
+        #: their rows into (:meth:`rows`); adopted by the fill, whose copy is then skipped
+        self.sink: dict[str, np.ndarray] = {}
+
+    def rows(self, name: str, block: Any, point_shape: tuple[int, ...], dtype: Any) -> Any:
+        """A writable ``(block.size, *point_shape)`` view of the sweep's array of ``name`` for
+        a block's rows (``None`` where the block's region of it is not one contiguous run):
+        rows written there are in place, :meth:`add` does not copy them again."""
+        if self._vars:  # the fill's own arrays: written where their layout is the sweep's
+            entry = self._vars.get(name)
+            if entry is None or entry[0] != "swept" or entry[4] != list(range(len(self.shape))):
+                return None
+            full = entry[2]
+            if full.dtype != dtype or math.prod(full.shape[len(self.shape) :]) != math.prod(
+                point_shape
+            ):
+                return None
+        else:
+            full = self.sink.get(name)
+            if full is None or full.dtype != dtype or full.shape[len(self.shape) :] != point_shape:
+                full = self.sink[name] = np.empty(self.shape + tuple(point_shape), dtype)
+        sl = tuple(slice(a, b) for a, b in zip(block.start, block.stop, strict=True))
+        region = full[sl]
+        if not region.flags.c_contiguous:
+            return None
+        return region.reshape((block.size, *point_shape))
 
     def add(self, res: BlockResult) -> None:
         """Copy a block's Dataset in and drop it from ``res`` (nothing when it has none)."""
@@ -66,7 +93,9 @@ class Filling:
             if entry[0] == "swept":
                 _, _, full, filled, axes = entry
                 sub = tuple(sl[a] for a in axes)
-                full[sub] = ds.variables[name].values
+                src, dst = ds.variables[name].values, full[sub]
+                if not _same_memory(src, dst):  # rows written in place (:meth:`rows`): kept
+                    dst[...] = src
                 filled[sub] = True
         if self.template is None or res.block.number < self._number:
             self.template, self._number = _point_shaped(ds, res.block), res.block.number
@@ -84,7 +113,18 @@ class Filling:
             if tuple(var.dims[:k]) != tuple(swept) or swept != [d for d in self.dims if d in swept]:
                 return False
             axes = [self.dims.index(d) for d in swept]
-            full = np.empty(tuple(self.shape[a] for a in axes) + var.shape[k:], dtype=var.dtype)
+            shape = tuple(self.shape[a] for a in axes) + var.shape[k:]
+            full = self.sink.get(name)
+            whole = axes == list(range(len(self.shape)))  # every sweep dim, in order
+            if (
+                whole
+                and full is not None
+                and full.dtype == var.dtype
+                and full.size == math.prod(shape)
+            ):
+                full = full.reshape(shape)  # the rows batched blocks wrote (a view)
+            else:
+                full = np.empty(shape, dtype=var.dtype)
             filled = np.zeros(full.shape[:k], dtype=bool)
             self._vars[name] = ("swept", var, full, filled, axes)
         self._order = list(ds.data_vars)
@@ -145,3 +185,14 @@ class Filling:
             for name, entry in self._vars.items()
         }
         return self._dataset(variables, self.template)
+
+
+def _same_memory(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether two arrays are the same values in memory (same start, shape and strides)."""
+    a, b = np.asarray(a), np.asarray(b)
+    return (
+        a.shape == b.shape
+        and a.dtype == b.dtype
+        and a.strides == b.strides
+        and a.__array_interface__["data"][0] == b.__array_interface__["data"][0]
+    )
