@@ -267,6 +267,7 @@ def test_single_load_sweep_equals_individual_solves(chunk, batched):
                     material={"E": E},
                     load={"p0": "1e5 Pa"},
                     analyses={"contact_area": {}},
+                    output={"model_error": False},  # a sweep does not carry it (yet)
                 )
             )
             got = swept.sel(H=H, E=float(E.split()[0]) * 1e6)
