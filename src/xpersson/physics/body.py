@@ -136,24 +136,32 @@ class Separation:
         object.__setattr__(self, "_x", x)
         ln_area = np.log(np.maximum(self.area, 1e-300))
         object.__setattr__(self, "_ln_area", PchipInterpolator(x, ln_area))
+        # the Hermite cubics in powers of (s - x_i), with the lines below and above the grid as
+        # the first and last pieces: piece j holds s in (x_{j-1}, x_j]
+        h = np.diff(x)
+        y0, y1, m0, m1 = self.u[:-1], self.u[1:], self.dudlnp[:-1], self.dudlnp[1:]
+        c2 = (3.0 * (y1 - y0) / h - 2.0 * m0 - m1) / h
+        c3 = (m0 + m1 - 2.0 * (y1 - y0) / h) / (h * h)
+        zero = np.zeros(1)
+        coef = np.stack(
+            [
+                np.concatenate([self.u[:1], y0, self.u[-1:]]),
+                np.concatenate([self.dudlnp[:1], m0, self.dudlnp[-1:]]),
+                np.concatenate([zero, c2, zero]),
+                np.concatenate([zero, c3, zero]),
+            ]
+        )
+        object.__setattr__(self, "_coef", coef)
+        object.__setattr__(self, "_origin", np.concatenate([x[:1], x[:-1], x[-1:]]))
 
     def __call__(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """``(u, du/ds)`` at ``s = ln p``."""
+        """``(u, du/ds)`` at ``s = ln p`` (finite)."""
         x = self._x  # type: ignore[attr-defined]
-        i = np.clip(np.searchsorted(x, s) - 1, 0, x.size - 2)
-        h = x[i + 1] - x[i]
-        t = np.clip((s - x[i]) / h, 0.0, 1.0)
-        y0, y1, m0, m1 = self.u[i], self.u[i + 1], self.dudlnp[i] * h, self.dudlnp[i + 1] * h
-        t2, t3 = t * t, t * t * t
-        u = (2 * t3 - 3 * t2 + 1) * y0 + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * y1
-        u = u + (t3 - t2) * m1
-        du = ((6 * t2 - 6 * t) * (y0 - y1) + (3 * t2 - 4 * t + 1) * m0 + (3 * t2 - 2 * t) * m1) / h
-        lo, hi = s < x[0], s > x[-1]
-        u = np.where(lo, self.u[0] + self.dudlnp[0] * (s - x[0]), u)
-        du = np.where(lo, self.dudlnp[0], du)
-        u = np.where(hi, self.u[-1] + self.dudlnp[-1] * (s - x[-1]), u)
-        du = np.where(hi, self.dudlnp[-1], du)
-        return u, du
+        j = np.searchsorted(x, s)
+        c0, c1, c2, c3 = self._coef[:, j]  # type: ignore[attr-defined]
+        t = s - self._origin[j]  # type: ignore[attr-defined]
+        u = ((c3 * t + c2) * t + c1) * t + c0
+        return u, (3.0 * c3 * t + 2.0 * c2) * t + c1
 
     def area_fraction(self, p: FloatArray) -> FloatArray:
         """``A/A0`` [1] at nominal pressures ``p`` [Pa] (0 where ``p = 0``)."""
@@ -197,16 +205,20 @@ class BodySolution:
     iterations: int
 
 
-def force_radius(sol: BodySolution, fraction: float, symmetry: str) -> float:
-    """Radius [m] inside which ``fraction`` of the load acts (linear in the cell's area)."""
-    cum = np.concatenate([[0.0], np.cumsum(sol.p * sol.cell)])
-    target = fraction * cum[-1]
-    k = int(np.clip(np.searchsorted(cum, target) - 1, 0, sol.p.size - 1))
-    t = (target - cum[k]) / max(cum[k + 1] - cum[k], 1e-300)
-    e0, e1 = sol.edges[k], sol.edges[k + 1]
+def force_radius(sols: list[BodySolution], fraction: float, symmetry: str) -> FloatArray:
+    """Radius [m] inside which ``fraction`` of the load acts (linear in the cell's area), one
+    per solution (solutions of one grid size)."""
+    cum = np.cumsum([sol.p * sol.cell for sol in sols], axis=1)
+    cum = np.concatenate([np.zeros((cum.shape[0], 1)), cum], axis=1)
+    target = fraction * cum[:, -1]
+    k = np.clip(np.sum(cum < target[:, None], axis=1) - 1, 0, cum.shape[1] - 2)
+    rows = np.arange(cum.shape[0])
+    t = (target - cum[rows, k]) / np.maximum(cum[rows, k + 1] - cum[rows, k], 1e-300)
+    edges = np.array([sol.edges for sol in sols])
+    e0, e1 = edges[rows, k], edges[rows, k + 1]
     if symmetry == "axisymmetric":
-        return float(math.sqrt(e0 * e0 + t * (e1 * e1 - e0 * e0)))
-    return float(e0 + t * (e1 - e0))
+        return np.sqrt(e0 * e0 + t * (e1 * e1 - e0 * e0))
+    return e0 + t * (e1 - e0)
 
 
 def solve_body(

@@ -96,8 +96,10 @@ def _solve_forces(
     outer = np.zeros(loads.size)
     todo = np.arange(loads.size)
     for _ in range(6):  # the coarse pass: where the force acts (wider where it does not fit)
-        for k, sol in zip(todo, run(todo, r_max, _COARSE, hertz(todo)), strict=True):
-            coarse[k], outer[k] = sol, force_radius(sol, 0.9999, sym)
+        sols = run(todo, r_max, _COARSE, hertz(todo))
+        outer[todo] = force_radius(sols, 0.9999, sym)
+        for k, sol in zip(todo, sols, strict=True):
+            coarse[k] = sol
         todo = todo[outer[todo] >= 0.9 * r_max[todo]]
         if todo.size == 0:
             break
@@ -108,14 +110,16 @@ def _solve_forces(
     full = run(every, r_max, CELLS, _interpolated(half))
     err = np.zeros(loads.size)
     for fn in (lambda s: force_radius(s, FORCE_FRACTION, sym), lambda s: _real_area(s, sep)):
-        x1, x2 = np.array([fn(s) for s in half]), np.array([fn(s) for s in full])
+        x1, x2 = fn(half), fn(full)
         err = np.maximum(err, np.abs(x2 - x1) / np.maximum(np.abs(x2), 1e-300))
     return full, err
 
 
-def _real_area(sol: BodySolution, sep: Separation) -> float:
-    """``int A/A0(p) dA`` [m^2] over the cells (per length of a line contact [m])."""
-    return float(np.dot(sep.area_fraction(sol.p), sol.cell))
+def _real_area(sols: list[BodySolution], sep: Separation) -> np.ndarray:
+    """``int A/A0(p) dA`` [m^2] over the cells (per length of a line contact [m]), one per
+    solution (of one grid size)."""
+    p = np.array([sol.p for sol in sols])
+    return np.sum(sep.area_fraction(p) * np.array([sol.cell for sol in sols]), axis=1)
 
 
 def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
@@ -127,12 +131,10 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     loads = np.array([geo.solver_load(float(f)) for f in rs.force])
     sols, errs = _solve_forces(rs, sep, loads)
     rows = []
-    for load, sol, err in zip(loads, sols, errs, strict=True):
+    for load, sol in zip(loads, sols, strict=True):
         a, delta_h, _ = geo.reference(float(load), rs.E_star)
         rows.append(
             (
-                _real_area(sol, sep) * length,
-                force_radius(sol, FORCE_FRACTION, geo.symmetry),
                 sol.delta,
                 float(sol.p.max()),
                 geo.roughness_parameter(rs.psd.h_rms(), float(load), rs.E_star),
@@ -140,13 +142,13 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
                 a,
                 delta_h,
                 sol.residual,
-                err,
             )
         )
-    cols = np.array(rows, dtype=float).T
+    area, radius = _real_area(sols, sep) * length, force_radius(sols, FORCE_FRACTION, geo.symmetry)
+    cols = np.vstack([area, radius, np.array(rows, dtype=float).T, errs])
     r_out = np.linspace(0.0, max(s.edges[-1] for s in sols), _R_POINTS)
     p_r = np.array([np.interp(r_out, s.r, s.p, right=0.0) for s in sols])
-    u_r = np.array([sep(np.log(np.maximum(p, 1e-300)))[0] for p in p_r])
+    u_r = sep(np.log(np.maximum(p_r, 1e-300)))[0]
     values = dict(zip(_SCALARS, cols, strict=True))
     values |= {
         "nominal_pressure": p_r,
