@@ -48,11 +48,14 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     describes them.
     """
     solved = solved_curve(ctx, ds, "closure", per_decade=_PER_DECADE)
-    sc = physics.SolvedContact(rs.psd, rs.E_star, solved.p0, *solved.curve)
     p = np.asarray(solved.p0, float)
     area = solved.contact[:, -1]
     keep = slice(max(0, min(int(np.searchsorted(area, ASYMPTOTE)), p.size - 4)), None)
-    return Separation(p[keep], sc.mean_gap()[keep], (sc.mean_gap_slope() * p)[keep], area[keep])
+    # the separation of the kept loads only (a load's u(p) and slope use its own row alone)
+    zeta, *rows = solved.curve
+    rows = [None if r is None else np.broadcast_to(r, (p.size, zeta.size))[keep] for r in rows]
+    sc = physics.SolvedContact(rs.psd, rs.E_star, p[keep], zeta, *rows)
+    return Separation(p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
 
 
 def _interpolated(sols: list[BodySolution]) -> Any:
