@@ -31,7 +31,7 @@ FORCE_FRACTION = 0.99
 """The nominal contact radius holds this fraction of the force [1]."""
 ASYMPTOTE = 1e-3
 """Contact area fraction [1] below which the separation follows Persson's asymptotic law."""
-CELLS = 128
+CELLS = 96
 """Cells of the radial grid of the result (the error estimate compares with half as many)."""
 _COARSE = 32  # cells of the pass that finds the extent of the nominal contact
 _R_POINTS = 201
