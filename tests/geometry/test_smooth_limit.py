@@ -39,7 +39,7 @@ def test_sphere_is_hertz_over_three_decades_of_force() -> None:
     np.testing.assert_allclose(ds["peak_pressure"], 3 * F / (2 * np.pi * a * a), rtol=0.01)
     np.testing.assert_allclose(ds["normal_stiffness"], 2 * E_star * a, rtol=0.01)
     # a smooth contact is full: the real area is the Hertz disk, to the grid's resolution of
-    # the edge (a cell is 0.75 % of the radius; the error estimate says so)
+    # the edge (a cell is 1.25 % of the radius; the error estimate says so)
     np.testing.assert_allclose(ds["real_contact_area"], np.pi * a * a, rtol=0.03)
     assert 1e-5 < float(ds["body_grid_error"].max()) < 0.03
     assert float(ds["body_residual"].max()) < 1e-9

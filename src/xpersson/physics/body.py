@@ -136,24 +136,32 @@ class Separation:
         object.__setattr__(self, "_x", x)
         ln_area = np.log(np.maximum(self.area, 1e-300))
         object.__setattr__(self, "_ln_area", PchipInterpolator(x, ln_area))
+        # the Hermite cubics in powers of (s - x_i), with the lines below and above the grid as
+        # the first and last pieces: piece j holds s in (x_{j-1}, x_j]
+        h = np.diff(x)
+        y0, y1, m0, m1 = self.u[:-1], self.u[1:], self.dudlnp[:-1], self.dudlnp[1:]
+        c2 = (3.0 * (y1 - y0) / h - 2.0 * m0 - m1) / h
+        c3 = (m0 + m1 - 2.0 * (y1 - y0) / h) / (h * h)
+        zero = np.zeros(1)
+        coef = np.stack(
+            [
+                np.concatenate([self.u[:1], y0, self.u[-1:]]),
+                np.concatenate([self.dudlnp[:1], m0, self.dudlnp[-1:]]),
+                np.concatenate([zero, c2, zero]),
+                np.concatenate([zero, c3, zero]),
+            ]
+        )
+        object.__setattr__(self, "_coef", coef)
+        object.__setattr__(self, "_origin", np.concatenate([x[:1], x[:-1], x[-1:]]))
 
     def __call__(self, s: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """``(u, du/ds)`` at ``s = ln p``."""
+        """``(u, du/ds)`` at ``s = ln p`` (finite)."""
         x = self._x  # type: ignore[attr-defined]
-        i = np.clip(np.searchsorted(x, s) - 1, 0, x.size - 2)
-        h = x[i + 1] - x[i]
-        t = np.clip((s - x[i]) / h, 0.0, 1.0)
-        y0, y1, m0, m1 = self.u[i], self.u[i + 1], self.dudlnp[i] * h, self.dudlnp[i + 1] * h
-        t2, t3 = t * t, t * t * t
-        u = (2 * t3 - 3 * t2 + 1) * y0 + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * y1
-        u = u + (t3 - t2) * m1
-        du = ((6 * t2 - 6 * t) * (y0 - y1) + (3 * t2 - 4 * t + 1) * m0 + (3 * t2 - 2 * t) * m1) / h
-        lo, hi = s < x[0], s > x[-1]
-        u = np.where(lo, self.u[0] + self.dudlnp[0] * (s - x[0]), u)
-        du = np.where(lo, self.dudlnp[0], du)
-        u = np.where(hi, self.u[-1] + self.dudlnp[-1] * (s - x[-1]), u)
-        du = np.where(hi, self.dudlnp[-1], du)
-        return u, du
+        j = np.searchsorted(x, s)
+        c0, c1, c2, c3 = self._coef[:, j]  # type: ignore[attr-defined]
+        t = s - self._origin[j]  # type: ignore[attr-defined]
+        u = ((c3 * t + c2) * t + c1) * t + c0
+        return u, (3.0 * c3 * t + 2.0 * c2) * t + c1
 
     def area_fraction(self, p: FloatArray) -> FloatArray:
         """``A/A0`` [1] at nominal pressures ``p`` [Pa] (0 where ``p = 0``)."""
@@ -197,16 +205,20 @@ class BodySolution:
     iterations: int
 
 
-def force_radius(sol: BodySolution, fraction: float, symmetry: str) -> float:
-    """Radius [m] inside which ``fraction`` of the load acts (linear in the cell's area)."""
-    cum = np.concatenate([[0.0], np.cumsum(sol.p * sol.cell)])
-    target = fraction * cum[-1]
-    k = int(np.clip(np.searchsorted(cum, target) - 1, 0, sol.p.size - 1))
-    t = (target - cum[k]) / max(cum[k + 1] - cum[k], 1e-300)
-    e0, e1 = sol.edges[k], sol.edges[k + 1]
+def force_radius(sols: list[BodySolution], fraction: float, symmetry: str) -> FloatArray:
+    """Radius [m] inside which ``fraction`` of the load acts (linear in the cell's area), one
+    per solution (solutions of one grid size)."""
+    cum = np.cumsum([sol.p * sol.cell for sol in sols], axis=1)
+    cum = np.concatenate([np.zeros((cum.shape[0], 1)), cum], axis=1)
+    target = fraction * cum[:, -1]
+    k = np.clip(np.sum(cum < target[:, None], axis=1) - 1, 0, cum.shape[1] - 2)
+    rows = np.arange(cum.shape[0])
+    t = (target - cum[rows, k]) / np.maximum(cum[rows, k + 1] - cum[rows, k], 1e-300)
+    edges = np.array([sol.edges for sol in sols])
+    e0, e1 = edges[rows, k], edges[rows, k + 1]
     if symmetry == "axisymmetric":
-        return float(math.sqrt(e0 * e0 + t * (e1 * e1 - e0 * e0)))
-    return float(e0 + t * (e1 - e0))
+        return np.sqrt(e0 * e0 + t * (e1 * e1 - e0 * e0))
+    return e0 + t * (e1 - e0)
 
 
 def solve_body(
@@ -282,12 +294,9 @@ def solve_body(
     p = np.exp(s)
     delta = np.sum((sys.hr + sys.Kp(p, slice(None)) - sep(s)[0]) * sys.weights * p, axis=1)
     with np.errstate(over="ignore", invalid="ignore"):  # a rejected trial step may overflow
-        s, delta, g, du, iters = _newton(sys, s, delta, tol, max_iter, s_max)
+        s, delta, g, dd, iters = _newton(sys, s, delta, tol, max_iter, s_max)
     p = np.exp(s)
-    Js = -sys.K(slice(None)) * p[:, None, :]
-    Js[:, np.arange(n), np.arange(n)] += du
-    dsdd = np.linalg.solve(Js, -np.ones((m, n, 1)))[..., 0]
-    stiffness = np.sum(cell * p * dsdd, axis=1)
+    stiffness = loads / dd  # dL/d delta: d delta per relative load dL/L, at the last iterate
     residual = np.max(np.abs(g[:, :n]), axis=1)
     return [
         BodySolution(
@@ -313,13 +322,6 @@ class _System:
         self.weights = np.empty(0)
         self.sep: Separation | None = None
 
-    def K(self, k: Any) -> FloatArray:
-        """Influence matrices [m/Pa] of bodies ``k``, ``(len(k), n, n)``."""
-        out = self.K0[None, :, :] * self.c[k][:, None, None]
-        if self.shift is not None:
-            out = out + self.shift[k][:, None, None]
-        return out
-
     def Kp(self, p: FloatArray, k: Any) -> FloatArray:
         """Displacements [m] of pressures ``p`` of bodies ``k``."""
         out = (p @ self.K0.T) * self.c[k][:, None]
@@ -336,15 +338,20 @@ class _System:
         return np.concatenate([g, np.sum(self.weights[k] * p, axis=1)[:, None] - 1.0], 1), du
 
     def jacobian(self, s: FloatArray, du: FloatArray, k: Any) -> FloatArray:
-        """``d(resid)/d(s, delta)``, ``(len(k), n + 1, n + 1)``."""
+        """``d(resid)/d(s, delta)``, ``(len(k), n + 1, n + 1)`` (built in place: one pass over
+        the ``n x n`` block)."""
         m, n = s.shape
         p = np.exp(s)
-        J = np.zeros((m, n + 1, n + 1))
-        J[:, :n, :n] = -self.K(k) * p[:, None, :]
-        J[:, np.arange(n), np.arange(n)] += du
-        J[:, :n, :n] /= self.scale[k][:, None, None]
-        J[:, :n, n] = 1.0 / self.scale[k][:, None]
+        inv = 1.0 / self.scale[k]
+        J = np.empty((m, n + 1, n + 1))
+        block = J[:, :n, :n]
+        np.multiply(self.K0[None, :, :], (-(self.c[k] * inv)[:, None] * p)[:, None, :], out=block)
+        if self.shift is not None:
+            block -= (self.shift[k] * inv)[:, None, None] * p[:, None, :]
+        J[:, np.arange(n), np.arange(n)] += du * inv[:, None]
+        J[:, :n, n] = inv[:, None]
         J[:, n, :n] = self.weights[k] * p
+        J[:, n, n] = 0.0
         return J
 
 
@@ -352,39 +359,59 @@ def _newton(
     sys: _System, s: FloatArray, delta: FloatArray, tol: float, max_iter: int, s_max: FloatArray
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.int64]]:
     """Newton's method on ``(ln p, delta)`` of every body, with a backtracking line search on
-    ``|g|^2`` per body; converged bodies drop out of the batch."""
+    ``|g|^2`` per body; converged bodies drop out of the batch.
+
+    Each step's factorisation also gives the approach per relative load (the load balance
+    perturbed by 1, the gaps held): ``d delta / (dL/L)`` at the last step's start (its relative
+    change to the converged point is of the order of that step), returned in place of ``du/ds``
+    (the stiffness without another solve).
+    """
     m, n = s.shape
     everyone = np.arange(m)
     g, du = sys.resid(s, delta, everyone)
     iters = np.zeros(m, dtype=np.int64)
-    active = everyone[~_done(g, tol)]
+    dd = np.full(m, np.nan)
+    active = everyone  # one step at least: its factorisation gives the stiffness
     for it in range(1, max_iter + 1):
-        if active.size == 0:
-            return s, delta, g, du, iters
-        step = np.linalg.solve(sys.jacobian(s[active], du[active], active), -g[active][..., None])
-        step = step[..., 0]
-        merit = np.sum(g[active] ** 2, axis=1)
-        lam = np.ones(active.size)
-        todo = np.arange(active.size)  # positions in active still searching
-        while todo.size:
-            k = active[todo]
-            s_new = np.minimum(s[k] + lam[todo, None] * step[todo, :n], s_max[k])
-            d_new = delta[k] + lam[todo] * step[todo, n]
-            g_new, du_new = sys.resid(s_new, d_new, k)
-            trial = np.sum(g_new**2, axis=1)
-            ok = (np.isfinite(trial) & (trial <= (1 - 1e-4 * lam[todo]) * merit[todo])) | (
-                lam[todo] < 1e-6
-            )
-            kk = k[ok]
-            s[kk], delta[kk], g[kk], du[kk] = s_new[ok], d_new[ok], g_new[ok], du_new[ok]
-            lam[todo[~ok]] *= 0.5
-            todo = todo[~ok]
+        rhs = np.zeros((active.size, n + 1, 2))
+        rhs[:, :, 0], rhs[:, n, 1] = -g[active], 1.0
+        sol = np.linalg.solve(sys.jacobian(s[active], du[active], active), rhs)
+        dd[active] = sol[:, n, 1]
+        _line_search(sys, (s, delta, g, du), active, sol[..., 0], s_max)
         iters[active] = it
         active = active[~_done(g[active], tol)]
+        if active.size == 0:
+            return s, delta, g, dd, iters
     raise ArithmeticError(
         f"the nominal pressure did not converge in {max_iter} Newton iterations "
         f"(gap residual {np.max(np.abs(g[:, :n])):.3g} of the approach scale)"
     )
+
+
+def _line_search(
+    sys: _System, state: tuple[FloatArray, ...], active: NDArray[np.int64], step: FloatArray,
+    s_max: FloatArray,
+) -> None:  # fmt: skip
+    """Backtrack the Newton ``step`` of bodies ``active`` on ``|g|^2``; ``state = (s, delta,
+    g, du)`` updated in place."""
+    s, delta, g, du = state
+    n = s.shape[1]
+    merit = np.sum(g[active] ** 2, axis=1)
+    lam = np.ones(active.size)
+    todo = np.arange(active.size)  # positions in active still searching
+    while todo.size:
+        k = active[todo]
+        s_new = np.minimum(s[k] + lam[todo, None] * step[todo, :n], s_max[k])
+        d_new = delta[k] + lam[todo] * step[todo, n]
+        g_new, du_new = sys.resid(s_new, d_new, k)
+        trial = np.sum(g_new**2, axis=1)
+        ok = (np.isfinite(trial) & (trial <= (1 - 1e-4 * lam[todo]) * merit[todo])) | (
+            lam[todo] < 1e-6
+        )
+        kk = k[ok]
+        s[kk], delta[kk], g[kk], du[kk] = s_new[ok], d_new[ok], g_new[ok], du_new[ok]
+        lam[todo[~ok]] *= 0.5
+        todo = todo[~ok]
 
 
 def _done(g: FloatArray, tol: float) -> NDArray[np.bool_]:

@@ -31,7 +31,7 @@ FORCE_FRACTION = 0.99
 """The nominal contact radius holds this fraction of the force [1]."""
 ASYMPTOTE = 1e-3
 """Contact area fraction [1] below which the separation follows Persson's asymptotic law."""
-CELLS = 128
+CELLS = 96
 """Cells of the radial grid of the result (the error estimate compares with half as many)."""
 _COARSE = 32  # cells of the pass that finds the extent of the nominal contact
 _R_POINTS = 201
@@ -48,11 +48,14 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     describes them.
     """
     solved = solved_curve(ctx, ds, "closure", per_decade=_PER_DECADE)
-    sc = physics.SolvedContact(rs.psd, rs.E_star, solved.p0, *solved.curve)
     p = np.asarray(solved.p0, float)
     area = solved.contact[:, -1]
     keep = slice(max(0, min(int(np.searchsorted(area, ASYMPTOTE)), p.size - 4)), None)
-    return Separation(p[keep], sc.mean_gap()[keep], (sc.mean_gap_slope() * p)[keep], area[keep])
+    # the separation of the kept loads only (a load's u(p) and slope use its own row alone)
+    zeta, *rows = solved.curve
+    rows = [None if r is None else np.broadcast_to(r, (p.size, zeta.size))[keep] for r in rows]
+    sc = physics.SolvedContact(rs.psd, rs.E_star, p[keep], zeta, *rows)
+    return Separation(p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
 
 
 def _interpolated(sols: list[BodySolution]) -> Any:
@@ -91,13 +94,15 @@ def _solve_forces(
     def hertz(k: np.ndarray) -> Any:
         return lambda r: peak[k, None] * np.sqrt(np.clip(1 - (r / a[k, None]) ** 2, 1e-6, None))
 
-    r_max = a * (1.3 + 3.0 * np.sqrt(alpha))
+    r_max = a * (1.3 + 4.0 * np.sqrt(alpha))  # wide enough for the example's alpha <= 0.3 at once
     coarse: list[Any] = [None] * loads.size
     outer = np.zeros(loads.size)
     todo = np.arange(loads.size)
     for _ in range(6):  # the coarse pass: where the force acts (wider where it does not fit)
-        for k, sol in zip(todo, run(todo, r_max, _COARSE, hertz(todo)), strict=True):
-            coarse[k], outer[k] = sol, force_radius(sol, 0.9999, sym)
+        sols = run(todo, r_max, _COARSE, hertz(todo))
+        outer[todo] = force_radius(sols, 0.9999, sym)
+        for k, sol in zip(todo, sols, strict=True):
+            coarse[k] = sol
         todo = todo[outer[todo] >= 0.9 * r_max[todo]]
         if todo.size == 0:
             break
@@ -108,14 +113,16 @@ def _solve_forces(
     full = run(every, r_max, CELLS, _interpolated(half))
     err = np.zeros(loads.size)
     for fn in (lambda s: force_radius(s, FORCE_FRACTION, sym), lambda s: _real_area(s, sep)):
-        x1, x2 = np.array([fn(s) for s in half]), np.array([fn(s) for s in full])
+        x1, x2 = fn(half), fn(full)
         err = np.maximum(err, np.abs(x2 - x1) / np.maximum(np.abs(x2), 1e-300))
     return full, err
 
 
-def _real_area(sol: BodySolution, sep: Separation) -> float:
-    """``int A/A0(p) dA`` [m^2] over the cells (per length of a line contact [m])."""
-    return float(np.dot(sep.area_fraction(sol.p), sol.cell))
+def _real_area(sols: list[BodySolution], sep: Separation) -> np.ndarray:
+    """``int A/A0(p) dA`` [m^2] over the cells (per length of a line contact [m]), one per
+    solution (of one grid size)."""
+    p = np.array([sol.p for sol in sols])
+    return np.sum(sep.area_fraction(p) * np.array([sol.cell for sol in sols]), axis=1)
 
 
 def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
@@ -127,12 +134,10 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     loads = np.array([geo.solver_load(float(f)) for f in rs.force])
     sols, errs = _solve_forces(rs, sep, loads)
     rows = []
-    for load, sol, err in zip(loads, sols, errs, strict=True):
+    for load, sol in zip(loads, sols, strict=True):
         a, delta_h, _ = geo.reference(float(load), rs.E_star)
         rows.append(
             (
-                _real_area(sol, sep) * length,
-                force_radius(sol, FORCE_FRACTION, geo.symmetry),
                 sol.delta,
                 float(sol.p.max()),
                 geo.roughness_parameter(rs.psd.h_rms(), float(load), rs.E_star),
@@ -140,13 +145,13 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
                 a,
                 delta_h,
                 sol.residual,
-                err,
             )
         )
-    cols = np.array(rows, dtype=float).T
+    area, radius = _real_area(sols, sep) * length, force_radius(sols, FORCE_FRACTION, geo.symmetry)
+    cols = np.vstack([area, radius, np.array(rows, dtype=float).T, errs])
     r_out = np.linspace(0.0, max(s.edges[-1] for s in sols), _R_POINTS)
     p_r = np.array([np.interp(r_out, s.r, s.p, right=0.0) for s in sols])
-    u_r = np.array([sep(np.log(np.maximum(p, 1e-300)))[0] for p in p_r])
+    u_r = sep(np.log(np.maximum(p_r, 1e-300)))[0]
     values = dict(zip(_SCALARS, cols, strict=True))
     values |= {
         "nominal_pressure": p_r,
