@@ -29,9 +29,10 @@ maps a numeric feature (``hurst``, ``rolloff``, ``decades``, ``area_fraction``, 
 :func:`xpersson.solve` attaches them to single scenes; a sweep attaches them to every block it
 solves (:mod:`xpersson.sweep`, whatever the path: point by point, batched or stacked; in
 memory or in the parts of a folder), the features computed once per distinct scene and the
-bands evaluated as array operations over the block's points. The scene switch ``[output] model_error = false`` leaves the variables out (default
-``true``: a table look-up per output, microseconds, and the issue's demand that every number
-carries its error bar; nothing is solved for it).
+bands evaluated as array operations over the block's points. The scene switch ``[output]
+model_error = false`` leaves the variables out (default ``true``: a table look-up per output,
+microseconds, and the issue's demand that every number carries its error bar; nothing is
+solved for it).
 """
 
 from __future__ import annotations
