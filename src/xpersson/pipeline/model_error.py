@@ -55,7 +55,6 @@ __all__ = [
     "covered",
     "band_table",
     "bands_of",
-    "features_of",
     "scene_features",
 ]
 
@@ -111,22 +110,6 @@ def scene_features(rs: Any) -> dict[str, Any]:
     return feats
 
 
-def features_of(ds: xr.Dataset, scene: dict[str, Any]) -> dict[str, Any]:
-    """Scene features plus the per-load ones read from the Dataset (arrays over ``p0``).
-
-    ``area_fraction`` (at the largest magnification), ``tensile`` (1 where ``p0 < 0``) and
-    ``tabor`` (the finest-scale ``tabor_parameter`` when the Dataset has one).
-    """
-    feats = dict(scene)
-    if "area_fraction" in ds.variables:
-        feats["area_fraction"] = _finest(ds.variables["area_fraction"])[1]
-    if "p0" in ds.variables:
-        feats["tensile"] = (np.asarray(ds.variables["p0"].values, float) < 0).astype(float)
-    if "tabor_parameter" in ds.variables:
-        feats["tabor"] = float(np.ravel(_finest(ds.variables["tabor_parameter"])[1])[0])
-    return feats
-
-
 def _finest(var: Any) -> tuple[tuple[str, ...], np.ndarray]:
     """``(dims, values)`` of a Variable at the largest magnification (numpy indexing: xarray's
     ``isel`` would import dask.array)."""
@@ -135,21 +118,6 @@ def _finest(var: Any) -> tuple[tuple[str, ...], np.ndarray]:
         return tuple(var.dims), values
     axis = var.dims.index("zeta")
     return tuple(d for d in var.dims if d != "zeta"), np.take(values, -1, axis=axis)
-
-
-def _matches(entry: dict[str, Any], feats: dict[str, Any], options: dict[str, Any]) -> Any:
-    """Boolean (array over loads) of the points where ``entry`` applies."""
-    for key, want in entry.get("match", {}).items():
-        have = options.get(key, feats.get(key))
-        if have != want:
-            return False
-    ok: Any = True
-    for key, (lo, hi) in entry.get("ranges", {}).items():
-        if key not in feats:
-            return False
-        v = np.asarray(feats[key], float)
-        ok = ok & (v >= lo) & (v < hi)
-    return ok
 
 
 def bands_of(
@@ -163,17 +131,20 @@ def bands_of(
 
     ``low``/``high`` are the factors on the theory's value (NaN where not verified); ``status``
     is 1 where an entry of ``table`` (default the packaged one) covers the point, else 0.
+    ``feats``: scene features (:func:`scene_features`) and per-load ones (``area_fraction``,
+    ``tensile``, ``tabor``: numbers or arrays of ``shape``); ``options``: the analyses'
+    parameters. The first entry that matches a point wins (:func:`attach` evaluates the same
+    over a sweep's points).
     """
-    low = np.full(shape, np.nan)
-    high = np.full(shape, np.nan)
-    done = np.zeros(shape, dtype=bool)
-    for entry in (table or band_table())["bands"]:
-        if entry["variable"] != variable:
-            continue
-        hit = np.broadcast_to(np.asarray(_matches(entry, feats, options), bool), shape) & ~done
-        low[hit], high[hit] = entry["low"], entry["high"]
-        done |= hit
-    return low, high, done.astype(np.int8)
+    dims = tuple(f"dim_{i}" for i in range(len(shape)))
+    fixed = {k: v for k, v in feats.items() if np.ndim(v) == 0}
+    numeric = {
+        k: (dims, np.broadcast_to(np.asarray(v, float), shape))
+        for k, v in feats.items()
+        if not isinstance(v, str) and v is not None
+    }
+    groups = [(fixed, dict(options), ((), np.bool_(True)))]
+    return _bands(variable, dims, shape, numeric, groups, table or band_table())
 
 
 def _options_of(rs: Any, variable: str) -> dict[str, Any]:
@@ -245,14 +216,16 @@ _NUMERIC = ("hurst", "rolloff", "decades")
 
 
 def _load_features(ds: xr.Dataset, dims: tuple[str, ...]) -> dict[str, Any]:
-    """``name -> (dims, values)`` of the per-load features (see :func:`features_of`)."""
+    """``name -> (dims, values)`` of the per-load features: ``area_fraction`` (at the largest
+    magnification), ``tensile`` (1 where ``p0 < 0``) and ``tabor`` (each point's first
+    finest-scale ``tabor_parameter``)."""
     out: dict[str, Any] = {}
     if "area_fraction" in ds.variables:
         out["area_fraction"] = _finest(ds.variables["area_fraction"])
     if "p0" in ds.variables:
         p0 = ds.variables["p0"]
         out["tensile"] = (tuple(p0.dims), (np.asarray(p0.values, float) < 0).astype(float))
-    if "tabor_parameter" in ds.variables:  # a point's first finest value, as features_of
+    if "tabor_parameter" in ds.variables:
         tdims, values = _finest(ds.variables["tabor_parameter"])
         for ax in reversed(range(len(tdims))):
             if tdims[ax] not in dims:
