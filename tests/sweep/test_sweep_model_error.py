@@ -70,10 +70,16 @@ def test_sweep_ancillary_variables_equal_each_points_own_solve(path):
     assert statuses == {(0, 0, 0), (1, 1, 0)}  # H = 0.2 never, H = 0.8 at the light loads
 
 
-def test_stacked_sweep_equals_the_plain_one():
+def test_stacked_sweep_equals_the_plain_one(monkeypatch):
     """A sweep over H alone runs stacked (one run for the block's points)."""
-    data = base([0.2, 0.5, 0.8], "0.75 MPa")
+    from xpersson.pipeline import stacked
+
+    data = {**base([0.2, 0.5, 0.8], "0.75 MPa"), "analyses": {}}  # contact_stiffness: unstacked
+    runs = []
+    run_stacked = stacked.run_stacked
+    monkeypatch.setattr(stacked, "run_stacked", lambda pts: runs.append(1) or run_stacked(pts))
     fast = xpersson.solve(data)
+    assert runs  # the stacked path solved it
     with plain_paths():
         plain = xpersson.solve(data)
     names = ancillary(plain)
