@@ -38,28 +38,44 @@ def ancillary(ds):
     return sorted(n for n in ds.data_vars if n.endswith(model_error.SUFFIXES))
 
 
-def swept(path, **kw):
+def swept(path, analyses=None, **kw):
     data = base([0.2, 0.8], ["0.5 MPa", "0.75 MPa"])
+    if analyses is not None:
+        data["analyses"] = analyses
     if path == "plain":
         with plain_paths():
             return xpersson.solve(data, **kw)
     return xpersson.solve(data, **kw)
 
 
-@pytest.mark.parametrize("path", ["batched", "plain"])
-def test_sweep_ancillary_variables_equal_each_points_own_solve(path):
-    ds = swept(path)
+@pytest.mark.parametrize(
+    ("path", "analyses"),
+    [
+        ("batched", {}),  # contact_area: batched by contact similarity
+        ("plain", {}),
+        ("default", {"contact_stiffness": {}}),  # no contact similarity: point by point
+    ],
+)
+def test_sweep_ancillary_variables_equal_each_points_own_solve(path, analyses, monkeypatch):
+    from xpersson.sweep import fast
+
+    runs = []
+    batched_block = fast.batched_block
+    monkeypatch.setattr(
+        fast, "batched_block", lambda *a, **k: runs.append(1) or batched_block(*a, **k)
+    )
+    ds = swept(path, analyses)
+    assert bool(runs) == (path == "batched")
+    outputs = ["area_fraction"] + list(analyses)
     names = ancillary(ds)
-    assert set(names) == {
-        v + s for v in ("area_fraction", "contact_stiffness") for s in model_error.SUFFIXES
-    }
+    assert set(names) == {v + s for v in outputs for s in model_error.SUFFIXES}
     statuses = set()
     for H in (0.2, 0.8):
         for E in ("0.5 MPa", "0.75 MPa"):
-            one = xpersson.solve(base(H, E))
+            one = xpersson.solve({**base(H, E), "analyses": analyses})
             assert ancillary(one) == names
             got = ds.sel(H=H, E=float(E.split()[0]) * 1e6)
-            for name in names + ["area_fraction", "contact_stiffness"]:
+            for name in names + outputs:
                 have = got[name].drop_vars(["E", "H"], errors="ignore")
                 if have.dtype.kind == "f":  # batched: contact similarity, equal to 1e-13
                     xr.testing.assert_allclose(have, one[name], rtol=1e-13, atol=0)
@@ -94,9 +110,9 @@ def test_stacked_sweep_equals_the_plain_one(monkeypatch):
 
 
 def test_folder_sweep_round_trips_the_model_error(tmp_path):
-    memory = swept("batched")
+    memory = swept("batched", {})
     folder = tmp_path / "run"
-    swept("batched", output=folder, chunk=2)  # two parts
+    swept("batched", {}, output=folder, chunk=2)  # two parts, batched
     back = xpersson.open_dataset(folder)
     assert ancillary(back) == ancillary(memory)
     for name in ancillary(memory):
