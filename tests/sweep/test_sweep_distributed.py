@@ -48,6 +48,7 @@ def test_2x3x50_sweep_on_two_worker_processes_equals_serial(client):
     assert serial.area_fraction.shape == (3, 2, 50, 51)
     par = xpersson.solve(EXAMPLES / "sweep.toml", scheduler=client, chunk=1)
     assert len(client.scheduler_info()["workers"]) == 2
+    assert "area_fraction_model_error_status" in par  # attached on the workers too
     _same(serial, par)
 
 

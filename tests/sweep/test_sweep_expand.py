@@ -246,7 +246,8 @@ def test_blocks_tile_the_grid_evenly_and_workers_get_equal_shares(
 def test_single_load_sweep_equals_individual_solves(chunk, batched):
     """Points with one scalar load: stacked unsqueezed, the block squeezed once (p0 a scalar
     coordinate), identical to each point's own solve point by point; solved as a batch of
-    equivalent loads (contact similarity, :mod:`xpersson.sweep.batched`) equal to 1e-13."""
+    equivalent loads (contact similarity, :mod:`xpersson.sweep.batched`) equal to 1e-13; the
+    model error's ancillary variables included (identical: the bands do not depend on E)."""
     data = scene(
         spectrum={"H": [0.6, 0.8]},
         material={"E": ["5 MPa", "20 MPa"]},
@@ -267,7 +268,6 @@ def test_single_load_sweep_equals_individual_solves(chunk, batched):
                     material={"E": E},
                     load={"p0": "1e5 Pa"},
                     analyses={"contact_area": {}},
-                    output={"model_error": False},  # a sweep does not carry it (yet)
                 )
             )
             got = swept.sel(H=H, E=float(E.split()[0]) * 1e6)

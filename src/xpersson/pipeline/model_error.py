@@ -26,11 +26,13 @@ of the analysis that provides the variable, e.g. ``s_factor``) to its required v
 maps a numeric feature (``hurst``, ``rolloff``, ``decades``, ``area_fraction``, ``tabor``,
 ``tensile``) to ``[lo, hi)``. The first matching entry of a variable wins.
 
-:func:`xpersson.solve` attaches them to single scenes; a sweep's Dataset does not carry them
-yet (``attach`` takes a sweep's points, but the parts a sweep writes to a folder would lack
-them). The scene switch ``[output] model_error = false`` leaves the variables out (default
-``true``: a table look-up per output, microseconds, and the issue's demand that every number
-carries its error bar; nothing is solved for it).
+:func:`xpersson.solve` attaches them to single scenes; a sweep attaches them to every block it
+solves (:mod:`xpersson.sweep`, whatever the path: point by point, batched or stacked; in
+memory or in the parts of a folder), the features computed once per distinct scene and the
+bands evaluated as array operations over the block's points. The scene switch ``[output]
+model_error = false`` leaves the variables out (default ``true``: a table look-up per output,
+microseconds, and the issue's demand that every number carries its error bar; nothing is
+solved for it).
 """
 
 from __future__ import annotations
@@ -53,7 +55,6 @@ __all__ = [
     "covered",
     "band_table",
     "bands_of",
-    "features_of",
     "scene_features",
 ]
 
@@ -109,22 +110,6 @@ def scene_features(rs: Any) -> dict[str, Any]:
     return feats
 
 
-def features_of(ds: xr.Dataset, scene: dict[str, Any]) -> dict[str, Any]:
-    """Scene features plus the per-load ones read from the Dataset (arrays over ``p0``).
-
-    ``area_fraction`` (at the largest magnification), ``tensile`` (1 where ``p0 < 0``) and
-    ``tabor`` (the finest-scale ``tabor_parameter`` when the Dataset has one).
-    """
-    feats = dict(scene)
-    if "area_fraction" in ds.variables:
-        feats["area_fraction"] = _finest(ds.variables["area_fraction"])[1]
-    if "p0" in ds.variables:
-        feats["tensile"] = (np.asarray(ds.variables["p0"].values, float) < 0).astype(float)
-    if "tabor_parameter" in ds.variables:
-        feats["tabor"] = float(np.ravel(_finest(ds.variables["tabor_parameter"])[1])[0])
-    return feats
-
-
 def _finest(var: Any) -> tuple[tuple[str, ...], np.ndarray]:
     """``(dims, values)`` of a Variable at the largest magnification (numpy indexing: xarray's
     ``isel`` would import dask.array)."""
@@ -133,21 +118,6 @@ def _finest(var: Any) -> tuple[tuple[str, ...], np.ndarray]:
         return tuple(var.dims), values
     axis = var.dims.index("zeta")
     return tuple(d for d in var.dims if d != "zeta"), np.take(values, -1, axis=axis)
-
-
-def _matches(entry: dict[str, Any], feats: dict[str, Any], options: dict[str, Any]) -> Any:
-    """Boolean (array over loads) of the points where ``entry`` applies."""
-    for key, want in entry.get("match", {}).items():
-        have = options.get(key, feats.get(key))
-        if have != want:
-            return False
-    ok: Any = True
-    for key, (lo, hi) in entry.get("ranges", {}).items():
-        if key not in feats:
-            return False
-        v = np.asarray(feats[key], float)
-        ok = ok & (v >= lo) & (v < hi)
-    return ok
 
 
 def bands_of(
@@ -161,17 +131,20 @@ def bands_of(
 
     ``low``/``high`` are the factors on the theory's value (NaN where not verified); ``status``
     is 1 where an entry of ``table`` (default the packaged one) covers the point, else 0.
+    ``feats``: scene features (:func:`scene_features`) and per-load ones (``area_fraction``,
+    ``tensile``, ``tabor``: numbers or arrays of ``shape``); ``options``: the analyses'
+    parameters. The first entry that matches a point wins (:func:`attach` evaluates the same
+    over a sweep's points).
     """
-    low = np.full(shape, np.nan)
-    high = np.full(shape, np.nan)
-    done = np.zeros(shape, dtype=bool)
-    for entry in (table or band_table())["bands"]:
-        if entry["variable"] != variable:
-            continue
-        hit = np.broadcast_to(np.asarray(_matches(entry, feats, options), bool), shape) & ~done
-        low[hit], high[hit] = entry["low"], entry["high"]
-        done |= hit
-    return low, high, done.astype(np.int8)
+    dims = tuple(f"dim_{i}" for i in range(len(shape)))
+    fixed = {k: v for k, v in feats.items() if np.ndim(v) == 0}
+    numeric = {
+        k: (dims, np.broadcast_to(np.asarray(v, float), shape))
+        for k, v in feats.items()
+        if not isinstance(v, str) and v is not None
+    }
+    groups = [(fixed, dict(options), ((), np.bool_(True)))]
+    return _bands(variable, dims, shape, numeric, groups, table or band_table())
 
 
 def _options_of(rs: Any, variable: str) -> dict[str, Any]:
@@ -195,56 +168,151 @@ def covered(ds: xr.Dataset, table: dict[str, Any] | None = None) -> list[str]:
 
 
 def attach(
-    ds: xr.Dataset, points: Any, dims: tuple[str, ...] = (), table: dict[str, Any] | None = None
-) -> None:
+    ds: xr.Dataset,
+    points: Any,
+    dims: tuple[str, ...] = (),
+    table: dict[str, Any] | None = None,
+    index: Any = None,
+) -> list[str]:
     """Add the model-error ancillary variables of every covered output of ``ds`` (in place).
 
     ``points`` is the resolved scene of ``ds`` (a single scene), or for a sweep over ``dims``
-    the list of its points' resolved scenes in C order of those dimensions; ``table``: the
+    its points' resolved scenes: all of them in C order of ``dims``, or the distinct ones with
+    ``index`` (an int array of the sweep's shape: the entry of ``points`` of every point, e.g.
+    one scene for every material value). The features are computed once per distinct scene and
+    the bands evaluated as array operations over the points (no per-point loop), so a sweep
+    gets, point by point, the values a single solve of that point gets. ``table``: the
     packaged one by default. Does nothing when the scene sets ``[output] model_error = false``.
+
+    Returns
+    -------
+    list of str
+        The names of the variables added.
     """
     points = list(points) if dims else [points]
     if not points or not points[0].resolved.get("output", {}).get("model_error", True):
-        return
+        return []
     table = table or band_table()
     names = covered(ds, table)
     if not names:
-        return
+        return []
+    shape = tuple(ds.sizes[d] for d in dims)
+    index = np.arange(len(points)).reshape(shape) if index is None else np.asarray(index)
     scenes = [scene_features(rs) for rs in points]
-    sweep_shape = tuple(ds.sizes[d] for d in dims)
-    views = [ds.isel(dict(zip(dims, idx, strict=True))) for idx in np.ndindex(sweep_shape)]
-    views = views if dims else [ds]
+    numeric = {
+        k: (dims, np.asarray(np.array([s.get(k, np.nan) for s in scenes], float)[index]))
+        for k in _NUMERIC
+    }
+    numeric.update(_load_features(ds, dims))
+    added: list[str] = []
     for name in names:
-        _attach_one(ds, name, dims, views, scenes, points, table)
+        groups = _groups(name, scenes, points, index, dims)
+        added += _attach_one(ds, name, numeric, groups, table)
+    return added
+
+
+#: Scene features that vary from point to point of a sweep: arrays over its points.
+_NUMERIC = ("hurst", "rolloff", "decades")
+
+
+def _load_features(ds: xr.Dataset, dims: tuple[str, ...]) -> dict[str, Any]:
+    """``name -> (dims, values)`` of the per-load features: ``area_fraction`` (at the largest
+    magnification), ``tensile`` (1 where ``p0 < 0``) and ``tabor`` (each point's first
+    finest-scale ``tabor_parameter``)."""
+    out: dict[str, Any] = {}
+    if "area_fraction" in ds.variables:
+        out["area_fraction"] = _finest(ds.variables["area_fraction"])
+    if "p0" in ds.variables:
+        p0 = ds.variables["p0"]
+        out["tensile"] = (tuple(p0.dims), (np.asarray(p0.values, float) < 0).astype(float))
+    if "tabor_parameter" in ds.variables:
+        tdims, values = _finest(ds.variables["tabor_parameter"])
+        for ax in reversed(range(len(tdims))):
+            if tdims[ax] not in dims:
+                values = np.take(values, 0, axis=ax)
+        out["tabor"] = (tuple(d for d in tdims if d in dims), values)
+    return out
+
+
+def _groups(
+    name: str, scenes: list[dict[str, Any]], points: list[Any], index: np.ndarray, dims: Any
+) -> list[tuple[dict[str, Any], dict[str, Any], tuple[tuple[str, ...], Any]]]:
+    """``(scene features, options, (dims, mask))`` per group of points whose plugin names,
+    options and other non-numeric features agree (one group in most sweeps: mask ``True``)."""
+    keys: dict[str, int] = {}
+    found: list[tuple[dict[str, Any], dict[str, Any]]] = []
+    gid = np.empty(len(points), dtype=np.intp)
+    for j, (feats, rs) in enumerate(zip(scenes, points, strict=True)):
+        opts = _options_of(rs, name)
+        fixed = {k: v for k, v in feats.items() if k not in _NUMERIC}
+        key = json.dumps([fixed, opts], sort_keys=True, default=repr)
+        if key not in keys:
+            keys[key] = len(found)
+            found.append((fixed, opts))
+        gid[j] = keys[key]
+    if len(found) == 1:
+        return [(*found[0], ((), np.bool_(True)))]
+    of_point = gid[index]
+    return [(f, o, (tuple(dims), of_point == g)) for g, (f, o) in enumerate(found)]
+
+
+def _on(src: tuple[str, ...], values: Any, dims: tuple[str, ...], shape: tuple[int, ...]) -> Any:
+    """``values`` over ``src`` broadcastable to ``dims`` (a dim of ``src`` that ``dims`` lacks
+    is taken at its first index, as a sweep's output that does not span every sweep dim)."""
+    values = np.asarray(values)
+    for ax in reversed(range(len(src))):
+        if src[ax] not in dims:
+            values = np.take(values, 0, axis=ax)
+    kept = [d for d in src if d in dims]
+    values = np.transpose(values, sorted(range(len(kept)), key=lambda i: dims.index(kept[i])))
+    return values.reshape([n if d in kept else 1 for d, n in zip(dims, shape, strict=True)])
+
+
+def _bands(
+    name: str,
+    vdims: tuple[str, ...],
+    shape: tuple[int, ...],
+    numeric: dict[str, Any],
+    groups: list[Any],
+    table: dict[str, Any],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(low, high, status)`` of output ``name`` over ``shape``: per group, the first entry
+    that matches each point (as :func:`bands_of`, over arrays)."""
+    low, high = np.full(shape, np.nan), np.full(shape, np.nan)
+    done = np.zeros(shape, dtype=bool)
+    entries = [e for e in table["bands"] if e["variable"] == name]
+    for feats, opts, (mdims, mask) in groups:
+        where = _on(mdims, mask, vdims, shape)
+        for entry in entries:
+            if any(opts.get(k, feats.get(k)) != v for k, v in entry.get("match", {}).items()):
+                continue
+            ok = where & ~done
+            for key, (lo, hi) in entry.get("ranges", {}).items():
+                if key in numeric:
+                    v = _on(*numeric[key], vdims, shape)
+                elif key in feats:
+                    v = np.asarray(feats[key], float)
+                else:
+                    ok = np.zeros(shape, dtype=bool)
+                    break
+                ok = ok & (v >= lo) & (v < hi)
+            hit = np.broadcast_to(ok, shape)
+            low[hit], high[hit] = entry["low"], entry["high"]
+            done |= hit
+    return low, high, done.astype(np.int8)
 
 
 def _attach_one(
     ds: xr.Dataset,
     name: str,
-    dims: tuple[str, ...],
-    views: list[xr.Dataset],
-    scenes: list[dict[str, Any]],
-    points: list[Any],
+    numeric: dict[str, Any],
+    groups: list[Any],
     table: dict[str, Any],
-) -> None:
-    """The three ancillary variables of output ``name``, point by point of the sweep."""
+) -> list[str]:
+    """The three ancillary variables of output ``name`` (array operations over the points)."""
     var = ds.variables[name]
     vdims, x = _finest(var)
-    own = tuple(d for d in dims if d in vdims)  # a sweep's output need not span every dim
-    order = [vdims.index(d) for d in own] + [i for i, d in enumerate(vdims) if d not in own]
-    x = np.transpose(x, order)
-    vdims = tuple(vdims[i] for i in order)
-    shape = x.shape
-    low, high = np.full(shape, np.nan), np.full(shape, np.nan)
-    status = np.zeros(shape, dtype=np.int8)
-    full = tuple(ds.sizes[d] for d in dims)
-    for idx in np.ndindex(shape[: len(own)]):
-        at = dict(zip(own, idx, strict=True))
-        k = int(np.ravel_multi_index(tuple(at.get(d, 0) for d in dims), full)) if dims else 0
-        feats = features_of(views[k], scenes[k])
-        low[idx], high[idx], status[idx] = bands_of(
-            name, feats, _options_of(points[k], name), shape[len(own) :], table
-        )
+    low, high, status = _bands(name, vdims, x.shape, numeric, groups, table)
     units = var.attrs.get("units", "1")
     where = " at the largest magnification (the full roughness)" if "zeta" in var.dims else ""
     prov = table.get("provenance", {})
@@ -280,3 +348,4 @@ def _attach_one(
     )
     insert_or_set(ds, new)
     ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
+    return list(new)

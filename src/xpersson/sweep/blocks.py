@@ -17,6 +17,7 @@ import numpy as np
 import xarray as xr
 
 from ..pipeline import run, squeeze_p0
+from ._ancillary import attach_block
 from ._fastfail import FastPathFailed
 from .batched import SweepPoints
 from .fast import similar_block, stacked_block
@@ -188,7 +189,8 @@ def _point_by_point(
     ds = stack(results, block, status.reshape(block.shape))
     if points[0].p0_scalar:  # single-load points: p0 a scalar coordinate, squeezed once here
         ds = squeeze_p0(ds)
-    present = [None if r is None else set(r.variables) for r in results]
+    added = attach_block(ds, block, points)  # the model error, as on the fast paths
+    present = [None if r is None else set(r.variables).union(added) for r in results]
     digests = _digests(present, ds, block)
     out = BlockResult(block, ds, None, status.reshape(block.shape), messages, digests, solver)
     if failure is not None and not np.any(status == POINT_STATUS["failed"]):

@@ -21,6 +21,7 @@ import xarray as xr
 
 from ..pipeline import run, squeeze_p0, stacked
 from ..plugins import fast_paths_on
+from ._ancillary import attach_block
 from ._fastfail import FastPathFailed, declaring, failed
 from .batched import SweepPoints, batched_block, scaled_ok
 from .stacking import (
@@ -56,16 +57,18 @@ def _result(
     rows: dict[str, np.ndarray],
     template: xr.Dataset,
     solver: list[dict[str, Any]],
-    p0_scalar: bool,
+    points: Any,
     part: str | None,
     part_attrs: dict[str, Any] | None,
 ) -> BlockResult:
-    """The block's Dataset from its rows (every point solved), written as a part if asked."""
+    """The block's Dataset from its rows (every point solved) with its model error, written
+    as a part if asked."""
     status = np.zeros(block.shape, dtype=np.int8)
     ds = stack_rows(rows, block, status, template)
-    if p0_scalar:
+    if points[0].p0_scalar:
         ds = squeeze_p0(ds)
-    digests = _digests([set(template.variables)] * block.size, ds, block)
+    added = attach_block(ds, block, points)
+    digests = _digests([set(template.variables).union(added)] * block.size, ds, block)
     out = BlockResult(block, ds, None, status, {}, digests, solver)
     if part is not None:
         out.sha256 = write_block_part(ds, part, out, part_attrs)
@@ -97,7 +100,7 @@ def similar_block(
     if got is None:
         return None
     rows, solver = got
-    return _result(block, rows, template, solver, points[0].p0_scalar, part, part_attrs)
+    return _result(block, rows, template, solver, points, part, part_attrs)
 
 
 def _shared_template(shared: dict[str, Any] | None, rs: Any) -> xr.Dataset | None:
@@ -176,4 +179,4 @@ def _stacked(
             )
         rows[n] = r.astype(want.dtype, copy=False)
     solver = [] if reused else [json.loads(template.attrs["xpersson_solver"])]
-    return _result(block, rows, template, solver, points[0].p0_scalar, part, part_attrs)
+    return _result(block, rows, template, solver, points, part, part_attrs)
