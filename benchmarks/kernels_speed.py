@@ -41,12 +41,11 @@ import shutil  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
-import time  # noqa: E402
 import tomllib  # noqa: E402
-import warnings  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
+from summary_design import best, cpu  # noqa: E402  (the timing helpers of summary.py)
 
 import xpersson  # noqa: E402
 
@@ -78,26 +77,6 @@ def loads_scene(spec: dict, n: int, analysis: str | None = None) -> dict:
     p0 = {"start": "1 kPa", "stop": "3 MPa", "num": n, "spacing": "log"} if n > 1 else "100 kPa"
     return {"spectrum": spec, "material": {"E": "10 MPa", "nu": 0.5}, "load": {"p0": p0},
             "analyses": {analysis: {}} if analysis else {}}  # fmt: skip
-
-
-def cpu(fn) -> float:
-    """CPU time [s] of one call (warnings silenced)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        t = time.process_time()
-        fn()
-        return time.process_time() - t
-
-
-def best(fns: dict, rounds: int) -> dict[str, float]:
-    """Best CPU time [s] of each function over ``rounds`` interleaved rounds (after a warm-up)."""
-    for fn in fns.values():
-        cpu(fn)
-    out = dict.fromkeys(fns, np.inf)
-    for _ in range(rounds):
-        for k, fn in fns.items():
-            out[k] = min(out[k], cpu(fn))
-    return out
 
 
 def analyses_part(rounds: int) -> list[str]:
