@@ -423,6 +423,17 @@ def _one_line_warnings() -> None:
     warnings.showwarning = show
 
 
+def _ignore_file_size_signal() -> None:
+    """With ``SIGXFSZ`` ignored, a write past a file-size limit fails with ``EFBIG`` (reported
+    as one line) instead of killing the process."""
+    import contextlib
+    import signal
+
+    if hasattr(signal, "SIGXFSZ"):
+        with contextlib.suppress(ValueError):  # not the main thread: left as it is
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``xpersson`` console script; returns the exit code."""
     parser = build_parser()
@@ -438,6 +449,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from .scene import SceneError
 
     _one_line_warnings()
+    _ignore_file_size_signal()
     try:
         return int(args.func(args) or 0)
     except BrokenPipeError:  # the reader went away (`xpersson info OUT.nc | head`)
@@ -447,16 +459,35 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.dup2(devnull, sys.stdout.fileno())  # no second error when Python flushes stdout
         return 1
     except (SceneError, FileExistsError, FileNotFoundError) as exc:
-        _err(f"xpersson: error: {exc}")
+        _err(f"xpersson: error: {_one_line(exc)}")
+        return 2
+    except OSError as exc:  # disk full, quota, file-size limit, permission, read-only, ...
+        _err(f"xpersson: error: {_os_message(exc)}")
         return 2
     except Exception as exc:  # plugin errors etc.: one clear line, no traceback
         from .checks import PluginFailure
         from .plugins import PluginError
 
         if isinstance(exc, PluginError | ValueError | PluginFailure):
-            _err(f"xpersson: error: {exc}")
+            _err(f"xpersson: error: {_one_line(exc)}")
             return 2
         raise
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return text if len(text) <= 2000 else text[:1997] + "..."
+
+
+def _os_message(exc: OSError) -> str:
+    """``PATH: CAUSE`` of an operating-system error (the path it names, its strerror)."""
+    from .archive import WriteError
+
+    if isinstance(exc, WriteError) or exc.errno is None:  # ours (TimeoutError too): one line
+        return _one_line(exc)
+    cause = exc.strerror or _one_line(exc)
+    where = exc.filename if exc.filename is not None else "(no path)"
+    return f"{where}: {cause}"
 
 
 if __name__ == "__main__":  # pragma: no cover

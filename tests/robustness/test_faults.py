@@ -50,3 +50,90 @@ def test_a_folder_overwritten_after_opening_is_never_read_as_the_other_study(
         else:
             with pytest.raises(ArchiveError, match=r"part-0000\d\.nc: part changed after"):
                 ds.load()
+
+
+# -- 2. every OS error is a message -----------------------------------------------------------
+_FSIZE = """
+import resource, sys
+from xpersson.cli import main
+resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
+sys.exit(main(sys.argv[1:]))
+"""
+
+
+@pytest.mark.parametrize("sweep", [False, True])
+def test_a_file_size_limit_is_one_line_exit_2_and_nothing_half_written(tmp_path, sweep):
+    import subprocess
+
+    (tmp_path / "s.toml").write_text(
+        '[spectrum]\nmodel = "self_affine"\nH = 0.8\nq_L = "1e3 1/m"\nq_r = "1e4 1/m"\n'
+        'q_1 = "1e8 1/m"\nh_rms = "1 um"\n[material]\nE = '
+        + ('["5 MPa", "7 MPa"]' if sweep else '"5 MPa"')
+        + '\nnu = 0.5\n[load]\np0 = "1e5 Pa"\n'
+    )
+    out = tmp_path / ("out/" if sweep else "out.nc")
+    proc = subprocess.run(
+        [sys.executable, "-c", _FSIZE, "run", str(tmp_path / "s.toml"), "-o", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    lines = proc.stderr.strip().splitlines()
+    assert proc.returncode == 2, proc.stderr
+    assert len(lines) == 1 and "File too large" in lines[0] and "Traceback" not in proc.stderr
+    assert "out" in lines[0]
+    left = [p.name for p in tmp_path.rglob("*") if p.suffix in (".nc", ".part")]
+    assert left == []  # no archive, no part, no temporary
+
+
+@pytest.mark.parametrize("code", ["ENOSPC", "EDQUOT", "EROFS", "EACCES"])
+def test_disk_errors_of_to_netcdf_name_the_file_and_the_cause(study, tmp_path, monkeypatch, code):
+    import errno
+    import os
+
+    from xpersson import archive
+    from xpersson.cli import main
+
+    _, ref = study
+    num = getattr(errno, code)
+
+    def fail(*args):
+        raise OSError(num, os.strerror(num))
+
+    # the netCDF library reports a full disk as "HDF error": the probe finds the cause
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", lambda *a, **k: _hdf())
+    monkeypatch.setattr(archive.os, "write", fail)
+    target = tmp_path / "x.nc"
+    with pytest.raises(OSError, match=f"cannot write {target}: {os.strerror(num)}"):
+        xpersson.to_netcdf(ref, target)
+    assert list(tmp_path.iterdir()) == []
+    monkeypatch.undo()
+    monkeypatch.setattr(archive.os, "fsync", fail)  # a late failure: at the flush
+    with pytest.raises(OSError, match=f"cannot write {target}: {os.strerror(num)}"):
+        xpersson.to_netcdf(ref, target)
+    assert list(tmp_path.iterdir()) == []
+    monkeypatch.undo()
+    # the CLI: one line, exit 2 (a read-only folder as root cannot be made: the cause injected)
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    monkeypatch.setattr(archive, "_create_temporary", _refuse(num))
+    scene_file = tmp_path / "s.toml"
+    scene_file.write_text(
+        '[spectrum]\nmodel = "self_affine"\nH = 0.8\nq_L = "1e3 1/m"\nq_r = "1e4 1/m"\n'
+        'q_1 = "1e8 1/m"\nh_rms = "1 um"\n[material]\nE = "5 MPa"\nnu = 0.5\n[load]\np0 = 1e5\n'
+    )
+    assert main(["run", str(scene_file), "-o", str(ro / "a.nc")]) == 2
+    assert list(ro.iterdir()) == []
+
+
+def _hdf():
+    raise OSError(-101, "NetCDF: HDF error")
+
+
+def _refuse(num: int):
+    import os
+
+    def create(target):
+        raise OSError(num, os.strerror(num), str(target))
+
+    return create

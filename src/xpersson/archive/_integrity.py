@@ -1,0 +1,137 @@
+"""Archive integrity: digests of values and attributes, text that netCDF keeps (private)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ..errors import ArchiveError
+
+# -- content integrity ---------------------------------------------------------------------------
+DIGEST = "xpersson_sha256"
+_ATTRS_DIGEST = "xpersson_attrs_sha256"
+_NOT_HASHED = {DIGEST, "_FillValue", "coordinates", "dtype", "missing_value"}
+
+
+def _canonical(value: Any) -> Any:
+    if isinstance(value, str | bytes):
+        return str(value)
+    return [repr(x) for x in np.atleast_1d(np.asarray(value)).ravel().tolist()]
+
+
+def _attrs_bytes(attrs: Any) -> bytes:
+    items = {str(k): _canonical(v) for k, v in attrs.items() if k not in _NOT_HASHED}
+    return json.dumps(items, sort_keys=True).encode()
+
+
+def _variable_digest(var: xr.Variable) -> str:
+    arr = np.asarray(var.values)
+    h = hashlib.sha256(repr((var.dims, arr.shape)).encode())
+    if arr.dtype.kind in "OUS":
+        h.update(json.dumps([str(x) for x in arr.ravel().tolist()]).encode())
+    elif arr.dtype.kind == "b":
+        h.update(arr.astype(np.uint8).tobytes())
+    else:
+        h.update(np.ascontiguousarray(arr).tobytes())
+    h.update(_attrs_bytes(var.attrs))
+    return h.hexdigest()
+
+
+def _global_digest(ds: xr.Dataset) -> str:
+    h = hashlib.sha256(json.dumps(sorted(map(str, ds.variables))).encode())
+    h.update(_attrs_bytes({k: v for k, v in ds.attrs.items() if k != _ATTRS_DIGEST}))
+    return h.hexdigest()
+
+
+def file_digest(path: str | os.PathLike[str]) -> str:
+    """sha256 of a file's bytes (hex)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def seal(stored: xr.Dataset, encoding: dict[str, dict[str, Any]]) -> xr.Dataset:
+    """Add the digests and the ``fletcher32`` checksums to an encoded Dataset (in place for
+    ``encoding``; returns a shallow copy of ``stored``)."""
+    out = stored.copy(deep=False)
+    for name in list(out.variables):
+        var = out.variables[name]
+        var.attrs.pop(DIGEST, None)
+        var.attrs[DIGEST] = _variable_digest(var)
+        if var.ndim:
+            encoding.setdefault(str(name), {})["fletcher32"] = True
+    out.attrs.pop(_ATTRS_DIGEST, None)
+    out.attrs[_ATTRS_DIGEST] = _global_digest(out)
+    return out
+
+
+def verify(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
+    """Check the digests :func:`seal` stored (loads every variable).
+
+    Raises
+    ------
+    ArchiveError
+        Naming ``path`` and the first variable (or the global attributes) that changed.
+    """
+    for name, var in ds.variables.items():
+        stored = var.attrs.get(DIGEST)
+        if stored is not None and stored != _variable_digest(var):
+            raise ArchiveError(
+                f"{path}: variable {name!r} fails its checksum: its stored values or "
+                "attributes changed after writing (the file is corrupt)"
+            )
+    stored = ds.attrs.get(_ATTRS_DIGEST)
+    if stored is not None and stored != _global_digest(ds):
+        raise ArchiveError(
+            f"{path}: the global attributes fail their checksum (the file is corrupt)"
+        )
+
+
+_BAD_TEXT = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f\ud800-\udfff]")
+"""Characters a netCDF text attribute does not store faithfully: NUL ends the text, other C0
+controls and DEL are refused as unprintable, a lone surrogate has no UTF-8 form."""
+
+
+def check_text(ds: xr.Dataset) -> None:
+    """Refuse text a netCDF archive cannot store and give back (before anything is written).
+
+    Every attribute name and text value (global and of every variable, whoever added it) and
+    every variable name is checked.
+
+    Raises
+    ------
+    ValueError
+        Naming the attribute (and variable), the character and its position.
+    """
+    for where, attrs in [("global attribute", ds.attrs)] + [
+        (f"attribute of variable {str(n)[:60]!r},", v.attrs) for n, v in ds.variables.items()
+    ]:
+        for key, value in attrs.items():
+            _check_one(f"{where} {str(key)[:60]!r} (its name)", key)
+            texts = [value] if isinstance(value, str) else []
+            if isinstance(value, list | tuple | np.ndarray):
+                texts = [x for x in np.asarray(value, dtype=object).ravel() if isinstance(x, str)]
+            for text in texts:
+                _check_one(f"{where} {str(key)[:60]!r}", text)
+    for name in ds.variables:
+        _check_one(f"variable name {str(name)[:60]!r}", name)
+
+
+def _check_one(what: str, text: Any) -> None:
+    if not isinstance(text, str):
+        return
+    bad = _BAD_TEXT.search(text)
+    if bad is not None:
+        raise ValueError(
+            f"{what}: character U+{ord(bad.group()):04X} at position {bad.start()} cannot be "
+            "stored in a netCDF archive (control characters and lone surrogates are refused); "
+            "remove it"
+        )
