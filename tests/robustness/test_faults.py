@@ -137,3 +137,53 @@ def _refuse(num: int):
         raise OSError(num, os.strerror(num), str(target))
 
     return create
+
+
+# -- 3. integrity that fails closed -----------------------------------------------------------
+def _archive(study, tmp_path) -> Path:
+    _, ref = study
+    path = tmp_path / "a.nc"
+    xpersson.to_netcdf(ref.isel(E=0), path)
+    return path
+
+
+def test_a_removed_digest_with_changed_values_is_an_error(study, tmp_path):
+    netCDF4 = pytest.importorskip("netCDF4")
+    path = _archive(study, tmp_path)
+    with netCDF4.Dataset(path, "a") as nc:
+        var = nc["area_fraction"]
+        var.delncattr("xpersson_sha256")
+        var[...] = var[...] * 0.5
+    with pytest.raises(ArchiveError, match="'area_fraction' has no digest"):
+        xpersson.open_dataset(path)
+
+
+def test_an_archive_without_any_digest_opens_unverified_never_success(study, tmp_path):
+    netCDF4 = pytest.importorskip("netCDF4")
+    path = _archive(study, tmp_path)
+    with netCDF4.Dataset(path, "a") as nc:
+        for name in ("xpersson_archive_format", "xpersson_attrs_sha256"):
+            nc.delncattr(name)
+        for var in nc.variables.values():
+            var.delncattr("xpersson_sha256")
+    ds = xpersson.open_dataset(path)
+    assert ds.attrs["status"] == "unverified"
+    assert ds.attrs["status_message"].startswith("unverified: format version 1")
+
+
+def test_an_index_that_calls_a_varying_variable_constant_is_refused(study, tmp_path):
+    import json
+    import shutil
+
+    from xpersson.sweep import INDEX
+    from xpersson.sweep.parts import seal_index
+
+    src, ref = study
+    assert "E" in ref["area_fraction"].dims  # varies with E
+    folder = tmp_path / "s"
+    shutil.copytree(src, folder)
+    index = json.loads((folder / INDEX).read_text())
+    index["constant"]["area_fraction"] = ["E"]  # a forger recomputing the index's sha256
+    (folder / INDEX).write_text(json.dumps(seal_index(index)))
+    with pytest.raises(ArchiveError, match="'area_fraction' varies along a sweep dimension"):
+        xpersson.open_dataset(folder).load()

@@ -21,7 +21,9 @@ it, and :func:`decode` undoes it, so an archive re-opens identical.
   and every variable carries ``xpersson_sha256`` (a digest of its stored values and attributes);
   the global ``xpersson_attrs_sha256`` covers the global attributes and the variable names.
   :func:`read` verifies them: a mismatch is an :class:`~xpersson.errors.ArchiveError` naming
-  the file and the variable. Archives written before digests existed are read unchecked.
+  the file and the variable. The global attribute ``xpersson_archive_format`` (3) says which
+  digests must exist: from version 2 on (digests without the attribute) a missing digest is an
+  error; an archive without any digest (version 1) is read with ``status = "unverified"``.
 - The pressure PDF ``P`` is stored as ``pressure_pdf``: CF forbids variable names that differ
   only by case, and ``p`` is the pressure coordinate. The stored variable says so in its
   ``xpersson_name`` attribute; :func:`decode` restores ``P``.
@@ -44,7 +46,15 @@ import xarray as xr
 
 from ..errors import ArchiveError
 from ._cf import RENAMED, decode, encode
-from ._integrity import DIGEST, check_text, file_digest, seal, verify
+from ._integrity import (
+    DIGEST,
+    FORMAT_VERSION,
+    check_text,
+    file_digest,
+    mark_unverified,
+    seal,
+    verify,
+)
 
 __all__ = [
     "ENGINE",
@@ -60,6 +70,7 @@ __all__ = [
     "DIGEST",
     "file_digest",
     "WriteError",
+    "FORMAT_VERSION",
     "check_text",
 ]
 
@@ -339,11 +350,12 @@ def read(path: str | os.PathLike[str], **kwargs: object) -> xr.Dataset:
                 raise ArchiveError(
                     f"{path}: variable {name!r} cannot be read, the file is corrupt ({_short(exc)})"
                 ) from None
-        verify(ds, path)
+        version = verify(ds, path)
         try:
-            return decode(ds.load())
+            out = decode(ds.load())
         except Exception as exc:  # noqa: BLE001 - any malformed attribute
             raise ArchiveError(f"{path}: malformed encoding attributes ({_short(exc)})") from None
+    return mark_unverified(out, version) if version == 1 else out
 
 
 def _short(exc: BaseException) -> str:

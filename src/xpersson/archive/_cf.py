@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ._integrity import _ATTRS_DIGEST, DIGEST
+from ._integrity import _ATTRS_DIGEST, DIGEST, FORMAT_ATTR
 
 # -- CF encoding ----------------------------------------------------------------------------------
 RENAMED = {"P": "pressure_pdf"}
@@ -68,6 +68,7 @@ def encode(ds: xr.Dataset) -> tuple[xr.Dataset, dict[str, dict[str, Any]]]:
 def decode(ds: xr.Dataset) -> xr.Dataset:
     """Undo :func:`encode` and :func:`seal` (works on lazily opened Datasets too)."""
     ds.attrs.pop(_ATTRS_DIGEST, None)
+    ds.attrs.pop(FORMAT_ATTR, None)
     for name in list(ds.variables):
         ds.variables[name].attrs.pop(DIGEST, None)
     for name in list(ds.variables):

@@ -17,6 +17,13 @@ from ..errors import ArchiveError
 DIGEST = "xpersson_sha256"
 _ATTRS_DIGEST = "xpersson_attrs_sha256"
 _NOT_HASHED = {DIGEST, "_FillValue", "coordinates", "dtype", "missing_value"}
+FORMAT_ATTR = "xpersson_archive_format"
+FORMAT_VERSION = 3
+"""Archive format versions: 1 (no digests: read unverified), 2 (a digest on every variable and
+on the global attributes, no version attribute), 3 (as 2, with ``xpersson_archive_format``).
+From version 2 on every digest must exist: a missing one is an error, never a skip."""
+UNVERIFIED = "unverified"
+"""The ``status`` of an archive read without digests (format version 1)."""
 
 
 def _canonical(value: Any) -> Any:
@@ -69,30 +76,84 @@ def seal(stored: xr.Dataset, encoding: dict[str, dict[str, Any]]) -> xr.Dataset:
         if var.ndim:
             encoding.setdefault(str(name), {})["fletcher32"] = True
     out.attrs.pop(_ATTRS_DIGEST, None)
+    out.attrs[FORMAT_ATTR] = np.int32(FORMAT_VERSION)
     out.attrs[_ATTRS_DIGEST] = _global_digest(out)
     return out
 
 
-def verify(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
-    """Check the digests :func:`seal` stored (loads every variable).
+def format_version(ds: xr.Dataset, path: str | os.PathLike[str]) -> int:
+    """The archive format version an opened file declares (see :data:`FORMAT_VERSION`).
 
     Raises
     ------
     ArchiveError
-        Naming ``path`` and the first variable (or the global attributes) that changed.
+        A version this xpersson does not know, or digests that say a version the file denies
+        (some present, others removed).
     """
+    declared = ds.attrs.get(FORMAT_ATTR)
+    if declared is not None:
+        ok = np.ndim(declared) == 0 and np.asarray(declared).dtype.kind in "iu"
+        if not ok or not 2 <= int(declared) <= FORMAT_VERSION:
+            raise ArchiveError(
+                f"{path}: archive format version {str(declared)[:20]!r} is not one this xpersson "
+                f"reads (2 to {FORMAT_VERSION}); upgrade xpersson"
+            )
+        return int(declared)
+    if _ATTRS_DIGEST in ds.attrs:
+        return 2
+    marked = [str(n) for n, v in ds.variables.items() if DIGEST in v.attrs]
+    if marked:
+        raise ArchiveError(
+            f"{path}: the global attributes lack their digest ({_ATTRS_DIGEST}) while variable "
+            f"{marked[0]!r} has one: a digest was removed (the file is corrupt or forged)"
+        )
+    return 1
+
+
+def verify(ds: xr.Dataset, path: str | os.PathLike[str]) -> int:
+    """Check the digests :func:`seal` stored (loads every variable); returns the format version.
+
+    From format version 2 on every variable and the global attributes must carry a digest; a
+    version 1 archive (no digest at all) is read unverified (:func:`mark_unverified`).
+
+    Raises
+    ------
+    ArchiveError
+        Naming ``path`` and the first variable (or the global attributes) that changed or
+        lacks its digest.
+    """
+    version = format_version(ds, path)
+    if version == 1:
+        return 1
     for name, var in ds.variables.items():
         stored = var.attrs.get(DIGEST)
-        if stored is not None and stored != _variable_digest(var):
+        if stored is None:
+            raise ArchiveError(
+                f"{path}: variable {name!r} has no digest ({DIGEST}), which archive format "
+                f"version {version} requires (the file is corrupt or forged)"
+            )
+        if stored != _variable_digest(var):
             raise ArchiveError(
                 f"{path}: variable {name!r} fails its checksum: its stored values or "
                 "attributes changed after writing (the file is corrupt)"
             )
-    stored = ds.attrs.get(_ATTRS_DIGEST)
-    if stored is not None and stored != _global_digest(ds):
+    if ds.attrs.get(_ATTRS_DIGEST) != _global_digest(ds):
         raise ArchiveError(
             f"{path}: the global attributes fail their checksum (the file is corrupt)"
         )
+    return version
+
+
+def mark_unverified(ds: xr.Dataset, version: int) -> xr.Dataset:
+    """An archive read without digests: ``status`` says so (never ``"success"``)."""
+    note = (
+        f"unverified: format version {version} (written without digests; its values "
+        "cannot be checked against what was written)"
+    )
+    message = str(ds.attrs.get("status_message", "") or "")
+    ds.attrs["status_message"] = f"{note}; {message}" if message else note
+    ds.attrs["status"] = UNVERIFIED
+    return ds
 
 
 _BAD_TEXT = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f\ud800-\udfff]")

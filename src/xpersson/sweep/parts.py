@@ -28,6 +28,7 @@ import json
 import math
 import os
 import re
+import threading
 from pathlib import Path
 from typing import Any
 
@@ -199,7 +200,8 @@ def _check_entry(entry: Any, dims: list[str], shape: list[int], path: Path) -> N
 
 def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
     """Variable ``name`` with the sweep dimensions ``dims`` dropped (the value of any solved
-    point: the largest, skipping NaN; integers of failed points skipped)."""
+    point: the largest, skipping NaN; integers of failed points skipped). The smallest must
+    equal it (:func:`_unchanged`): an index that calls a varying variable constant is refused."""
     var = ds.variables[name]
     dims = [d for d in dims if d in var.dims]
     kind = var.dtype.kind
@@ -210,23 +212,52 @@ def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
         keep = tuple(d for d in var.dims if d not in dims)
         if kind == "f":  # nanmax without its all-NaN warning (no filter to change)
             data = np.fmax.reduce(var.data, axis=axes)
-        else:  # the failed points' values replaced by the smallest of all
+            low = np.fmin.reduce(var.data, axis=axes)
+        else:  # the failed points' values replaced by the smallest of all (largest for low)
             shape = dict(zip(var.dims, var.shape, strict=True))
             ok = (status != POINT_STATUS["failed"]).set_dims(shape)
             arr = np.asarray(var.data)
             data = np.where(ok.data, arr, arr.min()).max(axis=axes).astype(var.dtype)
+            low = np.where(ok.data, arr, arr.max()).min(axis=axes).astype(var.dtype)
+        _unchanged(data, low, name)
         return xr.Variable(keep, data, dict(var.attrs), dict(var.encoding))
     da = ds[name]
     if var.dtype.kind in "fc":  # NaN skipped; NaN where every point is NaN; no warning
-        reduced = da.fillna(-np.inf).max(dims, keep_attrs=True).where(da.notnull().any(dims))
+        some = da.notnull().any(dims)
+        reduced = da.fillna(-np.inf).max(dims, keep_attrs=True).where(some)
+        low = da.fillna(np.inf).min(dims).where(some)
     elif var.dtype.kind in "iub":
         ok = ds["point_status"] != POINT_STATUS["failed"]
         reduced = da.where(ok, da.min()).max(dims, keep_attrs=True).astype(var.dtype)
+        low = da.where(ok, da.max()).min(dims).astype(var.dtype)
     else:
-        reduced = da.isel({d: 0 for d in dims}, drop=True)
+        reduced = low = da.isel({d: 0 for d in dims}, drop=True)
+    reduced = xr.apply_ufunc(
+        _unchanged,
+        reduced,
+        low,
+        kwargs={"name": name},
+        dask="parallelized",
+        output_dtypes=[reduced.dtype],
+        keep_attrs=True,
+    )
     out = reduced.variable.copy(deep=False)
     out.attrs = dict(var.attrs)
     return out
+
+
+def _unchanged(high: Any, low: Any, name: str) -> Any:
+    """``high`` when it equals ``low`` wherever it is a number, else an :class:`ArchiveError`."""
+    high_a, low_a = np.asarray(high), np.asarray(low)
+    same = high_a == low_a
+    if high_a.dtype.kind in "fc":
+        same |= np.isnan(high_a)
+    if not np.all(same):
+        raise ArchiveError(
+            f"variable {name!r} varies along a sweep dimension its index lists under "
+            "'constant' (the index was altered; the parts disagree with it)"
+        )
+    return high
 
 
 def finalize(ds: xr.Dataset, constant: dict[str, list[str]], attrs: dict[str, Any]) -> xr.Dataset:
@@ -313,6 +344,9 @@ def _open_verified(path: Path, sha256: str) -> xr.Dataset:
         ) from None
 
 
+_PARSE_LOCK = threading.Lock()
+
+
 class _Changed(ArchiveError):
     """A part's bytes are not those its index names."""
 
@@ -331,10 +365,11 @@ def _parse_verified(path: str, sha256: str) -> xr.Dataset:
 
     lock = combine_locks([HDF5_LOCK, NETCDFC_LOCK])  # the libraries are not thread-safe
     try:
-        with lock:
-            nc = netCDF4.Dataset(Path(path).name, mode="r", memory=data)
-        with xr.open_dataset(xr.backends.NetCDF4DataStore(nc, lock=lock)) as ds:
-            out = ds.load()
+        with _PARSE_LOCK:  # xarray reads attributes unlocked: one part parsed at a time
+            with lock:
+                nc = netCDF4.Dataset(Path(path).name, mode="r", memory=data)
+            with xr.open_dataset(xr.backends.NetCDF4DataStore(nc, lock=lock)) as ds:
+                out = ds.load()
     except Exception as exc:  # noqa: BLE001 - netCDF/HDF5 errors come as many classes
         raise ArchiveError(f"{path}: not a readable netCDF part ({type(exc).__name__})") from None
     out.encoding["source"] = path
