@@ -187,3 +187,41 @@ def test_an_index_that_calls_a_varying_variable_constant_is_refused(study, tmp_p
     (folder / INDEX).write_text(json.dumps(seal_index(index)))
     with pytest.raises(ArchiveError, match="'area_fraction' varies along a sweep dimension"):
         xpersson.open_dataset(folder).load()
+
+
+# -- 4. plugin outputs on the solved coordinates ----------------------------------------------
+def _shifting(shift: float):
+    from xpersson.plugins import Analysis, VarSpec
+
+    def compute(self, ctx, ds):
+        da = ds["area_fraction"].transpose("p0", "zeta").copy()
+        return {"extra": da.assign_coords(zeta=da["zeta"].values * shift)}
+
+    return type(
+        "Shifting",
+        (Analysis,),
+        {
+            "summary": "returns its output on a shifted zeta",
+            "requires": ("area_fraction",),
+            "provides": ("extra",),
+            "outputs": {"extra": VarSpec(("p0", "zeta"), "1", "a copy")},
+            "compute": compute,
+        },
+    )
+
+
+@pytest.mark.parametrize("shift", [1.0, 1.0 + 1e-12, 1.5])
+def test_an_output_on_shifted_coordinates_is_a_plugin_failure_naming_it(shift):
+    from xpersson.checks import PluginFailure
+    from xpersson.testing import registry_with
+
+    sc = scene(analyses={"shifting": {}})
+    sc.pop("sweep", None)
+    sc["material"]["E"] = "5 MPa"
+    with registry_with(analyses={"shifting": _shifting(shift)}):
+        if shift == 1.0:
+            ds = xpersson.solve(sc)
+            assert (ds["extra"] == ds["area_fraction"].transpose(*ds["extra"].dims)).all()
+            return
+        with pytest.raises(PluginFailure, match=r"shifting.*'extra'.*coordinate 'zeta' differs"):
+            xpersson.solve(sc)
