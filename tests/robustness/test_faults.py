@@ -225,3 +225,29 @@ def test_an_output_on_shifted_coordinates_is_a_plugin_failure_naming_it(shift):
             return
         with pytest.raises(PluginFailure, match=r"shifting.*'extra'.*coordinate 'zeta' differs"):
             xpersson.solve(sc)
+
+
+# -- 6. inputs and environment under one budget -----------------------------------------------
+@pytest.mark.parametrize(
+    "text",
+    [
+        "1 " + " * ".join(["Tm**60"] * 3) + " / " + " / ".join(["m**60"] * 3),
+        "1 (Ym**60*Ym**60*Ym**60)/(m**60*m**60*m**60)",
+    ],
+)
+def test_products_of_large_powers_are_one_unit_error(text):
+    from xpersson.units import UnitError, to_si
+
+    with pytest.raises(UnitError, match="load.p0"):
+        to_si(text, "1", "load.p0")
+
+
+@pytest.mark.parametrize("value", ["1e999", "1e400 GB", "1.2.3", "nan", "-5"])
+def test_an_overflowing_memory_budget_is_one_line_naming_the_variable(monkeypatch, value):
+    from xpersson import memory
+
+    monkeypatch.setenv("XPERSSON_MEMORY_BUDGET", value)
+    with pytest.raises(ValueError, match="XPERSSON_MEMORY_BUDGET"):
+        memory.budget()
+    with pytest.raises(ValueError, match="memory budget"):
+        memory.set_budget(float("inf"))
