@@ -28,13 +28,33 @@ def _parse_sets(items: Sequence[str]) -> dict[str, Any]:
         if not sep or not key.strip():
             raise SceneError(f"--set expects section.key=value, got {item!r}")
         out[key.strip()] = parse_cli_value(value.strip())
+    _check_texts(out, "--set ")
     return out
+
+
+def _check_texts(node: Any, where: str) -> None:
+    """Refuse text a netCDF archive could not store (a NUL, control characters, lone
+    surrogates) before any work, naming the key."""
+    from .archive import check_text_value
+    from .scene import SceneError
+
+    items = node.items() if isinstance(node, dict) else enumerate(node)
+    for key, value in items:
+        name = f"{where}{key}" if isinstance(node, dict) else f"{where}[{key}]"
+        try:
+            check_text_value(name, key)
+            check_text_value(name, value)
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
+        if isinstance(value, dict | list | tuple):
+            _check_texts(value, f"{name}." if isinstance(value, dict) else name)
 
 
 def _load(args: argparse.Namespace) -> Any:
     from .scene import load_scene
 
     scene = load_scene(args.scene)
+    _check_texts(getattr(scene, "data", {}) or {}, "")
     sets = _parse_sets(args.set or [])
     return scene.with_values(**sets) if sets else scene
 

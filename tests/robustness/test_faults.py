@@ -251,3 +251,49 @@ def test_an_overflowing_memory_budget_is_one_line_naming_the_variable(monkeypatc
         memory.budget()
     with pytest.raises(ValueError, match="memory budget"):
         memory.set_budget(float("inf"))
+
+
+# -- 7. text that netCDF cannot give back -----------------------------------------------------
+@pytest.mark.parametrize("bad", ["a\x00b", "tab\x01", "\ud800"])
+def test_a_text_attribute_netcdf_cannot_store_is_refused_naming_it(study, tmp_path, bad):
+    _, ref = study
+    ds = ref.isel(E=0).copy(deep=True)
+    ds.attrs["title"] = bad
+    with pytest.raises(ValueError, match="global attribute 'title'"):
+        xpersson.to_netcdf(ds, tmp_path / "a.nc")
+    ds = ref.isel(E=0).copy(deep=True)
+    ds["area_fraction"].attrs["comment_by_someone"] = bad
+    with pytest.raises(ValueError, match="variable 'area_fraction', 'comment_by_someone'"):
+        xpersson.to_netcdf(ds, tmp_path / "a.nc")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_cli_set_refuses_a_control_character_naming_the_key(tmp_path, capsys):
+    from xpersson.cli import main
+
+    f = tmp_path / "s.toml"
+    f.write_text(
+        '[spectrum]\nmodel = "self_affine"\nH = 0.8\nq_L = "1e3 1/m"\nq_r = "1e4 1/m"\n'
+        'q_1 = "1e8 1/m"\nh_rms = "1 um"\n[material]\nE = "5 MPa"\nnu = 0.5\n[load]\np0 = 1e5\n'
+    )
+    assert main(["run", str(f), "-o", str(tmp_path / "a.nc"), "--set", "output.title=x\x00y"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--set output.title" in err[0] and "U+0000" in err[0]
+    assert not (tmp_path / "a.nc").exists()
+
+
+def test_two_index_entries_naming_one_part_are_refused_naming_both(study, tmp_path):
+    import json
+    import shutil
+
+    from xpersson.sweep import INDEX
+    from xpersson.sweep.parts import seal_index
+
+    src, _ = study
+    folder = tmp_path / "s"
+    shutil.copytree(src, folder)
+    index = json.loads((folder / INDEX).read_text())
+    index["parts"][2]["name"] = index["parts"][0]["name"]
+    (folder / INDEX).write_text(json.dumps(seal_index(index)))
+    with pytest.raises(ArchiveError, match=r"parts\[0\] .* and parts\[2\] .* both name part-00000"):
+        xpersson.open_dataset(folder)

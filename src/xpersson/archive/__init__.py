@@ -50,6 +50,7 @@ from ._integrity import (
     DIGEST,
     FORMAT_VERSION,
     check_text,
+    check_text_value,
     file_digest,
     mark_unverified,
     seal,
@@ -72,6 +73,7 @@ __all__ = [
     "WriteError",
     "FORMAT_VERSION",
     "check_text",
+    "check_text_value",
 ]
 
 ENGINE = "netcdf4"

@@ -186,6 +186,11 @@ def check_text(ds: xr.Dataset) -> None:
         _check_one(f"variable name {str(name)[:60]!r}", name)
 
 
+def check_text_value(what: str, text: Any) -> None:
+    """Refuse one text (see :func:`check_text`): a ``ValueError`` starting with ``what``."""
+    _check_one(what, text)
+
+
 def _check_one(what: str, text: Any) -> None:
     if not isinstance(text, str):
         return

@@ -146,9 +146,16 @@ def load_index(folder: Path) -> dict[str, Any]:
     if any(s < 1 for s in shape) or math.prod(shape) < len(parts):
         raise ArchiveError(f"{path}: shape {shape} cannot hold {len(parts)} parts")
     seen: set[tuple[int, ...]] = set()
-    for entry in parts:
+    names: dict[str, int] = {}
+    for k, entry in enumerate(parts):
         _check_entry(entry, dims, shape, path)
         seen.add(tuple(entry["grid_index"]))
+        first = names.setdefault(entry["name"], k)
+        if first != k:
+            raise ArchiveError(
+                f"{path}: parts[{first}] (grid_index {parts[first]['grid_index']}) and parts[{k}] "
+                f"(grid_index {entry['grid_index']}) both name {entry['name']}"
+            )
     counts = [max(g[d] for g in seen) + 1 for d in range(len(dims))]
     if len(seen) != len(parts) or math.prod(counts) != len(parts):
         raise ArchiveError(f"{path}: the parts do not tile the block grid {counts} exactly once")
