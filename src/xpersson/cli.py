@@ -28,33 +28,19 @@ def _parse_sets(items: Sequence[str]) -> dict[str, Any]:
         if not sep or not key.strip():
             raise SceneError(f"--set expects section.key=value, got {item!r}")
         out[key.strip()] = parse_cli_value(value.strip())
-    _check_texts(out, "--set ")
+    from .cli_reproduce import check_texts
+
+    check_texts(out, "--set ")
     return out
-
-
-def _check_texts(node: Any, where: str) -> None:
-    """Refuse text a netCDF archive could not store (a NUL, control characters, lone
-    surrogates) before any work, naming the key."""
-    from .archive import check_text_value
-    from .scene import SceneError
-
-    items = node.items() if isinstance(node, dict) else enumerate(node)
-    for key, value in items:
-        name = f"{where}{key}" if isinstance(node, dict) else f"{where}[{key}]"
-        try:
-            check_text_value(name, key)
-            check_text_value(name, value)
-        except ValueError as exc:
-            raise SceneError(str(exc)) from None
-        if isinstance(value, dict | list | tuple):
-            _check_texts(value, f"{name}." if isinstance(value, dict) else name)
 
 
 def _load(args: argparse.Namespace) -> Any:
     from .scene import load_scene
 
     scene = load_scene(args.scene)
-    _check_texts(getattr(scene, "data", {}) or {}, "")
+    from .cli_reproduce import check_texts
+
+    check_texts(getattr(scene, "data", {}) or {}, "")
     sets = _parse_sets(args.set or [])
     return scene.with_values(**sets) if sets else scene
 
@@ -232,7 +218,9 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         _err("xpersson: --rtol and --atol must be >= 0")
         return 2
     old = _open(args.archive)
-    data = _archived_scene(old, args.archive, args.read_files)
+    from .cli_reproduce import archived_scene
+
+    data = archived_scene(old, args.archive, args.read_files)
     try:
         ds = solve(Scene(data, source=None)).load()
     except ValueError as exc:  # quotes (a file's lines, a stored value) are withheld
@@ -253,51 +241,6 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         f"values within rtol={args.rtol:g}, atol={args.atol:g}): {verdict} {args.archive}"
     )
     return 0 if not diffs else 4
-
-
-def _archived_scene(ds: Any, archive: str, read_files: bool) -> dict[str, Any]:
-    """The archive's scene; files it names are refused unless ``read_files`` (a tabulated
-    spectrum's stored ``q``/``C`` table replaces its file)."""
-    from .plugins import get_registry
-
-    data = json.loads(ds.attrs["xpersson_scene"])
-    if read_files:
-        return data
-    names = set()
-    registry = get_registry()
-    for info in registry.infos():
-        try:
-            cls = registry.load(info.group, info.name)
-        except Exception:  # noqa: BLE001, S112 - a broken plugin names no path parameter
-            continue
-        params = getattr(cls, "parameters", {}) or {}
-        names |= {k for k, spec in params.items() if getattr(spec, "kind", None) == "path"}
-    refs = _file_references(data, names, "")
-    if refs:
-        from .errors import ArchiveError
-
-        raise ArchiveError(
-            f"{archive}: its scene names files ({', '.join(refs)}); reproduce reads no file an "
-            "archive names unless --read-files is given"
-        )
-    return data
-
-
-def _file_references(node: Any, names: set[str], where: str) -> list[str]:
-    out: list[str] = []
-    if not isinstance(node, dict):
-        return out
-    inline = node.get("q") is not None and node.get("C") is not None
-    for key in list(node):
-        path = f"{where}{key}"
-        if key in names and node[key] is not None:
-            if inline:  # the stored table is used; the file stays out of reach
-                del node[key]
-            else:
-                out.append(path)
-        else:
-            out += _file_references(node[key], names, path + ".")
-    return out
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:

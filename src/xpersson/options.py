@@ -1,6 +1,6 @@
 """Library-wide options, set like :func:`xarray.set_options`.
 
-Two options:
+Three options:
 
 ``cache`` : bool
     Whether the caches of :mod:`xpersson.cache` keep anything. ``False`` turns every cache of
@@ -17,6 +17,13 @@ Two options:
     fast paths are checked against (:func:`xpersson.sweep.plain_paths` is the same as a
     ``with`` block). The default comes from ``XPERSSON_FAST_PATHS`` (same values as
     ``XPERSSON_CACHE``).
+
+``plugin_time_limit`` : float or False
+    The wall-clock limit [s] of every plugin call (spectrum ``build()``, a plugin's import, a
+    law, an analysis) that the scene's ``[solver] plugin_time_limit`` does not set; ``False``
+    (or ``0``) turns the default limit off. The default comes from
+    ``XPERSSON_PLUGIN_TIME_LIMIT`` (seconds, or ``off``); unset means
+    :data:`DEFAULT_PLUGIN_TIME_LIMIT`.
 
 Examples
 --------
@@ -40,6 +47,9 @@ __all__ = [
     "set_options",
     "cache_enabled",
     "fast_paths_enabled",
+    "plugin_time_limit",
+    "DEFAULT_PLUGIN_TIME_LIMIT",
+    "TIME_LIMIT_ENV",
 ]
 
 CACHE_ENV = "XPERSSON_CACHE"
@@ -47,16 +57,27 @@ CACHE_ENV = "XPERSSON_CACHE"
 FAST_PATHS_ENV = "XPERSSON_FAST_PATHS"
 """The environment variable that sets the default of the ``fast_paths`` option."""
 
+TIME_LIMIT_ENV = "XPERSSON_PLUGIN_TIME_LIMIT"
+"""The environment variable that sets the default of the ``plugin_time_limit`` option."""
+DEFAULT_PLUGIN_TIME_LIMIT = 600.0
+"""The default wall-clock limit of one plugin call [s] (a call never returning ends a run)."""
+MAX_TIME_LIMIT = 1e7
+"""Largest time limit accepted [s] (about 4 months)."""
+
 _ON = frozenset({"", "1", "on", "true", "yes"})
 _OFF = frozenset({"0", "off", "false", "no"})
 _LOCK = threading.Lock()
 #: options set by :func:`set_options`; a missing key means "the default" (for ``cache``: the
 #: environment variable)
 _SET: dict[str, Any] = {}
-_VALID = {"cache": "a bool", "fast_paths": "a bool"}
+_VALID = {
+    "cache": "a bool",
+    "fast_paths": "a bool",
+    "plugin_time_limit": f"a number of seconds in (0, {MAX_TIME_LIMIT:g}] or False (off)",
+}
 #: the environment variables' flags as read (cleared by ``set_options(option=None)``)
 _FROM_ENV: dict[str, bool] = {}
-_ENV = {"cache": CACHE_ENV, "fast_paths": FAST_PATHS_ENV}
+_ENV = {"cache": CACHE_ENV, "fast_paths": FAST_PATHS_ENV, "plugin_time_limit": TIME_LIMIT_ENV}
 
 
 def _env_flag(name: str) -> bool:
@@ -98,9 +119,53 @@ def fast_paths_enabled() -> bool:
     return _flag("fast_paths")
 
 
+def plugin_time_limit() -> float | None:
+    """The default limit of a plugin call [s] (``None``: off): :func:`set_options`
+    ``plugin_time_limit``, else ``XPERSSON_PLUGIN_TIME_LIMIT``, else
+    :data:`DEFAULT_PLUGIN_TIME_LIMIT`."""
+    value = _SET.get("plugin_time_limit")
+    if value is None:
+        value = _FROM_ENV.get(TIME_LIMIT_ENV)
+        if value is None:
+            value = _FROM_ENV[TIME_LIMIT_ENV] = _parse_limit(os.environ.get(TIME_LIMIT_ENV, ""))
+    return None if value is False else float(value)
+
+
+def _parse_limit(raw: str) -> float | bool:
+    text = raw.strip().lower()
+    if not text:
+        return DEFAULT_PLUGIN_TIME_LIMIT
+    if text in _OFF:
+        return False
+    try:
+        value = float(text.removesuffix("s").strip())
+    except ValueError:
+        value = float("nan")
+    if not 0 < value <= MAX_TIME_LIMIT:
+        raise ValueError(
+            f"environment variable {TIME_LIMIT_ENV}={raw[:40]!r} must be a number of seconds in "
+            f"(0, {MAX_TIME_LIMIT:g}] or off; unset it for the default "
+            f"({DEFAULT_PLUGIN_TIME_LIMIT:g} s)"
+        )
+    return value
+
+
 def get_options() -> dict[str, Any]:
-    """The options in force (a copy): ``{"cache": bool, "fast_paths": bool}``."""
-    return {name: _flag(name) for name in _VALID}
+    """The options in force (a copy): ``{"cache": bool, "fast_paths": bool,
+    "plugin_time_limit": float or None}``."""
+    out: dict[str, Any] = {name: _flag(name) for name in ("cache", "fast_paths")}
+    out["plugin_time_limit"] = plugin_time_limit()
+    return out
+
+
+def _valid(name: str, value: Any) -> bool:
+    if value is None:
+        return True
+    if name != "plugin_time_limit":
+        return isinstance(value, bool)
+    if value is False or (type(value) in (int, float) and value == 0):
+        return True
+    return type(value) in (int, float) and 0 < value <= MAX_TIME_LIMIT
 
 
 class set_options:  # noqa: N801 - named as xarray.set_options, used as a function
@@ -114,6 +179,9 @@ class set_options:  # noqa: N801 - named as xarray.set_options, used as a functi
     fast_paths : bool or None
         ``False`` sends everything down the plain path, ``True`` lets declared fast paths
         run; ``None`` returns to the default (``XPERSSON_FAST_PATHS``).
+    plugin_time_limit : float, False or None
+        The default limit of a plugin call [s]; ``False`` or ``0``: no default limit;
+        ``None``: back to ``XPERSSON_PLUGIN_TIME_LIMIT`` (or 600 s).
 
     Raises
     ------
@@ -129,8 +197,12 @@ class set_options:  # noqa: N801 - named as xarray.set_options, used as a functi
                 + ", ".join(f"{k} ({v})" for k, v in _VALID.items())
             )
         for name, value in options.items():
-            if value is not None and not isinstance(value, bool):
+            if not _valid(name, value):
                 raise ValueError(f"option {name!r} must be {_VALID[name]} or None, got {value!r}")
+        options = {
+            k: (False if k == "plugin_time_limit" and v is not None and not v else v)
+            for k, v in options.items()
+        }
         with _LOCK:
             self._old = {k: _SET.get(k) for k in options}
             for name, value in options.items():

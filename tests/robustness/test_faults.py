@@ -297,3 +297,85 @@ def test_two_index_entries_naming_one_part_are_refused_naming_both(study, tmp_pa
     (folder / INDEX).write_text(json.dumps(seal_index(index)))
     with pytest.raises(ArchiveError, match=r"parts\[0\] .* and parts\[2\] .* both name part-00000"):
         xpersson.open_dataset(folder)
+
+
+# -- 5. time limits everywhere, with a default ------------------------------------------------
+def test_a_sleeping_plugin_call_in_a_thread_is_interrupted():
+    import threading
+    import time as _time
+
+    from xpersson.plugins import PluginTimeout, limited
+
+    out = {}
+
+    def work():
+        t0 = _time.monotonic()
+        try:
+            with limited(0.2):
+                _time.sleep(30)
+        except PluginTimeout:
+            out["after"] = _time.monotonic() - t0
+
+    t = threading.Thread(target=work)
+    t.start()
+    t.join(10)
+    assert not t.is_alive() and 0.2 <= out["after"] < 5
+
+
+def test_a_default_limit_applies_to_spectrum_build_and_can_be_turned_off(monkeypatch):
+    from xpersson.options import get_options, set_options
+    from xpersson.plugins import current_limit
+
+    assert current_limit() == 600.0 and get_options()["plugin_time_limit"] == 600.0
+    with set_options(plugin_time_limit=False):
+        assert current_limit() is None
+    with set_options(plugin_time_limit=0.3):
+        assert current_limit() == 0.3
+        from xpersson.builtin import spectra  # noqa: F401 - any spectrum plugin
+
+        calls = {}
+
+        from xpersson.scene import _resolve
+
+        def slow_build(spectrum, who):
+            import time as _time
+
+            with _resolve.calling(who, "build()"):
+                calls["in"] = True
+                _time.sleep(30)
+
+        monkeypatch.setattr(_resolve, "_build_spectrum", slow_build)
+        sc = scene(material={"E": "5 MPa"})
+        sc.pop("sweep", None)
+        with pytest.raises(TimeoutError, match=r"build\(\) exceeded the time limit of 0.3 s"):
+            xpersson.solve(sc)
+        assert calls["in"]
+    monkeypatch.setenv("XPERSSON_PLUGIN_TIME_LIMIT", "1e999")
+    with (
+        set_options(plugin_time_limit=None),
+        pytest.raises(ValueError, match="XPERSSON_PLUGIN_TIME_LIMIT"),
+    ):
+        current_limit()
+    monkeypatch.delenv("XPERSSON_PLUGIN_TIME_LIMIT")
+    set_options(plugin_time_limit=None)
+
+
+def test_reproduce_reads_named_files_only_from_regular_files(tmp_path, capsys):
+    import json
+    import os
+
+    from xpersson.cli import main
+
+    sc = scene(material={"E": "5 MPa"})
+    sc.pop("sweep", None)
+    ds = xpersson.solve(sc)
+    data = json.loads(ds.attrs["xpersson_scene"])
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    data["spectrum"] = {"model": "tabulated", "file": str(fifo)}
+    ds.attrs["xpersson_scene"] = json.dumps(data)
+    xpersson.to_netcdf(ds, tmp_path / "a.nc")
+    args = ["reproduce", str(tmp_path / "a.nc"), "-o", str(tmp_path / "b.nc"), "--read-files"]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "spectrum.file names something that is not a regular file" in err[0]
