@@ -73,11 +73,15 @@ def write_index(folder: Path, index: dict[str, Any]) -> None:
         index["scene_sha256"] = _scene_sha(index["attrs"])
     index["sha256"] = _index_sha(index)
     tmp = folder / f".{INDEX}.{os.getpid()}.tmp"
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(json.dumps(index, indent=1))
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(tmp, folder / INDEX)
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(json.dumps(index, indent=1))
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, folder / INDEX)
+    except BaseException:  # disk full, quota, ...: no half-written index left behind
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def seal_index(index: dict[str, Any]) -> dict[str, Any]:
@@ -207,8 +211,9 @@ def _check_entry(entry: Any, dims: list[str], shape: list[int], path: Path) -> N
 
 def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
     """Variable ``name`` with the sweep dimensions ``dims`` dropped (the value of any solved
-    point: the largest, skipping NaN; integers of failed points skipped). The smallest must
-    equal it (:func:`_unchanged`): an index that calls a varying variable constant is refused."""
+    point: the largest, skipping NaN; integers of failed points skipped). For floating-point
+    variables the smallest must equal it (:func:`_unchanged`): an index that calls a varying
+    variable constant is refused."""
     var = ds.variables[name]
     dims = [d for d in dims if d in var.dims]
     kind = var.dtype.kind
@@ -225,7 +230,7 @@ def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
             ok = (status != POINT_STATUS["failed"]).set_dims(shape)
             arr = np.asarray(var.data)
             data = np.where(ok.data, arr, arr.min()).max(axis=axes).astype(var.dtype)
-            low = np.where(ok.data, arr, arr.max()).min(axis=axes).astype(var.dtype)
+            low = data  # a point lacking the variable holds a fill value: not checked
         _unchanged(data, low, name)
         return xr.Variable(keep, data, dict(var.attrs), dict(var.encoding))
     da = ds[name]
@@ -235,8 +240,7 @@ def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
         low = da.fillna(np.inf).min(dims).where(some)
     elif var.dtype.kind in "iub":
         ok = ds["point_status"] != POINT_STATUS["failed"]
-        reduced = da.where(ok, da.min()).max(dims, keep_attrs=True).astype(var.dtype)
-        low = da.where(ok, da.max()).min(dims).astype(var.dtype)
+        reduced = low = da.where(ok, da.min()).max(dims, keep_attrs=True).astype(var.dtype)
     else:
         reduced = low = da.isel({d: 0 for d in dims}, drop=True)
     reduced = xr.apply_ufunc(
