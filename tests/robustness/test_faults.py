@@ -379,3 +379,14 @@ def test_reproduce_reads_named_files_only_from_regular_files(tmp_path, capsys):
     assert main(args) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "spectrum.file names something that is not a regular file" in err[0]
+
+
+def test_a_plugin_import_that_never_returns_is_interrupted(tmp_path, monkeypatch):
+    from xpersson.plugins import PluginTimeout
+    from xpersson.plugins._discovery import import_target
+
+    (tmp_path / "xpersson_never_imports.py").write_text("import time\ntime.sleep(3600)\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with xpersson.set_options(plugin_time_limit=0.3), pytest.raises(PluginTimeout):
+        import_target("xpersson_never_imports:Plugin")
+    assert "xpersson_never_imports" not in sys.modules

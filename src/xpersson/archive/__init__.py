@@ -40,9 +40,7 @@ import socket
 import threading
 import time
 from pathlib import Path
-from typing import Any
-
-import xarray as xr
+from typing import TYPE_CHECKING, Any
 
 from ..errors import ArchiveError
 from ._cf import RENAMED, decode, encode
@@ -56,6 +54,9 @@ from ._integrity import (
     seal,
     verify,
 )
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = [
     "ENGINE",
@@ -341,6 +342,8 @@ def read(path: str | os.PathLike[str], **kwargs: object) -> xr.Dataset:
         attributes are malformed; the message names the file (and the variable).
     """
     try:
+        import xarray as xr
+
         handle = xr.open_dataset(path, engine=ENGINE, **kwargs)  # type: ignore[arg-type]
     except Exception as exc:  # noqa: BLE001 - netCDF/HDF5 errors come as many classes
         raise ArchiveError(f"{path}: not a readable netCDF archive ({_short(exc)})") from None

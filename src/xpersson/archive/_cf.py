@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 
 from ._integrity import _ATTRS_DIGEST, DIGEST, FORMAT_ATTR
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 # -- CF encoding ----------------------------------------------------------------------------------
 RENAMED = {"P": "pressure_pdf"}
@@ -31,6 +33,8 @@ def _flag_codes(var: xr.DataArray) -> tuple[list[str], np.ndarray]:
 
 def encode(ds: xr.Dataset) -> tuple[xr.Dataset, dict[str, dict[str, Any]]]:
     """The Dataset as written (a shallow copy) and its netCDF ``encoding``."""
+    import xarray as xr
+
     out = ds.copy(deep=False)
     encoding: dict[str, dict[str, Any]] = {}
     for name in list(out.data_vars):
@@ -67,6 +71,8 @@ def encode(ds: xr.Dataset) -> tuple[xr.Dataset, dict[str, dict[str, Any]]]:
 
 def decode(ds: xr.Dataset) -> xr.Dataset:
     """Undo :func:`encode` and :func:`seal` (works on lazily opened Datasets too)."""
+    import xarray as xr
+
     ds.attrs.pop(_ATTRS_DIGEST, None)
     ds.attrs.pop(FORMAT_ATTR, None)
     for name in list(ds.variables):

@@ -6,12 +6,14 @@ import hashlib
 import json
 import os
 import re
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import xarray as xr
 
 from ..errors import ArchiveError
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 # -- content integrity ---------------------------------------------------------------------------
 DIGEST = "xpersson_sha256"
