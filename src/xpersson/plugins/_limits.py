@@ -89,22 +89,32 @@ def _message(seconds: float) -> str:
     return f"exceeded the time limit of {seconds:g} s"
 
 
+_MAIN_ARMED: list[float] = []
+"""The limits [s] armed in the main thread (innermost last)."""
+
+
+def _main_handler(signum: int, frame: object) -> None:
+    if _MAIN_ARMED:  # an alarm of nothing armed (a stray one) is ignored
+        raise PluginTimeout(_message(_MAIN_ARMED[-1]))
+
+
 @contextlib.contextmanager
 def _alarm(seconds: float) -> Iterator[None]:
     if signal.getitimer(signal.ITIMER_REAL)[0] > 0:  # an outer limit is armed: it applies
         yield
         return
-
-    def handler(signum: int, frame: object) -> None:
-        raise PluginTimeout(_message(seconds))
-
-    old = signal.signal(signal.SIGALRM, handler)
+    old = signal.getsignal(signal.SIGALRM)
+    if old is not _main_handler:  # installed once while SIGALRM has its default action
+        signal.signal(signal.SIGALRM, _main_handler)
+    _MAIN_ARMED.append(seconds)
     signal.setitimer(signal.ITIMER_REAL, seconds)
     try:
         yield
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
+        _MAIN_ARMED.pop()
+        if old is not _main_handler and old not in (signal.SIG_DFL, None):  # restored
+            signal.signal(signal.SIGALRM, old)
 
 
 @contextlib.contextmanager
