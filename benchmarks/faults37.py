@@ -139,7 +139,8 @@ def disk_campaign(n: int, rng: random.Random, work: Path, refs: dict[str, Any]) 
         mode = rng.choice(("fsync", "hdf"))
         t["runs"] += 1
         try:
-            with _inject(mode, code, rng.randint(1, 14 if sweep else 1)):
+            calls = (6 if mode == "fsync" else 4) if sweep else 1  # index, 4 parts, index
+            with _inject(mode, code, rng.randint(1, calls)):
                 if sweep:
                     xpersson.solve(SMALL, output=target, chunk=1)
                 else:

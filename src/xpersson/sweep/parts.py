@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ..archive import decode, read, to_netcdf
+from ..archive import WriteError, decode, read, to_netcdf
 from ..errors import ArchiveError
 from .blocks import PART_ATTR, POINT_STATUS
 
@@ -79,7 +79,10 @@ def write_index(folder: Path, index: dict[str, Any]) -> None:
             f.flush()
             os.fsync(f.fileno())
         os.replace(tmp, folder / INDEX)
-    except BaseException:  # disk full, quota, ...: no half-written index left behind
+    except OSError as exc:  # disk full, quota, ...: named; no half-written index left behind
+        tmp.unlink(missing_ok=True)
+        raise WriteError(folder / INDEX, exc) from None
+    except BaseException:
         tmp.unlink(missing_ok=True)
         raise
 
