@@ -178,14 +178,29 @@ def check_text(ds: xr.Dataset) -> None:
         (f"attribute of variable {str(n)[:60]!r},", v.attrs) for n, v in ds.variables.items()
     ]:
         for key, value in attrs.items():
-            _check_one(f"{where} {str(key)[:60]!r} (its name)", key)
+            _check_name(f"{where} {str(key)[:60]!r} (its name)", key)
             texts = [value] if isinstance(value, str) else []
             if isinstance(value, list | tuple | np.ndarray):
                 texts = [x for x in np.asarray(value, dtype=object).ravel() if isinstance(x, str)]
             for text in texts:
                 _check_one(f"{where} {str(key)[:60]!r}", text)
     for name in ds.variables:
-        _check_one(f"variable name {str(name)[:60]!r}", name)
+        _check_name(f"variable name {str(name)[:60]!r}", name)
+
+
+_NAME_START = re.compile(r"[A-Za-z0-9_]|[^\x00-\x7f]")
+
+
+def _check_name(what: str, name: Any) -> None:
+    """A netCDF name: starts with a letter, digit, ``_`` or a non-ASCII character; no ``/``, no
+    trailing space, nothing :data:`_BAD_TEXT` refuses."""
+    _check_one(what, name)
+    text = str(name)
+    if not text or not _NAME_START.match(text) or "/" in text or text != text.rstrip():
+        raise ValueError(
+            f"{what}: not a name netCDF accepts (it must start with a letter, digit, '_' or a "
+            "non-ASCII character and contain no '/' and no trailing space)"
+        )
 
 
 def check_text_value(what: str, text: Any) -> None:
