@@ -390,3 +390,23 @@ def test_a_plugin_import_that_never_returns_is_interrupted(tmp_path, monkeypatch
     with xpersson.set_options(plugin_time_limit=0.3), pytest.raises(PluginTimeout):
         import_target("xpersson_never_imports:Plugin")
     assert "xpersson_never_imports" not in sys.modules
+
+
+def test_a_failed_index_write_names_the_index_and_leaves_no_temporary(tmp_path, monkeypatch):
+    import errno
+    import os
+
+    from xpersson.archive import WriteError
+    from xpersson.sweep.parts import write_index
+
+    def fsync(fd):
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS))
+
+    monkeypatch.setattr(os, "fsync", fsync)
+    with pytest.raises(WriteError, match=r"xpersson_index.json: Read-only file system"):
+        write_index(tmp_path, {"state": "running"})
+    monkeypatch.undo()
+    assert list(tmp_path.iterdir()) == []
+    ds = xr.Dataset({"a": ("x", [1.0])}, attrs={"%bad": "v"})
+    with pytest.raises(ValueError, match="not a name netCDF accepts"):
+        xpersson.to_netcdf(ds, tmp_path / "n.nc")
