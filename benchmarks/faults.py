@@ -1,9 +1,10 @@
 """Fault campaign of archives and sweep folders (issue 24; not in CI).
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/faults.py --kills 30 --races 10 --corrupt 200 \
-        --hostile 200 --hangs 6 --out faults.json
+        --hostile 200 --hangs 6 --issue37 200 --out faults.json  # --only disk,forge,...
 
-Scenarios, each counted (runs, silent wrong results, tracebacks, hangs, lost parts):
+Scenarios, each counted (runs, silent wrong results, tracebacks, hangs, lost parts), and the
+seven classes of issue 37 (``--issue37 N`` faults each, :mod:`faults37`):
 
 - ``kill``: a sweep into a folder (fresh, overwriting another study, resuming an interrupted
   run) killed with SIGKILL at a random moment, then the folder opened (must be the complete
@@ -458,6 +459,8 @@ def main() -> None:
     ap.add_argument("--corrupt", type=int, default=50)
     ap.add_argument("--hostile", type=int, default=50)
     ap.add_argument("--hangs", type=int, default=4)
+    ap.add_argument("--issue37", type=int, default=200, help="faults per class of issue 37")
+    ap.add_argument("--only", default=None, help="comma-separated campaigns to run")
     ap.add_argument("--seed", type=int, default=24)
     ap.add_argument("--out", default=None, help="write the figures as JSON here")
     args = ap.parse_args()
@@ -470,13 +473,19 @@ def main() -> None:
         import warnings
 
         warnings.simplefilter("ignore")
-        for name, fn in (
+        sys.path.insert(0, str(Path(__file__).parent))
+        from faults37 import campaigns as issue37
+
+        campaigns = issue37(args.issue37, rng, work, refs) + [
             ("kill", lambda: kill_campaign(args.kills, rng, work, refs)),
             ("race", lambda: race_campaign(args.races, work)),
             ("corrupt", lambda: corrupt_campaign(args.corrupt, rng, work, refs)),
             ("hostile", lambda: hostile_campaign(args.hostile, rng, work, refs)),
             ("hang", lambda: hang_campaign(args.hangs, rng, work)),
-        ):
+        ]
+        for name, fn in campaigns:
+            if args.only and name not in args.only.split(","):
+                continue
             t1 = time.perf_counter()
             try:
                 results[name] = fn()

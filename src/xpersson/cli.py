@@ -28,6 +28,9 @@ def _parse_sets(items: Sequence[str]) -> dict[str, Any]:
         if not sep or not key.strip():
             raise SceneError(f"--set expects section.key=value, got {item!r}")
         out[key.strip()] = parse_cli_value(value.strip())
+    from .cli_reproduce import check_texts
+
+    check_texts(out, "--set ")
     return out
 
 
@@ -35,6 +38,9 @@ def _load(args: argparse.Namespace) -> Any:
     from .scene import load_scene
 
     scene = load_scene(args.scene)
+    from .cli_reproduce import check_texts
+
+    check_texts(getattr(scene, "data", {}) or {}, "")
     sets = _parse_sets(args.set or [])
     return scene.with_values(**sets) if sets else scene
 
@@ -158,7 +164,9 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         _err("xpersson: --rtol and --atol must be >= 0")
         return 2
     old = _open(args.archive)
-    data = _archived_scene(old, args.archive, args.read_files)
+    from .cli_reproduce import archived_scene
+
+    data = archived_scene(old, args.archive, args.read_files)
     try:
         ds = solve(Scene(data, source=None)).load()
     except ValueError as exc:  # quotes (a file's lines, a stored value) are withheld
@@ -179,51 +187,6 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         f"values within rtol={args.rtol:g}, atol={args.atol:g}): {verdict} {args.archive}"
     )
     return 0 if not diffs else 4
-
-
-def _archived_scene(ds: Any, archive: str, read_files: bool) -> dict[str, Any]:
-    """The archive's scene; files it names are refused unless ``read_files`` (a tabulated
-    spectrum's stored ``q``/``C`` table replaces its file)."""
-    from .plugins import get_registry
-
-    data = json.loads(ds.attrs["xpersson_scene"])
-    if read_files:
-        return data
-    names = set()
-    registry = get_registry()
-    for info in registry.infos():
-        try:
-            cls = registry.load(info.group, info.name)
-        except Exception:  # noqa: BLE001, S112 - a broken plugin names no path parameter
-            continue
-        params = getattr(cls, "parameters", {}) or {}
-        names |= {k for k, spec in params.items() if getattr(spec, "kind", None) == "path"}
-    refs = _file_references(data, names, "")
-    if refs:
-        from .errors import ArchiveError
-
-        raise ArchiveError(
-            f"{archive}: its scene names files ({', '.join(refs)}); reproduce reads no file an "
-            "archive names unless --read-files is given"
-        )
-    return data
-
-
-def _file_references(node: Any, names: set[str], where: str) -> list[str]:
-    out: list[str] = []
-    if not isinstance(node, dict):
-        return out
-    inline = node.get("q") is not None and node.get("C") is not None
-    for key in list(node):
-        path = f"{where}{key}"
-        if key in names and node[key] is not None:
-            if inline:  # the stored table is used; the file stays out of reach
-                del node[key]
-            else:
-                out.append(path)
-        else:
-            out += _file_references(node[key], names, path + ".")
-    return out
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
@@ -383,6 +346,17 @@ def _one_line_warnings() -> None:
     warnings.showwarning = show
 
 
+def _ignore_file_size_signal() -> None:
+    """With ``SIGXFSZ`` ignored, a write past a file-size limit fails with ``EFBIG`` (reported
+    as one line) instead of killing the process."""
+    import contextlib
+    import signal
+
+    if hasattr(signal, "SIGXFSZ"):
+        with contextlib.suppress(ValueError):  # not the main thread: left as it is
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``xpersson`` console script; returns the exit code."""
     parser = build_parser()
@@ -398,6 +372,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from .scene import SceneError
 
     _one_line_warnings()
+    _ignore_file_size_signal()
     try:
         return int(args.func(args) or 0)
     except BrokenPipeError:  # the reader went away (`xpersson info OUT.nc | head`)
@@ -407,16 +382,35 @@ def main(argv: Sequence[str] | None = None) -> int:
         os.dup2(devnull, sys.stdout.fileno())  # no second error when Python flushes stdout
         return 1
     except (SceneError, FileExistsError, FileNotFoundError) as exc:
-        _err(f"xpersson: error: {exc}")
+        _err(f"xpersson: error: {_one_line(exc)}")
+        return 2
+    except OSError as exc:  # disk full, quota, file-size limit, permission, read-only, ...
+        _err(f"xpersson: error: {_os_message(exc)}")
         return 2
     except Exception as exc:  # plugin errors etc.: one clear line, no traceback
         from .checks import PluginFailure
         from .plugins import PluginError
 
         if isinstance(exc, PluginError | ValueError | PluginFailure):
-            _err(f"xpersson: error: {exc}")
+            _err(f"xpersson: error: {_one_line(exc)}")
             return 2
         raise
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split()) or type(exc).__name__
+    return text if len(text) <= 2000 else text[:1997] + "..."
+
+
+def _os_message(exc: OSError) -> str:
+    """``PATH: CAUSE`` of an operating-system error (the path it names, its strerror)."""
+    from .archive import WriteError
+
+    if isinstance(exc, WriteError) or exc.errno is None:  # ours (TimeoutError too): one line
+        return _one_line(exc)
+    cause = exc.strerror or _one_line(exc)
+    where = exc.filename if exc.filename is not None else "(no path)"
+    return f"{where}: {cause}"
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -10,6 +10,7 @@ the budget.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import time
@@ -68,10 +69,20 @@ def _parse(text: str) -> int:
             f"XPERSSON_MEMORY_BUDGET [bytes] must be a positive number of bytes or a size like "
             f"'2 GB' / '500 MiB'; got {text!r}"
         )
-    value = float(m.group(1)) * _UNITS[m.group(2).lower()]
-    if not value > 0:
-        raise ValueError(f"XPERSSON_MEMORY_BUDGET [bytes] must be > 0; got {text!r}")
+    try:
+        value = float(m.group(1)) * _UNITS[m.group(2).lower()]
+    except ValueError:
+        value = math.nan
+    if not 0 < value <= MAX_BUDGET:
+        raise ValueError(
+            f"XPERSSON_MEMORY_BUDGET [bytes] must be a number of bytes > 0 and at most "
+            f"{MAX_BUDGET:.3g} (16 EiB); got {str(text)[:40]!r}"
+        )
     return int(value)
+
+
+MAX_BUDGET = float(2**64)
+"""Largest memory budget accepted [bytes]."""
 
 
 def available() -> int:
@@ -127,8 +138,10 @@ def set_budget(nbytes: int | str | None) -> None:
     elif isinstance(nbytes, str):
         _override = _parse(nbytes)
     else:
-        if not nbytes > 0:
-            raise ValueError(f"memory budget [bytes] must be > 0; got {nbytes!r}")
+        if not 0 < nbytes <= MAX_BUDGET:
+            raise ValueError(
+                f"memory budget [bytes] must be > 0 and at most {MAX_BUDGET:.3g}; got {nbytes!r}"
+            )
         _override = int(nbytes)
 
 

@@ -1,6 +1,6 @@
 """Library-wide options, set like :func:`xarray.set_options`.
 
-Three options:
+Four options:
 
 ``cache`` : bool
     Whether the caches of :mod:`xpersson.cache` keep anything. ``False`` turns every cache of
@@ -22,6 +22,12 @@ Three options:
     :mod:`xpersson.engine._compiled`) where it pays. ``False`` keeps the pure-numpy path, the
     reference the compiled one is tested against. The default comes from
     ``XPERSSON_COMPILED`` (same values; on, and a no-op without numba).
+``plugin_time_limit`` : float or False
+    The wall-clock limit [s] of every plugin call (spectrum ``build()``, a plugin's import, a
+    law, an analysis) that the scene's ``[solver] plugin_time_limit`` does not set; ``False``
+    (or ``0``) turns the default limit off. The default comes from
+    ``XPERSSON_PLUGIN_TIME_LIMIT`` (seconds, or ``off``); unset means
+    :data:`DEFAULT_PLUGIN_TIME_LIMIT`.
 
 Examples
 --------
@@ -47,6 +53,9 @@ __all__ = [
     "fast_paths_enabled",
     "COMPILED_ENV",
     "compiled_enabled",
+    "plugin_time_limit",
+    "DEFAULT_PLUGIN_TIME_LIMIT",
+    "TIME_LIMIT_ENV",
 ]
 
 CACHE_ENV = "XPERSSON_CACHE"
@@ -56,16 +65,33 @@ FAST_PATHS_ENV = "XPERSSON_FAST_PATHS"
 COMPILED_ENV = "XPERSSON_COMPILED"
 """The environment variable that sets the default of the ``compiled`` option."""
 
+TIME_LIMIT_ENV = "XPERSSON_PLUGIN_TIME_LIMIT"
+"""The environment variable that sets the default of the ``plugin_time_limit`` option."""
+DEFAULT_PLUGIN_TIME_LIMIT = 600.0
+"""The default wall-clock limit of one plugin call [s] (a call never returning ends a run)."""
+MAX_TIME_LIMIT = 1e7
+"""Largest time limit accepted [s] (about 4 months)."""
+
 _ON = frozenset({"", "1", "on", "true", "yes"})
 _OFF = frozenset({"0", "off", "false", "no"})
 _LOCK = threading.Lock()
 #: options set by :func:`set_options`; a missing key means "the default" (for ``cache``: the
 #: environment variable)
 _SET: dict[str, Any] = {}
-_VALID = {"cache": "a bool", "fast_paths": "a bool", "compiled": "a bool"}
+_VALID = {
+    "cache": "a bool",
+    "fast_paths": "a bool",
+    "compiled": "a bool",
+    "plugin_time_limit": f"a number of seconds in (0, {MAX_TIME_LIMIT:g}] or False (off)",
+}
 #: the environment variables' flags as read (cleared by ``set_options(option=None)``)
 _FROM_ENV: dict[str, bool] = {}
-_ENV = {"cache": CACHE_ENV, "fast_paths": FAST_PATHS_ENV, "compiled": COMPILED_ENV}
+_ENV = {
+    "cache": CACHE_ENV,
+    "fast_paths": FAST_PATHS_ENV,
+    "compiled": COMPILED_ENV,
+    "plugin_time_limit": TIME_LIMIT_ENV,
+}
 
 
 def _env_flag(name: str) -> bool:
@@ -113,9 +139,53 @@ def compiled_enabled() -> bool:
     return _flag("compiled")
 
 
+def plugin_time_limit() -> float | None:
+    """The default limit of a plugin call [s] (``None``: off): :func:`set_options`
+    ``plugin_time_limit``, else ``XPERSSON_PLUGIN_TIME_LIMIT``, else
+    :data:`DEFAULT_PLUGIN_TIME_LIMIT`."""
+    value = _SET.get("plugin_time_limit")
+    if value is None:
+        value = _FROM_ENV.get(TIME_LIMIT_ENV)
+        if value is None:
+            value = _FROM_ENV[TIME_LIMIT_ENV] = _parse_limit(os.environ.get(TIME_LIMIT_ENV, ""))
+    return None if value is False else float(value)
+
+
+def _parse_limit(raw: str) -> float | bool:
+    text = raw.strip().lower()
+    if not text:
+        return DEFAULT_PLUGIN_TIME_LIMIT
+    if text in _OFF:
+        return False
+    try:
+        value = float(text.removesuffix("s").strip())
+    except ValueError:
+        value = float("nan")
+    if not 0 < value <= MAX_TIME_LIMIT:
+        raise ValueError(
+            f"environment variable {TIME_LIMIT_ENV}={raw[:40]!r} must be a number of seconds in "
+            f"(0, {MAX_TIME_LIMIT:g}] or off; unset it for the default "
+            f"({DEFAULT_PLUGIN_TIME_LIMIT:g} s)"
+        )
+    return value
+
+
 def get_options() -> dict[str, Any]:
-    """The options in force (a copy): ``{"cache": bool, "fast_paths": bool, "compiled": bool}``."""
-    return {name: _flag(name) for name in _VALID}
+    """The options in force (a copy): ``{"cache": bool, "fast_paths": bool, "compiled": bool,
+    "plugin_time_limit": float or None}``."""
+    out: dict[str, Any] = {name: _flag(name) for name in ("cache", "fast_paths", "compiled")}
+    out["plugin_time_limit"] = plugin_time_limit()
+    return out
+
+
+def _valid(name: str, value: Any) -> bool:
+    if value is None:
+        return True
+    if name != "plugin_time_limit":
+        return isinstance(value, bool)
+    if value is False or (type(value) in (int, float) and value == 0):
+        return True
+    return type(value) in (int, float) and 0 < value <= MAX_TIME_LIMIT
 
 
 class set_options:  # noqa: N801 - named as xarray.set_options, used as a function
@@ -132,6 +202,9 @@ class set_options:  # noqa: N801 - named as xarray.set_options, used as a functi
     compiled : bool or None
         ``False`` keeps the engine on its pure-numpy path; ``None`` returns to the default
         (``XPERSSON_COMPILED``).
+    plugin_time_limit : float, False or None
+        The default limit of a plugin call [s]; ``False`` or ``0``: no default limit;
+        ``None``: back to ``XPERSSON_PLUGIN_TIME_LIMIT`` (or 600 s).
 
     Raises
     ------
@@ -147,8 +220,12 @@ class set_options:  # noqa: N801 - named as xarray.set_options, used as a functi
                 + ", ".join(f"{k} ({v})" for k, v in _VALID.items())
             )
         for name, value in options.items():
-            if value is not None and not isinstance(value, bool):
+            if not _valid(name, value):
                 raise ValueError(f"option {name!r} must be {_VALID[name]} or None, got {value!r}")
+        options = {
+            k: (False if k == "plugin_time_limit" and v is not None and not v else v)
+            for k, v in options.items()
+        }
         with _LOCK:
             self._old = {k: _SET.get(k) for k in options}
             for name, value in options.items():

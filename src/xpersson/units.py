@@ -57,6 +57,10 @@ MAX_EXPONENT = 64.0
 """Largest magnitude of an exponent in a unit expression."""
 MAX_NESTING = 8
 """Deepest nesting of parentheses in a unit expression."""
+MAX_POWER = 4 * MAX_EXPONENT
+"""Largest sum of the magnitudes of all exponents of a unit expression (a unit without one
+counts 1): bounds products of large powers such as ``'Tm**60*Tm**60*Tm**60/m**180'``."""
+_NAME = re.compile(r"(?<![\d.])[A-Za-z_\u00b5\u03bc][A-Za-z0-9_\u00b5\u03bc]*")
 _EXPONENT = re.compile(
     r"(?:\*\*|\^)\s*(\(\s*[-+]?\d+(?:\.\d*)?(?:\s*/\s*\d+)?\s*\)"
     r"|[-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)"
@@ -100,9 +104,21 @@ def check_expression(text: str, where: str) -> None:
             raise UnitError(
                 f"{where}: exponent {value} in {text[:60]!r} is beyond +-{MAX_EXPONENT:g}"
             )
+    names = len(_NAME.findall(_EXPONENT.sub(" ", text)))
+    power = sum(abs(_exponent(m.group(1))) for m in found) + max(names - len(found), 0)
+    if power > MAX_POWER:
+        raise UnitError(
+            f"{where}: {text[:60]!r}: units raised to {power:g} in all (products of large "
+            f"powers; at most {MAX_POWER:g})"
+        )
     for k in range(len(found) - 1):  # an exponent directly followed by another: a tower
         if not text[found[k].end() : found[k + 1].start()].strip(" )"):
             raise UnitError(f"{where}: {text[:60]!r}: towers of exponents are not allowed")
+
+
+def _exponent(text: str) -> float:
+    num, _, den = text.strip("() ").partition("/")
+    return float(num) / float(den or 1)
 
 
 def _parse(value: Any, where: str) -> Any:
@@ -119,9 +135,18 @@ def _parse(value: Any, where: str) -> Any:
             raise UnitError(f"{where}: empty string, expected a quantity such as '3 MPa'")
         check_expression(text, where)
         try:
-            return reg.Quantity(text)
+            q = reg.Quantity(text)
+            power = sum(abs(float(v)) for v in q.dimensionality.values())
+            if power <= MAX_EXPONENT:  # products of large powers: refused before converting
+                q.to_base_units()  # an overflowing conversion factor fails here, named
         except Exception as exc:
             raise UnitError(f"{where}: cannot parse {value!r} as a quantity ({exc})") from None
+        if power > MAX_EXPONENT:
+            raise UnitError(
+                f"{where}: {text[:60]!r} has dimensions raised to {power:g} in all (at most "
+                f"{MAX_EXPONENT:g})"
+            )
+        return q
     return value
 
 
@@ -171,8 +196,8 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
         check_expression(value.strip(), where)  # the bounds hold for the fast path too
         try:  # sweeps resolve the same strings at every point: parse each once
             return _str_to_si(value, unit)
-        except UnitError:
-            pass  # redo below, for a message naming ``where``
+        except (UnitError, ArithmeticError):
+            pass  # redo below, for a message naming ``where`` (overflows too)
     return _to_si(value, unit, where, array)
 
 

@@ -26,6 +26,29 @@ CORE_DIMS = ("p0", "zeta", "p", "q_psd")
 
 
 # -- Dataset contributions -----------------------------------------------------------------------
+def _check_coords(ds: Any, value: Any, name: str, who: object) -> None:
+    """Every coordinate of a returned DataArray that the Dataset has must be the Dataset's,
+    exactly (same dims, same values; NaN equal): it is never aligned (a shifted ``zeta`` would
+    turn the variable into NaN)."""
+    for c, coord in value.coords.items():
+        if c not in ds.variables:
+            continue
+        mine, theirs = ds.variables[c], coord.variable
+        same = mine.dims == theirs.dims and mine.shape == theirs.shape
+        if same:
+            a, b = np.asarray(mine.values), np.asarray(theirs.values)
+            nan = a.dtype.kind in "fc" and b.dtype.kind in "fc"
+            same = bool(np.array_equal(a, b, equal_nan=nan))
+        if not same:
+            raise PluginFailure(
+                f"{_VarName(who, name)}: its coordinate {str(c)!r} differs from the solved "
+                f"{str(c)!r} (dims {theirs.dims} vs {mine.dims}); return the variable on the "
+                "solved coordinates (outputs are never aligned)",
+                plugin=who,
+                variable=name,
+            )
+
+
 def checked_variable(
     ds: Any, name: str, value: Any, spec: Any, who: object, sizes: Mapping[str, int] | None = None
 ) -> Any:
@@ -49,6 +72,7 @@ def checked_variable(
     var = _VarName(who, name)  # formatted only for a message
     try:
         if isinstance(value, xr.DataArray):
+            _check_coords(ds, value, name, who)
             da = value.copy()
             da.attrs = {}
             da = da.reset_coords(drop=True) if da.coords else da

@@ -17,6 +17,7 @@ from importlib.metadata import EntryPoint, EntryPoints
 from typing import Any
 
 from ._groups import ENTRY_POINT_PREFIX, GROUP_NAMES, PLUGIN_GROUPS
+from ._limits import IMPORT_TIME_LIMIT, current_limit, limited
 from ._metadata import dist_of as _dist_of
 from ._metadata import scan as _scan
 
@@ -194,9 +195,13 @@ def version_of(cls: type) -> str:
 
 
 def import_target(value: str) -> Any:
-    """Import the object an entry point names (``"module:attr.attr"``)."""
+    """Import the object an entry point names (``"module:attr.attr"``), within
+    :data:`~._limits.IMPORT_TIME_LIMIT` (or the smaller limit in force): an import that never
+    returns raises :class:`~._limits.PluginTimeout`."""
     module, _, attr = value.partition(":")
-    obj: Any = importlib.import_module(module.strip())
+    limit = current_limit()
+    with limited(IMPORT_TIME_LIMIT if limit is None else min(limit, IMPORT_TIME_LIMIT)):
+        obj: Any = importlib.import_module(module.strip())
     for part in attr.strip().split(".") if attr else ():
         obj = getattr(obj, part)
     return obj

@@ -7,14 +7,17 @@ joined with a timeout leaves the call running. The limit is therefore raised *in
   :func:`signal.setitimer`; its handler raises :class:`PluginTimeout` in the plugin's frame.
   Pure-Python loops and sleeps are interrupted; a call blocked inside C code (one long numpy
   or LAPACK call) is interrupted when that C call returns.
-- in any other thread (the ``"threads"`` scheduler, dask workers): a timer thread injects
+- in any other thread (the ``"threads"`` scheduler, dask workers): one watchdog thread injects
   :class:`PluginTimeout` into the calling thread (``PyThreadState_SetAsyncExc``), delivered at
-  its next Python bytecode: pure-Python loops are interrupted, a sleep or a C call only when it
-  returns.
+  its next Python bytecode: pure-Python loops are interrupted, and so is :func:`time.sleep`
+  (while a limit is armed in a thread, ``time.sleep`` sleeps in slices of
+  :data:`SLEEP_SLICE`); another blocking C call is interrupted when it returns.
 
 The limit in force is set with :func:`time_limit` (the pipeline sets ``[solver]
-plugin_time_limit``) and applied to each call by :func:`limited`; without a limit nothing is
-armed (no signal, no thread).
+plugin_time_limit``) and applied to each call by :func:`limited`; where no scene sets one, the
+default of :func:`xpersson.set_options` ``plugin_time_limit`` applies (environment
+``XPERSSON_PLUGIN_TIME_LIMIT``, 600 s unless turned off): spectrum ``build()`` and a plugin's
+import included (an import at most :data:`IMPORT_TIME_LIMIT`).
 """
 
 from __future__ import annotations
@@ -22,11 +25,21 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import ctypes
+import heapq
+import itertools
 import signal
 import threading
+import time
 from collections.abc import Iterator
 
-__all__ = ["PluginTimeout", "time_limit", "limited", "current_limit"]
+from ..options import plugin_time_limit
+
+__all__ = ["PluginTimeout", "time_limit", "limited", "current_limit", "IMPORT_TIME_LIMIT"]
+
+IMPORT_TIME_LIMIT = 60.0
+"""Longest a plugin's import may take [s] (less when a smaller limit is in force)."""
+SLEEP_SLICE = 0.05
+"""Longest single sleep [s] of a thread under a limit (a pending timeout is delivered after)."""
 
 _LIMIT: contextvars.ContextVar[float | None] = contextvars.ContextVar(
     "xpersson_plugin_time_limit", default=None
@@ -39,7 +52,8 @@ class PluginTimeout(TimeoutError):
 
 @contextlib.contextmanager
 def time_limit(seconds: float | None) -> Iterator[None]:
-    """Apply ``seconds`` [s] (``None``: no limit) to every :func:`limited` call inside."""
+    """Apply ``seconds`` [s] (``None``: the default of ``set_options(plugin_time_limit=...)``)
+    to every :func:`limited` call inside."""
     if seconds is not None and not seconds > 0:
         raise ValueError(f"plugin time limit [s] must be > 0, got {seconds!r}")
     token = _LIMIT.set(seconds)
@@ -50,8 +64,10 @@ def time_limit(seconds: float | None) -> Iterator[None]:
 
 
 def current_limit() -> float | None:
-    """The limit [s] in force (``None``: none)."""
-    return _LIMIT.get()
+    """The limit [s] in force: the innermost :func:`time_limit`, else the default option
+    (``None``: none)."""
+    limit = _LIMIT.get()
+    return plugin_time_limit() if limit is None else limit
 
 
 @contextlib.contextmanager
@@ -73,47 +89,110 @@ def _message(seconds: float) -> str:
     return f"exceeded the time limit of {seconds:g} s"
 
 
+_MAIN_ARMED: list[float] = []
+"""The limits [s] armed in the main thread (innermost last)."""
+
+
+def _main_handler(signum: int, frame: object) -> None:
+    if _MAIN_ARMED:  # an alarm of nothing armed (a stray one) is ignored
+        raise PluginTimeout(_message(_MAIN_ARMED[-1]))
+
+
 @contextlib.contextmanager
 def _alarm(seconds: float) -> Iterator[None]:
     if signal.getitimer(signal.ITIMER_REAL)[0] > 0:  # an outer limit is armed: it applies
         yield
         return
-
-    def handler(signum: int, frame: object) -> None:
-        raise PluginTimeout(_message(seconds))
-
-    old = signal.signal(signal.SIGALRM, handler)
+    old = signal.getsignal(signal.SIGALRM)
+    if old is not _main_handler:  # installed once while SIGALRM has its default action
+        signal.signal(signal.SIGALRM, _main_handler)
+    _MAIN_ARMED.append(seconds)
     signal.setitimer(signal.ITIMER_REAL, seconds)
     try:
         yield
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
+        _MAIN_ARMED.pop()
+        if old is not _main_handler and old not in (signal.SIG_DFL, None):  # restored
+            signal.signal(signal.SIGALRM, old)
 
 
 @contextlib.contextmanager
 def _async_timer(seconds: float) -> Iterator[None]:
     tid = threading.get_ident()
-    lock = threading.Lock()
-    state = {"done": False, "fired": False}
-
-    def fire() -> None:
-        with lock:
-            if not state["done"]:
-                state["fired"] = True
-                ctypes.pythonapi.PyThreadState_SetAsyncExc(
-                    ctypes.c_ulong(tid), ctypes.py_object(PluginTimeout)
-                )
-
-    timer = threading.Timer(seconds, fire)
-    timer.daemon = True
-    timer.start()
+    entry = _WATCHDOG.arm(tid, seconds)
+    _ARMED.depth = getattr(_ARMED, "depth", 0) + 1
     try:
         yield
     finally:
-        with lock:
-            state["done"] = True
-        timer.cancel()
-        if state["fired"]:  # not delivered yet: withdraw it and raise here instead
+        _ARMED.depth -= 1
+        if _WATCHDOG.disarm(entry):  # fired, not delivered yet: withdraw it, raise here
             ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(tid), None)
             raise PluginTimeout(_message(seconds))
+
+
+class _Watchdog:
+    """One daemon thread that raises :class:`PluginTimeout` in threads past their deadline."""
+
+    def __init__(self) -> None:
+        self._cond = threading.Condition()
+        self._heap: list[tuple[float, int, list]] = []
+        self._count = itertools.count()
+        self._thread: threading.Thread | None = None
+
+    def arm(self, tid: int, seconds: float) -> list:
+        entry = [tid, "armed"]  # state: armed -> fired | done
+        with self._cond:
+            heapq.heappush(self._heap, (time.monotonic() + seconds, next(self._count), entry))
+            if self._thread is None or not self._thread.is_alive():
+                self._thread = threading.Thread(
+                    target=self._run, name="xpersson-time-limits", daemon=True
+                )
+                self._thread.start()
+            self._cond.notify()
+        return entry
+
+    def disarm(self, entry: list) -> bool:
+        """Withdraw ``entry``; whether it had fired."""
+        with self._cond:
+            fired = entry[1] == "fired"
+            entry[1] = "done"
+        return fired
+
+    def _run(self) -> None:
+        with self._cond:
+            while True:
+                while self._heap and self._heap[0][2][1] == "done":
+                    heapq.heappop(self._heap)
+                if not self._heap:
+                    self._cond.wait()
+                    continue
+                wait = self._heap[0][0] - time.monotonic()
+                if wait > 0:
+                    self._cond.wait(wait)
+                    continue
+                _, _, entry = heapq.heappop(self._heap)
+                if entry[1] == "armed":
+                    entry[1] = "fired"
+                    ctypes.pythonapi.PyThreadState_SetAsyncExc(
+                        ctypes.c_ulong(entry[0]), ctypes.py_object(PluginTimeout)
+                    )
+
+
+_WATCHDOG = _Watchdog()
+_ARMED = threading.local()
+_REAL_SLEEP = time.sleep
+
+
+def _sleep(seconds: float) -> None:
+    """:func:`time.sleep`, in slices of :data:`SLEEP_SLICE` while a limit is armed in this
+    (non-main) thread, so that a timeout is delivered."""
+    if not getattr(_ARMED, "depth", 0) or not seconds > SLEEP_SLICE:
+        _REAL_SLEEP(seconds)
+        return
+    end = time.monotonic() + seconds
+    while (left := end - time.monotonic()) > 0:
+        _REAL_SLEEP(min(left, SLEEP_SLICE))
+
+
+time.sleep = _sleep

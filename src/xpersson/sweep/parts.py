@@ -28,13 +28,14 @@ import json
 import math
 import os
 import re
+import threading
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from ..archive import ENGINE, decode, file_digest, read, to_netcdf
+from ..archive import WriteError, decode, read, to_netcdf
 from ..errors import ArchiveError
 from .blocks import PART_ATTR, POINT_STATUS
 
@@ -72,11 +73,18 @@ def write_index(folder: Path, index: dict[str, Any]) -> None:
         index["scene_sha256"] = _scene_sha(index["attrs"])
     index["sha256"] = _index_sha(index)
     tmp = folder / f".{INDEX}.{os.getpid()}.tmp"
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(json.dumps(index, indent=1))
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(tmp, folder / INDEX)
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(json.dumps(index, indent=1))
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, folder / INDEX)
+    except OSError as exc:  # disk full, quota, ...: named; no half-written index left behind
+        tmp.unlink(missing_ok=True)
+        raise WriteError(folder / INDEX, exc) from None
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def seal_index(index: dict[str, Any]) -> dict[str, Any]:
@@ -145,9 +153,16 @@ def load_index(folder: Path) -> dict[str, Any]:
     if any(s < 1 for s in shape) or math.prod(shape) < len(parts):
         raise ArchiveError(f"{path}: shape {shape} cannot hold {len(parts)} parts")
     seen: set[tuple[int, ...]] = set()
-    for entry in parts:
+    names: dict[str, int] = {}
+    for k, entry in enumerate(parts):
         _check_entry(entry, dims, shape, path)
         seen.add(tuple(entry["grid_index"]))
+        first = names.setdefault(entry["name"], k)
+        if first != k:
+            raise ArchiveError(
+                f"{path}: parts[{first}] (grid_index {parts[first]['grid_index']}) and parts[{k}] "
+                f"(grid_index {entry['grid_index']}) both name {entry['name']}"
+            )
     counts = [max(g[d] for g in seen) + 1 for d in range(len(dims))]
     if len(seen) != len(parts) or math.prod(counts) != len(parts):
         raise ArchiveError(f"{path}: the parts do not tile the block grid {counts} exactly once")
@@ -199,7 +214,9 @@ def _check_entry(entry: Any, dims: list[str], shape: list[int], path: Path) -> N
 
 def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
     """Variable ``name`` with the sweep dimensions ``dims`` dropped (the value of any solved
-    point: the largest, skipping NaN; integers of failed points skipped)."""
+    point: the largest, skipping NaN; integers of failed points skipped). For floating-point
+    variables the smallest must equal it (:func:`_unchanged`): an index that calls a varying
+    variable constant is refused."""
     var = ds.variables[name]
     dims = [d for d in dims if d in var.dims]
     kind = var.dtype.kind
@@ -210,23 +227,51 @@ def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
         keep = tuple(d for d in var.dims if d not in dims)
         if kind == "f":  # nanmax without its all-NaN warning (no filter to change)
             data = np.fmax.reduce(var.data, axis=axes)
-        else:  # the failed points' values replaced by the smallest of all
+            low = np.fmin.reduce(var.data, axis=axes)
+        else:  # the failed points' values replaced by the smallest of all (largest for low)
             shape = dict(zip(var.dims, var.shape, strict=True))
             ok = (status != POINT_STATUS["failed"]).set_dims(shape)
             arr = np.asarray(var.data)
             data = np.where(ok.data, arr, arr.min()).max(axis=axes).astype(var.dtype)
+            low = data  # a point lacking the variable holds a fill value: not checked
+        _unchanged(data, low, name)
         return xr.Variable(keep, data, dict(var.attrs), dict(var.encoding))
     da = ds[name]
     if var.dtype.kind in "fc":  # NaN skipped; NaN where every point is NaN; no warning
-        reduced = da.fillna(-np.inf).max(dims, keep_attrs=True).where(da.notnull().any(dims))
+        some = da.notnull().any(dims)
+        reduced = da.fillna(-np.inf).max(dims, keep_attrs=True).where(some)
+        low = da.fillna(np.inf).min(dims).where(some)
     elif var.dtype.kind in "iub":
         ok = ds["point_status"] != POINT_STATUS["failed"]
-        reduced = da.where(ok, da.min()).max(dims, keep_attrs=True).astype(var.dtype)
+        reduced = low = da.where(ok, da.min()).max(dims, keep_attrs=True).astype(var.dtype)
     else:
-        reduced = da.isel({d: 0 for d in dims}, drop=True)
+        reduced = low = da.isel({d: 0 for d in dims}, drop=True)
+    reduced = xr.apply_ufunc(
+        _unchanged,
+        reduced,
+        low,
+        kwargs={"name": name},
+        dask="parallelized",
+        output_dtypes=[reduced.dtype],
+        keep_attrs=True,
+    )
     out = reduced.variable.copy(deep=False)
     out.attrs = dict(var.attrs)
     return out
+
+
+def _unchanged(high: Any, low: Any, name: str) -> Any:
+    """``high`` when it equals ``low`` wherever it is a number, else an :class:`ArchiveError`."""
+    high_a, low_a = np.asarray(high), np.asarray(low)
+    same = high_a == low_a
+    if high_a.dtype.kind in "fc":
+        same |= np.isnan(high_a)
+    if not np.all(same):
+        raise ArchiveError(
+            f"variable {name!r} varies along a sweep dimension its index lists under "
+            "'constant' (the index was altered; the parts disagree with it)"
+        )
+    return high
 
 
 def finalize(ds: xr.Dataset, constant: dict[str, list[str]], attrs: dict[str, Any]) -> xr.Dataset:
@@ -254,7 +299,12 @@ def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:
 
     The folder's index (``xpersson_index.json``) names the parts, their place on the sweep
     grid, the variables that do not depend on some sweep dimensions and the global attributes.
-    Every part is verified first (see the module's docstring).
+    Every part is verified first (see the module's docstring). The folder opened is the folder
+    read: each part's bytes are read once, checked against the index's sha256 and parsed from
+    memory; up to :data:`SNAPSHOT_BYTES` of parts are kept in memory, the others are read again
+    when their values are loaded and checked against the same sha256, so a folder changed
+    after opening is an :class:`~xpersson.errors.ArchiveError` naming the part, never another
+    study's values.
 
     Raises
     ------
@@ -265,46 +315,112 @@ def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:
     folder = Path(folder)
     index = load_index(folder)
     entries = {e["name"]: e for e in index["parts"]}
-    for name, entry in entries.items():
-        _verify_bytes(folder / name, entry)
     dims = index["dims"]
     counts = [max(e["grid_index"][d] for e in entries.values()) + 1 for d in range(len(dims))]
     nested = np.empty(counts, dtype=object)
+    kept = 0
     for name, entry in entries.items():
-        nested[tuple(entry["grid_index"])] = str(folder / name)
-
-    def check(ds: xr.Dataset) -> xr.Dataset:
-        name = Path(ds.encoding["source"]).name
-        return _check_part(ds, folder / name, entries[name], index)
-
+        path = folder / name
+        ds = _check_part(_open_verified(path, entry["sha256"]), path, entry, index)
+        size = sum(v.nbytes for v in ds.variables.values())
+        kept += size
+        nested[tuple(entry["grid_index"])] = _snapshot(ds, path, entry["sha256"], kept)
     try:
-        ds = xr.open_mfdataset(
+        ds = xr.combine_nested(
             nested.tolist(),
-            combine="nested",
             concat_dim=dims,
-            engine=ENGINE,
-            chunks={},
             data_vars="minimal",
             coords="minimal",
             join="outer",
             compat="override",
             combine_attrs="override",
-            preprocess=check,
         )
-    except ArchiveError:
-        raise
     except Exception as exc:  # noqa: BLE001 - verified bytes that still do not combine
         raise ArchiveError(f"{folder}: the parts do not combine ({type(exc).__name__})") from None
     return finalize(decode(ds), index["constant"], index["attrs"])
 
 
-def _verify_bytes(path: Path, entry: dict[str, Any]) -> None:
+SNAPSHOT_BYTES = 64 * 2**20
+"""Bytes of parts an opened sweep folder keeps in memory [bytes]; the others are re-read (and
+re-verified) when loaded."""
+
+
+def _open_verified(path: Path, sha256: str) -> xr.Dataset:
+    """Part ``path`` read once, checked against ``sha256`` and parsed from those bytes."""
     if not path.is_file():
         raise ArchiveError(f"{path}: part missing (the index lists it)")
-    if file_digest(path) == entry["sha256"]:
-        return
-    read(path)  # names the damaged variable when it can
-    raise ArchiveError(f"{path}: part differs from the checksum its index holds (damaged)")
+    try:
+        return _parse_verified(str(path), sha256)
+    except _Changed:
+        read(path)  # names the damaged variable when it can
+        raise ArchiveError(
+            f"{path}: part differs from the checksum its index holds (damaged)"
+        ) from None
+
+
+_PARSE_LOCK = threading.Lock()
+
+
+class _Changed(ArchiveError):
+    """A part's bytes are not those its index names."""
+
+
+def _parse_verified(path: str, sha256: str) -> xr.Dataset:
+    import netCDF4
+
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as exc:
+        raise ArchiveError(f"{path}: part cannot be read ({exc.strerror or exc})") from None
+    if hashlib.sha256(data).hexdigest() != sha256:
+        raise _Changed(f"{path}: bytes differ from the index's sha256")
+    from xarray.backends.locks import HDF5_LOCK, NETCDFC_LOCK, combine_locks
+
+    lock = combine_locks([HDF5_LOCK, NETCDFC_LOCK])  # the libraries are not thread-safe
+    try:
+        with _PARSE_LOCK:  # xarray reads attributes unlocked: one part parsed at a time
+            with lock:
+                nc = netCDF4.Dataset(Path(path).name, mode="r", memory=data)
+            with xr.open_dataset(xr.backends.NetCDF4DataStore(nc, lock=lock)) as ds:
+                out = ds.load()
+    except Exception as exc:  # noqa: BLE001 - netCDF/HDF5 errors come as many classes
+        raise ArchiveError(f"{path}: not a readable netCDF part ({type(exc).__name__})") from None
+    out.encoding["source"] = path
+    return out
+
+
+def _part_arrays(path: str, sha256: str) -> dict[str, np.ndarray]:
+    """The values of every variable of a part whose values were not kept at opening."""
+    try:
+        ds = _parse_verified(path, sha256)
+    except _Changed:
+        raise ArchiveError(
+            f"{path}: part changed after the sweep folder was opened (its bytes differ from "
+            "the checksum the index held then); open the folder again"
+        ) from None
+    return {str(n): np.asarray(v.values) for n, v in ds.variables.items()}
+
+
+def _snapshot(ds: xr.Dataset, path: Path, sha256: str, kept: int) -> xr.Dataset:
+    """``ds`` with dask-backed variables: its own values (up to :data:`SNAPSHOT_BYTES` kept in
+    all) or values read again, verified, when loaded."""
+    import dask
+    import dask.array as da
+
+    lazy = kept > SNAPSHOT_BYTES
+    loader = dask.delayed(_part_arrays, pure=True)(str(path), sha256) if lazy else None
+    out = ds.copy(deep=False)
+    for name, var in ds.variables.items():
+        if name in ds.dims:  # an index: its values are the snapshot's
+            continue
+        key = f"xpersson-part-{sha256[:24]}-{name}"
+        if loader is None:
+            data = da.from_array(var.values, chunks=var.shape or (), name=key)
+        else:
+            data = da.from_delayed(loader[str(name)], var.shape, dtype=var.dtype, name=key)
+        out.variables[name].data = data
+    return out
 
 
 def _check_part(ds: xr.Dataset, path: Path, entry: dict[str, Any], index: dict[str, Any]) -> Any:

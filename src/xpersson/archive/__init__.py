@@ -21,7 +21,9 @@ it, and :func:`decode` undoes it, so an archive re-opens identical.
   and every variable carries ``xpersson_sha256`` (a digest of its stored values and attributes);
   the global ``xpersson_attrs_sha256`` covers the global attributes and the variable names.
   :func:`read` verifies them: a mismatch is an :class:`~xpersson.errors.ArchiveError` naming
-  the file and the variable. Archives written before digests existed are read unchecked.
+  the file and the variable. The global attribute ``xpersson_archive_format`` (3) says which
+  digests must exist: from version 2 on (digests without the attribute) a missing digest is an
+  error; an archive without any digest (version 1) is read with ``status = "unverified"``.
 - The pressure PDF ``P`` is stored as ``pressure_pdf``: CF forbids variable names that differ
   only by case, and ``p`` is the pressure coordinate. The stored variable says so in its
   ``xpersson_name`` attribute; :func:`decode` restores ``P``.
@@ -31,19 +33,30 @@ from __future__ import annotations
 
 import contextlib
 import errno
-import hashlib
-import json
 import os
 import secrets
+import signal
 import socket
+import threading
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-import xarray as xr
+from ..errors import ArchiveError
+from ._cf import RENAMED, decode, encode
+from ._integrity import (
+    DIGEST,
+    FORMAT_VERSION,
+    check_text,
+    check_text_value,
+    file_digest,
+    mark_unverified,
+    seal,
+    verify,
+)
 
-from .errors import ArchiveError
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = [
     "ENGINE",
@@ -58,6 +71,10 @@ __all__ = [
     "verify",
     "DIGEST",
     "file_digest",
+    "WriteError",
+    "FORMAT_VERSION",
+    "check_text",
+    "check_text_value",
 ]
 
 ENGINE = "netcdf4"
@@ -98,6 +115,11 @@ def to_netcdf(ds: xr.Dataset, path: str | os.PathLike[str], *, overwrite: bool =
         ``path`` exists and ``overwrite`` is false. Nothing is written.
     FileNotFoundError
         The output folder does not exist.
+    ValueError
+        A text attribute netCDF cannot store faithfully (naming it); nothing is written.
+    WriteError
+        The operating system refused the write (disk full, quota, file-size limit, permission,
+        read-only file system): one line naming the file and the cause; nothing is written.
     """
     target = Path(path)
     if target.exists() and not overwrite:
@@ -105,17 +127,49 @@ def to_netcdf(ds: xr.Dataset, path: str | os.PathLike[str], *, overwrite: bool =
     folder = target.parent if str(target.parent) else Path(".")
     if not folder.is_dir():
         raise FileNotFoundError(f"output folder {folder} does not exist")
+    check_text(ds)
+    stored, encoding = encode(ds)
+    stored = seal(stored, encoding)
+    try:
+        _write_file(target, stored, encoding, folder, overwrite)
+    except (FileExistsError, FileNotFoundError):
+        raise
+    except OSError as exc:  # disk full, quota, file-size limit, permission, read-only, ...
+        raise WriteError(target, exc) from None
+    return target
+
+
+class WriteError(OSError):
+    """An archive could not be written (the operating system's cause named; nothing written).
+
+    The message is one line: ``cannot write PATH: CAUSE (nothing was written)``.
+    """
+
+    def __init__(self, target: Path, exc: OSError) -> None:
+        cause = exc.strerror or os.strerror(exc.errno or 0) or type(exc).__name__
+        super().__init__(exc.errno, cause, str(target))
+
+    def __str__(self) -> str:
+        return f"cannot write {self.filename}: {self.strerror} (nothing was written)"
+
+
+def _write_file(
+    target: Path, stored: xr.Dataset, encoding: dict[str, Any], folder: Path, overwrite: bool
+) -> None:
+    """``stored`` to a locked temporary beside ``target``, fsync, then the atomic rename/link."""
+    _ignore_file_size_signal()
     remove_stale_temporaries(target)
     tmp, fd = _create_temporary(target)
     try:
-        stored, encoding = encode(ds)
-        stored = seal(stored, encoding)
         try:
             stored.to_netcdf(tmp, engine=ENGINE, format="NETCDF4", encoding=encoding)
         except PermissionError:  # a file system emulating flock with our lock (NFS): unlock
             if not _lock(fd, unlock=True):
                 raise
             stored.to_netcdf(tmp, engine=ENGINE, format="NETCDF4", encoding=encoding)
+        except Exception:
+            _probe(fd)  # the operating system's cause, when the netCDF library hid it
+            raise
         os.fsync(fd)  # same inode: flushes what the netCDF library wrote
         if overwrite:
             os.replace(tmp, target)
@@ -128,7 +182,29 @@ def to_netcdf(ds: xr.Dataset, path: str | os.PathLike[str], *, overwrite: bool =
         raise
     finally:
         os.close(fd)  # releases the lock
-    return target
+
+
+_PROBE_BYTES = 1 << 20
+
+
+def _probe(fd: int) -> None:
+    """Append :data:`_PROBE_BYTES` to the failed temporary: raises the ``OSError`` (``ENOSPC``,
+    ``EDQUOT``, ``EFBIG``, ...) the netCDF library reports only as "HDF error"."""
+    os.lseek(fd, 0, os.SEEK_END)
+    view = memoryview(bytes(_PROBE_BYTES))
+    while view:
+        view = view[os.write(fd, view) :]
+
+
+def _ignore_file_size_signal() -> None:
+    """A file-size limit (``RLIMIT_FSIZE``) kills a process whose ``SIGXFSZ`` keeps its default
+    action; ignored (main thread, default action only), the write fails with ``EFBIG``."""
+    sig = getattr(signal, "SIGXFSZ", None)
+    if sig is None or threading.current_thread() is not threading.main_thread():
+        return
+    with contextlib.suppress(ValueError, OSError):
+        if signal.getsignal(sig) == signal.SIG_DFL:
+            signal.signal(sig, signal.SIG_IGN)
 
 
 def _create_temporary(target: Path) -> tuple[Path, int]:
@@ -266,6 +342,8 @@ def read(path: str | os.PathLike[str], **kwargs: object) -> xr.Dataset:
         attributes are malformed; the message names the file (and the variable).
     """
     try:
+        import xarray as xr
+
         handle = xr.open_dataset(path, engine=ENGINE, **kwargs)  # type: ignore[arg-type]
     except Exception as exc:  # noqa: BLE001 - netCDF/HDF5 errors come as many classes
         raise ArchiveError(f"{path}: not a readable netCDF archive ({_short(exc)})") from None
@@ -277,178 +355,14 @@ def read(path: str | os.PathLike[str], **kwargs: object) -> xr.Dataset:
                 raise ArchiveError(
                     f"{path}: variable {name!r} cannot be read, the file is corrupt ({_short(exc)})"
                 ) from None
-        verify(ds, path)
+        version = verify(ds, path)
         try:
-            return decode(ds.load())
+            out = decode(ds.load())
         except Exception as exc:  # noqa: BLE001 - any malformed attribute
             raise ArchiveError(f"{path}: malformed encoding attributes ({_short(exc)})") from None
+    return mark_unverified(out, version) if version == 1 else out
 
 
 def _short(exc: BaseException) -> str:
     text = f"{type(exc).__name__}: {exc}".splitlines()[0] if str(exc) else type(exc).__name__
     return text if len(text) <= 160 else text[:157] + "..."
-
-
-# -- content integrity ----------------------------------------------------------------------------
-DIGEST = "xpersson_sha256"
-_ATTRS_DIGEST = "xpersson_attrs_sha256"
-_NOT_HASHED = {DIGEST, "_FillValue", "coordinates", "dtype", "missing_value"}
-
-
-def _canonical(value: Any) -> Any:
-    if isinstance(value, str | bytes):
-        return str(value)
-    return [repr(x) for x in np.atleast_1d(np.asarray(value)).ravel().tolist()]
-
-
-def _attrs_bytes(attrs: Any) -> bytes:
-    items = {str(k): _canonical(v) for k, v in attrs.items() if k not in _NOT_HASHED}
-    return json.dumps(items, sort_keys=True).encode()
-
-
-def _variable_digest(var: xr.Variable) -> str:
-    arr = np.asarray(var.values)
-    h = hashlib.sha256(repr((var.dims, arr.shape)).encode())
-    if arr.dtype.kind in "OUS":
-        h.update(json.dumps([str(x) for x in arr.ravel().tolist()]).encode())
-    elif arr.dtype.kind == "b":
-        h.update(arr.astype(np.uint8).tobytes())
-    else:
-        h.update(np.ascontiguousarray(arr).tobytes())
-    h.update(_attrs_bytes(var.attrs))
-    return h.hexdigest()
-
-
-def _global_digest(ds: xr.Dataset) -> str:
-    h = hashlib.sha256(json.dumps(sorted(map(str, ds.variables))).encode())
-    h.update(_attrs_bytes({k: v for k, v in ds.attrs.items() if k != _ATTRS_DIGEST}))
-    return h.hexdigest()
-
-
-def file_digest(path: str | os.PathLike[str]) -> str:
-    """sha256 of a file's bytes (hex)."""
-    h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for chunk in iter(lambda: f.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
-
-
-def seal(stored: xr.Dataset, encoding: dict[str, dict[str, Any]]) -> xr.Dataset:
-    """Add the digests and the ``fletcher32`` checksums to an encoded Dataset (in place for
-    ``encoding``; returns a shallow copy of ``stored``)."""
-    out = stored.copy(deep=False)
-    for name in list(out.variables):
-        var = out.variables[name]
-        var.attrs.pop(DIGEST, None)
-        var.attrs[DIGEST] = _variable_digest(var)
-        if var.ndim:
-            encoding.setdefault(str(name), {})["fletcher32"] = True
-    out.attrs.pop(_ATTRS_DIGEST, None)
-    out.attrs[_ATTRS_DIGEST] = _global_digest(out)
-    return out
-
-
-def verify(ds: xr.Dataset, path: str | os.PathLike[str]) -> None:
-    """Check the digests :func:`seal` stored (loads every variable).
-
-    Raises
-    ------
-    ArchiveError
-        Naming ``path`` and the first variable (or the global attributes) that changed.
-    """
-    for name, var in ds.variables.items():
-        stored = var.attrs.get(DIGEST)
-        if stored is not None and stored != _variable_digest(var):
-            raise ArchiveError(
-                f"{path}: variable {name!r} fails its checksum: its stored values or "
-                "attributes changed after writing (the file is corrupt)"
-            )
-    stored = ds.attrs.get(_ATTRS_DIGEST)
-    if stored is not None and stored != _global_digest(ds):
-        raise ArchiveError(
-            f"{path}: the global attributes fail their checksum (the file is corrupt)"
-        )
-
-
-# -- CF encoding ----------------------------------------------------------------------------------
-RENAMED = {"P": "pressure_pdf"}
-_ENCODED = "xpersson_encoding"
-
-
-def _flag_codes(var: xr.DataArray) -> tuple[list[str], np.ndarray]:
-    meanings = str(var.attrs.get("flag_meanings", "")).split()
-    values = np.asarray(var.values, dtype=object)
-    extra = sorted({str(v) for v in values.ravel()} - set(meanings) - {""})
-    meanings = meanings + extra + ["not_solved"]
-    index = {m: i for i, m in enumerate(meanings)}
-    index[""] = len(meanings) - 1
-    codes = (
-        np.vectorize(lambda v: index[str(v)], otypes=[np.int8])(values)
-        if values.size
-        else (np.zeros(values.shape, np.int8))
-    )
-    return meanings, codes
-
-
-def encode(ds: xr.Dataset) -> tuple[xr.Dataset, dict[str, dict[str, Any]]]:
-    """The Dataset as written (a shallow copy) and its netCDF ``encoding``."""
-    out = ds.copy(deep=False)
-    encoding: dict[str, dict[str, Any]] = {}
-    for name in list(out.data_vars):
-        var = out[name]
-        if var.dtype.kind in "OUS" and "flag_meanings" in var.attrs:
-            n_declared = len(str(var.attrs["flag_meanings"]).split())
-            meanings, codes = _flag_codes(var)
-            attrs = dict(var.attrs)
-            attrs.update(
-                {
-                    "flag_values": np.arange(len(meanings), dtype=np.int8),
-                    "flag_meanings": " ".join(meanings),
-                    _ENCODED: f"flags_from_strings:{n_declared}",
-                }
-            )
-            out[name] = xr.DataArray(codes, dims=var.dims, attrs=attrs)
-        elif "flag_values" in var.attrs:
-            kind = np.int8 if var.dtype.kind == "b" else var.dtype
-            vals = var.attrs["flag_values"]
-            if isinstance(vals, str):
-                vals = vals.split()
-            out[name].attrs["flag_values"] = np.asarray(vals, dtype=float).astype(kind)
-    for old, new in RENAMED.items():
-        if old in out.variables and new not in out.variables:
-            out = out.rename({old: new})
-            out[new].attrs[_ENCODED] = f"renamed_from:{old}"
-    for name in out.coords:
-        encoding[name] = {"_FillValue": None}
-    for name in out.data_vars:
-        if out[name].dtype.kind in "iub":
-            encoding[name] = {"_FillValue": None}
-    return out, encoding
-
-
-def decode(ds: xr.Dataset) -> xr.Dataset:
-    """Undo :func:`encode` and :func:`seal` (works on lazily opened Datasets too)."""
-    ds.attrs.pop(_ATTRS_DIGEST, None)
-    for name in list(ds.variables):
-        ds.variables[name].attrs.pop(DIGEST, None)
-    for name in list(ds.variables):
-        how = ds[name].attrs.get(_ENCODED)
-        if how is None:
-            continue
-        if how.startswith("flags_from_strings:"):
-            var = ds[name]
-            n_declared = int(how.split(":", 1)[1])
-            meanings = np.array(str(var.attrs["flag_meanings"]).split(), dtype=object)
-            codes = np.asarray(var.values)
-            strings = meanings[codes.ravel()].reshape(codes.shape)
-            strings[codes == len(meanings) - 1] = ""
-            attrs = {k: v for k, v in var.attrs.items() if k not in ("flag_values", _ENCODED)}
-            attrs["flag_meanings"] = " ".join(meanings[:n_declared])
-            # fastpath: a plain object ndarray; the duck-array checks would import dask.array
-            ds[name] = xr.Variable(var.dims, strings, attrs, fastpath=True)
-        elif how.startswith("renamed_from:"):
-            old = how.split(":", 1)[1]
-            ds = ds.rename({name: old})
-            del ds[old].attrs[_ENCODED]
-    return ds
