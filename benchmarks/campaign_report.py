@@ -427,6 +427,9 @@ def main(argv: list[str] | None = None) -> None:
     rows = summary(pts, table)
     text = markdown(rows, cov, prov)
     text += "\n" + "\n".join(accuracy_of_options(pts)) + "\n\n" + "\n".join(grid_check()) + "\n"
+    check = RESULTS / "campaign_dask_check.md"  # serial == LocalCluster (campaign_compare.py)
+    if check.exists():
+        text += "\n" + check.read_text()
     (RESULTS / "campaign.md").write_text(text)
     print(text)
     if args.write_table:
