@@ -294,6 +294,8 @@ def _records(todo: list[dict[str, Any]], args: argparse.Namespace, grid: int) ->
     from xpersson.sweep.schedule import client_for
 
     client, owned, _ = client_for(args.scheduler, args.workers)
+    if client is None:
+        raise SystemExit(f"--scheduler {args.scheduler}: use serial, processes or an address")
     try:
         futures = [client.submit(scene_task, *t, pure=False) for t in tasks]
         for fut in futures:  # in order: a finished prefix is written as soon as it is done
