@@ -25,13 +25,18 @@ twice as fine (same spectrum band; other realisations, as the noise is drawn on 
 
 Resumable: every finished scene is one JSON line appended to ``results/campaign_<name>.jsonl``
 (provenance in each line: seed, grid, realisations, tamaas and xpersson versions, date);
-scenes already there are skipped. Alternate blocks of four scenes (one of each kind in
-``KINDS``) are the calibration and the held-out half; another ``--seed`` gives a new test set.
+scenes already there are skipped. ``--scheduler processes`` (a dask ``LocalCluster`` of
+``--workers`` single-threaded processes) or a scheduler address runs one dask task per scene;
+the client writes the records in design order, bitwise equal to the serial run's
+(``benchmarks/campaign_compare.py``; ``results/campaign_dask_check.md``).
+Alternate blocks of four scenes (one of each kind in ``KINDS``) are the calibration and the
+held-out half; another ``--seed`` gives a new test set.
 
 Usage::
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --name cal --seed 1 --scenes 30
     OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --name new --seed 2 --scenes 12
+    OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --scheduler processes --workers 2
     python benchmarks/campaign_report.py      # the band table, coverage and docs tables
 """
 
@@ -45,6 +50,7 @@ import platform
 import sys
 import time
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -271,6 +277,35 @@ def provenance(seed: int, grid: int, realisations: int) -> dict[str, Any]:
     }
 
 
+def scene_task(sc: dict[str, Any], grid: int, realisations: int, seed: int) -> dict[str, Any]:
+    """One scene as a task (a dask worker process imports ``adhesion_campaign`` from here)."""
+    if str(HERE) not in sys.path:
+        sys.path.insert(0, str(HERE))
+    return run_scene(sc, grid, realisations, seed)
+
+
+def _records(todo: list[dict[str, Any]], args: argparse.Namespace, grid: int) -> Iterator[dict]:
+    """The scenes' records in design order: computed serially, or as dask tasks (one per
+    scene) on ``args.scheduler`` and gathered by the client in the same order."""
+    tasks = [(sc, grid, args.realisations, args.seed * 1000 + sc["index"]) for sc in todo]
+    if args.scheduler in (None, "serial"):
+        yield from (scene_task(*t) for t in tasks)
+        return
+    from xpersson.sweep.schedule import client_for
+
+    client, owned, _ = client_for(args.scheduler, args.workers)
+    if client is None:
+        raise SystemExit(f"--scheduler {args.scheduler}: use serial, processes or an address")
+    try:
+        futures = [client.submit(scene_task, *t, pure=False) for t in tasks]
+        for fut in futures:  # in order: a finished prefix is written as soon as it is done
+            yield fut.result()
+    finally:
+        client.close()
+        if owned is not None and owned is not client:
+            owned.close()
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--name", default="cal", help="results/campaign_<name>.jsonl")
@@ -281,6 +316,13 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--only", default=None, help="comma-separated kinds to run")
     ap.add_argument("--grid-check", action="store_true", help="every 4th scene on 2x the grid")
     ap.add_argument("--refresh-theory", action="store_true", help="recompute the theory side")
+    ap.add_argument(
+        "--scheduler",
+        default=None,
+        help="serial (default), processes (dask LocalCluster of single-threaded workers) or a "
+        "dask scheduler address tcp://host:port: one task per scene",
+    )
+    ap.add_argument("--workers", type=int, default=None, help="LocalCluster workers (processes)")
     args = ap.parse_args(argv)
     sys.path.insert(0, str(HERE))
     RESULTS.mkdir(exist_ok=True)
@@ -298,15 +340,16 @@ def main(argv: list[str] | None = None) -> None:
         ]
     kinds = None if args.only is None else set(args.only.split(","))
     prov = provenance(args.seed, 2 * args.grid if args.grid_check else args.grid, args.realisations)
-    for sc in scenes:
-        if sc["id"] in done or (kinds and sc["kind"] not in kinds):
-            continue
-        grid = prov["grid"]
-        rec = run_scene(sc, grid, args.realisations, args.seed * 1000 + sc["index"])
+    todo = [s for s in scenes if s["id"] not in done and not (kinds and s["kind"] not in kinds)]
+    t0 = time.perf_counter()
+    for rec in _records(todo, args, prov["grid"]):
         rec["provenance"] = prov
         with out.open("a") as fh:
             fh.write(json.dumps(rec) + "\n")
-        print(f"{sc['id']} {sc['kind']:9s} {rec['seconds']:.1f} s", flush=True)
+        print(f"{rec['id']} {rec['kind']:9s} {rec['seconds']:.1f} s", flush=True)
+    wall = time.perf_counter() - t0
+    how = args.scheduler or "serial"
+    print(f"{len(todo)} scenes, scheduler {how}: wall {wall:.1f} s", flush=True)
 
 
 if __name__ == "__main__":

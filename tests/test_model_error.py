@@ -193,3 +193,25 @@ def test_packaged_table_verifies_a_campaign_like_scene_and_not_a_wider_one():
     wide = xpersson.solve(sc)
     assert int(wide["area_fraction_model_error_status"]) == 0
     assert np.isnan(float(wide["area_fraction_exact_low"]))
+
+
+def test_a_plastic_scene_is_placed_in_its_regime_by_the_total_contact_area():
+    """With a ``plastic`` boundary the regime feature is ``total_contact_fraction`` (elastic plus
+    plastic, what the campaign's regimes are), not the elastic ``area_fraction``: at a hardness
+    near the load the elastic part is far below the regime's range while the total is inside."""
+    band = {"match": {"boundary": "plastic"}, "ranges": {"area_fraction": [0.02, 0.6]}}
+    table = {
+        "provenance": {},
+        "variables": ["total_contact_fraction"],
+        "bands": [{**band, "variable": "total_contact_fraction", "low": 0.9, "high": 1.4}],
+    }
+    sc = scene("1 kPa", boundary={"model": "plastic", "sigma_Y": "10 kPa"})
+    ds = xpersson.solve(sc)
+    for name in [n for n in ds.data_vars if n.endswith(model_error.SUFFIXES)]:
+        del ds[name]
+    model_error.attach(ds, xpersson.pipeline.as_scene(sc).resolve(), table=table)
+    total = float(ds["total_contact_fraction"].isel(zeta=-1))
+    assert float(ds["area_fraction"].isel(zeta=-1)) < 0.02 < total < 0.6
+    assert int(ds["total_contact_fraction_model_error_status"]) == 1
+    assert float(ds["total_contact_fraction_exact_low"]) == 0.9 * total
+    assert float(ds["total_contact_fraction_exact_high"]) == 1.4 * total

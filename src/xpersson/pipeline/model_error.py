@@ -217,11 +217,14 @@ _NUMERIC = ("hurst", "rolloff", "decades")
 
 def _load_features(ds: xr.Dataset, dims: tuple[str, ...]) -> dict[str, Any]:
     """``name -> (dims, values)`` of the per-load features: ``area_fraction`` (at the largest
-    magnification), ``tensile`` (1 where ``p0 < 0``) and ``tabor`` (each point's first
-    finest-scale ``tabor_parameter``)."""
+    magnification; the total, elastic plus plastic, where a boundary reports
+    ``total_contact_fraction``, as the campaign's regimes are), ``tensile`` (1 where
+    ``p0 < 0``) and ``tabor`` (each point's first finest-scale ``tabor_parameter``)."""
     out: dict[str, Any] = {}
-    if "area_fraction" in ds.variables:
-        out["area_fraction"] = _finest(ds.variables["area_fraction"])
+    for area in ("total_contact_fraction", "area_fraction"):
+        if area in ds.variables:
+            out["area_fraction"] = _finest(ds.variables[area])
+            break
     if "p0" in ds.variables:
         p0 = ds.variables["p0"]
         out["tensile"] = (tuple(p0.dims), (np.asarray(p0.values, float) < 0).astype(float))
