@@ -52,6 +52,7 @@ def scenes():
         "elastic": _solve(ROOT / "examples" / "elastic.toml"),
         "sweep": _solve(ROOT / "examples" / "sweep.toml", load__p0=["10 kPa", "100 kPa", "1 MPa"]),
         "measured": _solve(ROOT / "examples" / "measured" / "two_scales.toml"),
+        "sphere": _solve(ROOT / "examples" / "sphere.toml"),
         "steel": _solve(PLUGINS / "xpersson-plasticity" / "examples" / "steel_on_steel.toml"),
         "pdms": _solve(PLUGINS / "xpersson-adhesion" / "examples" / "pdms_on_glass.toml"),
         "seal": _solve(
@@ -83,6 +84,7 @@ CASES = [
     ("friction", "tread"),
     ("psd", "elastic"),
     ("psd", "measured"),
+    ("body", "sphere"),
 ]
 
 

@@ -193,3 +193,25 @@ def test_gap_pdf_and_energy_have_their_own_titles(seal):
     for kind in ("gap_pdf", "energy"):
         ax = xpersson.plot.plot(seal, kind)
         assert ax.get_title() and ax.get_title() != seal.attrs["title"]
+
+
+def test_body_draws_the_nominal_pressure_in_its_units():
+    """The body kind: each drawn curve is ``nominal_pressure(force, r)`` in the axis' pressure
+    unit against ``r`` in the axis' length unit (fixed here from the labels, not by the plot
+    code), and the dotted lines sit at the Hertz radii."""
+    ds = _solve(ROOT / "examples" / "sphere.toml")
+    ax = xpersson.plot.plot(ds, "body")
+    y_unit = ax.get_ylabel().split("(")[-1].rstrip(")")
+    x_unit = ax.get_xlabel().split("(")[-1].rstrip(")")
+    to_pa = {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9}[y_unit]
+    to_m = {"mm": 1e-3, "µm": 1e-6, "nm": 1e-9}[x_unit]
+    curves = [line for line in ax.lines if line.get_linestyle() == "-"]
+    marks = [line for line in ax.lines if line.get_linestyle() == ":"]
+    assert len(curves) == ds.sizes["force"] == len(marks)
+    for i, line in enumerate(curves):
+        np.testing.assert_allclose(line.get_xdata() * to_m, ds["r"].values, rtol=1e-12)
+        want = ds["nominal_pressure"].transpose("force", "r").values[i]
+        np.testing.assert_allclose(line.get_ydata() * to_pa, want, rtol=1e-12)
+        np.testing.assert_allclose(marks[i].get_xdata()[0] * to_m, ds["hertz_radius"].values[i])
+    with pytest.raises(ValueError, match="finite-body archive"):
+        xpersson.plot.plot(_solve(ROOT / "examples" / "elastic.toml"), "body")

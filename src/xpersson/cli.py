@@ -193,6 +193,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from . import plot
 
     ds = _open(args.archive)
+    if args.kind is None:
+        args.kind = "body" if "nominal_pressure" in ds else "area"
     try:
         out = plot.save(ds, args.kind, args.output, dpi=args.dpi)
     except plot.MatplotlibMissingError as exc:  # one line, no traceback
@@ -235,9 +237,9 @@ def build_parser() -> argparse.ArgumentParser:
     plo.add_argument("archive", help=".nc file or sweep folder written by xpersson run")
     plo.add_argument(
         "--kind",
-        default="area",
-        choices=["area", "pressure_pdf", "gap_pdf", "leakage", "energy", "friction", "psd"],
-        help="what to plot (default: area)",
+        default=None,
+        choices=["area", "pressure_pdf", "gap_pdf", "leakage", "energy", "friction", "psd", "body"],
+        help="what to plot (default: body for a finite-body archive, else area)",
     )
     plo.add_argument("-o", "--output", required=True, help="figure file (.png, .pdf, .svg)")
     plo.add_argument("--dpi", type=int, default=110, help="resolution of raster figures")

@@ -27,6 +27,7 @@ from typing import Any
 
 import xarray as xr
 
+from ._body import body
 from ._figure import MatplotlibMissingError, pyplot
 from ._friction import friction
 from ._kinds import area, energy, gap_pdf, leakage, pressure_pdf
@@ -49,6 +50,7 @@ __all__ = [
     "friction",
     "psd",
     "draw_psd",
+    "body",
     "save",
     "suptitle",
 ]
@@ -61,6 +63,7 @@ KINDS: dict[str, Callable[..., Any]] = {
     "energy": energy,
     "friction": friction,
     "psd": psd,
+    "body": body,
 }
 
 
