@@ -228,12 +228,20 @@ def loads(value: Any, tensile: bool = False) -> tuple[np.ndarray, bool]:
     spec = CORE["load"]["p0"]
     if tensile:  # the boundary accepts tensile loads (adhesion) and checks their range itself
         spec = dataclasses.replace(spec, bounds=(None, None))
+    return increasing_values(spec, value, "load.p0", "loads")
+
+
+def increasing_values(
+    spec: ParamSpec, value: Any, where: str, what: str
+) -> tuple[np.ndarray, bool]:
+    """A load-like entry ``where`` in SI (strictly increasing when a list; ``what`` names its
+    values in the message) and whether it was a scalar."""
     if is_sweep_value(spec, value):
-        arr = sweep_values(spec, value, "load.p0")
+        arr = sweep_values(spec, value, where)
         if not isinstance(value, Mapping) and np.any(np.diff(arr) <= 0):
-            raise SceneError("load.p0: loads must be strictly increasing")
+            raise SceneError(f"{where}: {what} must be strictly increasing")
         return arr, False
-    return np.array([convert_param(spec, value, "load.p0")]), True
+    return np.array([convert_param(spec, value, where)]), True
 
 
 def resolved_loads(raw: Any, p0: np.ndarray, scalar: bool) -> Any:

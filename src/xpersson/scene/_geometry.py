@@ -24,7 +24,11 @@ import numpy as np
 
 from ..errors import SceneError
 from ..plugins import Plugin, PluginError, Registry
-from ._convert import convert_param, convert_params, is_sweep_value, jsonable, sweep_values
+from ._convert import (
+    convert_params,
+    increasing_values,
+    jsonable,
+)
 from ._core import CORE
 
 __all__ = ["FLAT", "FORCE", "GeometryPart", "geometry_part", "pressure_grid"]
@@ -98,12 +102,7 @@ def check_load_keys(data: Mapping[str, Any]) -> None:
 
 def forces(raw: Any) -> tuple[np.ndarray, bool]:
     """``load.force`` in N (strictly increasing when a list) and whether it was a scalar."""
-    if is_sweep_value(FORCE, raw):
-        arr = sweep_values(FORCE, raw, "load.force")
-        if not isinstance(raw, Mapping) and np.any(np.diff(arr) <= 0):
-            raise SceneError("load.force: forces must be strictly increasing")
-        return arr, False
-    return np.array([convert_param(FORCE, raw, "load.force")]), True
+    return increasing_values(FORCE, raw, "load.force", "forces")
 
 
 def geometry_part(data: Mapping[str, Any], registry: Registry, E_star: float) -> GeometryPart:
