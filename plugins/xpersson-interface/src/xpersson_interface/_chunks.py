@@ -29,7 +29,16 @@ from numpy.typing import NDArray
 from xpersson import physics
 from xpersson.plugins.solved import Solved, per_solve
 
-__all__ = ["CHUNK", "Part", "bin_edges", "chunk_rows", "contacts", "joined", "sub_solved"]
+__all__ = [
+    "CHUNK",
+    "Part",
+    "bin_edges",
+    "chunk_rows",
+    "contact_of",
+    "contacts",
+    "joined",
+    "sub_solved",
+]
 
 #: Loads per chunk: 512 loads x 600 nodes of float64 (2.5 MB per array) stay near the cache;
 #: per load, 512 loads cost as 100 (measured on the roll-off H = 0.3 scene).
@@ -69,6 +78,12 @@ def sub_solved(s: Solved, rows: slice) -> Solved:
     )
 
 
+def contact_of(ctx: Any, s: Solved) -> physics.SolvedContact:
+    """The SolvedContact of the solved curve ``s`` (its loads and A(zeta) from the Dataset; the
+    scene's spectrum and E* for the gap and energy integrals)."""
+    return physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve)
+
+
 def contacts(ctx: Any, s: Solved, key: tuple[Any, ...], chunk: int = CHUNK) -> list[Part]:
     """The chunks of ``s`` with their SolvedContacts (built once per solve and ``key``; their
     splines and tables are built when an analysis first asks, one chunk at a time)."""
@@ -77,8 +92,7 @@ def contacts(ctx: Any, s: Solved, key: tuple[Any, ...], chunk: int = CHUNK) -> l
         parts = []
         for rows in chunk_rows(s.p0.size, chunk):
             sub = sub_solved(s, rows)
-            sc = physics.SolvedContact(ctx.psd, ctx.E_star, sub.p0, *sub.curve)
-            parts.append((rows, sub, sc))
+            parts.append((rows, sub, contact_of(ctx, sub)))
         return parts
 
     return per_solve(ctx, ("chunks", chunk, *key), build)

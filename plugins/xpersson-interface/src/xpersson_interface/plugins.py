@@ -36,7 +36,7 @@ from xpersson.physics.closures import GAMMA_DEFAULT
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
-from ._chunks import CHUNK, Part, bin_edges, contacts, joined
+from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
 from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA
@@ -113,7 +113,7 @@ class _Interface(Analysis):
         sc = per_solve(
             ctx,
             ("contact", *self._key(True)),
-            lambda: physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve),
+            lambda: contact_of(ctx, s),
         )
         return s, sc
 
