@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import xpersson
+from xpersson.errors import XperssonWarning
 from xpersson.physics.body import BodySolution, Separation, cell_areas, solve_body
 from xpersson.pipeline._body_local import combine, interpolate
 from xpersson.plugins import Analysis, BodyQuantity, SpecError, VarSpec, get_registry
@@ -158,8 +159,10 @@ def test_smooth_sphere_conducts_as_holm_over_three_decades_of_force() -> None:
     Barber's analogy with the body's stiffness holds."""
     scene = body_scene(force=["1 mN", "31.6 mN", "1 N"], h_rms="1 nm")
     scene["spectrum"].update(H=0.3, q_1="1e10 1/m")
-    scene["analyses"] = {"electrical_contact": _ELECTRICAL}
-    ds = xpersson.solve(scene)
+    scene["analyses"] = {"electrical_contact": _ELECTRICAL, "leakage": {}}
+    with pytest.warns(XperssonWarning, match="body_leak_rate, body_leak_rate_emt: a series across"):
+        ds = xpersson.solve(scene)
+    assert np.all(np.isnan(ds["body_leak_rate"]))  # a sphere is no seal
     a = (3 * ds["force"].values * 0.01 / (4 * E_STAR)) ** (1 / 3)
     G = ds["body_electrical_conductance"]
     assert G.attrs["units"] == "S"

@@ -12,6 +12,7 @@ half the cells, and the local value interpolated on every other pressure of the 
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -20,6 +21,7 @@ import xarray as xr
 from numpy.typing import NDArray
 
 from .. import checks
+from ..errors import XperssonWarning
 from ..physics.body import BodySolution, kernel
 from ..plugins import BodyQuantity
 from ..specs import VarSpec
@@ -114,28 +116,49 @@ def local_outputs(
     gives ``X`` and ``X_grid_error`` [1] (dimension ``force``).
     """
     geo = rs.geometry
-    p_grid = np.asarray(rs.p0, float)
     out: dict[str, xr.Variable] = {}
+    undefined = []  # series quantities of an axisymmetric body
     for name, analysis in rs.analyses:
         label = rs.labels[f"analyses.{name}"]
         for bname, bq in type(analysis).body_quantities.items():
-            if bname in ds.variables or bname in out:
+            if {bname, f"{bname}_grid_error"} & (set(ds.variables) | set(out)):
                 raise checks.PluginFailure(
                     f"{label}: body quantity {bname!r} is already a variable of the body's "
                     "Dataset (declared twice, or a core output's name)",
                     plugin=label,
                 )
             with checks.calling(label, f"body_quantities[{bname!r}]"):
-                q = bq.local_values(analysis.params, np.asarray(ds[bq.local].values, float), p_grid)
+                values = np.asarray(ds[bq.local].values, float)
+                q = bq.local_values(analysis.params, values, np.asarray(rs.p0, float))
                 bulk = 0.0 if bq.bulk is None else float(bq.bulk(analysis.params))
-            consts = {"bulk": bulk, "datum": float(geo.params.get("radius", 1.0))}
-            value = _evaluate(bq, q, p_grid, full, geo.symmetry, consts) * length
-            err = _relative(_evaluate(bq, q, p_grid, half, geo.symmetry, consts) * length, value)
-            coarse = _evaluate(bq, q[::2], p_grid[::2], full, geo.symmetry, consts) * length
-            err = np.maximum(err, _relative(coarse, value))
-            out[bname] = xr.Variable(("force",), value, bq.spec().attrs())
+            value, err = _integrated(bq, q, rs, (full, half), bulk)
+            out[bname] = xr.Variable(("force",), value * length, bq.spec().attrs())
             out[f"{bname}_grid_error"] = xr.Variable(("force",), err, _error_spec(bname).attrs())
+            if bq.combine == "series" and geo.symmetry != "plane":
+                undefined.append(bname)
+    if undefined:
+        warnings.warn(
+            f"{', '.join(undefined)}: a series across the contact (a seal) needs a line "
+            f"contact (geometry cylinder); NaN for the {type(geo).__name__.lower()}",
+            XperssonWarning,
+            stacklevel=4,
+        )
     return out
+
+
+def _integrated(
+    bq: BodyQuantity, q: FloatArray, rs: Any, grids: tuple[Sequence[BodySolution], ...],
+    bulk: float,
+) -> tuple[FloatArray, FloatArray]:  # fmt: skip
+    """The body's value (per length of a line contact) and its error estimate [1]: the larger
+    relative change on half the cells (``grids[1]``) and from every other grid pressure."""
+    geo, p_grid = rs.geometry, np.asarray(rs.p0, float)
+    consts = {"bulk": bulk, "datum": float(geo.params.get("radius", 1.0))}
+    full, half = grids
+    value = _evaluate(bq, q, p_grid, full, geo.symmetry, consts)
+    err = _relative(_evaluate(bq, q, p_grid, half, geo.symmetry, consts), value)
+    coarse = _evaluate(bq, q[::2], p_grid[::2], full, geo.symmetry, consts)
+    return value, np.maximum(err, _relative(coarse, value))
 
 
 def _error_spec(name: str) -> VarSpec:
