@@ -74,20 +74,25 @@ def test_constriction_of_a_perfect_disk_is_holm() -> None:
     assert got[0] == pytest.approx(4 * a / (RHO1 + RHO2), rel=0.01)
 
 
-def test_constriction_with_barbers_local_conductance_is_the_body_stiffness() -> None:
+@pytest.mark.parametrize(("symmetry", "load"), [("axisymmetric", 1e-2), ("plane", 1.0)])
+def test_constriction_with_barbers_local_conductance_is_the_body_stiffness(
+    symmetry: str, load: float
+) -> None:
     """Barber's analogy holds over the body: with the local conductance 2 K(p)/((rho_1 + rho_2)
     E*), K the interface's stiffness -dp/du, the body conducts 2 k/((rho_1 + rho_2) E*), k the
-    body's normal stiffness from the same discrete equations."""
+    body's normal stiffness from the same discrete equations (a line contact: both referred to
+    the distance R = 10 mm)."""
     p = np.geomspace(1e1, 1e6, 60)
     u0 = 1e-7
     sep = Separation(p, u0 * np.log(1e7 / p), np.full(p.size, -u0), np.minimum(p / 1e6, 1))
     (sol,) = solve_body(
-        "axisymmetric", lambda r: r * r / 0.02, 1e-2, E_STAR, sep, 1e-3, 96, scale=1e-6,
-        guess=lambda r: np.full(r.shape, 1e3),
+        symmetry, lambda r: r * r / 0.02, load, E_STAR, sep, 1e-3, 96, scale=1e-6,
+        guess=lambda r: np.full(r.shape, 1e3), datum=0.01,
     )  # fmt: skip
     K = sol.p / u0  # -dp/du of u = u0 ln(p*/p)
     c = 2.0 / ((RHO1 + RHO2) * E_STAR)
-    got = combine("constriction", (c * K)[None], [sol], "axisymmetric", bulk=0.5 * (RHO1 + RHO2))
+    bulk = 0.5 * (RHO1 + RHO2)
+    got = combine("constriction", (c * K)[None], [sol], symmetry, bulk=bulk, datum=0.01)
     assert got[0] == pytest.approx(c * sol.stiffness, rel=1e-6)
 
 
