@@ -205,3 +205,12 @@ def test_an_oring_leaks_as_the_flat_seal_at_uniform_pressure() -> None:
         q = np.where(strip.p > 0, q, np.inf if bq.combine == "series" else 0.0)
         flat = ds[var].values[k] * (area or 1.0)
         assert 20e-3 * combine(bq.combine, q, [strip], "plane")[0] == pytest.approx(flat)
+
+
+def test_plugins_show_lists_the_body_quantities(capsys: pytest.CaptureFixture[str]) -> None:
+    from xpersson.cli import main
+
+    main(["plugins", "show", "analyses", "leakage"])
+    out = capsys.readouterr().out
+    assert "integrated over a [geometry] body (per force):" in out
+    assert "  body_leak_rate [m3 s-1]: " in out and "(series of leak_rate)" in out
