@@ -164,7 +164,7 @@ def test_smooth_sphere_conducts_as_holm_over_three_decades_of_force() -> None:
     Barber's analogy with the body's stiffness holds."""
     scene = body_scene(force=["1 mN", "31.6 mN", "1 N"], h_rms="1 nm")
     scene["spectrum"].update(H=0.3, q_1="1e10 1/m")
-    scene["analyses"] = {"electrical_contact": _ELECTRICAL, "leakage": {}}
+    scene["analyses"] = {"electrical_contact": _ELECTRICAL, "leakage": {"n_bins": 10}}
     with pytest.warns(XperssonWarning, match="body_leak_rate, body_leak_rate_emt: a series across"):
         ds = xpersson.solve(scene)
     assert np.all(np.isnan(ds["body_leak_rate"]))  # a sphere is no seal
@@ -176,6 +176,20 @@ def test_smooth_sphere_conducts_as_holm_over_three_decades_of_force() -> None:
     np.testing.assert_allclose(G, barber, rtol=3e-3)
     err = ds["body_electrical_conductance_grid_error"].values
     assert np.all((err > 0) & (err < 0.03))
+
+
+def test_smooth_cylinder_conducts_as_the_line_contacts_barber_value() -> None:
+    """A smooth cylinder: Barber's analogy on the Hertz line contact's stiffness dP/d(delta) =
+    pi E*/(2 ln(2R/b)), with the approach referred to the distance R, gives the conductance
+    per length pi/((rho_1 + rho_2) ln(2R/b)) (b the Hertz half-width)."""
+    scene = body_scene("cylinder", force="0.1 N", h_rms="0.3 nm")
+    scene["spectrum"].update(H=0.3, q_1="1e10 1/m")
+    scene["analyses"] = {"electrical_contact": _ELECTRICAL}
+    ds = xpersson.solve(scene)
+    P = float(ds["force"]) / 0.02
+    b = math.sqrt(4 * P * 0.01 / (math.pi * E_STAR))
+    want = math.pi / ((RHO1 + RHO2) * math.log(2 * 0.01 / b)) * 0.02
+    assert float(ds["body_electrical_conductance"]) == pytest.approx(want, rel=0.01)
 
 
 def test_an_oring_leaks_as_the_flat_seal_at_uniform_pressure() -> None:
