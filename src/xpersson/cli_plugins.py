@@ -183,6 +183,10 @@ def describe(group: str, name: str, registry: Registry | None = None) -> dict[st
         desc["coefficient_traits"] = sorted(getattr(cls, "coefficient_traits", ()))
         desc["boundaries"] = _supported(cls, reg, "boundaries")
         desc["coefficients"] = _supported(cls, reg, "coefficients")
+        desc["body_quantities"] = {
+            n: {"local": q.local, "combine": q.combine, "units": q.units, "long_name": q.long_name}
+            for n, q in cls.body_quantities.items()  # type: ignore[attr-defined]
+        }
     return desc
 
 
@@ -253,6 +257,10 @@ def cmd_show(
     w("outputs:\n" if d["outputs"] else "outputs: none\n")
     for vname, v in d["outputs"].items():
         w(f"  {vname}({', '.join(v['dims'])}) [{v['units']}]: {v['long_name']}\n")
+    if d.get("body_quantities"):
+        w("integrated over a [geometry] body (per force):\n")
+        for vname, v in d["body_quantities"].items():
+            w(f"  {vname} [{v['units']}]: {v['long_name']} ({v['combine']} of {v['local']})\n")
     return 0
 
 

@@ -24,6 +24,7 @@ from ..physics.body import BodySolution, Separation, force_radius, solve_body
 from ..plugins.solved import solved_curve
 from ..scene import ResolvedScene
 from ..specs import VarSpec
+from ._body_local import local_outputs
 
 __all__ = ["ASYMPTOTE", "CELLS", "FORCE_FRACTION", "OUTPUTS", "body_dataset"]
 
@@ -74,8 +75,9 @@ def _interpolated(sols: list[BodySolution]) -> Any:
 
 def _solve_forces(
     rs: ResolvedScene, sep: Separation, loads: np.ndarray
-) -> tuple[list[BodySolution], np.ndarray]:
-    """The solutions on ``CELLS`` cells and their relative change from ``CELLS // 2`` [1]."""
+) -> tuple[list[BodySolution], np.ndarray, list[BodySolution]]:
+    """The solutions on ``CELLS`` cells, their relative change from ``CELLS // 2`` [1] and the
+    solutions on ``CELLS // 2`` cells."""
     geo = rs.geometry
     assert geo is not None
     sym = geo.symmetry
@@ -115,7 +117,7 @@ def _solve_forces(
     for fn in (lambda s: force_radius(s, FORCE_FRACTION, sym), lambda s: _real_area(s, sep)):
         x1, x2 = fn(half), fn(full)
         err = np.maximum(err, np.abs(x2 - x1) / np.maximum(np.abs(x2), 1e-300))
-    return full, err
+    return full, err, half
 
 
 def _real_area(sols: list[BodySolution], sep: Separation) -> np.ndarray:
@@ -132,7 +134,7 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     sep = separation(rs, ctx, ds)
     length = 1.0 if geo.symmetry == "axisymmetric" else float(geo.params["length"])
     loads = np.array([geo.solver_load(float(f)) for f in rs.force])
-    sols, errs = _solve_forces(rs, sep, loads)
+    sols, errs, half = _solve_forces(rs, sep, loads)
     rows = []
     for load, sol in zip(loads, sols, strict=True):
         a, delta_h, _ = geo.reference(float(load), rs.E_star)
@@ -162,6 +164,7 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     body = {n: xr.Variable(OUTPUTS[n].dims, v, OUTPUTS[n].attrs()) for n, v in values.items()}
     body["force"] = xr.Variable(("force",), np.asarray(rs.force, float), _FORCE_ATTRS)
     body["r"] = xr.Variable(("r",), r_out, _R_ATTRS[geo.symmetry])
+    body |= local_outputs(rs, ds, sols, half, length)  # the analyses' declared local quantities
     out = ds.assign(body)  # one merge for every variable (a dim's namesake is its coordinate)
     _attributes(out, rs, cols)
     if rs.force_scalar:

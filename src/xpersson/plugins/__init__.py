@@ -26,6 +26,7 @@ from ._base import (
     Spectrum,
     check_plugin_class,
 )
+from ._bodyquantity import COMBINES, BodyQuantity
 from ._fastpaths import NO_FAST_PATHS, FastPaths, fast_paths_on, plain_paths
 from ._groups import ENTRY_POINT_PREFIX, GROUP_NAMES, PLUGIN_GROUPS
 from ._limits import PluginTimeout, current_limit, limited, time_limit
@@ -49,6 +50,7 @@ __all__ = [
     "BOUNDARY_TRAITS",
     "CLOSURE_PARAMETERS",
     "COEFFICIENT_TRAITS",
+    "COMBINES",
     "ENTRY_POINT_PREFIX",
     "NO_FAST_PATHS",
     "GEOMETRY_SYMMETRIES",
@@ -57,6 +59,7 @@ __all__ = [
     "PLUGIN_GROUPS",
     "REQUIRED",
     "Analysis",
+    "BodyQuantity",
     "Boundary",
     "Coefficient",
     "DiffusionClock",

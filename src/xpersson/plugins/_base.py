@@ -14,6 +14,7 @@ from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from ..specs import ParamSpec, SpecError, VarSpec
+from ._bodyquantity import BodyQuantity
 from ._classcheck import check_class
 from ._fastpaths import NO_FAST_PATHS, FastPaths, settle
 from ._groups import GEOMETRY_SYMMETRIES, PLUGIN_GROUPS
@@ -321,6 +322,9 @@ class Analysis(Plugin):
     boundary_traits: ClassVar[frozenset[str]] = frozenset()
     #: Traits the scene's coefficient must declare (see :data:`COEFFICIENT_TRAITS`).
     coefficient_traits: ClassVar[frozenset[str]] = frozenset()
+    #: Local quantities a finite body integrates over its nominal pressure (name ->
+    #: :class:`~xpersson.plugins.BodyQuantity`; see :mod:`xpersson.plugins._bodyquantity`).
+    body_quantities: ClassVar[Mapping[str, BodyQuantity]] = MappingProxyType({})
 
     @classmethod
     def supports(cls, boundary: type | None = None, coefficient: type | None = None) -> str | None:

@@ -3,7 +3,8 @@
 :func:`check_class` (called from :meth:`Plugin.__init_subclass__ <._base.Plugin>` and
 :func:`~._base.check_plugin_class`) checks what every plugin declares (``api_version``,
 ``summary``, ``references``, ``parameters``, ``outputs``), then its group's declarations
-(traits; a boundary's area variables; an analysis's ``requires`` and ``provides``) and its fast
+(traits; a boundary's area variables; an analysis's ``requires``, ``provides`` and
+``body_quantities``) and its fast
 paths (:func:`._fastpaths.settle`).
 """
 
@@ -14,6 +15,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from ..specs import ParamSpec, SpecError, VarSpec
+from ._bodyquantity import check_body_quantities
 from ._fastpaths import settle
 from ._groups import GEOMETRY_SYMMETRIES, GROUP_NAMES
 
@@ -76,6 +78,7 @@ def _check_analysis(cls: type[Any], name: str) -> None:
     both = sorted(set(cls.requires) & set(cls.provides))
     if both:
         raise SpecError(f"{name}: {both} both required and provided (a cycle of one)")
+    check_body_quantities(cls, name)
 
 
 def _check_traits(cls: type[Any], name: str) -> None:

@@ -36,6 +36,7 @@ from xpersson.physics.closures import GAMMA_DEFAULT
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
+from ._body import ENERGY, LEAKAGE
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
@@ -150,6 +151,7 @@ class ElasticEnergy(_Interface):
         ),
     }
     provides = ("elastic_energy", "elastic_energy_full")
+    body_quantities: ClassVar = ENERGY
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         s, sc = self._contact(ctx, ds)
@@ -447,6 +449,7 @@ class Leakage(_Interface):
         ),
     }  # fmt: skip
     provides = tuple(outputs)
+    body_quantities: ClassVar = LEAKAGE
 
     def _pressure_drop(self) -> float:
         p = self.params

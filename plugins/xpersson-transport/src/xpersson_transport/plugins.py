@@ -26,6 +26,7 @@ import xarray as xr
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
 
 from . import _physics as ph
+from ._body import ELECTRICAL, THERMAL
 from ._gap import gap_cdf_grid, gas_from_cdf
 
 __all__ = ["ElectricalContact", "ThermalContact"]
@@ -183,6 +184,7 @@ class ElectricalContact(_Transport):
         ),
     }  # fmt: skip
     provides = tuple(outputs)
+    body_quantities: ClassVar = ELECTRICAL
 
     def check_scene(self, coefficient: Any, boundary: Any) -> None:
         """Refuse a film thickness without the film's resistivity (before any work)."""
@@ -363,6 +365,7 @@ class ThermalContact(_Transport):
         ),
     }  # fmt: skip
     provides = tuple(outputs)
+    body_quantities: ClassVar = THERMAL
 
     def check_scene(self, coefficient: Any, boundary: Any) -> None:
         """Refuse a gas without its data and a film without its conductivity (before work)."""
