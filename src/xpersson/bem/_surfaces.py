@@ -1,0 +1,206 @@
+"""Where a cross-check's surfaces come from, checked before any work.
+
+* **Synthesis** from the scene's spectrum ``C(q)``: a ``self_affine`` spectrum, a
+  ``tabulated`` one, or the table of a ``topography`` spectrum that has no single 2-D map (a
+  line scan, several scans combined, an inline table). The cell is ``2 pi / q_L``.
+* **The measured map itself** (``topography`` with one 2-D map): read and detrended as the
+  spectrum was (the scene's ``detrend``, ``unit``, ``physical_sizes``, ``height_scale``), in
+  m. A periodic map is the cell as it is; a non-periodic one is **mirrored** (even reflection
+  across two edges) into a periodic cell twice its side, which keeps every height (so the
+  height distribution and ``h_rms``), the magnitude of every slope, and adds no step at the
+  edges (the step a plain periodisation adds is spurious short-wavelength roughness in
+  contact). The fold lines are creases where the slope changes sign.
+
+The heights a BEM solves on an ``n x n`` grid are the map's Fourier modes in the band
+(:func:`band_limited`): exact interpolation of a periodic band-limited map, no mode outside
+the band.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .synthesis import wavenumbers
+
+__all__ = ["Source", "source_of", "band_limited", "mirrored", "TABLE_SPECTRA"]
+
+#: Spectrum models whose ``psd`` is a table (``q_table``, ``C_table``), synthesised from it.
+TABLE_SPECTRA = ("tabulated", "topography")
+
+
+@dataclass
+class Source:
+    """The surfaces of a cross-check (SI).
+
+    Attributes
+    ----------
+    kind : str
+        ``"synthesis"`` (every realisation synthesised from the spectrum) or ``"map"``
+        (realisation 0 is the measured map; the others, if any, are synthesised from the
+        map's spectrum table on the same cell and band).
+    q_L : float
+        The cell's fundamental wavevector [1/m]: the cell's side is ``2 pi / q_L``.
+    top : float
+        The spectrum's largest wavevector [1/m] (``q_1``).
+    q_min : float or None
+        Lowest synthesised wavevector [1/m] (``None``: the cell's ``2 pi / L``).
+    q_cut : float or None
+        The scene's own low truncation ``q_L`` applied to the map [1/m] (``None``: every mode
+        of the map is kept).
+    heights : ndarray or None
+        The periodic cell of the measured map [m] (mirrored when not periodic), its own grid.
+    description : str
+        What the surfaces are (the Dataset's ``surfaces`` attribute).
+    notes : list of str
+        Lines for stderr and the Dataset's ``notes``.
+    """
+
+    kind: str
+    q_L: float
+    top: float
+    q_min: float | None
+    q_cut: float | None = None
+    heights: np.ndarray | None = None
+    description: str = ""
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def L(self) -> float:
+        """Side of the periodic cell [m]."""
+        return 2 * math.pi / self.q_L
+
+
+def _refuse(what: str) -> Exception:
+    from ._plan import CrosscheckError
+
+    return CrosscheckError(f"crosscheck: {what}")
+
+
+_SYNTHESISED = (
+    "Gaussian periodic maps of the scene's spectrum (Persson's C(q), (2 pi / L)^2 per mode), "
+    "realisation i seeded numpy default_rng([seed, i])"
+)
+
+
+def source_of(rs: Any) -> Source:
+    """The surfaces of the resolved scene ``rs`` (a refusal for a spectrum it cannot use)."""
+    spec = rs.plugin_names["spectrum"]
+    psd = rs.psd
+    if spec == "self_affine":
+        q_L = float(psd.q_L)
+        return Source("synthesis", q_L, float(psd.q_1), q_L, None, None, _SYNTHESISED)
+    if spec not in TABLE_SPECTRA:
+        raise _refuse(
+            f"spectrum model {spec!r}: the cross-check synthesises 'self_affine' and table "
+            "spectra ('tabulated', 'topography') and solves measured maps; this one has no "
+            "table to synthesise from"
+        )
+    params = dict(getattr(rs.spectrum, "params", {}) or {})
+    files = [params[k] for k in ("file", "file_2", "file_3") if params.get(k)]
+    if spec == "topography" and len(files) == 1 and params.get("q") is None:
+        found = _map_source(files[0], params, psd)
+        if found is not None:
+            return found
+    return _table_source(spec, files, psd)
+
+
+def _table_source(spec: str, files: list[str], psd: Any) -> Source:
+    q_L = float(psd.q_L)
+    src = Source("synthesis", q_L, float(psd.q_1), q_L, None, None, _SYNTHESISED)
+    if spec == "topography":
+        why = (
+            "a line scan (1-D: its heights are no 2-D map)"
+            if files
+            else "an inline table (no map file)"
+        )
+        if len(files) > 1:
+            why = f"{len(files)} scans combined (no one map holds the whole band)"
+        src.notes.append(
+            f"the spectrum is {why}: the BEM solves Gaussian syntheses of its isotropic 2-D "
+            "table, not measured heights"
+        )
+        src.description = _SYNTHESISED.replace("scene's spectrum", f"scene's table ({why})")
+    return src
+
+
+def _map_source(file: str, params: dict[str, Any], psd: Any) -> Source | None:
+    """The measured map as the BEM's cell (``None`` for a line scan)."""
+    from ..builtin.surface_maps import measured_from_file
+    from ..builtin.topography import map_keys
+
+    m = measured_from_file(file, map_keys(params))
+    if m.heights.ndim != 2:
+        return None
+    (nx, ny), (lx, ly) = m.heights.shape, m.sizes
+    if nx != ny or not math.isclose(lx, ly, rel_tol=1e-6):
+        raise _refuse(
+            f"the measured map {Path(file).name!r} is {nx} x {ny} points over {lx:.4g} x "
+            f"{ly:.4g} m: the BEM cell is square with square pixels (crop the map to a square)"
+        )
+    h = m.heights - m.heights.mean()
+    detrend = m.provenance["detrend"]
+    what = f"the measured map {Path(file).name!r} ({nx}^2 points, {lx:.4g} m, detrend {detrend!r})"
+    if m.periodic:
+        cell, L, how = h, lx, "periodic: the cell as it is"
+    else:
+        cell, L = mirrored(h), 2 * lx
+        how = (
+            "not periodic: mirrored into a periodic cell of twice its side (every height and "
+            "slope magnitude kept, no step at the edges; creases along the fold lines)"
+        )
+    q_cut = params.get("q_L")
+    src = Source(
+        "map", 2 * math.pi / L, float(psd.q_1), q_cut, q_cut, cell, f"realisation 0: {what}, {how}"
+    )
+    src.notes.append(f"the BEM solves {what}, {how}")
+    return src
+
+
+def mirrored(h: np.ndarray) -> np.ndarray:
+    """The even (half-sample) reflection of a map across its last row and column: a periodic
+    ``2n x 2n`` map [m] whose every quadrant is the map or its mirror image."""
+    top = np.concatenate([h, h[:, ::-1]], axis=1)
+    return np.concatenate([top, top[::-1, :]], axis=0)
+
+
+def _embed(f: np.ndarray, n: int, axis: int) -> np.ndarray:
+    """Fourier amplitudes ``f`` (FFT order along ``axis``, ``m`` modes) placed on ``n`` modes:
+    zero-padded (``n > m``, the Nyquist mode split between +-m/2 so the map stays real and
+    keeps its values at the old nodes) or truncated (``n < m``)."""
+    m = f.shape[axis]
+    if n == m:
+        return f
+    g = np.moveaxis(f, axis, 0)
+    out = np.zeros((n, *g.shape[1:]), dtype=complex)
+    half = min(m, n) // 2
+    out[:half] = g[:half]
+    out[n - half + 1 :] = g[m - half + 1 :]
+    if n > m:
+        out[half] = out[n - half] = 0.5 * g[half]
+    return np.moveaxis(out, 0, axis)
+
+
+def band_limited(
+    h: np.ndarray, n: int, L: float, lo: float | None = None, hi: float | None = None
+) -> np.ndarray:
+    """A periodic map [m] on an ``n x n`` grid of the same cell ``L`` [m], keeping only its
+    Fourier modes with ``lo <= |q| <= hi`` [1/m] (``None``: no bound; the mean is removed).
+
+    For a map whose modes all lie in the band and below both grids' Nyquist wavevector this
+    is exact interpolation: the same continuous surface, sampled on the new grid.
+    """
+    m = h.shape[0]
+    f = np.fft.fft2(np.asarray(h, dtype=float)) / m**2
+    f = _embed(_embed(f, n, 0), n, 1)
+    qq = wavenumbers(L, n)
+    keep = qq > 0
+    if lo is not None:
+        keep &= qq >= lo * (1 - 1e-12)
+    if hi is not None:
+        keep &= qq <= hi * (1 + 1e-12)
+    return np.fft.ifft2(np.where(keep, f, 0)).real * n * n
