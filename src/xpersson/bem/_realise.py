@@ -42,9 +42,9 @@ def _surface(t: Task) -> np.ndarray:
     the grid's band, or a synthesis seeded ``[seed, index]``."""
     if t.map is not None and t.index == 0:
         return band_limited(t.map, t.n, t.L, t.q_cut, t.q_max)
-    return synthesise(
-        t.psd.C, t.L, t.n, seed=t.seed, realisations=t.index + 1, q_min=t.q_min, q_max=t.q_max
-    )[t.index]
+    return synthesise(t.psd.C, t.L, t.n, seed=t.seed, first=t.index, q_min=t.q_min, q_max=t.q_max)[
+        0
+    ]
 
 
 def _pressure_controlled(t: Task, h: np.ndarray) -> dict[str, np.ndarray]:

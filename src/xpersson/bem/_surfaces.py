@@ -46,7 +46,8 @@ class Source:
     q_L : float
         The cell's fundamental wavevector [1/m]: the cell's side is ``2 pi / q_L``.
     top : float
-        The spectrum's largest wavevector [1/m] (``q_1``).
+        The spectrum's largest wavevector [1/m] (``q_1``; for a map, its largest mode, or the
+        scene's truncation ``q_1``/``tip_radius``).
     q_min : float or None
         Lowest synthesised wavevector [1/m] (``None``: the cell's ``2 pi / L``).
     q_cut : float or None
@@ -154,11 +155,19 @@ def _map_source(file: str, params: dict[str, Any], psd: Any) -> Source | None:
             "slope magnitude kept, no step at the edges; creases along the fold lines)"
         )
     q_cut = params.get("q_L")
-    src = Source(
-        "map", 2 * math.pi / L, float(psd.q_1), q_cut, q_cut, cell, f"realisation 0: {what}, {how}"
-    )
+    cut_above = params.get("q_1") is not None or params.get("tip_radius") is not None
+    top = float(psd.q_1) if cut_above else _top_mode(cell, L)
+    src = Source("map", 2 * math.pi / L, top, q_cut, q_cut, cell, f"realisation 0: {what}, {how}")
     src.notes.append(f"the BEM solves {what}, {how}")
     return src
+
+
+def _top_mode(h: np.ndarray, L: float) -> float:
+    """The largest wavevector [1/m] with power of a periodic map (its table ends a little
+    below it, at the last ring's equal-measure edge: the map's own band is kept whole)."""
+    power = np.abs(np.fft.fft2(h - h.mean())) ** 2
+    qq = wavenumbers(L, h.shape[0])
+    return float(qq[power > 1e-20 * power.sum()].max())
 
 
 def mirrored(h: np.ndarray) -> np.ndarray:
