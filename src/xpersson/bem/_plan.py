@@ -16,6 +16,8 @@ import numpy as np
 
 from ..errors import SceneError
 from ..scene import Scene
+from ._errors import CrosscheckError
+from ._errors import refuse as _refuse
 
 __all__ = [
     "CrosscheckError",
@@ -52,10 +54,6 @@ BASELINE_BYTES = 128 * 2**20
 #: CPU seconds of one tamaas solve per ``n^2.5`` grid points (FFTs and iteration count both
 #: grow with n; measured 256^2 and 512^2, OPENBLAS_NUM_THREADS=1, upper end).
 SECONDS_PER_SOLVE = 6.5e-7
-
-
-class CrosscheckError(SceneError):
-    """A scene the cross-check cannot do (the physics, the spectrum or the grid), one line."""
 
 
 @dataclass
@@ -97,10 +95,6 @@ class Plan:
         if self.kind == "adhesive":
             return 30
         return 3 * self.p0.size
-
-
-def _refuse(what: str) -> CrosscheckError:
-    return CrosscheckError(f"crosscheck: {what}")
 
 
 def _physics(rs: Any, data: dict[str, Any]) -> dict[str, Any]:

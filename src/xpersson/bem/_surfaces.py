@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from ._errors import refuse as _refuse
 from .synthesis import wavenumbers
 
 __all__ = ["Source", "source_of", "band_limited", "mirrored", "TABLE_SPECTRA"]
@@ -74,12 +75,6 @@ class Source:
     def L(self) -> float:
         """Side of the periodic cell [m]."""
         return 2 * math.pi / self.q_L
-
-
-def _refuse(what: str) -> Exception:
-    from ._plan import CrosscheckError
-
-    return CrosscheckError(f"crosscheck: {what}")
 
 
 _SYNTHESISED = (
