@@ -51,6 +51,9 @@ ZONE_PIXELS = 4
 BYTES_PER_POINT = 400
 #: Resident memory of the process before any solve (python, numpy, xarray, tamaas) [bytes].
 BASELINE_BYTES = 128 * 2**20
+#: Resident memory SurfaceTopography adds when the scene reads scans [bytes] (its import with
+#: netCDF and its readers: 118 MB measured).
+READER_BYTES = 120 * 2**20
 #: CPU seconds of one tamaas solve per ``n^2.5`` grid points (FFTs and iteration count both
 #: grow with n; measured 256^2 and 512^2, OPENBLAS_NUM_THREADS=1, upper end).
 SECONDS_PER_SOLVE = 6.5e-7
@@ -243,6 +246,7 @@ def _estimate(plan: Plan, workers: int) -> None:
     largest = plan.fine_grid if plan.grid_check else plan.grid
     plan.memory = (
         BASELINE_BYTES
+        + (READER_BYTES if plan.source is not None and plan.source.reads_files else 0)
         + int(BYTES_PER_POINT * largest**2 * max(1, workers))
         + memory.estimate(max(1, plan.p0.size), 200)
     )

@@ -60,6 +60,8 @@ class Source:
         What the surfaces are (the Dataset's ``surfaces`` attribute).
     notes : list of str
         Lines for stderr and the Dataset's ``notes``.
+    reads_files : bool
+        The scene reads scans with SurfaceTopography (imported: its memory counts).
     """
 
     kind: str
@@ -70,6 +72,7 @@ class Source:
     heights: np.ndarray | None = None
     description: str = ""
     notes: list[str] = field(default_factory=list)
+    reads_files: bool = False  # SurfaceTopography is imported (its memory is in the estimate)
 
     @property
     def L(self) -> float:
@@ -98,11 +101,11 @@ def source_of(rs: Any) -> Source:
         )
     params = dict(getattr(rs.spectrum, "params", {}) or {})
     files = [params[k] for k in ("file", "file_2", "file_3") if params.get(k)]
-    if spec == "topography" and len(files) == 1 and params.get("q") is None:
-        found = _map_source(files[0], params, psd)
-        if found is not None:
-            return found
-    return _table_source(spec, files, psd)
+    reads = spec == "topography" and bool(files) and params.get("q") is None
+    found = _map_source(files[0], params, psd) if reads and len(files) == 1 else None
+    found = found or _table_source(spec, files, psd)
+    found.reads_files = reads
+    return found
 
 
 def _table_source(spec: str, files: list[str], psd: Any) -> Source:
