@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import xarray as xr
 
 from ._errors import refuse as _refuse
 from .synthesis import wavenumbers
@@ -78,6 +79,30 @@ class Source:
     def L(self) -> float:
         """Side of the periodic cell [m]."""
         return 2 * math.pi / self.q_L
+
+    def text(self, realisations: int) -> str:
+        """What the ``realisations`` surfaces are (the Dataset's ``surfaces`` attribute)."""
+        if self.kind == "map" and realisations > 1:
+            return self.description + (
+                "; realisations 1.. are Gaussian periodic maps of the map's spectrum table on "
+                "the same cell and band, realisation i seeded numpy default_rng([seed, i])"
+            )
+        return self.description
+
+    def flags(self, realisations: int) -> xr.Variable:
+        """``bem_surface``: which realisation is the measured map (CF flags)."""
+        flags = np.zeros(realisations, dtype="i1")
+        flags[0] = self.kind == "map"
+        return xr.Variable(
+            ("realisation",),
+            flags,
+            {
+                "units": "1",
+                "long_name": "surface of each realisation",
+                "flag_values": np.array([0, 1], dtype="i1"),
+                "flag_meanings": "synthesised_from_the_spectrum measured_map",
+            },
+        )
 
 
 _SYNTHESISED = (

@@ -179,7 +179,7 @@ def _attrs(plan: Plan, th: xr.Dataset, version: str) -> dict[str, Any]:
         f"at the hardness), gap-controlled PolonskyKeerRey with ExponentialAdhesionFunctional "
         f"(adhesive); tolerance {TOL:g} ({TOL_GAP:g} gap control); non-converged solves are "
         "NaN and counted in bem_converged",
-        "surfaces": _surfaces_text(plan),
+        "surfaces": plan.source.text(plan.realisations),
         "crosscheck_grid_check": int(plan.grid_check),
         "theory_band": "the theory is solved on the scene's spectrum cut at q_max (same C(q))",
         "theory_status": str(th.attrs.get("status", "success")),
@@ -188,33 +188,6 @@ def _attrs(plan: Plan, th: xr.Dataset, version: str) -> dict[str, Any]:
         "not_compared": "; ".join(plan.not_compared) or "none",
         "notes": "; ".join(plan.notes) or "none",
     }
-
-
-def _surfaces_text(plan: Plan) -> str:
-    text = plan.source.description
-    if plan.source.kind == "map" and plan.realisations > 1:
-        text += (
-            "; realisations 1.. are Gaussian periodic maps of the map's spectrum table on the "
-            "same cell and band, realisation i seeded numpy default_rng([seed, i])"
-        )
-    return text
-
-
-def _surface_flags(ds: xr.Dataset, plan: Plan) -> None:
-    """``bem_surface``: which realisation is the measured map (CF flags)."""
-    flags = np.zeros(plan.realisations, dtype="i1")
-    if plan.source.kind == "map":
-        flags[0] = 1
-    ds["bem_surface"] = (
-        ("realisation",),
-        flags,
-        {
-            "units": "1",
-            "long_name": "surface of each realisation",
-            "flag_values": np.array([0, 1], dtype="i1"),
-            "flag_meanings": "synthesised_from_the_spectrum measured_map",
-        },
-    )
 
 
 def _grid_check(ds: xr.Dataset, plan: Plan, th: xr.Dataset, results: list[dict[str, Any]],
@@ -266,7 +239,7 @@ def _assemble(plan: Plan, th: xr.Dataset, results: list[dict[str, np.ndarray]]) 
         _stack(results, "rms_slope"),
         _meta("1", "rms slope of the BEM's map (band-limited to q_max)"),
     )
-    _surface_flags(ds, plan)
+    ds["bem_surface"] = plan.source.flags(plan.realisations)
     if plan.grid_check:
         _grid_check(ds, plan, th, results, values)
     return ds
