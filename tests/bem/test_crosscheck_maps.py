@@ -105,9 +105,11 @@ def test_tabulated_spectrum_synthesis_keeps_the_table_moments() -> None:
 
 def test_line_scan_is_synthesised_from_its_table() -> None:
     pytest.importorskip("SurfaceTopography")
-    plan = make_plan(as_scene(EXAMPLES / "line_scan.toml"), 32, 2, 0)
+    plan = make_plan(as_scene(EXAMPLES / "line_scan.toml"), 256, 2, 0)
     assert plan.source.kind == "synthesis" and plan.source.heights is None
     assert any("line scan" in n and "syntheses" in n for n in plan.notes)
+    with pytest.raises(CrosscheckError, match="holds no roughness"):  # the table's first rings
+        make_plan(as_scene(EXAMPLES / "line_scan.toml"), 32, 2, 0)
 
 
 def test_measured_map_is_the_cell(tmp_path: Path) -> None:

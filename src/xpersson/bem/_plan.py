@@ -238,6 +238,17 @@ def _conductance(rs: Any) -> dict[str, float]:
     return out
 
 
+def _roughness_in_band(plan: Plan, band: float, scene: float) -> None:
+    """Refuse a band that holds no roughness (``band`` and ``scene`` rms heights [m]): e.g. the
+    first rings of a line scan's table, which carry (almost) nothing, on a small grid."""
+    if not band > 1e-6 * scene:
+        raise _refuse(
+            f"the band q_L..q_max = {plan.q_L:.4g}..{plan.q_max:.4g} 1/m that a {plan.grid}^2 "
+            f"grid resolves holds no roughness of the spectrum (h_rms {band:.3g} m of the "
+            f"scene's {scene:.3g} m): give a larger --grid"
+        )
+
+
 def _estimate(plan: Plan, workers: int) -> None:
     """Memory [bytes] and serial CPU time [s] of the BEM part (the grid check's finer solves
     included), checked against the budget."""
@@ -298,7 +309,9 @@ def make_plan(
         grid_check=bool(grid_check), **phys,
     )  # fmt: skip
     plan.notes.extend(source.notes)
-    plan.conductance = _conductance(plan.theory_scene.resolve())
+    theory_rs = plan.theory_scene.resolve()
+    _roughness_in_band(plan, float(theory_rs.psd.h_rms()), float(rs.psd.h_rms()))
+    plan.conductance = _conductance(theory_rs)
     plan.not_compared = dropped + [
         f"analyses.{a} (no BEM counterpart)"
         for a in scene.data.get("analyses", {})
