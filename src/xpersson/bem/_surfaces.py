@@ -128,22 +128,22 @@ def source_of(rs: Any) -> Source:
     files = [params[k] for k in ("file", "file_2", "file_3") if params.get(k)]
     reads = spec == "topography" and bool(files) and params.get("q") is None
     found = _map_source(files[0], params, psd) if reads and len(files) == 1 else None
-    found = found or _table_source(spec, files, psd)
+    found = found or _table_source(spec, files if reads else [], psd)
     found.reads_files = reads
     return found
 
 
 def _table_source(spec: str, files: list[str], psd: Any) -> Source:
+    """Synthesis from the table; ``files`` are the scans read (empty: an inline table)."""
     q_L = float(psd.q_L)
     src = Source("synthesis", q_L, float(psd.q_1), q_L, None, None, _SYNTHESISED)
     if spec == "topography":
-        why = (
-            "a line scan (1-D: its heights are no 2-D map)"
-            if files
-            else "an inline table (no map file)"
-        )
-        if len(files) > 1:
+        if not files:
+            why = "an inline table (no map read)"
+        elif len(files) > 1:
             why = f"{len(files)} scans combined (no one map holds the whole band)"
+        else:
+            why = "a line scan (1-D: its heights are no 2-D map)"
         src.notes.append(
             f"the spectrum is {why}: the BEM solves Gaussian syntheses of its isotropic 2-D "
             "table, not measured heights"
