@@ -26,6 +26,11 @@ def register(sub: Any) -> None:
     cc.add_argument("--grid", type=int, default=256, help="grid points per side (default 256)")
     cc.add_argument("--seed", type=int, default=0, help="base seed of the maps (default 0)")
     cc.add_argument(
+        "--grid-check",
+        action="store_true",
+        help="also solve on a grid twice as fine; report fine/coarse ratios (X_grid_ratio)",
+    )
+    cc.add_argument(
         "--scheduler",
         default=None,
         metavar="S",
@@ -42,7 +47,11 @@ def _table(ds: Any) -> list[str]:
     """Theory/BEM ratio (and the BEM's relative standard error) per output and load."""
     import numpy as np
 
-    names = [v[: -len("_ratio")] for v in ds.data_vars if v.endswith("_ratio")]
+    names = [
+        v[: -len("_ratio")]
+        for v in ds.data_vars
+        if v.endswith("_ratio") and not v.endswith("_grid_ratio")
+    ]
     lines = ["theory / BEM (+- relative standard error of the BEM mean)"]
     head = f"{'p0 [Pa]':>12}  " + "  ".join(f"{n:>24}" for n in names)
     if "gap_pdf_l1" in ds:
@@ -73,9 +82,24 @@ def _table(ds: Any) -> list[str]:
             "NaN area: the load lies outside the BEM's stable retraction branch (above its "
             "deepest approach, or beyond its pull-off)"
         )
+    lines.extend(_grid_lines(ds, names))
     bad = int((ds["bem_converged"].values == 0).sum())
     if bad:
         lines.append(f"{bad} realisation x load point(s) did not converge: NaN, not averaged")
+    return lines
+
+
+def _grid_lines(ds: Any, names: list[str]) -> list[str]:
+    """The grid check: BEM fine/coarse ratio per output and load (none without it)."""
+    have = [n for n in names if f"{n}_grid_ratio" in ds]
+    if not have:
+        return []
+    fine = 2 * int(ds.attrs.get("crosscheck_grid", 0))
+    lines = [f"grid check: BEM on {fine}^2 / BEM on the cross-check's grid (same surfaces)"]
+    lines.append(f"{'p0 [Pa]':>12}  " + "  ".join(f"{n:>24}" for n in have))
+    for i, p in enumerate(ds["p0"].values):
+        cells = [f"{ds[f'{n}_grid_ratio'].values.reshape(-1)[i]:>24.4f}" for n in have]
+        lines.append(f"{p:>12.4g}  " + "  ".join(cells))
     return lines
 
 
@@ -90,6 +114,7 @@ def _cmd_crosscheck(args: argparse.Namespace) -> int:
             grid=args.grid,
             scheduler=args.scheduler,
             seed=args.seed,
+            grid_check=args.grid_check,
             echo=_err,
         )
     except MissingTamaasError as exc:

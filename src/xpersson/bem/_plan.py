@@ -16,6 +16,8 @@ import numpy as np
 
 from ..errors import SceneError
 from ..scene import Scene
+from ._errors import CrosscheckError
+from ._errors import refuse as _refuse
 
 __all__ = [
     "CrosscheckError",
@@ -49,13 +51,12 @@ ZONE_PIXELS = 4
 BYTES_PER_POINT = 400
 #: Resident memory of the process before any solve (python, numpy, xarray, tamaas) [bytes].
 BASELINE_BYTES = 128 * 2**20
+#: Resident memory SurfaceTopography adds when the scene reads scans [bytes] (its import with
+#: netCDF and its readers: 118 MB measured).
+READER_BYTES = 120 * 2**20
 #: CPU seconds of one tamaas solve per ``n^2.5`` grid points (FFTs and iteration count both
 #: grow with n; measured 256^2 and 512^2, OPENBLAS_NUM_THREADS=1, upper end).
 SECONDS_PER_SOLVE = 6.5e-7
-
-
-class CrosscheckError(SceneError):
-    """A scene the cross-check cannot do (the physics, the spectrum or the grid), one line."""
 
 
 @dataclass
@@ -83,6 +84,13 @@ class Plan:
     memory: int = 0
     seconds: float = 0.0
     psd: Any = None
+    source: Any = None  # _surfaces.Source: synthesis or the measured map
+    grid_check: bool = False  # also solve every realisation on a grid twice as fine
+
+    @property
+    def fine_grid(self) -> int:
+        """The grid check's grid (twice as fine: 16 points on the shortest wavelength)."""
+        return 2 * self.grid
 
     @property
     def solves(self) -> int:
@@ -90,10 +98,6 @@ class Plan:
         if self.kind == "adhesive":
             return 30
         return 3 * self.p0.size
-
-
-def _refuse(what: str) -> CrosscheckError:
-    return CrosscheckError(f"crosscheck: {what}")
 
 
 def _physics(rs: Any, data: dict[str, Any]) -> dict[str, Any]:
@@ -151,29 +155,26 @@ def _process_zone(plan: Plan) -> None:
         )
 
 
-def _band(rs: Any, grid: int) -> tuple[float, float, float]:
-    """(q_L, q_max, q_1) [1/m]: the cell is 2 pi / q_L, the grid resolves up to q_max."""
-    spec = rs.plugin_names["spectrum"]
-    if spec != "self_affine":
-        raise _refuse(
-            f"spectrum model {spec!r}: the cross-check synthesises 'self_affine' spectra only"
-        )
-    psd = rs.psd
-    q_L, q_1 = float(psd.q_L), float(psd.q_1)
-    return q_L, min(q_1, q_L * grid / POINTS_PER_WAVELENGTH), q_1
+def _band(source: Any, grid: int) -> tuple[float, float, float]:
+    """(q_L, q_max, q_1) [1/m]: the cell is ``2 pi / q_L``, the grid resolves up to q_max."""
+    q_L = source.q_L
+    return q_L, min(source.top, q_L * grid / POINTS_PER_WAVELENGTH), source.top
 
 
 def _theory_data(data: dict[str, Any], rs: Any, q_max: float, kind: str) -> dict[str, Any]:
     """The scene with its spectrum cut at the BEM's ``q_max`` (same C(q)), and the analyses
     whose outputs are compared."""
     out = copy.deepcopy(data)
-    sp = out["spectrum"]
-    for key in ("h_rms", "rms_slope", "C_r"):
-        sp.pop(key, None)
-    sp["C_r"] = f"{float(rs.psd.C_r)!r} m**4"
-    sp["q_1"] = f"{q_max!r} 1/m"
-    if float(rs.psd.q_r) >= q_max:  # the band holds the plateau only (q_r < q_1 required)
-        sp["q_r"] = f"{q_max / (1 + 1e-9)!r} 1/m"
+    if rs.plugin_names["spectrum"] == "self_affine":
+        sp = out["spectrum"]
+        for key in ("h_rms", "rms_slope", "C_r"):
+            sp.pop(key, None)
+        sp["C_r"] = f"{float(rs.psd.C_r)!r} m**4"
+        sp["q_1"] = f"{q_max!r} 1/m"
+        if float(rs.psd.q_r) >= q_max:  # the band holds the plateau only (q_r < q_1 required)
+            sp["q_r"] = f"{q_max / (1 + 1e-9)!r} 1/m"
+    else:
+        out["spectrum"] = _table_spectrum(rs.psd, q_max)
     out.pop("output", None)
     out.pop("title", None)
     analyses = dict(out.get("analyses", {}))
@@ -181,6 +182,20 @@ def _theory_data(data: dict[str, Any], rs: Any, q_max: float, kind: str) -> dict
         for name in ADDED_ANALYSES:
             analyses.setdefault(name, {})
     out["analyses"] = analyses
+    return out
+
+
+def _table_spectrum(psd: Any, q_max: float) -> dict[str, Any]:
+    """The scene's table (Persson, SI, as resolved: truncations applied) inline, cut at
+    ``q_max`` [1/m]: the same ``C(q)`` on the BEM's band."""
+    q, C = np.asarray(psd.q_table, float), np.asarray(psd.C_table, float)
+    out: dict[str, Any] = {
+        "model": "tabulated",
+        "q": [f"{float(x)!r} 1/m" for x in q],
+        "C": [f"{float(x)!r} m**4" for x in C],
+    }
+    if q_max < q[-1]:
+        out["q_1"] = f"{q_max!r} 1/m"
     return out
 
 
@@ -223,29 +238,52 @@ def _conductance(rs: Any) -> dict[str, float]:
     return out
 
 
+def _roughness_in_band(plan: Plan, band: float, scene: float) -> None:
+    """Refuse a band that holds no roughness (``band`` and ``scene`` rms heights [m]): e.g. the
+    first rings of a line scan's table, which carry (almost) nothing, on a small grid."""
+    if not band > 1e-6 * scene:
+        raise _refuse(
+            f"the band q_L..q_max = {plan.q_L:.4g}..{plan.q_max:.4g} 1/m that a {plan.grid}^2 "
+            f"grid resolves holds no roughness of the spectrum (h_rms {band:.3g} m of the "
+            f"scene's {scene:.3g} m): give a larger --grid"
+        )
+
+
 def _estimate(plan: Plan, workers: int) -> None:
-    """Memory [bytes] and serial CPU time [s] of the BEM part, checked against the budget."""
+    """Memory [bytes] and serial CPU time [s] of the BEM part (the grid check's finer solves
+    included), checked against the budget."""
     from .. import memory
 
-    n2 = plan.grid**2
+    largest = plan.fine_grid if plan.grid_check else plan.grid
     plan.memory = (
         BASELINE_BYTES
-        + int(BYTES_PER_POINT * n2 * max(1, workers))
+        + (READER_BYTES if plan.source is not None and plan.source.reads_files else 0)
+        + int(BYTES_PER_POINT * largest**2 * max(1, workers))
         + memory.estimate(max(1, plan.p0.size), 200)
     )
-    plan.seconds = SECONDS_PER_SOLVE * plan.grid**2.5 * plan.solves * plan.realisations
+    grids = (plan.grid, plan.fine_grid) if plan.grid_check else (plan.grid,)
+    plan.seconds = sum(SECONDS_PER_SOLVE * g**2.5 for g in grids) * plan.solves * plan.realisations
     have = memory.budget()
     if plan.memory > have:
+        check = f" (the grid check solves {largest}^2)" if plan.grid_check else ""
         raise _refuse(
-            f"grid {plan.grid}^2 needs about {plan.memory / 2**20:.0f} MiB "
+            f"grid {plan.grid}^2{check} needs about {plan.memory / 2**20:.0f} MiB "
             f"({max(1, workers)} worker(s)), above the memory budget of {have / 2**20:.0f} MiB: "
             "use a smaller --grid, fewer workers, or raise XPERSSON_MEMORY_BUDGET"
         )
 
 
-def make_plan(scene: Scene, grid: int, realisations: int, seed: int, workers: int = 1) -> Plan:
+def make_plan(
+    scene: Scene,
+    grid: int,
+    realisations: int,
+    seed: int,
+    workers: int = 1,
+    grid_check: bool = False,
+) -> Plan:
     """Check the request and build the :class:`Plan` (no solve; raises CrosscheckError)."""
     from ..sweep import expand
+    from ._surfaces import source_of
 
     if not (isinstance(grid, int) and grid >= 16 and grid % 2 == 0):
         raise _refuse(f"grid [1] must be an even integer >= 16; got {grid!r}")
@@ -260,15 +298,20 @@ def make_plan(scene: Scene, grid: int, realisations: int, seed: int, workers: in
         raise _refuse("load.p0 [Pa] must be > 0 for a non-adhesive BEM solve")
     if phys.get("hardness") and np.any(p0 >= phys["hardness"]):
         raise _refuse("load.p0 [Pa] must stay below boundary.sigma_Y for the plastic BEM")
-    q_L, q_max, q_1 = _band(rs, grid)
+    source = source_of(rs)
+    q_L, q_max, q_1 = _band(source, grid)
     user = set(scene.data.get("analyses", {}))
     theory, dropped = _supported(_theory_data(scene.data, rs, q_max, phys["kind"]), user)
     plan = Plan(
         scene=scene, theory_scene=Scene(theory), grid=grid, realisations=realisations,
         seed=int(seed), L=2 * math.pi / q_L, q_L=q_L, q_max=q_max, q_1=q_1,
-        E_star=float(rs.E_star), p0=p0, psd=rs.psd, **phys,
+        E_star=float(rs.E_star), p0=p0, psd=rs.psd, source=source,
+        grid_check=bool(grid_check), **phys,
     )  # fmt: skip
-    plan.conductance = _conductance(plan.theory_scene.resolve())
+    plan.notes.extend(source.notes)
+    theory_rs = plan.theory_scene.resolve()
+    _roughness_in_band(plan, float(theory_rs.psd.h_rms()), float(rs.psd.h_rms()))
+    plan.conductance = _conductance(theory_rs)
     plan.not_compared = dropped + [
         f"analyses.{a} (no BEM counterpart)"
         for a in scene.data.get("analyses", {})

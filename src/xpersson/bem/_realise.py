@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from ._surfaces import band_limited
 from .derived import adhesive_path, gap_pdf, retraction_branch, stiffness
 from .solve import solve
 from .synthesis import map_moments, synthesise
@@ -29,12 +30,21 @@ class Task:
         self.hardness, self.work, self.rho = plan.hardness, plan.work, plan.rho
         self.step = STIFFNESS_STEP
         self.gap_edges = gap_edges
+        src = plan.source
+        self.q_min = plan.q_L if src is None else src.q_min
+        self.map = None if src is None or src.kind != "map" else src.heights
+        self.q_cut = None if src is None else src.q_cut
+        self.grid_check = bool(plan.grid_check)
 
 
 def _surface(t: Task) -> np.ndarray:
-    return synthesise(
-        t.psd.C, t.L, t.n, seed=t.seed, realisations=t.index + 1, q_min=t.q_L, q_max=t.q_max
-    )[t.index]
+    """Realisation ``t.index``: the measured map (index 0 of a map source), band-limited to
+    the grid's band, or a synthesis seeded ``[seed, index]``."""
+    if t.map is not None and t.index == 0:
+        return band_limited(t.map, t.n, t.L, t.q_cut, t.q_max)
+    return synthesise(t.psd.C, t.L, t.n, seed=t.seed, first=t.index, q_min=t.q_min, q_max=t.q_max)[
+        0
+    ]
 
 
 def _pressure_controlled(t: Task, h: np.ndarray) -> dict[str, np.ndarray]:
@@ -90,11 +100,20 @@ def _adhesive(t: Task, h: np.ndarray) -> dict[str, np.ndarray]:
     }
 
 
-def realise(t: Task) -> dict[str, np.ndarray]:
-    """Synthesise realisation ``t.index`` and solve it at every load (SI arrays)."""
-    h = _surface(t)
+def _solve_map(t: Task, h: np.ndarray) -> dict[str, Any]:
     out = _adhesive(t, h) if t.kind == "adhesive" else _pressure_controlled(t, h)
     out["h_rms"], out["rms_slope"] = (np.array(v) for v in map_moments(h, t.L))
+    return out
+
+
+def realise(t: Task) -> dict[str, Any]:
+    """Make realisation ``t.index`` and solve it at every load (SI arrays); with the grid
+    check, solve the same surface (exactly interpolated: it is band-limited) on a grid twice
+    as fine too, under the key ``"fine"``."""
+    h = _surface(t)
+    out = _solve_map(t, h)
+    if t.grid_check:
+        out["fine"] = _solve_map(t, band_limited(h, 2 * t.n, t.L))
     return out
 
 

@@ -1,6 +1,7 @@
 """The theory against boundary-element contact on the user's own scene.
 
-:func:`crosscheck` synthesises ``realisations`` periodic maps of the scene's spectrum, solves
+:func:`crosscheck` synthesises ``realisations`` periodic maps of the scene's spectrum (or takes
+the scene's measured map: :mod:`._surfaces`), solves
 each with tamaas at the scene's loads, solves the scene with the theory on the same band of
 wavevectors, and returns both with standard errors and theory/BEM ratios, under the theory's
 variable names.
@@ -17,6 +18,7 @@ import numpy as np
 import xarray as xr
 
 from ..scene import Scene
+from ._gridcheck import add_grid_ratios
 from ._plan import POINTS_PER_WAVELENGTH, STIFFNESS_STEP, Plan, make_plan
 from ._realise import Task, run_all
 from .solve import TOL, TOL_GAP, require_tamaas
@@ -45,12 +47,14 @@ _CONDUCTANCE = {
 
 
 def estimate_line(plan: Plan) -> str:
-    """One line: what will be solved and its memory and time estimate."""
+    """One line: what will be solved and its memory and time estimate (the grid check's
+    solves included)."""
+    check = f" (+ grid check on {plan.fine_grid}^2)" if plan.grid_check else ""
     return (
         f"crosscheck: {plan.realisations} realisation(s) x {plan.grid}^2 grid x "
-        f"{plan.solves} BEM solves ({plan.kind}), cell {plan.L:.4g} m, band q_L..q_max = "
-        f"{plan.q_L:.4g}..{plan.q_max:.4g} 1/m; estimate: about {plan.memory / 2**20:.0f} MiB, "
-        f"{_human_s(plan.seconds)} CPU"
+        f"{plan.solves} BEM solves ({plan.kind}){check}, cell {plan.L:.4g} m, band "
+        f"q_L..q_max = {plan.q_L:.4g}..{plan.q_max:.4g} 1/m; estimate: about "
+        f"{plan.memory / 2**20:.0f} MiB, {_human_s(plan.seconds)} CPU"
     )
 
 
@@ -175,8 +179,8 @@ def _attrs(plan: Plan, th: xr.Dataset, version: str) -> dict[str, Any]:
         f"at the hardness), gap-controlled PolonskyKeerRey with ExponentialAdhesionFunctional "
         f"(adhesive); tolerance {TOL:g} ({TOL_GAP:g} gap control); non-converged solves are "
         "NaN and counted in bem_converged",
-        "surfaces": "Gaussian periodic maps of the scene's spectrum (Persson's C(q), "
-        "(2 pi / L)^2 per mode), realisation i seeded numpy default_rng([seed, i])",
+        "surfaces": plan.source.text(plan.realisations),
+        "crosscheck_grid_check": int(plan.grid_check),
         "theory_band": "the theory is solved on the scene's spectrum cut at q_max (same C(q))",
         "theory_status": str(th.attrs.get("status", "success")),
         "theory_h_rms_m": float(th["h_rms"]),
@@ -186,9 +190,22 @@ def _attrs(plan: Plan, th: xr.Dataset, version: str) -> dict[str, Any]:
     }
 
 
+def _grid_check(ds: xr.Dataset, plan: Plan, th: xr.Dataset, results: list[dict[str, Any]],
+                coarse: dict[str, np.ndarray]) -> None:  # fmt: skip
+    fine = [r["fine"] for r in results]
+    du = np.diff(_edges(th["u"].values)) if "gap_pdf" in th else None
+    add_grid_ratios(ds, coarse, _bem_values(plan, fine), _pairs(plan), plan.fine_grid, du)
+    conv = _stack(fine, "converged").astype("i1")
+    ds["bem_converged_fine"] = (
+        ("realisation", "p0")[: conv.ndim],
+        conv,
+        _meta("1", f"bem_converged of the grid check's {plan.fine_grid}^2 solves"),
+    )
+
+
 def _assemble(plan: Plan, th: xr.Dataset, results: list[dict[str, np.ndarray]]) -> xr.Dataset:
     ds = xr.Dataset(coords={"p0": th["p0"], "realisation": np.arange(plan.realisations)})
-    ds["realisation"].attrs = {"units": "1", "long_name": "index of the synthesised map"}
+    ds["realisation"].attrs = {"units": "1", "long_name": "index of the BEM's map (bem_surface)"}
     values = _bem_values(plan, results)
     for bem_name, th_name in _pairs(plan):
         if th_name in th and bem_name in values:
@@ -215,13 +232,16 @@ def _assemble(plan: Plan, th: xr.Dataset, results: list[dict[str, np.ndarray]]) 
     ds["bem_h_rms"] = (
         ("realisation",),
         _stack(results, "h_rms"),
-        _meta("m", "rms height of the synthesised map"),
+        _meta("m", "rms height of the BEM's map (band-limited to q_max)"),
     )
     ds["bem_rms_slope"] = (
         ("realisation",),
         _stack(results, "rms_slope"),
-        _meta("1", "rms slope of the synthesised map"),
+        _meta("1", "rms slope of the BEM's map (band-limited to q_max)"),
     )
+    ds["bem_surface"] = plan.source.flags(plan.realisations)
+    if plan.grid_check:
+        _grid_check(ds, plan, th, results, values)
     return ds
 
 
@@ -232,6 +252,7 @@ def crosscheck(
     scheduler: Any = None,
     seed: int = 0,
     *,
+    grid_check: bool = False,
     workers: int | None = None,
     echo: Callable[[str], None] | None = None,
 ) -> xr.Dataset:
@@ -242,9 +263,12 @@ def crosscheck(
     scene : path, dict or Scene
         One scene (lists only in ``load.p0``); elastic coefficient; boundary ``elastic``,
         ``plastic`` (constant hardness) or an adhesive one with the exponential law;
-        spectrum ``self_affine``.
+        spectrum ``self_affine``, ``tabulated`` (synthesised from the table) or
+        ``topography`` (one 2-D map: the map itself is realisation 0; a line scan or several
+        scans: synthesised from the table).
     realisations : int
-        Number of synthesised maps (their scatter gives the standard errors).
+        Number of maps (their scatter gives the standard errors); for a measured map, the
+        map and ``realisations - 1`` syntheses of its spectrum table.
     grid : int
         Grid points per side of each map (even). The cell is ``2 pi / q_L``; the BEM resolves
         wavevectors up to ``q_L grid / 8``, and the theory is solved on the same band.
@@ -253,6 +277,10 @@ def crosscheck(
         schedulers), a scheduler address or a ``Client``; the numbers do not depend on it.
     seed : int
         Base seed of the maps (realisation ``i`` uses ``[seed, i]``).
+    grid_check : bool
+        Also solve every realisation on a grid twice as fine (16 points on the shortest
+        wavelength, same surfaces and band) and add ``X_grid_ratio`` = fine/coarse for every
+        BEM output (its cost is in the estimate).
     workers : int, optional
         Concurrent realisations assumed by the memory check (default: the number of cores
         for ``"threads"``/``"processes"``, else 1).
@@ -281,7 +309,7 @@ def crosscheck(
     version = str(require_tamaas().__version__)
     if workers is None:
         workers = (os.cpu_count() or 1) if scheduler in ("threads", "processes") else 1
-    plan = make_plan(as_scene(scene), grid, realisations, seed, workers)
+    plan = make_plan(as_scene(scene), grid, realisations, seed, workers, grid_check)
     if echo is not None:
         echo(estimate_line(plan))
         for note in plan.notes + [f"not compared: {x}" for x in plan.not_compared]:

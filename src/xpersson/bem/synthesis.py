@@ -71,6 +71,7 @@ def synthesise(
     realisations: int = 1,
     q_min: float | None = None,
     q_max: float | None = None,
+    first: int = 0,
 ) -> np.ndarray:
     """Periodic Gaussian height maps with Persson's spectrum ``psd`` [m].
 
@@ -91,6 +92,9 @@ def synthesise(
     q_min, q_max
         Band of kept wavevectors [1/m] (default: ``2 pi / L`` to the Nyquist ``pi n / L``);
         the mean height (``q = 0``) is always zero.
+    first
+        Index of the first realisation drawn (``realisations`` maps from ``first`` on: the
+        map ``i`` is the same as in a call from 0).
 
     Returns
     -------
@@ -102,10 +106,10 @@ def synthesise(
         raise ValueError(f"realisations [1] must be >= 1; got {realisations!r}")
     amp = _amplitude(psd, L, n, lo, hi)
     out = np.empty((realisations, n, n))
-    for i in range(realisations):
+    for k, i in enumerate(range(int(first), int(first) + realisations)):
         white = np.random.default_rng([int(seed), i]).standard_normal((n, n))
         # fft2 of unit white noise: <|W_k|^2> = n^2; h = n^2 ifft2(a) = sum_k a_k e^{iqx}
-        out[i] = np.fft.ifft2(np.fft.fft2(white) / n * amp).real * n * n
+        out[k] = np.fft.ifft2(np.fft.fft2(white) / n * amp).real * n * n
     return out
 
 
