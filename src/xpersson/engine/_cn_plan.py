@@ -161,8 +161,9 @@ def _level_times(
 
 
 def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
-    """Times ``(tau + h, tau - h)`` [Pa^2] of the central differences of :func:`_wall_speeds`,
-    or None where the speed needs none (fixed wall, declared speed or linear motion)."""
+    """Times ``(tau + h, tau - h)`` [Pa^2] of the central differences of :func:`_wall_speeds`
+    (at the last time ``(tau - 2 h, tau - h)``: a backward difference, see there), or None
+    where the speed needs none (fixed wall, declared speed or linear motion)."""
     if wall is None or wall.is_fixed or wall.dposition is not None or wall.motion is not None:
         return None
     h = 1e-5 * tau
@@ -172,18 +173,25 @@ def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
         b = np.asarray(bp)
         dist = np.min(np.abs(tau[..., None] - b), axis=-1)
         h = np.where(dist > 0, np.minimum(h, 1e-3 * dist), h)
-    return tau + h, tau - h
+    hi = tau + h
+    if tau.size:
+        hi[-1] = tau[-1] - 2.0 * h[-1]
+    return hi, tau - h
 
 
 def _wall_speeds(
-    wall, tau: Array, probed: tuple[Array, Array] | None = None
+    wall, tau: Array, probed: tuple[Array, Array] | None = None, p_end: float | None = None
 ) -> tuple[Array, Array]:
     """dp_w/dtau [1/Pa] of a wall at ``tau`` just before and just after (declared, or by central
     differences).
 
     The two differ only at the wall's declared breakpoints, where the difference is one-sided
-    (the speed just before ends a step, the speed just after starts one).  ``probed``: the
-    wall's positions at the times of :func:`_probe_times` (evaluated here unless given).
+    (the speed just before ends a step, the speed just after starts one).  At the last time
+    the speed is the backward three-point difference: a wall need not be defined past the end
+    of the sequence (a clock clipped at ``zeta_max`` stops it there, and a central difference
+    then gives half the speed: a first-order error at the last output, which no Richardson
+    combination cancels).  ``probed``: the wall's positions at the times of
+    :func:`_probe_times`, ``p_end`` its position at ``tau[-1]`` (evaluated here unless given).
     """
     if wall is None or wall.is_fixed:
         z = np.zeros_like(tau)
@@ -196,9 +204,12 @@ def _wall_speeds(
         return v, v
     hi, lo = _probe_times(wall, tau)
     if probed is None:
-        probed = np.split(wall.at(np.concatenate([hi, lo])), 2)  # one call of the wall
+        p = wall.at(np.concatenate([hi, lo, tau[-1:]]))  # one call of the wall
+        probed, p_end = (p[: tau.size], p[tau.size : -1]), float(p[-1])
     p_hi, p_lo = probed
     v = (p_hi - p_lo) / (hi - lo)
+    if tau.size:  # backward: (3 p(t) - 4 p(t - h) + p(t - 2 h)) / 2 h
+        v[-1] = (3.0 * p_end - 4.0 * p_lo[-1] + p_hi[-1]) / (2.0 * (tau[-1] - lo[-1]))
     before, after = v, v
     bp = getattr(wall, "breakpoints", ())
     at_bp = _is_in(tau, bp)
@@ -230,7 +241,7 @@ def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Arr
     p = wall.at(np.concatenate(parts))
     n, m = mid.size, taus.size
     probed = None if probe is None else (p[n + m : n + 2 * m], p[n + 2 * m :])
-    vb, va = _wall_speeds(wall, taus, probed)
+    vb, va = _wall_speeds(wall, taus, probed, float(p[n + m - 1]))
     return p[:n], p[n : n + m], vb, va
 
 
