@@ -21,6 +21,7 @@ __all__ = [
     "_level_times",
     "_edges_batch",
     "_faces",
+    "_exact_start",
     "_start_time",
     "_switch_times",
     "_switch_times_batch",
@@ -39,24 +40,48 @@ class _Plan:
     zones: tuple[tuple[float, float], ...] = ()  # graded stretches (tau_b, tau_end) after
     # declared wall breakpoints: steps uniform in (tau - tau_b)^(1/4), implicit first step;
     # chord mesh speeds from the first breakpoint on
+    image: float | None = None  # the resting absorbing lower wall [Pa] of a one-wall start
+    # (the start state is the image solution), None: the free Gaussian
 
 
 _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-only)
 _START_GRID.setflags(write=False)
 
 
-def _start_time(pb: Problem, k: float) -> float:
-    """Largest tau_s with every real wall outside the window on [0, tau_s]."""
+def _start_time(pb: Problem, k: float, lower: bool = True) -> float:
+    """Largest tau_s with every real wall (the upper one only unless ``lower``) outside the
+    window on [0, tau_s]."""
     cand = pb.tau_max * _START_GRID
     s = np.sqrt(2.0 * cand)
     lo, up = pb.wall_positions(cand)
-    ok = (lo <= pb.p0 - k * s) & (up >= pb.p0 + k * s)
+    ok = up >= pb.p0 + k * s
+    if lower:
+        ok &= lo <= pb.p0 - k * s
     if ok.all():
         return pb.tau_max
     first = int(np.argmin(ok))
     if first == 0:
         return float(cand[0])
     return float(cand[first - 1]) * 0.5
+
+
+def _exact_start(pbs: list[Problem], k: float, tau_s: float) -> tuple[float, float | None]:
+    """The one-wall start: ``(tau_w, wall)`` when the lower wall is absorbing and at rest
+    [Pa] (fixed, or declared ``still_until``) while the upper one stays outside the window up
+    to ``tau_w > tau_s`` [Pa^2]: up to ``tau_w`` every load is the one-wall closed form (the
+    image solution), exact, and the march starts there; else ``(tau_s, None)`` (also when
+    densities are wanted: the analytic start's are the free Gaussian's)."""
+    pb = pbs[0]
+    lo = pb.lower
+    if pb.p_out is not None or lo is None or lo.kind != "absorbing":
+        return tau_s, None
+    still = math.inf if lo.is_fixed else lo.still_until
+    if not still > tau_s:
+        return tau_s, None
+    t_w = min(still, pb.tau_max, min(_start_time(p, k, lower=False) for p in pbs))
+    if not t_w > tau_s:
+        return tau_s, None
+    return t_w, float(lo.at(np.zeros(1))[0])
 
 
 def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float]:
@@ -427,7 +452,7 @@ def _graded_zones(
             for w in (p.lower, p.upper)
             if w is not None
             for t in getattr(w, "breakpoints", ())
-            if tau_s < t < tau_end
+            if tau_s <= t < tau_end  # (a one-wall start may end at a breakpoint)
         }
     )
     zones: list[tuple[float, float]] = []
