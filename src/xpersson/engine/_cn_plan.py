@@ -66,19 +66,21 @@ def _start_time(pb: Problem, k: float, lower: bool = True) -> float:
 
 
 def _exact_start(pbs: list[Problem], k: float, tau_s: float) -> tuple[float, float | None]:
-    """The one-wall start: ``(tau_w, wall)`` when the lower wall is absorbing and at rest
-    [Pa] (fixed, or declared ``still_until``) while the upper one stays outside the window up
-    to ``tau_w > tau_s`` [Pa^2]: up to ``tau_w`` every load is the one-wall closed form (the
-    image solution), exact, and the march starts there; else ``(tau_s, None)`` (also when
-    densities are wanted: the analytic start's are the free Gaussian's)."""
+    """The one-wall start: ``(tau_w, wall)`` when the only wall is absorbing and at rest
+    [Pa] (fixed, or declared ``still_until``) up to ``tau_w > tau_s`` [Pa^2]: up to ``tau_w``
+    every load is the one-wall closed form (the image solution), exact, and the march starts
+    there; else ``(tau_s, None)`` (also when densities are wanted: the analytic start's are
+    the free Gaussian's).
+
+    Not with an upper wall: started where a yield wall enters the window, the march's first
+    steps (a coarse image state, then the window's kink) cost more than marching the
+    fixed-wall stretch (measured on the plastic roll-off scenes of benchmarks/summary.py)."""
     pb = pbs[0]
     lo = pb.lower
-    if pb.p_out is not None or lo is None or lo.kind != "absorbing":
+    if pb.p_out is not None or pb.upper is not None or lo is None or lo.kind != "absorbing":
         return tau_s, None
     still = math.inf if lo.is_fixed else lo.still_until
-    if not still > tau_s:
-        return tau_s, None
-    t_w = min(still, pb.tau_max, min(_start_time(p, k, lower=False) for p in pbs))
+    t_w = min(still, pb.tau_max)
     if not t_w > tau_s:
         return tau_s, None
     return t_w, float(lo.at(np.zeros(1))[0])
@@ -198,6 +200,8 @@ def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
         b = np.asarray(bp)
         dist = np.min(np.abs(tau[..., None] - b), axis=-1)
         h = np.where(dist > 0, np.minimum(h, 1e-3 * dist), h)
+        # (at least 64 ulp: closer than that the two probes would be one time)
+        h = np.maximum(h, 64.0 * np.finfo(float).eps * np.abs(tau))
     hi = tau + h
     if tau.size:
         hi[-1] = tau[-1] - 2.0 * h[-1]
