@@ -84,3 +84,20 @@ def test_error_estimate_bounds_the_error_after_a_square_root_onset(seed):
     tol = 1e-5 * np.abs(res.area) + 1e-12
     assert np.all(err <= tol)
     assert np.max(err / np.maximum(res.error_estimate, 1e-300)) <= 1.0
+
+
+def test_one_wall_start_compiled_equals_numpy(monkeypatch):
+    """The march from a one-wall start: the compiled kernel gives the numpy path's answer."""
+    pytest.importorskip("numba")
+    import xpersson
+    from xpersson.engine import _compiled
+
+    wall = Wall.absorbing(_onset(0.05, 0.4), breakpoints=[0.05], still_until=0.05)
+    with xpersson.set_options(compiled=False):
+        ref = solve(TAU, P0, wall, method="cn", rtol=1e-6)
+    monkeypatch.setattr(_compiled, "MIN_WORK", 0)
+    assert _compiled.kernel(1.0) is not None
+    got = solve(TAU, P0, wall, method="cn", rtol=1e-6)
+    for key in ("area", "absorbed_lower", "load", "error_estimate"):
+        want, have = getattr(ref, key), getattr(got, key)
+        assert np.max(np.abs(have - want)) <= 1e-12 * np.max(np.abs(want)), key
