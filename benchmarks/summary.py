@@ -204,7 +204,9 @@ def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
     raw = {**saved["raw"], **over_design(scenes, paths, rounds, False)}
     lib = P.c_march_lib(PEERS) if march else None
     if lib is not None:  # the engine's rows against the C march (all four measured together)
-        raw.update({k: v for k, v in P.march_paths(lib, scenes, rounds, False).items() if k in march})
+        raw.update(
+            {k: v for k, v in P.march_paths(lib, scenes, rounds, False).items() if k in march}
+        )
         paths.update(dict.fromkeys(march))
     memory = {**saved.get("memory", {}), **P.memory({k: raw[k] for k in paths}, scenes, False)}
     meta = dict(saved["meta"])

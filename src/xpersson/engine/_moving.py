@@ -107,9 +107,7 @@ def level_inputs(
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
     window = _edges_batch(pbs, plan, taus)
     nodes = level_nodes(n, stretch)
-    return LevelInputs(
-        taus, theta, out_at, nodes, window, p0, plan.k, plan.yield_wall, plan.image
-    )
+    return LevelInputs(taus, theta, out_at, nodes, window, p0, plan.k, plan.yield_wall, plan.image)
 
 
 @dataclass
