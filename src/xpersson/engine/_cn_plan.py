@@ -66,11 +66,12 @@ def _start_time(pb: Problem, k: float, lower: bool = True) -> float:
 
 
 def _exact_start(pbs: list[Problem], k: float, tau_s: float) -> tuple[float, float | None]:
-    """The one-wall start: ``(tau_w, wall)`` when the only wall is absorbing and at rest
-    [Pa] (fixed, or declared ``still_until``) up to ``tau_w > tau_s`` [Pa^2]: up to ``tau_w``
-    every load is the one-wall closed form (the image solution), exact, and the march starts
-    there; else ``(tau_s, None)`` (also when densities are wanted: the analytic start's are
-    the free Gaussian's).
+    """The one-wall start: ``(tau_w, wall)`` when the only wall is absorbing, moving, and
+    declared at rest [Pa] (``Wall.still_until``) up to ``tau_w > tau_s`` [Pa^2]: up to
+    ``tau_w`` every load is the one-wall closed form (the image solution), exact, and the
+    march starts there; else ``(tau_s, None)`` (also when densities are wanted: the analytic
+    start's are the free Gaussian's).  A fixed wall is marched as before: ``auto`` gives it
+    the closed form, and ``method="cn"`` asks for the march.
 
     Not with an upper wall: started where a yield wall enters the window, the march's first
     steps (a coarse image state, then the window's kink) cost more than marching the
@@ -79,8 +80,7 @@ def _exact_start(pbs: list[Problem], k: float, tau_s: float) -> tuple[float, flo
     lo = pb.lower
     if pb.p_out is not None or pb.upper is not None or lo is None or lo.kind != "absorbing":
         return tau_s, None
-    still = math.inf if lo.is_fixed else lo.still_until
-    t_w = min(still, pb.tau_max)
+    t_w = 0.0 if lo.is_fixed else min(lo.still_until, pb.tau_max)
     if not t_w > tau_s:
         return tau_s, None
     return t_w, float(lo.at(np.zeros(1))[0])
