@@ -195,12 +195,19 @@ def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
     of ``results/summary.json`` (its date and rounds note the full run)."""
     saved = json.loads((HERE / "results" / "summary.json").read_text())
     paths = {k: f for k, f in P.DESIGN_PATHS.items() if any(t in k for t in texts)}
-    if not paths:
+    march = [k for k in P.TARGETS if "C march" in k and any(t in k for t in texts)]
+    if not paths and not march:
         raise SystemExit(f"no design path matches {texts}; paths: {list(P.DESIGN_PATHS)}")
     scenes = list(saved["meta"]["design"].items())
     xpersson.solve(P.scene(scenes[0][1], P.load_range(3)))  # warm-up
     rounds = rounds or int(saved["meta"]["rounds"])
     raw = {**saved["raw"], **over_design(scenes, paths, rounds, False)}
+    lib = P.c_march_lib(PEERS) if march else None
+    if lib is not None:  # the engine's rows against the C march (all four measured together)
+        raw.update(
+            {k: v for k, v in P.march_paths(lib, scenes, rounds, False).items() if k in march}
+        )
+        paths.update(dict.fromkeys(march))
     memory = {**saved.get("memory", {}), **P.memory({k: raw[k] for k in paths}, scenes, False)}
     meta = dict(saved["meta"])
     now = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())

@@ -21,6 +21,7 @@ __all__ = [
     "_level_times",
     "_edges_batch",
     "_faces",
+    "_exact_start",
     "_start_time",
     "_switch_times",
     "_switch_times_batch",
@@ -39,24 +40,50 @@ class _Plan:
     zones: tuple[tuple[float, float], ...] = ()  # graded stretches (tau_b, tau_end) after
     # declared wall breakpoints: steps uniform in (tau - tau_b)^(1/4), implicit first step;
     # chord mesh speeds from the first breakpoint on
+    image: float | None = None  # the resting absorbing lower wall [Pa] of a one-wall start
+    # (the start state is the image solution), None: the free Gaussian
 
 
 _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-only)
 _START_GRID.setflags(write=False)
 
 
-def _start_time(pb: Problem, k: float) -> float:
-    """Largest tau_s with every real wall outside the window on [0, tau_s]."""
+def _start_time(pb: Problem, k: float, lower: bool = True) -> float:
+    """Largest tau_s with every real wall (the upper one only unless ``lower``) outside the
+    window on [0, tau_s]."""
     cand = pb.tau_max * _START_GRID
     s = np.sqrt(2.0 * cand)
     lo, up = pb.wall_positions(cand)
-    ok = (lo <= pb.p0 - k * s) & (up >= pb.p0 + k * s)
+    ok = up >= pb.p0 + k * s
+    if lower:
+        ok &= lo <= pb.p0 - k * s
     if ok.all():
         return pb.tau_max
     first = int(np.argmin(ok))
     if first == 0:
         return float(cand[0])
     return float(cand[first - 1]) * 0.5
+
+
+def _exact_start(pbs: list[Problem], k: float, tau_s: float) -> tuple[float, float | None]:
+    """The one-wall start: ``(tau_w, wall)`` when the only wall is absorbing, moving, and
+    declared at rest [Pa] (``Wall.still_until``) up to ``tau_w > tau_s`` [Pa^2]: up to
+    ``tau_w`` every load is the one-wall closed form (the image solution), exact, and the
+    march starts there; else ``(tau_s, None)`` (also when densities are wanted: the analytic
+    start's are the free Gaussian's).  A fixed wall is marched as before: ``auto`` gives it
+    the closed form, and ``method="cn"`` asks for the march.
+
+    Not with an upper wall: started where a yield wall enters the window, the march's first
+    steps (a coarse image state, then the window's kink) cost more than marching the
+    fixed-wall stretch (measured on the plastic roll-off scenes of benchmarks/summary.py)."""
+    pb = pbs[0]
+    lo = pb.lower
+    if pb.p_out is not None or pb.upper is not None or lo is None or lo.kind != "absorbing":
+        return tau_s, None
+    t_w = 0.0 if lo.is_fixed else min(lo.still_until, pb.tau_max)
+    if not t_w > tau_s:
+        return tau_s, None
+    return t_w, float(lo.at(np.zeros(1))[0])
 
 
 def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float]:
@@ -161,8 +188,9 @@ def _level_times(
 
 
 def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
-    """Times ``(tau + h, tau - h)`` [Pa^2] of the central differences of :func:`_wall_speeds`,
-    or None where the speed needs none (fixed wall, declared speed or linear motion)."""
+    """Times ``(tau + h, tau - h)`` [Pa^2] of the central differences of :func:`_wall_speeds`
+    (at the last time ``(tau - 2 h, tau - h)``: a backward difference, see there), or None
+    where the speed needs none (fixed wall, declared speed or linear motion)."""
     if wall is None or wall.is_fixed or wall.dposition is not None or wall.motion is not None:
         return None
     h = 1e-5 * tau
@@ -172,18 +200,27 @@ def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
         b = np.asarray(bp)
         dist = np.min(np.abs(tau[..., None] - b), axis=-1)
         h = np.where(dist > 0, np.minimum(h, 1e-3 * dist), h)
-    return tau + h, tau - h
+        # (at least 64 ulp: closer than that the two probes would be one time)
+        h = np.maximum(h, 64.0 * np.finfo(float).eps * np.abs(tau))
+    hi = tau + h
+    if tau.size:
+        hi[-1] = tau[-1] - 2.0 * h[-1]
+    return hi, tau - h
 
 
 def _wall_speeds(
-    wall, tau: Array, probed: tuple[Array, Array] | None = None
+    wall, tau: Array, probed: tuple[Array, Array] | None = None, p_end: float | None = None
 ) -> tuple[Array, Array]:
     """dp_w/dtau [1/Pa] of a wall at ``tau`` just before and just after (declared, or by central
     differences).
 
     The two differ only at the wall's declared breakpoints, where the difference is one-sided
-    (the speed just before ends a step, the speed just after starts one).  ``probed``: the
-    wall's positions at the times of :func:`_probe_times` (evaluated here unless given).
+    (the speed just before ends a step, the speed just after starts one).  At the last time
+    the speed is the backward three-point difference: a wall need not be defined past the end
+    of the sequence (a clock clipped at ``zeta_max`` stops it there, and a central difference
+    then gives half the speed: a first-order error at the last output, which no Richardson
+    combination cancels).  ``probed``: the wall's positions at the times of
+    :func:`_probe_times`, ``p_end`` its position at ``tau[-1]`` (evaluated here unless given).
     """
     if wall is None or wall.is_fixed:
         z = np.zeros_like(tau)
@@ -196,9 +233,12 @@ def _wall_speeds(
         return v, v
     hi, lo = _probe_times(wall, tau)
     if probed is None:
-        probed = np.split(wall.at(np.concatenate([hi, lo])), 2)  # one call of the wall
+        p = wall.at(np.concatenate([hi, lo, tau[-1:]]))  # one call of the wall
+        probed, p_end = (p[: tau.size], p[tau.size : -1]), float(p[-1])
     p_hi, p_lo = probed
     v = (p_hi - p_lo) / (hi - lo)
+    if tau.size:  # backward: (3 p(t) - 4 p(t - h) + p(t - 2 h)) / 2 h
+        v[-1] = (3.0 * p_end - 4.0 * p_lo[-1] + p_hi[-1]) / (2.0 * (tau[-1] - lo[-1]))
     before, after = v, v
     bp = getattr(wall, "breakpoints", ())
     at_bp = _is_in(tau, bp)
@@ -230,7 +270,7 @@ def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Arr
     p = wall.at(np.concatenate(parts))
     n, m = mid.size, taus.size
     probed = None if probe is None else (p[n + m : n + 2 * m], p[n + 2 * m :])
-    vb, va = _wall_speeds(wall, taus, probed)
+    vb, va = _wall_speeds(wall, taus, probed, float(p[n + m - 1]))
     return p[:n], p[n : n + m], vb, va
 
 
@@ -416,7 +456,7 @@ def _graded_zones(
             for w in (p.lower, p.upper)
             if w is not None
             for t in getattr(w, "breakpoints", ())
-            if tau_s < t < tau_end
+            if tau_s <= t < tau_end  # (a one-wall start may end at a breakpoint)
         }
     )
     zones: list[tuple[float, float]] = []

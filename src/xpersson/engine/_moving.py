@@ -90,6 +90,9 @@ class LevelInputs(NamedTuple):
     yield_wall: bool
     """Whether the upper wall is a (moving) yield wall: its closure rows replace the
     absorbing wall."""
+    image: float | None = None
+    """The resting absorbing lower wall [Pa] of a one-wall start (the start state is the
+    image solution), or None (the free Gaussian)."""
 
 
 def level_inputs(
@@ -104,7 +107,7 @@ def level_inputs(
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
     window = _edges_batch(pbs, plan, taus)
     nodes = level_nodes(n, stretch)
-    return LevelInputs(taus, theta, out_at, nodes, window, p0, plan.k, plan.yield_wall)
+    return LevelInputs(taus, theta, out_at, nodes, window, p0, plan.k, plan.yield_wall, plan.image)
 
 
 @dataclass
@@ -176,7 +179,8 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     g_all = np.where(yreal, win.end.width * win.end.yield_speed, 0.0)  # closure R_N = g A_pl
     rows = system_rows(nb, n, stretch)
     rec = _record_for(nb, n_out, nn, n_steps, p_out)
-    st = _State(_initial_state(win, x, w, inp.p0, inp.taus[0], inp.k), np.zeros((5, nb)))
+    r0 = _initial_state(win, x, w, inp.p0, inp.taus[0], inp.k, inp.image)
+    st = _State(r0, np.zeros((5, nb)))
     rec.near[0] = st.r[rows.near]
     out_steps = inp.out_at.tolist() + [-1]
     while st.next_out < n_out and out_steps[st.next_out] == 0:
@@ -332,16 +336,34 @@ def _record_for(nb: int, n_out: int, nn: int, n_steps: int, p_out: Array | None)
     )
 
 
-def _initial_state(win: Window, x: Array, w: Array, p0: Array, t0: float, k: float) -> Array:
+def _initial_state(
+    win: Window, x: Array, w: Array, p0: Array, t0: float, k: float, image: float | None = None
+) -> Array:
     """The free Gaussian at ``t0`` [Pa^2] (mass per unit x, the loads concatenated),
-    normalised to the window mass ``erf(k / sqrt 2)``."""
+    normalised to the window mass ``erf(k / sqrt 2)``; with an absorbing wall at rest at
+    ``image`` [Pa], the one-wall image solution, normalised to its exact window mass."""
     la, wa_ = win.start.lower, win.start.width
     pn = la[:, :1] + wa_[:, :1] * x[None, :]
-    r2 = wa_[:, :1] * np.exp(-((pn - p0) ** 2) / (4.0 * t0)) / math.sqrt(4.0 * math.pi * t0)
+    c = 1.0 / math.sqrt(4.0 * math.pi * t0)
+    r2 = wa_[:, :1] * np.exp(-((pn - p0) ** 2) / (4.0 * t0)) * c
+    mass = np.full(p0.shape[0], math.erf(k / math.sqrt(2.0)))
+    if image is not None:
+        r2 -= wa_[:, :1] * np.exp(-((pn + p0 - 2.0 * image) ** 2) / (4.0 * t0)) * c
+        mass = _image_mass(la[:, 0], la[:, 0] + wa_[:, 0], p0[:, 0], image, t0)
     r2[:, 0] = 0.0
     r2[:, -1] = 0.0
-    r2 *= math.erf(k / math.sqrt(2.0)) / (r2 @ w)[:, None]
+    r2 *= mass[:, None] / (r2 @ w)[:, None]
     return r2.ravel()
+
+
+def _image_mass(lo: Array, up: Array, p0: Array, wall: float, t0: float) -> Array:
+    """``int_lo^up`` of the one-wall image solution at ``t0`` [Pa^2] (wall at ``wall`` [Pa])."""
+    from scipy.special import erf
+
+    s = 2.0 * math.sqrt(t0)
+    direct = erf((up - p0) / s) - erf((lo - p0) / s)
+    mirror = erf((up + p0 - 2.0 * wall) / s) - erf((lo + p0 - 2.0 * wall) / s)
+    return 0.5 * (direct - mirror)
 
 
 def _reduce_snapshots(

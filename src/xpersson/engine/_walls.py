@@ -41,6 +41,11 @@ class Wall:
         (unbounded speed).  Optional; the ``cn`` path makes them step boundaries, grades its
         steps after each one (uniform in ``(tau - tau_b)^(1/4)``) and moves its mesh with the
         steps' chord speeds from the first one on, which keeps it second order across them.
+    still_until : float
+        Diffusion time [Pa^2] up to which a moving absorbing wall stays at its position at
+        ``tau = 0`` (0: not declared; a wall whose motion starts at an onset).  The ``cn`` path
+        then starts from the one-wall closed form (the image solution) at that time, or where
+        the other wall enters the window if earlier, instead of marching the fixed-wall stretch.
     """
 
     kind: Literal["absorbing", "yield_closure", "reflecting"]
@@ -48,10 +53,13 @@ class Wall:
     dposition: Callable[[NDArray[np.float64]], ArrayLike] | None = None
     motion: tuple[float, float] | None = None
     breakpoints: tuple[float, ...] = ()
+    still_until: float = 0.0
 
     # -- constructors ------------------------------------------------------------------------
     @classmethod
-    def absorbing(cls, position: PositionLike, breakpoints: ArrayLike = ()) -> Wall:
+    def absorbing(
+        cls, position: PositionLike, breakpoints: ArrayLike = (), still_until: float = 0.0
+    ) -> Wall:
         """Absorbing wall: ``P = 0`` at the wall, the mass reaching it is absorbed (counted).
 
         Parameters
@@ -62,10 +70,16 @@ class Wall:
         breakpoints : array_like of float, optional
             Diffusion times [Pa^2] > 0 where a moving wall's motion is not smooth (see the class
             attributes); ignored for a fixed wall.
+        still_until : float, optional
+            Diffusion time [Pa^2] >= 0 up to which a moving wall stays at its position at
+            ``tau = 0`` (see the class attributes); ignored for a fixed wall.
         """
         if not callable(position):
             return cls("absorbing", float(position))
-        return cls("absorbing", position, breakpoints=_breakpoints(breakpoints))
+        still = float(still_until)
+        if not still >= 0.0:
+            raise ValueError(f"still_until [Pa^2] must be >= 0; got {still_until!r}")
+        return cls("absorbing", position, breakpoints=_breakpoints(breakpoints), still_until=still)
 
     @classmethod
     def reflecting(cls, position: float = 0.0) -> Wall:

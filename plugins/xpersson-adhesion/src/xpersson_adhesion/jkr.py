@@ -326,7 +326,10 @@ class JKRBoundary(Boundary):
                 return Wall.absorbing(0.0)
             sig, key = law.table_and_key(clock)
         # equal content, equal walls: the loads are solved together on either path
-        return Wall.absorbing(DetachmentWall(sig, key=key), breakpoints=onset_times(sig))
+        onsets = onset_times(sig)
+        # sigma_a = 0 up to the first onset (gamma_eff <= 0 there): the wall rests at p = 0
+        still = float(onsets[0]) if onsets.size and float(sig(np.zeros(1))[0]) == 0.0 else 0.0
+        return Wall.absorbing(DetachmentWall(sig, key=key), breakpoints=onsets, still_until=still)
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """Absorbing wall at ``-sigma_a(zeta(tau))`` [Pa]; no upper wall."""
