@@ -67,6 +67,15 @@ class Scene:
             raise SceneError(f"a scene must be a mapping of sections, got {type(self.data)}")
         self.data = _copy_tree(_surface_topography(dict(self.data)))
 
+    @classmethod
+    def _shared(cls, data: dict[str, Any], source: str | None = None) -> Scene:
+        """A scene over ``data`` as it is (no copy, no conversion of a Topography): for data
+        built from a scene made already, whose tables the caller does not change (a sweep's
+        point scenes share their unswept tables with the plan's base, read only)."""
+        out = cls.__new__(cls)
+        out.data, out.source = data, source
+        return out
+
     def with_values(self, **dotted: Any) -> Scene:
         """Copy with ``section.key`` values replaced: ``with_values(**{"load.p0": "1 MPa"})``."""
         new = Scene(self.data, self.source)
