@@ -17,13 +17,19 @@ from ._resolve import resolve_scene
 __all__ = ["Scene", "load_scene", "parse_cli_value", "set_value"]
 
 
+#: Immutable leaves of a scene tree (shared by its copies).
+_LEAVES = {str, int, float, bool}
+
+
 def _copy_tree(obj: Any) -> Any:
     """A deep copy of a scene tree: tables and lists rebuilt, immutable leaves shared."""
     if isinstance(obj, dict):
         return {k: _copy_tree(v) for k, v in obj.items()}
     if isinstance(obj, list):
+        if set(map(type, obj)) <= _LEAVES:  # e.g. 1000 load strings: one copy, no recursion
+            return list(obj)
         return [_copy_tree(v) for v in obj]
-    if obj is None or type(obj) in (str, int, float, bool):
+    if obj is None or type(obj) in _LEAVES:
         return obj
     return copy.deepcopy(obj)
 
