@@ -305,6 +305,22 @@ def _similar_loads(rs: Any, estar: np.ndarray) -> tuple[Any, np.ndarray]:
     return dataclasses.replace(rs, p0=unique, p0_scalar=False), inverse.ravel()
 
 
+def _equivalent_loads(subs: list[Any]) -> list[tuple[Any, np.ndarray]]:
+    """:func:`_similar_loads` of every sub-point; the loads and their inverse computed once
+    for the sub-points that share ``p0``, E*_ref and the points' E* (every H of an E x H
+    sweep: the material dimensions start at the same value)."""
+    out, known = [], {}
+    for _, rs, estar in subs:
+        key = (np.asarray(rs.p0, float).tobytes(), float(rs.E_star), estar.tobytes())
+        if key not in known:
+            known[key] = _similar_loads(rs, estar)
+            out.append(known[key])
+            continue
+        ref, inverse = known[key]
+        out.append((dataclasses.replace(rs, p0=ref.p0, p0_scalar=False), inverse))
+    return out
+
+
 def _stacked_subs(
     subs: list[Any], names: list[str], template: xr.Dataset, into: dict[str, np.ndarray]
 ) -> Any:
@@ -313,7 +329,7 @@ def _stacked_subs(
     rows are written in (see :func:`_scaled_rows`)."""
     if len(subs) < 2:
         return None
-    refs = [_similar_loads(rs, estar) for _, rs, estar in subs]
+    refs = _equivalent_loads(subs)
     if stacked.stack_reason([r[0] for r in refs]):
         return None
     try:
