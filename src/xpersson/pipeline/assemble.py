@@ -18,7 +18,7 @@ from ..physics.grids import persson_G
 from ..plugins import SceneContext, VarSpec
 from ..scene import ResolvedScene
 from ..schema import COORDS, CORE_VARIABLES, stamp
-from ._insert import cached_index, insert_direct
+from ._insert import direct_dataset, insert_direct
 from .diagnostics import pdf_resolution, regime_warnings, theory_validity
 
 __all__ = ["assemble", "add_outputs", "attributes", "diagnostics_notes", "squeeze_p0"]
@@ -129,24 +129,12 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
 
     variables = {name: var(name, dims, val) for name, (dims, val) in data.items()}
     cvars = {name: var(name, dims, val) for name, (dims, val) in coords.items()}
-    try:
-        from xarray.core.indexes import PandasIndex
-
-        indexes = {}
-        for name, var in cvars.items():
-            if var.dims == (name,):
-                indexes[name], cvars[name] = cached_index(PandasIndex, name, var)
-        dims: dict[str, int] = {}
-        for var in (*variables.values(), *cvars.values()):
-            dims.update(zip(var.dims, var.shape, strict=True))
-        return xr.Dataset._construct_direct(  # noqa: SLF001 - see docstring
-            {**variables, **cvars}, set(cvars), dims, {}, indexes
-        )
-    except (AttributeError, TypeError, ImportError):  # pragma: no cover - other xarray versions
+    ds = direct_dataset(variables, cvars)
+    if ds is None:  # pragma: no cover - other xarray versions
         ds = xr.Dataset(data, coords=coords)
         stamp(ds, COORDS)
         stamp(ds, CORE_VARIABLES)
-        return ds
+    return ds
 
 
 def add_outputs(

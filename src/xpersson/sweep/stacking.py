@@ -12,6 +12,7 @@ import numpy as np
 import xarray as xr
 
 from ..archive import file_digest, to_netcdf
+from ..pipeline import direct_dataset
 
 __all__ = [
     "Block",
@@ -200,7 +201,13 @@ def stack_rows(
             "coverage_content_type": "qualityInformation",
         },
     )
-    ds = xr.Dataset(data_vars, coords=coords, attrs=dict(template.attrs))
+    ds = direct_dataset(
+        {n: xr.Variable(*entry) for n, entry in data_vars.items()},
+        {n: xr.Variable(*entry) for n, entry in coords.items()},
+        template.attrs,
+    )
+    if ds is None:  # pragma: no cover - other xarray versions
+        ds = xr.Dataset(data_vars, coords=coords, attrs=dict(template.attrs))
     order = [n for n in template.data_vars if n in ds.data_vars] + ["point_status"]
     return ds if list(ds.data_vars) == order else ds[order]
 
