@@ -32,9 +32,12 @@ def assemble(
     f_z: np.ndarray,
     tau_eff: np.ndarray | None,
     p_grid: np.ndarray | None,
+    G: np.ndarray | None = None,
 ) -> xr.Dataset:
     """The core Dataset of a run: coordinates, the engine's results, the coefficient's arrays,
-    the spectrum and material scalars, each with its CF attributes from the schema."""
+    the spectrum and material scalars, each with its CF attributes from the schema (``G``
+    (p0, zeta): given where each load has its own ``tau`` row, a stacked run's; else
+    :func:`~xpersson.physics.grids.persson_G` of ``tau_c``)."""
 
     def stack(attr: str) -> np.ndarray:
         return np.asarray(getattr(results, attr), float)  # EngineBatch: stacked arrays
@@ -51,7 +54,7 @@ def assemble(
     data: dict[str, Any] = {
         "area_fraction": (pz, stack("area")),
         "non_contact_fraction": (pz, stack("non_area")),
-        "G": (pz, persson_G(tau_c, rs.p0)),
+        "G": (pz, persson_G(tau_c, rs.p0) if G is None else G),
         "diffusion_time": (("zeta",), tau_c),
         "diffusion_coefficient": (("zeta",), f_z),
         "psd_C": (("q_psd",), np.asarray(psd.C(q_nodes), float)),
