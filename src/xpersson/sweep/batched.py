@@ -209,7 +209,8 @@ def batched_block(
 
     Returns ``(rows, solver)``: name -> array ``(block.size, *template[name].shape)`` and the
     solver records of the batched runs; ``None`` where the block must be solved point by point
-    (a plugin without contact similarity, a run that did not meet its tolerance).
+    (a run that did not meet its tolerance). The caller has checked that every sub-point
+    declares contact similarity (:func:`scaled_ok`, :func:`~.fast.similar_block`).
     The sub-points (one per combination of the non-material values) are solved by one stacked
     run where their plugins allow it (:mod:`xpersson.pipeline.stacked`), else one run each.
 
@@ -219,9 +220,7 @@ def batched_block(
         A run at the equivalent loads raised: the caller solves the block point by point and
         judges the failure there (:mod:`._fastfail`). The warning filters are not touched.
     """
-    if not all(scaled_ok(rs) for rs in points.distinct()):
-        return None
-    subs = _sub_points(block, points)
+    subs = _sub_points(block, points)  # every sub-point scaled_ok: checked by the caller
     rows = {n: _rows(sink, n, block, template) for n in names}
     where = np.concatenate([w for w, _, _ in subs])
     identity = bool(np.all(where == np.arange(where.size)))  # material dims innermost
