@@ -272,23 +272,34 @@ def _sub_points(block: Any, points: SweepPoints) -> list[tuple[np.ndarray, Any, 
     mat_dims = [d for d, m in enumerate(mat) if m]
     mat_shape = tuple(shape[d] for d in mat_dims)
     subs = []
+    known: dict[tuple[float, float], np.ndarray] = {}  # E* of the block's material points
     for sub_local in itertools.product(
         *(range(n) if not m else [0] for n, m in zip(shape, mat, strict=True))
     ):
         sel = tuple(slice(None) if m else i for i, m in zip(sub_local, mat, strict=True))
         glob0 = tuple(a + i for a, i in zip(block.start, sub_local, strict=True))
         rs = points.subs[points.key(glob0)]
-        grids = {"material.E": np.full(mat_shape, float(rs.E))}
-        grids["material.nu"] = np.full(mat_shape, float(rs.nu))
-        for j, d in enumerate(mat_dims):
-            along = [1] * len(mat_dims)
-            along[j] = -1
-            for path, values in points.values[d]:
-                grids[path][...] = values[block.start[d] : block.stop[d]].reshape(along)
-        nus, at = np.unique(grids["material.nu"], return_inverse=True)
-        denom = np.array([1.0 - nu**2 for nu in nus.tolist()])[at.reshape(mat_shape)]
-        subs.append((flat[sel].ravel(), rs, (grids["material.E"] / denom).ravel()))
+        key = (float(rs.E), float(rs.nu))  # the same for every sub-point of an E x H sweep
+        if key not in known:
+            known[key] = _estar(points, block, rs, mat_dims, mat_shape)
+        subs.append((flat[sel].ravel(), rs, known[key]))
     return subs
+
+
+def _estar(
+    points: SweepPoints, block: Any, rs: Any, mat_dims: list[int], mat_shape: tuple[int, ...]
+) -> np.ndarray:
+    """E* [Pa] of a block's material points (C order) around the sub-point ``rs``."""
+    grids = {"material.E": np.full(mat_shape, float(rs.E))}
+    grids["material.nu"] = np.full(mat_shape, float(rs.nu))
+    for j, d in enumerate(mat_dims):
+        along = [1] * len(mat_dims)
+        along[j] = -1
+        for path, values in points.values[d]:
+            grids[path][...] = values[block.start[d] : block.stop[d]].reshape(along)
+    nus, at = np.unique(grids["material.nu"], return_inverse=True)
+    denom = np.array([1.0 - nu**2 for nu in nus.tolist()])[at.reshape(mat_shape)]
+    return (grids["material.E"] / denom).ravel()
 
 
 def _similar_loads(rs: Any, estar: np.ndarray) -> tuple[Any, np.ndarray]:
