@@ -196,8 +196,10 @@ def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
     saved = json.loads((HERE / "results" / "summary.json").read_text())
     paths = {k: f for k, f in P.DESIGN_PATHS.items() if any(t in k for t in texts)}
     march = [k for k in P.TARGETS if "C march" in k and any(t in k for t in texts)]
-    if not paths and not march:
-        raise SystemExit(f"no design path matches {texts}; paths: {list(P.DESIGN_PATHS)}")
+    again = {k: f for k, f in P.AGAIN.items() if any(t in k for t in texts)}
+    if not paths and not march and not again:
+        names = [*P.DESIGN_PATHS, *P.AGAIN]
+        raise SystemExit(f"no design path matches {texts}; paths: {names}")
     scenes = list(saved["meta"]["design"].items())
     xpersson.solve(P.scene(scenes[0][1], P.load_range(3)))  # warm-up
     rounds = rounds or int(saved["meta"]["rounds"])
@@ -208,10 +210,12 @@ def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
             {k: v for k, v in P.march_paths(lib, scenes, rounds, False).items() if k in march}
         )
         paths.update(dict.fromkeys(march))
+    for fn in again.values():
+        raw.update(fn(rounds))
     memory = {**saved.get("memory", {}), **P.memory({k: raw[k] for k in paths}, scenes, False)}
     meta = dict(saved["meta"])
     now = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
-    meta["partial"] = {**meta.get("partial", {}), **dict.fromkeys(paths, now)}
+    meta["partial"] = {**meta.get("partial", {}), **dict.fromkeys([*paths, *again], now)}
     return write(summarize(raw, P.TARGETS, memory), meta, raw, check, memory)
 
 

@@ -128,6 +128,30 @@ def load_strings(spec: dict, rounds: int, quick: bool) -> dict:
     return _ratio(t["s"], t["k"])
 
 
+def one_load(spec: dict, rounds: int, quick: bool) -> dict:
+    """One load (closed form: one absorbing wall) through ``xpersson.solve`` against its
+    kernel on the same curve: ``tau(zeta)`` of the scene's coefficient and
+    ``erf(p0 / (2 sqrt(tau)))`` (the pipeline's fixed cost per solve)."""
+    from scipy.special import erf
+
+    from xpersson.plugins import SceneContext
+
+    sc = scene(spec, "100 kPa")
+    rs = xpersson.Scene(sc).resolve()
+    ctx = SceneContext(
+        psd=rs.psd, E=rs.E, nu=rs.nu, E_star=rs.E_star, p0=rs.p0, zeta=rs.zeta, rtol=rs.rtol,
+        atol=rs.atol,
+    )  # fmt: skip
+
+    def kernel() -> None:
+        tau = np.asarray(rs.coefficient.tau(ctx, rs.zeta))
+        with np.errstate(divide="ignore"):
+            erf(rs.p0[:, None] / (2.0 * np.sqrt(tau[None, :])))
+
+    t = best({"s": lambda: xpersson.solve(sc), "k": kernel}, rounds)
+    return _ratio(t["s"], t["k"], note=f"({t['s'] * 1e3:.2f} ms per solve)")
+
+
 DESIGN_PATHS = {
     "sweep E x H, 1 load": sweep_eh,
     "sweep E x H x 10 loads": sweep_ehp,
@@ -138,6 +162,7 @@ DESIGN_PATHS = {
         for n, label in ((100, "100"), (1000, "1000"), (10_000, "1e4"))
     },
     "1000 load strings vs range": load_strings,
+    "one closed-form load vs its kernel": one_load,
 }
 
 
@@ -354,4 +379,7 @@ def memory(raw: dict, scenes, quick: bool) -> dict:
     return out
 
 
-__all__ = ["DESIGN_PATHS", "TARGETS", "cpu", "memory", "parallel_path", "single_paths"]
+#: Rows outside the design that ``--paths`` may measure again: name -> fn(rounds).
+AGAIN = {"friction curve, 50 speeds vs kernel": friction_path}
+
+__all__ = ["AGAIN", "DESIGN_PATHS", "TARGETS", "cpu", "memory", "parallel_path", "single_paths"]

@@ -72,3 +72,36 @@ def test_a_list_of_load_strings_solves_as_value_by_value(monkeypatch):
     np.testing.assert_array_equal(fast.p0.values, slow.p0.values)
     np.testing.assert_array_equal(fast.area_fraction.values, slow.area_fraction.values)
     assert fast.attrs["xpersson_scene"] == slow.attrs["xpersson_scene"]
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(st.floats(1e-3, 1e12, allow_nan=False, allow_infinity=False), min_size=1, max_size=30),
+    st.sampled_from(PREFIXES),
+    st.sampled_from(["{:r}", "{:.3e}", "{:.0f}", "{:g}"]),
+)
+def test_one_unit_lists_equal_to_si_of_each(xs, pre, number):
+    """A list in one unit (the one-join path of ``strings_to_si``): to_si's floats, bit for bit."""
+    values = [f"{number.replace(':r', '!r').format(x)} {pre}Pa" for x in xs]
+    got = strings_to_si(values, "Pa")
+    assert got is not None
+    assert got.tolist() == [to_si(v, "Pa", "w") for v in values]
+
+
+def test_a_list_in_pascals_is_archived_as_written_and_reproduces_bit_for_bit():
+    """Loads listed in Pa are stored as the user wrote them (no 1000 formatted strings); the
+    stored scene solves again to the same loads and areas; other units are stored in Pa."""
+    import json
+
+    listed = ["1e3 Pa", "2500 Pa", "1.0e4 Pa", "123456.789 Pa"]
+    spec = {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_1": "1e7 1/m", "h_rms": "1 um"}
+    data = {"spectrum": spec, "material": {"E": "10 MPa", "nu": 0.5}, "load": {"p0": listed}}
+    ds = xpersson.solve(data)
+    stored = json.loads(ds.attrs["xpersson_scene"])
+    assert stored["load"]["p0"] == listed
+    again = xpersson.solve(stored)
+    np.testing.assert_array_equal(again.p0.values, [1e3, 2500.0, 1e4, 123456.789])
+    np.testing.assert_array_equal(again.area_fraction.values, ds.area_fraction.values)
+    data["load"]["p0"] = ["1 kPa", "2.5 kPa"]
+    stored = json.loads(xpersson.solve(data).attrs["xpersson_scene"])
+    assert stored["load"]["p0"] == ["1000.0 Pa", "2500.0 Pa"]

@@ -296,6 +296,9 @@ def strings_to_si(values: Any, unit: str) -> np.ndarray | None:
 def _number_and_unit(values: list[str]) -> tuple[tuple[str, ...], tuple[str, ...]] | None:
     """(number texts, unit texts) of strings ``"<number> <unit>"`` as :data:`_NUMBER` reads
     them, or ``None`` (a value that is not one)."""
+    same = _one_unit(values)
+    if same is not None:
+        return same
     pairs = [v.split(None, 1) for v in values]
     if set(map(len, pairs)) == {2}:  # "1.5 MPa": numbers checked by one scan of all
         nums, units = zip(*pairs, strict=True)
@@ -307,6 +310,26 @@ def _number_and_unit(values: list[str]) -> tuple[tuple[str, ...], tuple[str, ...
         return None  # a value that is not a plain number and unit (or holds a line break)
     nums, units = zip(*found, strict=True)
     return nums, units
+
+
+def _one_unit(values: list[str]) -> tuple[list[str], tuple[str, ...]] | None:
+    """(number texts, unit texts) where every value is ``"<number> <unit>"`` with the first
+    value's unit text and one blank (a list of loads in one unit): one join, one count, one
+    replace and one split over all values, no split per value; ``None`` otherwise."""
+    head = values[0].split(" ", 1)
+    if len(head) != 2 or not head[1] or head[1][0].isspace() or "\n" in head[1]:
+        return None
+    joined = "\n".join(values) + "\n"
+    tail = f" {head[1]}\n"
+    if joined.count(tail) != len(values):
+        return None
+    numbers = joined.replace(tail, "\n")[:-1]
+    if not _NUMBER_CHARS.fullmatch(numbers):
+        return None
+    nums = numbers.split("\n")
+    if len(nums) != len(values):
+        return None
+    return nums, (head[1],) * len(values)
 
 
 _NUMBER_CHARS = re.compile(r"[0-9.eE+\-\n]*")

@@ -140,3 +140,24 @@ def test_limits_in_threads_interrupt_a_python_loop():
     t.start()
     t.join(10)
     assert out == {"ok": True} and not t.is_alive()
+
+
+def test_a_nested_limit_in_the_main_thread_is_the_outer_one_and_leaves_nothing_armed():
+    """A limited call inside another (a plugin call inside a checked call) arms no timer of
+    its own: the outer limit interrupts the inner loop, and no timer is left afterwards."""
+    import signal
+
+    from xpersson.checks import PluginFailure, calling
+
+    t0 = time.monotonic()
+    with pytest.raises(PluginFailure, match="inner call exceeded the time limit") as err:
+        with time_limit(0.2), calling("outer", "outer call"), calling("inner", "inner call"):
+            while True:
+                pass
+    assert isinstance(err.value, TimeoutError)
+    assert time.monotonic() - t0 < 5.0
+    assert signal.getitimer(signal.ITIMER_REAL)[0] == 0.0
+    with time_limit(5.0), calling("outer", "o"), calling("inner", "i"):
+        x = sum(range(10))
+    assert x == 45
+    assert signal.getitimer(signal.ITIMER_REAL)[0] == 0.0

@@ -9,6 +9,7 @@ Dataset: core variables, plugin contributions, attributes), :mod:`.solve_at` (th
 
 from __future__ import annotations
 
+from ._insert import direct_dataset
 from .assemble import squeeze_p0
 from .diagnostics import DIAGNOSTICS, P_RTOL, SLOPE_LIMIT, pdf_resolution, regime_warnings
 from .frontend import as_scene, default_pressure_grid, scene_context
@@ -22,6 +23,7 @@ __all__ = [
     "scene_context",
     "default_pressure_grid",
     "squeeze_p0",
+    "direct_dataset",
     "progress_bar",
     "DIAGNOSTICS",
     "P_RTOL",

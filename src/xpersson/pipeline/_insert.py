@@ -16,7 +16,7 @@ import xarray as xr
 
 from ..cache import Cache
 
-__all__ = ["cached_index", "insert_direct", "insert_or_set"]
+__all__ = ["cached_index", "direct_dataset", "insert_direct", "insert_or_set"]
 
 
 _INDEXES = Cache(
@@ -44,6 +44,34 @@ def cached_index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variabl
     out = variable.copy(deep=False)
     out.attrs = dict(var.attrs)
     return index, out
+
+
+def direct_dataset(
+    variables: Mapping[str, xr.Variable],
+    coords: Mapping[str, xr.Variable],
+    attrs: Mapping[str, Any] | None = None,
+) -> xr.Dataset | None:
+    """``xr.Dataset(variables, coords=coords, attrs=attrs)`` without xarray's merge, for
+    variables and coordinates that share one set of dimensions (nothing to align): each
+    dimension coordinate gets its pandas index (:func:`cached_index`); the variables in the
+    order ``xr.Dataset`` gives them (data variables, then coordinates). ``None`` on an xarray
+    without the direct constructor (the caller then builds it with ``xr.Dataset``)."""
+    try:
+        from xarray.core.indexes import PandasIndex
+
+        cvars = dict(coords)
+        indexes = {}
+        for name, var in cvars.items():
+            if var.dims == (name,):
+                indexes[name], cvars[name] = cached_index(PandasIndex, name, var)
+        dims: dict[str, int] = {}
+        for var in (*variables.values(), *cvars.values()):
+            dims.update(zip(var.dims, var.shape, strict=True))
+        return xr.Dataset._construct_direct(  # noqa: SLF001 - see docstring
+            {**variables, **cvars}, set(cvars), dims, dict(attrs or {}), indexes
+        )
+    except (AttributeError, TypeError, ImportError):  # pragma: no cover - other xarray versions
+        return None
 
 
 def insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:

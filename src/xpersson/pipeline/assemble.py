@@ -18,7 +18,7 @@ from ..physics.grids import persson_G
 from ..plugins import SceneContext, VarSpec
 from ..scene import ResolvedScene
 from ..schema import COORDS, CORE_VARIABLES, stamp
-from ._insert import cached_index, insert_direct
+from ._insert import direct_dataset, insert_direct
 from .diagnostics import pdf_resolution, regime_warnings, theory_validity
 
 __all__ = ["assemble", "add_outputs", "attributes", "diagnostics_notes", "squeeze_p0"]
@@ -32,9 +32,12 @@ def assemble(
     f_z: np.ndarray,
     tau_eff: np.ndarray | None,
     p_grid: np.ndarray | None,
+    G: np.ndarray | None = None,
 ) -> xr.Dataset:
     """The core Dataset of a run: coordinates, the engine's results, the coefficient's arrays,
-    the spectrum and material scalars, each with its CF attributes from the schema."""
+    the spectrum and material scalars, each with its CF attributes from the schema (``G``
+    (p0, zeta): given where each load has its own ``tau`` row, a stacked run's; else
+    :func:`~xpersson.physics.grids.persson_G` of ``tau_c``)."""
 
     def stack(attr: str) -> np.ndarray:
         return np.asarray(getattr(results, attr), float)  # EngineBatch: stacked arrays
@@ -51,7 +54,7 @@ def assemble(
     data: dict[str, Any] = {
         "area_fraction": (pz, stack("area")),
         "non_contact_fraction": (pz, stack("non_area")),
-        "G": (pz, persson_G(tau_c, rs.p0)),
+        "G": (pz, persson_G(tau_c, rs.p0) if G is None else G),
         "diffusion_time": (("zeta",), tau_c),
         "diffusion_coefficient": (("zeta",), f_z),
         "psd_C": (("q_psd",), np.asarray(psd.C(q_nodes), float)),
@@ -129,24 +132,12 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
 
     variables = {name: var(name, dims, val) for name, (dims, val) in data.items()}
     cvars = {name: var(name, dims, val) for name, (dims, val) in coords.items()}
-    try:
-        from xarray.core.indexes import PandasIndex
-
-        indexes = {}
-        for name, var in cvars.items():
-            if var.dims == (name,):
-                indexes[name], cvars[name] = cached_index(PandasIndex, name, var)
-        dims: dict[str, int] = {}
-        for var in (*variables.values(), *cvars.values()):
-            dims.update(zip(var.dims, var.shape, strict=True))
-        return xr.Dataset._construct_direct(  # noqa: SLF001 - see docstring
-            {**variables, **cvars}, set(cvars), dims, {}, indexes
-        )
-    except (AttributeError, TypeError, ImportError):  # pragma: no cover - other xarray versions
+    ds = direct_dataset(variables, cvars)
+    if ds is None:  # pragma: no cover - other xarray versions
         ds = xr.Dataset(data, coords=coords)
         stamp(ds, COORDS)
         stamp(ds, CORE_VARIABLES)
-        return ds
+    return ds
 
 
 def add_outputs(

@@ -166,16 +166,16 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
     if any(s != "success" for s in results.status):
         return None
     flat = dataclasses.replace(rs0, p0=loads, p0_scalar=False)
-    ds = assemble(flat, dataclasses.replace(ctxs[0], p0=loads), results, tau[0], f[0], None, None)
-    if checks.check_core(ds):  # a load outside the core ranges: its status is recorded per point
-        return None
-    out = _unflatten(ds, K, nl)
     p2 = (loads * loads).reshape(K, nl)
     with np.errstate(divide="ignore", invalid="ignore"):
-        G = tau[:, None, :] / p2[:, :, None]
+        G = tau[:, None, :] / p2[:, :, None]  # each point's own tau (the flat run has tau[0])
     if not np.all(p2 != 0):
         G = np.where(np.isnan(G), np.inf, G)
-    out["G"] = ((POINT, "p0", "zeta"), G)
+    ctx0 = dataclasses.replace(ctxs[0], p0=loads)
+    ds = assemble(flat, ctx0, results, tau[0], f[0], None, None, G.reshape(K * nl, nz))
+    if checks.check_core(ds):  # a load outside the core ranges: its status is recorded per point
+        return None
+    out = _unflatten(ds, K, nl)  # G among them: (point, p0, zeta)
     out["diffusion_time"] = ((POINT, "zeta"), tau)
     out["diffusion_coefficient"] = ((POINT, "zeta"), f)
     if eff is not None:

@@ -22,6 +22,7 @@ import included (an import at most :data:`IMPORT_TIME_LIMIT`).
 
 from __future__ import annotations
 
+import _signal
 import contextlib
 import contextvars
 import ctypes
@@ -70,19 +71,15 @@ def current_limit() -> float | None:
     return plugin_time_limit() if limit is None else limit
 
 
-@contextlib.contextmanager
-def limited(seconds: float | None = None) -> Iterator[None]:
+def limited(seconds: float | None = None) -> contextlib.AbstractContextManager[None]:
     """Raise :class:`PluginTimeout` inside the block when it runs longer than ``seconds`` [s]
     (default: the :func:`time_limit` in force; nothing is armed when there is none)."""
     seconds = current_limit() if seconds is None else seconds
     if seconds is None:
-        yield
-    elif threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
-        with _alarm(seconds):
-            yield
-    else:
-        with _async_timer(seconds):
-            yield
+        return contextlib.nullcontext()
+    if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
+        return _alarm(seconds)
+    return _async_timer(seconds)
 
 
 def _message(seconds: float) -> str:
@@ -100,10 +97,10 @@ def _main_handler(signum: int, frame: object) -> None:
 
 @contextlib.contextmanager
 def _alarm(seconds: float) -> Iterator[None]:
-    if signal.getitimer(signal.ITIMER_REAL)[0] > 0:  # an outer limit is armed: it applies
+    if _MAIN_ARMED or signal.getitimer(signal.ITIMER_REAL)[0] > 0:  # an outer limit applies
         yield
         return
-    old = signal.getsignal(signal.SIGALRM)
+    old = _signal.getsignal(signal.SIGALRM)  # (signal.getsignal's enum look-up costs ~4 us)
     if old is not _main_handler:  # installed once while SIGALRM has its default action
         signal.signal(signal.SIGALRM, _main_handler)
     _MAIN_ARMED.append(seconds)

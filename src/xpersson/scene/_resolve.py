@@ -412,9 +412,11 @@ def _spectrum_and_grid(
     out: Mapping[str, Any],
     resolved: dict[str, Any],
     names: Mapping[str, str],
+    memo: dict[Any, Any] | None = None,
 ) -> tuple[Any, np.ndarray]:
     """The built and checked spectrum and the output grid on it (a file-based spectrum's
-    table replaces ``resolved["spectrum"]``)."""
+    table replaces ``resolved["spectrum"]``; ``memo``: the grid of each ``q_1/q_L`` made
+    once per sweep, read only)."""
     psd = _build_spectrum(spectrum, label)
     archived = getattr(spectrum, "archived_params", None)
     if callable(archived):  # file-based spectra: the table itself goes into the archive
@@ -422,9 +424,31 @@ def _spectrum_and_grid(
             "model": names["spectrum"],
             **jsonable(archived(psd), type(spectrum).parameters),
         }
-    zeta = _zeta_grid(out, float(psd.q_1 / psd.q_L))
+    support = float(psd.q_1 / psd.q_L)
+    if memo is None:
+        zeta = _zeta_grid(out, support)
+    else:
+        if ("[zeta]", support) not in memo:
+            memo[("[zeta]", support)] = _zeta_grid(out, support)
+            memo[("[zeta]", support)].flags.writeable = False
+        zeta = memo[("[zeta]", support)]
     _check_power(psd, zeta)
     return psd, zeta
+
+
+def _output_once(
+    raw: Mapping[str, Any], memo: dict[Any, Any] | None
+) -> tuple[dict[str, Any], dict[Any, Any] | None]:
+    """``[output]`` converted once per sweep (``memo``; the same section at every point of a
+    spectral sweep) and the memo of its grids (``None``: a section other than the first)."""
+    if memo is None:
+        return convert_params(CORE["output"], raw, "output"), None
+    if "[output]" not in memo:
+        memo["[output]"] = (raw, convert_params(CORE["output"], raw, "output"))
+    first, out = memo["[output]"]
+    if raw is not first and raw != first:
+        return convert_params(CORE["output"], raw, "output"), None
+    return out, memo
 
 
 def with_spectrum(
@@ -444,9 +468,17 @@ def with_spectrum(
         **rs.resolved,
         "spectrum": {"model": name, **jsonable(params, type(inst).parameters)},
     }
-    out = convert_params(CORE["output"], data.get("output", {}), "output")
-    psd, zeta = _spectrum_and_grid(inst, labels["spectrum"], out, resolved, names)
+    out, grids = _output_once(data.get("output", {}), memo)
+    psd, zeta = _spectrum_and_grid(inst, labels["spectrum"], out, resolved, names, grids)
     resolved["output"] = {**rs.resolved["output"], "zeta": np.asarray(zeta, float).tolist()}
+    records = rs.plugin_records
+    if type(inst) is not type(rs.spectrum) or name != rs.plugin_names.get("spectrum"):
+        records = _records(
+            {"spectrum": inst, "coefficient": rs.coefficient, "boundary": rs.boundary},
+            names,
+            rs.analyses,
+            registry,
+        )
     return dataclasses.replace(
         rs,
         scene=scene,
@@ -456,10 +488,5 @@ def with_spectrum(
         plugin_names=names,
         resolved=resolved,
         labels=labels,
-        plugin_records=_records(
-            {"spectrum": inst, "coefficient": rs.coefficient, "boundary": rs.boundary},
-            names,
-            rs.analyses,
-            registry,
-        ),
+        plugin_records=records,  # the same plugin classes and names: the same records
     )

@@ -17,13 +17,19 @@ from ._resolve import resolve_scene
 __all__ = ["Scene", "load_scene", "parse_cli_value", "set_value"]
 
 
+#: Immutable leaves of a scene tree (shared by its copies).
+_LEAVES = {str, int, float, bool}
+
+
 def _copy_tree(obj: Any) -> Any:
     """A deep copy of a scene tree: tables and lists rebuilt, immutable leaves shared."""
     if isinstance(obj, dict):
         return {k: _copy_tree(v) for k, v in obj.items()}
     if isinstance(obj, list):
+        if set(map(type, obj)) <= _LEAVES:  # e.g. 1000 load strings: one copy, no recursion
+            return list(obj)
         return [_copy_tree(v) for v in obj]
-    if obj is None or type(obj) in (str, int, float, bool):
+    if obj is None or type(obj) in _LEAVES:
         return obj
     return copy.deepcopy(obj)
 
@@ -66,6 +72,15 @@ class Scene:
         if not isinstance(self.data, Mapping):
             raise SceneError(f"a scene must be a mapping of sections, got {type(self.data)}")
         self.data = _copy_tree(_surface_topography(dict(self.data)))
+
+    @classmethod
+    def _shared(cls, data: dict[str, Any], source: str | None = None) -> Scene:
+        """A scene over ``data`` as it is (no copy, no conversion of a Topography): for data
+        built from a scene made already, whose tables the caller does not change (a sweep's
+        point scenes share their unswept tables with the plan's base, read only)."""
+        out = cls.__new__(cls)
+        out.data, out.source = data, source
+        return out
 
     def with_values(self, **dotted: Any) -> Scene:
         """Copy with ``section.key`` values replaced: ``with_values(**{"load.p0": "1 MPa"})``."""

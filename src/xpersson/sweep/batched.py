@@ -209,7 +209,8 @@ def batched_block(
 
     Returns ``(rows, solver)``: name -> array ``(block.size, *template[name].shape)`` and the
     solver records of the batched runs; ``None`` where the block must be solved point by point
-    (a plugin without contact similarity, a run that did not meet its tolerance).
+    (a run that did not meet its tolerance). The caller has checked that every sub-point
+    declares contact similarity (:func:`scaled_ok`, :func:`~.fast.similar_block`).
     The sub-points (one per combination of the non-material values) are solved by one stacked
     run where their plugins allow it (:mod:`xpersson.pipeline.stacked`), else one run each.
 
@@ -219,9 +220,7 @@ def batched_block(
         A run at the equivalent loads raised: the caller solves the block point by point and
         judges the failure there (:mod:`._fastfail`). The warning filters are not touched.
     """
-    if not all(scaled_ok(rs) for rs in points.distinct()):
-        return None
-    subs = _sub_points(block, points)
+    subs = _sub_points(block, points)  # every sub-point scaled_ok: checked by the caller
     rows = {n: _rows(sink, n, block, template) for n in names}
     where = np.concatenate([w for w, _, _ in subs])
     identity = bool(np.all(where == np.arange(where.size)))  # material dims innermost
@@ -273,23 +272,34 @@ def _sub_points(block: Any, points: SweepPoints) -> list[tuple[np.ndarray, Any, 
     mat_dims = [d for d, m in enumerate(mat) if m]
     mat_shape = tuple(shape[d] for d in mat_dims)
     subs = []
+    known: dict[tuple[float, float], np.ndarray] = {}  # E* of the block's material points
     for sub_local in itertools.product(
         *(range(n) if not m else [0] for n, m in zip(shape, mat, strict=True))
     ):
         sel = tuple(slice(None) if m else i for i, m in zip(sub_local, mat, strict=True))
         glob0 = tuple(a + i for a, i in zip(block.start, sub_local, strict=True))
         rs = points.subs[points.key(glob0)]
-        grids = {"material.E": np.full(mat_shape, float(rs.E))}
-        grids["material.nu"] = np.full(mat_shape, float(rs.nu))
-        for j, d in enumerate(mat_dims):
-            along = [1] * len(mat_dims)
-            along[j] = -1
-            for path, values in points.values[d]:
-                grids[path][...] = values[block.start[d] : block.stop[d]].reshape(along)
-        nus, at = np.unique(grids["material.nu"], return_inverse=True)
-        denom = np.array([1.0 - nu**2 for nu in nus.tolist()])[at.reshape(mat_shape)]
-        subs.append((flat[sel].ravel(), rs, (grids["material.E"] / denom).ravel()))
+        key = (float(rs.E), float(rs.nu))  # the same for every sub-point of an E x H sweep
+        if key not in known:
+            known[key] = _estar(points, block, rs, mat_dims, mat_shape)
+        subs.append((flat[sel].ravel(), rs, known[key]))
     return subs
+
+
+def _estar(
+    points: SweepPoints, block: Any, rs: Any, mat_dims: list[int], mat_shape: tuple[int, ...]
+) -> np.ndarray:
+    """E* [Pa] of a block's material points (C order) around the sub-point ``rs``."""
+    grids = {"material.E": np.full(mat_shape, float(rs.E))}
+    grids["material.nu"] = np.full(mat_shape, float(rs.nu))
+    for j, d in enumerate(mat_dims):
+        along = [1] * len(mat_dims)
+        along[j] = -1
+        for path, values in points.values[d]:
+            grids[path][...] = values[block.start[d] : block.stop[d]].reshape(along)
+    nus, at = np.unique(grids["material.nu"], return_inverse=True)
+    denom = np.array([1.0 - nu**2 for nu in nus.tolist()])[at.reshape(mat_shape)]
+    return (grids["material.E"] / denom).ravel()
 
 
 def _similar_loads(rs: Any, estar: np.ndarray) -> tuple[Any, np.ndarray]:
@@ -305,6 +315,22 @@ def _similar_loads(rs: Any, estar: np.ndarray) -> tuple[Any, np.ndarray]:
     return dataclasses.replace(rs, p0=unique, p0_scalar=False), inverse.ravel()
 
 
+def _equivalent_loads(subs: list[Any]) -> list[tuple[Any, np.ndarray]]:
+    """:func:`_similar_loads` of every sub-point; the loads and their inverse computed once
+    for the sub-points that share ``p0``, E*_ref and the points' E* (every H of an E x H
+    sweep: the material dimensions start at the same value)."""
+    out, known = [], {}
+    for _, rs, estar in subs:
+        key = (np.asarray(rs.p0, float).tobytes(), float(rs.E_star), estar.tobytes())
+        if key not in known:
+            known[key] = _similar_loads(rs, estar)
+            out.append(known[key])
+            continue
+        ref, inverse = known[key]
+        out.append((dataclasses.replace(rs, p0=ref.p0, p0_scalar=False), inverse))
+    return out
+
+
 def _stacked_subs(
     subs: list[Any], names: list[str], template: xr.Dataset, into: dict[str, np.ndarray]
 ) -> Any:
@@ -313,7 +339,7 @@ def _stacked_subs(
     rows are written in (see :func:`_scaled_rows`)."""
     if len(subs) < 2:
         return None
-    refs = [_similar_loads(rs, estar) for _, rs, estar in subs]
+    refs = _equivalent_loads(subs)
     if stacked.stack_reason([r[0] for r in refs]):
         return None
     try:

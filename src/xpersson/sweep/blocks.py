@@ -144,7 +144,7 @@ def run_block(
     try:
         if isinstance(points, SweepPoints):
             sink = None if part is not None or shared is None else shared.get("sink")
-            fast = similar_block(block, points, part, part_attrs, sink)
+            fast = similar_block(block, points, part, part_attrs, sink, shared)
         else:
             fast = stacked_block(block, points, part, part_attrs, shared)
     except FastPathFailed as exc:

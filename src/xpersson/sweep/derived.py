@@ -20,7 +20,7 @@ from typing import Any
 
 from ..checks import plugin_label
 from ..plugins import fast_paths_on
-from ..scene import SceneError, convert_param, plugin_message
+from ..scene import SceneError, convert_param, plugin_message, sweep_values
 from .plan import SweepPlan
 
 __all__ = ["derived_region"]
@@ -81,11 +81,9 @@ def derived_region(
     values: dict[str, dict[int, tuple[Any, Any]]] = {}
     for d, p, section, key in swept:
         spec = type(getattr(rs0, section)).parameters[key]
-        got = {}
-        for i in range(start[d], stop[d]):
-            entry = p.scene_value(i)  # what the point's scene holds, as it archives it
-            got[i] = (convert_param(spec, entry, p.path), entry)
-        values[p.path] = got
+        entries = {i: p.scene_value(i) for i in range(start[d], stop[d])}  # as archived
+        converted = _converted(spec, list(entries.values()), p.path)
+        values[p.path] = dict(zip(entries, converted, strict=True))
     ranges = [range(a, b) for a, b in zip(start, stop, strict=True)]
     out = []
     for index in itertools.product(*ranges):
@@ -100,6 +98,20 @@ def derived_region(
         except SceneError as exc:
             raise SceneError(f"sweep point {where(index)}: {exc}") from None
     return out
+
+
+def _converted(spec: Any, entries: list[Any], where: str) -> list[tuple[Any, Any]]:
+    """``(SI value, entry)`` of each swept entry, as :func:`~xpersson.scene.convert_param`
+    converts it: a list of quantity strings at once (one parse per unit,
+    :func:`~xpersson.scene.sweep_values`: the same floats), anything else value by value."""
+    if spec.kind == "quantity" and not spec.array and spec.unit not in ("1", ""):
+        try:
+            si = sweep_values(spec, entries, where).tolist()
+        except SceneError:  # the message of convert_param, naming the value
+            si = None
+        if si is not None and len(si) == len(entries):
+            return list(zip(si, entries, strict=True))
+    return [(convert_param(spec, entry, where), entry) for entry in entries]
 
 
 def _derive(rs0: Any, changes: dict[str, dict[str, tuple[Any, Any]]], registry: Any) -> Any:

@@ -64,7 +64,22 @@ def _resolve_index(plan: SweepPlan, index: tuple[int, ...], registry: Any) -> An
         raise SceneError(f"sweep point {_where(plan, index)}: {exc}") from None
 
 
-def _spectrum_resolver(plan: SweepPlan, registry: Any) -> Callable[[tuple[int, ...]], Any]:
+def _resolver(plan: SweepPlan, registry: Any, first: Any = None) -> Callable[..., Any]:
+    """``resolve(index)``: :func:`_resolve_index`, the first point given as ``first`` when it
+    was resolved already (:func:`check_size`)."""
+    zero = (0,) * len(plan.shape)
+
+    def resolve(index: tuple[int, ...]) -> Any:
+        if first is not None and tuple(index) == zero:
+            return first
+        return _resolve_index(plan, index, registry)
+
+    return resolve
+
+
+def _spectrum_resolver(
+    plan: SweepPlan, registry: Any, first_point: Any = None
+) -> Callable[[tuple[int, ...]], Any]:
     """``resolve(index)`` for the sub-points of a batched region: when every swept parameter
     outside the material is a spectrum parameter, the first point is resolved in full and
     every later one rebuilds only its spectrum (:func:`~xpersson.scene._resolve.with_spectrum`:
@@ -78,10 +93,11 @@ def _spectrum_resolver(plan: SweepPlan, registry: Any) -> Callable[[tuple[int, .
     )
     first: list[Any] = []
     memo: dict[Any, Any] = {}  # spectrum values converted once for the whole sweep
+    full = _resolver(plan, registry, first_point)
 
     def resolve(index: tuple[int, ...]) -> Any:
         if not (spectral and first):
-            first.append(_resolve_index(plan, index, registry))
+            first.append(full(index))
             return first[-1]
         try:
             return with_spectrum(first[0], plan.point_scene(index), registry, memo)
@@ -91,19 +107,25 @@ def _spectrum_resolver(plan: SweepPlan, registry: Any) -> Callable[[tuple[int, .
     return resolve
 
 
-def _region(plan: SweepPlan, start: tuple[int, ...], stop: tuple[int, ...], registry: Any) -> Any:
+def _region(
+    plan: SweepPlan,
+    start: tuple[int, ...],
+    stop: tuple[int, ...],
+    registry: Any,
+    first: Any = None,
+) -> Any:
     """The resolved points of a region: one resolve per non-material combination
     (:func:`.batched.resolved_region`), one per region where the swept parameters are declared
     stackable (``fast_paths.stacked_params``, :func:`.derived.derived_region`), or ``None``
-    (resolve every point)."""
-    region = resolved_region(plan.groups, start, stop, _spectrum_resolver(plan, registry))
+    (resolve every point); ``first``: the sweep's first point, resolved already."""
+    region = resolved_region(plan.groups, start, stop, _spectrum_resolver(plan, registry, first))
     if region is not None:
         return region
     return derived_region(
         plan,
         start,
         stop,
-        lambda i: _resolve_index(plan, i, registry),
+        _resolver(plan, registry, first),
         lambda i: _where(plan, i),
         registry,
     )
@@ -116,12 +138,14 @@ _GRID_CHANGES = (
 )
 
 
-def resolve_points(plan: SweepPlan, registry: Any) -> list[Any]:
-    """Resolve every point before any work (bad input fails here, naming the point)."""
+def resolve_points(plan: SweepPlan, registry: Any, first: Any = None) -> list[Any]:
+    """Resolve every point before any work (bad input fails here, naming the point);
+    ``first``: the first point resolved already (as :func:`check_size` returns it)."""
     registry = registry or get_registry()
-    points: Any = _region(plan, (0,) * len(plan.shape), plan.shape, registry)
+    points: Any = _region(plan, (0,) * len(plan.shape), plan.shape, registry, first)
     if points is None:
-        points = [_resolve_index(plan, index, registry) for index in plan.indices()]
+        resolve = _resolver(plan, registry, first)
+        points = [resolve(index) for index in plan.indices()]
     summary = _summary(points)
     if summary[0] is None:
         raise SceneError(_GRID_CHANGES)
@@ -242,8 +266,8 @@ def solve_sweep(
     estimate = serial_estimate(plan, registry) if distributed and chunk is None else None
     if scheduler == "processes" and too_small_for_a_cluster(plan, estimate):
         scheduler, distributed = None, False
-    check_size(plan, registry, scheduler, chunk, workers, output is None)
-    points = None if distributed else resolve_points(plan, registry)
+    first = check_size(plan, registry, scheduler, chunk, workers, output is None)
+    points = None if distributed else resolve_points(plan, registry, first)
     client, own_cluster, n_workers = client_for(scheduler, workers)
     txn = None
     try:
@@ -312,9 +336,9 @@ def check_size(
     chunk: int | None,
     workers: int | None,
     in_memory: bool,
-) -> None:
+) -> Any:
     """Refuse (before resolving the points) a study larger than the memory budget, from its
-    first point's loads, magnifications and pressures."""
+    first point's loads, magnifications and pressures; returns that point (resolved)."""
     rs = _resolve_index(plan, next(iter(plan.indices())), registry or get_registry())
     n_workers = 1 if scheduler in (None, "serial", "synchronous", "sync") else workers
     n_workers = n_workers or os.cpu_count() or 1
@@ -328,6 +352,7 @@ def check_size(
         workers=n_workers,
         in_memory=in_memory,
     )
+    return rs
 
 
 def _run_tasks(

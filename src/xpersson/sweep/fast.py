@@ -82,9 +82,11 @@ def similar_block(
     part: str | None,
     part_attrs: dict[str, Any] | None = None,
     sink: Any = None,
+    shared: dict[str, Any] | None = None,
 ) -> BlockResult | None:
     """The block solved as batches of loads (:mod:`.batched`), or ``None`` (point by point);
-    ``sink``: the in-memory sweep's fill, whose arrays the rows are written into.
+    ``sink``: the in-memory sweep's fill, whose arrays the rows are written into; ``shared``:
+    the first block's template, reused as :func:`stacked_block` reuses it.
 
     Raises
     ------
@@ -93,7 +95,7 @@ def similar_block(
     """
     if not all(scaled_ok(rs) for rs in points.distinct()):
         return None  # a plugin without contact similarity: no template run wasted
-    template = _template(points[0], block)
+    template = _first_template(block, points[0], part, shared)
     if template is None:
         return None
     got = batched_block(block, points, _own_names(template, block), template, sink)
@@ -113,6 +115,21 @@ def _shared_template(shared: dict[str, Any] | None, rs: Any) -> xr.Dataset | Non
     if not np.array_equal(rs.p0, rs0.p0) or stacked.stack_reason([rs0, rs]) is not None:
         return None
     return shared["template"]
+
+
+def _first_template(
+    block: Block, rs: Any, part: str | None, shared: dict[str, Any] | None
+) -> xr.Dataset | None:
+    """The template of a block whose first point is ``rs``: an earlier block's
+    (:func:`_shared_template`; in memory only), else ``rs`` solved on its own (kept in
+    ``shared`` for the later blocks)."""
+    template = _shared_template(shared if part is None else None, rs)
+    if template is not None:
+        return template
+    template = _template(rs, block)
+    if template is not None and shared is not None and part is None:
+        shared.update(template=template, point=rs)
+    return template
 
 
 def stacked_block(
@@ -150,14 +167,10 @@ def _stacked(
     shared: dict[str, Any] | None,
 ) -> BlockResult | None:
     """:func:`stacked_block` of a block whose points stack."""
-    template = _shared_template(shared if part is None else None, points[0])
-    reused = template is not None
-    if template is None:
-        template = _template(points[0], block)
+    reused = _shared_template(shared if part is None else None, points[0]) is not None
+    template = _first_template(block, points[0], part, shared)
     if template is None:
         return None
-    if shared is not None and part is None and not reused:
-        shared.update(template=template, point=points[0])
     try:
         got = stacked.run_stacked(points)
     except Exception as exc:  # noqa: BLE001 - judged against the plain path by run_block

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..pipeline import direct_dataset
 from .stacking import BlockResult, _point_shaped
 
 __all__ = ["Filling"]
@@ -163,12 +164,20 @@ class Filling:
         self.absorbed, self._vars, self.broken = [], {}, True
 
     def _dataset(self, variables: dict[str, Any], attrs: Any) -> xr.Dataset:
-        ds = xr.Dataset(
+        attrs = dict(getattr(attrs, "attrs", attrs))
+        ds = direct_dataset(  # the first block's order, without xarray's merge
+            {n: variables[n] for n in self._order},
+            {n: v for n, v in variables.items() if n in self._coords},
+            attrs,
+        )
+        if ds is not None:
+            return ds
+        ds = xr.Dataset(  # pragma: no cover - other xarray versions
             {n: v for n, v in variables.items() if n not in self._coords},
             coords={n: v for n, v in variables.items() if n in self._coords},
-            attrs=dict(getattr(attrs, "attrs", attrs)),
+            attrs=attrs,
         )
-        return ds[self._order]
+        return ds[self._order]  # pragma: no cover
 
     def dataset(self) -> xr.Dataset | None:
         """The sweep's Dataset, or ``None`` (the blocks did not fit one layout, or a point was

@@ -37,6 +37,7 @@ import xarray as xr
 
 from ..archive import WriteError, decode, read, to_netcdf
 from ..errors import ArchiveError
+from ..pipeline import direct_dataset
 from .blocks import PART_ATTR, POINT_STATUS
 
 __all__ = ["INDEX", "FORMAT", "part_name", "write_part", "read_part", "write_index", "finalize"]
@@ -283,14 +284,14 @@ def finalize(ds: xr.Dataset, constant: dict[str, list[str]], attrs: dict[str, An
     reduced = {n: _reduced(ds, n, dims) for n, dims in constant.items() if n in ds.variables}
     coords = set(ds.coords)
     variables = {n: reduced.get(n, v) for n, v in ds.variables.items()}
-    out = xr.Dataset(
-        {n: v for n, v in variables.items() if n not in coords},
-        coords={n: v for n, v in variables.items() if n in coords},
-        attrs=dict(attrs),
-    )
+    data = {n: v for n, v in variables.items() if n not in coords}
+    out = direct_dataset(data, {n: v for n, v in variables.items() if n in coords}, attrs)
+    if out is None:  # pragma: no cover - other xarray versions
+        out = xr.Dataset(data, coords={n: v for n, v in variables.items() if n in coords})
+        out.attrs = dict(attrs)
+        if list(out.variables) != list(variables):  # keep the order of the combined Dataset
+            out = out[list(data)]
     out.encoding = dict(ds.encoding)
-    if list(out.variables) != list(variables):  # keep the order of the combined Dataset
-        out = out[[n for n in variables if n not in coords]]
     return out
 
 

@@ -105,12 +105,16 @@ class SweepPlan:
         return data
 
     def point_scene(self, index: tuple[int, ...]) -> Scene:
-        """The :class:`~xpersson.Scene` of one point."""
-        data = dict(self.base)  # only the tables on a swept path are copied; Scene deep-copies
+        """The :class:`~xpersson.Scene` of one point.
+
+        Only the tables on a swept path are copied; the other tables are the plan's base
+        (a deep copy of the scene made at :func:`expand`), shared read-only by every point
+        scene: no deep copy of the whole tree per point."""
+        data = dict(self.base)
         for group, i in zip(self.groups, index, strict=True):
             for param in group:
                 _set_path(data, param.path, param.scene_value(i), copy_tables=True)
-        return Scene(data, self.scene.source)
+        return Scene._shared(data, self.scene.source)
 
     def indices(self) -> Iterator[tuple[int, ...]]:
         """All point indices in C order (last dimension fastest)."""
