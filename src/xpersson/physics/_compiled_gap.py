@@ -1,0 +1,140 @@
+"""Optional compiled sum of the gap distribution's Gaussians (numba), within 1e-12 of numpy.
+
+:func:`~xpersson.physics.gap_pdf` sums, per load, ``w [N(u; u1, h) + N(u; -u1, h)]`` over the
+detached-area bins on the output grid of separations (256 points by default): at 1e4 loads and
+about 40 bins per load, 1e8 Gaussians, two ``exp`` each, most of ``gap_pdf``'s time. On a
+**uniform** grid ``u_j = j du`` both Gaussians of a bin obey a two-term recurrence without
+``exp``: with ``b = u/h`` and ``d = du/h``,
+
+.. math::
+
+    g_{j+1} = g_j r_j, \\qquad r_{j+1} = r_j e^{-d^2}, \\qquad
+    r_j = e^{-d (b_j - a) - d^2/2},
+
+restarted from exact ``exp`` values every :data:`ANCHOR` columns (so the round-off of the
+products stays below ``ANCHOR^2`` ulps: ~1e-14 relative). Bins whose Gaussian is narrow on the
+grid (``d`` > :data:`D_MAX`) or whose centre lies far out (``a = u1/h`` > :data:`A_MAX`, where the
+``exp`` of a rounded ``b`` is itself conditioned to ``|b - a| b`` ulps) are evaluated directly,
+on their 39-width band only; so are the columns far left of a centre, where the exact value
+underflows. Measured against the numpy path on the 1e4-load design scenes: 1.1e-15 of each
+load's largest density, 1.5e-13 relative element by element (above 1e-250 of that largest).
+
+numba is an optional accelerator (``pip install numba``, the ``fast`` extra), as the engine's
+compiled march (:mod:`xpersson.engine._compiled`): without it, or with
+``xpersson.set_options(compiled=False)`` (``XPERSSON_COMPILED=off``), the numpy path runs.
+Below :data:`MIN_WORK` (pairs x columns) numba is not imported; once built, every call of the
+process takes it. :func:`gap_rows` is also plain Python (tested on small inputs without numba).
+"""
+
+from __future__ import annotations
+
+import math
+import types
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..options import compiled_enabled
+
+__all__ = ["ANCHOR", "A_MAX", "D_MAX", "MIN_WORK", "gap_rows", "kernel", "uniform_from_zero"]
+
+#: (pair, column) elements below which the numpy path runs until the kernel is built.
+MIN_WORK = 2_000_000
+#: Columns between exact restarts of the recurrence.
+ANCHOR = 16
+#: Largest centre ``u1/h`` [1] and grid step ``du/h`` [1] of the recurrence; beyond, direct.
+A_MAX = 50.0
+D_MAX = 0.5
+
+_STATE: dict[str, Any] = {}
+
+
+def kernel(work: float) -> Callable[..., None] | None:
+    """The compiled :func:`gap_rows`, or None: the option is off, numba is missing, or
+    ``work`` [elements] is below :data:`MIN_WORK` and the kernel is not built yet."""
+    if not compiled_enabled() or (work < MIN_WORK and "fn" not in _STATE):
+        return None
+    if "fn" not in _STATE:
+        _STATE["fn"] = _build()
+    return _STATE["fn"]  # type: ignore[no-any-return]
+
+
+def _build() -> Callable[..., None] | None:
+    try:
+        import numba
+    except ImportError:
+        return None
+    jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+    scope = {**globals(), "_direct": jit(_direct)}
+    return jit(types.FunctionType(gap_rows.__code__, scope, "gap_rows"))  # type: ignore[no-any-return]
+
+
+def uniform_from_zero(u: NDArray[np.float64]) -> bool:
+    """Whether ``u`` (1-D) is ``0, du, 2 du, ...`` (``np.linspace(0, u_max, n)``) to 1e-12."""
+    if u.ndim != 1 or u.size < 2 or u[0] != 0.0 or not u[-1] > 0.0:
+        return False
+    du = u[-1] / (u.size - 1)
+    return bool(np.all(np.abs(u - du * np.arange(u.size)) <= 1e-12 * u[-1]))
+
+
+def _direct(out: Any, load: int, j0: int, j1: int, row: Any, a: float, w: float) -> None:
+    """``out[load, j] += w e^{-(b - a)^2/2} (1 + e^{-2ab})`` on the columns ``[j0, j1)`` (the
+    numpy path's arithmetic; exactly 0 below an exponent of -746, the mirror factor exactly 1
+    where ``e^{-2ab} < 2^-54``)."""
+    for j in range(j0, j1):
+        b = row[j]
+        d = b - a
+        x = -0.5 * (d * d)
+        if x <= -746.0:
+            continue
+        e = math.exp(x)
+        y = b * (-2.0 * a)
+        if y > -38.0:
+            e = e * (math.exp(max(y, -708.0)) + 1.0)
+        out[load, j] += e * w
+
+
+def gap_rows(
+    ls: Any, ks: Any, a: Any, w: Any, u_h: Any, out: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``out[l] += w_p [N(b; a_p) + N(b; -a_p)]`` (unit Gaussians of ``b = u_h[k_p]``) for every
+    pair ``p = (l, k)``: ``u_h`` (n_bin, n_u) is ``u/h_k`` on a uniform grid from 0; ``a >= 0``
+    and ``w`` finite."""
+    n_u = u_h.shape[1]
+    for p in range(ls.size):
+        load, ap, wp = ls[p], a[p], w[p]
+        row = u_h[ks[p]]
+        delta = row[1] - row[0]
+        if ap > A_MAX or not delta <= D_MAX:  # narrow or far out: its band only, directly
+            lo, hi = 0, n_u
+            if delta > 0.0:
+                lo = int(max(0.0, (ap - 39.0) / delta - 1.0))
+                hi = int(min(float(n_u), (ap + 39.0) / delta + 2.0))
+            _direct(out, load, lo, hi, row, ap, wp)
+            continue
+        j0 = 0
+        while j0 < n_u:
+            j1 = min(j0 + ANCHOR, n_u)
+            b0 = row[j0]
+            dp, dm = b0 - ap, b0 + ap
+            xp, xm = -0.5 * (dp * dp), -0.5 * (dm * dm)
+            if dp < 0.0 and xp < -700.0:  # far left of the centre: rising from underflow
+                _direct(out, load, j0, j1, row, ap, wp)
+                j0 = j1
+                continue
+            if xp <= -746.0:  # right of the centre, both terms 0 from here on
+                break
+            gp = math.exp(xp)
+            gm = math.exp(xm) if xm > -746.0 else 0.0
+            step = (row[j1 - 1] - b0) / (j1 - 1 - j0) if j1 - 1 > j0 else delta
+            half = 0.5 * (step * step)
+            rp, rm, c = math.exp(-step * dp - half), math.exp(-step * dm - half), math.exp(-2 * half)
+            for j in range(j0, j1):
+                out[load, j] += (gp + gm) * wp
+                gp *= rp
+                rp *= c
+                gm *= rm
+                rm *= c
+            j0 = j1
