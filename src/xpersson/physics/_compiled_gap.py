@@ -1,4 +1,8 @@
-"""Optional compiled sum of the gap distribution's Gaussians (numba), within 1e-12 of numpy.
+"""Optional compiled kernels of the gap distribution (numba), within 1e-12 of the numpy path.
+
+Two loops over (load, bin, node) tensors that numpy runs as many passes over memory: the sum of
+the gap distribution's Gaussians (:func:`gap_rows`) and the sub-problem mean gaps of the
+detachment bins (:func:`sub_sums`, bit for bit the numpy path).
 
 :func:`~xpersson.physics.gap_pdf` sums, per load, ``w [N(u; u1, h) + N(u; -u1, h)]`` over the
 detached-area bins on the output grid of separations (256 points by default): at 1e4 loads and
@@ -23,7 +27,13 @@ numba is an optional accelerator (``pip install numba``, the ``fast`` extra), as
 compiled march (:mod:`xpersson.engine._compiled`): without it, or with
 ``xpersson.set_options(compiled=False)`` (``XPERSSON_COMPILED=off``), the numpy path runs.
 Below :data:`MIN_WORK` (pairs x columns) numba is not imported; once built, every call of the
-process takes it. :func:`gap_rows` is also plain Python (tested on small inputs without numba).
+process takes it. The kernels are also plain Python (tested on small inputs without numba).
+
+:func:`sub_sums` is ``sum_m kern[e, m] Phi_l(ln tau_c[e, m] + ln A_le^2)`` of
+:func:`~xpersson.physics._subgap._sub_mean_gap` (cut-offs shared by every load): the look-up of
+:meth:`~xpersson.physics._phi._Phi.at_log_tau_per_load` element by element, in the same
+operations, and the sum over the nodes in numpy's pairwise order (:func:`_pairwise`): the same
+bits, in one pass without the (loads, edges, nodes) temporaries.
 """
 
 from __future__ import annotations
@@ -38,7 +48,9 @@ from numpy.typing import NDArray
 
 from ..options import compiled_enabled
 
-__all__ = ["ANCHOR", "A_MAX", "D_MAX", "MIN_WORK", "gap_rows", "kernel", "uniform_from_zero"]
+__all__ = [
+    "ANCHOR", "A_MAX", "D_MAX", "MIN_WORK", "PAIRWISE", "gap_rows", "kernel", "sub_sums", "uniform_from_zero",
+]
 
 #: (pair, column) elements below which the numpy path runs until the kernel is built.
 MIN_WORK = 2_000_000
@@ -47,28 +59,35 @@ ANCHOR = 16
 #: Largest centre ``u1/h`` [1] and grid step ``du/h`` [1] of the recurrence; beyond, direct.
 A_MAX = 50.0
 D_MAX = 0.5
+#: Largest number of nodes summed by :func:`sub_sums` (numpy's pairwise sum splits beyond).
+PAIRWISE = 128
 
 _STATE: dict[str, Any] = {}
 
 
-def kernel(work: float) -> Callable[..., None] | None:
-    """The compiled :func:`gap_rows`, or None: the option is off, numba is missing, or
-    ``work`` [elements] is below :data:`MIN_WORK` and the kernel is not built yet."""
-    if not compiled_enabled() or (work < MIN_WORK and "fn" not in _STATE):
+def kernel(work: float, name: str = "gap_rows") -> Callable[..., Any] | None:
+    """The compiled kernel ``name`` (:func:`gap_rows` or :func:`sub_sums`), or None: the option
+    is off, numba is missing, or ``work`` [elements] is below :data:`MIN_WORK` and the kernels
+    are not built yet."""
+    if not compiled_enabled() or (work < MIN_WORK and "fns" not in _STATE):
         return None
-    if "fn" not in _STATE:
-        _STATE["fn"] = _build()
-    return _STATE["fn"]  # type: ignore[no-any-return]
+    if "fns" not in _STATE:
+        _STATE["fns"] = _build()
+    fns = _STATE["fns"]
+    return None if fns is None else fns[name]
 
 
-def _build() -> Callable[..., None] | None:
+def _build() -> dict[str, Callable[..., Any]] | None:
     try:
         import numba
     except ImportError:
         return None
     jit = numba.njit(cache=True, nogil=True, error_model="numpy")
-    scope = {**globals(), "_direct": jit(_direct)}
-    return jit(types.FunctionType(gap_rows.__code__, scope, "gap_rows"))  # type: ignore[no-any-return]
+    scope = {**globals(), "_direct": jit(_direct), "_pairwise": jit(_pairwise)}
+    return {
+        name: jit(types.FunctionType(fn.__code__, scope, name))
+        for name, fn in (("gap_rows", gap_rows), ("sub_sums", sub_sums))
+    }
 
 
 def uniform_from_zero(u: NDArray[np.float64]) -> bool:
@@ -138,3 +157,73 @@ def gap_rows(
                 gm *= rm
                 rm *= c
             j0 = j1
+
+
+def _pairwise(a: Any, n: int) -> float:
+    """``a[:n].sum()`` in numpy's order for a contiguous axis of ``n <= PAIRWISE`` elements
+    (8 accumulators): bit for bit ``np.sum``."""
+    if n < 8:
+        r = 0.0
+        for i in range(n):
+            r += a[i]
+        return r
+    r0, r1, r2, r3, r4, r5, r6, r7 = a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]
+    i = 8
+    while i < n - n % 8:
+        r0 += a[i]
+        r1 += a[i + 1]
+        r2 += a[i + 2]
+        r3 += a[i + 3]
+        r4 += a[i + 4]
+        r5 += a[i + 5]
+        r6 += a[i + 6]
+        r7 += a[i + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < n:
+        res += a[i]
+        i += 1
+    return res
+
+
+def sub_sums(
+    log_tc: Any, kern: Any, log_a2: Any, need: Any, out: Any, table: Any, grid: Any, lo: int,
+    tau1: float, phi1: Any,
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``out[l, e] = sum_m kern[e, m] Phi_l(log_tc[e, m] + log_a2[l, e])`` where ``need[l, e]``.
+
+    ``table`` (n_grid - lo, n_load) and ``grid``: ``Phi``'s look-up table (``_Phi._table``)
+    and ``lo`` its first kept node; ``tau1`` and ``phi1`` (n_load,): the linear first interval.
+    ``log_a2`` finite or ``-inf`` (no NaN).
+    """
+    n_load, n_edge = log_a2.shape
+    m = log_tc.shape[1]
+    flat = table.ravel()
+    n = grid.size
+    g0, inv_dg = grid[0], 1.0 / (grid[1] - grid[0])
+    top = n - 1.000001
+    log_tau1 = math.log(tau1)
+    vals = np.empty(m)
+    for r in range(n_load):
+        p1 = phi1[r]
+        for e in range(n_edge):
+            if not need[r, e]:
+                continue
+            la = log_a2[r, e]
+            for k in range(m):
+                x = log_tc[e, k] + la
+                if x < log_tau1:  # the linear first interval (0 where Phi_1 = 0)
+                    v = 0.0
+                    if p1 != 0.0:
+                        t = math.exp(x) if x > -746.0 else 0.0
+                        t /= tau1
+                        v = min(max(t, 0.0), 1.0) * p1
+                else:
+                    u = min(max((x - g0) * inv_dg, lo), top)
+                    i = int(u)
+                    u -= i
+                    j = (i - lo) * n_load + r
+                    v0 = flat[j]
+                    v = (flat[j + n_load] - v0) * u + v0
+                vals[k] = v * kern[e, k]
+            out[r, e] = _pairwise(vals, m)
