@@ -10,8 +10,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf
 
-from ._compiled_gap import kernel as _compiled_kernel
-from ._compiled_gap import uniform_from_zero
+from ._compiled import kernel as _compiled_kernel
+from ._compiled import uniform_from_zero
 from ._curve import _TINY
 from ._fasterf import ERF_DIFF_B, erf_diff_coefficients, erf_nonneg, fast_erf
 from ._fastnum import _BLOCK, _EXP_LO, _exp
@@ -207,7 +207,7 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
 def _compiled_pdf(
     det: Detachment, u: NDArray, u_h: NDArray, inv_h: NDArray, weight: NDArray
 ) -> NDArray[np.float64] | None:
-    """:func:`gap_pdf` by the compiled recurrence (:mod:`._compiled_gap`), or None where it
+    """:func:`gap_pdf` by the compiled recurrence (:mod:`._compiled`), or None where it
     does not apply (grid not uniform from 0, non-finite or negative terms, kernel off)."""
     if not uniform_from_zero(u):
         return None

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._compiled_gap import PAIRWISE, kernel
+from ._compiled import PAIRWISE, kernel
 from ._curve import _delta_I3, _gauss
 from ._fastnum import _block
 from ._phi import _Phi
@@ -103,7 +103,7 @@ def _sub_mean_gap(
         out = phi.sums_at_log_tau(log_tc[0], kern[0])
     else:
         out = np.empty(shape[:-1])
-    if _compiled(phi, log_tc, kern, log_a2, need, out):
+    if _compiled_sums(phi, log_tc, kern, log_a2, need, out):
         return math.pi * out
     log_tc, log_a2 = np.broadcast_to(log_tc, shape), np.broadcast_to(log_a2, shape)
     kern = np.broadcast_to(kern, shape)
@@ -126,7 +126,7 @@ def _sub_mean_gap(
     return math.pi * out
 
 
-def _compiled(
+def _compiled_sums(
     phi: _Phi,
     log_tc: NDArray[np.float64],
     kern: NDArray[np.float64],
@@ -135,9 +135,9 @@ def _compiled(
     out: NDArray[np.float64],
 ) -> bool:
     """The per-load sums of :func:`_sub_mean_gap` (cut-offs shared by every load) written into
-    ``out`` by the compiled :func:`~._compiled_gap.sub_sums` (bit for bit the loop below);
+    ``out`` by the compiled :func:`~._compiled.sub_sums` (bit for bit the loop below);
     False where it does not apply (no table, per-load cut-offs, NaN areas, more than
-    :data:`~._compiled_gap.PAIRWISE` nodes, kernel off)."""
+    :data:`~._compiled.PAIRWISE` nodes, kernel off)."""
     if not phi.has_table or log_tc.shape[0] != 1 or kern.shape[0] != 1 or log_a2.ndim != 3:
         return False
     if log_tc.shape[-1] > PAIRWISE:

@@ -1,8 +1,10 @@
 """Optional compiled kernels of the gap distribution (numba), within 1e-12 of the numpy path.
 
-Two loops over (load, bin, node) tensors that numpy runs as many passes over memory: the sum of
-the gap distribution's Gaussians (:func:`gap_rows`) and the sub-problem mean gaps of the
-detachment bins (:func:`sub_sums`, bit for bit the numpy path).
+Loops over (load, bin, node) tensors that numpy runs as many passes over memory: the sum of
+the gap distribution's Gaussians (:func:`gap_rows`), the sub-problem mean gaps of the
+detachment bins (:func:`sub_sums`), and the many cubic splines on shared knots of the solved
+curve and ``Phi`` (:func:`spline_rhs`, :func:`spline_coefficients`, :func:`spline_values`:
+the same operations in the same order as :mod:`._fastnum`, bit for bit).
 
 :func:`~xpersson.physics.gap_pdf` sums, per load, ``w [N(u; u1, h) + N(u; -u1, h)]`` over the
 detached-area bins on the output grid of separations (256 points by default): at 1e4 loads and
@@ -49,7 +51,18 @@ from numpy.typing import NDArray
 from ..options import compiled_enabled
 
 __all__ = [
-    "ANCHOR", "A_MAX", "D_MAX", "MIN_WORK", "PAIRWISE", "gap_rows", "kernel", "sub_sums", "uniform_from_zero",
+    "ANCHOR",
+    "A_MAX",
+    "D_MAX",
+    "MIN_WORK",
+    "PAIRWISE",
+    "gap_rows",
+    "kernel",
+    "spline_coefficients",
+    "spline_rhs",
+    "spline_values",
+    "sub_sums",
+    "uniform_from_zero",
 ]
 
 #: (pair, column) elements below which the numpy path runs until the kernel is built.
@@ -84,10 +97,8 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         return None
     jit = numba.njit(cache=True, nogil=True, error_model="numpy")
     scope = {**globals(), "_direct": jit(_direct), "_pairwise": jit(_pairwise)}
-    return {
-        name: jit(types.FunctionType(fn.__code__, scope, name))
-        for name, fn in (("gap_rows", gap_rows), ("sub_sums", sub_sums))
-    }
+    fns = (gap_rows, sub_sums, spline_rhs, spline_coefficients, spline_values)
+    return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 
 
 def uniform_from_zero(u: NDArray[np.float64]) -> bool:
@@ -227,3 +238,64 @@ def sub_sums(
                     v = (flat[j + n_load] - v0) * u + v0
                 vals[k] = v * kern[e, k]
             out[r, e] = _pairwise(vals, m)
+
+
+def spline_rhs(
+    y: Any, dx: Any, d0: float, d1: float, slope: Any, b: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """The secants and right-hand sides of :func:`~._fastnum._row_slopes` (not-a-knot ends).
+
+    ``y`` (n_row, n) the data, ``dx`` (n - 1,) the knot steps, ``d0 = x[2] - x[0]`` and
+    ``d1 = x[-1] - x[-3]``; written: ``slope`` (n - 1, n_row) and ``b`` (n, n_row) (any
+    layout), the operations of the numpy form in its order.
+    """
+    n_row, n = y.shape
+    for r in range(n_row):
+        for i in range(n - 1):
+            slope[i, r] = (y[r, i + 1] - y[r, i]) / dx[i]
+        for i in range(1, n - 1):
+            b[i, r] = (dx[i] * slope[i - 1, r] + dx[i - 1] * slope[i, r]) * 3.0
+        b[0, r] = ((dx[0] + 2.0 * d0) * dx[1] * slope[0, r] + dx[0] ** 2 * slope[1, r]) / d0
+        b[n - 1, r] = (
+            dx[n - 2] ** 2 * slope[n - 3, r] + (2.0 * d1 + dx[n - 2]) * dx[n - 3] * slope[n - 2, r]
+        ) / d1
+
+
+def spline_coefficients(
+    y: Any, dx: Any, slope: Any, sl: Any, c: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """The Hermite coefficients ``c`` (4, n - 1, n_row) of :func:`~._fastnum._row_spline` from
+    the data ``y`` (n_row, n), the steps ``dx`` (n - 1,), the secants and the slopes ``sl`` at
+    the knots (n, n_row, any layout)."""
+    n_row = y.shape[0]
+    for i in range(dx.size):
+        h = dx[i]
+        for r in range(n_row):
+            t = sl[i, r] + sl[i + 1, r]
+            t -= 2.0 * slope[i, r]
+            t /= h
+            c[0, i, r] = t / h
+            c[1, i, r] = (slope[i, r] - sl[i, r]) / h - t
+            c[2, i, r] = sl[i, r]
+            c[3, i, r] = y[r, i]
+
+
+def spline_values(
+    c: Any, k: Any, s: Any, out: Any, transposed: bool
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``max(spline, 0)`` of :func:`~._fastnum._ppoly_at`: at the points of intervals ``k``
+    and local abscissae ``s``, ``out[row, point]`` (or ``out[point, row]`` when
+    ``transposed``), PPoly's operations in its order."""
+    n_row = c.shape[2]
+    for p in range(k.size):
+        i, sp = k[p], s[p]
+        z = sp * sp
+        z3 = z * sp
+        for r in range(n_row):
+            v = c[2, i, r] * sp + c[3, i, r] + c[1, i, r] * z + c[0, i, r] * z3
+            if not v > 0.0 and v == v:  # np.maximum(v, 0.0): +0.0 for -0.0, NaN kept
+                v = 0.0
+            if transposed:
+                out[p, r] = v
+            else:
+                out[r, p] = v
