@@ -60,6 +60,7 @@ __all__ = [
     "kernel",
     "spline_coefficients",
     "spline_rhs",
+    "spline_slopes",
     "spline_values",
     "sub_sums",
     "uniform_from_zero",
@@ -97,7 +98,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         return None
     jit = numba.njit(cache=True, nogil=True, error_model="numpy")
     scope = {**globals(), "_direct": jit(_direct), "_pairwise": jit(_pairwise)}
-    fns = (gap_rows, sub_sums, spline_rhs, spline_coefficients, spline_values)
+    fns = (gap_rows, sub_sums, spline_rhs, spline_slopes, spline_coefficients, spline_values)
     return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 
 
@@ -241,33 +242,88 @@ def sub_sums(
 
 
 def spline_rhs(
-    y: Any, dx: Any, d0: float, d1: float, slope: Any, b: Any
+    yt: Any, dx: Any, d0: float, d1: float, slope: Any, b: Any
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
     """The secants and right-hand sides of :func:`~._fastnum._row_slopes` (not-a-knot ends).
 
-    ``y`` (n_row, n) the data, ``dx`` (n - 1,) the knot steps, ``d0 = x[2] - x[0]`` and
-    ``d1 = x[-1] - x[-3]``; written: ``slope`` (n - 1, n_row) and ``b`` (n, n_row) (any
-    layout), the operations of the numpy form in its order.
+    ``yt`` (n, n_row) the data by knot, ``dx`` (n - 1,) the knot steps, ``d0 = x[2] - x[0]``
+    and ``d1 = x[-1] - x[-3]``; written: ``slope`` (n - 1, n_row) and ``b`` (n, n_row), the
+    operations of the numpy form in its order.
     """
-    n_row, n = y.shape
-    for r in range(n_row):
-        for i in range(n - 1):
-            slope[i, r] = (y[r, i + 1] - y[r, i]) / dx[i]
-        for i in range(1, n - 1):
+    n, n_row = yt.shape
+    for i in range(n - 1):
+        for r in range(n_row):
+            slope[i, r] = (yt[i + 1, r] - yt[i, r]) / dx[i]
+    for i in range(1, n - 1):
+        for r in range(n_row):
             b[i, r] = (dx[i] * slope[i - 1, r] + dx[i - 1] * slope[i, r]) * 3.0
-        b[0, r] = ((dx[0] + 2.0 * d0) * dx[1] * slope[0, r] + dx[0] ** 2 * slope[1, r]) / d0
-        b[n - 1, r] = (
-            dx[n - 2] ** 2 * slope[n - 3, r] + (2.0 * d1 + dx[n - 2]) * dx[n - 3] * slope[n - 2, r]
-        ) / d1
+    e0 = (dx[0] + 2.0 * d0) * dx[1]
+    e1 = (2.0 * d1 + dx[n - 2]) * dx[n - 3]
+    for r in range(n_row):
+        b[0, r] = (e0 * slope[0, r] + dx[0] ** 2 * slope[1, r]) / d0
+        b[n - 1, r] = (dx[n - 2] ** 2 * slope[n - 3, r] + e1 * slope[n - 2, r]) / d1
+
+
+def spline_slopes(
+    dl: Any, d: Any, du: Any, b: Any
+) -> int:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """LAPACK ``dgtsv`` (as scipy's ``solve_banded`` for one sub- and super-diagonal calls it)
+    on the columns of ``b`` (n, n_rhs; C order: the right-hand sides along the rows), in place,
+    with ``dl``, ``d``, ``du`` (overwritten): the factors once, then every right-hand side
+    with dgtsv's operations, each column's in its order. Returns
+    ``info`` (0, or the index of a zero pivot: ``b`` is then not solved)."""
+    n = d.shape[0]
+    swap = np.zeros(n, dtype=np.bool_)
+    fact = np.zeros(n)
+    for i in range(n - 1):
+        if abs(d[i]) >= abs(dl[i]):  # no row interchange
+            if d[i] == 0.0:
+                return i + 1
+            fact[i] = dl[i] / d[i]
+            d[i + 1] = d[i + 1] - fact[i] * du[i]
+            if i < n - 2:
+                dl[i] = 0.0
+        else:  # interchange rows i and i + 1
+            swap[i] = True
+            fact[i] = d[i] / dl[i]
+            d[i] = dl[i]
+            temp = d[i + 1]
+            d[i + 1] = du[i] - fact[i] * temp
+            if i < n - 2:
+                dl[i] = du[i + 1]
+                du[i + 1] = -fact[i] * dl[i]
+            du[i] = temp
+    if d[n - 1] == 0.0:
+        return n
+    m = b.shape[1]  # every right-hand side at once along the rows: no latency chains
+    for i in range(n - 1):
+        f = fact[i]
+        if swap[i]:
+            for j in range(m):
+                temp = b[i, j]
+                b[i, j] = b[i + 1, j]
+                b[i + 1, j] = temp - f * b[i + 1, j]
+        else:
+            for j in range(m):
+                b[i + 1, j] = b[i + 1, j] - f * b[i, j]
+    for j in range(m):
+        b[n - 1, j] = b[n - 1, j] / d[n - 1]
+    if n > 1:
+        for j in range(m):
+            b[n - 2, j] = (b[n - 2, j] - du[n - 2] * b[n - 1, j]) / d[n - 2]
+    for i in range(n - 3, -1, -1):
+        for j in range(m):
+            b[i, j] = (b[i, j] - du[i] * b[i + 1, j] - dl[i] * b[i + 2, j]) / d[i]
+    return 0
 
 
 def spline_coefficients(
-    y: Any, dx: Any, slope: Any, sl: Any, c: Any
+    yt: Any, dx: Any, slope: Any, sl: Any, c: Any
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
     """The Hermite coefficients ``c`` (4, n - 1, n_row) of :func:`~._fastnum._row_spline` from
-    the data ``y`` (n_row, n), the steps ``dx`` (n - 1,), the secants and the slopes ``sl`` at
-    the knots (n, n_row, any layout)."""
-    n_row = y.shape[0]
+    the data ``yt`` (n, n_row), the steps ``dx`` (n - 1,), the secants and the slopes ``sl``
+    at the knots (n, n_row)."""
+    n_row = yt.shape[1]
     for i in range(dx.size):
         h = dx[i]
         for r in range(n_row):
@@ -277,7 +333,7 @@ def spline_coefficients(
             c[0, i, r] = t / h
             c[1, i, r] = (slope[i, r] - sl[i, r]) / h - t
             c[2, i, r] = sl[i, r]
-            c[3, i, r] = y[r, i]
+            c[3, i, r] = yt[i, r]
 
 
 def spline_values(

@@ -76,9 +76,9 @@ def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
         return CubicSpline(x, y, axis=1)
     fn = kernel(y.size * 8, "spline_coefficients")
     if fn is not None:
-        dx_, slope, sl = _compiled_slopes(x, y)
+        yt, dx_, slope, sl = _compiled_slopes(x, y)
         c = np.empty((4, n - 1, y.shape[0]))
-        fn(y, dx_, slope, sl, c)
+        fn(yt, dx_, slope, sl, c)
         return PPoly.construct_fast(c, x, extrapolate=True, axis=1)
     yt, dx, slope, sl = _row_slopes(x, y)
     sl = np.ascontiguousarray(sl)  # LAPACK's (n_row, n) memory: one transposed copy, then rows
@@ -126,24 +126,26 @@ def _row_slopes(x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray
 def _compiled_slopes(
     x: NDArray[np.float64], y: NDArray[np.float64]
 ) -> tuple[NDArray[np.float64], ...]:
-    """``(dx, slope, sl)`` of :func:`_row_slopes` by the compiled :func:`~._compiled.spline_rhs`
-    (bit for bit; ``dx`` 1-D), the same banded solve."""
-    from scipy.linalg import solve_banded
-
+    """``(y.T, dx, slope, sl)`` of :func:`_row_slopes` by the compiled kernels of
+    :mod:`._compiled` (bit for bit; ``dx`` 1-D): the same system, solved by dgtsv's own
+    elimination."""
     n = x.size
     dx = np.diff(x)
-    ab = np.zeros((3, n))
-    ab[1, 1:-1] = 2.0 * (dx[:-1] + dx[1:])
-    ab[0, 2:] = dx[:-1]
-    ab[2, :-2] = dx[1:]
+    dl, d, du = np.empty(n - 1), np.empty(n), np.empty(n - 1)  # sub-, main, super-diagonal
+    d[1:-1] = 2.0 * (dx[:-1] + dx[1:])
+    dl[:-1], du[1:] = dx[1:], dx[:-1]
     d0, d1 = x[2] - x[0], x[-1] - x[-3]
-    ab[1, 0], ab[0, 1] = dx[1], d0
-    ab[1, -1], ab[2, -2] = dx[-2], d1
+    d[0], du[0] = dx[1], d0
+    d[-1], dl[-1] = dx[-2], d1
     slope = np.empty((n - 1, y.shape[0]))
-    b = np.empty((y.shape[0], n)).T  # Fortran order: LAPACK solves it in place
-    kernel(0, "spline_rhs")(np.ascontiguousarray(y), dx, float(d0), float(d1), slope, b)  # type: ignore[misc]
-    sl = solve_banded((1, 1), ab, b, overwrite_ab=True, overwrite_b=True, check_finite=False)
-    return dx, slope, sl
+    b = np.empty((n, y.shape[0]))  # the right-hand sides along the rows
+    yt = np.ascontiguousarray(y.T)  # (n, n_row)
+    kernel(0, "spline_rhs")(yt, dx, float(d0), float(d1), slope, b)  # type: ignore[misc]
+    if kernel(0, "spline_slopes")(dl, d, du, b):  # type: ignore[misc]
+        from numpy.linalg import LinAlgError
+
+        raise LinAlgError("singular matrix")
+    return yt, dx, slope, b
 
 
 def _ppoly_at(
