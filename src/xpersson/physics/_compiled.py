@@ -56,6 +56,8 @@ __all__ = [
     "D_MAX",
     "MIN_WORK",
     "PAIRWISE",
+    "df_poly",
+    "df_sums",
     "gap_rows",
     "kernel",
     "spline_coefficients",
@@ -98,7 +100,16 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         return None
     jit = numba.njit(cache=True, nogil=True, error_model="numpy")
     scope = {**globals(), "_direct": jit(_direct), "_pairwise": jit(_pairwise)}
-    fns = (gap_rows, sub_sums, spline_rhs, spline_slopes, spline_coefficients, spline_values)
+    fns = (
+        gap_rows,
+        sub_sums,
+        spline_rhs,
+        spline_slopes,
+        spline_coefficients,
+        spline_values,
+        df_poly,
+        df_sums,
+    )
     return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 
 
@@ -355,3 +366,44 @@ def spline_values(
                 out[p, r] = v
             else:
                 out[r, p] = v
+
+
+def df_poly(
+    c: Any, jb: int, k0: int, d: Any, y: Any, dy: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``ln(1 - F)`` (clipped at 0 from above) and its slope (at 0 from below) at the Stieltjes
+    nodes of :meth:`~._curve._Curve._dF_blocks`, the operations of its numpy form in order.
+
+    ``c`` (4, n_int, n_load): the spline's coefficients, from interval ``jb`` on and load ``k0``
+    on; ``d`` (m, n) the nodes' local abscissae; written ``y``, ``dy`` (rows, m, n).
+    """
+    rows, m, n = y.shape
+    for r in range(rows):
+        load = k0 + r
+        for a in range(m):
+            for j in range(n):
+                i = jb + j
+                c0, c1, c2, c3 = c[0, i, load], c[1, i, load], c[2, i, load], c[3, i, load]
+                x = d[a, j]
+                v = ((c0 * x + c1) * x + c2) * x + c3
+                if not v < 0.0 and v == v:  # np.minimum(v, 0.0): +0.0 for -0.0, NaN kept
+                    v = 0.0
+                y[r, a, j] = v
+                w = ((3.0 * c0) * x + 2.0 * c1) * x + c2
+                if not w > 0.0 and w == w:  # np.maximum(w, 0.0)
+                    w = 0.0
+                dy[r, a, j] = w
+
+
+def df_sums(
+    dy: Any, e: Any, w_t: Any, start: int, out: Any, k0: int
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``out[k0 + r, start + j] = sum_a (dy e)[r, a, j] w_t[a, start + j]`` in the order of
+    numpy's sum over the middle axis (``dy``, ``e`` (rows, m, n))."""
+    rows, m, n = dy.shape
+    for r in range(rows):
+        for j in range(n):
+            t = (dy[r, 0, j] * e[r, 0, j]) * w_t[0, start + j]
+            for a in range(1, m):
+                t += (dy[r, a, j] * e[r, a, j]) * w_t[a, start + j]
+            out[k0 + r, start + j] = t
