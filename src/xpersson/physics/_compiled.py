@@ -215,13 +215,12 @@ def sub_sums(
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
     """``out[l, e] = sum_m kern[e, m] Phi_l(log_tc[e, m] + log_a2[l, e])`` where ``need[l, e]``.
 
-    ``table`` (n_grid - lo, n_load) and ``grid``: ``Phi``'s look-up table (``_Phi._table``)
-    and ``lo`` its first kept node; ``tau1`` and ``phi1`` (n_load,): the linear first interval.
+    ``table`` (n_load, n_grid - lo) and ``grid``: ``Phi``'s look-up table by load
+    (``_Phi.table_by_load``) and ``lo`` its first kept node; ``tau1`` and ``phi1`` (n_load,): the linear first interval.
     ``log_a2`` finite or ``-inf`` (no NaN).
     """
     n_load, n_edge = log_a2.shape
     m = log_tc.shape[1]
-    flat = table.ravel()
     n = grid.size
     g0, inv_dg = grid[0], 1.0 / (grid[1] - grid[0])
     top = n - 1.000001
@@ -245,9 +244,8 @@ def sub_sums(
                     u = min(max((x - g0) * inv_dg, lo), top)
                     i = int(u)
                     u -= i
-                    j = (i - lo) * n_load + r
-                    v0 = flat[j]
-                    v = (flat[j + n_load] - v0) * u + v0
+                    v0 = table[r, i - lo]
+                    v = (table[r, i - lo + 1] - v0) * u + v0
                 vals[k] = v * kern[e, k]
             out[r, e] = _pairwise(vals, m)
 
@@ -380,10 +378,10 @@ def df_poly(
     rows, m, n = y.shape
     for r in range(rows):
         load = k0 + r
-        for a in range(m):
-            for j in range(n):
-                i = jb + j
-                c0, c1, c2, c3 = c[0, i, load], c[1, i, load], c[2, i, load], c[3, i, load]
+        for j in range(n):
+            i = jb + j
+            c0, c1, c2, c3 = c[0, i, load], c[1, i, load], c[2, i, load], c[3, i, load]
+            for a in range(m):
                 x = d[a, j]
                 v = ((c0 * x + c1) * x + c2) * x + c3
                 if not v < 0.0 and v == v:  # np.minimum(v, 0.0): +0.0 for -0.0, NaN kept
