@@ -99,7 +99,8 @@ def _build() -> dict[str, Callable[..., Any]] | None:
     except ImportError:
         return None
     jit = numba.njit(cache=True, nogil=True, error_model="numpy")
-    scope = {**globals(), "_direct": jit(_direct), "_pairwise": jit(_pairwise)}
+    helpers = (_direct, _pairwise, _gtsv_factor)
+    scope = {**globals(), **{fn.__name__: jit(fn) for fn in helpers}}
     fns = (
         gap_rows,
         sub_sums,
@@ -172,7 +173,11 @@ def gap_rows(
             gm = math.exp(xm) if xm > -746.0 else 0.0
             step = (row[j1 - 1] - b0) / (j1 - 1 - j0) if j1 - 1 > j0 else delta
             half = 0.5 * (step * step)
-            rp, rm, c = math.exp(-step * dp - half), math.exp(-step * dm - half), math.exp(-2 * half)
+            rp, rm, c = (
+                math.exp(-step * dp - half),
+                math.exp(-step * dm - half),
+                math.exp(-2 * half),
+            )
             for j in range(j0, j1):
                 out[load, j] += (gp + gm) * wp
                 gp *= rp
@@ -210,13 +215,22 @@ def _pairwise(a: Any, n: int) -> float:
 
 
 def sub_sums(
-    log_tc: Any, kern: Any, log_a2: Any, need: Any, out: Any, table: Any, grid: Any, lo: int,
-    tau1: float, phi1: Any,
+    log_tc: Any,
+    kern: Any,
+    log_a2: Any,
+    need: Any,
+    out: Any,
+    table: Any,
+    grid: Any,
+    lo: int,
+    tau1: float,
+    phi1: Any,
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
     """``out[l, e] = sum_m kern[e, m] Phi_l(log_tc[e, m] + log_a2[l, e])`` where ``need[l, e]``.
 
     ``table`` (n_load, n_grid - lo) and ``grid``: ``Phi``'s look-up table by load
-    (``_Phi.table_by_load``) and ``lo`` its first kept node; ``tau1`` and ``phi1`` (n_load,): the linear first interval.
+    (``_Phi.table_by_load``) and ``lo`` its first kept node; ``tau1`` and ``phi1`` (n_load,):
+    the linear first interval.
     ``log_a2`` finite or ``-inf`` (no NaN).
     """
     n_load, n_edge = log_a2.shape
@@ -284,26 +298,9 @@ def spline_slopes(
     n = d.shape[0]
     swap = np.zeros(n, dtype=np.bool_)
     fact = np.zeros(n)
-    for i in range(n - 1):
-        if abs(d[i]) >= abs(dl[i]):  # no row interchange
-            if d[i] == 0.0:
-                return i + 1
-            fact[i] = dl[i] / d[i]
-            d[i + 1] = d[i + 1] - fact[i] * du[i]
-            if i < n - 2:
-                dl[i] = 0.0
-        else:  # interchange rows i and i + 1
-            swap[i] = True
-            fact[i] = d[i] / dl[i]
-            d[i] = dl[i]
-            temp = d[i + 1]
-            d[i + 1] = du[i] - fact[i] * temp
-            if i < n - 2:
-                dl[i] = du[i + 1]
-                du[i + 1] = -fact[i] * dl[i]
-            du[i] = temp
-    if d[n - 1] == 0.0:
-        return n
+    info = _gtsv_factor(dl, d, du, swap, fact)
+    if info:
+        return info
     m = b.shape[1]  # every right-hand side at once along the rows: no latency chains
     for i in range(n - 1):
         f = fact[i]
@@ -324,6 +321,31 @@ def spline_slopes(
         for j in range(m):
             b[i, j] = (b[i, j] - du[i] * b[i + 1, j] - dl[i] * b[i + 2, j]) / d[i]
     return 0
+
+
+def _gtsv_factor(dl: Any, d: Any, du: Any, swap: Any, fact: Any) -> int:
+    """dgtsv's elimination of the matrix alone (:func:`spline_slopes`): the interchanges
+    ``swap`` and factors ``fact`` of every row, ``dl``, ``d``, ``du`` overwritten; ``info``."""
+    n = d.shape[0]
+    for i in range(n - 1):
+        if abs(d[i]) >= abs(dl[i]):  # no row interchange
+            if d[i] == 0.0:
+                return i + 1
+            fact[i] = dl[i] / d[i]
+            d[i + 1] = d[i + 1] - fact[i] * du[i]
+            if i < n - 2:
+                dl[i] = 0.0
+        else:  # interchange rows i and i + 1
+            swap[i] = True
+            fact[i] = d[i] / dl[i]
+            d[i] = dl[i]
+            temp = d[i + 1]
+            d[i + 1] = du[i] - fact[i] * temp
+            if i < n - 2:
+                dl[i] = du[i + 1]
+                du[i + 1] = -fact[i] * dl[i]
+            du[i] = temp
+    return n if d[n - 1] == 0.0 else 0
 
 
 def spline_coefficients(

@@ -208,7 +208,8 @@ def _compiled_pdf(
     det: Detachment, u: NDArray, u_h: NDArray, inv_h: NDArray, weight: NDArray
 ) -> NDArray[np.float64] | None:
     """:func:`gap_pdf` by the compiled recurrence (:mod:`._compiled`), or None where it
-    does not apply (grid not uniform from 0, non-finite or negative terms, kernel off)."""
+    does not apply (grid not uniform from 0, infinite or negative terms, kernel off). A NaN
+    weight or centre spoils its load's row only, as in the numpy path."""
     if not uniform_from_zero(u):
         return None
     ls, ks = pairs(weight)
@@ -218,10 +219,12 @@ def _compiled_pdf(
     with np.errstate(under="ignore", over="ignore", invalid="ignore"):
         a = np.minimum(det.u1[ls, ks] * inv_h[ks], 1e150)
     w = weight[ls, ks]
-    if not (np.all(np.isfinite(a)) and np.all(a >= 0.0) and np.all(np.isfinite(w))):
+    if np.any(np.isinf(a) | np.isinf(w) | (a < 0.0)):
         return None
+    nan = np.isnan(a) | np.isnan(w)
     out = np.zeros((weight.shape[0], u.size))
-    fn(ls, ks, a, w, np.ascontiguousarray(u_h), out)
+    fn(ls[~nan], ks[~nan], a[~nan], w[~nan], np.ascontiguousarray(u_h), out)
+    out[ls[nan]] = np.nan
     return out
 
 
