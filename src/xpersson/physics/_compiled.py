@@ -157,6 +157,9 @@ def gap_rows(
                 hi = int(min(float(n_u), (ap + 39.0) / delta + 2.0))
             _direct(out, load, lo, hi, row, ap, wp)
             continue
+        step = (row[n_u - 1] - row[0]) / (n_u - 1)  # the grid's step in b
+        half = 0.5 * (step * step)
+        c, ratio = math.exp(-2.0 * half), math.exp(-2.0 * step * ap)  # r_j+1/r_j, r-/r+
         j0 = 0
         while j0 < n_u:
             j1 = min(j0 + ANCHOR, n_u)
@@ -171,13 +174,8 @@ def gap_rows(
                 break
             gp = math.exp(xp)
             gm = math.exp(xm) if xm > -746.0 else 0.0
-            step = (row[j1 - 1] - b0) / (j1 - 1 - j0) if j1 - 1 > j0 else delta
-            half = 0.5 * (step * step)
-            rp, rm, c = (
-                math.exp(-step * dp - half),
-                math.exp(-step * dm - half),
-                math.exp(-2 * half),
-            )
+            rp = math.exp(-step * dp - half)
+            rm = rp * ratio
             for j in range(j0, j1):
                 out[load, j] += (gp + gm) * wp
                 gp *= rp
