@@ -22,8 +22,9 @@ products stays below ``ANCHOR^2`` ulps: ~1e-14 relative). Bins whose Gaussian is
 grid (``d`` > :data:`D_MAX`) or whose centre lies far out (``a = u1/h`` > :data:`A_MAX`, where the
 ``exp`` of a rounded ``b`` is itself conditioned to ``|b - a| b`` ulps) are evaluated directly,
 on their 39-width band only; so are the columns far left of a centre, where the exact value
-underflows. Measured against the numpy path on the 1e4-load design scenes: 1.1e-15 of each
-load's largest density, 1.5e-13 relative element by element (above 1e-250 of that largest).
+underflows. Measured against the numpy path: at most 6e-15 of each load's largest density
+(the 12 scenes of ``benchmarks/summary.py`` at 300 loads, the bitwise harness's scenes), and
+1.5e-13 relative element by element above 1e-250 of that largest (1e4 loads).
 
 numba is an optional accelerator (``pip install numba``, the ``fast`` extra), as the engine's
 compiled march (:mod:`xpersson.engine._compiled`): without it, or with
