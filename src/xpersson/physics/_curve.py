@@ -19,6 +19,7 @@ from ..cache import memoize
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
+from ._compiled import kernel
 from ._fastnum import _block, _exp, _exp_inplace, _row_spline
 
 _TINY = 1e-300
@@ -288,7 +289,14 @@ class _Curve:
         out = np.empty((self.n_load, weights.shape[0]))
         first = (self._nf1 / self.x[1])[:, None]  # the linear first interval
         w_t = weights.T  # (m, n_int): the blocks' layout
-        for k, start, vals in self._dF_blocks():
+        fn = kernel(self.n_load * weights.size, "df_sums")
+        for k, start, vals in self._dF_blocks(compiled=fn is not None):
+            if fn is not None:  # vals: (dy, exp(y)) of the rows, unmultiplied
+                if start:
+                    out[k, 0] = np.sum(first[k] * weights[0], axis=-1)
+                    out[k, 1:start] = 0.0
+                fn(vals[0], vals[1], np.ascontiguousarray(w_t), start, out, k.start)
+                continue
             if start:
                 out[k, 0] = np.sum(first[k] * weights[0], axis=-1)
                 out[k, 1:start] = 0.0
@@ -296,12 +304,14 @@ class _Curve:
             out[k, start:] = vals.sum(axis=1)  # in node order, as a sum over a last axis
         return out
 
-    def _dF_blocks(self) -> Any:
+    def _dF_blocks(self, compiled: bool = False) -> Any:
         """``(rows, start, dF[rows, start:])`` in cache-sized blocks of loads (see
         :meth:`dF_nodes`), each block laid out (rows, m, n_int - start): the long interval
         axis innermost (an inner axis of m = 6 nodes costs numpy a loop call per 6 values).
         For ``start > 0`` interval 0 is the linear first interval and the intervals
-        ``1 .. start - 1`` are 0 (every load of the block in full contact)."""
+        ``1 .. start - 1`` are 0 (every load of the block in full contact). ``compiled``
+        (with the spline): ``(dy, exp(y))`` unmultiplied instead of ``dF``, the polynomials by
+        :func:`~._compiled.df_poly` (the same bits)."""
         xg, _ = self.stieltjes_nodes()
         if self._spl is None:
             yield slice(0, self.n_load), 0, self.dF(xg).transpose(0, 2, 1)
@@ -318,11 +328,17 @@ class _Curve:
             jb = _first_open(dead[k])  # this block's own (later) start
             off = jb - j0
             ck = self._spl.c[:, j0 + off :, k]  # (4, n_int - 1 - jb, rows)
+            db = d[:, off:]
+            shape = (ck.shape[2], *db.shape)
+            if compiled:
+                y = buf[0, : math.prod(shape)].reshape(shape)
+                dy = buf[1, : y.size].reshape(shape)
+                kernel(0, "df_poly")(self._spl.c, jb, i, np.ascontiguousarray(db), y, dy)  # type: ignore[misc]
+                yield k, 1 + jb, (dy, _exp_inplace(y))
+                continue
             c = cbuf[: ck.size].reshape(ck.shape[2], 4, 1, ck.shape[1])
             np.copyto(c[:, :, 0, :], np.moveaxis(ck, -1, 0))
             c0, c1, c2, c3 = (c[:, j] for j in range(4))  # (rows, 1, n_int - 1 - jb)
-            db = d[:, off:]
-            shape = (c0.shape[0], *db.shape)
             y = np.multiply(c0, db, out=buf[0, : math.prod(shape)].reshape(shape))
             y += c1
             y *= db

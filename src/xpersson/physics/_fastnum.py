@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from ._compiled import kernel
+
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
@@ -72,6 +74,12 @@ def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     n = x.size
     if n < 4 or y.ndim != 2:
         return CubicSpline(x, y, axis=1)
+    fn = kernel(y.size * 8, "spline_coefficients")
+    if fn is not None:
+        yt, dx_, slope, sl = _compiled_slopes(x, y)
+        c = np.empty((4, n - 1, y.shape[0]))
+        fn(yt, dx_, slope, sl, c)
+        return PPoly.construct_fast(c, x, extrapolate=True, axis=1)
     yt, dx, slope, sl = _row_slopes(x, y)
     sl = np.ascontiguousarray(sl)  # LAPACK's (n_row, n) memory: one transposed copy, then rows
     c = np.empty((4, n - 1, yt.shape[1]))
@@ -115,6 +123,31 @@ def _row_slopes(x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[NDArray
     return yt, dx, slope, sl
 
 
+def _compiled_slopes(
+    x: NDArray[np.float64], y: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], ...]:
+    """``(y.T, dx, slope, sl)`` of :func:`_row_slopes` by the compiled kernels of
+    :mod:`._compiled` (bit for bit; ``dx`` 1-D): the same system, solved by dgtsv's own
+    elimination."""
+    n = x.size
+    dx = np.diff(x)
+    dl, d, du = np.empty(n - 1), np.empty(n), np.empty(n - 1)  # sub-, main, super-diagonal
+    d[1:-1] = 2.0 * (dx[:-1] + dx[1:])
+    dl[:-1], du[1:] = dx[1:], dx[:-1]
+    d0, d1 = x[2] - x[0], x[-1] - x[-3]
+    d[0], du[0] = dx[1], d0
+    d[-1], dl[-1] = dx[-2], d1
+    slope = np.empty((n - 1, y.shape[0]))
+    b = np.empty((n, y.shape[0]))  # the right-hand sides along the rows
+    yt = np.ascontiguousarray(y.T)  # (n, n_row)
+    kernel(0, "spline_rhs")(yt, dx, float(d0), float(d1), slope, b)  # type: ignore[misc]
+    if kernel(0, "spline_slopes")(dl, d, du, b):  # type: ignore[misc]
+        from numpy.linalg import LinAlgError
+
+        raise LinAlgError("singular matrix")
+    return yt, dx, slope, b
+
+
 def _ppoly_at(
     spl: PPoly,
     xs: NDArray[np.float64],
@@ -134,6 +167,13 @@ def _ppoly_at(
     b, c = spl.x, spl.c
     i = np.clip(np.searchsorted(b, xs, side="right") - 1, 0, b.size - 2)
     s = xs - b[i]
+    fn = kernel(c.shape[2] * xs.size, "spline_values")
+    if fn is not None and c.flags.c_contiguous:
+        res = out_t if out_t is not None else out
+        if res is None:
+            res = np.empty((c.shape[2], xs.size))
+        fn(c, i, s, res, out_t is not None)
+        return res
     if out_t is None:
         res = np.empty((c.shape[2], xs.size)) if out is None else out
     step = max(1, _SMALL // c.shape[2])

@@ -10,6 +10,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf
 
+from ._compiled import kernel as _compiled_kernel
+from ._compiled import uniform_from_zero
 from ._curve import _TINY
 from ._fasterf import ERF_DIFF_B, erf_diff_coefficients, erf_nonneg, fast_erf
 from ._fastnum import _BLOCK, _EXP_LO, _exp
@@ -142,6 +144,9 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
     with np.errstate(over="ignore", invalid="ignore"):  # u / h per bin, gathered per pair
         u_h = np.minimum(u[None, :] * inv_h[:, None], 1e150)  # (n_bin, n_u)
     weight = det.weight * inv_h / math.sqrt(2.0 * math.pi)
+    fast = _compiled_pdf(det, u, u_h, inv_h, weight)
+    if fast is not None:
+        return fast
 
     def kernel(b: NDArray, a: NDArray, plain: bool = False) -> NDArray[np.float64]:
         """``exp(-(b - a)^2/2) (1 + exp(-2 a b))``, ``b`` overwritten. ``plain``: no exponent
@@ -197,6 +202,30 @@ def gap_pdf(det: Detachment, u: ArrayLike) -> NDArray[np.float64]:
         return e
 
     return rho + windowed_sum(ls, j0, j1, rho.shape, values)
+
+
+def _compiled_pdf(
+    det: Detachment, u: NDArray, u_h: NDArray, inv_h: NDArray, weight: NDArray
+) -> NDArray[np.float64] | None:
+    """:func:`gap_pdf` by the compiled recurrence (:mod:`._compiled`), or None where it
+    does not apply (grid not uniform from 0, infinite or negative terms, kernel off). A NaN
+    weight or centre spoils its load's row only, as in the numpy path."""
+    if not uniform_from_zero(u):
+        return None
+    ls, ks = pairs(weight)
+    fn = _compiled_kernel(ls.size * u.size)
+    if fn is None:
+        return None
+    with np.errstate(under="ignore", over="ignore", invalid="ignore"):
+        a = np.minimum(det.u1[ls, ks] * inv_h[ks], 1e150)
+    w = weight[ls, ks]
+    if np.any(np.isinf(a) | np.isinf(w) | (a < 0.0)):
+        return None
+    nan = np.isnan(a) | np.isnan(w)
+    out = np.zeros((weight.shape[0], u.size))
+    fn(ls[~nan], ks[~nan], a[~nan], w[~nan], np.ascontiguousarray(u_h), out)
+    out[ls[nan]] = np.nan
+    return out
 
 
 def _erf_terms_dense(det: Detachment, u: NDArray, inv: NDArray, negligible: float) -> NDArray:

@@ -189,6 +189,19 @@ class _Phi:
             self._first_zero = bool(np.all(tab[0] == 0.0) and np.all(np.isfinite(tab[1])))
         return self._tab
 
+    def table_by_load(self) -> NDArray[np.float64]:
+        """:meth:`_table`'s values with the loads along the rows, (n_load, n_grid - lo), built
+        once (evaluated as the table, bit for bit): each load's look-ups read its own
+        contiguous row (the compiled sums of :mod:`._subgap`)."""
+        if getattr(self, "_tab_t", None) is None:
+            grid, tab = self._table()
+            lo, g0 = self._lo, self._g0
+            tab_t = np.empty((tab.shape[1], tab.shape[0]))
+            tab_t[:, : g0 - lo] = 0.0
+            _ppoly_at(self._spl, grid[g0:], out=tab_t[:, g0 - lo :])  # type: ignore[arg-type]
+            self._tab_t = tab_t
+        return self._tab_t
+
     def sums_at_log_tau(
         self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
     ) -> NDArray[np.float64]:

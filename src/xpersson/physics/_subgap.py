@@ -12,6 +12,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._compiled import PAIRWISE, kernel
 from ._curve import _delta_I3, _gauss
 from ._fastnum import _block
 from ._phi import _Phi
@@ -95,8 +96,6 @@ def _sub_mean_gap(
         # load, and their sums are one sparse product with Phi's table
         shared = np.broadcast_to(log_a2[..., 0] == 0.0, shape[:-1])
         shared = shared if shared.any() else None
-    log_tc, log_a2 = np.broadcast_to(log_tc, shape), np.broadcast_to(log_a2, shape)
-    kern = np.broadcast_to(kern, shape)
     need = where if where is not None else (None if shared is None else ~shared)
     if where is not None:
         out = np.zeros(shape[:-1])
@@ -104,6 +103,10 @@ def _sub_mean_gap(
         out = phi.sums_at_log_tau(log_tc[0], kern[0])
     else:
         out = np.empty(shape[:-1])
+    if _compiled_sums(phi, log_tc, kern, log_a2, need, out):
+        return math.pi * out
+    log_tc, log_a2 = np.broadcast_to(log_tc, shape), np.broadcast_to(log_a2, shape)
+    kern = np.broadcast_to(kern, shape)
     step = _block(math.prod(shape[1:]))
     for i in range(0, n, step):  # blocks of loads: the tensor's temporaries stay in cache
         k, c = slice(i, i + step), 0
@@ -121,6 +124,36 @@ def _sub_mean_gap(
         else:
             np.copyto(out[k, c:], vals.sum(axis=-1), where=need[k, c:])
     return math.pi * out
+
+
+def _compiled_sums(
+    phi: _Phi,
+    log_tc: NDArray[np.float64],
+    kern: NDArray[np.float64],
+    log_a2: NDArray[np.float64],
+    need: NDArray[np.bool_] | None,
+    out: NDArray[np.float64],
+) -> bool:
+    """The per-load sums of :func:`_sub_mean_gap` (cut-offs shared by every load) written into
+    ``out`` by the compiled :func:`~._compiled.sub_sums` (bit for bit the loop below);
+    False where it does not apply (no table, per-load cut-offs, NaN areas, more than
+    :data:`~._compiled.PAIRWISE` nodes, kernel off)."""
+    if not phi.has_table or log_tc.shape[0] != 1 or kern.shape[0] != 1 or log_a2.ndim != 3:
+        return False
+    if log_tc.shape[-1] > PAIRWISE:
+        return False
+    fn = kernel(out.size * log_tc.shape[-1], "sub_sums")
+    if fn is None:
+        return False
+    la2 = np.ascontiguousarray(np.broadcast_to(log_a2[..., 0], out.shape))
+    if np.isnan(la2).any():
+        return False
+    grid = phi._table()[0]
+    table = phi.table_by_load()
+    mask = np.ones(out.shape, dtype=bool) if need is None else np.ascontiguousarray(need)
+    tc, kn = np.ascontiguousarray(log_tc[0]), np.ascontiguousarray(kern[0])
+    fn(tc, kn, la2, mask, out, table, grid, phi._lo, phi.tau1, np.ascontiguousarray(phi.phi[:, 1]))
+    return True
 
 
 def _sub_pairs(

@@ -1,0 +1,174 @@
+"""The compiled kernels of the interface physics (:mod:`xpersson.physics._compiled`).
+
+Each kernel's Python source is the algorithm (run here as plain Python, without numba, on small
+inputs); with numba installed the compiled kernels are tested too. The spline, sub-problem and
+Stieltjes kernels give the numpy path's bits; the gap distribution's recurrence is within 1e-12
+of each load's largest density.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.linalg.lapack import dgtsv
+
+import xpersson
+from xpersson.physics import _compiled, _curve, _fastnum, _gap_distribution, _subgap
+from xpersson.physics._gap_distribution import Detachment, gap_pdf
+
+SCENE = {
+    "spectrum": {"model": "self_affine", "H": 0.7, "q_L": "1e3 1/m", "q_r": "3e3 1/m",
+                 "q_1": "1e7 1/m", "h_rms": "1 um"},
+    "material": {"E": "10 MPa", "nu": 0.5},
+    "load": {"p0": {"start": "1 kPa", "stop": "1 MPa", "num": 3}},
+    "output": {"zeta": [float(z) for z in np.geomspace(1.0, 1e4, 30)]},
+}  # fmt: skip
+ANALYSES = {"gap_pdf": {"u_points": 64}, "leakage": {}, "mean_gap": {}, "contact_stiffness": {}}
+
+
+def _plain(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """Every module's kernel look-up answered by the plain-Python kernels; the names asked."""
+    asked: list[str] = []
+
+    def kernel(work: float, name: str = "gap_rows"):
+        asked.append(name)
+        return getattr(_compiled, name)
+
+    for mod, attr in (
+        (_gap_distribution, "_compiled_kernel"),
+        (_subgap, "kernel"),
+        (_fastnum, "kernel"),
+        (_curve, "kernel"),
+    ):
+        monkeypatch.setattr(mod, attr, kernel)
+    return asked
+
+
+def _assert_close(ref, got) -> None:
+    """Every float output: the same bits, gap_pdf within 1e-12 of each load's largest."""
+    for name, var in ref.data_vars.items():
+        if var.dtype.kind != "f":
+            continue
+        a, b = var.values, got[name].values
+        if name == "gap_pdf":
+            scale = np.max(np.abs(a), axis=-1, keepdims=True)
+            assert np.all(np.abs(b - a) <= 1e-12 * scale), name
+        else:
+            np.testing.assert_array_equal(b, a, err_msg=name)
+
+
+def test_plain_kernels_give_the_numpy_results(monkeypatch):
+    """The interface chain of gap_pdf (splines, Phi, sub-problem sums, Stieltjes sums, gap sum)
+    run through the kernels' Python form: the numpy path's outputs."""
+    scene = {**SCENE, "analyses": {"gap_pdf": {"u_points": 16}}}
+    scene["load"] = {"p0": ["3 kPa", "300 kPa"]}
+    with xpersson.set_options(compiled=False, cache=False):
+        ref = xpersson.solve(scene)
+    asked = _plain(monkeypatch)
+    with xpersson.set_options(cache=False):
+        got = xpersson.solve(scene)
+    assert {"gap_rows", "sub_sums", "spline_coefficients", "spline_values", "df_sums"} <= set(asked)
+    _assert_close(ref, got)
+
+
+def test_compiled_kernels_give_the_numpy_results(monkeypatch):
+    pytest.importorskip("numba")
+    monkeypatch.setattr(_compiled, "MIN_WORK", 0)
+    scene = {**SCENE, "analyses": ANALYSES}
+    with xpersson.set_options(compiled=False, cache=False):
+        ref = xpersson.solve(scene)
+    with xpersson.set_options(cache=False):
+        assert _compiled.kernel(1.0) is not None
+        got = xpersson.solve(scene)
+    _assert_close(ref, got)
+
+
+def _detachment(rng: np.random.Generator) -> Detachment:
+    """Bins on every branch of the recurrence: wide and narrow Gaussians (``du/h`` below and
+    above D_MAX), centres near the wall, far left of the grid's start (rising from underflow)
+    and beyond A_MAX, zero weights."""
+    n_load, h = 4, np.array([2e-6, 1e-6, 3e-7, 1e-7, 2e-8, 1e-9])
+    u1 = rng.uniform(0.0, 3e-6, (n_load, h.size))
+    u1[0, 2] = 44 * h[2]  # centre 44 widths out: the first columns underflow
+    u1[1, 3] = 60 * h[3]  # beyond A_MAX: direct band
+    u1[2, 0] = 0.0
+    w = rng.uniform(0.0, 0.1, (n_load, h.size))
+    w[3, 1] = 0.0
+    z = np.geomspace(1.0, 10.0, h.size + 1)
+    area = np.ones((n_load, z.size))
+    return Detachment(np.ones(n_load), z, area, area, w, u1, h, 2e-6)
+
+
+@pytest.mark.parametrize("points", [2, 17, 200])
+def test_gap_rows_recurrence_matches_the_exp_form(points):
+    det = _detachment(np.random.default_rng(points))
+    u = np.linspace(0.0, 8e-6, points)
+    with xpersson.set_options(compiled=False):
+        ref = gap_pdf(det, u)
+    inv_h = 1.0 / det.h
+    u_h = np.minimum(u[None, :] * inv_h[:, None], 1e150)
+    weight = det.weight * inv_h / math.sqrt(2.0 * math.pi)
+    ls, ks = np.nonzero(weight)
+    out = np.zeros_like(ref)
+    _compiled.gap_rows(ls, ks, det.u1[ls, ks] * inv_h[ks], weight[ls, ks], u_h, out)
+    scale = np.max(np.abs(ref), axis=1, keepdims=True)
+    assert np.all(np.abs(out - ref) <= 1e-12 * scale)
+    big = ref > 1e-250 * scale  # element by element where the density is not round-off
+    assert np.all(np.abs(out - ref)[big] <= 1e-12 * ref[big])
+
+
+def test_uniform_grid_test():
+    assert _compiled.uniform_from_zero(np.linspace(0.0, 3e-6, 256))
+    assert not _compiled.uniform_from_zero(np.geomspace(1e-9, 1.0, 50))
+    assert not _compiled.uniform_from_zero(np.linspace(1e-9, 1.0, 50))
+    assert not _compiled.uniform_from_zero(np.zeros(4))
+
+
+@pytest.mark.parametrize("dominant", [True, False])
+def test_spline_slopes_is_lapack_dgtsv_on_every_column(dominant):
+    """With and without row interchanges, several right-hand sides at once: LAPACK's bits."""
+    rng = np.random.default_rng(7 + dominant)
+    n = 9
+    dl, du = rng.normal(size=n - 1), rng.normal(size=n - 1)
+    d = rng.normal(size=n) + (4.0 * np.sign(rng.normal(size=n)) if dominant else 0.0)
+    b = rng.normal(size=(n, 5))
+    *_, ref, info = dgtsv(dl.copy(), d.copy(), du.copy(), b.copy(order="F"))
+    x = b.copy()
+    assert _compiled.spline_slopes(dl.copy(), d.copy(), du.copy(), x) == info == 0
+    np.testing.assert_array_equal(x, ref)
+
+
+def test_spline_slopes_reports_a_zero_pivot():
+    dl, d, du = np.zeros(2), np.array([0.0, 1.0, 1.0]), np.ones(2)
+    assert _compiled.spline_slopes(dl, d, du, np.ones((3, 2))) == 1
+
+
+def test_pairwise_is_numpys_sum():
+    rng = np.random.default_rng(3)
+    for n in (1, 7, 8, 9, 63, 128):
+        a = rng.normal(size=n) * 10.0 ** rng.uniform(-8, 8, n)
+        assert _compiled._pairwise(a, n) == np.sum(a)
+
+
+def test_off_switch_and_small_work_keep_numpy(monkeypatch):
+    with xpersson.set_options(compiled=False):
+        assert _compiled.kernel(1e12) is None
+    monkeypatch.setattr(_compiled, "_STATE", {})  # not built yet: small work stays numpy
+    assert _compiled.kernel(_compiled.MIN_WORK - 1) is None
+
+
+def test_nan_weight_spoils_its_load_only(monkeypatch):
+    det = _detachment(np.random.default_rng(5))
+    w = det.weight.copy()
+    w[2, 1] = np.nan
+    u = np.linspace(0.0, 8e-6, 40)
+    with xpersson.set_options(compiled=False):
+        ref = gap_pdf(det, u)
+    _plain(monkeypatch)
+    got = gap_pdf(Detachment(**{**det.__dict__, "weight": w}), u)
+    assert np.isnan(got[2]).all()
+    keep = [0, 1, 3]
+    scale = np.max(ref[keep], axis=1, keepdims=True)
+    assert np.all(np.abs(got[keep] - ref[keep]) <= 1e-12 * scale)
