@@ -49,6 +49,7 @@ __all__ = [
     "hertz_sphere",
     "kernel",
     "solve_body",
+    "start_at_area",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -172,6 +173,36 @@ class Separation:
         inner = np.exp(self._ln_area(np.clip(s, x[0], x[-1])))  # type: ignore[attr-defined]
         below = self.area[0] * p / self.p[0]
         return np.minimum(np.where(s < x[0], below, inner), 1.0)
+
+
+def start_at_area(sep: Separation, area: float) -> Separation:
+    """``sep`` from the pressure where ``A/A0 = area`` [1] on, continued below by its line.
+
+    The pressure ``p*`` solves ``A/A0(p*) = area`` on the interpolated area curve, and ``u``
+    and ``du/dln p`` there are the Hermite cubic's: the start of the continuation does not
+    depend on where the solved pressure grid happens to have a node (a grid node would move it
+    by up to one grid step in ``ln p``). ``sep`` unchanged when its first area is already at
+    least ``area``.
+    """
+    from scipy.optimize import brentq
+
+    if sep.area[0] >= area:
+        return sep
+    j = int(np.searchsorted(sep.area, area))  # first node at or above ``area``
+    if j >= sep.p.size:
+        raise ValueError(f"the solved area fraction stays below {area:g}")
+    x = sep._x  # type: ignore[attr-defined]
+    ln_area = sep._ln_area  # type: ignore[attr-defined]
+    target = math.log(area)
+    s_star = brentq(lambda s: float(ln_area(s)) - target, x[j - 1], x[j], xtol=1e-14)
+    u_star, du_star = sep(np.array([s_star]))
+    keep = x > s_star + 1e-12
+    return Separation(
+        np.concatenate([[math.exp(s_star)], sep.p[keep]]),
+        np.concatenate([u_star, sep.u[keep]]),
+        np.concatenate([du_star, sep.dudlnp[keep]]),
+        np.concatenate([[area], sep.area[keep]]),
+    )
 
 
 @dataclass(frozen=True)

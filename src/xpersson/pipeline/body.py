@@ -20,7 +20,7 @@ import xarray as xr
 
 from .. import physics
 from ..errors import XperssonWarning
-from ..physics.body import BodySolution, Separation, force_radius, solve_body
+from ..physics.body import BodySolution, Separation, force_radius, solve_body, start_at_area
 from ..plugins.solved import solved_curve
 from ..scene import ResolvedScene
 from ..specs import VarSpec
@@ -50,12 +50,14 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     solved = solved_curve(ctx, ds, "closure", per_decade=_PER_DECADE)
     p = np.asarray(solved.p0, float)
     area = solved.contact[:, -1]
-    keep = slice(max(0, min(int(np.searchsorted(area, ASYMPTOTE)), p.size - 4)), None)
+    # from the node below A/A0 = ASYMPTOTE: the continuation starts there exactly
+    keep = slice(max(0, min(int(np.searchsorted(area, ASYMPTOTE)) - 1, p.size - 4)), None)
     # the separation of the kept loads only (a load's u(p) and slope use its own row alone)
     zeta, *rows = solved.curve
     rows = [None if r is None else np.broadcast_to(r, (p.size, zeta.size))[keep] for r in rows]
     sc = physics.SolvedContact(rs.psd, rs.E_star, p[keep], zeta, *rows)
-    return Separation(p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
+    sep = Separation(p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
+    return start_at_area(sep, ASYMPTOTE)
 
 
 def _interpolated(sols: list[BodySolution]) -> Any:
