@@ -42,6 +42,10 @@ def _table(ds: Any) -> list[str]:
     """Theory/BEM ratio (and the BEM's relative standard error) per output and load."""
     import numpy as np
 
+    if ds.attrs.get("crosscheck_kind") == "sphere":
+        from .bem.sphere import table_lines
+
+        return table_lines(ds)
     names = [v[: -len("_ratio")] for v in ds.data_vars if v.endswith("_ratio")]
     lines = ["theory / BEM (+- relative standard error of the BEM mean)"]
     head = f"{'p0 [Pa]':>12}  " + "  ".join(f"{n:>24}" for n in names)

@@ -20,6 +20,7 @@ from ..scene import Scene
 from ._plan import POINTS_PER_WAVELENGTH, STIFFNESS_STEP, Plan, make_plan
 from ._realise import Task, run_all
 from .solve import TOL, TOL_GAP, require_tamaas
+from .sphere import crosscheck_sphere, is_body
 
 __all__ = ["crosscheck", "estimate_line"]
 
@@ -281,7 +282,10 @@ def crosscheck(
     version = str(require_tamaas().__version__)
     if workers is None:
         workers = (os.cpu_count() or 1) if scheduler in ("threads", "processes") else 1
-    plan = make_plan(as_scene(scene), grid, realisations, seed, workers)
+    scene = as_scene(scene)
+    if is_body(scene):  # a finite body: its own plan and solves (serial)
+        return crosscheck_sphere(scene, realisations, grid, seed, echo)
+    plan = make_plan(scene, grid, realisations, seed, workers)
     if echo is not None:
         echo(estimate_line(plan))
         for note in plan.notes + [f"not compared: {x}" for x in plan.not_compared]:
