@@ -44,6 +44,7 @@ import numpy as np  # noqa: E402
 
 import xpersson  # noqa: E402
 from xpersson import bem  # noqa: E402
+from xpersson.bem import sphere  # noqa: E402
 from xpersson.scene import Scene  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
@@ -78,29 +79,14 @@ def scene(h_rms: float, closure: str = "persson01") -> dict:
     }
 
 
-def force_radius(pressure: np.ndarray, L: float, fraction: float = 0.99) -> float:
-    """Radius [m] about the cell centre holding ``fraction`` of the force of a traction map."""
-    n = pressure.shape[0]
-    x = (np.arange(n) - n // 2) * (L / n)
-    r = np.hypot(*np.meshgrid(x, x, indexing="ij")).ravel()
-    order = np.argsort(r)
-    cum = np.cumsum(np.clip(pressure.ravel()[order], 0.0, None))
-    return float(r[order][np.searchsorted(cum, fraction * cum[-1])])
-
-
-def bem_sphere(h_rms: float, L: float, n: int, seeds: int) -> tuple[np.ndarray, np.ndarray]:
-    """Real areas [m^2] and nominal radii [m] of ``seeds`` realisations on a cell of side
-    ``L`` [m] with ``n x n`` points."""
+def bem_sphere(h_rms: float, L: float, n: int, seeds: int) -> tuple[np.ndarray, ...]:
+    """Real areas [m^2], nominal radii [m] and approaches [m] of ``seeds`` realisations on a
+    cell of side ``L`` [m] with ``n x n`` points (:func:`xpersson.bem.sphere.solve_sphere`)."""
     rs = Scene(scene(h_rms)).resolve()
     maps = bem.synthesise(rs.psd.C, L, n, seed=39, realisations=seeds, q_min=Q_L, q_max=Q_1)
-    x = (np.arange(n) - n // 2) * (L / n)
-    cap = -(x[:, None] ** 2 + x[None, :] ** 2) / (2.0 * R)
-    areas, radii = [], []
-    for h in maps:
-        (st,) = bem.solve(h + cap, L, E_STAR, [FORCE / L**2], keep_fields=True)
-        areas.append(st.area_fraction * L**2)
-        radii.append(force_radius(st.pressure, L))
-    return np.array(areas), np.array(radii)
+    states = [sphere.solve_sphere(h, L, R, E_STAR, [FORCE])[0] for h in maps]
+    return tuple(np.array([getattr(s, k) for s in states]) for k in ("real_area", "radius",
+                                                                     "approach"))
 
 
 def bem_rows(n: int, seeds: int) -> dict[str, list[list[float]]]:
