@@ -85,8 +85,9 @@ def bem_sphere(h_rms: float, L: float, n: int, seeds: int) -> tuple[np.ndarray, 
     rs = Scene(scene(h_rms)).resolve()
     maps = bem.synthesise(rs.psd.C, L, n, seed=39, realisations=seeds, q_min=Q_L, q_max=Q_1)
     states = [sphere.solve_sphere(h, L, R, E_STAR, [FORCE])[0] for h in maps]
-    return tuple(np.array([getattr(s, k) for s in states]) for k in ("real_area", "radius",
-                                                                     "approach"))
+    return tuple(
+        np.array([getattr(s, k) for s in states]) for k in ("real_area", "radius", "approach")
+    )
 
 
 def bem_rows(n: int, seeds: int) -> dict[str, list[list[float]]]:

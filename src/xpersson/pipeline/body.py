@@ -23,6 +23,7 @@ from ..errors import XperssonWarning
 from ..physics.body import BodySolution, Separation, force_radius, solve_body, start_at_area
 from ..plugins.solved import solved_curve
 from ..scene import ResolvedScene
+from ._body_model_error import attach_body
 from ..specs import VarSpec
 
 __all__ = ["ASYMPTOTE", "CELLS", "FORCE_FRACTION", "OUTPUTS", "body_dataset"]
@@ -47,7 +48,7 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     and the curve of the infinite flat (whose separation grows without bound) no longer
     describes them.
     """
-    solved = solved_curve(ctx, ds, "closure", per_decade=_PER_DECADE)
+    solved = solved_curve(ctx, ds, separation_form(ctx), per_decade=_PER_DECADE)
     p = np.asarray(solved.p0, float)
     area = solved.contact[:, -1]
     # from the node below A/A0 = ASYMPTOTE: the continuation starts there exactly
@@ -58,6 +59,15 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     sc = physics.SolvedContact(rs.psd, rs.E_star, p[keep], zeta, *rows)
     sep = Separation(p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
     return start_at_area(sep, ASYMPTOTE)
+
+
+def separation_form(ctx: Any) -> str:
+    """The ``s_factor`` form of ``u(p)``: mean_gap's ``"auto"`` (chosen by accuracy in the flat
+    campaign), ``"closure"`` on a coefficient whose closure corrects the area, else
+    ``"yang_persson"`` (default gamma)."""
+    coefficient = getattr(ctx, "coefficient", None)
+    corrected = coefficient is not None and coefficient.corrects_variance()
+    return "closure" if corrected else "yang_persson"
 
 
 def _interpolated(sols: list[BodySolution]) -> Any:
@@ -166,6 +176,8 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     body["r"] = xr.Variable(("r",), r_out, _R_ATTRS[geo.symmetry])
     out = ds.assign(body)  # one merge for every variable (a dim's namesake is its coordinate)
     _attributes(out, rs, cols)
+    out.attrs["geometry_separation_s_factor"] = separation_form(ctx)
+    attach_body(out, rs)  # the campaign's band of the body outputs
     if rs.force_scalar:
         out = out.isel(force=0)
     return out
