@@ -23,8 +23,8 @@ from ..errors import XperssonWarning
 from ..physics.body import BodySolution, Separation, force_radius, solve_body, start_at_area
 from ..plugins.solved import solved_curve
 from ..scene import ResolvedScene
-from ._body_model_error import attach_body
 from ..specs import VarSpec
+from ._body_model_error import attach_body
 
 __all__ = ["ASYMPTOTE", "CELLS", "FORCE_FRACTION", "OUTPUTS", "body_dataset"]
 
