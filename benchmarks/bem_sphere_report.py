@@ -36,6 +36,7 @@ from campaign_report import tolerance_band
 
 import xpersson
 import xpersson.pipeline.body as pipeline_body
+from xpersson.bem.sphere import ring_means
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
@@ -80,10 +81,7 @@ def _l1(rec: dict[str, Any], ds: Any, k: int) -> float:
     """``int |p_theory - p_BEM| dA / F`` on the campaign's rings (theory ring means)."""
     edges = np.asarray(rec["edges"])
     prof = np.array([row[k][3] for row in rec["bem"] if row[k][4]])
-    r, p = ds["r"].values, ds["nominal_pressure"].values[k]
-    fine = np.linspace(0.0, edges[-1], 40 * (edges.size - 1) + 1)
-    idx = np.minimum(np.searchsorted(edges, fine, side="right") - 1, edges.size - 2)
-    p_th = np.bincount(idx, np.interp(fine, r, p, right=0.0) * fine) / np.bincount(idx, fine)
+    p_th = ring_means(ds["r"].values, ds["nominal_pressure"].values[k], edges)
     area = math.pi * np.diff(edges**2)
     return float(np.nansum(np.abs(p_th - np.nanmean(prof, axis=0)) * area) / rec["forces"][k])
 
@@ -219,6 +217,34 @@ def markdown(pts: list[dict[str, Any]], table: list[dict[str, Any]], records: li
     return "\n".join(lines) + "\n"
 
 
+def convergence(records: list[dict[str, Any]]) -> list[str]:
+    """The BEM on finer grids / wider cells against the campaign's own (same scenes)."""
+    base = {r["scene"]: r for r in records}
+    lines = ["", "## The BEM's convergence (same scenes, other realisations)", "",
+             "| check | scene | force | alpha | n | area / campaign's | radius / campaign's | "
+             "approach / campaign's |", "|---|---|---|---|---|---|---|---|"]  # fmt: skip
+    for name, what in (("conv_ppw16", "16 points per wavelength (campaign 8)"),
+                       ("conv_ppw12", "12 points per wavelength (campaign 8)"),
+                       ("conv_cell", "cell 1.5x wider (same spacing)")):  # fmt: skip
+        path = RESULTS / f"bem_sphere_campaign_{name}.jsonl"
+        if not path.exists():
+            continue
+        for rec in load(name.removeprefix("")):
+            b = base[rec["scene"]]
+            for k in range(len(rec["forces"])):
+                cells = []
+                for key in range(3):
+                    new = [row[k][key] for row in rec["bem"] if row[k][4]]
+                    old = [row[k][key] for row in b["bem"] if row[k][4]]
+                    se = math.hypot(*(np.std(v, ddof=1) / math.sqrt(len(v)) / np.mean(v)
+                                      for v in (new, old)))  # fmt: skip
+                    cells.append(f"{np.mean(new) / np.mean(old):.3f} +- {se:.3f}")
+                alpha = rec["alpha"] * (4 ** (2 / 3) if k == 0 else 1.0)
+                lines.append(f"| {what} | {rec['scene']} | {'F/4' if k == 0 else 'F'} | "
+                             f"{alpha:.3g} | {rec['n']} | " + " | ".join(cells) + " |")  # fmt: skip
+    return lines
+
+
 def provenance(records: list[dict[str, Any]]) -> dict[str, Any]:
     r = records[0]
     return {
@@ -245,6 +271,14 @@ def main() -> None:
     pts = points(records)
     table = bands(pts)
     text = markdown(pts, table, records)
+    if (RESULTS / "bem_sphere_campaign_new.jsonl").exists():
+        new = points(load("new"))
+        for p in new:
+            p["split"] = "new_seed"
+        text += "\nNew seed (seed 2, scenes drawn after the fit), inside / verified / all:\n\n"
+        for (c, name), (i, v, a) in coverage(new, table, "new_seed").items():
+            text += f"- {c} {name}: {i}/{v} inside ({a} points)\n"
+    text += "\n".join(convergence(records)) + "\n"
     print(text)
     (RESULTS / "bem_sphere_campaign.md").write_text(text)
     if args.write_table:

@@ -41,6 +41,7 @@ __all__ = [
     "force_radius",
     "is_body",
     "ring_average",
+    "ring_means",
     "solve_sphere",
     "table_lines",
 ]
@@ -361,15 +362,20 @@ RINGS = 40
 _RING_ATTRS = {"units": "m", "long_name": "centre radius of the ring of the compared p(r)"}
 
 
+def ring_means(r: np.ndarray, p: np.ndarray, edges: np.ndarray) -> np.ndarray:
+    """Area-weighted means [Pa] over the rings ``edges`` [m] of pressures ``p`` [Pa] given at
+    radii ``r`` [m] (rows of ``p``: one profile each; zero beyond ``r``)."""
+    fine = np.linspace(0.0, edges[-1], 40 * (edges.size - 1) + 1)
+    k = np.minimum(np.searchsorted(edges, fine, side="right") - 1, edges.size - 2)
+    rows = np.atleast_2d(p)
+    sums = [np.bincount(k, np.interp(fine, r, row, right=0.0) * fine) for row in rows]
+    return np.array(sums).reshape(np.shape(p)[:-1] + (edges.size - 1,)) / np.bincount(k, fine)
+
+
 def _profile(ds: xr.Dataset, th: xr.Dataset, prof: np.ndarray, edges: np.ndarray) -> None:
     """The nominal pressure averaged over the rings ``edges``: the BEM's traction, the
     theory's p(r), and their L1 distance per force (``int |p_th - p_BEM| dA / F``)."""
-    r, p = th["r"].values, th["nominal_pressure"].values
-    fine = np.linspace(0.0, edges[-1], 40 * (edges.size - 1) + 1)
-    p_fine = np.array([np.interp(fine, r, row) for row in p]) * fine
-    k = np.minimum(np.searchsorted(edges, fine, side="right") - 1, edges.size - 2)
-    weight = np.bincount(k, fine)
-    p_th = np.array([np.bincount(k, row) for row in p_fine]) / weight  # ring means, area-weighted
+    p_th = ring_means(th["r"].values, th["nominal_pressure"].values, edges)
     mean = np.nanmean(prof, axis=0)
     area = math.pi * np.diff(edges**2)
     l1 = np.nansum(np.abs(p_th - mean) * area, axis=1) / th["force"].values
