@@ -5,7 +5,7 @@ two forces, ``F`` (Hertz radius ``a0 = 150 um``) and ``F/4``. The design (a Lati
 ``--seed``) draws per scene:
 
 * Johnson's roughness parameter ``alpha = sigma R / a0^2`` at ``F`` log-uniform in
-  0.05-1.2 (so ``F/4``, ``alpha x 4^(2/3)``, reaches 3);
+  0.05-1.2 (``--alpha``; so ``F/4``, ``alpha x 4^(2/3)``, reaches 3);
 * the Hurst exponent ``H`` uniform in 0.5-0.9;
 * the contact-to-roll-off ratio ``a0 q_L`` log-uniform in 10-20; the spectrum is self-affine on
   ``q_L <= q <= q_1 = 4 q_L`` (no plateau: ``q_r = q_L``, 0.6 decades).
@@ -25,6 +25,9 @@ Resumable: each finished scene is one JSON line in ``results/bem_sphere_campaign
 Usage::
 
     OPENBLAS_NUM_THREADS=1 nice -n 10 python benchmarks/bem_sphere_campaign.py --scenes 16
+    # more calibration and held-out scenes at the rough end, and a new seed (a test set)
+    ... bem_sphere_campaign.py --name cal2 --seed 3 --scenes 8 --alpha 0.3 1.2
+    ... bem_sphere_campaign.py --name new --seed 2 --scenes 8
 """
 
 from __future__ import annotations
@@ -59,11 +62,11 @@ ZETA = 4.0  # q_1 / q_L
 RINGS = 40
 
 
-def design(seed: int, n: int) -> list[dict[str, Any]]:
-    """Latin hypercube over (ln alpha, H, ln a0 q_L): ``n`` scenes."""
+def design(seed: int, n: int, alpha: tuple[float, float] = (0.05, 1.2)) -> list[dict[str, Any]]:
+    """Latin hypercube over (ln alpha, H, ln a0 q_L): ``n`` scenes (``alpha`` at ``F``)."""
     rng = np.random.default_rng(seed)
     u = (np.array([rng.permutation(n) for _ in range(3)]).T + rng.random((n, 3))) / n
-    lo, hi = np.log([0.05, 1.0, 10.0]), np.log([1.2, 1.0, 20.0])
+    lo, hi = np.log([alpha[0], 1.0, 10.0]), np.log([alpha[1], 1.0, 20.0])
     out = []
     for i, (a, h, q) in enumerate(u):
         alpha = math.exp(lo[0] + a * (hi[0] - lo[0]))
@@ -132,13 +135,20 @@ def main() -> None:
     ap.add_argument("--max-grid", type=int, default=1024)
     ap.add_argument("--only", type=int, nargs="*", help="these scenes of the design only")
     ap.add_argument("--factor", type=float, default=1.0, help="cell and grid times this")
+    ap.add_argument(
+        "--alpha",
+        type=float,
+        nargs=2,
+        default=(0.05, 1.2),
+        help="range of Johnson's parameter at F (log-uniform)",
+    )
     args = ap.parse_args()
     warnings.simplefilter("ignore", xpersson.XperssonWarning)
     out = HERE / "results" / f"bem_sphere_campaign_{args.name}.jsonl"
     done = set()
     if out.exists():
         done = {json.loads(line)["scene"] for line in out.read_text().splitlines() if line}
-    for sc in design(args.seed, args.scenes):
+    for sc in design(args.seed, args.scenes, tuple(args.alpha)):
         if sc["scene"] in done or (args.only and sc["scene"] not in args.only):
             continue
         rec = run_scene(sc, args.realisations, args.seed, args.ppw, args.max_grid, args.factor)

@@ -18,7 +18,7 @@ before), and the L1 distance of the nominal pressure.
 
 Usage::
 
-    python benchmarks/bem_sphere_report.py [--write-table] [--name cal]
+    python benchmarks/bem_sphere_report.py [--write-table] [--name cal cal2]
 """
 
 from __future__ import annotations
@@ -59,9 +59,16 @@ DOMAIN = {
 }
 
 
-def load(name: str) -> list[dict[str, Any]]:
-    path = RESULTS / f"bem_sphere_campaign_{name}.jsonl"
-    return [json.loads(line) for line in path.read_text().splitlines() if line]
+def load(*names: str) -> list[dict[str, Any]]:
+    """The records of the campaign files ``names`` (missing files skipped), each scene tagged
+    ``name:scene`` in ``"tag"``."""
+    out = []
+    for name in names:
+        path = RESULTS / f"bem_sphere_campaign_{name}.jsonl"
+        if path.exists():
+            rows = [json.loads(line) for line in path.read_text().splitlines() if line]
+            out += [r | {"tag": f"{name}:{r['scene']}"} for r in rows]
+    return out
 
 
 def theory(sc: dict[str, Any], closure: str, form: str | None = None) -> Any:
@@ -97,7 +104,7 @@ def points(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
                 ok = [row[k] for row in rec["bem"] if row[k][4]]
                 if not ok:
                     continue
-                pt = {"scene": rec["scene"], "split": rec["split"], "closure": closure,
+                pt = {"scene": rec["tag"], "split": rec["split"], "closure": closure,
                       "force": k, "alpha": float(ds["johnson_parameter"].values[k]),
                       "H": rec["H"], "a0_qL": rec["a0_qL"], "ppw": rec["points_per_wavelength"],
                       "l1": _l1(rec, ds, k)}  # fmt: skip
@@ -177,7 +184,8 @@ def markdown(pts: list[dict[str, Any]], table: list[dict[str, Any]], records: li
     lines = [
         "# Rough-sphere campaign (benchmarks/bem_sphere_campaign.py, bem_sphere_report.py)",
         "",
-        f"{len(records)} scenes x 2 forces, {records[0]['realisations']} realisations each; "
+        f"{len(records)} scenes ({', '.join(sorted({r['tag'].split(':')[0] for r in records}))})"
+        " x 2 forces, {records[0]['realisations']} realisations each; "
         f"grids {min(r['n'] for r in records)}-{max(r['n'] for r in records)}^2, "
         f"{min(r['points_per_wavelength'] for r in records):.1f}-"
         f"{max(r['points_per_wavelength'] for r in records):.1f} points per shortest "
@@ -219,7 +227,7 @@ def markdown(pts: list[dict[str, Any]], table: list[dict[str, Any]], records: li
 
 def convergence(records: list[dict[str, Any]]) -> list[str]:
     """The BEM on finer grids / wider cells against the campaign's own (same scenes)."""
-    base = {r["scene"]: r for r in records}
+    base = {r["tag"]: r for r in records}
     lines = ["", "## The BEM's convergence (same scenes, other realisations)", "",
              "| check | scene | force | alpha | n | area / campaign's | radius / campaign's | "
              "approach / campaign's |", "|---|---|---|---|---|---|---|---|"]  # fmt: skip
@@ -229,8 +237,8 @@ def convergence(records: list[dict[str, Any]]) -> list[str]:
         path = RESULTS / f"bem_sphere_campaign_{name}.jsonl"
         if not path.exists():
             continue
-        for rec in load(name.removeprefix("")):
-            b = base[rec["scene"]]
+        for rec in load(name):
+            b = base[f"cal:{rec['scene']}"]
             for k in range(len(rec["forces"])):
                 cells = []
                 for key in range(3):
@@ -263,11 +271,11 @@ def provenance(records: list[dict[str, Any]]) -> dict[str, Any]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--name", default="cal")
+    ap.add_argument("--name", nargs="+", default=["cal", "cal2"])
     ap.add_argument("--write-table", action="store_true")
     args = ap.parse_args()
     warnings.simplefilter("ignore", xpersson.XperssonWarning)
-    records = load(args.name)
+    records = load(*args.name)
     pts = points(records)
     table = bands(pts)
     text = markdown(pts, table, records)
