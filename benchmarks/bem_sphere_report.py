@@ -130,8 +130,9 @@ def _regime(alpha: float) -> tuple[float, float] | None:
     return next((b for b in ALPHA_BINS if b[0] <= alpha < b[1]), None)
 
 
-def bands(pts: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    """The table's entries from the calibration points."""
+def bands(pts: list[dict[str, Any]], chk: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The table's entries from the calibration points, widened by the BEM's convergence
+    checks (:func:`widening`)."""
     cal = [p for p in pts if p["split"] == "calibration"]
     out = []
     for closure in CLOSURES:
@@ -143,13 +144,15 @@ def bands(pts: list[dict[str, Any]]) -> list[dict[str, Any]]:
                     continue
                 r = np.array([p[name] for p in sel])
                 lo, hi = tolerance_band(r, scenes)
+                w_lo, w_hi = widening(chk, name, b)
                 out.append({
                     "variable": name,
                     "match": {"geometry": "sphere", "boundary": "elastic", "closure": closure,
                               "spectrum": "self_affine"},
                     "ranges": {"johnson": list(b), **DOMAIN},
-                    "low": lo, "high": hi, "median": float(np.median(r)), "n": len(sel),
-                    "scenes": scenes,
+                    "low": lo * w_lo, "high": hi * w_hi, "median": float(np.median(r)),
+                    "n": len(sel), "scenes": scenes, "calibration_band": [lo, hi],
+                    "bem_convergence_widening": [w_lo, w_hi],
                 })  # fmt: skip
     return out
 
@@ -207,8 +210,9 @@ def markdown(pts: list[dict[str, Any]], table: list[dict[str, Any]], records: li
             f"{p['approach_error']:+.3f} | {'' if yp is None else f'{yp:.3f}'} | {p['l1']:.3f} |"
         )
     lines += ["", "## Bands (calibration) and held-out coverage", "",
-              "| closure | output | alpha | calibration points (scenes) | median | band | "
-              "held-out inside |", "|---|---|---|---|---|---|---|"]  # fmt: skip
+              "| closure | output | alpha | calibration points (scenes) | median | "
+              "calibration band | widened by the BEM's convergence | held-out inside |",
+              "|---|---|---|---|---|---|---|---|"]  # fmt: skip
     held = [p for p in pts if p["split"] == "held_out"]
     for e in table:
         c = e["match"]["closure"]
@@ -217,7 +221,8 @@ def markdown(pts: list[dict[str, Any]], table: list[dict[str, Any]], records: li
         inside = sum(e["low"] <= p[e["variable"]] <= e["high"] for p in sel)
         lines.append(
             f"| {c} | {e['variable']} | {lo:g}-{hi:g} | {e['n']} ({e['scenes']}) | "
-            f"{e['median']:.3f} | {e['low']:.3f}-{e['high']:.3f} | {inside}/{len(sel)} |"
+            f"{e['median']:.3f} | {e['calibration_band'][0]:.3f}-{e['calibration_band'][1]:.3f}"
+            f" | {e['low']:.3f}-{e['high']:.3f} | {inside}/{len(sel)} |"
         )
     lines += ["", "Held-out coverage per output (inside / verified / all held-out points):", ""]
     for (c, name), (i, v, a) in coverage(pts, table, "held_out").items():
@@ -225,31 +230,53 @@ def markdown(pts: list[dict[str, Any]], table: list[dict[str, Any]], records: li
     return "\n".join(lines) + "\n"
 
 
-def convergence(records: list[dict[str, Any]]) -> list[str]:
-    """The BEM on finer grids / wider cells against the campaign's own (same scenes)."""
+CHECKS = (
+    ("conv_ppw16", "16 points per wavelength (campaign 8)"),
+    ("conv_ppw12", "12 points per wavelength (campaign 8)"),
+    ("conv_cell", "cell 1.5x wider (same spacing)"),
+)
+
+
+def checks(records: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The BEM's convergence checks: per (check, scene, force) the finer / wider BEM's mean
+    over the campaign's (other realisations: the noise is drawn on the grid), with the
+    relative standard error of that ratio."""
     base = {r["tag"]: r for r in records}
-    lines = ["", "## The BEM's convergence (same scenes, other realisations)", "",
-             "| check | scene | force | alpha | n | area / campaign's | radius / campaign's | "
-             "approach / campaign's |", "|---|---|---|---|---|---|---|---|"]  # fmt: skip
-    for name, what in (("conv_ppw16", "16 points per wavelength (campaign 8)"),
-                       ("conv_ppw12", "12 points per wavelength (campaign 8)"),
-                       ("conv_cell", "cell 1.5x wider (same spacing)")):  # fmt: skip
-        path = RESULTS / f"bem_sphere_campaign_{name}.jsonl"
-        if not path.exists():
-            continue
+    out = []
+    for name, what in CHECKS:
         for rec in load(name):
             b = base[f"cal:{rec['scene']}"]
             for k in range(len(rec["forces"])):
-                cells = []
-                for key in range(3):
+                pt = {"what": what, "scene": rec["scene"], "force": k, "n": rec["n"],
+                      "alpha": rec["alpha"] * (4 ** (2 / 3) if k == 0 else 1.0)}  # fmt: skip
+                for out_name, key in KEYS.items():
                     new = [row[k][key] for row in rec["bem"] if row[k][4]]
                     old = [row[k][key] for row in b["bem"] if row[k][4]]
-                    se = math.hypot(*(np.std(v, ddof=1) / math.sqrt(len(v)) / np.mean(v)
-                                      for v in (new, old)))  # fmt: skip
-                    cells.append(f"{np.mean(new) / np.mean(old):.3f} +- {se:.3f}")
-                alpha = rec["alpha"] * (4 ** (2 / 3) if k == 0 else 1.0)
-                lines.append(f"| {what} | {rec['scene']} | {'F/4' if k == 0 else 'F'} | "
-                             f"{alpha:.3g} | {rec['n']} | " + " | ".join(cells) + " |")  # fmt: skip
+                    pt[out_name] = float(np.mean(new) / np.mean(old))
+                    pt[out_name + "_se"] = math.hypot(
+                        *(np.std(v, ddof=1) / math.sqrt(len(v)) / np.mean(v) for v in (new, old))
+                    )
+                out.append(pt)
+    return out
+
+
+def widening(chk: list[dict[str, Any]], name: str, regime: tuple[float, float]) -> tuple:
+    """``(low, high)`` factors on a band: the largest changes of the BEM's ``name`` in the
+    convergence checks of the regime (of every check when the regime has none), never
+    narrowing."""
+    sel = [c[name] for c in chk if regime[0] <= c["alpha"] < regime[1]] or [c[name] for c in chk]
+    return (min([1.0, *sel]), max([1.0, *sel]))
+
+
+def convergence(chk: list[dict[str, Any]]) -> list[str]:
+    """Markdown of the convergence checks."""
+    lines = ["", "## The BEM's convergence (same scenes, other realisations)", "",
+             "| check | scene | force | alpha | n | area / campaign's | radius / campaign's | "
+             "approach / campaign's |", "|---|---|---|---|---|---|---|---|"]  # fmt: skip
+    for c in chk:
+        cells = " | ".join(f"{c[o]:.3f} +- {c[o + '_se']:.3f}" for o in KEYS)
+        lines.append(f"| {c['what']} | {c['scene']} | {'F/4' if c['force'] == 0 else 'F'} | "
+                     f"{c['alpha']:.3g} | {c['n']} | {cells} |")  # fmt: skip
     return lines
 
 
@@ -277,7 +304,8 @@ def main() -> None:
     warnings.simplefilter("ignore", xpersson.XperssonWarning)
     records = load(*args.name)
     pts = points(records)
-    table = bands(pts)
+    chk = checks(records)
+    table = bands(pts, chk)
     text = markdown(pts, table, records)
     if (RESULTS / "bem_sphere_campaign_new.jsonl").exists():
         new = points(load("new"))
@@ -286,7 +314,7 @@ def main() -> None:
         text += "\nNew seed (seed 2, scenes drawn after the fit), inside / verified / all:\n\n"
         for (c, name), (i, v, a) in coverage(new, table, "new_seed").items():
             text += f"- {c} {name}: {i}/{v} inside ({a} points)\n"
-    text += "\n".join(convergence(records)) + "\n"
+    text += "\n".join(convergence(chk)) + "\n"
     print(text)
     (RESULTS / "bem_sphere_campaign.md").write_text(text)
     if args.write_table:
