@@ -35,19 +35,19 @@ def test_reported_grid_error_bounds_the_pressure_grid_change(
 
 
 def test_continuation_starts_where_the_area_reaches_its_threshold() -> None:
-    """``start_at_area``: A/A0 = 1e-3 at the first node, u and its slope continuous there."""
+    """``start_at_area``: A/A0 = 1e-3 at the first node (a power law's own root), u and its
+    slope there those of the Hermite cubic (a cubic in ln p is reproduced exactly)."""
     p = np.geomspace(1.0, 1e4, 9)
     area = 1e-4 * p**0.9
-    u = 2e-6 - 3e-7 * np.log(p) + 1e-9 * np.log(p) ** 2
-    du = -3e-7 + 2e-9 * np.log(p)
-    sep = start_at_area(Separation(p, u, du, area), 1e-3)
-    assert sep.area[0] == 1e-3
-    assert float(sep.area_fraction(sep.p[:1])[0]) == pytest.approx(1e-3, rel=1e-9)
-    s0 = math.log(sep.p[0])
-    assert sep.p[0] == pytest.approx(10 ** (1 / 0.9), rel=1e-3)  # the power law's own root
-    below, above = sep(np.array([s0 - 1e-7])), sep(np.array([s0 + 1e-7]))
-    assert below[0][0] == pytest.approx(above[0][0], abs=1e-13)
-    assert below[1][0] == pytest.approx(above[1][0], rel=1e-5)
-    assert float(sep(np.array([s0]))[0][0]) == pytest.approx(
-        2e-6 - 3e-7 * s0 + 1e-9 * s0**2, rel=1e-6
-    )
+    s = np.log(p)
+    u = 2e-6 - 3e-7 * s + 1e-9 * s**2 - 2e-10 * s**3
+    du = -3e-7 + 2e-9 * s - 6e-10 * s**2
+    p2, u2, du2, a2 = start_at_area(p, u, du, area, 1e-3)
+    s0 = math.log(p2[0])
+    assert a2[0] == 1e-3 and p2[0] == pytest.approx(10 ** (1 / 0.9), rel=1e-12)
+    assert u2[0] == pytest.approx(2e-6 - 3e-7 * s0 + 1e-9 * s0**2 - 2e-10 * s0**3, rel=1e-12)
+    assert du2[0] == pytest.approx(-3e-7 + 2e-9 * s0 - 6e-10 * s0**2, rel=1e-12)
+    assert np.all(p2[1:] > p2[0]) and np.array_equal(u2[1:], u[p > p2[0]])
+    sep = Separation(p2, u2, du2, a2)
+    assert float(sep.area_fraction(p2[:1])[0]) == pytest.approx(1e-3, rel=1e-12)
+    assert start_at_area(p, u, du, area, 1e-5)[0] is p  # already above: unchanged

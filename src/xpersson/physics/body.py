@@ -175,33 +175,43 @@ class Separation:
         return np.minimum(np.where(s < x[0], below, inner), 1.0)
 
 
-def start_at_area(sep: Separation, area: float) -> Separation:
-    """``sep`` from the pressure where ``A/A0 = area`` [1] on, continued below by its line.
+def start_at_area(
+    p: FloatArray, u: FloatArray, dudlnp: FloatArray, area: FloatArray, threshold: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The arrays of a :class:`Separation` from the pressure where ``A/A0 = threshold`` on.
 
-    The pressure ``p*`` solves ``A/A0(p*) = area`` on the interpolated area curve, and ``u``
-    and ``du/dln p`` there are the Hermite cubic's: the start of the continuation does not
-    depend on where the solved pressure grid happens to have a node (a grid node would move it
-    by up to one grid step in ``ln p``). ``sep`` unchanged when its first area is already at
-    least ``area``.
+    ``p`` [Pa] increasing, ``u`` [m], ``dudlnp`` [m] and ``area`` [1] at ``p``. The pressure
+    ``p*`` where the area crosses ``threshold`` is found on the power law between the two
+    solved nodes around it, and ``u``, ``du/dln p`` there on :class:`Separation`'s Hermite
+    cubic: the start of the continuation below it does not depend on where the solved
+    pressure grid has a node (starting at the node above moved it by up to one grid step in
+    ``ln p``). The arrays unchanged when the first area is already at least ``threshold``.
     """
-    from scipy.optimize import brentq
-
-    if sep.area[0] >= area:
-        return sep
-    j = int(np.searchsorted(sep.area, area))  # first node at or above ``area``
-    if j >= sep.p.size:
-        raise ValueError(f"the solved area fraction stays below {area:g}")
-    x = sep._x  # type: ignore[attr-defined]
-    ln_area = sep._ln_area  # type: ignore[attr-defined]
-    target = math.log(area)
-    s_star = brentq(lambda s: float(ln_area(s)) - target, x[j - 1], x[j], xtol=1e-14)
-    u_star, du_star = sep(np.array([s_star]))
-    keep = x > s_star + 1e-12
-    return Separation(
-        np.concatenate([[math.exp(s_star)], sep.p[keep]]),
-        np.concatenate([u_star, sep.u[keep]]),
-        np.concatenate([du_star, sep.dudlnp[keep]]),
-        np.concatenate([[area], sep.area[keep]]),
+    if area[0] >= threshold:
+        return p, u, dudlnp, area
+    j = int(np.searchsorted(area, threshold))  # first node at or above the threshold
+    if j >= p.size:
+        raise ValueError(f"the solved area fraction stays below {threshold:g}")
+    x0, x1 = math.log(p[j - 1]), math.log(p[j])
+    a0, a1 = math.log(max(area[j - 1], 1e-300)), math.log(area[j])
+    s = x0 + (math.log(threshold) - a0) * (x1 - x0) / (a1 - a0)
+    h, t = x1 - x0, (s - x0) / (x1 - x0)
+    h00, h10, h01, h11 = (
+        2 * t**3 - 3 * t**2 + 1,
+        t**3 - 2 * t**2 + t,
+        -2 * t**3 + 3 * t**2,
+        t**3 - t**2,
+    )
+    y0, y1, m0, m1 = u[j - 1], u[j], dudlnp[j - 1], dudlnp[j]
+    u_s = h00 * y0 + h10 * h * m0 + h01 * y1 + h11 * h * m1
+    du_s = ((6 * t * t - 6 * t) * (y0 - y1) / h + (3 * t * t - 4 * t + 1) * m0
+            + (3 * t * t - 2 * t) * m1)  # fmt: skip
+    keep = np.log(p) > s + 1e-12
+    return (
+        np.concatenate([[math.exp(s)], p[keep]]),
+        np.concatenate([[u_s], u[keep]]),
+        np.concatenate([[du_s], dudlnp[keep]]),
+        np.concatenate([[threshold], area[keep]]),
     )
 
 

@@ -57,8 +57,8 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     zeta, *rows = solved.curve
     rows = [None if r is None else np.broadcast_to(r, (p.size, zeta.size))[keep] for r in rows]
     sc = physics.SolvedContact(rs.psd, rs.E_star, p[keep], zeta, *rows)
-    sep = Separation(p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
-    return start_at_area(sep, ASYMPTOTE)
+    arrays = (p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
+    return Separation(*start_at_area(*arrays, ASYMPTOTE))
 
 
 def separation_form(ctx: Any) -> str:
