@@ -46,9 +46,11 @@ def attach_body(ds: xr.Dataset, rs: Any, table: dict[str, Any] | None = None) ->
     table = table or body_table()
     names = {e["variable"] for e in table["bands"]} | set(table.get("variables", ()))
     feats = scene_features(rs) | {"geometry": rs.resolved.get("geometry", {}).get("model")}
-    alpha = np.asarray(ds["johnson_parameter"].values, float)
+    alpha = np.asarray(ds.variables["johnson_parameter"].values, float)
     feats["johnson"] = alpha
-    feats["contact_rolloff"] = np.asarray(ds["hertz_radius"].values, float) * float(rs.psd.q_L)
+    feats["contact_rolloff"] = np.asarray(ds.variables["hertz_radius"].values, float) * float(
+        rs.psd.q_L
+    )
     prov = table.get("provenance", {})
     comment = (
         f"rough-sphere campaign {prov.get('campaign', '?')} ({prov.get('date', '?')}): 90 % of "
@@ -81,6 +83,7 @@ def _variables(
                 "comment": comment,
             }
             | quality,
+            fastpath=True,  # numpy data: no probe of dask
         )
     new[name + "_model_error_status"] = xr.Variable(
         var.dims,
@@ -92,6 +95,7 @@ def _variables(
             "flag_meanings": FLAG["flag_meanings"],
         }
         | quality,
+        fastpath=True,
     )
     insert_or_set(ds, new)
     ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
