@@ -48,7 +48,8 @@ OUTPUTS = ("real_contact_area", "nominal_contact_radius", "approach")
 BANDED = ("real_contact_area", "nominal_contact_radius")
 KEYS = {"real_contact_area": 0, "nominal_contact_radius": 1, "approach": 2}
 CLOSURES = ("persson01", "yp08")
-ALPHA_BINS = ((0.05, 0.3), (0.3, 1.0), (1.0, 3.05))
+#: Regimes of Johnson's parameter (the design's 0.05 with a rounding margin).
+ALPHA_BINS = ((0.05 * (1 - 1e-9), 0.3), (0.3, 1.0), (1.0, 3.05))
 MIN_POINTS = 6
 #: The campaign's domain (the band's ranges besides Johnson's parameter).
 DOMAIN = {

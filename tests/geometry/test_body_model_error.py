@@ -66,3 +66,25 @@ def test_solve_attaches_the_packaged_table() -> None:
     for name in body_table()["variables"]:
         assert ds[f"{name}_model_error_status"].dims == ("force",)
         assert ds[f"{name}_model_error_status"].values.tolist() == [0, 0]
+
+
+def test_packaged_table_verifies_the_campaigns_domain() -> None:
+    """The benchmark's sphere (H = 0.8, q_1 = 4 q_L, a0 q_L = 18): verified at Johnson's
+    parameter 0.2 with both closures, the bounds bracketing a ratio near 1; not at 13."""
+    a0, R, q_L = 150e-6, 0.05, 1.2e5
+    force = 4.0 * 1e6 * a0**3 / (3.0 * R)
+    for closure in ("persson01", "yp08"):
+        ds = xpersson.solve({
+            "coefficient": {"model": "elastic", "closure": closure},
+            "geometry": {"model": "sphere", "radius": f"{R} m"},
+            "load": {"force": [f"{force / 4 ** 4.5} N", f"{force} N"]},
+            "spectrum": {"model": "self_affine", "H": 0.8, "q_L": f"{q_L} 1/m",
+                         "q_r": f"{q_L} 1/m", "q_1": f"{4 * q_L} 1/m",
+                         "h_rms": f"{0.2 * a0 * a0 / R} m"},
+            "material": {"E": "0.75 MPa", "nu": 0.5},
+        })  # fmt: skip
+        assert ds["johnson_parameter"].values[0] > 3.05
+        for name in ("real_contact_area", "nominal_contact_radius"):
+            np.testing.assert_array_equal(ds[f"{name}_model_error_status"].values, [0, 1])
+            lo, hi = (float(ds[f"{name}_exact_{s}"][1] / ds[name][1]) for s in ("low", "high"))
+            assert 0.5 < lo < 1.0 < hi < 2.2, (closure, name, lo, hi)  # regime 0.05-0.3
