@@ -30,11 +30,12 @@ import warnings  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
-from bem_sphere import A0, CELLS, E_STAR, FORCE, Q_1, Q_L, R, force_radius, scene  # noqa: E402
+from bem_sphere import A0, CELLS, E_STAR, FORCE, Q_1, Q_L, R, scene  # noqa: E402
 
 import xpersson  # noqa: E402
 import xpersson.pipeline.body as body  # noqa: E402
 from xpersson import bem  # noqa: E402
+from xpersson.bem.sphere import cap, force_radius  # noqa: E402
 from xpersson.scene import Scene  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
@@ -63,9 +64,7 @@ def bem_radii(h_rms: float, L: float, n: int) -> list[float]:
     """Radii [m] holding each fraction of the force, one BEM realisation."""
     rs = Scene(scene(h_rms)).resolve()
     (h,) = bem.synthesise(rs.psd.C, L, n, seed=39, realisations=1, q_min=Q_L, q_max=Q_1)
-    x = (np.arange(n) - n // 2) * (L / n)
-    cap = -(x[:, None] ** 2 + x[None, :] ** 2) / (2.0 * R)
-    (st,) = bem.solve(h + cap, L, E_STAR, [FORCE / L**2], keep_fields=True)
+    (st,) = bem.solve(h + cap(L, n, R), L, E_STAR, [FORCE / L**2], keep_fields=True)
     return [force_radius(st.pressure, L, f) for f in FRACTIONS]
 
 

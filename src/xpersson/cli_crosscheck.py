@@ -47,6 +47,10 @@ def _table(ds: Any) -> list[str]:
     """Theory/BEM ratio (and the BEM's relative standard error) per output and load."""
     import numpy as np
 
+    if ds.attrs.get("crosscheck_kind") == "sphere":
+        from .bem.sphere import table_lines
+
+        return table_lines(ds)
     names = [
         v[: -len("_ratio")]
         for v in ds.data_vars

@@ -18,10 +18,12 @@ import numpy as np
 import xarray as xr
 
 from ..scene import Scene
+from ._errors import CrosscheckError
 from ._gridcheck import add_grid_ratios
 from ._plan import POINTS_PER_WAVELENGTH, STIFFNESS_STEP, Plan, make_plan
 from ._realise import Task, run_all
 from .solve import TOL, TOL_GAP, require_tamaas
+from .sphere import crosscheck_sphere, is_body
 
 __all__ = ["crosscheck", "estimate_line"]
 
@@ -309,7 +311,15 @@ def crosscheck(
     version = str(require_tamaas().__version__)
     if workers is None:
         workers = (os.cpu_count() or 1) if scheduler in ("threads", "processes") else 1
-    plan = make_plan(as_scene(scene), grid, realisations, seed, workers, grid_check)
+    scene = as_scene(scene)
+    if is_body(scene):  # a finite body: its own plan and solves (serial)
+        if grid_check:
+            raise CrosscheckError(
+                "grid_check: not available for a [geometry] scene (the rough sphere's cell is "
+                "set by its nominal radius); run the cross-check with a larger grid instead"
+            )
+        return crosscheck_sphere(scene, realisations, grid, seed, echo)
+    plan = make_plan(scene, grid, realisations, seed, workers, grid_check)
     if echo is not None:
         echo(estimate_line(plan))
         for note in plan.notes + [f"not compared: {x}" for x in plan.not_compared]:

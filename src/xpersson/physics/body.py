@@ -49,6 +49,7 @@ __all__ = [
     "hertz_sphere",
     "kernel",
     "solve_body",
+    "start_at_area",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -172,6 +173,46 @@ class Separation:
         inner = np.exp(self._ln_area(np.clip(s, x[0], x[-1])))  # type: ignore[attr-defined]
         below = self.area[0] * p / self.p[0]
         return np.minimum(np.where(s < x[0], below, inner), 1.0)
+
+
+def start_at_area(
+    p: FloatArray, u: FloatArray, dudlnp: FloatArray, area: FloatArray, threshold: float
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The arrays of a :class:`Separation` from the pressure where ``A/A0 = threshold`` on.
+
+    ``p`` [Pa] increasing, ``u`` [m], ``dudlnp`` [m] and ``area`` [1] at ``p``. The pressure
+    ``p*`` where the area crosses ``threshold`` is found on the power law between the two
+    solved nodes around it, and ``u``, ``du/dln p`` there on :class:`Separation`'s Hermite
+    cubic: the start of the continuation below it does not depend on where the solved
+    pressure grid has a node (starting at the node above moved it by up to one grid step in
+    ``ln p``). The arrays unchanged when the first area is already at least ``threshold``.
+    """
+    if area[0] >= threshold:
+        return p, u, dudlnp, area
+    j = int(np.searchsorted(area, threshold))  # first node at or above the threshold
+    if j >= p.size:
+        raise ValueError(f"the solved area fraction stays below {threshold:g}")
+    x0, x1 = math.log(p[j - 1]), math.log(p[j])
+    a0, a1 = math.log(max(area[j - 1], 1e-300)), math.log(area[j])
+    s = x0 + (math.log(threshold) - a0) * (x1 - x0) / (a1 - a0)
+    h, t = x1 - x0, (s - x0) / (x1 - x0)
+    h00, h10, h01, h11 = (
+        2 * t**3 - 3 * t**2 + 1,
+        t**3 - 2 * t**2 + t,
+        -2 * t**3 + 3 * t**2,
+        t**3 - t**2,
+    )
+    y0, y1, m0, m1 = u[j - 1], u[j], dudlnp[j - 1], dudlnp[j]
+    u_s = h00 * y0 + h10 * h * m0 + h01 * y1 + h11 * h * m1
+    du_s = ((6 * t * t - 6 * t) * (y0 - y1) / h + (3 * t * t - 4 * t + 1) * m0
+            + (3 * t * t - 2 * t) * m1)  # fmt: skip
+    keep = np.log(p) > s + 1e-12
+    return (
+        np.concatenate([[math.exp(s)], p[keep]]),
+        np.concatenate([[u_s], u[keep]]),
+        np.concatenate([[du_s], dudlnp[keep]]),
+        np.concatenate([[threshold], area[keep]]),
+    )
 
 
 @dataclass(frozen=True)

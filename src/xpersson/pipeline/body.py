@@ -20,11 +20,12 @@ import xarray as xr
 
 from .. import physics
 from ..errors import XperssonWarning
-from ..physics.body import BodySolution, Separation, force_radius, solve_body
+from ..physics.body import BodySolution, Separation, force_radius, solve_body, start_at_area
 from ..plugins.solved import solved_curve
 from ..scene import ResolvedScene
 from ..specs import VarSpec
 from ._body_local import local_outputs
+from ._body_model_error import attach_body
 
 __all__ = ["ASYMPTOTE", "CELLS", "FORCE_FRACTION", "OUTPUTS", "body_dataset"]
 
@@ -48,15 +49,26 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     and the curve of the infinite flat (whose separation grows without bound) no longer
     describes them.
     """
-    solved = solved_curve(ctx, ds, "closure", per_decade=_PER_DECADE)
+    solved = solved_curve(ctx, ds, separation_form(ctx), per_decade=_PER_DECADE)
     p = np.asarray(solved.p0, float)
     area = solved.contact[:, -1]
-    keep = slice(max(0, min(int(np.searchsorted(area, ASYMPTOTE)), p.size - 4)), None)
+    # from the node below A/A0 = ASYMPTOTE: the continuation starts there exactly
+    keep = slice(max(0, min(int(np.searchsorted(area, ASYMPTOTE)) - 1, p.size - 4)), None)
     # the separation of the kept loads only (a load's u(p) and slope use its own row alone)
     zeta, *rows = solved.curve
     rows = [None if r is None else np.broadcast_to(r, (p.size, zeta.size))[keep] for r in rows]
     sc = physics.SolvedContact(rs.psd, rs.E_star, p[keep], zeta, *rows)
-    return Separation(p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
+    arrays = (p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
+    return Separation(*start_at_area(*arrays, ASYMPTOTE))
+
+
+def separation_form(ctx: Any) -> str:
+    """The ``s_factor`` form of ``u(p)``: mean_gap's ``"auto"`` (chosen by accuracy in the flat
+    campaign), ``"closure"`` on a coefficient whose closure corrects the area, else
+    ``"yang_persson"`` (default gamma)."""
+    coefficient = getattr(ctx, "coefficient", None)
+    corrected = coefficient is not None and coefficient.corrects_variance()
+    return "closure" if corrected else "yang_persson"
 
 
 def _interpolated(sols: list[BodySolution]) -> Any:
@@ -167,6 +179,8 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     body |= local_outputs(rs, ds, sols, half, length)  # the analyses' declared local quantities
     out = ds.assign(body)  # one merge for every variable (a dim's namesake is its coordinate)
     _attributes(out, rs, cols)
+    out.attrs["geometry_separation_s_factor"] = separation_form(ctx)
+    attach_body(out, rs)  # the campaign's band of the body outputs
     if rs.force_scalar:
         out = out.isel(force=0)
     return out
