@@ -230,7 +230,8 @@ def _steps(
     and buffers are made once per block (a step is about ten numpy calls).
     """
     nb, nn = st.z.shape[1], inp.nodes.x.size
-    fast = _compiled.kernel(nb * nn * (inp.taus.size - 1))  # the level's node-steps
+    work = nb * nn * (inp.taus.size - 1)  # the level's node-steps; the block's steps
+    fast = _compiled.kernel(work, states.shape[0] - 1, nb * nn)
     if fast is not None:
         _compiled_steps(fast, st, rec, inp, ops, states, m0, yields, rows, p_out)
         return
