@@ -49,8 +49,8 @@ def kernel(work: float, steps: int = 0, nodes: int = 0) -> Callable[..., int] | 
     """The compiled :func:`march_steps`, or None: the option is off, numba is missing, or the
     level's ``work`` [node-steps] is below :data:`MIN_WORK`, the numpy marching of the
     process so far (this block's ``steps`` of ``nodes`` unknowns included) is below
-    :data:`BUILD_AFTER` and the kernel is not built yet (once built, every level takes it: the import is paid, and the
-    results are the same to 1e-12)."""
+    :data:`BUILD_AFTER` and the kernel is not built yet (once built, every level takes it:
+    the import is paid, and the results are the same to 1e-12)."""
     if not compiled_enabled():
         return None
     if work < MIN_WORK and "fn" not in _STATE:
