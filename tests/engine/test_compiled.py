@@ -69,7 +69,7 @@ def test_python_kernel_equals_numpy_march(name, monkeypatch):
         calls.append(args[:2])
         return _compiled.march_steps(*args)
 
-    monkeypatch.setattr(_compiled, "kernel", lambda work: kernel)
+    monkeypatch.setattr(_compiled, "kernel", lambda work, *_: kernel)
     _assert_same(ref, _outputs(name))
     assert calls  # the kernel ran
 
@@ -81,6 +81,21 @@ def test_off_switch_and_small_levels_keep_numpy(monkeypatch):
     assert xpersson.get_options()["compiled"]
     monkeypatch.setattr(_compiled, "_STATE", {})  # not built yet: small levels stay numpy
     assert _compiled.kernel(_compiled.MIN_WORK - 1) is None
+
+
+def test_many_small_levels_build_the_kernel(monkeypatch):
+    """Rent or buy: small levels stay numpy until their estimated numpy time adds up to
+    BUILD_AFTER, then the compiled march is built (numba present) or None stays (absent)."""
+    pytest.importorskip("numba")
+    monkeypatch.setattr(_compiled, "_STATE", {})
+    per_block = 100 * (_compiled.NUMPY_STEP + _compiled.NUMPY_NODE_STEP * 50)
+    n_blocks = int(_compiled.BUILD_AFTER / per_block)
+    for _ in range(n_blocks - 1):
+        assert _compiled.kernel(5000.0, 100, 50) is None
+    for _ in range(3):  # (past BUILD_AFTER, whatever the round-off of the sum)
+        _compiled.kernel(5000.0, 100, 50)
+    assert _compiled.kernel(5000.0, 100, 50) is not None
+    assert _compiled.kernel(1.0) is not None  # built: every level takes it
 
 
 @pytest.mark.parametrize("name", ["yield closure, batch", "two walls, batch", "moving lower"])

@@ -12,9 +12,12 @@ the tests hold them to 1e-12).
 
 numba is an optional accelerator (``pip install numba``): without it, or with
 ``xpersson.set_options(compiled=False)`` (environment ``XPERSSON_COMPILED=off``), the numpy
-path runs. Until a level of :data:`MIN_WORK` node-steps asks for it, the numpy path runs too,
-so that small solves never import numba (its import and loading cost about 0.4 s per process,
-the first compilation a few seconds; the compiled code is kept on disk by numba's own
+path runs. Until a level of :data:`MIN_WORK` node-steps asks for it, or the levels the numpy
+path has marched in the process add up to about the import's cost (:data:`BUILD_AFTER`, estimated
+from their steps and node-steps: a rent-or-buy rule, so that many small solves in one process,
+a sweep or a benchmark, pay at most twice the best of either path), the numpy path runs too, so
+that a few small solves never import numba (its import and loading cost about 0.4 s per
+process, the first compilation a few seconds; the compiled code is kept on disk by numba's own
 ``cache=True``); from then on every level of the process takes the compiled path.
 """
 
@@ -26,20 +29,35 @@ from typing import Any
 
 from ..options import compiled_enabled
 
-__all__ = ["MIN_WORK", "march_steps", "kernel"]
+__all__ = ["BUILD_AFTER", "MIN_WORK", "march_steps", "kernel"]
 
 MIN_WORK = 500_000
 """Node-steps of a level below which the numpy path runs (no numba import for small solves)."""
 
+BUILD_AFTER = 0.4
+"""Estimated CPU seconds [s] of numpy marching in one process after which the compiled march is
+built (about numba's import and load; see :data:`NUMPY_STEP`, :data:`NUMPY_NODE_STEP`)."""
+
+NUMPY_STEP, NUMPY_NODE_STEP = 8e-6, 5e-9
+"""The numpy march's cost [s] per time step (its ~10 calls) and per node-step (measured on the
+marching ``jkr`` scenes of ``benchmarks/summary.py``: 7.6 us and ~5 ns)."""
+
 _STATE: dict[str, Any] = {}  # the compiled function once built (or None: numba missing)
 
 
-def kernel(work: float) -> Callable[..., int] | None:
+def kernel(work: float, steps: int = 0, nodes: int = 0) -> Callable[..., int] | None:
     """The compiled :func:`march_steps`, or None: the option is off, numba is missing, or the
-    ``work`` [node-steps] is below :data:`MIN_WORK` and the kernel is not built yet (once
-    built, every level takes it: the import is paid, and the results are the same)."""
-    if not compiled_enabled() or (work < MIN_WORK and "fn" not in _STATE):
+    level's ``work`` [node-steps] is below :data:`MIN_WORK`, the numpy marching of the
+    process so far (this block's ``steps`` of ``nodes`` unknowns included) is below
+    :data:`BUILD_AFTER` and the kernel is not built yet (once built, every level takes it:
+    the import is paid, and the results are the same to 1e-12)."""
+    if not compiled_enabled():
         return None
+    if work < MIN_WORK and "fn" not in _STATE:
+        spent = _STATE.get("numpy", 0.0) + steps * (NUMPY_STEP + NUMPY_NODE_STEP * nodes)
+        _STATE["numpy"] = spent
+        if spent < BUILD_AFTER:
+            return None
     if "fn" not in _STATE:
         _STATE["fn"] = _build()
     return _STATE["fn"]  # type: ignore[no-any-return]

@@ -54,6 +54,7 @@ from ._level import (
 from ._moving_block import Block, block_system
 from ._problem import Problem
 from ._progress import report as report_progress
+from ._progress import reported as progress_reported
 
 __all__ = ["LevelInputs", "level_inputs", "march_level", "_march"]
 
@@ -230,7 +231,8 @@ def _steps(
     and buffers are made once per block (a step is about ten numpy calls).
     """
     nb, nn = st.z.shape[1], inp.nodes.x.size
-    fast = _compiled.kernel(nb * nn * (inp.taus.size - 1))  # the level's node-steps
+    work = nb * nn * (inp.taus.size - 1)  # the level's node-steps; the block's steps
+    fast = _compiled.kernel(work, states.shape[0] - 1, nb * nn)
     if fast is not None:
         _compiled_steps(fast, st, rec, inp, ops, states, m0, yields, rows, p_out)
         return
@@ -304,11 +306,18 @@ def _compiled_steps(
         no_yield[1] if ops.yield_rhs is None else ops.yield_rhs,
         no_yield[0] if ops.yield_gain is None else ops.yield_gain, st.z,
     )  # fmt: skip
+    # one call per block where nothing needs the march to pause: an output is a row of the
+    # block's states unless the plastic area moves (a real yield wall) or the output is
+    # reduced when reached (densities, large snapshots); progress only for a reporter
+    by_output = rec.snaps is None or any(yields)
+    by_report = progress_reported()
     i = 0
     while i < n:
         nxt = out_steps[st.next_out]
-        stop = min(n, (m0 + i) // _REPORT_EVERY * _REPORT_EVERY + _REPORT_EVERY - m0)
-        if nxt > m0 + i:
+        stop = n
+        if by_report:
+            stop = min(n, (m0 + i) // _REPORT_EVERY * _REPORT_EVERY + _REPORT_EVERY - m0)
+        if by_output and nxt > m0 + i:
             stop = min(stop, nxt - m0)
         info = fast(i, stop, *args)
         st.r, i = states[stop], stop
@@ -316,9 +325,11 @@ def _compiled_steps(
             st.info |= info
             return
         m = m0 + i
-        while out_steps[st.next_out] == m:
-            _record(rec, st, inp, m, p_out)
-        if m % _REPORT_EVERY == 0:
+        while 0 < out_steps[st.next_out] <= m:
+            st.r = states[out_steps[st.next_out] - m0]
+            _record(rec, st, inp, out_steps[st.next_out], p_out)
+        st.r = states[stop]
+        if by_report and m % _REPORT_EVERY == 0:
             report_progress(_REPORT_EVERY * nn * nb)
 
 

@@ -13,7 +13,7 @@ import contextlib
 import contextvars
 from collections.abc import Callable, Iterator
 
-__all__ = ["report", "reporting"]
+__all__ = ["report", "reported", "reporting"]
 
 _REPORTER: contextvars.ContextVar[Callable[[int], None] | None] = contextvars.ContextVar(
     "xpersson_engine_progress", default=None
@@ -25,6 +25,11 @@ def report(node_steps: int) -> None:
     cb = _REPORTER.get()
     if cb is not None and node_steps > 0:
         cb(int(node_steps))
+
+
+def reported() -> bool:
+    """Whether a reporter is installed (a solver may skip its pauses to report otherwise)."""
+    return _REPORTER.get() is not None
 
 
 @contextlib.contextmanager
