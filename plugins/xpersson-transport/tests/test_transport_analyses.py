@@ -234,7 +234,8 @@ def test_full_contact_has_no_constriction():
         np.testing.assert_array_equal(v(name) == 1, [full, full])
     g_c = v("electrical_constriction_conductance")
     assert np.all(np.isnan(g_c[:, full])) and np.all(np.isfinite(g_c[:, ~full]))
-    assert "contact_stiffness_status 1" in ds["electrical_constriction_conductance"].attrs["comment"]
+    comment = ds["electrical_constriction_conductance"].attrs["comment"]
+    assert "contact_stiffness_status 1" in comment
     assert np.all(v("electrical_constriction_resistance")[:, full] == 0.0)
     g, r = v("electrical_contact_conductance"), v("electrical_contact_resistance")
     assert np.all(np.isnan(g[0, full])) and np.all(r[0, full] == 0.0)  # no film

@@ -247,9 +247,7 @@ def in_series(g1: ArrayLike, g2: ArrayLike) -> NDArray[np.float64]:
         return 1.0 / (1.0 / g1 + 1.0 / g2)
 
 
-def with_full_contact(
-    g: ArrayLike, g_series: ArrayLike, full: ArrayLike
-) -> NDArray[np.float64]:
+def with_full_contact(g: ArrayLike, g_series: ArrayLike, full: ArrayLike) -> NDArray[np.float64]:
     """A conductance per area ``g`` with the constriction in series, at full contact.
 
     Where ``full`` the constriction has no resistance: the value is the part in series
