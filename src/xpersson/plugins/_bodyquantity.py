@@ -62,8 +62,6 @@ import re
 from collections.abc import Callable, Mapping
 from typing import Any
 
-import numpy as np
-
 from ..specs import SpecError, VarSpec
 
 __all__ = ["BodyQuantity", "COMBINES", "FULL_CONTACT", "check_body_quantities"]
@@ -142,6 +140,8 @@ class BodyQuantity:
         """Where the local value is unbounded: ``status`` (the values of the ``unbounded``
         output on ``p0``) equals its ``full_contact`` flag in ``outputs`` (the class's);
         all False without ``unbounded``."""
+        import numpy as np  # lazily: ``xpersson plugins list`` imports no numpy
+
         if self.unbounded is None:
             return np.zeros(np.shape(status), bool)
         return np.asarray(status) == _full_contact_flag(outputs[self.unbounded])
@@ -149,6 +149,8 @@ class BodyQuantity:
 
 def _full_contact_flag(spec: VarSpec) -> int:
     """The flag value of meaning :data:`FULL_CONTACT` in a status output's CF attributes."""
+    import numpy as np  # lazily: ``xpersson plugins list`` imports no numpy
+
     meanings = str(spec.extra.get("flag_meanings", "")).split()
     values = np.atleast_1d(np.asarray(spec.extra.get("flag_values", ()))).tolist()
     if FULL_CONTACT not in meanings or len(values) != len(meanings):
