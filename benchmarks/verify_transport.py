@@ -408,6 +408,29 @@ _SERIES = (
 )
 
 
+def full_contact_rows(fast: bool) -> list[dict]:
+    """The status flags against contact_stiffness_status (1: full contact), and the
+    constriction resistance at full contact (no constriction: exactly 0)."""
+    spectrum = {"model": "self_affine", "H": 0.8, "q_L": "1e5 1/m", "q_r": "1e6 1/m",
+                "q_1": "1e7 1/m", "h_rms": "1 nm"}  # fmt: skip
+    rho = {"resistivity_1": "1.7e-8 ohm*m", "resistivity_2": "1.7e-8 ohm*m"}
+    kappa = {"conductivity_1": "400 W/(m*K)", "conductivity_2": "400 W/(m*K)"}
+    ds = xpersson_solve({
+        "spectrum": spectrum, "material": {"E": "1 MPa", "nu": 0.5},
+        "load": {"p0": ["1 kPa", "30 kPa", "0.1 MPa", "0.3 MPa"]},
+        "analyses": {"electrical_contact": rho, "thermal_contact": kappa},
+    })  # fmt: skip
+    full = ds["contact_stiffness_status"].values == 1
+    regime = f"1 nm on E = 1 MPa, p0 1 kPa .. 0.3 MPa ({int(full.sum())} at full contact)"
+    return [
+        *(_row(n, regime, "1 exactly where contact_stiffness_status is 1",
+               float(np.sum((ds[n].values == 1) != full)), "mismatches")
+          for n in ("electrical_contact_status", "thermal_contact_status")),
+        _row("electrical_constriction_resistance (full contact)", regime, "0: no constriction",
+             float(np.max(ds["electrical_constriction_resistance"].values[full])), "abs"),
+    ]  # fmt: skip
+
+
 def xpersson_solve(scene: dict):
     import xpersson
 
@@ -424,6 +447,7 @@ def rows(fast: bool) -> list[dict]:
         *series_rows(fast),
         *holm_rows(fast),
         *holm_bem_rows(fast),
+        *full_contact_rows(fast),
     ]
 
 

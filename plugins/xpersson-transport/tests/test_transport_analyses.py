@@ -207,3 +207,64 @@ def test_from_sparse_to_full_contact():
     bound = 0.026 * open_area / float(ds["gas_jump_length"])
     assert np.all(ds["thermal_gas_conductance"].values <= bound * (1 + 1e-9))
     assert np.argmax(ds["thermal_gas_conductance"].values) < loads.size - 1
+
+
+def test_full_contact_has_no_constriction():
+    """A soft flat with 1 nm roughness pressed into full contact (contact_stiffness NaN,
+    contact_stiffness_status 1): no constriction. The constriction resistance is 0, the
+    conductances per area are NaN with a meaning naming the status (never inf); with a film the
+    contact conductance is the film's alone, A_c/(rho_f d), and its resistance the film's."""
+    ana = {
+        "electrical_contact": electrical(film_thickness=["0 m", "2 nm"],
+                                         film_resistivity="1e-3 ohm*m"),
+        "thermal_contact": thermal(**AIR, emissivity_1=0.5, emissivity_2=0.5,
+                                   film_thickness="2 nm", film_conductivity="1 W/(m*K)"),
+    }  # fmt: skip
+    spectrum = {"q_L": "1e5 1/m", "q_r": "1e6 1/m", "q_1": "1e7 1/m", "h_rms": "1 nm"}
+    ds = xpersson.solve(scene([1e3, 1e5, 3e5], ana, E="1 MPa", **spectrum))
+    shape = ds["film_thickness"] * ds["p0"]
+
+    def v(name):  # (film_thickness: no film, 2 nm; p0)
+        da = ds[name].isel(zeta=-1) if "zeta" in ds[name].dims else ds[name]
+        return da.broadcast_like(shape).transpose("film_thickness", "p0").values
+
+    full = v("contact_stiffness_status")[0] == 1
+    np.testing.assert_array_equal(full, [False, True, True])
+    for name in ("electrical_contact_status", "thermal_contact_status"):
+        np.testing.assert_array_equal(v(name) == 1, [full, full])
+    g_c = v("electrical_constriction_conductance")
+    assert np.all(np.isnan(g_c[:, full])) and np.all(np.isfinite(g_c[:, ~full]))
+    comment = ds["electrical_constriction_conductance"].attrs["comment"]
+    assert "contact_stiffness_status 1" in comment
+    assert np.all(v("electrical_constriction_resistance")[:, full] == 0.0)
+    g, r = v("electrical_contact_conductance"), v("electrical_contact_resistance")
+    assert np.all(np.isnan(g[0, full])) and np.all(r[0, full] == 0.0)  # no film
+    a_c = v("area_fraction")[0]
+    np.testing.assert_allclose(g[1, full], a_c[full] / (1e-3 * 2e-9), rtol=1e-12)  # film alone
+    np.testing.assert_allclose(r[1, full], v("electrical_film_resistance")[1, full])
+    for name in ("holm_magnification", "holm_ratio", "holm_spot_radius"):
+        assert np.all(np.isnan(v(name)[:, full])) and "status 1" in ds[name].attrs["comment"]
+    assert np.all(np.isfinite(ds["holm_conductance"].values))
+    # thermal, with a film: solid = film alone; total = film + gas + radiation, all finite
+    solid = v("thermal_solid_conductance")[0]
+    np.testing.assert_allclose(solid[full], a_c[full] * 1.0 / 2e-9, rtol=1e-12)
+    assert np.all(np.isnan(v("thermal_constriction_conductance")[0, full]))
+    parts = solid + v("thermal_gas_conductance")[0] + v("thermal_radiation_conductance")[0]
+    np.testing.assert_allclose(v("thermal_contact_conductance")[0], parts, rtol=1e-14)
+    np.testing.assert_allclose(v("thermal_contact_resistance")[0], 1 / (parts * 1e-4), rtol=1e-14)
+
+
+def test_full_contact_thermal_without_film_is_unbounded():
+    """Without a film the solid path has no resistance at full contact: the solid and total
+    conductances are NaN (unbounded), the resistance 0; the gas and radiation parts stay finite."""
+    spectrum = {"q_L": "1e5 1/m", "q_r": "1e6 1/m", "q_1": "1e7 1/m", "h_rms": "1 nm"}
+    ana = {"thermal_contact": thermal(**AIR, emissivity_1=0.5, emissivity_2=0.5)}
+    ds = xpersson.solve(scene([1e3, 3e5], ana, E="1 MPa", **spectrum))
+    np.testing.assert_array_equal(ds["thermal_contact_status"].values, [0, 1])
+    for name in ("thermal_solid_conductance", "thermal_contact_conductance"):
+        v = ds[name].values
+        assert np.isfinite(v[0]) and np.isnan(v[1]), name
+        assert "contact_stiffness_status 1" in ds[name].attrs["comment"]
+    np.testing.assert_array_equal(ds["thermal_contact_resistance"].values[1], 0.0)
+    for name in ("thermal_gas_conductance", "thermal_radiation_conductance"):
+        assert np.all(np.isfinite(ds[name].values) & (ds[name].values >= 0)), name

@@ -35,10 +35,11 @@ _QUALITY = {"coverage_content_type": "qualityInformation"}
 def interpolate(p_grid: FloatArray, q_grid: FloatArray, p: FloatArray) -> FloatArray:
     """``q`` at pressures ``p`` [Pa] from its values on the increasing grid ``p_grid`` [Pa].
 
-    Piecewise linear in ``(ln p, ln q)`` where both ends are positive (linear in ``q`` where an
-    end is 0); below the grid the power law of the first interval (``q -> 0`` or ``inf`` at
-    ``p = 0`` as its exponent is positive or negative; held where an end is 0); above the grid
-    the last value.
+    Piecewise linear in ``(ln p, ln q)`` where both ends are positive and finite (linear in
+    ``q`` where an end is 0, in ``1/q`` where an end is ``inf``: an unbounded conductance); below
+    the grid the power law of the first interval (``q -> 0`` or ``inf`` at ``p = 0`` as its
+    exponent is positive or negative; held where an end is 0 or ``inf``); above the grid the last
+    value.
     """
     x, p = np.log(p_grid), np.asarray(p, float)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -52,7 +53,12 @@ def interpolate(p_grid: FloatArray, q_grid: FloatArray, p: FloatArray) -> FloatA
             np.exp(lq[j] + t * (lq[j + 1] - lq[j])),
             q_grid[j] + t * (q_grid[j + 1] - q_grid[j]),
         )
-        k = (lq[1] - lq[0]) / (x[1] - x[0]) if q_grid[0] > 0 and q_grid[1] > 0 else 0.0
+        unbounded = np.isinf(q_grid[j]) | np.isinf(q_grid[j + 1])
+        if unbounded.any():  # linear in the resistance 1/q (0 at an unbounded end)
+            harmonic = 1.0 / ((1.0 - t) / q_grid[j] + t / q_grid[j + 1])
+            inner = np.where(unbounded, harmonic, inner)
+        ends = q_grid[:2]
+        k = (lq[1] - lq[0]) / (x[1] - x[0]) if np.all((ends > 0) & np.isfinite(ends)) else 0.0
         below = q_grid[0] * np.power(p / p_grid[0], k)
     return np.where(p < p_grid[0], below, inner)
 
@@ -130,6 +136,9 @@ def local_outputs(
                 )
             with checks.calling(label, f"body_quantities[{bname!r}]"):
                 values = np.asarray(ds[bq.local].values, float)
+                if bq.unbounded is not None:  # NaN by full contact: no interface resistance
+                    rigid = bq.unbounded_where(type(analysis).outputs, ds[bq.unbounded].values)
+                    values = np.where(rigid & np.isnan(values), np.inf, values)
                 q = bq.local_values(analysis.params, values, np.asarray(rs.p0, float))
                 bulk = 0.0 if bq.bulk is None else float(bq.bulk(analysis.params))
             value, err = _integrated(bq, q, rs, (full, half), bulk)

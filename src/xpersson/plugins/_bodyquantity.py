@@ -45,6 +45,14 @@ How a local value ``q(p)`` combines over the body (:data:`COMBINES`):
     sheet conductance (e.g. a flow per unit pressure drop per square), ``L`` the cylinder's
     length. A uniform pressure over a width ``W`` gives ``L q / W``, the flat seal's value. Not
     defined for an axisymmetric body (NaN).
+
+A conductance per area may be unbounded at some pressures (full contact: the interface has no
+resistance, the analysis's value is NaN by its declared ``nan_meaning``). ``unbounded`` names
+the analysis's status output (a CF flag variable on ``p0`` with the flag meaning
+``full_contact``): where the status holds that flag and the local value is NaN, the core
+combines the value as unbounded (``inf``: an interface without resistance; between grid
+pressures it interpolates the local resistance ``1/q`` linearly), so a body pressed into full
+contact conducts through its bulk constriction alone (Holm's value for a smooth disk).
 """
 
 from __future__ import annotations
@@ -56,7 +64,7 @@ from typing import Any
 
 from ..specs import SpecError, VarSpec
 
-__all__ = ["BodyQuantity", "COMBINES", "check_body_quantities"]
+__all__ = ["BodyQuantity", "COMBINES", "FULL_CONTACT", "check_body_quantities"]
 
 COMBINES = {
     "area": "in parallel over the nominal contact: int q dA",
@@ -64,6 +72,9 @@ COMBINES = {
     "series": "in series across a line contact (a seal): L / int dx/q",
 }
 """How a declared local quantity combines over the body (name -> meaning)."""
+
+FULL_CONTACT = "full_contact"
+"""The CF flag meaning of a ``BodyQuantity.unbounded`` status: the local value is unbounded."""
 
 _NAME = re.compile(r"^body_[a-z][a-z0-9_]*$")
 _Params = Callable[[Mapping[str, Any]], float]
@@ -95,6 +106,10 @@ class BodyQuantity:
         ``b`` of the bodies' spreading term in the units of ``1 / (q m)`` (a resistivity).
     times_pressure : bool
         ``q = local * p0`` (e.g. a shear stress from a friction coefficient).
+    unbounded : str, optional
+        A status output of the class (dims ``("p0",)``, CF ``flag_values``/``flag_meanings``
+        with the meaning ``full_contact``): where it holds that flag, a NaN local value is
+        unbounded (``inf``, no resistance) rather than undefined.
     """
 
     local: str
@@ -105,6 +120,7 @@ class BodyQuantity:
     factor: _Params | None = None
     bulk: _Params | None = None
     times_pressure: bool = False
+    unbounded: str | None = None
 
     def spec(self) -> VarSpec:
         """The :class:`~xpersson.specs.VarSpec` of the integrated output (dimension force)."""
@@ -119,6 +135,40 @@ class BodyQuantity:
         ``local`` output ``values`` and the instance's ``params``."""
         q = values * (1.0 if self.factor is None else float(self.factor(params)))
         return q * p0 if self.times_pressure else q
+
+    def unbounded_where(self, outputs: Mapping[str, VarSpec], status: Any) -> Any:
+        """Where the local value is unbounded: ``status`` (the values of the ``unbounded``
+        output on ``p0``) equals its ``full_contact`` flag in ``outputs`` (the class's);
+        all False without ``unbounded``."""
+        import numpy as np  # lazily: ``xpersson plugins list`` imports no numpy
+
+        if self.unbounded is None:
+            return np.zeros(np.shape(status), bool)
+        return np.asarray(status) == _full_contact_flag(outputs[self.unbounded])
+
+
+def _full_contact_flag(spec: VarSpec) -> int:
+    """The flag value of meaning :data:`FULL_CONTACT` in a status output's CF attributes."""
+    import numpy as np  # lazily: ``xpersson plugins list`` imports no numpy
+
+    meanings = str(spec.extra.get("flag_meanings", "")).split()
+    values = np.atleast_1d(np.asarray(spec.extra.get("flag_values", ()))).tolist()
+    if FULL_CONTACT not in meanings or len(values) != len(meanings):
+        raise SpecError(f"flag_meanings {meanings} / flag_values {values} have no {FULL_CONTACT!r}")
+    return int(values[meanings.index(FULL_CONTACT)])
+
+
+def _check_unbounded(cls: type[Any], where: str, bq: BodyQuantity) -> None:
+    if bq.unbounded is None:
+        return
+    out = cls.outputs.get(bq.unbounded)
+    if bq.unbounded not in cls.provides or out is None or tuple(out.dims) != ("p0",):
+        raise SpecError(f"{where}: unbounded={bq.unbounded!r} must be an output the class "
+                        "provides with dims ('p0',)")  # fmt: skip
+    try:
+        _full_contact_flag(out)
+    except SpecError as exc:
+        raise SpecError(f"{where}: unbounded={bq.unbounded!r}: {exc}") from None
 
 
 def check_body_quantities(cls: type[Any], name: str) -> None:
@@ -150,4 +200,5 @@ def check_body_quantities(cls: type[Any], name: str) -> None:
             fn = getattr(bq, attr)
             if fn is not None and not callable(fn):
                 raise SpecError(f"{where}: {attr} must be a callable params -> float")
+        _check_unbounded(cls, where, bq)
         bq.spec().check(name, bname)

@@ -36,11 +36,13 @@ ELECTRICAL = {
     "body_electrical_conductance": BodyQuantity(
         "electrical_contact_conductance", "constriction", "S",
         "electrical contact conductance of the body", description=_WHAT, bulk=_electrical_bulk,
+        unbounded="electrical_contact_status",
     ),
 }  # fmt: skip
 THERMAL = {
     "body_thermal_conductance": BodyQuantity(
         "thermal_contact_conductance", "constriction", "W K-1",
         "thermal contact conductance of the body", description=_WHAT, bulk=_thermal_bulk,
+        unbounded="thermal_contact_status",
     ),
 }  # fmt: skip

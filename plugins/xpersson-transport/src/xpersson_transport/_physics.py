@@ -18,6 +18,10 @@
   over the gap distribution by exact product integration of the piecewise-linear density.
 * Film in series: a film of resistivity ``rho_f`` and thickness ``d`` on the real contact area
   ``A_c``: ``g_f = A_c / (rho_f d)`` (thermal: ``A_c kappa_f / d``); ``1/g = 1/g_c + 1/g_f``.
+* Full contact (``contact_stiffness`` NaN, ``contact_stiffness_status`` 1): the interface is
+  rigid at the solve's resolution, so there is no constriction: its resistance is 0 and a
+  conductance per area is unbounded (NaN, never ``inf``) unless a finite part (a film) is in
+  series with it (:func:`with_full_contact`, :func:`resistance`).
 """
 
 from __future__ import annotations
@@ -39,7 +43,13 @@ __all__ = [
     "radiation_conductance",
     "film_conductance",
     "in_series",
+    "with_full_contact",
+    "resistance",
+    "RIGID_FULL_CONTACT",
 ]
+
+#: ``contact_stiffness_status`` of a load at full contact (its flag ``rigid_full_contact``).
+RIGID_FULL_CONTACT = 1
 
 #: Stefan-Boltzmann constant [W m-2 K-4] (CODATA 2018, exact in the SI).
 SIGMA_SB = 5.670374419e-8
@@ -235,3 +245,22 @@ def in_series(g1: ArrayLike, g2: ArrayLike) -> NDArray[np.float64]:
     g1, g2 = np.asarray(g1, dtype=float), np.asarray(g2, dtype=float)
     with np.errstate(divide="ignore"):
         return 1.0 / (1.0 / g1 + 1.0 / g2)
+
+
+def with_full_contact(g: ArrayLike, g_series: ArrayLike, full: ArrayLike) -> NDArray[np.float64]:
+    """A conductance per area ``g`` with the constriction in series, at full contact.
+
+    Where ``full`` the constriction has no resistance: the value is the part in series
+    ``g_series`` (a film) if finite, else NaN (unbounded); elsewhere ``g`` unchanged.
+    """
+    g_s = np.asarray(g_series, dtype=float)
+    at_full = np.where(np.isfinite(g_s), g_s, np.nan)
+    return np.where(full, at_full, np.asarray(g, dtype=float))
+
+
+def resistance(g: ArrayLike, area: float, full: ArrayLike) -> NDArray[np.float64]:
+    """``1 / (g A0)`` [ohm or K/W] of the nominal area ``A0`` [m^2]; 0 where ``full`` and ``g``
+    is unbounded (NaN: full contact without a finite part in series)."""
+    g = np.asarray(g, dtype=float)
+    with np.errstate(invalid="ignore"):
+        return np.where(np.asarray(full) & np.isnan(g), 0.0, 1.0 / (g * area))

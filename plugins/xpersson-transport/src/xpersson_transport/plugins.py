@@ -39,6 +39,21 @@ GREENWOOD1966 = "10.1088/0508-3443/17/12/310"
 HOLM1967 = "10.1007/978-3-662-06688-1"
 
 
+#: NaN meanings at full contact (``contact_stiffness_status`` 1)
+_NAN_CONSTRICTION = (
+    "full contact (contact_stiffness_status 1): no constriction, the conductance per area is "
+    "unbounded (the constriction resistance is 0)"
+)
+_NAN_SERIES = (
+    "full contact (contact_stiffness_status 1) without a film: no resistance at the interface, "
+    "the conductance per area is unbounded (with a film: the film's conductance alone)"
+)
+_NAN_HOLM = (
+    "full contact (contact_stiffness_status 1): Barber's conductance is unbounded, no "
+    "magnification's spot sum matches it"
+)
+
+
 def _positive(unit: str, what: str, example: float | None = None, **kw: Any) -> ParamSpec:
     return ParamSpec(
         unit=unit,
@@ -71,6 +86,24 @@ def _rows(values: Any, n: int) -> np.ndarray:
 
 def _per_load(ds: xr.Dataset, name: str) -> np.ndarray:
     return np.atleast_1d(np.asarray(ds[name].values, dtype=float))
+
+
+def _full_contact(ds: xr.Dataset, n: int) -> np.ndarray:
+    """Loads at full contact: ``contact_stiffness_status`` 1 (``contact_stiffness`` NaN by its
+    declared meaning: the interface is rigid at the solve's resolution)."""
+    status = _per_load(ds, "contact_stiffness_status")
+    return np.broadcast_to(status == ph.RIGID_FULL_CONTACT, (n,))
+
+
+def _status(analysis: str) -> VarSpec:
+    return VarSpec(
+        ("p0",), "1", f"validity of the {analysis} conductances per load",
+        description="0: from the theory; 1: full contact (contact_stiffness_status 1, "
+        "contact_stiffness NaN): no constriction, so the constriction resistance is 0 and "
+        "every conductance per area without a finite part in series is unbounded (NaN)",
+        extra={"flag_values": np.array([0, 1], dtype=np.int8),
+               "flag_meanings": "valid full_contact"},
+    )  # fmt: skip
 
 
 def _contact_area(ctx: Any, ds: xr.Dataset, n: int) -> np.ndarray:
@@ -115,8 +148,10 @@ class _Transport(Analysis):
             )
         return why
 
-    def _stiffness(self, ds: xr.Dataset) -> np.ndarray:
-        return _per_load(ds, "contact_stiffness")
+    def _stiffness(self, ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
+        """``contact_stiffness`` [Pa/m] and the loads at full contact (:func:`_full_contact`)."""
+        K = _per_load(ds, "contact_stiffness")
+        return K, _full_contact(ds, K.size)
 
 
 class ElectricalContact(_Transport):
@@ -131,7 +166,7 @@ class ElectricalContact(_Transport):
 
     summary = "Electrical contact conductance/resistance: Barber's stiffness analogy, Holm's spots"
     references = (BARBER2003, PERSSON2022, HOLM1967, GREENWOOD1966, PERSSON2007)
-    requires = ("contact_stiffness", "area_fraction")
+    requires = ("contact_stiffness", "contact_stiffness_status", "area_fraction")
     parameters: ClassVar = {
         "resistivity_1": _positive("ohm*m", "electrical resistivity of body 1", 1.7e-8),
         "resistivity_2": _positive("ohm*m", "electrical resistivity of body 2", 1.7e-8),
@@ -149,11 +184,12 @@ class ElectricalContact(_Transport):
     }
     outputs: ClassVar = {
         "electrical_constriction_conductance": VarSpec(
-            ("p0",), "S m-2", "constriction conductance per nominal area (Barber)", valid_min=0.0
+            ("p0",), "S m-2", "constriction conductance per nominal area (Barber)", valid_min=0.0,
+            nan_meaning=_NAN_CONSTRICTION,
         ),
         "electrical_contact_conductance": VarSpec(
             ("p0",), "S m-2", "contact conductance per nominal area, constriction + film in series",
-            valid_min=0.0,
+            valid_min=0.0, nan_meaning=_NAN_SERIES,
         ),
         "electrical_constriction_resistance": VarSpec(
             ("p0",), "ohm", "constriction resistance of the nominal area", valid_min=0.0
@@ -173,15 +209,17 @@ class ElectricalContact(_Transport):
         "holm_magnification": VarSpec(
             ("p0",), "1",
             "magnification at which Holm's spot sum equals (else comes closest to) Barber's value",
-            valid_min=1.0,
+            valid_min=1.0, nan_meaning=_NAN_HOLM,
         ),
         "holm_ratio": VarSpec(
             ("p0",), "1", "Holm's spot sum over Barber's conductance at holm_magnification",
-            valid_min=0.0,
+            valid_min=0.0, nan_meaning=_NAN_HOLM,
         ),
         "holm_spot_radius": VarSpec(
-            ("p0",), "m", "Holm spot radius c_r/q at holm_magnification", valid_min=0.0
+            ("p0",), "m", "Holm spot radius c_r/q at holm_magnification", valid_min=0.0,
+            nan_meaning=_NAN_HOLM,
         ),
+        "electrical_contact_status": _status("electrical"),
     }  # fmt: skip
     provides = tuple(outputs)
     body_quantities: ClassVar = ELECTRICAL
@@ -198,34 +236,36 @@ class ElectricalContact(_Transport):
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
-        K = self._stiffness(ds)
+        K, full = self._stiffness(ds)
         n = K.size
         c = ph.electrical_factor(p["resistivity_1"], p["resistivity_2"], ctx.E_star)
-        g_c = c * K
+        g_c = np.where(full, np.nan, c * K)
         area = _contact_area(ctx, ds, n)
         rho_f = p["film_resistivity"] or 0.0
         g_f = ph.film_conductance(area[:, -1], rho_f, p["film_thickness"])
-        g = ph.in_series(g_c, g_f)
+        g = ph.with_full_contact(ph.in_series(g_c, g_f), g_f, full)
         a0 = p["nominal_area"]
+        r_c = ph.resistance(g_c, a0, full)
         zeta = np.asarray(ds["zeta"].values, dtype=float)
         q = zeta * ctx.q_L
         c_r = p["spot_radius_factor"]
         g_h = c * ph.holm_stiffness(area, q[None, :], ctx.E_star, c_r)
         with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.clip(g_h / g_c[:, None], 1e-300, 1e300)
-        z_h, r_h = ph.closest_to_one(zeta, ratio)
+            ratio = np.clip(g_h / np.where(full, 1.0, g_c)[:, None], 1e-300, 1e300)
+        z_h, r_h = (np.where(full, np.nan, v) for v in ph.closest_to_one(zeta, ratio))
         with np.errstate(divide="ignore"):
             r_film = np.where(np.isfinite(g_f), 1.0 / (g_f * a0), 0.0)
         return {
             "electrical_constriction_conductance": (("p0",), g_c),
             "electrical_contact_conductance": (("p0",), g),
-            "electrical_constriction_resistance": (("p0",), 1.0 / (g_c * a0)),
+            "electrical_constriction_resistance": (("p0",), r_c),
             "electrical_film_resistance": (("p0",), r_film),
-            "electrical_contact_resistance": (("p0",), 1.0 / (g_c * a0) + r_film),
+            "electrical_contact_resistance": (("p0",), r_c + r_film),
             "holm_conductance": (("p0", "zeta"), g_h),
             "holm_magnification": (("p0",), z_h),
             "holm_ratio": (("p0",), r_h),
             "holm_spot_radius": (("p0",), c_r / (z_h * ctx.q_L)),
+            "electrical_contact_status": (("p0",), full.astype(np.int8)),
         }
 
 
@@ -320,7 +360,7 @@ class ThermalContact(_Transport):
 
     summary = "Thermal contact conductance: Barber's analogy + gas (temperature jump) + radiation"
     references = (BARBER2003, PLV2010, PERSSON2022, PERSSON2007)
-    requires = ("contact_stiffness", "area_fraction")
+    requires = ("contact_stiffness", "contact_stiffness_status", "area_fraction")
     parameters: ClassVar = {
         "conductivity_1": _positive("W/(m*K)", "thermal conductivity of body 1", 400.0),
         "conductivity_2": _positive("W/(m*K)", "thermal conductivity of body 2", 400.0),
@@ -339,11 +379,11 @@ class ThermalContact(_Transport):
     outputs: ClassVar = {
         "thermal_constriction_conductance": VarSpec(
             ("p0",), "W m-2 K-1", "solid constriction conductance per nominal area (Barber)",
-            valid_min=0.0,
+            valid_min=0.0, nan_meaning=_NAN_CONSTRICTION,
         ),
         "thermal_solid_conductance": VarSpec(
             ("p0",), "W m-2 K-1", "solid contact conductance, constriction + film in series",
-            valid_min=0.0,
+            valid_min=0.0, nan_meaning=_NAN_SERIES,
         ),
         "thermal_gas_conductance": VarSpec(
             ("p0",), "W m-2 K-1", "conductance of the gas in the gaps per nominal area",
@@ -355,7 +395,7 @@ class ThermalContact(_Transport):
         ),
         "thermal_contact_conductance": VarSpec(
             ("p0",), "W m-2 K-1", "total thermal contact conductance (solid + gas + radiation)",
-            valid_min=0.0,
+            valid_min=0.0, nan_meaning=_NAN_SERIES,
         ),
         "thermal_contact_resistance": VarSpec(
             ("p0",), "K W-1", "thermal contact resistance of the nominal area", valid_min=0.0
@@ -363,6 +403,7 @@ class ThermalContact(_Transport):
         "gas_jump_length": VarSpec(
             (), "m", "temperature-jump length Lambda of the gas (0: vacuum)", valid_min=0.0
         ),
+        "thermal_contact_status": _status("thermal"),
     }  # fmt: skip
     provides = tuple(outputs)
     body_quantities: ClassVar = THERMAL
@@ -410,12 +451,13 @@ class ThermalContact(_Transport):
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
-        K = self._stiffness(ds)
+        K, full = self._stiffness(ds)
         g_c = ph.thermal_factor(p["conductivity_1"], p["conductivity_2"], ctx.E_star) * K
+        g_c = np.where(full, np.nan, g_c)
         a_c = _contact_area(ctx, ds, K.size)[:, -1]
         kf = p["film_conductivity"]
         g_f = ph.film_conductance(a_c, 0.0 if kf is None else 1.0 / kf, p["film_thickness"])
-        g_solid = ph.in_series(g_c, g_f)
+        g_solid = ph.with_full_contact(ph.in_series(g_c, g_f), g_f, full)
         lam = self.jump()
         if p["gap_medium"] == "gas" and p["gas_conductivity"] > 0:
             u, F = gap_cdf_grid(
@@ -436,11 +478,12 @@ class ThermalContact(_Transport):
         g_rad = rad * (1.0 - a_c)
         total = g_solid + g_gas + g_rad
         return {
+            "thermal_contact_status": (("p0",), full.astype(np.int8)),
             "thermal_constriction_conductance": (("p0",), g_c),
             "thermal_solid_conductance": (("p0",), g_solid),
             "thermal_gas_conductance": (("p0",), g_gas),
             "thermal_radiation_conductance": (("p0",), g_rad),
             "thermal_contact_conductance": (("p0",), total),
-            "thermal_contact_resistance": (("p0",), 1.0 / (total * p["nominal_area"])),
+            "thermal_contact_resistance": (("p0",), ph.resistance(total, p["nominal_area"], full)),
             "gas_jump_length": ((), np.float64(lam)),
         }
