@@ -12,12 +12,13 @@ over the **calibration** scenes of ``results/campaign_adhcal.jsonl`` that have a
 the same maps, ``results/campaign_adh_elastic.json``, and the theory's elastic area: the
 adhesion constant is not asked to absorb the elastic theory's own area error, which the
 elastic campaign measures), ``r_pull`` the pull-off ratio BEM / theory where the BEM holds
-tension (as the constants were first chosen, ``docs/adhesion_bem.md``). For each candidate the theory side is recomputed from the records' stored BEM
-branches (``campaign_adhesive.refresh``: the tensile load follows the theory's pull-off, no BEM
-solve). The held-out half and the new seed (``campaign_adhnew.jsonl``) are only evaluated,
+tension (as the constants were first chosen, ``docs/adhesion_bem.md``). For each candidate
+the theory side is recomputed from the records' stored BEM branches
+(``campaign_adhesive.refresh``: the tensile load follows the theory's pull-off, no BEM solve).
+The held-out half and the new seed (``campaign_adhnew.jsonl``) are only evaluated,
 before (the shipped constants) and after (the fitted ones). Points where the BEM cell has
 detached at the theory's tensile load (area 0: no ratio) and pull-offs where the BEM holds no
-tension are counted, not fitted. Results: ``results/adhesion_fit.json`` and ``.md``.
+tension are counted, not fitted. Result: ``results/adhesion_fit.json``.
 
 Usage::
 
@@ -50,7 +51,6 @@ def set_constants(scale: float, bumps: float) -> None:
     """Set the plugin's two constants (module globals read at call time) and drop the caches."""
     import xpersson_adhesion._bump as bump_mod
     import xpersson_adhesion.adhesive as adh_mod
-
     from xpersson.cache import clear_caches
 
     adh_mod.ATTRACTION_SCALE = float(scale)
