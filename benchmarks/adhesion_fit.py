@@ -2,7 +2,7 @@
 
 ``ATTRACTION_SCALE`` (the factor on the mean field's attraction,
 ``xpersson_adhesion.adhesive``) and ``BUMPS`` (the bumps of the finite-size floor,
-``xpersson_adhesion._bump``) are chosen on a grid to minimise
+``xpersson_adhesion._bump``) are chosen on a grid (``ATTRACTION_SCALE <= MAX_SCALE``) to minimise
 
     ``J = mean (ln r_enh)^2 + mean (ln r_pull)^2``
 
@@ -22,7 +22,8 @@ tension are counted, not fitted. Result: ``results/adhesion_fit.json``.
 
 Usage::
 
-    OPENBLAS_NUM_THREADS=1 nice -n 10 python benchmarks/adhesion_fit.py
+    OPENBLAS_NUM_THREADS=1 nice -n 10 python benchmarks/adhesion_fit.py fit
+    OPENBLAS_NUM_THREADS=1 nice -n 10 python benchmarks/adhesion_fit.py evaluate
 """
 
 from __future__ import annotations
@@ -43,8 +44,18 @@ sys.path.insert(0, str(HERE))
 
 import campaign_adhesive as ca  # noqa: E402
 
-SCALES = (0.7, 0.85, 1.0)
-BUMPS = (1.0, 2.7, 5.0)
+SCALES = (0.7, 0.85, 1.0, 1.15, 1.3, 1.4, 1.5, 1.6, 1.75, 2.0)
+BUMPS = (0.7, 1.0, 1.25, 1.5, 1.75, 2.0, 2.7)
+#: the largest attraction scale admitted: 1 is the unscaled mean field (``dmt``). Above it the
+#: attraction exceeds the law integrated over the contact's own gaps; the earlier referee
+#: (``docs/adhesion_bem.md``, H = 0.8, mu_T = 1, resolved at 256^2) found the unscaled mean
+#: field already over-predicting the lightest loads' enhancement, and the unconstrained optimum
+#: (1.6) makes that scene sticky with a pull-off of 2.2 kPa against the BEM's 0.11 kPa. The
+#: campaign's resolved scenes (Tabor <= 1) do not reach that threshold, so they cannot bound it.
+MAX_SCALE = 1.0
+#: the constants as shipped before this fit (fitted on the earlier referee, docs/adhesion_bem.md)
+BEFORE = (0.85, 2.7)
+OUT = HERE / "results" / "adhesion_fit.json"
 
 
 def set_constants(scale: float, bumps: float) -> None:
@@ -112,13 +123,14 @@ def evaluate(
     return out
 
 
-def objective(rows: list[dict[str, Any]]) -> float:
-    """``mean (ln r_enh)^2 + mean (ln r_pull)^2`` (0 terms where no points)."""
-    j = 0.0
+def objective(rows: list[dict[str, Any]]) -> dict[str, float]:
+    """``{"J": J_enh + J_pull, "J_enh": mean (ln r_enh)^2, "J_pull": mean (ln r_pull)^2}``
+    (0 terms where no points)."""
+    out = {}
     for key in ("enh", "pull"):
         ln = [math.log(r) for row in rows for _, r, _ in row[key]]
-        j += float(np.mean(np.square(ln))) if ln else 0.0
-    return j
+        out[f"J_{key}"] = float(np.mean(np.square(ln))) if ln else 0.0
+    return {"J": out["J_enh"] + out["J_pull"], **out}
 
 
 def stats(rows: list[dict[str, Any]]) -> dict[str, Any]:
@@ -144,15 +156,7 @@ def stats(rows: list[dict[str, Any]]) -> dict[str, Any]:
     return out
 
 
-def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--cal", default="adhcal")
-    ap.add_argument("--new", default="adhnew")
-    args = ap.parse_args(argv)
-    import xpersson_adhesion._bump as bump_mod
-    import xpersson_adhesion.adhesive as adh_mod
-
-    shipped = (adh_mod.ATTRACTION_SCALE, bump_mod.BUMPS)
+def _records(args: argparse.Namespace) -> tuple[list, list, list, dict[str, dict]]:
     recs = usable(ca._read(ca.campaign.RESULTS / f"campaign_{args.cal}.jsonl"))
     new = usable(ca._read(ca.campaign.RESULTS / f"campaign_{args.new}.jsonl"))
     path = ca.campaign.RESULTS / "campaign_adh_elastic.json"
@@ -160,31 +164,69 @@ def main(argv: list[str] | None = None) -> None:
     elastic = {r["id"]: elastic_ratio(r, refs) for r in recs + new}
     cal = [r for r in recs if r["half"] == "calibration"]
     held = [r for r in recs if r["half"] == "held_out"]
+    return cal, held, new, elastic
+
+
+def fit(args: argparse.Namespace) -> None:
+    """The grid search on the calibration half only; writes ``results/adhesion_fit.json``."""
+    cal, _, _, elastic = _records(args)
     grid = {}
     for s, b in itertools.product(SCALES, BUMPS):
         grid[(s, b)] = objective(evaluate(cal, s, b, elastic))
-        print(f"scale {s:.2f} bumps {b:.1f}: J = {grid[(s, b)]:.4f}", flush=True)
-    best = min(grid, key=grid.get)
+        print(f"scale {s:.2f} bumps {b:.2f}: {grid[(s, b)]}", flush=True)
+    free = min(grid, key=lambda k: grid[k]["J"])
+    best = min((k for k in grid if k[0] <= MAX_SCALE), key=lambda k: grid[k]["J"])
     result: dict[str, Any] = {
         "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        "script": "benchmarks/adhesion_fit.py",
+        "script": "benchmarks/adhesion_fit.py fit",
         "calibration": [r["id"] for r in cal],
         "objective": "mean (ln r_enh)^2 + mean (ln r_pull)^2 over the calibration half",
-        "grid": [{"scale": s, "bumps": b, "J": j} for (s, b), j in grid.items()],
-        "shipped": {"ATTRACTION_SCALE": shipped[0], "BUMPS": shipped[1], "J": grid.get(shipped)},
-        "fitted": {"ATTRACTION_SCALE": best[0], "BUMPS": best[1], "J": grid[best]},
-        "provenance": recs[0]["provenance"] if recs else None,
-        "new_seed_provenance": new[0]["provenance"] if new else None,
+        "grid": [{"scale": s, "bumps": b, **j} for (s, b), j in grid.items()],
+        "before": {"ATTRACTION_SCALE": BEFORE[0], "BUMPS": BEFORE[1], **grid[BEFORE]},
+        "fitted": {"ATTRACTION_SCALE": best[0], "BUMPS": best[1], **grid[best]},
+        "constraint": f"ATTRACTION_SCALE <= {MAX_SCALE} (see MAX_SCALE in the script)",
+        "unconstrained": {"ATTRACTION_SCALE": free[0], "BUMPS": free[1], **grid[free]},
+        "provenance": [r["provenance"] for r in cal[:1]] + [cal[-1]["provenance"]],
     }
-    for label, consts in (("shipped", shipped), ("fitted", best)):
+    OUT.write_text(json.dumps(result, indent=1) + "\n")
+    print(json.dumps({k: result[k] for k in ("before", "fitted", "unconstrained")}, indent=1))
+
+
+def evaluate_splits(args: argparse.Namespace) -> None:
+    """Per split and Tabor regime, before and after: adds ``stats`` to the fit's file."""
+    import xpersson_adhesion._bump as bump_mod
+    import xpersson_adhesion.adhesive as adh_mod
+
+    now = (adh_mod.ATTRACTION_SCALE, bump_mod.BUMPS)
+    result = json.loads(OUT.read_text())
+    cal, held, new, elastic = _records(args)
+    fitted = (result["fitted"]["ATTRACTION_SCALE"], result["fitted"]["BUMPS"])
+    for label, consts in (("before", BEFORE), ("fitted", fitted)):
         result[label]["stats"] = {
             split: stats(evaluate(rs, *consts, elastic))
             for split, rs in (("calibration", cal), ("held_out", held), ("new_seed", new))
         }
-    set_constants(*shipped)
-    out = ca.campaign.RESULTS / "adhesion_fit.json"
-    out.write_text(json.dumps(result, indent=1) + "\n")
-    print(json.dumps({k: result[k] for k in ("shipped", "fitted")}, indent=1))
+    set_constants(*now)
+    result["evaluated"] = {
+        "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "held_out": [r["id"] for r in held],
+        "new_seed": [r["id"] for r in new],
+        "new_seed_provenance": new[0]["provenance"] if new else None,
+    }
+    OUT.write_text(json.dumps(result, indent=1) + "\n")
+    print(json.dumps({k: result[k]["stats"] for k in ("before", "fitted")}, indent=1))
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("step", choices=("fit", "evaluate"))
+    ap.add_argument("--cal", default="adhcal")
+    ap.add_argument("--new", default="adhnew")
+    args = ap.parse_args(argv)
+    if args.step == "fit":
+        fit(args)
+    else:
+        evaluate_splits(args)
 
 
 if __name__ == "__main__":
