@@ -46,13 +46,15 @@ import campaign_adhesive as ca  # noqa: E402
 
 SCALES = (0.7, 0.85, 1.0, 1.15, 1.3, 1.4, 1.5, 1.6, 1.75, 2.0)
 BUMPS = (0.7, 1.0, 1.25, 1.5, 1.75, 2.0, 2.7)
-#: the largest attraction scale admitted: 1 is the unscaled mean field (``dmt``). Above it the
-#: attraction exceeds the law integrated over the contact's own gaps; the earlier referee
-#: (``docs/adhesion_bem.md``, H = 0.8, mu_T = 1, resolved at 256^2) found the unscaled mean
-#: field already over-predicting the lightest loads' enhancement, and the unconstrained optimum
-#: (1.6) makes that scene sticky with a pull-off of 2.2 kPa against the BEM's 0.11 kPa. The
-#: campaign's resolved scenes (Tabor <= 1) do not reach that threshold, so they cannot bound it.
-MAX_SCALE = 1.0
+#: the largest attraction scale admitted (the value before this fit). The campaign's resolved
+#: scenes (Tabor <= 1, all below the mean field's stickiness) prefer a larger scale (1.6: their
+#: enhancement is 1.35x the theory's at Tabor 0.6-1 with 0.85, 1.3x with 1.0), but they do not
+#: reach the stickiness threshold, where the scale matters most: on the earlier referee's
+#: mu_T = 1 scene (docs/adhesion_bem.md, H = 0.8, 256^2) the lightest load's enhancement is
+#: 1.54x the BEM's at 0.85, 2.4x at 1.0, and 1.6 makes it sticky with a pull-off of 2.2 kPa
+#: against the BEM's 0.11 kPa (the adhesion tests pin these). The campaign cannot bound the
+#: scale from above, so it is not raised.
+MAX_SCALE = 0.85
 #: the constants as shipped before this fit (fitted on the earlier referee, docs/adhesion_bem.md)
 BEFORE = (0.85, 2.7)
 OUT = HERE / "results" / "adhesion_fit.json"
