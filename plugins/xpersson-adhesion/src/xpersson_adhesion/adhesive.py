@@ -211,7 +211,7 @@ class AdhesiveBoundary(Boundary):
             "finite-size floor's extra attraction d",
             valid_min=0.0,
             description="max(floor pull-off - mean field's pull-off, 0): added to the scaled "
-            "mean field's attraction (p_rep - ATTRACTION_SCALE p_att,mf(p_rep) = p0 + d)",
+            "mean field's attraction (p_rep - 0.85 p_att,mf(p_rep) = p0 + d)",
         ),
         "small_load_ratio": VarSpec(
             (),
