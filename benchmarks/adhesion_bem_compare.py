@@ -194,7 +194,9 @@ def write_doc(
     meta = bem["provenance"]
     loads = meta["loads_over_Estar_hprime"]
     verdict: dict[str, Any] = {}
-    lines = header(bem) + OPTIONS.splitlines()
+    from adhesion_bands import section_lines  # the validation campaign's section
+
+    lines = header(bem) + section_lines() + OPTIONS.splitlines()
     for name, tab in bem["table"].items():
         lines += [f"## Spectrum {name} (H = {tab['H']})", ""]
         lines += [

@@ -1,14 +1,23 @@
-"""The adhesive part of the validation campaign (``benchmarks/campaign.py``).
+"""The adhesive part of the validation campaign (``benchmarks/campaign.py``,
+``benchmarks/campaign_adhesive.py``).
 
 Theory: the ``adhesive`` boundary (exponential law, range ``0.1 h_rms``), the work of adhesion
-set so that the plugin's finest-scale Tabor parameter is the design's target; loads: four
-compressive ones of the campaign's grid and half the theory's pull-off (tensile).
-BEM: :func:`xpersson.bem.solve_gaps` with the same law, approach from a mean gap of
-``2.4 h_rms`` until the largest compressive load is exceeded, then retraction in steps of
-``0.05 h_rms`` until the contact is lost; the retraction branch down to its most tensile mean
-stress (pull-off under load control) is the reference: the area there is interpolated at the
-theory's loads, the pull-off is ``-min p``. A non-converged gap step ends the path there (the
-points beyond are not compared).
+set so that the plugin's finest-scale Tabor parameter is the design's target; loads: the light
+loads ``p0/(E* h'_rms)`` 2e-4, 5e-4 and 1e-3 (below the old calibration), four compressive ones
+of the campaign's grid, and half the theory's pull-off (tensile).
+
+BEM: :class:`xpersson.bem.GapSolver` with the same law, approach from a mean gap of
+``2.4 h_rms`` in steps of ``0.15 h_rms`` (``0.05 h_rms`` below ``0.3 h_rms``) until the largest
+compressive load is exceeded, then retraction in steps of ``0.05 h_rms`` until the contact is
+lost or the stress has come back from its most tensile value to half of it. The retraction
+branch down to its most tensile mean stress (pull-off under load control) is the reference: it
+is stored per realisation (``bem.branches``), the area is interpolated on it at the theory's
+loads and the pull-off is ``-min p``. Only converged solves are kept: a non-converged step is
+dropped (the path continues from it), two in a row end the path there; a realisation whose
+approach never reached the largest load, or whose branch holds fewer than 3 states, has no
+reference (NaN). A scene whose cohesive zone ``E* rho^2 / w`` (Maugis) is below one grid
+spacing is not solved at all (``excluded``): the BEM cannot resolve its adhesion
+(:mod:`xpersson.bem` refuses such a cross-check), so it is no reference.
 """
 
 from __future__ import annotations
@@ -22,7 +31,10 @@ import numpy as np
 E_STAR = 1e6
 SLOPE = 0.1
 Q_L = 2 * math.pi / 1e-4
-COMPRESSIVE = np.geomspace(0.002, 0.25, 6)[:4]  # p0 / (E* h'_rms)
+#: compressive loads p0 / (E* h'_rms): the light loads of issue 34, then the campaign's grid
+COMPRESSIVE = np.concatenate(([2e-4, 5e-4, 1e-3], np.geomspace(0.002, 0.25, 6)[:4]))
+#: grid spacings the cohesive zone must span for a BEM reference (xpersson.bem refuses < 1)
+MIN_ZONE_PIXELS = 1.0
 
 
 def _theory(
@@ -48,24 +60,44 @@ def tuned_work(sc: dict[str, Any], h_rms: float, base: Callable, solve: Callable
     return work
 
 
-def bem_path(h: np.ndarray, work: float, rng: float, h_rms: float) -> dict:
-    """Approach to ``0.3 h_rms`` then retraction to ``2.3 h_rms`` (gap control, one solver:
-    each step starts from the previous state): the retraction states up to the most tensile."""
+def _approach(path: Any, h_rms: float, p_max: float) -> tuple[list, float] | None:
+    """Gap-controlled approach until the mean stress exceeds ``1.1 p_max`` [Pa]; the states
+    and the last gap [m] (None: not reached with converged solves)."""
+    gaps = [g * h_rms for g in np.arange(2.4, 0.29, -0.15)]
+    gaps += [g * h_rms for g in np.arange(0.25, 0.0, -0.05)]
+    last = None
+    for g in gaps:
+        st = path.at(g)
+        if st.converged:
+            last = (st, g)
+            if st.p0 > 1.1 * p_max:
+                return last
+    return None
+
+
+def bem_path(h: np.ndarray, work: float, rng: float, h_rms: float, p_max: float) -> dict:
+    """Approach then retraction (gap control, one solver: each step starts from the previous
+    state): the converged retraction states up to the most tensile."""
     from xpersson import bem
 
     L = 2 * math.pi / Q_L
-    approach = [g * h_rms for g in np.arange(2.4, 0.29, -0.15)]
-    retract = [approach[-1] + k * 0.05 * h_rms for k in range(1, 41)]
-    states = bem.solve_gaps(h, L, E_STAR, approach + retract, work=work, rho=rng, strict=False)
-    if not all(st.converged for st in states[: len(approach)]):
+    path = bem.GapSolver(h, L, E_STAR, work=work, rho=rng, strict=False)
+    start = _approach(path, h_rms, p_max)
+    if start is None:
         return {"converged": False}
-    p, a = [states[len(approach) - 1].p0], [states[len(approach) - 1].area_fraction]
-    for st in states[len(approach) :]:
+    st, g0 = start
+    p, a, misses = [st.p0], [st.area_fraction], 0
+    for k in range(1, 61):
+        st = path.at(g0 + k * 0.05 * h_rms)
         if not st.converged:
-            break
+            misses += 1
+            if misses == 2:
+                break
+            continue
+        misses = 0
         p.append(st.p0)
         a.append(st.area_fraction)
-        if st.area_fraction == 0.0:
+        if st.area_fraction == 0.0 or (min(p) < 0 and st.p0 > 0.5 * min(p)):
             break
     if len(p) < 3:
         return {"converged": False}
@@ -73,15 +105,58 @@ def bem_path(h: np.ndarray, work: float, rng: float, h_rms: float) -> dict:
     return {"converged": True, "p": p[: k + 1], "area": a[: k + 1], "pull_off": max(-min(p), 0.0)}
 
 
-def _area_at(path: dict, loads: np.ndarray) -> list[float]:
-    """Area on the retraction branch at ``loads`` [Pa] (NaN outside the branch)."""
-    if not path.get("converged"):
+def area_at(branch: dict, loads: np.ndarray) -> list[float]:
+    """Area on the retraction branch at ``loads`` [Pa] (0 beyond its pull-off, NaN above it)."""
+    if not branch.get("converged"):
         return [math.nan] * len(loads)
-    p = np.asarray(path["p"])[::-1]
-    a = np.asarray(path["area"])[::-1]
+    p = np.asarray(branch["p"])[::-1]
+    a = np.asarray(branch["area"])[::-1]
     order = np.argsort(p)
     p, a = p[order], a[order]
-    return [float(np.interp(x, p, a)) if p[0] <= x <= p[-1] else math.nan for x in loads]
+    # below the most tensile stress the BEM cell has detached (area 0); above the deepest
+    # approach state it is unknown (NaN)
+    return [
+        float(np.interp(x, p, a)) if p[0] <= x <= p[-1] else (0.0 if x < p[0] else math.nan)
+        for x in loads
+    ]
+
+
+def zone_pixels(work: float, rng: float, grid: int) -> float:
+    """Maugis' cohesive zone ``E* rho^2 / w`` in grid spacings of the ``grid^2`` cell [1]."""
+    return E_STAR * rng**2 / work / (2 * math.pi / Q_L / grid)
+
+
+def theory_side(
+    sc: dict[str, Any], work: float, rng: float, base: Callable, solve: Callable
+) -> tuple[np.ndarray, dict[str, Any]]:
+    """The theory's loads [Pa] (compressive, and half its pull-off when it holds tension) and
+    outputs there."""
+    comp = COMPRESSIVE * E_STAR * SLOPE
+    ds = _theory(sc, comp, work, rng, base, solve)
+    pull = float(ds["pull_off_stress"].values)
+    loads = np.concatenate(([-0.5 * pull], comp)) if pull > 0 else comp
+    ds = _theory(sc, loads, work, rng, base, solve)
+    return loads, {
+        "area_fraction": ds["area_fraction"].isel(zeta=-1).values.tolist(),
+        "pull_off_stress": pull,
+        "tabor": float(ds["tabor_parameter"].values[-1]),
+        "regime": ds["regime"].values.tolist(),
+    }
+
+
+def bem_side(branches: list[dict], loads: np.ndarray) -> dict[str, Any]:
+    """The BEM reference at ``loads`` [Pa] from the stored retraction branches."""
+    a = np.asarray([area_at(b, loads) for b in branches], float)
+    pulls = [b.get("pull_off", math.nan) if b.get("converged") else math.nan for b in branches]
+    n = a.shape[0]
+    return {
+        "area_fraction": {
+            "mean": a.mean(axis=0).tolist(),
+            "se": (a.std(axis=0, ddof=1) / math.sqrt(n)).tolist() if n > 1 else None,
+        },
+        "pull_off_stress": {"mean": float(np.mean(pulls)), "values": pulls},
+        "branches": branches,
+    }
 
 
 def adhesive_record(
@@ -93,34 +168,28 @@ def adhesive_record(
     h_rms = float(Scene(base(sc, np.array([1.0]))).resolve().psd.h_rms())
     rng = 0.1 * h_rms
     work = tuned_work(sc, h_rms, base, solve)
-    comp = COMPRESSIVE * E_STAR * SLOPE
-    ds = _theory(sc, comp, work, rng, base, solve)
-    pull = float(ds["pull_off_stress"].values)
-    loads = np.concatenate(([-0.5 * pull], comp)) if pull > 0 else comp
-    ds = _theory(sc, loads, work, rng, base, solve)
-    theory = {
-        "area_fraction": ds["area_fraction"].isel(zeta=-1).values.tolist(),
-        "pull_off_stress": pull,
-        "tabor": float(ds["tabor_parameter"].values[-1]),
-        "regime": ds["regime"].values.tolist(),
-    }
-    areas, pulls = [], []
+    loads, theory = theory_side(sc, work, rng, base, solve)
+    zone = zone_pixels(work, rng, maps.shape[-1])
+    rec = {"p0": loads.tolist(), "work": work, "range": rng, "zone_pixels": zone}
+    if zone < MIN_ZONE_PIXELS:
+        branches = [{"converged": False}] * len(maps)
+        rec["excluded"] = "cohesive zone below one grid spacing: the BEM cannot resolve it"
+    else:
+        p_max = float(COMPRESSIVE[-1] * E_STAR * SLOPE)
+        branches = [bem_path(h, work, rng, h_rms, p_max) for h in maps]
+    return {**rec, "theory": theory, "bem": bem_side(branches, loads)}
+
+
+def elastic_areas(maps: np.ndarray, loads: np.ndarray) -> dict[str, list[float]]:
+    """The non-adhesive BEM area on the same maps at compressive ``loads`` [Pa] (mean, se over
+    the maps; NaN where a solve did not converge): the denominator of the enhancement."""
+    from xpersson import bem
+
+    L = 2 * math.pi / Q_L
+    rows = []
     for h in maps:
-        path = bem_path(h, work, rng, h_rms)
-        areas.append(_area_at(path, loads))
-        pulls.append(path.get("pull_off", math.nan))
-    a = np.asarray(areas, float)
-    n = a.shape[0]
-    return {
-        "p0": loads.tolist(),
-        "work": work,
-        "range": rng,
-        "theory": theory,
-        "bem": {
-            "area_fraction": {
-                "mean": a.mean(axis=0).tolist(),
-                "se": (a.std(axis=0, ddof=1) / math.sqrt(n)).tolist() if n > 1 else None,
-            },
-            "pull_off_stress": {"mean": float(np.mean(pulls)), "values": pulls},
-        },
-    }
+        states = bem.solve(h, L, E_STAR, loads, strict=False)
+        rows.append([s.area_fraction if s.converged else math.nan for s in states])
+    a = np.asarray(rows, float)
+    se = a.std(axis=0, ddof=1) / math.sqrt(a.shape[0]) if a.shape[0] > 1 else a[0] * math.nan
+    return {"mean": a.mean(axis=0).tolist(), "se": se.tolist()}

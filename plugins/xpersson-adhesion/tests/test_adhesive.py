@@ -114,8 +114,9 @@ def test_adhesive_is_the_scaled_dmt_mean_field(solve):
     d = quiet(solve, scene(dmt, [1e3]))
     mf = table(WORKS[1])  # the unscaled curve
     shift = float(a["floor_stress"])
-    # the scaled mean field holds ~0 on its own here (k0 = 0.94): the floor is the pull-off
-    assert shift == pytest.approx(float(a["pull_off_stress"]), rel=1e-3)
+    # the scaled mean field holds ~0 on its own here (k0 = 0.94; 0.06 Pa): the floor is the
+    # pull-off
+    assert shift == pytest.approx(float(a["pull_off_stress"]), rel=3e-3)
     for ds, scale, extra in ((a, ATTRACTION_SCALE, shift), (d, 1.0, 0.0)):
         p_rep = ds["p_rep"].values
         np.testing.assert_allclose(ds["p_att"].values - extra, scale * mf(p_rep), rtol=2e-3)
@@ -166,7 +167,7 @@ def test_regime_follows_the_calibrated_tabor_range(solve):
     mu_1 = float(ds["tabor_parameter"].values[-1])
     assert 0.9 < mu_1 < 1.1  # the referee's work was chosen for mu_T(zeta_1) = 1
     np.testing.assert_array_equal(ds["regime"].values, [2.0, 0.0])  # 1 MPa: adhesion negligible
-    assert regime_of(0.1, np.array([0.5]))[0] == 1 and regime_of(10.0, np.array([0.5]))[0] == 3
+    assert regime_of(0.05, np.array([0.5]))[0] == 1 and regime_of(1.2, np.array([0.5]))[0] == 3
     assert regime_of(1.0, np.array([0.5]), np.array([True]))[0] == 4
 
 

@@ -56,11 +56,13 @@ def test_floor_is_the_best_bump_of_an_independent_scan(work):
 
 
 def test_floor_numbers_against_the_bem_mean_pull_off():
-    """The one calibrated constant: BUMPS fitted on these two (H = 0.8, Tabor 0.6 and 1.0;
-    BEM mean pull-off 28.3 and 111 Pa over six surfaces, docs/adhesion_bem.md)."""
+    """The one calibrated constant: BUMPS, first fitted on these two (H = 0.8, Tabor 0.6 and
+    1.0; BEM mean pull-off 28.3 and 111 Pa over six surfaces, docs/adhesion_bem.md), refitted
+    on the validation campaign's calibration pull-offs (benchmarks/adhesion_fit.py): these
+    two cells now hold 2.1-2.3x the floor (the per-surface BEM pull-offs scatter 6x)."""
     pulls = [Bump(PSD, E_STAR, w, CELL).pull_off for w in WORKS[:2]]
-    assert pulls[0] == pytest.approx(28.3, rel=0.1)
-    assert pulls[1] == pytest.approx(111.3, rel=0.1)
+    assert 28.3 / pulls[0] == pytest.approx(2.24, rel=0.05)
+    assert 111.3 / pulls[1] == pytest.approx(2.12, rel=0.05)
 
 
 def test_pull_off_grows_with_the_work(solve):
@@ -120,13 +122,13 @@ def test_every_load_is_the_mean_field_root_at_the_shifted_load(solve):
         )
     pull = [Bump(PSD, E_STAR, w, CELL).pull_off for w in WORKS]
     assert shifts[0] == pytest.approx(pull[0], rel=1e-3)
-    assert shifts[1] == pytest.approx(pull[1], rel=1e-3)
+    assert shifts[1] == pytest.approx(pull[1], rel=3e-3)  # less the mean field's 0.06 Pa
     assert shifts[2] == 0.0
 
 
 def test_tensile_loads_beyond_the_mean_field_flag_regime_4(solve):
     w = WORKS[1]
-    loads = [-100.0, -50.0, -25.0, 250.0]
+    loads = [-45.0, -25.0, -12.0, 250.0]
     ds = quiet(solve, scene(adhesive(w), loads))
     assert list(ds["regime"].values) == [4, 4, 4, 2]
     area = ds["area_fraction"].isel(zeta=-1).values

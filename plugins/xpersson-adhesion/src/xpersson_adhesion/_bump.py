@@ -20,10 +20,10 @@ fitted cases, Tabor <= 1, where it does not bind); it keeps ``R`` finite where a
 spectrum's plateau would otherwise send the best scale to ``ZETA_MIN`` with ``R >> L``. The
 best scale is at ``zeta_1`` the smooth highest summit (``gamma_eff = dgamma``, ``R = 1/kappa_rms``)
 and at ``zeta ~ 2-20`` the long-wavelength bump. :data:`BUMPS` such bumps hold (the one
-calibrated constant: the BEM's cells hold 2.6-2.8x one bump's force on H = 0.8, with several
-contact clusters under tension and a single cluster holding 2.4-4x one bump's force;
-``docs/adhesion_bem.md``). Per nominal area the pull-off stress is ``BUMPS F / L^2``: a
-finite-size effect that vanishes as ``L^-2`` for nominal areas larger than the roughness'
+calibrated constant: the earlier referee's cells held 2.6-2.8x one bump's force on H = 0.8;
+the validation campaign's calibration pull-offs, Tabor 0.1-1.0, 1.25x; docs/adhesion_bem.md).
+Per nominal area the pull-off stress is ``BUMPS F / L^2``: a finite-size effect that vanishes
+as ``L^-2`` for nominal areas larger than the roughness'
 longest wavelength. ``adhesive`` adds it to the mean field's attraction where it exceeds the
 mean field's own pull-off (:meth:`.adhesive.AdhesiveBoundary.floor_shift`).
 """
@@ -42,10 +42,10 @@ __all__ = ["Bump", "BUMPS", "ZETA_MIN", "N_SCALES"]
 #: (``q_L .. 2 q_L``); below, ``R -> inf`` and the "bump" is the flat nominal area (the mean
 #: field's job). Not active in the verified cases (their best scales: zeta 3-32).
 ZETA_MIN = 2.0
-#: Bumps holding at pull-off [1]: the one calibrated constant of the floor (fitted on the BEM
-#: referee's H = 0.8 cell at Tabor 0.6 and 1.0, where the single best bump holds 2.8 and 2.6
-#: times less than the BEM's mean pull-off; checked on H = 0.5). 1 is the single bump.
-BUMPS = 2.7
+#: Bumps holding at pull-off [1]: the one calibrated constant of the floor, fitted on the
+#: validation campaign's calibration pull-offs (Tabor 0.1-1.0, ``benchmarks/adhesion_fit.py``;
+#: 2.7 before, fitted on the earlier referee's H = 0.8 cell). 1 is the single bump.
+BUMPS = 1.25
 #: Magnifications scanned for the best bump (log-spaced, ``zeta_1`` included) [1].
 N_SCALES = 48
 
