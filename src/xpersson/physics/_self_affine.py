@@ -81,7 +81,8 @@ class SelfAffineRollOff(PowerSpectrum):
         if not h_rms > 0:
             raise ValueError("from_h_rms: h_rms must be > 0")
         unit = cls._unit(H, q_L, q_r, q_1)
-        return cls(h_rms**2 / (2.0 * np.pi * unit.moment(1.0)), H, q_L, q_r, q_1)
+        m_1 = unit._moment(1.0, unit.q_L, unit.q_1)  # not cached: the unit spectrum is thrown away
+        return cls(h_rms**2 / (2.0 * np.pi * m_1), H, q_L, q_r, q_1)
 
     @classmethod
     def from_rms_slope(
@@ -91,7 +92,8 @@ class SelfAffineRollOff(PowerSpectrum):
         if not slope > 0:
             raise ValueError("from_rms_slope: slope must be > 0")
         unit = cls._unit(H, q_L, q_r, q_1)
-        return cls(slope**2 / (2.0 * np.pi * unit.moment(3.0)), H, q_L, q_r, q_1)
+        m_3 = unit._moment(3.0, unit.q_L, unit.q_1)  # not cached: the unit spectrum is thrown away
+        return cls(slope**2 / (2.0 * np.pi * m_3), H, q_L, q_r, q_1)
 
     def __repr__(self) -> str:
         return (

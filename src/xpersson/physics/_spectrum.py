@@ -23,6 +23,14 @@ _MOMENTS = Cache(
     maxsize=512,
     doc="full moments and cumulative moments at the nodes of a spectrum, per power k",
 )
+_I3_GRID = Cache(
+    "physics.spectrum_I3",
+    scope="spectrum",
+    maxsize=1024,
+    doc="I3(q) of a spectrum on an output grid (the scene check and the coefficient share it)",
+)
+#: Grids longer than this are not kept (hashing them costs what evaluating them does).
+_I3_GRID_MAX = 4096
 
 
 def profile_factor(H: ArrayLike) -> NDArray[np.float64] | float:
@@ -292,7 +300,17 @@ class PowerSpectrum:
         -------
         float or ndarray
             ``I3(q)`` (dimensionless: m^-3 * m^4 * m^-1); ``<|grad h|^2>_q = 2 pi I3(q)``.
+            A 1-D array of up to 4096 values (an output grid) is kept in the spectrum-scoped
+            cache ``physics.spectrum_I3`` and returned read-only.
         """
+        if (
+            isinstance(q, np.ndarray)
+            and q.ndim == 1
+            and q.size <= _I3_GRID_MAX
+            and "_nodes" in self.__dict__
+            and type(self).running_moment is PowerSpectrum.running_moment
+        ):  # an output grid: evaluated once per spectrum (the scene check, then tau)
+            return _I3_GRID.get((self, q), lambda: self.running_moment(3.0, q))
         return self.running_moment(3.0, q)
 
     def h_rms(self) -> float:
