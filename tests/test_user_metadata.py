@@ -101,9 +101,7 @@ def test_cf_xarray_finds_the_standard_names_of_an_archive(tmp_path, monkeypatch)
         }
 
 
-def test_the_default_path_is_made_once_per_home_and_follows_the_environment(
-    tmp_path, monkeypatch
-):
+def test_the_default_path_is_made_once_per_home_and_follows_the_environment(tmp_path, monkeypatch):
     from pathlib import Path
 
     calls = []

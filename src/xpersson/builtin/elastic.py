@@ -89,8 +89,8 @@ class ElasticCoefficient(Coefficient):
         z = np.asarray(zeta, dtype=float)
         q_L = np.array([x.psd.q_L for x in ctxs], dtype=float)
         q = z * q_L[:, None]  # [1/m], row k: zeta * q_L of point k
-        i3 = np.stack([np.asarray(x.psd.I3(row), dtype=float) for x, row in zip(ctxs, q)])
-        C = np.stack([np.asarray(x.psd.C(row), dtype=float) for x, row in zip(ctxs, q)])
+        i3 = np.stack([np.asarray(x.psd.I3(q[k]), dtype=float) for k, x in enumerate(ctxs)])
+        C = np.stack([np.asarray(x.psd.C(q[k]), dtype=float) for k, x in enumerate(ctxs)])
         c = 0.25 * np.pi * np.array([x.E_star**2 for x in ctxs], dtype=float)
         return c[:, None] * i3, (c * q_L)[:, None] * q**3 * C
 
