@@ -105,3 +105,23 @@ def test_the_spectrum_from_its_rms_height_or_slope_is_unchanged(k):
 def test_a_bad_parameter_of_a_spectrum_from_its_rms_height_names_it():
     with pytest.raises(ValueError, match="q_r must satisfy"):
         SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e2, 1e6)
+
+
+def test_stacked_C_is_each_spectrum_C_bit_for_bit_and_declines_mixed_blocks():
+    from xpersson.physics.psd import stacked_C
+
+    psds = _spectra(9, 5)[1::2] + _spectra(9, 6)[1::2]  # plateau + tail: two segments each
+    assert len(psds) == 8 and all(p.nodes().size == 3 for p in psds)
+    q = np.stack([p.q_L * np.geomspace(0.5, 2e4, 33) for p in psds])  # outside the support too
+    got = stacked_C(psds, q)
+    want = np.stack([p.C(row) for p, row in zip(psds, q, strict=True)])
+    assert np.array_equal(got.view(np.uint64), want.view(np.uint64))
+    flat = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e3, 1e7)  # one segment
+    assert stacked_C([psds[0], flat], q[:2]) is None
+
+    class Scaled(SelfAffineRollOff):
+        def C(self, q):
+            return 2.0 * super().C(q)
+
+    scaled = Scaled(1e-12, 0.8, 1e3, 1e3, 1e7)
+    assert stacked_C([scaled, scaled], q[:2]) is None

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..physics import closures, elastic
+from ..physics.psd import stacked_C
 from ..plugins import CLOSURE_PARAMETERS, Boundary, Coefficient, FastPaths, ParamSpec, VarSpec
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -90,7 +91,9 @@ class ElasticCoefficient(Coefficient):
         q_L = np.array([x.psd.q_L for x in ctxs], dtype=float)
         q = z * q_L[:, None]  # [1/m], row k: zeta * q_L of point k
         i3 = np.stack([np.asarray(x.psd.I3(q[k]), dtype=float) for k, x in enumerate(ctxs)])
-        C = np.stack([np.asarray(x.psd.C(q[k]), dtype=float) for k, x in enumerate(ctxs)])
+        C = stacked_C([x.psd for x in ctxs], q)  # None: spectra of other kinds, asked each
+        if C is None:
+            C = np.stack([np.asarray(x.psd.C(q[k]), dtype=float) for k, x in enumerate(ctxs)])
         c = 0.25 * np.pi * np.array([x.E_star**2 for x in ctxs], dtype=float)
         return c[:, None] * i3, (c * q_L)[:, None] * q**3 * C
 
