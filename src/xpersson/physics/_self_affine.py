@@ -3,6 +3,8 @@ q_r."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ._spectrum import PowerSpectrum, _segment_integral
@@ -78,7 +80,7 @@ def _checked(
     """The parameters of :class:`SelfAffineRollOff` as floats, checked (ValueError naming the
     one out of range)."""
     C_r, H, q_L, q_r, q_1 = (float(v) for v in (C_r, H, q_L, q_r, q_1))
-    if not all(np.isfinite(v) for v in (C_r, H, q_L, q_r, q_1)):
+    if not all(map(math.isfinite, (C_r, H, q_L, q_r, q_1))):
         raise ValueError("SelfAffineRollOff: all parameters must be finite")
     if not 0.0 < H <= 1.0:
         raise ValueError(f"SelfAffineRollOff: Hurst exponent H={H} must satisfy 0 < H <= 1")
