@@ -99,3 +99,29 @@ def test_cf_xarray_finds_the_standard_names_of_an_archive(tmp_path, monkeypatch)
             "area_fraction": ["area_fraction"],
             "status_flag": ["solver_status"],
         }
+
+
+def test_the_default_path_is_made_once_per_home_and_follows_the_environment(tmp_path, monkeypatch):
+    from pathlib import Path
+
+    calls = []
+    home = Path.home
+    monkeypatch.setattr(Path, "home", classmethod(lambda cls: calls.append(1) or home()))
+    monkeypatch.delenv("XPERSSON_METADATA", raising=False)
+    monkeypatch.delenv("XDG_CONFIG_HOME", raising=False)
+    for name in ("a", "b"):  # a new $HOME: its ~/.config, found at once
+        (tmp_path / name / ".config" / "xpersson").mkdir(parents=True)
+        (tmp_path / name / ".config" / "xpersson" / "metadata.toml").write_text(
+            f'project = "{name}"\n'
+        )
+        monkeypatch.setenv("HOME", str(tmp_path / name))
+        with xpersson.set_options(cache=True):  # also in CI's run with XPERSSON_CACHE=off
+            for _ in range(3):
+                assert provenance.user_metadata() == {"project": name}
+    assert len(calls) <= 2  # once per $HOME, not once per solve
+    named = tmp_path / "named.toml"
+    named.write_text('project = "named"\n')
+    monkeypatch.setenv("XPERSSON_METADATA", str(named))  # set after the calls: honoured
+    assert provenance.user_metadata() == {"project": "named"}
+    monkeypatch.delenv("XPERSSON_METADATA")
+    assert provenance.user_metadata() == {"project": "b"}

@@ -66,9 +66,17 @@ def user_metadata_path() -> Path | None:
     named = os.environ.get(METADATA_ENV)
     if named is not None:
         return Path(named).expanduser() if named.strip() else None
-    base = os.environ.get("XDG_CONFIG_HOME") or str(Path.home() / ".config")
-    path = Path(base) / "xpersson" / "metadata.toml"
-    return path if path.is_file() else None
+    env = os.environ
+    path = _default_metadata_path(env.get("XDG_CONFIG_HOME") or "", env.get("HOME") or "")
+    return path if os.path.isfile(path) else None
+
+
+@memoize("provenance.metadata_path", scope="process", maxsize=8)
+def _default_metadata_path(xdg_config_home: str, home: str) -> Path:
+    """``$XDG_CONFIG_HOME/xpersson/metadata.toml`` (``~/.config/...``), made once per process
+    and environment (keyed on ``$XDG_CONFIG_HOME`` and ``$HOME``, which ``Path.home`` reads)."""
+    base = xdg_config_home or str(Path.home() / ".config")
+    return Path(base) / "xpersson" / "metadata.toml"
 
 
 def user_metadata() -> dict[str, str]:

@@ -8,11 +8,13 @@ variance of the mirrored Gaussian through the running contact area; they are sel
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..physics import closures, elastic
+from ..physics.psd import stacked_C
 from ..plugins import CLOSURE_PARAMETERS, Boundary, Coefficient, FastPaths, ParamSpec, VarSpec
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -74,6 +76,26 @@ class ElasticCoefficient(Coefficient):
     def tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """tau(zeta) = (pi/4) E*^2 int_{q_L}^{zeta q_L} q^3 C dq [Pa^2] (exact)."""
         return np.asarray(elastic.diffusion_time(ctx.psd, ctx.E_star, zeta), dtype=float)
+
+    def tau_stacked(
+        self, ctxs: Sequence[SceneContext], points: Sequence[Coefficient], zeta: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``(tau, f)`` [Pa^2] of a block of points, each ``(n_point, n_zeta)``: the numbers of
+        :meth:`tau` and :meth:`f` per point (the same operations in the same order), the
+        products made once over the block; a subclass that redefines them is asked per point.
+        """
+        own = (ElasticCoefficient.tau, ElasticCoefficient.f)
+        if any((type(c).tau, type(c).f) != own for c in points):
+            return super().tau_stacked(ctxs, points, zeta)
+        z = np.asarray(zeta, dtype=float)
+        q_L = np.array([x.psd.q_L for x in ctxs], dtype=float)
+        q = z * q_L[:, None]  # [1/m], row k: zeta * q_L of point k
+        i3 = np.stack([np.asarray(x.psd.I3(q[k]), dtype=float) for k, x in enumerate(ctxs)])
+        C = stacked_C([x.psd for x in ctxs], q)  # None: spectra of other kinds, asked each
+        if C is None:
+            C = np.stack([np.asarray(x.psd.C(q[k]), dtype=float) for k, x in enumerate(ctxs)])
+        c = 0.25 * np.pi * np.array([x.E_star**2 for x in ctxs], dtype=float)
+        return c[:, None] * i3, (c * q_L)[:, None] * q**3 * C
 
     def effective_tau(self, ctx: SceneContext, zeta: np.ndarray) -> np.ndarray:
         """Per-load diffusion time [Pa^2]; the closures solve their ODE/fixed point to 1e-10.

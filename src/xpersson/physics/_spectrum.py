@@ -10,7 +10,7 @@ from scipy.special import gammaln
 
 from ..cache import Cache, digest
 
-__all__ = ["profile_factor", "PowerSpectrum"]
+__all__ = ["profile_factor", "PowerSpectrum", "stacked_C"]
 
 #: Allowed values of the ``convention`` argument of :class:`Tabulated`.
 CONVENTIONS: tuple[str, ...] = ("persson", "surface_topography", "profile_1d")
@@ -23,6 +23,14 @@ _MOMENTS = Cache(
     maxsize=512,
     doc="full moments and cumulative moments at the nodes of a spectrum, per power k",
 )
+_I3_GRID = Cache(
+    "physics.spectrum_I3",
+    scope="spectrum",
+    maxsize=1024,
+    doc="I3(q) of a spectrum on an output grid (the scene check and the coefficient share it)",
+)
+#: Grids longer than this are not kept (hashing them costs what evaluating them does).
+_I3_GRID_MAX = 4096
 
 
 def profile_factor(H: ArrayLike) -> NDArray[np.float64] | float:
@@ -292,7 +300,17 @@ class PowerSpectrum:
         -------
         float or ndarray
             ``I3(q)`` (dimensionless: m^-3 * m^4 * m^-1); ``<|grad h|^2>_q = 2 pi I3(q)``.
+            A 1-D array of up to 4096 values (an output grid) is kept in the spectrum-scoped
+            cache ``physics.spectrum_I3`` and returned read-only.
         """
+        if (
+            isinstance(q, np.ndarray)
+            and q.ndim == 1
+            and q.size <= _I3_GRID_MAX
+            and "_nodes" in self.__dict__
+            and type(self).running_moment is PowerSpectrum.running_moment
+        ):  # an output grid: evaluated once per spectrum (the scene check, then tau)
+            return _I3_GRID.get((self, q), lambda: self.running_moment(3.0, q))
         return self.running_moment(3.0, q)
 
     def h_rms(self) -> float:
@@ -312,3 +330,30 @@ class PowerSpectrum:
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(q_L={self.q_L:.6g}, q_1={self.q_1:.6g})"
+
+
+def stacked_C(psds: list[PowerSpectrum], q: ArrayLike) -> NDArray[np.float64] | None:
+    """``C(q)`` [m^4] of each spectrum at its row of ``q`` [1/m] (``(K, n)``, or ``(n,)`` for
+    all), as ``(K, n)``: the numbers of :meth:`PowerSpectrum.C` (the same operations element
+    by element) made once over a block of spectra.
+
+    Returns ``None`` unless every spectrum keeps the base class's ``C`` and power-law segments
+    (``_set_segments``), all with the same number of segments: the caller then asks each.
+    """
+    if not psds or any(
+        "_nodes" not in p.__dict__ or type(p).C is not PowerSpectrum.C for p in psds
+    ):
+        return None
+    m = psds[0]._a.size
+    if any(p._a.size != m for p in psds):
+        return None
+    nodes = np.stack([p._nodes for p in psds])
+    q = np.broadcast_to(np.asarray(q, dtype=float), (len(psds), np.shape(q)[-1]))
+    idx = np.count_nonzero(nodes[:, :, None] <= q[:, None, :], axis=1) - 1
+    np.clip(idx, 0, m - 1, out=idx)
+    a = np.take_along_axis(nodes[:, :-1], idx, 1)
+    Ca = np.take_along_axis(np.stack([p._Ca for p in psds]), idx, 1)
+    e = np.take_along_axis(np.stack([p._e for p in psds]), idx, 1)
+    q_L, q_1 = nodes[:, :1], nodes[:, -1:]
+    inside = (q >= q_L) & (q <= q_1)
+    return np.where(inside, Ca * (np.where(inside, q, a) / a) ** e, 0.0)

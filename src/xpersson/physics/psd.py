@@ -24,7 +24,7 @@ from __future__ import annotations
 from ._map_spectrum import Rings, combine_tables, map_rings, profile_rings, table_from_rings
 from ._psd_fit import SelfAffineFit, fit_self_affine
 from ._self_affine import SelfAffineRollOff
-from ._spectrum import CONVENTIONS, PowerSpectrum, profile_factor
+from ._spectrum import CONVENTIONS, PowerSpectrum, profile_factor, stacked_C
 from ._tabulated import Convention, Tabulated
 
 __all__ = [
@@ -36,6 +36,7 @@ __all__ = [
     "SelfAffineRollOff",
     "Tabulated",
     "profile_factor",
+    "stacked_C",
     "map_rings",
     "profile_rings",
     "table_from_rings",

@@ -23,6 +23,7 @@ import xarray as xr
 
 from .. import checks, plugins
 from ..cache import solve_scope
+from ..physics.psd import stacked_C
 from ..scene import ResolvedScene
 from .assemble import assemble
 from .diagnostics import validity_flags
@@ -246,7 +247,10 @@ def _spectra(points: Sequence[ResolvedScene], ds: xr.Dataset, out: dict[str, Any
     if all(p is psds[0] for p in psds):
         return
     q_nodes = np.asarray(ds["q_psd"].values, float)
-    out["psd_C"] = ((POINT, "q_psd"), np.stack([np.asarray(p.C(q_nodes), float) for p in psds]))
+    C = stacked_C(psds, q_nodes)  # None: spectra of other kinds, asked each
+    if C is None:
+        C = np.stack([np.asarray(p.C(q_nodes), float) for p in psds])
+    out["psd_C"] = ((POINT, "q_psd"), C)
     out["h_rms"] = ((POINT,), np.array([float(p.h_rms()) for p in psds]))
     out["rms_slope"] = ((POINT,), np.array([float(p.rms_slope()) for p in psds]))
 

@@ -419,6 +419,15 @@ def _scaled_rows(
         if dims != template.variables[n].dims:
             return None
         dest = (into or {}).get(n)
+        power = 0 if n == "E" or arr.dtype.kind != "f" else pressure_power(units)
+        if (
+            dest is not None
+            and power
+            and "p0" not in dims
+            and _scaled_into(dest, arr, scale, power, P)
+        ):
+            out[n] = dest  # copied and scaled in one pass
+            continue
         if dest is not None and _rows_into(dest, arr, dims, inverse, same):
             arr, fresh = dest, True
         elif "p0" in dims:
@@ -436,7 +445,6 @@ def _scaled_rows(
             wide = np.broadcast_to(arr[:, None], (P, M, *arr.shape[1:]))
             arr = wide.reshape(P * M, *arr.shape[1:])
             fresh = not np.shares_memory(arr, wide)
-        power = 0 if n == "E" or arr.dtype.kind != "f" else pressure_power(units)
         if power:
             factor = scale.reshape((-1,) + (1,) * (arr.ndim - 1)) ** power
             if fresh:  # picked or reshaped above: scaled in place, no second array
@@ -445,6 +453,21 @@ def _scaled_rows(
                 arr = arr * factor
         out[n] = arr
     return out
+
+
+def _scaled_into(dest: np.ndarray, arr: np.ndarray, scale: np.ndarray, power: int, P: int) -> bool:
+    """:func:`_scaled_rows`' rows of a variable without loads written into ``dest`` (``(P * M,
+    *point shape)``, C order) already scaled, ``arr[s] * scale[s, m]^power``: the numbers of
+    a broadcast copy scaled in place, in one pass; ``False`` (nothing written) for another
+    layout or dtype."""
+    if dest.dtype != arr.dtype or not dest.flags.c_contiguous or arr.shape[0] not in (1, P):
+        return False
+    rest, lead = arr.shape[1:], arr.shape[0]
+    if dest.shape != (scale.size, *rest):
+        return False
+    factor = (scale**power).reshape(lead, -1, *[1] * len(rest))
+    np.multiply(arr[:, None], factor, out=dest.reshape(lead, -1, *rest))
+    return True
 
 
 def _rows_into(
