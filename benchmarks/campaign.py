@@ -314,6 +314,9 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--grid", type=int, default=128)
     ap.add_argument("--realisations", type=int, default=2)
     ap.add_argument("--only", default=None, help="comma-separated kinds to run")
+    ap.add_argument(
+        "--indices", default=None, help="comma-separated design indices to run (default: all)"
+    )
     ap.add_argument("--grid-check", action="store_true", help="every 4th scene on 2x the grid")
     ap.add_argument("--refresh-theory", action="store_true", help="recompute the theory side")
     ap.add_argument(
@@ -340,7 +343,14 @@ def main(argv: list[str] | None = None) -> None:
         ]
     kinds = None if args.only is None else set(args.only.split(","))
     prov = provenance(args.seed, 2 * args.grid if args.grid_check else args.grid, args.realisations)
-    todo = [s for s in scenes if s["id"] not in done and not (kinds and s["kind"] not in kinds)]
+    picks = None if args.indices is None else {int(i) for i in args.indices.split(",")}
+    todo = [
+        s
+        for s in scenes
+        if s["id"] not in done
+        and not (kinds and s["kind"] not in kinds)
+        and (picks is None or s["index"] in picks)
+    ]
     t0 = time.perf_counter()
     for rec in _records(todo, args, prov["grid"]):
         rec["provenance"] = prov

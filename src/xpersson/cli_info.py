@@ -32,6 +32,8 @@ def info(ds: Any, archive: str, picks: Sequence[str]) -> None:
     shown = _point(ds, swept, picks)
     _print_areas(shown)
     print("\n".join(model_error_lines(shown, SHOWN_LOADS)) or "  model error: none stored")
+    if not swept:
+        print("\n".join(model_error_reasons(ds)))
 
 
 def _swept(ds: Any) -> list[str]:
@@ -123,8 +125,32 @@ def model_error_lines(ds: Any, most: int = 10) -> list[str]:
             for s in ("_exact_low", "_exact_high", "_model_error_status")
         )
         rows = zip(lo, hi, ok, strict=True)
-        cells = [f"[{a:.3g}, {b:.3g}]" if f else "not verified" for a, b, f in rows]
+        cells = [_status_cell(a, b, f) for a, b, f in rows]
         lines.append(f"    {name:28s} " + " ".join(cells))
     if lines:
         lines.insert(0, "  model error: interval where exact contact lies (validation campaign)")
     return lines
+
+
+def _status_cell(low: float, high: float, flag: int) -> str:
+    """``[low, high]`` (verified), ``[low, high] extrapolated`` or ``not verified``."""
+    if not flag:
+        return "not verified"
+    return f"[{low:.3g}, {high:.3g}]" + (" extrapolated" if flag == 2 else "")
+
+
+def model_error_reasons(ds: Any) -> list[str]:
+    """Why each output with a model error is verified, extrapolated or not (the scene's decades
+    of roughness and H against the campaign's), from the archive's scene; [] if it cannot be
+    resolved here (e.g. a plugin or a measured map missing)."""
+    names = [n for n in ds.data_vars if n + "_model_error_status" in ds.variables]
+    if not names or "xpersson_scene" not in ds.attrs:
+        return []
+    from .pipeline import as_scene, model_error
+
+    try:
+        rs = as_scene(json.loads(ds.attrs["xpersson_scene"])).resolve()
+        reasons = model_error.explain(rs, names)
+    except Exception:  # noqa: BLE001 - a summary line, never a failure of info
+        return []
+    return [f"    why {name}: {reasons[name]}" for name in names]
