@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 from campaign_decades import (
     CONDUCTANCES,
+    MIN_SPAN,
     check,
     coverage_of,
     detrended,
@@ -234,12 +235,14 @@ def tolerance_band(r: np.ndarray, n: int, content: float = 0.9, conf: float = 0.
 
 
 def bands(
-    pts: list[dict[str, Any]], extrapolate: dict[str, float] | None = None
+    pts: list[dict[str, Any]],
+    extrapolate: dict[str, float] | None = None,
+    min_span: float = MIN_SPAN,
 ) -> list[dict[str, Any]]:
     """The band table's entries from the calibration points of ``pts``: per output and regime,
-    the tolerance band along the output's trend in decades over the decades its calibration
-    points cover, and (for the outputs in ``extrapolate``, ``"*"``: all) an extrapolated entry
-    up to that many decades beyond."""
+    the tolerance band along the output's trend in decades (where its calibration points span
+    ``min_span`` decades) over the decades they cover, and (for the outputs in
+    ``extrapolate``, ``"*"``: all) an extrapolated entry up to that many decades beyond."""
     cal = [p for p in pts if p["split"] == "calibration"]
     extrapolate = extrapolate or {}
     out = []
@@ -255,7 +258,7 @@ def bands(
             n_scenes = len({p["id"] for p in mine})
             if len(mine) < MIN_POINTS or n_scenes < 4:
                 continue
-            trend = fit_trend(mine)
+            trend = fit_trend(mine, min_span=min_span)
             r = detrended(mine, trend)
             low, high = tolerance_band(r, n_scenes)
             entry = {
