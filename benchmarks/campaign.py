@@ -32,11 +32,21 @@ the client writes the records in design order, bitwise equal to the serial run's
 Alternate blocks of four scenes (one of each kind in ``KINDS``) are the calibration and the
 held-out half; another ``--seed`` gives a new test set.
 
+Decades of roughness: the same design on a larger ``--grid`` keeps each scene's ``H`` and
+roll-off and moves ``q_1`` to ``grid/8 q_L``: ``log10(q_1/q_r)`` = 1.2-1.8 decades on 512^2,
+1.5-2.1 on 1024^2 (0.6-1.2 on 128^2). One elastic 512^2 scene costs about 75 s of CPU (18
+``PolonskyKeerRey`` solves, 1.6 s at 0.6 % contact to 10 s at 45 %), a 1024^2 one about 4-5x
+that; ``--indices`` picks design scenes and ``--loads N`` the first N loads (the heaviest
+costs the most) to fit a CPU budget. Record files ``campaign_cal*.jsonl`` (seed 1) and
+``campaign_new*.jsonl`` (new seeds) are all read by ``campaign_report.py``.
+
 Usage::
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --name cal --seed 1 --scenes 30
     OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --name new --seed 2 --scenes 12
     OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --scheduler processes --workers 2
+    OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --name cal512 --seed 1 --grid 512 \
+        --scenes 16 --realisations 1 --only elastic --loads 5 --indices 0,1,4,5
     python benchmarks/campaign_report.py      # the band table, coverage and docs tables
 """
 
