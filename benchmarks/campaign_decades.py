@@ -18,9 +18,12 @@ decades at 512^2 / 1024^2 (8 grid points per shortest wavelength). Per output an
 * **extrapolation check**: the same bands fitted on the calibration points of the 128^2 cells
   only (0.6-1.2 decades), tested on every point with more decades (any split: none of them was
   seen by that fit). Where at least :data:`MIN_CHECK` such points exist and >= 90 % lie in
-  their extrapolated band, the packaged table extrapolates that output as far beyond its
+  their extrapolated band, the packaged table may extrapolate that output as far beyond its
   covered decades as the check did (``max d_test - 1.2``); elsewhere it does not (not
   verified beyond the covered decades).
+* **confirmation** (:func:`confirm`): the table's own extrapolated band must also hold >= 90 %
+  of the held-out and new-seed points beyond the table's calibration decades, where there are
+  any; otherwise that output is not extrapolated either.
 """
 
 from __future__ import annotations
@@ -187,6 +190,26 @@ def check(pts: list[dict[str, Any]], bands: Any) -> tuple[dict[str, Any], dict[s
         if n >= MIN_CHECK and inside >= COVERAGE * n:
             limits[name] = round(dist, 3)
     return out, limits
+
+
+def confirm(limits: dict[str, float], cov: dict[str, Any]) -> tuple[dict[str, float], dict]:
+    """The second test of an extrapolation: the table's own extrapolated bands on the held-out
+    and new-seed points beyond its calibration decades (``cov``: :func:`coverage_of` under
+    the table extrapolated to ``limits``). An output whose points there are not >= 90 %
+    inside keeps no extrapolated band (its points beyond: not verified), however few they
+    are: a failed test is evidence, a missing one is not.
+
+    Returns the confirmed limits and per output ``{"inside", "n", "kept"}``."""
+    kept, tests = {}, {}
+    for name, dist in limits.items():
+        splits = cov.get(name, {})
+        inside = sum(splits[s]["extrapolated"][0] for s in ("held_out", "new_seed") if s in splits)
+        n = sum(splits[s]["extrapolated"][1] for s in ("held_out", "new_seed") if s in splits)
+        ok = inside >= COVERAGE * n
+        tests[name] = {"inside": inside, "n": n, "kept": ok}
+        if ok:
+            kept[name] = dist
+    return kept, tests
 
 
 def trend_rows(pts: list[dict[str, Any]], regimes: Any) -> list[str]:

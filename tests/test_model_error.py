@@ -230,6 +230,11 @@ def test_packaged_table_verifies_a_campaign_like_scene_and_not_a_wider_one():
     wide = xpersson.solve(sc)
     assert int(wide["area_fraction_model_error_status"]) == 0
     assert np.isnan(float(wide["area_fraction_exact_low"]))
+    from xpersson.cli_info import model_error_reasons
+
+    why = model_error_reasons(wide)
+    assert len(why) == 2 and all("4.70 decades" in line for line in why)
+    assert all(line.endswith("(beyond the cells and the extrapolation limit)") for line in why)
 
 
 def test_a_plastic_scene_is_placed_in_its_regime_by_the_total_contact_area():
