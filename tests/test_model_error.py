@@ -234,7 +234,7 @@ def test_packaged_table_verifies_a_campaign_like_scene_and_not_a_wider_one():
 
     why = model_error_reasons(wide)
     assert len(why) == 2 and all("4.70 decades" in line for line in why)
-    assert all(line.endswith("(beyond the cells and the extrapolation limit)") for line in why)
+    assert all("not verified (beyond the cells" in line for line in why)
 
 
 def test_a_plastic_scene_is_placed_in_its_regime_by_the_total_contact_area():
@@ -325,6 +325,9 @@ def test_an_extrapolated_scene_carries_status_2_and_its_reason():
         "(band along the measured trend, widened)"
     )
     assert "extrapolated" in next(line for line in model_error_lines(ds) if "area_fraction" in line)
+    verified_only = {**TREND_TABLE, "bands": TREND_TABLE["bands"][:1]}
+    why = model_error.explain(rs, ["area_fraction"], verified_only)["area_fraction"]
+    assert why.endswith("not verified (beyond the cells; no extrapolation passed for this output)")
     sc["spectrum"]["q_1"] = "1e7 1/m"  # 3 decades: beyond the limit
     far = model_error.explain(
         xpersson.pipeline.as_scene(sc).resolve(), ["area_fraction"], TREND_TABLE

@@ -449,4 +449,6 @@ def _reason(feats: dict[str, Any], entries: list[dict[str, Any]]) -> str:
         return text + ": verified where the load's regime has a band"
     if d < ext:
         return text + ": extrapolated (band along the measured trend, widened)"
-    return text + ": not verified (beyond the cells and the extrapolation limit)"
+    if ext > hi:
+        return text + ": not verified (beyond the cells and the extrapolation limit)"
+    return text + ": not verified (beyond the cells; no extrapolation passed for this output)"
