@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 from campaign_decades import (
+    CHECK_FIT_MAX,
     CONDUCTANCES,
     MIN_SPAN,
     check,
@@ -235,6 +236,32 @@ def tolerance_band(r: np.ndarray, n: int, content: float = 0.9, conf: float = 0.
     return min(lo, float(r.min())), max(hi, float(r.max()))
 
 
+def small_cells(mine: list[dict[str, Any]], entry: dict[str, Any]) -> list[dict[str, Any]]:
+    """The constant band of the 128^2 cells' decades (0.6-1.2) from their calibration points
+    alone, first in the table (first match wins): inside the decades the 128^2 campaign
+    covered, a scene keeps the band it had (their scatter is larger: a 128^2 cell holds a few
+    tens of contact pixels at the lightest loads; pooled with the large cells along the trend
+    the band held 89 % of the held-out area points); [] if too few."""
+    small = [p for p in mine if p["decades"] <= CHECK_FIT_MAX]
+    n_scenes = len({p["id"] for p in small})
+    if len(small) < MIN_POINTS or n_scenes < 4:
+        return []
+    r = np.array([p["ratio"] for p in small])
+    low, high = tolerance_band(r, n_scenes)
+    ranges = {**entry["ranges"], "decades": list(domain(small)["decades"])}
+    return [
+        {
+            **entry,
+            "ranges": ranges,
+            "low": low,
+            "high": high,
+            "median": float(np.median(r)),
+            "n": int(r.size),
+            "scenes": n_scenes,
+        }
+    ]
+
+
 def bands(
     pts: list[dict[str, Any]],
     extrapolate: dict[str, float] | None = None,
@@ -276,7 +303,15 @@ def bands(
                 "scenes": n_scenes,
                 "campaign_output": name,
             }
-            for e in with_extrapolation(entry, trend, list(dom["decades"]), to):
+            entries = with_extrapolation(entry, trend, list(dom["decades"]), to)
+            small = small_cells(mine, entry) if trend is not None else []
+            if small:  # the 128^2 cells keep their own constant band; the trend's from theirs up
+                cut = small[0]["ranges"]["decades"][1]
+                for e in entries:
+                    if e.get("status", 1) == 1:
+                        e["ranges"] = {**e["ranges"], "decades": [cut, e["ranges"]["decades"][1]]}
+                entries = small + entries
+            for e in entries:
                 out.append(e)
                 if name.startswith("contact_stiffness"):
                     s_factor = match["s_factor"]
@@ -296,16 +331,14 @@ def summary(pts: list[dict[str, Any]], table: list[dict[str, Any]]) -> list[dict
     rows = []
     for name, (_, _, _, _, axes) in OUTPUTS.items():
         for rng in regime_ranges(axes):
-            entry = next(
-                (
-                    e
-                    for e in by_out[name]
-                    if e.get("status", 1) == 1
-                    and all(e["ranges"].get(k) == list(v) for k, v in rng.items())
-                ),
-                None,
-            )
-            row: dict[str, Any] = {"output": name, "regime": rng, "band": entry}
+            verified = [
+                e
+                for e in by_out[name]
+                if e.get("status", 1) == 1
+                and all(e["ranges"].get(k) == list(v) for k, v in rng.items())
+            ]
+            entry = verified[0] if verified else None
+            row: dict[str, Any] = {"output": name, "regime": rng, "band": verified or None}
             for split in ("calibration", "held_out", "new_seed"):
                 mine = [p for p in pts if p["output"] == name and p["split"] == split]
                 mine = [p for p in mine if _inside(p, rng)]

@@ -27,9 +27,16 @@ def _cell(stats: dict[str, Any], with_cov: bool) -> str:
     return text
 
 
-def _band_text(band: dict[str, Any] | None) -> str:
-    if band is None:
+def _band_text(band: Any) -> str:
+    if not band:
         return "not verified"
+    if isinstance(band, list):
+        if len(band) == 1:
+            return _band_text(band[0])
+        return "; ".join(
+            f"d {e['ranges']['decades'][0]:.2f}-{e['ranges']['decades'][1]:.2f}: " + _band_text(e)
+            for e in band
+        )
     text = f"{band['low']:.3g}-{band['high']:.3g}"
     tr = band.get("trend")
     if tr:

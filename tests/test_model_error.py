@@ -195,7 +195,7 @@ def test_packaged_extrapolation_is_bounded_by_its_check():
             if v.get("status", 1) == 1
             and v["variable"] == e["variable"]
             and v["match"] == e["match"]
-            and v["trend"] == e["trend"]
+            and v.get("trend") == e["trend"]
         )
         lo, hi = twin["ranges"]["decades"]
         assert e["ranges"]["decades"][0] == hi
