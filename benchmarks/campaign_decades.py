@@ -21,6 +21,9 @@ decades at 512^2 / 1024^2 (8 grid points per shortest wavelength). Per output an
   their extrapolated band, the packaged table may extrapolate that output as far beyond its
   covered decades as the check did (``max d_test - 1.2``); elsewhere it does not (not
   verified beyond the covered decades).
+* **large-cell test** (:func:`large_cell_test`): the verified band beyond 1.2 decades must
+  hold >= 90 % of the large cells' own held-out and new-seed points; otherwise that output
+  keeps only the 128^2 cells' band (not verified beyond 1.2 decades).
 * **confirmation** (:func:`confirm`): the table's own extrapolated band must also hold >= 90 %
   of the held-out and new-seed points beyond the table's calibration decades, where there are
   any; otherwise that output is not extrapolated either.
@@ -210,6 +213,29 @@ def confirm(limits: dict[str, float], cov: dict[str, Any]) -> tuple[dict[str, fl
         if ok:
             kept[name] = dist
     return kept, tests
+
+
+def large_cell_test(pts: list[dict[str, Any]], table: list[dict[str, Any]]) -> dict[str, Any]:
+    """The verified bands beyond the 128^2 cells' decades on their own: per output, the
+    held-out and new-seed points with more than :data:`CHECK_FIT_MAX` decades that the table
+    verifies (status 1), ``{"inside", "n", "kept"}`` (kept: >= 90 % inside, or no such point)."""
+    by_out: dict[str, list[dict[str, Any]]] = defaultdict(list)
+    for e in table:
+        if e["variable"] not in CONDUCTANCES:
+            by_out[e["campaign_output"]].append(e)
+    out: dict[str, Any] = {}
+    for p in pts:
+        if p["split"] == "calibration" or p["decades"] <= CHECK_FIT_MAX:
+            continue
+        status, low, high = judge(p, by_out.get(p["output"], []))
+        if status != 1:
+            continue
+        c = out.setdefault(p["output"], {"inside": 0, "n": 0})
+        c["n"] += 1
+        c["inside"] += int(low <= p["ratio"] <= high)
+    for c in out.values():
+        c["kept"] = c["inside"] >= COVERAGE * c["n"]
+    return out
 
 
 def trend_rows(pts: list[dict[str, Any]], regimes: Any) -> list[str]:

@@ -42,10 +42,11 @@ from campaign_decades import (
     detrended,
     fit_trend,
     judge,
+    large_cell_test,
     trend_rows,
     with_extrapolation,
 )
-from campaign_tables import accuracy_of_options, check_rows, fmt_regime, markdown
+from campaign_tables import accuracy_of_options, check_rows, fmt_regime, large_rows, markdown
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
@@ -266,11 +267,13 @@ def bands(
     pts: list[dict[str, Any]],
     extrapolate: dict[str, float] | None = None,
     min_span: float = MIN_SPAN,
+    small_only: frozenset[str] = frozenset(),
 ) -> list[dict[str, Any]]:
     """The band table's entries from the calibration points of ``pts``: per output and regime,
     the tolerance band along the output's trend in decades (where its calibration points span
     ``min_span`` decades) over the decades they cover, and (for the outputs in
-    ``extrapolate``, ``"*"``: all) an extrapolated entry up to that many decades beyond."""
+    ``extrapolate``, ``"*"``: all) an extrapolated entry up to that many decades beyond; the
+    outputs in ``small_only`` keep the 128^2 cells' band alone (not verified beyond)."""
     cal = [p for p in pts if p["split"] == "calibration"]
     extrapolate = extrapolate or {}
     out = []
@@ -310,7 +313,7 @@ def bands(
                 for e in entries:
                     if e.get("status", 1) == 1:
                         e["ranges"] = {**e["ranges"], "decades": [cut, e["ranges"]["decades"][1]]}
-                entries = small + entries
+                entries = small if name in small_only else small + entries
             for e in entries:
                 out.append(e)
                 if name.startswith("contact_stiffness"):
@@ -434,15 +437,19 @@ def main(argv: list[str] | None = None) -> None:
     args = ap.parse_args(argv)
     cal, new = load_all(CALIBRATION_FILES), load_all(NEW_SEED_FILES)
     pts = points(cal) + points(new, "new_seed")
+    large = large_cell_test(pts, bands(pts))
+    small_only = frozenset(k for k, v in large.items() if not v["kept"])
     chk, limits = check(pts, bands)
-    cov = coverage_of(pts, bands(pts, extrapolate=limits))
+    limits = {k: v for k, v in limits.items() if k not in small_only}
+    cov = coverage_of(pts, bands(pts, extrapolate=limits, small_only=small_only))
     limits, tests = confirm(limits, cov)
-    table = bands(pts, extrapolate=limits)
+    table = bands(pts, extrapolate=limits, small_only=small_only)
     cov = coverage_of(pts, table)
     prov = provenance(cal, new)
     rows = summary(pts, table)
     text = markdown(rows, cov, prov)
     text += "\n" + "\n".join(check_rows(chk, limits, tests)) + "\n"
+    text += "\n" + "\n".join(large_rows(large)) + "\n"
     text += "\n" + "\n".join(trend_rows(pts, trend_regimes())) + "\n"
     text += "\n" + "\n".join(accuracy_of_options(pts)) + "\n\n" + "\n".join(grid_check()) + "\n"
     check_md = RESULTS / "campaign_dask_check.md"  # serial == LocalCluster (campaign_compare.py)
@@ -458,6 +465,7 @@ def main(argv: list[str] | None = None) -> None:
         }
         prov["extrapolation_check"] = chk
         prov["extrapolation_confirmation"] = tests
+        prov["large_cell_test"] = large
         prov["domain"] = {k: list(v) for k, v in domain(pts_cal(pts)).items()}
         prov["domains"] = domains(table)
         data = {"provenance": prov, "variables": variables, "bands": table}
