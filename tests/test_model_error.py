@@ -302,9 +302,9 @@ def test_the_band_follows_its_trend_and_widens_beyond_the_covered_decades():
 
 
 def test_an_extrapolated_scene_carries_status_2_and_its_reason():
-    """A solved scene beyond the covered decades gets flag 2 and finite bounds; ``explain``
+    """A solved scene beyond the covered decades gets flag 2 and finite bounds; the reason
     says why, and ``xpersson info``'s lines mark the cells as extrapolated."""
-    from xpersson.cli_info import model_error_lines
+    from xpersson.cli_info import model_error_lines, model_error_reasons
 
     sc = scene(["2 kPa"])
     sc["spectrum"].update(q_L="1e4 1/m", q_1="1.6e6 1/m")  # 2.2 decades, no roll-off
@@ -320,18 +320,20 @@ def test_an_extrapolated_scene_carries_status_2_and_its_reason():
     low = float(ds["area_fraction_exact_low"].values[0])
     assert low == pytest.approx(a * math.exp(shift - wide), rel=1e-13)
     assert "extrapolated" in ds["area_fraction_model_error_status"].attrs["comment"]
-    why = model_error.explain(rs, ["area_fraction"], TREND_TABLE)["area_fraction"]
-    assert why.startswith("2.20 decades") and why.endswith(
-        "(band along the measured trend, widened)"
-    )
+    (why,) = model_error_reasons(ds, TREND_TABLE)
+    assert why.startswith("    why area_fraction: 2.20 decades")
+    assert why.endswith(": extrapolated (band along the measured trend, widened)")
     assert "extrapolated" in next(line for line in model_error_lines(ds) if "area_fraction" in line)
     verified_only = {**TREND_TABLE, "bands": TREND_TABLE["bands"][:1]}
-    why = model_error.explain(rs, ["area_fraction"], verified_only)["area_fraction"]
-    assert why.endswith("not verified (beyond the cells; no extrapolation passed for this output)")
-    sc["spectrum"]["q_1"] = "1e7 1/m"  # 3 decades: beyond the limit
-    far = model_error.explain(
-        xpersson.pipeline.as_scene(sc).resolve(), ["area_fraction"], TREND_TABLE
-    )
-    assert far["area_fraction"].endswith(
-        "not verified (beyond the cells and the extrapolation limit)"
-    )
+    for table, q_1, tail in (
+        (verified_only, "1.6e6 1/m", "(beyond the cells; no extrapolation passed for it)"),
+        (TREND_TABLE, "1e7 1/m", "(beyond the cells; the extrapolation limit)"),
+    ):
+        sc["spectrum"]["q_1"] = q_1
+        other = xpersson.solve(sc)
+        for name in [n for n in other.data_vars if n.endswith(model_error.SUFFIXES)]:
+            del other[name]
+        model_error.attach(other, xpersson.pipeline.as_scene(sc).resolve(), table=table)
+        assert other["area_fraction_model_error_status"].values.tolist() == [0]
+        (line,) = model_error_reasons(other, table)
+        assert line.endswith("not verified " + tail), line

@@ -63,7 +63,6 @@ __all__ = [
     "attach",
     "covered",
     "band_table",
-    "explain",
     "bands_of",
     "scene_features",
 ]
@@ -407,48 +406,3 @@ def _attach_one(
     insert_or_set(ds, new)
     ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
     return list(new)
-
-
-def explain(rs: Any, names: Any, table: dict[str, Any] | None = None) -> dict[str, str]:
-    """Why the outputs ``names`` of the resolved scene ``rs`` are verified, extrapolated or not
-    verified, at the scene's level (its decades of roughness and Hurst exponent against the
-    table's entries for its plugins and options); a load's own regime may still be outside."""
-    table = table or band_table()
-    feats = scene_features(rs)
-    out = {}
-    for name in names:
-        opts = _options_of(rs, name)
-        mine = [
-            e
-            for e in table["bands"]
-            if e["variable"] == name
-            and all(opts.get(k, feats.get(k)) == v for k, v in e.get("match", {}).items())
-        ]
-        out[name] = _reason(feats, mine)
-    return out
-
-
-def _reason(feats: dict[str, Any], entries: list[dict[str, Any]]) -> str:
-    """One line: the scene's decades and H against the entries' (see :func:`explain`)."""
-    if not entries:
-        return "not verified: the campaign did not test this boundary, closure or options"
-    d, hurst = feats.get("decades"), feats.get("hurst")
-    cells = [e["ranges"]["decades"] for e in entries if e.get("status", 1) == 1]
-    if d is None or hurst is None or not cells:
-        return "not verified: the spectrum has no self-affine range (H, q_r, q_1) to place"
-    lo, hi = min(c[0] for c in cells), max(c[1] for c in cells)
-    ext = max((e["ranges"]["decades"][1] for e in entries if e.get("status") == 2), default=hi)
-    h_lo, h_hi = entries[0]["ranges"].get("hurst", (-math.inf, math.inf))
-    text = f"{d:.2f} decades of roughness log10(q_1/q_r), H = {hurst:.3g}; campaign cells "
-    text += f"{lo:.2f}-{hi:.2f} decades" + (f", extrapolated to {ext:.2f}" if ext > hi else "")
-    if not h_lo <= hurst < h_hi:
-        return text + f": not verified (H outside {h_lo:.3g}-{h_hi:.3g})"
-    if d < lo:
-        return text + ": not verified (fewer decades than the campaign's cells)"
-    if d < hi:
-        return text + ": verified where the load's regime has a band"
-    if d < ext:
-        return text + ": extrapolated (band along the measured trend, widened)"
-    if ext > hi:
-        return text + ": not verified (beyond the cells and the extrapolation limit)"
-    return text + ": not verified (beyond the cells; no extrapolation passed for this output)"
