@@ -32,11 +32,21 @@ the client writes the records in design order, bitwise equal to the serial run's
 Alternate blocks of four scenes (one of each kind in ``KINDS``) are the calibration and the
 held-out half; another ``--seed`` gives a new test set.
 
+Decades of roughness: the same design on a larger ``--grid`` keeps each scene's ``H`` and
+roll-off and moves ``q_1`` to ``grid/8 q_L``: ``log10(q_1/q_r)`` = 1.2-1.8 decades on 512^2,
+1.5-2.1 on 1024^2 (0.6-1.2 on 128^2). One elastic 512^2 scene costs about 75 s of CPU (18
+``PolonskyKeerRey`` solves, 1.6 s at 0.6 % contact to 10 s at 45 %), a 1024^2 one about 4-5x
+that; ``--indices`` picks design scenes and ``--loads N`` the first N loads (the heaviest
+costs the most) to fit a CPU budget. Record files ``campaign_cal*.jsonl`` (seed 1) and
+``campaign_new*.jsonl`` (new seeds) are all read by ``campaign_report.py``.
+
 Usage::
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --name cal --seed 1 --scenes 30
     OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --name new --seed 2 --scenes 12
     OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --scheduler processes --workers 2
+    OPENBLAS_NUM_THREADS=1 python benchmarks/campaign.py --name cal512 --seed 1 --grid 512 \
+        --scenes 16 --realisations 1 --only elastic --loads 5 --indices 0,1,4,5
     python benchmarks/campaign_report.py      # the band table, coverage and docs tables
 """
 
@@ -223,12 +233,15 @@ def plastic_bem(maps: np.ndarray, p0: np.ndarray, sigma_y: float) -> dict[str, A
     return {"total_contact_fraction": _mean_se(tot), "plastic_area_fraction": _mean_se(pl)}
 
 
-def run_scene(sc: dict[str, Any], grid: int, realisations: int, seed: int) -> dict[str, Any]:
-    """Theory and BEM of one campaign scene (one JSON-able record)."""
+def run_scene(
+    sc: dict[str, Any], grid: int, realisations: int, seed: int, loads: int = len(LOADS)
+) -> dict[str, Any]:
+    """Theory and BEM of one campaign scene (one JSON-able record) at the first ``loads``
+    design loads."""
     from adhesion_campaign import adhesive_record  # noqa: PLC0415 - the adhesive part
 
     h_slope = SLOPE
-    p0 = LOADS * E_STAR * h_slope
+    p0 = LOADS[:loads] * E_STAR * h_slope
     maps = _maps(sc, grid, realisations, seed)
     rec: dict[str, Any] = {**sc, "p0": p0.tolist(), "grid": grid, "realisations": realisations}
     t0 = time.perf_counter()
@@ -277,17 +290,21 @@ def provenance(seed: int, grid: int, realisations: int) -> dict[str, Any]:
     }
 
 
-def scene_task(sc: dict[str, Any], grid: int, realisations: int, seed: int) -> dict[str, Any]:
+def scene_task(
+    sc: dict[str, Any], grid: int, realisations: int, seed: int, loads: int = len(LOADS)
+) -> dict[str, Any]:
     """One scene as a task (a dask worker process imports ``adhesion_campaign`` from here)."""
     if str(HERE) not in sys.path:
         sys.path.insert(0, str(HERE))
-    return run_scene(sc, grid, realisations, seed)
+    return run_scene(sc, grid, realisations, seed, loads)
 
 
 def _records(todo: list[dict[str, Any]], args: argparse.Namespace, grid: int) -> Iterator[dict]:
     """The scenes' records in design order: computed serially, or as dask tasks (one per
     scene) on ``args.scheduler`` and gathered by the client in the same order."""
-    tasks = [(sc, grid, args.realisations, args.seed * 1000 + sc["index"]) for sc in todo]
+    tasks = [
+        (sc, grid, args.realisations, args.seed * 1000 + sc["index"], args.loads) for sc in todo
+    ]
     if args.scheduler in (None, "serial"):
         yield from (scene_task(*t) for t in tasks)
         return
@@ -314,6 +331,15 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--grid", type=int, default=128)
     ap.add_argument("--realisations", type=int, default=2)
     ap.add_argument("--only", default=None, help="comma-separated kinds to run")
+    ap.add_argument(
+        "--indices", default=None, help="comma-separated design indices to run (default: all)"
+    )
+    ap.add_argument(
+        "--loads",
+        type=int,
+        default=len(LOADS),
+        help="the first N design loads only (large cells: the heaviest load costs the most)",
+    )
     ap.add_argument("--grid-check", action="store_true", help="every 4th scene on 2x the grid")
     ap.add_argument("--refresh-theory", action="store_true", help="recompute the theory side")
     ap.add_argument(
@@ -340,7 +366,14 @@ def main(argv: list[str] | None = None) -> None:
         ]
     kinds = None if args.only is None else set(args.only.split(","))
     prov = provenance(args.seed, 2 * args.grid if args.grid_check else args.grid, args.realisations)
-    todo = [s for s in scenes if s["id"] not in done and not (kinds and s["kind"] not in kinds)]
+    picks = None if args.indices is None else {int(i) for i in args.indices.split(",")}
+    todo = [
+        s
+        for s in scenes
+        if s["id"] not in done
+        and not (kinds and s["kind"] not in kinds)
+        and (picks is None or s["index"] in picks)
+    ]
     t0 = time.perf_counter()
     for rec in _records(todo, args, prov["grid"]):
         rec["provenance"] = prov

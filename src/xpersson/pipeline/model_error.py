@@ -14,17 +14,26 @@ number of points, and the provenance: seed, size, date, solver and versions).
 * ``X_exact_low``, ``X_exact_high`` (units of ``X``): ``low X`` and ``high X``, the interval
   where exact contact lies (for a variable over ``zeta``: at the largest magnification, the full
   roughness, which is what the campaign compared);
-* ``X_model_error_status`` (flag: ``0 not_verified``, ``1 verified``): ``not_verified`` where the
-  scene lies outside what the campaign covered (another spectrum model, parameters or an area
-  fraction outside its ranges, options it did not test); the bounds are NaN there, never a made-up
-  band.
+* ``X_model_error_status`` (flag: ``0 not_verified``, ``1 verified``, ``2 extrapolated``):
+  ``verified`` inside what the campaign measured; ``extrapolated`` where the scene has more
+  decades of roughness than the campaign's cells held but lies within the distance to which the
+  campaign checked the extrapolation (the band follows the measured trend in decades, widened
+  by the trend's uncertainty times the distance); ``not_verified`` outside both (another
+  spectrum model, parameters or an area fraction outside its ranges, options it did not test,
+  decades beyond the extrapolation limit): the bounds are NaN there, never a made-up band. Its
+  ``comment`` says why a scene is not verified or extrapolated.
 
 The table is data keyed by variable name and by the scene's plugin names and options: the core
 never names a plugin. A band entry is ``{"variable", "match", "ranges", "low", "high",
 "median", "n"}``: ``match`` maps a feature (``boundary``, ``closure``, ``spectrum``, or an option
 of the analysis that provides the variable, e.g. ``s_factor``) to its required value; ``ranges``
 maps a numeric feature (``hurst``, ``rolloff``, ``decades``, ``area_fraction``, ``tabor``,
-``tensile``) to ``[lo, hi)``. The first matching entry of a variable wins.
+``tensile``) to ``[lo, hi)``. The first matching entry of a variable wins. Optional:
+``"status"`` (the flag value of its points, default 1) and ``"trend"`` ``{"feature", "slope",
+"reference", "slope_se", "k", "covered", "other"}``: at a value ``v`` of the feature the
+factors are ``low exp(s - w)`` and ``high exp(s + w)`` with ``s = slope (v - reference)`` plus
+``c (u - u_ref)`` for every ``other`` feature ``u: [c, u_ref]``, and ``w = k slope_se d`` with
+``d`` the distance from ``v`` to the ``covered`` interval (0 inside).
 
 :func:`xpersson.solve` attaches them to single scenes; a sweep attaches them to every block it
 solves (:mod:`xpersson.sweep`, whatever the path: point by point, batched or stacked; in
@@ -61,7 +70,19 @@ __all__ = [
 #: Suffixes of the three ancillary variables of an output.
 SUFFIXES = ("_exact_low", "_exact_high", "_model_error_status")
 #: CF flag attributes of ``X_model_error_status``.
-FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "not_verified verified"}
+FLAG = {
+    "flag_values": np.array([0, 1, 2], dtype=np.int8),
+    "flag_meanings": "not_verified verified extrapolated",
+}
+
+#: The ``comment`` of every ``X_model_error_status`` (the same for every scene and point).
+STATUS_COMMENT = (
+    "verified: inside the decades of roughness log10(q_1/q_r) and the regimes the validation "
+    "campaign's cells held; extrapolated: more decades than its cells held, the band along the "
+    "measured trend in decades widened by the trend's uncertainty times the distance, up to "
+    "the distance the campaign checked; not_verified: elsewhere, bounds NaN "
+    "(docs/verification.md, part II)"
+)
 
 _TABLE = Cache(
     "model_error.table",
@@ -283,6 +304,7 @@ def _bands(
     that matches each point (as :func:`bands_of`, over arrays)."""
     low, high = np.full(shape, np.nan), np.full(shape, np.nan)
     done = np.zeros(shape, dtype=bool)
+    status = np.zeros(shape, dtype=np.int8)
     entries = [e for e in table["bands"] if e["variable"] == name]
     for feats, opts, (mdims, mask) in groups:
         where = _on(mdims, mask, vdims, shape)
@@ -300,9 +322,40 @@ def _bands(
                     break
                 ok = ok & (v >= lo) & (v < hi)
             hit = np.broadcast_to(ok, shape)
-            low[hit], high[hit] = entry["low"], entry["high"]
+            lo_f, hi_f = _trend(entry, numeric, feats, vdims, shape)
+            low[hit], high[hit] = lo_f[hit], hi_f[hit]
+            status[hit] = entry.get("status", 1)
             done |= hit
-    return low, high, done.astype(np.int8)
+    return low, high, status
+
+
+def _trend(
+    entry: dict[str, Any],
+    numeric: dict[str, Any],
+    feats: dict[str, Any],
+    vdims: tuple[str, ...],
+    shape: tuple[int, ...],
+) -> tuple[np.ndarray, np.ndarray]:
+    """The factors ``(low, high)`` of ``entry`` over ``shape``: constant, or along its
+    ``trend`` (shifted by ``slope (v - reference)``, widened by ``k slope_se`` per unit of
+    distance from the ``covered`` interval of the feature ``v``)."""
+    trend = entry.get("trend")
+    if not trend:
+        return np.full(shape, float(entry["low"])), np.full(shape, float(entry["high"]))
+
+    def values(key: str) -> np.ndarray:
+        if key in numeric:
+            return np.broadcast_to(_on(*numeric[key], vdims, shape), shape)
+        return np.full(shape, float(feats.get(key, np.nan)))
+
+    v = values(trend["feature"])
+    lo_c, hi_c = trend["covered"]
+    dist = np.maximum(np.maximum(lo_c - v, v - hi_c), 0.0)
+    shift = trend["slope"] * (v - trend["reference"])
+    for key, (slope, ref) in trend.get("other", {}).items():
+        shift = shift + slope * (values(key) - ref)
+    wide = trend["k"] * trend["slope_se"] * dist
+    return entry["low"] * np.exp(shift - wide), entry["high"] * np.exp(shift + wide)
 
 
 def _attach_one(
@@ -345,6 +398,7 @@ def _attach_one(
             "long_name": f"whether the validation campaign covers {name} in this regime",
             "flag_values": FLAG["flag_values"],
             "flag_meanings": FLAG["flag_meanings"],
+            "comment": STATUS_COMMENT,
             "coverage_content_type": "qualityInformation",
         },
         fastpath=True,
