@@ -55,7 +55,8 @@ def per_scene(pts: list[dict[str, Any]]) -> tuple[np.ndarray, np.ndarray, np.nda
     """``(decades, roll-off, mean ln r)`` per scene of ``pts``."""
     by: dict[str, list[dict[str, Any]]] = defaultdict(list)
     for p in pts:
-        by[p["id"]].append(p)
+        if p["ratio"] > 0:  # an adhesive BEM value of 0 (a coverage miss) has no logarithm
+            by[p["id"]].append(p)
     d = np.array([v[0]["decades"] for v in by.values()])
     roll = np.array([v[0]["rolloff"] for v in by.values()])
     y = np.array([np.mean([math.log(p["ratio"]) for p in v]) for v in by.values()])
