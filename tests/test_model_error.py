@@ -161,6 +161,30 @@ def test_plot_draws_the_band(x):
     pyplot().close(ax.figure)
 
 
+def test_plot_hatches_an_extrapolated_band_and_skips_not_verified():
+    pytest.importorskip("matplotlib")
+    from xpersson.plot import pyplot
+    from xpersson.plot._band import band
+
+    ds = solved(scene(["100 Pa", "2 kPa", "20 kPa", "0.5 MPa"]))
+    flag = ds["area_fraction_model_error_status"]
+    ds["area_fraction_model_error_status"] = flag.copy(data=np.array([0, 1, 2, 2], flag.dtype))
+    for end, value in (("low", 0.5), ("high", 2.0)):  # finite bounds at every load
+        var = ds["area_fraction_exact_" + end]
+        ds["area_fraction_exact_" + end] = var.copy(data=np.full(var.shape, value))
+    ax = pyplot().figure().add_subplot()
+    band(ax, ds, "area_fraction")
+    solid, hatched = ax.collections
+    assert solid.get_hatch() is None and hatched.get_hatch() == "///"
+    assert "extrapolated" in hatched.get_label() and "extrapolated" not in solid.get_label()
+    # each band spans only its own loads: the solid one the 2 kPa load, the hatched one the
+    # two heavier loads (fill_between drops the NaN edges of the other statuses)
+    p0 = ds["p0"].values
+    assert np.allclose(np.unique(solid.get_paths()[0].vertices[:, 0]), p0[1])
+    assert np.allclose(np.unique(hatched.get_paths()[0].vertices[:, 0]), p0[2:])
+    pyplot().close(ax.figure)
+
+
 def test_packaged_bands_cover_held_out_and_new_seed_points():
     """The must-show of issue 34, as stored by campaign_report.py: on the held-out half and on
     the new seed's scenes (the large cells included), >= 90 % of the (scene, load) points of

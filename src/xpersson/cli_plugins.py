@@ -184,7 +184,13 @@ def describe(group: str, name: str, registry: Registry | None = None) -> dict[st
         desc["boundaries"] = _supported(cls, reg, "boundaries")
         desc["coefficients"] = _supported(cls, reg, "coefficients")
         desc["body_quantities"] = {
-            n: {"local": q.local, "combine": q.combine, "units": q.units, "long_name": q.long_name}
+            n: {
+                "local": q.local,
+                "combine": q.combine,
+                "units": q.units,
+                "long_name": q.long_name,
+                "unbounded": getattr(q, "unbounded", None),
+            }
             for n, q in cls.body_quantities.items()  # type: ignore[attr-defined]
         }
     return desc
@@ -260,7 +266,9 @@ def cmd_show(
     if d.get("body_quantities"):
         w("integrated over a [geometry] body (per force):\n")
         for vname, v in d["body_quantities"].items():
-            w(f"  {vname} [{v['units']}]: {v['long_name']} ({v['combine']} of {v['local']})\n")
+            more = f"; unbounded where {v['unbounded']} says full_contact" if v["unbounded"] else ""
+            how = f"{v['combine']} of {v['local']}{more}"
+            w(f"  {vname} [{v['units']}]: {v['long_name']} ({how})\n")
     return 0
 
 

@@ -249,3 +249,6 @@ def test_plugins_show_lists_the_body_quantities(capsys: pytest.CaptureFixture[st
     out = capsys.readouterr().out
     assert "integrated over a [geometry] body (per force):" in out
     assert "  body_leak_rate [m3 s-1]: " in out and "(series of leak_rate)" in out
+    main(["plugins", "show", "analyses", "electrical_contact"])
+    out = capsys.readouterr().out
+    assert "unbounded where electrical_contact_status says full_contact)" in out
