@@ -22,6 +22,7 @@ from ._errors import CrosscheckError
 from ._gridcheck import add_grid_ratios
 from ._plan import POINTS_PER_WAVELENGTH, STIFFNESS_STEP, Plan, make_plan
 from ._realise import Task, run_all
+from ._stats import mean_se
 from .solve import TOL, TOL_GAP, require_tamaas
 from .sphere import crosscheck_sphere, is_body
 
@@ -104,12 +105,8 @@ def _compare(ds: xr.Dataset, th: xr.Dataset, theory_name: str, values: np.ndarra
     """Add ``name`` (BEM mean), its standard error, the theory and the ratio to ``ds``."""
     ref = _theory_value(th, theory_name)
     dims = ("realisation", *ref.dims)
-    ok = np.isfinite(values)
-    n = ok.sum(axis=0)
+    mean, se = mean_se(values)
     with np.errstate(invalid="ignore", divide="ignore"):
-        mean = np.where(n > 0, np.nansum(values, axis=0) / np.maximum(n, 1), np.nan)
-        var = np.nansum((values - mean) ** 2, axis=0) / np.maximum(n - 1, 1)
-        se = np.where(n >= 2, np.sqrt(var / np.maximum(n, 1)), np.nan)
         ratio = ref.values / mean
     ratio = np.where(np.isfinite(mean) & (mean != 0), ratio, np.nan)  # full contact: no ratio
     units = ref.attrs.get("units", "1")
@@ -134,8 +131,7 @@ def _compare(ds: xr.Dataset, th: xr.Dataset, theory_name: str, values: np.ndarra
 def _gap(ds: xr.Dataset, th: xr.Dataset, values: np.ndarray) -> None:
     """The BEM gap pdf on the theory's ``u`` and the L1 distance of the two distributions."""
     ref = th["gap_pdf"]
-    n = np.isfinite(values).sum(axis=0)
-    mean = np.where(n > 0, np.nansum(values, axis=0) / np.maximum(n, 1), np.nan)
+    mean, _ = mean_se(values)
     du = np.diff(_edges(th["u"].values))
     w_bem = ds["gap_contact_weight"].values
     w_th = th["gap_contact_weight"].values

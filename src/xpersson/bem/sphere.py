@@ -31,6 +31,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ._stats import mean_se
+
 __all__ = [
     "CELL_FACTOR",
     "FORCE_FRACTION",
@@ -324,12 +326,8 @@ def _compare(ds: xr.Dataset, th: xr.Dataset, name: str, values: np.ndarray) -> N
     """``name`` (BEM mean over realisations), ``_se``, ``_theory``, ``_ratio`` (theory/BEM)
     and ``_realisations`` over ``force`` (NaN values, not converged, left out)."""
     ref = th[name]
-    ok = np.isfinite(values)
-    n = ok.sum(axis=0)
+    mean, se = mean_se(values)
     with np.errstate(invalid="ignore", divide="ignore"):
-        mean = np.where(n > 0, np.nansum(values, axis=0) / np.maximum(n, 1), np.nan)
-        var = np.nansum((values - mean) ** 2, axis=0) / np.maximum(n - 1, 1)
-        se = np.where(n >= 2, np.sqrt(var / np.maximum(n, 1)), np.nan)
         ratio = ref.values / mean
     units, long = ref.attrs.get("units", "1"), ref.attrs.get("long_name", name)
     rows = {
