@@ -157,7 +157,7 @@ BEM means H08 28 / 111, H05 7.2 / 64 at mu_T 0.6 / 1.0):
   elastic curve): the same as rescaling the attraction (`k -> 1.45 k`); not new.
 * **Smooth bump with Persson-Tosatti's `gamma_eff`** (kept, `adhesive`'s floor): the bump at
   the scale that holds best, `max_zeta 2 pi gamma_eff(zeta) R(zeta)`, `gamma_eff` the work
-  less the full-contact elastic energy of the finer roughness (physics.md §2.1). Its
+  less the full-contact elastic energy of the finer roughness {cite:p}`persson2001adhesion`. Its
   `W_eff R` agrees with the rigid rough bump's (0.48 w against 0.42 w at zeta ~ 8, H08
   mu_T = 1): one bump holds 10 / 42 (H08) and 3.6 / 9.2 (H05) Pa, 2.6-7x below the BEM.
   Counting the BEM's contact clusters along two retraction paths (mu_T = 1, seed 0; spots
