@@ -265,7 +265,7 @@ def solve_sweep(
     asked = scheduler
     distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
     estimate = serial_estimate(plan, registry) if distributed and chunk is None else None
-    if scheduler == "processes" and too_small_for_a_cluster(plan, estimate):
+    if distributed and estimate is not None and too_small_for_a_cluster(plan, estimate, scheduler):
         scheduler, distributed = None, False
     first = check_size(plan, registry, scheduler, chunk, workers, output is None)
     points = None if distributed else resolve_points(plan, registry, first)
