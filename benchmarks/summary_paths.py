@@ -338,7 +338,7 @@ def single_paths(peers: Path, scenes, rounds: int, quick: bool) -> dict:
 #: The LocalCluster rows: name -> (E values x H values; --quick), the study's size.
 PARALLEL = {
     "LocalCluster(2) wall vs serial wall": ((1000, 100), (100, 100)),
-    "LocalCluster(2) wall vs serial wall, above the threshold": ((4000, 100), (1000, 100)),
+    "LocalCluster(2) wall vs serial wall, above the threshold": ((5000, 100), (1000, 100)),
 }
 
 
@@ -359,7 +359,7 @@ def _cluster_round(study: dict, client) -> tuple[float, float, bool, str]:
 def parallel_path(rounds: int, quick: bool = False) -> dict:
     """E x H studies (one load) on LocalCluster(2) against serial (:data:`PARALLEL`): 1e5
     points (below the stated threshold, ``xpersson.sweep.schedule.PARALLEL_MIN_S``: the rule
-    runs it in the client's process) and 4e5 points (above it: on the workers). Wall times
+    runs it in the client's process) and 5e5 points (above it: on the workers). Wall times
     (perf_counter), best of interleaved rounds, the cluster started and warmed up first; ratio
     = cluster wall / serial wall (< 1: the cluster pays); results compared bit for bit."""
     from distributed import Client, LocalCluster
