@@ -335,10 +335,26 @@ def single_paths(peers: Path, scenes, rounds: int, quick: bool) -> dict:
     return out
 
 
-#: The LocalCluster rows: name -> (E values x H values; --quick), the study's size.
+def _eh_study(spec: dict, n: int) -> tuple[dict, str]:
+    """E x H (n x 100 points), one load: batched, memory-bound (2.3 kB of result per 5 us)."""
+    study = scene(spec)
+    study["material"]["E"] = {"start": "1 MPa", "stop": "100 MPa", "num": n}
+    study["spectrum"]["H"] = {"start": 0.3, "stop": 0.95, "num": 100, "spacing": "linear"}
+    return study, f"E x H {n * 100:.0e} points"
+
+
+def _plastic_study(spec: dict, n: int) -> tuple[dict, str]:
+    """H (n points) x 3 loads, plastic_scale_dependent: CPU-bound (about 15 ms per point)."""
+    study = scene(spec, ["5 MPa", "20 MPa", "100 MPa"], boundary=PLASTIC)
+    study["material"] = dict(STEEL)
+    study["spectrum"]["H"] = {"start": 0.3, "stop": 0.95, "num": n, "spacing": "linear"}
+    return study, f"plastic H {n} points x 3 loads"
+
+
+#: The LocalCluster rows: name -> (study builder, size, --quick size).
 PARALLEL = {
-    "LocalCluster(2) wall vs serial wall": ((1000, 100), (100, 100)),
-    "LocalCluster(2) wall vs serial wall, above the threshold": ((5000, 100), (1000, 100)),
+    "LocalCluster(2) wall vs serial wall": (_eh_study, 1000, 100),
+    "LocalCluster(2) wall vs serial wall, above the threshold": (_plastic_study, 400, 100),
 }
 
 
@@ -357,9 +373,9 @@ def _cluster_round(study: dict, client) -> tuple[float, float, bool, str]:
 
 
 def parallel_path(rounds: int, quick: bool = False) -> dict:
-    """E x H studies (one load) on LocalCluster(2) against serial (:data:`PARALLEL`): 1e5
-    points (below the stated threshold, ``xpersson.sweep.schedule.PARALLEL_MIN_S``: the rule
-    runs it in the client's process) and 5e5 points (above it: on the workers). Wall times
+    """Studies on LocalCluster(2) against serial (:data:`PARALLEL`): a 1e5-point E x H study
+    (below the stated threshold, ``xpersson.sweep.schedule.PARALLEL_MIN_S``: the rule runs it
+    in the client's process) and a plastic H sweep (above it: on the workers). Wall times
     (perf_counter), best of interleaved rounds, the cluster started and warmed up first; ratio
     = cluster wall / serial wall (< 1: the cluster pays); results compared bit for bit."""
     from distributed import Client, LocalCluster
@@ -375,11 +391,8 @@ def parallel_path(rounds: int, quick: bool = False) -> dict:
         warm = scene(spec, load_range(3))
         warm["material"]["E"] = ["1 MPa", "2 MPa", "3 MPa", "4 MPa"]
         xpersson.solve(warm, scheduler=client, chunk=1)  # imports on the workers
-        for name, sizes in PARALLEL.items():
-            n = sizes[1] if quick else sizes[0]
-            study = scene(spec)
-            study["material"]["E"] = {"start": "1 MPa", "stop": "100 MPa", "num": n[0]}
-            study["spectrum"]["H"] = {"start": 0.3, "stop": 0.95, "num": n[1], "spacing": "linear"}
+        for name, (build, size, small) in PARALLEL.items():
+            study, label = build(spec, small if quick else size)
             got = [_cluster_round(study, client) for _ in range(max(2, rounds))]
             ts, tp = min(g[0] for g in got), min(g[1] for g in got)
             equal, where = all(g[2] for g in got), got[-1][3]
@@ -388,7 +401,7 @@ def parallel_path(rounds: int, quick: bool = False) -> dict:
                 f"(wall; estimated serial {est:.2g} s; ran: {where}; results bitwise equal: "
                 f"{equal}; {os.cpu_count()} cores)"
             )
-            out[name] = {f"E x H {n[0] * n[1]:.0e} points": _ratio(tp, ts, note=note)}
+            out[name] = {label: _ratio(tp, ts, note=note)}
             print(f"{name}: {tp:.3g} s / {ts:.3g} s {note}", flush=True)
     finally:
         client.close()
