@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 import warnings
 
@@ -11,10 +12,13 @@ import xarray as xr
 from xpersson_sweep_testlib import scene
 
 import xpersson
+from xpersson.api import as_scene, expand
+from xpersson.plugins import get_registry
 from xpersson.sweep import _shm, schedule
 from xpersson.sweep.stacking import Block, BlockResult
 
 SMALL = scene(material={"E": ["5 MPa", "20 MPa"]}, load={"p0": "3e4 Pa"})
+SMALL_PLAN = expand(as_scene(SMALL), get_registry())
 
 
 class _Scheduler:
@@ -40,12 +44,18 @@ def test_a_small_study_given_a_client_runs_here_and_says_so():
     with pytest.warns(xpersson.XperssonWarning, match=r"tcp://10\.0\.0\.9:8786: sending the work"):
         got = xpersson.solve(SMALL, scheduler=Client())
     assert got.attrs["xpersson_scheduler"] == (
-        "serial (asked: tcp://10.0.0.9:8786; the study takes less than sending it to the workers)"
+        "serial (asked: tcp://10.0.0.9:8786; the workers would not pay for this study)"
     )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         serial = xpersson.solve(SMALL)
     xr.testing.assert_identical(got.drop_attrs(), serial.drop_attrs())
+
+
+def test_a_memory_bound_study_runs_here_at_any_size():
+    with pytest.warns(xpersson.XperssonWarning, match="memory-bound"):
+        assert schedule.too_small_for_a_cluster(SMALL_PLAN, 100.0, Client(), nbytes=2e10)
+    assert not schedule.too_small_for_a_cluster(SMALL_PLAN, 100.0, Client(), nbytes=1e9)
 
 
 def test_above_the_threshold_the_client_is_used(monkeypatch):
@@ -55,6 +65,7 @@ def test_above_the_threshold_the_client_is_used(monkeypatch):
         raise AssertionError(f"sent to the workers of {scheduler.scheduler.address}")
 
     monkeypatch.setattr(schedule, "PARALLEL_MIN_S", 0.0)
+    monkeypatch.setattr(schedule, "MEMORY_BOUND_RATE", math.inf)
     monkeypatch.setattr(execute, "client_for", used)
     with pytest.raises(AssertionError, match="sent to the workers of tcp://10.0.0.9:8786"):
         xpersson.solve(SMALL, scheduler=Client())

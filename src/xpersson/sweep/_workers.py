@@ -127,5 +127,5 @@ def ran_on(asked: Any, scheduler: Any, n_workers: int) -> str:
         where += " (asked: processes; the study takes less than starting the workers)"
     elif asked not in (None, "serial", "synchronous", "sync", "threads") and scheduler is None:
         asked_where = ran_on(None, asked, n_workers).rsplit(" (", 1)[0]
-        where += f" (asked: {asked_where}; the study takes less than sending it to the workers)"
+        where += f" (asked: {asked_where}; the workers would not pay for this study)"
     return where

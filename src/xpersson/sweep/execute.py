@@ -264,8 +264,8 @@ def solve_sweep(
     check_scheduler(scheduler)
     asked = scheduler
     distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
-    estimate = serial_estimate(plan, registry) if distributed and chunk is None else None
-    if distributed and estimate is not None and too_small_for_a_cluster(plan, estimate, scheduler):
+    estimate, nbytes = probe(plan, registry) if distributed and chunk is None else (None, 0.0)
+    if estimate is not None and too_small_for_a_cluster(plan, estimate, scheduler, nbytes):
         scheduler, distributed = None, False
     first = check_size(plan, registry, scheduler, chunk, workers, output is None)
     points = None if distributed else resolve_points(plan, registry, first)
@@ -381,10 +381,15 @@ def _run_tasks(
 
 
 def serial_estimate(plan: SweepPlan, registry: Any) -> float:
-    """The study's serial CPU time [s], measured on a probe: its first block of the layout a
-    serial run would use, capped at :data:`BLOCK_CURVES` curves where its points are solved as
-    batches of loads (:mod:`.batched`), else its first 4 points; resolved and solved here
-    (CPU time of this process), the result discarded.
+    """The study's serial CPU time [s] (:func:`probe`)."""
+    return probe(plan, registry)[0]
+
+
+def probe(plan: SweepPlan, registry: Any) -> tuple[float, float]:
+    """The study's serial CPU time [s] and result size [bytes], measured on a probe: its first
+    block of the layout a serial run would use, capped at :data:`BLOCK_CURVES` curves where its
+    points are solved as batches of loads (:mod:`.batched`), else its first 4 points; resolved
+    and solved here (CPU time of this process), the result discarded (``inf`` where it fails).
     """
     import time
 
@@ -393,13 +398,15 @@ def serial_estimate(plan: SweepPlan, registry: Any) -> float:
     rs = _resolve_index(plan, (0,) * len(plan.shape), registry)
     loads = max(1, rs.p0.size)
     size = BLOCK_CURVES // loads if batch_capable(plan.groups, rs) else 4
-    probe = blocks_of(plan, max(1, min(plan.size, size)))[0]
+    block = blocks_of(plan, max(1, min(plan.size, size)))[0]
     with silenced():
         try:
-            run_block(probe, _resolve_block(plan, probe, registry), registry)
+            res = run_block(block, _resolve_block(plan, block, registry), registry)
         except Exception:  # noqa: BLE001 - the sweep reports failing points itself
-            return math.inf
-    return (time.process_time() - t0) / probe.size * plan.size
+            return math.inf, math.inf
+    scale = plan.size / block.size
+    nbytes = 0 if res.dataset is None else res.dataset.nbytes
+    return (time.process_time() - t0) * scale, nbytes * scale
 
 
 def _execute(

@@ -24,6 +24,7 @@ __all__ = [
     "CLUSTER_STARTUP_S",
     "PARALLEL_MIN_S",
     "SERIAL_BLOCK_POINTS",
+    "MEMORY_BOUND_RATE",
     "TASK_S",
     "points_per_block",
     "threshold_s",
@@ -101,21 +102,39 @@ def threshold_s(scheduler: Any) -> float:
     return PARALLEL_MIN_S + (CLUSTER_STARTUP_S if scheduler == "processes" else 0.0)
 
 
-def too_small_for_a_cluster(plan: SweepPlan, estimate: float, scheduler: Any = "processes") -> bool:
-    """Whether the study, solved serially (``estimate`` [s], :func:`serial_estimate`), takes
-    less than :func:`threshold_s` (then a warning says so and the sweep runs in this process)."""
+#: Result bytes per second of the study's serial CPU time above which a study is memory-bound
+#: [B/s]: its workers would spend more moving and filling the result than they save computing
+#: it, at any size (an E x H study of one load: about 450 MB/s, 229 MiB for 0.5 s; measured on
+#: 2 workers on 2 shared cores, ``benchmarks/summary.py``). Such a study runs in this process.
+MEMORY_BOUND_RATE = 1e8
+
+
+def too_small_for_a_cluster(
+    plan: SweepPlan, estimate: float, scheduler: Any = "processes", nbytes: float = 0.0
+) -> bool:
+    """Whether the study, solved serially (``estimate`` [s], result ``nbytes`` [B],
+    :func:`~xpersson.sweep.execute.probe`), takes less than :func:`threshold_s` or is
+    memory-bound (:data:`MEMORY_BOUND_RATE`); then a warning says so and the sweep runs in this
+    process."""
     limit = threshold_s(scheduler)
-    if estimate >= limit:
+    bound = math.isfinite(estimate) and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
+    if estimate >= limit and not bound:
         return False
     what = (
         "starting the worker processes and sending them the work costs"
         if scheduler == "processes"
         else "sending the work to the workers and the results back costs"
     )
+    why = (
+        f"its result ({nbytes / 1e6:.3g} MB) is memory-bound: moving it to this process costs "
+        "more than the workers save computing it"
+        if bound
+        else f"{what} about {limit:g} s, more than this study of {plan.size} points takes "
+        f"serially (about {estimate:.2g} s, measured on its first points)"
+    )
     warnings.warn(
-        f"scheduler={_name(scheduler)}: {what} about {limit:g} s, more than this study of "
-        f"{plan.size} points takes serially (about {estimate:.2g} s, measured on its first "
-        "points); solving it in this process. Pass chunk= to run it on the workers anyway.",
+        f"scheduler={_name(scheduler)}: {why}; solving it in this process. Pass chunk= to run "
+        "it on the workers anyway.",
         XperssonWarning,
         stacklevel=4,
     )
