@@ -25,7 +25,16 @@ import xarray as xr
 
 from .stacking import BlockResult
 
-__all__ = ["MIN_BYTES", "SHM", "discard", "machine", "pack", "same_machine", "unpack"]
+__all__ = [
+    "MIN_BYTES",
+    "SHM",
+    "discard",
+    "discard_pending",
+    "machine",
+    "pack",
+    "same_machine",
+    "unpack",
+]
 
 #: Where the segments live: POSIX shared memory (a tmpfs on Linux).
 SHM = "/dev/shm"  # noqa: S108
@@ -116,6 +125,16 @@ def unpack(res: BlockResult, moved: dict[str, Any]) -> BlockResult:
     out.encoding = ds.encoding
     res.dataset = out
     return res
+
+
+def discard_pending(futures: list[Any], local: bool) -> None:
+    """After a failed run: cancel the block tasks not read and remove the segments of those
+    that finished (``local``: they returned through shared memory)."""
+    for fut in futures:
+        if local and fut.status == "finished":
+            with contextlib.suppress(Exception):
+                discard(fut.result()[1])
+        fut.cancel()
 
 
 def discard(moved: dict[str, Any]) -> None:

@@ -29,7 +29,7 @@ from ..plugins import get_registry
 from ..scene import SceneError, with_spectrum
 from ._fastfail import warn_failures
 from ._quiet import silenced
-from ._shm import pack, same_machine, unpack
+from ._shm import discard_pending, pack, same_machine, unpack
 from ._workers import check_workers, ran_on
 from .batched import SweepPoints, batch_capable, material_dims, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
@@ -470,13 +470,16 @@ def _execute(
     order = {fut.key: i for i, fut in enumerate(futures)}
     results: list[Any] = [None] * len(futures)
     # results are fetched as their blocks finish: transfers overlap the blocks still running
-    for fut, got in as_completed(futures, with_results=True):
-        res = unpack(*got) if local else got
-        results[order[fut.key]] = res
-        take(res)
-        fut.release()  # the worker's copy too: the fill holds the values now
-        if bar is not None:
-            bar.update(res.block.size)
+    try:
+        for fut, got in as_completed(futures, with_results=True):
+            res = unpack(*got) if local else got
+            results[order[fut.key]] = res
+            take(res)
+            fut.release()  # the worker's copy too: the fill holds the values now
+            if bar is not None:
+                bar.update(res.block.size)
+    finally:  # a failed run: the shared-memory segments of blocks not read are removed
+        discard_pending([f for f, r in zip(futures, results, strict=True) if r is None], local)
     return results
 
 
