@@ -14,12 +14,16 @@ import subprocess
 import sys
 import tempfile
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 from summary_design import best, cpu, load_range, peak_mib, scene
 
 import xpersson
+from xpersson.api import as_scene, expand
+from xpersson.plugins import get_registry
+from xpersson.sweep.execute import serial_estimate
 
 #: Target per path: ("x", ratio) or ("ms", milliseconds per load).
 TARGETS = {
@@ -38,7 +42,8 @@ TARGETS = {
     "engine (jkr) vs C march, rtol 1e-6": ("x", 3),
     "engine (jkr) vs C march, rtol 1e-8": ("x", 3),
     "friction curve, 50 speeds vs kernel": ("x", 5),
-    "LocalCluster(2) wall vs serial wall": ("x", 1),
+    "LocalCluster(2) wall vs serial wall": ("x", 1.1),
+    "LocalCluster(2) wall vs serial wall, above the threshold": ("x", 1),
     "E x H x p0 study: peak memory / result": ("x", 2),
 }
 STEEL = {"E": "210 GPa", "nu": 0.3}
@@ -330,40 +335,78 @@ def single_paths(peers: Path, scenes, rounds: int, quick: bool) -> dict:
     return out
 
 
-def parallel_path(rounds: int, quick: bool) -> dict:
-    """A 1e5-point E x H study (one load) on LocalCluster(2) against serial: wall times
-    (perf_counter), best of interleaved rounds, the cluster started and warmed up first;
-    ratio = cluster wall / serial wall (< 1: the cluster pays); results compared bit for bit."""
+def _eh_study(spec: dict, n: int) -> tuple[dict, str]:
+    """E x H (n x 100 points), one load: batched, memory-bound (2.3 kB of result per 5 us)."""
+    study = scene(spec)
+    study["material"]["E"] = {"start": "1 MPa", "stop": "100 MPa", "num": n}
+    study["spectrum"]["H"] = {"start": 0.3, "stop": 0.95, "num": 100, "spacing": "linear"}
+    return study, f"E x H {n * 100:.0e} points"
+
+
+def _plastic_study(spec: dict, n: int) -> tuple[dict, str]:
+    """H (n points) x 3 loads, plastic_scale_dependent: CPU-bound (about 15 ms per point)."""
+    study = scene(spec, ["5 MPa", "20 MPa", "100 MPa"], boundary=PLASTIC)
+    study["material"] = dict(STEEL)
+    study["spectrum"]["H"] = {"start": 0.3, "stop": 0.95, "num": n, "spacing": "linear"}
+    return study, f"plastic H {n} points x 3 loads"
+
+
+#: The LocalCluster rows: name -> (study builder, size, --quick size).
+PARALLEL = {
+    "LocalCluster(2) wall vs serial wall": (_eh_study, 1000, 100),
+    "LocalCluster(2) wall vs serial wall, above the threshold": (_plastic_study, 400, 100),
+}
+
+
+def _cluster_round(study: dict, client) -> tuple[float, float, bool, str]:
+    """One interleaved round: serial wall, cluster wall [s], bitwise equal, where it ran."""
+    t0 = time.perf_counter()
+    a = xpersson.solve(study)
+    ts = time.perf_counter() - t0
+    with warnings.catch_warnings():  # below the threshold: the warning says it ran here
+        warnings.simplefilter("ignore")
+        t0 = time.perf_counter()
+        b = xpersson.solve(study, scheduler=client)
+        tp = time.perf_counter() - t0
+    equal = all(a[v].equals(b[v]) for v in a.variables)
+    return ts, tp, equal, b.attrs.get("xpersson_scheduler", "workers")
+
+
+def parallel_path(rounds: int, quick: bool = False) -> dict:
+    """Studies on LocalCluster(2) against serial (:data:`PARALLEL`): a 1e5-point E x H study
+    (below the stated threshold, ``xpersson.sweep.schedule.PARALLEL_MIN_S``: the rule runs it
+    in the client's process) and a plastic H sweep (above it: on the workers). Wall times
+    (perf_counter), best of interleaved rounds, the cluster started and warmed up first; ratio
+    = cluster wall / serial wall (< 1: the cluster pays); results compared bit for bit."""
     from distributed import Client, LocalCluster
     from summary_design import design
 
     spec = design()[0][1]
-    n = (100, 100) if quick else (1000, 100)
-    study = scene(spec)
-    study["material"]["E"] = {"start": "1 MPa", "stop": "100 MPa", "num": n[0]}
-    study["spectrum"]["H"] = {"start": 0.3, "stop": 0.95, "num": n[1], "spacing": "linear"}
     cluster = LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=40
     )
     client = Client(cluster)
+    out = {}
     try:
-        xpersson.solve(scene(spec, load_range(3)), scheduler=client)  # imports on the workers
-        ts = tp = np.inf
-        equal = True
-        for _ in range(max(2, rounds)):
-            t0 = time.perf_counter()
-            a = xpersson.solve(study)
-            ts = min(ts, time.perf_counter() - t0)
-            t0 = time.perf_counter()
-            b = xpersson.solve(study, scheduler=client)
-            tp = min(tp, time.perf_counter() - t0)
-            equal &= all(a[v].equals(b[v]) for v in a.variables)
+        warm = scene(spec, load_range(3))
+        warm["material"]["E"] = ["1 MPa", "2 MPa", "3 MPa", "4 MPa"]
+        xpersson.solve(warm, scheduler=client, chunk=1)  # imports on the workers
+        for name, (build, size, small) in PARALLEL.items():
+            study, label = build(spec, small if quick else size)
+            got = [_cluster_round(study, client) for _ in range(max(2, rounds))]
+            ts, tp = min(g[0] for g in got), min(g[1] for g in got)
+            equal, where = all(g[2] for g in got), got[-1][3]
+            est = serial_estimate(expand(as_scene(study), get_registry()), get_registry())
+            note = (
+                f"(wall; estimated serial {est:.2g} s; ran: {where}; results bitwise equal: "
+                f"{equal}; {os.cpu_count()} cores)"
+            )
+            out[name] = {label: _ratio(tp, ts, note=note)}
+            print(f"{name}: {tp:.3g} s / {ts:.3g} s {note}", flush=True)
     finally:
         client.close()
         cluster.close()
-    label = f"E x H {n[0] * n[1]:.0e} points"
-    m = _ratio(tp, ts, note=f"(wall; results bitwise equal: {equal}; {os.cpu_count()} cores)")
-    return {"LocalCluster(2) wall vs serial wall": {label: m}}
+    return out
 
 
 def memory(raw: dict, scenes, quick: bool) -> dict:
@@ -383,6 +426,9 @@ def memory(raw: dict, scenes, quick: bool) -> dict:
 
 
 #: Rows outside the design that ``--paths`` may measure again: name -> fn(rounds).
-AGAIN = {"friction curve, 50 speeds vs kernel": friction_path}
+AGAIN = {
+    "friction curve, 50 speeds vs kernel": friction_path,
+    "LocalCluster(2) wall vs serial wall": parallel_path,  # both LocalCluster rows
+}
 
 __all__ = ["AGAIN", "DESIGN_PATHS", "TARGETS", "cpu", "memory", "parallel_path", "single_paths"]

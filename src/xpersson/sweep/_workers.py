@@ -111,9 +111,9 @@ def check_workers(client: Any, records: Iterable[Any]) -> None:
 def ran_on(asked: Any, scheduler: Any, n_workers: int) -> str:
     """Where a sweep ran: ``"serial"``, ``"threads (2)"``, ``"tcp://... (2 workers)"``, with
     what was asked when it differs. A sweep that did not run where it was asked (a small study
-    asked for processes runs serially) stores this as its ``xpersson_scheduler`` attribute; a
-    sweep that ran where asked does not (its result stays identical, attributes included, to
-    the serial one)."""
+    asked for processes, a client or an address runs serially) stores this as its
+    ``xpersson_scheduler`` attribute; a sweep that ran where asked does not (its result stays
+    identical, attributes included, to the serial one)."""
     if scheduler in (None, "serial", "synchronous", "sync"):
         where = "serial"
     elif scheduler == "threads":
@@ -125,4 +125,7 @@ def ran_on(asked: Any, scheduler: Any, n_workers: int) -> str:
         where = f"{address} ({n_workers} workers)"
     if asked == "processes" and scheduler is None:
         where += " (asked: processes; the study takes less than starting the workers)"
+    elif asked not in (None, "serial", "synchronous", "sync", "threads") and scheduler is None:
+        asked_where = ran_on(None, asked, n_workers).rsplit(" (", 1)[0]
+        where += f" (asked: {asked_where}; the workers would not pay for this study)"
     return where

@@ -29,6 +29,7 @@ from ..plugins import get_registry
 from ..scene import SceneError, with_spectrum
 from ._fastfail import warn_failures
 from ._quiet import silenced
+from ._shm import discard_pending, pack, same_machine, unpack
 from ._workers import check_workers, ran_on
 from .batched import SweepPoints, batch_capable, material_dims, resolved_region
 from .blocks import Block, BlockResult, _assign, block_points, blocks_of, run_block
@@ -263,8 +264,8 @@ def solve_sweep(
     check_scheduler(scheduler)
     asked = scheduler
     distributed = scheduler not in (None, "serial", "synchronous", "sync", "threads")
-    estimate = serial_estimate(plan, registry) if distributed and chunk is None else None
-    if scheduler == "processes" and too_small_for_a_cluster(plan, estimate):
+    estimate, nbytes = probe(plan, registry) if distributed and chunk is None else (None, 0.0)
+    if estimate is not None and too_small_for_a_cluster(plan, estimate, scheduler, nbytes):
         scheduler, distributed = None, False
     first = check_size(plan, registry, scheduler, chunk, workers, output is None)
     points = None if distributed else resolve_points(plan, registry, first)
@@ -312,8 +313,9 @@ def solve_sweep(
             tasks = [(b, block_points(plan, points, b), parts[b.number]) for b in blocks]
         tasks = [t for t in tasks if t[0].number not in done]
         filling = Filling(plan)  # in memory: each block copied into the sweep's arrays
+        local = client is not None and same_machine(client)
         results = _run_tasks(
-            plan, tasks, registry, scheduler, client, n_workers, progress, txn, filling.add
+            plan, tasks, registry, scheduler, client, n_workers, progress, txn, filling.add, local
         )
         warn_failures(results, stacklevel=4)  # out of the silenced run: the user sees it
         results = sorted([*results, *done.values()], key=lambda r: r.block.number)
@@ -365,23 +367,29 @@ def _run_tasks(
     progress: bool | None,
     txn: Any,
     take: Callable[[BlockResult], None] | None = None,
+    local: bool = False,
 ) -> list[BlockResult]:
     bar = progress_bar(plan.size, progress, "xpersson sweep")
     if bar is not None:
         bar.update(plan.size - sum(b.size for b, _, _ in tasks))  # reused parts
     attrs = None if txn is None else txn.part_attrs()
     try:
-        return _execute(tasks, registry, scheduler, client, bar, n_workers, attrs, take)
+        return _execute(tasks, registry, scheduler, client, bar, n_workers, attrs, take, local)
     finally:
         if bar is not None:
             bar.close()
 
 
 def serial_estimate(plan: SweepPlan, registry: Any) -> float:
-    """The study's serial CPU time [s], measured on a probe: its first block of the layout a
-    serial run would use, capped at :data:`BLOCK_CURVES` curves where its points are solved as
-    batches of loads (:mod:`.batched`), else its first 4 points; resolved and solved here
-    (CPU time of this process), the result discarded.
+    """The study's serial CPU time [s] (:func:`probe`)."""
+    return probe(plan, registry)[0]
+
+
+def probe(plan: SweepPlan, registry: Any) -> tuple[float, float]:
+    """The study's serial CPU time [s] and result size [bytes], measured on a probe: its first
+    block of the layout a serial run would use, capped at :data:`BLOCK_CURVES` curves where its
+    points are solved as batches of loads (:mod:`.batched`), else its first 4 points; resolved
+    and solved here (CPU time of this process), the result discarded (``inf`` where it fails).
     """
     import time
 
@@ -390,13 +398,15 @@ def serial_estimate(plan: SweepPlan, registry: Any) -> float:
     rs = _resolve_index(plan, (0,) * len(plan.shape), registry)
     loads = max(1, rs.p0.size)
     size = BLOCK_CURVES // loads if batch_capable(plan.groups, rs) else 4
-    probe = blocks_of(plan, max(1, min(plan.size, size)))[0]
+    block = blocks_of(plan, max(1, min(plan.size, size)))[0]
     with silenced():
         try:
-            run_block(probe, _resolve_block(plan, probe, registry), registry)
+            res = run_block(block, _resolve_block(plan, block, registry), registry)
         except Exception:  # noqa: BLE001 - the sweep reports failing points itself
-            return math.inf
-    return (time.process_time() - t0) / probe.size * plan.size
+            return math.inf, math.inf
+    scale = plan.size / block.size
+    nbytes = 0 if res.dataset is None else res.dataset.nbytes
+    return (time.process_time() - t0) * scale, nbytes * scale
 
 
 def _execute(
@@ -408,12 +418,14 @@ def _execute(
     n_workers: int = 1,
     attrs: dict[str, Any] | None = None,
     take: Callable[[BlockResult], None] | None = None,
+    local: bool = False,
 ) -> list[BlockResult]:
     """Run the block tasks; the points' warnings are silenced (:func:`._quiet.silenced`) by
     this thread around the whole in-process run, by each task on a dask worker.
 
     ``take(result)`` is called on each result as it arrives (the in-memory fill,
-    :class:`~.filling.Filling`: the block's Dataset is copied and dropped at once)."""
+    :class:`~.filling.Filling`: the block's Dataset is copied and dropped at once). ``local``:
+    the workers share this machine's memory; their large arrays come through it (:mod:`._shm`)."""
     tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
     take = take or (lambda res: None)
     out = []
@@ -449,6 +461,7 @@ def _execute(
             registry,
             part,
             attrs,
+            local,
             pure=False,
             key=f"xpersson-block-{b.number}-{token}",
         )
@@ -457,18 +470,29 @@ def _execute(
     order = {fut.key: i for i, fut in enumerate(futures)}
     results: list[Any] = [None] * len(futures)
     # results are fetched as their blocks finish: transfers overlap the blocks still running
-    for fut, res in as_completed(futures, with_results=True):
-        results[order[fut.key]] = res
-        take(res)
-        fut.release()  # the worker's copy too: the fill holds the values now
-        if bar is not None:
-            bar.update(res.block.size)
+    try:
+        for fut, got in as_completed(futures, with_results=True):
+            res = unpack(*got) if local else got
+            results[order[fut.key]] = res
+            take(res)
+            fut.release()  # the worker's copy too: the fill holds the values now
+            if bar is not None:
+                bar.update(res.block.size)
+    finally:  # a failed run: the shared-memory segments of blocks not read are removed
+        discard_pending([f for f, r in zip(futures, results, strict=True) if r is None], local)
     return results
 
 
 def _silenced_block(
-    block: Block, points: Any, registry: Any, part: str | None, attrs: dict[str, Any] | None
-) -> BlockResult:
-    """A block task on a dask worker, its points' warnings silenced there."""
+    block: Block,
+    points: Any,
+    registry: Any,
+    part: str | None,
+    attrs: dict[str, Any] | None,
+    local: bool = False,
+) -> Any:
+    """A block task on a dask worker, its points' warnings silenced there; ``local``: its
+    large arrays left in shared memory (:func:`._shm.pack`)."""
     with silenced():
-        return run_block(block, points, registry, part, None, attrs)
+        res = run_block(block, points, registry, part, None, attrs)
+    return pack(res) if local else res

@@ -3,9 +3,10 @@
 Serial in memory, blocks hold about :data:`BLOCK_CURVES` curves. On workers (a
 :class:`distributed.LocalCluster` or a running scheduler), the study's serial CPU time is
 measured first on a probe (:func:`xpersson.sweep.execute.serial_estimate`) and the study is cut
-into tasks of about :data:`TASK_S` each (2 to 16 per worker); ``scheduler="processes"`` solves a
-study serially, with a warning, when it takes less than :data:`CLUSTER_STARTUP_S` +
-:data:`PARALLEL_MIN_S` serially (the threshold above which the cluster is faster in wall time).
+into tasks of about :data:`TASK_S` each (2 to 16 per worker). A study whose estimated serial time
+is below :func:`threshold_s` (:data:`PARALLEL_MIN_S`, plus :data:`CLUSTER_STARTUP_S` where
+``scheduler="processes"`` starts a cluster) runs in this process, with a warning and an
+``xpersson_scheduler`` attribute saying so: above it the workers are faster in wall time.
 """
 
 from __future__ import annotations
@@ -23,8 +24,10 @@ __all__ = [
     "CLUSTER_STARTUP_S",
     "PARALLEL_MIN_S",
     "SERIAL_BLOCK_POINTS",
+    "MEMORY_BOUND_RATE",
     "TASK_S",
     "points_per_block",
+    "threshold_s",
     "too_small_for_a_cluster",
     "check_scheduler",
     "client_for",
@@ -79,11 +82,14 @@ def points_per_block(
 #: LocalCluster of single-threaded workers and importing xpersson in each (3-5 s measured by
 #: ``benchmarks/sweep_scaling.py`` on a shared 2-core machine; the lower end is stated here).
 CLUSTER_STARTUP_S = 3.0
-#: Serial CPU time [s] of a study below which workers do not pay (on top of the cluster's
-#: start-up where ``scheduler="processes"`` starts one): sending the tasks, the points and the
-#: results between processes and filling the result in this process cost about this much
-#: (``benchmarks/summary.py``, parallel row). Longer studies are cut into tasks of about
-#: :data:`TASK_S` each.
+#: Estimated serial CPU time [s] of a study (:func:`serial_estimate`) below which workers do
+#: not pay, on any distributed scheduler (a client, an address; on top of the cluster's start-up
+#: where ``scheduler="processes"`` starts one): resolving the points there, sending the tasks
+#: and the results back and filling the result here cost about 0.5 s on two local workers,
+#: and a batched study's result is large against its CPU time (memory-bound). Measured by
+#: ``benchmarks/summary.py`` (LocalCluster rows, 2 workers on 2 cores): an E x H study of 1e5
+#: points (estimated 0.53 s) took 1.1-1.3 s on the cluster against 0.5 s serially; one of 4e5
+#: points (estimated 2.7 s) took 4.0 s against 5.1 s. Below it the study runs in this process.
 PARALLEL_MIN_S = 2.0
 #: Serial CPU time [s] of one task on a worker: long enough that the scheduler's per-task
 #: cost (a few ms) and the transfer of its result are small, short enough for 2 to 16 tasks
@@ -91,21 +97,54 @@ PARALLEL_MIN_S = 2.0
 TASK_S = 0.5
 
 
-def too_small_for_a_cluster(plan: SweepPlan, estimate: float) -> bool:
-    """Whether the study, solved serially (``estimate`` [s], :func:`serial_estimate`), takes
-    less than starting a cluster and using it (then a warning says so and the sweep runs
-    serially)."""
-    if estimate >= CLUSTER_STARTUP_S + PARALLEL_MIN_S:
+def threshold_s(scheduler: Any) -> float:
+    """Estimated serial CPU time [s] above which ``scheduler`` (a distributed one) pays."""
+    return PARALLEL_MIN_S + (CLUSTER_STARTUP_S if scheduler == "processes" else 0.0)
+
+
+#: Result bytes per second of the study's serial CPU time above which a study is memory-bound
+#: [B/s]: its workers would spend more moving and filling the result than they save computing
+#: it, at any size (an E x H study of one load: about 450 MB/s, 229 MiB for 0.5 s; measured on
+#: 2 workers on 2 shared cores, ``benchmarks/summary.py``). Such a study runs in this process.
+MEMORY_BOUND_RATE = 1e8
+
+
+def too_small_for_a_cluster(
+    plan: SweepPlan, estimate: float, scheduler: Any = "processes", nbytes: float = 0.0
+) -> bool:
+    """Whether the study, solved serially (``estimate`` [s], result ``nbytes`` [B],
+    :func:`~xpersson.sweep.execute.probe`), takes less than :func:`threshold_s` or is
+    memory-bound (:data:`MEMORY_BOUND_RATE`); then a warning says so and the sweep runs in this
+    process."""
+    limit = threshold_s(scheduler)
+    bound = math.isfinite(estimate) and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
+    if estimate >= limit and not bound:
         return False
+    what = (
+        "starting the worker processes and sending them the work costs"
+        if scheduler == "processes"
+        else "sending the work to the workers and the results back costs"
+    )
+    why = (
+        f"its result ({nbytes / 1e6:.3g} MB) is memory-bound: moving it to this process costs "
+        "more than the workers save computing it"
+        if bound
+        else f"{what} about {limit:g} s, more than this study of {plan.size} points takes "
+        f"serially (about {estimate:.2g} s, measured on its first points)"
+    )
     warnings.warn(
-        f"scheduler='processes': starting the worker processes and sending them the work costs "
-        f"about {CLUSTER_STARTUP_S + PARALLEL_MIN_S:g} s, more than this study of {plan.size} "
-        f"points takes serially (about {estimate:.2g} s, measured on its first points); solving "
-        "it serially. Pass a distributed.Client to use a running cluster.",
+        f"scheduler={_name(scheduler)}: {why}; solving it in this process. Pass chunk= to run "
+        "it on the workers anyway.",
         XperssonWarning,
         stacklevel=4,
     )
     return True
+
+
+def _name(scheduler: Any) -> str:
+    if isinstance(scheduler, str):
+        return repr(scheduler)
+    return str(getattr(getattr(scheduler, "scheduler", None), "address", "a dask client"))
 
 
 def check_scheduler(scheduler: Any) -> None:
