@@ -9,6 +9,7 @@ from __future__ import annotations
 import copy
 import ctypes
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -396,6 +397,7 @@ def parallel_path(rounds: int, quick: bool = False) -> dict:
             got = [_cluster_round(study, client) for _ in range(max(2, rounds))]
             ts, tp = min(g[0] for g in got), min(g[1] for g in got)
             equal, where = all(g[2] for g in got), got[-1][3]
+            where = re.sub(r"tcp://[^;)]*", "the cluster's address", where)  # no port in files
             est = serial_estimate(expand(as_scene(study), get_registry()), get_registry())
             note = (
                 f"(wall; estimated serial {est:.2g} s; ran: {where}; results bitwise equal: "
