@@ -67,6 +67,7 @@ def analyse(ds: xr.Dataset, name: str, /, **params: Any) -> xr.Dataset:
     SceneError
         An unknown analysis or parameter (as in a scene).
     """
+    _one_scene(ds)
     spectrum_of(ds)  # what is missing is named before any work
     contact_modulus(ds)
     data = _scene(ds)
@@ -82,13 +83,21 @@ def analyse(ds: xr.Dataset, name: str, /, **params: Any) -> xr.Dataset:
         return _run(rs, ds)
 
 
+def _one_scene(ds: xr.Dataset) -> None:
+    """Refuse a sweep's Dataset (a point of it has its own scene, which the archive's
+    ``xpersson_scene`` with the swept lists does not give)."""
+    swept = [d for n in ("area_fraction", "psd_C") if n in ds.variables for d in ds[n].dims]
+    swept = [d for d in swept if d not in CORE_DIMS]
+    if "xpersson_sweep" in ds.attrs or swept:
+        raise ArchiveError(
+            f"analyse runs on one solved scene; this Dataset holds a sweep (dims {swept}): add "
+            "the analysis to the sweep's scene instead (xpersson.solve(scene, "
+            "analyses__NAME={...}))"
+        )
+
+
 def _scene(ds: xr.Dataset) -> dict[str, Any]:
     """The archive's resolved scene (its ``xpersson_scene`` attribute), checked."""
-    if "xpersson_sweep" in ds.attrs or any(d not in _KNOWN_DIMS for d in ds.variables["psd_C"].dims):
-        raise ArchiveError(
-            "analyse runs on one solved scene; this Dataset holds a sweep: add the analysis "
-            "to the sweep's scene instead (xpersson.solve(scene, analyses__NAME={...}))"
-        )
     text = ds.attrs.get("xpersson_scene")
     if not text:
         raise ArchiveError(
@@ -103,10 +112,6 @@ def _scene(ds: xr.Dataset) -> dict[str, Any]:
             "add the analysis to its scene and solve it again"
         )
     return dict(data)
-
-
-#: Dimensions of a single scene's spectrum table (a sweep adds its own).
-_KNOWN_DIMS = ("q_psd",)
 
 
 def _quantities(values: Any, unit: str) -> list[str]:
