@@ -74,8 +74,11 @@ def analyse(ds: xr.Dataset, name: str, /, **params: Any) -> xr.Dataset:
     data["analyses"] = {name: dict(params)}
     psd = spectrum_of(ds)  # the scene's spectrum section: the Dataset's table, no file read
     q = psd.nodes()
-    data["spectrum"] = {"model": "tabulated", "q": _quantities(q, "1/m"), "C": _quantities(
-        psd.C(q), "m**4")}
+    data["spectrum"] = {
+        "model": "tabulated",
+        "q": _quantities(q, "1/m"),
+        "C": _quantities(psd.C(q), "m**4"),
+    }
     rs = Scene(data, source=None).resolve()
     rs = dataclasses.replace(rs, psd=psd)  # the solve's own segments, bit for bit
     _check_grid(rs, ds)
