@@ -65,9 +65,12 @@ class ContactArea(Analysis):
         with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
             mean_p = ctx.p0[None, :, None] / np.where(area > 0, area, np.nan)
         mean_p[~np.isfinite(mean_p)] = np.nan
-        points = range(area.shape[0])  # each point's spectrum and modulus, from the Dataset
-        E_star = np.array([contact_modulus(ds, point=k) for k in points])
-        slope = np.array([_slope(ds, point=k) for k in points])
+
+        def points(name: str) -> range:  # each point's, where the Dataset has one per point
+            return range(area.shape[0] if "point" in ds.variables[name].dims else 1)
+
+        E_star = np.array([contact_modulus(ds, point=k) for k in points("E_star")])
+        slope = np.array([_slope(ds, point=k) for k in points("psd_C")])
         kappa = area[..., -1] * E_star[:, None] * slope[:, None] / ctx.p0[None, :]
         return {
             "mean_contact_pressure": xr.DataArray(mean_p, dims=order),

@@ -39,10 +39,10 @@ def _values(ds: Any, name: str, indexers: dict[str, int], why: str) -> np.ndarra
             f"{', '.join(SPECTRUM_VARIABLES[:2])}, and E_star): keep them when selecting "
             "variables, or re-solve the archive's scene (xpersson reproduce)"
         )
-    sel = {d: i for d, i in indexers.items() if d in var.dims}
-    if sel:
-        var = var.isel(sel)
-    return np.asarray(var.values, dtype=float)
+    values = np.asarray(var.values, dtype=float)
+    if any(d in var.dims for d in indexers):  # numpy indexing: no xarray isel per point
+        values = values[tuple(indexers.get(d, slice(None)) for d in var.dims)]
+    return values
 
 
 def spectrum_of(ds: Any, **indexers: int) -> PowerSpectrum:
