@@ -114,6 +114,9 @@ def core_rows(fast: bool) -> list[dict]:
             _up(worst, "diffusion_coefficient", _rel(ds["diffusion_coefficient"].values, f))
             _up(worst, "G", _rel(ds["G"].values, tau[None, :] / p0**2))
             _up(worst, "psd_C", _rel(ds["psd_C"].values, ref.C(ds["q_psd"].values)))
+            tail = [-2.0 * (1.0 + ref.H), math.nan]  # the plateau's 0 where q_r > q_L
+            e_ref = [0.0, *tail] if ref.q_r > ref.q_L else tail
+            _up(worst, "psd_exponent", _rel(ds["psd_exponent"].values, e_ref))
             slope = math.sqrt(2 * math.pi * float(ref.moment(3, ref.q_1)[0]))
             _up(worst, "rms_slope", _rel(float(ds["rms_slope"]), slope))
             h = math.sqrt(2 * math.pi * float(ref.moment(1, ref.q_1)[0]))
@@ -139,6 +142,7 @@ def core_rows(fast: bool) -> list[dict]:
         "diffusion_coefficient": "(pi/4)E*^2 q^3 C q_L from the definition",
         "G": "tau/p0^2 from the quad tau",
         "psd_C": "C(q) from the definition (C0 from h_rms)",
+        "psd_exponent": "0 on the plateau, -2(1+H) above q_r, NaN at q_1",
         "rms_slope": "sqrt(2 pi int q^3 C) by quad",
         "h_rms": "sqrt(2 pi int q C) by quad",
         "E_star": "E/(1-nu^2)",

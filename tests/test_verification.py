@@ -23,6 +23,7 @@ BOUNDS = {
     "diffusion_coefficient": 1e-12,
     "G": 1e-12,
     "psd_C": 1e-12,
+    "psd_exponent": 1e-15,
     "rms_slope": 1e-12,
     "h_rms": 1e-12,
     "E_star": 1e-15,

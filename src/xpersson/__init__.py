@@ -7,6 +7,7 @@ Public API (imported lazily so that ``import xpersson`` and the CLI's ``--help``
     xpersson.load_scene(path) -> Scene
     xpersson.open_dataset(path) -> xarray.Dataset
     xpersson.to_netcdf(ds, path)
+    xpersson.analyse(ds, "gap_pdf", ...)  # an analysis of a solved (reopened) Dataset
     xpersson.plot.area(ds)            # matplotlib, imported only when plotting
     xpersson.sweep                    # the sweep mechanism (lists and ranges of parameters)
     xpersson.set_options(cache=False) # library options (xpersson.options), as xarray's
@@ -20,6 +21,7 @@ from typing import Any
 __all__ = [
     "ArchiveError",
     "FolderBusyError",
+    "analyse",
     "PluginFailure",
     "Scene",
     "SceneError",
@@ -37,6 +39,7 @@ __all__ = [
 ]
 
 _LAZY = {
+    "analyse": "xpersson.reanalysis",
     "ArchiveError": "xpersson.errors",
     "FolderBusyError": "xpersson.errors",
     "PluginFailure": "xpersson.checks",

@@ -87,6 +87,14 @@ CORE_VARIABLES: dict[str, VarSpec] = {
         "isotropic power spectral density (Persson convention)",
         description="C(q) = (2 pi)^-2 int d2x <h(x) h(0)> exp(-i q.x)",
     ),
+    "psd_exponent": VarSpec(
+        ("q_psd",),
+        "1",
+        "log-log slope of the power spectrum from this node to the next",
+        description="C(q) = psd_C (q / q_psd)^psd_exponent up to the next node: with psd_C it "
+        "defines the spectrum the solve used exactly (xpersson.plugins.stored.spectrum_of)",
+        nan_meaning="the last node: no segment starts there",
+    ),
     "E": VarSpec((), "Pa", "Young's modulus"),
     "nu": VarSpec((), "1", "Poisson ratio"),
     "E_star": VarSpec((), "Pa", "contact modulus E / (1 - nu^2)"),

@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 
 from ..plugins import Analysis, FastPaths, ParamSpec, SceneContext, VarSpec
+from ..plugins.stored import contact_modulus, spectrum_of
 
 __all__ = ["ContactArea"]
 
@@ -50,8 +51,7 @@ class ContactArea(Analysis):
         with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
             mean_p = ctx.p0[:, None] / np.where(area > 0, area, np.nan)
         mean_p[~np.isfinite(mean_p)] = np.nan
-        slope = float(np.sqrt(2 * np.pi * ctx.psd.moment(3, ctx.q_L, ctx.q[-1])))
-        kappa = area[:, -1] * ctx.E_star * slope / ctx.p0
+        kappa = area[:, -1] * contact_modulus(ds) * _slope(ds) / ctx.p0
         return {"mean_contact_pressure": (("p0", "zeta"), mean_p), "kappa": (("p0",), kappa)}
 
     def compute_stacked(self, ctx_of: Any, ds: Any) -> dict[str, Any]:
@@ -65,17 +65,25 @@ class ContactArea(Analysis):
         with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
             mean_p = ctx.p0[None, :, None] / np.where(area > 0, area, np.nan)
         mean_p[~np.isfinite(mean_p)] = np.nan
-        slope = np.array(
-            [
-                float(np.sqrt(2 * np.pi * ctx_of(k).psd.moment(3, ctx.q_L, ctx.q[-1])))
-                for k in range(area.shape[0])
-            ]
-        )
-        kappa = area[..., -1] * ctx.E_star * slope[:, None] / ctx.p0[None, :]
+
+        def points(name: str) -> range:  # each point's, where the Dataset has one per point
+            return range(area.shape[0] if "point" in ds.variables[name].dims else 1)
+
+        E_star = np.array([contact_modulus(ds, point=k) for k in points("E_star")])
+        slope = np.array([_slope(ds, point=k) for k in points("psd_C")])
+        kappa = area[..., -1] * E_star[:, None] * slope[:, None] / ctx.p0[None, :]
         return {
             "mean_contact_pressure": xr.DataArray(mean_p, dims=order),
             "kappa": xr.DataArray(kappa, dims=order[:2]),
         }
+
+
+def _slope(ds: Any, **point: int) -> float:
+    """rms slope [1] of the Dataset's spectrum up to its largest magnification (the solve's:
+    :func:`~xpersson.plugins.stored.spectrum_of`), ``sqrt(2 pi int_{q_L}^{q_max} q^3 C dq)``."""
+    psd = spectrum_of(ds, **point)
+    q_max = float(ds.variables["zeta"].values[-1]) * psd.q_L
+    return float(np.sqrt(2 * np.pi * psd.moment(3, psd.q_L, q_max)))
 
 
 def _loads_by_zeta(var: Any, n_loads: int) -> np.ndarray:

@@ -25,6 +25,7 @@ from ._map_spectrum import Rings, combine_tables, map_rings, profile_rings, tabl
 from ._psd_fit import SelfAffineFit, fit_self_affine
 from ._self_affine import SelfAffineRollOff
 from ._spectrum import CONVENTIONS, PowerSpectrum, profile_factor, stacked_C
+from ._stored import StoredSpectrum, segment_exponents
 from ._tabulated import Convention, Tabulated
 
 __all__ = [
@@ -34,9 +35,11 @@ __all__ = [
     "Rings",
     "SelfAffineFit",
     "SelfAffineRollOff",
+    "StoredSpectrum",
     "Tabulated",
     "profile_factor",
     "stacked_C",
+    "segment_exponents",
     "map_rings",
     "profile_rings",
     "table_from_rings",

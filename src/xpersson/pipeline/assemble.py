@@ -15,6 +15,7 @@ from .. import checks
 from ..cache import Cache
 from ..errors import XperssonWarning
 from ..physics.grids import persson_G
+from ..physics.psd import segment_exponents
 from ..plugins import SceneContext, VarSpec
 from ..scene import ResolvedScene
 from ..schema import COORDS, CORE_VARIABLES, stamp
@@ -58,6 +59,7 @@ def assemble(
         "diffusion_time": (("zeta",), tau_c),
         "diffusion_coefficient": (("zeta",), f_z),
         "psd_C": (("q_psd",), np.asarray(psd.C(q_nodes), float)),
+        "psd_exponent": (("q_psd",), segment_exponents(psd)),
         "E": ((), rs.E),
         "nu": ((), rs.nu),
         "E_star": ((), rs.E_star),

@@ -23,7 +23,7 @@ import xarray as xr
 
 from .. import checks, plugins
 from ..cache import solve_scope
-from ..physics.psd import stacked_C
+from ..physics.psd import segment_exponents, stacked_C
 from ..scene import ResolvedScene
 from .assemble import assemble
 from .diagnostics import validity_flags
@@ -251,6 +251,7 @@ def _spectra(points: Sequence[ResolvedScene], ds: xr.Dataset, out: dict[str, Any
     if C is None:
         C = np.stack([np.asarray(p.C(q_nodes), float) for p in psds])
     out["psd_C"] = ((POINT, "q_psd"), C)
+    out["psd_exponent"] = ((POINT, "q_psd"), np.stack([segment_exponents(p) for p in psds]))
     out["h_rms"] = ((POINT,), np.array([float(p.h_rms()) for p in psds]))
     out["rms_slope"] = ((POINT,), np.array([float(p.rms_slope()) for p in psds]))
 

@@ -19,7 +19,9 @@ class SceneContext:
     ----------
     psd : object
         The numerical power spectrum (``C(q)`` in m^4, Persson convention; ``q_L``, ``q_1`` in
-        1/m).
+        1/m): the coefficient's and the boundary's. An analysis reads the solve's spectrum from
+        the Dataset instead (:func:`xpersson.plugins.stored.spectrum_of`, the same numbers bit
+        for bit), which is all an archive reopened later carries.
     E : float
         Young's modulus of the elastic solid [Pa].
     nu : float

@@ -25,6 +25,8 @@ from numpy.typing import NDArray
 from xpersson.cache import Cache, memoize
 from xpersson.physics.closures import GAMMA_DEFAULT
 
+from .stored import contact_modulus, spectrum_of
+
 __all__ = ["Solved", "solved_curve", "dense_zeta", "per_solve", "solve_key", "FORMS"]
 
 #: Forms of the correction factor in energy and gap.
@@ -51,6 +53,11 @@ class Solved:
         ``"closure"`` (the scene's closure) or ``"yang_persson"``.
     gamma : float or None
         The ``gamma`` of the Yang-Persson form (None for the closure form).
+    psd : PowerSpectrum or None
+        The spectrum the solve used, rebuilt from the Dataset
+        (:func:`xpersson.plugins.stored.spectrum_of`).
+    E_star : float or None
+        The contact modulus of the solve [Pa], the Dataset's ``E_star``.
     """
 
     p0: NDArray[np.float64]
@@ -61,6 +68,8 @@ class Solved:
     s_factor: NDArray[np.float64] | None
     form: str
     gamma: float | None
+    psd: Any = None
+    E_star: float | None = None
 
     @property
     def curve(self) -> tuple[Any, ...]:
@@ -229,7 +238,8 @@ def solved_curve(
         keep = _past_full_contact(area, non, S)
         S = None if S is None else np.broadcast_to(S, area.shape)[:, keep]
         zeta, area, non, contact = zeta[keep], area[:, keep], non[:, keep], contact[:, keep]
-    return Solved(p0, zeta, area, np.clip(non, 0.0, 1.0), np.clip(contact, 0.0, 1.0), S, form, g)
+    non, contact = np.clip(non, 0.0, 1.0), np.clip(contact, 0.0, 1.0)
+    return Solved(p0, zeta, area, non, contact, S, form, g, spectrum_of(ds), contact_modulus(ds))
 
 
 #: Dense magnifications kept in full contact before the first one out of it (see

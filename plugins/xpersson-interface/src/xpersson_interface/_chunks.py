@@ -79,9 +79,9 @@ def sub_solved(s: Solved, rows: slice) -> Solved:
 
 
 def contact_of(ctx: Any, s: Solved) -> physics.SolvedContact:
-    """The SolvedContact of the solved curve ``s`` (its loads and A(zeta) from the Dataset; the
-    scene's spectrum and E* for the gap and energy integrals)."""
-    return physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve)
+    """The SolvedContact of the solved curve ``s`` (its loads, A(zeta), spectrum and E* all
+    from the Dataset: :mod:`xpersson.plugins.stored`)."""
+    return physics.SolvedContact(s.psd, s.E_star, s.p0, *s.curve)
 
 
 def contacts(ctx: Any, s: Solved, key: tuple[Any, ...], chunk: int = CHUNK) -> list[Part]:

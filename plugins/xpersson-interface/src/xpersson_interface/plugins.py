@@ -156,8 +156,9 @@ class ElasticEnergy(_Interface):
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         s, sc = self._contact(ctx, ds)
         U = sc.elastic_energy()
-        q_hi = min(float(ctx.psd.q_1), float(s.zeta[-1]) * ctx.q_L)
-        full = physics.full_contact_energy(ctx.psd, ctx.E_star, ctx.q_L, q_hi)
+        psd = s.psd  # the Dataset's spectrum (xpersson.plugins.stored), as the solve's
+        q_hi = min(float(psd.q_1), float(s.zeta[-1]) * psd.q_L)
+        full = physics.full_contact_energy(psd, s.E_star, psd.q_L, q_hi)
         return {
             "elastic_energy": (("p0",), np.clip(U, 0.0, full)),
             "elastic_energy_full": ((), np.float64(full)),
@@ -234,7 +235,7 @@ class ContactStiffness(_Interface):
             K = np.where(compliance > 0.0, 1.0 / np.where(compliance > 0, compliance, 1.0), np.nan)
         rigid = ~np.isfinite(K)
         K[rigid] = np.nan
-        status = np.where(rigid, 1, np.where(s.p0 > float(ctx.E_star), 2, 0)).astype(np.int8)
+        status = np.where(rigid, 1, np.where(s.p0 > float(s.E_star), 2, 0)).astype(np.int8)
         return {
             "contact_stiffness": (("p0",), K),
             "contact_compliance": (("p0",), compliance),
@@ -330,7 +331,7 @@ class GapPDF(_Interface):
         def one(det: physics.Detachment) -> tuple[np.ndarray, ...]:
             if p["method"] == "closed_form":
                 return physics.gap_pdf(det, u), physics.gap_mean(det), det.contact.copy()
-            rho, mean = gap_pdf_by_diffusion(ctx.psd, det, u, int(p["n_grid"]))
+            rho, mean = gap_pdf_by_diffusion(s.psd, det, u, int(p["n_grid"]))
             return rho, mean, det.contact.copy()
 
         rho, mean, contact = joined(dets, one)

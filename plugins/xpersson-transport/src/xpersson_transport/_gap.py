@@ -115,7 +115,7 @@ def gap_cdf_grid(
         Detached mass in ``[0, u]`` [1] (the contact weight excluded).
     """
     s = solved_curve(ctx, ds, s_factor, gamma, zeta_per_decade)
-    sc = physics.SolvedContact(ctx.psd, ctx.E_star, s.p0, *s.curve)
+    sc = physics.SolvedContact(s.psd, s.E_star, s.p0, *s.curve)  # the Dataset's spectrum, E*
     det = sc.detachment(_edges(s.zeta, n_bins), separation)
     h_pos = det.h[det.h > 0]
     small = min(h_pos.min() if h_pos.size else det.h_rms, jump if jump > 0 else np.inf)

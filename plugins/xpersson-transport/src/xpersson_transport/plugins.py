@@ -24,6 +24,7 @@ import numpy as np
 import xarray as xr
 
 from xpersson.plugins import Analysis, ParamSpec, VarSpec
+from xpersson.plugins.stored import contact_modulus, spectrum_of
 
 from . import _physics as ph
 from ._body import ELECTRICAL, THERMAL
@@ -238,7 +239,8 @@ class ElectricalContact(_Transport):
         p = self.params
         K, full = self._stiffness(ds)
         n = K.size
-        c = ph.electrical_factor(p["resistivity_1"], p["resistivity_2"], ctx.E_star)
+        E_star, q_L = contact_modulus(ds), spectrum_of(ds).q_L  # the solve's, from the Dataset
+        c = ph.electrical_factor(p["resistivity_1"], p["resistivity_2"], E_star)
         g_c = np.where(full, np.nan, c * K)
         area = _contact_area(ctx, ds, n)
         rho_f = p["film_resistivity"] or 0.0
@@ -247,9 +249,9 @@ class ElectricalContact(_Transport):
         a0 = p["nominal_area"]
         r_c = ph.resistance(g_c, a0, full)
         zeta = np.asarray(ds["zeta"].values, dtype=float)
-        q = zeta * ctx.q_L
+        q = zeta * q_L
         c_r = p["spot_radius_factor"]
-        g_h = c * ph.holm_stiffness(area, q[None, :], ctx.E_star, c_r)
+        g_h = c * ph.holm_stiffness(area, q[None, :], E_star, c_r)
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.clip(g_h / np.where(full, 1.0, g_c)[:, None], 1e-300, 1e300)
         z_h, r_h = (np.where(full, np.nan, v) for v in ph.closest_to_one(zeta, ratio))
@@ -264,7 +266,7 @@ class ElectricalContact(_Transport):
             "holm_conductance": (("p0", "zeta"), g_h),
             "holm_magnification": (("p0",), z_h),
             "holm_ratio": (("p0",), r_h),
-            "holm_spot_radius": (("p0",), c_r / (z_h * ctx.q_L)),
+            "holm_spot_radius": (("p0",), c_r / (z_h * q_L)),
             "electrical_contact_status": (("p0",), full.astype(np.int8)),
         }
 
@@ -452,7 +454,8 @@ class ThermalContact(_Transport):
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
         K, full = self._stiffness(ds)
-        g_c = ph.thermal_factor(p["conductivity_1"], p["conductivity_2"], ctx.E_star) * K
+        E_star = contact_modulus(ds)  # the solve's, from the Dataset
+        g_c = ph.thermal_factor(p["conductivity_1"], p["conductivity_2"], E_star) * K
         g_c = np.where(full, np.nan, g_c)
         a_c = _contact_area(ctx, ds, K.size)[:, -1]
         kf = p["film_conductivity"]
