@@ -21,17 +21,17 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .. import checks, plugins
+from .. import checks, plugins, provenance
 from ..cache import solve_scope
 from ..physics.psd import stacked_C
 from ..scene import ResolvedScene
-from .assemble import assemble
+from .assemble import add_outputs, assemble, attributes, diagnostics_notes
 from .diagnostics import validity_flags
 from .frontend import diffusion_clock, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
 from .stages import coefficient_arrays, load_walls, shared_tau, validate
 
-__all__ = ["POINT", "stack_reason", "run_stacked", "rows_of"]
+__all__ = ["POINT", "StackedRun", "stack_reason", "run_stacked", "rows_of"]
 
 #: The leading dimension of a stacked block's variables.
 POINT = "point"
@@ -105,7 +105,39 @@ def stack_reason(points: Sequence[ResolvedScene]) -> str | None:
     return None
 
 
-def run_stacked(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], Any]] | None:
+class StackedRun(dict[str, tuple[tuple[str, ...], Any]]):
+    """``name -> (dims, array)`` of a stacked run, which also keeps what the first point's own
+    Dataset is assembled from (:meth:`point_dataset`)."""
+
+    def __init__(self, out: dict[str, Any], parts: dict[str, Any]) -> None:
+        super().__init__(out)
+        self._parts = parts
+
+    def point_dataset(self) -> xr.Dataset | None:
+        """The first point's Dataset as :func:`~xpersson.pipeline.run.run` (``squeeze=False``)
+        assembles it, from this run's values (no solving): its variables, their attributes and
+        the global attributes; ``None`` unless its status is ``"success"`` or for a finite body
+        (its nominal pressure is solved on the plain path only). The sweep takes a block's
+        coordinates and attributes from it instead of solving its first point again."""
+        p = self._parts
+        rs, results = p["rs"], p["results"]
+        if rs.geometry is not None:
+            return None
+        labels = rs.labels
+        ds = assemble(rs, p["ctx"], results, p["tau"], p["f"], p["eff"], None)
+        core = checks.check_core(ds)
+        coef = rs.coefficient
+        add_outputs(ds, p["coefficient"], type(coef).outputs, labels["coefficient"])
+        add_outputs(ds, p["boundary"], type(rs.boundary).outputs, labels["boundary"])
+        for (name, analysis), got in zip(rs.analyses, p["analyses"], strict=True):
+            add_outputs(ds, got, type(analysis).outputs, labels[f"analyses.{name}"])
+        notes = diagnostics_notes(ds)
+        # warns as the point's own run does: the sweep silences the points' warnings
+        attributes(ds, rs, lambda: provenance.global_attributes(rs), results, notes, core)
+        return ds if ds.attrs.get("status") == "success" else None
+
+
+def run_stacked(points: Sequence[ResolvedScene]) -> StackedRun | None:
     """Solve a block of points (see :func:`stack_reason`) as one run.
 
     Returns ``name -> (dims, array)`` of every variable of the points' Datasets (a leading
@@ -116,8 +148,11 @@ def run_stacked(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, .
         return _run(points)
 
 
-def _coefficient(points: Sequence[ResolvedScene], ctxs: list[Any]) -> tuple[Any, Any, Any]:
-    """tau (K, nz), f (K, nz) and the per-load effective tau (K, nl, nz) or None (= tau)."""
+def _coefficient(
+    points: Sequence[ResolvedScene], ctxs: list[Any]
+) -> tuple[Any, Any, Any, Any]:
+    """tau (K, nz), f (K, nz), the per-load effective tau (K, nl, nz) or None (= tau), and the
+    first point's effective tau as its own run has it (None where it shares tau)."""
     rs0 = points[0]
     who = rs0.labels["coefficient"]
     coefs = [rs.coefficient for rs in points]
@@ -128,15 +163,15 @@ def _coefficient(points: Sequence[ResolvedScene], ctxs: list[Any]) -> tuple[Any,
         kw: dict[str, Any] = dict(nonnegative=True, unit="Pa2")
         tau = checks.check_array(tau, who, "tau(zeta)", (K, nz), nondecreasing_axis=1, **kw)
         f = checks.check_array(f, who, "f(zeta)", (K, nz), **kw)
-        return tau, f, None
+        return tau, f, None, None
     got = [coefficient_arrays(c, x, who) for c, x in zip(coefs, ctxs, strict=True)]
     tau = np.stack([g[0] for g in got])
     f = np.stack([g[1] for g in got])
     eff = None if all(g[3] for g in got) else np.stack([g[2] for g in got])
-    return tau, f, eff
+    return tau, f, eff, None if got[0][3] else got[0][2]
 
 
-def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], Any]] | None:
+def _run(points: Sequence[ResolvedScene]) -> StackedRun | None:
     from .. import engine
 
     rs0 = points[0]
@@ -145,7 +180,7 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
     ctxs = [scene_context(rs) for rs in points]
     for rs, ctx in zip(points, ctxs, strict=True):
         validate(rs, ctx, who["boundary"], labels)
-    tau, f, eff = _coefficient(points, ctxs)
+    tau, f, eff, eff0 = _coefficient(points, ctxs)
     K, nl, nz = len(points), rs0.p0.size, rs0.zeta.size
     walls, clocks = [], []  # each point's walls on its own clock
     for rs, ctx in zip(points, ctxs, strict=True):
@@ -185,9 +220,14 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
     coef_out = rs0.coefficient.interpret_stacked(ctxs, [rs.coefficient for rs in points])
     for name, (dims, arr) in coef_out.items():
         out[name] = ((POINT, *dims), np.asarray(arr))
+    first = _Loads(results, 0, nl)  # the first point's Dataset (StackedRun.point_dataset)
+    parts = {"rs": rs0, "ctx": ctxs[0], "results": first, "tau": tau[0], "f": f[0], "eff": eff0}
+    parts["coefficient"] = {n: (dims, np.asarray(arr)[0]) for n, (dims, arr) in coef_out.items()}
     for k, (rs, ctx, clock) in enumerate(zip(points, ctxs, clocks, strict=True)):
         at_clock = dataclasses.replace(ctx, clock=clock)  # interpret reads its point's clock
         extra = rs.boundary.interpret(at_clock, _Loads(results, k * nl, nl))
+        if k == 0:
+            parts["boundary"] = extra
         for name, value in (extra or {}).items():
             out.setdefault(name, [])  # type: ignore[arg-type]
             out[name].append(value)  # type: ignore[union-attr]
@@ -195,10 +235,9 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
         if isinstance(value, list):  # the boundary's per-point values
             da = [_as_dataarray(v) for v in value]
             out[name] = ((POINT, *da[0].dims), np.stack([d.values for d in da]))
-    if rs0.analyses:
-        _analyses(points, ctxs, walls, clocks, out, ds)
+    parts["analyses"] = _analyses(points, ctxs, walls, clocks, out, ds) if rs0.analyses else []
     out["theory_validity"] = ((POINT, "p0"), _validity(out, K))
-    return out
+    return StackedRun(out, parts)
 
 
 def _validity(out: dict[str, Any], K: int) -> np.ndarray:
@@ -280,8 +319,9 @@ def _analyses(
     clocks: list[Any],
     out: dict[str, Any],
     flat: xr.Dataset,
-) -> None:
-    """Each analysis once for the block, on the stacked Dataset (loads shared by every point)."""
+) -> list[dict[str, xr.DataArray]]:
+    """Each analysis once for the block, on the stacked Dataset (loads shared by every point);
+    returns each analysis's outputs of the first point."""
     rs0 = points[0]
     coords = {
         n: (flat[n].dims, flat[n].values, dict(flat[n].attrs)) for n in ("zeta", "q", "q_psd")
@@ -295,6 +335,7 @@ def _analyses(
     sds = xr.Dataset(data, coords=coords)
     ctx_of = _PointContexts(points, ctxs, walls, clocks)
     last = len(rs0.analyses) - 1
+    firsts = []
     for i, (name, analysis) in enumerate(rs0.analyses):
         label = rs0.labels[f"analyses.{name}"]
         with checks.calling(label, "compute_stacked()"):
@@ -302,13 +343,22 @@ def _analyses(
         missing = [v for v in type(analysis).provides if v not in (got or {})]
         if missing:
             raise checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
+        firsts.append({})
         for vname, value in got.items():
             da = _as_dataarray(value)
             if POINT in da.dims:
                 da = da.transpose(POINT, ...)
             out[vname] = (da.dims, np.asarray(da.values))
+            firsts[-1][vname] = xr.DataArray(
+                out[vname][1][0] if POINT in da.dims else out[vname][1], dims=_own_dims(da.dims)
+            )
             if i < last:  # the next analyses may read it
                 sds[vname] = xr.Variable(da.dims, out[vname][1])
+    return firsts
+
+
+def _own_dims(dims: tuple[Any, ...]) -> tuple[Any, ...]:
+    return tuple(d for d in dims if d != POINT)
 
 
 class _PointContexts:
