@@ -148,9 +148,7 @@ def run_stacked(points: Sequence[ResolvedScene]) -> StackedRun | None:
         return _run(points)
 
 
-def _coefficient(
-    points: Sequence[ResolvedScene], ctxs: list[Any]
-) -> tuple[Any, Any, Any, Any]:
+def _coefficient(points: Sequence[ResolvedScene], ctxs: list[Any]) -> tuple[Any, Any, Any, Any]:
     """tau (K, nz), f (K, nz), the per-load effective tau (K, nl, nz) or None (= tau), and the
     first point's effective tau as its own run has it (None where it shares tau)."""
     rs0 = points[0]

@@ -39,6 +39,7 @@ __all__ = [
     "layout",
     "known_nodes",
     "integrals",
+    "integrals_and_top",
     "running",
     "graded_runs",
 ]
@@ -181,6 +182,13 @@ def integrals(
     """``tau`` [Pa^2] at the nodes and the nodes' ``dL`` [Pa] (each (K, N)) of K points from
     one evaluation of the Prony modulus at ``w = q v a_T`` [rad/s] (K, N) of the nodes
     (``known``: node values evaluated already, :func:`known_nodes`)."""
+    return integrals_and_top(psd, model, nu, lay, w, known)[:2]
+
+
+def integrals_and_top(
+    psd: Any, model: Any, nu: float, lay: Layout, w: Array, known: Any = None
+) -> tuple[Array, Array, Array]:
+    """:func:`integrals` and ``tau`` [Pa^2] at the last panel edge, (K,)."""
     f = _checked_nu(nu)
     q3C = lay.qn**3 * np.asarray(psd.C(lay.qn), dtype=float)
     excess, loss = _parts(model, lay, w, known)  # (K, N)
@@ -193,7 +201,8 @@ def integrals(
         within = half[:, None] * np.einsum("ij,kpj->kpi", Q, dens[:, pos])
         tau[:, pos] = before[:, sel, None] + within
     tau = np.maximum((np.pi / 4.0) * tau / (f * f), 0.0)
-    return tau, q3C * lay.wq * loss / f
+    top = np.maximum((np.pi / 4.0) * (before[:, -1] + ends[:, -1]) / (f * f), 0.0)
+    return tau, q3C * lay.wq * loss / f, top
 
 
 def running(g: Array, dL: Array, lay: Layout, p0: Array) -> Array:

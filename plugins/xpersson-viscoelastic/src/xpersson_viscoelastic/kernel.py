@@ -399,6 +399,7 @@ def friction_curve(
     aT: ArrayLike = 1.0,
     *,
     zeta_max: float | None = None,
+    zeta: ArrayLike | None = None,
     closure: str = "persson01",
     closure_gamma: float | None = None,
     correction: str = "none",
@@ -424,6 +425,10 @@ def friction_curve(
         Shift factors [1] (one per temperature).
     zeta_max : float, optional
         Upper magnification of the integrals (default ``q_1 / q_L``).
+    zeta : array_like, optional
+        Output magnifications [1] (strictly increasing, >= 1; the last is the upper limit):
+        also return ``mu_visc_cumulative`` there, as a scene's Dataset holds it (the panels
+        then end at every one of them, :mod:`._curve`).
     closure, closure_gamma
         Correction closure of the contact area (:mod:`xpersson.physics.closures`).
     correction : {"none", "s_factor"}
@@ -432,13 +437,21 @@ def friction_curve(
     Returns
     -------
     dict
-        ``mu_visc`` and ``area_fraction`` (at ``zeta_max``), shape ``(n_T, n_v, n_p0)``.
+        ``mu_visc`` and ``area_fraction`` (at ``zeta_max``), shape ``(n_T, n_v, n_p0)``; with
+        ``zeta``, also ``mu_visc_cumulative``, shape ``(n_T, n_v, n_p0, n_zeta)``.
     """
     fnu = _checked_nu(nu)
     p0 = np.atleast_1d(np.asarray(p0, dtype=float))
     scale = np.multiply.outer(
         np.atleast_1d(np.asarray(aT, dtype=float)), np.atleast_1d(np.asarray(v, dtype=float))
     )  # (n_T, n_v)
+    if zeta is not None:  # the running integral at output magnifications
+        from ._curve import checked_zeta, friction_on_grid
+
+        z = checked_zeta(zeta, zeta_max)
+        return friction_on_grid(
+            psd, model, nu, p0, scale, z, closure, closure_gamma, correction, gamma
+        )
     zmax = float(psd.q_1 / psd.q_L) if zeta_max is None else float(zeta_max)
     q_hi = zmax * float(psd.q_L)
     d0 = first_panel_width(psd, model, fnu, float(np.min(p0)), scale, q_hi)
