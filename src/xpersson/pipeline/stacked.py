@@ -25,6 +25,7 @@ from .. import checks, plugins, provenance
 from ..cache import solve_scope
 from ..physics.psd import stacked_C
 from ..scene import ResolvedScene
+from ._insert import direct_dataset
 from .assemble import add_outputs, assemble, attributes, diagnostics_notes
 from .diagnostics import validity_flags
 from .frontend import diffusion_clock, scene_context, spectrum_kinks
@@ -317,20 +318,22 @@ def _analyses(
     clocks: list[Any],
     out: dict[str, Any],
     flat: xr.Dataset,
-) -> list[dict[str, xr.DataArray]]:
+) -> list[dict[str, Any]]:
     """Each analysis once for the block, on the stacked Dataset (loads shared by every point);
     returns each analysis's outputs of the first point."""
     rs0 = points[0]
-    coords = {
-        n: (flat[n].dims, flat[n].values, dict(flat[n].attrs)) for n in ("zeta", "q", "q_psd")
-    }
-    coords["p0"] = (("p0",), rs0.p0, dict(flat["p0"].attrs))
+    fv = flat.variables
+    coords = {n: xr.Variable(fv[n].dims, fv[n].values, dict(fv[n].attrs)) for n in ("zeta", "q")}
+    coords["q_psd"] = xr.Variable(fv["q_psd"].dims, fv["q_psd"].values, dict(fv["q_psd"].attrs))
+    coords["p0"] = xr.Variable(("p0",), rs0.p0, dict(fv["p0"].attrs))
     data = {
-        n: xr.Variable(dims, arr, dict(flat[n].attrs) if n in flat.variables else {})
+        n: xr.Variable(dims, arr, dict(fv[n].attrs) if n in fv else {})
         for n, (dims, arr) in out.items()
         if n not in coords
     }
-    sds = xr.Dataset(data, coords=coords)
+    sds = direct_dataset(data, coords)
+    if sds is None:  # pragma: no cover - other xarray versions
+        sds = xr.Dataset(data, coords=coords)
     ctx_of = _PointContexts(points, ctxs, walls, clocks)
     last = len(rs0.analyses) - 1
     firsts = []
@@ -343,20 +346,25 @@ def _analyses(
             raise checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
         firsts.append({})
         for vname, value in got.items():
-            da = _as_dataarray(value)
-            if POINT in da.dims:
-                da = da.transpose(POINT, ...)
-            out[vname] = (da.dims, np.asarray(da.values))
-            firsts[-1][vname] = xr.DataArray(
-                out[vname][1][0] if POINT in da.dims else out[vname][1], dims=_own_dims(da.dims)
-            )
+            dims, arr = out[vname] = _point_first(value)
+            stacked = POINT in dims
+            firsts[-1][vname] = (dims[1:], arr[0]) if stacked else (dims, arr)
             if i < last:  # the next analyses may read it
-                sds[vname] = xr.Variable(da.dims, out[vname][1])
+                sds[vname] = xr.Variable(dims, arr)
     return firsts
 
 
-def _own_dims(dims: tuple[Any, ...]) -> tuple[Any, ...]:
-    return tuple(d for d in dims if d != POINT)
+def _point_first(value: Any) -> tuple[tuple[Any, ...], np.ndarray]:
+    """``(dims, values)`` of an analysis's output (a DataArray or a ``(dims, array)`` pair)
+    with the ``point`` dimension first where it has one."""
+    if isinstance(value, xr.DataArray):
+        da = value.transpose(POINT, ...) if POINT in value.dims else value
+        return da.dims, np.asarray(da.values)
+    dims, arr = tuple(value[0]), np.asarray(value[1])
+    if POINT in dims and dims[0] != POINT:
+        k = dims.index(POINT)
+        dims, arr = (POINT, *dims[:k], *dims[k + 1 :]), np.moveaxis(arr, k, 0)
+    return dims, arr
 
 
 class _PointContexts:
@@ -372,6 +380,7 @@ class _PointContexts:
     ) -> None:
         self._points, self._ctxs, self._walls, self._clocks = points, ctxs, walls, clocks
         self._built: list[Any] = [None] * len(points)  # each point's context, once made
+        self._light: list[Any] = [None] * len(points)  # the same without solve_at
 
     def __call__(self, k: int) -> Any:
         if self._built[k] is None:
@@ -383,6 +392,18 @@ class _PointContexts:
                 solve_at=make_solve_at(rs, ctx, [self._walls[k]] * rs.p0.size, self._clocks[k]),
             )
         return self._built[k]
+
+    def light(self, k: int) -> Any:
+        """Point k's context with its coefficient and boundary but no ``solve_at`` (cheaper
+        than ``self(k)`` where only the spectrum, material and plugins are read)."""
+        if self._built[k] is not None:
+            return self._built[k]
+        if self._light[k] is None:
+            rs = self._points[k]
+            self._light[k] = dataclasses.replace(
+                self._ctxs[k], coefficient=rs.coefficient, boundary=rs.boundary
+            )
+        return self._light[k]
 
     def solve_rows(self, point: np.ndarray, load: np.ndarray, tau: np.ndarray) -> Any:
         """``A/A0`` (n_row, n_tau) of load ``load[i]`` of point ``point[i]`` at the diffusion

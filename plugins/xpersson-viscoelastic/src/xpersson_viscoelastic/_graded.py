@@ -270,15 +270,20 @@ def graded_runs(
     coef0 = ctx_of(0).coefficient  # the block's first: it integrated the output grid
     if getattr(ctx_of(items[0][0]), "solve_at", None) is None:
         return None
+    # a stacked block's points' contexts without their solve_at (ctx_of(k) builds one)
+    light = getattr(ctx_of, "light", ctx_of)
+    keys: dict[int, Any] = {}  # content keys of the spectra, once per object
     groups: dict[tuple[Any, ...], list[tuple[int, Array]]] = {}
     for k, loads, top in items:
         n = rungs(zeta, G(k)[loads], top)
-        ctx = ctx_of(k)
-        groups.setdefault((top, n, content_key(ctx.psd), ctx.nu), []).append((k, loads))
+        ctx = light(k)
+        if id(ctx.psd) not in keys:
+            keys[id(ctx.psd)] = content_key(ctx.psd)
+        groups.setdefault((top, n, keys[id(ctx.psd)], ctx.nu), []).append((k, loads))
     parts = []
     bases: dict[Any, Array] = {}  # the output grid's q panels, once per spectrum
     for (top, n, psd_id, _), members in groups.items():
-        ctxs = [ctx_of(k) for k, _ in members]
+        ctxs = [light(k) for k, _ in members]
         coefs = [c.coefficient for c in ctxs]
         if any(type(c) is not type(coef0) for c in coefs):
             return None
