@@ -162,15 +162,22 @@ def _parts(model: Any, lay: Layout, w: Array, known: Any) -> tuple[Array, Array]
     rows, keep = known
     excess, loss = np.empty(w.shape), np.empty(w.shape)
     fresh = np.ones(w.shape[1], dtype=bool)
+    every = rows.size == next(iter(v[1] for m, v in keep.items() if m != "edges")).shape[0]
+    every = every and bool(np.all(rows == np.arange(rows.size)))  # the block's points in order
     for m, (sel, ex, lo) in ((m, v) for m, v in keep.items() if m != "edges"):
         at = np.full(lay.base.size - 1, -1)
         at[sel] = np.arange(sel.size)
         p = np.flatnonzero((lay.block >= 0) & (lay.counts == m))
         j = at[lay.block[p]]
         p, j = p[j >= 0], j[j >= 0]
-        pos = lay.start[p, None] + np.arange(m)
-        excess[:, pos], loss[:, pos] = ex[rows][:, j], lo[rows][:, j]
-        fresh[pos.ravel()] = False
+        if not p.size:
+            continue
+        pos = (lay.start[p, None] + np.arange(m)).ravel()  # consecutive panels: one slice
+        cut = slice(pos[0], pos[-1] + 1) if pos[-1] - pos[0] + 1 == pos.size else pos
+        pick = (slice(None), j) if every else np.ix_(rows, j)
+        excess[:, cut] = ex[pick].reshape(w.shape[0], -1)
+        loss[:, cut] = lo[pick].reshape(w.shape[0], -1)
+        fresh[cut] = False
     if fresh.any():
         excess[:, fresh], loss[:, fresh] = model.parts(w[:, fresh])
     return excess, loss
