@@ -178,7 +178,8 @@ def _run(points: Sequence[ResolvedScene]) -> StackedRun | None:
     labels = [who[f"analyses.{name}"] for name, _ in rs0.analyses]
     ctxs = [scene_context(rs) for rs in points]
     for rs, ctx in zip(points, ctxs, strict=True):
-        validate(rs, ctx, who["boundary"], labels)
+        if rs is rs0 or not _validated_as_first(rs, ctx, rs0, ctxs[0]):
+            validate(rs, ctx, who["boundary"], labels)
     tau, f, eff, eff0 = _coefficient(points, ctxs)
     K, nl, nz = len(points), rs0.p0.size, rs0.zeta.size
     walls, clocks = [], []  # each point's walls on its own clock
@@ -237,6 +238,31 @@ def _run(points: Sequence[ResolvedScene]) -> StackedRun | None:
     parts["analyses"] = _analyses(points, ctxs, walls, clocks, out, ds) if rs0.analyses else []
     out["theory_validity"] = ((POINT, "p0"), _validity(out, K))
     return StackedRun(out, parts)
+
+
+def _validated_as_first(rs: ResolvedScene, ctx: Any, rs0: ResolvedScene, ctx0: Any) -> bool:
+    """Whether point ``rs`` asks its boundary's and analyses' ``validate(ctx)`` exactly what
+    the first point asked: the same plugin objects (a sweep over the coefficient's
+    parameters shares them) with the same context (spectrum object, material, loads, grid,
+    accuracy); its validation is then the first point's."""
+    if rs.boundary is not rs0.boundary or any(
+        a is not b for (_, a), (_, b) in zip(rs.analyses, rs0.analyses, strict=True)
+    ):
+        return False
+    same = (ctx.E, ctx.nu, ctx.E_star, ctx.rtol, ctx.atol, ctx.method) == (
+        ctx0.E,
+        ctx0.nu,
+        ctx0.E_star,
+        ctx0.rtol,
+        ctx0.atol,
+        ctx0.method,
+    )
+    return bool(
+        same
+        and ctx.psd is ctx0.psd
+        and np.array_equal(ctx.p0, ctx0.p0)
+        and np.array_equal(ctx.zeta, ctx0.zeta)
+    )
 
 
 def _validity(out: dict[str, Any], K: int) -> np.ndarray:
