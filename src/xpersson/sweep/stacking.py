@@ -217,41 +217,9 @@ def _point_shaped(template: xr.Dataset, block: Block) -> xr.Dataset:
     ``point_status`` (a template cut from another block's Dataset may still carry them)."""
     sweep = [d for d in block.dims if d in template.dims]
     if sweep:
-        cut = _first_point(template, sweep, block)
-        if cut is not None:
-            return cut
         template = template.isel({d: 0 for d in sweep}, drop=True)
     drop = [n for n in (*block.coords, "point_status") if n in template.variables]
     return template.drop_vars(drop) if drop else template
-
-
-def _first_point(template: xr.Dataset, sweep: list[str], block: Block) -> xr.Dataset | None:
-    """``template.isel({d: 0 for d in sweep}, drop=True)`` without the block's coordinates
-    and ``point_status``, built from its variables (views of the first point's values) without
-    xarray's indexing machinery; ``None`` where it does not apply (an index along a sweep
-    dimension that is not a block coordinate, an xarray without the direct constructor)."""
-    gone = {*block.coords, "point_status"}
-    if any(n not in gone for n in template.indexes if template.variables[n].dims[0] in sweep):
-        return None
-    variables: dict[str, xr.Variable] = {}
-    for name, var in template.variables.items():
-        if name in gone or (name in template.coords and var.dims and set(var.dims) <= set(sweep)):
-            continue  # a block coordinate, or a coordinate the indexing makes scalar (dropped)
-        if any(d in sweep for d in var.dims):
-            at = tuple(0 if d in sweep else slice(None) for d in var.dims)
-            keep = tuple(d for d in var.dims if d not in sweep)
-            var = xr.Variable(keep, var.values[at], var.attrs, var.encoding)
-        variables[name] = var
-    coords = [n for n in template.coords if n in variables]
-    out = direct_dataset(
-        {n: v for n, v in variables.items() if n not in coords},
-        {n: variables[n] for n in coords},
-        template.attrs,
-    )
-    if out is None or list(out.variables) != list(variables):
-        return None
-    out.encoding = dict(template.encoding)
-    return out
 
 
 def _fill(var: xr.DataArray) -> np.ndarray:
