@@ -217,7 +217,7 @@ class Friction(Analysis):
         at once, as :meth:`compute` gives each point (:meth:`_arrays` on the block's
         arrays)."""
 
-        zeta = np.asarray(ds["zeta"].values, dtype=float)
+        zeta = np.asarray(ds.variables["zeta"].values, dtype=float)
         if self._zeta_c(zeta) != zeta[-1] or "G" not in ds or zeta.size < 2:
             return super().compute_stacked(ctx_of, ds)
         zp = ("point", "p0", "zeta")
