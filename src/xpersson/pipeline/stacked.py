@@ -149,14 +149,16 @@ def run_stacked(points: Sequence[ResolvedScene]) -> StackedRun | None:
         return _run(points)
 
 
-def _coefficient(points: Sequence[ResolvedScene], ctxs: list[Any]) -> tuple[Any, Any, Any, Any]:
+def _coefficient(
+    points: Sequence[ResolvedScene], ctxs: list[Any], declared: bool
+) -> tuple[Any, Any, Any, Any]:
     """tau (K, nz), f (K, nz), the per-load effective tau (K, nl, nz) or None (= tau), and the
     first point's effective tau as its own run has it (None where it shares tau)."""
     rs0 = points[0]
     who = rs0.labels["coefficient"]
     coefs = [rs.coefficient for rs in points]
     K, nz = len(points), rs0.zeta.size
-    if all(shared_tau(c) for c in coefs):
+    if declared:  # every point's coefficient declares a shared tau (shared_tau)
         with checks.calling(who, "tau(zeta)"):
             tau, f = rs0.coefficient.tau_stacked(ctxs, coefs, rs0.zeta)
         kw: dict[str, Any] = dict(nonnegative=True, unit="Pa2")
@@ -180,7 +182,8 @@ def _run(points: Sequence[ResolvedScene]) -> StackedRun | None:
     for rs, ctx in zip(points, ctxs, strict=True):
         if rs is rs0 or not _validated_as_first(rs, ctx, rs0, ctxs[0]):
             validate(rs, ctx, who["boundary"], labels)
-    tau, f, eff, eff0 = _coefficient(points, ctxs)
+    declared = all(shared_tau(rs.coefficient) for rs in points)
+    tau, f, eff, eff0 = _coefficient(points, ctxs, declared)
     K, nl, nz = len(points), rs0.p0.size, rs0.zeta.size
     walls, clocks = [], []  # each point's walls on its own clock
     for rs, ctx in zip(points, ctxs, strict=True):
@@ -235,7 +238,9 @@ def _run(points: Sequence[ResolvedScene]) -> StackedRun | None:
         if isinstance(value, list):  # the boundary's per-point values
             da = [_as_dataarray(v) for v in value]
             out[name] = ((POINT, *da[0].dims), np.stack([d.values for d in da]))
-    parts["analyses"] = _analyses(points, ctxs, walls, clocks, out, ds) if rs0.analyses else []
+    parts["analyses"] = (
+        _analyses(points, ctxs, (walls, clocks, declared), out, ds) if rs0.analyses else []
+    )
     out["theory_validity"] = ((POINT, "p0"), _validity(out, K))
     return StackedRun(out, parts)
 
@@ -340,13 +345,13 @@ def _as_dataarray(value: Any) -> xr.DataArray:
 def _analyses(
     points: Sequence[ResolvedScene],
     ctxs: list[Any],
-    walls: list[Any],
-    clocks: list[Any],
+    solved: tuple[list[Any], list[Any], bool],
     out: dict[str, Any],
     flat: xr.Dataset,
 ) -> list[dict[str, Any]]:
     """Each analysis once for the block, on the stacked Dataset (loads shared by every point);
-    returns each analysis's outputs of the first point."""
+    returns each analysis's outputs of the first point. ``solved``: each point's walls and
+    clock, and whether every coefficient declares a shared tau (:class:`_PointContexts`)."""
     rs0 = points[0]
     fv = flat.variables
     coords = {n: xr.Variable(fv[n].dims, fv[n].values, dict(fv[n].attrs)) for n in ("zeta", "q")}
@@ -360,7 +365,7 @@ def _analyses(
     sds = direct_dataset(data, coords)
     if sds is None:  # pragma: no cover - other xarray versions
         sds = xr.Dataset(data, coords=coords)
-    ctx_of = _PointContexts(points, ctxs, walls, clocks)
+    ctx_of = _PointContexts(points, ctxs, *solved)
     last = len(rs0.analyses) - 1
     firsts = []
     for i, (name, analysis) in enumerate(rs0.analyses):
@@ -403,8 +408,10 @@ class _PointContexts:
         ctxs: list[Any],
         walls: list[Any],
         clocks: list[Any],
+        declared: bool,
     ) -> None:
         self._points, self._ctxs, self._walls, self._clocks = points, ctxs, walls, clocks
+        self._declared = declared  # every point's coefficient declares a shared tau
         self._built: list[Any] = [None] * len(points)  # each point's context, once made
         self._light: list[Any] = [None] * len(points)  # the same without solve_at
 
@@ -438,17 +445,18 @@ class _PointContexts:
         coefficient's effective tau differs per load (``solve_at`` then computes it)."""
         from .. import engine
 
-        pts = [self._points[int(k)] for k in np.unique(point)]
-        if not all(shared_tau(rs.coefficient) for rs in pts):
-            return None
+        if not self._declared:
+            pts = [self._points[int(k)] for k in np.unique(point)]
+            if not all(shared_tau(rs.coefficient) for rs in pts):
+                return None
         rs0 = self._points[0]
-        p0 = np.array([self._points[int(k)].p0[int(i)] for k, i in zip(point, load, strict=True)])
-        pairs = [self._walls[int(k)] for k in point]
-        shared = all(pair is pairs[0] for pair in pairs)
+        p0 = rs0.p0[np.asarray(load, dtype=np.intp)]  # a block with analyses: the same loads
+        first = self._walls[int(point[0])]
+        shared = all(self._walls[int(k)] is first for k in np.unique(point))
         res = engine.solve_batch(
             np.asarray(tau, float),
             p0,
-            pairs[0] if shared else pairs,
+            first if shared else [self._walls[int(k)] for k in point],
             rtol=rs0.rtol,
             atol=rs0.atol,
             method=rs0.method,
