@@ -80,9 +80,9 @@ def _differs(rs: ResolvedScene, rs0: ResolvedScene) -> str | None:
             return f"{role}: plugin"
         if a is b:
             continue
-        fp = type(a).fast_paths
+        stacks = type(a).fast_paths.stacked_params or frozenset()
         pa, pb = a.params, b.params  # (one mapping view each, not one per parameter)
-        if any(not fp.stacks(k) and not _equal(v, pb[k]) for k, v in pa.items()):
+        if any(k not in stacks and not _equal(v, pb[k]) for k, v in pa.items()):
             return f"{role}: a parameter not declared in fast_paths.stacked_params"
     return None
 

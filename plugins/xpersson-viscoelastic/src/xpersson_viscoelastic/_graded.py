@@ -2,7 +2,7 @@
 
 Where the contact area of a stiff rubber drops from 1 to ``~ (zeta - 1)^(-1/2)`` just above
 ``zeta = 1`` (:mod:`~xpersson_viscoelastic._resolve`), ``mu_visc`` is integrated as the kernel
-:func:`~xpersson_viscoelastic.kernel.friction_curve` integrates it (verified to ~1e-9 against
+:func:`~xpersson_viscoelastic._curve.friction_curve` integrates it (verified to ~1e-9 against
 an independent quadrature, ``benchmarks/verify_friction.py``): Gauss-Legendre panels graded
 towards ``q_L`` (two per decade of ``q - q_L`` in ``ln(q - q_L)``, the first panel linear in
 ``q`` and ending where ``G <= 5e-4``), the spectrum's log grid and breakpoints above ``2 q_L``,
