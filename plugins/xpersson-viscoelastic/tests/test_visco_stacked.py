@@ -45,9 +45,13 @@ def test_friction_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
     monkeypatch.setattr(stacked, "run_stacked", lambda pts: calls.append(len(pts)) or run(pts))
     point_run = blocks.run  # the point-by-point path of a block the stacked run did not solve
     monkeypatch.setattr(blocks, "run", lambda *a, **k: calls.append(-1) or point_run(*a, **k))
-    templates = []
+    templates, solved_alone = [], []
+    own = stacked.StackedRun.point_dataset
+    monkeypatch.setattr(
+        stacked.StackedRun, "point_dataset", lambda self: templates.append(1) or own(self)
+    )
     template = fast._template
-    monkeypatch.setattr(fast, "_template", lambda *a: templates.append(1) or template(*a))
+    monkeypatch.setattr(fast, "_template", lambda *a: solved_alone.append(1) or template(*a))
     rows = []
     solve_rows = stacked._PointContexts.solve_rows
     monkeypatch.setattr(
@@ -57,7 +61,9 @@ def test_friction_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
     )
     batch = xpersson.solve(SCENE, chunk=chunk, **kw)
     assert sum(calls) == 8 and -1 not in calls  # every point solved stacked, the result used
-    assert len(templates) == 1  # one template point for every block of the sweep
+    # one template for every block of the sweep, assembled from the first stacked run: no
+    # point is solved on its own for it
+    assert len(templates) == 1 and not solved_alone
     # the dense areas of a block: one engine call for all its (point, load) rows
     assert len(rows) == len(calls) and all(r is not None and r.shape[0] >= 1 for r in rows)
     with plain_paths():

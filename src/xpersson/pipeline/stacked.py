@@ -21,17 +21,18 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .. import checks, plugins
+from .. import checks, plugins, provenance
 from ..cache import solve_scope
 from ..physics.psd import segment_exponents, stacked_C
 from ..scene import ResolvedScene
-from .assemble import assemble
+from ._insert import direct_dataset
+from .assemble import add_outputs, assemble, attributes, diagnostics_notes
 from .diagnostics import validity_flags
 from .frontend import diffusion_clock, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
 from .stages import coefficient_arrays, load_walls, shared_tau, validate
 
-__all__ = ["POINT", "stack_reason", "run_stacked", "rows_of"]
+__all__ = ["POINT", "StackedRun", "stack_reason", "run_stacked", "rows_of"]
 
 #: The leading dimension of a stacked block's variables.
 POINT = "point"
@@ -79,9 +80,9 @@ def _differs(rs: ResolvedScene, rs0: ResolvedScene) -> str | None:
             return f"{role}: plugin"
         if a is b:
             continue
-        fp = type(a).fast_paths
+        stacks = type(a).fast_paths.stacked_params or frozenset()
         pa, pb = a.params, b.params  # (one mapping view each, not one per parameter)
-        if any(not fp.stacks(k) and not _equal(v, pb[k]) for k, v in pa.items()):
+        if any(k not in stacks and not _equal(v, pb[k]) for k, v in pa.items()):
             return f"{role}: a parameter not declared in fast_paths.stacked_params"
     return None
 
@@ -105,7 +106,39 @@ def stack_reason(points: Sequence[ResolvedScene]) -> str | None:
     return None
 
 
-def run_stacked(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], Any]] | None:
+class StackedRun(dict[str, tuple[tuple[str, ...], Any]]):
+    """``name -> (dims, array)`` of a stacked run, which also keeps what the first point's own
+    Dataset is assembled from (:meth:`point_dataset`)."""
+
+    def __init__(self, out: dict[str, Any], parts: dict[str, Any]) -> None:
+        super().__init__(out)
+        self._parts = parts
+
+    def point_dataset(self) -> xr.Dataset | None:
+        """The first point's Dataset as :func:`~xpersson.pipeline.run.run` (``squeeze=False``)
+        assembles it, from this run's values (no solving): its variables, their attributes and
+        the global attributes; ``None`` unless its status is ``"success"`` or for a finite body
+        (its nominal pressure is solved on the plain path only). The sweep takes a block's
+        coordinates and attributes from it instead of solving its first point again."""
+        p = self._parts
+        rs, results = p["rs"], p["results"]
+        if rs.geometry is not None:
+            return None
+        labels = rs.labels
+        ds = assemble(rs, p["ctx"], results, p["tau"], p["f"], p["eff"], None)
+        core = checks.check_core(ds)
+        coef = rs.coefficient
+        add_outputs(ds, p["coefficient"], type(coef).outputs, labels["coefficient"])
+        add_outputs(ds, p["boundary"], type(rs.boundary).outputs, labels["boundary"])
+        for (name, analysis), got in zip(rs.analyses, p["analyses"], strict=True):
+            add_outputs(ds, got, type(analysis).outputs, labels[f"analyses.{name}"])
+        notes = diagnostics_notes(ds)
+        # warns as the point's own run does: the sweep silences the points' warnings
+        attributes(ds, rs, lambda: provenance.global_attributes(rs), results, notes, core)
+        return ds if ds.attrs.get("status") == "success" else None
+
+
+def run_stacked(points: Sequence[ResolvedScene]) -> StackedRun | None:
     """Solve a block of points (see :func:`stack_reason`) as one run.
 
     Returns ``name -> (dims, array)`` of every variable of the points' Datasets (a leading
@@ -116,27 +149,30 @@ def run_stacked(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, .
         return _run(points)
 
 
-def _coefficient(points: Sequence[ResolvedScene], ctxs: list[Any]) -> tuple[Any, Any, Any]:
-    """tau (K, nz), f (K, nz) and the per-load effective tau (K, nl, nz) or None (= tau)."""
+def _coefficient(
+    points: Sequence[ResolvedScene], ctxs: list[Any], declared: bool
+) -> tuple[Any, Any, Any, Any]:
+    """tau (K, nz), f (K, nz), the per-load effective tau (K, nl, nz) or None (= tau), and the
+    first point's effective tau as its own run has it (None where it shares tau)."""
     rs0 = points[0]
     who = rs0.labels["coefficient"]
     coefs = [rs.coefficient for rs in points]
     K, nz = len(points), rs0.zeta.size
-    if all(shared_tau(c) for c in coefs):
+    if declared:  # every point's coefficient declares a shared tau (shared_tau)
         with checks.calling(who, "tau(zeta)"):
             tau, f = rs0.coefficient.tau_stacked(ctxs, coefs, rs0.zeta)
         kw: dict[str, Any] = dict(nonnegative=True, unit="Pa2")
         tau = checks.check_array(tau, who, "tau(zeta)", (K, nz), nondecreasing_axis=1, **kw)
         f = checks.check_array(f, who, "f(zeta)", (K, nz), **kw)
-        return tau, f, None
+        return tau, f, None, None
     got = [coefficient_arrays(c, x, who) for c, x in zip(coefs, ctxs, strict=True)]
     tau = np.stack([g[0] for g in got])
     f = np.stack([g[1] for g in got])
     eff = None if all(g[3] for g in got) else np.stack([g[2] for g in got])
-    return tau, f, eff
+    return tau, f, eff, None if got[0][3] else got[0][2]
 
 
-def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], Any]] | None:
+def _run(points: Sequence[ResolvedScene]) -> StackedRun | None:
     from .. import engine
 
     rs0 = points[0]
@@ -144,8 +180,10 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
     labels = [who[f"analyses.{name}"] for name, _ in rs0.analyses]
     ctxs = [scene_context(rs) for rs in points]
     for rs, ctx in zip(points, ctxs, strict=True):
-        validate(rs, ctx, who["boundary"], labels)
-    tau, f, eff = _coefficient(points, ctxs)
+        if rs is rs0 or not _validated_as_first(rs, ctx, rs0, ctxs[0]):
+            validate(rs, ctx, who["boundary"], labels)
+    declared = all(shared_tau(rs.coefficient) for rs in points)
+    tau, f, eff, eff0 = _coefficient(points, ctxs, declared)
     K, nl, nz = len(points), rs0.p0.size, rs0.zeta.size
     walls, clocks = [], []  # each point's walls on its own clock
     for rs, ctx in zip(points, ctxs, strict=True):
@@ -185,9 +223,14 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
     coef_out = rs0.coefficient.interpret_stacked(ctxs, [rs.coefficient for rs in points])
     for name, (dims, arr) in coef_out.items():
         out[name] = ((POINT, *dims), np.asarray(arr))
+    first = _Loads(results, 0, nl)  # the first point's Dataset (StackedRun.point_dataset)
+    parts = {"rs": rs0, "ctx": ctxs[0], "results": first, "tau": tau[0], "f": f[0], "eff": eff0}
+    parts["coefficient"] = {n: (dims, np.asarray(arr)[0]) for n, (dims, arr) in coef_out.items()}
     for k, (rs, ctx, clock) in enumerate(zip(points, ctxs, clocks, strict=True)):
         at_clock = dataclasses.replace(ctx, clock=clock)  # interpret reads its point's clock
         extra = rs.boundary.interpret(at_clock, _Loads(results, k * nl, nl))
+        if k == 0:
+            parts["boundary"] = extra
         for name, value in (extra or {}).items():
             out.setdefault(name, [])  # type: ignore[arg-type]
             out[name].append(value)  # type: ignore[union-attr]
@@ -195,10 +238,36 @@ def _run(points: Sequence[ResolvedScene]) -> dict[str, tuple[tuple[str, ...], An
         if isinstance(value, list):  # the boundary's per-point values
             da = [_as_dataarray(v) for v in value]
             out[name] = ((POINT, *da[0].dims), np.stack([d.values for d in da]))
-    if rs0.analyses:
-        _analyses(points, ctxs, walls, clocks, out, ds)
+    parts["analyses"] = (
+        _analyses(points, ctxs, (walls, clocks, declared), out, ds) if rs0.analyses else []
+    )
     out["theory_validity"] = ((POINT, "p0"), _validity(out, K))
-    return out
+    return StackedRun(out, parts)
+
+
+def _validated_as_first(rs: ResolvedScene, ctx: Any, rs0: ResolvedScene, ctx0: Any) -> bool:
+    """Whether point ``rs`` asks its boundary's and analyses' ``validate(ctx)`` exactly what
+    the first point asked: the same plugin objects (a sweep over the coefficient's
+    parameters shares them) with the same context (spectrum object, material, loads, grid,
+    accuracy); its validation is then the first point's."""
+    if rs.boundary is not rs0.boundary or any(
+        a is not b for (_, a), (_, b) in zip(rs.analyses, rs0.analyses, strict=True)
+    ):
+        return False
+    same = (ctx.E, ctx.nu, ctx.E_star, ctx.rtol, ctx.atol, ctx.method) == (
+        ctx0.E,
+        ctx0.nu,
+        ctx0.E_star,
+        ctx0.rtol,
+        ctx0.atol,
+        ctx0.method,
+    )
+    return bool(
+        same
+        and ctx.psd is ctx0.psd
+        and np.array_equal(ctx.p0, ctx0.p0)
+        and np.array_equal(ctx.zeta, ctx0.zeta)
+    )
 
 
 def _validity(out: dict[str, Any], K: int) -> np.ndarray:
@@ -277,25 +346,29 @@ def _as_dataarray(value: Any) -> xr.DataArray:
 def _analyses(
     points: Sequence[ResolvedScene],
     ctxs: list[Any],
-    walls: list[Any],
-    clocks: list[Any],
+    solved: tuple[list[Any], list[Any], bool],
     out: dict[str, Any],
     flat: xr.Dataset,
-) -> None:
-    """Each analysis once for the block, on the stacked Dataset (loads shared by every point)."""
+) -> list[dict[str, Any]]:
+    """Each analysis once for the block, on the stacked Dataset (loads shared by every point);
+    returns each analysis's outputs of the first point. ``solved``: each point's walls and
+    clock, and whether every coefficient declares a shared tau (:class:`_PointContexts`)."""
     rs0 = points[0]
-    coords = {
-        n: (flat[n].dims, flat[n].values, dict(flat[n].attrs)) for n in ("zeta", "q", "q_psd")
-    }
-    coords["p0"] = (("p0",), rs0.p0, dict(flat["p0"].attrs))
+    fv = flat.variables
+    coords = {n: xr.Variable(fv[n].dims, fv[n].values, dict(fv[n].attrs)) for n in ("zeta", "q")}
+    coords["q_psd"] = xr.Variable(fv["q_psd"].dims, fv["q_psd"].values, dict(fv["q_psd"].attrs))
+    coords["p0"] = xr.Variable(("p0",), rs0.p0, dict(fv["p0"].attrs))
     data = {
-        n: xr.Variable(dims, arr, dict(flat[n].attrs) if n in flat.variables else {})
+        n: xr.Variable(dims, arr, dict(fv[n].attrs) if n in fv else {})
         for n, (dims, arr) in out.items()
         if n not in coords
     }
-    sds = xr.Dataset(data, coords=coords)
-    ctx_of = _PointContexts(points, ctxs, walls, clocks)
+    sds = direct_dataset(data, coords)
+    if sds is None:  # pragma: no cover - other xarray versions
+        sds = xr.Dataset(data, coords=coords)
+    ctx_of = _PointContexts(points, ctxs, *solved)
     last = len(rs0.analyses) - 1
+    firsts = []
     for i, (name, analysis) in enumerate(rs0.analyses):
         label = rs0.labels[f"analyses.{name}"]
         with checks.calling(label, "compute_stacked()"):
@@ -303,13 +376,27 @@ def _analyses(
         missing = [v for v in type(analysis).provides if v not in (got or {})]
         if missing:
             raise checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
+        firsts.append({})
         for vname, value in got.items():
-            da = _as_dataarray(value)
-            if POINT in da.dims:
-                da = da.transpose(POINT, ...)
-            out[vname] = (da.dims, np.asarray(da.values))
+            dims, arr = out[vname] = _point_first(value)
+            stacked = POINT in dims
+            firsts[-1][vname] = (dims[1:], arr[0]) if stacked else (dims, arr)
             if i < last:  # the next analyses may read it
-                sds[vname] = xr.Variable(da.dims, out[vname][1])
+                sds[vname] = xr.Variable(dims, arr)
+    return firsts
+
+
+def _point_first(value: Any) -> tuple[tuple[Any, ...], np.ndarray]:
+    """``(dims, values)`` of an analysis's output (a DataArray or a ``(dims, array)`` pair)
+    with the ``point`` dimension first where it has one."""
+    if isinstance(value, xr.DataArray):
+        da = value.transpose(POINT, ...) if POINT in value.dims else value
+        return da.dims, np.asarray(da.values)
+    dims, arr = tuple(value[0]), np.asarray(value[1])
+    if POINT in dims and dims[0] != POINT:
+        k = dims.index(POINT)
+        dims, arr = (POINT, *dims[:k], *dims[k + 1 :]), np.moveaxis(arr, k, 0)
+    return dims, arr
 
 
 class _PointContexts:
@@ -322,9 +409,12 @@ class _PointContexts:
         ctxs: list[Any],
         walls: list[Any],
         clocks: list[Any],
+        declared: bool,
     ) -> None:
         self._points, self._ctxs, self._walls, self._clocks = points, ctxs, walls, clocks
+        self._declared = declared  # every point's coefficient declares a shared tau
         self._built: list[Any] = [None] * len(points)  # each point's context, once made
+        self._light: list[Any] = [None] * len(points)  # the same without solve_at
 
     def __call__(self, k: int) -> Any:
         if self._built[k] is None:
@@ -337,6 +427,18 @@ class _PointContexts:
             )
         return self._built[k]
 
+    def light(self, k: int) -> Any:
+        """Point k's context with its coefficient and boundary but no ``solve_at`` (cheaper
+        than ``self(k)`` where only the spectrum, material and plugins are read)."""
+        if self._built[k] is not None:
+            return self._built[k]
+        if self._light[k] is None:
+            rs = self._points[k]
+            self._light[k] = dataclasses.replace(
+                self._ctxs[k], coefficient=rs.coefficient, boundary=rs.boundary
+            )
+        return self._light[k]
+
     def solve_rows(self, point: np.ndarray, load: np.ndarray, tau: np.ndarray) -> Any:
         """``A/A0`` (n_row, n_tau) of load ``load[i]`` of point ``point[i]`` at the diffusion
         times ``tau[i]`` [Pa^2] (each row strictly increasing): what point k's
@@ -344,17 +446,18 @@ class _PointContexts:
         coefficient's effective tau differs per load (``solve_at`` then computes it)."""
         from .. import engine
 
-        pts = [self._points[int(k)] for k in np.unique(point)]
-        if not all(shared_tau(rs.coefficient) for rs in pts):
-            return None
+        if not self._declared:
+            pts = [self._points[int(k)] for k in np.unique(point)]
+            if not all(shared_tau(rs.coefficient) for rs in pts):
+                return None
         rs0 = self._points[0]
-        p0 = np.array([self._points[int(k)].p0[int(i)] for k, i in zip(point, load, strict=True)])
-        pairs = [self._walls[int(k)] for k in point]
-        shared = all(pair is pairs[0] for pair in pairs)
+        p0 = rs0.p0[np.asarray(load, dtype=np.intp)]  # a block with analyses: the same loads
+        first = self._walls[int(point[0])]
+        shared = all(self._walls[int(k)] is first for k in np.unique(point))
         res = engine.solve_batch(
             np.asarray(tau, float),
             p0,
-            pairs[0] if shared else pairs,
+            first if shared else [self._walls[int(k)] for k in point],
             rtol=rs0.rtol,
             atol=rs0.atol,
             method=rs0.method,

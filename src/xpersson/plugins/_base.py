@@ -376,8 +376,9 @@ class Analysis(Plugin):
     ) -> dict[str, Any]:
         """:meth:`compute` of a block: ``ds`` carries the points on a leading ``point``
         dimension, ``ctx_of(k)`` is point k's context (with ``solve_at``). Return
-        ``{name: DataArray}`` with the ``point`` dimension. Called only for classes that
-        declare ``fast_paths.stacked_params``; the default computes each point.
+        ``{name: DataArray}`` (or ``(dims, array)`` pairs) with the ``point`` dimension.
+        Called only for classes that declare ``fast_paths.stacked_params``; the default
+        computes each point.
         """
         import xarray as xr
 

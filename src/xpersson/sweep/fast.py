@@ -166,17 +166,29 @@ def _stacked(
     part_attrs: dict[str, Any] | None,
     shared: dict[str, Any] | None,
 ) -> BlockResult | None:
-    """:func:`stacked_block` of a block whose points stack."""
-    reused = _shared_template(shared if part is None else None, points[0]) is not None
-    template = _first_template(block, points[0], part, shared)
-    if template is None:
-        return None
+    """:func:`stacked_block` of a block whose points stack. Its template is an earlier
+    block's, else its first point's Dataset assembled from the stacked run
+    (:meth:`~xpersson.pipeline.stacked.StackedRun.point_dataset`, no second solve of that
+    point), else that point solved on its own (a finite body)."""
+    template = _shared_template(shared if part is None else None, points[0])
+    reused = template is not None
+    if template is None and points[0].geometry is not None:
+        template = _first_template(block, points[0], part, shared)
+        if template is None:
+            return None
     try:
         got = stacked.run_stacked(points)
     except Exception as exc:  # noqa: BLE001 - judged against the plain path by run_block
         raise failed("stacked_params", points[0], exc) from exc
     if got is None:
         return None  # a load did not meet its tolerance: each status recorded point by point
+    if template is None:
+        own = got.point_dataset()
+        if own is None:
+            return None  # the first point did not succeed: recorded point by point
+        template = _point_shaped(own, block)
+        if shared is not None and part is None:
+            shared.update(template=template, point=points[0])
     names = _own_names(template, block)
     rows = {}
     for n in names:

@@ -237,6 +237,10 @@ def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
             low = data  # a point lacking the variable holds a fill value: not checked
         _unchanged(data, low, name)
         return xr.Variable(keep, data, dict(var.attrs), dict(var.encoding))
+    if isinstance(var.data, np.ndarray) and kind in "OUS":  # strings: the first point's
+        first = tuple(0 if d in dims else slice(None) for d in var.dims)
+        keep = tuple(d for d in var.dims if d not in dims)
+        return xr.Variable(keep, np.asarray(var.data[first], dtype=var.dtype), dict(var.attrs))
     da = ds[name]
     if var.dtype.kind in "fc":  # NaN skipped; NaN where every point is NaN; no warning
         some = da.notnull().any(dims)

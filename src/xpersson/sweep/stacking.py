@@ -3,8 +3,10 @@ its part file and the per-point fingerprints of its variables (split from :mod:`
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -55,13 +57,13 @@ class Block:
     dims: tuple[str, ...]
     coords: dict[str, tuple[str, np.ndarray, dict[str, Any]]]
 
-    @property
+    @functools.cached_property
     def shape(self) -> tuple[int, ...]:
         return tuple(b - a for a, b in zip(self.start, self.stop, strict=True))
 
-    @property
+    @functools.cached_property
     def size(self) -> int:
-        return int(np.prod(self.shape))
+        return math.prod(self.shape)
 
 
 @dataclass
@@ -182,12 +184,13 @@ def stack_rows(
             coords[name] = entry
         else:
             data_vars[name] = entry
+    tv = template.variables  # (Variables: no DataArray built per coordinate)
     for name, index in template.indexes.items():
         if name not in block.coords:
-            coords[name] = (template[name].dims, index.values, dict(template[name].attrs))
-    for name, c in template.coords.items():
-        if not c.dims and name not in coords:
-            coords[name] = ((), c.values, dict(c.attrs))
+            coords[name] = (tv[name].dims, index.values, dict(tv[name].attrs))
+    for name in template.coords:
+        if not tv[name].dims and name not in coords:
+            coords[name] = ((), tv[name].values, dict(tv[name].attrs))
     for name, (dim, values, attrs) in block.coords.items():
         coords[name] = ((dim,), values, dict(attrs))
     data_vars["point_status"] = (

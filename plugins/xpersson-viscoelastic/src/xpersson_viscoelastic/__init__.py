@@ -34,7 +34,7 @@ _WHERE = {
     "load_shift_table": "._tables",
     "ViscoelasticCoefficient": ".coefficient",
     "Friction": ".friction",
-    "friction_curve": ".kernel",
+    "friction_curve": "._curve",
 }
 
 

@@ -2,7 +2,7 @@
 
 Where the contact area of a stiff rubber drops from 1 to ``~ (zeta - 1)^(-1/2)`` just above
 ``zeta = 1`` (:mod:`~xpersson_viscoelastic._resolve`), ``mu_visc`` is integrated as the kernel
-:func:`~xpersson_viscoelastic.kernel.friction_curve` integrates it (verified to ~1e-9 against
+:func:`~xpersson_viscoelastic._curve.friction_curve` integrates it (verified to ~1e-9 against
 an independent quadrature, ``benchmarks/verify_friction.py``): Gauss-Legendre panels graded
 towards ``q_L`` (two per decade of ``q - q_L`` in ``ln(q - q_L)``, the first panel linear in
 ``q`` and ending where ``G <= 5e-4``), the spectrum's log grid and breakpoints above ``2 q_L``,
@@ -39,6 +39,7 @@ __all__ = [
     "layout",
     "known_nodes",
     "integrals",
+    "integrals_and_top",
     "running",
     "graded_runs",
 ]
@@ -161,15 +162,22 @@ def _parts(model: Any, lay: Layout, w: Array, known: Any) -> tuple[Array, Array]
     rows, keep = known
     excess, loss = np.empty(w.shape), np.empty(w.shape)
     fresh = np.ones(w.shape[1], dtype=bool)
+    every = rows.size == next(iter(v[1] for m, v in keep.items() if m != "edges")).shape[0]
+    every = every and bool(np.all(rows == np.arange(rows.size)))  # the block's points in order
     for m, (sel, ex, lo) in ((m, v) for m, v in keep.items() if m != "edges"):
         at = np.full(lay.base.size - 1, -1)
         at[sel] = np.arange(sel.size)
         p = np.flatnonzero((lay.block >= 0) & (lay.counts == m))
         j = at[lay.block[p]]
         p, j = p[j >= 0], j[j >= 0]
-        pos = lay.start[p, None] + np.arange(m)
-        excess[:, pos], loss[:, pos] = ex[rows][:, j], lo[rows][:, j]
-        fresh[pos.ravel()] = False
+        if not p.size:
+            continue
+        pos = (lay.start[p, None] + np.arange(m)).ravel()  # consecutive panels: one slice
+        cut = slice(pos[0], pos[-1] + 1) if pos[-1] - pos[0] + 1 == pos.size else pos
+        pick = (slice(None), j) if every else np.ix_(rows, j)
+        excess[:, cut] = ex[pick].reshape(w.shape[0], -1)
+        loss[:, cut] = lo[pick].reshape(w.shape[0], -1)
+        fresh[cut] = False
     if fresh.any():
         excess[:, fresh], loss[:, fresh] = model.parts(w[:, fresh])
     return excess, loss
@@ -181,6 +189,13 @@ def integrals(
     """``tau`` [Pa^2] at the nodes and the nodes' ``dL`` [Pa] (each (K, N)) of K points from
     one evaluation of the Prony modulus at ``w = q v a_T`` [rad/s] (K, N) of the nodes
     (``known``: node values evaluated already, :func:`known_nodes`)."""
+    return integrals_and_top(psd, model, nu, lay, w, known)[:2]
+
+
+def integrals_and_top(
+    psd: Any, model: Any, nu: float, lay: Layout, w: Array, known: Any = None
+) -> tuple[Array, Array, Array]:
+    """:func:`integrals` and ``tau`` [Pa^2] at the last panel edge, (K,)."""
     f = _checked_nu(nu)
     q3C = lay.qn**3 * np.asarray(psd.C(lay.qn), dtype=float)
     excess, loss = _parts(model, lay, w, known)  # (K, N)
@@ -193,7 +208,8 @@ def integrals(
         within = half[:, None] * np.einsum("ij,kpj->kpi", Q, dens[:, pos])
         tau[:, pos] = before[:, sel, None] + within
     tau = np.maximum((np.pi / 4.0) * tau / (f * f), 0.0)
-    return tau, q3C * lay.wq * loss / f
+    top = np.maximum((np.pi / 4.0) * (before[:, -1] + ends[:, -1]) / (f * f), 0.0)
+    return tau, q3C * lay.wq * loss / f, top
 
 
 def running(g: Array, dL: Array, lay: Layout, p0: Array) -> Array:
@@ -261,15 +277,20 @@ def graded_runs(
     coef0 = ctx_of(0).coefficient  # the block's first: it integrated the output grid
     if getattr(ctx_of(items[0][0]), "solve_at", None) is None:
         return None
+    # a stacked block's points' contexts without their solve_at (ctx_of(k) builds one)
+    light = getattr(ctx_of, "light", ctx_of)
+    keys: dict[int, Any] = {}  # content keys of the spectra, once per object
     groups: dict[tuple[Any, ...], list[tuple[int, Array]]] = {}
     for k, loads, top in items:
         n = rungs(zeta, G(k)[loads], top)
-        ctx = ctx_of(k)
-        groups.setdefault((top, n, content_key(ctx.psd), ctx.nu), []).append((k, loads))
+        ctx = light(k)
+        if id(ctx.psd) not in keys:
+            keys[id(ctx.psd)] = content_key(ctx.psd)
+        groups.setdefault((top, n, keys[id(ctx.psd)], ctx.nu), []).append((k, loads))
     parts = []
     bases: dict[Any, Array] = {}  # the output grid's q panels, once per spectrum
     for (top, n, psd_id, _), members in groups.items():
-        ctxs = [ctx_of(k) for k, _ in members]
+        ctxs = [light(k) for k, _ in members]
         coefs = [c.coefficient for c in ctxs]
         if any(type(c) is not type(coef0) for c in coefs):
             return None

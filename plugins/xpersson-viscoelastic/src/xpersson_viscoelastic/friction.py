@@ -216,25 +216,23 @@ class Friction(Analysis):
         """The friction variables of a block of (v, T) points (leading ``point`` dimension)
         at once, as :meth:`compute` gives each point (:meth:`_arrays` on the block's
         arrays)."""
-        import xarray as xr
 
-        zeta = np.asarray(ds["zeta"].values, dtype=float)
+        zeta = np.asarray(ds.variables["zeta"].values, dtype=float)
         if self._zeta_c(zeta) != zeta[-1] or "G" not in ds or zeta.size < 2:
             return super().compute_stacked(ctx_of, ds)
         zp = ("point", "p0", "zeta")
         got = self._arrays(
             ctx_of,
             zeta,
-            np.asarray(ds["area_fraction"].transpose(*zp).values, dtype=float),
-            np.asarray(ds["loss_integral"].transpose("point", "zeta").values, dtype=float),
-            np.asarray(ds["G"].transpose(*zp).values, dtype=float),
-            np.atleast_1d(np.asarray(ds["p0"].values, dtype=float)),
-            np.asarray(ds["sliding_speed"].transpose("point").values, dtype=float),
-            np.asarray(ds["shift_factor"].transpose("point").values, dtype=float),
+            _values(ds, "area_fraction", zp),
+            _values(ds, "loss_integral", ("point", "zeta")),
+            _values(ds, "G", zp),
+            np.atleast_1d(np.asarray(ds.variables["p0"].values, dtype=float)),
+            _values(ds, "sliding_speed", ("point",)),
+            _values(ds, "shift_factor", ("point",)),
         )
-        out = {n: xr.DataArray(v, dims=("point", *_DIMS[n])) for n, v in got.items()}
-        self._check(out)
-        return out
+        self._check_arrays(got)
+        return {n: (("point", *_DIMS[n]), v) for n, v in got.items()}
 
     def _simple(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any] | None:
         """:meth:`compute` of one point's Dataset (loads and magnifications only, the cut-off
@@ -409,8 +407,12 @@ class Friction(Analysis):
 
     def _check(self, out: dict[str, Any]) -> None:
         """Finite values inside each output's declared range."""
-        for name, da in out.items():
-            vals = np.asarray(da.values, dtype=float)
+        self._check_arrays({name: da.values for name, da in out.items()})
+
+    def _check_arrays(self, out: dict[str, Any]) -> None:
+        """:meth:`_check` of plain arrays."""
+        for name, values in out.items():
+            vals = np.asarray(values, dtype=float)
             spec = self.outputs[name]
             if not np.all(np.isfinite(vals)):
                 raise RuntimeError(f"analysis 'friction': {name!r} has non-finite values")
@@ -418,6 +420,11 @@ class Friction(Analysis):
                 raise RuntimeError(f"analysis 'friction': {name!r} below {spec.valid_min}")
             if spec.valid_max is not None and np.any(vals > spec.valid_max + 1e-15):
                 raise RuntimeError(f"analysis 'friction': {name!r} above {spec.valid_max}")
+
+
+def _values(ds: xr.Dataset, name: str, dims: tuple[str, ...]) -> np.ndarray:
+    """The float values of variable ``name`` in ``dims`` order (no DataArray built)."""
+    return np.asarray(ds.variables[name].transpose(*dims).values, dtype=float)
 
 
 def _dense_integrals(ctx_of: Any, points: list[int], grids: list[np.ndarray]) -> Any:

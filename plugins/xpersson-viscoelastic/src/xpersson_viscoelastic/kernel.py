@@ -9,7 +9,8 @@ and the benchmark:
 * cumulative loss integral ``L(zeta; v, T) = int_{q_L}^{zeta q_L} q^3 C(q) int_0^2pi cos(phi)
   Im E(q v a_T cos phi) dphi dq / (1 - nu^2)`` [Pa];
 * friction ``mu_visc = (1 / (2 p0)) int P(q) S(q) dL`` (:func:`friction_integral`, the one
-  home of the formula) and the stand-alone curve :func:`friction_curve` (Persson01 area).
+  home of the formula); the stand-alone curve ``friction_curve`` (Persson01 area) is built on
+  these in :mod:`._curve`.
 
 The q-integrals use Gauss-Legendre rules in ``ln q`` on panels whose edges contain the PSD
 breakpoints, the requested magnifications and a log grid of ``panels_per_decade``; within a
@@ -17,7 +18,7 @@ panel the integrands are analytic, so 8 nodes per quarter decade give ~1e-14 rel
 ``E_r^2 I3(q)`` part of ``tau`` is taken from the spectrum's exact moment, so ``v = 0``
 reproduces the elastic diffusion time with ``E = E_r`` to round-off.
 
-:func:`friction_curve` grades its panels towards ``q_L`` where needed (issue 22): when the
+``friction_curve`` grades its panels towards ``q_L`` where needed (issue 22): when the
 contact area of a stiff rubber (fast, cold, no roll-off plateau) falls from 1 to ``~1/sqrt(pi G)``
 just above ``q_L``, ``P ~ (q - q_L)^(-1/2)`` and most of ``mu_visc`` comes from there. The first
 panel then ends where ``G <= 1e-3`` (:func:`first_panel_width`), the panels up to ``2 q_L`` are
@@ -36,7 +37,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from xpersson.cache import memoize
-from xpersson.physics import area_fraction, closure_S, effective_ratio
+from xpersson.physics import closure_S
 
 from ._gauss import spectral_rule as _rule
 from ._modulus import ModulusModel
@@ -51,7 +52,6 @@ __all__ = [
     "loss_integral",
     "friction_integral",
     "stieltjes_increments",
-    "friction_curve",
     "first_panel_width",
 ]
 
@@ -388,89 +388,3 @@ def first_panel_width(
     dens = np.max(qs**3 * np.asarray(psd.C(qs), dtype=float) * mean_sq)
     slope = 2.0 * (np.pi / 4.0) * q_L * dens / (fnu * p0) ** 2  # dG/dzeta, with margin 2
     return float(min(1.0, 1e-3 / slope)) if slope > 0 else 1.0
-
-
-def friction_curve(
-    psd: Any,
-    model: ModulusModel,
-    nu: float,
-    p0: ArrayLike,
-    v: ArrayLike,
-    aT: ArrayLike = 1.0,
-    *,
-    zeta_max: float | None = None,
-    closure: str = "persson01",
-    closure_gamma: float | None = None,
-    correction: str = "none",
-    gamma: float = 0.5,
-    nodes: int = NODES,
-    panels_per_decade: int = PANELS_PER_DECADE,
-) -> dict[str, Array]:
-    """Stand-alone vectorised ``mu_visc(v, T, p0)`` with the (closure) erf contact area.
-
-    The pipeline's friction analysis reads the solved area from the Dataset instead; this
-    kernel evaluates the area in closed form at every quadrature node (for studies and the
-    benchmark: 50 velocities x 3 temperatures x 40 modes in milliseconds).
-
-    Parameters
-    ----------
-    psd, model, nu
-        As in :func:`diffusion_time`.
-    p0 : array_like, shape (n_p0,)
-        Nominal pressures [Pa].
-    v : array_like, shape (n_v,)
-        Sliding speeds [m/s].
-    aT : array_like, shape (n_T,)
-        Shift factors [1] (one per temperature).
-    zeta_max : float, optional
-        Upper magnification of the integrals (default ``q_1 / q_L``).
-    closure, closure_gamma
-        Correction closure of the contact area (:mod:`xpersson.physics.closures`).
-    correction : {"none", "s_factor"}
-        ``S = 1`` or ``S = gamma + (1 - gamma) P^2`` in ``mu_visc``.
-
-    Returns
-    -------
-    dict
-        ``mu_visc`` and ``area_fraction`` (at ``zeta_max``), shape ``(n_T, n_v, n_p0)``.
-    """
-    fnu = _checked_nu(nu)
-    p0 = np.atleast_1d(np.asarray(p0, dtype=float))
-    scale = np.multiply.outer(
-        np.atleast_1d(np.asarray(aT, dtype=float)), np.atleast_1d(np.asarray(v, dtype=float))
-    )  # (n_T, n_v)
-    zmax = float(psd.q_1 / psd.q_L) if zeta_max is None else float(zeta_max)
-    q_hi = zmax * float(psd.q_L)
-    d0 = first_panel_width(psd, model, fnu, float(np.min(p0)), scale, q_hi)
-    edges = graded_edges(psd, q_hi, d0, panels_per_decade)
-    graded = d0 < min(1.0, zmax - 1.0)
-    qn, wq, jac, half = _nodes(edges, nodes, float(psd.q_L) if graded else None)
-    _, wgl, Q = _rule(nodes)
-    q3C = qn**3 * np.asarray(psd.C(qn), dtype=float)
-    excess_sq, loss = model.parts(scale[..., None, None] * qn)  # (n_T, n_v, n_panel, n)
-    # tau at every node: exact E_r^2 I3 plus the spectral cumulative of the excess; graded:
-    # all of <|E|^2> spectrally (I3(q) loses digits where q - q_L is near round-off of q)
-    exact_sq = 0.0 if graded else model.E_r**2
-    dens = q3C * jac * (excess_sq + (model.E_r**2 - exact_sq))  # integrand in u
-    within = half[:, None] * np.einsum("ij,...pj->...pi", Q, dens)
-    ends = np.sum(half[:, None] * wgl * dens, axis=-1)
-    before = np.concatenate(
-        [np.zeros(scale.shape + (1,)), np.cumsum(ends, axis=-1)[..., :-1]], axis=-1
-    )
-    excess = before[..., None] + within
-    tau = (np.pi / 4.0) * (exact_sq * np.asarray(psd.I3(qn)) + excess) / (fnu * fnu)
-    tau = np.maximum(tau, 0.0)
-    G = tau[..., None, :, :] / (p0[:, None, None] ** 2)  # (n_T, n_v, n_p0, n_panel, n)
-    ratio = effective_ratio(G, closure, closure_gamma) if closure != "persson01" else 1.0
-    A, _ = area_fraction(p0[:, None, None], G * p0[:, None, None] ** 2 * ratio)
-    g = _area_factor(np.asarray(A), correction, gamma)
-    dL = (q3C * wq * loss / fnu)[..., None, :, :]
-    mu = friction_integral((g * dL).reshape(g.shape[:-2] + (-1,)), p0)[..., -1]
-    total = before[..., -1] + ends[..., -1]
-    tau_end = (
-        (np.pi / 4.0) * (exact_sq * float(psd.I3(zmax * float(psd.q_L))) + total) / (fnu * fnu)
-    )
-    G_end = tau_end[..., None] / p0**2
-    r_end = effective_ratio(G_end, closure, closure_gamma) if closure != "persson01" else 1.0
-    A_end, _ = area_fraction(p0, G_end * p0**2 * r_end)
-    return {"mu_visc": mu, "area_fraction": np.asarray(A_end)}
