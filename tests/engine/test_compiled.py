@@ -70,8 +70,29 @@ def test_python_kernel_equals_numpy_march(name, monkeypatch):
         return _compiled.march_steps(*args)
 
     monkeypatch.setattr(_compiled, "kernel", lambda work, *_: kernel)
+    monkeypatch.setattr(_compiled, "fused", lambda: None)  # the per-block compiled steps
     _assert_same(ref, _outputs(name))
     assert calls  # the kernel ran
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_python_fused_level_equals_numpy_march(name, monkeypatch):
+    """The fused level (coefficients, steps, wall sums and outputs in one loop), run as plain
+    Python: the numpy path's outputs to 1e-12 (bitwise here: the same operations)."""
+    from xpersson.engine import _moving_fused
+
+    with xpersson.set_options(compiled=False):
+        ref = _outputs(name, mult=2)
+    calls = []
+
+    def level(*args):
+        calls.append(1)
+        return _moving_fused.level_march(*args)
+
+    monkeypatch.setattr(_compiled, "kernel", lambda work, *_: _compiled.march_steps)
+    monkeypatch.setattr(_compiled, "fused", lambda: level)
+    _assert_same(ref, _outputs(name, mult=2))
+    assert calls  # the fused level ran
 
 
 def test_off_switch_and_small_levels_keep_numpy(monkeypatch):
@@ -105,4 +126,7 @@ def test_compiled_kernel_equals_numpy_march(name, monkeypatch):
     assert _compiled.kernel(1.0) is not None
     with xpersson.set_options(compiled=False):
         ref = _outputs(name, mult=2)
+    assert _compiled.fused() is not None  # built with the march: whole levels compiled
+    _assert_same(ref, _outputs(name, mult=2))
+    monkeypatch.setattr(_compiled, "fused", lambda: None)  # and the per-block steps
     _assert_same(ref, _outputs(name, mult=2))

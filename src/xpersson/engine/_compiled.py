@@ -29,7 +29,7 @@ from typing import Any
 
 from ..options import compiled_enabled
 
-__all__ = ["BUILD_AFTER", "MIN_WORK", "march_steps", "kernel"]
+__all__ = ["BUILD_AFTER", "MIN_WORK", "fused", "kernel", "march_steps"]
 
 MIN_WORK = 500_000
 """Node-steps of a level below which the numpy path runs (no numba import for small solves)."""
@@ -63,14 +63,27 @@ def kernel(work: float, steps: int = 0, nodes: int = 0) -> Callable[..., int] | 
     return _STATE["fn"]  # type: ignore[no-any-return]
 
 
+def fused() -> Callable[..., int] | None:
+    """The compiled :func:`._moving_fused.level_march` (a whole level in one call), built with
+    :func:`kernel`'s march: None until then (or without numba)."""
+    return _STATE.get("level")
+
+
 def _build() -> Callable[..., int] | None:
     try:
         import numba
     except ImportError:
         return None
+    from . import _moving_fused as fused_src
+
     jit = numba.njit(cache=True, nogil=True, error_model="numpy")
-    # march_steps calls the compiled _gtsv: the same code, its global bound to the dispatcher
-    scope = {**globals(), "_gtsv": jit(_gtsv)}
+    # the kernels call the compiled helpers: the same code, its globals bound to the dispatchers
+    gtsv = jit(_gtsv)
+    scope = {**globals(), "_gtsv": gtsv}
+    helpers = {name: jit(getattr(fused_src, name)) for name in ("_wall_fluxes", "_record")}
+    fused_scope = {**vars(fused_src), "_gtsv": gtsv, **helpers}
+    code = fused_src.level_march.__code__
+    _STATE["level"] = jit(types.FunctionType(code, fused_scope, "level_march"))
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
 
 

@@ -52,6 +52,7 @@ from ._level import (
     system_rows,
 )
 from ._moving_block import Block, block_system
+from ._moving_fused import fused_level
 from ._problem import Problem
 from ._progress import report as report_progress
 from ._progress import reported as progress_reported
@@ -178,9 +179,15 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     wn_all, wo_all = inp.theta * step, (1.0 - inp.theta) * step
     yreal = win.real_upper & inp.yield_wall
     g_all = np.where(yreal, win.end.width * win.end.yield_speed, 0.0)  # closure R_N = g A_pl
+    r0 = _initial_state(win, x, w, inp.p0, inp.taus[0], inp.k, inp.image)
+    fast = _compiled.kernel(nb * nn * n_steps, n_steps, nb * nn)
+    if fast is not None and p_out is None and not progress_reported():
+        fused = _compiled.fused()  # the whole level in one compiled call
+        level = None if fused is None else fused_level(fused, inp, r0, stretch)
+        if level is not None:
+            return level
     rows = system_rows(nb, n, stretch)
     rec = _record_for(nb, n_out, nn, n_steps, p_out)
-    r0 = _initial_state(win, x, w, inp.p0, inp.taus[0], inp.k, inp.image)
     st = _State(r0, np.zeros((5, nb)))
     rec.near[0] = st.r[rows.near]
     out_steps = inp.out_at.tolist() + [-1]
@@ -198,7 +205,8 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
         states = states_buf[: ms.stop - m0 + 1]
         states[0] = st.r
         st.r = states[0]
-        _steps(st, rec, inp, ops, states, m0, yreal[:, ms].any(axis=0).tolist(), rows, p_out)
+        yields = yreal[:, ms].any(axis=0).tolist()
+        _steps(st, rec, inp, ops, states, m0, yields, rows, p_out, fast)
         if st.info != 0:
             return Level(None, 0, nn, f"tridiagonal solve failed (info={st.info})")
         rec.near[m0 + 1 : ms.stop + 1] = states[1:, rows.near]
@@ -223,16 +231,16 @@ def _steps(
     yields: list[bool],
     rows: SystemRows,
     p_out: Array | None,
+    fast: Callable[..., int] | None = None,
 ) -> None:
     """The steps ``m0 .. m0 + len(states) - 2`` (see the module for the scheme): the state
     after step ``m0 + i`` into ``states[i + 1]`` (``states[0]`` holds the state before).
 
     ``yields[i]``: whether a real yield wall closes the system in step ``m0 + i``.  The views
-    and buffers are made once per block (a step is about ten numpy calls).
+    and buffers are made once per block (a step is about ten numpy calls).  ``fast``: the
+    compiled march (:func:`._compiled.kernel`), or None (numpy).
     """
     nb, nn = st.z.shape[1], inp.nodes.x.size
-    work = nb * nn * (inp.taus.size - 1)  # the level's node-steps; the block's steps
-    fast = _compiled.kernel(work, states.shape[0] - 1, nb * nn)
     if fast is not None:
         _compiled_steps(fast, st, rec, inp, ops, states, m0, yields, rows, p_out)
         return

@@ -1,0 +1,217 @@
+"""The whole march of one ``cn`` grid level in one compiled call (the compiled path's level).
+
+The numpy path (:mod:`._moving`) builds the operators of a block of steps at once
+(:func:`._moving_block.block_system`), marches the steps, keeps the rows next to the walls and
+the end faces' coefficients, and sums the wall fluxes after the march
+(:func:`._moving._wall_sums`). On the small grids an accurate error control leaves (tens of
+nodes, hundreds of steps) those numpy calls, not the node-steps, were most of a level's time.
+Here the face coefficients are the same one BLAS product (:func:`._moving_block.face_ops`), and
+:func:`level_march` does the rest per step in one loop, in the numpy path's order: the end
+faces, the diagonal and the yield closure's rows, the explicit half in flux form, the
+tridiagonal solve as LAPACK ``dgtsv`` does it (:func:`._compiled._gtsv`), the wall fluxes
+summed as it goes (as ``numpy.cumsum`` sums them) and the states at the outputs, reduced as the
+numpy path reduces them: the outputs equal the numpy path's (bit for bit where the compiler
+contracts no multiply-add; tested to 1e-12).
+
+Used when the compiled march is in force (:func:`._compiled.kernel`) and the level wants no
+densities, no progress reports and no outputs beyond the snapshot size of the numpy path
+(those take the per-block compiled steps). Units as in :mod:`._moving`: tau in Pa^2, window
+edges in Pa, their speeds in 1/Pa.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._compiled import _gtsv
+from ._level import Level, Outputs, face_basis, system_rows
+from ._moving_block import face_ops
+
+__all__ = ["fused_level", "level_march"]
+
+Array = NDArray[np.float64]
+
+_OPS = 1 << 18  # face coefficients built at once (steps x 4 x loads x nodes)
+
+
+def fused_level(fn: Callable[..., int], inp: Any, r0: Array, stretch: float) -> Level | None:
+    """The outputs of the level ``inp`` (:class:`._moving.LevelInputs`) marched from the state
+    ``r0`` (the loads concatenated) by ``fn`` (:func:`level_march`, compiled or as Python);
+    None where the outputs' states would be too many to keep (the caller marches)."""
+    from ._moving import _SNAP, _reduce_snapshots
+
+    win, nodes = inp.window, inp.nodes
+    s, e = win.start, win.end
+    nb, nn, n_out = inp.p0.shape[0], nodes.x.size, inp.out_at.size
+    if n_out * nb * nn > _SNAP:
+        return None
+    step = np.diff(inp.taus)
+    wn, wo = inp.theta * step, (1.0 - inp.theta) * step
+    yreal = win.real_upper & inp.yield_wall
+    g = np.where(yreal, e.width * e.yield_speed, 0.0)  # closure R_N = g A_pl
+    flags = np.stack((yreal, win.real_lower, win.real_upper))
+    edges = np.stack((s.lower, s.width, e.lower, e.width))
+    rows, basis = system_rows(nb, nn - 1, stretch), face_basis(nn - 1, stretch)
+    snaps, sums = np.empty((n_out, nb * nn)), np.zeros((5, nb, n_out))
+    carry = (r0.copy(), np.zeros((5, nb)), np.zeros((4, nb)), np.zeros(1, np.int64))
+    n_steps = step.size
+    block = max(1, min(_OPS // (4 * nb * nn), n_steps))
+    ops = np.empty((block, 4, nb, nn))
+    for m0 in range(0, n_steps, block):
+        ms = slice(m0, min(m0 + block, n_steps))
+        face_ops(win, basis, ms, wn[ms], wo[ms], ops[: ms.stop - m0])
+        info = fn(
+            m0, ms.stop, ops, nodes.w, rows.volumes, rows.walls, rows.last, g, flags, edges,
+            inp.out_at, *carry, snaps, sums,
+        )  # fmt: skip
+        if info != 0:
+            return Level(None, 0, nn, f"tridiagonal solve failed (info={info})")
+    if n_steps == 0:  # (outputs at the start only)
+        snaps[:] = r0
+    area, load = _reduce_snapshots(snaps, win, nodes.x, nodes.w, inp.out_at)
+    a_pl, abs_l, abs_u, mom_l, mom_u = sums
+    mom_u = -mom_u
+    if inp.yield_wall:  # the plastic area is what the yield wall holds, at its position
+        up = np.hstack([s.lower[:, :1] + s.width[:, :1], e.lower + e.width])[:, inp.out_at]
+        abs_u, mom_u = a_pl, up * a_pl
+    return Level(Outputs(area, abs_l, abs_u, load, mom_l, mom_u, None), n_steps, nn)
+
+
+def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, numpy's order
+    i0: int,
+    i1: int,
+    ops: Any,
+    w: Any,
+    volumes: Any,
+    walls: Any,
+    last: Any,
+    g: Any,
+    flags: Any,
+    edges: Any,
+    out_at: Any,
+    r: Any,
+    z: Any,
+    acc: Any,
+    pos: Any,
+    snaps: Any,
+    sums: Any,
+) -> int:  # pragma: no cover - compiled (the numpy path is the reference)
+    """March the steps ``i0 .. i1 - 1`` of a level; returns LAPACK's ``info`` of the first
+    failed solve (0: all succeeded).
+
+    ``ops`` (block, 4, loads, nodes): the face coefficients of the steps from ``i0`` on
+    (:func:`._moving_block.face_ops`); ``w`` the control volumes, ``volumes``, ``walls``,
+    ``last`` the rows of the loads' systems (:func:`._level.system_rows`); ``g`` (loads,
+    steps) the closure's ``W Y'``; ``flags`` (3, loads, steps) whether the yield wall, the
+    lower wall, the upper wall is real; ``edges`` (4, loads, steps) the window's lower edge and
+    width at the start of every step, then at its end [Pa]; ``out_at`` the steps after which
+    the outputs are taken.  Carried from block to block: ``r`` the state (loads x nodes),
+    ``z`` (5, loads) the yield rows (``R_{N-1}, R_N`` before the step, ``A_pl``, ``R_{N-1},
+    R_N`` after it), ``acc`` (4, loads) the running wall sums, ``pos[0]`` the next output.
+    Written at the outputs: ``snaps`` the states, ``sums`` (5, loads, outputs) the plastic
+    area, the probabilities absorbed by the lower and upper walls and their moments (the
+    upper one negated).
+    """
+    nb, nn = last.shape[0], ops.shape[3]
+    m, nf, n_out = nb * nn, nn - 1, out_at.shape[0]
+    w_last = w[nn - 1]
+    b = np.empty(m)
+    dl, du, dg = np.empty(m), np.empty(m), np.empty(m)
+    ends = np.empty((8, nb))
+    j_out = pos[0]
+    while i0 == 0 and j_out < n_out and out_at[j_out] == 0:
+        _record(r, z, acc, snaps, sums, j_out)
+        j_out += 1
+    for i in range(i0, i1):
+        c = ops[i - i0]
+        yields = False
+        for k in range(nb):
+            base = k * nn
+            for j in range(nn):
+                dl[base + j] = c[0, k, j]
+                du[base + j] = c[1, k, j]
+            ends[0, k], ends[1, k] = c[0, k, 0], -c[1, k, 0]
+            ends[2, k], ends[3, k] = c[0, k, nf - 1], -c[1, k, nf - 1]
+            ends[4, k], ends[5, k] = c[2, k, 0], c[3, k, 0]
+            ends[6, k], ends[7, k] = c[2, k, nf - 1], c[3, k, nf - 1]
+            for j in range(1, nn - 1):
+                dg[base + j] = w[j] - c[0, k, j] - c[1, k, j - 1]
+            gk = g[k, i]
+            dg[base] = 1.0
+            dg[base + nn - 1] = 1.0 + gk * (w_last + ends[3, k])
+            dl[base + nf - 1] = gk * ends[2, k]
+            du[base] = 0.0
+            yields = yields or flags[0, k, i]
+        # explicit half (flux form): b = w R + wo (F_{j+1/2} - F_{j-1/2}), F of the old state
+        fl, fh = c[2].reshape(m), c[3].reshape(m)
+        for q in range(m):
+            b[q] = volumes[q] * r[q]
+        f_prev = fl[0] * r[0] + fh[0] * r[1]
+        for q in range(1, m - 1):
+            f = fl[q] * r[q] + fh[q] * r[q + 1]
+            b[q] += f - f_prev
+            f_prev = f
+        if nb > 1:
+            for q in range(walls.shape[0]):
+                b[walls[q]] = 0.0
+        if yields:
+            for k in range(nb):
+                gk = g[k, i]
+                z[0, k] = r[last[k] - 1]
+                z[1, k] = r[last[k]]
+                rhs = (-gk * ends[6, k]) * z[0, k] + (gk * (w_last - ends[7, k])) * z[1, k]
+                b[last[k]] = rhs + gk * z[2, k]
+        info = _gtsv(dl[: m - 1], dg, du[: m - 1], b)
+        if info != 0:
+            return info
+        for k in range(nb):
+            if yields:
+                z[3, k] = b[last[k] - 1]
+                z[4, k] = b[last[k]]
+                yr = 1.0 if flags[0, k, i] else 0.0
+                gain = (-ends[6, k] * yr) * z[0, k]
+                gain += ((w_last - ends[7, k]) * yr) * z[1, k]
+                gain += (0.0 * g[k, i] * yr) * z[2, k]
+                gain += (-ends[2, k] * yr) * z[3, k]
+                gain += (-(ends[3, k] + w_last) * yr) * z[4, k]
+                z[2, k] += gain
+            _wall_fluxes(r, b, k * nn, nn, ends, k, edges, i, flags, acc)
+        for q in range(m):
+            r[q] = b[q]
+        while j_out < n_out and out_at[j_out] == i + 1:
+            _record(r, z, acc, snaps, sums, j_out)
+            j_out += 1
+    pos[0] = j_out
+    return 0
+
+
+def _wall_fluxes(
+    r: Any, b: Any, base: int, nn: int, ends: Any, k: int, edges: Any, i: int, flags: Any, acc: Any
+) -> None:  # pragma: no cover - compiled
+    """Add step ``i``'s wall fluxes of load ``k`` (old state ``r``, new ``b``) to ``acc``, as
+    :func:`._moving._wall_sums` sums them."""
+    f_new0 = ends[0, k] * b[base] + ends[1, k] * b[base + 1]
+    f_old0 = ends[4, k] * r[base] + ends[5, k] * r[base + 1]
+    f_new1 = ends[2, k] * b[base + nn - 2] + ends[3, k] * b[base + nn - 1]
+    f_old1 = ends[6, k] * r[base + nn - 2] + ends[7, k] * r[base + nn - 1]
+    la, wa, lb, wb = edges[0, k, i], edges[1, k, i], edges[2, k, i], edges[3, k, i]
+    if flags[1, k, i]:
+        acc[0, k] += f_new0 + f_old0
+        acc[2, k] += lb * f_new0 + la * f_old0
+    if flags[2, k, i]:
+        acc[1, k] += -(f_new1 + f_old1)
+        acc[3, k] += (lb + wb) * f_new1 + (la + wa) * f_old1
+
+
+def _record(r: Any, z: Any, acc: Any, snaps: Any, sums: Any, j: int) -> None:
+    """Output ``j``: the state and the sums."""  # pragma: no cover - compiled
+    for q in range(r.shape[0]):
+        snaps[j, q] = r[q]
+    for k in range(z.shape[1]):
+        sums[0, k, j] = z[2, k]
+        for s in range(4):
+            sums[1 + s, k, j] = acc[s, k]
