@@ -118,6 +118,31 @@ def levels_of(scene: dict) -> list[tuple[int, int, int]]:
     return seen
 
 
+def engine_call_of(scene: dict):
+    """The engine's own call for ``scene``: ``xpersson.engine.solve_batch`` with the arguments
+    the pipeline prepared (walls, diffusion times, loads, tolerances), as a callable that
+    repeats it (the march of :func:`levels_of` without the pipeline around it)."""
+    import xpersson
+    from xpersson import engine
+
+    calls: list[tuple[tuple, dict]] = []
+    orig = engine.solve_batch
+
+    def spy(*args, **kwargs):
+        calls.append((args, kwargs))
+        return orig(*args, **kwargs)
+
+    engine.solve_batch = spy
+    try:
+        xpersson.solve(scene)
+    finally:
+        engine.solve_batch = orig
+    if len(calls) != 1:
+        raise RuntimeError(f"the scene made {len(calls)} engine calls, not one")
+    args, kwargs = calls[0]
+    return lambda: orig(*args, **kwargs)
+
+
 def bare_steps(levels: list[tuple[int, int, int]]) -> None:
     """The floor: per level and step, a flux-form explicit product and one ``dgtsv``."""
     from scipy.linalg.lapack import dgtsv

@@ -29,7 +29,7 @@ from typing import Any
 
 from ..options import compiled_enabled
 
-__all__ = ["BUILD_AFTER", "MIN_WORK", "fused", "kernel", "march_steps"]
+__all__ = ["BUILD_AFTER", "MIN_WORK", "build", "fused", "kernel", "march_steps"]
 
 MIN_WORK = 500_000
 """Node-steps of a level below which the numpy path runs (no numba import for small solves)."""
@@ -61,6 +61,17 @@ def kernel(work: float, steps: int = 0, nodes: int = 0) -> Callable[..., int] | 
     if "fn" not in _STATE:
         _STATE["fn"] = _build()
     return _STATE["fn"]  # type: ignore[no-any-return]
+
+
+def build() -> bool:
+    """Build the compiled march now, whatever the work so far (for benchmarks that measure the
+    engine with it in force); whether it is in force (False: the option is off or numba is
+    missing)."""
+    if not compiled_enabled():
+        return False
+    if "fn" not in _STATE:
+        _STATE["fn"] = _build()
+    return _STATE["fn"] is not None
 
 
 def fused() -> Callable[..., int] | None:
