@@ -11,6 +11,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from . import _compiled
+from ._cn_edges import compiled_window
 from ._problem import Problem
 
 __all__ = [
@@ -392,8 +394,12 @@ class Window(NamedTuple):
 
 
 def _edges_batch(pbs: list[Problem], plan: _Plan, taus: Array) -> Window:
-    """The window of the loads ``pbs`` (which share their walls) along ``taus`` [Pa^2]."""
+    """The window of the loads ``pbs`` (which share their walls) along ``taus`` [Pa^2] (by
+    the compiled loop once the compiled march is built: the same numbers)."""
     tr = _tracks(pbs[0], taus)  # the loads of a batch share their walls
+    fast = _compiled.edges()
+    if fast is not None:
+        return compiled_window(fast, pbs, plan, taus, tr)
     eds = [_edges(pb, plan, taus, tr) for pb in pbs]
     if len(eds) == 1:
         ed = {key: val[None] for key, val in eds[0].items()}

@@ -29,7 +29,7 @@ from typing import Any
 
 from ..options import compiled_enabled
 
-__all__ = ["BUILD_AFTER", "MIN_WORK", "build", "fused", "kernel", "march_steps"]
+__all__ = ["BUILD_AFTER", "MIN_WORK", "build", "edges", "fused", "kernel", "march_steps"]
 
 MIN_WORK = 500_000
 """Node-steps of a level below which the numpy path runs (no numba import for small solves)."""
@@ -74,6 +74,14 @@ def build() -> bool:
     return _STATE["fn"] is not None
 
 
+def edges() -> Callable[..., None] | None:
+    """The compiled :func:`._cn_edges.window_edges` once the compiled march is built and the
+    option is on, else None (the numpy edges: the same numbers)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("edges")
+
+
 def fused() -> Callable[..., int] | None:
     """The compiled :func:`._moving_fused.level_march` (a whole level in one call), built with
     :func:`kernel`'s march: None until then (or without numba)."""
@@ -93,6 +101,9 @@ def _build() -> Callable[..., int] | None:
     scope = {**globals(), "_gtsv": gtsv}
     helpers = {name: jit(getattr(fused_src, name)) for name in ("_wall_fluxes", "_record")}
     fused_scope = {**vars(fused_src), "_gtsv": gtsv, **helpers}
+    from . import _cn_edges
+
+    _STATE["edges"] = jit(_cn_edges.window_edges)
     code = fused_src.level_march.__code__
     _STATE["level"] = jit(types.FunctionType(code, fused_scope, "level_march"))
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))

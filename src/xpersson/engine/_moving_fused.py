@@ -119,27 +119,24 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     nb, nn = last.shape[0], ops.shape[3]
     m, nf, n_out = nb * nn, nn - 1, out_at.shape[0]
     w_last = w[nn - 1]
-    b = np.empty(m)
-    dl, du, dg = np.empty(m), np.empty(m), np.empty(m)
+    state, b, dg = r, np.empty(m), np.empty(m)  # the state and the next one swap buffers
     ends = np.empty((8, nb))
     j_out = pos[0]
     while i0 == 0 and j_out < n_out and out_at[j_out] == 0:
-        _record(r, z, acc, snaps, sums, j_out)
+        _record(state, z, acc, snaps, sums, j_out)
         j_out += 1
     for i in range(i0, i1):
-        c = ops[i - i0]
+        c = ops[i - i0]  # (the block's own: the solve overwrites its diagonals in place)
+        dl, du, fl, fh = c[0].reshape(m), c[1].reshape(m), c[2].reshape(m), c[3].reshape(m)
         yields = False
         for k in range(nb):
             base = k * nn
-            for j in range(nn):
-                dl[base + j] = c[0, k, j]
-                du[base + j] = c[1, k, j]
-            ends[0, k], ends[1, k] = c[0, k, 0], -c[1, k, 0]
-            ends[2, k], ends[3, k] = c[0, k, nf - 1], -c[1, k, nf - 1]
-            ends[4, k], ends[5, k] = c[2, k, 0], c[3, k, 0]
-            ends[6, k], ends[7, k] = c[2, k, nf - 1], c[3, k, nf - 1]
+            ends[0, k], ends[1, k] = dl[base], -du[base]
+            ends[2, k], ends[3, k] = dl[base + nf - 1], -du[base + nf - 1]
+            ends[4, k], ends[5, k] = fl[base], fh[base]
+            ends[6, k], ends[7, k] = fl[base + nf - 1], fh[base + nf - 1]
             for j in range(1, nn - 1):
-                dg[base + j] = w[j] - c[0, k, j] - c[1, k, j - 1]
+                dg[base + j] = w[j] - dl[base + j] - du[base + j - 1]
             gk = g[k, i]
             dg[base] = 1.0
             dg[base + nn - 1] = 1.0 + gk * (w_last + ends[3, k])
@@ -147,22 +144,22 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
             du[base] = 0.0
             yields = yields or flags[0, k, i]
         # explicit half (flux form): b = w R + wo (F_{j+1/2} - F_{j-1/2}), F of the old state
-        fl, fh = c[2].reshape(m), c[3].reshape(m)
-        for q in range(m):
-            b[q] = volumes[q] * r[q]
-        f_prev = fl[0] * r[0] + fh[0] * r[1]
+        b[0] = volumes[0] * state[0]
+        f_prev = fl[0] * state[0] + fh[0] * state[1]
         for q in range(1, m - 1):
-            f = fl[q] * r[q] + fh[q] * r[q + 1]
+            f = fl[q] * state[q] + fh[q] * state[q + 1]
+            b[q] = volumes[q] * state[q]
             b[q] += f - f_prev
             f_prev = f
+        b[m - 1] = volumes[m - 1] * state[m - 1]
         if nb > 1:
             for q in range(walls.shape[0]):
                 b[walls[q]] = 0.0
         if yields:
             for k in range(nb):
                 gk = g[k, i]
-                z[0, k] = r[last[k] - 1]
-                z[1, k] = r[last[k]]
+                z[0, k] = state[last[k] - 1]
+                z[1, k] = state[last[k]]
                 rhs = (-gk * ends[6, k]) * z[0, k] + (gk * (w_last - ends[7, k])) * z[1, k]
                 b[last[k]] = rhs + gk * z[2, k]
         info = _gtsv(dl[: m - 1], dg, du[: m - 1], b)
@@ -179,12 +176,14 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
                 gain += (-ends[2, k] * yr) * z[3, k]
                 gain += (-(ends[3, k] + w_last) * yr) * z[4, k]
                 z[2, k] += gain
-            _wall_fluxes(r, b, k * nn, nn, ends, k, edges, i, flags, acc)
-        for q in range(m):
-            r[q] = b[q]
+            _wall_fluxes(state, b, k * nn, nn, ends, k, edges, i, flags, acc)
+        state, b = b, state
         while j_out < n_out and out_at[j_out] == i + 1:
-            _record(r, z, acc, snaps, sums, j_out)
+            _record(state, z, acc, snaps, sums, j_out)
             j_out += 1
+    if (i1 - i0) % 2 == 1:  # the last state is in the other buffer
+        for q in range(m):
+            r[q] = state[q]
     pos[0] = j_out
     return 0
 
