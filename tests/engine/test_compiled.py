@@ -130,3 +130,43 @@ def test_compiled_kernel_equals_numpy_march(name, monkeypatch):
     _assert_same(ref, _outputs(name, mult=2))
     monkeypatch.setattr(_compiled, "fused", lambda: None)  # and the per-block steps
     _assert_same(ref, _outputs(name, mult=2))
+
+
+def _window_arrays(win) -> list:
+    return [win.real_lower, win.real_upper, *win.start, *win.end, win.chord]
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_window_edges_equal_numpy_edges(name, monkeypatch):
+    """The window of the compiled path (one loop over loads and steps, here run as plain
+    Python) is the numpy path's, bit for bit: regimes, edges, speeds, chords."""
+    from xpersson.engine import _cn_edges
+
+    lower, upper, p0 = CASES[name]
+    with xpersson.set_options(compiled=False):
+        ref = _level(lower, upper, p0, mult=2)[0].window
+    monkeypatch.setattr(_compiled, "edges", lambda: _cn_edges.window_edges)
+    got = _level(lower, upper, p0, mult=2)[0].window
+    for want, have in zip(_window_arrays(ref), _window_arrays(got), strict=True):
+        assert have.shape == want.shape and have.dtype == want.dtype
+        np.testing.assert_array_equal(have, want)
+
+
+def test_compiled_window_is_bitwise_and_level_equal(monkeypatch):
+    """With numba, the compiled window is the numpy path's bit for bit, and the fused level's
+    outputs equal the numpy march's (to 1e-12: its solve is LAPACK's algorithm recompiled;
+    bit for bit on the development machine) on a batch with a yield closure and on a graded
+    (breakpoint) march."""
+    pytest.importorskip("numba")
+    assert _compiled.build() and _compiled.edges() is not None
+    for name in ("yield closure, batch", "breakpoint lower"):
+        lower, upper, p0 = CASES[name]
+        with xpersson.set_options(compiled=False):
+            inp_ref, ref = _level(lower, upper, p0, mult=2)
+        monkeypatch.setattr(_compiled, "MIN_WORK", 0)
+        inp, got = _level(lower, upper, p0, mult=2)
+        for want, have in zip(
+            _window_arrays(inp_ref.window), _window_arrays(inp.window), strict=True
+        ):
+            np.testing.assert_array_equal(have, want)
+        _assert_same(ref.outputs, got.outputs)
