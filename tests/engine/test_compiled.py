@@ -90,7 +90,7 @@ def test_python_fused_level_equals_numpy_march(name, monkeypatch):
         return _moving_fused.level_march(*args)
 
     monkeypatch.setattr(_compiled, "kernel", lambda work, *_: _compiled.march_steps)
-    monkeypatch.setattr(_compiled, "fused", lambda: level)
+    monkeypatch.setattr(_compiled, "fused", lambda: (level, _moving_fused.face_coefficients))
     _assert_same(ref, _outputs(name, mult=2))
     assert calls  # the fused level ran
 

@@ -82,8 +82,9 @@ def edges() -> Callable[..., None] | None:
     return _STATE.get("edges")
 
 
-def fused() -> Callable[..., int] | None:
-    """The compiled :func:`._moving_fused.level_march` (a whole level in one call), built with
+def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
+    """The compiled :func:`._moving_fused.level_march` and
+    :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
     :func:`kernel`'s march: None until then (or without numba)."""
     return _STATE.get("level")
 
@@ -105,7 +106,8 @@ def _build() -> Callable[..., int] | None:
 
     _STATE["edges"] = jit(_cn_edges.window_edges)
     code = fused_src.level_march.__code__
-    _STATE["level"] = jit(types.FunctionType(code, fused_scope, "level_march"))
+    level = jit(types.FunctionType(code, fused_scope, "level_march"))
+    _STATE["level"] = (level, jit(fused_src.face_coefficients))
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
 
 

@@ -29,43 +29,43 @@ from numpy.typing import NDArray
 
 from ._compiled import _gtsv
 from ._level import Level, Outputs, face_basis, system_rows
-from ._moving_block import face_ops
 
-__all__ = ["fused_level", "level_march"]
+__all__ = ["face_coefficients", "fused_level", "level_march"]
 
 Array = NDArray[np.float64]
 
 _OPS = 1 << 18  # face coefficients built at once (steps x 4 x loads x nodes)
 
 
-def fused_level(fn: Callable[..., int], inp: Any, r0: Array, stretch: float) -> Level | None:
+def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r0: Array,
+                stretch: float) -> Level | None:  # fmt: skip
     """The outputs of the level ``inp`` (:class:`._moving.LevelInputs`) marched from the state
-    ``r0`` (the loads concatenated) by ``fn`` (:func:`level_march`, compiled or as Python);
-    None where the outputs' states would be too many to keep (the caller marches)."""
+    ``r0`` (the loads concatenated) by ``fns``: :func:`level_march` and
+    :func:`face_coefficients` (compiled, or as Python); None where the outputs' states would be
+    too many to keep (the caller marches)."""
     from ._moving import _SNAP, _reduce_snapshots
 
+    march, coefficients = fns
     win, nodes = inp.window, inp.nodes
     s, e = win.start, win.end
     nb, nn, n_out = inp.p0.shape[0], nodes.x.size, inp.out_at.size
     if n_out * nb * nn > _SNAP:
         return None
-    step = np.diff(inp.taus)
-    wn, wo = inp.theta * step, (1.0 - inp.theta) * step
-    yreal = win.real_upper & inp.yield_wall
-    g = np.where(yreal, e.width * e.yield_speed, 0.0)  # closure R_N = g A_pl
-    flags = np.stack((yreal, win.real_lower, win.real_upper))
-    edges = np.stack((s.lower, s.width, e.lower, e.width))
     rows, basis = system_rows(nb, nn - 1, stretch), face_basis(nn - 1, stretch)
     snaps, sums = np.empty((n_out, nb * nn)), np.zeros((5, nb, n_out))
     carry = (r0.copy(), np.zeros((5, nb)), np.zeros((4, nb)), np.zeros(1, np.int64))
-    n_steps = step.size
+    n_steps = inp.taus.size - 1
     block = max(1, min(_OPS // (4 * nb * nn), n_steps))
-    ops = np.empty((block, 4, nb, nn))
+    coef, ops = np.empty((block, 4, nb, 3)), np.empty((block, 4, nb, nn))
     for m0 in range(0, n_steps, block):
-        ms = slice(m0, min(m0 + block, n_steps))
-        face_ops(win, basis, ms, wn[ms], wo[ms], ops[: ms.stop - m0])
-        info = fn(
-            m0, ms.stop, ops, nodes.w, rows.volumes, rows.walls, rows.last, g, flags, edges,
+        c = min(block, n_steps - m0)
+        coefficients(m0, m0 + c, inp.taus, inp.theta, s.width, s.lower_speed, s.width_speed,
+                     e.width, e.lower_speed, e.width_speed, coef)  # fmt: skip
+        # the face coefficients: the numpy path's BLAS product (face_ops), the same numbers
+        np.matmul(coef[:c].reshape(-1, 3), basis, out=ops[:c].reshape(-1, nn))
+        info = march(
+            m0, m0 + c, ops, nodes.w, rows.volumes, rows.walls, rows.last, inp.yield_wall,
+            win.real_lower, win.real_upper, e.yield_speed, s.lower, s.width, e.lower, e.width,
             inp.out_at, *carry, snaps, sums,
         )  # fmt: skip
         if info != 0:
@@ -81,6 +81,44 @@ def fused_level(fn: Callable[..., int], inp: Any, r0: Array, stretch: float) -> 
     return Level(Outputs(area, abs_l, abs_u, load, mom_l, mom_u, None), n_steps, nn)
 
 
+def face_coefficients(  # noqa: PLR0913 - the window's arrays, as the Window holds them
+    i0: int,
+    i1: int,
+    taus: Any,
+    theta: Any,
+    s_width: Any,
+    s_lv: Any,
+    s_wv: Any,
+    e_width: Any,
+    e_lv: Any,
+    e_wv: Any,
+    coef: Any,
+) -> None:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The weights of the face functions ``1, x_f, 1/dx_f`` in the steps ``i0 .. i1 - 1``
+    into ``coef`` (block, 4, loads, 3), as :func:`._moving_block.face_ops` builds them (the
+    same operations): ``wn (A - D)``, ``-wn (A + D)`` at the end of each step, ``wo (A - D)``,
+    ``wo (A + D)`` at its start, ``wn = theta dt``, ``wo = (1 - theta) dt`` [Pa^2]; the
+    windows' widths and speeds (loads, steps) [Pa, 1/Pa] at the start (``s_``) and end
+    (``e_``) of every step."""
+    for i in range(i0, i1):
+        dt = taus[i + 1] - taus[i]
+        th_n, th_o = theta[i] * dt, (1.0 - theta[i]) * dt
+        c = coef[i - i0]
+        for k in range(s_width.shape[0]):
+            width = e_width[k, i]
+            a_ = th_n * (e_lv[k, i] / (2.0 * width))
+            b_ = th_n * (e_wv[k, i] / (2.0 * width))
+            d_ = th_n / (width * width)
+            c[0, k, 0], c[0, k, 1], c[0, k, 2] = a_, b_, -d_
+            c[1, k, 0], c[1, k, 1], c[1, k, 2] = -a_, -b_, -d_
+            width = s_width[k, i]
+            a_ = th_o * (s_lv[k, i] / (2.0 * width))
+            b_ = th_o * (s_wv[k, i] / (2.0 * width))
+            d_ = th_o / (width * width)
+            c[2, k, 0], c[2, k, 1], c[2, k, 2] = a_, b_, -d_
+            c[3, k, 0], c[3, k, 1], c[3, k, 2] = a_, b_, d_
+
+
 def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, numpy's order
     i0: int,
     i1: int,
@@ -89,9 +127,14 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     volumes: Any,
     walls: Any,
     last: Any,
-    g: Any,
-    flags: Any,
-    edges: Any,
+    yield_wall: bool,
+    real_lower: Any,
+    real_upper: Any,
+    yield_speed: Any,
+    la: Any,
+    wa: Any,
+    lb: Any,
+    wb: Any,
     out_at: Any,
     r: Any,
     z: Any,
@@ -105,11 +148,12 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
 
     ``ops`` (block, 4, loads, nodes): the face coefficients of the steps from ``i0`` on
     (:func:`._moving_block.face_ops`); ``w`` the control volumes, ``volumes``, ``walls``,
-    ``last`` the rows of the loads' systems (:func:`._level.system_rows`); ``g`` (loads,
-    steps) the closure's ``W Y'``; ``flags`` (3, loads, steps) whether the yield wall, the
-    lower wall, the upper wall is real; ``edges`` (4, loads, steps) the window's lower edge and
-    width at the start of every step, then at its end [Pa]; ``out_at`` the steps after which
-    the outputs are taken.  Carried from block to block: ``r`` the state (loads x nodes),
+    ``last`` the rows of the loads' systems (:func:`._level.system_rows`); ``yield_wall``
+    whether the upper wall is a yield wall; ``real_lower``, ``real_upper`` (loads, steps)
+    whether the lower, upper wall is real in the step; ``yield_speed`` its speed [1/Pa] at the
+    end of the step (the closure's ``g = W Y'``); ``la``, ``wa``, ``lb``, ``wb`` the window's
+    lower edge and width at the start and the end of every step [Pa]; ``out_at`` the steps
+    after which the outputs are taken.  Carried from block to block: ``r`` the state (loads x nodes),
     ``z`` (5, loads) the yield rows (``R_{N-1}, R_N`` before the step, ``A_pl``, ``R_{N-1},
     R_N`` after it), ``acc`` (4, loads) the running wall sums, ``pos[0]`` the next output.
     Written at the outputs: ``snaps`` the states, ``sums`` (5, loads, outputs) the plastic
@@ -120,7 +164,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     m, nf, n_out = nb * nn, nn - 1, out_at.shape[0]
     w_last = w[nn - 1]
     state, b, dg = r, np.empty(m), np.empty(m)  # the state and the next one swap buffers
-    ends = np.empty((8, nb))
+    ends, g = np.empty((8, nb)), np.empty(nb)
     j_out = pos[0]
     while i0 == 0 and j_out < n_out and out_at[j_out] == 0:
         _record(state, z, acc, snaps, sums, j_out)
@@ -137,12 +181,13 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
             ends[6, k], ends[7, k] = fl[base + nf - 1], fh[base + nf - 1]
             for j in range(1, nn - 1):
                 dg[base + j] = w[j] - dl[base + j] - du[base + j - 1]
-            gk = g[k, i]
+            gk = wb[k, i] * yield_speed[k, i] if yield_wall and real_upper[k, i] else 0.0
+            g[k] = gk
             dg[base] = 1.0
             dg[base + nn - 1] = 1.0 + gk * (w_last + ends[3, k])
             dl[base + nf - 1] = gk * ends[2, k]
             du[base] = 0.0
-            yields = yields or flags[0, k, i]
+            yields = yields or (yield_wall and real_upper[k, i])
         # explicit half (flux form): b = w R + wo (F_{j+1/2} - F_{j-1/2}), F of the old state
         b[0] = volumes[0] * state[0]
         f_prev = fl[0] * state[0] + fh[0] * state[1]
@@ -157,7 +202,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
                 b[walls[q]] = 0.0
         if yields:
             for k in range(nb):
-                gk = g[k, i]
+                gk = g[k]
                 z[0, k] = state[last[k] - 1]
                 z[1, k] = state[last[k]]
                 rhs = (-gk * ends[6, k]) * z[0, k] + (gk * (w_last - ends[7, k])) * z[1, k]
@@ -169,14 +214,15 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
             if yields:
                 z[3, k] = b[last[k] - 1]
                 z[4, k] = b[last[k]]
-                yr = 1.0 if flags[0, k, i] else 0.0
+                yr = 1.0 if yield_wall and real_upper[k, i] else 0.0
                 gain = (-ends[6, k] * yr) * z[0, k]
                 gain += ((w_last - ends[7, k]) * yr) * z[1, k]
-                gain += (0.0 * g[k, i] * yr) * z[2, k]
+                gain += (0.0 * g[k] * yr) * z[2, k]
                 gain += (-ends[2, k] * yr) * z[3, k]
                 gain += (-(ends[3, k] + w_last) * yr) * z[4, k]
                 z[2, k] += gain
-            _wall_fluxes(state, b, k * nn, nn, ends, k, edges, i, flags, acc)
+            _wall_fluxes(state, b, k * nn, nn, ends, k, acc, real_lower[k, i], real_upper[k, i],
+                         la[k, i], wa[k, i], lb[k, i], wb[k, i])  # fmt: skip
         state, b = b, state
         while j_out < n_out and out_at[j_out] == i + 1:
             _record(state, z, acc, snaps, sums, j_out)
@@ -189,19 +235,20 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
 
 
 def _wall_fluxes(
-    r: Any, b: Any, base: int, nn: int, ends: Any, k: int, edges: Any, i: int, flags: Any, acc: Any
-) -> None:  # pragma: no cover - compiled
-    """Add step ``i``'s wall fluxes of load ``k`` (old state ``r``, new ``b``) to ``acc``, as
-    :func:`._moving._wall_sums` sums them."""
+    r: Any, b: Any, base: int, nn: int, ends: Any, k: int, acc: Any, rl: bool, ru: bool,
+    la: float, wa: float, lb: float, wb: float,
+) -> None:  # fmt: skip  # pragma: no cover - compiled
+    """Add the wall fluxes of load ``k`` in a step (old state ``r``, new ``b``; lower, upper
+    wall real ``rl``, ``ru``; window edges ``la``, ``wa`` at its start, ``lb``, ``wb`` at its
+    end [Pa]) to ``acc``, as :func:`._moving._wall_sums` sums them."""
     f_new0 = ends[0, k] * b[base] + ends[1, k] * b[base + 1]
     f_old0 = ends[4, k] * r[base] + ends[5, k] * r[base + 1]
     f_new1 = ends[2, k] * b[base + nn - 2] + ends[3, k] * b[base + nn - 1]
     f_old1 = ends[6, k] * r[base + nn - 2] + ends[7, k] * r[base + nn - 1]
-    la, wa, lb, wb = edges[0, k, i], edges[1, k, i], edges[2, k, i], edges[3, k, i]
-    if flags[1, k, i]:
+    if rl:
         acc[0, k] += f_new0 + f_old0
         acc[2, k] += lb * f_new0 + la * f_old0
-    if flags[2, k, i]:
+    if ru:
         acc[1, k] += -(f_new1 + f_old1)
         acc[3, k] += (lb + wb) * f_new1 + (la + wa) * f_old1
 
