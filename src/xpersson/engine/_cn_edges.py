@@ -28,16 +28,12 @@ def compiled_window(fn: Callable[..., None], pbs: list, plan: Any, taus: Any, tr
     from ._cn_plan import Edge, Window
 
     n, nb = taus.size - 1, len(pbs)
-    tracks = np.empty((9, n + 1))
-    tracks[0, :n], tracks[1, :n] = tr["lo_m"], tr["up_m"]
-    tracks[0, n] = tracks[1, n] = 0.0  # (no step starts at the last time)
-    for row, key in enumerate(("lo", "up", "lo_va", "lo_vb", "up_va", "up_vb", "ys"), 2):
-        tracks[row] = tr[key]
     chord_from = plan.zones[0][0] if plan.zones else math.inf
     out, flags = np.empty((10, nb, n)), np.empty((4, nb, n), dtype=bool)
     p0 = np.array([pb.p0 for pb in pbs], dtype=float)
-    fn(p0, float(plan.k), bool(plan.yield_wall), float(chord_from), taus, tr["mid"], tracks,
-       out, flags)  # fmt: skip
+    fn(p0, float(plan.k), bool(plan.yield_wall), float(chord_from), taus, tr["mid"],
+       tr["lo_m"], tr["up_m"], tr["lo"], tr["up"], tr["lo_va"], tr["lo_vb"], tr["up_va"],
+       tr["up_vb"], tr["ys"], out, flags)  # fmt: skip
     start = Edge(out[0], out[1], out[4], out[5], out[6])
     end = Edge(out[2], out[3], out[7], out[8], out[9])
     return Window(flags[0], flags[1], start, end, flags[3])
@@ -55,20 +51,28 @@ def window_edges(  # noqa: PLR0913 - the tracks as _cn_plan._tracks holds them
     chord_from: float,
     taus: Any,
     mid: Any,
-    tracks: Any,
+    lo_m: Any,
+    up_m: Any,
+    lo: Any,
+    up: Any,
+    lo_va: Any,
+    lo_vb: Any,
+    up_va: Any,
+    up_vb: Any,
+    ys_t: Any,
     out: Any,
     flags: Any,
 ) -> None:  # pragma: no cover - compiled (the numpy path is the reference)
     """The window of the loads ``p0`` (loads,) [Pa] along ``taus`` (steps + 1,) [Pa^2].
 
-    ``tracks`` (9, steps + 1): the walls' positions at the step midpoints ``mid`` (lower,
-    upper; the first ``steps`` entries), at ``taus`` (lower, upper), their speeds just after
-    and before each time (lower after, before, upper after, before) and the yield wall's
-    speed (0 without one); ``chord_from`` the first breakpoint's time (``inf``: none), from which
-    the speeds are the steps' chord speeds.  ``out`` (10, loads, steps) receives the rows
-    :data:`ROWS`, ``flags`` (4, loads, steps) whether the lower wall, the upper wall is real
-    in the step, whether the yield wall is, and whether the speeds are chords (the yield
-    wall's flag is the upper one where it is a yield wall: the march's ``yreal``).
+    The walls' tracks: positions at the step midpoints ``mid`` (``lo_m``, ``up_m``) and at
+    ``taus`` (``lo``, ``up``; ``+inf`` without a wall), their speeds just after (``_va``) and
+    before (``_vb``) each time and the yield wall's speed ``ys_t`` (0 without one);
+    ``chord_from`` the first breakpoint's time (``inf``: none), from which the speeds are the
+    steps' chord speeds.  ``out`` (10, loads, steps) receives the rows :data:`ROWS`, ``flags``
+    (4, loads, steps) whether the lower wall, the upper wall is real in the step, whether the
+    yield wall is, and whether the speeds are chords (the yield wall's flag is the upper one
+    where it is a yield wall: the march's ``yreal``).
     """
     n = taus.shape[0] - 1
     for q in range(p0.shape[0]):
@@ -76,8 +80,8 @@ def window_edges(  # noqa: PLR0913 - the tracks as _cn_plan._tracks holds them
         ru_prev = False
         for i in range(n):
             s_m = math.sqrt(2.0 * mid[i])
-            rl = tracks[0, i] >= p - k * s_m
-            ru = tracks[1, i] <= p + k * s_m
+            rl = lo_m[i] >= p - k * s_m
+            ru = up_m[i] <= p + k * s_m
             if yield_wall:
                 ru = ru or ru_prev
                 ru_prev = ru
@@ -85,11 +89,17 @@ def window_edges(  # noqa: PLR0913 - the tracks as _cn_plan._tracks holds them
                 t = i + end
                 s = math.sqrt(2.0 * taus[t])
                 ds = 1.0 / s
-                le = tracks[2, t] if rl else p - k * s
-                ue = tracks[3, t] if ru else p + k * s
-                lv = tracks[4 + end, t] if rl else -k * ds
-                wv = (tracks[6 + end, t] if ru else k * ds) - lv
-                ys = tracks[8, t] if (yield_wall and ru) else 0.0
+                le = lo[t] if rl else p - k * s
+                ue = up[t] if ru else p + k * s
+                if rl:
+                    lv = lo_va[t] if end == 0 else lo_vb[t]
+                else:
+                    lv = -k * ds
+                if ru:
+                    wv = (up_va[t] if end == 0 else up_vb[t]) - lv
+                else:
+                    wv = k * ds - lv
+                ys = ys_t[t] if (yield_wall and ru) else 0.0
                 row = 2 * end
                 out[row, q, i] = le
                 out[row + 1, q, i] = ue - le

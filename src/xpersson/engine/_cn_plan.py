@@ -211,7 +211,11 @@ def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
 
 
 def _wall_speeds(
-    wall, tau: Array, probed: tuple[Array, Array] | None = None, p_end: float | None = None
+    wall,
+    tau: Array,
+    probed: tuple[Array, Array] | None = None,
+    p_end: float | None = None,
+    probe: tuple[Array, Array] | None = None,
 ) -> tuple[Array, Array]:
     """dp_w/dtau [1/Pa] of a wall at ``tau`` just before and just after (declared, or by central
     differences).
@@ -222,7 +226,8 @@ def _wall_speeds(
     of the sequence (a clock clipped at ``zeta_max`` stops it there, and a central difference
     then gives half the speed: a first-order error at the last output, which no Richardson
     combination cancels).  ``probed``: the wall's positions at the times of
-    :func:`_probe_times`, ``p_end`` its position at ``tau[-1]`` (evaluated here unless given).
+    :func:`_probe_times` (``probe``, computed here unless given), ``p_end`` its position at
+    ``tau[-1]`` (evaluated here unless given).
     """
     if wall is None or wall.is_fixed:
         z = np.zeros_like(tau)
@@ -233,7 +238,7 @@ def _wall_speeds(
     if wall.motion is not None:
         v = np.full_like(tau, wall.motion[1])
         return v, v
-    hi, lo = _probe_times(wall, tau)
+    hi, lo = _probe_times(wall, tau) if probe is None else probe
     if probed is None:
         p = wall.at(np.concatenate([hi, lo, tau[-1:]]))  # one call of the wall
         probed, p_end = (p[: tau.size], p[tau.size : -1]), float(p[-1])
@@ -272,7 +277,7 @@ def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Arr
     p = wall.at(np.concatenate(parts))
     n, m = mid.size, taus.size
     probed = None if probe is None else (p[n + m : n + 2 * m], p[n + 2 * m :])
-    vb, va = _wall_speeds(wall, taus, probed, float(p[n + m - 1]))
+    vb, va = _wall_speeds(wall, taus, probed, float(p[n + m - 1]), probe)
     return p[:n], p[n : n + m], vb, va
 
 

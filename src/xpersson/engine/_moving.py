@@ -175,17 +175,17 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     win, x, w = inp.window, inp.nodes.x, inp.nodes.w
     nb, nn, n_out, n_steps = inp.p0.shape[0], x.size, inp.out_at.size, inp.taus.size - 1
     n = nn - 1
+    r0 = _initial_state(win, x, w, inp.p0, inp.taus[0], inp.k, inp.image)
+    fast = _compiled.kernel(nb * nn * n_steps, n_steps, nb * nn)
+    if fast is not None and p_out is None and not progress_reported():
+        fused = _compiled.fused()  # the whole level in a few compiled calls
+        level = None if fused is None else fused_level(fused, inp, r0, stretch)
+        if level is not None:
+            return level
     step = np.diff(inp.taus)
     wn_all, wo_all = inp.theta * step, (1.0 - inp.theta) * step
     yreal = win.real_upper & inp.yield_wall
     g_all = np.where(yreal, win.end.width * win.end.yield_speed, 0.0)  # closure R_N = g A_pl
-    r0 = _initial_state(win, x, w, inp.p0, inp.taus[0], inp.k, inp.image)
-    fast = _compiled.kernel(nb * nn * n_steps, n_steps, nb * nn)
-    if fast is not None and p_out is None and not progress_reported():
-        fused = _compiled.fused()  # the whole level in one compiled call
-        level = None if fused is None else fused_level(fused, inp, r0, stretch)
-        if level is not None:
-            return level
     rows = system_rows(nb, n, stretch)
     rec = _record_for(nb, n_out, nn, n_steps, p_out)
     st = _State(r0, np.zeros((5, nb)))
@@ -401,9 +401,8 @@ def _at_outputs(start: Array, end: Array, out_at: Array) -> Array:
     """A window edge at the output steps: ``start[:, 0]`` at step 0, else ``end[:, m - 1]``
     (``np.hstack([start[:, :1], end])[:, out_at]`` without building the whole)."""
     v = end[:, out_at - 1]
-    first = out_at == 0
-    if first.any():
-        v[:, first] = start[:, :1]
+    if out_at.size and out_at[0] == 0:  # (sorted: only the first can be the start)
+        v[:, 0] = start[:, 0]
     return v
 
 
