@@ -21,6 +21,7 @@ import numpy as np
 
 __all__ = ["compiled_window", "window_edges"]
 
+
 def compiled_window(fn: Callable[..., None], pbs: list, plan: Any, taus: Any, tr: dict) -> Any:
     """The :class:`._cn_plan.Window` of the loads ``pbs`` along ``taus`` [Pa^2] from the walls'
     tracks ``tr`` (:func:`._cn_plan._tracks`), by ``fn`` (:func:`window_edges`, compiled or as

@@ -153,9 +153,10 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     whether the lower, upper wall is real in the step; ``yield_speed`` its speed [1/Pa] at the
     end of the step (the closure's ``g = W Y'``); ``la``, ``wa``, ``lb``, ``wb`` the window's
     lower edge and width at the start and the end of every step [Pa]; ``out_at`` the steps
-    after which the outputs are taken.  Carried from block to block: ``r`` the state (loads x nodes),
-    ``z`` (5, loads) the yield rows (``R_{N-1}, R_N`` before the step, ``A_pl``, ``R_{N-1},
-    R_N`` after it), ``acc`` (4, loads) the running wall sums, ``pos[0]`` the next output.
+    after which the outputs are taken.  Carried from block to block: ``r`` the state (loads
+    x nodes), ``z`` (5, loads) the yield rows (``R_{N-1}, R_N`` before the step, ``A_pl``,
+    ``R_{N-1}, R_N`` after it), ``acc`` (4, loads) the running wall sums, ``pos[0]`` the
+    next output.
     Written at the outputs: ``snaps`` the states, ``sums`` (5, loads, outputs) the plastic
     area, the probabilities absorbed by the lower and upper walls and their moments (the
     upper one negated).
