@@ -22,12 +22,13 @@ import numpy as np
 __all__ = ["compiled_window", "window_edges"]
 
 
-def compiled_window(fn: Callable[..., None], pbs: list, plan: Any, taus: Any, tr: dict) -> Any:
-    """The :class:`._cn_plan.Window` of the loads ``pbs`` along ``taus`` [Pa^2] from the walls'
-    tracks ``tr`` (:func:`._cn_plan._tracks`), by ``fn`` (:func:`window_edges`, compiled or as
-    Python): what :func:`._cn_plan._edges_batch` gives, bit for bit."""
-    from ._cn_plan import Edge, Window
-
+def compiled_window(
+    fn: Callable[..., None], pbs: list, plan: Any, taus: Any, tr: dict
+) -> tuple[Any, Any]:
+    """The window of the loads ``pbs`` along ``taus`` [Pa^2] from the walls' tracks ``tr``
+    (:func:`._cn_plan._tracks`), by ``fn`` (:func:`window_edges`, compiled or as Python):
+    ``(out, flags)`` of :func:`window_edges` (what :func:`._cn_plan._edges_batch` gives, bit
+    for bit, as rows)."""
     n, nb = taus.size - 1, len(pbs)
     chord_from = plan.zones[0][0] if plan.zones else math.inf
     out, flags = np.empty((10, nb, n)), np.empty((4, nb, n), dtype=bool)
@@ -35,9 +36,7 @@ def compiled_window(fn: Callable[..., None], pbs: list, plan: Any, taus: Any, tr
     fn(p0, float(plan.k), bool(plan.yield_wall), float(chord_from), taus, tr["mid"],
        tr["lo_m"], tr["up_m"], tr["lo"], tr["up"], tr["lo_va"], tr["lo_vb"], tr["up_va"],
        tr["up_vb"], tr["ys"], out, flags)  # fmt: skip
-    start = Edge(out[0], out[1], out[4], out[5], out[6])
-    end = Edge(out[2], out[3], out[7], out[8], out[9])
-    return Window(flags[0], flags[1], start, end, flags[3])
+    return out, flags
 
 
 ROWS = ("la", "wa", "lb", "wb", "lva", "wva", "ysa", "lvb", "wvb", "ysb")

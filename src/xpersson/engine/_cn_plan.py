@@ -5,13 +5,13 @@ their speeds) along them.  See :mod:`._cn` for the scheme."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _compiled
 from ._cn_edges import compiled_window
 from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
 from ._problem import Problem
@@ -333,13 +333,18 @@ class Window(NamedTuple):
     """``(loads, steps)`` bool: the speeds are the chord speeds of the step."""
 
 
-def _edges_batch(pbs: list[Problem], plan: _Plan, taus: Array) -> Window:
+def _edges_batch(
+    pbs: list[Problem], plan: _Plan, taus: Array, fast: Callable[..., None] | None = None
+) -> Window:
     """The window of the loads ``pbs`` (which share their walls) along ``taus`` [Pa^2] (by
-    the compiled loop once the compiled march is built: the same numbers)."""
+    the compiled loop ``fast``, :func:`._cn_edges.window_edges`, if given: the same
+    numbers)."""
     tr = _tracks(pbs[0], taus)  # the loads of a batch share their walls
-    fast = _compiled.edges()
     if fast is not None:
-        return compiled_window(fast, pbs, plan, taus, tr)
+        out, flags = compiled_window(fast, pbs, plan, taus, tr)
+        start = Edge(out[0], out[1], out[4], out[5], out[6])
+        end = Edge(out[2], out[3], out[7], out[8], out[9])
+        return Window(flags[0], flags[1], start, end, flags[3])
     eds = [_edges(pb, plan, taus, tr) for pb in pbs]
     if len(eds) == 1:
         ed = {key: val[None] for key, val in eds[0].items()}

@@ -8,7 +8,12 @@ levels). :func:`march_steps` does the same steps in one compiled loop: the expli
 flux form, the yield closure's rows, and the tridiagonal solve as LAPACK's ``dgtsv`` does it
 (Gaussian elimination with partial pivoting, the same operations in the same order), so the
 results equal the numpy path's (bit for bit where the compiler contracts no multiply-add;
-the tests hold them to 1e-12).
+the tests hold them to 1e-12). Built with it: the whole level in a few calls
+(:func:`fused`: :mod:`._moving_fused`, which also builds each step's diagonals and sums the
+wall fluxes in the loop) and the window's edges (:func:`edges`: :mod:`._cn_edges`); once few
+node-steps are left per level (accurate error control), the numpy calls around the steps were
+most of a level's time. Levels that want densities or report progress take
+:func:`march_steps` per block.
 
 numba is an optional accelerator (``pip install numba``): without it, or with
 ``xpersson.set_options(compiled=False)`` (environment ``XPERSSON_COMPILED=off``), the numpy
@@ -19,6 +24,13 @@ a sweep or a benchmark, pay at most twice the best of either path), the numpy pa
 that a few small solves never import numba (its import and loading cost about 0.4 s per
 process, the first compilation a few seconds; the compiled code is kept on disk by numba's own
 ``cache=True``); from then on every level of the process takes the compiled path.
+
+When to start was measured again with the fused level (``python -c``, CPU time, 2026-11-29):
+with the build on disk, numba's import costs 0.15 s and the kernels' first calls 0.2-0.4 s
+(LLVM's start-up, then ~10 ms per kernel); a first build costs 3.4 s. :data:`BUILD_AFTER`
+stays at the cost of loading a build kept on disk: starting sooner would make a short session
+pay more than it saves (rent or buy), and a build not yet on disk is paid once per installation
+(later processes load it). The choice changes no result: both paths give the same numbers.
 """
 
 from __future__ import annotations
@@ -28,6 +40,7 @@ from collections.abc import Callable
 from typing import Any
 
 from ..options import compiled_enabled
+from ._cnstep import _gtsv
 
 __all__ = ["BUILD_AFTER", "MIN_WORK", "build", "edges", "fused", "kernel", "march_steps"]
 
@@ -109,41 +122,6 @@ def _build() -> Callable[..., int] | None:
     level = jit(types.FunctionType(code, fused_scope, "level_march"))
     _STATE["level"] = (level, jit(fused_src.face_coefficients))
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
-
-
-def _gtsv(dl: Any, d: Any, du: Any, b: Any) -> int:  # pragma: no cover - compiled
-    """LAPACK ``dgtsv`` for one right-hand side, in place (``dl``, ``d``, ``du``, ``b`` of
-    lengths ``n - 1, n, n - 1, n``): its ``info`` (0, or the index of a zero pivot)."""
-    n = d.shape[0]
-    for i in range(n - 1):
-        if abs(d[i]) >= abs(dl[i]):  # no row interchange
-            if d[i] == 0.0:
-                return i + 1
-            fact = dl[i] / d[i]
-            d[i + 1] = d[i + 1] - fact * du[i]
-            b[i + 1] = b[i + 1] - fact * b[i]
-            if i < n - 2:
-                dl[i] = 0.0
-        else:  # interchange rows i and i + 1
-            fact = d[i] / dl[i]
-            d[i] = dl[i]
-            temp = d[i + 1]
-            d[i + 1] = du[i] - fact * temp
-            if i < n - 2:
-                dl[i] = du[i + 1]
-                du[i + 1] = -fact * dl[i]
-            du[i] = temp
-            temp = b[i]
-            b[i] = b[i + 1]
-            b[i + 1] = temp - fact * b[i + 1]
-    if d[n - 1] == 0.0:
-        return n
-    b[n - 1] = b[n - 1] / d[n - 1]
-    if n > 1:
-        b[n - 2] = (b[n - 2] - du[n - 2] * b[n - 1]) / d[n - 2]
-    for i in range(n - 3, -1, -1):
-        b[i] = (b[i] - du[i] * b[i + 1] - dl[i] * b[i + 2]) / d[i]
-    return 0
 
 
 def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path holds them

@@ -24,8 +24,9 @@ The step (theta = 1/2 Crank-Nicolson, 1 implicit Euler; ``wn = theta dt``,
   the nodes next to the walls and the end faces' coefficients the solve used.
 
 Cost: the operators of a block of steps are built at once (one BLAS product, see
-:func:`_block_system`); a step is then about ten numpy calls on preallocated buffers (their
-count is its cost on the small grids of the method).
+:func:`._moving_block.block_system`); a step is then about ten numpy calls on preallocated
+buffers (their count is its cost on the small grids of the method).  With the compiled march
+in force a level is a few compiled calls instead (:mod:`._moving_fused`, the same numbers).
 """
 
 from __future__ import annotations
@@ -52,7 +53,7 @@ from ._level import (
     system_rows,
 )
 from ._moving_block import Block, block_system
-from ._moving_fused import fused_level
+from ._moving_fused import _SNAP, _reduce_snapshots, fused_level
 from ._problem import Problem
 from ._progress import report as report_progress
 from ._progress import reported as progress_reported
@@ -66,9 +67,6 @@ _REPORT_EVERY = 64  # time steps between progress reports (see _progress)
 
 
 _BLOCK = 1 << 16  # operator entries built at once per array (steps x loads x nodes)
-
-
-_SNAP = 1 << 20  # largest output snapshot array (outputs x loads x nodes)
 
 
 class LevelInputs(NamedTuple):
@@ -107,7 +105,7 @@ def level_inputs(
     pb0 = pbs[0]
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
-    window = _edges_batch(pbs, plan, taus)
+    window = _edges_batch(pbs, plan, taus, _compiled.edges())
     nodes = level_nodes(n, stretch)
     return LevelInputs(taus, theta, out_at, nodes, window, p0, plan.k, plan.yield_wall, plan.image)
 
@@ -383,27 +381,6 @@ def _image_mass(lo: Array, up: Array, p0: Array, wall: float, t0: float) -> Arra
     direct = erf((up - p0) / s) - erf((lo - p0) / s)
     mirror = erf((up + p0 - 2.0 * wall) / s) - erf((lo + p0 - 2.0 * wall) / s)
     return 0.5 * (direct - mirror)
-
-
-def _reduce_snapshots(
-    snaps: Array, win: Window, x: Array, w: Array, out_at: Array
-) -> tuple[Array, Array]:
-    """Area ``int R dx`` and load ``int p R dx`` (``p = l + W x``) per output."""
-    n_out, nb = snaps.shape[0], win.start.lower.shape[0]
-    R = snaps.reshape(n_out, nb, x.size)
-    lv = _at_outputs(win.start.lower, win.end.lower, out_at)
-    wv = _at_outputs(win.start.width, win.end.width, out_at)
-    area = (R @ w).T
-    return area, lv * area + wv * (R @ (x * w)).T
-
-
-def _at_outputs(start: Array, end: Array, out_at: Array) -> Array:
-    """A window edge at the output steps: ``start[:, 0]`` at step 0, else ``end[:, m - 1]``
-    (``np.hstack([start[:, :1], end])[:, out_at]`` without building the whole)."""
-    v = end[:, out_at - 1]
-    if out_at.size and out_at[0] == 0:  # (sorted: only the first can be the start)
-        v[:, 0] = start[:, 0]
-    return v
 
 
 def _record(rec: _Record, st: _State, inp: LevelInputs, m: int, p_out: Array | None) -> None:

@@ -8,7 +8,7 @@ nodes, hundreds of steps) those numpy calls, not the node-steps, were most of a 
 Here the face coefficients are the same one BLAS product (:func:`._moving_block.face_ops`), and
 :func:`level_march` does the rest per step in one loop, in the numpy path's order: the end
 faces, the diagonal and the yield closure's rows, the explicit half in flux form, the
-tridiagonal solve as LAPACK ``dgtsv`` does it (:func:`._compiled._gtsv`), the wall fluxes
+tridiagonal solve as LAPACK ``dgtsv`` does it (:func:`._cnstep._gtsv`), the wall fluxes
 summed as it goes (as ``numpy.cumsum`` sums them) and the states at the outputs, reduced as the
 numpy path reduces them: the outputs equal the numpy path's (bit for bit where the compiler
 contracts no multiply-add; tested to 1e-12).
@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._compiled import _gtsv
+from ._cnstep import _gtsv
 from ._level import Level, Outputs, face_basis, system_rows
 
 __all__ = ["face_coefficients", "fused_level", "level_march"]
@@ -36,6 +36,8 @@ Array = NDArray[np.float64]
 
 _OPS = 1 << 18  # face coefficients built at once (steps x 4 x loads x nodes)
 
+_SNAP = 1 << 20  # largest output snapshot array (outputs x loads x nodes), both paths
+
 
 def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r0: Array,
                 stretch: float) -> Level | None:  # fmt: skip
@@ -43,8 +45,6 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
     ``r0`` (the loads concatenated) by ``fns``: :func:`level_march` and
     :func:`face_coefficients` (compiled, or as Python); None where the outputs' states would be
     too many to keep (the caller marches)."""
-    from ._moving import _SNAP, _reduce_snapshots
-
     march, coefficients = fns
     win, nodes = inp.window, inp.nodes
     s, e = win.start, win.end
@@ -79,6 +79,27 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
         up = np.hstack([s.lower[:, :1] + s.width[:, :1], e.lower + e.width])[:, inp.out_at]
         abs_u, mom_u = a_pl, up * a_pl
     return Level(Outputs(area, abs_l, abs_u, load, mom_l, mom_u, None), n_steps, nn)
+
+
+def _reduce_snapshots(
+    snaps: Array, win: Any, x: Array, w: Array, out_at: Array
+) -> tuple[Array, Array]:
+    """Area ``int R dx`` and load ``int p R dx`` (``p = l + W x``) per output."""
+    n_out, nb = snaps.shape[0], win.start.lower.shape[0]
+    R = snaps.reshape(n_out, nb, x.size)
+    lv = _at_outputs(win.start.lower, win.end.lower, out_at)
+    wv = _at_outputs(win.start.width, win.end.width, out_at)
+    area = (R @ w).T
+    return area, lv * area + wv * (R @ (x * w)).T
+
+
+def _at_outputs(start: Array, end: Array, out_at: Array) -> Array:
+    """A window edge at the output steps: ``start[:, 0]`` at step 0, else ``end[:, m - 1]``
+    (``np.hstack([start[:, :1], end])[:, out_at]`` without building the whole)."""
+    v = end[:, out_at - 1]
+    if out_at.size and out_at[0] == 0:  # (sorted: only the first can be the start)
+        v[:, 0] = start[:, 0]
+    return v
 
 
 def face_coefficients(  # noqa: PLR0913 - the window's arrays, as the Window holds them
