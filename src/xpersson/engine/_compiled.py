@@ -107,16 +107,16 @@ def _build() -> Callable[..., int] | None:
         import numba
     except ImportError:
         return None
+    from . import _cn_edges
     from . import _moving_fused as fused_src
 
     jit = numba.njit(cache=True, nogil=True, error_model="numpy")
     # the kernels call the compiled helpers: the same code, its globals bound to the dispatchers
     gtsv = jit(_gtsv)
     scope = {**globals(), "_gtsv": gtsv}
-    helpers = {name: jit(getattr(fused_src, name)) for name in ("_wall_fluxes", "_record")}
+    names = ("_diagonals", "_explicit", "_wall_fluxes", "_record")
+    helpers = {name: jit(getattr(fused_src, name)) for name in names}
     fused_scope = {**vars(fused_src), "_gtsv": gtsv, **helpers}
-    from . import _cn_edges
-
     _STATE["edges"] = jit(_cn_edges.window_edges)
     code = fused_src.level_march.__code__
     level = jit(types.FunctionType(code, fused_scope, "level_march"))

@@ -183,7 +183,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     upper one negated).
     """
     nb, nn = last.shape[0], ops.shape[3]
-    m, nf, n_out = nb * nn, nn - 1, out_at.shape[0]
+    m, n_out = nb * nn, out_at.shape[0]
     w_last = w[nn - 1]
     state, b, dg = r, np.empty(m), np.empty(m)  # the state and the next one swap buffers
     ends, g = np.empty((8, nb)), np.empty(nb)
@@ -196,32 +196,11 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
         dl, du, fl, fh = c[0].reshape(m), c[1].reshape(m), c[2].reshape(m), c[3].reshape(m)
         yields = False
         for k in range(nb):
-            base = k * nn
-            ends[0, k], ends[1, k] = dl[base], -du[base]
-            ends[2, k], ends[3, k] = dl[base + nf - 1], -du[base + nf - 1]
-            ends[4, k], ends[5, k] = fl[base], fh[base]
-            ends[6, k], ends[7, k] = fl[base + nf - 1], fh[base + nf - 1]
-            for j in range(1, nn - 1):
-                dg[base + j] = w[j] - dl[base + j] - du[base + j - 1]
-            gk = wb[k, i] * yield_speed[k, i] if yield_wall and real_upper[k, i] else 0.0
-            g[k] = gk
-            dg[base] = 1.0
-            dg[base + nn - 1] = 1.0 + gk * (w_last + ends[3, k])
-            dl[base + nf - 1] = gk * ends[2, k]
-            du[base] = 0.0
-            yields = yields or (yield_wall and real_upper[k, i])
-        # explicit half (flux form): b = w R + wo (F_{j+1/2} - F_{j-1/2}), F of the old state
-        b[0] = volumes[0] * state[0]
-        f_prev = fl[0] * state[0] + fh[0] * state[1]
-        for q in range(1, m - 1):
-            f = fl[q] * state[q] + fh[q] * state[q + 1]
-            b[q] = volumes[q] * state[q]
-            b[q] += f - f_prev
-            f_prev = f
-        b[m - 1] = volumes[m - 1] * state[m - 1]
-        if nb > 1:
-            for q in range(walls.shape[0]):
-                b[walls[q]] = 0.0
+            yr = yield_wall and real_upper[k, i]
+            g[k] = wb[k, i] * yield_speed[k, i] if yr else 0.0
+            _diagonals(dl, du, fl, fh, dg, w, k * nn, nn, ends, k, g[k])
+            yields = yields or yr
+        _explicit(b, state, fl, fh, volumes, walls, nb)
         if yields:
             for k in range(nb):
                 gk = g[k]
@@ -254,6 +233,46 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
             r[q] = state[q]
     pos[0] = j_out
     return 0
+
+
+def _diagonals(
+    dl: Any, du: Any, fl: Any, fh: Any, dg: Any, w: Any, base: int, nn: int, ends: Any, k: int,
+    gk: float,
+) -> None:  # fmt: skip  # pragma: no cover - compiled
+    """Load ``k``'s rows of a step's system (as :func:`._moving_block.block_system` makes
+    them): its end faces' coefficients into ``ends[:, k]``, the diagonal ``dg``, and the
+    closure ``R_N = g A_pl`` (``gk``: 0 where no yield wall is real) in its last row, on the
+    face coefficients ``dl``, ``du`` (overwritten there), ``fl``, ``fh``."""
+    nf = nn - 1
+    ends[0, k], ends[1, k] = dl[base], -du[base]
+    ends[2, k], ends[3, k] = dl[base + nf - 1], -du[base + nf - 1]
+    ends[4, k], ends[5, k] = fl[base], fh[base]
+    ends[6, k], ends[7, k] = fl[base + nf - 1], fh[base + nf - 1]
+    for j in range(1, nn - 1):
+        dg[base + j] = w[j] - dl[base + j] - du[base + j - 1]
+    dg[base] = 1.0
+    dg[base + nn - 1] = 1.0 + gk * (w[nn - 1] + ends[3, k])
+    dl[base + nf - 1] = gk * ends[2, k]
+    du[base] = 0.0
+
+
+def _explicit(
+    b: Any, state: Any, fl: Any, fh: Any, volumes: Any, walls: Any, nb: int
+) -> None:  # pragma: no cover - compiled
+    """The explicit half in flux form, ``b = w R + wo (F_{j+1/2} - F_{j-1/2})`` with the face
+    fluxes ``F`` of ``state`` (the walls' identity rows 0), as the numpy path sums it."""
+    m = b.shape[0]
+    b[0] = volumes[0] * state[0]
+    f_prev = fl[0] * state[0] + fh[0] * state[1]
+    for q in range(1, m - 1):
+        f = fl[q] * state[q] + fh[q] * state[q + 1]
+        b[q] = volumes[q] * state[q]
+        b[q] += f - f_prev
+        f_prev = f
+    b[m - 1] = volumes[m - 1] * state[m - 1]
+    if nb > 1:
+        for q in range(walls.shape[0]):
+            b[walls[q]] = 0.0
 
 
 def _wall_fluxes(
