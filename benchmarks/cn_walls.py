@@ -25,6 +25,9 @@ measurements run for the tree of git revision ``REV`` (exported to a temporary f
 this tree in alternating child processes, so that both see the same machine load; the table
 then has both.
 
+:func:`levels_of` (the levels the engine marched) and :func:`engine_call_of` (the engine's own
+call on the problem the pipeline prepared) are also the spies of ``summary.py``'s C-march rows.
+
 Usage: ``python benchmarks/cn_walls.py [--rounds 5] [--before REV]``; writes
 ``benchmarks/results/cn_walls.md``.
 """

@@ -170,3 +170,27 @@ def test_compiled_window_is_bitwise_and_level_equal(monkeypatch):
         ):
             np.testing.assert_array_equal(have, want)
         _assert_same(ref.outputs, got.outputs)
+
+
+@pytest.mark.parametrize("name", ["yield closure, batch", "two walls", "breakpoint lower"])
+def test_fused_level_in_blocks_equals_numpy_march(name, monkeypatch):
+    """A level marched in blocks of 3 steps (the state, the yield rows, the wall sums and the
+    next output carried from call to call; an odd block leaves the state in the other buffer)
+    gives the numpy path's outputs."""
+    from xpersson.engine import _moving_fused
+
+    lower, upper, p0 = CASES[name]
+    with xpersson.set_options(compiled=False):
+        ref = _outputs(name, mult=2)
+    nn = 2 * 12 + 1  # the level's nodes (n_base 12, mult 2)
+    monkeypatch.setattr(_moving_fused, "_OPS", 3 * 4 * len(p0) * nn)
+    calls = []
+
+    def level(*args):
+        calls.append(args[:2])
+        return _moving_fused.level_march(*args)
+
+    monkeypatch.setattr(_compiled, "kernel", lambda work, *_: _compiled.march_steps)
+    monkeypatch.setattr(_compiled, "fused", lambda: (level, _moving_fused.face_coefficients))
+    _assert_same(ref, _outputs(name, mult=2))
+    assert len(calls) > 2 and all(i1 - i0 <= 3 for i0, i1 in calls)
