@@ -25,6 +25,9 @@ measurements run for the tree of git revision ``REV`` (exported to a temporary f
 this tree in alternating child processes, so that both see the same machine load; the table
 then has both.
 
+:func:`levels_of` (the levels the engine marched) and :func:`engine_call_of` (the engine's own
+call on the problem the pipeline prepared) are also the spies of ``summary.py``'s C-march rows.
+
 Usage: ``python benchmarks/cn_walls.py [--rounds 5] [--before REV]``; writes
 ``benchmarks/results/cn_walls.md``.
 """
@@ -116,6 +119,31 @@ def levels_of(scene: dict) -> list[tuple[int, int, int]]:
     finally:
         _cn._march = orig
     return seen
+
+
+def engine_call_of(scene: dict):
+    """The engine's own call for ``scene``: ``xpersson.engine.solve_batch`` with the arguments
+    the pipeline prepared (walls, diffusion times, loads, tolerances), as a callable that
+    repeats it (the march of :func:`levels_of` without the pipeline around it)."""
+    import xpersson
+    from xpersson import engine
+
+    calls: list[tuple[tuple, dict]] = []
+    orig = engine.solve_batch
+
+    def spy(*args, **kwargs):
+        calls.append((args, kwargs))
+        return orig(*args, **kwargs)
+
+    engine.solve_batch = spy
+    try:
+        xpersson.solve(scene)
+    finally:
+        engine.solve_batch = orig
+    if len(calls) != 1:
+        raise RuntimeError(f"the scene made {len(calls)} engine calls, not one")
+    args, kwargs = calls[0]
+    return lambda: orig(*args, **kwargs)
 
 
 def bare_steps(levels: list[tuple[int, int, int]]) -> None:

@@ -40,8 +40,11 @@ TARGETS = {
     "1000 load strings vs range": ("x", 1.5),
     "jkr, one load vs C march": ("ms", 5),
     "plastic_scale_dependent vs C march": ("ms", 20),
+    "jkr, one load: engine alone vs C march": ("ms", 5),
     "engine (jkr) vs C march, rtol 1e-6": ("x", 3),
+    "engine alone (jkr) vs C march, rtol 1e-6": ("x", 3),
     "engine (jkr) vs C march, rtol 1e-8": ("x", 3),
+    "engine alone (jkr) vs C march, rtol 1e-8": ("x", 3),
     "friction curve, 50 speeds vs kernel": ("x", 5),
     "LocalCluster(2) wall vs serial wall": ("x", 1.1),
     "LocalCluster(2) wall vs serial wall, above the threshold": ("x", 1),
@@ -196,48 +199,91 @@ def c_march_lib(peers: Path):
     return lib
 
 
-def _vs_march(lib, sc: dict, loads: int, rounds: int, strict: bool) -> dict:
-    """``xpersson.solve(sc)`` against the C march over the grid levels it marched."""
-    from cn_walls import levels_of  # the project's spy on the engine's cn march
+def _repeated(fn, seconds: float = 0.02):
+    """``fn`` run often enough to take about ``seconds`` of CPU time, and the count (a timed
+    call of a millisecond is mostly the clock's and the machine's noise)."""
+    one = min(cpu(fn) for _ in range(3))
+    n = max(1, int(seconds / max(one, 1e-6)))
+
+    def many() -> None:
+        for _ in range(n):
+            fn()
+
+    return many, n
+
+
+def _vs_march(lib, sc: dict, loads: int, rounds: int, strict: bool, how: str) -> tuple[dict, dict]:
+    """``xpersson.solve(sc)`` and the engine's own call on the problem the pipeline prepared
+    (:func:`cn_walls.engine_call_of`) against the C march over the grid levels the engine
+    marched; ``how`` names the march in force (compiled or numpy)."""
+    from cn_walls import engine_call_of, levels_of  # the project's spies on the engine
     from march_vs_engine import c_march
 
     levels = levels_of(sc)
     if not levels and strict:
         raise RuntimeError("no cn level marched (another method)")
-    if not levels:  # another method than cn (closed form, sine): its time against itself
-        t = best({"s": lambda: xpersson.solve(sc)}, rounds)["s"]
-        ms = t / loads * 1e3
-        return _ratio(t, t, per_load_ms=ms, note=f"({ms:.1f} ms/load; no cn level marched)")
-    t = best({"s": lambda: xpersson.solve(sc), "k": lambda: c_march(lib, levels)}, rounds)
-    ms = t["s"] / loads * 1e3
-    steps = sum(a * b * c for a, b, c in levels)
-    note = f"({ms:.1f} ms/load, {steps:.2g} node-steps)"
-    return _ratio(t["s"], t["k"], per_load_ms=ms, note=note)
+    engine = engine_call_of(sc)
+    fns = {"s": lambda: xpersson.solve(sc), "e": engine}
+    if levels:
+        fns["k"] = lambda: c_march(lib, levels)
+    reps = {k: _repeated(fn) for k, fn in fns.items()}
+    t = best({k: many for k, (many, _) in reps.items()}, rounds)
+    t = {k: t[k] / reps[k][1] for k in t}
+    out = []
+    for key in ("s", "e"):
+        ms = t[key] / loads * 1e3
+        if not levels:  # another method than cn (closed form, sine): its time against itself
+            note = f"({ms:.1f} ms/load; no cn level marched)"
+            out.append(_ratio(t[key], t[key], per_load_ms=ms, note=note))
+            continue
+        steps = sum(a * b * c for a, b, c in levels)
+        note = f"({ms:.1f} ms/load, {steps:.2g} node-steps, {how} march)"
+        out.append(_ratio(t[key], t["k"], per_load_ms=ms, note=note))
+    return out[0], out[1]
+
+
+def _march_cases(spec: dict) -> dict[str, tuple[dict, int, str | None]]:
+    """name -> (scene, loads, name of its engine-alone row or None) on one design spectrum."""
+    jkr = scene(spec, "1000 Pa", boundary=JKR)
+    jkr["material"] = dict(JKR_MATERIAL)
+    plastic = scene(spec, ["5 MPa", "20 MPa", "100 MPa"], boundary=PLASTIC)
+    plastic["material"] = dict(STEEL)
+    cases = {
+        "jkr, one load vs C march": (jkr, 1, "jkr, one load: engine alone vs C march"),
+        "plastic_scale_dependent vs C march": (plastic, 3, None),
+    }
+    for rtol in ("1e-6", "1e-8"):  # the engine's cn march (as the peer's jkr scene)
+        tight = copy.deepcopy(jkr)
+        tight["solver"] = {"rtol": float(rtol), "method": "cn"}
+        tight["output"] = {"zeta_per_decade": 4}
+        alone = f"engine alone (jkr) vs C march, rtol {rtol}"
+        cases[f"engine (jkr) vs C march, rtol {rtol}"] = (tight, 1, alone)
+    return cases
 
 
 def march_paths(lib, scenes, rounds: int, quick: bool) -> dict:
-    """jkr (one load), plastic_scale_dependent (3 loads), jkr at rtol 1e-6 / 1e-8 vs C."""
+    """jkr (one load), plastic_scale_dependent (3 loads), jkr at rtol 1e-6 / 1e-8 vs C: through
+    ``xpersson.solve`` and (jkr) the engine's own call alone, both with the compiled march in
+    force (built here when numba is present: the rows measure the engine near its limit, not
+    the numpy march a short process would run before the compiled one pays)."""
+    from xpersson.engine import _compiled
+
+    how = "compiled" if _compiled.build() else "numpy (no numba)"
     out: dict[str, dict] = {k: {} for k in TARGETS if "C march" in k}
     for label, spec in scenes[: 4 if quick else len(scenes)]:
-        jkr = scene(spec, "1000 Pa", boundary=JKR)
-        jkr["material"] = dict(JKR_MATERIAL)
-        plastic = scene(spec, ["5 MPa", "20 MPa", "100 MPa"], boundary=PLASTIC)
-        plastic["material"] = dict(STEEL)
-        cases = {
-            "jkr, one load vs C march": (jkr, 1),
-            "plastic_scale_dependent vs C march": (plastic, 3),
-        }
-        for rtol in ("1e-6", "1e-8"):  # the engine's cn march (as the peer's jkr scene)
-            tight = copy.deepcopy(jkr)
-            tight["solver"] = {"rtol": float(rtol), "method": "cn"}
-            tight["output"] = {"zeta_per_decade": 4}
-            cases[f"engine (jkr) vs C march, rtol {rtol}"] = (tight, 1)
-        for name, (sc, loads) in cases.items():
+        for name, (sc, loads, alone) in _march_cases(spec).items():
             try:
-                out[name][label] = _vs_march(lib, sc, loads, rounds, "rtol" in name)
+                res, res_alone = _vs_march(lib, sc, loads, rounds, "rtol" in name, how)
+                out[name][label] = res
+                if alone is not None:
+                    out[alone][label] = res_alone
             except Exception as exc:  # noqa: BLE001 - reported in the table
                 out[name][label] = {"error": f"{type(exc).__name__}: {str(exc)[:160]}"}
+                if alone is not None:
+                    out[alone][label] = out[name][label]
             print(f"{label:22s} {name:34s} {out[name][label].get('note', out[name][label])}")
+            if alone is not None:
+                print(f"{label:22s} {alone:34s} {out[alone][label].get('note', '')}", flush=True)
     return out
 
 

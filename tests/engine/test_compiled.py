@@ -70,8 +70,29 @@ def test_python_kernel_equals_numpy_march(name, monkeypatch):
         return _compiled.march_steps(*args)
 
     monkeypatch.setattr(_compiled, "kernel", lambda work, *_: kernel)
+    monkeypatch.setattr(_compiled, "fused", lambda: None)  # the per-block compiled steps
     _assert_same(ref, _outputs(name))
     assert calls  # the kernel ran
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_python_fused_level_equals_numpy_march(name, monkeypatch):
+    """The fused level (coefficients, steps, wall sums and outputs in one loop), run as plain
+    Python: the numpy path's outputs to 1e-12 (bitwise here: the same operations)."""
+    from xpersson.engine import _moving_fused
+
+    with xpersson.set_options(compiled=False):
+        ref = _outputs(name, mult=2)
+    calls = []
+
+    def level(*args):
+        calls.append(1)
+        return _moving_fused.level_march(*args)
+
+    monkeypatch.setattr(_compiled, "kernel", lambda work, *_: _compiled.march_steps)
+    monkeypatch.setattr(_compiled, "fused", lambda: (level, _moving_fused.face_coefficients))
+    _assert_same(ref, _outputs(name, mult=2))
+    assert calls  # the fused level ran
 
 
 def test_off_switch_and_small_levels_keep_numpy(monkeypatch):
@@ -105,4 +126,71 @@ def test_compiled_kernel_equals_numpy_march(name, monkeypatch):
     assert _compiled.kernel(1.0) is not None
     with xpersson.set_options(compiled=False):
         ref = _outputs(name, mult=2)
+    assert _compiled.fused() is not None  # built with the march: whole levels compiled
     _assert_same(ref, _outputs(name, mult=2))
+    monkeypatch.setattr(_compiled, "fused", lambda: None)  # and the per-block steps
+    _assert_same(ref, _outputs(name, mult=2))
+
+
+def _window_arrays(win) -> list:
+    return [win.real_lower, win.real_upper, *win.start, *win.end, win.chord]
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_window_edges_equal_numpy_edges(name, monkeypatch):
+    """The window of the compiled path (one loop over loads and steps, here run as plain
+    Python) is the numpy path's, bit for bit: regimes, edges, speeds, chords."""
+    from xpersson.engine import _cn_edges
+
+    lower, upper, p0 = CASES[name]
+    with xpersson.set_options(compiled=False):
+        ref = _level(lower, upper, p0, mult=2)[0].window
+    monkeypatch.setattr(_compiled, "edges", lambda: _cn_edges.window_edges)
+    got = _level(lower, upper, p0, mult=2)[0].window
+    for want, have in zip(_window_arrays(ref), _window_arrays(got), strict=True):
+        assert have.shape == want.shape and have.dtype == want.dtype
+        np.testing.assert_array_equal(have, want)
+
+
+def test_compiled_window_is_bitwise_and_level_equal(monkeypatch):
+    """With numba, the compiled window is the numpy path's bit for bit, and the fused level's
+    outputs equal the numpy march's (to 1e-12: its solve is LAPACK's algorithm recompiled;
+    bit for bit on the development machine) on a batch with a yield closure and on a graded
+    (breakpoint) march."""
+    pytest.importorskip("numba")
+    assert _compiled.build() and _compiled.edges() is not None
+    for name in ("yield closure, batch", "breakpoint lower"):
+        lower, upper, p0 = CASES[name]
+        with xpersson.set_options(compiled=False):
+            inp_ref, ref = _level(lower, upper, p0, mult=2)
+        monkeypatch.setattr(_compiled, "MIN_WORK", 0)
+        inp, got = _level(lower, upper, p0, mult=2)
+        for want, have in zip(
+            _window_arrays(inp_ref.window), _window_arrays(inp.window), strict=True
+        ):
+            np.testing.assert_array_equal(have, want)
+        _assert_same(ref.outputs, got.outputs)
+
+
+@pytest.mark.parametrize("name", ["yield closure, batch", "two walls", "breakpoint lower"])
+def test_fused_level_in_blocks_equals_numpy_march(name, monkeypatch):
+    """A level marched in blocks of 3 steps (the state, the yield rows, the wall sums and the
+    next output carried from call to call; an odd block leaves the state in the other buffer)
+    gives the numpy path's outputs."""
+    from xpersson.engine import _moving_fused
+
+    lower, upper, p0 = CASES[name]
+    with xpersson.set_options(compiled=False):
+        ref = _outputs(name, mult=2)
+    nn = 2 * 12 + 1  # the level's nodes (n_base 12, mult 2)
+    monkeypatch.setattr(_moving_fused, "_OPS", 3 * 4 * len(p0) * nn)
+    calls = []
+
+    def level(*args):
+        calls.append(args[:2])
+        return _moving_fused.level_march(*args)
+
+    monkeypatch.setattr(_compiled, "kernel", lambda work, *_: _compiled.march_steps)
+    monkeypatch.setattr(_compiled, "fused", lambda: (level, _moving_fused.face_coefficients))
+    _assert_same(ref, _outputs(name, mult=2))
+    assert len(calls) > 2 and all(i1 - i0 <= 3 for i0, i1 in calls)

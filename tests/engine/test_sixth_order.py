@@ -109,6 +109,27 @@ def test_bracketed_roots_match_brentq():
     assert r[0] == 2.0 ** (1 / 3) and np.isnan(r[1])
 
 
+def test_few_brackets_on_floats_equal_the_array_steps(monkeypatch):
+    """Up to a few brackets each is stepped on Python floats: the same roots, bit for bit, as
+    the array steps over all brackets (also a NaN-valued function and a bracket end)."""
+    from xpersson.engine import _cn_kinks
+
+    targets = np.array([2.0, 3.0, 10.0, 0.5])
+
+    def f(t, idx):
+        v = t**3 - targets[idx]
+        return np.where(t > 3.9, np.nan, v)  # (the last bracket meets NaN)
+
+    a, b = np.array([0.1, 0.1, 0.1, 3.0]), np.array([4.0, 4.0, 4.0, 3.95])
+    fa, fb = f(a, np.arange(4)), np.array([1.0, 1.0, 1.0, -1.0])  # a sign change each
+    assert _cn_kinks._SCALAR_ROOTS >= 4
+    floats = _cn_kinks._bracketed_roots(f, a, b, fa, fb, 1e-15 * b)
+    monkeypatch.setattr(_cn_kinks, "_SCALAR_ROOTS", 0)
+    arrays = _cn_kinks._bracketed_roots(f, a, b, fa, fb, 1e-15 * b)
+    np.testing.assert_array_equal(floats, arrays)
+    assert np.isfinite(floats[:3]).all()
+
+
 def test_switch_times_of_a_linear_wall_closed_form():
     """The wall -(s0 + c tau) meets the window edge p0 - k sqrt(2 tau) where
     (c/2) s^2 - k s + (s0 + p0) = 0, s = sqrt(2 tau): both roots, for every load."""

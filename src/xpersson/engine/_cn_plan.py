@@ -5,12 +5,15 @@ their speeds) along them.  See :mod:`._cn` for the scheme."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ._cn_edges import compiled_window
+from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
 from ._problem import Problem
 
 __all__ = [
@@ -25,6 +28,7 @@ __all__ = [
     "_start_time",
     "_switch_times",
     "_switch_times_batch",
+    "_bracketed_roots",
 ]
 
 Array = NDArray[np.float64]
@@ -86,73 +90,6 @@ def _exact_start(pbs: list[Problem], k: float, tau_s: float) -> tuple[float, flo
     return t_w, float(lo.at(np.zeros(1))[0])
 
 
-def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float]:
-    """Times where a real wall enters/leaves the window (kinks of the window edges)."""
-    return _switch_times_batch([pb], k, t_lo, t_hi)
-
-
-def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) -> list[float]:
-    """:func:`_switch_times` of every load of a batch (they share their walls): the edge gaps
-    sampled at 513 log-spaced times, every sign change then polished to ``1e-15 tau`` by one
-    vectorised bracketed root-finder over all loads and walls (:func:`_bracketed_roots`)."""
-    if not t_hi > t_lo:
-        return []
-    cand = t_lo * np.logspace(0.0, math.log10(t_hi / t_lo), 513)
-    pb = pbs[0]
-    p0 = np.array([p.p0 for p in pbs])
-    lo, up = pb.wall_positions(cand)
-    s = np.sqrt(2.0 * cand)
-    out: list[float] = []
-    for wall, pos, sign in ((pb.lower, lo, -1.0), (pb.upper, up, 1.0)):
-        if wall is None:
-            continue
-        g = pos[None, :] - (p0[:, None] + sign * k * s[None, :])
-        sg = np.sign(g)
-        il, ic = np.nonzero(sg[:, :-1] != sg[:, 1:])
-        if il.size == 0:
-            continue
-        pp = p0[il]
-
-        def gap(t: Array, idx: Array, wall=wall, sign=sign, pp=pp) -> Array:
-            return wall.at(t) - (pp[idx] + sign * k * np.sqrt(2.0 * t))
-
-        b = cand[ic + 1]
-        roots = _bracketed_roots(gap, cand[ic], b, g[il, ic], g[il, ic + 1], 1e-15 * b)
-        out.extend(float(t) for t in roots[np.isfinite(roots)])
-    return out
-
-
-def _bracketed_roots(f, a: Array, b: Array, fa: Array, fb: Array, xtol: Array) -> Array:
-    """Roots of ``f(t, idx)`` (values at ``t`` of the brackets ``idx``) in the brackets
-    ``[a, b]`` (``fa``, ``fb`` of opposite signs or 0), to ``|b - a| <= xtol``, all at once.
-
-    Illinois (regula falsi halving the retained end's value: superlinear, and the far end
-    moves), with steps of at least ``xtol`` towards the far end (as Brent's method: the
-    bracket then closes around the root).  A bracket without a sign change gives NaN.
-    """
-    a, b, fa, fb = (np.array(v, dtype=float) for v in (a, b, fa, fb))
-    root = np.where(fb == 0, b, np.where(fa == 0, a, np.nan))
-    live = np.isnan(root) & (np.sign(fa) * np.sign(fb) < 0)
-    for _ in range(200):
-        idx = np.flatnonzero(live)
-        if idx.size == 0:
-            break
-        a_, b_, fa_, fb_, xt = a[idx], b[idx], fa[idx], fb[idx], xtol[idx]
-        c = b_ - fb_ * (b_ - a_) / (fb_ - fa_)
-        nudge = np.minimum(xt, 0.5 * np.abs(a_ - b_))
-        c = np.where(np.abs(c - b_) < nudge, b_ + np.copysign(nudge, a_ - b_), c)
-        fc = np.asarray(f(c, idx), dtype=float)
-        flip = np.sign(fc) * np.sign(fb_) < 0  # the root lies between c and b
-        new_a = np.where(flip, b_, a_)
-        fa[idx] = np.where(flip, fb_, 0.5 * fa_)
-        a[idx], b[idx], fb[idx] = new_a, c, fc
-        hit = (fc == 0) | (np.abs(c - new_a) <= xt) | ~np.isfinite(fc)
-        if hit.any():
-            root[idx[hit]] = np.where(np.isfinite(fc[hit]), c[hit], np.nan)
-            live[idx[hit]] = False
-    return root
-
-
 def _level_times(
     base: Array, nsub: int, n_ie: int, zones: tuple[tuple[float, float], ...] = ()
 ) -> tuple[Array, Array]:
@@ -209,7 +146,11 @@ def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
 
 
 def _wall_speeds(
-    wall, tau: Array, probed: tuple[Array, Array] | None = None, p_end: float | None = None
+    wall,
+    tau: Array,
+    probed: tuple[Array, Array] | None = None,
+    p_end: float | None = None,
+    probe: tuple[Array, Array] | None = None,
 ) -> tuple[Array, Array]:
     """dp_w/dtau [1/Pa] of a wall at ``tau`` just before and just after (declared, or by central
     differences).
@@ -220,7 +161,8 @@ def _wall_speeds(
     of the sequence (a clock clipped at ``zeta_max`` stops it there, and a central difference
     then gives half the speed: a first-order error at the last output, which no Richardson
     combination cancels).  ``probed``: the wall's positions at the times of
-    :func:`_probe_times`, ``p_end`` its position at ``tau[-1]`` (evaluated here unless given).
+    :func:`_probe_times` (``probe``, computed here unless given), ``p_end`` its position at
+    ``tau[-1]`` (evaluated here unless given).
     """
     if wall is None or wall.is_fixed:
         z = np.zeros_like(tau)
@@ -231,7 +173,7 @@ def _wall_speeds(
     if wall.motion is not None:
         v = np.full_like(tau, wall.motion[1])
         return v, v
-    hi, lo = _probe_times(wall, tau)
+    hi, lo = _probe_times(wall, tau) if probe is None else probe
     if probed is None:
         p = wall.at(np.concatenate([hi, lo, tau[-1:]]))  # one call of the wall
         probed, p_end = (p[: tau.size], p[tau.size : -1]), float(p[-1])
@@ -270,7 +212,7 @@ def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Arr
     p = wall.at(np.concatenate(parts))
     n, m = mid.size, taus.size
     probed = None if probe is None else (p[n + m : n + 2 * m], p[n + 2 * m :])
-    vb, va = _wall_speeds(wall, taus, probed, float(p[n + m - 1]))
+    vb, va = _wall_speeds(wall, taus, probed, float(p[n + m - 1]), probe)
     return p[:n], p[n : n + m], vb, va
 
 
@@ -391,9 +333,18 @@ class Window(NamedTuple):
     """``(loads, steps)`` bool: the speeds are the chord speeds of the step."""
 
 
-def _edges_batch(pbs: list[Problem], plan: _Plan, taus: Array) -> Window:
-    """The window of the loads ``pbs`` (which share their walls) along ``taus`` [Pa^2]."""
+def _edges_batch(
+    pbs: list[Problem], plan: _Plan, taus: Array, fast: Callable[..., None] | None = None
+) -> Window:
+    """The window of the loads ``pbs`` (which share their walls) along ``taus`` [Pa^2] (by
+    the compiled loop ``fast``, :func:`._cn_edges.window_edges`, if given: the same
+    numbers)."""
     tr = _tracks(pbs[0], taus)  # the loads of a batch share their walls
+    if fast is not None:
+        out, flags = compiled_window(fast, pbs, plan, taus, tr)
+        start = Edge(out[0], out[1], out[4], out[5], out[6])
+        end = Edge(out[2], out[3], out[7], out[8], out[9])
+        return Window(flags[0], flags[1], start, end, flags[3])
     eds = [_edges(pb, plan, taus, tr) for pb in pbs]
     if len(eds) == 1:
         ed = {key: val[None] for key, val in eds[0].items()}

@@ -11,11 +11,13 @@ march (:mod:`._moving`, ``cn``) and by :func:`~xpersson.engine.solve_sourced`
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg.lapack import dgtsv
 
-__all__ = ["implicit_operator", "tridiagonal_solve"]
+__all__ = ["implicit_operator", "tridiagonal_solve"]  # (and _gtsv: the compiled path's source)
 
 Array = NDArray[np.float64]
 
@@ -51,3 +53,38 @@ def implicit_operator(
     """Diagonals of ``I - theta_dt L`` for ``L`` with rows ``lo_j R_{j-1} + diag_j R_j +
     up_j R_{j+1}`` (``lo[0]`` and ``up[-1]`` unused); ``theta_dt`` [Pa^2]."""
     return -theta_dt * lo[1:], 1.0 - theta_dt * diag, -theta_dt * up[:-1]
+
+
+def _gtsv(dl: Any, d: Any, du: Any, b: Any) -> int:  # pragma: no cover - compiled
+    """LAPACK ``dgtsv`` for one right-hand side, in place (``dl``, ``d``, ``du``, ``b`` of
+    lengths ``n - 1, n, n - 1, n``): its ``info`` (0, or the index of a zero pivot)."""
+    n = d.shape[0]
+    for i in range(n - 1):
+        if abs(d[i]) >= abs(dl[i]):  # no row interchange
+            if d[i] == 0.0:
+                return i + 1
+            fact = dl[i] / d[i]
+            d[i + 1] = d[i + 1] - fact * du[i]
+            b[i + 1] = b[i + 1] - fact * b[i]
+            if i < n - 2:
+                dl[i] = 0.0
+        else:  # interchange rows i and i + 1
+            fact = d[i] / dl[i]
+            d[i] = dl[i]
+            temp = d[i + 1]
+            d[i + 1] = du[i] - fact * temp
+            if i < n - 2:
+                dl[i] = du[i + 1]
+                du[i + 1] = -fact * dl[i]
+            du[i] = temp
+            temp = b[i]
+            b[i] = b[i + 1]
+            b[i + 1] = temp - fact * b[i + 1]
+    if d[n - 1] == 0.0:
+        return n
+    b[n - 1] = b[n - 1] / d[n - 1]
+    if n > 1:
+        b[n - 2] = (b[n - 2] - du[n - 2] * b[n - 1]) / d[n - 2]
+    for i in range(n - 3, -1, -1):
+        b[i] = (b[i] - du[i] * b[i + 1] - dl[i] * b[i + 2]) / d[i]
+    return 0

@@ -8,7 +8,12 @@ levels). :func:`march_steps` does the same steps in one compiled loop: the expli
 flux form, the yield closure's rows, and the tridiagonal solve as LAPACK's ``dgtsv`` does it
 (Gaussian elimination with partial pivoting, the same operations in the same order), so the
 results equal the numpy path's (bit for bit where the compiler contracts no multiply-add;
-the tests hold them to 1e-12).
+the tests hold them to 1e-12). Built with it: the whole level in a few calls
+(:func:`fused`: :mod:`._moving_fused`, which also builds each step's diagonals and sums the
+wall fluxes in the loop) and the window's edges (:func:`edges`: :mod:`._cn_edges`); once few
+node-steps are left per level (accurate error control), the numpy calls around the steps were
+most of a level's time. Levels that want densities or report progress take
+:func:`march_steps` per block.
 
 numba is an optional accelerator (``pip install numba``): without it, or with
 ``xpersson.set_options(compiled=False)`` (environment ``XPERSSON_COMPILED=off``), the numpy
@@ -19,6 +24,13 @@ a sweep or a benchmark, pay at most twice the best of either path), the numpy pa
 that a few small solves never import numba (its import and loading cost about 0.4 s per
 process, the first compilation a few seconds; the compiled code is kept on disk by numba's own
 ``cache=True``); from then on every level of the process takes the compiled path.
+
+When to start was measured again with the fused level (``python -c``, CPU time, 2026-11-29):
+with the build on disk, numba's import costs 0.15 s and the kernels' first calls 0.2-0.4 s
+(LLVM's start-up, then ~10 ms per kernel); a first build costs 3.4 s. :data:`BUILD_AFTER`
+stays at the cost of loading a build kept on disk: starting sooner would make a short session
+pay more than it saves (rent or buy), and a build not yet on disk is paid once per installation
+(later processes load it). The choice changes no result: both paths give the same numbers.
 """
 
 from __future__ import annotations
@@ -28,8 +40,9 @@ from collections.abc import Callable
 from typing import Any
 
 from ..options import compiled_enabled
+from ._cnstep import _gtsv
 
-__all__ = ["BUILD_AFTER", "MIN_WORK", "march_steps", "kernel"]
+__all__ = ["BUILD_AFTER", "MIN_WORK", "build", "edges", "fused", "kernel", "march_steps"]
 
 MIN_WORK = 500_000
 """Node-steps of a level below which the numpy path runs (no numba import for small solves)."""
@@ -63,50 +76,52 @@ def kernel(work: float, steps: int = 0, nodes: int = 0) -> Callable[..., int] | 
     return _STATE["fn"]  # type: ignore[no-any-return]
 
 
+def build() -> bool:
+    """Build the compiled march now, whatever the work so far (for benchmarks that measure the
+    engine with it in force); whether it is in force (False: the option is off or numba is
+    missing)."""
+    if not compiled_enabled():
+        return False
+    if "fn" not in _STATE:
+        _STATE["fn"] = _build()
+    return _STATE["fn"] is not None
+
+
+def edges() -> Callable[..., None] | None:
+    """The compiled :func:`._cn_edges.window_edges` once the compiled march is built and the
+    option is on, else None (the numpy edges: the same numbers)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("edges")
+
+
+def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
+    """The compiled :func:`._moving_fused.level_march` and
+    :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
+    :func:`kernel`'s march: None until then (or without numba)."""
+    return _STATE.get("level")
+
+
 def _build() -> Callable[..., int] | None:
     try:
         import numba
     except ImportError:
         return None
+    from . import _cn_edges
+    from . import _moving_fused as fused_src
+
     jit = numba.njit(cache=True, nogil=True, error_model="numpy")
-    # march_steps calls the compiled _gtsv: the same code, its global bound to the dispatcher
-    scope = {**globals(), "_gtsv": jit(_gtsv)}
+    # the kernels call the compiled helpers: the same code, its globals bound to the dispatchers
+    gtsv = jit(_gtsv)
+    scope = {**globals(), "_gtsv": gtsv}
+    names = ("_diagonals", "_explicit", "_wall_fluxes", "_record")
+    helpers = {name: jit(getattr(fused_src, name)) for name in names}
+    fused_scope = {**vars(fused_src), "_gtsv": gtsv, **helpers}
+    _STATE["edges"] = jit(_cn_edges.window_edges)
+    code = fused_src.level_march.__code__
+    level = jit(types.FunctionType(code, fused_scope, "level_march"))
+    _STATE["level"] = (level, jit(fused_src.face_coefficients))
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
-
-
-def _gtsv(dl: Any, d: Any, du: Any, b: Any) -> int:  # pragma: no cover - compiled
-    """LAPACK ``dgtsv`` for one right-hand side, in place (``dl``, ``d``, ``du``, ``b`` of
-    lengths ``n - 1, n, n - 1, n``): its ``info`` (0, or the index of a zero pivot)."""
-    n = d.shape[0]
-    for i in range(n - 1):
-        if abs(d[i]) >= abs(dl[i]):  # no row interchange
-            if d[i] == 0.0:
-                return i + 1
-            fact = dl[i] / d[i]
-            d[i + 1] = d[i + 1] - fact * du[i]
-            b[i + 1] = b[i + 1] - fact * b[i]
-            if i < n - 2:
-                dl[i] = 0.0
-        else:  # interchange rows i and i + 1
-            fact = d[i] / dl[i]
-            d[i] = dl[i]
-            temp = d[i + 1]
-            d[i + 1] = du[i] - fact * temp
-            if i < n - 2:
-                dl[i] = du[i + 1]
-                du[i + 1] = -fact * dl[i]
-            du[i] = temp
-            temp = b[i]
-            b[i] = b[i + 1]
-            b[i + 1] = temp - fact * b[i + 1]
-    if d[n - 1] == 0.0:
-        return n
-    b[n - 1] = b[n - 1] / d[n - 1]
-    if n > 1:
-        b[n - 2] = (b[n - 2] - du[n - 2] * b[n - 1]) / d[n - 2]
-    for i in range(n - 3, -1, -1):
-        b[i] = (b[i] - du[i] * b[i + 1] - dl[i] * b[i + 2]) / d[i]
-    return 0
 
 
 def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path holds them

@@ -24,8 +24,9 @@ The step (theta = 1/2 Crank-Nicolson, 1 implicit Euler; ``wn = theta dt``,
   the nodes next to the walls and the end faces' coefficients the solve used.
 
 Cost: the operators of a block of steps are built at once (one BLAS product, see
-:func:`_block_system`); a step is then about ten numpy calls on preallocated buffers (their
-count is its cost on the small grids of the method).
+:func:`._moving_block.block_system`); a step is then about ten numpy calls on preallocated
+buffers (their count is its cost on the small grids of the method).  With the compiled march
+in force a level is a few compiled calls instead (:mod:`._moving_fused`, the same numbers).
 """
 
 from __future__ import annotations
@@ -52,6 +53,7 @@ from ._level import (
     system_rows,
 )
 from ._moving_block import Block, block_system
+from ._moving_fused import _SNAP, _reduce_snapshots, fused_level
 from ._problem import Problem
 from ._progress import report as report_progress
 from ._progress import reported as progress_reported
@@ -65,9 +67,6 @@ _REPORT_EVERY = 64  # time steps between progress reports (see _progress)
 
 
 _BLOCK = 1 << 16  # operator entries built at once per array (steps x loads x nodes)
-
-
-_SNAP = 1 << 20  # largest output snapshot array (outputs x loads x nodes)
 
 
 class LevelInputs(NamedTuple):
@@ -106,7 +105,7 @@ def level_inputs(
     pb0 = pbs[0]
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
-    window = _edges_batch(pbs, plan, taus)
+    window = _edges_batch(pbs, plan, taus, _compiled.edges())
     nodes = level_nodes(n, stretch)
     return LevelInputs(taus, theta, out_at, nodes, window, p0, plan.k, plan.yield_wall, plan.image)
 
@@ -174,13 +173,19 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     win, x, w = inp.window, inp.nodes.x, inp.nodes.w
     nb, nn, n_out, n_steps = inp.p0.shape[0], x.size, inp.out_at.size, inp.taus.size - 1
     n = nn - 1
+    r0 = _initial_state(win, x, w, inp.p0, inp.taus[0], inp.k, inp.image)
+    fast = _compiled.kernel(nb * nn * n_steps, n_steps, nb * nn)
+    if fast is not None and p_out is None and not progress_reported():
+        fused = _compiled.fused()  # the whole level in a few compiled calls
+        level = None if fused is None else fused_level(fused, inp, r0, stretch)
+        if level is not None:
+            return level
     step = np.diff(inp.taus)
     wn_all, wo_all = inp.theta * step, (1.0 - inp.theta) * step
     yreal = win.real_upper & inp.yield_wall
     g_all = np.where(yreal, win.end.width * win.end.yield_speed, 0.0)  # closure R_N = g A_pl
     rows = system_rows(nb, n, stretch)
     rec = _record_for(nb, n_out, nn, n_steps, p_out)
-    r0 = _initial_state(win, x, w, inp.p0, inp.taus[0], inp.k, inp.image)
     st = _State(r0, np.zeros((5, nb)))
     rec.near[0] = st.r[rows.near]
     out_steps = inp.out_at.tolist() + [-1]
@@ -198,7 +203,8 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
         states = states_buf[: ms.stop - m0 + 1]
         states[0] = st.r
         st.r = states[0]
-        _steps(st, rec, inp, ops, states, m0, yreal[:, ms].any(axis=0).tolist(), rows, p_out)
+        yields = yreal[:, ms].any(axis=0).tolist()
+        _steps(st, rec, inp, ops, states, m0, yields, rows, p_out, fast)
         if st.info != 0:
             return Level(None, 0, nn, f"tridiagonal solve failed (info={st.info})")
         rec.near[m0 + 1 : ms.stop + 1] = states[1:, rows.near]
@@ -223,16 +229,16 @@ def _steps(
     yields: list[bool],
     rows: SystemRows,
     p_out: Array | None,
+    fast: Callable[..., int] | None = None,
 ) -> None:
     """The steps ``m0 .. m0 + len(states) - 2`` (see the module for the scheme): the state
     after step ``m0 + i`` into ``states[i + 1]`` (``states[0]`` holds the state before).
 
     ``yields[i]``: whether a real yield wall closes the system in step ``m0 + i``.  The views
-    and buffers are made once per block (a step is about ten numpy calls).
+    and buffers are made once per block (a step is about ten numpy calls).  ``fast``: the
+    compiled march (:func:`._compiled.kernel`), or None (numpy).
     """
     nb, nn = st.z.shape[1], inp.nodes.x.size
-    work = nb * nn * (inp.taus.size - 1)  # the level's node-steps; the block's steps
-    fast = _compiled.kernel(work, states.shape[0] - 1, nb * nn)
     if fast is not None:
         _compiled_steps(fast, st, rec, inp, ops, states, m0, yields, rows, p_out)
         return
@@ -375,28 +381,6 @@ def _image_mass(lo: Array, up: Array, p0: Array, wall: float, t0: float) -> Arra
     direct = erf((up - p0) / s) - erf((lo - p0) / s)
     mirror = erf((up + p0 - 2.0 * wall) / s) - erf((lo + p0 - 2.0 * wall) / s)
     return 0.5 * (direct - mirror)
-
-
-def _reduce_snapshots(
-    snaps: Array, win: Window, x: Array, w: Array, out_at: Array
-) -> tuple[Array, Array]:
-    """Area ``int R dx`` and load ``int p R dx`` (``p = l + W x``) per output."""
-    n_out, nb = snaps.shape[0], win.start.lower.shape[0]
-    R = snaps.reshape(n_out, nb, x.size)
-    lv = _at_outputs(win.start.lower, win.end.lower, out_at)
-    wv = _at_outputs(win.start.width, win.end.width, out_at)
-    area = (R @ w).T
-    return area, lv * area + wv * (R @ (x * w)).T
-
-
-def _at_outputs(start: Array, end: Array, out_at: Array) -> Array:
-    """A window edge at the output steps: ``start[:, 0]`` at step 0, else ``end[:, m - 1]``
-    (``np.hstack([start[:, :1], end])[:, out_at]`` without building the whole)."""
-    v = end[:, out_at - 1]
-    first = out_at == 0
-    if first.any():
-        v[:, first] = start[:, :1]
-    return v
 
 
 def _record(rec: _Record, st: _State, inp: LevelInputs, m: int, p_out: Array | None) -> None:

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from ._cn_plan import Window
 
-__all__ = ["Block", "block_system"]
+__all__ = ["Block", "block_system", "face_ops"]
 
 Array = NDArray[np.float64]
 
@@ -79,21 +79,7 @@ def block_system(
     c = ms.stop - ms.start
     nb, nn = g.shape[1], basis.shape[1]
     nf = nn - 1
-    coef = np.empty((c, 4, nb, 3))
-    for k, (edge, th) in enumerate(((win.end, wn), (win.start, wo))):
-        W = edge.width[:, ms].T
-        th = th[:, None]
-        a_ = th * (edge.lower_speed[:, ms].T / (2.0 * W))
-        b_ = th * (edge.width_speed[:, ms].T / (2.0 * W))
-        d_ = th / W**2
-        coef[:, 2 * k, :, 0], coef[:, 2 * k, :, 1], coef[:, 2 * k, :, 2] = a_, b_, -d_
-        sign = -1.0 if k == 0 else 1.0  # the super-diagonal is -wn (A + D)
-        coef[:, 2 * k + 1, :, 0], coef[:, 2 * k + 1, :, 1] = sign * a_, sign * b_
-        coef[:, 2 * k + 1, :, 2] = sign * d_
-    # one BLAS product (c 4 nb, 3) x (3, nodes): wn(A-D), -wn(A+D), wo(A-D), wo(A+D)
-    # (negating every weight negates the product exactly: round to nearest is symmetric)
-    ops = work[0][:c]
-    np.matmul(coef.reshape(-1, 3), basis, out=ops.reshape(-1, nn))
+    ops = face_ops(win, basis, ms, wn, wo, work[0][:c])
     for k, face in enumerate((0, 0, nf - 1, nf - 1)):
         ends[k, :, ms] = ops[:, k % 2, :, face].T
         ends[k + 4, :, ms] = ops[:, 2 + k % 2, :, face].T
@@ -118,3 +104,25 @@ def block_system(
     k_gain = np.stack([-ma1, w_last - pa1, 0.0 * g, -mb1, -(pb1 + w_last)], axis=1)
     k_gain *= yreal[:, None, :]
     return Block(dl, Dg, du, Ga, Gp, k_rhs, k_gain)
+
+
+def face_ops(win: Window, basis: Array, ms: slice, wn: Array, wo: Array, out: Array) -> Array:
+    """The face coefficients of the steps ``ms`` into ``out`` (steps, 4, loads, nodes):
+    ``wn (A - D)``, ``-wn (A + D)`` at the end of each step, ``wo (A - D)``, ``wo (A + D)`` at
+    its start (weights ``wn``, ``wo`` [Pa^2] per step; see :func:`block_system`), by one BLAS
+    product ``(steps 4 loads, 3) x (3, nodes)`` with the face functions ``basis``."""
+    c, nb, nn = ms.stop - ms.start, win.start.width.shape[0], basis.shape[1]
+    coef = np.empty((c, 4, nb, 3))
+    for k, (edge, th) in enumerate(((win.end, wn), (win.start, wo))):
+        W = edge.width[:, ms].T
+        th = th[:, None]
+        a_ = th * (edge.lower_speed[:, ms].T / (2.0 * W))
+        b_ = th * (edge.width_speed[:, ms].T / (2.0 * W))
+        d_ = th / W**2
+        coef[:, 2 * k, :, 0], coef[:, 2 * k, :, 1], coef[:, 2 * k, :, 2] = a_, b_, -d_
+        sign = -1.0 if k == 0 else 1.0  # the super-diagonal is -wn (A + D)
+        coef[:, 2 * k + 1, :, 0], coef[:, 2 * k + 1, :, 1] = sign * a_, sign * b_
+        coef[:, 2 * k + 1, :, 2] = sign * d_
+    # (negating every weight negates the product exactly: round to nearest is symmetric)
+    np.matmul(coef.reshape(-1, 3), basis, out=out.reshape(-1, nn))
+    return out

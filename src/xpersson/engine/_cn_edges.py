@@ -1,0 +1,119 @@
+"""The window's edges of a ``cn`` level in one compiled loop (the compiled path's
+:func:`._cn_plan._edges`).
+
+:func:`._cn_plan._edges` computes, per load, the regime of each edge (real wall or artificial
+edge ``p0 -/+ k sqrt(2 tau)``) at every step's midpoint, the edges and their speeds at the start
+and end of every step, and from the first declared breakpoint on the chord speeds: about forty
+numpy calls per load and level, most of a small level's set-up. :func:`window_edges` does the
+same elementwise arithmetic in the same order (the results are bit for bit the numpy path's:
+no sums, one rounding per operation, tested), for all loads at once, from the walls' tracks
+(:func:`._cn_plan._tracks`, evaluated in Python: the walls are the caller's callables).
+Units: tau in Pa^2, pressures in Pa, speeds in 1/Pa.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+__all__ = ["compiled_window", "window_edges"]
+
+
+def compiled_window(
+    fn: Callable[..., None], pbs: list, plan: Any, taus: Any, tr: dict
+) -> tuple[Any, Any]:
+    """The window of the loads ``pbs`` along ``taus`` [Pa^2] from the walls' tracks ``tr``
+    (:func:`._cn_plan._tracks`), by ``fn`` (:func:`window_edges`, compiled or as Python):
+    ``(out, flags)`` of :func:`window_edges` (what :func:`._cn_plan._edges_batch` gives, bit
+    for bit, as rows)."""
+    n, nb = taus.size - 1, len(pbs)
+    chord_from = plan.zones[0][0] if plan.zones else math.inf
+    out, flags = np.empty((10, nb, n)), np.empty((4, nb, n), dtype=bool)
+    p0 = np.array([pb.p0 for pb in pbs], dtype=float)
+    fn(p0, float(plan.k), bool(plan.yield_wall), float(chord_from), taus, tr["mid"],
+       tr["lo_m"], tr["up_m"], tr["lo"], tr["up"], tr["lo_va"], tr["lo_vb"], tr["up_va"],
+       tr["up_vb"], tr["ys"], out, flags)  # fmt: skip
+    return out, flags
+
+
+ROWS = ("la", "wa", "lb", "wb", "lva", "wva", "ysa", "lvb", "wvb", "ysb")
+"""The rows of :func:`window_edges`'s float output: lower edge and width at the start (a) and
+end (b) of every step, then the speeds and the yield wall's speed at each end."""
+
+
+def window_edges(  # noqa: PLR0913 - the tracks as _cn_plan._tracks holds them
+    p0: Any,
+    k: float,
+    yield_wall: bool,
+    chord_from: float,
+    taus: Any,
+    mid: Any,
+    lo_m: Any,
+    up_m: Any,
+    lo: Any,
+    up: Any,
+    lo_va: Any,
+    lo_vb: Any,
+    up_va: Any,
+    up_vb: Any,
+    ys_t: Any,
+    out: Any,
+    flags: Any,
+) -> None:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The window of the loads ``p0`` (loads,) [Pa] along ``taus`` (steps + 1,) [Pa^2].
+
+    The walls' tracks: positions at the step midpoints ``mid`` (``lo_m``, ``up_m``) and at
+    ``taus`` (``lo``, ``up``; ``+inf`` without a wall), their speeds just after (``_va``) and
+    before (``_vb``) each time and the yield wall's speed ``ys_t`` (0 without one);
+    ``chord_from`` the first breakpoint's time (``inf``: none), from which the speeds are the
+    steps' chord speeds.  ``out`` (10, loads, steps) receives the rows :data:`ROWS`, ``flags``
+    (4, loads, steps) whether the lower wall, the upper wall is real in the step, whether the
+    yield wall is, and whether the speeds are chords (the yield wall's flag is the upper one
+    where it is a yield wall: the march's ``yreal``).
+    """
+    n = taus.shape[0] - 1
+    for q in range(p0.shape[0]):
+        p = p0[q]
+        ru_prev = False
+        for i in range(n):
+            s_m = math.sqrt(2.0 * mid[i])
+            rl = lo_m[i] >= p - k * s_m
+            ru = up_m[i] <= p + k * s_m
+            if yield_wall:
+                ru = ru or ru_prev
+                ru_prev = ru
+            for end in range(2):
+                t = i + end
+                s = math.sqrt(2.0 * taus[t])
+                ds = 1.0 / s
+                le = lo[t] if rl else p - k * s
+                ue = up[t] if ru else p + k * s
+                if rl:
+                    lv = lo_va[t] if end == 0 else lo_vb[t]
+                else:
+                    lv = -k * ds
+                if ru:
+                    wv = (up_va[t] if end == 0 else up_vb[t]) - lv
+                else:
+                    wv = k * ds - lv
+                ys = ys_t[t] if (yield_wall and ru) else 0.0
+                row = 2 * end
+                out[row, q, i] = le
+                out[row + 1, q, i] = ue - le
+                out[4 + 3 * end, q, i] = lv
+                out[5 + 3 * end, q, i] = wv
+                out[6 + 3 * end, q, i] = ys
+            chord = taus[i] >= chord_from
+            if chord:
+                dt = taus[i + 1] - taus[i]
+                lvc = (out[2, q, i] - out[0, q, i]) / dt
+                wvc = (out[3, q, i] - out[1, q, i]) / dt
+                out[4, q, i], out[5, q, i] = lvc, wvc
+                out[7, q, i], out[8, q, i] = lvc, wvc
+            flags[0, q, i] = rl
+            flags[1, q, i] = ru
+            flags[2, q, i] = ru and yield_wall
+            flags[3, q, i] = chord

@@ -1,0 +1,120 @@
+"""The kinks of the window edges of the ``cn`` method: the times where a real wall enters or
+leaves the window ``p0 -/+ k sqrt(2 tau)``, found by a bracketed root-finder (all brackets at
+once, or, for a few, each on Python floats: the same operations, the same roots).  See
+:mod:`._cn` for the scheme.  Units: tau in Pa^2, pressures in Pa."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._problem import Problem
+
+__all__ = ["_bracketed_roots", "_switch_times", "_switch_times_batch"]
+
+Array = NDArray[np.float64]
+
+
+def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float]:
+    """Times where a real wall enters/leaves the window (kinks of the window edges)."""
+    return _switch_times_batch([pb], k, t_lo, t_hi)
+
+
+def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) -> list[float]:
+    """:func:`_switch_times` of every load of a batch (they share their walls): the edge gaps
+    sampled at 513 log-spaced times, every sign change then polished to ``1e-15 tau`` by one
+    vectorised bracketed root-finder over all loads and walls (:func:`_bracketed_roots`)."""
+    if not t_hi > t_lo:
+        return []
+    cand = t_lo * np.logspace(0.0, math.log10(t_hi / t_lo), 513)
+    pb = pbs[0]
+    p0 = np.array([p.p0 for p in pbs])
+    lo, up = pb.wall_positions(cand)
+    s = np.sqrt(2.0 * cand)
+    out: list[float] = []
+    for wall, pos, sign in ((pb.lower, lo, -1.0), (pb.upper, up, 1.0)):
+        if wall is None:
+            continue
+        g = pos[None, :] - (p0[:, None] + sign * k * s[None, :])
+        sg = np.sign(g)
+        il, ic = np.nonzero(sg[:, :-1] != sg[:, 1:])
+        if il.size == 0:
+            continue
+        pp = p0[il]
+
+        def gap(t: Array, idx: Array, wall=wall, sign=sign, pp=pp) -> Array:
+            return wall.at(t) - (pp[idx] + sign * k * np.sqrt(2.0 * t))
+
+        b = cand[ic + 1]
+        roots = _bracketed_roots(gap, cand[ic], b, g[il, ic], g[il, ic + 1], 1e-15 * b)
+        out.extend(float(t) for t in roots[np.isfinite(roots)])
+    return out
+
+
+def _bracketed_roots(f, a: Array, b: Array, fa: Array, fb: Array, xtol: Array) -> Array:
+    """Roots of ``f(t, idx)`` (values at ``t`` of the brackets ``idx``) in the brackets
+    ``[a, b]`` (``fa``, ``fb`` of opposite signs or 0), to ``|b - a| <= xtol``, all at once.
+
+    Illinois (regula falsi halving the retained end's value: superlinear, and the far end
+    moves), with steps of at least ``xtol`` towards the far end (as Brent's method: the
+    bracket then closes around the root).  A bracket without a sign change gives NaN.
+    """
+    a, b, fa, fb = (np.array(v, dtype=float) for v in (a, b, fa, fb))
+    root = np.where(fb == 0, b, np.where(fa == 0, a, np.nan))
+    live = np.isnan(root) & (np.sign(fa) * np.sign(fb) < 0)
+    if np.count_nonzero(live) <= _SCALAR_ROOTS:  # a few brackets: the same steps on floats
+        xt = np.asarray(xtol, dtype=float)
+        for i in np.flatnonzero(live).tolist():
+            args = (float(a[i]), float(b[i]), float(fa[i]), float(fb[i]), float(xt[i]))
+            root[i] = _illinois(f, i, *args)
+        return root
+    for _ in range(200):
+        idx = np.flatnonzero(live)
+        if idx.size == 0:
+            break
+        a_, b_, fa_, fb_, xt = a[idx], b[idx], fa[idx], fb[idx], xtol[idx]
+        c = b_ - fb_ * (b_ - a_) / (fb_ - fa_)
+        nudge = np.minimum(xt, 0.5 * np.abs(a_ - b_))
+        c = np.where(np.abs(c - b_) < nudge, b_ + np.copysign(nudge, a_ - b_), c)
+        fc = np.asarray(f(c, idx), dtype=float)
+        flip = np.sign(fc) * np.sign(fb_) < 0  # the root lies between c and b
+        new_a = np.where(flip, b_, a_)
+        fa[idx] = np.where(flip, fb_, 0.5 * fa_)
+        a[idx], b[idx], fb[idx] = new_a, c, fc
+        hit = (fc == 0) | (np.abs(c - new_a) <= xt) | ~np.isfinite(fc)
+        if hit.any():
+            root[idx[hit]] = np.where(np.isfinite(fc[hit]), c[hit], np.nan)
+            live[idx[hit]] = False
+    return root
+
+
+_SCALAR_ROOTS = 4  # brackets up to which _bracketed_roots steps each on Python floats
+
+
+def _sgn(x: float) -> int:
+    """``numpy.sign`` of a float as an int (0 for 0 and NaN)."""
+    return (x > 0) - (x < 0)
+
+
+def _illinois(f, i: int, a: float, b: float, fa: float, fb: float, xt: float) -> float:
+    """The root of bracket ``i`` by :func:`_bracketed_roots`' steps on Python floats (the same
+    operations, so the same root: without the per-step cost of arrays of one element)."""
+    idx = np.array([i])
+    for _ in range(200):
+        try:
+            c = b - fb * (b - a) / (fb - fa)
+        except ZeroDivisionError:  # (numpy's inf or NaN: no root here)
+            return math.nan
+        nudge = min(xt, 0.5 * abs(a - b))
+        if abs(c - b) < nudge:
+            c = b + math.copysign(nudge, a - b)
+        fc = float(f(np.array([c]), idx)[0])
+        flip = _sgn(fc) * _sgn(fb) < 0  # the root lies between c and b
+        new_a = b if flip else a
+        fa = fb if flip else 0.5 * fa
+        a, b, fb = new_a, c, fc
+        if fc == 0 or abs(c - new_a) <= xt or not math.isfinite(fc):
+            return c if math.isfinite(fc) else math.nan
+    return math.nan

@@ -1,0 +1,304 @@
+"""The whole march of one ``cn`` grid level in one compiled call (the compiled path's level).
+
+The numpy path (:mod:`._moving`) builds the operators of a block of steps at once
+(:func:`._moving_block.block_system`), marches the steps, keeps the rows next to the walls and
+the end faces' coefficients, and sums the wall fluxes after the march
+(:func:`._moving._wall_sums`). On the small grids an accurate error control leaves (tens of
+nodes, hundreds of steps) those numpy calls, not the node-steps, were most of a level's time.
+Here the face coefficients are the same one BLAS product (:func:`._moving_block.face_ops`), and
+:func:`level_march` does the rest per step in one loop, in the numpy path's order: the end
+faces, the diagonal and the yield closure's rows, the explicit half in flux form, the
+tridiagonal solve as LAPACK ``dgtsv`` does it (:func:`._cnstep._gtsv`), the wall fluxes
+summed as it goes (as ``numpy.cumsum`` sums them) and the states at the outputs, reduced as the
+numpy path reduces them: the outputs equal the numpy path's (bit for bit where the compiler
+contracts no multiply-add; tested to 1e-12).
+
+Used when the compiled march is in force (:func:`._compiled.kernel`) and the level wants no
+densities, no progress reports and no outputs beyond the snapshot size of the numpy path
+(those take the per-block compiled steps). Units as in :mod:`._moving`: tau in Pa^2, window
+edges in Pa, their speeds in 1/Pa.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._cnstep import _gtsv
+from ._level import Level, Outputs, face_basis, system_rows
+
+__all__ = ["face_coefficients", "fused_level", "level_march"]
+
+Array = NDArray[np.float64]
+
+_OPS = 1 << 18  # face coefficients built at once (steps x 4 x loads x nodes)
+
+_SNAP = 1 << 20  # largest output snapshot array (outputs x loads x nodes), both paths
+
+
+def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r0: Array,
+                stretch: float) -> Level | None:  # fmt: skip
+    """The outputs of the level ``inp`` (:class:`._moving.LevelInputs`) marched from the state
+    ``r0`` (the loads concatenated) by ``fns``: :func:`level_march` and
+    :func:`face_coefficients` (compiled, or as Python); None where the outputs' states would be
+    too many to keep (the caller marches)."""
+    march, coefficients = fns
+    win, nodes = inp.window, inp.nodes
+    s, e = win.start, win.end
+    nb, nn, n_out = inp.p0.shape[0], nodes.x.size, inp.out_at.size
+    if n_out * nb * nn > _SNAP:
+        return None
+    rows, basis = system_rows(nb, nn - 1, stretch), face_basis(nn - 1, stretch)
+    snaps, sums = np.empty((n_out, nb * nn)), np.zeros((5, nb, n_out))
+    carry = (r0.copy(), np.zeros((5, nb)), np.zeros((4, nb)), np.zeros(1, np.int64))
+    n_steps = inp.taus.size - 1
+    block = max(1, min(_OPS // (4 * nb * nn), n_steps))
+    coef, ops = np.empty((block, 4, nb, 3)), np.empty((block, 4, nb, nn))
+    for m0 in range(0, n_steps, block):
+        c = min(block, n_steps - m0)
+        coefficients(m0, m0 + c, inp.taus, inp.theta, s.width, s.lower_speed, s.width_speed,
+                     e.width, e.lower_speed, e.width_speed, coef)  # fmt: skip
+        # the face coefficients: the numpy path's BLAS product (face_ops), the same numbers
+        np.matmul(coef[:c].reshape(-1, 3), basis, out=ops[:c].reshape(-1, nn))
+        info = march(
+            m0, m0 + c, ops, nodes.w, rows.volumes, rows.walls, rows.last, inp.yield_wall,
+            win.real_lower, win.real_upper, e.yield_speed, s.lower, s.width, e.lower, e.width,
+            inp.out_at, *carry, snaps, sums,
+        )  # fmt: skip
+        if info != 0:
+            return Level(None, 0, nn, f"tridiagonal solve failed (info={info})")
+    if n_steps == 0:  # (outputs at the start only)
+        snaps[:] = r0
+    area, load = _reduce_snapshots(snaps, win, nodes.x, nodes.w, inp.out_at)
+    a_pl, abs_l, abs_u, mom_l, mom_u = sums
+    mom_u = -mom_u
+    if inp.yield_wall:  # the plastic area is what the yield wall holds, at its position
+        up = np.hstack([s.lower[:, :1] + s.width[:, :1], e.lower + e.width])[:, inp.out_at]
+        abs_u, mom_u = a_pl, up * a_pl
+    return Level(Outputs(area, abs_l, abs_u, load, mom_l, mom_u, None), n_steps, nn)
+
+
+def _reduce_snapshots(
+    snaps: Array, win: Any, x: Array, w: Array, out_at: Array
+) -> tuple[Array, Array]:
+    """Area ``int R dx`` and load ``int p R dx`` (``p = l + W x``) per output."""
+    n_out, nb = snaps.shape[0], win.start.lower.shape[0]
+    R = snaps.reshape(n_out, nb, x.size)
+    lv = _at_outputs(win.start.lower, win.end.lower, out_at)
+    wv = _at_outputs(win.start.width, win.end.width, out_at)
+    area = (R @ w).T
+    return area, lv * area + wv * (R @ (x * w)).T
+
+
+def _at_outputs(start: Array, end: Array, out_at: Array) -> Array:
+    """A window edge at the output steps: ``start[:, 0]`` at step 0, else ``end[:, m - 1]``
+    (``np.hstack([start[:, :1], end])[:, out_at]`` without building the whole)."""
+    v = end[:, out_at - 1]
+    if out_at.size and out_at[0] == 0:  # (sorted: only the first can be the start)
+        v[:, 0] = start[:, 0]
+    return v
+
+
+def face_coefficients(  # noqa: PLR0913 - the window's arrays, as the Window holds them
+    i0: int,
+    i1: int,
+    taus: Any,
+    theta: Any,
+    s_width: Any,
+    s_lv: Any,
+    s_wv: Any,
+    e_width: Any,
+    e_lv: Any,
+    e_wv: Any,
+    coef: Any,
+) -> None:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The weights of the face functions ``1, x_f, 1/dx_f`` in the steps ``i0 .. i1 - 1``
+    into ``coef`` (block, 4, loads, 3), as :func:`._moving_block.face_ops` builds them (the
+    same operations): ``wn (A - D)``, ``-wn (A + D)`` at the end of each step, ``wo (A - D)``,
+    ``wo (A + D)`` at its start, ``wn = theta dt``, ``wo = (1 - theta) dt`` [Pa^2]; the
+    windows' widths and speeds (loads, steps) [Pa, 1/Pa] at the start (``s_``) and end
+    (``e_``) of every step."""
+    for i in range(i0, i1):
+        dt = taus[i + 1] - taus[i]
+        th_n, th_o = theta[i] * dt, (1.0 - theta[i]) * dt
+        c = coef[i - i0]
+        for k in range(s_width.shape[0]):
+            width = e_width[k, i]
+            a_ = th_n * (e_lv[k, i] / (2.0 * width))
+            b_ = th_n * (e_wv[k, i] / (2.0 * width))
+            d_ = th_n / (width * width)
+            c[0, k, 0], c[0, k, 1], c[0, k, 2] = a_, b_, -d_
+            c[1, k, 0], c[1, k, 1], c[1, k, 2] = -a_, -b_, -d_
+            width = s_width[k, i]
+            a_ = th_o * (s_lv[k, i] / (2.0 * width))
+            b_ = th_o * (s_wv[k, i] / (2.0 * width))
+            d_ = th_o / (width * width)
+            c[2, k, 0], c[2, k, 1], c[2, k, 2] = a_, b_, -d_
+            c[3, k, 0], c[3, k, 1], c[3, k, 2] = a_, b_, d_
+
+
+def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, numpy's order
+    i0: int,
+    i1: int,
+    ops: Any,
+    w: Any,
+    volumes: Any,
+    walls: Any,
+    last: Any,
+    yield_wall: bool,
+    real_lower: Any,
+    real_upper: Any,
+    yield_speed: Any,
+    la: Any,
+    wa: Any,
+    lb: Any,
+    wb: Any,
+    out_at: Any,
+    r: Any,
+    z: Any,
+    acc: Any,
+    pos: Any,
+    snaps: Any,
+    sums: Any,
+) -> int:  # pragma: no cover - compiled (the numpy path is the reference)
+    """March the steps ``i0 .. i1 - 1`` of a level; returns LAPACK's ``info`` of the first
+    failed solve (0: all succeeded).
+
+    ``ops`` (block, 4, loads, nodes): the face coefficients of the steps from ``i0`` on
+    (:func:`._moving_block.face_ops`); ``w`` the control volumes, ``volumes``, ``walls``,
+    ``last`` the rows of the loads' systems (:func:`._level.system_rows`); ``yield_wall``
+    whether the upper wall is a yield wall; ``real_lower``, ``real_upper`` (loads, steps)
+    whether the lower, upper wall is real in the step; ``yield_speed`` its speed [1/Pa] at the
+    end of the step (the closure's ``g = W Y'``); ``la``, ``wa``, ``lb``, ``wb`` the window's
+    lower edge and width at the start and the end of every step [Pa]; ``out_at`` the steps
+    after which the outputs are taken.  Carried from block to block: ``r`` the state (loads
+    x nodes), ``z`` (5, loads) the yield rows (``R_{N-1}, R_N`` before the step, ``A_pl``,
+    ``R_{N-1}, R_N`` after it), ``acc`` (4, loads) the running wall sums, ``pos[0]`` the
+    next output.
+    Written at the outputs: ``snaps`` the states, ``sums`` (5, loads, outputs) the plastic
+    area, the probabilities absorbed by the lower and upper walls and their moments (the
+    upper one negated).
+    """
+    nb, nn = last.shape[0], ops.shape[3]
+    m, n_out = nb * nn, out_at.shape[0]
+    w_last = w[nn - 1]
+    state, b, dg = r, np.empty(m), np.empty(m)  # the state and the next one swap buffers
+    ends, g = np.empty((8, nb)), np.empty(nb)
+    j_out = pos[0]
+    while i0 == 0 and j_out < n_out and out_at[j_out] == 0:
+        _record(state, z, acc, snaps, sums, j_out)
+        j_out += 1
+    for i in range(i0, i1):
+        c = ops[i - i0]  # (the block's own: the solve overwrites its diagonals in place)
+        dl, du, fl, fh = c[0].reshape(m), c[1].reshape(m), c[2].reshape(m), c[3].reshape(m)
+        yields = False
+        for k in range(nb):
+            yr = yield_wall and real_upper[k, i]
+            g[k] = wb[k, i] * yield_speed[k, i] if yr else 0.0
+            _diagonals(dl, du, fl, fh, dg, w, k * nn, nn, ends, k, g[k])
+            yields = yields or yr
+        _explicit(b, state, fl, fh, volumes, walls, nb)
+        if yields:
+            for k in range(nb):
+                gk = g[k]
+                z[0, k] = state[last[k] - 1]
+                z[1, k] = state[last[k]]
+                rhs = (-gk * ends[6, k]) * z[0, k] + (gk * (w_last - ends[7, k])) * z[1, k]
+                b[last[k]] = rhs + gk * z[2, k]
+        info = _gtsv(dl[: m - 1], dg, du[: m - 1], b)
+        if info != 0:
+            return info
+        for k in range(nb):
+            if yields:
+                z[3, k] = b[last[k] - 1]
+                z[4, k] = b[last[k]]
+                yr = 1.0 if yield_wall and real_upper[k, i] else 0.0
+                gain = (-ends[6, k] * yr) * z[0, k]
+                gain += ((w_last - ends[7, k]) * yr) * z[1, k]
+                gain += (0.0 * g[k] * yr) * z[2, k]
+                gain += (-ends[2, k] * yr) * z[3, k]
+                gain += (-(ends[3, k] + w_last) * yr) * z[4, k]
+                z[2, k] += gain
+            _wall_fluxes(state, b, k * nn, nn, ends, k, acc, real_lower[k, i], real_upper[k, i],
+                         la[k, i], wa[k, i], lb[k, i], wb[k, i])  # fmt: skip
+        state, b = b, state
+        while j_out < n_out and out_at[j_out] == i + 1:
+            _record(state, z, acc, snaps, sums, j_out)
+            j_out += 1
+    if (i1 - i0) % 2 == 1:  # the last state is in the other buffer
+        for q in range(m):
+            r[q] = state[q]
+    pos[0] = j_out
+    return 0
+
+
+def _diagonals(
+    dl: Any, du: Any, fl: Any, fh: Any, dg: Any, w: Any, base: int, nn: int, ends: Any, k: int,
+    gk: float,
+) -> None:  # fmt: skip  # pragma: no cover - compiled
+    """Load ``k``'s rows of a step's system (as :func:`._moving_block.block_system` makes
+    them): its end faces' coefficients into ``ends[:, k]``, the diagonal ``dg``, and the
+    closure ``R_N = g A_pl`` (``gk``: 0 where no yield wall is real) in its last row, on the
+    face coefficients ``dl``, ``du`` (overwritten there), ``fl``, ``fh``."""
+    nf = nn - 1
+    ends[0, k], ends[1, k] = dl[base], -du[base]
+    ends[2, k], ends[3, k] = dl[base + nf - 1], -du[base + nf - 1]
+    ends[4, k], ends[5, k] = fl[base], fh[base]
+    ends[6, k], ends[7, k] = fl[base + nf - 1], fh[base + nf - 1]
+    for j in range(1, nn - 1):
+        dg[base + j] = w[j] - dl[base + j] - du[base + j - 1]
+    dg[base] = 1.0
+    dg[base + nn - 1] = 1.0 + gk * (w[nn - 1] + ends[3, k])
+    dl[base + nf - 1] = gk * ends[2, k]
+    du[base] = 0.0
+
+
+def _explicit(
+    b: Any, state: Any, fl: Any, fh: Any, volumes: Any, walls: Any, nb: int
+) -> None:  # pragma: no cover - compiled
+    """The explicit half in flux form, ``b = w R + wo (F_{j+1/2} - F_{j-1/2})`` with the face
+    fluxes ``F`` of ``state`` (the walls' identity rows 0), as the numpy path sums it."""
+    m = b.shape[0]
+    b[0] = volumes[0] * state[0]
+    f_prev = fl[0] * state[0] + fh[0] * state[1]
+    for q in range(1, m - 1):
+        f = fl[q] * state[q] + fh[q] * state[q + 1]
+        b[q] = volumes[q] * state[q]
+        b[q] += f - f_prev
+        f_prev = f
+    b[m - 1] = volumes[m - 1] * state[m - 1]
+    if nb > 1:
+        for q in range(walls.shape[0]):
+            b[walls[q]] = 0.0
+
+
+def _wall_fluxes(
+    r: Any, b: Any, base: int, nn: int, ends: Any, k: int, acc: Any, rl: bool, ru: bool,
+    la: float, wa: float, lb: float, wb: float,
+) -> None:  # fmt: skip  # pragma: no cover - compiled
+    """Add the wall fluxes of load ``k`` in a step (old state ``r``, new ``b``; lower, upper
+    wall real ``rl``, ``ru``; window edges ``la``, ``wa`` at its start, ``lb``, ``wb`` at its
+    end [Pa]) to ``acc``, as :func:`._moving._wall_sums` sums them."""
+    f_new0 = ends[0, k] * b[base] + ends[1, k] * b[base + 1]
+    f_old0 = ends[4, k] * r[base] + ends[5, k] * r[base + 1]
+    f_new1 = ends[2, k] * b[base + nn - 2] + ends[3, k] * b[base + nn - 1]
+    f_old1 = ends[6, k] * r[base + nn - 2] + ends[7, k] * r[base + nn - 1]
+    if rl:
+        acc[0, k] += f_new0 + f_old0
+        acc[2, k] += lb * f_new0 + la * f_old0
+    if ru:
+        acc[1, k] += -(f_new1 + f_old1)
+        acc[3, k] += (lb + wb) * f_new1 + (la + wa) * f_old1
+
+
+def _record(r: Any, z: Any, acc: Any, snaps: Any, sums: Any, j: int) -> None:
+    """Output ``j``: the state and the sums."""  # pragma: no cover - compiled
+    for q in range(r.shape[0]):
+        snaps[j, q] = r[q]
+    for k in range(z.shape[1]):
+        sums[0, k, j] = z[2, k]
+        for s in range(4):
+            sums[1 + s, k, j] = acc[s, k]
