@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 from ._cn_plan import _edges_batch, _Plan
 from ._problem import Problem
 
-__all__ = ["STIFF_END", "STIFF_STEP", "stiffness", "stiff_refined"]
+__all__ = ["STIFF_END", "STIFF_STEP", "stiff_at_end", "stiffness", "stiff_refined"]
 
 Array = NDArray[np.float64]
 
@@ -83,3 +83,19 @@ def stiff_refined(pbs: list[Problem], plan: _Plan, per_decade: float) -> _Plan:
     new[np.cumsum(sub)] = base[1:]  # the base times themselves, exactly (outputs, kinks)
     out_index = np.searchsorted(new, base[plan.out_index])
     return dataclasses.replace(plan, base=new, out_index=out_index)
+
+
+def stiff_at_end(pbs: list[Problem], k: float) -> bool:
+    """Whether a yield wall makes the window of some load stiff (``sigma > STIFF_STEP``) at
+    the last output time, where ``sigma`` is largest: then :func:`stiff_refined` changes the
+    plans of the loads ``pbs`` (window half-width ``k`` [1] in units of ``sqrt(2 tau)``)."""
+    pb = pbs[0]
+    if pb.upper is None or pb.upper.acts_absorbing:
+        return False
+    t = float(pb.tau_max)
+    s = math.sqrt(2.0 * t)
+    lo, up = (float(v[0]) for v in pb.wall_positions(np.array([t])))
+    p0 = np.array([p.p0 for p in pbs], dtype=float)
+    width = np.minimum(up, p0 + k * s) - np.maximum(lo, p0 - k * s)
+    width = width[width > 0]
+    return bool(width.size and math.pi**2 * t / float(np.min(width)) ** 2 > STIFF_STEP)
