@@ -65,7 +65,7 @@ R_SKIP = 64.0  # a second-order pilot asking for a refinement beyond R_SKIP: six
 DENSE = 2  # steps per node of the sixth-order levels, in units of the pilot's
 
 
-DENSE_STIFF = 8  # the same where a yield wall makes the window stiff (:mod:`._stiff`): there
+DENSE_STIFF = 4  # the same where a yield wall makes the window stiff (:mod:`._stiff`): there
 # the time error dominates (measured on "roll H=0.39 4dec" and "roll H=0.31 5dec" of
 # benchmarks/summary.py at 24 nodes: the sixth-order estimate falls 12-17x from 2 to 4 steps
 # per node, 1.2-9x more from 4 to 8; benchmarks/plastic_steps.py)

@@ -44,6 +44,9 @@ STIFF_STEP = 0.5  # largest decay of the window's slowest mode per substep, in g
 # 2x larger one at the transient's end)
 
 
+STIFF_LATE = 2  # substeps per base step beyond STIFF_END
+
+
 STIFF_END = 10.0  # sigma beyond which the base steps are kept (measured: 10, 20 and 50 give
 # the same error; the work grows with it)
 
@@ -74,12 +77,13 @@ def stiff_refined(pbs: list[Problem], plan: _Plan, per_decade: float) -> _Plan:
     dln = np.log(base[1:] / base[:-1])
     stiff = (sigma > STIFF_STEP) & (sigma < STIFF_END)
     sub = np.where(stiff, np.ceil(dln * sigma / (STIFF_STEP * step) - 1e-9), 1.0)
-    sub = np.maximum(sub, 1.0).astype(int)
+    sub = np.where(sigma >= STIFF_END, STIFF_LATE, np.maximum(sub, 1.0)).astype(int)
     if not np.any(sub > 1):
         return plan
-    frac = [np.arange(1, k + 1) / k for k in sub]
-    pieces = [base[:1]] + [a + (b - a) * f for a, b, f in zip(base[:-1], base[1:], frac)]
-    new = np.concatenate(pieces)
+    # substep j of base step i at base[i] + (base[i + 1] - base[i]) j / sub[i]
+    i = np.repeat(np.arange(sub.size), sub)
+    j = np.arange(i.size) - np.repeat(np.cumsum(sub) - sub, sub) + 1
+    new = np.concatenate([base[:1], base[i] + (base[i + 1] - base[i]) * (j / sub[i])])
     new[np.cumsum(sub)] = base[1:]  # the base times themselves, exactly (outputs, kinks)
     out_index = np.searchsorted(new, base[plan.out_index])
     return dataclasses.replace(plan, base=new, out_index=out_index)
