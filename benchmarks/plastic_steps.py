@@ -27,7 +27,6 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import argparse  # noqa: E402
 import copy  # noqa: E402
 import sys  # noqa: E402
-import time  # noqa: E402
 import warnings  # noqa: E402
 from pathlib import Path  # noqa: E402
 
@@ -106,7 +105,8 @@ def honesty(spec: dict) -> dict:
         ratio = np.where(marched, err / np.where(marched, est, 1.0), 0.0)
         out[name] = float(np.max(ratio))
     ref_est = ref["error_estimate"].values
-    out["ref_est_over_est"] = float(np.max(np.where(marched, ref_est / np.where(marched, est, 1), 0)))
+    rel = ref_est / np.where(marched, est, 1.0)
+    out["ref_est_over_est"] = float(np.max(np.where(marched, rel, 0.0)))
     return out
 
 
@@ -156,7 +156,7 @@ def main(argv: list[str] | None = None) -> None:
         lines.append(line)
     text = "\n".join(lines)
     if args.check:
-        text += f"\n\nWorst error / estimate of the elastic area on the held-out scenes: {worst:.3g}"
+        text += f"\n\nWorst error / estimate (elastic area, held-out scenes): {worst:.3g}"
     out = HERE / "results"
     out.mkdir(exist_ok=True)
     (out / "plastic_steps.md").write_text(

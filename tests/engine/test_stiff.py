@@ -13,9 +13,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from xpersson.engine import Wall, solve
+from xpersson.engine import Wall, _stiff, solve
 from xpersson.engine import _cn_control as ctl
-from xpersson.engine import _stiff
 from xpersson.engine._cn import CNOptions, _Grids
 from xpersson.engine._cn_plan import _joint_plan, _start_time
 from xpersson.engine._problem import make_problem

@@ -301,7 +301,8 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
             if sixth is None or sixth[1] <= 1.0:
                 return None if sixth is None else sixth[0]
         # the work of the next round, the sixth order's at least S_FAVOR x less (it may miss)
-        if S_FAVOR * _sixth_next(4, sixth[1], aim, judge.six_dense)[0] < E_WORK * judge.dense * grow**2:
+        s_work = _sixth_next(4, sixth[1], aim, judge.six_dense)[0]
+        if S_FAVOR * s_work < E_WORK * judge.dense * grow**2:
             s_fit = _sixth_rounds(lv, judge, n_base, sixth[1], aim)
             if s_fit is not None or lv.stop is not None:
                 return s_fit
