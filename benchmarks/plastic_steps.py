@@ -42,7 +42,7 @@ from summary_paths import PLASTIC, STEEL  # noqa: E402
 import xpersson  # noqa: E402
 
 LOADS = ["5 MPa", "20 MPa", "100 MPa"]
-HELD_OUT_SEEDS = range(101, 140)
+HELD_OUT_SEEDS = range(110, 160)  # (101, 102 were looked at while tuning)
 
 
 def plastic_scene(spec: dict) -> dict:

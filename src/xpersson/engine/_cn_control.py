@@ -28,6 +28,10 @@ the step, which Richardson extrapolation cancels).
   the fourth order.  Where the sixth order may follow (and ``rtol <= S_RTOL``), the pilot pair
   and the fourth-order levels take its steps per node, so that they share levels.
 
+Where a yield wall makes the window stiff (:mod:`._stiff`: the time plans then resolve the
+decay of the window's slowest mode), the high-order levels take ``DENSE_STIFF`` steps per node
+and a missed sixth-order extension is answered by a finer grid.
+
 An accepted estimate is reported as a uniform fraction of the tolerance per load, the largest
 estimated: a difference of levels crosses zero where the actual error need not.
 """
@@ -256,9 +260,7 @@ def _sixth_next(
     (top + 1))^2``), as often as predicted to reach ``aim`` (at most ``S_LMAX``); a new grid
     (four levels) grows by ``(ratio K(2, 3, 4) / K(top) / aim)^(1 / S_ORDER)``, at least 1.25x.
     ``dense``: steps per node of the levels; ``extend``: whether extending is an option (not
-    on a stiff window, where the added levels' estimates are not yet in their sixth-order
-    regime: measured on the plastic roll-off scenes of ``benchmarks/plastic_steps.py``, the
-    fifth level raised the estimate 1.4-1.7x where the prediction was 0.16x)."""
+    after a missed extension on a stiff window, see :func:`_sixth_rounds`)."""
     # a new grid starts again with levels 2-4, whose constant K is larger than K(top)
     r4 = ratio * _k6((2, 3, 4)) / _k6((top - 2, top - 1, top))
     grow = max((r4 / aim) ** (1.0 / S_ORDER), 1.25)
@@ -337,7 +339,8 @@ def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _
     extension is answered by a new grid grown from the quadruple's estimate instead (the
     fourth order's grids are large there: measured on the plastic roll-off scenes of
     ``benchmarks/plastic_steps.py``, the fifth level's estimate missed where a grid 1.25x
-    finer met the tolerance)."""
+    finer met the tolerance: there the fifth level raised the estimate 1.4x where the
+    prediction was 0.16x)."""
     top, ratio4, can_extend = 4, ratio, True
     while True:
         _, extend, grow = _sixth_next(top, ratio, aim, judge.six_dense, can_extend)

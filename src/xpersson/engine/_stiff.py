@@ -17,8 +17,11 @@ needed 4.6e7 node-steps for three loads.
 its substeps advance ``ln tau`` by at most ``STIFF_STEP / max(1, sigma)`` geometric base steps
 (the decay per substep, ``sigma d ln tau``, stays below ``STIFF_STEP`` base steps' worth of
 ``ln tau``): the levels of a plan still subdivide one base sequence, so they stay nested and
-the Richardson control is unchanged.  Beyond ``STIFF_END`` the transient has decayed by
-``exp(-STIFF_END)`` per base step and the quasi-steady solution is smooth in ``ln tau``.
+the Richardson control is unchanged.  Beyond ``STIFF_END`` the transient has decayed and the
+quasi-steady solution is smooth in ``ln tau``; there every base step is halved
+(``STIFF_LATE``), which damps the ringing of the stiff modes that Crank-Nicolson keeps
+(measured on "roll H=0.39 4dec": the sixth-order estimate at 24 nodes fell from 6.6 to 0.86
+of the tolerance for 15 % more work, where twice the steps everywhere cost 95 % more).
 Only plans with a yield wall change (elsewhere the window grows with ``sqrt(tau)``, and
 ``sigma`` stays far below 1).
 """
