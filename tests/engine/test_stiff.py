@@ -2,19 +2,15 @@
 
 The substeps keep the base times (levels stay nested), resolve the decay of the window's
 slowest mode where ``sigma = pi^2 tau / W^2`` passes from 0.5 to 10, and the solve keeps its
-identities and its error estimate against a tight reference; the controller answers a missed
-sixth-order extension on a stiff window with a finer grid."""
+identities and its error estimate against a tight reference."""
 
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
 
 import numpy as np
-import pytest
 
 from xpersson.engine import Wall, _stiff, solve
-from xpersson.engine import _cn_control as ctl
 from xpersson.engine._cn import CNOptions, _Grids
 from xpersson.engine._cn_plan import _joint_plan, _start_time
 from xpersson.engine._problem import make_problem
@@ -98,32 +94,3 @@ def test_stiff_window_identities_and_estimate_against_a_tight_reference():
     err = np.abs(res.area - ref.area)
     assert np.all(err <= res.error_estimate)
     assert np.all(err <= 1e-5 * res.area)
-
-
-def test_a_missed_extension_on_a_stiff_window_grows_the_grid(monkeypatch):
-    """Sixth-order rounds, stiff: the fifth level misses its prediction; the next round is a
-    new quadruple on a grid grown from the quadruple's estimate (not the fourth order)."""
-    calls: list[tuple[int, int]] = []
-    script = {(24, 5): 5.0, (30, 4): 0.4}  # the estimates / tolerance the levels would give
-
-    def fake_sixth(lv, judge, n, top=4):
-        calls.append((n, top))
-        return ctl._Fit(np.zeros(1)), script[n, top]
-
-    monkeypatch.setattr(ctl, "_sixth", fake_sixth)
-    judge = SimpleNamespace(stiff=True, six_dense=ctl.DENSE_STIFF)
-    fit = ctl._sixth_rounds(SimpleNamespace(), judge, 24, 1.2, 0.5)
-    assert fit is not None
-    assert calls == [(24, 5), (30, 4)]
-    # not stiff: the same miss returns to the fourth order (None)
-    calls.clear()
-    judge = SimpleNamespace(stiff=False, six_dense=ctl.DENSE)
-    assert ctl._sixth_rounds(SimpleNamespace(), judge, 24, 1.2, 0.5) is None
-    assert calls == [(24, 5)]
-
-
-@pytest.mark.parametrize("top, ratio", [(4, 3.0), (4, 1e6)])
-def test_sixth_next_without_extension_grows_the_grid(top, ratio):
-    work, extend, grow = ctl._sixth_next(top, ratio, 0.5, ctl.DENSE_STIFF, extend=False)
-    assert not extend and grow >= 1.25
-    assert work == pytest.approx(ctl.DENSE_STIFF * ctl.S_WORK / 2.0 * grow**2)

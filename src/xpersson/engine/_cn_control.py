@@ -29,8 +29,8 @@ the step, which Richardson extrapolation cancels).
   and the fourth-order levels take its steps per node, so that they share levels.
 
 Where a yield wall makes the window stiff (:mod:`._stiff`: the time plans then resolve the
-decay of the window's slowest mode), the high-order levels take ``DENSE_STIFF`` steps per node
-and a missed sixth-order extension is answered by a finer grid.
+decay of the window's slowest mode), the high-order levels take ``DENSE_STIFF`` steps per
+node.
 
 An accepted estimate is reported as a uniform fraction of the tolerance per load, the largest
 estimated: a difference of levels crosses zero where the actual error need not.
@@ -252,21 +252,20 @@ def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float] |
 
 
 def _sixth_next(
-    top: int, ratio: float, aim: float, dense: float = DENSE, extend: bool = True
+    top: int, ratio: float, aim: float, dense: float = DENSE
 ) -> tuple[float, bool, float]:
     """The cheaper way on from a sixth-order estimate / tolerance ``ratio`` at ``top``:
     (work [pilot node-steps per n^2], extend, grid growth).  Extending adds the level
     ``top + 1`` (the asymptotic error falls by ``K(top + 1) / K(top) = ((top - 2) /
     (top + 1))^2``), as often as predicted to reach ``aim`` (at most ``S_LMAX``); a new grid
     (four levels) grows by ``(ratio K(2, 3, 4) / K(top) / aim)^(1 / S_ORDER)``, at least 1.25x.
-    ``dense``: steps per node of the levels; ``extend``: whether extending is an option (not
-    after a missed extension on a stiff window, see :func:`_sixth_rounds`)."""
+    ``dense``: steps per node of the levels."""
     # a new grid starts again with levels 2-4, whose constant K is larger than K(top)
     r4 = ratio * _k6((2, 3, 4)) / _k6((top - 2, top - 1, top))
     grow = max((r4 / aim) ** (1.0 / S_ORDER), 1.25)
     new = dense * S_WORK / 2.0 * grow**2  # S_WORK counts the four levels at twice the steps
     work, r, t = 0.0, ratio, top
-    while extend and t < S_LMAX:
+    while t < S_LMAX:
         t += 1
         work += dense * t**2
         r *= ((t - 3.0) / t) ** 2
@@ -335,15 +334,10 @@ def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _
     next level of the same grid, or a new grid, whichever :func:`_sixth_next` finds
     cheaper, until the estimate fits; None (back to the fourth order) when a round misses
     its prediction by more than ``S_MISS`` (the error is not in its sixth-order regime), or
-    when a budget ended the search (then ``lv.stop`` is set).  On a stiff window a missed
-    extension is answered by a new grid grown from the quadruple's estimate instead (the
-    fourth order's grids are large there: measured on the plastic roll-off scenes of
-    ``benchmarks/plastic_steps.py``, the fifth level's estimate missed where a grid 1.25x
-    finer met the tolerance: there the fifth level raised the estimate 1.4x where the
-    prediction was 0.16x)."""
-    top, ratio4, can_extend = 4, ratio, True
+    when a budget ended the search (then ``lv.stop`` is set)."""
+    top = 4
     while True:
-        _, extend, grow = _sixth_next(top, ratio, aim, judge.six_dense, can_extend)
+        _, extend, grow = _sixth_next(top, ratio, aim, judge.six_dense)
         if extend:
             top += 1
             predicted = ratio * ((top - 3.0) / top) ** 2
@@ -356,12 +350,8 @@ def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _
         fit, ratio = sixth
         if ratio <= 1.0:
             return fit
-        if top == 4:
-            ratio4 = ratio
         if ratio > S_MISS * max(predicted, aim):
-            if not (judge.stiff and extend):
-                return None
-            top, ratio, can_extend = 4, ratio4, False
+            return None
 
 
 def _sixth_order_fits(pb: Problem) -> bool:
