@@ -78,8 +78,9 @@ def _in_unit(ds, name: str) -> None:
 def test_budget_spent_leaves_a_finite_error_estimate():
     reg = get_registry()
     rs = pipeline.as_scene(SCENE_BUDGET).resolve(reg)
-    # a small work budget reproduces the fuzz path quickly (an unpaired N = 600 grid was last)
-    rs = dataclasses.replace(rs, solver_options={"max_work": 1e6})
+    # a small work budget reproduces the fuzz path quickly (an unpaired N = 600 grid was last;
+    # since the stiff window's substeps (engine._stiff) 1e6 node-steps meet rtol here)
+    rs = dataclasses.replace(rs, solver_options={"max_work": 3e5})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         ds = pipeline.run(rs)

@@ -53,6 +53,7 @@ from ._level import Level, Outputs, project
 from ._moving import LevelInputs, _march, level_inputs
 from ._problem import Problem, window_k
 from ._result import Raw
+from ._stiff import stiff_refined
 
 __all__ = ["CNMethod", "grid_level"]
 
@@ -295,14 +296,11 @@ class _Grids:
     def plan(self, n_base: int, dense: int) -> _Plan:
         """The time plan of the levels ``(n_base, *, dense)`` (made on first use)."""
         if (n_base, dense) not in self.plans:
-            self.plans[n_base, dense] = _joint_plan(
-                self.pbs,
-                self.opts.window_k,
-                self.opts.per_node * n_base * dense,
-                self.tau_s,
-                self.kinks,
-            )
-            self.plans[n_base, dense].image = self.image
+            per_decade = self.opts.per_node * n_base * dense
+            plan = _joint_plan(self.pbs, self.opts.window_k, per_decade, self.tau_s, self.kinks)
+            plan.image = self.image
+            # substeps where a yield wall makes the window stiff (:mod:`._stiff`)
+            self.plans[n_base, dense] = stiff_refined(self.pbs, plan, per_decade)
         return self.plans[n_base, dense]
 
     def _stop(self, status: str, message: str) -> None:

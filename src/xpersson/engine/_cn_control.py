@@ -28,6 +28,10 @@ the step, which Richardson extrapolation cancels).
   the fourth order.  Where the sixth order may follow (and ``rtol <= S_RTOL``), the pilot pair
   and the fourth-order levels take its steps per node, so that they share levels.
 
+Where a yield wall makes the window stiff (:mod:`._stiff`: the time plans then resolve the
+decay of the window's slowest mode), the high-order levels take ``DENSE_STIFF`` steps per
+node.
+
 An accepted estimate is reported as a uniform fraction of the tolerance per load, the largest
 estimated: a difference of levels crosses zero where the actual error need not.
 """
@@ -44,6 +48,7 @@ from numpy.typing import NDArray
 from ..cache import memoize
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
+from ._stiff import stiff_at_end
 
 __all__ = ["_Fit", "_control", "richardson_weights"]
 
@@ -62,6 +67,12 @@ R_SKIP = 64.0  # a second-order pilot asking for a refinement beyond R_SKIP: six
 
 
 DENSE = 2  # steps per node of the sixth-order levels, in units of the pilot's
+
+
+DENSE_STIFF = 4  # the same where a yield wall makes the window stiff (:mod:`._stiff`): there
+# the time error dominates (measured on "roll H=0.39 4dec" and "roll H=0.31 5dec" of
+# benchmarks/summary.py at 24 nodes: the sixth-order estimate falls 12-17x from 2 to 4 steps
+# per node, 1.2-9x more from 4 to 8; benchmarks/plastic_steps.py)
 
 
 S_GROW = 2.0  # a fourth-order pilot asking for a grid more than S_GROW x finer: sixth order
@@ -153,14 +164,19 @@ def _load_scale(pbs: list[Problem], tau: Array) -> Array:
 class _Judge:
     """Error estimates of candidate answers against the tolerance (area and load identity)."""
 
-    def __init__(self, pb: Problem, scale: Array, graded: bool = False) -> None:
+    def __init__(
+        self, pb: Problem, scale: Array, graded: bool = False, stiff: bool = False
+    ) -> None:
         self.pb, self.scale = pb, scale
         # the fourth order's estimate factor and the order its grids grow with
         self.e_factor, self.e_order = (E_GRADED, E_GRADED_ORDER) if graded else (2.0 / 15.0, 4.0)
         # steps per node of the second- and fourth-order levels: where the sixth order may
         # follow (and the tolerance is tight enough for it to pay), those of its levels (the
         # pilot pair is then its first two levels)
-        self.dense = DENSE if _sixth_order_fits(pb) and pb.rtol <= S_RTOL else 1
+        # (more where a stiff window makes the time error dominate, see DENSE_STIFF)
+        self.stiff = stiff
+        self.six_dense = DENSE_STIFF if stiff else DENSE
+        self.dense = self.six_dense if _sixth_order_fits(pb) and pb.rtol <= S_RTOL else 1
 
     def tol(self, area: Array) -> Array:
         return self.pb.rtol * np.abs(area) + self.pb.atol
@@ -179,7 +195,7 @@ class _Judge:
 def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
     """Second-order pairs, then fourth- or sixth-order Richardson combinations, until the
     estimate fits (None: a budget ended the search, ``lv.stop`` says which)."""
-    judge = _Judge(pb, scale, lv.graded)
+    judge = _Judge(pb, scale, lv.graded, stiff_at_end(lv.pbs, lv.opts.window_k))
     n_base, rounds = lv.opts.nodes, 0
     while True:  # mode R
         pair = lv.levels(n_base, (1, 2), judge.dense)
@@ -225,7 +241,7 @@ def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float] |
     ``|S_b - S_a|``).  None: a budget ended the search.
     """
     ma, mb = tuple(range(top - 3, top)), tuple(range(top - 2, top + 1))
-    lvs = lv.levels(n, tuple(range(top - 3, top + 1)), DENSE)
+    lvs = lv.levels(n, tuple(range(top - 3, top + 1)), judge.six_dense)
     if lvs is None:
         return None
     s_b = weighted(lvs[1:], _weights(tuple(map(float, mb))))
@@ -235,20 +251,23 @@ def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float] |
     return _Fit(err, s_b, top * n), ratio
 
 
-def _sixth_next(top: int, ratio: float, aim: float) -> tuple[float, bool, float]:
+def _sixth_next(
+    top: int, ratio: float, aim: float, dense: float = DENSE
+) -> tuple[float, bool, float]:
     """The cheaper way on from a sixth-order estimate / tolerance ``ratio`` at ``top``:
     (work [pilot node-steps per n^2], extend, grid growth).  Extending adds the level
     ``top + 1`` (the asymptotic error falls by ``K(top + 1) / K(top) = ((top - 2) /
     (top + 1))^2``), as often as predicted to reach ``aim`` (at most ``S_LMAX``); a new grid
-    (four levels) grows by ``(ratio K(2, 3, 4) / K(top) / aim)^(1 / S_ORDER)``, at least 1.25x."""
+    (four levels) grows by ``(ratio K(2, 3, 4) / K(top) / aim)^(1 / S_ORDER)``, at least 1.25x.
+    ``dense``: steps per node of the levels."""
     # a new grid starts again with levels 2-4, whose constant K is larger than K(top)
     r4 = ratio * _k6((2, 3, 4)) / _k6((top - 2, top - 1, top))
     grow = max((r4 / aim) ** (1.0 / S_ORDER), 1.25)
-    new = DENSE * S_WORK / 2.0 * grow**2  # S_WORK counts the four levels at twice the steps
+    new = dense * S_WORK / 2.0 * grow**2  # S_WORK counts the four levels at twice the steps
     work, r, t = 0.0, ratio, top
     while t < S_LMAX:
         t += 1
-        work += DENSE * t**2
+        work += dense * t**2
         r *= ((t - 3.0) / t) ** 2
         if r <= aim:
             return (work, True, 1.0) if work < new else (new, False, grow)
@@ -268,7 +287,7 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
         if sixth is None or sixth[1] <= 1.0:
             return None if sixth is None else sixth[0]
         near = E_WORK * judge.dense * S_GROW**2
-        if _sixth_next(4, sixth[1], aim)[0] <= near:  # the sixth order is near
+        if _sixth_next(4, sixth[1], aim, judge.six_dense)[0] <= near:  # the sixth order is near
             s_fit = _sixth_rounds(lv, judge, n_base, sixth[1], aim)
             if s_fit is not None or lv.stop is not None:
                 return s_fit
@@ -283,7 +302,8 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
             if sixth is None or sixth[1] <= 1.0:
                 return None if sixth is None else sixth[0]
         # the work of the next round, the sixth order's at least S_FAVOR x less (it may miss)
-        if S_FAVOR * _sixth_next(4, sixth[1], aim)[0] < E_WORK * judge.dense * grow**2:
+        s_work = _sixth_next(4, sixth[1], aim, judge.six_dense)[0]
+        if S_FAVOR * s_work < E_WORK * judge.dense * grow**2:
             s_fit = _sixth_rounds(lv, judge, n_base, sixth[1], aim)
             if s_fit is not None or lv.stop is not None:
                 return s_fit
@@ -317,7 +337,7 @@ def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _
     when a budget ended the search (then ``lv.stop`` is set)."""
     top = 4
     while True:
-        _, extend, grow = _sixth_next(top, ratio, aim)
+        _, extend, grow = _sixth_next(top, ratio, aim, judge.six_dense)
         if extend:
             top += 1
             predicted = ratio * ((top - 3.0) / top) ** 2
