@@ -302,19 +302,24 @@ def _bands(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(low, high, status)`` of output ``name`` over ``shape``: per group, the first entry
     that matches each point (as :func:`bands_of`, over arrays)."""
+    entries = [e for e in table["bands"] if e["variable"] == name]
+    over = _Over(numeric, vdims, shape)
+    if shape == ():  # one point (a single solve's scalar): the same, without array operations
+        return _band_of_point(entries, over, groups)
     low, high = np.full(shape, np.nan), np.full(shape, np.nan)
     done = np.zeros(shape, dtype=bool)
     status = np.zeros(shape, dtype=np.int8)
-    entries = [e for e in table["bands"] if e["variable"] == name]
     for feats, opts, (mdims, mask) in groups:
         where = _on(mdims, mask, vdims, shape)
         for entry in entries:
-            if any(opts.get(k, feats.get(k)) != v for k, v in entry.get("match", {}).items()):
+            if not _matches(entry, feats, opts):
                 continue
             ok = where & ~done
             for key, (lo, hi) in entry.get("ranges", {}).items():
+                if not ok.any():  # no point left: the entry hits nothing
+                    break
                 if key in numeric:
-                    v = _on(*numeric[key], vdims, shape)
+                    v = over[key]
                 elif key in feats:
                     v = np.asarray(feats[key], float)
                 else:
@@ -322,30 +327,78 @@ def _bands(
                     break
                 ok = ok & (v >= lo) & (v < hi)
             hit = np.broadcast_to(ok, shape)
-            lo_f, hi_f = _trend(entry, numeric, feats, vdims, shape)
+            if not hit.any():  # nothing to write (its trend is not evaluated)
+                continue
+            lo_f, hi_f = _trend(entry, over, feats, shape)
             low[hit], high[hit] = lo_f[hit], hi_f[hit]
             status[hit] = entry.get("status", 1)
             done |= hit
+            if done.all():  # every point has its entry: the later ones would hit nothing
+                break
     return low, high, status
 
 
+def _matches(entry: dict[str, Any], feats: dict[str, Any], opts: dict[str, Any]) -> bool:
+    """Whether the plugin names, options and features of a group match ``entry["match"]``."""
+    return all(opts.get(k, feats.get(k)) == v for k, v in entry.get("match", {}).items())
+
+
+def _band_of_point(
+    entries: list[dict[str, Any]], over: _Over, groups: list[Any]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_bands` of one point (``shape == ()``): the first entry of the point's group
+    whose ranges hold it, compared as Python floats (as the array comparisons compare)."""
+    for feats, opts, (_, mask) in groups:
+        if not bool(mask):
+            continue
+        for entry in entries:
+            if _matches(entry, feats, opts) and _in_ranges(entry, over, feats):
+                lo_f, hi_f = _trend(entry, over, feats, ())
+                return lo_f, hi_f, np.array(entry.get("status", 1), dtype=np.int8)
+    return np.array(np.nan), np.array(np.nan), np.array(0, dtype=np.int8)
+
+
+def _in_ranges(entry: dict[str, Any], over: _Over, feats: dict[str, Any]) -> bool:
+    """Whether one point's numeric features lie in every ``[lo, hi)`` of ``entry["ranges"]``
+    (a feature the point lacks: not)."""
+    for key, (lo, hi) in entry.get("ranges", {}).items():
+        if key in over.numeric:
+            v = float(over[key])
+        elif key in feats:
+            v = float(feats[key])
+        else:
+            return False
+        if not (v >= lo and v < hi):
+            return False
+    return True
+
+
+class _Over(dict):
+    """The numeric features over ``shape`` (:func:`_on` of each), evaluated once per key."""
+
+    def __init__(self, numeric: dict[str, Any], vdims: tuple[str, ...], shape: tuple[int, ...]):
+        super().__init__()
+        self.numeric, self.vdims, self.shape = numeric, vdims, shape
+
+    def __missing__(self, key: str) -> np.ndarray:
+        value = self[key] = _on(*self.numeric[key], self.vdims, self.shape)
+        return value
+
+
 def _trend(
-    entry: dict[str, Any],
-    numeric: dict[str, Any],
-    feats: dict[str, Any],
-    vdims: tuple[str, ...],
-    shape: tuple[int, ...],
+    entry: dict[str, Any], over: _Over, feats: dict[str, Any], shape: tuple[int, ...]
 ) -> tuple[np.ndarray, np.ndarray]:
     """The factors ``(low, high)`` of ``entry`` over ``shape``: constant, or along its
     ``trend`` (shifted by ``slope (v - reference)``, widened by ``k slope_se`` per unit of
-    distance from the ``covered`` interval of the feature ``v``)."""
+    distance from the ``covered`` interval of the feature ``v``; ``over``: the numeric
+    features over ``shape``)."""
     trend = entry.get("trend")
     if not trend:
         return np.full(shape, float(entry["low"])), np.full(shape, float(entry["high"]))
 
     def values(key: str) -> np.ndarray:
-        if key in numeric:
-            return np.broadcast_to(_on(*numeric[key], vdims, shape), shape)
+        if key in over.numeric:
+            return np.broadcast_to(over[key], shape)
         return np.full(shape, float(feats.get(key, np.nan)))
 
     v = values(trend["feature"])
