@@ -32,6 +32,10 @@ class _Required:
     def __reduce__(self) -> str:
         return "REQUIRED"
 
+    def cache_key(self) -> str:
+        """The sentinel's content key (a :class:`ParamSpec`'s default keys as this)."""
+        return "REQUIRED"
+
 
 REQUIRED: Any = _Required()
 """Sentinel default: the parameter must be given in the scene."""
@@ -84,6 +88,13 @@ class ParamSpec:
     array: bool = False
     example: Any = None
     dim: str | None = None
+
+    def cache_key(self) -> bytes:
+        """The declaration's content key (:func:`xpersson.cache.dataclass_key`: a digest of
+        its fields, made once per object): a conversion keyed on it is keyed on every field."""
+        from .cache import dataclass_key  # noqa: PLC0415 - specs stay cheap to import
+
+        return dataclass_key(self)
 
     @property
     def required(self) -> bool:
