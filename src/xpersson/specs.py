@@ -233,7 +233,7 @@ def caret_units(units: str) -> str:
     """
     return (
         " ".join(
-            m.expand(r"\1^\2") if (m := _POWER.match(token)) else token for token in units.split()
+            f"{m[1]}^{m[2]}" if (m := _POWER.match(token)) else token for token in units.split()
         )
         or units
     )

@@ -55,7 +55,7 @@ import numpy as np
 import xarray as xr
 
 from ..cache import Cache
-from ._insert import insert_or_set
+from ._insert import insert_or_set, values_of
 
 __all__ = [
     "FLAG",
@@ -248,7 +248,7 @@ def _load_features(ds: xr.Dataset, dims: tuple[str, ...]) -> dict[str, Any]:
             break
     if "p0" in ds.variables:
         p0 = ds.variables["p0"]
-        out["tensile"] = (tuple(p0.dims), (np.asarray(p0.values, float) < 0).astype(float))
+        out["tensile"] = (tuple(p0.dims), (np.asarray(values_of(p0), float) < 0).astype(float))
     if "tabor_parameter" in ds.variables:
         tdims, values = _finest(ds.variables["tabor_parameter"])
         for ax in reversed(range(len(tdims))):
