@@ -306,8 +306,28 @@ class VarSpec:
         ):
             raise SpecError(f"{where}: nan_meaning must be a non-empty string or None")
 
+    def __post_init__(self) -> None:
+        # the CF attributes are static: made once with the declaration (a malformed one, which
+        # :meth:`check` reports, makes them at each call instead, raising there as before)
+        try:
+            made = self.cf_attrs()
+        except Exception:  # noqa: BLE001 - reported by check() or by attrs()
+            made = None
+        object.__setattr__(self, "_attrs", made)
+
     def attrs(self) -> dict[str, Any]:
-        """CF attributes for a variable with this spec (``valid_min``/``valid_max`` as floats)."""
+        """CF attributes for a variable with this spec (``valid_min``/``valid_max`` as floats):
+        a fresh dict each call (its ``flag_values`` array a fresh copy), made once per spec."""
+        made = self.__dict__.get("_attrs")
+        if made is None:
+            return self.cf_attrs()
+        out = dict(made)
+        if "flag_values" in out and hasattr(out["flag_values"], "copy"):
+            out["flag_values"] = out["flag_values"].copy()
+        return out
+
+    def cf_attrs(self) -> dict[str, Any]:
+        """The CF attributes of :meth:`attrs`, computed from the declaration's fields."""
         out: dict[str, Any] = {"units": caret_units(self.units), "long_name": self.long_name}
         if self.standard_name:
             out["standard_name"] = self.standard_name
