@@ -225,11 +225,14 @@ def attach(
         for k in _NUMERIC
     }
     numeric.update(_load_features(ds, dims))
-    added: list[str] = []
+    new: dict[str, xr.Variable] = {}
     for name in names:
         groups = _groups(name, scenes, points, index, dims)
-        added += _attach_one(ds, name, numeric, groups, table)
-    return added
+        new.update(_ancillaries(ds, name, numeric, groups, table))
+    insert_or_set(ds, new)  # every output's three at once (one insertion)
+    for name in names:
+        ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
+    return list(new)
 
 
 #: Scene features that vary from point to point of a sweep: arrays over its points.
@@ -411,13 +414,13 @@ def _trend(
     return entry["low"] * np.exp(shift - wide), entry["high"] * np.exp(shift + wide)
 
 
-def _attach_one(
+def _ancillaries(
     ds: xr.Dataset,
     name: str,
     numeric: dict[str, Any],
     groups: list[Any],
     table: dict[str, Any],
-) -> list[str]:
+) -> dict[str, xr.Variable]:
     """The three ancillary variables of output ``name`` (array operations over the points)."""
     var = ds.variables[name]
     vdims, x = _finest(var)
@@ -456,6 +459,4 @@ def _attach_one(
         },
         fastpath=True,
     )
-    insert_or_set(ds, new)
-    ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
-    return list(new)
+    return new

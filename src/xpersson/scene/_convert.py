@@ -313,11 +313,14 @@ def jsonable(
         if v is None:
             continue
         if dimensional and isinstance(v, np.ndarray):
-            out[k] = [f"{float(x)!r} {spec.unit}" for x in v]
+            fast = v.ndim == 1 and v.dtype.kind in "fiub"  # Python floats, as float(x) gives
+            values = np.asarray(v, float).tolist() if fast else [float(x) for x in v]
+            out[k] = [f"{x!r} {spec.unit}" for x in values]
         elif dimensional and isinstance(v, int | float):
             out[k] = f"{float(v)!r} {spec.unit}"
         elif isinstance(v, np.ndarray):
-            out[k] = [float(x) for x in v]
+            fast = v.ndim == 1 and v.dtype.kind in "fiub"  # Python floats, as float(x) gives
+            out[k] = np.asarray(v, float).tolist() if fast else [float(x) for x in v]
         elif isinstance(v, type):
             out[k] = f"{v.__module__}:{v.__qualname__}"
         elif isinstance(v, np.generic):

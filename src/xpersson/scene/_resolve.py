@@ -171,7 +171,9 @@ def _zeta_grid(out: Mapping[str, Any], zeta_support: float) -> np.ndarray:
         )
     zmax = min(zmax or zeta_support, zeta_support)
     if out["zeta"] is not None:
-        z = np.unique(np.asarray(out["zeta"], float))
+        z = np.array(out["zeta"], float)
+        if z.ndim != 1 or not bool(np.all(z[1:] > z[:-1])):  # sorted and distinct: as given
+            z = np.unique(z)
         if z[-1] > zeta_support * (1 + 1e-12):
             raise SceneError(
                 f"output.zeta: {z[-1]:g} exceeds q_1/q_L = {zeta_support:g}; allowed [1, "
