@@ -78,8 +78,7 @@ def _caret_by_template(units: str) -> str:
     """The former implementation (``re.Match.expand`` of a template)."""
     power = re.compile(r"^([A-Za-z_]+)(-?[0-9]+)$")
     return (
-        " ".join(m.expand(r"\1^\2") if (m := power.match(t)) else t for t in units.split())
-        or units
+        " ".join(m.expand(r"\1^\2") if (m := power.match(t)) else t for t in units.split()) or units
     )
 
 

@@ -245,8 +245,9 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
                 variables[name] = var
         indexes = {k: v for k, v in ds._indexes.items() if k != "p0"}  # noqa: SLF001
         dims = {d: n for d, n in ds._dims.items() if d != "p0"}  # noqa: SLF001
+        coords = set(ds._coord_names)  # noqa: SLF001
         out = xr.Dataset._construct_direct(  # noqa: SLF001 - see the docstring
-            variables, set(ds._coord_names), dims, dict(ds.attrs), indexes  # noqa: SLF001
+            variables, coords, dims, dict(ds.attrs), indexes
         )
     except (AttributeError, TypeError):  # pragma: no cover - other xarray versions
         return ds.isel(p0=0)
