@@ -183,9 +183,25 @@ def _options_of(rs: Any, variable: str) -> dict[str, Any]:
 
 def covered(ds: xr.Dataset, table: dict[str, Any] | None = None) -> list[str]:
     """The outputs of ``ds`` that the table lists (the variables :func:`attach` annotates)."""
-    table = table or band_table()
-    names = {e["variable"] for e in table["bands"]} | set(table.get("variables", ()))
-    return sorted(n for n in names if n in ds.data_vars)
+    if not table:  # the packaged table's names, listed once
+        names = _NAMES.get("", lambda: _names(band_table()))
+    else:
+        names = _names(table)
+    have = ds.data_vars
+    return sorted(n for n in names if n in have)
+
+
+_NAMES = Cache(
+    "model_error.names",
+    scope="process",
+    maxsize=2,
+    doc="the output names the packaged model-error table lists (a sorted tuple)",
+)
+
+
+def _names(table: dict[str, Any]) -> tuple[str, ...]:
+    """The output names ``table`` lists (its bands' variables and its ``variables``)."""
+    return tuple(sorted({e["variable"] for e in table["bands"]} | set(table.get("variables", ()))))
 
 
 def attach(
@@ -213,8 +229,8 @@ def attach(
     points = list(points) if dims else [points]
     if not points or not points[0].resolved.get("output", {}).get("model_error", True):
         return []
+    names = covered(ds, table or None)
     table = table or band_table()
-    names = covered(ds, table)
     if not names:
         return []
     shape = tuple(ds.sizes[d] for d in dims)
@@ -266,6 +282,9 @@ def _groups(
 ) -> list[tuple[dict[str, Any], dict[str, Any], tuple[tuple[str, ...], Any]]]:
     """``(scene features, options, (dims, mask))`` per group of points whose plugin names,
     options and other non-numeric features agree (one group in most sweeps: mask ``True``)."""
+    if len(points) == 1:  # one scene (a single solve): one group, nothing to compare
+        fixed = {k: v for k, v in scenes[0].items() if k not in _NUMERIC}
+        return [(fixed, _options_of(points[0], name), ((), np.bool_(True)))]
     keys: dict[str, int] = {}
     found: list[tuple[dict[str, Any], dict[str, Any]]] = []
     gid = np.empty(len(points), dtype=np.intp)
