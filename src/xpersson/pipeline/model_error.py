@@ -137,8 +137,8 @@ def _finest(var: Any) -> tuple[tuple[str, ...], np.ndarray]:
     values = np.asarray(var.values, float)
     if "zeta" not in var.dims:
         return tuple(var.dims), values
-    axis = var.dims.index("zeta")
-    return tuple(d for d in var.dims if d != "zeta"), np.take(values, -1, axis=axis)
+    axis = var.dims.index("zeta")  # a view: the values are only read
+    return tuple(d for d in var.dims if d != "zeta"), values[(slice(None),) * axis + (-1,)]
 
 
 def bands_of(
