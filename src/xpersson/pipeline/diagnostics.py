@@ -178,11 +178,15 @@ def validity_flags(
     area = np.asarray(area, float)
     slope = np.asarray(rms_slope, float).reshape(np.shape(rms_slope) + (1,) * (area.ndim - 1))
     flags = np.zeros(area.shape, np.int8)
-    flags |= np.where(np.asarray(p0, float) > e_star, 1, 0).astype(np.int8)
-    flags |= np.where(slope > SLOPE_LIMIT, 2, 0).astype(np.int8)
-    flags |= np.where(np.asarray(non, float) < 2.0**-53, 4, 0).astype(np.int8)
-    flags |= np.where(area < np.finfo(float).tiny, 8, 0).astype(np.int8)
+    # each bit: a boolean times its int8 value (int8, no int64 temporaries)
+    flags |= (np.asarray(p0, float) > e_star) * np.int8(1)
+    flags |= (slope > SLOPE_LIMIT) * np.int8(2)
+    flags |= (np.asarray(non, float) < 2.0**-53) * np.int8(4)
+    flags |= (area < _TINY) * np.int8(8)
     return flags
+
+
+_TINY = float(np.finfo(float).tiny)  # the smallest normal float64 [1]
 
 
 def theory_validity(ds: Any) -> None:
