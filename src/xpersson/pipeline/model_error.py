@@ -62,6 +62,7 @@ __all__ = [
     "SUFFIXES",
     "attach",
     "covered",
+    "covered_names",
     "band_table",
     "bands_of",
     "scene_features",
@@ -184,9 +185,9 @@ def _options_of(rs: Any, variable: str) -> dict[str, Any]:
 def covered(ds: xr.Dataset, table: dict[str, Any] | None = None) -> list[str]:
     """The outputs of ``ds`` that the table lists (the variables :func:`attach` annotates)."""
     if not table:  # the packaged table's names, listed once
-        names = _NAMES.get("", lambda: _names(band_table()))
+        names = _NAMES.get("", lambda: covered_names(band_table()))
     else:
-        names = _names(table)
+        names = covered_names(table)
     have = ds.data_vars
     return sorted(n for n in names if n in have)
 
@@ -199,7 +200,7 @@ _NAMES = Cache(
 )
 
 
-def _names(table: dict[str, Any]) -> tuple[str, ...]:
+def covered_names(table: dict[str, Any]) -> tuple[str, ...]:
     """The output names ``table`` lists (its bands' variables and its ``variables``)."""
     return tuple(sorted({e["variable"] for e in table["bands"]} | set(table.get("variables", ()))))
 
