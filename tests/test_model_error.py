@@ -375,7 +375,7 @@ def test_an_extrapolated_scene_carries_status_2_and_its_reason():
     boundary=st.sampled_from(["elastic", "plastic", "adhesive", "jkr"]),
     law=st.sampled_from(["exponential", "other"]),
 )
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=20, deadline=None)
 def test_one_point_band_equals_the_array_band(
     hurst, decades, area, rolloff, tabor, tensile, boundary, law
 ):
