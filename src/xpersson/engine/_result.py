@@ -397,7 +397,7 @@ class LazyField:
 
 
 def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report success?
-    return np.broadcast_to(np.asarray(raw.status) == "success", (n,)).copy()
+    return _broadcast(np.asarray(raw.status) == "success", (n,)).copy()
 
 
 def _broadcast(value: Any, shape: tuple[int, ...]) -> Array:
