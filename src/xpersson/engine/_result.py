@@ -5,12 +5,12 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ._problem import Problem
+from ._views import broadcast_view
 
 __all__ = [
     "Outcome",
@@ -397,20 +397,7 @@ class LazyField:
 
 
 def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report success?
-    return _broadcast(np.asarray(raw.status) == "success", (n,)).copy()
-
-
-def _broadcast(value: Any, shape: tuple[int, ...]) -> Array:
-    """``np.broadcast_to(value, shape)`` (read-only, no copy) without its argument handling
-    (~8 us a call, a few per solve): a 0-d or C-contiguous trailing-shape value is viewed
-    with zero strides on the new axes; anything else goes to ``np.broadcast_to``."""
-    arr = np.asarray(value)
-    lead = len(shape) - arr.ndim
-    if lead >= 0 and tuple(shape[lead:]) == arr.shape and arr.flags.c_contiguous:
-        out = np.ndarray(shape, arr.dtype, buffer=arr, strides=(0,) * lead + arr.strides)
-        out.flags.writeable = False
-        return out
-    return np.broadcast_to(arr, shape)
+    return broadcast_view(np.asarray(raw.status) == "success", (n,)).copy()
 
 
 def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
@@ -423,7 +410,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     n = shape[0]
     if raw.exact_balances:  # identities by construction: exact zeros (read-only, no memory)
         lo, up = _fixed_positions(problem)
-        prob = loadb = _broadcast(np.zeros(()), shape)
+        prob = loadb = broadcast_view(np.zeros(()), shape)
     else:
         lo, up, prob, loadb = _balances(problem, raw)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
@@ -490,25 +477,21 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         "absorbed_lower": raw.absorbed_lower,
         "absorbed_upper": raw.absorbed_upper,
         "load": raw.load,
-        "wall_lower": _broadcast(lo, shape),
-        "wall_upper": _broadcast(up, shape),
+        "wall_lower": broadcast_view(lo, shape),
+        "wall_upper": broadcast_view(up, shape),
         "P": raw.P,
         "error_estimate": raw.error_estimate,
         "probability_balance": prob,
         "load_balance": loadb,
     }
-
-    def per_load(v) -> Array:
-        return _broadcast(np.asarray(v, dtype=np.int64), (n,))
-
     return dict(
         fields=fields,
         status=status,
         message=message,
         method=[method] * n,
-        nsteps=per_load(raw.nsteps),
-        n_nodes=per_load(raw.n_nodes),
-        nfev=per_load(raw.nfev),
+        nsteps=broadcast_view(np.asarray(raw.nsteps, dtype=np.int64), (n,)),
+        n_nodes=broadcast_view(np.asarray(raw.n_nodes, dtype=np.int64), (n,)),
+        nfev=broadcast_view(np.asarray(raw.nfev, dtype=np.int64), (n,)),
         exact_balances=np.full(n, raw.exact_balances),
         success=success,
     )
