@@ -388,7 +388,7 @@ def _in_ranges(entry: dict[str, Any], over: _Over, feats: dict[str, Any]) -> boo
         if key in over.numeric:
             v = float(over[key])
         elif key in feats:
-            v = float(feats[key])
+            v = float(np.asarray(feats[key], float))  # as the array path reads it (None: NaN)
         else:
             return False
         if not (v >= lo and v < hi):
