@@ -69,3 +69,11 @@ def test_a_failing_value_names_its_place_every_time():
     with pytest.raises(SceneError):
         convert_param(PRESSURE, "-3 Pa", "material.E")
     assert len(kept) == before  # errors are never kept
+
+
+def test_a_declaration_without_a_content_key_converts_each_time():
+    class Opaque:  # an example value no content key holds (a plugin's own object)
+        pass
+
+    spec = dataclasses.replace(PRESSURE, example=Opaque())
+    assert convert_param(spec, "3 kPa", "boundary.x") == 3000.0

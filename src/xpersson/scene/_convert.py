@@ -51,8 +51,10 @@ def convert_param(spec: ParamSpec, value: Any, where: str) -> Any:
     if spec.kind in ("bool", "string", "path", "choice"):
         return _convert_literal(spec, value, where)
     if type(value) in (str, float, int) and not spec.array:  # one number: converted once
-        # keyed on the spec's content key (bytes: the key's fast path) and the value
-        key = (spec.cache_key(), value)
+        try:  # keyed on the spec's content key (bytes: the key's fast path) and the value
+            key = (spec.cache_key(), value)
+        except TypeError:  # a declaration holding a value without a content key
+            return _convert_number(spec, value, where)
         return _NUMBERS.get(key, lambda: _convert_number(spec, value, where))
     return _convert_number(spec, value, where)
 
