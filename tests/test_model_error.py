@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import xpersson
 from xpersson.pipeline import model_error
@@ -361,3 +363,43 @@ def test_an_extrapolated_scene_carries_status_2_and_its_reason():
         assert other["area_fraction_model_error_status"].values.tolist() == [0]
         (line,) = model_error_reasons(other, table)
         assert line.endswith("not verified " + tail), line
+
+
+@given(
+    hurst=st.floats(0.0, 1.2),
+    decades=st.floats(0.0, 4.0),
+    area=st.floats(0.0, 1.0),
+    rolloff=st.sampled_from([0.0, 1.0]),
+    tabor=st.floats(0.0, 3.0),
+    tensile=st.sampled_from([0.0, 1.0]),
+    boundary=st.sampled_from(["elastic", "plastic", "adhesive", "jkr"]),
+    law=st.sampled_from(["exponential", "other"]),
+)
+@settings(max_examples=20, deadline=None)
+def test_one_point_band_equals_the_array_band(
+    hurst, decades, area, rolloff, tabor, tensile, boundary, law
+):
+    """The band of a single solve (one point, shape ()) is found without array operations:
+    bit for bit the band the array evaluation gives that point (packaged table, every
+    variable it lists, trends included)."""
+    table = model_error.band_table()
+    feats = {
+        "boundary": boundary,
+        "closure": "persson01",
+        "spectrum": "self_affine",
+        "boundary.law": law,
+        "hurst": hurst,
+        "decades": decades,
+        "rolloff": rolloff,
+        "area_fraction": area,
+        "tabor": tabor,
+        "tensile": tensile,
+    }
+    for name in model_error.covered_names(table):
+        for opts in ({}, {"s_factor": "closure"}, {"s_factor": "yang_persson"}):
+            one = model_error.bands_of(name, feats, opts, (), table)
+            row = model_error.bands_of(name, feats, opts, (1,), table)
+            for a, b in zip(one, row, strict=True):
+                assert np.asarray(a).shape == ()
+                assert np.asarray(a).dtype == b.dtype
+                assert np.array_equal(np.asarray(a)[None], b, equal_nan=True)

@@ -169,6 +169,7 @@ def global_attributes(rs: Any, registry: Any = None) -> dict[str, str]:
     """
     del registry
     now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
+    release = version()
     plugins_json, refs = _plugins_json(rs)
     title = rs.resolved.get("title") or "Persson contact-mechanics solution"
     return {
@@ -179,17 +180,17 @@ def global_attributes(rs: Any, registry: Any = None) -> dict[str, str]:
             "Pressure distribution and contact area of a rough interface by Persson's "
             "multiscale contact theory (diffusion equation in magnification).",
         ),
-        "source": f"xpersson {version()}",
-        "history": f"{now} xpersson {version()} solve",
+        "source": f"xpersson {release}",
+        "history": f"{now} xpersson {release} solve",
         "date_created": now,
         "references": "; ".join(f"doi:{r}" if r.startswith("10.") else r for r in refs),
         "keywords": "contact mechanics, roughness, Persson theory, contact area",
         "standard_name_vocabulary": STANDARD_NAME_VOCABULARY,
         "processing_level": "model output",
-        "product_version": version(),
+        "product_version": release,
         **user_metadata(),  # the user's defaults (a metadata file)
         **dict(rs.resolved.get("metadata", {})),  # the scene's ACDD attributes win
-        "xpersson_version": version(),
+        "xpersson_version": release,
         "xpersson_scene": json.dumps(rs.resolved, sort_keys=True),
         # the file name only: no machine-specific path goes into an archive
         "xpersson_scene_source": Path(rs.scene.source).name if rs.scene.source else "<dict>",

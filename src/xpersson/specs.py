@@ -32,6 +32,10 @@ class _Required:
     def __reduce__(self) -> str:
         return "REQUIRED"
 
+    def cache_key(self) -> str:
+        """The sentinel's content key (a :class:`ParamSpec`'s default keys as this)."""
+        return "REQUIRED"
+
 
 REQUIRED: Any = _Required()
 """Sentinel default: the parameter must be given in the scene."""
@@ -84,6 +88,13 @@ class ParamSpec:
     array: bool = False
     example: Any = None
     dim: str | None = None
+
+    def cache_key(self) -> bytes:
+        """The declaration's content key (:func:`xpersson.cache.dataclass_key`: a digest of
+        its fields, made once per object): a conversion keyed on it is keyed on every field."""
+        from .cache import dataclass_key  # noqa: PLC0415 - specs stay cheap to import
+
+        return dataclass_key(self)
 
     @property
     def required(self) -> bool:
@@ -222,7 +233,7 @@ def caret_units(units: str) -> str:
     """
     return (
         " ".join(
-            m.expand(r"\1^\2") if (m := _POWER.match(token)) else token for token in units.split()
+            f"{m[1]}^{m[2]}" if (m := _POWER.match(token)) else token for token in units.split()
         )
         or units
     )
@@ -295,8 +306,28 @@ class VarSpec:
         ):
             raise SpecError(f"{where}: nan_meaning must be a non-empty string or None")
 
+    def __post_init__(self) -> None:
+        # the CF attributes are static: made once with the declaration (a malformed one, which
+        # :meth:`check` reports, makes them at each call instead, raising there as before)
+        try:
+            made = self.cf_attrs()
+        except Exception:  # noqa: BLE001 - reported by check() or by attrs()
+            made = None
+        object.__setattr__(self, "_attrs", made)
+
     def attrs(self) -> dict[str, Any]:
-        """CF attributes for a variable with this spec (``valid_min``/``valid_max`` as floats)."""
+        """CF attributes for a variable with this spec (``valid_min``/``valid_max`` as floats):
+        a fresh dict each call (its ``flag_values`` array a fresh copy), made once per spec."""
+        made = self.__dict__.get("_attrs")
+        if made is None:
+            return self.cf_attrs()
+        out = dict(made)
+        if "flag_values" in out and hasattr(out["flag_values"], "copy"):
+            out["flag_values"] = out["flag_values"].copy()
+        return out
+
+    def cf_attrs(self) -> dict[str, Any]:
+        """The CF attributes of :meth:`attrs`, computed from the declaration's fields."""
         out: dict[str, Any] = {"units": caret_units(self.units), "long_name": self.long_name}
         if self.standard_name:
             out["standard_name"] = self.standard_name

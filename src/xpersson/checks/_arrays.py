@@ -54,7 +54,15 @@ def check_array(
                 plugin=who,
                 variable=what,
             )
-    u = f" {unit}" if unit else ""
+    if arr.size:  # the rule in two reductions (min and max propagate NaN and show +-inf)
+        lo, hi = float(arr.min()), float(arr.max())
+        if math.isfinite(lo) and math.isfinite(hi) and (lo >= 0 or not nonnegative):
+            if not (nondecreasing_axis == 0 and arr.ndim == 1 and lo >= 0):
+                _check_nondecreasing(arr, who, what, nondecreasing_axis)
+            elif arr.size > 1 and float(np.min(arr[1:] - arr[:-1])) < -1e-12 * hi:
+                _check_nondecreasing(arr, who, what, 0)  # raises, counting the steps down
+            return arr  # (a non-negative row: its largest magnitude is its maximum)
+    u = f" {unit}" if unit else ""  # a value breaks the rule: the checks below quote it
     bad = ~np.isfinite(arr)
     if bad.any():
         raise PluginFailure(
@@ -69,9 +77,16 @@ def check_array(
             plugin=who,
             variable=what,
         )
-    if nondecreasing_axis is not None and arr.shape[nondecreasing_axis] > 1:
-        d = np.diff(arr, axis=nondecreasing_axis)
-        scale = np.max(np.abs(arr), axis=nondecreasing_axis, keepdims=True)
+    _check_nondecreasing(arr, who, what, nondecreasing_axis)
+    return arr
+
+
+def _check_nondecreasing(arr: np.ndarray, who: object, what: str, axis: int | None) -> None:
+    """No step of finite ``arr`` along ``axis`` goes down by more than 1e-12 of the largest
+    magnitude along it (round-off); ``None``: nothing to check."""
+    if axis is not None and arr.shape[axis] > 1:
+        d = np.diff(arr, axis=axis)
+        scale = np.max(np.abs(arr), axis=axis, keepdims=True)
         down = d < -1e-12 * scale
         if down.any():
             raise PluginFailure(
@@ -80,7 +95,6 @@ def check_array(
                 plugin=who,
                 variable=what,
             )
-    return arr
 
 
 def quote(arr: np.ndarray, mask: np.ndarray, unit: str = "", coords: Any = None) -> str:

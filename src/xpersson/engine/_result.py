@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._problem import Problem
+from ._views import broadcast_view
 
 __all__ = [
     "Outcome",
@@ -396,7 +397,7 @@ class LazyField:
 
 
 def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report success?
-    return np.broadcast_to(np.asarray(raw.status) == "success", (n,)).copy()
+    return broadcast_view(np.asarray(raw.status) == "success", (n,)).copy()
 
 
 def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
@@ -409,7 +410,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     n = shape[0]
     if raw.exact_balances:  # identities by construction: exact zeros (read-only, no memory)
         lo, up = _fixed_positions(problem)
-        prob = loadb = np.broadcast_to(np.zeros(()), shape)
+        prob = loadb = broadcast_view(np.zeros(()), shape)
     else:
         lo, up, prob, loadb = _balances(problem, raw)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
@@ -476,25 +477,21 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         "absorbed_lower": raw.absorbed_lower,
         "absorbed_upper": raw.absorbed_upper,
         "load": raw.load,
-        "wall_lower": np.broadcast_to(lo, shape),
-        "wall_upper": np.broadcast_to(up, shape),
+        "wall_lower": broadcast_view(lo, shape),
+        "wall_upper": broadcast_view(up, shape),
         "P": raw.P,
         "error_estimate": raw.error_estimate,
         "probability_balance": prob,
         "load_balance": loadb,
     }
-
-    def per_load(v) -> Array:
-        return np.broadcast_to(np.asarray(v, dtype=np.int64), (n,))
-
     return dict(
         fields=fields,
         status=status,
         message=message,
         method=[method] * n,
-        nsteps=per_load(raw.nsteps),
-        n_nodes=per_load(raw.n_nodes),
-        nfev=per_load(raw.nfev),
+        nsteps=broadcast_view(np.asarray(raw.nsteps, dtype=np.int64), (n,)),
+        n_nodes=broadcast_view(np.asarray(raw.n_nodes, dtype=np.int64), (n,)),
+        nfev=broadcast_view(np.asarray(raw.nfev, dtype=np.int64), (n,)),
         exact_balances=np.full(n, raw.exact_balances),
         success=success,
     )

@@ -12,11 +12,24 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+import pandas as pd
 import xarray as xr
 
 from ..cache import Cache
 
-__all__ = ["cached_index", "direct_dataset", "insert_direct", "insert_or_set"]
+__all__ = ["cached_index", "direct_dataset", "insert_direct", "insert_or_set", "values_of"]
+
+
+def values_of(var: xr.Variable) -> np.ndarray:
+    """``var.values`` of a Variable; of an index variable (a dimension coordinate) read from
+    its pandas index directly (the same array, without xarray's conversion: ~11 us a read)."""
+    data = getattr(var, "_data", None)
+    index = getattr(data, "array", None)
+    if isinstance(index, pd.Index) and type(index) is pd.Index and index.dtype.kind in "fiu":
+        out = np.asarray(index)
+        if out.dtype == var.dtype:
+            return out
+    return var.values
 
 
 _INDEXES = Cache(
@@ -35,12 +48,13 @@ def cached_index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variabl
     fresh shallow copy carrying ``var``'s attrs.
     """
     attrs = tuple(sorted((k, str(v)) for k, v in var.attrs.items()))
+    kind = f"{cls.__module__}.{cls.__qualname__}"  # the class by name (a string keys fastest)
 
     def compute() -> tuple[Any, xr.Variable]:
         index = cls.from_variables({name: var}, options={})
         return index, index.create_variables({name: var})[name]
 
-    index, variable = _INDEXES.get((cls, name, np.asarray(var.values), attrs), compute)
+    index, variable = _INDEXES.get((kind, name, np.asarray(var.values), attrs), compute)
     out = variable.copy(deep=False)
     out.attrs = dict(var.attrs)
     return index, out
@@ -90,7 +104,7 @@ def insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
     if not all(isinstance(p, dict | set) for p in parts):  # pragma: no cover - other xarray
         return False
     variables, dims, indexes, coord_names = parts
-    new = _new_coords(ds, checked)
+    new = _new_coords(ds, checked, dims)
     if new is None:
         return False
     if new:
@@ -107,10 +121,12 @@ def insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
     return True
 
 
-def _new_coords(ds: xr.Dataset, checked: Mapping[str, Any]) -> dict[str, xr.Variable] | None:
-    """The new dimensions' coordinates of ``checked`` (see :func:`insert_direct`), or None
-    when the contribution needs :meth:`xarray.Dataset.update`."""
-    sizes = dict(ds.sizes)
+def _new_coords(
+    ds: xr.Dataset, checked: Mapping[str, Any], sizes: Mapping[str, int]
+) -> dict[str, xr.Variable] | None:
+    """The new dimensions' coordinates of ``checked`` (see :func:`insert_direct`; ``sizes``:
+    the Dataset's dimension sizes), or None when the contribution needs
+    :meth:`xarray.Dataset.update`."""
     new: dict[str, xr.Variable] = {}
     for da in checked.values():
         coords = {} if isinstance(da, xr.Variable) else da.coords

@@ -12,14 +12,14 @@ import numpy as np
 import xarray as xr
 
 from .. import checks
-from ..cache import Cache
+from ..cache import freeze
 from ..errors import XperssonWarning
 from ..physics.grids import persson_G
 from ..physics.psd import segment_exponents
 from ..plugins import SceneContext, VarSpec
 from ..scene import ResolvedScene
 from ..schema import COORDS, CORE_VARIABLES, stamp
-from ._insert import direct_dataset, insert_direct
+from ._insert import direct_dataset, insert_direct, values_of
 from .diagnostics import pdf_resolution, regime_warnings, theory_validity
 
 __all__ = ["assemble", "add_outputs", "attributes", "diagnostics_notes", "squeeze_p0"]
@@ -101,22 +101,16 @@ def _balance_notes(results: Any) -> dict[str, str]:
     return {name: text for name in ("load_balance", "probability_balance")}
 
 
-_ATTRS = Cache(
-    "pipeline.core_attrs",
-    scope="process",
-    maxsize=256,
-    doc="CF attrs of a core variable or coordinate of the schema, by name",
-)
+#: CF attrs of every coordinate and core variable of the schema (static: made at import; the
+#: arrays in them read-only, as every Dataset shares them).
+_CORE_ATTRS: dict[str, dict[str, Any]] = {
+    name: freeze(spec.attrs()) for name, spec in {**CORE_VARIABLES, **COORDS}.items()
+}
 
 
 def _attrs_of(name: str) -> dict[str, Any]:
-    """CF attrs of a core variable or coordinate (computed once per process, copied out)."""
-
-    def compute() -> dict[str, Any]:
-        spec = COORDS.get(name) or CORE_VARIABLES.get(name)
-        return spec.attrs() if spec is not None else {}
-
-    return dict(_ATTRS.get(name, compute))
+    """CF attrs of a core variable or coordinate (a copy; ``{}`` for another name)."""
+    return dict(_CORE_ATTRS.get(name, ()))
 
 
 def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
@@ -238,12 +232,12 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
     """
     try:
         variables = {}
-        for name, var in ds.variables.items():
+        for name, var in ds._variables.items():  # noqa: SLF001 - see the docstring
             if "p0" in var.dims:
                 axis = var.dims.index("p0")
                 dims = var.dims[:axis] + var.dims[axis + 1 :]
                 # a view (basic indexing; np.take copied: a large P in fresh memory pages)
-                data = np.asarray(var.values)[(slice(None),) * axis + (0,)]
+                data = np.asarray(values_of(var))[(slice(None),) * axis + (0,)]
                 fast = True
                 if getattr(data, "ndim", None) is None:  # a Python object (an object array's):
                     data = np.asarray(data)  # converted as xarray would, without its probe of
@@ -251,10 +245,11 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
                 variables[name] = xr.Variable(dims, data, var.attrs, var.encoding, fastpath=fast)
             else:
                 variables[name] = var
-        indexes = {k: v for k, v in ds.xindexes.items() if k != "p0"}
-        dims = {d: n for d, n in ds.sizes.items() if d != "p0"}
+        indexes = {k: v for k, v in ds._indexes.items() if k != "p0"}  # noqa: SLF001
+        dims = {d: n for d, n in ds._dims.items() if d != "p0"}  # noqa: SLF001
+        coords = set(ds._coord_names)  # noqa: SLF001
         out = xr.Dataset._construct_direct(  # noqa: SLF001 - see the docstring
-            variables, set(ds.coords), dims, dict(ds.attrs), indexes
+            variables, coords, dims, dict(ds.attrs), indexes
         )
     except (AttributeError, TypeError):  # pragma: no cover - other xarray versions
         return ds.isel(p0=0)

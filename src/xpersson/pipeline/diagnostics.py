@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ..plugins import VarSpec
-from ._insert import insert_or_set
+from ._insert import insert_or_set, values_of
 
 __all__ = [
     "P_RTOL",
@@ -92,7 +92,7 @@ def pdf_resolution(ds: Any) -> str | None:
     P = var["P"]
     if P.dims != ("p0", "zeta", "p"):
         P = P.transpose("p0", "zeta", "p")
-    p = np.asarray(var["p"].values, float)
+    p = np.asarray(values_of(var["p"]), float)
     integral = _trapezoid(np.asarray(P.values, float), p)
     area = var["area_fraction"]
     if area.dims != ("p0", "zeta"):
@@ -111,7 +111,7 @@ def pdf_resolution(ds: Any) -> str | None:
             "P_resolved": xr.Variable(("p0", "zeta"), ok.astype(np.int8), flags, fastpath=True),
         },
     )
-    zeta = np.asarray(var["zeta"].values, float)
+    zeta = np.asarray(values_of(var["zeta"]), float)
     # at zeta = 1 (tau = 0) P is the initial delta: flagged, but no reason to warn
     ok_or_delta = ok | (np.asarray(var["diffusion_time"].values, float) == 0)[None, :]
     if ok_or_delta.all():
@@ -159,7 +159,7 @@ def regime_warnings(ds: Any) -> list[str]:
             f"(warned above {SLOPE_LIMIT:g})"
         )
     e_star = float(var["E_star"].values)
-    p0 = np.asarray(var["p0"].values, float)
+    p0 = np.asarray(values_of(var["p0"]), float)
     high = p0[p0 > e_star]
     if high.size:
         out.append(
@@ -178,11 +178,15 @@ def validity_flags(
     area = np.asarray(area, float)
     slope = np.asarray(rms_slope, float).reshape(np.shape(rms_slope) + (1,) * (area.ndim - 1))
     flags = np.zeros(area.shape, np.int8)
-    flags |= np.where(np.asarray(p0, float) > e_star, 1, 0).astype(np.int8)
-    flags |= np.where(slope > SLOPE_LIMIT, 2, 0).astype(np.int8)
-    flags |= np.where(np.asarray(non, float) < 2.0**-53, 4, 0).astype(np.int8)
-    flags |= np.where(area < np.finfo(float).tiny, 8, 0).astype(np.int8)
+    # each bit: a boolean times its int8 value (int8, no int64 temporaries)
+    flags |= (np.asarray(p0, float) > e_star) * np.int8(1)
+    flags |= (slope > SLOPE_LIMIT) * np.int8(2)
+    flags |= (np.asarray(non, float) < 2.0**-53) * np.int8(4)
+    flags |= (area < _TINY) * np.int8(8)
     return flags
+
+
+_TINY = float(np.finfo(float).tiny)  # the smallest normal float64 [1]
 
 
 def theory_validity(ds: Any) -> None:
@@ -192,7 +196,7 @@ def theory_validity(ds: Any) -> None:
     ``non_contact_fraction`` at the last magnification); 0 where the load is inside the regime.
     """
     var = ds.variables  # plain Variables: no DataArray (with its coordinates) per lookup
-    p0 = np.atleast_1d(np.asarray(var["p0"].values, float))
+    p0 = np.atleast_1d(np.asarray(values_of(var["p0"]), float))
     area = _last_zeta(var["area_fraction"])
     non = _last_zeta(var["non_contact_fraction"]) if "non_contact_fraction" in var else 1.0 - area
     flags = validity_flags(

@@ -55,13 +55,14 @@ import numpy as np
 import xarray as xr
 
 from ..cache import Cache
-from ._insert import insert_or_set
+from ._insert import insert_or_set, values_of
 
 __all__ = [
     "FLAG",
     "SUFFIXES",
     "attach",
     "covered",
+    "covered_names",
     "band_table",
     "bands_of",
     "scene_features",
@@ -137,8 +138,8 @@ def _finest(var: Any) -> tuple[tuple[str, ...], np.ndarray]:
     values = np.asarray(var.values, float)
     if "zeta" not in var.dims:
         return tuple(var.dims), values
-    axis = var.dims.index("zeta")
-    return tuple(d for d in var.dims if d != "zeta"), np.take(values, -1, axis=axis)
+    axis = var.dims.index("zeta")  # a view: the values are only read
+    return tuple(d for d in var.dims if d != "zeta"), values[(slice(None),) * axis + (-1,)]
 
 
 def bands_of(
@@ -183,9 +184,25 @@ def _options_of(rs: Any, variable: str) -> dict[str, Any]:
 
 def covered(ds: xr.Dataset, table: dict[str, Any] | None = None) -> list[str]:
     """The outputs of ``ds`` that the table lists (the variables :func:`attach` annotates)."""
-    table = table or band_table()
-    names = {e["variable"] for e in table["bands"]} | set(table.get("variables", ()))
-    return sorted(n for n in names if n in ds.data_vars)
+    if not table:  # the packaged table's names, listed once
+        names = _NAMES.get("", lambda: covered_names(band_table()))
+    else:
+        names = covered_names(table)
+    have = ds.data_vars
+    return sorted(n for n in names if n in have)
+
+
+_NAMES = Cache(
+    "model_error.names",
+    scope="process",
+    maxsize=2,
+    doc="the output names the packaged model-error table lists (a sorted tuple)",
+)
+
+
+def covered_names(table: dict[str, Any]) -> tuple[str, ...]:
+    """The output names ``table`` lists (its bands' variables and its ``variables``)."""
+    return tuple(sorted({e["variable"] for e in table["bands"]} | set(table.get("variables", ()))))
 
 
 def attach(
@@ -213,8 +230,8 @@ def attach(
     points = list(points) if dims else [points]
     if not points or not points[0].resolved.get("output", {}).get("model_error", True):
         return []
+    names = covered(ds, table or None)
     table = table or band_table()
-    names = covered(ds, table)
     if not names:
         return []
     shape = tuple(ds.sizes[d] for d in dims)
@@ -225,11 +242,14 @@ def attach(
         for k in _NUMERIC
     }
     numeric.update(_load_features(ds, dims))
-    added: list[str] = []
+    new: dict[str, xr.Variable] = {}
     for name in names:
         groups = _groups(name, scenes, points, index, dims)
-        added += _attach_one(ds, name, numeric, groups, table)
-    return added
+        new.update(_ancillaries(ds, name, numeric, groups, table))
+    insert_or_set(ds, new)  # every output's three at once (one insertion)
+    for name in names:
+        ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
+    return list(new)
 
 
 #: Scene features that vary from point to point of a sweep: arrays over its points.
@@ -248,7 +268,7 @@ def _load_features(ds: xr.Dataset, dims: tuple[str, ...]) -> dict[str, Any]:
             break
     if "p0" in ds.variables:
         p0 = ds.variables["p0"]
-        out["tensile"] = (tuple(p0.dims), (np.asarray(p0.values, float) < 0).astype(float))
+        out["tensile"] = (tuple(p0.dims), (np.asarray(values_of(p0), float) < 0).astype(float))
     if "tabor_parameter" in ds.variables:
         tdims, values = _finest(ds.variables["tabor_parameter"])
         for ax in reversed(range(len(tdims))):
@@ -263,6 +283,9 @@ def _groups(
 ) -> list[tuple[dict[str, Any], dict[str, Any], tuple[tuple[str, ...], Any]]]:
     """``(scene features, options, (dims, mask))`` per group of points whose plugin names,
     options and other non-numeric features agree (one group in most sweeps: mask ``True``)."""
+    if len(points) == 1:  # one scene (a single solve): one group, nothing to compare
+        fixed = {k: v for k, v in scenes[0].items() if k not in _NUMERIC}
+        return [(fixed, _options_of(points[0], name), ((), np.bool_(True)))]
     keys: dict[str, int] = {}
     found: list[tuple[dict[str, Any], dict[str, Any]]] = []
     gid = np.empty(len(points), dtype=np.intp)
@@ -302,19 +325,24 @@ def _bands(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(low, high, status)`` of output ``name`` over ``shape``: per group, the first entry
     that matches each point (as :func:`bands_of`, over arrays)."""
+    entries = [e for e in table["bands"] if e["variable"] == name]
+    over = _Over(numeric, vdims, shape)
+    if shape == ():  # one point (a single solve's scalar): the same, without array operations
+        return _band_of_point(entries, over, groups)
     low, high = np.full(shape, np.nan), np.full(shape, np.nan)
     done = np.zeros(shape, dtype=bool)
     status = np.zeros(shape, dtype=np.int8)
-    entries = [e for e in table["bands"] if e["variable"] == name]
     for feats, opts, (mdims, mask) in groups:
         where = _on(mdims, mask, vdims, shape)
         for entry in entries:
-            if any(opts.get(k, feats.get(k)) != v for k, v in entry.get("match", {}).items()):
+            if not _matches(entry, feats, opts):
                 continue
             ok = where & ~done
             for key, (lo, hi) in entry.get("ranges", {}).items():
+                if not ok.any():  # no point left: the entry hits nothing
+                    break
                 if key in numeric:
-                    v = _on(*numeric[key], vdims, shape)
+                    v = over[key]
                 elif key in feats:
                     v = np.asarray(feats[key], float)
                 else:
@@ -322,30 +350,78 @@ def _bands(
                     break
                 ok = ok & (v >= lo) & (v < hi)
             hit = np.broadcast_to(ok, shape)
-            lo_f, hi_f = _trend(entry, numeric, feats, vdims, shape)
+            if not hit.any():  # nothing to write (its trend is not evaluated)
+                continue
+            lo_f, hi_f = _trend(entry, over, feats, shape)
             low[hit], high[hit] = lo_f[hit], hi_f[hit]
             status[hit] = entry.get("status", 1)
             done |= hit
+            if done.all():  # every point has its entry: the later ones would hit nothing
+                break
     return low, high, status
 
 
+def _matches(entry: dict[str, Any], feats: dict[str, Any], opts: dict[str, Any]) -> bool:
+    """Whether the plugin names, options and features of a group match ``entry["match"]``."""
+    return all(opts.get(k, feats.get(k)) == v for k, v in entry.get("match", {}).items())
+
+
+def _band_of_point(
+    entries: list[dict[str, Any]], over: _Over, groups: list[Any]
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_bands` of one point (``shape == ()``): the first entry of the point's group
+    whose ranges hold it, compared as Python floats (as the array comparisons compare)."""
+    for feats, opts, (_, mask) in groups:
+        if not bool(mask):
+            continue
+        for entry in entries:
+            if _matches(entry, feats, opts) and _in_ranges(entry, over, feats):
+                lo_f, hi_f = _trend(entry, over, feats, ())
+                return lo_f, hi_f, np.array(entry.get("status", 1), dtype=np.int8)
+    return np.array(np.nan), np.array(np.nan), np.array(0, dtype=np.int8)
+
+
+def _in_ranges(entry: dict[str, Any], over: _Over, feats: dict[str, Any]) -> bool:
+    """Whether one point's numeric features lie in every ``[lo, hi)`` of ``entry["ranges"]``
+    (a feature the point lacks: not)."""
+    for key, (lo, hi) in entry.get("ranges", {}).items():
+        if key in over.numeric:
+            v = float(over[key])
+        elif key in feats:
+            v = float(np.asarray(feats[key], float))  # as the array path reads it (None: NaN)
+        else:
+            return False
+        if not (v >= lo and v < hi):
+            return False
+    return True
+
+
+class _Over(dict):
+    """The numeric features over ``shape`` (:func:`_on` of each), evaluated once per key."""
+
+    def __init__(self, numeric: dict[str, Any], vdims: tuple[str, ...], shape: tuple[int, ...]):
+        super().__init__()
+        self.numeric, self.vdims, self.shape = numeric, vdims, shape
+
+    def __missing__(self, key: str) -> np.ndarray:
+        value = self[key] = _on(*self.numeric[key], self.vdims, self.shape)
+        return value
+
+
 def _trend(
-    entry: dict[str, Any],
-    numeric: dict[str, Any],
-    feats: dict[str, Any],
-    vdims: tuple[str, ...],
-    shape: tuple[int, ...],
+    entry: dict[str, Any], over: _Over, feats: dict[str, Any], shape: tuple[int, ...]
 ) -> tuple[np.ndarray, np.ndarray]:
     """The factors ``(low, high)`` of ``entry`` over ``shape``: constant, or along its
     ``trend`` (shifted by ``slope (v - reference)``, widened by ``k slope_se`` per unit of
-    distance from the ``covered`` interval of the feature ``v``)."""
+    distance from the ``covered`` interval of the feature ``v``; ``over``: the numeric
+    features over ``shape``)."""
     trend = entry.get("trend")
     if not trend:
         return np.full(shape, float(entry["low"])), np.full(shape, float(entry["high"]))
 
     def values(key: str) -> np.ndarray:
-        if key in numeric:
-            return np.broadcast_to(_on(*numeric[key], vdims, shape), shape)
+        if key in over.numeric:
+            return np.broadcast_to(over[key], shape)
         return np.full(shape, float(feats.get(key, np.nan)))
 
     v = values(trend["feature"])
@@ -358,13 +434,13 @@ def _trend(
     return entry["low"] * np.exp(shift - wide), entry["high"] * np.exp(shift + wide)
 
 
-def _attach_one(
+def _ancillaries(
     ds: xr.Dataset,
     name: str,
     numeric: dict[str, Any],
     groups: list[Any],
     table: dict[str, Any],
-) -> list[str]:
+) -> dict[str, xr.Variable]:
     """The three ancillary variables of output ``name`` (array operations over the points)."""
     var = ds.variables[name]
     vdims, x = _finest(var)
@@ -403,6 +479,4 @@ def _attach_one(
         },
         fastpath=True,
     )
-    insert_or_set(ds, new)
-    ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
-    return list(new)
+    return new

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from ..cache import Cache
 from ..errors import SceneError, UnitError
 from ..specs import ParamSpec
 from ..units import strings_to_si, to_si
@@ -49,6 +50,26 @@ def convert_param(spec: ParamSpec, value: Any, where: str) -> Any:
     """
     if spec.kind in ("bool", "string", "path", "choice"):
         return _convert_literal(spec, value, where)
+    if type(value) in (str, float, int) and not spec.array:  # one number: converted once
+        try:  # keyed on the spec's content key (bytes: the key's fast path) and the value
+            key = (spec.cache_key(), value)
+        except TypeError:  # a declaration holding a value without a content key
+            return _convert_number(spec, value, where)
+        return _NUMBERS.get(key, lambda: _convert_number(spec, value, where))
+    return _convert_number(spec, value, where)
+
+
+_NUMBERS = Cache(
+    "scene.numbers",
+    scope="process",
+    maxsize=4096,
+    doc="a scene's number or quantity text in SI by its ParamSpec (a float or an int)",
+)
+
+
+def _convert_number(spec: ParamSpec, value: Any, where: str) -> Any:
+    """:func:`convert_param` of a quantity or int parameter (checked; raises naming ``where``:
+    an error is never kept, so every failing value raises its own message)."""
     if spec.sweepable and is_sweep_value(spec, value):
         raise SceneError(
             f"{where}: several values sweep this parameter; solve the scene with "
@@ -225,10 +246,13 @@ def _strings_in_bounds(spec: ParamSpec, value: Any) -> np.ndarray | None:
 
 def loads(value: Any, tensile: bool = False) -> tuple[np.ndarray, bool]:
     """``load.p0`` in Pa and whether it was a scalar (``tensile`` lifts the sign bound)."""
-    spec = CORE["load"]["p0"]
-    if tensile:  # the boundary accepts tensile loads (adhesion) and checks their range itself
-        spec = dataclasses.replace(spec, bounds=(None, None))
+    # the boundary accepts tensile loads (adhesion) and checks their range itself
+    spec = _TENSILE if tensile else CORE["load"]["p0"]
     return increasing_values(spec, value, "load.p0", "loads")
+
+
+#: ``load.p0`` without its sign bound (one declaration: its content key is made once).
+_TENSILE = dataclasses.replace(CORE["load"]["p0"], bounds=(None, None))
 
 
 def increasing_values(
@@ -291,11 +315,14 @@ def jsonable(
         if v is None:
             continue
         if dimensional and isinstance(v, np.ndarray):
-            out[k] = [f"{float(x)!r} {spec.unit}" for x in v]
+            fast = v.ndim == 1 and v.dtype.kind in "fiub"  # Python floats, as float(x) gives
+            values = np.asarray(v, float).tolist() if fast else [float(x) for x in v]
+            out[k] = [f"{x!r} {spec.unit}" for x in values]
         elif dimensional and isinstance(v, int | float):
             out[k] = f"{float(v)!r} {spec.unit}"
         elif isinstance(v, np.ndarray):
-            out[k] = [float(x) for x in v]
+            fast = v.ndim == 1 and v.dtype.kind in "fiub"  # Python floats, as float(x) gives
+            out[k] = np.asarray(v, float).tolist() if fast else [float(x) for x in v]
         elif isinstance(v, type):
             out[k] = f"{v.__module__}:{v.__qualname__}"
         elif isinstance(v, np.generic):

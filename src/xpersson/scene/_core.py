@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from ..cache import Cache
 from ..plugins import PLUGIN_GROUPS, ParamSpec, Plugin
 from ..schema import METADATA_KEYS  # noqa: F401 - re-exported: the scene validates [metadata]
 
@@ -19,6 +20,7 @@ __all__ = [
     "PLUGIN_SECTIONS",
     "TOP_LEVEL",
     "ResolvedScene",
+    "log_grid",
 ]
 
 # -- the core sections and their parameters ---------------------------------------------------
@@ -203,3 +205,23 @@ class ResolvedScene:
     def E_star(self) -> float:
         """Plane-strain modulus ``E / (1 - nu^2)`` [Pa]."""
         return self.E / (1.0 - self.nu**2)
+
+
+_GRIDS = Cache(
+    "scene.zeta_grid",
+    scope="process",
+    maxsize=256,
+    doc="the log-spaced output magnifications 1..zeta_max in n steps (read-only)",
+)
+
+
+def log_grid(n: int, zeta_max: float) -> np.ndarray:
+    """``n + 1`` log-spaced magnifications from 1 to ``zeta_max`` [1], the ends exact
+    (read-only: made once per ``n`` and ``zeta_max``)."""
+
+    def make() -> np.ndarray:
+        z = np.geomspace(1.0, zeta_max, n + 1)
+        z[0], z[-1] = 1.0, zeta_max
+        return z
+
+    return _GRIDS.get((n, zeta_max), make)

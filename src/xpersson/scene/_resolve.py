@@ -34,6 +34,7 @@ from ._core import (
     PLUGIN_SECTIONS,
     TOP_LEVEL,
     ResolvedScene,
+    log_grid,
 )
 from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
 
@@ -171,7 +172,9 @@ def _zeta_grid(out: Mapping[str, Any], zeta_support: float) -> np.ndarray:
         )
     zmax = min(zmax or zeta_support, zeta_support)
     if out["zeta"] is not None:
-        z = np.unique(np.asarray(out["zeta"], float))
+        z = np.array(out["zeta"], float)
+        if z.ndim != 1 or not bool(np.all(z[1:] > z[:-1])):  # sorted and distinct: as given
+            z = np.unique(z)
         if z[-1] > zeta_support * (1 + 1e-12):
             raise SceneError(
                 f"output.zeta: {z[-1]:g} exceeds q_1/q_L = {zeta_support:g}; allowed [1, "
@@ -181,11 +184,7 @@ def _zeta_grid(out: Mapping[str, Any], zeta_support: float) -> np.ndarray:
             z = np.concatenate([[1.0], z])
         return z
     n = max(1, math.ceil(out["zeta_per_decade"] * math.log10(zmax) - 1e-9)) if zmax > 1 else 0
-    if n == 0:
-        return np.array([1.0])
-    z = np.geomspace(1.0, zmax, n + 1)
-    z[0], z[-1] = 1.0, zmax
-    return z
+    return np.array([1.0]) if n == 0 else log_grid(n, zmax)
 
 
 def _check_power(psd: Any, zeta: np.ndarray) -> None:

@@ -19,6 +19,7 @@ in diffusion time ``tau(zeta_i)``, so that a table affine in tau is an exactly l
 
 from __future__ import annotations
 
+import hashlib
 import math
 from collections.abc import Callable, Hashable
 from typing import Any
@@ -187,12 +188,14 @@ class ModelLaw:
         return self.table_and_key(clock, per_decade)[0]
 
     def table_and_key(self, clock: object, per_decade: int = 200) -> tuple[_Pchip, Hashable]:
-        """:meth:`in_tau`'s table and its content key (:func:`xpersson.cache.content_key` of
-        :meth:`clock_key`): equal keys, equal tables (the jkr wall compares by it)."""
+        """:meth:`in_tau`'s table and its content key (``("model", d)``, ``d`` a 128-bit digest
+        of the :func:`xpersson.cache.content_key` of :meth:`clock_key`, as
+        :func:`xpersson.cache.dataclass_key` makes one): equal keys, equal tables (the jkr wall
+        compares by it; a digest is keyed and compared without walking the key's parts)."""
         key = self.clock_key(clock, per_decade)
         _, _, cut, s2_nodes, ds2_nodes = self._samples(key[-4], per_decade)
         t_nodes, f_nodes = key[-2:]
-        ck = content_key(key)
+        ck = ("model", hashlib.blake2b(repr(content_key(key)).encode(), digest_size=16).digest())
         table = _TABLES.get(
             ck,
             lambda: self._fit(

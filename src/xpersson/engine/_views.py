@@ -1,0 +1,24 @@
+"""Read-only broadcast views of the engine's batch results, without ``np.broadcast_to``'s
+argument handling (about 8 us a call; a few calls per solve)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["broadcast_view"]
+
+
+def broadcast_view(value: Any, shape: tuple[int, ...]) -> NDArray[Any]:
+    """``np.broadcast_to(value, shape)``: read-only, no copy. A 0-d or C-contiguous value whose
+    shape ends ``shape`` is viewed with zero strides on the new leading axes; anything else
+    goes to ``np.broadcast_to``."""
+    arr = np.asarray(value)
+    lead = len(shape) - arr.ndim
+    if lead >= 0 and tuple(shape[lead:]) == arr.shape and arr.flags.c_contiguous:
+        out = np.ndarray(shape, arr.dtype, buffer=arr, strides=(0,) * lead + arr.strides)
+        out.flags.writeable = False
+        return out
+    return np.broadcast_to(arr, shape)
