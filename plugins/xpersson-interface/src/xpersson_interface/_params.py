@@ -1,12 +1,13 @@
-"""The parameters the interface analyses share (``s_factor``, ``gamma``, ``zeta_per_decade``)."""
+"""The parameters the interface analyses share (``s_factor``, ``gamma``, ``zeta_per_decade``), the
+leak analysis's own, and the load-interpolation error variable of ``gap_pdf``."""
 
 from __future__ import annotations
 
 from xpersson.physics.closures import GAMMA_DEFAULT
-from xpersson.plugins import ParamSpec
+from xpersson.plugins import ParamSpec, VarSpec
 from xpersson.plugins.solved import FORMS
 
-__all__ = ["_DENSE", "_FORM", "_FORM_AUTO", "_GAMMA"]
+__all__ = ["LEAKAGE_PARAMS", "_DENSE", "_FORM", "_FORM_AUTO", "_GAMMA", "_LOAD_ERROR"]
 
 _FORM = ParamSpec(
     kind="choice",
@@ -37,4 +38,82 @@ _DENSE = ParamSpec(
     bounds=(0, 10000),
     description="points per decade of zeta - 1 at which the solve is sampled for the zeta"
     " integrals (0: the Dataset's magnifications only)",
+)
+
+#: The leak analysis's own parameters (with the shared S-factor form).
+LEAKAGE_PARAMS: dict[str, ParamSpec] = {
+    "a_c": ParamSpec(
+        unit="1",
+        default=0.42,
+        bounds=(0.0, 1.0),
+        inclusive=(False, False),
+        description="percolation threshold of the contact area",
+    ),
+    "fluid": ParamSpec(
+        kind="choice",
+        choices=("liquid", "gas"),
+        default="liquid",
+        description="incompressible liquid or ideal gas (isothermal)",
+    ),
+    "viscosity": ParamSpec(
+        unit="Pa*s",
+        default=1e-3,
+        bounds=(0.0, None),
+        inclusive=(False, True),
+        description="dynamic viscosity of the fluid",
+    ),
+    "pressure_drop": ParamSpec(
+        unit="Pa", default=1e5, bounds=(0.0, None),
+        description="liquid: pressure drop from the inlet to the outlet side",
+    ),
+    "p_in": ParamSpec(
+        unit="Pa", default=2e5, bounds=(0.0, None),
+        description="gas: inlet (high) pressure; must be >= p_out",
+    ),
+    "p_out": ParamSpec(
+        unit="Pa",
+        default=1e5,
+        bounds=(0.0, None),
+        inclusive=(False, True),
+        description="gas: outlet (low) pressure, reference of the reported volume flow",
+    ),
+    "seal_width": ParamSpec(
+        unit="m",
+        default=1e-3,
+        bounds=(0.0, None),
+        inclusive=(False, True),
+        description="seal width L_x along the flow",
+    ),
+    "seal_length": ParamSpec(
+        unit="m",
+        default=1e-2,
+        bounds=(0.0, None),
+        inclusive=(False, True),
+        description="seal length L_y across the flow",
+    ),
+    "emt_threshold": ParamSpec(
+        kind="choice",
+        choices=("bruggeman", "a_c"),
+        default="bruggeman",
+        description="EMT percolation at contact weight 1/2 (plain) or rescaled to a_c",
+    ),
+    "n_bins": ParamSpec(
+        kind="int",
+        default=60,
+        bounds=(10, 100000),
+        description="magnification bins of the gap distribution (EMT)",
+    ),
+}  # fmt: skip
+
+_LOAD_ERROR = VarSpec(
+    ("p0",),
+    "1",
+    "estimated error of the load's gap outputs interpolated in the load",
+    valid_min=0.0,
+    valid_max=1e-4,
+    description="from 400 distinct loads on, the outputs are computed at node loads about "
+    "1/32 decade apart and interpolated in ln p0 (xpersson_interface._by_load): 16 times the "
+    "error of the table at twice the spacing, relative to the load's value (gap_pdf: its "
+    "largest density; at least 1e-30 of the largest over the loads); a load above 1e-4 is "
+    "computed directly; 0: computed directly",
 )
