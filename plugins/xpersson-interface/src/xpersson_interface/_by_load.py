@@ -1,34 +1,37 @@
-"""Many loads through a table in the load (private): ``gap_pdf`` and ``leakage`` at a cost per
-load that does not grow with the number of loads.
+"""Many loads through a table in the load (private): ``gap_pdf`` at a cost per load that
+falls with the number of loads.
 
 The direct path costs about 100 us per load (the dense re-solve of the curve, ``Phi``, the
-detachment's sub-problem sums, the Gaussian sums of 256 separations per load), ten to
-eighty times the batched solve of the same loads. Every output of these analyses is a smooth
-function of the load: the area curve of a ``load_similar`` boundary depends on ``p0`` only
-through ``tau/p0^2``, and each output is an integral of it. So above :data:`TABLE_MIN`
-distinct loads only the *node* loads are computed directly: a subset of the requested loads,
-about 1/:data:`PER_DECADE` decade apart in ``ln p0`` (the lowest and the highest load always
-among them). Every other load takes each output from the Lagrange polynomial through the
-:data:`ORDER` nearest nodes in ``ln p0``, of the output's logarithm (every output here is
-positive: near full contact the detached area falls super-exponentially, its logarithm stays
-a smooth function of ``ln p0``; the gap density is taken element by element, floored at
-:data:`FLOOR`).
+detachment's sub-problem sums, the Gaussian sums of 256 separations per load): 30 to 80
+times the batched solve of the same loads at 1000-1e4 loads. Its outputs are smooth functions
+of the load (the area curve of a ``load_similar`` boundary depends on ``p0`` only through
+``tau/p0^2``; each output is an integral of it). So from :data:`TABLE_MIN` distinct loads on,
+only *node* loads are computed directly: a subset of the requested loads about
+1/:data:`PER_DECADE` decade apart in ``ln p0`` (the lowest and the highest always among
+them). Every other load takes each output from the Lagrange polynomial through the
+:data:`ORDER` nearest nodes in ``ln p0``, of the output's logarithm (near full contact the
+detached area falls super-exponentially and its logarithm stays smooth in ``ln p0``; the gap
+density element by element, floored at :data:`FLOOR`).
 
-**Error, estimated per load and checked.** The table at twice the spacing (the even nodes)
-interpolates the odd nodes; its largest relative error among the odd nodes of a load's
-stencil, times :data:`SCALE`, is the load's estimate (a polynomial through ``ORDER`` points
-has an error ``~ h^ORDER``: halving the spacing divides it by ``2^ORDER = 64``; :data:`SCALE`
-= 1/4 keeps a factor 16 in reserve for round-off and the exact path's own noise, ~1e-6 of
-``Phi``'s linear table). The error is measured against each load's largest value: of the row
-for ``gap_pdf`` (its largest density), of the value itself for every other output. A load
-whose estimate exceeds :data:`TOL`, or whose stencil holds a non-finite or non-positive value
-(sealed, a flooded effective medium, an empty row), is computed directly, unless the two
-nodes around it hold the same such value (both sealed: a load between two sealed loads is
-sealed, since the contact area grows with the load). The estimate is written to the output
-per load (0 for the loads computed directly).
+**The error, estimated per load.** The nodes at twice the spacing (the even ones) interpolate
+the odd ones; the largest relative error among the odd nodes of a load's stencil, times
+:data:`SCALE`, is the load's estimate. Errors are relative to the load's value (a row: its
+largest element), at least :data:`DEPTH` of the largest over the loads (a gap density 1e-57
+of the others, near full contact, is 0 to that). :data:`SCALE` = 16, though halving the
+spacing divides a smooth function's error by ``2^ORDER = 64``: the direct path is itself
+irregular in the load by 1e-6 to 5e-6 (``Phi``'s linear look-up table), which no
+interpolation follows. Measured against the direct path on the 12 scenes of
+``benchmarks/summary.py`` at 3000 loads: every interpolated load within 5.2e-6, at most 0.87
+of its estimate (``benchmarks/gap_table_check.py``).
 
-Up to :data:`TABLE_MIN` distinct loads, or where the nodes would be more than half of them,
-every load is computed directly, as before (bit for bit).
+**Refinement.** Each run of loads whose estimate exceeds :data:`TOL` is tabled again between
+the nodes around it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes
+would be more than half of its loads is computed directly. A load whose stencil holds a
+non-finite value, or a non-positive value of a per-load output, is refined the same way,
+unless both nodes around it hold the same such value (then it takes that value).
+
+The estimate is written to the output per load (0: computed directly). Below
+:data:`TABLE_MIN` distinct loads every load is computed directly, as before, bit for bit.
 """
 
 from __future__ import annotations
@@ -44,6 +47,7 @@ from numpy.typing import NDArray
 __all__ = [
     "DEPTH",
     "FLOOR",
+    "MAX_DEPTH",
     "ORDER",
     "PER_DECADE",
     "SCALE",
@@ -59,8 +63,10 @@ TABLE_MIN = 400
 PER_DECADE = 32
 #: Points of each interpolating polynomial (degree ``ORDER - 1``).
 ORDER = 6
-#: Largest estimated relative error of an interpolated load; above it the load is computed.
+#: Largest estimated relative error of an interpolated load; above it the region is refined.
 TOL = 1e-4
+#: Refinements of a region (each doubles its nodes per decade) before it is computed directly.
+MAX_DEPTH = 3
 #: The estimate: this times the error of the table at twice the spacing.
 SCALE = 16.0
 #: Smallest density interpolated in logarithm (below: this; the error stays below it).
@@ -75,46 +81,72 @@ Exact = Callable[[NDArray[np.intp]], dict[str, NDArray[np.float64]]]
 def by_load(
     p0: NDArray[np.float64],
     exact: Exact,
-    steps: frozenset[str] = frozenset(),
     tol: float = TOL,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
     ``exact(rows)`` gives the outputs of the loads ``p0[rows]`` computed directly (arrays with
     the loads along the first axis: per-load values or rows of them, all positive where
-    regular); ``steps`` names the flags among them (0/1: never interpolated).
+    regular); ``tol`` the largest estimated error of an interpolated load.
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
     if n < TABLE_MIN or not np.all(np.isfinite(p0) & (p0 > 0.0)):
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
-    nodes = _nodes(xs, math.log(10.0) / PER_DECADE)
-    if nodes.size < 2 * ORDER or 2 * nodes.size > xs.size:
-        return exact(np.arange(n)), np.zeros(n)
-    at = exact(first[nodes])
-    logs = {k: _log(v) for k, v in at.items() if k not in steps}
+    out, err = _table(xs, lambda sel: exact(first[sel]), tol, PER_DECADE, 0)
+    return {k: v[inverse] for k, v in out.items()}, err[inverse]
+
+
+def _table(
+    xs: NDArray[np.float64],
+    exact: Exact,
+    tol: float,
+    per_decade: float,
+    depth: int,
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
+    """:func:`by_load` on the sorted distinct ``xs = ln p0``: the table at ``per_decade``
+    nodes, each run of loads whose estimate exceeds ``tol`` again at twice the density
+    (between the nodes around it), at most :data:`MAX_DEPTH` times; directly where the nodes
+    would be more than half of the loads."""
+    nodes = _nodes(xs, math.log(10.0) / per_decade)
+    if depth > MAX_DEPTH or nodes.size < 2 * ORDER or 2 * nodes.size > xs.size:
+        return exact(np.arange(xs.size)), np.zeros(xs.size)
+    at = exact(nodes)
+    logs = {k: _log(v) for k, v in at.items()}
     xn = xs[nodes]
-    check = _check(xn, at, logs, steps)  # (n_node,): error at twice the spacing, at the odd nodes
+    check = _check(xn, at, logs)  # (n_node,): error at twice the spacing, at odd nodes
     rest = np.setdiff1d(np.arange(xs.size), nodes)
-    vals, bad = _interpolate(xn, at, logs, xs[rest], steps)
+    vals, bad = _interpolate(xn, at, logs, xs[rest])
     idx, _ = _stencil(xn, xs[rest])
     est = np.max(check[idx], axis=1) * SCALE
     est[bad] = np.inf
-    direct = est > tol
     out = {k: np.empty((xs.size,) + v.shape[1:]) for k, v in at.items()}
     for k, v in at.items():
         out[k][nodes] = v
         out[k][rest] = vals[k]
     err = np.zeros(xs.size)
     err[rest] = est
-    if direct.any():
-        again = rest[direct]
-        more = exact(first[again])
-        for k, v in more.items():
-            out[k][again] = v
-        err[again] = 0.0
-    return {k: v[inverse] for k, v in out.items()}, err[inverse]
+    for lo, hi in _runs(rest[est > tol], nodes):
+        sub = np.arange(lo, hi + 1)
+        o, e = _table(xs[sub], lambda sel, sub=sub: exact(sub[sel]), tol, 2 * per_decade, depth + 1)
+        for k, v in o.items():
+            out[k][sub] = v
+        err[sub] = e
+    return out, err
+
+
+def _runs(flagged: NDArray[np.intp], nodes: NDArray[np.intp]) -> list[tuple[int, int]]:
+    """The runs of consecutive ``flagged`` loads (only nodes between them), each as the
+    nodes around it ``(first, last)``."""
+    if not flagged.size:
+        return []
+    pos = np.searchsorted(nodes, flagged)  # the node above each flagged load
+    split = np.flatnonzero(np.diff(flagged) - np.diff(pos) != 1) + 1
+    out = []
+    for part in np.split(np.arange(flagged.size), split):
+        out.append((int(nodes[pos[part[0]] - 1]), int(nodes[pos[part[-1]]])))
+    return out
 
 
 def _nodes(xs: NDArray[np.float64], h: float) -> NDArray[np.intp]:
@@ -158,10 +190,8 @@ def _interpolate(
     at: dict[str, NDArray[np.float64]],
     logs: dict[str, NDArray[np.float64]],
     x: NDArray[np.float64],
-    steps: frozenset[str],
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_]]:
-    """Every output at ``x`` from the nodes ``xn`` and whether a load's stencil is unusable
-    (``steps``: flags, taken where both nodes around agree)."""
+    """Every output at ``x`` from the nodes ``xn`` and whether a load's stencil is unusable."""
     idx, w = _stencil(xn, x)
     bad = np.zeros(x.size, dtype=bool)
     around = np.searchsorted(xn, x, side="right")  # the node above x (x strictly inside)
@@ -172,11 +202,6 @@ def _interpolate(
         if v.ndim > 1:
             out[k] = _rows(L, idx, w)
             bad |= ~np.all(np.all(np.isfinite(v), axis=1)[idx], axis=1)
-            continue
-        if k in steps:  # a flag: the value of both nodes around, where they agree
-            y = v[lo].copy()
-            bad |= v[lo] != v[hi]
-            out[k] = y
             continue
         regular = np.isfinite(L)
         y = np.exp(np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx]))
@@ -212,15 +237,14 @@ def _check(
     xn: NDArray[np.float64],
     at: dict[str, NDArray[np.float64]],
     logs: dict[str, NDArray[np.float64]],
-    steps: frozenset[str],
 ) -> NDArray[np.float64]:
     """Per node: the relative error of the even nodes' table at the node (odd nodes; 0 at the
     even ones), the largest over the outputs (inf where unusable)."""
     odd = np.arange(1, xn.size, 2)
     even = np.arange(0, xn.size, 2)
-    sub = {k: v[even] for k, v in at.items() if k not in steps}  # flags: per load only
+    sub = {k: v[even] for k, v in at.items()}
     logs_even = {k: v[even] for k, v in logs.items()}
-    vals, bad = _interpolate(xn[even], sub, logs_even, xn[odd], steps)
+    vals, bad = _interpolate(xn[even], sub, logs_even, xn[odd])
     err = np.zeros(odd.size)
     for k in sub:
         top = float(np.nanmax(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0))))

@@ -1,5 +1,5 @@
 """The parameters the interface analyses share (``s_factor``, ``gamma``, ``zeta_per_decade``), the
-leak analysis's own, and the load-interpolation error variable of ``gap_pdf``."""
+leak analysis's own, and ``gap_pdf``'s error of the loads it interpolates."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from xpersson.physics.closures import GAMMA_DEFAULT
 from xpersson.plugins import ParamSpec, VarSpec
 from xpersson.plugins.solved import FORMS
 
-__all__ = ["LEAKAGE_PARAMS", "_DENSE", "_FORM", "_FORM_AUTO", "_GAMMA", "_LOAD_ERROR"]
+__all__ = ["LEAKAGE_PARAMS", "_DENSE", "_FORM", "_FORM_AUTO", "_GAMMA", "LOAD_ERROR"]
 
 _FORM = ParamSpec(
     kind="choice",
@@ -105,15 +105,18 @@ LEAKAGE_PARAMS: dict[str, ParamSpec] = {
     ),
 }  # fmt: skip
 
-_LOAD_ERROR = VarSpec(
+
+#: ``gap_pdf``'s estimated error of the loads it interpolates in the load (:mod:`._by_load`).
+LOAD_ERROR = VarSpec(
     ("p0",),
     "1",
-    "estimated error of the load's gap outputs interpolated in the load",
+    "estimated relative error of the load's gap outputs interpolated in the load",
     valid_min=0.0,
     valid_max=1e-4,
-    description="from 400 distinct loads on, the outputs are computed at node loads about "
-    "1/32 decade apart and interpolated in ln p0 (xpersson_interface._by_load): 16 times the "
-    "error of the table at twice the spacing, relative to the load's value (gap_pdf: its "
-    "largest density; at least 1e-30 of the largest over the loads); a load above 1e-4 is "
-    "computed directly; 0: computed directly",
+    description="from 400 distinct loads on, gap_pdf, gap_mean and gap_contact_weight are "
+    "computed directly at node loads 1/32 decade apart (denser where needed) and "
+    "interpolated in ln p0 between them (6-point Lagrange of the logarithm): 16 times the "
+    "error the nodes at twice the spacing make, relative to the load's value (gap_pdf: its "
+    "largest density; at least 1e-30 of the largest over the loads); at most 1e-4, else the "
+    "load is computed directly (0)",
 )

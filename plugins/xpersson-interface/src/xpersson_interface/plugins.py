@@ -41,7 +41,7 @@ from ._by_load import by_load, subset
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
-from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, _LOAD_ERROR, LEAKAGE_PARAMS
+from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, LEAKAGE_PARAMS, LOAD_ERROR
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
 
@@ -315,7 +315,7 @@ class GapPDF(_Interface):
             "gap_mean for the distribution; against GFMD (xu2024-gfmd) gap_mean is closer for "
             "p0/E* >= 0.015 (+1 to +26 % vs -13 to -70 %)",
         ),
-        "gap_pdf_load_error": _LOAD_ERROR,
+        "gap_pdf_load_error": LOAD_ERROR,
     }  # fmt: skip
     provides = ("gap_pdf", "gap_contact_weight", "gap_mean", "gap_pdf_load_error")
 
