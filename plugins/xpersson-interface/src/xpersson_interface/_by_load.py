@@ -48,6 +48,7 @@ __all__ = [
     "DEPTH",
     "FLOOR",
     "MAX_DEPTH",
+    "NOISE",
     "ORDER",
     "PER_DECADE",
     "SCALE",
@@ -67,8 +68,11 @@ ORDER = 6
 TOL = 1e-4
 #: Refinements of a region (each doubles its nodes per decade) before it is computed directly.
 MAX_DEPTH = 3
-#: The estimate: this times the error of the table at twice the spacing.
-SCALE = 16.0
+#: The estimate: this times the error of the table at twice the spacing, plus :data:`NOISE`.
+SCALE = 1.0 / 16.0
+#: The direct path's own irregularity in the load (relative; ``Phi``'s linear look-up table),
+#: which no interpolation follows: at most 5.2e-6 measured (12 design scenes, 3000 loads).
+NOISE = 1e-5
 #: Smallest density interpolated in logarithm (below: this; the error stays below it).
 FLOOR = 1e-300
 #: Rows' errors are relative to the larger of the row's largest value and this fraction of the
@@ -119,7 +123,7 @@ def _table(
     rest = np.setdiff1d(np.arange(xs.size), nodes)
     vals, bad = _interpolate(xn, at, logs, xs[rest])
     idx, _ = _stencil(xn, xs[rest])
-    est = np.max(check[idx], axis=1) * SCALE
+    est = np.max(check[idx], axis=1) * SCALE + NOISE
     est[bad] = np.inf
     out = {k: np.empty((xs.size,) + v.shape[1:]) for k, v in at.items()}
     for k, v in at.items():

@@ -326,7 +326,7 @@ class GapPDF(_Interface):
         rho = xr.DataArray(out["gap_pdf"], dims=("p0", "u"), coords={"u": coord})
         return {
             "gap_pdf": rho,
-            "gap_contact_weight": (("p0",), out["gap_contact_weight"]),
+            "gap_contact_weight": (("p0",), np.minimum(out["gap_contact_weight"], 1.0)),
             "gap_mean": (("p0",), out["gap_mean"]),
             "gap_pdf_load_error": (("p0",), err),
         }
