@@ -18,7 +18,7 @@ the odd ones; the largest relative error among the odd nodes of a load's stencil
 :data:`SCALE`, is the load's estimate. Errors are relative to the load's value (a row: its
 largest element), at least :data:`DEPTH` of the largest over the loads (a gap density 1e-57
 of the others, near full contact, is 0 to that). :data:`SCALE` = 16, though halving the
-spacing divides a smooth function's error by ``2^ORDER = 64``: the direct path is itself
+spacing divides a smooth function's error by ``2^ORDER = 84``: the direct path is itself
 irregular in the load by 1e-6 to 5e-6 (``Phi``'s linear look-up table), which no
 interpolation follows. Measured against the direct path on the 12 scenes of
 ``benchmarks/summary.py`` at 3000 loads: every interpolated load within 5.2e-6, at most 0.87
@@ -61,18 +61,18 @@ __all__ = [
 #: Distinct loads from which the table is used.
 TABLE_MIN = 400
 #: Node loads per decade of ``p0`` (the spacing of the table).
-PER_DECADE = 32
+PER_DECADE = 16
 #: Points of each interpolating polynomial (degree ``ORDER - 1``).
-ORDER = 6
+ORDER = 8
 #: Largest estimated relative error of an interpolated load; above it the region is refined.
 TOL = 1e-4
 #: Refinements of a region (each doubles its nodes per decade) before it is computed directly.
 MAX_DEPTH = 3
 #: The estimate: this times the error of the table at twice the spacing, plus :data:`NOISE`.
-SCALE = 1.0 / 16.0
+SCALE = 16.0 / 2**ORDER
 #: The direct path's own irregularity in the load (relative; ``Phi``'s linear look-up table),
-#: which no interpolation follows: at most 5.2e-6 measured (12 design scenes, 3000 loads).
-NOISE = 1e-5
+#: which no interpolation follows; a node's reaches a load through the stencil's weights.
+NOISE = 5e-6
 #: Smallest density interpolated in logarithm (below: this; the error stays below it).
 FLOOR = 1e-300
 #: Rows' errors are relative to the larger of the row's largest value and this fraction of the
@@ -113,7 +113,8 @@ def _table(
     nodes, each run of loads whose estimate exceeds ``tol`` again at twice the density
     (between the nodes around it), at most :data:`MAX_DEPTH` times; directly where the nodes
     would be more than half of the loads."""
-    nodes = _nodes(xs, math.log(10.0) / per_decade)
+    # at least 4 ORDER nodes over the loads' range (a narrow range: denser than per_decade)
+    nodes = _nodes(xs, min(math.log(10.0) / per_decade, (xs[-1] - xs[0]) / (4 * ORDER)))
     if depth > MAX_DEPTH or nodes.size < 2 * ORDER or 2 * nodes.size > xs.size:
         return exact(np.arange(xs.size)), np.zeros(xs.size)
     at = exact(nodes)
@@ -122,8 +123,10 @@ def _table(
     check = _check(xn, at, logs)  # (n_node,): error at twice the spacing, at odd nodes
     rest = np.setdiff1d(np.arange(xs.size), nodes)
     vals, bad = _interpolate(xn, at, logs, xs[rest])
-    idx, _ = _stencil(xn, xs[rest])
-    est = np.max(check[idx], axis=1) * SCALE + NOISE
+    idx, w = _stencil(xn, xs[rest])
+    # the smooth part, from the table at twice the spacing, and the nodes' and the load's own
+    # irregularity through the stencil (its Lebesgue function: 1.5 centred, 7 at the ends)
+    est = np.max(check[idx], axis=1) * SCALE + NOISE * (1.0 + np.sum(np.abs(w), axis=1))
     est[bad] = np.inf
     out = {k: np.empty((xs.size,) + v.shape[1:]) for k, v in at.items()}
     for k, v in at.items():
