@@ -47,6 +47,8 @@ from numpy.typing import NDArray
 __all__ = [
     "DEPTH",
     "FLOOR",
+    "LEAK_NOISE",
+    "LEAK_TOL",
     "MAX_DEPTH",
     "NOISE",
     "ORDER",
@@ -70,9 +72,12 @@ TOL = 1e-4
 MAX_DEPTH = 3
 #: The estimate: this times the error of the table at twice the spacing, plus :data:`NOISE`.
 SCALE = 16.0 / 2**ORDER
-#: The direct path's own irregularity in the load (relative; ``Phi``'s linear look-up table),
-#: which no interpolation follows; a node's reaches a load through the stencil's weights.
+#: The direct path's own irregularity in the load (relative; ``gap_pdf``: ``Phi``'s linear
+#: look-up table), which no interpolation follows; a node's reaches a load through the
+#: stencil's weights.
 NOISE = 5e-6
+#: The same for the leak analysis (its effective medium: cells that move with the load).
+LEAK_TOL, LEAK_NOISE = 1e-3, 1e-4
 #: Smallest density interpolated in logarithm (below: this; the error stays below it).
 FLOOR = 1e-300
 #: Rows' errors are relative to the larger of the row's largest value and this fraction of the
@@ -86,31 +91,39 @@ def by_load(
     p0: NDArray[np.float64],
     exact: Exact,
     tol: float = TOL,
+    keys: frozenset[str] = frozenset(),
+    noise: float = NOISE,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
     ``exact(rows)`` gives the outputs of the loads ``p0[rows]`` computed directly (arrays with
     the loads along the first axis: per-load values or rows of them, all positive where
-    regular); ``tol`` the largest estimated error of an interpolated load.
+    regular); ``tol`` the largest estimated error of an interpolated load. ``keys`` names
+    per-load outputs that are never interpolated (flags, the piece of a piecewise-smooth
+    input a load lies on): a load takes their value where its whole stencil agrees on it,
+    and is refined where not. ``noise``: the direct path's own irregularity in the load
+    (relative), added to every estimate through the stencil's weights.
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
     if n < TABLE_MIN or not np.all(np.isfinite(p0) & (p0 > 0.0)):
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
-    out, err = _table(xs, lambda sel: exact(first[sel]), tol, PER_DECADE, 0)
+    out, err = _table(xs, lambda sel: exact(first[sel]), (tol, noise), keys, PER_DECADE, 0)
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
 
 def _table(
     xs: NDArray[np.float64],
     exact: Exact,
-    tol: float,
+    tol: tuple[float, float],
+    keys: frozenset[str],
     per_decade: float,
     depth: int,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
-    """:func:`by_load` on the sorted distinct ``xs = ln p0``: the table at ``per_decade``
-    nodes, each run of loads whose estimate exceeds ``tol`` again at twice the density
+    """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance and the
+    noise): the table at ``per_decade`` nodes, each run of loads whose estimate exceeds the
+    tolerance again at twice the density
     (between the nodes around it), at most :data:`MAX_DEPTH` times; directly where the nodes
     would be more than half of the loads."""
     # at least 4 ORDER nodes over the loads' range (a narrow range: denser than per_decade)
@@ -118,15 +131,15 @@ def _table(
     if depth > MAX_DEPTH or nodes.size < 2 * ORDER or 2 * nodes.size > xs.size:
         return exact(np.arange(xs.size)), np.zeros(xs.size)
     at = exact(nodes)
-    logs = {k: _log(v) for k, v in at.items()}
+    logs = {k: _log(v) for k, v in at.items() if k not in keys}
     xn = xs[nodes]
-    check = _check(xn, at, logs)  # (n_node,): error at twice the spacing, at odd nodes
+    check = _check(xn, at, logs, keys)  # (n_node,): error at twice the spacing, at odd nodes
     rest = np.setdiff1d(np.arange(xs.size), nodes)
-    vals, bad = _interpolate(xn, at, logs, xs[rest])
+    vals, bad = _interpolate(xn, at, logs, xs[rest], keys)
     idx, w = _stencil(xn, xs[rest])
     # the smooth part, from the table at twice the spacing, and the nodes' and the load's own
     # irregularity through the stencil (its Lebesgue function: 1.5 centred, 7 at the ends)
-    est = np.max(check[idx], axis=1) * SCALE + NOISE * (1.0 + np.sum(np.abs(w), axis=1))
+    est = np.max(check[idx], axis=1) * SCALE + tol[1] * (1.0 + np.sum(np.abs(w), axis=1))
     est[bad] = np.inf
     out = {k: np.empty((xs.size,) + v.shape[1:]) for k, v in at.items()}
     for k, v in at.items():
@@ -134,9 +147,11 @@ def _table(
         out[k][rest] = vals[k]
     err = np.zeros(xs.size)
     err[rest] = est
-    for lo, hi in _runs(rest[est > tol], nodes):
+    for lo, hi in _runs(rest[est > tol[0]], nodes):
         sub = np.arange(lo, hi + 1)
-        o, e = _table(xs[sub], lambda sel, sub=sub: exact(sub[sel]), tol, 2 * per_decade, depth + 1)
+        o, e = _table(
+            xs[sub], lambda sel, sub=sub: exact(sub[sel]), tol, keys, 2 * per_decade, depth + 1
+        )
         for k, v in o.items():
             out[k][sub] = v
         err[sub] = e
@@ -197,15 +212,21 @@ def _interpolate(
     at: dict[str, NDArray[np.float64]],
     logs: dict[str, NDArray[np.float64]],
     x: NDArray[np.float64],
+    keys: frozenset[str],
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_]]:
-    """Every output at ``x`` from the nodes ``xn`` and whether a load's stencil is unusable."""
+    """Every output at ``x`` from the nodes ``xn`` and whether a load's stencil is unusable
+    (``keys``: the stencil's common value, unusable where its nodes differ)."""
     idx, w = _stencil(xn, x)
     bad = np.zeros(x.size, dtype=bool)
     around = np.searchsorted(xn, x, side="right")  # the node above x (x strictly inside)
     lo, hi = np.clip(around - 1, 0, xn.size - 1), np.clip(around, 0, xn.size - 1)
     out = {}
     for k, v in at.items():
-        L = logs.get(k)
+        if k in keys:
+            out[k] = v[idx[:, 0]]
+            bad |= ~np.all(_same(v[idx], v[idx[:, :1]]), axis=1)
+            continue
+        L = logs[k]
         if v.ndim > 1:
             out[k] = _rows(L, idx, w)
             bad |= ~np.all(np.all(np.isfinite(v), axis=1)[idx], axis=1)
@@ -244,6 +265,7 @@ def _check(
     xn: NDArray[np.float64],
     at: dict[str, NDArray[np.float64]],
     logs: dict[str, NDArray[np.float64]],
+    keys: frozenset[str],
 ) -> NDArray[np.float64]:
     """Per node: the relative error of the even nodes' table at the node (odd nodes; 0 at the
     even ones), the largest over the outputs (inf where unusable)."""
@@ -251,9 +273,9 @@ def _check(
     even = np.arange(0, xn.size, 2)
     sub = {k: v[even] for k, v in at.items()}
     logs_even = {k: v[even] for k, v in logs.items()}
-    vals, bad = _interpolate(xn[even], sub, logs_even, xn[odd])
+    vals, bad = _interpolate(xn[even], sub, logs_even, xn[odd], keys)
     err = np.zeros(odd.size)
-    for k in sub:
+    for k in sub.keys() - keys:
         top = float(np.nanmax(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0))))
         err = np.maximum(err, _relative(vals[k], at[k][odd], top))
     err[bad] = np.inf

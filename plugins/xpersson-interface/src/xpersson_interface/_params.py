@@ -1,5 +1,5 @@
 """The parameters the interface analyses share (``s_factor``, ``gamma``, ``zeta_per_decade``), the
-leak analysis's own, and ``gap_pdf``'s error of the loads it interpolates."""
+leak analysis's own, and the error of the loads an analysis interpolates."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from xpersson.physics.closures import GAMMA_DEFAULT
 from xpersson.plugins import ParamSpec, VarSpec
 from xpersson.plugins.solved import FORMS
 
-__all__ = ["LEAKAGE_PARAMS", "_DENSE", "_FORM", "_FORM_AUTO", "_GAMMA", "LOAD_ERROR"]
+__all__ = ["LEAKAGE_PARAMS", "_DENSE", "_FORM", "_FORM_AUTO", "_GAMMA", "load_error"]
 
 _FORM = ParamSpec(
     kind="choice",
@@ -106,17 +106,20 @@ LEAKAGE_PARAMS: dict[str, ParamSpec] = {
 }  # fmt: skip
 
 
-#: ``gap_pdf``'s estimated error of the loads it interpolates in the load (:mod:`._by_load`).
-LOAD_ERROR = VarSpec(
-    ("p0",),
-    "1",
-    "estimated relative error of the load's gap outputs interpolated in the load",
-    valid_min=0.0,
-    valid_max=1e-4,
-    description="from 400 distinct loads on, gap_pdf, gap_mean and gap_contact_weight are "
-    "computed directly at node loads 1/32 decade apart (denser where needed) and "
-    "interpolated in ln p0 between them (6-point Lagrange of the logarithm): 16 times the "
-    "error the nodes at twice the spacing make, relative to the load's value (gap_pdf: its "
-    "largest density; at least 1e-30 of the largest over the loads); at most 1e-4, else the "
-    "load is computed directly (0)",
-)
+def load_error(tol: float) -> VarSpec:
+    """The estimated error of the loads an analysis interpolates in the load
+    (:mod:`._by_load`), at most ``tol``."""
+    return VarSpec(
+        ("p0",),
+        "1",
+        "estimated relative error of the load's outputs interpolated in the load",
+        valid_min=0.0,
+        valid_max=tol,
+        description="from 400 distinct loads on, the analysis's outputs are computed directly "
+        "at node loads 1/16 decade apart (denser where needed) and interpolated in ln p0 "
+        "between them (8-point Lagrange of the logarithm): 1/16 of the error the nodes at "
+        "twice the spacing make, relative to the load's value (a row: its largest; at least "
+        "1e-30 of the largest over the loads), plus the direct path's own irregularity in the "
+        f"load through the interpolation weights; at most {tol:g}, else the load is computed "
+        "directly (0)",
+    )

@@ -37,11 +37,11 @@ from xpersson.plugins import Analysis, ParamSpec, VarSpec
 from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
 from ._body import ENERGY, LEAKAGE
-from ._by_load import by_load, subset
+from ._by_load import LEAK_NOISE, LEAK_TOL, TOL, by_load, subset
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
-from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, LEAKAGE_PARAMS, LOAD_ERROR
+from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, LEAKAGE_PARAMS, load_error
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
 
@@ -54,6 +54,7 @@ _LORENZ2010 = "10.1140/epje/i2010-10558-6"
 _XU2024 = "10.1007/s11249-024-01838-4"
 
 #: CF flags: numeric flag_values of the variable's type
+_KEYS = frozenset({"leak_sealed", "leak_sealed_emt", "piece"})
 _FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "open sealed"}
 _GAP_TRAITS = frozenset({"repulsive", "load_similar"})
 
@@ -315,7 +316,7 @@ class GapPDF(_Interface):
             "gap_mean for the distribution; against GFMD (xu2024-gfmd) gap_mean is closer for "
             "p0/E* >= 0.015 (+1 to +26 % vs -13 to -70 %)",
         ),
-        "gap_pdf_load_error": LOAD_ERROR,
+        "gap_pdf_load_error": load_error(TOL),
     }  # fmt: skip
     provides = ("gap_pdf", "gap_contact_weight", "gap_mean", "gap_pdf_load_error")
 
@@ -408,6 +409,7 @@ class Leakage(_Interface):
             ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)",
             extra=_FLAG,
         ),
+        "leak_load_error": load_error(LEAK_TOL),
     }  # fmt: skip
     provides = tuple(outputs)
     body_quantities: ClassVar = LEAKAGE
@@ -424,9 +426,22 @@ class Leakage(_Interface):
         self._pressure_drop()
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
+        direct = lambda rows: self._direct(ctx, ds, rows)  # noqa: E731
+        out, err = by_load(ctx.p0, direct, LEAK_TOL, _KEYS, LEAK_NOISE)
+        res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k != "piece"}
+        for k in ("leak_sealed", "leak_sealed_emt"):
+            res[k] = (("p0",), out[k].astype(np.int8))
+        res["leak_load_error"] = (("p0",), err)
+        return res
+
+    def _direct(self, ctx: Any, ds: xr.Dataset, rows: np.ndarray) -> dict[str, np.ndarray]:
+        """The outputs of the loads ``rows``, computed directly (the flags as floats; ``piece``:
+        the pieces of the spectrum, between its breakpoints, that u1's difference quotient
+        around zeta_c reaches: u1 has a step where it crosses one, e.g. the roll-off)."""
         p = self.params
         a_c = float(p["a_c"])
         dp = self._pressure_drop()
+        ctx, ds = subset(ctx, ds, rows)
         s, parts = self._parts(ctx, ds)
         zc = physics.critical_magnification(s.zeta, s.contact, a_c)
         sealed = ~np.isfinite(zc)
@@ -448,12 +463,23 @@ class Leakage(_Interface):
             ff = np.where(ubar > 0, (np.where(sealed, 0.0, np.nan_to_num(u1)) / safe) ** 3, 0.0)
             ff_emt = np.where(ubar > 0, (np.cbrt(u3) / safe) ** 3, 0.0)
         return {
-            "leak_zeta_c": (("p0",), zc),
-            "leak_u1": (("p0",), np.where(sealed, np.nan, u1)),
-            "leak_flow_factor": (("p0",), ff),
-            "leak_rate": (("p0",), leak_rate(u1_3, *args)),
-            "leak_sealed": (("p0",), sealed.astype(np.int8)),
-            "leak_flow_factor_emt": (("p0",), ff_emt),
-            "leak_rate_emt": (("p0",), leak_rate(u3, *args)),
-            "leak_sealed_emt": (("p0",), (u3 <= 0).astype(np.int8)),
+            "leak_zeta_c": zc,
+            "leak_u1": np.where(sealed, np.nan, u1),
+            "leak_flow_factor": ff,
+            "leak_rate": leak_rate(u1_3, *args),
+            "leak_sealed": sealed.astype(float),
+            "leak_flow_factor_emt": ff_emt,
+            "leak_rate_emt": leak_rate(u3, *args),
+            "leak_sealed_emt": (u3 <= 0).astype(float),
+            "piece": _pieces(ctx.psd, zc),
         }
+
+
+def _pieces(psd: Any, zc: np.ndarray) -> np.ndarray:
+    """Per load, which breakpoints of the spectrum lie below ``zeta_c`` times ``exp(-+2e-3)``
+    (twice the step of ``separation_at``'s difference quotient), as one number."""
+    nodes = np.log(np.asarray(psd.nodes(), dtype=float) / float(psd.q_L))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lz = np.log(zc)
+    lo, hi = np.searchsorted(nodes, lz - 2e-3), np.searchsorted(nodes, lz + 2e-3)
+    return (lo * (nodes.size + 1) + hi).astype(float)
