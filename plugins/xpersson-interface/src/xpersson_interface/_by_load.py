@@ -77,7 +77,7 @@ SCALE = 16.0 / 2**ORDER
 #: stencil's weights.
 NOISE = 5e-6
 #: The same for the leak analysis (its effective medium: cells that move with the load).
-LEAK_TOL, LEAK_NOISE = 1e-3, 1e-4
+LEAK_TOL, LEAK_NOISE = 2e-3, 3e-4
 #: Smallest density interpolated in logarithm (below: this; the error stays below it).
 FLOOR = 1e-300
 #: Rows' errors are relative to the larger of the row's largest value and this fraction of the
@@ -135,11 +135,11 @@ def _table(
     xn = xs[nodes]
     check = _check(xn, at, logs, keys)  # (n_node,): error at twice the spacing, at odd nodes
     rest = np.setdiff1d(np.arange(xs.size), nodes)
-    vals, bad = _interpolate(xn, at, logs, xs[rest], keys)
-    idx, w = _stencil(xn, xs[rest])
+    vals, bad, lebesgue = _interpolate(xn, at, logs, xs[rest], keys)
+    idx = _stencil(xn, xs[rest], _segments(at, keys))[0]
     # the smooth part, from the table at twice the spacing, and the nodes' and the load's own
     # irregularity through the stencil (its Lebesgue function: 1.5 centred, 7 at the ends)
-    est = np.max(check[idx], axis=1) * SCALE + tol[1] * (1.0 + np.sum(np.abs(w), axis=1))
+    est = np.max(check[idx], axis=1) * SCALE + tol[1] * (1.0 + lebesgue)
     est[bad] = np.inf
     out = {k: np.empty((xs.size,) + v.shape[1:]) for k, v in at.items()}
     for k, v in at.items():
@@ -192,11 +192,44 @@ def _log(v: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.where(np.isfinite(v) & (v > 0.0), np.log(np.where(v > 0.0, v, 1.0)), np.nan)
 
 
-def _stencil(xn: NDArray[np.float64], x: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
-    """The :data:`ORDER` nodes around each ``x`` (indices, (n, ORDER)) and their Lagrange
-    weights."""
+def _segments(at: dict[str, NDArray[np.float64]], keys: frozenset[str]) -> NDArray[np.intp]:
+    """Per node, the number of its segment: runs of nodes alike in every key and in which
+    outputs are regular (finite and, per-load values, positive)."""
+    cols = []
+    for k, v in at.items():
+        if k in keys:
+            cols.append(np.where(np.isnan(v), np.inf, v))
+        elif v.ndim > 1:
+            cols.append(np.all(np.isfinite(v), axis=1).astype(float))
+        else:
+            cols.append((np.isfinite(v) & (v > 0.0)).astype(float))
+    if not cols:
+        return np.zeros(next(iter(at.values())).shape[0], dtype=np.intp)
+    c = np.stack(cols, axis=1)
+    change = np.any(c[1:] != c[:-1], axis=1)
+    return np.concatenate(([0], np.cumsum(change)))
+
+
+def _stencil(
+    xn: NDArray[np.float64], x: NDArray[np.float64], seg: NDArray[np.intp] | None = None
+) -> tuple[NDArray, NDArray, NDArray[np.bool_]]:
+    """The :data:`ORDER` nodes around each ``x`` (indices, (n, ORDER)), their Lagrange
+    weights, and where there are none: all within the segment of the two nodes around ``x``
+    (``seg``; shifted to one side near its ends), unusable where those two differ or the
+    segment holds fewer than :data:`ORDER` nodes."""
     m = ORDER
-    i = np.clip(np.searchsorted(xn, x, side="right") - m // 2, 0, xn.size - m)
+    around = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
+    first, last = np.zeros_like(around), np.full_like(around, xn.size - 1)
+    bad = np.zeros(x.size, dtype=bool)
+    if seg is not None:
+        start = np.searchsorted(seg, seg, side="left")  # the first node of each node's segment
+        stop = np.searchsorted(seg, seg, side="right") - 1
+        lo = around - 1
+        bad = seg[lo] != seg[around]
+        first, last = start[lo], stop[lo]
+        bad |= last - first + 1 < m
+    i = np.clip(around - m // 2, first, np.maximum(last - m + 1, first))
+    i = np.clip(i, 0, xn.size - m)
     idx = i[:, None] + np.arange(m)
     X = xn[idx]
     w = np.ones((x.size, m))
@@ -204,7 +237,7 @@ def _stencil(xn: NDArray[np.float64], x: NDArray[np.float64]) -> tuple[NDArray, 
         for b in range(m):
             if a != b:
                 w[:, a] *= (x - X[:, b]) / (X[:, a] - X[:, b])
-    return idx, w
+    return idx, w, bad
 
 
 def _interpolate(
@@ -213,33 +246,30 @@ def _interpolate(
     logs: dict[str, NDArray[np.float64]],
     x: NDArray[np.float64],
     keys: frozenset[str],
-) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_]]:
-    """Every output at ``x`` from the nodes ``xn`` and whether a load's stencil is unusable
-    (``keys``: the stencil's common value, unusable where its nodes differ)."""
-    idx, w = _stencil(xn, x)
-    bad = np.zeros(x.size, dtype=bool)
-    around = np.searchsorted(xn, x, side="right")  # the node above x (x strictly inside)
-    lo, hi = np.clip(around - 1, 0, xn.size - 1), np.clip(around, 0, xn.size - 1)
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_], NDArray[np.float64]]:
+    """Every output at ``x`` from the nodes ``xn`` (each from nodes of its segment), whether
+    a load is unusable (between two segments, or a segment too short) and the sum of its
+    weights' magnitudes (the stencil's Lebesgue function)."""
+    idx, w, bad = _stencil(xn, x, _segments(at, keys))
+    lo = idx[:, 0]
     out = {}
     for k, v in at.items():
         if k in keys:
-            out[k] = v[idx[:, 0]]
-            bad |= ~np.all(_same(v[idx], v[idx[:, :1]]), axis=1)
+            out[k] = v[lo]
             continue
         L = logs[k]
         if v.ndim > 1:
             out[k] = _rows(L, idx, w)
-            bad |= ~np.all(np.all(np.isfinite(v), axis=1)[idx], axis=1)
             continue
         regular = np.isfinite(L)
         y = np.exp(np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx]))
-        irregular = ~np.all(regular[idx], axis=1)
-        # both nodes around hold the same irregular value (NaN, 0 or inf): that value
-        same = irregular & ~regular[lo] & ~regular[hi] & _same(v[lo], v[hi])
-        y[same] = v[lo][same]
+        # a segment of irregular values (NaN, 0 or inf): the value, where its nodes agree
+        irregular = ~regular[lo]
+        same = irregular & np.all(_same(v[idx], v[lo][:, None]), axis=1)
+        y[irregular] = v[lo][irregular]
         bad |= irregular & ~same
         out[k] = y
-    return out, bad
+    return out, bad, np.sum(np.abs(w), axis=1)
 
 
 def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -273,7 +303,7 @@ def _check(
     even = np.arange(0, xn.size, 2)
     sub = {k: v[even] for k, v in at.items()}
     logs_even = {k: v[even] for k, v in logs.items()}
-    vals, bad = _interpolate(xn[even], sub, logs_even, xn[odd], keys)
+    vals, bad, _ = _interpolate(xn[even], sub, logs_even, xn[odd], keys)
     err = np.zeros(odd.size)
     for k in sub.keys() - keys:
         top = float(np.nanmax(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0))))
