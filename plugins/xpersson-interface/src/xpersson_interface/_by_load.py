@@ -47,6 +47,7 @@ from numpy.typing import NDArray
 __all__ = [
     "DEPTH",
     "FLOOR",
+    "LEAK_MIN",
     "LEAK_NOISE",
     "LEAK_TOL",
     "MAX_DEPTH",
@@ -69,15 +70,17 @@ ORDER = 8
 #: Largest estimated relative error of an interpolated load; above it the region is refined.
 TOL = 1e-4
 #: Refinements of a region (each doubles its nodes per decade) before it is computed directly.
-MAX_DEPTH = 3
+MAX_DEPTH = 4
 #: The estimate: this times the error of the table at twice the spacing, plus :data:`NOISE`.
 SCALE = 16.0 / 2**ORDER
 #: The direct path's own irregularity in the load (relative; ``gap_pdf``: ``Phi``'s linear
 #: look-up table), which no interpolation follows; a node's reaches a load through the
 #: stencil's weights.
 NOISE = 5e-6
-#: The same for the leak analysis (its effective medium: cells that move with the load).
-LEAK_TOL, LEAK_NOISE = 2e-3, 3e-4
+#: The same for the leak analysis: its effective medium (cells that move with the load) and
+#: its critical junction (rates as ``u1^3``) are irregular by ~1e-4 in the load directly; from
+#: :data:`LEAK_MIN` loads on (below, refining its transitions costs more than it saves).
+LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 3e-4, 2000
 #: Smallest density interpolated in logarithm (below: this; the error stays below it).
 FLOOR = 1e-300
 #: Rows' errors are relative to the larger of the row's largest value and this fraction of the
@@ -93,6 +96,7 @@ def by_load(
     tol: float = TOL,
     keys: frozenset[str] = frozenset(),
     noise: float = NOISE,
+    least: int = TABLE_MIN,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
@@ -102,11 +106,12 @@ def by_load(
     per-load outputs that are never interpolated (flags, the piece of a piecewise-smooth
     input a load lies on): a load takes their value where its whole stencil agrees on it,
     and is refined where not. ``noise``: the direct path's own irregularity in the load
-    (relative), added to every estimate through the stencil's weights.
+    (relative), added to every estimate through the stencil's weights. ``least``: the
+    distinct loads from which the table is used.
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
-    if n < TABLE_MIN or not np.all(np.isfinite(p0) & (p0 > 0.0)):
+    if n < max(least, TABLE_MIN) or not np.all(np.isfinite(p0) & (p0 > 0.0)):
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
     out, err = _table(xs, lambda sel: exact(first[sel]), (tol, noise), keys, PER_DECADE, 0)

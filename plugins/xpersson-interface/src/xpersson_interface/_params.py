@@ -106,16 +106,16 @@ LEAKAGE_PARAMS: dict[str, ParamSpec] = {
 }  # fmt: skip
 
 
-def load_error(tol: float) -> VarSpec:
+def load_error(tol: float, least: int) -> VarSpec:
     """The estimated error of the loads an analysis interpolates in the load
-    (:mod:`._by_load`), at most ``tol``."""
+    (:mod:`._by_load`) from ``least`` distinct loads on, at most ``tol``."""
     return VarSpec(
         ("p0",),
         "1",
         "estimated relative error of the load's outputs interpolated in the load",
         valid_min=0.0,
         valid_max=tol,
-        description="from 400 distinct loads on, the analysis's outputs are computed directly "
+        description=f"from {least} distinct loads on, the analysis's outputs are computed directly "
         "at node loads 1/16 decade apart (denser where needed) and interpolated in ln p0 "
         "between them (8-point Lagrange of the logarithm): 1/16 of the error the nodes at "
         "twice the spacing make, relative to the load's value (a row: its largest; at least "

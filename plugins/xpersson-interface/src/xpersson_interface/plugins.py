@@ -37,7 +37,7 @@ from xpersson.plugins import Analysis, ParamSpec, VarSpec
 from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
 from ._body import ENERGY, LEAKAGE
-from ._by_load import LEAK_NOISE, LEAK_TOL, TOL, by_load, subset
+from ._by_load import LEAK_MIN, LEAK_NOISE, LEAK_TOL, TABLE_MIN, TOL, by_load, subset
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
@@ -316,7 +316,7 @@ class GapPDF(_Interface):
             "gap_mean for the distribution; against GFMD (xu2024-gfmd) gap_mean is closer for "
             "p0/E* >= 0.015 (+1 to +26 % vs -13 to -70 %)",
         ),
-        "gap_pdf_load_error": load_error(TOL),
+        "gap_pdf_load_error": load_error(TOL, TABLE_MIN),
     }  # fmt: skip
     provides = ("gap_pdf", "gap_contact_weight", "gap_mean", "gap_pdf_load_error")
 
@@ -409,7 +409,7 @@ class Leakage(_Interface):
             ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)",
             extra=_FLAG,
         ),
-        "leak_load_error": load_error(LEAK_TOL),
+        "leak_load_error": load_error(LEAK_TOL, LEAK_MIN),
     }  # fmt: skip
     provides = tuple(outputs)
     body_quantities: ClassVar = LEAKAGE
@@ -427,7 +427,7 @@ class Leakage(_Interface):
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         direct = lambda rows: self._direct(ctx, ds, rows)  # noqa: E731
-        out, err = by_load(ctx.p0, direct, LEAK_TOL, _KEYS, LEAK_NOISE)
+        out, err = by_load(ctx.p0, direct, LEAK_TOL, _KEYS, LEAK_NOISE, LEAK_MIN)
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k != "piece"}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))
