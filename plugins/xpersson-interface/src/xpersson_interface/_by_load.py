@@ -96,7 +96,7 @@ def by_load(
     tol: float = TOL,
     keys: frozenset[str] = frozenset(),
     noise: float = NOISE,
-    least: int = TABLE_MIN,
+    least: int = 0,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
