@@ -48,13 +48,15 @@ __all__ = [
     "DEPTH",
     "FLOOR",
     "LEAK_MIN",
+    "LEAK_ORDERS",
+    "LEAK_SAFETY",
     "LEAK_NOISE",
     "LEAK_TOL",
     "MAX_DEPTH",
     "NOISE",
     "ORDER",
     "PER_DECADE",
-    "SCALE",
+    "SAFETY",
     "TABLE_MIN",
     "TOL",
     "by_load",
@@ -71,8 +73,6 @@ ORDER = 8
 TOL = 1e-4
 #: Refinements of a region (each doubles its nodes per decade) before it is computed directly.
 MAX_DEPTH = 4
-#: The estimate: this times the error of the table at twice the spacing, plus :data:`NOISE`.
-SCALE = 16.0 / 2**ORDER
 #: The direct path's own irregularity in the load (relative; ``gap_pdf``: ``Phi``'s linear
 #: look-up table), which no interpolation follows; a node's reaches a load through the
 #: stencil's weights.
@@ -80,7 +80,12 @@ NOISE = 5e-6
 #: The same for the leak analysis: its effective medium (cells that move with the load) and
 #: its critical junction (rates as ``u1^3``) are irregular by ~1e-4 in the load directly; from
 #: :data:`LEAK_MIN` loads on (below, refining its transitions costs more than it saves).
-LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 3e-4, 2000
+LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 3e-4, 400
+#: The leak analysis's stencils (points; the smallest estimate per load) and margin.
+LEAK_ORDERS, LEAK_SAFETY = (8, 6, 4), 32.0
+#: The smooth part of the estimate: this times ``2^-m`` the error of the ``m``-point table at
+#: twice the spacing (asymptotically that error divided by ``2^m``: a margin of 16).
+SAFETY = 16.0
 #: Smallest density interpolated in logarithm (below: this; the error stays below it).
 FLOOR = 1e-300
 #: Rows' errors are relative to the larger of the row's largest value and this fraction of the
@@ -97,6 +102,8 @@ def by_load(
     keys: frozenset[str] = frozenset(),
     noise: float = NOISE,
     least: int = 0,
+    orders: tuple[int, ...] = (ORDER,),
+    safety: float = SAFETY,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
@@ -107,27 +114,31 @@ def by_load(
     input a load lies on): a load takes their value where its whole stencil agrees on it,
     and is refined where not. ``noise``: the direct path's own irregularity in the load
     (relative), added to every estimate through the stencil's weights. ``least``: the
-    distinct loads from which the table is used.
+    distinct loads from which the table is used. ``orders``: the stencils (points) tried per
+    load, the one of the smallest estimate taken (fewer points: a smaller Lebesgue function
+    near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
     if n < max(least, TABLE_MIN) or not np.all(np.isfinite(p0) & (p0 > 0.0)):
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
-    out, err = _table(xs, lambda sel: exact(first[sel]), (tol, noise), keys, PER_DECADE, 0)
+    out, err = _table(
+        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), keys, PER_DECADE, 0
+    )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
 
 def _table(
     xs: NDArray[np.float64],
     exact: Exact,
-    tol: tuple[float, float],
+    tol: tuple[float, float, tuple[int, ...], float],
     keys: frozenset[str],
     per_decade: float,
     depth: int,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
-    """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance and the
-    noise): the table at ``per_decade`` nodes, each run of loads whose estimate exceeds the
+    """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise
+    and the orders): the table at ``per_decade`` nodes, each run of loads whose estimate exceeds the
     tolerance again at twice the density
     (between the nodes around it), at most :data:`MAX_DEPTH` times; directly where the nodes
     would be more than half of the loads."""
@@ -138,14 +149,8 @@ def _table(
     at = exact(nodes)
     logs = {k: _log(v) for k, v in at.items() if k not in keys}
     xn = xs[nodes]
-    check = _check(xn, at, logs, keys)  # (n_node,): error at twice the spacing, at odd nodes
     rest = np.setdiff1d(np.arange(xs.size), nodes)
-    vals, bad, lebesgue = _interpolate(xn, at, logs, xs[rest], keys)
-    idx = _stencil(xn, xs[rest], _segments(at, keys))[0]
-    # the smooth part, from the table at twice the spacing, and the nodes' and the load's own
-    # irregularity through the stencil (its Lebesgue function: 1.5 centred, 7 at the ends)
-    est = np.max(check[idx], axis=1) * SCALE + tol[1] * (1.0 + lebesgue)
-    est[bad] = np.inf
+    vals, est = _estimated(xn, at, logs, xs[rest], keys, tol)
     out = {k: np.empty((xs.size,) + v.shape[1:]) for k, v in at.items()}
     for k, v in at.items():
         out[k][nodes] = v
@@ -161,6 +166,37 @@ def _table(
             out[k][sub] = v
         err[sub] = e
     return out, err
+
+
+def _estimated(
+    xn: NDArray[np.float64],
+    at: dict[str, NDArray[np.float64]],
+    logs: dict[str, NDArray[np.float64]],
+    x: NDArray[np.float64],
+    keys: frozenset[str],
+    tol: tuple[float, float, tuple[int, ...], float],
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
+    """The outputs at ``x`` and their estimated error, per load from the order (of
+    ``tol[2]``) of the smallest estimate: ``2^-m tol[3]`` (:data:`SAFETY`) times the error of the
+    ``m``-point table at twice the spacing (the smooth part: ``~h^m``), plus the nodes' and
+    the load's own irregularity ``tol[1]`` through the stencil (its Lebesgue function, 1.5
+    centred, up to 7 one-sided for 8 points; inf where the load has no stencil)."""
+    out: dict[str, NDArray[np.float64]] = {}
+    best = np.full(x.size, np.inf)
+    for m in tol[2]:
+        check = _check(xn, at, logs, keys, m)  # (n_node,): the 2h error at the odd nodes
+        vals, bad, lebesgue, idx = _interpolate(xn, at, logs, x, keys, m)
+        est = np.max(check[idx], axis=1) * (tol[3] / 2**m) + tol[1] * (1.0 + lebesgue)
+        est[bad] = np.inf
+        take = est < best if out else np.ones(x.size, dtype=bool)
+        for k, v in vals.items():
+            out[k] = (
+                v
+                if k not in out
+                else np.where(take.reshape((-1,) + (1,) * (v.ndim - 1)), v, out[k])
+            )
+        best = np.where(take, est, best)
+    return out, best
 
 
 def _runs(flagged: NDArray[np.intp], nodes: NDArray[np.intp]) -> list[tuple[int, int]]:
@@ -216,23 +252,19 @@ def _segments(at: dict[str, NDArray[np.float64]], keys: frozenset[str]) -> NDArr
 
 
 def _stencil(
-    xn: NDArray[np.float64], x: NDArray[np.float64], seg: NDArray[np.intp] | None = None
+    xn: NDArray[np.float64], x: NDArray[np.float64], seg: NDArray[np.intp], m: int
 ) -> tuple[NDArray, NDArray, NDArray[np.bool_]]:
-    """The :data:`ORDER` nodes around each ``x`` (indices, (n, ORDER)), their Lagrange
-    weights, and where there are none: all within the segment of the two nodes around ``x``
-    (``seg``; shifted to one side near its ends), unusable where those two differ or the
-    segment holds fewer than :data:`ORDER` nodes."""
-    m = ORDER
+    """The ``m`` nodes around each ``x`` (indices, (n, m)), their Lagrange weights, and where
+    there are none: all within the segment of the two nodes around ``x`` (``seg``; shifted to
+    one side near its ends), unusable where those two differ or the segment holds fewer than
+    ``m`` nodes."""
     around = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
-    first, last = np.zeros_like(around), np.full_like(around, xn.size - 1)
-    bad = np.zeros(x.size, dtype=bool)
-    if seg is not None:
-        start = np.searchsorted(seg, seg, side="left")  # the first node of each node's segment
-        stop = np.searchsorted(seg, seg, side="right") - 1
-        lo = around - 1
-        bad = seg[lo] != seg[around]
-        first, last = start[lo], stop[lo]
-        bad |= last - first + 1 < m
+    start = np.searchsorted(seg, seg, side="left")  # the first node of each node's segment
+    stop = np.searchsorted(seg, seg, side="right") - 1
+    lo = around - 1
+    bad = seg[lo] != seg[around]
+    first, last = start[lo], stop[lo]
+    bad |= last - first + 1 < m
     i = np.clip(around - m // 2, first, np.maximum(last - m + 1, first))
     i = np.clip(i, 0, xn.size - m)
     idx = i[:, None] + np.arange(m)
@@ -251,11 +283,12 @@ def _interpolate(
     logs: dict[str, NDArray[np.float64]],
     x: NDArray[np.float64],
     keys: frozenset[str],
-) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_], NDArray[np.float64]]:
+    m: int = ORDER,
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_], NDArray[np.float64], NDArray]:
     """Every output at ``x`` from the nodes ``xn`` (each from nodes of its segment), whether
     a load is unusable (between two segments, or a segment too short) and the sum of its
-    weights' magnitudes (the stencil's Lebesgue function)."""
-    idx, w, bad = _stencil(xn, x, _segments(at, keys))
+    weights' magnitudes (the stencil's Lebesgue function), and the stencils (``m`` nodes)."""
+    idx, w, bad = _stencil(xn, x, _segments(at, keys), m)
     lo = idx[:, 0]
     out = {}
     for k, v in at.items():
@@ -274,7 +307,7 @@ def _interpolate(
         y[irregular] = v[lo][irregular]
         bad |= irregular & ~same
         out[k] = y
-    return out, bad, np.sum(np.abs(w), axis=1)
+    return out, bad, np.sum(np.abs(w), axis=1), idx
 
 
 def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -301,14 +334,15 @@ def _check(
     at: dict[str, NDArray[np.float64]],
     logs: dict[str, NDArray[np.float64]],
     keys: frozenset[str],
+    m: int = ORDER,
 ) -> NDArray[np.float64]:
-    """Per node: the relative error of the even nodes' table at the node (odd nodes; 0 at the
-    even ones), the largest over the outputs (inf where unusable)."""
+    """Per node: the relative error of the even nodes' ``m``-point table at the node (odd
+    nodes; 0 at the even ones), the largest over the outputs (inf where unusable)."""
     odd = np.arange(1, xn.size, 2)
     even = np.arange(0, xn.size, 2)
     sub = {k: v[even] for k, v in at.items()}
     logs_even = {k: v[even] for k, v in logs.items()}
-    vals, bad, _ = _interpolate(xn[even], sub, logs_even, xn[odd], keys)
+    vals, bad, _, _ = _interpolate(xn[even], sub, logs_even, xn[odd], keys, m)
     err = np.zeros(odd.size)
     for k in sub.keys() - keys:
         top = float(np.nanmax(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0))))

@@ -37,7 +37,17 @@ from xpersson.plugins import Analysis, ParamSpec, VarSpec
 from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
 from ._body import ENERGY, LEAKAGE
-from ._by_load import LEAK_MIN, LEAK_NOISE, LEAK_TOL, TABLE_MIN, TOL, by_load, subset
+from ._by_load import (
+    LEAK_MIN,
+    LEAK_NOISE,
+    LEAK_ORDERS,
+    LEAK_SAFETY,
+    LEAK_TOL,
+    TABLE_MIN,
+    TOL,
+    by_load,
+    subset,
+)
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
@@ -427,7 +437,9 @@ class Leakage(_Interface):
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         direct = lambda rows: self._direct(ctx, ds, rows)  # noqa: E731
-        out, err = by_load(ctx.p0, direct, LEAK_TOL, _KEYS, LEAK_NOISE, LEAK_MIN)
+        out, err = by_load(
+            ctx.p0, direct, LEAK_TOL, _KEYS, LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY
+        )
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k != "piece"}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))
@@ -471,15 +483,18 @@ class Leakage(_Interface):
             "leak_flow_factor_emt": ff_emt,
             "leak_rate_emt": leak_rate(u3, *args),
             "leak_sealed_emt": (u3 <= 0).astype(float),
-            "piece": _pieces(ctx.psd, zc),
+            "piece": _pieces(ctx.psd, zc, float(s.zeta[-1]), ctx.p0),
         }
 
 
-def _pieces(psd: Any, zc: np.ndarray) -> np.ndarray:
+def _pieces(psd: Any, zc: np.ndarray, z_max: float, p0: np.ndarray) -> np.ndarray:
     """Per load, which breakpoints of the spectrum lie below ``zeta_c`` times ``exp(-+2e-3)``
-    (twice the step of ``separation_at``'s difference quotient), as one number."""
+    (twice the step of ``separation_at``'s difference quotient), as one number; a number of
+    its own (the load) where ``zeta_c > zeta_max/4``: near sealing ``u1 -> 0`` too fast for
+    any table, those loads are computed directly."""
     nodes = np.log(np.asarray(psd.nodes(), dtype=float) / float(psd.q_L))
     with np.errstate(divide="ignore", invalid="ignore"):
         lz = np.log(zc)
     lo, hi = np.searchsorted(nodes, lz - 2e-3), np.searchsorted(nodes, lz + 2e-3)
-    return (lo * (nodes.size + 1) + hi).astype(float)
+    piece = (lo * (nodes.size + 1) + hi).astype(float)
+    return np.where(zc > 0.25 * z_max, -np.atleast_1d(p0), piece)
