@@ -1,37 +1,46 @@
-"""Many loads through a table in the load (private): ``gap_pdf`` at a cost per load that
-falls with the number of loads.
+"""Many loads through a table in the load (private): ``gap_pdf`` and ``leakage`` at a cost per
+load that falls with the number of loads.
 
 The direct path costs about 100 us per load (the dense re-solve of the curve, ``Phi``, the
-detachment's sub-problem sums, the Gaussian sums of 256 separations per load): 30 to 80
-times the batched solve of the same loads at 1000-1e4 loads. Its outputs are smooth functions
-of the load (the area curve of a ``load_similar`` boundary depends on ``p0`` only through
-``tau/p0^2``; each output is an integral of it). So from :data:`TABLE_MIN` distinct loads on,
+detachment's sub-problem sums, 256 Gaussian sums per load for ``gap_pdf``, the effective
+medium's cells for ``leakage``): 30 to 100 times the batched solve of the same loads at
+1000-1e4 loads. Its outputs are smooth functions of the load (the area curve of a
+``load_similar`` boundary depends on ``p0`` only through ``tau/p0^2``; each output is an
+integral of it). So from :data:`TABLE_MIN` distinct loads on (``leakage``: :data:`LEAK_MIN`),
 only *node* loads are computed directly: a subset of the requested loads about
-1/:data:`PER_DECADE` decade apart in ``ln p0`` (the lowest and the highest always among
-them). Every other load takes each output from the Lagrange polynomial through the
-:data:`ORDER` nearest nodes in ``ln p0``, of the output's logarithm (near full contact the
-detached area falls super-exponentially and its logarithm stays smooth in ``ln p0``; the gap
-density element by element, floored at :data:`FLOOR`).
+1/:data:`PER_DECADE` decade apart in ``ln p0`` (the lowest and the highest always among them;
+at least ``4 ORDER`` over the range). Every other load takes each output from the Lagrange
+polynomial through the :data:`ORDER` nearest nodes in ``ln p0``, of the output's logarithm
+(near full contact the detached area falls super-exponentially and its logarithm stays smooth
+in ``ln p0``; the gap density element by element, floored at :data:`FLOOR`).
+
+**Segments.** A stencil never crosses a change of regime: nodes are grouped into runs alike in
+every *key* (an output never interpolated: the sealed flags, the piece of the spectrum that
+``leakage``'s ``u1`` reaches) and in which outputs are regular (finite, positive); a load takes
+its stencil from the segment of the two nodes around it (one-sided near the segment's ends),
+a load between two segments has none.
 
 **The error, estimated per load.** The nodes at twice the spacing (the even ones) interpolate
 the odd ones; the largest relative error among the odd nodes of a load's stencil, times
-:data:`SCALE`, is the load's estimate. Errors are relative to the load's value (a row: its
-largest element), at least :data:`DEPTH` of the largest over the loads (a gap density 1e-57
-of the others, near full contact, is 0 to that). :data:`SCALE` = 16, though halving the
-spacing divides a smooth function's error by ``2^ORDER = 84``: the direct path is itself
-irregular in the load by 1e-6 to 5e-6 (``Phi``'s linear look-up table), which no
-interpolation follows. Measured against the direct path on the 12 scenes of
-``benchmarks/summary.py`` at 3000 loads: every interpolated load within 5.2e-6, at most 0.87
-of its estimate (``benchmarks/gap_table_check.py``).
+``SAFETY 2^-ORDER`` (halving the spacing divides a smooth function's error by ``2^ORDER``;
+:data:`SAFETY` = 16 keeps that margin), plus the direct path's own irregularity in the load
+(:data:`NOISE`, ``leakage`` :data:`LEAK_NOISE`: no interpolation follows it) times one plus
+the stencil's Lebesgue function (1.5 centred, up to 7 one-sided), is the load's estimate.
+Errors are relative to the load's value (a row: its largest element), at least :data:`DEPTH`
+of the largest over the loads (a gap density 1e-57 of the others, near full contact, is 0 to
+that). The estimate is written per load (``gap_pdf_load_error``, ``leak_load_error``; 0: the
+load was computed directly).
 
-**Refinement.** Each run of loads whose estimate exceeds :data:`TOL` is tabled again between
-the nodes around it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes
-would be more than half of its loads is computed directly. A load whose stencil holds a
-non-finite value, or a non-positive value of a per-load output, is refined the same way,
-unless both nodes around it hold the same such value (then it takes that value).
+**Refinement.** Each run of loads whose estimate exceeds the tolerance (:data:`TOL`,
+``leakage`` :data:`LEAK_TOL`), or that has no stencil, is tabled again between the nodes around
+it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes would be more than
+half of its loads is computed directly.
 
-The estimate is written to the output per load (0: computed directly). Below
-:data:`TABLE_MIN` distinct loads every load is computed directly, as before, bit for bit.
+Measured against the direct path on the 12 scenes of ``benchmarks/summary.py`` at 3000 and
+1e4 loads (``benchmarks/load_table_check.py``, ``benchmarks/results/load_table_check.json``):
+``gap_pdf`` within 2.0e-5 of each load's largest density, ``leakage`` within 8.5e-4, every
+interpolated load within 0.76 of its estimate. Below the minimum every load is computed
+directly, as before, bit for bit.
 """
 
 from __future__ import annotations

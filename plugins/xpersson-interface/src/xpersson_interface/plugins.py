@@ -50,7 +50,7 @@ from ._by_load import (
 )
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
-from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
+from ._leakage import bruggeman_gap, effective_pressure_drop, junction_piece, leak_rate
 from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, LEAKAGE_PARAMS, load_error
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
@@ -483,18 +483,5 @@ class Leakage(_Interface):
             "leak_flow_factor_emt": ff_emt,
             "leak_rate_emt": leak_rate(u3, *args),
             "leak_sealed_emt": (u3 <= 0).astype(float),
-            "piece": _pieces(ctx.psd, zc, float(s.zeta[-1]), ctx.p0),
+            "piece": junction_piece(ctx.psd, zc, float(s.zeta[-1]), ctx.p0),
         }
-
-
-def _pieces(psd: Any, zc: np.ndarray, z_max: float, p0: np.ndarray) -> np.ndarray:
-    """Per load, which breakpoints of the spectrum lie below ``zeta_c`` times ``exp(-+2e-3)``
-    (twice the step of ``separation_at``'s difference quotient), as one number; a number of
-    its own (the load) where ``zeta_c > zeta_max/2``: near sealing ``u1 -> 0`` too fast for
-    the table's estimate (it fell 3-4x short), those loads are computed directly."""
-    nodes = np.log(np.asarray(psd.nodes(), dtype=float) / float(psd.q_L))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        lz = np.log(zc)
-    lo, hi = np.searchsorted(nodes, lz - 2e-3), np.searchsorted(nodes, lz + 2e-3)
-    piece = (lo * (nodes.size + 1) + hi).astype(float)
-    return np.where(zc > 0.5 * z_max, -np.atleast_1d(p0), piece)
