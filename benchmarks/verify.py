@@ -40,6 +40,7 @@ import verify_coefficient  # noqa: E402
 import verify_core  # noqa: E402
 import verify_interface  # noqa: E402
 import verify_leakage  # noqa: E402
+import verify_load_table  # noqa: E402
 import verify_plasticity  # noqa: E402
 
 SECTIONS = (
@@ -64,6 +65,7 @@ SECTIONS = (
             verify_interface.leakage_rows,
             verify_leakage.emt_rows,
             verify_leakage.network_rows,
+            verify_load_table.rows,
         ),
     ),
 )

@@ -68,6 +68,9 @@ BOUNDS = {
     "leak_rate_emt": 1e-2,
     "leak_flow_factor_emt, leak_rate_emt": 0.0,
     "leak_sealed_emt": 0,
+    # the table in the load: actual difference from the direct path / stated error
+    "gap_pdf_load_error": 1.0,
+    "leak_load_error": 1.0,
     "theory_validity": 0,
     "holm_conductance": 1e-12,
     "holm_magnification": 0.1,  # the grid's: half a step of 20 per decade at most

@@ -110,6 +110,35 @@ class _Phi:
             val = np.where(low, lin, val)
         return val.reshape(shape)
 
+    def spline_at_log_tau_per_load(
+        self, log_tau: NDArray[np.float64], rows: slice | NDArray
+    ) -> NDArray[np.float64]:
+        """:meth:`at_log_tau_per_load` from the spline itself, not its look-up table.
+
+        The table's linear look-up is within ~1e-6 of the spline but not smooth in the
+        argument; a difference quotient of two look-ups (``separation_at``) magnifies that to
+        1e-4-1e-3. Here each value is the spline's (clipped at 0, constant beyond its last
+        knot), the linear first interval as there.
+        """
+        shape = log_tau.shape
+        l2 = log_tau.reshape(shape[0], -1)
+        if isinstance(rows, slice):
+            rows = np.arange(self.phi.shape[0])[rows]
+        phi1 = self.phi[rows, 1:2]
+        log_tau1 = math.log(self.tau1)
+        t = _exp(np.minimum(l2, log_tau1))
+        lin = phi1 * np.clip(t / self.tau1, 0.0, 1.0)
+        if self._spl is None:
+            return lin.reshape(shape)
+        b, c = self._spl.x, self._spl.c  # (4, n - 1, n_load)
+        s = np.clip(l2, b[0], b[-1])
+        k = np.clip(np.searchsorted(b, s, side="right") - 1, 0, b.size - 2)
+        d = s - b[k]
+        r = np.asarray(rows)[:, None]
+        val = ((c[0][k, r] * d + c[1][k, r]) * d + c[2][k, r]) * d + c[3][k, r]
+        np.maximum(val, 0.0, out=val)
+        return np.where(l2 < log_tau1, lin, val).reshape(shape)
+
     def at_log_tau_per_load(
         self, log_tau: NDArray[np.float64], rows: slice | NDArray, overwrite: bool = False
     ) -> NDArray:

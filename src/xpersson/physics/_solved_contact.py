@@ -216,7 +216,9 @@ class SolvedContact:
         xs = np.log(np.stack([zl, zh], axis=1))  # (n_load, 2)
         N = cur.non_area_at(xs)
         A = 1.0 - N
-        u = _sub_mean_gap(self.psd, self.E_star, self.phi, np.exp(xs) * self.q_L, A, self.q_hi)
+        u = _sub_mean_gap(
+            self.psd, self.E_star, self.phi, np.exp(xs) * self.q_L, A, self.q_hi, spline=True
+        )
         dA = N[:, 1] - N[:, 0]
         with np.errstate(divide="ignore", invalid="ignore"):
             u1 = (A[:, 0] * u[:, 0] - A[:, 1] * u[:, 1]) / dA

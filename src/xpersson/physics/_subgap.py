@@ -72,6 +72,7 @@ def _sub_mean_gap(
     q_hi: float,
     where: NDArray[np.bool_] | None = None,
     prep: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+    spline: bool = False,
 ) -> NDArray[np.float64]:
     """Mean separation [m] of the apparent contact at ``q_a`` (n_load, n_a) under ``p0/A_a``.
 
@@ -80,7 +81,8 @@ def _sub_mean_gap(
     s^2)``,
     ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``. ``where`` (n_load, n_a):
     compute only these entries (the others are 0). ``prep``: :func:`_sub_prep` of ``q_a``,
-    when already at hand.
+    when already at hand. ``spline``: ``Phi`` from its spline, not its look-up table (smooth
+    in the cut-off: for difference quotients; per-load cut-offs only).
     """
     log_tc, kern = _sub_prep(psd, E_star, q_a, q_hi) if prep is None else prep
     with np.errstate(divide="ignore"):
@@ -103,7 +105,7 @@ def _sub_mean_gap(
         out = phi.sums_at_log_tau(log_tc[0], kern[0])
     else:
         out = np.empty(shape[:-1])
-    if _compiled_sums(phi, log_tc, kern, log_a2, need, out):
+    if not spline and _compiled_sums(phi, log_tc, kern, log_a2, need, out):
         return math.pi * out
     log_tc, log_a2 = np.broadcast_to(log_tc, shape), np.broadcast_to(log_a2, shape)
     kern = np.broadcast_to(kern, shape)
@@ -117,7 +119,10 @@ def _sub_mean_gap(
             c = int(np.argmax(nk.any(axis=0)))
         with np.errstate(invalid="ignore"):  # ln A_a = -inf outside `where` (A_a = 0)
             lt = log_tc[k, c:] + log_a2[k, c:]
-        vals = phi.at_log_tau_per_load(lt, k, overwrite=True)
+        if spline:
+            vals = phi.spline_at_log_tau_per_load(lt, k)
+        else:
+            vals = phi.at_log_tau_per_load(lt, k, overwrite=True)
         vals *= kern[k, c:]
         if need is None:
             out[k] = vals.sum(axis=-1)

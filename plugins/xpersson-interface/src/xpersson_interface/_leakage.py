@@ -31,7 +31,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from xpersson.physics import Detachment, gap_cdf
 
-__all__ = ["bruggeman", "bruggeman_gap", "effective_pressure_drop", "leak_rate"]
+__all__ = [
+    "bruggeman",
+    "bruggeman_gap",
+    "effective_pressure_drop",
+    "junction_piece",
+    "leak_rate",
+]
 
 
 def _bruggeman_rows(
@@ -323,3 +329,19 @@ def leak_rate(
         Dynamic viscosity [Pa s].
     """
     return (seal_length / seal_width) * np.asarray(u3, dtype=float) * dp_eff / (12.0 * viscosity)
+
+
+def junction_piece(
+    psd: object, zc: NDArray[np.float64], z_max: float, p0: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Per load, which breakpoints of the spectrum lie below ``zeta_c`` times ``exp(-+2e-3)``
+    (twice the step of ``separation_at``'s difference quotient), as one number; a number of
+    its own (the load) where ``zeta_c > zeta_max/2``: near sealing ``u1 -> 0`` too fast for
+    the table's estimate (it fell 3-4x short), those loads are computed directly."""
+    nodes = np.asarray(psd.nodes(), dtype=float)  # type: ignore[attr-defined]
+    nodes = np.log(nodes / float(psd.q_L))  # type: ignore[attr-defined]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lz = np.log(zc)
+    lo, hi = np.searchsorted(nodes, lz - 2e-3), np.searchsorted(nodes, lz + 2e-3)
+    piece = (lo * (nodes.size + 1) + hi).astype(float)
+    return np.where(zc > 0.5 * z_max, -np.atleast_1d(p0), piece)

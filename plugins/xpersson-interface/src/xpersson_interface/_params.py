@@ -1,12 +1,13 @@
-"""The parameters the interface analyses share (``s_factor``, ``gamma``, ``zeta_per_decade``)."""
+"""The parameters the interface analyses share (``s_factor``, ``gamma``, ``zeta_per_decade``), the
+leak analysis's own, and the error of the loads an analysis interpolates."""
 
 from __future__ import annotations
 
 from xpersson.physics.closures import GAMMA_DEFAULT
-from xpersson.plugins import ParamSpec
+from xpersson.plugins import ParamSpec, VarSpec
 from xpersson.plugins.solved import FORMS
 
-__all__ = ["_DENSE", "_FORM", "_FORM_AUTO", "_GAMMA"]
+__all__ = ["LEAKAGE_PARAMS", "_DENSE", "_FORM", "_FORM_AUTO", "_GAMMA", "load_error"]
 
 _FORM = ParamSpec(
     kind="choice",
@@ -38,3 +39,87 @@ _DENSE = ParamSpec(
     description="points per decade of zeta - 1 at which the solve is sampled for the zeta"
     " integrals (0: the Dataset's magnifications only)",
 )
+
+#: The leak analysis's own parameters (with the shared S-factor form).
+LEAKAGE_PARAMS: dict[str, ParamSpec] = {
+    "a_c": ParamSpec(
+        unit="1",
+        default=0.42,
+        bounds=(0.0, 1.0),
+        inclusive=(False, False),
+        description="percolation threshold of the contact area",
+    ),
+    "fluid": ParamSpec(
+        kind="choice",
+        choices=("liquid", "gas"),
+        default="liquid",
+        description="incompressible liquid or ideal gas (isothermal)",
+    ),
+    "viscosity": ParamSpec(
+        unit="Pa*s",
+        default=1e-3,
+        bounds=(0.0, None),
+        inclusive=(False, True),
+        description="dynamic viscosity of the fluid",
+    ),
+    "pressure_drop": ParamSpec(
+        unit="Pa", default=1e5, bounds=(0.0, None),
+        description="liquid: pressure drop from the inlet to the outlet side",
+    ),
+    "p_in": ParamSpec(
+        unit="Pa", default=2e5, bounds=(0.0, None),
+        description="gas: inlet (high) pressure; must be >= p_out",
+    ),
+    "p_out": ParamSpec(
+        unit="Pa",
+        default=1e5,
+        bounds=(0.0, None),
+        inclusive=(False, True),
+        description="gas: outlet (low) pressure, reference of the reported volume flow",
+    ),
+    "seal_width": ParamSpec(
+        unit="m",
+        default=1e-3,
+        bounds=(0.0, None),
+        inclusive=(False, True),
+        description="seal width L_x along the flow",
+    ),
+    "seal_length": ParamSpec(
+        unit="m",
+        default=1e-2,
+        bounds=(0.0, None),
+        inclusive=(False, True),
+        description="seal length L_y across the flow",
+    ),
+    "emt_threshold": ParamSpec(
+        kind="choice",
+        choices=("bruggeman", "a_c"),
+        default="bruggeman",
+        description="EMT percolation at contact weight 1/2 (plain) or rescaled to a_c",
+    ),
+    "n_bins": ParamSpec(
+        kind="int",
+        default=60,
+        bounds=(10, 100000),
+        description="magnification bins of the gap distribution (EMT)",
+    ),
+}  # fmt: skip
+
+
+def load_error(tol: float, least: int) -> VarSpec:
+    """The estimated error of the loads an analysis interpolates in the load
+    (:mod:`._by_load`) from ``least`` distinct loads on, at most ``tol``."""
+    return VarSpec(
+        ("p0",),
+        "1",
+        "estimated relative error of the load's outputs interpolated in the load",
+        valid_min=0.0,
+        valid_max=tol,
+        description=f"from {least} distinct loads on, the analysis's outputs are computed directly "
+        "at node loads 1/16 decade apart (denser where needed) and interpolated in ln p0 "
+        "between them (8-point Lagrange of the logarithm): 1/16 of the error the nodes at "
+        "twice the spacing make, relative to the load's value (a row: its largest; at least "
+        "1e-30 of the largest over the loads), plus the direct path's own irregularity in the "
+        f"load through the interpolation weights; at most {tol:g}, else the load is computed "
+        "directly (0)",
+    )

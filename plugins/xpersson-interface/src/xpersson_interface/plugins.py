@@ -37,10 +37,21 @@ from xpersson.plugins import Analysis, ParamSpec, VarSpec
 from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
 from ._body import ENERGY, LEAKAGE
+from ._by_load import (
+    LEAK_MIN,
+    LEAK_NOISE,
+    LEAK_ORDERS,
+    LEAK_SAFETY,
+    LEAK_TOL,
+    TABLE_MIN,
+    TOL,
+    by_load,
+    subset,
+)
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
-from ._leakage import bruggeman_gap, effective_pressure_drop, leak_rate
-from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA
+from ._leakage import bruggeman_gap, effective_pressure_drop, junction_piece, leak_rate
+from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, LEAKAGE_PARAMS, load_error
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
 
@@ -53,6 +64,7 @@ _LORENZ2010 = "10.1140/epje/i2010-10558-6"
 _XU2024 = "10.1007/s11249-024-01838-4"
 
 #: CF flags: numeric flag_values of the variable's type
+_KEYS = frozenset({"leak_sealed", "leak_sealed_emt", "piece"})
 _FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "open sealed"}
 _GAP_TRAITS = frozenset({"repulsive", "load_similar"})
 
@@ -315,18 +327,38 @@ class GapPDF(_Interface):
             "gap_mean for the distribution; against GFMD (xu2024-gfmd) gap_mean is closer for "
             "p0/E* >= 0.015 (+1 to +26 % vs -13 to -70 %)",
         ),
+        "gap_pdf_load_error": load_error(TOL, TABLE_MIN),
     }  # fmt: skip
-    provides = ("gap_pdf", "gap_contact_weight", "gap_mean")
+    provides = ("gap_pdf", "gap_contact_weight", "gap_mean", "gap_pdf_load_error")
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
+        grid: list[np.ndarray] = []  # the gap grid, fixed by the first loads computed
+        out, err = by_load(ctx.p0, lambda rows: self._direct(ctx, ds, rows, grid))
+        coord = xr.Variable(("u",), grid[0], {"units": "m", "long_name": "interfacial separation"})
+        rho = xr.DataArray(out["gap_pdf"], dims=("p0", "u"), coords={"u": coord})
+        return {
+            "gap_pdf": rho,
+            "gap_contact_weight": (("p0",), np.minimum(out["gap_contact_weight"], 1.0)),
+            "gap_mean": (("p0",), out["gap_mean"]),
+            "gap_pdf_load_error": (("p0",), err),
+        }
+
+    def _direct(
+        self, ctx: Any, ds: xr.Dataset, rows: np.ndarray, grid: list[np.ndarray]
+    ) -> dict[str, np.ndarray]:
+        """The outputs of the loads ``rows``, computed directly (the gap grid: ``grid[0]``,
+        set here on the first call from these loads' largest mean gap)."""
         p = self.params
+        ctx, ds = subset(ctx, ds, rows)
         s, parts = self._parts(ctx, ds)
         edges = bin_edges(s, int(p["n_bins"]))
         dets = [sc.detachment(edges, p["separation"]) for _, _, sc in parts]
-        umax = p["u_max"]
-        if umax is None:  # over every load
-            umax = max(float(np.max(d.mean_gap)) for d in dets) + 6.0 * dets[0].h_rms
-        u = np.linspace(0.0, float(umax), int(p["u_points"]))
+        if not grid:
+            umax = p["u_max"]
+            if umax is None:  # over every load (the lowest load, always computed first)
+                umax = max(float(np.max(d.mean_gap)) for d in dets) + 6.0 * dets[0].h_rms
+            grid.append(np.linspace(0.0, float(umax), int(p["u_points"])))
+        u = grid[0]
 
         def one(det: physics.Detachment) -> tuple[np.ndarray, ...]:
             if p["method"] == "closed_form":
@@ -335,11 +367,10 @@ class GapPDF(_Interface):
             return rho, mean, det.contact.copy()
 
         rho, mean, contact = joined(dets, one)
-        coord = xr.Variable(("u",), u, {"units": "m", "long_name": "interfacial separation"})
         return {
-            "gap_pdf": xr.DataArray(np.maximum(rho, 0.0), dims=("p0", "u"), coords={"u": coord}),
-            "gap_contact_weight": (("p0",), contact),
-            "gap_mean": (("p0",), mean),
+            "gap_pdf": np.maximum(rho, 0.0),
+            "gap_contact_weight": contact,
+            "gap_mean": mean,
         }
 
 
@@ -350,71 +381,12 @@ class Leakage(_Interface):
     references = (_PERSSON_YANG2008, "10.1209/0295-5075/86/44006", _LORENZ2010)
     boundary_traits = _GAP_TRAITS
     parameters: ClassVar = {
-        "a_c": ParamSpec(
-            unit="1",
-            default=0.42,
-            bounds=(0.0, 1.0),
-            inclusive=(False, False),
-            description="percolation threshold of the contact area",
-        ),
+        "a_c": LEAKAGE_PARAMS["a_c"],
         "s_factor": _FORM,
         "gamma": _GAMMA,
         "zeta_per_decade": _DENSE,
-        "fluid": ParamSpec(
-            kind="choice",
-            choices=("liquid", "gas"),
-            default="liquid",
-            description="incompressible liquid or ideal gas (isothermal)",
-        ),
-        "viscosity": ParamSpec(
-            unit="Pa*s",
-            default=1e-3,
-            bounds=(0.0, None),
-            inclusive=(False, True),
-            description="dynamic viscosity of the fluid",
-        ),
-        "pressure_drop": ParamSpec(
-            unit="Pa", default=1e5, bounds=(0.0, None),
-            description="liquid: pressure drop from the inlet to the outlet side",
-        ),
-        "p_in": ParamSpec(
-            unit="Pa", default=2e5, bounds=(0.0, None),
-            description="gas: inlet (high) pressure; must be >= p_out",
-        ),
-        "p_out": ParamSpec(
-            unit="Pa",
-            default=1e5,
-            bounds=(0.0, None),
-            inclusive=(False, True),
-            description="gas: outlet (low) pressure, reference of the reported volume flow",
-        ),
-        "seal_width": ParamSpec(
-            unit="m",
-            default=1e-3,
-            bounds=(0.0, None),
-            inclusive=(False, True),
-            description="seal width L_x along the flow",
-        ),
-        "seal_length": ParamSpec(
-            unit="m",
-            default=1e-2,
-            bounds=(0.0, None),
-            inclusive=(False, True),
-            description="seal length L_y across the flow",
-        ),
-        "emt_threshold": ParamSpec(
-            kind="choice",
-            choices=("bruggeman", "a_c"),
-            default="bruggeman",
-            description="EMT percolation at contact weight 1/2 (plain) or rescaled to a_c",
-        ),
-        "n_bins": ParamSpec(
-            kind="int",
-            default=60,
-            bounds=(10, 100000),
-            description="magnification bins of the gap distribution (EMT)",
-        ),
-    }  # fmt: skip
+        **{k: v for k, v in LEAKAGE_PARAMS.items() if k != "a_c"},
+    }
     outputs: ClassVar = {
         "leak_zeta_c": VarSpec(
             ("p0",), "1", "percolation magnification (NaN when sealed)", valid_min=1.0,
@@ -448,6 +420,7 @@ class Leakage(_Interface):
             ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)",
             extra=_FLAG,
         ),
+        "leak_load_error": load_error(LEAK_TOL, LEAK_MIN),
     }  # fmt: skip
     provides = tuple(outputs)
     body_quantities: ClassVar = LEAKAGE
@@ -464,9 +437,24 @@ class Leakage(_Interface):
         self._pressure_drop()
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
+        direct = lambda rows: self._direct(ctx, ds, rows)  # noqa: E731
+        out, err = by_load(
+            ctx.p0, direct, LEAK_TOL, _KEYS, LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY
+        )
+        res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k != "piece"}
+        for k in ("leak_sealed", "leak_sealed_emt"):
+            res[k] = (("p0",), out[k].astype(np.int8))
+        res["leak_load_error"] = (("p0",), err)
+        return res
+
+    def _direct(self, ctx: Any, ds: xr.Dataset, rows: np.ndarray) -> dict[str, np.ndarray]:
+        """The outputs of the loads ``rows``, computed directly (the flags as floats; ``piece``:
+        the pieces of the spectrum, between its breakpoints, that u1's difference quotient
+        around zeta_c reaches: u1 has a step where it crosses one, e.g. the roll-off)."""
         p = self.params
         a_c = float(p["a_c"])
         dp = self._pressure_drop()
+        ctx, ds = subset(ctx, ds, rows)
         s, parts = self._parts(ctx, ds)
         zc = physics.critical_magnification(s.zeta, s.contact, a_c)
         sealed = ~np.isfinite(zc)
@@ -488,12 +476,13 @@ class Leakage(_Interface):
             ff = np.where(ubar > 0, (np.where(sealed, 0.0, np.nan_to_num(u1)) / safe) ** 3, 0.0)
             ff_emt = np.where(ubar > 0, (np.cbrt(u3) / safe) ** 3, 0.0)
         return {
-            "leak_zeta_c": (("p0",), zc),
-            "leak_u1": (("p0",), np.where(sealed, np.nan, u1)),
-            "leak_flow_factor": (("p0",), ff),
-            "leak_rate": (("p0",), leak_rate(u1_3, *args)),
-            "leak_sealed": (("p0",), sealed.astype(np.int8)),
-            "leak_flow_factor_emt": (("p0",), ff_emt),
-            "leak_rate_emt": (("p0",), leak_rate(u3, *args)),
-            "leak_sealed_emt": (("p0",), (u3 <= 0).astype(np.int8)),
+            "leak_zeta_c": zc,
+            "leak_u1": np.where(sealed, np.nan, u1),
+            "leak_flow_factor": ff,
+            "leak_rate": leak_rate(u1_3, *args),
+            "leak_sealed": sealed.astype(float),
+            "leak_flow_factor_emt": ff_emt,
+            "leak_rate_emt": leak_rate(u3, *args),
+            "leak_sealed_emt": (u3 <= 0).astype(float),
+            "piece": junction_piece(s.psd, zc, float(s.zeta[-1]), ctx.p0),
         }

@@ -1,0 +1,402 @@
+"""Many loads through a table in the load (private): ``gap_pdf`` and ``leakage`` at a cost per
+load that falls with the number of loads.
+
+The direct path costs about 100 us per load (the dense re-solve of the curve, ``Phi``, the
+detachment's sub-problem sums, 256 Gaussian sums per load for ``gap_pdf``, the effective
+medium's cells for ``leakage``): 30 to 100 times the batched solve of the same loads at
+1000-1e4 loads. Its outputs are smooth functions of the load (the area curve of a
+``load_similar`` boundary depends on ``p0`` only through ``tau/p0^2``; each output is an
+integral of it). So from :data:`TABLE_MIN` distinct loads on (``leakage``: :data:`LEAK_MIN`),
+only *node* loads are computed directly: a subset of the requested loads about
+1/:data:`PER_DECADE` decade apart in ``ln p0`` (the lowest and the highest always among them;
+at least ``4 ORDER`` over the range). Every other load takes each output from the Lagrange
+polynomial through the :data:`ORDER` nearest nodes in ``ln p0``, of the output's logarithm
+(near full contact the detached area falls super-exponentially and its logarithm stays smooth
+in ``ln p0``; the gap density element by element, floored at :data:`FLOOR`).
+
+**Segments.** A stencil never crosses a change of regime: nodes are grouped into runs alike in
+every *key* (an output never interpolated: the sealed flags, the piece of the spectrum that
+``leakage``'s ``u1`` reaches) and in which outputs are regular (finite, positive); a load takes
+its stencil from the segment of the two nodes around it (one-sided near the segment's ends),
+a load between two segments has none.
+
+**The error, estimated per load.** The nodes at twice the spacing (the even ones) interpolate
+the odd ones; the largest relative error among the odd nodes of a load's stencil, times
+``SAFETY 2^-ORDER`` (halving the spacing divides a smooth function's error by ``2^ORDER``;
+:data:`SAFETY` = 16 keeps that margin), plus the direct path's own irregularity in the load
+(:data:`NOISE`, ``leakage`` :data:`LEAK_NOISE`: no interpolation follows it) times one plus
+the stencil's Lebesgue function (1.5 centred, up to 7 one-sided), is the load's estimate.
+Errors are relative to the load's value (a row: its largest element), at least :data:`DEPTH`
+of the largest over the loads (a gap density 1e-57 of the others, near full contact, is 0 to
+that). The estimate is written per load (``gap_pdf_load_error``, ``leak_load_error``; 0: the
+load was computed directly).
+
+**Refinement.** Each run of loads whose estimate exceeds the tolerance (:data:`TOL`,
+``leakage`` :data:`LEAK_TOL`), or that has no stencil, is tabled again between the nodes around
+it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes would be more than
+half of its loads is computed directly.
+
+Measured against the direct path on the 12 scenes of ``benchmarks/summary.py`` at 3000 and
+1e4 loads (``benchmarks/load_table_check.py``, ``benchmarks/results/load_table_check.json``):
+``gap_pdf`` within 2.0e-5 of each load's largest density, ``leakage`` within 8.5e-4, every
+interpolated load within 0.76 of its estimate. Below the minimum every load is computed
+directly, as before, bit for bit.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "DEPTH",
+    "FLOOR",
+    "LEAK_MIN",
+    "LEAK_ORDERS",
+    "LEAK_SAFETY",
+    "LEAK_NOISE",
+    "LEAK_TOL",
+    "MAX_DEPTH",
+    "NOISE",
+    "ORDER",
+    "PER_DECADE",
+    "SAFETY",
+    "TABLE_MIN",
+    "TOL",
+    "by_load",
+    "subset",
+]
+
+#: Distinct loads from which the table is used.
+TABLE_MIN = 400
+#: Node loads per decade of ``p0`` (the spacing of the table).
+PER_DECADE = 16
+#: Points of each interpolating polynomial (degree ``ORDER - 1``).
+ORDER = 8
+#: Largest estimated relative error of an interpolated load; above it the region is refined.
+TOL = 1e-4
+#: Refinements of a region (each doubles its nodes per decade) before it is computed directly.
+MAX_DEPTH = 4
+#: The direct path's own irregularity in the load (relative; ``gap_pdf``: ``Phi``'s linear
+#: look-up table), which no interpolation follows; a node's reaches a load through the
+#: stencil's weights.
+NOISE = 5e-6
+#: The same for the leak analysis: its effective medium (cells that move with the load) and
+#: its critical junction (rates as ``u1^3``) are irregular by ~1e-4 in the load directly; from
+#: :data:`LEAK_MIN` loads on (below, refining its transitions costs more than it saves).
+LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 3e-4, 2000
+#: The leak analysis's stencils (points; the smallest estimate per load) and margin: fewer
+#: points near a segment's ends cut the noise's reach, but near sealing (``u1 -> 0``) their
+#: estimate fell short by 3x (roll H = 0.84 4 dec): 8 points only.
+LEAK_ORDERS, LEAK_SAFETY = (8,), 16.0
+#: The smooth part of the estimate: this times ``2^-m`` the error of the ``m``-point table at
+#: twice the spacing (asymptotically that error divided by ``2^m``: a margin of 16).
+SAFETY = 16.0
+#: Smallest density interpolated in logarithm (below: this; the error stays below it).
+FLOOR = 1e-300
+#: Rows' errors are relative to the larger of the row's largest value and this fraction of the
+#: largest over every load (a row 1e-57 of the others, near full contact, is 0 to this).
+DEPTH = 1e-30
+
+Exact = Callable[[NDArray[np.intp]], dict[str, NDArray[np.float64]]]
+
+
+def by_load(
+    p0: NDArray[np.float64],
+    exact: Exact,
+    tol: float = TOL,
+    keys: frozenset[str] = frozenset(),
+    noise: float = NOISE,
+    least: int = 0,
+    orders: tuple[int, ...] = (ORDER,),
+    safety: float = SAFETY,
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
+    """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
+
+    ``exact(rows)`` gives the outputs of the loads ``p0[rows]`` computed directly (arrays with
+    the loads along the first axis: per-load values or rows of them, all positive where
+    regular); ``tol`` the largest estimated error of an interpolated load. ``keys`` names
+    per-load outputs that are never interpolated (flags, the piece of a piecewise-smooth
+    input a load lies on): a load takes their value where its whole stencil agrees on it,
+    and is refined where not. ``noise``: the direct path's own irregularity in the load
+    (relative), added to every estimate through the stencil's weights. ``least``: the
+    distinct loads from which the table is used. ``orders``: the stencils (points) tried per
+    load, the one of the smallest estimate taken (fewer points: a smaller Lebesgue function
+    near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
+    """
+    p0 = np.asarray(p0, dtype=float)
+    n = p0.size
+    if n < max(least, TABLE_MIN) or not np.all(np.isfinite(p0) & (p0 > 0.0)):
+        return exact(np.arange(n)), np.zeros(n)
+    xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
+    out, err = _table(
+        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), keys, PER_DECADE, 0
+    )
+    return {k: v[inverse] for k, v in out.items()}, err[inverse]
+
+
+def _table(
+    xs: NDArray[np.float64],
+    exact: Exact,
+    tol: tuple[float, float, tuple[int, ...], float],
+    keys: frozenset[str],
+    per_decade: float,
+    depth: int,
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
+    """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise
+    and the orders): the table at ``per_decade`` nodes, each run of loads whose estimate exceeds the
+    tolerance again at twice the density
+    (between the nodes around it), at most :data:`MAX_DEPTH` times; directly where the nodes
+    would be more than half of the loads."""
+    # at least 4 ORDER nodes over the loads' range (a narrow range: denser than per_decade)
+    nodes = _nodes(xs, min(math.log(10.0) / per_decade, (xs[-1] - xs[0]) / (4 * ORDER)))
+    if depth > MAX_DEPTH or nodes.size < 2 * ORDER or 2 * nodes.size > xs.size:
+        return exact(np.arange(xs.size)), np.zeros(xs.size)
+    at = exact(nodes)
+    logs = {k: _log(v) for k, v in at.items() if k not in keys}
+    xn = xs[nodes]
+    rest = np.setdiff1d(np.arange(xs.size), nodes)
+    vals, est = _estimated(xn, at, logs, xs[rest], keys, tol)
+    out = {k: np.empty((xs.size,) + v.shape[1:]) for k, v in at.items()}
+    for k, v in at.items():
+        out[k][nodes] = v
+        out[k][rest] = vals[k]
+    err = np.zeros(xs.size)
+    err[rest] = est
+    for lo, hi in _runs(rest[est > tol[0]], nodes):
+        sub = np.arange(lo, hi + 1)
+        o, e = _table(
+            xs[sub], lambda sel, sub=sub: exact(sub[sel]), tol, keys, 2 * per_decade, depth + 1
+        )
+        for k, v in o.items():
+            out[k][sub] = v
+        err[sub] = e
+    return out, err
+
+
+def _estimated(
+    xn: NDArray[np.float64],
+    at: dict[str, NDArray[np.float64]],
+    logs: dict[str, NDArray[np.float64]],
+    x: NDArray[np.float64],
+    keys: frozenset[str],
+    tol: tuple[float, float, tuple[int, ...], float],
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
+    """The outputs at ``x`` and their estimated error, per load from the order (of
+    ``tol[2]``) of the smallest estimate: ``2^-m tol[3]`` (:data:`SAFETY`) times the error of the
+    ``m``-point table at twice the spacing (the smooth part: ``~h^m``), plus the nodes' and
+    the load's own irregularity ``tol[1]`` through the stencil (its Lebesgue function, 1.5
+    centred, up to 7 one-sided for 8 points; inf where the load has no stencil)."""
+    out: dict[str, NDArray[np.float64]] = {}
+    best = np.full(x.size, np.inf)
+    for m in tol[2]:
+        check = _check(xn, at, logs, keys, m)  # (n_node,): the 2h error at the odd nodes
+        vals, bad, lebesgue, idx = _interpolate(xn, at, logs, x, keys, m)
+        est = np.max(check[idx], axis=1) * (tol[3] / 2**m) + tol[1] * (1.0 + lebesgue)
+        est[bad] = np.inf
+        take = est < best if out else np.ones(x.size, dtype=bool)
+        for k, v in vals.items():
+            out[k] = (
+                v
+                if k not in out
+                else np.where(take.reshape((-1,) + (1,) * (v.ndim - 1)), v, out[k])
+            )
+        best = np.where(take, est, best)
+    return out, best
+
+
+def _runs(flagged: NDArray[np.intp], nodes: NDArray[np.intp]) -> list[tuple[int, int]]:
+    """The runs of consecutive ``flagged`` loads (only nodes between them), each as the
+    nodes around it ``(first, last)``."""
+    if not flagged.size:
+        return []
+    pos = np.searchsorted(nodes, flagged)  # the node above each flagged load
+    split = np.flatnonzero(np.diff(flagged) - np.diff(pos) != 1) + 1
+    out = []
+    for part in np.split(np.arange(flagged.size), split):
+        out.append((int(nodes[pos[part[0]] - 1]), int(nodes[pos[part[-1]]])))
+    return out
+
+
+def _nodes(xs: NDArray[np.float64], h: float) -> NDArray[np.intp]:
+    """Indices of sorted ``xs`` about ``h`` apart: each node the last value within ``h`` of
+    the one before (at least the next), the last value always included."""
+    out = [0]
+    last = xs.size - 1
+    while out[-1] < last:
+        i = out[-1]
+        j = int(np.searchsorted(xs, xs[i] + h, side="right")) - 1
+        out.append(min(max(j, i + 1), last))
+    return np.asarray(out, dtype=np.intp)
+
+
+def _log(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The logarithm of the values (rows: floored at :data:`FLOOR`; per-load values: NaN where
+    not finite and positive)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if v.ndim > 1:
+            return np.log(np.maximum(v, FLOOR))
+        return np.where(np.isfinite(v) & (v > 0.0), np.log(np.where(v > 0.0, v, 1.0)), np.nan)
+
+
+def _segments(at: dict[str, NDArray[np.float64]], keys: frozenset[str]) -> NDArray[np.intp]:
+    """Per node, the number of its segment: runs of nodes alike in every key and in which
+    outputs are regular (finite and, per-load values, positive)."""
+    cols = []
+    for k, v in at.items():
+        if k in keys:
+            cols.append(np.where(np.isnan(v), np.inf, v))
+        elif v.ndim > 1:
+            cols.append(np.all(np.isfinite(v), axis=1).astype(float))
+        else:
+            cols.append((np.isfinite(v) & (v > 0.0)).astype(float))
+    if not cols:
+        return np.zeros(next(iter(at.values())).shape[0], dtype=np.intp)
+    c = np.stack(cols, axis=1)
+    change = np.any(c[1:] != c[:-1], axis=1)
+    return np.concatenate(([0], np.cumsum(change)))
+
+
+def _stencil(
+    xn: NDArray[np.float64], x: NDArray[np.float64], seg: NDArray[np.intp], m: int
+) -> tuple[NDArray, NDArray, NDArray[np.bool_]]:
+    """The ``m`` nodes around each ``x`` (indices, (n, m)), their Lagrange weights, and where
+    there are none: all within the segment of the two nodes around ``x`` (``seg``; shifted to
+    one side near its ends), unusable where those two differ or the segment holds fewer than
+    ``m`` nodes."""
+    around = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
+    start = np.searchsorted(seg, seg, side="left")  # the first node of each node's segment
+    stop = np.searchsorted(seg, seg, side="right") - 1
+    lo = around - 1
+    bad = seg[lo] != seg[around]
+    first, last = start[lo], stop[lo]
+    bad |= last - first + 1 < m
+    i = np.clip(around - m // 2, first, np.maximum(last - m + 1, first))
+    i = np.clip(i, 0, xn.size - m)
+    idx = i[:, None] + np.arange(m)
+    X = xn[idx]
+    w = np.ones((x.size, m))
+    for a in range(m):
+        for b in range(m):
+            if a != b:
+                w[:, a] *= (x - X[:, b]) / (X[:, a] - X[:, b])
+    return idx, w, bad
+
+
+def _interpolate(
+    xn: NDArray[np.float64],
+    at: dict[str, NDArray[np.float64]],
+    logs: dict[str, NDArray[np.float64]],
+    x: NDArray[np.float64],
+    keys: frozenset[str],
+    m: int = ORDER,
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_], NDArray[np.float64], NDArray]:
+    """Every output at ``x`` from the nodes ``xn`` (each from nodes of its segment), whether
+    a load is unusable (between two segments, or a segment too short) and the sum of its
+    weights' magnitudes (the stencil's Lebesgue function), and the stencils (``m`` nodes)."""
+    idx, w, bad = _stencil(xn, x, _segments(at, keys), m)
+    lo = idx[:, 0]
+    out = {}
+    for k, v in at.items():
+        if k in keys:
+            out[k] = v[lo]
+            continue
+        L = logs[k]
+        if v.ndim > 1:
+            out[k] = _rows(L, idx, w)
+            continue
+        regular = np.isfinite(L)
+        y = np.exp(np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx]))
+        # a segment of irregular values (NaN, 0 or inf): the value, where its nodes agree
+        irregular = ~regular[lo]
+        same = irregular & np.all(_same(v[idx], v[lo][:, None]), axis=1)
+        y[irregular] = v[lo][irregular]
+        bad |= irregular & ~same
+        out[k] = y
+    return out, bad, np.sum(np.abs(w), axis=1), idx
+
+
+def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
+    return (a == b) | (np.isnan(a) & np.isnan(b))
+
+
+def _rows(L: NDArray[np.float64], idx: NDArray, w: NDArray) -> NDArray[np.float64]:
+    """``exp(sum_k w_k L[idx_k])`` per row, in blocks of rows that stay in the cache."""
+    n = idx.shape[0]
+    out = np.empty((n, L.shape[1]))
+    step = max(1, 2**17 // max(L.shape[1], 1))
+    for s in range(0, n, step):
+        t = slice(s, s + step)
+        acc = out[t]
+        np.multiply(L[idx[t, 0]], w[t, 0, None], out=acc)
+        for k in range(1, idx.shape[1]):
+            acc += L[idx[t, k]] * w[t, k, None]
+        np.exp(acc, out=acc)
+    return out
+
+
+def _check(
+    xn: NDArray[np.float64],
+    at: dict[str, NDArray[np.float64]],
+    logs: dict[str, NDArray[np.float64]],
+    keys: frozenset[str],
+    m: int = ORDER,
+) -> NDArray[np.float64]:
+    """Per node: the relative error of the even nodes' ``m``-point table at the node (odd
+    nodes; 0 at the even ones), the largest over the outputs (inf where unusable)."""
+    odd = np.arange(1, xn.size, 2)
+    even = np.arange(0, xn.size, 2)
+    sub = {k: v[even] for k, v in at.items()}
+    logs_even = {k: v[even] for k, v in logs.items()}
+    vals, bad, _, _ = _interpolate(xn[even], sub, logs_even, xn[odd], keys, m)
+    err = np.zeros(odd.size)
+    for k in sub.keys() - keys:
+        top = float(np.nanmax(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0))))
+        err = np.maximum(err, _relative(vals[k], at[k][odd], top))
+    err[bad] = np.inf
+    out = np.zeros(xn.size)
+    out[odd] = err
+    return out
+
+
+def _relative(
+    y: NDArray[np.float64], exact: NDArray[np.float64], top: float = 0.0
+) -> NDArray[np.float64]:
+    """``|y - exact|`` relative to each load's largest ``|exact|``, at least :data:`DEPTH`
+    times ``top`` (the largest over every load); 0 where both are the same irregular value,
+    inf where only one is."""
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        d = np.abs(y - exact)
+        if exact.ndim > 1:
+            scale = np.maximum(np.max(np.abs(exact), axis=1), DEPTH * top)
+            d = np.max(d, axis=1)
+        else:
+            scale = np.maximum(np.abs(exact), DEPTH * top)
+            d = np.where(_same(y, exact), 0.0, d)
+        r = np.where(
+            scale > 0.0, d / np.where(scale > 0.0, scale, 1.0), np.where(d > 0, np.inf, 0.0)
+        )
+    return np.where(np.isnan(r), np.inf, r)
+
+
+def subset(ctx: Any, ds: Any, rows: NDArray[np.intp]) -> tuple[Any, Any]:
+    """The analysis context and Dataset of the loads ``rows`` alone (their ``solve_at``
+    re-solves those loads of the same solve); all loads: ``ctx`` and ``ds`` themselves."""
+    p0 = np.atleast_1d(np.asarray(ctx.p0, dtype=float))
+    if rows.size == p0.size and np.array_equal(rows, np.arange(p0.size)):
+        return ctx, ds
+    solve_at = getattr(ctx, "solve_at", None)
+    if solve_at is not None:
+        whole = solve_at
+
+        def solve_at(zeta: Any, loads: Any = None, tau: Any = None) -> Any:
+            sel = rows if loads is None else rows[np.asarray(loads, dtype=int)]
+            return whole(zeta, sel, tau)
+
+    sub = dataclasses.replace(ctx, p0=p0[rows], solve_at=solve_at)
+    return sub, ds.isel(p0=rows)
