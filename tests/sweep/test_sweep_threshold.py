@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import math
-import os
 import warnings
 
-import numpy as np
 import pytest
 import xarray as xr
 from xpersson_sweep_testlib import scene
@@ -14,8 +12,7 @@ from xpersson_sweep_testlib import scene
 import xpersson
 from xpersson.api import as_scene, expand
 from xpersson.plugins import get_registry
-from xpersson.sweep import _shm, schedule
-from xpersson.sweep.stacking import Block, BlockResult
+from xpersson.sweep import schedule
 
 SMALL = scene(material={"E": ["5 MPa", "20 MPa"]}, load={"p0": "3e4 Pa"})
 SMALL_PLAN = expand(as_scene(SMALL), get_registry())
@@ -69,31 +66,3 @@ def test_above_the_threshold_the_client_is_used(monkeypatch):
     monkeypatch.setattr(execute, "client_for", used)
     with pytest.raises(AssertionError, match="sent to the workers of tcp://10.0.0.9:8786"):
         xpersson.solve(SMALL, scheduler=Client())
-
-
-def _block(n: int) -> BlockResult:
-    rng = np.random.default_rng(1)
-    ds = xr.Dataset(
-        {
-            "small": ("E", np.arange(n, dtype=float), {"units": "1"}),
-            "big": (("E", "zeta"), rng.random((n, 1100)), {"units": "Pa"}),
-            "last": (("E", "zeta"), rng.random((n, 1100)).astype(np.float32)),
-        },
-        coords={"E": ("E", np.linspace(1e6, 1e7, n), {"units": "Pa"}), "zeta": np.arange(1100)},
-        attrs={"title": "block"},
-    )
-    block = Block(0, (0,), (0,), (n,), ("E",), {})
-    return BlockResult(block, ds, None, np.zeros(n, np.int8), {})
-
-
-@pytest.mark.skipif(not os.access(_shm.SHM, os.W_OK), reason="no POSIX shared memory")
-def test_shared_memory_round_trip_is_identical_and_leaves_nothing():
-    res = _block(130)  # "big": 1.1 MiB, through shared memory; "small", "last": through dask
-    want = res.dataset.copy(deep=True)
-    packed, moved = _shm.pack(res)
-    assert list(moved) == ["big"] and "big" not in packed.dataset
-    assert all(os.path.exists(m[0]) for m in moved.values())
-    got = _shm.unpack(packed, moved).dataset
-    xr.testing.assert_identical(got, want)
-    assert list(got.data_vars) == list(want.data_vars)
-    assert not any(os.path.exists(m[0]) for m in moved.values())
