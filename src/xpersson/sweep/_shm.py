@@ -42,6 +42,7 @@ __all__ = [
     "Sink",
     "attached",
     "machine",
+    "same_machine",
     "release",
     "settle",
     "share",
@@ -68,6 +69,22 @@ def machine() -> tuple[str, str]:
     except OSError:
         boot = ""
     return socket.gethostname(), boot
+
+
+def same_machine(scheduler: Any) -> bool:
+    """Whether every worker of ``scheduler`` (``"processes"``, or a client) runs on this
+    machine, with shared memory to use (one round trip to the workers of a client)."""
+    if not os.path.isdir(SHM) or not os.access(SHM, os.W_OK):
+        return False
+    if scheduler == "processes":
+        return True
+    if type(scheduler).__name__ != "Client":
+        return False  # an address: not connected yet; counted as another machine
+    try:
+        there = scheduler.run(machine)
+    except Exception:  # noqa: BLE001 - any doubt: another machine
+        return False
+    return bool(there) and all(tuple(m) == machine() for m in there.values())
 
 
 def shared_specs(ds: xr.Dataset, dims: tuple[str, ...], shape: tuple[int, ...], min_bytes: float):

@@ -25,7 +25,7 @@ from ..plugins import get_registry
 from ._fastfail import warn_failures
 from ._onworkers import resolve_on_workers, run_on_workers, run_token
 from ._quiet import silenced
-from ._shm import MIN_BYTES, release, share, shared_specs
+from ._shm import MIN_BYTES, release, same_machine, share, shared_specs
 from ._workers import check_workers, ran_on
 from .blocks import Block, BlockResult, block_points, blocks_of, run_block
 from .combine import finish
@@ -71,7 +71,8 @@ def solve_sweep(
     probed = None
     if _on_workers(scheduler) and chunk is None:
         probed = probe(plan, registry)
-        if too_small_for_a_cluster(plan, probed.estimate, scheduler, probed.nbytes):
+        local = same_machine(scheduler)
+        if too_small_for_a_cluster(plan, probed.estimate, scheduler, probed.nbytes, local):
             scheduler = None
     first = check_size(plan, registry, scheduler, chunk, workers, output is None)
     points = None if _on_workers(scheduler) else resolve_points(plan, registry, first)

@@ -23,6 +23,7 @@ __all__ = [
     "BLOCK_CURVES",
     "CLUSTER_STARTUP_S",
     "PARALLEL_MIN_S",
+    "LOCAL_MIN_S",
     "SERIAL_BLOCK_POINTS",
     "MEMORY_BOUND_RATE",
     "TASK_S",
@@ -61,20 +62,23 @@ def points_per_block(
     * serial in memory: as many as make :data:`BLOCK_CURVES` curves (``loads`` per point), at
       least :data:`SERIAL_BLOCK_POINTS` curves;
     * on workers, with the study's measured serial time ``estimate`` [s]
-      (:func:`serial_estimate`): tasks of about :data:`TASK_S` each, 2 to 16 per worker;
+      (:func:`~.probe.probe`): tasks of about :data:`TASK_S` each, 2 to 16 per worker, and
+      no larger than a serial block (a block's intermediate arrays stay small, and the first
+      block is the probe's, which is not solved again);
     * else a quarter of each worker's share.
     """
     if requested is not None:
         if requested < 1:
             raise ValueError(f"chunk: points per block must be >= 1, got {requested}")
         return int(requested)
+    loads = max(1, loads)
+    serial = max(BLOCK_CURVES // loads, min(plan.size, SERIAL_BLOCK_POINTS // loads), 1)
     if serial_in_memory:
-        loads = max(1, loads)
-        return max(BLOCK_CURVES // loads, min(plan.size, SERIAL_BLOCK_POINTS // loads), 1)
+        return serial
     workers = max(1, workers)
     if estimate is not None and math.isfinite(estimate):
         tasks = min(16 * workers, max(2 * workers, math.ceil(estimate / TASK_S)))
-        return max(1, math.ceil(plan.size / tasks))
+        return max(1, min(serial, math.ceil(plan.size / tasks)))
     return max(1, math.ceil(plan.size / (4 * workers)))
 
 
@@ -91,15 +95,20 @@ CLUSTER_STARTUP_S = 3.0
 #: points (estimated 0.53 s) took 1.1-1.3 s on the cluster against 0.5 s serially; one of 4e5
 #: points (estimated 2.7 s) took 4.0 s against 5.1 s. Below it the study runs in this process.
 PARALLEL_MIN_S = 2.0
+#: :data:`PARALLEL_MIN_S` for workers on this machine, whose results come through shared memory
+#: (:mod:`._shm`) instead of the socket.
+LOCAL_MIN_S = 0.3
 #: Serial CPU time [s] of one task on a worker: long enough that the scheduler's per-task
 #: cost (a few ms) and the transfer of its result are small, short enough for 2 to 16 tasks
 #: per worker (balance, results combined while others run).
 TASK_S = 0.5
 
 
-def threshold_s(scheduler: Any) -> float:
-    """Estimated serial CPU time [s] above which ``scheduler`` (a distributed one) pays."""
-    return PARALLEL_MIN_S + (CLUSTER_STARTUP_S if scheduler == "processes" else 0.0)
+def threshold_s(scheduler: Any, local: bool = False) -> float:
+    """Estimated serial CPU time [s] above which ``scheduler`` (a distributed one; ``local``:
+    its workers on this machine, sharing its memory) pays."""
+    base = LOCAL_MIN_S if local else PARALLEL_MIN_S
+    return base + (CLUSTER_STARTUP_S if scheduler == "processes" else 0.0)
 
 
 #: Result bytes per second of the study's serial CPU time above which a study is memory-bound
@@ -110,14 +119,20 @@ MEMORY_BOUND_RATE = 1e8
 
 
 def too_small_for_a_cluster(
-    plan: SweepPlan, estimate: float, scheduler: Any = "processes", nbytes: float = 0.0
+    plan: SweepPlan,
+    estimate: float,
+    scheduler: Any = "processes",
+    nbytes: float = 0.0,
+    local: bool = False,
 ) -> bool:
     """Whether the study, solved serially (``estimate`` [s], result ``nbytes`` [B],
-    :func:`~xpersson.sweep.execute.probe`), takes less than :func:`threshold_s` or is
-    memory-bound (:data:`MEMORY_BOUND_RATE`); then a warning says so and the sweep runs in this
-    process."""
-    limit = threshold_s(scheduler)
-    bound = math.isfinite(estimate) and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
+    :func:`~xpersson.sweep.probe.probe`), takes less than :func:`threshold_s` or, on workers
+    of another machine (not ``local``), is memory-bound (:data:`MEMORY_BOUND_RATE`); then a
+    warning says so and the sweep runs in this process."""
+    limit = threshold_s(scheduler, local)
+    bound = (
+        not local and math.isfinite(estimate) and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
+    )
     if estimate >= limit and not bound:
         return False
     what = (

@@ -1,0 +1,119 @@
+"""Local dask workers write the sweep's large output arrays in place, in shared memory
+(``xpersson.sweep._shm``): the result equals the serial one bit for bit, the arrays are the
+shared mapping itself, and no segment is ever left in ``/dev/shm`` (a failed run included)."""
+
+from __future__ import annotations
+
+import mmap
+import os
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pytest
+import xarray as xr
+from xpersson_sweep_testlib import scene
+
+from xpersson.api import as_scene, expand
+from xpersson.plugins import get_registry
+from xpersson.sweep import _shm, filling
+from xpersson.sweep.execute import solve_sweep
+
+distributed = pytest.importorskip("distributed")
+pytestmark = pytest.mark.skipif(not os.access(_shm.SHM, os.W_OK), reason="no POSIX shared memory")
+
+#: E x H, two loads: batched blocks (rows written in place) on two worker processes
+STUDY = scene(
+    material={"E": ["5 MPa", "10 MPa", "20 MPa", "40 MPa", "80 MPa"]},
+    spectrum={"H": [0.6, 0.7, 0.8, 0.9]},
+    load={"p0": ["1e4 Pa", "1e5 Pa"]},
+)
+#: H only, stacked blocks: rows copied into the arrays once by the worker
+STACKED = scene(spectrum={"H": [0.6, 0.65, 0.7, 0.75, 0.8, 0.85]})
+
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=40
+    )
+    with distributed.Client(cluster) as c:
+        yield c
+    cluster.close()
+
+
+def _plan(sc):
+    return expand(as_scene(sc), get_registry())
+
+
+def _segments() -> list[str]:
+    return [n for n in os.listdir(_shm.SHM) if n.startswith(_shm._PREFIX)]
+
+
+def _in_shared_memory(a: np.ndarray) -> bool:
+    """Whether the array's memory is a mapping (of the run's shared segment)."""
+    while isinstance(a, np.ndarray):
+        a = a.base
+    return isinstance(getattr(a, "obj", a), mmap.mmap)
+
+
+def _equal(a: xr.Dataset, b: xr.Dataset) -> None:
+    """Bitwise equal values and coordinates (attributes: timings differ)."""
+    assert list(a.variables) == list(b.variables)
+    for name in a.variables:
+        assert a[name].dims == b[name].dims, name
+        np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=name, strict=True)
+
+
+@pytest.mark.parametrize(("sc", "chunk"), [(STUDY, 4), (STACKED, 2)])
+def test_large_variables_come_through_shared_memory_and_equal_serial(client, sc, chunk):
+    plan = _plan(sc)
+    serial = solve_sweep(plan, None)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        par = solve_sweep(plan, None, scheduler=client, chunk=chunk, shm_bytes=2000)
+    _equal(serial, par)
+    big = [n for n, v in serial.data_vars.items() if v.nbytes >= 2000 and v.dims[:1] == ("H",)]
+    assert "area_fraction" in big
+    for name in big:  # the client's arrays are the shared mapping the workers wrote into
+        assert _in_shared_memory(par[name].values), name
+    assert not _in_shared_memory(par["point_status"].values)  # below the threshold
+    assert _segments() == []
+    assert sum(client.run(lambda: len(_shm._ATTACHED)).values()) == 0  # mappings dropped
+
+
+def test_a_failed_run_leaves_no_segment_and_no_mapping(client, monkeypatch):
+    seen = []
+
+    def fail(self, res, written=()):
+        seen.append((list(written), _segments()))  # mid-run: the segment has no name already
+        raise RuntimeError("the client failed while reading the blocks")
+
+    monkeypatch.setattr(filling.Filling, "add", fail)
+    with pytest.raises(RuntimeError, match="the client failed"):
+        solve_sweep(_plan(STUDY), None, scheduler=client, chunk=4, shm_bytes=2000)
+    assert seen and "area_fraction" in seen[0][0] and seen[0][1] == []
+    assert _segments() == []
+    assert sum(client.run(lambda: len(_shm._ATTACHED)).values()) == 0
+
+
+def test_a_segment_of_a_killed_client_is_removed_by_the_next_run():
+    gone = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    path = os.path.join(_shm.SHM, f"{_shm._PREFIX}{int(gone.stdout)}-leftover")
+    mine = os.path.join(_shm.SHM, f"{_shm._PREFIX}{os.getpid()}-alive")
+    for p in (path, mine):
+        with open(p, "wb") as f:
+            f.write(b"x")
+    try:
+        _shm._remove_orphans()
+        assert not os.path.exists(path) and os.path.exists(mine)
+    finally:
+        for p in (path, mine):
+            if os.path.exists(p):
+                os.unlink(p)
