@@ -56,6 +56,7 @@ SHM = "/dev/shm"  # noqa: S108
 MIN_BYTES = 1 << 20
 _PREFIX = "xpersson-sweep-"
 _ALIGN = mmap.PAGESIZE
+_POPULATE_WRITE = getattr(mmap, "MADV_POPULATE_WRITE", 23)  # Linux's value
 #: Worker side: run token -> (mapping, {name: array}, the run's shared dict)
 _ATTACHED: dict[str, tuple[Any, dict[str, np.ndarray], dict[str, Any]]] = {}
 
@@ -192,7 +193,7 @@ def _attach(token: str, path: str, specs: dict[str, Any], offsets: dict[str, int
     finally:
         os.close(fd)
     arrays = _arrays(mm, specs, offsets)
-    _ATTACHED[token] = (mm, arrays, {"sink": Sink(arrays)})
+    _ATTACHED[token] = (mm, arrays, {"sink": Sink(mm, arrays)})
     return True
 
 
@@ -209,14 +210,29 @@ def release(client: Any, token: str) -> None:
 
 class Sink:
     """On a worker: a block's rows written into the run's shared arrays (the interface of
-    :meth:`~.filling.Filling.rows` that :func:`~.batched.batched_block` writes through)."""
+    :meth:`~.filling.Filling.rows` that :func:`~.batched.batched_block` writes through).
 
-    def __init__(self, arrays: dict[str, np.ndarray]) -> None:
-        self.arrays = arrays
+    A region is populated before it is written (``madvise(MADV_POPULATE_WRITE)``, Linux 5.14):
+    the pages of a tmpfs mapping are 4 KiB, and faulting them in one by one as the rows are
+    written cost about twice as much (1-1.5 ms per MiB on the benchmark's machine)."""
+
+    def __init__(self, mm: Any, arrays: dict[str, np.ndarray]) -> None:
+        self.mm, self.arrays = mm, arrays
+        self._base = np.frombuffer(mm, np.uint8).ctypes.data
 
     def rows(self, name: str, block: Any, point_shape: tuple[int, ...], dtype: Any) -> Any:
         full = self.arrays.get(name)
-        return None if full is None else region_rows(full, block, point_shape, dtype)
+        rows = None if full is None else region_rows(full, block, point_shape, dtype)
+        if rows is not None:
+            self.populate(rows)
+        return rows
+
+    def populate(self, region: np.ndarray) -> None:
+        """Map the pages of a contiguous region for writing, in one call."""
+        start = region.ctypes.data - self._base
+        lo = start - start % _ALIGN
+        with contextlib.suppress(OSError, ValueError):  # an older kernel: faulted as written
+            self.mm.madvise(_POPULATE_WRITE, lo, start + region.nbytes - lo)
 
 
 def attached(token: str | None) -> tuple[Sink, dict[str, Any]] | None:
@@ -242,6 +258,8 @@ def settle(res: BlockResult, sink: Sink) -> tuple[BlockResult, list[str]]:
             continue
         src = var.values
         if not same_memory(src, dst):
+            if dst.flags.c_contiguous:
+                sink.populate(dst)
             dst[...] = src
         written.append(name)
     if written:

@@ -51,12 +51,15 @@ class Probe:
         The probe's first block, solved (its Dataset kept).
     shared : dict
         The blocks' shared state after the probe (its first template), for a run here.
+    resolve_s : float
+        The CPU time [s] of resolving the study's points, scaled from the probe's block.
     """
 
     estimate: float
     nbytes: float
     result: BlockResult | None = None
     shared: dict[str, Any] = dataclasses.field(default_factory=dict)
+    resolve_s: float = math.inf
 
 
 def probe(plan: SweepPlan, registry: Any, points: int | None = None) -> Probe:
@@ -77,7 +80,9 @@ def probe(plan: SweepPlan, registry: Any, points: int | None = None) -> Probe:
     shared: dict[str, Any] = {}
     with silenced():
         try:
-            first = _run(plan, blocks[0], registry, shared)
+            points0 = resolve_block(plan, blocks[0], registry)
+            resolve_s = time.process_time() - t0
+            first = run_block(blocks[0], points0, registry, shared=shared)
             t1 = time.process_time()
             rate = (t1 - t0) / blocks[0].size
             if again and len(blocks) > 1:  # the rate again, without the first point's costs
@@ -87,7 +92,9 @@ def probe(plan: SweepPlan, registry: Any, points: int | None = None) -> Probe:
             return Probe(math.inf, math.inf)
     n0 = blocks[0].size
     nbytes = 0 if first.dataset is None else first.dataset.nbytes
-    return Probe((t1 - t0) + (plan.size - n0) * rate, nbytes * plan.size / n0, first, shared)
+    scale = plan.size / n0
+    estimate = (t1 - t0) + (plan.size - n0) * rate
+    return Probe(estimate, nbytes * scale, first, shared, resolve_s * scale)
 
 
 def _run(plan: SweepPlan, block: Any, registry: Any, shared: dict[str, Any]) -> BlockResult:
