@@ -111,8 +111,7 @@ def solve_sweep(
                 probed = probe(plan, registry, points=1)
             token = _shared_arrays(plan, client, probed, filling, shm_bytes)
         reused = _reuse(probed, blocks, first, txn, filling)
-        if reused is not None:
-            done[reused.block.number] = reused
+        done.update((r.block.number, r) for r in reused)
         parts = {
             b.number: (None if txn is None else str(txn.folder / part_name(b.number)))
             for b in blocks
@@ -125,7 +124,7 @@ def solve_sweep(
             tasks = [(b, block_points(plan, points, b), parts[b.number]) for b in blocks]
         tasks = [t for t in tasks if t[0].number not in done]
         attrs = None if txn is None else txn.part_attrs()
-        shared = {} if probed is None or reused is None else probed.shared
+        shared = probed.shared if reused else {}
         results = _run(
             plan,
             tasks,
@@ -195,17 +194,20 @@ def _run(
 
 def _reuse(
     probed: Probe | None, blocks: list[Block], first: Any, txn: Any, filling: Filling
-) -> BlockResult | None:
-    """The probe's block, filled in, where it is the layout's first block of an in-memory run
-    whose points the probe resolved alike (not where the sweep's pressure grid spans every
-    point)."""
-    res = None if probed is None else probed.result
-    if res is None or txn is not None or (first.pressure_pdf and first.p is None):
-        return None
-    if (res.block.start, res.block.stop) != (blocks[0].start, blocks[0].stop):
-        return None
-    filling.add(res)
-    return res
+) -> list[BlockResult]:
+    """The probe's blocks that are blocks of the layout, filled in (in memory, where the probe
+    resolved their points alike: not where the sweep's pressure grid spans every point)."""
+    if probed is None or txn is not None or (first.pressure_pdf and first.p is None):
+        return []
+    where = {(b.start, b.stop): b for b in blocks}
+    out = []
+    for res in probed.results:
+        block = where.get((res.block.start, res.block.stop))
+        if block is not None:
+            res.block = block
+            filling.add(res)
+            out.append(res)
+    return out
 
 
 def _shared_arrays(
@@ -218,7 +220,7 @@ def _shared_arrays(
     """Share the sweep's large output arrays, laid out as the probe's block, with the workers
     where they run on this machine (:func:`._shm.share`) and lay the fill out on them; returns
     the run's token, or ``None`` (nothing shared)."""
-    ds = None if probed.result is None else probed.result.dataset
+    ds = probed.results[0].dataset if probed.results else None
     if ds is None:
         return None
     token = run_token()

@@ -46,59 +46,59 @@ class Probe:
     estimate : float
         The study's serial CPU time [s] (``inf``: the probe failed).
     nbytes : float
-        The study's result size [bytes], scaled from the probe's block.
-    result : BlockResult or None
-        The probe's first block, solved (its Dataset kept).
+        The study's result size [bytes], scaled from the probe's first block.
+    results : list of BlockResult
+        The probe's blocks, solved (their Datasets kept).
     shared : dict
         The blocks' shared state after the probe (its first template), for a run here.
     resolve_s : float
-        The CPU time [s] of resolving the study's points, scaled from the probe's block.
+        The CPU time [s] of resolving the study's points, scaled as ``estimate``.
     """
 
     estimate: float
     nbytes: float
-    result: BlockResult | None = None
+    results: list[BlockResult] = dataclasses.field(default_factory=list)
     shared: dict[str, Any] = dataclasses.field(default_factory=dict)
     resolve_s: float = math.inf
 
 
 def probe(plan: SweepPlan, registry: Any, points: int | None = None) -> Probe:
-    """Solve the study's first block here and scale its CPU time and size to the study.
+    """Solve the study's first two blocks here; its CPU time is the first block's plus the
+    second's rate over the other points (the first block alone where the study has one).
 
-    ``points``: the probe block's points (the first block of ``blocks_of(plan, points)``);
-    default as stated in the module. A probe that raises gives ``inf`` (the sweep reports
-    failing points itself).
+    ``points``: one probe block of this many points (the first block of ``blocks_of(plan,
+    points)``: the layout of the study's variables, no estimate wanted); default as stated in
+    the module. A probe that raises gives ``inf`` (the sweep reports failing points itself).
     """
     registry = registry or get_registry()
     t0 = time.process_time()
     rs = resolve_index(plan, (0,) * len(plan.shape), registry)
-    again = points is None and not batch_capable(plan.groups, rs)
+    count = 2 if points is None else 1
     if points is None:
-        loads = max(1, rs.p0.size)
-        points = PROBE_POINTS if again else points_per_block(plan, 1, None, True, loads)
-    blocks = blocks_of(plan, max(1, min(plan.size, points)))
+        batched = batch_capable(plan.groups, rs)
+        points = points_per_block(plan, 1, None, True, max(1, rs.p0.size)) if batched else 0
+    blocks = blocks_of(plan, max(1, min(plan.size, points or PROBE_POINTS)))[:count]
     shared: dict[str, Any] = {}
+    results, times = [], []  # (resolve, total) CPU seconds per block
     with silenced():
         try:
-            points0 = resolve_block(plan, blocks[0], registry)
-            resolve_s = time.process_time() - t0
-            first = run_block(blocks[0], points0, registry, shared=shared)
-            t1 = time.process_time()
-            rate = (t1 - t0) / blocks[0].size
-            if again and len(blocks) > 1:  # the rate again, without the first point's costs
-                _run(plan, blocks[1], registry, shared)
-                rate = (time.process_time() - t1) / blocks[1].size
+            for b in blocks:
+                start = t0 if not times else time.process_time()
+                pts = resolve_block(plan, b, registry)
+                resolved = time.process_time()
+                results.append(run_block(b, pts, registry, shared=shared))
+                times.append((resolved - start, time.process_time() - start))
         except Exception:  # noqa: BLE001 - the sweep reports failing points itself
             return Probe(math.inf, math.inf)
-    n0 = blocks[0].size
-    nbytes = 0 if first.dataset is None else first.dataset.nbytes
-    scale = plan.size / n0
-    estimate = (t1 - t0) + (plan.size - n0) * rate
-    return Probe(estimate, nbytes * scale, first, shared, resolve_s * scale)
-
-
-def _run(plan: SweepPlan, block: Any, registry: Any, shared: dict[str, Any]) -> BlockResult:
-    return run_block(block, resolve_block(plan, block, registry), registry, shared=shared)
+    (r0, c0), n0 = times[0], blocks[0].size
+    if len(times) > 1:  # the first block as it cost, the others at the second one's rate
+        (r1, c1), n1 = times[1], blocks[1].size
+        estimate, resolve_s = c0 + c1 * (plan.size - n0) / n1, r0 + r1 * (plan.size - n0) / n1
+    else:
+        estimate, resolve_s = c0 * plan.size / n0, r0 * plan.size / n0
+    ds = results[0].dataset
+    nbytes = (0 if ds is None else ds.nbytes) * plan.size / n0
+    return Probe(estimate, nbytes, results, shared, resolve_s)
 
 
 def serial_estimate(plan: SweepPlan, registry: Any) -> float:
