@@ -285,7 +285,8 @@ def test_single_load_sweep_equals_individual_solves(chunk, batched):
 def test_block_sizes_serial_and_on_workers():
     """Serial in memory: blocks of BLOCK_CURVES curves (points x loads), at least
     SERIAL_BLOCK_POINTS curves; on workers with a measured serial time: tasks of about TASK_S,
-    2 to 16 per worker, no larger than a serial block; without one: a quarter of each worker's share; chunk= wins."""
+    2 to 16 per worker, no larger than a serial block; without one: a quarter of each
+    worker's share; chunk= wins."""
     from types import SimpleNamespace
 
     from xpersson.sweep.schedule import (

@@ -86,11 +86,13 @@ def run_on_workers(
     attrs: dict[str, Any] | None,
     take: Callable[[BlockResult, list[str]], None],
     token: str | None = None,
+    early: list[BlockResult] | None = None,
 ) -> list[BlockResult]:
     """Submit the block tasks and read their results as they finish (transfers overlap the
     blocks still running); ``take(result, written)`` fills each into the sweep's arrays.
     ``token``: the run's shared arrays (:func:`._shm.share`), which its workers write their
-    rows into (``written``: those variables, not sent back)."""
+    rows into (``written``: those variables, not sent back). ``early``: results had already
+    (the probe's blocks), filled in while the workers run."""
     from distributed import as_completed
 
     key = run_token()
@@ -117,6 +119,8 @@ def run_on_workers(
     order = {fut.key: i for i, fut in enumerate(futures)}
     results: list[Any] = [None] * len(futures)
     try:
+        for res in early or ():
+            take(res, [])
         for fut, (res, written) in as_completed(futures, with_results=True):
             results[order[fut.key]] = res
             take(res, written)

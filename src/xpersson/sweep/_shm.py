@@ -43,6 +43,7 @@ __all__ = [
     "attached",
     "machine",
     "same_machine",
+    "usable",
     "release",
     "settle",
     "share",
@@ -72,20 +73,16 @@ def machine() -> tuple[str, str]:
     return socket.gethostname(), boot
 
 
-def same_machine(scheduler: Any) -> bool:
-    """Whether every worker of ``scheduler`` (``"processes"``, or a client) runs on this
-    machine, with shared memory to use (one round trip to the workers of a client)."""
-    if not os.path.isdir(SHM) or not os.access(SHM, os.W_OK):
-        return False
-    if scheduler == "processes":
-        return True
-    if type(scheduler).__name__ != "Client":
-        return False  # an address: not connected yet; counted as another machine
-    try:
-        there = scheduler.run(machine)
-    except Exception:  # noqa: BLE001 - any doubt: another machine
-        return False
-    return bool(there) and all(tuple(m) == machine() for m in there.values())
+def usable() -> bool:
+    """Whether this process can create segments in :data:`SHM`."""
+    return os.path.isdir(SHM) and os.access(SHM, os.W_OK)
+
+
+def same_machine(machines: dict[str, Any]) -> bool:
+    """Whether every worker (``{worker: (host name, boot id)}``) runs on this machine, with
+    shared memory to use."""
+    here = machine()
+    return usable() and bool(machines) and all(tuple(m) == here for m in machines.values())
 
 
 def shared_specs(ds: xr.Dataset, dims: tuple[str, ...], shape: tuple[int, ...], min_bytes: float):
@@ -163,7 +160,7 @@ def share(client: Any, specs: dict[str, Any], token: str) -> dict[str, np.ndarra
     """The client's arrays of ``specs`` (:func:`shared_specs`) in a segment every worker of
     ``client`` has mapped under ``token``, its name already removed; ``None`` where a worker
     is on another machine or ``/dev/shm`` lacks the room (then nothing is shared)."""
-    if not specs or not os.path.isdir(SHM) or not os.access(SHM, os.W_OK):
+    if not specs or not usable():
         return None
     _remove_orphans()
     offsets, size = _offsets(specs)
@@ -197,15 +194,16 @@ def _attach(token: str, path: str, specs: dict[str, Any], offsets: dict[str, int
     return True
 
 
-def _detach(token: str) -> None:
-    """On a worker: drop the run's mapping (the memory goes with the last mapping)."""
+async def _detach(token: str) -> None:
+    """On a worker: drop the run's mapping (the memory goes with the last mapping); a
+    coroutine, so that the client need not wait for it (``client.run(..., wait=False)``)."""
     _ATTACHED.pop(token, None)
 
 
 def release(client: Any, token: str) -> None:
-    """After the run, whatever its end: the workers drop their mappings."""
+    """After the run, whatever its end: the workers drop their mappings (not waited for)."""
     with contextlib.suppress(Exception):
-        client.run(_detach, token)
+        client.run(_detach, token, wait=False)
 
 
 class Sink:

@@ -25,8 +25,8 @@ from ..plugins import get_registry
 from ._fastfail import warn_failures
 from ._onworkers import resolve_on_workers, run_on_workers, run_token
 from ._quiet import silenced
-from ._shm import MIN_BYTES, release, same_machine, share, shared_specs
-from ._workers import check_workers, ran_on
+from ._shm import MIN_BYTES, release, same_machine, share, shared_specs, usable
+from ._workers import WorkerEnvironmentError, check_workers, ran_on
 from .blocks import Block, BlockResult, block_points, blocks_of, run_block
 from .combine import finish
 from .filling import Filling
@@ -46,7 +46,7 @@ _resolve_index = resolve_index  # the name plugins' tests import
 #: study on workers resolves them here and sends them with its tasks (the points of an E x H
 #: study of 1e5: 14 ms here, 21 kB per block) instead of a round of resolve tasks on the
 #: workers (about 50 ms of scheduling for 20 blocks on 2 local workers).
-RESOLVE_HERE_S = 0.05
+RESOLVE_HERE_S = 0.1
 
 
 def _on_workers(scheduler: Any) -> bool:
@@ -75,20 +75,23 @@ def solve_sweep(
     """
     check_scheduler(scheduler)
     asked = scheduler
-    probed = None
+    first = resolve_index(plan, (0,) * len(plan.shape), registry or get_registry())
+    probed = checked = None
     if _on_workers(scheduler) and chunk is None:
-        probed = probe(plan, registry)
-        local = same_machine(scheduler)
+        probed, checked = probe(plan, registry), _checked(scheduler, first, early=True)
+        local = usable() if scheduler == "processes" else same_machine(_machines(checked))
         if too_small_for_a_cluster(plan, probed.estimate, scheduler, probed.nbytes, local):
             scheduler = None
-    first = check_size(plan, registry, scheduler, chunk, workers, output is None)
+    check_size(plan, registry, scheduler, chunk, workers, output is None, first)
     here = probed is not None and probed.resolve_s < RESOLVE_HERE_S
     points = None if _on_workers(scheduler) and not here else resolve_points(plan, registry, first)
     client, own_cluster, n_workers = client_for(scheduler, workers)
     txn = token = None
     try:
         if client is not None:  # every worker has the scene's plugins: one line if not
-            check_workers(client, first.plugin_records)
+            checked = _checked(client, first, checked)
+            if isinstance(checked, WorkerEnvironmentError):
+                raise checked
         layout = {
             "points_per_block": points_per_block(
                 plan,
@@ -110,7 +113,7 @@ def solve_sweep(
             if probed is None:  # chunk= given: the layout from the first point, solved here
                 probed = probe(plan, registry, points=1)
             token = _shared_arrays(plan, client, probed, filling, shm_bytes)
-        reused = _reuse(probed, blocks, first, txn, filling)
+        reused = _reuse(probed, blocks, first, txn)
         done.update((r.block.number, r) for r in reused)
         parts = {
             b.number: (None if txn is None else str(txn.folder / part_name(b.number)))
@@ -137,6 +140,7 @@ def solve_sweep(
             filling,
             shared,
             token,
+            reused,
         )
         warn_failures(results, stacklevel=4)  # out of the silenced run: the user sees it
         results = sorted([*results, *done.values()], key=lambda r: r.block.number)
@@ -178,25 +182,48 @@ def _run(
     filling: Filling,
     shared: dict[str, Any],
     token: str | None,
+    early: list[BlockResult],
 ) -> list[BlockResult]:
-    """Run the tasks here or on the workers, with a progress bar when asked."""
+    """Run the tasks here or on the workers, with a progress bar when asked; ``early``: results
+    had already (the probe's), filled in before the tasks run here, while they run on the
+    workers."""
     bar = progress_bar(plan.size, progress, "xpersson sweep")
     try:
         if bar is not None:
             bar.update(plan.size - sum(b.size for b, _, _ in tasks))  # reused blocks
         if client is not None:
-            return run_on_workers(tasks, registry, client, bar, attrs, filling.add, token)
+            return run_on_workers(tasks, registry, client, bar, attrs, filling.add, token, early)
+        for res in early:
+            filling.add(res)
         return _execute(tasks, registry, scheduler, bar, n_workers, attrs, filling, shared)
     finally:
         if bar is not None:
             bar.close()
 
 
-def _reuse(
-    probed: Probe | None, blocks: list[Block], first: Any, txn: Any, filling: Filling
-) -> list[BlockResult]:
-    """The probe's blocks that are blocks of the layout, filled in (in memory, where the probe
-    resolved their points alike: not where the sweep's pressure grid spans every point)."""
+def _checked(client: Any, first: Any, known: Any = None, early: bool = False) -> Any:
+    """:func:`._workers.check_workers` of a client, once (``known``: the answer already had;
+    another scheduler: ``known``): its workers' machines, or the error it raised (raised by
+    the caller only where the workers are used). ``early`` (before the threshold rule): any
+    other failure gives ``None`` (asked again if the workers are used)."""
+    if known is None and type(client).__name__ == "Client":
+        try:
+            known = check_workers(client, first.plugin_records)
+        except WorkerEnvironmentError as exc:
+            known = exc
+        except Exception:  # noqa: BLE001 - the rule counts it as another machine
+            if not early:
+                raise
+    return known
+
+
+def _machines(checked: Any) -> dict[str, Any]:
+    return checked if isinstance(checked, dict) else {}
+
+
+def _reuse(probed: Probe | None, blocks: list[Block], first: Any, txn: Any) -> list[BlockResult]:
+    """The probe's blocks that are blocks of the layout (in memory, where the probe resolved
+    their points alike: not where the sweep's pressure grid spans every point)."""
     if probed is None or txn is not None or (first.pressure_pdf and first.p is None):
         return []
     where = {(b.start, b.stop): b for b in blocks}
@@ -205,7 +232,6 @@ def _reuse(
         block = where.get((res.block.start, res.block.stop))
         if block is not None:
             res.block = block
-            filling.add(res)
             out.append(res)
     return out
 
@@ -241,10 +267,16 @@ def check_size(
     chunk: int | None,
     workers: int | None,
     in_memory: bool,
+    first: Any = None,
 ) -> Any:
     """Refuse (before resolving the points) a study larger than the memory budget, from its
-    first point's loads, magnifications and pressures; returns that point (resolved)."""
-    rs = resolve_index(plan, next(iter(plan.indices())), registry or get_registry())
+    first point's loads, magnifications and pressures; returns that point (resolved, or
+    ``first``: resolved already)."""
+    rs = (
+        first
+        if first is not None
+        else resolve_index(plan, next(iter(plan.indices())), registry or get_registry())
+    )
     n_workers = 1 if scheduler in (None, "serial", "synchronous", "sync") else workers
     n_workers = n_workers or os.cpu_count() or 1
     n_p = (rs.p.size if rs.p is not None else rs.p_points) if rs.pressure_pdf else None
