@@ -2,10 +2,12 @@
 
 Serial in memory, blocks hold about :data:`BLOCK_CURVES` curves. On workers (a
 :class:`distributed.LocalCluster` or a running scheduler), the study's serial CPU time is
-measured first on a probe (:func:`xpersson.sweep.execute.serial_estimate`) and the study is cut
-into tasks of about :data:`TASK_S` each (2 to 16 per worker). A study whose estimated serial time
-is below :func:`threshold_s` (:data:`PARALLEL_MIN_S`, plus :data:`CLUSTER_STARTUP_S` where
-``scheduler="processes"`` starts a cluster) runs in this process, with a warning and an
+measured first on a probe (:func:`xpersson.sweep.probe.probe`) and the study is cut into tasks
+of about :data:`TASK_S` each (2 to 16 per worker, none larger than a serial block). A study
+whose estimated serial time is below :func:`threshold_s` (:data:`LOCAL_MIN_S` for workers on
+this machine, :data:`PARALLEL_MIN_S` elsewhere, plus :data:`CLUSTER_STARTUP_S` where
+``scheduler="processes"`` starts a cluster), or that is memory-bound on workers elsewhere
+(:data:`MEMORY_BOUND_RATE`), runs in this process, with a warning and an
 ``xpersson_scheduler`` attribute saying so: above it the workers are faster in wall time.
 """
 
@@ -86,17 +88,20 @@ def points_per_block(
 #: LocalCluster of single-threaded workers and importing xpersson in each (3-5 s measured by
 #: ``benchmarks/sweep_scaling.py`` on a shared 2-core machine; the lower end is stated here).
 CLUSTER_STARTUP_S = 3.0
-#: Estimated serial CPU time [s] of a study (:func:`serial_estimate`) below which workers do
-#: not pay, on any distributed scheduler (a client, an address; on top of the cluster's start-up
-#: where ``scheduler="processes"`` starts one): resolving the points there, sending the tasks
-#: and the results back and filling the result here cost about 0.5 s on two local workers,
-#: and a batched study's result is large against its CPU time (memory-bound). Measured by
-#: ``benchmarks/summary.py`` (LocalCluster rows, 2 workers on 2 cores): an E x H study of 1e5
-#: points (estimated 0.53 s) took 1.1-1.3 s on the cluster against 0.5 s serially; one of 4e5
-#: points (estimated 2.7 s) took 4.0 s against 5.1 s. Below it the study runs in this process.
+#: Estimated serial CPU time [s] of a study (:func:`~.probe.probe`) below which workers on
+#: other machines (a client whose workers are elsewhere, a scheduler's address) do not pay, on
+#: top of the cluster's start-up where ``scheduler="processes"`` starts one: the results come
+#: back through dask's sockets (pickled, sent, unpickled, copied): a 1e5-point E x H study
+#: (estimated 0.53 s, 229 MiB) took 1.1-1.3 s on two workers that way against 0.5 s serially,
+#: one of 4e5 points (2.7 s) 4.0 s against 5.1 s (``benchmarks/summary.py``, before
+#: :mod:`._shm`). Below it the study runs in this process.
 PARALLEL_MIN_S = 2.0
-#: :data:`PARALLEL_MIN_S` for workers on this machine, whose results come through shared memory
-#: (:mod:`._shm`) instead of the socket.
+#: :data:`PARALLEL_MIN_S` for workers on this machine, which write the sweep's large variables
+#: in place in shared memory (:mod:`._shm`): what remains is the probe, one round trip to the
+#: workers and the tasks' scheduling, about 0.1 s on two local workers; measured by
+#: ``benchmarks/summary.py`` (LocalCluster rows) and the crossover in
+#: ``benchmarks/sweep_scaling.py --crossover`` (E x H studies of 2e4-1e5 points, 2 workers on
+#: 2 free cores).
 LOCAL_MIN_S = 0.3
 #: Serial CPU time [s] of one task on a worker: long enough that the scheduler's per-task
 #: cost (a few ms) and the transfer of its result are small, short enough for 2 to 16 tasks
