@@ -93,6 +93,38 @@ def test_large_variables_come_through_shared_memory_and_equal_serial(client, sc,
     assert _dropped(client)  # the workers' mappings
 
 
+def test_probed_study_reuses_the_probe_and_sends_no_rows_every_point_shares(client, monkeypatch):
+    """Above the threshold (lowered to 0 here) the probe's two blocks are the layout's first
+    two (filled here, not solved again); load_balance, the same row at every point of the probe,
+    is not shared: the workers' blocks, whose points hold that row again, send nothing of it."""
+    from xpersson.sweep import schedule
+
+    monkeypatch.setattr(schedule, "LOCAL_MIN_S", 0.0)
+    monkeypatch.setattr(schedule, "BLOCK_CURVES", 8)  # blocks of 4 points x 2 loads
+    monkeypatch.setattr(schedule, "SERIAL_BLOCK_POINTS", 8)
+    moved, add = [], filling.Filling.add
+
+    def record(self, res, written=()):
+        if res.dataset is not None:  # (finish adds every result again: nothing to fill)
+            moved.append((res.block.number, dict(written) if isinstance(written, dict) else {}))
+        return add(self, res, written)
+
+    monkeypatch.setattr(filling.Filling, "add", record)
+    plan = _plan(STUDY)
+    serial = solve_sweep(plan, None)
+    moved.clear()
+    par = solve_sweep(plan, None, scheduler=client, shm_bytes=2000)
+    _equal(serial, par)
+    assert "xpersson_scheduler" not in par.attrs  # it ran on the workers
+    assert _in_shared_memory(par["area_fraction"].values)
+    from_workers = [m for number, m in moved if number > 1]  # blocks 0, 1: the probe's
+    assert from_workers and sorted(number for number, _ in moved)[:2] == [0, 1]
+    assert all(m["area_fraction"] == "shm" and m["load_balance"] == "same" for m in from_workers)
+    assert par["load_balance"].dims == ("p0", "zeta")  # the same at every point: reduced
+    assert _segments() == []
+    assert _dropped(client)
+
+
 def test_a_failed_run_leaves_no_segment_and_no_mapping(client, monkeypatch):
     seen = []
 

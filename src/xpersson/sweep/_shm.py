@@ -85,7 +85,9 @@ def same_machine(machines: dict[str, Any]) -> bool:
     return usable() and bool(machines) and all(tuple(m) == here for m in machines.values())
 
 
-def shared_specs(ds: xr.Dataset, dims: tuple[str, ...], shape: tuple[int, ...], min_bytes: float):
+def shared_specs(
+    ds: xr.Dataset, dims: tuple[str, ...], shape: tuple[int, ...], min_bytes: float
+) -> dict[str, Any]:
     """``{name: (dims, full shape, dtype)}`` of the variables of a block's Dataset ``ds`` that
     go through shared memory: numeric, led by every sweep dimension in the sweep's order, and
     at least ``min_bytes`` over the whole sweep."""
@@ -156,10 +158,16 @@ def _create(size: int) -> tuple[str, Any] | None:
         os.close(fd)
 
 
-def share(client: Any, specs: dict[str, Any], token: str) -> dict[str, np.ndarray] | None:
+def share(
+    client: Any, specs: dict[str, Any], token: str, same: dict[str, np.ndarray] | None = None
+) -> dict[str, np.ndarray] | None:
     """The client's arrays of ``specs`` (:func:`shared_specs`) in a segment every worker of
     ``client`` has mapped under ``token``, its name already removed; ``None`` where a worker
-    is on another machine or ``/dev/shm`` lacks the room (then nothing is shared)."""
+    is on another machine or ``/dev/shm`` lacks the room (then nothing is shared).
+
+    ``same``: variables (not in ``specs``) every point of the probe held the same row of, as
+    that row's fingerprint (:func:`~.stacking._digests`): a block whose every point holds it
+    sends neither the variable nor its rows (:func:`settle`)."""
     if not specs or not usable():
         return None
     _remove_orphans()
@@ -169,7 +177,7 @@ def share(client: Any, specs: dict[str, Any], token: str) -> dict[str, np.ndarra
         return None
     path, mm = made
     try:
-        answers = client.run(_attach, token, path, specs, offsets, machine())
+        answers = client.run(_attach, token, path, specs, offsets, machine(), same or {})
     except Exception:  # noqa: BLE001 - any doubt: the ordinary comms
         answers = {}
     finally:
@@ -180,7 +188,14 @@ def share(client: Any, specs: dict[str, Any], token: str) -> dict[str, np.ndarra
     return _arrays(mm, specs, offsets)
 
 
-def _attach(token: str, path: str, specs: dict[str, Any], offsets: dict[str, int], host) -> bool:
+def _attach(
+    token: str,
+    path: str,
+    specs: dict[str, Any],
+    offsets: dict[str, int],
+    host: Any,
+    same: dict[str, np.ndarray],
+) -> bool:
     """On a worker: map the run's segment (``False``: another machine, nothing mapped)."""
     if machine() != tuple(host):
         return False
@@ -190,7 +205,7 @@ def _attach(token: str, path: str, specs: dict[str, Any], offsets: dict[str, int
     finally:
         os.close(fd)
     arrays = _arrays(mm, specs, offsets)
-    _ATTACHED[token] = (mm, arrays, {"sink": Sink(mm, arrays)})
+    _ATTACHED[token] = (mm, arrays, {"sink": Sink(mm, arrays, same)})
     return True
 
 
@@ -214,8 +229,8 @@ class Sink:
     the pages of a tmpfs mapping are 4 KiB, and faulting them in one by one as the rows are
     written cost about twice as much (1-1.5 ms per MiB on the benchmark's machine)."""
 
-    def __init__(self, mm: Any, arrays: dict[str, np.ndarray]) -> None:
-        self.mm, self.arrays = mm, arrays
+    def __init__(self, mm: Any, arrays: dict[str, np.ndarray], same: Any = None) -> None:
+        self.mm, self.arrays, self.same = mm, arrays, dict(same or {})
         self._base = np.frombuffer(mm, np.uint8).ctypes.data
 
     def rows(self, name: str, block: Any, point_shape: tuple[int, ...], dtype: Any) -> Any:
@@ -240,13 +255,15 @@ def attached(token: str | None) -> tuple[Sink, dict[str, Any]] | None:
     return None if got is None else (got[2]["sink"], got[2])
 
 
-def settle(res: BlockResult, sink: Sink) -> tuple[BlockResult, list[str]]:
+def settle(res: BlockResult, sink: Sink) -> tuple[BlockResult, dict[str, str]]:
     """On a worker: the block's shared variables in the run's arrays (copied where the block
-    did not write them in place) and dropped from its Dataset; returns it and their names."""
+    did not write them in place) and dropped from its Dataset, and so are the variables whose
+    every point holds the row the probe's did (``sink.same``); returns the result and
+    ``{name: "shm" or "same"}``."""
     ds = res.dataset
     if ds is None:
-        return res, []
-    written = []
+        return res, {}
+    moved = {}
     for name, full in sink.arrays.items():
         var = ds.variables.get(name)
         if var is None or var.dtype != full.dtype:
@@ -259,7 +276,11 @@ def settle(res: BlockResult, sink: Sink) -> tuple[BlockResult, list[str]]:
             if dst.flags.c_contiguous:
                 sink.populate(dst)
             dst[...] = src
-        written.append(name)
-    if written:
-        res.dataset = ds.drop_vars(written)
-    return res, written
+        moved[name] = "shm"
+    for name, ref in sink.same.items():
+        held = res.digests.get(name)
+        if name in ds.variables and isinstance(held, np.ndarray) and np.all(held == ref):
+            moved[name] = "same"
+    if moved:
+        res.dataset = ds.drop_vars(list(moved))
+    return res, moved

@@ -16,6 +16,7 @@ import warnings
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
 import xarray as xr
 
 from ..errors import XperssonWarning
@@ -245,19 +246,41 @@ def _shared_arrays(
 ) -> str | None:
     """Share the sweep's large output arrays, laid out as the probe's block, with the workers
     where they run on this machine (:func:`._shm.share`) and lay the fill out on them; returns
-    the run's token, or ``None`` (nothing shared)."""
+    the run's token, or ``None`` (nothing shared). A large variable whose every point in the
+    probe held the same row is not shared: blocks whose points all hold it again send nothing
+    of it, the fill writes the row here."""
     ds = probed.results[0].dataset if probed.results else None
     if ds is None:
         return None
     token = run_token()
-    arrays = share(client, shared_specs(ds, plan.dims, plan.shape, shm_bytes), token)
+    specs = shared_specs(ds, plan.dims, plan.shape, shm_bytes)
+    same = _same_rows(probed, specs)
+    specs = {n: v for n, v in specs.items() if n not in same}
+    arrays = share(client, specs, token, {n: d for n, (d, _) in same.items()})
     if arrays is None:
         return None
     filling.sink.update(arrays)
-    if not filling.prepare(ds):
+    if not filling.prepare(ds, {n: r for n, (_, r) in same.items()}):
         release(client, token)
         return None
     return token
+
+
+def _same_rows(probed: Probe, names: Any) -> dict[str, tuple[Any, Any]]:
+    """``{name: (fingerprint, row)}`` of the variables among ``names`` whose every point in the
+    probe's blocks (two points at least) held the same values (their row fingerprints equal)."""
+    out: dict[str, tuple[Any, Any]] = {}
+    if sum(r.block.size for r in probed.results) < 2:
+        return out
+    ds = probed.results[0].dataset
+    for name in names:
+        held = [r.digests.get(name) for r in probed.results]
+        if all(isinstance(h, np.ndarray) for h in held):
+            ref = held[0][0]
+            if all(np.all(h == ref) for h in held):
+                var = ds.variables[name]
+                out[name] = (ref, var.values[(0,) * len(probed.results[0].block.dims)].copy())
+    return out
 
 
 def check_size(

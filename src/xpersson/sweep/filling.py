@@ -51,6 +51,7 @@ class Filling:
         self._order: list[str] = []
         self._coords: set[str] = set()
         self.broken = False
+        self._rows: dict[str, np.ndarray] = {}  # name -> the row every point holds (prepare)
         #: name -> an array of the sweep's shape (then the point's) that batched blocks write
         #: their rows into (:meth:`rows`); adopted by the fill, whose copy is then skipped
         self.sink: dict[str, np.ndarray] = {}
@@ -69,17 +70,21 @@ class Filling:
             full = self.sink[name] = np.empty(self.shape + tuple(point_shape), dtype)
         return region_rows(full, block, point_shape, dtype)
 
-    def prepare(self, ds: xr.Dataset) -> bool:
+    def prepare(self, ds: xr.Dataset, rows: dict[str, np.ndarray] | None = None) -> bool:
         """The arrays laid out from a block's Dataset ``ds`` (the probe's) before any block is
         added (the :attr:`sink` arrays adopted): blocks may then arrive without the variables
-        written into them in place (:meth:`add`'s ``written``)."""
+        written into them in place, or without those whose every point holds ``rows[name]``
+        (:meth:`add`'s ``written``)."""
+        self._rows = dict(rows or {})
         if not self._vars and not self._allocate(ds):
             self.broken = True
         return not self.broken
 
     def add(self, res: BlockResult, written: Any = ()) -> None:
         """Copy a block's Dataset in and drop it from ``res`` (nothing when it has none);
-        ``written``: the variables its worker wrote into the :attr:`sink` arrays and dropped."""
+        ``written``: the variables its worker dropped, as written into the :attr:`sink` arrays
+        (a list, or ``{name: "shm"}``) or as holding at every point the row given to
+        :meth:`prepare` (``{name: "same"}``: filled in here from it)."""
         ds = res.dataset
         if self.broken or ds is None:
             return
@@ -99,6 +104,8 @@ class Filling:
                     src, dst = ds.variables[name].values, full[sub]
                     if not same_memory(src, dst):  # rows written in place (:meth:`rows`): kept
                         dst[...] = src
+                elif isinstance(written, dict) and written[name] == "same":
+                    full[sub] = self._rows[name]
                 filled[sub] = True
         if self.template is None or res.block.number < self._number:
             whole = self._whole(ds, res.block, written)
@@ -107,8 +114,8 @@ class Filling:
         self.absorbed.append(res)
 
     def _whole(self, ds: xr.Dataset, block: Any, written: Any, copy: bool = False) -> xr.Dataset:
-        """A block's Dataset with the variables written into the arrays back (views, or
-        copies)."""
+        """A block's Dataset with the variables its worker dropped back (views of the arrays,
+        or copies; rows every point holds: broadcast from it)."""
         if not written:
             return ds
         sl = sweep_region(block)
@@ -116,7 +123,11 @@ class Filling:
         for name in written:
             _, ref, full, _, axes = self._vars[name]
             part = full[tuple(sl[a] for a in axes)]
-            back[name] = xr.Variable(ref.dims, part.copy() if copy else part, dict(ref.attrs))
+            if isinstance(written, dict) and written[name] == "same":
+                part = np.broadcast_to(self._rows[name], part.shape).copy()
+            elif copy:
+                part = part.copy()
+            back[name] = xr.Variable(ref.dims, part, dict(ref.attrs))
         return ds.assign(back)[[n for n in self._order if n in ds or n in back]]
 
     def _allocate(self, ds: xr.Dataset) -> bool:
