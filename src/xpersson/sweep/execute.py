@@ -93,28 +93,21 @@ def solve_sweep(
             checked = _checked(client, first, checked)
             if isinstance(checked, WorkerEnvironmentError):
                 raise checked
-        layout = {
-            "points_per_block": points_per_block(
-                plan,
-                n_workers,
-                chunk,
-                client is None and scheduler != "threads" and output is None,
-                first.p0.size,
-                None if probed is None else probed.estimate,
-            ),
-            "multiple": n_workers if chunk is None else 1,
-        }
+        here_in_memory = client is None and scheduler != "threads" and output is None
+        layout = _layout(plan, n_workers, chunk, here_in_memory, first, probed)
         if output is not None:
             txn = Transaction.begin(output, plan, layout, resume=resume, overwrite=overwrite)
             layout = txn.layout
         blocks = blocks_of(plan, layout["points_per_block"], multiple=layout["multiple"])
         done = _done(txn, blocks)
         filling = Filling(plan)  # in memory: each block copied into the sweep's arrays
-        if client is not None and txn is None:
+        reused = _reuse(probed, blocks, first, txn)
+        if client is not None and txn is None and same_machine(_machines(checked)):
             if probed is None:  # chunk= given: the layout from the first point, solved here
                 probed = probe(plan, registry, points=1)
-            token = _shared_arrays(plan, client, probed, filling, shm_bytes)
-        reused = _reuse(probed, blocks, first, txn)
+                reused = _reuse(probed, blocks, first, txn)
+            if len(reused) < len(blocks):
+                token = _shared_arrays(plan, client, probed, filling, shm_bytes)
         done.update((r.block.number, r) for r in reused)
         parts = {
             b.number: (None if txn is None else str(txn.folder / part_name(b.number)))
@@ -157,6 +150,20 @@ def solve_sweep(
         if own_cluster is not None:
             client.close()
             own_cluster.close()
+
+
+def _layout(
+    plan: SweepPlan,
+    n_workers: int,
+    chunk: int | None,
+    here_in_memory: bool,
+    first: Any,
+    probed: Probe | None,
+) -> dict[str, int]:
+    """Points per block (:func:`.schedule.points_per_block`) and their multiple."""
+    estimate = None if probed is None else probed.estimate
+    per = points_per_block(plan, n_workers, chunk, here_in_memory, first.p0.size, estimate)
+    return {"points_per_block": per, "multiple": n_workers if chunk is None else 1}
 
 
 def _done(txn: Any, blocks: list[Block]) -> dict[int, BlockResult]:
