@@ -407,12 +407,13 @@ CLUSTER_ROUNDS = 8
 
 def parallel_path(rounds: int, quick: bool = False) -> dict:
     """Studies on LocalCluster(2) against serial (:data:`PARALLEL`): a 1e5-point E x H study
-    (memory-bound: its 229 MiB of variables written in place by the workers in shared memory,
-    ``xpersson.sweep._shm``) and a plastic H sweep (CPU-bound). Both are above the stated
-    threshold for local workers (``xpersson.sweep.schedule.LOCAL_MIN_S``) and run on the
-    workers. Wall times (perf_counter), best of at least :data:`CLUSTER_ROUNDS` interleaved
-    rounds, the cluster started and warmed up first; ratio = cluster wall / serial wall (< 1:
-    the cluster pays); results compared bit for bit (values, dims, dtypes, variable order)."""
+    (memory-bound: the rule, ``xpersson.sweep.schedule.MEMORY_BOUND_RATE``, runs it in the
+    client's process; on the workers, ``sweep_scaling.py --crossover``, its variables would be
+    written in place in shared memory, ``xpersson.sweep._shm``) and a plastic H sweep (CPU-bound,
+    above ``PARALLEL_MIN_S``: on the workers). Wall times (perf_counter), best of at least
+    :data:`CLUSTER_ROUNDS` interleaved rounds, the cluster started and warmed up first; ratio =
+    cluster wall / serial wall (< 1: the cluster pays); results compared bit for bit (values,
+    dims, dtypes, variable order); the machine's parallel ceiling (:func:`ceiling`) beside."""
     from distributed import Client, LocalCluster
     from summary_design import design
 

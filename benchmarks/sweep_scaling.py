@@ -15,9 +15,9 @@ surface with the contact_area analysis:
 Each is timed ``--repeats`` times (default 3), serial and parallel interleaved; the best time
 counts. The serial and parallel Datasets are checked to be equal bit for bit.
 
-``--crossover`` measures instead where two local workers start to pay (the threshold
-``xpersson.sweep.schedule.LOCAL_MIN_S`` is set to 0 so that every study runs on the workers, as
-the rule would send it above the threshold): E x H studies of one load per point (the speed
+``--crossover`` measures instead where two local workers start to pay (the rule of
+``xpersson.sweep.schedule`` is switched off so that every study runs on the workers, through
+shared memory, as it would above the threshold): E x H studies of one load per point (the speed
 summary's ``_eh_study``: 100 H values, ``--sizes`` E values), each with its probed serial
 estimate, serial and cluster wall times (best of ``--repeats`` interleaved rounds) and bitwise
 equality; the hardware reference below is measured in the same run. The threshold is where the
@@ -96,7 +96,7 @@ def crossover(client, sizes: list[int], repeats: int) -> None:
     from xpersson.sweep import schedule
     from xpersson.sweep.probe import serial_estimate
 
-    schedule.LOCAL_MIN_S = 0.0  # every study on the workers
+    schedule.PARALLEL_MIN_S, schedule.MEMORY_BOUND_RATE = 0.0, float("inf")  # on the workers
     spec = design()[0][1]
     print("| study | estimated serial [s] | serial [s] | LocalCluster(2) [s] | ratio | equal |")
     print("|---|---:|---:|---:|---:|---|")

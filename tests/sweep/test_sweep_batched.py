@@ -110,7 +110,7 @@ def test_processes_on_a_small_study_falls_back_to_serial_with_a_message(monkeypa
         got = xpersson.solve(data, scheduler="processes")
     xr.testing.assert_identical(got.drop_attrs(), xpersson.solve(data).drop_attrs())
     monkeypatch.setattr(schedule, "CLUSTER_STARTUP_S", 0.0)  # a study that pays: the cluster
-    monkeypatch.setattr(schedule, "LOCAL_MIN_S", 0.0)  # its workers share this machine
+    monkeypatch.setattr(schedule, "PARALLEL_MIN_S", 0.0)
     with pytest.raises(AssertionError, match="cluster was started"):
         xpersson.solve(data, scheduler="processes")
 

@@ -94,12 +94,14 @@ def test_large_variables_come_through_shared_memory_and_equal_serial(client, sc,
 
 
 def test_probed_study_reuses_the_probe_and_sends_no_rows_every_point_shares(client, monkeypatch):
-    """Above the threshold (lowered to 0 here) the probe's two blocks are the layout's first
-    two (filled here, not solved again); load_balance, the same row at every point of the probe,
-    is not shared: the workers' blocks, whose points hold that row again, send nothing of it."""
+    """On the workers (the threshold rule switched off here) the probe's two blocks are the
+    layout's first two (filled here, not solved again); load_balance, the same row at every
+    point of the probe, is not shared: the workers' blocks, whose points hold that row again,
+    send nothing of it."""
     from xpersson.sweep import schedule
 
-    monkeypatch.setattr(schedule, "LOCAL_MIN_S", 0.0)
+    monkeypatch.setattr(schedule, "PARALLEL_MIN_S", 0.0)
+    monkeypatch.setattr(schedule, "MEMORY_BOUND_RATE", float("inf"))
     monkeypatch.setattr(schedule, "BLOCK_CURVES", 8)  # blocks of 4 points x 2 loads
     monkeypatch.setattr(schedule, "SERIAL_BLOCK_POINTS", 8)
     moved, add = [], filling.Filling.add

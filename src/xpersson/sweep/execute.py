@@ -26,8 +26,8 @@ from ..plugins import get_registry
 from ._fastfail import warn_failures
 from ._onworkers import resolve_on_workers, run_on_workers, run_token
 from ._quiet import silenced
-from ._shm import MIN_BYTES, release, same_machine, share, shared_specs, usable
-from ._workers import WorkerEnvironmentError, check_workers, ran_on
+from ._shm import MIN_BYTES, release, same_machine, share, shared_specs
+from ._workers import check_workers, ran_on
 from .blocks import Block, BlockResult, block_points, blocks_of, run_block
 from .combine import finish
 from .filling import Filling
@@ -79,9 +79,8 @@ def solve_sweep(
     first = resolve_index(plan, (0,) * len(plan.shape), registry or get_registry())
     probed = checked = None
     if _on_workers(scheduler) and chunk is None:
-        probed, checked = probe(plan, registry), _checked(scheduler, first, early=True)
-        local = usable() if scheduler == "processes" else same_machine(_machines(checked))
-        if too_small_for_a_cluster(plan, probed.estimate, scheduler, probed.nbytes, local):
+        probed = probe(plan, registry)
+        if too_small_for_a_cluster(plan, probed.estimate, scheduler, probed.nbytes):
             scheduler = None
     check_size(plan, registry, scheduler, chunk, workers, output is None, first)
     here = probed is not None and probed.resolve_s < RESOLVE_HERE_S
@@ -90,9 +89,7 @@ def solve_sweep(
     txn = token = None
     try:
         if client is not None:  # every worker has the scene's plugins: one line if not
-            checked = _checked(client, first, checked)
-            if isinstance(checked, WorkerEnvironmentError):
-                raise checked
+            checked = check_workers(client, first.plugin_records)
         here_in_memory = client is None and scheduler != "threads" and output is None
         layout = _layout(plan, n_workers, chunk, here_in_memory, first, probed)
         if output is not None:
@@ -102,7 +99,7 @@ def solve_sweep(
         done = _done(txn, blocks)
         filling = Filling(plan)  # in memory: each block copied into the sweep's arrays
         reused = _reuse(probed, blocks, first, txn)
-        if client is not None and txn is None and same_machine(_machines(checked)):
+        if client is not None and txn is None and same_machine(checked or {}):
             if probed is None:  # chunk= given: the layout from the first point, solved here
                 probed = probe(plan, registry, points=1)
                 reused = _reuse(probed, blocks, first, txn)
@@ -207,26 +204,6 @@ def _run(
     finally:
         if bar is not None:
             bar.close()
-
-
-def _checked(client: Any, first: Any, known: Any = None, early: bool = False) -> Any:
-    """:func:`._workers.check_workers` of a client, once (``known``: the answer already had;
-    another scheduler: ``known``): its workers' machines, or the error it raised (raised by
-    the caller only where the workers are used). ``early`` (before the threshold rule): any
-    other failure gives ``None`` (asked again if the workers are used)."""
-    if known is None and type(client).__name__ == "Client":
-        try:
-            known = check_workers(client, first.plugin_records)
-        except WorkerEnvironmentError as exc:
-            known = exc
-        except Exception:  # noqa: BLE001 - the rule counts it as another machine
-            if not early:
-                raise
-    return known
-
-
-def _machines(checked: Any) -> dict[str, Any]:
-    return checked if isinstance(checked, dict) else {}
 
 
 def _reuse(probed: Probe | None, blocks: list[Block], first: Any, txn: Any) -> list[BlockResult]:

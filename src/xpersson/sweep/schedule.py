@@ -4,10 +4,9 @@ Serial in memory, blocks hold about :data:`BLOCK_CURVES` curves. On workers (a
 :class:`distributed.LocalCluster` or a running scheduler), the study's serial CPU time is
 measured first on a probe (:func:`xpersson.sweep.probe.probe`) and the study is cut into tasks
 of about :data:`TASK_S` each (2 to 16 per worker, none larger than a serial block). A study
-whose estimated serial time is below :func:`threshold_s` (:data:`LOCAL_MIN_S` for workers on
-this machine, :data:`PARALLEL_MIN_S` elsewhere, plus :data:`CLUSTER_STARTUP_S` where
-``scheduler="processes"`` starts a cluster), or that is memory-bound on workers elsewhere
-(:data:`MEMORY_BOUND_RATE`), runs in this process, with a warning and an
+whose estimated serial time is below :func:`threshold_s` (:data:`PARALLEL_MIN_S`, plus
+:data:`CLUSTER_STARTUP_S` where ``scheduler="processes"`` starts a cluster), or that is
+memory-bound (:data:`MEMORY_BOUND_RATE`), runs in this process, with a warning and an
 ``xpersson_scheduler`` attribute saying so: above it the workers are faster in wall time.
 """
 
@@ -25,7 +24,6 @@ __all__ = [
     "BLOCK_CURVES",
     "CLUSTER_STARTUP_S",
     "PARALLEL_MIN_S",
-    "LOCAL_MIN_S",
     "SERIAL_BLOCK_POINTS",
     "MEMORY_BOUND_RATE",
     "TASK_S",
@@ -88,56 +86,47 @@ def points_per_block(
 #: LocalCluster of single-threaded workers and importing xpersson in each (3-5 s measured by
 #: ``benchmarks/sweep_scaling.py`` on a shared 2-core machine; the lower end is stated here).
 CLUSTER_STARTUP_S = 3.0
-#: Estimated serial CPU time [s] of a study (:func:`~.probe.probe`) below which workers on
-#: other machines (a client whose workers are elsewhere, a scheduler's address) do not pay, on
-#: top of the cluster's start-up where ``scheduler="processes"`` starts one: the results come
-#: back through dask's sockets (pickled, sent, unpickled, copied): a 1e5-point E x H study
-#: (estimated 0.53 s, 229 MiB) took 1.1-1.3 s on two workers that way against 0.5 s serially,
-#: one of 4e5 points (2.7 s) 4.0 s against 5.1 s (``benchmarks/summary.py``, before
-#: :mod:`._shm`). Below it the study runs in this process.
+#: Estimated serial CPU time [s] of a study (:func:`~.probe.probe`) below which workers do not
+#: pay, on any distributed scheduler (on top of the cluster's start-up where
+#: ``scheduler="processes"`` starts one): the probe, one round trip to the workers, the tasks'
+#: scheduling and the workers' own per-block costs. Measured by ``benchmarks/summary.py`` and
+#: CPU accounting on 2 local workers (the client's CPU before and after the tasks plus the
+#: busier worker's, against the serial CPU): a CPU-bound plastic H sweep of 100 points x 3
+#: loads (estimated 2.5 s) 1.00-1.10x serial, of 400 points (10 s) 0.82x serial wall.
+#: Below it the study runs in this process.
 PARALLEL_MIN_S = 2.0
-#: :data:`PARALLEL_MIN_S` for workers on this machine, which write the sweep's large variables
-#: in place in shared memory (:mod:`._shm`): what remains is the probe, one round trip to the
-#: workers and the tasks' scheduling, about 0.1 s on two local workers; measured by
-#: ``benchmarks/summary.py`` (LocalCluster rows) and the crossover in
-#: ``benchmarks/sweep_scaling.py --crossover`` (E x H studies of 2e4-1e5 points, 2 workers on
-#: 2 free cores).
-LOCAL_MIN_S = 0.3
 #: Serial CPU time [s] of one task on a worker: long enough that the scheduler's per-task
 #: cost (a few ms) and the transfer of its result are small, short enough for 2 to 16 tasks
 #: per worker (balance, results combined while others run).
 TASK_S = 0.5
 
 
-def threshold_s(scheduler: Any, local: bool = False) -> float:
-    """Estimated serial CPU time [s] above which ``scheduler`` (a distributed one; ``local``:
-    its workers on this machine, sharing its memory) pays."""
-    base = LOCAL_MIN_S if local else PARALLEL_MIN_S
-    return base + (CLUSTER_STARTUP_S if scheduler == "processes" else 0.0)
+def threshold_s(scheduler: Any) -> float:
+    """Estimated serial CPU time [s] above which ``scheduler`` (a distributed one) pays."""
+    return PARALLEL_MIN_S + (CLUSTER_STARTUP_S if scheduler == "processes" else 0.0)
 
 
 #: Result bytes per second of the study's serial CPU time above which a study is memory-bound
-#: [B/s]: its workers would spend more moving and filling the result than they save computing
-#: it, at any size (an E x H study of one load: about 450 MB/s, 229 MiB for 0.5 s; measured on
-#: 2 workers on 2 shared cores, ``benchmarks/summary.py``). Such a study runs in this process.
+#: [B/s]: its workers would spend more moving the result than they save computing it, at any
+#: size. An E x H study of one load makes about 450 MB/s (229 MiB for 0.5 s). Through dask's
+#: sockets it took 3x serial; written in place in shared memory by 2 local workers
+#: (:mod:`._shm`) it still needs, by CPU accounting, 1.35-1.45x the serial CPU on its critical
+#: path (1.8-2.2x serial wall on the shared machine): a tmpfs page is 4 KiB
+#: (``shmem_enabled = never``), and populating them cost the workers 3.7 ms of system time
+#: per MB, where the serial run writes anonymous memory in 2 MiB pages. Such a study runs in
+#: this process, on any distributed scheduler.
 MEMORY_BOUND_RATE = 1e8
 
 
 def too_small_for_a_cluster(
-    plan: SweepPlan,
-    estimate: float,
-    scheduler: Any = "processes",
-    nbytes: float = 0.0,
-    local: bool = False,
+    plan: SweepPlan, estimate: float, scheduler: Any = "processes", nbytes: float = 0.0
 ) -> bool:
     """Whether the study, solved serially (``estimate`` [s], result ``nbytes`` [B],
-    :func:`~xpersson.sweep.probe.probe`), takes less than :func:`threshold_s` or, on workers
-    of another machine (not ``local``), is memory-bound (:data:`MEMORY_BOUND_RATE`); then a
-    warning says so and the sweep runs in this process."""
-    limit = threshold_s(scheduler, local)
-    bound = (
-        not local and math.isfinite(estimate) and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
-    )
+    :func:`~xpersson.sweep.probe.probe`), takes less than :func:`threshold_s` or is
+    memory-bound (:data:`MEMORY_BOUND_RATE`); then a warning says so and the sweep runs in this
+    process."""
+    limit = threshold_s(scheduler)
+    bound = math.isfinite(estimate) and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
     if estimate >= limit and not bound:
         return False
     what = (
