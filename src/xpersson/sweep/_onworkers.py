@@ -96,10 +96,6 @@ def run_on_workers(
     from distributed import as_completed
 
     key = run_token()
-    # each block sent to its worker at once (evenly by points; another may steal it): a worker
-    # then runs its blocks back to back, without a round trip to the scheduler between them
-    addresses = sorted(client.scheduler_info().get("workers", {})) or [None]
-    owner = _assign([b for b, _, _ in tasks], len(addresses))
     futures = [
         client.submit(
             _silenced_block,
@@ -111,10 +107,8 @@ def run_on_workers(
             token,
             pure=False,
             key=f"xpersson-block-{b.number}-{key}",
-            workers=None if addresses[0] is None else [addresses[owner[i]]],
-            allow_other_workers=True,
         )
-        for i, (b, pts, part) in enumerate(tasks)
+        for b, pts, part in tasks
     ]
     order = {fut.key: i for i, fut in enumerate(futures)}
     results: list[Any] = [None] * len(futures)
