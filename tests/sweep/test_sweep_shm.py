@@ -157,7 +157,12 @@ def test_a_segment_of_a_killed_client_is_removed_by_the_next_run():
     try:
         _shm._remove_orphans()
         assert not os.path.exists(path) and os.path.exists(mine)
+        # a worker drops the mappings of runs whose client is gone when it maps a new one
+        _shm._ATTACHED["stale"] = (None, {}, {"client": int(gone.stdout)})
+        assert _shm._attach("new", mine, {}, {}, _shm.machine(), {})
+        assert "stale" not in _shm._ATTACHED and "new" in _shm._ATTACHED
     finally:
+        _shm._ATTACHED.pop("new", None)
         for p in (path, mine):
             if os.path.exists(p):
                 os.unlink(p)

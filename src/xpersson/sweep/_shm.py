@@ -5,8 +5,8 @@ float64 for about 0.5 s of CPU). Sent through dask's comms (pickled, written to 
 and unpickled, then copied into the sweep's arrays) it cost the client several times the study's
 serial time. Instead, before any block runs, the client allocates each large output variable
 of the whole sweep once, in one segment of ``/dev/shm`` (:func:`share`; the variables and their
-shapes are known from the probe's block, :func:`~.schedule.probe`), and every worker on this
-machine (same host name and boot id, :func:`machine`) maps it in the same round trip. The
+shapes are known from the probe's block, :func:`~.probe.probe`), and every worker on this
+machine (same host name and boot id, :func:`machine`) maps it in one round trip. The
 segment's name is removed as soon as the workers have mapped it: from then on the memory has no
 name, lives as long as a mapping of it (the client's arrays, the workers' until
 :func:`release`), and nothing is left in ``/dev/shm`` whatever happens to the run (a failure, a
@@ -16,8 +16,16 @@ creating and sharing it carries that client's process id and is removed by the n
 
 A worker writes its block's rows into the arrays (:class:`Sink`: a batched block's rows go
 there directly, other blocks are copied there once, :func:`settle`) and sends back only the
-rest of its block. The client wraps the arrays as the Dataset's variables: no copy, no pickling.
-The values are the ones the block computed: the result is bitwise the serial one.
+rest of its block; a variable whose every probed point held one row is not shared, and a block
+whose points all hold that row again sends nothing of it (the client writes the row). The client
+wraps the arrays as the Dataset's variables: no copy, no pickling. The values are the ones the
+block computed: the result is bitwise the serial one.
+
+Measured (``benchmarks/sweep_scaling.py --crossover``): the 1e5-point E x H study still does not
+pay on two local workers (1.18-1.39x serial wall, 1.35-1.45x the serial CPU on its critical
+path): its tmpfs pages are 4 KiB, and populating them costs the workers more system time than
+the serial run's 2 MiB anonymous pages (:data:`~.schedule.MEMORY_BOUND_RATE` keeps such a study
+in the client's process). The path serves studies above the threshold with large results.
 """
 
 from __future__ import annotations
@@ -205,8 +213,16 @@ def _attach(
     finally:
         os.close(fd)
     arrays = _arrays(mm, specs, offsets)
-    _ATTACHED[token] = (mm, arrays, {"sink": Sink(mm, arrays, same)})
+    for old, (_, _, state) in list(_ATTACHED.items()):  # runs of clients killed since
+        if not _alive(state["client"]):
+            _ATTACHED.pop(old, None)
+    _ATTACHED[token] = (mm, arrays, {"sink": Sink(mm, arrays, same), "client": _owner(path)})
     return True
+
+
+def _owner(path: str) -> int:
+    """The process id of the client that created a segment (its name carries it)."""
+    return int(os.path.basename(path).removeprefix(_PREFIX).partition("-")[0])
 
 
 async def _detach(token: str) -> None:
