@@ -22,7 +22,7 @@ wraps the arrays as the Dataset's variables: no copy, no pickling. The values ar
 block computed: the result is bitwise the serial one.
 
 Measured (``benchmarks/sweep_scaling.py --crossover``): the 1e5-point E x H study still does not
-pay on two local workers (1.18-1.39x serial wall, 1.35-1.45x the serial CPU on its critical
+pay on two local workers (1.18-1.92x serial wall, 1.35-1.45x the serial CPU on its critical
 path): its tmpfs pages are 4 KiB, and populating them costs the workers more system time than
 the serial run's 2 MiB anonymous pages (:data:`~.schedule.MEMORY_BOUND_RATE` keeps such a study
 in the client's process). The path serves studies above the threshold with large results.
