@@ -111,7 +111,7 @@ def threshold_s(scheduler: Any) -> float:
 #: size. An E x H study of one load makes about 450 MB/s (229 MiB for 0.5 s). Through dask's
 #: sockets it took 3x serial; written in place in shared memory by 2 local workers
 #: (:mod:`._shm`) it still needs, by CPU accounting, 1.35-1.45x the serial CPU on its critical
-#: path (1.8-2.2x serial wall on the shared machine): a tmpfs page is 4 KiB
+#: path (1.18-2.2x serial wall on the shared machine): a tmpfs page is 4 KiB
 #: (``shmem_enabled = never``), and populating them cost the workers 3.7 ms of system time
 #: per MB, where the serial run writes anonymous memory in 2 MiB pages. Such a study runs in
 #: this process, on any distributed scheduler.
