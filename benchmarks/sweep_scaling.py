@@ -15,6 +15,14 @@ surface with the contact_area analysis:
 Each is timed ``--repeats`` times (default 3), serial and parallel interleaved; the best time
 counts. The serial and parallel Datasets are checked to be equal bit for bit.
 
+``--crossover`` measures instead where two local workers start to pay (the rule of
+``xpersson.sweep.schedule`` is switched off so that every study runs on the workers, through
+shared memory, as it would above the threshold): E x H studies of one load per point (the speed
+summary's ``_eh_study``: 100 H values, ``--sizes`` E values), each with its probed serial
+estimate, serial and cluster wall times (best of ``--repeats`` interleaved rounds) and bitwise
+equality; the hardware reference below is measured in the same run. The threshold is where the
+ratio crosses 1 on free cores.
+
 The machine's own ceiling is measured in the same run: a pure-Python loop (no numpy, no I/O)
 run twice in this process versus once on each of the two workers of the same cluster. On the
 shared 2-vCPU virtual machines this project is measured on, that ceiling itself varies between
@@ -76,8 +84,41 @@ def interleaved(serial_fn, parallel_fn, repeats: int) -> tuple[object, float, ob
     return a, min(ts), b, min(tp)
 
 
+def crossover(client, sizes: list[int], repeats: int) -> None:
+    """E x H studies (``sizes`` E values x 100 H, one load) on the workers against serial."""
+    import warnings
+
+    from summary_design import design
+    from summary_paths import _eh_study
+
+    from xpersson.api import as_scene, expand
+    from xpersson.plugins import get_registry
+    from xpersson.sweep import schedule
+    from xpersson.sweep.probe import serial_estimate
+
+    schedule.PARALLEL_MIN_S, schedule.MEMORY_BOUND_RATE = 0.0, float("inf")  # on the workers
+    spec = design()[0][1]
+    print("| study | estimated serial [s] | serial [s] | LocalCluster(2) [s] | ratio | equal |")
+    print("|---|---:|---:|---:|---:|---|")
+    for n in sizes:
+        study, label = _eh_study(spec, n)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            xpersson.solve(study, scheduler=client)  # warm-up of the workers on this study
+            a, t_s, b, t_p = interleaved(
+                lambda study=study: xpersson.solve(study),
+                lambda study=study: xpersson.solve(study, scheduler=client),
+                repeats,
+            )
+        same = all(a[v].equals(b[v]) for v in a.variables) and "xpersson_scheduler" not in b.attrs
+        est = serial_estimate(expand(as_scene(study), get_registry()), get_registry())
+        print(f"| {label} | {est:.2g} | {t_s:.3f} | {t_p:.3f} | {t_p / t_s:.2f}x | {same} |")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--crossover", action="store_true", help="where 2 local workers pay")
+    ap.add_argument("--sizes", type=int, nargs="+", default=[100, 200, 500, 1000])
     ap.add_argument("--quick", action="store_true", help="only the two 1e4-curve studies")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument(
@@ -109,6 +150,9 @@ def main() -> None:
         lambda: client.gather(client.map(burn, [n, n], pure=False)),
         args.repeats,
     )
+    if args.crossover:
+        crossover(client, args.sizes, args.repeats)
+        studies = []
     rows = []
     for label, (n_e, n_h, loads) in studies:
         sc = scene(n_e, n_h, loads)

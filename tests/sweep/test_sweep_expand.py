@@ -285,7 +285,8 @@ def test_single_load_sweep_equals_individual_solves(chunk, batched):
 def test_block_sizes_serial_and_on_workers():
     """Serial in memory: blocks of BLOCK_CURVES curves (points x loads), at least
     SERIAL_BLOCK_POINTS curves; on workers with a measured serial time: tasks of about TASK_S,
-    2 to 16 per worker; without one: a quarter of each worker's share; chunk= wins."""
+    2 to 16 per worker, no larger than a serial block; without one: a quarter of each
+    worker's share; chunk= wins."""
     from types import SimpleNamespace
 
     from xpersson.sweep.schedule import (
@@ -304,5 +305,6 @@ def test_block_sizes_serial_and_on_workers():
             assert serial == size or serial * loads >= min(BLOCK_CURVES, SERIAL_BLOCK_POINTS)
         for estimate, tasks in ((0.1, 4), (3 * TASK_S, 4), (10 * TASK_S, 10), (1e3, 32)):
             got = points_per_block(plan, 2, None, estimate=estimate)
-            assert got == max(1, -(-size // tasks))
+            cap = points_per_block(plan, 1, None, serial_in_memory=True)  # a serial block
+            assert got == max(1, min(cap, -(-size // tasks)))
         assert points_per_block(plan, 1, 7, serial_in_memory=True) == 7  # chunk= wins

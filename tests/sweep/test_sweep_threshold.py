@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import math
-import os
 import warnings
 
-import numpy as np
 import pytest
 import xarray as xr
 from xpersson_sweep_testlib import scene
@@ -14,8 +12,7 @@ from xpersson_sweep_testlib import scene
 import xpersson
 from xpersson.api import as_scene, expand
 from xpersson.plugins import get_registry
-from xpersson.sweep import _shm, schedule
-from xpersson.sweep.stacking import Block, BlockResult
+from xpersson.sweep import schedule
 
 SMALL = scene(material={"E": ["5 MPa", "20 MPa"]}, load={"p0": "3e4 Pa"})
 SMALL_PLAN = expand(as_scene(SMALL), get_registry())
@@ -71,29 +68,56 @@ def test_above_the_threshold_the_client_is_used(monkeypatch):
         xpersson.solve(SMALL, scheduler=Client())
 
 
-def _block(n: int) -> BlockResult:
-    rng = np.random.default_rng(1)
-    ds = xr.Dataset(
-        {
-            "small": ("E", np.arange(n, dtype=float), {"units": "1"}),
-            "big": (("E", "zeta"), rng.random((n, 1100)), {"units": "Pa"}),
-            "last": (("E", "zeta"), rng.random((n, 1100)).astype(np.float32)),
-        },
-        coords={"E": ("E", np.linspace(1e6, 1e7, n), {"units": "Pa"}), "zeta": np.arange(1100)},
-        attrs={"title": "block"},
+def test_the_probe_counts_the_first_block_once_and_the_rest_at_the_second_rate(monkeypatch):
+    """Block 0 (with the first point's one-off costs) as it cost, the other points at the rate
+    of block 1; a fake clock advances 5 s for block 0 and 1 s per point after it."""
+    from xpersson.sweep import probe as probe_mod
+
+    clock = [0.0]
+    real = probe_mod.run_block
+
+    def run_block(block, points, registry, **kw):
+        clock[0] += 5.0 if block.number == 0 else float(block.size)
+        return real(block, points, registry, **kw)
+
+    monkeypatch.setattr(probe_mod.time, "process_time", lambda: clock[0])
+    monkeypatch.setattr(probe_mod, "run_block", run_block)
+    H = [0.6 + 0.02 * k for k in range(12)]
+    plan = expand(as_scene(scene(spectrum={"H": H})), None)
+    got = probe_mod.probe(plan, get_registry())
+    assert [r.block.size for r in got.results] == [probe_mod.PROBE_POINTS] * 2
+    assert got.estimate == 5.0 + (12 - 4) * 1.0  # not 12 * 5 / 4
+    one = probe_mod.probe(plan, get_registry(), points=1)  # a layout probe: one block
+    assert [r.block.size for r in one.results] == [1]
+
+
+def test_a_study_that_falls_back_here_does_not_solve_the_probe_blocks_again(monkeypatch):
+    """An E x H study given a client below the threshold: the probe's two blocks are the first
+    two of the serial layout; each block of the sweep is solved once."""
+    from xpersson.sweep import blocks as blocks_mod
+    from xpersson.sweep import execute
+    from xpersson.sweep import probe as probe_mod
+
+    solved = []
+    real = blocks_mod.run_block
+
+    def counting(block, *args, **kwargs):
+        solved.append((block.start, block.stop))
+        return real(block, *args, **kwargs)
+
+    monkeypatch.setattr(probe_mod, "run_block", counting)
+    monkeypatch.setattr(execute, "run_block", counting)
+    monkeypatch.setattr(schedule, "BLOCK_CURVES", 6)  # serial blocks of 3 points x 2 loads
+    monkeypatch.setattr(schedule, "SERIAL_BLOCK_POINTS", 6)
+    sc = scene(
+        material={"E": ["5 MPa", "10 MPa", "20 MPa"]},
+        spectrum={"H": [0.6, 0.7, 0.8]},
+        load={"p0": ["1e4 Pa", "1e5 Pa"]},
     )
-    block = Block(0, (0,), (0,), (n,), ("E",), {})
-    return BlockResult(block, ds, None, np.zeros(n, np.int8), {})
-
-
-@pytest.mark.skipif(not os.access(_shm.SHM, os.W_OK), reason="no POSIX shared memory")
-def test_shared_memory_round_trip_is_identical_and_leaves_nothing():
-    res = _block(130)  # "big": 1.1 MiB, through shared memory; "small", "last": through dask
-    want = res.dataset.copy(deep=True)
-    packed, moved = _shm.pack(res)
-    assert list(moved) == ["big"] and "big" not in packed.dataset
-    assert all(os.path.exists(m[0]) for m in moved.values())
-    got = _shm.unpack(packed, moved).dataset
-    xr.testing.assert_identical(got, want)
-    assert list(got.data_vars) == list(want.data_vars)
-    assert not any(os.path.exists(m[0]) for m in moved.values())
+    with pytest.warns(xpersson.XperssonWarning, match="solving it in this process"):
+        got = xpersson.solve(sc, scheduler=Client())
+    assert sorted(solved) == sorted(set(solved)) and len(solved) == 3  # 3 blocks, once each
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        serial = xpersson.solve(sc)
+    xr.testing.assert_identical(got.drop_attrs(), serial.drop_attrs())

@@ -37,15 +37,22 @@ def requirements(records: Iterable[Any]) -> dict[str, tuple[str, str]]:
     return out
 
 
-def _installed(wanted: dict[str, tuple[str, str]]) -> dict[str, tuple[str | None, bool]]:
-    """On a worker: ``{distribution: (installed version or None, module importable)}``.
+def _installed(wanted: dict[str, tuple[str, str]]) -> dict[str, Any]:
+    """On a worker: ``{distribution: (installed version or None, module importable)}``, and
+    under ``MACHINE`` its host name and boot id (as :func:`xpersson.sweep._shm.machine`).
 
     Only the standard library: this function travels by value (see :func:`check_workers`), so
     it runs on a worker that lacks xpersson itself."""
     import importlib.util
+    import socket
     from importlib import metadata
 
-    out = {}
+    try:
+        with open("/proc/sys/kernel/random/boot_id") as f:
+            boot = f.read().strip()
+    except OSError:
+        boot = ""
+    out: dict[str, Any] = {MACHINE: (socket.gethostname(), boot)}
     for dist, (_, module) in wanted.items():
         try:
             version: str | None = metadata.version(dist)
@@ -78,9 +85,14 @@ def _problem(worker: str, wanted: dict[str, tuple[str, str]], have: dict[str, An
     return ""
 
 
-def check_workers(client: Any, records: Iterable[Any]) -> None:
+#: The key of a worker's machine (host name, boot id) in :func:`_installed`'s answer.
+MACHINE = " machine"
+
+
+def check_workers(client: Any, records: Iterable[Any]) -> dict[str, tuple[str, str]]:
     """Raise :class:`WorkerEnvironmentError` (one line) unless every worker of ``client`` has
-    the distributions of the scene's plugin ``records`` at the client's versions.
+    the distributions of the scene's plugin ``records`` at the client's versions; returns
+    each worker's machine (host name, boot id), in the same round trip.
 
     Parameters
     ----------
@@ -106,6 +118,7 @@ def check_workers(client: Any, records: Iterable[Any]) -> None:
             f"{problems[0]}{more}: install the same xpersson and plugin versions on every "
             "worker (see the user guide's 'Running on a cluster')"
         )
+    return {w: tuple(have[MACHINE]) for w, have in answers.items()}
 
 
 def ran_on(asked: Any, scheduler: Any, n_workers: int) -> str:

@@ -109,12 +109,13 @@ def _shared_template(shared: dict[str, Any] | None, rs: Any) -> xr.Dataset | Non
     """An earlier block's template where it serves this block's first point ``rs``: the two
     points stack (same plugins, grids, loads and spectrum nodes; only declared parameters
     differ), so coordinates, variables and their attributes agree."""
-    if not shared or "template" not in shared:
+    first = shared.get("first") if shared else None
+    if first is None:
         return None
-    rs0 = shared["point"]
+    template, rs0 = first
     if not np.array_equal(rs.p0, rs0.p0) or stacked.stack_reason([rs0, rs]) is not None:
         return None
-    return shared["template"]
+    return template
 
 
 def _first_template(
@@ -128,7 +129,7 @@ def _first_template(
         return template
     template = _template(rs, block)
     if template is not None and shared is not None and part is None:
-        shared.update(template=template, point=rs)
+        shared["first"] = (template, rs)  # one assignment: a worker's threads share it
     return template
 
 

@@ -22,7 +22,7 @@ import xarray as xr
 from ..pipeline import direct_dataset
 from .stacking import BlockResult, _point_shaped
 
-__all__ = ["Filling"]
+__all__ = ["Filling", "region_rows", "same_memory", "sweep_region"]
 
 
 class Filling:
@@ -51,6 +51,7 @@ class Filling:
         self._order: list[str] = []
         self._coords: set[str] = set()
         self.broken = False
+        self._rows: dict[str, np.ndarray] = {}  # name -> the row every point holds (prepare)
         #: name -> an array of the sweep's shape (then the point's) that batched blocks write
         #: their rows into (:meth:`rows`); adopted by the fill, whose copy is then skipped
         self.sink: dict[str, np.ndarray] = {}
@@ -63,45 +64,71 @@ class Filling:
             entry = self._vars.get(name)
             if entry is None or entry[0] != "swept" or entry[4] != list(range(len(self.shape))):
                 return None
-            full = entry[2]
-            if full.dtype != dtype or math.prod(full.shape[len(self.shape) :]) != math.prod(
-                point_shape
-            ):
-                return None
-        else:
-            full = self.sink.get(name)
-            if full is None or full.dtype != dtype or full.shape[len(self.shape) :] != point_shape:
-                full = self.sink[name] = np.empty(self.shape + tuple(point_shape), dtype)
-        sl = tuple(slice(a, b) for a, b in zip(block.start, block.stop, strict=True))
-        region = full[sl]
-        if not region.flags.c_contiguous:
-            return None
-        return region.reshape((block.size, *point_shape))
+            return region_rows(entry[2], block, point_shape, dtype)
+        full = self.sink.get(name)
+        if full is None or full.dtype != dtype or full.shape[len(self.shape) :] != point_shape:
+            full = self.sink[name] = np.empty(self.shape + tuple(point_shape), dtype)
+        return region_rows(full, block, point_shape, dtype)
 
-    def add(self, res: BlockResult) -> None:
-        """Copy a block's Dataset in and drop it from ``res`` (nothing when it has none)."""
+    def prepare(self, ds: xr.Dataset, rows: dict[str, np.ndarray] | None = None) -> bool:
+        """The arrays laid out from a block's Dataset ``ds`` (the probe's) before any block is
+        added (the :attr:`sink` arrays adopted): blocks may then arrive without the variables
+        written into them in place, or without those whose every point holds ``rows[name]``
+        (:meth:`add`'s ``written``)."""
+        self._rows = dict(rows or {})
+        if not self._vars and not self._allocate(ds):
+            self.broken = True
+        return not self.broken
+
+    def add(self, res: BlockResult, written: Any = ()) -> None:
+        """Copy a block's Dataset in and drop it from ``res`` (nothing when it has none);
+        ``written``: the variables its worker dropped, as written into the :attr:`sink` arrays
+        (a list, or ``{name: "shm"}``) or as holding at every point the row given to
+        :meth:`prepare` (``{name: "same"}``: filled in here from it)."""
         ds = res.dataset
         if self.broken or ds is None:
             return
         if not self._vars and not self._allocate(ds):
             self.broken = True
             return
-        if not self._fits(ds):
+        if not self._fits(ds, written):
+            res.dataset = self._whole(ds, res.block, written, copy=True)
             self.restore()
             return
-        sl = tuple(slice(a, b) for a, b in zip(res.block.start, res.block.stop, strict=True))
+        sl = sweep_region(res.block)
         for name, entry in self._vars.items():
             if entry[0] == "swept":
                 _, _, full, filled, axes = entry
                 sub = tuple(sl[a] for a in axes)
-                src, dst = ds.variables[name].values, full[sub]
-                if not _same_memory(src, dst):  # rows written in place (:meth:`rows`): kept
-                    dst[...] = src
+                if name not in written:
+                    src, dst = ds.variables[name].values, full[sub]
+                    if not same_memory(src, dst):  # rows written in place (:meth:`rows`): kept
+                        dst[...] = src
+                elif isinstance(written, dict) and written[name] == "same":
+                    full[sub] = self._rows[name]
                 filled[sub] = True
         if self.template is None or res.block.number < self._number:
-            self.template, self._number = _point_shaped(ds, res.block), res.block.number
+            whole = self._whole(ds, res.block, written)
+            self.template, self._number = _point_shaped(whole, res.block), res.block.number
         res.dataset = None
         self.absorbed.append(res)
+
+    def _whole(self, ds: xr.Dataset, block: Any, written: Any, copy: bool = False) -> xr.Dataset:
+        """A block's Dataset with the variables its worker dropped back (views of the arrays,
+        or copies; rows every point holds: broadcast from it)."""
+        if not written:
+            return ds
+        sl = sweep_region(block)
+        back = {}
+        for name in written:
+            _, ref, full, _, axes = self._vars[name]
+            part = full[tuple(sl[a] for a in axes)]
+            if isinstance(written, dict) and written[name] == "same":
+                part = np.broadcast_to(self._rows[name], part.shape).copy()
+            elif copy:
+                part = part.copy()
+            back[name] = xr.Variable(ref.dims, part, dict(ref.attrs))
+        return ds.assign(back)[[n for n in self._order if n in ds or n in back]]
 
     def _allocate(self, ds: xr.Dataset) -> bool:
         """The arrays from the first block's layout; ``False`` where it does not fit one."""
@@ -132,11 +159,16 @@ class Filling:
         self._coords = set(ds.coords)
         return True
 
-    def _fits(self, ds: xr.Dataset) -> bool:
-        """Whether a block has the first block's variables, dims, dtypes and constants."""
-        if set(ds.variables) != set(self._vars):
+    def _fits(self, ds: xr.Dataset, written: Any = ()) -> bool:
+        """Whether a block has the first block's variables, dims, dtypes and constants
+        (``written``: variables its worker wrote into the arrays, not in ``ds``)."""
+        if set(ds.variables).union(written) != set(self._vars) or any(
+            self._vars[n][0] != "swept" or n in ds.variables for n in written
+        ):
             return False
         for name, entry in self._vars.items():
+            if name in written:
+                continue
             var, ref = ds.variables[name], entry[1]
             if var.dims != ref.dims or var.dtype != ref.dtype:
                 return False
@@ -151,7 +183,7 @@ class Filling:
     def restore(self) -> None:
         """Give the absorbed results their Datasets back (cut from the arrays) and stop."""
         for res in self.absorbed:
-            sl = tuple(slice(a, b) for a, b in zip(res.block.start, res.block.stop, strict=True))
+            sl = sweep_region(res.block)
             variables = {}
             for name, entry in self._vars.items():
                 if entry[0] == "const":
@@ -196,7 +228,27 @@ class Filling:
         return self._dataset(variables, self.template)
 
 
-def _same_memory(a: np.ndarray, b: np.ndarray) -> bool:
+def sweep_region(block: Any) -> tuple[slice, ...]:
+    """A block's region of the sweep grid."""
+    return tuple(slice(a, b) for a, b in zip(block.start, block.stop, strict=True))
+
+
+def region_rows(
+    full: np.ndarray, block: Any, point_shape: tuple[int, ...], dtype: Any
+) -> np.ndarray | None:
+    """The writable ``(block.size, *point_shape)`` view of a block's region of ``full`` (an
+    array of the sweep's shape, then the point's), or ``None`` (another dtype or point size,
+    or not one contiguous run)."""
+    ndim = len(block.start)
+    if full.dtype != dtype or math.prod(full.shape[ndim:]) != math.prod(point_shape):
+        return None
+    region = full[sweep_region(block)]
+    if not region.flags.c_contiguous:
+        return None
+    return region.reshape((block.size, *point_shape))
+
+
+def same_memory(a: np.ndarray, b: np.ndarray) -> bool:
     """Whether two arrays are the same values in memory (same start, shape and strides)."""
     a, b = np.asarray(a), np.asarray(b)
     return (

@@ -2,10 +2,11 @@
 
 Serial in memory, blocks hold about :data:`BLOCK_CURVES` curves. On workers (a
 :class:`distributed.LocalCluster` or a running scheduler), the study's serial CPU time is
-measured first on a probe (:func:`xpersson.sweep.execute.serial_estimate`) and the study is cut
-into tasks of about :data:`TASK_S` each (2 to 16 per worker). A study whose estimated serial time
-is below :func:`threshold_s` (:data:`PARALLEL_MIN_S`, plus :data:`CLUSTER_STARTUP_S` where
-``scheduler="processes"`` starts a cluster) runs in this process, with a warning and an
+measured first on a probe (:func:`xpersson.sweep.probe.probe`) and the study is cut into tasks
+of about :data:`TASK_S` each (2 to 16 per worker, none larger than a serial block). A study
+whose estimated serial time is below :func:`threshold_s` (:data:`PARALLEL_MIN_S`, plus
+:data:`CLUSTER_STARTUP_S` where ``scheduler="processes"`` starts a cluster), or that is
+memory-bound (:data:`MEMORY_BOUND_RATE`), runs in this process, with a warning and an
 ``xpersson_scheduler`` attribute saying so: above it the workers are faster in wall time.
 """
 
@@ -61,20 +62,23 @@ def points_per_block(
     * serial in memory: as many as make :data:`BLOCK_CURVES` curves (``loads`` per point), at
       least :data:`SERIAL_BLOCK_POINTS` curves;
     * on workers, with the study's measured serial time ``estimate`` [s]
-      (:func:`serial_estimate`): tasks of about :data:`TASK_S` each, 2 to 16 per worker;
+      (:func:`~.probe.probe`): tasks of about :data:`TASK_S` each, 2 to 16 per worker, and
+      no larger than a serial block (a block's intermediate arrays stay small, and the first
+      block is the probe's, which is not solved again);
     * else a quarter of each worker's share.
     """
     if requested is not None:
         if requested < 1:
             raise ValueError(f"chunk: points per block must be >= 1, got {requested}")
         return int(requested)
+    loads = max(1, loads)
+    serial = max(BLOCK_CURVES // loads, min(plan.size, SERIAL_BLOCK_POINTS // loads), 1)
     if serial_in_memory:
-        loads = max(1, loads)
-        return max(BLOCK_CURVES // loads, min(plan.size, SERIAL_BLOCK_POINTS // loads), 1)
+        return serial
     workers = max(1, workers)
     if estimate is not None and math.isfinite(estimate):
         tasks = min(16 * workers, max(2 * workers, math.ceil(estimate / TASK_S)))
-        return max(1, math.ceil(plan.size / tasks))
+        return max(1, min(serial, math.ceil(plan.size / tasks)))
     return max(1, math.ceil(plan.size / (4 * workers)))
 
 
@@ -82,14 +86,14 @@ def points_per_block(
 #: LocalCluster of single-threaded workers and importing xpersson in each (3-5 s measured by
 #: ``benchmarks/sweep_scaling.py`` on a shared 2-core machine; the lower end is stated here).
 CLUSTER_STARTUP_S = 3.0
-#: Estimated serial CPU time [s] of a study (:func:`serial_estimate`) below which workers do
-#: not pay, on any distributed scheduler (a client, an address; on top of the cluster's start-up
-#: where ``scheduler="processes"`` starts one): resolving the points there, sending the tasks
-#: and the results back and filling the result here cost about 0.5 s on two local workers,
-#: and a batched study's result is large against its CPU time (memory-bound). Measured by
-#: ``benchmarks/summary.py`` (LocalCluster rows, 2 workers on 2 cores): an E x H study of 1e5
-#: points (estimated 0.53 s) took 1.1-1.3 s on the cluster against 0.5 s serially; one of 4e5
-#: points (estimated 2.7 s) took 4.0 s against 5.1 s. Below it the study runs in this process.
+#: Estimated serial CPU time [s] of a study (:func:`~.probe.probe`) below which workers do not
+#: pay, on any distributed scheduler (on top of the cluster's start-up where
+#: ``scheduler="processes"`` starts one): the probe, one round trip to the workers, the tasks'
+#: scheduling and the workers' own per-block costs. Measured by ``benchmarks/summary.py`` and
+#: CPU accounting on 2 local workers (the client's CPU before and after the tasks plus the
+#: busier worker's, against the serial CPU): a CPU-bound plastic H sweep of 100 points x 3
+#: loads (estimated 2.5 s) 1.00-1.10x serial, of 400 points (10 s) 0.82x serial wall.
+#: Below it the study runs in this process.
 PARALLEL_MIN_S = 2.0
 #: Serial CPU time [s] of one task on a worker: long enough that the scheduler's per-task
 #: cost (a few ms) and the transfer of its result are small, short enough for 2 to 16 tasks
@@ -103,9 +107,14 @@ def threshold_s(scheduler: Any) -> float:
 
 
 #: Result bytes per second of the study's serial CPU time above which a study is memory-bound
-#: [B/s]: its workers would spend more moving and filling the result than they save computing
-#: it, at any size (an E x H study of one load: about 450 MB/s, 229 MiB for 0.5 s; measured on
-#: 2 workers on 2 shared cores, ``benchmarks/summary.py``). Such a study runs in this process.
+#: [B/s]: its workers would spend more moving the result than they save computing it, at any
+#: size. An E x H study of one load makes about 450 MB/s (229 MiB for 0.5 s). Through dask's
+#: sockets it took 3x serial; written in place in shared memory by 2 local workers
+#: (:mod:`._shm`) it still needs, by CPU accounting, 1.35-1.45x the serial CPU on its critical
+#: path (1.18-2.2x serial wall on the shared machine): a tmpfs page is 4 KiB
+#: (``shmem_enabled = never``), and populating them cost the workers 3.7 ms of system time
+#: per MB, where the serial run writes anonymous memory in 2 MiB pages. Such a study runs in
+#: this process, on any distributed scheduler.
 MEMORY_BOUND_RATE = 1e8
 
 
@@ -113,7 +122,7 @@ def too_small_for_a_cluster(
     plan: SweepPlan, estimate: float, scheduler: Any = "processes", nbytes: float = 0.0
 ) -> bool:
     """Whether the study, solved serially (``estimate`` [s], result ``nbytes`` [B],
-    :func:`~xpersson.sweep.execute.probe`), takes less than :func:`threshold_s` or is
+    :func:`~xpersson.sweep.probe.probe`), takes less than :func:`threshold_s` or is
     memory-bound (:data:`MEMORY_BOUND_RATE`); then a warning says so and the sweep runs in this
     process."""
     limit = threshold_s(scheduler)
