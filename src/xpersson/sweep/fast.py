@@ -189,7 +189,7 @@ def _stacked(
             return None  # the first point did not succeed: recorded point by point
         template = _point_shaped(own, block)
         if shared is not None and part is None:
-            shared.update(template=template, point=points[0])
+            shared["first"] = (template, points[0])  # one assignment: threads share it
     names = _own_names(template, block)
     rows = {}
     for n in names:
