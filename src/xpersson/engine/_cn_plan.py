@@ -52,17 +52,33 @@ _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-
 _START_GRID.setflags(write=False)
 
 
-def _start_time(pb: Problem, k: float, lower: bool = True) -> float:
+def _start_time(pbs: list[Problem], k: float, lower: bool = True) -> float:
     """Largest tau_s with every real wall (the upper one only unless ``lower``) outside the
-    window on [0, tau_s]."""
-    cand = pb.tau_max * _START_GRID
+    window of every load of ``pbs`` on [0, tau_s] (the smallest of the loads' own).  The loads
+    of a batch share their walls and clock: the walls are evaluated once for all of them."""
+    pb = pbs[0]
+    tau_max = pb.tau_max
+    shared = all(
+        p.lower is pb.lower and p.upper is pb.upper and p.tau_max == tau_max for p in pbs[1:]
+    )
+    if not shared:
+        return min(_start_time([p], k, lower) for p in pbs)
+    cand = tau_max * _START_GRID
     s = np.sqrt(2.0 * cand)
     lo, up = pb.wall_positions(cand)
-    ok = up >= pb.p0 + k * s
+    return min(_first_start(p.p0, k, cand, s, lo, up, tau_max, lower) for p in pbs)
+
+
+def _first_start(
+    p0: float, k: float, cand: Array, s: Array, lo: Array, up: Array, tau_max: float, lower: bool
+) -> float:
+    """:func:`_start_time` of the load ``p0`` [Pa] from the walls ``lo``, ``up`` [Pa] at the
+    candidate times ``cand`` [Pa^2] (``s = sqrt(2 cand)``)."""
+    ok = up >= p0 + k * s
     if lower:
-        ok &= lo <= pb.p0 - k * s
+        ok &= lo <= p0 - k * s
     if ok.all():
-        return pb.tau_max
+        return tau_max
     first = int(np.argmin(ok))
     if first == 0:
         return float(cand[0])
@@ -377,7 +393,7 @@ def _joint_plan(
         kinks = _switch_times_batch(pbs, k, tau_s, float(outs[-1]))
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
-    fixed = np.union1d(np.union1d(outs, kinks), graded)
+    fixed = np.unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
     # the geometric times far from every fixed one (relative gap 0.3 ratio)
     keep = (np.abs(geo[:, None] - fixed[None, :]) > (0.3 * ratio) * fixed).all(axis=1)
     for tb, te in zones:
