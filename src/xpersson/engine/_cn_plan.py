@@ -107,14 +107,25 @@ def _exact_start(pbs: list[Problem], k: float, tau_s: float) -> tuple[float, flo
 
 
 def _level_times(
-    base: Array, nsub: int, n_ie: int, zones: tuple[tuple[float, float], ...] = ()
+    base: Array,
+    nsub: int,
+    n_ie: int,
+    zones: tuple[tuple[float, float], ...] = (),
+    fast: Callable[..., None] | None = None,
 ) -> tuple[Array, Array]:
     """Nested refinement of ``base`` plus Rannacher halves; returns (times, theta per step).
 
     Inside a graded zone ``(tau_b, tau_e)`` the steps are subdivided uniformly in
     ``(tau - tau_b)^(1/4)`` and the step starting at ``tau_b`` is implicit Euler (the wall's
-    speed may be unbounded there).
+    speed may be unbounded there).  ``fast``: the compiled loop
+    :func:`._cn_edges.level_times` (the same numbers), used where there is no zone.
     """
+    if fast is not None and not zones:
+        size = (base.size - 1) * nsub + 1
+        n_ie = min(n_ie, size - 1)
+        t, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
+        fast(base, nsub, n_ie, t, theta)
+        return t, theta
     d = np.diff(base)
     frac = np.arange(nsub) / nsub
     a = base[:-1]

@@ -101,7 +101,7 @@ def level_inputs(
     """The inputs of the level of ``n`` intervals (clustering ``stretch``) on ``plan``'s time
     sequence subdivided ``nsub`` times with ``n_ie`` implicit-Euler half steps first, for the
     loads ``pbs`` (one batch: they share their walls and output times)."""
-    taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones)
+    taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones, _compiled.times())
     pb0 = pbs[0]
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
