@@ -235,12 +235,18 @@ def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Arr
         z = np.zeros_like(taus)
         return np.full(mid.shape, np.inf), np.full(taus.shape, np.inf), z, z
     probe = _probe_times(wall, taus)
-    parts = [mid, taus] if probe is None else [mid, taus, *probe]
-    p = wall.at(np.concatenate(parts))
-    n, m = mid.size, taus.size
-    probed = None if probe is None else (p[n + m : n + 2 * m], p[n + 2 * m :])
-    vb, va = _wall_speeds(wall, taus, probed, float(p[n + m - 1]), probe)
-    return p[:n], p[n : n + m], vb, va
+    if probe is None:
+        p = wall.at(np.concatenate([mid, taus]))
+        return p[: mid.size], p[mid.size :], *_wall_speeds(wall, taus)
+    # in time order (probe below, time, probe above, midpoint, ...): the wall's table lookups
+    # then start next to the last one (the positions are the same, point by point)
+    q = np.empty(4 * taus.size - 1)
+    q[0::4], q[1::4], q[2::4], q[3::4] = probe[1], taus, probe[0], mid
+    p = wall.at(q)
+    at_t = np.ascontiguousarray(p[1::4])
+    probed = (p[2::4], p[0::4])
+    vb, va = _wall_speeds(wall, taus, probed, float(at_t[-1]), probe)
+    return np.ascontiguousarray(p[3::4]), at_t, vb, va
 
 
 def _tracks(pb: Problem, taus: Array) -> dict:
