@@ -178,6 +178,7 @@ def _wall_speeds(
     probed: tuple[Array, Array] | None = None,
     p_end: float | None = None,
     probe: tuple[Array, Array] | None = None,
+    p_tau: Array | None = None,
 ) -> tuple[Array, Array]:
     """dp_w/dtau [1/Pa] of a wall at ``tau`` just before and just after (declared, or by central
     differences).
@@ -189,7 +190,8 @@ def _wall_speeds(
     then gives half the speed: a first-order error at the last output, which no Richardson
     combination cancels).  ``probed``: the wall's positions at the times of
     :func:`_probe_times` (``probe``, computed here unless given), ``p_end`` its position at
-    ``tau[-1]`` (evaluated here unless given).
+    ``tau[-1]`` (evaluated here unless given), ``p_tau`` its positions at ``tau`` (used at
+    the breakpoints; evaluated there unless given).
     """
     if wall is None or wall.is_fixed:
         z = np.zeros_like(tau)
@@ -213,7 +215,7 @@ def _wall_speeds(
     at_bp = _is_in(tau, bp)
     if at_bp.any():
         t = tau[at_bp]
-        p_t = wall.at(t)
+        p_t = wall.at(t) if p_tau is None else p_tau[at_bp]
         before, after = v.copy(), v.copy()
         before[at_bp] = (p_t - p_lo[at_bp]) / (t - lo[at_bp])
         after[at_bp] = (p_hi[at_bp] - p_t) / (hi[at_bp] - t)
@@ -245,7 +247,7 @@ def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Arr
     p = wall.at(q)
     at_t = np.ascontiguousarray(p[1::4])
     probed = (p[2::4], p[0::4])
-    vb, va = _wall_speeds(wall, taus, probed, float(at_t[-1]), probe)
+    vb, va = _wall_speeds(wall, taus, probed, float(at_t[-1]), probe, at_t)
     return np.ascontiguousarray(p[3::4]), at_t, vb, va
 
 
