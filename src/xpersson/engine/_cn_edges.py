@@ -1,5 +1,5 @@
-"""The window's edges of a ``cn`` level in one compiled loop (the compiled path's
-:func:`._cn_plan._edges`).
+"""The window's edges and the time steps of a ``cn`` level, each in one compiled loop (the
+compiled path's :func:`._cn_plan._edges` and :func:`._cn_plan._level_times`).
 
 :func:`._cn_plan._edges` computes, per load, the regime of each edge (real wall or artificial
 edge ``p0 -/+ k sqrt(2 tau)``) at every step's midpoint, the edges and their speeds at the start
@@ -8,6 +8,8 @@ numpy calls per load and level, most of a small level's set-up. :func:`window_ed
 same elementwise arithmetic in the same order (the results are bit for bit the numpy path's:
 no sums, one rounding per operation, tested), for all loads at once, from the walls' tracks
 (:func:`._cn_plan._tracks`, evaluated in Python: the walls are the caller's callables).
+:func:`level_times` is the same for the level's time steps (:func:`._cn_plan._level_times`
+without graded zones: their ``pow`` stays numpy's, which a compiled ``pow`` need not equal).
 Units: tau in Pa^2, pressures in Pa, speeds in 1/Pa.
 """
 

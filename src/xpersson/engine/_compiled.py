@@ -10,9 +10,9 @@ flux form, the yield closure's rows, and the tridiagonal solve as LAPACK's ``dgt
 results equal the numpy path's (bit for bit where the compiler contracts no multiply-add;
 the tests hold them to 1e-12). Built with it: the whole level in a few calls
 (:func:`fused`: :mod:`._moving_fused`, which also builds each step's diagonals and sums the
-wall fluxes in the loop) and the window's edges (:func:`edges`: :mod:`._cn_edges`); once few
-node-steps are left per level (accurate error control), the numpy calls around the steps were
-most of a level's time. Levels that want densities or report progress take
+wall fluxes in the loop), the window's edges and the level's times (:func:`edges`,
+:func:`times`: :mod:`._cn_edges`); once few node-steps are left per level (accurate error
+control), the numpy calls around the steps were most of a level's time. Levels that want densities or report progress take
 :func:`march_steps` per block.
 
 numba is an optional accelerator (``pip install numba``): without it, or with
