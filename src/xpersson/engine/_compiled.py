@@ -12,8 +12,8 @@ the tests hold them to 1e-12). Built with it: the whole level in a few calls
 (:func:`fused`: :mod:`._moving_fused`, which also builds each step's diagonals and sums the
 wall fluxes in the loop), the window's edges and the level's times (:func:`edges`,
 :func:`times`: :mod:`._cn_edges`); once few node-steps are left per level (accurate error
-control), the numpy calls around the steps were most of a level's time. Levels that want densities or report progress take
-:func:`march_steps` per block.
+control), the numpy calls around the steps were most of a level's time. Levels that want
+densities or report progress take :func:`march_steps` per block.
 
 numba is an optional accelerator (``pip install numba``): without it, or with
 ``xpersson.set_options(compiled=False)`` (environment ``XPERSSON_COMPILED=off``), the numpy
