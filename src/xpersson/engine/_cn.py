@@ -87,7 +87,7 @@ class CNMethod(EngineMethod):
         pb = pbs[0]
         opts = CNOptions.read(pb.options, pb.atol)
         tau = pb.tau
-        tau_s = min(_start_time(p, opts.window_k) for p in pbs)
+        tau_s = _start_time(pbs, opts.window_k)
         tau_s, image = _exact_start(pbs, opts.window_k, tau_s)
         analytic = tau <= tau_s
         num = ~analytic
@@ -315,7 +315,7 @@ def grid_level(
     :mod:`._cn_control`) of the loads ``pbs`` (one batch), as :class:`CNMethod` solves it:
     for tests (the reference solver of ``tests/engine``) and benchmarks."""
     opts = CNOptions.read(pbs[0].options, pbs[0].atol)
-    tau_s = min(_start_time(p, opts.window_k) for p in pbs)
+    tau_s = _start_time(pbs, opts.window_k)
     grids = _Grids(pbs, opts, tau_s, pbs[0].tau > tau_s)
     plan = grids.plan(n_base, dense)
     args = (pbs, plan, n_base * mult, mult, grids.stretch, opts.rannacher)

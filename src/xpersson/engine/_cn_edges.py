@@ -1,5 +1,5 @@
-"""The window's edges of a ``cn`` level in one compiled loop (the compiled path's
-:func:`._cn_plan._edges`).
+"""The window's edges and the time steps of a ``cn`` level, each in one compiled loop (the
+compiled path's :func:`._cn_plan._edges` and :func:`._cn_plan._level_times`).
 
 :func:`._cn_plan._edges` computes, per load, the regime of each edge (real wall or artificial
 edge ``p0 -/+ k sqrt(2 tau)``) at every step's midpoint, the edges and their speeds at the start
@@ -8,6 +8,8 @@ numpy calls per load and level, most of a small level's set-up. :func:`window_ed
 same elementwise arithmetic in the same order (the results are bit for bit the numpy path's:
 no sums, one rounding per operation, tested), for all loads at once, from the walls' tracks
 (:func:`._cn_plan._tracks`, evaluated in Python: the walls are the caller's callables).
+:func:`level_times` is the same for the level's time steps (:func:`._cn_plan._level_times`
+without graded zones: their ``pow`` stays numpy's, which a compiled ``pow`` need not equal).
 Units: tau in Pa^2, pressures in Pa, speeds in 1/Pa.
 """
 
@@ -19,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["compiled_window", "window_edges"]
+__all__ = ["compiled_window", "level_times", "window_edges"]
 
 
 def compiled_window(
@@ -117,3 +119,26 @@ def window_edges(  # noqa: PLR0913 - the tracks as _cn_plan._tracks holds them
             flags[1, q, i] = ru
             flags[2, q, i] = ru and yield_wall
             flags[3, q, i] = chord
+
+
+def level_times(base: Any, nsub: int, n_ie: int, t: Any, theta: Any) -> None:
+    """:func:`._cn_plan._level_times` without graded zones, into ``t`` and ``theta`` (sized
+    by the caller: ``(base.size - 1) nsub + 1 + n_ie`` times, one step less), the same
+    elementwise arithmetic (bit for bit): every step of ``base`` [Pa^2] subdivided ``nsub``
+    times, then the first ``n_ie`` steps halved (implicit Euler, ``theta = 1``; the others
+    Crank-Nicolson, 1/2)."""  # pragma: no cover - compiled (the numpy path is the reference)
+    n_base = base.shape[0] - 1
+    q = n_ie  # (the first n_ie times are interleaved with the halves below)
+    for i in range(n_base):
+        a = base[i]
+        d = base[i + 1] - a
+        for j in range(nsub):
+            t[q] = a + d * (j / nsub)
+            q += 1
+    t[q] = base[n_base]
+    for i in range(n_ie):  # t[n_ie + i] holds the i-th time of the subdivided sequence
+        lo, hi = t[n_ie + i], t[n_ie + i + 1]
+        t[2 * i] = lo
+        t[2 * i + 1] = 0.5 * (lo + hi)
+    for i in range(theta.shape[0]):
+        theta[i] = 1.0 if i < 2 * n_ie else 0.5

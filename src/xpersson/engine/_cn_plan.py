@@ -52,17 +52,33 @@ _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-
 _START_GRID.setflags(write=False)
 
 
-def _start_time(pb: Problem, k: float, lower: bool = True) -> float:
+def _start_time(pbs: list[Problem], k: float, lower: bool = True) -> float:
     """Largest tau_s with every real wall (the upper one only unless ``lower``) outside the
-    window on [0, tau_s]."""
-    cand = pb.tau_max * _START_GRID
+    window of every load of ``pbs`` on [0, tau_s] (the smallest of the loads' own).  The loads
+    of a batch share their walls and clock: the walls are evaluated once for all of them."""
+    pb = pbs[0]
+    tau_max = pb.tau_max
+    shared = all(
+        p.lower is pb.lower and p.upper is pb.upper and p.tau_max == tau_max for p in pbs[1:]
+    )
+    if not shared:
+        return min(_start_time([p], k, lower) for p in pbs)
+    cand = tau_max * _START_GRID
     s = np.sqrt(2.0 * cand)
     lo, up = pb.wall_positions(cand)
-    ok = up >= pb.p0 + k * s
+    return min(_first_start(p.p0, k, cand, s, lo, up, tau_max, lower) for p in pbs)
+
+
+def _first_start(
+    p0: float, k: float, cand: Array, s: Array, lo: Array, up: Array, tau_max: float, lower: bool
+) -> float:
+    """:func:`_start_time` of the load ``p0`` [Pa] from the walls ``lo``, ``up`` [Pa] at the
+    candidate times ``cand`` [Pa^2] (``s = sqrt(2 cand)``)."""
+    ok = up >= p0 + k * s
     if lower:
-        ok &= lo <= pb.p0 - k * s
+        ok &= lo <= p0 - k * s
     if ok.all():
-        return pb.tau_max
+        return tau_max
     first = int(np.argmin(ok))
     if first == 0:
         return float(cand[0])
@@ -91,14 +107,25 @@ def _exact_start(pbs: list[Problem], k: float, tau_s: float) -> tuple[float, flo
 
 
 def _level_times(
-    base: Array, nsub: int, n_ie: int, zones: tuple[tuple[float, float], ...] = ()
+    base: Array,
+    nsub: int,
+    n_ie: int,
+    zones: tuple[tuple[float, float], ...] = (),
+    fast: Callable[..., None] | None = None,
 ) -> tuple[Array, Array]:
     """Nested refinement of ``base`` plus Rannacher halves; returns (times, theta per step).
 
     Inside a graded zone ``(tau_b, tau_e)`` the steps are subdivided uniformly in
     ``(tau - tau_b)^(1/4)`` and the step starting at ``tau_b`` is implicit Euler (the wall's
-    speed may be unbounded there).
+    speed may be unbounded there).  ``fast``: the compiled loop
+    :func:`._cn_edges.level_times` (the same numbers), used where there is no zone.
     """
+    if fast is not None and not zones:
+        size = (base.size - 1) * nsub + 1
+        n_ie = min(n_ie, size - 1)
+        t, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
+        fast(base, nsub, n_ie, t, theta)
+        return t, theta
     d = np.diff(base)
     frac = np.arange(nsub) / nsub
     a = base[:-1]
@@ -151,6 +178,7 @@ def _wall_speeds(
     probed: tuple[Array, Array] | None = None,
     p_end: float | None = None,
     probe: tuple[Array, Array] | None = None,
+    p_tau: Array | None = None,
 ) -> tuple[Array, Array]:
     """dp_w/dtau [1/Pa] of a wall at ``tau`` just before and just after (declared, or by central
     differences).
@@ -162,7 +190,8 @@ def _wall_speeds(
     then gives half the speed: a first-order error at the last output, which no Richardson
     combination cancels).  ``probed``: the wall's positions at the times of
     :func:`_probe_times` (``probe``, computed here unless given), ``p_end`` its position at
-    ``tau[-1]`` (evaluated here unless given).
+    ``tau[-1]`` (evaluated here unless given), ``p_tau`` its positions at ``tau`` (used at
+    the breakpoints; evaluated there unless given).
     """
     if wall is None or wall.is_fixed:
         z = np.zeros_like(tau)
@@ -186,7 +215,7 @@ def _wall_speeds(
     at_bp = _is_in(tau, bp)
     if at_bp.any():
         t = tau[at_bp]
-        p_t = wall.at(t)
+        p_t = wall.at(t) if p_tau is None else p_tau[at_bp]
         before, after = v.copy(), v.copy()
         before[at_bp] = (p_t - p_lo[at_bp]) / (t - lo[at_bp])
         after[at_bp] = (p_hi[at_bp] - p_t) / (hi[at_bp] - t)
@@ -208,12 +237,18 @@ def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Arr
         z = np.zeros_like(taus)
         return np.full(mid.shape, np.inf), np.full(taus.shape, np.inf), z, z
     probe = _probe_times(wall, taus)
-    parts = [mid, taus] if probe is None else [mid, taus, *probe]
-    p = wall.at(np.concatenate(parts))
-    n, m = mid.size, taus.size
-    probed = None if probe is None else (p[n + m : n + 2 * m], p[n + 2 * m :])
-    vb, va = _wall_speeds(wall, taus, probed, float(p[n + m - 1]), probe)
-    return p[:n], p[n : n + m], vb, va
+    if probe is None:
+        p = wall.at(np.concatenate([mid, taus]))
+        return p[: mid.size], p[mid.size :], *_wall_speeds(wall, taus)
+    # in time order (probe below, time, probe above, midpoint, ...): the wall's table lookups
+    # then start next to the last one (the positions are the same, point by point)
+    q = np.empty(4 * taus.size - 1)
+    q[0::4], q[1::4], q[2::4], q[3::4] = probe[1], taus, probe[0], mid
+    p = wall.at(q)
+    at_t = np.ascontiguousarray(p[1::4])
+    probed = (p[2::4], p[0::4])
+    vb, va = _wall_speeds(wall, taus, probed, float(at_t[-1]), probe, at_t)
+    return np.ascontiguousarray(p[3::4]), at_t, vb, va
 
 
 def _tracks(pb: Problem, taus: Array) -> dict:
@@ -377,7 +412,7 @@ def _joint_plan(
         kinks = _switch_times_batch(pbs, k, tau_s, float(outs[-1]))
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
-    fixed = np.union1d(np.union1d(outs, kinks), graded)
+    fixed = np.unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
     # the geometric times far from every fixed one (relative gap 0.3 ratio)
     keep = (np.abs(geo[:, None] - fixed[None, :]) > (0.3 * ratio) * fixed).all(axis=1)
     for tb, te in zones:

@@ -10,10 +10,10 @@ flux form, the yield closure's rows, and the tridiagonal solve as LAPACK's ``dgt
 results equal the numpy path's (bit for bit where the compiler contracts no multiply-add;
 the tests hold them to 1e-12). Built with it: the whole level in a few calls
 (:func:`fused`: :mod:`._moving_fused`, which also builds each step's diagonals and sums the
-wall fluxes in the loop) and the window's edges (:func:`edges`: :mod:`._cn_edges`); once few
-node-steps are left per level (accurate error control), the numpy calls around the steps were
-most of a level's time. Levels that want densities or report progress take
-:func:`march_steps` per block.
+wall fluxes in the loop), the window's edges and the level's times (:func:`edges`,
+:func:`times`: :mod:`._cn_edges`); once few node-steps are left per level (accurate error
+control), the numpy calls around the steps were most of a level's time. Levels that want
+densities or report progress take :func:`march_steps` per block.
 
 numba is an optional accelerator (``pip install numba``): without it, or with
 ``xpersson.set_options(compiled=False)`` (environment ``XPERSSON_COMPILED=off``), the numpy
@@ -42,7 +42,7 @@ from typing import Any
 from ..options import compiled_enabled
 from ._cnstep import _gtsv
 
-__all__ = ["BUILD_AFTER", "MIN_WORK", "build", "edges", "fused", "kernel", "march_steps"]
+__all__ = ["BUILD_AFTER", "MIN_WORK", "build", "edges", "fused", "kernel", "march_steps", "times"]
 
 MIN_WORK = 500_000
 """Node-steps of a level below which the numpy path runs (no numba import for small solves)."""
@@ -95,6 +95,14 @@ def edges() -> Callable[..., None] | None:
     return _STATE.get("edges")
 
 
+def times() -> Callable[..., None] | None:
+    """The compiled :func:`._cn_edges.level_times` once the compiled march is built and the
+    option is on, else None (the numpy level times: the same numbers)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("times")
+
+
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
     """The compiled :func:`._moving_fused.level_march` and
     :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
@@ -118,6 +126,7 @@ def _build() -> Callable[..., int] | None:
     helpers = {name: jit(getattr(fused_src, name)) for name in names}
     fused_scope = {**vars(fused_src), "_gtsv": gtsv, **helpers}
     _STATE["edges"] = jit(_cn_edges.window_edges)
+    _STATE["times"] = jit(_cn_edges.level_times)
     code = fused_src.level_march.__code__
     level = jit(types.FunctionType(code, fused_scope, "level_march"))
     _STATE["level"] = (level, jit(fused_src.face_coefficients))

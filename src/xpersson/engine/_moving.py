@@ -39,6 +39,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
+from scipy.special import erf
 
 from . import _compiled
 from ._cn_plan import Window, _edges_batch, _level_times, _Plan
@@ -101,7 +102,7 @@ def level_inputs(
     """The inputs of the level of ``n`` intervals (clustering ``stretch``) on ``plan``'s time
     sequence subdivided ``nsub`` times with ``n_ie`` implicit-Euler half steps first, for the
     loads ``pbs`` (one batch: they share their walls and output times)."""
-    taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones)
+    taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones, _compiled.times())
     pb0 = pbs[0]
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
@@ -375,8 +376,6 @@ def _initial_state(
 
 def _image_mass(lo: Array, up: Array, p0: Array, wall: float, t0: float) -> Array:
     """``int_lo^up`` of the one-wall image solution at ``t0`` [Pa^2] (wall at ``wall`` [Pa])."""
-    from scipy.special import erf
-
     s = 2.0 * math.sqrt(t0)
     direct = erf((up - p0) / s) - erf((lo - p0) / s)
     mirror = erf((up + p0 - 2.0 * wall) / s) - erf((lo + p0 - 2.0 * wall) / s)

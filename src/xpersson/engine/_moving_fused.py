@@ -52,7 +52,7 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
     if n_out * nb * nn > _SNAP:
         return None
     rows, basis = system_rows(nb, nn - 1, stretch), face_basis(nn - 1, stretch)
-    snaps, sums = np.empty((n_out, nb * nn)), np.zeros((5, nb, n_out))
+    snaps, sums = np.empty((n_out, nb * nn)), np.zeros((7, nb, n_out))
     carry = (r0.copy(), np.zeros((5, nb)), np.zeros((4, nb)), np.zeros(1, np.int64))
     n_steps = inp.taus.size - 1
     block = max(1, min(_OPS // (4 * nb * nn), n_steps))
@@ -72,8 +72,9 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
             return Level(None, 0, nn, f"tridiagonal solve failed (info={info})")
     if n_steps == 0:  # (outputs at the start only)
         snaps[:] = r0
-    area, load = _reduce_snapshots(snaps, win, nodes.x, nodes.w, inp.out_at)
-    a_pl, abs_l, abs_u, mom_l, mom_u = sums
+    edges = sums[5:] if n_steps else None  # (the window at the outputs, as marched)
+    area, load = _reduce_snapshots(snaps, win, nodes.x, nodes.w, inp.out_at, edges)
+    a_pl, abs_l, abs_u, mom_l, mom_u = sums[:5]
     mom_u = -mom_u
     if inp.yield_wall:  # the plastic area is what the yield wall holds, at its position
         up = np.hstack([s.lower[:, :1] + s.width[:, :1], e.lower + e.width])[:, inp.out_at]
@@ -82,13 +83,18 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
 
 
 def _reduce_snapshots(
-    snaps: Array, win: Any, x: Array, w: Array, out_at: Array
+    snaps: Array, win: Any, x: Array, w: Array, out_at: Array, edges: Array | None = None
 ) -> tuple[Array, Array]:
-    """Area ``int R dx`` and load ``int p R dx`` (``p = l + W x``) per output."""
+    """Area ``int R dx`` and load ``int p R dx`` (``p = l + W x``) per output (``edges``:
+    the window's lower edge and width at the outputs, (2, loads, outputs) [Pa], as the fused
+    march records them; taken from ``win`` unless given)."""
     n_out, nb = snaps.shape[0], win.start.lower.shape[0]
     R = snaps.reshape(n_out, nb, x.size)
-    lv = _at_outputs(win.start.lower, win.end.lower, out_at)
-    wv = _at_outputs(win.start.width, win.end.width, out_at)
+    if edges is None:
+        lv = _at_outputs(win.start.lower, win.end.lower, out_at)
+        wv = _at_outputs(win.start.width, win.end.width, out_at)
+    else:
+        lv, wv = edges
     area = (R @ w).T
     return area, lv * area + wv * (R @ (x * w)).T
 
@@ -178,9 +184,9 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     x nodes), ``z`` (5, loads) the yield rows (``R_{N-1}, R_N`` before the step, ``A_pl``,
     ``R_{N-1}, R_N`` after it), ``acc`` (4, loads) the running wall sums, ``pos[0]`` the
     next output.
-    Written at the outputs: ``snaps`` the states, ``sums`` (5, loads, outputs) the plastic
+    Written at the outputs: ``snaps`` the states, ``sums`` (7, loads, outputs) the plastic
     area, the probabilities absorbed by the lower and upper walls and their moments (the
-    upper one negated).
+    upper one negated), the window's lower edge and width.
     """
     nb, nn = last.shape[0], ops.shape[3]
     m, n_out = nb * nn, out_at.shape[0]
@@ -189,7 +195,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     ends, g = np.empty((8, nb)), np.empty(nb)
     j_out = pos[0]
     while i0 == 0 and j_out < n_out and out_at[j_out] == 0:
-        _record(state, z, acc, snaps, sums, j_out)
+        _record(state, z, acc, snaps, sums, j_out, la[:, 0], wa[:, 0])
         j_out += 1
     for i in range(i0, i1):
         c = ops[i - i0]  # (the block's own: the solve overwrites its diagonals in place)
@@ -226,7 +232,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
                          la[k, i], wa[k, i], lb[k, i], wb[k, i])  # fmt: skip
         state, b = b, state
         while j_out < n_out and out_at[j_out] == i + 1:
-            _record(state, z, acc, snaps, sums, j_out)
+            _record(state, z, acc, snaps, sums, j_out, lb[:, i], wb[:, i])
             j_out += 1
     if (i1 - i0) % 2 == 1:  # the last state is in the other buffer
         for q in range(m):
@@ -294,11 +300,16 @@ def _wall_fluxes(
         acc[3, k] += (lb + wb) * f_new1 + (la + wa) * f_old1
 
 
-def _record(r: Any, z: Any, acc: Any, snaps: Any, sums: Any, j: int) -> None:
-    """Output ``j``: the state and the sums."""  # pragma: no cover - compiled
+def _record(
+    r: Any, z: Any, acc: Any, snaps: Any, sums: Any, j: int, lower: Any, width: Any
+) -> None:  # pragma: no cover - compiled
+    """Output ``j``: the state, the sums, and the window's ``lower`` edge and ``width`` [Pa]
+    per load there (for the reduction after the march)."""
     for q in range(r.shape[0]):
         snaps[j, q] = r[q]
     for k in range(z.shape[1]):
         sums[0, k, j] = z[2, k]
         for s in range(4):
             sums[1 + s, k, j] = acc[s, k]
+        sums[5, k, j] = lower[k]
+        sums[6, k, j] = width[k]

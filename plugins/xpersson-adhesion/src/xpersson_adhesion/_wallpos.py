@@ -15,9 +15,38 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+try:  # the compiled loop behind PPoly.__call__ (called directly: see _ppoly_values)
+    from scipy.interpolate._ppoly import evaluate as _ppoly_evaluate
+except ImportError:  # pragma: no cover - another scipy layout: PPoly.__call__ then
+    _ppoly_evaluate = None
+
 __all__ = ["DetachmentWall", "onset_times"]
 
 Array = NDArray[np.float64]
+
+
+def _ppoly_values(poly: Any, t: Array) -> Array:
+    """``poly(t)`` of a one-dimensional scipy ``PPoly`` at the float times ``t``: its own
+    compiled loop called directly (the same numbers; ``PPoly.__call__``'s checks and
+    reshapes cost more than evaluating the few hundred times of a ``cn`` level), or
+    ``poly(t)`` where the table is not such a PPoly."""
+    c, x = getattr(poly, "_c", None), getattr(poly, "_x", None)
+    extrapolate = getattr(poly, "extrapolate", None)
+    plain = (
+        _ppoly_evaluate is None
+        or not isinstance(c, np.ndarray)
+        or not isinstance(x, np.ndarray)
+        or c.ndim != 2
+        or c.dtype != np.float64
+        or not c.flags.c_contiguous
+        or extrapolate not in (True, False)
+    )
+    if plain:
+        return np.asarray(poly(t), dtype=float)
+    flat = np.ascontiguousarray(t.ravel(), dtype=np.float64)
+    out = np.empty((flat.size, 1))
+    _ppoly_evaluate(c.reshape(c.shape[0], c.shape[1], 1), x, flat, 0, bool(extrapolate), out)
+    return out.reshape(t.shape)
 
 
 class _Pchip:
@@ -30,7 +59,11 @@ class _Pchip:
     def __call__(self, tau: ArrayLike) -> Array:
         # np.clip's definition, without its dispatch
         t = np.minimum(np.maximum(np.asarray(tau, dtype=float), self.t_lo), self.t_hi)
-        return np.asarray(self.spline(t), dtype=float)
+        sp = self.spline
+        if type(sp) is _SqrtPos:  # (the model's table: its PPoly evaluated directly)
+            v = _ppoly_values(sp.poly, t)
+            return np.sqrt(np.maximum(v, 0.0, out=v), out=v)
+        return _ppoly_values(sp, t)
 
 
 class _SqrtPos:
