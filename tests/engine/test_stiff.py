@@ -28,7 +28,7 @@ def _grids(upper: Wall | None, loads=(P0,)) -> _Grids:
     pbs = [make_problem(TAU, p, Wall.absorbing(0.0), upper, 1e-6, None, None, 10**6, None)
            for p in loads]  # fmt: skip
     opts = CNOptions.read(pbs[0].options, pbs[0].atol)
-    tau_s = min(_start_time(p, opts.window_k) for p in pbs)
+    tau_s = _start_time(pbs, opts.window_k)
     return _Grids(pbs, opts, tau_s, pbs[0].tau > tau_s)
 
 
