@@ -259,15 +259,22 @@ def memoize(
 
 
 def digest(*arrays: Any) -> bytes:
-    """A 128-bit BLAKE2b digest of arrays' dtypes, shapes and bytes (a content key part)."""
-    h = hashlib.blake2b(digest_size=16)
+    """A 128-bit digest (SHA-1, truncated; about twice BLAKE2b's speed where the CPU has SHA
+    instructions) of arrays' dtypes, shapes and bytes (a content key part).
+
+    A content key, not a signature: it lives in one process's caches (and keys equal content
+    equally in every process of one version); nothing persisted depends on it.
+    """
+    h = hashlib.sha1(usedforsecurity=False)
     for a in arrays:
-        arr = np.asarray(a)
+        arr = a if type(a) is np.ndarray else np.asarray(a)
         if arr.dtype.hasobject:
             raise TypeError("digest: an object array's bytes are pointers, not its content")
         h.update(f"{arr.dtype.str}{arr.shape}".encode())
-        h.update(np.ascontiguousarray(arr).tobytes())
-    return h.digest()
+        # a C-contiguous numeric array is read through its buffer (no copy of its bytes)
+        plain = arr.flags.c_contiguous and arr.dtype.kind in "biufc"
+        h.update(arr if plain else np.ascontiguousarray(arr).tobytes())
+    return h.digest()[:16]
 
 
 _PLAIN = (str, bytes, int, bool, type(None))
@@ -295,6 +302,8 @@ def content_key(item: Any) -> Hashable:
         return ("f", item.hex())
     if kind is tuple or kind is list:
         return tuple([content_key(v) for v in item])
+    if kind is np.ndarray and not item.dtype.hasobject:
+        return ("a", item.dtype.str, item.shape, digest(item))
     return _content_key(item)
 
 
