@@ -161,6 +161,8 @@ def _checked_times_and_loads(
             p0v = np.array([float(p0)])
         except (TypeError, ValueError):
             raise _fail("p0", "Pa", "a finite float", p0) from None
+    if _valid_times(tau) and math.isfinite(float(p0v.sum())):
+        return tau, p0v  # (the checks below, in one pass: each failure's message is theirs)
     if not np.all(np.isfinite(tau)):
         raise _fail("tau_out", "Pa^2", "finite (no NaN/inf)", tau_out)
     if np.any(tau < 0):
@@ -170,6 +172,17 @@ def _checked_times_and_loads(
     if not np.all(np.isfinite(p0v)):
         raise _fail("p0", "Pa", "finite", p0)
     return tau, p0v
+
+
+def _valid_times(tau: Array) -> bool:
+    """Every row of ``tau`` [Pa^2] finite, >= 0 and strictly increasing, in two reductions: the
+    steps of a row are all > 0 (false for a NaN, and for inf - inf), its first time is >= 0 and
+    its last finite; then every time lies in [first, last]."""
+    steps = np.diff(tau, axis=-1)
+    first, last = tau[..., 0], tau[..., -1]
+    return bool(steps.size == 0 or (steps > 0).all()) and bool(
+        ((first >= 0) & (np.abs(last) < math.inf)).all()
+    )
 
 
 def _checked_tolerances(rtol: float, atol: float | None) -> tuple[float, float]:
