@@ -178,7 +178,8 @@ def _valid_times(tau: Array) -> bool:
     """Every row of ``tau`` [Pa^2] finite, >= 0 and strictly increasing, in two reductions: the
     steps of a row are all > 0 (false for a NaN, and for inf - inf), its first time is >= 0 and
     its last finite; then every time lies in [first, last]."""
-    steps = np.diff(tau, axis=-1)
+    with np.errstate(invalid="ignore"):  # inf - inf: a NaN step, so not valid
+        steps = np.diff(tau, axis=-1)
     first, last = tau[..., 0], tau[..., -1]
     return bool(steps.size == 0 or (steps > 0).all()) and bool(
         ((first >= 0) & (np.abs(last) < math.inf)).all()
