@@ -235,6 +235,11 @@ _SAMPLES = Cache(
 def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> None:
     """Wall positions finite and ordered, every ``p0`` strictly inside at ``tau = 0``."""
     if lower.is_fixed and (upper is None or upper.is_fixed):
+        lo0 = float(lower.position)
+        hi0 = math.inf if upper is None else float(upper.position)
+        if math.isfinite(lo0) and (upper is None or lo0 < hi0 < math.inf):
+            if bool(((p0 > lo0) & (p0 < hi0)).all()):
+                return  # (the checks below on these numbers: each failure's message is theirs)
         t_check = np.zeros(1)
     else:
         t_check = sample_times(tau)
