@@ -7,6 +7,7 @@ import numpy as np
 from ._base import EngineMethod
 from ._problem import Problem
 from ._result import Raw
+from ._walls import Wall
 from .exact import (
     linear_wall_absorbed_moment,
     linear_wall_area,
@@ -33,12 +34,34 @@ def _case(problem: Problem) -> str | None:
     if up is None:
         if lo.is_fixed:
             return "one"
-        if lo.linear_motion(problem.tau_max) is not None:
+        if not _bent(lo, problem.tau_max) and lo.linear_motion(problem.tau_max) is not None:
             return "linear"
         return None
     if lo.is_fixed and up.is_fixed:  # fixed yield walls are absorbing walls
         return "two"
     return None
+
+
+def _bent(wall: Wall, tau_max: float) -> bool:
+    """True when three of :meth:`Wall.linear_motion`'s probe times (0, the middle, ``tau_max``
+    [Pa^2]) already show the wall is not linear, so its 257-point probe would reject it.
+
+    A wall passing that probe has, with ``y0``, ``v`` its start [Pa] and velocity [1/Pa],
+    every position within ``1e-13 S`` of the line and ``S <= 2.0001 max(|y0|, |v| tau_max)``
+    (else its largest position would be far off the line); so its middle point is within
+    ``2.1e-13 max(|y0|, |v| tau_max)``. A bend above ``1e-10`` of that is therefore a sure
+    rejection, with room for positions that differ by rounding between the two evaluations.
+    """
+    if wall.kind != "absorbing" or wall.is_fixed or wall.motion is not None or not tau_max > 0:
+        return False
+    t = np.linspace(0.0, tau_max, 129)[[0, 64, 128]]  # the probe's own times
+    with np.errstate(all="ignore"):
+        y = np.asarray(wall.at(t), dtype=float)
+    if not np.all(np.isfinite(y)):
+        return False  # the probe decides
+    v = (y[2] - y[0]) / tau_max
+    bend = abs(y[1] - (y[0] + v * t[1]))
+    return bool(bend > 1e-10 * max(abs(y[0]), abs(y[2]), abs(v) * tau_max, 1e-300))
 
 
 class ExactMethod(EngineMethod):

@@ -161,6 +161,8 @@ def _checked_times_and_loads(
             p0v = np.array([float(p0)])
         except (TypeError, ValueError):
             raise _fail("p0", "Pa", "a finite float", p0) from None
+    if _valid_times(tau) and math.isfinite(float(p0v.sum())):
+        return tau, p0v  # (the checks below, in one pass: each failure's message is theirs)
     if not np.all(np.isfinite(tau)):
         raise _fail("tau_out", "Pa^2", "finite (no NaN/inf)", tau_out)
     if np.any(tau < 0):
@@ -170,6 +172,18 @@ def _checked_times_and_loads(
     if not np.all(np.isfinite(p0v)):
         raise _fail("p0", "Pa", "finite", p0)
     return tau, p0v
+
+
+def _valid_times(tau: Array) -> bool:
+    """Every row of ``tau`` [Pa^2] finite, >= 0 and strictly increasing, in two reductions: the
+    steps of a row are all > 0 (false for a NaN, and for inf - inf), its first time is >= 0 and
+    its last finite; then every time lies in [first, last]."""
+    with np.errstate(invalid="ignore"):  # inf - inf: a NaN step, so not valid
+        steps = np.diff(tau, axis=-1)
+    first, last = tau[..., 0], tau[..., -1]
+    return bool(steps.size == 0 or (steps > 0).all()) and bool(
+        ((first >= 0) & (np.abs(last) < math.inf)).all()
+    )
 
 
 def _checked_tolerances(rtol: float, atol: float | None) -> tuple[float, float]:
@@ -221,6 +235,11 @@ _SAMPLES = Cache(
 def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> None:
     """Wall positions finite and ordered, every ``p0`` strictly inside at ``tau = 0``."""
     if lower.is_fixed and (upper is None or upper.is_fixed):
+        lo0 = float(lower.position)
+        hi0 = math.inf if upper is None else float(upper.position)
+        if math.isfinite(lo0) and (upper is None or lo0 < hi0 < math.inf):
+            if bool(((p0 > lo0) & (p0 < hi0)).all()):
+                return  # (the checks below on these numbers: each failure's message is theirs)
         t_check = np.zeros(1)
     else:
         t_check = sample_times(tau)

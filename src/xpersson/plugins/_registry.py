@@ -222,6 +222,9 @@ class Registry:
         """A registered name, ``dist:name``, or a plugin class passed directly."""
         group = normalize_group(group)
         if isinstance(name_or_class, str):
+            bucket = self._discover()[group].get(name_or_class)  # a loaded plugin: as load's
+            if bucket and len(bucket) == 1 and bucket[0].cls is not None and not bucket[0].error:
+                return bucket[0].cls
             return self.load(group, name_or_class)
         if isinstance(name_or_class, type):
             err = check_loaded(group, name_or_class)

@@ -189,13 +189,16 @@ class ModelLaw:
 
     def table_and_key(self, clock: object, per_decade: int = 200) -> tuple[_Pchip, Hashable]:
         """:meth:`in_tau`'s table and its content key (``("model", d)``, ``d`` a 128-bit digest
-        of the :func:`xpersson.cache.content_key` of :meth:`clock_key`, as
-        :func:`xpersson.cache.dataclass_key` makes one): equal keys, equal tables (the jkr wall
-        compares by it; a digest is keyed and compared without walking the key's parts)."""
-        key = self.clock_key(clock, per_decade)
-        _, _, cut, s2_nodes, ds2_nodes = self._samples(key[-4], per_decade)
-        t_nodes, f_nodes = key[-2:]
-        ck = ("model", hashlib.blake2b(repr(content_key(key)).encode(), digest_size=16).digest())
+        of what the table depends on: the law's numbers, the clock's ``zeta_max`` and its
+        samples tau [Pa^2] and f [Pa^2] at the table's magnifications): equal keys, equal
+        tables (the jkr wall compares by it; a digest is keyed and compared without walking
+        the key's parts)."""
+        zmax = float(clock.zeta_max)  # type: ignore[attr-defined]
+        z_all, zo_all, cut, s2_nodes, ds2_nodes = self._samples(zmax, per_decade)
+        t_nodes = np.asarray(clock.tau_of_zeta(z_all), dtype=float)  # type: ignore[attr-defined]
+        f_nodes = np.asarray(clock.f(zo_all), dtype=float)  # type: ignore[attr-defined]
+        head = repr(content_key((self.psd, *self._key(), zmax, per_decade))).encode()
+        ck = ("model", hashlib.blake2b(head + digest(t_nodes, f_nodes), digest_size=16).digest())
         table = _TABLES.get(
             ck,
             lambda: self._fit(
@@ -206,16 +209,6 @@ class ModelLaw:
             ),
         )
         return table, ck
-
-    def clock_key(self, clock: object, per_decade: int = 200) -> tuple[Any, ...]:
-        """The content key of :meth:`in_tau`'s table for ``clock``: the law's numbers, the
-        clock's ``zeta_max`` and its samples tau [Pa^2] and f [Pa^2] at the table's
-        magnifications (the table depends on the clock only through these)."""
-        zmax = float(clock.zeta_max)  # type: ignore[attr-defined]
-        z_all, zo_all, _, _, _ = self._samples(zmax, per_decade)
-        t_nodes = np.asarray(clock.tau_of_zeta(z_all), dtype=float)  # type: ignore[attr-defined]
-        f_nodes = np.asarray(clock.f(zo_all), dtype=float)  # type: ignore[attr-defined]
-        return (self.psd, *self._key(), zmax, per_decade, t_nodes, f_nodes)
 
     def _key(self) -> tuple[Any, ...]:
         """What the law depends on besides its spectrum (cache keys)."""

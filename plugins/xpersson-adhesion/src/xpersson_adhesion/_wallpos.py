@@ -158,8 +158,9 @@ class DetachmentWall:
     clock : DiffusionClock, optional
         Maps tau to zeta.
     key : hashable, optional
-        The content the position derives from (e.g. :meth:`ModelLaw.clock_key`): two walls with
-        equal keys are equal (and hash equal), so the engine groups their loads in one batch.
+        The content the position derives from (e.g. the key of
+        :meth:`ModelLaw.table_and_key`): two walls with equal keys are equal (and hash equal),
+        so the engine groups their loads in one batch.
         Without a key a wall equals only itself.
     """
 
