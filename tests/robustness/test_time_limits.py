@@ -161,28 +161,3 @@ def test_a_nested_limit_in_the_main_thread_is_the_outer_one_and_leaves_nothing_a
         x = sum(range(10))
     assert x == 45
     assert signal.getitimer(signal.ITIMER_REAL)[0] == 0.0
-
-
-def test_a_timer_left_by_an_earlier_call_keeps_each_calls_own_limit():
-    """Calls in one solve reuse the interval timer: a timer set by a call with a short limit
-    does not cut a later call with a longer one short, a later call with a shorter limit still
-    stops at its own, and the outermost ``time_limit`` leaves no timer behind."""
-    import signal
-
-    def busy(seconds):
-        end = time.monotonic() + seconds
-        while time.monotonic() < end:
-            pass
-
-    with time_limit(5.0):
-        with limited(0.1):
-            pass  # leaves its timer pending (0.1 s)
-        with limited(0.4):
-            busy(0.25)  # the timer fires at 0.1 s, is re-armed for the rest: no timeout
-        with limited(5.0):
-            pass  # pending timer fires earlier: reused
-        t0 = time.monotonic()
-        with pytest.raises(PluginTimeout), limited(0.15):  # earlier than the pending one
-            busy(3.0)
-        assert 0.1 < time.monotonic() - t0 < 2.0
-    assert signal.getitimer(signal.ITIMER_REAL)[0] == 0.0

@@ -62,8 +62,6 @@ def time_limit(seconds: float | None) -> Iterator[None]:
         yield
     finally:
         _LIMIT.reset(token)
-        if _PENDING and threading.current_thread() is threading.main_thread():
-            _disarm_main()  # no timer left behind (the calls inside reused one)
 
 
 def current_limit() -> float | None:
@@ -88,65 +86,31 @@ def _message(seconds: float) -> str:
     return f"exceeded the time limit of {seconds:g} s"
 
 
-_MAIN_ARMED: list[tuple[float, float]] = []
-"""The limit [s] armed in the main thread and its deadline (:func:`time.monotonic` [s])."""
-_PENDING: list[float] = []
-"""When the interval timer this module set fires (monotonic [s]); empty: none of ours pending.
-
-The timer is not disarmed when a call ends: the next call reuses it when it fires no later than
-that call's deadline (no system call; the handler re-arms it for what is left of the deadline
-in force, or ignores it when nothing is armed), else sets it anew. The outermost
-:func:`time_limit` disarms it on exit, so a solve leaves no timer behind.
-"""
+_MAIN_ARMED: list[float] = []
+"""The limits [s] armed in the main thread (innermost last)."""
 
 
 def _main_handler(signum: int, frame: object) -> None:
-    if not _MAIN_ARMED:  # a timer left by an ended call (or a stray one): ignored
-        _PENDING.clear()
-        return
-    seconds, deadline = _MAIN_ARMED[-1]
-    now = time.monotonic()
-    if deadline > now:  # set by an earlier call: re-armed for the rest of this one's limit
-        signal.setitimer(signal.ITIMER_REAL, deadline - now)
-        _PENDING[:] = [deadline]
-        return
-    _PENDING.clear()
-    raise PluginTimeout(_message(seconds))
-
-
-def _disarm_main() -> None:
-    """Cancel this module's pending timer (main thread, nothing armed)."""
-    if _PENDING and not _MAIN_ARMED:
-        _PENDING.clear()
-        if _signal.getsignal(signal.SIGALRM) is _main_handler:
-            signal.setitimer(signal.ITIMER_REAL, 0)
+    if _MAIN_ARMED:  # an alarm of nothing armed (a stray one) is ignored
+        raise PluginTimeout(_message(_MAIN_ARMED[-1]))
 
 
 @contextlib.contextmanager
 def _alarm(seconds: float) -> Iterator[None]:
-    if _MAIN_ARMED:  # an outer limit applies
+    if _MAIN_ARMED or signal.getitimer(signal.ITIMER_REAL)[0] > 0:  # an outer limit applies
         yield
         return
     old = _signal.getsignal(signal.SIGALRM)  # (signal.getsignal's enum look-up costs ~4 us)
-    if old is not _main_handler or not _PENDING:  # is a timer of someone else's pending?
-        _PENDING.clear()
-        if signal.getitimer(signal.ITIMER_REAL)[0] > 0:  # an outer limit applies
-            yield
-            return
     if old is not _main_handler:  # installed once while SIGALRM has its default action
         signal.signal(signal.SIGALRM, _main_handler)
-    deadline = time.monotonic() + seconds
-    if not _PENDING or _PENDING[0] > deadline:
-        signal.setitimer(signal.ITIMER_REAL, seconds)
-        _PENDING[:] = [deadline]
-    _MAIN_ARMED.append((seconds, deadline))
+    _MAIN_ARMED.append(seconds)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
     try:
         yield
     finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
         _MAIN_ARMED.pop()
         if old is not _main_handler and old not in (signal.SIG_DFL, None):  # restored
-            signal.setitimer(signal.ITIMER_REAL, 0)
-            _PENDING.clear()
             signal.signal(signal.SIGALRM, old)
 
 
