@@ -188,8 +188,8 @@ class _Judge:
         err = factor * np.abs(a.area - b.area)
         la_ = a.load + a.moment_lower + a.moment_upper
         lb_ = b.load + b.moment_lower + b.moment_upper
-        load = float(np.max(factor * np.abs(la_ - lb_) / self.scale)) / (pb.rtol + pb.atol)
-        return err, max(float(np.max(err / self.tol(a.area))), load)
+        load = float((factor * np.abs(la_ - lb_) / self.scale).max()) / (pb.rtol + pb.atol)
+        return err, max(float((err / self.tol(a.area)).max()), load)
 
 
 def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:

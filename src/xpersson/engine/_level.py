@@ -137,6 +137,9 @@ class Outputs:
     """Density at ``p_out`` [1/Pa], or None."""
 
 
+_FIELDS = tuple(f.name for f in dataclasses.fields(Outputs))
+
+
 @dataclass(frozen=True)
 class Level:
     """What the march of one grid level gives (:func:`._moving._march`)."""
@@ -160,22 +163,25 @@ def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
     """The finer level, or its Richardson combination with the coarser (linear in the levels:
     the probability balance is kept)."""
     out = {}
-    for f in dataclasses.fields(Outputs):
-        a, b = getattr(fine, f.name), getattr(coarse, f.name)
-        out[f.name] = None if a is None else (a + (a - b) / 3.0 if extrapolate else a)
+    for name in _FIELDS:
+        a, b = getattr(fine, name), getattr(coarse, name)
+        out[name] = None if a is None else (a + (a - b) / 3.0 if extrapolate else a)
     return Outputs(**out)
 
 
 def weighted(levels: list[Outputs], weights: Array) -> Outputs:
     """The combination ``sum_i weights[i] levels[i]`` of every output (weights summing to 1,
     e.g. Richardson's: the probability balance, linear in the levels, is kept)."""
+    ws = [float(c) for c in weights]
     out = {}
-    for f in dataclasses.fields(Outputs):
-        if getattr(levels[0], f.name) is None:
-            out[f.name] = None
-        else:
-            values = (getattr(lv, f.name) for lv in levels)
-            out[f.name] = sum(float(c) * v for c, v in zip(weights, values, strict=True))
+    for name in _FIELDS:
+        if getattr(levels[0], name) is None:
+            out[name] = None
+            continue
+        acc = 0  # (as ``sum`` adds them: 0 + w_0 v_0 + ...)
+        for c, lv in zip(ws, levels, strict=True):
+            acc = acc + c * getattr(lv, name)
+        out[name] = acc
     return Outputs(**out)
 
 
