@@ -229,7 +229,10 @@ def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float] | None:
 
 def _k6(mults: tuple[int, ...]) -> float:
     """``sum w m^-6`` of the sixth-order weights of three levels: ``prod m^-2`` [1]."""
-    return float(np.prod(np.asarray(mults, dtype=float) ** -2.0))
+    k = 1.0  # (on floats: numpy's product of m ** -2.0, the same numbers for every m <= 16)
+    for m in mults:
+        k *= float(m) ** -2.0
+    return k
 
 
 def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float] | None:

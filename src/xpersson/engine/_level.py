@@ -173,15 +173,19 @@ def weighted(levels: list[Outputs], weights: Array) -> Outputs:
     """The combination ``sum_i weights[i] levels[i]`` of every output (weights summing to 1,
     e.g. Richardson's: the probability balance, linear in the levels, is kept)."""
     ws = [float(c) for c in weights]
-    out = {}
+    # the fields of one shape at once (the same operations, element by element, as ``sum``
+    # of each field: 0 + w_0 v_0 + w_1 v_1 + ...): a few calls, not a few per field
+    groups: dict[tuple[int, ...], list[str]] = {}
     for name in _FIELDS:
-        if getattr(levels[0], name) is None:
-            out[name] = None
-            continue
-        acc = 0  # (as ``sum`` adds them: 0 + w_0 v_0 + ...)
+        v = getattr(levels[0], name)
+        if v is not None:
+            groups.setdefault(np.shape(v), []).append(name)
+    out: dict[str, Array | None] = dict.fromkeys(_FIELDS)
+    for names in groups.values():
+        acc = 0
         for c, lv in zip(ws, levels, strict=True):
-            acc = acc + c * getattr(lv, name)
-        out[name] = acc
+            acc = acc + c * np.stack([getattr(lv, name) for name in names])
+        out.update(zip(names, acc, strict=True))
     return Outputs(**out)
 
 
