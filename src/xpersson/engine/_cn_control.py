@@ -188,8 +188,8 @@ class _Judge:
         err = factor * np.abs(a.area - b.area)
         la_ = a.load + a.moment_lower + a.moment_upper
         lb_ = b.load + b.moment_lower + b.moment_upper
-        load = float(np.max(factor * np.abs(la_ - lb_) / self.scale)) / (pb.rtol + pb.atol)
-        return err, max(float(np.max(err / self.tol(a.area))), load)
+        load = float((factor * np.abs(la_ - lb_) / self.scale).max()) / (pb.rtol + pb.atol)
+        return err, max(float((err / self.tol(a.area)).max()), load)
 
 
 def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
@@ -229,7 +229,10 @@ def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float] | None:
 
 def _k6(mults: tuple[int, ...]) -> float:
     """``sum w m^-6`` of the sixth-order weights of three levels: ``prod m^-2`` [1]."""
-    return float(np.prod(np.asarray(mults, dtype=float) ** -2.0))
+    k = 1.0  # (on floats: numpy's product of m ** -2.0, the same numbers for every m <= 16)
+    for m in mults:
+        k *= float(m) ** -2.0
+    return k
 
 
 def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float] | None:

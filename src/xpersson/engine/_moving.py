@@ -363,14 +363,21 @@ def _initial_state(
     la, wa_ = win.start.lower, win.start.width
     pn = la[:, :1] + wa_[:, :1] * x[None, :]
     c = 1.0 / math.sqrt(4.0 * math.pi * t0)
-    r2 = wa_[:, :1] * np.exp(-((pn - p0) ** 2) / (4.0 * t0)) * c
-    mass = np.full(p0.shape[0], math.erf(k / math.sqrt(2.0)))
+    # wa exp(-(pn - p0)^2 / 4 t0) c, in place (the same operations: no temporaries)
+    r2 = pn - p0
+    np.square(r2, out=r2)
+    np.negative(r2, out=r2)
+    r2 /= 4.0 * t0
+    np.exp(r2, out=r2)
+    r2 *= wa_[:, :1]
+    r2 *= c
+    mass: float | Array = math.erf(k / math.sqrt(2.0))  # (the same for every load)
     if image is not None:
         r2 -= wa_[:, :1] * np.exp(-((pn + p0 - 2.0 * image) ** 2) / (4.0 * t0)) * c
         mass = _image_mass(la[:, 0], la[:, 0] + wa_[:, 0], p0[:, 0], image, t0)
     r2[:, 0] = 0.0
     r2[:, -1] = 0.0
-    r2 *= mass[:, None] / (r2 @ w)[:, None]
+    r2 *= (mass / (r2 @ w))[:, None]
     return r2.ravel()
 
 

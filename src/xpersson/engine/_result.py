@@ -420,8 +420,10 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         finite_all = bool(np.isfinite(np.sum(raw.area) + np.sum(raw.non_area)))
         worst_all = 0.0
     else:
+        # (prob and loadb are the fresh arrays of _balances: their methods, not np.max's
+        # dispatch)
         worst_all = max(
-            float(np.max(prob)), -float(np.min(prob)), float(np.max(loadb)), -float(np.min(loadb))
+            float(prob.max()), -float(prob.min()), float(loadb.max()), -float(loadb.min())
         )
         finite_all = bool(np.isfinite(worst_all) and np.isfinite(np.sum(raw.non_area)))
     if raw.P is not None:
