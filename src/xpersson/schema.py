@@ -92,7 +92,7 @@ CORE_VARIABLES: dict[str, VarSpec] = {
         "1",
         "log-log slope of the power spectrum from this node to the next",
         description="C(q) = psd_C (q / q_psd)^psd_exponent up to the next node: with psd_C it "
-        "defines the spectrum the solve used exactly (xpersson.plugins.stored.spectrum_of)",
+        "defines the spectrum the solve used exactly (xpersson.plugins.stored.spectrum_of).",
         nan_meaning="the last node: no segment starts there",
     ),
     "E": VarSpec((), "Pa", "Young's modulus"),
