@@ -260,6 +260,7 @@ def _areas(ctx_of: Any, parts: list[Any]) -> list[Array]:
 
 def graded_runs(
     ctx_of: Any,
+    psd_of: Any,
     items: list[tuple[int, Array, int]],
     zeta: Array,
     G: Any,
@@ -271,8 +272,9 @@ def graded_runs(
     does not give them (``graded_stacked`` of the viscoelastic coefficient, which the caller
     checks the block has) or a point cannot take them (then the dense grids).
 
-    ``G(k)`` gives point k's ``G`` (n_load, n_zeta) [1], ``p0`` the loads [Pa] and ``factor(A)``
-    the integrand ``P S`` from the area ``P``.
+    ``psd_of(k)`` gives point k's spectrum as the solved Dataset stores it (the panels are laid
+    on it), ``G(k)`` point k's ``G`` (n_load, n_zeta) [1], ``p0`` the loads [Pa] and
+    ``factor(A)`` the integrand ``P S`` from the area ``P``.
     """
     coef0 = ctx_of(0).coefficient  # the block's first: it integrated the output grid
     if getattr(ctx_of(items[0][0]), "solve_at", None) is None:
@@ -283,10 +285,10 @@ def graded_runs(
     groups: dict[tuple[Any, ...], list[tuple[int, Array]]] = {}
     for k, loads, top in items:
         n = rungs(zeta, G(k)[loads], top)
-        ctx = light(k)
-        if id(ctx.psd) not in keys:
-            keys[id(ctx.psd)] = content_key(ctx.psd)
-        groups.setdefault((top, n, keys[id(ctx.psd)], ctx.nu), []).append((k, loads))
+        psd = psd_of(k)
+        if id(psd) not in keys:
+            keys[id(psd)] = content_key(psd)
+        groups.setdefault((top, n, keys[id(psd)], light(k).nu), []).append((k, loads))
     parts = []
     bases: dict[Any, Array] = {}  # the output grid's q panels, once per spectrum
     for (top, n, psd_id, _), members in groups.items():
@@ -294,7 +296,7 @@ def graded_runs(
         coefs = [c.coefficient for c in ctxs]
         if any(type(c) is not type(coef0) for c in coefs):
             return None
-        psd = ctxs[0].psd
+        psd = psd_of(members[0][0])
         if psd_id not in bases:
             bases[psd_id] = panel_edges(psd, zeta * float(psd.q_L), PANELS_PER_DECADE)
         lay = layout(psd, zeta, top, n, PANELS_PER_DECADE, bases[psd_id])

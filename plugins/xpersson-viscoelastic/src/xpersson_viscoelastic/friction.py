@@ -30,6 +30,7 @@ import numpy as np
 
 from xpersson.physics import closure_S
 from xpersson.plugins import Analysis, FastPaths, ParamSpec, VarSpec
+from xpersson.plugins.stored import spectrum_of
 
 from . import _graded, _resolve
 from ._stencil import stacked_weights
@@ -187,7 +188,13 @@ class Friction(Analysis):
         got = None
         if _stacked_integrals(ctx.coefficient):
             got = _graded.graded_runs(
-                lambda _: ctx, [(0, loads, k)], zeta, lambda _: G_all, p0, self._factor
+                lambda _: ctx,
+                _spectra_of(ds),
+                [(0, loads, k)],
+                zeta,
+                lambda _: G_all,
+                p0,
+                self._factor,
             )
         if got is not None:
             run = got[0]
@@ -223,6 +230,7 @@ class Friction(Analysis):
         zp = ("point", "p0", "zeta")
         got = self._arrays(
             ctx_of,
+            _spectra_of(ds),
             zeta,
             _values(ds, "area_fraction", zp),
             _values(ds, "loss_integral", ("point", "zeta")),
@@ -247,6 +255,7 @@ class Friction(Analysis):
             return None
         got = self._arrays(
             lambda _: ctx,
+            _spectra_of(ds),
             zeta,
             _rows(A)[None],
             np.asarray(L.values, dtype=float)[None],
@@ -262,6 +271,7 @@ class Friction(Analysis):
     def _arrays(
         self,
         ctx_of: Any,
+        psd_of: Any,
         zeta: np.ndarray,
         area: np.ndarray,
         L: np.ndarray,
@@ -284,7 +294,9 @@ class Friction(Analysis):
         if items:
             runs = None
             if _stacked_integrals(ctx_of(0).coefficient):
-                runs = _graded.graded_runs(ctx_of, items, zeta, lambda k: G[k], p0, self._factor)
+                runs = _graded.graded_runs(
+                    ctx_of, psd_of, items, zeta, lambda k: G[k], p0, self._factor
+                )
             if runs is None:
                 runs = self._dense_block(ctx_of, items, zeta, area, G, L, p0)
             for k, loads, top in items:
@@ -420,6 +432,22 @@ class Friction(Analysis):
                 raise RuntimeError(f"analysis 'friction': {name!r} below {spec.valid_min}")
             if spec.valid_max is not None and np.any(vals > spec.valid_max + 1e-15):
                 raise RuntimeError(f"analysis 'friction': {name!r} above {spec.valid_max}")
+
+
+def _spectra_of(ds: xr.Dataset) -> Any:
+    """``psd_of(k)``: point ``k``'s spectrum as the Dataset stores it
+    (:func:`~xpersson.plugins.stored.spectrum_of`, the solve's bit for bit), built on first use
+    and once for all points where the spectrum is not per point."""
+    per_point = "point" in ds.variables["psd_C"].dims
+    built: dict[int, Any] = {}
+
+    def psd_of(k: int) -> Any:
+        key = k if per_point else 0
+        if key not in built:
+            built[key] = spectrum_of(ds, point=k) if per_point else spectrum_of(ds)
+        return built[key]
+
+    return psd_of
 
 
 def _values(ds: xr.Dataset, name: str, dims: tuple[str, ...]) -> np.ndarray:
