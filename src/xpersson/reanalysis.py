@@ -15,18 +15,17 @@ from __future__ import annotations
 
 import dataclasses
 import json
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from . import checks, plugins
+from . import plugins
 from .cache import solve_scope
 from .checks import CORE_DIMS
 from .errors import ArchiveError
 from .pipeline import scene_context, squeeze_p0
-from .pipeline.assemble import add_outputs
+from .pipeline.assemble import add_analyses
 from .pipeline.frontend import diffusion_clock, spectrum_kinks
 from .pipeline.solve_at import make_solve_at
 from .pipeline.stages import coefficient_arrays, load_walls, validate
@@ -176,11 +175,5 @@ def _run(rs: ResolvedScene, ds: xr.Dataset) -> xr.Dataset:
     ctx = dataclasses.replace(
         ctx, coefficient=coef, boundary=rs.boundary, solve_at=make_solve_at(rs, ctx, walls, clock)
     )
-    for (_, analysis), label in zip(rs.analyses, labels, strict=True):
-        with checks.guard_dataset(out, label) as view, checks.calling(label, "compute()"):
-            values: Mapping[str, Any] = analysis.compute(ctx, view)
-        missing = [v for v in type(analysis).provides if v not in (values or {})]
-        if missing:
-            raise checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
-        add_outputs(out, values, type(analysis).outputs, label)
+    add_analyses(rs, ctx, out, labels)
     return squeeze_p0(out) if squeezed else out

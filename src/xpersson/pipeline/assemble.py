@@ -162,6 +162,19 @@ def add_outputs(
             ) from None
 
 
+def add_analyses(rs: ResolvedScene, ctx: SceneContext, ds: xr.Dataset, labels: list[str]) -> None:
+    """Run the scene's analyses on ``ds`` in order (each sees the Dataset through
+    :func:`xpersson.checks.guard_dataset`), check that each provides what it declares and add
+    its outputs (:func:`add_outputs`); ``labels``: the analyses' labels, in the same order."""
+    for (_, analysis), label in zip(rs.analyses, labels, strict=True):
+        with checks.guard_dataset(ds, label) as view, checks.calling(label, "compute()"):
+            out = analysis.compute(ctx, view)
+        missing = [v for v in type(analysis).provides if v not in (out or {})]
+        if missing:
+            raise checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
+        add_outputs(ds, out, type(analysis).outputs, label)
+
+
 def diagnostics_notes(ds: xr.Dataset) -> list[str]:
     """Add the P-resolution diagnostics and the per-load ``theory_validity``; collect the
     regime warnings and the unresolved P as notes."""

@@ -10,7 +10,7 @@ import xarray as xr
 from .. import checks, memory, plugins, provenance
 from ..cache import solve_scope
 from ..scene import ResolvedScene
-from .assemble import add_outputs, assemble, attributes, diagnostics_notes, squeeze_p0
+from .assemble import add_analyses, add_outputs, assemble, attributes, diagnostics_notes, squeeze_p0
 from .body import body_dataset
 from .frontend import diffusion_clock, pressure_grid, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
@@ -77,13 +77,7 @@ def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
             boundary=rs.boundary,
             solve_at=make_solve_at(rs, ctx, walls, clock),
         )
-    for (_, analysis), label in zip(rs.analyses, analysis_labels, strict=True):
-        with checks.guard_dataset(ds, label) as view, checks.calling(label, "compute()"):
-            out = analysis.compute(ctx, view)
-        missing = [v for v in type(analysis).provides if v not in (out or {})]
-        if missing:
-            raise checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
-        add_outputs(ds, out, type(analysis).outputs, label)
+    add_analyses(rs, ctx, ds, analysis_labels)
     attributes(
         ds, rs, lambda: provenance.global_attributes(rs), results, diagnostics_notes(ds), core
     )
