@@ -20,17 +20,6 @@ EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 VOLATILE = ("history", "date_created", "xpersson_solver")
 
 
-@pytest.fixture(scope="module")
-def client():
-    """One LocalCluster for the module (starting one costs seconds)."""
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=40
-    )
-    with distributed.Client(cluster) as c:
-        yield c
-    cluster.close()
-
-
 def _same(a: xr.Dataset, b: xr.Dataset) -> None:
     """Bit-for-bit equal values, coordinates and attributes (except timestamps/timings)."""
     xr.testing.assert_identical(

@@ -34,16 +34,6 @@ STUDY = scene(
 STACKED = scene(spectrum={"H": [0.6, 0.65, 0.7, 0.75, 0.8, 0.85]})
 
 
-@pytest.fixture(scope="module")
-def client():
-    cluster = distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=40
-    )
-    with distributed.Client(cluster) as c:
-        yield c
-    cluster.close()
-
-
 def _plan(sc):
     return expand(as_scene(sc), get_registry())
 
