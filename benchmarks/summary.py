@@ -4,13 +4,16 @@ Run from the checkout (one command regenerates the results and the README table)
 
     python benchmarks/summary.py [--quick] [--rounds 3] [--scenes 12] [--check]
     python benchmarks/summary.py --paths "sweep E x H" "load strings"   # some rows again
+    python benchmarks/summary.py --held-out 2026   # the design paths on held-out scenes
 
 One process, ``OPENBLAS_NUM_THREADS=1`` (set here before numpy is imported), CPU time of this
 process (``time.process_time``; the machine may be shared), each quantity the best of
 ``--rounds`` rounds in which the quantities of a ratio are measured alternately. The scenes are
 a seeded design across the documented domain (:mod:`summary_design`: H 0.3-0.95, with and
 without roll-off, 3-6 decades). Per path: the median and the **worst** ratio over the design and
-the scene of the worst; the peak traced memory (``tracemalloc``) of the path on its worst scene.
+the scene of the worst; the worst over a held-out design of the same domain drawn with another
+seed (``--held-out SEED``: the design paths and the C-march rows, not the single paths); the
+peak traced memory (``tracemalloc``) of the path on its worst scene.
 Honest denominators: plain loads are given as range tables, the kernel runs on the same curves.
 The C march (``../shared/peers/c_march`` beside the checkout or ``$XPERSSON_PEERS/c_march``,
 built here with ``$CC``/``cc``; skipped without a compiler) and the two-grid scipy BDF peer
@@ -43,7 +46,7 @@ PEERS = Path(os.environ.get("XPERSSON_PEERS", HERE.parents[1] / "shared" / "peer
 sys.path.insert(0, str(HERE))
 
 import summary_paths as P  # noqa: E402
-from summary_design import design  # noqa: E402
+from summary_design import design, held_out  # noqa: E402
 
 import xpersson  # noqa: E402
 
@@ -123,7 +126,8 @@ def _met(target: tuple | None, m: dict) -> bool | None:
     return bool((m["per_load_ms"] if kind == "ms" else m["ratio"]) <= value)
 
 
-def table(rows: list[dict], meta: dict) -> str:
+def table(rows: list[dict], meta: dict, held: dict | None = None) -> str:
+    held_rows = {r["path"]: r for r in (held or {}).get("rows", []) if "error" not in r}
     head = (
         f"Measured by `python benchmarks/summary.py` ({meta['date']}, {meta['scenes']} seeded "
         f"scenes: H 0.3-0.95, with and without roll-off, 3-6 decades; one process, "
@@ -131,14 +135,16 @@ def table(rows: list[dict], meta: dict) -> str:
         f"{meta['machine']}). Ratio: the path's time over its kernel's on the same curves; "
         "worst over the design, and its scene. Memory: peak traced on the worst scene."
         + _partial(meta)
+        + _held_note(held)
         + "\n\n"
-        "| path | median | worst (scene) | worst: time / kernel | target | peak MiB |\n"
-        "|---|---:|---|---|---|---:|\n"
+        "| path | median | worst (scene) | worst: time / kernel | target | held-out worst "
+        "(scene) | peak MiB |\n"
+        "|---|---:|---|---|---|---|---:|\n"
     )
     lines = []
     for r in rows:
         if "error" in r:
-            lines.append(f"| {r['path']} | - | not measured: {r['error'][:80]} | | | |")
+            lines.append(f"| {r['path']} | - | not measured: {r['error'][:80]} | | | | |")
             continue
         target = ""
         if r["target"] is not None:
@@ -150,9 +156,28 @@ def table(rows: list[dict], meta: dict) -> str:
             f"| {r['path']} | {r['median']:.2f} | **{r['worst']:.2f}** ({r['worst_scene']}) | "
             f"{_fmt(r['time'], r['unit'])} / {_fmt(r['kernel'], r['unit'])}"
             f"{(' ' + r['note']) if r['note'] else ''} "
-            f"| {target} | {mem} |"
+            f"| {target} | {_held_cell(held_rows.get(r['path']))} | {mem} |"
         )
     return head + "\n".join(lines) + "\n"
+
+
+def _held_cell(h: dict | None) -> str:
+    """The held-out worst ratio, its scene, and whether it meets the row's target."""
+    if h is None:
+        return "-"
+    met = "" if h["met"] is None else (": met" if h["met"] else ": **not met**")
+    per_load = f" ({h['time'] * 1e3:.3g} ms)" if h["target"] and h["target"][0] == "ms" else ""
+    return f"{h['worst']:.2f}{per_load} ({h['worst_scene']}){met}"
+
+
+def _held_note(held: dict | None) -> str:
+    if not held:
+        return ""
+    m = held["meta"]
+    return (
+        f" Held-out: the design paths again on {m['scenes']} scenes drawn with seed "
+        f"{m['seed']} ({m['date']}; `--held-out {m['seed']}`), worst of those."
+    )
 
 
 def _partial(meta: dict) -> str:
@@ -171,7 +196,9 @@ def _fmt(value: float, unit: str = "s") -> str:
 
 
 def write(rows: list[dict], meta: dict, raw: dict, check: bool, memory: dict) -> str:
-    text = table(rows, meta)
+    held_file = HERE / "results" / "summary_heldout.json"
+    held = json.loads(held_file.read_text()) if held_file.exists() else None
+    text = table(rows, meta, held)
     print(text)
     if check:
         return text
@@ -219,6 +246,29 @@ def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
     return write(summarize(raw, P.TARGETS, memory), meta, raw, check, memory)
 
 
+def held_out_run(seed: int, rounds: int | None, check: bool) -> str:
+    """The design paths and the C-march rows on :func:`summary_design.held_out` scenes
+    (``results/summary_heldout.json``), then the table re-rendered from the saved full run."""
+    scenes = held_out(12, seed)
+    rounds = rounds or 3
+    xpersson.solve(P.scene(scenes[0][1], P.load_range(3)))  # warm-up
+    raw = over_design(scenes, P.DESIGN_PATHS, rounds, False)
+    lib = P.c_march_lib(PEERS)
+    if lib is not None:
+        raw.update(P.march_paths(lib, scenes, rounds, False))
+    meta = {"date": time.strftime("%Y-%m-%d"), "seed": seed, "scenes": len(scenes)}
+    meta["rounds"], meta["design"] = rounds, dict(scenes)
+    held = {"meta": meta, "rows": summarize(raw, P.TARGETS, {}), "raw": raw}
+    if check:
+        return table(held["rows"], {**meta, "machine": platform.machine()})
+    (HERE / "results" / "summary_heldout.json").write_text(
+        json.dumps(held, indent=1, default=float)
+    )
+    saved = json.loads((HERE / "results" / "summary.json").read_text())
+    rows = summarize(saved["raw"], P.TARGETS, dict(saved.get("memory", {})))
+    return write(rows, saved["meta"], saved["raw"], False, saved.get("memory", {}))
+
+
 def main(argv: list[str] | None = None) -> str:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=None, help="default 3 (--quick: 1)")
@@ -237,7 +287,16 @@ def main(argv: list[str] | None = None) -> str:
         "or parallel rows); the other rows are kept from results/summary.json, the table is "
         "rendered in full",
     )
+    ap.add_argument(
+        "--held-out",
+        type=int,
+        metavar="SEED",
+        help="measure the design paths and the C-march rows on 12 scenes drawn with SEED "
+        "(not the design's 36) and add their worst to the table",
+    )
     args = ap.parse_args(argv)
+    if args.held_out is not None:
+        return held_out_run(args.held_out, args.rounds, args.check)
     if args.paths:
         return some_paths(args.paths, args.rounds, args.check)
     if args.from_json:

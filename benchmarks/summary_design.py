@@ -24,7 +24,6 @@ ZETA = [float(z) for z in np.geomspace(1.0, 1e3, 50)]
 def spectrum(H: float, roll: bool, decades: float, q_L: float) -> dict:
     """A self-affine spectrum (``q_r = q_L``: no roll-off)."""
     q_L, H = float(q_L), float(H)
-    q_L, H = float(q_L), float(H)
     q_r = q_L * (10 ** (0.5 + 0.5 * (H % 0.1) / 0.1) if roll else 1.0)
     return {
         "model": "self_affine",
@@ -52,6 +51,12 @@ def design(n: int = 12, seed: int = 36) -> list[tuple[str, dict]]:
         name = f"{'roll' if roll else 'flat'} H={H:.2f} {decades:.0f}dec"
         out.append((name, spectrum(H, roll, decades, q_L)))
     return out
+
+
+def held_out(n: int = 12, seed: int = 2026) -> list[tuple[str, dict]]:
+    """``n`` stratified draws of the same domain with another seed, without the two named
+    scenes: the design the claims were not made on."""
+    return design(n + 2, seed)[2:]
 
 
 def scene(spec: dict, loads: object = "100 kPa", **sections: object) -> dict:
