@@ -1,78 +1,75 @@
-"""Analyses of a solved Dataset after the fact: :func:`analyse` (``xpersson.analyse``).
-
-An archive reopened years later (``xpersson.open_dataset``, ``xarray.open_dataset``) carries
-what the analyses compute from: the solved area curves, the spectrum the solve used
-(``psd_C``, ``psd_exponent`` on ``q_psd``: :func:`xpersson.plugins.stored.spectrum_of`), the
-contact modulus ``E_star``, and the resolved scene (attribute ``xpersson_scene``), which names
-the coefficient and the boundary whose declarations the analyses read. :func:`analyse` runs an
-analysis on that Dataset as the solving process ran it: the same context, and the same
-``ctx.solve_at`` (the scene's solve at denser magnifications where the output grid is too
-coarse for the integrals over zeta), with the spectrum taken from the Dataset, never from a
-file or a spectrum plugin. The numbers equal those of the analysis run inside the solve.
-"""
+"""One solved scene's analyses after the fact (:func:`analyse_point`; the package's
+docstring says what the archive carries and what the numbers equal)."""
 
 from __future__ import annotations
 
 import dataclasses
 import json
+import warnings
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from . import plugins
-from .cache import solve_scope
-from .checks import CORE_DIMS
-from .errors import ArchiveError
-from .pipeline import scene_context, squeeze_p0
-from .pipeline.assemble import add_analyses
-from .pipeline.frontend import diffusion_clock, spectrum_kinks
-from .pipeline.solve_at import make_solve_at
-from .pipeline.stages import coefficient_arrays, load_walls, validate
-from .plugins.stored import contact_modulus, spectrum_of
-from .scene import ResolvedScene, Scene
-from .schema import CORE_VARIABLES
+from .. import plugins
+from ..cache import solve_scope
+from ..checks import CORE_DIMS
+from ..errors import ArchiveError, XperssonWarning
+from ..pipeline import model_error, scene_context, squeeze_p0
+from ..pipeline.assemble import add_analyses
+from ..pipeline.frontend import diffusion_clock, spectrum_kinks
+from ..pipeline.solve_at import make_solve_at
+from ..pipeline.stages import coefficient_arrays, load_walls, validate
+from ..plugins.stored import contact_modulus, spectrum_of
+from ..scene import ResolvedScene, Scene, SceneError
+from ..schema import CORE_VARIABLES
 
-__all__ = ["analyse"]
+__all__ = ["analyse_point", "archived_scene", "as_written", "point_scene", "run_point"]
 
 
-def analyse(ds: xr.Dataset, name: str, /, **params: Any) -> xr.Dataset:
-    """Run the analysis ``name`` on a solved Dataset and return a new Dataset with its outputs.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        One solved scene (not a sweep): the Dataset :func:`xpersson.solve` returned, or an
-        archive reopened with :func:`xpersson.open_dataset` or :func:`xarray.open_dataset`.
-    name : str
-        An installed analysis (``xpersson plugins list analyses``), e.g. ``"gap_pdf"``,
-        ``"leakage"``, ``"elastic_energy"``, ``"thermal_contact"``.
-    **params
-        The analysis's parameters, as in a scene's ``[analyses.NAME]`` table (numbers in SI,
-        or strings with units: ``u_max="2 um"``).
-
-    Returns
-    -------
-    xarray.Dataset
-        ``ds`` (not modified) with the analysis's variables (and those of the analyses it
-        requires that ``ds`` lacks) added; variables of the same names are replaced.
-
-    Raises
-    ------
-    ArchiveError
-        ``ds`` lacks what the analyses compute from (the spectrum ``psd_C``/``q_psd``,
-        ``E_star``, the scene attribute ``xpersson_scene``: the message names it), or holds a
-        sweep or a finite body.
-    SceneError
-        An unknown analysis or parameter (as in a scene).
-    """
-    _one_scene(ds)
+def analyse_point(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Dataset:
+    """:func:`xpersson.analyse` of one solved scene (not a sweep): see its docstring."""
     spectrum_of(ds)  # what is missing is named before any work
     contact_modulus(ds)
-    data = _scene(ds)
+    data = archived_scene(ds)
     data["analyses"] = {name: dict(params)}
-    psd = spectrum_of(ds)  # the scene's spectrum section: the Dataset's table, no file read
+    rs = point_scene(data, ds)
+    with plugins.time_limit(rs.plugin_time_limit), solve_scope():
+        out = run_point(rs, ds)
+    out = squeeze_p0(out) if "p0" not in ds.dims else out
+    new = [n for n in out.data_vars if n not in ds.data_vars]
+    if model_error.covered(out[new]):  # the bands, from the scene's features as solve gives
+        written = as_written(data)
+        if written is not None:
+            model_error.attach(out, written)
+    return out
+
+
+def as_written(data: dict[str, Any]) -> ResolvedScene | None:
+    """The scene ``data`` resolved with its own spectrum section (the spectrum model and its
+    parameters are features of the model-error bands, :mod:`xpersson.pipeline.model_error`);
+    ``None``, with a warning, where it no longer resolves (a spectrum file moved)."""
+    try:
+        return Scene({k: v for k, v in data.items() if k != "sweep"}, source=None).resolve()
+    except (SceneError, OSError) as exc:
+        warnings.warn(
+            f"the archive's scene no longer resolves with its own spectrum ({exc}): the "
+            "model-error variables (X_exact_low, X_exact_high, X_model_error_status) of the "
+            "analysis's outputs are not added",
+            XperssonWarning,
+            stacklevel=4,
+        )
+        return None
+
+
+def point_scene(data: dict[str, Any], ds: xr.Dataset) -> ResolvedScene:
+    """The resolved scene ``data`` of one solved point ``ds`` with the Dataset's spectrum: the
+    scene's spectrum section becomes the Dataset's table (no file read, no spectrum plugin)
+    and the resolved spectrum the Dataset's own segments, bit for bit; ``ds``'s loads and
+    magnifications are checked against the scene's."""
+    psd = spectrum_of(ds)
     q = psd.nodes()
+    data = {k: v for k, v in data.items() if k != "sweep"}
     data["spectrum"] = {
         "model": "tabulated",
         "q": _quantities(q, "1/m"),
@@ -81,24 +78,10 @@ def analyse(ds: xr.Dataset, name: str, /, **params: Any) -> xr.Dataset:
     rs = Scene(data, source=None).resolve()
     rs = dataclasses.replace(rs, psd=psd)  # the solve's own segments, bit for bit
     _check_grid(rs, ds)
-    with plugins.time_limit(rs.plugin_time_limit), solve_scope():
-        return _run(rs, ds)
+    return rs
 
 
-def _one_scene(ds: xr.Dataset) -> None:
-    """Refuse a sweep's Dataset (a point of it has its own scene, which the archive's
-    ``xpersson_scene`` with the swept lists does not give)."""
-    swept = [d for n in ("area_fraction", "psd_C") if n in ds.variables for d in ds[n].dims]
-    swept = [d for d in swept if d not in CORE_DIMS]
-    if "xpersson_sweep" in ds.attrs or swept:
-        raise ArchiveError(
-            f"analyse runs on one solved scene; this Dataset holds a sweep (dims {swept}): add "
-            "the analysis to the sweep's scene instead (xpersson.solve(scene, "
-            "analyses__NAME={...}))"
-        )
-
-
-def _scene(ds: xr.Dataset) -> dict[str, Any]:
+def archived_scene(ds: xr.Dataset) -> dict[str, Any]:
     """The archive's resolved scene (its ``xpersson_scene`` attribute), checked."""
     text = ds.attrs.get("xpersson_scene")
     if not text:
@@ -157,12 +140,12 @@ def _without(ds: xr.Dataset, names: list[str]) -> xr.Dataset:
     return out.drop_vars(stale)
 
 
-def _run(rs: ResolvedScene, ds: xr.Dataset) -> xr.Dataset:
-    """The analyses of ``rs`` on ``ds``, in the context the pipeline gives them."""
+def run_point(rs: ResolvedScene, ds: xr.Dataset) -> xr.Dataset:
+    """The analyses of ``rs`` on one point's ``ds``, in the context the pipeline gives them
+    (``ds`` with its ``p0`` dimension, a single load's given back: :func:`squeeze_p0` it)."""
     who = rs.labels
     labels = [who[f"analyses.{n}"] for n, _ in rs.analyses]
     provided = [v for _, a in rs.analyses for v in type(a).provides]
-    squeezed = "p0" not in ds.dims
     out = _without(_with_p0(ds, rs), provided)
     ctx = scene_context(rs)
     if "p" in out.dims:
@@ -176,4 +159,4 @@ def _run(rs: ResolvedScene, ds: xr.Dataset) -> xr.Dataset:
         ctx, coefficient=coef, boundary=rs.boundary, solve_at=make_solve_at(rs, ctx, walls, clock)
     )
     add_analyses(rs, ctx, out, labels)
-    return squeeze_p0(out) if squeezed else out
+    return out

@@ -1,0 +1,138 @@
+"""A sweep's analyses after the fact (:func:`analyse_sweep`): every point with its own values.
+
+The sweep's archive carries its scene with the swept lists and their order (``xpersson_scene``,
+``xpersson_sweep``): :func:`xpersson.sweep.plan.expand` gives the same points again, each with
+its swept values. Every point's Dataset is cut from the sweep's (its own spectrum nodes only,
+as it was solved) and analysed as one solved scene (:mod:`._point`); the points' outputs are
+stacked as the sweep's point-by-point path stacks them (:func:`xpersson.sweep.blocks.stack`)
+and a sweep dimension along which an output never changes is dropped, as the sweep drops it.
+The numbers are those of the analysis run inside the sweep (its fast paths equal the
+point-by-point path: ``xpersson.testing.check_plugin``).
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .. import plugins
+from ..cache import solve_scope
+from ..errors import ArchiveError
+from ..pipeline import model_error, squeeze_p0
+from ..scene import Scene
+from ..sweep.blocks import POINT_STATUS, blocks_of, stack
+from ..sweep.combine import _constant_dims
+from ..sweep.parts import finalize
+from ..sweep.plan import SweepPlan, expand
+from ..sweep.stacking import BlockResult, _digests
+from ._point import archived_scene, as_written, point_scene, run_point
+
+__all__ = ["analyse_sweep", "is_sweep"]
+
+
+def is_sweep(ds: xr.Dataset) -> bool:
+    """Whether ``ds`` is a sweep's Dataset (its ``xpersson_sweep`` attribute)."""
+    return "xpersson_sweep" in ds.attrs
+
+
+def analyse_sweep(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Dataset:
+    """:func:`xpersson.analyse` of a sweep's Dataset (see its docstring)."""
+    plan = _plan(ds)
+    status = _status(ds, plan)
+    ok = [i for i, s in zip(plan.indices(), status.ravel(), strict=True) if s != _FAILED]
+    if not ok:
+        raise ArchiveError("every point of the sweep failed: there is no solve to analyse")
+    results: list[xr.Dataset | None] = []
+    scenes: list[dict[str, Any]] = []
+    for index, st in zip(plan.indices(), status.ravel(), strict=True):
+        data = plan.point_data(index)
+        data["analyses"] = {name: dict(params)}
+        scenes.append(data)
+        if st == _FAILED:  # a failed point: NaN, as the sweep has it
+            results.append(None)
+            continue
+        point = _point_dataset(ds, plan, index)
+        rs = point_scene(data, point)
+        provided = {v for _, a in rs.analyses for v in type(a).provides}
+        with plugins.time_limit(rs.plugin_time_limit), solve_scope():
+            got = run_point(rs, point)
+        results.append(got[[v for v in got.data_vars if v not in point.data_vars or v in provided]])
+    return _merged(ds, plan, results, status, scenes)
+
+
+_FAILED = POINT_STATUS["failed"]
+
+
+def _plan(ds: xr.Dataset) -> SweepPlan:
+    """The sweep's plan from its archived scene, checked against the Dataset's dimensions and
+    coordinates (a subset of the sweep is refused)."""
+    meta = json.loads(ds.attrs["xpersson_sweep"])
+    plan = expand(Scene(archived_scene(ds), source=None))
+    if plan is None or list(plan.dims) != list(meta.get("dims", [])):
+        raise ArchiveError(
+            f"the Dataset's sweep dimensions {meta.get('dims')} are not those of its scene "
+            "(xpersson_scene): analyse needs the archive of a whole sweep"
+        )
+    for coord, (dim, values, _) in plan.coords().items():
+        have = ds.variables.get(coord)
+        if have is None or have.dims != (dim,) or not np.array_equal(have.values, values):
+            raise ArchiveError(
+                f"the Dataset's sweep coordinate {coord!r} is not its scene's (was the sweep "
+                "subset with sel/isel, or a coordinate dropped?): analyse the whole sweep"
+            )
+    return plan
+
+
+def _status(ds: xr.Dataset, plan: SweepPlan) -> np.ndarray:
+    """Every point's status (``point_status`` over the sweep grid; 0 where not stored)."""
+    var = ds.variables.get("point_status")
+    if var is None:
+        return np.zeros(plan.shape, dtype=np.int8)
+    full = var.set_dims(dict(zip(plan.dims, plan.shape, strict=True)))
+    return np.asarray(full.transpose(*plan.dims).values)
+
+
+def _point_dataset(ds: xr.Dataset, plan: SweepPlan, index: tuple[int, ...]) -> xr.Dataset:
+    """Point ``index``'s Dataset as its solve gave it: the sweep dimensions selected (their
+    coordinates dropped), ``point_status`` dropped, and the spectrum cut to its own nodes."""
+    at = {d: i for d, i in zip(plan.dims, index, strict=True) if d in ds.dims}
+    point = ds.isel(at, drop=True)
+    drop = [n for n in (*plan.coords(), "point_status") if n in point.variables]
+    point = point.drop_vars(drop)
+    if "q_psd" in point.dims:  # a sweep's union of nodes: NaN where a node is another point's
+        own = np.isfinite(np.asarray(point.variables["psd_C"].values, dtype=float))
+        if not own.all():
+            point = point.isel(q_psd=np.flatnonzero(own))
+    return point
+
+
+def _merged(
+    ds: xr.Dataset,
+    plan: SweepPlan,
+    results: list[xr.Dataset | None],
+    status: np.ndarray,
+    scenes: list[dict[str, Any]],
+) -> xr.Dataset:
+    """``ds`` with the points' outputs stacked over the sweep grid as the sweep stacks them
+    (:func:`~xpersson.sweep.blocks.stack`, one load squeezed), every output without the sweep
+    dimensions along which it never changes (the sweep's fingerprints and
+    :func:`~xpersson.sweep.parts.finalize`)."""
+    (block,) = blocks_of(plan, plan.size)
+    stacked = stack(results, block, status)
+    if "p0" not in ds.dims:  # single-load points: p0 a scalar coordinate, as in the sweep
+        stacked = squeeze_p0(stacked)
+    added: list[str] = []
+    if model_error.covered(stacked):  # the bands, as the sweep attaches them to a block
+        points = [as_written(data) for data in scenes]
+        if all(p is not None for p in points):
+            added = model_error.attach(stacked, points, plan.dims)
+    present = [None if r is None else set(r.variables).union(added) for r in results]
+    found = BlockResult(block, stacked, None, status, {}, _digests(present, stacked, block))
+    stacked = finalize(stacked, _constant_dims(plan, [found]), {})
+    new = [n for n in stacked.data_vars if n != "point_status"]
+    out = ds.drop_vars([n for n in new if n in ds.variables])
+    coords = {c: stacked.variables[c] for c in stacked.coords if c not in out.variables}
+    return out.assign_coords(coords).assign({n: stacked.variables[n] for n in new})
