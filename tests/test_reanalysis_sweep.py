@@ -123,5 +123,6 @@ def test_round_trip_of_a_seeded_sweep(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         ref = xpersson.solve(_scene({"leakage": LEAKAGE}, spectrum, [E, "3e7 Pa"], p0))
-        bare = _round_trip(xpersson.solve(_scene({}, spectrum, [E, "3e7 Pa"], p0)), tmp_path / "w.nc")
+        bare = xpersson.solve(_scene({}, spectrum, [E, "3e7 Pa"], p0))
+    bare = _round_trip(bare, tmp_path / "w.nc")
     _assert_same_outputs(xpersson.analyse(bare, "leakage", **LEAKAGE), ref, bare)

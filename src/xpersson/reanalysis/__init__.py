@@ -11,7 +11,6 @@ coarse for the integrals over zeta), with the spectrum taken from the Dataset, n
 file or a spectrum plugin. The numbers equal those of the analysis run inside the solve.
 """
 
-
 from __future__ import annotations
 
 from typing import Any
