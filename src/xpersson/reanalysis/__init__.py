@@ -17,6 +17,7 @@ from typing import Any
 
 import xarray as xr
 
+from ._body import analyse_body, is_body
 from ._point import analyse_point
 from ._sweep import analyse_sweep, is_sweep
 
@@ -60,4 +61,6 @@ def analyse(ds: xr.Dataset, name: str, /, **params: Any) -> xr.Dataset:
     """
     if is_sweep(ds):
         return analyse_sweep(ds, name, params)
+    if is_body(ds):
+        return analyse_body(ds, name, params)
     return analyse_point(ds, name, params)

@@ -24,7 +24,15 @@ from ..plugins.stored import contact_modulus, spectrum_of
 from ..scene import ResolvedScene, Scene, SceneError
 from ..schema import CORE_VARIABLES
 
-__all__ = ["analyse_point", "archived_scene", "as_written", "point_scene", "run_point"]
+__all__ = [
+    "analyse_point",
+    "analysed",
+    "archived_scene",
+    "as_written",
+    "attach_model_error",
+    "point_scene",
+    "run_point",
+]
 
 
 def analyse_point(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Dataset:
@@ -37,12 +45,18 @@ def analyse_point(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Datas
     with plugins.time_limit(rs.plugin_time_limit), solve_scope():
         out = run_point(rs, ds)
     out = squeeze_p0(out) if "p0" not in ds.dims else out
+    attach_model_error(out, ds, data)
+    return out
+
+
+def attach_model_error(out: xr.Dataset, ds: xr.Dataset, data: dict[str, Any]) -> None:
+    """The model-error bands of the outputs ``out`` adds to ``ds`` (in place), from the
+    features of the scene ``data`` as written, as :func:`xpersson.solve` attaches them."""
     new = [n for n in out.data_vars if n not in ds.data_vars]
-    if model_error.covered(out[new]):  # the bands, from the scene's features as solve gives
+    if model_error.covered(out[new]):
         written = as_written(data)
         if written is not None:
             model_error.attach(out, written)
-    return out
 
 
 def as_written(data: dict[str, Any]) -> ResolvedScene | None:
@@ -81,8 +95,9 @@ def point_scene(data: dict[str, Any], ds: xr.Dataset) -> ResolvedScene:
     return rs
 
 
-def archived_scene(ds: xr.Dataset) -> dict[str, Any]:
-    """The archive's resolved scene (its ``xpersson_scene`` attribute), checked."""
+def archived_scene(ds: xr.Dataset, *, body: bool = False) -> dict[str, Any]:
+    """The archive's resolved scene (its ``xpersson_scene`` attribute), checked (a finite
+    body's refused unless ``body``)."""
     text = ds.attrs.get("xpersson_scene")
     if not text:
         raise ArchiveError(
@@ -91,7 +106,7 @@ def archived_scene(ds: xr.Dataset) -> dict[str, Any]:
             "xpersson (xpersson.to_netcdf, xpersson run) with its global attributes"
         )
     data = json.loads(text)
-    if data.get("geometry"):
+    if data.get("geometry") and not body:
         raise ArchiveError(
             "analyse runs on a flat's solve; this Dataset holds a finite body ([geometry]): "
             "add the analysis to its scene and solve it again"
@@ -143,6 +158,11 @@ def _without(ds: xr.Dataset, names: list[str]) -> xr.Dataset:
 def run_point(rs: ResolvedScene, ds: xr.Dataset) -> xr.Dataset:
     """The analyses of ``rs`` on one point's ``ds``, in the context the pipeline gives them
     (``ds`` with its ``p0`` dimension, a single load's given back: :func:`squeeze_p0` it)."""
+    return analysed(rs, ds)[0]
+
+
+def analysed(rs: ResolvedScene, ds: xr.Dataset) -> tuple[xr.Dataset, Any]:
+    """:func:`run_point` and the analyses' context (what a finite body's outputs read)."""
     who = rs.labels
     labels = [who[f"analyses.{n}"] for n, _ in rs.analyses]
     provided = [v for _, a in rs.analyses for v in type(a).provides]
@@ -159,4 +179,4 @@ def run_point(rs: ResolvedScene, ds: xr.Dataset) -> xr.Dataset:
         ctx, coefficient=coef, boundary=rs.boundary, solve_at=make_solve_at(rs, ctx, walls, clock)
     )
     add_analyses(rs, ctx, out, labels)
-    return out
+    return out, ctx
