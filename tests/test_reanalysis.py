@@ -113,13 +113,6 @@ def test_without_scene_attribute_is_refused(solved):
         xpersson.analyse(ds, "leakage")
 
 
-def test_subset_dataset_is_refused(solved):
-    _, path = solved
-    ds = xpersson.open_dataset(path).isel(p0=[1])
-    with pytest.raises(ArchiveError, match="subset"):
-        xpersson.analyse(ds, "leakage")
-
-
 def test_archive_without_exponents_to_round_off(solved):
     """An archive written before ``psd_exponent``: the log-log table, values within
     round-off of the spectrum (mean gap and energy within 1e-13)."""

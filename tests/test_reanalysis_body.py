@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import xpersson
+from xpersson.errors import ArchiveError
 
 SCENE = {
     "geometry": {"model": "cylinder", "radius": "1.5 mm", "length": "62.83 mm"},
@@ -52,3 +53,11 @@ def test_body_archive_equals_the_solve(tmp_path, force):
     for v in ("real_contact_area", "approach", "body_elastic_energy", "nominal_pressure"):
         if v in bare:
             np.testing.assert_array_equal(out[v].values, bare[v].values, err_msg=v)
+
+
+def test_force_subset_is_refused():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = xpersson.solve(SCENE)
+    with pytest.raises(ArchiveError, match="subset along force"):
+        xpersson.analyse(ds.isel(force=[0, 2]), "leakage", **LEAKAGE)

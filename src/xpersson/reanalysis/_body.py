@@ -14,10 +14,12 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 import xarray as xr
 
 from .. import plugins
 from ..cache import solve_scope
+from ..errors import ArchiveError
 from ..pipeline.body import OUTPUTS as BODY_OUTPUTS
 from ..pipeline.body import body_dataset
 from ..pipeline.model_error import SUFFIXES
@@ -38,6 +40,7 @@ def analyse_body(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Datase
     flat = ds.drop_vars(_body_variables(ds, data))
     data["analyses"] = {name: dict(params)}
     rs = point_scene(data, flat)
+    _check_forces(rs, ds)
     with plugins.time_limit(rs.plugin_time_limit), solve_scope():
         out, ctx = analysed(rs, flat)
         body = body_dataset(rs, ctx, out)
@@ -45,6 +48,18 @@ def analyse_body(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Datase
     out = body.assign(kept)  # the other analyses' body quantities, as the archive has them
     attach_model_error(out, ds, data)
     return out
+
+
+def _check_forces(rs: Any, ds: xr.Dataset) -> None:
+    """The Dataset's forces must be its scene's (the flat's grid of loads was chosen for all
+    of them, and the body is computed again for each)."""
+    force = np.atleast_1d(np.asarray(ds["force"].values, dtype=float))
+    if not np.array_equal(force, np.asarray(rs.force, dtype=float)):
+        raise ArchiveError(
+            "the Dataset's force is not its scene's (was it subset along force with sel/isel?): "
+            "the pressure grid p0 was chosen for all the scene's forces and the body is "
+            "computed again for each; analyse the whole Dataset, then select forces"
+        )
 
 
 def _body_variables(ds: xr.Dataset, data: dict[str, Any]) -> list[str]:

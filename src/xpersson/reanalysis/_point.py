@@ -79,8 +79,9 @@ def as_written(data: dict[str, Any]) -> ResolvedScene | None:
 def point_scene(data: dict[str, Any], ds: xr.Dataset) -> ResolvedScene:
     """The resolved scene ``data`` of one solved point ``ds`` with the Dataset's spectrum: the
     scene's spectrum section becomes the Dataset's table (no file read, no spectrum plugin)
-    and the resolved spectrum the Dataset's own segments, bit for bit; ``ds``'s loads and
-    magnifications are checked against the scene's."""
+    and the resolved spectrum the Dataset's own segments, bit for bit. A Dataset of some of
+    the scene's loads (``sel``/``isel`` along ``p0``) is analysed as the scene of those loads;
+    its magnifications must be the scene's (checked)."""
     psd = spectrum_of(ds)
     q = psd.nodes()
     data = {k: v for k, v in data.items() if k != "sweep"}
@@ -90,6 +91,11 @@ def point_scene(data: dict[str, Any], ds: xr.Dataset) -> ResolvedScene:
         "C": _quantities(psd.C(q), "m**4"),
     }
     rs = Scene(data, source=None).resolve()
+    p0 = np.asarray(ds["p0"].values, dtype=float)
+    if not np.array_equal(rs.p0, np.atleast_1d(p0)) and rs.geometry is None:
+        loads = _quantities(p0, "Pa")  # the subset's loads (each solved as in the batch)
+        data["load"] = {**data.get("load", {}), "p0": loads if p0.ndim else loads[0]}
+        rs = Scene(data, source=None).resolve()
     rs = dataclasses.replace(rs, psd=psd)  # the solve's own segments, bit for bit
     _check_grid(rs, ds)
     return rs
@@ -116,17 +122,22 @@ def archived_scene(ds: xr.Dataset, *, body: bool = False) -> dict[str, Any]:
 
 def _quantities(values: Any, unit: str) -> list[str]:
     """An inline table's column as the scene writes it (exact decimal floats with a unit)."""
-    return [f"{float(v)!r} {unit}" for v in np.asarray(values, dtype=float)]
+    return [f"{float(v)!r} {unit}" for v in np.atleast_1d(np.asarray(values, dtype=float))]
 
 
 def _check_grid(rs: ResolvedScene, ds: xr.Dataset) -> None:
     """The archive's scene must give the Dataset's loads and magnifications."""
     p0 = np.atleast_1d(np.asarray(ds["p0"].values, dtype=float))
-    zeta = np.asarray(ds["zeta"].values, dtype=float)
-    if not (np.array_equal(rs.p0, p0) and np.array_equal(rs.zeta, zeta)):
+    if not np.array_equal(rs.zeta, np.asarray(ds["zeta"].values, dtype=float)):
         raise ArchiveError(
-            "the Dataset's p0 and zeta are not those of its scene (xpersson_scene): was it "
-            "subset (sel/isel)? analyse the whole solved Dataset"
+            "the Dataset's zeta is not its scene's grid of magnifications (was it subset along "
+            "zeta with sel/isel?): the analyses integrate over zeta on the solve's own grid; "
+            "analyse the Dataset before selecting magnifications"
+        )
+    if not np.array_equal(rs.p0, p0):
+        raise ArchiveError(
+            "the Dataset's p0 is not its scene's (a finite body's grid of loads subset with "
+            "sel/isel?): analyse the whole solved Dataset"
         )
 
 

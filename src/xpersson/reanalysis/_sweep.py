@@ -12,6 +12,7 @@ point-by-point path: ``xpersson.testing.check_plugin``).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from typing import Any
 
@@ -28,7 +29,7 @@ from ..sweep.combine import _constant_dims
 from ..sweep.parts import finalize
 from ..sweep.plan import SweepPlan, expand
 from ..sweep.stacking import BlockResult, _digests
-from ._point import archived_scene, as_written, point_scene, run_point
+from ._point import analyse_point, archived_scene, as_written, point_scene, run_point
 
 __all__ = ["analyse_sweep", "is_sweep"]
 
@@ -40,7 +41,16 @@ def is_sweep(ds: xr.Dataset) -> bool:
 
 def analyse_sweep(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Dataset:
     """:func:`xpersson.analyse` of a sweep's Dataset (see its docstring)."""
-    plan = _plan(ds)
+    plan, data = _plan(ds)
+    if plan is None:  # one point: its scalar coordinates are the swept values
+        point = _own_nodes(ds.drop_vars([n for n in ("point_status",) if n in ds.variables]))
+        attrs = {k: v for k, v in ds.attrs.items() if k != "xpersson_sweep"}
+        point.attrs = attrs | {"xpersson_scene": json.dumps(data)}
+        out = analyse_point(point, name, params)
+        if "point_status" in ds.variables:
+            out = out.assign(point_status=ds.variables["point_status"])
+        out.attrs = dict(ds.attrs)
+        return out
     status = _status(ds, plan)
     ok = [i for i, s in zip(plan.indices(), status.ravel(), strict=True) if s != _FAILED]
     if not ok:
@@ -66,24 +76,52 @@ def analyse_sweep(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Datas
 _FAILED = POINT_STATUS["failed"]
 
 
-def _plan(ds: xr.Dataset) -> SweepPlan:
+def _plan(ds: xr.Dataset) -> tuple[SweepPlan | None, dict[str, Any]]:
     """The sweep's plan from its archived scene, checked against the Dataset's dimensions and
-    coordinates (a subset of the sweep is refused)."""
+    coordinates. A subset of the sweep (``sel``/``isel`` along its dimensions) is the sweep of
+    the values it holds: each swept list becomes the Dataset's coordinate (a value selected
+    alone, its dimension dropped, a scalar of the scene; ``None`` and the point's scene where
+    every one was)."""
     meta = json.loads(ds.attrs["xpersson_sweep"])
-    plan = expand(Scene(archived_scene(ds), source=None))
+    data = archived_scene(ds)
+    plan = expand(Scene(data, source=None))
     if plan is None or list(plan.dims) != list(meta.get("dims", [])):
         raise ArchiveError(
             f"the Dataset's sweep dimensions {meta.get('dims')} are not those of its scene "
-            "(xpersson_scene): analyse needs the archive of a whole sweep"
+            "(xpersson_scene): analyse needs the archive of a sweep written by xpersson"
         )
-    for coord, (dim, values, _) in plan.coords().items():
-        have = ds.variables.get(coord)
-        if have is None or have.dims != (dim,) or not np.array_equal(have.values, values):
+    subset = False
+    for param in plan.params:
+        have = ds.variables.get(param.name)
+        if have is None or have.ndim > 1:
             raise ArchiveError(
-                f"the Dataset's sweep coordinate {coord!r} is not its scene's (was the sweep "
-                "subset with sel/isel, or a coordinate dropped?): analyse the whole sweep"
+                f"the Dataset has no sweep coordinate {param.name!r} ({param.path}), which "
+                "gives each point its swept value: keep the sweep's coordinates"
             )
-    return plan
+        values = np.atleast_1d(np.asarray(have.values, dtype=float))
+        if have.ndim == 0 or not np.array_equal(values, param.values):
+            subset = True
+            param = dataclasses.replace(param, values=values)
+            listed = [param.scene_value(i) for i in range(values.size)]
+            _set(data, param.path, listed if have.ndim else listed[0])
+    if subset:
+        kept = [p.path for g in plan.groups if g[0].name in ds.dims for p in g]
+        data["sweep"] = {**data.get("sweep", {}), "order": kept}
+        if not kept:  # one point of the sweep, every swept value selected alone
+            data.pop("sweep")
+            return None, data
+        plan = expand(Scene(data, source=None))
+    return plan, data
+
+
+def _set(data: dict[str, Any], path: str, value: Any) -> None:
+    """Set the dotted ``path`` of the scene ``data`` (its tables copied on the way)."""
+    *tables, key = path.split(".")
+    node = data
+    for part in tables:
+        node[part] = dict(node.get(part) or {})
+        node = node[part]
+    node[key] = value
 
 
 def _status(ds: xr.Dataset, plan: SweepPlan) -> np.ndarray:
@@ -101,8 +139,13 @@ def _point_dataset(ds: xr.Dataset, plan: SweepPlan, index: tuple[int, ...]) -> x
     at = {d: i for d, i in zip(plan.dims, index, strict=True) if d in ds.dims}
     point = ds.isel(at, drop=True)
     drop = [n for n in (*plan.coords(), "point_status") if n in point.variables]
-    point = point.drop_vars(drop)
-    if "q_psd" in point.dims:  # a sweep's union of nodes: NaN where a node is another point's
+    return _own_nodes(point.drop_vars(drop))
+
+
+def _own_nodes(point: xr.Dataset) -> xr.Dataset:
+    """One point's Dataset cut to its own spectrum nodes (a sweep stores the union of its
+    points' nodes, ``psd_C`` NaN where a node is another point's)."""
+    if "q_psd" in point.dims:
         own = np.isfinite(np.asarray(point.variables["psd_C"].values, dtype=float))
         if not own.all():
             point = point.isel(q_psd=np.flatnonzero(own))
