@@ -30,10 +30,14 @@ def analyse(ds: xr.Dataset, name: str, /, **params: Any) -> xr.Dataset:
     Parameters
     ----------
     ds : xarray.Dataset
-        A solved scene or sweep: the Dataset :func:`xpersson.solve` returned, or an archive
-        reopened with :func:`xpersson.open_dataset` or :func:`xarray.open_dataset`. A sweep's
-        every point is analysed with its own swept values (the sweep's coordinates), as the
-        sweep's own run would have analysed it.
+        A solved scene, sweep or finite body: the Dataset :func:`xpersson.solve` returned, or
+        an archive reopened with :func:`xpersson.open_dataset` or :func:`xarray.open_dataset`.
+        A sweep's every point is analysed with its own swept values (the sweep's coordinates),
+        as the sweep's point-by-point path analyses it (:mod:`._sweep`); a finite body's flat
+        is analysed and the body computed again from it (:mod:`._body`). A subset along a
+        sweep's dimensions is the sweep of its values, a subset of the loads the scene of
+        those loads (the analyses treat a Dataset's loads together: equal to the full solve's
+        to round-off).
     name : str
         An installed analysis (``xpersson plugins list analyses``), e.g. ``"gap_pdf"``,
         ``"leakage"``, ``"elastic_energy"``, ``"thermal_contact"``.
@@ -53,9 +57,8 @@ def analyse(ds: xr.Dataset, name: str, /, **params: Any) -> xr.Dataset:
     ------
     ArchiveError
         ``ds`` lacks what the analyses compute from (the spectrum ``psd_C``/``q_psd``,
-        ``E_star``, the scene attribute ``xpersson_scene``: the message names it), holds a
-        finite body, or is a subset of its solve (``sel``/``isel``: its loads, magnifications
-        or sweep coordinates are not its scene's).
+        ``E_star``, the scene attribute ``xpersson_scene``, a sweep's coordinate: the message
+        names it), or is cut along ``zeta`` or a finite body's ``force``.
     SceneError
         An unknown analysis or parameter (as in a scene).
     """
