@@ -32,6 +32,8 @@ __all__ = [
     "attach_model_error",
     "point_scene",
     "run_point",
+    "with_p0",
+    "without",
 ]
 
 
@@ -76,13 +78,14 @@ def as_written(data: dict[str, Any]) -> ResolvedScene | None:
         return None
 
 
-def point_scene(data: dict[str, Any], ds: xr.Dataset) -> ResolvedScene:
+def point_scene(data: dict[str, Any], ds: xr.Dataset, psd: Any = None) -> ResolvedScene:
     """The resolved scene ``data`` of one solved point ``ds`` with the Dataset's spectrum: the
     scene's spectrum section becomes the Dataset's table (no file read, no spectrum plugin)
     and the resolved spectrum the Dataset's own segments, bit for bit. A Dataset of some of
     the scene's loads (``sel``/``isel`` along ``p0``) is analysed as the scene of those loads;
-    its magnifications must be the scene's (checked)."""
-    psd = spectrum_of(ds)
+    its magnifications must be the scene's (checked). ``psd``: ``ds``'s spectrum rebuilt
+    already (a sweep's points share one object where their spectra are equal)."""
+    psd = spectrum_of(ds) if psd is None else psd
     q = psd.nodes()
     data = {k: v for k, v in data.items() if k != "sweep"}
     data["spectrum"] = {
@@ -141,7 +144,7 @@ def _check_grid(rs: ResolvedScene, ds: xr.Dataset) -> None:
         )
 
 
-def _with_p0(ds: xr.Dataset, rs: ResolvedScene) -> xr.Dataset:
+def with_p0(ds: xr.Dataset, rs: ResolvedScene) -> xr.Dataset:
     """A one-load Dataset (``p0`` squeezed to a scalar) given its ``p0`` dimension back on the
     variables declared along it (the core's and the scene's coefficient and boundary's)."""
     if "p0" in ds.dims:
@@ -158,7 +161,7 @@ def _with_p0(ds: xr.Dataset, rs: ResolvedScene) -> xr.Dataset:
     return out.assign_coords(p0=("p0", rs.p0, dict(ds["p0"].attrs)))
 
 
-def _without(ds: xr.Dataset, names: list[str]) -> xr.Dataset:
+def without(ds: xr.Dataset, names: list[str]) -> xr.Dataset:
     """``ds`` without ``names`` and the plugin dimensions only they used."""
     out = ds.drop_vars([n for n in names if n in ds.variables])
     used = {d for v in out.data_vars.values() for d in v.dims}
@@ -177,7 +180,7 @@ def analysed(rs: ResolvedScene, ds: xr.Dataset) -> tuple[xr.Dataset, Any]:
     who = rs.labels
     labels = [who[f"analyses.{n}"] for n, _ in rs.analyses]
     provided = [v for _, a in rs.analyses for v in type(a).provides]
-    out = _without(_with_p0(ds, rs), provided)
+    out = without(with_p0(ds, rs), provided)
     ctx = scene_context(rs)
     if "p" in out.dims:
         ctx = dataclasses.replace(ctx, p=np.asarray(out["p"].values, dtype=float))

@@ -3,13 +3,12 @@
 The sweep's archive carries its scene with the swept lists and their order (``xpersson_scene``,
 ``xpersson_sweep``): :func:`xpersson.sweep.plan.expand` gives the same points again, each with
 its swept values. Every point's Dataset is cut from the sweep's (its own spectrum nodes only,
-as it was solved) and analysed as one solved scene (:mod:`._point`); the points' outputs are
-stacked as the sweep's point-by-point path stacks them (:func:`xpersson.sweep.blocks.stack`)
-and a sweep dimension along which an output never changes is dropped, as the sweep drops it.
-The numbers are those of the analysis run inside the sweep (its fast paths equal the
-point-by-point path: ``xpersson.testing.check_plugin``).
+as it was solved) and analysed as one solved scene (:mod:`._point`), or, where the sweep's run
+solves a block of points stacked, the block at once as that run analyses it (:mod:`._stacked`).
+The points' outputs are stacked as the sweep stacks them (:func:`xpersson.sweep.blocks.stack`)
+and a sweep dimension along which an output never changes is dropped, as the sweep drops it:
+the numbers and the layout of the analysis run inside the sweep.
 """
-
 from __future__ import annotations
 
 import dataclasses
@@ -23,13 +22,24 @@ from .. import plugins
 from ..cache import solve_scope
 from ..errors import ArchiveError
 from ..pipeline import model_error, squeeze_p0
+from ..plugins import fast_paths_on, get_registry
+from ..plugins.stored import spectrum_of
 from ..scene import Scene
 from ..sweep.blocks import POINT_STATUS, blocks_of, stack
 from ..sweep.combine import _constant_dims
 from ..sweep.parts import finalize
 from ..sweep.plan import SweepPlan, expand
 from ..sweep.stacking import BlockResult, _digests
-from ._point import analyse_point, archived_scene, as_written, point_scene, run_point
+from ._point import (
+    analyse_point,
+    archived_scene,
+    as_written,
+    point_scene,
+    run_point,
+    with_p0,
+    without,
+)
+from ._stacked import add_block_outputs, analyse_block, stacked_blocks
 
 __all__ = ["analyse_sweep", "is_sweep"]
 
@@ -51,26 +61,70 @@ def analyse_sweep(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Datas
             out = out.assign(point_status=ds.variables["point_status"])
         out.attrs = dict(ds.attrs)
         return out
-    status = _status(ds, plan)
-    ok = [i for i, s in zip(plan.indices(), status.ravel(), strict=True) if s != _FAILED]
-    if not ok:
+    status = _status(ds, plan).ravel()
+    if np.all(status == _FAILED):
         raise ArchiveError("every point of the sweep failed: there is no solve to analyse")
-    results: list[xr.Dataset | None] = []
-    scenes: list[dict[str, Any]] = []
-    for index, st in zip(plan.indices(), status.ravel(), strict=True):
+    scenes = []
+    for index in plan.indices():
         data = plan.point_data(index)
         data["analyses"] = {name: dict(params)}
         scenes.append(data)
-        if st == _FAILED:  # a failed point: NaN, as the sweep has it
-            results.append(None)
-            continue
-        point = _point_dataset(ds, plan, index)
-        rs = point_scene(data, point)
-        provided = {v for _, a in rs.analyses for v in type(a).provides}
-        with plugins.time_limit(rs.plugin_time_limit), solve_scope():
-            got = run_point(rs, point)
-        results.append(got[[v for v in got.data_vars if v not in point.data_vars or v in provided]])
-    return _merged(ds, plan, results, status, scenes)
+    written = _written(scenes, name)
+    points: list[Any] = [None] * plan.size
+    spectra: dict[bytes, Any] = {}  # one spectrum object where points share it, as the sweep
+    for k, index in enumerate(plan.indices()):
+        if status[k] != _FAILED:
+            point = _point_dataset(ds, plan, index)
+            points[k] = (point_scene(scenes[k], point, _shared(spectra, point)), point)
+    results: list[xr.Dataset | None] = [None] * plan.size
+    ok = status != _FAILED
+    for members in stacked_blocks(plan, written if written else [None]):
+        if all(ok[k] for k in members):
+            _block(members, points, results)
+    for k in np.flatnonzero(ok):
+        if results[k] is None:  # point by point, as the sweep's plain path
+            rs, point = points[k]
+            with plugins.time_limit(rs.plugin_time_limit), solve_scope():
+                results[k] = _new(run_point(rs, point), point, rs)
+    return _merged(ds, plan, results, status.reshape(plan.shape), written)
+
+
+def _written(scenes: list[dict[str, Any]], name: str) -> list[Any]:
+    """Every point's scene resolved as written (its own spectrum section): what decides the
+    sweep's stacked blocks and the model-error bands; ``[]`` where neither needs it."""
+    stacked = fast_paths_on() and get_registry().load("analyses", name).fast_paths.stacked_params
+    covered = model_error.covered_names(model_error.band_table())
+    provides = get_registry().load("analyses", name).provides
+    if stacked is None and not set(provides) & set(covered):
+        return []
+    return [as_written(data) for data in scenes]
+
+
+def _shared(spectra: dict[bytes, Any], point: xr.Dataset) -> Any:
+    """``point``'s stored spectrum, the same object for every point with the same one."""
+    psd = spectrum_of(point)
+    key = b"".join(np.asarray(a, dtype=float).tobytes() for a in (psd.nodes(), psd.C(psd.nodes())))
+    return spectra.setdefault(key, psd)
+
+
+def _new(got: xr.Dataset, point: xr.Dataset, rs: Any) -> xr.Dataset:
+    """The analysis's variables of a point's result (and those it replaced)."""
+    provided = {v for _, a in rs.analyses for v in type(a).provides}
+    return got[[v for v in got.data_vars if v not in point.data_vars or v in provided]]
+
+
+def _block(members: list[int], points: list[Any], results: list[Any]) -> None:
+    """The points ``members`` analysed as the sweep's stacked run analyses its block."""
+    rss = [points[k][0] for k in members]
+    provided = [v for _, a in rss[0].analyses for v in type(a).provides]
+    dsets = [
+        without(with_p0(points[k][1], rs), provided) for k, rs in zip(members, rss, strict=True)
+    ]
+    with plugins.time_limit(rss[0].plugin_time_limit), solve_scope():
+        outs = analyse_block(rss, dsets)
+    for k, rs, out, ds in zip(members, rss, outs, dsets, strict=True):
+        add_block_outputs(rs, ds, out)
+        results[k] = _new(ds, points[k][1], rs)
 
 
 _FAILED = POINT_STATUS["failed"]
@@ -157,7 +211,7 @@ def _merged(
     plan: SweepPlan,
     results: list[xr.Dataset | None],
     status: np.ndarray,
-    scenes: list[dict[str, Any]],
+    written: list[Any],
 ) -> xr.Dataset:
     """``ds`` with the points' outputs stacked over the sweep grid as the sweep stacks them
     (:func:`~xpersson.sweep.blocks.stack`, one load squeezed), every output without the sweep
@@ -169,9 +223,8 @@ def _merged(
         stacked = squeeze_p0(stacked)
     added: list[str] = []
     if model_error.covered(stacked):  # the bands, as the sweep attaches them to a block
-        points = [as_written(data) for data in scenes]
-        if all(p is not None for p in points):
-            added = model_error.attach(stacked, points, plan.dims)
+        if written and all(p is not None for p in written):
+            added = model_error.attach(stacked, written, plan.dims)
     present = [None if r is None else set(r.variables).union(added) for r in results]
     found = BlockResult(block, stacked, None, status, {}, _digests(present, stacked, block))
     stacked = finalize(stacked, _constant_dims(plan, [found]), {})
