@@ -9,6 +9,7 @@ The points' outputs are stacked as the sweep stacks them (:func:`xpersson.sweep.
 and a sweep dimension along which an output never changes is dropped, as the sweep drops it:
 the numbers and the layout of the analysis run inside the sweep.
 """
+
 from __future__ import annotations
 
 import dataclasses
