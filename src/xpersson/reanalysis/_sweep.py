@@ -92,13 +92,22 @@ def analyse_sweep(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Datas
 
 def _written(scenes: list[dict[str, Any]], name: str) -> list[Any]:
     """Every point's scene resolved as written (its own spectrum section): what decides the
-    sweep's stacked blocks and the model-error bands; ``[]`` where neither needs it."""
-    stacked = fast_paths_on() and get_registry().load("analyses", name).fast_paths.stacked_params
-    covered = model_error.covered_names(model_error.band_table())
-    provides = get_registry().load("analyses", name).provides
-    if stacked is None and not set(provides) & set(covered):
+    sweep's stacked blocks and the model-error bands; ``[]`` where neither needs it. For the
+    bands alone, points that differ only in the material share one (E and nu are not among
+    their features)."""
+    cls = get_registry().load("analyses", name)
+    if fast_paths_on() and cls.fast_paths.stacked_params is not None:
+        return [as_written(data) for data in scenes]
+    if not set(cls.provides) & set(model_error.covered_names(model_error.band_table())):
         return []
-    return [as_written(data) for data in scenes]
+    resolved: dict[str, Any] = {}
+    out = []
+    for data in scenes:
+        key = json.dumps({k: v for k, v in data.items() if k != "material"}, sort_keys=True)
+        if key not in resolved:
+            resolved[key] = as_written(data)
+        out.append(resolved[key])
+    return out
 
 
 def _shared(spectra: dict[bytes, Any], point: xr.Dataset) -> Any:
