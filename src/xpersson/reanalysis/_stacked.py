@@ -20,11 +20,10 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from .. import checks
 from ..pipeline import scene_context
 from ..pipeline.assemble import add_outputs
 from ..pipeline.frontend import diffusion_clock, spectrum_kinks
-from ..pipeline.stacked import POINT, _point_first, _PointContexts, stack_reason
+from ..pipeline.stacked import POINT, block_analyses, stack_reason
 from ..pipeline.stages import load_walls, shared_tau
 from ..plugins import fast_paths_on
 from ..scene import ResolvedScene
@@ -59,8 +58,8 @@ def stacked_blocks(plan: SweepPlan, written: Sequence[ResolvedScene | None]) -> 
 
 def analyse_block(points: Sequence[ResolvedScene], datasets: Sequence[xr.Dataset]) -> list[Any]:
     """The analyses of ``points`` (one block, their stored Datasets with ``p0``) as the stacked
-    run computes them: ``{name: (dims, values)}`` of each point, in order."""
-    rs0 = points[0]
+    run computes them (:func:`xpersson.pipeline.stacked.block_analyses`): ``{name: (dims,
+    values)}`` of each point, in order."""
     ctxs = [scene_context(rs) for rs in points]
     clocks = [
         diffusion_clock(c, rs.coefficient, kinks=spectrum_kinks(rs.psd))
@@ -71,23 +70,14 @@ def analyse_block(points: Sequence[ResolvedScene], datasets: Sequence[xr.Dataset
         for rs, c, k in zip(points, ctxs, clocks, strict=True)
     ]
     declared = all(shared_tau(rs.coefficient) for rs in points)
-    ctx_of = _PointContexts(points, ctxs, walls, clocks, declared)
-    sds = _block_dataset(datasets)
+    stacked = _block_variables(datasets)
+    block_analyses(points, ctxs, (walls, clocks, declared), stacked, datasets[0])
+    names = [v for _, a in points[0].analyses for v in type(a).provides]
     outs: list[dict[str, Any]] = [{} for _ in points]
-    last = len(rs0.analyses) - 1
-    for i, (name, analysis) in enumerate(rs0.analyses):
-        label = rs0.labels[f"analyses.{name}"]
-        with checks.calling(label, "compute_stacked()"):
-            got = analysis.compute_stacked(ctx_of, sds)
-        missing = [v for v in type(analysis).provides if v not in (got or {})]
-        if missing:
-            raise checks.PluginFailure(f"{label} did not provide {missing}", plugin=label)
-        for vname, value in got.items():
-            dims, arr = _point_first(value)
-            for k, out in enumerate(outs):
-                out[vname] = (dims[1:], arr[k]) if POINT in dims else (dims, arr)
-            if i < last:  # the next analyses may read it
-                sds[vname] = xr.Variable(dims, arr)
+    for vname in names:
+        dims, arr = stacked[vname]
+        for k, out in enumerate(outs):
+            out[vname] = (dims[1:], arr[k]) if POINT in dims else (dims, arr)
     return outs
 
 
@@ -98,17 +88,17 @@ def add_block_outputs(rs: ResolvedScene, ds: xr.Dataset, out: dict[str, Any]) ->
         add_outputs(ds, mine, type(analysis).outputs, rs.labels[f"analyses.{name}"])
 
 
-def _block_dataset(datasets: Sequence[xr.Dataset]) -> xr.Dataset:
-    """The block's Dataset: every variable of the points with a leading ``point`` dimension,
-    the spectrum's and material's once where the points share them."""
+def _block_variables(datasets: Sequence[xr.Dataset]) -> dict[str, Any]:
+    """The block's variables as the stacked run holds them, ``name -> (dims, values)``: every
+    variable of the points with a leading ``point`` dimension, the spectrum's and material's
+    once where the points share them."""
     first = datasets[0]
-    coords = {n: first.variables[n] for n in ("zeta", "q", "q_psd", "p0") if n in first.variables}
-    data = {}
+    out: dict[str, Any] = {}
     for name in first.data_vars:
         rows = [np.asarray(d.variables[name].values) for d in datasets]
-        var = first.variables[name]
+        dims = first.variables[name].dims
         if name in _SHARED and all(np.array_equal(r, rows[0], equal_nan=True) for r in rows):
-            data[name] = xr.Variable(var.dims, rows[0], dict(var.attrs))
+            out[str(name)] = (dims, rows[0])
         else:
-            data[name] = xr.Variable((POINT, *var.dims), np.stack(rows), dict(var.attrs))
-    return xr.Dataset(data, coords=coords)
+            out[str(name)] = ((POINT, *dims), np.stack(rows))
+    return out

@@ -27,10 +27,8 @@ from ..plugins import fast_paths_on, get_registry
 from ..plugins.stored import spectrum_of
 from ..scene import Scene
 from ..sweep.blocks import POINT_STATUS, blocks_of, stack
-from ..sweep.combine import _constant_dims
 from ..sweep.parts import finalize
 from ..sweep.plan import SweepPlan, expand
-from ..sweep.stacking import BlockResult, _digests
 from ._point import (
     analyse_point,
     archived_scene,
@@ -225,20 +223,45 @@ def _merged(
 ) -> xr.Dataset:
     """``ds`` with the points' outputs stacked over the sweep grid as the sweep stacks them
     (:func:`~xpersson.sweep.blocks.stack`, one load squeezed), every output without the sweep
-    dimensions along which it never changes (the sweep's fingerprints and
+    dimensions along which it never changes (:func:`_constant`,
     :func:`~xpersson.sweep.parts.finalize`)."""
     (block,) = blocks_of(plan, plan.size)
     stacked = stack(results, block, status)
     if "p0" not in ds.dims:  # single-load points: p0 a scalar coordinate, as in the sweep
         stacked = squeeze_p0(stacked)
-    added: list[str] = []
     if model_error.covered(stacked):  # the bands, as the sweep attaches them to a block
         if written and all(p is not None for p in written):
-            added = model_error.attach(stacked, written, plan.dims)
-    present = [None if r is None else set(r.variables).union(added) for r in results]
-    found = BlockResult(block, stacked, None, status, {}, _digests(present, stacked, block))
-    stacked = finalize(stacked, _constant_dims(plan, [found]), {})
+            model_error.attach(stacked, written, plan.dims)
+    stacked = finalize(stacked, _constant(stacked, plan, status), {})
     new = [n for n in stacked.data_vars if n != "point_status"]
     out = ds.drop_vars([n for n in new if n in ds.variables])
     coords = {c: stacked.variables[c] for c in stacked.coords if c not in out.variables}
     return out.assign_coords(coords).assign({n: stacked.variables[n] for n in new})
+
+
+def _constant(ds: xr.Dataset, plan: SweepPlan, status: np.ndarray) -> dict[str, list[str]]:
+    """For each stacked variable, the sweep dimensions (of at least two values) along which it
+    never changes at the solved points, bit for bit: the sweep's rule (its per-point
+    fingerprints, :mod:`xpersson.sweep.combine`) on the values themselves."""
+    n = len(plan.dims)
+    out: dict[str, list[str]] = {}
+    for name, var in ds.data_vars.items():
+        if name == "point_status" or tuple(var.dims[:n]) != plan.dims:
+            continue
+        rows = np.asarray(var.values).reshape(plan.size, -1)
+        grid = np.empty(plan.size, dtype=object)
+        for k, row in enumerate(rows):  # a point's bytes (failed points: None)
+            if status.flat[k] != _FAILED:
+                grid[k] = repr(row.tolist()) if row.dtype.kind == "O" else row.tobytes()
+        grid = grid.reshape(plan.shape)
+        dims = []
+        for d, dim in enumerate(plan.dims):
+            if plan.shape[d] < 2:  # one value says nothing about a dependence: keep the dim
+                continue
+            lines = np.moveaxis(grid, d, -1).reshape(-1, plan.shape[d])
+            solved = [[x for x in line if x is not None] for line in lines]
+            if any(len(s) >= 2 for s in solved) and all(len(set(s)) <= 1 for s in solved):
+                dims.append(dim)
+        if dims:
+            out[str(name)] = dims
+    return out

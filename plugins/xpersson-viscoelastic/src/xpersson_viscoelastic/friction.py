@@ -21,21 +21,11 @@ on a dense grid in ``ln(zeta - 1)`` with the coefficient's ``loss_integral(ctx, 
 ``zeta_c`` between output points comes from the same solve at ``zeta_c`` (was: linear
 interpolation, up to 0.8 % off).
 
-What it reads. From the solved Dataset: ``area_fraction``, ``G``, ``loss_integral``,
-``sliding_speed``, ``shift_factor`` and the spectrum
-(:func:`~xpersson.plugins.stored.spectrum_of`, on which the graded panels are laid). Where the
-output grid resolves the area, nothing else. Where it does not, the integrand is needed at
-magnifications the Dataset does not hold, and two things are evaluated there again, explicitly:
-the coefficient's ``tau`` and ``dL`` at the nodes (``ctx.coefficient``: ``graded_stacked`` /
-``dense_stacked`` / ``loss_integral``, the modulus model, speed and temperature of the scene's
-``[coefficient]``; on the graded panels over the Dataset's spectrum, on the dense grids of other
-models over ``ctx.psd``, the same numbers), and the area there (``ctx.solve_at``, the same
-solve). This is not a hidden re-solve: ``L(zeta)`` and ``tau(zeta)`` between output points are
-integrals of the modulus over the spectrum, which the Dataset stores only at the output
-magnifications, and the area at a node is the engine's answer at that ``tau``.
-``xpersson.analyse`` rebuilds the coefficient from the archive's ``xpersson_scene`` and gives it
-the Dataset's spectrum as ``ctx.psd``, so an archive reopened later gives the solving process's
-friction bit for bit (tests/test_visco_reanalysis.py).
+Reads the Dataset's ``area_fraction``, ``G``, ``loss_integral``, ``sliding_speed``,
+``shift_factor`` and spectrum; where the output grid misses the area drop it evaluates again,
+explicitly, the coefficient's ``tau``/``dL`` at the nodes (``ctx.coefficient``: the Dataset
+stores them at the output magnifications only) and the area there (``ctx.solve_at``). An
+archive reopened later gives the same friction bit for bit (docs/user_guide/04_analyses.md).
 """
 
 from __future__ import annotations
