@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from ..plugins.stored import spectrum_of
 from ._insert import insert_or_set
 from .model_error import FLAG, SUFFIXES, band_table, bands_of, scene_features
 
@@ -48,9 +49,8 @@ def attach_body(ds: xr.Dataset, rs: Any, table: dict[str, Any] | None = None) ->
     feats = scene_features(rs) | {"geometry": rs.resolved.get("geometry", {}).get("model")}
     alpha = np.asarray(ds.variables["johnson_parameter"].values, float)
     feats["johnson"] = alpha
-    feats["contact_rolloff"] = np.asarray(ds.variables["hertz_radius"].values, float) * float(
-        rs.psd.q_L
-    )
+    q_L = float(spectrum_of(ds).q_L)  # the solved Dataset's spectrum, as the body's outputs
+    feats["contact_rolloff"] = np.asarray(ds.variables["hertz_radius"].values, float) * q_L
     prov = table.get("provenance", {})
     comment = (
         f"rough-sphere campaign {prov.get('campaign', '?')} ({prov.get('date', '?')}): 90 % of "

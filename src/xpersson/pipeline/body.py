@@ -22,6 +22,7 @@ from .. import physics
 from ..errors import XperssonWarning
 from ..physics.body import BodySolution, Separation, force_radius, solve_body, start_at_area
 from ..plugins.solved import solved_curve
+from ..plugins.stored import contact_modulus, spectrum_of
 from ..scene import ResolvedScene
 from ..specs import VarSpec
 from ._body_local import local_outputs
@@ -41,7 +42,8 @@ _PER_DECADE = 40  # dense magnifications of the area curve (as the interface ana
 
 
 def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
-    """``u(p0)``, ``du/dln p0`` and ``A/A0(p0)`` of the solved interface.
+    """``u(p0)``, ``du/dln p0`` and ``A/A0(p0)`` of the solved interface (the flat's Dataset
+    ``ds``: its area curve, its stored spectrum and contact modulus, as the analyses read them).
 
     Below the pressure where the contact area is :data:`ASYMPTOTE` of the nominal one the
     separation is continued by Persson's asymptotic law ``u = u0 ln(p*/p)`` with its slope
@@ -57,7 +59,7 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     # the separation of the kept loads only (a load's u(p) and slope use its own row alone)
     zeta, *rows = solved.curve
     rows = [None if r is None else np.broadcast_to(r, (p.size, zeta.size))[keep] for r in rows]
-    sc = physics.SolvedContact(rs.psd, rs.E_star, p[keep], zeta, *rows)
+    sc = physics.SolvedContact(spectrum_of(ds), contact_modulus(ds), p[keep], zeta, *rows)
     arrays = (p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
     return Separation(*start_at_area(*arrays, ASYMPTOTE))
 
@@ -86,22 +88,23 @@ def _interpolated(sols: list[BodySolution]) -> Any:
 
 
 def _solve_forces(
-    rs: ResolvedScene, sep: Separation, loads: np.ndarray
+    rs: ResolvedScene, sep: Separation, loads: np.ndarray, E_star: float, h_rms: float
 ) -> tuple[list[BodySolution], np.ndarray, list[BodySolution]]:
     """The solutions on ``CELLS`` cells, their relative change from ``CELLS // 2`` [1] and the
-    solutions on ``CELLS // 2`` cells."""
+    solutions on ``CELLS // 2`` cells (contact modulus ``E_star`` [Pa], rms height ``h_rms``
+    [m] of the solved Dataset)."""
     geo = rs.geometry
     assert geo is not None
     sym = geo.symmetry
-    ref = np.array([geo.reference(float(f), rs.E_star) for f in loads])  # a, delta, peak
+    ref = np.array([geo.reference(float(f), E_star) for f in loads])  # a, delta, peak
     a, delta_h, peak = ref.T
-    alpha = np.array([geo.roughness_parameter(rs.psd.h_rms(), f, rs.E_star) for f in loads])
+    alpha = np.array([geo.roughness_parameter(h_rms, f, E_star) for f in loads])
     alpha = np.where(np.isfinite(alpha), alpha, 1.0)
     datum = float(geo.params.get("radius", a[0]))
 
     def run(k: np.ndarray, r_max: np.ndarray, n: int, guess: Any) -> list[BodySolution]:
         return solve_body(
-            sym, geo.profile, loads[k], rs.E_star, sep, r_max[k], n, scale=delta_h[k],
+            sym, geo.profile, loads[k], E_star, sep, r_max[k], n, scale=delta_h[k],
             guess=guess, datum=datum,
         )  # fmt: skip
 
@@ -140,21 +143,27 @@ def _real_area(sols: list[BodySolution], sep: Separation) -> np.ndarray:
 
 
 def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
-    """The solved flat ``ds`` with the body's per-force variables (dimension ``force``)."""
+    """The solved flat ``ds`` with the body's per-force variables (dimension ``force``).
+
+    The body computes from ``ds`` as the analyses do: its area curve, its stored spectrum
+    (:func:`~xpersson.plugins.stored.spectrum_of`) and contact modulus ``E_star``; the scene
+    ``rs`` gives the geometry, the forces and the load grid only.
+    """
     geo = rs.geometry
     assert geo is not None and rs.force is not None
+    E_star, h_rms = contact_modulus(ds), float(spectrum_of(ds).h_rms())
     sep = separation(rs, ctx, ds)
     length = 1.0 if geo.symmetry == "axisymmetric" else float(geo.params["length"])
     loads = np.array([geo.solver_load(float(f)) for f in rs.force])
-    sols, errs, half = _solve_forces(rs, sep, loads)
+    sols, errs, half = _solve_forces(rs, sep, loads, E_star, h_rms)
     rows = []
     for load, sol in zip(loads, sols, strict=True):
-        a, delta_h, _ = geo.reference(float(load), rs.E_star)
+        a, delta_h, _ = geo.reference(float(load), E_star)
         rows.append(
             (
                 sol.delta,
                 float(sol.p.max()),
-                geo.roughness_parameter(rs.psd.h_rms(), float(load), rs.E_star),
+                geo.roughness_parameter(h_rms, float(load), E_star),
                 sol.stiffness * length,
                 a,
                 delta_h,

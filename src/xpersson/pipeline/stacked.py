@@ -478,3 +478,8 @@ def rows_of(
         return np.broadcast_to(arr, (K, *arr.shape))
     order = [0] + [sdims.index(d) for d in dims]
     return np.transpose(arr, order) if order != list(range(len(order))) else arr
+
+
+#: :func:`_analyses` by a public name: ``xpersson.analyse`` runs the analyses of a stored sweep's
+#: stacked blocks as this run runs them (:mod:`xpersson.reanalysis._stacked`).
+block_analyses = _analyses

@@ -20,6 +20,7 @@ numbers.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
@@ -292,11 +293,13 @@ def graded_runs(
     parts = []
     bases: dict[Any, Array] = {}  # the output grid's q panels, once per spectrum
     for (top, n, psd_id, _), members in groups.items():
-        ctxs = [light(k) for k, _ in members]
+        psd = psd_of(members[0][0])
+        # the coefficient integrates over the Dataset's spectrum (the group's one), the same
+        # numbers as the scene's bit for bit: what an archive reopened later carries
+        ctxs = [dataclasses.replace(light(k), psd=psd) for k, _ in members]
         coefs = [c.coefficient for c in ctxs]
         if any(type(c) is not type(coef0) for c in coefs):
             return None
-        psd = psd_of(members[0][0])
         if psd_id not in bases:
             bases[psd_id] = panel_edges(psd, zeta * float(psd.q_L), PANELS_PER_DECADE)
         lay = layout(psd, zeta, top, n, PANELS_PER_DECADE, bases[psd_id])

@@ -20,6 +20,12 @@ on a dense grid in ``ln(zeta - 1)`` with the coefficient's ``loss_integral(ctx, 
 (:mod:`~xpersson_viscoelastic._resolve`; issue 22). The area at a
 ``zeta_c`` between output points comes from the same solve at ``zeta_c`` (was: linear
 interpolation, up to 0.8 % off).
+
+Reads the Dataset's ``area_fraction``, ``G``, ``loss_integral``, ``sliding_speed``,
+``shift_factor`` and spectrum; where the output grid misses the area drop it evaluates again,
+explicitly, the coefficient's ``tau``/``dL`` at the nodes (``ctx.coefficient``: the Dataset
+stores them at the output magnifications only) and the area there (``ctx.solve_at``). An
+archive reopened later gives the same friction bit for bit (docs/user_guide/04_analyses.md).
 """
 
 from __future__ import annotations
