@@ -58,6 +58,7 @@ __all__ = [
     "FLOOR",
     "LEAK_MIN",
     "LEAK_ORDERS",
+    "LEAK_PER_DECADE",
     "LEAK_SAFETY",
     "LEAK_NOISE",
     "LEAK_TOL",
@@ -94,6 +95,7 @@ LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 3e-4, 2000
 #: points near a segment's ends cut the noise's reach, but near sealing (``u1 -> 0``) their
 #: estimate fell short by 3x (roll H = 0.84 4 dec): 8 points only.
 LEAK_ORDERS, LEAK_SAFETY = (8,), 16.0
+LEAK_PER_DECADE = 16
 #: The smooth part of the estimate: this times ``2^-m`` the error of the ``m``-point table at
 #: twice the spacing (asymptotically that error divided by ``2^m``: a margin of 16).
 SAFETY = 16.0
@@ -114,7 +116,8 @@ def by_load(
     noise: float = NOISE,
     least: int = 0,
     orders: tuple[int, ...] = (ORDER,),
-    safety: float = SAFETY,
+    safety: float | None = SAFETY,
+    per_decade: float = PER_DECADE,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
@@ -135,47 +138,88 @@ def by_load(
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
     out, err = _table(
-        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), keys, PER_DECADE, 0
+        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), keys, per_decade
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
+
+
+class _Direct:
+    """The loads computed directly, each once: the rows asked for at one refinement level are
+    computed in one call of ``exact`` (its fixed cost, the dense re-solve and the splines, is
+    paid once per level, not once per refined run)."""
+
+    def __init__(self, exact: Exact, n: int) -> None:
+        self.exact, self.n = exact, n
+        self.done = np.zeros(n, dtype=bool)
+        self.pending = np.zeros(n, dtype=bool)
+        self.vals: dict[str, NDArray[np.float64]] = {}
+
+    def need(self, rows: NDArray[np.intp]) -> None:
+        self.pending[rows] = True
+
+    def run(self) -> None:
+        rows = np.flatnonzero(self.pending & ~self.done)
+        self.pending[:] = False
+        if not rows.size:
+            return
+        got = self.exact(rows)
+        for k, v in got.items():
+            if k not in self.vals:
+                self.vals[k] = np.empty((self.n,) + v.shape[1:])
+            self.vals[k][rows] = v
+        self.done[rows] = True
+
+    def at(self, rows: NDArray[np.intp]) -> dict[str, NDArray[np.float64]]:
+        return {k: v[rows] for k, v in self.vals.items()}
 
 
 def _table(
     xs: NDArray[np.float64],
     exact: Exact,
-    tol: tuple[float, float, tuple[int, ...], float],
+    tol: tuple[float, float, tuple[int, ...], float | None],
     keys: frozenset[str],
     per_decade: float,
-    depth: int,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
-    """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise
-    and the orders): the table at ``per_decade`` nodes, each run of loads whose estimate exceeds the
-    tolerance again at twice the density
-    (between the nodes around it), at most :data:`MAX_DEPTH` times; directly where the nodes
-    would be more than half of the loads."""
-    # at least 4 ORDER nodes over the loads' range (a narrow range: denser than per_decade)
-    nodes = _nodes(xs, min(math.log(10.0) / per_decade, (xs[-1] - xs[0]) / (4 * ORDER)))
-    if depth > MAX_DEPTH or nodes.size < 2 * ORDER or 2 * nodes.size > xs.size:
-        return exact(np.arange(xs.size)), np.zeros(xs.size)
-    at = exact(nodes)
-    logs = {k: _log(v) for k, v in at.items() if k not in keys}
-    xn = xs[nodes]
-    rest = np.setdiff1d(np.arange(xs.size), nodes)
-    vals, est = _estimated(xn, at, logs, xs[rest], keys, tol)
-    out = {k: np.empty((xs.size,) + v.shape[1:]) for k, v in at.items()}
-    for k, v in at.items():
-        out[k][nodes] = v
-        out[k][rest] = vals[k]
+    """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise,
+    the orders and the safety): the table at ``per_decade`` nodes, each run of loads whose
+    estimate exceeds the tolerance again at twice the density (between the nodes around it),
+    at most :data:`MAX_DEPTH` times; directly where the nodes would be more than half of the
+    loads. Level by level: the node loads of every run of a level in one direct call."""
+    direct = _Direct(exact, xs.size)
+    out: dict[str, NDArray[np.float64]] = {}
     err = np.zeros(xs.size)
-    err[rest] = est
-    for lo, hi in _runs(rest[est > tol[0]], nodes):
-        sub = np.arange(lo, hi + 1)
-        o, e = _table(
-            xs[sub], lambda sel, sub=sub: exact(sub[sel]), tol, keys, 2 * per_decade, depth + 1
-        )
-        for k, v in o.items():
-            out[k][sub] = v
-        err[sub] = e
+    m = max(tol[2])
+    regions = [(0, xs.size - 1)]
+    for depth in range(MAX_DEPTH + 2):
+        plans = []
+        for lo, hi in regions:
+            sub = np.arange(lo, hi + 1)
+            # at least 4 m nodes over the run's range (a narrow range: denser than per_decade)
+            nodes = _nodes(xs[sub], min(math.log(10.0) / per_decade, (xs[hi] - xs[lo]) / (4 * m)))
+            if depth > MAX_DEPTH or nodes.size < 2 * m or 2 * nodes.size > sub.size:
+                direct.need(sub)
+            else:
+                direct.need(sub[nodes])
+                plans.append((sub, nodes))
+        direct.run()
+        if not out:
+            out = {k: np.empty_like(v) for k, v in direct.vals.items()}
+        regions = []
+        for sub, nodes in plans:
+            at = direct.at(sub[nodes])
+            logs = {k: _log(v) for k, v in at.items() if k not in keys}
+            rest = np.setdiff1d(np.arange(sub.size), nodes)
+            vals, est = _estimated(xs[sub[nodes]], at, logs, xs[sub[rest]], keys, tol)
+            for k, v in vals.items():
+                out[k][sub[rest]] = v
+            err[sub[rest]] = est
+            regions += [(sub[a], sub[b]) for a, b in _runs(rest[est > tol[0]], nodes)]
+        per_decade *= 2
+        if not regions:
+            break
+    for k, v in direct.vals.items():  # every load computed directly: its own values
+        out[k][direct.done] = v[direct.done]
+    err[direct.done] = 0.0
     return out, err
 
 
@@ -197,7 +241,8 @@ def _estimated(
     for m in tol[2]:
         check = _check(xn, at, logs, keys, m)  # (n_node,): the 2h error at the odd nodes
         vals, bad, lebesgue, idx = _interpolate(xn, at, logs, x, keys, m)
-        est = np.max(check[idx], axis=1) * (tol[3] / 2**m) + tol[1] * (1.0 + lebesgue)
+        factor = 1.0 if tol[3] is None else tol[3] / 2**m
+        est = np.max(check[idx], axis=1) * factor + tol[1] * (1.0 + lebesgue)
         est[bad] = np.inf
         take = est < best if out else np.ones(x.size, dtype=bool)
         for k, v in vals.items():
