@@ -95,12 +95,12 @@ NOISE = 5e-6
 #: spectrum through the solve's spline: features the table resolves with a few nodes, where
 #: the error does not yet fall as ``h^ORDER``.
 LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 1e-5, TABLE_MIN
-#: The leak analysis's stencils (points) and margin: ``None``, the estimate is the error of
-#: the table at twice the spacing itself, not scaled down by ``2^-m`` (the asymptotic rate,
-#: which the ripple and the kinks do not reach: with it the estimate fell short 2-9x; without
-#: it the actual error stays <= 0.9 of the estimate on the 12 design scenes at 1000 loads).
-#: 8 points only (4 and 6 fell short 1.5x).
-LEAK_ORDERS, LEAK_SAFETY = (8,), None
+#: The leak analysis's stencils (points) and margin: its estimate is 4 times the error of the
+#: table at twice the spacing (``LEAK_SAFETY 2^-8``), not that error scaled down by ``2^-8``
+#: (the asymptotic rate, which the ripple and the kinks do not reach: with it the estimate fell
+#: short 2-9x; with the error at twice the spacing alone, up to 3.9x on held-out scenes).
+#: 8 points only (4 and 6 fell short 1.5x more often).
+LEAK_ORDERS, LEAK_SAFETY = (8,), 4.0 * 2**8
 LEAK_PER_DECADE = 16
 #: The smooth part of the estimate: this times ``2^-m`` the error of the ``m``-point table at
 #: twice the spacing (asymptotically that error divided by ``2^m``: a margin of 16).
@@ -122,7 +122,7 @@ def by_load(
     noise: float = NOISE,
     least: int = 0,
     orders: tuple[int, ...] = (ORDER,),
-    safety: float | None = SAFETY,
+    safety: float = SAFETY,
     per_decade: float = PER_DECADE,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
@@ -182,7 +182,7 @@ class _Direct:
 def _table(
     xs: NDArray[np.float64],
     exact: Exact,
-    tol: tuple[float, float, tuple[int, ...], float | None],
+    tol: tuple[float, float, tuple[int, ...], float],
     keys: frozenset[str],
     per_decade: float,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
@@ -248,8 +248,7 @@ def _estimated(
     for m in tol[2]:
         check = _check(xn, at, logs, keys, m)  # (n_node,): the 2h error at the odd nodes
         vals, bad, lebesgue, idx = _interpolate(xn, at, logs, x, keys, m)
-        factor = 1.0 if tol[3] is None else tol[3] / 2**m
-        est = np.max(check[idx], axis=1) * factor + tol[1] * (1.0 + lebesgue)
+        est = np.max(check[idx], axis=1) * (tol[3] / 2**m) + tol[1] * (1.0 + lebesgue)
         est[bad] = np.inf
         take = est < best if out else np.ones(x.size, dtype=bool)
         for k, v in vals.items():
