@@ -223,3 +223,43 @@ def test_u1_difference_quotient_is_converged_in_its_step():
     contact = SolvedContact(rs.psd, rs.E_star, rs.p0, ds["zeta"].values, area)
     u = [contact.separation_at(zc, rel_step=h)[ok] for h in (1e-3, 5e-4)]
     assert np.max(np.abs(u[1] / u[0] - 1.0)) < 2e-5
+
+
+def _drawn(seed: int) -> dict:
+    """A seeded self-affine spectrum outside benchmarks/summary.py's design (held out)."""
+    rng = np.random.default_rng(1000 + seed)
+    H, q_L = float(rng.uniform(0.3, 0.95)), float(10 ** rng.uniform(2.0, 4.0))
+    roll = 10 ** float(rng.uniform(0.3, 1.0)) if seed % 2 else 1.0
+    return {"model": "self_affine", "H": H, "q_L": f"{q_L!r} 1/m",
+            "q_r": f"{q_L * roll!r} 1/m", "q_1": f"{q_L * 10.0 ** int(rng.integers(3, 7))!r} 1/m",
+            "h_rms": "1 um"}  # fmt: skip
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_leakage_table_within_its_estimate_on_drawn_scenes(seed):
+    """Seeded held-out spectra (with and without roll-off): every interpolated load of the leak
+    analysis within its stated error of the direct path, the error within LEAK_TOL."""
+    sc = {
+        "spectrum": _drawn(seed),
+        "material": {"E": "10 MPa", "nu": 0.5},
+        "load": {"p0": {"start": "1 kPa", "stop": "1 MPa", "num": 240}},
+        "output": {"zeta": [float(z) for z in np.geomspace(1.0, 1e3, 50)]},
+        "analyses": {"leakage": {}},
+    }
+    mp = pytest.MonkeyPatch()
+    try:
+        mp.setattr(by_load_mod, "TABLE_MIN", 60)
+        mp.setattr(plugins_mod, "LEAK_MIN", 60)
+        mp.setattr(plugins_mod, "LEAK_PER_DECADE", 8)  # the table's regime at 60 loads
+        table = xpersson.solve(sc)
+        mp.setattr(by_load_mod, "TABLE_MIN", 10**9)
+        direct = xpersson.solve(sc)
+    finally:
+        mp.undo()
+    err = table["leak_load_error"].values
+    assert err.max() <= by_load_mod.LEAK_TOL and np.count_nonzero(err) > 0
+    for k in ("leak_zeta_c", "leak_u1", "leak_rate", "leak_rate_emt", "leak_flow_factor_emt"):
+        got, want = table[k].values, direct[k].values
+        np.testing.assert_array_equal(np.isnan(got), np.isnan(want))
+        ok = np.isfinite(want) & (want > 0) & (err > 0)
+        assert np.all(np.abs(got[ok] / want[ok] - 1.0) <= err[ok]), k
