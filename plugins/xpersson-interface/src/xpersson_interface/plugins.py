@@ -440,7 +440,14 @@ class Leakage(_Interface):
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         direct = lambda rows: self._direct(ctx, ds, rows)  # noqa: E731
         out, err = by_load(
-            ctx.p0, direct, LEAK_TOL, _KEYS, LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY,
+            ctx.p0,
+            direct,
+            LEAK_TOL,
+            _KEYS,
+            LEAK_NOISE,
+            LEAK_MIN,
+            LEAK_ORDERS,
+            LEAK_SAFETY,
             LEAK_PER_DECADE,
         )
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k != "piece"}
