@@ -263,3 +263,44 @@ def test_leakage_table_within_its_estimate_on_drawn_scenes(seed):
         np.testing.assert_array_equal(np.isnan(got), np.isnan(want))
         ok = np.isfinite(want) & (want > 0) & (err > 0)
         assert np.all(np.abs(got[ok] / want[ok] - 1.0) <= err[ok]), k
+
+
+#: Held-out spectra (``benchmarks/summary_design.design(12, 37)`` and ``(12, 38)``) whose leak
+#: table fell short of its estimate 1.28x with a noise allowance of 1e-5: a kink of u1 at
+#: zeta_c = 1.64 (roll-off H = 0.83) and the area spline's ringing just past the roll-off
+#: (H = 0.63, zeta_c 4.5-4.7), both narrower than the table's spacing.
+_KINKED = {
+    "kink": {"model": "self_affine", "H": 0.8319, "q_L": "4834.281958533276 1/m",
+             "q_r": "22081.48882540658 1/m", "q_1": "48342819.585332766 1/m", "h_rms": "1 um"},
+    "ringing": {"model": "self_affine", "H": 0.6276, "q_L": "2405.2229074205247 1/m",
+                "q_r": "10447.226407941289 1/m", "q_1": "240522290.74205247 1/m",
+                "h_rms": "1 um"},
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", sorted(_KINKED))
+def test_leakage_table_covers_features_narrower_than_its_spacing(name):
+    """At 1000 loads (the table's own settings) every interpolated load of the leak analysis is
+    within its stated error of the direct path, on the two held-out spectra with a feature
+    narrower than the table's spacing (LEAK_NOISE covers it)."""
+    sc = {
+        "spectrum": _KINKED[name],
+        "material": {"E": "10 MPa", "nu": 0.5},
+        "load": {"p0": {"start": "1000.0 Pa", "stop": "1000000.0 Pa", "num": 1000}},
+        "output": {"zeta": [float(z) for z in np.geomspace(1.0, 1e3, 50)]},
+        "analyses": {"leakage": {}},
+    }
+    table = xpersson.solve(sc)
+    mp = pytest.MonkeyPatch()
+    try:
+        mp.setattr(by_load_mod, "TABLE_MIN", 10**9)
+        direct = xpersson.solve(sc)
+    finally:
+        mp.undo()
+    err = table["leak_load_error"].values
+    assert np.count_nonzero(err) > 500
+    for k in ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_rate", "leak_rate_emt"):
+        got, want = table[k].values, direct[k].values
+        np.testing.assert_array_equal(np.isnan(got), np.isnan(want))
+        ok = np.isfinite(want) & (want > 0) & (err > 0)
+        assert np.all(np.abs(got[ok] / want[ok] - 1.0) <= err[ok]), k
