@@ -71,6 +71,7 @@ __all__ = [
     "SAFETY",
     "TABLE_MIN",
     "TOL",
+    "Weight",
     "by_load",
     "subset",
 ]
@@ -116,6 +117,22 @@ FLOOR = 1e-300
 DEPTH = 1e-30
 
 Exact = Callable[[NDArray[np.intp]], dict[str, NDArray[np.float64]]]
+#: Outputs tabled transformed, ``(names, f)``: ``f(outputs, x)`` gives per load ``(W, S)``
+#: (``W > 0``) from the other outputs (interpolated first) and ``x = ln p0``, and each output
+#: ``v`` named is tabled as ``W ln v - S``: a known singularity made regular (the leak
+#: analysis: ``ln u1 ~ f/W`` as ``zeta_c`` approaches the largest magnification; the effective
+#: medium's conductance ``~ S`` as the contact approaches its sealing value).
+Weight = tuple[
+    frozenset[str],
+    Callable[
+        [dict[str, NDArray[np.float64]], NDArray[np.float64]],
+        tuple[NDArray[np.float64], NDArray[np.float64]],
+    ],
+]
+#: The outputs' roles: the keys (never interpolated) and the transformed outputs.
+_Roles = tuple[frozenset[str], tuple[Weight, ...]]
+#: Outputs tabled apart, each group with its own segments (its own keys and regularity).
+Groups = tuple[frozenset[str], ...]
 
 
 def by_load(
@@ -128,6 +145,8 @@ def by_load(
     orders: tuple[int, ...] = (ORDER,),
     safety: float = SAFETY,
     per_decade: float = PER_DECADE,
+    weights: tuple[Weight, ...] = (),
+    groups: Groups = (),
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
@@ -141,6 +160,10 @@ def by_load(
     distinct loads from which the table is used. ``orders``: the stencils (points) tried per
     load, the one of the smallest estimate taken (fewer points: a smaller Lebesgue function
     near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
+    ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
+    ``v``). ``groups``: a partition of the outputs (keys included) into groups tabled apart,
+    each in segments of its own keys and outputs (a load's estimate: the largest of its
+    groups'); none: one group.
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
@@ -148,7 +171,7 @@ def by_load(
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
     out, err = _table(
-        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), keys, per_decade
+        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), (keys, weights), per_decade, groups
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
@@ -187,8 +210,9 @@ def _table(
     xs: NDArray[np.float64],
     exact: Exact,
     tol: tuple[float, float, tuple[int, ...], float],
-    keys: frozenset[str],
+    roles: _Roles,
     per_decade: float,
+    groups: Groups = (),
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise,
     the orders and the safety): the table at ``per_decade`` nodes, each run of loads whose
@@ -218,9 +242,9 @@ def _table(
         regions = []
         for sub, nodes in plans:
             at = direct.at(sub[nodes])
-            logs = {k: _log(v) for k, v in at.items() if k not in keys}
+            logs = _logs(at, roles, xs[sub[nodes]])
             rest = np.setdiff1d(np.arange(sub.size), nodes)
-            vals, est = _estimated(xs[sub[nodes]], at, logs, xs[sub[rest]], keys, tol)
+            vals, est = _grouped(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol, groups)
             for k, v in vals.items():
                 out[k][sub[rest]] = v
             err[sub[rest]] = est
@@ -234,12 +258,40 @@ def _table(
     return out, err
 
 
+def _grouped(
+    xn: NDArray[np.float64],
+    at: dict[str, NDArray[np.float64]],
+    logs: dict[str, NDArray[np.float64]],
+    x: NDArray[np.float64],
+    roles: _Roles,
+    tol: tuple[float, float, tuple[int, ...], float],
+    groups: Groups,
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
+    """:func:`_estimated` per group of outputs (none: all in one), the largest estimate."""
+    keys, weights = roles
+    out: dict[str, NDArray[np.float64]] = {}
+    best = np.zeros(x.size)
+    for g in groups or (frozenset(at),):
+        w = tuple(wt for wt in weights if wt[0] <= g)
+        vals, est = _estimated(
+            xn,
+            {k: v for k, v in at.items() if k in g},
+            {k: v for k, v in logs.items() if k in g},
+            x,
+            (keys & g, w),
+            tol,
+        )
+        out.update(vals)
+        best = np.maximum(best, est)
+    return out, best
+
+
 def _estimated(
     xn: NDArray[np.float64],
     at: dict[str, NDArray[np.float64]],
     logs: dict[str, NDArray[np.float64]],
     x: NDArray[np.float64],
-    keys: frozenset[str],
+    roles: _Roles,
     tol: tuple[float, float, tuple[int, ...], float],
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs at ``x`` and their estimated error, per load from the order (of
@@ -250,10 +302,11 @@ def _estimated(
     out: dict[str, NDArray[np.float64]] = {}
     best = np.full(x.size, np.inf)
     for m in tol[2]:
-        check = _check(xn, at, logs, keys, m)  # (n_node,): the 2h error at the odd nodes
-        vals, bad, lebesgue, idx = _interpolate(xn, at, logs, x, keys, m)
+        check = _check(xn, at, logs, roles, m)  # (n_node,): the 2h error at the odd nodes
+        vals, bad, lebesgue, idx, flat = _interpolate(xn, at, logs, x, roles, m)
         est = np.max(check[idx], axis=1) * (tol[3] / 2**m) + tol[1] * (1.0 + lebesgue)
         est[bad] = np.inf
+        est[flat] = tol[1]  # exact (stated: the noise, > 0: not computed directly)
         take = est < best if out else np.ones(x.size, dtype=bool)
         for k, v in vals.items():
             out[k] = (
@@ -290,6 +343,20 @@ def _nodes(xs: NDArray[np.float64], h: float) -> NDArray[np.intp]:
     return np.asarray(out, dtype=np.intp)
 
 
+def _logs(
+    at: dict[str, NDArray[np.float64]], roles: _Roles, xn: NDArray[np.float64]
+) -> dict[str, NDArray[np.float64]]:
+    """The tabled logarithm of every output but the keys at the nodes ``xn`` (transformed
+    outputs: ``W ln v - S``)."""
+    keys, weights = roles
+    logs = {k: _log(v) for k, v in at.items() if k not in keys}
+    for names, f in weights:
+        W, S = f(at, xn)
+        for k in names:
+            logs[k] = logs[k] * W - S
+    return logs
+
+
 def _log(v: NDArray[np.float64]) -> NDArray[np.float64]:
     """The logarithm of the values (rows: floored at :data:`FLOOR`; per-load values: NaN where
     not finite and positive)."""
@@ -318,18 +385,26 @@ def _segments(at: dict[str, NDArray[np.float64]], keys: frozenset[str]) -> NDArr
 
 
 def _stencil(
-    xn: NDArray[np.float64], x: NDArray[np.float64], seg: NDArray[np.intp], m: int
+    xn: NDArray[np.float64],
+    x: NDArray[np.float64],
+    seg: NDArray[np.intp],
+    m: int,
+    seg_x: NDArray[np.intp] | None = None,
 ) -> tuple[NDArray, NDArray, NDArray[np.bool_]]:
     """The ``m`` nodes around each ``x`` (indices, (n, m)), their Lagrange weights, and where
     there are none: all within the segment of the two nodes around ``x`` (``seg``; shifted to
     one side near its ends), unusable where those two differ or the segment holds fewer than
-    ``m`` nodes."""
+    ``m`` nodes. ``seg_x``: each ``x``'s own segment, where known (a node checked by the
+    others: one-sided past its segment's last node of the others)."""
     around = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
-    start = np.searchsorted(seg, seg, side="left")  # the first node of each node's segment
-    stop = np.searchsorted(seg, seg, side="right") - 1
     lo = around - 1
-    bad = seg[lo] != seg[around]
-    first, last = start[lo], stop[lo]
+    if seg_x is None:
+        bad = seg[lo] != seg[around]
+        seg_x = seg[lo]
+    else:
+        bad = np.zeros(x.size, dtype=bool)
+    first = np.searchsorted(seg, seg_x, side="left")  # the first node of x's segment
+    last = np.searchsorted(seg, seg_x, side="right") - 1
     bad |= last - first + 1 < m
     i = np.clip(around - m // 2, first, np.maximum(last - m + 1, first))
     i = np.clip(i, 0, xn.size - m)
@@ -348,16 +423,25 @@ def _interpolate(
     at: dict[str, NDArray[np.float64]],
     logs: dict[str, NDArray[np.float64]],
     x: NDArray[np.float64],
-    keys: frozenset[str],
+    roles: _Roles,
     m: int = ORDER,
+    segs: tuple[NDArray[np.intp], NDArray[np.intp]] | None = None,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_], NDArray[np.float64], NDArray]:
     """Every output at ``x`` from the nodes ``xn`` (each from nodes of its segment), whether
     a load is unusable (between two segments, or a segment too short) and the sum of its
-    weights' magnitudes (the stencil's Lebesgue function), and the stencils (``m`` nodes)."""
-    idx, w, bad = _stencil(xn, x, _segments(at, keys), m)
+    weights' magnitudes (the stencil's Lebesgue function), and the stencils (``m`` nodes).
+    Weighted outputs last: ``exp`` of their interpolated ``W ln v`` over the load's ``W``
+    from the other outputs' interpolated values. ``segs``: the nodes' and the ``x``'s
+    segments, where known (:func:`_check`)."""
+    keys, weights = roles
+    if segs is None:
+        idx, w, bad = _stencil(xn, x, _segments(at, keys), m)
+    else:
+        idx, w, bad = _stencil(xn, x, segs[0], m, segs[1])
     lo = idx[:, 0]
     out = {}
-    for k, v in at.items():
+    late = {k: f for names, f in weights for k in names}
+    for k, v in sorted(at.items(), key=lambda kv: kv[0] in late):
         if k in keys:
             out[k] = v[lo]
             continue
@@ -366,14 +450,45 @@ def _interpolate(
             out[k] = _rows(L, idx, w)
             continue
         regular = np.isfinite(L)
-        y = np.exp(np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx]))
+        y = np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx])
+        if k in late:
+            W, S = late[k](out, x)
+            ok = (W > 0.0) & np.isfinite(S)
+            bad |= regular[lo] & ~ok
+            y = np.where(ok, (y + np.where(ok, S, 0.0)) / np.where(ok, W, 1.0), 0.0)
+        y = np.exp(y)
         # a segment of irregular values (NaN, 0 or inf): the value, where its nodes agree
         irregular = ~regular[lo]
         same = irregular & np.all(_same(v[idx], v[lo][:, None]), axis=1)
         y[irregular] = v[lo][irregular]
         bad |= irregular & ~same
         out[k] = y
-    return out, bad, np.sum(np.abs(w), axis=1), idx
+    flat, below = _flat(xn, at, logs, x, keys)
+    for k, v in out.items():
+        v[flat] = at[k][below[flat]]
+    return out, bad & ~flat, np.sum(np.abs(w), axis=1), idx, flat
+
+
+def _flat(
+    xn: NDArray[np.float64],
+    at: dict[str, NDArray[np.float64]],
+    logs: dict[str, NDArray[np.float64]],
+    x: NDArray[np.float64],
+    keys: frozenset[str],
+) -> tuple[NDArray[np.bool_], NDArray[np.intp]]:
+    """The loads between two nodes alike in every output, none of them regular (a sealed
+    stretch: its flags, zeros and NaN; exact, for outputs monotone in the load, whatever
+    the segment's length), and the node below each load."""
+    above = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
+    below = above - 1
+    flat = np.ones(x.size, dtype=bool)
+    for k, v in at.items():
+        if v.ndim > 1:
+            return np.zeros(x.size, dtype=bool), below
+        flat &= _same(v[below], v[above])
+        if k not in keys:
+            flat &= ~np.isfinite(logs[k][below])
+    return flat, below
 
 
 def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -399,7 +514,7 @@ def _check(
     xn: NDArray[np.float64],
     at: dict[str, NDArray[np.float64]],
     logs: dict[str, NDArray[np.float64]],
-    keys: frozenset[str],
+    roles: _Roles,
     m: int = ORDER,
 ) -> NDArray[np.float64]:
     """Per node: the relative error of the even nodes' ``m``-point table at the node (odd
@@ -408,9 +523,11 @@ def _check(
     even = np.arange(0, xn.size, 2)
     sub = {k: v[even] for k, v in at.items()}
     logs_even = {k: v[even] for k, v in logs.items()}
-    vals, bad, _, _ = _interpolate(xn[even], sub, logs_even, xn[odd], keys, m)
+    seg = _segments(at, roles[0])  # every node's: an odd node's own segment is known
+    segs = (seg[even], seg[odd])
+    vals, bad, _, _, _ = _interpolate(xn[even], sub, logs_even, xn[odd], roles, m, segs)
     err = np.zeros(odd.size)
-    for k in sub.keys() - keys:
+    for k in sub.keys() - roles[0]:
         top = float(np.nanmax(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0))))
         err = np.maximum(err, _relative(vals[k], at[k][odd], top))
     err[bad] = np.inf

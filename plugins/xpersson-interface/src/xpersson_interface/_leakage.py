@@ -331,6 +331,10 @@ def leak_rate(
     return (seal_length / seal_width) * np.asarray(u3, dtype=float) * dp_eff / (12.0 * viscosity)
 
 
+#: ``zeta_c`` above this fraction of the largest magnification: ``u1`` computed directly.
+NEAR_SEALING = 0.75
+
+
 def junction_piece(
     psd: object, zc: NDArray[np.float64], z_max: float, p0: NDArray[np.float64]
 ) -> NDArray[np.float64]:
@@ -344,4 +348,4 @@ def junction_piece(
         lz = np.log(zc)
     lo, hi = np.searchsorted(nodes, lz - 2e-3), np.searchsorted(nodes, lz + 2e-3)
     piece = (lo * (nodes.size + 1) + hi).astype(float)
-    return np.where(zc > 0.5 * z_max, -np.atleast_1d(p0), piece)
+    return np.where(zc > NEAR_SEALING * z_max, -np.atleast_1d(p0), piece)
