@@ -55,6 +55,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ._stencils import FLOOR, Weight, _interpolate, _logs, _Roles, _same, _segments
+
 __all__ = [
     "DEPTH",
     "FLOOR",
@@ -110,29 +112,11 @@ LEAK_PER_DECADE = 16
 #: The smooth part of the estimate: this times ``2^-m`` the error of the ``m``-point table at
 #: twice the spacing (asymptotically that error divided by ``2^m``: a margin of 16).
 SAFETY = 16.0
-#: Smallest density interpolated in logarithm (below: this; the error stays below it).
-FLOOR = 1e-300
 #: Rows' errors are relative to the larger of the row's largest value and this fraction of the
 #: largest over every load (a row 1e-57 of the others, near full contact, is 0 to this).
 DEPTH = 1e-30
 
 Exact = Callable[[NDArray[np.intp]], dict[str, NDArray[np.float64]]]
-#: Outputs tabled transformed, ``(names, f)``: ``f(outputs, x)`` gives per load ``(W, S)``
-#: (``W > 0``) from the other outputs (interpolated first) and ``x = ln p0``, and each output
-#: ``v`` named is tabled as ``W ln v - S``: a known singularity made regular (the leak
-#: analysis: ``ln u1 ~ f/W`` as ``zeta_c`` approaches the largest magnification; the effective
-#: medium's conductance ``~ S`` as the contact approaches its sealing value).
-Weight = tuple[
-    frozenset[str],
-    Callable[
-        [dict[str, NDArray[np.float64]], NDArray[np.float64]],
-        tuple[NDArray[np.float64], NDArray[np.float64]],
-    ],
-]
-#: The outputs' roles: the keys (never interpolated) and the transformed outputs.
-_Roles = tuple[frozenset[str], tuple[Weight, ...]]
-#: Outputs tabled apart, each group with its own segments (its own keys and regularity).
-Groups = tuple[frozenset[str], ...]
 
 
 def by_load(
@@ -146,7 +130,6 @@ def by_load(
     safety: float = SAFETY,
     per_decade: float = PER_DECADE,
     weights: tuple[Weight, ...] = (),
-    groups: Groups = (),
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
@@ -161,9 +144,7 @@ def by_load(
     load, the one of the smallest estimate taken (fewer points: a smaller Lebesgue function
     near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
     ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
-    ``v``). ``groups``: a partition of the outputs (keys included) into groups tabled apart,
-    each in segments of its own keys and outputs (a load's estimate: the largest of its
-    groups'); none: one group.
+    ``v``).
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
@@ -171,7 +152,7 @@ def by_load(
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
     out, err = _table(
-        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), (keys, weights), per_decade, groups
+        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), (keys, weights), per_decade
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
@@ -212,7 +193,6 @@ def _table(
     tol: tuple[float, float, tuple[int, ...], float],
     roles: _Roles,
     per_decade: float,
-    groups: Groups = (),
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise,
     the orders and the safety): the table at ``per_decade`` nodes, each run of loads whose
@@ -244,7 +224,7 @@ def _table(
             at = direct.at(sub[nodes])
             logs = _logs(at, roles, xs[sub[nodes]])
             rest = np.setdiff1d(np.arange(sub.size), nodes)
-            vals, est = _grouped(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol, groups)
+            vals, est = _estimated(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol)
             for k, v in vals.items():
                 out[k][sub[rest]] = v
             err[sub[rest]] = est
@@ -256,34 +236,6 @@ def _table(
         out[k][direct.done] = v[direct.done]
     err[direct.done] = 0.0
     return out, err
-
-
-def _grouped(
-    xn: NDArray[np.float64],
-    at: dict[str, NDArray[np.float64]],
-    logs: dict[str, NDArray[np.float64]],
-    x: NDArray[np.float64],
-    roles: _Roles,
-    tol: tuple[float, float, tuple[int, ...], float],
-    groups: Groups,
-) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
-    """:func:`_estimated` per group of outputs (none: all in one), the largest estimate."""
-    keys, weights = roles
-    out: dict[str, NDArray[np.float64]] = {}
-    best = np.zeros(x.size)
-    for g in groups or (frozenset(at),):
-        w = tuple(wt for wt in weights if wt[0] <= g)
-        vals, est = _estimated(
-            xn,
-            {k: v for k, v in at.items() if k in g},
-            {k: v for k, v in logs.items() if k in g},
-            x,
-            (keys & g, w),
-            tol,
-        )
-        out.update(vals)
-        best = np.maximum(best, est)
-    return out, best
 
 
 def _estimated(
@@ -341,173 +293,6 @@ def _nodes(xs: NDArray[np.float64], h: float) -> NDArray[np.intp]:
         j = int(np.searchsorted(xs, xs[i] + h, side="right")) - 1
         out.append(min(max(j, i + 1), last))
     return np.asarray(out, dtype=np.intp)
-
-
-def _logs(
-    at: dict[str, NDArray[np.float64]], roles: _Roles, xn: NDArray[np.float64]
-) -> dict[str, NDArray[np.float64]]:
-    """The tabled logarithm of every output but the keys at the nodes ``xn`` (transformed
-    outputs: ``W ln v - S``)."""
-    keys, weights = roles
-    logs = {k: _log(v) for k, v in at.items() if k not in keys}
-    for names, f in weights:
-        W, S = f(at, xn)
-        for k in names:
-            logs[k] = logs[k] * W - S
-    return logs
-
-
-def _log(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The logarithm of the values (rows: floored at :data:`FLOOR`; per-load values: NaN where
-    not finite and positive)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        if v.ndim > 1:
-            return np.log(np.maximum(v, FLOOR))
-        return np.where(np.isfinite(v) & (v > 0.0), np.log(np.where(v > 0.0, v, 1.0)), np.nan)
-
-
-def _segments(at: dict[str, NDArray[np.float64]], keys: frozenset[str]) -> NDArray[np.intp]:
-    """Per node, the number of its segment: runs of nodes alike in every key and in which
-    outputs are regular (finite and, per-load values, positive)."""
-    cols = []
-    for k, v in at.items():
-        if k in keys:
-            cols.append(np.where(np.isnan(v), np.inf, v))
-        elif v.ndim > 1:
-            cols.append(np.all(np.isfinite(v), axis=1).astype(float))
-        else:
-            cols.append((np.isfinite(v) & (v > 0.0)).astype(float))
-    if not cols:
-        return np.zeros(next(iter(at.values())).shape[0], dtype=np.intp)
-    c = np.stack(cols, axis=1)
-    change = np.any(c[1:] != c[:-1], axis=1)
-    return np.concatenate(([0], np.cumsum(change)))
-
-
-def _stencil(
-    xn: NDArray[np.float64],
-    x: NDArray[np.float64],
-    seg: NDArray[np.intp],
-    m: int,
-    seg_x: NDArray[np.intp] | None = None,
-) -> tuple[NDArray, NDArray, NDArray[np.bool_]]:
-    """The ``m`` nodes around each ``x`` (indices, (n, m)), their Lagrange weights, and where
-    there are none: all within the segment of the two nodes around ``x`` (``seg``; shifted to
-    one side near its ends), unusable where those two differ or the segment holds fewer than
-    ``m`` nodes. ``seg_x``: each ``x``'s own segment, where known (a node checked by the
-    others: one-sided past its segment's last node of the others)."""
-    around = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
-    lo = around - 1
-    if seg_x is None:
-        bad = seg[lo] != seg[around]
-        seg_x = seg[lo]
-    else:
-        bad = np.zeros(x.size, dtype=bool)
-    first = np.searchsorted(seg, seg_x, side="left")  # the first node of x's segment
-    last = np.searchsorted(seg, seg_x, side="right") - 1
-    bad |= last - first + 1 < m
-    i = np.clip(around - m // 2, first, np.maximum(last - m + 1, first))
-    i = np.clip(i, 0, xn.size - m)
-    idx = i[:, None] + np.arange(m)
-    X = xn[idx]
-    w = np.ones((x.size, m))
-    for a in range(m):
-        for b in range(m):
-            if a != b:
-                w[:, a] *= (x - X[:, b]) / (X[:, a] - X[:, b])
-    return idx, w, bad
-
-
-def _interpolate(
-    xn: NDArray[np.float64],
-    at: dict[str, NDArray[np.float64]],
-    logs: dict[str, NDArray[np.float64]],
-    x: NDArray[np.float64],
-    roles: _Roles,
-    m: int = ORDER,
-    segs: tuple[NDArray[np.intp], NDArray[np.intp]] | None = None,
-) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_], NDArray[np.float64], NDArray]:
-    """Every output at ``x`` from the nodes ``xn`` (each from nodes of its segment), whether
-    a load is unusable (between two segments, or a segment too short) and the sum of its
-    weights' magnitudes (the stencil's Lebesgue function), and the stencils (``m`` nodes).
-    Weighted outputs last: ``exp`` of their interpolated ``W ln v`` over the load's ``W``
-    from the other outputs' interpolated values. ``segs``: the nodes' and the ``x``'s
-    segments, where known (:func:`_check`)."""
-    keys, weights = roles
-    if segs is None:
-        idx, w, bad = _stencil(xn, x, _segments(at, keys), m)
-    else:
-        idx, w, bad = _stencil(xn, x, segs[0], m, segs[1])
-    lo = idx[:, 0]
-    out = {}
-    late = {k: f for names, f in weights for k in names}
-    for k, v in sorted(at.items(), key=lambda kv: kv[0] in late):
-        if k in keys:
-            out[k] = v[lo]
-            continue
-        L = logs[k]
-        if v.ndim > 1:
-            out[k] = _rows(L, idx, w)
-            continue
-        regular = np.isfinite(L)
-        y = np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx])
-        if k in late:
-            W, S = late[k](out, x)
-            ok = (W > 0.0) & np.isfinite(S)
-            bad |= regular[lo] & ~ok
-            y = np.where(ok, (y + np.where(ok, S, 0.0)) / np.where(ok, W, 1.0), 0.0)
-        y = np.exp(y)
-        # a segment of irregular values (NaN, 0 or inf): the value, where its nodes agree
-        irregular = ~regular[lo]
-        same = irregular & np.all(_same(v[idx], v[lo][:, None]), axis=1)
-        y[irregular] = v[lo][irregular]
-        bad |= irregular & ~same
-        out[k] = y
-    flat, below = _flat(xn, at, logs, x, keys)
-    for k, v in out.items():
-        v[flat] = at[k][below[flat]]
-    return out, bad & ~flat, np.sum(np.abs(w), axis=1), idx, flat
-
-
-def _flat(
-    xn: NDArray[np.float64],
-    at: dict[str, NDArray[np.float64]],
-    logs: dict[str, NDArray[np.float64]],
-    x: NDArray[np.float64],
-    keys: frozenset[str],
-) -> tuple[NDArray[np.bool_], NDArray[np.intp]]:
-    """The loads between two nodes alike in every output, none of them regular (a sealed
-    stretch: its flags, zeros and NaN; exact, for outputs monotone in the load, whatever
-    the segment's length), and the node below each load."""
-    above = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
-    below = above - 1
-    flat = np.ones(x.size, dtype=bool)
-    for k, v in at.items():
-        if v.ndim > 1:
-            return np.zeros(x.size, dtype=bool), below
-        flat &= _same(v[below], v[above])
-        if k not in keys:
-            flat &= ~np.isfinite(logs[k][below])
-    return flat, below
-
-
-def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
-    return (a == b) | (np.isnan(a) & np.isnan(b))
-
-
-def _rows(L: NDArray[np.float64], idx: NDArray, w: NDArray) -> NDArray[np.float64]:
-    """``exp(sum_k w_k L[idx_k])`` per row, in blocks of rows that stay in the cache."""
-    n = idx.shape[0]
-    out = np.empty((n, L.shape[1]))
-    step = max(1, 2**17 // max(L.shape[1], 1))
-    for s in range(0, n, step):
-        t = slice(s, s + step)
-        acc = out[t]
-        np.multiply(L[idx[t, 0]], w[t, 0, None], out=acc)
-        for k in range(1, idx.shape[1]):
-            acc += L[idx[t, k]] * w[t, k, None]
-        np.exp(acc, out=acc)
-    return out
 
 
 def _check(

@@ -46,13 +46,18 @@ from ._by_load import (
     LEAK_TOL,
     TABLE_MIN,
     TOL,
-    Weight,
     by_load,
     subset,
 )
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
-from ._leakage import bruggeman_gap, effective_pressure_drop, junction_piece, leak_rate
+from ._leakage import (
+    bruggeman_gap,
+    effective_pressure_drop,
+    junction_piece,
+    leak_rate,
+    table_weights,
+)
 from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, LEAKAGE_PARAMS, load_error
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
@@ -440,52 +445,15 @@ class Leakage(_Interface):
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         direct = lambda rows: self._direct(ctx, ds, rows)  # noqa: E731
-        out, err = by_load(
-            ctx.p0,
-            direct,
-            LEAK_TOL,
-            _KEYS,
-            LEAK_NOISE,
-            LEAK_MIN,
-            LEAK_ORDERS,
-            LEAK_SAFETY,
-            LEAK_PER_DECADE,
-            self._weights(ctx, ds),
-        )
+        p = self.params
+        weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
+        settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, LEAK_PER_DECADE, weights)
+        out, err = by_load(ctx.p0, direct, LEAK_TOL, _KEYS, *settings)
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k != "piece"}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))
         res["leak_load_error"] = (("p0",), err)
         return res
-
-    def _weights(self, ctx: Any, ds: xr.Dataset) -> tuple[Weight, ...]:
-        """The load table's regularised outputs: the junction's as ``ln(zeta_max/zeta_c) ln v``
-        (near sealing ``ln u1 ~ -f/ln(zeta_max/zeta_c)``), the effective medium's as
-        ``ln v - 3 ln r`` with ``r = 1 - A(zeta_max)/A_seal`` from the solve (``A_seal`` the
-        contact weight at which the medium percolates, ``a_c`` or 1/2): its conductance falls
-        to 0 there as ``r^3`` (``d ln v/d ln r`` 2.99 at ``r = 1e-3`` on the speed design's
-        scenes)."""
-        z_max = float(ds["zeta"].values[-1])
-        names = getattr(type(ctx.boundary), "contact_area", ("area_fraction",))
-        area = sum(np.asarray(ds[c].transpose("p0", "zeta").values[:, -1]) for c in names)
-        seal = float(self.params["a_c"]) if self.params["emt_threshold"] == "a_c" else 0.5
-        x_all = np.log(np.atleast_1d(np.asarray(ctx.p0, dtype=float)))
-        order = np.argsort(x_all, kind="stable")
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ln_r = np.log(1.0 - np.atleast_1d(area)[order] / seal)
-
-        def junction(o: dict[str, np.ndarray], x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                return np.log(z_max / o["leak_zeta_c"]), np.zeros(x.size)
-
-        def emt(o: dict[str, np.ndarray], x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            at = np.clip(np.searchsorted(x_all[order], x), 0, x_all.size - 1)  # loads' own
-            return np.ones(x.size), 3.0 * ln_r[at]
-
-        return (
-            (frozenset({"leak_u1", "leak_flow_factor", "leak_rate"}), junction),
-            (frozenset({"leak_flow_factor_emt", "leak_rate_emt"}), emt),
-        )
 
     def _direct(self, ctx: Any, ds: xr.Dataset, rows: np.ndarray) -> dict[str, np.ndarray]:
         """The outputs of the loads ``rows``, computed directly (the flags as floats; ``piece``:
