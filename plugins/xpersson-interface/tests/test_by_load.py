@@ -117,6 +117,66 @@ def test_a_kink_is_refined_or_computed_directly():
     assert np.all(rel <= err + 1e-15) and err.max() <= TOL
 
 
+P_SEAL = 3e5  # the load at which the singular output below vanishes
+
+
+def _singular(p0: np.ndarray) -> dict[str, np.ndarray]:
+    """``z = p0/P_SEAL`` (as the leak analysis's ``zeta_c/zeta_max``) and, with
+    ``t = ln(1/z)``, ``v = exp(-2/t + t)``, which vanishes faster than any power of ``t`` at
+    ``P_SEAL`` (as ``u1``)."""
+    z = p0 / P_SEAL
+    t = -np.log(z)
+    return {"z": z, "v": np.exp(-2.0 / t + t)}
+
+
+def _t_weight(o: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return -np.log(o["z"]), np.zeros(x.size)
+
+
+def test_a_transformed_output_is_tabled_up_to_its_singularity():
+    """``v`` tabled as ``t ln v`` (smooth: ``-2 + t^2``) is interpolated within its estimate up
+    to a few loads from ``P_SEAL``, with fewer loads computed than tabling ``ln v``."""
+    p0 = np.geomspace(1e3, 0.98 * P_SEAL, 3000)
+    weighted, plain = Direct(p0, _singular), Direct(p0, _singular)
+    out, err = by_load(p0, weighted, weights=((frozenset({"v"}), _t_weight),))
+    ref, ref_err = by_load(p0, plain)
+    exact = _singular(p0)
+    rel = np.abs(out["v"] / exact["v"] - 1.0)
+    assert np.all(rel <= err + 1e-15) and err.max() <= TOL
+    n_weighted = np.unique(np.concatenate(weighted.asked)).size
+    assert n_weighted < 0.5 * np.unique(np.concatenate(plain.asked)).size
+    assert np.count_nonzero(err[p0 > 0.9 * P_SEAL]) > 0  # interpolated close to it
+
+
+def _two_seals(p0: np.ndarray) -> dict[str, np.ndarray]:
+    """Two outputs sealing at 2e4 and 2.1e4 Pa (NaN, then 0; the second as ``(1 - p0/p)^3``,
+    refined down to its seal), a flag of the second."""
+    a = np.where(p0 < 2e4, p0**-0.3, np.nan)
+    b = np.where(p0 < 2.1e4, np.abs(1.0 - p0 / 2.1e4) ** 3 * p0**-0.2, 0.0)
+    return {"a": a, "b": b, "flag": (b <= 0).astype(float)}
+
+
+def test_a_sealed_stretch_between_alike_nodes_is_exact_whatever_its_length():
+    """Past both seals every output is irregular and alike: each load between two such nodes
+    takes their values (its estimate the noise), even in a refined region holding fewer than
+    ORDER of them; only the loads around the seals are computed directly."""
+    p0 = np.geomspace(1e3, 1e6, 3000)
+    direct = Direct(p0, _two_seals)
+    out, err = by_load(p0, direct, keys=frozenset({"flag"}))
+    exact = _two_seals(p0)
+    sealed = p0 > 2.2e4
+    for k in exact:
+        np.testing.assert_array_equal(out[k][sealed], exact[k][sealed])
+        ok = exact[k] > 0
+        np.testing.assert_array_equal(ok, out[k] > 0)
+        assert np.all(np.abs(out[k][ok] / exact[k][ok] - 1.0) <= err[ok] + 1e-15)
+    asked = np.unique(np.concatenate(direct.asked))
+    assert np.all(err[sealed][err[sealed] > 0] == by_load_mod.NOISE)
+    # the table's own nodes there (27 at 16 per decade) and a few more; 50 if each refined
+    # region needs ORDER sealed nodes of its own
+    assert np.count_nonzero(sealed[asked]) < 40
+
+
 def _both(analysis: str, n: int, least: dict) -> tuple:
     """``analysis`` at ``n`` loads through the table (its minimum lowered as ``least`` says, on
     modules' attributes, to keep the test small) and directly."""
