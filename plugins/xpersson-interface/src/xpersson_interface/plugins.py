@@ -427,7 +427,7 @@ class Leakage(_Interface):
             ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)",
             extra=_FLAG,
         ),
-        "leak_load_error": load_error(LEAK_TOL, LEAK_MIN),
+        "leak_load_error": load_error(LEAK_TOL, LEAK_MIN, "4 times"),
     }  # fmt: skip
     provides = tuple(outputs)
     body_quantities: ClassVar = LEAKAGE
