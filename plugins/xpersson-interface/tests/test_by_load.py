@@ -117,6 +117,66 @@ def test_a_kink_is_refined_or_computed_directly():
     assert np.all(rel <= err + 1e-15) and err.max() <= TOL
 
 
+P_SEAL = 3e5  # the load at which the singular output below vanishes
+
+
+def _singular(p0: np.ndarray) -> dict[str, np.ndarray]:
+    """``z = p0/P_SEAL`` (as the leak analysis's ``zeta_c/zeta_max``) and, with
+    ``t = ln(1/z)``, ``v = exp(-2/t + t)``, which vanishes faster than any power of ``t`` at
+    ``P_SEAL`` (as ``u1``)."""
+    z = p0 / P_SEAL
+    t = -np.log(z)
+    return {"z": z, "v": np.exp(-2.0 / t + t)}
+
+
+def _t_weight(o: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return -np.log(o["z"]), np.zeros(x.size)
+
+
+def test_a_transformed_output_is_tabled_up_to_its_singularity():
+    """``v`` tabled as ``t ln v`` (smooth: ``-2 + t^2``) is interpolated within its estimate up
+    to a few loads from ``P_SEAL``, with fewer loads computed than tabling ``ln v``."""
+    p0 = np.geomspace(1e3, 0.98 * P_SEAL, 3000)
+    weighted, plain = Direct(p0, _singular), Direct(p0, _singular)
+    out, err = by_load(p0, weighted, weights=((frozenset({"v"}), _t_weight),))
+    ref, ref_err = by_load(p0, plain)
+    exact = _singular(p0)
+    rel = np.abs(out["v"] / exact["v"] - 1.0)
+    assert np.all(rel <= err + 1e-15) and err.max() <= TOL
+    n_weighted = np.unique(np.concatenate(weighted.asked)).size
+    assert n_weighted < 0.5 * np.unique(np.concatenate(plain.asked)).size
+    assert np.count_nonzero(err[p0 > 0.9 * P_SEAL]) > 0  # interpolated close to it
+
+
+def _two_seals(p0: np.ndarray) -> dict[str, np.ndarray]:
+    """Two outputs sealing at 2e4 and 2.1e4 Pa (NaN, then 0; the second as ``(1 - p0/p)^3``,
+    refined down to its seal), a flag of the second."""
+    a = np.where(p0 < 2e4, p0**-0.3, np.nan)
+    b = np.where(p0 < 2.1e4, np.abs(1.0 - p0 / 2.1e4) ** 3 * p0**-0.2, 0.0)
+    return {"a": a, "b": b, "flag": (b <= 0).astype(float)}
+
+
+def test_a_sealed_stretch_between_alike_nodes_is_exact_whatever_its_length():
+    """Past both seals every output is irregular and alike: each load between two such nodes
+    takes their values (its estimate the noise), even in a refined region holding fewer than
+    ORDER of them; only the loads around the seals are computed directly."""
+    p0 = np.geomspace(1e3, 1e6, 3000)
+    direct = Direct(p0, _two_seals)
+    out, err = by_load(p0, direct, keys=frozenset({"flag"}))
+    exact = _two_seals(p0)
+    sealed = p0 > 2.2e4
+    for k in exact:
+        np.testing.assert_array_equal(out[k][sealed], exact[k][sealed])
+        ok = exact[k] > 0
+        np.testing.assert_array_equal(ok, out[k] > 0)
+        assert np.all(np.abs(out[k][ok] / exact[k][ok] - 1.0) <= err[ok] + 1e-15)
+    asked = np.unique(np.concatenate(direct.asked))
+    assert np.all(err[sealed][err[sealed] > 0] == by_load_mod.NOISE)
+    # the table's own nodes there (27 at 16 per decade) and a few more; 50 if each refined
+    # region needs ORDER sealed nodes of its own
+    assert np.count_nonzero(sealed[asked]) < 40
+
+
 def _both(analysis: str, n: int, least: dict) -> tuple:
     """``analysis`` at ``n`` loads through the table (its minimum lowered as ``least`` says, on
     modules' attributes, to keep the test small) and directly."""
@@ -223,3 +283,84 @@ def test_u1_difference_quotient_is_converged_in_its_step():
     contact = SolvedContact(rs.psd, rs.E_star, rs.p0, ds["zeta"].values, area)
     u = [contact.separation_at(zc, rel_step=h)[ok] for h in (1e-3, 5e-4)]
     assert np.max(np.abs(u[1] / u[0] - 1.0)) < 2e-5
+
+
+def _drawn(seed: int) -> dict:
+    """A seeded self-affine spectrum outside benchmarks/summary.py's design (held out)."""
+    rng = np.random.default_rng(1000 + seed)
+    H, q_L = float(rng.uniform(0.3, 0.95)), float(10 ** rng.uniform(2.0, 4.0))
+    roll = 10 ** float(rng.uniform(0.3, 1.0)) if seed % 2 else 1.0
+    return {"model": "self_affine", "H": H, "q_L": f"{q_L!r} 1/m",
+            "q_r": f"{q_L * roll!r} 1/m", "q_1": f"{q_L * 10.0 ** int(rng.integers(3, 7))!r} 1/m",
+            "h_rms": "1 um"}  # fmt: skip
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_leakage_table_within_its_estimate_on_drawn_scenes(seed):
+    """Seeded held-out spectra (with and without roll-off): every interpolated load of the leak
+    analysis within its stated error of the direct path, the error within LEAK_TOL."""
+    sc = {
+        "spectrum": _drawn(seed),
+        "material": {"E": "10 MPa", "nu": 0.5},
+        "load": {"p0": {"start": "1 kPa", "stop": "1 MPa", "num": 240}},
+        "output": {"zeta": [float(z) for z in np.geomspace(1.0, 1e3, 50)]},
+        "analyses": {"leakage": {}},
+    }
+    mp = pytest.MonkeyPatch()
+    try:
+        mp.setattr(by_load_mod, "TABLE_MIN", 60)
+        mp.setattr(plugins_mod, "LEAK_MIN", 60)
+        mp.setattr(plugins_mod, "LEAK_PER_DECADE", 8)  # the table's regime at 60 loads
+        table = xpersson.solve(sc)
+        mp.setattr(by_load_mod, "TABLE_MIN", 10**9)
+        direct = xpersson.solve(sc)
+    finally:
+        mp.undo()
+    err = table["leak_load_error"].values
+    assert err.max() <= by_load_mod.LEAK_TOL and np.count_nonzero(err) > 0
+    for k in ("leak_zeta_c", "leak_u1", "leak_rate", "leak_rate_emt", "leak_flow_factor_emt"):
+        got, want = table[k].values, direct[k].values
+        np.testing.assert_array_equal(np.isnan(got), np.isnan(want))
+        ok = np.isfinite(want) & (want > 0) & (err > 0)
+        assert np.all(np.abs(got[ok] / want[ok] - 1.0) <= err[ok]), k
+
+
+#: Held-out spectra (``benchmarks/summary_design.design(12, 37)`` and ``(12, 38)``) whose leak
+#: table fell short of its estimate 1.28x with a noise allowance of 1e-5: a kink of u1 at
+#: zeta_c = 1.64 (roll-off H = 0.83) and the area spline's ringing just past the roll-off
+#: (H = 0.63, zeta_c 4.5-4.7), both narrower than the table's spacing.
+_KINKED = {
+    "kink": {"model": "self_affine", "H": 0.8319, "q_L": "4834.281958533276 1/m",
+             "q_r": "22081.48882540658 1/m", "q_1": "48342819.585332766 1/m", "h_rms": "1 um"},
+    "ringing": {"model": "self_affine", "H": 0.6276, "q_L": "2405.2229074205247 1/m",
+                "q_r": "10447.226407941289 1/m", "q_1": "240522290.74205247 1/m",
+                "h_rms": "1 um"},
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", sorted(_KINKED))
+def test_leakage_table_covers_features_narrower_than_its_spacing(name):
+    """At 1000 loads (the table's own settings) every interpolated load of the leak analysis is
+    within its stated error of the direct path, on the two held-out spectra with a feature
+    narrower than the table's spacing (LEAK_NOISE covers it)."""
+    sc = {
+        "spectrum": _KINKED[name],
+        "material": {"E": "10 MPa", "nu": 0.5},
+        "load": {"p0": {"start": "1000.0 Pa", "stop": "1000000.0 Pa", "num": 1000}},
+        "output": {"zeta": [float(z) for z in np.geomspace(1.0, 1e3, 50)]},
+        "analyses": {"leakage": {}},
+    }
+    table = xpersson.solve(sc)
+    mp = pytest.MonkeyPatch()
+    try:
+        mp.setattr(by_load_mod, "TABLE_MIN", 10**9)
+        direct = xpersson.solve(sc)
+    finally:
+        mp.undo()
+    err = table["leak_load_error"].values
+    assert np.count_nonzero(err) > 500
+    for k in ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_rate", "leak_rate_emt"):
+        got, want = table[k].values, direct[k].values
+        np.testing.assert_array_equal(np.isnan(got), np.isnan(want))
+        ok = np.isfinite(want) & (want > 0) & (err > 0)
+        assert np.all(np.abs(got[ok] / want[ok] - 1.0) <= err[ok]), k

@@ -12,16 +12,21 @@ only *node* loads are computed directly: a subset of the requested loads about
 at least ``4 ORDER`` over the range). Every other load takes each output from the Lagrange
 polynomial through the :data:`ORDER` nearest nodes in ``ln p0``, of the output's logarithm
 (near full contact the detached area falls super-exponentially and its logarithm stays smooth
-in ``ln p0``; the gap density element by element, floored at :data:`FLOOR`).
+in ``ln p0``; the gap density element by element, floored at :data:`FLOOR`), or of a
+transform of it that removes a known singularity (:data:`Weight`: ``leakage``'s ``u1`` near
+sealing, its effective medium where it percolates; ``_leakage.table_weights``).
 
 **Segments.** A stencil never crosses a change of regime: nodes are grouped into runs alike in
 every *key* (an output never interpolated: the sealed flags, the piece of the spectrum that
 ``leakage``'s ``u1`` reaches) and in which outputs are regular (finite, positive); a load takes
 its stencil from the segment of the two nodes around it (one-sided near the segment's ends),
-a load between two segments has none.
+a load between two segments has none. A load between two nodes alike in every output, none
+of them regular (a sealed stretch), takes their values, whatever the segment's length (its
+estimate: the noise).
 
 **The error, estimated per load.** The nodes at twice the spacing (the even ones) interpolate
-the odd ones; the largest relative error among the odd nodes of a load's stencil, times
+the odd ones (each from the even nodes of its own segment, one-sided past the segment's last
+even node); the largest relative error among the odd nodes of a load's stencil, times
 ``SAFETY 2^-ORDER`` (halving the spacing divides a smooth function's error by ``2^ORDER``;
 :data:`SAFETY` = 16 keeps that margin), plus the direct path's own irregularity in the load
 (:data:`NOISE`, ``leakage`` :data:`LEAK_NOISE`: no interpolation follows it) times one plus
@@ -34,13 +39,15 @@ load was computed directly).
 **Refinement.** Each run of loads whose estimate exceeds the tolerance (:data:`TOL`,
 ``leakage`` :data:`LEAK_TOL`), or that has no stencil, is tabled again between the nodes around
 it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes would be more than
-half of its loads is computed directly.
+half of its loads has those of its loads that miss the tolerance computed directly. Level by
+level: the node loads of every run of one level are computed in one direct call.
 
-Measured against the direct path on the 12 scenes of ``benchmarks/summary.py`` at 3000 and
-1e4 loads (``benchmarks/load_table_check.py``, ``benchmarks/results/load_table_check.json``):
-``gap_pdf`` within 2.0e-5 of each load's largest density, ``leakage`` within 8.5e-4, every
-interpolated load within 0.76 of its estimate. Below the minimum every load is computed
-directly, as before, bit for bit.
+Measured against the direct path (``benchmarks/load_table_check.py``): ``gap_pdf`` on the 12
+scenes of ``benchmarks/summary.py`` at 3000 and 1e4 loads within 2.0e-5 of each load's largest
+density; ``leakage`` on those and 20 held-out scenes (``--seeds 37 38``) at 1000 and 1e4 loads
+within 1.2e-3, every interpolated load within 0.79 of its estimate
+(``results/load_table_check_leakage_1000.json``, ``..._1e4.json``). Below the minimum every
+load is computed directly, as before, bit for bit.
 """
 
 from __future__ import annotations
@@ -53,11 +60,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ._stencils import FLOOR, Weight, _interpolate, _logs, _Roles, _same, _segments
+
 __all__ = [
     "DEPTH",
     "FLOOR",
     "LEAK_MIN",
     "LEAK_ORDERS",
+    "LEAK_PER_DECADE",
     "LEAK_SAFETY",
     "LEAK_NOISE",
     "LEAK_TOL",
@@ -68,6 +78,7 @@ __all__ = [
     "SAFETY",
     "TABLE_MIN",
     "TOL",
+    "Weight",
     "by_load",
     "subset",
 ]
@@ -86,19 +97,26 @@ MAX_DEPTH = 4
 #: look-up table), which no interpolation follows; a node's reaches a load through the
 #: stencil's weights.
 NOISE = 5e-6
-#: The same for the leak analysis: its effective medium (cells that move with the load) and
-#: its critical junction (rates as ``u1^3``) are irregular by ~1e-4 in the load directly; from
-#: :data:`LEAK_MIN` loads on (below, refining its transitions costs more than it saves).
-LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 3e-4, 2000
-#: The leak analysis's stencils (points; the smallest estimate per load) and margin: fewer
-#: points near a segment's ends cut the noise's reach, but near sealing (``u1 -> 0``) their
-#: estimate fell short by 3x (roll H = 0.84 4 dec): 8 points only.
-LEAK_ORDERS, LEAK_SAFETY = (8,), 16.0
+#: The same for the leak analysis, from :data:`TABLE_MIN` loads on as ``gap_pdf``: directly,
+#: its outputs are regular in the load to ~1e-7 (sixth differences at 500 loads per decade,
+#: the 12 design scenes) except at features narrower than the table's spacing, which the
+#: check at the nodes cannot see: a kink of ``u1`` (slope jumps of up to ~0.05 in
+#: ``d ln(u1^3)/d ln p0``, e.g. at ``zeta_c = 1.64`` on a held-out roll-off H = 0.83 scene) and
+#: the ringing of the area curve's spline just past a breakpoint of the spectrum (``zeta_c``
+#: 1.04-1.08 times the roll-off). At 16 nodes per decade they cost up to 3e-4 beyond the
+#: smooth estimate (held-out seeds 37 and 38: 1.28 of the estimate with 1e-5 here); 1e-4,
+#: through the stencil (2.5e-4 centred), covers them (largest ratio 0.78 on 34 scenes).
+LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 1e-4, TABLE_MIN
+#: The leak analysis's stencils (points) and margin: its estimate is 4 times the error of the
+#: table at twice the spacing (``LEAK_SAFETY 2^-8``), not that error scaled down by ``2^-8``
+#: (the asymptotic rate, which the ripple and the kinks do not reach: with it the estimate fell
+#: short 2-9x; with the error at twice the spacing alone, up to 3.9x on held-out scenes).
+#: 8 points only (4 and 6 fell short 1.5x more often).
+LEAK_ORDERS, LEAK_SAFETY = (8,), 4.0 * 2**8
+LEAK_PER_DECADE = 16
 #: The smooth part of the estimate: this times ``2^-m`` the error of the ``m``-point table at
 #: twice the spacing (asymptotically that error divided by ``2^m``: a margin of 16).
 SAFETY = 16.0
-#: Smallest density interpolated in logarithm (below: this; the error stays below it).
-FLOOR = 1e-300
 #: Rows' errors are relative to the larger of the row's largest value and this fraction of the
 #: largest over every load (a row 1e-57 of the others, near full contact, is 0 to this).
 DEPTH = 1e-30
@@ -115,6 +133,8 @@ def by_load(
     least: int = 0,
     orders: tuple[int, ...] = (ORDER,),
     safety: float = SAFETY,
+    per_decade: float = PER_DECADE,
+    weights: tuple[Weight, ...] = (),
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
@@ -128,6 +148,8 @@ def by_load(
     distinct loads from which the table is used. ``orders``: the stencils (points) tried per
     load, the one of the smallest estimate taken (fewer points: a smaller Lebesgue function
     near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
+    ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
+    ``v``).
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
@@ -135,47 +157,89 @@ def by_load(
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
     out, err = _table(
-        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), keys, PER_DECADE, 0
+        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), (keys, weights), per_decade
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
+
+
+class _Direct:
+    """The loads computed directly, each once: the rows asked for at one refinement level are
+    computed in one call of ``exact`` (its fixed cost, the dense re-solve and the splines, is
+    paid once per level, not once per refined run)."""
+
+    def __init__(self, exact: Exact, n: int) -> None:
+        self.exact, self.n = exact, n
+        self.done = np.zeros(n, dtype=bool)
+        self.pending = np.zeros(n, dtype=bool)
+        self.vals: dict[str, NDArray[np.float64]] = {}
+
+    def need(self, rows: NDArray[np.intp]) -> None:
+        self.pending[rows] = True
+
+    def run(self) -> None:
+        rows = np.flatnonzero(self.pending & ~self.done)
+        self.pending[:] = False
+        if not rows.size:
+            return
+        got = self.exact(rows)
+        for k, v in got.items():
+            if k not in self.vals:
+                self.vals[k] = np.empty((self.n,) + v.shape[1:])
+            self.vals[k][rows] = v
+        self.done[rows] = True
+
+    def at(self, rows: NDArray[np.intp]) -> dict[str, NDArray[np.float64]]:
+        return {k: v[rows] for k, v in self.vals.items()}
 
 
 def _table(
     xs: NDArray[np.float64],
     exact: Exact,
     tol: tuple[float, float, tuple[int, ...], float],
-    keys: frozenset[str],
+    roles: _Roles,
     per_decade: float,
-    depth: int,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
-    """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise
-    and the orders): the table at ``per_decade`` nodes, each run of loads whose estimate exceeds the
-    tolerance again at twice the density
-    (between the nodes around it), at most :data:`MAX_DEPTH` times; directly where the nodes
-    would be more than half of the loads."""
-    # at least 4 ORDER nodes over the loads' range (a narrow range: denser than per_decade)
-    nodes = _nodes(xs, min(math.log(10.0) / per_decade, (xs[-1] - xs[0]) / (4 * ORDER)))
-    if depth > MAX_DEPTH or nodes.size < 2 * ORDER or 2 * nodes.size > xs.size:
-        return exact(np.arange(xs.size)), np.zeros(xs.size)
-    at = exact(nodes)
-    logs = {k: _log(v) for k, v in at.items() if k not in keys}
-    xn = xs[nodes]
-    rest = np.setdiff1d(np.arange(xs.size), nodes)
-    vals, est = _estimated(xn, at, logs, xs[rest], keys, tol)
-    out = {k: np.empty((xs.size,) + v.shape[1:]) for k, v in at.items()}
-    for k, v in at.items():
-        out[k][nodes] = v
-        out[k][rest] = vals[k]
-    err = np.zeros(xs.size)
-    err[rest] = est
-    for lo, hi in _runs(rest[est > tol[0]], nodes):
-        sub = np.arange(lo, hi + 1)
-        o, e = _table(
-            xs[sub], lambda sel, sub=sub: exact(sub[sel]), tol, keys, 2 * per_decade, depth + 1
-        )
-        for k, v in o.items():
-            out[k][sub] = v
-        err[sub] = e
+    """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise,
+    the orders and the safety): the table at ``per_decade`` nodes, each run of loads whose
+    estimate exceeds the tolerance again at twice the density (between the nodes around it),
+    at most :data:`MAX_DEPTH` times; directly where the nodes would be more than half of the
+    loads (those whose estimate already meets the tolerance keep it). Level by level: the
+    node loads of every run of a level in one direct call."""
+    direct = _Direct(exact, xs.size)
+    out: dict[str, NDArray[np.float64]] = {}
+    err = np.full(xs.size, np.inf)
+    m = max(tol[2])
+    regions = [(0, xs.size - 1)]
+    for depth in range(MAX_DEPTH + 2):
+        plans = []
+        for lo, hi in regions:
+            sub = np.arange(lo, hi + 1)
+            # at least 4 m nodes over the run's range (a narrow range: denser than per_decade)
+            nodes = _nodes(xs[sub], min(math.log(10.0) / per_decade, (xs[hi] - xs[lo]) / (4 * m)))
+            if depth > MAX_DEPTH or nodes.size < 2 * m or 2 * nodes.size > sub.size:
+                direct.need(sub[err[sub] > tol[0]])
+            else:
+                direct.need(sub[nodes])
+                plans.append((sub, nodes))
+        direct.run()
+        if not out:
+            out = {k: np.empty_like(v) for k, v in direct.vals.items()}
+        regions = []
+        for sub, nodes in plans:
+            at = direct.at(sub[nodes])
+            logs = _logs(at, roles, xs[sub[nodes]])
+            rest = np.setdiff1d(np.arange(sub.size), nodes)
+            vals, est = _estimated(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol)
+            for k, v in vals.items():
+                out[k][sub[rest]] = v
+            err[sub[rest]] = est
+            regions += [(sub[a], sub[b]) for a, b in _runs(rest[est > tol[0]], nodes)]
+        per_decade *= 2
+        if not regions:
+            break
+    for k, v in direct.vals.items():  # every load computed directly: its own values
+        out[k][direct.done] = v[direct.done]
+    err[direct.done] = 0.0
     return out, err
 
 
@@ -184,7 +248,7 @@ def _estimated(
     at: dict[str, NDArray[np.float64]],
     logs: dict[str, NDArray[np.float64]],
     x: NDArray[np.float64],
-    keys: frozenset[str],
+    roles: _Roles,
     tol: tuple[float, float, tuple[int, ...], float],
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs at ``x`` and their estimated error, per load from the order (of
@@ -195,10 +259,11 @@ def _estimated(
     out: dict[str, NDArray[np.float64]] = {}
     best = np.full(x.size, np.inf)
     for m in tol[2]:
-        check = _check(xn, at, logs, keys, m)  # (n_node,): the 2h error at the odd nodes
-        vals, bad, lebesgue, idx = _interpolate(xn, at, logs, x, keys, m)
+        check = _check(xn, at, logs, roles, m)  # (n_node,): the 2h error at the odd nodes
+        vals, bad, lebesgue, idx, flat = _interpolate(xn, at, logs, x, roles, m)
         est = np.max(check[idx], axis=1) * (tol[3] / 2**m) + tol[1] * (1.0 + lebesgue)
         est[bad] = np.inf
+        est[flat] = tol[1]  # exact (stated: the noise, > 0: not computed directly)
         take = est < best if out else np.ones(x.size, dtype=bool)
         for k, v in vals.items():
             out[k] = (
@@ -235,116 +300,11 @@ def _nodes(xs: NDArray[np.float64], h: float) -> NDArray[np.intp]:
     return np.asarray(out, dtype=np.intp)
 
 
-def _log(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The logarithm of the values (rows: floored at :data:`FLOOR`; per-load values: NaN where
-    not finite and positive)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        if v.ndim > 1:
-            return np.log(np.maximum(v, FLOOR))
-        return np.where(np.isfinite(v) & (v > 0.0), np.log(np.where(v > 0.0, v, 1.0)), np.nan)
-
-
-def _segments(at: dict[str, NDArray[np.float64]], keys: frozenset[str]) -> NDArray[np.intp]:
-    """Per node, the number of its segment: runs of nodes alike in every key and in which
-    outputs are regular (finite and, per-load values, positive)."""
-    cols = []
-    for k, v in at.items():
-        if k in keys:
-            cols.append(np.where(np.isnan(v), np.inf, v))
-        elif v.ndim > 1:
-            cols.append(np.all(np.isfinite(v), axis=1).astype(float))
-        else:
-            cols.append((np.isfinite(v) & (v > 0.0)).astype(float))
-    if not cols:
-        return np.zeros(next(iter(at.values())).shape[0], dtype=np.intp)
-    c = np.stack(cols, axis=1)
-    change = np.any(c[1:] != c[:-1], axis=1)
-    return np.concatenate(([0], np.cumsum(change)))
-
-
-def _stencil(
-    xn: NDArray[np.float64], x: NDArray[np.float64], seg: NDArray[np.intp], m: int
-) -> tuple[NDArray, NDArray, NDArray[np.bool_]]:
-    """The ``m`` nodes around each ``x`` (indices, (n, m)), their Lagrange weights, and where
-    there are none: all within the segment of the two nodes around ``x`` (``seg``; shifted to
-    one side near its ends), unusable where those two differ or the segment holds fewer than
-    ``m`` nodes."""
-    around = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
-    start = np.searchsorted(seg, seg, side="left")  # the first node of each node's segment
-    stop = np.searchsorted(seg, seg, side="right") - 1
-    lo = around - 1
-    bad = seg[lo] != seg[around]
-    first, last = start[lo], stop[lo]
-    bad |= last - first + 1 < m
-    i = np.clip(around - m // 2, first, np.maximum(last - m + 1, first))
-    i = np.clip(i, 0, xn.size - m)
-    idx = i[:, None] + np.arange(m)
-    X = xn[idx]
-    w = np.ones((x.size, m))
-    for a in range(m):
-        for b in range(m):
-            if a != b:
-                w[:, a] *= (x - X[:, b]) / (X[:, a] - X[:, b])
-    return idx, w, bad
-
-
-def _interpolate(
-    xn: NDArray[np.float64],
-    at: dict[str, NDArray[np.float64]],
-    logs: dict[str, NDArray[np.float64]],
-    x: NDArray[np.float64],
-    keys: frozenset[str],
-    m: int = ORDER,
-) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_], NDArray[np.float64], NDArray]:
-    """Every output at ``x`` from the nodes ``xn`` (each from nodes of its segment), whether
-    a load is unusable (between two segments, or a segment too short) and the sum of its
-    weights' magnitudes (the stencil's Lebesgue function), and the stencils (``m`` nodes)."""
-    idx, w, bad = _stencil(xn, x, _segments(at, keys), m)
-    lo = idx[:, 0]
-    out = {}
-    for k, v in at.items():
-        if k in keys:
-            out[k] = v[lo]
-            continue
-        L = logs[k]
-        if v.ndim > 1:
-            out[k] = _rows(L, idx, w)
-            continue
-        regular = np.isfinite(L)
-        y = np.exp(np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx]))
-        # a segment of irregular values (NaN, 0 or inf): the value, where its nodes agree
-        irregular = ~regular[lo]
-        same = irregular & np.all(_same(v[idx], v[lo][:, None]), axis=1)
-        y[irregular] = v[lo][irregular]
-        bad |= irregular & ~same
-        out[k] = y
-    return out, bad, np.sum(np.abs(w), axis=1), idx
-
-
-def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
-    return (a == b) | (np.isnan(a) & np.isnan(b))
-
-
-def _rows(L: NDArray[np.float64], idx: NDArray, w: NDArray) -> NDArray[np.float64]:
-    """``exp(sum_k w_k L[idx_k])`` per row, in blocks of rows that stay in the cache."""
-    n = idx.shape[0]
-    out = np.empty((n, L.shape[1]))
-    step = max(1, 2**17 // max(L.shape[1], 1))
-    for s in range(0, n, step):
-        t = slice(s, s + step)
-        acc = out[t]
-        np.multiply(L[idx[t, 0]], w[t, 0, None], out=acc)
-        for k in range(1, idx.shape[1]):
-            acc += L[idx[t, k]] * w[t, k, None]
-        np.exp(acc, out=acc)
-    return out
-
-
 def _check(
     xn: NDArray[np.float64],
     at: dict[str, NDArray[np.float64]],
     logs: dict[str, NDArray[np.float64]],
-    keys: frozenset[str],
+    roles: _Roles,
     m: int = ORDER,
 ) -> NDArray[np.float64]:
     """Per node: the relative error of the even nodes' ``m``-point table at the node (odd
@@ -353,9 +313,11 @@ def _check(
     even = np.arange(0, xn.size, 2)
     sub = {k: v[even] for k, v in at.items()}
     logs_even = {k: v[even] for k, v in logs.items()}
-    vals, bad, _, _ = _interpolate(xn[even], sub, logs_even, xn[odd], keys, m)
+    seg = _segments(at, roles[0])  # every node's: an odd node's own segment is known
+    segs = (seg[even], seg[odd])
+    vals, bad, _, _, _ = _interpolate(xn[even], sub, logs_even, xn[odd], roles, m, segs)
     err = np.zeros(odd.size)
-    for k in sub.keys() - keys:
+    for k in sub.keys() - roles[0]:
         top = float(np.nanmax(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0))))
         err = np.maximum(err, _relative(vals[k], at[k][odd], top))
     err[bad] = np.inf

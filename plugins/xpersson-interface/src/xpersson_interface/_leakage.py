@@ -25,11 +25,14 @@ is refused (name the high-pressure side ``p_in``).
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from xpersson.physics import Detachment, gap_cdf
+
+from ._stencils import Weight
 
 __all__ = [
     "bruggeman",
@@ -37,6 +40,7 @@ __all__ = [
     "effective_pressure_drop",
     "junction_piece",
     "leak_rate",
+    "table_weights",
 ]
 
 
@@ -331,6 +335,10 @@ def leak_rate(
     return (seal_length / seal_width) * np.asarray(u3, dtype=float) * dp_eff / (12.0 * viscosity)
 
 
+#: ``zeta_c`` above this fraction of the largest magnification: ``u1`` computed directly.
+NEAR_SEALING = 2.0 / 3.0
+
+
 def junction_piece(
     psd: object, zc: NDArray[np.float64], z_max: float, p0: NDArray[np.float64]
 ) -> NDArray[np.float64]:
@@ -344,4 +352,39 @@ def junction_piece(
         lz = np.log(zc)
     lo, hi = np.searchsorted(nodes, lz - 2e-3), np.searchsorted(nodes, lz + 2e-3)
     piece = (lo * (nodes.size + 1) + hi).astype(float)
-    return np.where(zc > 0.5 * z_max, -np.atleast_1d(p0), piece)
+    return np.where(zc > NEAR_SEALING * z_max, -np.atleast_1d(p0), piece)
+
+
+def table_weights(
+    ds: Any, boundary: Any, p0: ArrayLike, a_c: float, threshold: str
+) -> tuple[Weight, ...]:
+    """The load table's regularised leak outputs (:data:`._stencils.Weight`): the junction's as
+    ``ln(zeta_max/zeta_c) ln v`` (near sealing ``ln u1 ~ -f/ln(zeta_max/zeta_c)``), the
+    effective medium's as ``ln v - 3 ln r`` with ``r = 1 - A(zeta_max)/A_seal`` from the solved
+    Dataset ``ds`` (``A_seal`` the contact weight at which the medium percolates: ``a_c`` for
+    ``threshold = "a_c"``, else 1/2): its conductance falls to 0 there as ``r^3``
+    (``d ln v/d ln r`` 2.99 at ``r = 1e-3`` on the speed design's scenes). ``r`` is read
+    once, when the table first asks for it."""
+    z_max = float(ds["zeta"].values[-1])
+    x_all = np.sort(np.log(np.atleast_1d(np.asarray(p0, dtype=float))))
+    ln_r: list[NDArray[np.float64]] = []
+
+    def junction(o: dict[str, NDArray], x: NDArray) -> tuple[NDArray, NDArray]:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.log(z_max / o["leak_zeta_c"]), np.zeros(x.size)
+
+    def emt(o: dict[str, NDArray], x: NDArray) -> tuple[NDArray, NDArray]:
+        if not ln_r:
+            names = getattr(type(boundary), "contact_area", ("area_fraction",))
+            area = sum(np.asarray(ds[c].isel(zeta=-1).values, dtype=float) for c in names)
+            order = np.argsort(np.log(np.atleast_1d(np.asarray(p0, dtype=float))), kind="stable")
+            seal = a_c if threshold == "a_c" else 0.5
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ln_r.append(3.0 * np.log(1.0 - np.atleast_1d(area)[order] / seal))
+        at = np.clip(np.searchsorted(x_all, x), 0, x_all.size - 1)  # each load's own
+        return np.ones(x.size), ln_r[0][at]
+
+    return (
+        (frozenset({"leak_u1", "leak_flow_factor", "leak_rate"}), junction),
+        (frozenset({"leak_flow_factor_emt", "leak_rate_emt"}), emt),
+    )

@@ -106,9 +106,10 @@ LEAKAGE_PARAMS: dict[str, ParamSpec] = {
 }  # fmt: skip
 
 
-def load_error(tol: float, least: int) -> VarSpec:
+def load_error(tol: float, least: int, margin: str = "1/16 of") -> VarSpec:
     """The estimated error of the loads an analysis interpolates in the load
-    (:mod:`._by_load`) from ``least`` distinct loads on, at most ``tol``."""
+    (:mod:`._by_load`) from ``least`` distinct loads on, at most ``tol``; ``margin``: how the
+    estimate scales the error of the nodes at twice the spacing."""
     return VarSpec(
         ("p0",),
         "1",
@@ -117,7 +118,7 @@ def load_error(tol: float, least: int) -> VarSpec:
         valid_max=tol,
         description=f"from {least} distinct loads on, the analysis's outputs are computed directly "
         "at node loads 1/16 decade apart (denser where needed) and interpolated in ln p0 "
-        "between them (8-point Lagrange of the logarithm): 1/16 of the error the nodes at "
+        f"between them (8-point Lagrange of the logarithm): {margin} the error the nodes at "
         "twice the spacing make, relative to the load's value (a row: its largest; at least "
         "1e-30 of the largest over the loads), plus the direct path's own irregularity in the "
         f"load through the interpolation weights; at most {tol:g}, else the load is computed "

@@ -41,6 +41,7 @@ from ._by_load import (
     LEAK_MIN,
     LEAK_NOISE,
     LEAK_ORDERS,
+    LEAK_PER_DECADE,
     LEAK_SAFETY,
     LEAK_TOL,
     TABLE_MIN,
@@ -50,7 +51,13 @@ from ._by_load import (
 )
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
-from ._leakage import bruggeman_gap, effective_pressure_drop, junction_piece, leak_rate
+from ._leakage import (
+    bruggeman_gap,
+    effective_pressure_drop,
+    junction_piece,
+    leak_rate,
+    table_weights,
+)
 from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, LEAKAGE_PARAMS, load_error
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
@@ -420,7 +427,7 @@ class Leakage(_Interface):
             ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)",
             extra=_FLAG,
         ),
-        "leak_load_error": load_error(LEAK_TOL, LEAK_MIN),
+        "leak_load_error": load_error(LEAK_TOL, LEAK_MIN, "4 times"),
     }  # fmt: skip
     provides = tuple(outputs)
     body_quantities: ClassVar = LEAKAGE
@@ -438,9 +445,10 @@ class Leakage(_Interface):
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         direct = lambda rows: self._direct(ctx, ds, rows)  # noqa: E731
-        out, err = by_load(
-            ctx.p0, direct, LEAK_TOL, _KEYS, LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY
-        )
+        p = self.params
+        weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
+        settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, LEAK_PER_DECADE, weights)
+        out, err = by_load(ctx.p0, direct, LEAK_TOL, _KEYS, *settings)
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k != "piece"}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))

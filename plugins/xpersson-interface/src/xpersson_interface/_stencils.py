@@ -1,0 +1,194 @@
+"""The load table's stencils (private, :mod:`._by_load`): each output's logarithm (or its
+transform) interpolated in ``ln p0`` by the Lagrange polynomial through the nearest nodes of
+its segment (runs of nodes alike in every key and in which outputs are regular)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+#: Smallest density interpolated in logarithm (below: this; the error stays below it).
+FLOOR = 1e-300
+#: Outputs tabled transformed, ``(names, f)``: ``f(outputs, x)`` gives per load ``(W, S)``
+#: (``W > 0``) from the other outputs (interpolated first) and ``x = ln p0``, and each output
+#: ``v`` named is tabled as ``W ln v - S``: a known singularity made regular (the leak
+#: analysis: ``ln u1 ~ f/W`` as ``zeta_c`` approaches the largest magnification; the effective
+#: medium's conductance ``~ S`` as the contact approaches its sealing value).
+Weight = tuple[
+    frozenset[str],
+    Callable[
+        [dict[str, NDArray[np.float64]], NDArray[np.float64]],
+        tuple[NDArray[np.float64], NDArray[np.float64]],
+    ],
+]
+#: The outputs' roles: the keys (never interpolated) and the transformed outputs.
+_Roles = tuple[frozenset[str], tuple[Weight, ...]]
+
+
+def _logs(
+    at: dict[str, NDArray[np.float64]], roles: _Roles, xn: NDArray[np.float64]
+) -> dict[str, NDArray[np.float64]]:
+    """The tabled logarithm of every output but the keys at the nodes ``xn`` (transformed
+    outputs: ``W ln v - S``)."""
+    keys, weights = roles
+    logs = {k: _log(v) for k, v in at.items() if k not in keys}
+    for names, f in weights:
+        W, S = f(at, xn)
+        for k in names:
+            logs[k] = logs[k] * W - S
+    return logs
+
+
+def _log(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The logarithm of the values (rows: floored at :data:`FLOOR`; per-load values: NaN where
+    not finite and positive)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if v.ndim > 1:
+            return np.log(np.maximum(v, FLOOR))
+        return np.where(np.isfinite(v) & (v > 0.0), np.log(np.where(v > 0.0, v, 1.0)), np.nan)
+
+
+def _segments(at: dict[str, NDArray[np.float64]], keys: frozenset[str]) -> NDArray[np.intp]:
+    """Per node, the number of its segment: runs of nodes alike in every key and in which
+    outputs are regular (finite and, per-load values, positive)."""
+    cols = []
+    for k, v in at.items():
+        if k in keys:
+            cols.append(np.where(np.isnan(v), np.inf, v))
+        elif v.ndim > 1:
+            cols.append(np.all(np.isfinite(v), axis=1).astype(float))
+        else:
+            cols.append((np.isfinite(v) & (v > 0.0)).astype(float))
+    if not cols:
+        return np.zeros(next(iter(at.values())).shape[0], dtype=np.intp)
+    c = np.stack(cols, axis=1)
+    change = np.any(c[1:] != c[:-1], axis=1)
+    return np.concatenate(([0], np.cumsum(change)))
+
+
+def _stencil(
+    xn: NDArray[np.float64],
+    x: NDArray[np.float64],
+    seg: NDArray[np.intp],
+    m: int,
+    seg_x: NDArray[np.intp] | None = None,
+) -> tuple[NDArray, NDArray, NDArray[np.bool_]]:
+    """The ``m`` nodes around each ``x`` (indices, (n, m)), their Lagrange weights, and where
+    there are none: all within the segment of the two nodes around ``x`` (``seg``; shifted to
+    one side near its ends), unusable where those two differ or the segment holds fewer than
+    ``m`` nodes. ``seg_x``: each ``x``'s own segment, where known (a node checked by the
+    others: one-sided past its segment's last node of the others)."""
+    around = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
+    lo = around - 1
+    if seg_x is None:
+        bad = seg[lo] != seg[around]
+        seg_x = seg[lo]
+    else:
+        bad = np.zeros(x.size, dtype=bool)
+    first = np.searchsorted(seg, seg_x, side="left")  # the first node of x's segment
+    last = np.searchsorted(seg, seg_x, side="right") - 1
+    bad |= last - first + 1 < m
+    i = np.clip(around - m // 2, first, np.maximum(last - m + 1, first))
+    i = np.clip(i, 0, xn.size - m)
+    idx = i[:, None] + np.arange(m)
+    X = xn[idx]
+    w = np.ones((x.size, m))
+    for a in range(m):
+        for b in range(m):
+            if a != b:
+                w[:, a] *= (x - X[:, b]) / (X[:, a] - X[:, b])
+    return idx, w, bad
+
+
+def _interpolate(
+    xn: NDArray[np.float64],
+    at: dict[str, NDArray[np.float64]],
+    logs: dict[str, NDArray[np.float64]],
+    x: NDArray[np.float64],
+    roles: _Roles,
+    m: int,
+    segs: tuple[NDArray[np.intp], NDArray[np.intp]] | None = None,
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_], NDArray[np.float64], NDArray]:
+    """Every output at ``x`` from the nodes ``xn`` (each from nodes of its segment), whether
+    a load is unusable (between two segments, or a segment too short) and the sum of its
+    weights' magnitudes (the stencil's Lebesgue function), and the stencils (``m`` nodes).
+    Weighted outputs last: ``exp`` of their interpolated ``W ln v`` over the load's ``W``
+    from the other outputs' interpolated values. ``segs``: the nodes' and the ``x``'s
+    segments, where known (:func:`_check`)."""
+    keys, weights = roles
+    if segs is None:
+        idx, w, bad = _stencil(xn, x, _segments(at, keys), m)
+    else:
+        idx, w, bad = _stencil(xn, x, segs[0], m, segs[1])
+    lo = idx[:, 0]
+    out = {}
+    late = {k: f for names, f in weights for k in names}
+    for k, v in sorted(at.items(), key=lambda kv: kv[0] in late):
+        if k in keys:
+            out[k] = v[lo]
+            continue
+        L = logs[k]
+        if v.ndim > 1:
+            out[k] = _rows(L, idx, w)
+            continue
+        regular = np.isfinite(L)
+        y = np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx])
+        if k in late:
+            W, S = late[k](out, x)
+            ok = (W > 0.0) & np.isfinite(S)
+            bad |= regular[lo] & ~ok
+            y = np.where(ok, (y + np.where(ok, S, 0.0)) / np.where(ok, W, 1.0), 0.0)
+        y = np.exp(y)
+        # a segment of irregular values (NaN, 0 or inf): the value, where its nodes agree
+        irregular = ~regular[lo]
+        same = irregular & np.all(_same(v[idx], v[lo][:, None]), axis=1)
+        y[irregular] = v[lo][irregular]
+        bad |= irregular & ~same
+        out[k] = y
+    flat, below = _flat(xn, at, logs, x, keys)
+    for k, v in out.items():
+        v[flat] = at[k][below[flat]]
+    return out, bad & ~flat, np.sum(np.abs(w), axis=1), idx, flat
+
+
+def _flat(
+    xn: NDArray[np.float64],
+    at: dict[str, NDArray[np.float64]],
+    logs: dict[str, NDArray[np.float64]],
+    x: NDArray[np.float64],
+    keys: frozenset[str],
+) -> tuple[NDArray[np.bool_], NDArray[np.intp]]:
+    """The loads between two nodes alike in every output, none of them regular (a sealed
+    stretch: its flags, zeros and NaN; exact, for outputs monotone in the load, whatever
+    the segment's length), and the node below each load."""
+    above = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
+    below = above - 1
+    flat = np.ones(x.size, dtype=bool)
+    for k, v in at.items():
+        if v.ndim > 1:
+            return np.zeros(x.size, dtype=bool), below
+        flat &= _same(v[below], v[above])
+        if k not in keys:
+            flat &= ~np.isfinite(logs[k][below])
+    return flat, below
+
+
+def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
+    return (a == b) | (np.isnan(a) & np.isnan(b))
+
+
+def _rows(L: NDArray[np.float64], idx: NDArray, w: NDArray) -> NDArray[np.float64]:
+    """``exp(sum_k w_k L[idx_k])`` per row, in blocks of rows that stay in the cache."""
+    n = idx.shape[0]
+    out = np.empty((n, L.shape[1]))
+    step = max(1, 2**17 // max(L.shape[1], 1))
+    for s in range(0, n, step):
+        t = slice(s, s + step)
+        acc = out[t]
+        np.multiply(L[idx[t, 0]], w[t, 0, None], out=acc)
+        for k in range(1, idx.shape[1]):
+            acc += L[idx[t, k]] * w[t, k, None]
+        np.exp(acc, out=acc)
+    return out
