@@ -19,7 +19,7 @@ from ..physics.psd import segment_exponents
 from ..plugins import SceneContext, VarSpec
 from ..scene import ResolvedScene
 from ..schema import COORDS, CORE_VARIABLES, stamp
-from ._insert import direct_dataset, insert_direct, values_of
+from ._insert import direct_dataset, insert_direct, new_variable, values_of
 from .diagnostics import pdf_resolution, regime_warnings, theory_validity
 
 __all__ = ["assemble", "add_outputs", "attributes", "diagnostics_notes", "squeeze_p0"]
@@ -123,7 +123,8 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
     def var(name: str, dims: Any, val: Any) -> xr.Variable:
         arr = np.asarray(val)
         if arr.dtype.kind in "fiub" or (arr.dtype == object and arr.ndim == 1):
-            return xr.Variable(dims, arr, _attrs_of(name), fastpath=True)  # already an ndarray
+            dims = (dims,) if type(dims) is str else tuple(dims)
+            return new_variable(dims, arr, _attrs_of(name))  # already an ndarray
         return xr.Variable(dims, val, _attrs_of(name))
 
     variables = {name: var(name, dims, val) for name, (dims, val) in data.items()}
@@ -247,15 +248,7 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
         variables = {}
         for name, var in ds._variables.items():  # noqa: SLF001 - see the docstring
             if "p0" in var.dims:
-                axis = var.dims.index("p0")
-                dims = var.dims[:axis] + var.dims[axis + 1 :]
-                # a view (basic indexing; np.take copied: a large P in fresh memory pages)
-                data = np.asarray(values_of(var))[(slice(None),) * axis + (0,)]
-                fast = True
-                if getattr(data, "ndim", None) is None:  # a Python object (an object array's):
-                    data = np.asarray(data)  # converted as xarray would, without its probe of
-                    fast = data.dtype.kind not in "OMm"  # dask, which imports dask.array
-                variables[name] = xr.Variable(dims, data, var.attrs, var.encoding, fastpath=fast)
+                variables[name] = _squeezed(var)
             else:
                 variables[name] = var
         indexes = {k: v for k, v in ds._indexes.items() if k != "p0"}  # noqa: SLF001
@@ -267,3 +260,21 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
     except (AttributeError, TypeError):  # pragma: no cover - other xarray versions
         return ds.isel(p0=0)
     return out
+
+
+def _squeezed(var: xr.Variable) -> xr.Variable:
+    """``var`` at ``p0 = 0``, without that dimension: a view of its data (basic indexing;
+    np.take copied: a large P in fresh memory pages) with copies of its attrs and encoding."""
+    axis = var.dims.index("p0")
+    dims = var.dims[:axis] + var.dims[axis + 1 :]
+    raw = var._data  # noqa: SLF001 - a numpy array: indexed as it is (no conversion)
+    data = (raw if type(raw) is np.ndarray else np.asarray(values_of(var)))[
+        (slice(None),) * axis + (0,)
+    ]
+    if type(data) is np.ndarray:  # a view of a 2-d or larger array
+        return new_variable(dims, data, dict(var.attrs), dict(var.encoding))
+    fast = True
+    if getattr(data, "ndim", None) is None:  # a Python object (an object array's):
+        data = np.asarray(data)  # converted as xarray would, without its probe of
+        fast = data.dtype.kind not in "OMm"  # dask, which imports dask.array
+    return xr.Variable(dims, data, var.attrs, var.encoding, fastpath=fast)
