@@ -8,6 +8,7 @@ that carry their own dimension coordinate) goes in as those methods end. Used by
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Mapping
 from typing import Any
 
@@ -84,19 +85,37 @@ def cached_index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variabl
 
     Solves of one scene share their zeta / q_psd (and often p0) coordinates; the pandas index
     is immutable, so Datasets may share it (as ``isel`` and ``copy`` do). The variable is a
-    fresh shallow copy carrying ``var``'s attrs.
+    fresh shallow copy carrying ``var``'s attrs (which the index does not depend on: they are
+    not part of the key; the encoding, which the variable keeps, is).
     """
-    attrs = tuple(sorted((k, str(v)) for k, v in var.attrs.items()))
-    kind = f"{cls.__module__}.{cls.__qualname__}"  # the class by name (a string keys fastest)
+    kind = _KINDS.get(cls)
+    if kind is None:
+        kind = _KINDS[cls] = f"{cls.__module__}.{cls.__qualname__}"  # a string keys fastest
+    encoding = var._encoding or None  # noqa: SLF001 - a read: the encoding is rarely set
 
     def compute() -> tuple[Any, xr.Variable]:
         index = cls.from_variables({name: var}, options={})
         return index, index.create_variables({name: var})[name]
 
-    index, variable = _INDEXES.get((kind, name, np.asarray(var.values), attrs), compute)
-    out = variable.copy(deep=False)
-    out.attrs = dict(var.attrs)
-    return index, out
+    index, variable = _INDEXES.get((kind, name, values_of(var), encoding), compute)
+    return index, _shallow_copy(variable, dict(var.attrs))
+
+
+_KINDS: dict[type, str] = {}
+#: Variable classes whose state is the four slots of :data:`_DIRECT`.
+_PLAIN_SLOTS = {c for c in (xr.Variable, xr.IndexVariable) if _slots(c) == _slots(xr.Variable)}
+
+
+def _shallow_copy(var: xr.Variable, attrs: dict[str, Any]) -> xr.Variable:
+    """``var.copy(deep=False)`` with ``attrs`` (the same data object; the encoding copied)."""
+    if not (_DIRECT and type(var) in _PLAIN_SLOTS):
+        out = var.copy(deep=False)
+        out.attrs = attrs
+        return out
+    out = object.__new__(type(var))
+    out._dims, out._data = var._dims, var._data  # noqa: SLF001 - see new_variable
+    out._attrs, out._encoding = attrs, copy.copy(var._encoding)  # noqa: SLF001
+    return out
 
 
 def direct_dataset(
