@@ -17,7 +17,7 @@ call and read by another. Each cache has
       pure functions of their arguments (unit parsing, quadrature rules), kept for the process;
 
 * a **content key**: :func:`content_key` turns numbers, strings, arrays (by dtype, shape and a
-  128-bit digest of their bytes) and objects that define ``cache_key()`` (spectra, plugin
+  128-bit digest of their bytes, or the bytes themselves up to 2 KiB) and objects that define ``cache_key()`` (spectra, plugin
   instances) into a hashable key; it refuses anything else, so nothing is ever keyed on
   ``id()`` or a partial fingerprint;
 * a **bound** ``maxsize`` (least recently used dropped first);
