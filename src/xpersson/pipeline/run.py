@@ -40,8 +40,8 @@ def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
     ctx = scene_context(rs)
     validate(rs, ctx, who["boundary"], analysis_labels)  # the plugins' own checks first
     coef = rs.coefficient
-    tau_c, f_z, tau_eff, tau_shared = coefficient_arrays(coef, ctx, who["coefficient"])
     clock = diffusion_clock(ctx, coef, kinks=spectrum_kinks(rs.psd))
+    tau_c, f_z, tau_eff, tau_shared = coefficient_arrays(coef, ctx, who["coefficient"], clock.key)
     walls = load_walls(rs, ctx, clock, who["boundary"])
     p_grid = pressure_grid(rs, walls, tau_eff) if rs.pressure_pdf else None
     if p_grid is not None:
