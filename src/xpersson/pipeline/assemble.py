@@ -12,7 +12,7 @@ import numpy as np
 import xarray as xr
 
 from .. import checks
-from ..cache import freeze
+from ..cache import Cache, freeze
 from ..errors import XperssonWarning
 from ..physics.grids import persson_G
 from ..physics.psd import segment_exponents
@@ -44,7 +44,7 @@ def assemble(
         return np.asarray(getattr(results, attr), float)  # EngineBatch: stacked arrays
 
     psd = rs.psd
-    q_nodes = np.asarray(psd.nodes(), float)
+    q_nodes, psd_c, psd_e, h_rms, slope = _spectrum_variables(psd)
     coords: dict[str, Any] = {
         "zeta": ("zeta", rs.zeta),
         "p0": ("p0", rs.p0),
@@ -58,13 +58,13 @@ def assemble(
         "G": (pz, persson_G(tau_c, rs.p0) if G is None else G),
         "diffusion_time": (("zeta",), tau_c),
         "diffusion_coefficient": (("zeta",), f_z),
-        "psd_C": (("q_psd",), np.asarray(psd.C(q_nodes), float)),
-        "psd_exponent": (("q_psd",), segment_exponents(psd)),
+        "psd_C": (("q_psd",), psd_c),
+        "psd_exponent": (("q_psd",), psd_e),
         "E": ((), rs.E),
         "nu": ((), rs.nu),
         "E_star": ((), rs.E_star),
-        "h_rms": ((), float(psd.h_rms())),
-        "rms_slope": ((), float(psd.rms_slope())),
+        "h_rms": ((), h_rms),
+        "rms_slope": ((), slope),
         "load_balance": (pz, stack("load_balance")),
         "probability_balance": (pz, stack("probability_balance")),
         "error_estimate": (pz, stack("error_estimate")),
@@ -83,6 +83,32 @@ def assemble(
         attrs = ds.variables[name].attrs
         attrs["comment"] = "; ".join(c for c in (attrs.get("comment"), note) if c)
     return ds
+
+
+_SPECTRUM_VARIABLES = Cache(
+    "pipeline.spectrum_variables",
+    scope="spectrum",
+    maxsize=64,
+    doc="a spectrum's Dataset variables: q_psd [1/m], psd_C [m^4], psd_exponent, h_rms [m], "
+    "rms_slope",
+)
+
+
+def _spectrum_variables(psd: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
+    """The spectrum's nodes [1/m], C at them [m^4], the segments' exponents [1], the rms height
+    [m] and slope [1]: computed once per spectrum (the arrays copied: they become the
+    Dataset's data); each time for a spectrum without a content key."""
+
+    def compute() -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
+        q_nodes = np.array(psd.nodes(), float)  # a copy: the spectrum's own stays writable
+        c = np.asarray(psd.C(q_nodes), float)
+        return q_nodes, c, segment_exponents(psd), float(psd.h_rms()), float(psd.rms_slope())
+
+    try:
+        q_nodes, c, e, h_rms, slope = _SPECTRUM_VARIABLES.get(psd, compute)
+    except TypeError:  # no content key (a spectrum plugin's own class without cache_key)
+        return compute()
+    return q_nodes.copy(), c.copy(), e.copy(), h_rms, slope
 
 
 def _balance_notes(results: Any) -> dict[str, str]:
