@@ -17,9 +17,9 @@ call and read by another. Each cache has
       pure functions of their arguments (unit parsing, quadrature rules), kept for the process;
 
 * a **content key**: :func:`content_key` turns numbers, strings, arrays (by dtype, shape and a
-  128-bit digest of their bytes, or the bytes themselves up to 2 KiB) and objects that define ``cache_key()`` (spectra, plugin
-  instances) into a hashable key; it refuses anything else, so nothing is ever keyed on
-  ``id()`` or a partial fingerprint;
+  128-bit digest of their bytes, or the bytes themselves up to 2 KiB) and objects that define
+  ``cache_key()`` (spectra, plugin instances) into a hashable key; it refuses anything else,
+  so nothing is ever keyed on ``id()`` or a partial fingerprint;
 * a **bound** ``maxsize`` (least recently used dropped first);
 * **read-only values**: the arrays of a value (also inside tuples, lists, dicts and
   dataclasses) are made read-only, whether or not the cache keeps them, so code that would
@@ -287,10 +287,10 @@ def content_key(item: Any) -> Hashable:
 
     Strings, bytes, ints, bools and ``None`` stand for themselves; floats by their exact bits
     (``float.hex``: ``0.0`` and ``-0.0`` differ); numpy scalars as Python numbers; arrays as
-    ``(dtype, shape, digest)`` (up to 2 KiB as ``(dtype, shape, bytes)``); tuples, lists, frozensets and dicts by their items; an object
-    with a ``cache_key()`` method by its type and the content key of what that returns; a
-    module-level class or function by its qualified name. An object array keys as its items
-    do.
+    ``(dtype, shape, digest)`` (up to 2 KiB as ``(dtype, shape, bytes)``); tuples, lists,
+    frozensets and dicts by their items; an object with a ``cache_key()`` method by its type
+    and the content key of what that returns; a module-level class or function by its
+    qualified name. An object array keys as its items do.
 
     Raises
     ------
