@@ -34,6 +34,7 @@ SCENE = {
         ((), np.asarray(2.5), {"units": "Pa"}, {"dtype": "float32"}),
         (("p0",), np.array(["success"], dtype=object), None, None),
         (("zeta",), np.arange(3, dtype=np.int8)[::-1], {}, {}),
+        ((), np.float64(1e5), {"units": "Pa"}, None),  # a numpy scalar: kept as it is
     ],
 )
 def test_new_variable_is_the_constructors_variable(dims, data, attrs, encoding):

@@ -43,14 +43,16 @@ def new_variable(
     attrs: dict[str, Any] | None = None,
     encoding: dict[str, Any] | None = None,
 ) -> xr.Variable:
-    """``xr.Variable(dims, data, attrs, encoding, fastpath=True)`` of a numpy array, without
-    the constructor's checks (about 0.3 us instead of 3.5: a solve makes some 50 of them).
+    """``xr.Variable(dims, data, attrs, encoding, fastpath=True)`` of a numpy array (or a numpy
+    scalar, kept as it is, as that constructor keeps it), without the constructor's checks
+    (about 0.3 us instead of 3.5: a solve makes some 50 of them).
 
     ``attrs`` and ``encoding`` are taken as they are (the constructor copies them: pass a dict
     of the caller's own); ``dims`` must be a tuple of ``data.ndim`` names (a
     ``ValueError`` otherwise, as the constructor raises).
     """
-    if not (_DIRECT and type(data) is np.ndarray and type(dims) is tuple):
+    numpy = type(data) is np.ndarray or isinstance(data, np.generic)
+    if not (_DIRECT and numpy and type(dims) is tuple):
         return xr.Variable(dims, data, attrs, encoding, fastpath=True)
     if len(dims) != data.ndim:
         raise ValueError(f"dimensions {dims} must have the same length as {data.ndim}")

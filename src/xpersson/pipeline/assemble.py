@@ -297,10 +297,8 @@ def _squeezed(var: xr.Variable) -> xr.Variable:
     data = (raw if type(raw) is np.ndarray else np.asarray(values_of(var)))[
         (slice(None),) * axis + (0,)
     ]
-    if type(data) is np.ndarray:  # a view of a 2-d or larger array
+    if type(data) is np.ndarray or isinstance(data, np.generic):  # a view, or a numpy scalar
         return new_variable(dims, data, dict(var.attrs), dict(var.encoding))
-    fast = True
-    if getattr(data, "ndim", None) is None:  # a Python object (an object array's):
-        data = np.asarray(data)  # converted as xarray would, without its probe of
-        fast = data.dtype.kind not in "OMm"  # dask, which imports dask.array
-    return xr.Variable(dims, data, var.attrs, var.encoding, fastpath=fast)
+    # a Python object (an object array's): converted as xarray would, without its probe of
+    data = np.asarray(data)  # dask, which imports dask.array
+    return xr.Variable(dims, data, var.attrs, var.encoding, fastpath=data.dtype.kind not in "OMm")
