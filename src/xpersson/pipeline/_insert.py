@@ -206,7 +206,8 @@ def _new_coords(
 def insert_or_set(ds: xr.Dataset, new: Mapping[str, xr.Variable]) -> None:
     """Add ``new`` by :func:`insert_direct`; a name the Dataset already has (a variable
     replaced), or a contribution that needs alignment, goes through ``Dataset.__setitem__``."""
-    fresh = {k: v for k, v in new.items() if k not in ds.variables}
+    have = ds.variables
+    fresh = {k: v for k, v in new.items() if k not in have}
     if not (fresh and insert_direct(ds, fresh)):
         fresh = {}
     for name, value in new.items():

@@ -363,7 +363,10 @@ def _bands(
 
 def _matches(entry: dict[str, Any], feats: dict[str, Any], opts: dict[str, Any]) -> bool:
     """Whether the plugin names, options and features of a group match ``entry["match"]``."""
-    return all(opts.get(k, feats.get(k)) == v for k, v in entry.get("match", {}).items())
+    for k, v in entry.get("match", {}).items():  # a loop: no generator per entry
+        if not opts.get(k, feats.get(k)) == v:
+            return False
+    return True
 
 
 def _band_of_point(
