@@ -61,8 +61,9 @@ def __getattr__(name: str) -> Any:
         return import_module("xpersson.provenance").version()
     if name in ("plot", "sweep"):
         return import_module(f"xpersson.{name}")
-    if name in _LAZY:
-        return getattr(import_module(_LAZY[name]), name)
+    if name in _LAZY:  # kept in the module once imported: later reads skip this hook
+        value = globals()[name] = getattr(import_module(_LAZY[name]), name)
+        return value
     raise AttributeError(f"module 'xpersson' has no attribute {name!r}")
 
 

@@ -17,9 +17,9 @@ call and read by another. Each cache has
       pure functions of their arguments (unit parsing, quadrature rules), kept for the process;
 
 * a **content key**: :func:`content_key` turns numbers, strings, arrays (by dtype, shape and a
-  128-bit digest of their bytes) and objects that define ``cache_key()`` (spectra, plugin
-  instances) into a hashable key; it refuses anything else, so nothing is ever keyed on
-  ``id()`` or a partial fingerprint;
+  128-bit digest of their bytes, or the bytes themselves up to 2 KiB) and objects that define
+  ``cache_key()`` (spectra, plugin instances) into a hashable key; it refuses anything else,
+  so nothing is ever keyed on ``id()`` or a partial fingerprint;
 * a **bound** ``maxsize`` (least recently used dropped first);
 * **read-only values**: the arrays of a value (also inside tuples, lists, dicts and
   dataclasses) are made read-only, whether or not the cache keeps them, so code that would
@@ -287,10 +287,10 @@ def content_key(item: Any) -> Hashable:
 
     Strings, bytes, ints, bools and ``None`` stand for themselves; floats by their exact bits
     (``float.hex``: ``0.0`` and ``-0.0`` differ); numpy scalars as Python numbers; arrays as
-    ``(dtype, shape, digest)``; tuples, lists, frozensets and dicts by their items; an object
-    with a ``cache_key()`` method by its type and the content key of what that returns; a
-    module-level class or function by its qualified name. An object array keys as its items
-    do.
+    ``(dtype, shape, digest)`` (up to 2 KiB as ``(dtype, shape, bytes)``); tuples, lists,
+    frozensets and dicts by their items; an object with a ``cache_key()`` method by its type
+    and the content key of what that returns; a module-level class or function by its
+    qualified name. An object array keys as its items do.
 
     Raises
     ------
@@ -305,6 +305,8 @@ def content_key(item: Any) -> Hashable:
     if kind is tuple or kind is list:
         return tuple([content_key(v) for v in item])
     if kind is np.ndarray and not item.dtype.hasobject:
+        if item.nbytes <= _SMALL:  # its bytes themselves (a digest's set-up costs ~4 us)
+            return ("b", item.dtype.str, item.shape, item.tobytes())
         return ("a", item.dtype.str, item.shape, digest(item))
     name = _KEYED.get(kind)
     if name is not None:  # a class seen before whose instances key by their cache_key()
@@ -313,6 +315,8 @@ def content_key(item: Any) -> Hashable:
 
 
 _SELF = frozenset({str, bytes, int, bool, type(None)})
+_SMALL = 2048
+"""Arrays of at most this many bytes key by their bytes (exact, and cheaper than a digest)."""
 _KEYED: dict[type, str] = {}
 """Classes whose instances key by their ``cache_key()`` (a method of the class, and none of
 the types keyed before it), with their qualified names: found once per class."""
@@ -329,7 +333,7 @@ def _content_key(item: Any) -> Hashable:
     if isinstance(item, np.ndarray):
         if item.dtype.hasobject:  # its bytes are pointers: identity, not content
             return ("A", item.shape, tuple(content_key(v) for v in item.ravel().tolist()))
-        return ("a", item.dtype.str, item.shape, digest(item))
+        return content_key(np.asarray(item))  # a subclass: as its plain array
     if isinstance(item, np.generic):
         return content_key(item.item())
     if isinstance(item, frozenset | set):

@@ -167,7 +167,7 @@ def _scene_json(resolved: dict[str, Any]) -> str:
     floats, the same for every solve of a study) made once per grid."""
     out = resolved.get("output")
     zeta = out.get("zeta") if isinstance(out, dict) else None
-    if not (isinstance(zeta, list) and len(zeta) > 8 and all(type(z) is float for z in zeta)):
+    if not (isinstance(zeta, list) and len(zeta) > 8 and set(map(type, zeta)) == {float}):
         return json.dumps(resolved, sort_keys=True)
     text = json.dumps({**resolved, "output": {**out, "zeta": _GRID_TOKEN}}, sort_keys=True)
     if text.count(_GRID_TOKEN_JSON) != 1:  # the token in the scene's own text: no splice

@@ -92,6 +92,9 @@ class ParamSpec:
     def cache_key(self) -> bytes:
         """The declaration's content key (:func:`xpersson.cache.dataclass_key`: a digest of
         its fields, made once per object): a conversion keyed on it is keyed on every field."""
+        key = self.__dict__.get("_content_key")  # kept by dataclass_key: no import to run
+        if key is not None:
+            return key  # type: ignore[no-any-return]
         from .cache import dataclass_key  # noqa: PLC0415 - specs stay cheap to import
 
         return dataclass_key(self)

@@ -150,6 +150,9 @@ def _parse(value: Any, where: str) -> Any:
     return value
 
 
+_PLAIN_NUMBERS = {int, float}
+
+
 def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
     """Convert a scene value to a float (or float array) in ``unit``.
 
@@ -184,7 +187,7 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
     if array and isinstance(value, list | tuple):
         import numpy as np
 
-        if unit in ("1", "") and all(type(v) in (int, float) for v in value):
+        if unit in ("1", "") and set(map(type, value)) <= _PLAIN_NUMBERS:
             return np.array(value, float)  # bare numbers (a zeta grid): as float() of each
         fast = strings_to_si(value, unit) if unit not in ("1", "") else None
         if fast is not None:

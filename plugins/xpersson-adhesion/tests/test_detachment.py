@@ -160,3 +160,36 @@ def test_detachment_walls_equal_by_content_key():
     assert a != DetachmentWall(f, key=("model", 2.0))
     plain = DetachmentWall(f)
     assert plain == plain and plain != DetachmentWall(f) and a != plain
+
+
+def test_table_keyed_on_the_clock_is_the_sampled_table():
+    """A clock with a content key (the pipeline's, Coefficient.clock_key) keys the table on
+    it without sampling the clock: the same table bit for bit as the one keyed on the
+    clock's samples, and equal keys for equal clocks (the loads' walls stay one batch)."""
+    from xpersson.cache import clear_caches, content_key
+    from xpersson.options import cache_enabled
+    from xpersson.plugins import DiffusionClock
+
+    law = ModelLaw(PSD, E_STAR, 0.03, 1.0)
+
+    def clock(key=None):
+        return DiffusionClock(
+            lambda z: diffusion_time(PSD, E_STAR, z),
+            lambda z: coefficient_f(PSD, E_STAR, z),
+            1e4,
+            key=key,
+        )
+
+    key = content_key(("elastic", PSD, E_STAR))
+    clear_caches()
+    by_clock, ck = law.table_and_key(clock(key))
+    by_samples, ck_samples = law.table_and_key(clock())
+    assert ck != ck_samples  # two kinds of key: each compares with its own kind
+    a, b = by_clock.spline.poly, by_samples.spline.poly
+    np.testing.assert_array_equal(a.c, b.c)
+    np.testing.assert_array_equal(a.x, b.x)
+    again, ck_again = law.table_and_key(clock(key))
+    assert ck_again == ck
+    if cache_enabled():  # kept: the clock is not sampled again
+        assert again is by_clock
+    assert DetachmentWall(by_clock, key=ck) == DetachmentWall(again, key=ck_again)

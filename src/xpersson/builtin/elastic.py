@@ -77,6 +77,13 @@ class ElasticCoefficient(Coefficient):
         """tau(zeta) = (pi/4) E*^2 int_{q_L}^{zeta q_L} q^3 C dq [Pa^2] (exact)."""
         return np.asarray(elastic.diffusion_time(ctx.psd, ctx.E_star, zeta), dtype=float)
 
+    def clock_key(self, ctx: SceneContext) -> Any:
+        """:meth:`tau` and :meth:`f` depend on the spectrum and E* alone (``None`` for a
+        subclass that redefines either)."""
+        if (type(self).tau, type(self).f) != (ElasticCoefficient.tau, ElasticCoefficient.f):
+            return None
+        return ("elastic", ctx.psd, float(ctx.E_star))
+
     def tau_stacked(
         self, ctxs: Sequence[SceneContext], points: Sequence[Coefficient], zeta: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:

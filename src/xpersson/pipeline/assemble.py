@@ -12,14 +12,14 @@ import numpy as np
 import xarray as xr
 
 from .. import checks
-from ..cache import freeze
+from ..cache import Cache, freeze
 from ..errors import XperssonWarning
 from ..physics.grids import persson_G
 from ..physics.psd import segment_exponents
 from ..plugins import SceneContext, VarSpec
 from ..scene import ResolvedScene
 from ..schema import COORDS, CORE_VARIABLES, stamp
-from ._insert import direct_dataset, insert_direct, values_of
+from ._insert import direct_dataset, insert_direct, new_variable, values_of
 from .diagnostics import pdf_resolution, regime_warnings, theory_validity
 
 __all__ = ["assemble", "add_outputs", "attributes", "diagnostics_notes", "squeeze_p0"]
@@ -44,7 +44,7 @@ def assemble(
         return np.asarray(getattr(results, attr), float)  # EngineBatch: stacked arrays
 
     psd = rs.psd
-    q_nodes = np.asarray(psd.nodes(), float)
+    q_nodes, psd_c, psd_e, h_rms, slope = _spectrum_variables(psd)
     coords: dict[str, Any] = {
         "zeta": ("zeta", rs.zeta),
         "p0": ("p0", rs.p0),
@@ -58,13 +58,13 @@ def assemble(
         "G": (pz, persson_G(tau_c, rs.p0) if G is None else G),
         "diffusion_time": (("zeta",), tau_c),
         "diffusion_coefficient": (("zeta",), f_z),
-        "psd_C": (("q_psd",), np.asarray(psd.C(q_nodes), float)),
-        "psd_exponent": (("q_psd",), segment_exponents(psd)),
+        "psd_C": (("q_psd",), psd_c),
+        "psd_exponent": (("q_psd",), psd_e),
         "E": ((), rs.E),
         "nu": ((), rs.nu),
         "E_star": ((), rs.E_star),
-        "h_rms": ((), float(psd.h_rms())),
-        "rms_slope": ((), float(psd.rms_slope())),
+        "h_rms": ((), h_rms),
+        "rms_slope": ((), slope),
         "load_balance": (pz, stack("load_balance")),
         "probability_balance": (pz, stack("probability_balance")),
         "error_estimate": (pz, stack("error_estimate")),
@@ -83,6 +83,32 @@ def assemble(
         attrs = ds.variables[name].attrs
         attrs["comment"] = "; ".join(c for c in (attrs.get("comment"), note) if c)
     return ds
+
+
+_SPECTRUM_VARIABLES = Cache(
+    "pipeline.spectrum_variables",
+    scope="spectrum",
+    maxsize=64,
+    doc="a spectrum's Dataset variables: q_psd [1/m], psd_C [m^4], psd_exponent, h_rms [m], "
+    "rms_slope",
+)
+
+
+def _spectrum_variables(psd: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
+    """The spectrum's nodes [1/m], C at them [m^4], the segments' exponents [1], the rms height
+    [m] and slope [1]: computed once per spectrum (the arrays copied: they become the
+    Dataset's data); each time for a spectrum without a content key."""
+
+    def compute() -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
+        q_nodes = np.array(psd.nodes(), float)  # a copy: the spectrum's own stays writable
+        c = np.asarray(psd.C(q_nodes), float)
+        return q_nodes, c, segment_exponents(psd), float(psd.h_rms()), float(psd.rms_slope())
+
+    try:
+        q_nodes, c, e, h_rms, slope = _SPECTRUM_VARIABLES.get(psd, compute)
+    except TypeError:  # no content key (a spectrum plugin's own class without cache_key)
+        return compute()
+    return q_nodes.copy(), c.copy(), e.copy(), h_rms, slope
 
 
 def _balance_notes(results: Any) -> dict[str, str]:
@@ -123,7 +149,8 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
     def var(name: str, dims: Any, val: Any) -> xr.Variable:
         arr = np.asarray(val)
         if arr.dtype.kind in "fiub" or (arr.dtype == object and arr.ndim == 1):
-            return xr.Variable(dims, arr, _attrs_of(name), fastpath=True)  # already an ndarray
+            dims = (dims,) if type(dims) is str else tuple(dims)
+            return new_variable(dims, arr, _attrs_of(name))  # already an ndarray
         return xr.Variable(dims, val, _attrs_of(name))
 
     variables = {name: var(name, dims, val) for name, (dims, val) in data.items()}
@@ -247,15 +274,7 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
         variables = {}
         for name, var in ds._variables.items():  # noqa: SLF001 - see the docstring
             if "p0" in var.dims:
-                axis = var.dims.index("p0")
-                dims = var.dims[:axis] + var.dims[axis + 1 :]
-                # a view (basic indexing; np.take copied: a large P in fresh memory pages)
-                data = np.asarray(values_of(var))[(slice(None),) * axis + (0,)]
-                fast = True
-                if getattr(data, "ndim", None) is None:  # a Python object (an object array's):
-                    data = np.asarray(data)  # converted as xarray would, without its probe of
-                    fast = data.dtype.kind not in "OMm"  # dask, which imports dask.array
-                variables[name] = xr.Variable(dims, data, var.attrs, var.encoding, fastpath=fast)
+                variables[name] = _squeezed(var)
             else:
                 variables[name] = var
         indexes = {k: v for k, v in ds._indexes.items() if k != "p0"}  # noqa: SLF001
@@ -267,3 +286,19 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
     except (AttributeError, TypeError):  # pragma: no cover - other xarray versions
         return ds.isel(p0=0)
     return out
+
+
+def _squeezed(var: xr.Variable) -> xr.Variable:
+    """``var`` at ``p0 = 0``, without that dimension: a view of its data (basic indexing;
+    np.take copied: a large P in fresh memory pages) with copies of its attrs and encoding."""
+    axis = var.dims.index("p0")
+    dims = var.dims[:axis] + var.dims[axis + 1 :]
+    raw = var._data  # noqa: SLF001 - a numpy array: indexed as it is (no conversion)
+    data = (raw if type(raw) is np.ndarray else np.asarray(values_of(var)))[
+        (slice(None),) * axis + (0,)
+    ]
+    if type(data) is np.ndarray or isinstance(data, np.generic):  # a view, or a numpy scalar
+        return new_variable(dims, data, dict(var.attrs), dict(var.encoding))
+    # a Python object (an object array's): converted as xarray would, without its probe of
+    data = np.asarray(data)  # dask, which imports dask.array
+    return xr.Variable(dims, data, var.attrs, var.encoding, fastpath=data.dtype.kind not in "OMm")

@@ -16,10 +16,9 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-import xarray as xr
 
 from ..plugins import VarSpec
-from ._insert import insert_or_set, values_of
+from ._insert import insert_or_set, new_variable, values_of
 
 __all__ = [
     "P_RTOL",
@@ -107,8 +106,8 @@ def pdf_resolution(ds: Any) -> str | None:
     insert_or_set(
         ds,
         {
-            "P_integral": xr.Variable(("p0", "zeta"), integral, attrs["P_integral"], fastpath=True),
-            "P_resolved": xr.Variable(("p0", "zeta"), ok.astype(np.int8), flags, fastpath=True),
+            "P_integral": new_variable(("p0", "zeta"), integral, attrs["P_integral"]),
+            "P_resolved": new_variable(("p0", "zeta"), ok.astype(np.int8), flags),
         },
     )
     zeta = np.asarray(values_of(var["zeta"]), float)
@@ -205,7 +204,7 @@ def theory_validity(ds: Any) -> None:
     attrs = _validity_attrs()
     # a Variable on xarray's fast path: a (dims, data) tuple makes xarray probe for dask arrays,
     # which imports dask.array (~0.12 s) in a solve that has no use for it
-    insert_or_set(ds, {"theory_validity": xr.Variable(("p0",), flags, attrs, fastpath=True)})
+    insert_or_set(ds, {"theory_validity": new_variable(("p0",), flags, attrs)})
 
 
 def _last_zeta(var: Any) -> np.ndarray:

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from ..cache import content_key
 from ..physics.grids import GridError
 from ..physics.grids import pressure_grid as _pressure_grid
 from ..plugins import DiffusionClock, SceneContext
@@ -52,9 +53,18 @@ def scene_context(rs: ResolvedScene) -> SceneContext:
 
 
 def diffusion_clock(ctx: SceneContext, coef: Any, kinks: tuple[float, ...] = ()) -> DiffusionClock:
-    """The coefficient's diffusion clock (tau(zeta) [Pa^2] and its inverse) up to zeta_max."""
+    """The coefficient's diffusion clock (tau(zeta) [Pa^2] and its inverse) up to zeta_max,
+    keyed on :meth:`~xpersson.plugins.Coefficient.clock_key` when the coefficient knows it (a
+    key holding anything :func:`~xpersson.cache.content_key` refuses: no key)."""
+    key_of = getattr(coef, "clock_key", None)
+    key = key_of(ctx) if key_of is not None else None
+    if key is not None:
+        try:
+            key = content_key(key)
+        except TypeError:
+            key = None
     return DiffusionClock(
-        lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max, kinks=kinks
+        lambda z: coef.tau(ctx, z), lambda z: coef.f(ctx, z), ctx.zeta_max, kinks=kinks, key=key
     )
 
 

@@ -55,7 +55,7 @@ import numpy as np
 import xarray as xr
 
 from ..cache import Cache
-from ._insert import insert_or_set, values_of
+from ._insert import insert_or_set, new_variable, values_of
 
 __all__ = [
     "FLAG",
@@ -363,7 +363,10 @@ def _bands(
 
 def _matches(entry: dict[str, Any], feats: dict[str, Any], opts: dict[str, Any]) -> bool:
     """Whether the plugin names, options and features of a group match ``entry["match"]``."""
-    return all(opts.get(k, feats.get(k)) == v for k, v in entry.get("match", {}).items())
+    for k, v in entry.get("match", {}).items():  # a loop: no generator per entry
+        if not opts.get(k, feats.get(k)) == v:
+            return False
+    return True
 
 
 def _band_of_point(
@@ -454,8 +457,8 @@ def _ancillaries(
     )
     new = {}
     for suffix, factor, side in (("_exact_low", low, "lower"), ("_exact_high", high, "upper")):
-        new[name + suffix] = xr.Variable(
-            vdims,
+        new[name + suffix] = new_variable(
+            tuple(vdims),
             np.asarray(x * factor, float),
             {
                 "units": units,
@@ -464,10 +467,9 @@ def _ancillaries(
                 "comment": source,
                 "coverage_content_type": "qualityInformation",
             },
-            fastpath=True,  # numpy data: no probe of dask (a closed-form solve never imports it)
         )
-    new[name + "_model_error_status"] = xr.Variable(
-        vdims,
+    new[name + "_model_error_status"] = new_variable(
+        tuple(vdims),
         status,
         {
             "units": "1",
@@ -477,6 +479,5 @@ def _ancillaries(
             "comment": STATUS_COMMENT,
             "coverage_content_type": "qualityInformation",
         },
-        fastpath=True,
     )
     return new

@@ -40,8 +40,8 @@ def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
     ctx = scene_context(rs)
     validate(rs, ctx, who["boundary"], analysis_labels)  # the plugins' own checks first
     coef = rs.coefficient
-    tau_c, f_z, tau_eff, tau_shared = coefficient_arrays(coef, ctx, who["coefficient"])
     clock = diffusion_clock(ctx, coef, kinks=spectrum_kinks(rs.psd))
+    tau_c, f_z, tau_eff, tau_shared = coefficient_arrays(coef, ctx, who["coefficient"], clock.key)
     walls = load_walls(rs, ctx, clock, who["boundary"])
     p_grid = pressure_grid(rs, walls, tau_eff) if rs.pressure_pdf else None
     if p_grid is not None:
@@ -64,9 +64,10 @@ def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
     )
     ds = assemble(rs, ctx, results, tau_c, f_z, None if tau_shared else tau_eff, p_grid)
     core = checks.check_core(ds)  # the engine's outputs, like every plugin's (load -> message)
-    with checks.calling(who["coefficient"], "interpret()"):
-        coef_out = coef.interpret(ctx)
-    add_outputs(ds, coef_out, type(coef).outputs, who["coefficient"])
+    if type(coef).interpret is not plugins.Coefficient.interpret:  # the base's gives nothing
+        with checks.calling(who["coefficient"], "interpret()"):
+            coef_out = coef.interpret(ctx)
+        add_outputs(ds, coef_out, type(coef).outputs, who["coefficient"])
     with checks.calling(who["boundary"], "interpret()"):
         extra = rs.boundary.interpret(dataclasses.replace(ctx, clock=clock), results)
     add_outputs(ds, extra, type(rs.boundary).outputs, who["boundary"])

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
+from ..cache import Cache
 from ..plugins import Analysis, Boundary, Coefficient, SceneContext, fast_paths_on
 from ..scene import ResolvedScene, SceneError
 
@@ -75,19 +76,21 @@ def _shared_walls(rs: ResolvedScene, ctx: SceneContext, clock: Any, who: Any) ->
 
 
 def coefficient_arrays(
-    coef: Any, ctx: SceneContext, who: Any
+    coef: Any, ctx: SceneContext, who: Any, key: Any = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
     """tau(zeta), f(zeta) and the per-load effective tau [Pa^2], each checked; and whether
-    every load's effective tau is tau(zeta) (then returned as a read-only broadcast)."""
+    every load's effective tau is tau(zeta) (then returned as a read-only broadcast).
+
+    ``key``: the run's clock key (:attr:`~xpersson.plugins.DiffusionClock.key`, a content key
+    of ``coef.tau`` and ``coef.f``): the checked tau and f on this grid are then computed once
+    for later solves (copies returned: they become the Dataset's data).
+    """
     nz, nl = ctx.zeta.size, ctx.p0.size
-    with checks.calling(who, "tau(zeta)"):
-        tau_c = coef.tau(ctx, ctx.zeta)
-    tau_c = checks.check_array(
-        tau_c, who, "tau(zeta)", (nz,), nonnegative=True, nondecreasing_axis=0, unit="Pa2"
-    )
-    with checks.calling(who, "f(zeta)"):
-        f_z = coef.f(ctx, ctx.zeta)
-    f_z = checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
+    if key is None:
+        tau_c, f_z = _tau_and_f(coef, ctx, who)
+    else:
+        kept = _TAU_F.get((key, ctx.zeta), lambda: _tau_and_f(coef, ctx, who))
+        tau_c, f_z = kept[0].copy(), kept[1].copy()
     if shared_tau(coef):  # effective tau only broadcasts tau(zeta): nothing to ask
         return tau_c, f_z, np.broadcast_to(tau_c, (nl, nz)), True
     with checks.calling(who, "effective_tau(zeta)"):
@@ -106,6 +109,28 @@ def coefficient_arrays(
             unit="Pa2",
         )
     return tau_c, f_z, tau_eff, shared
+
+
+_TAU_F = Cache(
+    "pipeline.tau_f",
+    scope="spectrum",
+    maxsize=64,
+    doc="a coefficient's checked tau(zeta) and f(zeta) [Pa^2] by its clock key and the grid",
+)
+
+
+def _tau_and_f(coef: Any, ctx: SceneContext, who: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The coefficient's tau(zeta) and f(zeta) [Pa^2] on the output grid, checked."""
+    nz = ctx.zeta.size
+    with checks.calling(who, "tau(zeta)"):
+        tau_c = coef.tau(ctx, ctx.zeta)
+    tau_c = checks.check_array(
+        tau_c, who, "tau(zeta)", (nz,), nonnegative=True, nondecreasing_axis=0, unit="Pa2"
+    )
+    with checks.calling(who, "f(zeta)"):
+        f_z = coef.f(ctx, ctx.zeta)
+    f_z = checks.check_array(f_z, who, "f(zeta)", (nz,), nonnegative=True, unit="Pa2")
+    return tau_c, f_z
 
 
 def shared_tau(coef: Any) -> bool:

@@ -221,6 +221,18 @@ class Coefficient(Plugin):
         t = np.asarray(self.tau(ctx, zeta), dtype=float)
         return np.broadcast_to(t, (ctx.p0.size, t.size)).copy()
 
+    def clock_key(self, ctx: SceneContext) -> Any:
+        """A content key of :meth:`tau` and :meth:`f` on ``ctx`` (numbers, strings, arrays,
+        spectra: what :func:`xpersson.cache.content_key` takes) whose equality means equal
+        functions, or ``None`` (the default: unknown, e.g. a coefficient reading a file).
+
+        With a key, the run's :class:`~xpersson.plugins.DiffusionClock` shares its inverse's
+        tables with later solves, and tables derived from it (an adhesive wall's) are keyed
+        on it instead of on its samples.
+        """
+        del ctx
+        return None
+
     def interpret(self, ctx: SceneContext) -> dict[str, tuple[tuple[str, ...], np.ndarray]]:
         """Variables the coefficient contributes to the Dataset (dims, data).
 

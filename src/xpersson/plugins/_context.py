@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Hashable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+
+from ..cache import Cache
 
 __all__ = ["SceneContext", "DiffusionClock"]
 
@@ -93,6 +95,14 @@ class SceneContext:
         return self.zeta * self.q_L
 
 
+_CLOCK_NODES = Cache(
+    "plugins.clock_nodes",
+    scope="spectrum",
+    maxsize=64,
+    doc="a diffusion clock's inverse tables, by the clock's content key (DiffusionClock.key)",
+)
+
+
 @dataclass(frozen=True)
 class DiffusionClock:
     """Maps between magnification zeta and diffusion time tau.
@@ -109,12 +119,19 @@ class DiffusionClock:
         Magnifications where ``f`` is known to have a kink (e.g. the spectrum's nodes q/q_L);
         the inverse's table includes them, so that its start is accurate enough for a single
         Newton step. Only a hint: any zeta works without.
+    key : hashable, optional
+        A content key of the functions ``tau_fn`` and ``f`` (:func:`xpersson.cache.content_key`
+        of what they depend on: equal keys, equal functions), given by whoever knows it (the
+        pipeline, from :meth:`~xpersson.plugins.Coefficient.clock_key`). With a key, the
+        inverse's tables are shared by the clocks of later solves (a ``"spectrum"`` cache) and
+        tables derived from the clock may be keyed on it; ``None``: nothing is shared.
     """
 
     tau_fn: Callable[[np.ndarray], np.ndarray]
     f: Callable[[np.ndarray], np.ndarray]
     zeta_max: float
     kinks: tuple[float, ...] = ()
+    key: Hashable | None = field(default=None, compare=False)
     _tables: list = field(init=False, repr=False, compare=False, default_factory=list)
     _last: list = field(init=False, repr=False, compare=False, default_factory=list)
 
@@ -125,44 +142,52 @@ class DiffusionClock:
 
     def _nodes(self) -> tuple[np.ndarray, ...]:
         """(zeta, tau) at the nodes of the inverse and the cubic start's tables (see
-        :meth:`_start`), computed on first use."""
+        :meth:`_start`), computed on first use (shared by equal :attr:`key`)."""
         if not self._tables:
-            # 100 nodes per decade, 50 more log-spaced in zeta - 1 up to zeta = 2 (where
-            # log(zeta - 1) is the natural variable) and the declared kinks of f: the cubic
-            # start is then within ~1e-7 (one Newton step) for piecewise power-law spectra
-            n = max(64, int(100 * np.log10(max(self.zeta_max, 10.0))))
-            z_end = max(self.zeta_max, 1.0 + 1e-12)
-            z = np.exp(np.linspace(0.0, np.log(z_end), n))  # log-spaced (cheaper than geomspace)
-            z[0], z[-1] = 1.0, z_end
-            extra = [1.0 + np.logspace(-6.0, 0.0, 50)]
-            if self.kinks:
-                extra.append(np.asarray(self.kinks, dtype=float).ravel())
-            extra = np.concatenate(extra)
-            extra = extra[np.isfinite(extra) & (extra > 1.0) & (extra < z_end)]
-            z = np.unique(np.concatenate([z, extra]))
-            tau = np.asarray(self.tau_fn(z), dtype=float)
-            f = np.asarray(self.f(z), dtype=float)
-            with np.errstate(all="ignore"):
-                # beyond the first node: log(zeta - 1) against log(tau), slopes d/d log tau;
-                # per interval the cubic y0 + s (d0 + s (c2 + s c3)) in s = (u - u0) / h
-                u = np.log(tau[1:])
-                y = np.log(z[1:] - 1.0)
-                m = tau[1:] / (f[1:] * (z[1:] - 1.0))
-                h = np.diff(u)
-                usable = bool(
-                    tau[1] > 0
-                    and np.all(h > 0)
-                    and np.all(np.isfinite(m))
-                    and np.all(np.isfinite(y))
-                    and f[0] > 0
-                )
-                d0, d1, dy = h * m[:-1], h * m[1:], np.diff(y)
-                cubic = (u[:-1], 1.0 / h, y[:-1], d0, 3.0 * dy - 2.0 * d0 - d1, d0 + d1 - 2.0 * dy)
-                # first interval (from tau = 0): the cubic in (tau, zeta) with slopes 1/f
-                w = tau[1] - tau[0]
-                first = (tau[0], tau[1], z[0], z[1], w / f[0], w / f[1])
-            self._tables.append((z, tau, np.log(z), usable, u, cubic, first))
+            if self.key is None:
+                self._tables.append(self._build_nodes())
+            else:
+                key = (self.key, self.zeta_max, self.kinks)
+                self._tables.append(_CLOCK_NODES.get(key, self._build_nodes))
         return self._tables[0]
+
+    def _build_nodes(self) -> tuple[Any, ...]:
+        """The tables of :meth:`_nodes`."""
+        # 100 nodes per decade, 50 more log-spaced in zeta - 1 up to zeta = 2 (where
+        # log(zeta - 1) is the natural variable) and the declared kinks of f: the cubic
+        # start is then within ~1e-7 (one Newton step) for piecewise power-law spectra
+        n = max(64, int(100 * np.log10(max(self.zeta_max, 10.0))))
+        z_end = max(self.zeta_max, 1.0 + 1e-12)
+        z = np.exp(np.linspace(0.0, np.log(z_end), n))  # log-spaced (cheaper than geomspace)
+        z[0], z[-1] = 1.0, z_end
+        extra = [1.0 + np.logspace(-6.0, 0.0, 50)]
+        if self.kinks:
+            extra.append(np.asarray(self.kinks, dtype=float).ravel())
+        extra = np.concatenate(extra)
+        extra = extra[np.isfinite(extra) & (extra > 1.0) & (extra < z_end)]
+        z = np.unique(np.concatenate([z, extra]))
+        tau = np.asarray(self.tau_fn(z), dtype=float)
+        f = np.asarray(self.f(z), dtype=float)
+        with np.errstate(all="ignore"):
+            # beyond the first node: log(zeta - 1) against log(tau), slopes d/d log tau;
+            # per interval the cubic y0 + s (d0 + s (c2 + s c3)) in s = (u - u0) / h
+            u = np.log(tau[1:])
+            y = np.log(z[1:] - 1.0)
+            m = tau[1:] / (f[1:] * (z[1:] - 1.0))
+            h = np.diff(u)
+            usable = bool(
+                tau[1] > 0
+                and np.all(h > 0)
+                and np.all(np.isfinite(m))
+                and np.all(np.isfinite(y))
+                and f[0] > 0
+            )
+            d0, d1, dy = h * m[:-1], h * m[1:], np.diff(y)
+            cubic = (u[:-1], 1.0 / h, y[:-1], d0, 3.0 * dy - 2.0 * d0 - d1, d0 + d1 - 2.0 * dy)
+            # first interval (from tau = 0): the cubic in (tau, zeta) with slopes 1/f
+            w = tau[1] - tau[0]
+            first = (tau[0], tau[1], z[0], z[1], w / f[0], w / f[1])
+        return z, tau, np.log(z), usable, u, cubic, first
 
     def tau_of_zeta(self, zeta: np.ndarray | float) -> np.ndarray:
         """Diffusion time [Pa^2] at magnification ``zeta`` [1]."""

@@ -309,10 +309,15 @@ def jsonable(
     """JSON-able copy of resolved values; dimensional quantities as ``"value unit"`` strings so
     that the resolved scene re-loads as a scene."""
     out: dict[str, Any] = {}
+    specs = specs or {}
     for k, v in params.items():
-        spec = (specs or {}).get(k)
-        dimensional = spec is not None and spec.kind == "quantity" and spec.unit not in ("1", "")
         if v is None:
+            continue
+        spec = specs.get(k)
+        dimensional = spec is not None and spec.kind == "quantity" and spec.unit not in ("1", "")
+        kind = type(v)
+        if kind is float or kind is int or kind is bool or kind is str:  # the common values
+            out[k] = f"{float(v)!r} {spec.unit}" if dimensional and kind is not str else v
             continue
         if dimensional and isinstance(v, np.ndarray):
             fast = v.ndim == 1 and v.dtype.kind in "fiub"  # Python floats, as float(x) gives

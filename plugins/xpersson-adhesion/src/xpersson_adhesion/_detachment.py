@@ -188,27 +188,30 @@ class ModelLaw:
         return self.table_and_key(clock, per_decade)[0]
 
     def table_and_key(self, clock: object, per_decade: int = 200) -> tuple[_Pchip, Hashable]:
-        """:meth:`in_tau`'s table and its content key (``("model", d)``, ``d`` a 128-bit digest
-        of what the table depends on: the law's numbers, the clock's ``zeta_max`` and its
-        samples tau [Pa^2] and f [Pa^2] at the table's magnifications): equal keys, equal
-        tables (the jkr wall compares by it; a digest is keyed and compared without walking
-        the key's parts)."""
+        """:meth:`in_tau`'s table and its content key (``("model", d)``: equal keys, equal
+        tables; the jkr wall compares by it). ``d`` is made of the law's numbers, the clock's
+        ``zeta_max`` and the clock's content key (``clock.key``, when it has one: the clock is
+        then sampled only when the table is not kept), else a 128-bit digest of those numbers
+        and the clock's samples tau [Pa^2] and f [Pa^2] at the table's magnifications (a
+        digest is keyed and compared without walking the key's parts)."""
         zmax = float(clock.zeta_max)  # type: ignore[attr-defined]
-        z_all, zo_all, cut, s2_nodes, ds2_nodes = self._samples(zmax, per_decade)
+        head = (self.psd, *self._key(), zmax, per_decade)
+        by_clock = getattr(clock, "key", None)
+        if by_clock is not None:
+            ck = ("model", content_key((*head, by_clock)))
+            return _TABLES.get(ck, lambda: self._fit(*self._clock_samples(clock, head))), ck
+        parts = self._clock_samples(clock, head)
+        text = repr(content_key(head)).encode()
+        ck = ("model", hashlib.blake2b(text + digest(*parts[2:4]), digest_size=16).digest())
+        return _TABLES.get(ck, lambda: self._fit(*parts)), ck
+
+    def _clock_samples(self, clock: object, head: tuple[Any, ...]) -> tuple[Array, ...]:
+        """``sigma_a^2`` [Pa^2], its slope in zeta [Pa^2] (cached per spectrum), the clock's
+        tau [Pa^2] and f [Pa^2] at the table's magnifications; ``head``: the law's key."""
+        z_all, zo_all, cut, s2_nodes, ds2_nodes = self._samples(*head[-2:])
         t_nodes = np.asarray(clock.tau_of_zeta(z_all), dtype=float)  # type: ignore[attr-defined]
         f_nodes = np.asarray(clock.f(zo_all), dtype=float)  # type: ignore[attr-defined]
-        head = repr(content_key((self.psd, *self._key(), zmax, per_decade))).encode()
-        ck = ("model", hashlib.blake2b(head + digest(t_nodes, f_nodes), digest_size=16).digest())
-        table = _TABLES.get(
-            ck,
-            lambda: self._fit(
-                np.split(s2_nodes, cut),
-                np.split(ds2_nodes, cut),
-                np.split(t_nodes, cut),
-                np.split(f_nodes, cut),
-            ),
-        )
-        return table, ck
+        return s2_nodes, ds2_nodes, t_nodes, f_nodes, cut
 
     def _key(self) -> tuple[Any, ...]:
         """What the law depends on besides its spectrum (cache keys)."""
@@ -246,15 +249,14 @@ class ModelLaw:
         ds2_one_sided[at_ends] = ds2_nodes[z_all.size :]
         return z_all, zo_all, cut, s2_nodes[: z_all.size].copy(), ds2_one_sided
 
-    def _fit(
-        self, s2_all: list[Array], ds2_all: list[Array], t_all: list[Array], f_all: list[Array]
-    ) -> _Pchip:
-        """The table of :meth:`in_tau` from its samples per piece (``sigma_a^2`` [Pa^2], its
-        slope in zeta [Pa^2], tau [Pa^2] and f = dtau/dzeta [Pa^2])."""
+    def _fit(self, s2_nodes: Array, ds2_nodes: Array, t: Array, f: Array, cut: Array) -> _Pchip:
+        """The table of :meth:`in_tau` from its samples (``sigma_a^2`` [Pa^2], its slope in
+        zeta [Pa^2], tau [Pa^2] and f = dtau/dzeta [Pa^2]), split into pieces at ``cut``."""
         from scipy.interpolate import PPoly
 
+        pieces = (np.split(a, cut) for a in (s2_nodes, ds2_nodes, t, f))
         xs, cs = [], []
-        for s2, ds2, t, f in zip(s2_all, ds2_all, t_all, f_all, strict=True):
+        for s2, ds2, t, f in zip(*pieces, strict=True):
             keep = np.concatenate(([True], np.diff(t) > 0))
             if keep.sum() < 2:
                 continue
