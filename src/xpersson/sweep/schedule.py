@@ -18,11 +18,13 @@ import warnings
 from typing import Any
 
 from ..errors import XperssonWarning
+from ._shm import in_process
 from .plan import SweepPlan
 
 __all__ = [
     "BLOCK_CURVES",
     "CLUSTER_STARTUP_S",
+    "IN_PROCESS_MIN_S",
     "PARALLEL_MIN_S",
     "SERIAL_BLOCK_POINTS",
     "MEMORY_BOUND_RATE",
@@ -101,8 +103,19 @@ PARALLEL_MIN_S = 2.0
 TASK_S = 0.5
 
 
+#: Estimated serial CPU time [s] of a study above which the workers of a client whose
+#: workers are threads of this process (``LocalCluster(processes=False)``,
+#: :func:`~._shm.in_process`) pay: no process to start, no result to move (the workers write
+#: into this process's own arrays), only the probe's and the tasks' scheduling. Such workers
+#: pay where the study's numbers are computed by numpy, scipy and the compiled kernels, which
+#: release the GIL (a memory-bound E x H study); no memory-bound rule applies to them.
+IN_PROCESS_MIN_S = 0.2
+
+
 def threshold_s(scheduler: Any) -> float:
     """Estimated serial CPU time [s] above which ``scheduler`` (a distributed one) pays."""
+    if in_process(scheduler):
+        return IN_PROCESS_MIN_S
     return PARALLEL_MIN_S + (CLUSTER_STARTUP_S if scheduler == "processes" else 0.0)
 
 
@@ -126,7 +139,11 @@ def too_small_for_a_cluster(
     memory-bound (:data:`MEMORY_BOUND_RATE`); then a warning says so and the sweep runs in this
     process."""
     limit = threshold_s(scheduler)
-    bound = math.isfinite(estimate) and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
+    bound = (
+        math.isfinite(estimate)
+        and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
+        and not in_process(scheduler)
+    )
     if estimate >= limit and not bound:
         return False
     what = (
