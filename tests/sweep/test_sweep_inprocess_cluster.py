@@ -1,11 +1,11 @@
 """A LocalCluster whose workers are threads of this process (``processes=False``): the workers
 write the sweep's large arrays into this process's own memory (no ``/dev/shm`` segment, no
-copy), the result equals the serial one bit for bit, and the rule (``xpersson.sweep.schedule``)
-uses its own threshold and no memory-bound rule for such workers."""
+copy), the result equals the serial one bit for bit; and a memory-bound study given workers on
+this machine runs on their number of threads in this process (``xpersson.sweep.schedule``)."""
 
 from __future__ import annotations
 
-import math
+import threading
 import time
 import warnings
 
@@ -58,8 +58,60 @@ def test_in_process_is_told_from_the_workers_addresses(threads, client):
     assert _shm.in_process(threads)
     assert not _shm.in_process(client)  # worker processes (tests/sweep/conftest.py)
     assert not _shm.in_process("processes")
-    assert schedule.threshold_s(threads) == schedule.IN_PROCESS_MIN_S
-    assert schedule.threshold_s(client) == schedule.PARALLEL_MIN_S
+
+
+def test_threads_here_are_the_local_workers_threads(threads, client):
+    class Remote:  # a client of a scheduler elsewhere: this machine's cores are not its workers'
+        def scheduler_info(self):
+            return {"workers": {"tcp://10.0.0.9:1": {"nthreads": 8}}}
+
+    assert schedule.here_threads(threads) == 2
+    assert schedule.here_threads(client) == 2  # a LocalCluster of 2 processes
+    assert schedule.here_threads("processes", 3) == 3
+    assert schedule.here_threads(Remote()) == 1
+    assert schedule.here_threads("tcp://10.0.0.9:8786") == 1
+
+
+def test_run_here_uses_threads_only_for_a_long_enough_memory_bound_study(client):
+    rate, least = schedule.MEMORY_BOUND_RATE, schedule.THREADS_MIN_S
+    bound = 2 * rate * 2 * least  # bytes of a memory-bound study of 2 * least seconds
+    assert schedule.run_here(client, 2 * least, bound) == ("threads", 2)
+    assert schedule.run_here(client, 0.5 * least, bound * 0.25) == (None, 1)  # too short
+    assert schedule.run_here(client, 2 * least, 0.5 * rate * 2 * least) == (None, 1)  # CPU-bound
+    assert schedule.run_here("tcp://10.0.0.9:8786", 2 * least, bound) == (None, 1)
+
+
+def test_a_memory_bound_study_given_local_workers_runs_on_threads_here(client, monkeypatch):
+    """Through the rule (the small study made memory-bound here): solved on 2 threads of this
+    process, its batched rows written in place into the sweep's arrays from those threads,
+    bitwise the serial result; the attribute says where it ran."""
+    from xpersson.sweep import execute
+
+    def no_workers(*args, **kwargs):
+        raise AssertionError("a memory-bound study was sent to the workers")
+
+    monkeypatch.setattr(execute, "run_on_workers", no_workers)
+    monkeypatch.setattr(schedule, "MEMORY_BOUND_RATE", 1.0)
+    monkeypatch.setattr(schedule, "THREADS_MIN_S", 0.0)
+    monkeypatch.setattr(schedule, "BLOCK_CURVES", 8)  # blocks of 4 points x 2 loads
+    monkeypatch.setattr(schedule, "SERIAL_BLOCK_POINTS", 8)
+    in_place, rows = [], filling.Filling.rows
+    main = threading.get_ident()
+
+    def record(self, name, block, point_shape, dtype):
+        got = rows(self, name, block, point_shape, dtype)
+        if threading.get_ident() != main and name == "area_fraction":
+            in_place.append(got is not None)
+        return got
+
+    monkeypatch.setattr(filling.Filling, "rows", record)
+    plan = _plan(STUDY)
+    serial = solve_sweep(plan, None)
+    with pytest.warns(UserWarning, match="memory-bound.*solving it in this process on 2 threads"):
+        par = solve_sweep(plan, None, scheduler=client)
+    _equal(serial, par)
+    assert par.attrs["xpersson_scheduler"].startswith("threads (2) (asked: tcp://")
+    assert in_place and all(in_place)  # every block after the probe's, from a pool thread
 
 
 @pytest.mark.parametrize(("sc", "chunk"), [(STUDY, 4), (STACKED, 2)])
@@ -96,38 +148,3 @@ def test_workers_write_into_this_process_arrays_and_equal_serial(threads, monkey
             break
         time.sleep(0.02)
     assert not any(got[1] is handed[0] for got in _shm._ATTACHED.values())
-
-
-def test_the_rule_has_no_memory_bound_limit_for_workers_in_this_process(threads):
-    plan = _plan(STUDY)
-    est = 2 * schedule.IN_PROCESS_MIN_S
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")  # no warning: it goes to the workers
-        assert not schedule.too_small_for_a_cluster(plan, est, threads, nbytes=1e6 * est * 1e6)
-    with pytest.warns(UserWarning, match="takes serially"):
-        assert schedule.too_small_for_a_cluster(plan, 0.5 * schedule.IN_PROCESS_MIN_S, threads)
-
-
-def test_a_probed_study_on_threads_reuses_the_probe_and_equals_serial(threads, monkeypatch):
-    """Through the rule (its threshold lowered here): the probe's blocks are filled here, the
-    workers' blocks arrive with their large variables written in place ("shm")."""
-    monkeypatch.setattr(schedule, "IN_PROCESS_MIN_S", 0.0)
-    monkeypatch.setattr(schedule, "BLOCK_CURVES", 8)  # blocks of 4 points x 2 loads
-    monkeypatch.setattr(schedule, "SERIAL_BLOCK_POINTS", 8)
-    moved, add = [], filling.Filling.add
-
-    def record(self, res, written=()):
-        if res.dataset is not None:
-            moved.append((res.block.number, dict(written) if isinstance(written, dict) else {}))
-        return add(self, res, written)
-
-    monkeypatch.setattr(filling.Filling, "add", record)
-    plan = _plan(STUDY)
-    serial = solve_sweep(plan, None)
-    moved.clear()
-    par = solve_sweep(plan, None, scheduler=threads, shm_bytes=2000)
-    _equal(serial, par)
-    assert "xpersson_scheduler" not in par.attrs
-    from_workers = [m for number, m in moved if number > 1]
-    assert from_workers and all(m.get("area_fraction") == "shm" for m in from_workers)
-    assert math.isfinite(par["area_fraction"].values.sum())

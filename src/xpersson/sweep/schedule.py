@@ -24,11 +24,14 @@ from .plan import SweepPlan
 __all__ = [
     "BLOCK_CURVES",
     "CLUSTER_STARTUP_S",
-    "IN_PROCESS_MIN_S",
     "PARALLEL_MIN_S",
     "SERIAL_BLOCK_POINTS",
     "MEMORY_BOUND_RATE",
     "TASK_S",
+    "THREADS_MIN_S",
+    "here_threads",
+    "memory_bound",
+    "run_here",
     "points_per_block",
     "threshold_s",
     "too_small_for_a_cluster",
@@ -103,32 +106,51 @@ PARALLEL_MIN_S = 2.0
 TASK_S = 0.5
 
 
-#: Estimated serial CPU time [s] of a study above which the workers of a client whose
-#: workers are threads of this process (``LocalCluster(processes=False)``,
-#: :func:`~._shm.in_process`) pay: no process to start, no result to move (the workers write
-#: into this process's own arrays), only the probe's and the tasks' scheduling. Such workers
-#: pay where the study's numbers are computed by numpy, scipy and the compiled kernels, which
-#: release the GIL (a memory-bound E x H study); no memory-bound rule applies to them.
-IN_PROCESS_MIN_S = 0.2
-
-
 def threshold_s(scheduler: Any) -> float:
     """Estimated serial CPU time [s] above which ``scheduler`` (a distributed one) pays."""
-    if in_process(scheduler):
-        return IN_PROCESS_MIN_S
     return PARALLEL_MIN_S + (CLUSTER_STARTUP_S if scheduler == "processes" else 0.0)
 
 
 #: Result bytes per second of the study's serial CPU time above which a study is memory-bound
-#: [B/s]: its workers would spend more moving the result than they save computing it, at any
-#: size. An E x H study of one load makes about 450 MB/s (229 MiB for 0.5 s). Through dask's
-#: sockets it took 3x serial; written in place in shared memory by 2 local workers
+#: [B/s]: its worker processes would spend more moving the result than they save computing it,
+#: at any size. An E x H study of one load makes about 450 MB/s (229 MiB for 0.5 s). Through
+#: dask's sockets it took 3x serial; written in place in shared memory by 2 local workers
 #: (:mod:`._shm`) it still needs, by CPU accounting, 1.35-1.45x the serial CPU on its critical
 #: path (1.18-2.2x serial wall on the shared machine): a tmpfs page is 4 KiB
 #: (``shmem_enabled = never``), and populating them cost the workers 3.7 ms of system time
-#: per MB, where the serial run writes anonymous memory in 2 MiB pages. Such a study runs in
-#: this process, on any distributed scheduler.
+#: per MB, where the serial run writes anonymous memory in 2 MiB pages. Workers that are
+#: threads of this process (``LocalCluster(processes=False)``) pay dask's per-task costs and
+#: its event loops' share of the GIL: the same study took 1.0-1.9x serial wall on them. Such
+#: a study runs in this process instead, on threads where the workers' cores are this
+#: machine's (:func:`here_threads`).
 MEMORY_BOUND_RATE = 1e8
+#: Estimated serial CPU time [s] above which a memory-bound study whose workers share this
+#: machine runs on :func:`here_threads` threads of this process rather than on one: its
+#: numbers are computed by numpy, scipy and the compiled kernels, which release the GIL, and
+#: the threads write into this process's own arrays (anonymous memory, 2 MiB pages). Measured
+#: by ``benchmarks/summary.py`` on the shared 2-core machine (the measuring session at
+#: autogroup nice -19): the 1e5-point E x H study (0.51 s serial) took 0.74-0.80x serial wall
+#: on 2 threads, bitwise equal.
+THREADS_MIN_S = 0.2
+
+
+def here_threads(scheduler: Any, workers: int | None = None) -> int:
+    """Threads of this process a study that does not go to ``scheduler``'s workers runs on:
+    the worker threads of a ``LocalCluster`` (its processes or threads of this one: their
+    cores are this machine's) or of ``"processes"`` (``workers`` or the cores); 1 elsewhere
+    (a scheduler elsewhere: this machine's cores are not the workers')."""
+    if scheduler == "processes":
+        return max(1, workers or os.cpu_count() or 1)
+    local = in_process(scheduler) or type(getattr(scheduler, "cluster", None)).__name__ == (
+        "LocalCluster"
+    )
+    if not local:
+        return 1
+    try:
+        info = scheduler.scheduler_info().get("workers", {})
+    except Exception:  # noqa: BLE001 - no answer: one thread
+        return 1
+    return max(1, sum(int(w.get("nthreads", 1)) for w in info.values()))
 
 
 def too_small_for_a_cluster(
@@ -137,13 +159,10 @@ def too_small_for_a_cluster(
     """Whether the study, solved serially (``estimate`` [s], result ``nbytes`` [B],
     :func:`~xpersson.sweep.probe.probe`), takes less than :func:`threshold_s` or is
     memory-bound (:data:`MEMORY_BOUND_RATE`); then a warning says so and the sweep runs in this
-    process."""
+    process (on :func:`here_threads` threads where it is memory-bound and longer than
+    :data:`THREADS_MIN_S`: :func:`run_here`)."""
     limit = threshold_s(scheduler)
-    bound = (
-        math.isfinite(estimate)
-        and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
-        and not in_process(scheduler)
-    )
+    bound = memory_bound(estimate, nbytes)
     if estimate >= limit and not bound:
         return False
     what = (
@@ -158,13 +177,35 @@ def too_small_for_a_cluster(
         else f"{what} about {limit:g} s, more than this study of {plan.size} points takes "
         f"serially (about {estimate:.2g} s, measured on its first points)"
     )
+    threads = run_here(scheduler, estimate, nbytes)[1]
+    where = "in this process" + (f" on {threads} threads" if threads > 1 else "")
     warnings.warn(
-        f"scheduler={_name(scheduler)}: {why}; solving it in this process. Pass chunk= to run "
-        "it on the workers anyway.",
+        f"scheduler={_name(scheduler)}: {why}; solving it {where}. Pass chunk= to run it on "
+        "the workers anyway.",
         XperssonWarning,
         stacklevel=4,
     )
     return True
+
+
+def memory_bound(estimate: float, nbytes: float) -> bool:
+    """Whether a study of serial CPU time ``estimate`` [s] and result ``nbytes`` [B] is
+    memory-bound (:data:`MEMORY_BOUND_RATE`)."""
+    return math.isfinite(estimate) and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
+
+
+def run_here(
+    scheduler: Any, estimate: float, nbytes: float, workers: int | None = None
+) -> tuple[str | None, int]:
+    """``(scheduler, workers)`` in this process for a study :func:`too_small_for_a_cluster`
+    keeps here: ``("threads", n)`` for a memory-bound study longer than
+    :data:`THREADS_MIN_S` whose workers share this machine (:func:`here_threads`), else
+    ``(None, 1)`` (serial)."""
+    if memory_bound(estimate, nbytes) and estimate >= THREADS_MIN_S:
+        n = here_threads(scheduler, workers)
+        if n > 1:
+            return "threads", n
+    return None, 1
 
 
 def _name(scheduler: Any) -> str:
