@@ -126,12 +126,15 @@ def threshold_s(scheduler: Any) -> float:
 MEMORY_BOUND_RATE = 1e8
 #: Estimated serial CPU time [s] above which a memory-bound study whose workers share this
 #: machine runs on :func:`here_threads` threads of this process rather than on one: its
-#: numbers are computed by numpy, scipy and the compiled kernels, which release the GIL, and
-#: the threads write into this process's own arrays (anonymous memory, 2 MiB pages). Measured
-#: by ``benchmarks/summary.py`` on the shared 2-core machine (the measuring session at
-#: autogroup nice -19): the 1e5-point E x H study (0.51 s serial) took 0.74-0.80x serial wall
-#: on 2 threads, bitwise equal.
-THREADS_MIN_S = 0.2
+#: numbers are computed by numpy, scipy and the compiled kernels, which release the GIL for
+#: most of the time (74 % of a block's samples, ``py-spy --gil``), and the threads write into
+#: this process's own arrays (anonymous memory, 2 MiB pages). Measured on the shared 2-core
+#: machine (the measuring session at autogroup nice -19), E x H studies of one load given a
+#: LocalCluster(2), wall against serial (best of 8-10 interleaved rounds, bitwise equal): 1e5
+#: points (0.51 s serial) 0.82-0.84x on 2 threads; 6e4 points (0.29 s) 1.03-1.09x (the probe's
+#: two blocks, solved before the threads start, are a sixth of the study); 4e4 points (0.2 s)
+#: 1.05-1.09x.
+THREADS_MIN_S = 0.4
 
 
 def here_threads(scheduler: Any, workers: int | None = None) -> int:
