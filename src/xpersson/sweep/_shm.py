@@ -25,7 +25,12 @@ Measured (``benchmarks/sweep_scaling.py --crossover``): the 1e5-point E x H stud
 pay on two local workers (1.18-1.92x serial wall, 1.35-1.45x the serial CPU on its critical
 path): its tmpfs pages are 4 KiB, and populating them costs the workers more system time than
 the serial run's 2 MiB anonymous pages (:data:`~.schedule.MEMORY_BOUND_RATE` keeps such a study
-in the client's process). The path serves studies above the threshold with large results.
+in the client's process, on threads there: :func:`~.schedule.run_here`). The path serves studies
+above the threshold with large results.
+
+Workers that are threads of this process (``LocalCluster(processes=False)``, :func:`in_process`)
+get arrays of this process's own memory instead: no segment, the same sink and the same arrays
+the client's Dataset wraps.
 """
 
 from __future__ import annotations

@@ -7,7 +7,9 @@ of about :data:`TASK_S` each (2 to 16 per worker, none larger than a serial bloc
 whose estimated serial time is below :func:`threshold_s` (:data:`PARALLEL_MIN_S`, plus
 :data:`CLUSTER_STARTUP_S` where ``scheduler="processes"`` starts a cluster), or that is
 memory-bound (:data:`MEMORY_BOUND_RATE`), runs in this process, with a warning and an
-``xpersson_scheduler`` attribute saying so: above it the workers are faster in wall time.
+``xpersson_scheduler`` attribute saying so: above it the workers are faster in wall time. A
+memory-bound study of at least :data:`THREADS_MIN_S` whose workers' cores are this machine's
+runs on as many threads of this process (:func:`run_here`).
 """
 
 from __future__ import annotations
