@@ -148,3 +148,14 @@ def test_workers_write_into_this_process_arrays_and_equal_serial(threads, monkey
             break
         time.sleep(0.02)
     assert not any(got[1] is handed[0] for got in _shm._ATTACHED.values())
+
+
+def test_a_cpu_bound_study_is_not_sent_to_workers_that_are_threads_of_this_process(threads, client):
+    """Above the threshold and not memory-bound, the study goes to worker processes but not to
+    dask's threads of this process (its Python holds the GIL there), said in the warning."""
+    plan = _plan(STUDY)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no warning: to the workers
+        assert not schedule.too_small_for_a_cluster(plan, 100.0, client, nbytes=1e3)
+    with pytest.warns(UserWarning, match="threads of this process.*GIL.*in this process\\."):
+        assert schedule.too_small_for_a_cluster(plan, 100.0, threads, nbytes=1e3)

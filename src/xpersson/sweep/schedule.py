@@ -162,13 +162,16 @@ def too_small_for_a_cluster(
     plan: SweepPlan, estimate: float, scheduler: Any = "processes", nbytes: float = 0.0
 ) -> bool:
     """Whether the study, solved serially (``estimate`` [s], result ``nbytes`` [B],
-    :func:`~xpersson.sweep.probe.probe`), takes less than :func:`threshold_s` or is
-    memory-bound (:data:`MEMORY_BOUND_RATE`); then a warning says so and the sweep runs in this
-    process (on :func:`here_threads` threads where it is memory-bound and longer than
-    :data:`THREADS_MIN_S`: :func:`run_here`)."""
+    :func:`~xpersson.sweep.probe.probe`), takes less than :func:`threshold_s`, is memory-bound
+    (:data:`MEMORY_BOUND_RATE`), or the workers are threads of this process
+    (:func:`~._shm.in_process`: dask's threads pay nothing where the study's Python holds the
+    GIL, and the memory-bound studies pay on threads without dask); then a warning says so and
+    the sweep runs in this process (on :func:`here_threads` threads where it is memory-bound
+    and longer than :data:`THREADS_MIN_S`: :func:`run_here`)."""
     limit = threshold_s(scheduler)
     bound = memory_bound(estimate, nbytes)
-    if estimate >= limit and not bound:
+    threads = in_process(scheduler)
+    if estimate >= limit and not bound and not threads:
         return False
     what = (
         "starting the worker processes and sending them the work costs"
@@ -181,9 +184,12 @@ def too_small_for_a_cluster(
         if bound
         else f"{what} about {limit:g} s, more than this study of {plan.size} points takes "
         f"serially (about {estimate:.2g} s, measured on its first points)"
+        if estimate < limit
+        else "its workers are threads of this process, and the study's Python work holds the "
+        "GIL (a plastic sweep took 1.07-1.11x serial on two of them)"
     )
-    threads = run_here(scheduler, estimate, nbytes)[1]
-    where = "in this process" + (f" on {threads} threads" if threads > 1 else "")
+    n = run_here(scheduler, estimate, nbytes)[1]
+    where = "in this process" + (f" on {n} threads" if n > 1 else "")
     warnings.warn(
         f"scheduler={_name(scheduler)}: {why}; solving it {where}. Pass chunk= to run it on "
         "the workers anyway.",
