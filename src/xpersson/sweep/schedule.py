@@ -99,9 +99,14 @@ CLUSTER_STARTUP_S = 3.0
 #: scheduling and the workers' own per-block costs. Measured by ``benchmarks/summary.py`` and
 #: CPU accounting on 2 local workers (the client's CPU before and after the tasks plus the
 #: busier worker's, against the serial CPU): a CPU-bound plastic H sweep of 100 points x 3
-#: loads (estimated 2.5 s) 1.00-1.10x serial, of 400 points (10 s) 0.82x serial wall.
+#: loads (estimated 2.5 s) 1.00-1.10x serial, of 400 points (10 s) 0.82x serial wall. Measured
+#: again with the measuring session at autogroup nice -19 (2 cores free), wall against serial,
+#: bitwise equal: 100 points (1.0 s serial, estimated 1.9-2.0 s) 0.97-1.16x; 150 points
+#: (1.5 s) 0.89-1.00x (median 0.97x); 400 points (4.1 s, estimated 7.7-8.9 s) 0.67-0.82x. The
+#: probe overstates such sweeps about 2x (its second block of 4 points carries a block's
+#: fixed costs), so 3 s estimated is about 1.5 s of serial CPU for them.
 #: Below it the study runs in this process.
-PARALLEL_MIN_S = 2.0
+PARALLEL_MIN_S = 3.0
 #: Serial CPU time [s] of one task on a worker: long enough that the scheduler's per-task
 #: cost (a few ms) and the transfer of its result are small, short enough for 2 to 16 tasks
 #: per worker (balance, results combined while others run).
