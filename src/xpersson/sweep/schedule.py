@@ -137,11 +137,12 @@ MEMORY_BOUND_RATE = 1e8
 #: most of the time (74 % of a block's samples, ``py-spy --gil``), and the threads write into
 #: this process's own arrays (anonymous memory, 2 MiB pages). Measured on the shared 2-core
 #: machine (the measuring session at autogroup nice -19), E x H studies of one load given a
-#: LocalCluster(2), wall against serial (best of 8-10 interleaved rounds, bitwise equal): 1e5
-#: points (0.51 s serial) 0.82-0.84x on 2 threads; 6e4 points (0.29 s) 1.03-1.09x (the probe's
-#: two blocks, solved before the threads start, are a sixth of the study); 4e4 points (0.2 s)
-#: 1.05-1.09x.
-THREADS_MIN_S = 0.4
+#: LocalCluster(2), wall against serial (best of 8-10 interleaved rounds, bitwise equal; the
+#: probe estimates them at 0.8-0.85x their serial CPU): 1e5 points (0.47-0.51 s serial)
+#: 0.82-0.95x on 2 threads; 8e4 points (0.36 s) 0.90-0.94x; 6e4 points (0.28-0.29 s)
+#: 0.92-1.09x in two runs (the probe's two blocks, solved before the threads start, are a sixth
+#: of the study); 4e4 points (0.2 s) 1.05-1.09x.
+THREADS_MIN_S = 0.3
 
 
 def here_threads(scheduler: Any, workers: int | None = None) -> int:
