@@ -11,6 +11,7 @@ import ctypes
 import os
 import re
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -24,6 +25,7 @@ from summary_design import best, cpu, load_range, peak_mib, scene
 import xpersson
 from xpersson.api import as_scene, expand
 from xpersson.plugins import get_registry
+from xpersson.sweep._shm import in_process
 from xpersson.sweep.probe import serial_estimate
 
 #: Target per path: ("x", ratio) or ("ms", milliseconds per load).
@@ -442,21 +444,30 @@ def ceiling(client, rounds: int = 3, n: int = 5_000_000) -> float:
     return min(ts) / min(tp)
 
 
-def _cluster_round(study: dict, client) -> tuple[float, float, bool, str]:
-    """One interleaved round: serial wall, cluster wall [s], bitwise equal, where it ran."""
-    t0 = time.perf_counter()
+def _workers_cpu(client) -> float:
+    """The CPU time [s] the cluster's worker processes have used so far (0 for threads of
+    this process: their CPU is this process's)."""
+    return sum(client.run(time.process_time).values()) if not in_process(client) else 0.0
+
+
+def _cluster_round(study: dict, client) -> tuple[float, float, bool, str, float, float]:
+    """One interleaved round: serial wall, cluster wall [s], bitwise equal, where it ran,
+    serial CPU, cluster CPU [s] (this process's and the workers')."""
+    t0, c0 = time.perf_counter(), time.process_time()
     a = xpersson.solve(study)
-    ts = time.perf_counter() - t0
+    ts, cs = time.perf_counter() - t0, time.process_time() - c0
     with warnings.catch_warnings():  # below the threshold: the warning says it ran here
         warnings.simplefilter("ignore")
-        t0 = time.perf_counter()
+        w0 = _workers_cpu(client)
+        t0, c0 = time.perf_counter(), time.process_time()
         b = xpersson.solve(study, scheduler=client)
-        tp = time.perf_counter() - t0
+        tp, cp = time.perf_counter() - t0, time.process_time() - c0
+        cp += _workers_cpu(client) - w0
     equal = list(a.variables) == list(b.variables) and all(
         a[v].dims == b[v].dims and a[v].dtype == b[v].dtype and a[v].equals(b[v])
         for v in a.variables
     )
-    return ts, tp, equal, b.attrs.get("xpersson_scheduler", "workers")
+    return ts, tp, equal, b.attrs.get("xpersson_scheduler", "workers"), cs, cp
 
 
 #: Interleaved rounds of the LocalCluster rows, at least (the machine is shared: the best of
@@ -467,12 +478,16 @@ CLUSTER_ROUNDS = 8
 def parallel_path(rounds: int, quick: bool = False) -> dict:
     """Studies on LocalCluster(2) against serial (:data:`PARALLEL`): a 1e5-point E x H study
     (memory-bound: the rule, ``xpersson.sweep.schedule.MEMORY_BOUND_RATE``, runs it in the
-    client's process; on the workers, ``sweep_scaling.py --crossover``, its variables would be
-    written in place in shared memory, ``xpersson.sweep._shm``) and a plastic H sweep (CPU-bound,
-    above ``PARALLEL_MIN_S``: on the workers). Wall times (perf_counter), best of at least
+    client's process, on as many threads as the local workers, ``THREADS_MIN_S``; on the
+    workers, ``sweep_scaling.py --crossover``, its variables would be written in place in
+    shared memory, ``xpersson.sweep._shm``) and a plastic H sweep (CPU-bound, above
+    ``PARALLEL_MIN_S``: on the workers). Wall times (perf_counter), best of at least
     :data:`CLUSTER_ROUNDS` interleaved rounds, the cluster started and warmed up first; ratio =
-    cluster wall / serial wall (< 1: the cluster pays); results compared bit for bit (values,
-    dims, dtypes, variable order); the machine's parallel ceiling (:func:`ceiling`) beside."""
+    cluster wall / serial wall (< 1: the cluster pays), with the median of the rounds' ratios
+    and the CPU (this process's and the workers', best of the rounds) beside; results compared
+    bit for bit (values, dims, dtypes, variable order); the machine's parallel ceiling
+    (:func:`ceiling`) beside. On a machine shared with other sessions, run it where they do not
+    take the cores (a session of its own at a low autogroup nice value, say)."""
     from distributed import Client, LocalCluster
     from summary_design import design
 
@@ -491,17 +506,22 @@ def parallel_path(rounds: int, quick: bool = False) -> dict:
             _cluster_round(study, client)  # warm-up: each worker's first blocks of this study
             got = [_cluster_round(study, client) for _ in range(max(CLUSTER_ROUNDS, rounds))]
             ts, tp = min(g[0] for g in got), min(g[1] for g in got)
+            cs, cp = min(g[4] for g in got), min(g[5] for g in got)
+            median = statistics.median(g[1] / g[0] for g in got)
             equal, where = all(g[2] for g in got), got[-1][3]
             where = re.sub(r"tcp://[^;)]*", "the cluster's address", where)  # no port in files
             est = serial_estimate(expand(as_scene(study), get_registry()), get_registry())
             note = (
                 f"(wall; estimated serial {est:.2g} s; ran: {where}; results bitwise equal: "
-                f"{equal}; {os.cpu_count()} cores, two loops {ceiling(client):.2f}x faster on "
-                f"the workers at the time; best of {len(got)} interleaved rounds)"
+                f"{equal}; median of the rounds' ratios {median:.2f}; CPU {cp:.3g} s / "
+                f"{cs:.3g} s (this process and the workers); {os.cpu_count()} cores, two loops "
+                f"{ceiling(client):.2f}x faster on the workers at the time; best of {len(got)} "
+                "interleaved rounds)"
             )
             out[name] = {label: _ratio(tp, ts, note=note)}
             print(f"{name}: {tp:.3g} s / {ts:.3g} s {note}", flush=True)
             print("  rounds (serial, cluster):", [(round(g[0], 3), round(g[1], 3)) for g in got])
+            print("  CPU (serial, cluster):", [(round(g[4], 3), round(g[5], 3)) for g in got])
     finally:
         client.close()
         cluster.close()

@@ -127,9 +127,9 @@ def test_batched_result_does_not_depend_on_the_blocks():
 @pytest.mark.parametrize("outer", ["material", "spectrum"])
 @pytest.mark.parametrize("loads", ["3e4 Pa", ["1e4 Pa", "3e4 Pa", "1e5 Pa"]])
 def test_rows_written_into_the_sweep_arrays_equal_copied_rows(monkeypatch, outer, loads):
-    """A serial in-memory sweep writes batched rows straight into its arrays (the fill's
-    sink); threads copy each block in: the same bits, whichever dimension is outer, with one
-    load (squeezed) or several."""
+    """An in-memory sweep writes batched rows straight into its arrays (the fill's sink);
+    with the sink giving no rows, each block is copied in: the same bits, whichever dimension
+    is outer, with one load (squeezed) or several."""
     sweep_first = {"material": {"E": ["2 MPa", "5 MPa", "40 MPa"], "nu": 0.5}}
     data = scene(spectrum={"H": [0.6, 0.75, 0.9]}, load={"p0": loads}, **sweep_first)
     if outer == "spectrum":  # the spectrum's dimension first (material dims innermost)
@@ -143,6 +143,7 @@ def test_rows_written_into_the_sweep_arrays_equal_copied_rows(monkeypatch, outer
     monkeypatch.setattr(Filling, "rows", lambda *a: given.append(rows(*a)) or given[-1])
     direct = xpersson.solve(data, chunk=4)
     assert any(r is not None for r in given)  # the rows did go to the sweep's arrays
+    monkeypatch.setattr(Filling, "rows", lambda *a: None)  # every block copied in
     copied = xpersson.solve(data, chunk=4, scheduler="threads")
     assert list(direct.variables) == list(copied.variables)
     for name, var in copied.variables.items():

@@ -25,7 +25,12 @@ Measured (``benchmarks/sweep_scaling.py --crossover``): the 1e5-point E x H stud
 pay on two local workers (1.18-1.92x serial wall, 1.35-1.45x the serial CPU on its critical
 path): its tmpfs pages are 4 KiB, and populating them costs the workers more system time than
 the serial run's 2 MiB anonymous pages (:data:`~.schedule.MEMORY_BOUND_RATE` keeps such a study
-in the client's process). The path serves studies above the threshold with large results.
+in the client's process, on threads there: :func:`~.schedule.run_here`). The path serves studies
+above the threshold with large results.
+
+Workers that are threads of this process (``LocalCluster(processes=False)``, :func:`in_process`)
+get arrays of this process's own memory instead: no segment, the same sink and the same arrays
+the client's Dataset wraps.
 """
 
 from __future__ import annotations
@@ -49,6 +54,7 @@ __all__ = [
     "SHM",
     "Sink",
     "attached",
+    "in_process",
     "machine",
     "same_machine",
     "usable",
@@ -176,7 +182,13 @@ def share(
     ``same``: variables (not in ``specs``) every point of the probe held the same row of, as
     that row's fingerprint (:func:`~.stacking._digests`): a block whose every point holds it
     sends neither the variable nor its rows (:func:`settle`)."""
-    if not specs or not usable():
+    if not specs:
+        return None
+    if in_process(client):  # threads of this process: the arrays are its own memory
+        arrays = {n: np.empty(shape, np.dtype(dt)) for n, (_, shape, dt) in specs.items()}
+        _ATTACHED[token] = (None, arrays, _state(None, arrays, same, os.getpid()))
+        return arrays
+    if not usable():
         return None
     _remove_orphans()
     offsets, size = _offsets(specs)
@@ -216,8 +228,26 @@ def _attach(
     for old, (_, _, state) in list(_ATTACHED.items()):  # runs of clients killed since
         if not _alive(state["client"]):
             _ATTACHED.pop(old, None)
-    _ATTACHED[token] = (mm, arrays, {"sink": Sink(mm, arrays, same), "client": _owner(path)})
+    _ATTACHED[token] = (mm, arrays, _state(mm, arrays, same, _owner(path)))
     return True
+
+
+def _state(mm: Any, arrays: dict[str, np.ndarray], same: Any, client: int) -> dict[str, Any]:
+    """A run's shared dict on a worker: its sink and the client's process id."""
+    return {"sink": Sink(mm, arrays, same), "client": client}
+
+
+def in_process(client: Any) -> bool:
+    """Whether every worker of ``client`` is a thread of this process (a
+    ``LocalCluster(processes=False)``: its workers' addresses are ``inproc://``, which only
+    this process reaches)."""
+    if not hasattr(client, "scheduler_info"):  # a scheduler's name or address
+        return False
+    try:
+        workers = client.scheduler_info().get("workers", {})
+    except Exception:  # noqa: BLE001 - no answer: not in this process
+        return False
+    return bool(workers) and all(str(w).startswith("inproc://") for w in workers)
 
 
 def _owner(path: str) -> int:
@@ -247,7 +277,7 @@ class Sink:
 
     def __init__(self, mm: Any, arrays: dict[str, np.ndarray], same: Any = None) -> None:
         self.mm, self.arrays, self.same = mm, arrays, dict(same or {})
-        self._base = np.frombuffer(mm, np.uint8).ctypes.data
+        self._base = None if mm is None else np.frombuffer(mm, np.uint8).ctypes.data
 
     def rows(self, name: str, block: Any, point_shape: tuple[int, ...], dtype: Any) -> Any:
         full = self.arrays.get(name)
@@ -257,7 +287,11 @@ class Sink:
         return rows
 
     def populate(self, region: np.ndarray) -> None:
-        """Map the pages of a contiguous region for writing, in one call."""
+        """Map the pages of a contiguous region for writing, in one call (nothing to do in
+        this process's own memory: its pages are faulted in as written, 2 MiB at a time where
+        transparent huge pages are on)."""
+        if self.mm is None:
+            return
         start = region.ctypes.data - self._base
         lo = start - start % _ALIGN
         with contextlib.suppress(OSError, ValueError):  # an older kernel: faulted as written

@@ -124,7 +124,8 @@ def check_workers(client: Any, records: Iterable[Any]) -> dict[str, tuple[str, s
 def ran_on(asked: Any, scheduler: Any, n_workers: int) -> str:
     """Where a sweep ran: ``"serial"``, ``"threads (2)"``, ``"tcp://... (2 workers)"``, with
     what was asked when it differs. A sweep that did not run where it was asked (a small study
-    asked for processes, a client or an address runs serially) stores this as its
+    asked for processes, a client or an address runs serially, a memory-bound one on threads
+    of this process) stores this as its
     ``xpersson_scheduler`` attribute; a sweep that ran where asked does not (its result stays
     identical, attributes included, to the serial one)."""
     if scheduler in (None, "serial", "synchronous", "sync"):
@@ -136,9 +137,10 @@ def ran_on(asked: Any, scheduler: Any, n_workers: int) -> str:
     else:  # a Client
         address = getattr(getattr(scheduler, "scheduler", None), "address", "a dask client")
         where = f"{address} ({n_workers} workers)"
-    if asked == "processes" and scheduler is None:
+    here = scheduler in (None, "threads")
+    if asked == "processes" and here:
         where += " (asked: processes; the study takes less than starting the workers)"
-    elif asked not in (None, "serial", "synchronous", "sync", "threads") and scheduler is None:
+    elif asked not in (None, "serial", "synchronous", "sync", "threads") and here:
         asked_where = ran_on(None, asked, n_workers).rsplit(" (", 1)[0]
         where += f" (asked: {asked_where}; the workers would not pay for this study)"
     return where

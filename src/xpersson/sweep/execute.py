@@ -36,7 +36,13 @@ from .parts import part_name
 from .plan import SweepPlan
 from .probe import Probe, probe, serial_estimate
 from .resolve import resolve_index, resolve_points
-from .schedule import check_scheduler, client_for, points_per_block, too_small_for_a_cluster
+from .schedule import (
+    check_scheduler,
+    client_for,
+    points_per_block,
+    run_here,
+    too_small_for_a_cluster,
+)
 
 __all__ = ["solve_sweep", "resolve_points", "check_size", "probe", "serial_estimate"]
 
@@ -81,7 +87,7 @@ def solve_sweep(
     if _on_workers(scheduler) and chunk is None:
         probed = probe(plan, registry)
         if too_small_for_a_cluster(plan, probed.estimate, scheduler, probed.nbytes):
-            scheduler = None
+            scheduler, workers = run_here(scheduler, probed.estimate, probed.nbytes, workers)
     check_size(plan, registry, scheduler, chunk, workers, output is None, first)
     here = probed is not None and probed.resolve_s < RESOLVE_HERE_S
     points = None if _on_workers(scheduler) and not here else resolve_points(plan, registry, first)
@@ -315,10 +321,11 @@ def _execute(
     and dropped at once). ``shared``: the blocks' shared state (the probe's first template)."""
     tick: Callable[[], None] | None = None if bar is None else (lambda: bar.update(1))
     out = []
+    # the stacked path's template, reused across blocks (one assignment: threads share it);
+    # the fill batched rows go to (in place; a block whose rows it could not give is copied)
+    shared["sink"] = filling
     if scheduler != "threads":
         with silenced():
-            # the stacked path's template, reused across blocks; the fill batched rows go to
-            shared["sink"] = filling
             for b, pts, part in tasks:
                 out.append(run_block(b, pts, registry, part, tick, attrs, shared))
                 filling.add(out[-1])
@@ -327,7 +334,8 @@ def _execute(
 
     with silenced(), ThreadPoolExecutor(max_workers=max(1, n_workers)) as pool:
         futures = [
-            pool.submit(run_block, b, pts, registry, part, tick, attrs) for b, pts, part in tasks
+            pool.submit(run_block, b, pts, registry, part, tick, attrs, shared)
+            for b, pts, part in tasks
         ]
         for f in futures:
             out.append(f.result())

@@ -7,7 +7,9 @@ of about :data:`TASK_S` each (2 to 16 per worker, none larger than a serial bloc
 whose estimated serial time is below :func:`threshold_s` (:data:`PARALLEL_MIN_S`, plus
 :data:`CLUSTER_STARTUP_S` where ``scheduler="processes"`` starts a cluster), or that is
 memory-bound (:data:`MEMORY_BOUND_RATE`), runs in this process, with a warning and an
-``xpersson_scheduler`` attribute saying so: above it the workers are faster in wall time.
+``xpersson_scheduler`` attribute saying so: above it the workers are faster in wall time. A
+memory-bound study of at least :data:`THREADS_MIN_S` whose workers' cores are this machine's
+runs on as many threads of this process (:func:`run_here`).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import warnings
 from typing import Any
 
 from ..errors import XperssonWarning
+from ._shm import in_process
 from .plan import SweepPlan
 
 __all__ = [
@@ -27,6 +30,10 @@ __all__ = [
     "SERIAL_BLOCK_POINTS",
     "MEMORY_BOUND_RATE",
     "TASK_S",
+    "THREADS_MIN_S",
+    "here_threads",
+    "memory_bound",
+    "run_here",
     "points_per_block",
     "threshold_s",
     "too_small_for_a_cluster",
@@ -92,9 +99,14 @@ CLUSTER_STARTUP_S = 3.0
 #: scheduling and the workers' own per-block costs. Measured by ``benchmarks/summary.py`` and
 #: CPU accounting on 2 local workers (the client's CPU before and after the tasks plus the
 #: busier worker's, against the serial CPU): a CPU-bound plastic H sweep of 100 points x 3
-#: loads (estimated 2.5 s) 1.00-1.10x serial, of 400 points (10 s) 0.82x serial wall.
+#: loads (estimated 2.5 s) 1.00-1.10x serial, of 400 points (10 s) 0.82x serial wall. Measured
+#: again with the measuring session at autogroup nice -19 (2 cores free), wall against serial,
+#: bitwise equal: 100 points (1.0 s serial, estimated 1.9-2.0 s) 0.97-1.16x; 150 points
+#: (1.5 s) 0.89-1.00x (median 0.97x); 400 points (4.1 s, estimated 7.7-8.9 s) 0.67-0.82x. The
+#: probe overstates such sweeps about 2x (its second block of 4 points carries a block's
+#: fixed costs), so 3 s estimated is about 1.5 s of serial CPU for them.
 #: Below it the study runs in this process.
-PARALLEL_MIN_S = 2.0
+PARALLEL_MIN_S = 3.0
 #: Serial CPU time [s] of one task on a worker: long enough that the scheduler's per-task
 #: cost (a few ms) and the transfer of its result are small, short enough for 2 to 16 tasks
 #: per worker (balance, results combined while others run).
@@ -107,27 +119,65 @@ def threshold_s(scheduler: Any) -> float:
 
 
 #: Result bytes per second of the study's serial CPU time above which a study is memory-bound
-#: [B/s]: its workers would spend more moving the result than they save computing it, at any
-#: size. An E x H study of one load makes about 450 MB/s (229 MiB for 0.5 s). Through dask's
-#: sockets it took 3x serial; written in place in shared memory by 2 local workers
+#: [B/s]: its worker processes would spend more moving the result than they save computing it,
+#: at any size. An E x H study of one load makes about 450 MB/s (229 MiB for 0.5 s). Through
+#: dask's sockets it took 3x serial; written in place in shared memory by 2 local workers
 #: (:mod:`._shm`) it still needs, by CPU accounting, 1.35-1.45x the serial CPU on its critical
 #: path (1.18-2.2x serial wall on the shared machine): a tmpfs page is 4 KiB
 #: (``shmem_enabled = never``), and populating them cost the workers 3.7 ms of system time
-#: per MB, where the serial run writes anonymous memory in 2 MiB pages. Such a study runs in
-#: this process, on any distributed scheduler.
+#: per MB, where the serial run writes anonymous memory in 2 MiB pages. Workers that are
+#: threads of this process (``LocalCluster(processes=False)``) pay dask's per-task costs and
+#: its event loops' share of the GIL: the same study took 1.0-1.9x serial wall on them. Such
+#: a study runs in this process instead, on threads where the workers' cores are this
+#: machine's (:func:`here_threads`).
 MEMORY_BOUND_RATE = 1e8
+#: Estimated serial CPU time [s] above which a memory-bound study whose workers share this
+#: machine runs on :func:`here_threads` threads of this process rather than on one: its
+#: numbers are computed by numpy, scipy and the compiled kernels, which release the GIL for
+#: most of the time (74 % of a block's samples, ``py-spy --gil``), and the threads write into
+#: this process's own arrays (anonymous memory, 2 MiB pages). Measured on the shared 2-core
+#: machine (the measuring session at autogroup nice -19), E x H studies of one load given a
+#: LocalCluster(2), wall against serial (best of 8-10 interleaved rounds, bitwise equal; the
+#: probe estimates them at 0.8-0.85x their serial CPU): 1e5 points (0.47-0.51 s serial)
+#: 0.82-0.95x on 2 threads; 8e4 points (0.36 s) 0.90-0.94x; 6e4 points (0.28-0.29 s)
+#: 0.92-1.09x in two runs (the probe's two blocks, solved before the threads start, are a sixth
+#: of the study); 4e4 points (0.2 s) 1.05-1.09x.
+THREADS_MIN_S = 0.3
+
+
+def here_threads(scheduler: Any, workers: int | None = None) -> int:
+    """Threads of this process a study that does not go to ``scheduler``'s workers runs on:
+    the worker threads of a ``LocalCluster`` (its processes or threads of this one: their
+    cores are this machine's) or of ``"processes"`` (``workers`` or the cores); 1 elsewhere
+    (a scheduler elsewhere: this machine's cores are not the workers')."""
+    if scheduler == "processes":
+        return max(1, workers or os.cpu_count() or 1)
+    local = in_process(scheduler) or type(getattr(scheduler, "cluster", None)).__name__ == (
+        "LocalCluster"
+    )
+    if not local:
+        return 1
+    try:
+        info = scheduler.scheduler_info().get("workers", {})
+    except Exception:  # noqa: BLE001 - no answer: one thread
+        return 1
+    return max(1, sum(int(w.get("nthreads", 1)) for w in info.values()))
 
 
 def too_small_for_a_cluster(
     plan: SweepPlan, estimate: float, scheduler: Any = "processes", nbytes: float = 0.0
 ) -> bool:
     """Whether the study, solved serially (``estimate`` [s], result ``nbytes`` [B],
-    :func:`~xpersson.sweep.probe.probe`), takes less than :func:`threshold_s` or is
-    memory-bound (:data:`MEMORY_BOUND_RATE`); then a warning says so and the sweep runs in this
-    process."""
+    :func:`~xpersson.sweep.probe.probe`), takes less than :func:`threshold_s`, is memory-bound
+    (:data:`MEMORY_BOUND_RATE`), or the workers are threads of this process
+    (:func:`~._shm.in_process`: dask's threads pay nothing where the study's Python holds the
+    GIL, and the memory-bound studies pay on threads without dask); then a warning says so and
+    the sweep runs in this process (on :func:`here_threads` threads where it is memory-bound
+    and longer than :data:`THREADS_MIN_S`: :func:`run_here`)."""
     limit = threshold_s(scheduler)
-    bound = math.isfinite(estimate) and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
-    if estimate >= limit and not bound:
+    bound = memory_bound(estimate, nbytes)
+    threads = in_process(scheduler)
+    if estimate >= limit and not bound and not threads:
         return False
     what = (
         "starting the worker processes and sending them the work costs"
@@ -140,14 +190,39 @@ def too_small_for_a_cluster(
         if bound
         else f"{what} about {limit:g} s, more than this study of {plan.size} points takes "
         f"serially (about {estimate:.2g} s, measured on its first points)"
+        if estimate < limit
+        else "its workers are threads of this process, and the study's Python work holds the "
+        "GIL (a plastic sweep took 1.07-1.11x serial on two of them)"
     )
+    n = run_here(scheduler, estimate, nbytes)[1]
+    where = "in this process" + (f" on {n} threads" if n > 1 else "")
     warnings.warn(
-        f"scheduler={_name(scheduler)}: {why}; solving it in this process. Pass chunk= to run "
-        "it on the workers anyway.",
+        f"scheduler={_name(scheduler)}: {why}; solving it {where}. Pass chunk= to run it on "
+        "the workers anyway.",
         XperssonWarning,
         stacklevel=4,
     )
     return True
+
+
+def memory_bound(estimate: float, nbytes: float) -> bool:
+    """Whether a study of serial CPU time ``estimate`` [s] and result ``nbytes`` [B] is
+    memory-bound (:data:`MEMORY_BOUND_RATE`)."""
+    return math.isfinite(estimate) and nbytes > MEMORY_BOUND_RATE * max(estimate, 1e-9)
+
+
+def run_here(
+    scheduler: Any, estimate: float, nbytes: float, workers: int | None = None
+) -> tuple[str | None, int]:
+    """``(scheduler, workers)`` in this process for a study :func:`too_small_for_a_cluster`
+    keeps here: ``("threads", n)`` for a memory-bound study longer than
+    :data:`THREADS_MIN_S` whose workers share this machine (:func:`here_threads`), else
+    ``(None, 1)`` (serial)."""
+    if memory_bound(estimate, nbytes) and estimate >= THREADS_MIN_S:
+        n = here_threads(scheduler, workers)
+        if n > 1:
+            return "threads", n
+    return None, 1
 
 
 def _name(scheduler: Any) -> str:
