@@ -51,7 +51,11 @@ def cached_index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variabl
     kind = f"{cls.__module__}.{cls.__qualname__}"  # the class by name (a string keys fastest)
 
     def compute() -> tuple[Any, xr.Variable]:
-        index = cls.from_variables({name: var}, options={})
+        values = np.asarray(var.values)
+        if values.dtype.kind in "fiu" and var.dims == (name,):  # a pandas Index given: no
+            index = cls(pd.Index(values), name, coord_dtype=var.dtype)  # duck-array probes
+        else:  # (which import dask, pint, ...: ~0.3 s of a first solve)
+            index = cls.from_variables({name: var}, options={})
         return index, index.create_variables({name: var})[name]
 
     index, variable = _INDEXES.get((kind, name, np.asarray(var.values), attrs), compute)

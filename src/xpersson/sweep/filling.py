@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ..pipeline import direct_dataset
-from .stacking import BlockResult, _point_shaped
+from .stacking import BlockResult, _point_shaped, variable
 
 __all__ = ["Filling", "region_rows", "same_memory", "sweep_region"]
 
@@ -127,7 +127,7 @@ class Filling:
                 part = np.broadcast_to(self._rows[name], part.shape).copy()
             elif copy:
                 part = part.copy()
-            back[name] = xr.Variable(ref.dims, part, dict(ref.attrs))
+            back[name] = variable(ref.dims, part, dict(ref.attrs))
         return ds.assign(back)[[n for n in self._order if n in ds or n in back]]
 
     def _allocate(self, ds: xr.Dataset) -> bool:
@@ -191,7 +191,7 @@ class Filling:
                 else:
                     _, ref, full, _, axes = entry
                     part = full[tuple(sl[a] for a in axes)].copy()
-                    variables[name] = xr.Variable(ref.dims, part, dict(ref.attrs))
+                    variables[name] = variable(ref.dims, part, dict(ref.attrs))
             res.dataset = self._dataset(variables, {} if self.template is None else self.template)
         self.absorbed, self._vars, self.broken = [], {}, True
 
@@ -222,7 +222,7 @@ class Filling:
         variables = {
             name: entry[1]
             if entry[0] == "const"
-            else xr.Variable(entry[1].dims, entry[2], dict(entry[1].attrs))
+            else variable(entry[1].dims, entry[2], dict(entry[1].attrs))
             for name, entry in self._vars.items()
         }
         return self._dataset(variables, self.template)

@@ -86,6 +86,16 @@ class BlockResult:
     fast_path_failures: list[str] = field(default_factory=list)
 
 
+def variable(dims: Any, data: Any, attrs: Any = None, encoding: Any = None) -> xr.Variable:
+    """An :class:`xarray.Variable` of numpy data without xarray's duck-array probes (the
+    first of which imports ``dask.array``: about 0.3 s of a sweep's first run); other data
+    goes through xarray's conversion."""
+    if isinstance(data, np.generic):
+        data = np.asarray(data)
+    fast = type(data) is np.ndarray and data.dtype.kind not in "mM"
+    return xr.Variable(dims, data, attrs, encoding, fastpath=fast)
+
+
 def write_block_part(
     ds: xr.Dataset,
     part: str,
@@ -205,8 +215,8 @@ def stack_rows(
         },
     )
     ds = direct_dataset(
-        {n: xr.Variable(*entry) for n, entry in data_vars.items()},
-        {n: xr.Variable(*entry) for n, entry in coords.items()},
+        {n: variable(*entry) for n, entry in data_vars.items()},
+        {n: variable(*entry) for n, entry in coords.items()},
         template.attrs,
     )
     if ds is None:  # pragma: no cover - other xarray versions
@@ -220,9 +230,36 @@ def _point_shaped(template: xr.Dataset, block: Block) -> xr.Dataset:
     ``point_status`` (a template cut from another block's Dataset may still carry them)."""
     sweep = [d for d in block.dims if d in template.dims]
     if sweep:
-        template = template.isel({d: 0 for d in sweep}, drop=True)
+        cut = _first_point(template, sweep, block)
+        if cut is not None:
+            return cut
+        template = template.isel({d: 0 for d in sweep}, drop=True)  # pragma: no cover
     drop = [n for n in (*block.coords, "point_status") if n in template.variables]
     return template.drop_vars(drop) if drop else template
+
+
+def _first_point(template: xr.Dataset, sweep: list[str], block: Block) -> xr.Dataset | None:
+    """``template.isel({d: 0 for d in sweep}, drop=True)`` without the coordinates of the
+    block and ``point_status``, cut with numpy (views, as ``isel``): xarray's ``isel`` builds
+    each Variable through its duck-array probes, the first of which imports ``dask.array``.
+    ``None`` on an xarray without the direct constructor."""
+    skip = {*block.coords, "point_status"}
+    coords = set(template.coords)
+    data_vars, coord_vars = {}, {}
+    for name, var in template.variables.items():
+        if name in skip:
+            continue
+        if any(d in sweep for d in var.dims):
+            if name in coords and all(d in sweep for d in var.dims):
+                continue  # a coordinate indexed to a scalar: dropped (isel's drop=True)
+            key = (*(0 if d in sweep else slice(None) for d in var.dims), ...)  # a 0-d view
+            dims = tuple(d for d in var.dims if d not in sweep)
+            var = variable(dims, np.asarray(var.values)[key], dict(var.attrs), var.encoding)
+        (coord_vars if name in coords else data_vars)[name] = var
+    out = direct_dataset(data_vars, coord_vars, template.attrs)
+    if out is not None:
+        out.encoding = dict(template.encoding)
+    return out
 
 
 def _fill(var: xr.DataArray) -> np.ndarray:
