@@ -234,7 +234,9 @@ def batched_block(
         for n in names:
             if got[0][n] is rows[n]:  # written in place (the sink's rows)
                 continue
-            if identity:  # the rows as computed where they are C-ordered arrays of the dtype
+            if _repeats(got[0][n], rows[n].dtype):  # one row at every point: kept a view
+                rows[n] = got[0][n]
+            elif identity:  # the rows as computed where they are C-ordered arrays of the dtype
                 rows[n] = np.require(got[0][n], rows[n].dtype, ["C", "W"])
             else:
                 rows[n][where] = got[0][n]
@@ -245,9 +247,18 @@ def batched_block(
         if one is None:
             return None
         for n in names:
-            rows[n][where] = one[0][n]
+            if len(subs) == 1 and _repeats(one[0][n], rows[n].dtype):
+                rows[n] = one[0][n]  # one row at every point: kept a view
+            else:
+                rows[n][where] = one[0][n]
         solver.append(one[1])
     return rows, solver
+
+
+def _repeats(arr: np.ndarray, dtype: Any) -> bool:
+    """Whether ``arr`` (rows, C order) is one row repeated as a view (stride 0 along the
+    rows, :func:`repeated_row`) of ``dtype``."""
+    return arr.dtype == dtype and arr.ndim > 0 and arr.shape[0] > 1 and arr.strides[0] == 0
 
 
 def _rows(sink: Any, name: str, block: Any, template: xr.Dataset) -> np.ndarray | None:
@@ -420,6 +431,10 @@ def _scaled_rows(
             return None
         dest = (into or {}).get(n)
         power = 0 if n == "E" or arr.dtype.kind != "f" else pressure_power(units)
+        row = None if power else repeated_row(arr, dims, n_loads)
+        if row is not None:  # every point holds this row: a view, no rows written
+            out[n] = np.broadcast_to(row, (P * M, *row.shape))
+            continue
         if (
             dest is not None
             and power
@@ -453,6 +468,22 @@ def _scaled_rows(
                 arr = arr * factor
         out[n] = arr
     return out
+
+
+def repeated_row(arr: np.ndarray, dims: tuple[str, ...], n_loads: int) -> np.ndarray | None:
+    """The row every point of a run at the equivalent loads holds, where the run's array
+    (leading sub-point axis, then ``dims``) repeats one value along its sub-points and loads:
+    those axes of length 1 or stride 0 (a broadcast: the engine's exact zeros of the balances,
+    a coordinate shared by the run); ``None`` otherwise (no value is compared)."""
+    axes = [0, *([1 + dims.index("p0")] if "p0" in dims else [])]
+    if any(arr.shape[a] > 1 and arr.strides[a] != 0 for a in axes) or 0 in arr.shape:
+        return None
+    row = arr[0]
+    if "p0" in dims:
+        axis = dims.index("p0")
+        one = row[(slice(None),) * axis + (slice(0, 1),)]
+        row = np.broadcast_to(one, row.shape[:axis] + (n_loads,) + row.shape[axis + 1 :])
+    return row
 
 
 def _scaled_into(dest: np.ndarray, arr: np.ndarray, scale: np.ndarray, power: int, P: int) -> bool:

@@ -55,6 +55,10 @@ class Filling:
         #: name -> an array of the sweep's shape (then the point's) that batched blocks write
         #: their rows into (:meth:`rows`); adopted by the fill, whose copy is then skipped
         self.sink: dict[str, np.ndarray] = {}
+        #: name -> the row every point added so far holds, where the blocks brought it as one
+        #: repeated row (a view: :func:`repeated`) and its array was not written (its pages
+        #: never touched); written out (:meth:`_write_out`) when a block brings other values
+        self._repeat: dict[str, np.ndarray] = {}
 
     def rows(self, name: str, block: Any, point_shape: tuple[int, ...], dtype: Any) -> Any:
         """A writable ``(block.size, *point_shape)`` view of the sweep's array of ``name`` for
@@ -88,7 +92,7 @@ class Filling:
         ds = res.dataset
         if self.broken or ds is None:
             return
-        if not self._vars and not self._allocate(ds):
+        if not self._vars and not self._allocate(ds, repeats=not written):
             self.broken = True
             return
         if not self._fits(ds, written):
@@ -100,7 +104,13 @@ class Filling:
             if entry[0] == "swept":
                 _, _, full, filled, axes = entry
                 sub = tuple(sl[a] for a in axes)
-                if name not in written:
+                if name in self._repeat and not (
+                    name not in written and _same_row(ds.variables[name], axes, self._repeat[name])
+                ):
+                    self._write_out(name)
+                if name in self._repeat:  # this block holds the row again: nothing written
+                    pass
+                elif name not in written:
                     src, dst = ds.variables[name].values, full[sub]
                     if not same_memory(src, dst):  # rows written in place (:meth:`rows`): kept
                         dst[...] = src
@@ -121,6 +131,7 @@ class Filling:
         sl = sweep_region(block)
         back = {}
         for name in written:
+            self._write_out(name)
             _, ref, full, _, axes = self._vars[name]
             part = full[tuple(sl[a] for a in axes)]
             if isinstance(written, dict) and written[name] == "same":
@@ -130,8 +141,18 @@ class Filling:
             back[name] = variable(ref.dims, part, dict(ref.attrs))
         return ds.assign(back)[[n for n in self._order if n in ds or n in back]]
 
-    def _allocate(self, ds: xr.Dataset) -> bool:
-        """The arrays from the first block's layout; ``False`` where it does not fit one."""
+    def _write_out(self, name: str) -> None:
+        """Write the repeated row of ``name`` into its array at the points filled so far
+        (the others are written by their blocks, in place or by :meth:`add`)."""
+        row = self._repeat.pop(name, None)
+        if row is not None:
+            _, _, full, filled, _ = self._vars[name]
+            full[filled] = row
+
+    def _allocate(self, ds: xr.Dataset, repeats: bool = False) -> bool:
+        """The arrays from the first block's layout; ``False`` where it does not fit one.
+        ``repeats``: a variable the block holds as one repeated row (:func:`repeated`) keeps
+        that row instead of writing its array (:attr:`_repeat`)."""
         for name, var in ds.variables.items():
             swept = [d for d in var.dims if d in self.dims]
             if not swept:
@@ -155,6 +176,9 @@ class Filling:
                 full = np.empty(shape, dtype=var.dtype)
             filled = np.zeros(full.shape[:k], dtype=bool)
             self._vars[name] = ("swept", var, full, filled, axes)
+            row = repeated(var, k) if repeats else None
+            if row is not None:
+                self._repeat[name] = row
         self._order = list(ds.data_vars)
         self._coords = set(ds.coords)
         return True
@@ -182,6 +206,8 @@ class Filling:
 
     def restore(self) -> None:
         """Give the absorbed results their Datasets back (cut from the arrays) and stop."""
+        for name in list(self._repeat):
+            self._write_out(name)
         for res in self.absorbed:
             sl = sweep_region(res.block)
             variables = {}
@@ -193,7 +219,7 @@ class Filling:
                     part = full[tuple(sl[a] for a in axes)].copy()
                     variables[name] = variable(ref.dims, part, dict(ref.attrs))
             res.dataset = self._dataset(variables, {} if self.template is None else self.template)
-        self.absorbed, self._vars, self.broken = [], {}, True
+        self.absorbed, self._vars, self.broken, self._repeat = [], {}, True, {}
 
     def _dataset(self, variables: dict[str, Any], attrs: Any) -> xr.Dataset:
         attrs = dict(getattr(attrs, "attrs", attrs))
@@ -211,6 +237,13 @@ class Filling:
         )
         return ds[self._order]  # pragma: no cover
 
+    def _values(self, name: str) -> np.ndarray:
+        """The sweep's array of ``name``: a read-only view of its repeated row, if it is one
+        (as the engine's exact zeros are in a plain solve), else the array."""
+        full = self._vars[name][2]
+        row = self._repeat.get(name)
+        return full if row is None else np.broadcast_to(row, full.shape)
+
     def dataset(self) -> xr.Dataset | None:
         """The sweep's Dataset, or ``None`` (the blocks did not fit one layout, or a point was
         never filled: the absorbed results have their Datasets back)."""
@@ -222,10 +255,29 @@ class Filling:
         variables = {
             name: entry[1]
             if entry[0] == "const"
-            else variable(entry[1].dims, entry[2], dict(entry[1].attrs))
+            else variable(entry[1].dims, self._values(name), dict(entry[1].attrs))
             for name, entry in self._vars.items()
         }
         return self._dataset(variables, self.template)
+
+
+def repeated(var: xr.Variable, k: int) -> np.ndarray | None:
+    """The row of a block's numeric variable (``k`` leading sweep dimensions, more than one
+    point) that is one row repeated as a view (stride 0 along those dimensions), or ``None``."""
+    values = var.values
+    if values.dtype.kind not in "biuf" or math.prod(values.shape[:k]) < 2:
+        return None
+    if any(n > 1 and st != 0 for n, st in zip(values.shape[:k], values.strides[:k], strict=True)):
+        return None
+    return values[(0,) * k + (...,)]
+
+
+def _same_row(var: xr.Variable, axes: list[int], row: np.ndarray) -> bool:
+    """Whether a block's variable is ``row`` repeated (:func:`repeated`), bit for bit."""
+    got = repeated(var, len(axes))
+    if got is None or got.shape != row.shape or got.dtype != row.dtype:
+        return False
+    return np.ascontiguousarray(got).tobytes() == np.ascontiguousarray(row).tobytes()
 
 
 def sweep_region(block: Any) -> tuple[slice, ...]:

@@ -227,7 +227,10 @@ def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
     if isinstance(var.data, np.ndarray) and (kind == "f" or (kind in "iub" and ints_ok)):
         axes = tuple(var.dims.index(d) for d in dims)
         keep = tuple(d for d in var.dims if d not in dims)
-        if kind == "f":  # nanmax without its all-NaN warning (no filter to change)
+        if kind == "f" and all(var.data.strides[a] == 0 for a in axes):  # one row repeated
+            first = tuple(0 if a in axes else slice(None) for a in range(var.ndim))
+            data = low = np.array(var.data[first])  # (the reductions' values, fresh)
+        elif kind == "f":  # nanmax without its all-NaN warning (no filter to change)
             data = np.fmax.reduce(var.data, axis=axes)
             low = np.fmin.reduce(var.data, axis=axes)
         else:  # the failed points' values replaced by the smallest of all (largest for low)

@@ -365,6 +365,9 @@ def _row_hashes(rows: np.ndarray) -> np.ndarray | None:
     n = rows.shape[0]
     if rows.dtype.kind == "O" or n == 0:
         return None
+    if n > 1 and rows.strides[0] == 0:  # one row repeated (a view): its hashes, repeated
+        one = _row_hashes(rows[:1])
+        return None if one is None else np.repeat(one, n, axis=0)
     raw = np.ascontiguousarray(rows).view(np.uint8).reshape(n, -1)
     pad = (-raw.shape[1]) % 8
     if pad:

@@ -1,0 +1,88 @@
+"""A variable every point of a block holds as one repeated row (a view: the engine's exact
+zeros of the balances, a coordinate the run shares) stays one row through the sweep's fill,
+until a block brings other values; the sweep's values are those of the rows written out."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import xarray as xr
+from xpersson_sweep_testlib import scene
+
+import xpersson
+from xpersson.sweep import filling as filling_mod
+from xpersson.sweep.filling import Filling
+from xpersson.sweep.parts import finalize
+from xpersson.sweep.stacking import Block, BlockResult
+
+PLAN = SimpleNamespace(dims=("a", "b"), shape=(4, 3))
+
+
+def _block(number: int, start: int, stop: int) -> Block:
+    return Block(number, (number, 0), (start, 0), (stop, 3), PLAN.dims, {})
+
+
+def _result(number: int, start: int, stop: int, values: np.ndarray) -> BlockResult:
+    ds = xr.Dataset({"v": (("a", "b", "z"), values)})
+    block = _block(number, start, stop)
+    return BlockResult(block, ds, None, np.zeros(block.shape, np.int8), {})
+
+
+def _repeat(row: list[float], n: int) -> np.ndarray:
+    return np.broadcast_to(np.array(row), (n, 3, len(row)))
+
+
+@pytest.mark.parametrize(
+    "second",
+    [
+        _repeat([0.0, 1.0], 2),  # the same row again: kept a view
+        _repeat([0.0, -0.0], 2),  # another row (-0.0: other bits)
+        np.arange(12.0).reshape(2, 3, 2),  # values of its own (written in place or copied)
+    ],
+)
+def test_repeated_rows_fill_as_the_values_would(second):
+    first = _repeat([0.0, 1.0], 2)
+    fill = Filling(PLAN)
+    fill.add(_result(0, 0, 2, first))
+    fill.add(_result(1, 2, 4, second))
+    got = fill.dataset()["v"]
+    np.testing.assert_array_equal(got.values[:2], first)
+    assert np.concatenate([first, second]).tobytes() == np.ascontiguousarray(got.values).tobytes()
+    kept = second.strides[0] == 0 and np.array_equal(second, first, equal_nan=True)
+    kept &= np.signbit(second).tolist() == np.signbit(first).tolist()
+    assert (got.values.strides[:2] == (0, 0)) == bool(kept)  # no array written: still a view
+
+
+def test_reduced_repeated_row_equals_the_reduction_of_its_values():
+    row = np.array([np.nan, -0.0, 2.5])
+    view = xr.Dataset({"v": (("a", "b", "z"), np.broadcast_to(row, (4, 3, 3)))})
+    written = view.copy(deep=True)
+    constant = {"v": ["a", "b"]}
+    a, b = finalize(view, constant, {}), finalize(written, constant, {})
+    xr.testing.assert_identical(a, b)
+    assert a["v"].values.tobytes() == b["v"].values.tobytes() and a["v"].values.flags.writeable
+
+
+def test_batched_sweep_keeps_the_exact_balances_as_one_row(monkeypatch):
+    """An E x H sweep of one load (closed-form): its balances are exact zeros at every point;
+    the fill never writes their rows out, and the result equals the threads' copied blocks."""
+    written = []
+    out = Filling._write_out
+    monkeypatch.setattr(Filling, "_write_out", lambda self, n: written.append(n) or out(self, n))
+    repeated = filling_mod.repeated
+    kept = []
+    monkeypatch.setattr(
+        filling_mod, "repeated", lambda var, k: kept.append(r := repeated(var, k)) or r
+    )
+    data = scene(
+        spectrum={"H": [0.6, 0.75, 0.9]},
+        material={"E": ["2 MPa", "5 MPa", "40 MPa"], "nu": 0.5},
+        load={"p0": "3e4 Pa"},
+    )
+    direct = xpersson.solve(data, chunk=6)  # blocks of 2 and 1 spectra
+    assert any(r is not None for r in kept) and written == []
+    copied = xpersson.solve(data, chunk=6, scheduler="threads")
+    xr.testing.assert_identical(direct.drop_attrs(), copied.drop_attrs())
+    assert direct["load_balance"].dims == ("zeta",) and not direct["load_balance"].any()
