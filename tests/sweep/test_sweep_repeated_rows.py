@@ -70,7 +70,11 @@ def test_batched_sweep_keeps_the_exact_balances_as_one_row(monkeypatch):
     the fill never writes their rows out, and the result equals the threads' copied blocks."""
     written = []
     out = Filling._write_out
-    monkeypatch.setattr(Filling, "_write_out", lambda self, n: written.append(n) or out(self, n))
+    monkeypatch.setattr(
+        Filling,
+        "_write_out",
+        lambda self, n: (n in self._repeat and written.append(n)) or out(self, n),
+    )
     repeated = filling_mod.repeated
     kept = []
     monkeypatch.setattr(
@@ -86,3 +90,25 @@ def test_batched_sweep_keeps_the_exact_balances_as_one_row(monkeypatch):
     copied = xpersson.solve(data, chunk=6, scheduler="threads")
     xr.testing.assert_identical(direct.drop_attrs(), copied.drop_attrs())
     assert direct["load_balance"].dims == ("zeta",) and not direct["load_balance"].any()
+
+
+def test_sweep_arrays_made_together_are_disjoint_aligned_arrays():
+    """:func:`~xpersson.sweep.filling.empty_arrays`: the numeric arrays share one buffer
+    without overlapping; each is aligned, C-ordered and writable; text arrays are their own."""
+    specs = {
+        "a": ((3, 5), np.float64),
+        "s": ((2,), np.int8),
+        "b": ((4, 1, 2), np.float64),
+        "o": ((3,), object),
+        "z": ((0, 7), np.float32),
+    }
+    got = filling_mod.empty_arrays(specs)
+    assert {n: (a.shape, a.dtype) for n, a in got.items()} == {
+        n: (s, np.dtype(d)) for n, (s, d) in specs.items()
+    }
+    numeric = [got[n] for n in ("a", "s", "b", "z")]
+    assert all(a.flags.c_contiguous and a.flags.writeable and a.flags.aligned for a in numeric)
+    assert np.shares_memory(got["a"].base, got["b"].base) and got["o"].base is None
+    for k, arr in enumerate(numeric):
+        arr[...] = k + 1
+    assert [np.unique(a).tolist() for a in numeric] == [[1], [2], [3], []]
