@@ -112,3 +112,19 @@ def test_sweep_arrays_made_together_are_disjoint_aligned_arrays():
     for k, arr in enumerate(numeric):
         arr[...] = k + 1
     assert [np.unique(a).tolist() for a in numeric] == [[1], [2], [3], []]
+
+
+@pytest.mark.parametrize("texts", [["success"] * 6, ["success", "failed"] * 3])
+def test_text_rows_fingerprints_are_the_arrays_of_their_digests(texts):
+    """A block's text variable (every point's solver status) gets the ``(points, 2)`` array of
+    fingerprints the numeric ones get: the same 128-bit ints as its per-point digests, equal
+    texts equal, so the sweep compares it as an array (no Python loop per point)."""
+    from xpersson.sweep.stacking import _digests, _row_digests, digest_list
+
+    block = Block(0, (0, 0), (0, 0), (2, 3), ("a", "b"), {})
+    rows = np.array(texts, dtype=object)
+    ds = xr.Dataset({"s": (("a", "b"), rows.reshape(2, 3))})
+    got = _digests([{"s"}] * 6, ds, block)["s"]
+    assert isinstance(got, np.ndarray) and got.shape == (6, 2)
+    assert digest_list(got) == _row_digests(rows)
+    assert (len(set(digest_list(got))) == 1) == (len(set(texts)) == 1)
