@@ -346,6 +346,12 @@ def _varying(block: Block) -> np.ndarray:
     return out
 
 
+def varies_along_all(digests: Any, block: Block) -> bool:
+    """Whether a block's fingerprints of a variable are :func:`_varying`'s stand-ins (its
+    values change along every sweep dimension within the block)."""
+    return isinstance(digests, np.ndarray) and np.array_equal(digests, _varying(block))
+
+
 def digest_list(digests: Any) -> list[Any]:
     """The per-point list of fingerprints of :func:`_digests`' entry (either form)."""
     if isinstance(digests, np.ndarray):
