@@ -52,9 +52,10 @@ def cached_index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variabl
 
     def compute() -> tuple[Any, xr.Variable]:
         values = np.asarray(var.values)
-        if values.dtype.kind in "fiu" and var.dims == (name,):  # a pandas Index given: no
-            index = cls(pd.Index(values), name, coord_dtype=var.dtype)  # duck-array probes
-        else:  # (which import dask, pint, ...: ~0.3 s of a first solve)
+        if values.dtype.kind in "fiu" and values.dtype.itemsize > 2 and var.dims == (name,):
+            # a pandas Index given: no duck-array probes (they import dask, pint, ...: ~0.3 s
+            index = cls(pd.Index(values), name, coord_dtype=var.dtype)  # of a first solve)
+        else:
             index = cls.from_variables({name: var}, options={})
         return index, index.create_variables({name: var})[name]
 
