@@ -20,6 +20,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from summary_cold import sweep_eh_cold
 from summary_design import best, cpu, load_range, peak_mib, scene
 
 import xpersson
@@ -32,6 +33,7 @@ from xpersson.sweep.probe import serial_estimate
 TARGETS = {
     "sweep E x H, 1 load": ("x", 5),
     "sweep E x H x 10 loads": ("x", 5),
+    "sweep E x H, 1 load, cold": ("x", 5),
     "many loads (1e4) vs erf kernel": ("x", 10),
     "gap_pdf, 100 loads": ("x", 10),
     "gap_pdf, 1000 loads": ("x", 10),
@@ -169,6 +171,7 @@ def one_load(spec: dict, rounds: int, quick: bool) -> dict:
 DESIGN_PATHS = {
     "sweep E x H, 1 load": sweep_eh,
     "sweep E x H x 10 loads": sweep_ehp,
+    "sweep E x H, 1 load, cold": sweep_eh_cold,
     "many loads (1e4) vs erf kernel": many_loads,
     **{
         f"{a}, {label} loads": _analysis(a, n)

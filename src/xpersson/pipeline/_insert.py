@@ -96,7 +96,12 @@ def cached_index(cls: Any, name: str, var: xr.Variable) -> tuple[Any, xr.Variabl
     encoding = var._encoding or None  # noqa: SLF001 - a read: the encoding is rarely set
 
     def compute() -> tuple[Any, xr.Variable]:
-        index = cls.from_variables({name: var}, options={})
+        values = np.asarray(var.values)
+        if values.dtype.kind in "fiu" and values.dtype.itemsize > 2 and var.dims == (name,):
+            # a pandas Index given: no duck-array probes (they import dask, pint, ...: ~0.3 s
+            index = cls(pd.Index(values), name, coord_dtype=var.dtype)  # of a first solve)
+        else:
+            index = cls.from_variables({name: var}, options={})
         return index, index.create_variables({name: var})[name]
 
     index, variable = _INDEXES.get((kind, name, values_of(var), encoding), compute)

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import re
 from collections.abc import Iterator, Sequence
 from typing import Any
 
@@ -32,6 +31,7 @@ import xarray as xr
 from ..pipeline import run, stacked
 from ..plugins import fast_paths_on
 from ._fastfail import failed
+from ._rows import pressure_power, repeats, scaled_rows
 
 __all__ = [
     "SweepPoints",
@@ -40,6 +40,7 @@ __all__ = [
     "batched_block",
     "batch_capable",
     "scaled_ok",
+    "pressure_power",
 ]
 
 #: Swept paths a batch of loads replaces (they enter the physics only through E*).
@@ -185,19 +186,6 @@ def batch_capable(groups: Sequence[Sequence[Any]], rs: Any) -> bool:
     return fast_paths_on() and any(material_dims(groups)) and scaled_ok(rs)
 
 
-# units that carry one power of pressure: Pa, and N = Pa m^2, J = Pa m^3, W = Pa m^3 s^-1
-# (under contact similarity forces, energies and powers scale with E* like a pressure)
-_PA = re.compile(r"(?<![A-Za-z])(?:Pa|N|J|W)(?:\^?(-?\d+))?(?![A-Za-z])")
-
-
-def pressure_power(units: Any) -> int:
-    """The power of pressure in a CF unit string (``"Pa^2"`` or ``"Pa2"`` -> 2, ``"Pa^-1 m"``
-    -> -1, ``"J m^-2"`` -> 1 (J = Pa m^3), ``"1"`` -> 0)."""
-    if not isinstance(units, str):
-        return 0
-    return sum(int(m.group(1) or 1) for m in _PA.finditer(units))
-
-
 def batched_block(
     block: Any,
     points: SweepPoints,
@@ -221,24 +209,24 @@ def batched_block(
         judges the failure there (:mod:`._fastfail`). The warning filters are not touched.
     """
     subs = _sub_points(block, points)  # every sub-point scaled_ok: checked by the caller
-    rows = {n: _rows(sink, n, block, template) for n in names}
     where = np.concatenate([w for w, _, _ in subs])
     identity = bool(np.all(where == np.arange(where.size)))  # material dims innermost
-    into = {n: r for n, r in rows.items() if identity and r is not None}
+
+    def into(wanted: list[str]) -> dict[str, np.ndarray]:  # the sweep's own rows, if given
+        if sink is None or not identity:
+            return {}
+        got = _sink_rows(sink, block, {n: (template[n].shape, template[n].dtype) for n in wanted})
+        return {n: r for n, r in got.items() if r is not None}
+
     got = _stacked_subs(subs, names, template, into)
-    rows = {
-        n: np.empty((block.size, *template[n].shape), template[n].dtype) if r is None else r
-        for n, r in rows.items()
-    }
     if got is not None:
-        for n in names:
-            if got[0][n] is rows[n]:  # written in place (the sink's rows)
-                continue
-            if identity:  # the rows as computed where they are C-ordered arrays of the dtype
-                rows[n] = np.require(got[0][n], rows[n].dtype, ["C", "W"])
-            else:
-                rows[n][where] = got[0][n]
-        return rows, [got[1]]  # one record for the stacked run
+        return _block_rows(got[0], names, where, identity, sink, block, template), [got[1]]
+    if len(subs) == 1:  # one run: its rows as the stacked run's
+        one = _similar_run(subs[0][1], subs[0][2], names, template, into)
+        if one is None:
+            return None
+        return _block_rows(one[0], names, where, identity, sink, block, template), [one[1]]
+    rows = _rows(sink, names, block, template)
     solver = []
     for where, rs, estar in subs:
         one = _similar_run(rs, estar, names, template)
@@ -250,13 +238,52 @@ def batched_block(
     return rows, solver
 
 
-def _rows(sink: Any, name: str, block: Any, template: xr.Dataset) -> np.ndarray | None:
-    """The sweep's own rows of ``name`` for ``block`` where the caller gives a sink (an
-    in-memory serial sweep's :class:`~.filling.Filling`), else ``None``."""
-    if sink is None:
-        return None
-    var = template.variables[name]
-    return sink.rows(name, block, tuple(var.shape), var.dtype)
+def _block_rows(
+    got: dict[str, np.ndarray],
+    names: list[str],
+    where: np.ndarray,
+    identity: bool,
+    sink: Any,
+    block: Any,
+    template: xr.Dataset,
+) -> dict[str, np.ndarray]:
+    """The block's rows from the stacked run's (concatenated in the order of the sub-points,
+    ``where``: their block positions): one row every point holds kept a view; else as computed
+    where the order is the block's (``identity``: C-ordered arrays of the dtype, the sink's
+    when written in place), else placed (into the sink's rows, if given)."""
+    tv = template.variables
+    rows = {n: got[n] for n in names if repeats(got[n], tv[n].dtype)}
+    if identity:
+        rest = [n for n in names if n not in rows]
+        rows.update({n: np.require(got[n], tv[n].dtype, ["C", "W"]) for n in rest})
+        return rows
+    placed = _rows(sink, [n for n in names if n not in rows], block, template)
+    for n, r in placed.items():
+        r[where] = got[n]
+    return {**rows, **placed}
+
+
+def _rows(sink: Any, names: list[str], block: Any, template: xr.Dataset) -> dict[str, np.ndarray]:
+    """The arrays of the rows of ``names`` for ``block``: the sweep's own where the caller
+    gives a sink (an in-memory serial sweep's :class:`~.filling.Filling`) and the block's
+    region of them is one contiguous run, else new ones."""
+    tv = template.variables
+    specs = {n: (tuple(tv[n].shape), tv[n].dtype) for n in names}
+    given = {} if sink is None else _sink_rows(sink, block, specs)
+    return {
+        n: np.empty((block.size, *shape), dtype) if given.get(n) is None else given[n]
+        for n, (shape, dtype) in specs.items()
+    }
+
+
+def _sink_rows(sink: Any, block: Any, specs: dict[str, Any]) -> dict[str, np.ndarray | None]:
+    """``sink.rows`` of every variable of ``specs`` (name -> (point shape, dtype)), their
+    arrays made together first where the sink makes them (:meth:`.filling.Filling.reserve`;
+    a worker's shared-memory sink has them already)."""
+    reserve = getattr(sink, "reserve", None)
+    if reserve is not None:
+        reserve(specs)
+    return {n: sink.rows(n, block, tuple(shape), dtype) for n, (shape, dtype) in specs.items()}
 
 
 def _sub_points(block: Any, points: SweepPoints) -> list[tuple[np.ndarray, Any, np.ndarray]]:
@@ -331,12 +358,10 @@ def _equivalent_loads(subs: list[Any]) -> list[tuple[Any, np.ndarray]]:
     return out
 
 
-def _stacked_subs(
-    subs: list[Any], names: list[str], template: xr.Dataset, into: dict[str, np.ndarray]
-) -> Any:
+def _stacked_subs(subs: list[Any], names: list[str], template: xr.Dataset, into: Any) -> Any:
     """The rows of every sub-point (concatenated in the order of ``subs``) from one stacked
     run and its solver record, or ``None`` (solve them one by one); ``into``: arrays some
-    rows are written in (see :func:`_scaled_rows`)."""
+    rows are written in (see :func:`._rows.scaled_rows`)."""
     if len(subs) < 2:
         return None
     refs = _equivalent_loads(subs)
@@ -359,14 +384,15 @@ def _stacked_subs(
             return dims[1:], arr, template.variables[n].attrs.get("units")
         return dims, arr[None], template.variables[n].attrs.get("units")
 
-    rows = _scaled_rows(var, estar, ref, inverse, names, template, into)
+    rows = scaled_rows(var, estar, ref, inverse, names, template, into)
     return None if rows is None else (rows, {"stacked_points": len(subs), "method": "stacked"})
 
 
 def _similar_run(
-    rs: Any, estar: np.ndarray, names: list[str], template: xr.Dataset
+    rs: Any, estar: np.ndarray, names: list[str], template: xr.Dataset, into: Any = None
 ) -> tuple[dict[str, np.ndarray], dict[str, Any]] | None:
-    """One run of ``rs`` with the loads equivalent to (E*_k, p0); rows per point k."""
+    """One run of ``rs`` with the loads equivalent to (E*_k, p0); rows per point k (``into``:
+    as :func:`._rows.scaled_rows` takes it)."""
     import json
 
     rs_ref, inverse = _similar_loads(rs, estar)
@@ -384,115 +410,6 @@ def _similar_run(
         v = ds.variables[n]
         return v.dims, np.asarray(v.values)[None], v.attrs.get("units")
 
-    rows = _scaled_rows(
-        var, estar[None], np.array([float(rs.E_star)]), inverse[None], names, template
-    )
+    ref = np.array([float(rs.E_star)])
+    rows = scaled_rows(var, estar[None], ref, inverse[None], names, template, into)
     return None if rows is None else (rows, json.loads(ds.attrs["xpersson_solver"]))
-
-
-def _scaled_rows(
-    var: Any,
-    estar: np.ndarray,
-    ref: np.ndarray,
-    inverse: np.ndarray,
-    names: list[str],
-    template: xr.Dataset,
-    into: dict[str, np.ndarray] | None = None,
-) -> dict[str, np.ndarray] | None:
-    """Rows of the P sub-points' M points each (``(P * M, *point shape)``, sub-point major) of
-    a run at the equivalent loads: each point's loads back in its order (``inverse[s]``: index
-    in the run of load (k, j) of sub-point s), every Pa^n output scaled by (E*_k / E*_ref,s)^n.
-
-    ``var(name) -> (dims, values, units)``: ``values`` with a leading sub-point axis (of length
-    P, or 1 where the run shares the variable between its points), ``dims`` without it.
-    ``estar``: (P, M) [Pa]; ``ref``: (P,) [Pa]; ``inverse``: (P, M * n_loads). ``into``:
-    name -> a C-ordered ``(P * M, *point shape)`` array the rows are written into (the same
-    values, one pass fewer), returned as that variable's rows.
-    """
-    P, M = estar.shape
-    scale = (estar / ref[:, None]).ravel()
-    n_loads = inverse.shape[1] // M
-    same = bool(np.all(inverse == inverse[:1]))
-    out = {}
-    for n in names:
-        dims, arr, units = var(n)
-        if dims != template.variables[n].dims:
-            return None
-        dest = (into or {}).get(n)
-        power = 0 if n == "E" or arr.dtype.kind != "f" else pressure_power(units)
-        if (
-            dest is not None
-            and power
-            and "p0" not in dims
-            and _scaled_into(dest, arr, scale, power, P)
-        ):
-            out[n] = dest  # copied and scaled in one pass
-            continue
-        if dest is not None and _rows_into(dest, arr, dims, inverse, same):
-            arr, fresh = dest, True
-        elif "p0" in dims:
-            axis = dims.index("p0")
-            moved = np.moveaxis(arr, axis + 1, 1)  # (P or 1, run loads, rest)
-            if moved.shape[0] == 1:
-                picked = moved[0][inverse]
-            elif same:  # every sub-point at the same equivalent loads: one index along them
-                picked = moved[:, inverse[0]]
-            else:
-                picked = np.take_along_axis(moved, inverse.reshape(P, -1, *[1] * (arr.ndim - 2)), 1)
-            picked = picked.reshape(P * M, n_loads, *moved.shape[2:])
-            arr, fresh = np.moveaxis(picked, 1, axis + 1), True
-        else:
-            wide = np.broadcast_to(arr[:, None], (P, M, *arr.shape[1:]))
-            arr = wide.reshape(P * M, *arr.shape[1:])
-            fresh = not np.shares_memory(arr, wide)
-        if power:
-            factor = scale.reshape((-1,) + (1,) * (arr.ndim - 1)) ** power
-            if fresh:  # picked or reshaped above: scaled in place, no second array
-                np.multiply(arr, factor, out=arr)
-            else:
-                arr = arr * factor
-        out[n] = arr
-    return out
-
-
-def _scaled_into(dest: np.ndarray, arr: np.ndarray, scale: np.ndarray, power: int, P: int) -> bool:
-    """:func:`_scaled_rows`' rows of a variable without loads written into ``dest`` (``(P * M,
-    *point shape)``, C order) already scaled, ``arr[s] * scale[s, m]^power``: the numbers of
-    a broadcast copy scaled in place, in one pass; ``False`` (nothing written) for another
-    layout or dtype."""
-    if dest.dtype != arr.dtype or not dest.flags.c_contiguous or arr.shape[0] not in (1, P):
-        return False
-    rest, lead = arr.shape[1:], arr.shape[0]
-    if dest.shape != (scale.size, *rest):
-        return False
-    factor = (scale**power).reshape(lead, -1, *[1] * len(rest))
-    np.multiply(arr[:, None], factor, out=dest.reshape(lead, -1, *rest))
-    return True
-
-
-def _rows_into(
-    dest: np.ndarray, arr: np.ndarray, dims: tuple[str, ...], inverse: np.ndarray, same: bool
-) -> bool:
-    """:func:`_scaled_rows`' unscaled rows of one variable written into ``dest`` (``(P * M,
-    *point shape)``, C order) by one gather or one broadcast copy; ``False`` (nothing written)
-    where the layout needs the general path (``p0`` not the first point dimension, sub-points
-    at different equivalent loads, another dtype)."""
-    if dest.dtype != arr.dtype or not dest.flags.c_contiguous:
-        return False
-    P = inverse.shape[0]
-    if "p0" not in dims:
-        if arr.shape[0] not in (1, P):
-            return False
-        rest = arr.shape[1:]
-        np.copyto(dest.reshape(P, -1, *rest), arr[:, None])  # broadcast over each P's M rows
-        return True
-    if dims.index("p0") != 0:
-        return False
-    rest = arr.shape[2:]
-    if arr.shape[0] == 1:  # one run shared by every sub-point: one gather of all rows
-        np.take(arr[0], inverse.ravel(), axis=0, out=dest.reshape(-1, *rest), mode="clip")
-        return True
-    if not same:
-        return False
-    np.take(arr, inverse[0], axis=1, out=dest.reshape(P, -1, *rest), mode="clip")
-    return True

@@ -20,7 +20,7 @@ from .blocks import PART_ATTR, POINT_STATUS, BlockResult, stack, write_block_par
 from .filling import Filling
 from .parts import finalize, open_parts, part_name, read_part
 from .plan import SweepPlan
-from .stacking import digest_list
+from .stacking import digest_list, varies_along_all
 
 __all__ = ["finish", "combine"]
 
@@ -116,6 +116,8 @@ def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, lis
     names = {n for r in results for n in r.digests}
     out: dict[str, list[str]] = {}
     for name in names:
+        if any(varies_along_all(r.digests.get(name), r.block) for r in results):
+            continue  # it changes along every sweep dimension in a block: constant along none
         grid, every = _digest_grid(plan, results, name)
         dims = []
         for d, dim in enumerate(plan.dims):

@@ -39,6 +39,7 @@ from ..archive import WriteError, decode, read, to_netcdf
 from ..errors import ArchiveError
 from ..pipeline import direct_dataset
 from .blocks import PART_ATTR, POINT_STATUS
+from .stacking import variable
 
 __all__ = ["INDEX", "FORMAT", "part_name", "write_part", "read_part", "write_index", "finalize"]
 __all__ += ["open_parts", "load_index", "read_index_file", "PART_NAME", "seal_index"]
@@ -226,21 +227,23 @@ def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
     if isinstance(var.data, np.ndarray) and (kind == "f" or (kind in "iub" and ints_ok)):
         axes = tuple(var.dims.index(d) for d in dims)
         keep = tuple(d for d in var.dims if d not in dims)
-        if kind == "f":  # nanmax without its all-NaN warning (no filter to change)
+        if kind == "f" and all(var.data.strides[a] == 0 for a in axes):  # one row repeated
+            first = tuple(0 if a in axes else slice(None) for a in range(var.ndim))
+            data = low = np.array(var.data[first])  # (the reductions' values, fresh)
+        elif kind == "f":  # nanmax without its all-NaN warning (no filter to change)
             data = np.fmax.reduce(var.data, axis=axes)
             low = np.fmin.reduce(var.data, axis=axes)
         else:  # the failed points' values replaced by the smallest of all (largest for low)
-            shape = dict(zip(var.dims, var.shape, strict=True))
-            ok = (status != POINT_STATUS["failed"]).set_dims(shape)
+            ok = _broadcast_to_dims(status, var.dims) != POINT_STATUS["failed"]
             arr = np.asarray(var.data)
-            data = np.where(ok.data, arr, arr.min()).max(axis=axes).astype(var.dtype)
+            data = np.where(ok, arr, arr.min()).max(axis=axes).astype(var.dtype)
             low = data  # a point lacking the variable holds a fill value: not checked
         _unchanged(data, low, name)
-        return xr.Variable(keep, data, dict(var.attrs), dict(var.encoding))
+        return variable(keep, data, dict(var.attrs), dict(var.encoding))
     if isinstance(var.data, np.ndarray) and kind in "OUS":  # strings: the first point's
         first = tuple(0 if d in dims else slice(None) for d in var.dims)
         keep = tuple(d for d in var.dims if d not in dims)
-        return xr.Variable(keep, np.asarray(var.data[first], dtype=var.dtype), dict(var.attrs))
+        return variable(keep, np.asarray(var.data[first], dtype=var.dtype), dict(var.attrs))
     da = ds[name]
     if var.dtype.kind in "fc":  # NaN skipped; NaN where every point is NaN; no warning
         some = da.notnull().any(dims)
@@ -263,6 +266,14 @@ def _reduced(ds: xr.Dataset, name: str, dims: list[str]) -> xr.Variable:
     out = reduced.variable.copy(deep=False)
     out.attrs = dict(var.attrs)
     return out
+
+
+def _broadcast_to_dims(var: xr.Variable, dims: tuple[Any, ...]) -> np.ndarray:
+    """The values of ``var`` (whose dims are among ``dims``) laid along ``dims``, length 1 on
+    the others (numpy's broadcasting; no xarray arithmetic, whose Variables probe dask)."""
+    order = [var.dims.index(d) for d in dims if d in var.dims]
+    arr = np.transpose(np.asarray(var.values), order)
+    return arr.reshape([var.sizes[d] if d in var.dims else 1 for d in dims])
 
 
 def _unchanged(high: Any, low: Any, name: str) -> Any:

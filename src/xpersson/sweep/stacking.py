@@ -86,6 +86,16 @@ class BlockResult:
     fast_path_failures: list[str] = field(default_factory=list)
 
 
+def variable(dims: Any, data: Any, attrs: Any = None, encoding: Any = None) -> xr.Variable:
+    """An :class:`xarray.Variable` of numpy data without xarray's duck-array probes (the
+    first of which imports ``dask.array``: about 0.3 s of a sweep's first run); other data
+    goes through xarray's conversion."""
+    if isinstance(data, np.generic):
+        data = np.asarray(data)
+    fast = type(data) is np.ndarray and data.dtype.kind not in "mM"
+    return xr.Variable(dims, data, attrs, encoding, fastpath=fast)
+
+
 def write_block_part(
     ds: xr.Dataset,
     part: str,
@@ -205,8 +215,8 @@ def stack_rows(
         },
     )
     ds = direct_dataset(
-        {n: xr.Variable(*entry) for n, entry in data_vars.items()},
-        {n: xr.Variable(*entry) for n, entry in coords.items()},
+        {n: variable(*entry) for n, entry in data_vars.items()},
+        {n: variable(*entry) for n, entry in coords.items()},
         template.attrs,
     )
     if ds is None:  # pragma: no cover - other xarray versions
@@ -220,9 +230,36 @@ def _point_shaped(template: xr.Dataset, block: Block) -> xr.Dataset:
     ``point_status`` (a template cut from another block's Dataset may still carry them)."""
     sweep = [d for d in block.dims if d in template.dims]
     if sweep:
-        template = template.isel({d: 0 for d in sweep}, drop=True)
+        cut = _first_point(template, sweep, block)
+        if cut is not None:
+            return cut
+        template = template.isel({d: 0 for d in sweep}, drop=True)  # pragma: no cover
     drop = [n for n in (*block.coords, "point_status") if n in template.variables]
     return template.drop_vars(drop) if drop else template
+
+
+def _first_point(template: xr.Dataset, sweep: list[str], block: Block) -> xr.Dataset | None:
+    """``template.isel({d: 0 for d in sweep}, drop=True)`` without the coordinates of the
+    block and ``point_status``, cut with numpy (views, as ``isel``): xarray's ``isel`` builds
+    each Variable through its duck-array probes, the first of which imports ``dask.array``.
+    ``None`` on an xarray without the direct constructor."""
+    skip = {*block.coords, "point_status"}
+    coords = set(template.coords)
+    data_vars, coord_vars = {}, {}
+    for name, var in template.variables.items():
+        if name in skip:
+            continue
+        if any(d in sweep for d in var.dims):
+            if name in coords and all(d in sweep for d in var.dims):
+                continue  # a coordinate indexed to a scalar: dropped (isel's drop=True)
+            key = (*(0 if d in sweep else slice(None) for d in var.dims), ...)  # a 0-d view
+            dims = tuple(d for d in var.dims if d not in sweep)
+            var = variable(dims, np.asarray(var.values)[key], dict(var.attrs), var.encoding)
+        (coord_vars if name in coords else data_vars)[name] = var
+    out = direct_dataset(data_vars, coord_vars, template.attrs)
+    if out is not None:
+        out.encoding = dict(template.encoding)
+    return out
 
 
 def _fill(var: xr.DataArray) -> np.ndarray:
@@ -266,9 +303,9 @@ def _digests(present: list[set[Any] | None], ds: xr.Dataset, block: Block) -> di
         if all(p is not None and name in p for p in distinct):
             hashes = _varying(block) if _differs_along_all(arr, block) else None
             hashes = _row_hashes(rows) if hashes is None else hashes
-            if hashes is not None:
-                out[name] = hashes
-                continue
+            # object rows (their SHA-1s): the same array, so the sweep compares them as arrays
+            out[name] = _as_hashes(_row_digests(rows)) if hashes is None else hashes
+            continue
         digests = _row_digests(rows)
         if all(p is not None and name in p for p in distinct):
             out[name] = digests
@@ -309,6 +346,12 @@ def _varying(block: Block) -> np.ndarray:
     return out
 
 
+def varies_along_all(digests: Any, block: Block) -> bool:
+    """Whether a block's fingerprints of a variable are :func:`_varying`'s stand-ins (its
+    values change along every sweep dimension within the block)."""
+    return isinstance(digests, np.ndarray) and np.array_equal(digests, _varying(block))
+
+
 def digest_list(digests: Any) -> list[Any]:
     """The per-point list of fingerprints of :func:`_digests`' entry (either form)."""
     if isinstance(digests, np.ndarray):
@@ -328,6 +371,9 @@ def _row_hashes(rows: np.ndarray) -> np.ndarray | None:
     n = rows.shape[0]
     if rows.dtype.kind == "O" or n == 0:
         return None
+    if n > 1 and rows.strides[0] == 0:  # one row repeated (a view): its hashes, repeated
+        one = _row_hashes(rows[:1])
+        return None if one is None else np.repeat(one, n, axis=0)
     raw = np.ascontiguousarray(rows).view(np.uint8).reshape(n, -1)
     pad = (-raw.shape[1]) % 8
     if pad:
@@ -355,7 +401,7 @@ def _row_digests(rows: np.ndarray) -> list[Any]:
         values = rows.tolist()
         if set(map(type, values)) == {str} and values.count(values[0]) == len(values):
             return [_digest(np.asarray(rows[0]))] * len(values)  # one text at every point
-    known: dict[Any, str] = {}
+    known: dict[Any, int] = {}
     out = []
     for r, key in zip(rows, map(repr, rows.tolist()), strict=True):
         got = known.get(key)
@@ -365,9 +411,25 @@ def _row_digests(rows: np.ndarray) -> list[Any]:
     return out
 
 
-def _digest(arr: np.ndarray) -> str:
+_LOW = (1 << 64) - 1
+
+
+def _as_hashes(digests: list[int]) -> np.ndarray:
+    """Fingerprints (128-bit ints) as the ``(points, 2)`` uint64 array of :func:`_row_hashes`
+    (the same ints back through :func:`digest_list`); one int at every point: one array
+    operation."""
+    n = len(digests)
+    if n and digests.count(digests[0]) == n:
+        return np.repeat(np.array([[digests[0] >> 64, digests[0] & _LOW]], np.uint64), n, axis=0)
+    return np.array([[d >> 64, d & _LOW] for d in digests], np.uint64).reshape(n, 2)
+
+
+def _digest(arr: np.ndarray) -> int:
+    """The SHA-1 of a row (its first 128 bits as an int, as :func:`_row_hashes`' pairs)."""
     if arr.dtype.kind == "O":
-        return hashlib.sha1(repr(arr.tolist()).encode()).hexdigest()
-    if arr.dtype.kind in "fc":  # one NaN pattern: a NaN read back from a file equals its source
-        arr = np.where(np.isnan(arr), np.nan, arr)
-    return hashlib.sha1(np.ascontiguousarray(arr).tobytes() + str(arr.shape).encode()).hexdigest()
+        raw = repr(arr.tolist()).encode()
+    else:
+        if arr.dtype.kind in "fc":  # one NaN pattern: a NaN read back equals its source
+            arr = np.where(np.isnan(arr), np.nan, arr)
+        raw = np.ascontiguousarray(arr).tobytes() + str(arr.shape).encode()
+    return int(hashlib.sha1(raw).hexdigest()[:32], 16)
