@@ -37,7 +37,7 @@ from numpy.typing import NDArray
 from ._cn_plan import _edges_batch, _Plan
 from ._problem import Problem
 
-__all__ = ["STIFF_END", "STIFF_STEP", "stiff_at_end", "stiffness", "stiff_refined"]
+__all__ = ["STIFF_END", "STIFF_STEP", "stiff_at_end", "stiffness", "stiff_refined", "wall_kinks"]
 
 Array = NDArray[np.float64]
 
@@ -106,3 +106,20 @@ def stiff_at_end(pbs: list[Problem], k: float) -> bool:
     width = np.minimum(up, p0 + k * s) - np.maximum(lo, p0 - k * s)
     width = width[width > 0]
     return bool(width.size and math.pi**2 * t / float(np.min(width)) ** 2 > STIFF_STEP)
+
+
+def wall_kinks(pb: Problem, tau_s: float, tau_end: float) -> list[float]:
+    """The declared kinks of the walls' speeds (``Wall.kinks`` [Pa^2]) inside
+    ``(tau_s, tau_end)``: step boundaries of every level's time plan.
+
+    A yield wall ``Y(zeta(tau))`` moves at ``dY/dtau = Y'(zeta) / f(zeta)``: where ``f``
+    has a kink (the knee of a roll-off spectrum, every node of a tabulated one) so has the
+    speed, and the closure row ``R_N = W Y' A_pl`` with it.  Inside a step the kink leaves
+    a local error that depends on where in the step it falls, irregular in the level's
+    subdivision: measured on "roll H=0.36 5dec" (seed 110 of ``benchmarks/plastic_steps.py``)
+    the levels' errors had a component irregular in the subdivision of 7 tolerances / m^2,
+    which the sixth-order combinations amplified to 1-5 tolerances; with the knee a step
+    boundary it is 0.003 tolerances / m^2.
+    """
+    times = {t for w in (pb.lower, pb.upper) if w is not None for t in w.kinks}
+    return sorted(t for t in times if tau_s < t < tau_end)
