@@ -47,7 +47,7 @@ STIFF_STEP = 0.5  # largest decay of the window's slowest mode per substep, in g
 # 2x larger one at the transient's end)
 
 
-STIFF_LATE = 2  # substeps per base step beyond STIFF_END
+STIFF_LATE = 4  # substeps per base step beyond STIFF_END
 
 
 STIFF_END = 10.0  # sigma beyond which the base steps are kept (measured: 10, 20 and 50 give
