@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from xpersson.engine import Wall, _stiff, solve
 from xpersson.engine._cn import CNOptions, _Grids
@@ -94,3 +95,44 @@ def test_stiff_window_identities_and_estimate_against_a_tight_reference():
     err = np.abs(res.area - ref.area)
     assert np.all(err <= res.error_estimate)
     assert np.all(err <= 1e-5 * res.area)
+
+
+TK = 0.37  # a kink of the yield wall's speed (its acceleration jumps), between two outputs
+
+
+def _kinked(kinks=()) -> Wall:
+    """A yield wall whose speed has a kink at TK (C^1 motion, as at a spectrum's knee)."""
+    return Wall.yield_closure(
+        lambda t: 1.0 + EPS * np.asarray(t) + 0.015 * np.maximum(np.asarray(t) - TK, 0.0) ** 2,
+        lambda t: EPS + 0.03 * np.maximum(np.asarray(t) - TK, 0.0),
+        kinks=kinks,
+    )
+
+
+def test_declared_kinks_are_step_boundaries_of_every_level():
+    lv = _grids(_kinked((TK, 50.0)))  # (50 is beyond the last output: dropped)
+    assert _stiff.wall_kinks(lv.pbs[0], lv.tau_s, float(TAU[-1])) == [TK]
+    for n, dense in ((12, 1), (24, 4)):
+        assert TK in lv.plan(n, dense).base
+    assert TK not in _grids(_kinked()).plan(12, 1).base
+
+
+def test_kink_inside_a_step_leaves_an_error_irregular_in_the_subdivision():
+    """The levels ``m = 3..7`` of one plan, fitted by ``A + b m^-2 + c m^-4`` (the expansion
+    Richardson extrapolation assumes): after the kink the residual of the fit falls more
+    than 10x when the kink is declared (a step boundary of every level; measured 26-260x)."""
+    ms = np.arange(3.0, 8.0)
+    fit = np.stack([np.ones(ms.size), ms**-2, ms**-4], axis=1)
+    resid = []
+    for kinks in ((), (TK,)):
+        lv = _grids(_kinked(kinks))
+        late = TAU[TAU > lv.tau_s] > TK
+        a = np.array([lv.level(12, int(m), 2).area[0][late] for m in ms])
+        coef = np.linalg.lstsq(fit, a, rcond=None)[0]
+        resid.append(np.abs(a - fit @ coef).max(axis=0))
+    assert np.all(resid[1] < 0.1 * resid[0]), resid
+
+
+def test_kinks_must_be_positive_finite_times():
+    with pytest.raises(ValueError, match=r"kinks \[Pa\^2\]"):
+        _kinked((-1.0,))

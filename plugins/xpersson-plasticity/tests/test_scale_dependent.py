@@ -166,3 +166,22 @@ def test_moving_wall_converges_to_constant_hardness(engine):
     # O(n) convergence: halving n roughly halves the distance
     assert errs[1] < 0.7 * errs[0] and errs[2] < 0.7 * errs[1]
     assert errs[2] < 0.05
+
+
+def test_wall_declares_the_kinks_of_its_speed(tmp_path):
+    """The clock's kinks of f (a roll-off knee) and a table's nodes, inside (1, zeta_max),
+    become the yield wall's kinks in diffusion time: dY/dtau = Y'(zeta) / f(zeta) has a
+    kink there (the engine makes them step boundaries)."""
+    from xpersson.plugins import DiffusionClock
+
+    base = make_clock(2 * SIGMA_Y**2, zeta_max=1e3)
+    clock = DiffusionClock(base.tau_fn, base.f, 1e3, kinks=(1.0, 6.5, 1e5))
+    _, up = SD(Y1=SIGMA_Y, n=0.2).walls(make_ctx(1e8), 1e8, clock)
+    np.testing.assert_allclose(up.kinks, clock.tau_of_zeta(np.array([6.5])), rtol=1e-15)
+    assert SD(Y1=SIGMA_Y, n=0.2).walls(make_ctx(1e8), 1e8, base)[1].kinks == ()
+    z = np.geomspace(1, 1e4, 9)
+    rows = "\n".join(f"{a:.17g} {2.0 * a**0.2:.17g}" for a in z)
+    table = SD(table=_write(tmp_path, rows), table_unit="GPa")
+    _, up = table.walls(make_ctx(1e8), 1e8, clock)
+    inside = np.unique(np.concatenate([[6.5], z[(z > 1) & (z < 1e3)]]))
+    np.testing.assert_allclose(up.kinks, clock.tau_of_zeta(inside), rtol=1e-15)

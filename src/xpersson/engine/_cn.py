@@ -53,7 +53,7 @@ from ._level import Level, Outputs, project
 from ._moving import LevelInputs, _march, level_inputs
 from ._problem import Problem, window_k
 from ._result import Raw
-from ._stiff import stiff_refined
+from ._stiff import stiff_refined, wall_kinks
 
 __all__ = ["CNMethod", "grid_level"]
 
@@ -248,7 +248,7 @@ class _Grids:
             # the kinks of the window edges do not depend on the grid: found once
             t_end = float(pbs[0].tau[num][-1])
             k = opts.window_k
-            self.kinks = _switch_times_batch(pbs, k, tau_s, t_end)
+            self.kinks = _switch_times_batch(pbs, k, tau_s, t_end) + wall_kinks(pb, tau_s, t_end)
 
     def levels(self, n_base: int, mults: tuple[int, ...], dense: int) -> list[Outputs] | None:
         """The levels ``(n_base, m, dense)`` for ``m`` in ``mults``, solved in this order

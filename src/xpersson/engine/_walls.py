@@ -46,6 +46,11 @@ class Wall:
         ``tau = 0`` (0: not declared; a wall whose motion starts at an onset).  The ``cn`` path
         then starts from the one-wall closed form (the image solution) at that time, or where
         the other wall enters the window if earlier, instead of marching the fixed-wall stretch.
+    kinks : tuple of float
+        Diffusion times [Pa^2] where a smooth (C^1) motion's speed has a kink (e.g. at the
+        knee of a roll-off spectrum, through the clock).  The ``cn`` path makes them step
+        boundaries: a kink inside a step leaves an error that is irregular in the step, which
+        Richardson extrapolation cannot cancel.
     """
 
     kind: Literal["absorbing", "yield_closure", "reflecting"]
@@ -54,6 +59,7 @@ class Wall:
     motion: tuple[float, float] | None = None
     breakpoints: tuple[float, ...] = ()
     still_until: float = 0.0
+    kinks: tuple[float, ...] = ()
 
     # -- constructors ------------------------------------------------------------------------
     @classmethod
@@ -125,6 +131,7 @@ class Wall:
         cls,
         position: PositionLike,
         dposition: Callable[[NDArray[np.float64]], ArrayLike] | None = None,
+        kinks: ArrayLike = (),
     ) -> Wall:
         """Moving yield wall (Lambert 2025), upper walls only.
 
@@ -138,6 +145,9 @@ class Wall:
             ``Y(tau)`` [Pa], non-decreasing.
         dposition : callable, optional
             ``dY/dtau`` [1/Pa] (>= 0), vectorised.  Required when ``position`` is a callable.
+        kinks : array_like of float, optional
+            Diffusion times [Pa^2] > 0 where ``dY/dtau`` has a kink (see the class
+            attributes); ignored for a fixed wall.
         """
         if not callable(position):
             return cls("yield_closure", float(position), None)
@@ -145,7 +155,7 @@ class Wall:
             raise ValueError(
                 "dposition: a moving yield wall needs dY/dtau [1/Pa] (>= 0) as a callable"
             )
-        return cls("yield_closure", position, dposition)
+        return cls("yield_closure", position, dposition, kinks=_breakpoints(kinks, "kinks"))
 
     def with_breakpoints(self, breakpoints: ArrayLike) -> Wall:
         """The same wall with ``breakpoints`` [Pa^2] declared (see the class attributes)."""
@@ -202,11 +212,12 @@ class Wall:
         return None
 
 
-def _breakpoints(values: ArrayLike) -> tuple[float, ...]:
-    """Sorted, unique, finite, positive diffusion times [Pa^2] (ValueError otherwise)."""
+def _breakpoints(values: ArrayLike, name: str = "breakpoints") -> tuple[float, ...]:
+    """Sorted, unique, finite, positive diffusion times [Pa^2] (ValueError naming ``name``
+    otherwise)."""
     b = np.atleast_1d(np.asarray(values, dtype=float)).ravel()
     if b.size and not (np.all(np.isfinite(b)) and np.all(b > 0)):
         raise ValueError(
-            f"breakpoints [Pa^2] of a wall must be finite diffusion times > 0; got {b.tolist()}"
+            f"{name} [Pa^2] of a wall must be finite diffusion times > 0; got {b.tolist()}"
         )
     return tuple(float(t) for t in np.unique(b))

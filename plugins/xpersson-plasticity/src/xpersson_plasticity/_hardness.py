@@ -26,6 +26,11 @@ class HardnessLaw:
         """Whether Y does not depend on zeta (then the yield wall is a fixed absorbing wall)."""
         raise NotImplementedError
 
+    @property
+    def kinks(self) -> tuple[float, ...]:
+        """Magnifications [1] where ``dY/dzeta`` has a kink (none for a smooth law)."""
+        return ()
+
     def check_range(self, zeta_max: float) -> None:  # noqa: B027 - optional hook
         """Raise ``ValueError`` if the law is not defined on ``[1, zeta_max]``."""
 
@@ -84,6 +89,11 @@ class TabulatedLaw(HardnessLaw):
     @property
     def is_constant(self) -> bool:
         return bool(np.all(self.values == self.values[0]))
+
+    @property
+    def kinks(self) -> tuple[float, ...]:
+        """The table's magnifications [1]: PCHIP is C^1, its second derivative jumps there."""
+        return tuple(float(z) for z in self.zeta)
 
     def check_range(self, zeta_max: float) -> None:
         lo, hi = self.zeta[0], self.zeta[-1]

@@ -29,7 +29,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from xpersson.engine import EngineResult, Wall
     from xpersson.plugins import DiffusionClock, SceneContext
 
-__all__ = ["ScaleDependentPlasticBoundary", "YieldWallLaw"]
+__all__ = ["ScaleDependentPlasticBoundary", "YieldWallLaw", "kink_times"]
 
 
 class YieldWallLaw:
@@ -84,6 +84,18 @@ class YieldWallLaw:
         else:
             val = self.law.Y(z)
         return np.asarray(val, dtype=float).reshape(t.shape)
+
+
+def kink_times(law: HardnessLaw, clock: DiffusionClock) -> tuple[float, ...]:
+    """Diffusion times [Pa^2] where the yield wall's speed ``dY/dtau = Y'(zeta) / f(zeta)``
+    has a kink: the clock's kinks of ``f`` (the spectrum's nodes, e.g. a roll-off knee) and
+    the law's kinks of ``Y'`` inside ``(1, zeta_max)`` (the engine makes them step
+    boundaries, see :class:`xpersson.engine.Wall`)."""
+    z = np.unique(np.asarray([*clock.kinks, *law.kinks], dtype=float))
+    z = z[(z > 1.0) & (z < clock.zeta_max)]
+    if z.size == 0:
+        return ()
+    return tuple(float(t) for t in np.atleast_1d(clock.tau_of_zeta(z)) if t > 0)
 
 
 class ScaleDependentPlasticBoundary(Boundary):
@@ -210,6 +222,7 @@ class ScaleDependentPlasticBoundary(Boundary):
         return Wall.absorbing(0.0), Wall.yield_closure(
             position=YieldWallLaw(self._law, clock, derivative=False),
             dposition=YieldWallLaw(self._law, clock, derivative=True),
+            kinks=kink_times(self._law, clock),
         )
 
     def interpret(
