@@ -47,7 +47,17 @@ from ..options import compiled_enabled
 from . import _cnstep
 from ._cnstep import _gtsv, _thomas
 
-__all__ = ["BUILD_AFTER", "MIN_WORK", "build", "edges", "fused", "kernel", "march_steps", "times"]
+__all__ = [
+    "BUILD_AFTER",
+    "MIN_WORK",
+    "build",
+    "edges",
+    "fused",
+    "kernel",
+    "march_steps",
+    "start",
+    "times",
+]
 
 MIN_WORK = 500_000
 """Node-steps of a level below which the numpy path runs (no numba import for small solves)."""
@@ -108,6 +118,14 @@ def times() -> Callable[..., None] | None:
     return _STATE.get("times")
 
 
+def start() -> Callable[..., None] | None:
+    """The compiled :func:`._moving_fused.start_state` once the compiled march is built and
+    the option is on, else None (the numpy start state)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("start")
+
+
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
     """The compiled :func:`._moving_fused.level_march` and
     :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
@@ -136,6 +154,7 @@ def _build() -> Callable[..., int] | None:
     code = fused_src.level_march.__code__
     level = jit(types.FunctionType(code, fused_scope, "level_march"))
     _STATE["level"] = (level, jit(fused_src.face_coefficients))
+    _STATE["start"] = jit(fused_src.start_state)
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
 
 
