@@ -57,6 +57,7 @@ __all__ = [
     "march_steps",
     "start",
     "times",
+    "tracks",
 ]
 
 MIN_WORK = 500_000
@@ -118,6 +119,15 @@ def times() -> Callable[..., None] | None:
     return _STATE.get("times")
 
 
+def tracks() -> tuple[Callable[..., None], Callable[..., None]] | None:
+    """The compiled :func:`._cn_edges.wall_query` and :func:`._cn_edges.wall_track` once the
+    compiled march is built and the option is on, else None (the numpy tracks: the same
+    numbers)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("tracks")
+
+
 def start() -> Callable[..., None] | None:
     """The compiled :func:`._moving_fused.start_state` once the compiled march is built and
     the option is on, else None (the numpy start state)."""
@@ -151,6 +161,7 @@ def _build() -> Callable[..., int] | None:
     fused_scope = {**vars(fused_src), "_thomas": thomas, **helpers}
     _STATE["edges"] = jit(_cn_edges.window_edges)
     _STATE["times"] = jit(_cn_edges.level_times)
+    _STATE["tracks"] = (jit(_cn_edges.wall_query), jit(_cn_edges.wall_track))
     code = fused_src.level_march.__code__
     level = jit(types.FunctionType(code, fused_scope, "level_march"))
     _STATE["level"] = (level, jit(fused_src.face_coefficients))
