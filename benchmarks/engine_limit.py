@@ -77,7 +77,12 @@ def main(argv: list[str] | None = None) -> None:
         worst: dict[float, tuple[float, str]] = {}
         for label, spec in design(args.scenes, seed):
             for rtol in args.rtols:
-                m = measure(lib, jkr_scene(spec, rtol), args.rounds)
+                try:
+                    m = measure(lib, jkr_scene(spec, rtol), args.rounds)
+                except Exception as exc:  # noqa: BLE001 - reported, the design goes on
+                    print(f"seed {seed:4d} {label:20s} rtol {rtol:.0e}: {type(exc).__name__}:"
+                          f" {str(exc)[-120:]}")  # fmt: skip
+                    continue
                 if m is None:
                     continue
                 print(
