@@ -12,7 +12,6 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _compiled
 from ._cn_edges import compiled_window
 from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
 from ._problem import Problem
@@ -389,13 +388,17 @@ class Window(NamedTuple):
 
 
 def _edges_batch(
-    pbs: list[Problem], plan: _Plan, taus: Array, fast: Callable[..., None] | None = None
+    pbs: list[Problem],
+    plan: _Plan,
+    taus: Array,
+    fast: Callable[..., None] | None = None,
+    tracks: tuple | None = None,
 ) -> Window:
     """The window of the loads ``pbs`` (which share their walls) along ``taus`` [Pa^2] (by
-    the compiled loop ``fast``, :func:`._cn_edges.window_edges`, if given: the same
+    the compiled loop ``fast``, :func:`._cn_edges.window_edges`, if given, and the walls'
+    tracks by ``tracks``, :func:`._cn_edges.wall_query` and ``wall_track``: the same
     numbers)."""
-    # the loads of a batch share their walls
-    tr = _tracks(pbs[0], taus, None if fast is None else _compiled.tracks())
+    tr = _tracks(pbs[0], taus, tracks)  # the loads of a batch share their walls
     if fast is not None:
         out, flags = compiled_window(fast, pbs, plan, taus, tr)
         start = Edge(out[0], out[1], out[4], out[5], out[6])

@@ -106,7 +106,7 @@ def level_inputs(
     pb0 = pbs[0]
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
-    window = _edges_batch(pbs, plan, taus, _compiled.edges())
+    window = _edges_batch(pbs, plan, taus, _compiled.edges(), _compiled.tracks())
     nodes = level_nodes(n, stretch)
     return LevelInputs(taus, theta, out_at, nodes, window, p0, plan.k, plan.yield_wall, plan.image)
 
