@@ -177,8 +177,9 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     fast = _compiled.kernel(nb * nn * n_steps, n_steps, nb * nn)
     if fast is not None and p_out is None and not progress_reported():
         fused = _compiled.fused()  # the whole level in a few compiled calls
-        if fused is not None:
-            return fused_level(fused, inp, _start(inp), stretch)
+        level = None if fused is None else fused_level(fused, inp, _start(inp), stretch)
+        if level is not None:
+            return level
     r0 = _start(inp)
     step = np.diff(inp.taus)
     wn_all, wo_all = inp.theta * step, (1.0 - inp.theta) * step

@@ -10,14 +10,14 @@ Here the face coefficients are the same one BLAS product (:func:`._moving_block.
 faces, the diagonal and the yield closure's rows, the explicit half in flux form, the
 tridiagonal solve as LAPACK ``dgtsv`` eliminates (:func:`._cnstep._thomas`: the back
 substitution by the pivots' reciprocals, LAPACK's to rounding), the wall fluxes
-summed as it goes (as ``numpy.cumsum`` sums them) and the area and load integrals at the
-outputs (summed in the loop; the numpy path's BLAS products sum in another order): the
-outputs equal the numpy path's to rounding (tested to 1e-12 relative, also on generated
-problems).
+summed as it goes (as ``numpy.cumsum`` sums them) and the states at the outputs, reduced as the
+numpy path reduces them: the outputs equal the numpy path's to rounding (tested to 1e-12
+relative, also on generated problems).
 
 Used when the compiled march is in force (:func:`._compiled.kernel`) and the level wants no
-densities and no progress reports (those take the per-block compiled steps). Units as in
-:mod:`._moving`: tau in Pa^2, window edges in Pa, their speeds in 1/Pa.
+densities, no progress reports and no outputs beyond the snapshot size of the numpy path
+(those take the per-block compiled steps). Units as in :mod:`._moving`: tau in Pa^2, window
+edges in Pa, their speeds in 1/Pa.
 """
 
 from __future__ import annotations
@@ -38,20 +38,23 @@ Array = NDArray[np.float64]
 
 _OPS = 1 << 18  # face coefficients built at once (steps x 4 x loads x nodes)
 
-_SNAP = 1 << 20  # largest output snapshot array (outputs x loads x nodes) of the numpy path
+_SNAP = 1 << 20  # largest output snapshot array (outputs x loads x nodes), both paths
 
 
 def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r0: Array,
-                stretch: float) -> Level:  # fmt: skip
+                stretch: float) -> Level | None:  # fmt: skip
     """The outputs of the level ``inp`` (:class:`._moving.LevelInputs`) marched from the state
     ``r0`` (the loads concatenated) by ``fns``: :func:`level_march` and
-    :func:`face_coefficients` (compiled, or as Python)."""
+    :func:`face_coefficients` (compiled, or as Python); None where the outputs' states would be
+    too many to keep (the caller marches)."""
     march, coefficients = fns
     win, nodes = inp.window, inp.nodes
     s, e = win.start, win.end
     nb, nn, n_out = inp.p0.shape[0], nodes.x.size, inp.out_at.size
+    if n_out * nb * nn > _SNAP:
+        return None
     rows, basis = system_rows(nb, nn - 1, stretch), face_basis(nn - 1, stretch)
-    sums = np.zeros((9, nb, n_out))
+    snaps, sums = np.empty((n_out, nb * nn)), np.zeros((7, nb, n_out))
     carry = (r0.copy(), np.zeros((5, nb)), np.zeros((4, nb)), np.zeros(1, np.int64))
     n_steps = inp.taus.size - 1
     block = max(1, min(_OPS // (4 * nb * nn), n_steps))
@@ -65,14 +68,14 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
         info = march(
             m0, m0 + c, ops, nodes.w, rows.volumes, rows.walls, rows.last, inp.yield_wall,
             win.real_lower, win.real_upper, e.yield_speed, s.lower, s.width, e.lower, e.width,
-            inp.out_at, *carry, nodes.x * nodes.w, sums,
+            inp.out_at, *carry, snaps, sums,
         )  # fmt: skip
         if info != 0:
             return Level(None, 0, nn, f"tridiagonal solve failed (info={info})")
     if n_steps == 0:  # (outputs at the start only)
-        area, load = _reduce_snapshots(np.tile(r0, (n_out, 1)), win, nodes.x, nodes.w, inp.out_at)
-    else:  # summed at the outputs, with the window's edges there, as marched
-        area, load = sums[7], sums[5] * sums[7] + sums[6] * sums[8]
+        snaps[:] = r0
+    edges = sums[5:] if n_steps else None  # (the window at the outputs, as marched)
+    area, load = _reduce_snapshots(snaps, win, nodes.x, nodes.w, inp.out_at, edges)
     a_pl, abs_l, abs_u, mom_l, mom_u = sums[:5]
     mom_u = -mom_u
     if inp.yield_wall:  # the plastic area is what the yield wall holds, at its position
@@ -166,7 +169,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     z: Any,
     acc: Any,
     pos: Any,
-    xw: Any,
+    snaps: Any,
     sums: Any,
 ) -> int:  # pragma: no cover - compiled (the numpy path is the reference)
     """March the steps ``i0 .. i1 - 1`` of a level; returns LAPACK's ``info`` of the first
@@ -183,10 +186,9 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     x nodes), ``z`` (5, loads) the yield rows (``R_{N-1}, R_N`` before the step, ``A_pl``,
     ``R_{N-1}, R_N`` after it), ``acc`` (4, loads) the running wall sums, ``pos[0]`` the
     next output.
-    Written at the outputs into ``sums`` (9, loads, outputs): the plastic area, the
-    probabilities absorbed by the lower and upper walls and their moments (the upper one
-    negated), the window's lower edge and width, the sums ``int R dx`` (by the control
-    volumes ``w``) and ``int x R dx`` (``xw = x w``).
+    Written at the outputs: ``snaps`` the states, ``sums`` (7, loads, outputs) the plastic
+    area, the probabilities absorbed by the lower and upper walls and their moments (the
+    upper one negated), the window's lower edge and width.
     """
     nb, nn = last.shape[0], ops.shape[3]
     m, n_out = nb * nn, out_at.shape[0]
@@ -195,7 +197,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     ends, g = np.empty((8, nb)), np.empty(nb)
     j_out = pos[0]
     while i0 == 0 and j_out < n_out and out_at[j_out] == 0:
-        _record(state, z, acc, w, xw, sums, j_out, la[:, 0], wa[:, 0])
+        _record(state, z, acc, snaps, sums, j_out, la[:, 0], wa[:, 0])
         j_out += 1
     for i in range(i0, i1):
         c = ops[i - i0]  # (the block's own: the solve overwrites its diagonals in place)
@@ -232,7 +234,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
                          la[k, i], wa[k, i], lb[k, i], wb[k, i])  # fmt: skip
         state, b = b, state
         while j_out < n_out and out_at[j_out] == i + 1:
-            _record(state, z, acc, w, xw, sums, j_out, lb[:, i], wb[:, i])
+            _record(state, z, acc, snaps, sums, j_out, lb[:, i], wb[:, i])
             j_out += 1
     if (i1 - i0) % 2 == 1:  # the last state is in the other buffer
         for q in range(m):
@@ -301,23 +303,18 @@ def _wall_fluxes(
 
 
 def _record(
-    r: Any, z: Any, acc: Any, w: Any, xw: Any, sums: Any, j: int, lower: Any, width: Any
+    r: Any, z: Any, acc: Any, snaps: Any, sums: Any, j: int, lower: Any, width: Any
 ) -> None:  # pragma: no cover - compiled
-    """Output ``j``: the sums, the window's ``lower`` edge and ``width`` [Pa] per load there,
-    and the state's ``int R dx`` and ``int x R dx`` (``w``, ``xw``: the weights)."""
-    nn = w.shape[0]
+    """Output ``j``: the state, the sums, and the window's ``lower`` edge and ``width`` [Pa]
+    per load there (for the reduction after the march)."""
+    for q in range(r.shape[0]):
+        snaps[j, q] = r[q]
     for k in range(z.shape[1]):
         sums[0, k, j] = z[2, k]
         for s in range(4):
             sums[1 + s, k, j] = acc[s, k]
         sums[5, k, j] = lower[k]
         sums[6, k, j] = width[k]
-        a, b = 0.0, 0.0
-        for q in range(nn):
-            a += r[k * nn + q] * w[q]
-            b += r[k * nn + q] * xw[q]
-        sums[7, k, j] = a
-        sums[8, k, j] = b
 
 
 def start_state(
