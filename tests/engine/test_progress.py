@@ -5,8 +5,10 @@ from __future__ import annotations
 import threading
 
 import numpy as np
+import pytest
 
-from xpersson.engine import Wall, progress_reporting, solve
+import xpersson
+from xpersson.engine import Wall, _compiled, progress_reporting, solve
 
 P0, S0, C = 0.5, 0.2, 1.0
 TAU = np.logspace(-3, 0, 13)
@@ -16,16 +18,24 @@ def _cn():
     return solve(TAU, P0, Wall.linear(-S0, -C), None, rtol=1e-6, method="cn")
 
 
-def test_cn_reports_its_work_and_results_do_not_change():
+@pytest.mark.parametrize("compiled", [False, True])
+def test_cn_reports_its_work_and_results_do_not_change(compiled):
+    """Reporting changes no number, on the numpy path and with the compiled march (a level
+    that reports is marched in compiled blocks, one that does not in one fused call: the
+    same numbers)."""
+    if compiled:
+        pytest.importorskip("numba")
+        assert _compiled.build()
     seen: list[int] = []
-    with progress_reporting(seen.append):
-        res = _cn()
-    assert seen and all(n > 0 for n in seen)
-    # more than one report: the counter moves during the solve, not only at its end
-    assert len(seen) > 1
-    # the reporter is gone after the block, and reporting changes no number
-    n_seen = len(seen)
-    plain = _cn()
+    with xpersson.set_options(compiled=compiled):
+        with progress_reporting(seen.append):
+            res = _cn()
+        assert seen and all(n > 0 for n in seen)
+        # more than one report: the counter moves during the solve, not only at its end
+        assert len(seen) > 1
+        # the reporter is gone after the block, and reporting changes no number
+        n_seen = len(seen)
+        plain = _cn()
     assert len(seen) == n_seen
     np.testing.assert_array_equal(res.area, plain.area)
     np.testing.assert_array_equal(res.error_estimate, plain.error_estimate)

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["compiled_window", "level_times", "window_edges"]
+__all__ = ["compiled_window", "level_times", "wall_query", "wall_track", "window_edges"]
 
 
 def compiled_window(
@@ -142,3 +142,52 @@ def level_times(base: Any, nsub: int, n_ie: int, t: Any, theta: Any) -> None:
         t[2 * i + 1] = 0.5 * (lo + hi)
     for i in range(theta.shape[0]):
         theta[i] = 1.0 if i < 2 * n_ie else 0.5
+
+
+def wall_query(taus: Any, mid: Any, bp: Any, hi: Any, lo: Any, q: Any) -> None:
+    """:func:`._cn_plan._probe_times` into ``hi``, ``lo`` and the times a wall is asked at
+    into ``q`` (4 times - 1: probe below, time, probe above, midpoint ``mid``, ...; the order
+    of :func:`._cn_plan._track_wall`), the same elementwise arithmetic (bit for bit);
+    ``bp`` the wall's breakpoints [Pa^2] (may be empty)."""  # pragma: no cover - compiled
+    n = taus.shape[0]
+    tiny = 64.0 * 2.220446049250313e-16  # (64 ulp of 1: numpy's finfo(float).eps)
+    for i in range(n):
+        t = taus[i]
+        h = 1e-5 * t
+        if bp.shape[0] > 0:
+            dist = abs(t - bp[0])
+            for j in range(1, bp.shape[0]):
+                dist = min(dist, abs(t - bp[j]))
+            if dist > 0:
+                h = min(h, 1e-3 * dist)
+            h = max(h, tiny * abs(t))
+        hi[i] = t + h if i < n - 1 else t - 2.0 * h
+        lo[i] = t - h
+        q[4 * i], q[4 * i + 1], q[4 * i + 2] = lo[i], t, hi[i]
+        if i < n - 1:
+            q[4 * i + 3] = mid[i]
+
+
+def wall_track(
+    p: Any, taus: Any, hi: Any, lo: Any, bp: Any, at_mid: Any, at_t: Any, vb: Any, va: Any
+) -> None:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._cn_plan._wall_speeds` from the wall's positions ``p`` at the times of
+    :func:`wall_query`: the positions at the midpoints and at ``taus`` into ``at_mid``,
+    ``at_t``, the speeds just before / after each time into ``vb``, ``va`` (central
+    differences, the backward one at the last time, one-sided at the breakpoints ``bp``),
+    the same elementwise arithmetic (bit for bit)."""
+    n = taus.shape[0]
+    for i in range(n):
+        p_lo, p_t, p_hi = p[4 * i], p[4 * i + 1], p[4 * i + 2]
+        at_t[i] = p_t
+        if i < n - 1:
+            at_mid[i] = p[4 * i + 3]
+            v = (p_hi - p_lo) / (hi[i] - lo[i])
+        else:
+            v = (3.0 * p_t - 4.0 * p_lo + p_hi) / (2.0 * (taus[i] - lo[i]))
+        vb[i], va[i] = v, v
+        for j in range(bp.shape[0]):
+            if taus[i] == bp[j]:
+                vb[i] = (p_t - p_lo) / (taus[i] - lo[i])
+                va[i] = (p_hi - p_t) / (hi[i] - taus[i])
+                break

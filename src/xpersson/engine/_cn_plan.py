@@ -230,12 +230,18 @@ def _is_in(t: Array, values: tuple[float, ...] | list[float]) -> Array:
     return out
 
 
-def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Array]:
+def _track_wall(
+    wall, mid: Array, taus: Array, fast: tuple | None = None
+) -> tuple[Array, Array, Array, Array]:
     """A wall's positions [Pa] at ``mid`` and ``taus`` and its speeds [1/Pa] just before / after
-    each of ``taus``, from one call of the wall (+inf and 0 without a wall)."""
+    each of ``taus``, from one call of the wall (+inf and 0 without a wall); ``fast``: the
+    compiled :func:`._cn_edges.wall_query` and :func:`._cn_edges.wall_track` (the same
+    numbers)."""
     if wall is None:
         z = np.zeros_like(taus)
         return np.full(mid.shape, np.inf), np.full(taus.shape, np.inf), z, z
+    if fast is not None and _probe_times(wall, taus[:0]) is not None:
+        return _track_compiled(wall, mid, taus, fast)
     probe = _probe_times(wall, taus)
     if probe is None:
         p = wall.at(np.concatenate([mid, taus]))
@@ -251,13 +257,26 @@ def _track_wall(wall, mid: Array, taus: Array) -> tuple[Array, Array, Array, Arr
     return np.ascontiguousarray(p[3::4]), at_t, vb, va
 
 
-def _tracks(pb: Problem, taus: Array) -> dict:
+def _track_compiled(wall, mid: Array, taus: Array, fast: tuple) -> tuple[Array, ...]:
+    """:func:`_track_wall` of a wall whose speeds are differenced, by ``fast``."""
+    query, track = fast
+    n = taus.size
+    bp = np.asarray(getattr(wall, "breakpoints", ()), dtype=float)
+    hi, lo, q = np.empty(n), np.empty(n), np.empty(4 * n - 1)
+    query(taus, mid, bp, hi, lo, q)
+    p = wall.at(q)
+    at_mid, at_t, vb, va = np.empty(n - 1), np.empty(n), np.empty(n), np.empty(n)
+    track(p, taus, hi, lo, bp, at_mid, at_t, vb, va)
+    return at_mid, at_t, vb, va
+
+
+def _tracks(pb: Problem, taus: Array, fast: tuple | None = None) -> dict:
     """The walls along a time sequence (shared by the loads of a batch): positions [Pa] at the
     step midpoints and at ``taus``, speeds [1/Pa] just before / after each time (one call of
     each wall)."""
     mid = 0.5 * (taus[:-1] + taus[1:])
-    lo_m, lo, lo_vb, lo_va = _track_wall(pb.lower, mid, taus)
-    up_m, up, up_vb, up_va = _track_wall(pb.upper, mid, taus)
+    lo_m, lo, lo_vb, lo_va = _track_wall(pb.lower, mid, taus, fast)
+    up_m, up, up_vb, up_va = _track_wall(pb.upper, mid, taus, fast)
     ys = pb.upper.speed(taus) if pb.upper is not None else np.zeros_like(taus)
     return {
         "mid": mid,
@@ -369,12 +388,17 @@ class Window(NamedTuple):
 
 
 def _edges_batch(
-    pbs: list[Problem], plan: _Plan, taus: Array, fast: Callable[..., None] | None = None
+    pbs: list[Problem],
+    plan: _Plan,
+    taus: Array,
+    fast: Callable[..., None] | None = None,
+    tracks: tuple | None = None,
 ) -> Window:
     """The window of the loads ``pbs`` (which share their walls) along ``taus`` [Pa^2] (by
-    the compiled loop ``fast``, :func:`._cn_edges.window_edges`, if given: the same
+    the compiled loop ``fast``, :func:`._cn_edges.window_edges`, if given, and the walls'
+    tracks by ``tracks``, :func:`._cn_edges.wall_query` and ``wall_track``: the same
     numbers)."""
-    tr = _tracks(pbs[0], taus)  # the loads of a batch share their walls
+    tr = _tracks(pbs[0], taus, tracks)  # the loads of a batch share their walls
     if fast is not None:
         out, flags = compiled_window(fast, pbs, plan, taus, tr)
         start = Edge(out[0], out[1], out[4], out[5], out[6])

@@ -1,0 +1,97 @@
+"""The compiled march against the numpy path on generated problems (issue 36: "the pure-numpy
+path stays and equals the compiled one to 1e-12").
+
+The compiled level (:mod:`xpersson.engine._moving_fused`) solves its tridiagonal systems by
+LAPACK's elimination with the back substitution multiplied by the pivots' reciprocals
+(:func:`xpersson.engine._cnstep._thomas`), and sums as it goes: its outputs equal the numpy
+path's to rounding, not bit for bit. Here whole ``cn`` solves (every level of the error
+control, the estimate included) of drawn walls, loads and tolerances are solved both ways:
+the outputs agree to 1e-12 of their scale (the error estimate, a normalised difference of
+levels, to 1e-5 of itself: see :func:`_same`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import xpersson
+from xpersson.engine import Wall, _compiled, solve_batch
+
+pytest.importorskip("numba")
+
+TAU = np.logspace(-2.0, 1.0, 7)  # output times [Pa^2]
+
+
+def _walls(kind: int, a: float, b: float):
+    """A lower and an upper wall of one of the march's kinds (``a``, ``b``: shape numbers)."""
+    if kind == 0:  # moving absorbing lower wall, speeds by central differences
+        return Wall.absorbing(lambda t: a * np.sqrt(t) - 0.2), None
+    if kind == 1:  # a square-root onset at a declared breakpoint (graded steps, chords)
+        tb = 0.05 + 0.5 * b
+        return Wall.absorbing(
+            lambda t: a * np.sqrt(np.maximum(t - tb, 0.0)), breakpoints=[tb], still_until=tb
+        ), None
+    if kind == 2:  # two absorbing walls, the upper one moving
+        return Wall.absorbing(-0.1 * a), Wall.absorbing(lambda t: 2.0 + b + 0.2 * a * t)
+    # a moving yield wall (closure rows)
+    return Wall.absorbing(0.0), Wall.yield_closure(lambda t: 1.5 + b + a * t, lambda t: a + 0.0 * t)
+
+
+def _same(ref, got) -> None:
+    for key in ("area", "absorbed_lower", "absorbed_upper", "load"):
+        want, have = np.asarray(getattr(ref, key)), np.asarray(getattr(got, key))
+        scale = max(float(np.max(np.abs(want))), 1e-300)
+        assert np.max(np.abs(have - want)) <= 1e-12 * scale, key
+    # the estimate is a difference of levels, reported as the worst fraction of the
+    # tolerance over the outputs (:mod:`xpersson.engine._cn_control`): the rounding of an
+    # output with a small area, divided by its small tolerance, reaches every output, so it
+    # is held to its own scale (1e-5: measured up to 7e-7), not to the outputs' 1e-12
+    want, have = np.asarray(ref.error_estimate), np.asarray(got.error_estimate)
+    assert np.max(np.abs(have - want)) <= 1e-5 * max(float(np.max(want)), 1e-300)
+
+
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    kind=st.integers(0, 3),
+    a=st.floats(0.1, 0.6),
+    b=st.floats(0.0, 1.0),
+    p0=st.lists(st.floats(0.6, 1.4), min_size=1, max_size=3),
+    rtol=st.sampled_from([1e-4, 1e-6]),
+)
+def test_compiled_solve_equals_numpy_solve(kind, a, b, p0, rtol):
+    lower, upper = _walls(kind, a, b)
+    kw = {"rtol": rtol, "method": "cn"}
+    with xpersson.set_options(compiled=False):
+        ref = solve_batch(TAU, np.array(p0), (lower, upper), **kw)
+    assert _compiled.build()  # built: every level takes the compiled march
+    got = solve_batch(TAU, np.array(p0), (lower, upper), **kw)
+    assert got.status == ref.status
+    _same(ref, got)
+
+
+def test_thomas_hands_over_to_pivoting_as_lapack():
+    """:func:`_thomas` on systems with and without row interchanges: LAPACK's solution (to
+    1e-12) and ``info``; an interchange after some plain rows continues LAPACK's
+    elimination from there (the march's systems, diagonally dominant, take none)."""
+    from scipy.linalg.lapack import dgtsv
+
+    from xpersson.engine._cnstep import _thomas
+
+    rng = np.random.default_rng(7)
+    for n, dominant in ((2, True), (9, True), (17, False), (33, False)):
+        for _ in range(4):
+            dl, du = rng.normal(size=n - 1), rng.normal(size=n - 1)
+            d = rng.normal(size=n) + (4.0 if dominant else 0.0)
+            if not dominant:
+                d[: n // 2] += 4.0  # plain rows first, then interchanges
+            b = rng.normal(size=n)
+            *_, ref, info = dgtsv(dl.copy(), d.copy(), du.copy(), b.copy())
+            x = b.copy()
+            assert _thomas(dl.copy(), d.copy(), du.copy(), x, np.empty(n)) == info == 0
+            np.testing.assert_allclose(x, ref, rtol=1e-12, atol=1e-12 * np.max(np.abs(ref)))
+    dl, d, du = np.zeros(2), np.array([1.0, 0.0, 1.0]), np.ones(2)
+    info = dgtsv(dl.copy(), d.copy(), du.copy(), np.ones(3))[-1]
+    assert _thomas(dl, d, du, np.ones(3), np.empty(3)) == info == 2
