@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import time
 from decimal import Decimal
 from pathlib import Path
 
@@ -216,13 +215,15 @@ def test_shapes():
     assert effective_tau(tau_c, np.array([1.0, 2.0]), "persson01").shape == (2, 7)
 
 
-def test_performance_500_loads_200_zeta():
+def test_500_loads_200_zeta_batch_equals_each_load():
+    """A (500 loads x 200 zeta) batch is finite and its rows equal the loads solved one by one
+    (the batch shares one ODE solution per closure; speed is measured in benchmarks/)."""
     closures._ode_solution.cache.clear()
     p0 = np.geomspace(1e-4, 0.5, 500)
     tau_c = np.concatenate(([0.0], np.geomspace(1e-8, 0.02, 199)))
-    t0 = time.perf_counter()
     for closure in CLOSURES:
         out = effective_tau(tau_c, p0, closure)
         assert out.shape == (500, 200)
         assert np.all(np.isfinite(out))
-    assert time.perf_counter() - t0 < 1.0
+        for k in (0, 137, 499):
+            np.testing.assert_allclose(out[k], effective_tau(tau_c, p0[k], closure), rtol=1e-12)
