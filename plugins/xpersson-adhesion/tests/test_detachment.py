@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
+import xpersson
 from xpersson.physics import coefficient_f, diffusion_time
 from xpersson_adhesion import (
     detachment_stress,
@@ -193,3 +194,27 @@ def test_table_keyed_on_the_clock_is_the_sampled_table():
     if cache_enabled():  # kept: the clock is not sampled again
         assert again is by_clock
     assert DetachmentWall(by_clock, key=ck) == DetachmentWall(again, key=ck_again)
+
+
+def test_finer_scale_energy_is_zero_not_rounding_below_at_the_finest_scale():
+    """A held-out scene (engine_limit seed 404) whose last output magnification rounds just under
+    q_1/q_L: the finer scales' energy there is exactly 0 (no scales left), never -1e-16 (which
+    failed the solve on valid_min = 0), and the energy never increases with zeta."""
+    scene = {
+        "spectrum": {
+            "model": "self_affine",
+            "H": 0.3197,
+            "q_L": "9301.595147526405 1/m",
+            "q_r": "36897.87491679483 1/m",
+            "q_1": "930159514.7526405 1/m",
+            "h_rms": "1 um",
+        },
+        "material": {"E": "1 MPa", "nu": 0.5},
+        "load": {"p0": "1000 Pa"},
+        "output": {"zeta_per_decade": 4},
+        "boundary": {"model": "jkr", "work_of_adhesion": "0.05 J/m**2"},
+        "solver": {"rtol": 1e-06, "method": "cn"},
+    }
+    energy = xpersson.solve(scene)["finer_scale_energy"].values
+    assert energy[-1] == 0.0
+    assert np.all(np.diff(energy) <= 0.0)

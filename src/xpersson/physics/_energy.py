@@ -41,5 +41,7 @@ def full_contact_energy(
     hi = q_1 if q_hi is None else float(q_hi)
     m_hi = float(psd.running_moment(2.0, hi))  # type: ignore[attr-defined]
     m_lo = np.asarray(psd.running_moment(2.0, np.minimum(lo, hi)), dtype=float)  # type: ignore[attr-defined]
-    out = 0.5 * math.pi * E_star * (m_hi - m_lo)
+    # the integrand is >= 0: a difference of running moments below 0 is rounding (e.g.
+    # -1e-16 where q_lo rounds just under q_1), not energy
+    out = 0.5 * math.pi * E_star * np.maximum(m_hi - m_lo, 0.0)
     return float(out) if out.ndim == 0 else out
