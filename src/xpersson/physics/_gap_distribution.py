@@ -321,8 +321,8 @@ def _series_sum(
     slot = np.arange(lu.size) - first
     acc = np.zeros((n_term, int(slot.max()) + 2, n_load))
     acc[:, slot + 1, lu] = c
-    for m in range(2, acc.shape[1]):  # acc[:, m, l]: the m longest prefixes of load l
-        acc[:, m] += acc[:, m - 1]
+    # acc[:, m, l]: the m longest prefixes of load l (a sequential running sum, as a loop)
+    np.cumsum(acc[:, 1:], axis=1, out=acc[:, 1:])
     acc = acc.reshape(n_term, -1)
     # columns j of load l lie in the prefixes of the pairs with jt > j: count them
     cnt = np.bincount(lu * (n_u + 1) + ju, minlength=n_load * (n_u + 1)).reshape(n_load, -1)

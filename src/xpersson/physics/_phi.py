@@ -225,8 +225,7 @@ class _Phi:
         if getattr(self, "_tab_t", None) is None:
             grid, tab = self._table()
             lo, g0 = self._lo, self._g0
-            tab_t = np.empty((tab.shape[1], tab.shape[0]))
-            tab_t[:, : g0 - lo] = 0.0
+            tab_t = np.zeros((tab.shape[1], tab.shape[0]))  # 0 below node g0: no strided fill
             _ppoly_at(self._spl, grid[g0:], out=tab_t[:, g0 - lo :])  # type: ignore[arg-type]
             self._tab_t = tab_t
         return self._tab_t
