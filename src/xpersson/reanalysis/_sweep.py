@@ -27,6 +27,7 @@ from ..plugins import fast_paths_on, get_registry
 from ..plugins.stored import spectrum_of
 from ..scene import Scene
 from ..sweep.blocks import POINT_STATUS, blocks_of, stack
+from ..sweep.combine import constant_along
 from ..sweep.parts import finalize
 from ..sweep.plan import SweepPlan, expand
 from ._point import (
@@ -253,15 +254,7 @@ def _constant(ds: xr.Dataset, plan: SweepPlan, status: np.ndarray) -> dict[str, 
         for k, row in enumerate(rows):  # a point's bytes (failed points: None)
             if status.flat[k] != _FAILED:
                 grid[k] = repr(row.tolist()) if row.dtype.kind == "O" else row.tobytes()
-        grid = grid.reshape(plan.shape)
-        dims = []
-        for d, dim in enumerate(plan.dims):
-            if plan.shape[d] < 2:  # one value says nothing about a dependence: keep the dim
-                continue
-            lines = np.moveaxis(grid, d, -1).reshape(-1, plan.shape[d])
-            solved = [[x for x in line if x is not None] for line in lines]
-            if any(len(s) >= 2 for s in solved) and all(len(set(s)) <= 1 for s in solved):
-                dims.append(dim)
+        dims = constant_along(grid.reshape(plan.shape), plan)
         if dims:
             out[str(name)] = dims
     return out

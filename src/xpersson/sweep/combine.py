@@ -22,7 +22,7 @@ from .parts import finalize, open_parts, part_name, read_part
 from .plan import SweepPlan
 from .stacking import digest_list, varies_along_all
 
-__all__ = ["finish", "combine"]
+__all__ = ["combine", "constant_along", "finish"]
 
 
 def finish(
@@ -119,23 +119,36 @@ def _constant_dims(plan: SweepPlan, results: list[BlockResult]) -> dict[str, lis
         if any(varies_along_all(r.digests.get(name), r.block) for r in results):
             continue  # it changes along every sweep dimension in a block: constant along none
         grid, every = _digest_grid(plan, results, name)
-        dims = []
-        for d, dim in enumerate(plan.dims):
-            if plan.shape[d] < 2:  # one value says nothing about a dependence: keep the dim
-                continue
-            if every:
-                if np.all(grid == np.take(grid, [0], axis=d)):
-                    dims.append(dim)
-                continue
-            moved = np.moveaxis(grid, d, -1).reshape(-1, plan.shape[d])
-            solved = [[x for x in row if x is not None] for row in moved]
-            # constant only where at least two solved points along the dimension agree (a
-            # single solved point, the others failed, says nothing: the dim and its NaN stay)
-            if any(len(row) >= 2 for row in solved) and all(len(set(row)) <= 1 for row in solved):
-                dims.append(dim)
+        if every:
+            dims = [
+                dim
+                for d, dim in enumerate(plan.dims)
+                if plan.shape[d] >= 2 and np.all(grid == np.take(grid, [0], axis=d))
+            ]
+        else:
+            dims = constant_along(grid, plan)
         if dims:
             out[name] = dims
     return out
+
+
+def constant_along(grid: Any, plan: SweepPlan) -> list[str]:
+    """The sweep dimensions along which an object grid of point fingerprints (shape
+    ``plan.shape``; ``None``: a failed point) never changes.
+
+    A dimension of one value says nothing about a dependence and is kept out; a dimension is
+    constant only where at least two solved points along it agree (a single solved point, the
+    others failed, says nothing: the dimension and its NaN stay).
+    """
+    dims = []
+    for d, dim in enumerate(plan.dims):
+        if plan.shape[d] < 2:
+            continue
+        moved = np.moveaxis(grid, d, -1).reshape(-1, plan.shape[d])
+        solved = [[x for x in row if x is not None] for row in moved]
+        if any(len(row) >= 2 for row in solved) and all(len(set(row)) <= 1 for row in solved):
+            dims.append(dim)
+    return dims
 
 
 def _digest_grid(plan: SweepPlan, results: list[BlockResult], name: str) -> tuple[Any, bool]:
