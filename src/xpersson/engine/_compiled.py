@@ -55,7 +55,6 @@ __all__ = [
     "fused",
     "kernel",
     "march_steps",
-    "start",
     "times",
     "tracks",
 ]
@@ -128,14 +127,6 @@ def tracks() -> tuple[Callable[..., None], Callable[..., None]] | None:
     return _STATE.get("tracks")
 
 
-def start() -> Callable[..., None] | None:
-    """The compiled :func:`._moving_fused.start_state` once the compiled march is built and
-    the option is on, else None (the numpy start state)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("start")
-
-
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
     """The compiled :func:`._moving_fused.level_march` and
     :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
@@ -165,7 +156,6 @@ def _build() -> Callable[..., int] | None:
     code = fused_src.level_march.__code__
     level = jit(types.FunctionType(code, fused_scope, "level_march"))
     _STATE["level"] = (level, jit(fused_src.face_coefficients))
-    _STATE["start"] = jit(fused_src.start_state)
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
 
 

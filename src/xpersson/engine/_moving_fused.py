@@ -22,7 +22,6 @@ edges in Pa, their speeds in 1/Pa.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from typing import Any
 
@@ -32,7 +31,7 @@ from numpy.typing import NDArray
 from ._cnstep import _thomas
 from ._level import Level, Outputs, face_basis, system_rows
 
-__all__ = ["face_coefficients", "fused_level", "level_march", "start_state"]
+__all__ = ["face_coefficients", "fused_level", "level_march"]
 
 Array = NDArray[np.float64]
 
@@ -315,32 +314,3 @@ def _record(
             sums[1 + s, k, j] = acc[s, k]
         sums[5, k, j] = lower[k]
         sums[6, k, j] = width[k]
-
-
-def start_state(
-    la: Any, wa: Any, x: Any, w: Any, p0: Any, t0: float, c: float, image: float, mass: Any,
-    out: Any,
-) -> None:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
-    """:func:`._moving._initial_state` into ``out`` (loads x nodes): the free Gaussian at
-    ``t0`` [Pa^2] (``c = 1 / sqrt(4 pi t0)``) on the window ``la + wa x`` [Pa] of each load
-    ``p0`` [Pa], minus its image in an absorbing wall at rest at ``image`` [Pa] (NaN: none),
-    zero at the window's edges, scaled to the window mass ``mass`` (loads,): the same
-    operations (``exp`` and the sum of the normalisation to rounding)."""
-    nb, nn = la.shape[0], x.shape[0]
-    for k in range(nb):
-        base = k * nn
-        total = 0.0
-        for j in range(nn):
-            pn = la[k] + wa[k] * x[j]
-            r2 = pn - p0[k]
-            v = math.exp(-(r2 * r2) / (4.0 * t0)) * wa[k] * c
-            if image == image:  # (not NaN)
-                m = pn + p0[k] - 2.0 * image
-                v -= wa[k] * math.exp(-(m * m) / (4.0 * t0)) * c
-            if j == 0 or j == nn - 1:
-                v = 0.0
-            out[base + j] = v
-            total += v * w[j]
-        scale = mass[k] / total
-        for j in range(nn):
-            out[base + j] *= scale
