@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg.lapack import dgtsv
 
-__all__ = ["implicit_operator", "tridiagonal_solve"]  # (and _gtsv, _thomas: compiled sources)
+__all__ = ["implicit_operator", "tridiagonal_solve"]  # (and _gtsv: the compiled source)
 
 Array = NDArray[np.float64]
 
@@ -58,7 +58,7 @@ def implicit_operator(
 def _gtsv(dl: Any, d: Any, du: Any, b: Any, i0: int = 0) -> int:  # pragma: no cover - compiled
     """LAPACK ``dgtsv`` for one right-hand side, in place (``dl``, ``d``, ``du``, ``b`` of
     lengths ``n - 1, n, n - 1, n``): its ``info`` (0, or the index of a zero pivot);
-    ``i0``: the rows before it already eliminated without interchanges (:func:`_thomas`)."""
+    ``i0``: the rows before it already eliminated without interchanges."""
     n = d.shape[0]
     for i in range(i0, n - 1):
         if abs(d[i]) >= abs(dl[i]):  # no row interchange
@@ -88,30 +88,4 @@ def _gtsv(dl: Any, d: Any, du: Any, b: Any, i0: int = 0) -> int:  # pragma: no c
         b[n - 2] = (b[n - 2] - du[n - 2] * b[n - 1]) / d[n - 2]
     for i in range(n - 3, -1, -1):
         b[i] = (b[i] - du[i] * b[i + 1] - dl[i] * b[i + 2]) / d[i]
-    return 0
-
-
-def _thomas(dl: Any, d: Any, du: Any, b: Any, inv: Any) -> int:  # pragma: no cover - compiled
-    """:func:`_gtsv` with the back substitution multiplying by the pivots' reciprocals
-    (``inv``, length ``n``: scratch) instead of dividing by them, where no row is
-    interchanged: the divisions leave the substitution's chain of dependent operations (as in
-    the Thomas algorithm), and the solution differs from LAPACK's by rounding only (the
-    elimination is LAPACK's, operation for operation; the tests hold the levels to 1e-12).
-    At the first row LAPACK would interchange (or a zero pivot) :func:`_gtsv` takes over
-    from there (same ``info``)."""
-    n = d.shape[0]
-    for i in range(n - 1):
-        if abs(d[i]) < abs(dl[i]) or d[i] == 0.0:
-            for j in range(min(i, n - 2)):  # (what LAPACK's elimination left there)
-                dl[j] = 0.0
-            return _gtsv(dl, d, du, b, i)
-        fact = dl[i] / d[i]
-        inv[i] = 1.0 / d[i]
-        d[i + 1] = d[i + 1] - fact * du[i]
-        b[i + 1] = b[i + 1] - fact * b[i]
-    if d[n - 1] == 0.0:
-        return n
-    b[n - 1] = b[n - 1] / d[n - 1]
-    for i in range(n - 2, -1, -1):
-        b[i] = (b[i] - du[i] * b[i + 1]) * inv[i]
     return 0

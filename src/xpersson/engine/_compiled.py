@@ -5,17 +5,15 @@ LAPACK ``dgtsv`` call each; on the levels of steep or wide spectra (thousands of
 few hundred nodes) their per-call overhead and the passes over memory are most of a solve
 (measured in ``benchmarks/kernels_speed.py``: the engine at 3-14x the C march of the same
 levels). :func:`march_steps` does the same steps in one compiled loop: the explicit half in
-flux form, the yield closure's rows, and the tridiagonal solve as LAPACK's ``dgtsv``
-eliminates (partial pivoting, the same operations in the same order) with the back
-substitution multiplying by the pivots' reciprocals (:func:`._cnstep._thomas`: the divisions
-leave its chain of dependent operations), so the results equal the numpy path's to rounding
-(the tests hold whole solves of generated problems to 1e-12; ``XPERSSON_COMPILED=off`` gives
-the numpy path's numbers unchanged). Built with it: the whole level in a few calls
-(:func:`fused`: :mod:`._moving_fused`, which also builds each step's diagonals and sums the
-wall fluxes in the loop), the window's edges and the level's times (:func:`edges`,
-:func:`times`: :mod:`._cn_edges`); once few node-steps are left per level (accurate error
-control), the numpy calls around the steps were most of a level's time. Levels that want
-densities or report progress take :func:`march_steps` per block.
+flux form, the yield closure's rows, and the tridiagonal solve as LAPACK's ``dgtsv`` does it
+(Gaussian elimination with partial pivoting, the same operations in the same order), so the
+results equal the numpy path's bit for bit (a result does not depend on whether the process has
+built the compiled march yet; ``tests/engine/test_compiled_generated.py``). Built with it: the
+whole level in a few calls (:func:`fused`: :mod:`._moving_fused`, which also builds each step's
+diagonals and sums the wall fluxes in the loop), the window's edges and the level's times
+(:func:`edges`, :func:`times`: :mod:`._cn_edges`); once few node-steps are left per level
+(accurate error control), the numpy calls around the steps were most of a level's time. Levels
+that want densities or report progress take :func:`march_steps` per block.
 
 numba is an optional accelerator (``pip install numba``): without it, or with
 ``xpersson.set_options(compiled=False)`` (environment ``XPERSSON_COMPILED=off``), the numpy
@@ -41,11 +39,8 @@ import types
 from collections.abc import Callable
 from typing import Any
 
-import numpy as np
-
 from ..options import compiled_enabled
-from . import _cnstep
-from ._cnstep import _gtsv, _thomas
+from ._cnstep import _gtsv
 
 __all__ = [
     "BUILD_AFTER",
@@ -55,7 +50,6 @@ __all__ = [
     "fused",
     "kernel",
     "march_steps",
-    "start",
     "times",
     "tracks",
 ]
@@ -128,14 +122,6 @@ def tracks() -> tuple[Callable[..., None], Callable[..., None]] | None:
     return _STATE.get("tracks")
 
 
-def start() -> Callable[..., None] | None:
-    """The compiled :func:`._moving_fused.start_state` once the compiled march is built and
-    the option is on, else None (the numpy start state)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("start")
-
-
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
     """The compiled :func:`._moving_fused.level_march` and
     :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
@@ -154,18 +140,16 @@ def _build() -> Callable[..., int] | None:
     jit = numba.njit(cache=True, nogil=True, error_model="numpy")
     # the kernels call the compiled helpers: the same code, its globals bound to the dispatchers
     gtsv = jit(_gtsv)
-    thomas = jit(types.FunctionType(_cnstep._thomas.__code__, {**vars(_cnstep), "_gtsv": gtsv}))
-    scope = {**globals(), "_thomas": thomas}
+    scope = {**globals(), "_gtsv": gtsv}
     names = ("_diagonals", "_explicit", "_wall_fluxes", "_record")
     helpers = {name: jit(getattr(fused_src, name)) for name in names}
-    fused_scope = {**vars(fused_src), "_thomas": thomas, **helpers}
+    fused_scope = {**vars(fused_src), "_gtsv": gtsv, **helpers}
     _STATE["edges"] = jit(_cn_edges.window_edges)
     _STATE["times"] = jit(_cn_edges.level_times)
     _STATE["tracks"] = (jit(_cn_edges.wall_query), jit(_cn_edges.wall_track))
     code = fused_src.level_march.__code__
     level = jit(types.FunctionType(code, fused_scope, "level_march"))
     _STATE["level"] = (level, jit(fused_src.face_coefficients))
-    _STATE["start"] = jit(fused_src.start_state)
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
 
 
@@ -196,7 +180,6 @@ def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path h
     """
     m = states.shape[1]
     nb = last.shape[0]
-    inv = np.empty(m)  # (the solve's scratch)
     for i in range(i0, i1):
         r = states[i]
         b = states[i + 1]
@@ -217,7 +200,7 @@ def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path h
                 z[1, j] = r[last[j]]
                 yr = yield_rhs[i]
                 b[last[j]] = yr[0, j] * z[0, j] + yr[1, j] * z[1, j] + yr[2, j] * z[2, j]
-        info = _thomas(lower[i, : m - 1], diag[i], upper[i, : m - 1], b, inv)
+        info = _gtsv(lower[i, : m - 1], diag[i], upper[i, : m - 1], b)
         if info != 0:
             return info
         if yields[i]:

@@ -174,13 +174,13 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     win, x, w = inp.window, inp.nodes.x, inp.nodes.w
     nb, nn, n_out, n_steps = inp.p0.shape[0], x.size, inp.out_at.size, inp.taus.size - 1
     n = nn - 1
+    r0 = _initial_state(win, x, w, inp.p0, inp.taus[0], inp.k, inp.image)
     fast = _compiled.kernel(nb * nn * n_steps, n_steps, nb * nn)
     if fast is not None and p_out is None and not progress_reported():
         fused = _compiled.fused()  # the whole level in a few compiled calls
-        level = None if fused is None else fused_level(fused, inp, _start(inp), stretch)
+        level = None if fused is None else fused_level(fused, inp, r0, stretch)
         if level is not None:
             return level
-    r0 = _start(inp)
     step = np.diff(inp.taus)
     wn_all, wo_all = inp.theta * step, (1.0 - inp.theta) * step
     yreal = win.real_upper & inp.yield_wall
@@ -379,25 +379,6 @@ def _initial_state(
     r2[:, -1] = 0.0
     r2 *= (mass / (r2 @ w))[:, None]
     return r2.ravel()
-
-
-def _start(inp: LevelInputs) -> Array:
-    """:func:`_initial_state` by the compiled :func:`._moving_fused.start_state` (the same
-    numbers to rounding), the numpy one without it."""
-    fn = _compiled.start()
-    win, x, w, t0 = inp.window, inp.nodes.x, inp.nodes.w, float(inp.taus[0])
-    if fn is None:
-        return _initial_state(win, x, w, inp.p0, t0, inp.k, inp.image)
-    la, wa_, p0 = win.start.lower[:, 0], win.start.width[:, 0], inp.p0[:, 0]
-    if inp.image is None:
-        mass = np.full(p0.size, math.erf(inp.k / math.sqrt(2.0)))
-        image = math.nan
-    else:
-        mass = _image_mass(la, la + wa_, p0, inp.image, t0)
-        image = float(inp.image)
-    out = np.empty(p0.size * x.size)
-    fn(la, wa_, x, w, p0, t0, 1.0 / math.sqrt(4.0 * math.pi * t0), image, mass, out)
-    return out
 
 
 def _image_mass(lo: Array, up: Array, p0: Array, wall: float, t0: float) -> Array:

@@ -8,11 +8,10 @@ nodes, hundreds of steps) those numpy calls, not the node-steps, were most of a 
 Here the face coefficients are the same one BLAS product (:func:`._moving_block.face_ops`), and
 :func:`level_march` does the rest per step in one loop, in the numpy path's order: the end
 faces, the diagonal and the yield closure's rows, the explicit half in flux form, the
-tridiagonal solve as LAPACK ``dgtsv`` eliminates (:func:`._cnstep._thomas`: the back
-substitution by the pivots' reciprocals, LAPACK's to rounding), the wall fluxes
+tridiagonal solve as LAPACK ``dgtsv`` does it (:func:`._cnstep._gtsv`), the wall fluxes
 summed as it goes (as ``numpy.cumsum`` sums them) and the states at the outputs, reduced as the
-numpy path reduces them: the outputs equal the numpy path's to rounding (tested to 1e-12
-relative, also on generated problems).
+numpy path reduces them: the outputs are the numpy path's bit for bit (also on generated
+problems, ``tests/engine/test_compiled_generated.py``).
 
 Used when the compiled march is in force (:func:`._compiled.kernel`) and the level wants no
 densities, no progress reports and no outputs beyond the snapshot size of the numpy path
@@ -22,17 +21,16 @@ edges in Pa, their speeds in 1/Pa.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ._cnstep import _thomas
+from ._cnstep import _gtsv
 from ._level import Level, Outputs, face_basis, system_rows
 
-__all__ = ["face_coefficients", "fused_level", "level_march", "start_state"]
+__all__ = ["face_coefficients", "fused_level", "level_march"]
 
 Array = NDArray[np.float64]
 
@@ -193,7 +191,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     nb, nn = last.shape[0], ops.shape[3]
     m, n_out = nb * nn, out_at.shape[0]
     w_last = w[nn - 1]
-    state, b, dg, inv = r, np.empty(m), np.empty(m), np.empty(m)  # (state, next: swapped)
+    state, b, dg = r, np.empty(m), np.empty(m)  # the state and the next one swap buffers
     ends, g = np.empty((8, nb)), np.empty(nb)
     j_out = pos[0]
     while i0 == 0 and j_out < n_out and out_at[j_out] == 0:
@@ -216,7 +214,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
                 z[1, k] = state[last[k]]
                 rhs = (-gk * ends[6, k]) * z[0, k] + (gk * (w_last - ends[7, k])) * z[1, k]
                 b[last[k]] = rhs + gk * z[2, k]
-        info = _thomas(dl[: m - 1], dg, du[: m - 1], b, inv)
+        info = _gtsv(dl[: m - 1], dg, du[: m - 1], b)
         if info != 0:
             return info
         for k in range(nb):
@@ -315,32 +313,3 @@ def _record(
             sums[1 + s, k, j] = acc[s, k]
         sums[5, k, j] = lower[k]
         sums[6, k, j] = width[k]
-
-
-def start_state(
-    la: Any, wa: Any, x: Any, w: Any, p0: Any, t0: float, c: float, image: float, mass: Any,
-    out: Any,
-) -> None:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
-    """:func:`._moving._initial_state` into ``out`` (loads x nodes): the free Gaussian at
-    ``t0`` [Pa^2] (``c = 1 / sqrt(4 pi t0)``) on the window ``la + wa x`` [Pa] of each load
-    ``p0`` [Pa], minus its image in an absorbing wall at rest at ``image`` [Pa] (NaN: none),
-    zero at the window's edges, scaled to the window mass ``mass`` (loads,): the same
-    operations (``exp`` and the sum of the normalisation to rounding)."""
-    nb, nn = la.shape[0], x.shape[0]
-    for k in range(nb):
-        base = k * nn
-        total = 0.0
-        for j in range(nn):
-            pn = la[k] + wa[k] * x[j]
-            r2 = pn - p0[k]
-            v = math.exp(-(r2 * r2) / (4.0 * t0)) * wa[k] * c
-            if image == image:  # (not NaN)
-                m = pn + p0[k] - 2.0 * image
-                v -= wa[k] * math.exp(-(m * m) / (4.0 * t0)) * c
-            if j == 0 or j == nn - 1:
-                v = 0.0
-            out[base + j] = v
-            total += v * w[j]
-        scale = mass[k] / total
-        for j in range(nn):
-            out[base + j] *= scale
