@@ -79,9 +79,10 @@ def _solve(
         tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(idx.size, -1)
     pairs = [walls[i] for i in idx]
     one_wall = all(pair is pairs[0] for pair in pairs)  # identity: cheap for shared walls
-    # one engine call for every load (each load gets what engine.solve gives it)
+    # one engine call for every load (each load gets what engine.solve gives it); a shared
+    # tau(zeta) goes in 1-D: checked once, not per load, and broadcast there as here
     res = engine.solve_batch(
-        tau_eff,
+        tau_c if shared else tau_eff,
         rs.p0[idx],
         pairs[0] if one_wall else pairs,
         rtol=rs.rtol,
