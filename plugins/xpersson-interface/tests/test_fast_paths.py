@@ -201,3 +201,29 @@ def test_full_contact_nodes_are_dropped_without_changing_results(monkeypatch):
                  "contact_stiffness"):  # fmt: skip
         a, b = trimmed[name].values, full[name].values
         np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-14 * np.nanmax(np.abs(b)))
+
+
+def test_dense_resolve_of_a_shared_tau_is_the_plain_paths(monkeypatch):
+    """``ctx.solve_at`` of a coefficient whose effective tau is tau(zeta) asks tau once and
+    hands it to the engine 1-D (broadcast over the loads): the same bits as the plain path,
+    where every load's effective tau is asked and checked."""
+    from xpersson.pipeline import solve_at
+    from xpersson.plugins import plain_paths
+
+    an = {"gap_pdf": {}, "leakage": {}}
+    p0 = np.geomspace(1e3, 3e6, 5)
+    taus = []
+    solve = solve_at._solve
+
+    def spy(rs, ctx, walls, clock, z, idx, tau):
+        out = solve(rs, ctx, walls, clock, z, idx, tau)
+        taus.append(out["effective_diffusion_time"].strides[0])
+        return out
+
+    monkeypatch.setattr(solve_at, "_solve", spy)
+    fast = xpersson.solve(scene(p0, analyses=an))
+    with plain_paths():
+        plain = xpersson.solve(scene(p0, analyses=an))
+    assert len(taus) == 2 and taus[0] == 0 and taus[1] > 0  # broadcast, then per load
+    for name in ("gap_pdf", "gap_mean", "leak_zeta_c", "leak_u1", "leak_flow_factor_emt"):
+        np.testing.assert_array_equal(fast[name].values, plain[name].values, err_msg=name)

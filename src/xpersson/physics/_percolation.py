@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._fastnum import _row_slopes, _row_spline
+from ._compiled import kernel
+from ._fastnum import _compiled_slopes, _row_slopes, _row_spline
 
 __all__ = ["critical_magnification"]
 
@@ -51,7 +52,11 @@ def _crossing_coefficients(
     coefficients of one interval per row, from the spline's slopes at the knots."""
     if x.size < 4:
         return tuple(_row_spline(x, A).c[:, k, np.arange(A.shape[0])])
-    yt, dx, slope, sl = _row_slopes(x, A)
+    if kernel(A.size * 8, "spline_coefficients") is not None:  # as _row_spline: compiled slopes
+        yt, dx, slope, sl = _compiled_slopes(x, A)  # (bit for bit; dx 1-D)
+        dx = dx[:, None]
+    else:
+        yt, dx, slope, sl = _row_slopes(x, A)
     rows = np.arange(A.shape[0])
     h, m, s0, s1 = dx[k, 0], slope[k, rows], sl[k, rows], sl[k + 1, rows]
     t = (s0 + s1 - 2.0 * m) / h

@@ -67,21 +67,24 @@ def _solve(
     from .. import engine
 
     c = dataclasses.replace(ctx, zeta=z, p=None, p0=rs.p0[idx])
-    # tau(zeta) [Pa^2] the caller already has (a block's stacked call): the effective tau
-    # of every load where the coefficient's effective tau is tau(zeta) (fast_paths)
-    given = tau is not None and shared_tau(rs.coefficient)
-    if given:
-        tau_c = tau
+    # where the coefficient's effective tau is tau(zeta) (fast_paths): tau(zeta) [Pa^2] (the
+    # caller's, from a block's stacked call, or asked once) broadcast over the loads, as the
+    # main solve does (no per-load copy; the engine takes its square root once, not per load)
+    shared = shared_tau(rs.coefficient)
+    if shared:
+        tau_c = tau if tau is not None else np.asarray(rs.coefficient.tau(c, z), float)
         tau_eff = np.broadcast_to(tau_c, (idx.size, z.size))
     else:
+        tau_c = None
         tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(idx.size, -1)
     pairs = [walls[i] for i in idx]
-    shared = all(pair is pairs[0] for pair in pairs)  # identity: cheap for shared walls
-    # one engine call for every load (each load gets what engine.solve gives it)
+    one_wall = all(pair is pairs[0] for pair in pairs)  # identity: cheap for shared walls
+    # one engine call for every load (each load gets what engine.solve gives it); a shared
+    # tau(zeta) goes in 1-D: checked once, not per load, and broadcast there as here
     res = engine.solve_batch(
-        tau_eff,
+        tau_c if shared else tau_eff,
         rs.p0[idx],
-        pairs[0] if shared else pairs,
+        pairs[0] if one_wall else pairs,
         rtol=rs.rtol,
         atol=rs.atol,
         method=rs.method,
@@ -90,7 +93,7 @@ def _solve(
     out = {
         "area_fraction": np.asarray(res.area, float).reshape(idx.size, -1),
         "non_contact_fraction": np.asarray(res.non_area, float).reshape(idx.size, -1),
-        "diffusion_time": tau_c if given else np.asarray(rs.coefficient.tau(c, z), float),
+        "diffusion_time": tau_c if shared else np.asarray(rs.coefficient.tau(c, z), float),
         "effective_diffusion_time": tau_eff,
     }
     for name, value in rs.boundary.interpret(dataclasses.replace(c, clock=clock), res).items():

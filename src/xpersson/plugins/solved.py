@@ -209,8 +209,9 @@ def solved_curve(
 
         def get(name: str) -> NDArray[np.float64]:  # solved where coarse, else interpolated
             if name not in memo_dense:
-                if need.all():  # every load re-solved: nothing to interpolate
-                    rows = _rows(v[name], n)
+                if need.all():  # every load re-solved: nothing to interpolate, and the
+                    # solve's read-only values only read (the kept columns are copied below)
+                    rows = np.broadcast_to(np.asarray(v[name], dtype=float), (n, zeta.size))
                 else:
                     rows = _interp(z_ds, coarse_get(name), zeta)
                     rows[need] = _rows(v[name], int(need.sum()))
