@@ -118,13 +118,16 @@ def _level_times(
     Inside a graded zone ``(tau_b, tau_e)`` the steps are subdivided uniformly in
     ``(tau - tau_b)^(1/4)`` and the step starting at ``tau_b`` is implicit Euler (the wall's
     speed may be unbounded there).  ``fast``: the compiled loop
-    :func:`._cn_edges.level_times` (the same numbers), used where there is no zone.
+    :func:`._cn_edges.level_times` (the same numbers), also where the zones
+    grade no substep (:func:`_grades`).
     """
-    if fast is not None and not zones:
+    if fast is not None and not _grades(base, nsub, zones):
         size = (base.size - 1) * nsub + 1
         n_ie = min(n_ie, size - 1)
         t, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
         fast(base, nsub, n_ie, t, theta)
+        if zones:
+            theta[_is_in(t[:-1], [tb for tb, _ in zones])] = 1.0
         return t, theta
     d = np.diff(base)
     frac = np.arange(nsub) / nsub
@@ -149,6 +152,15 @@ def _level_times(
     if zones:
         theta[_is_in(t[:-1], [tb for tb, _ in zones])] = 1.0
     return t, theta
+
+
+def _grades(base: Array, nsub: int, zones: tuple[tuple[float, float], ...]) -> bool:
+    """Whether :func:`_level_times` subdivides a step of ``base`` [Pa^2] inside a graded
+    zone (without: the zones only make their first steps implicit Euler)."""
+    if nsub == 1 or not zones:
+        return False
+    a, b = base[:-1], base[1:]
+    return any(((a >= tb) & (b <= te)).any() for tb, te in zones)
 
 
 def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
