@@ -121,37 +121,40 @@ def _level_times(
     :func:`._cn_edges.level_times` (the same numbers), also where the zones
     grade no substep (:func:`_grades`).
     """
+    size = (base.size - 1) * nsub + 1
+    n_ie = min(n_ie, size - 1)
+    t, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
     if fast is not None and not _grades(base, nsub, zones):
-        size = (base.size - 1) * nsub + 1
-        n_ie = min(n_ie, size - 1)
-        t, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
         fast(base, nsub, n_ie, t, theta)
-        if zones:
-            theta[_is_in(t[:-1], [tb for tb, _ in zones])] = 1.0
-        return t, theta
-    d = np.diff(base)
-    frac = np.arange(nsub) / nsub
-    a = base[:-1]
-    sub = a[:, None] + d[:, None] * frac[None, :]
-    for tb, te in zones:
-        m = (a >= tb) & (base[1:] <= te)
-        if m.any() and nsub > 1:
-            ua, ub = (a[m] - tb) ** (1 / _GRADE), (base[1:][m] - tb) ** (1 / _GRADE)
-            sub[m] = tb + (ua[:, None] + (ub - ua)[:, None] * frac[None, :]) ** _GRADE
-            sub[m, 0] = a[m]
-    t = np.append(sub.ravel(), base[-1])
-    n_ie = min(n_ie, t.size - 1)
-    if n_ie > 0:
-        mids = 0.5 * (t[:n_ie] + t[1 : n_ie + 1])
-        # each between its two times: interleaved (what sorting the union gives)
-        tt = np.empty(t.size + n_ie)
-        tt[: 2 * n_ie : 2], tt[1 : 2 * n_ie : 2], tt[2 * n_ie :] = t[:n_ie], mids, t[n_ie:]
-        t = tt
-    theta = np.full(t.size - 1, 0.5)
-    theta[: 2 * n_ie] = 1.0
+    else:
+        _subdivided(base, nsub, n_ie, zones, t)
+        theta[: 2 * n_ie] = 1.0
+        theta[2 * n_ie :] = 0.5
     if zones:
         theta[_is_in(t[:-1], [tb for tb, _ in zones])] = 1.0
     return t, theta
+
+
+def _subdivided(
+    base: Array, nsub: int, n_ie: int, zones: tuple[tuple[float, float], ...], t: Array
+) -> None:
+    """The times of :func:`_level_times` into ``t`` (``(base.size - 1) nsub + 1 + n_ie``):
+    the subdivided sequence from ``t[n_ie]`` on, then its first ``n_ie`` steps halved into
+    ``t[:2 n_ie]`` (each half between its two times: what sorting the union gives)."""
+    a, b = base[:-1], base[1:]
+    frac = np.arange(nsub) / nsub
+    sub = t[n_ie:-1].reshape(a.size, nsub)
+    np.add(a[:, None], (b - a)[:, None] * frac[None, :], out=sub)
+    for tb, te in zones:
+        m = (a >= tb) & (b <= te)
+        if m.any() and nsub > 1:
+            ua, ub = (a[m] - tb) ** (1 / _GRADE), (b[m] - tb) ** (1 / _GRADE)
+            sub[m] = tb + (ua[:, None] + (ub - ua)[:, None] * frac[None, :]) ** _GRADE
+            sub[m, 0] = a[m]
+    t[-1] = base[-1]
+    if n_ie > 0:
+        head = t[n_ie : 2 * n_ie + 1].copy()  # (the halves overwrite it)
+        t[: 2 * n_ie : 2], t[1 : 2 * n_ie : 2] = head[:-1], 0.5 * (head[:-1] + head[1:])
 
 
 def _grades(base: Array, nsub: int, zones: tuple[tuple[float, float], ...]) -> bool:
