@@ -14,6 +14,8 @@ from numpy.typing import NDArray
 
 from ._cn_edges import compiled_window
 from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
+from ._grid import decades as _decades
+from ._grid import sorted_unique
 from ._problem import Problem
 
 __all__ = [
@@ -446,18 +448,18 @@ def _joint_plan(
     per_decade = max(per_decade, 4.0)
     decades = math.log10(outs[-1] / tau_s)
     n_geo = max(1, int(math.ceil(decades * per_decade)))
-    geo = tau_s * np.logspace(0.0, decades, n_geo + 1)
+    geo = tau_s * _decades(decades, n_geo + 1)
     if kinks is None:
         kinks = _switch_times_batch(pbs, k, tau_s, float(outs[-1]))
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
-    fixed = np.unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
+    fixed = sorted_unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
     # the geometric times far from every fixed one (relative gap 0.3 ratio)
     keep = (np.abs(geo[:, None] - fixed[None, :]) > (0.3 * ratio) * fixed).all(axis=1)
     for tb, te in zones:
         keep &= (geo <= tb) | (geo >= te)
     keep[0] = True
-    base = np.union1d(geo[keep & (geo < outs[-1])], fixed)
+    base = sorted_unique(np.concatenate([geo[keep & (geo < outs[-1])], fixed]))
     base = base[base >= tau_s]
     return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall, zones)
 
