@@ -120,8 +120,7 @@ def _level_times(
     Inside a graded zone ``(tau_b, tau_e)`` the steps are subdivided uniformly in
     ``(tau - tau_b)^(1/4)`` and the step starting at ``tau_b`` is implicit Euler (the wall's
     speed may be unbounded there).  ``fast``: the compiled loop
-    :func:`._cn_edges.level_times` (the same numbers), also where the zones
-    grade no substep (:func:`_grades`).
+    :func:`._cn_edges.level_times` (the same numbers), also where no zone grades (:func:`_grades`).
     """
     size = (base.size - 1) * nsub + 1
     n_ie = min(n_ie, size - 1)
@@ -140,9 +139,8 @@ def _level_times(
 def _subdivided(
     base: Array, nsub: int, n_ie: int, zones: tuple[tuple[float, float], ...], t: Array
 ) -> None:
-    """The times of :func:`_level_times` into ``t`` (``(base.size - 1) nsub + 1 + n_ie``):
-    the subdivided sequence from ``t[n_ie]`` on, then its first ``n_ie`` steps halved into
-    ``t[:2 n_ie]`` (each half between its two times: what sorting the union gives)."""
+    """The times of :func:`_level_times` into ``t``: the subdivided sequence from ``t[n_ie]``
+    on, its first ``n_ie`` steps halved into ``t[:2 n_ie]`` (what sorting the union gives)."""
     a, b = base[:-1], base[1:]
     frac = np.arange(nsub) / nsub
     sub = t[n_ie:-1].reshape(a.size, nsub)
@@ -160,19 +158,24 @@ def _subdivided(
 
 
 def _grades(base: Array, nsub: int, zones: tuple[tuple[float, float], ...]) -> bool:
-    """Whether :func:`_level_times` subdivides a step of ``base`` [Pa^2] inside a graded
-    zone (without: the zones only make their first steps implicit Euler)."""
+    """Whether :func:`_level_times` subdivides a step of ``base`` [Pa^2] in a graded zone."""
     if nsub == 1 or not zones:
         return False
     a, b = base[:-1], base[1:]
     return any(((a >= tb) & (b <= te)).any() for tb, te in zones)
 
 
+def _differenced(wall) -> bool:
+    """Whether the speeds of ``wall`` are differences (:func:`_probe_times` gives times)."""
+    fixed = wall is None or wall.is_fixed
+    return not (fixed or wall.dposition is not None or wall.motion is not None)
+
+
 def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
     """Times ``(tau + h, tau - h)`` [Pa^2] of the central differences of :func:`_wall_speeds`
     (at the last time ``(tau - 2 h, tau - h)``: a backward difference, see there), or None
     where the speed needs none (fixed wall, declared speed or linear motion)."""
-    if wall is None or wall.is_fixed or wall.dposition is not None or wall.motion is not None:
+    if not _differenced(wall):
         return None
     h = 1e-5 * tau
     bp = getattr(wall, "breakpoints", ())
@@ -257,7 +260,7 @@ def _track_wall(
     if wall is None:
         z = np.zeros_like(taus)
         return np.full(mid.shape, np.inf), np.full(taus.shape, np.inf), z, z
-    if fast is not None and _probe_times(wall, taus[:0]) is not None:
+    if fast is not None and _differenced(wall):
         return _track_compiled(wall, mid, taus, fast)
     probe = _probe_times(wall, taus)
     if probe is None:
