@@ -73,3 +73,43 @@ def test_batch_start_time_with_walls_not_shared():
     b = make_problem(TAU, 1.0, Wall.absorbing(0.0), None, 1e-6, None, None, 10**6, {})
     assert _start_time([a, b], 3.0) == min(_start_time([a], 3.0), _start_time([b], 3.0))
     assert _start_time([a], 3.0) < _start_time([b], 3.0)  # (the nearer wall enters sooner)
+
+
+def test_compiled_level_times_with_zones_that_grade_no_substep_are_numpy_bitwise():
+    """The loop also runs where a zone subdivides no step (one substep per step, or no step
+    inside it): only the zones' implicit-Euler steps are patched in, the numpy path's
+    numbers; a zone that grades substeps still takes the numpy path."""
+    pytest.importorskip("numba")
+    assert _compiled.build()
+    fast = _compiled.times()
+    rng = np.random.default_rng(3)
+    ran = []
+
+    def loop(*args):
+        ran.append(True)
+        fast(*args)
+
+    for base, nsub, n_ie in _bases(3):
+        i, j = sorted(rng.integers(0, base.size, 2).tolist())
+        zones = ((float(base[i]), float(base[j])),)  # (j = i: a zone without a step)
+        ran.clear()
+        want, got = (
+            _level_times(base, nsub, n_ie, zones),
+            _level_times(base, nsub, n_ie, zones, loop),
+        )
+        np.testing.assert_array_equal(got[0], want[0])
+        np.testing.assert_array_equal(got[1], want[1])
+        assert bool(ran) == (nsub == 1 or i == j or base.size == 1)
+
+
+def test_decades_and_sorted_unique_are_numpy_bitwise():
+    """The plans' helpers give numpy's logspace and unique bit for bit."""
+    from xpersson.engine._grid import decades, sorted_unique
+
+    rng = np.random.default_rng(4)
+    for _ in range(200):
+        stop, n = float(rng.uniform(0.0, 20.0)), int(rng.integers(2, 800))
+        assert decades(stop, n).tobytes() == np.logspace(0.0, stop, n).tobytes()
+        x = rng.random(int(rng.integers(0, 60))) * 10 ** rng.uniform(-3, 12)
+        x = np.concatenate([x, x[: int(rng.integers(0, x.size + 1))]])
+        assert sorted_unique(x.copy()).tobytes() == np.unique(x).tobytes()

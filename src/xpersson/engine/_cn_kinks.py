@@ -10,6 +10,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from ._grid import decades
 from ._problem import Problem
 
 __all__ = ["_bracketed_roots", "_switch_times", "_switch_times_batch"]
@@ -28,7 +29,7 @@ def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) 
     vectorised bracketed root-finder over all loads and walls (:func:`_bracketed_roots`)."""
     if not t_hi > t_lo:
         return []
-    cand = t_lo * np.logspace(0.0, math.log10(t_hi / t_lo), 513)
+    cand = t_lo * decades(math.log10(t_hi / t_lo), 513)
     pb = pbs[0]
     p0 = np.array([p.p0 for p in pbs])
     lo, up = pb.wall_positions(cand)

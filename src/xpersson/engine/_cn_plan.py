@@ -14,6 +14,8 @@ from numpy.typing import NDArray
 
 from ._cn_edges import compiled_window
 from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
+from ._grid import decades as _decades
+from ._grid import sorted_unique
 from ._problem import Problem
 
 __all__ = [
@@ -118,44 +120,62 @@ def _level_times(
     Inside a graded zone ``(tau_b, tau_e)`` the steps are subdivided uniformly in
     ``(tau - tau_b)^(1/4)`` and the step starting at ``tau_b`` is implicit Euler (the wall's
     speed may be unbounded there).  ``fast``: the compiled loop
-    :func:`._cn_edges.level_times` (the same numbers), used where there is no zone.
+    :func:`._cn_edges.level_times` (the same numbers), also where no zone grades (:func:`_grades`).
     """
-    if fast is not None and not zones:
-        size = (base.size - 1) * nsub + 1
-        n_ie = min(n_ie, size - 1)
-        t, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
+    size = (base.size - 1) * nsub + 1
+    n_ie = min(n_ie, size - 1)
+    t, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
+    if fast is not None and not _grades(base, nsub, zones):
         fast(base, nsub, n_ie, t, theta)
-        return t, theta
-    d = np.diff(base)
-    frac = np.arange(nsub) / nsub
-    a = base[:-1]
-    sub = a[:, None] + d[:, None] * frac[None, :]
-    for tb, te in zones:
-        m = (a >= tb) & (base[1:] <= te)
-        if m.any() and nsub > 1:
-            ua, ub = (a[m] - tb) ** (1 / _GRADE), (base[1:][m] - tb) ** (1 / _GRADE)
-            sub[m] = tb + (ua[:, None] + (ub - ua)[:, None] * frac[None, :]) ** _GRADE
-            sub[m, 0] = a[m]
-    t = np.append(sub.ravel(), base[-1])
-    n_ie = min(n_ie, t.size - 1)
-    if n_ie > 0:
-        mids = 0.5 * (t[:n_ie] + t[1 : n_ie + 1])
-        # each between its two times: interleaved (what sorting the union gives)
-        tt = np.empty(t.size + n_ie)
-        tt[: 2 * n_ie : 2], tt[1 : 2 * n_ie : 2], tt[2 * n_ie :] = t[:n_ie], mids, t[n_ie:]
-        t = tt
-    theta = np.full(t.size - 1, 0.5)
-    theta[: 2 * n_ie] = 1.0
+    else:
+        _subdivided(base, nsub, n_ie, zones, t)
+        theta[: 2 * n_ie] = 1.0
+        theta[2 * n_ie :] = 0.5
     if zones:
         theta[_is_in(t[:-1], [tb for tb, _ in zones])] = 1.0
     return t, theta
+
+
+def _subdivided(
+    base: Array, nsub: int, n_ie: int, zones: tuple[tuple[float, float], ...], t: Array
+) -> None:
+    """The times of :func:`_level_times` into ``t``: the subdivided sequence from ``t[n_ie]``
+    on, its first ``n_ie`` steps halved into ``t[:2 n_ie]`` (what sorting the union gives)."""
+    a, b = base[:-1], base[1:]
+    frac = np.arange(nsub) / nsub
+    sub = t[n_ie:-1].reshape(a.size, nsub)
+    np.add(a[:, None], (b - a)[:, None] * frac[None, :], out=sub)
+    for tb, te in zones:
+        m = (a >= tb) & (b <= te)
+        if m.any() and nsub > 1:
+            ua, ub = (a[m] - tb) ** (1 / _GRADE), (b[m] - tb) ** (1 / _GRADE)
+            sub[m] = tb + (ua[:, None] + (ub - ua)[:, None] * frac[None, :]) ** _GRADE
+            sub[m, 0] = a[m]
+    t[-1] = base[-1]
+    if n_ie > 0:
+        head = t[n_ie : 2 * n_ie + 1].copy()  # (the halves overwrite it)
+        t[: 2 * n_ie : 2], t[1 : 2 * n_ie : 2] = head[:-1], 0.5 * (head[:-1] + head[1:])
+
+
+def _grades(base: Array, nsub: int, zones: tuple[tuple[float, float], ...]) -> bool:
+    """Whether :func:`_level_times` subdivides a step of ``base`` [Pa^2] in a graded zone."""
+    if nsub == 1 or not zones:
+        return False
+    a, b = base[:-1], base[1:]
+    return any(((a >= tb) & (b <= te)).any() for tb, te in zones)
+
+
+def _differenced(wall) -> bool:
+    """Whether the speeds of ``wall`` are differences (:func:`_probe_times` gives times)."""
+    fixed = wall is None or wall.is_fixed
+    return not (fixed or wall.dposition is not None or wall.motion is not None)
 
 
 def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
     """Times ``(tau + h, tau - h)`` [Pa^2] of the central differences of :func:`_wall_speeds`
     (at the last time ``(tau - 2 h, tau - h)``: a backward difference, see there), or None
     where the speed needs none (fixed wall, declared speed or linear motion)."""
-    if wall is None or wall.is_fixed or wall.dposition is not None or wall.motion is not None:
+    if not _differenced(wall):
         return None
     h = 1e-5 * tau
     bp = getattr(wall, "breakpoints", ())
@@ -240,7 +260,7 @@ def _track_wall(
     if wall is None:
         z = np.zeros_like(taus)
         return np.full(mid.shape, np.inf), np.full(taus.shape, np.inf), z, z
-    if fast is not None and _probe_times(wall, taus[:0]) is not None:
+    if fast is not None and _differenced(wall):
         return _track_compiled(wall, mid, taus, fast)
     probe = _probe_times(wall, taus)
     if probe is None:
@@ -431,18 +451,18 @@ def _joint_plan(
     per_decade = max(per_decade, 4.0)
     decades = math.log10(outs[-1] / tau_s)
     n_geo = max(1, int(math.ceil(decades * per_decade)))
-    geo = tau_s * np.logspace(0.0, decades, n_geo + 1)
+    geo = tau_s * _decades(decades, n_geo + 1)
     if kinks is None:
         kinks = _switch_times_batch(pbs, k, tau_s, float(outs[-1]))
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
-    fixed = np.unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
+    fixed = sorted_unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
     # the geometric times far from every fixed one (relative gap 0.3 ratio)
     keep = (np.abs(geo[:, None] - fixed[None, :]) > (0.3 * ratio) * fixed).all(axis=1)
     for tb, te in zones:
         keep &= (geo <= tb) | (geo >= te)
     keep[0] = True
-    base = np.union1d(geo[keep & (geo < outs[-1])], fixed)
+    base = sorted_unique(np.concatenate([geo[keep & (geo < outs[-1])], fixed]))
     base = base[base >= tau_s]
     return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall, zones)
 
