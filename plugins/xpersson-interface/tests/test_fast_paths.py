@@ -222,8 +222,11 @@ def test_dense_resolve_of_a_shared_tau_is_the_plain_paths(monkeypatch):
 
     monkeypatch.setattr(solve_at, "_solve", spy)
     fast = xpersson.solve(scene(p0, analyses=an))
+    n_fast = len(taus)  # 1 with the caches on (the analyses share it), one per call without
     with plain_paths():
         plain = xpersson.solve(scene(p0, analyses=an))
-    assert len(taus) == 2 and taus[0] == 0 and taus[1] > 0  # broadcast, then per load
+    assert n_fast >= 1 and len(taus) > n_fast
+    assert all(t == 0 for t in taus[:n_fast])  # broadcast
+    assert all(t > 0 for t in taus[n_fast:])  # per load
     for name in ("gap_pdf", "gap_mean", "leak_zeta_c", "leak_u1", "leak_flow_factor_emt"):
         np.testing.assert_array_equal(fast[name].values, plain[name].values, err_msg=name)
