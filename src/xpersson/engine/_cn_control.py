@@ -48,6 +48,7 @@ from numpy.typing import NDArray
 from ..cache import memoize
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
+from ._cn_odd import odd_rounds
 from ._stiff import stiff_at_end
 
 __all__ = ["_Fit", "_control", "richardson_weights"]
@@ -284,6 +285,8 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
     sixth order's pilot comes first (the fourth order's is solved only if it is needed).
     None: a budget ended the search (``lv.stop`` says which)."""
     six = _sixth_order_fits(judge.pb)
+    if six and judge.stiff:  # h^2 .. h^4 cancelled where the window is stiff (:mod:`._cn_odd`)
+        return odd_rounds(lv, judge, n_base, aim)
     sixth = None
     if six and far:
         sixth = _sixth(lv, judge, n_base)
