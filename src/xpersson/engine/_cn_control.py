@@ -197,6 +197,8 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
     """Second-order pairs, then fourth- or sixth-order Richardson combinations, until the
     estimate fits (None: a budget ended the search, ``lv.stop`` says which)."""
     judge = _Judge(pb, scale, lv.graded, stiff_at_end(lv.pbs, lv.opts.window_k))
+    if judge.stiff and _sixth_order_fits(pb):  # h^2 .. h^4 cancelled (:mod:`._cn_odd`)
+        return odd_rounds(lv, judge, lv.opts.nodes, aim)
     n_base, rounds = lv.opts.nodes, 0
     while True:  # mode R
         pair = lv.levels(n_base, (1, 2), judge.dense)
@@ -285,8 +287,6 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
     sixth order's pilot comes first (the fourth order's is solved only if it is needed).
     None: a budget ended the search (``lv.stop`` says which)."""
     six = _sixth_order_fits(judge.pb)
-    if six and judge.stiff:  # h^2 .. h^4 cancelled where the window is stiff (:mod:`._cn_odd`)
-        return odd_rounds(lv, judge, n_base, aim)
     sixth = None
     if six and far:
         sixth = _sixth(lv, judge, n_base)

@@ -50,10 +50,20 @@ Array = NDArray[np.float64]
 ODD_SPAN = 4  # levels per combination (cancelling h^2 .. h^ODD_SPAN)
 
 
+ODD_FIRST = 5  # the first answer: levels 1 .. ODD_FIRST (combinations of ODD_FIRST - 1 levels)
+
+
 ODD_MARGIN = 15.0  # the estimate: ODD_MARGIN x the asymptotic error of the answer
 
 
+ODD_NODES = 0  # intervals of the first grid (0: options['nodes'])
+
+
 ODD_LMAX = 8  # most levels of one grid
+
+
+ODD_REACH = 1.0  # extend while the predicted estimate / tolerance reaches this by ODD_LMAX
+# (the predictions from the constants K held within 3 % on "roll H=0.40 5dec")
 
 
 ODD_ORDER = 4.0  # order assumed when growing the grid (pre-asymptotic: 4-5)
@@ -89,13 +99,14 @@ def _weights_of(m_: tuple[float, ...]) -> tuple[Array, float]:
 
 def _span(top: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
     """The levels of ``X_a`` and ``X_b`` at ``top``."""
-    return tuple(range(top - ODD_SPAN, top)), tuple(range(top - ODD_SPAN + 1, top + 1))
+    k = min(ODD_SPAN, top - 1)
+    return tuple(range(top - k, top)), tuple(range(top - k + 1, top + 1))
 
 
 def _k_ratio(top: int) -> float:
     """``K_b(top) / K_b(first)``: the asymptotic error of the answer at ``top`` relative to
     the first answer of a grid (``top = ODD_SPAN + 1``) [1]."""
-    return odd_constant(_span(top)[1]) / odd_constant(_span(ODD_SPAN + 1)[1])
+    return odd_constant(_span(top)[1]) / odd_constant(_span(ODD_FIRST)[1])
 
 
 def _combination(lv: Any, judge: Any, n: int, top: int) -> tuple[Any, float] | None:
@@ -107,40 +118,36 @@ def _combination(lv: Any, judge: Any, n: int, top: int) -> tuple[Any, float] | N
     if lvs is None:
         return None
     ma, mb = _span(top)
-    x_b = weighted(lvs[top - ODD_SPAN :], odd_weights(mb))
-    x_a = weighted(lvs[top - ODD_SPAN - 1 : top - 1], odd_weights(ma))
+    x_b = weighted(lvs[mb[0] - 1 : mb[-1]], odd_weights(mb))
+    x_a = weighted(lvs[ma[0] - 1 : ma[-1]], odd_weights(ma))
     ka, kb = odd_constant(ma), odd_constant(mb)
     err, ratio = judge.ratio(x_b, x_a, ODD_MARGIN * kb / (ka - kb))
     return _Fit(err, x_b, top * n), ratio
 
 
-def _odd_next(top: int, ratio: float, aim: float) -> tuple[bool, float, float]:
+def _odd_next(top: int, ratio: float, aim: float) -> tuple[bool, float]:
     """The cheaper way on from estimate / tolerance ``ratio`` at ``top``: (extend, grid
-    growth, predicted ratio).  Extending adds levels until the predicted ratio reaches
-    ``aim`` (at most ``ODD_LMAX``); a new grid grows by ``(ratio K(top) / K(first) /
-    aim)^(1 / ODD_ORDER)``, at least 1.25x.  Work in units of ``n^2`` x the pilot's steps
-    per node: ``sum m^2`` over the new levels."""
-    first = ODD_SPAN + 1
+    growth).  Extending adds levels while the ratio predicted from the constants ``K``
+    reaches ``ODD_REACH`` by ``ODD_LMAX`` levels; a new grid grows by ``(ratio K(first) /
+    K(top) / aim)^(1 / ODD_ORDER)``, at least 1.25x.  Work in units of ``n^2`` x the steps
+    per node: ``sum m^2`` over the levels to solve."""
     r_first = ratio / _k_ratio(top)  # the first answer's ratio on this grid
     grow = max((r_first / aim) ** (1.0 / ODD_ORDER), 1.25)
-    new = sum(m * m for m in range(1, first + 1)) * grow**2
-    work, t = 0.0, top
-    while t < ODD_LMAX:
-        t += 1
+    new = sum(m * m for m in range(1, ODD_FIRST + 1)) * grow**2
+    work = 0.0
+    for t in range(top + 1, ODD_LMAX + 1):
         work += t * t
-        predicted = ratio * _k_ratio(t) / _k_ratio(top)
-        if predicted <= aim:
-            if work < new:
-                return True, 1.0, ratio * _k_ratio(top + 1) / _k_ratio(top)
-            break
-    return False, grow, r_first / grow**ODD_ORDER
+        if ratio * _k_ratio(t) / _k_ratio(top) <= ODD_REACH:
+            return work < new, grow
+    return False, grow
 
 
 def odd_rounds(lv: Any, judge: Any, n: int, aim: float) -> Any:
     """Combinations of ``ODD_SPAN`` levels on grids from ``n`` until the estimate fits (see
     the module): the accepted ``_Fit``, or None when a budget ended the search (``lv.stop``
     says which)."""
-    top = ODD_SPAN + 1
+    top = ODD_FIRST
+    n = ODD_NODES if ODD_NODES else n
     while True:
         got = _combination(lv, judge, n, top)
         if got is None:
@@ -148,11 +155,11 @@ def odd_rounds(lv: Any, judge: Any, n: int, aim: float) -> Any:
         fit, ratio = got
         if ratio <= 1.0:
             return fit
-        extend, grow, _ = _odd_next(top, ratio, aim)
+        extend, grow = _odd_next(top, ratio, aim)
         if extend:
             top += 1
         else:
-            n, top = _round_grid(n * grow), ODD_SPAN + 1
+            n, top = _round_grid(n * grow), ODD_FIRST
 
 
 def _round_grid(n: float) -> int:

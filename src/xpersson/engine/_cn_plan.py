@@ -48,8 +48,6 @@ class _Plan:
     # chord mesh speeds from the first breakpoint on
     image: float | None = None  # the resting absorbing lower wall [Pa] of a one-wall start
     # (the start state is the image solution), None: the free Gaussian
-    damped: Array | None = None  # base times whose last substep is implicit Euler (the late
-    # stiff stretch of a yield wall, :mod:`._stiff`), None: none
 
 
 _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-only)

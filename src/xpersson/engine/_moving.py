@@ -103,11 +103,6 @@ def level_inputs(
     sequence subdivided ``nsub`` times with ``n_ie`` implicit-Euler half steps first, for the
     loads ``pbs`` (one batch: they share their walls and output times)."""
     taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones, _compiled.times())
-    if plan.damped is not None:  # two implicit-Euler halves end the substeps (:mod:`._stiff`)
-        i = np.searchsorted(taus, plan.damped)
-        taus = np.insert(taus, i, 0.5 * (taus[i - 1] + taus[i]))
-        theta = np.insert(theta, i - 1, 1.0)
-        theta[i + np.arange(i.size)] = 1.0
     pb0 = pbs[0]
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
     p0 = np.array([pb.p0 for pb in pbs])[:, None]

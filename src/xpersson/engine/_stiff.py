@@ -47,14 +47,7 @@ from numpy.typing import NDArray
 from ._cn_plan import _edges_batch, _Plan
 from ._problem import Problem
 
-__all__ = [
-    "STIFF_END",
-    "STIFF_STEP",
-    "stiff_at_end",
-    "stiffness",
-    "stiff_refined",
-    "wall_kinks",
-]
+__all__ = ["STIFF_END", "STIFF_STEP", "stiff_at_end", "stiffness", "stiff_refined", "wall_kinks"]
 
 Array = NDArray[np.float64]
 
@@ -67,12 +60,6 @@ STIFF_STEP = 0.5  # largest decay of the window's slowest mode per substep, in g
 STIFF_LATE = 4  # substeps per base step beyond STIFF_END (measured on the held-out design of
 # benchmarks/plastic_design.py: 2 -> 4 took its worst marching scenes from 89-262 to 22-57
 # ms/load with every achieved error within the tolerance; 8 cost more on most scenes)
-
-
-GEO = 0.0
-
-
-DAMP_FROM = 10.0  # sigma from which the last substep of every base step is implicit Euler
 
 
 STIFF_END = 10.0  # sigma beyond which the base steps are kept (measured: 10, 20 and 50 give
@@ -105,22 +92,16 @@ def stiff_refined(pbs: list[Problem], plan: _Plan, per_decade: float) -> _Plan:
     dln = np.log(base[1:] / base[:-1])
     stiff = (sigma > STIFF_STEP) & (sigma < STIFF_END)
     sub = np.where(stiff, np.ceil(dln * sigma / (STIFF_STEP * step) - 1e-9), 1.0)
-    late = sigma >= STIFF_END
-    sub = np.where(late, STIFF_LATE, np.maximum(sub, 1.0)).astype(int)
-    calm = sigma >= DAMP_FROM
-    damped = base[1:][calm] if calm.any() else None
+    sub = np.where(sigma >= STIFF_END, STIFF_LATE, np.maximum(sub, 1.0)).astype(int)
     if not np.any(sub > 1):
-        return plan if damped is None else dataclasses.replace(plan, damped=damped)
+        return plan
     # substep j of base step i at base[i] + (base[i + 1] - base[i]) j / sub[i]
     i = np.repeat(np.arange(sub.size), sub)
     j = np.arange(i.size) - np.repeat(np.cumsum(sub) - sub, sub) + 1
-    if GEO:
-        new = np.concatenate([base[:1], base[i] * (base[i + 1] / base[i]) ** (j / sub[i])])
-    else:
-        new = np.concatenate([base[:1], base[i] + (base[i + 1] - base[i]) * (j / sub[i])])
+    new = np.concatenate([base[:1], base[i] + (base[i + 1] - base[i]) * (j / sub[i])])
     new[np.cumsum(sub)] = base[1:]  # the base times themselves, exactly (outputs, kinks)
     out_index = np.searchsorted(new, base[plan.out_index])
-    return dataclasses.replace(plan, base=new, out_index=out_index, damped=damped)
+    return dataclasses.replace(plan, base=new, out_index=out_index)
 
 
 def stiff_at_end(pbs: list[Problem], k: float) -> bool:
