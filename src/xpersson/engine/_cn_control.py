@@ -46,9 +46,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..cache import memoize
+from ._cn_odd import odd_rounds
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
-from ._cn_odd import odd_rounds
 from ._stiff import stiff_at_end
 
 __all__ = ["_Fit", "_control", "richardson_weights"]
@@ -197,7 +197,7 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
     """Second-order pairs, then fourth- or sixth-order Richardson combinations, until the
     estimate fits (None: a budget ended the search, ``lv.stop`` says which)."""
     judge = _Judge(pb, scale, lv.graded, stiff_at_end(lv.pbs, lv.opts.window_k))
-    if judge.stiff and _sixth_order_fits(pb):  # h^2 .. h^4 cancelled (:mod:`._cn_odd`)
+    if judge.stiff and judge.dense > 1:  # odd powers of the step too (:mod:`._cn_odd`)
         return odd_rounds(lv, judge, lv.opts.nodes, aim)
     n_base, rounds = lv.opts.nodes, 0
     while True:  # mode R

@@ -135,4 +135,3 @@ def wall_kinks(pb: Problem, tau_s: float, tau_end: float) -> list[float]:
     """
     times = {t for w in (pb.lower, pb.upper) if w is not None for t in w.kinks}
     return sorted(t for t in times if tau_s < t < tau_end)
-
