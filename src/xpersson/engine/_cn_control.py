@@ -30,7 +30,7 @@ the step, which Richardson extrapolation cancels).
 
 Where a yield wall makes the window stiff (:mod:`._stiff`: the time plans then resolve the
 decay of the window's slowest mode), the high-order levels take ``DENSE_STIFF`` steps per
-node.
+node, and at ``rtol <= S_RTOL`` :mod:`._cn_odd` controls the error (odd powers of the step).
 
 An accepted estimate is reported as a uniform fraction of the tolerance per load, the largest
 estimated: a difference of levels crosses zero where the actual error need not.
