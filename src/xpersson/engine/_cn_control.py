@@ -198,7 +198,8 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
     estimate fits (None: a budget ended the search, ``lv.stop`` says which)."""
     judge = _Judge(pb, scale, lv.graded, stiff_at_end(lv.pbs, lv.opts.window_k))
     if judge.stiff and judge.dense > 1:  # odd powers of the step too (:mod:`._cn_odd`)
-        return odd_rounds(lv, judge, lv.opts.nodes, aim)
+        got = odd_rounds(lv, judge, lv.opts.nodes, aim)
+        return None if got is None else _Fit(*got)
     n_base, rounds = lv.opts.nodes, 0
     while True:  # mode R
         pair = lv.levels(n_base, (1, 2), judge.dense)

@@ -53,11 +53,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..cache import memoize
-from ._level import weighted
+from ._level import Outputs, weighted
 
 __all__ = ["EVEN_MARGIN", "ODD_MARGIN", "odd_constant", "odd_rounds", "odd_weights"]
 
 Array = NDArray[np.float64]
+
+ODD, EVEN = True, False  # the powers the weights of :func:`_weights_of` cancel
+
+Answer = tuple[Array, Outputs, int]  # (error estimate, combination, finest intervals): a _Fit
 
 
 ODD_SPAN = 4  # levels per combination (cancelling h^2 .. h^ODD_SPAN)
@@ -91,27 +95,31 @@ def odd_weights(mults: tuple[int, ...]) -> Array:
     whose combination cancels every error term ``h^2 .. h^k`` (``sum w = 1``,
     ``sum w m^-j = 0`` for ``j = 2 .. k``).  For ``(1, 2, 3, 4)``: ``(-1/60, 4/5, -81/20,
     64/15)``."""
-    return _weights_of(tuple(float(m) for m in mults))[0]
+    return _weights_of(tuple(float(m) for m in mults), ODD)[0]
 
 
 def odd_constant(mults: tuple[int, ...]) -> float:
     """``|sum w m^-(k + 1)|`` [1] of :func:`odd_weights` of ``k`` levels: the constant of the
     ``h^(k + 1)`` error the combination leaves (1/240 for ``(1, 2, 3, 4)``, 1/1680 for
     ``(2, 3, 4, 5)``)."""
-    return _weights_of(tuple(float(m) for m in mults))[1]
+    return _weights_of(tuple(float(m) for m in mults), ODD)[1]
 
 
 @memoize("engine.odd_weights", scope="process", maxsize=64)
-def _weights_of(m_: tuple[float, ...]) -> tuple[Array, float]:
-    """(:func:`odd_weights`, :func:`odd_constant`) of ``m_`` (memoised: the controller asks
-    for the same few level sets at every solve; read-only)."""
+def _weights_of(m_: tuple[float, ...], odd: bool) -> tuple[Array, float]:
+    """The weights of levels ``m_`` that cancel ``h^2 .. h^k`` (``odd``) or ``h^2, h^4, ..,
+    h^(2 (k - 1))`` (the sixth-order mode's, as :func:`._cn_control.richardson_weights`:
+    the same numbers), and the constant ``|sum w m^-p|`` of the first power ``p`` they
+    leave (memoised: the controller asks for the same few level sets at every solve;
+    read-only)."""
     m = np.array(m_)
-    powers = np.concatenate([[0.0], np.arange(2.0, m.size + 1.0)])
+    k = np.arange(m.size)
+    powers = np.where(k > 0, k + 1.0, 0.0) if odd else 2.0 * k
     rhs = np.zeros(m.size)
     rhs[0] = 1.0
     w = np.linalg.solve(m[None, :] ** -powers[:, None], rhs)
     w.setflags(write=False)
-    return w, abs(float(w @ m ** -(m.size + 1.0)))
+    return w, abs(float(w @ m ** -(m.size + 1.0 if odd else 2.0 * m.size)))
 
 
 def _span(top: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
@@ -125,11 +133,9 @@ def _k_ratio(top: int) -> float:
     return odd_constant(_span(top)[1]) / odd_constant(_span(ODD_FIRST)[1])
 
 
-def _combination(lv: Any, judge: Any, n: int, top: int) -> tuple[Any, float] | None:
+def _combination(lv: Any, judge: Any, n: int, top: int) -> tuple[Answer, float] | None:
     """The answer of levels ``1 .. top`` of grid ``n`` and its estimate / tolerance (see the
     module); None: a budget ended the search."""
-    from ._cn_control import _Fit
-
     lvs = lv.levels(n, tuple(range(1, top + 1)), judge.six_dense)
     if lvs is None:
         return None
@@ -138,7 +144,7 @@ def _combination(lv: Any, judge: Any, n: int, top: int) -> tuple[Any, float] | N
     x_a = weighted(lvs[ma[0] - 1 : ma[-1]], odd_weights(ma))
     ka, kb = odd_constant(ma), odd_constant(mb)
     err, ratio = judge.ratio(x_b, x_a, ODD_MARGIN * kb / (ka - kb))
-    return _Fit(err, x_b, top * n), ratio
+    return (err, x_b, top * n), ratio
 
 
 def _odd_next(top: int, ratio: float, aim: float) -> tuple[bool, float]:
@@ -158,28 +164,27 @@ def _odd_next(top: int, ratio: float, aim: float) -> tuple[bool, float]:
     return False, grow
 
 
-def _even_first(lv: Any, judge: Any, n: int) -> tuple[Any, float] | None:
+def _even_first(lv: Any, judge: Any, n: int) -> tuple[Answer, float] | None:
     """The sixth-order answer ``S(2, 3, 4)`` of levels 1-4 of grid ``n`` and its estimate /
     tolerance, the larger of ``EVEN_MARGIN`` x its asymptotic error (``|S(2, 3, 4) -
     S(1, 2, 3)| / 15``) and its distance to the combination of the four levels that cancels
     ``h^2 .. h^4`` (about its ``h^3`` error, see the module); None: a budget ended the search."""
-    from ._cn_control import _Fit, richardson_weights
-
     lvs = lv.levels(n, (1, 2, 3, 4), judge.six_dense)
     if lvs is None:
         return None
-    s_b = weighted(lvs[1:], richardson_weights((2, 3, 4)))
-    s_a = weighted(lvs[:3], richardson_weights((1, 2, 3)))
+    s_b = weighted(lvs[1:], _weights_of((2.0, 3.0, 4.0), EVEN)[0])
+    s_a = weighted(lvs[:3], _weights_of((1.0, 2.0, 3.0), EVEN)[0])
     x = weighted(lvs, odd_weights((1, 2, 3, 4)))
     err, ratio = judge.ratio(s_b, s_a, EVEN_MARGIN / 15.0)
     err_x, ratio_x = judge.ratio(s_b, x, 1.0)
-    return _Fit(np.maximum(err, err_x), s_b, 4 * n), max(ratio, ratio_x)
+    return (np.maximum(err, err_x), s_b, 4 * n), max(ratio, ratio_x)
 
 
-def odd_rounds(lv: Any, judge: Any, n: int, aim: float) -> Any:
+def odd_rounds(lv: Any, judge: Any, n: int, aim: float) -> Answer | None:
     """The sixth-order answer of levels 1-4 of grid ``n`` if its estimate fits, else
     combinations of ``ODD_SPAN`` levels on grids from ``n`` until it does (see the module):
-    the accepted ``_Fit``, or None when a budget ended the search (``lv.stop`` says which).
+    the accepted ``(err, best, n_used)`` of a ``_cn_control._Fit``, or None when a budget
+    ended the search (``lv.stop`` says which).
 
     ``lv``: the grid levels (``_cn._Grids``); ``judge``: the estimates against the tolerance
     (``_cn_control._Judge``); ``aim``: the estimate a new grid is aimed at [1 of the
