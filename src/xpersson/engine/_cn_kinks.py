@@ -70,6 +70,10 @@ def _bracketed_roots(f, a: Array, b: Array, fa: Array, fb: Array, xtol: Array, f
     moves), with steps of at least ``xtol`` towards the far end (as Brent's method: the
     bracket then closes around the root).  A bracket without a sign change gives NaN.
     """
+    if np.size(a) <= 2 * _SCALAR_ROOTS:  # a few brackets: on floats throughout
+        few = _few_roots(f_one or _one_of(f), a, b, fa, fb, xtol)
+        if few is not None:
+            return few
     a, b, fa, fb = (np.array(v, dtype=float) for v in (a, b, fa, fb))
     root = np.where(fb == 0, b, np.where(fa == 0, a, np.nan))
     live = np.isnan(root) & (np.sign(fa) * np.sign(fb) < 0)
@@ -105,6 +109,21 @@ _SCALAR_ROOTS = 4  # brackets up to which _bracketed_roots steps each on Python 
 def _sgn(x: float) -> int:
     """``numpy.sign`` of a float as an int (0 for 0 and NaN)."""
     return (x > 0) - (x < 0)
+
+
+def _few_roots(f_one, a: Array, b: Array, fa: Array, fb: Array, xtol: Array) -> Array | None:
+    """:func:`_bracketed_roots` of a few brackets, the set-up too on Python floats (the same
+    roots: a bracket end where its value is 0, the float steps where the signs differ, else
+    NaN); None where more than ``_SCALAR_ROOTS`` brackets need steps (the array steps)."""
+    a_, b_, fa_, fb_, xt = (np.ravel(v).tolist() for v in (a, b, fa, fb, xtol))
+    live = [fa_[i] != 0 and fb_[i] != 0 and _sgn(fa_[i]) * _sgn(fb_[i]) < 0 for i in range(len(a_))]
+    if sum(live) > _SCALAR_ROOTS:
+        return None
+    root = [b_[i] if fb_[i] == 0 else (a_[i] if fa_[i] == 0 else math.nan) for i in range(len(a_))]
+    for i in range(len(a_)):
+        if live[i]:
+            root[i] = _illinois(f_one, i, a_[i], b_[i], fa_[i], fb_[i], xt[i])
+    return np.array(root, dtype=float)
 
 
 def _one_of(f):
