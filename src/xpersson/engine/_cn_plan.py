@@ -67,8 +67,7 @@ def _start_time(pbs: list[Problem], k: float, lower: bool = True) -> float:
         return min(_start_time([p], k, lower) for p in pbs)
     cand = tau_max * _START_GRID
     ks = k * np.sqrt(2.0 * cand)
-    lo = pb.lower.at(cand)
-    up = None if pb.upper is None else pb.upper.at(cand)
+    lo, up = pb.lower.at(cand), None if pb.upper is None else pb.upper.at(cand)
     return min(_first_start(p.p0, cand, ks, lo, up, tau_max, lower) for p in pbs)
 
 
@@ -79,8 +78,7 @@ def _first_start(
     no upper wall) at the candidate times ``cand`` [Pa^2] (``ks = k sqrt(2 cand)``)."""
     ok = None if up is None else up >= p0 + ks
     if lower:
-        below = lo <= p0 - ks
-        ok = below if ok is None else ok & below
+        ok = lo <= p0 - ks if ok is None else ok & (lo <= p0 - ks)
     if ok is None or ok.all():
         return tau_max
     first = int(np.argmin(ok))

@@ -223,8 +223,7 @@ def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
     prob += raw.absorbed_upper
     prob -= 1.0
     scale = np.maximum(np.abs(problem.p0), np.abs(lo))
-    if problem.upper is not None:  # (without one: its +inf adds nothing)
-        scale = np.maximum(scale, np.where(np.isfinite(up), np.abs(up), 0.0))
+    scale = np.maximum(scale, np.where(np.isfinite(up), np.abs(up), 0.0))
     scale = np.where(scale > 0, scale, 1.0)
     loadb = np.add(raw.load, raw.wall_term)
     loadb -= problem.p0
@@ -398,8 +397,6 @@ class LazyField:
 
 
 def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report success?
-    if isinstance(raw.status, str):  # (one status for the batch: no string array)
-        return np.full(n, raw.status == "success")
     return broadcast_view(np.asarray(raw.status) == "success", (n,)).copy()
 
 
