@@ -228,7 +228,9 @@ def _table(
         for sub, nodes in plans:
             at = direct.at(sub[nodes])
             logs = _logs(at, roles, xs[sub[nodes]])
-            rest = np.setdiff1d(np.arange(sub.size), nodes)
+            keep = np.ones(sub.size, dtype=bool)
+            keep[nodes] = False
+            rest = np.flatnonzero(keep)  # the loads of the run that are not nodes
             vals, est = _estimated(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol)
             for k, v in vals.items():
                 out[k][sub[rest]] = v
