@@ -25,9 +25,17 @@ from numpy.typing import NDArray
 from xpersson.cache import Cache, memoize
 from xpersson.physics.closures import GAMMA_DEFAULT
 
-from .stored import contact_modulus, spectrum_of
+from .stored import SPECTRUM_VARIABLES, contact_modulus, spectrum_of
 
-__all__ = ["Solved", "solved_curve", "dense_zeta", "per_solve", "solve_key", "FORMS"]
+__all__ = [
+    "Solved",
+    "solved_curve",
+    "curve_variables",
+    "dense_zeta",
+    "per_solve",
+    "solve_key",
+    "FORMS",
+]
 
 #: Forms of the correction factor in energy and gap.
 FORMS = ("closure", "yang_persson")
@@ -151,6 +159,19 @@ def _from_ds(ds: Any, name: str) -> NDArray[np.float64]:
     if "p0" in var.dims:
         vals = np.transpose(vals, (var.dims.index("p0"), var.dims.index("zeta")))
     return vals
+
+
+def curve_variables(ctx: Any) -> tuple[str, ...]:
+    """The names of every Dataset variable :func:`solved_curve` may read for the scene of
+    ``ctx`` (its boundary's area variables, the diffusion times of a closure without ``S``,
+    the spectrum, ``E_star`` and ``zeta``): a Dataset of these alone gives the same curve
+    (e.g. a cheap selection of some loads, ``ds[names].isel(p0=rows)``)."""
+    bnd = type(ctx.boundary) if ctx.boundary is not None else None
+    el = getattr(bnd, "elastic_area", "area_fraction")
+    comp = tuple(getattr(bnd, "elastic_area_complement", ("non_contact_fraction",)))
+    cont = tuple(getattr(bnd, "contact_area", ("area_fraction",)))
+    times = ("effective_diffusion_time", "diffusion_time")
+    return tuple(dict.fromkeys((el, *comp, *cont, *times, *SPECTRUM_VARIABLES, "E_star", "zeta")))
 
 
 def solved_curve(
