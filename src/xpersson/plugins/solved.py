@@ -201,7 +201,7 @@ def solved_curve(
     el = getattr(bnd, "elastic_area", "area_fraction")
     comp = getattr(bnd, "elastic_area_complement", ("non_contact_fraction",))
     cont = getattr(bnd, "contact_area", ("area_fraction",))
-    zeta = np.asarray(ds["zeta"].values, dtype=float)
+    zeta = np.asarray(ds.variables["zeta"].values, dtype=float)  # (no DataArray built)
     solve_at = getattr(ctx, "solve_at", None)
 
     memo: dict[str, NDArray[np.float64]] = {}

@@ -295,12 +295,13 @@ def _runs(flagged: NDArray[np.intp], nodes: NDArray[np.intp]) -> list[tuple[int,
 def _nodes(xs: NDArray[np.float64], h: float) -> NDArray[np.intp]:
     """Indices of sorted ``xs`` about ``h`` apart: each node the last value within ``h`` of
     the one before (at least the next), the last value always included."""
-    out = [0]
     last = xs.size - 1
+    # each value's successor node, for every value at once (one search, not one per node)
+    nxt = np.searchsorted(xs, xs + h, side="right") - 1
+    nxt = np.minimum(np.maximum(nxt, np.arange(1, xs.size + 1)), last).tolist()
+    out = [0]
     while out[-1] < last:
-        i = out[-1]
-        j = int(np.searchsorted(xs, xs[i] + h, side="right")) - 1
-        out.append(min(max(j, i + 1), last))
+        out.append(nxt[out[-1]])
     return np.asarray(out, dtype=np.intp)
 
 
