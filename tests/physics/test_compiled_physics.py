@@ -15,7 +15,15 @@ import pytest
 from scipy.linalg.lapack import dgtsv
 
 import xpersson
-from xpersson.physics import _compiled, _curve, _fastnum, _gap_distribution, _subgap
+from xpersson.physics import (
+    _compiled,
+    _curve,
+    _fastnum,
+    _gap_distribution,
+    _percolation,
+    _phi,
+    _subgap,
+)
 from xpersson.physics._gap_distribution import Detachment, gap_pdf
 
 SCENE = {
@@ -41,6 +49,8 @@ def _plain(monkeypatch: pytest.MonkeyPatch) -> list[str]:
         (_subgap, "kernel"),
         (_fastnum, "kernel"),
         (_curve, "kernel"),
+        (_phi, "kernel"),
+        (_percolation, "kernel"),
     ):
         monkeypatch.setattr(mod, attr, kernel)
     return asked
@@ -60,16 +70,19 @@ def _assert_close(ref, got) -> None:
 
 
 def test_plain_kernels_give_the_numpy_results(monkeypatch):
-    """The interface chain of gap_pdf (splines, Phi, sub-problem sums, Stieltjes sums, gap sum)
-    run through the kernels' Python form: the numpy path's outputs."""
-    scene = {**SCENE, "analyses": {"gap_pdf": {"u_points": 16}}}
+    """The interface chain of gap_pdf and leakage (splines, Phi, sub-problem sums, Stieltjes
+    sums, gap sum, percolation) run through the kernels' Python form: the numpy path's
+    outputs."""
+    scene = {**SCENE, "analyses": {"gap_pdf": {"u_points": 16}, "leakage": {}}}
     scene["load"] = {"p0": ["3 kPa", "300 kPa"]}
     with xpersson.set_options(compiled=False, cache=False):
         ref = xpersson.solve(scene)
     asked = _plain(monkeypatch)
     with xpersson.set_options(cache=False):
         got = xpersson.solve(scene)
-    assert {"gap_rows", "sub_sums", "spline_coefficients", "spline_values", "df_sums"} <= set(asked)
+    want = {"gap_rows", "sub_sums", "spline_coefficients", "spline_values", "df_sums"}
+    want |= {"csr_sums", "crossing_newton"}
+    assert want <= set(asked)
     _assert_close(ref, got)
 
 
@@ -188,8 +201,6 @@ def _crossings(rng: np.random.Generator, n: int) -> tuple:
 def test_crossing_newton_is_the_numpy_newton_bit_for_bit(compiled):
     """critical_magnification's Newton steps by the kernel (plain Python, or compiled): the
     numpy steps' bits, rows in lockstep (the same number of steps for every row)."""
-    from xpersson.physics import _percolation
-
     if compiled:
         pytest.importorskip("numba")
     fn = _compiled.kernel(math.inf, "crossing_newton") if compiled else _compiled.crossing_newton

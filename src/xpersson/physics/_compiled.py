@@ -55,6 +55,7 @@ __all__ = [
     "ANCHOR",
     "A_MAX",
     "crossing_newton",
+    "csr_sums",
     "D_MAX",
     "MIN_WORK",
     "PAIRWISE",
@@ -113,6 +114,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         df_poly,
         df_sums,
         crossing_newton,
+        csr_sums,
     )
     return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 
@@ -462,3 +464,19 @@ def crossing_newton(
             xc[r] = xn
         if every:
             break
+
+
+def csr_sums(
+    ptr: Any, cols: Any, data: Any, tab: Any, out: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``out = W @ tab`` of the CSR matrix ``W`` (``ptr``, ``cols``, ``data``) and the dense
+    ``tab`` (n, n_vec): scipy's ``csr_matvecs`` in its order (``out`` zeroed, then each stored
+    element's ``data tab[col]`` added to its row in storage order): the same bits."""
+    n_vec = tab.shape[1]
+    for k in range(ptr.size - 1):
+        for v in range(n_vec):
+            out[k, v] = 0.0
+        for e in range(ptr[k], ptr[k + 1]):
+            a, j = data[e], cols[e]
+            for v in range(n_vec):
+                out[k, v] += a * tab[j, v]
