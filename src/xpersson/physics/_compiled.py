@@ -54,8 +54,6 @@ from ..options import compiled_enabled
 __all__ = [
     "ANCHOR",
     "A_MAX",
-    "crossing_newton",
-    "csr_sums",
     "D_MAX",
     "MIN_WORK",
     "PAIRWISE",
@@ -113,10 +111,16 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         spline_values,
         df_poly,
         df_sums,
-        crossing_newton,
-        csr_sums,
+        *_leak_kernels(),
     )
     return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
+
+
+def _leak_kernels() -> tuple[Callable[..., Any], ...]:
+    """The kernels of :mod:`._compiled_leak` (the leak analysis's direct path)."""
+    from ._compiled_leak import crossing_newton, csr_sums, series_horner
+
+    return crossing_newton, csr_sums, series_horner
 
 
 def uniform_from_zero(u: NDArray[np.float64]) -> bool:
@@ -430,53 +434,3 @@ def df_sums(
             for a in range(1, m):
                 t += (dy[r, a, j] * e[r, a, j]) * w_t[a, start + j]
             out[k0 + r, start + j] = t
-
-
-def crossing_newton(
-    coef: Any, xk: Any, xc: Any, lo: Any, hi: Any, a_c: float
-) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """The safeguarded Newton steps of :func:`~._percolation._newton` (every row's cubic
-    ``coef`` (4, n) about ``xk`` equal to ``a_c`` in the bracket ``lo, hi``; all three
-    updated in place): its operations in its order, all rows in lockstep (the same number of
-    steps, until every row's step is below 1e-15 relative or 60 steps)."""
-    for _ in range(60):
-        every = True
-        for r in range(xc.size):
-            c0, c1, c2, c3 = coef[0, r], coef[1, r], coef[2, r], coef[3, r]
-            x = xc[r]
-            d = x - xk[r]
-            f = ((c0 * d + c1) * d + c2) * d + c3
-            df = ((3.0 * c0) * d + 2.0 * c1) * d + c2
-            res = f - a_c
-            if res > 0:
-                lo[r] = x
-            if res <= 0:
-                hi[r] = x
-            step = res / df if df < 0 else 0.0
-            xn = x - step
-            if not (xn > lo[r] and xn < hi[r]):
-                xn = 0.5 * (lo[r] + hi[r])
-            ax = abs(x)
-            if not ax >= 1.0 and ax == ax:  # np.maximum(1.0, |x|): NaN kept
-                ax = 1.0
-            if not abs(xn - x) <= 1e-15 * ax:
-                every = False
-            xc[r] = xn
-        if every:
-            break
-
-
-def csr_sums(
-    ptr: Any, cols: Any, data: Any, tab: Any, out: Any
-) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """``out = W @ tab`` of the CSR matrix ``W`` (``ptr``, ``cols``, ``data``) and the dense
-    ``tab`` (n, n_vec): scipy's ``csr_matvecs`` in its order (``out`` zeroed, then each stored
-    element's ``data tab[col]`` added to its row in storage order): the same bits."""
-    n_vec = tab.shape[1]
-    for k in range(ptr.size - 1):
-        for v in range(n_vec):
-            out[k, v] = 0.0
-        for e in range(ptr[k], ptr[k + 1]):
-            a, j = data[e], cols[e]
-            for v in range(n_vec):
-                out[k, v] += a * tab[j, v]
