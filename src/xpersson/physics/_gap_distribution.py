@@ -333,10 +333,6 @@ def _series_sum(
     x = np.multiply(u2[:, :top].T, sigma, out=np.empty((top, u2.shape[0])))  # (never u2 itself)
     np.minimum(x, 1e150, out=x)  # no 0 * inf where no prefix holds the column
     x2 = x * x
-    fn = _compiled_kernel(cnt.size * n_term, "series_horner")
-    if fn is not None:  # the same operations per (column, load), in one pass (the same bits)
-        fn(acc, cnt, start, x, x2, out)
-        return out
     res, d = np.zeros((top, n_load)), np.empty((top, n_load))
     for n in range(n_term - 1, 0, -1):  # Horner, term n from its first column on
         j = int(start[n])

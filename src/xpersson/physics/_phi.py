@@ -13,7 +13,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..cache import Cache
-from ._compiled import kernel
 from ._curve import _TINY, _Curve, _tau_c
 from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
 
@@ -258,13 +257,8 @@ class _Phi:
         col = i[keep] - lo
         cols = np.stack((col, col + 1), axis=-1).ravel()
         ptr = np.concatenate(([0], np.cumsum(2 * np.count_nonzero(keep, axis=1))))
-        fn = kernel(data.size * tab.shape[1], "csr_sums")
-        if fn is not None:  # scipy's sparse product in its order, without building the matrix
-            prod = np.empty((log_tau.shape[0], tab.shape[1]))
-            fn(ptr, cols, data, tab, prod)
-        else:
-            prod = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[0])) @ tab
-        out = np.ascontiguousarray(prod.T)  # the table (nodes, loads)
+        w = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[0]))
+        out = np.ascontiguousarray((w @ tab).T)  # the table (nodes, loads)
         phi1 = self.phi[:, 1:2]
         if low.any() and np.any(phi1):
             t = np.zeros(log_tau.shape)
