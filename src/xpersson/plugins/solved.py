@@ -166,12 +166,19 @@ def curve_variables(ctx: Any) -> tuple[str, ...]:
     ``ctx`` (its boundary's area variables, the diffusion times of a closure without ``S``,
     the spectrum, ``E_star`` and ``zeta``): a Dataset of these alone gives the same curve
     (e.g. a cheap selection of some loads, ``ds[names].isel(p0=rows)``)."""
+    el, comp, cont = _area_names(ctx)
+    times = ("effective_diffusion_time", "diffusion_time")
+    return tuple(dict.fromkeys((el, *comp, *cont, *times, *SPECTRUM_VARIABLES, "E_star", "zeta")))
+
+
+def _area_names(ctx: Any) -> tuple[str, tuple[str, ...], tuple[str, ...]]:
+    """The boundary's elastic area, its complement and the load-bearing contact area (the
+    Dataset variables' names; the elastic boundary's without a boundary)."""
     bnd = type(ctx.boundary) if ctx.boundary is not None else None
     el = getattr(bnd, "elastic_area", "area_fraction")
     comp = tuple(getattr(bnd, "elastic_area_complement", ("non_contact_fraction",)))
     cont = tuple(getattr(bnd, "contact_area", ("area_fraction",)))
-    times = ("effective_diffusion_time", "diffusion_time")
-    return tuple(dict.fromkeys((el, *comp, *cont, *times, *SPECTRUM_VARIABLES, "E_star", "zeta")))
+    return el, comp, cont
 
 
 def solved_curve(
@@ -197,10 +204,7 @@ def solved_curve(
         raise ValueError(f"s_factor must be one of {FORMS}, got {form!r}")
     p0 = np.atleast_1d(np.asarray(ctx.p0, dtype=float))
     n = p0.size
-    bnd = type(ctx.boundary) if ctx.boundary is not None else None
-    el = getattr(bnd, "elastic_area", "area_fraction")
-    comp = getattr(bnd, "elastic_area_complement", ("non_contact_fraction",))
-    cont = getattr(bnd, "contact_area", ("area_fraction",))
+    el, comp, cont = _area_names(ctx)
     zeta = np.asarray(ds.variables["zeta"].values, dtype=float)  # (no DataArray built)
     solve_at = getattr(ctx, "solve_at", None)
 
