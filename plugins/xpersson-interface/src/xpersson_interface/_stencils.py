@@ -135,7 +135,7 @@ def _interpolate(
     lo = idx[:, 0]
     out = {}
     late = {k: f for names, f in weights for k in names}
-    done: dict[int, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
+    done: dict[int, tuple[NDArray[np.bool_], NDArray[np.float64], NDArray[np.float64]]] = {}
     for k, v in sorted(at.items(), key=lambda kv: kv[0] in late):
         if k in keys:
             out[k] = v[lo]
@@ -149,23 +149,37 @@ def _interpolate(
         if k in late:
             f = late[k]
             if id(f) not in done:  # once per group (from the outputs interpolated first)
-                done[id(f)] = f(out, x)
-            W, S = done[id(f)]
-            ok = (W > 0.0) & np.isfinite(S)
+                done[id(f)] = _transform(*f(out, x))
+            ok, S, W = done[id(f)]
             bad |= regular[lo] & ~ok
-            y = np.where(ok, (y + np.where(ok, S, 0.0)) / np.where(ok, W, 1.0), 0.0)
+            y = np.where(ok, (y + S) / W, 0.0)
         y = np.exp(y)
         # a segment of irregular values (NaN, 0 or inf): the value, where its nodes agree
         irr = np.flatnonzero(~regular[lo])
         if irr.size:
-            first = v[lo[irr]]
-            y[irr] = first
-            bad[irr] |= ~np.all(_same(v[idx[irr]], first[:, None]), axis=1)
+            y[irr] = v[lo[irr]]
+            bad[irr] |= ~_alike(v, lo[irr], m)
         out[k] = y
     flat, below = _flat(xn, at, logs, x, keys)
     for k, v in out.items():
         v[flat] = at[k][below[flat]]
     return out, bad & ~flat, np.sum(np.abs(w), axis=1), idx, flat
+
+
+def _transform(
+    W: NDArray[np.float64], S: NDArray[np.float64]
+) -> tuple[NDArray[np.bool_], NDArray[np.float64], NDArray[np.float64]]:
+    """Where a transform applies (``W > 0``, ``S`` finite) and its ``S`` and ``W`` there (0 and
+    1 elsewhere): the tabled ``W ln v - S`` gives ``ln v = (y + S) / W``."""
+    ok = (W > 0.0) & np.isfinite(S)
+    return ok, np.where(ok, S, 0.0), np.where(ok, W, 1.0)
+
+
+def _alike(v: NDArray[np.float64], start: NDArray[np.intp], m: int) -> NDArray[np.bool_]:
+    """Per stencil (``m`` consecutive nodes from ``start``): whether its values are all alike
+    (equal, or all NaN), from the node pairs that differ (a prefix count over the nodes)."""
+    differ = np.concatenate(([0], np.cumsum(~_same(v[:-1], v[1:]))))  # before node j
+    return differ[start + m - 1] == differ[start]
 
 
 def _flat(
