@@ -52,7 +52,7 @@ eval("[xpersson.solve(sc) for _ in range({n})]")
 
 def instructions(tree: Path, name: str, elastic: bool, n: int) -> float:
     """Instructions per solve [1] of scene ``name`` (jkr or elastic), source tree ``tree``."""
-    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", PYTHONHASHSEED="0")  # the same dict layouts
     paths = [tree / "src", *(tree / "plugins" / f"xpersson-{p}" / "src" for p in PLUGINS)]
     env["PYTHONPATH"] = os.pathsep.join(str(p) for p in paths)
     code = CHILD.format(bench=str(HERE), name=name, elastic=elastic, n=n)
