@@ -314,7 +314,8 @@ def _lines_to_si(text: str, n: int, unit: str) -> np.ndarray | None:
 
 def _number_and_unit(text: str, n: int) -> tuple[list[str], tuple[str, ...]] | None:
     """(number texts, unit texts) of the ``n`` lines ``"<number> <unit>"`` of ``text`` as
-    :data:`_NUMBER` reads them, or ``None`` (a line that is not one)."""
+    :data:`_NUMBER` reads them (one unit text: the unit of every number), or ``None`` (a line
+    that is not one)."""
     same = _one_unit(text, n)
     if same is not None:
         return same
@@ -348,7 +349,7 @@ def _one_unit(text: str, n: int) -> tuple[list[str], tuple[str, ...]] | None:
         return None
     if max(map(len, nums)) + 1 + len(head[1]) > MAX_TEXT:  # a line too long: value by value
         return None
-    return nums, (head[1],) * n
+    return nums, (head[1],)  # one unit text for every number
 
 
 _NUMBER_CHARS = re.compile(r"[0-9.eE+\-\n]*")
