@@ -136,6 +136,7 @@ def load_strings(spec: dict, rounds: int, quick: bool) -> dict:
     """1000 loads as a list of strings against the same loads as a range table (each timed over
     ~20 ms of repeated solves); the note gives the list with its numbers read afresh each time
     (the list cache cleared before each solve)."""
+    import xpersson.units  # noqa: F401 - the list cache is made on import
     from xpersson.cache import cache
 
     grid = np.geomspace(1e3, 1e6, 1000)
