@@ -155,7 +155,8 @@ def test_list_parse_is_pint_value_by_value_bit_for_bit(entries, one_unit):
 
 
 @pytest.mark.parametrize(
-    "bad", ["x Pa", "2 m", "3", "1e400 Pa", "-2 Pa", "2 Pa\n3 Pa", "1e3 Pa**2", "1e3 Pq"]
+    "bad",
+    ["x Pa", "2 m", "3", "1e400 Pa", "-2 Pa", "2 Pa\n3 Pa", "1e3 Pa**2", "1e3 Pq", "1.2.3 Pa"],
 )
 def test_one_bad_entry_of_a_long_list_is_named_with_the_unit_and_range(bad):
     """One malformed, wrong-dimension, unitless, infinite or negative entry among 1000: one
@@ -177,3 +178,11 @@ def test_a_cached_list_parse_gives_each_caller_its_own_array():
     again = strings_to_si(list(values), "Pa")
     np.testing.assert_array_equal(again, [to_si(v, "Pa", "w") for v in values])
     assert again.flags.writeable
+
+
+@pytest.mark.parametrize(("text", "number"), [("1.2.3 Pa", "1.2"), ("1e3.5 kPa", "1e3")])
+def test_a_number_with_a_second_decimal_point_is_refused(text, number):
+    """pint reads ``"1.2.3 Pa"`` as 1.2 x .3 = 0.36 Pa (two numbers, multiplied): refused,
+    naming the number it read and the parameter's range."""
+    with pytest.raises(SceneError, match=rf"load\.p0: .*{number!r}.*\(0, 1e\+13\] Pa$"):
+        loads(text)

@@ -60,6 +60,8 @@ MAX_NESTING = 8
 MAX_POWER = 4 * MAX_EXPONENT
 """Largest sum of the magnitudes of all exponents of a unit expression (a unit without one
 counts 1): bounds products of large powers such as ``'Tm**60*Tm**60*Tm**60/m**180'``."""
+#: a number (as Python's float reads one, taken whole) directly followed by a decimal point
+_MALFORMED = re.compile(r"((?>(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?))\.\d*")
 _NAME = re.compile(r"(?<![\d.])[A-Za-z_\u00b5\u03bc][A-Za-z0-9_\u00b5\u03bc]*")
 _EXPONENT = re.compile(
     r"(?:\*\*|\^)\s*(\(\s*[-+]?\d+(?:\.\d*)?(?:\s*/\s*\d+)?\s*\)"
@@ -68,12 +70,15 @@ _EXPONENT = re.compile(
 
 
 def check_expression(text: str, where: str) -> None:
-    """Refuse a quantity text that could make the unit parser work without bound.
+    """Refuse a quantity text that could make the unit parser work without bound, or that
+    holds a malformed number.
 
     Bounds: at most :data:`MAX_TEXT` characters, parentheses nested at most
     :data:`MAX_NESTING` deep, and every exponent (``**`` or ``^``) a plain number (or a plain
     fraction in parentheses) of magnitude at most :data:`MAX_EXPONENT`, never itself raised to
-    a power (no towers such as ``m**9**9**9``).
+    a power (no towers such as ``m**9**9**9``). A number directly followed by a decimal point
+    (``"1.2.3 Pa"``, ``"1e3.5 Pa"``) is refused: pint would read two numbers and multiply
+    them (0.36 Pa, 500 Pa).
 
     Raises
     ------
@@ -82,6 +87,12 @@ def check_expression(text: str, where: str) -> None:
     """
     if len(text) > MAX_TEXT:
         raise UnitError(f"{where}: quantity text of {len(text)} characters (at most {MAX_TEXT})")
+    bad = _MALFORMED.search(text)
+    if bad is not None:
+        raise UnitError(
+            f"{where}: {text[:60]!r}: {bad.group(0)!r} is not a number (a decimal point after "
+            f"the number {bad.group(1)!r}); write one number, e.g. '1.23 MPa'"
+        )
     depth = deepest = 0
     for c in text:
         depth += (c == "(") - (c == ")")
