@@ -12,7 +12,7 @@ import numpy as np
 from ..cache import Cache
 from ..plugins import DiffusionClock, SceneContext
 from ..scene import ResolvedScene
-from .stages import _equals_rows, shared_tau
+from .stages import shared_tau
 
 __all__ = ["make_solve_at"]
 
@@ -112,10 +112,7 @@ def _times(
         return tau_c, np.broadcast_to(tau_c, (n, z.size)), True
     tau_c = np.asarray(coef.tau(c, z), float)
     tau_eff = np.asarray(coef.effective_tau(c, z), float).reshape(n, -1)
-    if (
-        given is not None
-        and given.shape == tau_c.shape
-        and _equals_rows(tau_eff, tau_c, tau_eff.shape)
-    ):
-        return given, np.array(np.broadcast_to(given, (n, z.size))), False
+    seen = given is not None and given.shape == tau_c.shape == tau_eff.shape[1:]
+    if seen and np.array_equal(tau_eff, np.broadcast_to(tau_c, tau_eff.shape)):
+        return given, np.array(np.broadcast_to(given, tau_eff.shape)), False
     return tau_c, tau_eff, False
