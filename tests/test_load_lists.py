@@ -105,3 +105,84 @@ def test_a_list_in_pascals_is_archived_as_written_and_reproduces_bit_for_bit():
     data["load"]["p0"] = ["1 kPa", "2.5 kPa"]
     stored = json.loads(xpersson.solve(data).attrs["xpersson_scene"])
     assert stored["load"]["p0"] == ["1000.0 Pa", "2500.0 Pa"]
+
+
+def _pint_si(text: str, unit: str) -> float:
+    """``text`` in ``unit`` by pint alone (no fast path): the reference of every list parse."""
+    from xpersson.units import ureg
+
+    return float(ureg().Quantity(text.strip()).to(unit).magnitude)
+
+
+NUMBER_FORMATS = ["{!r}", "{:.17g}", "{:.3e}", "{:.6E}", "{:.0f}", "{:g}", "{:+.5e}", "{:.2f}"]
+UNITS = [("Pa", ""), ("Pa", "k"), ("Pa", "M"), ("Pa", "G"), ("Pa", "m"), ("N/m**2", "")]
+SPACES = ["{} {}", "{}{}", "  {}  {}  ", "{}\t{}"]
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    st.lists(
+        st.tuples(
+            st.floats(1e-6, 1e12, allow_nan=False, allow_infinity=False),
+            st.sampled_from(NUMBER_FORMATS),
+            st.sampled_from(UNITS),
+            st.sampled_from(SPACES),
+        ),
+        min_size=1,
+        max_size=25,
+    ),
+    st.booleans(),
+)
+def test_list_parse_is_pint_value_by_value_bit_for_bit(entries, one_unit):
+    """Generated numbers (repr, fixed, exponent in e/E with signs), units with and without
+    prefixes and spacings: the list parse equals pint's conversion of each value, bit for bit
+    (or the list goes value by value: ``None``); a list in one (prefixed) pascal unit always
+    parses at once; the scene's loads are the same floats."""
+    if one_unit:
+        entries = [(x, fmt, entries[0][2], "{} {}") for x, fmt, _, _ in entries]
+    values = [space.format(fmt.format(x), pre + unit) for x, fmt, (unit, pre), space in entries]
+    if any(float(fmt.format(x)) == 0.0 for x, fmt, _, _ in entries):
+        return  # "0.00 Pa": valid text, but outside load.p0's range (tested elsewhere)
+    got = strings_to_si(values, "Pa")
+    want = np.array([_pint_si(v, "Pa") for v in values])
+    if one_unit and entries[0][2][0] == "Pa":  # (prefixed) pascals in one unit: at once
+        assert got is not None
+    if got is not None:
+        np.testing.assert_array_equal(got.view(np.int64), want.view(np.int64))
+    if np.all(np.diff(want) > 0) and want.max() <= 1e13:  # valid loads: the scene's floats
+        arr, _ = loads(values)
+        np.testing.assert_array_equal(arr.view(np.int64), want.view(np.int64))
+
+
+@pytest.mark.parametrize(
+    "bad",
+    ["x Pa", "2 m", "3", "1e400 Pa", "-2 Pa", "2 Pa\n3 Pa", "1e3 Pa**2", "1e3 Pq", "1.2.3 Pa"],
+)
+def test_one_bad_entry_of_a_long_list_is_named_with_the_unit_and_range(bad):
+    """One malformed, wrong-dimension, unitless, infinite or negative entry among 1000: one
+    error naming the entry, the unit and the allowed range, every time (a cached list parse
+    never hides it)."""
+    values = [f"{float(p)!r} Pa" for p in np.geomspace(1e3, 1e6, 1000)]
+    values[617] = bad
+    for _ in range(2):
+        with pytest.raises(SceneError, match=r"^load\.p0\[617\]: .*\(0, 1e\+13\] Pa$"):
+            loads(values)
+
+
+def test_a_cached_list_parse_gives_each_caller_its_own_array():
+    """The same list parsed twice (the second from ``units.string_lists``): equal floats, and
+    the array is the caller's to change (writing into it changes no later parse)."""
+    values = [f"{x!r} kPa" for x in np.linspace(1.0, 2.0, 50).tolist()]
+    first = strings_to_si(values, "Pa")
+    first[:] = -1.0
+    again = strings_to_si(list(values), "Pa")
+    np.testing.assert_array_equal(again, [to_si(v, "Pa", "w") for v in values])
+    assert again.flags.writeable
+
+
+@pytest.mark.parametrize(("text", "number"), [("1.2.3 Pa", "1.2"), ("1e3.5 kPa", "1e3")])
+def test_a_number_with_a_second_decimal_point_is_refused(text, number):
+    """pint reads ``"1.2.3 Pa"`` as 1.2 x .3 = 0.36 Pa (two numbers, multiplied): refused,
+    naming the number it read and the parameter's range."""
+    with pytest.raises(SceneError, match=rf"load\.p0: .*{number!r}.*\(0, 1e\+13\] Pa$"):
+        loads(text)

@@ -60,6 +60,8 @@ MAX_NESTING = 8
 MAX_POWER = 4 * MAX_EXPONENT
 """Largest sum of the magnitudes of all exponents of a unit expression (a unit without one
 counts 1): bounds products of large powers such as ``'Tm**60*Tm**60*Tm**60/m**180'``."""
+#: a number (as Python's float reads one, taken whole) directly followed by a decimal point
+_MALFORMED = re.compile(r"((?>(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?))\.\d*")
 _NAME = re.compile(r"(?<![\d.])[A-Za-z_\u00b5\u03bc][A-Za-z0-9_\u00b5\u03bc]*")
 _EXPONENT = re.compile(
     r"(?:\*\*|\^)\s*(\(\s*[-+]?\d+(?:\.\d*)?(?:\s*/\s*\d+)?\s*\)"
@@ -68,12 +70,15 @@ _EXPONENT = re.compile(
 
 
 def check_expression(text: str, where: str) -> None:
-    """Refuse a quantity text that could make the unit parser work without bound.
+    """Refuse a quantity text that could make the unit parser work without bound, or that
+    holds a malformed number.
 
     Bounds: at most :data:`MAX_TEXT` characters, parentheses nested at most
     :data:`MAX_NESTING` deep, and every exponent (``**`` or ``^``) a plain number (or a plain
     fraction in parentheses) of magnitude at most :data:`MAX_EXPONENT`, never itself raised to
-    a power (no towers such as ``m**9**9**9``).
+    a power (no towers such as ``m**9**9**9``). A number directly followed by a decimal point
+    (``"1.2.3 Pa"``, ``"1e3.5 Pa"``) is refused: pint would read two numbers and multiply
+    them (0.36 Pa, 500 Pa).
 
     Raises
     ------
@@ -82,6 +87,12 @@ def check_expression(text: str, where: str) -> None:
     """
     if len(text) > MAX_TEXT:
         raise UnitError(f"{where}: quantity text of {len(text)} characters (at most {MAX_TEXT})")
+    bad = _MALFORMED.search(text)
+    if bad is not None:
+        raise UnitError(
+            f"{where}: {text[:60]!r}: {bad.group(0)!r} is not a number (a decimal point after "
+            f"the number {bad.group(1)!r}); write one number, e.g. '1.23 MPa'"
+        )
     depth = deepest = 0
     for c in text:
         depth += (c == "(") - (c == ")")
@@ -268,15 +279,31 @@ def strings_to_si(values: Any, unit: str) -> np.ndarray | None:
     SI factor, :func:`_simple_si`). ``None`` where a value is not a plain number with a simple
     SI unit of ``unit``'s dimension, or breaks a bound of :func:`check_expression`: the caller
     then converts value by value, which raises the message naming the value's index.
+
+    The list's text (its values joined by line breaks) keys a process cache
+    (``units.string_lists``): a scene solved again, or the same list at every point of a
+    sweep, reads its numbers once. The array returned is the caller's own (a copy).
     """
+    if type(values) not in (list, tuple) or not values:
+        return None
+    try:
+        text = "\n".join(values)
+    except TypeError:  # a value that is not a string
+        return None
+    got = _lines_to_si(text, len(values), unit)
+    return None if got is None else got.copy()
+
+
+@memoize("units.string_lists", scope="process", maxsize=8)
+def _lines_to_si(text: str, n: int, unit: str) -> np.ndarray | None:
+    """:func:`strings_to_si` of the ``n`` values joined by line breaks in ``text`` (``None``:
+    a value holding a line break, or one the caller must convert on its own)."""
     import numpy as np
 
     want = _simple_unit(unit)
-    if want is None or want[0] != 1.0 or not values or any(type(v) is not str for v in values):
+    if want is None or want[0] != 1.0 or text.count("\n") != n - 1:
         return None
-    if max(map(len, values)) > MAX_TEXT:
-        return None
-    split = _number_and_unit(values)
+    split = _number_and_unit(text, n)
     if split is None:
         return None
     nums, units = split
@@ -296,43 +323,44 @@ def strings_to_si(values: Any, unit: str) -> np.ndarray | None:
     return x * np.array([factors[u] for u in units], float)
 
 
-def _number_and_unit(values: list[str]) -> tuple[tuple[str, ...], tuple[str, ...]] | None:
-    """(number texts, unit texts) of strings ``"<number> <unit>"`` as :data:`_NUMBER` reads
-    them, or ``None`` (a value that is not one)."""
-    same = _one_unit(values)
+def _number_and_unit(text: str, n: int) -> tuple[list[str], tuple[str, ...]] | None:
+    """(number texts, unit texts) of the ``n`` lines ``"<number> <unit>"`` of ``text`` as
+    :data:`_NUMBER` reads them (one unit text: the unit of every number), or ``None`` (a line
+    that is not one)."""
+    same = _one_unit(text, n)
     if same is not None:
         return same
-    pairs = [v.split(None, 1) for v in values]
+    lines = text.split("\n")
+    if max(map(len, lines)) > MAX_TEXT:  # too long for check_expression: value by value
+        return None
+    pairs = [v.split(None, 1) for v in lines]
     if set(map(len, pairs)) == {2}:  # "1.5 MPa": numbers checked by one scan of all
         nums, units = zip(*pairs, strict=True)
         # over these characters Python's float() reads exactly the numbers _NUMBER reads
         if _NUMBER_CHARS.fullmatch("\n".join(nums)):
-            return nums, units  # a unit's trailing blanks: _simple_unit strips them
-    found = _NUMBERS.findall("\n".join(values))  # "1.5MPa", "1.5", ...: one scan, slower
-    if len(found) != len(values):
-        return None  # a value that is not a plain number and unit (or holds a line break)
+            return list(nums), units  # a unit's trailing blanks: _simple_unit strips them
+    found = _NUMBERS.findall(text)  # "1.5MPa", "1.5", ...: one scan, slower
+    if len(found) != n:
+        return None  # a value that is not a plain number and unit
     nums, units = zip(*found, strict=True)
-    return nums, units
+    return list(nums), units
 
 
-def _one_unit(values: list[str]) -> tuple[list[str], tuple[str, ...]] | None:
-    """(number texts, unit texts) where every value is ``"<number> <unit>"`` with the first
-    value's unit text and one blank (a list of loads in one unit): one join, one count, one
-    replace and one split over all values, no split per value; ``None`` otherwise."""
-    head = values[0].split(" ", 1)
-    if len(head) != 2 or not head[1] or head[1][0].isspace() or "\n" in head[1]:
+def _one_unit(text: str, n: int) -> tuple[list[str], tuple[str, ...]] | None:
+    """(number texts, unit texts) where each of the ``n`` lines of ``text`` is
+    ``"<number> <unit>"`` with the first line's unit text and one blank (a list of loads in
+    one unit): one split of the whole text on the unit, no split per value; ``None``
+    otherwise."""
+    head = text.split("\n", 1)[0].split(" ", 1)
+    if len(head) != 2 or not head[1] or head[1][0].isspace():
         return None
-    joined = "\n".join(values) + "\n"
-    tail = f" {head[1]}\n"
-    if joined.count(tail) != len(values):
+    nums = (text + "\n").split(f" {head[1]}\n")
+    # n + 1 parts, the last empty: every line ends with the unit (no line holds a break)
+    if len(nums) != n + 1 or nums.pop() or not _NUMBER_CHARS.fullmatch("\n".join(nums)):
         return None
-    numbers = joined.replace(tail, "\n")[:-1]
-    if not _NUMBER_CHARS.fullmatch(numbers):
+    if max(map(len, nums)) + 1 + len(head[1]) > MAX_TEXT:  # a line too long: value by value
         return None
-    nums = numbers.split("\n")
-    if len(nums) != len(values):
-        return None
-    return nums, (head[1],) * len(values)
+    return nums, (head[1],)  # one unit text for every number
 
 
 _NUMBER_CHARS = re.compile(r"[0-9.eE+\-\n]*")

@@ -64,7 +64,13 @@ def test_batch_start_time_is_the_smallest_load_start(name):
         cand = p.tau_max * np.logspace(-18, 0, 721)
         lo, up = p.wall_positions(cand)
         s = np.sqrt(2.0 * cand)
-        assert _first_start(p.p0, 3.0, cand, s, lo, up, p.tau_max, True) == want
+        assert _first_start(p.p0, cand, 3.0 * s, lo, up, p.tau_max, True) == want
+        # no upper wall (None) is the same scan as an upper wall at +inf
+        inf = np.full(lo.shape, np.inf)
+        args = (p.p0, cand, 3.0 * s, lo)
+        assert _first_start(*args, None, p.tau_max, True) == _first_start(
+            *args, inf, p.tau_max, True
+        )
 
 
 def test_batch_start_time_with_walls_not_shared():

@@ -145,6 +145,19 @@ def test_switch_times_of_a_linear_wall_closed_form():
     np.testing.assert_allclose(got, sorted(want), rtol=1e-13)
 
 
+def test_switch_times_on_floats_equal_the_array_steps(monkeypatch):
+    """The kinks of a few brackets are stepped on floats with the gap evaluated on floats
+    (``gap_one``): the same roots, bit for bit, as the array steps of the vectorised gap."""
+    from xpersson.engine import _cn_kinks
+
+    wall = Wall.absorbing(lambda t: -(S0 + 3.0 * np.sqrt(np.asarray(t)) + 0.7 * np.asarray(t)))
+    pb = make_problem([1.0], 0.3, wall, None, 1e-6, None, None, 10**5, None)
+    floats = _switch_times_batch([pb], 6.0, 1e-6, 1e3)
+    assert len(floats) >= 1
+    monkeypatch.setattr(_cn_kinks, "_SCALAR_ROOTS", 0)
+    assert _switch_times_batch([pb], 6.0, 1e-6, 1e3) == floats
+
+
 @pytest.mark.parametrize("c, rtol", [(1.0, 1e-4), (-2.0, 1e-4), (5.0, 1e-5)])
 def test_reported_estimate_bounds_the_error_at_every_output(c, rtol):
     """Second- and fourth-order answers too: the estimate is reported as a uniform fraction

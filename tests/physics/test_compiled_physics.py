@@ -15,7 +15,7 @@ import pytest
 from scipy.linalg.lapack import dgtsv
 
 import xpersson
-from xpersson.physics import _compiled, _curve, _fastnum, _gap_distribution, _subgap
+from xpersson.physics import _compiled, _curve, _fastnum, _gap_distribution, _percolation, _subgap
 from xpersson.physics._gap_distribution import Detachment, gap_pdf
 
 SCENE = {
@@ -41,6 +41,7 @@ def _plain(monkeypatch: pytest.MonkeyPatch) -> list[str]:
         (_subgap, "kernel"),
         (_fastnum, "kernel"),
         (_curve, "kernel"),
+        (_percolation, "kernel"),
     ):
         monkeypatch.setattr(mod, attr, kernel)
     return asked
@@ -60,16 +61,18 @@ def _assert_close(ref, got) -> None:
 
 
 def test_plain_kernels_give_the_numpy_results(monkeypatch):
-    """The interface chain of gap_pdf (splines, Phi, sub-problem sums, Stieltjes sums, gap sum)
-    run through the kernels' Python form: the numpy path's outputs."""
-    scene = {**SCENE, "analyses": {"gap_pdf": {"u_points": 16}}}
+    """The interface chain of gap_pdf and leakage (splines, Phi, sub-problem sums, Stieltjes
+    sums, gap sum, percolation) run through the kernels' Python form: the numpy path's
+    outputs."""
+    scene = {**SCENE, "analyses": {"gap_pdf": {"u_points": 16}, "leakage": {}}}
     scene["load"] = {"p0": ["3 kPa", "300 kPa"]}
     with xpersson.set_options(compiled=False, cache=False):
         ref = xpersson.solve(scene)
     asked = _plain(monkeypatch)
     with xpersson.set_options(cache=False):
         got = xpersson.solve(scene)
-    assert {"gap_rows", "sub_sums", "spline_coefficients", "spline_values", "df_sums"} <= set(asked)
+    want = {"gap_rows", "sub_sums", "spline_coefficients", "spline_values", "df_sums"}
+    assert want | {"crossing_newton"} <= set(asked)
     _assert_close(ref, got)
 
 
@@ -79,7 +82,7 @@ def test_compiled_kernels_give_the_numpy_results(monkeypatch):
     scene = {**SCENE, "analyses": ANALYSES}
     with xpersson.set_options(compiled=False, cache=False):
         ref = xpersson.solve(scene)
-    with xpersson.set_options(cache=False):
+    with xpersson.set_options(cache=False, compiled=True):  # on even under XPERSSON_COMPILED=off
         assert _compiled.kernel(1.0) is not None
         got = xpersson.solve(scene)
     _assert_close(ref, got)
@@ -172,3 +175,32 @@ def test_nan_weight_spoils_its_load_only(monkeypatch):
     keep = [0, 1, 3]
     scale = np.max(ref[keep], axis=1, keepdims=True)
     assert np.all(np.abs(got[keep] - ref[keep]) <= 1e-12 * scale)
+
+
+def _crossings(rng: np.random.Generator, n: int) -> tuple:
+    """``n`` decreasing cubics about ``lo`` crossing 0.42 inside ``[lo, hi]`` (or not: then the
+    steps bisect), from the middle of the bracket."""
+    lo = rng.uniform(0.0, 5.0, n)
+    hi = lo + rng.uniform(0.01, 1.0, n)
+    coef = np.array([rng.normal(0, 0.1, n), rng.normal(0, 0.1, n), -rng.uniform(0.5, 2, n),
+                     rng.uniform(0.5, 1.0, n)])  # fmt: skip
+    return coef, lo.copy(), lo + 0.5 * (hi - lo), lo, hi
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_crossing_newton_is_the_numpy_newton_bit_for_bit(compiled):
+    """critical_magnification's Newton steps by the kernel (plain Python, or compiled): the
+    numpy steps' bits, rows in lockstep (the same number of steps for every row)."""
+    if compiled:
+        pytest.importorskip("numba")
+    fn = _compiled.kernel(math.inf, "crossing_newton") if compiled else _compiled.crossing_newton
+    if fn is None:
+        pytest.skip("compiled kernels are off (XPERSSON_COMPILED=off)")
+    rng = np.random.default_rng(36)
+    for n in (1, 2, 7, 40):
+        coef, xk, xc, lo, hi = _crossings(rng, n)
+        with xpersson.set_options(compiled=False):
+            want = _percolation._newton(tuple(coef), xk, xc.copy(), lo, hi, 0.42)
+        got, lo2, hi2 = xc.copy(), lo.copy(), hi.copy()
+        fn(coef, xk, got, lo2, hi2, 0.42)
+        np.testing.assert_array_equal(got, want)

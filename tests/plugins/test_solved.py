@@ -110,3 +110,31 @@ def test_past_full_contact_keeps_the_first_two_nodes_and_a_margin():
     S[1, 40:] = 0.5
     keep = solved._past_full_contact(1.0 - non, non, S)
     assert keep[2] == 40 - solved.PLATEAU_MARGIN
+
+
+def test_the_curve_variables_alone_give_the_same_curve(tiny):
+    """``curve_variables``: a Dataset of those variables alone (what the load table selects
+    for some loads) gives the solved curve of the whole Dataset, field by field."""
+    ctx, ds = tiny
+    names = solved.curve_variables(ctx)
+    assert {"area_fraction", "non_contact_fraction", "psd_C", "E_star", "zeta"} <= set(names)
+    small = ds[[k for k in names if k in ds.variables]]
+    assert len(small.data_vars) < len(ds.data_vars)
+    for form in ("closure", "yang_persson"):
+        a, b = solved.solved_curve(ctx, ds, form), solved.solved_curve(ctx, small, form)
+        for f in ("p0", "zeta", "area", "non_area", "contact", "s_factor"):
+            np.testing.assert_array_equal(getattr(b, f), getattr(a, f), err_msg=f)
+        assert b.E_star == a.E_star and np.array_equal(b.psd.C(a.zeta), a.psd.C(a.zeta))
+
+
+def test_curve_variables_are_the_boundarys_declared_areas():
+    """A boundary that declares its own area variables: those are named (and no default)."""
+
+    class Plastic:
+        elastic_area = "elastic_fraction"
+        elastic_area_complement = ("free_fraction", "plastic_fraction")
+        contact_area = ("elastic_fraction", "plastic_fraction")
+
+    names = solved.curve_variables(SimpleNamespace(boundary=Plastic()))
+    assert names[:3] == ("elastic_fraction", "free_fraction", "plastic_fraction")
+    assert "area_fraction" not in names and len(names) == len(set(names))

@@ -46,3 +46,58 @@ def test_detachment_wall_is_the_clipped_square_root_of_its_table():
     want = -np.sqrt(np.maximum(poly(np.clip(t, 1.0, 9.0)), 0.0))
     np.testing.assert_array_equal(wall(t), want)
     assert wall(5.0).shape == () and wall(5.0) == wall(np.array([5.0]))[0]
+
+
+# -- the compiled loop (numba, optional): the numpy path's numbers bit for bit ----------------
+def _walls(seed: int, extrapolate: bool, root: bool) -> tuple[DetachmentWall, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    pc = _table(seed)
+    x = pc.x
+    lo, hi = (x[0], x[-1]) if seed % 3 else (rng.uniform(-1.0, 2.0), rng.uniform(8.0, 11.0))
+    table = PPoly(pc.c, x, extrapolate=extrapolate)
+    wall = DetachmentWall(_Pchip(_SqrtPos(table) if root else table, lo, hi))
+    edges = [lo, hi, x[0], x[-1], np.nan, 0.0, -0.0, np.inf, -np.inf]
+    t = np.concatenate([rng.uniform(-1.0, 11.0, 200), x, np.nextafter(x, np.inf), edges])
+    return wall, (np.sort(t) if seed % 2 else t)
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("extrapolate", [True, False])
+@pytest.mark.parametrize("root", [True, False])
+def test_compiled_wall_equals_numpy_wall(seed, extrapolate, root):
+    """Times in and out of order, on breakpoints, at and past the clip, NaN and signed zeros:
+    the compiled loop gives the numpy path's values and signs (NaN where it gives NaN)."""
+    pytest.importorskip("numba")
+    from xpersson import set_options
+    from xpersson_adhesion import _wallkernel
+
+    assert _wallkernel.build()
+    wall, t = _walls(seed, extrapolate, root)
+    for shape in (t.shape, (t.size // 2, 2) if t.size % 2 == 0 else (1, t.size)):
+        tt = t.reshape(shape)
+        with set_options(compiled=False):
+            want, want_sigma = wall(tt), wall.sigma_of_tau(tt)
+        got, got_sigma = wall(tt), wall.sigma_of_tau(tt)
+        assert wall.sigma_of_tau.values(tt, True) is not None  # the compiled loop ran
+        for a, b in ((want, got), (want_sigma, got_sigma)):
+            assert a.shape == b.shape
+            np.testing.assert_array_equal(a, b)  # NaN where NaN
+            assert (np.isnan(a) | (np.signbit(a) == np.signbit(b))).all()  # -0.0 stays -0.0
+    assert wall(5.0).shape == ()
+
+
+def test_compiled_wall_needs_its_option_and_a_plain_table():
+    """Off with ``compiled=False``; a table with a repeated breakpoint (two intervals could
+    hold a time) takes the numpy path."""
+    pytest.importorskip("numba")
+    from xpersson import set_options
+    from xpersson_adhesion import _wallkernel
+
+    _wallkernel.build()
+    with set_options(compiled=False):
+        assert _wallkernel.kernel() is None
+    pc = _table(7)
+    x = np.concatenate([pc.x[:5], pc.x[4:]])
+    c = np.concatenate([pc.c[:, :4], np.zeros((4, 1)), pc.c[:, 4:]], axis=1)
+    table = _Pchip(PPoly(c, x), float(x[0]), float(x[-1]))
+    assert table.kernel_args() is False and table.values(np.ones(3), False) is None

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Iterator
 from typing import Any
 
 from ..plugins import PluginTimeout, current_limit, limited
@@ -67,10 +65,7 @@ def make_failure(cause: type | None, message: str, plugin: Any, variable: str | 
     return PluginFailure(message, plugin=plugin, variable=variable)
 
 
-@contextlib.contextmanager
-def calling(
-    who: object, what: str, passthrough: tuple[type[BaseException], ...] = ()
-) -> Iterator[None]:
+class calling:  # noqa: N801 - used as a function: ``with calling(who, what):``
     """Re-raise any exception of a plugin call as :class:`PluginFailure` naming the plugin.
 
     Parameters
@@ -84,22 +79,40 @@ def calling(
 
     Under a time limit (:func:`xpersson.plugins.time_limit`, ``[solver] plugin_time_limit``)
     a call running longer is interrupted and raised as a :class:`PluginFailure` (also a
-    ``TimeoutError``) naming the plugin and the call.
+    ``TimeoutError``) naming the plugin and the call. A context manager class (no generator
+    per call: it wraps every plugin call of a solve); the limit's timer is disarmed on every
+    exit, by a return, an exception or a nested call's failure.
     """
-    try:
-        with limited():
-            yield
-    except PluginTimeout:
-        raise make_failure(
-            TimeoutError,
-            f"{who}: {what} exceeded the time limit of {current_limit():g} s "
-            "([solver] plugin_time_limit)",
-            who,
-            what,
-        ) from None
-    except (PluginFailure, MemoryError, *passthrough):
-        raise
-    except Exception as exc:
-        raise make_failure(
-            type(exc), f"{who}: {what} raised {type(exc).__name__}: {exc}", who, what
-        ) from exc
+
+    __slots__ = ("_limit", "passthrough", "what", "who")
+
+    def __init__(
+        self, who: object, what: str, passthrough: tuple[type[BaseException], ...] = ()
+    ) -> None:
+        self.who, self.what, self.passthrough = who, what, passthrough
+
+    def __enter__(self) -> None:
+        limit = limited()
+        limit.__enter__()
+        self._limit = limit
+
+    def __exit__(self, kind: Any, exc: Any, tb: Any) -> bool:
+        try:
+            self._limit.__exit__(kind, exc, tb)  # disarms first (it suppresses nothing)
+        except PluginTimeout as late:  # a thread's timeout withdrawn at the exit: raised here
+            kind, exc = PluginTimeout, late
+        if kind is None:
+            return False
+        who, what = self.who, self.what
+        if issubclass(kind, PluginTimeout):
+            raise make_failure(
+                TimeoutError,
+                f"{who}: {what} exceeded the time limit of {current_limit():g} s "
+                "([solver] plugin_time_limit)",
+                who,
+                what,
+            ) from None
+        passed = (PluginFailure, MemoryError, *self.passthrough)
+        if issubclass(kind, passed) or not issubclass(kind, Exception):
+            return False  # re-raised unchanged
+        raise make_failure(kind, f"{who}: {what} raised {kind.__name__}: {exc}", who, what) from exc

@@ -59,6 +59,8 @@ __all__ = ["CNMethod", "grid_level"]
 
 Array = NDArray[np.float64]
 
+_EPS = float(np.finfo(float).eps)
+
 
 class CNMethod(EngineMethod):
     """Moving (or fixed) walls: front-fixed finite-volume Crank-Nicolson, error aimed at rtol."""
@@ -74,7 +76,7 @@ class CNMethod(EngineMethod):
         pb = self.problem
         if pb.is_batch:
             n = pb.tau.shape[0]
-            shared = bool(np.all(pb.tau == pb.tau[:1]))
+            shared = n == 1 or bool(np.all(pb.tau == pb.tau[:1]))
             if not shared:  # loads on different clocks: one at a time
                 raws = [self._run([pb.load(i)]) for i in range(n)]
                 return _stack(raws)
@@ -93,7 +95,7 @@ class CNMethod(EngineMethod):
         num = ~analytic
         nb = len(pbs)
         lv = _Grids(pbs, opts, tau_s, num, image)
-        fit = _Fit(np.full((nb, int(num.sum())), np.inf))
+        fit = _Fit(np.full((nb, np.count_nonzero(num)), np.inf))
         if num.any():
             fit = _control(lv, pb, opts.aim, tau[num])
             if fit.best is None:
@@ -334,7 +336,8 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
     area = np.ones(shape)
     ab_l = np.zeros(shape)
     ab_u = np.zeros(shape)
-    load = np.broadcast_to(np.array([p.p0 for p in pbs])[:, None], shape).copy()
+    load = np.empty(shape)
+    load[...] = np.array([p.p0 for p in pbs])[:, None]
     wall_term = np.zeros(shape)
     e_all = np.zeros(shape)
     trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
@@ -351,7 +354,7 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
             a0, m0 = _one_wall_absorbed(pbs, lv.tau_s, lv.image)
             ab_lower, moment_lower = ab_lower + a0, moment_lower + m0
         proj, dist = project(best.area, ab_lower, best.absorbed_upper)
-        roundoff = 16.0 * np.finfo(float).eps * (nsteps + math.sqrt(max(n_used, 1)))
+        roundoff = 16.0 * _EPS * (nsteps + math.sqrt(max(n_used, 1)))
         bound = err + trunc + roundoff
         for key, d in dist.items():
             if np.any(d > bound) and status == "success":

@@ -55,6 +55,8 @@ __all__ = ["_Fit", "_control", "richardson_weights"]
 
 Array = NDArray[np.float64]
 
+_EPS = float(np.finfo(float).eps)
+
 
 AIM = 0.5  # the next grid is aimed at an error estimate of AIM x tolerance (about half the
 # estimate is the actual error: AIM/2 x rtol expected; 0.5 leaves a factor 2 for the prediction)
@@ -155,9 +157,11 @@ def _load_scale(pbs: list[Problem], tau: Array) -> Array:
     """Scale of the load identity per (load, output): max(|p0|, |walls|) [Pa] (as in finish)."""
     out = []
     for p in pbs:
-        lo, up = p.wall_positions(tau)
+        lo = p.lower.at(tau)
         sc = np.maximum(abs(p.p0), np.abs(lo))
-        sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
+        if p.upper is not None:  # (without one: its +inf adds nothing)
+            up = p.upper.at(tau)
+            sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
         out.append(np.where(sc > 0, sc, 1.0))
     return np.array(out)
 
@@ -414,9 +418,7 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array) -> _Fit:
         return fit
     best = fit.best
     # round-off of the sums over the grid (the level difference cannot see it)
-    fit.err = fit.err + 16.0 * np.finfo(float).eps * math.sqrt(max(fit.n_used, 1)) * np.abs(
-        best.area
-    )
+    fit.err = fit.err + 16.0 * _EPS * math.sqrt(max(fit.n_used, 1)) * np.abs(best.area)
     tol = pb.rtol * np.abs(best.area) + pb.atol
     if fit.status == "success" and np.any(fit.err > tol):
         fit.status = "tolerance_not_met"

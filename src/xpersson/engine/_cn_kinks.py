@@ -48,20 +48,32 @@ def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) 
         def gap(t: Array, idx: Array, wall=wall, sign=sign, pp=pp) -> Array:
             return wall.at(t) - (pp[idx] + sign * k * np.sqrt(2.0 * t))
 
+        def gap_one(t: float, i: int, wall=wall, sign=sign, pp=pp) -> float:
+            # (gap of one time on floats: the same operations, IEEE sqrt both)
+            edge = float(pp[i]) + sign * k * math.sqrt(2.0 * t)
+            return float(wall.at(np.array([t]))[0]) - edge
+
         b = cand[ic + 1]
-        roots = _bracketed_roots(gap, cand[ic], b, g[il, ic], g[il, ic + 1], 1e-15 * b)
+        fa, fb = g[il, ic], g[il, ic + 1]
+        roots = _bracketed_roots(gap, cand[ic], b, fa, fb, 1e-15 * b, gap_one)
         out.extend(float(t) for t in roots[np.isfinite(roots)])
     return out
 
 
-def _bracketed_roots(f, a: Array, b: Array, fa: Array, fb: Array, xtol: Array) -> Array:
+def _bracketed_roots(f, a: Array, b: Array, fa: Array, fb: Array, xtol: Array, f_one=None) -> Array:
     """Roots of ``f(t, idx)`` (values at ``t`` of the brackets ``idx``) in the brackets
-    ``[a, b]`` (``fa``, ``fb`` of opposite signs or 0), to ``|b - a| <= xtol``, all at once.
+    ``[a, b]`` (``fa``, ``fb`` of opposite signs or 0), to ``|b - a| <= xtol``, all at once;
+    ``f_one(t, i)``: the same value for one float time and bracket as a float (for the few
+    brackets stepped on floats; from ``f`` unless given).
 
     Illinois (regula falsi halving the retained end's value: superlinear, and the far end
     moves), with steps of at least ``xtol`` towards the far end (as Brent's method: the
     bracket then closes around the root).  A bracket without a sign change gives NaN.
     """
+    if np.size(a) <= 2 * _SCALAR_ROOTS:  # a few brackets: on floats throughout
+        few = _few_roots(f_one or _one_of(f), a, b, fa, fb, xtol)
+        if few is not None:
+            return few
     a, b, fa, fb = (np.array(v, dtype=float) for v in (a, b, fa, fb))
     root = np.where(fb == 0, b, np.where(fa == 0, a, np.nan))
     live = np.isnan(root) & (np.sign(fa) * np.sign(fb) < 0)
@@ -69,7 +81,7 @@ def _bracketed_roots(f, a: Array, b: Array, fa: Array, fb: Array, xtol: Array) -
         xt = np.asarray(xtol, dtype=float)
         for i in np.flatnonzero(live).tolist():
             args = (float(a[i]), float(b[i]), float(fa[i]), float(fb[i]), float(xt[i]))
-            root[i] = _illinois(f, i, *args)
+            root[i] = _illinois(f_one or _one_of(f), i, *args)
         return root
     for _ in range(200):
         idx = np.flatnonzero(live)
@@ -99,10 +111,30 @@ def _sgn(x: float) -> int:
     return (x > 0) - (x < 0)
 
 
-def _illinois(f, i: int, a: float, b: float, fa: float, fb: float, xt: float) -> float:
+def _few_roots(f_one, a: Array, b: Array, fa: Array, fb: Array, xtol: Array) -> Array | None:
+    """:func:`_bracketed_roots` of a few brackets, the set-up too on Python floats (the same
+    roots: a bracket end where its value is 0, the float steps where the signs differ, else
+    NaN); None where more than ``_SCALAR_ROOTS`` brackets need steps (the array steps)."""
+    a_, b_, fa_, fb_, xt = (np.ravel(v).tolist() for v in (a, b, fa, fb, xtol))
+    live = [fa_[i] != 0 and fb_[i] != 0 and _sgn(fa_[i]) * _sgn(fb_[i]) < 0 for i in range(len(a_))]
+    if sum(live) > _SCALAR_ROOTS:
+        return None
+    root = [b_[i] if fb_[i] == 0 else (a_[i] if fa_[i] == 0 else math.nan) for i in range(len(a_))]
+    for i in range(len(a_)):
+        if live[i]:
+            root[i] = _illinois(f_one, i, a_[i], b_[i], fa_[i], fb_[i], xt[i])
+    return np.array(root, dtype=float)
+
+
+def _one_of(f):
+    """``f_one(t, i)`` of :func:`_bracketed_roots` from its ``f(t, idx)``."""
+    return lambda t, i: float(f(np.array([t]), np.array([i]))[0])
+
+
+def _illinois(f_one, i: int, a: float, b: float, fa: float, fb: float, xt: float) -> float:
     """The root of bracket ``i`` by :func:`_bracketed_roots`' steps on Python floats (the same
-    operations, so the same root: without the per-step cost of arrays of one element)."""
-    idx = np.array([i])
+    operations, so the same root: without the per-step cost of arrays of one element);
+    ``f_one(t, i)`` the function's value at the float ``t`` of bracket ``i``."""
     for _ in range(200):
         try:
             c = b - fb * (b - a) / (fb - fa)
@@ -111,7 +143,7 @@ def _illinois(f, i: int, a: float, b: float, fa: float, fb: float, xt: float) ->
         nudge = min(xt, 0.5 * abs(a - b))
         if abs(c - b) < nudge:
             c = b + math.copysign(nudge, a - b)
-        fc = float(f(np.array([c]), idx)[0])
+        fc = f_one(c, i)
         flip = _sgn(fc) * _sgn(fb) < 0  # the root lies between c and b
         new_a = b if flip else a
         fa = fb if flip else 0.5 * fa

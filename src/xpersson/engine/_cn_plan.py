@@ -66,20 +66,20 @@ def _start_time(pbs: list[Problem], k: float, lower: bool = True) -> float:
     if not shared:
         return min(_start_time([p], k, lower) for p in pbs)
     cand = tau_max * _START_GRID
-    s = np.sqrt(2.0 * cand)
-    lo, up = pb.wall_positions(cand)
-    return min(_first_start(p.p0, k, cand, s, lo, up, tau_max, lower) for p in pbs)
+    ks = k * np.sqrt(2.0 * cand)
+    lo, up = pb.lower.at(cand), None if pb.upper is None else pb.upper.at(cand)
+    return min(_first_start(p.p0, cand, ks, lo, up, tau_max, lower) for p in pbs)
 
 
 def _first_start(
-    p0: float, k: float, cand: Array, s: Array, lo: Array, up: Array, tau_max: float, lower: bool
+    p0: float, cand: Array, ks: Array, lo: Array, up: Array | None, tau_max: float, lower: bool
 ) -> float:
-    """:func:`_start_time` of the load ``p0`` [Pa] from the walls ``lo``, ``up`` [Pa] at the
-    candidate times ``cand`` [Pa^2] (``s = sqrt(2 cand)``)."""
-    ok = up >= p0 + k * s
+    """:func:`_start_time` of the load ``p0`` [Pa] from the walls ``lo``, ``up`` [Pa] (None:
+    no upper wall) at the candidate times ``cand`` [Pa^2] (``ks = k sqrt(2 cand)``)."""
+    ok = None if up is None else up >= p0 + ks
     if lower:
-        ok &= lo <= p0 - k * s
-    if ok.all():
+        ok = lo <= p0 - ks if ok is None else ok & (lo <= p0 - ks)
+    if ok is None or ok.all():
         return tau_max
     first = int(np.argmin(ok))
     if first == 0:

@@ -71,7 +71,8 @@ def window_k(atol: float) -> float:
     Chosen so that the probability that a free path leaves the window, ``erfc(k/sqrt 2)``, is
     below ``atol / 100``.
     """
-    return float(np.clip(math.sqrt(2.0) * erfcinv(max(1e-300, 0.01 * atol)), 5.0, 40.0))
+    k = math.sqrt(2.0) * float(erfcinv(max(1e-300, 0.01 * atol)))
+    return min(max(k, 5.0), 40.0)  # (numpy's clip of a scalar, without its dispatch)
 
 
 def _fail(name: str, unit: str, allowed: str, got: object) -> ValueError:

@@ -74,8 +74,13 @@ def _newton(
     """Safeguarded Newton steps for ``A(x) = a_c`` on every row's cubic (bracket ``lo, hi``),
     until every row's step is below 1e-15 (relative) or 60 steps."""
     c0, c1, c2, c3 = coef
-    c0_3, c1_2 = 3.0 * c0, 2.0 * c1
     lo, hi = lo.copy(), hi.copy()
+    fn = kernel(60.0 * 40.0 * xc.size, "crossing_newton")
+    if fn is not None:  # the same operations, all rows in lockstep (the same bits)
+        xc = np.array(xc, dtype=float)
+        fn(np.array([c0, c1, c2, c3], dtype=float), np.ascontiguousarray(xk), xc, lo, hi, a_c)
+        return xc
+    c0_3, c1_2 = 3.0 * c0, 2.0 * c1
     for _ in range(60):
         d = xc - xk
         f = c0 * d

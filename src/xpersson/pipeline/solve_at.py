@@ -67,16 +67,7 @@ def _solve(
     from .. import engine
 
     c = dataclasses.replace(ctx, zeta=z, p=None, p0=rs.p0[idx])
-    # where the coefficient's effective tau is tau(zeta) (fast_paths): tau(zeta) [Pa^2] (the
-    # caller's, from a block's stacked call, or asked once) broadcast over the loads, as the
-    # main solve does (no per-load copy; the engine takes its square root once, not per load)
-    shared = shared_tau(rs.coefficient)
-    if shared:
-        tau_c = tau if tau is not None else np.asarray(rs.coefficient.tau(c, z), float)
-        tau_eff = np.broadcast_to(tau_c, (idx.size, z.size))
-    else:
-        tau_c = None
-        tau_eff = np.asarray(rs.coefficient.effective_tau(c, z), float).reshape(idx.size, -1)
+    tau_c, tau_eff, shared = _times(rs.coefficient, c, z, idx.size, tau)
     pairs = [walls[i] for i in idx]
     one_wall = all(pair is pairs[0] for pair in pairs)  # identity: cheap for shared walls
     # one engine call for every load (each load gets what engine.solve gives it); a shared
@@ -93,9 +84,35 @@ def _solve(
     out = {
         "area_fraction": np.asarray(res.area, float).reshape(idx.size, -1),
         "non_contact_fraction": np.asarray(res.non_area, float).reshape(idx.size, -1),
-        "diffusion_time": tau_c if shared else np.asarray(rs.coefficient.tau(c, z), float),
+        "diffusion_time": tau_c,
         "effective_diffusion_time": tau_eff,
     }
     for name, value in rs.boundary.interpret(dataclasses.replace(c, clock=clock), res).items():
         out[name] = np.asarray(value[1] if isinstance(value, tuple) else value, float)
     return out
+
+
+def _times(
+    coef: Any, c: SceneContext, z: np.ndarray, n: int, given: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray, bool]:
+    """``(tau(zeta), effective tau (n, n_zeta))`` [Pa^2] at magnifications ``z``, and whether
+    the engine takes tau(zeta) 1-D (the declared fast path; else the per-load rows).
+
+    Where the coefficient's effective tau is tau(zeta) for every load, tau(zeta) is the
+    caller's ``given`` (an analysis's stacked integral), else the coefficient's, broadcast over
+    the loads as the main solve does (no per-load copy; the engine takes its square root once).
+    The fast path (``shared_tau``) knows this from the declaration; the plain path asks every
+    load's effective tau and sees it (each row equal to the coefficient's tau): both then use
+    the same tau, so that a given tau whose last digits differ from the coefficient's
+    (another quadrature) gives the same numbers on either path. A load-dependent effective tau
+    (a closure) is the coefficient's on both paths (``given`` is then not used).
+    """
+    if shared_tau(coef):
+        tau_c = given if given is not None else np.asarray(coef.tau(c, z), float)
+        return tau_c, np.broadcast_to(tau_c, (n, z.size)), True
+    tau_c = np.asarray(coef.tau(c, z), float)
+    tau_eff = np.asarray(coef.effective_tau(c, z), float).reshape(n, -1)
+    seen = given is not None and given.shape == tau_c.shape == tau_eff.shape[1:]
+    if seen and np.array_equal(tau_eff, np.broadcast_to(tau_c, tau_eff.shape)):
+        return given, np.array(np.broadcast_to(given, tau_eff.shape)), False
+    return tau_c, tau_eff, False

@@ -202,7 +202,7 @@ def _run(points: Sequence[ResolvedScene]) -> StackedRun | None:
         method=rs0.method,
         options=rs0.solver_options or None,
     )
-    if any(s != "success" for s in results.status):
+    if not np.all(results.success):  # (success: status "success", per load; no loop over them)
         return None
     flat = dataclasses.replace(rs0, p0=loads, p0_scalar=False)
     p2 = (loads * loads).reshape(K, nl)

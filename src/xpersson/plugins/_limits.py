@@ -95,23 +95,35 @@ def _main_handler(signum: int, frame: object) -> None:
         raise PluginTimeout(_message(_MAIN_ARMED[-1]))
 
 
-@contextlib.contextmanager
-def _alarm(seconds: float) -> Iterator[None]:
-    if _MAIN_ARMED or signal.getitimer(signal.ITIMER_REAL)[0] > 0:  # an outer limit applies
-        yield
-        return
-    old = _signal.getsignal(signal.SIGALRM)  # (signal.getsignal's enum look-up costs ~4 us)
-    if old is not _main_handler:  # installed once while SIGALRM has its default action
-        signal.signal(signal.SIGALRM, _main_handler)
-    _MAIN_ARMED.append(seconds)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
+class _alarm:  # noqa: N801 - a context manager class (no generator per plugin call)
+    """SIGALRM after ``seconds`` [s] in the main thread, unless an outer limit is armed (or
+    another itimer is pending); disarmed, and an other handler restored, on every exit."""
+
+    __slots__ = ("armed", "old", "seconds")
+
+    def __init__(self, seconds: float) -> None:
+        self.seconds, self.armed = seconds, False
+
+    def __enter__(self) -> None:
+        if _MAIN_ARMED or signal.getitimer(signal.ITIMER_REAL)[0] > 0:  # an outer limit applies
+            return
+        old = _signal.getsignal(signal.SIGALRM)  # (signal.getsignal's enum look-up costs ~4 us)
+        if old is not _main_handler:  # installed once while SIGALRM has its default action
+            signal.signal(signal.SIGALRM, _main_handler)
+        self.old, self.armed = old, True
+        _MAIN_ARMED.append(self.seconds)
+        signal.setitimer(signal.ITIMER_REAL, self.seconds)
+
+    def __exit__(self, *exc: object) -> bool:
+        if not self.armed:
+            return False
+        self.armed = False
         signal.setitimer(signal.ITIMER_REAL, 0)
         _MAIN_ARMED.pop()
+        old = self.old
         if old is not _main_handler and old not in (signal.SIG_DFL, None):  # restored
             signal.signal(signal.SIGALRM, old)
+        return False
 
 
 @contextlib.contextmanager

@@ -25,9 +25,17 @@ from numpy.typing import NDArray
 from xpersson.cache import Cache, memoize
 from xpersson.physics.closures import GAMMA_DEFAULT
 
-from .stored import contact_modulus, spectrum_of
+from .stored import SPECTRUM_VARIABLES, contact_modulus, spectrum_of
 
-__all__ = ["Solved", "solved_curve", "dense_zeta", "per_solve", "solve_key", "FORMS"]
+__all__ = [
+    "Solved",
+    "solved_curve",
+    "curve_variables",
+    "dense_zeta",
+    "per_solve",
+    "solve_key",
+    "FORMS",
+]
 
 #: Forms of the correction factor in energy and gap.
 FORMS = ("closure", "yang_persson")
@@ -153,6 +161,26 @@ def _from_ds(ds: Any, name: str) -> NDArray[np.float64]:
     return vals
 
 
+def curve_variables(ctx: Any) -> tuple[str, ...]:
+    """The names of every Dataset variable :func:`solved_curve` may read for the scene of
+    ``ctx`` (its boundary's area variables, the diffusion times of a closure without ``S``,
+    the spectrum, ``E_star`` and ``zeta``): a Dataset of these alone gives the same curve
+    (e.g. a cheap selection of some loads, ``ds[names].isel(p0=rows)``)."""
+    el, comp, cont = _area_names(ctx)
+    times = ("effective_diffusion_time", "diffusion_time")
+    return tuple(dict.fromkeys((el, *comp, *cont, *times, *SPECTRUM_VARIABLES, "E_star", "zeta")))
+
+
+def _area_names(ctx: Any) -> tuple[str, tuple[str, ...], tuple[str, ...]]:
+    """The boundary's elastic area, its complement and the load-bearing contact area (the
+    Dataset variables' names; the elastic boundary's without a boundary)."""
+    bnd = type(ctx.boundary) if ctx.boundary is not None else None
+    el = getattr(bnd, "elastic_area", "area_fraction")
+    comp = tuple(getattr(bnd, "elastic_area_complement", ("non_contact_fraction",)))
+    cont = tuple(getattr(bnd, "contact_area", ("area_fraction",)))
+    return el, comp, cont
+
+
 def solved_curve(
     ctx: Any, ds: Any, form: str = "closure", gamma: float | None = None, per_decade: int = 0
 ) -> Solved:
@@ -176,11 +204,8 @@ def solved_curve(
         raise ValueError(f"s_factor must be one of {FORMS}, got {form!r}")
     p0 = np.atleast_1d(np.asarray(ctx.p0, dtype=float))
     n = p0.size
-    bnd = type(ctx.boundary) if ctx.boundary is not None else None
-    el = getattr(bnd, "elastic_area", "area_fraction")
-    comp = getattr(bnd, "elastic_area_complement", ("non_contact_fraction",))
-    cont = getattr(bnd, "contact_area", ("area_fraction",))
-    zeta = np.asarray(ds["zeta"].values, dtype=float)
+    el, comp, cont = _area_names(ctx)
+    zeta = np.asarray(ds.variables["zeta"].values, dtype=float)  # (no DataArray built)
     solve_at = getattr(ctx, "solve_at", None)
 
     memo: dict[str, NDArray[np.float64]] = {}

@@ -105,15 +105,17 @@ def _convert_quantity(spec: ParamSpec, value: Any, where: str) -> Any:
     """A quantity (or array of quantities) in SI units, finite and inside the spec's range."""
     try:
         val = to_si(value, spec.unit, where, array=spec.array)
-    except UnitError as exc:
-        raise SceneError(str(exc)) from None
+    except UnitError as exc:  # the unit's message, and what the parameter allows
+        raise SceneError(f"{exc}; allowed range {spec.range_text()}") from None
     vals = np.atleast_1d(val)
     if spec.array and vals.size == 0:
         raise SceneError(f"{where}: empty list; give at least one value in {spec.range_text()}")
     if spec.array and vals.size > MAX_POINTS:
         raise SceneError(f"{where}: {vals.size} values; at most {MAX_POINTS} are allowed")
     if not np.all(np.isfinite(vals)):
-        raise SceneError(f"{where}: must be finite, got {value!r}")
+        raise SceneError(
+            f"{where}: must be finite, got {value!r}; allowed range {spec.range_text()}"
+        )
     if vals.size > 8:  # an array (a zeta grid): checked at once
         bad = vals[~_in_bounds(spec, np.asarray(vals, float))].tolist()
     else:

@@ -37,6 +37,7 @@ from ._core import (
     log_grid,
 )
 from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
+from ._sections import convert_section
 
 __all__ = ["plugin_message", "resolve_scene", "with_spectrum"]
 
@@ -82,11 +83,9 @@ def _convert(
 ) -> dict[str, Any]:
     """:func:`convert_params`, each hashable value converted once per ``memo`` (a sweep over
     one spectrum parameter converts the others once: the same values, the same results)."""
-    if (
-        memo is None
-        or not set(raw) <= set(specs)
-        or any(s.required and n not in raw for n, s in specs.items())
-    ):
+    if memo is None:
+        return convert_section(specs, raw, section)
+    if not set(raw) <= set(specs) or any(s.required and n not in raw for n, s in specs.items()):
         return convert_params(specs, raw, section)  # its messages
     out: dict[str, Any] = {}
     for name, spec in specs.items():
@@ -147,6 +146,8 @@ def _build_spectrum(spectrum: Plugin, who: Any) -> Any:
 
 def _check_method(method: Any) -> None:
     """``solver.method`` is ``"auto"``, a registered method name or an EngineMethod class."""
+    if method == "auto":  # the default (no look-up of the engine's methods)
+        return
     from ..engine import METHODS, EngineMethod
 
     if isinstance(method, type):
@@ -245,7 +246,7 @@ def _check_metadata(meta: Any) -> None:
 
 def _core_sections(data: Mapping[str, Any]) -> dict[str, Any]:
     """The converted core sections: material, loads (raw and Pa), output and solver."""
-    material = convert_params(CORE["material"], data.get("material", {}), "material")
+    material = convert_section(CORE["material"], data.get("material", {}), "material")
     load_raw = dict(data["load"])
     load_raw.pop("force", None)  # a finite body's (checked by check_load_keys)
     p0_raw = load_raw.pop("p0", "1 Pa")  # a body's pressures are a grid (see resolve_scene)

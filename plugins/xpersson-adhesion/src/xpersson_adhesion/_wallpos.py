@@ -15,6 +15,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._wallkernel import kernel
+
 try:  # the compiled loop behind PPoly.__call__ (called directly: see _ppoly_values)
     from scipy.interpolate._ppoly import evaluate as _ppoly_evaluate
 except ImportError:  # pragma: no cover - another scipy layout: PPoly.__call__ then
@@ -55,8 +57,51 @@ class _Pchip:
     def __init__(self, spline: Callable[[Array], Array], t_lo: float, t_hi: float) -> None:
         self.spline, self.t_lo, self.t_hi = spline, t_lo, t_hi
         self.onsets: Array | None = None  # see onset_times
+        self._args: tuple | None = None  # see kernel_args
+
+    def kernel_args(self) -> tuple | bool:
+        """``(c, x, t_lo, t_hi, extrapolate, root)`` of :func:`._wallkernel.wall_values` for
+        this table (found once), or ``False`` where its table is not a plain PPoly (then the
+        numpy path evaluates it)."""
+        if self._args is None:
+            sp = self.spline
+            root = type(sp) is _SqrtPos
+            poly = sp.poly if root else sp
+            c, x = getattr(poly, "_c", None), getattr(poly, "_x", None)
+            ext = getattr(poly, "extrapolate", None)
+            plain = (
+                isinstance(c, np.ndarray)
+                and isinstance(x, np.ndarray)
+                and c.ndim == 2
+                and c.dtype == np.float64
+                and x.dtype == np.float64
+                and ext in (True, False)
+                and x.size >= 2
+                and bool(np.all(x[1:] > x[:-1]))  # one interval per time (see _wallkernel)
+            )
+            args = (np.ascontiguousarray(c), np.ascontiguousarray(x), self.t_lo, self.t_hi)
+            self._args = (*args, bool(ext), root) if plain else False  # type: ignore[assignment]
+        return self._args  # type: ignore[return-value]
+
+    def values(self, tau: ArrayLike, negate: bool) -> Array | None:
+        """``self(tau)`` (``-self(tau)`` with ``negate``) by the compiled loop, or None where
+        it does not run (:func:`._wallkernel.kernel`; the same numbers either way)."""
+        fn = kernel()
+        if fn is None:
+            return None
+        args = self.kernel_args()
+        if args is False:
+            return None
+        c, x, lo, hi, ext, root = args  # type: ignore[misc]
+        t = np.asarray(tau, dtype=float)
+        out = np.empty(t.shape)
+        fn(c, x, float(lo), float(hi), ext, t.ravel(), out.reshape(-1), root, negate)
+        return out
 
     def __call__(self, tau: ArrayLike) -> Array:
+        found = self.values(tau, False)
+        if found is not None:
+            return found
         # np.clip's definition, without its dispatch
         t = np.minimum(np.maximum(np.asarray(tau, dtype=float), self.t_lo), self.t_hi)
         sp = self.spline
@@ -196,4 +241,9 @@ class DetachmentWall:
         return np.asarray(self.law(z), dtype=float).reshape(t.shape)  # type: ignore[misc]
 
     def __call__(self, tau: ArrayLike) -> Array:
+        sig = self.sigma_of_tau
+        if type(sig) is _Pchip:  # the table's compiled loop, negated in it (when it runs)
+            found = sig.values(tau, True)
+            if found is not None:
+                return found
         return -self.sigma(tau)

@@ -92,14 +92,24 @@ def _stencil(
     bad |= last - first + 1 < m
     i = np.clip(around - m // 2, first, np.maximum(last - m + 1, first))
     i = np.clip(i, 0, xn.size - m)
-    idx = i[:, None] + np.arange(m)
-    X = xn[idx]
+    return i[:, None] + np.arange(m), _lagrange(xn, x, i, m), bad
+
+
+def _lagrange(
+    xn: NDArray[np.float64], x: NDArray[np.float64], i: NDArray[np.intp], m: int
+) -> NDArray[np.float64]:
+    """The Lagrange weights ``w_a = prod_{b != a} (x - X_b)/(X_a - X_b)`` of the ``m`` nodes
+    ``X`` from ``xn[i]`` on, each product in the order ``b = 0 .. m-1``: one pass per ``b``
+    over all ``a`` (its factor ``q_bb`` set to 1: a multiplication by 1 is exact)."""
+    X = xn[i[:, None] + np.arange(m)]
+    num = x[:, None] - X  # (n, b): x - X_b
     w = np.ones((x.size, m))
-    for a in range(m):
+    with np.errstate(divide="ignore", invalid="ignore"):
         for b in range(m):
-            if a != b:
-                w[:, a] *= (x - X[:, b]) / (X[:, a] - X[:, b])
-    return idx, w, bad
+            q = num[:, b, None] / (X - X[:, b, None])  # (n, a): q_ab
+            q[:, b] = 1.0
+            w *= q
+    return w
 
 
 def _interpolate(
@@ -125,6 +135,7 @@ def _interpolate(
     lo = idx[:, 0]
     out = {}
     late = {k: f for names, f in weights for k in names}
+    done: dict[int, tuple[NDArray[np.bool_], NDArray[np.float64], NDArray[np.float64]]] = {}
     for k, v in sorted(at.items(), key=lambda kv: kv[0] in late):
         if k in keys:
             out[k] = v[lo]
@@ -136,21 +147,39 @@ def _interpolate(
         regular = np.isfinite(L)
         y = np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx])
         if k in late:
-            W, S = late[k](out, x)
-            ok = (W > 0.0) & np.isfinite(S)
+            f = late[k]
+            if id(f) not in done:  # once per group (from the outputs interpolated first)
+                done[id(f)] = _transform(*f(out, x))
+            ok, S, W = done[id(f)]
             bad |= regular[lo] & ~ok
-            y = np.where(ok, (y + np.where(ok, S, 0.0)) / np.where(ok, W, 1.0), 0.0)
+            y = np.where(ok, (y + S) / W, 0.0)
         y = np.exp(y)
         # a segment of irregular values (NaN, 0 or inf): the value, where its nodes agree
-        irregular = ~regular[lo]
-        same = irregular & np.all(_same(v[idx], v[lo][:, None]), axis=1)
-        y[irregular] = v[lo][irregular]
-        bad |= irregular & ~same
+        irr = np.flatnonzero(~regular[lo])
+        if irr.size:
+            y[irr] = v[lo[irr]]
+            bad[irr] |= ~_alike(v, lo[irr], m)
         out[k] = y
     flat, below = _flat(xn, at, logs, x, keys)
     for k, v in out.items():
         v[flat] = at[k][below[flat]]
     return out, bad & ~flat, np.sum(np.abs(w), axis=1), idx, flat
+
+
+def _transform(
+    W: NDArray[np.float64], S: NDArray[np.float64]
+) -> tuple[NDArray[np.bool_], NDArray[np.float64], NDArray[np.float64]]:
+    """Where a transform applies (``W > 0``, ``S`` finite) and its ``S`` and ``W`` there (0 and
+    1 elsewhere): the tabled ``W ln v - S`` gives ``ln v = (y + S) / W``."""
+    ok = (W > 0.0) & np.isfinite(S)
+    return ok, np.where(ok, S, 0.0), np.where(ok, W, 1.0)
+
+
+def _alike(v: NDArray[np.float64], start: NDArray[np.intp], m: int) -> NDArray[np.bool_]:
+    """Per stencil (``m`` consecutive nodes from ``start``): whether its values are all alike
+    (equal, or all NaN), from the node pairs that differ (a prefix count over the nodes)."""
+    differ = np.concatenate(([0], np.cumsum(~_same(v[:-1], v[1:]))))  # before node j
+    return differ[start + m - 1] == differ[start]
 
 
 def _flat(
@@ -162,17 +191,16 @@ def _flat(
 ) -> tuple[NDArray[np.bool_], NDArray[np.intp]]:
     """The loads between two nodes alike in every output, none of them regular (a sealed
     stretch: its flags, zeros and NaN; exact, for outputs monotone in the load, whatever
-    the segment's length), and the node below each load."""
-    above = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
-    below = above - 1
-    flat = np.ones(x.size, dtype=bool)
+    the segment's length), and the node below each load (decided per pair of nodes)."""
+    below = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1) - 1
+    pair = np.ones(max(xn.size - 1, 1), dtype=bool)  # nodes j and j + 1 (the node above)
     for k, v in at.items():
         if v.ndim > 1:
             return np.zeros(x.size, dtype=bool), below
-        flat &= _same(v[below], v[above])
+        pair &= _same(v[:-1], v[1:]) if xn.size > 1 else _same(v, v)
         if k not in keys:
-            flat &= ~np.isfinite(logs[k][below])
-    return flat, below
+            pair &= ~np.isfinite(logs[k][: pair.size])
+    return pair[below], below
 
 
 def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
