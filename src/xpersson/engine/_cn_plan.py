@@ -48,9 +48,7 @@ class _Plan:
     # chord mesh speeds from the first breakpoint on
     image: float | None = None  # the resting absorbing lower wall [Pa] of a one-wall start
     # (the start state is the image solution), None: the free Gaussian
-    release: bool = False  # a yield wall is real only while it is inside the window (set
-    # by the control where its plastic area is negligible, _cn_control._release); otherwise
-    # it stays real once it entered (it carries the released plastic area)
+    release: bool = False  # a yield wall real only inside the window (_cn_control._release)
 
 
 _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-only)
@@ -319,9 +317,8 @@ def _edges(pb: Problem, plan: _Plan, taus: Array, tr: dict | None = None) -> dic
     """Window edges and their speeds at the start (a) and end (b) of every step.
 
     The regime of each edge (real wall or artificial edge ``p0 -/+ k sqrt(2 tau)``) is fixed per
-    step (at its midpoint); the kinks where it changes are step boundaries (see ``_plan``).
-    ``tr``: the walls along ``taus`` (:func:`_tracks`), computed here unless given.
-    """
+    step (at its midpoint; a yield wall stays real once in, unless ``plan.release``); its kinks
+    are step boundaries.  ``tr``: the walls along ``taus`` (:func:`_tracks`), or computed."""
     if tr is None:
         tr = _tracks(pb, taus)
     k, p0 = plan.k, pb.p0
