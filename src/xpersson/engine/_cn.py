@@ -246,6 +246,7 @@ class _Grids:
         self.nsteps = 0
         self.work = 0.0
         self.kinks: list[float] = []
+        self.release = False  # yield walls released once they leave the window (_Plan.release)
         if num.any():
             # the kinks of the window edges do not depend on the grid: found once
             t_end = float(pbs[0].tau[num][-1])
@@ -300,7 +301,7 @@ class _Grids:
         if (n_base, dense) not in self.plans:
             per_decade = self.opts.per_node * n_base * dense
             plan = _joint_plan(self.pbs, self.opts.window_k, per_decade, self.tau_s, self.kinks)
-            plan.image = self.image
+            plan.image, plan.release = self.image, self.release
             # substeps where a yield wall makes the window stiff (:mod:`._stiff`)
             self.plans[n_base, dense] = stiff_refined(self.pbs, plan, per_decade)
         return self.plans[n_base, dense]

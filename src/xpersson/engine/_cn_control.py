@@ -30,7 +30,7 @@ the step, which Richardson extrapolation cancels).
 
 Where a yield wall makes the window stiff (:mod:`._stiff`: the time plans then resolve the
 decay of the window's slowest mode), the high-order levels take ``DENSE_STIFF`` steps per
-node.
+node, and at ``rtol <= S_RTOL`` :mod:`._cn_odd` controls the error (odd powers of the step).
 
 An accepted estimate is reported as a uniform fraction of the tolerance per load, the largest
 estimated: a difference of levels crosses zero where the actual error need not.
@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..cache import memoize
+from ._cn_odd import odd_rounds
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
 from ._stiff import stiff_at_end
@@ -200,6 +201,10 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
     """Second-order pairs, then fourth- or sixth-order Richardson combinations, until the
     estimate fits (None: a budget ended the search, ``lv.stop`` says which)."""
     judge = _Judge(pb, scale, lv.graded, stiff_at_end(lv.pbs, lv.opts.window_k))
+    _release(lv, judge)
+    if judge.stiff and judge.dense > 1:  # odd powers of the step too (:mod:`._cn_odd`)
+        got = odd_rounds(lv, judge, lv.opts.nodes, aim)
+        return None if got is None else _Fit(*got)
     n_base, rounds = lv.opts.nodes, 0
     while True:  # mode R
         pair = lv.levels(n_base, (1, 2), judge.dense)
@@ -216,6 +221,49 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
         rounds += 1
         n_base = _round_grid(n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25))
     return _high_order(lv, judge, n_base, aim, math.sqrt(ratio / aim) > R_SKIP)
+
+
+RELEASE = 1e-3  # a yield wall that left the window is released where the pilot level's
+# plastic area stays below RELEASE x the smallest area tolerance (see _release)
+
+
+def _release(lv: Any, judge: _Judge) -> None:
+    """Release the yield wall from the window once it has left it (``_Plan.release``) where
+    its plastic area is negligible: at most ``RELEASE`` x the smallest area tolerance on the
+    pilot level (``lv.opts.nodes``, not flagged: the levels start again on the new plans).
+
+    A yield wall stays real once it entered the window, since it carries the plastic area
+    it releases.  A hardness growing faster than the diffusion length (``Y ~ zeta^n`` with
+    ``tau ~ zeta^(2 - 2H)``: ``Y ~ tau^(n / (2 - 2H))``, 2.8 on "flat H=0.93 5dec" of seed
+    7037 of ``benchmarks/plastic_design.py``) then runs far ahead of the support of ``P``
+    (there 11x at the last output), and the window's nodes with it: the pilot's error was
+    1.7e5 tolerances, the control needed 2.3e7 node-steps, where the wall's plastic area
+    never exceeded 5e-13 (a tail the window entered by 0.6 ``sqrt(2 tau)``).  Released, the
+    window keeps the support (4.3e5 node-steps) and drops at most that plastic area.
+
+    The plastic area is judged on the released pilot level (where the wall stays real the
+    pilot is not accurate enough to measure it: on that scene 1.2e-6 at 24 nodes), whose
+    plastic area stops growing where the wall leaves the window: the area the wall would
+    have carried on.  Where it is not negligible the plans are made again as before (the
+    pilot level is spent).
+    """
+    pbs, k = lv.pbs, lv.opts.window_k
+    pb = pbs[0]
+    if pb.upper is None or pb.upper.acts_absorbing or lv.release:
+        return
+    t = float(pb.tau_max)
+    up = float(pb.wall_positions(np.array([t]))[1][0])
+    if not all(up > p.p0 + k * math.sqrt(2.0 * t) for p in pbs):
+        return  # the wall is inside some window at the end: nothing to release
+    lv.release = True
+    lv.plans.clear()
+    first = lv.level(lv.opts.nodes, 1, judge.dense)
+    if first is None:
+        return  # (a budget ended the search: lv.stop says which)
+    lv.solved.clear()
+    if float(np.abs(first.absorbed_upper).max()) > RELEASE * judge.tol(first.area).min():
+        lv.release = False  # not negligible: the wall stays real (the plans as before)
+        lv.plans.clear()
 
 
 def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float] | None:

@@ -35,7 +35,8 @@ def compiled_window(
     chord_from = plan.zones[0][0] if plan.zones else math.inf
     out, flags = np.empty((10, nb, n)), np.empty((4, nb, n), dtype=bool)
     p0 = np.array([pb.p0 for pb in pbs], dtype=float)
-    fn(p0, float(plan.k), bool(plan.yield_wall), float(chord_from), taus, tr["mid"],
+    sticky = bool(plan.yield_wall and not plan.release)
+    fn(p0, float(plan.k), bool(plan.yield_wall), sticky, float(chord_from), taus, tr["mid"],
        tr["lo_m"], tr["up_m"], tr["lo"], tr["up"], tr["lo_va"], tr["lo_vb"], tr["up_va"],
        tr["up_vb"], tr["ys"], out, flags)  # fmt: skip
     return out, flags
@@ -50,6 +51,7 @@ def window_edges(  # noqa: PLR0913 - the tracks as _cn_plan._tracks holds them
     p0: Any,
     k: float,
     yield_wall: bool,
+    sticky: bool,
     chord_from: float,
     taus: Any,
     mid: Any,
@@ -70,7 +72,8 @@ def window_edges(  # noqa: PLR0913 - the tracks as _cn_plan._tracks holds them
     The walls' tracks: positions at the step midpoints ``mid`` (``lo_m``, ``up_m``) and at
     ``taus`` (``lo``, ``up``; ``+inf`` without a wall), their speeds just after (``_va``) and
     before (``_vb``) each time and the yield wall's speed ``ys_t`` (0 without one);
-    ``chord_from`` the first breakpoint's time (``inf``: none), from which the speeds are the
+    ``sticky``: a yield wall stays real once it entered (not where the plan releases it,
+    ``_Plan.release``); ``chord_from`` the first breakpoint's time (``inf``: none), from which the speeds are the
     steps' chord speeds.  ``out`` (10, loads, steps) receives the rows :data:`ROWS`, ``flags``
     (4, loads, steps) whether the lower wall, the upper wall is real in the step, whether the
     yield wall is, and whether the speeds are chords (the yield wall's flag is the upper one
@@ -84,7 +87,7 @@ def window_edges(  # noqa: PLR0913 - the tracks as _cn_plan._tracks holds them
             s_m = math.sqrt(2.0 * mid[i])
             rl = lo_m[i] >= p - k * s_m
             ru = up_m[i] <= p + k * s_m
-            if yield_wall:
+            if sticky:
                 ru = ru or ru_prev
                 ru_prev = ru
             for end in range(2):

@@ -48,6 +48,9 @@ class _Plan:
     # chord mesh speeds from the first breakpoint on
     image: float | None = None  # the resting absorbing lower wall [Pa] of a one-wall start
     # (the start state is the image solution), None: the free Gaussian
+    release: bool = False  # a yield wall is real only while it is inside the window (set
+    # by the control where its plastic area is negligible, _cn_control._release); otherwise
+    # it stays real once it entered (it carries the released plastic area)
 
 
 _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-only)
@@ -325,7 +328,7 @@ def _edges(pb: Problem, plan: _Plan, taus: Array, tr: dict | None = None) -> dic
     mid = tr["mid"]
     s_m = np.sqrt(2.0 * mid)
     rl = tr["lo_m"] >= p0 - k * s_m
-    if plan.yield_wall:
+    if plan.yield_wall and not plan.release:
         ru = np.logical_or.accumulate(tr["up_m"] <= p0 + k * s_m)
     else:
         ru = tr["up_m"] <= p0 + k * s_m

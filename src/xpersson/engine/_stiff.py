@@ -26,7 +26,9 @@ Where the outputs reach deep into the quasi-steady regime (``sigma`` up to 1e4-1
 with outputs up to ``q_1`` of the held-out design ``benchmarks/plastic_design.py``) halving
 was not enough: the level errors at the last outputs fell 30-50x per halving of the step, far
 from the ``m^-2`` expansion the Richardson control assumes, and the control refined to 4e7
-node-steps (262 ms/load); four substeps took those scenes to 1-8e6 node-steps.
+node-steps (262 ms/load); four substeps took those scenes to 1-8e6 node-steps.  Those level
+errors carry odd powers of the step (the yield closure's half cell, and Crank-Nicolson's
+undamped stiff modes): :mod:`._cn_odd` controls them where the window is stiff.
 
 Only plans with a yield wall change (elsewhere the window grows with ``sqrt(tau)``, and
 ``sigma`` stays far below 1).
