@@ -208,10 +208,16 @@ def _row_status(problem: Problem, raw: Raw, prob: Array, loadb: Array, row) -> t
 
 
 def _fixed_positions(problem: Problem) -> tuple[Array, Array]:
-    """Wall positions [Pa]: 0-d arrays for fixed walls (they broadcast), else per tau."""
-    if problem.lower.is_fixed and (problem.upper is None or problem.upper.is_fixed):
-        lo = np.asarray(float(problem.lower.position))  # scalars broadcast (no full arrays)
-        up = np.asarray(float(problem.upper.position) if problem.upper is not None else np.inf)
+    """Wall positions [Pa]: 0-d arrays for fixed walls and for a missing upper wall (+inf; they
+    broadcast), else per tau."""
+    lower, upper = problem.lower, problem.upper
+    if upper is None and not lower.is_fixed:  # (no full array of inf, nor copies per load)
+        t = problem.tau
+        shared = t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0  # one row for the loads
+        return lower.at(t[0] if shared else t), np.asarray(np.inf)
+    if lower.is_fixed and (upper is None or upper.is_fixed):
+        lo = np.asarray(float(lower.position))  # scalars broadcast (no full arrays)
+        up = np.asarray(float(upper.position) if upper is not None else np.inf)
         return lo, up
     return problem.wall_positions(problem.tau)
 
@@ -223,7 +229,8 @@ def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
     prob += raw.absorbed_upper
     prob -= 1.0
     scale = np.maximum(np.abs(problem.p0), np.abs(lo))
-    scale = np.maximum(scale, np.where(np.isfinite(up), np.abs(up), 0.0))
+    if problem.upper is not None:  # (no upper wall: max(scale, 0) is scale, NaN kept)
+        scale = np.maximum(scale, np.where(np.isfinite(up), np.abs(up), 0.0))
     scale = np.where(scale > 0, scale, 1.0)
     loadb = np.add(raw.load, raw.wall_term)
     loadb -= problem.p0
