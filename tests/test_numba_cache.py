@@ -117,3 +117,21 @@ def test_remove_stale_removes_only_the_kernels_other_stamps(tmp_path):
     removed = numba_cache.remove_stale(tmp_path, "kern", "kernel", stamp)
     assert sorted(p.name for p in removed) == sorted(names[2:5])
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(names[:2] + names[5:])
+
+
+def test_a_module_without_source_is_refused(tmp_path, monkeypatch):
+    """A kernel's dependency installed as bytecode only: no stamp can see its changes, so
+    ``source_files`` refuses it (and :func:`~xpersson.numba_cache.njit` keeps numba's disk cache
+    off for those kernels)."""
+    import py_compile
+
+    monkeypatch.syspath_prepend(str(tmp_path))
+    pkg = tmp_path / "nosrcpkg"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "kern.py").write_text("from .dep import X\n")
+    (pkg / "dep.py").write_text("X = 1\n")
+    py_compile.compile(str(pkg / "dep.py"), cfile=str(pkg / "dep.pyc"))
+    (pkg / "dep.py").unlink()
+    with pytest.raises(LookupError, match="nosrcpkg.dep"):
+        numba_cache.source_files("nosrcpkg.kern")

@@ -60,7 +60,10 @@ def njit(*modules: str | types.ModuleType, **options: Any) -> Callable[[Any], An
         import numba
     except ImportError:
         return None
-    stamp = source_stamp(*modules)
+    try:
+        stamp = source_stamp(*modules)
+    except (LookupError, OSError):  # a module without readable source: no disk cache at all
+        stamp, options = "nosource", {**options, "cache": False}
     options = {"cache": cache_enabled(), **options}
     jit = numba.njit(**options)
 
@@ -68,6 +71,7 @@ def njit(*modules: str | types.ModuleType, **options: Any) -> Callable[[Any], An
         copy = types.FunctionType(
             fn.__code__, fn.__globals__, fn.__name__, fn.__defaults__, fn.__closure__
         )
+        copy.__kwdefaults__ = fn.__kwdefaults__
         copy.__qualname__ = f"{fn.__qualname__}_{stamp}"
         dispatcher = jit(copy)
         if options["cache"]:
@@ -93,7 +97,8 @@ def source_stamp(*modules: str | types.ModuleType) -> str:
 def source_files(*modules: str | types.ModuleType) -> list[Path]:
     """The source files of ``modules`` and of every module they import (any import statement,
     function level ones included), transitively, within their top-level packages and
-    ``xpersson``; sorted by path."""
+    ``xpersson``; sorted by path. Raises LookupError for such a module without a ``.py``
+    source (compiled only), whose changes no stamp could see."""
     names = [m if isinstance(m, str) else m.__name__ for m in modules]
     roots = {"xpersson", *(name.split(".")[0] for name in names)}
     seen: dict[str, Path] = {}
@@ -102,10 +107,12 @@ def source_files(*modules: str | types.ModuleType) -> list[Path]:
         name = todo.pop()
         if name in seen:
             continue
-        path = _origin(name)
-        if path is None:
+        origin = _origin(name)
+        if origin is None:  # no such module (an attribute of a package, say)
             continue
-        seen[name] = path
+        if not origin.endswith(".py"):
+            raise LookupError(f"module {name} has no Python source ({origin})")
+        seen[name] = path = Path(origin)
         package = name if path.name == "__init__.py" else name.rpartition(".")[0]
         todo.extend(n for n in _imported(path, package) if n.split(".")[0] in roots)
     return sorted(set(seen.values()))
@@ -138,8 +145,9 @@ def _listing(directory: Path) -> Iterable[Path]:
         return []
 
 
-def _origin(name: str) -> Path | None:
-    """The ``.py`` source file of the module ``name``, or None (no such module, or compiled)."""
+def _origin(name: str) -> str | None:
+    """Where the module ``name`` was (or would be) loaded from (``"built-in"``, say, for
+    modules without a file), or None: no such module."""
     module = sys.modules.get(name)
     origin = getattr(module, "__file__", None)
     if origin is None:
@@ -147,8 +155,10 @@ def _origin(name: str) -> Path | None:
             spec = importlib.util.find_spec(name)
         except (ImportError, ValueError):
             return None
-        origin = None if spec is None else spec.origin
-    return Path(origin) if origin is not None and origin.endswith(".py") else None
+        if spec is None:
+            return None
+        origin = spec.origin or "namespace package"
+    return str(origin)
 
 
 def _imported(path: Path, package: str) -> Iterable[str]:
