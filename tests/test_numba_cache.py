@@ -38,6 +38,14 @@ print(fast(1.0))
 """
 
 
+@pytest.fixture(autouse=True)
+def _forget_stalepkg():
+    """``find_spec`` imports a module's parent package: each test's ``stalepkg`` is its own."""
+    yield
+    for name in [n for n in sys.modules if n == "stalepkg" or n.startswith("stalepkg.")]:
+        del sys.modules[name]
+
+
 def _package(root: Path, offset: str, scale: str = "2.0") -> None:
     pkg = root / "stalepkg"
     pkg.mkdir(exist_ok=True)
@@ -135,3 +143,18 @@ def test_a_module_without_source_is_refused(tmp_path, monkeypatch):
     (pkg / "dep.py").unlink()
     with pytest.raises(LookupError, match="nosrcpkg.dep"):
         numba_cache.source_files("nosrcpkg.kern")
+
+
+def test_a_file_edited_after_import_is_seen(tmp_path, monkeypatch):
+    """An edit while a process runs: its loaded code may be older than the file, so a build
+    must not be stored under the new file's stamp."""
+    import time
+
+    monkeypatch.syspath_prepend(str(tmp_path))
+    _package(tmp_path, "1.0")
+    files = numba_cache.source_files("stalepkg.kern")
+    monkeypatch.setattr(numba_cache, "_IMPORTED", time.time() + 1.0)  # imported after writing
+    assert numba_cache.edited_since_import(files) == []
+    later = time.time() + 10.0
+    os.utime(tmp_path / "stalepkg" / "helper.py", (later, later))
+    assert numba_cache.edited_since_import(files) == [tmp_path / "stalepkg" / "helper.py"]

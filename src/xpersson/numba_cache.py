@@ -13,7 +13,10 @@ the given modules and of every module of the same packages they import, transiti
 level imports included), so numba's cache file of a kernel is named by the stamp: after any
 change to those sources, the kernel is built afresh and never loaded from a stale file; the
 files of other stamps of the same kernel are then removed from numba's cache directory (nothing
-is written elsewhere). It relies on numba naming a cache file by the function's
+is written elsewhere). A source file modified after this module's import (an edit while a
+process runs) may no longer be the code the process runs: then the kernels are built without
+the disk cache (:func:`edited_since_import`); so are kernels that depend on a module without
+Python source. It relies on numba naming a cache file by the function's
 ``__qualname__`` (true of every numba release since caching exists); the clean-up reads
 numba's ``Dispatcher.stats.cache_path`` and is skipped where it is missing.
 
@@ -34,6 +37,7 @@ import hashlib
 import importlib.util
 import re
 import sys
+import time
 import types
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -41,10 +45,19 @@ from typing import Any
 
 from .options import cache_enabled
 
-__all__ = ["STAMP_LENGTH", "njit", "remove_stale", "source_files", "source_stamp"]
+__all__ = [
+    "STAMP_LENGTH",
+    "edited_since_import",
+    "njit",
+    "remove_stale",
+    "source_files",
+    "source_stamp",
+]
 
 STAMP_LENGTH = 16
 """Hexadecimal digits of the source stamp in a kernel's compiled name (64 bits)."""
+
+_IMPORTED = time.time()  # [s] since the epoch: files modified later may differ from the code run
 
 
 def njit(*modules: str | types.ModuleType, **options: Any) -> Callable[[Any], Any] | None:
@@ -61,9 +74,12 @@ def njit(*modules: str | types.ModuleType, **options: Any) -> Callable[[Any], An
     except ImportError:
         return None
     try:
-        stamp = source_stamp(*modules)
+        files = source_files(*modules)
+        stamp = _stamp(files)
     except (LookupError, OSError):  # a module without readable source: no disk cache at all
-        stamp, options = "nosource", {**options, "cache": False}
+        files, stamp, options = [], "nosource", {**options, "cache": False}
+    if edited_since_import(files):  # the loaded code may not be the files' (no disk cache)
+        options = {**options, "cache": False}
     options = {"cache": cache_enabled(), **options}
     jit = numba.njit(**options)
 
@@ -86,8 +102,19 @@ def njit(*modules: str | types.ModuleType, **options: Any) -> Callable[[Any], An
 def source_stamp(*modules: str | types.ModuleType) -> str:
     """The first :data:`STAMP_LENGTH` hexadecimal digits of the SHA-256 digest of the source
     bytes of :func:`source_files` (each file's bytes with its length, in path order)."""
+    return _stamp(source_files(*modules))
+
+
+def edited_since_import(files: Iterable[Path]) -> list[Path]:
+    """The ``files`` modified after this module was imported: the code a process runs may then
+    be older than the files' source, and a build stored under their stamp would be stale
+    (the kernels are then built without numba's disk cache)."""
+    return [path for path in files if path.stat().st_mtime > _IMPORTED]
+
+
+def _stamp(files: Iterable[Path]) -> str:
     digest = hashlib.sha256()
-    for path in source_files(*modules):
+    for path in files:
         data = path.read_bytes()
         digest.update(f"{path.name}:{len(data)}:".encode())
         digest.update(data)
