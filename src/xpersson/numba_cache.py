@@ -16,9 +16,10 @@ files of other stamps of the same kernel are then removed from numba's cache dir
 is written elsewhere). A source file modified after this module's import (an edit while a
 process runs) may no longer be the code the process runs: then the kernels are built without
 the disk cache (:func:`edited_since_import`); so are kernels that depend on a module without
-Python source. It relies on numba naming a cache file by the function's
-``__qualname__`` (true of every numba release since caching exists); the clean-up reads
-numba's ``Dispatcher.stats.cache_path`` and is skipped where it is missing.
+Python source. It relies on numba naming a cache file after the function's file and
+``__qualname__`` (numba's ``_CacheImpl``, 0.68 and earlier; ``tests/test_numba_cache.py`` fails
+if a release stops doing so); the clean-up reads numba's ``Dispatcher.stats.cache_path`` and is
+skipped where it is missing.
 
 The cache switch is respected: with ``xpersson.set_options(cache=False)`` (or
 ``XPERSSON_CACHE=off``) at the time of the build, the kernels are compiled without numba's disk
