@@ -309,7 +309,7 @@ def content_key(item: Any) -> Hashable:
     if kind is float:
         return ("f", _FLOAT_BITS(item))
     if kind is tuple or kind is list:
-        return tuple([_item_key(v) for v in item])
+        return tuple([v if type(v) in _SELF else _item_key(v) for v in item])
     if kind is np.ndarray:
         code = _DTYPES.get(item.dtype)
         if code is not None:  # a dtype without objects, seen before
@@ -323,10 +323,9 @@ def content_key(item: Any) -> Hashable:
 
 
 def _item_key(item: Any) -> Hashable:
-    """:func:`content_key` of a tuple's item (the plain types without a further call)."""
+    """:func:`content_key` of a tuple's item that does not stand for itself (a float without a
+    further call)."""
     kind = type(item)
-    if kind in _SELF:
-        return item
     if kind is float:
         return ("f", _FLOAT_BITS(item))
     return content_key(item)
