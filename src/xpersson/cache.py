@@ -318,7 +318,8 @@ def content_key(item: Any) -> Hashable:
             return ("a", code, item.shape, digest(item))
     name = _KEYED.get(kind)
     if name is not None:  # a class seen before whose instances key by their cache_key()
-        return ("o", name, content_key(item.cache_key()))
+        own = item.cache_key()  # (mostly a digest: bytes, which stand for themselves)
+        return ("o", name, own if type(own) in _SELF else content_key(own))
     return _content_key(item)
 
 
