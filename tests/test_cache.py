@@ -62,6 +62,26 @@ def test_content_key_distinguishes_bits_not_identity() -> None:
         xc.content_key(lambda: 0)
 
 
+def test_content_key_keeps_types_byte_orders_and_bits_apart() -> None:
+    """A float keys by its bits (never as the equal int), an array by its dtype (byte order
+    too, for seen and unseen dtypes, small and digested), a NaN as its own bits."""
+    assert xc.content_key(1.0) != xc.content_key(1)
+    assert xc.content_key((1.0, "x")) != xc.content_key((1, "x"))
+    nan = float("nan")
+    assert xc.content_key(nan) == xc.content_key(float("nan"))
+    assert xc.content_key(nan) != xc.content_key(-nan)
+    for n in (4, 1000):  # kept as bytes, and digested
+        a = np.arange(float(n))
+        big = a.astype(">f8")
+        assert xc.content_key(a) == xc.content_key(a.copy())
+        assert xc.content_key(big) != xc.content_key(a)
+        assert xc.content_key(big) == xc.content_key(big.copy())
+        assert xc.content_key(a.view(np.int64)) != xc.content_key(a)
+    with pytest.raises(TypeError):  # an object array is refused as before, also once seen
+        for _ in range(2):
+            xc.content_key((np.array([object()], dtype=object),))
+
+
 @given(st.lists(st.floats(allow_nan=False, allow_infinity=False), min_size=1, max_size=8))
 def test_content_key_equal_iff_equal_bits(values: list[float]) -> None:
     a = np.array(values)

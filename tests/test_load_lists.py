@@ -156,7 +156,8 @@ def test_list_parse_is_pint_value_by_value_bit_for_bit(entries, one_unit):
 
 @pytest.mark.parametrize(
     "bad",
-    ["x Pa", "2 m", "3", "1e400 Pa", "-2 Pa", "2 Pa\n3 Pa", "1e3 Pa**2", "1e3 Pq", "1.2.3 Pa"],
+    ["x Pa", "2 m", "3", "1e400 Pa", "-2 Pa", "2 Pa\n3 Pa", "1e3 Pa**2", "1e3 Pq", "1.2.3 Pa"]
+    + ["2 Pa 3", "1.2 .3 Pa"],
 )
 def test_one_bad_entry_of_a_long_list_is_named_with_the_unit_and_range(bad):
     """One malformed, wrong-dimension, unitless, infinite or negative entry among 1000: one

@@ -1,5 +1,6 @@
 """The scene's JSON in the global attributes (issue 36): the output grid's text is made once
-per grid and spliced in; the result is ``json.dumps(resolved, sort_keys=True)`` exactly."""
+per grid and a list of loads' text by one join, spliced in; the result is
+``json.dumps(resolved, sort_keys=True)`` exactly."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import json
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from xpersson.provenance import _GRID_TOKEN, _scene_json
+from xpersson.provenance import _GRID_TOKEN, _LOADS_TOKEN, _scene_json, _strings_json
 
 _FLOAT = st.floats(allow_nan=True, allow_infinity=True) | st.sampled_from([0.0, -0.0, 1.0])
 
@@ -23,3 +24,36 @@ def test_the_scene_json_is_json_dumps_sorted(zeta, title, extra):
     resolved = {"title": title, "output": {"zeta": zeta, "p_points": 8, **extra}, "load": extra}
     assert _scene_json(resolved) == json.dumps(resolved, sort_keys=True)
     assert _scene_json(resolved) == _scene_json(json.loads(json.dumps(resolved)))
+
+
+_LOAD_TEXT = (
+    st.text(st.sampled_from(list('0123456789.e+- Pak"\\/\n\t\x00\x7fµé\u2028')), max_size=8)
+    | st.floats(1.0, 1e9).map(lambda x: f"{x!r} Pa")
+    | st.just(_LOADS_TOKEN)
+)
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    p0=st.lists(_LOAD_TEXT, min_size=0, max_size=20)
+    | st.lists(st.floats(1.0, 1e9).map(lambda x: f"{x!r} kPa"), min_size=9, max_size=40),
+    zeta=st.lists(st.floats(1.0, 1e9), min_size=0, max_size=12),
+    title=st.sampled_from(["a scene", _GRID_TOKEN, _LOADS_TOKEN, 'a "quoted" \\ title']),
+    other=st.sampled_from([None, 3, "1 Pa", [1.0, "x"]]),
+)
+def test_a_list_of_loads_is_spliced_bit_for_bit(p0, zeta, title, other):
+    """Load strings of any characters (quotes, backslashes, control and non-ASCII characters,
+    the splice tokens), with or without an output grid: the text is json.dumps' exactly."""
+    resolved = {"title": title, "output": {"zeta": zeta}, "load": {"p0": p0, "x": other}}
+    if other is not None and len(p0) > 2:
+        resolved["load"]["p0"] = [*p0[:2], other, *p0[2:]]  # a value that is not a string
+    assert _scene_json(resolved) == json.dumps(resolved, sort_keys=True)
+
+
+def test_the_loads_of_a_study_are_joined_not_dumped():
+    """1000 loads as written (``"<repr> Pa"``): their text by the join, equal to json.dumps';
+    a string JSON escapes (a quote, a non-ASCII letter) sends the list to json.dumps."""
+    p0 = [f"{1e3 * 1.007**k!r} Pa" for k in range(1000)]
+    assert _strings_json(p0) == json.dumps(p0)
+    for odd in ('1 "Pa"', "1 µPa", "1 Pa\\", "1\tPa"):
+        assert _strings_json([*p0[:9], odd]) is None

@@ -38,6 +38,7 @@ import contextvars
 import dataclasses
 import functools
 import hashlib
+import struct
 import threading
 from collections import OrderedDict
 from collections.abc import Callable, Hashable, Iterator
@@ -117,6 +118,7 @@ class Cache:
             raise ValueError(f"cache {name!r}: maxsize must be a positive int, got {maxsize!r}")
         self.name, self.scope, self.maxsize, self.doc = name, scope, maxsize, doc
         self._store: OrderedDict[Hashable, Any] = OrderedDict()
+        self._per_solve = scope == "solve"
         self._lock = threading.Lock()
         self.hits = 0
         self.misses = 0
@@ -129,19 +131,23 @@ class Cache:
         """The store values go to now (``None``: keep nothing)."""
         if not cache_enabled():
             return None
-        if self.scope != "solve":
+        if not self._per_solve:
             return self._store
         stores = _SOLVE.get()
         if stores is None:
             return None
-        return stores.setdefault(self.name, OrderedDict())
+        table = stores.get(self.name)
+        if table is None:
+            table = stores[self.name] = OrderedDict()
+        return table
 
     def get(self, key: Any, compute: Callable[[], T]) -> T:
         """The value for ``key`` (normalised by :func:`content_key`), computed on a miss.
 
         The value's arrays are made read-only (:func:`freeze`), also when nothing is kept.
         """
-        table = self._table()
+        # the process and spectrum scopes' store inline (a look-up is on every hot path)
+        table = self._table() if self._per_solve or not cache_enabled() else self._store
         if table is None:
             return freeze(compute())
         k = content_key(key)
@@ -286,7 +292,7 @@ def content_key(item: Any) -> Hashable:
     """A hashable key made of ``item``'s content (recursively).
 
     Strings, bytes, ints, bools and ``None`` stand for themselves; floats by their exact bits
-    (``float.hex``: ``0.0`` and ``-0.0`` differ); numpy scalars as Python numbers; arrays as
+    (their 8 bytes: ``0.0`` and ``-0.0`` differ); numpy scalars as Python numbers; arrays as
     ``(dtype, shape, digest)`` (up to 2 KiB as ``(dtype, shape, bytes)``); tuples, lists,
     frozensets and dicts by their items; an object with a ``cache_key()`` method by its type
     and the content key of what that returns; a module-level class or function by its
@@ -301,21 +307,38 @@ def content_key(item: Any) -> Hashable:
     if kind in _SELF:
         return item
     if kind is float:
-        return ("f", item.hex())
+        return ("f", _FLOAT_BITS(item))
     if kind is tuple or kind is list:
-        return tuple([content_key(v) for v in item])
-    if kind is np.ndarray and not item.dtype.hasobject:
-        if item.nbytes <= _SMALL:  # its bytes themselves (a digest's set-up costs ~4 us)
-            return ("b", item.dtype.str, item.shape, item.tobytes())
-        return ("a", item.dtype.str, item.shape, digest(item))
+        return tuple([v if type(v) in _SELF else _item_key(v) for v in item])
+    if kind is np.ndarray:
+        code = _DTYPES.get(item.dtype)
+        if code is not None:  # a dtype without objects, seen before
+            if item.nbytes <= _SMALL:  # its bytes themselves (a digest's set-up costs ~4 us)
+                return ("b", code, item.shape, item.tobytes())
+            return ("a", code, item.shape, digest(item))
     name = _KEYED.get(kind)
     if name is not None:  # a class seen before whose instances key by their cache_key()
-        return ("o", name, content_key(item.cache_key()))
+        own = item.cache_key()  # (mostly a digest: bytes, which stand for themselves)
+        return ("o", name, own if type(own) in _SELF else content_key(own))
     return _content_key(item)
+
+
+def _item_key(item: Any) -> Hashable:
+    """:func:`content_key` of a tuple's item that does not stand for itself (a float without a
+    further call)."""
+    kind = type(item)
+    if kind is float:
+        return ("f", _FLOAT_BITS(item))
+    return content_key(item)
 
 
 _SELF = frozenset({str, bytes, int, bool, type(None)})
 _SMALL = 2048
+_FLOAT_BITS = struct.Struct("<d").pack
+"""A float's exact bits (8 bytes; ~7x cheaper than ``float.hex``)."""
+_DTYPES: dict[np.dtype[Any], str] = {}
+"""``dtype.str`` of the dtypes without objects seen so far (a read of it costs ~1 us)."""
+_MAX_DTYPES = 64
 """Arrays of at most this many bytes key by their bytes (exact, and cheaper than a digest)."""
 _KEYED: dict[type, str] = {}
 """Classes whose instances key by their ``cache_key()`` (a method of the class, and none of
@@ -327,12 +350,19 @@ def _content_key(item: Any) -> Hashable:
     if isinstance(item, _PLAIN):
         return item
     if isinstance(item, float):
-        return ("f", item.hex())
+        return ("f", _FLOAT_BITS(item))
     if isinstance(item, tuple | list):
         return tuple(content_key(v) for v in item)
     if isinstance(item, np.ndarray):
         if item.dtype.hasobject:  # its bytes are pointers: identity, not content
             return ("A", item.shape, tuple(content_key(v) for v in item.ravel().tolist()))
+        if type(item) is np.ndarray:  # a dtype not seen before
+            code = item.dtype.str
+            if len(_DTYPES) < _MAX_DTYPES:
+                _DTYPES[item.dtype] = code
+            if item.nbytes <= _SMALL:
+                return ("b", code, item.shape, item.tobytes())
+            return ("a", code, item.shape, digest(item))
         return content_key(np.asarray(item))  # a subclass: as its plain array
     if isinstance(item, np.generic):
         return content_key(item.item())

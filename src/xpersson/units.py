@@ -78,7 +78,8 @@ def check_expression(text: str, where: str) -> None:
     fraction in parentheses) of magnitude at most :data:`MAX_EXPONENT`, never itself raised to
     a power (no towers such as ``m**9**9**9``). A number directly followed by a decimal point
     (``"1.2.3 Pa"``, ``"1e3.5 Pa"``) is refused: pint would read two numbers and multiply
-    them (0.36 Pa, 500 Pa).
+    them (0.36 Pa, 500 Pa); so is any text holding more than one number outside its exponents
+    (``"2 Pa 3"``, ``"1.2 .3 Pa"``, ``"2*3 Pa"``; the ``1`` of a unit ``1/m`` is no number).
 
     Raises
     ------
@@ -125,6 +126,31 @@ def check_expression(text: str, where: str) -> None:
     for k in range(len(found) - 1):  # an exponent directly followed by another: a tower
         if not text[found[k].end() : found[k + 1].start()].strip(" )"):
             raise UnitError(f"{where}: {text[:60]!r}: towers of exponents are not allowed")
+    _one_number(text, rest, where)
+
+
+#: a number as Python's float reads one, not inside a name (``m2``, ``H2O``)
+_ANY_NUMBER = re.compile(r"(?<![\w.])(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+#: what follows the ``1`` of a unit ``1/m``, ``1 / (m*s)``: a slash, then a unit name
+_PER_UNIT = re.compile(r"\s*/\s*[(\s]*[^\W\d]")
+
+
+def _one_number(text: str, rest: str, where: str) -> None:
+    """Refuse a quantity text holding more than one number (``rest``: ``text`` without its
+    exponents): pint reads ``"2 Pa 3"``, ``"1.2 .3 Pa"``, ``"2*3 Pa"`` or ``"1/2 Pa"`` as a
+    product or quotient of its numbers (6 Pa, 0.36 Pa, 6 Pa, 0.5 Pa). The ``1`` of a unit
+    ``1/m`` (a slash, then a unit name) is part of the unit, not a number."""
+    numbers = [
+        m.group(0)
+        for m in _ANY_NUMBER.finditer(rest)
+        if m.group(0) != "1" or _PER_UNIT.match(rest, m.end()) is None
+    ]
+    if len(numbers) > 1:
+        raise UnitError(
+            f"{where}: {text[:60]!r} holds {len(numbers)} numbers "
+            f"({', '.join(map(repr, numbers[:3]))}; pint would combine them, e.g. '2 3 Pa' "
+            "as 6 Pa); write one number and its unit, e.g. '1.23 MPa'"
+        )
 
 
 def _exponent(text: str) -> float:

@@ -82,8 +82,9 @@ def test_compiled_kernels_give_the_numpy_results(monkeypatch):
     scene = {**SCENE, "analyses": ANALYSES}
     with xpersson.set_options(compiled=False, cache=False):
         ref = xpersson.solve(scene)
-    with xpersson.set_options(cache=False, compiled=True):  # on even under XPERSSON_COMPILED=off
-        assert _compiled.kernel(1.0) is not None
+    with xpersson.set_options(compiled=True):  # on even under XPERSSON_COMPILED=off; built
+        assert _compiled.kernel(1.0) is not None  # with numba's disk cache (caches on)
+    with xpersson.set_options(cache=False, compiled=True):
         got = xpersson.solve(scene)
     _assert_close(ref, got)
 

@@ -18,7 +18,7 @@ from xpersson.physics import SelfAffineRollOff, coefficient_f, diffusion_time
 from xpersson.plugins import DiffusionClock, SceneContext
 from xpersson_adhesion import JKRBoundary
 from xpersson_adhesion._detachment import ModelLaw
-from xpersson_adhesion._wallpos import onset_times
+from xpersson_adhesion._wallpos import onset_times, starts_at_zero
 from xpersson_adhesion.jkr import stickiness
 
 E_STAR = 1e6 / 0.75
@@ -80,6 +80,9 @@ def test_cached_table_equals_a_fresh_one_and_follows_the_clock(caches_on):
     t = float(clock.tau_of_zeta(1e4)) * np.linspace(0.0, 1.0, 101)
     np.testing.assert_array_equal(table(t), ref(t))
     np.testing.assert_array_equal(onset_times(table), onset_times(ref))
+    # sigma_a(tau = 0) = 0, found once with the onsets, is what evaluating the table says
+    for t_ in (table, ref, lambda t: np.full(np.shape(t), 2.0), lambda t: np.zeros(np.shape(t))):
+        assert starts_at_zero(t_) is (float(t_(np.zeros(1))[0]) == 0.0)
     # another modulus: another clock and another law, another table
     other = ModelLaw(psd, 2 * E_STAR, 0.03, 1.0).in_tau(_clock(psd, 2 * E_STAR))
     assert other is not table and not np.array_equal(other(t[1:]), table(t[1:]))

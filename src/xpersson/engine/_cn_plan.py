@@ -46,9 +46,8 @@ class _Plan:
     zones: tuple[tuple[float, float], ...] = ()  # graded stretches (tau_b, tau_end) after
     # declared wall breakpoints: steps uniform in (tau - tau_b)^(1/4), implicit first step;
     # chord mesh speeds from the first breakpoint on
-    image: float | None = None  # the resting absorbing lower wall [Pa] of a one-wall start
-    # (the start state is the image solution), None: the free Gaussian
-    release: bool = False  # a yield wall real only inside the window (_cn_control._release)
+    image: float | None = None  # resting lower wall [Pa] of an image start; None: Gaussian
+    release: bool = False  # yield wall real only inside the window (_cn_control._release)
 
 
 _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-only)

@@ -22,8 +22,9 @@ path has marched in the process add up to about the import's cost (:data:`BUILD_
 from their steps and node-steps: a rent-or-buy rule, so that many small solves in one process,
 a sweep or a benchmark, pay at most twice the best of either path), the numpy path runs too, so
 that a few small solves never import numba (its import and loading cost about 0.4 s per
-process, the first compilation a few seconds; the compiled code is kept on disk by numba's own
-``cache=True``); from then on every level of the process takes the compiled path.
+process, the first compilation a few seconds; the compiled code is kept on disk by numba's
+cache, keyed on the kernels' sources by :func:`xpersson.numba_cache.njit`); from then on every
+level of the process takes the compiled path.
 
 When to start was measured again with the fused level (``python -c``, CPU time, 2026-11-29):
 with the build on disk, numba's import costs 0.15 s and the kernels' first calls 0.2-0.4 s
@@ -39,6 +40,7 @@ import types
 from collections.abc import Callable
 from typing import Any
 
+from .. import numba_cache
 from ..options import compiled_enabled
 from ._cnstep import _gtsv
 
@@ -130,14 +132,13 @@ def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
 
 
 def _build() -> Callable[..., int] | None:
-    try:
-        import numba
-    except ImportError:
-        return None
     from . import _cn_edges
     from . import _moving_fused as fused_src
 
-    jit = numba.njit(cache=True, nogil=True, error_model="numpy")
+    # numba's disk cache keyed on the sources of these modules and everything they import
+    jit = numba_cache.njit(__name__, _cn_edges, fused_src, nogil=True, error_model="numpy")
+    if jit is None:  # numba is not installed
+        return None
     # the kernels call the compiled helpers: the same code, its globals bound to the dispatchers
     gtsv = jit(_gtsv)
     scope = {**globals(), "_gtsv": gtsv}

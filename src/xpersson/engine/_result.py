@@ -177,14 +177,8 @@ def _row_status(problem: Problem, raw: Raw, prob: Array, loadb: Array, row) -> t
     """Status and message of one load (``row`` indexes the batch axis, or ``...``)."""
     status = raw.status if isinstance(raw.status, str) else raw.status[row]
     message = raw.message if isinstance(raw.message, str) else raw.message[row]
-    arrays = (
-        raw.area[row],
-        raw.non_area[row],
-        raw.absorbed_lower[row],
-        raw.absorbed_upper[row],
-        raw.load[row],
-    )
-    finite = all(np.all(np.isfinite(a)) for a in arrays)
+    fields = ("area", "non_area", "absorbed_lower", "absorbed_upper", "load")
+    finite = all(np.all(np.isfinite(getattr(raw, f)[row])) for f in fields)
     if raw.P is not None:
         finite = finite and bool(np.all(np.isfinite(raw.P[row])))
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
@@ -208,12 +202,16 @@ def _row_status(problem: Problem, raw: Raw, prob: Array, loadb: Array, row) -> t
 
 
 def _fixed_positions(problem: Problem) -> tuple[Array, Array]:
-    """Wall positions [Pa]: 0-d arrays for fixed walls (they broadcast), else per tau."""
-    if problem.lower.is_fixed and (problem.upper is None or problem.upper.is_fixed):
-        lo = np.asarray(float(problem.lower.position))  # scalars broadcast (no full arrays)
-        up = np.asarray(float(problem.upper.position) if problem.upper is not None else np.inf)
-        return lo, up
-    return problem.wall_positions(problem.tau)
+    """Wall positions [Pa]: 0-d arrays for fixed walls and a missing upper one (+inf), which
+    broadcast; else per tau (a row shared by the loads evaluated once)."""
+    lower, upper, t = problem.lower, problem.upper, problem.tau
+    if upper is None and not lower.is_fixed:  # (no full array of inf, nor copies per load)
+        shared = t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0
+        return lower.at(t[0] if shared else t), np.asarray(np.inf)
+    if lower.is_fixed and (upper is None or upper.is_fixed):
+        up = float(upper.position) if upper is not None else np.inf
+        return np.asarray(float(lower.position)), np.asarray(up)
+    return problem.wall_positions(t)
 
 
 def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
@@ -223,7 +221,8 @@ def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
     prob += raw.absorbed_upper
     prob -= 1.0
     scale = np.maximum(np.abs(problem.p0), np.abs(lo))
-    scale = np.maximum(scale, np.where(np.isfinite(up), np.abs(up), 0.0))
+    if problem.upper is not None:  # (no upper wall: max(scale, 0) is scale, NaN kept)
+        scale = np.maximum(scale, np.where(np.isfinite(up), np.abs(up), 0.0))
     scale = np.where(scale > 0, scale, 1.0)
     loadb = np.add(raw.load, raw.wall_term)
     loadb -= problem.p0

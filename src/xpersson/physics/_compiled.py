@@ -53,6 +53,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import numba_cache
 from ..options import compiled_enabled
 
 __all__ = [
@@ -100,11 +101,9 @@ def kernel(work: float, name: str = "gap_rows") -> Callable[..., Any] | None:
 
 
 def _build() -> dict[str, Callable[..., Any]] | None:
-    try:
-        import numba
-    except ImportError:
+    jit = numba_cache.njit(__name__, nogil=True, error_model="numpy")  # keyed on the sources
+    if jit is None:  # numba is not installed
         return None
-    jit = numba.njit(cache=True, nogil=True, error_model="numpy")
     helpers = (_direct, _pairwise, _gtsv_factor)
     scope = {**globals(), **{fn.__name__: jit(fn) for fn in helpers}}
     fns = (

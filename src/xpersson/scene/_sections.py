@@ -28,15 +28,19 @@ def convert_section(
     )
     if not plain:
         return convert_params(specs, raw, where)
-    # the type with each value: True and 1 (equal keys) convert differently
-    given = tuple((n, type(v).__name__, v) for n, v in raw.items())
-    key = (where, tuple((n, s.cache_key()) for n, s in specs.items()), given)
+    # one flat tuple (the specs' count first: unambiguous), keyed without nested tuples; the
+    # type with each value: True and 1 (equal keys) convert differently
+    key: list[Any] = [where, len(specs)]
+    for n, s in specs.items():
+        key += (n, s.cache_key())
+    for n, v in raw.items():
+        key += (n, type(v).__name__, v)
 
     def convert() -> dict[str, Any]:
         out = convert_params(specs, raw, where)
         return {n: out[n] for n in raw}
 
-    found = _SECTIONS.get(key, convert)
+    found = _SECTIONS.get(tuple(key), convert)
     return {n: found[n] if n in found else s.default for n, s in specs.items()}
 
 

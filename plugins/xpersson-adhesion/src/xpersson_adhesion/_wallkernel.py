@@ -28,6 +28,7 @@ import types
 from collections.abc import Callable
 from typing import Any
 
+from xpersson import numba_cache
 from xpersson.options import compiled_enabled
 
 __all__ = ["build", "kernel", "wall_values"]
@@ -53,13 +54,12 @@ def build() -> bool:
 
 
 def _build() -> Callable[..., None] | None:
-    try:
-        import numba
-        import numpy as np
-    except ImportError:  # pragma: no cover - numba is optional
+    import numpy as np
+
+    jit = numba_cache.njit(__name__, nogil=True, error_model="numpy")
+    if jit is None:  # pragma: no cover - numba is optional
         _STATE["fn"] = None
         return None
-    jit = numba.njit(cache=True, nogil=True, error_model="numpy")
     # the loop calls the compiled helpers: the same code, its globals bound to the dispatchers
     scope = {**globals(), **{n: jit(globals()[n]) for n in ("_maximum", "_minimum", "_interval")}}
     fn = jit(types.FunctionType(wall_values.__code__, scope, "wall_values"))

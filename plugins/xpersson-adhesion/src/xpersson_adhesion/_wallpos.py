@@ -22,7 +22,7 @@ try:  # the compiled loop behind PPoly.__call__ (called directly: see _ppoly_val
 except ImportError:  # pragma: no cover - another scipy layout: PPoly.__call__ then
     _ppoly_evaluate = None
 
-__all__ = ["DetachmentWall", "onset_times"]
+__all__ = ["DetachmentWall", "onset_times", "starts_at_zero"]
 
 Array = NDArray[np.float64]
 
@@ -57,6 +57,7 @@ class _Pchip:
     def __init__(self, spline: Callable[[Array], Array], t_lo: float, t_hi: float) -> None:
         self.spline, self.t_lo, self.t_hi = spline, t_lo, t_hi
         self.onsets: Array | None = None  # see onset_times
+        self.starts_at_zero: bool | None = None  # see starts_at_zero
         self._args: tuple | None = None  # see kernel_args
 
     def kernel_args(self) -> tuple | bool:
@@ -136,7 +137,17 @@ def onset_times(sigma_of_tau: Callable[[Array], Array]) -> Array:
         found = _onset_times(sigma_of_tau)
         found.setflags(write=False)
         sigma_of_tau.onsets = found
+        sigma_of_tau.starts_at_zero = float(sigma_of_tau(np.zeros(1))[0]) == 0.0
     return found.copy()
+
+
+def starts_at_zero(sigma_of_tau: Callable[[Array], Array]) -> bool:
+    """Whether ``sigma_a(tau = 0) = 0`` [Pa] (the wall rests at ``p = 0`` until its first
+    onset); of a table, found once with its onsets (:func:`onset_times`)."""
+    if isinstance(sigma_of_tau, _Pchip):
+        onset_times(sigma_of_tau)
+        return bool(sigma_of_tau.starts_at_zero)
+    return float(sigma_of_tau(np.zeros(1))[0]) == 0.0
 
 
 def _onset_times(sigma_of_tau: _Pchip) -> Array:

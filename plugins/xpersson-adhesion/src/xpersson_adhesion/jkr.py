@@ -32,7 +32,7 @@ from ._detachment import (
     true_area_ratio,
 )
 from ._tabor import tabor_parameter, warn_outside_limit
-from ._wallpos import DetachmentWall, onset_times
+from ._wallpos import DetachmentWall, onset_times, starts_at_zero
 
 if TYPE_CHECKING:  # pragma: no cover
     from xpersson.engine import EngineResult, Wall
@@ -328,7 +328,7 @@ class JKRBoundary(Boundary):
         # equal content, equal walls: the loads are solved together on either path
         onsets = onset_times(sig)
         # sigma_a = 0 up to the first onset (gamma_eff <= 0 there): the wall rests at p = 0
-        still = float(onsets[0]) if onsets.size and float(sig(np.zeros(1))[0]) == 0.0 else 0.0
+        still = float(onsets[0]) if onsets.size and starts_at_zero(sig) else 0.0
         return Wall.absorbing(DetachmentWall(sig, key=key), breakpoints=onsets, still_until=still)
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
