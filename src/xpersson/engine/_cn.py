@@ -6,7 +6,9 @@ Scheme
   mass released by a yield wall starts above ``p0``; so the domain is truncated to
   ``[max(l, p0 - k s), min(u, p0 + k s)]`` with ``s = sqrt(2 tau)`` and artificial absorbing walls
   where the real ones are farther (error ``<= erfc(k/sqrt 2)`` each, ``k`` from ``atol``).  The
-  window follows the growing support ``~ sqrt(tau)``; a yield wall stays real once it entered.
+  window follows the growing support ``~ sqrt(tau)``; a yield wall stays real once it entered
+  (it carries the plastic area it releases), unless it leaves the window again with a
+  negligible plastic area (``_cn_control._release``: then it is real only while inside).
 * Front fixing.  Nodes ``p_j(tau) = l_eff(tau) + W(tau) x_j`` on a fixed map ``x_j`` of [0, 1]
   clustered at both walls.  The unknown ``R = W P`` (mass per unit x) obeys the conservation law
   ``R_tau = d/dx [R_x / W^2 + (v / W) R]`` with the mesh velocity ``v = l_eff' + x W'``.

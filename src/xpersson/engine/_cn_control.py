@@ -32,6 +32,11 @@ Where a yield wall makes the window stiff (:mod:`._stiff`: the time plans then r
 decay of the window's slowest mode), the high-order levels take ``DENSE_STIFF`` steps per
 node, and at ``rtol <= S_RTOL`` :mod:`._cn_odd` controls the error (odd powers of the step).
 
+A yield wall that has left every load's window by the last output is released from it
+(:func:`_release`) where the pilot level shows its plastic area negligible: a hardness
+growing faster than the diffusion length otherwise drags the window, and its nodes, far
+beyond the support of ``P``.
+
 An accepted estimate is reported as a uniform fraction of the tolerance per load, the largest
 estimated: a difference of levels crosses zero where the actual error need not.
 """

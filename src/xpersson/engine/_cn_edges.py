@@ -73,11 +73,11 @@ def window_edges(  # noqa: PLR0913 - the tracks as _cn_plan._tracks holds them
     ``taus`` (``lo``, ``up``; ``+inf`` without a wall), their speeds just after (``_va``) and
     before (``_vb``) each time and the yield wall's speed ``ys_t`` (0 without one);
     ``sticky``: a yield wall stays real once it entered (not where the plan releases it,
-    ``_Plan.release``); ``chord_from`` the first breakpoint's time (``inf``: none), from which the speeds are the
-    steps' chord speeds.  ``out`` (10, loads, steps) receives the rows :data:`ROWS`, ``flags``
-    (4, loads, steps) whether the lower wall, the upper wall is real in the step, whether the
-    yield wall is, and whether the speeds are chords (the yield wall's flag is the upper one
-    where it is a yield wall: the march's ``yreal``).
+    ``_Plan.release``); ``chord_from`` the first breakpoint's time (``inf``: none), from
+    which the speeds are the steps' chord speeds.  ``out`` (10, loads, steps) receives the
+    rows :data:`ROWS`, ``flags`` (4, loads, steps) whether the lower wall, the upper wall
+    is real in the step, whether the yield wall is, and whether the speeds are chords (the
+    yield wall's flag is the upper one where it is a yield wall: the march's ``yreal``).
     """
     n = taus.shape[0] - 1
     for q in range(p0.shape[0]):

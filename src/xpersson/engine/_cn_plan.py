@@ -316,9 +316,8 @@ def _edges(pb: Problem, plan: _Plan, taus: Array, tr: dict | None = None) -> dic
     """Window edges and their speeds at the start (a) and end (b) of every step.
 
     The regime of each edge (real wall or artificial edge ``p0 -/+ k sqrt(2 tau)``) is fixed per
-    step (at its midpoint); the kinks where it changes are step boundaries (see ``_plan``).
-    ``tr``: the walls along ``taus`` (:func:`_tracks`), computed here unless given.
-    """
+    step (at its midpoint; a yield wall stays real once in, unless ``plan.release``); its kinks
+    are step boundaries.  ``tr``: the walls along ``taus`` (:func:`_tracks`), or computed."""
     if tr is None:
         tr = _tracks(pb, taus)
     k, p0 = plan.k, pb.p0
