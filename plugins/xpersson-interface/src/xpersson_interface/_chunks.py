@@ -27,13 +27,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from xpersson import physics
-from xpersson.plugins.solved import Solved, per_solve
+from xpersson.plugins.solved import Solved, own_columns, per_solve
 
 __all__ = [
     "CHUNK",
     "Part",
     "bin_edges",
     "chunk_rows",
+    "cut_rows",
     "contact_of",
     "contacts",
     "joined",
@@ -63,18 +64,46 @@ def chunk_rows(n_load: int, chunk: int = CHUNK) -> list[slice]:
     return [slice(i, min(i + chunk, n_load)) for i in range(0, n_load, chunk)]
 
 
+def cut_rows(s: Solved, chunk: int = CHUNK) -> list[slice]:
+    """Consecutive slices of at most ``chunk`` loads, each of loads with the same cut
+    (:attr:`~xpersson.plugins.solved.Solved.starts`): one curve each, as each load alone."""
+    if s.starts is None:
+        return chunk_rows(s.p0.size, chunk)
+    edges = np.flatnonzero(np.diff(s.starts)) + 1
+    bounds = [0, *edges.tolist(), s.p0.size]
+    out = []
+    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+        out += [slice(a + r.start, a + r.stop) for r in chunk_rows(b - a, chunk)]
+    return out
+
+
 def sub_solved(s: Solved, rows: slice) -> Solved:
-    """The solved curve of the loads ``rows`` (same magnifications)."""
+    """The solved curve of the loads ``rows`` (with the same cut) on their own magnifications
+    (:func:`~xpersson.plugins.solved.own_columns`)."""
     S = s.s_factor
     if S is not None and np.ndim(S) == 2 and np.shape(S)[0] == s.p0.size:
         S = S[rows]
-    return dataclasses.replace(
+    cols = own_columns(s, rows)
+    sub = dataclasses.replace(
         s,
         p0=s.p0[rows],
         area=s.area[rows],
         non_area=s.non_area[rows],
         contact=s.contact[rows],
         s_factor=S,
+        starts=None if s.starts is None else s.starts[rows],
+    )
+    if cols is None:
+        return sub
+    S = sub.s_factor
+    return dataclasses.replace(
+        sub,
+        zeta=sub.zeta[cols],
+        area=sub.area[:, cols],
+        non_area=sub.non_area[:, cols],
+        contact=sub.contact[:, cols],
+        s_factor=None if S is None else np.broadcast_to(S, sub.area.shape)[:, cols],
+        starts=np.full(sub.p0.size, 2, dtype=np.intp),
     )
 
 
@@ -85,12 +114,13 @@ def contact_of(ctx: Any, s: Solved) -> physics.SolvedContact:
 
 
 def contacts(ctx: Any, s: Solved, key: tuple[Any, ...], chunk: int = CHUNK) -> list[Part]:
-    """The chunks of ``s`` with their SolvedContacts (built once per solve and ``key``; their
-    splines and tables are built when an analysis first asks, one chunk at a time)."""
+    """The chunks of ``s`` (:func:`cut_rows`) with their SolvedContacts (built once per solve
+    and ``key``; their splines and tables are built when an analysis first asks, one chunk at
+    a time)."""
 
     def build() -> list[Part]:
         parts = []
-        for rows in chunk_rows(s.p0.size, chunk):
+        for rows in cut_rows(s, chunk):
             sub = sub_solved(s, rows)
             parts.append((rows, sub, contact_of(ctx, sub)))
         return parts

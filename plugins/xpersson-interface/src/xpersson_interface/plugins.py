@@ -49,7 +49,7 @@ from ._by_load import (
     by_load,
     subset,
 )
-from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
+from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, cut_rows, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import (
     bruggeman_gap,
@@ -138,11 +138,12 @@ class _Interface(Analysis):
         return s, sc
 
     def _parts(self, ctx: Any, ds: Any) -> tuple[Solved, list[Part]]:
-        """The solved curve and its loads in chunks (:mod:`._chunks`; one up to CHUNK)."""
+        """The solved curve and its loads in chunks of loads with the same cut
+        (:mod:`._chunks`; one for up to CHUNK loads with one cut)."""
         s = self._solved(ctx, ds)
-        if s.p0.size <= CHUNK:
+        if len(cut_rows(s, CHUNK)) == 1:
             return s, [(slice(None), s, self._contact(ctx, ds)[1])]
-        return s, contacts(ctx, s, self._key(True))
+        return s, contacts(ctx, s, self._key(True), CHUNK)
 
 
 class ElasticEnergy(_Interface):
@@ -464,18 +465,18 @@ class Leakage(_Interface):
         dp = self._pressure_drop()
         ctx, ds = subset(ctx, ds, rows)
         s, parts = self._parts(ctx, ds)
-        zc = physics.critical_magnification(s.zeta, s.contact, a_c)
-        sealed = ~np.isfinite(zc)
         edges, thr = bin_edges(s, int(p["n_bins"])), a_c if p["emt_threshold"] == "a_c" else None
 
         def one(part: Part) -> tuple[np.ndarray, ...]:
-            rows, _, sc = part
+            _, sub, sc = part  # the crossing on the chunk's own curve (as each load alone)
+            zc = physics.critical_magnification(sub.zeta, sub.contact, a_c)
             det = sc.detachment(edges)
             # per load: the cells span that load's gaps, never the batch's (all loads at once)
             u3 = bruggeman_gap(det, a_c=thr, per_load=True)
-            return sc.separation_at(zc[rows]), det.mean_gap, u3
+            return zc, sc.separation_at(zc), det.mean_gap, u3
 
-        u1, ubar, u3 = joined(parts, one)
+        zc, u1, ubar, u3 = joined(parts, one)
+        sealed = ~np.isfinite(zc)
         u3 = np.where(np.isfinite(u3), u3, 0.0)
         args = (float(p["seal_width"]), float(p["seal_length"]), dp, float(p["viscosity"]))
         u1_3 = np.where(sealed, 0.0, np.nan_to_num(u1, nan=0.0) ** 3)
