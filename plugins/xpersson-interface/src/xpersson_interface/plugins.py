@@ -174,8 +174,8 @@ class ElasticEnergy(_Interface):
     body_quantities: ClassVar = ENERGY
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        s, sc = self._contact(ctx, ds)
-        U = sc.elastic_energy()
+        s, parts = self._parts(ctx, ds)
+        U = joined(parts, lambda part: part[2].elastic_energy())
         psd = s.psd  # the Dataset's spectrum (xpersson.plugins.stored), as the solve's
         q_hi = min(float(psd.q_1), float(s.zeta[-1]) * psd.q_L)
         full = physics.full_contact_energy(psd, s.E_star, psd.q_L, q_hi)
@@ -248,8 +248,8 @@ class ContactStiffness(_Interface):
     provides = ("contact_stiffness", "contact_compliance", "contact_stiffness_status")
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        s, sc = self._contact(ctx, ds)
-        slope = sc.mean_gap_slope()
+        s, parts = self._parts(ctx, ds)
+        slope = joined(parts, lambda part: part[2].mean_gap_slope())
         compliance = np.maximum(-slope, 0.0)
         with np.errstate(divide="ignore", over="ignore"):
             K = np.where(compliance > 0.0, 1.0 / np.where(compliance > 0, compliance, 1.0), np.nan)
