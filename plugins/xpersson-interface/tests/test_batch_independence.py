@@ -40,7 +40,7 @@ def _alone(i: int) -> dict[str, np.ndarray]:
     return _ALONE[i]
 
 
-@settings(max_examples=int(__import__("os").environ.get("NEX", 12)), deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     st.lists(st.integers(0, POOL.size - 1), min_size=2, max_size=7, unique=True),
     st.integers(0, 6),
