@@ -77,7 +77,7 @@ def _newton(
     c0, c1, c2, c3 = coef
     lo, hi = lo.copy(), hi.copy()
     fn = kernel(60.0 * 40.0 * xc.size, "crossing_newton")
-    if fn is not None:  # the same operations, all rows in lockstep (the same bits)
+    if fn is not None:  # the same operations, row by row (the same bits)
         xc = np.array(xc, dtype=float)
         fn(np.array([c0, c1, c2, c3], dtype=float), np.ascontiguousarray(xk), xc, lo, hi, a_c)
         return xc
