@@ -114,7 +114,7 @@ def _solve(scene: Any) -> dict[str, str]:
         try:
             ds = xpersson.solve(scene)
         except (xpersson.SceneError, xpersson.PluginFailure) as exc:
-            return {"refused": _stable(type(exc).__name__ + ": " + str(exc))[:400]}
+            return {"refused": type(exc).__name__ + ": " + _stable(str(exc))[:400]}
     return fingerprint(ds)
 
 
