@@ -97,34 +97,6 @@ def test_dense_zeta_memo_is_the_plain_merge():
     np.testing.assert_array_equal(solved.dense_zeta(z, 12), plain)
 
 
-def _cut(first: int) -> int:
-    """A load's cut: PLATEAU_MARGIN nodes before its first open one, rounded down to a multiple
-    of CUT_STEP (at least 2)."""
-    return max(2, (first - solved.PLATEAU_MARGIN) // solved.CUT_STEP * solved.CUT_STEP)
-
-
-def test_past_full_contact_keeps_the_first_two_nodes_and_each_loads_margin():
-    """Nodes where a load is in exact full contact are dropped for it, but for ``zeta = 1``, the
-    first node above it and at least :data:`PLATEAU_MARGIN` nodes before its first open one;
-    the batch keeps the lowest cut, each load's own start is given (its cut alone)."""
-    non = np.zeros((2, 100))
-    non[0, 60:] = np.geomspace(1e-200, 0.5, 40)
-    keep, starts = solved._past_full_contact(1.0 - non, non, None)
-    np.testing.assert_array_equal(keep[:2], [0, 1])
-    np.testing.assert_array_equal(keep[2:], np.arange(_cut(60), 100))
-    assert 60 - _cut(60) >= solved.PLATEAU_MARGIN
-    # load 1 never opens: its cut is that of the last node, its own columns resume there
-    np.testing.assert_array_equal(keep[starts], [_cut(60), _cut(99)])
-    alone, own = solved._past_full_contact(1.0 - non[:1], non[:1], None)
-    np.testing.assert_array_equal(alone, keep)
-    np.testing.assert_array_equal(own, [2])
-    # S < 1 opens the contact for the energy and gap integrals too: F = A (1 - S) counts
-    S = np.ones((2, 100))
-    S[1, 40:] = 0.5
-    keep, starts = solved._past_full_contact(1.0 - non, non, S)
-    assert keep[2] == _cut(40) and keep[starts[0]] == _cut(60)
-
-
 def test_the_curve_variables_alone_give_the_same_curve(tiny):
     """``curve_variables``: a Dataset of those variables alone (what the load table selects
     for some loads) gives the solved curve of the whole Dataset, field by field."""

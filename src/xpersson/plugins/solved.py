@@ -32,7 +32,6 @@ __all__ = [
     "solved_curve",
     "curve_variables",
     "dense_zeta",
-    "own_columns",
     "per_solve",
     "solve_key",
     "FORMS",
@@ -67,11 +66,6 @@ class Solved:
         (:func:`xpersson.plugins.stored.spectrum_of`).
     E_star : float or None
         The contact modulus of the solve [Pa], the Dataset's ``E_star``.
-    starts : ndarray of int or None
-        Per load, the column from which its own curve goes on after the first two (``zeta = 1``
-        and the first node above): the columns between belong to the cut of other loads of the
-        batch, in exact full contact for this load (:func:`_past_full_contact`); the load's
-        values depend on its own columns only (:func:`own_columns`). None: every column.
     """
 
     p0: NDArray[np.float64]
@@ -84,7 +78,6 @@ class Solved:
     gamma: float | None
     psd: Any = None
     E_star: float | None = None
-    starts: NDArray[np.intp] | None = None
 
     @property
     def curve(self) -> tuple[Any, ...]:
@@ -267,63 +260,11 @@ def solved_curve(
                 tc = np.asarray(get("diffusion_time"), dtype=float)
                 S = np.gradient(te, axis=1) / np.maximum(np.gradient(tc, axis=1), 1e-300)
             S = np.clip(np.asarray(S, dtype=float), 1e-12, 1.0)
-    starts = None
-    if need.any() and solve_at is not None:
-        keep, starts = _past_full_contact(area, non, S)
-        S = None if S is None else np.broadcast_to(S, area.shape)[:, keep]
-        zeta, area, non, contact = zeta[keep], area[:, keep], non[:, keep], contact[:, keep]
+    # every dense magnification kept, those where a load is in exact full contact too (no cut
+    # of them: where it falls would depend on the other loads of the batch; the node sums and
+    # Phi's table skip them per load and block)
     non, contact = np.clip(non, 0.0, 1.0), np.clip(contact, 0.0, 1.0)
-    psd, e_star = spectrum_of(ds), contact_modulus(ds)
-    return Solved(p0, zeta, area, non, contact, S, form, g, psd, e_star, starts)
-
-
-#: Dense magnifications kept in full contact before the first one out of it (see
-#: :func:`_past_full_contact`): the splines of ``ln(1 - F)`` are global, and a boundary this many
-#: nodes away changes their values by ~0.27**PLATEAU_MARGIN (round-off).
-PLATEAU_MARGIN = 24
-#: A load's cut is at a multiple of this many dense nodes: loads whose cuts agree share one
-#: curve (and its splines and tables), a few groups over decades of load.
-CUT_STEP = 16
-
-
-def _past_full_contact(
-    area: NDArray[np.float64], non: NDArray[np.float64], S: NDArray[np.float64] | None
-) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """The dense magnifications to keep and each load's own start among them.
-
-    Near ``zeta = 1`` every load is in full contact (``1 - F = 0`` exactly, 40 % of the dense
-    grid on the README spectrum): those nodes add nothing to any zeta integral but cost every
-    spline, node sum and table. Each load keeps ``zeta = 1``, the first node above it (it
-    fixes the curve's linear first interval and the range of ``Phi``'s look-up table) and the
-    nodes from its *cut* on: at least :data:`PLATEAU_MARGIN` nodes before its first one out of
-    exact full contact, rounded down to a multiple of :data:`CUT_STEP`. The cut depends on the
-    load alone, never on the others of the batch (a sweep's chunks give the serial run's bits).
-
-    Returns ``(keep, starts)``: the columns kept for the batch (from the lowest cut on) and,
-    per load, the index in ``keep`` where its own columns resume after the first two.
-    """
-    nf = non + (0.0 if S is None else area * (1.0 - S))
-    n = nf.shape[1]
-    open_ = nf[:, 1:] != 0.0  # NaN counts as open
-    first = np.where(open_.any(axis=1), np.argmax(open_, axis=1) + 1, n - 1)
-    cut = np.maximum(2, (first - PLATEAU_MARGIN) // CUT_STEP * CUT_STEP)
-    lo = int(cut.min()) if cut.size else 2
-    keep = np.concatenate((np.arange(min(2, n)), np.arange(min(lo, n), n)))
-    return keep, (cut - lo + min(2, n)).astype(np.intp)
-
-
-def own_columns(s: Solved, rows: Any) -> NDArray[np.intp] | None:
-    """The columns of ``s`` that the loads ``rows`` (all with the same start) keep on their
-    own (None: every column)."""
-    if s.starts is None:
-        return None
-    st = np.unique(s.starts[rows])
-    if st.size != 1:
-        raise ValueError("loads with different cuts share no curve")
-    k = int(st[0])
-    if k <= 2:
-        return None
-    return np.concatenate((np.arange(2), np.arange(k, s.zeta.size)))
+    return Solved(p0, zeta, area, non, contact, S, form, g, spectrum_of(ds), contact_modulus(ds))
 
 
 #: The solved curve and its SolvedContact (splines, Phi, tables), built once per solve and shared

@@ -3,17 +3,16 @@
 The analyses' work per load is dense (splines, ``Phi`` tables, detachment bins, gap tensors on
 ~600 magnifications): with all loads at once its arrays (1e4 loads x 600 nodes: 48 MB each)
 fall out of the cache and the cost per load grows with the number of loads (1.5-1.8x at 1e4
-against 100). The solved curve (one dense grid for every load) is split into chunks of loads
-with the same cut of the grid's full-contact nodes (each load's own,
-:func:`xpersson.plugins.solved._past_full_contact`) and of at most :data:`CHUNK` loads, each on
-its own magnifications and with its own :class:`~xpersson.physics.SolvedContact`; what an
-analysis shares across loads (the bin edges, the ``u`` grid of ``gap_pdf``) is still taken
-from every load.
+against 100). Above :data:`CHUNK` loads the solved curve (one dense grid for every load) is
+split into chunks of :data:`CHUNK` loads, each with its own
+:class:`~xpersson.physics.SolvedContact`; what an analysis shares across loads (the bin edges,
+the ``u`` grid of ``gap_pdf``) is still taken from every load.
 
-A load's values never depend on the other loads of its chunk or call, bit for bit: its cut,
-its crossing (Newton steps per row), its ``Phi`` table (zero below its own first non-zero
-node) and its row sums (einsum, never a BLAS product over the loads) are its own. One chunk
-(one cut, up to :data:`CHUNK` loads): the analyses' shared ``SolvedContact``.
+A load's values never depend on the other loads of its chunk or call, bit for bit: its
+curve's magnifications (the dense grid, never cut where other loads are in full contact), its
+crossing (Newton steps per row), its ``Phi`` table (zero below its own first non-zero node) and
+its row sums (einsum, never a BLAS product over the loads) are its own. Up to :data:`CHUNK`
+loads: one chunk, the analyses' shared ``SolvedContact``.
 """
 
 from __future__ import annotations
@@ -26,14 +25,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from xpersson import physics
-from xpersson.plugins.solved import Solved, own_columns, per_solve
+from xpersson.plugins.solved import Solved, per_solve
 
 __all__ = [
     "CHUNK",
     "Part",
     "bin_edges",
     "chunk_rows",
-    "cut_rows",
     "contact_of",
     "contacts",
     "joined",
@@ -63,46 +61,18 @@ def chunk_rows(n_load: int, chunk: int = CHUNK) -> list[slice]:
     return [slice(i, min(i + chunk, n_load)) for i in range(0, n_load, chunk)]
 
 
-def cut_rows(s: Solved, chunk: int = CHUNK) -> list[slice]:
-    """Consecutive slices of at most ``chunk`` loads, each of loads with the same cut
-    (:attr:`~xpersson.plugins.solved.Solved.starts`): one curve each, as each load alone."""
-    if s.starts is None:
-        return chunk_rows(s.p0.size, chunk)
-    edges = np.flatnonzero(np.diff(s.starts)) + 1
-    bounds = [0, *edges.tolist(), s.p0.size]
-    out = []
-    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
-        out += [slice(a + r.start, a + r.stop) for r in chunk_rows(b - a, chunk)]
-    return out
-
-
 def sub_solved(s: Solved, rows: slice) -> Solved:
-    """The solved curve of the loads ``rows`` (with the same cut) on their own magnifications
-    (:func:`~xpersson.plugins.solved.own_columns`)."""
+    """The solved curve of the loads ``rows`` (same magnifications)."""
     S = s.s_factor
     if S is not None and np.ndim(S) == 2 and np.shape(S)[0] == s.p0.size:
         S = S[rows]
-    cols = own_columns(s, rows)
-    sub = dataclasses.replace(
+    return dataclasses.replace(
         s,
         p0=s.p0[rows],
         area=s.area[rows],
         non_area=s.non_area[rows],
         contact=s.contact[rows],
         s_factor=S,
-        starts=None if s.starts is None else s.starts[rows],
-    )
-    if cols is None:
-        return sub
-    S = sub.s_factor
-    return dataclasses.replace(
-        sub,
-        zeta=sub.zeta[cols],
-        area=sub.area[:, cols],
-        non_area=sub.non_area[:, cols],
-        contact=sub.contact[:, cols],
-        s_factor=None if S is None else np.broadcast_to(S, sub.area.shape)[:, cols],
-        starts=np.full(sub.p0.size, 2, dtype=np.intp),
     )
 
 
@@ -113,13 +83,12 @@ def contact_of(ctx: Any, s: Solved) -> physics.SolvedContact:
 
 
 def contacts(ctx: Any, s: Solved, key: tuple[Any, ...], chunk: int = CHUNK) -> list[Part]:
-    """The chunks of ``s`` (:func:`cut_rows`) with their SolvedContacts (built once per solve
-    and ``key``; their splines and tables are built when an analysis first asks, one chunk at
-    a time)."""
+    """The chunks of ``s`` with their SolvedContacts (built once per solve and ``key``; their
+    splines and tables are built when an analysis first asks, one chunk at a time)."""
 
     def build() -> list[Part]:
         parts = []
-        for rows in cut_rows(s, chunk):
+        for rows in chunk_rows(s.p0.size, chunk):
             sub = sub_solved(s, rows)
             parts.append((rows, sub, contact_of(ctx, sub)))
         return parts

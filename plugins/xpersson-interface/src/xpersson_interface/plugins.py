@@ -49,7 +49,7 @@ from ._by_load import (
     by_load,
     subset,
 )
-from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, cut_rows, joined
+from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import (
     bruggeman_gap,
@@ -138,10 +138,9 @@ class _Interface(Analysis):
         return s, sc
 
     def _parts(self, ctx: Any, ds: Any) -> tuple[Solved, list[Part]]:
-        """The solved curve and its loads in chunks of loads with the same cut
-        (:mod:`._chunks`; one for up to CHUNK loads with one cut)."""
+        """The solved curve and its loads in chunks (:mod:`._chunks`; one up to CHUNK)."""
         s = self._solved(ctx, ds)
-        if len(cut_rows(s, CHUNK)) == 1:
+        if s.p0.size <= CHUNK:
             return s, [(slice(None), s, self._contact(ctx, ds)[1])]
         return s, contacts(ctx, s, self._key(True), CHUNK)
 
