@@ -13,7 +13,6 @@ import xpersson
 from xpersson.cache import cache
 from xpersson.physics import gap_cdf, gap_pdf
 from xpersson.physics._fastnum import _exp, _row_spline
-from xpersson.plugins import solved
 from xpersson_interface import bruggeman_gap
 
 LOADS = np.geomspace(2e3, 3e6, 9)  # A/A0 about 1e-3 .. 0.9
