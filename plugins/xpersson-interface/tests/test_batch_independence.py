@@ -1,8 +1,10 @@
 """A load's direct-path values never depend on the other loads of its scene (bit for bit).
 
-Sweeps run in chunks (dask) and promise the serial run's bits; each load's curve is cut at its
-own full-contact boundary (:func:`xpersson.plugins.solved._past_full_contact`), its crossing
-found by its own Newton steps and its ``Phi`` table zeroed below its own first non-zero node.
+Sweeps run in chunks (dask) and promise the serial run's bits: each load's curve keeps every
+dense magnification (no cut where the batch's lowest load leaves full contact), its crossing is
+found by its own Newton steps, its ``Phi`` table is zero below its own first non-zero node,
+its row sums are einsums (not BLAS products over the loads) and its difference quotient of
+``u1`` reads ``Phi``'s spline (a load alone once took the shared-cut-off table path).
 """
 
 from __future__ import annotations
