@@ -97,6 +97,21 @@ def test_dense_zeta_memo_is_the_plain_merge():
     np.testing.assert_array_equal(solved.dense_zeta(z, 12), plain)
 
 
+def test_past_full_contact_keeps_the_first_two_nodes_and_a_margin():
+    """Nodes where every load is in exact full contact are dropped, but for ``zeta = 1``, the
+    first node above it and :data:`PLATEAU_MARGIN` nodes before the first open one."""
+    non = np.zeros((2, 100))
+    non[0, 60:] = np.geomspace(1e-200, 0.5, 40)
+    keep = solved._past_full_contact(1.0 - non, non, None)
+    np.testing.assert_array_equal(keep[:2], [0, 1])
+    np.testing.assert_array_equal(keep[2:], np.arange(60 - solved.PLATEAU_MARGIN, 100))
+    # S < 1 opens the contact for the energy and gap integrals too: F = A (1 - S) counts
+    S = np.ones((2, 100))
+    S[1, 40:] = 0.5
+    keep = solved._past_full_contact(1.0 - non, non, S)
+    assert keep[2] == 40 - solved.PLATEAU_MARGIN
+
+
 def test_the_curve_variables_alone_give_the_same_curve(tiny):
     """``curve_variables``: a Dataset of those variables alone (what the load table selects
     for some loads) gives the solved curve of the whole Dataset, field by field."""

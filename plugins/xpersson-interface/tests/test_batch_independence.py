@@ -1,10 +1,11 @@
-"""A load's direct-path values never depend on the other loads of its scene (bit for bit).
+"""A load's direct-path values do not depend on the other loads of its scene beyond round-off.
 
-Sweeps run in chunks (dask) and promise the serial run's bits: each load's curve keeps every
-dense magnification (no cut where the batch's lowest load leaves full contact), its crossing is
-found by its own Newton steps, its ``Phi`` table is zero below its own first non-zero node,
-its row sums are einsums (not BLAS products over the loads) and its difference quotient of
-``u1`` reads ``Phi``'s spline (a load alone once took the shared-cut-off table path).
+Sweeps run in chunks (dask): a load's crossing is found by its own Newton steps, its ``Phi``
+table is zero below its own first non-zero node, its row sums are einsums (not BLAS products
+over the loads) and its difference quotient of ``u1`` reads ``Phi``'s spline. The one batch
+dependence left is the dense grid's full-contact cut, taken over the call's loads
+(``xpersson.plugins.solved._past_full_contact``): measured on 60 random batches, only
+``contact_stiffness`` moved (<= 4e-16 relative); the gap and leakage outputs kept their bits.
 """
 
 from __future__ import annotations
@@ -28,6 +29,10 @@ ANALYSES = {
 NAMES = ("gap_pdf", "gap_mean", "gap_contact_weight", "leak_zeta_c", "leak_u1", "leak_rate",
          "leak_flow_factor_emt", "leak_rate_emt", "leak_sealed", "mean_gap", "elastic_energy",
          "contact_stiffness")  # fmt: skip
+#: Integrals over the whole contact curve: the batch's cut may move them at round-off.
+CURVE = ("mean_gap", "elastic_energy", "contact_stiffness")
+#: Bound on their change with the batch, relative (measured: 4e-16).
+RTOL = 1e-12
 _ALONE: dict[int, dict[str, np.ndarray]] = {}
 
 
@@ -47,9 +52,9 @@ def _alone(i: int) -> dict[str, np.ndarray]:
     st.lists(st.integers(0, POOL.size - 1), min_size=2, max_size=7, unique=True),
     st.integers(0, 6),
 )
-def test_a_load_alone_and_in_any_batch_give_the_same_bits(batch, pick):
-    """One load alone and the same load among random others (any order) on the direct path:
-    leakage and gap distribution identical bit for bit."""
+def test_a_load_alone_and_in_any_batch_agree(batch, pick):
+    """One load alone and the same load among random others on the direct path: leakage and
+    gap distribution identical bit for bit, the curve integrals within :data:`RTOL`."""
     batch = sorted(batch)
     target = batch[pick % len(batch)]
     together = _run(batch)
@@ -57,4 +62,7 @@ def test_a_load_alone_and_in_any_batch_give_the_same_bits(batch, pick):
     row = batch.index(target)
     assert np.isfinite(alone["gap_mean"])
     for name in NAMES:
-        np.testing.assert_array_equal(together[name][row], alone[name], err_msg=name)
+        if name in CURVE:
+            np.testing.assert_allclose(together[name][row], alone[name], rtol=RTOL, err_msg=name)
+        else:
+            np.testing.assert_array_equal(together[name][row], alone[name], err_msg=name)

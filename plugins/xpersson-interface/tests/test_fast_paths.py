@@ -13,6 +13,7 @@ import xpersson
 from xpersson.cache import cache
 from xpersson.physics import gap_cdf, gap_pdf
 from xpersson.physics._fastnum import _exp, _row_spline
+from xpersson.plugins import solved
 from xpersson_interface import bruggeman_gap
 
 LOADS = np.geomspace(2e3, 3e6, 9)  # A/A0 about 1e-3 .. 0.9
@@ -176,6 +177,30 @@ def test_bruggeman_start_and_bracket_hints_change_no_root():
         open_ = plain > 0
         np.testing.assert_array_equal(got > 0, open_)
         np.testing.assert_allclose(np.log(got[open_]), np.log(plain[open_]), rtol=0, atol=2e-12)
+
+
+def test_full_contact_nodes_are_dropped_without_changing_results(monkeypatch):
+    """The dense grid's nodes in exact full contact (every load) are dropped: same outputs
+    (which nodes: tests/plugins/test_solved.py)."""
+    from xpersson.plugins.solved import _past_full_contact
+
+    an = {"gap_pdf": {}, "leakage": {}, "mean_gap": {}, "contact_stiffness": {}}
+    p0 = np.geomspace(1e3, 3e6, 7)
+    kept = []
+
+    def spy(area, non, S):
+        kept.append((_past_full_contact(area, non, S).size, area.shape[1]))
+        return _past_full_contact(area, non, S)
+
+    monkeypatch.setattr(solved, "_past_full_contact", spy)
+    trimmed = xpersson.solve(scene(p0, analyses=an))
+    assert kept and all(n < 0.8 * total for n, total in kept)  # nodes were dropped
+    monkeypatch.setattr(solved, "PLATEAU_MARGIN", 10**9)  # keeps every node
+    full = xpersson.solve(scene(p0, analyses=an))
+    for name in ("gap_pdf", "gap_mean", "leak_u1", "leak_flow_factor_emt", "mean_gap",
+                 "contact_stiffness"):  # fmt: skip
+        a, b = trimmed[name].values, full[name].values
+        np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-14 * np.nanmax(np.abs(b)))
 
 
 def test_dense_resolve_of_a_shared_tau_is_the_plain_paths(monkeypatch):

@@ -260,11 +260,36 @@ def solved_curve(
                 tc = np.asarray(get("diffusion_time"), dtype=float)
                 S = np.gradient(te, axis=1) / np.maximum(np.gradient(tc, axis=1), 1e-300)
             S = np.clip(np.asarray(S, dtype=float), 1e-12, 1.0)
-    # every dense magnification kept, those where a load is in exact full contact too (no cut
-    # of them: where it falls would depend on the other loads of the batch; the node sums and
-    # Phi's table skip them per load and block)
+    if need.any() and solve_at is not None:
+        keep = _past_full_contact(area, non, S)
+        S = None if S is None else np.broadcast_to(S, area.shape)[:, keep]
+        zeta, area, non, contact = zeta[keep], area[:, keep], non[:, keep], contact[:, keep]
     non, contact = np.clip(non, 0.0, 1.0), np.clip(contact, 0.0, 1.0)
     return Solved(p0, zeta, area, non, contact, S, form, g, spectrum_of(ds), contact_modulus(ds))
+
+
+#: Dense magnifications kept in full contact before the first one out of it (see
+#: :func:`_past_full_contact`): the splines of ``ln(1 - F)`` are global, and a boundary this many
+#: nodes away changes their values by ~0.27**PLATEAU_MARGIN (round-off).
+PLATEAU_MARGIN = 24
+
+
+def _past_full_contact(
+    area: NDArray[np.float64], non: NDArray[np.float64], S: NDArray[np.float64] | None
+) -> NDArray[np.intp]:
+    """Indices of the dense magnifications to keep: ``zeta = 1`` and the first above it, then
+    from :data:`PLATEAU_MARGIN` nodes before the first where any load leaves exact full contact.
+
+    Near ``zeta = 1`` every load is in full contact (``1 - F = 0`` exactly, 40 % of the dense
+    grid on the README spectrum): those nodes add nothing to any zeta integral but cost every
+    spline, node sum and table. The first node above 1 is kept: it fixes the curve's linear
+    first interval and the range of ``Phi``'s look-up table, which stay as before.
+    """
+    nf = non + (0.0 if S is None else area * (1.0 - S))
+    open_ = np.flatnonzero(np.any(nf != 0.0, axis=0)[1:]) + 1  # NaN counts as open
+    first = int(open_[0]) if open_.size else nf.shape[1] - 1
+    start = max(2, first - PLATEAU_MARGIN)
+    return np.concatenate((np.arange(min(2, nf.shape[1])), np.arange(start, nf.shape[1])))
 
 
 #: The solved curve and its SolvedContact (splines, Phi, tables), built once per solve and shared
