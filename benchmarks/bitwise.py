@@ -31,6 +31,8 @@ import hashlib
 import json
 import math
 import random
+import shutil
+import signal
 import sys
 import tempfile
 import warnings
@@ -73,9 +75,24 @@ def _drop_times(obj: Any) -> Any:
     return obj
 
 
+#: Where the generated scenes' spectrum files are named in the records (attributes and
+#: messages): the recording's private scratch directory is written as this one, so records
+#: made at the same time in different directories (and older records) compare equal.
+STABLE_TMP = str(Path(tempfile.gettempdir()) / "xpersson-bitwise")
+_SCRATCH: list[str] = []  # the private scratch directory of the recording under way
+
+
+def _stable(text: str) -> str:
+    """``text`` with the private scratch directory written as :data:`STABLE_TMP`."""
+    for path in _SCRATCH:
+        text = text.replace(path, STABLE_TMP)
+    return text
+
+
 def _attrs_digest(attrs: dict[str, Any]) -> str:
     keep = {k: _steady(v) for k, v in attrs.items() if not any(s in k for s in VOLATILE)}
-    return _digest(np.array(repr(sorted((k, repr(v)) for k, v in keep.items())), dtype=object))
+    text = _stable(repr(sorted((k, repr(v)) for k, v in keep.items())))
+    return _digest(np.array(text, dtype=object))
 
 
 def fingerprint(ds: Any) -> dict[str, str]:
@@ -97,7 +114,7 @@ def _solve(scene: Any) -> dict[str, str]:
         try:
             ds = xpersson.solve(scene)
         except (xpersson.SceneError, xpersson.PluginFailure) as exc:
-            return {"refused": type(exc).__name__ + ": " + str(exc)[:400]}
+            return {"refused": type(exc).__name__ + ": " + _stable(str(exc))[:400]}
     return fingerprint(ds)
 
 
@@ -174,20 +191,31 @@ def spectrum_slope(spectrum: dict[str, Any]) -> float:
 
 
 def record(args: argparse.Namespace) -> int:
-    import signal
-
     results: dict[str, Any] = {}
 
     def _alarm(*_: Any) -> None:
         raise TimeoutError("scene over its time limit")
 
     signal.signal(signal.SIGALRM, _alarm)
-    tmp = Path(tempfile.gettempdir()) / "xpersson-bitwise"  # a fixed path: it is in the attrs
-    tmp.mkdir(exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix="xpersson-bitwise-")  # private: recordings run at once
+    _SCRATCH[:] = [tmp]
+    try:
+        _record_into(args, results, tmp)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+        _SCRATCH.clear()
+    Path(args.out).write_text(json.dumps(results, indent=0, sort_keys=True))
+    solved = sum(1 for r in results.values() if not ({"refused", "crash", "timeout"} & set(r)))
+    print(f"{len(results)} scenes, {solved} solved -> {args.out}")
+    return 0
+
+
+def _record_into(args: argparse.Namespace, results: dict[str, Any], tmp: str) -> None:
+    """Solve every scene of the recording into ``results`` (generated spectra in ``tmp``)."""
     scenes: dict[str, Any] = {}
     if not args.no_examples:
         scenes.update(example_scenes())
-    scenes.update(generated_scenes(args.scenes, args.seed, str(tmp)))
+    scenes.update(generated_scenes(args.scenes, args.seed, tmp))
     scenes.update(generated_sweeps(args.sweeps, args.seed))
     for k, (name, scene) in enumerate(scenes.items()):
         signal.alarm(args.time_limit)
@@ -196,15 +224,11 @@ def record(args: argparse.Namespace) -> int:
         except TimeoutError as exc:
             results[name] = {"timeout": str(exc)}
         except Exception as exc:  # noqa: BLE001 - recorded, compared like any result
-            results[name] = {"crash": f"{type(exc).__name__}: {exc}"[:400]}
+            results[name] = {"crash": _stable(f"{type(exc).__name__}: {exc}")[:400]}
         finally:
             signal.alarm(0)
         if args.verbose:
             print(k, name, next(iter(results[name]))[:40], flush=True)
-    Path(args.out).write_text(json.dumps(results, indent=0, sort_keys=True))
-    solved = sum(1 for r in results.values() if not ({"refused", "crash", "timeout"} & set(r)))
-    print(f"{len(results)} scenes, {solved} solved -> {args.out}")
-    return 0
 
 
 def compare(args: argparse.Namespace) -> int:

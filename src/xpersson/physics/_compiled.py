@@ -438,12 +438,11 @@ def crossing_newton(
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
     """The safeguarded Newton steps of :func:`~._percolation._newton` (every row's cubic
     ``coef`` (4, n) about ``xk`` equal to ``a_c`` in the bracket ``lo, hi``; all three
-    updated in place): its operations in its order, all rows in lockstep (the same number of
-    steps, until every row's step is below 1e-15 relative or 60 steps)."""
-    for _ in range(60):
-        every = True
-        for r in range(xc.size):
-            c0, c1, c2, c3 = coef[0, r], coef[1, r], coef[2, r], coef[3, r]
+    updated in place): its operations in its order, row by row (the same number of
+    steps, each row until its own step is below 1e-15 relative or 60 steps)."""
+    for r in range(xc.size):
+        c0, c1, c2, c3 = coef[0, r], coef[1, r], coef[2, r], coef[3, r]
+        for _ in range(60):
             x = xc[r]
             d = x - xk[r]
             f = ((c0 * d + c1) * d + c2) * d + c3
@@ -460,8 +459,6 @@ def crossing_newton(
             ax = abs(x)
             if not ax >= 1.0 and ax == ax:  # np.maximum(1.0, |x|): NaN kept
                 ax = 1.0
-            if not abs(xn - x) <= 1e-15 * ax:
-                every = False
             xc[r] = xn
-        if every:
-            break
+            if abs(xn - x) <= 1e-15 * ax:
+                break

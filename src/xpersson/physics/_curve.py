@@ -318,6 +318,7 @@ class _Curve:
             return
         dead = self._dead  # (n_load, n_node - 1): 1 - F clamped
         j0 = _first_open(dead)  # spline intervals before j0: negligible for every load
+        own = _first_open_rows(dead)  # each load's: its quiet intervals are 0 as it alone
         d = np.ascontiguousarray((xg[1 + j0 :] - self.x[1 + j0 : -1, None]).T)  # local: (m, n)
         step = _block(xg.size)
         rows = min(step, self.n_load)
@@ -334,6 +335,7 @@ class _Curve:
                 y = buf[0, : math.prod(shape)].reshape(shape)
                 dy = buf[1, : y.size].reshape(shape)
                 kernel(0, "df_poly")(self._spl.c, jb, i, np.ascontiguousarray(db), y, dy)  # type: ignore[misc]
+                _quiet_rows(dy, own[k] - jb)
                 yield k, 1 + jb, (dy, _exp_inplace(y))
                 continue
             c = cbuf[: ck.size].reshape(ck.shape[2], 4, 1, ck.shape[1])
@@ -352,6 +354,7 @@ class _Curve:
             dy += c2
             np.maximum(dy, 0.0, out=dy)
             dy *= _exp_inplace(y)
+            _quiet_rows(dy, own[k] - jb)
             yield k, 1 + jb, dy  # buffers reused by the next block: consumed before it
 
     def stieltjes_nodes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -372,6 +375,21 @@ def _first_open(dead: NDArray[np.bool_]) -> int:
     pad = np.concatenate(([True], np.all(dead, axis=0), [False]))  # interval j: nodes j-1..j+2
     quiet = pad[:-3] & pad[1:-2] & pad[2:-1] & pad[3:]
     return int(np.argmin(quiet))  # leading quiet intervals (the last is never quiet)
+
+
+def _first_open_rows(dead: NDArray[np.bool_]) -> NDArray[np.intp]:
+    """:func:`_first_open` of each row alone (n_row,)."""
+    n = dead.shape[0]
+    pad = np.concatenate((np.ones((n, 1), bool), dead, np.zeros((n, 1), bool)), axis=1)
+    quiet = pad[:, :-3] & pad[:, 1:-2] & pad[:, 2:-1] & pad[:, 3:]
+    return np.argmin(quiet, axis=1)
+
+
+def _quiet_rows(dy: NDArray[np.float64], stop: NDArray[np.intp]) -> None:
+    """Zero ``dy[r, :, :stop[r]]`` (a block's rows, intervals from the block's start): a row's
+    intervals before its own first open one, 0 for it alone, are 0 in any block."""
+    for r in np.flatnonzero(stop > 0):
+        dy[r, :, : stop[r]] = 0.0
 
 
 def _q_max(psd: object, zeta: NDArray[np.float64]) -> float:

@@ -72,40 +72,47 @@ def _newton(
     a_c: float,
 ) -> NDArray[np.float64]:
     """Safeguarded Newton steps for ``A(x) = a_c`` on every row's cubic (bracket ``lo, hi``),
-    until every row's step is below 1e-15 (relative) or 60 steps."""
+    each row until its own step is below 1e-15 (relative) or 60 steps: a row's crossing never
+    depends on the other rows."""
     c0, c1, c2, c3 = coef
     lo, hi = lo.copy(), hi.copy()
     fn = kernel(60.0 * 40.0 * xc.size, "crossing_newton")
-    if fn is not None:  # the same operations, all rows in lockstep (the same bits)
+    if fn is not None:  # the same operations, row by row (the same bits)
         xc = np.array(xc, dtype=float)
         fn(np.array([c0, c1, c2, c3], dtype=float), np.ascontiguousarray(xk), xc, lo, hi, a_c)
         return xc
-    c0_3, c1_2 = 3.0 * c0, 2.0 * c1
+    xc = np.array(xc, dtype=float)
+    act = np.arange(xc.size)  # the rows still stepping: each stops on its own step
+    c0, c1, c2, c3, xk = c0 + 0.0, c1 + 0.0, c2 + 0.0, c3 + 0.0, xk + 0.0
     for _ in range(60):
-        d = xc - xk
+        if not act.size:
+            break
+        x = xc[act]
+        d = x - xk
         f = c0 * d
         f += c1
         f *= d
         f += c2
         f *= d
         f += c3
-        df = c0_3 * d
-        df += c1_2
+        df = (3.0 * c0) * d
+        df += 2.0 * c1
         df *= d
         df += c2
         r = f - a_c
-        up = r > 0
-        np.copyto(lo, xc, where=up)
-        np.copyto(hi, xc, where=r <= 0)
+        la, ha = lo[act], hi[act]
+        np.copyto(la, x, where=r > 0)
+        np.copyto(ha, x, where=r <= 0)
+        lo[act], hi[act] = la, ha
         neg = df < 0
         step = r / np.where(neg, df, -1.0)
         step[~neg] = 0.0
-        xn = xc - step
-        bad = ~((xn > lo) & (xn < hi))
+        xn = x - step
+        bad = ~((xn > la) & (xn < ha))
         if bad.any():
-            np.copyto(xn, 0.5 * (lo + hi), where=bad)
-        done = np.abs(xn - xc) <= 1e-15 * np.maximum(1.0, np.abs(xc))
-        xc = xn
-        if done.all():
-            break
+            np.copyto(xn, 0.5 * (la + ha), where=bad)
+        xc[act] = xn
+        going = ~(np.abs(xn - x) <= 1e-15 * np.maximum(1.0, np.abs(x)))
+        if not going.all():  # the rows done leave (with their coefficients)
+            act, c0, c1, c2, c3, xk = (a[going] for a in (act, c0, c1, c2, c3, xk))
     return xc

@@ -213,10 +213,25 @@ class _Phi:
             tab = np.empty((n - lo, self.phi.shape[0]))  # (nodes, loads)
             tab[: g0 - lo] = 0.0
             _ppoly_at(self._spl, grid[g0:], out_t=tab[g0 - lo :])  # type: ignore[arg-type]
+            self._own = self._own_zeros(grid, g0, lo)
+            for k, stop in self._own:  # each load's own zeros, as the load alone has them
+                tab[:stop, k] = 0.0
             self._tab, self._lo, self._g0 = (grid, tab), lo, g0
             # every load's node lo is 0 and node lo + 1 finite: a look-up below gives +0.0
             self._first_zero = bool(np.all(tab[0] == 0.0) and np.all(np.isfinite(tab[1])))
         return self._tab
+
+    def _own_zeros(self, grid: NDArray[np.float64], g0: int, lo: int) -> list[tuple[int, int]]:
+        """``(load, rows)``: the table's first ``rows`` rows (from node ``lo``) that are 0 for
+        that load alone (below its own first non-zero node, less the margin) but evaluated for
+        the batch (whose first non-zero node is an earlier load's): set to 0, a load's look-ups
+        never depend on the other loads."""
+        if self.phi.shape[0] < 2:
+            return []
+        nz = self.phi[:, 1:] != 0.0
+        j = np.where(nz.any(axis=1), np.argmax(nz, axis=1), 0)
+        g = np.searchsorted(grid, self.s[np.maximum(j - _TABLE_MARGIN, 0)], side="left")
+        return [(int(k), int(g[k]) - lo) for k in np.flatnonzero(g > g0)]
 
     def table_by_load(self) -> NDArray[np.float64]:
         """:meth:`_table`'s values with the loads along the rows, (n_load, n_grid - lo), built
@@ -227,6 +242,8 @@ class _Phi:
             lo, g0 = self._lo, self._g0
             tab_t = np.zeros((tab.shape[1], tab.shape[0]))  # 0 below node g0: no strided fill
             _ppoly_at(self._spl, grid[g0:], out=tab_t[:, g0 - lo :])  # type: ignore[arg-type]
+            for k, stop in self._own:
+                tab_t[k, :stop] = 0.0
             self._tab_t = tab_t
         return self._tab_t
 

@@ -96,7 +96,10 @@ class SolvedContact:
     def elastic_energy(self) -> NDArray[np.float64]:
         """``U_el/A0`` [J/m^2], (n_load,) (see :func:`elastic_energy`)."""
         r = self.rule
-        deficit = self.curve.nf(np.log(r.q / self.q_L)) @ (r.weights * r.q**2 * r.C)
+        # row by row (einsum, not BLAS: a load's sum never depends on the others' count)
+        deficit = np.einsum(
+            "ij,j->i", self.curve.nf(np.log(r.q / self.q_L)), r.weights * r.q**2 * r.C
+        )
         full = full_contact_energy(self.psd, self.E_star, self.q_L, self.q_hi)
         return full - 0.5 * math.pi * self.E_star * deficit
 
@@ -105,7 +108,8 @@ class SolvedContact:
         if self._u is None:
             r = self.rule
             vals = self.phi.at_tau(0.25 * np.pi * self.E_star**2 * r.dI3)
-            self._u = math.pi * (vals @ (r.weights * r.q**2 * r.C * r.w))
+            # row by row (einsum, not BLAS: a load's sum never depends on the others' count)
+            self._u = math.pi * np.einsum("ij,j->i", vals, r.weights * r.q**2 * r.C * r.w)
         return self._u.copy()
 
     def mean_gap_slope(self) -> NDArray[np.float64]:

@@ -92,10 +92,12 @@ def _sub_mean_gap(
     if where is not None and log_tc.shape[0] != 1:  # per-load cut-offs: the pairs only
         return math.pi * _sub_pairs(phi, log_tc, log_a2, kern, shape, where)
     shared = None
-    if where is None and log_tc.shape[0] == 1 and kern.shape[0] == 1 and phi.has_table:
+    one = log_tc.shape[0] == 1 and kern.shape[0] == 1  # cut-offs of one row
+    if where is None and not spline and one and phi.has_table:
         # cut-offs shared by every load: where A_a = 1 (ln A_a^2 = 0, full contact at q_a; 70 %
         # of the detachment's edges on the README scene) the arguments are the same for every
-        # load, and their sums are one sparse product with Phi's table
+        # load, and their sums are one sparse product with Phi's table (never with ``spline``:
+        # its per-load cut-offs of one load alone look shared, and would take the table)
         shared = np.broadcast_to(log_a2[..., 0] == 0.0, shape[:-1])
         shared = shared if shared.any() else None
     need = where if where is not None else (None if shared is None else ~shared)

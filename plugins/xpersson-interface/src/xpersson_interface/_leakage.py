@@ -92,11 +92,16 @@ def _bruggeman_rows(
     s_k = np.ascontiguousarray(s_k[work])
     pos = s_k > 0
     every = bool(pos.all())  # the usual case: no masking below
-    if every and ln_sigma is not None and not big.any():
-        ln_s = np.broadcast_to(np.atleast_2d(ln_sigma), big.shape)[work]
-    else:
+    if ln_sigma is None:
         with np.errstate(divide="ignore"):
             ln_s = np.log(s_k)
+    else:  # the known logarithms in the rows that are all finite and > 0 (row by row: a
+        # row's start and bracket, and so its root's last bits, never depend on the others)
+        ln_s = np.array(np.broadcast_to(np.atleast_2d(ln_sigma), big.shape)[work])
+        odd = np.flatnonzero(~pos.all(axis=1) | big[work].any(axis=1))
+        if odd.size:
+            with np.errstate(divide="ignore"):
+                ln_s[odd] = np.log(s_k[odd])
     if per_row:  # each row bracketed by its own conductances (as if solved alone)
         low = ln_s if every else np.where(pos, ln_s, np.inf)
         any_pos = pos.any(axis=1)

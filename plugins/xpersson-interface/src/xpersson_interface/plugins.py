@@ -142,7 +142,7 @@ class _Interface(Analysis):
         s = self._solved(ctx, ds)
         if s.p0.size <= CHUNK:
             return s, [(slice(None), s, self._contact(ctx, ds)[1])]
-        return s, contacts(ctx, s, self._key(True))
+        return s, contacts(ctx, s, self._key(True), CHUNK)
 
 
 class ElasticEnergy(_Interface):
@@ -173,8 +173,8 @@ class ElasticEnergy(_Interface):
     body_quantities: ClassVar = ENERGY
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        s, sc = self._contact(ctx, ds)
-        U = sc.elastic_energy()
+        s, parts = self._parts(ctx, ds)
+        U = joined(parts, lambda part: part[2].elastic_energy())
         psd = s.psd  # the Dataset's spectrum (xpersson.plugins.stored), as the solve's
         q_hi = min(float(psd.q_1), float(s.zeta[-1]) * psd.q_L)
         full = physics.full_contact_energy(psd, s.E_star, psd.q_L, q_hi)
@@ -247,8 +247,8 @@ class ContactStiffness(_Interface):
     provides = ("contact_stiffness", "contact_compliance", "contact_stiffness_status")
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        s, sc = self._contact(ctx, ds)
-        slope = sc.mean_gap_slope()
+        s, parts = self._parts(ctx, ds)
+        slope = joined(parts, lambda part: part[2].mean_gap_slope())
         compliance = np.maximum(-slope, 0.0)
         with np.errstate(divide="ignore", over="ignore"):
             K = np.where(compliance > 0.0, 1.0 / np.where(compliance > 0, compliance, 1.0), np.nan)
@@ -464,18 +464,18 @@ class Leakage(_Interface):
         dp = self._pressure_drop()
         ctx, ds = subset(ctx, ds, rows)
         s, parts = self._parts(ctx, ds)
-        zc = physics.critical_magnification(s.zeta, s.contact, a_c)
-        sealed = ~np.isfinite(zc)
         edges, thr = bin_edges(s, int(p["n_bins"])), a_c if p["emt_threshold"] == "a_c" else None
 
         def one(part: Part) -> tuple[np.ndarray, ...]:
-            rows, _, sc = part
+            _, sub, sc = part  # the crossing on the chunk's own curve (as each load alone)
+            zc = physics.critical_magnification(sub.zeta, sub.contact, a_c)
             det = sc.detachment(edges)
             # per load: the cells span that load's gaps, never the batch's (all loads at once)
             u3 = bruggeman_gap(det, a_c=thr, per_load=True)
-            return sc.separation_at(zc[rows]), det.mean_gap, u3
+            return zc, sc.separation_at(zc), det.mean_gap, u3
 
-        u1, ubar, u3 = joined(parts, one)
+        zc, u1, ubar, u3 = joined(parts, one)
+        sealed = ~np.isfinite(zc)
         u3 = np.where(np.isfinite(u3), u3, 0.0)
         args = (float(p["seal_width"]), float(p["seal_length"]), dp, float(p["viscosity"]))
         u1_3 = np.where(sealed, 0.0, np.nan_to_num(u1, nan=0.0) ** 3)
