@@ -334,12 +334,13 @@ def _item_key(item: Any) -> Hashable:
 
 _SELF = frozenset({str, bytes, int, bool, type(None)})
 _SMALL = 2048
+"""Arrays of at most this many bytes key by their bytes (exact, and cheaper than a digest)."""
 _FLOAT_BITS = struct.Struct("<d").pack
 """A float's exact bits (8 bytes; ~7x cheaper than ``float.hex``)."""
 _DTYPES: dict[np.dtype[Any], str] = {}
 """``dtype.str`` of the dtypes without objects seen so far (a read of it costs ~1 us)."""
 _MAX_DTYPES = 64
-"""Arrays of at most this many bytes key by their bytes (exact, and cheaper than a digest)."""
+"""At most this many dtypes are kept in :data:`_DTYPES` (others read ``dtype.str`` each time)."""
 _KEYED: dict[type, str] = {}
 """Classes whose instances key by their ``cache_key()`` (a method of the class, and none of
 the types keyed before it), with their qualified names: found once per class."""
