@@ -5,6 +5,7 @@ Run from the checkout (one command regenerates the results and the README table)
     python benchmarks/summary.py [--quick] [--rounds 3] [--scenes 12] [--check]
     python benchmarks/summary.py --paths "sweep E x H" "load strings"   # some rows again
     python benchmarks/summary.py --held-out 2026   # the design paths on held-out scenes
+    python benchmarks/summary.py --held-out 2026 --paths leakage   # some of them again
 
 One process, ``OPENBLAS_NUM_THREADS=1`` (set here before numpy is imported), CPU time of this
 process (``time.process_time``; the machine may be shared), each quantity the best of
@@ -233,16 +234,25 @@ def write(rows: list[dict], meta: dict, raw: dict, check: bool, memory: dict) ->
     return text
 
 
-def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
-    """Measure the design paths named by ``texts`` again over the saved design; keep the rest
-    of ``results/summary.json`` (its date and rounds note the full run)."""
-    saved = json.loads((HERE / "results" / "summary.json").read_text())
+def _select(texts: list[str] | None) -> tuple[dict, list[str], dict]:
+    """The design paths, C-march rows and single paths whose names contain one of ``texts``
+    (all design paths and C-march rows, no single path, when ``texts`` is None)."""
+    if texts is None:
+        return dict(P.DESIGN_PATHS), [k for k in P.TARGETS if "C march" in k], {}
     paths = {k: f for k, f in P.DESIGN_PATHS.items() if any(t in k for t in texts)}
     march = [k for k in P.TARGETS if "C march" in k and any(t in k for t in texts)]
     again = {k: f for k, f in P.AGAIN.items() if any(t in k for t in texts)}
     if not paths and not march and not again:
         names = [*P.DESIGN_PATHS, *P.AGAIN]
         raise SystemExit(f"no design path matches {texts}; paths: {names}")
+    return paths, march, again
+
+
+def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
+    """Measure the design paths named by ``texts`` again over the saved design; keep the rest
+    of ``results/summary.json`` (its date and rounds note the full run)."""
+    saved = json.loads((HERE / "results" / "summary.json").read_text())
+    paths, march, again = _select(texts)
     scenes = list(saved["meta"]["design"].items())
     warm_up(scenes)
     rounds = rounds or int(saved["meta"]["rounds"])
@@ -262,24 +272,35 @@ def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
     return write(summarize(raw, P.TARGETS, memory), meta, raw, check, memory)
 
 
-def held_out_run(seed: int, rounds: int | None, check: bool) -> str:
-    """The design paths and the C-march rows on :func:`summary_design.held_out` scenes
-    (``results/summary_heldout.json``), then the table re-rendered from the saved full run."""
+def held_out_run(seed: int, rounds: int | None, check: bool, texts: list[str] | None) -> str:
+    """The design paths and the C-march rows (those named by ``texts``, or all) on
+    :func:`summary_design.held_out` scenes (``results/summary_heldout.json``: rows measured
+    again replace their earlier values when the seed is the same), then the table re-rendered
+    from the saved full run."""
     scenes = held_out(12, seed)
+    paths, march, _ = _select(texts)
     rounds = rounds or 3
     warm_up(scenes)
-    raw = over_design(scenes, P.DESIGN_PATHS, rounds, False)
-    lib = P.c_march_lib(PEERS)
+    raw = over_design(scenes, paths, rounds, False)
+    lib = P.c_march_lib(PEERS) if march else None
     if lib is not None:
-        raw.update(P.march_paths(lib, scenes, rounds, False))
+        raw.update(
+            {k: v for k, v in P.march_paths(lib, scenes, rounds, False).items() if k in march}
+        )
+    file = HERE / "results" / "summary_heldout.json"
     meta = {"date": time.strftime("%Y-%m-%d"), "seed": seed, "scenes": len(scenes)}
     meta["rounds"], meta["design"] = rounds, dict(scenes)
+    if texts is not None and file.exists():
+        before = json.loads(file.read_text())
+        if before["meta"]["seed"] == seed:
+            now = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+            partial = {**before["meta"].get("partial", {}), **dict.fromkeys(raw, now)}
+            meta = {**before["meta"], "partial": partial}
+            raw = {**before["raw"], **raw}
     held = {"meta": meta, "rows": summarize(raw, P.TARGETS, {}), "raw": raw}
     if check:
         return table(held["rows"], {**meta, "machine": platform.machine()})
-    (HERE / "results" / "summary_heldout.json").write_text(
-        json.dumps(held, indent=1, default=float)
-    )
+    file.write_text(json.dumps(held, indent=1, default=float))
     saved = json.loads((HERE / "results" / "summary.json").read_text())
     rows = summarize(saved["raw"], P.TARGETS, dict(saved.get("memory", {})))
     return write(rows, saved["meta"], saved["raw"], False, saved.get("memory", {}))
@@ -312,7 +333,7 @@ def main(argv: list[str] | None = None) -> str:
     )
     args = ap.parse_args(argv)
     if args.held_out is not None:
-        return held_out_run(args.held_out, args.rounds, args.check)
+        return held_out_run(args.held_out, args.rounds, args.check, args.paths)
     if args.paths:
         return some_paths(args.paths, args.rounds, args.check)
     if args.from_json:
