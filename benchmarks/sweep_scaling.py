@@ -89,7 +89,7 @@ def crossover(client, sizes: list[int], repeats: int) -> None:
     import warnings
 
     from summary_design import design
-    from summary_paths import _eh_study
+    from summary_parallel import _eh_study
 
     from xpersson.api import as_scene, expand
     from xpersson.plugins import get_registry
