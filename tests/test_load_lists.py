@@ -187,3 +187,18 @@ def test_a_number_with_a_second_decimal_point_is_refused(text, number):
     naming the number it read and the parameter's range."""
     with pytest.raises(SceneError, match=rf"load\.p0: .*{number!r}.*\(0, 1e\+13\] Pa$"):
         loads(text)
+
+
+@pytest.mark.parametrize("text", ["-0 Pa", "-0.0 kPa", "-0e3 MPa", "0 Pa", "-0 N/m**2"])
+def test_a_zero_is_positive_zero_on_every_path(text):
+    """pint reads "-0" as the integer 0 and "-0.0" as -0.0; every path gives +0.0 (a zero
+    written into an archive is "0", not "-0"), the list path as the single one."""
+    import math
+
+    import pint
+
+    fast = strings_to_si([text, "1 Pa"], "Pa")  # None: pint units, converted one by one
+    values = [to_si(text, "Pa", "w"), *([] if fast is None else fast[:1])]
+    values.append(to_si(pint.Quantity(-0.0, "Pa"), "Pa", "w"))
+    values.extend(to_si([text, "1 hPa"], "Pa", "w", array=True)[:1])
+    assert [math.copysign(1.0, v) for v in values] == [1.0] * len(values)

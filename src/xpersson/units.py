@@ -293,7 +293,7 @@ def _simple_si(value: str, unit: str) -> float | None:
     if have is None or want is None or want[0] != 1.0 or have[1] != want[1]:
         return None
     x = float(m.group(1))
-    return x if have[0] == 1.0 else x * have[0]
+    return (x if have[0] == 1.0 else x * have[0]) + 0.0  # + 0.0: a zero is +0.0 (pint: "-0" is 0)
 
 
 def strings_to_si(values: Any, unit: str) -> np.ndarray | None:
@@ -345,8 +345,8 @@ def _lines_to_si(text: str, n: int, unit: str) -> np.ndarray | None:
         return None
     if len(factors) == 1:
         f = next(iter(factors.values()))
-        return x if f == 1.0 else x * f
-    return x * np.array([factors[u] for u in units], float)
+        return (x if f == 1.0 else x * f) + 0.0  # + 0.0: every zero +0.0, as _simple_si
+    return x * np.array([factors[u] for u in units], float) + 0.0
 
 
 def _number_and_unit(text: str, n: int) -> tuple[list[str], tuple[str, ...]] | None:
@@ -431,9 +431,9 @@ def _to_si(value: Any, unit: str, where: str, array: bool) -> Any:
     if array:
         import numpy as np
 
-        return np.atleast_1d(np.asarray(mag, dtype=float))
+        return np.atleast_1d(np.asarray(mag, dtype=float)) + 0.0  # a zero is +0.0
     try:
-        return float(mag)
+        return float(mag) + 0.0  # + 0.0 changes no number but -0.0 (to +0.0)
     except TypeError:
         raise UnitError(f"{where}: expected a single value, got {value!r}") from None
 
