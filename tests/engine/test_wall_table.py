@@ -112,7 +112,7 @@ def test_cn_solve_with_a_table_is_the_callables(monkeypatch):
     tau = np.logspace(-1.0, np.log10(15.0), 5)
     p0 = np.array([0.2, 1.0])
     res = [
-        solve_batch(tau, p0, (_wall(t, 0.3), None), rtol=1e-4, method="cn") for t in (False, True)
+        solve_batch(tau, p0, (_wall(t, 0.3), None), rtol=1e-3, method="cn") for t in (False, True)
     ]
     for name in ("area", "error_estimate", "nsteps", "n_nodes"):
         np.testing.assert_array_equal(getattr(res[0], name), getattr(res[1], name))
@@ -130,7 +130,7 @@ def test_bad_tables_are_refused():
     with pytest.raises(ValueError, match="table of a wall must be a WallTable"):
         Wall.absorbing(np.sqrt, table=(poly.c, poly.x))
     table = WallTable(poly.c, poly.x, lo, hi)
-    assert not table.c.flags.writeable and poly.c.flags.writeable  # its own read-only copy
+    assert not np.shares_memory(table.c, poly.c)  # its own copy
     # not part of the wall's equality (the position is)
     f = _reference(poly, lo, hi, True, True)
     assert Wall.absorbing(f, table=table) == Wall.absorbing(f)

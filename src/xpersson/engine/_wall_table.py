@@ -76,7 +76,7 @@ class WallTable:
     negate: bool = False
 
     def __post_init__(self) -> None:
-        c = np.array(self.c, dtype=np.float64, order="C")  # (own read-only copies)
+        c = np.array(self.c, dtype=np.float64, order="C")  # (its own copies)
         x = np.array(self.x, dtype=np.float64, order="C")
         if c.ndim != 2 or c.shape[0] < 1 or x.shape != (c.shape[1] + 1,):
             raise ValueError(
@@ -87,9 +87,8 @@ class WallTable:
             raise ValueError("x [Pa^2] of a WallTable must be finite and strictly increasing")
         if not float(self.t_lo) <= float(self.t_hi):
             raise ValueError(f"t_lo <= t_hi [Pa^2] required; got {self.t_lo!r}, {self.t_hi!r}")
-        for name, v in (("c", c), ("x", x)):
-            v.setflags(write=False)
-            object.__setattr__(self, name, v)
+        object.__setattr__(self, "c", c)
+        object.__setattr__(self, "x", x)
         object.__setattr__(self, "t_lo", float(self.t_lo))
         object.__setattr__(self, "t_hi", float(self.t_hi))
         for name in ("extrapolate", "root", "negate"):
@@ -144,7 +143,9 @@ def kernels() -> tuple[Callable[..., Any], Callable[..., Any]] | None:
 
 def build() -> bool:
     """Build the compiled kernels now (imports numba); whether they are available."""
-    return compiled_enabled() and _build() is not None
+    if not compiled_enabled():
+        return False
+    return (_STATE["fns"] if "fns" in _STATE else _build()) is not None
 
 
 def _build() -> tuple[Callable[..., Any], Callable[..., Any]] | None:
