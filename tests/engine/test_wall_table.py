@@ -6,6 +6,7 @@ The compiled parts run where numba is installed (else the numpy path is checked 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import types
 
 import numpy as np
@@ -77,6 +78,11 @@ def _wall(with_table: bool, wiggle: float = 0.6) -> Wall:
     return Wall.absorbing(position, table=table if with_table else None)
 
 
+def _counted(position, calls: list, t):
+    calls.append(1)
+    return position(t)
+
+
 @pytest.mark.parametrize("loads", [(0.3,), tuple(np.linspace(-0.4, 1.6, 12))])
 def test_kinks_of_a_table_are_the_callables(loads):
     """The window-edge kinks by the table's compiled finder equal the numpy finder's on the
@@ -86,8 +92,8 @@ def test_kinks_of_a_table_are_the_callables(loads):
     found = {}
     for with_table in (False, True):
         wall = _wall(with_table)
-        position = wall.position
-        wall = dataclasses.replace(wall, position=lambda t: calls.append(1) or position(t))
+        counted = functools.partial(_counted, wall.position, calls)
+        wall = dataclasses.replace(wall, position=counted)
         pbs = [types.SimpleNamespace(lower=wall, upper=None, p0=p) for p in loads]
         calls.clear()
         found[with_table] = _switch_times_batch(pbs, k, 1e-3, 20.0)
