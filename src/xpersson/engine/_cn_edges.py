@@ -21,7 +21,14 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["compiled_window", "level_times", "wall_query", "wall_track", "window_edges"]
+__all__ = [
+    "compiled_track",
+    "compiled_window",
+    "level_times",
+    "wall_query",
+    "wall_track",
+    "window_edges",
+]
 
 
 def compiled_window(
@@ -40,6 +47,27 @@ def compiled_window(
        tr["lo_m"], tr["up_m"], tr["lo"], tr["up"], tr["lo_va"], tr["lo_vb"], tr["up_va"],
        tr["up_vb"], tr["ys"], out, flags)  # fmt: skip
     return out, flags
+
+
+def compiled_track(
+    wall: Any, mid: Any, taus: Any, fast: tuple, table_track: Callable[..., None] | None
+) -> tuple[Any, ...]:
+    """:func:`._cn_plan._track_wall` of a wall whose speeds are differenced, by ``fast``
+    (the compiled :func:`wall_query` and :func:`wall_track`) around one call of the wall, or
+    by one compiled call of ``table_track`` (:func:`._wall_table.table_track`, given where the
+    wall carries a table): positions [Pa] at ``mid`` and ``taus`` [Pa^2], speeds [1/Pa]
+    before / after each time."""
+    query, track = fast
+    n = taus.size
+    bp = np.asarray(getattr(wall, "breakpoints", ()), dtype=float)
+    at_mid, at_t, vb, va = np.empty(n - 1), np.empty(n), np.empty(n), np.empty(n)
+    if table_track is not None:  # the wall's table: query, positions and track in one call
+        table_track(*wall.table.args(), taus, mid, bp, at_mid, at_t, vb, va)
+        return at_mid, at_t, vb, va
+    hi, lo, q = np.empty(n), np.empty(n), np.empty(4 * n - 1)
+    query(taus, mid, bp, hi, lo, q)
+    track(wall.at(q), taus, hi, lo, bp, at_mid, at_t, vb, va)
+    return at_mid, at_t, vb, va
 
 
 ROWS = ("la", "wa", "lb", "wb", "lva", "wva", "ysa", "lvb", "wvb", "ysb")

@@ -39,11 +39,11 @@ from numpy.typing import ArrayLike, NDArray
 from .. import numba_cache
 from ..options import compiled_enabled
 
-__all__ = ["WallTable", "edge_roots", "kernels", "table_values"]
+__all__ = ["WallTable", "edge_roots", "kernels", "table_track", "table_values"]
 
 Array = NDArray[np.float64]
 
-_STATE: dict[str, Any] = {}  # "fns": (table_values, edge_roots) compiled (None: no numba)
+_STATE: dict[str, Any] = {}  # "fns": the compiled kernels (None: no numba)
 
 
 @dataclass(frozen=True, eq=False)
@@ -128,10 +128,10 @@ class WallTable:
         return -v if self.negate else v
 
 
-def kernels() -> tuple[Callable[..., Any], Callable[..., Any]] | None:
-    """The compiled ``(table_values, edge_roots)``, or None: the option ``compiled`` is off, or
-    numba is not imported in this process (a wall alone never imports it: the engine's compiled
-    march does, once marching pays for it) or missing."""
+def kernels() -> tuple[Callable[..., Any], ...] | None:
+    """The compiled ``(table_values, edge_roots, table_track)``, or None: the option
+    ``compiled`` is off, or numba is not imported in this process (a wall alone never imports
+    it: the engine's compiled march does, once marching pays for it) or missing."""
     if not compiled_enabled():
         return None
     if "fns" in _STATE:
@@ -148,20 +148,25 @@ def build() -> bool:
     return (_STATE["fns"] if "fns" in _STATE else _build()) is not None
 
 
-def _build() -> tuple[Callable[..., Any], Callable[..., Any]] | None:
+def _build() -> tuple[Callable[..., Any], ...] | None:
     jit = numba_cache.njit(__name__, nogil=True, error_model="numpy")
     if jit is None:  # pragma: no cover - numba is optional
         _STATE["fns"] = None
         return None
+    from ._cn_edges import wall_query, wall_track
+
     names = ("_maximum", "_minimum", "_interval", "_sign", "table_values", "_illinois")
-    scope = dict(globals())  # each compiled function calls the compiled ones before it
-    for n in (*names, "edge_roots"):
+    scope = {**globals(), "wall_query": jit(wall_query), "wall_track": jit(wall_track)}
+    for n in (*names, "edge_roots", "table_track"):  # each calls the compiled ones before it
         scope[n] = jit(types.FunctionType(globals()[n].__code__, scope, n))
     values, roots = scope["table_values"], scope["edge_roots"]
     c, x, one = np.zeros((4, 1)), np.array([0.0, 1.0]), np.ones(1)
     values(c, x, 0.0, 1.0, True, one, one, True, True)
     roots(c, x, 0.0, 1.0, True, True, True, one, one, -1.0, np.empty(2))
-    _STATE["fns"] = (values, roots)
+    track = scope["table_track"]
+    two, none = np.array([1.0, 2.0]), np.zeros(0)
+    track(c, x, 0.0, 1.0, True, True, True, two, one, none, one, two, two.copy(), two.copy())
+    _STATE["fns"] = (values, roots, track)
     return _STATE["fns"]  # type: ignore[no-any-return]
 
 
@@ -333,3 +338,32 @@ def edge_roots(
                     found += 1
             g_prev = g_next
     return found
+
+
+def table_track(
+    c: Any,
+    x: Any,
+    t_lo: float,
+    t_hi: float,
+    extrapolate: bool,
+    root: bool,
+    negate: bool,
+    taus: Any,
+    mid: Any,
+    bp: Any,
+    at_mid: Any,
+    at_t: Any,
+    vb: Any,
+    va: Any,
+) -> None:
+    """The table's wall along ``taus`` [Pa^2] (:func:`._cn_edges.compiled_track` in one
+    call): :func:`._cn_edges.wall_query`'s times, the positions there by
+    :func:`table_values`, :func:`._cn_edges.wall_track`'s positions at ``mid`` and ``taus``
+    [Pa] and speeds [1/Pa] into ``at_mid``, ``at_t``, ``vb``, ``va`` (``bp``: the wall's
+    breakpoints [Pa^2])."""
+    n = taus.shape[0]
+    hi, lo, q = np.empty(n), np.empty(n), np.empty(4 * n - 1)
+    wall_query(taus, mid, bp, hi, lo, q)  # noqa: F821 - bound to the compiled one by _build
+    p = np.empty(q.shape[0])
+    table_values(c, x, t_lo, t_hi, extrapolate, q, p, root, negate)
+    wall_track(p, taus, hi, lo, bp, at_mid, at_t, vb, va)  # noqa: F821 - as wall_query
