@@ -71,7 +71,8 @@ def test_compiled_wall_equals_numpy_wall(seed, extrapolate, root):
     from xpersson import set_options
     from xpersson.engine import _wall_table
 
-    assert _wall_table.build()
+    if not _wall_table.build():
+        pytest.skip("compiled code off (XPERSSON_COMPILED=off)")
     wall, t = _walls(seed, extrapolate, root)
     for shape in (t.shape, (t.size // 2, 2) if t.size % 2 == 0 else (1, t.size)):
         tt = t.reshape(shape)
