@@ -28,14 +28,15 @@ def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float
 def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) -> list[float]:
     """:func:`_switch_times` of every load of a batch (they share their walls): the edge gaps
     sampled at 513 log-spaced times, every sign change then polished to ``1e-15 tau`` by one
-    vectorised bracketed root-finder over all loads and walls (:func:`_bracketed_roots`)."""
+    vectorised bracketed root-finder over all loads and walls (:func:`_bracketed_roots`); a
+    wall with a table by one compiled call (:func:`._wall_table.edge_roots`, the same roots)."""
     if not t_hi > t_lo:
         return []
     cand = t_lo * decades(math.log10(t_hi / t_lo), 513)
     pb = pbs[0]
     p0 = np.array([p.p0 for p in pbs])
     fns = kernels() if _tabled(pb.lower) or _tabled(pb.upper) else None
-    s = np.sqrt(2.0 * cand)
+    s = None if fns is not None and _tabled(pb.lower) and pb.upper is None else np.sqrt(2.0 * cand)
     out: list[float] = []
     for wall, sign in ((pb.lower, -1.0), (pb.upper, 1.0)):
         if wall is None:
