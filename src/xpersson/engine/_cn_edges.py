@@ -7,7 +7,8 @@ and end of every step, and from the first declared breakpoint on the chord speed
 numpy calls per load and level, most of a small level's set-up. :func:`window_edges` does the
 same elementwise arithmetic in the same order (the results are bit for bit the numpy path's:
 no sums, one rounding per operation, tested), for all loads at once, from the walls' tracks
-(:func:`._cn_plan._tracks`, evaluated in Python: the walls are the caller's callables).
+(:func:`._cn_plan._tracks`, evaluated in Python: the walls are the caller's callables, or
+in one compiled call where a wall carries a table, :func:`compiled_track`).
 :func:`level_times` is the same for the level's time steps (:func:`._cn_plan._level_times`
 without graded zones: their ``pow`` stays numpy's, which a compiled ``pow`` need not equal).
 Units: tau in Pa^2, pressures in Pa, speeds in 1/Pa.
