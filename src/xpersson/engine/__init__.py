@@ -7,6 +7,8 @@ solve_batch(tau_out, p0[:], walls=(lower, upper) or [(lower, upper), ...], ...) 
 solve_sourced(tau_out, sources_tau, sources_position, sources_weight, *, lower, p_out, ...)
 Wall.absorbing(position), Wall.linear(p_start, velocity), Wall.yield_closure(position, dposition),
 Wall.reflecting(position)
+WallTable(c, x, t_lo, t_hi, ...): a moving wall's position as a clipped piecewise polynomial,
+evaluated in compiled code (``Wall.absorbing(position, table=...)``)
 progress_reporting(callback): work done (node-steps) by long solves, reported to ``callback``
 SourcedResult
 EngineResult, EngineMethod, register_method, exact (closed forms)
@@ -31,6 +33,7 @@ from ._exactpath import ExactMethod
 from ._methods import METHODS, register_method
 from ._progress import reporting as progress_reporting
 from ._result import EngineBatch, EngineResult
+from ._wall_table import WallTable
 from ._walls import Wall
 
 if TYPE_CHECKING:
@@ -46,6 +49,7 @@ __all__ = [
     "solve_sourced",
     "SourcedResult",
     "Wall",
+    "WallTable",
     "EngineResult",
     "EngineBatch",
     "EngineMethod",

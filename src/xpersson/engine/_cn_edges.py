@@ -7,7 +7,8 @@ and end of every step, and from the first declared breakpoint on the chord speed
 numpy calls per load and level, most of a small level's set-up. :func:`window_edges` does the
 same elementwise arithmetic in the same order (the results are bit for bit the numpy path's:
 no sums, one rounding per operation, tested), for all loads at once, from the walls' tracks
-(:func:`._cn_plan._tracks`, evaluated in Python: the walls are the caller's callables).
+(:func:`._cn_plan._tracks`, evaluated in Python: the walls are the caller's callables, or
+in one compiled call where a wall carries a table, :func:`compiled_track`).
 :func:`level_times` is the same for the level's time steps (:func:`._cn_plan._level_times`
 without graded zones: their ``pow`` stays numpy's, which a compiled ``pow`` need not equal).
 Units: tau in Pa^2, pressures in Pa, speeds in 1/Pa.
@@ -21,7 +22,14 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["compiled_window", "level_times", "wall_query", "wall_track", "window_edges"]
+__all__ = [
+    "compiled_track",
+    "compiled_window",
+    "level_times",
+    "wall_query",
+    "wall_track",
+    "window_edges",
+]
 
 
 def compiled_window(
@@ -40,6 +48,27 @@ def compiled_window(
        tr["lo_m"], tr["up_m"], tr["lo"], tr["up"], tr["lo_va"], tr["lo_vb"], tr["up_va"],
        tr["up_vb"], tr["ys"], out, flags)  # fmt: skip
     return out, flags
+
+
+def compiled_track(
+    wall: Any, mid: Any, taus: Any, fast: tuple, table_track: Callable[..., None] | None
+) -> tuple[Any, ...]:
+    """:func:`._cn_plan._track_wall` of a wall whose speeds are differenced, by ``fast``
+    (the compiled :func:`wall_query` and :func:`wall_track`) around one call of the wall, or
+    by one compiled call of ``table_track`` (:func:`._wall_table.table_track`, given where the
+    wall carries a table): positions [Pa] at ``mid`` and ``taus`` [Pa^2], speeds [1/Pa]
+    before / after each time."""
+    query, track = fast
+    n = taus.size
+    bp = np.asarray(getattr(wall, "breakpoints", ()), dtype=float)
+    at_mid, at_t, vb, va = np.empty(n - 1), np.empty(n), np.empty(n), np.empty(n)
+    if table_track is not None:  # the wall's table: query, positions and track in one call
+        table_track(*wall.table.args(), taus, mid, bp, at_mid, at_t, vb, va)
+        return at_mid, at_t, vb, va
+    hi, lo, q = np.empty(n), np.empty(n), np.empty(4 * n - 1)
+    query(taus, mid, bp, hi, lo, q)
+    track(wall.at(q), taus, hi, lo, bp, at_mid, at_t, vb, va)
+    return at_mid, at_t, vb, va
 
 
 ROWS = ("la", "wa", "lb", "wb", "lva", "wva", "ysa", "lvb", "wvb", "ysb")

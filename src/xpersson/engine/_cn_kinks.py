@@ -12,6 +12,8 @@ from numpy.typing import NDArray
 
 from ._grid import decades
 from ._problem import Problem
+from ._wall_table import kernels
+from ._walls import Wall
 
 __all__ = ["_bracketed_roots", "_switch_times", "_switch_times_batch"]
 
@@ -26,18 +28,25 @@ def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float
 def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) -> list[float]:
     """:func:`_switch_times` of every load of a batch (they share their walls): the edge gaps
     sampled at 513 log-spaced times, every sign change then polished to ``1e-15 tau`` by one
-    vectorised bracketed root-finder over all loads and walls (:func:`_bracketed_roots`)."""
+    vectorised bracketed root-finder over all loads and walls (:func:`_bracketed_roots`); a
+    wall with a table by one compiled call (:func:`._wall_table.edge_roots`, the same roots)."""
     if not t_hi > t_lo:
         return []
     cand = t_lo * decades(math.log10(t_hi / t_lo), 513)
     pb = pbs[0]
     p0 = np.array([p.p0 for p in pbs])
-    lo, up = pb.wall_positions(cand)
-    s = np.sqrt(2.0 * cand)
+    fns = kernels() if _tabled(pb.lower) or _tabled(pb.upper) else None
+    s = None if fns is not None and _tabled(pb.lower) and pb.upper is None else np.sqrt(2.0 * cand)
     out: list[float] = []
-    for wall, pos, sign in ((pb.lower, lo, -1.0), (pb.upper, up, 1.0)):
+    for wall, sign in ((pb.lower, -1.0), (pb.upper, 1.0)):
         if wall is None:
             continue
+        if fns is not None and _tabled(wall):  # the table's compiled kinks: the same roots
+            roots = np.empty(p0.size * (cand.size - 1))
+            found = fns[1](*wall.table.args(), cand, p0, sign * k, roots)
+            out.extend(roots[:found].tolist())
+            continue
+        pos = wall.at(cand)
         g = pos[None, :] - (p0[:, None] + sign * k * s[None, :])
         sg = np.sign(g)
         il, ic = np.nonzero(sg[:, :-1] != sg[:, 1:])
@@ -58,6 +67,11 @@ def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) 
         roots = _bracketed_roots(gap, cand[ic], b, fa, fb, 1e-15 * b, gap_one)
         out.extend(float(t) for t in roots[np.isfinite(roots)])
     return out
+
+
+def _tabled(wall: Wall | None) -> bool:
+    """Whether ``wall`` moves and carries a table (:class:`._wall_table.WallTable`)."""
+    return wall is not None and wall.table is not None and not wall.is_fixed
 
 
 def _bracketed_roots(f, a: Array, b: Array, fa: Array, fb: Array, xtol: Array, f_one=None) -> Array:

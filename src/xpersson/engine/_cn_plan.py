@@ -12,11 +12,12 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._cn_edges import compiled_window
+from ._cn_edges import compiled_track, compiled_window
 from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
 from ._grid import decades as _decades
 from ._grid import sorted_unique
 from ._problem import Problem
+from ._wall_table import kernels as table_kernels
 
 __all__ = [
     "Edge",
@@ -261,7 +262,8 @@ def _track_wall(
         z = np.zeros_like(taus)
         return np.full(mid.shape, np.inf), np.full(taus.shape, np.inf), z, z
     if fast is not None and _differenced(wall):
-        return _track_compiled(wall, mid, taus, fast)
+        fns = None if getattr(wall, "table", None) is None else table_kernels()
+        return compiled_track(wall, mid, taus, fast, None if fns is None else fns[2])
     probe = _probe_times(wall, taus)
     if probe is None:
         p = wall.at(np.concatenate([mid, taus]))
@@ -275,19 +277,6 @@ def _track_wall(
     probed = (p[2::4], p[0::4])
     vb, va = _wall_speeds(wall, taus, probed, float(at_t[-1]), probe, at_t)
     return np.ascontiguousarray(p[3::4]), at_t, vb, va
-
-
-def _track_compiled(wall, mid: Array, taus: Array, fast: tuple) -> tuple[Array, ...]:
-    """:func:`_track_wall` of a wall whose speeds are differenced, by ``fast``."""
-    query, track = fast
-    n = taus.size
-    bp = np.asarray(getattr(wall, "breakpoints", ()), dtype=float)
-    hi, lo, q = np.empty(n), np.empty(n), np.empty(4 * n - 1)
-    query(taus, mid, bp, hi, lo, q)
-    p = wall.at(q)
-    at_mid, at_t, vb, va = np.empty(n - 1), np.empty(n), np.empty(n), np.empty(n)
-    track(p, taus, hi, lo, bp, at_mid, at_t, vb, va)
-    return at_mid, at_t, vb, va
 
 
 def _tracks(pb: Problem, taus: Array, fast: tuple | None = None) -> dict:

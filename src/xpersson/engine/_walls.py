@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from ._wall_table import WallTable
 
 PositionLike = float | Callable[[NDArray[np.float64]], ArrayLike]
 
@@ -51,6 +53,11 @@ class Wall:
         knee of a roll-off spectrum, through the clock).  The ``cn`` path makes them step
         boundaries: a kink inside a step leaves an error that is irregular in the step, which
         Richardson extrapolation cannot cancel.
+    table : WallTable or None
+        The moving position as a clipped piecewise polynomial (the compiled wall protocol,
+        :class:`~xpersson.engine.WallTable`), equal to ``position``: where the compiled code
+        runs, the engine evaluates the table itself (positions and window-edge kinks) instead
+        of calling ``position``. Optional; not part of the wall's equality.
     """
 
     kind: Literal["absorbing", "yield_closure", "reflecting"]
@@ -60,11 +67,16 @@ class Wall:
     breakpoints: tuple[float, ...] = ()
     still_until: float = 0.0
     kinks: tuple[float, ...] = ()
+    table: WallTable | None = field(default=None, compare=False, repr=False)
 
     # -- constructors ------------------------------------------------------------------------
     @classmethod
     def absorbing(
-        cls, position: PositionLike, breakpoints: ArrayLike = (), still_until: float = 0.0
+        cls,
+        position: PositionLike,
+        breakpoints: ArrayLike = (),
+        still_until: float = 0.0,
+        table: WallTable | None = None,
     ) -> Wall:
         """Absorbing wall: ``P = 0`` at the wall, the mass reaching it is absorbed (counted).
 
@@ -79,13 +91,19 @@ class Wall:
         still_until : float, optional
             Diffusion time [Pa^2] >= 0 up to which a moving wall stays at its position at
             ``tau = 0`` (see the class attributes); ignored for a fixed wall.
+        table : WallTable, optional
+            The same motion as a clipped piecewise polynomial (see the class attributes),
+            evaluated by the engine in compiled code; ignored for a fixed wall.
         """
         if not callable(position):
             return cls("absorbing", float(position))
         still = float(still_until)
         if not still >= 0.0:
             raise ValueError(f"still_until [Pa^2] must be >= 0; got {still_until!r}")
-        return cls("absorbing", position, breakpoints=_breakpoints(breakpoints), still_until=still)
+        if table is not None and not isinstance(table, WallTable):
+            raise ValueError(f"table of a wall must be a WallTable or None; got {table!r}")
+        bps = _breakpoints(breakpoints)
+        return cls("absorbing", position, breakpoints=bps, still_until=still, table=table)
 
     @classmethod
     def reflecting(cls, position: float = 0.0) -> Wall:
@@ -172,6 +190,10 @@ class Wall:
         t = np.asarray(tau, dtype=float)
         if self.is_fixed:
             return np.full(t.shape, float(self.position))
+        if self.table is not None:  # the compiled wall protocol, where the compiled code runs
+            found = self.table.compiled(t)
+            if found is not None:
+                return found
         out = np.asarray(self.position(t), dtype=float)
         if out.shape == t.shape:
             return out.copy()  # (a copy: the callable may return an array it keeps)

@@ -61,6 +61,16 @@ class FastPaths:
         every load ``p0``. Path: the walls are asked once for every load of a run (and of a
         stacked block). Check: the walls at several loads are at the same positions (1e-12
         relative).
+    wall_tables : bool
+        Boundaries. Promise: every moving wall :meth:`~xpersson.plugins.Boundary.walls` gives
+        carries a table (``Wall.absorbing(position, table=WallTable(...))``, the compiled wall
+        protocol of :class:`xpersson.engine.WallTable`: a clipped piecewise polynomial in tau)
+        with the positions of its callable. Path: where the compiled code runs, the engine
+        evaluates the table (positions, window-edge kinks) in compiled code instead of calling
+        the position back. The plugin attaches the tables only while
+        :func:`fast_paths_on` (the plain path: the callables alone). Check: the tables' positions
+        equal the callables' at times across and beyond each table (1e-12 relative) and a
+        solve equals the plain path's (1e-12 relative).
     shared_tau : bool or Mapping
         Coefficients. Promise: :meth:`~xpersson.plugins.Coefficient.effective_tau` equals
         :meth:`~xpersson.plugins.Coefficient.tau` at every load: always (``True``) or on the
@@ -75,6 +85,7 @@ class FastPaths:
     stacked_params: frozenset[str] | None = None
     shared_walls: bool = False
     shared_tau: bool | Mapping[str, Any] = False
+    wall_tables: bool = False
 
     def __post_init__(self) -> None:
         sp = self.stacked_params
@@ -100,6 +111,7 @@ class FastPaths:
                 ("stacked", self.stacked_params is not None),
                 ("shared_walls", self.shared_walls),
                 ("shared_tau", self.shared_tau is not False),
+                ("wall_tables", self.wall_tables),
             )
             if on
         )
@@ -162,6 +174,7 @@ _GROUPS = {
     "stacked_params": ("spectra", "coefficients", "boundaries", "analyses"),
     "shared_walls": ("boundaries",),
     "shared_tau": ("coefficients",),
+    "wall_tables": ("boundaries",),
 }
 
 #: Class attributes of the flags this contract replaced -> the declaration that replaces them.
@@ -217,7 +230,7 @@ def settle(cls: type, name: str) -> None:
     fp = vars(cls)["fast_paths"]
     if not isinstance(fp, FastPaths):
         raise SpecError(f"{name}: fast_paths must be a FastPaths(...), got {fp!r}")
-    for field in ("contact_similarity", "shared_walls"):
+    for field in ("contact_similarity", "shared_walls", "wall_tables"):
         if not isinstance(getattr(fp, field), bool):
             raise SpecError(f"{name}: fast_paths.{field} must be True or False")
     group = getattr(cls, "group", "")

@@ -15,6 +15,11 @@ floating-point variable (integer and text variables exactly):
 ``contact_similarity``
     a solve at (E*, loads) equals one at (k E*, k loads) in units of E* (each variable in
     Pa^n divided by k^n), k = 3;
+``wall_tables``
+    every moving wall the plugin gives (at the tiny context's loads) carries a
+    :class:`xpersson.engine.WallTable` whose positions equal its position callable's at times
+    across and beyond the table, and a solve equals one inside
+    :func:`~xpersson.sweep.plain_paths` (no tables);
 ``stacked``
     a sweep over the declared parameters (each at its sample value and a nearby one; the
     spectrum's ``H`` where the plugin declares none) solved through the stacked path equals
@@ -179,11 +184,49 @@ def _scenes(cls: type, params: Mapping[str, Any], scene: Any) -> Iterator[dict[s
 
 
 # -- the paths -------------------------------------------------------------------------------
-def _shared_walls(cls: type, params: dict[str, Any], scene: Any, engine: bool) -> str:
+def _wall_tables(cls: type, params: dict[str, Any], scene: Any, engine: bool) -> str:
     import numpy as np
 
+    ctx = _tiny_context((1e4, 3e4, 1e5))
+    inst = cls(**params)
+    try:
+        inst.validate(ctx)
+    except ValueError:
+        return "skipped (the tiny context is outside the plugin's range)"
+    tabled = 0
+    for p0 in ctx.p0:
+        for k, wall in enumerate(inst.walls(ctx, float(p0), _tiny_clock(ctx))):
+            if wall is None or wall.is_fixed:
+                continue
+            tab = wall.table
+            if tab is None:
+                raise AssertionError(
+                    f"{qual(cls)}: declares fast path 'wall_tables' but walls()[{k}] at p0 = "
+                    f"{float(p0):g} Pa moves without a table (Wall.absorbing(..., table=...))"
+                )
+            t = np.concatenate([np.linspace(0.0, 1.5 * tab.t_hi, 301), tab.x, [tab.t_lo]])
+            rel = _max_rel(tab.values(t), np.asarray(wall.position(t), dtype=float))
+            if rel > RTOL:
+                raise _fail(cls, "wall_tables", f"walls()[{k}] table", rel, f"(p0 = {p0:g} Pa)")
+            tabled += 1
+    unit = f"ok ({tabled} tables)" if tabled else "ok (no moving wall in the tiny context)"
+    return unit + _solves(cls, params, scene, engine, "wall_tables")
+
+
+def _tiny_clock(ctx: Any) -> Any:
+    """The diffusion clock of the tiny context (elastic coefficient)."""
     from ..physics import elastic
     from ..plugins import DiffusionClock
+
+    return DiffusionClock(
+        lambda z: elastic.diffusion_time(ctx.psd, ctx.E_star, z),
+        lambda z: elastic.coefficient_f(ctx.psd, ctx.E_star, z),
+        ctx.zeta_max,
+    )
+
+
+def _shared_walls(cls: type, params: dict[str, Any], scene: Any, engine: bool) -> str:
+    import numpy as np
 
     ctx = _tiny_context((1e4, 3e4, 1e5))
     inst = cls(**params)
@@ -192,11 +235,7 @@ def _shared_walls(cls: type, params: dict[str, Any], scene: Any, engine: bool) -
     except ValueError:
         unit = "skipped (the tiny context is outside the plugin's range)"
     else:
-        clock = DiffusionClock(
-            lambda z: elastic.diffusion_time(ctx.psd, ctx.E_star, z),
-            lambda z: elastic.coefficient_f(ctx.psd, ctx.E_star, z),
-            ctx.zeta_max,
-        )
+        clock = _tiny_clock(ctx)
         taus = np.asarray(clock.tau_of_zeta(ctx.zeta), dtype=float)
         first = inst.walls(ctx, float(ctx.p0[0]), clock)
         for p0 in ctx.p0[1:]:
@@ -315,6 +354,7 @@ def _stacked(cls: type, params: dict[str, Any], scene: Any, engine: bool) -> str
 
 _CHECKS = {
     "shared_walls": _shared_walls,
+    "wall_tables": _wall_tables,
     "shared_tau": _shared_tau,
     "contact_similarity": _contact_similarity,
     "stacked": _stacked,

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._wallkernel import kernel
+from xpersson.engine import WallTable
 
 try:  # the compiled loop behind PPoly.__call__ (called directly: see _ppoly_values)
     from scipy.interpolate._ppoly import evaluate as _ppoly_evaluate
@@ -58,13 +58,13 @@ class _Pchip:
         self.spline, self.t_lo, self.t_hi = spline, t_lo, t_hi
         self.onsets: Array | None = None  # see onset_times
         self.starts_at_zero: bool | None = None  # see starts_at_zero
-        self._args: tuple | None = None  # see kernel_args
+        self._tables: tuple | None = None  # see wall_table
 
-    def kernel_args(self) -> tuple | bool:
-        """``(c, x, t_lo, t_hi, extrapolate, root)`` of :func:`._wallkernel.wall_values` for
-        this table (found once), or ``False`` where its table is not a plain PPoly (then the
-        numpy path evaluates it)."""
-        if self._args is None:
+    def wall_table(self, negate: bool) -> WallTable | None:
+        """This table (negated with ``negate``) as the engine's compiled wall protocol,
+        :class:`xpersson.engine.WallTable` (built once), or None where the table is not a plain
+        PPoly (then only the numpy path evaluates it)."""
+        if self._tables is None:
             sp = self.spline
             root = type(sp) is _SqrtPos
             poly = sp.poly if root else sp
@@ -77,27 +77,23 @@ class _Pchip:
                 and c.dtype == np.float64
                 and x.dtype == np.float64
                 and ext in (True, False)
+                and x.size == c.shape[1] + 1
                 and x.size >= 2
-                and bool(np.all(x[1:] > x[:-1]))  # one interval per time (see _wallkernel)
+                and bool(np.all(x[1:] > x[:-1]))  # one interval per time (see WallTable)
             )
-            args = (np.ascontiguousarray(c), np.ascontiguousarray(x), self.t_lo, self.t_hi)
-            self._args = (*args, bool(ext), root) if plain else False  # type: ignore[assignment]
-        return self._args  # type: ignore[return-value]
+            self._tables = (
+                tuple(WallTable(c, x, self.t_lo, self.t_hi, bool(ext), root, n) for n in (0, 1))
+                if plain
+                else (None, None)
+            )
+        return self._tables[bool(negate)]
 
     def values(self, tau: ArrayLike, negate: bool) -> Array | None:
-        """``self(tau)`` (``-self(tau)`` with ``negate``) by the compiled loop, or None where
-        it does not run (:func:`._wallkernel.kernel`; the same numbers either way)."""
-        fn = kernel()
-        if fn is None:
-            return None
-        args = self.kernel_args()
-        if args is False:
-            return None
-        c, x, lo, hi, ext, root = args  # type: ignore[misc]
-        t = np.asarray(tau, dtype=float)
-        out = np.empty(t.shape)
-        fn(c, x, float(lo), float(hi), ext, t.ravel(), out.reshape(-1), root, negate)
-        return out
+        """``self(tau)`` (``-self(tau)`` with ``negate``) by the engine's compiled loop, or
+        None where it does not run (:meth:`xpersson.engine.WallTable.compiled`; the same
+        numbers either way)."""
+        table = self.wall_table(negate)
+        return None if table is None else table.compiled(tau)
 
     def __call__(self, tau: ArrayLike) -> Array:
         found = self.values(tau, False)
@@ -250,6 +246,12 @@ class DetachmentWall:
         z = np.asarray(self.clock.zeta_of_tau(t), dtype=float)  # type: ignore[union-attr]
         z = np.clip(z, 1.0, self.clock.zeta_max)  # type: ignore[union-attr]
         return np.asarray(self.law(z), dtype=float).reshape(t.shape)  # type: ignore[misc]
+
+    def wall_table(self) -> WallTable | None:
+        """The position as the engine's compiled wall protocol (:class:`WallTable`), or None
+        (a model law through its clock, or a table that is not a plain PPoly)."""
+        sig = self.sigma_of_tau
+        return sig.wall_table(True) if type(sig) is _Pchip else None
 
     def __call__(self, tau: ArrayLike) -> Array:
         sig = self.sigma_of_tau

@@ -22,7 +22,7 @@ import numpy as np
 
 from xpersson.cache import Cache
 from xpersson.physics.interface import full_contact_energy
-from xpersson.plugins import Boundary, FastPaths, ParamSpec, VarSpec
+from xpersson.plugins import Boundary, FastPaths, ParamSpec, VarSpec, fast_paths_on
 
 from ._detachment import (
     ModelLaw,
@@ -118,8 +118,9 @@ class JKRBoundary(Boundary):
         "arXiv:cond-mat/0603807",
     )
     tensile_loads = True
-    #: one wall for every load (see :meth:`wall`): asked once per run
-    fast_paths = FastPaths(shared_walls=True)
+    #: one wall for every load (see :meth:`wall`): asked once per run; its table evaluated by
+    #: the engine's compiled code (the wall protocol, :class:`xpersson.engine.WallTable`)
+    fast_paths = FastPaths(shared_walls=True, wall_tables=True)
     parameters = {
         **ADHESION_PARAMETERS,
         "c_a": ParamSpec(
@@ -329,7 +330,9 @@ class JKRBoundary(Boundary):
         onsets = onset_times(sig)
         # sigma_a = 0 up to the first onset (gamma_eff <= 0 there): the wall rests at p = 0
         still = float(onsets[0]) if onsets.size and starts_at_zero(sig) else 0.0
-        return Wall.absorbing(DetachmentWall(sig, key=key), breakpoints=onsets, still_until=still)
+        pos = DetachmentWall(sig, key=key)
+        table = pos.wall_table() if fast_paths_on() else None  # (FastPaths(wall_tables=True))
+        return Wall.absorbing(pos, breakpoints=onsets, still_until=still, table=table)
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """Absorbing wall at ``-sigma_a(zeta(tau))`` [Pa]; no upper wall."""
