@@ -56,7 +56,9 @@ from ._leakage import (
     effective_pressure_drop,
     junction_piece,
     leak_rate,
+    sealed_both,
     table_weights,
+    with_sealed,
 )
 from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, LEAKAGE_PARAMS, load_error
 
@@ -444,8 +446,9 @@ class Leakage(_Interface):
         self._pressure_drop()
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        direct = lambda rows: self._direct(ctx, ds, rows)  # noqa: E731
         p = self.params
+        sealed = sealed_both(ds, ctx.boundary, float(p["a_c"]), p["emt_threshold"])
+        direct = lambda rows: with_sealed(self._direct, ctx, ds, rows, sealed)  # noqa: E731
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, LEAK_PER_DECADE, weights)
         out, err = by_load(ctx.p0, direct, LEAK_TOL, _KEYS, *settings)
