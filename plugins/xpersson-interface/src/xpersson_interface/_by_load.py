@@ -137,6 +137,8 @@ def by_load(
     safety: float = SAFETY,
     per_decade: float = PER_DECADE,
     weights: tuple[Weight, ...] = (),
+    groups: tuple[frozenset[str], ...] = (),
+    free: NDArray[np.bool_] | None = None,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
@@ -151,15 +153,27 @@ def by_load(
     load, the one of the smallest estimate taken (fewer points: a smaller Lebesgue function
     near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
     ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
-    ``v``).
+    ``v``). ``groups``: a partition of the outputs (keys included) whose segments, stencils
+    and checks are each group's own (a key splits only its group's stencils); the estimate
+    of a load is the largest of its groups'. Empty: one group. ``free`` (per load): loads
+    whose direct values cost (almost) nothing, made nodes of the first level (e.g. next to
+    a change of keys: no refinement levels to find it).
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
     if n < max(least, TABLE_MIN) or not np.all(np.isfinite(p0) & (p0 > 0.0)):
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
+    pre = np.zeros(xs.size, dtype=bool)
+    if free is not None:
+        pre[inverse[np.asarray(free, dtype=bool)]] = True
     out, err = _table(
-        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), (keys, weights), per_decade
+        xs,
+        lambda sel: exact(first[sel]),
+        (tol, noise, orders, safety),
+        (keys, weights),
+        per_decade,
+        (groups, pre),
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
@@ -200,13 +214,16 @@ def _table(
     tol: tuple[float, float, tuple[int, ...], float],
     roles: _Roles,
     per_decade: float,
+    parts: tuple[tuple[frozenset[str], ...], NDArray[np.bool_]],
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise,
     the orders and the safety): the table at ``per_decade`` nodes, each run of loads whose
     estimate exceeds the tolerance again at twice the density (between the nodes around it),
     at most :data:`MAX_DEPTH` times; directly where the nodes would be more than half of the
     loads (those whose estimate already meets the tolerance keep it). Level by level: the
-    node loads of every run of a level in one direct call."""
+    node loads of every run of a level in one direct call. ``parts``: the groups of outputs
+    and the free loads (nodes of the first level)."""
+    groups, pre = parts
     direct = _Direct(exact, xs.size)
     out: dict[str, NDArray[np.float64]] = {}
     err = np.full(xs.size, np.inf)
@@ -221,6 +238,8 @@ def _table(
             if depth > MAX_DEPTH or nodes.size < 2 * m or 2 * nodes.size > sub.size:
                 direct.need(sub[err[sub] > tol[0]])
             else:
+                if not depth:  # (the first level: one run, every load)
+                    nodes = np.union1d(nodes, np.flatnonzero(pre))
                 direct.need(sub[nodes])
                 plans.append((sub, nodes))
         direct.run()
@@ -233,7 +252,7 @@ def _table(
             keep = np.ones(sub.size, dtype=bool)
             keep[nodes] = False
             rest = np.flatnonzero(keep)  # the loads of the run that are not nodes
-            vals, est = _estimated(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol)
+            vals, est = _grouped(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol, groups)
             for k, v in vals.items():
                 out[k][sub[rest]] = v
             err[sub[rest]] = est
@@ -245,6 +264,31 @@ def _table(
         out[k][direct.done] = v[direct.done]
     err[direct.done] = 0.0
     return out, err
+
+
+def _grouped(
+    xn: NDArray[np.float64],
+    at: dict[str, NDArray[np.float64]],
+    logs: dict[str, NDArray[np.float64]],
+    x: NDArray[np.float64],
+    roles: _Roles,
+    tol: tuple[float, float, tuple[int, ...], float],
+    groups: tuple[frozenset[str], ...],
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
+    """:func:`_estimated` of each group of outputs on its own (its keys, its transforms), the
+    largest estimate per load; no groups: of all outputs together."""
+    if not groups:
+        return _estimated(xn, at, logs, x, roles, tol)
+    vals: dict[str, NDArray[np.float64]] = {}
+    est = np.zeros(x.size)
+    for g in groups:
+        own = (roles[0] & g, tuple((names & g, f) for names, f in roles[1] if names & g))
+        v, e = _estimated(
+            xn, {k: at[k] for k in g}, {k: logs[k] for k in g if k in logs}, x, own, tol
+        )
+        vals |= v
+        est = np.maximum(est, e)
+    return vals, est
 
 
 def _estimated(

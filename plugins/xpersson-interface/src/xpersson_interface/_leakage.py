@@ -36,15 +36,29 @@ from xpersson.physics import Detachment, gap_cdf
 from ._stencils import Weight
 
 __all__ = [
+    "LEAK_GROUPS",
+    "LEAK_KEYS",
     "bruggeman",
     "bruggeman_gap",
     "effective_pressure_drop",
     "junction_piece",
     "leak_rate",
+    "next_to_open",
     "sealed_both",
+    "sealed_plan",
     "table_weights",
     "with_sealed",
 ]
+
+
+#: The leak outputs never interpolated (:func:`._by_load.by_load`'s keys).
+LEAK_KEYS = frozenset({"leak_sealed", "leak_sealed_emt", "piece"})
+#: The load table's groups: the junction's outputs and keys, the effective medium's (each
+#: regular across the other's sealing and pieces).
+LEAK_GROUPS = (
+    frozenset({"leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_rate", "leak_sealed", "piece"}),
+    frozenset({"leak_flow_factor_emt", "leak_rate_emt", "leak_sealed_emt"}),
+)
 
 
 def _bruggeman_rows(
@@ -458,3 +472,21 @@ def with_sealed(
         for k, v in direct(ctx, ds, rows[~shut]).items():
             out[k][~shut] = v
     return out
+
+
+def next_to_open(p0: ArrayLike, sealed: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """The ``sealed`` loads (:func:`sealed_both`) within 1/16 decade above the highest open
+    one: nodes of the load table's first level (no cost: :func:`with_sealed`), so that the
+    sealing is bracketed without refinement."""
+    x = np.log(np.atleast_1d(np.asarray(p0, dtype=float)))
+    if sealed.all() or not sealed.any():
+        return np.zeros(x.size, dtype=bool)
+    return sealed & (x <= float(np.max(x[~sealed])) + math.log(10.0) / 16.0)
+
+
+def sealed_plan(
+    ds: Any, boundary: Any, p0: ArrayLike, a_c: float, threshold: str
+) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """:func:`sealed_both` and :func:`next_to_open` of the loads ``p0`` (the Dataset's)."""
+    sealed = sealed_both(ds, boundary, a_c, threshold)
+    return sealed, next_to_open(p0, sealed)

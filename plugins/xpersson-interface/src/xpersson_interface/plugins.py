@@ -52,11 +52,13 @@ from ._by_load import (
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import (
+    LEAK_GROUPS,
+    LEAK_KEYS,
     bruggeman_gap,
     effective_pressure_drop,
     junction_piece,
     leak_rate,
-    sealed_both,
+    sealed_plan,
     table_weights,
     with_sealed,
 )
@@ -73,7 +75,6 @@ _LORENZ2010 = "10.1140/epje/i2010-10558-6"
 _XU2024 = "10.1007/s11249-024-01838-4"
 
 #: CF flags: numeric flag_values of the variable's type
-_KEYS = frozenset({"leak_sealed", "leak_sealed_emt", "piece"})
 _FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "open sealed"}
 _GAP_TRAITS = frozenset({"repulsive", "load_similar"})
 
@@ -447,11 +448,11 @@ class Leakage(_Interface):
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
-        sealed = sealed_both(ds, ctx.boundary, float(p["a_c"]), p["emt_threshold"])
+        sealed, free = sealed_plan(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         direct = lambda rows: with_sealed(self._direct, ctx, ds, rows, sealed)  # noqa: E731
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, LEAK_PER_DECADE, weights)
-        out, err = by_load(ctx.p0, direct, LEAK_TOL, _KEYS, *settings)
+        out, err = by_load(ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, LEAK_GROUPS, free)
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k != "piece"}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))
