@@ -138,6 +138,7 @@ def by_load(
     per_decade: float = PER_DECADE,
     weights: tuple[Weight, ...] = (),
     groups: tuple[frozenset[str], ...] = (),
+    merge: int = 0,
     free: NDArray[np.bool_] | None = None,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
@@ -155,7 +156,9 @@ def by_load(
     ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
     ``v``). ``groups``: a partition of the outputs (keys included) whose segments, stencils
     and checks are each group's own (a key splits only its group's stencils); the estimate
-    of a load is the largest of its groups'. Empty: one group. ``free`` (per load): loads
+    of a load is the largest of its groups'. Empty: one group. ``merge``: refined runs
+    fewer than this many node intervals apart are refined as one (0: runs apart wherever a
+    load between them meets the tolerance). ``free`` (per load): loads
     whose direct values cost (almost) nothing, made nodes of the first level (e.g. next to
     a change of keys: no refinement levels to find it).
     """
@@ -173,7 +176,7 @@ def by_load(
         (tol, noise, orders, safety),
         (keys, weights),
         per_decade,
-        (groups, pre),
+        (groups, pre, merge),
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
@@ -214,7 +217,7 @@ def _table(
     tol: tuple[float, float, tuple[int, ...], float],
     roles: _Roles,
     per_decade: float,
-    parts: tuple[tuple[frozenset[str], ...], NDArray[np.bool_]],
+    parts: tuple[tuple[frozenset[str], ...], NDArray[np.bool_], int],
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise,
     the orders and the safety): the table at ``per_decade`` nodes, each run of loads whose
@@ -223,10 +226,11 @@ def _table(
     loads (those whose estimate already meets the tolerance keep it). Level by level: the
     node loads of every run of a level in one direct call. ``parts``: the groups of outputs
     and the free loads (nodes of the first level)."""
-    groups, pre = parts
+    groups, pre, merge = parts
     direct = _Direct(exact, xs.size)
     out: dict[str, NDArray[np.float64]] = {}
     err = np.full(xs.size, np.inf)
+    errs = [np.full(xs.size, np.inf) for _ in groups]  # each group's
     m = max(tol[2])
     regions = [(0, xs.size - 1)]
     for depth in range(MAX_DEPTH + 2):
@@ -252,11 +256,9 @@ def _table(
             keep = np.ones(sub.size, dtype=bool)
             keep[nodes] = False
             rest = np.flatnonzero(keep)  # the loads of the run that are not nodes
-            vals, est = _grouped(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol, groups)
-            for k, v in vals.items():
-                out[k][sub[rest]] = v
-            err[sub[rest]] = est
-            regions += [(sub[a], sub[b]) for a, b in _runs(rest[est > tol[0]], nodes)]
+            got = _grouped(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol, groups)
+            est = _take(got, sub[rest], out, (err, errs))
+            regions += [(sub[a], sub[b]) for a, b in _runs(rest[est > tol[0]], nodes, merge)]
         per_decade *= 2
         if not regions:
             break
@@ -274,21 +276,44 @@ def _grouped(
     roles: _Roles,
     tol: tuple[float, float, tuple[int, ...], float],
     groups: tuple[frozenset[str], ...],
-) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
-    """:func:`_estimated` of each group of outputs on its own (its keys, its transforms), the
-    largest estimate per load; no groups: of all outputs together."""
+) -> list[tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]]:
+    """:func:`_estimated` of each group of outputs on its own (its keys, its transforms); no
+    groups: of all outputs together."""
     if not groups:
-        return _estimated(xn, at, logs, x, roles, tol)
-    vals: dict[str, NDArray[np.float64]] = {}
-    est = np.zeros(x.size)
+        return [_estimated(xn, at, logs, x, roles, tol)]
+    out = []
     for g in groups:
         own = (roles[0] & g, tuple((names & g, f) for names, f in roles[1] if names & g))
-        v, e = _estimated(
-            xn, {k: at[k] for k in g}, {k: logs[k] for k in g if k in logs}, x, own, tol
-        )
-        vals |= v
-        est = np.maximum(est, e)
-    return vals, est
+        logs_g = {k: logs[k] for k in g if k in logs}
+        out.append(_estimated(xn, {k: at[k] for k in g}, logs_g, x, own, tol))
+    return out
+
+
+def _take(
+    got: list[tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]],
+    rows: NDArray[np.intp],
+    out: dict[str, NDArray[np.float64]],
+    errors: tuple[NDArray[np.float64], list[NDArray[np.float64]]],
+) -> NDArray[np.float64]:
+    """The values and estimates of a level (:func:`_grouped`) written into ``out`` and the
+    loads' errors at ``rows``, the loads' estimate returned. No groups: every value replaced.
+    Groups: each group's values only where its estimate is at most its earlier one (a
+    refined region's few nodes may table a group worse than the coarser level did), the
+    load's estimate the largest of its groups'."""
+    err, errs = errors
+    if not errs:
+        vals, est = got[0]
+        for k, v in vals.items():
+            out[k][rows] = v
+        err[rows] = est
+        return est
+    for (vals, est), own in zip(got, errs, strict=True):
+        better = est <= own[rows]
+        for k, v in vals.items():
+            out[k][rows[better]] = v[better]
+        own[rows[better]] = est[better]
+    err[rows] = np.max([own[rows] for own in errs], axis=0)
+    return err[rows]
 
 
 def _estimated(
@@ -323,13 +348,20 @@ def _estimated(
     return out, best
 
 
-def _runs(flagged: NDArray[np.intp], nodes: NDArray[np.intp]) -> list[tuple[int, int]]:
+def _runs(
+    flagged: NDArray[np.intp], nodes: NDArray[np.intp], merge: int = 0
+) -> list[tuple[int, int]]:
     """The runs of consecutive ``flagged`` loads (only nodes between them), each as the
-    nodes around it ``(first, last)``."""
+    nodes around it ``(first, last)``; ``merge`` > 0: runs fewer than ``merge`` node
+    intervals apart are one (a refined run's table is one-sided near its ends: two runs
+    tabled apart are each worse near the stretch between them)."""
     if not flagged.size:
         return []
     pos = np.searchsorted(nodes, flagged)  # the node above each flagged load
-    split = np.flatnonzero(np.diff(flagged) - np.diff(pos) != 1) + 1
+    if merge:
+        split = np.flatnonzero(np.diff(pos) >= merge) + 1
+    else:
+        split = np.flatnonzero(np.diff(flagged) - np.diff(pos) != 1) + 1
     out = []
     for part in np.split(np.arange(flagged.size), split):
         out.append((int(nodes[pos[part[0]] - 1]), int(nodes[pos[part[-1]]])))
