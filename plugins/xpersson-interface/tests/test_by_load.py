@@ -366,40 +366,6 @@ def test_leakage_table_covers_features_narrower_than_its_spacing(name):
         assert np.all(np.abs(got[ok] / want[ok] - 1.0) <= err[ok]), k
 
 
-def _two_groups(p0: np.ndarray) -> dict[str, np.ndarray]:
-    """``a`` sealing at 3e4 Pa, ``b`` at 5e4 Pa (NaN above, each with its flag): as the leak
-    analysis's junction and effective medium, a stretch of 0.22 decade (3-4 nodes) where
-    only ``b`` is open."""
-    a = np.where(p0 < 3e4, p0**-0.3, np.nan)
-    b = np.where(p0 < 5e4, p0**-0.2, np.nan)
-    return {"a": a, "ka": np.isnan(a).astype(float), "b": b, "kb": np.isnan(b).astype(float)}
-
-
-def test_groups_keep_one_outputs_key_out_of_the_others_stencils():
-    """In groups of their own, ``a``'s sealing no longer splits ``b``'s stencils: ``b`` is
-    tabled in the short stretch where only it is open (together: too few nodes there, so
-    computed directly), every interpolated load within its estimate."""
-    p0 = np.geomspace(1e3, 1e6, 3000)
-    keys = frozenset({"ka", "kb"})
-    grouped, together = Direct(p0, _two_groups), Direct(p0, _two_groups)
-    out, err = by_load(
-        p0, grouped, keys=keys, groups=(frozenset({"a", "ka"}), frozenset({"b", "kb"}))
-    )
-    by_load(p0, together, keys=keys)
-    exact = _two_groups(p0)
-    for k in ("ka", "kb"):
-        np.testing.assert_array_equal(out[k], exact[k])
-    for k in ("a", "b"):
-        np.testing.assert_array_equal(np.isnan(out[k]), np.isnan(exact[k]))
-        ok = ~np.isnan(exact[k])
-        assert np.all(np.abs(out[k][ok] / exact[k][ok] - 1.0) <= err[ok] + 1e-15)
-    assert err.max() <= TOL
-    stretch = (p0 > 3.2e4) & (p0 < 4.6e4)  # only b open, 2.5 table intervals
-    n_grouped = np.count_nonzero(stretch[np.unique(np.concatenate(grouped.asked))])
-    n_together = np.count_nonzero(stretch[np.unique(np.concatenate(together.asked))])
-    assert n_grouped <= 0.5 * n_together
-
-
 def test_free_loads_are_nodes_of_the_first_call():
     """Loads marked free are asked for in the first call and keep their own values."""
     p0 = np.geomspace(1e3, 1e6, 3000)

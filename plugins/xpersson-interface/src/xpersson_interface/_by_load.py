@@ -40,12 +40,16 @@ load was computed directly).
 ``leakage`` :data:`LEAK_TOL`), or that has no stencil, is tabled again between the nodes around
 it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes would be more than
 half of its loads has those of its loads that miss the tolerance computed directly. Level by
-level: the node loads of every run of one level are computed in one direct call.
+level: the node loads of every run of one level are computed in one direct call. Loads
+whose direct values cost nothing (``free``: ``leakage``'s loads sealed by both theories next
+to the open ones, ``_leakage.with_sealed``) are nodes of the first level, so that a change of
+keys there needs no refinement to be found.
 
 Measured against the direct path (``benchmarks/load_table_check.py``): ``gap_pdf`` on the 12
 scenes of ``benchmarks/summary.py`` at 3000 and 1e4 loads within 2.0e-5 of each load's largest
-density; ``leakage`` on those and 20 held-out scenes (``--seeds 37 38``) at 1000 and 1e4 loads
-within 1.2e-3, every interpolated load within 0.79 of its estimate
+density; ``leakage`` on those, 20 held-out scenes (``--seeds 37 38``) and the 12 of
+``summary.py --held-out 2026`` (``--held-out 2026``) at 1000 and 1e4 loads within LEAKMAX,
+every interpolated load within LEAKRATIO of its estimate
 (``results/load_table_check_leakage_1000.json``, ``..._1e4.json``). Below the minimum every
 load is computed directly, as before, bit for bit.
 """
@@ -137,8 +141,6 @@ def by_load(
     safety: float = SAFETY,
     per_decade: float = PER_DECADE,
     weights: tuple[Weight, ...] = (),
-    groups: tuple[frozenset[str], ...] = (),
-    merge: int = 0,
     free: NDArray[np.bool_] | None = None,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
@@ -154,13 +156,8 @@ def by_load(
     load, the one of the smallest estimate taken (fewer points: a smaller Lebesgue function
     near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
     ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
-    ``v``). ``groups``: a partition of the outputs (keys included) whose segments, stencils
-    and checks are each group's own (a key splits only its group's stencils); the estimate
-    of a load is the largest of its groups'. Empty: one group. ``merge``: refined runs
-    fewer than this many node intervals apart are refined as one (0: runs apart wherever a
-    load between them meets the tolerance). ``free`` (per load): loads
-    whose direct values cost (almost) nothing, made nodes of the first level (e.g. next to
-    a change of keys: no refinement levels to find it).
+    ``v``). ``free`` (per load): loads whose direct values cost (almost) nothing, made nodes
+    of the first level.
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
@@ -176,7 +173,7 @@ def by_load(
         (tol, noise, orders, safety),
         (keys, weights),
         per_decade,
-        (groups, pre, merge),
+        pre,
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
@@ -217,16 +214,15 @@ def _table(
     tol: tuple[float, float, tuple[int, ...], float],
     roles: _Roles,
     per_decade: float,
-    parts: tuple[tuple[frozenset[str], ...], NDArray[np.bool_], int],
+    pre: NDArray[np.bool_],
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise,
     the orders and the safety): the table at ``per_decade`` nodes, each run of loads whose
     estimate exceeds the tolerance again at twice the density (between the nodes around it),
     at most :data:`MAX_DEPTH` times; directly where the nodes would be more than half of the
     loads (those whose estimate already meets the tolerance keep it). Level by level: the
-    node loads of every run of a level in one direct call. ``parts``: the groups of outputs
-    and the free loads (nodes of the first level)."""
-    groups, pre, merge = parts
+    node loads of every run of a level in one direct call; the ``pre`` loads are nodes of the
+    first."""
     direct = _Direct(exact, xs.size)
     out: dict[str, NDArray[np.float64]] = {}
     err = np.full(xs.size, np.inf)
@@ -255,11 +251,11 @@ def _table(
             keep = np.ones(sub.size, dtype=bool)
             keep[nodes] = False
             rest = np.flatnonzero(keep)  # the loads of the run that are not nodes
-            vals, est = _grouped(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol, groups)
+            vals, est = _estimated(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol)
             for k, v in vals.items():
                 out[k][sub[rest]] = v
             err[sub[rest]] = est
-            regions += [(sub[a], sub[b]) for a, b in _runs(rest[est > tol[0]], nodes, merge)]
+            regions += [(sub[a], sub[b]) for a, b in _runs(rest[est > tol[0]], nodes)]
         per_decade *= 2
         if not regions:
             break
@@ -267,32 +263,6 @@ def _table(
         out[k][direct.done] = v[direct.done]
     err[direct.done] = 0.0
     return out, err
-
-
-def _grouped(
-    xn: NDArray[np.float64],
-    at: dict[str, NDArray[np.float64]],
-    logs: dict[str, NDArray[np.float64]],
-    x: NDArray[np.float64],
-    roles: _Roles,
-    tol: tuple[float, float, tuple[int, ...], float],
-    groups: tuple[frozenset[str], ...],
-) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
-    """:func:`_estimated` of each group of outputs on its own (its keys, its transforms), the
-    largest estimate per load; no groups: of all outputs together. (Every level's values
-    replace the coarser level's: keeping, per group, those of the smaller estimate picked
-    the smaller of two noisy estimates, 1.05 of it on a held-out scene.)"""
-    if not groups:
-        return _estimated(xn, at, logs, x, roles, tol)
-    vals: dict[str, NDArray[np.float64]] = {}
-    est = np.zeros(x.size)
-    for g in groups:
-        own = (roles[0] & g, tuple((names & g, f) for names, f in roles[1] if names & g))
-        logs_g = {k: logs[k] for k in g if k in logs}
-        v, e = _estimated(xn, {k: at[k] for k in g}, logs_g, x, own, tol)
-        vals |= v
-        est = np.maximum(est, e)
-    return vals, est
 
 
 def _estimated(
@@ -327,20 +297,13 @@ def _estimated(
     return out, best
 
 
-def _runs(
-    flagged: NDArray[np.intp], nodes: NDArray[np.intp], merge: int = 0
-) -> list[tuple[int, int]]:
+def _runs(flagged: NDArray[np.intp], nodes: NDArray[np.intp]) -> list[tuple[int, int]]:
     """The runs of consecutive ``flagged`` loads (only nodes between them), each as the
-    nodes around it ``(first, last)``; ``merge`` > 0: runs fewer than ``merge`` node
-    intervals apart are one (a refined run's table is one-sided near its ends: two runs
-    tabled apart are each worse near the stretch between them)."""
+    nodes around it ``(first, last)``."""
     if not flagged.size:
         return []
     pos = np.searchsorted(nodes, flagged)  # the node above each flagged load
-    if merge:
-        split = np.flatnonzero(np.diff(pos) >= merge) + 1
-    else:
-        split = np.flatnonzero(np.diff(flagged) - np.diff(pos) != 1) + 1
+    split = np.flatnonzero(np.diff(flagged) - np.diff(pos) != 1) + 1
     out = []
     for part in np.split(np.arange(flagged.size), split):
         out.append((int(nodes[pos[part[0]] - 1]), int(nodes[pos[part[-1]]])))

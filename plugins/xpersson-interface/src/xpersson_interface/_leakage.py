@@ -36,9 +36,7 @@ from xpersson.physics import Detachment, gap_cdf
 from ._stencils import Weight
 
 __all__ = [
-    "LEAK_GROUPS",
     "LEAK_KEYS",
-    "LEAK_TABLE",
     "bruggeman",
     "bruggeman_gap",
     "effective_pressure_drop",
@@ -53,18 +51,7 @@ __all__ = [
 
 
 #: The leak outputs never interpolated (:func:`._by_load.by_load`'s keys).
-LEAK_KEYS = frozenset({"leak_sealed", "leak_sealed_emt", "piece", "near"})
-#: The load table's groups: the junction's outputs and keys, the effective medium's (each
-#: tabled across the other's sealing and pieces; the medium's stencils still end where the
-#: junction is near sealing, ``near``: its loads are computed directly anyway).
-LEAK_GROUPS = (
-    frozenset({"leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_rate", "leak_sealed", "piece"}),
-    frozenset({"leak_flow_factor_emt", "leak_rate_emt", "leak_sealed_emt", "near"}),
-)
-#: :func:`._by_load.by_load`'s groups and ``merge`` for the leak outputs: refined runs fewer
-#: than 8 nodes apart refined as one (with groups, one group's run ending where another's
-#: begins left both tables one-sided there: up to 45 loads more on a held-out scene).
-LEAK_TABLE = (LEAK_GROUPS, 8)
+LEAK_KEYS = frozenset({"leak_sealed", "leak_sealed_emt", "piece"})
 
 
 def _bruggeman_rows(
@@ -467,7 +454,7 @@ def with_sealed(
     1 kPa - 1 MPa on the speed design's scenes."""
     shut = sealed[rows]
     if not shut.any():
-        return _near(direct(ctx, ds, rows))
+        return direct(ctx, ds, rows)
     n = rows.size
     out = {k: np.zeros(n) for k in ("leak_flow_factor", "leak_rate")}
     out |= {k: np.zeros(n) for k in ("leak_flow_factor_emt", "leak_rate_emt")}
@@ -477,12 +464,6 @@ def with_sealed(
     if not shut.all():
         for k, v in direct(ctx, ds, rows[~shut]).items():
             out[k][~shut] = v
-    return _near(out)
-
-
-def _near(out: dict[str, NDArray[np.float64]]) -> dict[str, NDArray[np.float64]]:
-    """``out`` with the key ``near``: the junction's near-sealing piece (``-p0``), else 0."""
-    out["near"] = np.minimum(out["piece"], 0.0)
     return out
 
 

@@ -53,7 +53,6 @@ from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import (
     LEAK_KEYS,
-    LEAK_TABLE,
     bruggeman_gap,
     effective_pressure_drop,
     junction_piece,
@@ -452,7 +451,7 @@ class Leakage(_Interface):
         direct = lambda rows: with_sealed(self._direct, ctx, ds, rows, sealed)  # noqa: E731
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, LEAK_PER_DECADE, weights)
-        out, err = by_load(ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, *LEAK_TABLE, free)
+        out, err = by_load(ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free)
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k in self.outputs}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))
