@@ -468,13 +468,17 @@ def with_sealed(
 
 
 def next_to_open(p0: ArrayLike, sealed: NDArray[np.bool_]) -> NDArray[np.bool_]:
-    """The ``sealed`` loads (:func:`sealed_both`) within 1/16 decade above the highest open
-    one: nodes of the load table's first level (no cost: :func:`with_sealed`), so that the
-    sealing is bracketed without refinement."""
+    """The lowest ``sealed`` load (:func:`sealed_both`) above the highest open one (its
+    repeats too): a node of the load table's first level at no cost (:func:`with_sealed`),
+    so that the sealed stretch above it is flat from there on, not refined."""
     x = np.log(np.atleast_1d(np.asarray(p0, dtype=float)))
+    out = np.zeros(x.size, dtype=bool)
     if sealed.all() or not sealed.any():
-        return np.zeros(x.size, dtype=bool)
-    return sealed & (x <= float(np.max(x[~sealed])) + math.log(10.0) / 16.0)
+        return out
+    above = sealed & (x > float(np.max(x[~sealed])))
+    if above.any():
+        out[above & (x == np.min(x[above]))] = True
+    return out
 
 
 def sealed_plan(
