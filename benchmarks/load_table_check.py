@@ -10,7 +10,7 @@ must be <= 1), the largest difference of a directly computed load (round-off) an
 loads were computed directly. ``--seeds`` adds held-out designs (``design(12, seed)``, seed 36
 is the speed design's; the two named scenes, in every design, are checked once).
 
-    python benchmarks/load_table_check.py [--loads 3000] [--seeds 36 37 38]
+    python benchmarks/load_table_check.py [--loads 3000] [--seeds 36 37 38] [--held-out 2026]
         [--analyses gap_pdf leakage] [--out results/load_table_check.json]
 """
 
@@ -23,7 +23,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from summary_design import design, load_range, scene
+from summary_design import design, held_out, load_range, scene
 
 import xpersson
 from xpersson_interface import _by_load
@@ -80,6 +80,7 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--loads", type=int, default=3000)
     ap.add_argument("--seeds", type=int, nargs="+", default=[36])
+    ap.add_argument("--held-out", type=int, nargs="*", default=[], help="summary.py's designs")
     ap.add_argument("--analyses", nargs="+", default=list(ERROR), choices=list(ERROR))
     ap.add_argument("--out", type=Path, default=None)
     args = ap.parse_args(argv)
@@ -91,6 +92,8 @@ def main(argv: list[str] | None = None) -> None:
             if repr(spec) not in seen:
                 seen.add(repr(spec))
                 scenes.append((name if seed == 36 else f"seed {seed}: {name}", spec))
+    for seed in args.held_out:  # summary.py --held-out SEED: design(14, SEED) less the named
+        scenes += [(f"held-out {seed}: {name}", spec) for name, spec in held_out(12, seed)]
     for analysis in args.analyses:
         for name, spec in scenes:
             r = check(spec, analysis, args.loads)

@@ -364,3 +364,15 @@ def test_leakage_table_covers_features_narrower_than_its_spacing(name):
         np.testing.assert_array_equal(np.isnan(got), np.isnan(want))
         ok = np.isfinite(want) & (want > 0) & (err > 0)
         assert np.all(np.abs(got[ok] / want[ok] - 1.0) <= err[ok]), k
+
+
+def test_free_loads_are_nodes_of_the_first_call():
+    """Loads marked free are asked for in the first call and keep their own values."""
+    p0 = np.geomspace(1e3, 1e6, 3000)
+    free = np.zeros(p0.size, dtype=bool)
+    free[1500:1520] = True
+    direct = Direct(p0)
+    out, err = by_load(p0, direct, free=free)
+    assert np.isin(np.flatnonzero(free), direct.asked[0]).all()
+    assert not err[free].any()
+    np.testing.assert_array_equal(out["rho"][free], _smooth(p0[free])["rho"])

@@ -109,3 +109,31 @@ def test_gas_flowing_backwards_is_refused_before_any_work():
     sc = scene([1e5], analyses={"leakage": {"fluid": "gas", "p_in": "1 bar", "p_out": "2 bar"}})
     with pytest.raises(SceneError, match=r"leakage\.p_in = 100000 Pa must be >= leakage\.p_out"):
         xpersson.solve(sc)
+
+
+def test_loads_sealed_on_the_stored_curve_take_the_direct_paths_sealed_values(monkeypatch):
+    """Loads whose stored contact stays above both sealing values skip the direct path
+    (``_leakage.sealed_both``); their outputs are the direct path's bit for bit, the others'
+    within round-off of the batch (the effective medium's band sums: <= 1e-12)."""
+    import xpersson_interface.plugins as plugins_mod
+    from xpersson_interface import _leakage
+
+    p0 = [f"{p:g} Pa" for p in np.geomspace(1e4, 1e7, 10)]
+    sc = scene(p0, analyses={"leakage": {}})
+    plan = _leakage.sealed_plan
+    seen = []
+    monkeypatch.setattr(plugins_mod, "sealed_plan", lambda *a: seen.append(plan(*a)) or seen[-1])
+    fast = xpersson.solve(sc)
+    sealed = seen[0][0]
+    assert 0 < sealed.sum() < sealed.size  # some loads skipped, some computed
+    none = np.zeros_like(sealed)
+    monkeypatch.setattr(plugins_mod, "sealed_plan", lambda *a: (none, none))
+    ref = xpersson.solve(sc)
+    for k in ("leak_sealed", "leak_sealed_emt"):
+        np.testing.assert_array_equal(fast[k].values, ref[k].values)
+    assert np.all(ref["leak_sealed"].values[sealed] == 1)
+    assert np.all(ref["leak_sealed_emt"].values[sealed] == 1)
+    for k in ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_rate", "leak_rate_emt"):
+        got, want = fast[k].values, ref[k].values
+        np.testing.assert_array_equal(got[sealed], want[sealed])
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=0.0)

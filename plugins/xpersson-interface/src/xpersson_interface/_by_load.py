@@ -40,12 +40,16 @@ load was computed directly).
 ``leakage`` :data:`LEAK_TOL`), or that has no stencil, is tabled again between the nodes around
 it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes would be more than
 half of its loads has those of its loads that miss the tolerance computed directly. Level by
-level: the node loads of every run of one level are computed in one direct call.
+level: the node loads of every run of one level are computed in one direct call. Loads
+whose direct values cost nothing (``free``: ``leakage``'s loads sealed by both theories next
+to the open ones, ``_leakage.with_sealed``) are nodes of the first level, so that a change of
+keys there needs no refinement to be found.
 
 Measured against the direct path (``benchmarks/load_table_check.py``): ``gap_pdf`` on the 12
 scenes of ``benchmarks/summary.py`` at 3000 and 1e4 loads within 2.0e-5 of each load's largest
-density; ``leakage`` on those and 20 held-out scenes (``--seeds 37 38``) at 1000 and 1e4 loads
-within 1.2e-3, every interpolated load within 0.79 of its estimate
+density; ``leakage`` on those, 20 held-out scenes (``--seeds 37 38``) and the 12 of
+``summary.py --held-out 2026`` (``--held-out 2026``) at 1000 and 1e4 loads within 1.4e-3,
+every interpolated load within 0.81 of its estimate
 (``results/load_table_check_leakage_1000.json``, ``..._1e4.json``). Below the minimum every
 load is computed directly, as before, bit for bit.
 """
@@ -137,6 +141,7 @@ def by_load(
     safety: float = SAFETY,
     per_decade: float = PER_DECADE,
     weights: tuple[Weight, ...] = (),
+    free: NDArray[np.bool_] | None = None,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
@@ -151,15 +156,24 @@ def by_load(
     load, the one of the smallest estimate taken (fewer points: a smaller Lebesgue function
     near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
     ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
-    ``v``).
+    ``v``). ``free`` (per load): loads whose direct values cost (almost) nothing, made nodes
+    of the first level.
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
     if n < max(least, TABLE_MIN) or not np.all(np.isfinite(p0) & (p0 > 0.0)):
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
+    pre = np.zeros(xs.size, dtype=bool)
+    if free is not None:
+        pre[inverse[np.asarray(free, dtype=bool)]] = True
     out, err = _table(
-        xs, lambda sel: exact(first[sel]), (tol, noise, orders, safety), (keys, weights), per_decade
+        xs,
+        lambda sel: exact(first[sel]),
+        (tol, noise, orders, safety),
+        (keys, weights),
+        per_decade,
+        pre,
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
@@ -200,13 +214,15 @@ def _table(
     tol: tuple[float, float, tuple[int, ...], float],
     roles: _Roles,
     per_decade: float,
+    pre: NDArray[np.bool_],
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise,
     the orders and the safety): the table at ``per_decade`` nodes, each run of loads whose
     estimate exceeds the tolerance again at twice the density (between the nodes around it),
     at most :data:`MAX_DEPTH` times; directly where the nodes would be more than half of the
     loads (those whose estimate already meets the tolerance keep it). Level by level: the
-    node loads of every run of a level in one direct call."""
+    node loads of every run of a level in one direct call; the ``pre`` loads are nodes of the
+    first."""
     direct = _Direct(exact, xs.size)
     out: dict[str, NDArray[np.float64]] = {}
     err = np.full(xs.size, np.inf)
@@ -221,6 +237,8 @@ def _table(
             if depth > MAX_DEPTH or nodes.size < 2 * m or 2 * nodes.size > sub.size:
                 direct.need(sub[err[sub] > tol[0]])
             else:
+                if not depth:  # (the first level: one run, every load)
+                    nodes = np.union1d(nodes, np.flatnonzero(pre))
                 direct.need(sub[nodes])
                 plans.append((sub, nodes))
         direct.run()

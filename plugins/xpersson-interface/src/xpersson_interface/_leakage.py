@@ -25,6 +25,7 @@ is refused (name the high-pressure side ``p_in``).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -35,13 +36,22 @@ from xpersson.physics import Detachment, gap_cdf
 from ._stencils import Weight
 
 __all__ = [
+    "LEAK_KEYS",
     "bruggeman",
     "bruggeman_gap",
     "effective_pressure_drop",
     "junction_piece",
     "leak_rate",
+    "next_to_open",
+    "sealed_both",
+    "sealed_plan",
     "table_weights",
+    "with_sealed",
 ]
+
+
+#: The leak outputs never interpolated (:func:`._by_load.by_load`'s keys).
+LEAK_KEYS = frozenset({"leak_sealed", "leak_sealed_emt", "piece"})
 
 
 def _bruggeman_rows(
@@ -380,8 +390,7 @@ def table_weights(
 
     def emt(o: dict[str, NDArray], x: NDArray) -> tuple[NDArray, NDArray]:
         if not ln_r:
-            names = getattr(type(boundary), "contact_area", ("area_fraction",))
-            area = sum(np.asarray(ds[c].isel(zeta=-1).values, dtype=float) for c in names)
+            area = _contact_area(ds, boundary)[:, -1]
             order = np.argsort(np.log(np.atleast_1d(np.asarray(p0, dtype=float))), kind="stable")
             seal = a_c if threshold == "a_c" else 0.5
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -393,3 +402,88 @@ def table_weights(
         (frozenset({"leak_u1", "leak_flow_factor", "leak_rate"}), junction),
         (frozenset({"leak_flow_factor_emt", "leak_rate_emt"}), emt),
     )
+
+
+#: Relative margin above the sealing contact of :func:`sealed_both` (the effective medium's
+#: total weight exceeds 1 by round-off only, ~1e-13).
+SEAL_MARGIN = 1e-6
+
+
+def _contact_area(ds: Any, boundary: Any) -> NDArray[np.float64]:
+    """The stored load-bearing contact area ``(n_load, n_zeta)`` [1] (the boundary's
+    ``contact_area`` variables summed)."""
+    names = getattr(type(boundary), "contact_area", ("area_fraction",))
+    rows = [np.asarray(ds[c].transpose(..., "zeta").values, dtype=float) for c in names]
+    return np.atleast_2d(sum(rows))
+
+
+def sealed_both(ds: Any, boundary: Any, a_c: float, threshold: str) -> NDArray[np.bool_]:
+    """Per load (the Dataset's order): sealed by both theories, from the stored curve alone.
+
+    The critical junction seals where the contact area stays above ``a_c`` at every
+    magnification (no crossing), the effective medium where the contact weight at the last
+    one reaches its percolation value (1/2, or ``a_c`` for ``threshold = "a_c"``). A load whose
+    stored contact area (and elastic area, and one minus its complement) stays above both,
+    by :data:`SEAL_MARGIN`, at every stored magnification has the sealed outputs whatever its
+    dense re-solve (which keeps the stored nodes' values): the leak analysis gives them
+    without computing (flags 1, ``zeta_c`` and ``u1`` NaN, flow factors and rates 0).
+    """
+    seal = max(a_c, a_c if threshold == "a_c" else 0.5) * (1.0 + SEAL_MARGIN)
+    bnd = type(boundary) if boundary is not None else None
+    el = getattr(bnd, "elastic_area", "area_fraction")
+    comp = tuple(getattr(bnd, "elastic_area_complement", ("non_contact_fraction",)))
+    low = np.min(_contact_area(ds, boundary), axis=1)
+    low = np.minimum(low, np.min(np.atleast_2d(ds[el].transpose(..., "zeta").values), axis=1))
+    if all(c in ds.variables for c in comp):
+        n = sum(np.asarray(ds[c].transpose(..., "zeta").values, dtype=float) for c in comp)
+        low = np.minimum(low, np.min(1.0 - np.atleast_2d(n), axis=1))
+    return np.asarray(low > seal)
+
+
+def with_sealed(
+    direct: Callable[[Any, Any, NDArray[np.intp]], dict[str, NDArray[np.float64]]],
+    ctx: Any,
+    ds: Any,
+    rows: NDArray[np.intp],
+    sealed: NDArray[np.bool_],
+) -> dict[str, NDArray[np.float64]]:
+    """The leak outputs of the loads ``rows``: ``direct(ctx, ds, open)`` of those not sealed
+    (``sealed``: every load's, :func:`sealed_both`); the others take the outputs ``direct``
+    gives a sealed load (flags 1, ``zeta_c`` and ``u1`` NaN, flow factors and rates 0, the
+    junction piece of a NaN ``zeta_c``) without computing: 0-90 % of the loads of
+    1 kPa - 1 MPa on the speed design's scenes."""
+    shut = sealed[rows]
+    if not shut.any():
+        return direct(ctx, ds, rows)
+    n = rows.size
+    out = {k: np.zeros(n) for k in ("leak_flow_factor", "leak_rate")}
+    out |= {k: np.zeros(n) for k in ("leak_flow_factor_emt", "leak_rate_emt")}
+    out |= {k: np.full(n, np.nan) for k in ("leak_zeta_c", "leak_u1")}
+    out |= {k: np.ones(n) for k in ("leak_sealed", "leak_sealed_emt")}
+    out["piece"] = np.full(n, junction_piece(ctx.psd, np.full(1, np.nan), 1.0, np.ones(1))[0])
+    if not shut.all():
+        for k, v in direct(ctx, ds, rows[~shut]).items():
+            out[k][~shut] = v
+    return out
+
+
+def next_to_open(p0: ArrayLike, sealed: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """The lowest ``sealed`` load (:func:`sealed_both`) above the highest open one (its
+    repeats too): a node of the load table's first level at no cost (:func:`with_sealed`),
+    so that the sealed stretch above it is flat from there on, not refined."""
+    x = np.log(np.atleast_1d(np.asarray(p0, dtype=float)))
+    out = np.zeros(x.size, dtype=bool)
+    if sealed.all() or not sealed.any():
+        return out
+    above = sealed & (x > float(np.max(x[~sealed])))
+    if above.any():
+        out[above & (x == np.min(x[above]))] = True
+    return out
+
+
+def sealed_plan(
+    ds: Any, boundary: Any, p0: ArrayLike, a_c: float, threshold: str
+) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """:func:`sealed_both` and :func:`next_to_open` of the loads ``p0`` (the Dataset's)."""
+    sealed = sealed_both(ds, boundary, a_c, threshold)
+    return sealed, next_to_open(p0, sealed)

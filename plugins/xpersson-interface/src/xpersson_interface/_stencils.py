@@ -153,7 +153,9 @@ def _interpolate(
             ok, S, W = done[id(f)]
             bad |= regular[lo] & ~ok
             y = np.where(ok, (y + S) / W, 0.0)
-        y = np.exp(y)
+        with np.errstate(over="ignore"):  # (an extrapolation far off: unusable, below)
+            y = np.exp(y)
+        bad |= np.isinf(y) & regular[lo]
         # a segment of irregular values (NaN, 0 or inf): the value, where its nodes agree
         irr = np.flatnonzero(~regular[lo])
         if irr.size:

@@ -52,11 +52,14 @@ from ._by_load import (
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import (
+    LEAK_KEYS,
     bruggeman_gap,
     effective_pressure_drop,
     junction_piece,
     leak_rate,
+    sealed_plan,
     table_weights,
+    with_sealed,
 )
 from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, LEAKAGE_PARAMS, load_error
 
@@ -71,7 +74,6 @@ _LORENZ2010 = "10.1140/epje/i2010-10558-6"
 _XU2024 = "10.1007/s11249-024-01838-4"
 
 #: CF flags: numeric flag_values of the variable's type
-_KEYS = frozenset({"leak_sealed", "leak_sealed_emt", "piece"})
 _FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "open sealed"}
 _GAP_TRAITS = frozenset({"repulsive", "load_similar"})
 
@@ -444,12 +446,13 @@ class Leakage(_Interface):
         self._pressure_drop()
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
-        direct = lambda rows: self._direct(ctx, ds, rows)  # noqa: E731
         p = self.params
+        sealed, free = sealed_plan(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
+        direct = lambda rows: with_sealed(self._direct, ctx, ds, rows, sealed)  # noqa: E731
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, LEAK_PER_DECADE, weights)
-        out, err = by_load(ctx.p0, direct, LEAK_TOL, _KEYS, *settings)
-        res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k != "piece"}
+        out, err = by_load(ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free)
+        res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k in self.outputs}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))
         res["leak_load_error"] = (("p0",), err)
