@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._cnstep import _gtsv
+from ._cnstep import _factor, _solve_factor
 from ._level import Level, Outputs, face_basis, system_rows
 
 __all__ = ["face_coefficients", "fused_level", "level_march"]
@@ -191,44 +191,56 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     nb, nn = last.shape[0], ops.shape[3]
     m, n_out = nb * nn, out_at.shape[0]
     w_last = w[nn - 1]
-    state, b, dg = r, np.empty(m), np.empty(m)  # the state and the next one swap buffers
-    ends, g = np.empty((8, nb)), np.empty(nb)
+    state, b = r, np.empty(m)  # the state and the next one swap buffers
+    # each step's system is eliminated during the step before (_solve_factor): two of each
+    dg, fact, swap = np.empty((2, m)), np.empty((2, m)), np.empty((2, m), np.bool_)
+    ends, g, yields = np.empty((2, 8, nb)), np.empty((2, nb)), np.zeros(2, np.bool_)
     j_out = pos[0]
     while i0 == 0 and j_out < n_out and out_at[j_out] == 0:
         _record(state, z, acc, snaps, sums, j_out, la[:, 0], wa[:, 0])
         j_out += 1
+    if i1 <= i0:
+        return 0
+    c = ops[0]
+    _system(i0, c, dg[0], w, ends[0], g[0], yields, 0, yield_wall, real_upper, wb, yield_speed)
+    info = _factor(c[0].reshape(m)[: m - 1], dg[0], c[1].reshape(m)[: m - 1], fact[0], swap[0])
     for i in range(i0, i1):
-        c = ops[i - i0]  # (the block's own: the solve overwrites its diagonals in place)
-        dl, du, fl, fh = c[0].reshape(m), c[1].reshape(m), c[2].reshape(m), c[3].reshape(m)
-        yields = False
-        for k in range(nb):
-            yr = yield_wall and real_upper[k, i]
-            g[k] = wb[k, i] * yield_speed[k, i] if yr else 0.0
-            _diagonals(dl, du, fl, fh, dg, w, k * nn, nn, ends, k, g[k])
-            yields = yields or yr
-        _explicit(b, state, fl, fh, volumes, walls, nb)
-        if yields:
-            for k in range(nb):
-                gk = g[k]
-                z[0, k] = state[last[k] - 1]
-                z[1, k] = state[last[k]]
-                rhs = (-gk * ends[6, k]) * z[0, k] + (gk * (w_last - ends[7, k])) * z[1, k]
-                b[last[k]] = rhs + gk * z[2, k]
-        info = _gtsv(dl[: m - 1], dg, du[: m - 1], b)
         if info != 0:
             return info
+        cur, nxt = (i - i0) % 2, (i - i0 + 1) % 2
+        c = ops[i - i0]  # (the block's own: the solve overwrites its diagonals in place)
+        dl, du, fl, fh = c[0].reshape(m), c[1].reshape(m), c[2].reshape(m), c[3].reshape(m)
+        e, gs = ends[cur], g[cur]
+        _explicit(b, state, fl, fh, volumes, walls, nb)
+        if yields[cur]:
+            for k in range(nb):
+                gk = gs[k]
+                z[0, k] = state[last[k] - 1]
+                z[1, k] = state[last[k]]
+                rhs = (-gk * e[6, k]) * z[0, k] + (gk * (w_last - e[7, k])) * z[1, k]
+                b[last[k]] = rhs + gk * z[2, k]
+        more = i + 1 < i1
+        c2 = ops[i - i0 + 1] if more else c
+        if more:
+            _system(i + 1, c2, dg[nxt], w, ends[nxt], g[nxt], yields, nxt, yield_wall,
+                    real_upper, wb, yield_speed)  # fmt: skip
+        dl2, du2 = c2[0].reshape(m), c2[1].reshape(m)
+        info = _solve_factor(
+            dl[: m - 1], dg[cur], du[: m - 1], fact[cur], swap[cur], b,
+            dl2[: m - 1], dg[nxt], du2[: m - 1], fact[nxt], swap[nxt], more,
+        )  # fmt: skip
         for k in range(nb):
-            if yields:
+            if yields[cur]:
                 z[3, k] = b[last[k] - 1]
                 z[4, k] = b[last[k]]
                 yr = 1.0 if yield_wall and real_upper[k, i] else 0.0
-                gain = (-ends[6, k] * yr) * z[0, k]
-                gain += ((w_last - ends[7, k]) * yr) * z[1, k]
-                gain += (0.0 * g[k] * yr) * z[2, k]
-                gain += (-ends[2, k] * yr) * z[3, k]
-                gain += (-(ends[3, k] + w_last) * yr) * z[4, k]
+                gain = (-e[6, k] * yr) * z[0, k]
+                gain += ((w_last - e[7, k]) * yr) * z[1, k]
+                gain += (0.0 * gs[k] * yr) * z[2, k]
+                gain += (-e[2, k] * yr) * z[3, k]
+                gain += (-(e[3, k] + w_last) * yr) * z[4, k]
                 z[2, k] += gain
-            _wall_fluxes(state, b, k * nn, nn, ends, k, acc, real_lower[k, i], real_upper[k, i],
+            _wall_fluxes(state, b, k * nn, nn, e, k, acc, real_lower[k, i], real_upper[k, i],
                          la[k, i], wa[k, i], lb[k, i], wb[k, i])  # fmt: skip
         state, b = b, state
         while j_out < n_out and out_at[j_out] == i + 1:
@@ -239,6 +251,24 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
             r[q] = state[q]
     pos[0] = j_out
     return 0
+
+
+def _system(
+    i: int, c: Any, dg: Any, w: Any, ends: Any, g: Any, yields: Any, slot: int,
+    yield_wall: bool, real_upper: Any, wb: Any, yield_speed: Any,
+) -> None:  # fmt: skip  # pragma: no cover - compiled
+    """Step ``i``'s system on its face coefficients ``c`` (4, loads, nodes) for every load
+    (:func:`_diagonals`): the closure's ``g = W Y'`` (0 where no yield wall is real) into
+    ``g``, whether one is into ``yields[slot]``."""
+    nb, nn = c.shape[1], c.shape[2]
+    m = nb * nn
+    dl, du, fl, fh = c[0].reshape(m), c[1].reshape(m), c[2].reshape(m), c[3].reshape(m)
+    yields[slot] = False
+    for k in range(nb):
+        yr = yield_wall and real_upper[k, i]
+        g[k] = wb[k, i] * yield_speed[k, i] if yr else 0.0
+        _diagonals(dl, du, fl, fh, dg, w, k * nn, nn, ends, k, g[k])
+        yields[slot] = yields[slot] or yr
 
 
 def _diagonals(
