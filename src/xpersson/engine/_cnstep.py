@@ -17,7 +17,10 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg.lapack import dgtsv
 
-__all__ = ["implicit_operator", "tridiagonal_solve"]  # (and _gtsv etc.: the compiled source)
+__all__ = [
+    "implicit_operator",
+    "tridiagonal_solve",
+]  # (and _gtsv, _factor, _solve_factor: compiled)
 
 Array = NDArray[np.float64]
 

@@ -44,7 +44,7 @@ import numpy as np
 
 from .. import numba_cache
 from ..options import compiled_enabled
-from ._cnstep import _factor, _solve_factor
+from ._cnstep import _factor, _gtsv, _solve_factor  # noqa: F401 - (_gtsv: for the tests)
 
 __all__ = [
     "BUILD_AFTER",
