@@ -144,13 +144,9 @@ def _build() -> Callable[..., int] | None:
     # the kernels call the compiled helpers: the same code, its globals bound to the dispatchers
     solve = {"_factor": jit(_factor), "_solve_factor": jit(_solve_factor)}
     scope = {**globals(), **solve}
-    names = ("_explicit", "_wall_fluxes", "_record")
+    names = ("_system", "_explicit", "_wall_fluxes", "_record")
     helpers = {name: jit(getattr(fused_src, name)) for name in names}
-    diagonals = jit(fused_src._diagonals)
-    system = types.FunctionType(
-        fused_src._system.__code__, {**vars(fused_src), "_diagonals": diagonals}, "_system"
-    )
-    fused_scope = {**vars(fused_src), **solve, **helpers, "_system": jit(system)}
+    fused_scope = {**vars(fused_src), **solve, **helpers}
     _STATE["edges"] = jit(_cn_edges.window_edges)
     _STATE["times"] = jit(_cn_edges.level_times)
     _STATE["tracks"] = (jit(_cn_edges.wall_query), jit(_cn_edges.wall_track))

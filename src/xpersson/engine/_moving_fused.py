@@ -58,7 +58,8 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
     carry = (r0.copy(), np.zeros((5, nb)), np.zeros((4, nb)), np.zeros(1, np.int64))
     n_steps = inp.taus.size - 1
     block = max(1, min(_OPS // (4 * nb * nn), n_steps))
-    coef, ops = np.empty((block, 4, nb, 3)), np.empty((block, 4, nb, nn))
+    # (the loads' rows concatenated: the march takes each step's four rows with no reshape)
+    coef, ops = np.empty((block, 4, nb, 3)), np.empty((block, 4, nb * nn))
     for m0 in range(0, n_steps, block):
         c = min(block, n_steps - m0)
         coefficients(m0, m0 + c, inp.taus, inp.theta, s.width, s.lower_speed, s.width_speed,
@@ -175,7 +176,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     """March the steps ``i0 .. i1 - 1`` of a level; returns LAPACK's ``info`` of the first
     failed solve (0: all succeeded).
 
-    ``ops`` (block, 4, loads, nodes): the face coefficients of the steps from ``i0`` on
+    ``ops`` (block, 4, loads x nodes): the face coefficients of the steps from ``i0`` on
     (:func:`._moving_block.face_ops`); ``w`` the control volumes, ``volumes``, ``walls``,
     ``last`` the rows of the loads' systems (:func:`._level.system_rows`); ``yield_wall``
     whether the upper wall is a yield wall; ``real_lower``, ``real_upper`` (loads, steps)
@@ -190,7 +191,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     area, the probabilities absorbed by the lower and upper walls and their moments (the
     upper one negated), the window's lower edge and width.
     """
-    nb, nn = last.shape[0], ops.shape[3]
+    nb, nn = last.shape[0], w.shape[0]
     m, n_out = nb * nn, out_at.shape[0]
     w_last = w[nn - 1]
     state, b = r, np.empty(m)  # the state and the next one swap buffers
@@ -205,13 +206,13 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
         return 0
     c = ops[0]
     _system(i0, c, dg[0], w, ends[0], g[0], yields, 0, yield_wall, real_upper, wb, yield_speed)
-    info = _factor(c[0].reshape(m)[: m - 1], dg[0], c[1].reshape(m)[: m - 1], fact[0], swap[0])
+    info = _factor(c[0, : m - 1], dg[0], c[1, : m - 1], fact[0], swap[0])
     for i in range(i0, i1):
         if info != 0:
             return info
         cur, nxt = (i - i0) % 2, (i - i0 + 1) % 2
         c = ops[i - i0]  # (the block's own: the solve overwrites its diagonals in place)
-        dl, du, fl, fh = c[0].reshape(m), c[1].reshape(m), c[2].reshape(m), c[3].reshape(m)
+        dl, du, fl, fh = c[0], c[1], c[2], c[3]
         e, gs = ends[cur], g[cur]
         _explicit(b, state, fl, fh, volumes, walls, nb)
         if yields[cur]:
@@ -226,7 +227,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
         if more:
             _system(i + 1, c2, dg[nxt], w, ends[nxt], g[nxt], yields, nxt, yield_wall,
                     real_upper, wb, yield_speed)  # fmt: skip
-        dl2, du2 = c2[0].reshape(m), c2[1].reshape(m)
+        dl2, du2 = c2[0], c2[1]
         info = _solve_factor(
             dl[: m - 1], dg[cur], du[: m - 1], fact[cur], swap[cur], b,
             dl2[: m - 1], dg[nxt], du2[: m - 1], fact[nxt], swap[nxt], more,
@@ -259,46 +260,38 @@ def _system(
     i: int, c: Any, dg: Any, w: Any, ends: Any, g: Any, yields: Any, slot: int,
     yield_wall: bool, real_upper: Any, wb: Any, yield_speed: Any,
 ) -> None:  # fmt: skip  # pragma: no cover - compiled
-    """Step ``i``'s system on its face coefficients ``c`` (4, loads, nodes) for every load
-    (:func:`_diagonals`): the closure's ``g = W Y'`` (0 where no yield wall is real) into
-    ``g``, whether one is into ``yields[slot]``."""
-    nb, nn = c.shape[1], c.shape[2]
-    m = nb * nn
-    dl, du, fl, fh = c[0].reshape(m), c[1].reshape(m), c[2].reshape(m), c[3].reshape(m)
+    """Step ``i``'s system (as :func:`._moving_block.block_system` makes it) on its face
+    coefficients ``c`` (4, loads x nodes: ``dl``, ``du`` overwritten, ``fl``, ``fh``), every
+    load's rows: its end faces' coefficients into ``ends[:, k]``, the diagonal ``dg``, and the
+    closure ``R_N = g A_pl`` in its last row (``g = W Y'`` into ``g``, 0 where no yield wall is
+    real; whether one is into ``yields[slot]``)."""
+    nb, nn = real_upper.shape[0], w.shape[0]
+    dl, du, fl, fh = c[0], c[1], c[2], c[3]
+    nf = nn - 1
     yields[slot] = False
     for k in range(nb):
         yr = yield_wall and real_upper[k, i]
-        g[k] = wb[k, i] * yield_speed[k, i] if yr else 0.0
-        _diagonals(dl, du, fl, fh, dg, w, k * nn, nn, ends, k, g[k])
+        gk = wb[k, i] * yield_speed[k, i] if yr else 0.0
+        g[k] = gk
         yields[slot] = yields[slot] or yr
-
-
-def _diagonals(
-    dl: Any, du: Any, fl: Any, fh: Any, dg: Any, w: Any, base: int, nn: int, ends: Any, k: int,
-    gk: float,
-) -> None:  # fmt: skip  # pragma: no cover - compiled
-    """Load ``k``'s rows of a step's system (as :func:`._moving_block.block_system` makes
-    them): its end faces' coefficients into ``ends[:, k]``, the diagonal ``dg``, and the
-    closure ``R_N = g A_pl`` (``gk``: 0 where no yield wall is real) in its last row, on the
-    face coefficients ``dl``, ``du`` (overwritten there), ``fl``, ``fh``."""
-    nf = nn - 1
-    ends[0, k], ends[1, k] = dl[base], -du[base]
-    ends[2, k], ends[3, k] = dl[base + nf - 1], -du[base + nf - 1]
-    ends[4, k], ends[5, k] = fl[base], fh[base]
-    ends[6, k], ends[7, k] = fl[base + nf - 1], fh[base + nf - 1]
-    # (on views from 0: with indices offset by a variable ``base`` the compiled loop ran 4x
-    # slower, each access checked and none vectorised)
-    out, lo, up = (
-        dg[base + 1 : base + nn - 1],
-        dl[base + 1 : base + nn - 1],
-        du[base : base + nn - 2],
-    )
-    for j in range(nn - 2):
-        out[j] = w[j + 1] - lo[j] - up[j]
-    dg[base] = 1.0
-    dg[base + nn - 1] = 1.0 + gk * (w[nn - 1] + ends[3, k])
-    dl[base + nf - 1] = gk * ends[2, k]
-    du[base] = 0.0
+        base = k * nn
+        ends[0, k], ends[1, k] = dl[base], -du[base]
+        ends[2, k], ends[3, k] = dl[base + nf - 1], -du[base + nf - 1]
+        ends[4, k], ends[5, k] = fl[base], fh[base]
+        ends[6, k], ends[7, k] = fl[base + nf - 1], fh[base + nf - 1]
+        # (on views from 0: with indices offset by a variable ``base`` the compiled loop ran
+        # 4x slower, each access checked and none vectorised)
+        out, lo, up = (
+            dg[base + 1 : base + nn - 1],
+            dl[base + 1 : base + nn - 1],
+            du[base : base + nn - 2],
+        )
+        for j in range(nn - 2):
+            out[j] = w[j + 1] - lo[j] - up[j]
+        dg[base] = 1.0
+        dg[base + nn - 1] = 1.0 + gk * (w[nn - 1] + ends[3, k])
+        dl[base + nf - 1] = gk * ends[2, k]
+        du[base] = 0.0
 
 
 def _explicit(
