@@ -10,7 +10,8 @@ Here the face coefficients are the same one BLAS product (:func:`._moving_block.
 faces, the diagonal and the yield closure's rows, the explicit half in flux form, the
 tridiagonal solve as LAPACK ``dgtsv`` does it (:func:`._cnstep._solve_factor`, which also
 eliminates the next step's system beside the back substitution: the two chains of divisions
-run side by side, 19 -> 13 ns per node-step), the wall fluxes summed as it goes (as
+run side by side; with the per-step overheads cut, 18-20 -> 9.5-11 ns per node-step, the C
+march's ~10: ``benchmarks/results/cn_nodestep.md``), the wall fluxes summed as it goes (as
 ``numpy.cumsum`` sums them) and the states at the outputs, reduced as the numpy path reduces
 them: the outputs are the numpy path's bit for bit (also on generated
 problems, ``tests/engine/test_compiled_generated.py``).
