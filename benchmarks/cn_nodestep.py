@@ -13,9 +13,11 @@ Scenes: ``jkr`` (the "engine alone (jkr)" rows of ``summary.py``, rtol 1e-8, on 
 ``plastic`` (the worst scene of ``plastic_design.py``, seed 7036, ``roll H=0.40 5dec``: three
 loads, a yield wall).
 
-Usage: ``python benchmarks/cn_nodestep.py [--rounds 5] [--scenes jkr30,jkr89,plastic40]``.
-To compare two trees, run it with each on ``PYTHONPATH`` (the levels are the same: results are
-bitwise equal).
+Usage: ``python benchmarks/cn_nodestep.py [--rounds 5] [--scenes jkr30,jkr89,plastic40]
+[--against OTHER/src]``. ``--against`` also times the compiled level of another checkout (its
+``engine/_cnstep.py`` and ``engine/_moving_fused.py``, compiled in this process beside this
+tree's, e.g. a ``git worktree`` of an older commit) on the same levels, in the same alternated
+rounds: a before/after that the machine's load changes less than two runs would.
 """
 
 from __future__ import annotations
@@ -81,6 +83,36 @@ def node_steps(levels: list) -> int:
     return sum(i.p0.shape[0] * i.nodes.x.size * (i.taus.size - 1) for i, _, _ in levels)
 
 
+def other_tree(src: Path) -> tuple:
+    """``fused_level`` and its compiled kernels from the checkout whose ``src`` folder is
+    ``src`` (its ``_cnstep`` and ``_moving_fused`` with this tree's ``_level``; the helper
+    functions it has compiled and bound as ``_compiled`` binds them)."""
+    import types
+
+    import numba
+
+    jit = numba.njit(nogil=True, error_model="numpy")  # (the compiled march's options)
+    mods = {}
+    for name in ("_cnstep", "_moving_fused"):
+        text = (src / "xpersson" / "engine" / f"{name}.py").read_text()
+        text = text.replace("from ._cnstep import", "from other_cnstep import")
+        text = text.replace("from ._level", "from xpersson.engine._level")
+        mod = types.ModuleType(f"other{name}")
+        sys.modules[f"other{name}"] = mod
+        exec(compile(text, f"other{name}", "exec"), mod.__dict__)  # noqa: S102 - a benchmark
+        mods[name] = mod
+    cn, fu = mods["_cnstep"], mods["_moving_fused"]
+    kernels = ("_factor", "_solve_factor") if hasattr(cn, "_factor") else ("_gtsv",)
+    scope = {k: jit(getattr(cn, k)) for k in kernels}
+    names = ("_diagonals", "_system", "_explicit", "_wall_fluxes", "_record")
+    for name in names:  # (in this order: _system may call _diagonals)
+        if hasattr(fu, name):
+            fn = getattr(fu, name)
+            scope[name] = jit(types.FunctionType(fn.__code__, {**vars(fu), **scope}, name))
+    level = jit(types.FunctionType(fu.level_march.__code__, {**vars(fu), **scope}, "lm"))
+    return fu.fused_level, (level, jit(fu.face_coefficients))
+
+
 def timed(fn, seconds: float = 0.2) -> float:
     """CPU seconds of one call of ``fn``, repeated to about ``seconds``."""
     t, n = time.process_time(), 0
@@ -90,52 +122,78 @@ def timed(fn, seconds: float = 0.2) -> float:
     return (time.process_time() - t) / n
 
 
+def marches(levels: list, fns: tuple, lib, other: tuple | None) -> dict:
+    """The timed calls on ``levels``: ``engine`` (this tree's compiled level ``fns``), ``C``
+    (the C march ``lib``, if built) and ``other`` (``--against``'s level, if given)."""
+    from xpersson.engine import _moving_fused
+
+    dp = ctypes.POINTER(ctypes.c_double)
+
+    def engine() -> None:
+        for inp, r0, stretch in levels:
+            _moving_fused.fused_level(fns, inp, r0, stretch)
+
+    def c_march() -> None:
+        for inp, _, _ in levels:
+            m, steps = inp.p0.shape[0] * inp.nodes.x.size, inp.taus.size - 1
+            r, ws = np.random.default_rng(1).random(m), np.empty(3 * m)
+            lib.march(m, steps, r.ctypes.data_as(dp), ws.ctypes.data_as(dp))
+
+    def engine_other() -> None:
+        for inp, r0, stretch in levels:
+            other[0](other[1], inp, r0, stretch)
+
+    out = {"engine": engine}
+    if lib is not None:
+        out["C"] = c_march
+    if other is not None:
+        out["other"] = engine_other
+    return out
+
+
+def report(name: str, levels: list, ns: dict) -> str:
+    """One line: the levels, ns per node-step of each march and the ratios to C."""
+    shape = ", ".join(f"{i.p0.shape[0]}x{i.nodes.x.size}x{i.taus.size - 1}" for i, _, _ in levels)
+    line = f"{name}: {node_steps(levels):.3g} node-steps ({shape})"
+    for key, label in (("engine", "engine"), ("other", "--against")):
+        if key in ns:
+            line += f"; {label} {ns[key]:.2f} ns/node-step"
+            if "C" in ns:
+                line += f" ({ns[key] / ns['C']:.2f} x C)"
+    if "C" in ns:
+        line += f"; C {ns['C']:.2f} ns/node-step"
+    return line
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--scenes", default="jkr30,jkr89,plastic40")
+    ap.add_argument("--against", type=Path, default=None, metavar="OTHER_SRC")
     args = ap.parse_args(argv)
     import summary_paths as SP
 
-    from xpersson.engine import _compiled, _moving_fused
+    from xpersson.engine import _compiled
 
     if not _compiled.build():
         print("skip: the compiled march is off or numba is missing")
         return
     lib = SP.c_march_lib(PEERS)
     fns = _compiled.fused()
-    dp = ctypes.POINTER(ctypes.c_double)
+    other = other_tree(args.against) if args.against else None
     table = scenes()
     for name in args.scenes.split(","):
         levels = record_levels(table[name])
-        work = node_steps(levels)
-        if not work:
+        if not node_steps(levels):
             print(f"{name}: no level marched")
             continue
-
-        def engine(levels=levels) -> None:
-            for inp, r0, stretch in levels:
-                _moving_fused.fused_level(fns, inp, r0, stretch)
-
-        def c_march(levels=levels) -> None:
-            for inp, _, _ in levels:
-                m, steps = inp.p0.shape[0] * inp.nodes.x.size, inp.taus.size - 1
-                r, ws = np.random.default_rng(1).random(m), np.empty(3 * m)
-                lib.march(m, steps, r.ctypes.data_as(dp), ws.ctypes.data_as(dp))
-
-        fns_ = {"engine": engine} if lib is None else {"engine": engine, "C": c_march}
-        best = dict.fromkeys(fns_, np.inf)
+        calls = marches(levels, fns, lib, other)
+        best = dict.fromkeys(calls, np.inf)
         for _ in range(args.rounds):
-            for key, fn in fns_.items():
+            for key, fn in calls.items():
                 best[key] = min(best[key], timed(fn))
-        ns = {k: v * 1e9 / work for k, v in best.items()}
-        shape = ", ".join(
-            f"{i.p0.shape[0]}x{i.nodes.x.size}x{i.taus.size - 1}" for i, _, _ in levels
-        )
-        line = f"{name}: {work:.3g} node-steps ({shape}); engine {ns['engine']:.2f} ns/node-step"
-        if "C" in ns:
-            line += f", C {ns['C']:.2f} ns/node-step, ratio {ns['engine'] / ns['C']:.2f}"
-        print(line, flush=True)
+        ns = {k: v * 1e9 / node_steps(levels) for k, v in best.items()}
+        print(report(name, levels, ns), flush=True)
 
 
 if __name__ == "__main__":
