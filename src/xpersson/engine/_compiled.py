@@ -144,7 +144,7 @@ def _build() -> Callable[..., int] | None:
     # the kernels call the compiled helpers: the same code, its globals bound to the dispatchers
     solve = {"_factor": jit(_factor), "_solve_factor": jit(_solve_factor)}
     scope = {**globals(), **solve}
-    names = ("_system", "_explicit", "_wall_fluxes", "_record")
+    names = ("_system", "_explicit", "_wall_fluxes", "_record", "_yield_rows", "_yield_gain")
     helpers = {name: jit(getattr(fused_src, name)) for name in names}
     fused_scope = {**vars(fused_src), **solve, **helpers}
     _STATE["edges"] = jit(_cn_edges.window_edges)

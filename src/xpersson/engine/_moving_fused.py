@@ -217,12 +217,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
         e, gs = ends[cur], g[cur]
         _explicit(b, state, fl, fh, volumes, walls, nb)
         if yields[cur]:
-            for k in range(nb):
-                gk = gs[k]
-                z[0, k] = state[last[k] - 1]
-                z[1, k] = state[last[k]]
-                rhs = (-gk * e[6, k]) * z[0, k] + (gk * (w_last - e[7, k])) * z[1, k]
-                b[last[k]] = rhs + gk * z[2, k]
+            _yield_rows(state, b, z, last, e, gs, w_last)
         more = i + 1 < i1
         c2 = ops[i - i0 + 1] if more else c
         if more:
@@ -235,15 +230,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
         )  # fmt: skip
         for k in range(nb):
             if yields[cur]:
-                z[3, k] = b[last[k] - 1]
-                z[4, k] = b[last[k]]
-                yr = 1.0 if yield_wall and real_upper[k, i] else 0.0
-                gain = (-e[6, k] * yr) * z[0, k]
-                gain += ((w_last - e[7, k]) * yr) * z[1, k]
-                gain += (0.0 * gs[k] * yr) * z[2, k]
-                gain += (-e[2, k] * yr) * z[3, k]
-                gain += (-(e[3, k] + w_last) * yr) * z[4, k]
-                z[2, k] += gain
+                _yield_gain(b, z, last, e, gs, w_last, k, yield_wall and real_upper[k, i])
             _wall_fluxes(state, b, k * nn, nn, e, k, acc, real_lower[k, i], real_upper[k, i],
                          la[k, i], wa[k, i], lb[k, i], wb[k, i])  # fmt: skip
         state, b = b, state
@@ -255,6 +242,38 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
             r[q] = state[q]
     pos[0] = j_out
     return 0
+
+
+def _yield_rows(
+    state: Any, b: Any, z: Any, last: Any, e: Any, g: Any, w_last: float
+) -> None:  # pragma: no cover - compiled
+    """The yield closure's rows of a step's right-hand side ``b`` (every load's last row:
+    ``g (w_N R_N + A_pl - wo F_{N-1/2})``, ``g`` 0 where no yield wall is real; ``e`` the
+    step's end faces), and the rows ``R_{N-1}, R_N`` of the ``state`` before it into
+    ``z[:2]``."""
+    for k in range(last.shape[0]):
+        gk = g[k]
+        z[0, k] = state[last[k] - 1]
+        z[1, k] = state[last[k]]
+        rhs = (-gk * e[6, k]) * z[0, k] + (gk * (w_last - e[7, k])) * z[1, k]
+        b[last[k]] = rhs + gk * z[2, k]
+
+
+def _yield_gain(
+    b: Any, z: Any, last: Any, e: Any, g: Any, w_last: float, k: int, real: bool
+) -> None:  # pragma: no cover - compiled
+    """Load ``k``'s plastic area after a step with a yield wall (``real``: whether its own is
+    real there): ``A_pl' = A_pl - wo F_{N-1/2} - wn F'_{N-1/2} + w_N (R_N - R_N')``, with the
+    new rows ``R_{N-1}, R_N`` of ``b`` into ``z[3:]``, as the numpy path sums it."""
+    z[3, k] = b[last[k] - 1]
+    z[4, k] = b[last[k]]
+    yr = 1.0 if real else 0.0
+    gain = (-e[6, k] * yr) * z[0, k]
+    gain += ((w_last - e[7, k]) * yr) * z[1, k]
+    gain += (0.0 * g[k] * yr) * z[2, k]
+    gain += (-e[2, k] * yr) * z[3, k]
+    gain += (-(e[3, k] + w_last) * yr) * z[4, k]
+    z[2, k] += gain
 
 
 def _system(
