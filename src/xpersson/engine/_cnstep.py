@@ -17,7 +17,10 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg.lapack import dgtsv
 
-__all__ = ["implicit_operator", "tridiagonal_solve"]  # (and _gtsv: the compiled source)
+__all__ = [
+    "implicit_operator",
+    "tridiagonal_solve",
+]  # (and _gtsv, _factor, _solve_factor: compiled)
 
 Array = NDArray[np.float64]
 
@@ -55,37 +58,127 @@ def implicit_operator(
     return -theta_dt * lo[1:], 1.0 - theta_dt * diag, -theta_dt * up[:-1]
 
 
-def _gtsv(dl: Any, d: Any, du: Any, b: Any, i0: int = 0) -> int:  # pragma: no cover - compiled
+def _gtsv(dl: Any, d: Any, du: Any, b: Any) -> int:  # pragma: no cover - compiled
     """LAPACK ``dgtsv`` for one right-hand side, in place (``dl``, ``d``, ``du``, ``b`` of
-    lengths ``n - 1, n, n - 1, n``): its ``info`` (0, or the index of a zero pivot);
-    ``i0``: the rows before it already eliminated without interchanges."""
+    lengths ``n - 1, n, n - 1, n``): its ``info`` (0, or the index of a zero pivot: ``b`` is
+    then not solved). The elimination of the matrix (:func:`_factor`), then the right-hand
+    side's (:func:`_solve_factor`): dgtsv's operations, each in its order."""
     n = d.shape[0]
-    for i in range(i0, n - 1):
-        if abs(d[i]) >= abs(dl[i]):  # no row interchange
-            if d[i] == 0.0:
+    fact, swap = np.empty(n), np.empty(n, np.bool_)
+    info = _factor(dl, d, du, fact, swap)
+    if info == 0 and n == 1:
+        b[0] = b[0] / d[0]
+    elif info == 0:
+        _solve_factor(dl, d, du, fact, swap, b, dl, d, du, fact, swap, False)
+    return info
+
+
+def _factor(dl: Any, d: Any, du: Any, fact: Any, swap: Any) -> int:  # pragma: no cover
+    """dgtsv's elimination of the matrix alone, in place: the factor ``fact[i]`` of every
+    row and whether rows ``i`` and ``i + 1`` were interchanged (``swap[i]``); ``dl`` becomes
+    the second super-diagonal (0 where no interchange), ``d``, ``du`` the triangular factor.
+    Returns ``info`` (0, or the index of the first zero pivot). The running pivot stays in a
+    register (the same operations as a pass through memory, without its latency)."""
+    n = d.shape[0]
+    di = d[0]
+    for i in range(n - 1):
+        if abs(di) >= abs(dl[i]):  # no row interchange
+            if di == 0.0:
                 return i + 1
-            fact = dl[i] / d[i]
-            d[i + 1] = d[i + 1] - fact * du[i]
-            b[i + 1] = b[i + 1] - fact * b[i]
+            f = dl[i] / di
+            di = d[i + 1] - f * du[i]
+            swap[i] = False
             if i < n - 2:
                 dl[i] = 0.0
         else:  # interchange rows i and i + 1
-            fact = d[i] / dl[i]
+            f = di / dl[i]
             d[i] = dl[i]
             temp = d[i + 1]
-            d[i + 1] = du[i] - fact * temp
+            di = du[i] - f * temp
             if i < n - 2:
                 dl[i] = du[i + 1]
-                du[i + 1] = -fact * dl[i]
+                du[i + 1] = -f * dl[i]
             du[i] = temp
-            temp = b[i]
+            swap[i] = True
+        fact[i] = f
+        d[i + 1] = di
+    return n if di == 0.0 else 0
+
+
+def _solve_factor(  # noqa: PLR0913, C901 - two systems in one loop, dgtsv's order
+    dl: Any, d: Any, du: Any, fact: Any, swap: Any, b: Any,
+    dl2: Any, d2: Any, du2: Any, fact2: Any, swap2: Any, nxt: bool,
+) -> int:  # fmt: skip  # pragma: no cover - compiled
+    """Solve the system eliminated by :func:`_factor` (``dl``, ``d``, ``du``, ``fact``,
+    ``swap``; ``n >= 2`` rows) for ``b`` in place, as dgtsv does (the forward pass, then the
+    back substitution), and, when ``nxt``, eliminate the next system (``dl2``, ``d2``,
+    ``du2`` into ``fact2``, ``swap2``, as :func:`_factor`) in the same loop; returns the next
+    system's ``info`` (0 without ``nxt``; at its first zero pivot the elimination stops).
+
+    Each system is dgtsv's operations in its order, so the results are its bits; what
+    changes is the time: the back substitution's chain (a division per row) and the next
+    elimination's (another) are independent, and run side by side. One operation is left
+    out where it cannot change a bit: ``x - dl[i] * b[i + 2]`` is ``x`` when ``dl[i] = +0``
+    (no interchange), ``b[i + 2]`` is finite and ``x != 0`` (the sign of a zero ``x`` may
+    change)."""
+    n = b.shape[0]
+    bi = b[0]
+    for i in range(n - 1):
+        if swap[i]:
             b[i] = b[i + 1]
-            b[i + 1] = temp - fact * b[i + 1]
-    if d[n - 1] == 0.0:
-        return n
-    b[n - 1] = b[n - 1] / d[n - 1]
-    if n > 1:
-        b[n - 2] = (b[n - 2] - du[n - 2] * b[n - 1]) / d[n - 2]
-    for i in range(n - 3, -1, -1):
-        b[i] = (b[i] - du[i] * b[i + 1] - dl[i] * b[i + 2]) / d[i]
-    return 0
+            bi = bi - fact[i] * b[i + 1]
+        else:
+            bi = b[i + 1] - fact[i] * bi
+        b[i + 1] = bi
+    x1 = bi / d[n - 1]
+    b[n - 1] = x1
+    x0 = (b[n - 2] - du[n - 2] * x1) / d[n - 2]
+    b[n - 2] = x0
+    info, di = 0, d2[0]
+    for t in range(n - 2):
+        i = n - 3 - t
+        x = b[i] - du[i] * x0
+        if swap[i] or x == 0.0 or not x1 - x1 == 0.0:
+            x = x - dl[i] * x1
+        x = x / d[i]
+        b[i] = x
+        x1, x0 = x0, x
+        if nxt:  # row t of the next elimination (it stops at a zero pivot)
+            if abs(di) >= abs(dl2[t]):
+                if di == 0.0:
+                    info, nxt = t + 1, False
+                    continue
+                f = dl2[t] / di
+                di = d2[t + 1] - f * du2[t]
+                swap2[t] = False
+                dl2[t] = 0.0
+            else:
+                f = di / dl2[t]
+                d2[t] = dl2[t]
+                temp = d2[t + 1]
+                di = du2[t] - f * temp
+                dl2[t] = du2[t + 1]
+                du2[t + 1] = -f * dl2[t]
+                du2[t] = temp
+                swap2[t] = True
+            fact2[t] = f
+            d2[t + 1] = di
+    if not nxt:
+        return info
+    t = n - 2  # the last row of the next elimination (no second super-diagonal)
+    if abs(di) >= abs(dl2[t]):
+        if di == 0.0:
+            return t + 1
+        f = dl2[t] / di
+        di = d2[t + 1] - f * du2[t]
+        swap2[t] = False
+    else:
+        f = di / dl2[t]
+        d2[t] = dl2[t]
+        temp = d2[t + 1]
+        di = du2[t] - f * temp
+        du2[t] = temp
+        swap2[t] = True
+    fact2[t] = f
+    d2[t + 1] = di
+    return n if di == 0.0 else 0

@@ -40,9 +40,11 @@ import types
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 from .. import numba_cache
 from ..options import compiled_enabled
-from ._cnstep import _gtsv
+from ._cnstep import _factor, _gtsv, _solve_factor  # noqa: F401 - (_gtsv: for the tests)
 
 __all__ = [
     "BUILD_AFTER",
@@ -140,11 +142,11 @@ def _build() -> Callable[..., int] | None:
     if jit is None:  # numba is not installed
         return None
     # the kernels call the compiled helpers: the same code, its globals bound to the dispatchers
-    gtsv = jit(_gtsv)
-    scope = {**globals(), "_gtsv": gtsv}
-    names = ("_diagonals", "_explicit", "_wall_fluxes", "_record")
+    solve = {"_factor": jit(_factor), "_solve_factor": jit(_solve_factor)}
+    scope = {**globals(), **solve}
+    names = ("_system", "_explicit", "_wall_fluxes", "_record", "_yield_rows", "_yield_gain")
     helpers = {name: jit(getattr(fused_src, name)) for name in names}
-    fused_scope = {**vars(fused_src), "_gtsv": gtsv, **helpers}
+    fused_scope = {**vars(fused_src), **solve, **helpers}
     _STATE["edges"] = jit(_cn_edges.window_edges)
     _STATE["times"] = jit(_cn_edges.level_times)
     _STATE["tracks"] = (jit(_cn_edges.wall_query), jit(_cn_edges.wall_track))
@@ -181,7 +183,15 @@ def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path h
     """
     m = states.shape[1]
     nb = last.shape[0]
+    if i1 <= i0:
+        return 0
+    # each step's system is eliminated during the step before (_solve_factor): two of each
+    fact, swap = np.empty((2, m)), np.empty((2, m), np.bool_)
+    info = _factor(lower[i0, : m - 1], diag[i0], upper[i0, : m - 1], fact[0], swap[0])
     for i in range(i0, i1):
+        if info != 0:
+            return info
+        cur, nxt = (i - i0) % 2, (i - i0 + 1) % 2
         r = states[i]
         b = states[i + 1]
         fl, fh = flux_lo[i], flux_hi[i]
@@ -201,9 +211,11 @@ def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path h
                 z[1, j] = r[last[j]]
                 yr = yield_rhs[i]
                 b[last[j]] = yr[0, j] * z[0, j] + yr[1, j] * z[1, j] + yr[2, j] * z[2, j]
-        info = _gtsv(lower[i, : m - 1], diag[i], upper[i, : m - 1], b)
-        if info != 0:
-            return info
+        more = i + 1 < i1  # (never beyond the call's steps: a later call eliminates those)
+        j2 = i + 1 if more else i
+        info = _solve_factor(lower[i, : m - 1], diag[i], upper[i, : m - 1], fact[cur],
+                             swap[cur], b, lower[j2, : m - 1], diag[j2], upper[j2, : m - 1],
+                             fact[nxt], swap[nxt], more)  # fmt: skip
         if yields[i]:
             yg = yield_gain[i]
             for j in range(nb):
@@ -213,4 +225,4 @@ def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path h
                 for k in range(1, 5):
                     gain += yg[k, j] * z[k, j]
                 z[2, j] += gain
-    return 0
+    return info

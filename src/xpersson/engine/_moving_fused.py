@@ -8,9 +8,12 @@ nodes, hundreds of steps) those numpy calls, not the node-steps, were most of a 
 Here the face coefficients are the same one BLAS product (:func:`._moving_block.face_ops`), and
 :func:`level_march` does the rest per step in one loop, in the numpy path's order: the end
 faces, the diagonal and the yield closure's rows, the explicit half in flux form, the
-tridiagonal solve as LAPACK ``dgtsv`` does it (:func:`._cnstep._gtsv`), the wall fluxes
-summed as it goes (as ``numpy.cumsum`` sums them) and the states at the outputs, reduced as the
-numpy path reduces them: the outputs are the numpy path's bit for bit (also on generated
+tridiagonal solve as LAPACK ``dgtsv`` does it (:func:`._cnstep._solve_factor`, which also
+eliminates the next step's system beside the back substitution: the two chains of divisions
+run side by side; with the per-step overheads cut, 18-20 -> 9.5-11 ns per node-step, the C
+march's ~10: ``benchmarks/results/cn_nodestep.md``), the wall fluxes summed as it goes (as
+``numpy.cumsum`` sums them) and the states at the outputs, reduced as the numpy path reduces
+them: the outputs are the numpy path's bit for bit (also on generated
 problems, ``tests/engine/test_compiled_generated.py``).
 
 Used when the compiled march is in force (:func:`._compiled.kernel`) and the level wants no
@@ -27,7 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._cnstep import _gtsv
+from ._cnstep import _factor, _solve_factor
 from ._level import Level, Outputs, face_basis, system_rows
 
 __all__ = ["face_coefficients", "fused_level", "level_march"]
@@ -56,7 +59,8 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
     carry = (r0.copy(), np.zeros((5, nb)), np.zeros((4, nb)), np.zeros(1, np.int64))
     n_steps = inp.taus.size - 1
     block = max(1, min(_OPS // (4 * nb * nn), n_steps))
-    coef, ops = np.empty((block, 4, nb, 3)), np.empty((block, 4, nb, nn))
+    # (the loads' rows concatenated: the march takes each step's four rows with no reshape)
+    coef, ops = np.empty((block, 4, nb, 3)), np.empty((block, 4, nb * nn))
     for m0 in range(0, n_steps, block):
         c = min(block, n_steps - m0)
         coefficients(m0, m0 + c, inp.taus, inp.theta, s.width, s.lower_speed, s.width_speed,
@@ -173,7 +177,7 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     """March the steps ``i0 .. i1 - 1`` of a level; returns LAPACK's ``info`` of the first
     failed solve (0: all succeeded).
 
-    ``ops`` (block, 4, loads, nodes): the face coefficients of the steps from ``i0`` on
+    ``ops`` (block, 4, loads x nodes): the face coefficients of the steps from ``i0`` on
     (:func:`._moving_block.face_ops`); ``w`` the control volumes, ``volumes``, ``walls``,
     ``last`` the rows of the loads' systems (:func:`._level.system_rows`); ``yield_wall``
     whether the upper wall is a yield wall; ``real_lower``, ``real_upper`` (loads, steps)
@@ -188,47 +192,46 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     area, the probabilities absorbed by the lower and upper walls and their moments (the
     upper one negated), the window's lower edge and width.
     """
-    nb, nn = last.shape[0], ops.shape[3]
+    nb, nn = last.shape[0], w.shape[0]
     m, n_out = nb * nn, out_at.shape[0]
     w_last = w[nn - 1]
-    state, b, dg = r, np.empty(m), np.empty(m)  # the state and the next one swap buffers
-    ends, g = np.empty((8, nb)), np.empty(nb)
+    state, b = r, np.empty(m)  # the state and the next one swap buffers
+    # each step's system is eliminated during the step before (_solve_factor): two of each
+    dg, fact, swap = np.empty((2, m)), np.empty((2, m)), np.empty((2, m), np.bool_)
+    ends, g, yields = np.empty((2, 8, nb)), np.empty((2, nb)), np.zeros(2, np.bool_)
     j_out = pos[0]
     while i0 == 0 and j_out < n_out and out_at[j_out] == 0:
         _record(state, z, acc, snaps, sums, j_out, la[:, 0], wa[:, 0])
         j_out += 1
+    if i1 <= i0:
+        return 0
+    c = ops[0]
+    _system(i0, c, dg[0], w, ends[0], g[0], yields, 0, yield_wall, real_upper, wb, yield_speed)
+    info = _factor(c[0, : m - 1], dg[0], c[1, : m - 1], fact[0], swap[0])
     for i in range(i0, i1):
-        c = ops[i - i0]  # (the block's own: the solve overwrites its diagonals in place)
-        dl, du, fl, fh = c[0].reshape(m), c[1].reshape(m), c[2].reshape(m), c[3].reshape(m)
-        yields = False
-        for k in range(nb):
-            yr = yield_wall and real_upper[k, i]
-            g[k] = wb[k, i] * yield_speed[k, i] if yr else 0.0
-            _diagonals(dl, du, fl, fh, dg, w, k * nn, nn, ends, k, g[k])
-            yields = yields or yr
-        _explicit(b, state, fl, fh, volumes, walls, nb)
-        if yields:
-            for k in range(nb):
-                gk = g[k]
-                z[0, k] = state[last[k] - 1]
-                z[1, k] = state[last[k]]
-                rhs = (-gk * ends[6, k]) * z[0, k] + (gk * (w_last - ends[7, k])) * z[1, k]
-                b[last[k]] = rhs + gk * z[2, k]
-        info = _gtsv(dl[: m - 1], dg, du[: m - 1], b)
         if info != 0:
             return info
+        cur, nxt = (i - i0) % 2, (i - i0 + 1) % 2
+        c = ops[i - i0]  # (the block's own: the solve overwrites its diagonals in place)
+        dl, du, fl, fh = c[0], c[1], c[2], c[3]
+        e, gs = ends[cur], g[cur]
+        _explicit(b, state, fl, fh, volumes, walls, nb)
+        if yields[cur]:
+            _yield_rows(state, b, z, last, e, gs, w_last)
+        more = i + 1 < i1
+        c2 = ops[i - i0 + 1] if more else c
+        if more:
+            _system(i + 1, c2, dg[nxt], w, ends[nxt], g[nxt], yields, nxt, yield_wall,
+                    real_upper, wb, yield_speed)  # fmt: skip
+        dl2, du2 = c2[0], c2[1]
+        info = _solve_factor(
+            dl[: m - 1], dg[cur], du[: m - 1], fact[cur], swap[cur], b,
+            dl2[: m - 1], dg[nxt], du2[: m - 1], fact[nxt], swap[nxt], more,
+        )  # fmt: skip
         for k in range(nb):
-            if yields:
-                z[3, k] = b[last[k] - 1]
-                z[4, k] = b[last[k]]
-                yr = 1.0 if yield_wall and real_upper[k, i] else 0.0
-                gain = (-ends[6, k] * yr) * z[0, k]
-                gain += ((w_last - ends[7, k]) * yr) * z[1, k]
-                gain += (0.0 * g[k] * yr) * z[2, k]
-                gain += (-ends[2, k] * yr) * z[3, k]
-                gain += (-(ends[3, k] + w_last) * yr) * z[4, k]
-                z[2, k] += gain
-            _wall_fluxes(state, b, k * nn, nn, ends, k, acc, real_lower[k, i], real_upper[k, i],
+            if yields[cur]:
+                _yield_gain(b, z, last, e, gs, w_last, k, yield_wall and real_upper[k, i])
+            _wall_fluxes(state, b, k * nn, nn, e, k, acc, real_lower[k, i], real_upper[k, i],
                          la[k, i], wa[k, i], lb[k, i], wb[k, i])  # fmt: skip
         state, b = b, state
         while j_out < n_out and out_at[j_out] == i + 1:
@@ -241,25 +244,74 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     return 0
 
 
-def _diagonals(
-    dl: Any, du: Any, fl: Any, fh: Any, dg: Any, w: Any, base: int, nn: int, ends: Any, k: int,
-    gk: float,
+def _yield_rows(
+    state: Any, b: Any, z: Any, last: Any, e: Any, g: Any, w_last: float
+) -> None:  # pragma: no cover - compiled
+    """The yield closure's rows of a step's right-hand side ``b`` (every load's last row:
+    ``g (w_N R_N + A_pl - wo F_{N-1/2})``, ``g`` 0 where no yield wall is real; ``e`` the
+    step's end faces), and the rows ``R_{N-1}, R_N`` of the ``state`` before it into
+    ``z[:2]``."""
+    for k in range(last.shape[0]):
+        gk = g[k]
+        z[0, k] = state[last[k] - 1]
+        z[1, k] = state[last[k]]
+        rhs = (-gk * e[6, k]) * z[0, k] + (gk * (w_last - e[7, k])) * z[1, k]
+        b[last[k]] = rhs + gk * z[2, k]
+
+
+def _yield_gain(
+    b: Any, z: Any, last: Any, e: Any, g: Any, w_last: float, k: int, real: bool
+) -> None:  # pragma: no cover - compiled
+    """Load ``k``'s plastic area after a step with a yield wall (``real``: whether its own is
+    real there): ``A_pl' = A_pl - wo F_{N-1/2} - wn F'_{N-1/2} + w_N (R_N - R_N')``, with the
+    new rows ``R_{N-1}, R_N`` of ``b`` into ``z[3:]``, as the numpy path sums it."""
+    z[3, k] = b[last[k] - 1]
+    z[4, k] = b[last[k]]
+    yr = 1.0 if real else 0.0
+    gain = (-e[6, k] * yr) * z[0, k]
+    gain += ((w_last - e[7, k]) * yr) * z[1, k]
+    gain += (0.0 * g[k] * yr) * z[2, k]
+    gain += (-e[2, k] * yr) * z[3, k]
+    gain += (-(e[3, k] + w_last) * yr) * z[4, k]
+    z[2, k] += gain
+
+
+def _system(
+    i: int, c: Any, dg: Any, w: Any, ends: Any, g: Any, yields: Any, slot: int,
+    yield_wall: bool, real_upper: Any, wb: Any, yield_speed: Any,
 ) -> None:  # fmt: skip  # pragma: no cover - compiled
-    """Load ``k``'s rows of a step's system (as :func:`._moving_block.block_system` makes
-    them): its end faces' coefficients into ``ends[:, k]``, the diagonal ``dg``, and the
-    closure ``R_N = g A_pl`` (``gk``: 0 where no yield wall is real) in its last row, on the
-    face coefficients ``dl``, ``du`` (overwritten there), ``fl``, ``fh``."""
+    """Step ``i``'s system (as :func:`._moving_block.block_system` makes it) on its face
+    coefficients ``c`` (4, loads x nodes: ``dl``, ``du`` overwritten, ``fl``, ``fh``), every
+    load's rows: its end faces' coefficients into ``ends[:, k]``, the diagonal ``dg``, and the
+    closure ``R_N = g A_pl`` in its last row (``g = W Y'`` into ``g``, 0 where no yield wall is
+    real; whether one is into ``yields[slot]``)."""
+    nb, nn = real_upper.shape[0], w.shape[0]
+    dl, du, fl, fh = c[0], c[1], c[2], c[3]
     nf = nn - 1
-    ends[0, k], ends[1, k] = dl[base], -du[base]
-    ends[2, k], ends[3, k] = dl[base + nf - 1], -du[base + nf - 1]
-    ends[4, k], ends[5, k] = fl[base], fh[base]
-    ends[6, k], ends[7, k] = fl[base + nf - 1], fh[base + nf - 1]
-    for j in range(1, nn - 1):
-        dg[base + j] = w[j] - dl[base + j] - du[base + j - 1]
-    dg[base] = 1.0
-    dg[base + nn - 1] = 1.0 + gk * (w[nn - 1] + ends[3, k])
-    dl[base + nf - 1] = gk * ends[2, k]
-    du[base] = 0.0
+    yields[slot] = False
+    for k in range(nb):
+        yr = yield_wall and real_upper[k, i]
+        gk = wb[k, i] * yield_speed[k, i] if yr else 0.0
+        g[k] = gk
+        yields[slot] = yields[slot] or yr
+        base = k * nn
+        ends[0, k], ends[1, k] = dl[base], -du[base]
+        ends[2, k], ends[3, k] = dl[base + nf - 1], -du[base + nf - 1]
+        ends[4, k], ends[5, k] = fl[base], fh[base]
+        ends[6, k], ends[7, k] = fl[base + nf - 1], fh[base + nf - 1]
+        # (on views from 0: with indices offset by a variable ``base`` the compiled loop ran
+        # 4x slower, each access checked and none vectorised)
+        out, lo, up = (
+            dg[base + 1 : base + nn - 1],
+            dl[base + 1 : base + nn - 1],
+            du[base : base + nn - 2],
+        )
+        for j in range(nn - 2):
+            out[j] = w[j + 1] - lo[j] - up[j]
+        dg[base] = 1.0
+        dg[base + nn - 1] = 1.0 + gk * (w[nn - 1] + ends[3, k])
+        dl[base + nf - 1] = gk * ends[2, k]
+        du[base] = 0.0
 
 
 def _explicit(
