@@ -103,12 +103,15 @@ class Draft:
         return ds
 
     # -- the Dataset ---------------------------------------------------------------------------
-    def squeeze(self) -> Draft:
+    def squeeze(self, own: bool = False) -> Draft:
         """Drop a one-load draft's ``p0`` dimension (as ``ds.isel(p0=0)``: every variable along
         it a view at ``p0 = 0``, ``p0`` a scalar coordinate without index), in place (the
-        mappings are new: a draft :meth:`of` a Dataset leaves the Dataset as it is)."""
+        mappings are new: a draft :meth:`of` a Dataset leaves the Dataset as it is).
+
+        ``own``: the variables are the draft's alone (a run's), so the squeezed ones take
+        their attrs and encoding dicts over instead of copies."""
         self._variables = {
-            name: _squeezed(var) if "p0" in var.dims else var
+            name: _squeezed(var, own) if "p0" in var.dims else var
             for name, var in self._variables.items()
         }
         self._dims = {d: n for d, n in self._dims.items() if d != "p0"}
@@ -130,9 +133,9 @@ class Draft:
         )
 
 
-def _squeezed(var: xr.Variable) -> xr.Variable:
+def _squeezed(var: xr.Variable, own: bool) -> xr.Variable:
     """``var`` at ``p0 = 0``, without that dimension: a view of its data (basic indexing)
-    with copies of its attrs and encoding (as ``isel`` gives them)."""
+    with copies of its attrs and encoding (as ``isel`` gives them; ``own``: its own dicts)."""
     axis = var.dims.index("p0")
     dims = var.dims[:axis] + var.dims[axis + 1 :]
     raw = var._data  # noqa: SLF001 - a numpy array: indexed as it is (no conversion)
@@ -140,6 +143,8 @@ def _squeezed(var: xr.Variable) -> xr.Variable:
         (slice(None),) * axis + (0,)
     ]
     if type(data) is np.ndarray or isinstance(data, np.generic):  # a view, or a numpy scalar
+        if own:
+            return new_variable(dims, data, var._attrs, var._encoding)  # noqa: SLF001
         return new_variable(dims, data, dict(var.attrs), dict(var.encoding))
     # a Python object (an object array's): converted as xarray would, without its probe of
     data = np.asarray(data)  # dask, which imports dask.array

@@ -171,7 +171,10 @@ def add_outputs(
     if not checked:
         return
     for name, da in checked.items():
-        da.attrs.update(specs[name].attrs())
+        if type(da) is tuple:  # a checked (dims, ndarray) pair: its Variable, with its attrs
+            checked[name] = new_variable(*da, specs[name].attrs())
+        else:
+            da.attrs.update(specs[name].attrs())
     if insert_direct(ds, checked):
         return
     try:  # one Dataset update for all of the plugin's variables (one merge, not one each)

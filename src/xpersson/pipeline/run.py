@@ -93,7 +93,7 @@ def _run(rs: ResolvedScene, squeeze: bool, model_errors: bool) -> xr.Dataset:
     if rs.geometry is not None:  # a finite body: its nominal pressure on the solved interface
         ds = body_dataset(rs, ctx, ds.dataset() if isinstance(ds, Draft) else ds)
     elif rs.p0_scalar and squeeze:  # one load: p0 a scalar coordinate (= ds.isel(p0=0))
-        ds = (ds if isinstance(ds, Draft) else Draft.of(ds)).squeeze()
+        ds = ds.squeeze(own=True) if isinstance(ds, Draft) else Draft.of(ds).squeeze()
     if model_errors:
         model_error.attach(ds, rs)
     return ds.dataset() if isinstance(ds, Draft) else ds
