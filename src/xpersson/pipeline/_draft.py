@@ -80,27 +80,30 @@ class Draft:
 
     # -- anything else: on the Dataset, whose mappings the draft then takes back -------------
     def __getitem__(self, name: Any) -> Any:
-        return self._through().__getitem__(name)
+        return self._on_dataset(lambda ds: ds[name])
 
     def __setitem__(self, name: Any, value: Any) -> None:
-        self._through().__setitem__(name, value)
+        self._on_dataset(lambda ds: ds.__setitem__(name, value))
 
     def update(self, other: Any) -> None:
-        self._through().update(other)
+        self._on_dataset(lambda ds: ds.update(other))
 
     def __getattr__(self, name: str) -> Any:  # e.g. ``coords`` in an error message
         if name.startswith("_"):  # a slot not set (a copy being made): not the Dataset's
             raise AttributeError(name)
-        return getattr(self._through(), name)
+        return self._on_dataset(lambda ds: getattr(ds, name))
 
-    def _through(self) -> xr.Dataset:
-        """The Dataset over the draft's own mappings: what is done to it is done to the draft
-        (``_construct_direct`` keeps the mappings it is given)."""
+    def _on_dataset(self, act: Any) -> Any:
+        """``act(ds)`` on the Dataset of the draft, whose mappings (new ones, where ``act``
+        replaced them, as ``Dataset.update`` does) the draft then takes back: what is done to
+        the Dataset is done to the draft."""
         ds = self.dataset()
-        self._variables, self._dims = ds._variables, ds._dims  # noqa: SLF001 - see module doc
-        self._indexes, self._coord_names = ds._indexes, ds._coord_names  # noqa: SLF001
-        ds._attrs = self.attrs  # noqa: SLF001 - the same dict: attrs set on either are kept
-        return ds
+        try:
+            return act(ds)
+        finally:
+            self._variables, self._dims = ds._variables, ds._dims  # noqa: SLF001 - module doc
+            self._indexes, self._coord_names = ds._indexes, ds._coord_names  # noqa: SLF001
+            self.attrs = ds.attrs
 
     # -- the Dataset ---------------------------------------------------------------------------
     def squeeze(self, own: bool = False) -> Draft:
