@@ -6,8 +6,8 @@ Made as an :class:`xarray.Dataset` at the first step and changed at each, that m
 per step and a second Dataset for the squeeze. A :class:`Draft` holds the same variables (plain
 :class:`xarray.Variable` objects, in the Dataset's order), the dimension sizes and the
 coordinate names, and answers what the pipeline's steps read of a Dataset (``variables``,
-``sizes``, ``data_vars``, ``attrs``, ``name in``); :meth:`Draft.squeeze` drops a one-load ``p0`` (views: nothing is copied) and
-:meth:`Draft.dataset` makes the Dataset once.
+``sizes``, ``data_vars``, ``attrs``, ``name in``); :meth:`Draft.squeeze` drops a one-load
+``p0`` (views: nothing is copied) and :meth:`Draft.dataset` makes the Dataset once.
 
 The steps insert into it as into a Dataset (:func:`~xpersson.pipeline._insert.insert_direct`
 reads the same four mappings); anything else a Dataset offers (an ``update`` that aligns, a
