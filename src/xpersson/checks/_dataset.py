@@ -341,9 +341,6 @@ def check_core(ds: Any, who: object = "engine") -> dict[int, str]:
     dict
         Load index -> message, for each failing load (empty when every load passes).
     """
-    import dataclasses
-
-    from ..schema import CORE_VARIABLES
 
     def clean(name: str, lo: float | None, hi: float | None) -> bool:
         # two reductions, no temporaries: min and max propagate NaN, and +-inf shows in them
@@ -361,6 +358,10 @@ def check_core(ds: Any, who: object = "engine") -> dict[int, str]:
     names = [n for n in CORE_RANGES if n in ds.variables]
     if all(clean(n, *CORE_RANGES[n]) for n in names):  # one pass over the arrays: the rule
         return {}
+    import dataclasses
+
+    from ..schema import CORE_VARIABLES
+
     messages: dict[int, str] = {}
     status = ds["solver_status"].values.copy()
     for i in range(ds.sizes["p0"]):

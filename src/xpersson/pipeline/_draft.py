@@ -139,12 +139,15 @@ class Draft:
 def _squeezed(var: xr.Variable, own: bool) -> xr.Variable:
     """``var`` at ``p0 = 0``, without that dimension: a view of its data (basic indexing)
     with copies of its attrs and encoding (as ``isel`` gives them; ``own``: its own dicts)."""
-    axis = var.dims.index("p0")
-    dims = var.dims[:axis] + var.dims[axis + 1 :]
+    dims = var._dims  # noqa: SLF001 - a tuple (the constructor's)
     raw = var._data  # noqa: SLF001 - a numpy array: indexed as it is (no conversion)
-    data = (raw if type(raw) is np.ndarray else np.asarray(values_of(var)))[
-        (slice(None),) * axis + (0,)
-    ]
+    if type(raw) is not np.ndarray:
+        raw = np.asarray(values_of(var))
+    if dims[0] == "p0":  # the common case: raw[0] is raw[0, ...]
+        dims, data = dims[1:], raw[0]
+    else:
+        axis = dims.index("p0")
+        dims, data = dims[:axis] + dims[axis + 1 :], raw[(slice(None),) * axis + (0,)]
     if type(data) is np.ndarray or isinstance(data, np.generic):  # a view, or a numpy scalar
         if own:
             return new_variable(dims, data, var._attrs, var._encoding)  # noqa: SLF001
