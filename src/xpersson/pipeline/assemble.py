@@ -235,7 +235,7 @@ def attributes(
             str(status_of[i]),
             results[int(i)].message if not results[int(i)].success else core.get(int(i), ""),
         )
-        for i in np.flatnonzero(~success)[:5]
+        for i in (() if success.all() else np.flatnonzero(~success)[:5])
     ]
     status = "success" if not bad else bad[0][1]
     message = (
@@ -254,9 +254,9 @@ def attributes(
             "methods_used": sorted(set(results.method)),
             "rtol": rs.rtol,
             "atol": rs.atol,
-            "max_error_estimate": float(np.max(results.error_estimate)),
+            "max_error_estimate": float(np.asarray(results.error_estimate).max()),
             "work": {
-                "nsteps": int(np.sum(results.nsteps)),
+                "nsteps": int(np.asarray(results.nsteps).sum()),
                 "wall_time_s": float(results.wall_time),
             },
         }
