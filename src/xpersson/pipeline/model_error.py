@@ -189,6 +189,7 @@ def covered(ds: xr.Dataset, table: dict[str, Any] | None = None) -> list[str]:
     return sorted(n for n in names if n in have)
 
 
+_OVER = " over its calibration points in the scene's regime (docs/verification.md)"
 _INDEX = Cache(
     "model_error.index",
     scope="process",
@@ -198,24 +199,18 @@ _INDEX = Cache(
 )
 
 
-def _index(
-    table: dict[str, Any] | None,
-) -> tuple[tuple[str, ...], dict[str, list[dict[str, Any]]], str]:
+def _index(table: dict[str, Any] | None) -> tuple[tuple[str, ...], dict[str, list[Any]], str]:
     """The output names ``table`` lists, its band entries by output (in the table's order)
-    and the ancillaries' ``comment`` (the campaign's provenance): of the packaged table once
-    per process (``table`` None or empty), of another table each time."""
+    and the ancillaries' ``comment``: of the packaged table once per process (``table`` None
+    or empty), of another table each time."""
 
     def make(of: dict[str, Any]) -> tuple[tuple[str, ...], dict[str, list[Any]], str]:
         entries: dict[str, list[dict[str, Any]]] = {}
         for entry in of["bands"]:
             entries.setdefault(entry["variable"], []).append(entry)
-        prov = of.get("provenance", {})
-        source = (
-            f"validation campaign {prov.get('campaign', '?')} ({prov.get('date', '?')}): 90 % "
-            "of exact/theory over its calibration points in the scene's regime "
-            "(docs/verification.md)"
-        )
-        return covered_names(of), entries, source
+        prov = {"campaign": "?", "date": "?", **of.get("provenance", {})}
+        head = f"validation campaign {prov['campaign']} ({prov['date']}): 90 % of exact/theory"
+        return covered_names(of), entries, head + _OVER
 
     if not table:
         return _INDEX.get("", lambda: make(band_table()))
