@@ -10,6 +10,7 @@ import xpersson
 from xpersson import memory, provenance
 from xpersson.engine import exact, solve
 from xpersson.pipeline import assemble
+from xpersson.schema import COORDS, CORE_VARIABLES, stamp
 from xpersson.units import to_si
 
 SCENE = {
@@ -42,8 +43,8 @@ def test_dataset_built_directly_is_identical_to_the_public_constructor(monkeypat
 
     def slow(data, coords):
         ds = xr.Dataset(data, coords=coords)
-        assemble.stamp(ds, assemble.COORDS)
-        assemble.stamp(ds, assemble.CORE_VARIABLES)
+        stamp(ds, COORDS)
+        stamp(ds, CORE_VARIABLES)
         return ds
 
     monkeypatch.setattr(assemble, "_dataset", slow)

@@ -9,7 +9,7 @@ from typing import Any
 
 import xarray as xr
 
-from .pipeline import as_scene, model_error, run, run_with_progress
+from .pipeline import as_scene, run, run_with_progress
 from .plugins import Registry, get_registry
 from .scene import Scene
 from .sweep import expand
@@ -96,8 +96,5 @@ def solve(
         )
     rs = sc.resolve(reg)
     if progress is False or (progress is None and not sys.stderr.isatty()):
-        ds = run(rs)
-    else:
-        ds = run_with_progress(rs, progress)
-    model_error.attach(ds, rs)
-    return ds
+        return run(rs, model_errors=True)
+    return run_with_progress(rs, progress, model_errors=True)

@@ -65,20 +65,16 @@ def _environment_json() -> str:
 def user_metadata_path() -> Path | None:
     """The user's metadata file: ``$XPERSSON_METADATA`` when set (empty: none), else
     ``$XDG_CONFIG_HOME/xpersson/metadata.toml`` (``~/.config/...``) when it exists, else None."""
-    named = os.environ.get(METADATA_ENV)
+    env = os.environ
+    named = env.get(METADATA_ENV)
     if named is not None:
         return Path(named).expanduser() if named.strip() else None
-    env = os.environ
-    path = _default_metadata_path(env.get("XDG_CONFIG_HOME") or "", env.get("HOME") or "")
-    return path if os.path.isfile(path) else None
-
-
-@memoize("provenance.metadata_path", scope="process", maxsize=8)
-def _default_metadata_path(xdg_config_home: str, home: str) -> Path:
-    """``$XDG_CONFIG_HOME/xpersson/metadata.toml`` (``~/.config/...``), made once per process
-    and environment (keyed on ``$XDG_CONFIG_HOME`` and ``$HOME``, which ``Path.home`` reads)."""
-    base = xdg_config_home or str(Path.home() / ".config")
-    return Path(base) / "xpersson" / "metadata.toml"
+    # strings, not Paths (a look-up at every solve): Path.home() only without $HOME
+    base = env.get("XDG_CONFIG_HOME") or os.path.join(
+        env.get("HOME") or str(Path.home()), ".config"
+    )
+    path = os.path.join(base, "xpersson", "metadata.toml")
+    return Path(path) if os.path.isfile(path) else None
 
 
 def user_metadata() -> dict[str, str]:

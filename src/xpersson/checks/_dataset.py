@@ -53,7 +53,9 @@ def checked_variable(
     ds: Any, name: str, value: Any, spec: Any, who: object, sizes: Mapping[str, int] | None = None
 ) -> Any:
     """Turn one returned ``(dims, data)`` pair or DataArray into a checked DataArray
-    (a pair becomes a coordinate-free :class:`xarray.Variable`).
+    (a pair becomes a coordinate-free :class:`xarray.Variable`; a float array on exactly the
+    declared dims and the Dataset's sizes is given back as the pair ``(dims, ndarray)``, its
+    dims a tuple: the caller makes its Variable).
 
     Checks, against the :class:`~xpersson.plugins.VarSpec`: dims (the declared ones, plus
     only sweep dimensions of ``ds``), sizes (those of ``ds`` for shared dims), a numeric or
@@ -91,10 +93,10 @@ def checked_variable(
                 == tuple((sizes if sizes is not None else dict(ds.sizes)).get(d, -1) for d in dims)
             ):
                 # the common case: exactly the declared dims, the Dataset's sizes, floats;
-                # the remaining rule is the values' (finite, valid_min / valid_max)
-                da = xr.Variable(dims, arr, fastpath=True)
-                _check_values(da, ds, name, spec, var, who)
-                return da
+                # the remaining rule is the values' (finite, valid_min / valid_max), checked
+                # on the array (the pair given back: the caller makes its Variable)
+                _check_values(_Pair(dims, arr), ds, name, spec, var, who, arr)
+                return dims, arr
             # a numeric ndarray is already what xarray would make of it: skip the conversion
             da = xr.Variable(dims, arr, fastpath=arr.dtype.kind in "iufb")
     except PluginFailure:
@@ -151,8 +153,21 @@ class _VarName:
         return format(str(self), spec)
 
 
-def _check_values(da: Any, ds: Any, name: str, spec: Any, var: Any, who: object) -> None:
-    arr = np.asarray(da.values)
+class _Pair:
+    """A checked ``(dims, data)`` pair's dims, as a Variable's (for an error message)."""
+
+    __slots__ = ("dims",)
+
+    def __init__(self, dims: tuple[str, ...], arr: np.ndarray) -> None:
+        self.dims = dims
+
+
+def _check_values(
+    da: Any, ds: Any, name: str, spec: Any, var: Any, who: object, arr: Any = None
+) -> None:
+    """Finite values (NaN only with ``nan_meaning``) within ``valid_min`` / ``valid_max``:
+    of ``arr``, else of ``da``'s values (``da``'s dims name them in a message)."""
+    arr = np.asarray(da.values if arr is None else arr)
     kind = arr.dtype.kind
     if kind in "b":
         return
@@ -275,7 +290,8 @@ def guard_dataset(ds: Any, who: object) -> Iterator[Any]:
 def check_contributions(
     ds: Any, values: Any, specs: Mapping[str, Any], who: object
 ) -> dict[str, Any]:
-    """Check a plugin's returned mapping ``{name: value}``; return ``{name: DataArray}``."""
+    """Check a plugin's returned mapping ``{name: value}``; return ``{name: checked}``, each
+    a DataArray, a Variable or a ``(dims, ndarray)`` pair (:func:`checked_variable`)."""
     if not isinstance(values, Mapping):
         raise PluginFailure(
             f"{who} returned {type(values).__name__}; expected a mapping "
@@ -325,9 +341,6 @@ def check_core(ds: Any, who: object = "engine") -> dict[int, str]:
     dict
         Load index -> message, for each failing load (empty when every load passes).
     """
-    import dataclasses
-
-    from ..schema import CORE_VARIABLES
 
     def clean(name: str, lo: float | None, hi: float | None) -> bool:
         # two reductions, no temporaries: min and max propagate NaN, and +-inf shows in them
@@ -345,6 +358,10 @@ def check_core(ds: Any, who: object = "engine") -> dict[int, str]:
     names = [n for n in CORE_RANGES if n in ds.variables]
     if all(clean(n, *CORE_RANGES[n]) for n in names):  # one pass over the arrays: the rule
         return {}
+    import dataclasses
+
+    from ..schema import CORE_VARIABLES
+
     messages: dict[int, str] = {}
     status = ds["solver_status"].values.copy()
     for i in range(ds.sizes["p0"]):

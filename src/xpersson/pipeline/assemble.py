@@ -18,8 +18,9 @@ from ..physics.grids import persson_G
 from ..physics.psd import segment_exponents
 from ..plugins import SceneContext, VarSpec
 from ..scene import ResolvedScene
-from ..schema import COORDS, CORE_VARIABLES, stamp
-from ._insert import direct_dataset, insert_direct, new_variable, values_of
+from ..schema import COORDS, CORE_VARIABLES
+from ._draft import Draft
+from ._insert import insert_direct, new_variable
 from .diagnostics import pdf_resolution, regime_warnings, theory_validity
 
 __all__ = ["assemble", "add_outputs", "attributes", "diagnostics_notes", "squeeze_p0"]
@@ -34,9 +35,11 @@ def assemble(
     tau_eff: np.ndarray | None,
     p_grid: np.ndarray | None,
     G: np.ndarray | None = None,
-) -> xr.Dataset:
-    """The core Dataset of a run: coordinates, the engine's results, the coefficient's arrays,
-    the spectrum and material scalars, each with its CF attributes from the schema (``G``
+) -> Draft:
+    """The core Dataset of a run (a :class:`~xpersson.pipeline._draft.Draft`: the Dataset is
+    made once, by :meth:`~xpersson.pipeline._draft.Draft.dataset`): coordinates, the engine's
+    results, the coefficient's arrays, the spectrum and material scalars, each with its CF
+    attributes from the schema (``G``
     (p0, zeta): given where each load has its own ``tau`` row, a stacked run's; else
     :func:`~xpersson.physics.grids.persson_G` of ``tau_c``)."""
 
@@ -139,11 +142,12 @@ def _attrs_of(name: str) -> dict[str, Any]:
     return dict(_CORE_ATTRS.get(name, ()))
 
 
-def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
-    """Build the Dataset in one pass: variables carry their CF attrs from the schema table.
+def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> Draft:
+    """The run's Dataset, as a :class:`~xpersson.pipeline._draft.Draft` (made once, at the
+    run's end): variables carry their CF attrs from the schema table.
 
-    Equivalent to ``xr.Dataset(data, coords=coords)`` followed by :func:`stamp`; the direct
-    constructor skips xarray's merge/alignment (nothing to align: one set of coordinates).
+    Its Dataset equals ``xr.Dataset(data, coords=coords)`` followed by :func:`stamp` (the
+    variables, then the coordinates); nothing is merged or aligned (one set of coordinates).
     """
 
     def var(name: str, dims: Any, val: Any) -> xr.Variable:
@@ -154,13 +158,8 @@ def _dataset(data: dict[str, Any], coords: dict[str, Any]) -> xr.Dataset:
         return xr.Variable(dims, val, _attrs_of(name))
 
     variables = {name: var(name, dims, val) for name, (dims, val) in data.items()}
-    cvars = {name: var(name, dims, val) for name, (dims, val) in coords.items()}
-    ds = direct_dataset(variables, cvars)
-    if ds is None:  # pragma: no cover - other xarray versions
-        ds = xr.Dataset(data, coords=coords)
-        stamp(ds, COORDS)
-        stamp(ds, CORE_VARIABLES)
-    return ds
+    variables.update((name, var(name, dims, val)) for name, (dims, val) in coords.items())
+    return Draft(variables, set(coords))
 
 
 def add_outputs(
@@ -172,7 +171,10 @@ def add_outputs(
     if not checked:
         return
     for name, da in checked.items():
-        da.attrs.update(specs[name].attrs())
+        if type(da) is tuple:  # a checked (dims, ndarray) pair: its Variable, with its attrs
+            checked[name] = new_variable(*da, specs[name].attrs())
+        else:
+            da.attrs.update(specs[name].attrs())
     if insert_direct(ds, checked):
         return
     try:  # one Dataset update for all of the plugin's variables (one merge, not one each)
@@ -233,7 +235,7 @@ def attributes(
             str(status_of[i]),
             results[int(i)].message if not results[int(i)].success else core.get(int(i), ""),
         )
-        for i in np.flatnonzero(~success)[:5]
+        for i in (() if success.all() else np.flatnonzero(~success)[:5])
     ]
     status = "success" if not bad else bad[0][1]
     message = (
@@ -252,9 +254,9 @@ def attributes(
             "methods_used": sorted(set(results.method)),
             "rtol": rs.rtol,
             "atol": rs.atol,
-            "max_error_estimate": float(np.max(results.error_estimate)),
+            "max_error_estimate": float(np.asarray(results.error_estimate).max()),
             "work": {
-                "nsteps": int(np.sum(results.nsteps)),
+                "nsteps": int(np.asarray(results.nsteps).sum()),
                 "wall_time_s": float(results.wall_time),
             },
         }
@@ -268,37 +270,5 @@ def squeeze_p0(ds: xr.Dataset) -> xr.Dataset:
 
     Every variable along ``p0`` (size 1) loses that dimension (a view of its data); ``p0``
     becomes a scalar coordinate without an index; the other indexes are kept as they are.
-    Falls back to ``isel`` on an xarray without the direct constructor.
     """
-    try:
-        variables = {}
-        for name, var in ds._variables.items():  # noqa: SLF001 - see the docstring
-            if "p0" in var.dims:
-                variables[name] = _squeezed(var)
-            else:
-                variables[name] = var
-        indexes = {k: v for k, v in ds._indexes.items() if k != "p0"}  # noqa: SLF001
-        dims = {d: n for d, n in ds._dims.items() if d != "p0"}  # noqa: SLF001
-        coords = set(ds._coord_names)  # noqa: SLF001
-        out = xr.Dataset._construct_direct(  # noqa: SLF001 - see the docstring
-            variables, coords, dims, dict(ds.attrs), indexes
-        )
-    except (AttributeError, TypeError):  # pragma: no cover - other xarray versions
-        return ds.isel(p0=0)
-    return out
-
-
-def _squeezed(var: xr.Variable) -> xr.Variable:
-    """``var`` at ``p0 = 0``, without that dimension: a view of its data (basic indexing;
-    np.take copied: a large P in fresh memory pages) with copies of its attrs and encoding."""
-    axis = var.dims.index("p0")
-    dims = var.dims[:axis] + var.dims[axis + 1 :]
-    raw = var._data  # noqa: SLF001 - a numpy array: indexed as it is (no conversion)
-    data = (raw if type(raw) is np.ndarray else np.asarray(values_of(var)))[
-        (slice(None),) * axis + (0,)
-    ]
-    if type(data) is np.ndarray or isinstance(data, np.generic):  # a view, or a numpy scalar
-        return new_variable(dims, data, dict(var.attrs), dict(var.encoding))
-    # a Python object (an object array's): converted as xarray would, without its probe of
-    data = np.asarray(data)  # dask, which imports dask.array
-    return xr.Variable(dims, data, var.attrs, var.encoding, fastpath=data.dtype.kind not in "OMm")
+    return Draft.of(ds).squeeze().dataset()

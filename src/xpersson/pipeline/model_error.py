@@ -166,7 +166,7 @@ def bands_of(
         if not isinstance(v, str) and v is not None
     }
     groups = [(fixed, dict(options), ((), np.bool_(True)))]
-    return _bands(variable, dims, shape, numeric, groups, table or band_table())
+    return _bands(variable, dims, shape, numeric, groups, _index(table)[1].get(variable, []))
 
 
 def _options_of(rs: Any, variable: str) -> dict[str, Any]:
@@ -184,20 +184,37 @@ def _options_of(rs: Any, variable: str) -> dict[str, Any]:
 
 def covered(ds: xr.Dataset, table: dict[str, Any] | None = None) -> list[str]:
     """The outputs of ``ds`` that the table lists (the variables :func:`attach` annotates)."""
-    if not table:  # the packaged table's names, listed once
-        names = _NAMES.get("", lambda: covered_names(band_table()))
-    else:
-        names = covered_names(table)
+    names = _index(table)[0]
     have = ds.data_vars
     return sorted(n for n in names if n in have)
 
 
-_NAMES = Cache(
-    "model_error.names",
+_OVER = " over its calibration points in the scene's regime (docs/verification.md)"
+_INDEX = Cache(
+    "model_error.index",
     scope="process",
     maxsize=2,
-    doc="the output names the packaged model-error table lists (a sorted tuple)",
+    doc="the packaged model-error table's output names (a sorted tuple), its entries by "
+    "output and the ancillaries' comment",
 )
+
+
+def _index(table: dict[str, Any] | None) -> tuple[tuple[str, ...], dict[str, list[Any]], str]:
+    """The output names ``table`` lists, its band entries by output (in the table's order)
+    and the ancillaries' ``comment``: of the packaged table once per process (``table`` None
+    or empty), of another table each time."""
+
+    def make(of: dict[str, Any]) -> tuple[tuple[str, ...], dict[str, list[Any]], str]:
+        entries: dict[str, list[dict[str, Any]]] = {}
+        for entry in of["bands"]:
+            entries.setdefault(entry["variable"], []).append(entry)
+        prov = {"campaign": "?", "date": "?", **of.get("provenance", {})}
+        head = f"validation campaign {prov['campaign']} ({prov['date']}): 90 % of exact/theory"
+        return covered_names(of), entries, head + _OVER
+
+    if not table:
+        return _INDEX.get("", lambda: make(band_table()))
+    return make(table)
 
 
 def covered_names(table: dict[str, Any]) -> tuple[str, ...]:
@@ -230,8 +247,9 @@ def attach(
     points = list(points) if dims else [points]
     if not points or not points[0].resolved.get("output", {}).get("model_error", True):
         return []
-    names = covered(ds, table or None)
-    table = table or band_table()
+    listed = _index(table)
+    have = ds.data_vars
+    names = sorted(n for n in listed[0] if n in have)  # covered(ds, table)
     if not names:
         return []
     shape = tuple(ds.sizes[d] for d in dims)
@@ -245,7 +263,7 @@ def attach(
     new: dict[str, xr.Variable] = {}
     for name in names:
         groups = _groups(name, scenes, points, index, dims)
-        new.update(_ancillaries(ds, name, numeric, groups, table))
+        new.update(_ancillaries(ds, name, numeric, groups, listed))
     insert_or_set(ds, new)  # every output's three at once (one insertion)
     for name in names:
         ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
@@ -321,11 +339,11 @@ def _bands(
     shape: tuple[int, ...],
     numeric: dict[str, Any],
     groups: list[Any],
-    table: dict[str, Any],
+    entries: list[dict[str, Any]],
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(low, high, status)`` of output ``name`` over ``shape``: per group, the first entry
-    that matches each point (as :func:`bands_of`, over arrays)."""
-    entries = [e for e in table["bands"] if e["variable"] == name]
+    """``(low, high, status)`` of output ``name`` over ``shape``: per group, the first of its
+    ``entries`` (the table's, in order) that matches each point (as :func:`bands_of`, over
+    arrays)."""
     over = _Over(numeric, vdims, shape)
     if shape == ():  # one point (a single solve's scalar): the same, without array operations
         return _band_of_point(entries, over, groups)
@@ -442,19 +460,16 @@ def _ancillaries(
     name: str,
     numeric: dict[str, Any],
     groups: list[Any],
-    table: dict[str, Any],
+    index: tuple[Any, dict[str, list[dict[str, Any]]], str],
 ) -> dict[str, xr.Variable]:
-    """The three ancillary variables of output ``name`` (array operations over the points)."""
+    """The three ancillary variables of output ``name`` (array operations over the points;
+    ``index``: the table's :func:`_index`)."""
     var = ds.variables[name]
     vdims, x = _finest(var)
-    low, high, status = _bands(name, vdims, x.shape, numeric, groups, table)
+    low, high, status = _bands(name, vdims, x.shape, numeric, groups, index[1].get(name, []))
     units = var.attrs.get("units", "1")
     where = " at the largest magnification (the full roughness)" if "zeta" in var.dims else ""
-    prov = table.get("provenance", {})
-    source = (
-        f"validation campaign {prov.get('campaign', '?')} ({prov.get('date', '?')}): 90 % of "
-        "exact/theory over its calibration points in the scene's regime (docs/verification.md)"
-    )
+    source = index[2]
     new = {}
     for suffix, factor, side in (("_exact_low", low, "lower"), ("_exact_high", high, "upper")):
         new[name + suffix] = new_variable(

@@ -35,7 +35,9 @@ def progress_bar(total: int | None, progress: bool | None, desc: str, unit: str 
     )
 
 
-def run_with_progress(rs: ResolvedScene, progress: bool | None) -> xr.Dataset:
+def run_with_progress(
+    rs: ResolvedScene, progress: bool | None, *, model_errors: bool = False
+) -> xr.Dataset:
     """:func:`run` with a counter of the engine's work on stderr (long moving-wall solves).
 
     The bar appears only once a solver reports work (closed-form solves print nothing).
@@ -52,7 +54,7 @@ def run_with_progress(rs: ResolvedScene, progress: bool | None) -> xr.Dataset:
 
     try:
         with progress_reporting(advance):
-            return run(rs)
+            return run(rs, model_errors=model_errors)
     finally:
         if bar and bar[0] is not None:
             bar[0].close()

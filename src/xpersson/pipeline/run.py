@@ -10,7 +10,9 @@ import xarray as xr
 from .. import checks, memory, plugins, provenance
 from ..cache import solve_scope
 from ..scene import ResolvedScene
-from .assemble import add_analyses, add_outputs, assemble, attributes, diagnostics_notes, squeeze_p0
+from . import model_error
+from ._draft import Draft
+from .assemble import add_analyses, add_outputs, assemble, attributes, diagnostics_notes
 from .body import body_dataset
 from .frontend import diffusion_clock, pressure_grid, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
@@ -19,20 +21,24 @@ from .stages import coefficient_arrays, load_walls, validate
 __all__ = ["run"]
 
 
-def run(rs: ResolvedScene, *, squeeze: bool = True) -> xr.Dataset:
+def run(rs: ResolvedScene, *, squeeze: bool = True, model_errors: bool = False) -> xr.Dataset:
     """Run a resolved scene (see :func:`xpersson.solve`).
 
     ``squeeze=False`` keeps a single load's ``p0`` dimension (a sweep squeezes its stacked
-    blocks once instead of every point; see :func:`squeeze_p0`). Every plugin call runs under
+    blocks once instead of every point; see :func:`squeeze_p0`). ``model_errors``: the
+    model-error ancillaries added (:func:`~xpersson.pipeline.model_error.attach`; a sweep adds
+    them over its points instead). The Dataset is made once, at the end (the steps add to a
+    :class:`~xpersson.pipeline._draft.Draft`; an analysis is handed the Dataset made before it
+    runs). Every plugin call runs under
     ``[solver] plugin_time_limit`` when the scene sets one (:mod:`xpersson.plugins._limits`).
     The run is one solve of :mod:`xpersson.cache`: its ``"solve"``-scoped caches live until it
     returns.
     """
     with plugins.time_limit(rs.plugin_time_limit), solve_scope():
-        return _run(rs, squeeze)
+        return _run(rs, squeeze, model_errors)
 
 
-def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
+def _run(rs: ResolvedScene, squeeze: bool, model_errors: bool) -> xr.Dataset:
     from .. import engine
 
     who = rs.labels  # plugin labels and provenance were captured when the scene was resolved
@@ -78,12 +84,16 @@ def _run(rs: ResolvedScene, squeeze: bool) -> xr.Dataset:
             boundary=rs.boundary,
             solve_at=make_solve_at(rs, ctx, walls, clock),
         )
-    add_analyses(rs, ctx, ds, analysis_labels)
+    if rs.analyses:  # an analysis reads the Dataset
+        ds = ds.dataset() if isinstance(ds, Draft) else ds
+        add_analyses(rs, ctx, ds, analysis_labels)
     attributes(
         ds, rs, lambda: provenance.global_attributes(rs), results, diagnostics_notes(ds), core
     )
     if rs.geometry is not None:  # a finite body: its nominal pressure on the solved interface
-        return body_dataset(rs, ctx, ds)
-    if rs.p0_scalar and squeeze:
-        ds = squeeze_p0(ds)  # = ds.isel(p0=0): p0 becomes a scalar coordinate
-    return ds
+        ds = body_dataset(rs, ctx, ds.dataset() if isinstance(ds, Draft) else ds)
+    elif rs.p0_scalar and squeeze:  # one load: p0 a scalar coordinate (= ds.isel(p0=0))
+        ds = ds.squeeze(own=True) if isinstance(ds, Draft) else Draft.of(ds).squeeze()
+    if model_errors:
+        model_error.attach(ds, rs)
+    return ds.dataset() if isinstance(ds, Draft) else ds

@@ -25,6 +25,7 @@ from .. import checks, plugins, provenance
 from ..cache import solve_scope
 from ..physics.psd import segment_exponents, stacked_C
 from ..scene import ResolvedScene
+from ._draft import Draft
 from ._insert import direct_dataset
 from .assemble import add_outputs, assemble, attributes, diagnostics_notes
 from .diagnostics import validity_flags
@@ -135,7 +136,7 @@ class StackedRun(dict[str, tuple[tuple[str, ...], Any]]):
         notes = diagnostics_notes(ds)
         # warns as the point's own run does: the sweep silences the points' warnings
         attributes(ds, rs, lambda: provenance.global_attributes(rs), results, notes, core)
-        return ds if ds.attrs.get("status") == "success" else None
+        return ds.dataset() if ds.attrs.get("status") == "success" else None
 
 
 def run_stacked(points: Sequence[ResolvedScene]) -> StackedRun | None:
@@ -310,12 +311,12 @@ class _Loads(Sequence[Any]):
         return value
 
 
-def _spectra(points: Sequence[ResolvedScene], ds: xr.Dataset, out: dict[str, Any]) -> None:
+def _spectra(points: Sequence[ResolvedScene], ds: Draft, out: dict[str, Any]) -> None:
     """The spectrum's variables per point (one spectrum may serve every point)."""
     psds = [rs.psd for rs in points]
     if all(p is psds[0] for p in psds):
         return
-    q_nodes = np.asarray(ds["q_psd"].values, float)
+    q_nodes = np.asarray(ds.variables["q_psd"].values, float)
     C = stacked_C(psds, q_nodes)  # None: spectra of other kinds, asked each
     if C is None:
         C = np.stack([np.asarray(p.C(q_nodes), float) for p in psds])
@@ -325,7 +326,7 @@ def _spectra(points: Sequence[ResolvedScene], ds: xr.Dataset, out: dict[str, Any
     out["rms_slope"] = ((POINT,), np.array([float(p.rms_slope()) for p in psds]))
 
 
-def _unflatten(ds: xr.Dataset, K: int, nl: int) -> dict[str, tuple[tuple[str, ...], Any]]:
+def _unflatten(ds: Draft, K: int, nl: int) -> dict[str, tuple[tuple[str, ...], Any]]:
     """The variables of the flat (K * nl loads) Dataset, the loads split as (point, p0)."""
     out = {}
     for name, var in ds.variables.items():
@@ -348,7 +349,7 @@ def _analyses(
     ctxs: list[Any],
     solved: tuple[list[Any], list[Any], bool],
     out: dict[str, Any],
-    flat: xr.Dataset,
+    flat: Draft,
 ) -> list[dict[str, Any]]:
     """Each analysis once for the block, on the stacked Dataset (loads shared by every point);
     returns each analysis's outputs of the first point. ``solved``: each point's walls and
