@@ -15,6 +15,15 @@ import xpersson
 from xpersson.engine import _compiled
 
 
+@pytest.fixture
+def compiled_on():
+    """numba present and the compiled path on for the test, whatever ``XPERSSON_COMPILED``
+    says (these tests compare the compiled path with the numpy one)."""
+    pytest.importorskip("numba")
+    with xpersson.set_options(compiled=True):
+        yield
+
+
 def _system(rng: np.random.Generator, n: int, dominant: bool):
     dl, du = rng.normal(size=n - 1), rng.normal(size=n - 1)
     d = rng.normal(size=n) + (4.0 * np.sign(rng.normal(size=n)) if dominant else 0.0)
@@ -95,7 +104,7 @@ def test_python_fused_level_equals_numpy_march(name, monkeypatch):
     assert calls  # the fused level ran
 
 
-def test_off_switch_and_small_levels_keep_numpy(monkeypatch):
+def test_off_switch_and_small_levels_keep_numpy(monkeypatch, compiled_on):
     with xpersson.set_options(compiled=False):
         assert not xpersson.get_options()["compiled"]
         assert _compiled.kernel(1e12) is None
@@ -104,10 +113,9 @@ def test_off_switch_and_small_levels_keep_numpy(monkeypatch):
     assert _compiled.kernel(_compiled.MIN_WORK - 1) is None
 
 
-def test_many_small_levels_build_the_kernel(monkeypatch):
+def test_many_small_levels_build_the_kernel(monkeypatch, compiled_on):
     """Rent or buy: small levels stay numpy until their estimated numpy time adds up to
     BUILD_AFTER, then the compiled march is built (numba present) or None stays (absent)."""
-    pytest.importorskip("numba")
     monkeypatch.setattr(_compiled, "_STATE", {})
     per_block = 100 * (_compiled.NUMPY_STEP + _compiled.NUMPY_NODE_STEP * 50)
     n_blocks = int(_compiled.BUILD_AFTER / per_block)
@@ -120,8 +128,7 @@ def test_many_small_levels_build_the_kernel(monkeypatch):
 
 
 @pytest.mark.parametrize("name", ["yield closure, batch", "two walls, batch", "moving lower"])
-def test_compiled_kernel_equals_numpy_march(name, monkeypatch):
-    pytest.importorskip("numba")
+def test_compiled_kernel_equals_numpy_march(name, monkeypatch, compiled_on):
     monkeypatch.setattr(_compiled, "MIN_WORK", 0)
     assert _compiled.kernel(1.0) is not None
     with xpersson.set_options(compiled=False):
@@ -152,12 +159,11 @@ def test_window_edges_equal_numpy_edges(name, monkeypatch):
         np.testing.assert_array_equal(have, want)
 
 
-def test_compiled_window_is_bitwise_and_level_equal(monkeypatch):
+def test_compiled_window_is_bitwise_and_level_equal(monkeypatch, compiled_on):
     """With numba, the compiled window is the numpy path's bit for bit, and the fused level's
     outputs equal the numpy march's (to 1e-12: its solve is LAPACK's algorithm recompiled;
     bit for bit on the development machine) on a batch with a yield closure and on a graded
     (breakpoint) march."""
-    pytest.importorskip("numba")
     assert _compiled.build() and _compiled.edges() is not None
     for name in ("yield closure, batch", "breakpoint lower"):
         lower, upper, p0 = CASES[name]
