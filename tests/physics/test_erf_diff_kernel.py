@@ -34,4 +34,3 @@ def test_erf_diff_series_gives_the_numpy_coefficients_bit_for_bit(monkeypatch, c
             want = erf_diff_coefficients(a, factor, q2)
         assert got.shape == want.shape == (16, a.size)
         np.testing.assert_array_equal(got, want)
-
