@@ -40,7 +40,9 @@ bits, in one pass without the (loads, edges, nodes) temporaries.
 
 :func:`crossing_newton` is :func:`~._percolation.critical_magnification`'s safeguarded Newton
 steps (25-42 steps of ~25 numpy passes each over a few hundred loads: a fixed cost of every
-direct call of the leak table), its operations in its order: the same bits.
+direct call of the leak table), its operations in its order: the same bits. So is
+:func:`erf_diff_series` (the Hermite recurrence of
+:func:`~._fasterf.erf_diff_coefficients`: 30 steps of four passes each, element by element).
 """
 
 from __future__ import annotations
@@ -65,6 +67,7 @@ __all__ = [
     "PAIRWISE",
     "df_poly",
     "df_sums",
+    "erf_diff_series",
     "gap_rows",
     "kernel",
     "spline_coefficients",
@@ -116,6 +119,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         df_poly,
         df_sums,
         crossing_newton,
+        erf_diff_series,
     )
     return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 
@@ -462,3 +466,21 @@ def crossing_newton(
             xc[r] = xn
             if abs(xn - x) <= 1e-15 * ax:
                 break
+
+
+def erf_diff_series(
+    two_a: Any, scale: Any, q2: Any, inv_fact: Any, out: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """Rows ``1..`` of :func:`~._fasterf.erf_diff_coefficients` (``factor``, ``q2`` given):
+    ``out[n] = (scale q2^n H_2n(a)) inv_fact[n]`` from ``two_a = 2 a``, ``scale`` (row 0,
+    overwritten) and the recurrence ``H_m+1 = 2a H_m - 2m H_m-1``: its operations in its order
+    per element, in one pass over the elements per step."""
+    h_prev, h = np.ones(two_a.size), two_a.copy()
+    for m in range(1, 2 * out.shape[0] - 1):
+        c, n = -2.0 * m, (m + 1) // 2
+        for i in range(two_a.size):
+            v = h_prev[i] * c + two_a[i] * h[i]
+            h_prev[i], h[i] = h[i], v
+            if m % 2:
+                scale[i] = scale[i] * q2[i]
+                out[n, i] = (scale[i] * v) * inv_fact[n]

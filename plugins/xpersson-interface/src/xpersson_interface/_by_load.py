@@ -62,6 +62,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+import xarray as xr
 from numpy.typing import NDArray
 
 from xpersson.plugins.solved import curve_variables
@@ -386,5 +387,22 @@ def subset(ctx: Any, ds: Any, rows: NDArray[np.intp]) -> tuple[Any, Any]:
             return whole(zeta, sel, tau)
 
     sub = dataclasses.replace(ctx, p0=p0[rows], solve_at=solve_at)
-    names = [k for k in curve_variables(ctx) if k in ds.variables]
-    return sub, ds[names].isel(p0=rows)
+    return sub, _Rows(ds, curve_variables(ctx), rows)
+
+
+class _Rows:
+    """The variables ``names`` of a Dataset at the loads ``rows``, as ``ds[names].isel(p0=rows)``
+    holds them (``.variables``: the same values, dimensions and attributes; what
+    :func:`xpersson.plugins.solved.solved_curve` reads), without building a Dataset: xarray's
+    ``isel`` cost ~0.2 ms of every direct call."""
+
+    def __init__(self, ds: Any, names: tuple[str, ...], rows: NDArray[np.intp]) -> None:
+        out = {}
+        for name in names:
+            var = ds.variables.get(name)
+            if var is not None and "p0" in var.dims:
+                axis = var.dims.index("p0")
+                var = xr.Variable(var.dims, np.take(var.values, rows, axis=axis), var.attrs)
+            if var is not None:
+                out[name] = var
+        self.variables = out

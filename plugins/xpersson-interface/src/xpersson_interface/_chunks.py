@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from xpersson import physics
+from xpersson.cache import memoize
 from xpersson.plugins.solved import Solved, per_solve
 
 __all__ = [
@@ -58,6 +59,12 @@ def bin_edges(s: Solved, n_bins: int) -> NDArray[np.float64]:
     z_max = float(s.zeta[-1])
     if z_max <= 1.0:
         return s.zeta
+    return _bin_edges(z_max, int(n_bins))
+
+
+@memoize("interface.bin_edges", scope="process", maxsize=32)
+def _bin_edges(z_max: float, n_bins: int) -> NDArray[np.float64]:
+    """:func:`bin_edges` of ``zeta_max > 1`` (read-only; once per curve, not per direct call)."""
     inner = 1.0 + np.geomspace(1e-9, z_max - 1.0, n_bins)
     return np.unique(np.concatenate(([1.0], inner[inner < z_max], [z_max])))
 

@@ -130,8 +130,8 @@ class _Interface(Analysis):
             lambda: solved_curve(ctx, ds, *self._key(dense)),
         )
 
-    def _contact(self, ctx: Any, ds: Any) -> tuple[Solved, physics.SolvedContact]:
-        s = self._solved(ctx, ds)
+    def _contact(self, ctx: Any, ds: Any, s: Any = None) -> tuple[Solved, physics.SolvedContact]:
+        s = self._solved(ctx, ds) if s is None else s  # s: the solved curve of ctx, ds if known
         sc = per_solve(
             ctx,
             ("contact", *self._key(True)),
@@ -143,7 +143,7 @@ class _Interface(Analysis):
         """The solved curve and its loads in chunks (:mod:`._chunks`; one up to CHUNK)."""
         s = self._solved(ctx, ds)
         if s.p0.size <= CHUNK:
-            return s, [(slice(None), s, self._contact(ctx, ds)[1])]
+            return s, [(slice(None), s, self._contact(ctx, ds, s)[1])]
         return s, contacts(ctx, s, self._key(True), CHUNK)
 
 
