@@ -16,6 +16,17 @@ except ImportError:  # pragma: no cover - source-tree fallback
 PEERS = Path(__file__).parents[2] / ".." / "shared" / "peers"
 
 
+@pytest.fixture
+def compiled_on():
+    """numba present and the compiled path on for the test, whatever ``XPERSSON_COMPILED``
+    says (these tests compare the compiled path with the numpy one)."""
+    pytest.importorskip("numba")
+    import xpersson
+
+    with xpersson.set_options(compiled=True):
+        yield
+
+
 @pytest.fixture(scope="session")
 def scene_mod():
     """The shared peer module ``scene`` (skips cleanly when ../shared/peers is absent)."""

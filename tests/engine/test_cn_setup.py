@@ -36,8 +36,7 @@ def test_level_times_loop_is_numpy_bitwise(seed):
         assert got[0].size == theta.size + 1 and (np.diff(t) > 0).all()
 
 
-def test_compiled_level_times_are_numpy_bitwise_and_zones_stay_numpy():
-    pytest.importorskip("numba")
+def test_compiled_level_times_are_numpy_bitwise_and_zones_stay_numpy(compiled_on):
     assert _compiled.build() and _compiled.times() is not None
     fast = _compiled.times()
     for base, nsub, n_ie in _bases(2):
@@ -81,11 +80,10 @@ def test_batch_start_time_with_walls_not_shared():
     assert _start_time([a], 3.0) < _start_time([b], 3.0)  # (the nearer wall enters sooner)
 
 
-def test_compiled_level_times_with_zones_that_grade_no_substep_are_numpy_bitwise():
+def test_compiled_level_times_with_zones_that_grade_no_substep_are_numpy_bitwise(compiled_on):
     """The loop also runs where a zone subdivides no step (one substep per step, or no step
     inside it): only the zones' implicit-Euler steps are patched in, the numpy path's
     numbers; a zone that grades substeps still takes the numpy path."""
-    pytest.importorskip("numba")
     assert _compiled.build()
     fast = _compiled.times()
     rng = np.random.default_rng(3)

@@ -15,15 +15,6 @@ import xpersson
 from xpersson.engine import _compiled
 
 
-@pytest.fixture
-def compiled_on():
-    """numba present and the compiled path on for the test, whatever ``XPERSSON_COMPILED``
-    says (these tests compare the compiled path with the numpy one)."""
-    pytest.importorskip("numba")
-    with xpersson.set_options(compiled=True):
-        yield
-
-
 def _system(rng: np.random.Generator, n: int, dominant: bool):
     dl, du = rng.normal(size=n - 1), rng.normal(size=n - 1)
     d = rng.normal(size=n) + (4.0 * np.sign(rng.normal(size=n)) if dominant else 0.0)

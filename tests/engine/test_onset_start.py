@@ -86,9 +86,8 @@ def test_error_estimate_bounds_the_error_after_a_square_root_onset(seed):
     assert np.max(err / np.maximum(res.error_estimate, 1e-300)) <= 1.0
 
 
-def test_one_wall_start_compiled_equals_numpy(monkeypatch):
+def test_one_wall_start_compiled_equals_numpy(monkeypatch, compiled_on):
     """The march from a one-wall start: the compiled kernel gives the numpy path's answer."""
-    pytest.importorskip("numba")
     import xpersson
     from xpersson.engine import _compiled
 
