@@ -35,7 +35,7 @@ class Problem:
 
     @property
     def tau_max(self) -> float:
-        return float(np.max(self.tau[..., -1]))
+        return float(self.tau[..., -1].max())
 
     @property
     def is_batch(self) -> bool:

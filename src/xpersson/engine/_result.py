@@ -396,6 +396,8 @@ class LazyField:
 
 
 def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report success?
+    if isinstance(raw.status, str):  # one status for the batch
+        return np.full(n, raw.status == "success")
     return broadcast_view(np.asarray(raw.status) == "success", (n,)).copy()
 
 
@@ -468,9 +470,10 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         else [m or "requested tolerance met" for m in raw.message]
     )
     success = np.array(clean, dtype=bool)
-    for i in np.flatnonzero(~clean):
-        status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
-        success[i] = status[i] == "success"
+    if not success.all():
+        for i in np.flatnonzero(~clean):
+            status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
+            success[i] = status[i] == "success"
     fields = {
         "tau": problem.tau,
         "area": raw.area,
