@@ -340,7 +340,7 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
     ab_l = np.zeros(shape)
     ab_u = np.zeros(shape)
     load = np.empty(shape)
-    load[...] = [[p.p0] for p in pbs]
+    load[...] = np.array([p.p0 for p in pbs])[:, None]
     wall_term = np.zeros(shape)
     e_all = np.zeros(shape)
     trunc = 2.0 * math.erfc(k / math.sqrt(2.0))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -426,7 +427,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         worst_all = max(
             float(prob.max()), -float(prob.min()), float(loadb.max()), -float(loadb.min())
         )
-        finite_all = bool(np.isfinite(worst_all) and np.isfinite(np.sum(raw.non_area)))
+        finite_all = math.isfinite(worst_all) and math.isfinite(np.asarray(raw.non_area).sum())
     if raw.P is not None:
         finite_all = finite_all and bool(np.isfinite(np.sum(raw.P)))
     form = raw.error_form
@@ -436,7 +437,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         slack = np.abs(raw.area)
         slack *= -problem.rtol
         slack += raw.error_estimate
-        tol_all = bool(np.max(slack) <= problem.atol)  # False where it holds NaN
+        tol_all = bool(slack.max() <= problem.atol)  # False where it holds NaN
     if finite_all and worst_all <= bal_tol and tol_all:
         clean = raw_ok
     else:  # per-load screen: only loads that may fail get the detailed examination
