@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.special import erfcinv
 
 from ..cache import Cache
+from ._views import broadcast_view
 from ._walls import Wall
 
 __all__ = ["Problem", "make_problem", "window_k", "sample_times"]
@@ -131,7 +132,7 @@ def make_problem(
         raise ValueError("lower: a moving yield_closure wall is only supported as the upper wall")
     _check_positions(tau, p0v, lower, upper)
     if batch and tau.ndim == 1:
-        tau = np.broadcast_to(tau, (p0v.size, tau.size))
+        tau = broadcast_view(tau, (p0v.size, tau.size))
     p_arr = None
     if p_out is not None:
         p_arr = np.atleast_1d(np.asarray(p_out, dtype=float))
@@ -185,15 +186,15 @@ def _checked_times_and_loads(
 
 
 def _valid_times(tau: Array) -> bool:
-    """Every row of ``tau`` [Pa^2] finite, >= 0 and strictly increasing, in two reductions: the
-    steps of a row are all > 0 (false for a NaN, and for inf - inf), its first time is >= 0 and
-    its last finite; then every time lies in [first, last]."""
-    with np.errstate(invalid="ignore"):  # inf - inf: a NaN step, so not valid
-        steps = np.diff(tau, axis=-1)
-    first, last = tau[..., 0], tau[..., -1]
-    return bool(steps.size == 0 or (steps > 0).all()) and bool(
-        ((first >= 0) & (np.abs(last) < math.inf)).all()
-    )
+    """Every row of ``tau`` [Pa^2] finite, >= 0 and strictly increasing, in two reductions: each
+    time of a row is above the one before (false where either is NaN, and for inf after inf:
+    with subnormals ``b > a`` is ``b - a > 0``), its first time is >= 0 and its last finite;
+    then every time lies in [first, last]."""
+    if not (tau.shape[-1] < 2 or (tau[..., 1:] > tau[..., :-1]).all()):
+        return False
+    if tau.ndim == 1:  # (on floats: the same comparisons)
+        return float(tau[0]) >= 0.0 and abs(float(tau[-1])) < math.inf
+    return bool(((tau[..., 0] >= 0) & (np.abs(tau[..., -1]) < math.inf)).all())
 
 
 def _checked_tolerances(rtol: float, atol: float | None) -> tuple[float, float]:
