@@ -97,11 +97,12 @@ class CNMethod(EngineMethod):
         num = ~analytic
         nb = len(pbs)
         lv = _Grids(pbs, opts, tau_s, num, image)
-        fit = _Fit(np.full((nb, np.count_nonzero(num)), np.inf))
         if num.any():
             fit = _control(lv, pb, opts.aim, tau[num])
             if fit.best is None:
                 return self._failed(nb, fit.status, fit.message or "no level completed", lv.nsteps)
+        else:
+            fit = _Fit(np.full((nb, 0), np.inf))
         return _assemble(pbs, opts.window_k, analytic, fit, lv)
 
     def _failed(self, nb: int, status: str, message: str, nsteps: int) -> Raw:

@@ -469,12 +469,12 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array) -> _Fit:
     # round-off of the sums over the grid (the level difference cannot see it)
     fit.err = fit.err + 16.0 * _EPS * math.sqrt(max(fit.n_used, 1)) * np.abs(best.area)
     tol = pb.rtol * np.abs(best.area) + pb.atol
-    if fit.status == "success" and np.any(fit.err > tol):
+    if fit.status == "success" and (fit.err > tol).any():
         fit.status = "tolerance_not_met"
     if fit.status == "success":
         # reported as a uniform fraction of the tolerance per load, the largest estimated:
         # a difference of levels crosses zero where the actual error need not
-        fit.err = tol * np.max(fit.err / tol, axis=-1, keepdims=True)
+        fit.err = tol * (fit.err / tol).max(axis=-1, keepdims=True)
     if fit.status != "success":
         i = np.unravel_index(int(np.argmax(fit.err / tol)), fit.err.shape)
         fit.message = (fit.message + "; " if fit.message else "") + (
