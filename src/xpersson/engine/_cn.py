@@ -97,11 +97,12 @@ class CNMethod(EngineMethod):
         num = ~analytic
         nb = len(pbs)
         lv = _Grids(pbs, opts, tau_s, num, image)
-        fit = _Fit(np.full((nb, np.count_nonzero(num)), np.inf))
         if num.any():
             fit = _control(lv, pb, opts.aim, tau[num])
             if fit.best is None:
                 return self._failed(nb, fit.status, fit.message or "no level completed", lv.nsteps)
+        else:
+            fit = _Fit(np.full((nb, 0), np.inf))
         return _assemble(pbs, opts.window_k, analytic, fit, lv)
 
     def _failed(self, nb: int, status: str, message: str, nsteps: int) -> Raw:
@@ -344,7 +345,8 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
     wall_term = np.zeros(shape)
     e_all = np.zeros(shape)
     trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
-    e_all[:, analytic & (tau > 0)] = trunc
+    if analytic.any():
+        e_all[:, analytic & (tau > 0)] = trunc
     if lv.image is not None:  # a one-wall start: the closed form (exact) up to the march
         _one_wall_start(pbs, analytic, lv.image, area, ab_l, load, wall_term)
     if best is not None and num.any():
@@ -360,7 +362,7 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
         roundoff = 16.0 * _EPS * (nsteps + math.sqrt(max(n_used, 1)))
         bound = err + trunc + roundoff
         for key, d in dist.items():
-            if np.any(d > bound) and status == "success":
+            if status == "success" and (d > bound).any():
                 status = "tolerance_not_met"
                 message = (
                     f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its error estimate"

@@ -160,15 +160,16 @@ def _round_grid(n: float) -> int:
 
 def _load_scale(pbs: list[Problem], tau: Array) -> Array:
     """Scale of the load identity per (load, output): max(|p0|, |walls|) [Pa] (as in finish)."""
-    out = []
-    for p in pbs:
-        lo = p.lower.at(tau)
-        sc = np.maximum(abs(p.p0), np.abs(lo))
-        if p.upper is not None:  # (without one: its +inf adds nothing)
-            up = p.upper.at(tau)
-            sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
-        out.append(np.where(sc > 0, sc, 1.0))
-    return np.array(out)
+    pb = pbs[0]
+    if any(p.lower is not pb.lower or p.upper is not pb.upper for p in pbs[1:]):
+        return np.concatenate([_load_scale([p], tau) for p in pbs])
+    # the loads of a batch share their walls: evaluated once (the same numbers per load)
+    lo = pb.lower.at(tau)
+    sc = np.maximum(np.abs(np.array([[p.p0] for p in pbs], dtype=float)), np.abs(lo))
+    if pb.upper is not None:  # (without one: its +inf adds nothing)
+        up = pb.upper.at(tau)
+        sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
+    return np.where(sc > 0, sc, 1.0)
 
 
 class _Judge:
@@ -469,12 +470,12 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array) -> _Fit:
     # round-off of the sums over the grid (the level difference cannot see it)
     fit.err = fit.err + 16.0 * _EPS * math.sqrt(max(fit.n_used, 1)) * np.abs(best.area)
     tol = pb.rtol * np.abs(best.area) + pb.atol
-    if fit.status == "success" and np.any(fit.err > tol):
+    if fit.status == "success" and (fit.err > tol).any():
         fit.status = "tolerance_not_met"
     if fit.status == "success":
         # reported as a uniform fraction of the tolerance per load, the largest estimated:
         # a difference of levels crosses zero where the actual error need not
-        fit.err = tol * np.max(fit.err / tol, axis=-1, keepdims=True)
+        fit.err = tol * (fit.err / tol).max(axis=-1, keepdims=True)
     if fit.status != "success":
         i = np.unravel_index(int(np.argmax(fit.err / tol)), fit.err.shape)
         fit.message = (fit.message + "; " if fit.message else "") + (

@@ -82,7 +82,7 @@ def _first_start(
         ok = lo <= p0 - ks if ok is None else ok & (lo <= p0 - ks)
     if ok is None or ok.all():
         return tau_max
-    first = int(np.argmin(ok))
+    first = int(ok.argmin())
     if first == 0:
         return float(cand[0])
     return float(cand[first - 1]) * 0.5
@@ -258,11 +258,12 @@ def _track_wall(
     each of ``taus``, from one call of the wall (+inf and 0 without a wall); ``fast``: the
     compiled :func:`._cn_edges.wall_query` and :func:`._cn_edges.wall_track` (the same
     numbers)."""
-    if wall is None:
-        z = np.zeros_like(taus)
-        return np.full(mid.shape, np.inf), np.full(taus.shape, np.inf), z, z
+    if wall is None:  # (read-only inputs of the window: the positions at mid a view)
+        z = np.zeros(taus.size)
+        inf = np.full(taus.size, np.inf)
+        return inf[:-1], inf, z, z
     if fast is not None and _differenced(wall):
-        fns = None if getattr(wall, "table", None) is None else table_kernels()
+        fns = None if wall.table is None else table_kernels()
         return compiled_track(wall, mid, taus, fast, None if fns is None else fns[2])
     probe = _probe_times(wall, taus)
     if probe is None:
@@ -286,7 +287,7 @@ def _tracks(pb: Problem, taus: Array, fast: tuple | None = None) -> dict:
     mid = 0.5 * (taus[:-1] + taus[1:])
     lo_m, lo, lo_vb, lo_va = _track_wall(pb.lower, mid, taus, fast)
     up_m, up, up_vb, up_va = _track_wall(pb.upper, mid, taus, fast)
-    ys = pb.upper.speed(taus) if pb.upper is not None else np.zeros_like(taus)
+    ys = pb.upper.speed(taus) if pb.upper is not None else up_vb  # (zeros without one)
     return {
         "mid": mid,
         "lo_m": lo_m,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -396,6 +397,8 @@ class LazyField:
 
 
 def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report success?
+    if isinstance(raw.status, str):  # one status for the batch
+        return np.full(n, raw.status == "success")
     return broadcast_view(np.asarray(raw.status) == "success", (n,)).copy()
 
 
@@ -424,7 +427,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         worst_all = max(
             float(prob.max()), -float(prob.min()), float(loadb.max()), -float(loadb.min())
         )
-        finite_all = bool(np.isfinite(worst_all) and np.isfinite(np.sum(raw.non_area)))
+        finite_all = math.isfinite(worst_all) and math.isfinite(np.asarray(raw.non_area).sum())
     if raw.P is not None:
         finite_all = finite_all and bool(np.isfinite(np.sum(raw.P)))
     form = raw.error_form
@@ -434,7 +437,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         slack = np.abs(raw.area)
         slack *= -problem.rtol
         slack += raw.error_estimate
-        tol_all = bool(np.max(slack) <= problem.atol)  # False where it holds NaN
+        tol_all = bool(slack.max() <= problem.atol)  # False where it holds NaN
     if finite_all and worst_all <= bal_tol and tol_all:
         clean = raw_ok
     else:  # per-load screen: only loads that may fail get the detailed examination
@@ -468,9 +471,10 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         else [m or "requested tolerance met" for m in raw.message]
     )
     success = np.array(clean, dtype=bool)
-    for i in np.flatnonzero(~clean):
-        status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
-        success[i] = status[i] == "success"
+    if not success.all():
+        for i in np.flatnonzero(~clean):
+            status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
+            success[i] = status[i] == "success"
     fields = {
         "tau": problem.tau,
         "area": raw.area,

@@ -107,8 +107,9 @@ class WallTable:
             return None
         t = np.asarray(tau, dtype=float)
         out = np.empty(t.shape)
-        c, x, lo, hi, ext, root, neg = self.args()
-        fns[0](c, x, lo, hi, ext, t.ravel(), out.reshape(-1), root, neg)
+        flat = t if t.ndim == 1 and t.flags.c_contiguous else t.ravel()
+        fns[0](self.c, self.x, self.t_lo, self.t_hi, self.extrapolate, flat,
+               out if t.ndim == 1 else out.reshape(-1), self.root, self.negate)  # fmt: skip
         return out
 
     def values(self, tau: ArrayLike) -> Array:

@@ -188,12 +188,12 @@ class Wall:
     def at(self, tau: ArrayLike) -> NDArray[np.float64]:
         """Positions [Pa] at diffusion times ``tau`` [Pa^2] (same shape as ``tau``)."""
         t = np.asarray(tau, dtype=float)
-        if self.is_fixed:
-            return np.full(t.shape, float(self.position))
-        if self.table is not None:  # the compiled wall protocol, where the compiled code runs
-            found = self.table.compiled(t)
+        if self.table is not None and callable(self.position):  # the compiled wall protocol,
+            found = self.table.compiled(t)  # where the compiled code runs
             if found is not None:
                 return found
+        if self.is_fixed:
+            return np.full(t.shape, float(self.position))
         out = np.asarray(self.position(t), dtype=float)
         if out.shape == t.shape:
             return out.copy()  # (a copy: the callable may return an array it keeps)

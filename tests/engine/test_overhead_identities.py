@@ -1,0 +1,106 @@
+"""The engine's per-solve shortcuts give the numbers of what they replace, bit for bit (issue
+36): ``_grid.linspace0`` against ``numpy.linspace``, the projection's shortcut where no
+absorbed sum exceeds 1 against the full projection, and the stacked Richardson combinations
+(``combine``, ``weighted``) against the same formulas field by field."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from xpersson.engine._grid import linspace0
+from xpersson.engine._level import _FIELDS, Outputs, combine, project, weighted
+
+
+def _same(a: np.ndarray, b: np.ndarray) -> bool:
+    """Equal shapes and bits (so -0.0 differs from 0.0, and a NaN equals its own bits)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    return a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+@settings(max_examples=400, deadline=None)
+@given(
+    stop=st.one_of(
+        st.floats(allow_nan=False, allow_infinity=False),
+        st.sampled_from([0.0, -0.0, 5e-324, -5e-324, 1e-310, 2.2e-308, 1.7976931348623157e308]),
+    ),
+    n=st.integers(0, 700),
+)
+def test_linspace0_is_numpy_linspace_bitwise(stop, n):
+    with np.errstate(all="ignore"):
+        assert _same(linspace0(stop, n), np.linspace(0.0, stop, n))
+
+
+def _project_reference(area, abs_l, abs_u):
+    """The projection as it was written before its shortcut (every step, every time)."""
+    a = np.clip(area, 0.0, 1.0)
+    lo = np.maximum(abs_l, 0.0)
+    up = np.maximum(abs_u, 0.0)
+    total = lo + up
+    over = total > 1.0
+    scale = np.where(over, 1.0 / np.where(over, total, 1.0), 1.0)
+    lo = np.minimum(lo * scale, 1.0)
+    up = np.where(over, np.minimum(up * scale, 1.0 - lo), up)
+    up = np.where(lo + up > 1.0, np.nextafter(up, 0.0), up)
+    dist = {
+        "area": np.abs(a - area),
+        "absorbed_lower": np.abs(lo - abs_l),
+        "absorbed_upper": np.abs(up - abs_u),
+        "non_contact_fraction": np.abs(lo + up - (abs_l + abs_u)),
+    }
+    return (a, lo, up), dist
+
+
+_PROB = st.one_of(
+    st.floats(-0.2, 1.2),
+    st.sampled_from([0.0, -0.0, 1.0, 0.5, 1.0 - 2**-53, 1e-300, np.nan]),
+)
+
+
+@settings(max_examples=120, deadline=None)
+@given(
+    rows=st.lists(st.tuples(_PROB, _PROB, _PROB), min_size=1, max_size=12),
+    loads=st.integers(1, 3),
+)
+def test_projection_shortcut_is_the_full_projection(rows, loads):
+    v = np.array(rows * loads, dtype=float).T.reshape(3, loads, len(rows))
+    got, got_d = project(v[0], v[1], v[2])
+    ref, ref_d = _project_reference(v[0], v[1], v[2])
+    assert all(_same(g, r) for g, r in zip(got, ref, strict=True))
+    assert got_d.keys() == ref_d.keys()
+    assert all(_same(got_d[k], ref_d[k]) for k in ref_d)
+
+
+def _outputs(rng: np.random.Generator, with_p: bool) -> Outputs:
+    fields = {name: rng.standard_normal((2, 5)) for name in _FIELDS if name != "P"}
+    fields["area"][0, :3] = [-0.0, 0.0, np.nan]
+    fields["P"] = rng.standard_normal((2, 5, 3)) if with_p else None
+    return Outputs(**fields)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 5), with_p=st.booleans())
+def test_stacked_combinations_are_the_fieldwise_formulas(seed, n, with_p):
+    rng = np.random.default_rng(seed)
+    levels = [_outputs(rng, with_p) for _ in range(n)]
+    w = rng.standard_normal(n)
+    got = weighted(levels, w)
+    for name in _FIELDS:
+        if getattr(levels[0], name) is None:
+            assert getattr(got, name) is None
+            continue
+        acc = 0
+        for c, lv in zip(w, levels, strict=True):
+            acc = acc + float(c) * getattr(lv, name)
+        assert _same(getattr(got, name), acc)
+    fine, coarse = levels[-1], levels[0]
+    extrapolated = combine(fine, coarse, True)
+    for name in _FIELDS:
+        a = getattr(fine, name)
+        if a is None:
+            assert getattr(extrapolated, name) is None
+        else:
+            assert _same(getattr(extrapolated, name), a + (a - getattr(coarse, name)) / 3.0)
+    kept = combine(fine, coarse, False)
+    assert all(getattr(kept, name) is getattr(fine, name) for name in _FIELDS)
