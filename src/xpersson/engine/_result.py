@@ -396,12 +396,6 @@ class LazyField:
         return self._fn()
 
 
-def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report success?
-    if isinstance(raw.status, str):  # one status for the batch
-        return np.full(n, raw.status == "success")
-    return broadcast_view(np.asarray(raw.status) == "success", (n,)).copy()
-
-
 def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     """Balances and per-load status of a batched Raw: the pieces of an :class:`EngineBatch`.
 
@@ -416,7 +410,11 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     else:
         lo, up, prob, loadb = _balances(problem, raw)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
-    raw_ok = _raw_ok(raw, n)
+    raw_ok = (  # per load: did the method report success? (one status str for a batch)
+        np.full(n, raw.status == "success")
+        if isinstance(raw.status, str)
+        else broadcast_view(np.asarray(raw.status) == "success", (n,)).copy()
+    )
     # NaN/inf in any field reaches a balance or one of the sums (max/min/sum propagate NaN)
     if raw.exact_balances:
         finite_all = bool(np.isfinite(np.sum(raw.area) + np.sum(raw.non_area)))
@@ -471,10 +469,9 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         else [m or "requested tolerance met" for m in raw.message]
     )
     success = np.array(clean, dtype=bool)
-    if not success.all():
-        for i in np.flatnonzero(~clean):
-            status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
-            success[i] = status[i] == "success"
+    for i in np.flatnonzero(~clean):  # (none where every load is clean)
+        status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
+        success[i] = status[i] == "success"
     fields = {
         "tau": problem.tau,
         "area": raw.area,
