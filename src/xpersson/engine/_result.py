@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._problem import Problem
-from ._views import broadcast_view
+from ._views import LazyField, broadcast_view
 
 __all__ = [
     "Outcome",
@@ -383,17 +383,10 @@ class EngineBatch(Sequence):
         )
 
 
-class LazyField:
-    """A batch field computed on first access (e.g. the wall positions of a moving wall that
-    the exact path dropped: reported when asked for, not inverted for every solve)."""
-
-    __slots__ = ("_fn",)
-
-    def __init__(self, fn) -> None:
-        self._fn = fn
-
-    def __call__(self):
-        return self._fn()
+def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report success?
+    if isinstance(raw.status, str):  # one status for the batch
+        return np.full(n, raw.status == "success")
+    return broadcast_view(np.asarray(raw.status) == "success", (n,)).copy()
 
 
 def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
@@ -410,11 +403,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     else:
         lo, up, prob, loadb = _balances(problem, raw)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
-    raw_ok = (  # per load: did the method report success? (one status str for a batch)
-        np.full(n, raw.status == "success")
-        if isinstance(raw.status, str)
-        else broadcast_view(np.asarray(raw.status) == "success", (n,)).copy()
-    )
+    raw_ok = _raw_ok(raw, n)
     # NaN/inf in any field reaches a balance or one of the sums (max/min/sum propagate NaN)
     if raw.exact_balances:
         finite_all = bool(np.isfinite(np.sum(raw.area) + np.sum(raw.non_area)))
@@ -469,9 +458,10 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         else [m or "requested tolerance met" for m in raw.message]
     )
     success = np.array(clean, dtype=bool)
-    for i in np.flatnonzero(~clean):  # (none where every load is clean)
-        status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
-        success[i] = status[i] == "success"
+    if not success.all():
+        for i in np.flatnonzero(~clean):
+            status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
+            success[i] = status[i] == "success"
     fields = {
         "tau": problem.tau,
         "area": raw.area,

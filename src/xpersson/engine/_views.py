@@ -1,5 +1,6 @@
 """Read-only broadcast views of the engine's batch results, without ``np.broadcast_to``'s
-argument handling (about 8 us a call; a few calls per solve)."""
+argument handling (about 8 us a call; a few calls per solve), and deferred batch fields
+(:class:`LazyField`)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["broadcast_view"]
+__all__ = ["LazyField", "broadcast_view"]
 
 
 def broadcast_view(value: Any, shape: tuple[int, ...]) -> NDArray[Any]:
@@ -22,3 +23,16 @@ def broadcast_view(value: Any, shape: tuple[int, ...]) -> NDArray[Any]:
         out.flags.writeable = False
         return out
     return np.broadcast_to(arr, shape)
+
+
+class LazyField:
+    """A batch field computed on first access (e.g. the wall positions of a moving wall that
+    the exact path dropped: reported when asked for, not inverted for every solve)."""
+
+    __slots__ = ("_fn",)
+
+    def __init__(self, fn) -> None:
+        self._fn = fn
+
+    def __call__(self):
+        return self._fn()
