@@ -37,7 +37,6 @@ from ._core import (
     log_grid,
 )
 from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
-from ._sections import convert_section
 
 __all__ = ["plugin_message", "resolve_scene", "with_spectrum"]
 
@@ -84,7 +83,7 @@ def _convert(
     """:func:`convert_params`, each hashable value converted once per ``memo`` (a sweep over
     one spectrum parameter converts the others once: the same values, the same results)."""
     if memo is None:
-        return convert_section(specs, raw, section)
+        return convert_params(specs, raw, section)
     if not set(raw) <= set(specs) or any(s.required and n not in raw for n, s in specs.items()):
         return convert_params(specs, raw, section)  # its messages
     out: dict[str, Any] = {}
@@ -246,7 +245,7 @@ def _check_metadata(meta: Any) -> None:
 
 def _core_sections(data: Mapping[str, Any]) -> dict[str, Any]:
     """The converted core sections: material, loads (raw and Pa), output and solver."""
-    material = convert_section(CORE["material"], data.get("material", {}), "material")
+    material = convert_params(CORE["material"], data.get("material", {}), "material")
     load_raw = dict(data["load"])
     load_raw.pop("force", None)  # a finite body's (checked by check_load_keys)
     p0_raw = load_raw.pop("p0", "1 Pa")  # a body's pressures are a grid (see resolve_scene)
