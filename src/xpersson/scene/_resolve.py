@@ -315,12 +315,15 @@ def _records(
     names: Mapping[str, str],
     analyses: list[tuple[str, Plugin]],
     registry: Registry,
-) -> tuple[tuple[dict[str, Any], str | None], ...]:
+) -> tuple[tuple[tuple[dict[str, Any], str | None], ...], str]:
     """``(provenance record, name)`` of every plugin: spectrum, coefficient, boundary,
-    analyses (the records are the registry's shared read-only ones)."""
-    items = [(PLUGIN_SECTIONS[s], names.get(s), plugins[s]) for s in PLUGIN_SECTIONS]
-    items += [("analyses", name, inst) for name, inst in analyses]
-    return tuple((registry.provenance(group, type(inst)), name) for group, name, inst in items)
+    analyses (the records are the registry's shared read-only ones), and their JSON text (the
+    registry's, made once per record and name: ``json.dumps`` of the list, sorted keys)."""
+    items = [(PLUGIN_SECTIONS[s], names.get(s), type(plugins[s])) for s in PLUGIN_SECTIONS]
+    items += [("analyses", name, type(inst)) for name, inst in analyses]
+    records = tuple((registry.provenance(group, cls), name) for group, name, cls in items)
+    texts = [registry.provenance_json(group, cls, name) for group, name, cls in items]
+    return records, "[" + ", ".join(texts) + "]"
 
 
 def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
@@ -363,7 +366,7 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         resolved["analyses"][name] = jsonable(dict(inst.params), type(inst).parameters)
     resolved["material"] = jsonable(core["material"], CORE["material"])
     resolved["load"] = {"p0": resolved_loads(core["p0_raw"], p0, core["scalar"])}
-    records = _records(plugins, names, analyses, registry)
+    records, records_json = _records(plugins, names, analyses, registry)
     if body is not None:
         resolved["geometry"], resolved["load"] = body.resolved, {"force": body.force_resolved}
         labels["geometry"] = plugin_label("geometry", body.geometry, registry, body.name)
@@ -398,6 +401,7 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         solver_options={k: int(solver[k]) for k in ("walkers", "seed") if solver[k] is not None},
         labels=labels,
         plugin_records=records,
+        plugin_records_json=records_json,
         plugin_time_limit=solver["plugin_time_limit"],
         geometry=None if body is None else body.geometry,
         force=None if body is None else body.force,
@@ -470,9 +474,9 @@ def with_spectrum(
     out, grids = _output_once(data.get("output", {}), memo)
     psd, zeta = _spectrum_and_grid(inst, labels["spectrum"], out, resolved, names, grids)
     resolved["output"] = {**rs.resolved["output"], "zeta": np.asarray(zeta, float).tolist()}
-    records = rs.plugin_records
+    records, records_json = rs.plugin_records, rs.plugin_records_json
     if type(inst) is not type(rs.spectrum) or name != rs.plugin_names.get("spectrum"):
-        records = _records(
+        records, records_json = _records(
             {"spectrum": inst, "coefficient": rs.coefficient, "boundary": rs.boundary},
             names,
             rs.analyses,
@@ -488,4 +492,5 @@ def with_spectrum(
         resolved=resolved,
         labels=labels,
         plugin_records=records,  # the same plugin classes and names: the same records
+        plugin_records_json=records_json,
     )
