@@ -94,3 +94,16 @@ def test_the_plugins_text_made_at_resolution_is_json_dumps_sorted():
     again = Scene(data).resolve(reg)
     assert again.plugin_records_json == want
     assert json.loads(again.plugin_records_json)[0]["group"] == plugins_used(again)[0]["group"]
+
+
+def test_the_plugins_text_of_a_finite_body_records_its_geometry():
+    from pathlib import Path
+
+    from xpersson.plugins import get_registry
+    from xpersson.provenance import plugins_used
+    from xpersson.scene import load_scene
+
+    sc = load_scene(Path(__file__).resolve().parents[1] / "examples" / "sphere.toml")
+    rs = sc.resolve(get_registry())
+    assert rs.plugin_records_json == json.dumps(plugins_used(rs), sort_keys=True)
+    assert json.loads(rs.plugin_records_json)[-1]["group"] == "geometries"

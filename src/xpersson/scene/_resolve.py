@@ -315,12 +315,16 @@ def _records(
     names: Mapping[str, str],
     analyses: list[tuple[str, Plugin]],
     registry: Registry,
+    body: Any = None,
 ) -> tuple[tuple[tuple[dict[str, Any], str | None], ...], str]:
     """``(provenance record, name)`` of every plugin: spectrum, coefficient, boundary,
-    analyses (the records are the registry's shared read-only ones), and their JSON text (the
-    registry's, made once per record and name: ``json.dumps`` of the list, sorted keys)."""
+    analyses, a finite body's geometry (the records are the registry's shared read-only ones),
+    and their JSON text (the registry's, made once per record and name: ``json.dumps`` of the
+    list, sorted keys)."""
     items = [(PLUGIN_SECTIONS[s], names.get(s), type(plugins[s])) for s in PLUGIN_SECTIONS]
     items += [("analyses", name, type(inst)) for name, inst in analyses]
+    if body is not None:
+        items.append(("geometries", body.name, type(body.geometry)))
     records = tuple((registry.provenance(group, cls), name) for group, name, cls in items)
     texts = [registry.provenance_json(group, cls, name) for group, name, cls in items]
     return records, "[" + ", ".join(texts) + "]"
@@ -366,11 +370,10 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         resolved["analyses"][name] = jsonable(dict(inst.params), type(inst).parameters)
     resolved["material"] = jsonable(core["material"], CORE["material"])
     resolved["load"] = {"p0": resolved_loads(core["p0_raw"], p0, core["scalar"])}
-    records, records_json = _records(plugins, names, analyses, registry)
+    records, records_json = _records(plugins, names, analyses, registry, body)
     if body is not None:
         resolved["geometry"], resolved["load"] = body.resolved, {"force": body.force_resolved}
         labels["geometry"] = plugin_label("geometry", body.geometry, registry, body.name)
-        records += ((registry.provenance("geometries", type(body.geometry)), body.name),)
     resolved["output"] = jsonable(out, CORE["output"])
     resolved["output"].pop("zeta_per_decade", None)
     if resolved["output"].get("model_error") is True:  # the default: archives stay as before
