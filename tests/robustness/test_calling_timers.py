@@ -154,3 +154,24 @@ def test_a_timer_firing_between_calls_is_ignored_and_a_shorter_limit_is_set_anew
                 pass
         assert time.monotonic() - t0 < 5.0
     _clean()
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="needs fork")
+def test_a_forked_child_arms_its_own_timer():
+    """A child forked inside a scope inherits no interval timer: it does not reuse the parent's
+    (it would run its calls without a limit), it sets its own."""
+    import os
+
+    with time_limit(5.0):
+        with calling("p", "parent"):
+            pass
+        assert _limits._PENDING  # the parent's timer, kept for its next call
+        pid = os.fork()
+        if pid == 0:  # pragma: no cover - the child reports by its exit status
+            ok = not _limits._PENDING
+            with calling("p", "child"):
+                ok = ok and signal.getitimer(signal.ITIMER_REAL)[0] > 4.0
+            os._exit(0 if ok else 1)
+        _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 0
+    _clean()

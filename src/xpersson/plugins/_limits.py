@@ -28,6 +28,7 @@ import contextvars
 import ctypes
 import heapq
 import itertools
+import os
 import signal
 import threading
 import time
@@ -105,6 +106,10 @@ when the call ends: the next call of the scope reuses it (no system call) when i
 than that call's deadline, else sets it anew; when it fires early, the handler sets it again for
 what is left of the deadline in force, and ignores it when no call is armed. The outermost scope
 cancels it on exit, so no timer outlives a solve; a call outside any scope cancels its own."""
+
+
+if hasattr(os, "register_at_fork"):  # a forked child has no interval timer of its parent
+    os.register_at_fork(after_in_child=_PENDING.clear)
 
 
 def _main_handler(signum: int, frame: object) -> None:
