@@ -57,3 +57,53 @@ def test_the_loads_of_a_study_are_joined_not_dumped():
     assert _strings_json(p0) == json.dumps(p0)
     for odd in ('1 "Pa"', "1 µPa", "1 Pa\\", "1\tPa"):
         assert _strings_json([*p0[:9], odd]) is None
+
+
+def test_the_plugins_text_made_at_resolution_is_json_dumps_sorted():
+    """``ResolvedScene.plugin_records_json`` (each record's text made once per discovery, by
+    the registry) is the ``json.dumps`` of the plugins an archive records, also for a scene
+    whose spectrum a sweep replaces by another model, and after a new discovery."""
+    import copy
+
+    from xpersson import Scene
+    from xpersson.plugins import get_registry
+    from xpersson.provenance import _plugins_json, plugins_used
+    from xpersson.scene._resolve import with_spectrum
+
+    reg = get_registry()
+    data = {
+        "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e4 1/m", "q_1": "1e7 1/m",
+                     "h_rms": "1 um"},
+        "material": {"E": "10 MPa", "nu": 0.5},
+        "load": {"p0": "100 kPa"},
+        "analyses": {"mean_gap": {}},
+    }  # fmt: skip
+    rs = Scene(data).resolve(reg)
+    want = json.dumps(plugins_used(rs), sort_keys=True)
+    assert rs.plugin_records_json == want and _plugins_json(rs)[0] == want
+    other = copy.deepcopy(data)
+    other["spectrum"] = {
+        "model": "tabulated",
+        "q": ["1e4 1/m", "1e5 1/m", "1e7 1/m"],
+        "C": ["1e-20 m^4", "1e-23 m^4", "1e-29 m^4"],
+    }
+    swapped = with_spectrum(rs, Scene(other), reg)
+    assert "tabulated" in swapped.plugin_records_json
+    assert swapped.plugin_records_json == json.dumps(plugins_used(swapped), sort_keys=True)
+    reg.refresh()
+    again = Scene(data).resolve(reg)
+    assert again.plugin_records_json == want
+    assert json.loads(again.plugin_records_json)[0]["group"] == plugins_used(again)[0]["group"]
+
+
+def test_the_plugins_text_of_a_finite_body_records_its_geometry():
+    from pathlib import Path
+
+    from xpersson.plugins import get_registry
+    from xpersson.provenance import plugins_used
+    from xpersson.scene import load_scene
+
+    sc = load_scene(Path(__file__).resolve().parents[1] / "examples" / "sphere.toml")
+    rs = sc.resolve(get_registry())
+    assert rs.plugin_records_json == json.dumps(plugins_used(rs), sort_keys=True)
+    assert json.loads(rs.plugin_records_json)[-1]["group"] == "geometries"

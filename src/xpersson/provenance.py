@@ -142,10 +142,14 @@ def _plugins_used(rs: Any) -> list[dict[str, Any]]:
 
 
 def _plugins_json(rs: Any) -> tuple[str, list[str]]:
-    """JSON of :func:`plugins_used` and the sorted references (about 13 us: no cache, whose
-    content key of the records would cost as much)."""
+    """JSON of :func:`plugins_used` and the sorted references (the text made at resolution,
+    ``ResolvedScene.plugin_records_json``, from the registry's text of each record: each
+    record's ``json.dumps`` once per discovery; made here when a scene has none)."""
     used = _plugins_used(rs)
-    return json.dumps(used, sort_keys=True), sorted({r for p in used for r in p["references"]})
+    text = getattr(rs, "plugin_records_json", None)
+    if text is None:
+        text = json.dumps(used, sort_keys=True)
+    return text, sorted({r for p in used for r in p["references"]})
 
 
 _GRID_JSON = Cache(

@@ -28,6 +28,7 @@ import contextvars
 import ctypes
 import heapq
 import itertools
+import os
 import signal
 import threading
 import time
@@ -57,11 +58,17 @@ def time_limit(seconds: float | None) -> Iterator[None]:
     to every :func:`limited` call inside."""
     if seconds is not None and not seconds > 0:
         raise ValueError(f"plugin time limit [s] must be > 0, got {seconds!r}")
+    main = threading.current_thread() is threading.main_thread()
     token = _LIMIT.set(seconds)
+    _SCOPES[0] += main
     try:
         yield
     finally:
         _LIMIT.reset(token)
+        if main:
+            _SCOPES[0] -= 1
+            if not _SCOPES[0]:
+                _disarm_main()  # the scope leaves no timer behind
 
 
 def current_limit() -> float | None:
@@ -86,18 +93,51 @@ def _message(seconds: float) -> str:
     return f"exceeded the time limit of {seconds:g} s"
 
 
-_MAIN_ARMED: list[float] = []
-"""The limits [s] armed in the main thread (innermost last)."""
+_MAIN_ARMED: list[tuple[float, float]] = []
+"""The limits armed in the main thread (innermost last): seconds [s] and deadline
+(:func:`time.monotonic` [s])."""
+_SCOPES = [0]
+"""How many :func:`time_limit` scopes are open in the main thread."""
+_PENDING: list[float] = []
+"""When the interval timer this module set fires (monotonic [s]); empty: none of ours pending.
+
+Inside a :func:`time_limit` scope of the main thread (a solve) a call's timer is not cancelled
+when the call ends: the next call of the scope reuses it (no system call) when it fires no later
+than that call's deadline, else sets it anew; when it fires early, the handler sets it again for
+what is left of the deadline in force, and ignores it when no call is armed. The outermost scope
+cancels it on exit, so no timer outlives a solve; a call outside any scope cancels its own."""
+
+
+if hasattr(os, "register_at_fork"):  # a forked child has no interval timer of its parent
+    os.register_at_fork(after_in_child=_PENDING.clear)
 
 
 def _main_handler(signum: int, frame: object) -> None:
-    if _MAIN_ARMED:  # an alarm of nothing armed (a stray one) is ignored
-        raise PluginTimeout(_message(_MAIN_ARMED[-1]))
+    if not _MAIN_ARMED:  # a timer left by an ended call of the scope (or a stray one): ignored
+        _PENDING.clear()
+        return
+    seconds, deadline = _MAIN_ARMED[-1]
+    left = deadline - time.monotonic()
+    if left > 0:  # set by an earlier call of the scope: set again for the rest of this limit
+        _PENDING[:] = [deadline]
+        signal.setitimer(signal.ITIMER_REAL, left)
+        return
+    _PENDING.clear()
+    raise PluginTimeout(_message(seconds))
+
+
+def _disarm_main() -> None:
+    """Cancel this module's pending timer (main thread, no call armed)."""
+    if _PENDING and not _MAIN_ARMED:
+        _PENDING.clear()
+        if _signal.getsignal(signal.SIGALRM) is _main_handler:
+            signal.setitimer(signal.ITIMER_REAL, 0)
 
 
 class _alarm:  # noqa: N801 - a context manager class (no generator per plugin call)
     """SIGALRM after ``seconds`` [s] in the main thread, unless an outer limit is armed (or
-    another itimer is pending); disarmed, and an other handler restored, on every exit."""
+    another itimer is pending); disarmed on exit (inside a :func:`time_limit` scope: left for
+    the scope's next call, see :data:`_PENDING`), an other handler restored on every exit."""
 
     __slots__ = ("armed", "old", "seconds")
 
@@ -105,24 +145,36 @@ class _alarm:  # noqa: N801 - a context manager class (no generator per plugin c
         self.seconds, self.armed = seconds, False
 
     def __enter__(self) -> None:
-        if _MAIN_ARMED or signal.getitimer(signal.ITIMER_REAL)[0] > 0:  # an outer limit applies
+        if _MAIN_ARMED:  # an outer limit applies
             return
         old = _signal.getsignal(signal.SIGALRM)  # (signal.getsignal's enum look-up costs ~4 us)
-        if old is not _main_handler:  # installed once while SIGALRM has its default action
-            signal.signal(signal.SIGALRM, _main_handler)
+        if old is not _main_handler or not _PENDING:  # is a timer of someone else's pending?
+            _PENDING.clear()
+            if signal.getitimer(signal.ITIMER_REAL)[0] > 0:  # an outer limit applies
+                return
+            if old is not _main_handler:  # installed once while SIGALRM has its default action
+                signal.signal(signal.SIGALRM, _main_handler)
+        seconds = self.seconds
+        deadline = time.monotonic() + seconds
         self.old, self.armed = old, True
-        _MAIN_ARMED.append(self.seconds)
-        signal.setitimer(signal.ITIMER_REAL, self.seconds)
+        _MAIN_ARMED.append((seconds, deadline))  # armed before the pending timer is read
+        if not _PENDING or _PENDING[0] > deadline:
+            _PENDING[:] = [deadline]
+            signal.setitimer(signal.ITIMER_REAL, seconds)
 
     def __exit__(self, *exc: object) -> bool:
         if not self.armed:
             return False
         self.armed = False
-        signal.setitimer(signal.ITIMER_REAL, 0)
         _MAIN_ARMED.pop()
         old = self.old
         if old is not _main_handler and old not in (signal.SIG_DFL, None):  # restored
+            _PENDING.clear()
+            signal.setitimer(signal.ITIMER_REAL, 0)
             signal.signal(signal.SIGALRM, old)
+        elif not _SCOPES[0]:  # outside a scope: no timer left behind
+            _PENDING.clear()
+            signal.setitimer(signal.ITIMER_REAL, 0)
         return False
 
 

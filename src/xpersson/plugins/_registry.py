@@ -15,6 +15,7 @@ this module keeps a registry's discovery state, loads plugins and records their 
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -84,7 +85,7 @@ class Registry:
     # xpersson's caches are off; refresh() starts a new pass.
     _discovered: dict[str, dict[str, list[PluginInfo]]] | None = field(default=None, repr=False)
     _packages: dict[str, list[str]] | None = field(default=None, repr=False, compare=False)
-    _records: dict[tuple[str, type], tuple[Any, dict[str, Any]]] = field(
+    _records: dict[tuple[str, type], tuple[Any, dict[str, Any], dict[str | None, str]]] = field(
         default_factory=dict, repr=False, compare=False
     )
 
@@ -256,15 +257,30 @@ class Registry:
         Returns the cached record itself (shared by every scene that uses the class): callers
         must not modify it. :meth:`refresh` (a new discovery) makes it be computed again.
         """
-        group = normalize_group(group)
+        return self._provenance(normalize_group(group), cls)[1]
+
+    def provenance_json(self, group: str, cls: type, name: str | None = None) -> str:
+        """``json.dumps`` (sorted keys) of :meth:`provenance`, with ``"name": name`` added when
+        ``name`` is given (as an archive records it), made once per discovery and name."""
+        _, record, texts = self._provenance(normalize_group(group), cls)
+        text = texts.get(name)
+        if text is None:
+            text = json.dumps({**record, "name": name} if name else record, sort_keys=True)
+            texts[name] = text
+        return text
+
+    def _provenance(
+        self, group: str, cls: type
+    ) -> tuple[Any, dict[str, Any], dict[str | None, str]]:
+        """(discovery, record, JSON texts by name) of a plugin class (``group`` normalised)."""
         found = self._discover()
         hit = self._records.get((group, cls))
         if hit is None or hit[0] is not found:
             if len(self._records) > 256:
                 self._records.clear()
-            hit = (found, plugin_provenance(group, cls, self))
+            hit = (found, plugin_provenance(group, cls, self), {})
             self._records[(group, cls)] = hit
-        return hit[1]
+        return hit
 
     def name_of(self, group: str, cls: type) -> tuple[str, PluginInfo | None]:
         """Registered name and info of a loaded class (``(module:qualname, None)`` if none)."""

@@ -168,7 +168,9 @@ class ResolvedScene:
     ``labels`` (section or ``"analyses.<name>"`` -> the plugin's label for messages, see
     :func:`xpersson.checks.plugin_label`) and ``plugin_records`` (``(record, name)`` per plugin
     in the order spectrum, coefficient, boundary, analyses: the shared read-only
-    :meth:`xpersson.plugins.Registry.provenance` record and the name the scene used).
+    :meth:`xpersson.plugins.Registry.provenance` record and the name the scene used), with
+    ``plugin_records_json``, their JSON text as the archive records it (``None``: made when
+    needed).
     """
 
     scene: Any  # the Scene it was resolved from (a Scene; _scene imports this module)
@@ -194,6 +196,7 @@ class ResolvedScene:
     solver_options: dict[str, Any] = field(default_factory=dict)
     labels: dict[str, Any] = field(default_factory=dict)
     plugin_records: tuple[tuple[dict[str, Any], str | None], ...] = ()
+    plugin_records_json: str | None = None
     plugin_time_limit: float | None = None
     #: A finite body (:mod:`._geometry`): the geometry plugin, the forces [N] and whether the
     #: force was a scalar; ``p0`` is then the grid of pressures the body samples.

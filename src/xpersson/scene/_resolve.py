@@ -37,7 +37,6 @@ from ._core import (
     log_grid,
 )
 from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
-from ._sections import convert_section
 
 __all__ = ["plugin_message", "resolve_scene", "with_spectrum"]
 
@@ -84,7 +83,7 @@ def _convert(
     """:func:`convert_params`, each hashable value converted once per ``memo`` (a sweep over
     one spectrum parameter converts the others once: the same values, the same results)."""
     if memo is None:
-        return convert_section(specs, raw, section)
+        return convert_params(specs, raw, section)
     if not set(raw) <= set(specs) or any(s.required and n not in raw for n, s in specs.items()):
         return convert_params(specs, raw, section)  # its messages
     out: dict[str, Any] = {}
@@ -246,7 +245,7 @@ def _check_metadata(meta: Any) -> None:
 
 def _core_sections(data: Mapping[str, Any]) -> dict[str, Any]:
     """The converted core sections: material, loads (raw and Pa), output and solver."""
-    material = convert_section(CORE["material"], data.get("material", {}), "material")
+    material = convert_params(CORE["material"], data.get("material", {}), "material")
     load_raw = dict(data["load"])
     load_raw.pop("force", None)  # a finite body's (checked by check_load_keys)
     p0_raw = load_raw.pop("p0", "1 Pa")  # a body's pressures are a grid (see resolve_scene)
@@ -316,12 +315,19 @@ def _records(
     names: Mapping[str, str],
     analyses: list[tuple[str, Plugin]],
     registry: Registry,
-) -> tuple[tuple[dict[str, Any], str | None], ...]:
+    body: Any = None,
+) -> tuple[tuple[tuple[dict[str, Any], str | None], ...], str]:
     """``(provenance record, name)`` of every plugin: spectrum, coefficient, boundary,
-    analyses (the records are the registry's shared read-only ones)."""
-    items = [(PLUGIN_SECTIONS[s], names.get(s), plugins[s]) for s in PLUGIN_SECTIONS]
-    items += [("analyses", name, inst) for name, inst in analyses]
-    return tuple((registry.provenance(group, type(inst)), name) for group, name, inst in items)
+    analyses, a finite body's geometry (the records are the registry's shared read-only ones),
+    and their JSON text (the registry's, made once per record and name: ``json.dumps`` of the
+    list, sorted keys)."""
+    items = [(PLUGIN_SECTIONS[s], names.get(s), type(plugins[s])) for s in PLUGIN_SECTIONS]
+    items += [("analyses", name, type(inst)) for name, inst in analyses]
+    if body is not None:
+        items.append(("geometries", body.name, type(body.geometry)))
+    records = tuple((registry.provenance(group, cls), name) for group, name, cls in items)
+    texts = [registry.provenance_json(group, cls, name) for group, name, cls in items]
+    return records, "[" + ", ".join(texts) + "]"
 
 
 def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
@@ -364,11 +370,10 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         resolved["analyses"][name] = jsonable(dict(inst.params), type(inst).parameters)
     resolved["material"] = jsonable(core["material"], CORE["material"])
     resolved["load"] = {"p0": resolved_loads(core["p0_raw"], p0, core["scalar"])}
-    records = _records(plugins, names, analyses, registry)
+    records, records_json = _records(plugins, names, analyses, registry, body)
     if body is not None:
         resolved["geometry"], resolved["load"] = body.resolved, {"force": body.force_resolved}
         labels["geometry"] = plugin_label("geometry", body.geometry, registry, body.name)
-        records += ((registry.provenance("geometries", type(body.geometry)), body.name),)
     resolved["output"] = jsonable(out, CORE["output"])
     resolved["output"].pop("zeta_per_decade", None)
     if resolved["output"].get("model_error") is True:  # the default: archives stay as before
@@ -399,6 +404,7 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         solver_options={k: int(solver[k]) for k in ("walkers", "seed") if solver[k] is not None},
         labels=labels,
         plugin_records=records,
+        plugin_records_json=records_json,
         plugin_time_limit=solver["plugin_time_limit"],
         geometry=None if body is None else body.geometry,
         force=None if body is None else body.force,
@@ -471,9 +477,9 @@ def with_spectrum(
     out, grids = _output_once(data.get("output", {}), memo)
     psd, zeta = _spectrum_and_grid(inst, labels["spectrum"], out, resolved, names, grids)
     resolved["output"] = {**rs.resolved["output"], "zeta": np.asarray(zeta, float).tolist()}
-    records = rs.plugin_records
+    records, records_json = rs.plugin_records, rs.plugin_records_json
     if type(inst) is not type(rs.spectrum) or name != rs.plugin_names.get("spectrum"):
-        records = _records(
+        records, records_json = _records(
             {"spectrum": inst, "coefficient": rs.coefficient, "boundary": rs.boundary},
             names,
             rs.analyses,
@@ -489,4 +495,5 @@ def with_spectrum(
         resolved=resolved,
         labels=labels,
         plugin_records=records,  # the same plugin classes and names: the same records
+        plugin_records_json=records_json,
     )

@@ -300,6 +300,10 @@ def expand(scene: Scene, registry: Registry | None = None) -> SweepPlan | None:
     return SweepPlan(scene=scene, groups=groups, base=base)
 
 
+_ONE_VALUE = frozenset((str, float, int, bool))
+"""Types of a value that is never a list or a range (:func:`is_sweep_value` is false)."""
+
+
 def _swept(
     data: Mapping[str, Any], reg: Registry
 ) -> tuple[list[tuple[str, ParamSpec, Any]], list[type]]:
@@ -311,6 +315,8 @@ def _swept(
         if cls is not None:
             classes.append(cls)
         for key, value in values.items():
+            if type(value) in _ONE_VALUE:  # (most values: no declaration looked up)
+                continue
             spec = specs.get(key)
             if spec is None or not is_sweep_value(spec, value):
                 continue
