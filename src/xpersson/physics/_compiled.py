@@ -104,7 +104,9 @@ def kernel(work: float, name: str = "gap_rows") -> Callable[..., Any] | None:
 
 
 def _build() -> dict[str, Callable[..., Any]] | None:
-    jit = numba_cache.njit(__name__, nogil=True, error_model="numpy")  # keyed on the sources
+    from . import _spline_sums  # (imports this module: not at the top)
+
+    jit = numba_cache.njit(__name__, _spline_sums.__name__, nogil=True, error_model="numpy")
     if jit is None:  # numba is not installed
         return None
     helpers = (_direct, _pairwise, _gtsv_factor)
@@ -120,6 +122,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         df_sums,
         crossing_newton,
         erf_diff_series,
+        _spline_sums.spline_sub_sums,
     )
     return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 
