@@ -15,8 +15,15 @@ import pytest
 from scipy.linalg.lapack import dgtsv
 
 import xpersson
-from xpersson.physics import _compiled, _curve, _fastnum, _gap_distribution, _percolation, _subgap
-from xpersson.physics import _spline_sums
+from xpersson.physics import (
+    _compiled,
+    _curve,
+    _fastnum,
+    _gap_distribution,
+    _percolation,
+    _spline_sums,
+    _subgap,
+)
 from xpersson.physics._gap_distribution import Detachment, gap_pdf
 
 SCENE = {
