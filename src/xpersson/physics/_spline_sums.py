@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from ._compiled import _pairwise
+from ._pairwise import _pairwise
 
 __all__ = ["spline_sub_sums"]
 
