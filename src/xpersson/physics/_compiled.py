@@ -105,12 +105,13 @@ def kernel(work: float, name: str = "gap_rows") -> Callable[..., Any] | None:
 
 
 def _build() -> dict[str, Callable[..., Any]] | None:
-    from . import _spline_sums  # (imports this module: not at the top)
+    from . import _band_sums, _spline_sums  # (kernels kept in their own modules)
 
-    jit = numba_cache.njit(__name__, _spline_sums.__name__, nogil=True, error_model="numpy")
+    names = (__name__, _spline_sums.__name__, _band_sums.__name__)
+    jit = numba_cache.njit(*names, nogil=True, error_model="numpy")
     if jit is None:  # numba is not installed
         return None
-    helpers = (_direct, _pairwise, _gtsv_factor)
+    helpers = (_direct, _pairwise, _gtsv_factor, _band_sums._erf, _band_sums._erf_nonneg)
     scope = {**globals(), **{fn.__name__: jit(fn) for fn in helpers}}
     fns = (
         gap_rows,
@@ -124,6 +125,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         crossing_newton,
         erf_diff_series,
         _spline_sums.spline_sub_sums,
+        _band_sums.band_sums,
     )
     return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 
