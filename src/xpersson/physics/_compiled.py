@@ -57,6 +57,7 @@ from numpy.typing import NDArray
 
 from .. import numba_cache
 from ..options import compiled_enabled
+from ._pairwise import _pairwise
 
 __all__ = [
     "ANCHOR",
@@ -104,10 +105,13 @@ def kernel(work: float, name: str = "gap_rows") -> Callable[..., Any] | None:
 
 
 def _build() -> dict[str, Callable[..., Any]] | None:
-    jit = numba_cache.njit(__name__, nogil=True, error_model="numpy")  # keyed on the sources
+    from . import _band_sums, _spline_sums  # (kernels kept in their own modules)
+
+    names = (__name__, _spline_sums.__name__, _band_sums.__name__)
+    jit = numba_cache.njit(*names, nogil=True, error_model="numpy")
     if jit is None:  # numba is not installed
         return None
-    helpers = (_direct, _pairwise, _gtsv_factor)
+    helpers = (_direct, _pairwise, _gtsv_factor, _band_sums._erf, _band_sums._erf_nonneg)
     scope = {**globals(), **{fn.__name__: jit(fn) for fn in helpers}}
     fns = (
         gap_rows,
@@ -120,6 +124,8 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         df_sums,
         crossing_newton,
         erf_diff_series,
+        _spline_sums.spline_sub_sums,
+        _band_sums.band_sums,
     )
     return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 
@@ -193,33 +199,6 @@ def gap_rows(
                 gm *= rm
                 rm *= c
             j0 = j1
-
-
-def _pairwise(a: Any, n: int) -> float:
-    """``a[:n].sum()`` in numpy's order for a contiguous axis of ``n <= PAIRWISE`` elements
-    (8 accumulators): bit for bit ``np.sum``."""
-    if n < 8:
-        r = 0.0
-        for i in range(n):
-            r += a[i]
-        return r
-    r0, r1, r2, r3, r4, r5, r6, r7 = a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7]
-    i = 8
-    while i < n - n % 8:
-        r0 += a[i]
-        r1 += a[i + 1]
-        r2 += a[i + 2]
-        r3 += a[i + 3]
-        r4 += a[i + 4]
-        r5 += a[i + 5]
-        r6 += a[i + 6]
-        r7 += a[i + 7]
-        i += 8
-    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
-    while i < n:
-        res += a[i]
-        i += 1
-    return res
 
 
 def sub_sums(

@@ -113,19 +113,10 @@ def windowed_sum(
     """
     n_load, n_u = shape
     width = j1 - j0
-    order = np.argsort(width, kind="stable")
-    ws = width[order]
+    order, ws, blocks, flat = window_plan(width)
     out = np.zeros(n_load * (n_u + 1))
     slot = np.empty(out.size, dtype=np.intp)  # scratch of _add (never read before written)
-    i = int(np.searchsorted(ws, 1))  # empty windows: nothing to evaluate
-    blocks = []
-    while i < order.size:
-        # the largest run of terms whose padded block (count x widest) fits the block size
-        size = np.arange(1, order.size - i + 1) * ws[i:]
-        c = max(1, int(np.searchsorted(size, _WIN_BLOCK, side="right")))
-        blocks.append((i, c, int(ws[i + c - 1])))
-        i += c
-    if sum(c * w for _, c, w in blocks) > 1.5 * float(np.sum(ws)):  # widths spread: no padding
+    if flat:  # widths spread: no padding
         _flat(order[ws > 0], j0, width, load, n_u, values, out, slot)
         blocks = []
     for i, c, w in blocks:
@@ -137,6 +128,33 @@ def windowed_sum(
         cols += load[sel] * (n_u + 1)
         _add(out, cols.ravel(), v.ravel(), slot)
     return out.reshape(n_load, n_u + 1)[:, :n_u]
+
+
+def window_plan(
+    width: NDArray[np.intp],
+) -> tuple[NDArray[np.intp], NDArray[np.intp], list[tuple[int, int, int]], bool]:
+    """:func:`windowed_sum`'s blocks: the terms by width (``order``, ``ws`` their widths), runs
+    ``(first, count, padded width)`` of ``order`` (empty windows left out), and whether the
+    windows are laid flat (unpadded, :func:`flat_cuts`) instead: padding would add over half."""
+    order = np.argsort(width, kind="stable")
+    ws = width[order]
+    i = int(np.searchsorted(ws, 1))  # empty windows: nothing to evaluate
+    blocks = []
+    while i < order.size:
+        # the largest run of terms whose padded block (count x widest) fits the block size
+        size = np.arange(1, order.size - i + 1) * ws[i:]
+        c = max(1, int(np.searchsorted(size, _WIN_BLOCK, side="right")))
+        blocks.append((i, c, int(ws[i + c - 1])))
+        i += c
+    return order, ws, blocks, sum(c * w for _, c, w in blocks) > 1.5 * float(np.sum(ws))
+
+
+def flat_cuts(wt: NDArray[np.intp]) -> NDArray[np.intp]:
+    """Where :func:`_flat` splits terms of window widths ``wt`` (all > 0) into blocks of
+    about :data:`_WIN_BLOCK` elements (``np.split`` indices)."""
+    ends = np.cumsum(wt)
+    cut = np.searchsorted(ends, np.arange(1, int(ends[-1]) // _WIN_BLOCK + 1) * _WIN_BLOCK)
+    return cut + 1
 
 
 def _add(
@@ -178,9 +196,8 @@ def _flat(
     column of a single row ``(1, n)`` (its term repeated), in blocks of about ``_WIN_BLOCK``
     elements; the sums added to ``out`` (flat, ``n_load * (n_u + 1)``; ``slot``: :func:`_add`'s)."""
     wt = width[terms]
-    ends = np.cumsum(wt)
-    cut = np.searchsorted(ends, np.arange(1, int(ends[-1]) // _WIN_BLOCK + 1) * _WIN_BLOCK)
-    for sel, w in zip(np.split(terms, cut + 1), np.split(wt, cut + 1), strict=True):
+    cut = flat_cuts(wt)
+    for sel, w in zip(np.split(terms, cut), np.split(wt, cut), strict=True):
         if not sel.size:
             continue
         t = np.repeat(sel, w)

@@ -15,7 +15,7 @@ from ._compiled import uniform_from_zero
 from ._curve import _TINY
 from ._fasterf import ERF_DIFF_B, erf_diff_coefficients, erf_nonneg, fast_erf
 from ._fastnum import _BLOCK, _EXP_LO, _exp
-from ._gap_band import _WIN_BLOCK, pairs, rank, sorted_rows, windowed_sum
+from ._gap_band import _WIN_BLOCK, flat_cuts, pairs, rank, sorted_rows, window_plan, windowed_sum
 
 __all__ = ["Detachment", "gap_pdf", "gap_cdf", "gap_mean"]
 
@@ -423,8 +423,9 @@ def _cdf_banded(
     cdf = np.zeros(shape)
     if ser.size:
         cdf += _series_sum(ls[ser], jt[ser], a[ser], w[ser], iv[ser], u2[:, :n_u], n_load)
-    cdf += windowed_sum(ls, jt, j2, shape, both)
-    cdf += windowed_sum(ls, j0, j1, shape, one)
+    args = (n_u, u2.ravel(), row, iv, a, w)
+    cdf += _windowed(ls, jt, j2, shape, both, 1 if plain else 0, args)
+    cdf += _windowed(ls, j0, j1, shape, one, 2, args)
     # right of its band each pair adds 2 w (left of it 0): a difference array summed along u
     diff = np.bincount(ls * (n_u + 1) + j1, weights=2.0 * w, minlength=n_load * (n_u + 1))
     cdf += np.cumsum(diff.reshape(n_load, n_u + 1)[:, :n_u], axis=1)
@@ -447,3 +448,33 @@ def gap_mean(det: Detachment) -> NDArray[np.float64]:
             -0.5 * (u1 / h) ** 2
         )
     return np.sum(det.weight * m, axis=1)
+
+
+def _windowed(
+    load: NDArray, j0: NDArray, j1: NDArray, shape: tuple[int, int], values: Callable,
+    kind: int, args: tuple,
+) -> NDArray[np.float64]:  # fmt: skip
+    """:func:`~._gap_band.windowed_sum` of ``_cdf_banded``'s terms (``values``; ``kind`` and
+    ``args`` (n_u, flat u2, row, iv, a, w) the same terms for the compiled
+    :func:`~._band_sums.band_sums`, bit for bit) by the kernel where built."""
+    width = j1 - j0
+    fn = _compiled_kernel(8.0 * float(np.sum(width)), "band_sums")
+    if fn is None:
+        return windowed_sum(load, j0, j1, shape, values)
+    order, ws, blocks, flat = window_plan(width)
+    if flat:
+        terms = order[ws > 0]
+        bounds = np.unique(np.concatenate(([0], np.minimum(flat_cuts(width[terms]), terms.size))))
+        bounds = np.append(bounds, terms.size) if bounds[-1] < terms.size else bounds
+        ends = np.concatenate(([0], np.cumsum(width[terms])))
+        spec = np.stack((bounds[:-1], bounds[1:], np.zeros(bounds.size - 1, dtype=np.intp)), 1)
+        most = int(np.max(ends[bounds[1:]] - ends[bounds[:-1]], initial=0))
+    else:
+        terms = order
+        spec = np.array([(i, i + c, w) for i, c, w in blocks], dtype=np.intp).reshape(-1, 3)
+        most = max((c * w for _, c, w in blocks), default=0)
+    n_load, n_u = shape
+    out = np.zeros(n_load * (n_u + 1))
+    fn(out, np.zeros(out.size), np.empty((2, most), dtype=np.intp), spec, terms, j0, j1, load,
+       *args, kind)  # fmt: skip
+    return out.reshape(n_load, n_u + 1)[:, :n_u]

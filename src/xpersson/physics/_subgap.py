@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._compiled import PAIRWISE, kernel
 from ._curve import _delta_I3, _gauss
-from ._fastnum import _block
+from ._fastnum import _block, _exp
 from ._phi import _Phi
 
 _SUB_EDGES = np.concatenate(([0.0], 0.4 ** np.arange(9, -1, -1)))
@@ -109,6 +109,8 @@ def _sub_mean_gap(
         out = np.empty(shape[:-1])
     if not spline and _compiled_sums(phi, log_tc, kern, log_a2, need, out):
         return math.pi * out
+    if spline and need is None and _compiled_spline_sums(phi, log_tc, kern, log_a2, out):
+        return math.pi * out
     log_tc, log_a2 = np.broadcast_to(log_tc, shape), np.broadcast_to(log_a2, shape)
     kern = np.broadcast_to(kern, shape)
     step = _block(math.prod(shape[1:]))
@@ -200,3 +202,35 @@ def _h2(psd: object, q: ArrayLike, q_hi: float) -> NDArray[np.float64]:
     m_hi = float(psd.running_moment(1.0, q_hi))  # type: ignore[attr-defined]
     m = np.asarray(psd.running_moment(1.0, np.minimum(q, q_hi)), dtype=float)  # type: ignore[attr-defined]
     return np.maximum(2.0 * math.pi * (m_hi - m), 0.0)
+
+
+def _compiled_spline_sums(
+    phi: _Phi,
+    log_tc: NDArray[np.float64],
+    kern: NDArray[np.float64],
+    log_a2: NDArray[np.float64],
+    out: NDArray[np.float64],
+) -> bool:
+    """The sums of :func:`_sub_mean_gap`'s ``spline`` branch (every entry) written into ``out``
+    by the compiled :func:`~._spline_sums.spline_sub_sums` (bit for bit the loop there: the
+    linear first interval's values from the same numpy operations on its arguments only);
+    False where it does not apply (no spline, more than :data:`~._compiled.PAIRWISE` nodes,
+    kernel off)."""
+    spl = phi._spl
+    if spl is None or log_a2.ndim != 3 or log_tc.shape[-1] > PAIRWISE:
+        return False
+    fn = kernel(out.size * log_tc.shape[-1], "spline_sub_sums")
+    if fn is None:
+        return False
+    shape = out.shape + (log_tc.shape[-1],)
+    with np.errstate(invalid="ignore"):  # ln A_a = -inf (A_a = 0)
+        lt = np.add(log_tc, log_a2, out=np.empty(shape))
+    kr = np.ascontiguousarray(np.broadcast_to(kern, shape))
+    log_tau1 = math.log(phi.tau1)
+    low = np.flatnonzero(lt < log_tau1)  # the linear first interval, as the numpy path
+    t = _exp(lt.ravel()[low])
+    t /= phi.tau1
+    lin = phi.phi[low // (shape[1] * shape[2]), 1] * np.clip(t, 0.0, 1.0)
+    rows = np.arange(out.shape[0])
+    fn(lt, kr, lin, spl.x, spl.c, rows, log_tau1, out)
+    return True

@@ -413,8 +413,14 @@ def _contact_area(ds: Any, boundary: Any) -> NDArray[np.float64]:
     """The stored load-bearing contact area ``(n_load, n_zeta)`` [1] (the boundary's
     ``contact_area`` variables summed)."""
     names = getattr(type(boundary), "contact_area", ("area_fraction",))
-    rows = [np.asarray(ds[c].transpose(..., "zeta").values, dtype=float) for c in names]
-    return np.atleast_2d(sum(rows))
+    return np.atleast_2d(sum(_by_zeta(ds, c) for c in names))
+
+
+def _by_zeta(ds: Any, name: str) -> NDArray[np.float64]:
+    """The stored variable ``name`` with ``zeta`` as its last axis (a view where it is already:
+    ``ds[name].transpose(..., "zeta").values`` without xarray's DataArray, ~0.1 ms each)."""
+    v = ds.variables[name]
+    return np.moveaxis(np.asarray(v.values, dtype=float), v.dims.index("zeta"), -1)
 
 
 def sealed_both(ds: Any, boundary: Any, a_c: float, threshold: str) -> NDArray[np.bool_]:
@@ -433,9 +439,9 @@ def sealed_both(ds: Any, boundary: Any, a_c: float, threshold: str) -> NDArray[n
     el = getattr(bnd, "elastic_area", "area_fraction")
     comp = tuple(getattr(bnd, "elastic_area_complement", ("non_contact_fraction",)))
     low = np.min(_contact_area(ds, boundary), axis=1)
-    low = np.minimum(low, np.min(np.atleast_2d(ds[el].transpose(..., "zeta").values), axis=1))
+    low = np.minimum(low, np.min(np.atleast_2d(_by_zeta(ds, el)), axis=1))
     if all(c in ds.variables for c in comp):
-        n = sum(np.asarray(ds[c].transpose(..., "zeta").values, dtype=float) for c in comp)
+        n = sum(_by_zeta(ds, c) for c in comp)
         low = np.minimum(low, np.min(1.0 - np.atleast_2d(n), axis=1))
     return np.asarray(low > seal)
 

@@ -1,0 +1,64 @@
+"""Optional compiled sums of ``Phi``'s spline over sub-problem nodes (numba), bit for bit.
+
+:func:`spline_sub_sums` is the ``spline=True`` branch of
+:func:`~xpersson.physics._subgap._sub_mean_gap` (``separation_at``'s difference quotient, per-load
+cut-offs): for every (load, edge) the arguments ``ln tau_c + ln A^2``, ``Phi``'s spline at them
+(:meth:`~xpersson.physics._phi._Phi.spline_at_log_tau_per_load`: clip to the knots, the
+interval by ``searchsorted(side="right") - 1``, Horner, ``max(., 0)``), times the weights,
+summed over the nodes in numpy's pairwise order: the same operations as the numpy path, in one
+pass without its (loads, edges, nodes) temporaries. Arguments below ``Phi``'s first knot take
+the linear first interval (an ``exp``): numpy computes those values (on the gathered arguments
+only, the same ``exp``) and the kernel reads them. Built and gated with the kernels of
+:mod:`._compiled`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ._pairwise import _pairwise
+
+__all__ = ["spline_sub_sums"]
+
+
+def spline_sub_sums(
+    lt: Any, kern: Any, lin: Any, b: Any, c: Any, rows: Any, log_tau1: float, out: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``out[l, e] = sum_m kern[l, e, m] v[l, e, m]``, ``v`` ``Phi``'s spline of load
+    ``rows[l]`` (knots ``b``, coefficients ``c`` (4, n_b - 1, n_load)) at ``lt[l, e, m]``
+    (clipped to the knots, ``max(., 0)``), or where ``lt < log_tau1`` the next of ``lin``
+    (the linear first interval's values there, in C order); NaN stays NaN. Rows of at most
+    :data:`~._compiled.PAIRWISE` nodes (numpy's pairwise order)."""
+    n_load, n_edge, m = lt.shape
+    nb = b.size
+    vals = np.empty(m)
+    b0, b1 = b[0], b[nb - 1]
+    p = 0
+    for r in range(n_load):
+        q = rows[r]
+        for e in range(n_edge):
+            n_le = 0
+            for j in range(m):
+                x = lt[r, e, j]
+                if x < log_tau1:
+                    v = lin[p]
+                    p += 1
+                elif x != x:
+                    v = x
+                else:
+                    s = min(max(x, b0), b1)  # np.clip
+                    # searchsorted(b, s, side="right"): the count of knots <= s, walked from
+                    # the last node's (the nodes' arguments are monotonic in m: a few steps)
+                    while n_le < nb and b[n_le] <= s:
+                        n_le += 1
+                    while n_le > 0 and b[n_le - 1] > s:
+                        n_le -= 1
+                    k = min(max(n_le - 1, 0), nb - 2)
+                    d = s - b[k]
+                    v = ((c[0, k, q] * d + c[1, k, q]) * d + c[2, k, q]) * d + c[3, k, q]
+                    if not v > 0.0 and v == v:  # np.maximum(v, 0.0): +0.0 for -0.0
+                        v = 0.0
+                vals[j] = v * kern[r, e, j]
+            out[r, e] = _pairwise(vals, m)

@@ -1,0 +1,68 @@
+"""The compiled window sums of gap_cdf's erf terms (:mod:`xpersson.physics._band_sums`): the
+numpy path's bits, in plain Python and compiled, on padded and flat window layouts."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import xpersson
+from xpersson.physics import _band_sums, _compiled, _gap_distribution
+from xpersson.physics._gap_distribution import Detachment, gap_cdf
+
+
+def _detachment(rng: np.random.Generator, n_load: int, n_bin: int, spread: float) -> Detachment:
+    """Random bins: widths over ``spread`` decades (the windows' widths spread: flat layout;
+    close: padded), centres near and far from the wall, some zero and NaN weights."""
+    h = np.sort(10.0 ** rng.uniform(-8.0, -8.0 + spread, n_bin))[::-1]
+    u1 = rng.uniform(0.0, 3.0, (n_load, n_bin)) * h * 10.0 ** rng.uniform(0, 2, (n_load, n_bin))
+    w = rng.uniform(0.0, 0.1, (n_load, n_bin))
+    w[rng.random(w.shape) < 0.1] = 0.0
+    if n_load > 1:
+        w[-1, rng.integers(n_bin)] = np.nan  # spoils its load only
+    z = np.geomspace(1.0, 10.0, n_bin + 1)
+    area = np.ones((n_load, z.size))
+    return Detachment(np.ones(n_load), z, area, area, w, u1, h, 2e-6)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@settings(max_examples=12, deadline=None)
+@given(
+    st.integers(0, 2**32 - 1),
+    st.integers(1, 6),
+    st.integers(1, 12),
+    st.floats(0.0, 3.0),
+    st.integers(2, 300),
+    st.booleans(),
+)
+def test_kernel_gives_the_numpy_bits(compiled, seed, n_load, n_bin, spread, n_u, per_load):
+    if compiled:
+        pytest.importorskip("numba")
+        fn = _compiled.kernel(math.inf, "band_sums")
+        if fn is None:
+            pytest.skip("compiled kernels are off (XPERSSON_COMPILED=off)")
+    else:
+        fn = _band_sums.band_sums
+    rng = np.random.default_rng(seed)
+    det = _detachment(rng, n_load, n_bin, spread)
+    top = 10.0 * float(np.max(det.h)) * rng.uniform(0.5, 5.0)
+    u = np.linspace(0.0, top, n_u)
+    if per_load:  # rows of their own (sorted)
+        u = np.sort(rng.uniform(0.0, top, (n_load, n_u)), axis=1)
+    with xpersson.set_options(compiled=False):
+        want = gap_cdf(det, u)
+    asked: list[str] = []
+
+    def kernel(work: float, name: str = "gap_rows"):
+        asked.append(name)
+        return fn if name == "band_sums" else None
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_gap_distribution, "_compiled_kernel", kernel)
+        got = gap_cdf(det, u)
+    assert "band_sums" in asked
+    np.testing.assert_array_equal(got, want)
