@@ -217,3 +217,32 @@ def test_crossing_newton_is_the_numpy_newton_bit_for_bit(compiled):
         got, lo2, hi2 = xc.copy(), lo.copy(), hi.copy()
         fn(coef, xk, got, lo2, hi2, 0.42)
         np.testing.assert_array_equal(got, want)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_sub_sums_leave_phis_linear_interval_to_numpy(compiled):
+    """An argument in Phi's linear first interval (Phi_1 != 0) needs numpy's ``exp``, which
+    differs from libm's (numba's ``math.exp``) in the last bit for some arguments: the kernel
+    declines (False) and the caller takes the numpy path; elsewhere it sums the table."""
+    if compiled:
+        pytest.importorskip("numba")
+        with xpersson.set_options(compiled=True):
+            fn = _compiled.kernel(math.inf, "sub_sums")
+        assert fn is not None
+    else:
+        fn = _compiled.sub_sums
+    grid = np.linspace(0.0, 4.0, 9)  # ln tau nodes; tau1 = e^0.5 (below: the linear interval)
+    table = np.vstack([np.linspace(0.1, 0.9, 9), np.linspace(0.2, 1.0, 9)])
+    kern = np.array([[0.5, 0.25, 0.25]])
+    need = np.ones((2, 1), dtype=bool)
+    phi1 = np.array([0.05, 0.1])
+    tau1 = math.exp(0.5)
+    inside = np.array([[1.0, 2.5, 3.75]])  # every argument on the table
+    out = np.zeros((2, 1))
+    assert fn(inside, kern, np.zeros((2, 1)), need, out, table, grid, 0, tau1, phi1)
+    want = [np.interp(inside[0], grid, row) @ kern[0] for row in table]
+    np.testing.assert_allclose(out[:, 0], want, rtol=1e-15)
+    below = np.array([[0.2, 2.5, 3.75]])  # one argument in the linear interval
+    args = (below, kern, np.zeros((2, 1)), need, np.zeros((2, 1)), table, grid, 0, tau1)
+    assert not fn(*args, phi1)
+    assert fn(*args, np.zeros(2))  # Phi_1 = 0: the interval is exactly 0, no exp

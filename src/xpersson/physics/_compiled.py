@@ -212,8 +212,11 @@ def sub_sums(
     lo: int,
     tau1: float,
     phi1: Any,
-) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """``out[l, e] = sum_m kern[e, m] Phi_l(log_tc[e, m] + log_a2[l, e])`` where ``need[l, e]``.
+) -> bool:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``out[l, e] = sum_m kern[e, m] Phi_l(log_tc[e, m] + log_a2[l, e])`` where ``need[l, e]``;
+    True when done, False (``out`` partly written) where an argument falls in the linear first
+    interval with ``Phi_1 != 0``: its ``exp`` is numpy's (which differs from libm's, numba's
+    ``math.exp``, in the last bit for ~5 % of arguments), so the caller takes the numpy path.
 
     ``table`` (n_load, n_grid - lo) and ``grid``: ``Phi``'s look-up table by load
     (``_Phi.table_by_load``) and ``lo`` its first kept node; ``tau1`` and ``phi1`` (n_load,):
@@ -237,10 +240,8 @@ def sub_sums(
                 x = log_tc[e, k] + la
                 if x < log_tau1:  # the linear first interval (0 where Phi_1 = 0)
                     v = 0.0
-                    if p1 != 0.0:
-                        t = math.exp(x) if x > -746.0 else 0.0
-                        t /= tau1
-                        v = min(max(t, 0.0), 1.0) * p1
+                    if p1 != 0.0 and x > -746.0:  # numpy's exp: the numpy path
+                        return False
                 else:
                     u = min(max((x - g0) * inv_dg, lo), top)
                     i = int(u)
@@ -249,6 +250,7 @@ def sub_sums(
                     v = (table[r, i - lo + 1] - v0) * u + v0
                 vals[k] = v * kern[e, k]
             out[r, e] = _pairwise(vals, m)
+    return True
 
 
 def spline_rhs(

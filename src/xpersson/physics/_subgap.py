@@ -146,7 +146,8 @@ def _compiled_sums(
     """The per-load sums of :func:`_sub_mean_gap` (cut-offs shared by every load) written into
     ``out`` by the compiled :func:`~._compiled.sub_sums` (bit for bit the loop below);
     False where it does not apply (no table, per-load cut-offs, NaN areas, more than
-    :data:`~._compiled.PAIRWISE` nodes, kernel off)."""
+    :data:`~._compiled.PAIRWISE` nodes, kernel off, an argument in Phi's linear first interval:
+    numpy's ``exp``)."""
     if not phi.has_table or log_tc.shape[0] != 1 or kern.shape[0] != 1 or log_a2.ndim != 3:
         return False
     if log_tc.shape[-1] > PAIRWISE:
@@ -161,8 +162,9 @@ def _compiled_sums(
     table = phi.table_by_load()
     mask = np.ones(out.shape, dtype=bool) if need is None else np.ascontiguousarray(need)
     tc, kn = np.ascontiguousarray(log_tc[0]), np.ascontiguousarray(kern[0])
-    fn(tc, kn, la2, mask, out, table, grid, phi._lo, phi.tau1, np.ascontiguousarray(phi.phi[:, 1]))
-    return True
+    return fn(
+        tc, kn, la2, mask, out, table, grid, phi._lo, phi.tau1, np.ascontiguousarray(phi.phi[:, 1])
+    )
 
 
 def _sub_pairs(
