@@ -179,7 +179,7 @@ def _groups(outputs: Outputs) -> dict[tuple[int, ...], list[str]]:
     for name in _FIELDS:
         v = getattr(outputs, name)
         if v is not None:
-            groups.setdefault(np.shape(v), []).append(name)
+            groups.setdefault(v.shape, []).append(name)  # (arrays: np.shape's dispatch)
     return groups
 
 

@@ -56,7 +56,8 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
         return None
     rows, basis = system_rows(nb, nn - 1, stretch), face_basis(nn - 1, stretch)
     snaps, sums = np.empty((n_out, nb * nn)), np.zeros((7, nb, n_out))
-    carry = (r0.copy(), np.zeros((5, nb)), np.zeros((4, nb)), np.zeros(1, np.int64))
+    zs = np.zeros((9, nb))  # (z and acc in one buffer; r0 is the caller's fresh state)
+    carry = (r0, zs[:5], zs[5:], np.zeros(1, np.int64))
     n_steps = inp.taus.size - 1
     block = max(1, min(_OPS // (4 * nb * nn), n_steps))
     # (the loads' rows concatenated: the march takes each step's four rows with no reshape)
