@@ -46,12 +46,11 @@ from ._cn_plan import Window, _edges_batch, _level_times, _Plan
 from ._cnstep import tridiagonal_solve
 from ._level import (
     Level,
+    LevelGrid,
     LevelNodes,
     Outputs,
     SystemRows,
-    face_basis,
-    level_nodes,
-    system_rows,
+    level_grid,
 )
 from ._moving_block import Block, block_system
 from ._moving_fused import _SNAP, _reduce_snapshots, fused_level
@@ -94,6 +93,9 @@ class LevelInputs(NamedTuple):
     image: float | None = None
     """The resting absorbing lower wall [Pa] of a one-wall start (the start state is the
     image solution), or None (the free Gaussian)."""
+    grid: LevelGrid | None = None
+    """The level's nodes, rows and face functions (:func:`._level.level_grid`), or None
+    (looked up where needed)."""
 
 
 def level_inputs(
@@ -107,8 +109,10 @@ def level_inputs(
     out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
     window = _edges_batch(pbs, plan, taus, _compiled.edges(), _compiled.tracks())
-    nodes = level_nodes(n, stretch)
-    return LevelInputs(taus, theta, out_at, nodes, window, p0, plan.k, plan.yield_wall, plan.image)
+    grid = level_grid(len(pbs), n, stretch)
+    return LevelInputs(
+        taus, theta, out_at, grid.nodes, window, p0, plan.k, plan.yield_wall, plan.image, grid
+    )
 
 
 @dataclass
@@ -185,7 +189,7 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     wn_all, wo_all = inp.theta * step, (1.0 - inp.theta) * step
     yreal = win.real_upper & inp.yield_wall
     g_all = np.where(yreal, win.end.width * win.end.yield_speed, 0.0)  # closure R_N = g A_pl
-    rows = system_rows(nb, n, stretch)
+    _, rows, basis = inp.grid if inp.grid is not None else level_grid(nb, n, stretch)
     rec = _record_for(nb, n_out, nn, n_steps, p_out)
     st = _State(r0, np.zeros((5, nb)))
     rec.near[0] = st.r[rows.near]
@@ -196,7 +200,6 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     # buffers reused by every block: operators, and the states (row 0 the state before it)
     work = (np.empty((block, 4, nb, nn)), np.empty((block, nb, nn)))
     states_buf = np.empty((block + 1, nb * nn))
-    basis = face_basis(n, stretch)
     for m0 in range(0, n_steps, block):
         ms = slice(m0, min(m0 + block, n_steps))
         g, yr = g_all[:, ms].T, yreal[:, ms].T  # (steps, loads)
