@@ -49,6 +49,7 @@ class _Plan:
     # chord mesh speeds from the first breakpoint on
     image: float | None = None  # resting lower wall [Pa] of an image start; None: Gaussian
     release: bool = False  # yield wall real only inside the window (_cn_control._release)
+    outs: Array | None = None  # the batch's numerical output times (tau > tau_s) [Pa^2]
 
 
 _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-only)
@@ -454,7 +455,7 @@ def _joint_plan(
     keep[0] = True
     base = sorted_unique(np.concatenate([geo[keep & (geo < outs[-1])], fixed]))
     base = base[base >= tau_s]
-    return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall, zones)
+    return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall, zones, outs=outs)
 
 
 def _graded_zones(

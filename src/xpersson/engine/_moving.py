@@ -106,7 +106,8 @@ def level_inputs(
     loads ``pbs`` (one batch: they share their walls and output times)."""
     taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones, _compiled.times())
     pb0 = pbs[0]
-    out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
+    outs = plan.outs if plan.outs is not None else pb0.tau[pb0.tau > plan.tau_s]
+    out_at = np.searchsorted(taus, outs)
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
     window = _edges_batch(pbs, plan, taus, _compiled.edges(), _compiled.tracks())
     grid = level_grid(len(pbs), n, stretch)
