@@ -1,7 +1,8 @@
 """The engine's per-solve shortcuts give the numbers of what they replace, bit for bit (issue
 36): ``_grid.linspace0`` against ``numpy.linspace``, the projection's shortcut where no
 absorbed sum exceeds 1 against the full projection, and the stacked Richardson combinations
-(``combine``, ``weighted``) against the same formulas field by field."""
+(``combine``, ``weighted``) against the same formulas field by field, the in-place start
+state against its formula, and the one-look-up level grid against its three parts."""
 
 from __future__ import annotations
 
@@ -104,3 +105,66 @@ def test_stacked_combinations_are_the_fieldwise_formulas(seed, n, with_p):
             assert _same(getattr(extrapolated, name), a + (a - getattr(coarse, name)) / 3.0)
     kept = combine(fine, coarse, False)
     assert all(getattr(kept, name) is getattr(fine, name) for name in _FIELDS)
+
+
+def _initial_reference(la, wa, x, w, p0, t0, k, image):
+    """The start state as it was written before the in-place version (every operation on a
+    fresh array, Python scalars)."""
+    import math
+
+    from scipy.special import erf
+
+    pn = la[:, :1] + wa[:, :1] * x[None, :]
+    c = 1.0 / math.sqrt(4.0 * math.pi * t0)
+    r2 = wa[:, :1] * np.exp(-((pn - p0) ** 2) / (4.0 * t0)) * c
+    mass = math.erf(k / math.sqrt(2.0))
+    if image is not None:
+        r2 = r2 - wa[:, :1] * np.exp(-((pn + p0 - 2.0 * image) ** 2) / (4.0 * t0)) * c
+        s = 2.0 * math.sqrt(t0)
+        lo, up, q = la[:, 0], la[:, 0] + wa[:, 0], p0[:, 0]
+        direct = erf((up - q) / s) - erf((lo - q) / s)
+        mirror = erf((up + q - 2.0 * image) / s) - erf((lo + q - 2.0 * image) / s)
+        mass = 0.5 * (direct - mirror)
+    r2[:, 0] = 0.0
+    r2[:, -1] = 0.0
+    return (r2 * (mass / (r2 @ w))[:, None]).ravel()
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    loads=st.integers(1, 4),
+    n=st.integers(2, 40),  # (one interval: both nodes on walls, no mass to normalise)
+    image=st.booleans(),
+)
+def test_initial_state_in_place_is_the_formula_bitwise(seed, loads, n, image):
+    from types import SimpleNamespace
+
+    from xpersson.engine._level import level_nodes
+    from xpersson.engine._moving import _initial_state
+
+    rng = np.random.default_rng(seed)
+    nodes = level_nodes(n, float(rng.uniform(0.0, 2.0)))
+    t0 = float(10.0 ** rng.uniform(-6, 12))
+    p0 = rng.uniform(1.0, 1e6, (loads, 1))
+    k = float(rng.uniform(3.0, 9.0))
+    half = k * np.sqrt(2.0 * t0)
+    la = p0 - half * rng.uniform(0.2, 1.0, (loads, 1))  # a wall may cut the window
+    wa = (p0 + half * rng.uniform(0.2, 1.0, (loads, 1))) - la
+    la, wa = np.hstack([la, la + 1.0]), np.hstack([wa, wa * 2.0])  # (loads, steps) rows
+    wall = float(la.min() - half * rng.uniform(0.0, 0.5)) if image else None
+    win = SimpleNamespace(start=SimpleNamespace(lower=la, width=wa))
+    got = _initial_state(win, nodes.x, nodes.w, p0, np.float64(t0), k, wall)
+    assert _same(got, _initial_reference(la, wa, nodes.x, nodes.w, p0, t0, k, wall))
+
+
+def test_level_grid_is_its_three_parts():
+    from xpersson.engine._level import face_basis, level_grid, level_nodes, system_rows
+
+    for loads, n, stretch in [(1, 24, 1.5), (3, 48, 0.0), (2, 7, 2.5)]:
+        grid = level_grid(loads, n, stretch)
+        assert all(_same(a, b) for a, b in zip(grid.nodes, level_nodes(n, stretch), strict=True))
+        rows = system_rows(loads, n, stretch)
+        assert all(np.array_equal(a, b) for a, b in zip(grid.rows, rows, strict=True))
+        assert _same(grid.basis, face_basis(n, stretch))
+        assert not grid.basis.flags.writeable and not grid.rows.volumes.flags.writeable

@@ -97,7 +97,7 @@ class CNMethod(EngineMethod):
         num = ~analytic
         nb = len(pbs)
         lv = _Grids(pbs, opts, tau_s, num, image)
-        if num.any():
+        if np.count_nonzero(num):
             fit = _control(lv, pb, opts.aim, tau[num])
             if fit.best is None:
                 return self._failed(nb, fit.status, fit.message or "no level completed", lv.nsteps)
@@ -250,7 +250,7 @@ class _Grids:
         self.work = 0.0
         self.kinks: list[float] = []
         self.release = False  # yield walls released once they leave the window (_Plan.release)
-        if num.any():
+        if np.count_nonzero(num):
             # the kinks of the window edges do not depend on the grid: found once
             t_end = float(pbs[0].tau[num][-1])
             k = opts.window_k
@@ -345,11 +345,11 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
     wall_term = np.zeros(shape)
     e_all = np.zeros(shape)
     trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
-    if analytic.any():
+    if np.count_nonzero(analytic):
         e_all[:, analytic & (tau > 0)] = trunc
     if lv.image is not None:  # a one-wall start: the closed form (exact) up to the march
         _one_wall_start(pbs, analytic, lv.image, area, ab_l, load, wall_term)
-    if best is not None and num.any():
+    if best is not None and np.count_nonzero(num):
         # the probabilities are projected onto their admissible set (area, absorbed >= 0,
         # area <= 1, absorbed_lower + absorbed_upper <= 1); the distance moved is a lower
         # bound of the error, so the estimate is raised to it, and a distance beyond the
@@ -362,7 +362,7 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
         roundoff = 16.0 * _EPS * (nsteps + math.sqrt(max(n_used, 1)))
         bound = err + trunc + roundoff
         for key, d in dist.items():
-            if status == "success" and (d > bound).any():
+            if status == "success" and np.count_nonzero(d > bound):
                 status = "tolerance_not_met"
                 message = (
                     f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its error estimate"
@@ -436,6 +436,6 @@ def _densities(pbs: list[Problem], analytic: Array, best: Outputs | None) -> Arr
         for j in np.flatnonzero(analytic & (tau > 0)):
             t = tau[j]
             P[i, j] = np.exp(-((p.p_out - p.p0) ** 2) / (4 * t)) / math.sqrt(4 * math.pi * t)
-    if best is not None and num.any():
+    if best is not None and np.count_nonzero(num):
         P[:, num] = np.maximum(best.P, 0.0)
     return P

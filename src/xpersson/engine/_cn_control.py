@@ -470,7 +470,7 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array) -> _Fit:
     # round-off of the sums over the grid (the level difference cannot see it)
     fit.err = fit.err + 16.0 * _EPS * math.sqrt(max(fit.n_used, 1)) * np.abs(best.area)
     tol = pb.rtol * np.abs(best.area) + pb.atol
-    if fit.status == "success" and (fit.err > tol).any():
+    if fit.status == "success" and np.count_nonzero(fit.err > tol):
         fit.status = "tolerance_not_met"
     if fit.status == "success":
         # reported as a uniform fraction of the tolerance per load, the largest estimated:

@@ -46,12 +46,11 @@ from ._cn_plan import Window, _edges_batch, _level_times, _Plan
 from ._cnstep import tridiagonal_solve
 from ._level import (
     Level,
+    LevelGrid,
     LevelNodes,
     Outputs,
     SystemRows,
-    face_basis,
-    level_nodes,
-    system_rows,
+    level_grid,
 )
 from ._moving_block import Block, block_system
 from ._moving_fused import _SNAP, _reduce_snapshots, fused_level
@@ -94,6 +93,9 @@ class LevelInputs(NamedTuple):
     image: float | None = None
     """The resting absorbing lower wall [Pa] of a one-wall start (the start state is the
     image solution), or None (the free Gaussian)."""
+    grid: LevelGrid | None = None
+    """The level's nodes, rows and face functions (:func:`._level.level_grid`), or None
+    (looked up where needed)."""
 
 
 def level_inputs(
@@ -104,11 +106,14 @@ def level_inputs(
     loads ``pbs`` (one batch: they share their walls and output times)."""
     taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones, _compiled.times())
     pb0 = pbs[0]
-    out_at = np.searchsorted(taus, pb0.tau[pb0.tau > plan.tau_s])
+    outs = plan.outs if plan.outs is not None else pb0.tau[pb0.tau > plan.tau_s]
+    out_at = np.searchsorted(taus, outs)
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
     window = _edges_batch(pbs, plan, taus, _compiled.edges(), _compiled.tracks())
-    nodes = level_nodes(n, stretch)
-    return LevelInputs(taus, theta, out_at, nodes, window, p0, plan.k, plan.yield_wall, plan.image)
+    grid = level_grid(len(pbs), n, stretch)
+    return LevelInputs(
+        taus, theta, out_at, grid.nodes, window, p0, plan.k, plan.yield_wall, plan.image, grid
+    )
 
 
 @dataclass
@@ -161,7 +166,7 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     or the reason the level failed."""
     inp = level_inputs(pbs, plan, n, nsub, stretch, n_ie)
     win, nn = inp.window, inp.nodes.x.size
-    if (win.start.width <= 0).any() or (win.end.width <= 0).any():
+    if np.count_nonzero(win.start.width <= 0) or np.count_nonzero(win.end.width <= 0):
         return Level(None, 0, nn, "the walls swept the whole window (area 0)")
     return march_level(inp, pbs[0].p_out, stretch)
 
@@ -185,7 +190,7 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     wn_all, wo_all = inp.theta * step, (1.0 - inp.theta) * step
     yreal = win.real_upper & inp.yield_wall
     g_all = np.where(yreal, win.end.width * win.end.yield_speed, 0.0)  # closure R_N = g A_pl
-    rows = system_rows(nb, n, stretch)
+    _, rows, basis = inp.grid if inp.grid is not None else level_grid(nb, n, stretch)
     rec = _record_for(nb, n_out, nn, n_steps, p_out)
     st = _State(r0, np.zeros((5, nb)))
     rec.near[0] = st.r[rows.near]
@@ -196,7 +201,6 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     # buffers reused by every block: operators, and the states (row 0 the state before it)
     work = (np.empty((block, 4, nb, nn)), np.empty((block, nb, nn)))
     states_buf = np.empty((block + 1, nb * nn))
-    basis = face_basis(n, stretch)
     for m0 in range(0, n_steps, block):
         ms = slice(m0, min(m0 + block, n_steps))
         g, yr = g_all[:, ms].T, yreal[:, ms].T  # (steps, loads)
@@ -360,23 +364,23 @@ def _initial_state(
     """The free Gaussian at ``t0`` [Pa^2] (mass per unit x, the loads concatenated),
     normalised to the window mass ``erf(k / sqrt 2)``; with an absorbing wall at rest at
     ``image`` [Pa], the one-wall image solution, normalised to its exact window mass."""
-    la, wa_ = win.start.lower, win.start.width
-    pn = la[:, :1] + wa_[:, :1] * x[None, :]
-    c = 1.0 / math.sqrt(4.0 * math.pi * t0)
+    la, wa_ = win.start.lower[:, :1], win.start.width[:, :1]
+    pn = wa_ * x  # (then + la: la + wa x, the same sum)
+    pn += la
+    # (numpy scalars: a Python float costs each operation ~0.5 us of conversion)
+    c = np.float64(1.0 / math.sqrt(4.0 * math.pi * t0))
     # wa exp(-(pn - p0)^2 / 4 t0) c, in place (the same operations: no temporaries)
-    r2 = pn - p0
+    r2 = pn - p0 if image is not None else np.subtract(pn, p0, out=pn)
     np.square(r2, out=r2)
-    np.negative(r2, out=r2)
-    r2 /= 4.0 * t0
+    r2 /= np.float64(-4.0 * t0)  # (-a / b is a / -b, bit for bit: the sign apart)
     np.exp(r2, out=r2)
-    r2 *= wa_[:, :1]
+    r2 *= wa_
     r2 *= c
     mass: float | Array = math.erf(k / math.sqrt(2.0))  # (the same for every load)
     if image is not None:
-        r2 -= wa_[:, :1] * np.exp(-((pn + p0 - 2.0 * image) ** 2) / (4.0 * t0)) * c
+        r2 -= wa_ * np.exp(-((pn + p0 - 2.0 * image) ** 2) / (4.0 * t0)) * c
         mass = _image_mass(la[:, 0], la[:, 0] + wa_[:, 0], p0[:, 0], image, t0)
-    r2[:, 0] = 0.0
-    r2[:, -1] = 0.0
+    r2[:, :: x.size - 1] = 0.0  # (the walls' rows: first and last)
     r2 *= (mass / (r2 @ w))[:, None]
     return r2.ravel()
 

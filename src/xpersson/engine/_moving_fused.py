@@ -31,7 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._cnstep import _factor, _solve_factor
-from ._level import Level, Outputs, face_basis, system_rows
+from ._level import Level, Outputs, level_grid
 
 __all__ = ["face_coefficients", "fused_level", "level_march"]
 
@@ -54,9 +54,10 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
     nb, nn, n_out = inp.p0.shape[0], nodes.x.size, inp.out_at.size
     if n_out * nb * nn > _SNAP:
         return None
-    rows, basis = system_rows(nb, nn - 1, stretch), face_basis(nn - 1, stretch)
+    _, rows, basis = inp.grid if inp.grid is not None else level_grid(nb, nn - 1, stretch)
     snaps, sums = np.empty((n_out, nb * nn)), np.zeros((7, nb, n_out))
-    carry = (r0.copy(), np.zeros((5, nb)), np.zeros((4, nb)), np.zeros(1, np.int64))
+    zs = np.zeros((9, nb))  # (z and acc in one buffer; r0 is the caller's fresh state)
+    carry = (r0, zs[:5], zs[5:], np.zeros(1, np.int64))
     n_steps = inp.taus.size - 1
     block = max(1, min(_OPS // (4 * nb * nn), n_steps))
     # (the loads' rows concatenated: the march takes each step's four rows with no reshape)

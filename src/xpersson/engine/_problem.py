@@ -255,10 +255,10 @@ def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> 
     else:
         t_check = sample_times(tau)
     lo = lower.at(t_check)
-    if not np.isfinite(lo).all():
+    if np.count_nonzero(np.isfinite(lo)) < lo.size:  # (count_nonzero: ~0.2 us, .all() ~1)
         raise _fail("lower", "Pa", "finite at every tau in [0, tau_out[-1]]", "non-finite position")
     below = p0 <= lo[0]
-    if below.any():
+    if np.count_nonzero(below):
         raise _fail(
             "p0",
             "Pa",

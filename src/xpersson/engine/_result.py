@@ -458,7 +458,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         else [m or "requested tolerance met" for m in raw.message]
     )
     success = np.array(clean, dtype=bool)
-    if not success.all():
+    if np.count_nonzero(success) < success.size:
         for i in np.flatnonzero(~clean):
             status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
             success[i] = status[i] == "success"
