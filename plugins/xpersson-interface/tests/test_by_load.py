@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from interface_testlib import scene
 
 import xpersson
 import xpersson_interface.plugins as plugins_mod
 from xpersson_interface import _by_load as by_load_mod
+from xpersson_interface import _stencils as stencils_mod
 from xpersson_interface._by_load import TOL, by_load
 
 U = np.linspace(0.0, 5.0, 64)
@@ -376,3 +379,46 @@ def test_free_loads_are_nodes_of_the_first_call():
     assert np.isin(np.flatnonzero(free), direct.asked[0]).all()
     assert not err[free].any()
     np.testing.assert_array_equal(out["rho"][free], _smooth(p0[free])["rho"])
+
+
+def _lagrange_reference(xn: np.ndarray, x: np.ndarray, i: np.ndarray, m: int) -> np.ndarray:
+    """The weights as the table computed them before its one-buffer form (a fresh quotient
+    array per factor): the bits the load table's results were recorded with."""
+    X = xn[i[:, None] + np.arange(m)]
+    num = x[:, None] - X
+    w = np.ones((x.size, m))
+    with np.errstate(divide="ignore", invalid="ignore"):  # (q_bb: 0/0, set to 1)
+        for b in range(m):
+            q = num[:, b, None] / (X - X[:, b, None])
+            q[:, b] = 1.0
+            w *= q
+    return w
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.integers(2, 9),
+    st.lists(st.floats(1e-3, 1.0), min_size=10, max_size=40),
+    st.lists(st.floats(0.0, 1.0), min_size=1, max_size=30),
+)
+def test_stencil_weights_reproduce_polynomials_and_keep_their_bits(m, gaps, where):
+    """The ``m``-point Lagrange weights sum ``X^j`` to ``x^j`` for ``j < m`` (any nodes, any
+    point), bit for bit the per-factor product; a check given the nodes' segments gives the
+    same estimate as one that finds them."""
+    xn = np.cumsum(gaps)
+    x = xn[0] + np.asarray(where) * (xn[-1] - xn[0])
+    i = np.clip(np.searchsorted(xn, x) - m // 2, 0, xn.size - m)
+    w = stencils_mod._lagrange(xn, x, i, m)
+    assert w.tobytes() == _lagrange_reference(xn, x, i, m).tobytes()
+    X = xn[i[:, None] + np.arange(m)] - xn[0]  # (shifted: the sums stay well conditioned)
+    for j in range(m):
+        got = np.sum(w * X**j, axis=1)
+        want = (x - xn[0]) ** j
+        scale = np.sum(np.abs(w) * np.abs(X) ** j, axis=1) + 1.0
+        assert np.all(np.abs(got - want) <= 1e-9 * scale)
+    at = {"v": np.exp(-xn), "k": (xn > xn[xn.size // 2]).astype(float)}
+    roles = (frozenset({"k"}), ())
+    logs = stencils_mod._logs(at, roles, xn)
+    seg = stencils_mod._segments(at, roles[0])
+    plain = by_load_mod._check(xn, at, logs, roles, m)
+    assert plain.tobytes() == by_load_mod._check(xn, at, logs, roles, m, seg).tobytes()

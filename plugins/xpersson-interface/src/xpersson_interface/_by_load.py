@@ -281,9 +281,10 @@ def _estimated(
     centred, up to 7 one-sided for 8 points; inf where the load has no stencil)."""
     out: dict[str, NDArray[np.float64]] = {}
     best = np.full(x.size, np.inf)
+    seg = _segments(at, roles[0])  # the nodes' segments, once for every order and stencil
     for m in tol[2]:
-        check = _check(xn, at, logs, roles, m)  # (n_node,): the 2h error at the odd nodes
-        vals, bad, lebesgue, idx, flat = _interpolate(xn, at, logs, x, roles, m)
+        check = _check(xn, at, logs, roles, m, seg)  # (n_node,): the 2h error at the odd nodes
+        vals, bad, lebesgue, idx, flat = _interpolate(xn, at, logs, x, roles, m, (seg, None))
         est = np.max(check[idx], axis=1) * (tol[3] / 2**m) + tol[1] * (1.0 + lebesgue)
         est[bad] = np.inf
         est[flat] = tol[1]  # exact (stated: the noise, > 0: not computed directly)
@@ -330,19 +331,22 @@ def _check(
     logs: dict[str, NDArray[np.float64]],
     roles: _Roles,
     m: int = ORDER,
+    seg: NDArray[np.intp] | None = None,
 ) -> NDArray[np.float64]:
     """Per node: the relative error of the even nodes' ``m``-point table at the node (odd
-    nodes; 0 at the even ones), the largest over the outputs (inf where unusable)."""
+    nodes; 0 at the even ones), the largest over the outputs (inf where unusable). ``seg``:
+    the nodes' segments (:func:`._stencils._segments` of ``at``), where known."""
     odd = np.arange(1, xn.size, 2)
     even = np.arange(0, xn.size, 2)
     sub = {k: v[even] for k, v in at.items()}
     logs_even = {k: v[even] for k, v in logs.items()}
-    seg = _segments(at, roles[0])  # every node's: an odd node's own segment is known
+    if seg is None:  # every node's: an odd node's own segment is known
+        seg = _segments(at, roles[0])
     segs = (seg[even], seg[odd])
     vals, bad, _, _, _ = _interpolate(xn[even], sub, logs_even, xn[odd], roles, m, segs)
     err = np.zeros(odd.size)
     for k in sub.keys() - roles[0]:
-        top = float(np.nanmax(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0))))
+        top = float(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0)).max())  # (no NaN left)
         err = np.maximum(err, _relative(vals[k], at[k][odd], top))
     err[bad] = np.inf
     out = np.zeros(xn.size)

@@ -104,9 +104,11 @@ def _lagrange(
     X = xn[i[:, None] + np.arange(m)]
     num = x[:, None] - X  # (n, b): x - X_b
     w = np.ones((x.size, m))
+    q = np.empty_like(w)  # (n, a): q_ab, one buffer for every b (the same operations)
     with np.errstate(divide="ignore", invalid="ignore"):
         for b in range(m):
-            q = num[:, b, None] / (X - X[:, b, None])  # (n, a): q_ab
+            np.subtract(X, X[:, b, None], out=q)
+            np.divide(num[:, b, None], q, out=q)
             q[:, b] = 1.0
             w *= q
     return w
@@ -119,14 +121,14 @@ def _interpolate(
     x: NDArray[np.float64],
     roles: _Roles,
     m: int,
-    segs: tuple[NDArray[np.intp], NDArray[np.intp]] | None = None,
+    segs: tuple[NDArray[np.intp], NDArray[np.intp] | None] | None = None,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.bool_], NDArray[np.float64], NDArray]:
     """Every output at ``x`` from the nodes ``xn`` (each from nodes of its segment), whether
     a load is unusable (between two segments, or a segment too short) and the sum of its
     weights' magnitudes (the stencil's Lebesgue function), and the stencils (``m`` nodes).
     Weighted outputs last: ``exp`` of their interpolated ``W ln v`` over the load's ``W``
     from the other outputs' interpolated values. ``segs``: the nodes' and the ``x``'s
-    segments, where known (:func:`_check`)."""
+    segments, where known (:func:`_check`; the ``x``'s None: from the nodes around each)."""
     keys, weights = roles
     if segs is None:
         idx, w, bad = _stencil(xn, x, _segments(at, keys), m)
@@ -145,26 +147,29 @@ def _interpolate(
             out[k] = _rows(L, idx, w)
             continue
         regular = np.isfinite(L)
+        at_lo = regular[lo]  # whether the stencil's first node is regular
         y = np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx])
         if k in late:
             f = late[k]
             if id(f) not in done:  # once per group (from the outputs interpolated first)
                 done[id(f)] = _transform(*f(out, x))
             ok, S, W = done[id(f)]
-            bad |= regular[lo] & ~ok
+            bad |= at_lo & ~ok
             y = np.where(ok, (y + S) / W, 0.0)
         with np.errstate(over="ignore"):  # (an extrapolation far off: unusable, below)
             y = np.exp(y)
-        bad |= np.isinf(y) & regular[lo]
+        bad |= np.isinf(y) & at_lo
         # a segment of irregular values (NaN, 0 or inf): the value, where its nodes agree
-        irr = np.flatnonzero(~regular[lo])
+        irr = np.flatnonzero(~at_lo)
         if irr.size:
             y[irr] = v[lo[irr]]
             bad[irr] |= ~_alike(v, lo[irr], m)
         out[k] = y
     flat, below = _flat(xn, at, logs, x, keys)
-    for k, v in out.items():
-        v[flat] = at[k][below[flat]]
+    if flat.any():  # (the loads of a sealed stretch and their node below, found once)
+        on, node = np.flatnonzero(flat), below[flat]
+        for k, v in out.items():
+            v[on] = at[k][node]
     return out, bad & ~flat, np.sum(np.abs(w), axis=1), idx, flat
 
 
