@@ -32,6 +32,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from xpersson.physics import Detachment, gap_cdf
+from xpersson.plugins.solved import per_solve
+from xpersson.plugins.stored import spectrum_of
 
 from ._stencils import Weight
 
@@ -466,7 +468,8 @@ def with_sealed(
     out |= {k: np.zeros(n) for k in ("leak_flow_factor_emt", "leak_rate_emt")}
     out |= {k: np.full(n, np.nan) for k in ("leak_zeta_c", "leak_u1")}
     out |= {k: np.ones(n) for k in ("leak_sealed", "leak_sealed_emt")}
-    out["piece"] = np.full(n, junction_piece(ctx.psd, np.full(1, np.nan), 1.0, np.ones(1))[0])
+    psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))  # the direct path's
+    out["piece"] = np.full(n, junction_piece(psd, np.full(1, np.nan), 1.0, np.ones(1))[0])
     if not shut.all():
         for k, v in direct(ctx, ds, rows[~shut]).items():
             out[k][~shut] = v
