@@ -120,7 +120,7 @@ LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 1e-4, TABLE_MIN
 #: short 2-9x; with the error at twice the spacing alone, up to 3.9x on held-out scenes).
 #: 8 points only (4 and 6 fell short 1.5x more often).
 LEAK_ORDERS, LEAK_SAFETY = (8,), 4.0 * 2**8
-LEAK_PER_DECADE = 16
+LEAK_PER_DECADE = 32
 #: The smooth part of the estimate: this times ``2^-m`` the error of the ``m``-point table at
 #: twice the spacing (asymptotically that error divided by ``2^m``: a margin of 16).
 SAFETY = 16.0

@@ -50,6 +50,7 @@ from ._by_load import (
     subset,
 )
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
+from ._first_level import direct_anyway
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import (
     LEAK_KEYS,
@@ -448,6 +449,8 @@ class Leakage(_Interface):
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
         sealed, free = sealed_plan(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
+        if np.size(ctx.p0) >= LEAK_MIN:  # (the table's first level: predicted direct loads)
+            free = free | direct_anyway(ds, ctx.boundary, float(p["a_c"]), sealed)
         direct = lambda rows: with_sealed(self._direct, ctx, ds, rows, sealed)  # noqa: E731
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, LEAK_PER_DECADE, weights)
