@@ -46,7 +46,7 @@ class _Record:
             if rows.size and rec.calls is not None:
                 rec.calls.append({k: direct.vals[k][rows] for k in KEYS})
 
-        def by_load_(p0, exact, tol, keys, noise, least, orders, safety, per_decade, weights, free):
+        def by_load(p0, exact, tol, keys, noise, least, orders, safety, per_decade, weights, free):
             out = rec._by_load(
                 p0, exact, tol, keys, noise, least, orders, safety, per_decade, weights, free
             )
@@ -81,7 +81,7 @@ class _Record:
             return out
 
         _by_load._Direct.run = run
-        pass
+        plugins.by_load = by_load
         return self
 
     def __exit__(self, *exc: object) -> None:
