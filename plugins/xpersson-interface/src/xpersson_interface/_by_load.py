@@ -40,16 +40,19 @@ load was computed directly).
 ``leakage`` :data:`LEAK_TOL`), or that has no stencil, is tabled again between the nodes around
 it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes would be more than
 half of its loads has those of its loads that miss the tolerance computed directly. Level by
-level: the node loads of every run of one level are computed in one direct call. Loads
-whose direct values cost nothing (``free``: ``leakage``'s loads sealed by both theories next
-to the open ones, ``_leakage.with_sealed``) are nodes of the first level, so that a change of
-keys there needs no refinement to be found.
+level: the node loads of every run of one level are computed in one direct call (each call
+has a fixed cost: ``leakage`` ~2.5 ms, ~28 loads' worth). Loads whose direct values cost
+nothing (``free``: ``leakage``'s loads sealed by both theories next to the open ones,
+``_leakage.with_sealed``) or that the table would compute directly anyway, found only by
+refinement (``leakage``'s loads near the junction's sealing: ``_first_level``) are nodes of
+the first level: computed in the first call, and a change of keys there needs no refinement
+to be found.
 
 Measured against the direct path (``benchmarks/load_table_check.py``): ``gap_pdf`` on the 12
 scenes of ``benchmarks/summary.py`` at 3000 and 1e4 loads within 2.0e-5 of each load's largest
 density; ``leakage`` on those, 20 held-out scenes (``--seeds 37 38``) and the 12 of
 ``summary.py --held-out 2026`` (``--held-out 2026``) at 1000 and 1e4 loads within 1.4e-3,
-every interpolated load within 0.81 of its estimate
+every interpolated load within 0.79 of its estimate
 (``results/load_table_check_leakage_1000.json``, ``..._1e4.json``). Below the minimum every
 load is computed directly, as before, bit for bit.
 """
@@ -120,6 +123,10 @@ LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 1e-4, TABLE_MIN
 #: short 2-9x; with the error at twice the spacing alone, up to 3.9x on held-out scenes).
 #: 8 points only (4 and 6 fell short 1.5x more often).
 LEAK_ORDERS, LEAK_SAFETY = (8,), 4.0 * 2**8
+#: The leak analysis's first level: at 16 per decade the effective medium's ripple (~2e-4,
+#: from the Almqvist far tail's detachment bins) fails the check over most of the range on
+#: roll-off scenes and the whole range is tabled again at 32 (one direct call more);
+#: ``benchmarks/results/leakage_first_level.md``.
 LEAK_PER_DECADE = 32
 #: The smooth part of the estimate: this times ``2^-m`` the error of the ``m``-point table at
 #: twice the spacing (asymptotically that error divided by ``2^m``: a margin of 16).
@@ -157,8 +164,8 @@ def by_load(
     load, the one of the smallest estimate taken (fewer points: a smaller Lebesgue function
     near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
     ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
-    ``v``). ``free`` (per load): loads whose direct values cost (almost) nothing, made nodes
-    of the first level.
+    ``v``). ``free`` (per load): loads made nodes of the first level (their direct values
+    cost (almost) nothing, or they would be computed directly anyway).
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
