@@ -12,6 +12,7 @@ from interface_testlib import scene
 import xpersson
 import xpersson_interface.plugins as plugins_mod
 from xpersson_interface import _by_load as by_load_mod
+from xpersson_interface import _first_level as first_mod
 from xpersson_interface import _stencils as stencils_mod
 from xpersson_interface._by_load import TOL, by_load
 
@@ -314,7 +315,7 @@ def test_leakage_table_within_its_estimate_on_drawn_scenes(seed):
     try:
         mp.setattr(by_load_mod, "TABLE_MIN", 60)
         mp.setattr(plugins_mod, "LEAK_MIN", 60)
-        mp.setattr(plugins_mod, "LEAK_PER_DECADE", 8)  # the table's regime at 60 loads
+        mp.setattr(first_mod, "LEAK_PER_DECADE", 8)  # the table's regime at 60 loads
         table = xpersson.solve(sc)
         mp.setattr(by_load_mod, "TABLE_MIN", 10**9)
         direct = xpersson.solve(sc)

@@ -123,11 +123,7 @@ LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 1e-4, TABLE_MIN
 #: short 2-9x; with the error at twice the spacing alone, up to 3.9x on held-out scenes).
 #: 8 points only (4 and 6 fell short 1.5x more often).
 LEAK_ORDERS, LEAK_SAFETY = (8,), 4.0 * 2**8
-#: The leak analysis's first level: at 16 per decade the effective medium's ripple (~2e-4,
-#: from the Almqvist far tail's detachment bins) fails the check over most of the range on
-#: roll-off scenes and the whole range is tabled again at 32 (one direct call more);
-#: ``benchmarks/results/leakage_first_level.md``.
-LEAK_PER_DECADE = 32
+LEAK_PER_DECADE = 16
 #: The smooth part of the estimate: this times ``2^-m`` the error of the ``m``-point table at
 #: twice the spacing (asymptotically that error divided by ``2^m``: a margin of 16).
 SAFETY = 16.0

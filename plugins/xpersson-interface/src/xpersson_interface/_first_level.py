@@ -6,7 +6,9 @@ directly by design) and, where fewer than :data:`SHORT`, the loads the junction 
 (the effective medium still open: too few to table) are all computed directly, but only once
 refinement reaches them, in the table's third or fourth direct call (each call ~2.5 ms fixed).
 Predicted from the stored curve's crossing of ``a_c``, they are nodes of the first level
-instead (:func:`._by_load.by_load`'s ``free``): computed in the first call, with the grid.
+instead (:func:`._by_load.by_load`'s ``free``): computed in the first call, with the grid,
+which is :data:`PER_DECADE` nodes per decade. Up to :data:`FEW` loads: beyond, the table's
+loads cost more than the calls this saves.
 A load predicted wrongly costs one direct evaluation (its values are then exact); one missed
 is found by the table's refinement, as before: the prediction changes which loads are
 computed, never the accuracy claim.
@@ -21,10 +23,22 @@ from numpy.typing import NDArray
 
 from xpersson import physics
 
-from ._by_load import LEAK_ORDERS
+from ._by_load import LEAK_MIN, LEAK_ORDERS, LEAK_PER_DECADE
 from ._leakage import NEAR_SEALING, _contact_area
 
-__all__ = ["MARGIN", "SHORT", "direct_anyway", "predicted"]
+__all__ = ["FEW", "MARGIN", "PER_DECADE", "SHORT", "first_level", "predicted"]
+
+#: Up to this many loads the first level is :data:`PER_DECADE` nodes per decade and holds the
+#: :func:`predicted` loads. Measured (``benchmarks/leakage_loads.py``, the four worst scenes):
+#: at 2000 loads 954 loads in 14 calls against 978 in 19; at 3000 loads 1199 in 16 against
+#: 1027 in 20, at 1e4 774 against 656 on roll H=0.31 5dec: there the loads cost more than the
+#: calls they save (a call's fixed cost is ~28 loads' worth).
+FEW = 2500
+#: The first level's nodes per decade up to :data:`FEW` loads: at 16 (``LEAK_PER_DECADE``)
+#: the effective medium's ripple (~2e-4: the Almqvist far tail's detachment bins) fails the
+#: check over most of the range of roll-off scenes, which is tabled again at 32 in a second
+#: call.
+PER_DECADE = 32
 
 #: Relative margin of the prediction on ``zeta_c / zeta_max`` (the stored curve's crossing
 #: lies within 6 % of the dense re-solve's on the speed design).
@@ -34,13 +48,18 @@ MARGIN = 0.1
 SHORT = 4 * max(LEAK_ORDERS)
 
 
-def direct_anyway(
+def first_level(
     ds: Any, boundary: Any, a_c: float, sealed: NDArray[np.bool_]
-) -> NDArray[np.bool_]:
-    """:func:`predicted` of the loads of the solved Dataset ``ds`` (the Dataset's order), from
-    its stored contact area (the ``boundary``'s ``contact_area`` variables)."""
+) -> tuple[float, NDArray[np.bool_]]:
+    """The leak table's first level for the loads of the solved Dataset ``ds``: its nodes per
+    decade and the :func:`predicted` loads (the Dataset's order; from its stored contact area,
+    the ``boundary``'s ``contact_area`` variables) from ``LEAK_MIN`` to :data:`FEW` loads;
+    else ``LEAK_PER_DECADE`` and none."""
+    n = int(np.size(sealed))
+    if not LEAK_MIN <= n <= FEW:
+        return LEAK_PER_DECADE, np.zeros(n, dtype=bool)
     zeta = np.asarray(ds["zeta"].values, dtype=float)
-    return predicted(zeta, _contact_area(ds, boundary), a_c, sealed)
+    return PER_DECADE, predicted(zeta, _contact_area(ds, boundary), a_c, sealed)
 
 
 def predicted(
