@@ -7,8 +7,8 @@ directly by design) and, where fewer than :data:`SHORT`, the loads the junction 
 refinement reaches them, in the table's third or fourth direct call (each call ~2.5 ms fixed).
 Predicted from the stored curve's crossing of ``a_c``, they are nodes of the first level
 instead (:func:`._by_load.by_load`'s ``free``): computed in the first call, with the grid,
-which is :data:`PER_DECADE` nodes per decade. Up to :data:`FEW` loads: beyond, the table's
-loads cost more than the calls this saves.
+which is :data:`PER_DECADE` nodes per decade on a spectrum with a roll-off. Up to :data:`FEW`
+loads: beyond, the table's loads cost more than the calls this saves.
 A load predicted wrongly costs one direct evaluation (its values are then exact); one missed
 is found by the table's refinement, as before: the prediction changes which loads are
 computed, never the accuracy claim.
@@ -22,6 +22,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from xpersson import physics
+from xpersson.plugins.solved import per_solve
+from xpersson.plugins.stored import spectrum_of
 
 from ._by_load import LEAK_MIN, LEAK_ORDERS, LEAK_PER_DECADE
 from ._leakage import NEAR_SEALING, _contact_area
@@ -34,10 +36,12 @@ __all__ = ["FEW", "MARGIN", "PER_DECADE", "SHORT", "first_level", "predicted"]
 #: 1027 in 20, at 1e4 774 against 656 on roll H=0.31 5dec: there the loads cost more than the
 #: calls they save (a call's fixed cost is ~28 loads' worth).
 FEW = 2500
-#: The first level's nodes per decade up to :data:`FEW` loads: at 16 (``LEAK_PER_DECADE``)
-#: the effective medium's ripple (~2e-4: the Almqvist far tail's detachment bins) fails the
-#: check over most of the range of roll-off scenes, which is tabled again at 32 in a second
-#: call.
+#: The first level's nodes per decade up to :data:`FEW` loads on a spectrum with a breakpoint
+#: between ``q_L`` and the curve's last magnification (a roll-off): there, at 16
+#: (``LEAK_PER_DECADE``), the effective medium's ripple (~2e-4: the Almqvist far tail's
+#: detachment bins) fails the check over most of the range (45-86 % of its loads on the speed
+#: design's roll-off scenes), which the second call tables again at 32; on the others it
+#: fails near the sealing only, and 32 would cost loads without saving a call.
 PER_DECADE = 32
 
 #: Relative margin of the prediction on ``zeta_c / zeta_max`` (the stored curve's crossing
@@ -49,17 +53,22 @@ SHORT = 4 * max(LEAK_ORDERS)
 
 
 def first_level(
-    ds: Any, boundary: Any, a_c: float, sealed: NDArray[np.bool_]
+    ctx: Any, ds: Any, a_c: float, sealed: NDArray[np.bool_]
 ) -> tuple[float, NDArray[np.bool_]]:
-    """The leak table's first level for the loads of the solved Dataset ``ds``: its nodes per
-    decade and the :func:`predicted` loads (the Dataset's order; from its stored contact area,
-    the ``boundary``'s ``contact_area`` variables) from ``LEAK_MIN`` to :data:`FEW` loads;
-    else ``LEAK_PER_DECADE`` and none."""
+    """The leak table's first level for the loads of the solved Dataset ``ds`` (the analysis
+    context ``ctx``: its boundary): its nodes per decade (:data:`PER_DECADE` on a spectrum
+    with a breakpoint inside the curve) and the :func:`predicted` loads (the Dataset's order;
+    from its stored contact area) from ``LEAK_MIN`` to :data:`FEW` loads; else
+    ``LEAK_PER_DECADE`` and none."""
     n = int(np.size(sealed))
     if not LEAK_MIN <= n <= FEW:
         return LEAK_PER_DECADE, np.zeros(n, dtype=bool)
     zeta = np.asarray(ds["zeta"].values, dtype=float)
-    return PER_DECADE, predicted(zeta, _contact_area(ds, boundary), a_c, sealed)
+    psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))  # the direct path's
+    breaks = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
+    inside = bool(np.any((breaks > 1.0) & (breaks < zeta[-1])))
+    area = _contact_area(ds, ctx.boundary)
+    return (PER_DECADE if inside else LEAK_PER_DECADE), predicted(zeta, area, a_c, sealed)
 
 
 def predicted(
