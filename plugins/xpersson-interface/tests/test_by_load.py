@@ -12,6 +12,7 @@ from interface_testlib import scene
 import xpersson
 import xpersson_interface.plugins as plugins_mod
 from xpersson_interface import _by_load as by_load_mod
+from xpersson_interface import _first_level as first_mod
 from xpersson_interface import _stencils as stencils_mod
 from xpersson_interface._by_load import TOL, by_load
 
@@ -240,8 +241,9 @@ def test_keys_are_taken_from_agreeing_stencils_and_stencils_stay_in_their_segmen
 
 @pytest.fixture(scope="module")
 def leaks():
-    """leakage at 300 loads (the table from 100 on), through the table and directly."""
-    return _both("leakage", 300, {(by_load_mod, "TABLE_MIN"): 100, (plugins_mod, "LEAK_MIN"): 100})
+    """leakage at 600 loads (the table from 100 on; its first level holds 32 loads per decade
+    of the 3.5 decades), through the table and directly."""
+    return _both("leakage", 600, {(by_load_mod, "TABLE_MIN"): 100, (plugins_mod, "LEAK_MIN"): 100})
 
 
 def test_leakage_within_its_stated_error_of_the_direct_path(leaks):
@@ -313,7 +315,7 @@ def test_leakage_table_within_its_estimate_on_drawn_scenes(seed):
     try:
         mp.setattr(by_load_mod, "TABLE_MIN", 60)
         mp.setattr(plugins_mod, "LEAK_MIN", 60)
-        mp.setattr(plugins_mod, "LEAK_PER_DECADE", 8)  # the table's regime at 60 loads
+        mp.setattr(first_mod, "LEAK_PER_DECADE", 8)  # the table's regime at 60 loads
         table = xpersson.solve(sc)
         mp.setattr(by_load_mod, "TABLE_MIN", 10**9)
         direct = xpersson.solve(sc)

@@ -40,10 +40,13 @@ load was computed directly).
 ``leakage`` :data:`LEAK_TOL`), or that has no stencil, is tabled again between the nodes around
 it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes would be more than
 half of its loads has those of its loads that miss the tolerance computed directly. Level by
-level: the node loads of every run of one level are computed in one direct call. Loads
-whose direct values cost nothing (``free``: ``leakage``'s loads sealed by both theories next
-to the open ones, ``_leakage.with_sealed``) are nodes of the first level, so that a change of
-keys there needs no refinement to be found.
+level: the node loads of every run of one level are computed in one direct call (each call
+has a fixed cost: ``leakage`` ~2.5 ms, ~28 loads' worth). Loads whose direct values cost
+nothing (``free``: ``leakage``'s loads sealed by both theories next to the open ones,
+``_leakage.with_sealed``) or that the table would compute directly anyway, found only by
+refinement (``leakage``'s loads near the junction's sealing: ``_first_level``) are nodes of
+the first level: computed in the first call, and a change of keys there needs no refinement
+to be found.
 
 Measured against the direct path (``benchmarks/load_table_check.py``): ``gap_pdf`` on the 12
 scenes of ``benchmarks/summary.py`` at 3000 and 1e4 loads within 2.0e-5 of each load's largest
@@ -157,8 +160,8 @@ def by_load(
     load, the one of the smallest estimate taken (fewer points: a smaller Lebesgue function
     near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
     ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
-    ``v``). ``free`` (per load): loads whose direct values cost (almost) nothing, made nodes
-    of the first level.
+    ``v``). ``free`` (per load): loads made nodes of the first level (their direct values
+    cost (almost) nothing, or they would be computed directly anyway).
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size

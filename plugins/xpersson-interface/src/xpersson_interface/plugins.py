@@ -41,7 +41,6 @@ from ._by_load import (
     LEAK_MIN,
     LEAK_NOISE,
     LEAK_ORDERS,
-    LEAK_PER_DECADE,
     LEAK_SAFETY,
     LEAK_TOL,
     TABLE_MIN,
@@ -50,6 +49,7 @@ from ._by_load import (
     subset,
 )
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
+from ._first_level import first_level
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import (
     LEAK_KEYS,
@@ -448,10 +448,11 @@ class Leakage(_Interface):
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
         sealed, free = sealed_plan(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
+        per_decade, first = first_level(ctx, ds, float(p["a_c"]), sealed)
         direct = lambda rows: with_sealed(self._direct, ctx, ds, rows, sealed)  # noqa: E731
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
-        settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, LEAK_PER_DECADE, weights)
-        out, err = by_load(ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free)
+        settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, per_decade, weights)
+        out, err = by_load(ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free | first)
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k in self.outputs}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))

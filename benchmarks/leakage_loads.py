@@ -1,0 +1,78 @@
+"""Where the leakage load table's directly computed loads come from (per call, per cause).
+
+For every scene of the speed design (``summary_design.design``, seed 36) and of
+``summary.py --held-out 2026``, at ``--loads`` loads (1 kPa - 1 MPa): the loads of each direct
+call of the table (one per refinement level), split by cause: sealed by both theories (free:
+no direct work), sealed by the junction alone with the effective medium open, the junction
+near sealing (``zeta_c > 2/3 zeta_max``: each a key of its own, computed directly by design),
+and the others (the first level's grid; the refinement). Totals per cause and per call.
+
+    python benchmarks/leakage_loads.py [--loads 1000] [--seeds 36] [--held-out 2026]
+"""
+
+from __future__ import annotations
+
+import argparse
+import warnings
+
+import numpy as np
+from summary_design import design, held_out, load_range, scene
+
+import xpersson
+from xpersson_interface import _by_load
+
+CAUSES = ("sealed by both (free)", "junction sealed, medium open", "near sealing", "other")
+
+
+def account(spec: dict, n: int) -> list[np.ndarray]:
+    """Per direct call of a leakage solve at ``n`` loads: its loads by cause (:data:`CAUSES`)."""
+    calls: list[np.ndarray] = []
+    run = _by_load._Direct.run
+
+    def recording(direct: _by_load._Direct) -> None:
+        rows = np.flatnonzero(direct.pending & ~direct.done)
+        run(direct)
+        if rows.size:
+            v = {k: direct.vals[k][rows] for k in ("leak_sealed", "leak_sealed_emt", "piece")}
+            free = (v["leak_sealed"] == 1) & (v["leak_sealed_emt"] == 1)
+            shut = (v["leak_sealed"] == 1) & ~free
+            near = (v["piece"] < 0) & ~free & ~shut
+            calls.append(np.array([free.sum(), shut.sum(), near.sum(), rows.size], dtype=int))
+            calls[-1][3] -= calls[-1][:3].sum()
+
+    _by_load._Direct.run = recording
+    try:
+        xpersson.solve(scene(spec, load_range(n), analyses={"leakage": {}}))
+    finally:
+        _by_load._Direct.run = run
+    return calls
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--loads", type=int, default=1000)
+    ap.add_argument("--seeds", type=int, nargs="*", default=[36])
+    ap.add_argument("--held-out", type=int, nargs="*", default=[2026])
+    args = ap.parse_args(argv)
+    warnings.simplefilter("ignore")
+    scenes = [(n, s) for seed in args.seeds for n, s in design(12, seed)]
+    for seed in args.held_out:
+        scenes += [(f"held-out {seed}: {n}", s) for n, s in held_out(12, seed)]
+    total, per_call, n_calls = np.zeros(4, dtype=int), {}, 0
+    for name, spec in scenes:
+        calls = account(spec, args.loads)
+        n_calls += len(calls)
+        for i, c in enumerate(calls):
+            total += c
+            per_call[i] = per_call.get(i, np.zeros(4, dtype=int)) + c
+        computed = sum(int(c[1:].sum()) for c in calls)
+        parts = " | ".join(f"{int(c[3])}+{int(c[2])}n+{int(c[1])}j" for c in calls)
+        print(f"{name:32s} calls {len(calls)} computed {computed:4d}: {parts}", flush=True)
+    print(f"{n_calls} calls, {int(total[1:].sum())} loads computed directly")
+    print("total:", ", ".join(f"{a} {b}" for a, b in zip(CAUSES, total, strict=True)))
+    for i, v in sorted(per_call.items()):
+        print(f"call {i + 1}:", ", ".join(f"{a} {b}" for a, b in zip(CAUSES, v, strict=True)))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,90 @@
+"""The leakage load table's first level (private): loads it would compute directly anyway.
+
+Measured on the speed design at 1000 loads (``benchmarks/leakage_loads.py``): the loads near the
+junction's sealing (``zeta_c > NEAR_SEALING zeta_max``: each a key of its own, so computed
+directly by design) and, where fewer than :data:`SHORT`, the loads the junction alone seals
+(the effective medium still open: too few to table) are all computed directly, but only once
+refinement reaches them, in the table's third or fourth direct call (each call ~2.5 ms fixed).
+Predicted from the stored curve's crossing of ``a_c``, they are nodes of the first level
+instead (:func:`._by_load.by_load`'s ``free``): computed in the first call, with the grid,
+which is :data:`PER_DECADE` nodes per decade on a spectrum with a roll-off. Up to :data:`FEW`
+loads: beyond, the table's loads cost more than the calls this saves.
+A load predicted wrongly costs one direct evaluation (its values are then exact); one missed
+is found by the table's refinement, as before: the prediction changes which loads are
+computed, never the accuracy claim.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from xpersson import physics
+from xpersson.plugins.solved import per_solve
+from xpersson.plugins.stored import spectrum_of
+
+from ._by_load import LEAK_MIN, LEAK_ORDERS, LEAK_PER_DECADE
+from ._leakage import NEAR_SEALING, _contact_area
+
+__all__ = ["FEW", "MARGIN", "PER_DECADE", "SHORT", "first_level", "predicted"]
+
+#: Up to this many loads the first level is :data:`PER_DECADE` nodes per decade and holds the
+#: :func:`predicted` loads. Measured (``benchmarks/leakage_loads.py``, the four worst scenes):
+#: at 2000 loads 954 loads in 14 calls against 978 in 19; at 3000 loads 1199 in 16 against
+#: 1027 in 20, at 1e4 774 against 656 on roll H=0.31 5dec: there the loads cost more than the
+#: calls they save (a call's fixed cost is ~28 loads' worth).
+FEW = 2500
+#: The first level's nodes per decade up to :data:`FEW` loads on a spectrum with a breakpoint
+#: between ``q_L`` and the curve's last magnification (a roll-off): there, at 16
+#: (``LEAK_PER_DECADE``), the effective medium's ripple (~2e-4: the Almqvist far tail's
+#: detachment bins) fails the check over most of the range (45-86 % of its loads on the speed
+#: design's roll-off scenes), which the second call tables again at 32; on the others it
+#: fails near the sealing only, and 32 would cost loads without saving a call.
+PER_DECADE = 32
+
+#: Relative margin of the prediction on ``zeta_c / zeta_max`` (the stored curve's crossing
+#: lies within 6 % of the dense re-solve's on the speed design).
+MARGIN = 0.1
+#: Loads sealed by the junction alone (the medium open) fewer than this: too few to table (a
+#: segment of the table needs twice its ``2 m`` check nodes), each computed directly.
+SHORT = 4 * max(LEAK_ORDERS)
+
+
+def first_level(
+    ctx: Any, ds: Any, a_c: float, sealed: NDArray[np.bool_]
+) -> tuple[float, NDArray[np.bool_]]:
+    """The leak table's first level for the loads of the solved Dataset ``ds`` (the analysis
+    context ``ctx``: its boundary): its nodes per decade (:data:`PER_DECADE` on a spectrum
+    with a breakpoint inside the curve) and the :func:`predicted` loads (the Dataset's order;
+    from its stored contact area) from ``LEAK_MIN`` to :data:`FEW` loads; else
+    ``LEAK_PER_DECADE`` and none."""
+    n = int(np.size(sealed))
+    if not LEAK_MIN <= n <= FEW:
+        return LEAK_PER_DECADE, np.zeros(n, dtype=bool)
+    zeta = np.asarray(ds["zeta"].values, dtype=float)
+    psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))  # the direct path's
+    breaks = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
+    inside = bool(np.any((breaks > 1.0) & (breaks < zeta[-1])))
+    area = _contact_area(ds, ctx.boundary)
+    return (PER_DECADE if inside else LEAK_PER_DECADE), predicted(zeta, area, a_c, sealed)
+
+
+def predicted(
+    zeta: NDArray[np.float64],
+    area: NDArray[np.float64],
+    a_c: float,
+    sealed: NDArray[np.bool_],
+) -> NDArray[np.bool_]:
+    """Per load (its row of the contact area ``area`` (n_load, n_zeta) [1] on the
+    magnifications ``zeta``, increasing from 1): not ``sealed`` by both theories, and the
+    curve's crossing of ``a_c`` above ``(1 - MARGIN) NEAR_SEALING zeta_max`` or, where fewer
+    than :data:`SHORT` loads have none (the junction sealed), none."""
+    zc = physics.critical_magnification(zeta, area, a_c)
+    shut = ~np.isfinite(zc) & ~sealed
+    with np.errstate(invalid="ignore"):
+        out = zc > (1.0 - MARGIN) * NEAR_SEALING * float(zeta[-1])
+    if np.count_nonzero(shut) < SHORT:
+        out |= shut
+    return out & ~sealed
