@@ -334,8 +334,8 @@ class _Curve:
             if compiled:
                 y = buf[0, : math.prod(shape)].reshape(shape)
                 dy = buf[1, : y.size].reshape(shape)
-                kernel(0, "df_poly")(self._spl.c, jb, i, np.ascontiguousarray(db), y, dy)  # type: ignore[misc]
-                _quiet_rows(dy, own[k] - jb)
+                stop = own[k] - jb  # each row's own quiet intervals: dy 0 there
+                kernel(0, "df_poly")(self._spl.c, jb, i, d, off, stop, y, dy)  # type: ignore[misc]
                 yield k, 1 + jb, (dy, _exp_inplace(y))
                 continue
             c = cbuf[: ck.size].reshape(ck.shape[2], 4, 1, ck.shape[1])

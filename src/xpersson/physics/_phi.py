@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..cache import Cache
+from ._compiled import kernel
 from ._curve import _TINY, _Curve, _tau_c
 from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
 
@@ -253,6 +254,40 @@ class _Phi:
         linear look-up of :meth:`at_log_tau_per_load` up to round-off (~1e-16 relative; the
         terms are >= 0). Table nodes that are 0 for every load are left out.
         """
+        out = self._kernel_sums(log_tau, kern)
+        if out is None:
+            out = self._sparse_sums(log_tau, kern)
+        phi1 = self.phi[:, 1:2]
+        low = log_tau < math.log(self.tau1)  # the linear first interval
+        if low.any() and np.any(phi1):
+            t = np.zeros(log_tau.shape)
+            np.exp(log_tau, out=t, where=low & (log_tau > _EXP_ZERO))
+            t /= self.tau1
+            np.clip(t, 0.0, 1.0, out=t)
+            out += phi1 * np.sum(kern * t, axis=-1)
+        return out
+
+    def _kernel_sums(
+        self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
+    ) -> NDArray[np.float64] | None:
+        """:meth:`_sparse_sums` by the compiled :func:`~._compiled.table_sums` (its bits,
+        without the CSR matrix's ~0.1 ms of construction per call); None where not built or
+        an argument is not finite."""
+        grid, tab = self._table()
+        fn = kernel(tab.size, "table_sums")
+        if fn is None or kern.shape != log_tau.shape or not np.all(np.isfinite(log_tau)):
+            return None
+        inv = 1.0 / (grid[1] - grid[0])
+        at = np.array([grid[0], inv, self._lo, grid.size - 1.000001, self._g0], dtype=float)
+        out = np.empty((tab.shape[1], log_tau.shape[0]))
+        fn(np.ascontiguousarray(log_tau), np.ascontiguousarray(kern), tab, at,
+           math.log(self.tau1), out)  # fmt: skip
+        return out
+
+    def _sparse_sums(
+        self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """The table part of :meth:`sums_at_log_tau` as one sparse product (n_load, K)."""
         from scipy.sparse import csr_array  # lazily (imported with scipy.interpolate)
 
         grid, tab = self._table()
@@ -270,12 +305,4 @@ class _Phi:
         cols = np.stack((col, col + 1), axis=-1).ravel()
         ptr = np.concatenate(([0], np.cumsum(2 * np.count_nonzero(keep, axis=1))))
         w = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[0]))
-        out = np.ascontiguousarray((w @ tab).T)  # the table (nodes, loads)
-        phi1 = self.phi[:, 1:2]
-        if low.any() and np.any(phi1):
-            t = np.zeros(log_tau.shape)
-            np.exp(log_tau, out=t, where=low & (log_tau > _EXP_ZERO))
-            t /= self.tau1
-            np.clip(t, 0.0, 1.0, out=t)
-            out += phi1 * np.sum(kern * t, axis=-1)
-        return out
+        return np.ascontiguousarray((w @ tab).T)  # the table (nodes, loads)
