@@ -110,7 +110,7 @@ def _rows_mode(P, sc, args, calls, prof, parts) -> None:
                 calls.append((rows.size, time.process_time() - t))
         if prof is not None:
             prof.disable()
-        taken.update(parts)
+        taken.update({k: list(v) for k, v in parts.items()})
         return compute(self, ctx, ds)
 
     taken: dict[str, list[float]] = {}

@@ -35,6 +35,7 @@ from xpersson.physics import Detachment, gap_cdf
 from xpersson.plugins.solved import per_solve
 from xpersson.plugins.stored import spectrum_of
 
+from . import _newton_kernel
 from ._stencils import Weight
 
 __all__ = [
@@ -144,8 +145,21 @@ def _newton(
 ) -> NDArray[np.float64]:
     """:func:`_bruggeman_rows`' safeguarded Newton in ``x = ln s`` for the roots of
     ``f = base + 2 sum m s_k/(s_k + s)`` (decreasing), from ``x`` in the brackets
-    ``[lo, hi]`` (all three updated in place; ``x`` returned)."""
+    ``[lo, hi]`` (all three updated in place; ``x`` returned). Each iteration by the compiled
+    :func:`._newton_kernel.newton_step` where built (the same numbers, bit for bit)."""
     tol = math.sqrt(rtol)
+    fn = _newton_kernel.kernel() if m.shape[1] <= _newton_kernel.MAX_CELLS else None
+    if fn is not None:  # one compiled pass per iteration, the same numbers
+        rows, live = np.arange(x.size), np.empty(x.size, dtype=bool)
+        m, s_k = np.ascontiguousarray(m), np.ascontiguousarray(s_k)
+        r, mr = np.empty(m.shape[1]), np.empty(m.shape[1])
+        for _ in range(200):
+            with np.errstate(over="ignore"):
+                e = np.exp(x[rows])
+            if not fn(m, s_k, e, rows, x, lo, hi, base, tol, rtol, live, r, mr):
+                break
+            rows = rows[live[: rows.size]]
+        return x
     # the rows held in ma, sa (compacted once half of them converged); `live` of those iterate
     cur, ma, sa, buf, buf2 = np.arange(x.size), m, s_k, np.empty_like(m), np.empty_like(m)
     live = np.ones(x.size, dtype=bool)
