@@ -118,8 +118,10 @@ def _rows_mode(P, sc, args, calls, prof, parts) -> None:
     xpersson.solve(sc)
     P.Leakage.compute = compute
     t = np.array([c for _, c in calls])
-    print(f"{args.scene}: direct calls of {calls[0][0]} loads, ms: median "
-          f"{1e3 * np.median(t):.3f}, best {1e3 * t.min():.3f} ({t.size} calls)")
+    print(
+        f"{args.scene}: direct calls of {calls[0][0]} loads, ms: median "
+        f"{1e3 * np.median(t):.3f}, best {1e3 * t.min():.3f} ({t.size} calls)"
+    )
     _print_parts(taken, args.solves)
     if prof is not None:
         pstats.Stats(prof).sort_stats(args.sort).print_stats(45)

@@ -23,6 +23,7 @@ from xpersson.physics import (
     _gap_distribution,
     _percolation,
     _phi,
+    _phi_sums,
     _spline_sums,
     _subgap,
 )
@@ -44,7 +45,7 @@ def _plain(monkeypatch: pytest.MonkeyPatch) -> list[str]:
 
     def kernel(work: float, name: str = "gap_rows"):
         asked.append(name)
-        for mod in (_compiled, _spline_sums, _band_sums):
+        for mod in (_compiled, _spline_sums, _band_sums, _phi_sums):
             if hasattr(mod, name):
                 return getattr(mod, name)
         raise AttributeError(name)

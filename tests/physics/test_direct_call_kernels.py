@@ -1,4 +1,4 @@
-"""The compiled kernels of the leak analysis's direct call (:mod:`xpersson.physics._compiled`):
+"""The compiled kernels of the leak analysis's direct call (:mod:`xpersson.physics._phi_sums`):
 ``df_poly`` (the Stieltjes nodes' polynomials of ``ln(1 - F)``) and ``table_sums`` (``Phi``'s
 shared sums without the CSR matrix) give the numpy path's bits, compiled and as plain Python."""
 
@@ -11,13 +11,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from xpersson.physics import _compiled, _curve, _phi
+from xpersson.physics import _compiled, _curve, _phi, _phi_sums
 from xpersson.physics._fastnum import _row_spline
 
 
 def _kernel(compiled: bool, name: str):
     if not compiled:
-        return getattr(_compiled, name)
+        return getattr(_phi_sums, name)
     pytest.importorskip("numba")
     fn = _compiled.kernel(math.inf, name)
     if fn is None:

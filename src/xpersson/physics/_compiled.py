@@ -66,8 +66,6 @@ __all__ = [
     "D_MAX",
     "MIN_WORK",
     "PAIRWISE",
-    "df_poly",
-    "df_sums",
     "erf_diff_series",
     "gap_rows",
     "kernel",
@@ -76,7 +74,6 @@ __all__ = [
     "spline_slopes",
     "spline_values",
     "sub_sums",
-    "table_sums",
     "uniform_from_zero",
 ]
 
@@ -106,9 +103,9 @@ def kernel(work: float, name: str = "gap_rows") -> Callable[..., Any] | None:
 
 
 def _build() -> dict[str, Callable[..., Any]] | None:
-    from . import _band_sums, _spline_sums  # (kernels kept in their own modules)
+    from . import _band_sums, _phi_sums, _spline_sums  # (kernels kept in their own modules)
 
-    names = (__name__, _spline_sums.__name__, _band_sums.__name__)
+    names = (__name__, _spline_sums.__name__, _band_sums.__name__, _phi_sums.__name__)
     jit = numba_cache.njit(*names, nogil=True, error_model="numpy")
     if jit is None:  # numba is not installed
         return None
@@ -121,9 +118,9 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         spline_slopes,
         spline_coefficients,
         spline_values,
-        df_poly,
-        df_sums,
-        table_sums,
+        _phi_sums.df_poly,
+        _phi_sums.df_sums,
+        _phi_sums.table_sums,
         crossing_newton,
         erf_diff_series,
         _spline_sums.spline_sub_sums,
@@ -377,93 +374,6 @@ def spline_values(
                 out[p, r] = v
             else:
                 out[r, p] = v
-
-
-def df_poly(
-    c: Any, jb: int, k0: int, d: Any, off: int, stop: Any, y: Any, dy: Any
-) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """``ln(1 - F)`` (clipped at 0 from above) and its slope (at 0 from below) at the Stieltjes
-    nodes of :meth:`~._curve._Curve._dF_blocks`, the operations of its numpy form in order.
-
-    ``c`` (4, n_int, n_load): the spline's coefficients, from interval ``jb`` on and load ``k0``
-    on; ``d`` (m, n_d) the nodes' local abscissae, from column ``off`` on; written ``y``,
-    ``dy`` (rows, m, n); ``dy`` is 0 on a row's first ``stop[r]`` intervals (that row's own
-    quiet ones, :func:`~._curve._quiet_rows`). Per row the coefficients are gathered once, then
-    the nodes run along the intervals (contiguous, branch-free selects: vectorised).
-    """
-    rows, m, n = y.shape
-    cr = np.empty((4, n))
-    for r in range(rows):
-        load = k0 + r
-        for j in range(n):
-            cr[0, j] = c[0, jb + j, load]
-            cr[1, j] = c[1, jb + j, load]
-            cr[2, j] = c[2, jb + j, load]
-            cr[3, j] = c[3, jb + j, load]
-        quiet = min(max(stop[r], 0), n)
-        for a in range(m):
-            for j in range(n):
-                x = d[a, off + j]
-                c0, c1, c2 = cr[0, j], cr[1, j], cr[2, j]
-                v = ((c0 * x + c1) * x + c2) * x + cr[3, j]
-                # np.minimum(v, 0.0): v where v < 0 or NaN, else +0.0 (also for -0.0)
-                y[r, a, j] = v if (v < 0.0 or v != v) else 0.0
-                w = ((3.0 * c0) * x + 2.0 * c1) * x + c2
-                dy[r, a, j] = w if (w > 0.0 or w != w) else 0.0  # np.maximum(w, 0.0)
-            for j in range(quiet):
-                dy[r, a, j] = 0.0
-
-
-def df_sums(
-    dy: Any, e: Any, w_t: Any, start: int, out: Any, k0: int
-) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """``out[k0 + r, start + j] = sum_a (dy e)[r, a, j] w_t[a, start + j]`` in the order of
-    numpy's sum over the middle axis (``dy``, ``e`` (rows, m, n))."""
-    rows, m, n = dy.shape
-    for r in range(rows):
-        for j in range(n):
-            t = (dy[r, 0, j] * e[r, 0, j]) * w_t[0, start + j]
-            for a in range(1, m):
-                t += (dy[r, a, j] * e[r, a, j]) * w_t[a, start + j]
-            out[k0 + r, start + j] = t
-
-
-def table_sums(
-    log_tau: Any, kern: Any, tab: Any, at: Any, log_tau1: float, out: Any
-) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """The sparse product of :meth:`~._phi._Phi.sums_at_log_tau` without building the CSR
-    matrix: ``out[l, e] = sum_m kern[e, m] ((1 - u) T[i, l] + u T[i + 1, l])`` over the nodes
-    ``m`` past the linear first interval whose table nodes are not both 0 for every load,
-    the look-up's ``u``, ``i`` by its operations (``at``: the grid's first value, its inverse
-    step, the table's first node ``lo``, the clip's top, ``g0``), each row's terms added to 0
-    in the CSR's order as scipy's ``csr_matvecs`` does (``y += a x``, node ``i`` then
-    ``i + 1``): its bits. ``log_tau`` finite (the caller's check)."""
-    n_load = tab.shape[1]
-    base, inv, lo, top, g0 = at[0], at[1], at[2], at[3], at[4]
-    y = np.empty(n_load)
-    for e in range(log_tau.shape[0]):
-        y[:] = 0.0
-        for m in range(log_tau.shape[1]):
-            lt = log_tau[e, m]
-            if lt < log_tau1:  # the linear first interval (added by the caller)
-                continue
-            u = (lt - base) * inv
-            u = u if u > lo else lo  # np.clip(u, lo, top)
-            u = u if u < top else top
-            i = int(u)
-            u -= i
-            if i + 1 < g0:  # nodes i, i + 1 both 0 for every load: left out
-                continue
-            k = kern[e, m]
-            w1 = k * u
-            w0 = k - w1
-            r = i - int(lo)
-            for l in range(n_load):
-                y[l] += w0 * tab[r, l]
-            for l in range(n_load):
-                y[l] += w1 * tab[r + 1, l]
-        for l in range(n_load):
-            out[l, e] = y[l]
 
 
 def crossing_newton(

@@ -311,7 +311,7 @@ class _Curve:
         For ``start > 0`` interval 0 is the linear first interval and the intervals
         ``1 .. start - 1`` are 0 (every load of the block in full contact). ``compiled``
         (with the spline): ``(dy, exp(y))`` unmultiplied instead of ``dF``, the polynomials by
-        :func:`~._compiled.df_poly` (the same bits)."""
+        :func:`~._phi_sums.df_poly` (the same bits)."""
         xg, _ = self.stieltjes_nodes()
         if self._spl is None:
             yield slice(0, self.n_load), 0, self.dF(xg).transpose(0, 2, 1)

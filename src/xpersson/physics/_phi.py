@@ -270,7 +270,7 @@ class _Phi:
     def _kernel_sums(
         self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
     ) -> NDArray[np.float64] | None:
-        """:meth:`_sparse_sums` by the compiled :func:`~._compiled.table_sums` (its bits,
+        """:meth:`_sparse_sums` by the compiled :func:`~._phi_sums.table_sums` (its bits,
         without the CSR matrix's ~0.1 ms of construction per call); None where not built or
         an argument is not finite."""
         grid, tab = self._table()

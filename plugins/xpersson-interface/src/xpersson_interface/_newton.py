@@ -1,7 +1,7 @@
-"""Optional compiled step of the Bruggeman Newton (numba): the numbers of the numpy path, bit
-for bit.
+"""The Bruggeman Newton of the leak analysis's effective medium (:func:`newton`) and its
+optional compiled step (numba): the numbers of the numpy path, bit for bit.
 
-:func:`._leakage._newton` iterates 4-10 times over (loads, 240 cells) rows; each iteration is
+:func:`newton` iterates 4-10 times over (loads, 240 cells) rows; each iteration is
 about twenty numpy calls (five passes over the rows, the rest over one value per row): at the
 ~70 loads of a load-table call ~0.5 ms, at one load ~0.2 ms of overhead. :func:`newton_step`
 does one iteration of every live row in one pass, with the numpy path's operations in its
@@ -15,25 +15,29 @@ order:
 - ``np.einsum("ij,ij->i", m r, r)`` in the order of numpy's baseline SIMD loop
   (:func:`_einsum_dot`: two lanes, four vectors per step, multiply then add, the tail
   zero-padded, the lanes added at the end, onto the zeroed output);
-- the bracket, step and stopping tests of ``_newton`` as there (``np.where`` as a branch).
+- the bracket, step and stopping tests of :func:`newton` as there (``np.where`` as a branch).
 
 It runs only where numba is already imported in the process (the interface physics' compiled
 kernels import it once their work pays) and ``xpersson.set_options(compiled=...)``
 (``XPERSSON_COMPILED``) is on; otherwise the numpy path runs. The reductions' orders are
-asserted against numpy in ``plugins/xpersson-interface/tests/test_newton_kernel.py``.
+asserted against numpy in ``plugins/xpersson-interface/tests/test_bruggeman_newton.py``.
 """
 
 from __future__ import annotations
 
+import math
 import sys
 import types
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from xpersson import numba_cache
 from xpersson.options import compiled_enabled
 
-__all__ = ["MAX_CELLS", "kernel", "newton_step"]
+__all__ = ["MAX_CELLS", "iterate", "kernel", "newton", "newton_step"]
 
 #: Longest row (cells) the compiled step sums (its pairwise sum is unrolled three levels deep).
 MAX_CELLS = 512
@@ -61,6 +65,82 @@ def kernel() -> Callable[..., int] | None:
     step = jit(types.FunctionType(newton_step.__code__, scope, "newton_step"))
     _STATE["fn"] = step
     return step  # type: ignore[no-any-return]
+
+
+def newton(
+    x: NDArray[np.float64],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    m: NDArray[np.float64],
+    s_k: NDArray[np.float64],
+    base: NDArray[np.float64],
+    rtol: float,
+) -> NDArray[np.float64]:
+    """:func:`._leakage._bruggeman_rows`' safeguarded Newton in ``x = ln s`` for the roots of
+    ``f = base + 2 sum m s_k/(s_k + s)`` (decreasing), from ``x`` in the brackets
+    ``[lo, hi]`` (all three updated in place; ``x`` returned). Compiled where built
+    (:func:`iterate`: the same numbers, bit for bit)."""
+    tol = math.sqrt(rtol)
+    if iterate(x, lo, hi, m, s_k, base, tol, rtol):
+        return x  # compiled (the same numbers, bit for bit)
+    # the rows held in ma, sa (compacted once half of them converged); `live` of those iterate
+    cur, ma, sa, buf, buf2 = np.arange(x.size), m, s_k, np.empty_like(m), np.empty_like(m)
+    live = np.ones(x.size, dtype=bool)
+    for _ in range(200):
+        xa, la, ha = x[cur], lo[cur], hi[cur]
+        with np.errstate(over="ignore"):
+            r = np.add(sa, np.exp(xa)[:, None], out=buf)
+            np.divide(sa, r, out=r)  # in [0, 1]: (s_k - s)/(s_k + s) = 2r - 1, stable
+        mr = np.multiply(ma, r, out=buf2)
+        s1 = mr.sum(axis=1)
+        f = base[cur] + 2.0 * s1
+        df = 2.0 * (np.einsum("ij,ij->i", mr, r) - s1)  # d f / d ln s = -2 sum m r (1 - r)
+        la = np.where(f > 0, xa, la)
+        ha = np.where(f <= 0, xa, ha)
+        step = f / np.where(df < 0, df, -1.0)
+        xn = xa - step
+        # a step within tol is final even where it rounds onto the bracket's end
+        newt = ((xn > la) & (xn < ha) | (np.abs(step) <= tol)) & (df < 0)
+        xn = np.where(newt, xn, 0.5 * (la + ha))
+        upd = cur[live]
+        x[upd], lo[upd], hi[upd] = xn[live], la[live], ha[live]
+        live &= ~((newt & (np.abs(step) <= tol)) | ~(ha - la > rtol))
+        n_live = int(np.count_nonzero(live))
+        if not n_live:
+            break
+        if 2 * n_live <= live.size:
+            cur, ma, sa = cur[live], ma[live], sa[live]
+            buf, buf2 = buf[: ma.shape[0]], buf2[: ma.shape[0]]
+            live = np.ones(n_live, dtype=bool)
+    return x
+
+
+def iterate(
+    x: NDArray[np.float64],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    m: NDArray[np.float64],
+    s_k: NDArray[np.float64],
+    base: NDArray[np.float64],
+    tol: float,
+    rtol: float,
+) -> bool:
+    """:func:`newton`'s iterations by :func:`newton_step` (``x``, ``lo``, ``hi`` updated in
+    place, at most 200 iterations as there); False (nothing done) where the kernel is not
+    built or the rows are longer than :data:`MAX_CELLS`."""
+    fn = kernel() if m.shape[1] <= MAX_CELLS else None
+    if fn is None:
+        return False
+    rows, live = np.arange(x.size), np.empty(x.size, dtype=bool)
+    m, s_k = np.ascontiguousarray(m), np.ascontiguousarray(s_k)
+    r, mr = np.empty(m.shape[1]), np.empty(m.shape[1])
+    for _ in range(200):
+        with np.errstate(over="ignore"):
+            e = np.exp(x[rows])  # numpy's exp (numba's is libm's: other last bits)
+        if not fn(m, s_k, e, rows, x, lo, hi, base, tol, rtol, live, r, mr):
+            break
+        rows = rows[live[: rows.size]]
+    return True
 
 
 def _block_sum(a: Any, s: int, n: int) -> float:
@@ -154,7 +234,7 @@ def newton_step(
     r: Any,
     mr: Any,
 ) -> int:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """One iteration of ``_newton`` for the rows ``rows`` (``e[p] = exp(x[rows[p]])``):
+    """One iteration of :func:`newton` for the rows ``rows`` (``e[p] = exp(x[rows[p]])``):
     ``x``, ``lo``, ``hi`` updated in place, ``live[p]`` whether row ``rows[p]`` goes on; the
     number of those. ``r``, ``mr``: scratch rows of the cells' length."""
     k = m.shape[1]

@@ -1,4 +1,4 @@
-"""The compiled step of the Bruggeman Newton (:mod:`xpersson_interface._newton_kernel`): its
+"""The compiled step of the Bruggeman Newton (:mod:`xpersson_interface._newton`): its
 reductions in numpy's orders, and the whole root bit for bit the numpy path's."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from xpersson_interface import _leakage, _newton_kernel
+from xpersson_interface import _newton as _newton_kernel
 
 
 def _compiled_or_skip():
@@ -45,7 +45,7 @@ def test_reductions_take_numpys_orders(seed, n):
 
 
 def _problem(rng: np.random.Generator, n: int, k: int):
-    """Random Bruggeman rows as ``_bruggeman_rows`` hands them to ``_newton``: the start, the
+    """Random Bruggeman rows as ``_bruggeman_rows`` hands them to ``newton``: the start, the
     brackets, masses and conductances over many decades, the constant term."""
     m = rng.random((n, k)) * (rng.random((n, k)) < 0.9)
     s_k = 10.0 ** rng.uniform(-12, 3, (n, k))
@@ -69,11 +69,11 @@ def test_compiled_newton_is_the_numpy_newton(compiled, seed, n, k):
     want = [a.copy() for a in args[:3]]
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(_newton_kernel, "kernel", lambda: None)
-        _leakage._newton(*want, *args[3:], 1e-12)
+        _newton_kernel.newton(*want, *args[3:], 1e-12)
     got = [a.copy() for a in args[:3]]
     with pytest.MonkeyPatch.context() as mp, np.errstate(all="ignore"):
         mp.setattr(_newton_kernel, "kernel", lambda: fn)
-        _leakage._newton(*got, *args[3:], 1e-12)
+        _newton_kernel.newton(*got, *args[3:], 1e-12)
     for g, w in zip(got, want, strict=True):
         np.testing.assert_array_equal(g, w)
     assert np.all(np.isfinite(got[0]))
