@@ -132,3 +132,30 @@ def test_table_sums_give_the_sparse_product_bits(compiled, seed, n_load, n_row, 
         assert phi._kernel_sums(log_tau, kern) is None
     np.testing.assert_array_equal(got_table, want_table)
     np.testing.assert_array_equal(got, want)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 5), st.integers(1, 30), st.integers(2, 40))
+def test_row_values_give_the_numpy_bits(compiled, seed, n_load, n_point, n_knot):
+    """Each load's spline at its own points (below, between, on and beyond the knots,
+    infinite): ``_curve._rows``' numpy passes bit for bit; NaN points left to them."""
+    fn = _compiled.row_values if not compiled else _kernel(True, "row_values")
+    rng = np.random.default_rng(seed)
+    knots = np.sort(rng.uniform(-3.0, 8.0, n_knot))
+    spl = type("Spl", (), {})()
+    spl.c = rng.normal(0.0, 1.0, (4, n_knot - 1, n_load)) * 10.0 ** rng.uniform(-3, 3)
+    x = rng.uniform(knots[0] - 1.0, knots[-1] + 1.0, (n_load, n_point))
+    x[rng.random(x.shape) < 0.2] = rng.choice(knots)
+    x[rng.random(x.shape) < 0.05] = np.inf
+    x[rng.random(x.shape) < 0.05] = -np.inf
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_curve, "kernel", lambda work, name: None)
+        want = _curve._rows(spl, knots, x)
+        want_nan = _curve._rows(spl, knots, np.where(x > knots[-1], np.nan, x))
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_curve, "kernel", lambda work, name: fn)
+        got = _curve._rows(spl, knots, x)
+        got_nan = _curve._rows(spl, knots, np.where(x > knots[-1], np.nan, x))
+    np.testing.assert_array_equal(got, want)
+    np.testing.assert_array_equal(got_nan, want_nan)

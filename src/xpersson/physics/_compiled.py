@@ -66,6 +66,7 @@ __all__ = [
     "D_MAX",
     "MIN_WORK",
     "PAIRWISE",
+    "row_values",
     "erf_diff_series",
     "gap_rows",
     "kernel",
@@ -121,6 +122,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         _phi_sums.df_poly,
         _phi_sums.df_sums,
         _phi_sums.table_sums,
+        row_values,
         crossing_newton,
         erf_diff_series,
         _spline_sums.spline_sub_sums,
@@ -374,6 +376,31 @@ def spline_values(
                 out[p, r] = v
             else:
                 out[r, p] = v
+
+
+def row_values(
+    c: Any, knots: Any, x: Any, out: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """:func:`~._curve._rows` (every load's spline at its own points ``x`` (n_load, n_point),
+    no NaN): the clip to the knots, ``searchsorted(side="right") - 1`` clipped to the
+    intervals (a bisection: the same index), and the Horner form in numpy's order."""
+    n_knot = knots.size
+    first, last = knots[0], knots[n_knot - 1]
+    for r in range(x.shape[0]):
+        for p in range(x.shape[1]):
+            v = x[r, p]
+            v = v if v > first else first  # np.clip(v, first, last)
+            v = v if v < last else last
+            lo, hi = 0, n_knot  # the first knot above v
+            while lo < hi:
+                mid = (lo + hi) // 2
+                if knots[mid] <= v:
+                    lo = mid + 1
+                else:
+                    hi = mid
+            i = min(max(lo - 1, 0), n_knot - 2)
+            d = v - knots[i]
+            out[r, p] = ((c[0, i, r] * d + c[1, i, r]) * d + c[2, i, r]) * d + c[3, i, r]
 
 
 def crossing_newton(
