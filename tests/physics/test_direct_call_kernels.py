@@ -159,3 +159,16 @@ def test_row_values_give_the_numpy_bits(compiled, seed, n_load, n_point, n_knot)
         got_nan = _curve._rows(spl, knots, np.where(x > knots[-1], np.nan, x))
     np.testing.assert_array_equal(got, want)
     np.testing.assert_array_equal(got_nan, want_nan)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 6), st.integers(2, 30), st.floats(0.0, 1.0))
+def test_first_open_interval_of_rows_together_is_the_smallest(seed, n_row, n_node, share):
+    """The first open interval of several rows together (every row's nodes clamped around
+    it: the former ``_first_open``) is the smallest of the rows' own."""
+    rng = np.random.default_rng(seed)
+    dead = rng.random((n_row, n_node)) < share
+    dead[:, : int(rng.integers(0, n_node + 1))] = True  # the usual clamped prefix
+    pad = np.concatenate(([True], np.all(dead, axis=0), [False]))
+    together = int(np.argmin(pad[:-3] & pad[1:-2] & pad[2:-1] & pad[3:]))
+    assert int(_curve._first_open_rows(dead).min()) == together

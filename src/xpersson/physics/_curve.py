@@ -297,12 +297,14 @@ class _Curve:
         first = (self._nf1 / self.x[1])[:, None]  # the linear first interval
         w_t = weights.T  # (m, n_int): the blocks' layout
         fn = kernel(self.n_load * weights.size, "df_sums")
+        if fn is not None:  # (row sums: each row's own, whatever the rows around it)
+            first_sums, w_t = np.sum(first * weights[0], axis=-1), np.ascontiguousarray(w_t)
         for k, start, vals in self._dF_blocks(compiled=fn is not None):
             if fn is not None:  # vals: (dy, exp(y)) of the rows, unmultiplied
                 if start:
-                    out[k, 0] = np.sum(first[k] * weights[0], axis=-1)
+                    out[k, 0] = first_sums[k]
                     out[k, 1:start] = 0.0
-                fn(vals[0], vals[1], np.ascontiguousarray(w_t), start, out, k.start)
+                fn(vals[0], vals[1], w_t, start, out, k.start)
                 continue
             if start:
                 out[k, 0] = np.sum(first[k] * weights[0], axis=-1)
@@ -324,8 +326,8 @@ class _Curve:
             yield slice(0, self.n_load), 0, self.dF(xg).transpose(0, 2, 1)
             return
         dead = self._dead  # (n_load, n_node - 1): 1 - F clamped
-        j0 = _first_open(dead)  # spline intervals before j0: negligible for every load
         own = _first_open_rows(dead)  # each load's: its quiet intervals are 0 as it alone
+        j0 = int(own.min())  # spline intervals before j0: negligible for every load
         d = np.ascontiguousarray((xg[1 + j0 :] - self.x[1 + j0 : -1, None]).T)  # local: (m, n)
         step = _block(xg.size)
         rows = min(step, self.n_load)
@@ -333,7 +335,7 @@ class _Curve:
         cbuf = np.empty(4 * rows * d.shape[1])  # the block's coefficients, loads first
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
-            jb = _first_open(dead[k])  # this block's own (later) start
+            jb = int(own[k].min())  # this block's own (later) start
             off = jb - j0
             ck = self._spl.c[:, j0 + off :, k]  # (4, n_int - 1 - jb, rows)
             db = d[:, off:]
@@ -371,21 +373,16 @@ class _Curve:
         return a + (b - a) * t, (b - a) * w
 
 
-def _first_open(dead: NDArray[np.bool_]) -> int:
-    """First spline interval of ``ln(1 - F)`` whose ``-dF`` is not negligible for some row.
+def _first_open_rows(dead: NDArray[np.bool_]) -> NDArray[np.intp]:
+    """Per row (n_row,): the first spline interval of ``ln(1 - F)`` whose ``-dF`` is not
+    negligible for that row alone.
 
     ``dead`` (n_row, n_node): ``1 - F`` clamped at 1e-300 (``ln`` = -690.8) at the spline's
     nodes. Near ``zeta = 1`` every load is in full contact (and at high load far beyond):
     ``-dF`` in an interval whose own nodes and both neighbours are clamped is below
-    ``exp(-680)``, round-off against any Stieltjes sum (exactly 0 here, not computed).
-    """
-    pad = np.concatenate(([True], np.all(dead, axis=0), [False]))  # interval j: nodes j-1..j+2
-    quiet = pad[:-3] & pad[1:-2] & pad[2:-1] & pad[3:]
-    return int(np.argmin(quiet))  # leading quiet intervals (the last is never quiet)
-
-
-def _first_open_rows(dead: NDArray[np.bool_]) -> NDArray[np.intp]:
-    """:func:`_first_open` of each row alone (n_row,)."""
+    ``exp(-680)``, round-off against any Stieltjes sum (exactly 0 here, not computed). An
+    interval is quiet for several rows together where it is quiet for each: their first open
+    interval is the smallest of the rows'."""
     n = dead.shape[0]
     pad = np.concatenate((np.ones((n, 1), bool), dead, np.zeros((n, 1), bool)), axis=1)
     quiet = pad[:, :-3] & pad[:, 1:-2] & pad[:, 2:-1] & pad[:, 3:]
