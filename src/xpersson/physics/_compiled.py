@@ -219,9 +219,9 @@ def sub_sums(
     interval with ``Phi_1 != 0``: its ``exp`` is numpy's (which differs from libm's, numba's
     ``math.exp``, in the last bit for ~5 % of arguments), so the caller takes the numpy path.
 
-    ``table`` (n_load, n_grid - lo) and ``grid``: ``Phi``'s look-up table by load
-    (``_Phi.table_by_load``) and ``lo`` its first kept node; ``tau1`` and ``phi1`` (n_load,):
-    the linear first interval.
+    ``table`` (n_load, n_grid - lo) and ``grid``: ``Phi``'s look-up table (``_Phi._table``,
+    loads by rows) and ``lo`` its first kept node; ``tau1`` and ``phi1`` (n_load,): the
+    linear first interval.
     ``log_a2`` finite or ``-inf`` (no NaN).
     """
     n_load, n_edge = log_a2.shape

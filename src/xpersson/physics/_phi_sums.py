@@ -67,18 +67,18 @@ def table_sums(
     log_tau: Any, kern: Any, tab: Any, at: Any, log_tau1: float, out: Any
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
     """The sparse product of :meth:`~._phi._Phi.sums_at_log_tau` without building the CSR
-    matrix: ``out[l, e] = sum_m kern[e, m] ((1 - u) T[i, l] + u T[i + 1, l])`` over the nodes
+    matrix: ``out[l, e] = sum_m kern[e, m] ((1 - u) T[l, i] + u T[l, i + 1])`` over the nodes
     ``m`` past the linear first interval whose table nodes are not both 0 for every load,
     the look-up's ``u``, ``i`` by its operations (``at``: the grid's first value, its inverse
     step, the table's first node ``lo``, the clip's top, ``g0``), each row's terms added to 0
     in the CSR's order as scipy's ``csr_matvecs`` does (``y += a x``, node ``i`` then
-    ``i + 1``): its bits. ``log_tau`` finite (the caller's check)."""
-    n_load = tab.shape[1]
+    ``i + 1``): its bits. ``tab`` (loads, nodes); ``log_tau`` finite (the caller's check)."""
+    n_row, m_max = log_tau.shape
     base, inv, lo, top, g0 = at[0], at[1], at[2], at[3], at[4]
-    y = np.empty(n_load)
-    for e in range(log_tau.shape[0]):
-        y[:] = 0.0
-        for m in range(log_tau.shape[1]):
+    node = np.full((n_row, m_max), -1, dtype=np.intp)  # -1: left out
+    w0, w1 = np.empty((n_row, m_max)), np.empty((n_row, m_max))
+    for e in range(n_row):
+        for m in range(m_max):
             lt = log_tau[e, m]
             if lt < log_tau1:  # the linear first interval (added by the caller)
                 continue
@@ -90,12 +90,15 @@ def table_sums(
             if i + 1 < g0:  # nodes i, i + 1 both 0 for every load: left out
                 continue
             k = kern[e, m]
-            w1 = k * u
-            w0 = k - w1
-            r = i - int(lo)
-            for l in range(n_load):
-                y[l] += w0 * tab[r, l]
-            for l in range(n_load):
-                y[l] += w1 * tab[r + 1, l]
-        for l in range(n_load):
-            out[l, e] = y[l]
+            w1[e, m] = k * u
+            w0[e, m] = k - w1[e, m]
+            node[e, m] = i - int(lo)
+    for load in range(tab.shape[0]):
+        for e in range(n_row):
+            y = 0.0
+            for m in range(m_max):
+                r = node[e, m]
+                if r >= 0:
+                    y += w0[e, m] * tab[load, r]
+                    y += w1[e, m] * tab[load, r + 1]
+            out[load, e] = y
