@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from xpersson_interface import _newton as _newton_kernel
+from xpersson_interface import _newton
 
 
 def _compiled_or_skip():
@@ -18,7 +18,7 @@ def _compiled_or_skip():
     import xpersson
 
     with xpersson.set_options(compiled=True):
-        fn = _newton_kernel.kernel()
+        fn = _newton.kernel()
     if fn is None:
         pytest.skip("numba not importable")
     return fn
@@ -32,7 +32,7 @@ def _row(rng: np.random.Generator, n: int) -> np.ndarray:
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.integers(0, 2**32 - 1), st.integers(0, _newton_kernel.MAX_CELLS))
+@given(st.integers(0, 2**32 - 1), st.integers(0, _newton.MAX_CELLS))
 def test_reductions_take_numpys_orders(seed, n):
     """The pairwise row sum and the einsum row dot, plain Python: numpy's bits (rows of 0 to
     MAX_CELLS elements, several rows: each row's as numpy reduces a 2-D array)."""
@@ -40,8 +40,8 @@ def test_reductions_take_numpys_orders(seed, n):
     a, b = np.stack([_row(rng, n) for _ in range(3)]), np.stack([_row(rng, n) for _ in range(3)])
     sums, dots = a.sum(axis=1), np.einsum("ij,ij->i", a, b)
     for i in range(3):
-        assert 0.0 + _newton_kernel._pairwise_sum(a[i], n) == sums[i]
-        assert 0.0 + _newton_kernel._einsum_dot(a[i], b[i], n) == dots[i]
+        assert 0.0 + _newton._pairwise_sum(a[i], n) == sums[i]
+        assert 0.0 + _newton._einsum_dot(a[i], b[i], n) == dots[i]
 
 
 def _problem(rng: np.random.Generator, n: int, k: int):
@@ -63,17 +63,17 @@ def _problem(rng: np.random.Generator, n: int, k: int):
 @given(st.integers(0, 2**32 - 1), st.integers(1, 6), st.integers(1, 300))
 def test_compiled_newton_is_the_numpy_newton(compiled, seed, n, k):
     """Roots, brackets and the number of steps of each row: bit for bit the numpy loop's."""
-    fn = _compiled_or_skip() if compiled else _newton_kernel.newton_step
+    fn = _compiled_or_skip() if compiled else _newton.newton_step
     rng = np.random.default_rng(seed)
     args = _problem(rng, n, k)
     want = [a.copy() for a in args[:3]]
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(_newton_kernel, "kernel", lambda: None)
-        _newton_kernel.newton(*want, *args[3:], 1e-12)
+        mp.setattr(_newton, "kernel", lambda: None)
+        _newton.newton(*want, *args[3:], 1e-12)
     got = [a.copy() for a in args[:3]]
     with pytest.MonkeyPatch.context() as mp, np.errstate(all="ignore"):
-        mp.setattr(_newton_kernel, "kernel", lambda: fn)
-        _newton_kernel.newton(*got, *args[3:], 1e-12)
+        mp.setattr(_newton, "kernel", lambda: fn)
+        _newton.newton(*got, *args[3:], 1e-12)
     for g, w in zip(got, want, strict=True):
         np.testing.assert_array_equal(g, w)
     assert np.all(np.isfinite(got[0]))
