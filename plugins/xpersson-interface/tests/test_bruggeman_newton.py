@@ -44,6 +44,21 @@ def test_reductions_take_numpys_orders(seed, n):
         assert 0.0 + _newton._einsum_dot(a[i], b[i], n) == dots[i]
 
 
+def test_numpy_orders_are_checked(monkeypatch):
+    """This numpy takes the reproduced orders; a step whose dot were summed in another order
+    (sequentially) is refused: the numpy path would run."""
+    assert _newton.numpy_orders()
+
+    def sequential(a, b, n):
+        t = 0.0
+        for i in range(n):
+            t += a[i] * b[i]
+        return t
+
+    monkeypatch.setattr(_newton, "_einsum_dot", sequential)
+    assert not _newton.numpy_orders()
+
+
 def _problem(rng: np.random.Generator, n: int, k: int):
     """Random Bruggeman rows as ``_bruggeman_rows`` hands them to ``newton``: the start, the
     brackets, masses and conductances over many decades, the constant term."""

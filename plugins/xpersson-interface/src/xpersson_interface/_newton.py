@@ -19,8 +19,10 @@ order:
 
 It runs only where numba is already imported in the process (the interface physics' compiled
 kernels import it once their work pays) and ``xpersson.set_options(compiled=...)``
-(``XPERSSON_COMPILED``) is on; otherwise the numpy path runs. The reductions' orders are
-asserted against numpy in ``plugins/xpersson-interface/tests/test_bruggeman_newton.py``.
+(``XPERSSON_COMPILED``) is on, and where this numpy's reductions take the orders it reproduces
+(:func:`numpy_orders`, checked once when it is built); otherwise the numpy path runs. The
+reductions' orders are asserted against numpy in
+``plugins/xpersson-interface/tests/test_bruggeman_newton.py``.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ from numpy.typing import NDArray
 from xpersson import numba_cache
 from xpersson.options import compiled_enabled
 
-__all__ = ["MAX_CELLS", "iterate", "kernel", "newton", "newton_step"]
+__all__ = ["MAX_CELLS", "iterate", "kernel", "newton", "newton_step", "numpy_orders"]
 
 #: Longest row (cells) the compiled step sums (its pairwise sum is unrolled three levels deep).
 MAX_CELLS = 512
@@ -55,7 +57,7 @@ def kernel() -> Callable[..., int] | None:
     if "numba" not in sys.modules:
         return None
     jit = numba_cache.njit(__name__, nogil=True, error_model="numpy")
-    if jit is None:  # pragma: no cover - numba is optional
+    if jit is None or not numpy_orders():  # pragma: no cover - numba optional; other numpy
         _STATE["fn"] = None
         return None
     helpers = (_block_sum, _eighth, _quarter, _half, _pairwise_sum, _einsum_dot)
@@ -140,6 +142,21 @@ def iterate(
         if not fn(m, s_k, e, rows, x, lo, hi, base, tol, rtol, live, r, mr):
             break
         rows = rows[live[: rows.size]]
+    return True
+
+
+def numpy_orders() -> bool:
+    """Whether this numpy's row sum and ``einsum`` row dot take the orders the compiled step
+    reproduces (:func:`_pairwise_sum`, :func:`_einsum_dot`), on rows of 1-300 elements over
+    many decades: a numpy built with another SIMD baseline would not, and the numpy path then
+    runs (checked once per process, when the step is built)."""
+    rng = np.random.default_rng(36)
+    for n in (1, 3, 7, 8, 9, 17, 31, 127, 128, 129, 240, 255, 300):
+        a, b = rng.random((2, n)) * 10.0 ** rng.uniform(-20, 5, (2, n))
+        if _pairwise_sum(a, n) != a[None].sum(axis=1)[0]:
+            return False
+        if 0.0 + _einsum_dot(a, b, n) != np.einsum("ij,ij->i", a[None], b[None])[0]:
+            return False
     return True
 
 
