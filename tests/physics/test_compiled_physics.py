@@ -22,6 +22,8 @@ from xpersson.physics import (
     _fastnum,
     _gap_distribution,
     _percolation,
+    _phi,
+    _phi_sums,
     _spline_sums,
     _subgap,
 )
@@ -43,7 +45,7 @@ def _plain(monkeypatch: pytest.MonkeyPatch) -> list[str]:
 
     def kernel(work: float, name: str = "gap_rows"):
         asked.append(name)
-        for mod in (_compiled, _spline_sums, _band_sums):
+        for mod in (_compiled, _spline_sums, _band_sums, _phi_sums):
             if hasattr(mod, name):
                 return getattr(mod, name)
         raise AttributeError(name)
@@ -54,6 +56,7 @@ def _plain(monkeypatch: pytest.MonkeyPatch) -> list[str]:
         (_fastnum, "kernel"),
         (_curve, "kernel"),
         (_percolation, "kernel"),
+        (_phi, "kernel"),
     ):
         monkeypatch.setattr(mod, attr, kernel)
     return asked
@@ -84,7 +87,8 @@ def test_plain_kernels_give_the_numpy_results(monkeypatch):
     with xpersson.set_options(cache=False):
         got = xpersson.solve(scene)
     want = {"gap_rows", "sub_sums", "spline_coefficients", "spline_values", "df_sums"}
-    assert want | {"crossing_newton", "spline_sub_sums", "band_sums"} <= set(asked)
+    more = {"crossing_newton", "spline_sub_sums", "band_sums", "df_poly", "table_sums"}
+    assert want | more <= set(asked)
     _assert_close(ref, got)
 
 

@@ -91,7 +91,7 @@ def test_phi_table_is_the_spline_on_the_grid(contact):
     g0 = min(own)
     assert 0 < g0 < grid.size and max(own) > g0  # zero blocks, the loads' own
     assert ph._table()[1].flags["C_CONTIGUOUS"] and ph._lo == g0 - 2
-    assert ph._table()[1].shape == (grid.size - ph._lo, LOADS.size)  # (nodes, loads)
+    assert ph._table()[1].shape == (LOADS.size, grid.size - ph._lo)  # (loads, nodes)
 
 
 def test_phi_at_tau_is_the_spline_and_its_linear_first_interval(contact):
@@ -108,8 +108,8 @@ def test_phi_at_tau_is_the_spline_and_its_linear_first_interval(contact):
 def _full_table(ph):
     """The table on every grid node (the nodes below ``_lo`` are 0)."""
     grid, tab = ph._table()
-    full = np.zeros((tab.shape[1], grid.size))
-    full[:, ph._lo :] = tab.T
+    full = np.zeros((tab.shape[0], grid.size))
+    full[:, ph._lo :] = tab
     return full
 
 

@@ -66,8 +66,7 @@ __all__ = [
     "D_MAX",
     "MIN_WORK",
     "PAIRWISE",
-    "df_poly",
-    "df_sums",
+    "row_values",
     "erf_diff_series",
     "gap_rows",
     "kernel",
@@ -105,9 +104,9 @@ def kernel(work: float, name: str = "gap_rows") -> Callable[..., Any] | None:
 
 
 def _build() -> dict[str, Callable[..., Any]] | None:
-    from . import _band_sums, _spline_sums  # (kernels kept in their own modules)
+    from . import _band_sums, _phi_sums, _spline_sums  # (kernels kept in their own modules)
 
-    names = (__name__, _spline_sums.__name__, _band_sums.__name__)
+    names = (__name__, _spline_sums.__name__, _band_sums.__name__, _phi_sums.__name__)
     jit = numba_cache.njit(*names, nogil=True, error_model="numpy")
     if jit is None:  # numba is not installed
         return None
@@ -120,8 +119,10 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         spline_slopes,
         spline_coefficients,
         spline_values,
-        df_poly,
-        df_sums,
+        _phi_sums.df_poly,
+        _phi_sums.df_sums,
+        _phi_sums.table_sums,
+        row_values,
         crossing_newton,
         erf_diff_series,
         _spline_sums.spline_sub_sums,
@@ -218,9 +219,9 @@ def sub_sums(
     interval with ``Phi_1 != 0``: its ``exp`` is numpy's (which differs from libm's, numba's
     ``math.exp``, in the last bit for ~5 % of arguments), so the caller takes the numpy path.
 
-    ``table`` (n_load, n_grid - lo) and ``grid``: ``Phi``'s look-up table by load
-    (``_Phi.table_by_load``) and ``lo`` its first kept node; ``tau1`` and ``phi1`` (n_load,):
-    the linear first interval.
+    ``table`` (n_load, n_grid - lo) and ``grid``: ``Phi``'s look-up table (``_Phi._table``,
+    loads by rows) and ``lo`` its first kept node; ``tau1`` and ``phi1`` (n_load,): the
+    linear first interval.
     ``log_a2`` finite or ``-inf`` (no NaN).
     """
     n_load, n_edge = log_a2.shape
@@ -377,45 +378,29 @@ def spline_values(
                 out[r, p] = v
 
 
-def df_poly(
-    c: Any, jb: int, k0: int, d: Any, y: Any, dy: Any
+def row_values(
+    c: Any, knots: Any, x: Any, out: Any
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """``ln(1 - F)`` (clipped at 0 from above) and its slope (at 0 from below) at the Stieltjes
-    nodes of :meth:`~._curve._Curve._dF_blocks`, the operations of its numpy form in order.
-
-    ``c`` (4, n_int, n_load): the spline's coefficients, from interval ``jb`` on and load ``k0``
-    on; ``d`` (m, n) the nodes' local abscissae; written ``y``, ``dy`` (rows, m, n).
-    """
-    rows, m, n = y.shape
-    for r in range(rows):
-        load = k0 + r
-        for j in range(n):
-            i = jb + j
-            c0, c1, c2, c3 = c[0, i, load], c[1, i, load], c[2, i, load], c[3, i, load]
-            for a in range(m):
-                x = d[a, j]
-                v = ((c0 * x + c1) * x + c2) * x + c3
-                if not v < 0.0 and v == v:  # np.minimum(v, 0.0): +0.0 for -0.0, NaN kept
-                    v = 0.0
-                y[r, a, j] = v
-                w = ((3.0 * c0) * x + 2.0 * c1) * x + c2
-                if not w > 0.0 and w == w:  # np.maximum(w, 0.0)
-                    w = 0.0
-                dy[r, a, j] = w
-
-
-def df_sums(
-    dy: Any, e: Any, w_t: Any, start: int, out: Any, k0: int
-) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """``out[k0 + r, start + j] = sum_a (dy e)[r, a, j] w_t[a, start + j]`` in the order of
-    numpy's sum over the middle axis (``dy``, ``e`` (rows, m, n))."""
-    rows, m, n = dy.shape
-    for r in range(rows):
-        for j in range(n):
-            t = (dy[r, 0, j] * e[r, 0, j]) * w_t[0, start + j]
-            for a in range(1, m):
-                t += (dy[r, a, j] * e[r, a, j]) * w_t[a, start + j]
-            out[k0 + r, start + j] = t
+    """:func:`~._curve._rows` (every load's spline at its own points ``x`` (n_load, n_point),
+    no NaN): the clip to the knots, ``searchsorted(side="right") - 1`` clipped to the
+    intervals (a bisection: the same index), and the Horner form in numpy's order."""
+    n_knot = knots.size
+    first, last = knots[0], knots[n_knot - 1]
+    for r in range(x.shape[0]):
+        for p in range(x.shape[1]):
+            v = x[r, p]
+            v = v if v > first else first  # np.clip(v, first, last)
+            v = v if v < last else last
+            lo, hi = 0, n_knot  # the first knot above v
+            while lo < hi:
+                mid = (lo + hi) // 2
+                if knots[mid] <= v:
+                    lo = mid + 1
+                else:
+                    hi = mid
+            i = min(max(lo - 1, 0), n_knot - 2)
+            d = v - knots[i]
+            out[r, p] = ((c[0, i, r] * d + c[1, i, r]) * d + c[2, i, r]) * d + c[3, i, r]
 
 
 def crossing_newton(

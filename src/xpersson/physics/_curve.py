@@ -112,6 +112,13 @@ def _rows(spl: PPoly, knots: NDArray[np.float64], xq: NDArray[np.float64]) -> ND
     pieces (clamped to the knots' range).
     """
     shape = xq.shape
+    fn = kernel(xq.size * 16, "row_values")
+    if fn is not None and spl.c.shape[1:] == (knots.size - 1, shape[0]):
+        x2 = np.ascontiguousarray(xq.reshape(shape[0], -1))
+        if not np.isnan(x2).any():  # one pass, the same bits
+            out = np.empty(x2.shape)
+            fn(spl.c, knots, x2, out)
+            return out.reshape(shape)
     x2 = np.clip(xq.reshape(shape[0], -1), knots[0], knots[-1])
     idx = np.clip(np.searchsorted(knots, x2, side="right") - 1, 0, knots.size - 2)
     c = spl.c  # (4, n_int, n_load)
@@ -290,12 +297,14 @@ class _Curve:
         first = (self._nf1 / self.x[1])[:, None]  # the linear first interval
         w_t = weights.T  # (m, n_int): the blocks' layout
         fn = kernel(self.n_load * weights.size, "df_sums")
+        if fn is not None:  # (row sums: each row's own, whatever the rows around it)
+            first_sums, w_t = np.sum(first * weights[0], axis=-1), np.ascontiguousarray(w_t)
         for k, start, vals in self._dF_blocks(compiled=fn is not None):
             if fn is not None:  # vals: (dy, exp(y)) of the rows, unmultiplied
                 if start:
-                    out[k, 0] = np.sum(first[k] * weights[0], axis=-1)
+                    out[k, 0] = first_sums[k]
                     out[k, 1:start] = 0.0
-                fn(vals[0], vals[1], np.ascontiguousarray(w_t), start, out, k.start)
+                fn(vals[0], vals[1], w_t, start, out, k.start)
                 continue
             if start:
                 out[k, 0] = np.sum(first[k] * weights[0], axis=-1)
@@ -311,14 +320,14 @@ class _Curve:
         For ``start > 0`` interval 0 is the linear first interval and the intervals
         ``1 .. start - 1`` are 0 (every load of the block in full contact). ``compiled``
         (with the spline): ``(dy, exp(y))`` unmultiplied instead of ``dF``, the polynomials by
-        :func:`~._compiled.df_poly` (the same bits)."""
+        :func:`~._phi_sums.df_poly` (the same bits)."""
         xg, _ = self.stieltjes_nodes()
         if self._spl is None:
             yield slice(0, self.n_load), 0, self.dF(xg).transpose(0, 2, 1)
             return
         dead = self._dead  # (n_load, n_node - 1): 1 - F clamped
-        j0 = _first_open(dead)  # spline intervals before j0: negligible for every load
         own = _first_open_rows(dead)  # each load's: its quiet intervals are 0 as it alone
+        j0 = int(own.min())  # spline intervals before j0: negligible for every load
         d = np.ascontiguousarray((xg[1 + j0 :] - self.x[1 + j0 : -1, None]).T)  # local: (m, n)
         step = _block(xg.size)
         rows = min(step, self.n_load)
@@ -326,7 +335,7 @@ class _Curve:
         cbuf = np.empty(4 * rows * d.shape[1])  # the block's coefficients, loads first
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
-            jb = _first_open(dead[k])  # this block's own (later) start
+            jb = int(own[k].min())  # this block's own (later) start
             off = jb - j0
             ck = self._spl.c[:, j0 + off :, k]  # (4, n_int - 1 - jb, rows)
             db = d[:, off:]
@@ -334,8 +343,8 @@ class _Curve:
             if compiled:
                 y = buf[0, : math.prod(shape)].reshape(shape)
                 dy = buf[1, : y.size].reshape(shape)
-                kernel(0, "df_poly")(self._spl.c, jb, i, np.ascontiguousarray(db), y, dy)  # type: ignore[misc]
-                _quiet_rows(dy, own[k] - jb)
+                stop = own[k] - jb  # each row's own quiet intervals: dy 0 there
+                kernel(0, "df_poly")(self._spl.c, jb, i, d, off, stop, y, dy)  # type: ignore[misc]
                 yield k, 1 + jb, (dy, _exp_inplace(y))
                 continue
             c = cbuf[: ck.size].reshape(ck.shape[2], 4, 1, ck.shape[1])
@@ -364,21 +373,16 @@ class _Curve:
         return a + (b - a) * t, (b - a) * w
 
 
-def _first_open(dead: NDArray[np.bool_]) -> int:
-    """First spline interval of ``ln(1 - F)`` whose ``-dF`` is not negligible for some row.
+def _first_open_rows(dead: NDArray[np.bool_]) -> NDArray[np.intp]:
+    """Per row (n_row,): the first spline interval of ``ln(1 - F)`` whose ``-dF`` is not
+    negligible for that row alone.
 
     ``dead`` (n_row, n_node): ``1 - F`` clamped at 1e-300 (``ln`` = -690.8) at the spline's
     nodes. Near ``zeta = 1`` every load is in full contact (and at high load far beyond):
     ``-dF`` in an interval whose own nodes and both neighbours are clamped is below
-    ``exp(-680)``, round-off against any Stieltjes sum (exactly 0 here, not computed).
-    """
-    pad = np.concatenate(([True], np.all(dead, axis=0), [False]))  # interval j: nodes j-1..j+2
-    quiet = pad[:-3] & pad[1:-2] & pad[2:-1] & pad[3:]
-    return int(np.argmin(quiet))  # leading quiet intervals (the last is never quiet)
-
-
-def _first_open_rows(dead: NDArray[np.bool_]) -> NDArray[np.intp]:
-    """:func:`_first_open` of each row alone (n_row,)."""
+    ``exp(-680)``, round-off against any Stieltjes sum (exactly 0 here, not computed). An
+    interval is quiet for several rows together where it is quiet for each: their first open
+    interval is the smallest of the rows'."""
     n = dead.shape[0]
     pad = np.concatenate((np.ones((n, 1), bool), dead, np.zeros((n, 1), bool)), axis=1)
     quiet = pad[:, :-3] & pad[:, 1:-2] & pad[:, 2:-1] & pad[:, 3:]

@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..cache import Cache
+from ._compiled import kernel
 from ._curve import _TINY, _Curve, _tau_c
 from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
 
@@ -91,7 +92,7 @@ class _Phi:
         if self._spl is None:
             return (self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)).reshape(shape)
         grid, table = self._table()
-        n, lo, n_load = grid.size, self._lo, table.shape[1]
+        n, lo, width = grid.size, self._lo, table.shape[1]
         with np.errstate(divide="ignore"):
             u = np.log(t2)
         u -= grid[0]
@@ -99,11 +100,10 @@ class _Phi:
         np.clip(u, lo, n - 1.000001, out=u)  # below node lo + 1 the table is 0: same values
         i = u.astype(np.intp)
         u -= i
-        i *= n_load  # node i of load l at (i - lo) n_load + l
-        i += (np.arange(shape[0]) - lo * n_load)[:, None]
+        i += (np.arange(shape[0]) * width - lo)[:, None]  # node i of load l at l width + i - lo
         flat = table.ravel()
         v0 = flat.take(i)
-        val = v0 + u * (flat[n_load:].take(i) - v0)
+        val = v0 + u * (flat[1:].take(i) - v0)
         low = t2 < self.tau1
         if low.any():
             lin = self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)
@@ -155,7 +155,7 @@ class _Phi:
             t = _exp(np.minimum(l2, math.log(self.tau1)))
             return (phi1 * np.clip(t / self.tau1, 0.0, 1.0)).reshape(shape)
         grid, table = self._table()
-        n, lo, n_load = grid.size, self._lo, table.shape[1]
+        n, lo, width = grid.size, self._lo, table.shape[1]
         phi1_zero = not np.any(phi1)
         quiet = phi1_zero and self._first_zero  # below the grid: u = 0 at node 0, val = 0
         u = np.subtract(l2, grid[0], out=l2 if quiet and overwrite else None)
@@ -165,11 +165,10 @@ class _Phi:
         u -= i
         if isinstance(rows, slice):
             rows = np.arange(rows.start or 0, (rows.start or 0) + shape[0])
-        i *= n_load  # node i of load l at (i - lo) n_load + l
-        i += (rows - lo * n_load)[:, None]
+        i += (rows * width - lo)[:, None]  # node i of load l at l width + i - lo
         flat = table.ravel()
         v0 = flat.take(i)
-        val = flat[n_load:].take(i)  # the next nodes, without an array i + n_load
+        val = flat[1:].take(i)  # the next nodes, without an array i + 1
         val -= v0
         val *= u
         val += v0
@@ -191,11 +190,12 @@ class _Phi:
     def _table(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The spline sampled on a uniform grid in ``s`` (linear look-up error ~1e-6).
 
-        ``(grid, table)``: the table (n_grid - lo, n_load) holds the grid's nodes from ``lo =
-        self._lo`` on (those below are 0 for every load), nodes by rows (the layout of the
-        sparse sums of :meth:`sums_at_log_tau`; the per-load look-ups take from its flat
-        view), evaluated from the spline's coefficients (as ``self._spl(grid).T``, bit for
-        bit). One layout only: a second one cost as much as the evaluation (fresh memory).
+        ``(grid, table)``: the table (n_load, n_grid - lo) holds the grid's nodes from ``lo =
+        self._lo`` on (those below are 0 for every load), loads by rows (each load's look-ups
+        read its own contiguous row: the per-load look-ups from its flat view, the compiled
+        sums of :mod:`._subgap` and :meth:`sums_at_log_tau`), evaluated from the spline's
+        coefficients (as ``self._spl(grid)``, bit for bit). One layout only: a transposed
+        copy for the other cost ~0.7 ms at 100 loads (a table beyond the L2 cache).
         """
         if getattr(self, "_tab", None) is None:
             n = int(min(8192, max(1024, 64 * (self.s[-1] - self.s[0]))))
@@ -210,15 +210,15 @@ class _Phi:
             # kept from grid node lo = g0 - 2 on: a look-up below it is clipped to node lo, where
             # it takes 0 + 0 (0 - 0), the 0 it took from the zero nodes below (bit for bit)
             lo = max(g0 - 2, 0)
-            tab = np.empty((n - lo, self.phi.shape[0]))  # (nodes, loads)
-            tab[: g0 - lo] = 0.0
-            _ppoly_at(self._spl, grid[g0:], out_t=tab[g0 - lo :])  # type: ignore[arg-type]
+            tab = np.empty((self.phi.shape[0], n - lo))  # (loads, nodes)
+            tab[:, : g0 - lo] = 0.0
+            _ppoly_at(self._spl, grid[g0:], out=tab[:, g0 - lo :])  # type: ignore[arg-type]
             self._own = self._own_zeros(grid, g0, lo)
             for k, stop in self._own:  # each load's own zeros, as the load alone has them
-                tab[:stop, k] = 0.0
+                tab[k, :stop] = 0.0
             self._tab, self._lo, self._g0 = (grid, tab), lo, g0
             # every load's node lo is 0 and node lo + 1 finite: a look-up below gives +0.0
-            self._first_zero = bool(np.all(tab[0] == 0.0) and np.all(np.isfinite(tab[1])))
+            self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
         return self._tab
 
     def _own_zeros(self, grid: NDArray[np.float64], g0: int, lo: int) -> list[tuple[int, int]]:
@@ -233,15 +233,6 @@ class _Phi:
         g = np.searchsorted(grid, self.s[np.maximum(j - _TABLE_MARGIN, 0)], side="left")
         return [(int(k), int(g[k]) - lo) for k in np.flatnonzero(g > g0)]
 
-    def table_by_load(self) -> NDArray[np.float64]:
-        """:meth:`_table`'s values with the loads along the rows, (n_load, n_grid - lo), built
-        once (a transposed copy of the table: its values bit for bit; in a solve the copy is
-        memory-bound, 0.71 against 0.74 ms for a second evaluation at 100 loads): each load's
-        look-ups read its own contiguous row (the compiled sums of :mod:`._subgap`)."""
-        if getattr(self, "_tab_t", None) is None:
-            self._tab_t = np.ascontiguousarray(self._table()[1].T)
-        return self._tab_t
-
     def sums_at_log_tau(
         self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
     ) -> NDArray[np.float64]:
@@ -253,6 +244,40 @@ class _Phi:
         linear look-up of :meth:`at_log_tau_per_load` up to round-off (~1e-16 relative; the
         terms are >= 0). Table nodes that are 0 for every load are left out.
         """
+        out = self._kernel_sums(log_tau, kern)
+        if out is None:
+            out = self._sparse_sums(log_tau, kern)
+        phi1 = self.phi[:, 1:2]
+        low = log_tau < math.log(self.tau1)  # the linear first interval
+        if low.any() and np.any(phi1):
+            t = np.zeros(log_tau.shape)
+            np.exp(log_tau, out=t, where=low & (log_tau > _EXP_ZERO))
+            t /= self.tau1
+            np.clip(t, 0.0, 1.0, out=t)
+            out += phi1 * np.sum(kern * t, axis=-1)
+        return out
+
+    def _kernel_sums(
+        self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
+    ) -> NDArray[np.float64] | None:
+        """:meth:`_sparse_sums` by the compiled :func:`~._phi_sums.table_sums` (its bits,
+        without the CSR matrix's ~0.1 ms of construction per call); None where not built or
+        an argument is not finite."""
+        grid, tab = self._table()
+        fn = kernel(tab.size, "table_sums")
+        if fn is None or kern.shape != log_tau.shape or not np.all(np.isfinite(log_tau)):
+            return None
+        inv = 1.0 / (grid[1] - grid[0])
+        at = np.array([grid[0], inv, self._lo, grid.size - 1.000001, self._g0], dtype=float)
+        out = np.empty((tab.shape[0], log_tau.shape[0]))
+        fn(np.ascontiguousarray(log_tau), np.ascontiguousarray(kern), tab, at,
+           math.log(self.tau1), out)  # fmt: skip
+        return out
+
+    def _sparse_sums(
+        self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """The table part of :meth:`sums_at_log_tau` as one sparse product (n_load, K)."""
         from scipy.sparse import csr_array  # lazily (imported with scipy.interpolate)
 
         grid, tab = self._table()
@@ -269,13 +294,5 @@ class _Phi:
         col = i[keep] - lo
         cols = np.stack((col, col + 1), axis=-1).ravel()
         ptr = np.concatenate(([0], np.cumsum(2 * np.count_nonzero(keep, axis=1))))
-        w = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[0]))
-        out = np.ascontiguousarray((w @ tab).T)  # the table (nodes, loads)
-        phi1 = self.phi[:, 1:2]
-        if low.any() and np.any(phi1):
-            t = np.zeros(log_tau.shape)
-            np.exp(log_tau, out=t, where=low & (log_tau > _EXP_ZERO))
-            t /= self.tau1
-            np.clip(t, 0.0, 1.0, out=t)
-            out += phi1 * np.sum(kern * t, axis=-1)
-        return out
+        w = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[1]))
+        return np.ascontiguousarray((w @ tab.T).T)  # (scipy multiplies a C-ordered copy)

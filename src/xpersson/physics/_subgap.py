@@ -158,8 +158,7 @@ def _compiled_sums(
     la2 = np.ascontiguousarray(np.broadcast_to(log_a2[..., 0], out.shape))
     if np.isnan(la2).any():
         return False
-    grid = phi._table()[0]
-    table = phi.table_by_load()
+    grid, table = phi._table()  # (loads, nodes)
     mask = np.ones(out.shape, dtype=bool) if need is None else np.ascontiguousarray(need)
     tc, kn = np.ascontiguousarray(log_tc[0]), np.ascontiguousarray(kern[0])
     return fn(

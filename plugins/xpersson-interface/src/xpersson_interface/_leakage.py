@@ -35,6 +35,7 @@ from xpersson.physics import Detachment, gap_cdf
 from xpersson.plugins.solved import per_solve
 from xpersson.plugins.stored import spectrum_of
 
+from ._newton import newton
 from ._stencils import Weight
 
 __all__ = [
@@ -129,53 +130,8 @@ def _bruggeman_rows(
     with np.errstate(invalid="ignore", divide="ignore"):
         x = np.einsum("ij,ij->i", mp, ln_s if every else np.where(pos, ln_s, 0.0)) / mp_sum
     x = np.where((mp_sum > 0) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
-    out[work] = np.exp(_newton(x, lo, hi, m, s_k, m_inf - c - m_sum, rtol))
+    out[work] = np.exp(newton(x, lo, hi, m, s_k, m_inf - c - m_sum, rtol))
     return out
-
-
-def _newton(
-    x: NDArray[np.float64],
-    lo: NDArray[np.float64],
-    hi: NDArray[np.float64],
-    m: NDArray[np.float64],
-    s_k: NDArray[np.float64],
-    base: NDArray[np.float64],
-    rtol: float,
-) -> NDArray[np.float64]:
-    """:func:`_bruggeman_rows`' safeguarded Newton in ``x = ln s`` for the roots of
-    ``f = base + 2 sum m s_k/(s_k + s)`` (decreasing), from ``x`` in the brackets
-    ``[lo, hi]`` (all three updated in place; ``x`` returned)."""
-    tol = math.sqrt(rtol)
-    # the rows held in ma, sa (compacted once half of them converged); `live` of those iterate
-    cur, ma, sa, buf, buf2 = np.arange(x.size), m, s_k, np.empty_like(m), np.empty_like(m)
-    live = np.ones(x.size, dtype=bool)
-    for _ in range(200):
-        xa, la, ha = x[cur], lo[cur], hi[cur]
-        with np.errstate(over="ignore"):
-            r = np.add(sa, np.exp(xa)[:, None], out=buf)
-            np.divide(sa, r, out=r)  # in [0, 1]: (s_k - s)/(s_k + s) = 2r - 1, stable
-        mr = np.multiply(ma, r, out=buf2)
-        s1 = mr.sum(axis=1)
-        f = base[cur] + 2.0 * s1
-        df = 2.0 * (np.einsum("ij,ij->i", mr, r) - s1)  # d f / d ln s = -2 sum m r (1 - r)
-        la = np.where(f > 0, xa, la)
-        ha = np.where(f <= 0, xa, ha)
-        step = f / np.where(df < 0, df, -1.0)
-        xn = xa - step
-        # a step within tol is final even where it rounds onto the bracket's end
-        newton = ((xn > la) & (xn < ha) | (np.abs(step) <= tol)) & (df < 0)
-        xn = np.where(newton, xn, 0.5 * (la + ha))
-        upd = cur[live]
-        x[upd], lo[upd], hi[upd] = xn[live], la[live], ha[live]
-        live &= ~((newton & (np.abs(step) <= tol)) | ~(ha - la > rtol))
-        n_live = int(np.count_nonzero(live))
-        if not n_live:
-            break
-        if 2 * n_live <= live.size:
-            cur, ma, sa = cur[live], ma[live], sa[live]
-            buf, buf2 = buf[: ma.shape[0]], buf2[: ma.shape[0]]
-            live = np.ones(n_live, dtype=bool)
-    return x
 
 
 def bruggeman(contact: float, masses: ArrayLike, sigma: ArrayLike, *, rtol: float = 1e-12) -> float:

@@ -1,0 +1,104 @@
+"""Optional compiled kernels of ``Phi``'s sums (numba), bit for bit the numpy path: the
+Stieltjes node values and sums of the solved curve (:meth:`~._curve._Curve.dF_weighted`:
+:func:`df_poly`, :func:`df_sums`) and the shared sums of ``Phi``'s table
+(:meth:`~._phi._Phi.sums_at_log_tau`: :func:`table_sums`). Built and gated with the kernels of
+:mod:`._compiled`; plain Python without numba.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = ["df_poly", "df_sums", "table_sums"]
+
+
+def df_poly(
+    c: Any, jb: int, k0: int, d: Any, off: int, stop: Any, y: Any, dy: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``ln(1 - F)`` (clipped at 0 from above) and its slope (at 0 from below) at the Stieltjes
+    nodes of :meth:`~._curve._Curve._dF_blocks`, the operations of its numpy form in order.
+
+    ``c`` (4, n_int, n_load): the spline's coefficients, from interval ``jb`` on and load ``k0``
+    on; ``d`` (m, n_d) the nodes' local abscissae, from column ``off`` on; written ``y``,
+    ``dy`` (rows, m, n); ``dy`` is 0 on a row's first ``stop[r]`` intervals (that row's own
+    quiet ones, :func:`~._curve._quiet_rows`). Per row the coefficients are gathered once, then
+    the nodes run along the intervals (contiguous, branch-free selects: vectorised).
+    """
+    rows, m, n = y.shape
+    cr = np.empty((4, n))
+    for r in range(rows):
+        load = k0 + r
+        for j in range(n):
+            cr[0, j] = c[0, jb + j, load]
+            cr[1, j] = c[1, jb + j, load]
+            cr[2, j] = c[2, jb + j, load]
+            cr[3, j] = c[3, jb + j, load]
+        quiet = min(max(stop[r], 0), n)
+        for a in range(m):
+            for j in range(n):
+                x = d[a, off + j]
+                c0, c1, c2 = cr[0, j], cr[1, j], cr[2, j]
+                v = ((c0 * x + c1) * x + c2) * x + cr[3, j]
+                # np.minimum(v, 0.0): v where v < 0 or NaN, else +0.0 (also for -0.0)
+                y[r, a, j] = v if (v < 0.0 or v != v) else 0.0
+                w = ((3.0 * c0) * x + 2.0 * c1) * x + c2
+                dy[r, a, j] = w if (w > 0.0 or w != w) else 0.0  # np.maximum(w, 0.0)
+            for j in range(quiet):
+                dy[r, a, j] = 0.0
+
+
+def df_sums(
+    dy: Any, e: Any, w_t: Any, start: int, out: Any, k0: int
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``out[k0 + r, start + j] = sum_a (dy e)[r, a, j] w_t[a, start + j]`` in the order of
+    numpy's sum over the middle axis (``dy``, ``e`` (rows, m, n))."""
+    rows, m, n = dy.shape
+    for r in range(rows):
+        for j in range(n):
+            t = (dy[r, 0, j] * e[r, 0, j]) * w_t[0, start + j]
+            for a in range(1, m):
+                t += (dy[r, a, j] * e[r, a, j]) * w_t[a, start + j]
+            out[k0 + r, start + j] = t
+
+
+def table_sums(
+    log_tau: Any, kern: Any, tab: Any, at: Any, log_tau1: float, out: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """The sparse product of :meth:`~._phi._Phi.sums_at_log_tau` without building the CSR
+    matrix: ``out[l, e] = sum_m kern[e, m] ((1 - u) T[l, i] + u T[l, i + 1])`` over the nodes
+    ``m`` past the linear first interval whose table nodes are not both 0 for every load,
+    the look-up's ``u``, ``i`` by its operations (``at``: the grid's first value, its inverse
+    step, the table's first node ``lo``, the clip's top, ``g0``), each row's terms added to 0
+    in the CSR's order as scipy's ``csr_matvecs`` does (``y += a x``, node ``i`` then
+    ``i + 1``): its bits. ``tab`` (loads, nodes); ``log_tau`` finite (the caller's check)."""
+    n_row, m_max = log_tau.shape
+    base, inv, lo, top, g0 = at[0], at[1], at[2], at[3], at[4]
+    node = np.full((n_row, m_max), -1, dtype=np.intp)  # -1: left out
+    w0, w1 = np.empty((n_row, m_max)), np.empty((n_row, m_max))
+    for e in range(n_row):
+        for m in range(m_max):
+            lt = log_tau[e, m]
+            if lt < log_tau1:  # the linear first interval (added by the caller)
+                continue
+            u = (lt - base) * inv
+            u = u if u > lo else lo  # np.clip(u, lo, top)
+            u = u if u < top else top
+            i = int(u)
+            u -= i
+            if i + 1 < g0:  # nodes i, i + 1 both 0 for every load: left out
+                continue
+            k = kern[e, m]
+            w1[e, m] = k * u
+            w0[e, m] = k - w1[e, m]
+            node[e, m] = i - int(lo)
+    for load in range(tab.shape[0]):
+        for e in range(n_row):
+            y = 0.0
+            for m in range(m_max):
+                r = node[e, m]
+                if r >= 0:
+                    y += w0[e, m] * tab[load, r]
+                    y += w1[e, m] * tab[load, r + 1]
+            out[load, e] = y
