@@ -42,6 +42,7 @@ from scipy.interpolate import CubicSpline
 from scipy.special import erf
 
 from . import _compiled
+from ._cn_lean import lean_level, lean_ok
 from ._cn_plan import Window, _edges_batch, _level_times, _Plan
 from ._cnstep import tridiagonal_solve
 from ._level import (
@@ -164,6 +165,11 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads
     (see :func:`level_inputs`): outputs ``(loads, outputs)`` at the numerical output times,
     or the reason the level failed."""
+    lean = _compiled.lean()
+    if lean is not None and lean_ok(pbs, plan, nsub) and not progress_reported():
+        level = lean_level(lean, _compiled.fused(), pbs, plan, n, nsub, stretch, n_ie)
+        if level is not None:
+            return level
     inp = level_inputs(pbs, plan, n, nsub, stretch, n_ie)
     win, nn = inp.window, inp.nodes.x.size
     if np.count_nonzero(win.start.width <= 0) or np.count_nonzero(win.end.width <= 0):

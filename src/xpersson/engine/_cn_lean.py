@@ -1,0 +1,189 @@
+"""A ``cn`` level's set-up in one compiled call (the compiled path's lean level).
+
+On the small levels an accurate error control leaves (tens of nodes, tens of steps: a few
+thousand node-steps) the march itself is a few microseconds; the Python around it was most of
+a level's time: the level's times (:func:`._cn_plan._level_times`), the wall's track
+(:func:`._cn_plan._tracks`), the window (:func:`._cn_plan._edges_batch`), the output steps,
+the face coefficients (:func:`._moving_fused.face_coefficients`) and the start state
+(:func:`._moving._initial_state`), each a compiled call or a dozen numpy calls with its own
+allocations and argument checks. :func:`level_setup` does all of them in one call, by the same
+compiled kernels in the same order (the numbers are the numpy path's bit for bit: every
+operation is one rounding, no sums, ``tests/engine/test_cn_lean.py``); what numba need not
+reproduce stays numpy's: the start state's ``exp`` (numpy's own, which ``libm``'s differs from
+in the last bit), its mass (a ``gemv``) and the face coefficients' product with the face
+functions (a ``gemm``).
+
+Taken where the compiled march is in force (:func:`._compiled.lean`), for the common case: an
+absorbing lower wall carrying a table (:class:`._wall_table.WallTable`, speeds differenced), no
+upper wall, no densities or progress reports, no one-wall (image) start, and no
+graded stretch subdivided in the level; every other level takes :func:`._moving._march`.
+Units: tau in Pa^2, pressures in Pa, speeds in 1/Pa.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._cn_plan import Edge, Window, _differenced, _grades, _Plan
+from ._level import Level, level_grid
+from ._problem import Problem
+
+__all__ = ["lean_level", "lean_ok", "level_setup", "start_scale"]
+
+Array = NDArray[np.float64]
+
+
+def lean_ok(pbs: list[Problem], plan: _Plan, nsub: int) -> bool:
+    """Whether the level of ``plan`` subdivided ``nsub`` times takes :func:`lean_level`
+    (see the module)."""
+    pb = pbs[0]
+    lo = pb.lower
+    if pb.upper is not None or pb.p_out is not None or plan.image is not None:
+        return False
+    if lo is None or lo.table is None or not _differenced(lo) or plan.base.size < 2:
+        return False
+    return not _grades(plan.base, nsub, plan.zones)
+
+
+def lean_level(
+    fns: tuple[Callable[..., Any], Callable[..., None]],
+    kernels: tuple[Callable[..., int], Callable[..., None]],
+    pbs: list[Problem],
+    plan: _Plan,
+    n: int,
+    nsub: int,
+    stretch: float,
+    n_ie: int,
+) -> Level | None:
+    """The level ``(n, nsub)`` of ``plan`` (``stretch``, ``n_ie`` as in
+    :func:`._moving.level_inputs`) set up by ``fns`` (:func:`level_setup` and
+    :func:`start_scale`, compiled) and marched by :func:`._moving_fused.fused_level` with
+    ``kernels`` (compiled); None where that declines (the caller marches)."""
+    from ._moving import LevelInputs
+    from ._moving_fused import fused_level
+
+    setup, scale = fns
+    pb = pbs[0]
+    nb = len(pbs)
+    grid = level_grid(nb, n, stretch)
+    p0 = np.array([p.p0 for p in pbs], dtype=float)
+    outs = plan.outs if plan.outs is not None else pb.tau[pb.tau > plan.tau_s]
+    zone_starts = np.array([tb for tb, _ in plan.zones])
+    chord_from = plan.zones[0][0] if plan.zones else math.inf
+    bp = np.asarray(pb.lower.breakpoints, dtype=float)
+    taus, theta, out, flags, out_at, coef, r0, ok = setup(
+        plan.base, nsub, n_ie, zone_starts, chord_from, outs, p0, float(plan.k),
+        *pb.lower.table.args(), bp, grid.nodes.x,
+    )  # fmt: skip
+    if not ok:
+        return Level(None, 0, n + 1, "the walls swept the whole window (area 0)")
+    np.exp(r0, out=r0)  # (numpy's exp: the numpy path's start state)
+    scale(r0, out[1], taus[0])
+    r0 *= (math.erf(plan.k / math.sqrt(2.0)) / (r0 @ grid.nodes.w))[:, None]
+    start = Edge(out[0], out[1], out[4], out[5], out[6])
+    end = Edge(out[2], out[3], out[7], out[8], out[9])
+    window = Window(flags[0], flags[1], start, end, flags[3])
+    inp = LevelInputs(
+        taus, theta, out_at, grid.nodes, window, p0[:, None], plan.k, plan.yield_wall,
+        plan.image, grid,
+    )  # fmt: skip
+    return fused_level(kernels, inp, r0.ravel(), stretch, coef)
+
+
+def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they hold them
+    base: Any,
+    nsub: int,
+    n_ie: int,
+    zone_starts: Any,
+    chord_from: float,
+    outs: Any,
+    p0: Any,
+    k: float,
+    c: Any,
+    x: Any,
+    t_lo: float,
+    t_hi: float,
+    extrapolate: bool,
+    root: bool,
+    negate: bool,
+    bp: Any,
+    xn: Any,
+) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
+    """A lean level's set-up (see the module): ``(taus, theta, out, flags, out_at, coef,
+    arg, ok)`` with ``taus``, ``theta`` of :func:`._cn_plan._level_times` (``base`` [Pa^2]
+    subdivided ``nsub`` times, ``n_ie`` implicit-Euler half steps, theta 1 at the
+    ``zone_starts``), ``out`` and ``flags`` of :func:`._cn_edges.window_edges` for the loads
+    ``p0`` [Pa] (window half-width ``k``; the lower wall the table ``c .. negate`` with
+    breakpoints ``bp``; no upper wall; chord speeds from
+    ``chord_from``), ``out_at`` the steps of the output times ``outs`` (``np.searchsorted``),
+    ``coef`` (steps, 4, loads, 3) of :func:`._moving_fused.face_coefficients`, ``arg``
+    (loads, nodes) the start state's exponent ``-(l + W x - p0)^2 / (4 tau_0)`` at the nodes
+    ``xn`` (:func:`._moving._initial_state`'s operations), and ``ok``: whether the window's
+    width stays positive (else the walls swept it)."""
+    nb = p0.shape[0]
+    size = (base.shape[0] - 1) * nsub + 1
+    n_ie = min(n_ie, size - 1)
+    taus, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
+    level_times(base, nsub, n_ie, taus, theta)  # noqa: F821 - bound by _compiled._build
+    n = taus.shape[0] - 1
+    for i in range(n):
+        for tb in zone_starts:
+            if taus[i] == tb:
+                theta[i] = 1.0
+    mid = np.empty(n)
+    for i in range(n):
+        mid[i] = 0.5 * (taus[i] + taus[i + 1])
+    # the lower wall's track (:func:`._wall_table.table_track`'s calls)
+    lo_m, lo, vb, va = np.empty(n), np.empty(n + 1), np.empty(n + 1), np.empty(n + 1)
+    hi_t, lo_t, q = np.empty(n + 1), np.empty(n + 1), np.empty(4 * n + 3)
+    wall_query(taus, mid, bp, hi_t, lo_t, q)  # noqa: F821
+    p = np.empty(q.shape[0])
+    table_values(c, x, t_lo, t_hi, extrapolate, q, p, root, negate)  # noqa: F821
+    wall_track(p, taus, hi_t, lo_t, bp, lo_m, lo, vb, va)  # noqa: F821
+    up, zero = np.full(n + 1, math.inf), np.zeros(n + 1)
+    out, flags = np.empty((10, nb, n)), np.empty((4, nb, n), dtype=np.bool_)
+    window_edges(p0, k, False, False, chord_from, taus, mid, lo_m, up[:n], lo, up, va, vb,  # noqa: F821
+                 zero, zero, zero, out, flags)  # fmt: skip
+    ok = True
+    for qq in range(nb):
+        for i in range(n):
+            if out[1, qq, i] <= 0.0 or out[3, qq, i] <= 0.0:
+                ok = False
+    out_at = np.empty(outs.shape[0], np.int64)
+    j = 0
+    for o in range(outs.shape[0]):  # (np.searchsorted, side "left": outs sorted)
+        while j <= n and taus[j] < outs[o]:
+            j += 1
+        out_at[o] = j
+    coef = np.empty((n, 4, nb, 3))
+    face_coefficients(0, n, taus, theta, out[1], out[4], out[5], out[3], out[7], out[8], coef)  # noqa: F821
+    t0 = taus[0]
+    arg = np.empty((nb, xn.shape[0]))
+    for qq in range(nb):
+        la, wa = out[0, qq, 0], out[1, qq, 0]
+        for jj in range(xn.shape[0]):
+            v = wa * xn[jj]
+            v = v + la
+            v = v - p0[qq]
+            v = v * v
+            arg[qq, jj] = v / (-4.0 * t0)
+    return taus, theta, out, flags, out_at, coef, arg, ok
+
+
+def start_scale(r: Any, width: Any, t0: float) -> None:  # pragma: no cover - compiled
+    """The start state after numpy's ``exp`` of :func:`level_setup`'s exponent: times the
+    window's width at the start ``width[:, 0]`` [Pa] and ``1 / sqrt(4 pi t0)`` [1/Pa], the
+    walls' rows 0 (:func:`._moving._initial_state`'s operations, in place)."""
+    c = 1.0 / math.sqrt(4.0 * math.pi * t0)
+    nn = r.shape[1]
+    for q in range(r.shape[0]):
+        w = width[q, 0]
+        for j in range(nn):
+            r[q, j] = r[q, j] * w * c
+        r[q, 0] = 0.0
+        r[q, nn - 1] = 0.0
