@@ -30,7 +30,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._cn_plan import Edge, Window, _differenced, _grades, _Plan
-from ._level import Level, level_grid
+from ._level import Level, LevelInputs, level_grid
+from ._moving_fused import fused_level
 from ._problem import Problem
 
 __all__ = ["lean_level", "lean_ok", "level_setup", "start_scale"]
@@ -64,9 +65,6 @@ def lean_level(
     :func:`._moving.level_inputs`) set up by ``fns`` (:func:`level_setup` and
     :func:`start_scale`, compiled) and marched by :func:`._moving_fused.fused_level` with
     ``kernels`` (compiled); None where that declines (the caller marches)."""
-    from ._moving import LevelInputs
-    from ._moving_fused import fused_level
-
     setup, scale = fns
     pb = pbs[0]
     nb = len(pbs)
