@@ -34,7 +34,7 @@ from ._level import Level, LevelInputs, level_grid
 from ._moving_fused import fused_level
 from ._problem import Problem
 
-__all__ = ["lean_level", "lean_ok", "level_setup", "start_scale"]
+__all__ = ["lean_inputs", "lean_level", "lean_ok", "level_setup", "start_scale"]
 
 Array = NDArray[np.float64]
 
@@ -62,9 +62,29 @@ def lean_level(
     n_ie: int,
 ) -> Level | None:
     """The level ``(n, nsub)`` of ``plan`` (``stretch``, ``n_ie`` as in
-    :func:`._moving.level_inputs`) set up by ``fns`` (:func:`level_setup` and
-    :func:`start_scale`, compiled) and marched by :func:`._moving_fused.fused_level` with
-    ``kernels`` (compiled); None where that declines (the caller marches)."""
+    :func:`._moving.level_inputs`) set up by ``fns`` (:func:`lean_inputs`) and marched by
+    :func:`._moving_fused.fused_level` with ``kernels`` (compiled); None where that declines
+    (the caller marches)."""
+    made = lean_inputs(fns, pbs, plan, n, nsub, stretch, n_ie)
+    if isinstance(made, Level):
+        return made
+    inp, r0, coef = made
+    return fused_level(kernels, inp, r0, stretch, coef)
+
+
+def lean_inputs(
+    fns: tuple[Callable[..., Any], Callable[..., None]],
+    pbs: list[Problem],
+    plan: _Plan,
+    n: int,
+    nsub: int,
+    stretch: float,
+    n_ie: int,
+) -> tuple[LevelInputs, Array, Array] | Level:
+    """``(inputs, start state, face coefficients)`` of the level (what
+    :func:`._moving.level_inputs`, :func:`._moving._initial_state` and
+    :func:`._moving_fused.face_coefficients` give) by ``fns``: :func:`level_setup` and
+    :func:`start_scale` (compiled); or the failed level where the walls swept the window."""
     setup, scale = fns
     pb = pbs[0]
     nb = len(pbs)
@@ -90,7 +110,7 @@ def lean_level(
         taus, theta, out_at, grid.nodes, window, p0[:, None], plan.k, plan.yield_wall,
         plan.image, grid,
     )  # fmt: skip
-    return fused_level(kernels, inp, r0.ravel(), stretch, coef)
+    return inp, r0.ravel(), coef
 
 
 def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they hold them

@@ -1,0 +1,118 @@
+"""The lean level (:mod:`xpersson.engine._cn_lean`): one compiled call for a ``cn`` level's set-up
+(times, the tabled wall's track, the window, the output steps, the face coefficients, the start
+state's exponent) gives the numpy path's inputs and start state bit for bit, and the level it
+marches the numpy path's outputs bit for bit, on generated walls, loads, grids and plans."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from scipy.interpolate import PchipInterpolator, PPoly
+
+from xpersson import set_options
+from xpersson.engine import Wall, WallTable, _compiled, _moving
+from xpersson.engine._cn import CNOptions, _Grids
+from xpersson.engine._cn_lean import lean_inputs, lean_ok
+from xpersson.engine._cn_plan import _start_time
+from xpersson.engine._problem import make_problem
+
+pytest.importorskip("numba")
+
+TAU = np.logspace(-1.0, np.log10(15.0), 5)  # output times [Pa^2]
+
+
+def _wall(wiggle: float, breakpoint: float | None) -> Wall:
+    """A tabled absorbing lower wall ``-sigma(tau)`` [Pa] (a PCHIP of sigma^2 that wiggles:
+    several crossings of the window's edge), with a declared breakpoint [Pa^2] if given (a
+    graded zone: its first step implicit, chord speeds from it on)."""
+    t = np.logspace(-3.0, np.log10(20.0), 60)
+    sigma = 2.0 * np.sqrt(t) * (1.0 + wiggle * np.sin(4.0 * np.log(t)))
+    pc = PchipInterpolator(t, sigma**2, extrapolate=False)
+    poly = PPoly(pc.c, pc.x, extrapolate=False)
+    lo, hi = float(t[0]), float(t[-1])
+
+    def position(tau):
+        v = np.asarray(poly(np.minimum(np.maximum(np.asarray(tau, dtype=float), lo), hi)))
+        return -np.sqrt(np.maximum(v, 0.0))
+
+    table = WallTable(poly.c, poly.x, lo, hi, False, True, True)
+    bps = () if breakpoint is None else (breakpoint,)
+    return Wall.absorbing(position, breakpoints=bps, table=table)
+
+
+def _level(wiggle, breakpoint, p0, rtol, n_base, nsub):
+    """The loads' problems and the plan of their level ``(n_base, nsub)``, as ``cn`` makes
+    them."""
+    wall = _wall(wiggle, breakpoint)
+    batch = make_problem(TAU, np.array(p0), wall, None, rtol, None, None, 10**6, {}, batch=True)
+    pbs = [batch.load(i) for i in range(len(p0))]
+    opts = CNOptions.read(pbs[0].options, pbs[0].atol)
+    tau_s = _start_time(pbs, opts.window_k)
+    grids = _Grids(pbs, opts, tau_s, pbs[0].tau > tau_s)
+    plan = grids.plan(n_base, 1)
+    return pbs, plan, (n_base * nsub, nsub, grids.stretch, opts.rannacher)
+
+
+def _bits(a) -> bytes:
+    return np.ascontiguousarray(a).tobytes()
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    wiggle=st.floats(0.0, 0.7),
+    breakpoint=st.one_of(st.none(), st.floats(0.2, 5.0)),
+    p0=st.lists(st.floats(0.2, 1.5), min_size=1, max_size=3),
+    rtol=st.sampled_from([1e-4, 1e-6, 1e-8]),
+    n_base=st.sampled_from([6, 24, 40]),
+    nsub=st.integers(1, 3),
+)
+def test_lean_level_is_the_numpy_paths_bit_for_bit(wiggle, breakpoint, p0, rtol, n_base, nsub):
+    """The set-up's times, output steps, window (edges, speeds, regimes) and start state equal
+    :func:`._moving.level_inputs` and :func:`._moving._initial_state` of the numpy path, and
+    the level's outputs (marched by the compiled level from them) equal the numpy march's."""
+    assert _compiled.build()
+    pbs, plan, (n, nsub, stretch, n_ie) = _level(wiggle, breakpoint, p0, rtol, n_base, nsub)
+    if not lean_ok(pbs, plan, nsub):  # (a graded zone subdivided: the general set-up)
+        return
+    with set_options(compiled=False):
+        ref = _moving.level_inputs(pbs, plan, n, nsub, stretch, n_ie)
+        win = ref.window
+        r0 = _moving._initial_state(win, ref.nodes.x, ref.nodes.w, ref.p0, ref.taus[0], ref.k)
+        want = _moving._march(pbs, plan, n, nsub, stretch, n_ie)
+    with set_options(compiled=True):
+        made = lean_inputs(_compiled.lean(), pbs, plan, n, nsub, stretch, n_ie)
+        got = _moving._march(pbs, plan, n, nsub, stretch, n_ie)
+    if want.failure:  # (the walls swept the window: both say so)
+        assert got.failure == want.failure
+        return
+    inp, start, _ = made
+    for name in ("taus", "theta", "out_at", "p0"):
+        assert _bits(getattr(inp, name)) == _bits(getattr(ref, name)), name
+    assert _bits(start) == _bits(r0)
+    for end in ("start", "end"):
+        for name, have in getattr(inp.window, end)._asdict().items():
+            assert _bits(have) == _bits(getattr(getattr(win, end), name)), (end, name)
+    for name in ("real_lower", "real_upper", "chord"):
+        assert _bits(getattr(inp.window, name)) == _bits(getattr(win, name)), name
+    assert got.nsteps == want.nsteps
+    for name, have in got.outputs._asdict().items():
+        if have is not None:
+            assert _bits(have) == _bits(getattr(want.outputs, name)), name
+
+
+def test_lean_level_is_taken_only_where_it_applies():
+    """A tabled lower wall without an upper wall takes the lean set-up; an upper wall, a
+    position callable without a table, or densities do not."""
+    pbs, plan, (n, nsub, *_) = _level(0.3, None, [0.8], 1e-6, 24, 2)
+    assert lean_ok(pbs, plan, nsub)
+    plain = Wall.absorbing(pbs[0].lower.position)  # (the same wall, no table)
+    for lower, upper, p_out in (
+        (plain, None, None),
+        (pbs[0].lower, Wall.absorbing(5.0), None),
+        (pbs[0].lower, None, np.array([0.5])),
+    ):
+        pb = make_problem(TAU, np.array([0.8]), lower, upper, 1e-6, None, p_out, 10**6, {},
+                          batch=True).load(0)  # fmt: skip
+        assert not lean_ok([pb], plan, nsub)
