@@ -116,3 +116,26 @@ def test_lean_level_is_taken_only_where_it_applies():
         pb = make_problem(TAU, np.array([0.8]), lower, upper, 1e-6, None, p_out, 10**6, {},
                           batch=True).load(0)  # fmt: skip
         assert not lean_ok([pb], plan, nsub)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    wiggle=st.floats(0.0, 0.7),
+    p0=st.lists(st.floats(0.05, 3.0), min_size=1, max_size=4),
+    clock=st.floats(0.01, 100.0),
+    k=st.floats(2.0, 9.0),
+)
+def test_compiled_start_scan_is_the_numpy_start_time(wiggle, p0, clock, k):
+    """The start time of a tabled lower wall by one compiled scan equals the numpy scan's,
+    for loads whose windows the wall reaches early, late or never."""
+    assert _compiled.build()
+    wall = _wall(wiggle, None)
+    batch = make_problem(TAU * clock, np.array(p0), wall, None, 1e-6, None, None, 10**6, {},
+                         batch=True)  # fmt: skip
+    pbs = [batch.load(i) for i in range(len(p0))]
+    with set_options(compiled=False):
+        want = _start_time(pbs, k)
+    with set_options(compiled=True):
+        assert _compiled.start() is not None
+        got = _start_time(pbs, k)
+    assert got == want

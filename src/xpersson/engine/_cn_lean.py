@@ -34,7 +34,7 @@ from ._level import Level, LevelInputs, level_grid
 from ._moving_fused import fused_level
 from ._problem import Problem
 
-__all__ = ["lean_inputs", "lean_level", "lean_ok", "level_setup", "start_scale"]
+__all__ = ["lean_inputs", "lean_level", "lean_ok", "level_setup", "start_scale", "start_scan"]
 
 Array = NDArray[np.float64]
 
@@ -205,3 +205,47 @@ def start_scale(r: Any, width: Any, t0: float) -> None:  # pragma: no cover - co
             r[q, j] = r[q, j] * w * c
         r[q, 0] = 0.0
         r[q, nn - 1] = 0.0
+
+
+def start_scan(  # noqa: PLR0913 - the table's arrays, as it holds them
+    c: Any,
+    x: Any,
+    t_lo: float,
+    t_hi: float,
+    extrapolate: bool,
+    root: bool,
+    negate: bool,
+    grid: Any,
+    tau_max: float,
+    k: float,
+    p0: Any,
+) -> float:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._cn_plan._start_time` of the loads ``p0`` [Pa] with the table's lower wall and
+    no upper one: the first of the candidate times ``tau_max grid`` [Pa^2] where the wall
+    reaches a load's window ``p0 - k sqrt(2 tau)``, the same comparisons."""
+    n, nb = grid.shape[0], p0.shape[0]
+    cand = np.empty(n)
+    for j in range(n):
+        cand[j] = tau_max * grid[j]
+    pos = np.empty(n)
+    table_values(c, x, t_lo, t_hi, extrapolate, cand, pos, root, negate)  # noqa: F821
+    first = np.full(nb, -1, np.int64)
+    left = nb
+    for j in range(n):
+        ks = k * math.sqrt(2.0 * cand[j])
+        for q in range(nb):
+            if first[q] < 0 and not pos[j] <= p0[q] - ks:
+                first[q] = j
+                left -= 1
+        if left == 0:
+            break
+    best = tau_max
+    for q in range(nb):
+        if first[q] == 0:
+            t = cand[0]
+        elif first[q] > 0:
+            t = cand[first[q] - 1] * 0.5
+        else:
+            t = tau_max
+        best = min(best, t)
+    return best

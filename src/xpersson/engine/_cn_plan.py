@@ -12,6 +12,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from . import _compiled
 from ._cn_edges import compiled_track, compiled_window
 from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
 from ._grid import decades as _decades
@@ -67,6 +68,12 @@ def _start_time(pbs: list[Problem], k: float, lower: bool = True) -> float:
     )
     if not shared:
         return min(_start_time([p], k, lower) for p in pbs)
+    lo = pb.lower
+    if lower and pb.upper is None and lo.table is not None and callable(lo.position):
+        scan = _compiled.start()  # (the table's wall scanned in one compiled call)
+        if scan is not None:
+            p0 = np.array([p.p0 for p in pbs], dtype=float)
+            return float(scan(*lo.table.args(), _START_GRID, float(tau_max), float(k), p0))
     cand = tau_max * _START_GRID
     ks = k * np.sqrt(2.0 * cand)
     lo, up = pb.lower.at(cand), None if pb.upper is None else pb.upper.at(cand)

@@ -135,6 +135,14 @@ def lean() -> tuple[Callable[..., Any], Callable[..., None]] | None:
     return _STATE.get("lean")
 
 
+def start() -> Callable[..., float] | None:
+    """The compiled :func:`._cn_lean.start_scan` once the compiled march is built and the
+    option is on, else None (:func:`._cn_plan._start_time`'s numpy scan: the same time)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("start")
+
+
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
     """The compiled :func:`._moving_fused.level_march` and
     :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
@@ -185,6 +193,7 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
         "face_coefficients": faces,
     }
     setup = jit(types.FunctionType(_cn_lean.level_setup.__code__, scope, "level_setup"))
+    _STATE["start"] = jit(types.FunctionType(_cn_lean.start_scan.__code__, scope, "start_scan"))
     return setup, jit(_cn_lean.start_scale)
 
 
