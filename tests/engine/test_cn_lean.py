@@ -15,7 +15,7 @@ from xpersson import set_options
 from xpersson.engine import Wall, WallTable, _compiled, _moving
 from xpersson.engine._cn import CNOptions, _Grids
 from xpersson.engine._cn_lean import lean_inputs, lean_ok
-from xpersson.engine._cn_plan import _start_time
+from xpersson.engine._cn_plan import _joint_plan, _start_time
 from xpersson.engine._problem import make_problem
 
 pytest.importorskip("numba")
@@ -139,3 +139,29 @@ def test_compiled_start_scan_is_the_numpy_start_time(wiggle, p0, clock, k):
         assert _compiled.start() is not None
         got = _start_time(pbs, k)
     assert got == want
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    breakpoint=st.one_of(st.none(), st.floats(0.05, 10.0)),
+    kinks=st.lists(st.floats(0.01, 20.0), max_size=6),
+    per_decade=st.floats(1.0, 40.0),
+    tau_s=st.floats(1e-4, 0.09),
+)
+def test_compiled_plan_is_the_numpy_plan(breakpoint, kinks, per_decade, tau_s):
+    """The time plan's base sequence and output indices by one compiled call equal the numpy
+    path's, with kinks (some on the outputs or the geometric times) and graded zones."""
+    assert _compiled.build()
+    wall = _wall(0.3, breakpoint)
+    batch = make_problem(TAU, np.array([0.9]), wall, None, 1e-6, None, None, 10**6, {},
+                         batch=True)  # fmt: skip
+    pbs = [batch.load(0)]
+    kinks = kinks + [float(TAU[1])]  # (a kink on an output time)
+    with set_options(compiled=False):
+        want = _joint_plan(pbs, 6.0, per_decade, tau_s, kinks)
+    with set_options(compiled=True):
+        assert _compiled.plan() is not None
+        got = _joint_plan(pbs, 6.0, per_decade, tau_s, kinks)
+    assert _bits(got.base) == _bits(want.base)
+    assert _bits(got.out_index) == _bits(want.out_index)
+    assert got.zones == want.zones

@@ -34,7 +34,15 @@ from ._level import Level, LevelInputs, level_grid
 from ._moving_fused import fused_level
 from ._problem import Problem
 
-__all__ = ["lean_inputs", "lean_level", "lean_ok", "level_setup", "start_scale", "start_scan"]
+__all__ = [
+    "lean_inputs",
+    "lean_level",
+    "lean_ok",
+    "level_setup",
+    "plan_base",
+    "start_scale",
+    "start_scan",
+]
 
 Array = NDArray[np.float64]
 
@@ -249,3 +257,43 @@ def start_scan(  # noqa: PLR0913 - the table's arrays, as it holds them
             t = tau_max
         best = min(best, t)
     return best
+
+
+def _sorted_unique(v: Any) -> Any:  # pragma: no cover - compiled
+    """:func:`._grid.sorted_unique` of a fresh 1-D float array (sorted in place)."""
+    v.sort()
+    keep = np.empty(v.shape[0], np.bool_)
+    for i in range(v.shape[0]):
+        keep[i] = i == 0 or v[i] != v[i - 1]
+    return v[keep]
+
+
+def plan_base(
+    geo: Any, outs: Any, kinks: Any, graded: Any, ratio: float, zones: Any, tau_s: float
+) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The time plan's base sequence [Pa^2] and the outputs' indices in it, as
+    :func:`._cn_plan._joint_plan` makes them from the geometric times ``geo``, the outputs
+    ``outs``, the window's ``kinks``, the ``graded`` zones' times (their ``zones`` (m, 2):
+    start, end), the step ``ratio`` and the start ``tau_s`` (the same comparisons)."""
+    fixed = _sorted_unique(np.concatenate((outs, kinks, graded)))
+    thr = 0.3 * ratio
+    end = outs[outs.shape[0] - 1]
+    keep = np.empty(geo.shape[0], np.bool_)
+    for i in range(geo.shape[0]):
+        ok = True
+        for j in range(fixed.shape[0]):
+            if not abs(geo[i] - fixed[j]) > thr * fixed[j]:
+                ok = False
+                break
+        for z in range(zones.shape[0]):
+            ok = ok and (geo[i] <= zones[z, 0] or geo[i] >= zones[z, 1])
+        keep[i] = (ok or i == 0) and geo[i] < end
+    base = _sorted_unique(np.concatenate((geo[keep], fixed)))
+    base = base[base >= tau_s]
+    index = np.empty(outs.shape[0], np.int64)
+    j = 0
+    for o in range(outs.shape[0]):  # (np.searchsorted, side "left": outs sorted)
+        while j < base.shape[0] and base[j] < outs[o]:
+            j += 1
+        index[o] = j
+    return base, index

@@ -454,6 +454,11 @@ def _joint_plan(
         kinks = _switch_times_batch(pbs, k, tau_s, float(outs[-1]))
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
+    fast = _compiled.plan()
+    if fast is not None:  # (the rest in one compiled call: the same comparisons)
+        zs = np.array(zones, dtype=float).reshape(-1, 2)
+        base, index = fast(geo, outs, np.asarray(kinks, dtype=float), graded, ratio, zs, tau_s)
+        return _Plan(base, index, tau_s, k, yield_wall, zones, outs=outs)
     fixed = sorted_unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
     # the geometric times far from every fixed one (relative gap 0.3 ratio)
     keep = (np.abs(geo[:, None] - fixed[None, :]) > (0.3 * ratio) * fixed).all(axis=1)
