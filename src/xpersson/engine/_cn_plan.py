@@ -68,12 +68,10 @@ def _start_time(pbs: list[Problem], k: float, lower: bool = True) -> float:
     )
     if not shared:
         return min(_start_time([p], k, lower) for p in pbs)
-    lo = pb.lower
-    if lower and pb.upper is None and lo.table is not None and callable(lo.position):
-        scan = _compiled.start()  # (the table's wall scanned in one compiled call)
-        if scan is not None:
-            p0 = np.array([p.p0 for p in pbs], dtype=float)
-            return float(scan(*lo.table.args(), _START_GRID, float(tau_max), float(k), p0))
+    lo, scan = pb.lower, _compiled.start()  # (a table's wall scanned in one compiled call)
+    if scan and lower and pb.upper is None and lo.table is not None and callable(lo.position):
+        p0 = np.array([p.p0 for p in pbs], dtype=float)
+        return float(scan(*lo.table.args(), _START_GRID, float(tau_max), float(k), p0))
     cand = tau_max * _START_GRID
     ks = k * np.sqrt(2.0 * cand)
     lo, up = pb.lower.at(cand), None if pb.upper is None else pb.upper.at(cand)
@@ -454,10 +452,9 @@ def _joint_plan(
         kinks = _switch_times_batch(pbs, k, tau_s, float(outs[-1]))
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
-    fast = _compiled.plan()
-    if fast is not None:  # (the rest in one compiled call: the same comparisons)
-        zs = np.array(zones, dtype=float).reshape(-1, 2)
-        base, index = fast(geo, outs, np.asarray(kinks, dtype=float), graded, ratio, zs, tau_s)
+    if (fast := _compiled.plan()) is not None:  # (the rest in one compiled call)
+        zs, kk = np.array(zones, dtype=float).reshape(-1, 2), np.asarray(kinks, dtype=float)
+        base, index = fast(geo, outs, kk, graded, ratio, zs, tau_s)
         return _Plan(base, index, tau_s, k, yield_wall, zones, outs=outs)
     fixed = sorted_unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
     # the geometric times far from every fixed one (relative gap 0.3 ratio)
