@@ -14,8 +14,10 @@ from scipy.interpolate import PchipInterpolator, PPoly
 from xpersson import set_options
 from xpersson.engine import Wall, WallTable, _compiled, _moving
 from xpersson.engine._cn import CNOptions, _Grids
+from xpersson.engine._cn_control import _Judge
 from xpersson.engine._cn_lean import lean_inputs, lean_ok
 from xpersson.engine._cn_plan import _joint_plan, _start_time
+from xpersson.engine._level import Outputs
 from xpersson.engine._problem import make_problem
 
 pytest.importorskip("numba")
@@ -165,3 +167,37 @@ def test_compiled_plan_is_the_numpy_plan(breakpoint, kinks, per_decade, tau_s):
     assert _bits(got.base) == _bits(want.base)
     assert _bits(got.out_index) == _bits(want.out_index)
     assert got.zones == want.zones
+
+
+_VALUES = st.one_of(
+    st.floats(-2.0, 2.0), st.sampled_from([0.0, -0.0, np.nan, np.inf, -np.inf, 1e-300])
+)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    shape=st.tuples(st.integers(1, 3), st.integers(1, 5)),
+    data=st.data(),
+    factor=st.floats(1e-3, 20.0),
+    rtol=st.sampled_from([1e-8, 1e-6, 1e-4]),
+)
+def test_compiled_judge_ratio_is_the_numpy_ratio(shape, data, factor, rtol):
+    """The error control's estimate and worst estimate / tolerance by one compiled pass equal
+    the numpy path's, NaN and infinities included (numpy's ``max``, Python's ``max``)."""
+    assert _compiled.build()
+    n = shape[0] * shape[1]
+
+    def field():
+        return np.array(data.draw(st.lists(_VALUES, min_size=n, max_size=n))).reshape(shape)
+
+    a, b = (Outputs(*(field() for _ in range(6)), None) for _ in range(2))
+    scale = np.abs(field()) + 0.5
+    pb = make_problem(TAU, 0.9, _wall(0.3, None), None, rtol, None, None, 10**6, {})
+    judge = _Judge(pb, scale)
+    with set_options(compiled=False), np.errstate(all="ignore"):
+        want = judge.ratio(a, b, factor)
+    with set_options(compiled=True):
+        got = judge.ratio(a, b, factor)
+    assert _bits(got[0]) == _bits(want[0])
+    # (the worst ratio is a decision, compared with 1: its value, NaN for NaN)
+    assert got[1] == want[1] or (np.isnan(got[1]) and np.isnan(want[1]))

@@ -35,6 +35,7 @@ from ._moving_fused import fused_level
 from ._problem import Problem
 
 __all__ = [
+    "judge_ratio",
     "lean_inputs",
     "lean_level",
     "lean_ok",
@@ -297,3 +298,39 @@ def plan_base(
             j += 1
         index[o] = j
     return base, index
+
+
+def judge_ratio(  # noqa: PLR0913 - the two answers' fields
+    a_area: Any,
+    b_area: Any,
+    a_load: Any,
+    a_ml: Any,
+    a_mu: Any,
+    b_load: Any,
+    b_ml: Any,
+    b_mu: Any,
+    scale: Any,
+    factor: float,
+    rtol: float,
+    atol: float,
+) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:meth:`._cn_control._Judge.ratio`'s numbers in one pass (loads, outputs): the estimate
+    ``factor |a - b|`` of the area, the largest estimate / tolerance of the area and the
+    largest ``factor |load identity a - b| / scale`` [1] (NaN where any is NaN, as numpy's
+    ``max``), the same operations element by element."""
+    nb, n_out = a_area.shape
+    err = np.empty((nb, n_out))
+    m_area, m_load = -math.inf, -math.inf
+    for q in range(nb):
+        for j in range(n_out):
+            e = factor * abs(a_area[q, j] - b_area[q, j])
+            err[q, j] = e
+            r = e / (rtol * abs(a_area[q, j]) + atol)
+            la = a_load[q, j] + a_ml[q, j] + a_mu[q, j]
+            lb = b_load[q, j] + b_ml[q, j] + b_mu[q, j]
+            g = factor * abs(la - lb) / scale[q, j]
+            if not r <= m_area:  # (a larger value, or NaN: NaN stays)
+                m_area = r if m_area == m_area else m_area
+            if not g <= m_load:
+                m_load = g if m_load == m_load else m_load
+    return err, m_area, m_load

@@ -151,6 +151,14 @@ def plan() -> Callable[..., tuple] | None:
     return _STATE.get("plan")
 
 
+def judge() -> Callable[..., tuple] | None:
+    """The compiled :func:`._cn_lean.judge_ratio` once the compiled march is built and the
+    option is on, else None (:meth:`._cn_control._Judge.ratio`'s numpy calls: the same)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("judge")
+
+
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
     """The compiled :func:`._moving_fused.level_march` and
     :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
@@ -202,6 +210,7 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
     }
     setup = jit(types.FunctionType(_cn_lean.level_setup.__code__, scope, "level_setup"))
     _STATE["start"] = jit(types.FunctionType(_cn_lean.start_scan.__code__, scope, "start_scan"))
+    _STATE["judge"] = jit(_cn_lean.judge_ratio)
     scope["_sorted_unique"] = jit(_cn_lean._sorted_unique)
     _STATE["plan"] = jit(types.FunctionType(_cn_lean.plan_base.__code__, scope, "plan_base"))
     return setup, jit(_cn_lean.start_scale)
