@@ -192,6 +192,7 @@ class Outputs(NamedTuple):
 
 
 _FIELDS = Outputs._fields
+_SCALARS = 6  # the fields (loads, outputs) before the densities P
 
 
 class Level(NamedTuple):
@@ -216,42 +217,36 @@ def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
     """The finer level, or its Richardson combination with the coarser (linear in the levels:
     the probability balance is kept)."""
     if not extrapolate:
-        return fine  # (frozen: the same outputs)
-    out: dict[str, Array | None] = dict.fromkeys(_FIELDS)
-    # the fields of one shape at once (the same operations, element by element)
-    for names in _groups(fine).values():
-        a = np.array([getattr(fine, name) for name in names])
-        b = np.array([getattr(coarse, name) for name in names])
-        out.update(zip(names, a + (a - b) / 3.0, strict=True))
-    return Outputs(**out)
-
-
-def _groups(outputs: Outputs) -> dict[tuple[int, ...], list[str]]:
-    """The fields of ``outputs`` that are not None, grouped by shape."""
-    groups: dict[tuple[int, ...], list[str]] = {}
-    for name in _FIELDS:
-        v = getattr(outputs, name)
-        if v is not None:
-            groups.setdefault(v.shape, []).append(name)  # (arrays: np.shape's dispatch)
-    return groups
+        return fine  # (immutable: the same outputs)
+    # the six (loads, outputs) fields at once, ``a + (a - b) / 3`` element by element
+    a = np.array(fine[:_SCALARS])
+    d = np.subtract(a, np.array(coarse[:_SCALARS]))
+    d /= 3.0
+    np.add(a, d, out=d)
+    P = None if fine.P is None else fine.P + (fine.P - coarse.P) / 3.0
+    return Outputs(*d, P)
 
 
 def weighted(levels: list[Outputs], weights: Array) -> Outputs:
     """The combination ``sum_i weights[i] levels[i]`` of every output (weights summing to 1,
     e.g. Richardson's: the probability balance, linear in the levels, is kept)."""
     ws = [float(c) for c in weights]
-    # the fields of one shape at once (the same operations, element by element, as ``sum``
-    # of each field: 0 + w_0 v_0 + w_1 v_1 + ...): a few calls, not a few per field
-    out: dict[str, Array | None] = dict.fromkeys(_FIELDS)
-    for names in _groups(levels[0]).values():
-        v = np.array([[getattr(lv, name) for name in names] for lv in levels])
-        acc = v[0] * ws[0]  # (0 + w_0 v_0: the sum's first term, -0 made +0 by adding 0)
-        acc += 0.0
-        for c, row in zip(ws[1:], v[1:], strict=True):
-            row *= c  # (v is this function's own copy)
-            acc += row
-        out.update(zip(names, acc, strict=True))
-    return Outputs(**out)
+    # the six (loads, outputs) fields at once, then the densities (the same operations,
+    # element by element, as ``sum`` of each field: 0 + w_0 v_0 + w_1 v_1 + ...)
+    out = [_weighted(np.array([lv[:_SCALARS] for lv in levels]), ws)]
+    if levels[0].P is not None:
+        out.append(_weighted(np.array([lv.P for lv in levels]), ws))
+    return Outputs(*out[0], out[1] if len(out) > 1 else None)
+
+
+def _weighted(v: Array, ws: list[float]) -> Array:
+    """``0 + w_0 v[0] + w_1 v[1] + ...`` (``v`` this function's own copy: scaled in place)."""
+    acc = v[0] * ws[0]  # (0 + w_0 v_0: the sum's first term, -0 made +0 by adding 0)
+    acc += 0.0
+    for c, row in zip(ws[1:], v[1:], strict=True):
+        row *= c
+        acc += row
+    return acc
 
 
 def project(
