@@ -19,6 +19,7 @@ from xpersson.engine._cn_lean import lean_inputs, lean_ok
 from xpersson.engine._cn_plan import _joint_plan, _start_time
 from xpersson.engine._level import Outputs
 from xpersson.engine._problem import make_problem
+from xpersson.engine._result import Raw, finish_batch
 
 pytest.importorskip("numba")
 
@@ -201,3 +202,32 @@ def test_compiled_judge_ratio_is_the_numpy_ratio(shape, data, factor, rtol):
     assert _bits(got[0]) == _bits(want[0])
     # (the worst ratio is a decision, compared with 1: its value, NaN for NaN)
     assert got[1] == want[1] or (np.isnan(got[1]) and np.isnan(want[1]))
+
+
+@settings(max_examples=60, deadline=None)
+@given(data=st.data(), loads=st.integers(1, 3), rtol=st.sampled_from([1e-8, 1e-6, 1e-3]))
+def test_compiled_batch_balances_are_the_numpy_ones(data, loads, rtol):
+    """A batch's balances, status and messages with the balances and the screen's reductions
+    by one compiled call equal the numpy path's (NaN, infinities, failing loads included)."""
+    assert _compiled.build()
+    n = loads * TAU.size
+    p0 = np.linspace(0.5, 1.2, loads)
+    pb = make_problem(TAU, p0, _wall(0.3, None), None, rtol, None, None, 10**6, {}, batch=True)
+
+    def field():
+        return np.array(data.draw(st.lists(_VALUES, min_size=n, max_size=n))).reshape(loads, -1)
+
+    area, lo, up, load, wall, err = (field() for _ in range(6))
+    with np.errstate(all="ignore"):
+        raw = Raw(
+            area, lo + up, lo, up, load, wall, np.abs(err) * 1e-6, None, "success", "", 9, 5, 9
+        )
+    with set_options(compiled=False), np.errstate(all="ignore"):
+        want = finish_batch(pb, raw, "cn")
+    with set_options(compiled=True), np.errstate(all="ignore"):
+        got = finish_batch(pb, raw, "cn")
+    assert got["status"] == want["status"] and got["message"] == want["message"]
+    assert _bits(got["success"]) == _bits(want["success"])
+    for name, value in want["fields"].items():
+        if value is not None:
+            assert _bits(got["fields"][name]) == _bits(value), name

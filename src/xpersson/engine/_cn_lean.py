@@ -35,6 +35,8 @@ from ._moving_fused import fused_level
 from ._problem import Problem
 
 __all__ = [
+    "batch_balances_of",
+    "batch_balances",
     "judge_ratio",
     "lean_inputs",
     "lean_level",
@@ -334,3 +336,64 @@ def judge_ratio(  # noqa: PLR0913 - the two answers' fields
             if not g <= m_load:
                 m_load = g if m_load == m_load else m_load
     return err, m_area, m_load
+
+
+def batch_balances_of(fast: Callable[..., tuple], problem: Problem, raw: Any, lo: Array) -> tuple:
+    """:func:`._result._balances` and the screen's reductions of :func:`._result.finish_batch`
+    for a batch ``raw`` of ``problem`` without an upper wall (``lo``: the lower wall's
+    positions [Pa], as ``_fixed_positions`` gives them) by ``fast``
+    (:func:`batch_balances`, compiled): ``(prob, loadb, reductions)``."""
+    n = raw.area.shape[-1]
+    lo2 = lo.reshape(-1, n) if lo.ndim else np.full((1, n), lo)
+    return fast(raw.area, raw.absorbed_lower, raw.absorbed_upper, raw.load, raw.wall_term,
+                raw.error_estimate, problem.p0, lo2, problem.rtol)  # fmt: skip
+
+
+def _nan_max(m: float, v: float) -> float:  # pragma: no cover - compiled
+    """The running ``max`` of numpy (NaN once any value is NaN)."""
+    if m != m or v != v:
+        return math.nan if v != v or m != m else m
+    return v if v > m else m
+
+
+def batch_balances(  # noqa: PLR0913 - the batch's fields
+    area: Any,
+    abs_l: Any,
+    abs_u: Any,
+    load: Any,
+    wall_term: Any,
+    error: Any,
+    p0: Any,
+    lo: Any,
+    rtol: float,
+) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._result._balances` of a batch without an upper wall (``lo`` the lower wall's
+    positions (1 or loads, outputs) [Pa], ``p0`` (loads, 1) [Pa]) and the screen's reductions
+    of :func:`._result.finish_batch` in one pass: ``(prob, loadb, [max prob, -min prob, max
+    loadb, -min loadb, max (error - rtol |area|)])`` (numpy's NaN-propagating ``max``/``min``),
+    the same operations element by element."""
+    nb, n = area.shape
+    prob, loadb = np.empty((nb, n)), np.empty((nb, n))
+    red = np.full(5, -math.inf)
+    for q in range(nb):
+        p = p0[q, 0]
+        a = abs(p)
+        for j in range(n):
+            v = area[q, j] + abs_l[q, j]
+            v = v + abs_u[q, j]
+            v = v - 1.0
+            prob[q, j] = v
+            b = abs(lo[q if lo.shape[0] > 1 else 0, j])
+            sc = a if a != a else (b if b != b else (b if b > a else a))
+            sc = sc if sc > 0 else 1.0
+            g = load[q, j] + wall_term[q, j]
+            g = g - p
+            g = g / sc
+            loadb[q, j] = g
+            red[0] = _nan_max(red[0], v)
+            red[1] = _nan_max(red[1], -v)
+            red[2] = _nan_max(red[2], g)
+            red[3] = _nan_max(red[3], -g)
+            slack = abs(area[q, j]) * -rtol
+            red[4] = _nan_max(red[4], slack + error[q, j])
+    return prob, loadb, red

@@ -159,6 +159,14 @@ def judge() -> Callable[..., tuple] | None:
     return _STATE.get("judge")
 
 
+def balances() -> Callable[..., tuple] | None:
+    """The compiled :func:`._cn_lean.batch_balances` once the compiled march is built and the
+    option is on, else None (:func:`._result._balances`' numpy calls: the same numbers)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("balances")
+
+
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
     """The compiled :func:`._moving_fused.level_march` and
     :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
@@ -211,6 +219,9 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
     setup = jit(types.FunctionType(_cn_lean.level_setup.__code__, scope, "level_setup"))
     _STATE["start"] = jit(types.FunctionType(_cn_lean.start_scan.__code__, scope, "start_scan"))
     _STATE["judge"] = jit(_cn_lean.judge_ratio)
+    scope["_nan_max"] = jit(_cn_lean._nan_max)
+    name = "batch_balances"
+    _STATE["balances"] = jit(types.FunctionType(_cn_lean.batch_balances.__code__, scope, name))
     scope["_sorted_unique"] = jit(_cn_lean._sorted_unique)
     _STATE["plan"] = jit(types.FunctionType(_cn_lean.plan_base.__code__, scope, "plan_base"))
     return setup, jit(_cn_lean.start_scale)

@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from . import _compiled
+from ._cn_lean import batch_balances_of
 from ._problem import Problem
 from ._views import LazyField, broadcast_view
 
@@ -397,9 +399,13 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     """
     shape = problem.tau.shape
     n = shape[0]
+    red = None
     if raw.exact_balances:  # identities by construction: exact zeros (read-only, no memory)
         lo, up = _fixed_positions(problem)
         prob = loadb = broadcast_view(np.zeros(()), shape)
+    elif (fast := _compiled.balances()) is not None and problem.upper is None:
+        lo, up = _fixed_positions(problem)  # (then balances and reductions in one call)
+        prob, loadb, red = batch_balances_of(fast, problem, raw, lo)
     else:
         lo, up, prob, loadb = _balances(problem, raw)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
@@ -411,15 +417,16 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     else:
         # (prob and loadb are the fresh arrays of _balances: their methods, not np.max's
         # dispatch)
-        worst_all = max(
-            float(prob.max()), -float(prob.min()), float(loadb.max()), -float(loadb.min())
-        )
+        worst = (prob.max(), -prob.min(), loadb.max(), -loadb.min()) if red is None else red[:4]
+        worst_all = max(float(worst[0]), float(worst[1]), float(worst[2]), float(worst[3]))
         finite_all = math.isfinite(worst_all) and math.isfinite(np.asarray(raw.non_area).sum())
     if raw.P is not None:
         finite_all = finite_all and bool(np.isfinite(np.sum(raw.P)))
     form = raw.error_form
     if form is not None and form[0] <= problem.rtol and form[1] <= problem.atol:
         tol_all = True  # error_estimate <= c |area| + d <= rtol |area| + atol everywhere
+    elif red is not None:
+        tol_all = bool(red[4] <= problem.atol)  # False where it is NaN
     else:
         slack = np.abs(raw.area)
         slack *= -problem.rtol
