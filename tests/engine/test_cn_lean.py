@@ -15,7 +15,7 @@ from xpersson import set_options
 from xpersson.engine import Wall, WallTable, _compiled, _moving
 from xpersson.engine._cn import CNOptions, _Grids
 from xpersson.engine._cn_control import _Judge
-from xpersson.engine._cn_lean import lean_inputs, lean_ok
+from xpersson.engine._cn_lean import batch_balances_of, lean_inputs, lean_ok
 from xpersson.engine._cn_plan import _joint_plan, _start_time
 from xpersson.engine._level import Outputs
 from xpersson.engine._problem import make_problem
@@ -204,30 +204,48 @@ def test_compiled_judge_ratio_is_the_numpy_ratio(shape, data, factor, rtol):
     assert got[1] == want[1] or (np.isnan(got[1]) and np.isnan(want[1]))
 
 
-@settings(max_examples=60, deadline=None)
+_NUDGE = st.sampled_from([0.0, -0.0, 1e-14, -1e-14, 1e-9, -1e-9, 1e-3, -1e-3, np.nan, np.inf])
+
+
+@settings(max_examples=80, deadline=None)
 @given(data=st.data(), loads=st.integers(1, 3), rtol=st.sampled_from([1e-8, 1e-6, 1e-3]))
 def test_compiled_batch_balances_are_the_numpy_ones(data, loads, rtol):
     """A batch's balances, status and messages with the balances and the screen's reductions
-    by one compiled call equal the numpy path's (NaN, infinities, failing loads included)."""
+    by one compiled call equal the numpy path's: balances near their tolerance either way,
+    NaN, infinities and failing loads included."""
     assert _compiled.build()
     n = loads * TAU.size
     p0 = np.linspace(0.5, 1.2, loads)
     pb = make_problem(TAU, p0, _wall(0.3, None), None, rtol, None, None, 10**6, {}, batch=True)
 
-    def field():
-        return np.array(data.draw(st.lists(_VALUES, min_size=n, max_size=n))).reshape(loads, -1)
+    def draw(values):
+        return np.array(data.draw(st.lists(values, min_size=n, max_size=n))).reshape(loads, -1)
 
-    area, lo, up, load, wall, err = (field() for _ in range(6))
+    def nudge():  # (one balance off by a drawn amount, the others exact)
+        out = np.zeros(n)
+        out[data.draw(st.integers(0, n - 1))] = data.draw(_NUDGE)
+        return out.reshape(loads, -1)
+
+    area = draw(st.sampled_from([0.0, 0.25, 0.5, 1.0]))
+    lo = (1.0 - area) * draw(st.sampled_from([0.0, 0.5, 1.0]))
     with np.errstate(all="ignore"):
-        raw = Raw(
-            area, lo + up, lo, up, load, wall, np.abs(err) * 1e-6, None, "success", "", 9, 5, 9
-        )
+        up = 1.0 - area - lo + nudge()  # (probability balance near 0, either sign)
+        wall = draw(st.sampled_from([0.0, -0.5, 0.25]))
+        load = p0[:, None] - wall + nudge()  # (load balance near 0)
+        err = draw(st.floats(0.0, 2.0)) * rtol * np.abs(area)
+        raw = Raw(area, lo + up, lo, up, load, wall, err, None, "success", "", 9, 5, 9)
     with set_options(compiled=False), np.errstate(all="ignore"):
         want = finish_batch(pb, raw, "cn")
     with set_options(compiled=True), np.errstate(all="ignore"):
         got = finish_batch(pb, raw, "cn")
     assert got["status"] == want["status"] and got["message"] == want["message"]
     assert _bits(got["success"]) == _bits(want["success"])
+    prob, loadb = want["fields"]["probability_balance"], want["fields"]["load_balance"]
+    slack = np.abs(area) * -rtol + err
+    with np.errstate(all="ignore"):
+        ref = [prob.max(), -prob.min(), loadb.max(), -loadb.min(), slack.max()]
+    red = batch_balances_of(_compiled.balances(), pb, raw, got["fields"]["wall_lower"][:1])[2]
+    assert np.array_equal(red, ref, equal_nan=True)  # (NaN-propagating max / min)
     for name, value in want["fields"].items():
         if value is not None:
             assert _bits(got["fields"][name]) == _bits(value), name
