@@ -217,6 +217,19 @@ def _fixed_positions(problem: Problem) -> tuple[Array, Array]:
     return problem.wall_positions(t)
 
 
+def _screened_balances(problem: Problem, raw: Raw) -> tuple:
+    """:func:`_balances` (exact zeros for identities) and the screen's reductions where one
+    compiled call gives both (:func:`._cn_lean.batch_balances`: no upper wall), else None."""
+    if raw.exact_balances:  # identities by construction: exact zeros (read-only, no memory)
+        zero = broadcast_view(np.zeros(()), problem.tau.shape)
+        return (*_fixed_positions(problem), zero, zero, None)
+    fast = _compiled.balances()
+    if fast is not None and problem.upper is None:
+        lo, up = _fixed_positions(problem)
+        return (lo, up, *batch_balances_of(fast, problem, raw, lo))
+    return (*_balances(problem, raw), None)
+
+
 def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
     lo, up = _fixed_positions(problem)
     # in place: one new array each (fresh large temporaries cost page faults)
@@ -399,15 +412,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     """
     shape = problem.tau.shape
     n = shape[0]
-    red = None
-    if raw.exact_balances:  # identities by construction: exact zeros (read-only, no memory)
-        lo, up = _fixed_positions(problem)
-        prob = loadb = broadcast_view(np.zeros(()), shape)
-    elif (fast := _compiled.balances()) is not None and problem.upper is None:
-        lo, up = _fixed_positions(problem)  # (then balances and reductions in one call)
-        prob, loadb, red = batch_balances_of(fast, problem, raw, lo)
-    else:
-        lo, up, prob, loadb = _balances(problem, raw)
+    lo, up, prob, loadb, red = _screened_balances(problem, raw)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
     raw_ok = _raw_ok(raw, n)
     # NaN/inf in any field reaches a balance or one of the sums (max/min/sum propagate NaN)
@@ -415,8 +420,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         finite_all = bool(np.isfinite(np.sum(raw.area) + np.sum(raw.non_area)))
         worst_all = 0.0
     else:
-        # (prob and loadb are the fresh arrays of _balances: their methods, not np.max's
-        # dispatch)
+        # (fresh arrays of _balances: their methods, not np.max's dispatch)
         worst = (prob.max(), -prob.min(), loadb.max(), -loadb.min()) if red is None else red[:4]
         worst_all = max(float(worst[0]), float(worst[1]), float(worst[2]), float(worst[3]))
         finite_all = math.isfinite(worst_all) and math.isfinite(np.asarray(raw.non_area).sum())
