@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -10,8 +11,6 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _compiled
-from ._cn_lean import batch_balances_of
 from ._problem import Problem
 from ._views import LazyField, broadcast_view
 
@@ -219,14 +218,16 @@ def _fixed_positions(problem: Problem) -> tuple[Array, Array]:
 
 def _screened_balances(problem: Problem, raw: Raw) -> tuple:
     """:func:`_balances` (exact zeros for identities) and the screen's reductions where one
-    compiled call gives both (:func:`._cn_lean.batch_balances`: no upper wall), else None."""
+    compiled call gives both (:func:`._cn_lean.batch_balances`, no upper wall; else None)."""
     if raw.exact_balances:  # identities by construction: exact zeros (read-only, no memory)
         zero = broadcast_view(np.zeros(()), problem.tau.shape)
         return (*_fixed_positions(problem), zero, zero, None)
-    fast = _compiled.balances()
+    compiled = sys.modules.get(f"{__package__}._compiled")  # (loaded with the march only)
+    fast = None if compiled is None else compiled.balances()  # (then _cn_lean is loaded)
     if fast is not None and problem.upper is None:
         lo, up = _fixed_positions(problem)
-        return (lo, up, *batch_balances_of(fast, problem, raw, lo))
+        lean = sys.modules[f"{__package__}._cn_lean"]
+        return (lo, up, *lean.batch_balances_of(fast, problem, raw, lo))
     return (*_balances(problem, raw), None)
 
 
@@ -412,7 +413,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     """
     shape = problem.tau.shape
     n = shape[0]
-    lo, up, prob, loadb, red = _screened_balances(problem, raw)
+    lo, up, prob, loadb, red = _screened_balances(problem, raw)  # (fresh arrays: methods)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
     raw_ok = _raw_ok(raw, n)
     # NaN/inf in any field reaches a balance or one of the sums (max/min/sum propagate NaN)
@@ -420,7 +421,6 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         finite_all = bool(np.isfinite(np.sum(raw.area) + np.sum(raw.non_area)))
         worst_all = 0.0
     else:
-        # (fresh arrays of _balances: their methods, not np.max's dispatch)
         worst = (prob.max(), -prob.min(), loadb.max(), -loadb.min()) if red is None else red[:4]
         worst_all = max(float(worst[0]), float(worst[1]), float(worst[2]), float(worst[3]))
         finite_all = math.isfinite(worst_all) and math.isfinite(np.asarray(raw.non_area).sum())
