@@ -17,6 +17,12 @@ Taken where the compiled march is in force (:func:`._compiled.lean`), for the co
 absorbing lower wall carrying a table (:class:`._wall_table.WallTable`, speeds differenced), no
 upper wall, no densities or progress reports, no one-wall (image) start, and no
 graded stretch subdivided in the level; every other level takes :func:`._moving._march`.
+
+The same for the rest of a solve's small numpy work, each one compiled call with the numpy
+path's operations (bit for bit; the numpy path stays where numba is off or missing):
+:func:`start_scan` (the start time of a tabled lower wall), :func:`plan_base` (the time plan's
+base sequence after its geometric times), :func:`judge_ratio` (the error control's estimate and
+worst ratio) and :func:`batch_balances` (a batch's balances and the screen's reductions).
 Units: tau in Pa^2, pressures in Pa, speeds in 1/Pa.
 """
 
