@@ -15,6 +15,10 @@ interleaved rounds, each timed call repeated to ~20 ms.
 
 Usage: ``python benchmarks/engine_limit.py [--seeds 36 101 202] [--held-out 2026] [--rounds 5]``;
 prints one row per scene and tolerance, and the worst ratio per design and tolerance.
+``--against OTHER [--runs 3]``: the same benchmark on this tree and on the checkout ``OTHER``
+(its ``src`` and plugins' ``src`` on ``PYTHONPATH``; e.g. a ``git worktree`` of an older
+commit), each run a fresh process, alternated ``--runs`` times, rows prefixed by the tree: a
+before/after that the shared machine's load changes less than two separate runs would.
 """
 
 from __future__ import annotations
@@ -90,6 +94,29 @@ def run_design(lib, tag: str, scenes: list, rtols: list[float], rounds: int) -> 
         print(f"{tag}: worst at rtol {rtol:.0e}: {r:.2f} ({label})")
 
 
+def alternate(other: Path, runs: int, argv: list[str]) -> None:
+    """This benchmark on this tree and on ``other`` in alternate fresh processes, ``runs``
+    times each (``argv`` without ``--against``/``--runs``)."""
+    import subprocess
+
+    rest, skip = [], False
+    for a in argv:
+        if skip or a in ("--against", "--runs"):
+            skip = not skip
+            continue
+        rest.append(a)
+    trees = {"this": HERE.parent, "other": other.resolve()}
+    for run in range(1, runs + 1):
+        for tag, root in trees.items():
+            srcs = [root / "src", *sorted(root.glob("plugins/*/src"))]
+            env = {**os.environ, "PYTHONPATH": os.pathsep.join(map(str, srcs))}
+            cmd = [sys.executable, __file__, *rest]
+            out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=False)
+            for line in out.stdout.splitlines():
+                if "no level" not in line:
+                    print(f"{tag} {run} {line}", flush=True)
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seeds", type=int, nargs="*", default=[36])
@@ -97,7 +124,12 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--scenes", type=int, default=12)
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--rtols", type=float, nargs="+", default=[1e-6, 1e-8])
+    ap.add_argument("--against", type=Path, default=None, metavar="OTHER")
+    ap.add_argument("--runs", type=int, default=3)
     args = ap.parse_args(argv)
+    if args.against is not None:
+        alternate(args.against, args.runs, sys.argv[1:] if argv is None else argv)
+        return
     from xpersson.engine import _compiled
 
     print("march:", "compiled" if _compiled.build() else "numpy (no numba)")

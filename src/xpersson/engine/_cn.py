@@ -48,6 +48,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from . import _compiled
 from ._base import EngineMethod
 from ._cn_control import AIM, _control, _Fit
 from ._cn_plan import _exact_start, _joint_plan, _Plan, _start_time, _switch_times_batch
@@ -91,7 +92,7 @@ class CNMethod(EngineMethod):
         pb = pbs[0]
         opts = CNOptions.read(pb.options, pb.atol)
         tau = pb.tau
-        tau_s = _start_time(pbs, opts.window_k)
+        tau_s = _start_time(pbs, opts.window_k, scan=_compiled.start())
         tau_s, image = _exact_start(pbs, opts.window_k, tau_s)
         analytic = tau <= tau_s
         num = ~analytic
@@ -303,7 +304,8 @@ class _Grids:
         """The time plan of the levels ``(n_base, *, dense)`` (made on first use)."""
         if (n_base, dense) not in self.plans:
             per_decade = self.opts.per_node * n_base * dense
-            plan = _joint_plan(self.pbs, self.opts.window_k, per_decade, self.tau_s, self.kinks)
+            k, fast = self.opts.window_k, _compiled.plan()
+            plan = _joint_plan(self.pbs, k, per_decade, self.tau_s, self.kinks, fast)
             plan.image, plan.release = self.image, self.release
             # substeps where a yield wall makes the window stiff (:mod:`._stiff`)
             self.plans[n_base, dense] = stiff_refined(self.pbs, plan, per_decade)

@@ -51,6 +51,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..cache import memoize
+from . import _compiled
 from ._cn_odd import odd_rounds
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
@@ -196,6 +197,12 @@ class _Judge:
         """Estimate ``factor |a - b|`` of the area, and the worst estimate / tolerance of the
         area and of the load identity of ``a``."""
         pb = self.pb
+        fast = _compiled.judge()
+        if fast is not None and a.area.ndim == 2 and a.area.shape == self.scale.shape:
+            err, m_area, m_load = fast(a.area, b.area, a.load, a.moment_lower, a.moment_upper,
+                                       b.load, b.moment_lower, b.moment_upper, self.scale,
+                                       factor, pb.rtol, pb.atol)  # fmt: skip
+            return err, max(float(m_area), float(m_load) / (pb.rtol + pb.atol))
         err = factor * np.abs(a.area - b.area)
         la_ = a.load + a.moment_lower + a.moment_upper
         lb_ = b.load + b.moment_lower + b.moment_upper

@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from ._cn_edges import compiled_track, compiled_window
 from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
 from ._grid import decades as _decades
+from ._grid import is_in as _is_in
 from ._grid import sorted_unique
 from ._problem import Problem
 from ._wall_table import kernels as table_kernels
@@ -56,10 +57,13 @@ _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-
 _START_GRID.setflags(write=False)
 
 
-def _start_time(pbs: list[Problem], k: float, lower: bool = True) -> float:
+def _start_time(
+    pbs: list[Problem], k: float, lower: bool = True, scan: Callable | None = None
+) -> float:
     """Largest tau_s with every real wall (the upper one only unless ``lower``) outside the
     window of every load of ``pbs`` on [0, tau_s] (the smallest of the loads' own).  The loads
-    of a batch share their walls and clock: the walls are evaluated once for all of them."""
+    of a batch share their walls and clock: the walls are evaluated once for all of them
+    (``scan``: :func:`._cn_lean.start_scan` compiled, for a tabled lower wall: the same)."""
     pb = pbs[0]
     tau_max = pb.tau_max
     shared = all(
@@ -67,6 +71,10 @@ def _start_time(pbs: list[Problem], k: float, lower: bool = True) -> float:
     )
     if not shared:
         return min(_start_time([p], k, lower) for p in pbs)
+    lo = pb.lower  # (a table's wall scanned in one compiled call)
+    if scan and lower and pb.upper is None and lo.table is not None and callable(lo.position):
+        p0 = np.array([p.p0 for p in pbs], dtype=float)
+        return float(scan(*lo.table.args(), _START_GRID, float(tau_max), float(k), p0))
     cand = tau_max * _START_GRID
     ks = k * np.sqrt(2.0 * cand)
     lo, up = pb.lower.at(cand), None if pb.upper is None else pb.upper.at(cand)
@@ -242,14 +250,6 @@ def _wall_speeds(
         before[at_bp] = (p_t - p_lo[at_bp]) / (t - lo[at_bp])
         after[at_bp] = (p_hi[at_bp] - p_t) / (hi[at_bp] - t)
     return before, after
-
-
-def _is_in(t: Array, values: tuple[float, ...] | list[float]) -> Array:
-    """``np.isin(t, values)`` for a few ``values`` (without its set-up cost)."""
-    out = np.zeros(t.shape, bool)
-    for v in values:
-        out |= t == v
-    return out
 
 
 def _track_wall(
@@ -429,11 +429,12 @@ def _edges_batch(
 _GRADE = 4.0  # steps uniform in (tau - tau_b)^(1/_GRADE) after a wall breakpoint
 
 
-def _joint_plan(
-    pbs: list[Problem], k: float, per_decade: float, tau_s: float, kinks: list[float] | None = None
-) -> _Plan:
+def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
+                kinks: list[float] | None = None, fast: Callable[..., tuple] | None = None,
+                ) -> _Plan:  # fmt: skip
     """One time schedule for a batch of loads: common analytic start, all kinks (the times
-    where a real wall enters or leaves the window; found here unless given)."""
+    where a real wall enters or leaves the window; found here unless given); ``fast``:
+    :func:`._cn_lean.plan_base` compiled (the same plan)."""
     pb = pbs[0]
     outs = pb.tau[pb.tau > tau_s]
     yield_wall = pb.upper is not None and not pb.upper.acts_absorbing
@@ -447,6 +448,10 @@ def _joint_plan(
         kinks = _switch_times_batch(pbs, k, tau_s, float(outs[-1]))
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
+    if fast is not None:  # (the rest in one compiled call)
+        zs, kk = np.array(zones, dtype=float).reshape(-1, 2), np.asarray(kinks, dtype=float)
+        base, index = fast(geo, outs, kk, graded, ratio, zs, tau_s)
+        return _Plan(base, index, tau_s, k, yield_wall, zones, outs=outs)
     fixed = sorted_unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
     # the geometric times far from every fixed one (relative gap 0.3 ratio)
     keep = (np.abs(geo[:, None] - fixed[None, :]) > (0.3 * ratio) * fixed).all(axis=1)

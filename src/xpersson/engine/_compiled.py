@@ -126,6 +126,47 @@ def tracks() -> tuple[Callable[..., None], Callable[..., None]] | None:
     return _STATE.get("tracks")
 
 
+def lean() -> tuple[Callable[..., Any], Callable[..., None]] | None:
+    """The compiled :func:`._cn_lean.level_setup` and :func:`._cn_lean.start_scale` once the
+    compiled march is built and the option is on, else None (the level's set-up by the
+    numpy path's pieces: the same numbers)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("lean")
+
+
+def start() -> Callable[..., float] | None:
+    """The compiled :func:`._cn_lean.start_scan` once the compiled march is built and the
+    option is on, else None (:func:`._cn_plan._start_time`'s numpy scan: the same time)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("start")
+
+
+def plan() -> Callable[..., tuple] | None:
+    """The compiled :func:`._cn_lean.plan_base` once the compiled march is built and the
+    option is on, else None (:func:`._cn_plan._joint_plan`'s numpy calls: the same plan)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("plan")
+
+
+def judge() -> Callable[..., tuple] | None:
+    """The compiled :func:`._cn_lean.judge_ratio` once the compiled march is built and the
+    option is on, else None (:meth:`._cn_control._Judge.ratio`'s numpy calls: the same)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("judge")
+
+
+def balances() -> Callable[..., tuple] | None:
+    """The compiled :func:`._cn_lean.batch_balances` once the compiled march is built and the
+    option is on, else None (:func:`._result._balances`' numpy calls: the same numbers)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("balances")
+
+
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
     """The compiled :func:`._moving_fused.level_march` and
     :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
@@ -134,11 +175,12 @@ def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
 
 
 def _build() -> Callable[..., int] | None:
-    from . import _cn_edges
+    from . import _cn_edges, _cn_lean, _wall_table
     from . import _moving_fused as fused_src
 
     # numba's disk cache keyed on the sources of these modules and everything they import
-    jit = numba_cache.njit(__name__, _cn_edges, fused_src, nogil=True, error_model="numpy")
+    mods = (_cn_edges, fused_src, _cn_lean, _wall_table)
+    jit = numba_cache.njit(__name__, *mods, nogil=True, error_model="numpy")
     if jit is None:  # numba is not installed
         return None
     # the kernels call the compiled helpers: the same code, its globals bound to the dispatchers
@@ -150,10 +192,39 @@ def _build() -> Callable[..., int] | None:
     _STATE["edges"] = jit(_cn_edges.window_edges)
     _STATE["times"] = jit(_cn_edges.level_times)
     _STATE["tracks"] = (jit(_cn_edges.wall_query), jit(_cn_edges.wall_track))
+    faces = jit(fused_src.face_coefficients)
+    _STATE["lean"] = _lean(jit, faces, _wall_table.kernels())
     code = fused_src.level_march.__code__
     level = jit(types.FunctionType(code, fused_scope, "level_march"))
-    _STATE["level"] = (level, jit(fused_src.face_coefficients))
+    _STATE["level"] = (level, faces)
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
+
+
+def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
+    """The compiled :mod:`._cn_lean` kernels, their callees bound to compiled ones (None
+    without the wall table's kernels)."""
+    from . import _cn_lean
+
+    if table is None:
+        return None
+    scope = {
+        **vars(_cn_lean),
+        "level_times": _STATE["times"],
+        "wall_query": _STATE["tracks"][0],
+        "wall_track": _STATE["tracks"][1],
+        "window_edges": _STATE["edges"],
+        "table_values": table[0],
+        "face_coefficients": faces,
+    }
+    setup = jit(types.FunctionType(_cn_lean.level_setup.__code__, scope, "level_setup"))
+    _STATE["start"] = jit(types.FunctionType(_cn_lean.start_scan.__code__, scope, "start_scan"))
+    _STATE["judge"] = jit(_cn_lean.judge_ratio)
+    scope["_nan_max"] = jit(_cn_lean._nan_max)
+    name = "batch_balances"
+    _STATE["balances"] = jit(types.FunctionType(_cn_lean.batch_balances.__code__, scope, name))
+    scope["_sorted_unique"] = jit(_cn_lean._sorted_unique)
+    _STATE["plan"] = jit(types.FunctionType(_cn_lean.plan_base.__code__, scope, "plan_base"))
+    return setup, jit(_cn_lean.start_scale)
 
 
 def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path holds them

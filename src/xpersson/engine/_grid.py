@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["clustered", "decades", "linspace0", "sorted_unique", "Stencils"]
+__all__ = ["clustered", "decades", "is_in", "linspace0", "sorted_unique", "Stencils"]
 
 Array = NDArray[np.float64]
 
@@ -51,6 +51,14 @@ def linspace0(stop: float, n: int) -> Array:
     if n > 1:
         y[-1] = stop
     return y
+
+
+def is_in(t: Array, values: tuple[float, ...] | list[float]) -> Array:
+    """``np.isin(t, values)`` for a few ``values`` (without its set-up cost)."""
+    out = np.zeros(t.shape, bool)
+    for v in values:
+        out |= t == v
+    return out
 
 
 def sorted_unique(values: Array) -> Array:

@@ -34,7 +34,6 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -42,16 +41,10 @@ from scipy.interpolate import CubicSpline
 from scipy.special import erf
 
 from . import _compiled
+from ._cn_lean import lean_level, lean_ok
 from ._cn_plan import Window, _edges_batch, _level_times, _Plan
 from ._cnstep import tridiagonal_solve
-from ._level import (
-    Level,
-    LevelGrid,
-    LevelNodes,
-    Outputs,
-    SystemRows,
-    level_grid,
-)
+from ._level import Level, LevelInputs, Outputs, SystemRows, level_grid
 from ._moving_block import Block, block_system
 from ._moving_fused import _SNAP, _reduce_snapshots, fused_level
 from ._problem import Problem
@@ -67,35 +60,6 @@ _REPORT_EVERY = 64  # time steps between progress reports (see _progress)
 
 
 _BLOCK = 1 << 16  # operator entries built at once per array (steps x loads x nodes)
-
-
-class LevelInputs(NamedTuple):
-    """What one grid level marches on (also what the tests' reference solver is given)."""
-
-    taus: Array
-    """Times ``tau_0 .. tau_M`` [Pa^2] of the ``M`` steps."""
-    theta: Array
-    """Implicitness per step, ``(M,)``: 1/2 (Crank-Nicolson) or 1 (implicit Euler)."""
-    out_at: Array
-    """For every numerical output, the number of steps after which it is taken."""
-    nodes: LevelNodes
-    """The nodes on [0, 1]."""
-    window: Window
-    """The window's edges per load and step."""
-    p0: Array
-    """Loads ``(loads, 1)`` [Pa]."""
-    k: float
-    """Half-width of the window in units of ``sqrt(2 tau)`` (the start's window mass is
-    ``erf(k / sqrt 2)``)."""
-    yield_wall: bool
-    """Whether the upper wall is a (moving) yield wall: its closure rows replace the
-    absorbing wall."""
-    image: float | None = None
-    """The resting absorbing lower wall [Pa] of a one-wall start (the start state is the
-    image solution), or None (the free Gaussian)."""
-    grid: LevelGrid | None = None
-    """The level's nodes, rows and face functions (:func:`._level.level_grid`), or None
-    (looked up where needed)."""
 
 
 def level_inputs(
@@ -164,6 +128,11 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads
     (see :func:`level_inputs`): outputs ``(loads, outputs)`` at the numerical output times,
     or the reason the level failed."""
+    lean = _compiled.lean()
+    if lean is not None and lean_ok(pbs, plan, nsub) and not progress_reported():
+        level = lean_level(lean, _compiled.fused(), pbs, plan, n, nsub, stretch, n_ie)
+        if level is not None:
+            return level
     inp = level_inputs(pbs, plan, n, nsub, stretch, n_ie)
     win, nn = inp.window, inp.nodes.x.size
     if np.count_nonzero(win.start.width <= 0) or np.count_nonzero(win.end.width <= 0):

@@ -43,11 +43,12 @@ _SNAP = 1 << 20  # largest output snapshot array (outputs x loads x nodes), both
 
 
 def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r0: Array,
-                stretch: float) -> Level | None:  # fmt: skip
+                stretch: float, coef_all: Array | None = None) -> Level | None:  # fmt: skip
     """The outputs of the level ``inp`` (:class:`._moving.LevelInputs`) marched from the state
     ``r0`` (the loads concatenated) by ``fns``: :func:`level_march` and
     :func:`face_coefficients` (compiled, or as Python); None where the outputs' states would be
-    too many to keep (the caller marches)."""
+    too many to keep (the caller marches). ``coef_all``: every step's face coefficients
+    (steps, 4, loads, 3) if already made (:func:`._cn_lean.level_setup`)."""
     march, coefficients = fns
     win, nodes = inp.window, inp.nodes
     s, e = win.start, win.end
@@ -61,13 +62,18 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
     n_steps = inp.taus.size - 1
     block = max(1, min(_OPS // (4 * nb * nn), n_steps))
     # (the loads' rows concatenated: the march takes each step's four rows with no reshape)
-    coef, ops = np.empty((block, 4, nb, 3)), np.empty((block, 4, nb * nn))
+    coef = np.empty((block, 4, nb, 3)) if coef_all is None else coef_all
+    ops = np.empty((block, 4, nb * nn))
     for m0 in range(0, n_steps, block):
         c = min(block, n_steps - m0)
-        coefficients(m0, m0 + c, inp.taus, inp.theta, s.width, s.lower_speed, s.width_speed,
-                     e.width, e.lower_speed, e.width_speed, coef)  # fmt: skip
+        if coef_all is None:
+            coefficients(m0, m0 + c, inp.taus, inp.theta, s.width, s.lower_speed,
+                         s.width_speed, e.width, e.lower_speed, e.width_speed, coef)  # fmt: skip
+            cf = coef[:c]
+        else:
+            cf = coef_all[m0 : m0 + c]
         # the face coefficients: the numpy path's BLAS product (face_ops), the same numbers
-        np.matmul(coef[:c].reshape(-1, 3), basis, out=ops[:c].reshape(-1, nn))
+        np.matmul(cf.reshape(-1, 3), basis, out=ops[:c].reshape(-1, nn))
         info = march(
             m0, m0 + c, ops, nodes.w, rows.volumes, rows.walls, rows.last, inp.yield_wall,
             win.real_lower, win.real_upper, e.yield_speed, s.lower, s.width, e.lower, e.width,

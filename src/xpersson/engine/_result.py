@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -215,6 +216,21 @@ def _fixed_positions(problem: Problem) -> tuple[Array, Array]:
     return problem.wall_positions(t)
 
 
+def _screened_balances(problem: Problem, raw: Raw) -> tuple:
+    """:func:`_balances` (exact zeros for identities) and the screen's reductions where one
+    compiled call gives both (:func:`._cn_lean.batch_balances`, no upper wall; else None)."""
+    if raw.exact_balances:  # identities by construction: exact zeros (read-only, no memory)
+        zero = broadcast_view(np.zeros(()), problem.tau.shape)
+        return (*_fixed_positions(problem), zero, zero, None)
+    compiled = sys.modules.get(f"{__package__}._compiled")  # (loaded with the march only)
+    fast = None if compiled is None else compiled.balances()  # (then _cn_lean is loaded)
+    if fast is not None and problem.upper is None:
+        lo, up = _fixed_positions(problem)
+        lean = sys.modules[f"{__package__}._cn_lean"]
+        return (lo, up, *lean.batch_balances_of(fast, problem, raw, lo))
+    return (*_balances(problem, raw), None)
+
+
 def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
     lo, up = _fixed_positions(problem)
     # in place: one new array each (fresh large temporaries cost page faults)
@@ -397,11 +413,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     """
     shape = problem.tau.shape
     n = shape[0]
-    if raw.exact_balances:  # identities by construction: exact zeros (read-only, no memory)
-        lo, up = _fixed_positions(problem)
-        prob = loadb = broadcast_view(np.zeros(()), shape)
-    else:
-        lo, up, prob, loadb = _balances(problem, raw)
+    lo, up, prob, loadb, red = _screened_balances(problem, raw)  # (fresh arrays: methods)
     bal_tol = balance_tolerance(problem.rtol, problem.atol)
     raw_ok = _raw_ok(raw, n)
     # NaN/inf in any field reaches a balance or one of the sums (max/min/sum propagate NaN)
@@ -409,17 +421,16 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         finite_all = bool(np.isfinite(np.sum(raw.area) + np.sum(raw.non_area)))
         worst_all = 0.0
     else:
-        # (prob and loadb are the fresh arrays of _balances: their methods, not np.max's
-        # dispatch)
-        worst_all = max(
-            float(prob.max()), -float(prob.min()), float(loadb.max()), -float(loadb.min())
-        )
+        worst = (prob.max(), -prob.min(), loadb.max(), -loadb.min()) if red is None else red[:4]
+        worst_all = max(float(worst[0]), float(worst[1]), float(worst[2]), float(worst[3]))
         finite_all = math.isfinite(worst_all) and math.isfinite(np.asarray(raw.non_area).sum())
     if raw.P is not None:
         finite_all = finite_all and bool(np.isfinite(np.sum(raw.P)))
     form = raw.error_form
     if form is not None and form[0] <= problem.rtol and form[1] <= problem.atol:
         tol_all = True  # error_estimate <= c |area| + d <= rtol |area| + atol everywhere
+    elif red is not None:
+        tol_all = bool(red[4] <= problem.atol)  # False where it is NaN
     else:
         slack = np.abs(raw.area)
         slack *= -problem.rtol

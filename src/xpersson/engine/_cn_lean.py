@@ -1,0 +1,405 @@
+"""A ``cn`` level's set-up in one compiled call (the compiled path's lean level).
+
+On the small levels an accurate error control leaves (tens of nodes, tens of steps: a few
+thousand node-steps) the march itself is a few microseconds; the Python around it was most of
+a level's time: the level's times (:func:`._cn_plan._level_times`), the wall's track
+(:func:`._cn_plan._tracks`), the window (:func:`._cn_plan._edges_batch`), the output steps,
+the face coefficients (:func:`._moving_fused.face_coefficients`) and the start state
+(:func:`._moving._initial_state`), each a compiled call or a dozen numpy calls with its own
+allocations and argument checks. :func:`level_setup` does all of them in one call, by the same
+compiled kernels in the same order (the numbers are the numpy path's bit for bit: every
+operation is one rounding, no sums, ``tests/engine/test_cn_lean.py``); what numba need not
+reproduce stays numpy's: the start state's ``exp`` (numpy's own, which ``libm``'s differs from
+in the last bit), its mass (a ``gemv``) and the face coefficients' product with the face
+functions (a ``gemm``).
+
+Taken where the compiled march is in force (:func:`._compiled.lean`), for the common case: an
+absorbing lower wall carrying a table (:class:`._wall_table.WallTable`, speeds differenced), no
+upper wall, no densities or progress reports, no one-wall (image) start, and no
+graded stretch subdivided in the level; every other level takes :func:`._moving._march`.
+
+The same for the rest of a solve's small numpy work, each one compiled call with the numpy
+path's operations (bit for bit; the numpy path stays where numba is off or missing):
+:func:`start_scan` (the start time of a tabled lower wall), :func:`plan_base` (the time plan's
+base sequence after its geometric times), :func:`judge_ratio` (the error control's estimate and
+worst ratio) and :func:`batch_balances` (a batch's balances and the screen's reductions).
+Units: tau in Pa^2, pressures in Pa, speeds in 1/Pa.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._cn_plan import Edge, Window, _differenced, _grades, _Plan
+from ._level import Level, LevelInputs, level_grid
+from ._moving_fused import fused_level
+from ._problem import Problem
+
+__all__ = [
+    "batch_balances_of",
+    "batch_balances",
+    "judge_ratio",
+    "lean_inputs",
+    "lean_level",
+    "lean_ok",
+    "level_setup",
+    "plan_base",
+    "start_scale",
+    "start_scan",
+]
+
+Array = NDArray[np.float64]
+
+
+def lean_ok(pbs: list[Problem], plan: _Plan, nsub: int) -> bool:
+    """Whether the level of ``plan`` subdivided ``nsub`` times takes :func:`lean_level`
+    (see the module)."""
+    pb = pbs[0]
+    lo = pb.lower
+    if pb.upper is not None or pb.p_out is not None or plan.image is not None:
+        return False
+    if lo is None or lo.table is None or not _differenced(lo) or plan.base.size < 2:
+        return False
+    return not _grades(plan.base, nsub, plan.zones)
+
+
+def lean_level(
+    fns: tuple[Callable[..., Any], Callable[..., None]],
+    kernels: tuple[Callable[..., int], Callable[..., None]],
+    pbs: list[Problem],
+    plan: _Plan,
+    n: int,
+    nsub: int,
+    stretch: float,
+    n_ie: int,
+) -> Level | None:
+    """The level ``(n, nsub)`` of ``plan`` (``stretch``, ``n_ie`` as in
+    :func:`._moving.level_inputs`) set up by ``fns`` (:func:`lean_inputs`) and marched by
+    :func:`._moving_fused.fused_level` with ``kernels`` (compiled); None where that declines
+    (the caller marches)."""
+    made = lean_inputs(fns, pbs, plan, n, nsub, stretch, n_ie)
+    if isinstance(made, Level):
+        return made
+    inp, r0, coef = made
+    return fused_level(kernels, inp, r0, stretch, coef)
+
+
+def lean_inputs(
+    fns: tuple[Callable[..., Any], Callable[..., None]],
+    pbs: list[Problem],
+    plan: _Plan,
+    n: int,
+    nsub: int,
+    stretch: float,
+    n_ie: int,
+) -> tuple[LevelInputs, Array, Array] | Level:
+    """``(inputs, start state, face coefficients)`` of the level (what
+    :func:`._moving.level_inputs`, :func:`._moving._initial_state` and
+    :func:`._moving_fused.face_coefficients` give) by ``fns``: :func:`level_setup` and
+    :func:`start_scale` (compiled); or the failed level where the walls swept the window."""
+    setup, scale = fns
+    pb = pbs[0]
+    nb = len(pbs)
+    grid = level_grid(nb, n, stretch)
+    p0 = np.array([p.p0 for p in pbs], dtype=float)
+    outs = plan.outs if plan.outs is not None else pb.tau[pb.tau > plan.tau_s]
+    zone_starts = np.array([tb for tb, _ in plan.zones])
+    chord_from = plan.zones[0][0] if plan.zones else math.inf
+    bp = np.asarray(pb.lower.breakpoints, dtype=float)
+    taus, theta, out, flags, out_at, coef, r0, ok = setup(
+        plan.base, nsub, n_ie, zone_starts, chord_from, outs, p0, float(plan.k),
+        *pb.lower.table.args(), bp, grid.nodes.x,
+    )  # fmt: skip
+    if not ok:
+        return Level(None, 0, n + 1, "the walls swept the whole window (area 0)")
+    np.exp(r0, out=r0)  # (numpy's exp: the numpy path's start state)
+    scale(r0, out[1], taus[0])
+    r0 *= (math.erf(plan.k / math.sqrt(2.0)) / (r0 @ grid.nodes.w))[:, None]
+    start = Edge(out[0], out[1], out[4], out[5], out[6])
+    end = Edge(out[2], out[3], out[7], out[8], out[9])
+    window = Window(flags[0], flags[1], start, end, flags[3])
+    inp = LevelInputs(
+        taus, theta, out_at, grid.nodes, window, p0[:, None], plan.k, plan.yield_wall,
+        plan.image, grid,
+    )  # fmt: skip
+    return inp, r0.ravel(), coef
+
+
+def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they hold them
+    base: Any,
+    nsub: int,
+    n_ie: int,
+    zone_starts: Any,
+    chord_from: float,
+    outs: Any,
+    p0: Any,
+    k: float,
+    c: Any,
+    x: Any,
+    t_lo: float,
+    t_hi: float,
+    extrapolate: bool,
+    root: bool,
+    negate: bool,
+    bp: Any,
+    xn: Any,
+) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
+    """A lean level's set-up (see the module): ``(taus, theta, out, flags, out_at, coef,
+    arg, ok)`` with ``taus``, ``theta`` of :func:`._cn_plan._level_times` (``base`` [Pa^2]
+    subdivided ``nsub`` times, ``n_ie`` implicit-Euler half steps, theta 1 at the
+    ``zone_starts``), ``out`` and ``flags`` of :func:`._cn_edges.window_edges` for the loads
+    ``p0`` [Pa] (window half-width ``k``; the lower wall the table ``c .. negate`` with
+    breakpoints ``bp``; no upper wall; chord speeds from
+    ``chord_from``), ``out_at`` the steps of the output times ``outs`` (``np.searchsorted``),
+    ``coef`` (steps, 4, loads, 3) of :func:`._moving_fused.face_coefficients`, ``arg``
+    (loads, nodes) the start state's exponent ``-(l + W x - p0)^2 / (4 tau_0)`` at the nodes
+    ``xn`` (:func:`._moving._initial_state`'s operations), and ``ok``: whether the window's
+    width stays positive (else the walls swept it)."""
+    nb = p0.shape[0]
+    size = (base.shape[0] - 1) * nsub + 1
+    n_ie = min(n_ie, size - 1)
+    taus, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
+    level_times(base, nsub, n_ie, taus, theta)  # noqa: F821 - bound by _compiled._build
+    n = taus.shape[0] - 1
+    for i in range(n):
+        for tb in zone_starts:
+            if taus[i] == tb:
+                theta[i] = 1.0
+    mid = np.empty(n)
+    for i in range(n):
+        mid[i] = 0.5 * (taus[i] + taus[i + 1])
+    # the lower wall's track (:func:`._wall_table.table_track`'s calls)
+    lo_m, lo, vb, va = np.empty(n), np.empty(n + 1), np.empty(n + 1), np.empty(n + 1)
+    hi_t, lo_t, q = np.empty(n + 1), np.empty(n + 1), np.empty(4 * n + 3)
+    wall_query(taus, mid, bp, hi_t, lo_t, q)  # noqa: F821
+    p = np.empty(q.shape[0])
+    table_values(c, x, t_lo, t_hi, extrapolate, q, p, root, negate)  # noqa: F821
+    wall_track(p, taus, hi_t, lo_t, bp, lo_m, lo, vb, va)  # noqa: F821
+    up, zero = np.full(n + 1, math.inf), np.zeros(n + 1)
+    out, flags = np.empty((10, nb, n)), np.empty((4, nb, n), dtype=np.bool_)
+    window_edges(p0, k, False, False, chord_from, taus, mid, lo_m, up[:n], lo, up, va, vb,  # noqa: F821
+                 zero, zero, zero, out, flags)  # fmt: skip
+    ok = True
+    for qq in range(nb):
+        for i in range(n):
+            if out[1, qq, i] <= 0.0 or out[3, qq, i] <= 0.0:
+                ok = False
+    out_at = np.empty(outs.shape[0], np.int64)
+    j = 0
+    for o in range(outs.shape[0]):  # (np.searchsorted, side "left": outs sorted)
+        while j <= n and taus[j] < outs[o]:
+            j += 1
+        out_at[o] = j
+    coef = np.empty((n, 4, nb, 3))
+    face_coefficients(0, n, taus, theta, out[1], out[4], out[5], out[3], out[7], out[8], coef)  # noqa: F821
+    t0 = taus[0]
+    arg = np.empty((nb, xn.shape[0]))
+    for qq in range(nb):
+        la, wa = out[0, qq, 0], out[1, qq, 0]
+        for jj in range(xn.shape[0]):
+            v = wa * xn[jj]
+            v = v + la
+            v = v - p0[qq]
+            v = v * v
+            arg[qq, jj] = v / (-4.0 * t0)
+    return taus, theta, out, flags, out_at, coef, arg, ok
+
+
+def start_scale(r: Any, width: Any, t0: float) -> None:  # pragma: no cover - compiled
+    """The start state after numpy's ``exp`` of :func:`level_setup`'s exponent: times the
+    window's width at the start ``width[:, 0]`` [Pa] and ``1 / sqrt(4 pi t0)`` [1/Pa], the
+    walls' rows 0 (:func:`._moving._initial_state`'s operations, in place)."""
+    c = 1.0 / math.sqrt(4.0 * math.pi * t0)
+    nn = r.shape[1]
+    for q in range(r.shape[0]):
+        w = width[q, 0]
+        for j in range(nn):
+            r[q, j] = r[q, j] * w * c
+        r[q, 0] = 0.0
+        r[q, nn - 1] = 0.0
+
+
+def start_scan(  # noqa: PLR0913 - the table's arrays, as it holds them
+    c: Any,
+    x: Any,
+    t_lo: float,
+    t_hi: float,
+    extrapolate: bool,
+    root: bool,
+    negate: bool,
+    grid: Any,
+    tau_max: float,
+    k: float,
+    p0: Any,
+) -> float:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._cn_plan._start_time` of the loads ``p0`` [Pa] with the table's lower wall and
+    no upper one: the first of the candidate times ``tau_max grid`` [Pa^2] where the wall
+    reaches a load's window ``p0 - k sqrt(2 tau)``, the same comparisons."""
+    n, nb = grid.shape[0], p0.shape[0]
+    cand = np.empty(n)
+    for j in range(n):
+        cand[j] = tau_max * grid[j]
+    pos = np.empty(n)
+    table_values(c, x, t_lo, t_hi, extrapolate, cand, pos, root, negate)  # noqa: F821
+    first = np.full(nb, -1, np.int64)
+    left = nb
+    for j in range(n):
+        ks = k * math.sqrt(2.0 * cand[j])
+        for q in range(nb):
+            if first[q] < 0 and not pos[j] <= p0[q] - ks:
+                first[q] = j
+                left -= 1
+        if left == 0:
+            break
+    best = tau_max
+    for q in range(nb):
+        if first[q] == 0:
+            t = cand[0]
+        elif first[q] > 0:
+            t = cand[first[q] - 1] * 0.5
+        else:
+            t = tau_max
+        best = min(best, t)
+    return best
+
+
+def _sorted_unique(v: Any) -> Any:  # pragma: no cover - compiled
+    """:func:`._grid.sorted_unique` of a fresh 1-D float array (sorted in place)."""
+    v.sort()
+    keep = np.empty(v.shape[0], np.bool_)
+    for i in range(v.shape[0]):
+        keep[i] = i == 0 or v[i] != v[i - 1]
+    return v[keep]
+
+
+def plan_base(
+    geo: Any, outs: Any, kinks: Any, graded: Any, ratio: float, zones: Any, tau_s: float
+) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The time plan's base sequence [Pa^2] and the outputs' indices in it, as
+    :func:`._cn_plan._joint_plan` makes them from the geometric times ``geo``, the outputs
+    ``outs``, the window's ``kinks``, the ``graded`` zones' times (their ``zones`` (m, 2):
+    start, end), the step ``ratio`` and the start ``tau_s`` (the same comparisons)."""
+    fixed = _sorted_unique(np.concatenate((outs, kinks, graded)))
+    thr = 0.3 * ratio
+    end = outs[outs.shape[0] - 1]
+    keep = np.empty(geo.shape[0], np.bool_)
+    for i in range(geo.shape[0]):
+        ok = True
+        for j in range(fixed.shape[0]):
+            if not abs(geo[i] - fixed[j]) > thr * fixed[j]:
+                ok = False
+                break
+        for z in range(zones.shape[0]):
+            ok = ok and (geo[i] <= zones[z, 0] or geo[i] >= zones[z, 1])
+        keep[i] = (ok or i == 0) and geo[i] < end
+    base = _sorted_unique(np.concatenate((geo[keep], fixed)))
+    base = base[base >= tau_s]
+    index = np.empty(outs.shape[0], np.int64)
+    j = 0
+    for o in range(outs.shape[0]):  # (np.searchsorted, side "left": outs sorted)
+        while j < base.shape[0] and base[j] < outs[o]:
+            j += 1
+        index[o] = j
+    return base, index
+
+
+def judge_ratio(  # noqa: PLR0913 - the two answers' fields
+    a_area: Any,
+    b_area: Any,
+    a_load: Any,
+    a_ml: Any,
+    a_mu: Any,
+    b_load: Any,
+    b_ml: Any,
+    b_mu: Any,
+    scale: Any,
+    factor: float,
+    rtol: float,
+    atol: float,
+) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:meth:`._cn_control._Judge.ratio`'s numbers in one pass (loads, outputs): the estimate
+    ``factor |a - b|`` of the area, the largest estimate / tolerance of the area and the
+    largest ``factor |load identity a - b| / scale`` [1] (NaN where any is NaN, as numpy's
+    ``max``), the same operations element by element."""
+    nb, n_out = a_area.shape
+    err = np.empty((nb, n_out))
+    m_area, m_load = -math.inf, -math.inf
+    for q in range(nb):
+        for j in range(n_out):
+            e = factor * abs(a_area[q, j] - b_area[q, j])
+            err[q, j] = e
+            r = e / (rtol * abs(a_area[q, j]) + atol)
+            la = a_load[q, j] + a_ml[q, j] + a_mu[q, j]
+            lb = b_load[q, j] + b_ml[q, j] + b_mu[q, j]
+            g = factor * abs(la - lb) / scale[q, j]
+            if not r <= m_area:  # (a larger value, or NaN: NaN stays)
+                m_area = r if m_area == m_area else m_area
+            if not g <= m_load:
+                m_load = g if m_load == m_load else m_load
+    return err, m_area, m_load
+
+
+def batch_balances_of(fast: Callable[..., tuple], problem: Problem, raw: Any, lo: Array) -> tuple:
+    """:func:`._result._balances` and the screen's reductions of :func:`._result.finish_batch`
+    for a batch ``raw`` of ``problem`` without an upper wall (``lo``: the lower wall's
+    positions [Pa], as ``_fixed_positions`` gives them) by ``fast``
+    (:func:`batch_balances`, compiled): ``(prob, loadb, reductions)``."""
+    n = raw.area.shape[-1]
+    lo2 = lo.reshape(-1, n) if lo.ndim else np.full((1, n), lo)
+    return fast(raw.area, raw.absorbed_lower, raw.absorbed_upper, raw.load, raw.wall_term,
+                raw.error_estimate, problem.p0, lo2, problem.rtol)  # fmt: skip
+
+
+def _nan_max(m: float, v: float) -> float:  # pragma: no cover - compiled
+    """The running ``max`` of numpy (NaN once any value is NaN)."""
+    if m != m or v != v:
+        return math.nan if v != v or m != m else m
+    return v if v > m else m
+
+
+def batch_balances(  # noqa: PLR0913 - the batch's fields
+    area: Any,
+    abs_l: Any,
+    abs_u: Any,
+    load: Any,
+    wall_term: Any,
+    error: Any,
+    p0: Any,
+    lo: Any,
+    rtol: float,
+) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._result._balances` of a batch without an upper wall (``lo`` the lower wall's
+    positions (1 or loads, outputs) [Pa], ``p0`` (loads, 1) [Pa]) and the screen's reductions
+    of :func:`._result.finish_batch` in one pass: ``(prob, loadb, [max prob, -min prob, max
+    loadb, -min loadb, max (error - rtol |area|)])`` (numpy's NaN-propagating ``max``/``min``),
+    the same operations element by element."""
+    nb, n = area.shape
+    prob, loadb = np.empty((nb, n)), np.empty((nb, n))
+    red = np.full(5, -math.inf)
+    for q in range(nb):
+        p = p0[q, 0]
+        a = abs(p)
+        for j in range(n):
+            v = area[q, j] + abs_l[q, j]
+            v = v + abs_u[q, j]
+            v = v - 1.0
+            prob[q, j] = v
+            b = abs(lo[q if lo.shape[0] > 1 else 0, j])
+            sc = a if a != a else (b if b != b else (b if b > a else a))
+            sc = sc if sc > 0 else 1.0
+            g = load[q, j] + wall_term[q, j]
+            g = g - p
+            g = g / sc
+            loadb[q, j] = g
+            red[0] = _nan_max(red[0], v)
+            red[1] = _nan_max(red[1], -v)
+            red[2] = _nan_max(red[2], g)
+            red[3] = _nan_max(red[3], -g)
+            slack = abs(area[q, j]) * -rtol
+            red[4] = _nan_max(red[4], slack + error[q, j])
+    return prob, loadb, red
