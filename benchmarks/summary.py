@@ -298,8 +298,10 @@ def held_out_run(seed: int, rounds: int | None, check: bool, texts: list[str] | 
             meta = {**before["meta"], "partial": partial}
             raw = {**before["raw"], **raw}
     held = {"meta": meta, "rows": summarize(raw, P.TARGETS, {}), "raw": raw}
-    if check:
-        return table(held["rows"], {**meta, "machine": platform.machine()})
+    if check:  # a fresh seed's worst rows, printed (nothing written)
+        text = table(held["rows"], {**meta, "machine": platform.machine()})
+        print(text)
+        return text
     file.write_text(json.dumps(held, indent=1, default=float))
     saved = json.loads((HERE / "results" / "summary.json").read_text())
     rows = summarize(saved["raw"], P.TARGETS, dict(saved.get("memory", {})))
