@@ -15,9 +15,11 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from ._fasterf import _C0, _C1, _C2, _C3, _N, _X_ONE
 
-__all__ = ["band_sums"]
+__all__ = ["band_sums", "series_horner"]
 
 _NODES = float(_N)
 _TOP = _X_ONE * _N
@@ -110,3 +112,42 @@ def band_sums(
             e = touched[1, n]
             out[e] += acc[e]
             acc[e] = 0.0
+
+
+def series_horner(
+    acc: Any, cnt: Any, u2: Any, sigma: float, start: Any, out: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """The running sums and the Horner loop of ``_gap_distribution._series_sum``.
+
+    ``acc`` (n_term, n_slot, n_load) first gets ``np.cumsum(acc[:, 1:], axis=1)`` in place
+    (numpy's sequential order, the first slot copied); then for each load ``l`` and column
+    ``j < cnt.shape[1]``, with ``x = min(u2[l, j] sigma, 1e150)`` (``u2[0, j]`` when ``u2``
+    has one row) and ``e = cnt[l, j] n_load + l`` (clipped to a term's ``n_slot n_load``
+    entries, as ``np.take(mode="clip")``), ``r = (r + acc[n, e]) x^2`` over the terms ``n =
+    n_term - 1 .. 1`` with ``start[n] <= j`` (from ``r = 0``), then ``out[l, j] = (r + acc[0,
+    e]) x``: numpy's operations on each element in its order (the columns beyond ``cnt``'s are
+    left as found)."""
+    n_term, n_slot, n_load = acc.shape
+    for n in range(n_term):
+        for m in range(2, n_slot):
+            for l in range(n_load):
+                acc[n, m, l] = acc[n, m - 1, l] + acc[n, m, l]
+    flat = acc.reshape(n_term, n_slot * n_load)
+    size = n_slot * n_load
+    top = cnt.shape[1]
+    r, x, x2 = np.empty(top), np.empty(top), np.empty(top)
+    e = np.empty(top, dtype=np.intp)
+    for l in range(n_load):
+        ul = l if u2.shape[0] > 1 else 0  # one row of u shared by every load
+        for j in range(top):
+            v = u2[ul, j] * sigma
+            if v > 1e150:  # np.minimum (NaN kept)
+                v = 1e150
+            x[j], x2[j], r[j] = v, v * v, 0.0
+            k = cnt[l, j] * n_load + l
+            e[j] = 0 if k < 0 else (size - 1 if k >= size else k)
+        for n in range(n_term - 1, 0, -1):
+            for j in range(start[n], top):
+                r[j] = (r[j] + flat[n, e[j]]) * x2[j]
+        for j in range(top):
+            out[l, j] = (r[j] + flat[0, e[j]]) * x[j]

@@ -127,6 +127,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         erf_diff_series,
         _spline_sums.spline_sub_sums,
         _band_sums.band_sums,
+        _band_sums.series_horner,
     )
     return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 

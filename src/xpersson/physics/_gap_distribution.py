@@ -341,12 +341,16 @@ def _series_sum(
     slot = np.arange(lu.size) - first
     acc = np.zeros((n_term, int(slot.max()) + 2, n_load))
     acc[:, slot + 1, lu] = c
-    # acc[:, m, l]: the m longest prefixes of load l (a sequential running sum, as a loop)
-    np.cumsum(acc[:, 1:], axis=1, out=acc[:, 1:])
-    acc = acc.reshape(n_term, -1)
     # columns j of load l lie in the prefixes of the pairs with jt > j: count them
     cnt = np.bincount(lu * (n_u + 1) + ju, minlength=n_load * (n_u + 1)).reshape(n_load, -1)
     cnt = np.cumsum(cnt[:, top:0:-1], axis=1)[:, ::-1]
+    fn = _compiled_kernel(float(n_term * top * n_load), "series_horner")
+    if fn is not None:  # the sums and the loop below element by element (the same bits)
+        fn(acc, np.ascontiguousarray(cnt), u2, sigma, start, out)
+        return out
+    # acc[:, m, l]: the m longest prefixes of load l (a sequential running sum, as a loop)
+    np.cumsum(acc[:, 1:], axis=1, out=acc[:, 1:])
+    acc = acc.reshape(n_term, -1)
     cnt = np.ascontiguousarray(cnt.T)  # (top, n_load): a term's first columns are whole rows
     cnt *= n_load
     cnt += np.arange(n_load)
