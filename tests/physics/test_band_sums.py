@@ -66,3 +66,42 @@ def test_kernel_gives_the_numpy_bits(compiled, seed, n_load, n_bin, spread, n_u,
         got = gap_cdf(det, u)
     assert "band_sums" in asked
     np.testing.assert_array_equal(got, want)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@settings(max_examples=12, deadline=None)
+@given(
+    st.integers(0, 2**32 - 1),
+    st.integers(1, 6),
+    st.integers(1, 12),
+    st.floats(0.0, 3.0),
+    st.integers(2, 300),
+    st.booleans(),
+)
+def test_series_kernel_gives_the_numpy_bits(compiled, seed, n_load, n_bin, spread, n_u, per_load):
+    """``_series_sum``'s running sums and Horner loop (``series_horner``): the numpy bits."""
+    if compiled:
+        pytest.importorskip("numba")
+        fn = _compiled.kernel(math.inf, "series_horner")
+        if fn is None:
+            pytest.skip("compiled kernels are off (XPERSSON_COMPILED=off)")
+    else:
+        fn = _band_sums.series_horner
+    rng = np.random.default_rng(seed)
+    det = _detachment(rng, n_load, n_bin, spread)
+    top = float(np.max(det.h)) * rng.uniform(0.5, 5.0)  # many columns in the series' range
+    u = np.linspace(0.0, top, n_u)
+    if per_load:
+        u = np.sort(rng.uniform(0.0, top, (n_load, n_u)), axis=1)
+    with xpersson.set_options(compiled=False):
+        want = gap_cdf(det, u)
+    asked: list[str] = []
+
+    def kernel(work: float, name: str = "gap_rows"):
+        asked.append(name)
+        return fn if name == "series_horner" else None
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_gap_distribution, "_compiled_kernel", kernel)
+        got = gap_cdf(det, u)
+    assert got.tobytes() == want.tobytes()

@@ -135,9 +135,31 @@ def one_wall_area_non(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> t
     # and two unmasked passes cost less than splitting the array by boolean masks
     # (large temporaries are reused: each fresh 0.4 MB array of a 1000 x 51 batch costs about
     # as much in page faults as the special function itself)
-    area = erf(x)
-    non = erfc(x, out=x)
-    return area, non
+    return _erf_erfc(x)
+
+
+#: ``erf(x)`` is exactly 1 for every ``x >= 6.5`` and ``erfc(x)`` exactly +0 for every
+#: ``x >= 28`` (``erfc(6.5) = 3.8e-20``, ``erfc(28) = 6e-343``: scipy's, as any faithful one).
+_ERF_ONE, _ERFC_ZERO = 6.5, 28.0
+
+
+def _erf_erfc(x: Array) -> tuple[Array, Array]:
+    """``(erf(x), erfc(x))``, the second into ``x``: the leading columns (last axis) where
+    every ``x`` is beyond :data:`_ERF_ONE` / :data:`_ERFC_ZERO` (near ``tau = 0``: about half
+    the loads' dense grid) set to those values, not evaluated (the same bits)."""
+    if x.ndim < 2:
+        return erf(x), erfc(x, out=x)
+    low = np.min(x, axis=tuple(range(x.ndim - 1)))  # (NaN: never beyond)
+    j1, j2 = (int(np.argmin(low >= c)) if not np.all(low >= c) else low.size for c in _CUTS)
+    area = np.empty_like(x)
+    area[..., :j1] = 1.0
+    erf(x[..., j1:], out=area[..., j1:])
+    x[..., :j2] = 0.0
+    erfc(x[..., j2:], out=x[..., j2:])
+    return area, x
+
+
+_CUTS = (_ERF_ONE, _ERFC_ZERO)
 
 
 def one_wall_non_area(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> Array:

@@ -15,9 +15,11 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from ._fasterf import _C0, _C1, _C2, _C3, _N, _X_ONE
 
-__all__ = ["band_sums"]
+__all__ = ["band_sums", "series_horner"]
 
 _NODES = float(_N)
 _TOP = _X_ONE * _N
@@ -110,3 +112,61 @@ def band_sums(
             e = touched[1, n]
             out[e] += acc[e]
             acc[e] = 0.0
+
+
+def series_horner(
+    coef: Any,
+    order: Any,
+    lu: Any,
+    ju: Any,
+    slot: Any,
+    n_slot: int,
+    u2: Any,
+    sigma: float,
+    start: Any,
+    top: int,
+    out: Any,
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """The prefix sums, the column counts and the Horner loop of
+    ``_gap_distribution._series_sum`` (pairs ``order``, their loads ``lu``, prefixes ``ju``
+    and slots ``slot``), numpy's operations on each element in its order.
+
+    ``acc[n, slot + 1, lu] = coef[n, order]`` from zeros, then the running sums along the
+    slots (numpy's sequential ``cumsum`` of ``acc[:, 1:]``: the first copied); per load ``l``
+    and column ``j < top``, ``k`` the number of its pairs with ``ju > j``, ``e = k n_load + l``
+    (clipped as ``np.take(mode="clip")``) and ``x = min(u2[l, j] sigma, 1e150)`` (``u2[0,
+    j]`` when ``u2`` has one row): ``r = (r + acc[n, e]) x^2`` over the terms ``n = n_term -
+    1 .. 1`` with ``start[n] <= j`` (from ``r = 0``), then ``out[l, j] = (r + acc[0, e]) x``
+    (the columns from ``top`` on are left as found)."""
+    n_term, n_load = coef.shape[0], out.shape[0]
+    acc = np.zeros((n_term, n_slot, n_load))
+    counts = np.zeros((n_load, top + 1), dtype=np.intp)
+    for p in range(order.size):
+        counts[lu[p], ju[p]] += 1
+        for n in range(n_term):
+            acc[n, slot[p] + 1, lu[p]] = coef[n, order[p]]
+    for n in range(n_term):
+        for m in range(2, n_slot):
+            for l in range(n_load):
+                acc[n, m, l] = acc[n, m - 1, l] + acc[n, m, l]
+    flat = acc.reshape(n_term, n_slot * n_load)
+    size = n_slot * n_load
+    r, x, x2 = np.empty(top), np.empty(top), np.empty(top)
+    e = np.empty(top, dtype=np.intp)
+    for l in range(n_load):
+        ul = l if u2.shape[0] > 1 else 0  # one row of u shared by every load
+        k = 0
+        for j in range(top - 1, -1, -1):
+            k += counts[l, j + 1]
+            i = k * n_load + l
+            e[j] = 0 if i < 0 else (size - 1 if i >= size else i)
+        for j in range(top):
+            v = u2[ul, j] * sigma
+            if v > 1e150:  # np.minimum (NaN kept)
+                v = 1e150
+            x[j], x2[j], r[j] = v, v * v, 0.0
+        for n in range(n_term - 1, 0, -1):
+            for j in range(start[n], top):
+                r[j] = (r[j] + flat[n, e[j]]) * x2[j]
+        for j in range(top):
+            out[l, j] = (r[j] + flat[0, e[j]]) * x[j]

@@ -42,7 +42,9 @@ bits, in one pass without the (loads, edges, nodes) temporaries.
 steps (25-42 steps of ~25 numpy passes each over a few hundred loads: a fixed cost of every
 direct call of the leak table), its operations in its order: the same bits. So is
 :func:`erf_diff_series` (the Hermite recurrence of
-:func:`~._fasterf.erf_diff_coefficients`: 30 steps of four passes each, element by element).
+:func:`~._fasterf.erf_diff_coefficients`: 30 steps of four passes each, element by element),
+and :func:`~._band_sums.series_horner` (``gap_cdf``'s series: the prefix sums, the column
+counts and the Horner loop, ~16 numpy passes over (columns, loads) in one).
 """
 
 from __future__ import annotations
@@ -127,6 +129,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         erf_diff_series,
         _spline_sums.spline_sub_sums,
         _band_sums.band_sums,
+        _band_sums.series_horner,
     )
     return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 

@@ -336,11 +336,16 @@ def _series_sum(
     start = np.minimum.accumulate(start[::-1])[::-1]  # non-decreasing in n
     top = int(np.max(jt))  # no pair's prefix holds a column beyond
     order = np.lexsort((-jt, ls))  # per load, the longest prefix first
-    lu, ju, c = ls[order], jt[order], coef[:, order]
+    lu, ju = ls[order], jt[order]
     first = np.searchsorted(lu, lu)  # slot of each pair within its load
     slot = np.arange(lu.size) - first
-    acc = np.zeros((n_term, int(slot.max()) + 2, n_load))
-    acc[:, slot + 1, lu] = c
+    n_slot = int(slot.max()) + 2
+    fn = _compiled_kernel(float(n_term * top * n_load), "series_horner")
+    if fn is not None:  # the loops below element by element (the same bits)
+        fn(coef, order, lu, ju, slot, n_slot, u2, sigma, start, top, out)
+        return out
+    acc = np.zeros((n_term, n_slot, n_load))
+    acc[:, slot + 1, lu] = coef[:, order]
     # acc[:, m, l]: the m longest prefixes of load l (a sequential running sum, as a loop)
     np.cumsum(acc[:, 1:], axis=1, out=acc[:, 1:])
     acc = acc.reshape(n_term, -1)

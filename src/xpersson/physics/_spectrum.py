@@ -283,10 +283,15 @@ class PowerSpectrum:
         q_arr = np.minimum(np.maximum(np.asarray(q, dtype=float), self.q_L), self.q_1)
         cum = self._cumulative(k)
         idx = self._segment(q_arr)
-        a = self._a[idx]
-        part = _segment_integral(a, q_arr, self._Ca[idx], self._e[idx], float(k))
-        out = cum[idx] + part
-        return float(out) if out.ndim == 0 else out
+        if q_arr.ndim == 0:  # (numpy's scalar pow: not the array loop's bits)
+            part = _segment_integral(self._a[idx], q_arr, self._Ca[idx], self._e[idx], float(k))
+            return float(cum[idx] + part)
+        # _segment_integral's per-segment factors once per segment (elementwise: the same bits)
+        lead = self._Ca * self._a ** (float(k) + 1.0)
+        s = float(k) + self._e + 1.0
+        L = np.log(q_arr / self._a[idx])
+        part = lead[idx] * L * _expm1_over_x(s[idx] * L)
+        return cum[idx] + part
 
     def I3(self, q: ArrayLike) -> NDArray[np.float64] | float:
         """Exact slope integral :math:`I_3(q) = \\int_{q_L}^{q} q'^3 C(q')\\, dq'` (§1.2).
