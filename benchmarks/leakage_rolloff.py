@@ -42,10 +42,10 @@ def capture(spec: dict, n: int) -> dict:
         got["z_max"] = float(ds["zeta"].values[-1])
         return first_level(ctx, ds, a_c, sealed)
 
-    def rec_by_load(p0, exact, tol, keys, noise, least, orders, safety, per_decade, w, free):  # noqa: ANN001, ANN202, PLR0913
+    def rec_by_load(p0, exact, tol, keys, noise, least, orders, safety, per_decade, w, free, **kw):  # noqa: ANN001, ANN003, ANN202, PLR0913
         got.update(p0=np.asarray(p0, float), exact=exact, keys=keys, weights=w, orders=orders)
         got["safety"], got["noise"], got["tol"] = safety, noise, tol
-        return by_load(p0, exact, tol, keys, noise, least, orders, safety, per_decade, w, free)
+        return by_load(p0, exact, tol, keys, noise, least, orders, safety, per_decade, w, free, **kw)
 
     plugins.by_load, plugins.first_level = rec_by_load, rec_first
     try:

@@ -38,6 +38,7 @@ from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
 from ._body import ENERGY, LEAKAGE
 from ._by_load import (
+    LEAK_GROUPS,
     LEAK_MIN,
     LEAK_NOISE,
     LEAK_ORDERS,
@@ -452,7 +453,9 @@ class Leakage(_Interface):
         direct = lambda rows: with_sealed(self._direct, ctx, ds, rows, sealed)  # noqa: E731
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, per_decade, weights)
-        out, err = by_load(ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free | first)
+        out, err = by_load(
+            ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free | first, groups=LEAK_GROUPS
+        )
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k in self.outputs}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))
