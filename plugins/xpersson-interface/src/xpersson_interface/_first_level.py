@@ -28,7 +28,7 @@ from xpersson.plugins.stored import spectrum_of
 from ._by_load import LEAK_MIN, LEAK_ORDERS, LEAK_PER_DECADE
 from ._leakage import NEAR_SEALING, _contact_area
 
-__all__ = ["FEW", "MARGIN", "PER_DECADE", "SHORT", "first_level", "predicted"]
+__all__ = ["FEW", "KINK", "MARGIN", "PER_DECADE", "SHORT", "at_kinks", "first_level", "predicted"]
 
 #: Up to this many loads the first level is :data:`PER_DECADE` nodes per decade and holds the
 #: :func:`predicted` loads. Measured (``benchmarks/leakage_loads.py``, the four worst scenes):
@@ -88,3 +88,37 @@ def predicted(
     if np.count_nonzero(shut) < SHORT:
         out |= shut
     return out & ~sealed
+
+
+#: Relative half-width, in ``zeta_c``, of the window around a breakpoint of the spectrum inside
+#: the curve (a roll-off) where the junction's outputs are not smooth in the load (``u1``'s
+#: kink and the area spline's ringing: second differences of ``ln u1`` 5-15x their level
+#: within 0.93-1.03 of the breakpoint, ``benchmarks/leakage_rolloff.py``).
+KINK = 0.05
+
+
+def at_kinks(ctx: Any, ds: Any, direct: Any) -> Any:
+    """``direct`` (the leak outputs of rows of loads), with each load whose ``zeta_c`` lies
+    within :data:`KINK` of a breakpoint of the spectrum inside the curve a ``piece`` of its
+    own (computed directly: no stencil crosses or enters the window), from ``LEAK_MIN`` to
+    :data:`FEW` loads; else ``direct`` itself."""
+    p0 = np.atleast_1d(np.asarray(ctx.p0, dtype=float))
+    if not LEAK_MIN <= p0.size <= FEW:
+        return direct
+    z_max = float(ds["zeta"].values[-1])
+    psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))
+    breaks = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
+    breaks = breaks[(breaks > 1.0) & (breaks < z_max)]
+    if not breaks.size:
+        return direct
+    width = np.log1p(KINK)
+
+    def marked(rows: NDArray[np.intp]) -> dict[str, NDArray[np.float64]]:
+        out = direct(rows)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lz = np.log(out["leak_zeta_c"])
+        near = np.any(np.abs(lz[:, None] - np.log(breaks)) < width, axis=1)
+        out["piece"] = np.where(near, -p0[rows], out["piece"])
+        return out
+
+    return marked

@@ -50,7 +50,7 @@ from ._by_load import (
     subset,
 )
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
-from ._first_level import first_level
+from ._first_level import at_kinks, first_level
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import (
     LEAK_KEYS,
@@ -451,6 +451,7 @@ class Leakage(_Interface):
         sealed, free = sealed_plan(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         per_decade, first = first_level(ctx, ds, float(p["a_c"]), sealed)
         direct = lambda rows: with_sealed(self._direct, ctx, ds, rows, sealed)  # noqa: E731
+        direct = at_kinks(ctx, ds, direct)
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, per_decade, weights)
         out, err = by_load(
