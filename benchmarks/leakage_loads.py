@@ -54,11 +54,11 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--seeds", type=int, nargs="*", default=[36])
     ap.add_argument("--held-out", type=int, nargs="*", default=[2026])
     ap.add_argument(
-        "--one-group", action="store_true", help="every output one group (LEAK_GROUPS off)"
+        "--no-kinks", action="store_true", help="no roll-off windows, one group (_first_level)"
     )
     args = ap.parse_args(argv)
-    if args.one_group:
-        plugins.LEAK_GROUPS = ()
+    if args.no_kinks:
+        plugins.at_kinks = lambda ctx, ds, direct: (direct, ())
     warnings.simplefilter("ignore")
     scenes = [(n, s) for seed in args.seeds for n, s in design(12, seed)]
     for seed in args.held_out:

@@ -28,7 +28,7 @@ from xpersson_interface import _by_load, plugins
 from xpersson_interface._stencils import _interpolate, _logs, _segments
 
 OUTS = ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_flow_factor_emt")
-SHORT = {"leak_zeta_c": "zc", "leak_u1": "u1", "leak_flow_factor": "ff", "leak_flow_factor_emt": "emt"}
+SHORT = dict(zip(OUTS, ("zc", "u1", "ff", "emt"), strict=True))
 
 
 def capture(spec: dict, n: int) -> dict:
@@ -45,7 +45,8 @@ def capture(spec: dict, n: int) -> dict:
     def rec_by_load(p0, exact, tol, keys, noise, least, orders, safety, per_decade, w, free, **kw):  # noqa: ANN001, ANN003, ANN202, PLR0913
         got.update(p0=np.asarray(p0, float), exact=exact, keys=keys, weights=w, orders=orders)
         got["safety"], got["noise"], got["tol"] = safety, noise, tol
-        return by_load(p0, exact, tol, keys, noise, least, orders, safety, per_decade, w, free, **kw)
+        args = (noise, least, orders, safety, per_decade, w, free)
+        return by_load(p0, exact, tol, keys, *args, **kw)
 
     plugins.by_load, plugins.first_level = rec_by_load, rec_first
     try:
@@ -93,9 +94,12 @@ def study(name: str, got: dict, per_decade: float) -> None:
     fail = est > tol[0]
     ok = np.isfinite(est)
     true = {k: np.where(ok, _by_load._relative(vals[k], allv[k][rest]), 0.0) for k in OUTS}
-    print(f"\n== {name}: {per_decade:g}/decade, {nodes.size} nodes, breakpoints {zb}, "
-          f"z_max {got['z_max']:.3g}; {fail.sum()} of {rest.size} loads fail "
-          f"(true error max {max(float(np.nanmax(np.where(np.isfinite(t), t, 0))) for t in true.values()):.2e})")
+    worst = max(float(np.max(t)) for t in true.values())
+    print(
+        f"\n== {name}: {per_decade:g}/decade, {nodes.size} nodes, breakpoints {zb}, "
+        f"z_max {got['z_max']:.3g}; {fail.sum()} of {rest.size} loads fail "
+        f"(true error max {worst:.2e})"
+    )
     # runs of failing loads
     f = np.flatnonzero(fail)
     if not f.size:
@@ -109,10 +113,12 @@ def study(name: str, got: dict, per_decade: float) -> None:
         zr = z / zb[0] if zb else np.full(z.size, np.nan)
         why = " ".join(f"{SHORT[k]}={np.max(drv[i, part]):.1e}" for i, k in enumerate(OUTS))
         tr = " ".join(f"{SHORT[k]}={np.max(true[k][f[part]]):.1e}" for k in OUTS)
-        print(f"  p0 {got['p0'][r[0]]:9.4g}-{got['p0'][r[-1]]:9.4g} ({r.size:3d}) "
-              f"zc/zb {np.nanmin(zr):7.3f}-{np.nanmax(zr):7.3f} zc/zmax "
-              f"{np.nanmin(z) / got['z_max']:.3f}-{np.nanmax(z) / got['z_max']:.3f} "
-              f"[{lab[0]}] check {why} | true {tr}")
+        print(
+            f"  p0 {got['p0'][r[0]]:9.4g}-{got['p0'][r[-1]]:9.4g} ({r.size:3d}) "
+            f"zc/zb {np.nanmin(zr):7.3f}-{np.nanmax(zr):7.3f} zc/zmax "
+            f"{np.nanmin(z) / got['z_max']:.3f}-{np.nanmax(z) / got['z_max']:.3f} "
+            f"[{lab[0]}] check {why} | true {tr}"
+        )
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -38,7 +38,6 @@ from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
 from ._body import ENERGY, LEAKAGE
 from ._by_load import (
-    LEAK_GROUPS,
     LEAK_MIN,
     LEAK_NOISE,
     LEAK_ORDERS,
@@ -451,11 +450,11 @@ class Leakage(_Interface):
         sealed, free = sealed_plan(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         per_decade, first = first_level(ctx, ds, float(p["a_c"]), sealed)
         direct = lambda rows: with_sealed(self._direct, ctx, ds, rows, sealed)  # noqa: E731
-        direct = at_kinks(ctx, ds, direct)
+        direct, groups = at_kinks(ctx, ds, direct)
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, per_decade, weights)
         out, err = by_load(
-            ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free | first, groups=LEAK_GROUPS
+            ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free | first, groups=groups
         )
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k in self.outputs}
         for k in ("leak_sealed", "leak_sealed_emt"):
