@@ -45,6 +45,7 @@ def capture(spec: dict, n: int) -> dict:
     def rec_by_load(p0, exact, tol, keys, noise, least, orders, safety, per_decade, w, free, **kw):  # noqa: ANN001, ANN003, ANN202, PLR0913
         got.update(p0=np.asarray(p0, float), exact=exact, keys=keys, weights=w, orders=orders)
         got["safety"], got["noise"], got["tol"] = safety, noise, tol
+        got["groups"] = kw.get("groups", ())
         args = (noise, least, orders, safety, per_decade, w, free)
         return by_load(p0, exact, tol, keys, *args, **kw)
 
@@ -83,7 +84,7 @@ def study(name: str, got: dict, per_decade: float) -> None:
     at = {k: v[nodes] for k, v in allv.items()}
     logs = _logs(at, roles, x[nodes])
     chk = per_output_check(x[nodes], at, logs, roles, max(got["orders"]))
-    vals, est = _by_load._estimated(x[nodes], at, logs, x[rest], roles, tol)
+    vals, est = _by_load._estimated(x[nodes], at, logs, x[rest], roles, tol, got["groups"])
     # which output's check drives each flagged load: the largest among its stencil's odd nodes
     seg = _segments(at, roles[0])
     from xpersson_interface._stencils import _stencil
