@@ -24,6 +24,10 @@ a load between two segments has none. A load between two nodes alike in every ou
 of them regular (a sealed stretch), takes their values, whatever the segment's length (its
 estimate: the noise).
 
+**Groups** (``groups``): outputs tabled with segments of their own keys only (``leakage``'s
+effective medium does not see the junction's keys, :data:`LEAK_GROUPS`); a load's estimate is
+the largest over the groups.
+
 **The error, estimated per load.** The nodes at twice the spacing (the even ones) interpolate
 the odd ones (each from the even nodes of its own segment, one-sided past the segment's last
 even node); the largest relative error among the odd nodes of a load's stencil, times
@@ -51,8 +55,8 @@ to be found.
 Measured against the direct path (``benchmarks/load_table_check.py``): ``gap_pdf`` on the 12
 scenes of ``benchmarks/summary.py`` at 3000 and 1e4 loads within 2.0e-5 of each load's largest
 density; ``leakage`` on those, 20 held-out scenes (``--seeds 37 38``) and the 12 of
-``summary.py --held-out 2026`` (``--held-out 2026``) at 1000 and 1e4 loads within 1.4e-3,
-every interpolated load within 0.81 of its estimate
+``summary.py --held-out 2026`` (``--held-out 2026``) at 1000 loads within 5.4e-4 (0.52 of its
+estimate) and at 1e4 loads within 1.4e-3, every interpolated load within 0.81 of its estimate
 (``results/load_table_check_leakage_1000.json``, ``..._1e4.json``). Below the minimum every
 load is computed directly, as before, bit for bit.
 """

@@ -9,6 +9,9 @@ Predicted from the stored curve's crossing of ``a_c``, they are nodes of the fir
 instead (:func:`._by_load.by_load`'s ``free``): computed in the first call, with the grid,
 which is :data:`PER_DECADE` nodes per decade on a spectrum with a roll-off. Up to :data:`FEW`
 loads: beyond, the table's loads cost more than the calls this saves.
+On a roll-off spectrum the loads whose ``zeta_c`` lies near the breakpoint are keys of their
+own (:func:`at_kinks`: ``u1``'s kink and the area spline's ringing, which the check at the
+nodes cannot see), and the effective medium, smooth there, is tabled in a group of its own.
 A load predicted wrongly costs one direct evaluation (its values are then exact); one missed
 is found by the table's refinement, as before: the prediction changes which loads are
 computed, never the accuracy claim.
@@ -37,11 +40,15 @@ __all__ = ["FEW", "KINK", "MARGIN", "PER_DECADE", "SHORT", "at_kinks", "first_le
 #: calls they save (a call's fixed cost is ~28 loads' worth).
 FEW = 2500
 #: The first level's nodes per decade up to :data:`FEW` loads on a spectrum with a breakpoint
-#: between ``q_L`` and the curve's last magnification (a roll-off): there, at 16
-#: (``LEAK_PER_DECADE``), the effective medium's ripple (~2e-4: the Almqvist far tail's
-#: detachment bins) fails the check over most of the range (45-86 % of its loads on the speed
-#: design's roll-off scenes), which the second call tables again at 32; on the others it
-#: fails near the sealing only, and 32 would cost loads without saving a call.
+#: between ``q_L`` and the curve's last magnification (a roll-off). At 16 (``LEAK_PER_DECADE``)
+#: the check's table at twice the spacing (8 per decade, ~ the period of the effective
+#: medium's ripple, 0.12-0.17 decade: the Almqvist far tail's detachment bins) misses the
+#: medium by 7e-4 - 8e-2 over most of the range (32: 3e-5 - 3e-4), and the segment below the
+#: roll-off (0.5 decade on several scenes) is too short for the check's 16 nodes: with the
+#: medium's own group and the roll-off windows (:func:`at_kinks`), 16 per decade took 62 direct
+#: calls and 24 took 55 against 48 at 32 on the 24 design and held-out scenes at 1000 loads
+#: (``benchmarks/leakage_rolloff.py``, ``leakage_loads.py``). Elsewhere it fails near the
+#: sealing only, and 32 would cost loads without saving a call.
 PER_DECADE = 32
 
 #: Relative margin of the prediction on ``zeta_c / zeta_max`` (the stored curve's crossing
