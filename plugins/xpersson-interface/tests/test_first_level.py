@@ -153,6 +153,6 @@ def test_loads_near_a_roll_off_are_computed_directly_and_the_rest_within_their_e
     assert window.sum() >= 10 and not err[window].any()
     for k in ("leak_u1", "leak_flow_factor", "leak_rate_emt", "leak_flow_factor_emt"):
         got, want = table[k].values, direct[k].values
-        np.testing.assert_array_equal(got[window], want[window])
+        np.testing.assert_allclose(got[window], want[window], rtol=1e-12)  # (batch round-off)
         ok = np.isfinite(want) & (want > 0) & (err > 0)
         assert np.all(np.abs(got[ok] / want[ok] - 1.0) <= err[ok]), k
