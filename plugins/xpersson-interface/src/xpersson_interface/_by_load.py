@@ -55,7 +55,7 @@ to be found.
 Measured against the direct path (``benchmarks/load_table_check.py``): ``gap_pdf`` on the 12
 scenes of ``benchmarks/summary.py`` at 3000 and 1e4 loads within 2.0e-5 of each load's largest
 density; ``leakage`` on those, 20 held-out scenes (``--seeds 37 38``) and the 12 of
-``summary.py --held-out 2026`` (``--held-out 2026``) at 1000 loads within 5.4e-4 (0.52 of its
+``summary.py --held-out 2026`` (``--held-out 2026``) at 1000 loads within 4.7e-4 (0.40 of its
 estimate) and at 1e4 loads within 1.4e-3, every interpolated load within 0.81 of its estimate
 (``results/load_table_check_leakage_1000.json``, ``..._1e4.json``). Below the minimum every
 load is computed directly, as before, bit for bit.
