@@ -19,7 +19,7 @@ import numpy as np
 from summary_design import design, held_out, load_range, scene
 
 import xpersson
-from xpersson_interface import _by_load
+from xpersson_interface import _by_load, plugins
 
 CAUSES = ("sealed by both (free)", "junction sealed, medium open", "near sealing", "other")
 
@@ -53,7 +53,12 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--loads", type=int, default=1000)
     ap.add_argument("--seeds", type=int, nargs="*", default=[36])
     ap.add_argument("--held-out", type=int, nargs="*", default=[2026])
+    ap.add_argument(
+        "--no-kinks", action="store_true", help="no roll-off windows, one group (_first_level)"
+    )
     args = ap.parse_args(argv)
+    if args.no_kinks:
+        plugins.at_kinks = lambda ctx, ds, direct: (direct, ())
     warnings.simplefilter("ignore")
     scenes = [(n, s) for seed in args.seeds for n, s in design(12, seed)]
     for seed in args.held_out:

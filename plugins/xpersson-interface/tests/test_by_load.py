@@ -424,3 +424,35 @@ def test_stencil_weights_reproduce_polynomials_and_keep_their_bits(m, gaps, wher
     seg = stencils_mod._segments(at, roles[0])
     plain = by_load_mod._check(xn, at, logs, roles, m)
     assert plain.tobytes() == by_load_mod._check(xn, at, logs, roles, m, seg).tobytes()
+
+
+def test_a_group_s_stencils_cross_other_groups_keys_but_not_their_own():
+    """Two groups: ``v`` with a kink where its key ``k`` changes (at x = 0), ``w`` smooth
+    (a quadratic in ``ln p0``: any 8-point stencil reproduces its logarithm). ``w``'s stencils
+    cross ``k`` (exact to round-off at every load, also between ``k``'s segments), ``v``'s
+    do not (between them: no stencil, the load refined), as in one group."""
+    xn = np.linspace(-2.0, 2.0, 41)
+    x = 0.5 * (xn[1:] + xn[:-1])
+
+    def outputs(t):
+        return {
+            "v": np.exp(np.where(t < 0, 0.5 * t, -0.2 * t)),
+            "k": (t >= 0).astype(float),
+            "w": np.exp(0.3 * t - 0.05 * t * t),
+        }
+
+    at = outputs(xn)
+    roles = (frozenset({"k"}), ())
+    logs = stencils_mod._logs(at, roles, xn)
+    tol = (TOL, 0.0, (8,), 16.0)
+    across = np.flatnonzero((x > xn[19]) & (x < xn[20]))  # between the last k = 0 node and k = 1
+    groups = (frozenset({"v", "k"}), frozenset({"w"}))
+    vals, est = by_load_mod._estimated(xn, at, logs, x, roles, tol, groups)
+    np.testing.assert_allclose(vals["w"], outputs(x)["w"], rtol=1e-12)
+    assert np.all(np.isinf(est[across]))  # v has no stencil there
+    one, est1 = by_load_mod._estimated(xn, at, logs, x, roles, tol)
+    assert np.all(np.isinf(est1[across]))
+    _, est_w = by_load_mod._estimated(xn, at, logs, x, roles, tol, (frozenset({"w"}),))
+    assert np.all(np.isfinite(est_w[across]))  # w's own group: a stencil across k
+    far = np.abs(x) > 1.0  # v's stencils within their own side: the same values either way
+    np.testing.assert_array_equal(vals["v"][far], one["v"][far])

@@ -9,6 +9,9 @@ Predicted from the stored curve's crossing of ``a_c``, they are nodes of the fir
 instead (:func:`._by_load.by_load`'s ``free``): computed in the first call, with the grid,
 which is :data:`PER_DECADE` nodes per decade on a spectrum with a roll-off. Up to :data:`FEW`
 loads: beyond, the table's loads cost more than the calls this saves.
+On a roll-off spectrum the loads whose ``zeta_c`` lies near the breakpoint are keys of their
+own (:func:`at_kinks`: ``u1``'s kink and the area spline's ringing, which the check at the
+nodes cannot see), and the effective medium, smooth there, is tabled in a group of its own.
 A load predicted wrongly costs one direct evaluation (its values are then exact); one missed
 is found by the table's refinement, as before: the prediction changes which loads are
 computed, never the accuracy claim.
@@ -25,10 +28,10 @@ from xpersson import physics
 from xpersson.plugins.solved import per_solve
 from xpersson.plugins.stored import spectrum_of
 
-from ._by_load import LEAK_MIN, LEAK_ORDERS, LEAK_PER_DECADE
+from ._by_load import LEAK_GROUPS, LEAK_MIN, LEAK_ORDERS, LEAK_PER_DECADE
 from ._leakage import NEAR_SEALING, _contact_area
 
-__all__ = ["FEW", "MARGIN", "PER_DECADE", "SHORT", "first_level", "predicted"]
+__all__ = ["FEW", "KINK", "MARGIN", "PER_DECADE", "SHORT", "at_kinks", "first_level", "predicted"]
 
 #: Up to this many loads the first level is :data:`PER_DECADE` nodes per decade and holds the
 #: :func:`predicted` loads. Measured (``benchmarks/leakage_loads.py``, the four worst scenes):
@@ -37,11 +40,15 @@ __all__ = ["FEW", "MARGIN", "PER_DECADE", "SHORT", "first_level", "predicted"]
 #: calls they save (a call's fixed cost is ~28 loads' worth).
 FEW = 2500
 #: The first level's nodes per decade up to :data:`FEW` loads on a spectrum with a breakpoint
-#: between ``q_L`` and the curve's last magnification (a roll-off): there, at 16
-#: (``LEAK_PER_DECADE``), the effective medium's ripple (~2e-4: the Almqvist far tail's
-#: detachment bins) fails the check over most of the range (45-86 % of its loads on the speed
-#: design's roll-off scenes), which the second call tables again at 32; on the others it
-#: fails near the sealing only, and 32 would cost loads without saving a call.
+#: between ``q_L`` and the curve's last magnification (a roll-off). At 16 (``LEAK_PER_DECADE``)
+#: the check's table at twice the spacing (8 per decade, ~ the period of the effective
+#: medium's ripple, 0.12-0.17 decade: the Almqvist far tail's detachment bins) misses the
+#: medium by 7e-4 - 8e-2 over most of the range (32: 3e-5 - 3e-4), and the segment below the
+#: roll-off (0.5 decade on several scenes) is too short for the check's 16 nodes: with the
+#: medium's own group and the roll-off windows (:func:`at_kinks`), 16 per decade took 62 direct
+#: calls and 24 took 55 against 48 at 32 on the 24 design and held-out scenes at 1000 loads
+#: (``benchmarks/leakage_rolloff.py``, ``leakage_loads.py``). Elsewhere it fails near the
+#: sealing only, and 32 would cost loads without saving a call.
 PER_DECADE = 32
 
 #: Relative margin of the prediction on ``zeta_c / zeta_max`` (the stored curve's crossing
@@ -88,3 +95,43 @@ def predicted(
     if np.count_nonzero(shut) < SHORT:
         out |= shut
     return out & ~sealed
+
+
+#: Relative half-width, in ``zeta_c``, of the window around a breakpoint of the spectrum inside
+#: the curve (a roll-off) where the junction's outputs are not smooth in the load (``u1``'s
+#: kink and the area spline's ringing: second differences of ``ln u1`` 2-15x their level
+#: within 0.93-1.035 of the breakpoint, ``benchmarks/leakage_rolloff.py``). Measured at 1000
+#: loads on the 44 scenes of ``benchmarks/load_table_check.py`` (largest error / estimate on
+#: the roll-off scenes; loads computed on the 24 of ``benchmarks/leakage_loads.py``, 48
+#: calls each): 0.03 0.78 (3494 loads), 0.05 0.52 (3584), 0.07 0.40 (3579), 0.1 0.40 (3681).
+KINK = 0.07
+
+
+def at_kinks(ctx: Any, ds: Any, direct: Any) -> tuple[Any, tuple[frozenset[str], ...]]:
+    """``direct`` (the leak outputs of rows of loads), with each load whose ``zeta_c`` lies
+    within :data:`KINK` of a breakpoint of the spectrum inside the curve a ``piece`` of its
+    own (computed directly: no stencil crosses or enters the window), and the table's groups
+    (``LEAK_GROUPS``: the effective medium's stencils then cross the window), from
+    ``LEAK_MIN`` to :data:`FEW` loads on a spectrum with such a breakpoint; else ``direct``
+    itself and one group. (Without the window, the medium's stencils cut there had covered
+    the junction's kink: with groups alone its estimate fell short, 1.2-1.7x.)"""
+    p0 = np.atleast_1d(np.asarray(ctx.p0, dtype=float))
+    if not LEAK_MIN <= p0.size <= FEW:
+        return direct, ()
+    z_max = float(ds["zeta"].values[-1])
+    psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))
+    breaks = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
+    breaks = breaks[(breaks > 1.0) & (breaks < z_max)]
+    if not breaks.size:
+        return direct, ()
+    width = np.log1p(KINK)
+
+    def marked(rows: NDArray[np.intp]) -> dict[str, NDArray[np.float64]]:
+        out = direct(rows)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lz = np.log(out["leak_zeta_c"])
+        near = np.any(np.abs(lz[:, None] - np.log(breaks)) < width, axis=1)
+        out["piece"] = np.where(near, -p0[rows], out["piece"])
+        return out
+
+    return marked, LEAK_GROUPS

@@ -49,7 +49,7 @@ from ._by_load import (
     subset,
 )
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
-from ._first_level import first_level
+from ._first_level import at_kinks, first_level
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leakage import (
     LEAK_KEYS,
@@ -449,10 +449,10 @@ class Leakage(_Interface):
         p = self.params
         sealed, free = sealed_plan(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         per_decade, first = first_level(ctx, ds, float(p["a_c"]), sealed)
-        direct = lambda rows: with_sealed(self._direct, ctx, ds, rows, sealed)  # noqa: E731
+        direct, groups = at_kinks(ctx, ds, lambda r: with_sealed(self._direct, ctx, ds, r, sealed))
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, per_decade, weights)
-        out, err = by_load(ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free | first)
+        out, err = by_load(ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free | first, groups)
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k in self.outputs}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))
