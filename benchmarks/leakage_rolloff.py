@@ -42,12 +42,12 @@ def capture(spec: dict, n: int) -> dict:
         got["z_max"] = float(ds["zeta"].values[-1])
         return first_level(ctx, ds, a_c, sealed)
 
-    def rec_by_load(p0, exact, tol, keys, noise, least, orders, safety, per_decade, w, free, **kw):  # noqa: ANN001, ANN003, ANN202, PLR0913
+    def rec_by_load(p0, exact, tol, keys, *more, **kw):  # noqa: ANN001, ANN002, ANN003, ANN202
+        noise, _least, orders, safety, _per_decade, w, _free = more[:7]
         got.update(p0=np.asarray(p0, float), exact=exact, keys=keys, weights=w, orders=orders)
         got["safety"], got["noise"], got["tol"] = safety, noise, tol
-        got["groups"] = kw.get("groups", ())
-        args = (noise, least, orders, safety, per_decade, w, free)
-        return by_load(p0, exact, tol, keys, *args, **kw)
+        got["groups"] = more[7] if len(more) > 7 else kw.get("groups", ())  # (12th argument)
+        return by_load(p0, exact, tol, keys, *more, **kw)
 
     plugins.by_load, plugins.first_level = rec_by_load, rec_first
     try:
