@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import xpersson
@@ -42,9 +42,9 @@ def _detachment(rng: np.random.Generator, n_load: int, n_bin: int, spread: float
 def test_kernel_gives_the_numpy_bits(compiled, seed, n_load, n_bin, spread, n_u, per_load):
     if compiled:
         pytest.importorskip("numba")
-        fn = _compiled.kernel(math.inf, "band_sums")
-        if fn is None:
-            pytest.skip("compiled kernels are off (XPERSSON_COMPILED=off)")
+        with xpersson.set_options(compiled=True):  # whatever XPERSSON_COMPILED says
+            fn = _compiled.kernel(math.inf, "band_sums")
+        assert fn is not None
     else:
         fn = _band_sums.band_sums
     rng = np.random.default_rng(seed)
@@ -82,9 +82,9 @@ def test_series_kernel_gives_the_numpy_bits(compiled, seed, n_load, n_bin, sprea
     """``_series_sum``'s running sums and Horner loop (``series_horner``): the numpy bits."""
     if compiled:
         pytest.importorskip("numba")
-        fn = _compiled.kernel(math.inf, "series_horner")
-        if fn is None:
-            pytest.skip("compiled kernels are off (XPERSSON_COMPILED=off)")
+        with xpersson.set_options(compiled=True):  # whatever XPERSSON_COMPILED says
+            fn = _compiled.kernel(math.inf, "series_horner")
+        assert fn is not None
     else:
         fn = _band_sums.series_horner
     rng = np.random.default_rng(seed)
@@ -104,4 +104,5 @@ def test_series_kernel_gives_the_numpy_bits(compiled, seed, n_load, n_bin, sprea
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(_gap_distribution, "_compiled_kernel", kernel)
         got = gap_cdf(det, u)
+    assume("series_horner" in asked)  # (~7 % of draws have no pair in the series' range)
     assert got.tobytes() == want.tobytes()
