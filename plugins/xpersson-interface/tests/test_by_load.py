@@ -344,24 +344,11 @@ _KINKED = {
 
 
 @pytest.mark.parametrize("name", sorted(_KINKED))
-def test_leakage_table_covers_features_narrower_than_its_spacing(name):
+def test_leakage_table_covers_features_narrower_than_its_spacing(name, leak_1000):
     """At 1000 loads (the table's own settings) every interpolated load of the leak analysis is
     within its stated error of the direct path, on the two held-out spectra with a feature
     narrower than the table's spacing (LEAK_NOISE covers it)."""
-    sc = {
-        "spectrum": _KINKED[name],
-        "material": {"E": "10 MPa", "nu": 0.5},
-        "load": {"p0": {"start": "1000.0 Pa", "stop": "1000000.0 Pa", "num": 1000}},
-        "output": {"zeta": [float(z) for z in np.geomspace(1.0, 1e3, 50)]},
-        "analyses": {"leakage": {}},
-    }
-    table = xpersson.solve(sc)
-    mp = pytest.MonkeyPatch()
-    try:
-        mp.setattr(by_load_mod, "TABLE_MIN", 10**9)
-        direct = xpersson.solve(sc)
-    finally:
-        mp.undo()
+    table, direct = leak_1000(_KINKED[name])
     err = table["leak_load_error"].values
     assert np.count_nonzero(err) > 500
     for k in ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_rate", "leak_rate_emt"):

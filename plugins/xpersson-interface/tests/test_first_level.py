@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from interface_testlib import scene
-from test_by_load import Direct, _relative
+from test_by_load import _KINKED, Direct, _relative
 
 import xpersson
 import xpersson_interface.plugins as plugins_mod
@@ -122,30 +122,14 @@ def test_near_sealing_loads_are_computed_in_the_first_call(calls):
     assert not ds["leak_load_error"].values[np.concatenate((near, shut))].any()
 
 
-def test_loads_near_a_roll_off_are_computed_directly_and_the_rest_within_their_error():
+def test_loads_near_a_roll_off_are_computed_directly_and_the_rest_within_their_error(leak_1000):
     """A roll-off spectrum at 1000 loads: every load whose ``zeta_c`` lies within ``KINK`` of
     the breakpoint ``q_r/q_L`` is computed directly (error 0), and every interpolated load is
     within its stated error of the direct path (the effective medium tabled in its own group,
     across the window)."""
-    spec = {"model": "self_affine", "H": 0.6276, "q_L": "2405.2229074205247 1/m",
-            "q_r": "10447.226407941289 1/m", "q_1": "240522290.74205247 1/m",
-            "h_rms": "1 um"}  # fmt: skip
-    sc = {
-        "spectrum": spec,
-        "material": {"E": "10 MPa", "nu": 0.5},
-        "load": {"p0": {"start": "1000.0 Pa", "stop": "1000000.0 Pa", "num": 1000}},
-        "output": {"zeta": [float(z) for z in np.geomspace(1.0, 1e3, 50)]},
-        "analyses": {"leakage": {}},
-    }
-    table = xpersson.solve(sc)
-    mp = pytest.MonkeyPatch()
-    try:
-        mp.setattr(by_load_mod, "TABLE_MIN", 10**9)
-        direct = xpersson.solve(sc)
-    finally:
-        mp.undo()
+    table, direct = leak_1000(_KINKED["ringing"])  # a roll-off at q_r / q_L = 4.34
     err = table["leak_load_error"].values
-    zb = 10447.226407941289 / 2405.2229074205247
+    zb = 10447.226407941289 / 2405.2229074205247  # (spec: q_r / q_L)
     with np.errstate(invalid="ignore"):
         window = np.abs(np.log(direct["leak_zeta_c"].values / zb)) < 0.999 * np.log1p(
             first_mod.KINK
