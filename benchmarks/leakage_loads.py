@@ -16,7 +16,7 @@ import argparse
 import warnings
 
 import numpy as np
-from summary_design import design, held_out, load_range, scene
+from summary_design import labelled, load_range, scene
 
 import xpersson
 from xpersson_interface import _by_load, plugins
@@ -60,9 +60,7 @@ def main(argv: list[str] | None = None) -> None:
     if args.no_kinks:
         plugins.at_kinks = lambda ctx, ds, direct: (direct, ())
     warnings.simplefilter("ignore")
-    scenes = [(n, s) for seed in args.seeds for n, s in design(12, seed)]
-    for seed in args.held_out:
-        scenes += [(f"held-out {seed}: {n}", s) for n, s in held_out(12, seed)]
+    scenes = labelled(args.seeds, args.held_out)
     total, per_call, n_calls = np.zeros(4, dtype=int), {}, 0
     for name, spec in scenes:
         calls = account(spec, args.loads)

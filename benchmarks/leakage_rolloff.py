@@ -20,7 +20,7 @@ import math
 import warnings
 
 import numpy as np
-from summary_design import design, held_out, load_range, scene
+from summary_design import labelled, load_range, scene
 
 import xpersson
 from xpersson.plugins.stored import spectrum_of
@@ -129,8 +129,7 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--scenes", nargs="*", default=None, help="substrings of scene names")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
-    scenes = [(n, s) for n, s in design(12, 36)]
-    scenes += [(f"held-out 2026: {n}", s) for n, s in held_out(12, 2026)]
+    scenes = labelled([36], [2026])
     scenes = [(n, s) for n, s in scenes if "roll" in n]
     if args.scenes:
         scenes = [(n, s) for n, s in scenes if any(t in n for t in args.scenes)]

@@ -23,7 +23,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from summary_design import design, held_out, load_range, scene
+from summary_design import labelled, load_range, scene
 
 import xpersson
 from xpersson_interface import _by_load
@@ -86,14 +86,7 @@ def main(argv: list[str] | None = None) -> None:
     args = ap.parse_args(argv)
     out: dict = {}
     warnings.simplefilter("ignore")
-    scenes, seen = [], set()
-    for seed in args.seeds:
-        for name, spec in design(12, seed):
-            if repr(spec) not in seen:
-                seen.add(repr(spec))
-                scenes.append((name if seed == 36 else f"seed {seed}: {name}", spec))
-    for seed in args.held_out:  # summary.py --held-out SEED: design(14, SEED) less the named
-        scenes += [(f"held-out {seed}: {name}", spec) for name, spec in held_out(12, seed)]
+    scenes = labelled(args.seeds, args.held_out)
     for analysis in args.analyses:
         for name, spec in scenes:
             r = check(spec, analysis, args.loads)

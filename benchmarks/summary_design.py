@@ -59,6 +59,21 @@ def held_out(n: int = 12, seed: int = 2026) -> list[tuple[str, dict]]:
     return design(n + 2, seed)[2:]
 
 
+def labelled(seeds: list[int], held: list[int]) -> list[tuple[str, dict]]:
+    """The scenes of :func:`design` for each of ``seeds`` (each spectrum once: the two named
+    scenes of every seed are the same; labelled ``seed S: `` unless S is the speed design's
+    36) and of :func:`held_out` for each of ``held`` (labelled ``held-out S: ``)."""
+    scenes, seen = [], set()
+    for seed in seeds:
+        for name, spec in design(12, seed):
+            if repr(spec) not in seen:
+                seen.add(repr(spec))
+                scenes.append((name if seed == 36 else f"seed {seed}: {name}", spec))
+    for seed in held:
+        scenes += [(f"held-out {seed}: {name}", spec) for name, spec in held_out(12, seed)]
+    return scenes
+
+
 def scene(spec: dict, loads: object = "100 kPa", **sections: object) -> dict:
     """An elastic scene on ``spec`` with the shared 50-point zeta grid."""
     out = {
