@@ -71,11 +71,17 @@ def first_level(
     if not LEAK_MIN <= n <= FEW:
         return LEAK_PER_DECADE, np.zeros(n, dtype=bool)
     zeta = np.asarray(ds["zeta"].values, dtype=float)
-    psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))  # the direct path's
-    breaks = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
-    inside = bool(np.any((breaks > 1.0) & (breaks < zeta[-1])))
+    inside = bool(_interior_breaks(ctx, ds).size)
     area = _contact_area(ds, ctx.boundary)
     return (PER_DECADE if inside else LEAK_PER_DECADE), predicted(zeta, area, a_c, sealed)
+
+
+def _interior_breaks(ctx: Any, ds: Any) -> NDArray[np.float64]:
+    """The breakpoints of the spectrum the Dataset ``ds`` was solved with (the direct path's,
+    once per solve), as magnifications strictly inside its curve (1, ``zeta_max``)."""
+    psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))
+    breaks = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
+    return breaks[(breaks > 1.0) & (breaks < float(ds["zeta"].values[-1]))]
 
 
 def predicted(
@@ -118,10 +124,7 @@ def at_kinks(ctx: Any, ds: Any, direct: Any) -> tuple[Any, tuple[frozenset[str],
     p0 = np.atleast_1d(np.asarray(ctx.p0, dtype=float))
     if not LEAK_MIN <= p0.size <= FEW:
         return direct, ()
-    z_max = float(ds["zeta"].values[-1])
-    psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))
-    breaks = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
-    breaks = breaks[(breaks > 1.0) & (breaks < z_max)]
+    breaks = _interior_breaks(ctx, ds)
     if not breaks.size:
         return direct, ()
     width = np.log1p(KINK)
