@@ -315,15 +315,18 @@ NEAR_SEALING = 2.0 / 3.0
 def junction_piece(
     psd: object, zc: NDArray[np.float64], z_max: float, p0: NDArray[np.float64]
 ) -> NDArray[np.float64]:
-    """Per load, which breakpoints of the spectrum lie below ``zeta_c`` times ``exp(-+2e-3)``
-    (twice the step of ``separation_at``'s difference quotient), as one number; a number of
-    its own (the load) where ``zeta_c > zeta_max/2``: near sealing ``u1 -> 0`` too fast for
-    the table's estimate (it fell 3-4x short), those loads are computed directly."""
+    """Per load, which breakpoints of the spectrum lie below ``zeta_c`` times ``exp(-+w)``
+    (``w = min(2e-3, ln(zeta_c)/2)``: at least twice the step of ``separation_at``'s difference
+    quotient, 1e-3 and at most 1 % of ``ln zeta_c``, so ``q_L`` is never inside), as one
+    number; a number of its own (the load) where ``zeta_c > NEAR_SEALING zeta_max``: near
+    sealing ``u1 -> 0`` too fast for the table's estimate (it fell 3-4x short), those loads
+    are computed directly."""
     nodes = np.asarray(psd.nodes(), dtype=float)  # type: ignore[attr-defined]
     nodes = np.log(nodes / float(psd.q_L))  # type: ignore[attr-defined]
     with np.errstate(divide="ignore", invalid="ignore"):
         lz = np.log(zc)
-    lo, hi = np.searchsorted(nodes, lz - 2e-3), np.searchsorted(nodes, lz + 2e-3)
+        w = np.minimum(2e-3, 0.5 * lz)
+    lo, hi = np.searchsorted(nodes, lz - w), np.searchsorted(nodes, lz + w)
     piece = (lo * (nodes.size + 1) + hi).astype(float)
     return np.where(zc > NEAR_SEALING * z_max, -np.atleast_1d(p0), piece)
 
