@@ -228,7 +228,7 @@ class SolvedContact:
         down, up = np.full(zc.size, math.exp(-rel_step)), np.full(zc.size, math.exp(rel_step))
         near = zc < math.exp(rel_step / STEP_SHARE)  # near zeta = 1: a step of its own
         if near.any():
-            h = np.maximum(STEP_SHARE * np.log(np.maximum(zc[near], 1.0)), 1e-9)
+            h = np.maximum(STEP_SHARE * np.log(np.maximum(zc[near], 1.0)), 1e-12)
             down[near], up[near] = np.exp(-h), np.exp(h)
         zl = np.clip(zc * down, 1.0, cur.zeta[-1])
         zh = np.clip(zc * up, 1.0, cur.zeta[-1])
