@@ -61,19 +61,20 @@ SHORT = 4 * max(LEAK_ORDERS)
 
 def first_level(
     ctx: Any, ds: Any, a_c: float, sealed: NDArray[np.bool_]
-) -> tuple[float, NDArray[np.bool_]]:
+) -> tuple[float, NDArray[np.bool_], NDArray[np.bool_]]:
     """The leak table's first level for the loads of the solved Dataset ``ds`` (the analysis
     context ``ctx``: its boundary): its nodes per decade (:data:`PER_DECADE` on a spectrum
     with a breakpoint inside the curve) and the :func:`predicted` loads (the Dataset's order;
-    from its stored contact area) from ``LEAK_MIN`` to :data:`FEW` loads; else
-    ``LEAK_PER_DECADE`` and none."""
+    from its stored contact area), near the junction's sealing and sealed by the junction
+    alone, from ``LEAK_MIN`` to :data:`FEW` loads; else ``LEAK_PER_DECADE`` and none."""
     n = int(np.size(sealed))
     if not LEAK_MIN <= n <= FEW:
-        return LEAK_PER_DECADE, np.zeros(n, dtype=bool)
+        return LEAK_PER_DECADE, np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
     zeta = np.asarray(ds["zeta"].values, dtype=float)
     inside = bool(_interior_breaks(ctx, ds).size)
     area = _contact_area(ds, ctx.boundary)
-    return (PER_DECADE if inside else LEAK_PER_DECADE), predicted(zeta, area, a_c, sealed)
+    near, shut = predicted(zeta, area, a_c, sealed, split=True)
+    return (PER_DECADE if inside else LEAK_PER_DECADE), near, shut
 
 
 def _interior_breaks(ctx: Any, ds: Any) -> NDArray[np.float64]:
@@ -89,18 +90,22 @@ def predicted(
     area: NDArray[np.float64],
     a_c: float,
     sealed: NDArray[np.bool_],
-) -> NDArray[np.bool_]:
+    split: bool = False,
+) -> Any:
     """Per load (its row of the contact area ``area`` (n_load, n_zeta) [1] on the
     magnifications ``zeta``, increasing from 1): not ``sealed`` by both theories, and the
     curve's crossing of ``a_c`` above ``(1 - MARGIN) NEAR_SEALING zeta_max`` or, where fewer
-    than :data:`SHORT` loads have none (the junction sealed), none."""
+    than :data:`SHORT` loads have none (the junction sealed), none. ``split``: the two kinds
+    apart, ``(near sealing, sealed by the junction alone)``."""
     zc = physics.critical_magnification(zeta, area, a_c)
     shut = ~np.isfinite(zc) & ~sealed
     with np.errstate(invalid="ignore"):
-        out = zc > (1.0 - MARGIN) * NEAR_SEALING * float(zeta[-1])
-    if np.count_nonzero(shut) < SHORT:
-        out |= shut
-    return out & ~sealed
+        near = zc > (1.0 - MARGIN) * NEAR_SEALING * float(zeta[-1])
+    if np.count_nonzero(shut) >= SHORT:
+        shut = np.zeros_like(shut)
+    if split:
+        return near & ~sealed & ~shut, shut & ~sealed
+    return (near | shut) & ~sealed
 
 
 #: Relative half-width, in ``zeta_c``, of the window around a breakpoint of the spectrum inside
@@ -129,8 +134,8 @@ def at_kinks(ctx: Any, ds: Any, direct: Any) -> tuple[Any, tuple[frozenset[str],
         return direct, ()
     width = np.log1p(KINK)
 
-    def marked(rows: NDArray[np.intp]) -> dict[str, NDArray[np.float64]]:
-        out = direct(rows)
+    def marked(rows: NDArray[np.intp], which: Any = None) -> dict[str, NDArray[np.float64]]:
+        out = direct(rows, which)
         with np.errstate(divide="ignore", invalid="ignore"):
             lz = np.log(out["leak_zeta_c"])
         near = np.any(np.abs(lz[:, None] - np.log(breaks)) < width, axis=1)

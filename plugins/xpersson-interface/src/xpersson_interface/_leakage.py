@@ -408,20 +408,22 @@ def sealed_both(ds: Any, boundary: Any, a_c: float, threshold: str) -> NDArray[n
 
 
 def with_sealed(
-    direct: Callable[[Any, Any, NDArray[np.intp]], dict[str, NDArray[np.float64]]],
+    direct: Callable[..., dict[str, NDArray[np.float64]]],
     ctx: Any,
     ds: Any,
     rows: NDArray[np.intp],
     sealed: NDArray[np.bool_],
+    which: NDArray[np.bool_] | None = None,
 ) -> dict[str, NDArray[np.float64]]:
-    """The leak outputs of the loads ``rows``: ``direct(ctx, ds, open)`` of those not sealed
-    (``sealed``: every load's, :func:`sealed_both`); the others take the outputs ``direct``
-    gives a sealed load (flags 1, ``zeta_c`` and ``u1`` NaN, flow factors and rates 0, the
-    junction piece of a NaN ``zeta_c``) without computing: 0-90 % of the loads of
-    1 kPa - 1 MPa on the speed design's scenes."""
+    """The leak outputs of the loads ``rows``: ``direct(ctx, ds, open, which)`` of those not
+    sealed (``sealed``: every load's, :func:`sealed_both`; ``which``: the groups asked for
+    per load, :mod:`._by_group`); the others take the outputs ``direct`` gives a sealed load
+    (flags 1, ``zeta_c`` and ``u1`` NaN, flow factors and rates 0, the junction piece of a
+    NaN ``zeta_c``) without computing: 0-90 % of the loads of 1 kPa - 1 MPa on the speed
+    design's scenes."""
     shut = sealed[rows]
     if not shut.any():
-        return direct(ctx, ds, rows)
+        return direct(ctx, ds, rows) if which is None else direct(ctx, ds, rows, which)
     n = rows.size
     out = {k: np.zeros(n) for k in ("leak_flow_factor", "leak_rate")}
     out |= {k: np.zeros(n) for k in ("leak_flow_factor_emt", "leak_rate_emt")}
@@ -430,7 +432,8 @@ def with_sealed(
     psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))  # the direct path's
     out["piece"] = np.full(n, junction_piece(psd, np.full(1, np.nan), 1.0, np.ones(1))[0])
     if not shut.all():
-        for k, v in direct(ctx, ds, rows[~shut]).items():
+        sub = () if which is None else (np.asarray(which)[:, ~shut],)
+        for k, v in direct(ctx, ds, rows[~shut], *sub).items():
             out[k][~shut] = v
     return out
 

@@ -51,12 +51,10 @@ from ._by_load import (
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
 from ._first_level import at_kinks, first_level
 from ._gap_diffusion import gap_pdf_by_diffusion
+from ._leak_direct import outputs
 from ._leakage import (
     LEAK_KEYS,
-    bruggeman_gap,
     effective_pressure_drop,
-    junction_piece,
-    leak_rate,
     sealed_plan,
     table_weights,
     with_sealed,
@@ -448,53 +446,29 @@ class Leakage(_Interface):
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
         sealed, free = sealed_plan(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
-        per_decade, first = first_level(ctx, ds, float(p["a_c"]), sealed)
-        direct, groups = at_kinks(ctx, ds, lambda r: with_sealed(self._direct, ctx, ds, r, sealed))
+        per_decade, near, shut = first_level(ctx, ds, float(p["a_c"]), sealed)
+        direct, groups = at_kinks(
+            ctx, ds, lambda r, w=None: with_sealed(self._direct, ctx, ds, r, sealed, w)
+        )
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, per_decade, weights)
-        out, err = by_load(ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, free | first, groups)
+        first = np.stack([free | near | shut, free | shut]) if groups else free | near | shut
+        out, err = by_load(
+            ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, first, groups, bool(groups)
+        )
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k in self.outputs}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))
         res["leak_load_error"] = (("p0",), err)
         return res
 
-    def _direct(self, ctx: Any, ds: xr.Dataset, rows: np.ndarray) -> dict[str, np.ndarray]:
-        """The outputs of the loads ``rows``, computed directly (the flags as floats; ``piece``:
-        the pieces of the spectrum, between its breakpoints, that u1's difference quotient
-        around zeta_c reaches: u1 has a step where it crosses one, e.g. the roll-off)."""
-        p = self.params
-        a_c = float(p["a_c"])
-        dp = self._pressure_drop()
+    def _direct(
+        self, ctx: Any, ds: xr.Dataset, rows: np.ndarray, which: np.ndarray | None = None
+    ) -> dict[str, np.ndarray]:
+        """The outputs of the loads ``rows``, computed directly (:func:`._leak_direct.outputs`;
+        ``which`` (2, n_rows): the groups (``LEAK_GROUPS``) each load is computed for: the
+        junction always, the effective medium where ``which[1]``; None: both)."""
         ctx, ds = subset(ctx, ds, rows)
         s, parts = self._parts(ctx, ds)
-        edges, thr = bin_edges(s, int(p["n_bins"])), a_c if p["emt_threshold"] == "a_c" else None
-
-        def one(part: Part) -> tuple[np.ndarray, ...]:
-            _, sub, sc = part  # the crossing on the chunk's own curve (as each load alone)
-            zc = physics.critical_magnification(sub.zeta, sub.contact, a_c)
-            det = sc.detachment(edges)
-            # per load: the cells span that load's gaps, never the batch's (all loads at once)
-            u3 = bruggeman_gap(det, a_c=thr, per_load=True)
-            return zc, sc.separation_at(zc), det.mean_gap, u3
-
-        zc, u1, ubar, u3 = joined(parts, one)
-        sealed = ~np.isfinite(zc)
-        u3 = np.where(np.isfinite(u3), u3, 0.0)
-        args = (float(p["seal_width"]), float(p["seal_length"]), dp, float(p["viscosity"]))
-        u1_3 = np.where(sealed, 0.0, np.nan_to_num(u1, nan=0.0) ** 3)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # ratios first:
-            safe = np.where(ubar > 0, ubar, 1.0)  # u^3 underflows near full contact
-            ff = np.where(ubar > 0, (np.where(sealed, 0.0, np.nan_to_num(u1)) / safe) ** 3, 0.0)
-            ff_emt = np.where(ubar > 0, (np.cbrt(u3) / safe) ** 3, 0.0)
-        return {
-            "leak_zeta_c": zc,
-            "leak_u1": np.where(sealed, np.nan, u1),
-            "leak_flow_factor": ff,
-            "leak_rate": leak_rate(u1_3, *args),
-            "leak_sealed": sealed.astype(float),
-            "leak_flow_factor_emt": ff_emt,
-            "leak_rate_emt": leak_rate(u3, *args),
-            "leak_sealed_emt": (u3 <= 0).astype(float),
-            "piece": junction_piece(s.psd, zc, float(s.zeta[-1]), ctx.p0),
-        }
+        medium = None if which is None else np.asarray(which[1], dtype=bool)
+        return outputs(self.params, self._pressure_drop(), s, parts, ctx.p0, medium)

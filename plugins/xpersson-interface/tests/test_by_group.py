@@ -1,0 +1,120 @@
+"""The load table with a table per group of outputs (:mod:`xpersson_interface._by_group`) and
+the leak direct path that computes only the groups asked for (``_leak_direct.outputs``)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from xpersson_interface._by_load import by_load
+
+GROUPS = (frozenset({"j", "k"}), frozenset({"m"}))
+
+
+def _outputs(p0: np.ndarray, at: float, width: float) -> dict[str, np.ndarray]:
+    """``j``: smooth with a narrow window around ``at`` (``k``: each load in it a key of its
+    own, so computed directly), ``m``: smooth everywhere."""
+    x = np.log(p0)
+    near = np.abs(x - np.log(at)) < width
+    return {
+        "j": np.exp(-0.3 * x + 0.05 * np.sin(x)),
+        "k": np.where(near, -p0, 0.0),
+        "m": np.exp(0.2 * x - 0.01 * x * x),
+    }
+
+
+@settings(max_examples=20, deadline=None)
+@given(
+    n=st.integers(500, 1500),
+    at=st.floats(3e3, 3e5),
+    width=st.floats(0.08, 0.3),  # (wider than the first level's spacing: a node inside)
+    junk=st.sampled_from([np.nan, 1e300, -1.0]),
+)
+def test_a_group_is_computed_only_where_it_is_asked_for_and_within_its_estimate(
+    n, at, width, junk
+):
+    """Every output of every load within the load's stated error of its exact value, and
+    ``exact`` asked for ``m`` at far fewer loads than for ``j``/``k`` (the window's loads are
+    computed for their own group only); what ``exact`` returns for a group not asked for
+    (``junk``) is never read."""
+    p0 = np.geomspace(1e3, 1e6, n)
+    asked = np.zeros((2, n), dtype=bool)
+
+    def exact(rows: np.ndarray, which: np.ndarray) -> dict[str, np.ndarray]:
+        assert not (asked[:, rows] & which).any()  # each load and group once
+        asked[:, rows] |= which
+        out = _outputs(p0[rows], at, width)
+        out["m"] = np.where(which[1], out["m"], junk)
+        return out
+
+    got, err = by_load(p0, exact, 2e-3, frozenset({"k"}), 1e-4, 0, (8,), 4.0 * 2**8, 16,
+                       groups=GROUPS, partial=True)  # fmt: skip
+    want = _outputs(p0, at, width)
+    for k in ("j", "m"):
+        assert np.all(np.abs(got[k] / want[k] - 1.0) <= np.maximum(err, 1e-15)), k
+    np.testing.assert_array_equal(got["k"], want["k"])
+    window = want["k"] < 0
+    assert asked[0, window].all()
+    assert asked[1].sum() < asked[0].sum() and np.all(err <= 2e-3)
+    assert np.all(err[asked.all(axis=0)] == 0.0) and np.all(err[~asked.all(axis=0)] > 0.0)
+
+
+def test_without_groups_the_one_table_is_unchanged():
+    """``partial`` without groups: the table of every output at once (``exact(rows)``)."""
+    p0 = np.geomspace(1e3, 1e6, 800)
+    calls = []
+
+    def exact(rows: np.ndarray) -> dict[str, np.ndarray]:
+        calls.append(rows)
+        return _outputs(p0[rows], 1e4, 0.05)
+
+    a = by_load(p0, exact, 2e-3, frozenset({"k"}), 1e-4, 0, (8,), 4.0 * 2**8, 16)
+    b = by_load(p0, exact, 2e-3, frozenset({"k"}), 1e-4, 0, (8,), 4.0 * 2**8, 16, partial=True)
+    for k in a[0]:
+        np.testing.assert_array_equal(a[0][k], b[0][k])
+    np.testing.assert_array_equal(a[1], b[1])
+
+
+@pytest.fixture(scope="module")
+def leak_call():
+    """The leak analysis's direct call of a roll-off scene at 600 loads (its ``exact``)."""
+    import xpersson
+    from interface_testlib import scene
+    from xpersson_interface import plugins as plugins_mod
+
+    got = {}
+    real = plugins_mod.by_load
+
+    def rec(p0, exact, *a, **k):  # noqa: ANN001, ANN002, ANN003, ANN202
+        got["exact"] = exact
+        return real(p0, exact, *a, **k)
+
+    sc = scene([1.0], analyses={"leakage": {}})
+    sc["load"] = {"p0": {"start": "1 kPa", "stop": "3 MPa", "num": 600}}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(plugins_mod, "by_load", rec)
+        xpersson.solve(sc)
+    return got["exact"]
+
+
+@pytest.mark.parametrize("share", [0.1, 0.7])
+def test_the_direct_call_computes_the_medium_only_where_asked_and_the_same_values(
+    leak_call, share
+):
+    """A direct call asked for the junction at every load and for the effective medium at a
+    share of them (fewer than half: on a SolvedContact of their own; more: every load's
+    computed): the junction's outputs bit for bit those of the call with both groups, the
+    medium's equal to round-off where asked (the gap cells' band sums: ~1e-14) and NaN or
+    the computed value elsewhere."""
+    rows = np.arange(0, 600, 5)
+    ask = np.random.default_rng(7).random(rows.size) < share
+    both = leak_call(rows, np.ones((2, rows.size), dtype=bool))
+    part = leak_call(rows, np.stack([np.ones(rows.size, dtype=bool), ask]))
+    for k in ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_rate", "leak_sealed", "piece"):
+        np.testing.assert_array_equal(part[k], both[k], err_msg=k)
+    for k in ("leak_flow_factor_emt", "leak_rate_emt", "leak_sealed_emt"):
+        np.testing.assert_allclose(part[k][ask], both[k][ask], rtol=1e-13, atol=0, err_msg=k)
+        other = part[k][~ask]
+        assert np.all(np.isnan(other) | (other == both[k][~ask])), k
