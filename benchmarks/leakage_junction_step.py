@@ -54,17 +54,20 @@ def quotients(spec: object) -> list[tuple[np.ndarray, ...]]:
             S.STEP_SHARE = share
         now = orig(sc, za)
 
-        def step(f: float) -> np.ndarray:
-            u = np.full(za.size, np.nan)
-            for i in np.flatnonzero(np.isfinite(za)):
-                z = np.full(za.size, np.nan)
-                z[i] = za[i]
-                u[i] = orig(sc, z, rel_step=float(max(min(1e-4, f * lz[i]), 1e-14)))[i]
-            return u
-
-        a, b = step(2e-3), step(1e-3)
+        a, b = _step(orig, sc, za, 2e-3), _step(orig, sc, za, 1e-3)
         out.append((lz, fixed, now, b + (b - a) / 3.0))
     return out
+
+
+def _step(orig, sc, za: np.ndarray, f: float) -> np.ndarray:  # noqa: ANN001
+    """``u1`` of each load alone with a step of ``f ln zeta_c`` (at most 1e-4)."""
+    lz = np.log(za)
+    u = np.full(za.size, np.nan)
+    for i in np.flatnonzero(np.isfinite(za)):
+        z = np.full(za.size, np.nan)
+        z[i] = za[i]
+        u[i] = orig(sc, z, rel_step=float(max(min(1e-4, f * lz[i]), 1e-14)))[i]
+    return u
 
 
 def report(name: str, spec: object) -> None:
@@ -79,8 +82,10 @@ def report(name: str, spec: object) -> None:
         if s.any():
             e_f = np.max(np.abs(fixed[s] / lim[s] - 1.0))
             e_n = np.max(np.abs(now[s] / lim[s] - 1.0))
-            print(f"  ln zeta_c in [{lo:g}, {hi:g}): {int(s.sum()):4d} loads, "
-                  f"fixed step {e_f:.2e}, step <= {S.STEP_SHARE:g} ln zeta_c {e_n:.2e}")
+            print(
+                f"  ln zeta_c in [{lo:g}, {hi:g}): {int(s.sum()):4d} loads, "
+                f"fixed step {e_f:.2e}, step <= {S.STEP_SHARE:g} ln zeta_c {e_n:.2e}"
+            )
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -8,6 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from xpersson_interface._by_group import by_group
 from xpersson_interface._by_load import by_load
 
 GROUPS = (frozenset({"j", "k"}), frozenset({"m"}))
@@ -32,9 +33,7 @@ def _outputs(p0: np.ndarray, at: float, width: float) -> dict[str, np.ndarray]:
     width=st.floats(0.08, 0.3),  # (wider than the first level's spacing: a node inside)
     junk=st.sampled_from([np.nan, 1e300, -1.0]),
 )
-def test_a_group_is_computed_only_where_it_is_asked_for_and_within_its_estimate(
-    n, at, width, junk
-):
+def test_a_group_is_computed_only_where_it_is_asked_for_and_within_its_estimate(n, at, width, junk):
     """Every output of every load within the load's stated error of its exact value, and
     ``exact`` asked for ``m`` at far fewer loads than for ``j``/``k`` (the window's loads are
     computed for their own group only); what ``exact`` returns for a group not asked for
@@ -49,8 +48,8 @@ def test_a_group_is_computed_only_where_it_is_asked_for_and_within_its_estimate(
         out["m"] = np.where(which[1], out["m"], junk)
         return out
 
-    got, err = by_load(p0, exact, 2e-3, frozenset({"k"}), 1e-4, 0, (8,), 4.0 * 2**8, 16,
-                       groups=GROUPS, partial=True)  # fmt: skip
+    got, err = by_group(p0, exact, 2e-3, frozenset({"k"}), 1e-4, 0, (8,), 4.0 * 2**8, 16, (),
+                        np.zeros(n, dtype=bool), GROUPS)  # fmt: skip
     want = _outputs(p0, at, width)
     for k in ("j", "m"):
         assert np.all(np.abs(got[k] / want[k] - 1.0) <= np.maximum(err, 1e-15)), k
@@ -61,31 +60,39 @@ def test_a_group_is_computed_only_where_it_is_asked_for_and_within_its_estimate(
     assert np.all(err[asked.all(axis=0)] == 0.0) and np.all(err[~asked.all(axis=0)] > 0.0)
 
 
-def test_without_groups_the_one_table_is_unchanged():
-    """``partial`` without groups: the table of every output at once (``exact(rows)``)."""
+def test_one_group_of_every_output_is_the_one_table():
+    """``by_group`` with one group holding every output: ``by_load``'s table bit for bit (the
+    same nodes, refinement and direct calls)."""
     p0 = np.geomspace(1e3, 1e6, 800)
-    calls = []
+    calls: list[list[np.ndarray]] = [[], []]
 
-    def exact(rows: np.ndarray) -> dict[str, np.ndarray]:
-        calls.append(rows)
+    def exact(rows: np.ndarray, which: np.ndarray | None = None) -> dict[str, np.ndarray]:
+        calls[which is not None].append(rows)
         return _outputs(p0[rows], 1e4, 0.05)
 
-    a = by_load(p0, exact, 2e-3, frozenset({"k"}), 1e-4, 0, (8,), 4.0 * 2**8, 16)
-    b = by_load(p0, exact, 2e-3, frozenset({"k"}), 1e-4, 0, (8,), 4.0 * 2**8, 16, partial=True)
+    args = (p0, exact, 2e-3, frozenset({"k"}), 1e-4, 0, (8,), 4.0 * 2**8, 16, ())
+    free = np.zeros(p0.size, dtype=bool)
+    free[[100, 500]] = True
+    a = by_load(*args, free)
+    b = by_group(*args, free[None, :], (frozenset({"j", "k", "m"}),))
     for k in a[0]:
         np.testing.assert_array_equal(a[0][k], b[0][k])
     np.testing.assert_array_equal(a[1], b[1])
+    assert len(calls[0]) == len(calls[1]) > 1
+    for r0, r1 in zip(*calls, strict=True):
+        np.testing.assert_array_equal(r0, r1)
 
 
 @pytest.fixture(scope="module")
 def leak_call():
     """The leak analysis's direct call of a roll-off scene at 600 loads (its ``exact``)."""
-    import xpersson
     from interface_testlib import scene
+
+    import xpersson
     from xpersson_interface import plugins as plugins_mod
 
     got = {}
-    real = plugins_mod.by_load
+    real = plugins_mod.by_group
 
     def rec(p0, exact, *a, **k):  # noqa: ANN001, ANN002, ANN003, ANN202
         got["exact"] = exact
@@ -94,15 +101,13 @@ def leak_call():
     sc = scene([1.0], analyses={"leakage": {}})
     sc["load"] = {"p0": {"start": "1 kPa", "stop": "3 MPa", "num": 600}}
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(plugins_mod, "by_load", rec)
+        mp.setattr(plugins_mod, "by_group", rec)
         xpersson.solve(sc)
     return got["exact"]
 
 
 @pytest.mark.parametrize("share", [0.1, 0.7])
-def test_the_direct_call_computes_the_medium_only_where_asked_and_the_same_values(
-    leak_call, share
-):
+def test_the_direct_call_computes_the_medium_only_where_asked_and_the_same_values(leak_call, share):
     """A direct call asked for the junction at every load and for the effective medium at a
     share of them (fewer than half: on a SolvedContact of their own; more: every load's
     computed): the junction's outputs bit for bit those of the call with both groups, the

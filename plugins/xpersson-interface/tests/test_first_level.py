@@ -97,7 +97,7 @@ def calls():
     run = by_group_mod._Direct.run
 
     def recording(self):
-        rows.append([np.flatnonzero(p & ~d) for p, d in zip(self.pending, self.done)])
+        rows.append([np.flatnonzero(p & ~d) for p, d in zip(self.pending, self.done, strict=True)])
         run(self)
 
     mp = pytest.MonkeyPatch()

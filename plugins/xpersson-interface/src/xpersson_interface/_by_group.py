@@ -18,11 +18,50 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from ._by_load import MAX_DEPTH, Weight, _nodes, _one_group, _runs, tabled
 from ._stencils import _logs, _Roles
 
 #: ``exact(rows, which)``: the outputs of the loads ``rows``, ``which`` (n_group, n_rows) the
 #: groups each load is computed for (the other groups' outputs of a load: any value, unread).
 Partial = Callable[[NDArray[np.intp], NDArray[np.bool_]], dict[str, NDArray[np.float64]]]
+
+
+def by_group(
+    p0: NDArray[np.float64],
+    exact: Partial,
+    tol: float,
+    keys: frozenset[str],
+    noise: float,
+    least: int,
+    orders: tuple[int, ...],
+    safety: float,
+    per_decade: float,
+    weights: tuple[Weight, ...],
+    free: NDArray[np.bool_],
+    groups: tuple[frozenset[str], ...],
+) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
+    """:func:`._by_load.by_load` with a table per group of outputs (``groups``: every output
+    in one), each with its own nodes: ``exact(rows, which)`` computes, per load, the groups
+    ``which`` (n_group, n_rows) asks for; ``free`` (n_group, n_load): each group's loads of
+    the first level."""
+    p0 = np.asarray(p0, dtype=float)
+    n = p0.size
+    if not tabled(p0, least):
+        return exact(np.arange(n), np.ones((len(groups), n), dtype=bool)), np.zeros(n)
+    xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
+    each = np.zeros((len(groups), xs.size), dtype=bool)
+    for g, fg in enumerate(np.broadcast_to(np.asarray(free, dtype=bool), (len(groups), n))):
+        each[g, inverse[fg]] = True
+    out, err = table(
+        xs,
+        lambda sel, which: exact(first[sel], which),
+        (tol, noise, orders, safety),
+        (keys, weights),
+        per_decade,
+        each,
+        groups,
+    )
+    return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
 
 class _Direct:
@@ -66,8 +105,6 @@ def table(
     """``_by_load._table`` with a table per group (``pre`` (n_group, n): each group's loads of
     the first level; every output in a group); a load's estimate the largest over the groups
     (0 where computed for every group)."""
-    from ._by_load import MAX_DEPTH, _nodes, _one_group, _runs
-
     keys, weights = roles
     n_g = len(groups)
     direct = _Direct(exact, xs.size, groups)

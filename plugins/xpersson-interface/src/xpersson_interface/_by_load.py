@@ -74,7 +74,6 @@ from numpy.typing import NDArray
 
 from xpersson.plugins.solved import curve_variables
 
-from . import _by_group
 from ._stencils import FLOOR, Weight, _interpolate, _logs, _Roles, _same, _segments
 
 __all__ = [
@@ -163,7 +162,6 @@ def by_load(
     weights: tuple[Weight, ...] = (),
     free: NDArray[np.bool_] | None = None,
     groups: tuple[frozenset[str], ...] = (),
-    partial: bool = False,
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
@@ -179,35 +177,17 @@ def by_load(
     near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
     ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
     ``v``). ``free`` (per load): loads made nodes of the first level (their direct values
-    cost (almost) nothing, or they would be computed directly anyway). ``partial`` (with
-    ``groups``): a table per group, each with its own nodes (:mod:`._by_group`);
-    ``exact(rows, which)`` then computes, per load, the groups ``which`` (n_group, n_rows)
-    asks for, and ``free`` may be given per group (n_group, n_load).
+    cost (almost) nothing, or they would be computed directly anyway). ``groups``: tabled
+    with segments of their own on the same nodes (:mod:`._by_group`: nodes of their own).
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
-    if n < max(least, TABLE_MIN) or not np.all(np.isfinite(p0) & (p0 > 0.0)):
+    if not tabled(p0, least):
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
     pre = np.zeros(xs.size, dtype=bool)
-    f = None if free is None else np.asarray(free, dtype=bool)
-    if f is not None:
-        pre[inverse[f if f.ndim == 1 else f.any(axis=0)]] = True
-    if partial and groups:
-        each = np.zeros((len(groups), xs.size), dtype=bool)
-        if f is not None:
-            for g, fg in enumerate(np.broadcast_to(f, (len(groups), n))):
-                each[g, inverse[fg]] = True
-        out, err = _by_group.table(
-            xs,
-            lambda sel, which: exact(first[sel], which),  # type: ignore[call-arg]
-            (tol, noise, orders, safety),
-            (keys, weights),
-            per_decade,
-            each,
-            groups,
-        )
-        return {k: v[inverse] for k, v in out.items()}, err[inverse]
+    if free is not None:
+        pre[inverse[np.asarray(free, dtype=bool)]] = True
     out, err = _table(
         xs,
         lambda sel: exact(first[sel]),
@@ -218,6 +198,12 @@ def by_load(
         groups,
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
+
+
+def tabled(p0: NDArray[np.float64], least: int) -> bool:
+    """Whether the loads ``p0`` [Pa] go through the table: at least ``least`` and
+    :data:`TABLE_MIN` of them, all finite and positive."""
+    return p0.size >= max(least, TABLE_MIN) and bool(np.all(np.isfinite(p0) & (p0 > 0.0)))
 
 
 class _Direct:

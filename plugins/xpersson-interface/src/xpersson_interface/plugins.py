@@ -37,6 +37,7 @@ from xpersson.plugins import Analysis, ParamSpec, VarSpec
 from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
 from ._body import ENERGY, LEAKAGE
+from ._by_group import by_group
 from ._by_load import (
     LEAK_MIN,
     LEAK_NOISE,
@@ -453,9 +454,8 @@ class Leakage(_Interface):
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
         settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, per_decade, weights)
         first = np.stack([free | near | shut, free | shut]) if groups else free | near | shut
-        out, err = by_load(
-            ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, first, groups, bool(groups)
-        )
+        args = (ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, first)
+        out, err = by_group(*args, groups) if groups else by_load(*args)
         res: dict[str, Any] = {k: (("p0",), v) for k, v in out.items() if k in self.outputs}
         for k in ("leak_sealed", "leak_sealed_emt"):
             res[k] = (("p0",), out[k].astype(np.int8))
