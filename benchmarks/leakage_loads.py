@@ -5,7 +5,9 @@ For every scene of the speed design (``summary_design.design``, seed 36) and of
 call of the table (one per refinement level), split by cause: sealed by both theories (free:
 no direct work), sealed by the junction alone with the effective medium open, the junction
 near sealing (``zeta_c > 2/3 zeta_max``: each a key of its own, computed directly by design),
-and the others (the first level's grid; the refinement). Totals per cause and per call.
+and the others (the first level's grid; the refinement). Totals per cause and per call, and
+(``(Nm)``) how many had their effective medium computed (the table per group on roll-off
+spectra, ``xpersson_interface._by_group``: the junction's loads without the medium's cost).
 
     python benchmarks/leakage_loads.py [--loads 1000] [--seeds 36] [--held-out 2026]
 """
@@ -19,32 +21,38 @@ import numpy as np
 from summary_design import labelled, load_range, scene
 
 import xpersson
-from xpersson_interface import _by_load, plugins
+from xpersson_interface import _by_group, _by_load, plugins
 
 CAUSES = ("sealed by both (free)", "junction sealed, medium open", "near sealing", "other")
 
 
 def account(spec: dict, n: int) -> list[np.ndarray]:
-    """Per direct call of a leakage solve at ``n`` loads: its loads by cause (:data:`CAUSES`)."""
+    """Per direct call of a leakage solve at ``n`` loads: its loads by cause (:data:`CAUSES`)
+    and, last, how many of them had their effective medium computed (on roll-off spectra the
+    table per group, ``_by_group``, asks for it at fewer loads than the junction)."""
     calls: list[np.ndarray] = []
-    run = _by_load._Direct.run
+    runs = {cls: cls.run for cls in (_by_load._Direct, _by_group._Direct)}
 
-    def recording(direct: _by_load._Direct) -> None:
-        rows = np.flatnonzero(direct.pending & ~direct.done)
-        run(direct)
+    def recording(direct) -> None:  # noqa: ANN001
+        ask = np.atleast_2d(direct.pending & ~direct.done)
+        rows = np.flatnonzero(ask.any(axis=0))
+        runs[type(direct)](direct)
         if rows.size:
             v = {k: direct.vals[k][rows] for k in ("leak_sealed", "leak_sealed_emt", "piece")}
             free = (v["leak_sealed"] == 1) & (v["leak_sealed_emt"] == 1)
             shut = (v["leak_sealed"] == 1) & ~free
             near = (v["piece"] < 0) & ~free & ~shut
-            calls.append(np.array([free.sum(), shut.sum(), near.sum(), rows.size], dtype=int))
+            medium = int(ask[-1, rows].sum())
+            calls.append(np.array([free.sum(), shut.sum(), near.sum(), rows.size, medium]))
             calls[-1][3] -= calls[-1][:3].sum()
 
-    _by_load._Direct.run = recording
+    for cls in runs:
+        cls.run = recording
     try:
         xpersson.solve(scene(spec, load_range(n), analyses={"leakage": {}}))
     finally:
-        _by_load._Direct.run = run
+        for cls, run in runs.items():
+            cls.run = run
     return calls
 
 
@@ -61,20 +69,21 @@ def main(argv: list[str] | None = None) -> None:
         plugins.at_kinks = lambda ctx, ds, direct: (direct, ())
     warnings.simplefilter("ignore")
     scenes = labelled(args.seeds, args.held_out)
-    total, per_call, n_calls = np.zeros(4, dtype=int), {}, 0
+    total, per_call, n_calls = np.zeros(5, dtype=int), {}, 0
     for name, spec in scenes:
         calls = account(spec, args.loads)
         n_calls += len(calls)
         for i, c in enumerate(calls):
             total += c
-            per_call[i] = per_call.get(i, np.zeros(4, dtype=int)) + c
-        computed = sum(int(c[1:].sum()) for c in calls)
-        parts = " | ".join(f"{int(c[3])}+{int(c[2])}n+{int(c[1])}j" for c in calls)
+            per_call[i] = per_call.get(i, np.zeros(5, dtype=int)) + c
+        computed = sum(int(c[1:4].sum()) for c in calls)
+        parts = " | ".join(f"{int(c[3])}+{int(c[2])}n+{int(c[1])}j ({int(c[4])}m)" for c in calls)
         print(f"{name:32s} calls {len(calls)} computed {computed:4d}: {parts}", flush=True)
-    print(f"{n_calls} calls, {int(total[1:].sum())} loads computed directly")
-    print("total:", ", ".join(f"{a} {b}" for a, b in zip(CAUSES, total, strict=True)))
+    print(f"{n_calls} calls, {int(total[1:4].sum())} loads computed directly")
+    print("total:", ", ".join(f"{a} {b}" for a, b in zip(CAUSES, total[:4], strict=True)))
+    print(f"their effective medium computed: {int(total[4])} (the others' tabled)")
     for i, v in sorted(per_call.items()):
-        print(f"call {i + 1}:", ", ".join(f"{a} {b}" for a, b in zip(CAUSES, v, strict=True)))
+        print(f"call {i + 1}:", ", ".join(f"{a} {b}" for a, b in zip(CAUSES, v[:4], strict=True)))
 
 
 if __name__ == "__main__":

@@ -32,9 +32,11 @@ SHORT = dict(zip(OUTS, ("zc", "u1", "ff", "emt"), strict=True))
 
 
 def capture(spec: dict, n: int) -> dict:
-    """The table's inputs of one leakage solve: loads, the direct call, weights, breakpoints."""
+    """The table's inputs of one leakage solve: loads, the direct call (every group),
+    weights, breakpoints (the table per group of roll-off spectra: recorded as ``by_load``'s,
+    its first level the groups' together)."""
     got: dict = {}
-    by_load, first_level = plugins.by_load, plugins.first_level
+    by_load, by_group, first_level = plugins.by_load, plugins.by_group, plugins.first_level
 
     def rec_first(ctx, ds, a_c, sealed):  # noqa: ANN001, ANN202
         psd = spectrum_of(ds)
@@ -49,11 +51,18 @@ def capture(spec: dict, n: int) -> dict:
         got["groups"] = more[7] if len(more) > 7 else kw.get("groups", ())  # (12th argument)
         return by_load(p0, exact, tol, keys, *more, **kw)
 
-    plugins.by_load, plugins.first_level = rec_by_load, rec_first
+    def rec_by_group(p0, exact, tol, keys, *more):  # noqa: ANN001, ANN002, ANN202
+        got["groups"] = more[7]
+        rec_by_load(p0, lambda r: exact(r, np.ones((2, r.size), dtype=bool)), tol, keys,
+                    *more[:6], np.asarray(more[6]).any(axis=0))  # fmt: skip
+        return by_group(p0, exact, tol, keys, *more)
+
+    saved = by_load, by_group, first_level
+    plugins.by_load, plugins.by_group, plugins.first_level = rec_by_load, rec_by_group, rec_first
     try:
         xpersson.solve(scene(spec, load_range(n), analyses={"leakage": {}}))
     finally:
-        plugins.by_load, plugins.first_level = by_load, first_level
+        plugins.by_load, plugins.by_group, plugins.first_level = saved
     got["all"] = got["exact"](np.arange(got["p0"].size))
     return got
 
