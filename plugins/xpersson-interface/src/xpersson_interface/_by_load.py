@@ -26,7 +26,8 @@ estimate: the noise).
 
 **Groups** (``groups``): outputs tabled with segments of their own keys only (``leakage``'s
 effective medium does not see the junction's keys, :data:`LEAK_GROUPS`); a load's estimate is
-the largest over the groups.
+the largest over the groups. :func:`._by_group.by_group` gives each group nodes of its own too
+(``leakage`` on roll-off spectra: the medium is not computed where only the junction needs it).
 
 **The error, estimated per load.** The nodes at twice the spacing (the even ones) interpolate
 the odd ones (each from the even nodes of its own segment, one-sided past the segment's last

@@ -11,7 +11,9 @@ which is :data:`PER_DECADE` nodes per decade on a spectrum with a roll-off. Up t
 loads: beyond, the table's loads cost more than the calls this saves.
 On a roll-off spectrum the loads whose ``zeta_c`` lies near the breakpoint are keys of their
 own (:func:`at_kinks`: ``u1``'s kink and the area spline's ringing, which the check at the
-nodes cannot see), and the effective medium, smooth there, is tabled in a group of its own.
+nodes cannot see), and the effective medium, smooth there, is tabled in a group of its own,
+with nodes of its own (:mod:`._by_group`: the predicted loads near the sealing are the
+junction's nodes only, those the junction alone seals both groups').
 A load predicted wrongly costs one direct evaluation (its values are then exact); one missed
 is found by the table's refinement, as before: the prediction changes which loads are
 computed, never the accuracy claim.
