@@ -251,8 +251,9 @@ def separation_of_detaching_area(
 ) -> NDArray[np.float64]:
     """``u1 = d(A u_zeta)/dA`` [m] at per-load magnifications ``zeta_at`` (NaN stays NaN).
 
-    Central finite volume over ``zeta_at exp(+-rel_step)`` (second order) with the area
-    interpolated on the curve and the sub-problem mean separation of :func:`detachment`
+    Central finite volume over ``zeta_at exp(+-h)``, ``h = min(rel_step, 0.01 ln zeta_at)``
+    (second order; near ``zeta = 1`` the area falls on the scale of ``ln zeta`` itself), the
+    area interpolated on the curve and the sub-problem mean separation of :func:`detachment`
     (:cite:p:`persson2008leak`, the critical constriction of the leakage theory).
     """
     sc = SolvedContact(psd, E_star, p0, zeta, area, s_factor, non_area)
