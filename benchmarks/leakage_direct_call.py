@@ -41,16 +41,17 @@ PARTS = (
     ("xpersson_interface.plugins", "subset", "subset (rows)"),
     ("xpersson_interface.plugins", "solved_curve", "dense re-solve (solved_curve)"),
     ("xpersson_interface.plugins", "contact_of", "SolvedContact"),
+    ("xpersson_interface._leak_direct", "contact_of", "SolvedContact (the medium's own loads)"),
     ("xpersson.physics", "critical_magnification", "critical magnification"),
     ("xpersson.physics._solved_contact", "SolvedContact.detachment", "detachment"),
     ("xpersson.physics._phi", "_Phi.__init__", "  Phi init"),
     ("xpersson.physics._curve", "_Curve.dF_weighted", "  Stieltjes sums (dF_weighted)"),
     ("xpersson.physics._phi", "_Phi._table", "  Phi table"),
     ("xpersson.physics._solved_contact", "SolvedContact.separation_at", "separation_at"),
-    ("xpersson_interface.plugins", "bruggeman_gap", "effective medium (bruggeman_gap)"),
+    ("xpersson_interface._leak_direct", "bruggeman_gap", "effective medium (bruggeman_gap)"),
     ("xpersson_interface._leakage", "gap_cdf", "  gap_cdf"),
     ("xpersson_interface._leakage", "_bruggeman_rows", "  Bruggeman rows"),
-    ("xpersson_interface.plugins", "junction_piece", "junction piece"),
+    ("xpersson_interface._leak_direct", "junction_piece", "junction piece"),
 )
 
 
@@ -157,12 +158,12 @@ def main(argv: list[str] | None = None) -> None:
     prof = cProfile.Profile() if args.profile else None
     direct = P.Leakage._direct
 
-    def timed_direct(self, ctx, ds, rows):
+    def timed_direct(self, ctx, ds, rows, *which):
         t = time.process_time()
         if prof is not None:
             prof.enable()
         try:
-            return direct(self, ctx, ds, rows)
+            return direct(self, ctx, ds, rows, *which)
         finally:
             if prof is not None:
                 prof.disable()
