@@ -123,3 +123,20 @@ def test_the_direct_call_computes_the_medium_only_where_asked_and_the_same_value
         np.testing.assert_allclose(part[k][ask], both[k][ask], rtol=1e-13, atol=0, err_msg=k)
         other = part[k][~ask]
         assert np.all(np.isnan(other) | (other == both[k][~ask])), k
+
+
+def test_loads_in_any_order_and_repeated_get_the_values_of_their_load():
+    """Shuffled loads with repeats: each load's outputs and error those of the sorted,
+    distinct loads (the table is built once over the distinct loads)."""
+    p0 = np.geomspace(1e3, 1e6, 900)
+    order = np.random.default_rng(3).permutation(np.concatenate((np.arange(900), [5, 450, 899])))
+
+    def exact_of(p: np.ndarray):  # noqa: ANN202
+        return lambda rows, which: _outputs(p[rows], 2e4, 0.1)
+
+    args = (2e-3, frozenset({"k"}), 1e-4, 0, (8,), 4.0 * 2**8, 16, ())
+    a, ea = by_group(p0, exact_of(p0), *args, np.zeros(900, dtype=bool), GROUPS)
+    b, eb = by_group(p0[order], exact_of(p0[order]), *args, np.zeros(order.size, bool), GROUPS)
+    for k in a:
+        np.testing.assert_array_equal(b[k], a[k][order])
+    np.testing.assert_array_equal(eb, ea[order])
