@@ -51,6 +51,8 @@ class _Plan:
     image: float | None = None  # resting lower wall [Pa] of an image start; None: Gaussian
     release: bool = False  # yield wall real only inside the window (_cn_control._release)
     outs: Array | None = None  # the batch's numerical output times (tau > tau_s) [Pa^2]
+    chord_from: float = math.inf  # the mesh moves with the steps' chord speeds from here on
+    # [Pa^2] (:func:`_chord_from`; inf: the walls' point speeds throughout)
 
 
 _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-only)
@@ -342,8 +344,8 @@ def _edges(pb: Problem, plan: _Plan, taus: Array, tr: dict | None = None) -> dic
     # speeds are unbounded and made the scheme first order; after the graded stretch the chord
     # speeds also keep the Richardson control's error expansion clean)
     chord = np.zeros(mid.shape, bool)
-    if plan.zones:
-        chord |= taus[:-1] >= plan.zones[0][0]
+    if plan.chord_from < math.inf:
+        chord |= taus[:-1] >= plan.chord_from
     if np.count_nonzero(chord):
         dt = np.diff(taus)
         lvc = (out["lb"] - out["la"]) / dt
@@ -448,10 +450,11 @@ def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
         kinks = _switch_times_batch(pbs, k, tau_s, float(outs[-1]))
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
+    chord = _chord_from(pb, tau_s, zones)
     if fast is not None:  # (the rest in one compiled call)
         zs, kk = np.array(zones, dtype=float).reshape(-1, 2), np.asarray(kinks, dtype=float)
         base, index = fast(geo, outs, kk, graded, ratio, zs, tau_s)
-        return _Plan(base, index, tau_s, k, yield_wall, zones, outs=outs)
+        return _Plan(base, index, tau_s, k, yield_wall, zones, outs=outs, chord_from=chord)
     fixed = sorted_unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
     # the geometric times far from every fixed one (relative gap 0.3 ratio)
     keep = (np.abs(geo[:, None] - fixed[None, :]) > (0.3 * ratio) * fixed).all(axis=1)
@@ -460,7 +463,23 @@ def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
     keep[0] = True
     base = sorted_unique(np.concatenate([geo[keep & (geo < outs[-1])], fixed]))
     base = base[base >= tau_s]
-    return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall, zones, outs=outs)
+    index = np.searchsorted(base, outs)
+    return _Plan(base, index, tau_s, k, yield_wall, zones, outs=outs, chord_from=chord)
+
+
+def _chord_from(pb: Problem, tau_s: float, zones: tuple[tuple[float, float], ...]) -> float:
+    """The time [Pa^2] from which the mesh moves with the steps' chord speeds (the edges'
+    exact displacement over the step): from the march's start where a wall's speed is a
+    difference of its positions (a position callable without a declared speed or motion:
+    such a wall, e.g. the ``jkr`` plugin's PCHIP table of the detachment stress, may have
+    kinks in its speed that no step boundary meets; the point speeds then leave an error
+    irregular in the step that the Richardson control cannot see: on "roll H=0.69 3dec" of
+    held-out seed 4242 of ``benchmarks/summary.py`` the fourth-order answer was 6x its
+    estimate, see ``benchmarks/jkr_control.py``); else from the first graded zone (after a
+    declared breakpoint; inf: none)."""
+    if any(_differenced(w) for w in (pb.lower, pb.upper)):
+        return tau_s
+    return zones[0][0] if zones else math.inf
 
 
 def _graded_zones(
