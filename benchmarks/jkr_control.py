@@ -52,7 +52,7 @@ from summary_design import design, held_out  # noqa: E402
 
 import xpersson  # noqa: E402
 from xpersson import engine  # noqa: E402
-from xpersson.engine import _cn, _cn_plan  # noqa: E402
+from xpersson.engine import _cn, _cn_control, _cn_plan  # noqa: E402
 
 OUT = HERE / "results" / "jkr_control.md"
 _CHORD = _cn_plan._chord_from
@@ -65,13 +65,16 @@ def _point_speeds(pb, tau_s, zones):
 
 @contextlib.contextmanager
 def speeds(mode: str):
-    """``chord`` (the engine as it is) or ``point`` (the walls' point speeds before a
-    declared breakpoint, as before)."""
+    """``chord`` (the engine as it is) or ``point`` (as before: the walls' point speeds
+    before a declared breakpoint, and no sixth-order level after a fourth-order miss,
+    ``_cn_control.S_FIRST``)."""
     _cn_plan._chord_from = _CHORD if mode == "chord" else _point_speeds
+    _cn_control.S_FIRST = mode == "chord"
     try:
         yield
     finally:
         _cn_plan._chord_from = _CHORD
+        _cn_control.S_FIRST = True
 
 
 def jkr_scene(spec: dict, rtol: float) -> dict:

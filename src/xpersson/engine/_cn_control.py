@@ -106,6 +106,11 @@ S_MISS = 2.0  # a sixth-order round missing its prediction by more: back to the 
 S_FAVOR = 2.0  # the sixth order taken over a fourth-order round predicted S_FAVOR x dearer
 
 
+S_FIRST = True  # a fourth-order triple that misses, where the sixth order fits and shares
+# its levels: the quadruple's one missing level (mult 3) first (on the jkr scenes of
+# benchmarks/jkr_control.py the worst one-load solve 9.8e4 -> 4.7e4 node-steps)
+
+
 S_ORDER = 4.0  # order assumed when growing the sixth-order grid (measured: 4-6 pre-asymptotic)
 
 
@@ -364,6 +369,12 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
     if fourth is None:
         return None
     grow = (fourth[1] / aim) ** (1.0 / judge.e_order)
+    if S_FIRST and fourth[1] > 1.0 and six and sixth is None and judge.dense == judge.six_dense:
+        # the triple's levels are the quadruple's but one (mult 3: 9 of the triple's 21
+        # units), cheaper than any new round (>= 21 x 1.25^2): the sixth order first
+        sixth = _sixth(lv, judge, n_base)
+        if sixth is None or sixth[1] <= 1.0:
+            return None if sixth is None else sixth[0]
     if fourth[1] > 1.0 and grow > S_GROW and six:
         if sixth is None:
             sixth = _sixth(lv, judge, n_base)
