@@ -1,32 +1,35 @@
 """One ``jkr`` load on the speed design: node-steps, the reported error estimate and the true
-error against a much finer reference, with the mesh's chord speeds (now) and its point speeds
-(before), per scene.
+error against a much finer reference, now and before, per scene.
 
-Where a wall's speed is a difference of its positions (the ``jkr`` plugin's detachment wall,
-a PCHIP table of the detachment stress in tau with ~60 knots per decade), the ``cn`` march now
-moves its mesh with each step's chord speed (``_cn_plan._chord_from``). With the walls' point
+Now: where a wall's speed is a difference of its positions (the ``jkr`` plugin's detachment
+wall, a PCHIP table of the detachment stress in tau with ~60 knots per decade), the ``cn``
+march moves its mesh with each step's chord speed (``_cn_plan._chord_from``), and a
+fourth-order triple that misses is followed by the sixth-order quadruple's one missing level
+where the two share their levels (``_cn_control.S_FIRST``). Before (``speeds("point")``):
+the walls' point speeds up to the first declared breakpoint and no such level. With the point
 speeds, a knot inside a step (the wall's acceleration jumps there) left an error irregular in
 the step, which the Richardson levels of one time plan could not see: the fourth-order answer
-of "roll H=0.69 3dec" (held-out seed 4242) was 1.8 tolerances off where its estimate said 0.29,
-and the control, chasing an estimate that rose and fell with the grid, marched 3.6e5
+of "roll H=0.69 3dec" (held-out seed 4242) was 1.8 tolerances off where its estimate said
+0.29, and the control, chasing an estimate that rose and fell with the grid, marched 3.6e5
 node-steps (2.9e7 at rtol 1e-8).
 
-Scenes: the speed design (seed 36), held-out seeds 2026 and 4242 of
-:mod:`summary_design`, each as the summary's one-``jkr``-load scene (``summary_paths``: E 1 MPa,
-w 0.05 J/m^2, p0 1 kPa, the 50 magnifications; default tolerances rtol 1e-6, atol 1e-12) and
-as its rtol 1e-8 scene (4 per decade). Per scene and mode: node-steps of every grid level
-marched, the reported estimate over the tolerance (``est/tol``, worst output), the true error
-over the tolerance (``err/tol``) and over the reported estimate (``err/est``, worst output
-whose estimate is at least ``JUDGED`` x its tolerance: <= 1 where the estimate bounds the
-error; nan where no estimate is that large, e.g. no level marched). The reference: the
-engine's own call on the same problem, rtol 1e-3 x the tested one (atol 1e-10 x the tested
-rtol) and raised budgets, with the chord speeds, cross-checked against the same call with the
-point speeds (``ref gap/tol``: the two references' largest difference over the tested
-tolerance, << 1 where both converged; "(budget)": the point speeds' search ended by its
-budget, its finest pair compared).
+Scenes: the speed design (seed 36), held-out seeds 2026 and 4242 of :mod:`summary_design`,
+each as the summary's one-``jkr``-load scene (``summary_paths``: E 1 MPa, w 0.05 J/m^2, p0
+1 kPa, the 50 magnifications; default tolerances rtol 1e-6, atol 1e-12) and as its rtol 1e-8
+scene (4 per decade). Per scene and mode: node-steps of every grid level marched, the
+reported estimate over the tolerance (``est/tol``, worst output), the true error over the
+tolerance (``err/tol``) and over the reported estimate (``err/est``, worst output whose
+estimate is at least ``JUDGED`` x its tolerance: <= 1 where the estimate bounds the error; nan
+where no estimate is that large, e.g. no level marched).
+
+The reference: the engine's own call on the same problem at rtol 1e-3 x the tested one (1e-2 x
+where that one has no finite answer; atol 1e-10 x the tested rtol) with raised budgets, now's
+rules, cross-checked against the same call with before's (``ref gap/tol``: the two
+references' largest difference over the tested tolerance, << 1 where both converged;
+"(budget)": before's search ended by its budget, its finest pair compared).
 
 Usage: ``python benchmarks/jkr_control.py [--seeds 36 2026 4242] [--rtol 1e-6 1e-8]``;
-writes ``benchmarks/results/jkr_control.md`` (``--no-write``: print only).
+writes the table of ``benchmarks/results/jkr_control.md`` (``--no-write``: print only).
 """
 
 from __future__ import annotations
@@ -127,12 +130,16 @@ def solved(args: tuple, kw: dict) -> tuple[object, float]:
 
 
 def reference(args: tuple, kw: dict, rtol: float, mode: str) -> tuple[np.ndarray, str]:
-    """The same call at rtol ``1e-3 rtol`` with raised budgets (``mode`` speeds): its area
-    and status (a budget may end the point speeds' search: their finest pair is kept)."""
-    ref_kw = dict(kw, rtol=1e-3 * rtol, atol=1e-10 * rtol, method="cn")
-    ref_kw["options"] = {"max_work": 3e9, "levels": 40}
-    with speeds(mode):
-        res = engine.solve_batch(*args, **ref_kw, max_steps=10**8)
+    """The same call at rtol ``1e-3 rtol`` (``1e-2 rtol`` where that one has no finite
+    answer) with raised budgets (``mode`` speeds): its area and status (a budget may end the
+    point speeds' search: their finest pair is kept)."""
+    for factor in (1e-3, 1e-2):
+        ref_kw = dict(kw, rtol=factor * rtol, atol=1e-10 * rtol, method="cn")
+        ref_kw["options"] = {"max_work": 3e9, "levels": 40}
+        with speeds(mode):
+            res = engine.solve_batch(*args, **ref_kw, max_steps=10**8)
+        if np.all(np.isfinite(res.area)):
+            break
     return np.asarray(res.area), str(res.status[0])
 
 
@@ -145,8 +152,8 @@ def one(spec: dict, rtol: float) -> dict:
     args, kw = engine_call(jkr_scene(spec, rtol))
     tol_r, tol_a = kw["rtol"], kw["atol"]
     ref, status = reference(args, kw, rtol, "chord")
-    if status not in ("success", "balance_violated"):  # (the balances' own round-off at a
-        raise RuntimeError(f"reference: {status}")  # reference's tolerance: its area holds)
+    if status != "success":
+        raise RuntimeError(f"reference: {status}")
     cross, cross_status = reference(args, kw, rtol, "point")
     tol = tol_r * np.abs(ref) + tol_a
     row = {"ref gap/tol": float((np.abs(ref - cross) / tol).max()), "cross": cross_status}

@@ -26,7 +26,9 @@ the step, which Richardson extrapolation cancels).
   answer, the estimate stays ``S_MARGIN`` x asymptotic) or a new grid, whichever is predicted
   cheaper (:func:`_sixth_next`); a round that misses its prediction by ``S_MISS`` returns to
   the fourth order.  Where the sixth order may follow (and ``rtol <= S_RTOL``), the pilot pair
-  and the fourth-order levels take its steps per node, so that they share levels.
+  and the fourth-order levels take its steps per node, so that they share levels; a
+  fourth-order triple that misses is then followed by the quadruple's one missing level
+  (``mult = 3``, ``S_FIRST``), cheaper than any new grid.
 
 Where a yield wall makes the window stiff (:mod:`._stiff`: the time plans then resolve the
 decay of the window's slowest mode), the high-order levels take ``DENSE_STIFF`` steps per
