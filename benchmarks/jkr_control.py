@@ -222,8 +222,9 @@ def main(argv: list[str] | None = None) -> None:
                 w["err/est"] = max(w["err/est"], r[mode]["err/est"])
                 w["err/tol"] = max(w["err/tol"], r[mode]["err/tol"])
                 w["work"] = max(w["work"], r[mode]["node-steps"])
+    label = {"point": "before (point speeds)", "chord": "now (chord speeds, S_FIRST)"}
     summary = [
-        f"- {mode} speeds, rtol {rtol:.0e}: worst err/est {w['err/est']:.3g}, "
+        f"- {label[mode]}, rtol {rtol:.0e}: worst err/est {w['err/est']:.3g}, "
         f"worst err/tol {w['err/tol']:.3g}, most node-steps {w['work']:.3g}"
         for (mode, rtol), w in sorted(worst.items())
     ]
