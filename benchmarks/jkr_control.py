@@ -3,7 +3,7 @@ error against a much finer reference, now and before, per scene.
 
 Now: where a wall's speed is a difference of its positions (the ``jkr`` plugin's detachment
 wall, a PCHIP table of the detachment stress in tau with ~60 knots per decade), the ``cn``
-march moves its mesh with each step's chord speed (``_cn_plan._chord_from``), and a
+march moves its mesh with each step's chord speed (``_cn_grading._chord_from``), and a
 fourth-order triple that misses is followed by the sixth-order quadruple's one missing level
 where the two share their levels (``_cn_control.S_FIRST``). Before (``speeds("point")``):
 the walls' point speeds up to the first declared breakpoint and no such level. With the point

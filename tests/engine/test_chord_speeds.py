@@ -1,5 +1,5 @@
 """The ``cn`` mesh moves with the steps' chord speeds where a wall's speed is differenced
-(:func:`xpersson.engine._cn_plan._chord_from`): on a wall whose acceleration jumps at knots
+(:func:`xpersson.engine._cn_grading._chord_from`): on a wall whose acceleration jumps at knots
 that no step boundary meets (a PCHIP table, as the ``jkr`` plugin's detachment wall), the
 reported error estimate bounds the true error against a much finer solve.
 
@@ -17,7 +17,7 @@ import pytest
 from scipy.interpolate import PchipInterpolator
 
 from xpersson.engine import Wall, solve
-from xpersson.engine._cn_plan import _chord_from
+from xpersson.engine._cn_grading import _chord_from
 
 TAU = np.geomspace(1e-2, 10.0, 12)
 RTOL = 1e-5

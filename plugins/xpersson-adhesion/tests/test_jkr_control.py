@@ -1,7 +1,7 @@
 """One ``jkr`` load: the ``cn`` engine's reported error estimate bounds its true error on
 the held-out scenes where the mesh's point speeds had hidden it (the detachment wall's PCHIP
 knots inside steps), with the fewer levels of the chord speeds and of the sixth order after
-a fourth-order miss (``engine/_cn_plan._chord_from``, ``engine/_cn_control.S_FIRST``;
+a fourth-order miss (``engine/_cn_grading._chord_from``, ``engine/_cn_control.S_FIRST``;
 ``benchmarks/jkr_control.py`` measures all the design's and two held-out seeds' scenes).
 """
 

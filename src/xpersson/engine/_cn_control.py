@@ -52,9 +52,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..cache import memoize
 from . import _compiled
-from ._cn_odd import odd_rounds
+from ._cn_odd import _weights_of, odd_rounds
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
 from ._stiff import stiff_at_end
@@ -150,15 +149,11 @@ def richardson_weights(mults: tuple[int, ...] | list[int]) -> Array:
     return _weights(tuple(m.tolist())).copy()
 
 
-@memoize("engine.richardson_weights", scope="process", maxsize=64)
 def _weights(m_: tuple[float, ...]) -> Array:
-    """:func:`richardson_weights` of checked ``m_`` (read-only; memoised: the controller
-    asks for the same few level sets at every solve)."""
-    m = np.array(m_)
-    V = m[None, :] ** (-2.0 * np.arange(m.size)[:, None])
-    rhs = np.zeros(m.size)
-    rhs[0] = 1.0
-    return np.linalg.solve(V, rhs)
+    """:func:`richardson_weights` of checked ``m_`` (read-only; memoised with the odd
+    control's, :func:`._cn_odd._weights_of`, which solves the same Vandermonde system in
+    ``m^-2``: the controller asks for the same few level sets at every solve)."""
+    return _weights_of(m_, False)[0]
 
 
 def _round_grid(n: float) -> int:
