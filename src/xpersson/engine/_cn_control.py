@@ -26,7 +26,9 @@ the step, which Richardson extrapolation cancels).
   answer, the estimate stays ``S_MARGIN`` x asymptotic) or a new grid, whichever is predicted
   cheaper (:func:`_sixth_next`); a round that misses its prediction by ``S_MISS`` returns to
   the fourth order.  Where the sixth order may follow (and ``rtol <= S_RTOL``), the pilot pair
-  and the fourth-order levels take its steps per node, so that they share levels.
+  and the fourth-order levels take its steps per node, so that they share levels; a
+  fourth-order triple that misses is then followed by the quadruple's one missing level
+  (``mult = 3``, ``S_FIRST``), cheaper than any new grid.
 
 Where a yield wall makes the window stiff (:mod:`._stiff`: the time plans then resolve the
 decay of the window's slowest mode), the high-order levels take ``DENSE_STIFF`` steps per
@@ -50,9 +52,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ..cache import memoize
 from . import _compiled
-from ._cn_odd import odd_rounds
+from ._cn_odd import _weights_of, odd_rounds
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
 from ._stiff import stiff_at_end
@@ -106,6 +107,11 @@ S_MISS = 2.0  # a sixth-order round missing its prediction by more: back to the 
 S_FAVOR = 2.0  # the sixth order taken over a fourth-order round predicted S_FAVOR x dearer
 
 
+S_FIRST = True  # a fourth-order triple that misses, where the sixth order fits and shares
+# its levels: the quadruple's one missing level (mult 3) first (on the jkr scenes of
+# benchmarks/jkr_control.py the worst one-load solve 9.8e4 -> 4.7e4 node-steps)
+
+
 S_ORDER = 4.0  # order assumed when growing the sixth-order grid (measured: 4-6 pre-asymptotic)
 
 
@@ -143,15 +149,11 @@ def richardson_weights(mults: tuple[int, ...] | list[int]) -> Array:
     return _weights(tuple(m.tolist())).copy()
 
 
-@memoize("engine.richardson_weights", scope="process", maxsize=64)
 def _weights(m_: tuple[float, ...]) -> Array:
-    """:func:`richardson_weights` of checked ``m_`` (read-only; memoised: the controller
-    asks for the same few level sets at every solve)."""
-    m = np.array(m_)
-    V = m[None, :] ** (-2.0 * np.arange(m.size)[:, None])
-    rhs = np.zeros(m.size)
-    rhs[0] = 1.0
-    return np.linalg.solve(V, rhs)
+    """:func:`richardson_weights` of checked ``m_`` (read-only; memoised with the odd
+    control's, :func:`._cn_odd._weights_of`, which solves the same Vandermonde system in
+    ``m^-2``: the controller asks for the same few level sets at every solve)."""
+    return _weights_of(m_, False)[0]
 
 
 def _round_grid(n: float) -> int:
@@ -364,6 +366,12 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
     if fourth is None:
         return None
     grow = (fourth[1] / aim) ** (1.0 / judge.e_order)
+    if S_FIRST and fourth[1] > 1.0 and six and sixth is None and judge.dense == judge.six_dense:
+        # the triple's levels are the quadruple's but one (mult 3: 9 of the triple's 21
+        # units), cheaper than any new round (>= 21 x 1.25^2): the sixth order first
+        sixth = _sixth(lv, judge, n_base)
+        if sixth is None or sixth[1] <= 1.0:
+            return None if sixth is None else sixth[0]
     if fourth[1] > 1.0 and grow > S_GROW and six:
         if sixth is None:
             sixth = _sixth(lv, judge, n_base)

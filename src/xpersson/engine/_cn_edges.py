@@ -40,7 +40,7 @@ def compiled_window(
     ``(out, flags)`` of :func:`window_edges` (what :func:`._cn_plan._edges_batch` gives, bit
     for bit, as rows)."""
     n, nb = taus.size - 1, len(pbs)
-    chord_from = plan.zones[0][0] if plan.zones else math.inf
+    chord_from = plan.chord_from
     out, flags = np.empty((10, nb, n)), np.empty((4, nb, n), dtype=bool)
     p0 = np.array([pb.p0 for pb in pbs], dtype=float)
     sticky = bool(plan.yield_wall and not plan.release)

@@ -109,7 +109,7 @@ def lean_inputs(
     p0 = np.array([p.p0 for p in pbs], dtype=float)
     outs = plan.outs if plan.outs is not None else pb.tau[pb.tau > plan.tau_s]
     zone_starts = np.array([tb for tb, _ in plan.zones])
-    chord_from = plan.zones[0][0] if plan.zones else math.inf
+    chord_from = plan.chord_from
     bp = np.asarray(pb.lower.breakpoints, dtype=float)
     taus, theta, out, flags, out_at, coef, r0, ok = setup(
         plan.base, nsub, n_ie, zone_starts, chord_from, outs, p0, float(plan.k),

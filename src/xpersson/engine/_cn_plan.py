@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._cn_edges import compiled_track, compiled_window
+from ._cn_grading import _GRADE, _chord_from, _differenced, _graded_zones
 from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
 from ._grid import decades as _decades
 from ._grid import is_in as _is_in
@@ -51,6 +52,8 @@ class _Plan:
     image: float | None = None  # resting lower wall [Pa] of an image start; None: Gaussian
     release: bool = False  # yield wall real only inside the window (_cn_control._release)
     outs: Array | None = None  # the batch's numerical output times (tau > tau_s) [Pa^2]
+    chord_from: float = math.inf  # the mesh moves with the steps' chord speeds from here on
+    # [Pa^2] (:func:`_chord_from`; inf: the walls' point speeds throughout)
 
 
 _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-only)
@@ -173,12 +176,6 @@ def _grades(base: Array, nsub: int, zones: tuple[tuple[float, float], ...]) -> b
         return False
     a, b = base[:-1], base[1:]
     return any(((a >= tb) & (b <= te)).any() for tb, te in zones)
-
-
-def _differenced(wall) -> bool:
-    """Whether the speeds of ``wall`` are differences (:func:`_probe_times` gives times)."""
-    fixed = wall is None or wall.is_fixed
-    return not (fixed or wall.dposition is not None or wall.motion is not None)
 
 
 def _probe_times(wall, tau: Array) -> tuple[Array, Array] | None:
@@ -342,8 +339,8 @@ def _edges(pb: Problem, plan: _Plan, taus: Array, tr: dict | None = None) -> dic
     # speeds are unbounded and made the scheme first order; after the graded stretch the chord
     # speeds also keep the Richardson control's error expansion clean)
     chord = np.zeros(mid.shape, bool)
-    if plan.zones:
-        chord |= taus[:-1] >= plan.zones[0][0]
+    if plan.chord_from < math.inf:
+        chord |= taus[:-1] >= plan.chord_from
     if np.count_nonzero(chord):
         dt = np.diff(taus)
         lvc = (out["lb"] - out["la"]) / dt
@@ -426,9 +423,6 @@ def _edges_batch(
     return Window(ed["rl"], ed["ru"], start, end, ed["chord"])
 
 
-_GRADE = 4.0  # steps uniform in (tau - tau_b)^(1/_GRADE) after a wall breakpoint
-
-
 def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
                 kinks: list[float] | None = None, fast: Callable[..., tuple] | None = None,
                 ) -> _Plan:  # fmt: skip
@@ -448,10 +442,11 @@ def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
         kinks = _switch_times_batch(pbs, k, tau_s, float(outs[-1]))
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
+    chord = _chord_from(pb, tau_s, zones)
     if fast is not None:  # (the rest in one compiled call)
         zs, kk = np.array(zones, dtype=float).reshape(-1, 2), np.asarray(kinks, dtype=float)
         base, index = fast(geo, outs, kk, graded, ratio, zs, tau_s)
-        return _Plan(base, index, tau_s, k, yield_wall, zones, outs=outs)
+        return _Plan(base, index, tau_s, k, yield_wall, zones, outs=outs, chord_from=chord)
     fixed = sorted_unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))
     # the geometric times far from every fixed one (relative gap 0.3 ratio)
     keep = (np.abs(geo[:, None] - fixed[None, :]) > (0.3 * ratio) * fixed).all(axis=1)
@@ -460,37 +455,5 @@ def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
     keep[0] = True
     base = sorted_unique(np.concatenate([geo[keep & (geo < outs[-1])], fixed]))
     base = base[base >= tau_s]
-    return _Plan(base, np.searchsorted(base, outs), tau_s, k, yield_wall, zones, outs=outs)
-
-
-def _graded_zones(
-    pbs: list[Problem], tau_s: float, tau_end: float, ratio: float
-) -> tuple[tuple[tuple[float, float], ...], Array]:
-    """Graded stretches after the walls' declared breakpoints, and their step times.
-
-    After a breakpoint ``tau_b`` the wall may move like ``sqrt(tau - tau_b)`` (unbounded speed):
-    on ``[tau_b, tau_b + H]``, ``H = min(tau_b, tau_end - tau_b)``, the steps are uniform in
-    ``u = (tau - tau_b)^(1/4)`` (in ``s = u^2`` the motion is smooth; the quartic grading also
-    removes the ``ds^2 log`` term that uniform steps in ``s`` leave, so that the error has a
-    clean second-order expansion for the Richardson control); at its end they match the
-    geometric steps ``~ ratio tau``.
-    """
-    bps = sorted(
-        {
-            float(t)
-            for p in pbs
-            for w in (p.lower, p.upper)
-            if w is not None
-            for t in getattr(w, "breakpoints", ())
-            if tau_s <= t < tau_end  # (a one-wall start may end at a breakpoint)
-        }
-    )
-    zones: list[tuple[float, float]] = []
-    pts: list[Array] = []
-    for i, tb in enumerate(bps):
-        nxt = bps[i + 1] if i + 1 < len(bps) else tau_end
-        h = min(tb, nxt - tb)
-        n_g = max(2, int(math.ceil(_GRADE * (h / tb) ** (1 / _GRADE) / ratio)))
-        pts.append(tb + h * (np.arange(n_g + 1) / n_g) ** _GRADE)
-        zones.append((tb, tb + h))
-    return tuple(zones), (np.concatenate(pts) if pts else np.zeros(0))
+    index = np.searchsorted(base, outs)
+    return _Plan(base, index, tau_s, k, yield_wall, zones, outs=outs, chord_from=chord)
