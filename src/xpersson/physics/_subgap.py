@@ -151,14 +151,15 @@ def _shared_sums(
     some: bool,
 ) -> NDArray[np.float64]:
     """:meth:`~._phi._Phi.sums_at_log_tau` of the cut-offs (n_a, m) shared by every load,
-    (n_load, n_a); ``some``: only at the cut-offs where some load's entry is ``shared`` (the
-    others 0). Each cut-off's sums are those of the cut-off alone (its own nodes, its own
-    row of the sparse product or the compiled loop), so a subset gives the same bits."""
+    (n_load, n_a); ``some``: only the ``shared`` entries, at the cut-offs where some load's
+    entry is (the others 0, or unspecified in those cut-offs). Each entry's sum is that of
+    the entry alone (its cut-off's own nodes, its own row of the sparse product or of the
+    compiled loop), so a subset gives the same bits."""
     if not some:
         return phi.sums_at_log_tau(log_tc, kern)
     cols = np.flatnonzero(shared.any(axis=0))
     out = np.zeros(shared.shape)
-    out[:, cols] = phi.sums_at_log_tau(log_tc[cols], kern[cols])
+    out[:, cols] = phi.sums_at_log_tau(log_tc[cols], kern[cols], shared[:, cols])
     return out
 
 
