@@ -148,8 +148,9 @@ class SolvedContact:
         ``negligible`` > 0: the bins whose weight is below that fraction of the load's
         largest (those :func:`~xpersson.physics.gap_cdf` with the same ``negligible`` leaves
         out) get ``u1 = 0`` without computing it, and ``ubar`` is computed only at the edges
-        of the other bins (0 elsewhere; ``ubar[:, 0] = u(p0)`` always); every other value is
-        the same, bit for bit. Near full contact most edges carry such bins alone.
+        of the other bins (elsewhere not computed: 0 or another value; ``ubar[:, 0] = u(p0)``
+        always); the weights and the other bins' ``u1`` are the same, bit for bit. Near full
+        contact most edges carry such bins alone.
 
         ``separation`` chooses the mean separation ``u1`` of the area detaching in a bin:
 
