@@ -24,7 +24,7 @@ from summary_design import labelled, load_range, scene
 
 import xpersson
 from xpersson.plugins.stored import spectrum_of
-from xpersson_interface import _by_load, plugins
+from xpersson_interface import _by_group, _by_load, plugins
 from xpersson_interface._stencils import _interpolate, _logs, _segments
 
 OUTS = ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_flow_factor_emt")
@@ -48,7 +48,7 @@ def capture(spec: dict, n: int) -> dict:
         noise, _least, orders, safety, _per_decade, w, _free = more[:7]
         got.update(p0=np.asarray(p0, float), exact=exact, keys=keys, weights=w, orders=orders)
         got["safety"], got["noise"], got["tol"] = safety, noise, tol
-        got["groups"] = more[7] if len(more) > 7 else kw.get("groups", ())  # (12th argument)
+        got.setdefault("groups", ())  # (set first by rec_by_group: the table per group)
         return by_load(p0, exact, tol, keys, *more, **kw)
 
     def rec_by_group(p0, exact, tol, keys, *more):  # noqa: ANN001, ANN002, ANN202
@@ -83,6 +83,21 @@ def per_output_check(xn, at, logs, roles, m: int) -> dict[str, np.ndarray]:  # n
     return out
 
 
+def _grouped(xn, at, logs, x, roles, tol, groups):  # noqa: ANN001, ANN202
+    """``_by_load._one_group`` for each group of outputs (each on its own keys, as
+    ``_by_group.by_group``; () one group, every output), the estimate the largest."""
+    if not groups:
+        return _by_load._one_group(xn, at, logs, x, roles, tol)
+    out, est = {}, np.zeros(x.size)
+    for g in groups:
+        sub = {k: v for k, v in at.items() if k in g}
+        lg = {k: v for k, v in logs.items() if k in g}
+        vals, e = _by_load._one_group(xn, sub, lg, x, _by_group.own_roles(roles, g), tol)
+        out.update(vals)
+        est = np.maximum(est, e)
+    return out, est
+
+
 def study(name: str, got: dict, per_decade: float) -> None:
     """Print where the first level at ``per_decade`` misses the tolerance, and why."""
     x, allv = np.log(got["p0"]), got["all"]
@@ -93,7 +108,7 @@ def study(name: str, got: dict, per_decade: float) -> None:
     at = {k: v[nodes] for k, v in allv.items()}
     logs = _logs(at, roles, x[nodes])
     chk = per_output_check(x[nodes], at, logs, roles, max(got["orders"]))
-    vals, est = _by_load._estimated(x[nodes], at, logs, x[rest], roles, tol, got["groups"])
+    vals, est = _grouped(x[nodes], at, logs, x[rest], roles, tol, got["groups"])
     # which output's check drives each flagged load: the largest among its stencil's odd nodes
     seg = _segments(at, roles[0])
     from xpersson_interface._stencils import _stencil

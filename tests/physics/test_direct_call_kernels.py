@@ -114,7 +114,8 @@ def _phi_of(rng: np.random.Generator, n_load: int, n_knot: int, zero_rows: int) 
 def test_table_sums_give_the_sparse_product_bits(compiled, seed, n_load, n_row, m, n_knot, zeros):
     """Arguments below the first knot (the linear first interval: left out), beyond the last,
     on the table's nodes and in its leading zero nodes: the sums bit for bit those of the CSR
-    product (``scipy``'s ``csr_matvecs``), and the whole ``sums_at_log_tau`` too."""
+    product (``scipy``'s ``csr_matvecs``), and the whole ``sums_at_log_tau`` too; with some
+    entries asked for (``need``), theirs."""
     fn = _kernel(compiled, "table_sums")
     rng = np.random.default_rng(seed)
     phi = _phi_of(rng, n_load, n_knot, min(zeros, n_knot - 2))
@@ -130,6 +131,9 @@ def test_table_sums_give_the_sparse_product_bits(compiled, seed, n_load, n_row, 
         mp.setattr(_phi, "kernel", lambda work, name: fn)
         got_table = phi._kernel_sums(log_tau, kern)
         got = phi.sums_at_log_tau(log_tau, kern)
+        need = rng.random(got.shape) < 0.5  # some entries only: theirs the same bits
+        part = phi._kernel_sums(log_tau, kern, need)
+        np.testing.assert_array_equal(part, np.where(need, want_table, 0.0))
         log_tau[0, 0] = np.nan  # not finite: the sparse product
         assert phi._kernel_sums(log_tau, kern) is None
     np.testing.assert_array_equal(got_table, want_table)

@@ -17,7 +17,7 @@ from scipy.interpolate import CubicSpline
 
 import xpersson
 from xpersson.cache import cache
-from xpersson.physics import SolvedContact, critical_magnification
+from xpersson.physics import SolvedContact, _compiled, critical_magnification
 from xpersson.physics._curve import _Curve, _edges
 from xpersson.physics._fastnum import _exp_inplace, _ppoly_at, _row_slopes
 from xpersson.physics._percolation import _crossing_coefficients
@@ -185,6 +185,64 @@ def test_pressure_part_equals_every_pair_computed(contact):
     safe = np.where(ok, dA, 1.0)
     u1 = np.where(ok, u_next + A[:, :-1] * (mixed - u_next) / safe, 0.0)
     np.testing.assert_array_equal(det.u1, np.maximum(u1, 0.0))
+
+
+def _kernels(compiled: bool):
+    """The option context of the compiled kernels (built first when on)."""
+    if compiled:
+        pytest.importorskip("numba")
+        with xpersson.set_options(compiled=True):
+            if _compiled.kernel(math.inf, "sub_sums") is None:
+                pytest.skip("numba not importable")
+    return xpersson.set_options(compiled=compiled)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@pytest.mark.parametrize("needed_share", [0.0, 0.3, 1.0])
+def test_sub_mean_gap_needed_entries_are_those_of_every_entry(contact, needed_share, compiled):
+    """``needed``: the entries asked for bit for bit as computed with every entry (shared
+    cut-offs' columns and per-load entries alike), whatever the others are; with the
+    compiled kernels and without."""
+    z = np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 30)))
+    A = 1.0 - contact.curve.non_area_at(np.broadcast_to(np.log(z), (LOADS.size, z.size)))
+    prep = _sub_prep(contact.psd, E_STAR, (z * contact.q_L)[None, :], contact.q_hi)
+    needed = np.random.default_rng(7).random(A.shape) < needed_share
+    phi = _Phi(contact.psd, E_STAR, LOADS, contact.curve)
+    with _kernels(compiled):
+        every = _sub_mean_gap(contact.psd, E_STAR, phi, None, A, contact.q_hi, prep=prep)
+        got = _sub_mean_gap(
+            contact.psd, E_STAR, phi, None, A, contact.q_hi, prep=prep, needed=needed
+        )
+    assert got[needed].tobytes() == every[needed].tobytes()
+    assert (A[needed] == 1.0).any() or needed_share == 0.0  # both kinds of entry asked for
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@pytest.mark.parametrize("separation", ["almqvist", "pressure"])
+def test_detachment_negligible_bins_change_nothing_counted(contact, separation, compiled):
+    """``negligible``: the weights, ``u(p0)`` and the counted bins' ``u1`` bit for bit those
+    of every bin computed (the others' ``u1`` 0), and so :func:`gap_cdf` with the same
+    ``negligible``; the left-out bins exist here (near full contact)."""
+    from xpersson.physics import gap_cdf
+    from xpersson.physics._gap_band import counted
+
+    z = np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 60)))
+    with _kernels(compiled):
+        every = SolvedContact(contact.psd, E_STAR, LOADS, contact.curve).detachment(z, separation)
+        some = SolvedContact(contact.psd, E_STAR, LOADS, contact.curve).detachment(
+            z, separation, negligible=1e-30
+        )
+    count = counted(every.weight, 1e-30)
+    assert (every.weight != 0.0).sum() > count.sum()  # some bins left out
+    assert some.weight.tobytes() == every.weight.tobytes()
+    assert some.mean_gap.tobytes() == every.mean_gap.tobytes()
+    assert some.u1[count].tobytes() == every.u1[count].tobytes()
+    assert not some.u1[~count].any()
+    u = np.geomspace(1e-12, 1e-4, 50)
+    assert (
+        gap_cdf(some, u, negligible=1e-30).tobytes()
+        == gap_cdf(every, u, negligible=1e-30).tobytes()
+    )
 
 
 def test_crossing_coefficients_are_the_cubic_splines():

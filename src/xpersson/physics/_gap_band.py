@@ -25,14 +25,20 @@ _WIN_BLOCK = 1 << 14
 def pairs(
     weight: NDArray[np.float64], negligible: float = 0.0
 ) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """(load, bin) indices of the terms that count: non-zero weight (NaN kept), optionally
-    not below ``negligible`` times the load's largest ``|weight|``; ordered by load, then bin."""
+    """(load, bin) indices of the terms that count (:func:`counted`); ordered by load, then
+    bin."""
+    return np.nonzero(counted(weight, negligible))
+
+
+def counted(weight: NDArray[np.float64], negligible: float = 0.0) -> NDArray[np.bool_]:
+    """The (load, bin) terms that count: non-zero weight (NaN kept), optionally not below
+    ``negligible`` times the load's largest ``|weight|``."""
     nz = weight != 0.0
     if negligible > 0.0:
         with np.errstate(invalid="ignore"):
             scale = np.max(np.abs(weight), axis=1, initial=0.0, keepdims=True)
             nz &= ~(np.abs(weight) < negligible * scale)
-    return np.nonzero(nz)
+    return nz
 
 
 def sorted_rows(u: NDArray[np.float64]) -> bool:

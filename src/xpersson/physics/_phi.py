@@ -234,7 +234,10 @@ class _Phi:
         return [(int(k), int(g[k]) - lo) for k in np.flatnonzero(g > g0)]
 
     def sums_at_log_tau(
-        self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
+        self,
+        log_tau: NDArray[np.float64],
+        kern: NDArray[np.float64],
+        need: NDArray[np.bool_] | None = None,
     ) -> NDArray[np.float64]:
         """``sum_m kern[k, m] Phi_l(ln tau = log_tau[k, m])`` for every load ``l``: (n_load, K).
 
@@ -242,9 +245,11 @@ class _Phi:
         look-up positions are found once, and the sums of all loads are one sparse product of
         the interpolation weights with the table, ``kern (1 - u) T[i] + kern u T[i + 1]``: the
         linear look-up of :meth:`at_log_tau_per_load` up to round-off (~1e-16 relative; the
-        terms are >= 0). Table nodes that are 0 for every load are left out.
+        terms are >= 0). Table nodes that are 0 for every load are left out. ``need``
+        (n_load, K): the entries asked for (the others' values unspecified; each entry's sum
+        is the same whichever others are asked for).
         """
-        out = self._kernel_sums(log_tau, kern)
+        out = self._kernel_sums(log_tau, kern, need)
         if out is None:
             out = self._sparse_sums(log_tau, kern)
         phi1 = self.phi[:, 1:2]
@@ -258,7 +263,10 @@ class _Phi:
         return out
 
     def _kernel_sums(
-        self, log_tau: NDArray[np.float64], kern: NDArray[np.float64]
+        self,
+        log_tau: NDArray[np.float64],
+        kern: NDArray[np.float64],
+        need: NDArray[np.bool_] | None = None,
     ) -> NDArray[np.float64] | None:
         """:meth:`_sparse_sums` by the compiled :func:`~._phi_sums.table_sums` (its bits,
         without the CSR matrix's ~0.1 ms of construction per call); None where not built or
@@ -270,8 +278,9 @@ class _Phi:
         inv = 1.0 / (grid[1] - grid[0])
         at = np.array([grid[0], inv, self._lo, grid.size - 1.000001, self._g0], dtype=float)
         out = np.empty((tab.shape[0], log_tau.shape[0]))
+        need = np.ones(out.shape, dtype=bool) if need is None else np.ascontiguousarray(need)
         fn(np.ascontiguousarray(log_tau), np.ascontiguousarray(kern), tab, at,
-           math.log(self.tau1), out)  # fmt: skip
+           math.log(self.tau1), out, need)  # fmt: skip
         return out
 
     def _sparse_sums(

@@ -64,7 +64,7 @@ def df_sums(
 
 
 def table_sums(
-    log_tau: Any, kern: Any, tab: Any, at: Any, log_tau1: float, out: Any
+    log_tau: Any, kern: Any, tab: Any, at: Any, log_tau1: float, out: Any, need: Any
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
     """The sparse product of :meth:`~._phi._Phi.sums_at_log_tau` without building the CSR
     matrix: ``out[l, e] = sum_m kern[e, m] ((1 - u) T[l, i] + u T[l, i + 1])`` over the nodes
@@ -72,7 +72,8 @@ def table_sums(
     the look-up's ``u``, ``i`` by its operations (``at``: the grid's first value, its inverse
     step, the table's first node ``lo``, the clip's top, ``g0``), each row's terms added to 0
     in the CSR's order as scipy's ``csr_matvecs`` does (``y += a x``, node ``i`` then
-    ``i + 1``): its bits. ``tab`` (loads, nodes); ``log_tau`` finite (the caller's check)."""
+    ``i + 1``): its bits. ``tab`` (loads, nodes); ``log_tau`` finite (the caller's check);
+    ``need`` (loads, rows) bool: the entries summed (the others 0)."""
     n_row, m_max = log_tau.shape
     base, inv, lo, top, g0 = at[0], at[1], at[2], at[3], at[4]
     node = np.full((n_row, m_max), -1, dtype=np.intp)  # -1: left out
@@ -96,6 +97,9 @@ def table_sums(
     for load in range(tab.shape[0]):
         for e in range(n_row):
             y = 0.0
+            if not need[load, e]:
+                out[load, e] = y
+                continue
             for m in range(m_max):
                 r = node[e, m]
                 if r >= 0:

@@ -19,6 +19,7 @@ from ._curve import (
     _tau_c,
 )
 from ._energy import full_contact_energy
+from ._gap_band import counted
 from ._gap_distribution import Detachment
 from ._percolation import critical_magnification
 from ._phi import _Phi
@@ -136,9 +137,20 @@ class SolvedContact:
             return np.where(s < 0, -1.0 / np.where(s < 0, s, -1.0), np.inf)
 
     def detachment(
-        self, zeta_edges: ArrayLike | None = None, separation: str = "almqvist"
+        self,
+        zeta_edges: ArrayLike | None = None,
+        separation: str = "almqvist",
+        *,
+        negligible: float = 0.0,
     ) -> Detachment:
         """Detached-area bins (see :func:`detachment`).
+
+        ``negligible`` > 0: the bins whose weight is below that fraction of the load's
+        largest (those :func:`~xpersson.physics.gap_cdf` with the same ``negligible`` leaves
+        out) get ``u1 = 0`` without computing it, and ``ubar`` is computed only at the edges
+        of the other bins (elsewhere not computed: 0 or another value; ``ubar[:, 0] = u(p0)``
+        always); the weights and the other bins' ``u1`` are the same, bit for bit. Near full
+        contact most edges carry such bins alone.
 
         ``separation`` chooses the mean separation ``u1`` of the area detaching in a bin:
 
@@ -163,18 +175,26 @@ class SolvedContact:
         prep, h, h_rms = _EDGE_PREP.get(
             (self.psd, self.E_star, q_L, q_hi, z), lambda: self._edge_prep(z)
         )
-        ubar = _sub_mean_gap(self.psd, self.E_star, self.phi, None, A, q_hi, prep=prep)
-        ubar[:, 0] = self.mean_gap()
-        ubar[:, -1] = 0.0
         dA = N[:, 1:] - N[:, :-1]
         ok = dA > 0
+        weight = np.where(ok, dA, 0.0)
+        count, needed = ok, None
+        if negligible > 0.0:  # the edges of the bins that count (not the first, nor the last)
+            count = ok & counted(weight, negligible)
+            needed = np.zeros(A.shape, dtype=bool)
+            needed[:, 1:-1] = count[:, :-1] | count[:, 1:]
+        ubar = _sub_mean_gap(
+            self.psd, self.E_star, self.phi, None, A, q_hi, prep=prep, needed=needed
+        )
+        ubar[:, 0] = self.mean_gap()
+        ubar[:, -1] = 0.0
         safe = np.where(ok, dA, 1.0)
         if separation == "almqvist":
             dAu = A[:, :-1] * ubar[:, :-1] - A[:, 1:] * ubar[:, 1:]
-            u1 = np.where(ok, dAu / safe, 0.0)
+            u1 = np.where(count, dAu / safe, 0.0)
         else:
-            u1 = self._pressure_part(z, A, ubar, dA, ok, safe, prep)
-        return Detachment(self.p0, z, A, ubar, np.where(ok, dA, 0.0), np.maximum(u1, 0.0), h, h_rms)
+            u1 = self._pressure_part(z, A, ubar, dA, count, safe, prep)
+        return Detachment(self.p0, z, A, ubar, weight, np.maximum(u1, 0.0), h, h_rms)
 
     def _edge_prep(self, z: NDArray[np.float64]) -> tuple[Any, NDArray[np.float64], float]:
         """What the bins of :meth:`detachment` take from the spectrum alone: the sub-problem

@@ -73,6 +73,7 @@ def _sub_mean_gap(
     where: NDArray[np.bool_] | None = None,
     prep: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
     spline: bool = False,
+    needed: NDArray[np.bool_] | None = None,
 ) -> NDArray[np.float64]:
     """Mean separation [m] of the apparent contact at ``q_a`` (n_load, n_a) under ``p0/A_a``.
 
@@ -82,7 +83,11 @@ def _sub_mean_gap(
     ``V = ln(q_hi/q_a)``, graded Gauss-Legendre panels in ``s``. ``where`` (n_load, n_a):
     compute only these entries (the others are 0). ``prep``: :func:`_sub_prep` of ``q_a``,
     when already at hand. ``spline``: ``Phi`` from its spline, not its look-up table (smooth
-    in the cut-off: for difference quotients; per-load cut-offs only).
+    in the cut-off: for difference quotients; per-load cut-offs only). ``needed`` (n_load,
+    n_a; cut-offs shared by every load, without ``where`` or ``spline``): the entries asked
+    for, each by the same operations as without it (the shared ones' sums per cut-off, the
+    others' per entry: the same bits); the others not computed (0, or a shared cut-off's
+    sums).
     """
     log_tc, kern = _sub_prep(psd, E_star, q_a, q_hi) if prep is None else prep
     with np.errstate(divide="ignore"):
@@ -99,14 +104,17 @@ def _sub_mean_gap(
         # load, and their sums are one sparse product with Phi's table (never with ``spline``:
         # its per-load cut-offs of one load alone look shared, and would take the table)
         shared = np.broadcast_to(log_a2[..., 0] == 0.0, shape[:-1])
+        shared = shared & needed if needed is not None else shared
         shared = shared if shared.any() else None
     need = where if where is not None else (None if shared is None else ~shared)
+    if needed is not None and where is None:  # (the per-entry sums: the needed ones only)
+        need = needed if need is None else need & needed
     if where is not None:
         out = np.zeros(shape[:-1])
     elif shared is not None:
-        out = phi.sums_at_log_tau(log_tc[0], kern[0])
+        out = _shared_sums(phi, log_tc[0], kern[0], shared, needed is not None)
     else:
-        out = np.empty(shape[:-1])
+        out = np.empty(shape[:-1]) if needed is None else np.zeros(shape[:-1])
     if not spline and _compiled_sums(phi, log_tc, kern, log_a2, need, out):
         return math.pi * out
     if spline and need is None and _compiled_spline_sums(phi, log_tc, kern, log_a2, out):
@@ -133,6 +141,26 @@ def _sub_mean_gap(
         else:
             np.copyto(out[k, c:], vals.sum(axis=-1), where=need[k, c:])
     return math.pi * out
+
+
+def _shared_sums(
+    phi: _Phi,
+    log_tc: NDArray[np.float64],
+    kern: NDArray[np.float64],
+    shared: NDArray[np.bool_],
+    some: bool,
+) -> NDArray[np.float64]:
+    """:meth:`~._phi._Phi.sums_at_log_tau` of the cut-offs (n_a, m) shared by every load,
+    (n_load, n_a); ``some``: only the ``shared`` entries, at the cut-offs where some load's
+    entry is (the others 0, or unspecified in those cut-offs). Each entry's sum is that of
+    the entry alone (its cut-off's own nodes, its own row of the sparse product or of the
+    compiled loop), so a subset gives the same bits."""
+    if not some:
+        return phi.sums_at_log_tau(log_tc, kern)
+    cols = np.flatnonzero(shared.any(axis=0))
+    out = np.zeros(shared.shape)
+    out[:, cols] = phi.sums_at_log_tau(log_tc[cols], kern[cols], shared[:, cols])
+    return out
 
 
 def _compiled_sums(

@@ -1,9 +1,10 @@
 """The load table with nodes of its own per group of outputs (private, :mod:`._by_load`).
 
-:func:`._by_load.by_load` with ``groups`` tables each group of outputs with segments of its own
-keys but on one set of nodes: a load computed directly for one group's sake (``leakage``: the
-junction near its sealing and at a roll-off, each load a key of its own) is computed for every
-group. Here each group has its own nodes, estimates and refinement, and the direct call
+Each group of outputs is tabled with segments of its own keys (the others' keys do not cut its
+stencils) and nodes of its own: on one set of nodes a load computed directly for one group's
+sake (``leakage``: the junction near its sealing and at a roll-off, each load a key of its
+own) would be computed for every group. Each group has its own estimates and refinement, and
+the direct call
 computes, per load, only the groups that ask for it (``exact(rows, which)``): ``leakage``'s
 effective medium (its detachment bins and gap cells: ~2/3 of a direct load's cost) is then
 interpolated, within its own estimate, at the loads only the junction needs. Levels stay
@@ -64,6 +65,13 @@ def by_group(
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
 
+def own_roles(roles: _Roles, group: frozenset[str]) -> _Roles:
+    """The keys and weights of ``roles`` that belong to ``group`` (its segments: its own keys
+    only)."""
+    keys, weights = roles
+    return keys & group, tuple(w for w in weights if w[0] <= group)
+
+
 class _Direct:
     """The loads computed directly, per group, each once; every level in one call."""
 
@@ -105,14 +113,13 @@ def table(
     """``_by_load._table`` with a table per group (``pre`` (n_group, n): each group's loads of
     the first level; every output in a group); a load's estimate the largest over the groups
     (0 where computed for every group)."""
-    keys, weights = roles
     n_g = len(groups)
     direct = _Direct(exact, xs.size, groups)
     tabled: dict[str, NDArray[np.float64]] = {}
     err = np.full((n_g, xs.size), np.inf)
     m = max(tol[2])
     regions = [[(0, xs.size - 1)] for _ in groups]
-    own = [(keys & g, tuple(w for w in weights if w[0] <= g)) for g in groups]
+    own = [own_roles(roles, g) for g in groups]
     for depth in range(MAX_DEPTH + 2):
         plans = []
         for g in range(n_g):

@@ -24,10 +24,9 @@ a load between two segments has none. A load between two nodes alike in every ou
 of them regular (a sealed stretch), takes their values, whatever the segment's length (its
 estimate: the noise).
 
-**Groups** (``groups``): outputs tabled with segments of their own keys only (``leakage``'s
-effective medium does not see the junction's keys, :data:`LEAK_GROUPS`); a load's estimate is
-the largest over the groups. :func:`._by_group.by_group` gives each group nodes of its own too
-(``leakage`` on roll-off spectra: the medium is not computed where only the junction needs it).
+**Groups**: :func:`._by_group.by_group` tables each group of outputs (:data:`LEAK_GROUPS`) with
+segments of its own keys and nodes of its own (``leakage`` on roll-off spectra: the medium does
+not see the junction's keys, and is not computed where only the junction needs it).
 
 **The error, estimated per load.** The nodes at twice the spacing (the even ones) interpolate
 the odd ones (each from the even nodes of its own segment, one-sided past the segment's last
@@ -162,7 +161,6 @@ def by_load(
     per_decade: float = PER_DECADE,
     weights: tuple[Weight, ...] = (),
     free: NDArray[np.bool_] | None = None,
-    groups: tuple[frozenset[str], ...] = (),
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """The outputs of every load (``{name: (n_load, ...)}``) and the estimated error per load.
 
@@ -178,8 +176,8 @@ def by_load(
     near a segment's ends, where the noise dominates); ``safety``: :data:`SAFETY`.
     ``weights``: outputs tabled transformed (:data:`Weight`; their error still measured on
     ``v``). ``free`` (per load): loads made nodes of the first level (their direct values
-    cost (almost) nothing, or they would be computed directly anyway). ``groups``: tabled
-    with segments of their own on the same nodes (:mod:`._by_group`: nodes of their own).
+    cost (almost) nothing, or they would be computed directly anyway) (groups of outputs
+    with nodes of their own: :func:`._by_group.by_group`).
     """
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
@@ -196,7 +194,6 @@ def by_load(
         (keys, weights),
         per_decade,
         pre,
-        groups,
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
@@ -244,7 +241,6 @@ def _table(
     roles: _Roles,
     per_decade: float,
     pre: NDArray[np.bool_],
-    groups: tuple[frozenset[str], ...] = (),
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise,
     the orders and the safety): the table at ``per_decade`` nodes, each run of loads whose
@@ -281,7 +277,7 @@ def _table(
             keep = np.ones(sub.size, dtype=bool)
             keep[nodes] = False
             rest = np.flatnonzero(keep)  # the loads of the run that are not nodes
-            vals, est = _estimated(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol, groups)
+            vals, est = _one_group(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol)
             for k, v in vals.items():
                 out[k][sub[rest]] = v
             err[sub[rest]] = est
@@ -293,32 +289,6 @@ def _table(
         out[k][direct.done] = v[direct.done]
     err[direct.done] = 0.0
     return out, err
-
-
-def _estimated(
-    xn: NDArray[np.float64],
-    at: dict[str, NDArray[np.float64]],
-    logs: dict[str, NDArray[np.float64]],
-    x: NDArray[np.float64],
-    roles: _Roles,
-    tol: tuple[float, float, tuple[int, ...], float],
-    groups: tuple[frozenset[str], ...] = (),
-) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
-    """:func:`_one_group` for each group of outputs (``groups``: each with its own keys, so its
-    own segments and stencils; () one group, every output), the estimate per load the largest
-    over the groups."""
-    if not groups:
-        return _one_group(xn, at, logs, x, roles, tol)
-    out: dict[str, NDArray[np.float64]] = {}
-    est = np.zeros(x.size)
-    keys, weights = roles
-    for g in groups:
-        sub = (keys & g, tuple(w for w in weights if w[0] <= g))
-        lg = {k: v for k, v in logs.items() if k in g}
-        vals, e = _one_group(xn, {k: v for k, v in at.items() if k in g}, lg, x, sub, tol)
-        out.update(vals)
-        est = np.maximum(est, e)
-    return out, est
 
 
 def _one_group(

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from xpersson import physics
 
 from ._chunks import Part, bin_edges, contact_of, joined, sub_solved
-from ._leakage import bruggeman_gap, junction_piece, leak_rate
+from ._leakage import NEGLIGIBLE, bruggeman_gap, junction_piece, leak_rate
 
 #: Below this share of a chunk's loads asking for the effective medium, the medium's loads get
 #: a SolvedContact of their own (its ``Phi`` and splines built again for them); above, the
@@ -48,7 +48,7 @@ def outputs(
     def full(part: Part) -> tuple[NDArray[np.float64], ...]:
         _, sub, sc = part  # the crossing on the chunk's own curve (as each load alone)
         zc = physics.critical_magnification(sub.zeta, sub.contact, a_c)
-        det = sc.detachment(edges)
+        det = sc.detachment(edges, negligible=NEGLIGIBLE)  # (the bins the medium counts)
         # per load: the cells span that load's gaps, never the batch's (all loads at once)
         u3 = bruggeman_gap(det, a_c=thr, per_load=True)
         return zc, sc.separation_at(zc), det.mean_gap, u3
@@ -67,7 +67,7 @@ def outputs(
         sel = np.flatnonzero(ask)
         if sel.size:  # the medium's loads on a SolvedContact of their own
             s_sel = sub_solved(sub, sel)  # type: ignore[arg-type]
-            det = contact_of(None, s_sel).detachment(edges)
+            det = contact_of(None, s_sel).detachment(edges, negligible=NEGLIGIBLE)
             u3[sel] = bruggeman_gap(det, a_c=thr, per_load=True)
         return zc, u1, ubar, u3
 
