@@ -36,8 +36,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._cn_plan import Edge, Window, _differenced, _grades, _Plan
-from ._level import Level, LevelInputs, level_grid
-from ._moving_fused import fused_level
+from ._level import Level, LevelInputs, Outputs, level_grid
+from ._moving_fused import _OPS, _SNAP, fused_level
 from ._problem import Problem
 
 __all__ = [
@@ -79,14 +79,100 @@ def lean_level(
     n_ie: int,
 ) -> Level | None:
     """The level ``(n, nsub)`` of ``plan`` (``stretch``, ``n_ie`` as in
-    :func:`._moving.level_inputs`) set up by ``fns`` (:func:`lean_inputs`) and marched by
-    :func:`._moving_fused.fused_level` with ``kernels`` (compiled); None where that declines
-    (the caller marches)."""
-    made = lean_inputs(fns, pbs, plan, n, nsub, stretch, n_ie)
+    :func:`._moving.level_inputs`) set up by ``fns`` (:func:`_setup`) and marched by
+    ``kernels`` (compiled :func:`._moving_fused.level_march`): the steps of
+    :func:`._moving_fused.fused_level` on the set-up's arrays, without the inputs' named tuples
+    (their making was a fifth of a small level's time); None where that declines (the outputs'
+    states would be too many to keep: the caller marches)."""
+    nb, nn = len(pbs), n + 1
+    outs = plan.outs if plan.outs is not None else pbs[0].tau[pbs[0].tau > plan.tau_s]
+    if outs.shape[0] * nb * nn > _SNAP:
+        return None
+    made = _setup(fns, pbs, plan, outs, n, nsub, stretch, n_ie)
     if isinstance(made, Level):
         return made
-    inp, r0, coef = made
-    return fused_level(kernels, inp, r0, stretch, coef)
+    grid, p0, taus, theta, out, flags, out_at, coef, r0 = made
+    steps = taus.shape[0] - 1
+    if steps == 0 or steps > _OPS // (4 * nb * nn):  # (fused_level's blocks, its own copy)
+        inp = _inputs(made, plan)
+        return fused_level(kernels, inp, r0.ravel(), stretch, coef)
+    nodes, rows, basis = grid
+    n_out = out_at.shape[0]
+    snaps, sums = np.empty((n_out, nb * nn)), np.zeros((7, nb, n_out))
+    zs = np.zeros((9, nb))
+    ops = np.empty((steps, 4, nb * nn))
+    # the face coefficients: the numpy path's BLAS product (face_ops), the same numbers
+    np.matmul(coef.reshape(-1, 3), basis, out=ops.reshape(-1, nn))
+    info = kernels[0](
+        0, steps, ops, nodes.w, rows.volumes, rows.walls, rows.last, False, flags[0],
+        flags[1], out[9], out[0], out[1], out[2], out[3], out_at, r0.reshape(-1), zs[:5],
+        zs[5:], np.zeros(1, np.int64), snaps, sums,
+    )  # fmt: skip
+    if info != 0:
+        return Level(None, 0, nn, f"tridiagonal solve failed (info={info})")
+    # (_moving_fused._reduce_snapshots with the window's edges as marched)
+    R = snaps.reshape(n_out, nb, nn)
+    area = (R @ nodes.w).T
+    load = sums[5] * area + sums[6] * (R @ (nodes.x * nodes.w)).T
+    return Level(Outputs(area, sums[1], sums[2], load, sums[3], -sums[4], None), steps, nn)
+
+
+_NO_ZONES = np.zeros(0)  # the zone starts of a plan without graded zones
+_NO_ZONES.setflags(write=False)
+
+
+def _setup(
+    fns: tuple[Callable[..., Any], Callable[..., None]],
+    pbs: list[Problem],
+    plan: _Plan,
+    outs: Array,
+    n: int,
+    nsub: int,
+    stretch: float,
+    n_ie: int,
+) -> tuple | Level:
+    """``(grid, p0, taus, theta, out, flags, out_at, coef, start state)`` of the level by
+    ``fns``: :func:`level_setup` and :func:`start_scale` (compiled; see :func:`lean_inputs`),
+    or the failed level where the walls swept the window."""
+    setup, scale = fns
+    pb = pbs[0]
+    nb = len(pbs)
+    grid = level_grid(nb, n, stretch)
+    p0 = np.array([p.p0 for p in pbs], dtype=float)
+    zones = plan.zones
+    zone_starts = np.array([tb for tb, _ in zones]) if zones else _NO_ZONES
+    chord_from = zones[0][0] if zones else math.inf
+    lo = pb.lower
+    # the arrays it fills, made here (a compiled function's returned arrays cost ~0.6 us each)
+    size = (plan.base.shape[0] - 1) * nsub
+    steps = size + min(n_ie, size)
+    taus, theta = np.empty(steps + 1), np.empty(steps)
+    out, flags = np.empty((10, nb, steps)), np.empty((4, nb, steps), dtype=np.bool_)
+    out_at, coef = np.empty(outs.shape[0], np.int64), np.empty((steps, 4, nb, 3))
+    r0 = np.empty((nb, n + 1))
+    ok = setup(
+        plan.base, nsub, n_ie, zone_starts, chord_from, outs, p0, float(plan.k),
+        *lo.table.args(), lo.breakpoint_array, grid.nodes.x, taus, theta, out, flags, out_at,
+        coef, r0,
+    )  # fmt: skip
+    if not ok:
+        return Level(None, 0, n + 1, "the walls swept the whole window (area 0)")
+    np.exp(r0, out=r0)  # (numpy's exp: the numpy path's start state)
+    scale(r0, out[1], taus[0])
+    r0 *= (math.erf(plan.k / math.sqrt(2.0)) / (r0 @ grid.nodes.w))[:, None]
+    return grid, p0, taus, theta, out, flags, out_at, coef, r0
+
+
+def _inputs(made: tuple, plan: _Plan) -> LevelInputs:
+    """The :class:`._level.LevelInputs` of :func:`_setup`'s arrays ``made``."""
+    grid, p0, taus, theta, out, flags, out_at, _, _ = made
+    start = Edge(out[0], out[1], out[4], out[5], out[6])
+    end = Edge(out[2], out[3], out[7], out[8], out[9])
+    window = Window(flags[0], flags[1], start, end, flags[3])
+    return LevelInputs(
+        taus, theta, out_at, grid.nodes, window, p0[:, None], plan.k, plan.yield_wall,
+        plan.image, grid,
+    )  # fmt: skip
 
 
 def lean_inputs(
@@ -102,32 +188,11 @@ def lean_inputs(
     :func:`._moving.level_inputs`, :func:`._moving._initial_state` and
     :func:`._moving_fused.face_coefficients` give) by ``fns``: :func:`level_setup` and
     :func:`start_scale` (compiled); or the failed level where the walls swept the window."""
-    setup, scale = fns
-    pb = pbs[0]
-    nb = len(pbs)
-    grid = level_grid(nb, n, stretch)
-    p0 = np.array([p.p0 for p in pbs], dtype=float)
-    outs = plan.outs if plan.outs is not None else pb.tau[pb.tau > plan.tau_s]
-    zone_starts = np.array([tb for tb, _ in plan.zones])
-    chord_from = plan.zones[0][0] if plan.zones else math.inf
-    bp = np.asarray(pb.lower.breakpoints, dtype=float)
-    taus, theta, out, flags, out_at, coef, r0, ok = setup(
-        plan.base, nsub, n_ie, zone_starts, chord_from, outs, p0, float(plan.k),
-        *pb.lower.table.args(), bp, grid.nodes.x,
-    )  # fmt: skip
-    if not ok:
-        return Level(None, 0, n + 1, "the walls swept the whole window (area 0)")
-    np.exp(r0, out=r0)  # (numpy's exp: the numpy path's start state)
-    scale(r0, out[1], taus[0])
-    r0 *= (math.erf(plan.k / math.sqrt(2.0)) / (r0 @ grid.nodes.w))[:, None]
-    start = Edge(out[0], out[1], out[4], out[5], out[6])
-    end = Edge(out[2], out[3], out[7], out[8], out[9])
-    window = Window(flags[0], flags[1], start, end, flags[3])
-    inp = LevelInputs(
-        taus, theta, out_at, grid.nodes, window, p0[:, None], plan.k, plan.yield_wall,
-        plan.image, grid,
-    )  # fmt: skip
-    return inp, r0.ravel(), coef
+    outs = plan.outs if plan.outs is not None else pbs[0].tau[pbs[0].tau > plan.tau_s]
+    made = _setup(fns, pbs, plan, outs, n, nsub, stretch, n_ie)
+    if isinstance(made, Level):
+        return made
+    return _inputs(made, plan), made[8].ravel(), made[7]
 
 
 def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they hold them
@@ -148,22 +213,29 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
     negate: bool,
     bp: Any,
     xn: Any,
-) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
-    """A lean level's set-up (see the module): ``(taus, theta, out, flags, out_at, coef,
-    arg, ok)`` with ``taus``, ``theta`` of :func:`._cn_plan._level_times` (``base`` [Pa^2]
+    taus: Any,
+    theta: Any,
+    out: Any,
+    flags: Any,
+    out_at: Any,
+    coef: Any,
+    arg: Any,
+) -> bool:  # pragma: no cover - compiled (the numpy path is the reference)
+    """A lean level's set-up (see the module) into the arrays given (sized by the caller):
+    ``taus``, ``theta`` of :func:`._cn_plan._level_times` (``base`` [Pa^2]
     subdivided ``nsub`` times, ``n_ie`` implicit-Euler half steps, theta 1 at the
-    ``zone_starts``), ``out`` and ``flags`` of :func:`._cn_edges.window_edges` for the loads
+    ``zone_starts``), ``out`` (10, loads, steps) and ``flags`` (4, loads, steps) of
+    :func:`._cn_edges.window_edges` for the loads
     ``p0`` [Pa] (window half-width ``k``; the lower wall the table ``c .. negate`` with
     breakpoints ``bp``; no upper wall; chord speeds from
     ``chord_from``), ``out_at`` the steps of the output times ``outs`` (``np.searchsorted``),
     ``coef`` (steps, 4, loads, 3) of :func:`._moving_fused.face_coefficients`, ``arg``
     (loads, nodes) the start state's exponent ``-(l + W x - p0)^2 / (4 tau_0)`` at the nodes
-    ``xn`` (:func:`._moving._initial_state`'s operations), and ``ok``: whether the window's
+    ``xn`` (:func:`._moving._initial_state`'s operations); returns whether the window's
     width stays positive (else the walls swept it)."""
     nb = p0.shape[0]
     size = (base.shape[0] - 1) * nsub + 1
     n_ie = min(n_ie, size - 1)
-    taus, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
     level_times(base, nsub, n_ie, taus, theta)  # noqa: F821 - bound by _compiled._build
     n = taus.shape[0] - 1
     for i in range(n):
@@ -181,7 +253,6 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
     table_values(c, x, t_lo, t_hi, extrapolate, q, p, root, negate)  # noqa: F821
     wall_track(p, taus, hi_t, lo_t, bp, lo_m, lo, vb, va)  # noqa: F821
     up, zero = np.full(n + 1, math.inf), np.zeros(n + 1)
-    out, flags = np.empty((10, nb, n)), np.empty((4, nb, n), dtype=np.bool_)
     window_edges(p0, k, False, False, chord_from, taus, mid, lo_m, up[:n], lo, up, va, vb,  # noqa: F821
                  zero, zero, zero, out, flags)  # fmt: skip
     ok = True
@@ -189,16 +260,13 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
         for i in range(n):
             if out[1, qq, i] <= 0.0 or out[3, qq, i] <= 0.0:
                 ok = False
-    out_at = np.empty(outs.shape[0], np.int64)
     j = 0
     for o in range(outs.shape[0]):  # (np.searchsorted, side "left": outs sorted)
         while j <= n and taus[j] < outs[o]:
             j += 1
         out_at[o] = j
-    coef = np.empty((n, 4, nb, 3))
     face_coefficients(0, n, taus, theta, out[1], out[4], out[5], out[3], out[7], out[8], coef)  # noqa: F821
     t0 = taus[0]
-    arg = np.empty((nb, xn.shape[0]))
     for qq in range(nb):
         la, wa = out[0, qq, 0], out[1, qq, 0]
         for jj in range(xn.shape[0]):
@@ -207,7 +275,7 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
             v = v - p0[qq]
             v = v * v
             arg[qq, jj] = v / (-4.0 * t0)
-    return taus, theta, out, flags, out_at, coef, arg, ok
+    return ok
 
 
 def start_scale(r: Any, width: Any, t0: float) -> None:  # pragma: no cover - compiled
