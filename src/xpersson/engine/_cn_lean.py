@@ -471,3 +471,74 @@ def batch_balances(  # noqa: PLR0913 - the batch's fields
             slack = abs(area[q, j]) * -rtol
             red[4] = _nan_max(red[4], slack + error[q, j])
     return prob, loadb, red
+
+
+def _same_shape(a: Any, b: Any, c: Any, d: Any, shape: Any) -> bool:  # pragma: no cover
+    """Whether ``a .. d`` are all shaped ``shape`` (compiled)."""
+    return a.shape == shape and b.shape == shape and c.shape == shape and d.shape == shape
+
+
+def _combined(a: Any, b: Any, o: Any) -> None:  # pragma: no cover - compiled
+    """``a + (a - b) / 3`` element by element into ``o`` (:func:`._level.combine`'s numpy
+    operations: ``d = a - b``, ``d /= 3``, ``a + d``)."""
+    for q in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            d = a[q, j] - b[q, j]
+            d = d / 3.0
+            o[q, j] = a[q, j] + d
+
+
+def combine_fields(  # noqa: PLR0913 - the two levels' six fields
+    a0: Any, a1: Any, a2: Any, a3: Any, a4: Any, a5: Any,
+    b0: Any, b1: Any, b2: Any, b3: Any, b4: Any, b5: Any,
+    out: Any,
+) -> bool:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._level.combine`'s Richardson step of the six (loads, outputs) fields ``a``
+    (finer) and ``b`` (coarser) into ``out`` (6, loads, outputs); False (nothing written)
+    where a field is not shaped as ``out[0]``."""
+    s = out[0].shape
+    if not (_same_shape(a0, a1, a2, a3, s) and _same_shape(a4, a5, b0, b1, s)
+            and _same_shape(b2, b3, b4, b5, s)):  # fmt: skip
+        return False
+    _combined(a0, b0, out[0])
+    _combined(a1, b1, out[1])
+    _combined(a2, b2, out[2])
+    _combined(a3, b3, out[3])
+    _combined(a4, b4, out[4])
+    _combined(a5, b5, out[5])
+    return True
+
+
+def _summed(ws: Any, a: Any, b: Any, c: Any, o: Any) -> None:  # pragma: no cover - compiled
+    """``0 + ws[0] a + ws[1] b + ws[2] c`` element by element into ``o`` (:func:`._level.
+    _weighted`'s numpy operations: ``a * w_0``, ``+= 0``, then ``+= (v * w_i)``)."""
+    for q in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            acc = a[q, j] * ws[0]
+            acc = acc + 0.0
+            acc = acc + b[q, j] * ws[1]
+            o[q, j] = acc + c[q, j] * ws[2]
+
+
+def weighted_fields(  # noqa: PLR0913 - the three levels' six fields
+    ws: Any,
+    a0: Any, a1: Any, a2: Any, a3: Any, a4: Any, a5: Any,
+    b0: Any, b1: Any, b2: Any, b3: Any, b4: Any, b5: Any,
+    c0: Any, c1: Any, c2: Any, c3: Any, c4: Any, c5: Any,
+    out: Any,
+) -> bool:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._level.weighted` of three levels' six (loads, outputs) fields ``a``, ``b``,
+    ``c`` with the weights ``ws`` (3,) into ``out`` (6, loads, outputs); False (nothing
+    written) where a field is not shaped as ``out[0]``."""
+    s = out[0].shape
+    if not (_same_shape(a0, a1, a2, a3, s) and _same_shape(a4, a5, b0, b1, s)
+            and _same_shape(b2, b3, b4, b5, s) and _same_shape(c0, c1, c2, c3, s)
+            and _same_shape(c4, c5, c0, c0, s)):  # fmt: skip
+        return False
+    _summed(ws, a0, b0, c0, out[0])
+    _summed(ws, a1, b1, c1, out[1])
+    _summed(ws, a2, b2, c2, out[2])
+    _summed(ws, a3, b3, c3, out[3])
+    _summed(ws, a4, b4, c4, out[4])
+    _summed(ws, a5, b5, c5, out[5])
+    return True

@@ -167,6 +167,15 @@ def balances() -> Callable[..., tuple] | None:
     return _STATE.get("balances")
 
 
+def fields() -> tuple[Callable[..., bool], Callable[..., bool]] | None:
+    """The compiled :func:`._cn_lean.combine_fields` and :func:`._cn_lean.weighted_fields`
+    once the compiled march is built and the option is on, else None
+    (:func:`._level.combine`'s and :func:`._level.weighted`'s numpy calls: the same)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("fields")
+
+
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
     """The compiled :func:`._moving_fused.level_march` and
     :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
@@ -222,6 +231,11 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
     scope["_nan_max"] = jit(_cn_lean._nan_max)
     name = "batch_balances"
     _STATE["balances"] = jit(types.FunctionType(_cn_lean.batch_balances.__code__, scope, name))
+    for name in ("_same_shape", "_combined", "_summed"):
+        scope[name] = jit(getattr(_cn_lean, name))
+    comb = jit(types.FunctionType(_cn_lean.combine_fields.__code__, scope, "combine_fields"))
+    summed = jit(types.FunctionType(_cn_lean.weighted_fields.__code__, scope, "weighted_fields"))
+    _STATE["fields"] = (comb, summed)
     scope["_sorted_unique"] = jit(_cn_lean._sorted_unique)
     _STATE["plan"] = jit(types.FunctionType(_cn_lean.plan_base.__code__, scope, "plan_base"))
     return setup, jit(_cn_lean.start_scale)

@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..cache import Cache
+from . import _compiled
 from ._cn_plan import Window, _faces
 from ._grid import clustered
 
@@ -218,6 +219,11 @@ def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
     the probability balance is kept)."""
     if not extrapolate:
         return fine  # (immutable: the same outputs)
+    fast = _compiled.fields() if fine.P is None else None
+    if fast is not None:  # (one compiled pass, the same operations)
+        out = np.empty((_SCALARS, *fine.area.shape))
+        if fast[0](*fine[:_SCALARS], *coarse[:_SCALARS], out):
+            return Outputs(*out, None)
     # the six (loads, outputs) fields at once, ``a + (a - b) / 3`` element by element
     a = np.array(fine[:_SCALARS])
     d = np.subtract(a, np.array(coarse[:_SCALARS]))
@@ -230,6 +236,13 @@ def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
 def weighted(levels: list[Outputs], weights: Array) -> Outputs:
     """The combination ``sum_i weights[i] levels[i]`` of every output (weights summing to 1,
     e.g. Richardson's: the probability balance, linear in the levels, is kept)."""
+    fast = _compiled.fields() if len(levels) == 3 and levels[0].P is None else None
+    if fast is not None:  # (one compiled pass, the same operations)
+        out = np.empty((_SCALARS, *levels[0].area.shape))
+        w3 = np.asarray(weights, dtype=float)
+        if w3.shape == (3,) and fast[1](w3, *levels[0][:_SCALARS], *levels[1][:_SCALARS],
+                                        *levels[2][:_SCALARS], out):  # fmt: skip
+            return Outputs(*out, None)
     ws = [float(c) for c in weights]
     # the six (loads, outputs) fields at once, then the densities (the same operations,
     # element by element, as ``sum`` of each field: 0 + w_0 v_0 + w_1 v_1 + ...)
