@@ -542,3 +542,38 @@ def weighted_fields(  # noqa: PLR0913 - the three levels' six fields
     _summed(ws, a4, b4, c4, out[4])
     _summed(ws, a5, b5, c5, out[5])
     return True
+
+
+def _plain(v: float) -> bool:  # pragma: no cover - compiled
+    """Whether ``v`` is neither NaN nor -0 (where numpy's ``clip``/``maximum`` loops may
+    differ in the sign or payload they return)."""
+    return v == v and not (v == 0.0 and math.copysign(1.0, v) < 0.0)
+
+
+def projected(area: Any, abs_l: Any, abs_u: Any, out: Any) -> bool:  # pragma: no cover
+    """:func:`._level.project` where no sum of the absorbed fractions exceeds 1 (compiled):
+    into ``out`` (7, loads, outputs) the clipped ``area``, ``max(abs_l, 0)``,
+    ``max(abs_u, 0)`` and the distances moved (area, lower, upper, their sum), the same
+    operations; False (``out`` partly written) where a value is NaN or -0 or a sum exceeds 1
+    (the numpy path decides those)."""
+    s = out[0].shape
+    if area.shape != s or abs_l.shape != s or abs_u.shape != s:
+        return False
+    for q in range(s[0]):
+        for j in range(s[1]):
+            a0, l0, u0 = area[q, j], abs_l[q, j], abs_u[q, j]
+            if not (_plain(a0) and _plain(l0) and _plain(u0)):
+                return False
+            a = a0 if a0 > 0.0 else 0.0  # (numpy's clip: max then min, NaN excluded above)
+            a = a if a < 1.0 else 1.0
+            lo = l0 if l0 >= 0.0 else 0.0  # (numpy's maximum; -0 excluded above)
+            up = u0 if u0 >= 0.0 else 0.0
+            total = lo + up
+            if not total <= 1.0:
+                return False
+            out[0, q, j], out[1, q, j], out[2, q, j] = a, lo, up
+            out[3, q, j] = abs(a - a0)
+            out[4, q, j] = abs(lo - l0)
+            out[5, q, j] = abs(up - u0)
+            out[6, q, j] = abs(total - (l0 + u0))
+    return True

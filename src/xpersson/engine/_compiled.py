@@ -176,6 +176,14 @@ def fields() -> tuple[Callable[..., bool], Callable[..., bool]] | None:
     return _STATE.get("fields")
 
 
+def projected() -> Callable[..., bool] | None:
+    """The compiled :func:`._cn_lean.projected` once the compiled march is built and the
+    option is on, else None (:func:`._level.project`'s numpy calls: the same)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("project")
+
+
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
     """The compiled :func:`._moving_fused.level_march` and
     :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
@@ -236,6 +244,8 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
     comb = jit(types.FunctionType(_cn_lean.combine_fields.__code__, scope, "combine_fields"))
     summed = jit(types.FunctionType(_cn_lean.weighted_fields.__code__, scope, "weighted_fields"))
     _STATE["fields"] = (comb, summed)
+    scope["_plain"] = jit(_cn_lean._plain)
+    _STATE["project"] = jit(types.FunctionType(_cn_lean.projected.__code__, scope, "projected"))
     scope["_sorted_unique"] = jit(_cn_lean._sorted_unique)
     _STATE["plan"] = jit(types.FunctionType(_cn_lean.plan_base.__code__, scope, "plan_base"))
     return setup, jit(_cn_lean.start_scale)

@@ -270,6 +270,17 @@ def project(
     ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
     non-contact fraction) exceeds 1, scaled down to sum to 1.
     """
+    fast = _compiled.projected()
+    if fast is not None:  # (one compiled pass where no value is NaN or -0 and no sum over 1)
+        out = np.empty((7, *np.shape(area)))
+        if fast(area, abs_l, abs_u, out):
+            dist = {
+                "area": out[3],
+                "absorbed_lower": out[4],
+                "absorbed_upper": out[5],
+                "non_contact_fraction": out[6],
+            }
+            return (out[0], out[1], out[2]), dist
     a = np.asarray(area).clip(0.0, 1.0)  # (the method: np.clip's dispatch costs ~2 us)
     lo = np.maximum(abs_l, 0.0)
     up = np.maximum(abs_u, 0.0)
