@@ -258,3 +258,69 @@ def test_compiled_batch_balances_are_the_numpy_ones(data, loads, rtol):
     for name, value in want["fields"].items():
         if value is not None:
             assert _bits(got["fields"][name]) == _bits(value), name
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    shape=st.tuples(st.integers(1, 3), st.integers(1, 5)),
+    data=st.data(),
+    weights=st.lists(st.floats(-3.0, 3.0), min_size=3, max_size=3),
+)
+def test_compiled_level_combinations_are_the_numpy_ones(shape, data, weights):
+    """The Richardson step of two levels (``combine``) and the weighted sum of three
+    (``weighted``) by one compiled pass each equal the numpy path's bit for bit, signed
+    zeros, NaN and infinities included, on C- and Fortran-ordered fields."""
+    from xpersson.engine._level import combine, weighted
+
+    _build()
+    n = shape[0] * shape[1]
+
+    def field():
+        return np.array(data.draw(st.lists(_VALUES, min_size=n, max_size=n))).reshape(shape)
+
+    lv = [Outputs(*(field() for _ in range(6)), None) for _ in range(3)]
+    odd = lv[2]._replace(load=np.asfortranarray(lv[2].load))  # (another memory layout)
+    ws = np.array(weights)
+    for compiled in (False, True):
+        with set_options(compiled=compiled), np.errstate(all="ignore"):
+            got = (combine(lv[0], lv[1], True), weighted(lv, ws), weighted([*lv[:2], odd], ws))
+        if not compiled:
+            want = got
+    for have, ref in zip(got, want, strict=True):
+        for name in Outputs._fields[:6]:
+            assert _bits(getattr(have, name)) == _bits(getattr(ref, name)), name
+
+
+_PROBS = st.one_of(
+    st.floats(-0.1, 1.1),
+    st.sampled_from([0.0, -0.0, 1.0, 0.5, 1e-300, -1e-300, 5e-324, -5e-324, np.nan, np.inf]),
+)
+
+
+@settings(max_examples=120, deadline=None)
+@given(shape=st.tuples(st.integers(1, 3), st.integers(1, 5)), data=st.data())
+def test_compiled_projection_is_the_numpy_one(shape, data):
+    """The projection onto admissible probabilities by one compiled pass equals numpy's
+    clip/maximum path bit for bit (signed zeros, NaN and sums over 1 left to numpy), and the
+    compiled pass is taken on ordinary values."""
+    from xpersson.engine._level import project
+
+    _build()
+    n = shape[0] * shape[1]
+
+    def field(values):
+        return np.array(data.draw(st.lists(values, min_size=n, max_size=n))).reshape(shape)
+
+    area, lo, up = field(_PROBS), field(_PROBS), field(_PROBS)
+    with set_options(compiled=False), np.errstate(all="ignore"):
+        want = project(area, lo, up)
+    with set_options(compiled=True), np.errstate(all="ignore"):
+        got = project(area, lo, up)
+    for have, ref in zip(got[0], want[0], strict=True):
+        assert _bits(have) == _bits(ref)
+    assert list(got[1]) == list(want[1])
+    for name, ref in want[1].items():
+        assert _bits(got[1][name]) == _bits(ref), name
+    plain = np.full(shape, 0.25)  # (ordinary values: the compiled pass answers)
+    with set_options(compiled=True):
+        assert _compiled.projected()(plain, plain, plain, np.empty((7, *shape)))

@@ -417,10 +417,13 @@ def batch_balances_of(fast: Callable[..., tuple], problem: Problem, raw: Any, lo
     for a batch ``raw`` of ``problem`` without an upper wall (``lo``: the lower wall's
     positions [Pa], as ``_fixed_positions`` gives them) by ``fast``
     (:func:`batch_balances`, compiled): ``(prob, loadb, reductions)``."""
-    n = raw.area.shape[-1]
-    lo2 = lo.reshape(-1, n) if lo.ndim else np.full((1, n), lo)
-    return fast(raw.area, raw.absorbed_lower, raw.absorbed_upper, raw.load, raw.wall_term,
-                raw.error_estimate, problem.p0, lo2, problem.rtol)  # fmt: skip
+    shape = raw.area.shape
+    lo2 = lo.reshape(-1, shape[-1]) if lo.ndim else np.full((1, shape[-1]), lo)
+    # (the arrays it fills made here: a compiled function's returned arrays cost ~0.6 us each)
+    prob, loadb, red = np.empty(shape), np.empty(shape), np.empty(5)
+    fast(raw.area, raw.absorbed_lower, raw.absorbed_upper, raw.load, raw.wall_term,
+         raw.error_estimate, problem.p0, lo2, problem.rtol, prob, loadb, red)  # fmt: skip
+    return prob, loadb, red
 
 
 def _nan_max(m: float, v: float) -> float:  # pragma: no cover - compiled
@@ -440,15 +443,17 @@ def batch_balances(  # noqa: PLR0913 - the batch's fields
     p0: Any,
     lo: Any,
     rtol: float,
-) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
+    prob: Any,
+    loadb: Any,
+    red: Any,
+) -> None:  # pragma: no cover - compiled (the numpy path is the reference)
     """:func:`._result._balances` of a batch without an upper wall (``lo`` the lower wall's
     positions (1 or loads, outputs) [Pa], ``p0`` (loads, 1) [Pa]) and the screen's reductions
-    of :func:`._result.finish_batch` in one pass: ``(prob, loadb, [max prob, -min prob, max
-    loadb, -min loadb, max (error - rtol |area|)])`` (numpy's NaN-propagating ``max``/``min``),
-    the same operations element by element."""
+    of :func:`._result.finish_batch` in one pass, into ``prob``, ``loadb`` (loads, outputs)
+    and ``red`` = ``[max prob, -min prob, max loadb, -min loadb, max (error - rtol |area|)]``
+    (numpy's NaN-propagating ``max``/``min``), the same operations element by element."""
     nb, n = area.shape
-    prob, loadb = np.empty((nb, n)), np.empty((nb, n))
-    red = np.full(5, -math.inf)
+    red[:] = -math.inf
     for q in range(nb):
         p = p0[q, 0]
         a = abs(p)
@@ -470,7 +475,6 @@ def batch_balances(  # noqa: PLR0913 - the batch's fields
             red[3] = _nan_max(red[3], -g)
             slack = abs(area[q, j]) * -rtol
             red[4] = _nan_max(red[4], slack + error[q, j])
-    return prob, loadb, red
 
 
 def _same_shape(a: Any, b: Any, c: Any, d: Any, shape: Any) -> bool:  # pragma: no cover
@@ -478,14 +482,19 @@ def _same_shape(a: Any, b: Any, c: Any, d: Any, shape: Any) -> bool:  # pragma: 
     return a.shape == shape and b.shape == shape and c.shape == shape and d.shape == shape
 
 
-def _combined(a: Any, b: Any, o: Any) -> None:  # pragma: no cover - compiled
+def _combined(a: Any, b: Any, o: Any) -> bool:  # pragma: no cover - compiled
     """``a + (a - b) / 3`` element by element into ``o`` (:func:`._level.combine`'s numpy
-    operations: ``d = a - b``, ``d /= 3``, ``a + d``)."""
+    operations: ``d = a - b``, ``d /= 3``, ``a + d``); whether no value is NaN (a NaN's sign
+    and payload depend on the operands' order, which the compiler may swap: numpy decides)."""
     for q in range(a.shape[0]):
         for j in range(a.shape[1]):
             d = a[q, j] - b[q, j]
             d = d / 3.0
-            o[q, j] = a[q, j] + d
+            v = a[q, j] + d
+            if v != v:
+                return False
+            o[q, j] = v
+    return True
 
 
 def combine_fields(  # noqa: PLR0913 - the two levels' six fields
@@ -494,30 +503,31 @@ def combine_fields(  # noqa: PLR0913 - the two levels' six fields
     out: Any,
 ) -> bool:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
     """:func:`._level.combine`'s Richardson step of the six (loads, outputs) fields ``a``
-    (finer) and ``b`` (coarser) into ``out`` (6, loads, outputs); False (nothing written)
-    where a field is not shaped as ``out[0]``."""
+    (finer) and ``b`` (coarser) into ``out`` (6, loads, outputs); False (the numpy path
+    answers) where a field is not shaped as ``out[0]`` or a value is NaN."""
     s = out[0].shape
     if not (_same_shape(a0, a1, a2, a3, s) and _same_shape(a4, a5, b0, b1, s)
             and _same_shape(b2, b3, b4, b5, s)):  # fmt: skip
         return False
-    _combined(a0, b0, out[0])
-    _combined(a1, b1, out[1])
-    _combined(a2, b2, out[2])
-    _combined(a3, b3, out[3])
-    _combined(a4, b4, out[4])
-    _combined(a5, b5, out[5])
-    return True
+    return (_combined(a0, b0, out[0]) and _combined(a1, b1, out[1])
+            and _combined(a2, b2, out[2]) and _combined(a3, b3, out[3])
+            and _combined(a4, b4, out[4]) and _combined(a5, b5, out[5]))  # fmt: skip
 
 
-def _summed(ws: Any, a: Any, b: Any, c: Any, o: Any) -> None:  # pragma: no cover - compiled
+def _summed(ws: Any, a: Any, b: Any, c: Any, o: Any) -> bool:  # pragma: no cover - compiled
     """``0 + ws[0] a + ws[1] b + ws[2] c`` element by element into ``o`` (:func:`._level.
-    _weighted`'s numpy operations: ``a * w_0``, ``+= 0``, then ``+= (v * w_i)``)."""
+    _weighted`'s numpy operations: ``a * w_0``, ``+= 0``, then ``+= (v * w_i)``); whether no
+    value is NaN (see :func:`_combined`)."""
     for q in range(a.shape[0]):
         for j in range(a.shape[1]):
             acc = a[q, j] * ws[0]
             acc = acc + 0.0
             acc = acc + b[q, j] * ws[1]
-            o[q, j] = acc + c[q, j] * ws[2]
+            v = acc + c[q, j] * ws[2]
+            if v != v:
+                return False
+            o[q, j] = v
+    return True
 
 
 def weighted_fields(  # noqa: PLR0913 - the three levels' six fields
@@ -528,20 +538,16 @@ def weighted_fields(  # noqa: PLR0913 - the three levels' six fields
     out: Any,
 ) -> bool:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
     """:func:`._level.weighted` of three levels' six (loads, outputs) fields ``a``, ``b``,
-    ``c`` with the weights ``ws`` (3,) into ``out`` (6, loads, outputs); False (nothing
-    written) where a field is not shaped as ``out[0]``."""
+    ``c`` with the weights ``ws`` (3,) into ``out`` (6, loads, outputs); False (the numpy
+    path answers) where a field is not shaped as ``out[0]`` or a value is NaN."""
     s = out[0].shape
     if not (_same_shape(a0, a1, a2, a3, s) and _same_shape(a4, a5, b0, b1, s)
             and _same_shape(b2, b3, b4, b5, s) and _same_shape(c0, c1, c2, c3, s)
             and _same_shape(c4, c5, c0, c0, s)):  # fmt: skip
         return False
-    _summed(ws, a0, b0, c0, out[0])
-    _summed(ws, a1, b1, c1, out[1])
-    _summed(ws, a2, b2, c2, out[2])
-    _summed(ws, a3, b3, c3, out[3])
-    _summed(ws, a4, b4, c4, out[4])
-    _summed(ws, a5, b5, c5, out[5])
-    return True
+    return (_summed(ws, a0, b0, c0, out[0]) and _summed(ws, a1, b1, c1, out[1])
+            and _summed(ws, a2, b2, c2, out[2]) and _summed(ws, a3, b3, c3, out[3])
+            and _summed(ws, a4, b4, c4, out[4]) and _summed(ws, a5, b5, c5, out[5]))  # fmt: skip
 
 
 def _plain(v: float) -> bool:  # pragma: no cover - compiled
