@@ -408,7 +408,8 @@ def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report 
 def _per_load(value: int | Array, n: int) -> Array:
     """A count per load [1] (``(n,)`` int64, read-only) of one count or one per load."""
     if type(value) is int:  # (one count for the batch: ~1 us less than a broadcast view)
-        out = np.full(n, value, dtype=np.int64)
+        out = np.empty(n, dtype=np.int64)
+        out.fill(value)
         out.flags.writeable = False
         return out
     return broadcast_view(np.asarray(value, dtype=np.int64), (n,))
@@ -477,7 +478,10 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         if isinstance(raw.message, str)
         else [m or "requested tolerance met" for m in raw.message]
     )
-    success = np.full(n, clean) if clean is True or clean is False else clean.astype(bool)
+    if clean is True or clean is False:  # (np.ones/np.zeros: np.full costs ~1.5 us more)
+        success = np.ones(n, dtype=bool) if clean else np.zeros(n, dtype=bool)
+    else:
+        success = clean.astype(bool)
     if clean is not True and np.count_nonzero(success) < n:
         for i in np.flatnonzero(~success):
             status[i], message[i] = _row_status(problem, raw, prob, loadb, int(i))
@@ -504,6 +508,6 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         nsteps=_per_load(raw.nsteps, n),
         n_nodes=_per_load(raw.n_nodes, n),
         nfev=_per_load(raw.nfev, n),
-        exact_balances=np.full(n, raw.exact_balances),
+        exact_balances=np.ones(n, dtype=bool) if raw.exact_balances else np.zeros(n, dtype=bool),
         success=success,
     )

@@ -18,6 +18,10 @@ def broadcast_view(value: Any, shape: tuple[int, ...]) -> NDArray[Any]:
     goes to ``np.broadcast_to``."""
     arr = np.asarray(value)
     lead = len(shape) - arr.ndim
+    if lead == 1 and shape[0] == 1 and arr.shape == shape[1:]:  # (one load: an added axis)
+        out = arr[None]
+        out.flags.writeable = False
+        return out
     if lead >= 0 and tuple(shape[lead:]) == arr.shape and arr.flags.c_contiguous:
         out = np.ndarray(shape, arr.dtype, buffer=arr, strides=(0,) * lead + arr.strides)
         out.flags.writeable = False
