@@ -46,6 +46,7 @@ __all__ = [
     "judge_ratio",
     "lean_inputs",
     "lean_level",
+    "lean_march",
     "lean_ok",
     "level_setup",
     "plan_base",
@@ -69,7 +70,7 @@ def lean_ok(pbs: list[Problem], plan: _Plan, nsub: int) -> bool:
 
 
 def lean_level(
-    fns: tuple[Callable[..., Any], Callable[..., None]],
+    fns: tuple[Callable[..., Any], ...],
     kernels: tuple[Callable[..., int], Callable[..., None]],
     pbs: list[Problem],
     plan: _Plan,
@@ -80,10 +81,12 @@ def lean_level(
 ) -> Level | None:
     """The level ``(n, nsub)`` of ``plan`` (``stretch``, ``n_ie`` as in
     :func:`._moving.level_inputs`) set up by ``fns`` (:func:`_setup`) and marched by
-    ``kernels`` (compiled :func:`._moving_fused.level_march`): the steps of
+    ``fns[2]`` (:func:`lean_march`: the start state's normalisation and
+    :func:`._moving_fused.level_march`, compiled): the steps of
     :func:`._moving_fused.fused_level` on the set-up's arrays, without the inputs' named tuples
-    (their making was a fifth of a small level's time); None where that declines (the outputs'
-    states would be too many to keep: the caller marches)."""
+    (their making was a fifth of a small level's time); levels of no steps or of more steps
+    than one block take :func:`._moving_fused.fused_level` with ``kernels``; None where that
+    declines (the outputs' states would be too many to keep: the caller marches)."""
     nb, nn = len(pbs), n + 1
     outs = plan.outs if plan.outs is not None else pbs[0].tau[pbs[0].tau > plan.tau_s]
     if outs.shape[0] * nb * nn > _SNAP:
@@ -91,11 +94,11 @@ def lean_level(
     made = _setup(fns, pbs, plan, outs, n, nsub, stretch, n_ie)
     if isinstance(made, Level):
         return made
-    grid, p0, taus, theta, out, flags, out_at, coef, r0 = made
+    grid, p0, taus, theta, out, flags, out_at, coef, r0, mass = made
     steps = taus.shape[0] - 1
     if steps == 0 or steps > _OPS // (4 * nb * nn):  # (fused_level's blocks, its own copy)
         inp = _inputs(made, plan)
-        return fused_level(kernels, inp, r0.ravel(), stretch, coef)
+        return fused_level(kernels, inp, _normalized(r0, mass, plan.k).ravel(), stretch, coef)
     nodes, rows, basis = grid
     n_out = out_at.shape[0]
     snaps, sums = np.empty((n_out, nb * nn)), np.zeros((7, nb, n_out))
@@ -103,10 +106,9 @@ def lean_level(
     ops = np.empty((steps, 4, nb * nn))
     # the face coefficients: the numpy path's BLAS product (face_ops), the same numbers
     np.matmul(coef.reshape(-1, 3), basis, out=ops.reshape(-1, nn))
-    info = kernels[0](
-        0, steps, ops, nodes.w, rows.volumes, rows.walls, rows.last, False, flags[0],
-        flags[1], out[9], out[0], out[1], out[2], out[3], out_at, r0.reshape(-1), zs[:5],
-        zs[5:], np.zeros(1, np.int64), snaps, sums,
+    info = fns[2](
+        math.erf(plan.k / math.sqrt(2.0)), mass, r0, steps, ops, nodes.w, rows.volumes,
+        rows.walls, rows.last, flags, out, out_at, zs, snaps, sums,
     )  # fmt: skip
     if info != 0:
         return Level(None, 0, nn, f"tridiagonal solve failed (info={info})")
@@ -122,7 +124,7 @@ _NO_ZONES.setflags(write=False)
 
 
 def _setup(
-    fns: tuple[Callable[..., Any], Callable[..., None]],
+    fns: tuple[Callable[..., Any], ...],
     pbs: list[Problem],
     plan: _Plan,
     outs: Array,
@@ -134,7 +136,7 @@ def _setup(
     """``(grid, p0, taus, theta, out, flags, out_at, coef, start state)`` of the level by
     ``fns``: :func:`level_setup` and :func:`start_scale` (compiled; see :func:`lean_inputs`),
     or the failed level where the walls swept the window."""
-    setup, scale = fns
+    setup, scale = fns[:2]
     pb = pbs[0]
     nb = len(pbs)
     grid = level_grid(nb, n, stretch)
@@ -159,13 +161,20 @@ def _setup(
         return Level(None, 0, n + 1, "the walls swept the whole window (area 0)")
     np.exp(r0, out=r0)  # (numpy's exp: the numpy path's start state)
     scale(r0, out[1], taus[0])
-    r0 *= (math.erf(plan.k / math.sqrt(2.0)) / (r0 @ grid.nodes.w))[:, None]
-    return grid, p0, taus, theta, out, flags, out_at, coef, r0
+    # the start state's mass (BLAS gemv: the numpy path's), its normalisation by the caller
+    return grid, p0, taus, theta, out, flags, out_at, coef, r0, r0 @ grid.nodes.w
+
+
+def _normalized(r0: Array, mass: Array, k: float) -> Array:
+    """The start state ``r0`` (loads, nodes) of mass ``mass`` scaled to the window's mass
+    ``erf(k / sqrt 2)`` (in place; :func:`._moving._initial_state`'s operations)."""
+    r0 *= (math.erf(k / math.sqrt(2.0)) / mass)[:, None]
+    return r0
 
 
 def _inputs(made: tuple, plan: _Plan) -> LevelInputs:
     """The :class:`._level.LevelInputs` of :func:`_setup`'s arrays ``made``."""
-    grid, p0, taus, theta, out, flags, out_at, _, _ = made
+    grid, p0, taus, theta, out, flags, out_at = made[:7]
     start = Edge(out[0], out[1], out[4], out[5], out[6])
     end = Edge(out[2], out[3], out[7], out[8], out[9])
     window = Window(flags[0], flags[1], start, end, flags[3])
@@ -176,7 +185,7 @@ def _inputs(made: tuple, plan: _Plan) -> LevelInputs:
 
 
 def lean_inputs(
-    fns: tuple[Callable[..., Any], Callable[..., None]],
+    fns: tuple[Callable[..., Any], ...],
     pbs: list[Problem],
     plan: _Plan,
     n: int,
@@ -192,7 +201,7 @@ def lean_inputs(
     made = _setup(fns, pbs, plan, outs, n, nsub, stretch, n_ie)
     if isinstance(made, Level):
         return made
-    return _inputs(made, plan), made[8].ravel(), made[7]
+    return _inputs(made, plan), _normalized(made[8], made[9], plan.k).ravel(), made[7]
 
 
 def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they hold them
@@ -290,6 +299,40 @@ def start_scale(r: Any, width: Any, t0: float) -> None:  # pragma: no cover - co
             r[q, j] = r[q, j] * w * c
         r[q, 0] = 0.0
         r[q, nn - 1] = 0.0
+
+
+def lean_march(  # noqa: PLR0913 - the level's arrays, as the set-up made them
+    c: float,
+    mass: Any,
+    r0: Any,
+    steps: int,
+    ops: Any,
+    w: Any,
+    volumes: Any,
+    walls: Any,
+    last: Any,
+    flags: Any,
+    out: Any,
+    out_at: Any,
+    zs: Any,
+    snaps: Any,
+    sums: Any,
+) -> int:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The start state ``r0`` (loads, nodes) of mass ``mass`` (loads,) scaled to the window's
+    mass ``c`` (``r0 *= (c / mass)[:, None]``, :func:`_normalized`'s operations), then the
+    level's ``steps`` steps by :func:`._moving_fused.level_march` on :func:`level_setup`'s
+    window ``out``, ``flags`` (no upper wall), the face products ``ops`` and the rows ``w``,
+    ``volumes``, ``walls``, ``last``; ``zs`` (9, loads) zeros, the outputs into ``snaps`` and
+    ``sums``; returns LAPACK's ``info`` (0: every solve succeeded)."""
+    nn = r0.shape[1]
+    for q in range(r0.shape[0]):
+        f = c / mass[q]
+        for j in range(nn):
+            r0[q, j] = r0[q, j] * f
+    pos = np.zeros(1, np.int64)
+    return level_march(0, steps, ops, w, volumes, walls, last, False, flags[0], flags[1],  # noqa: F821
+                       out[9], out[0], out[1], out[2], out[3], out_at, r0.reshape(-1), zs[:5],
+                       zs[5:], pos, snaps, sums)  # fmt: skip
 
 
 def start_scan(  # noqa: PLR0913 - the table's arrays, as it holds them

@@ -126,10 +126,10 @@ def tracks() -> tuple[Callable[..., None], Callable[..., None]] | None:
     return _STATE.get("tracks")
 
 
-def lean() -> tuple[Callable[..., Any], Callable[..., None]] | None:
-    """The compiled :func:`._cn_lean.level_setup` and :func:`._cn_lean.start_scale` once the
-    compiled march is built and the option is on, else None (the level's set-up by the
-    numpy path's pieces: the same numbers)."""
+def lean() -> tuple[Callable[..., Any], ...] | None:
+    """The compiled :func:`._cn_lean.level_setup`, :func:`._cn_lean.start_scale` and
+    :func:`._cn_lean.lean_march` once the compiled march is built and the option is on, else
+    None (the level's set-up by the numpy path's pieces: the same numbers)."""
     if not compiled_enabled():
         return None
     return _STATE.get("lean")
@@ -210,10 +210,10 @@ def _build() -> Callable[..., int] | None:
     _STATE["times"] = jit(_cn_edges.level_times)
     _STATE["tracks"] = (jit(_cn_edges.wall_query), jit(_cn_edges.wall_track))
     faces = jit(fused_src.face_coefficients)
-    _STATE["lean"] = _lean(jit, faces, _wall_table.kernels())
     code = fused_src.level_march.__code__
     level = jit(types.FunctionType(code, fused_scope, "level_march"))
     _STATE["level"] = (level, faces)
+    _STATE["lean"] = _lean(jit, faces, _wall_table.kernels())
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
 
 
@@ -232,6 +232,7 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
         "window_edges": _STATE["edges"],
         "table_values": table[0],
         "face_coefficients": faces,
+        "level_march": _STATE["level"][0],
     }
     setup = jit(types.FunctionType(_cn_lean.level_setup.__code__, scope, "level_setup"))
     _STATE["start"] = jit(types.FunctionType(_cn_lean.start_scan.__code__, scope, "start_scan"))
@@ -248,7 +249,8 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
     _STATE["project"] = jit(types.FunctionType(_cn_lean.projected.__code__, scope, "projected"))
     scope["_sorted_unique"] = jit(_cn_lean._sorted_unique)
     _STATE["plan"] = jit(types.FunctionType(_cn_lean.plan_base.__code__, scope, "plan_base"))
-    return setup, jit(_cn_lean.start_scale)
+    march = jit(types.FunctionType(_cn_lean.lean_march.__code__, scope, "lean_march"))
+    return setup, jit(_cn_lean.start_scale), march
 
 
 def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path holds them
