@@ -324,3 +324,26 @@ def test_compiled_projection_is_the_numpy_one(shape, data):
     plain = np.full(shape, 0.25)  # (ordinary values: the compiled pass answers)
     with set_options(compiled=True):
         assert _compiled.projected()(plain, plain, plain, np.empty((7, *shape)))
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    n=st.integers(1, 6),
+    loads=st.integers(1, 3),
+    value=st.one_of(st.integers(0, 10**6), st.lists(st.integers(0, 99), min_size=3, max_size=3)),
+)
+def test_one_load_views_and_counts_are_numpys(n, loads, value):
+    """The shortcuts of a batch's fields: a view of one row over the loads is numpy's
+    broadcast (values, shape, read-only, no copy), a count per load numpy's broadcast of it."""
+    from xpersson.engine._result import _per_load
+    from xpersson.engine._views import broadcast_view
+
+    row = np.arange(float(n))
+    got, want = broadcast_view(row, (loads, n)), np.broadcast_to(row, (loads, n))
+    assert got.shape == want.shape and _bits(got) == _bits(want)
+    assert not got.flags.writeable and np.shares_memory(got, row)
+    if isinstance(value, list):
+        value = np.array(value[:loads] + [0] * (loads - len(value[:loads])), dtype=np.int64)
+    counts = _per_load(value, loads)
+    assert counts.dtype == np.int64 and not counts.flags.writeable
+    assert _bits(counts) == _bits(np.broadcast_to(np.asarray(value, dtype=np.int64), (loads,)))
