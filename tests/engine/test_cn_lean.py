@@ -347,3 +347,32 @@ def test_one_load_views_and_counts_are_numpys(n, loads, value):
     counts = _per_load(value, loads)
     assert counts.dtype == np.int64 and not counts.flags.writeable
     assert _bits(counts) == _bits(np.broadcast_to(np.asarray(value, dtype=np.int64), (loads,)))
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    wiggle=st.floats(0.0, 0.7),
+    p0=st.lists(st.floats(-0.5, 1.5), min_size=1, max_size=3),
+    spoil=st.sampled_from([None, np.nan, np.inf]),
+)
+def test_compiled_position_check_is_the_numpy_one(wiggle, p0, spoil):
+    """The input check of a tabled lower wall in one compiled call accepts and refuses what
+    the numpy check does (a load on or below the wall at ``tau = 0``, a non-finite position
+    somewhere in the table), with the numpy check's message."""
+    _build()
+    wall = _wall(wiggle, None)
+    if spoil is not None:  # (a non-finite coefficient in one interval of table and callable)
+        c = wall.table.c.copy()
+        c[0, c.shape[1] // 2] = spoil
+        table = WallTable(c, *wall.table.args()[1:])
+        wall = Wall.absorbing(table.values, table=table)
+    p0 = np.array(p0)
+    outcome = []
+    for compiled in (False, True):
+        with set_options(compiled=compiled):
+            try:
+                make_problem(TAU, p0, wall, None, 1e-6, None, None, 10**6, {}, batch=True)
+                outcome.append("ok")
+            except ValueError as exc:
+                outcome.append(str(exc))
+    assert outcome[0] == outcome[1]

@@ -46,6 +46,7 @@ __all__ = [
     "judge_ratio",
     "lean_inputs",
     "lean_level",
+    "lean_load",
     "lean_march",
     "lean_ok",
     "level_setup",
@@ -112,10 +113,12 @@ def lean_level(
     )  # fmt: skip
     if info != 0:
         return Level(None, 0, nn, f"tridiagonal solve failed (info={info})")
-    # (_moving_fused._reduce_snapshots with the window's edges as marched)
+    # (_moving_fused._reduce_snapshots with the window's edges as marched: BLAS's sums)
     R = snaps.reshape(n_out, nb, nn)
-    area = (R @ nodes.w).T
-    load = sums[5] * area + sums[6] * (R @ (nodes.x * nodes.w)).T
+    area, moment = (R @ nodes.w).T, (R @ (nodes.x * nodes.w)).T
+    load = np.empty(area.shape)
+    if not fns[3](area, moment, sums, load):  # (a NaN: numpy's operations decide its bits)
+        load = sums[5] * area + sums[6] * moment
     return Level(Outputs(area, sums[1], sums[2], load, sums[3], -sums[4], None), steps, nn)
 
 
@@ -333,6 +336,20 @@ def lean_march(  # noqa: PLR0913 - the level's arrays, as the set-up made them
     return level_march(0, steps, ops, w, volumes, walls, last, False, flags[0], flags[1],  # noqa: F821
                        out[9], out[0], out[1], out[2], out[3], out_at, r0.reshape(-1), zs[:5],
                        zs[5:], pos, snaps, sums)  # fmt: skip
+
+
+def lean_load(area: Any, moment: Any, sums: Any, load: Any) -> bool:  # pragma: no cover
+    """The load ``int p R dx = l area + W moment`` (loads, outputs) [Pa] of a lean level into
+    ``load``, from the window's edges ``l = sums[5]``, ``W = sums[6]`` at the outputs (numpy's
+    ``sums[5] * area + sums[6] * moment``, element by element; compiled); False where a value
+    is NaN (its sign and payload then follow numpy's operand order: numpy recomputes)."""
+    for q in range(area.shape[0]):
+        for j in range(area.shape[1]):
+            v = sums[5, q, j] * area[q, j] + sums[6, q, j] * moment[q, j]
+            if v != v:
+                return False
+            load[q, j] = v
+    return True
 
 
 def start_scan(  # noqa: PLR0913 - the table's arrays, as it holds them

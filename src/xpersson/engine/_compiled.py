@@ -127,9 +127,10 @@ def tracks() -> tuple[Callable[..., None], Callable[..., None]] | None:
 
 
 def lean() -> tuple[Callable[..., Any], ...] | None:
-    """The compiled :func:`._cn_lean.level_setup`, :func:`._cn_lean.start_scale` and
-    :func:`._cn_lean.lean_march` once the compiled march is built and the option is on, else
-    None (the level's set-up by the numpy path's pieces: the same numbers)."""
+    """The compiled :func:`._cn_lean.level_setup`, :func:`._cn_lean.start_scale`,
+    :func:`._cn_lean.lean_march` and :func:`._cn_lean.lean_load` once the compiled march is
+    built and the option is on, else None (the level's set-up by the numpy path's pieces:
+    the same numbers)."""
     if not compiled_enabled():
         return None
     return _STATE.get("lean")
@@ -250,7 +251,7 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
     scope["_sorted_unique"] = jit(_cn_lean._sorted_unique)
     _STATE["plan"] = jit(types.FunctionType(_cn_lean.plan_base.__code__, scope, "plan_base"))
     march = jit(types.FunctionType(_cn_lean.lean_march.__code__, scope, "lean_march"))
-    return setup, jit(_cn_lean.start_scale), march
+    return setup, jit(_cn_lean.start_scale), march, jit(_cn_lean.lean_load)
 
 
 def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path holds them

@@ -12,6 +12,7 @@ from scipy.special import erfcinv
 
 from ..cache import Cache
 from ._views import broadcast_view
+from ._wall_table import kernels as table_kernels
 from ._walls import Wall
 
 __all__ = ["Problem", "make_problem", "window_k", "sample_times"]
@@ -242,6 +243,11 @@ def sample_times(tau: Array) -> Array:
     One set for the input checks and the clearance bound of :mod:`._clear`, so that a wall
     whose position is costly (an inverted clock) is evaluated at these times once.
     """
+    return _kept_samples(tau).copy()  # a copy: callers' walls may write into it
+
+
+def _kept_samples(tau: Array) -> Array:
+    """:func:`sample_times` as the cache keeps it (read-only)."""
     t = np.asarray(tau, dtype=float)
     if t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0:  # one row shared by the loads
         t = t[0]
@@ -252,7 +258,7 @@ def sample_times(tau: Array) -> Array:
             np.concatenate([[0.0], t.ravel(), np.linspace(0.0, t_end, 65), t_end * _LOG16])
         )
 
-    return _SAMPLES.get(t, compute).copy()  # a copy: callers' walls may write into it
+    return _SAMPLES.get(t, compute)
 
 
 _LOG16 = np.logspace(-16, 0, 96)
@@ -264,6 +270,17 @@ _SAMPLES = Cache(
 )
 
 
+def _checked_table(tau: Array, p0: Array, lower: Wall) -> bool:
+    """Whether the compiled table of a moving ``lower`` wall passes the checks of
+    :func:`_check_positions` at the times of :func:`sample_times` (False also where the
+    compiled code does not run: the checks then run on numpy, with their messages)."""
+    fns = table_kernels()
+    if fns is None or not callable(lower.position):
+        return False
+    # (the sample times as kept, read-only: the compiled check does not write into them)
+    return bool(fns[3](*lower.table.args(), _kept_samples(tau), p0))
+
+
 def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> None:
     """Wall positions finite and ordered, every ``p0`` strictly inside at ``tau = 0``."""
     if lower.is_fixed and (upper is None or upper.is_fixed):
@@ -273,6 +290,8 @@ def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> 
             if bool(((p0 > lo0) & (p0 < hi0)).all()):
                 return  # (the checks below on these numbers: each failure's message is theirs)
         t_check = np.zeros(1)
+    elif upper is None and lower.table is not None and _checked_table(tau, p0, lower):
+        return  # (the checks below in one compiled call: the same positions and comparisons)
     else:
         t_check = sample_times(tau)
     lo = lower.at(t_check)
