@@ -472,6 +472,9 @@ def judge_ratio(  # noqa: PLR0913 - the two answers' fields
     return err, m_area, m_load
 
 
+_UNSURE = np.full((1, 1), np.nan)  # a non-area the compiled screen leaves to numpy's sum
+
+
 def batch_balances_of(fast: Callable[..., tuple], problem: Problem, raw: Any, lo: Array) -> tuple:
     """:func:`._result._balances` and the screen's reductions of :func:`._result.finish_batch`
     for a batch ``raw`` of ``problem`` without an upper wall (``lo``: the lower wall's
@@ -480,9 +483,10 @@ def batch_balances_of(fast: Callable[..., tuple], problem: Problem, raw: Any, lo
     shape = raw.area.shape
     lo2 = lo.reshape(-1, shape[-1]) if lo.ndim else np.full((1, shape[-1]), lo)
     # (the arrays it fills made here: a compiled function's returned arrays cost ~0.6 us each)
-    prob, loadb, red = np.empty(shape), np.empty(shape), np.empty(5)
+    prob, loadb, red = np.empty(shape), np.empty(shape), np.empty(6)
+    na = raw.non_area if np.ndim(raw.non_area) == 2 else _UNSURE
     fast(raw.area, raw.absorbed_lower, raw.absorbed_upper, raw.load, raw.wall_term,
-         raw.error_estimate, problem.p0, lo2, problem.rtol, prob, loadb, red)  # fmt: skip
+         raw.error_estimate, problem.p0, lo2, problem.rtol, na, prob, loadb, red)  # fmt: skip
     return prob, loadb, red
 
 
@@ -503,6 +507,7 @@ def batch_balances(  # noqa: PLR0913 - the batch's fields
     p0: Any,
     lo: Any,
     rtol: float,
+    non_area: Any,
     prob: Any,
     loadb: Any,
     red: Any,
@@ -510,10 +515,18 @@ def batch_balances(  # noqa: PLR0913 - the batch's fields
     """:func:`._result._balances` of a batch without an upper wall (``lo`` the lower wall's
     positions (1 or loads, outputs) [Pa], ``p0`` (loads, 1) [Pa]) and the screen's reductions
     of :func:`._result.finish_batch` in one pass, into ``prob``, ``loadb`` (loads, outputs)
-    and ``red`` = ``[max prob, -min prob, max loadb, -min loadb, max (error - rtol |area|)]``
-    (numpy's NaN-propagating ``max``/``min``), the same operations element by element."""
+    and ``red`` = ``[max prob, -min prob, max loadb, -min loadb, max (error - rtol |area|),
+    sure]`` (numpy's NaN-propagating ``max``/``min``), the same operations element by element;
+    ``sure`` is 1 where the sum of ``non_area`` is finite in any order (every value finite and
+    below ``1e300 / size``), else 0 (then numpy's sum decides)."""
     nb, n = area.shape
     red[:] = -math.inf
+    bound = 1e300 / max(non_area.size, 1)
+    red[5] = 1.0
+    for q in range(non_area.shape[0]):
+        for j in range(non_area.shape[1]):
+            if not abs(non_area[q, j]) <= bound:
+                red[5] = 0.0
     for q in range(nb):
         p = p0[q, 0]
         a = abs(p)
