@@ -15,7 +15,8 @@ from xpersson import set_options
 from xpersson.engine import Wall, WallTable, _compiled, _moving
 from xpersson.engine._cn import CNOptions, _Grids
 from xpersson.engine._cn_control import _Judge
-from xpersson.engine._cn_lean import batch_balances_of, lean_inputs, lean_ok
+from xpersson.engine._cn_lean import lean_inputs, lean_ok
+from xpersson.engine._cn_outputs import batch_balances_of
 from xpersson.engine._cn_plan import _joint_plan, _start_time
 from xpersson.engine._level import Outputs
 from xpersson.engine._problem import make_problem
@@ -336,8 +337,7 @@ def test_compiled_projection_is_the_numpy_one(shape, data):
 def test_one_load_views_and_counts_are_numpys(n, loads, value):
     """The shortcuts of a batch's fields: a view of one row over the loads is numpy's
     broadcast (values, shape, read-only, no copy), a count per load numpy's broadcast of it."""
-    from xpersson.engine._result import _per_load
-    from xpersson.engine._views import broadcast_view
+    from xpersson.engine._views import broadcast_view, per_load
 
     row = np.arange(float(n))
     got, want = broadcast_view(row, (loads, n)), np.broadcast_to(row, (loads, n))
@@ -345,7 +345,7 @@ def test_one_load_views_and_counts_are_numpys(n, loads, value):
     assert not got.flags.writeable and np.shares_memory(got, row)
     if isinstance(value, list):
         value = np.array(value[:loads] + [0] * (loads - len(value[:loads])), dtype=np.int64)
-    counts = _per_load(value, loads)
+    counts = per_load(value, loads)
     assert counts.dtype == np.int64 and not counts.flags.writeable
     assert _bits(counts) == _bits(np.broadcast_to(np.asarray(value, dtype=np.int64), (loads,)))
 

@@ -153,7 +153,7 @@ def plan() -> Callable[..., tuple] | None:
 
 
 def judge() -> Callable[..., tuple] | None:
-    """The compiled :func:`._cn_lean.judge_ratio` once the compiled march is built and the
+    """The compiled :func:`._cn_outputs.judge_ratio` once the compiled march is built and the
     option is on, else None (:meth:`._cn_control._Judge.ratio`'s numpy calls: the same)."""
     if not compiled_enabled():
         return None
@@ -161,7 +161,7 @@ def judge() -> Callable[..., tuple] | None:
 
 
 def balances() -> Callable[..., tuple] | None:
-    """The compiled :func:`._cn_lean.batch_balances` once the compiled march is built and the
+    """The compiled :func:`._cn_outputs.batch_balances` once the compiled march is built and the
     option is on, else None (:func:`._result._balances`' numpy calls: the same numbers)."""
     if not compiled_enabled():
         return None
@@ -169,7 +169,7 @@ def balances() -> Callable[..., tuple] | None:
 
 
 def fields() -> tuple[Callable[..., bool], Callable[..., bool]] | None:
-    """The compiled :func:`._cn_lean.combine_fields` and :func:`._cn_lean.weighted_fields`
+    """The compiled :func:`._cn_outputs.combine_fields` and :func:`._cn_outputs.weighted_fields`
     once the compiled march is built and the option is on, else None
     (:func:`._level.combine`'s and :func:`._level.weighted`'s numpy calls: the same)."""
     if not compiled_enabled():
@@ -178,7 +178,7 @@ def fields() -> tuple[Callable[..., bool], Callable[..., bool]] | None:
 
 
 def projected() -> Callable[..., bool] | None:
-    """The compiled :func:`._cn_lean.projected` once the compiled march is built and the
+    """The compiled :func:`._cn_outputs.projected` once the compiled march is built and the
     option is on, else None (:func:`._level.project`'s numpy calls: the same)."""
     if not compiled_enabled():
         return None
@@ -193,11 +193,11 @@ def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
 
 
 def _build() -> Callable[..., int] | None:
-    from . import _cn_edges, _cn_lean, _wall_table
+    from . import _cn_edges, _cn_lean, _cn_outputs, _wall_table
     from . import _moving_fused as fused_src
 
     # numba's disk cache keyed on the sources of these modules and everything they import
-    mods = (_cn_edges, fused_src, _cn_lean, _wall_table)
+    mods = (_cn_edges, fused_src, _cn_lean, _cn_outputs, _wall_table)
     jit = numba_cache.njit(__name__, *mods, nogil=True, error_model="numpy")
     if jit is None:  # numba is not installed
         return None
@@ -237,21 +237,28 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
     }
     setup = jit(types.FunctionType(_cn_lean.level_setup.__code__, scope, "level_setup"))
     _STATE["start"] = jit(types.FunctionType(_cn_lean.start_scan.__code__, scope, "start_scan"))
-    _STATE["judge"] = jit(_cn_lean.judge_ratio)
-    scope["_nan_max"] = jit(_cn_lean._nan_max)
-    name = "batch_balances"
-    _STATE["balances"] = jit(types.FunctionType(_cn_lean.batch_balances.__code__, scope, name))
-    for name in ("_same_shape", "_combined", "_summed"):
-        scope[name] = jit(getattr(_cn_lean, name))
-    comb = jit(types.FunctionType(_cn_lean.combine_fields.__code__, scope, "combine_fields"))
-    summed = jit(types.FunctionType(_cn_lean.weighted_fields.__code__, scope, "weighted_fields"))
-    _STATE["fields"] = (comb, summed)
-    scope["_plain"] = jit(_cn_lean._plain)
-    _STATE["project"] = jit(types.FunctionType(_cn_lean.projected.__code__, scope, "projected"))
+    _outputs(jit)
     scope["_sorted_unique"] = jit(_cn_lean._sorted_unique)
     _STATE["plan"] = jit(types.FunctionType(_cn_lean.plan_base.__code__, scope, "plan_base"))
     march = jit(types.FunctionType(_cn_lean.lean_march.__code__, scope, "lean_march"))
     return setup, jit(_cn_lean.start_scale), march, jit(_cn_lean.lean_load)
+
+
+def _outputs(jit: Callable) -> None:
+    """The compiled :mod:`._cn_outputs` kernels, their callees bound to compiled ones."""
+    from . import _cn_outputs as src
+
+    scope = dict(vars(src))
+    for name in ("_nan_max", "_same_shape", "_combined", "_summed", "_plain"):
+        scope[name] = jit(getattr(src, name))
+
+    def bound(name: str) -> Callable:
+        return jit(types.FunctionType(getattr(src, name).__code__, scope, name))
+
+    _STATE["judge"] = jit(src.judge_ratio)
+    _STATE["balances"] = bound("batch_balances")
+    _STATE["fields"] = (bound("combine_fields"), bound("weighted_fields"))
+    _STATE["project"] = bound("projected")
 
 
 def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path holds them

@@ -9,13 +9,13 @@ per unit of the mapped coordinate ``x`` in [0, 1]) is dimensionless.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+import sys
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..cache import Cache
-from . import _compiled
 from ._cn_plan import Window, _faces
 from ._grid import clustered
 
@@ -214,12 +214,20 @@ class Level(NamedTuple):
         return not self.failure
 
 
+def _kernel(name: str) -> Any:
+    """The compiled kernels ``name`` of :mod:`._compiled` (``fields``, ``projected``), or None
+    (the option is off, or the process has not loaded the compiled march: it is looked up,
+    not imported, so that this module stays below it)."""
+    compiled = sys.modules.get(f"{__package__}._compiled")
+    return None if compiled is None else getattr(compiled, name)()
+
+
 def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
     """The finer level, or its Richardson combination with the coarser (linear in the levels:
     the probability balance is kept)."""
     if not extrapolate:
         return fine  # (immutable: the same outputs)
-    fast = _compiled.fields() if fine.P is None else None
+    fast = _kernel("fields") if fine.P is None else None
     if fast is not None:  # (one compiled pass, the same operations)
         out = np.empty((_SCALARS, *fine.area.shape))
         if fast[0](*fine[:_SCALARS], *coarse[:_SCALARS], out):
@@ -236,7 +244,7 @@ def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
 def weighted(levels: list[Outputs], weights: Array) -> Outputs:
     """The combination ``sum_i weights[i] levels[i]`` of every output (weights summing to 1,
     e.g. Richardson's: the probability balance, linear in the levels, is kept)."""
-    fast = _compiled.fields() if len(levels) == 3 and levels[0].P is None else None
+    fast = _kernel("fields") if len(levels) == 3 and levels[0].P is None else None
     if fast is not None:  # (one compiled pass, the same operations)
         out = np.empty((_SCALARS, *levels[0].area.shape))
         w3 = np.asarray(weights, dtype=float)
@@ -270,7 +278,7 @@ def project(
     ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
     non-contact fraction) exceeds 1, scaled down to sum to 1.
     """
-    fast = _compiled.projected()
+    fast = _kernel("projected")
     if fast is not None:  # (one compiled pass where no value is NaN or -0 and no sum over 1)
         out = np.empty((7, *np.shape(area)))
         if fast(area, abs_l, abs_u, out):

@@ -65,6 +65,19 @@ class Problem:
         """Allowed absolute error of the area, ``rtol |area| + atol``."""
         return self.rtol * np.abs(np.asarray(area, dtype=float)) + self.atol
 
+    def output_positions(self) -> tuple[Array, Array]:
+        """(lower, upper) wall positions [Pa] at the output times: 0-d arrays for fixed walls
+        and a missing upper one (+inf), which broadcast; else per tau (a row shared by the
+        loads evaluated once)."""
+        lower, upper, t = self.lower, self.upper, self.tau
+        if upper is None and not lower.is_fixed:  # (no full array of inf, nor copies per load)
+            shared = t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0
+            return lower.at(t[0] if shared else t), np.asarray(np.inf)
+        if lower.is_fixed and (upper is None or upper.is_fixed):
+            up = float(upper.position) if upper is not None else np.inf
+            return np.asarray(float(lower.position)), np.asarray(up)
+        return self.wall_positions(t)
+
     def wall_positions(self, tau: ArrayLike) -> tuple[Array, Array]:
         """(lower, upper) positions [Pa] at ``tau``; upper is +inf without an upper wall."""
         t = np.asarray(tau, dtype=float)

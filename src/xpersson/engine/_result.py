@@ -12,7 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._problem import Problem
-from ._views import LazyField, broadcast_view
+from ._views import LazyField, broadcast_view, per_load
 
 __all__ = [
     "Outcome",
@@ -203,36 +203,23 @@ def _row_status(problem: Problem, raw: Raw, prob: Array, loadb: Array, row) -> t
     return status, message
 
 
-def _fixed_positions(problem: Problem) -> tuple[Array, Array]:
-    """Wall positions [Pa]: 0-d arrays for fixed walls and a missing upper one (+inf), which
-    broadcast; else per tau (a row shared by the loads evaluated once)."""
-    lower, upper, t = problem.lower, problem.upper, problem.tau
-    if upper is None and not lower.is_fixed:  # (no full array of inf, nor copies per load)
-        shared = t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0
-        return lower.at(t[0] if shared else t), np.asarray(np.inf)
-    if lower.is_fixed and (upper is None or upper.is_fixed):
-        up = float(upper.position) if upper is not None else np.inf
-        return np.asarray(float(lower.position)), np.asarray(up)
-    return problem.wall_positions(t)
-
-
 def _screened_balances(problem: Problem, raw: Raw) -> tuple:
     """:func:`_balances` (exact zeros for identities) and the screen's reductions where one
-    compiled call gives both (:func:`._cn_lean.batch_balances`, no upper wall; else None)."""
+    compiled call gives both (:func:`._cn_outputs.batch_balances`, no upper wall; else None)."""
     if raw.exact_balances:  # identities by construction: exact zeros (read-only, no memory)
         zero = broadcast_view(np.zeros(()), problem.tau.shape)
-        return (*_fixed_positions(problem), zero, zero, None)
+        return (*problem.output_positions(), zero, zero, None)
     compiled = sys.modules.get(f"{__package__}._compiled")  # (loaded with the march only)
-    fast = None if compiled is None else compiled.balances()  # (then _cn_lean is loaded)
+    fast = None if compiled is None else compiled.balances()  # (then _cn_outputs is loaded)
     if fast is not None and problem.upper is None:
-        lo, up = _fixed_positions(problem)
-        lean = sys.modules[f"{__package__}._cn_lean"]
-        return (lo, up, *lean.batch_balances_of(fast, problem, raw, lo))
+        lo, up = problem.output_positions()
+        outputs = sys.modules[f"{__package__}._cn_outputs"]
+        return (lo, up, *outputs.batch_balances_of(fast, problem, raw, lo))
     return (*_balances(problem, raw), None)
 
 
 def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
-    lo, up = _fixed_positions(problem)
+    lo, up = problem.output_positions()
     # in place: one new array each (fresh large temporaries cost page faults)
     prob = np.add(raw.area, raw.absorbed_lower)
     prob += raw.absorbed_upper
@@ -406,16 +393,6 @@ def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report 
     return broadcast_view(np.asarray(raw.status) == "success", (n,)).copy()
 
 
-def _per_load(value: int | Array, n: int) -> Array:
-    """A count per load [1] (``(n,)`` int64, read-only) of one count or one per load."""
-    if type(value) is int:  # (one count for the batch: ~1 us less than a broadcast view)
-        out = np.empty(n, dtype=np.int64)
-        out.fill(value)
-        out.flags.writeable = False
-        return out
-    return broadcast_view(np.asarray(value, dtype=np.int64), (n,))
-
-
 def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
     """Balances and per-load status of a batched Raw: the pieces of an :class:`EngineBatch`.
 
@@ -509,9 +486,9 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         status=status,
         message=message,
         method=[method] * n,
-        nsteps=_per_load(raw.nsteps, n),
-        n_nodes=_per_load(raw.n_nodes, n),
-        nfev=_per_load(raw.nfev, n),
+        nsteps=per_load(raw.nsteps, n),
+        n_nodes=per_load(raw.n_nodes, n),
+        nfev=per_load(raw.nfev, n),
         exact_balances=np.ones(n, dtype=bool) if raw.exact_balances else np.zeros(n, dtype=bool),
         success=success,
     )
