@@ -158,7 +158,7 @@ def _setup(
     r0 = np.empty((nb, n + 1))
     ok = setup(
         plan.base, nsub, n_ie, zone_starts, chord_from, outs, p0, float(plan.k),
-        *lo.table.args(), lo.breakpoint_array, grid.nodes.x, taus, theta, out, flags, out_at,
+        *lo.table.args(), np.array(lo.breakpoints), grid.nodes.x, taus, theta, out, flags, out_at,
         coef, r0,
     )  # fmt: skip
     if not ok:

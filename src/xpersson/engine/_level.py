@@ -227,7 +227,7 @@ def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
     the probability balance is kept)."""
     if not extrapolate:
         return fine  # (immutable: the same outputs)
-    fast = _kernel("fields") if fine.P is None else None
+    fast = _kernel("fields") if fine.P is None and fine.area.ndim == 2 else None
     if fast is not None:  # (one compiled pass, the same operations)
         out = np.empty((_SCALARS, *fine.area.shape))
         if fast[0](*fine[:_SCALARS], *coarse[:_SCALARS], out):
@@ -244,7 +244,8 @@ def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
 def weighted(levels: list[Outputs], weights: Array) -> Outputs:
     """The combination ``sum_i weights[i] levels[i]`` of every output (weights summing to 1,
     e.g. Richardson's: the probability balance, linear in the levels, is kept)."""
-    fast = _kernel("fields") if len(levels) == 3 and levels[0].P is None else None
+    one = levels[0]
+    fast = _kernel("fields") if len(levels) == 3 and one.P is None and one.area.ndim == 2 else None
     if fast is not None:  # (one compiled pass, the same operations)
         out = np.empty((_SCALARS, *levels[0].area.shape))
         w3 = np.asarray(weights, dtype=float)
@@ -278,7 +279,7 @@ def project(
     ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
     non-contact fraction) exceeds 1, scaled down to sum to 1.
     """
-    fast = _kernel("projected")
+    fast = _kernel("projected") if np.ndim(area) == 2 else None
     if fast is not None:  # (one compiled pass where no value is NaN or -0 and no sum over 1)
         out = np.empty((7, *np.shape(area)))
         if fast(area, abs_l, abs_u, out):

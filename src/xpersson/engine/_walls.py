@@ -69,12 +69,6 @@ class Wall:
     kinks: tuple[float, ...] = ()
     table: WallTable | None = field(default=None, compare=False, repr=False)
 
-    def __post_init__(self) -> None:
-        # the breakpoints as a read-only array, made once (a level's compiled set-up takes it)
-        bp = np.array(self.breakpoints, dtype=float)
-        bp.setflags(write=False)
-        object.__setattr__(self, "breakpoint_array", bp)
-
     # -- constructors ------------------------------------------------------------------------
     @classmethod
     def absorbing(
