@@ -15,7 +15,8 @@ from xpersson import set_options
 from xpersson.engine import Wall, WallTable, _compiled, _moving
 from xpersson.engine._cn import CNOptions, _Grids
 from xpersson.engine._cn_control import _Judge
-from xpersson.engine._cn_lean import batch_balances_of, lean_inputs, lean_ok
+from xpersson.engine._cn_lean import lean_inputs, lean_ok
+from xpersson.engine._cn_outputs import batch_balances_of
 from xpersson.engine._cn_plan import _joint_plan, _start_time
 from xpersson.engine._level import Outputs
 from xpersson.engine._problem import make_problem
@@ -254,7 +255,125 @@ def test_compiled_batch_balances_are_the_numpy_ones(data, loads, rtol):
     with set_options(compiled=True):
         red = batch_balances_of(_compiled.balances(), pb, raw, got["fields"]["wall_lower"][:1])
     red = red[2]
-    assert np.array_equal(red, ref, equal_nan=True)  # (NaN-propagating max / min)
+    assert np.array_equal(red[:5], ref, equal_nan=True)  # (NaN-propagating max / min)
+    assert red[5] == float(bool(np.all(np.isfinite(lo + up))))  # (sure: a finite sum)
     for name, value in want["fields"].items():
         if value is not None:
             assert _bits(got["fields"][name]) == _bits(value), name
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    shape=st.tuples(st.integers(1, 3), st.integers(1, 5)),
+    data=st.data(),
+    weights=st.lists(st.floats(-3.0, 3.0), min_size=3, max_size=3),
+)
+def test_compiled_level_combinations_are_the_numpy_ones(shape, data, weights):
+    """The Richardson step of two levels (``combine``) and the weighted sum of three
+    (``weighted``) by one compiled pass each equal the numpy path's bit for bit, signed
+    zeros, NaN and infinities included, on C- and Fortran-ordered fields."""
+    from xpersson.engine._level import combine, weighted
+
+    _build()
+    n = shape[0] * shape[1]
+
+    def field():
+        return np.array(data.draw(st.lists(_VALUES, min_size=n, max_size=n))).reshape(shape)
+
+    lv = [Outputs(*(field() for _ in range(6)), None) for _ in range(3)]
+    odd = lv[2]._replace(load=np.asfortranarray(lv[2].load))  # (another memory layout)
+    ws = np.array(weights)
+    for compiled in (False, True):
+        with set_options(compiled=compiled), np.errstate(all="ignore"):
+            got = (combine(lv[0], lv[1], True), weighted(lv, ws), weighted([*lv[:2], odd], ws))
+        if not compiled:
+            want = got
+    for have, ref in zip(got, want, strict=True):
+        for name in Outputs._fields[:6]:
+            assert _bits(getattr(have, name)) == _bits(getattr(ref, name)), name
+
+
+_PROBS = st.one_of(
+    st.floats(-0.1, 1.1),
+    st.sampled_from([0.0, -0.0, 1.0, 0.5, 1e-300, -1e-300, 5e-324, -5e-324, np.nan, np.inf]),
+)
+
+
+@settings(max_examples=120, deadline=None)
+@given(shape=st.tuples(st.integers(1, 3), st.integers(1, 5)), data=st.data())
+def test_compiled_projection_is_the_numpy_one(shape, data):
+    """The projection onto admissible probabilities by one compiled pass equals numpy's
+    clip/maximum path bit for bit (signed zeros, NaN and sums over 1 left to numpy), and the
+    compiled pass is taken on ordinary values."""
+    from xpersson.engine._level import project
+
+    _build()
+    n = shape[0] * shape[1]
+
+    def field(values):
+        return np.array(data.draw(st.lists(values, min_size=n, max_size=n))).reshape(shape)
+
+    area, lo, up = field(_PROBS), field(_PROBS), field(_PROBS)
+    with set_options(compiled=False), np.errstate(all="ignore"):
+        want = project(area, lo, up)
+    with set_options(compiled=True), np.errstate(all="ignore"):
+        got = project(area, lo, up)
+    for have, ref in zip(got[0], want[0], strict=True):
+        assert _bits(have) == _bits(ref)
+    assert list(got[1]) == list(want[1])
+    for name, ref in want[1].items():
+        assert _bits(got[1][name]) == _bits(ref), name
+    plain = np.full(shape, 0.25)  # (ordinary values: the compiled pass answers)
+    with set_options(compiled=True):
+        assert _compiled.projected()(plain, plain, plain, np.empty((7, *shape)))
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    n=st.integers(1, 6),
+    loads=st.integers(1, 3),
+    value=st.one_of(st.integers(0, 10**6), st.lists(st.integers(0, 99), min_size=3, max_size=3)),
+)
+def test_one_load_views_and_counts_are_numpys(n, loads, value):
+    """The shortcuts of a batch's fields: a view of one row over the loads is numpy's
+    broadcast (values, shape, read-only, no copy), a count per load numpy's broadcast of it."""
+    from xpersson.engine._views import broadcast_view, per_load
+
+    row = np.arange(float(n))
+    got, want = broadcast_view(row, (loads, n)), np.broadcast_to(row, (loads, n))
+    assert got.shape == want.shape and _bits(got) == _bits(want)
+    assert not got.flags.writeable and np.shares_memory(got, row)
+    if isinstance(value, list):
+        value = np.array(value[:loads] + [0] * (loads - len(value[:loads])), dtype=np.int64)
+    counts = per_load(value, loads)
+    assert counts.dtype == np.int64 and not counts.flags.writeable
+    assert _bits(counts) == _bits(np.broadcast_to(np.asarray(value, dtype=np.int64), (loads,)))
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    wiggle=st.floats(0.0, 0.7),
+    p0=st.lists(st.floats(-0.5, 1.5), min_size=1, max_size=3),
+    spoil=st.sampled_from([None, np.nan, np.inf]),
+)
+def test_compiled_position_check_is_the_numpy_one(wiggle, p0, spoil):
+    """The input check of a tabled lower wall in one compiled call accepts and refuses what
+    the numpy check does (a load on or below the wall at ``tau = 0``, a non-finite position
+    somewhere in the table), with the numpy check's message."""
+    _build()
+    wall = _wall(wiggle, None)
+    if spoil is not None:  # (a non-finite coefficient in one interval of table and callable)
+        c = wall.table.c.copy()
+        c[0, c.shape[1] // 2] = spoil
+        table = WallTable(c, *wall.table.args()[1:])
+        wall = Wall.absorbing(table.values, table=table)
+    p0 = np.array(p0)
+    outcome = []
+    for compiled in (False, True):
+        with set_options(compiled=compiled):
+            try:
+                make_problem(TAU, p0, wall, None, 1e-6, None, None, 10**6, {}, batch=True)
+                outcome.append("ok")
+            except ValueError as exc:
+                outcome.append(str(exc))
+    assert outcome[0] == outcome[1]

@@ -18,12 +18,16 @@ absorbing lower wall carrying a table (:class:`._wall_table.WallTable`, speeds d
 upper wall, no densities or progress reports, no one-wall (image) start, and no
 graded stretch subdivided in the level; every other level takes :func:`._moving._march`.
 
+The lean level is marched on the set-up's arrays (:func:`lean_level`, no named tuples of
+inputs): the start state's normalisation and the steps in one compiled call
+(:func:`lean_march`), the load at the outputs in another (:func:`lean_load`); the arrays the
+kernels fill are made by the caller (a compiled function's returned arrays cost ~0.6 us each).
+
 The same for the rest of a solve's small numpy work, each one compiled call with the numpy
 path's operations (bit for bit; the numpy path stays where numba is off or missing):
-:func:`start_scan` (the start time of a tabled lower wall), :func:`plan_base` (the time plan's
-base sequence after its geometric times), :func:`judge_ratio` (the error control's estimate and
-worst ratio) and :func:`batch_balances` (a batch's balances and the screen's reductions).
-Units: tau in Pa^2, pressures in Pa, speeds in 1/Pa.
+:func:`start_scan` (the start time of a tabled lower wall) and :func:`plan_base` (the time
+plan's base sequence after its geometric times); the outputs' kernels after the march are in
+:mod:`._cn_outputs`. Units: tau in Pa^2, pressures in Pa, speeds in 1/Pa.
 """
 
 from __future__ import annotations
@@ -36,16 +40,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._cn_plan import Edge, Window, _differenced, _grades, _Plan
-from ._level import Level, LevelInputs, level_grid
-from ._moving_fused import fused_level
+from ._level import Level, LevelInputs, Outputs, level_grid
+from ._moving_fused import _OPS, _SNAP, fused_level
 from ._problem import Problem
 
 __all__ = [
-    "batch_balances_of",
-    "batch_balances",
-    "judge_ratio",
     "lean_inputs",
     "lean_level",
+    "lean_load",
+    "lean_march",
     "lean_ok",
     "level_setup",
     "plan_base",
@@ -69,7 +72,7 @@ def lean_ok(pbs: list[Problem], plan: _Plan, nsub: int) -> bool:
 
 
 def lean_level(
-    fns: tuple[Callable[..., Any], Callable[..., None]],
+    fns: tuple[Callable[..., Any], ...],
     kernels: tuple[Callable[..., int], Callable[..., None]],
     pbs: list[Problem],
     plan: _Plan,
@@ -79,18 +82,114 @@ def lean_level(
     n_ie: int,
 ) -> Level | None:
     """The level ``(n, nsub)`` of ``plan`` (``stretch``, ``n_ie`` as in
-    :func:`._moving.level_inputs`) set up by ``fns`` (:func:`lean_inputs`) and marched by
-    :func:`._moving_fused.fused_level` with ``kernels`` (compiled); None where that declines
-    (the caller marches)."""
-    made = lean_inputs(fns, pbs, plan, n, nsub, stretch, n_ie)
+    :func:`._moving.level_inputs`) set up by ``fns`` (:func:`_setup`) and marched by
+    ``fns[2]`` (:func:`lean_march`: the start state's normalisation and
+    :func:`._moving_fused.level_march`, compiled): the steps of
+    :func:`._moving_fused.fused_level` on the set-up's arrays, without the inputs' named tuples
+    (their making was a fifth of a small level's time); levels of no steps or of more steps
+    than one block take :func:`._moving_fused.fused_level` with ``kernels``; None where that
+    declines (the outputs' states would be too many to keep: the caller marches)."""
+    nb, nn = len(pbs), n + 1
+    outs = plan.outs if plan.outs is not None else pbs[0].tau[pbs[0].tau > plan.tau_s]
+    if outs.shape[0] * nb * nn > _SNAP:
+        return None
+    made = _setup(fns, pbs, plan, outs, n, nsub, stretch, n_ie)
     if isinstance(made, Level):
         return made
-    inp, r0, coef = made
-    return fused_level(kernels, inp, r0, stretch, coef)
+    grid, p0, taus, theta, out, flags, out_at, coef, r0, mass = made
+    steps = taus.shape[0] - 1
+    if steps == 0 or steps > _OPS // (4 * nb * nn):  # (fused_level's blocks, its own copy)
+        inp = _inputs(made, plan)
+        return fused_level(kernels, inp, _normalized(r0, mass, plan.k).ravel(), stretch, coef)
+    nodes, rows, basis = grid
+    n_out = out_at.shape[0]
+    snaps, sums = np.empty((n_out, nb * nn)), np.zeros((7, nb, n_out))
+    zs = np.zeros((9, nb))
+    ops = np.empty((steps, 4, nb * nn))
+    # the face coefficients: the numpy path's BLAS product (face_ops), the same numbers
+    np.matmul(coef.reshape(-1, 3), basis, out=ops.reshape(-1, nn))
+    info = fns[2](
+        math.erf(plan.k / math.sqrt(2.0)), mass, r0, steps, ops, nodes.w, rows.volumes,
+        rows.walls, rows.last, flags, out, out_at, zs, snaps, sums,
+    )  # fmt: skip
+    if info != 0:
+        return Level(None, 0, nn, f"tridiagonal solve failed (info={info})")
+    # (_moving_fused._reduce_snapshots with the window's edges as marched: BLAS's sums)
+    R = snaps.reshape(n_out, nb, nn)
+    area, moment = (R @ nodes.w).T, (R @ (nodes.x * nodes.w)).T
+    load = np.empty(area.shape)
+    if not fns[3](area, moment, sums, load):  # (a NaN: numpy's operations decide its bits)
+        load = sums[5] * area + sums[6] * moment
+    return Level(Outputs(area, sums[1], sums[2], load, sums[3], -sums[4], None), steps, nn)
+
+
+_NO_ZONES = np.zeros(0)  # the zone starts of a plan without graded zones
+_NO_ZONES.setflags(write=False)
+
+
+def _setup(
+    fns: tuple[Callable[..., Any], ...],
+    pbs: list[Problem],
+    plan: _Plan,
+    outs: Array,
+    n: int,
+    nsub: int,
+    stretch: float,
+    n_ie: int,
+) -> tuple | Level:
+    """``(grid, p0, taus, theta, out, flags, out_at, coef, start state)`` of the level by
+    ``fns``: :func:`level_setup` and :func:`start_scale` (compiled; see :func:`lean_inputs`),
+    or the failed level where the walls swept the window."""
+    setup, scale = fns[:2]
+    pb = pbs[0]
+    nb = len(pbs)
+    grid = level_grid(nb, n, stretch)
+    p0 = np.array([p.p0 for p in pbs], dtype=float)
+    zones = plan.zones
+    zone_starts = np.array([tb for tb, _ in zones]) if zones else _NO_ZONES
+    chord_from = plan.chord_from
+    lo = pb.lower
+    # the arrays it fills, made here (a compiled function's returned arrays cost ~0.6 us each)
+    size = (plan.base.shape[0] - 1) * nsub
+    steps = size + min(n_ie, size)
+    taus, theta = np.empty(steps + 1), np.empty(steps)
+    out, flags = np.empty((10, nb, steps)), np.empty((4, nb, steps), dtype=np.bool_)
+    out_at, coef = np.empty(outs.shape[0], np.int64), np.empty((steps, 4, nb, 3))
+    r0 = np.empty((nb, n + 1))
+    ok = setup(
+        plan.base, nsub, n_ie, zone_starts, chord_from, outs, p0, float(plan.k),
+        *lo.table.args(), np.array(lo.breakpoints), grid.nodes.x, taus, theta, out, flags, out_at,
+        coef, r0,
+    )  # fmt: skip
+    if not ok:
+        return Level(None, 0, n + 1, "the walls swept the whole window (area 0)")
+    np.exp(r0, out=r0)  # (numpy's exp: the numpy path's start state)
+    scale(r0, out[1], taus[0])
+    # the start state's mass (BLAS gemv: the numpy path's), its normalisation by the caller
+    return grid, p0, taus, theta, out, flags, out_at, coef, r0, r0 @ grid.nodes.w
+
+
+def _normalized(r0: Array, mass: Array, k: float) -> Array:
+    """The start state ``r0`` (loads, nodes) of mass ``mass`` scaled to the window's mass
+    ``erf(k / sqrt 2)`` (in place; :func:`._moving._initial_state`'s operations)."""
+    r0 *= (math.erf(k / math.sqrt(2.0)) / mass)[:, None]
+    return r0
+
+
+def _inputs(made: tuple, plan: _Plan) -> LevelInputs:
+    """The :class:`._level.LevelInputs` of :func:`_setup`'s arrays ``made``."""
+    grid, p0, taus, theta, out, flags, out_at = made[:7]
+    start = Edge(out[0], out[1], out[4], out[5], out[6])
+    end = Edge(out[2], out[3], out[7], out[8], out[9])
+    window = Window(flags[0], flags[1], start, end, flags[3])
+    return LevelInputs(
+        taus, theta, out_at, grid.nodes, window, p0[:, None], plan.k, plan.yield_wall,
+        plan.image, grid,
+    )  # fmt: skip
 
 
 def lean_inputs(
-    fns: tuple[Callable[..., Any], Callable[..., None]],
+    fns: tuple[Callable[..., Any], ...],
     pbs: list[Problem],
     plan: _Plan,
     n: int,
@@ -102,32 +201,11 @@ def lean_inputs(
     :func:`._moving.level_inputs`, :func:`._moving._initial_state` and
     :func:`._moving_fused.face_coefficients` give) by ``fns``: :func:`level_setup` and
     :func:`start_scale` (compiled); or the failed level where the walls swept the window."""
-    setup, scale = fns
-    pb = pbs[0]
-    nb = len(pbs)
-    grid = level_grid(nb, n, stretch)
-    p0 = np.array([p.p0 for p in pbs], dtype=float)
-    outs = plan.outs if plan.outs is not None else pb.tau[pb.tau > plan.tau_s]
-    zone_starts = np.array([tb for tb, _ in plan.zones])
-    chord_from = plan.chord_from
-    bp = np.asarray(pb.lower.breakpoints, dtype=float)
-    taus, theta, out, flags, out_at, coef, r0, ok = setup(
-        plan.base, nsub, n_ie, zone_starts, chord_from, outs, p0, float(plan.k),
-        *pb.lower.table.args(), bp, grid.nodes.x,
-    )  # fmt: skip
-    if not ok:
-        return Level(None, 0, n + 1, "the walls swept the whole window (area 0)")
-    np.exp(r0, out=r0)  # (numpy's exp: the numpy path's start state)
-    scale(r0, out[1], taus[0])
-    r0 *= (math.erf(plan.k / math.sqrt(2.0)) / (r0 @ grid.nodes.w))[:, None]
-    start = Edge(out[0], out[1], out[4], out[5], out[6])
-    end = Edge(out[2], out[3], out[7], out[8], out[9])
-    window = Window(flags[0], flags[1], start, end, flags[3])
-    inp = LevelInputs(
-        taus, theta, out_at, grid.nodes, window, p0[:, None], plan.k, plan.yield_wall,
-        plan.image, grid,
-    )  # fmt: skip
-    return inp, r0.ravel(), coef
+    outs = plan.outs if plan.outs is not None else pbs[0].tau[pbs[0].tau > plan.tau_s]
+    made = _setup(fns, pbs, plan, outs, n, nsub, stretch, n_ie)
+    if isinstance(made, Level):
+        return made
+    return _inputs(made, plan), _normalized(made[8], made[9], plan.k).ravel(), made[7]
 
 
 def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they hold them
@@ -148,22 +226,29 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
     negate: bool,
     bp: Any,
     xn: Any,
-) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
-    """A lean level's set-up (see the module): ``(taus, theta, out, flags, out_at, coef,
-    arg, ok)`` with ``taus``, ``theta`` of :func:`._cn_plan._level_times` (``base`` [Pa^2]
+    taus: Any,
+    theta: Any,
+    out: Any,
+    flags: Any,
+    out_at: Any,
+    coef: Any,
+    arg: Any,
+) -> bool:  # pragma: no cover - compiled (the numpy path is the reference)
+    """A lean level's set-up (see the module) into the arrays given (sized by the caller):
+    ``taus``, ``theta`` of :func:`._cn_plan._level_times` (``base`` [Pa^2]
     subdivided ``nsub`` times, ``n_ie`` implicit-Euler half steps, theta 1 at the
-    ``zone_starts``), ``out`` and ``flags`` of :func:`._cn_edges.window_edges` for the loads
+    ``zone_starts``), ``out`` (10, loads, steps) and ``flags`` (4, loads, steps) of
+    :func:`._cn_edges.window_edges` for the loads
     ``p0`` [Pa] (window half-width ``k``; the lower wall the table ``c .. negate`` with
     breakpoints ``bp``; no upper wall; chord speeds from
     ``chord_from``), ``out_at`` the steps of the output times ``outs`` (``np.searchsorted``),
     ``coef`` (steps, 4, loads, 3) of :func:`._moving_fused.face_coefficients`, ``arg``
     (loads, nodes) the start state's exponent ``-(l + W x - p0)^2 / (4 tau_0)`` at the nodes
-    ``xn`` (:func:`._moving._initial_state`'s operations), and ``ok``: whether the window's
+    ``xn`` (:func:`._moving._initial_state`'s operations); returns whether the window's
     width stays positive (else the walls swept it)."""
     nb = p0.shape[0]
     size = (base.shape[0] - 1) * nsub + 1
     n_ie = min(n_ie, size - 1)
-    taus, theta = np.empty(size + n_ie), np.empty(size + n_ie - 1)
     level_times(base, nsub, n_ie, taus, theta)  # noqa: F821 - bound by _compiled._build
     n = taus.shape[0] - 1
     for i in range(n):
@@ -181,7 +266,6 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
     table_values(c, x, t_lo, t_hi, extrapolate, q, p, root, negate)  # noqa: F821
     wall_track(p, taus, hi_t, lo_t, bp, lo_m, lo, vb, va)  # noqa: F821
     up, zero = np.full(n + 1, math.inf), np.zeros(n + 1)
-    out, flags = np.empty((10, nb, n)), np.empty((4, nb, n), dtype=np.bool_)
     window_edges(p0, k, False, False, chord_from, taus, mid, lo_m, up[:n], lo, up, va, vb,  # noqa: F821
                  zero, zero, zero, out, flags)  # fmt: skip
     ok = True
@@ -189,16 +273,13 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
         for i in range(n):
             if out[1, qq, i] <= 0.0 or out[3, qq, i] <= 0.0:
                 ok = False
-    out_at = np.empty(outs.shape[0], np.int64)
     j = 0
     for o in range(outs.shape[0]):  # (np.searchsorted, side "left": outs sorted)
         while j <= n and taus[j] < outs[o]:
             j += 1
         out_at[o] = j
-    coef = np.empty((n, 4, nb, 3))
     face_coefficients(0, n, taus, theta, out[1], out[4], out[5], out[3], out[7], out[8], coef)  # noqa: F821
     t0 = taus[0]
-    arg = np.empty((nb, xn.shape[0]))
     for qq in range(nb):
         la, wa = out[0, qq, 0], out[1, qq, 0]
         for jj in range(xn.shape[0]):
@@ -207,7 +288,7 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
             v = v - p0[qq]
             v = v * v
             arg[qq, jj] = v / (-4.0 * t0)
-    return taus, theta, out, flags, out_at, coef, arg, ok
+    return ok
 
 
 def start_scale(r: Any, width: Any, t0: float) -> None:  # pragma: no cover - compiled
@@ -222,6 +303,54 @@ def start_scale(r: Any, width: Any, t0: float) -> None:  # pragma: no cover - co
             r[q, j] = r[q, j] * w * c
         r[q, 0] = 0.0
         r[q, nn - 1] = 0.0
+
+
+def lean_march(  # noqa: PLR0913 - the level's arrays, as the set-up made them
+    c: float,
+    mass: Any,
+    r0: Any,
+    steps: int,
+    ops: Any,
+    w: Any,
+    volumes: Any,
+    walls: Any,
+    last: Any,
+    flags: Any,
+    out: Any,
+    out_at: Any,
+    zs: Any,
+    snaps: Any,
+    sums: Any,
+) -> int:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The start state ``r0`` (loads, nodes) of mass ``mass`` (loads,) scaled to the window's
+    mass ``c`` (``r0 *= (c / mass)[:, None]``, :func:`_normalized`'s operations), then the
+    level's ``steps`` steps by :func:`._moving_fused.level_march` on :func:`level_setup`'s
+    window ``out``, ``flags`` (no upper wall), the face products ``ops`` and the rows ``w``,
+    ``volumes``, ``walls``, ``last``; ``zs`` (9, loads) zeros, the outputs into ``snaps`` and
+    ``sums``; returns LAPACK's ``info`` (0: every solve succeeded)."""
+    nn = r0.shape[1]
+    for q in range(r0.shape[0]):
+        f = c / mass[q]
+        for j in range(nn):
+            r0[q, j] = r0[q, j] * f
+    pos = np.zeros(1, np.int64)
+    return level_march(0, steps, ops, w, volumes, walls, last, False, flags[0], flags[1],  # noqa: F821
+                       out[9], out[0], out[1], out[2], out[3], out_at, r0.reshape(-1), zs[:5],
+                       zs[5:], pos, snaps, sums)  # fmt: skip
+
+
+def lean_load(area: Any, moment: Any, sums: Any, load: Any) -> bool:  # pragma: no cover
+    """The load ``int p R dx = l area + W moment`` (loads, outputs) [Pa] of a lean level into
+    ``load``, from the window's edges ``l = sums[5]``, ``W = sums[6]`` at the outputs (numpy's
+    ``sums[5] * area + sums[6] * moment``, element by element; compiled); False where a value
+    is NaN (its sign and payload then follow numpy's operand order: numpy recomputes)."""
+    for q in range(area.shape[0]):
+        for j in range(area.shape[1]):
+            v = sums[5, q, j] * area[q, j] + sums[6, q, j] * moment[q, j]
+            if v != v:
+                return False
+            load[q, j] = v
+    return True
 
 
 def start_scan(  # noqa: PLR0913 - the table's arrays, as it holds them
@@ -306,100 +435,3 @@ def plan_base(
             j += 1
         index[o] = j
     return base, index
-
-
-def judge_ratio(  # noqa: PLR0913 - the two answers' fields
-    a_area: Any,
-    b_area: Any,
-    a_load: Any,
-    a_ml: Any,
-    a_mu: Any,
-    b_load: Any,
-    b_ml: Any,
-    b_mu: Any,
-    scale: Any,
-    factor: float,
-    rtol: float,
-    atol: float,
-) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
-    """:meth:`._cn_control._Judge.ratio`'s numbers in one pass (loads, outputs): the estimate
-    ``factor |a - b|`` of the area, the largest estimate / tolerance of the area and the
-    largest ``factor |load identity a - b| / scale`` [1] (NaN where any is NaN, as numpy's
-    ``max``), the same operations element by element."""
-    nb, n_out = a_area.shape
-    err = np.empty((nb, n_out))
-    m_area, m_load = -math.inf, -math.inf
-    for q in range(nb):
-        for j in range(n_out):
-            e = factor * abs(a_area[q, j] - b_area[q, j])
-            err[q, j] = e
-            r = e / (rtol * abs(a_area[q, j]) + atol)
-            la = a_load[q, j] + a_ml[q, j] + a_mu[q, j]
-            lb = b_load[q, j] + b_ml[q, j] + b_mu[q, j]
-            g = factor * abs(la - lb) / scale[q, j]
-            if not r <= m_area:  # (a larger value, or NaN: NaN stays)
-                m_area = r if m_area == m_area else m_area
-            if not g <= m_load:
-                m_load = g if m_load == m_load else m_load
-    return err, m_area, m_load
-
-
-def batch_balances_of(fast: Callable[..., tuple], problem: Problem, raw: Any, lo: Array) -> tuple:
-    """:func:`._result._balances` and the screen's reductions of :func:`._result.finish_batch`
-    for a batch ``raw`` of ``problem`` without an upper wall (``lo``: the lower wall's
-    positions [Pa], as ``_fixed_positions`` gives them) by ``fast``
-    (:func:`batch_balances`, compiled): ``(prob, loadb, reductions)``."""
-    n = raw.area.shape[-1]
-    lo2 = lo.reshape(-1, n) if lo.ndim else np.full((1, n), lo)
-    return fast(raw.area, raw.absorbed_lower, raw.absorbed_upper, raw.load, raw.wall_term,
-                raw.error_estimate, problem.p0, lo2, problem.rtol)  # fmt: skip
-
-
-def _nan_max(m: float, v: float) -> float:  # pragma: no cover - compiled
-    """The running ``max`` of numpy (NaN once any value is NaN)."""
-    if m != m or v != v:
-        return math.nan if v != v or m != m else m
-    return v if v > m else m
-
-
-def batch_balances(  # noqa: PLR0913 - the batch's fields
-    area: Any,
-    abs_l: Any,
-    abs_u: Any,
-    load: Any,
-    wall_term: Any,
-    error: Any,
-    p0: Any,
-    lo: Any,
-    rtol: float,
-) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
-    """:func:`._result._balances` of a batch without an upper wall (``lo`` the lower wall's
-    positions (1 or loads, outputs) [Pa], ``p0`` (loads, 1) [Pa]) and the screen's reductions
-    of :func:`._result.finish_batch` in one pass: ``(prob, loadb, [max prob, -min prob, max
-    loadb, -min loadb, max (error - rtol |area|)])`` (numpy's NaN-propagating ``max``/``min``),
-    the same operations element by element."""
-    nb, n = area.shape
-    prob, loadb = np.empty((nb, n)), np.empty((nb, n))
-    red = np.full(5, -math.inf)
-    for q in range(nb):
-        p = p0[q, 0]
-        a = abs(p)
-        for j in range(n):
-            v = area[q, j] + abs_l[q, j]
-            v = v + abs_u[q, j]
-            v = v - 1.0
-            prob[q, j] = v
-            b = abs(lo[q if lo.shape[0] > 1 else 0, j])
-            sc = a if a != a else (b if b != b else (b if b > a else a))
-            sc = sc if sc > 0 else 1.0
-            g = load[q, j] + wall_term[q, j]
-            g = g - p
-            g = g / sc
-            loadb[q, j] = g
-            red[0] = _nan_max(red[0], v)
-            red[1] = _nan_max(red[1], -v)
-            red[2] = _nan_max(red[2], g)
-            red[3] = _nan_max(red[3], -g)
-            slack = abs(area[q, j]) * -rtol
-            red[4] = _nan_max(red[4], slack + error[q, j])
-    return prob, loadb, red

@@ -126,10 +126,11 @@ def tracks() -> tuple[Callable[..., None], Callable[..., None]] | None:
     return _STATE.get("tracks")
 
 
-def lean() -> tuple[Callable[..., Any], Callable[..., None]] | None:
-    """The compiled :func:`._cn_lean.level_setup` and :func:`._cn_lean.start_scale` once the
-    compiled march is built and the option is on, else None (the level's set-up by the
-    numpy path's pieces: the same numbers)."""
+def lean() -> tuple[Callable[..., Any], ...] | None:
+    """The compiled :func:`._cn_lean.level_setup`, :func:`._cn_lean.start_scale`,
+    :func:`._cn_lean.lean_march` and :func:`._cn_lean.lean_load` once the compiled march is
+    built and the option is on, else None (the level's set-up by the numpy path's pieces:
+    the same numbers)."""
     if not compiled_enabled():
         return None
     return _STATE.get("lean")
@@ -152,7 +153,7 @@ def plan() -> Callable[..., tuple] | None:
 
 
 def judge() -> Callable[..., tuple] | None:
-    """The compiled :func:`._cn_lean.judge_ratio` once the compiled march is built and the
+    """The compiled :func:`._cn_outputs.judge_ratio` once the compiled march is built and the
     option is on, else None (:meth:`._cn_control._Judge.ratio`'s numpy calls: the same)."""
     if not compiled_enabled():
         return None
@@ -160,11 +161,28 @@ def judge() -> Callable[..., tuple] | None:
 
 
 def balances() -> Callable[..., tuple] | None:
-    """The compiled :func:`._cn_lean.batch_balances` once the compiled march is built and the
+    """The compiled :func:`._cn_outputs.batch_balances` once the compiled march is built and the
     option is on, else None (:func:`._result._balances`' numpy calls: the same numbers)."""
     if not compiled_enabled():
         return None
     return _STATE.get("balances")
+
+
+def fields() -> tuple[Callable[..., bool], Callable[..., bool]] | None:
+    """The compiled :func:`._cn_outputs.combine_fields` and :func:`._cn_outputs.weighted_fields`
+    once the compiled march is built and the option is on, else None
+    (:func:`._level.combine`'s and :func:`._level.weighted`'s numpy calls: the same)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("fields")
+
+
+def projected() -> Callable[..., bool] | None:
+    """The compiled :func:`._cn_outputs.projected` once the compiled march is built and the
+    option is on, else None (:func:`._level.project`'s numpy calls: the same)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("project")
 
 
 def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
@@ -175,11 +193,11 @@ def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
 
 
 def _build() -> Callable[..., int] | None:
-    from . import _cn_edges, _cn_lean, _wall_table
+    from . import _cn_edges, _cn_lean, _cn_outputs, _wall_table
     from . import _moving_fused as fused_src
 
     # numba's disk cache keyed on the sources of these modules and everything they import
-    mods = (_cn_edges, fused_src, _cn_lean, _wall_table)
+    mods = (_cn_edges, fused_src, _cn_lean, _cn_outputs, _wall_table)
     jit = numba_cache.njit(__name__, *mods, nogil=True, error_model="numpy")
     if jit is None:  # numba is not installed
         return None
@@ -193,10 +211,10 @@ def _build() -> Callable[..., int] | None:
     _STATE["times"] = jit(_cn_edges.level_times)
     _STATE["tracks"] = (jit(_cn_edges.wall_query), jit(_cn_edges.wall_track))
     faces = jit(fused_src.face_coefficients)
-    _STATE["lean"] = _lean(jit, faces, _wall_table.kernels())
     code = fused_src.level_march.__code__
     level = jit(types.FunctionType(code, fused_scope, "level_march"))
     _STATE["level"] = (level, faces)
+    _STATE["lean"] = _lean(jit, faces, _wall_table.kernels())
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
 
 
@@ -215,16 +233,32 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
         "window_edges": _STATE["edges"],
         "table_values": table[0],
         "face_coefficients": faces,
+        "level_march": _STATE["level"][0],
     }
     setup = jit(types.FunctionType(_cn_lean.level_setup.__code__, scope, "level_setup"))
     _STATE["start"] = jit(types.FunctionType(_cn_lean.start_scan.__code__, scope, "start_scan"))
-    _STATE["judge"] = jit(_cn_lean.judge_ratio)
-    scope["_nan_max"] = jit(_cn_lean._nan_max)
-    name = "batch_balances"
-    _STATE["balances"] = jit(types.FunctionType(_cn_lean.batch_balances.__code__, scope, name))
+    _outputs(jit)
     scope["_sorted_unique"] = jit(_cn_lean._sorted_unique)
     _STATE["plan"] = jit(types.FunctionType(_cn_lean.plan_base.__code__, scope, "plan_base"))
-    return setup, jit(_cn_lean.start_scale)
+    march = jit(types.FunctionType(_cn_lean.lean_march.__code__, scope, "lean_march"))
+    return setup, jit(_cn_lean.start_scale), march, jit(_cn_lean.lean_load)
+
+
+def _outputs(jit: Callable) -> None:
+    """The compiled :mod:`._cn_outputs` kernels, their callees bound to compiled ones."""
+    from . import _cn_outputs as src
+
+    scope = dict(vars(src))
+    for name in ("_nan_max", "_same_shape", "_combined", "_summed", "_plain"):
+        scope[name] = jit(getattr(src, name))
+
+    def bound(name: str) -> Callable:
+        return jit(types.FunctionType(getattr(src, name).__code__, scope, name))
+
+    _STATE["judge"] = jit(src.judge_ratio)
+    _STATE["balances"] = bound("batch_balances")
+    _STATE["fields"] = (bound("combine_fields"), bound("weighted_fields"))
+    _STATE["project"] = bound("projected")
 
 
 def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path holds them

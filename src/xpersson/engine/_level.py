@@ -9,7 +9,8 @@ per unit of the mapped coordinate ``x`` in [0, 1]) is dimensionless.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+import sys
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -126,7 +127,7 @@ def level_grid(loads: int, n: int, stretch: float) -> LevelGrid:
     cache look-up (a look-up costs ~3 us: three of them were ~10 % of a small level's
     set-up on the compiled path)."""
     return _GRID.get(
-        (loads, n, stretch),
+        f"{loads} {n} {stretch!r}",  # (a string key: ~0.5 us less than a tuple's content key)
         lambda: LevelGrid(
             level_nodes(n, stretch), system_rows(loads, n, stretch), face_basis(n, stretch)
         ),
@@ -213,11 +214,24 @@ class Level(NamedTuple):
         return not self.failure
 
 
+def _kernel(name: str) -> Any:
+    """The compiled kernels ``name`` of :mod:`._compiled` (``fields``, ``projected``), or None
+    (the option is off, or the process has not loaded the compiled march: it is looked up,
+    not imported, so that this module stays below it)."""
+    compiled = sys.modules.get(f"{__package__}._compiled")
+    return None if compiled is None else getattr(compiled, name)()
+
+
 def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
     """The finer level, or its Richardson combination with the coarser (linear in the levels:
     the probability balance is kept)."""
     if not extrapolate:
         return fine  # (immutable: the same outputs)
+    fast = _kernel("fields") if fine.P is None and fine.area.ndim == 2 else None
+    if fast is not None:  # (one compiled pass, the same operations)
+        out = np.empty((_SCALARS, *fine.area.shape))
+        if fast[0](*fine[:_SCALARS], *coarse[:_SCALARS], out):
+            return Outputs(*out, None)
     # the six (loads, outputs) fields at once, ``a + (a - b) / 3`` element by element
     a = np.array(fine[:_SCALARS])
     d = np.subtract(a, np.array(coarse[:_SCALARS]))
@@ -230,6 +244,14 @@ def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:
 def weighted(levels: list[Outputs], weights: Array) -> Outputs:
     """The combination ``sum_i weights[i] levels[i]`` of every output (weights summing to 1,
     e.g. Richardson's: the probability balance, linear in the levels, is kept)."""
+    one = levels[0]
+    fast = _kernel("fields") if len(levels) == 3 and one.P is None and one.area.ndim == 2 else None
+    if fast is not None:  # (one compiled pass, the same operations)
+        out = np.empty((_SCALARS, *levels[0].area.shape))
+        w3 = np.asarray(weights, dtype=float)
+        if w3.shape == (3,) and fast[1](w3, *levels[0][:_SCALARS], *levels[1][:_SCALARS],
+                                        *levels[2][:_SCALARS], out):  # fmt: skip
+            return Outputs(*out, None)
     ws = [float(c) for c in weights]
     # the six (loads, outputs) fields at once, then the densities (the same operations,
     # element by element, as ``sum`` of each field: 0 + w_0 v_0 + w_1 v_1 + ...)
@@ -257,6 +279,17 @@ def project(
     ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
     non-contact fraction) exceeds 1, scaled down to sum to 1.
     """
+    fast = _kernel("projected") if np.ndim(area) == 2 else None
+    if fast is not None:  # (one compiled pass where no value is NaN or -0 and no sum over 1)
+        out = np.empty((7, *np.shape(area)))
+        if fast(area, abs_l, abs_u, out):
+            dist = {
+                "area": out[3],
+                "absorbed_lower": out[4],
+                "absorbed_upper": out[5],
+                "non_contact_fraction": out[6],
+            }
+            return (out[0], out[1], out[2]), dist
     a = np.asarray(area).clip(0.0, 1.0)  # (the method: np.clip's dispatch costs ~2 us)
     lo = np.maximum(abs_l, 0.0)
     up = np.maximum(abs_u, 0.0)

@@ -12,6 +12,7 @@ from scipy.special import erfcinv
 
 from ..cache import Cache
 from ._views import broadcast_view
+from ._wall_table import kernels as table_kernels
 from ._walls import Wall
 
 __all__ = ["Problem", "make_problem", "window_k", "sample_times"]
@@ -48,7 +49,7 @@ class Problem:
         if not self.is_batch:
             return self
         # (the fields as they are but two: dataclasses.replace's checks cost ~3 us a load)
-        return Problem(
+        return _problem(
             np.ascontiguousarray(self.tau[i]),
             float(self.p0[i, 0]),
             self.lower,
@@ -63,6 +64,19 @@ class Problem:
     def tolerance(self, area: ArrayLike) -> Array:
         """Allowed absolute error of the area, ``rtol |area| + atol``."""
         return self.rtol * np.abs(np.asarray(area, dtype=float)) + self.atol
+
+    def output_positions(self) -> tuple[Array, Array]:
+        """(lower, upper) wall positions [Pa] at the output times: 0-d arrays for fixed walls
+        and a missing upper one (+inf), which broadcast; else per tau (a row shared by the
+        loads evaluated once)."""
+        lower, upper, t = self.lower, self.upper, self.tau
+        if upper is None and not lower.is_fixed:  # (no full array of inf, nor copies per load)
+            shared = t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0
+            return lower.at(t[0] if shared else t), np.asarray(np.inf)
+        if lower.is_fixed and (upper is None or upper.is_fixed):
+            up = float(upper.position) if upper is not None else np.inf
+            return np.asarray(float(lower.position)), np.asarray(up)
+        return self.wall_positions(t)
 
     def wall_positions(self, tau: ArrayLike) -> tuple[Array, Array]:
         """(lower, upper) positions [Pa] at ``tau``; upper is +inf without an upper wall."""
@@ -139,9 +153,30 @@ def make_problem(
         if p_arr.ndim != 1 or not np.all(np.isfinite(p_arr)):
             raise _fail("p_out", "Pa", "a 1-D array of finite pressures", p_out)
     p0_out: float | Array = p0v[:, None] if batch else float(p0v[0])
-    return Problem(
+    return _problem(
         tau, p0_out, lower, upper, rtol, atol, p_arr, int(max_steps), dict(options or {})
     )
+
+
+def _problem(
+    tau: Array,
+    p0: float | Array,
+    lower: Wall,
+    upper: Wall | None,
+    rtol: float,
+    atol: float,
+    p_out: Array | None,
+    max_steps: int,
+    options: dict[str, Any],
+) -> Problem:
+    """``Problem(...)`` of checked fields, without the frozen dataclass's ``__init__`` (one
+    ``object.__setattr__`` per field: ~2 us, ~1 us this way; two per solve)."""
+    pb = object.__new__(Problem)
+    pb.__dict__.update(
+        tau=tau, p0=p0, lower=lower, upper=upper, rtol=rtol, atol=atol, p_out=p_out,
+        max_steps=max_steps, options=options,
+    )  # fmt: skip
+    return pb
 
 
 def _checked_times_and_loads(
@@ -221,6 +256,11 @@ def sample_times(tau: Array) -> Array:
     One set for the input checks and the clearance bound of :mod:`._clear`, so that a wall
     whose position is costly (an inverted clock) is evaluated at these times once.
     """
+    return _kept_samples(tau).copy()  # a copy: callers' walls may write into it
+
+
+def _kept_samples(tau: Array) -> Array:
+    """:func:`sample_times` as the cache keeps it (read-only)."""
     t = np.asarray(tau, dtype=float)
     if t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0:  # one row shared by the loads
         t = t[0]
@@ -231,7 +271,7 @@ def sample_times(tau: Array) -> Array:
             np.concatenate([[0.0], t.ravel(), np.linspace(0.0, t_end, 65), t_end * _LOG16])
         )
 
-    return _SAMPLES.get(t, compute).copy()  # a copy: callers' walls may write into it
+    return _SAMPLES.get(t, compute)
 
 
 _LOG16 = np.logspace(-16, 0, 96)
@@ -243,6 +283,17 @@ _SAMPLES = Cache(
 )
 
 
+def _checked_table(tau: Array, p0: Array, lower: Wall) -> bool:
+    """Whether the compiled table of a moving ``lower`` wall passes the checks of
+    :func:`_check_positions` at the times of :func:`sample_times` (False also where the
+    compiled code does not run: the checks then run on numpy, with their messages)."""
+    fns = table_kernels()
+    if fns is None or not callable(lower.position):
+        return False
+    # (the sample times as kept, read-only: the compiled check does not write into them)
+    return bool(fns[3](*lower.table.args(), _kept_samples(tau), p0))
+
+
 def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> None:
     """Wall positions finite and ordered, every ``p0`` strictly inside at ``tau = 0``."""
     if lower.is_fixed and (upper is None or upper.is_fixed):
@@ -252,6 +303,8 @@ def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> 
             if bool(((p0 > lo0) & (p0 < hi0)).all()):
                 return  # (the checks below on these numbers: each failure's message is theirs)
         t_check = np.zeros(1)
+    elif upper is None and lower.table is not None and _checked_table(tau, p0, lower):
+        return  # (the checks below in one compiled call: the same positions and comparisons)
     else:
         t_check = sample_times(tau)
     lo = lower.at(t_check)

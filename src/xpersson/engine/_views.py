@@ -1,6 +1,6 @@
 """Read-only broadcast views of the engine's batch results, without ``np.broadcast_to``'s
-argument handling (about 8 us a call; a few calls per solve), and deferred batch fields
-(:class:`LazyField`)."""
+argument handling (about 8 us a call; a few calls per solve), per-load counts, and deferred
+batch fields (:class:`LazyField`)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["LazyField", "broadcast_view"]
+__all__ = ["LazyField", "broadcast_view", "per_load"]
 
 
 def broadcast_view(value: Any, shape: tuple[int, ...]) -> NDArray[Any]:
@@ -18,11 +18,25 @@ def broadcast_view(value: Any, shape: tuple[int, ...]) -> NDArray[Any]:
     goes to ``np.broadcast_to``."""
     arr = np.asarray(value)
     lead = len(shape) - arr.ndim
+    if lead == 1 and shape[0] == 1 and arr.shape == shape[1:]:  # (one load: an added axis)
+        out = arr[None]
+        out.flags.writeable = False
+        return out
     if lead >= 0 and tuple(shape[lead:]) == arr.shape and arr.flags.c_contiguous:
         out = np.ndarray(shape, arr.dtype, buffer=arr, strides=(0,) * lead + arr.strides)
         out.flags.writeable = False
         return out
     return np.broadcast_to(arr, shape)
+
+
+def per_load(value: int | NDArray[Any], n: int) -> NDArray[np.int64]:
+    """A count per load [1] (``(n,)`` int64, read-only) of one count or one per load."""
+    if type(value) is int:  # (one count for the batch: ~1 us less than a broadcast view)
+        out = np.empty(n, dtype=np.int64)
+        out.fill(value)
+        out.flags.writeable = False
+        return out
+    return broadcast_view(np.asarray(value, dtype=np.int64), (n,))
 
 
 class LazyField:

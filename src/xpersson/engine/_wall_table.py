@@ -130,7 +130,7 @@ class WallTable:
 
 
 def kernels() -> tuple[Callable[..., Any], ...] | None:
-    """The compiled ``(table_values, edge_roots, table_track)``, or None: the option
+    """The compiled ``(table_values, edge_roots, table_track, table_check)``, or None: the option
     ``compiled`` is off, or numba is not imported in this process (a wall alone never imports
     it: the engine's compiled march does, once marching pays for it) or missing."""
     if not compiled_enabled():
@@ -167,7 +167,8 @@ def _build() -> tuple[Callable[..., Any], ...] | None:
     track = scope["table_track"]
     two, none = np.array([1.0, 2.0]), np.zeros(0)
     track(c, x, 0.0, 1.0, True, True, True, two, one, none, one, two, two.copy(), two.copy())
-    _STATE["fns"] = (values, roots, track)
+    scope["table_check"] = jit(types.FunctionType(table_check.__code__, scope, "table_check"))
+    _STATE["fns"] = (values, roots, track, scope["table_check"])
     return _STATE["fns"]  # type: ignore[no-any-return]
 
 
@@ -339,6 +340,32 @@ def edge_roots(
                     found += 1
             g_prev = g_next
     return found
+
+
+def table_check(
+    c: Any,
+    x: Any,
+    t_lo: float,
+    t_hi: float,
+    extrapolate: bool,
+    root: bool,
+    negate: bool,
+    tau: Any,
+    p0: Any,
+) -> bool:
+    """Whether the table's positions at ``tau`` [Pa^2] (:func:`table_values`) are all finite
+    and every load ``p0`` [Pa] lies strictly above the position at ``tau[0]`` (the checks of
+    :func:`._problem._check_positions` of a lower wall without an upper one, the same
+    comparisons; compiled)."""
+    out = np.empty(tau.shape[0])
+    table_values(c, x, t_lo, t_hi, extrapolate, tau, out, root, negate)
+    for v in out:
+        if not math.isfinite(v):
+            return False
+    for p in p0:
+        if p <= out[0]:
+            return False
+    return True
 
 
 def table_track(

@@ -1,0 +1,254 @@
+"""The compiled path's kernels of a ``cn`` solve's outputs after the march, each the numpy
+path's operations element by element (bit for bit; the numpy path stays where numba is off or
+missing): the error control's estimate and worst ratio (:func:`judge_ratio`), the Richardson
+combinations of levels (:func:`combine_fields`, :func:`weighted_fields`), the projection onto
+admissible probabilities (:func:`projected`) and a batch's balances and the screen's
+reductions (:func:`batch_balances`). Where numpy's result would depend on more than the
+operations (the sign and payload of a NaN follow the operands' order, which the compiler may
+swap; numpy's ``clip``/``maximum`` of ``-0``), a kernel declines and the numpy path answers.
+Built by :func:`._compiled._build`. Units: tau in Pa^2, pressures in Pa.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._problem import Problem
+
+__all__ = [
+    "batch_balances",
+    "batch_balances_of",
+    "combine_fields",
+    "judge_ratio",
+    "projected",
+    "weighted_fields",
+]
+
+Array = NDArray[np.float64]
+
+
+def judge_ratio(  # noqa: PLR0913 - the two answers' fields
+    a_area: Any,
+    b_area: Any,
+    a_load: Any,
+    a_ml: Any,
+    a_mu: Any,
+    b_load: Any,
+    b_ml: Any,
+    b_mu: Any,
+    scale: Any,
+    factor: float,
+    rtol: float,
+    atol: float,
+) -> tuple:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:meth:`._cn_control._Judge.ratio`'s numbers in one pass (loads, outputs): the estimate
+    ``factor |a - b|`` of the area, the largest estimate / tolerance of the area and the
+    largest ``factor |load identity a - b| / scale`` [1] (NaN where any is NaN, as numpy's
+    ``max``), the same operations element by element."""
+    nb, n_out = a_area.shape
+    err = np.empty((nb, n_out))
+    m_area, m_load = -math.inf, -math.inf
+    for q in range(nb):
+        for j in range(n_out):
+            e = factor * abs(a_area[q, j] - b_area[q, j])
+            err[q, j] = e
+            r = e / (rtol * abs(a_area[q, j]) + atol)
+            la = a_load[q, j] + a_ml[q, j] + a_mu[q, j]
+            lb = b_load[q, j] + b_ml[q, j] + b_mu[q, j]
+            g = factor * abs(la - lb) / scale[q, j]
+            if not r <= m_area:  # (a larger value, or NaN: NaN stays)
+                m_area = r if m_area == m_area else m_area
+            if not g <= m_load:
+                m_load = g if m_load == m_load else m_load
+    return err, m_area, m_load
+
+
+_UNSURE = np.full((1, 1), np.nan)  # a non-area the compiled screen leaves to numpy's sum
+
+
+def batch_balances_of(fast: Callable[..., tuple], problem: Problem, raw: Any, lo: Array) -> tuple:
+    """:func:`._result._balances` and the screen's reductions of :func:`._result.finish_batch`
+    for a batch ``raw`` of ``problem`` without an upper wall (``lo``: the lower wall's
+    positions [Pa], as ``Problem.output_positions`` gives them) by ``fast``
+    (:func:`batch_balances`, compiled): ``(prob, loadb, reductions)``."""
+    shape = raw.area.shape
+    lo2 = lo.reshape(-1, shape[-1]) if lo.ndim else np.full((1, shape[-1]), lo)
+    # (the arrays it fills made here: a compiled function's returned arrays cost ~0.6 us each)
+    prob, loadb, red = np.empty(shape), np.empty(shape), np.empty(6)
+    na = raw.non_area if np.ndim(raw.non_area) == 2 else _UNSURE
+    fast(raw.area, raw.absorbed_lower, raw.absorbed_upper, raw.load, raw.wall_term,
+         raw.error_estimate, problem.p0, lo2, problem.rtol, na, prob, loadb, red)  # fmt: skip
+    return prob, loadb, red
+
+
+def _nan_max(m: float, v: float) -> float:  # pragma: no cover - compiled
+    """The running ``max`` of numpy (NaN once any value is NaN)."""
+    if m != m or v != v:
+        return math.nan if v != v or m != m else m
+    return v if v > m else m
+
+
+def batch_balances(  # noqa: PLR0913 - the batch's fields
+    area: Any,
+    abs_l: Any,
+    abs_u: Any,
+    load: Any,
+    wall_term: Any,
+    error: Any,
+    p0: Any,
+    lo: Any,
+    rtol: float,
+    non_area: Any,
+    prob: Any,
+    loadb: Any,
+    red: Any,
+) -> None:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._result._balances` of a batch without an upper wall (``lo`` the lower wall's
+    positions (1 or loads, outputs) [Pa], ``p0`` (loads, 1) [Pa]) and the screen's reductions
+    of :func:`._result.finish_batch` in one pass, into ``prob``, ``loadb`` (loads, outputs)
+    and ``red`` = ``[max prob, -min prob, max loadb, -min loadb, max (error - rtol |area|),
+    sure]`` (numpy's NaN-propagating ``max``/``min``), the same operations element by element;
+    ``sure`` is 1 where the sum of ``non_area`` is finite in any order (every value finite and
+    below ``1e300 / size``), else 0 (then numpy's sum decides)."""
+    nb, n = area.shape
+    red[:] = -math.inf
+    bound = 1e300 / max(non_area.size, 1)
+    red[5] = 1.0
+    for q in range(non_area.shape[0]):
+        for j in range(non_area.shape[1]):
+            if not abs(non_area[q, j]) <= bound:
+                red[5] = 0.0
+    for q in range(nb):
+        p = p0[q, 0]
+        a = abs(p)
+        for j in range(n):
+            v = area[q, j] + abs_l[q, j]
+            v = v + abs_u[q, j]
+            v = v - 1.0
+            prob[q, j] = v
+            b = abs(lo[q if lo.shape[0] > 1 else 0, j])
+            sc = a if a != a else (b if b != b else (b if b > a else a))
+            sc = sc if sc > 0 else 1.0
+            g = load[q, j] + wall_term[q, j]
+            g = g - p
+            g = g / sc
+            loadb[q, j] = g
+            red[0] = _nan_max(red[0], v)
+            red[1] = _nan_max(red[1], -v)
+            red[2] = _nan_max(red[2], g)
+            red[3] = _nan_max(red[3], -g)
+            slack = abs(area[q, j]) * -rtol
+            red[4] = _nan_max(red[4], slack + error[q, j])
+
+
+def _same_shape(a: Any, b: Any, c: Any, d: Any, shape: Any) -> bool:  # pragma: no cover
+    """Whether ``a .. d`` are all shaped ``shape`` (compiled)."""
+    return a.shape == shape and b.shape == shape and c.shape == shape and d.shape == shape
+
+
+def _combined(a: Any, b: Any, o: Any) -> bool:  # pragma: no cover - compiled
+    """``a + (a - b) / 3`` element by element into ``o`` (:func:`._level.combine`'s numpy
+    operations: ``d = a - b``, ``d /= 3``, ``a + d``); whether no value is NaN (a NaN's sign
+    and payload depend on the operands' order, which the compiler may swap: numpy decides)."""
+    for q in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            d = a[q, j] - b[q, j]
+            d = d / 3.0
+            v = a[q, j] + d
+            if v != v:
+                return False
+            o[q, j] = v
+    return True
+
+
+def combine_fields(  # noqa: PLR0913 - the two levels' six fields
+    a0: Any, a1: Any, a2: Any, a3: Any, a4: Any, a5: Any,
+    b0: Any, b1: Any, b2: Any, b3: Any, b4: Any, b5: Any,
+    out: Any,
+) -> bool:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._level.combine`'s Richardson step of the six (loads, outputs) fields ``a``
+    (finer) and ``b`` (coarser) into ``out`` (6, loads, outputs); False (the numpy path
+    answers) where a field is not shaped as ``out[0]`` or a value is NaN."""
+    s = out[0].shape
+    if not (_same_shape(a0, a1, a2, a3, s) and _same_shape(a4, a5, b0, b1, s)
+            and _same_shape(b2, b3, b4, b5, s)):  # fmt: skip
+        return False
+    return (_combined(a0, b0, out[0]) and _combined(a1, b1, out[1])
+            and _combined(a2, b2, out[2]) and _combined(a3, b3, out[3])
+            and _combined(a4, b4, out[4]) and _combined(a5, b5, out[5]))  # fmt: skip
+
+
+def _summed(ws: Any, a: Any, b: Any, c: Any, o: Any) -> bool:  # pragma: no cover - compiled
+    """``0 + ws[0] a + ws[1] b + ws[2] c`` element by element into ``o`` (:func:`._level.
+    _weighted`'s numpy operations: ``a * w_0``, ``+= 0``, then ``+= (v * w_i)``); whether no
+    value is NaN (see :func:`_combined`)."""
+    for q in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            acc = a[q, j] * ws[0]
+            acc = acc + 0.0
+            acc = acc + b[q, j] * ws[1]
+            v = acc + c[q, j] * ws[2]
+            if v != v:
+                return False
+            o[q, j] = v
+    return True
+
+
+def weighted_fields(  # noqa: PLR0913 - the three levels' six fields
+    ws: Any,
+    a0: Any, a1: Any, a2: Any, a3: Any, a4: Any, a5: Any,
+    b0: Any, b1: Any, b2: Any, b3: Any, b4: Any, b5: Any,
+    c0: Any, c1: Any, c2: Any, c3: Any, c4: Any, c5: Any,
+    out: Any,
+) -> bool:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._level.weighted` of three levels' six (loads, outputs) fields ``a``, ``b``,
+    ``c`` with the weights ``ws`` (3,) into ``out`` (6, loads, outputs); False (the numpy
+    path answers) where a field is not shaped as ``out[0]`` or a value is NaN."""
+    s = out[0].shape
+    if not (_same_shape(a0, a1, a2, a3, s) and _same_shape(a4, a5, b0, b1, s)
+            and _same_shape(b2, b3, b4, b5, s) and _same_shape(c0, c1, c2, c3, s)
+            and _same_shape(c4, c5, c0, c0, s)):  # fmt: skip
+        return False
+    return (_summed(ws, a0, b0, c0, out[0]) and _summed(ws, a1, b1, c1, out[1])
+            and _summed(ws, a2, b2, c2, out[2]) and _summed(ws, a3, b3, c3, out[3])
+            and _summed(ws, a4, b4, c4, out[4]) and _summed(ws, a5, b5, c5, out[5]))  # fmt: skip
+
+
+def _plain(v: float) -> bool:  # pragma: no cover - compiled
+    """Whether ``v`` is neither NaN nor -0 (where numpy's ``clip``/``maximum`` loops may
+    differ in the sign or payload they return)."""
+    return v == v and not (v == 0.0 and math.copysign(1.0, v) < 0.0)
+
+
+def projected(area: Any, abs_l: Any, abs_u: Any, out: Any) -> bool:  # pragma: no cover
+    """:func:`._level.project` where no sum of the absorbed fractions exceeds 1 (compiled):
+    into ``out`` (7, loads, outputs) the clipped ``area``, ``max(abs_l, 0)``,
+    ``max(abs_u, 0)`` and the distances moved (area, lower, upper, their sum), the same
+    operations; False (``out`` partly written) where a value is NaN or -0 or a sum exceeds 1
+    (the numpy path decides those)."""
+    s = out[0].shape
+    if area.shape != s or abs_l.shape != s or abs_u.shape != s:
+        return False
+    for q in range(s[0]):
+        for j in range(s[1]):
+            a0, l0, u0 = area[q, j], abs_l[q, j], abs_u[q, j]
+            if not (_plain(a0) and _plain(l0) and _plain(u0)):
+                return False
+            a = a0 if a0 > 0.0 else 0.0  # (numpy's clip: max then min, NaN excluded above)
+            a = a if a < 1.0 else 1.0
+            lo = l0 if l0 >= 0.0 else 0.0  # (numpy's maximum; -0 excluded above)
+            up = u0 if u0 >= 0.0 else 0.0
+            total = lo + up
+            if not total <= 1.0:
+                return False
+            out[0, q, j], out[1, q, j], out[2, q, j] = a, lo, up
+            out[3, q, j] = abs(a - a0)
+            out[4, q, j] = abs(lo - l0)
+            out[5, q, j] = abs(up - u0)
+            out[6, q, j] = abs(total - (l0 + u0))
+    return True
