@@ -116,3 +116,22 @@ def test_diagnostics_run_again_replace_their_variables():
     np.testing.assert_array_equal(ds["theory_validity"].values, flags)
     assert ds["theory_validity"].attrs["valid_max"] == sum(VALIDITY_FLAGS)
     assert pdf_resolution(ds) is None and "P_integral" not in ds  # no P stored: nothing added
+
+
+_EDGES = st.sampled_from(
+    [0.0, 1e-310, 2.0**-54, 2.0**-53, 0.3, 1.0, SLOPE_LIMIT, 3.1, E_STAR, 2 * E_STAR, math.nan]
+)
+
+
+@settings(max_examples=200, deadline=None)
+@given(p0=_EDGES, slope=_EDGES, non=_EDGES, area=_EDGES)
+def test_one_load_flags_equal_the_array_path(p0, slope, non, area):
+    """The one-load path (Python floats) gives the bits and dtype of the array path (the same
+    load twice), also at each condition's edge and for NaN."""
+    from xpersson.pipeline.diagnostics import validity_flags
+
+    one = validity_flags(np.array([p0]), E_STAR, slope, np.array([area]), np.array([non]))
+    two = validity_flags(np.full(2, p0), E_STAR, slope, np.full(2, area), np.full(2, non))
+    assert one.dtype == two.dtype == np.int8
+    assert one.shape == (1,)
+    assert one[0] == two[0] == two[1]

@@ -175,6 +175,16 @@ def validity_flags(
     contact modulus ``e_star`` [Pa], the rms slope [1] (a scalar, or one per leading row of
     ``area``) and the contact and non-contact fractions [1] at the finest magnification."""
     area = np.asarray(area, float)
+    if area.size == 1 and np.size(p0) == 1 and np.ndim(rms_slope) == 0:
+        # one load (a single solve): the same four comparisons on Python floats (IEEE, NaN
+        # compares false as in numpy), one array made instead of a dozen one-value temporaries
+        bits = (
+            (float(np.asarray(p0, float).flat[0]) > e_star) * 1
+            | (float(rms_slope) > SLOPE_LIMIT) * 2
+            | (float(np.asarray(non, float).flat[0]) < 2.0**-53) * 4
+            | (float(area.flat[0]) < _TINY) * 8
+        )
+        return np.full(area.shape, bits, np.int8)
     slope = np.asarray(rms_slope, float).reshape(np.shape(rms_slope) + (1,) * (area.ndim - 1))
     flags = np.zeros(area.shape, np.int8)
     # each bit: a boolean times its int8 value (int8, no int64 temporaries)
