@@ -89,6 +89,20 @@ class SolvedContact:
         self._u: NDArray[np.float64] | None = None
         self._rule: _QRule | None = None
 
+    def rows(self, sel: ArrayLike) -> SolvedContact:
+        """The SolvedContact of the loads ``sel`` (indices) of this one: the curve's splines,
+        ``Phi`` and the mean gap, where already built, sliced rather than built again (each
+        load's are its own, so the values are those of a SolvedContact of these loads alone,
+        bit for bit)."""
+        sel = np.asarray(sel, dtype=np.intp)
+        out = object.__new__(SolvedContact)
+        out.psd, out.E_star, out.q_L, out.q_hi = self.psd, self.E_star, self.q_L, self.q_hi
+        out.curve, out.p0 = self.curve.rows(sel), self.p0[sel]
+        out._phi = None if self._phi is None else self._phi.rows(sel)
+        out._u = None if self._u is None else self._u[sel]
+        out._rule = self._rule
+        return out
+
     @property
     def phi(self) -> _Phi:
         if self._phi is None:

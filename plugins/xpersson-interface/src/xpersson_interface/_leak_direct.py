@@ -17,14 +17,15 @@ from numpy.typing import NDArray
 
 from xpersson import physics
 
-from ._chunks import Part, bin_edges, contact_of, joined, sub_solved
+from ._chunks import Part, bin_edges, joined
 from ._leakage import NEGLIGIBLE, bruggeman_gap, junction_piece, leak_rate
 
 #: Below this share of a chunk's loads asking for the effective medium, the medium's loads get
-#: a SolvedContact of their own (its ``Phi`` and splines built again for them); above, the
-#: medium is computed for every load of the chunk (the extra loads' values unread). Measured at
-#: 1000 loads (roll-off scenes of seeds 2026 and 4242): a SolvedContact of their own for any
-#: share cost 1.2-3.4 ms more per solve; one for each kind of load (no rebuild) gained nothing.
+#: a SolvedContact of their own (the chunk's curve, ``Phi`` and mean gap sliced to their rows,
+#: :meth:`~xpersson.physics.SolvedContact.rows`; ``Phi``'s table built for them alone); above,
+#: the medium is computed for every load of the chunk (the extra loads' values unread).
+#: Measured at 1000 loads (roll-off scenes of seeds 2026 and 4242), when the own SolvedContact
+#: was built again: for any share 1.2-3.4 ms more per solve.
 SPLIT = 0.5
 
 
@@ -66,8 +67,7 @@ def outputs(
         zc, u1, ubar, u3 = junction(part)  # every load's junction on the call's contact
         sel = np.flatnonzero(ask)
         if sel.size:  # the medium's loads on a SolvedContact of their own
-            s_sel = sub_solved(sub, sel)  # type: ignore[arg-type]
-            det = contact_of(None, s_sel).detachment(edges, negligible=NEGLIGIBLE)
+            det = sc.rows(sel).detachment(edges, negligible=NEGLIGIBLE)  # (splines sliced)
             u3[sel] = bruggeman_gap(det, a_c=thr, per_load=True)
         return zc, u1, ubar, u3
 
