@@ -90,10 +90,24 @@ class SolvedContact:
         self._rule: _QRule | None = None
 
     def rows(self, sel: ArrayLike) -> SolvedContact:
-        """The SolvedContact of the loads ``sel`` (indices) of this one: the curve's splines,
-        ``Phi`` and the mean gap, where already built, sliced rather than built again (each
-        load's are its own, so the values are those of a SolvedContact of these loads alone,
-        bit for bit)."""
+        """The SolvedContact of some of the loads, its set-up sliced rather than built again.
+
+        The curve's splines, ``Phi``'s node integrals and spline and the mean gap, where
+        already built, are sliced to the rows ``sel`` (each load's rows are its own, so every
+        quantity is that of a SolvedContact built for these loads alone, bit for bit);
+        ``Phi``'s look-up table is built for them when first asked.
+
+        Parameters
+        ----------
+        sel : array_like of int, (n_sel,)
+            Indices of the loads kept, in the order wanted.
+
+        Returns
+        -------
+        SolvedContact
+            The contact of the loads ``p0[sel]`` [Pa] (same spectrum, ``E*`` and
+            magnifications).
+        """
         sel = np.asarray(sel, dtype=np.intp)
         out = object.__new__(SolvedContact)
         out.psd, out.E_star, out.q_L, out.q_hi = self.psd, self.E_star, self.q_L, self.q_hi

@@ -62,12 +62,13 @@ def outputs(
     def one(part: Part) -> tuple[NDArray[np.float64], ...]:
         rows, sub, sc = part
         ask = np.ones(sub.p0.size, dtype=bool) if medium is None else medium[rows]
-        if np.count_nonzero(ask) >= SPLIT * ask.size:  # (the medium of a few more loads: cheaper
-            return full(part)  # than a SolvedContact of their own, its Phi built again)
+        if np.count_nonzero(ask) >= SPLIT * ask.size:  # (the medium of a few more loads:
+            return full(part)  # cheaper than a detachment and gap cells of their own)
         zc, u1, ubar, u3 = junction(part)  # every load's junction on the call's contact
         sel = np.flatnonzero(ask)
-        if sel.size:  # the medium's loads on a SolvedContact of their own
-            det = sc.rows(sel).detachment(edges, negligible=NEGLIGIBLE)  # (splines sliced)
+        if sel.size:  # the medium's loads on a SolvedContact of their own: the call's
+            # curve, Phi and mean gap sliced to their rows (built for the junction already)
+            det = sc.rows(sel).detachment(edges, negligible=NEGLIGIBLE)
             u3[sel] = bruggeman_gap(det, a_c=thr, per_load=True)
         return zc, u1, ubar, u3
 
