@@ -41,7 +41,7 @@ PARTS = (
     ("xpersson_interface.plugins", "subset", "subset (rows)"),
     ("xpersson_interface.plugins", "solved_curve", "dense re-solve (solved_curve)"),
     ("xpersson_interface.plugins", "contact_of", "SolvedContact"),
-    ("xpersson_interface._leak_direct", "contact_of", "SolvedContact (the medium's own loads)"),
+    ("xpersson.physics._solved_contact", "SolvedContact.rows", "SolvedContact.rows (medium's own)"),
     ("xpersson.physics", "critical_magnification", "critical magnification"),
     ("xpersson.physics._solved_contact", "SolvedContact.detachment", "detachment"),
     ("xpersson.physics._phi", "_Phi.__init__", "  Phi init"),

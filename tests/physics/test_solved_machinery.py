@@ -245,6 +245,36 @@ def test_detachment_negligible_bins_change_nothing_counted(contact, separation, 
     )
 
 
+@pytest.mark.parametrize("compiled", [False, True])
+@pytest.mark.parametrize("with_s", [False, True])
+def test_rows_are_a_contact_of_those_loads_alone(contact, with_s, compiled):
+    """:meth:`SolvedContact.rows`: the curve, ``Phi`` and mean gap sliced (built on the whole
+    batch first, as the leak direct call does) give the detachment, mean gap and ``u1`` of a
+    SolvedContact built for those loads alone, bit for bit; with and without ``S``, with the
+    compiled kernels and without."""
+    cur = contact.curve
+    S = (0.6 + 0.4 * cur.area**2) if with_s else None
+    sel = np.array([2, 5, 6, 10])
+    z = np.concatenate(([1.0], 1.0 + np.geomspace(1e-9, 1e5 - 1.0, 60)))
+    zc = np.geomspace(1.5, 300.0, sel.size)
+    with _kernels(compiled):
+        whole = SolvedContact(contact.psd, E_STAR, LOADS, cur.zeta, cur.area, S, cur.non_area)
+        whole.mean_gap()  # Phi's spline and the mean gap built for every load
+        assert whole._phi is not None and whole._u is not None
+        part = whole.rows(sel)
+        alone = SolvedContact(
+            contact.psd, E_STAR, LOADS[sel], cur.zeta, cur.area[sel],
+            None if S is None else S[sel], cur.non_area[sel],
+        )  # fmt: skip
+        got = part.detachment(z, negligible=1e-30)
+        ref = alone.detachment(z, negligible=1e-30)
+        for name in ("weight", "u1", "mean_gap", "area"):
+            assert getattr(got, name).tobytes() == getattr(ref, name).tobytes(), name
+        assert part.separation_at(zc).tobytes() == alone.separation_at(zc).tobytes()
+        assert part.elastic_energy().tobytes() == alone.elastic_energy().tobytes()
+    assert np.isfinite(got.u1).all() and (got.weight > 0).any()
+
+
 def test_crossing_coefficients_are_the_cubic_splines():
     rng = np.random.default_rng(5)
     x = np.sort(rng.uniform(0.0, 9.0, 50))

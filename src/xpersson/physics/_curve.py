@@ -128,6 +128,17 @@ def _rows(spl: PPoly, knots: NDArray[np.float64], xq: NDArray[np.float64]) -> ND
     return val.reshape(shape)
 
 
+def _spline_rows(spl: PPoly | None, sel: NDArray[np.intp]) -> PPoly | None:
+    """The rows ``sel`` of a spline fitted along axis 1 of (n_row, n_knot) data (its
+    coefficients ``c`` (4, n_int, n_row) sliced, contiguous)."""
+    if spl is None:
+        return None
+    from scipy.interpolate import PPoly  # lazily: ~0.2 s to import
+
+    c = np.ascontiguousarray(spl.c[:, :, sel])
+    return PPoly.construct_fast(c, spl.x, extrapolate=spl.extrapolate, axis=1)
+
+
 # -- the solved curve ---------------------------------------------------------------------------
 #: A jump of ln(1 - F) between two nodes larger than this (a factor e^40) is not a smooth curve
 #: but a solver's zero (below its absolute tolerance) next to a resolved value.
@@ -203,6 +214,24 @@ class _Curve:
         self._spl = _log_spline(self.x[1:], y[:, 1:]) if z.size > 2 else None
         # the spline of ln(1 - A): the same as ln(1 - F)'s without S; else built on first use
         self._spl_a_built: Any = self._spl if S is None else False
+
+    def rows(self, sel: NDArray[np.intp]) -> _Curve:
+        """The curve of the loads ``sel`` (same magnifications): every per-load array and
+        spline sliced, not rebuilt (each load's rows are its own: the same bits as a curve
+        built for these loads alone)."""
+        out = object.__new__(_Curve)
+        out.zeta, out.x = self.zeta, self.x
+        out.area, out.non_area, out._nf1 = self.area[sel], self.non_area[sel], self._nf1[sel]
+        out._S = None if self._S is None else self._S[sel]
+        out._y = None if self._y is None else self._y[sel]
+        out._dead = self._dead[sel]
+        out._spl = _spline_rows(self._spl, sel)
+        a = self._spl_a_built  # ln(1 - A)'s spline: ln(1 - F)'s, not built yet, or its own
+        out._spl_a_built = out._spl if a is self._spl else (a is not False and _spline_rows(a, sel))
+        nodes = getattr(self, "_dF_at_nodes", None)
+        if nodes is not None:
+            out._dF_at_nodes = nodes[sel]
+        return out
 
     @property
     def F(self) -> NDArray[np.float64]:

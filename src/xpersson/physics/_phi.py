@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from ..cache import Cache
 from ._compiled import kernel
-from ._curve import _TINY, _Curve, _tau_c
+from ._curve import _TINY, _Curve, _spline_rows, _tau_c
 from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
 
 #: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
@@ -56,6 +56,15 @@ class _Phi:
         self.p0 = p0
         self._spl = _row_spline(self.s, phi[:, 1:]) if self.s.size > 1 else None
         self._tab: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+
+    def rows(self, sel: NDArray[np.intp]) -> _Phi:
+        """``Phi`` of the loads ``sel``: its node integrals and spline sliced, not rebuilt (each
+        load's are its own: the same bits as built for these loads alone); its look-up table
+        built when first asked, for these loads."""
+        out = object.__new__(_Phi)
+        out.tau1, out.s, out.phi, out.p0 = self.tau1, self.s, self.phi[sel], self.p0[sel]
+        out._spl, out._tab = _spline_rows(self._spl, sel), None
+        return out
 
     @property
     def has_table(self) -> bool:

@@ -89,6 +89,34 @@ class SolvedContact:
         self._u: NDArray[np.float64] | None = None
         self._rule: _QRule | None = None
 
+    def rows(self, sel: ArrayLike) -> SolvedContact:
+        """The SolvedContact of some of the loads, its set-up sliced rather than built again.
+
+        The curve's splines, ``Phi``'s node integrals and spline and the mean gap, where
+        already built, are sliced to the rows ``sel`` (each load's rows are its own, so every
+        quantity is that of a SolvedContact built for these loads alone, bit for bit);
+        ``Phi``'s look-up table is built for them when first asked.
+
+        Parameters
+        ----------
+        sel : array_like of int, (n_sel,)
+            Indices of the loads kept, in the order wanted.
+
+        Returns
+        -------
+        SolvedContact
+            The contact of the loads ``p0[sel]`` [Pa] (same spectrum, ``E*`` and
+            magnifications).
+        """
+        sel = np.asarray(sel, dtype=np.intp)
+        out = object.__new__(SolvedContact)
+        out.psd, out.E_star, out.q_L, out.q_hi = self.psd, self.E_star, self.q_L, self.q_hi
+        out.curve, out.p0 = self.curve.rows(sel), self.p0[sel]
+        out._phi = None if self._phi is None else self._phi.rows(sel)
+        out._u = None if self._u is None else self._u[sel]
+        out._rule = self._rule
+        return out
+
     @property
     def phi(self) -> _Phi:
         if self._phi is None:

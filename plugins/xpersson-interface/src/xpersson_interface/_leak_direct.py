@@ -17,14 +17,15 @@ from numpy.typing import NDArray
 
 from xpersson import physics
 
-from ._chunks import Part, bin_edges, contact_of, joined, sub_solved
+from ._chunks import Part, bin_edges, joined
 from ._leakage import NEGLIGIBLE, bruggeman_gap, junction_piece, leak_rate
 
 #: Below this share of a chunk's loads asking for the effective medium, the medium's loads get
-#: a SolvedContact of their own (its ``Phi`` and splines built again for them); above, the
-#: medium is computed for every load of the chunk (the extra loads' values unread). Measured at
-#: 1000 loads (roll-off scenes of seeds 2026 and 4242): a SolvedContact of their own for any
-#: share cost 1.2-3.4 ms more per solve; one for each kind of load (no rebuild) gained nothing.
+#: a SolvedContact of their own (the chunk's curve, ``Phi`` and mean gap sliced to their rows,
+#: :meth:`~xpersson.physics.SolvedContact.rows`; ``Phi``'s table built for them alone); above,
+#: the medium is computed for every load of the chunk (the extra loads' values unread).
+#: Measured at 1000 loads (roll-off scenes of seeds 2026 and 4242), when the own SolvedContact
+#: was built again: for any share 1.2-3.4 ms more per solve.
 SPLIT = 0.5
 
 
@@ -61,13 +62,13 @@ def outputs(
     def one(part: Part) -> tuple[NDArray[np.float64], ...]:
         rows, sub, sc = part
         ask = np.ones(sub.p0.size, dtype=bool) if medium is None else medium[rows]
-        if np.count_nonzero(ask) >= SPLIT * ask.size:  # (the medium of a few more loads: cheaper
-            return full(part)  # than a SolvedContact of their own, its Phi built again)
+        if np.count_nonzero(ask) >= SPLIT * ask.size:  # (the medium of a few more loads:
+            return full(part)  # cheaper than a detachment and gap cells of their own)
         zc, u1, ubar, u3 = junction(part)  # every load's junction on the call's contact
         sel = np.flatnonzero(ask)
-        if sel.size:  # the medium's loads on a SolvedContact of their own
-            s_sel = sub_solved(sub, sel)  # type: ignore[arg-type]
-            det = contact_of(None, s_sel).detachment(edges, negligible=NEGLIGIBLE)
+        if sel.size:  # the medium's loads on a SolvedContact of their own: the call's
+            # curve, Phi and mean gap sliced to their rows (built for the junction already)
+            det = sc.rows(sel).detachment(edges, negligible=NEGLIGIBLE)
             u3[sel] = bruggeman_gap(det, a_c=thr, per_load=True)
         return zc, u1, ubar, u3
 
