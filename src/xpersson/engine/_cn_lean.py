@@ -259,12 +259,27 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
     for i in range(n):
         mid[i] = 0.5 * (taus[i] + taus[i + 1])
     # the lower wall's track (:func:`._wall_table.table_track`'s calls)
-    lo_m, lo, vb, va = np.empty(n), np.empty(n + 1), np.empty(n + 1), np.empty(n + 1)
-    hi_t, lo_t, q = np.empty(n + 1), np.empty(n + 1), np.empty(4 * n + 3)
-    wall_query(taus, mid, bp, hi_t, lo_t, q)  # noqa: F821
-    p = np.empty(q.shape[0])
-    table_values(c, x, t_lo, t_hi, extrapolate, q, p, root, negate)  # noqa: F821
-    wall_track(p, taus, hi_t, lo_t, bp, lo_m, lo, vb, va)  # noqa: F821
+    lo_m, lo = np.empty(n), np.empty(n + 1)
+    if n > 0 and taus[0] >= chord_from:
+        # chord speeds at every step: window_edges overwrites every point speed, so the wall
+        # is asked at the times and midpoints only (the same positions, point by point)
+        vb = va = np.zeros(n + 1)
+        q = np.empty(2 * n + 1)
+        for i in range(n):
+            q[2 * i], q[2 * i + 1] = taus[i], mid[i]
+        q[2 * n] = taus[n]
+        p = np.empty(q.shape[0])
+        table_values(c, x, t_lo, t_hi, extrapolate, q, p, root, negate)  # noqa: F821
+        for i in range(n):
+            lo[i], lo_m[i] = p[2 * i], p[2 * i + 1]
+        lo[n] = p[2 * n]
+    else:
+        vb, va = np.empty(n + 1), np.empty(n + 1)
+        hi_t, lo_t, q = np.empty(n + 1), np.empty(n + 1), np.empty(4 * n + 3)
+        wall_query(taus, mid, bp, hi_t, lo_t, q)  # noqa: F821
+        p = np.empty(q.shape[0])
+        table_values(c, x, t_lo, t_hi, extrapolate, q, p, root, negate)  # noqa: F821
+        wall_track(p, taus, hi_t, lo_t, bp, lo_m, lo, vb, va)  # noqa: F821
     up, zero = np.full(n + 1, math.inf), np.zeros(n + 1)
     window_edges(p0, k, False, False, chord_from, taus, mid, lo_m, up[:n], lo, up, va, vb,  # noqa: F821
                  zero, zero, zero, out, flags)  # fmt: skip
