@@ -172,6 +172,8 @@ def _load_scale(pbs: list[Problem], tau: Array) -> Array:
     if pb.upper is not None:  # (without one: its +inf adds nothing)
         up = pb.upper.at(tau)
         sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
+    if np.count_nonzero(sc > 0) == sc.size:  # (every scale positive: the np.where below's)
+        return sc
     return np.where(sc > 0, sc, 1.0)
 
 
