@@ -98,18 +98,32 @@ class CNMethod(EngineMethod):
         num = ~analytic
         nb = len(pbs)
         lv = _Grids(pbs, opts, tau_s, num, image)
+        lower_at = _tabled_positions(pb)
         if np.count_nonzero(num):
-            fit = _control(lv, pb, opts.aim, tau[num])
+            at_num = None if lower_at is None else lower_at[num]
+            fit = _control(lv, pb, opts.aim, tau[num], at_num)
             if fit.best is None:
                 return self._failed(nb, fit.status, fit.message or "no level completed", lv.nsteps)
         else:
             fit = _Fit(np.full((nb, 0), np.inf))
-        return _assemble(pbs, opts.window_k, analytic, fit, lv)
+        raw = _assemble(pbs, opts.window_k, analytic, fit, lv)
+        raw.lower_at = lower_at
+        return raw
 
     def _failed(self, nb: int, status: str, message: str, nsteps: int) -> Raw:
         n_t = self.problem.tau.shape[-1]
         nan = np.full((nb, n_t), np.nan)
         return Raw(nan, nan, nan, nan, nan, nan, nan, None, status, message, nsteps, 0, nsteps)
+
+
+def _tabled_positions(pb: Problem) -> Array | None:
+    """The lower wall's positions [Pa] at the output times where it carries a table evaluated
+    by the compiled loop and there is no upper wall (point by point: the load scale and the
+    batch's balances take them instead of asking the wall twice more), else None."""
+    lo = pb.lower
+    if pb.upper is not None or lo.table is None or not callable(lo.position):
+        return None
+    return lo.table.compiled(pb.tau)
 
 
 def _unbatch(raw: Raw) -> Raw:
@@ -194,6 +208,13 @@ class CNOptions:
     @classmethod
     def read(cls, opt: dict[str, Any], atol: float) -> CNOptions:
         """The options of ``opt`` (defaults filled in); ValueError naming option and range."""
+        if not opt:  # the defaults (the frozen dataclass's per-field __setattr__ skipped)
+            out = object.__new__(cls)
+            out.__dict__.update(
+                nodes=24, per_node=0.25, levels=20, max_work=1e8, stretch=1.0, rannacher=2,
+                window_k=float(window_k(atol)), aim=float(AIM),
+            )  # fmt: skip
+            return out
         n0 = int(opt.get("nodes", 24))
         per_node = (
             float(opt.get("steps_per_decade", 0.0)) / n0 if "steps_per_decade" in opt else 0.25
