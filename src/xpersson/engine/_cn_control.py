@@ -161,21 +161,18 @@ def _round_grid(n: float) -> int:
     return max(8, 2 * int(math.ceil(n / 2.0)))
 
 
-def _load_scale(pbs: list[Problem], tau: Array, lower_at: Array | None = None) -> Array:
-    """Scale of the load identity per (load, output): max(|p0|, |walls|) [Pa] (as in finish);
-    ``lower_at``: the lower wall's positions at ``tau`` where the caller has them."""
+def _load_scale(pbs: list[Problem], tau: Array, lo_at: Array | None = None) -> Array:
+    """The load identity's scale per (load, output): max(|p0|, |walls|) [Pa] (``lo_at``: known)."""
     pb = pbs[0]
     if any(p.lower is not pb.lower or p.upper is not pb.upper for p in pbs[1:]):
         return np.concatenate([_load_scale([p], tau) for p in pbs])
     # the loads of a batch share their walls: evaluated once (the same numbers per load)
-    lo = pb.lower.at(tau) if lower_at is None else lower_at
+    lo = pb.lower.at(tau) if lo_at is None else lo_at
     sc = np.maximum(np.abs(np.array([[p.p0] for p in pbs], dtype=float)), np.abs(lo))
     if pb.upper is not None:  # (without one: its +inf adds nothing)
         up = pb.upper.at(tau)
         sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
-    if np.count_nonzero(sc > 0) == sc.size:  # (every scale positive: the np.where below's)
-        return sc
-    return np.where(sc > 0, sc, 1.0)
+    return sc if np.count_nonzero(sc > 0) == sc.size else np.where(sc > 0, sc, 1.0)
 
 
 class _Judge:
@@ -466,16 +463,13 @@ def _finest_pair(solved: dict[tuple[int, int, int], Outputs], fit: _Fit) -> None
     fit.n_used = key[0] * key[1]
 
 
-def _control(
-    lv: Any, pb: Problem, aim: float, tau_num: Array, lower_at: Array | None = None
-) -> _Fit:
+def _control(lv: Any, pb: Problem, aim: float, tau_num: Array, lo_at: Array | None = None) -> _Fit:
     """Levels until the error estimate meets the tolerance (or a budget ends the search).
 
     ``lv``: the grid levels (``_cn._Grids``: ``levels(n_base, mults, dense)``, ``solved``,
-    ``stop``, ``opts``, ``pbs``); ``lower_at``: the lower wall's positions [Pa] at
-    ``tau_num`` where the caller has them (else evaluated here).
+    ``stop``, ``opts``, ``pbs``); ``lo_at``: the lower wall at ``tau_num`` [Pa] if known.
     """
-    scale = _load_scale(lv.pbs, tau_num, lower_at)
+    scale = _load_scale(lv.pbs, tau_num, lo_at)
     fit = _refine(lv, pb, aim, scale)
     if fit is None:  # a budget ended the search: the finest solved pair, flagged
         status, message = lv.stop

@@ -206,10 +206,6 @@ def _row_status(problem: Problem, raw: Raw, prob: Array, loadb: Array, row) -> t
     return status, message
 
 
-_INF = np.asarray(np.inf)  # the missing upper wall's position [Pa] (Problem.output_positions)
-_INF.setflags(write=False)
-
-
 def _screened_balances(problem: Problem, raw: Raw) -> tuple:
     """:func:`_balances` (exact zeros for identities) and the screen's reductions where one
     compiled call gives both (:func:`._cn_outputs.batch_balances`, no upper wall; else None)."""
@@ -219,7 +215,9 @@ def _screened_balances(problem: Problem, raw: Raw) -> tuple:
     compiled = sys.modules.get(f"{__package__}._compiled")  # (loaded with the march only)
     fast = None if compiled is None else compiled.balances()  # (then _cn_outputs is loaded)
     if fast is not None and problem.upper is None:
-        lo, up = problem.output_positions() if raw.lower_at is None else (raw.lower_at, _INF)
+        lo, up = raw.lower_at, np.asarray(np.inf)  # (the method's, where it has them)
+        if lo is None:
+            lo, up = problem.output_positions()
         outputs = sys.modules[f"{__package__}._cn_outputs"]
         return (lo, up, *outputs.batch_balances_of(fast, problem, raw, lo))
     return (*_balances(problem, raw), None)
