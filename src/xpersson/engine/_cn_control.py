@@ -481,10 +481,10 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array, lo_at: Array | No
     fit.err = np.minimum(fit.err, 1.0)
     if fit.best is None:
         return fit
-    best = fit.best
+    a = np.abs(fit.best.area)
     # round-off of the sums over the grid (the level difference cannot see it)
-    fit.err = fit.err + 16.0 * _EPS * math.sqrt(max(fit.n_used, 1)) * np.abs(best.area)
-    tol = pb.rtol * np.abs(best.area) + pb.atol
+    fit.err = fit.err + 16.0 * _EPS * math.sqrt(max(fit.n_used, 1)) * a
+    tol = pb.rtol * a + pb.atol
     if fit.status == "success" and np.count_nonzero(fit.err > tol):
         fit.status = "tolerance_not_met"
     if fit.status == "success":
