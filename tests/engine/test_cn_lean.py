@@ -5,6 +5,8 @@ marches the numpy path's outputs bit for bit, on generated walls, loads, grids a
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -127,6 +129,17 @@ def test_lean_level_is_taken_only_where_it_applies():
         pb = make_problem(TAU, np.array([0.8]), lower, upper, 1e-6, None, p_out, 10**6, {},
                           batch=True).load(0)  # fmt: skip
         assert not lean_ok([pb], plan, nsub)
+
+
+def test_lean_level_needs_chord_speeds_from_the_march_start():
+    """The lean set-up asks the wall for no point speeds: it is taken where every step moves
+    with its chord speed (a tabled wall's speeds are differences: chords from the march's
+    start), not where a plan would start them later (the point speeds would be read)."""
+    pbs, plan, (n, nsub, *_) = _level(0.3, None, [0.8], 1e-6, 24, 2)
+    assert plan.chord_from == plan.base[0] == plan.tau_s
+    assert lean_ok(pbs, plan, nsub)
+    later = dataclasses.replace(plan, chord_from=float(plan.base[1]))
+    assert not lean_ok(pbs, later, nsub)
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])

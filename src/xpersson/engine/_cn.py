@@ -98,18 +98,32 @@ class CNMethod(EngineMethod):
         num = ~analytic
         nb = len(pbs)
         lv = _Grids(pbs, opts, tau_s, num, image)
+        lower_at = _tabled_positions(pb)
         if np.count_nonzero(num):
-            fit = _control(lv, pb, opts.aim, tau[num])
+            at_num = None if lower_at is None else lower_at[num]
+            fit = _control(lv, pb, opts.aim, tau[num], at_num)
             if fit.best is None:
                 return self._failed(nb, fit.status, fit.message or "no level completed", lv.nsteps)
         else:
             fit = _Fit(np.full((nb, 0), np.inf))
-        return _assemble(pbs, opts.window_k, analytic, fit, lv)
+        raw = _assemble(pbs, opts.window_k, analytic, fit, lv)
+        raw.lower_at = lower_at
+        return raw
 
     def _failed(self, nb: int, status: str, message: str, nsteps: int) -> Raw:
         n_t = self.problem.tau.shape[-1]
         nan = np.full((nb, n_t), np.nan)
         return Raw(nan, nan, nan, nan, nan, nan, nan, None, status, message, nsteps, 0, nsteps)
+
+
+def _tabled_positions(pb: Problem) -> Array | None:
+    """The lower wall's positions [Pa] at the output times where it carries a table evaluated
+    by the compiled loop and there is no upper wall (point by point: the load scale and the
+    batch's balances take them instead of asking the wall twice more), else None."""
+    lo = pb.lower
+    if pb.upper is not None or lo.table is None or not callable(lo.position):
+        return None
+    return lo.table.compiled(pb.tau)
 
 
 def _unbatch(raw: Raw) -> Raw:
@@ -194,6 +208,13 @@ class CNOptions:
     @classmethod
     def read(cls, opt: dict[str, Any], atol: float) -> CNOptions:
         """The options of ``opt`` (defaults filled in); ValueError naming option and range."""
+        if not opt:  # the defaults (the frozen dataclass's per-field __setattr__ skipped)
+            out = object.__new__(cls)
+            out.__dict__.update(
+                nodes=24, per_node=0.25, levels=20, max_work=1e8, stretch=1.0, rannacher=2,
+                window_k=float(window_k(atol)), aim=float(AIM),
+            )  # fmt: skip
+            return out
         n0 = int(opt.get("nodes", 24))
         per_node = (
             float(opt.get("steps_per_decade", 0.0)) / n0 if "steps_per_decade" in opt else 0.25
@@ -331,11 +352,16 @@ def grid_level(
 
 
 def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Grids) -> Raw:
-    """The Raw of a batch: analytic start where ``analytic``, the fitted levels elsewhere."""
+    """The Raw of a batch: analytic start where ``analytic``, the fitted levels elsewhere.
+
+    The output times are strictly increasing (checked), so ``analytic`` (``tau <= tau_s``)
+    is their first ``n_a`` and the march's outputs are the columns ``n_a:`` (a slice: the same
+    elements as the mask, without its index arrays)."""
     pb = pbs[0]
     tau = pb.tau
-    num = ~analytic
     nb = len(pbs)
+    n_a = int(np.count_nonzero(analytic))
+    num = slice(n_a, None)
     best, err, n_used = fit.best, fit.err, fit.n_used
     status, message, nsteps = fit.status, fit.message, lv.nsteps
     shape = (nb, tau.size)
@@ -347,11 +373,11 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
     wall_term = np.zeros(shape)
     e_all = np.zeros(shape)
     trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
-    if np.count_nonzero(analytic):
+    if n_a:
         e_all[:, analytic & (tau > 0)] = trunc
     if lv.image is not None:  # a one-wall start: the closed form (exact) up to the march
         _one_wall_start(pbs, analytic, lv.image, area, ab_l, load, wall_term)
-    if best is not None and np.count_nonzero(num):
+    if best is not None and n_a < tau.size:
         # the probabilities are projected onto their admissible set (area, absorbed >= 0,
         # area <= 1, absorbed_lower + absorbed_upper <= 1); the distance moved is a lower
         # bound of the error, so the estimate is raised to it, and a distance beyond the
@@ -362,13 +388,8 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
             ab_lower, moment_lower = ab_lower + a0, moment_lower + m0
         proj, dist = project(best.area, ab_lower, best.absorbed_upper)
         roundoff = 16.0 * _EPS * (nsteps + math.sqrt(max(n_used, 1)))
-        bound = err + trunc + roundoff
-        for key, d in dist.items():
-            if status == "success" and np.count_nonzero(d > bound):
-                status = "tolerance_not_met"
-                message = (
-                    f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its error estimate"
-                )
+        if status == "success":
+            status, message = _beyond(dist, err + trunc + roundoff, status, message)
         err = np.maximum(err, dist["area"])
         area[:, num], ab_l[:, num], ab_u[:, num] = proj
         load[:, num] = best.load
@@ -396,6 +417,16 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
         n_nodes=n_used + 1 if n_used else 0,
         nfev=nsteps,
     )
+
+
+def _beyond(dist: dict[str, Array], bound: Array, status: str, message: str) -> tuple[str, str]:
+    """``(status, message)`` of a projection that moved a probability by more than ``bound``
+    (its error estimate, round-off included): the first such one is reported."""
+    for key, d in dist.items():
+        if np.count_nonzero(d > bound):
+            msg = f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its error estimate"
+            return "tolerance_not_met", msg
+    return status, message
 
 
 def _one_wall_start(

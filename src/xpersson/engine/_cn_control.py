@@ -161,18 +161,18 @@ def _round_grid(n: float) -> int:
     return max(8, 2 * int(math.ceil(n / 2.0)))
 
 
-def _load_scale(pbs: list[Problem], tau: Array) -> Array:
-    """Scale of the load identity per (load, output): max(|p0|, |walls|) [Pa] (as in finish)."""
+def _load_scale(pbs: list[Problem], tau: Array, lo_at: Array | None = None) -> Array:
+    """The load identity's scale per (load, output): max(|p0|, |walls|) [Pa] (``lo_at``: known)."""
     pb = pbs[0]
     if any(p.lower is not pb.lower or p.upper is not pb.upper for p in pbs[1:]):
         return np.concatenate([_load_scale([p], tau) for p in pbs])
     # the loads of a batch share their walls: evaluated once (the same numbers per load)
-    lo = pb.lower.at(tau)
+    lo = pb.lower.at(tau) if lo_at is None else lo_at
     sc = np.maximum(np.abs(np.array([[p.p0] for p in pbs], dtype=float)), np.abs(lo))
     if pb.upper is not None:  # (without one: its +inf adds nothing)
         up = pb.upper.at(tau)
         sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
-    return np.where(sc > 0, sc, 1.0)
+    return sc if np.count_nonzero(sc > 0) == sc.size else np.where(sc > 0, sc, 1.0)
 
 
 class _Judge:
@@ -463,13 +463,13 @@ def _finest_pair(solved: dict[tuple[int, int, int], Outputs], fit: _Fit) -> None
     fit.n_used = key[0] * key[1]
 
 
-def _control(lv: Any, pb: Problem, aim: float, tau_num: Array) -> _Fit:
+def _control(lv: Any, pb: Problem, aim: float, tau_num: Array, lo_at: Array | None = None) -> _Fit:
     """Levels until the error estimate meets the tolerance (or a budget ends the search).
 
     ``lv``: the grid levels (``_cn._Grids``: ``levels(n_base, mults, dense)``, ``solved``,
-    ``stop``, ``opts``, ``pbs``).
+    ``stop``, ``opts``, ``pbs``); ``lo_at``: the lower wall at ``tau_num`` [Pa] if known.
     """
-    scale = _load_scale(lv.pbs, tau_num)
+    scale = _load_scale(lv.pbs, tau_num, lo_at)
     fit = _refine(lv, pb, aim, scale)
     if fit is None:  # a budget ended the search: the finest solved pair, flagged
         status, message = lv.stop
@@ -481,10 +481,10 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array) -> _Fit:
     fit.err = np.minimum(fit.err, 1.0)
     if fit.best is None:
         return fit
-    best = fit.best
+    a = np.abs(fit.best.area)
     # round-off of the sums over the grid (the level difference cannot see it)
-    fit.err = fit.err + 16.0 * _EPS * math.sqrt(max(fit.n_used, 1)) * np.abs(best.area)
-    tol = pb.rtol * np.abs(best.area) + pb.atol
+    fit.err = fit.err + 16.0 * _EPS * math.sqrt(max(fit.n_used, 1)) * a
+    tol = pb.rtol * a + pb.atol
     if fit.status == "success" and np.count_nonzero(fit.err > tol):
         fit.status = "tolerance_not_met"
     if fit.status == "success":

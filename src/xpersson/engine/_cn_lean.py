@@ -15,8 +15,10 @@ functions (a ``gemm``).
 
 Taken where the compiled march is in force (:func:`._compiled.lean`), for the common case: an
 absorbing lower wall carrying a table (:class:`._wall_table.WallTable`, speeds differenced), no
-upper wall, no densities or progress reports, no one-wall (image) start, and no
-graded stretch subdivided in the level; every other level takes :func:`._moving._march`.
+upper wall, no densities or progress reports, no one-wall (image) start, chord speeds from
+the march's start (:func:`._cn_grading._chord_from`: the wall's point speeds, never read,
+are not computed), and no graded stretch subdivided in the level; every other level takes
+:func:`._moving._march`.
 
 The lean level is marched on the set-up's arrays (:func:`lean_level`, no named tuples of
 inputs): the start state's normalisation and the steps in one compiled call
@@ -68,7 +70,8 @@ def lean_ok(pbs: list[Problem], plan: _Plan, nsub: int) -> bool:
         return False
     if lo is None or lo.table is None or not _differenced(lo) or plan.base.size < 2:
         return False
-    return not _grades(plan.base, nsub, plan.zones)
+    # (chord speeds from the first step: level_setup asks the wall for no point speeds)
+    return plan.chord_from <= plan.base[0] and not _grades(plan.base, nsub, plan.zones)
 
 
 def lean_level(
@@ -158,8 +161,7 @@ def _setup(
     r0 = np.empty((nb, n + 1))
     ok = setup(
         plan.base, nsub, n_ie, zone_starts, chord_from, outs, p0, float(plan.k),
-        *lo.table.args(), np.array(lo.breakpoints), grid.nodes.x, taus, theta, out, flags, out_at,
-        coef, r0,
+        *lo.table.args(), grid.nodes.x, taus, theta, out, flags, out_at, coef, r0,
     )  # fmt: skip
     if not ok:
         return Level(None, 0, n + 1, "the walls swept the whole window (area 0)")
@@ -224,7 +226,6 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
     extrapolate: bool,
     root: bool,
     negate: bool,
-    bp: Any,
     xn: Any,
     taus: Any,
     theta: Any,
@@ -239,9 +240,9 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
     subdivided ``nsub`` times, ``n_ie`` implicit-Euler half steps, theta 1 at the
     ``zone_starts``), ``out`` (10, loads, steps) and ``flags`` (4, loads, steps) of
     :func:`._cn_edges.window_edges` for the loads
-    ``p0`` [Pa] (window half-width ``k``; the lower wall the table ``c .. negate`` with
-    breakpoints ``bp``; no upper wall; chord speeds from
-    ``chord_from``), ``out_at`` the steps of the output times ``outs`` (``np.searchsorted``),
+    ``p0`` [Pa] (window half-width ``k``; the lower wall the table ``c .. negate``; no upper
+    wall; chord speeds from ``chord_from``, at most ``taus[0]``: the wall's point speeds are
+    not computed), ``out_at`` the steps of the output times ``outs`` (``np.searchsorted``),
     ``coef`` (steps, 4, loads, 3) of :func:`._moving_fused.face_coefficients`, ``arg``
     (loads, nodes) the start state's exponent ``-(l + W x - p0)^2 / (4 tau_0)`` at the nodes
     ``xn`` (:func:`._moving._initial_state`'s operations); returns whether the window's
@@ -258,13 +259,20 @@ def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they h
     mid = np.empty(n)
     for i in range(n):
         mid[i] = 0.5 * (taus[i] + taus[i + 1])
-    # the lower wall's track (:func:`._wall_table.table_track`'s calls)
-    lo_m, lo, vb, va = np.empty(n), np.empty(n + 1), np.empty(n + 1), np.empty(n + 1)
-    hi_t, lo_t, q = np.empty(n + 1), np.empty(n + 1), np.empty(4 * n + 3)
-    wall_query(taus, mid, bp, hi_t, lo_t, q)  # noqa: F821
+    # the lower wall's positions at the times and midpoints (in time order: the table's
+    # look-ups start next to the last one); its point speeds are never read: every step
+    # moves with its chord speed (lean_ok), which window_edges writes over them
+    lo_m, lo = np.empty(n), np.empty(n + 1)
+    vb = va = np.zeros(n + 1)
+    q = np.empty(2 * n + 1)
+    for i in range(n):
+        q[2 * i], q[2 * i + 1] = taus[i], mid[i]
+    q[2 * n] = taus[n]
     p = np.empty(q.shape[0])
     table_values(c, x, t_lo, t_hi, extrapolate, q, p, root, negate)  # noqa: F821
-    wall_track(p, taus, hi_t, lo_t, bp, lo_m, lo, vb, va)  # noqa: F821
+    for i in range(n):
+        lo[i], lo_m[i] = p[2 * i], p[2 * i + 1]
+    lo[n] = p[n * 2]
     up, zero = np.full(n + 1, math.inf), np.zeros(n + 1)
     window_edges(p0, k, False, False, chord_from, taus, mid, lo_m, up[:n], lo, up, va, vb,  # noqa: F821
                  zero, zero, zero, out, flags)  # fmt: skip

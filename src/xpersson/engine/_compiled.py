@@ -228,8 +228,6 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
     scope = {
         **vars(_cn_lean),
         "level_times": _STATE["times"],
-        "wall_query": _STATE["tracks"][0],
-        "wall_track": _STATE["tracks"][1],
         "window_edges": _STATE["edges"],
         "table_values": table[0],
         "face_coefficients": faces,

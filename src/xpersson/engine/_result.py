@@ -136,6 +136,9 @@ class Raw:
     #: a batch decide "tolerance met" without a pass over the arrays when ``c <= rtol``,
     #: ``d <= atol``
     error_form: tuple[float, float] | None = None
+    #: the lower wall's positions [Pa] at the output times (a row shared by the loads) where
+    #: the method evaluated them already (no upper wall; None: evaluated here when needed)
+    lower_at: Array | None = None
 
 
 def balance_tolerance(rtol: float, atol: float) -> float:
@@ -212,7 +215,9 @@ def _screened_balances(problem: Problem, raw: Raw) -> tuple:
     compiled = sys.modules.get(f"{__package__}._compiled")  # (loaded with the march only)
     fast = None if compiled is None else compiled.balances()  # (then _cn_outputs is loaded)
     if fast is not None and problem.upper is None:
-        lo, up = problem.output_positions()
+        lo, up = raw.lower_at, np.asarray(np.inf)  # (the method's, where it has them)
+        if lo is None:
+            lo, up = problem.output_positions()
         outputs = sys.modules[f"{__package__}._cn_outputs"]
         return (lo, up, *outputs.batch_balances_of(fast, problem, raw, lo))
     return (*_balances(problem, raw), None)
