@@ -41,7 +41,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._cn_plan import Edge, Window, _differenced, _grades, _Plan
+from ._cn_grading import _differenced
+from ._cn_plan import Edge, Window, _grades, _Plan
 from ._level import Level, LevelInputs, Outputs, level_grid
 from ._moving_fused import _OPS, _SNAP, fused_level
 from ._problem import Problem
