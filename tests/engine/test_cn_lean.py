@@ -20,7 +20,7 @@ from xpersson.engine._cn_control import _Judge
 from xpersson.engine._cn_lean import lean_inputs, lean_ok
 from xpersson.engine._cn_outputs import batch_balances_of
 from xpersson.engine._cn_plan import _joint_plan, _start_time
-from xpersson.engine._level import Outputs
+from xpersson.engine._level import Outputs, _kernel
 from xpersson.engine._problem import make_problem
 from xpersson.engine._result import Raw, finish_batch
 
@@ -304,6 +304,11 @@ def test_compiled_level_combinations_are_the_numpy_ones(shape, data, weights):
     for have, ref in zip(got, want, strict=True):
         for name in Outputs._fields[:6]:
             assert _bits(getattr(have, name)) == _bits(getattr(ref, name)), name
+    plain = np.full(shape, 0.25)  # (ordinary values: the compiled pass answers, and is reached)
+    with set_options(compiled=True):
+        fast = _kernel("fields")
+        assert fast is not None and fast[0](*[plain] * 12, np.empty((6, *shape)))
+        assert fast[1](np.full(3, 1 / 3), *[plain] * 18, np.empty((6, *shape)))
 
 
 _PROBS = st.one_of(
@@ -336,9 +341,9 @@ def test_compiled_projection_is_the_numpy_one(shape, data):
     assert list(got[1]) == list(want[1])
     for name, ref in want[1].items():
         assert _bits(got[1][name]) == _bits(ref), name
-    plain = np.full(shape, 0.25)  # (ordinary values: the compiled pass answers)
+    plain = np.full(shape, 0.25)  # (ordinary values: the compiled pass answers, and is reached)
     with set_options(compiled=True):
-        assert _compiled.projected()(plain, plain, plain, np.empty((7, *shape)))
+        assert _kernel("projected")(plain, plain, plain, np.empty((7, *shape)))
 
 
 @settings(max_examples=40, deadline=None)

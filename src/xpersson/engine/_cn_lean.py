@@ -141,9 +141,11 @@ def _setup(
     stretch: float,
     n_ie: int,
 ) -> tuple | Level:
-    """``(grid, p0, taus, theta, out, flags, out_at, coef, start state)`` of the level by
+    """``(grid, p0, taus, theta, out, flags, out_at, coef, r0, mass)`` of the level by
     ``fns``: :func:`level_setup` and :func:`start_scale` (compiled; see :func:`lean_inputs`),
-    or the failed level where the walls swept the window."""
+    ``r0`` (loads, nodes) the start state before its normalisation and ``mass`` (loads,) its
+    mass (:func:`_normalized` scales it); or the failed level where the walls swept the
+    window."""
     setup, scale = fns[:2]
     pb = pbs[0]
     nb = len(pbs)
