@@ -17,7 +17,7 @@ from xpersson import set_options
 from xpersson.engine import Wall, WallTable, _compiled, _moving
 from xpersson.engine._cn import CNOptions, _Grids
 from xpersson.engine._cn_control import _Judge
-from xpersson.engine._cn_lean import lean_inputs, lean_ok
+from xpersson.engine._cn_lean import _inputs, _normalized, _setup, lean_ok
 from xpersson.engine._cn_outputs import batch_balances_of
 from xpersson.engine._cn_plan import _joint_plan, _start_time
 from xpersson.engine._level import Outputs, _kernel
@@ -95,12 +95,13 @@ def test_lean_level_is_the_numpy_paths_bit_for_bit(wiggle, breakpoint, p0, rtol,
         r0 = _moving._initial_state(win, ref.nodes.x, ref.nodes.w, ref.p0, ref.taus[0], ref.k)
         want = _moving._march(pbs, plan, n, nsub, stretch, n_ie)
     with set_options(compiled=True):
-        made = lean_inputs(_compiled.lean(), pbs, plan, n, nsub, stretch, n_ie)
+        outs = plan.outs if plan.outs is not None else pbs[0].tau[pbs[0].tau > plan.tau_s]
+        made = _setup(_compiled.lean(), pbs, plan, outs, n, nsub, stretch, n_ie)
         got = _moving._march(pbs, plan, n, nsub, stretch, n_ie)
     if want.failure:  # (the walls swept the window: both say so)
         assert got.failure == want.failure
         return
-    inp, start, _ = made
+    inp, start = _inputs(made, plan), _normalized(made[8], made[9], plan.k).ravel()
     for name in ("taus", "theta", "out_at", "p0"):
         assert _bits(getattr(inp, name)) == _bits(getattr(ref, name)), name
     assert _bits(start) == _bits(r0)
