@@ -33,10 +33,10 @@ def by_group(
     free: NDArray[np.bool_],
     groups: tuple[frozenset[str], ...],
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
-    """:func:`._by_load.by_load` with a table per group of outputs (``groups``: every output
-    in one), each with its own nodes: ``exact(rows, which)`` computes, per load, the groups
-    ``which`` (n_group, n_rows) asks for; ``free`` (n_group, n_load): each group's loads of
-    the first level."""
+    """:func:`._by_load.by_load` of the loads ``p0`` [Pa] with a table per group of outputs
+    (``groups``: every output in one), each with its own nodes: ``exact(rows, which)``
+    computes, per load, the groups ``which`` (n_group, n_rows) asks for; ``free`` (n_group,
+    n_load): each group's loads of the first level. The other arguments are ``by_load``'s."""
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
     if not tabled(p0, least):
