@@ -121,10 +121,10 @@ def levels_of(scene: dict) -> list[tuple[int, int, int]]:
     return seen
 
 
-def engine_call_of(scene: dict):
-    """The engine's own call for ``scene``: ``xpersson.engine.solve_batch`` with the arguments
-    the pipeline prepared (walls, diffusion times, loads, tolerances), as a callable that
-    repeats it (the march of :func:`levels_of` without the pipeline around it)."""
+def engine_args(scene: dict) -> tuple[tuple, dict]:
+    """The arguments ``(args, kwargs)`` of the engine's one call for ``scene``
+    (``xpersson.engine.solve_batch``: the walls, diffusion times, loads and tolerances the
+    pipeline prepared); RuntimeError where the scene makes more or fewer calls than one."""
     import xpersson
     from xpersson import engine
 
@@ -142,8 +142,17 @@ def engine_call_of(scene: dict):
         engine.solve_batch = orig
     if len(calls) != 1:
         raise RuntimeError(f"the scene made {len(calls)} engine calls, not one")
-    args, kwargs = calls[0]
-    return lambda: orig(*args, **kwargs)
+    return calls[0]
+
+
+def engine_call_of(scene: dict):
+    """The engine's own call for ``scene`` (:func:`engine_args`) as a callable that repeats it
+    (the march of :func:`levels_of` without the pipeline around it)."""
+    from xpersson import engine
+
+    args, kwargs = engine_args(scene)
+    solve_batch = engine.solve_batch
+    return lambda: solve_batch(*args, **kwargs)
 
 
 def bare_steps(levels: list[tuple[int, int, int]]) -> None:

@@ -51,9 +51,9 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import summary_paths as P  # noqa: E402
+from cn_walls import engine_args  # noqa: E402
 from summary_design import design, held_out  # noqa: E402
 
-import xpersson  # noqa: E402
 from xpersson import engine  # noqa: E402
 from xpersson.engine import _cn, _cn_control, _cn_plan  # noqa: E402
 
@@ -91,24 +91,10 @@ def jkr_scene(spec: dict, rtol: float) -> dict:
 
 
 def engine_call(sc: dict) -> tuple[tuple, dict]:
-    """The arguments of the scene's one engine call (``solve_batch``)."""
-    calls: list[tuple[tuple, dict]] = []
-    orig = engine.solve_batch
-
-    def spy(*args, **kwargs):
-        calls.append((args, kwargs))
-        return orig(*args, **kwargs)
-
-    engine.solve_batch = spy
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            xpersson.solve(sc)
-    finally:
-        engine.solve_batch = orig
-    if len(calls) != 1:
-        raise RuntimeError(f"the scene made {len(calls)} engine calls, not one")
-    return calls[0]
+    """The arguments of the scene's one engine call (``solve_batch``; warnings silenced)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return engine_args(sc)
 
 
 def solved(args: tuple, kw: dict) -> tuple[object, float]:

@@ -21,7 +21,7 @@ import numpy as np
 from summary_design import labelled, load_range, scene
 
 import xpersson
-from xpersson_interface import _by_group, _by_load, plugins
+from xpersson_interface import _by_load, plugins
 
 CAUSES = ("sealed by both (free)", "junction sealed, medium open", "near sealing", "other")
 
@@ -31,7 +31,7 @@ def account(spec: dict, n: int) -> list[np.ndarray]:
     and, last, how many of them had their effective medium computed (on roll-off spectra the
     table per group, ``_by_group``, asks for it at fewer loads than the junction)."""
     calls: list[np.ndarray] = []
-    runs = {cls: cls.run for cls in (_by_load._Direct, _by_group._Direct)}
+    runs = {cls: cls.run for cls in (_by_load._Direct,)}  # (by_load and by_group: one table)
 
     def recording(direct) -> None:  # noqa: ANN001
         ask = np.atleast_2d(direct.pending & ~direct.done)

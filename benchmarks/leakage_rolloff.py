@@ -24,7 +24,7 @@ from summary_design import labelled, load_range, scene
 
 import xpersson
 from xpersson.plugins.stored import spectrum_of
-from xpersson_interface import _by_group, _by_load, plugins
+from xpersson_interface import _by_load, plugins
 from xpersson_interface._stencils import _interpolate, _logs, _segments
 
 OUTS = ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_flow_factor_emt")
@@ -92,7 +92,7 @@ def _grouped(xn, at, logs, x, roles, tol, groups):  # noqa: ANN001, ANN202
     for g in groups:
         sub = {k: v for k, v in at.items() if k in g}
         lg = {k: v for k, v in logs.items() if k in g}
-        vals, e = _by_load._one_group(xn, sub, lg, x, _by_group.own_roles(roles, g), tol)
+        vals, e = _by_load._one_group(xn, sub, lg, x, _by_load.own_roles(roles, g), tol)
         out.update(vals)
         est = np.maximum(est, e)
     return out, est

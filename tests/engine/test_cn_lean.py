@@ -17,10 +17,10 @@ from xpersson import set_options
 from xpersson.engine import Wall, WallTable, _compiled, _moving
 from xpersson.engine._cn import CNOptions, _Grids
 from xpersson.engine._cn_control import _Judge
-from xpersson.engine._cn_lean import lean_inputs, lean_ok
+from xpersson.engine._cn_lean import _inputs, _normalized, _setup, lean_ok
 from xpersson.engine._cn_outputs import batch_balances_of
 from xpersson.engine._cn_plan import _joint_plan, _start_time
-from xpersson.engine._level import Outputs
+from xpersson.engine._level import Outputs, _kernel
 from xpersson.engine._problem import make_problem
 from xpersson.engine._result import Raw, finish_batch
 
@@ -95,12 +95,13 @@ def test_lean_level_is_the_numpy_paths_bit_for_bit(wiggle, breakpoint, p0, rtol,
         r0 = _moving._initial_state(win, ref.nodes.x, ref.nodes.w, ref.p0, ref.taus[0], ref.k)
         want = _moving._march(pbs, plan, n, nsub, stretch, n_ie)
     with set_options(compiled=True):
-        made = lean_inputs(_compiled.lean(), pbs, plan, n, nsub, stretch, n_ie)
+        outs = plan.outs if plan.outs is not None else pbs[0].tau[pbs[0].tau > plan.tau_s]
+        made = _setup(_compiled.lean(), pbs, plan, outs, n, nsub, stretch, n_ie)
         got = _moving._march(pbs, plan, n, nsub, stretch, n_ie)
     if want.failure:  # (the walls swept the window: both say so)
         assert got.failure == want.failure
         return
-    inp, start, _ = made
+    inp, start = _inputs(made, plan), _normalized(made[8], made[9], plan.k).ravel()
     for name in ("taus", "theta", "out_at", "p0"):
         assert _bits(getattr(inp, name)) == _bits(getattr(ref, name)), name
     assert _bits(start) == _bits(r0)
@@ -304,6 +305,11 @@ def test_compiled_level_combinations_are_the_numpy_ones(shape, data, weights):
     for have, ref in zip(got, want, strict=True):
         for name in Outputs._fields[:6]:
             assert _bits(getattr(have, name)) == _bits(getattr(ref, name)), name
+    plain = np.full(shape, 0.25)  # (ordinary values: the compiled pass answers, and is reached)
+    with set_options(compiled=True):
+        fast = _kernel("fields")
+        assert fast is not None and fast[0](*[plain] * 12, np.empty((6, *shape)))
+        assert fast[1](np.full(3, 1 / 3), *[plain] * 18, np.empty((6, *shape)))
 
 
 _PROBS = st.one_of(
@@ -336,9 +342,9 @@ def test_compiled_projection_is_the_numpy_one(shape, data):
     assert list(got[1]) == list(want[1])
     for name, ref in want[1].items():
         assert _bits(got[1][name]) == _bits(ref), name
-    plain = np.full(shape, 0.25)  # (ordinary values: the compiled pass answers)
+    plain = np.full(shape, 0.25)  # (ordinary values: the compiled pass answers, and is reached)
     with set_options(compiled=True):
-        assert _compiled.projected()(plain, plain, plain, np.empty((7, *shape)))
+        assert _kernel("projected")(plain, plain, plain, np.empty((7, *shape)))
 
 
 @settings(max_examples=40, deadline=None)

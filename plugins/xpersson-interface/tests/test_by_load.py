@@ -11,7 +11,6 @@ from interface_testlib import scene
 
 import xpersson
 import xpersson_interface.plugins as plugins_mod
-from xpersson_interface import _by_group as by_group_mod
 from xpersson_interface import _by_load as by_load_mod
 from xpersson_interface import _first_level as first_mod
 from xpersson_interface import _stencils as stencils_mod
@@ -439,7 +438,7 @@ def test_a_group_s_stencils_cross_other_groups_keys_but_not_their_own():
     def grouped(gs):  # each group on its own keys, the estimate the largest (as by_group)
         vals, est = {}, np.zeros(x.size)
         for g in gs:
-            own = by_group_mod.own_roles(roles, g)
+            own = by_load_mod.own_roles(roles, g)
             lg = {k: v for k, v in logs.items() if k in g}
             v, e = by_load_mod._one_group(xn, {k: a for k, a in at.items() if k in g}, lg, x,
                                           own, tol)  # fmt: skip

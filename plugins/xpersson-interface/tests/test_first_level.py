@@ -13,7 +13,6 @@ from test_by_load import _KINKED, Direct, _relative
 
 import xpersson
 import xpersson_interface.plugins as plugins_mod
-from xpersson_interface import _by_group as by_group_mod
 from xpersson_interface import _by_load as by_load_mod
 from xpersson_interface import _first_level as first_mod
 from xpersson_interface._by_load import LEAK_TOL, by_load
@@ -94,7 +93,7 @@ def calls():
     sc = scene([1.0], analyses={"leakage": {}})
     sc["load"] = {"p0": {"start": "1 kPa", "stop": "3 MPa", "num": 600}}
     rows: list[list[np.ndarray]] = []
-    run = by_group_mod._Direct.run
+    run = by_load_mod._Direct.run
 
     def recording(self):
         rows.append([np.flatnonzero(p & ~d) for p, d in zip(self.pending, self.done, strict=True)])
@@ -104,7 +103,7 @@ def calls():
     try:
         mp.setattr(by_load_mod, "TABLE_MIN", 100)
         mp.setattr(plugins_mod, "LEAK_MIN", 100)
-        mp.setattr(by_group_mod._Direct, "run", recording)
+        mp.setattr(by_load_mod._Direct, "run", recording)
         ds = xpersson.solve(sc)
     finally:
         mp.undo()

@@ -172,6 +172,17 @@ GRADED_STRETCH = 2.0  # node clustering of a march that crosses a declared break
 # grid 1.5x coarser than at the default 1; more time steps changed nothing there)
 
 
+#: The defaults of :class:`CNOptions` but the two read from the tolerance and ``AIM``.
+_DEFAULTS: dict[str, Any] = {
+    "nodes": 24,
+    "per_node": 0.25,
+    "levels": 20,
+    "max_work": 1e8,
+    "stretch": 1.0,
+    "rannacher": 2,
+}
+
+
 @dataclass(frozen=True)
 class CNOptions:
     """Options of ``cn`` (``solve(options=...)``), typed and checked.
@@ -208,16 +219,16 @@ class CNOptions:
     @classmethod
     def read(cls, opt: dict[str, Any], atol: float) -> CNOptions:
         """The options of ``opt`` (defaults filled in); ValueError naming option and range."""
+        d = _DEFAULTS
         if not opt:  # the defaults (the frozen dataclass's per-field __setattr__ skipped)
             out = object.__new__(cls)
-            out.__dict__.update(
-                nodes=24, per_node=0.25, levels=20, max_work=1e8, stretch=1.0, rannacher=2,
-                window_k=float(window_k(atol)), aim=float(AIM),
-            )  # fmt: skip
+            out.__dict__.update(d, window_k=float(window_k(atol)), aim=float(AIM))
             return out
-        n0 = int(opt.get("nodes", 24))
+        n0 = int(opt.get("nodes", d["nodes"]))
         per_node = (
-            float(opt.get("steps_per_decade", 0.0)) / n0 if "steps_per_decade" in opt else 0.25
+            float(opt.get("steps_per_decade", 0.0)) / n0
+            if "steps_per_decade" in opt
+            else d["per_node"]
         )
         aim = float(opt.get("aim", AIM))
         if not 0.0 < aim <= 1.0:
@@ -228,10 +239,10 @@ class CNOptions:
         return cls(
             nodes=n0,
             per_node=per_node,
-            levels=int(opt.get("levels", 20)),
-            max_work=float(opt.get("max_work", 1e8)),
-            stretch=float(opt.get("stretch", 1.0)),
-            rannacher=int(opt.get("rannacher", 2)),
+            levels=int(opt.get("levels", d["levels"])),
+            max_work=float(opt.get("max_work", d["max_work"])),
+            stretch=float(opt.get("stretch", d["stretch"])),
+            rannacher=int(opt.get("rannacher", d["rannacher"])),
             window_k=float(opt.get("window_k", window_k(atol))),
             aim=aim,
         )

@@ -41,13 +41,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._cn_plan import Edge, Window, _differenced, _grades, _Plan
+from ._cn_grading import _differenced
+from ._cn_plan import Edge, Window, _grades, _Plan
 from ._level import Level, LevelInputs, Outputs, level_grid
 from ._moving_fused import _OPS, _SNAP, fused_level
 from ._problem import Problem
 
 __all__ = [
-    "lean_inputs",
     "lean_level",
     "lean_load",
     "lean_march",
@@ -140,9 +140,12 @@ def _setup(
     stretch: float,
     n_ie: int,
 ) -> tuple | Level:
-    """``(grid, p0, taus, theta, out, flags, out_at, coef, start state)`` of the level by
-    ``fns``: :func:`level_setup` and :func:`start_scale` (compiled; see :func:`lean_inputs`),
-    or the failed level where the walls swept the window."""
+    """``(grid, p0, taus, theta, out, flags, out_at, coef, r0, mass)`` of the level by
+    ``fns``: :func:`level_setup` and :func:`start_scale` (compiled; :func:`_inputs` and
+    :func:`_normalized` make them :func:`._moving.level_inputs`' and its start state),
+    ``r0`` (loads, nodes) the start state before its normalisation and ``mass`` (loads,) its
+    mass (:func:`_normalized` scales it); or the failed level where the walls swept the
+    window."""
     setup, scale = fns[:2]
     pb = pbs[0]
     nb = len(pbs)
@@ -188,26 +191,6 @@ def _inputs(made: tuple, plan: _Plan) -> LevelInputs:
         taus, theta, out_at, grid.nodes, window, p0[:, None], plan.k, plan.yield_wall,
         plan.image, grid,
     )  # fmt: skip
-
-
-def lean_inputs(
-    fns: tuple[Callable[..., Any], ...],
-    pbs: list[Problem],
-    plan: _Plan,
-    n: int,
-    nsub: int,
-    stretch: float,
-    n_ie: int,
-) -> tuple[LevelInputs, Array, Array] | Level:
-    """``(inputs, start state, face coefficients)`` of the level (what
-    :func:`._moving.level_inputs`, :func:`._moving._initial_state` and
-    :func:`._moving_fused.face_coefficients` give) by ``fns``: :func:`level_setup` and
-    :func:`start_scale` (compiled); or the failed level where the walls swept the window."""
-    outs = plan.outs if plan.outs is not None else pbs[0].tau[pbs[0].tau > plan.tau_s]
-    made = _setup(fns, pbs, plan, outs, n, nsub, stretch, n_ie)
-    if isinstance(made, Level):
-        return made
-    return _inputs(made, plan), _normalized(made[8], made[9], plan.k).ravel(), made[7]
 
 
 def level_setup(  # noqa: PLR0913 - the plan's and the table's arrays, as they hold them

@@ -65,7 +65,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 import numpy as np
@@ -184,16 +184,17 @@ def by_load(
     if not tabled(p0, least):
         return exact(np.arange(n)), np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
-    pre = np.zeros(xs.size, dtype=bool)
+    pre = np.zeros((1, xs.size), dtype=bool)
     if free is not None:
-        pre[inverse[np.asarray(free, dtype=bool)]] = True
+        pre[0, inverse[np.asarray(free, dtype=bool)]] = True
     out, err = _table(
         xs,
-        lambda sel: exact(first[sel]),
+        lambda sel, _which: exact(first[sel]),
         (tol, noise, orders, safety),
         (keys, weights),
         per_decade,
         pre,
+        (None,),  # one table of every output
     )
     return {k: v[inverse] for k, v in out.items()}, err[inverse]
 
@@ -204,91 +205,127 @@ def tabled(p0: NDArray[np.float64], least: int) -> bool:
     return p0.size >= max(least, TABLE_MIN) and bool(np.all(np.isfinite(p0) & (p0 > 0.0)))
 
 
-class _Direct:
-    """The loads computed directly, each once: the rows asked for at one refinement level are
-    computed in one call of ``exact`` (its fixed cost, the dense re-solve and the splines, is
-    paid once per level, not once per refined run)."""
+#: ``exact(rows, which)`` of :func:`_table`: the outputs of the loads ``rows``, ``which``
+#: (n_group, n_rows) the groups each load is computed for (the other groups' outputs of a
+#: load: any value, unread).
+Partial = Callable[[NDArray[np.intp], NDArray[np.bool_]], dict[str, NDArray[np.float64]]]
+#: A group of outputs of :func:`_table`: their names, or None (every output).
+Group = frozenset[str] | None
 
-    def __init__(self, exact: Exact, n: int) -> None:
-        self.exact, self.n = exact, n
-        self.done = np.zeros(n, dtype=bool)
-        self.pending = np.zeros(n, dtype=bool)
+
+def own_roles(roles: _Roles, group: Group) -> _Roles:
+    """The keys and weights of ``roles`` that belong to ``group`` (its segments: its own keys
+    only; None: every output's)."""
+    if group is None:
+        return roles
+    keys, weights = roles
+    return keys & group, tuple(w for w in weights if w[0] <= group)
+
+
+def _names(group: Group, outputs: Iterable[str]) -> list[str]:
+    """The names of ``outputs`` (in their order) that belong to ``group`` (None: all)."""
+    return [k for k in outputs if group is None or k in group]
+
+
+class _Direct:
+    """The loads computed directly, per group of outputs, each once: the rows asked for at one
+    refinement level are computed in one call of ``exact`` (its fixed cost, the dense
+    re-solve and the splines, is paid once per level, not once per refined run)."""
+
+    def __init__(self, exact: Partial, n: int, groups: tuple[Group, ...]) -> None:
+        self.exact, self.n, self.groups = exact, n, groups
+        self.done = np.zeros((len(groups), n), dtype=bool)
+        self.pending = np.zeros((len(groups), n), dtype=bool)
         self.vals: dict[str, NDArray[np.float64]] = {}
 
-    def need(self, rows: NDArray[np.intp]) -> None:
-        self.pending[rows] = True
+    def need(self, g: int, rows: NDArray[np.intp]) -> None:
+        self.pending[g, rows] = True
 
     def run(self) -> None:
-        rows = np.flatnonzero(self.pending & ~self.done)
+        ask = self.pending & ~self.done
         self.pending[:] = False
+        rows = np.flatnonzero(ask.any(axis=0))
         if not rows.size:
             return
-        got = self.exact(rows)
+        which = ask[:, rows]
+        got = self.exact(rows, which)
         for k, v in got.items():
             if k not in self.vals:
-                self.vals[k] = np.empty((self.n,) + v.shape[1:])
-            self.vals[k][rows] = v
-        self.done[rows] = True
-
-    def at(self, rows: NDArray[np.intp]) -> dict[str, NDArray[np.float64]]:
-        return {k: v[rows] for k, v in self.vals.items()}
+                self.vals[k] = np.full((self.n,) + v.shape[1:], np.nan)
+        for g, names in enumerate(self.groups):
+            for k in _names(names, got):
+                self.vals[k][rows[which[g]]] = got[k][which[g]]
+        self.done[:, rows] |= which
 
 
 def _table(
     xs: NDArray[np.float64],
-    exact: Exact,
+    exact: Partial,
     tol: tuple[float, float, tuple[int, ...], float],
     roles: _Roles,
     per_decade: float,
     pre: NDArray[np.bool_],
+    groups: tuple[Group, ...],
 ) -> tuple[dict[str, NDArray[np.float64]], NDArray[np.float64]]:
     """:func:`by_load` on the sorted distinct ``xs = ln p0`` (``tol``: the tolerance, the noise,
-    the orders and the safety): the table at ``per_decade`` nodes, each run of loads whose
-    estimate exceeds the tolerance again at twice the density (between the nodes around it),
-    at most :data:`MAX_DEPTH` times; directly where the nodes would be more than half of the
-    loads (those whose estimate already meets the tolerance keep it). Level by level: the
-    node loads of every run of a level in one direct call; the ``pre`` loads are nodes of the
-    first."""
-    direct = _Direct(exact, xs.size)
-    out: dict[str, NDArray[np.float64]] = {}
-    err = np.full(xs.size, np.inf)
+    the orders and the safety), a table per group of outputs (``groups``; ``(None,)``: one
+    table of every output), each with nodes, estimates and refinement of its own: the table
+    at ``per_decade`` nodes, each run of loads whose estimate exceeds the tolerance again at
+    twice the density (between the nodes around it), at most :data:`MAX_DEPTH` times;
+    directly where the nodes would be more than half of the loads (those whose estimate
+    already meets the tolerance keep it). Level by level: the node loads of every group and
+    run of a level in one direct call; ``pre`` (n_group, n): each group's nodes of the first
+    level besides. A load's estimate is the largest over the groups (0 where computed for
+    every group)."""
+    n_g = len(groups)
+    direct = _Direct(exact, xs.size, groups)
+    tabled: dict[str, NDArray[np.float64]] = {}
+    err = np.full((n_g, xs.size), np.inf)
     m = max(tol[2])
-    regions = [(0, xs.size - 1)]
+    regions = [[(0, xs.size - 1)] for _ in groups]
+    own = [own_roles(roles, g) for g in groups]
     for depth in range(MAX_DEPTH + 2):
         plans = []
-        for lo, hi in regions:
-            sub = np.arange(lo, hi + 1)
-            # at least 4 m nodes over the run's range (a narrow range: denser than per_decade)
-            nodes = _nodes(xs[sub], min(math.log(10.0) / per_decade, (xs[hi] - xs[lo]) / (4 * m)))
-            if depth > MAX_DEPTH or nodes.size < 2 * m or 2 * nodes.size > sub.size:
-                direct.need(sub[err[sub] > tol[0]])
-            else:
-                if not depth:  # (the first level: one run, every load)
-                    nodes = np.union1d(nodes, np.flatnonzero(pre))
-                direct.need(sub[nodes])
-                plans.append((sub, nodes))
+        for g in range(n_g):
+            for lo, hi in regions[g]:
+                sub = np.arange(lo, hi + 1)
+                # at least 4 m nodes over the run's range (a narrow one: denser than per_decade)
+                h = min(math.log(10.0) / per_decade, (xs[hi] - xs[lo]) / (4 * m))
+                nodes = _nodes(xs[sub], h)
+                if depth > MAX_DEPTH or nodes.size < 2 * m or 2 * nodes.size > sub.size:
+                    direct.need(g, sub[err[g, sub] > tol[0]])
+                else:
+                    if not depth:  # (the first level: one run, every load)
+                        nodes = np.union1d(nodes, np.flatnonzero(pre[g]))
+                    direct.need(g, sub[nodes])
+                    plans.append((g, sub, nodes))
         direct.run()
-        if not out:
-            out = {k: np.empty_like(v) for k, v in direct.vals.items()}
-        regions = []
-        for sub, nodes in plans:
-            at = direct.at(sub[nodes])
-            logs = _logs(at, roles, xs[sub[nodes]])
+        regions = [[] for _ in groups]
+        for g, sub, nodes in plans:
+            at = {k: direct.vals[k][sub[nodes]] for k in _names(groups[g], direct.vals)}
+            xn = xs[sub[nodes]]
             keep = np.ones(sub.size, dtype=bool)
             keep[nodes] = False
             rest = np.flatnonzero(keep)  # the loads of the run that are not nodes
-            vals, est = _one_group(xs[sub[nodes]], at, logs, xs[sub[rest]], roles, tol)
+            vals, est = _one_group(xn, at, _logs(at, own[g], xn), xs[sub[rest]], own[g], tol)
             for k, v in vals.items():
-                out[k][sub[rest]] = v
-            err[sub[rest]] = est
-            regions += [(sub[a], sub[b]) for a, b in _runs(rest[est > tol[0]], nodes)]
+                if k not in tabled:
+                    tabled[k] = np.full_like(direct.vals[k], np.nan)
+                tabled[k][sub[rest]] = v
+            err[g, sub[rest]] = est
+            regions[g] += [(sub[a], sub[b]) for a, b in _runs(rest[est > tol[0]], nodes)]
         per_decade *= 2
-        if not regions:
+        if not any(regions):
             break
-    for k, v in direct.vals.items():  # every load computed directly: its own values
-        out[k][direct.done] = v[direct.done]
     err[direct.done] = 0.0
-    return out, err
+    out = {}
+    for g, names in enumerate(groups):  # a load computed for a group: its own values
+        done = direct.done[g]
+        for k in _names(names, direct.vals):
+            o = tabled[k].copy() if k in tabled else np.full_like(direct.vals[k], np.nan)
+            o[done] = direct.vals[k][done]
+            out[k] = o
+    return out, err.max(axis=0)
 
 
 def _one_group(
