@@ -29,27 +29,21 @@ def _detachment(rng: np.random.Generator, n_load: int, n_bin: int, spread: float
     return Detachment(np.ones(n_load), z, area, area, w, u1, h, 2e-6)
 
 
-@pytest.mark.parametrize("compiled", [False, True])
-@settings(max_examples=12, deadline=None)
-@given(
-    st.integers(0, 2**32 - 1),
-    st.integers(1, 6),
-    st.integers(1, 12),
-    st.floats(0.0, 3.0),
-    st.integers(2, 300),
-    st.booleans(),
-)
-def test_kernel_gives_the_numpy_bits(compiled, seed, n_load, n_bin, spread, n_u, per_load):
+def _through(compiled: bool, name: str, args: tuple, scale: float):
+    """``gap_cdf`` of a random draw (``args``: seed, loads, bins, spread, abscissae, per load;
+    abscissae up to ``scale`` times the largest bin height and beyond) with only the compiled
+    kernel ``name`` (compiled, or its plain Python twin) offered: ``(got, numpy's, asked)``."""
+    seed, n_load, n_bin, spread, n_u, per_load = args
     if compiled:
         pytest.importorskip("numba")
         with xpersson.set_options(compiled=True):  # whatever XPERSSON_COMPILED says
-            fn = _compiled.kernel(math.inf, "band_sums")
+            fn = _compiled.kernel(math.inf, name)
         assert fn is not None
     else:
-        fn = _band_sums.band_sums
+        fn = getattr(_band_sums, name)
     rng = np.random.default_rng(seed)
     det = _detachment(rng, n_load, n_bin, spread)
-    top = 10.0 * float(np.max(det.h)) * rng.uniform(0.5, 5.0)
+    top = scale * float(np.max(det.h)) * rng.uniform(0.5, 5.0)
     u = np.linspace(0.0, top, n_u)
     if per_load:  # rows of their own (sorted)
         u = np.sort(rng.uniform(0.0, top, (n_load, n_u)), axis=1)
@@ -57,20 +51,17 @@ def test_kernel_gives_the_numpy_bits(compiled, seed, n_load, n_bin, spread, n_u,
         want = gap_cdf(det, u)
     asked: list[str] = []
 
-    def kernel(work: float, name: str = "gap_rows"):
-        asked.append(name)
-        return fn if name == "band_sums" else None
+    def kernel(work: float, kname: str = "gap_rows"):
+        asked.append(kname)
+        return fn if kname == name else None
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(_gap_distribution, "_compiled_kernel", kernel)
         got = gap_cdf(det, u)
-    assert "band_sums" in asked
-    np.testing.assert_array_equal(got, want)
+    return got, want, asked
 
 
-@pytest.mark.parametrize("compiled", [False, True])
-@settings(max_examples=12, deadline=None)
-@given(
+_DRAWS = (
     st.integers(0, 2**32 - 1),
     st.integers(1, 6),
     st.integers(1, 12),
@@ -78,31 +69,22 @@ def test_kernel_gives_the_numpy_bits(compiled, seed, n_load, n_bin, spread, n_u,
     st.integers(2, 300),
     st.booleans(),
 )
-def test_series_kernel_gives_the_numpy_bits(compiled, seed, n_load, n_bin, spread, n_u, per_load):
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@settings(max_examples=12, deadline=None)
+@given(st.tuples(*_DRAWS))
+def test_kernel_gives_the_numpy_bits(compiled, args):
+    got, want, asked = _through(compiled, "band_sums", args, 10.0)
+    assert "band_sums" in asked
+    np.testing.assert_array_equal(got, want)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@settings(max_examples=12, deadline=None)
+@given(st.tuples(*_DRAWS))
+def test_series_kernel_gives_the_numpy_bits(compiled, args):
     """``_series_sum``'s running sums and Horner loop (``series_horner``): the numpy bits."""
-    if compiled:
-        pytest.importorskip("numba")
-        with xpersson.set_options(compiled=True):  # whatever XPERSSON_COMPILED says
-            fn = _compiled.kernel(math.inf, "series_horner")
-        assert fn is not None
-    else:
-        fn = _band_sums.series_horner
-    rng = np.random.default_rng(seed)
-    det = _detachment(rng, n_load, n_bin, spread)
-    top = float(np.max(det.h)) * rng.uniform(0.5, 5.0)  # many columns in the series' range
-    u = np.linspace(0.0, top, n_u)
-    if per_load:
-        u = np.sort(rng.uniform(0.0, top, (n_load, n_u)), axis=1)
-    with xpersson.set_options(compiled=False):
-        want = gap_cdf(det, u)
-    asked: list[str] = []
-
-    def kernel(work: float, name: str = "gap_rows"):
-        asked.append(name)
-        return fn if name == "series_horner" else None
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(_gap_distribution, "_compiled_kernel", kernel)
-        got = gap_cdf(det, u)
+    got, want, asked = _through(compiled, "series_horner", args, 1.0)  # many series columns
     assume("series_horner" in asked)  # (~7 % of draws have no pair in the series' range)
     assert got.tobytes() == want.tobytes()
