@@ -1,336 +1,395 @@
-"""Engine error versus run time, side by side with the scipy method-of-lines peers.
+"""Engine error versus CPU time, side by side with its peers and its compiled limit.
 
-Runs, in one process, xpersson's engine (numerical paths "sine" and "cn" at several rtol, and the
-exact path) and the peers of ``../shared/peers`` (``scipy.integrate.solve_ivp`` BDF / LSODA /
-Radau, in zeta and in tau, a few N and rtol) on the scenes realistic, extreme, ultra, lowH, plus
-a linearly moving wall (engine "cn" vs a Landau-transform method of lines with BDF written here).
+Runs, in one process, on the peers' named scenes (``realistic``, ``extreme``, ``ultra``,
+``lowH``: a fixed absorbing wall, the exact curve by images; ``moving``: a linearly moving wall,
+its closed form) and on seeded scenes of the speed design (:mod:`summary_design`,
+``design(12, --seed)[:--design]``; the load of each is set so that A/A0 = 0.1, 1e-2, 1e-3, 1e-4
+in turn (:data:`AREA_DESIGN`) at
+its largest magnification q_1/q_L, outputs at 4 per decade):
 
-Metric: ``curve_err`` = max relative error of A/A0(zeta) at ``scene.zeta_out()`` (4 per decade);
-time: median of ``scene.timed``.  Writes ``benchmarks/results/engine_vs_peers.md`` and
-``benchmarks/results/work_precision.png``.
+* the engine's paths: ``cn`` at several rtol (the compiled march built first, as the README's
+  speed rows build it), ``sine`` (the semi-analytic series, fixed walls) and ``exact`` (closed
+  form), each with its own error estimate next to its true error;
+* the C march of ``../shared/peers/c_march`` (``$XPERSSON_PEERS`` overrides the folder; built
+  with ``$CC``/``cc``, skipped without a compiler) on the very grid levels and steps each ``cn``
+  run marched: the compiled floor of the same work (same node-steps, so the same error), not a
+  solver of its own;
+* the peers of ``peer_scipy_mol.py``: ``solve_ivp`` method of lines (BDF and LSODA in diffusion
+  time, BDF in zeta on the named scenes; exact sparse/banded Jacobians) and the two-grid BDF
+  peer (N and 2N-1 nodes, Richardson-extrapolated curve, as the README's row "BDF two-grid
+  peer", here in diffusion time, which is faster than zeta at the same error); on the moving
+  wall a Landau-transform BDF method of lines written here.
 
-Usage: ``python benchmarks/engine_vs_peers.py [--quick]``  (``--quick`` < 2 minutes).
+Error: max relative error of A/A0 over the output magnifications. Time: CPU time of this process
+(``time.process_time``) per solve, best of ``--rounds`` rounds in which every run of a scene is
+timed in turn (after a warm-up; calls of a few ms repeated to ~20 ms), ``OPENBLAS_NUM_THREADS=1``.
+
+Writes ``benchmarks/results/engine_vs_peers.md`` (how to read it, speed-up at matched error,
+every run) and ``benchmarks/results/work_precision.png``.
+
+Usage: ``python benchmarks/engine_vs_peers.py [--quick] [--rounds 3] [--seed 2026]
+[--design 4]`` (``--quick``: fewer scenes and runs, < 2 minutes; the full run ~10 minutes).
 """
 
 from __future__ import annotations
 
 import os
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # ratios with one BLAS thread (said so)
+os.environ["OPENBLAS_NUM_THREADS"] = "1"  # ratios with one BLAS thread (said in the results)
 
 import argparse  # noqa: E402
 import math  # noqa: E402
 import sys  # noqa: E402
+import time  # noqa: E402
+import warnings  # noqa: E402
+from collections.abc import Callable  # noqa: E402
+from dataclasses import dataclass, field  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
+from scipy.special import erf, erfinv  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
-PEERS = HERE.parents[1] / "shared" / "peers"
+PEERS = Path(os.environ.get("XPERSSON_PEERS", HERE.parents[1] / "shared" / "peers"))
+sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(PEERS))
-sys.path.insert(0, str(HERE.parent / "src"))
+sys.path.insert(0, str(PEERS / "c_march"))
 
 import peer_scipy_mol  # noqa: E402
 import scene as S  # noqa: E402
+from engine_vs_peers_report import plot, write_markdown  # noqa: E402
+from summary_design import best, design  # noqa: E402
 
+import xpersson  # noqa: E402
 from xpersson.engine import Wall, exact, solve  # noqa: E402
 
-SCENES = ("realistic", "extreme", "ultra", "lowH")
-TARGET = 1e-5
+NAMED = ("realistic", "extreme", "ultra", "lowH")
+AREA_DESIGN = (0.1, 1e-2, 1e-3, 1e-4)
+"""A/A0 at the largest magnification of the design scenes in turn (sets each one's load)."""
 
 
-def _row(scene, method, resolution, t, err, kind):
-    return dict(
-        scene=scene, method=method, resolution=resolution, time_s=t, curve_err=err, kind=kind
-    )
+@dataclass
+class Case:
+    """One scene: output diffusion times ``tau`` [Pa^2], load ``p0`` [Pa], the exact A/A0 at
+    ``tau``, the engine's walls, and the peers' scene (``peer_scipy_mol``'s duck type)."""
+
+    name: str
+    tau: np.ndarray
+    p0: float
+    area: np.ndarray
+    peer: object = None
+    zeta_peer: bool = False  # whether the peers may integrate in zeta (``peer.fhat`` exists)
+    lower: Wall = field(default_factory=lambda: Wall.absorbing(0.0))
+    closed: Callable[[], object] | None = None  # the engine's exact path, where it applies
 
 
-def engine_rows(sc, quick):
+class TauScene:
+    """A design scene for ``peer_scipy_mol.solve(..., var="tau")``: scaled by
+    ``s = sqrt(2 tau_max)`` as ``scene.Scene`` (domain ``[0, xbar + 8]``)."""
+
+    def __init__(self, name: str, tau: np.ndarray, p0: float) -> None:
+        s = math.sqrt(2.0 * tau[-1])
+        self.name, self.xbar, self._th = name, p0 / s, tau / s**2
+        self.L = self.xbar + 8.0
+
+    def tauhat_out(self, per_decade: int = 4) -> np.ndarray:
+        return self._th.copy()
+
+    def area_curve_exact(self, per_decade: int = 4) -> np.ndarray:
+        return erf(self.xbar / (2.0 * np.sqrt(self._th)))
+
+
+def named_case(name: str) -> Case:
+    sc = S.make_scene(name)
     tau = sc.tau(sc.zeta_out())
-    rows = []
-    cases = [("exact", None)]
-    cases += [("sine", r) for r in (1e-4, 1e-6, 1e-8)]
-    cases += [("cn", r) for r in ((1e-3, 1e-5) if quick else (1e-3, 1e-4, 1e-5, 1e-6))]
-    for method, rtol in cases:
-
-        def fn(method=method, rtol=rtol):
-            return solve(tau, sc.p_bar, Wall.absorbing(0.0), None, method=method, rtol=rtol or 1e-8)
-
-        res, t, _ = S.timed(fn, budget=2.0 if quick else 5.0)
-        err = S.curve_error(sc, res.area)
-        label = f"xpersson {method}" + ("" if method == "exact" else f" ({res.status})")
-        resol = "closed form" if method == "exact" else f"rtol={rtol:g}, n={res.n_nodes}"
-        rows.append(_row(sc.name, label, resol, t, err, "engine"))
-        print(f"{sc.name:9s} {label:32s} {resol:24s} t={t:9.5f}s err={err:9.2e}", flush=True)
-    return rows
+    case = Case(name, tau, sc.p_bar, sc.area_curve_exact(), sc, zeta_peer=True)
+    case.closed = lambda: solve(tau, sc.p_bar, method="exact")
+    return case
 
 
-def peer_rows(sc, quick):
-    rows = []
-    if quick:
-        configs = [("BDF", "zeta", n, r) for n in (1025, 4097) for r in (1e-5, 1e-7)]
-        configs += [("LSODA", "zeta", 4097, 1e-7), ("BDF", "tau", 4097, 1e-7)]
-    else:
-        configs = [("BDF", "zeta", n, r) for n in (257, 1025, 4097, 16385) for r in (1e-5, 1e-7)]
-        configs += [(m, "zeta", n, 1e-7) for m in ("LSODA", "Radau") for n in (1025, 4097)]
-        configs += [("BDF", "tau", n, r) for n in (1025, 4097) for r in (1e-5, 1e-7)]
-        configs += [("LSODA", "tau", 4097, 1e-7)]
-    for method, var, n, rtol in configs:
+def design_cases(seed: int, n: int) -> list[Case]:
+    """The first ``n`` scenes of ``design(12, seed)``: tau(zeta) from the pipeline's coefficient
+    at 4 outputs per decade up to q_1/q_L, the load for A/A0 = :data:`AREA_DESIGN` there (in
+    turn: with a fixed wall the scenes differ only in tau's spread over the outputs and in the
+    load's distance to the wall on the scale sqrt(tau))."""
+    from summary_design import scene
 
-        def fn(method=method, var=var, n=n, rtol=rtol):
-            return peer_scipy_mol.solve(sc, n, method, rtol, var=var)
+    from xpersson.plugins import SceneContext
 
-        try:
-            (x, P, A, curve, info), t, _ = S.timed(fn, budget=2.0 if quick else 6.0, max_repeats=3)
-            err = S.curve_error(sc, curve)
-        except Exception as exc:  # report failures in the table
-            t, err = float("nan"), float("nan")
-            print(f"{sc.name} scipy {method} failed: {exc}")
-        label = f"scipy {method} MoL ({var})"
-        resol = f"N={n},rtol={rtol:g}"
-        rows.append(_row(sc.name, label, resol, t, err, "peer"))
-        print(f"{sc.name:9s} {label:32s} {resol:24s} t={t:9.5f}s err={err:9.2e}", flush=True)
-    return rows
+    out = []
+    for k, (name, spec) in enumerate(design(12, seed)[:n]):
+        dec = math.log10(float(spec["q_1"].split()[0]) / float(spec["q_L"].split()[0]))
+        zeta = np.logspace(0.0, dec, round(4 * dec) + 1)[1:]
+        sc = scene(spec, "100 kPa", output={"zeta": [float(z) for z in zeta]})
+        rs = xpersson.Scene(sc).resolve()
+        ctx = SceneContext(
+            psd=rs.psd, E=rs.E, nu=rs.nu, E_star=rs.E_star, p0=rs.p0, zeta=rs.zeta,
+            rtol=rs.rtol, atol=rs.atol,
+        )  # fmt: skip
+        tau = np.asarray(rs.coefficient.tau(ctx, rs.zeta), float)
+        p0 = 2.0 * math.sqrt(tau[-1]) * float(erfinv(AREA_DESIGN[k % 4]))
+        label = f"seed {seed}: {name}, A/A0={AREA_DESIGN[k % 4]:g}"
+        case = Case(label, tau, p0, erf(p0 / (2.0 * np.sqrt(tau))), TauScene(label, tau, p0))
+        case.closed = lambda tau=tau, p0=p0: solve(tau, p0, method="exact")
+        out.append(case)
+    return out
 
 
-# --- moving linear wall ------------------------------------------------------------------------
-P0, S0, C = 0.5, 0.2, 1.0  # Pa, Pa, 1/Pa (physics.md §2.2 check case)
+# --- moving linear wall (physics: the wall p_w = -(S0 + C tau), closed form) --------------------
+P0, S0, C = 0.5, 0.2, 1.0  # Pa, Pa, 1/Pa
 TAU_MAX = 1.0
 
 
-def _moving_tau():
-    return TAU_MAX * np.logspace(-3, 0, 13)
+def moving_case() -> Case:
+    tau = TAU_MAX * np.logspace(-3, 0, 13)
+    case = Case("moving", tau, P0, exact.linear_wall_area(tau, P0, S0, C))
+    case.lower = Wall.absorbing(lambda t: -(S0 + C * t))  # a callable: the numerical path
+    case.closed = lambda: solve(tau, P0, Wall.linear(-S0, -C))
+    return case
 
 
-def landau_mol(n, rtol):
-    """Peer for the moving wall: y = p - p_w(tau), Q_tau = Q_yy - c Q_y, BDF method of lines."""
+def landau_mol(n: int, rtol: float) -> np.ndarray:
+    """The moving wall's peer: y = p - p_w(tau), Q_tau = Q_yy - c Q_y, BDF method of lines."""
     y0 = P0 + S0
-    length = y0 + 12 * math.sqrt(2 * TAU_MAX)
-    y = np.linspace(0.0, length, n)
-    h = y[1] - y[0]
-    m = n - 2
+    y = np.linspace(0.0, y0 + 12 * math.sqrt(2 * TAU_MAX), n)
+    h, m = y[1] - y[0], n - 2
     lap = sp.diags([np.ones(m - 1), -2 * np.ones(m), np.ones(m - 1)], [-1, 0, 1]) / h**2
     der = sp.diags([-np.ones(m - 1), np.ones(m - 1)], [-1, 1]) / (2 * h)
     A = (lap - C * der).tocsr()
-    q0 = S.delta_hat(y, y0)[1:-1]
-    t_eval = _moving_tau()
+    t_eval = TAU_MAX * np.logspace(-3, 0, 13)
     sol = solve_ivp(
-        lambda t, q: A @ q,
-        (0.0, TAU_MAX),
-        q0,
-        method="BDF",
-        t_eval=t_eval,
-        jac=A,
-        rtol=rtol,
-        atol=1e-3 * rtol,
-    )
+        lambda t, q: A @ q, (0.0, TAU_MAX), S.delta_hat(y, y0)[1:-1], method="BDF",
+        t_eval=t_eval, jac=A, rtol=rtol, atol=1e-3 * rtol,
+    )  # fmt: skip
     if not sol.success:
         raise RuntimeError(sol.message)
     return h * sol.y.sum(axis=0)
 
 
-def moving_rows(quick):
-    tau = _moving_tau()
-    ex = exact.linear_wall_area(tau, P0, S0, C)
-    rows = []
-    wall = Wall.absorbing(lambda t: -(S0 + C * t))  # a callable: forces the numerical path
-    for rtol in (1e-3, 1e-4, 1e-5, 1e-6) if not quick else (1e-3, 1e-5):
+# --- the runs of one scene ------------------------------------------------------------------------
+@dataclass
+class Run:
+    """One point of the figure: ``fn`` solves, ``curve(result)`` gives its A/A0 curve."""
+
+    solver: str
+    resolution: str
+    kind: str  # "engine", "limit" (the C march) or "peer"
+    fn: Callable[[], object]
+    curve: Callable[[object], np.ndarray] = lambda r: np.asarray(r.area)
+    row: dict = field(default_factory=dict)
+
+
+def _levels(fn: Callable[[], object]) -> tuple[object, list[tuple[int, int, int]]]:
+    """``fn()`` and the (loads, nodes, steps) of every ``cn`` grid level it marched (the spy of
+    ``cn_walls.levels_of``, around an engine call)."""
+    from xpersson.engine import _cn
+
+    seen: list[tuple[int, int, int]] = []
+    orig = _cn._march
+
+    def spy(pbs, plan, n, *args):
+        res = orig(pbs, plan, n, *args)
+        seen.append((len(pbs), n + 1, int(res.nsteps)))
+        return res
+
+    _cn._march = spy
+    try:
+        return fn(), seen
+    finally:
+        _cn._march = orig
+
+
+def engine_runs(case: Case, lib, quick: bool) -> list[Run]:
+    """cn at several rtol (and the C march on each one's levels), sine, exact."""
+    from march_vs_engine import c_march
+
+    runs = []
+    rtols = (1e-4, 1e-6, 1e-8) if quick else (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
+    for rtol in rtols:
 
         def fn(rtol=rtol):
-            return solve(tau, P0, wall, method="cn", rtol=rtol)
+            return solve(case.tau, case.p0, case.lower, None, method="cn", rtol=rtol)
 
-        res, t, _ = S.timed(fn, budget=2.0)
-        err = float(np.max(np.abs(res.area / ex - 1)))
-        resol = f"rtol={rtol:g}, n={res.n_nodes}"
-        rows.append(_row("moving", f"xpersson cn ({res.status})", resol, t, err, "engine"))
-        print(f"moving    xpersson cn {resol:24s} t={t:9.5f}s err={err:9.2e}", flush=True)
-    res, t, _ = S.timed(lambda: solve(tau, P0, Wall.linear(-S0, -C)), budget=1.0)
-    rows.append(
-        _row(
-            "moving",
-            "xpersson exact",
-            "closed form",
-            t,
-            float(np.max(np.abs(res.area / ex - 1))),
-            "engine",
-        )
-    )
-    for n, rtol in (
-        ((1025, 1e-5), (4097, 1e-7)) if quick else ((1025, 1e-5), (4097, 1e-7), (16385, 1e-8))
-    ):
-        try:
-            curve, t, _ = S.timed(
-                lambda n=n, rtol=rtol: landau_mol(n, rtol), budget=3.0, max_repeats=3
+        res, levels = _levels(fn)
+        steps = sum(a * b * c for a, b, c in levels)
+        runs.append(Run("xpersson cn", f"rtol={rtol:g}, n={res.n_nodes}", "engine", fn))
+        runs[-1].row["node_steps"] = steps
+        if lib is not None and levels:
+            march = Run(
+                "C march",
+                f"levels of cn rtol={rtol:g}",
+                "limit",
+                lambda lv=levels: c_march(lib, lv),
             )
-            err = float(np.max(np.abs(curve / ex - 1)))
-        except Exception as exc:
-            t, err = float("nan"), float("nan")
-            print(f"moving peer failed: {exc}")
-        resol = f"N={n},rtol={rtol:g}"
-        rows.append(_row("moving", "scipy BDF MoL (Landau)", resol, t, err, "peer"))
-        print(f"moving    scipy BDF MoL (Landau) {resol:24s} t={t:9.5f}s err={err:9.2e}")
-    return rows
+            runs.append(march)
+            runs[-1].row.update(node_steps=steps, same_as=len(runs) - 2)
+    if case.name != "moving":
+        for rtol in (1e-6,) if quick else (1e-4, 1e-8):
+
+            def sine(rtol=rtol):
+                return solve(case.tau, case.p0, case.lower, None, method="sine", rtol=rtol)
+
+            runs.append(Run("xpersson sine", f"rtol={rtol:g}", "engine", sine))
+    runs.append(Run("xpersson exact", "closed form", "engine", case.closed))
+    return runs
 
 
-# --- report ------------------------------------------------------------------------------------
-def speedups(rows, engine_method=None):
-    """Per scene: (fastest engine run at <= TARGET, fastest peer at <= TARGET, ratio).
+def _two_grid(peer: object, n: int) -> np.ndarray:
+    coarse = peer_scipy_mol.solve(peer, n, "BDF", 1e-7, var="tau")[3]
+    fine = peer_scipy_mol.solve(peer, 2 * n - 1, "BDF", 1e-7, var="tau")[3]
+    return (4.0 * fine - coarse) / 3.0
 
-    ``engine_method``: "cn" (grid to grid: a numerical grid method against the peers' grids),
-    "sine" (the semi-analytic series), or None (any numerical engine run).
-    """
-    out = {}
-    for name in sorted({r["scene"] for r in rows}):
 
-        def best(kind, name=name):
-            ok = [
-                r
-                for r in rows
-                if r["scene"] == name
-                and r["kind"] == kind
-                and "exact" not in r["method"]
-                and r["curve_err"] <= TARGET
-                and (
-                    kind == "peer"
-                    or engine_method is None
-                    or f"xpersson {engine_method}" in r["method"]
-                )
-            ]
-            return min(ok, key=lambda r: r["time_s"]) if ok else None
+def peer_runs(case: Case, quick: bool) -> list[Run]:
+    """The ``solve_ivp`` method of lines (a reduced set) and the two-grid BDF peer."""
+    if case.name == "moving":
+        sizes = ((1025, 1e-5), (4097, 1e-7)) + (() if quick else ((16385, 1e-8),))
+        return [
+            Run("scipy BDF MoL (Landau)", f"N={n}, rtol={r:g}", "peer",
+                lambda n=n, r=r: landau_mol(n, r), curve=lambda c: c)
+            for n, r in sizes
+        ]  # fmt: skip
+    configs = [("BDF", "tau", 1025, 1e-5), ("BDF", "tau", 4097, 1e-7)]
+    if not quick:
+        configs += [("BDF", "tau", 16385, 1e-7), ("LSODA", "tau", 4097, 1e-7)]
+        configs += [("BDF", "zeta", 4097, 1e-7)] if case.zeta_peer else []
+    runs = [
+        Run(f"scipy {m} MoL ({var})", f"N={n}, rtol={r:g}", "peer",
+            lambda m=m, var=var, n=n, r=r: peer_scipy_mol.solve(case.peer, n, m, r, var=var),
+            curve=lambda out: out[3])
+        for m, var, n, r in configs
+    ]  # fmt: skip
+    for n in (513,) if quick else (513, 2049, 8193):
+        runs.append(Run("scipy BDF two-grid (tau)", f"N={n}+{2 * n - 1}, rtol=1e-07", "peer",
+                        lambda n=n: _two_grid(case.peer, n), curve=lambda c: c))  # fmt: skip
+    return runs
 
-        e, p = best("engine"), best("peer")
-        if e and not p:  # no peer reached 1e-5: compare with its most accurate run (a bound)
-            peers = [
-                r
-                for r in rows
-                if r["scene"] == name and r["kind"] == "peer" and math.isfinite(r["curve_err"])
-            ]
-            if peers:
-                p = dict(min(peers, key=lambda r: (r["curve_err"], r["time_s"])), bound=True)
-        out[name] = (e, p, p["time_s"] / e["time_s"] if e and p else float("nan"))
+
+def _errors(case: Case, run: Run, res: object) -> dict:
+    """True error (max relative over the outputs) and, for the engine, its own estimate."""
+    area = run.curve(res)
+    true = np.abs(np.asarray(area, float) - case.area)
+    out = {"err": float(np.max(true / case.area))}
+    est = getattr(res, "error_estimate", None)
+    if est is not None:
+        est = np.asarray(est, float)
+        out["est"] = float(np.max(est / case.area))
+        judged = true > 1e-15  # rounding-level errors are not judged (as verify_core.py)
+        ratio = true[judged] / np.maximum(est[judged], 1e-300)
+        out["err/est"] = float(ratio.max()) if judged.any() else 0.0
     return out
 
 
-def _speedup_table(rows, engine_method, title):
-    lines = [
-        "",
-        f"## {title}",
-        "",
-        "| scene | engine (fastest at 1e-5) | peer (fastest at 1e-5) | speed-up |",
-        "|---|---|---|---:|",
-    ]
-    for name, (e, p, ratio) in speedups(rows, engine_method).items():
-        es = f"{e['method']} {e['resolution']}: {e['time_s']:.2e} s" if e else "none"
-        ps = f"{p['method']} {p['resolution']}: {p['time_s']:.2e} s" if p else "none"
-        bound = ""
-        if p and p.get("bound"):
-            ps += f" (none reached 1e-5; best curve_err {p['curve_err']:.1e})"
-            bound = ">"
-        lines.append(
-            f"| {name} | {es} | {ps} | {bound}{ratio:.0f}x |"
-            if math.isfinite(ratio)
-            else f"| {name} | {es} | {ps} | - |"
-        )
-    return lines
+def _repeat(fn: Callable[[], object], once: float, seconds: float = 0.02):
+    """``fn`` repeated to about ``seconds`` of CPU time (``once``: one call's), and the count."""
+    n = max(1, int(seconds / max(once, 1e-6)))
+    return (lambda: [fn() for _ in range(n)]), n
 
 
-def write_markdown(rows, path):
-    sp_ = speedups(rows)
-    lines = [
-        "# Engine vs scipy method-of-lines peers",
-        "",
-        "`curve_err`: max relative error of A/A0(zeta) at 4 points per decade (scene.zeta_out()); "
-        "time: median wall time (scene.timed). Speed-up: fastest peer with curve_err <= 1e-5 "
-        "divided by the fastest numerical engine run with curve_err <= 1e-5 (exact path "
-        "excluded).",
-        "",
-        "`OPENBLAS_NUM_THREADS=1`; all runs in one process on a shared 2-core machine.",
-        "",
-        "| scene | method | resolution | time [s] | curve_err | speed-up at 1e-5 |",
-        "|---|---|---|---:|---:|---:|",
-    ]
-    for r in rows:
-        e, p, ratio = sp_[r["scene"]]
-        bound = ">" if p and p.get("bound") else ""
-        mark = f"{bound}{ratio:.0f}x" if (r is e and math.isfinite(ratio)) else ""
-        lines.append(
-            f"| {r['scene']} | {r['method']} | {r['resolution']} | {r['time_s']:.2e} | "
-            f"{r['curve_err']:.2e} | {mark} |"
-        )
-    lines += _speedup_table(
-        rows,
-        "cn",
-        "Grid to grid at equal accuracy (curve_err <= 1e-5): cn against the scipy method of lines",
-    )
-    lines += _speedup_table(
-        rows,
-        "sine",
-        "Semi-analytic sine series against the scipy method "
-        "of lines (curve_err <= 1e-5; not a grid method)",
-    )
-    path.write_text("\n".join(lines) + "\n")
-
-
-def plot(rows, path):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    def label_of(method: str) -> str:
-        parts = method.split(" (")
-        return parts[0] + (" (" + parts[1] if "MoL" in method else "")
-
-    names = [n for n in (*SCENES, "moving") if any(r["scene"] == n for r in rows)]
-    # one colour per method across every panel (a panel without some method keeps the others')
-    labels = list(dict.fromkeys(label_of(r["method"]) for r in rows))
-    colour = {lab: plt.get_cmap("tab10")(i % 10) for i, lab in enumerate(labels)}
-    fig, axes = plt.subplots(1, len(names), figsize=(4 * len(names), 3.6), squeeze=False)
-    for ax, name in zip(axes[0], names, strict=True):
-        groups = {}
-        for r in rows:
-            if r["scene"] == name and math.isfinite(r["time_s"]) and math.isfinite(r["curve_err"]):
-                groups.setdefault(label_of(r["method"]), []).append(r)
-        for label, rs in groups.items():
-            rs.sort(key=lambda r: r["time_s"])
-            ax.loglog(
-                [r["time_s"] for r in rs],
-                [max(r["curve_err"], 1e-16) for r in rs],
-                "o-" if "xpersson" in label else "s--",
-                color=colour[label],
-                label=label,
-                ms=4,
-            )
-        ax.axhline(TARGET, color="grey", lw=0.8, ls=":")
-        ax.set_title(f"{name} (sine: semi-analytic; cn vs scipy: grid to grid)", fontsize=7)
-        ax.set_xlabel("time [s]")
-        ax.set_ylabel("max rel. error of A/A0")
-        if ax is axes[0][0] or name == "moving":  # the moving wall has its own peer
-            ax.legend(fontsize=6)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-
-
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="fewer configurations (< 2 minutes)")
-    args = ap.parse_args(argv)
-    out = HERE / "results"
-    out.mkdir(exist_ok=True)
+def measure(case: Case, lib, rounds: int, quick: bool) -> list[dict]:
+    """Every run of ``case`` once (its errors), then best CPU times over interleaved rounds."""
+    runs = engine_runs(case, lib, quick) + peer_runs(case, quick)
+    fns, counts = {}, {}
+    for i, run in enumerate(runs):
+        t = time.process_time()
+        try:
+            res = run.fn()
+        except Exception as exc:  # noqa: BLE001 - a failing peer is a row of the table
+            run.row.update(err=math.nan, error=f"{type(exc).__name__}: {str(exc)[:80]}")
+            continue
+        once = time.process_time() - t
+        if run.kind == "limit":
+            run.row["err"] = runs[run.row["same_as"]].row.get("err", math.nan)
+        else:
+            run.row.update(_errors(case, run, res))
+        fns[i], counts[i] = _repeat(run.fn, once) if run.kind != "peer" else (run.fn, 1)
+    t = best(fns, rounds)
     rows = []
-    for name in SCENES:
-        sc = S.make_scene(name)
-        rows += engine_rows(sc, args.quick)
-        rows += peer_rows(sc, args.quick)
-    rows += moving_rows(args.quick)
-    write_markdown(rows, out / "engine_vs_peers.md")
-    plot(rows, out / "work_precision.png")
-    for method in ("cn", "sine"):
-        for name, (_e, p, ratio) in speedups(rows, method).items():
-            bound = ">" if p and p.get("bound") else ""
-            print(f"speed-up at 1e-5 [{name}, {method}]: {bound}{ratio:.1f}x")
+    for i, run in enumerate(runs):
+        row = {k: v for k, v in run.row.items() if k != "same_as"}
+        row.update(scene=case.name, solver=run.solver, resolution=run.resolution, kind=run.kind)
+        row["time_s"] = t[i] / counts[i] if i in t else math.nan
+        rows.append(row)
+        err = row.get("err", math.nan)
+        print(
+            f"{case.name:40s} {run.solver:26s} {run.resolution:26s} "
+            f"t={row['time_s'] * 1e3:9.3f} ms err={err:9.2e}",
+            flush=True,
+        )
+    return rows
+
+
+def machine() -> dict:
+    """Facts of the run (no paths): date, CPU, cores, versions, compiler."""
+    import platform
+    import shutil
+    import subprocess
+
+    import scipy
+
+    model = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as fh:
+            model = next(ln.split(":", 1)[1].strip() for ln in fh if ln.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    cc = os.environ.get("CC", "cc")
+    ver = "none"
+    if shutil.which(cc):
+        out = subprocess.run([cc, "--version"], capture_output=True, text=True, check=False)
+        ver = out.stdout.splitlines()[0] if out.stdout else cc
+    try:
+        import numba
+
+        nb = numba.__version__
+    except ImportError:
+        nb = "absent (numpy march)"
+    return {
+        "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+        "cpu": f"{model}, {os.cpu_count()} cores (shared)",
+        "versions": f"Python {platform.python_version()}, numpy {np.__version__}, "
+        f"scipy {scipy.__version__}, numba {nb}, xpersson {xpersson.__version__}",
+        "compiler": ver,
+    }
+
+
+def main(argv: list[str] | None = None) -> list[dict]:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="fewer scenes and runs (< 2 minutes)")
+    ap.add_argument("--rounds", type=int, default=None, help="timing rounds (3; --quick 2)")
+    ap.add_argument("--seed", type=int, default=2026, help="seed of the design scenes")
+    ap.add_argument("--design", type=int, default=None, help="design scenes (4; --quick 2)")
+    ap.add_argument("--out", type=Path, default=HERE / "results")
+    args = ap.parse_args(argv)
+    rounds = args.rounds or (2 if args.quick else 3)
+    n_design = args.design if args.design is not None else (2 if args.quick else 4)
+    from summary_paths import c_march_lib
+
+    from xpersson.engine import _compiled
+
+    xpersson.set_options(compiled=True)
+    compiled = _compiled.build()
+    lib = c_march_lib(PEERS)
+    warnings.simplefilter("ignore")
+    cases = [named_case(n) for n in (NAMED[:1] if args.quick else NAMED)] + [moving_case()]
+    cases += design_cases(args.seed, n_design)
+    rows = []
+    for case in cases:
+        rows += measure(case, lib, rounds, args.quick)
+    meta = machine()
+    meta["march"] = "compiled (numba)" if compiled else "numpy (numba absent)"
+    meta["c_march"] = "gcc-style `cc -O2`" if lib is not None else "skipped (no compiler)"
+    flags = " --quick" if args.quick else ""
+    meta["command"] = (
+        f"python benchmarks/engine_vs_peers.py{flags} --rounds {rounds} --seed {args.seed} "
+        f"--design {n_design}"
+    )
+    meta["rounds"] = rounds
+    args.out.mkdir(exist_ok=True)
+    write_markdown(rows, meta, args.out / "engine_vs_peers.md")
+    plot(rows, args.out / "work_precision.png")
     return rows
 
 
