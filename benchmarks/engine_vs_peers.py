@@ -206,7 +206,7 @@ def engine_runs(case: Case, lib, quick: bool) -> list[Run]:
     from march_vs_engine import c_march
 
     runs = []
-    rtols = (1e-4, 1e-6, 1e-8) if quick else (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
+    rtols = (1e-4, 1e-6, 1e-8) if quick else (1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
     for rtol in rtols:
 
         def fn(rtol=rtol):

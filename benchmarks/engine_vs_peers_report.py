@@ -265,7 +265,7 @@ def _panel(ax, rows: list[dict]) -> None:
         if r["solver"] == "xpersson cn" and math.isfinite(r.get("est", math.nan)):
             groups.setdefault("xpersson cn: own estimate", []).append((r["time_s"], r["est"]))
     for label in (k for k in STYLE if k in groups):
-        pts = sorted(groups[label])
+        pts = groups[label]  # in run order (rtol, N): the error need not fall with time
         marker, ls, colour = STYLE[label]
         hollow = label.endswith("estimate")
         ax.loglog(
