@@ -28,7 +28,7 @@ Writes ``benchmarks/results/engine_vs_peers.md`` (how to read it, speed-up at ma
 every run) and ``benchmarks/results/work_precision.png``.
 
 Usage: ``python benchmarks/engine_vs_peers.py [--quick] [--rounds 3] [--seed 2026]
-[--design 4]`` (``--quick``: fewer scenes and runs, < 2 minutes; the full run ~10 minutes).
+[--design 4]`` (``--quick``: fewer scenes and runs, ~15 s; the full run ~5 minutes).
 """
 
 from __future__ import annotations
@@ -380,7 +380,6 @@ def main(argv: list[str] | None = None) -> list[dict]:
         rows += measure(case, lib, rounds, args.quick)
     meta = machine()
     meta["march"] = "compiled (numba)" if compiled else "numpy (numba absent)"
-    meta["c_march"] = "gcc-style `cc -O2`" if lib is not None else "skipped (no compiler)"
     flags = " --quick" if args.quick else ""
     meta["command"] = (
         f"python benchmarks/engine_vs_peers.py{flags} --rounds {rounds} --seed {args.seed} "
