@@ -171,7 +171,7 @@ def test_values_computed_unasked_serve_a_later_level_instead_of_a_call():
     for report in (False, True):
         seen: list[np.ndarray] = []
 
-        def exact(rows: np.ndarray, which: np.ndarray, report: bool = report) -> dict:
+        def exact(rows: np.ndarray, which: np.ndarray, report: bool = report, seen=seen) -> dict:  # noqa: ANN001
             seen.append(rows)
             out = outputs(p0[rows])
             if report:
