@@ -45,7 +45,9 @@ load was computed directly).
 it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes would be more than
 half of its loads has those of its loads that miss the tolerance computed directly. Level by
 level: the node loads of every run of one level are computed in one direct call (each call
-has a fixed cost: ``leakage`` ~2.5 ms, ~28 loads' worth). Loads whose direct values cost
+has a fixed cost: ``leakage`` ~2.5 ms, ~28 loads' worth); a group's values that a call computed
+without being asked for (:data:`COMPUTED`) are kept and answer a later level's ask without a
+call. Loads whose direct values cost
 nothing (``free``: ``leakage``'s loads sealed by both theories next to the open ones,
 ``_leakage.with_sealed``) or that the table would compute directly anyway, found only by
 refinement (``leakage``'s loads near the junction's sealing: ``_first_level``) are nodes of
