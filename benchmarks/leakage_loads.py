@@ -34,17 +34,24 @@ def account(spec: dict, n: int) -> list[np.ndarray]:
     runs = {cls: cls.run for cls in (_by_load._Direct,)}  # (by_load and by_group: one table)
 
     def recording(direct) -> None:  # noqa: ANN001
-        ask = np.atleast_2d(direct.pending & ~direct.done)
-        rows = np.flatnonzero(ask.any(axis=0))
-        runs[type(direct)](direct)
-        if rows.size:
-            v = {k: direct.vals[k][rows] for k in ("leak_sealed", "leak_sealed_emt", "piece")}
+        exact = direct.exact
+
+        def call(rows, which):  # noqa: ANN001, ANN202 - each direct call: its rows
+            got = exact(rows, which)
+            v = {k: got[k] for k in ("leak_sealed", "leak_sealed_emt", "piece")}
             free = (v["leak_sealed"] == 1) & (v["leak_sealed_emt"] == 1)
             shut = (v["leak_sealed"] == 1) & ~free
             near = (v["piece"] < 0) & ~free & ~shut
-            medium = int(ask[-1, rows].sum())
+            medium = int(np.atleast_2d(which)[-1].sum())  # (asked for)
             calls.append(np.array([free.sum(), shut.sum(), near.sum(), rows.size, medium]))
             calls[-1][3] -= calls[-1][:3].sum()
+            return got
+
+        direct.exact = call
+        try:
+            runs[type(direct)](direct)
+        finally:
+            direct.exact = exact
 
     for cls in runs:
         cls.run = recording

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from xpersson_interface._by_group import by_group
-from xpersson_interface._by_load import by_load
+from xpersson_interface._by_load import COMPUTED, by_load
 
 GROUPS = (frozenset({"j", "k"}), frozenset({"m"}))
 
@@ -123,6 +123,15 @@ def test_the_direct_call_computes_the_medium_only_where_asked_and_the_same_value
         np.testing.assert_allclose(part[k][ask], both[k][ask], rtol=1e-13, atol=0, err_msg=k)
         other = part[k][~ask]
         assert np.all(np.isnan(other) | (other == both[k][~ask])), k
+    # the groups computed: the junction everywhere, the medium where asked, at the loads
+    # sealed by both theories (not computed: exact), or (most asked) everywhere; its values
+    # there are the computed ones, the others NaN
+    done = part[COMPUTED]
+    sealed = (part["leak_sealed"] == 1) & (part["leak_sealed_emt"] == 1)
+    assert done[:, 0].all() and np.all(done[:, 1] >= ask)
+    assert done[:, 1].all() if share > 0.5 else np.all(done[:, 1] <= ask | sealed)
+    for k in ("leak_flow_factor_emt", "leak_rate_emt", "leak_sealed_emt"):
+        assert np.array_equal(np.isnan(part[k]), ~done[:, 1]), k
 
 
 def test_loads_in_any_order_and_repeated_get_the_values_of_their_load():
@@ -140,3 +149,86 @@ def test_loads_in_any_order_and_repeated_get_the_values_of_their_load():
     for k in a:
         np.testing.assert_array_equal(b[k], a[k][order])
     np.testing.assert_array_equal(eb, ea[order])
+
+
+def test_values_computed_unasked_serve_a_later_level_instead_of_a_call():
+    """An ``exact`` that reports (``COMPUTED``) the groups it computed unasked: a later level
+    that asks for those loads takes the kept values (no load computed twice; without the
+    report 80 of them are, ``m``'s refinement around its step at the junction's first-level
+    loads), and the outputs and errors are the same bits (an ``exact`` whose loads do not
+    depend on each other)."""
+    p0 = np.geomspace(1e3, 1e6, 1000)
+    step = 2e4
+    free = np.zeros((2, p0.size), dtype=bool)
+    free[0] = np.abs(np.log(p0 / step)) < 0.15  # (the junction's loads of the first level)
+
+    def outputs(p: np.ndarray) -> dict[str, np.ndarray]:
+        x = np.log(p)
+        m = np.exp(0.2 * x + 0.3 * np.tanh((x - np.log(step)) / 0.05))
+        return {"j": np.exp(-0.3 * x + 0.05 * np.sin(x)), "k": np.zeros(p.size), "m": m}
+
+    res, repeated = {}, {}
+    for report in (False, True):
+        seen: list[np.ndarray] = []
+
+        def exact(rows: np.ndarray, which: np.ndarray, report: bool = report, seen=seen) -> dict:  # noqa: ANN001
+            seen.append(rows)
+            out = outputs(p0[rows])
+            if report:
+                out[COMPUTED] = np.ones((rows.size, 2), dtype=bool)
+            return out
+
+        res[report] = by_group(p0, exact, 2e-3, frozenset({"k"}), 1e-4, 0, (8,), 4.0 * 2**8,
+                               16, (), free, GROUPS)  # fmt: skip
+        rows = np.concatenate(seen)
+        repeated[report] = rows.size - np.unique(rows).size
+    assert repeated[False] > 20 and repeated[True] == 0
+    for k in res[False][0]:
+        np.testing.assert_array_equal(res[True][0][k], res[False][0][k], err_msg=k)
+    np.testing.assert_array_equal(res[True][1], res[False][1])
+
+
+def test_the_leak_table_keeps_the_medium_computed_for_the_junction_loads():
+    """A roll-off scene at 1000 loads (held-out design seed 2026's roll-off H = 0.67, 5
+    decades): the effective medium's second-level loads were computed in the first call
+    (for the junction; the medium for every load of the call) and are taken from there, so
+    no load is computed twice (without: 8 are, in a second call of their own), and every
+    leak output equals the one computed again to round-off (1e-13; the junction's bit for
+    bit)."""
+    import xpersson
+    from xpersson_interface import _by_load
+
+    sc = {
+        "spectrum": {"model": "self_affine", "H": 0.674, "q_L": "262.32 1/m",
+                     "q_r": "1945.25 1/m", "q_1": "2.6232e7 1/m", "h_rms": "1 um"},
+        "material": {"E": "10 MPa", "nu": 0.5},
+        "load": {"p0": {"start": "1 kPa", "stop": "1 MPa", "num": 1000}},
+        "output": {"zeta": np.geomspace(1.0, 1e3, 50).tolist()},
+        "analyses": {"leakage": {}},
+    }  # fmt: skip
+    run, seen = _by_load._Direct.run, []
+
+    def recording(direct) -> None:  # noqa: ANN001 - each direct call's rows
+        exact = direct.exact
+        direct.exact = lambda rows, which: seen.append(rows) or exact(rows, which)
+        try:
+            run(direct)
+        finally:
+            direct.exact = exact
+
+    got, repeated = {}, {}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_by_load._Direct, "run", recording)
+        for serve in (True, False):
+            if not serve:
+                mp.setattr(_by_load._Direct, "_serve", lambda self, ask: ask)
+            seen.clear()
+            got[serve] = xpersson.solve(sc)
+            rows = np.concatenate(seen)
+            repeated[serve] = rows.size - np.unique(rows).size
+    assert repeated[True] == 0 and repeated[False] > 0
+    for k in ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_rate", "leak_sealed"):
+        np.testing.assert_array_equal(got[True][k].values, got[False][k].values, err_msg=k)
+    for k in ("leak_flow_factor_emt", "leak_rate_emt", "leak_sealed_emt", "leak_load_error"):
+        np.testing.assert_allclose(got[True][k].values, got[False][k].values, rtol=1e-13,
+                                   atol=0, err_msg=k)  # fmt: skip

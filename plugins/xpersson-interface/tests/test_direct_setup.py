@@ -12,7 +12,7 @@ import xpersson
 from xpersson.plugins import solved
 from xpersson.plugins.stored import spectrum_of
 from xpersson.testing import TINY_SCENE
-from xpersson_interface._by_load import _Rows
+from xpersson_interface._chunks import _Rows
 
 
 @pytest.fixture(scope="module")

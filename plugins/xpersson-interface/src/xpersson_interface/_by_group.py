@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ._by_load import Partial, Weight, _table, tabled
+from ._by_load import COMPUTED, Partial, Weight, _table, tabled
 
 
 def by_group(
@@ -40,7 +40,9 @@ def by_group(
     p0 = np.asarray(p0, dtype=float)
     n = p0.size
     if not tabled(p0, least):
-        return exact(np.arange(n), np.ones((len(groups), n), dtype=bool)), np.zeros(n)
+        out = dict(exact(np.arange(n), np.ones((len(groups), n), dtype=bool)))
+        out.pop(COMPUTED, None)
+        return out, np.zeros(n)
     xs, first, inverse = np.unique(np.log(p0), return_index=True, return_inverse=True)
     each = np.zeros((len(groups), xs.size), dtype=bool)
     for g, fg in enumerate(np.broadcast_to(np.asarray(free, dtype=bool), (len(groups), n))):

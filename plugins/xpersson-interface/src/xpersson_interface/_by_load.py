@@ -45,7 +45,9 @@ load was computed directly).
 it at twice the density, up to :data:`MAX_DEPTH` times; a run whose nodes would be more than
 half of its loads has those of its loads that miss the tolerance computed directly. Level by
 level: the node loads of every run of one level are computed in one direct call (each call
-has a fixed cost: ``leakage`` ~2.5 ms, ~28 loads' worth). Loads whose direct values cost
+has a fixed cost: ``leakage`` ~2.5 ms, ~28 loads' worth); a group's values that a call computed
+without being asked for (:data:`COMPUTED`) are kept and answer a later level's ask without a
+call. Loads whose direct values cost
 nothing (``free``: ``leakage``'s loads sealed by both theories next to the open ones,
 ``_leakage.with_sealed``) or that the table would compute directly anyway, found only by
 refinement (``leakage``'s loads near the junction's sealing: ``_first_level``) are nodes of
@@ -63,20 +65,16 @@ load is computed directly, as before, bit for bit.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Callable, Iterable
-from typing import Any
 
 import numpy as np
-import xarray as xr
 from numpy.typing import NDArray
-
-from xpersson.plugins.solved import curve_variables
 
 from ._stencils import FLOOR, Weight, _interpolate, _logs, _Roles, _same, _segments
 
 __all__ = [
+    "COMPUTED",
     "DEPTH",
     "FLOOR",
     "LEAK_GROUPS",
@@ -95,7 +93,6 @@ __all__ = [
     "TOL",
     "Weight",
     "by_load",
-    "subset",
 ]
 
 #: Distinct loads from which the table is used.
@@ -207,8 +204,14 @@ def tabled(p0: NDArray[np.float64], least: int) -> bool:
 
 #: ``exact(rows, which)`` of :func:`_table`: the outputs of the loads ``rows``, ``which``
 #: (n_group, n_rows) the groups each load is computed for (the other groups' outputs of a
-#: load: any value, unread).
+#: load: any value, unread unless :data:`COMPUTED` names them).
 Partial = Callable[[NDArray[np.intp], NDArray[np.bool_]], dict[str, NDArray[np.float64]]]
+#: Optional entry of ``exact(rows, which)``'s result: per row, the groups (n_rows, n_group)
+#: whose outputs it computed, asked for or not (``leakage``: a chunk's effective medium is
+#: computed for every load of the chunk once most of them ask for it). Kept, a group's values
+#: of a row not asked for serve a later level that asks for it, instead of a direct call
+#: (the same operations on a batch of other loads: the same values up to round-off).
+COMPUTED = "computed groups"
 #: A group of outputs of :func:`_table`: their names, or None (every output).
 Group = frozenset[str] | None
 
@@ -230,13 +233,17 @@ def _names(group: Group, outputs: Iterable[str]) -> list[str]:
 class _Direct:
     """The loads computed directly, per group of outputs, each once: the rows asked for at one
     refinement level are computed in one call of ``exact`` (its fixed cost, the dense
-    re-solve and the splines, is paid once per level, not once per refined run)."""
+    re-solve and the splines, is paid once per level, not once per refined run). A group's
+    values that a call computed without being asked (:data:`COMPUTED`) are kept and serve a
+    later level's ask (no call where they serve every row)."""
 
     def __init__(self, exact: Partial, n: int, groups: tuple[Group, ...]) -> None:
         self.exact, self.n, self.groups = exact, n, groups
         self.done = np.zeros((len(groups), n), dtype=bool)
         self.pending = np.zeros((len(groups), n), dtype=bool)
         self.vals: dict[str, NDArray[np.float64]] = {}
+        self.kept = np.zeros((len(groups), n), dtype=bool)  # (values in kept_vals)
+        self.kept_vals: dict[str, NDArray[np.float64]] = {}
 
     def need(self, g: int, rows: NDArray[np.intp]) -> None:
         self.pending[g, rows] = True
@@ -244,18 +251,48 @@ class _Direct:
     def run(self) -> None:
         ask = self.pending & ~self.done
         self.pending[:] = False
+        ask = self._serve(ask)
         rows = np.flatnonzero(ask.any(axis=0))
         if not rows.size:
             return
         which = ask[:, rows]
-        got = self.exact(rows, which)
+        got = dict(self.exact(rows, which))
+        computed = got.pop(COMPUTED, None)
+        self._store(self.vals, got, rows, which)
+        self.done[:, rows] |= which
+        if computed is not None:  # computed, not asked: kept for a later level
+            more = np.asarray(computed, dtype=bool).T & ~which
+            self._store(self.kept_vals, got, rows, more)
+            self.kept[:, rows] |= more
+
+    def _store(
+        self,
+        into: dict[str, NDArray[np.float64]],
+        got: dict[str, NDArray[np.float64]],
+        rows: NDArray[np.intp],
+        which: NDArray[np.bool_],
+    ) -> None:
+        """Each group's outputs of ``got`` at the rows ``rows[which[g]]`` into ``into``."""
         for k, v in got.items():
-            if k not in self.vals:
-                self.vals[k] = np.full((self.n,) + v.shape[1:], np.nan)
+            if k not in into:
+                into[k] = np.full((self.n,) + v.shape[1:], np.nan)
         for g, names in enumerate(self.groups):
             for k in _names(names, got):
-                self.vals[k][rows[which[g]]] = got[k][which[g]]
-        self.done[:, rows] |= which
+                into[k][rows[which[g]]] = got[k][which[g]]
+
+    def _serve(self, ask: NDArray[np.bool_]) -> NDArray[np.bool_]:
+        """The asks ``ask`` (n_group, n) that kept values answer, answered (their values
+        taken, the rows done); the others returned."""
+        have = ask & self.kept
+        if not have.any():
+            return ask
+        for g, names in enumerate(self.groups):
+            for k in _names(names, self.kept_vals):
+                if k not in self.vals:
+                    self.vals[k] = np.full_like(self.kept_vals[k], np.nan)
+                self.vals[k][have[g]] = self.kept_vals[k][have[g]]
+        self.done |= have
+        return ask & ~have
 
 
 def _table(
@@ -434,41 +471,3 @@ def _relative(
             scale > 0.0, d / np.where(scale > 0.0, scale, 1.0), np.where(d > 0, np.inf, 0.0)
         )
     return np.where(np.isnan(r), np.inf, r)
-
-
-def subset(ctx: Any, ds: Any, rows: NDArray[np.intp]) -> tuple[Any, Any]:
-    """The analysis context and Dataset of the loads ``rows`` alone (their ``solve_at``
-    re-solves those loads of the same solve; the Dataset holds only what the solved curve
-    reads, :func:`xpersson.plugins.solved.curve_variables`: selecting every variable cost
-    ~1.5 ms per call at 1000 loads); all loads: ``ctx`` and ``ds`` themselves."""
-    p0 = np.atleast_1d(np.asarray(ctx.p0, dtype=float))
-    if rows.size == p0.size and np.array_equal(rows, np.arange(p0.size)):
-        return ctx, ds
-    solve_at = getattr(ctx, "solve_at", None)
-    if solve_at is not None:
-        whole = solve_at
-
-        def solve_at(zeta: Any, loads: Any = None, tau: Any = None) -> Any:
-            sel = rows if loads is None else rows[np.asarray(loads, dtype=int)]
-            return whole(zeta, sel, tau)
-
-    sub = dataclasses.replace(ctx, p0=p0[rows], solve_at=solve_at)
-    return sub, _Rows(ds, curve_variables(ctx), rows)
-
-
-class _Rows:
-    """The variables ``names`` of a Dataset at the loads ``rows``, as ``ds[names].isel(p0=rows)``
-    holds them (``.variables``: the same values, dimensions and attributes; what
-    :func:`xpersson.plugins.solved.solved_curve` reads), without building a Dataset: xarray's
-    ``isel`` cost ~0.2 ms of every direct call."""
-
-    def __init__(self, ds: Any, names: tuple[str, ...], rows: NDArray[np.intp]) -> None:
-        out = {}
-        for name in names:
-            var = ds.variables.get(name)
-            if var is not None and "p0" in var.dims:
-                axis = var.dims.index("p0")
-                var = xr.Variable(var.dims, np.take(var.values, rows, axis=axis), var.attrs)
-            if var is not None:
-                out[name] = var
-        self.variables = out

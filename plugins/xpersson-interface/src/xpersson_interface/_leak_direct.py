@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from xpersson import physics
 
+from ._by_load import COMPUTED
 from ._chunks import Part, bin_edges, joined
 from ._leakage import NEGLIGIBLE, bruggeman_gap, junction_piece, leak_rate
 
@@ -42,7 +43,10 @@ def outputs(
     the flags as floats; ``piece``: the pieces of the spectrum, between its breakpoints, that
     ``u1``'s difference quotient around ``zeta_c`` reaches (``u1`` has a step where it crosses
     one, e.g. the roll-off). ``medium`` (per load): the loads whose effective medium is
-    computed (None: every load; the others' NaN)."""
+    asked for (None: every load); it is computed for them, and for every load of a chunk
+    most of whose loads ask (:data:`SPLIT`), the others' NaN; with ``medium``, the groups
+    computed per load are ``COMPUTED`` (:data:`._by_load.COMPUTED`: (n_load, 2), the
+    junction's and the medium's), for the load table to keep."""
     a_c = float(p["a_c"])
     edges, thr = bin_edges(s, int(p["n_bins"])), a_c if p["emt_threshold"] == "a_c" else None
 
@@ -63,20 +67,23 @@ def outputs(
         rows, sub, sc = part
         ask = np.ones(sub.p0.size, dtype=bool) if medium is None else medium[rows]
         if np.count_nonzero(ask) >= SPLIT * ask.size:  # (the medium of a few more loads:
-            return full(part)  # cheaper than a detachment and gap cells of their own)
+            # cheaper than a detachment and gap cells of their own; computed for every load)
+            return *full(part), np.ones(ask.size, dtype=bool)
         zc, u1, ubar, u3 = junction(part)  # every load's junction on the call's contact
         sel = np.flatnonzero(ask)
         if sel.size:  # the medium's loads on a SolvedContact of their own: the call's
             # curve, Phi and mean gap sliced to their rows (built for the junction already)
             det = sc.rows(sel).detachment(edges, negligible=NEGLIGIBLE)
             u3[sel] = bruggeman_gap(det, a_c=thr, per_load=True)
-        return zc, u1, ubar, u3
+        return zc, u1, ubar, u3, ask
 
-    zc, u1, ubar, u3 = joined(parts, one)
-    skip = None if medium is None or medium.all() else ~medium
-    return _leak_outputs(p, dp, zc, u1, ubar, u3, skip) | {
+    zc, u1, ubar, u3, done = joined(parts, one)  # (done: the loads whose medium is computed)
+    out = _leak_outputs(p, dp, zc, u1, ubar, u3, None if done.all() else ~done) | {
         "piece": junction_piece(s.psd, zc, float(s.zeta[-1]), p0)
     }
+    if medium is not None:  # the groups computed (the junction always), asked for or not
+        out[COMPUTED] = np.stack([np.ones(done.size, dtype=bool), done], axis=1)
+    return out
 
 
 def _leak_outputs(

@@ -35,6 +35,7 @@ from xpersson.physics import Detachment, gap_cdf
 from xpersson.plugins.solved import per_solve
 from xpersson.plugins.stored import spectrum_of
 
+from ._by_load import COMPUTED
 from ._newton import newton
 from ._stencils import Weight
 
@@ -431,6 +432,8 @@ def with_sealed(
     out |= {k: np.ones(n) for k in ("leak_sealed", "leak_sealed_emt")}
     psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))  # the direct path's
     out["piece"] = np.full(n, junction_piece(psd, np.full(1, np.nan), 1.0, np.ones(1))[0])
+    if which is not None:  # (a sealed load's outputs: every group's, exact)
+        out[COMPUTED] = np.ones((n, np.shape(which)[0]), dtype=bool)
     if not shut.all():
         sub = () if which is None else (np.asarray(which)[:, ~shut],)
         for k, v in direct(ctx, ds, rows[~shut], *sub).items():

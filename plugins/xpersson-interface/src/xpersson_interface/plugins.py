@@ -47,9 +47,8 @@ from ._by_load import (
     TABLE_MIN,
     TOL,
     by_load,
-    subset,
 )
-from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined
+from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined, subset
 from ._first_level import at_kinks, first_level
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leak_direct import outputs
