@@ -71,7 +71,7 @@ ODD_SPAN = 4  # levels per combination (cancelling h^2 .. h^ODD_SPAN)
 ODD_FIRST = ODD_SPAN + 1  # the first odd answer: levels 1 .. ODD_FIRST of a grid
 
 
-ODD_MARGIN = 5.0  # the estimate: ODD_MARGIN x the asymptotic error of the answer (measured
+ODD_MARGIN = 2.0  # the estimate: ODD_MARGIN x the asymptotic error of the answer (measured
 # on the 22 marching scenes of the held-out design at 24 nodes: actual error / asymptotic
 # estimate 0.5-1.1 for levels 2-5, up to 2.2 on "flat H=0.16 5dec")
 
@@ -135,17 +135,16 @@ def _k_ratio(top: int) -> float:
 
 
 def _combination(lv: Any, judge: Any, n: int, top: int) -> tuple[Answer, float] | None:
-    """The answer of levels ``1 .. top`` of grid ``n`` and its estimate / tolerance (see the
-    module); None: a budget ended the search."""
+    """The answer ``X_5`` of levels ``top - 4 .. top`` of grid ``n`` and its estimate /
+    tolerance, ``ODD_MARGIN |X_5 - X_b|`` (see the module); None: a budget ended the search."""
     lvs = lv.levels(n, tuple(range(1, top + 1)), judge.six_dense)
     if lvs is None:
         return None
-    ma, mb = _span(top)
+    mb, m5 = _span(top)[1], tuple(range(top - ODD_SPAN, top + 1))
     x_b = weighted(lvs[mb[0] - 1 : mb[-1]], odd_weights(mb))
-    x_a = weighted(lvs[ma[0] - 1 : ma[-1]], odd_weights(ma))
-    ka, kb = odd_constant(ma), odd_constant(mb)
-    err, ratio = judge.ratio(x_b, x_a, ODD_MARGIN * kb / (ka - kb))
-    return (err, x_b, top * n), ratio
+    x_5 = weighted(lvs[m5[0] - 1 : m5[-1]], odd_weights(m5))
+    ratio = judge.ratio(x_5, x_b, ODD_MARGIN)[1]
+    return (judge.tol(x_5.area) * ratio, x_5, top * n), ratio
 
 
 def _odd_next(top: int, ratio: float, aim: float) -> tuple[bool, float]:
