@@ -99,3 +99,40 @@ def test_an_h3_term_is_seen_and_cancelled():
     levels = lv.levels(24, (2, 3, 4), 1)
     s = sum(w * o.area for w, o in zip(richardson_weights((2, 3, 4)), levels, strict=True))
     assert np.max(np.abs(s - EXACT) / (1e-6 * EXACT)) > 1.0
+
+
+def test_five_levels_answer_with_the_batch_worst_distance():
+    """Level errors ``1e-6 sum_p a_p m^-p`` of the area (in tolerances: ``a_p``) with an h^3
+    term that rejects the sixth order and an h^5 term that the four-level combination X_b
+    leaves (with the h^6 term: 0.28 tolerances): the answer at five levels is the combination
+    of levels 1-5 that cancels h^2 .. h^5 (0.056 tolerances off), within its estimate
+    (ODD_MARGIN x the batch's worst distance to X_b: 0.45 tolerances), which is the same
+    fraction of the tolerance at every load and output; no sixth level is solved (5x the
+    asymptotic error of X_b, the estimate before, is 1.13 tolerances)."""
+    exact = np.array([[0.25, 1e-3, 3e-7], [0.5, 2e-2, 1e-5]])
+    scale = np.array([[1.0], [0.1]])  # the second load's errors 10x smaller
+    a = {2: 1e3, 3: 2e4, 4: -3e3, 5: 600.0, 6: -100.0}
+    lv = _Levels({})
+
+    def levels(n, mults, dense):
+        out = []
+        for m in mults:
+            lv.solved.add((n, m))
+            rel = 1e-6 * sum(c * float(m) ** -p for p, c in a.items())
+            area = exact * (1.0 + rel * scale)
+            zero = np.zeros_like(area)
+            out.append(Outputs(area, zero, zero, zero + 1e6, zero, zero, None))
+        return out
+
+    lv.levels = levels
+    pb = SimpleNamespace(rtol=1e-6, atol=1e-14, lower=None, upper=None, p_out=None)
+    judge = _Judge(pb, np.ones_like(exact), graded=False, stiff=True)
+    est, best, n_used = odd_rounds(lv, judge, 24, 0.5)
+    assert lv.solved == {(24, m) for m in range(1, 6)} and n_used == 5 * 24
+    five = levels(24, (1, 2, 3, 4, 5), 1)
+    x5 = sum(w * o.area for w, o in zip(odd_weights((1, 2, 3, 4, 5)), five, strict=True))
+    np.testing.assert_allclose(best.area, x5, rtol=1e-12)
+    tol = 1e-6 * np.abs(best.area) + 1e-14
+    np.testing.assert_allclose(est / tol, (est / tol).max(), rtol=1e-9)
+    assert np.all(np.abs(best.area - exact) <= est) and np.all(est <= tol)
+    assert 0.4 < (est / tol).max() < 0.5
