@@ -260,12 +260,10 @@ def attach(
         for k in _NUMERIC
     }
     numeric.update(_load_features(ds, dims))
-    numbers = _numbers(numeric) if len(points) == 1 else None
     new: dict[str, xr.Variable] = {}
     for name in names:
         groups = _groups(name, scenes, points, index, dims)
-        if numbers is None or not _point_bands(ds, name, numeric, numbers, groups, listed, new):
-            new.update(_ancillaries(ds, name, numeric, groups, listed))
+        new.update(_ancillaries(ds, name, numeric, groups, listed))
     insert_or_set(ds, new)  # every output's three at once (one insertion)
     for name in names:
         ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
@@ -469,18 +467,9 @@ def _ancillaries(
     var = ds.variables[name]
     vdims, x = _finest(var)
     low, high, status = _bands(name, vdims, x.shape, numeric, groups, index[1].get(name, []))
-    return _variables(name, var, vdims, x, (low, high, status), index[2])
-
-
-def _variables(
-    name: str, var: Any, vdims: tuple[str, ...], x: Any, bands: tuple[Any, Any, Any], source: str
-) -> dict[str, xr.Variable]:
-    """The three ancillary Variables of output ``name`` (its Variable ``var``; ``x``: its
-    values at the largest magnification, over ``vdims``) from its ``(low, high, status)``
-    bands and the ancillaries' ``comment`` ``source``."""
-    low, high, status = bands
     units = var.attrs.get("units", "1")
     where = " at the largest magnification (the full roughness)" if "zeta" in var.dims else ""
+    source = index[2]
     new = {}
     for suffix, factor, side in (("_exact_low", low, "lower"), ("_exact_high", high, "upper")):
         new[name + suffix] = new_variable(
@@ -507,59 +496,3 @@ def _variables(
         },
     )
     return new
-
-
-def _numbers(numeric: dict[str, Any]) -> dict[str, float] | None:
-    """The numeric features of one point as floats (what :func:`_in_ranges` compares), or
-    None when one of them is an array over points or loads (a Dataset over ``p0``)."""
-    out = {}
-    for key, (_, values) in numeric.items():
-        if np.ndim(values) != 0:
-            return None
-        out[key] = float(values)
-    return out
-
-
-def _point_bands(
-    ds: Any,
-    name: str,
-    numeric: dict[str, Any],
-    numbers: dict[str, float],
-    groups: list[Any],
-    listed: tuple[Any, dict[str, list[Any]], str],
-    new: dict[str, xr.Variable],
-) -> bool:
-    """Add to ``new`` the ancillaries of output ``name`` of one point whose value at the
-    largest magnification is a number and whose numeric features are the floats ``numbers``:
-    :func:`_ancillaries` with :func:`_band_of_point`'s search on those floats (the same first
-    entry, the same trend on ``numeric``'s arrays, the same Variables). False (nothing added)
-    for an output with values over another dimension."""
-    var = ds.variables[name]
-    vdims, x = _finest(var)
-    if x.shape != ():
-        return False
-    bands = (np.array(np.nan), np.array(np.nan), np.array(0, dtype=np.int8))
-    (feats, opts, (_, mask)) = groups[0]
-    if len(groups) != 1 or not bool(mask):
-        return False
-    for entry in listed[1].get(name, ()):
-        if _matches(entry, feats, opts) and _holds(entry, numbers, feats):
-            low, high = _trend(entry, _Over(numeric, (), ()), feats, ())
-            bands = (low, high, np.array(entry.get("status", 1), dtype=np.int8))
-            break
-    new.update(_variables(name, var, vdims, x, bands, listed[2]))
-    return True
-
-
-def _holds(entry: dict[str, Any], numbers: dict[str, float], feats: dict[str, Any]) -> bool:
-    """:func:`_in_ranges` of one point whose numeric features are the floats ``numbers``."""
-    for key, (lo, hi) in entry.get("ranges", {}).items():
-        if key in numbers:
-            v = numbers[key]
-        elif key in feats:
-            v = float(np.asarray(feats[key], float))  # as the array path reads it (None: NaN)
-        else:
-            return False
-        if not (v >= lo and v < hi):
-            return False
-    return True
