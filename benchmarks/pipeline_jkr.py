@@ -19,8 +19,14 @@ isolated time inside a solve).
 
 Usage::
 
-    OPENBLAS_NUM_THREADS=1 python benchmarks/pipeline_jkr.py
+    OPENBLAS_NUM_THREADS=1 python benchmarks/pipeline_jkr.py [--vary]
     python benchmarks/pipeline_jkr.py --seed 36 --scene "flat H=0.39 4dec" --row "jkr, one load"
+    python benchmarks/pipeline_jkr.py --seed 36 --scene "roll H=0.60 5dec" --closed-form --vary
+
+``--vary`` gives every solve a new load (``p0`` changed in its ninth digit): each solve then
+parses a new load and resolves a scene not seen before, as a user's next scene does.
+``--closed-form`` measures the elastic scene of the row "one closed-form load vs its kernel"
+(one absorbing wall: the closed form) on the named spectrum instead of a ``jkr`` row.
 """
 
 from __future__ import annotations
@@ -92,8 +98,32 @@ def _best(fns: dict[str, object], calls: int, rounds: int) -> dict[str, float]:
     return out
 
 
-def account(sc: dict, calls: int, rounds: int) -> tuple[dict[str, float], dict[str, float]]:
-    """``(totals, stages)`` [us per solve] of scene ``sc`` (see the module's docstring)."""
+def _varied(sc: dict, vary: bool):
+    """A function of no argument giving ``sc``, or with ``vary`` a copy of it at a new load each
+    call (``p0`` times ``1 + k 1e-9``, k counting up: every solve resolves and solves a scene
+    not seen before, as a user's next scene; no per-scene cache can pay)."""
+    if not vary:
+        return lambda: sc
+    import copy
+
+    import xpersson
+
+    p0 = float(xpersson.Scene(sc).resolve().p0[0])
+    count = iter(range(1, 1 << 62))
+
+    def new() -> dict:
+        out = copy.copy(sc)
+        out["load"] = {"p0": f"{p0 * (1 + next(count) * 1e-9)!r} Pa"}
+        return out
+
+    return new
+
+
+def account(
+    sc: dict, calls: int, rounds: int, vary: bool = False
+) -> tuple[dict[str, float], dict[str, float]]:
+    """``(totals, stages)`` [us per solve] of scene ``sc`` (see the module's docstring;
+    ``vary``: a new load at every solve, :func:`_varied`)."""
     from cn_walls import engine_call_of
 
     import xpersson
@@ -102,15 +132,16 @@ def account(sc: dict, calls: int, rounds: int) -> tuple[dict[str, float], dict[s
     alone = engine_call_of(sc)
     result = alone()
     real = engine.solve_batch
+    scene = _varied(sc, vary)
 
     def handed_back() -> None:
         engine.solve_batch = lambda *a, **k: result
         try:
-            xpersson.solve(sc)
+            xpersson.solve(scene())
         finally:
             engine.solve_batch = real
 
-    fns = {"solve": lambda: xpersson.solve(sc), "engine alone": alone}
+    fns = {"solve": lambda: xpersson.solve(scene()), "engine alone": alone}
     fns["pipeline, engine handed back"] = handed_back
     for fn in fns.values():  # warm: caches, the compiled march
         for _ in range(10):
@@ -123,7 +154,7 @@ def account(sc: dict, calls: int, rounds: int) -> tuple[dict[str, float], dict[s
     for _ in range(rounds):
         acc.clear()
         for _ in range(calls):
-            xpersson.solve(sc)
+            xpersson.solve(scene())
         for label, ns in acc.items():
             stages[label] = min(stages.get(label, float("inf")), ns / calls / 1e3)
     return totals, stages
@@ -141,13 +172,26 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--row", default="engine (jkr) vs C march, rtol 1e-6")
     ap.add_argument("--calls", type=int, default=300)
     ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument(
+        "--closed-form",
+        action="store_true",
+        help="the row 'one closed-form load vs its kernel' instead (elastic, 100 kPa)",
+    )
+    ap.add_argument("--vary", action="store_true", help="a new load at every solve")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
     _compiled.build()  # the compiled march, as summary.py's rows
     specs = dict(design(12, 36) if args.seed == 36 else held_out(12, args.seed))
-    sc = _march_cases(specs[args.scene])[args.row][0]
-    totals, stages = account(sc, args.calls, args.rounds)
-    print(f"seed {args.seed}: {args.scene}: {args.row} (us per solve, CPU, best of rounds)")
+    if args.closed_form:
+        from summary_design import scene
+
+        args.row = "one closed-form load (elastic, 100 kPa)"
+        sc = scene(specs[args.scene], "100 kPa")
+    else:
+        sc = _march_cases(specs[args.scene])[args.row][0]
+    totals, stages = account(sc, args.calls, args.rounds, args.vary)
+    how = ", a new load each solve" if args.vary else ""
+    print(f"seed {args.seed}: {args.scene}: {args.row} (us per solve, CPU, best of rounds{how})")
     for label, us in totals.items():
         print(f"  {label:44s} {us:8.0f}")
     rest = totals["solve"] - totals["engine alone"] - totals["pipeline, engine handed back"]

@@ -8,6 +8,7 @@ import xarray as xr
 
 import xpersson
 from xpersson import memory, provenance
+from xpersson.cache import cache
 from xpersson.engine import exact, solve
 from xpersson.pipeline import assemble
 from xpersson.schema import COORDS, CORE_VARIABLES, stamp
@@ -58,6 +59,7 @@ def test_dataset_built_directly_is_identical_to_the_public_constructor(monkeypat
 def test_environment_and_units_are_computed_once_per_process():
     store = provenance._environment_json.cache
     store.clear()
+    cache("provenance.kind_attributes").clear()  # the attributes a kind of scene shares
     with xpersson.set_options(cache=True):  # also in CI's run with the caches off
         xpersson.solve(SCENE)
         xpersson.solve(SCENE)

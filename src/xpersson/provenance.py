@@ -226,31 +226,70 @@ def global_attributes(rs: Any, registry: Any = None) -> dict[str, str]:
     """
     del registry
     now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
-    release = version()
-    plugins_json, refs = _plugins_json(rs)
-    title = rs.resolved.get("title") or "Persson contact-mechanics solution"
-    return {
-        "Conventions": CONVENTIONS,
-        "title": title,
-        "summary": rs.resolved.get(
-            "description",
-            "Pressure distribution and contact area of a rough interface by Persson's "
-            "multiscale contact theory (diffusion equation in magnification).",
-        ),
-        "source": f"xpersson {release}",
-        "history": f"{now} xpersson {release} solve",
-        "date_created": now,
-        "references": "; ".join(f"doi:{r}" if r.startswith("10.") else r for r in refs),
-        "keywords": "contact mechanics, roughness, Persson theory, contact area",
-        "standard_name_vocabulary": STANDARD_NAME_VOCABULARY,
-        "processing_level": "model output",
-        "product_version": release,
-        **user_metadata(),  # the user's defaults (a metadata file)
-        **dict(rs.resolved.get("metadata", {})),  # the scene's ACDD attributes win
-        "xpersson_version": release,
-        "xpersson_scene": _scene_json(rs.resolved),
-        # the file name only: no machine-specific path goes into an archive
-        "xpersson_scene_source": Path(rs.scene.source).name if rs.scene.source else "<dict>",
-        "xpersson_plugins": plugins_json,
-        "xpersson_environment": _environment_json(),
-    }
+    out = dict(_kind_attributes(rs, user_metadata()))  # a copy: the Dataset's own attrs
+    out["history"] = f"{now} {out['history']}"
+    out["date_created"] = now
+    out["xpersson_scene"] = _scene_json(rs.resolved)
+    # the file name only: no machine-specific path goes into an archive
+    out["xpersson_scene_source"] = Path(rs.scene.source).name if rs.scene.source else "<dict>"
+    return out
+
+
+_KIND = Cache(
+    "provenance.kind_attributes",
+    scope="process",
+    maxsize=64,
+    doc="the global attributes every scene of a kind shares (the same plugins, title, "
+    "description and metadata, the same user's metadata file), in their order",
+)
+
+
+def _kind_attributes(rs: Any, user: dict[str, str]) -> dict[str, str]:
+    """The attributes of :func:`global_attributes` in their order, those that depend only on
+    the kind of scene (its plugins' records, title, description and ``[metadata]``) and the
+    user's metadata ``user`` set, the others placeholders (``history`` without its time,
+    ``date_created``, ``xpersson_scene`` and ``xpersson_scene_source`` empty: set at each
+    solve): made once per kind of scene, read only (the caller copies it)."""
+    resolved = rs.resolved
+    title = resolved.get("title") or "Persson contact-mechanics solution"
+    summary = resolved.get("description", _SUMMARY)
+    meta = resolved.get("metadata", {})
+
+    def make() -> dict[str, str]:
+        release = version()
+        plugins_json, refs = _plugins_json(rs)
+        return {
+            "Conventions": CONVENTIONS,
+            "title": title,
+            "summary": summary,
+            "source": f"xpersson {release}",
+            "history": f"xpersson {release} solve",
+            "date_created": "",
+            "references": "; ".join(f"doi:{r}" if r.startswith("10.") else r for r in refs),
+            "keywords": "contact mechanics, roughness, Persson theory, contact area",
+            "standard_name_vocabulary": STANDARD_NAME_VOCABULARY,
+            "processing_level": "model output",
+            "product_version": release,
+            **user,  # the user's defaults (a metadata file)
+            **dict(meta),  # the scene's ACDD attributes win
+            "xpersson_version": release,
+            "xpersson_scene": "",
+            "xpersson_scene_source": "",
+            "xpersson_plugins": plugins_json,
+            "xpersson_environment": _environment_json(),
+        }
+
+    records = getattr(rs, "plugin_records_json", None)
+    if records is None:  # no text of the records to key on: made each time
+        return make()
+    key = (records, title, summary, tuple(meta.items()), tuple(user.items()))
+    try:
+        return _KIND.get(key, make)
+    except TypeError:  # a value without a content key (not a string)
+        return make()
+
+
+_SUMMARY = (
+    "Pressure distribution and contact area of a rough interface by Persson's "
+    "multiscale contact theory (diffusion equation in magnification)."
+)

@@ -233,6 +233,9 @@ def to_si(value: Any, unit: str, where: str, *, array: bool = False) -> Any:
     if isinstance(value, bool):
         raise UnitError(f"{where}: expected a quantity in {unit}, got a boolean")
     if isinstance(value, str) and not array:
+        plain = _plain_si(value, unit)  # "<number> <symbol>": within every bound, no pint
+        if plain is not None:
+            return plain
         check_expression(value.strip(), where)  # the bounds hold for the fast path too
         try:  # sweeps resolve the same strings at every point: parse each once
             return _str_to_si(value, unit)
@@ -281,6 +284,28 @@ def _simple_unit(text: str) -> tuple[float, tuple[tuple[str, int], ...]] | None:
         factor *= pre**power
         dims[base] = dims.get(base, 0) + power
     return factor, tuple(sorted((k, v) for k, v in dims.items() if v))
+
+
+#: one number and one (prefixed) SI symbol, e.g. ``"1.5e3 kPa"``: the texts of loads
+_PLAIN = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-zµμ]+)\s*")
+
+
+def _plain_si(value: str, unit: str) -> float | None:
+    """:func:`to_si` of a text that is one number and one (prefixed) SI symbol of ``unit``'s
+    dimension (``"100.37 kPa"``), without the bound checks' regular expressions: such a text
+    meets every bound of :func:`check_expression` (no parentheses, exponents or second
+    number; at most :data:`MAX_TEXT` characters checked here). The float
+    :func:`_simple_si` gives; ``None`` for any other text (the general path)."""
+    if len(value) > MAX_TEXT:
+        return None
+    m = _PLAIN.fullmatch(value)
+    if m is None:
+        return None
+    have, want = _simple_unit(m.group(2)), _simple_unit(unit)
+    if have is None or want is None or want[0] != 1.0 or have[1] != want[1]:
+        return None
+    x = float(m.group(1))
+    return (x if have[0] == 1.0 else x * have[0]) + 0.0  # as _simple_si
 
 
 def _simple_si(value: str, unit: str) -> float | None:

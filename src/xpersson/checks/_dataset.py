@@ -298,9 +298,15 @@ def check_contributions(
             f"name -> DataArray or (dims, data)",
             plugin=who,
         )
-    out = {}
     sizes = dict(ds.sizes)
-    for name, value in values.items():
+    plain = _plain_pairs(values, specs, ds.variables, sizes)
+    if plain is not None and _clean(
+        [arr for _, arr in plain.values()],
+        [(specs[n].valid_min, specs[n].valid_max) for n in plain],
+    ):
+        return plain  # every value the common case, and clean: the same pairs, one pass
+    out = {}
+    for name, value in values.items():  # in order: the first failure raises its own message
         if name not in specs:
             raise PluginFailure(
                 f"{who} returned {name!r} without declaring it in its outputs "
@@ -317,6 +323,78 @@ def check_contributions(
             )
         out[name] = checked_variable(ds, name, value, specs[name], who, sizes)
     return out
+
+
+def _plain_pairs(
+    values: Mapping[str, Any],
+    specs: Mapping[str, Any],
+    have: Mapping[str, Any],
+    sizes: Mapping[str, int],
+) -> dict[str, tuple[tuple[str, ...], np.ndarray]] | None:
+    """``{name: (dims, ndarray)}`` when every value of a contribution is the common case of
+    :func:`checked_variable` (a ``(dims, data)`` pair of floats on exactly the declared dims
+    and the Dataset's sizes, a declared name the Dataset lacks, NaN not allowed), else None."""
+    out = {}
+    for name, value in values.items():
+        spec = specs.get(name) if type(name) is str else None
+        if spec is None or name in have or type(value) is not tuple or len(value) != 2:
+            return None
+        dims, arr = value
+        dims = (dims,) if isinstance(dims, str) else dims
+        if type(dims) is not tuple:
+            try:
+                dims = tuple(dims)
+            except TypeError:
+                return None
+        arr = np.asarray(arr)
+        if (
+            arr.dtype.kind != "f"
+            or spec.nan_meaning is not None
+            or dims != tuple(spec.dims)
+            or len(dims) != arr.ndim
+            or not all(type(d) is str for d in dims)
+            or arr.shape != tuple(sizes.get(d, -1) for d in dims)
+        ):
+            return None
+        out[name] = (dims, arr)
+    return out
+
+
+#: the largest finite float64: a bound that every finite value meets and no inf or NaN does
+_BIG = float(np.finfo(float).max)
+
+
+def _clean(arrays: list[np.ndarray], bounds: list[tuple[Any, Any]]) -> bool:
+    """Whether every float array of ``arrays`` is finite and within its ``(valid_min,
+    valid_max)`` of ``bounds`` (None: no bound): the rule of :func:`_check_values` on floats
+    (two reductions: min and max propagate NaN, and +-inf shows in them), the arrays that share
+    their bounds reduced together (small ones concatenated: one min and one max for all).
+    False may also mean "not decided here" (an array that is not float64 or float32): the
+    caller then checks each array on its own, with its messages."""
+    groups: dict[tuple[Any, Any], list[np.ndarray]] = {}
+    for arr, bound in zip(arrays, bounds, strict=True):
+        if arr.dtype.kind != "f" or arr.dtype.itemsize > 8:
+            return False
+        if arr.size:
+            groups.setdefault(bound, []).append(arr.ravel() if arr.size <= _ONE_PASS else arr)
+    for (vmin, vmax), group in groups.items():
+        small = [a for a in group if a.size <= _ONE_PASS]
+        if len(small) > 1:
+            group = [np.concatenate(small), *(a for a in group if a.size > _ONE_PASS)]
+        for arr in group:
+            a_min, a_max = float(arr.min()), float(arr.max())
+            if not (
+                math.isfinite(a_min)
+                and math.isfinite(a_max)
+                and (vmin is None or a_min >= vmin)
+                and (vmax is None or a_max <= vmax)
+            ):
+                return False
+    return True
+
+
+#: arrays of at most this many values are checked together (a copy of them into one buffer)
+_ONE_PASS = 4096
 
 
 # -- the engine's own outputs --------------------------------------------------------------------

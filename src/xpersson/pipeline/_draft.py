@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ._insert import cached_index, new_variable, values_of
+from ._insert import _DIRECT, cached_index, new_variable, values_of
 
 __all__ = ["Draft"]
 
@@ -43,8 +43,11 @@ class Draft:
 
     def __init__(self, variables: dict[str, xr.Variable], coord_names: set[str]) -> None:
         dims: dict[str, int] = {}
-        for var in variables.values():
-            dims.update(zip(var.dims, var.shape, strict=True))
+        for var in variables.values():  # (the slots: the properties cost ~0.4 us a read)
+            if _DIRECT:
+                dims.update(zip(var._dims, var._data.shape, strict=True))  # noqa: SLF001
+            else:  # pragma: no cover - an xarray whose Variable holds other state
+                dims.update(zip(var.dims, var.shape, strict=True))
         self._variables, self._dims, self._coord_names = variables, dims, coord_names
         self._indexes: dict[str, Any] = {}  # made with the Dataset (new dims' by insert_direct)
         self.attrs: dict[str, Any] = {}
@@ -111,12 +114,19 @@ class Draft:
         it a view at ``p0 = 0``, ``p0`` a scalar coordinate without index), in place (the
         mappings are new: a draft :meth:`of` a Dataset leaves the Dataset as it is).
 
-        ``own``: the variables are the draft's alone (a run's), so the squeezed ones take
-        their attrs and encoding dicts over instead of copies."""
-        self._variables = {
-            name: _squeezed(var, own) if "p0" in var.dims else var
-            for name, var in self._variables.items()
-        }
+        ``own``: the variables are the draft's alone (a run's), so a squeezed one keeps its
+        attrs and encoding dicts instead of copies (a Variable whose data is a numpy array with
+        ``p0`` first is changed in place: its dims and data replaced)."""
+        if own:
+            self._variables = {
+                name: _squeezed_own(var) if "p0" in var._dims else var  # noqa: SLF001
+                for name, var in self._variables.items()
+            }
+        else:
+            self._variables = {
+                name: _squeezed(var, own) if "p0" in var.dims else var
+                for name, var in self._variables.items()
+            }
         self._dims = {d: n for d, n in self._dims.items() if d != "p0"}
         self._indexes = {k: v for k, v in self._indexes.items() if k != "p0"}
         return self
@@ -134,6 +144,20 @@ class Draft:
         return xr.Dataset._construct_direct(  # noqa: SLF001 - one set of dims: nothing to align
             variables, set(self._coord_names), dict(self._dims), self.attrs, indexes
         )
+
+
+def _squeezed_own(var: xr.Variable) -> xr.Variable:
+    """:func:`_squeezed` of a Variable the draft owns: one whose data is a numpy array with
+    ``p0`` first and whose view at ``p0 = 0`` is an array or a numpy scalar is changed in place
+    (dims and data; the same attrs and encoding: what ``_squeezed(var, own=True)`` makes,
+    without a new object); any other through :func:`_squeezed`."""
+    dims, raw = var._dims, var._data  # noqa: SLF001 - see the module docstring
+    if _DIRECT and type(raw) is np.ndarray and dims[0] == "p0" and type(var) is xr.Variable:
+        data = raw[0]
+        if type(data) is np.ndarray or isinstance(data, np.generic):
+            var._dims, var._data = dims[1:], data  # noqa: SLF001
+            return var
+    return _squeezed(var, True)
 
 
 def _squeezed(var: xr.Variable, own: bool) -> xr.Variable:

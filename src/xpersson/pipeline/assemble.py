@@ -209,7 +209,7 @@ def diagnostics_notes(ds: xr.Dataset) -> list[str]:
     regime warnings and the unresolved P as notes."""
     theory_validity(ds)
     notes = regime_warnings(ds)
-    ds.attrs["regime_warnings"] = json.dumps(notes)
+    ds.attrs["regime_warnings"] = json.dumps(notes) if notes else "[]"  # (json.dumps([]))
     unresolved = pdf_resolution(ds)
     return notes + ([unresolved] if unresolved else [])
 
