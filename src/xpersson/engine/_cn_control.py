@@ -8,7 +8,8 @@ the step, which Richardson extrapolation cancels).
 
 * Second order (mode ``R``): the pair ``mult = 1, 2``; the finer level is the answer, its error
   estimate ``2 |R_2 - R_1| / 3`` (twice the asymptotic value).  Used while the grid it predicts
-  is at most ``R_MAX_REFINE`` times the pilot's.
+  is at most ``R_MAX_REFINE`` (~1.79) times the last pair's: a pair grown further costs more
+  than the one level (``mult = 4``) that turns the last pair into a fourth-order triple.
 * Fourth order (mode ``E``): the triple ``mult = 1, 2, 4``, answer ``E(2, 4)``, estimate
   ``2 |E(2, 4) - E(1, 2)| / 15`` (twice the asymptotic value).
 * Sixth order (mode ``S``; moving walls without declared breakpoints and without densities,
@@ -69,7 +70,14 @@ AIM = 0.5  # the next grid is aimed at an error estimate of AIM x tolerance (abo
 # estimate is the actual error: AIM/2 x rtol expected; 0.5 leaves a factor 2 for the prediction)
 
 
-R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else sixth order)
+R_WORK = 5.0  # node-steps of a second-order pair over (n^2 x the pilot's steps per node): 1 + 4
+
+
+R_MAX_REFINE = math.sqrt((21.0 - R_WORK) / R_WORK)  # largest refinement the second-order mode
+# may ask for (~1.79): beyond it the pair grown that far (R_WORK x refinement^2) costs more than
+# the one level that makes the pair a fourth-order triple (mult 4: 16 units), which then comes
+# first (at 8, rtol 1e-2 took 2-3x the node-steps of rtol 1e-3 on every fixed-wall scene of
+# benchmarks/engine_vs_peers.py: a pair at ~7.7x the pilot's grid instead of the triple)
 
 
 R_SKIP = 64.0  # a second-order pilot asking for a refinement beyond R_SKIP: sixth-order pilot
@@ -229,12 +237,13 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
         e_r, ratio = judge.ratio(l2, l1, 2.0 / 3.0)  # ~2x error of R(2n)
         if ratio <= 1.0:
             return _Fit(e_r, combine(l2, l1, False), 2 * n_base)
-        if math.sqrt(ratio / aim) > R_MAX_REFINE:
-            break
         # after a missed prediction (slower than second order, e.g. kinks of a tabulated
         # wall) grow at least 1.25x, so that the grids keep advancing
         rounds += 1
-        n_base = _round_grid(n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25))
+        grown = _round_grid(n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25))
+        if grown > R_MAX_REFINE * n_base:  # (the grid it would solve, rounded)
+            break
+        n_base = grown
     return _high_order(lv, judge, n_base, aim, math.sqrt(ratio / aim) > R_SKIP)
 
 
