@@ -84,6 +84,12 @@ R_SKIP = 64.0  # a second-order pilot asking for a refinement beyond R_SKIP: six
 # first (where it fits), the fourth-order one only if the sixth order would cost more
 
 
+FAR_RTOL = 1e-3  # ... judged at rtol FAR_RTOL where the tolerance is looser: a pilot that far
+# from its answer is not nearer at a looser tolerance, and the levels tried first at rtol 1e-2
+# cost more than the sixth order's first (on the stiff plastic scenes of benchmarks/fuzz.py
+# seed 33, 1.47e6 node-steps at rtol 1e-2 against 1.19e6 at 1e-3)
+
+
 DENSE = 2  # steps per node of the sixth-order levels, in units of the pilot's
 
 
@@ -244,7 +250,9 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
         if grown > R_MAX_REFINE * n_base:  # (the grid it would solve, rounded)
             break
         n_base = grown
-    return _high_order(lv, judge, n_base, aim, math.sqrt(ratio / aim) > R_SKIP)
+    # (far: judged as at FAR_RTOL where the tolerance is looser, see there)
+    far = math.sqrt(ratio / aim * max(pb.rtol / FAR_RTOL, 1.0)) > R_SKIP
+    return _high_order(lv, judge, n_base, aim, far)
 
 
 RELEASE = 1e-3  # a yield wall that left the window is released where the pilot level's
@@ -311,16 +319,19 @@ def _k6(mults: tuple[int, ...]) -> float:
     return k
 
 
-def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float] | None:
+def _sixth(
+    lv: Any, judge: _Judge, n: int, top: int = 4, dense: int = 0
+) -> tuple[_Fit, float] | None:
     """The sixth-order combinations of the levels ``top - 2 .. top`` (the answer) and
     ``top - 3 .. top - 1`` of grid ``n`` (see the module), and the estimate / tolerance.
 
     The estimate is ``S_MARGIN`` times the asymptotic error of the answer,
     ``|S_b - S_a| K_b / (K_a - K_b)`` (``K = prod m^-2``: for ``top = 4`` it is
-    ``|S_b - S_a|``).  None: a budget ended the search.
+    ``|S_b - S_a|``).  ``dense``: steps per node of the levels (0: the sixth order's own,
+    ``judge.six_dense``).  None: a budget ended the search.
     """
     ma, mb = tuple(range(top - 3, top)), tuple(range(top - 2, top + 1))
-    lvs = lv.levels(n, tuple(range(top - 3, top + 1)), judge.six_dense)
+    lvs = lv.levels(n, tuple(range(top - 3, top + 1)), dense or judge.six_dense)
     if lvs is None:
         return None
     s_b = weighted(lvs[1:], _weights(tuple(map(float, mb))))
@@ -375,12 +386,16 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
     if fourth is None:
         return None
     grow = (fourth[1] / aim) ** (1.0 / judge.e_order)
-    if S_FIRST and fourth[1] > 1.0 and six and sixth is None and judge.dense == judge.six_dense:
+    if S_FIRST and fourth[1] > 1.0 and six and sixth is None:
         # the triple's levels are the quadruple's but one (mult 3: 9 of the triple's 21
-        # units), cheaper than any new round (>= 21 x 1.25^2): the sixth order first
-        sixth = _sixth(lv, judge, n_base)
-        if sixth is None or sixth[1] <= 1.0:
-            return None if sixth is None else sixth[0]
+        # units), cheaper than any new round (>= 21 x 1.25^2): the sixth order first (also
+        # at the pilot's steps per node, where they are not the sixth order's: a trial of one
+        # level before a quadruple of its own)
+        first = _sixth(lv, judge, n_base, dense=judge.dense)
+        if first is None or first[1] <= 1.0:
+            return None if first is None else first[0]
+        if judge.dense == judge.six_dense:
+            sixth = first
     if fourth[1] > 1.0 and grow > S_GROW and six:
         if sixth is None:
             sixth = _sixth(lv, judge, n_base)
