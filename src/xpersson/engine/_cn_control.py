@@ -8,7 +8,7 @@ the step, which Richardson extrapolation cancels).
 
 * Second order (mode ``R``): the pair ``mult = 1, 2``; the finer level is the answer, its error
   estimate ``2 |R_2 - R_1| / 3`` (twice the asymptotic value).  Used while the grid it predicts
-  is at most ``R_MAX_REFINE`` times the pilot's.
+  is at most ``R_MAX_REFINE`` times the last pair's.
 * Fourth order (mode ``E``): the triple ``mult = 1, 2, 4``, answer ``E(2, 4)``, estimate
   ``2 |E(2, 4) - E(1, 2)| / 15`` (twice the asymptotic value).
 * Sixth order (mode ``S``; moving walls without declared breakpoints and without densities,
@@ -26,9 +26,9 @@ the step, which Richardson extrapolation cancels).
   answer, the estimate stays ``S_MARGIN`` x asymptotic) or a new grid, whichever is predicted
   cheaper (:func:`_sixth_next`); a round that misses its prediction by ``S_MISS`` returns to
   the fourth order.  Where the sixth order may follow (and ``rtol <= S_RTOL``), the pilot pair
-  and the fourth-order levels take its steps per node, so that they share levels; a
-  fourth-order triple that misses is then followed by the quadruple's one missing level
-  (``mult = 3``, ``S_FIRST``), cheaper than any new grid.
+  and the fourth-order levels take its steps per node, so that they share levels.  A
+  fourth-order triple that misses is followed by the quadruple's one missing level (``mult =
+  3``, ``S_FIRST``), cheaper than any new grid (at a looser rtol a trial on the triple's steps).
 
 Where a yield wall makes the window stiff (:mod:`._stiff`: the time plans then resolve the
 decay of the window's slowest mode), the high-order levels take ``DENSE_STIFF`` steps per
@@ -69,11 +69,13 @@ AIM = 0.5  # the next grid is aimed at an error estimate of AIM x tolerance (abo
 # estimate is the actual error: AIM/2 x rtol expected; 0.5 leaves a factor 2 for the prediction)
 
 
-R_MAX_REFINE = 8.0  # largest refinement the second-order mode may ask for (else sixth order)
+R_MAX_REFINE = math.sqrt(16.0 / 5.0)  # (1.79) largest refinement of the second-order mode: a
+# pair grown further (5 n^2, see E_WORK) costs more than the triple's missing level (16 n^2)
 
 
-R_SKIP = 64.0  # a second-order pilot asking for a refinement beyond R_SKIP: sixth-order pilot
-# first (where it fits), the fourth-order one only if the sixth order would cost more
+R_SKIP, FAR_RTOL = 64.0, 1e-3  # a second-order pilot asking for a refinement beyond R_SKIP (at
+# rtol FAR_RTOL if looser: an unresolved pilot is not nearer) has the sixth-order pilot first
+# (where it fits), the fourth-order one only if the sixth order would cost more
 
 
 DENSE = 2  # steps per node of the sixth-order levels, in units of the pilot's
@@ -97,12 +99,9 @@ S_RTOL = 1e-5  # the pilot pair takes the sixth order's steps per node at rtol <
 
 S_MARGIN = 15.0  # the sixth order's estimate: S_MARGIN x the asymptotic error of its answer
 
-
 S_LMAX = 8  # most levels of one sixth-order grid
 
-
 S_MISS = 2.0  # a sixth-order round missing its prediction by more: back to the fourth order
-
 
 S_FAVOR = 2.0  # the sixth order taken over a fourth-order round predicted S_FAVOR x dearer
 
@@ -121,8 +120,7 @@ E_GRADED = 1.0 / 3.0  # the fourth order's estimate factor when the march crosse
 # E(1, 2)| at n = 32..256, where 2/15 assumed order 4); 1/3 is its order-2 bound
 
 
-E_GRADED_ORDER = 3.0  # the order its grids then grow with (measured at GRADED_STRETCH: 3-3.5,
-# and 2.4 at the default stretch)
+E_GRADED_ORDER = 3.0  # the order its grids then grow with (at GRADED_STRETCH 3-3.5; 2.4 at 1)
 
 
 @dataclass
@@ -184,10 +182,8 @@ class _Judge:
         self.pb, self.scale = pb, scale
         # the fourth order's estimate factor and the order its grids grow with
         self.e_factor, self.e_order = (E_GRADED, E_GRADED_ORDER) if graded else (2.0 / 15.0, 4.0)
-        # steps per node of the second- and fourth-order levels: where the sixth order may
-        # follow (and the tolerance is tight enough for it to pay), those of its levels (the
-        # pilot pair is then its first two levels)
-        # (more where a stiff window makes the time error dominate, see DENSE_STIFF)
+        # steps per node of the second- and fourth-order levels: where the sixth order may follow
+        # (and rtol is tight enough for it to pay), its levels' (more if stiff, see DENSE_STIFF)
         self.stiff = stiff
         self.six_dense = DENSE_STIFF if stiff else DENSE
         self.dense = self.six_dense if _sixth_order_fits(pb) and pb.rtol <= S_RTOL else 1
@@ -229,13 +225,15 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
         e_r, ratio = judge.ratio(l2, l1, 2.0 / 3.0)  # ~2x error of R(2n)
         if ratio <= 1.0:
             return _Fit(e_r, combine(l2, l1, False), 2 * n_base)
-        if math.sqrt(ratio / aim) > R_MAX_REFINE:
-            break
         # after a missed prediction (slower than second order, e.g. kinks of a tabulated
         # wall) grow at least 1.25x, so that the grids keep advancing
         rounds += 1
-        n_base = _round_grid(n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25))
-    return _high_order(lv, judge, n_base, aim, math.sqrt(ratio / aim) > R_SKIP)
+        grown = _round_grid(n_base * max(math.sqrt(ratio / aim), 1.0 if rounds == 1 else 1.25))
+        if grown > R_MAX_REFINE * n_base:
+            break
+        n_base = grown
+    far = math.sqrt(ratio / aim * max(pb.rtol / FAR_RTOL, 1.0)) > R_SKIP
+    return _high_order(lv, judge, n_base, aim, far)
 
 
 RELEASE = 1e-3  # a yield wall that left the window is released where the pilot level's
@@ -302,16 +300,16 @@ def _k6(mults: tuple[int, ...]) -> float:
     return k
 
 
-def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4) -> tuple[_Fit, float] | None:
+def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4, dense: int = 0) -> tuple | None:
     """The sixth-order combinations of the levels ``top - 2 .. top`` (the answer) and
     ``top - 3 .. top - 1`` of grid ``n`` (see the module), and the estimate / tolerance.
 
-    The estimate is ``S_MARGIN`` times the asymptotic error of the answer,
-    ``|S_b - S_a| K_b / (K_a - K_b)`` (``K = prod m^-2``: for ``top = 4`` it is
-    ``|S_b - S_a|``).  None: a budget ended the search.
+    The estimate is ``S_MARGIN`` times the asymptotic error of the answer, ``|S_b - S_a| K_b /
+    (K_a - K_b)`` (``K = prod m^-2``: for ``top = 4`` it is ``|S_b - S_a|``).  ``dense``: the
+    levels' steps per node (0: ``judge.six_dense``).  None: a budget ended the search.
     """
     ma, mb = tuple(range(top - 3, top)), tuple(range(top - 2, top + 1))
-    lvs = lv.levels(n, tuple(range(top - 3, top + 1)), judge.six_dense)
+    lvs = lv.levels(n, tuple(range(top - 3, top + 1)), dense or judge.six_dense)
     if lvs is None:
         return None
     s_b = weighted(lvs[1:], _weights(tuple(map(float, mb))))
@@ -366,12 +364,14 @@ def _high_order(lv: Any, judge: _Judge, n_base: int, aim: float, far: bool) -> _
     if fourth is None:
         return None
     grow = (fourth[1] / aim) ** (1.0 / judge.e_order)
-    if S_FIRST and fourth[1] > 1.0 and six and sixth is None and judge.dense == judge.six_dense:
-        # the triple's levels are the quadruple's but one (mult 3: 9 of the triple's 21
-        # units), cheaper than any new round (>= 21 x 1.25^2): the sixth order first
-        sixth = _sixth(lv, judge, n_base)
-        if sixth is None or sixth[1] <= 1.0:
-            return None if sixth is None else sixth[0]
+    if S_FIRST and fourth[1] > 1.0 and six and sixth is None:
+        # the triple's levels are the quadruple's but one (mult 3: 9 of the triple's 21 units),
+        # cheaper than any new round (>= 21 x 1.25^2): the sixth order first (a trial if at
+        # steps per node other than its own)
+        first = _sixth(lv, judge, n_base, dense=judge.dense)
+        if first is None or first[1] <= 1.0:
+            return None if first is None else first[0]
+        sixth = first if judge.dense == judge.six_dense else None
     if fourth[1] > 1.0 and grow > S_GROW and six:
         if sixth is None:
             sixth = _sixth(lv, judge, n_base)
