@@ -52,7 +52,7 @@ from . import _compiled
 from ._base import EngineMethod
 from ._cn_control import AIM, _control, _Fit
 from ._cn_plan import _exact_start, _joint_plan, _Plan, _start_time, _switch_times_batch
-from ._level import Level, Outputs, project
+from ._level import Level, Outputs, projected
 from ._moving import LevelInputs, _march, level_inputs
 from ._problem import Problem, window_k
 from ._result import Raw
@@ -97,9 +97,10 @@ class CNMethod(EngineMethod):
         analytic = tau <= tau_s
         num = ~analytic
         nb = len(pbs)
-        lv = _Grids(pbs, opts, tau_s, num, image)
+        marched = bool(np.count_nonzero(num))
+        lv = _Grids(pbs, opts, tau_s, num, image, marched)
         lower_at = _tabled_positions(pb)
-        if np.count_nonzero(num):
+        if marched:
             at_num = None if lower_at is None else lower_at[num]
             fit = _control(lv, pb, opts.aim, tau[num], at_num)
             if fit.best is None:
@@ -267,13 +268,15 @@ class _Grids:
         tau_s: float,
         num: Array,
         image: float | None = None,
+        marched: bool | None = None,
     ) -> None:
         self.pbs, self.opts, self.tau_s, self.image = pbs, opts, tau_s, image
         pb = pbs[0]
-        bps = [t for w in (pb.lower, pb.upper) if w is not None for t in w.breakpoints]
+        lo, up = pb.lower, pb.upper
+        bps = (*lo.breakpoints, *up.breakpoints) if up is not None else lo.breakpoints
         # the march crosses a declared breakpoint: its nodes clustered more at the walls
         # (GRADED_STRETCH) unless options['stretch'] is given
-        self.graded = any(t >= tau_s for t in bps)
+        self.graded = bool(bps) and any(t >= tau_s for t in bps)
         given = pb.options is not None and "stretch" in pb.options
         self.stretch = GRADED_STRETCH if self.graded and not given else opts.stretch
         self.solved: dict[tuple[int, int, int], Outputs] = {}
@@ -283,9 +286,10 @@ class _Grids:
         self.work = 0.0
         self.kinks: list[float] = []
         self.release = False  # yield walls released once they leave the window (_Plan.release)
-        if np.count_nonzero(num):
-            # the kinks of the window edges do not depend on the grid: found once
-            t_end = float(pbs[0].tau[num][-1])
+        if np.count_nonzero(num) if marched is None else marched:
+            # the kinks of the window edges do not depend on the grid: found once (the
+            # marched outputs are the last ones: the output times increase)
+            t_end = float(pb.tau[-1])
             k = opts.window_k
             self.kinks = _switch_times_batch(pbs, k, tau_s, t_end) + wall_kinks(pb, tau_s, t_end)
 
@@ -384,8 +388,8 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
     wall_term = np.zeros(shape)
     e_all = np.zeros(shape)
     trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
-    if n_a:
-        e_all[:, analytic & (tau > 0)] = trunc
+    if n_a:  # (``analytic & (tau > 0)``: the columns from the first positive time to n_a)
+        e_all[:, 0 if tau[0] > 0 else 1 : n_a] = trunc
     if lv.image is not None:  # a one-wall start: the closed form (exact) up to the march
         _one_wall_start(pbs, analytic, lv.image, area, ab_l, load, wall_term)
     if best is not None and n_a < tau.size:
@@ -397,10 +401,12 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
         if lv.image is not None:  # what the wall absorbed before the march (closed form)
             a0, m0 = _one_wall_absorbed(pbs, lv.tau_s, lv.image)
             ab_lower, moment_lower = ab_lower + a0, moment_lower + m0
-        proj, dist = project(best.area, ab_lower, best.absorbed_upper)
+        proj, dist, stacked = projected(best.area, ab_lower, best.absorbed_upper)
         roundoff = 16.0 * _EPS * (nsteps + math.sqrt(max(n_used, 1)))
         if status == "success":
-            status, message = _beyond(dist, err + trunc + roundoff, status, message)
+            bound = err + trunc
+            bound += roundoff
+            status, message = _beyond(dist, bound, status, message, stacked)
         err = np.maximum(err, dist["area"])
         area[:, num], ab_l[:, num], ab_u[:, num] = proj
         load[:, num] = best.load
@@ -430,9 +436,14 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Gri
     )
 
 
-def _beyond(dist: dict[str, Array], bound: Array, status: str, message: str) -> tuple[str, str]:
+def _beyond(
+    dist: dict[str, Array], bound: Array, status: str, message: str, stacked: Array | None = None
+) -> tuple[str, str]:
     """``(status, message)`` of a projection that moved a probability by more than ``bound``
-    (its error estimate, round-off included): the first such one is reported."""
+    (its error estimate, round-off included): the first such one is reported (``stacked``:
+    the distances in one array, compared at once first)."""
+    if stacked is not None and not np.count_nonzero(stacked > bound):
+        return status, message
     for key, d in dist.items():
         if np.count_nonzero(d > bound):
             msg = f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its error estimate"
