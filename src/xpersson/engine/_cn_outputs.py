@@ -24,8 +24,12 @@ __all__ = [
     "batch_balances",
     "batch_balances_of",
     "combine_fields",
+    "fitted_error",
+    "fitted_of",
     "judge_ratio",
+    "load_scale",
     "projected",
+    "scale_kernel",
     "weighted_fields",
 ]
 
@@ -66,6 +70,85 @@ def judge_ratio(  # noqa: PLR0913 - the two answers' fields
             if not g <= m_load:
                 m_load = g if m_load == m_load else m_load
     return err, m_area, m_load
+
+
+def fitted_error(
+    err: Any, area: Any, c: float, rtol: float, atol: float, out: Any
+) -> bool:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The reported estimate of a successful fit (:func:`._cn_control._control`'s numpy
+    operations element by element) into ``out`` (loads, outputs): ``e = min(err, 1) + c
+    |area|``, ``tol = rtol |area| + atol``, then ``tol`` times the row's largest ``e / tol``;
+    False (``out`` partly written) where a value is not finite or some ``e`` exceeds its
+    ``tol`` (the fit then fails: numpy reports it)."""
+    nb, n_out = err.shape
+    for q in range(nb):
+        m = -math.inf
+        for j in range(n_out):
+            e0, a = err[q, j], abs(area[q, j])
+            if not (abs(e0) < math.inf and a < math.inf):
+                return False
+            e = (e0 if e0 < 1.0 else 1.0) + c * a
+            tol = rtol * a + atol
+            if e > tol:
+                return False
+            r = e / tol
+            m = r if r > m else m
+            out[q, j] = tol
+        for j in range(n_out):
+            out[q, j] = out[q, j] * m
+    return True
+
+
+def fitted_of(
+    fast: Callable[..., bool], err: Any, area: Any, c: float, rtol: float, atol: float
+) -> Array | None:
+    """:func:`fitted_error` by ``fast`` (compiled) of a successful fit's estimate ``err`` and
+    answer ``area`` (loads, outputs): the reported estimate, or None where it declines (or
+    the shapes differ: the numpy steps answer)."""
+    if err.ndim != 2 or area.shape != err.shape:
+        return None
+    out = np.empty(err.shape)
+    return out if fast(err, area, c, rtol, atol, out) else None
+
+
+def load_scale(
+    pbs: list[Problem], tau: Array, lo_at: Array | None = None, fast: Callable | None = None
+) -> Array:
+    """The load identity's scale per (load, output) of the error control: max(|p0|, |walls|)
+    [Pa] at the times ``tau`` [Pa^2] (``lo_at``: the lower wall there, known); ``fast``:
+    :func:`scale_kernel` (compiled) where there is no upper wall (the same numbers)."""
+    pb = pbs[0]
+    if any(p.lower is not pb.lower or p.upper is not pb.upper for p in pbs[1:]):
+        return np.concatenate([load_scale([p], tau) for p in pbs])
+    # the loads of a batch share their walls: evaluated once (the same numbers per load)
+    lo = pb.lower.at(tau) if lo_at is None else lo_at
+    p0 = np.array([[p.p0] for p in pbs], dtype=float)
+    if fast is not None and pb.upper is None and lo.ndim == 1:
+        out = np.empty((p0.shape[0], lo.shape[0]))
+        if fast(p0, lo, out):
+            return out
+    sc = np.maximum(np.abs(p0), np.abs(lo))
+    if pb.upper is not None:  # (without one: its +inf adds nothing)
+        up = pb.upper.at(tau)
+        sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
+    return sc if np.count_nonzero(sc > 0) == sc.size else np.where(sc > 0, sc, 1.0)
+
+
+def scale_kernel(p0: Any, lo: Any, out: Any) -> bool:  # pragma: no cover - compiled
+    """:func:`load_scale` without an upper wall: ``max(|p0|, |lo|)`` (loads, outputs) [Pa] of
+    the loads ``p0`` (loads, 1) and the lower wall ``lo`` (outputs,) into ``out``; False where
+    a value is NaN or a scale not positive (numpy's ``maximum`` and ``where`` decide)."""
+    for q in range(p0.shape[0]):
+        a = abs(p0[q, 0])
+        if a != a:
+            return False
+        for j in range(lo.shape[0]):
+            b = abs(lo[j])
+            v = a if a >= b else b
+            if not v > 0.0:
+                return False
+            out[q, j] = v
+    return True
 
 
 _UNSURE = np.full((1, 1), np.nan)  # a non-area the compiled screen leaves to numpy's sum
