@@ -423,9 +423,10 @@ def _sixth_order_fits(pb: Problem) -> bool:
     conservative), no wall declares breakpoints (the graded steps after them give a clean
     second-order expansion only) and no density is wanted (it is interpolated on the nodes,
     whose spacing the sixth-order levels do not refine as far)."""
-    walls = [w for w in (pb.lower, pb.upper) if w is not None]
-    moving = any(not w.is_fixed for w in walls)
-    return moving and pb.p_out is None and not any(w.breakpoints for w in walls)
+    lo, up = pb.lower, pb.upper
+    if pb.p_out is not None or lo.breakpoints or (up is not None and up.breakpoints):
+        return False
+    return not lo.is_fixed or (up is not None and not up.is_fixed)
 
 
 def _finest_pair(solved: dict[tuple[int, int, int], Outputs], fit: _Fit) -> None:
