@@ -424,9 +424,11 @@ def _sixth_order_fits(pb: Problem) -> bool:
     second-order expansion only) and no density is wanted (it is interpolated on the nodes,
     whose spacing the sixth-order levels do not refine as far)."""
     lo, up = pb.lower, pb.upper
-    if pb.p_out is not None or lo.breakpoints or (up is not None and up.breakpoints):
+    if pb.p_out is not None or (lo is not None and lo.breakpoints):
         return False
-    return not lo.is_fixed or (up is not None and not up.is_fixed)
+    if up is not None and up.breakpoints:
+        return False
+    return (lo is not None and not lo.is_fixed) or (up is not None and not up.is_fixed)
 
 
 def _finest_pair(solved: dict[tuple[int, int, int], Outputs], fit: _Fit) -> None:

@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 from ._problem import Problem
 
 __all__ = [
+    "assembled",
     "batch_balances",
     "batch_balances_of",
     "combine_fields",
@@ -334,4 +335,63 @@ def projected(area: Any, abs_l: Any, abs_u: Any, out: Any) -> bool:  # pragma: n
             out[4, q, j] = abs(lo - l0)
             out[5, q, j] = abs(up - u0)
             out[6, q, j] = abs(total - (l0 + u0))
+    return True
+
+
+def assembled(  # noqa: PLR0913 - the fit's fields and the analytic start's numbers
+    area: Any,
+    abs_l: Any,
+    abs_u: Any,
+    load: Any,
+    m_lo: Any,
+    m_up: Any,
+    err: Any,
+    p0: Any,
+    tau: Any,
+    trunc: float,
+    bound_off: float,
+    check: bool,
+    out: Any,
+) -> bool:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._cn._assemble`'s fields without a one-wall start, into ``out`` (7, loads,
+    outputs): area, absorbed lower and upper, load [Pa], wall term [Pa], error estimate and
+    non-area; the first ``n_a = outputs - area.shape[1]`` outputs (times ``tau`` [Pa^2]) the
+    analytic start's (loads ``p0`` [Pa]; estimate ``trunc`` where ``tau > 0``), the rest the
+    fit's (loads, marched outputs) fields projected (:func:`projected`) and the estimate
+    ``max(err, |area moved|) + trunc``. False (``out`` partly written) where
+    :func:`projected` declines, ``err`` is NaN, or (``check``) a distance moved exceeds
+    ``err + trunc + bound_off``: the numpy path answers (and reports it)."""
+    nb, n_m = area.shape
+    n_t = out.shape[2]
+    n_a = n_t - n_m
+    for q in range(nb):
+        for j in range(n_a):
+            out[0, q, j], out[1, q, j], out[2, q, j] = 1.0, 0.0, 0.0
+            out[3, q, j], out[4, q, j], out[6, q, j] = p0[q], 0.0, 0.0
+            out[5, q, j] = trunc if tau[j] > 0 else 0.0
+        for m in range(n_m):
+            a0, l0, u0, e = area[q, m], abs_l[q, m], abs_u[q, m], err[q, m]
+            if not (_plain(a0) and _plain(l0) and _plain(u0)) or e != e:
+                return False
+            a = a0 if a0 > 0.0 else 0.0  # (numpy's clip, then maximum: as projected)
+            a = a if a < 1.0 else 1.0
+            lo = l0 if l0 >= 0.0 else 0.0
+            up = u0 if u0 >= 0.0 else 0.0
+            total = lo + up
+            if not total <= 1.0:
+                return False
+            d = abs(a - a0)
+            if check:
+                bound = e + trunc
+                bound = bound + bound_off
+                if d > bound or abs(lo - l0) > bound or abs(up - u0) > bound:
+                    return False
+                if abs(total - (l0 + u0)) > bound:
+                    return False
+            j = n_a + m
+            out[0, q, j], out[1, q, j], out[2, q, j], out[3, q, j] = a, lo, up, load[q, m]
+            out[4, q, j] = m_lo[q, m] + m_up[q, m]
+            e = e if e >= d else d  # (numpy's maximum, NaN excluded above)
+            out[5, q, j] = e + trunc
+            out[6, q, j] = total
     return True

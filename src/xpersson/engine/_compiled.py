@@ -193,6 +193,14 @@ def scale() -> Callable[..., bool] | None:
     return _STATE.get("scale")
 
 
+def assembled() -> Callable[..., bool] | None:
+    """The compiled :func:`._cn_outputs.assembled` once the compiled march is built and the
+    option is on, else None (:func:`._cn._assemble`'s numpy calls: the same)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("assembled")
+
+
 def projected() -> Callable[..., bool] | None:
     """The compiled :func:`._cn_outputs.projected` once the compiled march is built and the
     option is on, else None (:func:`._level.project`'s numpy calls: the same)."""
@@ -274,6 +282,7 @@ def _outputs(jit: Callable) -> None:
     _STATE["fields"] = (bound("combine_fields"), bound("weighted_fields"))
     _STATE["project"] = bound("projected")
     _STATE["fitted"] = jit(src.fitted_error)
+    _STATE["assembled"] = bound("assembled")
     _STATE["scale"] = jit(src.scale_kernel)
 
 
