@@ -207,7 +207,7 @@ def _checked_times_and_loads(
             p0v = np.array([float(p0)])
         except (TypeError, ValueError):
             raise _fail("p0", "Pa", "a finite float", p0) from None
-    if _valid_times(tau) and math.isfinite(float(p0v.sum())):
+    if _valid_times(tau) and math.isfinite(float(p0v[0] if p0v.size == 1 else p0v.sum())):
         return tau, p0v  # (the checks below, in one pass: each failure's message is theirs)
     if not np.all(np.isfinite(tau)):
         raise _fail("tau_out", "Pa^2", "finite (no NaN/inf)", tau_out)
