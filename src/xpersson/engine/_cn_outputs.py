@@ -1,9 +1,12 @@
 """The compiled path's kernels of a ``cn`` solve's outputs after the march, each the numpy
 path's operations element by element (bit for bit; the numpy path stays where numba is off or
-missing): the error control's estimate and worst ratio (:func:`judge_ratio`), the Richardson
-combinations of levels (:func:`combine_fields`, :func:`weighted_fields`), the projection onto
-admissible probabilities (:func:`projected`) and a batch's balances and the screen's
-reductions (:func:`batch_balances`). Where numpy's result would depend on more than the
+missing): the error control's estimate and worst ratio (:func:`judge_ratio`), its load
+identity's scale (:func:`load_scale`, :func:`scale_kernel`) and the reported estimate of a
+successful fit (:func:`fitted_error`), the Richardson combinations of levels
+(:func:`combine_fields`, :func:`weighted_fields`), the projection onto admissible
+probabilities (:func:`projected`), a solve's assembled fields (:func:`assembled`: the analytic
+start, the projection and the raised estimate in one pass) and a batch's balances and the
+screen's reductions (:func:`batch_balances`). Where numpy's result would depend on more than the
 operations (the sign and payload of a NaN follow the operands' order, which the compiler may
 swap; numpy's ``clip``/``maximum`` of ``-0``), a kernel declines and the numpy path answers.
 Built by :func:`._compiled._build`. Units: tau in Pa^2, pressures in Pa.
