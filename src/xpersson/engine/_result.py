@@ -12,7 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._problem import Problem
-from ._views import LazyField, broadcast_view, per_load
+from ._views import NO_WALL, LazyField, broadcast_view, no_wall, per_load
 
 __all__ = [
     "Outcome",
@@ -215,7 +215,7 @@ def _screened_balances(problem: Problem, raw: Raw) -> tuple:
     compiled = sys.modules.get(f"{__package__}._compiled")  # (loaded with the march only)
     fast = None if compiled is None else compiled.balances()  # (then _cn_outputs is loaded)
     if fast is not None and problem.upper is None:
-        lo, up = raw.lower_at, _NO_UPPER  # (the method's, where it has them)
+        lo, up = raw.lower_at, NO_WALL  # (the method's, where it has them)
         if lo is None:
             lo, up = problem.output_positions()
         outputs = sys.modules[f"{__package__}._cn_outputs"]
@@ -392,20 +392,6 @@ class EngineBatch(Sequence):
         )
 
 
-_NO_UPPER = np.asarray(np.inf)  # the upper wall's position without one [Pa] (read-only)
-_NO_UPPER.setflags(write=False)
-_INF_ROW = np.full(1024, np.inf)  # its positions at up to 1024 outputs (read-only)
-_INF_ROW.setflags(write=False)
-
-
-def _no_wall(shape: tuple[int, ...]) -> Array:
-    """The positions [Pa] of no upper wall (+inf) shaped ``shape`` (loads, outputs),
-    read-only: a view of :data:`_INF_ROW` for one load (~3 us less than a broadcast view)."""
-    if len(shape) == 2 and shape[0] == 1 and shape[1] <= _INF_ROW.size:
-        return _INF_ROW[None, : shape[1]]
-    return broadcast_view(_NO_UPPER, shape)
-
-
 def _raw_ok(raw: Raw, n: int) -> np.ndarray:  # per load: did the method report success?
     if isinstance(raw.status, str):  # one status for the batch
         return np.full(n, raw.status == "success")
@@ -494,7 +480,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         "absorbed_upper": raw.absorbed_upper,
         "load": raw.load,
         "wall_lower": broadcast_view(lo, shape),
-        "wall_upper": _no_wall(shape) if up is _NO_UPPER else broadcast_view(up, shape),
+        "wall_upper": no_wall(shape) if up is NO_WALL else broadcast_view(up, shape),
         "P": raw.P,
         "error_estimate": raw.error_estimate,
         "probability_balance": prob,
