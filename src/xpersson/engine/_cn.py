@@ -41,7 +41,6 @@ Scheme
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -50,9 +49,10 @@ from numpy.typing import NDArray
 
 from . import _compiled
 from ._base import EngineMethod
+from ._cn_assemble import _assemble
 from ._cn_control import AIM, _control, _Fit
 from ._cn_plan import _exact_start, _joint_plan, _Plan, _start_time, _switch_times_batch
-from ._level import Level, Outputs, project
+from ._level import Level, Outputs
 from ._moving import LevelInputs, _march, level_inputs
 from ._problem import Problem, window_k
 from ._result import Raw
@@ -61,8 +61,6 @@ from ._stiff import stiff_refined, wall_kinks
 __all__ = ["CNMethod", "grid_level"]
 
 Array = NDArray[np.float64]
-
-_EPS = float(np.finfo(float).eps)
 
 
 class CNMethod(EngineMethod):
@@ -97,9 +95,10 @@ class CNMethod(EngineMethod):
         analytic = tau <= tau_s
         num = ~analytic
         nb = len(pbs)
-        lv = _Grids(pbs, opts, tau_s, num, image)
+        marched = bool(np.count_nonzero(num))
+        lv = _Grids(pbs, opts, tau_s, num, image, marched)
         lower_at = _tabled_positions(pb)
-        if np.count_nonzero(num):
+        if marched:
             at_num = None if lower_at is None else lower_at[num]
             fit = _control(lv, pb, opts.aim, tau[num], at_num)
             if fit.best is None:
@@ -267,13 +266,15 @@ class _Grids:
         tau_s: float,
         num: Array,
         image: float | None = None,
+        marched: bool | None = None,
     ) -> None:
         self.pbs, self.opts, self.tau_s, self.image = pbs, opts, tau_s, image
         pb = pbs[0]
-        bps = [t for w in (pb.lower, pb.upper) if w is not None for t in w.breakpoints]
+        lo, up = pb.lower, pb.upper
+        bps = (*lo.breakpoints, *up.breakpoints) if up is not None else lo.breakpoints
         # the march crosses a declared breakpoint: its nodes clustered more at the walls
         # (GRADED_STRETCH) unless options['stretch'] is given
-        self.graded = any(t >= tau_s for t in bps)
+        self.graded = bool(bps) and any(t >= tau_s for t in bps)
         given = pb.options is not None and "stretch" in pb.options
         self.stretch = GRADED_STRETCH if self.graded and not given else opts.stretch
         self.solved: dict[tuple[int, int, int], Outputs] = {}
@@ -283,9 +284,10 @@ class _Grids:
         self.work = 0.0
         self.kinks: list[float] = []
         self.release = False  # yield walls released once they leave the window (_Plan.release)
-        if np.count_nonzero(num):
-            # the kinks of the window edges do not depend on the grid: found once
-            t_end = float(pbs[0].tau[num][-1])
+        if np.count_nonzero(num) if marched is None else marched:
+            # the kinks of the window edges do not depend on the grid: found once (the
+            # marched outputs are the last ones: the output times increase)
+            t_end = float(pb.tau[-1])
             k = opts.window_k
             self.kinks = _switch_times_batch(pbs, k, tau_s, t_end) + wall_kinks(pb, tau_s, t_end)
 
@@ -360,126 +362,3 @@ def grid_level(
     plan = grids.plan(n_base, dense)
     args = (pbs, plan, n_base * mult, mult, grids.stretch, opts.rannacher)
     return level_inputs(*args), _march(*args)
-
-
-def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: _Grids) -> Raw:
-    """The Raw of a batch: analytic start where ``analytic``, the fitted levels elsewhere.
-
-    The output times are strictly increasing (checked), so ``analytic`` (``tau <= tau_s``)
-    is their first ``n_a`` and the march's outputs are the columns ``n_a:`` (a slice: the same
-    elements as the mask, without its index arrays)."""
-    pb = pbs[0]
-    tau = pb.tau
-    nb = len(pbs)
-    n_a = int(np.count_nonzero(analytic))
-    num = slice(n_a, None)
-    best, err, n_used = fit.best, fit.err, fit.n_used
-    status, message, nsteps = fit.status, fit.message, lv.nsteps
-    shape = (nb, tau.size)
-    area = np.ones(shape)
-    ab_l = np.zeros(shape)
-    ab_u = np.zeros(shape)
-    load = np.empty(shape)
-    load[...] = np.array([p.p0 for p in pbs])[:, None]
-    wall_term = np.zeros(shape)
-    e_all = np.zeros(shape)
-    trunc = 2.0 * math.erfc(k / math.sqrt(2.0))
-    if n_a:
-        e_all[:, analytic & (tau > 0)] = trunc
-    if lv.image is not None:  # a one-wall start: the closed form (exact) up to the march
-        _one_wall_start(pbs, analytic, lv.image, area, ab_l, load, wall_term)
-    if best is not None and n_a < tau.size:
-        # the probabilities are projected onto their admissible set (area, absorbed >= 0,
-        # area <= 1, absorbed_lower + absorbed_upper <= 1); the distance moved is a lower
-        # bound of the error, so the estimate is raised to it, and a distance beyond the
-        # estimate (round-off of the step sums included) is reported, not hidden
-        ab_lower, moment_lower = best.absorbed_lower, best.moment_lower
-        if lv.image is not None:  # what the wall absorbed before the march (closed form)
-            a0, m0 = _one_wall_absorbed(pbs, lv.tau_s, lv.image)
-            ab_lower, moment_lower = ab_lower + a0, moment_lower + m0
-        proj, dist = project(best.area, ab_lower, best.absorbed_upper)
-        roundoff = 16.0 * _EPS * (nsteps + math.sqrt(max(n_used, 1)))
-        if status == "success":
-            status, message = _beyond(dist, err + trunc + roundoff, status, message)
-        err = np.maximum(err, dist["area"])
-        area[:, num], ab_l[:, num], ab_u[:, num] = proj
-        load[:, num] = best.load
-        wall_term[:, num] = moment_lower + best.moment_upper
-        e_all[:, num] = err + trunc
-    P = _densities(pbs, analytic, best) if pb.p_out is not None else None
-    if status == "success" and not message:
-        message = (
-            f"{len(lv.solved)} grids, finest N = {n_used}"
-            if lv.solved
-            else "analytic start covers every output"
-        )
-    return Raw(
-        area=area,
-        non_area=ab_l + ab_u,
-        absorbed_lower=ab_l,
-        absorbed_upper=ab_u,
-        load=load,
-        wall_term=wall_term,
-        error_estimate=e_all,
-        P=P,
-        status=status,
-        message=message,
-        nsteps=nsteps,
-        n_nodes=n_used + 1 if n_used else 0,
-        nfev=nsteps,
-    )
-
-
-def _beyond(dist: dict[str, Array], bound: Array, status: str, message: str) -> tuple[str, str]:
-    """``(status, message)`` of a projection that moved a probability by more than ``bound``
-    (its error estimate, round-off included): the first such one is reported."""
-    for key, d in dist.items():
-        if np.count_nonzero(d > bound):
-            msg = f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its error estimate"
-            return "tolerance_not_met", msg
-    return status, message
-
-
-def _one_wall_start(
-    pbs: list[Problem],
-    analytic: Array,
-    wall: float,
-    area: Array,
-    ab_l: Array,
-    load: Array,
-    wall_term: Array,
-) -> None:
-    """The outputs at ``analytic`` of a one-wall start (absorbing wall at rest at ``wall``
-    [Pa]) from its closed form, into ``area``, ``ab_l``, ``load``, ``wall_term``."""
-    from .exact import one_wall
-
-    tau = pbs[0].tau[analytic]
-    p0 = np.array([p.p0 for p in pbs])[:, None]
-    a, non, ld = one_wall(tau[None, :], p0, wall)
-    area[:, analytic], ab_l[:, analytic], load[:, analytic] = a, non, ld
-    wall_term[:, analytic] = p0 - ld
-
-
-def _one_wall_absorbed(pbs: list[Problem], tau_w: float, wall: float) -> tuple[Array, Array]:
-    """``(absorbed, wall moment)`` ``(loads, 1)`` [1, Pa] of a one-wall start at its end
-    ``tau_w`` [Pa^2] (wall at ``wall`` [Pa]): the march counts from there on."""
-    from .exact import one_wall
-
-    p0 = np.array([p.p0 for p in pbs])[:, None]
-    _, non, _ = one_wall(np.full((len(pbs), 1), tau_w), p0, wall)
-    return non, wall * non
-
-
-def _densities(pbs: list[Problem], analytic: Array, best: Outputs | None) -> Array:
-    """Density [1/Pa] at ``p_out``: the free Gaussian in the analytic start, the march after."""
-    pb = pbs[0]
-    tau = pb.tau
-    num = ~analytic
-    P = np.zeros((len(pbs), tau.size, pb.p_out.size))
-    for i, p in enumerate(pbs):
-        for j in np.flatnonzero(analytic & (tau > 0)):
-            t = tau[j]
-            P[i, j] = np.exp(-((p.p_out - p.p0) ** 2) / (4 * t)) / math.sqrt(4 * math.pi * t)
-    if best is not None and np.count_nonzero(num):
-        P[:, num] = np.maximum(best.P, 0.0)
-    return P

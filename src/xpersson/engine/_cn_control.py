@@ -54,6 +54,7 @@ from numpy.typing import NDArray
 
 from . import _compiled
 from ._cn_odd import _weights_of, odd_rounds
+from ._cn_outputs import fitted_of, load_scale
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
 from ._stiff import stiff_at_end
@@ -157,20 +158,6 @@ def _weights(m_: tuple[float, ...]) -> Array:
 def _round_grid(n: float) -> int:
     """Even grid size >= 8 (the coarse partner of a pair is n // 2)."""
     return max(8, 2 * int(math.ceil(n / 2.0)))
-
-
-def _load_scale(pbs: list[Problem], tau: Array, lo_at: Array | None = None) -> Array:
-    """The load identity's scale per (load, output): max(|p0|, |walls|) [Pa] (``lo_at``: known)."""
-    pb = pbs[0]
-    if any(p.lower is not pb.lower or p.upper is not pb.upper for p in pbs[1:]):
-        return np.concatenate([_load_scale([p], tau) for p in pbs])
-    # the loads of a batch share their walls: evaluated once (the same numbers per load)
-    lo = pb.lower.at(tau) if lo_at is None else lo_at
-    sc = np.maximum(np.abs(np.array([[p.p0] for p in pbs], dtype=float)), np.abs(lo))
-    if pb.upper is not None:  # (without one: its +inf adds nothing)
-        up = pb.upper.at(tau)
-        sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
-    return sc if np.count_nonzero(sc > 0) == sc.size else np.where(sc > 0, sc, 1.0)
 
 
 class _Judge:
@@ -436,9 +423,12 @@ def _sixth_order_fits(pb: Problem) -> bool:
     conservative), no wall declares breakpoints (the graded steps after them give a clean
     second-order expansion only) and no density is wanted (it is interpolated on the nodes,
     whose spacing the sixth-order levels do not refine as far)."""
-    walls = [w for w in (pb.lower, pb.upper) if w is not None]
-    moving = any(not w.is_fixed for w in walls)
-    return moving and pb.p_out is None and not any(w.breakpoints for w in walls)
+    lo, up = pb.lower, pb.upper
+    if pb.p_out is not None or (lo is not None and lo.breakpoints):
+        return False
+    if up is not None and up.breakpoints:
+        return False
+    return (lo is not None and not lo.is_fixed) or (up is not None and not up.is_fixed)
 
 
 def _finest_pair(solved: dict[tuple[int, int, int], Outputs], fit: _Fit) -> None:
@@ -469,7 +459,7 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array, lo_at: Array | No
     ``lv``: the grid levels (``_cn._Grids``: ``levels(n_base, mults, dense)``, ``solved``,
     ``stop``, ``opts``, ``pbs``); ``lo_at``: the lower wall at ``tau_num`` [Pa] if known.
     """
-    scale = _load_scale(lv.pbs, tau_num, lo_at)
+    scale = load_scale(lv.pbs, tau_num, lo_at, _compiled.scale())
     fit = _refine(lv, pb, aim, scale)
     if fit is None:  # a budget ended the search: the finest solved pair, flagged
         status, message = lv.stop
@@ -477,13 +467,19 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array, lo_at: Array | No
     if fit.best is None and lv.solved:
         _finest_pair(lv.solved, fit)
     # a probability projected onto [0, 1] is off by at most 1: no estimate (a single
-    # level) is reported as 1, never as inf
+    # level) is reported as 1, never as inf; round-off of the sums over the grid (the level
+    # difference cannot see it) added (``c |area|``)
+    c = 16.0 * _EPS * math.sqrt(max(fit.n_used, 1))
+    fast = _compiled.fitted() if fit.best is not None and fit.status == "success" else None
+    got = None if fast is None else fitted_of(fast, fit.err, fit.best.area, c, pb.rtol, pb.atol)
+    if got is not None:  # (the steps below in one compiled pass)
+        fit.err = got
+        return fit
     fit.err = np.minimum(fit.err, 1.0)
     if fit.best is None:
         return fit
     a = np.abs(fit.best.area)
-    # round-off of the sums over the grid (the level difference cannot see it)
-    fit.err = fit.err + 16.0 * _EPS * math.sqrt(max(fit.n_used, 1)) * a
+    fit.err = fit.err + c * a
     tol = pb.rtol * a + pb.atol
     if fit.status == "success" and np.count_nonzero(fit.err > tol):
         fit.status = "tolerance_not_met"

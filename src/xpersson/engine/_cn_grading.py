@@ -18,6 +18,9 @@ Array = NDArray[np.float64]
 
 _GRADE = 4.0  # steps uniform in (tau - tau_b)^(1/_GRADE) after a wall breakpoint
 
+_NO_TIMES = np.zeros(0)  # the graded times of a plan without breakpoints (read-only)
+_NO_TIMES.setflags(write=False)
+
 
 def _differenced(wall) -> bool:
     """Whether the speeds of ``wall`` are differences (:func:`._cn_plan._probe_times` gives
@@ -36,7 +39,7 @@ def _chord_from(pb: Problem, tau_s: float, zones: tuple[tuple[float, float], ...
     held-out seed 4242 of ``benchmarks/summary.py`` the fourth-order answer was 6x its
     estimate, see ``benchmarks/jkr_control.py``); else from the first graded zone (after a
     declared breakpoint; inf: none)."""
-    if any(_differenced(w) for w in (pb.lower, pb.upper)):
+    if _differenced(pb.lower) or _differenced(pb.upper):
         return tau_s
     return zones[0][0] if zones else math.inf
 
@@ -53,6 +56,8 @@ def _graded_zones(
     clean second-order expansion for the Richardson control); at its end they match the
     geometric steps ``~ ratio tau``.
     """
+    if not any(p.lower.breakpoints or (p.upper is not None and p.upper.breakpoints) for p in pbs):
+        return (), _NO_TIMES  # (no breakpoint: no zone)
     bps = sorted(
         {
             float(t)

@@ -35,6 +35,12 @@ def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) 
     cand = t_lo * decades(math.log10(t_hi / t_lo), 513)
     pb = pbs[0]
     p0 = np.array([p.p0 for p in pbs])
+    if pb.upper is None and _tabled(pb.lower):  # (the common case: one compiled call)
+        fns = kernels()
+        if fns is not None:
+            roots = np.empty(p0.size * (cand.size - 1))
+            found = fns[1](*pb.lower.table.args(), cand, p0, -k, roots)
+            return roots[:found].tolist()
     fns = kernels() if _tabled(pb.lower) or _tabled(pb.upper) else None
     s = None if fns is not None and _tabled(pb.lower) and pb.upper is None else np.sqrt(2.0 * cand)
     out: list[float] = []

@@ -1,9 +1,12 @@
 """The compiled path's kernels of a ``cn`` solve's outputs after the march, each the numpy
 path's operations element by element (bit for bit; the numpy path stays where numba is off or
-missing): the error control's estimate and worst ratio (:func:`judge_ratio`), the Richardson
-combinations of levels (:func:`combine_fields`, :func:`weighted_fields`), the projection onto
-admissible probabilities (:func:`projected`) and a batch's balances and the screen's
-reductions (:func:`batch_balances`). Where numpy's result would depend on more than the
+missing): the error control's estimate and worst ratio (:func:`judge_ratio`), its load
+identity's scale (:func:`load_scale`, :func:`scale_kernel`) and the reported estimate of a
+successful fit (:func:`fitted_error`), the Richardson combinations of levels
+(:func:`combine_fields`, :func:`weighted_fields`), the projection onto admissible
+probabilities (:func:`projected`), a solve's assembled fields (:func:`assembled`: the analytic
+start, the projection and the raised estimate in one pass) and a batch's balances and the
+screen's reductions (:func:`batch_balances`). Where numpy's result would depend on more than the
 operations (the sign and payload of a NaN follow the operands' order, which the compiler may
 swap; numpy's ``clip``/``maximum`` of ``-0``), a kernel declines and the numpy path answers.
 Built by :func:`._compiled._build`. Units: tau in Pa^2, pressures in Pa.
@@ -21,11 +24,16 @@ from numpy.typing import NDArray
 from ._problem import Problem
 
 __all__ = [
+    "assembled",
     "batch_balances",
     "batch_balances_of",
     "combine_fields",
+    "fitted_error",
+    "fitted_of",
     "judge_ratio",
+    "load_scale",
     "projected",
+    "scale_kernel",
     "weighted_fields",
 ]
 
@@ -66,6 +74,85 @@ def judge_ratio(  # noqa: PLR0913 - the two answers' fields
             if not g <= m_load:
                 m_load = g if m_load == m_load else m_load
     return err, m_area, m_load
+
+
+def fitted_error(
+    err: Any, area: Any, c: float, rtol: float, atol: float, out: Any
+) -> bool:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The reported estimate of a successful fit (:func:`._cn_control._control`'s numpy
+    operations element by element) into ``out`` (loads, outputs): ``e = min(err, 1) + c
+    |area|``, ``tol = rtol |area| + atol``, then ``tol`` times the row's largest ``e / tol``;
+    False (``out`` partly written) where a value is not finite or some ``e`` exceeds its
+    ``tol`` (the fit then fails: numpy reports it)."""
+    nb, n_out = err.shape
+    for q in range(nb):
+        m = -math.inf
+        for j in range(n_out):
+            e0, a = err[q, j], abs(area[q, j])
+            if not (abs(e0) < math.inf and a < math.inf):
+                return False
+            e = (e0 if e0 < 1.0 else 1.0) + c * a
+            tol = rtol * a + atol
+            if e > tol:
+                return False
+            r = e / tol
+            m = r if r > m else m
+            out[q, j] = tol
+        for j in range(n_out):
+            out[q, j] = out[q, j] * m
+    return True
+
+
+def fitted_of(
+    fast: Callable[..., bool], err: Any, area: Any, c: float, rtol: float, atol: float
+) -> Array | None:
+    """:func:`fitted_error` by ``fast`` (compiled) of a successful fit's estimate ``err`` and
+    answer ``area`` (loads, outputs): the reported estimate, or None where it declines (or
+    the shapes differ: the numpy steps answer)."""
+    if err.ndim != 2 or area.shape != err.shape:
+        return None
+    out = np.empty(err.shape)
+    return out if fast(err, area, c, rtol, atol, out) else None
+
+
+def load_scale(
+    pbs: list[Problem], tau: Array, lo_at: Array | None = None, fast: Callable | None = None
+) -> Array:
+    """The load identity's scale per (load, output) of the error control: max(|p0|, |walls|)
+    [Pa] at the times ``tau`` [Pa^2] (``lo_at``: the lower wall there, known); ``fast``:
+    :func:`scale_kernel` (compiled) where there is no upper wall (the same numbers)."""
+    pb = pbs[0]
+    if any(p.lower is not pb.lower or p.upper is not pb.upper for p in pbs[1:]):
+        return np.concatenate([load_scale([p], tau) for p in pbs])
+    # the loads of a batch share their walls: evaluated once (the same numbers per load)
+    lo = pb.lower.at(tau) if lo_at is None else lo_at
+    p0 = np.array([[p.p0] for p in pbs], dtype=float)
+    if fast is not None and pb.upper is None and lo.ndim == 1:
+        out = np.empty((p0.shape[0], lo.shape[0]))
+        if fast(p0, lo, out):
+            return out
+    sc = np.maximum(np.abs(p0), np.abs(lo))
+    if pb.upper is not None:  # (without one: its +inf adds nothing)
+        up = pb.upper.at(tau)
+        sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
+    return sc if np.count_nonzero(sc > 0) == sc.size else np.where(sc > 0, sc, 1.0)
+
+
+def scale_kernel(p0: Any, lo: Any, out: Any) -> bool:  # pragma: no cover - compiled
+    """:func:`load_scale` without an upper wall: ``max(|p0|, |lo|)`` (loads, outputs) [Pa] of
+    the loads ``p0`` (loads, 1) and the lower wall ``lo`` (outputs,) into ``out``; False where
+    a value is NaN or a scale not positive (numpy's ``maximum`` and ``where`` decide)."""
+    for q in range(p0.shape[0]):
+        a = abs(p0[q, 0])
+        if a != a:
+            return False
+        for j in range(lo.shape[0]):
+            b = abs(lo[j])
+            v = a if a >= b else b
+            if not v > 0.0:
+                return False
+            out[q, j] = v
+    return True
 
 
 _UNSURE = np.full((1, 1), np.nan)  # a non-area the compiled screen leaves to numpy's sum
@@ -251,4 +338,63 @@ def projected(area: Any, abs_l: Any, abs_u: Any, out: Any) -> bool:  # pragma: n
             out[4, q, j] = abs(lo - l0)
             out[5, q, j] = abs(up - u0)
             out[6, q, j] = abs(total - (l0 + u0))
+    return True
+
+
+def assembled(  # noqa: PLR0913 - the fit's fields and the analytic start's numbers
+    area: Any,
+    abs_l: Any,
+    abs_u: Any,
+    load: Any,
+    m_lo: Any,
+    m_up: Any,
+    err: Any,
+    p0: Any,
+    tau: Any,
+    trunc: float,
+    bound_off: float,
+    check: bool,
+    out: Any,
+) -> bool:  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._cn._assemble`'s fields without a one-wall start, into ``out`` (7, loads,
+    outputs): area, absorbed lower and upper, load [Pa], wall term [Pa], error estimate and
+    non-area; the first ``n_a = outputs - area.shape[1]`` outputs (times ``tau`` [Pa^2]) the
+    analytic start's (loads ``p0`` [Pa]; estimate ``trunc`` where ``tau > 0``), the rest the
+    fit's (loads, marched outputs) fields projected (:func:`projected`) and the estimate
+    ``max(err, |area moved|) + trunc``. False (``out`` partly written) where
+    :func:`projected` declines, ``err`` is NaN, or (``check``) a distance moved exceeds
+    ``err + trunc + bound_off``: the numpy path answers (and reports it)."""
+    nb, n_m = area.shape
+    n_t = out.shape[2]
+    n_a = n_t - n_m
+    for q in range(nb):
+        for j in range(n_a):
+            out[0, q, j], out[1, q, j], out[2, q, j] = 1.0, 0.0, 0.0
+            out[3, q, j], out[4, q, j], out[6, q, j] = p0[q], 0.0, 0.0
+            out[5, q, j] = trunc if tau[j] > 0 else 0.0
+        for m in range(n_m):
+            a0, l0, u0, e = area[q, m], abs_l[q, m], abs_u[q, m], err[q, m]
+            if not (_plain(a0) and _plain(l0) and _plain(u0)) or e != e:
+                return False
+            a = a0 if a0 > 0.0 else 0.0  # (numpy's clip, then maximum: as projected)
+            a = a if a < 1.0 else 1.0
+            lo = l0 if l0 >= 0.0 else 0.0
+            up = u0 if u0 >= 0.0 else 0.0
+            total = lo + up
+            if not total <= 1.0:
+                return False
+            d = abs(a - a0)
+            if check:
+                bound = e + trunc
+                bound = bound + bound_off
+                if d > bound or abs(lo - l0) > bound or abs(up - u0) > bound:
+                    return False
+                if abs(total - (l0 + u0)) > bound:
+                    return False
+            j = n_a + m
+            out[0, q, j], out[1, q, j], out[2, q, j], out[3, q, j] = a, lo, up, load[q, m]
+            out[4, q, j] = m_lo[q, m] + m_up[q, m]
+            e = e if e >= d else d  # (numpy's maximum, NaN excluded above)
+            out[5, q, j] = e + trunc
+            out[6, q, j] = total
     return True

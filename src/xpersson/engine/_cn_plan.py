@@ -56,6 +56,9 @@ class _Plan:
     # [Pa^2] (:func:`_chord_from`; inf: the walls' point speeds throughout)
 
 
+_NO_ZONES = np.zeros((0, 2))  # the graded zones (start, end) of a plan without any (read-only)
+_NO_ZONES.setflags(write=False)
+
 _START_GRID = np.logspace(-18, 0, 721)  # candidate start times / tau_max (read-only)
 _START_GRID.setflags(write=False)
 
@@ -444,7 +447,8 @@ def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
     chord = _chord_from(pb, tau_s, zones)
     if fast is not None:  # (the rest in one compiled call)
-        zs, kk = np.array(zones, dtype=float).reshape(-1, 2), np.asarray(kinks, dtype=float)
+        zs = np.array(zones, dtype=float).reshape(-1, 2) if zones else _NO_ZONES
+        kk = np.array(kinks, dtype=float)
         base, index = fast(geo, outs, kk, graded, ratio, zs, tau_s)
         return _Plan(base, index, tau_s, k, yield_wall, zones, outs=outs, chord_from=chord)
     fixed = sorted_unique(np.concatenate([outs, np.asarray(kinks, dtype=float), graded]))

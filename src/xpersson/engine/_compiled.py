@@ -177,6 +177,30 @@ def fields() -> tuple[Callable[..., bool], Callable[..., bool]] | None:
     return _STATE.get("fields")
 
 
+def fitted() -> Callable[..., bool] | None:
+    """The compiled :func:`._cn_outputs.fitted_error` once the compiled march is built and the
+    option is on, else None (:func:`._cn_control._control`'s numpy calls: the same)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("fitted")
+
+
+def scale() -> Callable[..., bool] | None:
+    """The compiled :func:`._cn_outputs.scale_kernel` once the compiled march is built and the
+    option is on, else None (:func:`._cn_outputs.load_scale`'s numpy calls: the same)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("scale")
+
+
+def assembled() -> Callable[..., bool] | None:
+    """The compiled :func:`._cn_outputs.assembled` once the compiled march is built and the
+    option is on, else None (:func:`._cn._assemble`'s numpy calls: the same)."""
+    if not compiled_enabled():
+        return None
+    return _STATE.get("assembled")
+
+
 def projected() -> Callable[..., bool] | None:
     """The compiled :func:`._cn_outputs.projected` once the compiled march is built and the
     option is on, else None (:func:`._level.project`'s numpy calls: the same)."""
@@ -257,6 +281,9 @@ def _outputs(jit: Callable) -> None:
     _STATE["balances"] = bound("batch_balances")
     _STATE["fields"] = (bound("combine_fields"), bound("weighted_fields"))
     _STATE["project"] = bound("projected")
+    _STATE["fitted"] = jit(src.fitted_error)
+    _STATE["assembled"] = bound("assembled")
+    _STATE["scale"] = jit(src.scale_kernel)
 
 
 def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path holds them

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -38,8 +40,8 @@ def linspace0(stop: float, n: int) -> Array:
     argument handling."""
     y = np.arange(n, dtype=np.float64)
     div = n - 1
+    step = stop / div if div > 0 else math.nan
     if div > 0:
-        step = stop / div
         if step == 0:  # (numpy's handling of denormal steps)
             y /= div
             y *= stop
@@ -47,7 +49,8 @@ def linspace0(stop: float, n: int) -> Array:
             y *= step
     else:
         y *= stop
-    y += 0.0
+    if not 0.0 < step < math.inf:  # (+ start 0.0: only -0 changes, and a positive step makes none)
+        y += 0.0
     if n > 1:
         y[-1] = stop
     return y

@@ -29,6 +29,7 @@ __all__ = [
     "face_basis",
     "level_nodes",
     "project",
+    "projected",
     "system_rows",
     "weighted",
 ]
@@ -279,9 +280,18 @@ def project(
     ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
     non-contact fraction) exceeds 1, scaled down to sum to 1.
     """
-    fast = _kernel("projected") if np.ndim(area) == 2 else None
+    return projected(np.asarray(area), abs_l, abs_u)[:2]
+
+
+def projected(
+    area: Array, abs_l: Array, abs_u: Array
+) -> tuple[tuple[Array, Array, Array], dict[str, Array], Array | None]:
+    """:func:`project`'s ``(projected, distances)`` and the four distances stacked
+    ``(4, *area.shape)`` where the compiled pass made them (else None): one comparison
+    tells whether any moved beyond a bound."""
+    fast = _kernel("projected") if area.ndim == 2 else None
     if fast is not None:  # (one compiled pass where no value is NaN or -0 and no sum over 1)
-        out = np.empty((7, *np.shape(area)))
+        out = np.empty((7, *area.shape))
         if fast(area, abs_l, abs_u, out):
             dist = {
                 "area": out[3],
@@ -289,7 +299,7 @@ def project(
                 "absorbed_upper": out[5],
                 "non_contact_fraction": out[6],
             }
-            return (out[0], out[1], out[2]), dist
+            return (out[0], out[1], out[2]), dist, out[3:]
     a = np.asarray(area).clip(0.0, 1.0)  # (the method: np.clip's dispatch costs ~2 us)
     lo = np.maximum(abs_l, 0.0)
     up = np.maximum(abs_u, 0.0)
@@ -307,4 +317,4 @@ def project(
         "absorbed_upper": np.abs(up - abs_u),
         "non_contact_fraction": np.abs(total - (abs_l + abs_u)),
     }
-    return (a, lo, up), dist
+    return (a, lo, up), dist, None

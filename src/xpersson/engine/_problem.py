@@ -207,7 +207,7 @@ def _checked_times_and_loads(
             p0v = np.array([float(p0)])
         except (TypeError, ValueError):
             raise _fail("p0", "Pa", "a finite float", p0) from None
-    if _valid_times(tau) and math.isfinite(float(p0v.sum())):
+    if _valid_times(tau) and math.isfinite(float(p0v[0] if p0v.size == 1 else p0v.sum())):
         return tau, p0v  # (the checks below, in one pass: each failure's message is theirs)
     if not np.all(np.isfinite(tau)):
         raise _fail("tau_out", "Pa^2", "finite (no NaN/inf)", tau_out)
@@ -225,8 +225,10 @@ def _valid_times(tau: Array) -> bool:
     time of a row is above the one before (false where either is NaN, and for inf after inf:
     with subnormals ``b > a`` is ``b - a > 0``), its first time is >= 0 and its last finite;
     then every time lies in [first, last]."""
-    if not (tau.shape[-1] < 2 or (tau[..., 1:] > tau[..., :-1]).all()):
-        return False
+    if tau.shape[-1] >= 2:  # (count_nonzero: ~1 us less than .all())
+        rising = tau[..., 1:] > tau[..., :-1]
+        if np.count_nonzero(rising) < rising.size:
+            return False
     if tau.ndim == 1:  # (on floats: the same comparisons)
         return float(tau[0]) >= 0.0 and abs(float(tau[-1])) < math.inf
     return bool(((tau[..., 0] >= 0) & (np.abs(tau[..., -1]) < math.inf)).all())

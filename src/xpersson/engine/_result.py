@@ -12,7 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._problem import Problem
-from ._views import LazyField, broadcast_view, per_load
+from ._views import NO_WALL, LazyField, broadcast_view, no_wall, per_load
 
 __all__ = [
     "Outcome",
@@ -215,7 +215,7 @@ def _screened_balances(problem: Problem, raw: Raw) -> tuple:
     compiled = sys.modules.get(f"{__package__}._compiled")  # (loaded with the march only)
     fast = None if compiled is None else compiled.balances()  # (then _cn_outputs is loaded)
     if fast is not None and problem.upper is None:
-        lo, up = raw.lower_at, np.asarray(np.inf)  # (the method's, where it has them)
+        lo, up = raw.lower_at, NO_WALL  # (the method's, where it has them)
         if lo is None:
             lo, up = problem.output_positions()
         outputs = sys.modules[f"{__package__}._cn_outputs"]
@@ -480,7 +480,7 @@ def finish_batch(problem: Problem, raw: Raw, method: str) -> dict:
         "absorbed_upper": raw.absorbed_upper,
         "load": raw.load,
         "wall_lower": broadcast_view(lo, shape),
-        "wall_upper": broadcast_view(up, shape),
+        "wall_upper": no_wall(shape) if up is NO_WALL else broadcast_view(up, shape),
         "P": raw.P,
         "error_estimate": raw.error_estimate,
         "probability_balance": prob,

@@ -135,5 +135,7 @@ def wall_kinks(pb: Problem, tau_s: float, tau_end: float) -> list[float]:
     which the sixth-order combinations amplified to 1-5 tolerances; with the knee a step
     boundary it is 0.003 tolerances / m^2.
     """
+    if not pb.lower.kinks and (pb.upper is None or not pb.upper.kinks):
+        return []  # (no declared kink: the common case, without the set's set-up)
     times = {t for w in (pb.lower, pb.upper) if w is not None for t in w.kinks}
     return sorted(t for t in times if tau_s < t < tau_end)

@@ -1,6 +1,6 @@
 """Read-only broadcast views of the engine's batch results, without ``np.broadcast_to``'s
-argument handling (about 8 us a call; a few calls per solve), per-load counts, and deferred
-batch fields (:class:`LazyField`)."""
+argument handling (about 8 us a call; a few calls per solve), the positions of no upper wall
+(:func:`no_wall`), per-load counts, and deferred batch fields (:class:`LazyField`)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["LazyField", "broadcast_view", "per_load"]
+__all__ = ["NO_WALL", "LazyField", "broadcast_view", "no_wall", "per_load"]
 
 
 def broadcast_view(value: Any, shape: tuple[int, ...]) -> NDArray[Any]:
@@ -27,6 +27,20 @@ def broadcast_view(value: Any, shape: tuple[int, ...]) -> NDArray[Any]:
         out.flags.writeable = False
         return out
     return np.broadcast_to(arr, shape)
+
+
+NO_WALL = np.asarray(np.inf)  # the upper wall's position without one [Pa] (read-only)
+NO_WALL.setflags(write=False)
+_INF_ROW = np.full(1024, np.inf)  # its positions at up to 1024 outputs (read-only)
+_INF_ROW.setflags(write=False)
+
+
+def no_wall(shape: tuple[int, ...]) -> NDArray[np.float64]:
+    """The positions [Pa] of no upper wall (+inf) shaped ``shape`` (loads, outputs),
+    read-only: a view of one row for one load (~3 us less than a broadcast view)."""
+    if len(shape) == 2 and shape[0] == 1 and shape[1] <= _INF_ROW.size:
+        return _INF_ROW[None, : shape[1]]
+    return broadcast_view(NO_WALL, shape)
 
 
 def per_load(value: int | NDArray[Any], n: int) -> NDArray[np.int64]:
