@@ -71,7 +71,10 @@ def test_to_si_takes_the_shortcut_for_loads_as_users_write_them():
     """The texts of loads reach no bound check (the regular expressions of
     ``check_expression``) and no pint: a ``to_si`` that called either would fail here."""
     boom = mock.Mock(side_effect=AssertionError("the checked path was taken"))
-    with mock.patch.object(units, "check_expression", boom), mock.patch.object(units, "_to_si", boom):
+    with (
+        mock.patch.object(units, "check_expression", boom),
+        mock.patch.object(units, "_to_si", boom),
+    ):
         assert to_si("100.37 kPa", "Pa", "load.p0") == 100370.0
         assert to_si(" 5e3 Pa ", "Pa", "load.p0") == 5000.0
         assert to_si("2 um", "m", "spectrum.h_rms") == 2e-6
