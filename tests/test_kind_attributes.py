@@ -94,11 +94,13 @@ def test_every_change_of_what_the_attributes_read_is_seen(rs, tmp_path, monkeypa
         assert _attrs(rs) == first
 
 
-def test_with_the_caches_off_nothing_is_kept(rs):
+def test_with_the_caches_off_nothing_is_kept(rs, monkeypatch):
     KIND.clear()
     with xpersson.set_options(cache=False):
         a, b = _attrs(rs), _attrs(rs)
     assert a == b and len(KIND) == 0 and KIND.info().hits == 0
+    monkeypatch.setenv("XPERSSON_CACHE", "off")  # the environment's switch, read at each look-up
+    assert _attrs(rs) == a and len(KIND) == 0 and KIND.info().hits == 0
 
 
 def test_a_solve_sets_the_kind_attributes_and_its_own(rs):
