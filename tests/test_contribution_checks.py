@@ -84,3 +84,23 @@ def test_an_infinite_value_among_clean_ones_is_named():
     values["b"] = (("zeta",), np.array([1.0, np.inf, 2.0]))
     with pytest.raises(PluginFailure, match="variable 'b' has 1 non-finite"):
         check_contributions(_draft(), values, specs, "plugin 'p'")
+
+
+def test_a_clean_contribution_is_checked_in_one_pass(monkeypatch):
+    """Clean float pairs never reach the variable-by-variable check (a check_contributions
+    that called it would fail here); one bad value does, for its message."""
+    from xpersson.checks import _dataset
+
+    calls = []
+    one = _dataset.checked_variable
+    monkeypatch.setattr(
+        _dataset, "checked_variable", lambda *a, **k: calls.append(a) or one(*a, **k)
+    )
+    specs = {n: VarSpec(("p0", "zeta"), "1", n, valid_min=0.0, valid_max=1.0) for n in "abc"}
+    values = {n: (("p0", "zeta"), np.full((2, 3), 0.5)) for n in specs}
+    got = check_contributions(_draft(), values, specs, "plugin 'p'")
+    assert calls == [] and all(got[n][1] is values[n][1] for n in specs)
+    values["b"] = (("p0", "zeta"), np.full((2, 3), 1.5))
+    with pytest.raises(PluginFailure, match="variable 'b'"):
+        check_contributions(_draft(), values, specs, "plugin 'p'")
+    assert [a[1] for a in calls] == ["a", "b"]  # in order, up to the first failure

@@ -298,20 +298,18 @@ def _plain_si(value: str, unit: str) -> float | None:
     :func:`_simple_si` gives; ``None`` for any other text (the general path)."""
     if len(value) > MAX_TEXT:
         return None
-    m = _PLAIN.fullmatch(value)
-    if m is None:
-        return None
-    have, want = _simple_unit(m.group(2)), _simple_unit(unit)
-    if have is None or want is None or want[0] != 1.0 or have[1] != want[1]:
-        return None
-    x = float(m.group(1))
-    return (x if have[0] == 1.0 else x * have[0]) + 0.0  # as _simple_si
+    return _converted(_PLAIN.fullmatch(value), unit)
 
 
 def _simple_si(value: str, unit: str) -> float | None:
     """``value`` in ``unit`` without pint where both are simple SI expressions (the same
     float pint gives: the magnitude times the prefix factor); ``None`` otherwise (pint)."""
-    m = _NUMBER.match(value)
+    return _converted(_NUMBER.match(value), unit)
+
+
+def _converted(m: re.Match[str] | None, unit: str) -> float | None:
+    """The number of match ``m`` (group 1) in its unit (group 2, a simple SI expression of
+    ``unit``'s dimension) converted to ``unit`` (an SI base combination); ``None`` otherwise."""
     if m is None:
         return None
     have, want = _simple_unit(m.group(2)), _simple_unit(unit)

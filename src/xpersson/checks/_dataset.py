@@ -182,14 +182,7 @@ def _check_values(
     if kind not in "iufc":
         raise PluginFailure(f"{var} has unsupported dtype {arr.dtype}", plugin=who, variable=name)
     if kind in "iuf" and (kind != "f" or spec.nan_meaning is None) and arr.size:
-        # fast path, the same rule in two reductions: min and max propagate NaN and show +-inf
-        lo_v, hi_v = float(arr.min()), float(arr.max())
-        if (
-            math.isfinite(lo_v)
-            and math.isfinite(hi_v)
-            and (spec.valid_min is None or lo_v >= spec.valid_min)
-            and (spec.valid_max is None or hi_v <= spec.valid_max)
-        ):
+        if _within(arr, spec.valid_min, spec.valid_max):  # fast path, the same rule
             return
         # else: the detailed checks below find and quote the offending values
 
@@ -360,14 +353,10 @@ def _plain_pairs(
     return out
 
 
-#: the largest finite float64: a bound that every finite value meets and no inf or NaN does
-_BIG = float(np.finfo(float).max)
-
-
 def _clean(arrays: list[np.ndarray], bounds: list[tuple[Any, Any]]) -> bool:
     """Whether every float array of ``arrays`` is finite and within its ``(valid_min,
     valid_max)`` of ``bounds`` (None: no bound): the rule of :func:`_check_values` on floats
-    (two reductions: min and max propagate NaN, and +-inf shows in them), the arrays that share
+    (:func:`_within`), the arrays that share
     their bounds reduced together (small ones concatenated: one min and one max for all).
     False may also mean "not decided here" (an array that is not float64 or float32): the
     caller then checks each array on its own, with its messages."""
@@ -381,16 +370,24 @@ def _clean(arrays: list[np.ndarray], bounds: list[tuple[Any, Any]]) -> bool:
         small = [a for a in group if a.size <= _ONE_PASS]
         if len(small) > 1:
             group = [np.concatenate(small), *(a for a in group if a.size > _ONE_PASS)]
-        for arr in group:
-            a_min, a_max = float(arr.min()), float(arr.max())
-            if not (
-                math.isfinite(a_min)
-                and math.isfinite(a_max)
-                and (vmin is None or a_min >= vmin)
-                and (vmax is None or a_max <= vmax)
-            ):
-                return False
+        if not all(_within(arr, vmin, vmax) for arr in group):
+            return False
     return True
+
+
+def _within(arr: np.ndarray, lo: float | None, hi: float | None) -> bool:
+    """Whether every value of the numeric array ``arr`` is finite and within ``[lo, hi]``
+    (None: no bound; an empty array: True), in two reductions and no temporaries: min and
+    max propagate NaN, and +-inf shows in them."""
+    if arr.size == 0:
+        return True
+    a_min, a_max = float(arr.min()), float(arr.max())
+    return bool(
+        math.isfinite(a_min)
+        and math.isfinite(a_max)
+        and (lo is None or a_min >= lo)
+        and (hi is None or a_max <= hi)
+    )
 
 
 #: arrays of at most this many values are checked together (a copy of them into one buffer)
@@ -420,21 +417,8 @@ def check_core(ds: Any, who: object = "engine") -> dict[int, str]:
         Load index -> message, for each failing load (empty when every load passes).
     """
 
-    def clean(name: str, lo: float | None, hi: float | None) -> bool:
-        # two reductions, no temporaries: min and max propagate NaN, and +-inf shows in them
-        arr = np.asarray(ds.variables[name].values)
-        if arr.size == 0:
-            return True
-        a_min, a_max = float(arr.min()), float(arr.max())
-        return bool(
-            math.isfinite(a_min)
-            and math.isfinite(a_max)
-            and (lo is None or a_min >= lo)
-            and (hi is None or a_max <= hi)
-        )
-
     names = [n for n in CORE_RANGES if n in ds.variables]
-    if all(clean(n, *CORE_RANGES[n]) for n in names):  # one pass over the arrays: the rule
+    if all(_within(np.asarray(ds.variables[n].values), *CORE_RANGES[n]) for n in names):
         return {}
     import dataclasses
 

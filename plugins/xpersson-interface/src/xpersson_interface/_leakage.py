@@ -421,7 +421,8 @@ def with_sealed(
     per load, :mod:`._by_group`); the others take the outputs ``direct`` gives a sealed load
     (flags 1, ``zeta_c`` and ``u1`` NaN, flow factors and rates 0, the junction piece of a
     NaN ``zeta_c``) without computing: 0-90 % of the loads of 1 kPa - 1 MPa on the speed
-    design's scenes."""
+    design's scenes. With ``which``, also the groups computed per load
+    (:data:`._by_load.COMPUTED`: every group of a sealed load)."""
     shut = sealed[rows]
     if not shut.any():
         return direct(ctx, ds, rows) if which is None else direct(ctx, ds, rows, which)
