@@ -427,7 +427,22 @@ def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _
         if ratio <= 1.0:
             return fit
         if ratio > S_MISS * max(predicted, aim):
-            return None
+            if not _denser(judge):
+                return None
+            sixth = _sixth(lv, judge, n)  # the quadruple of this grid at DENSE_STIFF
+            if sixth is None or sixth[1] <= 1.0:
+                return None if sixth is None else sixth[0]
+            (fit, ratio), top = sixth, 4
+
+
+def _denser(judge: _Judge) -> bool:
+    """Whether a missed sixth-order round goes on at ``DENSE_STIFF`` steps per node (a
+    moving yield wall at fewer; then they are set): see the module."""
+    up = judge.pb.upper
+    if up is None or up.acts_absorbing or judge.six_dense >= DENSE_STIFF:
+        return False
+    judge.six_dense = DENSE_STIFF
+    return True
 
 
 def _sixth_order_fits(pb: Problem) -> bool:
