@@ -3,21 +3,19 @@ finest solved level that has a coarser partner, with the partners' second-order 
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
 from ._level import Outputs, combine
 
-if TYPE_CHECKING:  # pragma: no cover
-    from ._cn_control import _Fit
-
 __all__ = ["_finest_pair"]
 
 
-def _finest_pair(solved: dict[tuple[int, int, int], Outputs], fit: _Fit) -> None:
+def _finest_pair(solved: dict[tuple[int, int, int], Outputs], fit: Any) -> None:
     """Budget spent: the finest level that has a coarser partner (same ``n_base`` and time
-    plan), with the second-order estimate of the pair, flagged (into ``fit``).
+    plan), with the second-order estimate of the pair, flagged (into ``fit``, the control's
+    ``_cn_control._Fit``: its ``best``, ``err`` and ``n_used`` are set).
 
     A finer level whose partner was never reached has no error estimate: the finest level
     *with* a coarser partner is used instead.
