@@ -437,7 +437,7 @@ def _sixth_rounds(lv: Any, judge: _Judge, n: int, ratio: float, aim: float) -> _
             sixth = _sixth(lv, judge, n)  # the quadruple of this grid at DENSE_STIFF
             if sixth is None or sixth[1] <= 1.0:
                 return None if sixth is None else sixth[0]
-            (fit, ratio), top = sixth, 4
+            ratio, top = sixth[1], 4
 
 
 def _denser(judge: _Judge) -> bool:
