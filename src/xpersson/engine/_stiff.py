@@ -61,7 +61,12 @@ STIFF_STEP = 0.5  # largest decay of the window's slowest mode per substep, in g
 
 STIFF_LATE = 4  # substeps per base step beyond STIFF_END (measured on the held-out design of
 # benchmarks/plastic_design.py: 2 -> 4 took its worst marching scenes from 89-262 to 22-57
-# ms/load with every achieved error within the tolerance; 8 cost more on most scenes)
+# ms/load with every achieved error within the tolerance; 8 cost more on most scenes).  Keep
+# it even: Crank-Nicolson's stiff modes ring with amplification ~ -1 per substep, so with an
+# odd count the levels of odd and even mult end a base step on opposite signs, an error
+# alternating in the level that Richardson extrapolation cannot cancel (seed 7036 "roll
+# H=0.40 5dec": 4 and 6 took 4.1e6 and 5.4e6 node-steps, error 0.011 of the tolerance; 3
+# and 5 took 1.6e8 and 2.1e8, errors 11 and 14 tolerances, 5-17x their estimates)
 
 
 STIFF_END = 10.0  # sigma beyond which the base steps are kept (measured: 10, 20 and 50 give
