@@ -54,7 +54,7 @@ from ._cn_control import AIM, _control, _Fit
 from ._cn_plan import _exact_start, _joint_plan, _Plan, _start_time, _switch_times_batch
 from ._level import Level, Outputs
 from ._moving import LevelInputs, _march, level_inputs
-from ._problem import Problem, loads_of, window_k
+from ._problem import Problem, window_k
 from ._result import Raw
 from ._stiff import stiff_refined, wall_kinks
 
@@ -81,7 +81,7 @@ class CNMethod(EngineMethod):
             if not shared:  # loads on different clocks: one at a time
                 raws = [self._run([pb.load(i)]) for i in range(n)]
                 return _stack(raws)
-            return self._run(loads_of(pb))
+            return self._run([pb.load(i) for i in range(n)])
         raw = self._run([pb])
         return _unbatch(raw)
 

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 from . import _compiled
 from ._cn_control import _Fit
 from ._level import Outputs, projected
-from ._problem import Problem, loads_p0
+from ._problem import Problem
 from ._result import Raw
 
 __all__ = ["_assemble"]
@@ -84,7 +84,7 @@ def _fields_of(
     if len(shape) != 2 or np.shape(err) != shape or shape[0] != len(pbs):
         return None
     out = np.empty((7, shape[0], tau.size))
-    p0 = loads_p0(pbs)
+    p0 = np.array([p.p0 for p in pbs])
     check = fit.status == "success"
     if fast(best.area, best.absorbed_lower, best.absorbed_upper, best.load, best.moment_lower,
             best.moment_upper, err, p0, tau, trunc, roundoff, check, out):  # fmt: skip
@@ -113,7 +113,7 @@ def _fields(
     ab_l = np.zeros(shape)
     ab_u = np.zeros(shape)
     load = np.empty(shape)
-    load[...] = loads_p0(pbs)[:, None]
+    load[...] = np.array([p.p0 for p in pbs])[:, None]
     wall_term = np.zeros(shape)
     e_all = np.zeros(shape)
     if n_a:  # (``analytic & (tau > 0)``: the columns from the first positive time to n_a)

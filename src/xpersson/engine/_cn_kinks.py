@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._grid import decades
-from ._problem import Problem, loads_p0
+from ._problem import Problem
 from ._wall_table import kernels
 from ._walls import Wall
 
@@ -34,7 +34,7 @@ def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) 
         return []
     cand = t_lo * decades(math.log10(t_hi / t_lo), 513)
     pb = pbs[0]
-    p0 = loads_p0(pbs)
+    p0 = np.array([p.p0 for p in pbs])
     if pb.upper is None and _tabled(pb.lower):  # (the common case: one compiled call)
         fns = kernels()
         if fns is not None:

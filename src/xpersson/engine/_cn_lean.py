@@ -45,7 +45,7 @@ from ._cn_grading import _differenced
 from ._cn_plan import Edge, Window, _grades, _Plan
 from ._level import Level, LevelInputs, Outputs, level_grid
 from ._moving_fused import _OPS, _SNAP, fused_level
-from ._problem import Problem, loads_p0
+from ._problem import Problem
 
 __all__ = [
     "lean_level",
@@ -150,7 +150,7 @@ def _setup(
     pb = pbs[0]
     nb = len(pbs)
     grid = level_grid(nb, n, stretch)
-    p0 = loads_p0(pbs)
+    p0 = np.array([p.p0 for p in pbs], dtype=float)
     zones = plan.zones
     zone_starts = np.array([tb for tb, _ in zones]) if zones else _NO_ZONES
     chord_from = plan.chord_from

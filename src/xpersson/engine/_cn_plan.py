@@ -18,7 +18,7 @@ from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
 from ._grid import decades as _decades
 from ._grid import is_in as _is_in
 from ._grid import sorted_unique
-from ._problem import Problem, loads_p0
+from ._problem import Problem
 from ._wall_table import kernels as table_kernels
 
 __all__ = [
@@ -79,7 +79,7 @@ def _start_time(
         return min(_start_time([p], k, lower) for p in pbs)
     lo = pb.lower  # (a table's wall scanned in one compiled call)
     if scan and lower and pb.upper is None and lo.table is not None and callable(lo.position):
-        p0 = loads_p0(pbs)
+        p0 = np.array([p.p0 for p in pbs], dtype=float)
         return float(scan(*lo.table.args(), _START_GRID, float(tau_max), float(k), p0))
     cand = tau_max * _START_GRID
     ks = k * np.sqrt(2.0 * cand)

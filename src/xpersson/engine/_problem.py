@@ -15,15 +15,7 @@ from ._views import broadcast_view
 from ._wall_table import kernels as table_kernels
 from ._walls import Wall
 
-__all__ = [
-    "Loads",
-    "Problem",
-    "loads_of",
-    "loads_p0",
-    "make_problem",
-    "sample_times",
-    "window_k",
-]
+__all__ = ["Problem", "make_problem", "window_k", "sample_times"]
 
 Array = NDArray[np.float64]
 
@@ -95,29 +87,6 @@ class Problem:
         lo = self.lower.at(tau)
         up = self.upper.at(tau) if self.upper is not None else np.full(lo.shape, np.inf)
         return lo, up
-
-
-class Loads(list):  # type: ignore[type-arg] - a list of Problem
-    """The single-load problems of a batch (a list: ``Problem.load(i)`` of each load) with
-    their loads ``p0`` [Pa] as one float array (made once per solve: the ``cn`` path asked
-    for it in five places; :func:`loads_p0`)."""
-
-    p0: Array
-
-
-def loads_of(pb: Problem) -> Loads:
-    """The single-load problems of the batch ``pb`` and its loads (:class:`Loads`)."""
-    out = Loads(pb.load(i) for i in range(pb.tau.shape[0]))
-    out.p0 = np.array(pb.p0[:, 0], dtype=float)  # (a fresh contiguous array: not read-only,
-    # so that the compiled kernels see one array type)
-    return out
-
-
-def loads_p0(pbs: list[Problem]) -> Array:
-    """The loads ``p0`` [Pa] of the single-load problems ``pbs`` as one float array (the
-    one of a :class:`Loads`; callers only read it)."""
-    found = getattr(pbs, "p0", None)
-    return found if found is not None else np.array([p.p0 for p in pbs], dtype=float)
 
 
 def window_k(atol: float) -> float:
