@@ -152,3 +152,39 @@ def test_wall_tables_is_declared_by_boundaries_only():
         )
 
     assert "wall_tables" in FastPaths(wall_tables=True).declared()
+
+
+@pytest.mark.parametrize("shape", ["row", "shared", "per_load"])
+@pytest.mark.parametrize("case", ["passes", "nan_beyond", "load_below"])
+def test_compiled_table_check_is_the_numpy_check(shape, case):
+    """The compiled input check of a tabled lower wall (its sample times made in the kernel)
+    accepts exactly what the numpy check accepts: positions finite at every sample time of
+    ``sample_times`` and every load above the wall at tau = 0; refused inputs then raise the
+    numpy check's error."""
+    from xpersson.engine._problem import _checked_table, make_problem, sample_times
+
+    if not wt.build():
+        pytest.skip("numba is not installed")
+    poly, lo, hi = _sigma_table()
+    # "nan_beyond": no clip to the table's end (tau_out reaches past it: NaN positions there)
+    table = WallTable(poly.c, poly.x, lo, hi if case != "nan_beyond" else 1e9, root=True,
+                      negate=True)  # fmt: skip
+    wall = Wall.absorbing(_reference(poly, lo, hi, True, True), table=table)
+    loads = np.array([0.5, 1.0, 2.0]) if case != "load_below" else np.array([0.5, -9.0])
+    row = np.array([0.0, 0.3, 1.0, 4.0, 30.0])
+    tau = {
+        "row": row,
+        "shared": np.broadcast_to(row, (loads.size, row.size)),
+        "per_load": row * np.arange(1.0, loads.size + 1.0)[:, None],
+    }[shape]
+    t = sample_times(tau)
+    pos = -np.sqrt(np.maximum(poly(np.minimum(np.maximum(t, lo), table.t_hi)), 0.0))
+    expected = bool(np.all(np.isfinite(pos)) and np.all(loads > pos[0]))
+    assert _checked_table(tau, loads, wall) is expected
+    assert expected is (case == "passes")
+    args = (tau, loads, wall, None, 1e-6, None, None, 100, None)
+    if expected:
+        make_problem(*args, batch=True)
+    else:
+        with pytest.raises(ValueError, match="lower|p0"):
+            make_problem(*args, batch=True)

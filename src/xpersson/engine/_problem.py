@@ -292,8 +292,9 @@ def _checked_table(tau: Array, p0: Array, lower: Wall) -> bool:
     fns = table_kernels()
     if fns is None or not callable(lower.position):
         return False
-    # (the sample times as kept, read-only: the compiled check does not write into them)
-    return bool(fns[3](*lower.table.args(), _kept_samples(tau), p0))
+    # (the sample times made in the compiled check: the same set, without its cache look-up)
+    t = tau if tau.ndim == 1 else (tau[0] if tau.shape[0] > 1 and tau.strides[0] == 0 else tau)
+    return bool(fns[3](*lower.table.args(), t.ravel(), _LOG16, p0))
 
 
 def _check_positions(tau: Array, p0: Array, lower: Wall, upper: Wall | None) -> None:

@@ -351,14 +351,37 @@ def table_check(
     root: bool,
     negate: bool,
     tau: Any,
+    log16: Any,
     p0: Any,
 ) -> bool:
-    """Whether the table's positions at ``tau`` [Pa^2] (:func:`table_values`) are all finite
-    and every load ``p0`` [Pa] lies strictly above the position at ``tau[0]`` (the checks of
-    :func:`._problem._check_positions` of a lower wall without an upper one, the same
-    comparisons; compiled)."""
-    out = np.empty(tau.shape[0])
-    table_values(c, x, t_lo, t_hi, extrapolate, tau, out, root, negate)
+    """Whether the table's positions (:func:`table_values`) at the sample times of
+    :func:`._problem.sample_times` of the output times ``tau`` [Pa^2] (validated: finite,
+    >= 0) are all finite and every load ``p0`` [Pa] lies strictly above the position at
+    ``tau = 0`` (the checks of :func:`._problem._check_positions` of a lower wall without an
+    upper one, the same comparisons; compiled). The sample times are made here, with numpy's
+    operations: 0, ``tau``, ``numpy.linspace(0, t_end, 65)`` and ``t_end log16`` (``log16``:
+    ``numpy.logspace(-16, 0, 96)``), ``t_end`` the largest of ``tau``; unsorted and with
+    repeats (a check of every position and of the one at 0 does not depend on their order)."""
+    n, m = tau.shape[0], log16.shape[0]
+    t_end = tau[0]
+    for v in tau:  # (np.max: no NaN here)
+        if v > t_end:
+            t_end = v
+    t = np.empty(1 + n + 65 + m)
+    t[0] = 0.0
+    for i in range(n):
+        t[1 + i] = tau[i]
+    step = t_end / 64.0  # (numpy.linspace's arithmetic, as _grid.linspace0)
+    for i in range(64):
+        v = (i / 64.0) * t_end if step == 0 else i * step
+        if not 0.0 < step < math.inf:
+            v = v + 0.0
+        t[1 + n + i] = v
+    t[n + 65] = t_end
+    for i in range(m):
+        t[n + 66 + i] = t_end * log16[i]
+    out = np.empty(t.shape[0])
+    table_values(c, x, t_lo, t_hi, extrapolate, t, out, root, negate)
     for v in out:
         if not math.isfinite(v):
             return False
