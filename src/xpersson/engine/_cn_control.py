@@ -291,7 +291,9 @@ def _k6(mults: tuple[int, ...]) -> float:
     return k
 
 
-def _sixth(lv: Any, judge: _Judge, n: int, top: int = 4, dense: int = 0) -> tuple | None:
+def _sixth(
+    lv: Any, judge: _Judge, n: int, top: int = 4, dense: int = 0
+) -> tuple[_Fit, float] | None:
     """The sixth-order combinations of the levels ``top - 2 .. top`` (the answer) and
     ``top - 3 .. top - 1`` of grid ``n`` (see the module), and the estimate / tolerance.
 

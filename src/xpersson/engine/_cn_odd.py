@@ -133,15 +133,15 @@ def _weights_of(m_: tuple[float, ...], odd: bool) -> tuple[Array, float]:
     return w, abs(float(w @ m ** -(m.size + 1.0 if odd else 2.0 * m.size)))
 
 
-def _span(top: int) -> tuple[tuple[int, ...], tuple[int, ...]]:
-    """The levels of ``X_a`` and ``X_b`` at ``top``."""
-    return tuple(range(top - ODD_SPAN, top)), tuple(range(top - ODD_SPAN + 1, top + 1))
+def _span(top: int) -> tuple[int, ...]:
+    """The levels of ``X_b`` at ``top``."""
+    return tuple(range(top - ODD_SPAN + 1, top + 1))
 
 
 def _k_ratio(top: int) -> float:
     """``K_b(top) / K_b(first)``: the asymptotic error of the answer at ``top`` relative to
     the first answer of a grid (``top = ODD_FIRST``) [1]."""
-    return odd_constant(_span(top)[1]) / odd_constant(_span(ODD_FIRST)[1])
+    return odd_constant(_span(top)) / odd_constant(_span(ODD_FIRST))
 
 
 def _combination(lv: Any, judge: Any, n: int, top: int) -> tuple[Answer, float] | None:
@@ -150,7 +150,7 @@ def _combination(lv: Any, judge: Any, n: int, top: int) -> tuple[Answer, float] 
     lvs = lv.levels(n, tuple(range(1, top + 1)), judge.six_dense)
     if lvs is None:
         return None
-    mb, m5 = _span(top)[1], tuple(range(top - ODD_SPAN, top + 1))
+    mb, m5 = _span(top), tuple(range(top - ODD_SPAN, top + 1))
     x_b = weighted(lvs[mb[0] - 1 : mb[-1]], odd_weights(mb))
     x_5 = weighted(lvs[m5[0] - 1 : m5[-1]], odd_weights(m5))
     ratio = judge.ratio(x_5, x_b, ODD_MARGIN)[1]
