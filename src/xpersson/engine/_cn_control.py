@@ -78,8 +78,8 @@ R_MAX_REFINE = math.sqrt(16.0 / 5.0)  # (1.79) largest refinement of the second-
 # pair grown further (5 n^2, see E_WORK) costs more than the triple's missing level (16 n^2)
 
 
-R_SKIP, FAR_RTOL = 64.0, 1e-3  # a second-order pilot asking for a refinement beyond R_SKIP (at
-# rtol FAR_RTOL if looser: an unresolved pilot is not nearer) has the sixth-order pilot first
+R_SKIP = 64.0  # a second-order pilot asking for a refinement beyond R_SKIP has the sixth-order
+# pilot first
 # (where it fits), the fourth-order one only if the sixth order would cost more
 
 
@@ -223,7 +223,7 @@ def _refine(lv: Any, pb: Problem, aim: float, scale: Array) -> _Fit | None:
         if grown > R_MAX_REFINE * n_base:
             break
         n_base = grown
-    far = math.sqrt(ratio / aim * max(pb.rtol / FAR_RTOL, 1.0)) > R_SKIP
+    far = math.sqrt(ratio / aim) > R_SKIP
     return _high_order(lv, judge, n_base, aim, far)
 
 
