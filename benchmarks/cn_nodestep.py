@@ -179,7 +179,7 @@ def main(argv: list[str] | None = None) -> None:
         print("skip: the compiled march is off or numba is missing")
         return
     lib = SP.c_march_lib(PEERS)
-    fns = _compiled.fused()
+    fns = _compiled.built("fused")
     other = other_tree(args.against) if args.against else None
     table = scenes()
     for name in args.scenes.split(","):

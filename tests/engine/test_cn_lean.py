@@ -96,7 +96,7 @@ def test_lean_level_is_the_numpy_paths_bit_for_bit(wiggle, breakpoint, p0, rtol,
         want = _moving._march(pbs, plan, n, nsub, stretch, n_ie)
     with set_options(compiled=True):
         outs = plan.outs if plan.outs is not None else pbs[0].tau[pbs[0].tau > plan.tau_s]
-        made = _setup(_compiled.lean(), pbs, plan, outs, n, nsub, stretch, n_ie)
+        made = _setup(_compiled.built("lean"), pbs, plan, outs, n, nsub, stretch, n_ie)
         got = _moving._march(pbs, plan, n, nsub, stretch, n_ie)
     if want.failure:  # (the walls swept the window: both say so)
         assert got.failure == want.failure
@@ -161,8 +161,8 @@ def test_compiled_start_scan_is_the_numpy_start_time(wiggle, p0, clock, k):
     with set_options(compiled=False):
         want = _start_time(pbs, k)
     with set_options(compiled=True):
-        assert _compiled.start() is not None
-        got = _start_time(pbs, k, scan=_compiled.start())
+        assert _compiled.built("start") is not None
+        got = _start_time(pbs, k, scan=_compiled.built("start"))
     assert got == want
 
 
@@ -185,8 +185,8 @@ def test_compiled_plan_is_the_numpy_plan(breakpoint, kinks, per_decade, tau_s):
     with set_options(compiled=False):
         want = _joint_plan(pbs, 6.0, per_decade, tau_s, kinks)
     with set_options(compiled=True):
-        assert _compiled.plan() is not None
-        got = _joint_plan(pbs, 6.0, per_decade, tau_s, kinks, _compiled.plan())
+        assert _compiled.built("plan") is not None
+        got = _joint_plan(pbs, 6.0, per_decade, tau_s, kinks, _compiled.built("plan"))
     assert _bits(got.base) == _bits(want.base)
     assert _bits(got.out_index) == _bits(want.out_index)
     assert got.zones == want.zones
@@ -267,7 +267,9 @@ def test_compiled_batch_balances_are_the_numpy_ones(data, loads, rtol):
     with np.errstate(all="ignore"):
         ref = [prob.max(), -prob.min(), loadb.max(), -loadb.min(), slack.max()]
     with set_options(compiled=True):
-        red = batch_balances_of(_compiled.balances(), pb, raw, got["fields"]["wall_lower"][:1])
+        red = batch_balances_of(
+            _compiled.built("balances"), pb, raw, got["fields"]["wall_lower"][:1]
+        )
     red = red[2]
     assert np.array_equal(red[:5], ref, equal_nan=True)  # (NaN-propagating max / min)
     assert red[5] == float(bool(np.all(np.isfinite(lo + up))))  # (sure: a finite sum)

@@ -38,7 +38,9 @@ def _kernels() -> SimpleNamespace:
     with set_options(compiled=True):
         assert _compiled.build()
         return SimpleNamespace(
-            fitted=_compiled.fitted(), scale=_compiled.scale(), assembled=_compiled.assembled()
+            fitted=_compiled.built("fitted"),
+            scale=_compiled.built("scale"),
+            assembled=_compiled.built("assembled"),
         )
 
 

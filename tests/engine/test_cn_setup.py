@@ -37,8 +37,8 @@ def test_level_times_loop_is_numpy_bitwise(seed):
 
 
 def test_compiled_level_times_are_numpy_bitwise_and_zones_stay_numpy(compiled_on):
-    assert _compiled.build() and _compiled.times() is not None
-    fast = _compiled.times()
+    assert _compiled.build() and _compiled.built("times") is not None
+    fast = _compiled.built("times")
     for base, nsub, n_ie in _bases(2):
         want, got = _level_times(base, nsub, n_ie), _level_times(base, nsub, n_ie, (), fast)
         np.testing.assert_array_equal(got[0], want[0])
@@ -85,7 +85,7 @@ def test_compiled_level_times_with_zones_that_grade_no_substep_are_numpy_bitwise
     inside it): only the zones' implicit-Euler steps are patched in, the numpy path's
     numbers; a zone that grades substeps still takes the numpy path."""
     assert _compiled.build()
-    fast = _compiled.times()
+    fast = _compiled.built("times")
     rng = np.random.default_rng(3)
     ran = []
 

@@ -57,6 +57,13 @@ def _assert_same(ref, got) -> None:
         assert np.max(np.abs(have - want)) <= 1e-12 * scale, key
 
 
+def _patch(monkeypatch, **kernels) -> None:
+    """``_compiled.built(name)`` answers ``kernels[name]`` for the names given (the others as
+    before)."""
+    orig = _compiled.built
+    monkeypatch.setattr(_compiled, "built", lambda name: kernels.get(name, orig(name)))
+
+
 @pytest.mark.parametrize("name", list(CASES))
 def test_python_kernel_equals_numpy_march(name, monkeypatch):
     """The kernel's algorithm, run as plain Python on the level, gives the numpy path's
@@ -70,7 +77,7 @@ def test_python_kernel_equals_numpy_march(name, monkeypatch):
         return _compiled.march_steps(*args)
 
     monkeypatch.setattr(_compiled, "kernel", lambda work, *_: kernel)
-    monkeypatch.setattr(_compiled, "fused", lambda: None)  # the per-block compiled steps
+    _patch(monkeypatch, fused=None)  # the per-block compiled steps
     _assert_same(ref, _outputs(name))
     assert calls  # the kernel ran
 
@@ -90,7 +97,7 @@ def test_python_fused_level_equals_numpy_march(name, monkeypatch):
         return _moving_fused.level_march(*args)
 
     monkeypatch.setattr(_compiled, "kernel", lambda work, *_: _compiled.march_steps)
-    monkeypatch.setattr(_compiled, "fused", lambda: (level, _moving_fused.face_coefficients))
+    _patch(monkeypatch, fused=(level, _moving_fused.face_coefficients))
     _assert_same(ref, _outputs(name, mult=2))
     assert calls  # the fused level ran
 
@@ -124,9 +131,9 @@ def test_compiled_kernel_equals_numpy_march(name, monkeypatch, compiled_on):
     assert _compiled.kernel(1.0) is not None
     with xpersson.set_options(compiled=False):
         ref = _outputs(name, mult=2)
-    assert _compiled.fused() is not None  # built with the march: whole levels compiled
+    assert _compiled.built("fused") is not None  # built with the march: whole levels compiled
     _assert_same(ref, _outputs(name, mult=2))
-    monkeypatch.setattr(_compiled, "fused", lambda: None)  # and the per-block steps
+    _patch(monkeypatch, fused=None)  # and the per-block steps
     _assert_same(ref, _outputs(name, mult=2))
 
 
@@ -143,7 +150,7 @@ def test_window_edges_equal_numpy_edges(name, monkeypatch):
     lower, upper, p0 = CASES[name]
     with xpersson.set_options(compiled=False):
         ref = _level(lower, upper, p0, mult=2)[0].window
-    monkeypatch.setattr(_compiled, "edges", lambda: _cn_edges.window_edges)
+    _patch(monkeypatch, edges=_cn_edges.window_edges)
     got = _level(lower, upper, p0, mult=2)[0].window
     for want, have in zip(_window_arrays(ref), _window_arrays(got), strict=True):
         assert have.shape == want.shape and have.dtype == want.dtype
@@ -155,7 +162,7 @@ def test_compiled_window_is_bitwise_and_level_equal(monkeypatch, compiled_on):
     outputs equal the numpy march's (to 1e-12: its solve is LAPACK's algorithm recompiled;
     bit for bit on the development machine) on a batch with a yield closure and on a graded
     (breakpoint) march."""
-    assert _compiled.build() and _compiled.edges() is not None
+    assert _compiled.build() and _compiled.built("edges") is not None
     for name in ("yield closure, batch", "breakpoint lower"):
         lower, upper, p0 = CASES[name]
         with xpersson.set_options(compiled=False):
@@ -188,6 +195,6 @@ def test_fused_level_in_blocks_equals_numpy_march(name, monkeypatch):
         return _moving_fused.level_march(*args)
 
     monkeypatch.setattr(_compiled, "kernel", lambda work, *_: _compiled.march_steps)
-    monkeypatch.setattr(_compiled, "fused", lambda: (level, _moving_fused.face_coefficients))
+    _patch(monkeypatch, fused=(level, _moving_fused.face_coefficients))
     _assert_same(ref, _outputs(name, mult=2))
     assert len(calls) > 2 and all(i1 - i0 <= 3 for i0, i1 in calls)

@@ -90,7 +90,7 @@ class CNMethod(EngineMethod):
         pb = pbs[0]
         opts = CNOptions.read(pb.options, pb.atol)
         tau = pb.tau
-        tau_s = _start_time(pbs, opts.window_k, scan=_compiled.start())
+        tau_s = _start_time(pbs, opts.window_k, scan=_compiled.built("start"))
         tau_s, image = _exact_start(pbs, opts.window_k, tau_s)
         analytic = tau <= tau_s
         num = ~analytic
@@ -338,7 +338,7 @@ class _Grids:
         """The time plan of the levels ``(n_base, *, dense)`` (made on first use)."""
         if (n_base, dense) not in self.plans:
             per_decade = self.opts.per_node * n_base * dense
-            k, fast = self.opts.window_k, _compiled.plan()
+            k, fast = self.opts.window_k, _compiled.built("plan")
             plan = _joint_plan(self.pbs, k, per_decade, self.tau_s, self.kinks, fast)
             plan.image, plan.release = self.image, self.release
             # substeps where a yield wall makes the window stiff (:mod:`._stiff`)

@@ -44,7 +44,7 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: Any)
     roundoff = 16.0 * _EPS * (nsteps + math.sqrt(max(n_used, 1)))
     fast = None
     if best is not None and lv.image is None and n_a < tau.size:
-        fast = _compiled.assembled()  # (every field in one compiled pass, the same numbers)
+        fast = _compiled.built("assembled")  # (every field in one compiled pass, the same numbers)
     fields = None if fast is None else _fields_of(fast, pbs, fit, tau, trunc, roundoff)
     if fields is None:
         *fields, status, message = _fields(pbs, analytic, fit, lv, n_a, trunc, roundoff)

@@ -186,7 +186,7 @@ class _Judge:
         """Estimate ``factor |a - b|`` of the area, and the worst estimate / tolerance of the
         area and of the load identity of ``a``."""
         pb = self.pb
-        fast = _compiled.judge()
+        fast = _compiled.built("judge")
         if fast is not None and a.area.ndim == 2 and a.area.shape == self.scale.shape:
             err, m_area, m_load = fast(a.area, b.area, a.load, a.moment_lower, a.moment_upper,
                                        b.load, b.moment_lower, b.moment_upper, self.scale,
@@ -461,7 +461,7 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array, lo_at: Array | No
     ``lv``: the grid levels (``_cn._Grids``: ``levels(n_base, mults, dense)``, ``solved``,
     ``stop``, ``opts``, ``pbs``); ``lo_at``: the lower wall at ``tau_num`` [Pa] if known.
     """
-    scale = load_scale(lv.pbs, tau_num, lo_at, _compiled.scale())
+    scale = load_scale(lv.pbs, tau_num, lo_at, _compiled.built("scale"))
     fit = _refine(lv, pb, aim, scale)
     if fit is None:  # a budget ended the search: the finest solved pair, flagged
         status, message = lv.stop
@@ -472,7 +472,7 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array, lo_at: Array | No
     # level) is reported as 1, never as inf; round-off of the sums over the grid (the level
     # difference cannot see it) added (``c |area|``)
     c = 16.0 * _EPS * math.sqrt(max(fit.n_used, 1))
-    fast = _compiled.fitted() if fit.best is not None and fit.status == "success" else None
+    fast = _compiled.built("fitted") if fit.best is not None and fit.status == "success" else None
     got = None if fast is None else fitted_of(fast, fit.err, fit.best.area, c, pb.rtol, pb.atol)
     if got is not None:  # (the steps below in one compiled pass)
         fit.err = got

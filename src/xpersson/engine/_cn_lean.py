@@ -13,7 +13,7 @@ reproduce stays numpy's: the start state's ``exp`` (numpy's own, which ``libm``'
 in the last bit), its mass (a ``gemv``) and the face coefficients' product with the face
 functions (a ``gemm``).
 
-Taken where the compiled march is in force (:func:`._compiled.lean`), for the common case: an
+Taken where the compiled march is in force (``_compiled.built("lean")``), for the common case: an
 absorbing lower wall carrying a table (:class:`._wall_table.WallTable`, speeds differenced), no
 upper wall, no densities or progress reports, no one-wall (image) start, chord speeds from
 the march's start (:func:`._cn_grading._chord_from`: the wall's point speeds, never read,

@@ -49,13 +49,11 @@ from ._cnstep import _factor, _gtsv, _solve_factor  # noqa: F401 - (_gtsv: for t
 __all__ = [
     "BUILD_AFTER",
     "MIN_WORK",
+    "KERNELS",
     "build",
-    "edges",
-    "fused",
+    "built",
     "kernel",
     "march_steps",
-    "times",
-    "tracks",
 ]
 
 MIN_WORK = 500_000
@@ -101,119 +99,34 @@ def build() -> bool:
     return _STATE["fn"] is not None
 
 
-def edges() -> Callable[..., None] | None:
-    """The compiled :func:`._cn_edges.window_edges` once the compiled march is built and the
-    option is on, else None (the numpy edges: the same numbers)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("edges")
+KERNELS: dict[str, str] = {
+    "edges": "_cn_edges.window_edges (numpy: the window's edges)",
+    "times": "_cn_edges.level_times (numpy: the level's times)",
+    "tracks": "(_cn_edges.wall_query, _cn_edges.wall_track) (numpy: the walls' tracks)",
+    "lean": "(_cn_lean.level_setup, start_scale, lean_march, lean_load) (numpy: the level's "
+    "set-up by the numpy path's pieces)",
+    "start": "_cn_lean.start_scan (numpy: _cn_plan._start_time's scan)",
+    "plan": "_cn_lean.plan_base (numpy: _cn_plan._joint_plan's calls)",
+    "judge": "_cn_outputs.judge_ratio (numpy: _cn_control._Judge.ratio)",
+    "balances": "_cn_outputs.batch_balances (numpy: _result._balances)",
+    "fields": "(_cn_outputs.combine_fields, weighted_fields) (numpy: _level.combine, weighted)",
+    "projected": "_cn_outputs.projected (numpy: _level.project)",
+    "fitted": "_cn_outputs.fitted_error (numpy: _cn_control._control's calls)",
+    "scale": "_cn_outputs.scale_kernel (numpy: _cn_outputs.load_scale's calls)",
+    "assembled": "_cn_outputs.assembled (numpy: _cn_assemble._assemble's calls)",
+    "fused": "(the level march, the face products) (numpy: _moving's level by blocks)",
+}
+"""The kernels built with the compiled march, by name: what each compiles and the numpy path
+that gives the same numbers where it is not in force."""
 
 
-def times() -> Callable[..., None] | None:
-    """The compiled :func:`._cn_edges.level_times` once the compiled march is built and the
-    option is on, else None (the numpy level times: the same numbers)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("times")
-
-
-def tracks() -> tuple[Callable[..., None], Callable[..., None]] | None:
-    """The compiled :func:`._cn_edges.wall_query` and :func:`._cn_edges.wall_track` once the
-    compiled march is built and the option is on, else None (the numpy tracks: the same
+def built(name: str) -> Any:
+    """The compiled kernel(s) ``name`` (a key of :data:`KERNELS`) once the compiled march is
+    built and the option is on, else None: the caller then takes the numpy path (the same
     numbers)."""
     if not compiled_enabled():
         return None
-    return _STATE.get("tracks")
-
-
-def lean() -> tuple[Callable[..., Any], ...] | None:
-    """The compiled :func:`._cn_lean.level_setup`, :func:`._cn_lean.start_scale`,
-    :func:`._cn_lean.lean_march` and :func:`._cn_lean.lean_load` once the compiled march is
-    built and the option is on, else None (the level's set-up by the numpy path's pieces:
-    the same numbers)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("lean")
-
-
-def start() -> Callable[..., float] | None:
-    """The compiled :func:`._cn_lean.start_scan` once the compiled march is built and the
-    option is on, else None (:func:`._cn_plan._start_time`'s numpy scan: the same time)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("start")
-
-
-def plan() -> Callable[..., tuple] | None:
-    """The compiled :func:`._cn_lean.plan_base` once the compiled march is built and the
-    option is on, else None (:func:`._cn_plan._joint_plan`'s numpy calls: the same plan)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("plan")
-
-
-def judge() -> Callable[..., tuple] | None:
-    """The compiled :func:`._cn_outputs.judge_ratio` once the compiled march is built and the
-    option is on, else None (:meth:`._cn_control._Judge.ratio`'s numpy calls: the same)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("judge")
-
-
-def balances() -> Callable[..., tuple] | None:
-    """The compiled :func:`._cn_outputs.batch_balances` once the compiled march is built and the
-    option is on, else None (:func:`._result._balances`' numpy calls: the same numbers)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("balances")
-
-
-def fields() -> tuple[Callable[..., bool], Callable[..., bool]] | None:
-    """The compiled :func:`._cn_outputs.combine_fields` and :func:`._cn_outputs.weighted_fields`
-    once the compiled march is built and the option is on, else None
-    (:func:`._level.combine`'s and :func:`._level.weighted`'s numpy calls: the same)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("fields")
-
-
-def fitted() -> Callable[..., bool] | None:
-    """The compiled :func:`._cn_outputs.fitted_error` once the compiled march is built and the
-    option is on, else None (:func:`._cn_control._control`'s numpy calls: the same)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("fitted")
-
-
-def scale() -> Callable[..., bool] | None:
-    """The compiled :func:`._cn_outputs.scale_kernel` once the compiled march is built and the
-    option is on, else None (:func:`._cn_outputs.load_scale`'s numpy calls: the same)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("scale")
-
-
-def assembled() -> Callable[..., bool] | None:
-    """The compiled :func:`._cn_outputs.assembled` once the compiled march is built and the
-    option is on, else None (:func:`._cn._assemble`'s numpy calls: the same)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("assembled")
-
-
-def projected() -> Callable[..., bool] | None:
-    """The compiled :func:`._cn_outputs.projected` once the compiled march is built and the
-    option is on, else None (:func:`._level.project`'s numpy calls: the same)."""
-    if not compiled_enabled():
-        return None
-    return _STATE.get("project")
-
-
-def fused() -> tuple[Callable[..., int], Callable[..., None]] | None:
-    """The compiled :func:`._moving_fused.level_march` and
-    :func:`._moving_fused.face_coefficients` (a whole level in a few calls), built with
-    :func:`kernel`'s march: None until then (or without numba)."""
-    return _STATE.get("level")
+    return _STATE.get(name)
 
 
 def _build() -> Callable[..., int] | None:
@@ -237,7 +150,7 @@ def _build() -> Callable[..., int] | None:
     faces = jit(fused_src.face_coefficients)
     code = fused_src.level_march.__code__
     level = jit(types.FunctionType(code, fused_scope, "level_march"))
-    _STATE["level"] = (level, faces)
+    _STATE["fused"] = (level, faces)
     _STATE["lean"] = _lean(jit, faces, _wall_table.kernels())
     return jit(types.FunctionType(march_steps.__code__, scope, "march_steps"))
 
@@ -255,7 +168,7 @@ def _lean(jit: Callable, faces: Callable, table: tuple | None) -> tuple | None:
         "window_edges": _STATE["edges"],
         "table_values": table[0],
         "face_coefficients": faces,
-        "level_march": _STATE["level"][0],
+        "level_march": _STATE["fused"][0],
     }
     setup = jit(types.FunctionType(_cn_lean.level_setup.__code__, scope, "level_setup"))
     _STATE["start"] = jit(types.FunctionType(_cn_lean.start_scan.__code__, scope, "start_scan"))
@@ -280,7 +193,7 @@ def _outputs(jit: Callable) -> None:
     _STATE["judge"] = jit(src.judge_ratio)
     _STATE["balances"] = bound("batch_balances")
     _STATE["fields"] = (bound("combine_fields"), bound("weighted_fields"))
-    _STATE["project"] = bound("projected")
+    _STATE["projected"] = bound("projected")
     _STATE["fitted"] = jit(src.fitted_error)
     _STATE["assembled"] = bound("assembled")
     _STATE["scale"] = jit(src.scale_kernel)

@@ -220,7 +220,7 @@ def _kernel(name: str) -> Any:
     (the option is off, or the process has not loaded the compiled march: it is looked up,
     not imported, so that this module stays below it)."""
     compiled = sys.modules.get(f"{__package__}._compiled")
-    return None if compiled is None else getattr(compiled, name)()
+    return None if compiled is None else compiled.built(name)
 
 
 def combine(fine: Outputs, coarse: Outputs, extrapolate: bool) -> Outputs:

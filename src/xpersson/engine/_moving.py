@@ -68,12 +68,12 @@ def level_inputs(
     """The inputs of the level of ``n`` intervals (clustering ``stretch``) on ``plan``'s time
     sequence subdivided ``nsub`` times with ``n_ie`` implicit-Euler half steps first, for the
     loads ``pbs`` (one batch: they share their walls and output times)."""
-    taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones, _compiled.times())
+    taus, theta = _level_times(plan.base, nsub, n_ie, plan.zones, _compiled.built("times"))
     pb0 = pbs[0]
     outs = plan.outs if plan.outs is not None else pb0.tau[pb0.tau > plan.tau_s]
     out_at = np.searchsorted(taus, outs)
     p0 = np.array([pb.p0 for pb in pbs])[:, None]
-    window = _edges_batch(pbs, plan, taus, _compiled.edges(), _compiled.tracks())
+    window = _edges_batch(pbs, plan, taus, _compiled.built("edges"), _compiled.built("tracks"))
     grid = level_grid(len(pbs), n, stretch)
     return LevelInputs(
         taus, theta, out_at, grid.nodes, window, p0, plan.k, plan.yield_wall, plan.image, grid
@@ -128,9 +128,9 @@ def _march(pbs: list[Problem], plan: _Plan, n: int, nsub: int, stretch: float, n
     """One grid level (``n`` intervals, ``nsub`` substeps per base step) for a batch of loads
     (see :func:`level_inputs`): outputs ``(loads, outputs)`` at the numerical output times,
     or the reason the level failed."""
-    lean = _compiled.lean()
+    lean = _compiled.built("lean")
     if lean is not None and lean_ok(pbs, plan, nsub) and not progress_reported():
-        level = lean_level(lean, _compiled.fused(), pbs, plan, n, nsub, stretch, n_ie)
+        level = lean_level(lean, _compiled.built("fused"), pbs, plan, n, nsub, stretch, n_ie)
         if level is not None:
             return level
     inp = level_inputs(pbs, plan, n, nsub, stretch, n_ie)
@@ -151,7 +151,7 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     r0 = _initial_state(win, x, w, inp.p0, inp.taus[0], inp.k, inp.image)
     fast = _compiled.kernel(nb * nn * n_steps, n_steps, nb * nn)
     if fast is not None and p_out is None and not progress_reported():
-        fused = _compiled.fused()  # the whole level in a few compiled calls
+        fused = _compiled.built("fused")  # the whole level in a few compiled calls
         level = None if fused is None else fused_level(fused, inp, r0, stretch)
         if level is not None:
             return level

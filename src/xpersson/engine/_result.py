@@ -213,7 +213,7 @@ def _screened_balances(problem: Problem, raw: Raw) -> tuple:
         zero = broadcast_view(np.zeros(()), problem.tau.shape)
         return (*problem.output_positions(), zero, zero, None)
     compiled = sys.modules.get(f"{__package__}._compiled")  # (loaded with the march only)
-    fast = None if compiled is None else compiled.balances()  # (then _cn_outputs is loaded)
+    fast = None if compiled is None else compiled.built("balances")  # (then _cn_outputs is loaded)
     if fast is not None and problem.upper is None:
         lo, up = raw.lower_at, NO_WALL  # (the method's, where it has them)
         if lo is None:
