@@ -258,11 +258,6 @@ def sample_times(tau: Array) -> Array:
     One set for the input checks and the clearance bound of :mod:`._clear`, so that a wall
     whose position is costly (an inverted clock) is evaluated at these times once.
     """
-    return _kept_samples(tau).copy()  # a copy: callers' walls may write into it
-
-
-def _kept_samples(tau: Array) -> Array:
-    """:func:`sample_times` as the cache keeps it (read-only)."""
     t = np.asarray(tau, dtype=float)
     if t.ndim == 2 and t.shape[0] > 1 and t.strides[0] == 0:  # one row shared by the loads
         t = t[0]
@@ -273,7 +268,7 @@ def _kept_samples(tau: Array) -> Array:
             np.concatenate([[0.0], t.ravel(), np.linspace(0.0, t_end, 65), t_end * _LOG16])
         )
 
-    return _SAMPLES.get(t, compute)
+    return _SAMPLES.get(t, compute).copy()  # a copy: callers' walls may write into it
 
 
 _LOG16 = np.logspace(-16, 0, 96)
