@@ -117,7 +117,7 @@ class Draft:
         ``own``: the variables are the draft's alone (a run's), so a squeezed one keeps its
         attrs and encoding dicts instead of copies (a Variable whose data is a numpy array with
         ``p0`` first is changed in place: its dims and data replaced)."""
-        if own:
+        if own and _DIRECT:  # (the slots read directly: see __init__)
             self._variables = {
                 name: _squeezed_own(var) if "p0" in var._dims else var  # noqa: SLF001
                 for name, var in self._variables.items()
@@ -147,12 +147,13 @@ class Draft:
 
 
 def _squeezed_own(var: xr.Variable) -> xr.Variable:
-    """:func:`_squeezed` of a Variable the draft owns: one whose data is a numpy array with
+    """:func:`_squeezed` of a Variable the draft owns (xarray's slots as :data:`_DIRECT`
+    expects them): one whose data is a numpy array with
     ``p0`` first and whose view at ``p0 = 0`` is an array or a numpy scalar is changed in place
     (dims and data; the same attrs and encoding: what ``_squeezed(var, own=True)`` makes,
     without a new object); any other through :func:`_squeezed`."""
     dims, raw = var._dims, var._data  # noqa: SLF001 - see the module docstring
-    if _DIRECT and type(raw) is np.ndarray and dims[0] == "p0" and type(var) is xr.Variable:
+    if type(raw) is np.ndarray and dims[0] == "p0" and type(var) is xr.Variable:
         data = raw[0]
         if type(data) is np.ndarray or isinstance(data, np.generic):
             var._dims, var._data = dims[1:], data  # noqa: SLF001
