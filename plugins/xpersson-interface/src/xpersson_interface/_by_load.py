@@ -286,11 +286,7 @@ class _Direct:
         have = ask & self.kept
         if not have.any():
             return ask
-        for g, names in enumerate(self.groups):
-            for k in _names(names, self.kept_vals):
-                if k not in self.vals:
-                    self.vals[k] = np.full_like(self.kept_vals[k], np.nan)
-                self.vals[k][have[g]] = self.kept_vals[k][have[g]]
+        self._store(self.vals, self.kept_vals, np.arange(self.n), have)
         self.done |= have
         return ask & ~have
 
