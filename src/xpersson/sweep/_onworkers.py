@@ -59,7 +59,9 @@ def resolve_on_workers(
             pure=False,
             key=f"xpersson-resolve-{b.number}-{tag}",
             workers=None if addresses[0] is None else [addresses[owner[i]]],
-            allow_other_workers=True,
+            # (only with workers named: distributed refuses it without; no worker had
+            # registered yet when the scheduler was asked, a race seen in CI)
+            allow_other_workers=addresses[0] is not None,
         )
         for i, b in enumerate(blocks)
     ]
