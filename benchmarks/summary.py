@@ -77,6 +77,34 @@ def warm_up(scenes) -> None:
     kernels.kernel(float("inf"))
 
 
+def accelerator() -> str:
+    """The optional accelerator of this process: ``numba X.Y`` or ``none``."""
+    try:
+        import numba
+    except ImportError:
+        return "none"
+    return f"numba {numba.__version__}"
+
+
+def _accelerated(meta: dict) -> str:
+    """The header's words on the accelerator the table was measured with (runs before it was
+    recorded had numba)."""
+    acc = meta.get("accelerator", "numba")
+    if acc == "none":
+        return 'without numba (numpy paths only; the speeds below need `pip install ".[fast]"`)'
+    return f'with {acc} (`pip install ".[fast]"`), its compiled kernels built first'
+
+
+def _same_accelerator(meta: dict) -> None:
+    """Refuse to merge rows measured with and without the accelerator into one table."""
+    saved, now = meta.get("accelerator", accelerator()), accelerator()
+    if (saved == "none") != (now == "none"):
+        raise SystemExit(
+            f"results/summary.json was measured with accelerator {saved!r}, this process has "
+            f"{now!r}: install the same (numba: `pip install '.[fast]'`) or run the full table"
+        )
+
+
 def over_design(scenes, paths, rounds, quick) -> dict:
     """``{path: {scene: measurement}}`` of every design path on every scene."""
     out: dict[str, dict] = {name: {} for name in paths}
@@ -147,7 +175,7 @@ def table(rows: list[dict], meta: dict, held: dict | None = None) -> str:
         f"Measured by `python benchmarks/summary.py` ({meta['date']}, {meta['scenes']} seeded "
         f"scenes: H 0.3-0.95, with and without roll-off, 3-6 decades; one process, "
         f"OPENBLAS_NUM_THREADS=1, CPU time, best of {meta['rounds']} interleaved rounds; "
-        "the optional compiled kernels built first; "
+        f"{_accelerated(meta)}; "
         f"{meta['machine']}). Ratio: the path's time over its kernel's on the same curves; "
         "worst over the design, and its scene. Memory: peak traced on the worst scene."
         + _partial(meta)
@@ -252,6 +280,7 @@ def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
     """Measure the design paths named by ``texts`` again over the saved design; keep the rest
     of ``results/summary.json`` (its date and rounds note the full run)."""
     saved = json.loads((HERE / "results" / "summary.json").read_text())
+    _same_accelerator(saved["meta"])
     paths, march, again = _select(texts)
     scenes = list(saved["meta"]["design"].items())
     warm_up(scenes)
@@ -289,7 +318,9 @@ def held_out_run(seed: int, rounds: int | None, check: bool, texts: list[str] | 
         )
     file = HERE / "results" / "summary_heldout.json"
     meta = {"date": time.strftime("%Y-%m-%d"), "seed": seed, "scenes": len(scenes)}
-    meta["rounds"], meta["design"] = rounds, dict(scenes)
+    meta["rounds"], meta["design"], meta["accelerator"] = rounds, dict(scenes), accelerator()
+    if not check:
+        _same_accelerator(json.loads((HERE / "results" / "summary.json").read_text())["meta"])
     if texts is not None and file.exists():
         before = json.loads(file.read_text())
         if before["meta"]["seed"] == seed:
@@ -355,6 +386,7 @@ def main(argv: list[str] | None = None) -> str:
         "scenes": len(scenes),
         "rounds": rounds,
         "quick": args.quick,
+        "accelerator": accelerator(),
         "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
         f"{platform.python_version()}, numpy {np.__version__}",
         "design": dict(scenes),
