@@ -28,13 +28,9 @@ __all__ = [
     "two_wall_pdf",
     "three_gaussian_areas",
     "three_gaussian_pdf",
-    "SWITCH",
 ]
 
 Method = Literal["auto", "images", "sine"]
-
-SWITCH = 0.1
-"""Crossover ``tau / Y**2`` between the image series (below) and the sine series (above)."""
 
 
 class TwoWallAreas(NamedTuple):
