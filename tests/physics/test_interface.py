@@ -172,14 +172,15 @@ def test_bad_curves_are_refused(psd):
         itf.mean_gap(psd, E_STAR, [-1.0], zeta, np.array([1.0, 0.5, 0.2]))
 
 
-def test_dF_at_the_stieltjes_nodes_equals_the_spline_evaluation():
-    """``_Curve.dF_nodes`` (from the spline's coefficients, each node in its known interval)
-    equals ``_Curve.dF`` at the nodes of ``stieltjes_nodes`` to rounding."""
+def test_dF_sums_at_the_stieltjes_nodes_equal_the_spline_evaluation():
+    """``_Curve.dF_weighted`` (``dF`` from the spline's coefficients, each node in its known
+    interval) equals the weighted sums of ``_Curve.dF`` at the nodes of ``stieltjes_nodes``
+    to rounding (positive terms: no cancellation)."""
     from xpersson.physics._curve import _Curve
 
     z = np.geomspace(1.0, 1e5, 60)
     area = np.array([np.exp(-a * np.log(z)) for a in (0.05, 0.3, 0.9)])
     curve = _Curve(z, area, None, None)
-    xg, _ = curve.stieltjes_nodes()
-    np.testing.assert_allclose(curve.dF_nodes(), curve.dF(xg), rtol=1e-13, atol=0)
-    assert curve.dF_nodes() is curve.dF_nodes()  # computed once
+    xg, wg = curve.stieltjes_nodes()
+    ref = np.sum(curve.dF(xg) * wg[None], axis=-1)
+    np.testing.assert_allclose(curve.dF_weighted(wg), ref, rtol=1e-13, atol=0)

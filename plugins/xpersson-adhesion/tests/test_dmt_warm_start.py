@@ -1,5 +1,5 @@
-"""``dmt`` loads bracketed around the root predicted from their solved neighbours: the same
-``p_rep`` as a cold solve of each load, to the requested tolerance, in fewer evaluations."""
+"""``dmt`` loads solved together: the same ``p_rep`` as a cold solve of each load, to the
+requested tolerance, in fewer evaluations; the reference's bracket around a guess."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from adhesion_testlib import with_
 import xpersson
 from xpersson.testing import material, scene
 from xpersson_adhesion import AdhesionLimitWarning
-from xpersson_adhesion._dmt_reference import _bracket_near, _predicted_p_rep
+from xpersson_adhesion._dmt_reference import _bracket_near
 
 LOADS = ["2 kPa", "6 kPa", "12 kPa", "20 kPa"]
 BASE = scene(material=material("1 MPa"), p0=LOADS, zeta_per_decade=4)
@@ -66,15 +66,3 @@ def test_bracket_near_holds_the_sign_change():
     for guess in (3.69999, 3.7, 3.8, 1.0, 9.0):
         a, b = _bracket_near(g, 0.5, 10.0, guess)
         assert 0.5 <= a < b <= 10.0 and g(a) < 0 <= g(b)
-
-
-def test_prediction_is_linear_in_p0():
-    from xpersson_adhesion.dmt import DMTState
-
-    def state(p0, p_att):
-        return DMTState(p0, p0 + p_att, p_att, 0.0, 1, 0.0, 0.0, 0.5)
-
-    assert _predicted_p_rep([], 1.0) is None
-    assert _predicted_p_rep([state(1.0, 5.0)], 2.0) == 7.0
-    solved = [state(1.0, 5.0), state(2.0, 4.0), state(9.0, 0.0)]
-    assert np.isclose(_predicted_p_rep(solved, 3.0), 3.0 + 3.0)

@@ -15,21 +15,17 @@ from ._problem import Problem
 from ._wall_table import kernels
 from ._walls import Wall
 
-__all__ = ["_bracketed_roots", "_switch_times", "_switch_times_batch"]
+__all__ = ["_bracketed_roots", "_switch_times_batch"]
 
 Array = NDArray[np.float64]
 
 
-def _switch_times(pb: Problem, k: float, t_lo: float, t_hi: float) -> list[float]:
-    """Times where a real wall enters/leaves the window (kinks of the window edges)."""
-    return _switch_times_batch([pb], k, t_lo, t_hi)
-
-
 def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) -> list[float]:
-    """:func:`_switch_times` of every load of a batch (they share their walls): the edge gaps
-    sampled at 513 log-spaced times, every sign change then polished to ``1e-15 tau`` by one
-    vectorised bracketed root-finder over all loads and walls (:func:`_bracketed_roots`); a
-    wall with a table by one compiled call (:func:`._wall_table.edge_roots`, the same roots)."""
+    """Times where a real wall enters/leaves the window (kinks of the window edges) for every
+    load of a batch (they share their walls): the edge gaps sampled at 513 log-spaced times,
+    every sign change then polished to ``1e-15 tau`` by one vectorised bracketed root-finder
+    over all loads and walls (:func:`_bracketed_roots`); a wall with a table by one compiled
+    call (:func:`._wall_table.edge_roots`, the same roots)."""
     if not t_hi > t_lo:
         return []
     cand = t_lo * decades(math.log10(t_hi / t_lo), 513)

@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from ._cn_edges import compiled_track, compiled_window
 from ._cn_grading import _GRADE, _chord_from, _differenced, _graded_zones
-from ._cn_kinks import _bracketed_roots, _switch_times, _switch_times_batch
+from ._cn_kinks import _bracketed_roots, _switch_times_batch
 from ._grid import decades as _decades
 from ._grid import is_in as _is_in
 from ._grid import sorted_unique
@@ -31,7 +31,6 @@ __all__ = [
     "_faces",
     "_exact_start",
     "_start_time",
-    "_switch_times",
     "_switch_times_batch",
     "_bracketed_roots",
 ]

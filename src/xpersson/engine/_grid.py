@@ -1,4 +1,4 @@
-"""Mapped grids and their finite-difference / quadrature weights (unit interval, x in [0, 1])."""
+"""Mapped grids on the unit interval (x in [0, 1]) and small array helpers of the time plans."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["clustered", "decades", "is_in", "linspace0", "sorted_unique", "Stencils"]
+__all__ = ["clustered", "decades", "is_in", "linspace0", "sorted_unique"]
 
 Array = NDArray[np.float64]
 
@@ -73,38 +73,3 @@ def sorted_unique(values: Array) -> Array:
     keep[:1] = True
     np.not_equal(values[1:], values[:-1], out=keep[1:])
     return values[keep]
-
-
-class Stencils:
-    """Three-point operators on a node set ``x`` (interior rows), end derivatives, weights.
-
-    ``lap_*`` and ``der_*`` are the sub/main/super diagonals of d2/dx2 and d/dx for the interior
-    nodes 1..n-1 (arrays of length n-1); ``d_lo``/``d_hi`` are one-sided second-order first
-    derivatives at x[0] (nodes 0, 1, 2) and x[-1] (nodes -1, -2, -3); ``w`` are trapezoid
-    weights.
-    """
-
-    def __init__(self, x: Array) -> None:
-        self.x = x
-        hm = x[1:-1] - x[:-2]
-        hp = x[2:] - x[1:-1]
-        s = hm + hp
-        self.lap_sub = 2.0 / (hm * s)
-        self.lap_dia = -2.0 / (hm * hp)
-        self.lap_sup = 2.0 / (hp * s)
-        self.der_sub = -hp / (hm * s)
-        self.der_dia = (hp - hm) / (hm * hp)
-        self.der_sup = hm / (hp * s)
-        h1, h2 = x[1] - x[0], x[2] - x[1]
-        self.d_lo = np.array(
-            [-(2 * h1 + h2) / (h1 * (h1 + h2)), (h1 + h2) / (h1 * h2), -h1 / (h2 * (h1 + h2))]
-        )
-        h1, h2 = x[-1] - x[-2], x[-2] - x[-3]
-        self.d_hi = np.array(
-            [(2 * h1 + h2) / (h1 * (h1 + h2)), -(h1 + h2) / (h1 * h2), h1 / (h2 * (h1 + h2))]
-        )
-        w = np.zeros_like(x)
-        d = np.diff(x)
-        w[:-1] += d / 2
-        w[1:] += d / 2
-        self.w = w

@@ -27,8 +27,6 @@ __all__ = [
 
 Array = NDArray[np.float64]
 
-STATUSES = ("success", "max_steps", "balance_violated", "tolerance_not_met", "invalid_input")
-
 
 @dataclass(frozen=True, kw_only=True)
 class Outcome:

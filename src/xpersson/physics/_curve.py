@@ -228,9 +228,6 @@ class _Curve:
         out._spl = _spline_rows(self._spl, sel)
         a = self._spl_a_built  # ln(1 - A)'s spline: ln(1 - F)'s, not built yet, or its own
         out._spl_a_built = out._spl if a is self._spl else (a is not False and _spline_rows(a, sel))
-        nodes = getattr(self, "_dF_at_nodes", None)
-        if nodes is not None:
-            out._dF_at_nodes = nodes[sel]
         return out
 
     @property
@@ -297,31 +294,9 @@ class _Curve:
         dys = np.maximum(self._spl(xs, 1), 0.0)
         return np.where(x < x1, lin, _exp(ys) * dys)
 
-    def dF_nodes(self) -> NDArray[np.float64]:
-        """``dF`` at the nodes of :meth:`stieltjes_nodes`, (n_load, n_int, m), computed once.
-
-        Each node lies inside a known interval, so the spline (value and derivative) is
-        evaluated from its coefficients directly, without searching the intervals.
-        """
-        cached = getattr(self, "_dF_at_nodes", None)
-        if cached is None:
-            xg, _ = self.stieltjes_nodes()
-            cached = np.empty((self.n_load, *xg.shape))
-            first = (self._nf1 / self.x[1])[:, None]
-            for k, start, vals in self._dF_blocks():
-                if start:
-                    cached[k, 0] = first[k]
-                    cached[k, 1:start] = 0.0
-                cached[k, start:] = vals.transpose(0, 2, 1)
-            self._dF_at_nodes = cached
-        return cached
-
     def dF_weighted(self, weights: NDArray[np.float64]) -> NDArray[np.float64]:
         """``sum_m dF[:, i, m] weights[i, m]`` (n_load, n_int): the node sums of the
         Stieltjes integrals, without keeping the (n_load, n_int, m) tensor."""
-        cached = getattr(self, "_dF_at_nodes", None)
-        if cached is not None:
-            return np.sum(cached * weights[None], axis=-1)
         out = np.empty((self.n_load, weights.shape[0]))
         first = (self._nf1 / self.x[1])[:, None]  # the linear first interval
         w_t = weights.T  # (m, n_int): the blocks' layout
@@ -344,7 +319,7 @@ class _Curve:
 
     def _dF_blocks(self, compiled: bool = False) -> Any:
         """``(rows, start, dF[rows, start:])`` in cache-sized blocks of loads (see
-        :meth:`dF_nodes`), each block laid out (rows, m, n_int - start): the long interval
+        :meth:`dF_weighted`), each block laid out (rows, m, n_int - start): the long interval
         axis innermost (an inner axis of m = 6 nodes costs numpy a loop call per 6 values).
         For ``start > 0`` interval 0 is the linear first interval and the intervals
         ``1 .. start - 1`` are 0 (every load of the block in full contact). ``compiled``

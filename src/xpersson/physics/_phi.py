@@ -93,32 +93,6 @@ class _Phi:
             out[:, low] = self.phi[:, 1:2] * np.clip(tau[low] / self.tau1, 0, 1)
         return out
 
-    def at_tau_per_load(self, tau: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``Phi`` at per-load ``tau`` of shape (n_load, ...) (uniform-table look-up)."""
-        tau = np.asarray(tau, dtype=float)
-        shape = tau.shape
-        t2 = tau.reshape(shape[0], -1)
-        if self._spl is None:
-            return (self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)).reshape(shape)
-        grid, table = self._table()
-        n, lo, width = grid.size, self._lo, table.shape[1]
-        with np.errstate(divide="ignore"):
-            u = np.log(t2)
-        u -= grid[0]
-        u *= 1.0 / (grid[1] - grid[0])
-        np.clip(u, lo, n - 1.000001, out=u)  # below node lo + 1 the table is 0: same values
-        i = u.astype(np.intp)
-        u -= i
-        i += (np.arange(shape[0]) * width - lo)[:, None]  # node i of load l at l width + i - lo
-        flat = table.ravel()
-        v0 = flat.take(i)
-        val = v0 + u * (flat[1:].take(i) - v0)
-        low = t2 < self.tau1
-        if low.any():
-            lin = self.phi[:, 1:2] * np.clip(t2 / self.tau1, 0.0, 1.0)
-            val = np.where(low, lin, val)
-        return val.reshape(shape)
-
     def spline_at_log_tau_per_load(
         self, log_tau: NDArray[np.float64], rows: slice | NDArray
     ) -> NDArray[np.float64]:
@@ -151,11 +125,10 @@ class _Phi:
     def at_log_tau_per_load(
         self, log_tau: NDArray[np.float64], rows: slice | NDArray, overwrite: bool = False
     ) -> NDArray:
-        """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``.
-
-        As :meth:`at_tau_per_load` with the logarithm given (uniform-table look-up); ``rows``
-        a slice of the loads or one load index per row. ``overwrite``: ``log_tau`` is a
-        temporary of the caller and may be used as scratch space.
+        """``Phi`` at per-load ``ln tau`` of shape (n_rows, ...) for the loads ``rows``
+        (uniform-table look-up, linear below ``tau1``); ``rows`` a slice of the loads or one
+        load index per row. ``overwrite``: ``log_tau`` is a temporary of the caller and may be
+        used as scratch space.
         """
         shape = log_tau.shape
         l2 = log_tau.reshape(shape[0], -1)

@@ -94,8 +94,6 @@ def _sub_mean_gap(
         log_a2 = 2.0 * np.log(np.asarray(area_a, dtype=float))[..., None]
     n = phi.p0.size
     shape = (n,) + np.broadcast_shapes(log_tc.shape, log_a2.shape)[1:]
-    if where is not None and log_tc.shape[0] != 1:  # per-load cut-offs: the pairs only
-        return math.pi * _sub_pairs(phi, log_tc, log_a2, kern, shape, where)
     shared = None
     one = log_tc.shape[0] == 1 and kern.shape[0] == 1  # cut-offs of one row
     if where is None and not spline and one and phi.has_table:
@@ -192,39 +190,6 @@ def _compiled_sums(
     return fn(
         tc, kn, la2, mask, out, table, grid, phi._lo, phi.tau1, np.ascontiguousarray(phi.phi[:, 1])
     )
-
-
-def _sub_pairs(
-    phi: _Phi,
-    log_tc: NDArray[np.float64],
-    log_a2: NDArray[np.float64],
-    kern: NDArray[np.float64],
-    shape: tuple[int, ...],
-    where: NDArray[np.bool_],
-) -> NDArray[np.float64]:
-    """The sums of :func:`_sub_mean_gap` (without its factor pi) at the ``where`` pairs only.
-
-    Magnification-only factors (a leading axis of 1) are gathered by magnification from the
-    small array, not through a broadcast view of every load (the same values, fewer bytes).
-    """
-    ls, ks = np.nonzero(where)
-    out = np.zeros(shape[:-1])
-    step = _block(shape[-1])
-
-    def gather(a: NDArray[np.float64], lp: NDArray, kp: NDArray) -> NDArray[np.float64]:
-        if a.shape[0] == 1:
-            a = a[0]
-            return a[kp] if a.shape[0] > 1 else np.broadcast_to(a[0], (kp.size, a.shape[-1]))
-        return np.broadcast_to(a, shape[:-1] + a.shape[-1:])[lp, kp]
-
-    for i in range(0, ls.size, step):
-        p = slice(i, i + step)
-        lp, kp = ls[p], ks[p]
-        lt = gather(log_tc, lp, kp) + gather(log_a2, lp, kp)
-        vals = phi.at_log_tau_per_load(lt, lp, overwrite=True)
-        vals *= gather(kern, lp, kp)
-        out[lp, kp] = vals.sum(axis=-1)
-    return out
 
 
 def _h2(psd: object, q: ArrayLike, q_hi: float) -> NDArray[np.float64]:

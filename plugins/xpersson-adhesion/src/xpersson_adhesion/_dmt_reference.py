@@ -159,16 +159,3 @@ def _bracket_near(g: Any, lo: float, hi: float, guess: float) -> tuple[float, fl
             return guess, guess + step
         step *= 10.0
     return guess, hi
-
-
-def _predicted_p_rep(solved: list[DMTState], p0: float) -> float | None:
-    """``p0 + p_att`` [Pa] with ``p_att`` extrapolated linearly in ``p0`` from the two solved
-    loads nearest to ``p0`` (one: its ``p_att``); ``None`` without a solved load."""
-    near = sorted(solved, key=lambda st: abs(st.p0 - p0))[:2]
-    if not near:
-        return None
-    if len(near) == 1 or near[0].p0 == near[1].p0:
-        return p0 + near[0].p_att
-    a, b = near
-    slope = (b.p_att - a.p_att) / (b.p0 - a.p0)
-    return p0 + a.p_att + slope * (p0 - a.p0)

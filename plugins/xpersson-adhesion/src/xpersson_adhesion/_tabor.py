@@ -24,7 +24,6 @@ __all__ = [
     "JKR_MIN_TABOR",
     "DMT_MAX_TABOR",
     "tabor_parameter",
-    "warn_if_contradicted",
     "warn_outside_limit",
 ]
 
@@ -39,7 +38,8 @@ _HALF_OCTAVE = math.sqrt(2.0)
 
 
 class AdhesionLimitWarning(UserWarning):
-    """The chosen adhesion limit (jkr or dmt) contradicts the Tabor parameter at most scales."""
+    """The chosen adhesion limit (jkr or dmt) is outside its range of the finest-scale Tabor
+    parameter (:func:`warn_outside_limit`)."""
 
 
 def tabor_parameter(
@@ -72,29 +72,6 @@ def tabor_parameter(
         radius = np.where(curv > 0, 1.0 / np.where(curv > 0, curv, 1.0), np.inf)
     mu = np.cbrt(radius * work**2 / (E_star**2 * interaction_range**3))
     return np.where(np.isfinite(mu), mu, np.finfo(float).max)
-
-
-def warn_if_contradicted(mu: NDArray[np.float64], limit: str, stacklevel: int = 3) -> float:
-    """Warn when ``limit`` ("jkr" or "dmt") is contradicted at more than half of the scales.
-
-    Returns the fraction of scales that contradict the limit.
-    """
-    mu = np.asarray(mu, dtype=float)
-    if mu.size == 0:
-        return 0.0
-    bad = mu < 1.0 if limit == "jkr" else mu > 1.0
-    frac = float(np.mean(bad))
-    if frac > 0.5:
-        other = "dmt" if limit == "jkr" else "jkr"
-        side = "< 1" if limit == "jkr" else "> 1"
-        warnings.warn(
-            f"boundary {limit!r}: the Tabor parameter mu_T is {side} at {100 * frac:.0f}% of the "
-            f"magnifications (median {float(np.median(mu)):.3g}); the {other!r} limit describes "
-            "these scales better (physics.md §2.3)",
-            AdhesionLimitWarning,
-            stacklevel=stacklevel,
-        )
-    return frac
 
 
 def warn_outside_limit(mu_1: float, limit: str, stacklevel: int = 3) -> bool:

@@ -116,23 +116,23 @@ class _Interface(Analysis):
         if not corrected and self._params.get("gamma") is None:
             self._params["gamma"] = GAMMA_DEFAULT  # recorded in the archive's resolved scene
 
-    def _key(self, dense: bool) -> tuple[Any, ...]:
-        per = int(self.params.get("zeta_per_decade", 0)) if dense else 0
+    def _key(self) -> tuple[Any, ...]:
+        per = int(self.params.get("zeta_per_decade", 0))
         return self.params.get("s_factor", "closure"), self.params.get("gamma"), per
 
-    def _solved(self, ctx: Any, ds: Any, dense: bool = True) -> Solved:
+    def _solved(self, ctx: Any, ds: Any) -> Solved:
         self._resolve_form(ctx.coefficient)  # an instance used without check_scene
         return per_solve(
             ctx,
-            ("solved", *self._key(dense)),
-            lambda: solved_curve(ctx, ds, *self._key(dense)),
+            ("solved", *self._key()),
+            lambda: solved_curve(ctx, ds, *self._key()),
         )
 
     def _contact(self, ctx: Any, ds: Any, s: Any = None) -> tuple[Solved, physics.SolvedContact]:
         s = self._solved(ctx, ds) if s is None else s  # s: the solved curve of ctx, ds if known
         sc = per_solve(
             ctx,
-            ("contact", *self._key(True)),
+            ("contact", *self._key()),
             lambda: contact_of(ctx, s),
         )
         return s, sc
@@ -142,7 +142,7 @@ class _Interface(Analysis):
         s = self._solved(ctx, ds)
         if s.p0.size <= CHUNK:
             return s, [(slice(None), s, self._contact(ctx, ds, s)[1])]
-        return s, contacts(ctx, s, self._key(True), CHUNK)
+        return s, contacts(ctx, s, self._key(), CHUNK)
 
 
 class ElasticEnergy(_Interface):

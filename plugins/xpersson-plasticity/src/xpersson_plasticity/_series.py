@@ -27,14 +27,9 @@ __all__ = [
     "two_wall_areas",
     "two_wall_pdf",
     "three_gaussian_areas",
-    "three_gaussian_pdf",
-    "SWITCH",
 ]
 
 Method = Literal["auto", "images", "sine"]
-
-SWITCH = 0.1
-"""Crossover ``tau / Y**2`` between the image series (below) and the sine series (above)."""
 
 
 class TwoWallAreas(NamedTuple):
@@ -106,11 +101,6 @@ def two_wall_areas(
     return TwoWallAreas(el, pl, non, p0 - Y * pl)
 
 
-def _gauss(p: np.ndarray, mean: np.ndarray | float, tau: np.ndarray) -> np.ndarray:
-    """Normal density of variance ``2 tau`` [1/Pa]."""
-    return np.exp(-((p - mean) ** 2) / (4.0 * tau)) / np.sqrt(4.0 * np.pi * tau)
-
-
 def two_wall_pdf(
     p: np.ndarray, tau: np.ndarray | float, p0: float, Y: float, method: Method = "auto"
 ) -> np.ndarray:
@@ -144,24 +134,6 @@ def two_wall_pdf(
     return exact.two_wall_density(pp[None, :], t[:, None], p0, 0.0, Y, series=method)
 
 
-def three_gaussian_pdf(p: np.ndarray, tau: np.ndarray | float, p0: float, Y: float) -> np.ndarray:
-    """Three-Gaussian truncation ``N(p; p0) - N(p; -p0) - N(p; 2Y - p0)`` [1/Pa].
-
-    The approximation of Xu, Li & Mulvihill (arXiv:2208.02665): the first image pair of the
-    zero-pressure wall plus the first image of the yield wall, variance ``2 tau``. Valid only
-    while ``sqrt(2 tau) << Y - p0``; it violates ``P(0) = 0`` by ``-N(0; 2Y - p0)``.
-
-    Returns
-    -------
-    numpy.ndarray
-        Shape ``(n_tau, n_p)``; not clipped to ``[0, Y]`` so that the defect stays visible.
-    """
-    p0, Y = _check(p0, Y)
-    t = np.atleast_1d(_tau(tau)).ravel()[:, None]
-    q = np.atleast_1d(np.asarray(p, dtype=float)).ravel()[None, :]
-    return _gauss(q, p0, t) - _gauss(q, -p0, t) - _gauss(q, 2 * Y - p0, t)
-
-
 def _segment(m: float, sd: np.ndarray, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
     """Mass and first moment of a normal(m, sd^2) density on [a, b]."""
     alpha, beta = (a - m) / sd, (b - m) / sd
@@ -173,9 +145,12 @@ def _segment(m: float, sd: np.ndarray, a: float, b: float) -> tuple[np.ndarray, 
 def three_gaussian_areas(tau: np.ndarray | float, p0: float, Y: float) -> TwoWallAreas:
     """Area fractions of the three-Gaussian approximation (Xu, Li & Mulvihill 2022).
 
+    ``P3(p) = N(p; p0) - N(p; -p0) - N(p; 2Y - p0)`` (variance ``2 tau``): the first image
+    pair of the zero-pressure wall plus the first image of the yield wall (arXiv:2208.02665).
     ``elastic = int_0^Y P3 dp``; ``plastic = (p0 - int_0^Y p P3 dp) / Y`` (force balance);
     ``non_contact = 1 - elastic - plastic``. Exact to the truncation error only while
-    ``sqrt(2 tau) << Y - p0`` (see :func:`three_gaussian_pdf`).
+    ``sqrt(2 tau) << Y - p0``; beyond, ``P3`` violates ``P(0) = 0`` by ``-N(0; 2Y - p0)`` and
+    the areas turn unphysical.
 
     Parameters
     ----------
