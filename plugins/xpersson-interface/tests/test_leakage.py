@@ -64,7 +64,6 @@ def test_bruggeman_gap_equals_the_scalar_solver_on_fine_cells(psd, monkeypatch):
     as the cells' width squared, ~1e-6 there) within 1e-5; the midpoint rule on the same
     120 cells is off by more than 1e-4."""
     from xpersson.physics import gap_cdf
-
     from xpersson_interface import _leakage
 
     d = detach(psd, E_STAR, LOADS[:6], n=150)
