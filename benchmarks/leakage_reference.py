@@ -6,15 +6,20 @@ outputs as ``xpersson.solve`` gives them (through the load table) against the di
 with 480 detachment bins and 160 magnifications per decade (the reference; every load
 computed). Per output: the largest and the median relative error over the loads where the
 reference is at least 1e-6 of its largest, the scene of the largest, and how many loads'
-sealed flags differ. Run it on two source trees (``PYTHONPATH``) and compare the JSON files.
+sealed flags differ. Run it on two source trees (``PYTHONPATH``) and compare the JSON files
+(``--cache``: the reference computed once, by the first tree, read by the second).
+``--ref-cells N``: the reference's effective medium on ``N`` gap cells
+(``bruggeman_gap(n_u=N)``; default: the tree's own cells). Below ``LEAK_MIN`` loads (e.g.
+``--loads 40``) every load is computed directly: the direct path against the reference.
 
     python benchmarks/leakage_reference.py [--loads 1000] [--seeds 36] [--held-out 2026]
-        [--cache DIR] [--out results/leakage_reference.json]
+        [--cache DIR] [--ref-cells N] [--out results/leakage_reference.json]
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import warnings
 from pathlib import Path
@@ -23,26 +28,30 @@ import numpy as np
 from summary_design import labelled, load_range, scene
 
 import xpersson
-from xpersson_interface import _by_load
+from xpersson_interface import _by_load, _leak_direct
 
 OUTPUTS = ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_rate_emt", "leak_flow_factor_emt")
 FLAGS = ("leak_sealed", "leak_sealed_emt")
 REFERENCE = {"n_bins": 480, "zeta_per_decade": 160}
 
 
-def reference(spec: dict, n: int, cache: Path | None, name: str) -> dict[str, np.ndarray]:
-    """The reference outputs (every load directly, 480 bins, 160 per decade); kept in
-    ``cache`` (an ``.npz`` per scene and load count) where given."""
+def reference(
+    spec: dict, n: int, cache: Path | None, name: str, cells: int | None = None
+) -> dict[str, np.ndarray]:
+    """The reference outputs (every load directly, 480 bins, 160 per decade, ``cells`` gap
+    cells if given); kept in ``cache`` (an ``.npz`` per scene and load count) where given."""
     path = None if cache is None else cache / f"{name.replace(' ', '_').replace(':', '')}_{n}.npz"
     if path is not None and path.is_file():
         with np.load(path) as f:
             return dict(f)
-    least = _by_load.TABLE_MIN
+    least, medium = _by_load.TABLE_MIN, _leak_direct.bruggeman_gap
     _by_load.TABLE_MIN = 10**9
+    if cells is not None:
+        _leak_direct.bruggeman_gap = functools.partial(medium, n_u=cells)
     try:
         ds = xpersson.solve(scene(spec, load_range(n), analyses={"leakage": dict(REFERENCE)}))
     finally:
-        _by_load.TABLE_MIN = least
+        _by_load.TABLE_MIN, _leak_direct.bruggeman_gap = least, medium
     out = {k: ds[k].values.astype(float) for k in OUTPUTS + FLAGS}
     if path is not None:
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -69,6 +78,7 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--seeds", type=int, nargs="*", default=[36])
     ap.add_argument("--held-out", type=int, nargs="*", default=[2026])
     ap.add_argument("--cache", type=Path, default=None)
+    ap.add_argument("--ref-cells", type=int, default=None)
     ap.add_argument("--out", type=Path, default=None)
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
@@ -78,7 +88,7 @@ def main(argv: list[str] | None = None) -> None:
     flags = 0
     per_scene = {}
     for name, spec in scenes:
-        ref = reference(spec, args.loads, args.cache, name)
+        ref = reference(spec, args.loads, args.cache, name, args.ref_cells)
         ds = xpersson.solve(scene(spec, load_range(args.loads), analyses={"leakage": {}}))
         got = {k: ds[k].values.astype(float) for k in OUTPUTS + FLAGS}
         err = errors(got, ref)

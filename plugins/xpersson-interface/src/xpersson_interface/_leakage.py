@@ -177,7 +177,7 @@ def bruggeman_gap(
     det: Detachment,
     *,
     a_c: float | None = None,
-    n_u: int = 240,
+    n_u: int = 120,
     u_min: float = 1e-6,
     u_max: float | None = None,
     per_load: bool = False,
@@ -186,9 +186,18 @@ def bruggeman_gap(
 
     ``sigma_eff = result / (12 eta)``. Cells geometric in ``u`` on ``[u_min h_rms, u_max]``
     carry the exact closed-form mass (analytic CDF, :func:`xpersson.physics.gap_cdf`) at their
-    geometric-midpoint conductance; the mass below is one cell at half the first edge, the
-    mass beyond ``u_max`` one element of infinite conductance. All loads at once; bins of
-    weight below :data:`NEGLIGIBLE` of the load's largest are left out (round-off).
+    conductance, the mass below is one cell at half the first edge, the mass beyond ``u_max``
+    one element of infinite conductance. All loads at once; bins of weight below
+    :data:`NEGLIGIBLE` of the load's largest are left out (round-off).
+
+    A cell's conductance is that of its midpoint ``x`` in ``ln u`` moved by ``h^2 g / 8`` (``h``
+    the cells' width in ``ln u``, ``g = (sigma - s)/(sigma + s)`` its term of the Bruggeman sum
+    at the midpoints' root ``s``; :func:`_moved`): the midpoint rule's error of ``int g dP``,
+    ``sum m (g' beta / 12 + g'' / 24) h^2`` (``beta`` the mass density's slope in ``ln u``),
+    is ``-sum m g'' h^2 / 24`` as ``sum m beta g' = -sum m g''`` (by parts, ``g'`` vanishing at
+    both ends), which the move cancels (``g'' = -3 g g'``). Against 3840 midpoint cells (6
+    design and held-out scenes, 40 loads): 120 cells within 3.6e-6 (the midpoint rule at 120
+    cells 1.4e-3, at 240 3.6e-4); near the medium's sealing 2.7e-6 (240: 5.7e-4).
 
     Parameters
     ----------
@@ -210,10 +219,10 @@ def bruggeman_gap(
     """
     if per_load:
         top = det.mean_gap + 10.0 * det.h_rms if u_max is None else np.full(det.p0.size, u_max)
-        edges, ln_sigma = _cells(u_min * det.h_rms, top, n_u)  # (n_load, n_u + 1)
+        edges, ln_sigma, lr = _cells(u_min * det.h_rms, top, n_u)  # (n_load, n_u + 1)
     else:
         umax = float(np.max(det.mean_gap)) + 10.0 * det.h_rms if u_max is None else u_max
-        edges, ln_sigma = _cells(u_min * det.h_rms, np.array([umax]), n_u)
+        edges, ln_sigma, lr = _cells(u_min * det.h_rms, np.array([umax]), n_u)
         edges = edges[0]
     cdf = gap_cdf(det, edges, negligible=NEGLIGIBLE)
     a = np.asarray(det.contact, dtype=float)
@@ -226,18 +235,45 @@ def bruggeman_gap(
         m, far, a = m * scale[:, None], far * scale, a_new
     mid = np.sqrt(edges[..., :-1] * edges[..., 1:])
     mid[..., 0] = 0.5 * edges[..., 1]
-    sigma = mid * mid
-    sigma *= mid
-    return _bruggeman_rows(a, m, sigma, far, per_row=per_load, ln_sigma=ln_sigma)
+    sigma = mid * mid * mid
+    s = _bruggeman_rows(a, m, sigma, far, per_row=per_load, ln_sigma=ln_sigma)
+    return _moved(s, m, sigma, lr)
+
+
+def _moved(
+    s: NDArray[np.float64], m: NDArray[np.float64], sigma: NDArray[np.float64], lr: NDArray
+) -> NDArray[np.float64]:
+    """The root ``s`` (n_load,) of the midpoints' Bruggeman sum (cell masses ``m``, midpoint
+    conductances ``sigma``, cells ``lr`` wide in ``ln u``), every cell but the first moved by
+    ``mu = 3 lr^2 g / 8`` in ``ln sigma`` (:func:`bruggeman_gap`), by one Newton step in
+    ``ln s``: ``+ sum w mu / sum w``, ``w = m sigma / (sigma + s)^2`` (error ``~mu^2``, ~1e-8
+    relative); 0 and ``inf`` (sealed, flooded) kept."""
+    s = np.asarray(s, dtype=float)
+    use = np.isfinite(s) & (s > 0)
+    if not use.any():
+        return s
+    sig = np.broadcast_to(sigma, m.shape)
+    sv, sig, m = (s, sig, m) if use.all() else (s[use], sig[use], m[use])
+    den = sig + sv[:, None]
+    mu = sig - sv[:, None]
+    mu /= den
+    mu *= (0.375 * np.broadcast_to(lr, s.shape)[use] ** 2)[:, None]
+    mu[:, 0] = 0.0  # (the first cell, [0, u_min h_rms], as it was)
+    den *= den
+    w = m * sig
+    w /= den
+    out = s.copy()
+    out[use] = sv * np.exp(np.einsum("ij,ij->i", w, mu) / np.sum(w, axis=1))
+    return out
 
 
 def _cells(
     u0: float, top: NDArray[np.float64], n_u: int
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Cell edges ``(n, n_u + 1)`` [m]: 0, then ``n_u`` geometric from ``u0`` to ``top`` (n,)
-    (both ends exact, as :func:`numpy.geomspace`), and ``ln`` of the cells' midpoint
+    (both ends exact, as :func:`numpy.geomspace`), ``ln`` of the cells' midpoint
     conductances ``mid^3`` (``mid`` the geometric midpoint, half the first edge for the first
-    cell), to round-off, from the exponents themselves."""
+    cell), to round-off, from the exponents themselves, and the cells' width in ``ln u``."""
     ln0 = math.log(u0)
     with np.errstate(divide="ignore", invalid="ignore"):
         lr = (np.log(top) - ln0) / max(n_u - 1, 1)  # ln of each row's ratio
@@ -248,7 +284,7 @@ def _cells(
     ln_sigma = np.multiply.outer(3.0 * lr, j - 0.5)
     ln_sigma += 3.0 * ln0
     ln_sigma[:, 0] = 3.0 * (ln0 - math.log(2.0))
-    return edges, ln_sigma
+    return edges, ln_sigma, lr
 
 
 def effective_pressure_drop(
