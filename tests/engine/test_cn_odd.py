@@ -106,7 +106,7 @@ def test_five_levels_answer_with_the_batch_worst_distance():
     term that rejects the sixth order and an h^5 term that the four-level combination X_b
     leaves (with the h^6 term: 0.28 tolerances): the answer at five levels is the combination
     of levels 1-5 that cancels h^2 .. h^5 (0.056 tolerances off), within its estimate
-    (ODD_MARGIN x the batch's worst distance to X_b: 0.45 tolerances), which is the same
+    (ODD_MARGIN x the batch's worst distance to X_b: 0.68 tolerances), which is the same
     fraction of the tolerance at every load and output; no sixth level is solved (5x the
     asymptotic error of X_b, the estimate before, is 1.13 tolerances)."""
     exact = np.array([[0.25, 1e-3, 3e-7], [0.5, 2e-2, 1e-5]])
@@ -135,4 +135,4 @@ def test_five_levels_answer_with_the_batch_worst_distance():
     tol = 1e-6 * np.abs(best.area) + 1e-14
     np.testing.assert_allclose(est / tol, (est / tol).max(), rtol=1e-9)
     assert np.all(np.abs(best.area - exact) <= est) and np.all(est <= tol)
-    assert 0.4 < (est / tol).max() < 0.5
+    assert 0.6 < (est / tol).max() < 0.75

@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 from xpersson import set_options
 from xpersson.engine import _compiled
 from xpersson.engine._cn_assemble import _fields, _fields_of
-from xpersson.engine._cn_control import _Fit
+from xpersson.engine._cn_control import EST_FLOOR, _Fit
 from xpersson.engine._cn_outputs import fitted_of, load_scale
 from xpersson.engine._level import Outputs
 
@@ -62,7 +62,7 @@ def _fitted_numpy(err, area, c, rtol, atol):
     tol = rtol * a + atol
     if np.count_nonzero(e > tol):
         return None
-    return tol * (e / tol).max(axis=-1, keepdims=True)
+    return tol * np.maximum((e / tol).max(axis=-1, keepdims=True), EST_FLOOR)
 
 
 @settings(max_examples=60, deadline=None)
@@ -77,11 +77,11 @@ def test_compiled_reported_estimate_is_the_numpy_one(shape, data, c, rtol):
     err, area = _field(data, _SMALL, shape), _field(data, _VALUES, shape)
     with np.errstate(all="ignore"):
         want = _fitted_numpy(err, area, c, rtol, 1e-7 * rtol)
-    got = fitted_of(fast, err, area, c, rtol, 1e-7 * rtol)
+    got = fitted_of(fast, err, area, c, rtol, 1e-7 * rtol, EST_FLOOR)
     if got is not None:  # (where it declines the numpy steps answer)
         assert want is not None and _bits(got) == _bits(want)
     ok = np.full(shape, 1e-12)
-    assert fitted_of(fast, ok, np.full(shape, 0.5), c, rtol, 1e-7 * rtol) is not None
+    assert fitted_of(fast, ok, np.full(shape, 0.5), c, rtol, 1e-7 * rtol, EST_FLOOR) is not None
 
 
 @settings(max_examples=50, deadline=None)

@@ -43,7 +43,7 @@ growing faster than the diffusion length otherwise drags the window, and its nod
 beyond the support of ``P``.
 
 An accepted estimate is reported as a uniform fraction of the tolerance per load, the largest
-estimated: a difference of levels crosses zero where the actual error need not.
+estimated (a difference of levels may cross zero), at least ``EST_FLOOR`` (an unresolved tail).
 """
 
 from __future__ import annotations
@@ -58,7 +58,7 @@ from numpy.typing import NDArray
 from . import _compiled
 from ._cn_budget import _finest_pair
 from ._cn_odd import _weights_of, odd_rounds
-from ._cn_outputs import fitted_of, load_scale
+from ._cn_outputs import EST_FLOOR, fitted_of, load_scale
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
 from ._stiff import stiff_at_end
@@ -473,7 +473,8 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array, lo_at: Array | No
     # difference cannot see it) added (``c |area|``)
     c = 16.0 * _EPS * math.sqrt(max(fit.n_used, 1))
     fast = _compiled.built("fitted") if fit.best is not None and fit.status == "success" else None
-    got = None if fast is None else fitted_of(fast, fit.err, fit.best.area, c, pb.rtol, pb.atol)
+    tols = (pb.rtol, pb.atol, EST_FLOOR)
+    got = None if fast is None else fitted_of(fast, fit.err, fit.best.area, c, *tols)
     if got is not None:  # (the steps below in one compiled pass)
         fit.err = got
         return fit
@@ -487,8 +488,9 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array, lo_at: Array | No
         fit.status = "tolerance_not_met"
     if fit.status == "success":
         # reported as a uniform fraction of the tolerance per load, the largest estimated:
-        # a difference of levels crosses zero where the actual error need not
-        fit.err = tol * (fit.err / tol).max(axis=-1, keepdims=True)
+        # a difference of levels crosses zero where the actual error need not; at least
+        # EST_FLOOR (the error the level differences cannot see)
+        fit.err = tol * np.maximum((fit.err / tol).max(axis=-1, keepdims=True), EST_FLOOR)
     if fit.status != "success":
         i = np.unravel_index(int(np.argmax(fit.err / tol)), fit.err.shape)
         fit.message = (fit.message + "; " if fit.message else "") + (
