@@ -188,12 +188,16 @@ class _async_timer:  # noqa: N801 - a context manager class (no generator per pl
     (``PyThreadState_SetAsyncExc(tid, NULL)`` leaves CPython 3.11's eval breaker set for good,
     and under a line tracer such as ``coverage`` the next function entry then spins forever).
     An interrupt fired before the disarm lands, at the latest, where the lock is released in
-    :meth:`__exit__`: never after the block."""
+    :meth:`__exit__`: never after the block. No thread enters a Python function while it holds
+    the lock: under a line tracer, CPython 3.11 spins at every function entry of the other
+    threads until the interrupted thread takes its interrupt, which it cannot while it waits for
+    the lock."""
 
     __slots__ = ("entry",)
 
     def __init__(self, seconds: float) -> None:
-        self.entry = [0, None, 0, _ARMED_STATE, seconds]  # tid, stack, level, state, seconds
+        # tid, stack, level, state, seconds, the interrupt to raise
+        self.entry = [0, None, 0, _ARMED_STATE, seconds, _interrupt(seconds)]
 
     def __enter__(self) -> None:
         entry = self.entry
@@ -221,13 +225,31 @@ class _async_timer:  # noqa: N801 - a context manager class (no generator per pl
 
 
 class _Interrupt(PluginTimeout):
-    """What the watchdog raises in a thread; its message names the innermost limit that fired
-    (read in that thread: it is what the caller sees if the interrupt lands in
+    """What the watchdog raises in a thread: one subclass per limit (:func:`_interrupt`), so
+    that it needs no Python ``__init__`` (it may be created while the thread holds
+    :data:`_LOCK`) and still names its limit (what the caller sees if it lands in
     :meth:`_async_timer.__exit__` before the guard's own :class:`PluginTimeout`)."""
 
-    def __init__(self) -> None:
-        fired = [e[4] for e in getattr(_ARMED, "stack", ()) if e[3] is _FIRED_STATE]
-        super().__init__(_message(fired[-1]) if fired else "exceeded its time limit")
+    __slots__ = ()
+    seconds = 0.0
+
+    def __str__(self) -> str:
+        return super().__str__() or _message(self.seconds)
+
+    def __reduce__(self) -> tuple:  # pickled (to another process) as a PluginTimeout
+        return PluginTimeout, (str(self),)
+
+
+_INTERRUPTS: dict[float, ctypes.py_object] = {}
+
+
+def _interrupt(seconds: float) -> ctypes.py_object:
+    """The :class:`_Interrupt` of a ``seconds`` [s] limit, for ``PyThreadState_SetAsyncExc``."""
+    cls = _INTERRUPTS.get(seconds)
+    if cls is None:
+        attrs = {"__slots__": (), "__module__": __name__, "seconds": seconds}
+        cls = _INTERRUPTS[seconds] = ctypes.py_object(type("PluginTimeout", (_Interrupt,), attrs))
+    return cls
 
 
 _ARMED_STATE, _FIRED_STATE = "armed", "fired"
@@ -257,26 +279,22 @@ class _Watchdog:
             self._wake.release()
 
     def _run(self) -> None:
-        heap = self.heap
+        heap, fire = self.heap, ctypes.pythonapi.PyThreadState_SetAsyncExc
         while True:
-            with _LOCK:
-                while heap and not _live(heap[0][2]):
+            with _LOCK:  # no Python function entered while held: see _async_timer
+                while heap:  # drop entries no longer armed and on their thread's stack
+                    entry = heap[0][2]
+                    stack, level = entry[1], entry[2]
+                    if entry[3] is _ARMED_STATE and len(stack) > level and stack[level] is entry:
+                        break
                     heapq.heappop(heap)
                 wait = heap[0][0] - time.monotonic() if heap else -1.0
                 if heap and wait <= 0:
                     entry = heapq.heappop(heap)[2]
                     entry[3] = _FIRED_STATE
-                    ctypes.pythonapi.PyThreadState_SetAsyncExc(
-                        ctypes.c_ulong(entry[0]), ctypes.py_object(_Interrupt)
-                    )
+                    fire(ctypes.c_ulong(entry[0]), entry[5])
                     continue
             self._wake.acquire(timeout=wait)
-
-
-def _live(entry: list) -> bool:
-    """Whether ``entry`` is armed and still on its thread's stack (not disarmed)."""
-    stack, level = entry[1], entry[2]
-    return entry[3] is _ARMED_STATE and len(stack) > level and stack[level] is entry
 
 
 _WATCHDOG = _Watchdog()
