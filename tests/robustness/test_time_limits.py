@@ -161,3 +161,50 @@ def test_a_nested_limit_in_the_main_thread_is_the_outer_one_and_leaves_nothing_a
         x = sum(range(10))
     assert x == 45
     assert signal.getitimer(signal.ITIMER_REAL)[0] == 0.0
+
+
+def _straddling_calls(seed: int, out: list, trace: bool) -> None:
+    """250 calls under a 2 ms limit, each busy for 1.6-2.4 ms: one ends as its limit fires."""
+    import random
+
+    rng = random.Random(seed)
+    if trace:  # a line tracer (as coverage sets one): an interrupt withdrawn under it spun
+        sys.settrace(lambda frame, event, arg: None)
+    for _ in range(250):
+        end = time.perf_counter() + 2e-3 * rng.uniform(0.8, 1.2)
+        try:
+            try:
+                with limited(2e-3):
+                    while time.perf_counter() < end:
+                        pass
+                outcome = "value"
+            except PluginTimeout as exc:
+                outcome = str(exc)
+            sum(range(100))  # the caller's own code: no interrupt may land here
+        except BaseException as exc:  # noqa: BLE001 - what escaped the guarded call
+            outcome = f"escaped {exc!r}"
+        out.append(outcome)
+    stack = getattr(sys.modules["xpersson.plugins._limits"]._ARMED, "stack", [])
+    out.append(sum(entry[3] == "armed" for entry in stack))
+
+
+def test_calls_ending_as_their_limit_fires_return_or_time_out_and_nothing_else():
+    # Race: the watchdog fires as the call ends, its interrupt landing in the guard's own exit
+    # (once it leaked the guard's lock: every thread deadlocked) or after it (under a tracer,
+    # withdrawing it left CPython 3.11 spinning at the next call). Each of 3 x 250 calls in 3
+    # threads returns or raises one PluginTimeout naming the limit; no thread hangs.
+    outs: list[list] = [[], [], []]
+    threads = [
+        threading.Thread(target=_straddling_calls, args=(i, outs[i], i == 2), daemon=True)
+        for i in range(3)
+    ]
+    for t in threads:
+        t.start()
+    deadline = time.monotonic() + 60.0
+    for t in threads:
+        t.join(max(deadline - time.monotonic(), 0.0))
+    assert not any(t.is_alive() for t in threads)
+    for out in outs:
+        assert out[-1] == 0  # no limit left armed in the thread (to fire later)
+        assert len(out) == 251
+        assert set(out[:-1]) <= {"value", "exceeded the time limit of 0.002 s"}

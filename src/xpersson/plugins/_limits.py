@@ -178,66 +178,123 @@ class _alarm:  # noqa: N801 - a context manager class (no generator per plugin c
         return False
 
 
-@contextlib.contextmanager
-def _async_timer(seconds: float) -> Iterator[None]:
-    tid = threading.get_ident()
-    entry = _WATCHDOG.arm(tid, seconds)
-    _ARMED.depth = getattr(_ARMED, "depth", 0) + 1
-    try:
-        yield
-    finally:
-        _ARMED.depth -= 1
-        if _WATCHDOG.disarm(entry):  # fired, not delivered yet: withdraw it, raise here
-            ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(tid), None)
-            raise PluginTimeout(_message(seconds))
+class _async_timer:  # noqa: N801 - a context manager class (no generator per plugin call)
+    """The watchdog's limit of ``seconds`` [s] on a block of a non-main thread.
+
+    The interrupt can land at any bytecode once it is fired, also in this guard's own code; so
+    the guard holds :data:`_LOCK` only around C operations (no Python frame between acquire and
+    release for an interrupt to land in), disarms by truncating the thread's stack of armed
+    limits (the watchdog fires only entries still on it), and never withdraws a fired interrupt
+    (``PyThreadState_SetAsyncExc(tid, NULL)`` leaves CPython 3.11's eval breaker set for good,
+    and under a line tracer such as ``coverage`` the next function entry then spins forever).
+    An interrupt fired before the disarm lands, at the latest, where the lock is released in
+    :meth:`__exit__`: never after the block. No thread enters a Python function while it holds
+    the lock: under a line tracer, CPython 3.11 spins at every function entry of the other
+    threads until the interrupted thread takes its interrupt, which it cannot while it waits for
+    the lock."""
+
+    __slots__ = ("entry",)
+
+    def __init__(self, seconds: float) -> None:
+        # tid, stack, level, state, seconds, the interrupt to raise
+        self.entry = [0, None, 0, _ARMED_STATE, seconds, _interrupt(seconds)]
+
+    def __enter__(self) -> None:
+        entry = self.entry
+        stack = _ARMED.__dict__.setdefault("stack", [])
+        deadline = time.monotonic() + entry[4]
+        with _LOCK:
+            while stack and stack[-1][3] is not _ARMED_STATE:  # fired ones left by an
+                del stack[-1]  # interrupt that landed in their exit: inert
+            entry[:3] = threading.get_ident(), stack, len(stack)
+            stack.append(entry)
+            heapq.heappush(_WATCHDOG.heap, (deadline, next(_WATCHDOG.count), entry))
+        _WATCHDOG.wake()
+
+    def __exit__(self, *exc: object) -> bool:
+        entry = self.entry
+        stack, level = entry[1], entry[2]
+        try:
+            with _LOCK:  # C operations only inside: the watchdog fires nothing after this
+                del stack[level:]  # this limit and any nested one an interrupt left armed
+        except PluginTimeout:  # one fired earlier, landing as the lock is released: ours is
+            pass  # raised below with its message; an outer one's by its own exit
+        if entry[3] is _ARMED_STATE:
+            return False
+        raise PluginTimeout(_message(entry[4]))
+
+
+class _Interrupt(PluginTimeout):
+    """What the watchdog raises in a thread: one subclass per limit (:func:`_interrupt`), so
+    that it needs no Python ``__init__`` (it may be created while the thread holds
+    :data:`_LOCK`) and still names its limit (what the caller sees if it lands in
+    :meth:`_async_timer.__exit__` before the guard's own :class:`PluginTimeout`)."""
+
+    __slots__ = ()
+    seconds = 0.0
+
+    def __str__(self) -> str:
+        return super().__str__() or _message(self.seconds)
+
+    def __reduce__(self) -> tuple:  # pickled (to another process) as a PluginTimeout
+        return PluginTimeout, (str(self),)
+
+
+_INTERRUPTS: dict[float, ctypes.py_object] = {}
+
+
+def _interrupt(seconds: float) -> ctypes.py_object:
+    """The :class:`_Interrupt` of a ``seconds`` [s] limit, for ``PyThreadState_SetAsyncExc``."""
+    cls = _INTERRUPTS.get(seconds)
+    if cls is None:
+        attrs = {"__slots__": (), "__module__": __name__, "seconds": seconds}
+        cls = _INTERRUPTS[seconds] = ctypes.py_object(type("PluginTimeout", (_Interrupt,), attrs))
+    return cls
+
+
+_ARMED_STATE, _FIRED_STATE = "armed", "fired"
+_LOCK = threading.Lock()
+"""Guards the watchdog's heap and every thread's stack of armed limits (a C lock: its
+``with`` has no Python frame an interrupt could land in while it is held)."""
 
 
 class _Watchdog:
     """One daemon thread that raises :class:`PluginTimeout` in threads past their deadline."""
 
     def __init__(self) -> None:
-        self._cond = threading.Condition()
-        self._heap: list[tuple[float, int, list]] = []
-        self._count = itertools.count()
+        self.heap: list[tuple[float, int, list]] = []
+        self.count = itertools.count()
+        self._wake = threading.Lock()  # released to wake the watchdog (a binary semaphore)
+        self._wake.acquire()
         self._thread: threading.Thread | None = None
 
-    def arm(self, tid: int, seconds: float) -> list:
-        entry = [tid, "armed"]  # state: armed -> fired | done
-        with self._cond:
-            heapq.heappush(self._heap, (time.monotonic() + seconds, next(self._count), entry))
-            if self._thread is None or not self._thread.is_alive():
-                self._thread = threading.Thread(
-                    target=self._run, name="xpersson-time-limits", daemon=True
-                )
-                self._thread.start()
-            self._cond.notify()
-        return entry
-
-    def disarm(self, entry: list) -> bool:
-        """Withdraw ``entry``; whether it had fired."""
-        with self._cond:
-            fired = entry[1] == "fired"
-            entry[1] = "done"
-        return fired
+    def wake(self) -> None:
+        """Start the watchdog thread if needed and make it look at the heap again."""
+        if self._thread is None or not self._thread.is_alive():
+            self._thread = threading.Thread(
+                target=self._run, name="xpersson-time-limits", daemon=True
+            )
+            self._thread.start()
+        with contextlib.suppress(RuntimeError):  # already woken
+            self._wake.release()
 
     def _run(self) -> None:
-        with self._cond:
-            while True:
-                while self._heap and self._heap[0][2][1] == "done":
-                    heapq.heappop(self._heap)
-                if not self._heap:
-                    self._cond.wait()
+        heap, fire = self.heap, ctypes.pythonapi.PyThreadState_SetAsyncExc
+        while True:
+            with _LOCK:  # no Python function entered while held: see _async_timer
+                while heap:  # drop entries no longer armed and on their thread's stack
+                    entry = heap[0][2]
+                    stack, level = entry[1], entry[2]
+                    if entry[3] is _ARMED_STATE and len(stack) > level and stack[level] is entry:
+                        break
+                    heapq.heappop(heap)
+                wait = heap[0][0] - time.monotonic() if heap else -1.0
+                if heap and wait <= 0:
+                    entry = heapq.heappop(heap)[2]
+                    entry[3] = _FIRED_STATE
+                    fire(ctypes.c_ulong(entry[0]), entry[5])
                     continue
-                wait = self._heap[0][0] - time.monotonic()
-                if wait > 0:
-                    self._cond.wait(wait)
-                    continue
-                _, _, entry = heapq.heappop(self._heap)
-                if entry[1] == "armed":
-                    entry[1] = "fired"
-                    ctypes.pythonapi.PyThreadState_SetAsyncExc(
-                        ctypes.c_ulong(entry[0]), ctypes.py_object(PluginTimeout)
-                    )
+            self._wake.acquire(timeout=wait)
 
 
 _WATCHDOG = _Watchdog()
@@ -245,10 +302,23 @@ _ARMED = threading.local()
 _REAL_SLEEP = time.sleep
 
 
+def _after_fork_in_child() -> None:
+    """A forked child has no watchdog, and only its forking thread: a lock another thread held
+    at the fork would never be released."""
+    global _LOCK
+    _LOCK = threading.Lock()
+    _WATCHDOG.__init__()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_after_fork_in_child)
+
+
 def _sleep(seconds: float) -> None:
     """:func:`time.sleep`, in slices of :data:`SLEEP_SLICE` while a limit is armed in this
     (non-main) thread, so that a timeout is delivered."""
-    if not getattr(_ARMED, "depth", 0) or not seconds > SLEEP_SLICE:
+    stack = getattr(_ARMED, "stack", None)
+    if not stack or stack[-1][3] is not _ARMED_STATE or not seconds > SLEEP_SLICE:
         _REAL_SLEEP(seconds)
         return
     end = time.monotonic() + seconds
