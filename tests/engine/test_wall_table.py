@@ -164,7 +164,7 @@ def test_compiled_table_check_is_the_numpy_check(shape, case):
     from xpersson.engine._problem import _checked_table, make_problem, sample_times
 
     if not wt.build():
-        pytest.skip("numba is not installed")
+        pytest.skip("compiled march unavailable (numba missing or XPERSSON_COMPILED=off)")
     poly, lo, hi = _sigma_table()
     # "nan_beyond": no clip to the table's end (tau_out reaches past it: NaN positions there)
     table = WallTable(poly.c, poly.x, lo, hi if case != "nan_beyond" else 1e9, root=True,
