@@ -174,10 +174,11 @@ def test_gauss_tails_left_out_are_below_tail_of_the_density(seed):
     density = np.zeros((n_load, u.size))
     np.add.at(density, ls, terms)
     floor = np.full(density.shape, -np.inf)
-    _gauss_tails.tail_floor(ls, ks, a, wp, u_h, floor)
+    refs = np.full((n_load, 2, 3), np.nan)
+    _gauss_tails.tail_floor(ls, ks, a, wp, u_h, floor, refs)
     left_out = 0
     for p in range(ls.size):
-        stop = _gauss_tails.tail_stop(u_h[ks[p]], a[p], wp[p], floor[ls[p]], 0, u.size)
+        stop = _gauss_tails.tail_stop(u_h[ks[p]], a[p], wp[p], floor[ls[p]], 0, u.size, refs[ls[p]])
         assert np.all(terms[p, stop:] < _gauss_tails.TAIL * density[ls[p], stop:])
         left_out += u.size - stop
     assert left_out > 0.2 * terms.size
@@ -191,15 +192,35 @@ def test_gauss_tails_keep_every_column_of_a_load_with_a_negative_weight():
     u_h = np.linspace(0.0, 30.0, 64)[None, :] * np.array([[1.0], [0.1]])
     ls, ks = np.array([0, 0]), np.array([0, 1])
     a, w = np.array([0.5, 0.5]), np.array([1.0, -1e-3])
-    floor = np.full((1, 64), -np.inf)
-    _gauss_tails.tail_floor(ls, ks, a, w, u_h, floor)
+    floor, refs = np.full((1, 64), -np.inf), np.full((1, 2, 3), np.nan)
+    _gauss_tails.tail_floor(ls, ks, a, w, u_h, floor, refs)
     assert np.all(floor == -np.inf)
-    assert _gauss_tails.tail_stop(u_h[0], 0.5, 1.0, floor[0], 0, 64) == 64
+    assert _gauss_tails.tail_stop(u_h[0], 0.5, 1.0, floor[0], 0, 64, refs[0]) == 64
     w[1] = 1e-3  # both positive: the narrow pair's tail below the wide one's is left out
     floor[:] = -np.inf
-    _gauss_tails.tail_floor(ls, ks, a, w, u_h, floor)
-    assert _gauss_tails.tail_stop(u_h[0], 0.5, 1.0, floor[0], 0, 64) < 64
-    assert _gauss_tails.tail_stop(u_h[0], 0.5, 0.0, floor[0], 0, 64) == 0
+    _gauss_tails.tail_floor(ls, ks, a, w, u_h, floor, refs)
+    assert _gauss_tails.tail_stop(u_h[0], 0.5, 1.0, floor[0], 0, 64, refs[0]) < 64
+    assert _gauss_tails.tail_stop(u_h[0], 0.5, 0.0, floor[0], 0, 64, refs[0]) == 0
+
+
+@pytest.mark.parametrize("seed", [4, 5])
+def test_gauss_tails_start_from_the_wide_reference_changes_no_stop(seed):
+    """The analytic start (a wider reference leaves the pair out beyond its root) skips only
+    columns the test leaves out: the stops of the full scan from the last column."""
+    rng = np.random.default_rng(seed)
+    n_u = 256
+    for _ in range(200):
+        h = 10.0 ** rng.uniform(-2.0, 0.0, 3)
+        rows = np.linspace(0.0, 40.0, n_u)[None, :] / h[:, None]
+        ls, ks = np.zeros(3, dtype=np.intp), np.arange(3)
+        a, w = rng.uniform(0.0, 6.0, 3), 10.0 ** rng.uniform(-8.0, 0.0, 3)
+        floor, refs = np.full((1, n_u), -np.inf), np.full((1, 2, 3), np.nan)
+        _gauss_tails.tail_floor(ls, ks, a, w, rows, floor, refs)
+        none = np.full((2, 3), np.nan)
+        for p in range(3):
+            args = (rows[p], a[p], w[p], floor[0], 0, n_u)
+            full = _gauss_tails.tail_stop(*args, none)
+            assert _gauss_tails.tail_stop(*args, refs[0]) == full
 
 
 def test_uniform_grid_test():

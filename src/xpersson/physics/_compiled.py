@@ -171,7 +171,8 @@ def gap_rows(
     and ``w`` finite."""
     n_u = u_h.shape[1]
     floor = np.full(out.shape, -np.inf)  # the loads' densities' lower bounds (x TAIL), logs
-    tail_floor(ls, ks, a, w, u_h, floor)
+    refs = np.full((out.shape[0], 2, 3), np.nan)
+    tail_floor(ls, ks, a, w, u_h, floor, refs)
     for p in range(ls.size):
         load, ap, wp = ls[p], a[p], w[p]
         row = u_h[ks[p]]
@@ -180,7 +181,7 @@ def gap_rows(
         if delta > 0.0:
             lo = int(max(0.0, (ap - 39.0) / delta - 1.0))
             hi = int(min(float(n_u), (ap + 39.0) / delta + 2.0))
-        hi = tail_stop(row, ap, wp, floor[load], lo, hi)  # without the negligible tail
+        hi = tail_stop(row, ap, wp, floor[load], lo, hi, refs[load])  # less negligible tail
         if ap > A_MAX or not delta <= D_MAX:  # narrow or far out: its band only, directly
             _direct(out, load, lo, hi, row, ap, wp)
             continue

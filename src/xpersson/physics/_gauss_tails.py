@@ -31,12 +31,13 @@ WIDE_MIN = 1e-3
 
 
 def tail_floor(
-    ls: Any, ks: Any, a: Any, w: Any, u_h: Any, floor: Any
+    ls: Any, ks: Any, a: Any, w: Any, u_h: Any, floor: Any, refs: Any
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
     """``floor[l, j] = ln TAIL + max_q (ln w_q - (b_qj - a_q)^2/2)`` over the two reference
     pairs ``q`` of load ``l`` (arguments as :func:`~._compiled.gap_rows`'); ``floor``
     (n_load, n_u) is given filled with ``-inf``, which stays on loads with a negative weight
-    or none positive (nothing left out there)."""
+    or none positive (nothing left out there). ``refs`` (n_load, 2, 3), given NaN: the
+    references' grid step in ``b``, centre and ``ln w`` (for :func:`tail_stop`)."""
     n_load, n_u = floor.shape
     top = np.zeros(n_load)
     heavy = np.full(n_load, -1, dtype=np.int64)
@@ -57,8 +58,10 @@ def tail_floor(
     for load in range(n_load):
         if negative[load] or heavy[load] < 0:
             continue
-        for q in (heavy[load], wide[load]):
+        for r, q in enumerate((heavy[load], wide[load])):
             lw, aq, row = log_tail + math.log(w[q]), a[q], u_h[ks[q]]
+            refs[load, r, 0] = (row[n_u - 1] - row[0]) / (n_u - 1)
+            refs[load, r, 1], refs[load, r, 2] = aq, math.log(w[q])
             for j in range(n_u):
                 x = row[j] - aq
                 v = lw - 0.5 * (x * x)
@@ -67,13 +70,33 @@ def tail_floor(
 
 
 def tail_stop(
-    row: Any, ap: float, wp: float, floor_row: Any, lo: int, hi: int
+    row: Any, ap: float, wp: float, floor_row: Any, lo: int, hi: int, ref_row: Any
 ) -> int:  # pragma: no cover - compiled (its plain-Python form is tested)
     """One past the last column of ``[lo, hi)`` where the bound ``2 wp exp(-(b - ap)^2/2)`` of
     a pair (``b = row[j]``) reaches ``exp(floor_row[j])`` (:func:`tail_floor`); ``lo`` when
-    none does. A zero weight reaches only ``-inf``; a negative one every column."""
+    none does. A zero weight reaches only ``-inf``; a negative one every column.
+
+    The columns are tested from the last down, from where a reference wider than the pair
+    (``ref_row``: :func:`tail_floor`'s ``refs`` of its load) leaves it out on every column
+    beyond: the larger root of the quadratic ``(j d - ap)^2 - (j d_q - a_q)^2 = 2 ln(2 wp /
+    (TAIL w_q)) + 2`` (a factor ``e`` of margin), plus one column.
+    """
     lu = math.log(2.0 * wp) if wp > 0.0 else (-math.inf if wp == 0.0 else math.inf)
-    for j in range(hi - 1, lo - 1, -1):
+    start = hi
+    if wp > 0.0 and row.size > 1:
+        d = (row[row.size - 1] - row[0]) / (row.size - 1)
+        for r in range(ref_row.shape[0]):
+            dq, aq, lq = ref_row[r, 0], ref_row[r, 1], ref_row[r, 2]
+            c2 = d * d - dq * dq
+            if not c2 > 0.0:  # not wider (or no reference: NaN)
+                continue
+            c1 = -2.0 * (d * ap - dq * aq)
+            c0 = ap * ap - aq * aq - (2.0 * (lu - math.log(TAIL) - lq) + 2.0)
+            disc = c1 * c1 - 4.0 * c2 * c0
+            root = -math.inf if disc < 0.0 else (math.sqrt(disc) - c1) / (2.0 * c2)
+            if root + 2.0 < start:  # (false for NaN)
+                start = max(lo, int(max(root, -1.0)) + 2)
+    for j in range(start - 1, lo - 1, -1):
         x = row[j] - ap
         if lu - 0.5 * (x * x) >= floor_row[j]:
             return j + 1
