@@ -178,7 +178,7 @@ def test_gauss_tails_left_out_are_below_tail_of_the_density(seed):
     _gauss_tails.tail_floor(ls, ks, a, wp, u_h, floor, refs)
     left_out = 0
     for p in range(ls.size):
-        stop = _gauss_tails.tail_stop(u_h[ks[p]], a[p], wp[p], floor[ls[p]], 0, u.size, refs[ls[p]])
+        stop = _gauss_tails.tail_stop(u_h[ks[p]], a[p], wp[p], floor, ls[p], 0, u.size, refs)
         assert np.all(terms[p, stop:] < _gauss_tails.TAIL * density[ls[p], stop:])
         left_out += u.size - stop
     assert left_out > 0.2 * terms.size
@@ -195,12 +195,12 @@ def test_gauss_tails_keep_every_column_of_a_load_with_a_negative_weight():
     floor, refs = np.full((1, 64), -np.inf), np.full((1, 2, 3), np.nan)
     _gauss_tails.tail_floor(ls, ks, a, w, u_h, floor, refs)
     assert np.all(floor == -np.inf)
-    assert _gauss_tails.tail_stop(u_h[0], 0.5, 1.0, floor[0], 0, 64, refs[0]) == 64
+    assert _gauss_tails.tail_stop(u_h[0], 0.5, 1.0, floor, 0, 0, 64, refs) == 64
     w[1] = 1e-3  # both positive: the narrow pair's tail below the wide one's is left out
     floor[:] = -np.inf
     _gauss_tails.tail_floor(ls, ks, a, w, u_h, floor, refs)
-    assert _gauss_tails.tail_stop(u_h[0], 0.5, 1.0, floor[0], 0, 64, refs[0]) < 64
-    assert _gauss_tails.tail_stop(u_h[0], 0.5, 0.0, floor[0], 0, 64, refs[0]) == 0
+    assert _gauss_tails.tail_stop(u_h[0], 0.5, 1.0, floor, 0, 0, 64, refs) < 64
+    assert _gauss_tails.tail_stop(u_h[0], 0.5, 0.0, floor, 0, 0, 64, refs) == 0
 
 
 @pytest.mark.parametrize("seed", [4, 5])
@@ -216,11 +216,11 @@ def test_gauss_tails_start_from_the_wide_reference_changes_no_stop(seed):
         a, w = rng.uniform(0.0, 6.0, 3), 10.0 ** rng.uniform(-8.0, 0.0, 3)
         floor, refs = np.full((1, n_u), -np.inf), np.full((1, 2, 3), np.nan)
         _gauss_tails.tail_floor(ls, ks, a, w, rows, floor, refs)
-        none = np.full((2, 3), np.nan)
+        none = np.full((1, 2, 3), np.nan)
         for p in range(3):
-            args = (rows[p], a[p], w[p], floor[0], 0, n_u)
+            args = (rows[p], a[p], w[p], floor, 0, 0, n_u)
             full = _gauss_tails.tail_stop(*args, none)
-            assert _gauss_tails.tail_stop(*args, refs[0]) == full
+            assert _gauss_tails.tail_stop(*args, refs) == full
 
 
 def test_uniform_grid_test():

@@ -184,7 +184,7 @@ def gap_rows(
         if delta > 0.0:
             lo = int(max(0.0, (ap - 39.0) / delta - 1.0))
             hi = int(min(float(n_u), (ap + 39.0) / delta + 2.0))
-        hi = tail_stop(row, ap, wp, floor[load], lo, hi, refs[load])  # less negligible tail
+        hi = tail_stop(row, ap, wp, floor, load, lo, hi, refs)  # less the negligible tail
         if ap > A_MAX or not delta <= D_MAX:  # narrow or far out: its band only, directly
             _direct(out, load, lo, hi, row, ap, wp)
             continue

@@ -22,10 +22,11 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["TAIL", "tail_floor", "tail_stop"]
+__all__ = ["LOG_TAIL", "TAIL", "tail_floor", "tail_stop"]
 
 #: Largest ratio [1] of a pair's left-out term to its load's density (on every column left out).
 TAIL = 1e-18
+LOG_TAIL = math.log(TAIL)
 #: Weight [1] relative to the load's heaviest above which a pair may be the wide reference.
 WIDE_MIN = 1e-3
 
@@ -54,12 +55,11 @@ def tail_floor(
         if w[p] > 0.0 and w[p] >= WIDE_MIN * top[ls[p]]:
             if q < 0 or span < u_h[ks[q], n_u - 1] - u_h[ks[q], 0]:
                 wide[ls[p]] = p
-    log_tail = math.log(TAIL)
     for load in range(n_load):
         if negative[load] or heavy[load] < 0:
             continue
         for r, q in enumerate((heavy[load], wide[load])):
-            lw, aq, row = log_tail + math.log(w[q]), a[q], u_h[ks[q]]
+            lw, aq, row = LOG_TAIL + math.log(w[q]), a[q], u_h[ks[q]]
             refs[load, r, 0] = (row[n_u - 1] - row[0]) / (n_u - 1)
             refs[load, r, 1], refs[load, r, 2] = aq, math.log(w[q])
             for j in range(n_u):
@@ -70,34 +70,36 @@ def tail_floor(
 
 
 def tail_stop(
-    row: Any, ap: float, wp: float, floor_row: Any, lo: int, hi: int, ref_row: Any
+    row: Any, ap: float, wp: float, floor: Any, load: int, lo: int, hi: int, refs: Any
 ) -> int:  # pragma: no cover - compiled (its plain-Python form is tested)
     """One past the last column of ``[lo, hi)`` where the bound ``2 wp exp(-(b - ap)^2/2)`` of
-    a pair (``b = row[j]``) reaches ``exp(floor_row[j])`` (:func:`tail_floor`); ``lo`` when
-    none does. A zero weight reaches only ``-inf``; a negative one every column.
+    a pair of load ``load`` (``b = row[j]``) reaches ``exp(floor[load, j])``
+    (:func:`tail_floor`); ``lo`` when none does. A zero weight reaches only ``-inf``; a
+    negative one every column.
 
     The columns are tested from the last down, from where a reference wider than the pair
-    (``ref_row``: :func:`tail_floor`'s ``refs`` of its load) leaves it out on every column
-    beyond: the larger root of the quadratic ``(j d - ap)^2 - (j d_q - a_q)^2 = 2 ln(2 wp /
-    (TAIL w_q)) + 2`` (a factor ``e`` of margin), plus one column.
+    (``refs[load]``: :func:`tail_floor`'s) leaves it out on every column beyond: the larger
+    root of the quadratic ``(j d - ap)^2 - (j d_q - a_q)^2 = 2 ln(2 wp / (TAIL w_q)) + 2``
+    (a factor ``e`` of margin), plus one column.
     """
     lu = math.log(2.0 * wp) if wp > 0.0 else (-math.inf if wp == 0.0 else math.inf)
-    start = hi
-    if wp > 0.0 and row.size > 1:
-        d = (row[row.size - 1] - row[0]) / (row.size - 1)
-        for r in range(ref_row.shape[0]):
-            dq, aq, lq = ref_row[r, 0], ref_row[r, 1], ref_row[r, 2]
+    start, n = hi, row.size
+    if wp > 0.0 and n > 1:
+        d = (row[n - 1] - row[0]) / (n - 1)
+        for r in range(2):
+            dq = refs[load, r, 0]
             c2 = d * d - dq * dq
             if not c2 > 0.0:  # not wider (or no reference: NaN)
                 continue
+            aq = refs[load, r, 1]
             c1 = -2.0 * (d * ap - dq * aq)
-            c0 = ap * ap - aq * aq - (2.0 * (lu - math.log(TAIL) - lq) + 2.0)
+            c0 = ap * ap - aq * aq - (2.0 * (lu - LOG_TAIL - refs[load, r, 2]) + 2.0)
             disc = c1 * c1 - 4.0 * c2 * c0
             root = -math.inf if disc < 0.0 else (math.sqrt(disc) - c1) / (2.0 * c2)
             if root + 2.0 < start:  # (false for NaN)
                 start = max(lo, int(max(root, -1.0)) + 2)
     for j in range(start - 1, lo - 1, -1):
         x = row[j] - ap
-        if lu - 0.5 * (x * x) >= floor_row[j]:
+        if lu - 0.5 * (x * x) >= floor[load, j]:
             return j + 1
     return lo
