@@ -25,10 +25,10 @@ Gaussian is narrow on the grid (``d`` > :data:`D_MAX`) or whose centre lies far 
 ``|b - a| b`` ulps) are evaluated directly, on their 39-width band only; so are the columns
 far left of a centre, where the exact value underflows. A pair's far tail below 1e-18 of a
 lower bound of its load's density is not summed (:mod:`._gauss_tails`: at most ``n_bins``
-1e-18 relative, element by element). Measured against the numpy path on the 12 scenes of
-``benchmarks/summary.py`` (design) at 300 loads: at most 8.7e-15 of each load's largest
-density, and 2.1e-13 relative element by element above 1e-250 of that largest (one chain of
-16: 5.6e-15 and 2.0e-13).
+1e-18 relative, element by element). Measured against the numpy path (36 scenes of
+``benchmarks/summary.py``: design, held-out 2026 and 2718; 300 loads): at most 9e-15 of each
+load's largest density and 2.1e-13 relative element by element above 1e-250 of it; 1.3e-14 and
+4.0e-13 at 1e4 loads (2026 flat H=0.39 4dec; one chain of 16: 5.6e-15, 2.0e-13; 1.1e-14, 3.4e-13).
 
 numba is an optional accelerator (``pip install numba``, the ``fast`` extra), as the engine's
 compiled march (:mod:`xpersson.engine._compiled`): without it, or with
