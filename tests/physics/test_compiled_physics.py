@@ -21,6 +21,7 @@ from xpersson.physics import (
     _curve,
     _fastnum,
     _gap_distribution,
+    _gauss_tails,
     _percolation,
     _phi,
     _phi_sums,
@@ -137,6 +138,89 @@ def test_gap_rows_recurrence_matches_the_exp_form(points):
     assert np.all(np.abs(out - ref) <= 1e-12 * scale)
     big = ref > 1e-250 * scale  # element by element where the density is not round-off
     assert np.all(np.abs(out - ref)[big] <= 1e-12 * ref[big])
+
+
+def _exact_terms(det: Detachment, u: np.ndarray) -> tuple:
+    """Every pair's term ``w [N(b; a) + N(b; -a)]`` on the grid (numpy's exp), the pairs and
+    the gap_rows arguments."""
+    inv_h = 1.0 / det.h
+    u_h = u[None, :] * inv_h[:, None]
+    weight = det.weight * inv_h / math.sqrt(2.0 * math.pi)
+    ls, ks = np.nonzero(weight)
+    a, w = det.u1[ls, ks] * inv_h[ks], weight[ls, ks]
+    with np.errstate(under="ignore"):
+        b = u_h[ks]
+        terms = w[:, None] * (
+            np.exp(-0.5 * (b - a[:, None]) ** 2) + np.exp(-0.5 * (b + a[:, None]) ** 2)
+        )
+    return terms, ls, ks, a, w, u_h
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_gauss_tails_left_out_are_below_tail_of_the_density(seed):
+    """The columns a pair leaves out (beyond :func:`tail_stop`) carry less than TAIL of the
+    load's exact density; on widths spread over 100x (as the detachment bins) some are left
+    out, and the compiled sum stays within n_pairs TAIL (+ the recurrence's round-off)."""
+    rng = np.random.default_rng(seed)
+    n_load, h = 5, np.geomspace(2e-6, 2e-8, 12)
+    u1 = rng.uniform(0.0, 2.0, (n_load, h.size)) * h
+    w = 10.0 ** rng.uniform(-6.0, -1.0, (n_load, h.size))
+    w[0, 3] = 0.0
+    z = np.geomspace(1.0, 10.0, h.size + 1)
+    area = np.ones((n_load, z.size))
+    det = Detachment(np.ones(n_load), z, area, area, w, u1, h, 2e-6)
+    u = np.linspace(0.0, 1e-5, 256)
+    terms, ls, ks, a, wp, u_h = _exact_terms(det, u)
+    density = np.zeros((n_load, u.size))
+    np.add.at(density, ls, terms)
+    floor = np.full(density.shape, -np.inf)
+    refs = np.full((n_load, 2, 3), np.nan)
+    _gauss_tails.tail_floor(ls, ks, a, wp, u_h, floor, refs)
+    left_out = 0
+    for p in range(ls.size):
+        stop = _gauss_tails.tail_stop(u_h[ks[p]], a[p], wp[p], floor, ls[p], 0, u.size, refs)
+        assert np.all(terms[p, stop:] < _gauss_tails.TAIL * density[ls[p], stop:])
+        left_out += u.size - stop
+    assert left_out > 0.2 * terms.size
+    out = np.zeros_like(density)
+    _compiled.gap_rows(ls, ks, a, wp, u_h, out)
+    big = density > 1e-250 * density.max(axis=1, keepdims=True)
+    assert np.all(np.abs(out - density)[big] <= 1e-13 * density[big])
+
+
+def test_gauss_tails_keep_every_column_of_a_load_with_a_negative_weight():
+    u_h = np.linspace(0.0, 30.0, 64)[None, :] * np.array([[1.0], [0.1]])
+    ls, ks = np.array([0, 0]), np.array([0, 1])
+    a, w = np.array([0.5, 0.5]), np.array([1.0, -1e-3])
+    floor, refs = np.full((1, 64), -np.inf), np.full((1, 2, 3), np.nan)
+    _gauss_tails.tail_floor(ls, ks, a, w, u_h, floor, refs)
+    assert np.all(floor == -np.inf)
+    assert _gauss_tails.tail_stop(u_h[0], 0.5, 1.0, floor, 0, 0, 64, refs) == 64
+    w[1] = 1e-3  # both positive: the narrow pair's tail below the wide one's is left out
+    floor[:] = -np.inf
+    _gauss_tails.tail_floor(ls, ks, a, w, u_h, floor, refs)
+    assert _gauss_tails.tail_stop(u_h[0], 0.5, 1.0, floor, 0, 0, 64, refs) < 64
+    assert _gauss_tails.tail_stop(u_h[0], 0.5, 0.0, floor, 0, 0, 64, refs) == 0
+
+
+@pytest.mark.parametrize("seed", [4, 5])
+def test_gauss_tails_start_from_the_wide_reference_changes_no_stop(seed):
+    """The analytic start (a wider reference leaves the pair out beyond its root) skips only
+    columns the test leaves out: the stops of the full scan from the last column."""
+    rng = np.random.default_rng(seed)
+    n_u = 256
+    for _ in range(200):
+        h = 10.0 ** rng.uniform(-2.0, 0.0, 3)
+        rows = np.linspace(0.0, 40.0, n_u)[None, :] / h[:, None]
+        ls, ks = np.zeros(3, dtype=np.intp), np.arange(3)
+        a, w = rng.uniform(0.0, 6.0, 3), 10.0 ** rng.uniform(-8.0, 0.0, 3)
+        floor, refs = np.full((1, n_u), -np.inf), np.full((1, 2, 3), np.nan)
+        _gauss_tails.tail_floor(ls, ks, a, w, rows, floor, refs)
+        none = np.full((1, 2, 3), np.nan)
+        for p in range(3):
+            args = (rows[p], a[p], w[p], floor, 0, 0, n_u)
+            full = _gauss_tails.tail_stop(*args, none)
+            assert _gauss_tails.tail_stop(*args, refs) == full
 
 
 def test_uniform_grid_test():
