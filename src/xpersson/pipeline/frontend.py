@@ -3,20 +3,33 @@ plugins see, and the default pressure grid (shared by the single-scene run and t
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..cache import content_key
+from .. import provenance
+from ..cache import Cache, content_key
+from ..checks import plugin_label
+from ..options import compiled_enabled, fast_paths_enabled
 from ..physics.grids import GridError
 from ..physics.grids import pressure_grid as _pressure_grid
-from ..plugins import DiffusionClock, SceneContext
-from ..scene import ResolvedScene, Scene, SceneError, load_scene
+from ..plugins import DiffusionClock, Registry, SceneContext
+from ..scene import (
+    DEFAULT_MODEL,
+    PLUGIN_SECTIONS,
+    ResolvedScene,
+    Scene,
+    SceneError,
+    load_scene,
+    plugin_records,
+)
 
 __all__ = [
     "as_scene",
+    "resolve",
     "scene_context",
     "diffusion_clock",
     "spectrum_kinks",
@@ -34,6 +47,61 @@ def as_scene(scene: str | Path | Mapping[str, Any] | Scene) -> Scene:
     if isinstance(scene, Mapping):
         return Scene(dict(scene))
     raise TypeError(f"scene must be a path, a dict or a Scene, got {type(scene).__name__}")
+
+
+_RESOLVED = Cache(
+    "pipeline.resolved",
+    scope="process",
+    maxsize=16,
+    doc="a flat scene without analyses resolved (plugins, SI arrays, the archived values and "
+    "their JSON text) by the scene's content and source; its plugins looked up at every use",
+)
+
+
+def resolve(scene: Scene, registry: Registry) -> ResolvedScene:
+    """``scene.resolve(registry)``, made once per content of a scene that is flat, has no
+    analyses, names its plugins by name and whose plugins read no file (no ``kind="path"``
+    parameter), with the JSON text of its archived values: the solves of one scene (a study's
+    loads one by one, a benchmark) convert, build, check and serialise it once (about a
+    quarter of a closed-form load's cost). At every use the registry is asked again for each
+    section's class (another class: resolved afresh); the labels and provenance records are
+    the registry's and the scene is ``scene``. With the caches off: resolved each time.
+    """
+    data = scene.data
+    models = []
+    for section in PLUGIN_SECTIONS:
+        raw = data.get(section) or {}
+        models.append(raw.get("model", DEFAULT_MODEL.get(section)) if type(raw) is dict else 0)
+    if "geometry" in data or data.get("analyses") or any(type(m) is not str for m in models):
+        return scene.resolve(registry)
+    try:
+        key = (data, scene.source, fast_paths_enabled(), compiled_enabled())
+        kept = _RESOLVED.get(key, lambda: _reusable(scene, registry))
+    except TypeError:  # a value without a content key (an object in the scene)
+        return scene.resolve(registry)
+    if kept is None:
+        return scene.resolve(registry)
+    plugins = {s: getattr(kept, s) for s in PLUGIN_SECTIONS}
+    for (section, group), model in zip(PLUGIN_SECTIONS.items(), models, strict=True):
+        if registry.resolve(group, model) is not type(plugins[section]):
+            return scene.resolve(registry)
+    names = kept.plugin_names
+    found, text = plugin_records(plugins, names, [], registry)
+    labels = {s: plugin_label(s, plugins[s], registry, names[s]) for s in PLUGIN_SECTIONS}
+    return dataclasses.replace(
+        kept, scene=scene, labels=labels, plugin_records=found, plugin_records_json=text
+    )
+
+
+def _reusable(scene: Scene, registry: Registry) -> ResolvedScene | None:
+    """The resolved ``scene`` with the JSON text of its archived values, or ``None`` when a
+    plugin of it reads a file (then resolved at each use: the file may change)."""
+    rs = scene.resolve(registry)
+    for section in PLUGIN_SECTIONS:
+        if any(p.kind == "path" for p in type(getattr(rs, section)).parameters.values()):
+            return None
+    text = provenance.scene_json(rs.resolved)
+    return dataclasses.replace(rs, resolved_text=(rs.resolved, text))
 
 
 def scene_context(rs: ResolvedScene) -> SceneContext:
