@@ -313,6 +313,13 @@ def content_key(item: Any) -> Hashable:
         if len(item) > 8 and set(map(type, item)) == _FLOATS:  # (a scene's zeta list)
             return ("F", struct.pack(f"<{len(item)}d", *item))  # every float's exact bits
         return tuple([v if type(v) in _SELF else _item_key(v) for v in item])
+    if kind is dict:  # (a scene's tables)
+        pairs = [
+            (k if type(k) in _SELF else content_key(k), v if type(v) in _SELF else content_key(v))
+            for k, v in item.items()
+        ]
+        pairs.sort()
+        return ("d", tuple(pairs))
     if kind is np.ndarray:
         code = _DTYPES.get(item.dtype)
         if code is not None:  # a dtype without objects, seen before

@@ -3,6 +3,7 @@ plugins see, and the default pressure grid (shared by the single-scene run and t
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from collections.abc import Mapping
 from pathlib import Path
@@ -86,11 +87,11 @@ def resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         if registry.resolve(group, model) is not type(plugins[section]):
             return scene.resolve(registry)
     names = kept.plugin_names
-    found, text = plugin_records(plugins, names, [], registry)
-    labels = {s: plugin_label(s, plugins[s], registry, names[s]) for s in PLUGIN_SECTIONS}
-    return dataclasses.replace(
-        kept, scene=scene, labels=labels, plugin_records=found, plugin_records_json=text
-    )
+    rs = copy.copy(kept)  # (a shallow copy: dataclasses.replace re-runs __init__, ~2x slower)
+    rs.scene = scene
+    rs.plugin_records, rs.plugin_records_json = plugin_records(plugins, names, [], registry)
+    rs.labels = {s: plugin_label(s, plugins[s], registry, names[s]) for s in PLUGIN_SECTIONS}
+    return rs
 
 
 def _reusable(scene: Scene, registry: Registry) -> ResolvedScene | None:
