@@ -425,7 +425,11 @@ class _Over(dict):
         self.numeric, self.vdims, self.shape = numeric, vdims, shape
 
     def __missing__(self, key: str) -> np.ndarray:
-        value = self[key] = _on(*self.numeric[key], self.vdims, self.shape)
+        src, values = self.numeric[key]
+        if not src and not self.shape:  # one point's value (a single solve): _on's, as it is
+            value = self[key] = np.asarray(values)
+            return value
+        value = self[key] = _on(src, values, self.vdims, self.shape)
         return value
 
 
