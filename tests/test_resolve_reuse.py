@@ -12,7 +12,7 @@ import pytest
 import xpersson
 from xpersson.builtin.elastic import ElasticBoundary
 from xpersson.pipeline.frontend import resolve
-from xpersson.plugins import Registry, get_registry
+from xpersson.plugins import Registry, get_registry, plain_paths
 
 SCENE = {
     "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e4 1/m", "q_1": "1e8 1/m",
@@ -71,6 +71,22 @@ def test_another_registry_class_is_never_taken_from_a_reused_resolution():
     assert type(resolve(xpersson.Scene(SCENE), get_registry()).boundary) is ElasticBoundary
     assert type(resolve(xpersson.Scene(SCENE), reg).boundary) is Shifted
     assert type(resolve(xpersson.Scene(SCENE), get_registry()).boundary) is ElasticBoundary
+
+
+def test_only_plugins_declaring_reuse_are_reused():
+    class Undeclared(ElasticBoundary):  # fast_paths are not inherited: no promise
+        pass
+
+    reg = Registry(extra={"boundaries": {"elastic": Undeclared}})
+    a, b = resolve(xpersson.Scene(SCENE), reg), resolve(xpersson.Scene(SCENE), reg)
+    assert a.boundary is not b.boundary and a.spectrum is not b.spectrum  # resolved afresh
+    reg = get_registry()
+    a, b = resolve(xpersson.Scene(SCENE), reg), resolve(xpersson.Scene(SCENE), reg)
+    assert a.boundary is b.boundary and a.psd is b.psd  # the declared built-ins: reused
+    with plain_paths():
+        assert resolve(xpersson.Scene(SCENE), reg).boundary is not a.boundary
+    with xpersson.set_options(cache=False):
+        assert resolve(xpersson.Scene(SCENE), reg).boundary is not a.boundary
 
 
 def test_a_file_read_by_a_plugin_is_read_at_every_solve(tmp_path):

@@ -14,10 +14,10 @@ import numpy as np
 from .. import provenance
 from ..cache import Cache, content_key
 from ..checks import plugin_label
-from ..options import compiled_enabled, fast_paths_enabled
+from ..options import compiled_enabled
 from ..physics.grids import GridError
 from ..physics.grids import pressure_grid as _pressure_grid
-from ..plugins import DiffusionClock, Registry, SceneContext
+from ..plugins import DiffusionClock, PluginError, Registry, SceneContext, fast_paths_on
 from ..scene import (
     DEFAULT_MODEL,
     PLUGIN_SECTIONS,
@@ -61,31 +61,37 @@ _RESOLVED = Cache(
 
 def resolve(scene: Scene, registry: Registry) -> ResolvedScene:
     """``scene.resolve(registry)``, made once per content of a scene that is flat, has no
-    analyses, names its plugins by name and whose plugins read no file (no ``kind="path"``
-    parameter), with the JSON text of its archived values: the solves of one scene (a study's
-    loads one by one, a benchmark) convert, build, check and serialise it once (about a
-    quarter of a closed-form load's cost). At every use the registry is asked again for each
-    section's class (another class: resolved afresh); the labels and provenance records are
-    the registry's and the scene is ``scene``. With the caches off: resolved each time.
+    analyses and names its plugins, each of a class that declares ``FastPaths(reused=True)``
+    (its instances give what their parameters say, whatever was asked before) and has no file
+    parameter (``kind="path"``: the file may change), with the JSON text of its archived
+    values: the solves of one scene (a study's loads one by one, a benchmark) convert, build,
+    check and serialise it once (about a quarter of a closed-form load's cost). At every use
+    the registry is asked for each section's class (another class: resolved afresh); the
+    labels and provenance records are the registry's and the scene is ``scene``. Resolved each
+    time with the caches off or inside :func:`~xpersson.plugins.plain_paths`.
     """
     data = scene.data
-    models = []
-    for section in PLUGIN_SECTIONS:
-        raw = data.get(section) or {}
-        models.append(raw.get("model", DEFAULT_MODEL.get(section)) if type(raw) is dict else 0)
-    if "geometry" in data or data.get("analyses") or any(type(m) is not str for m in models):
+    if "geometry" in data or data.get("analyses") or not fast_paths_on():
         return scene.resolve(registry)
+    classes = []
+    for section, group in PLUGIN_SECTIONS.items():
+        raw = data.get(section) or {}
+        model = raw.get("model", DEFAULT_MODEL.get(section)) if type(raw) is dict else None
+        try:
+            cls = registry.resolve(group, model) if type(model) is str else None
+        except PluginError:  # the resolution's message
+            cls = None
+        if cls is None or not cls.fast_paths.reused:
+            return scene.resolve(registry)
+        classes.append(cls)
     try:
-        key = (data, scene.source, fast_paths_enabled(), compiled_enabled())
+        key = (data, scene.source, compiled_enabled())
         kept = _RESOLVED.get(key, lambda: _reusable(scene, registry))
     except TypeError:  # a value without a content key (an object in the scene)
         return scene.resolve(registry)
-    if kept is None:
-        return scene.resolve(registry)
-    plugins = {s: getattr(kept, s) for s in PLUGIN_SECTIONS}
-    for (section, group), model in zip(PLUGIN_SECTIONS.items(), models, strict=True):
-        if registry.resolve(group, model) is not type(plugins[section]):
-            return scene.resolve(registry)
+    plugins = {s: getattr(kept, s) for s in PLUGIN_SECTIONS} if kept is not None else {}
+    if kept is None or [type(p) for p in plugins.values()] != classes:
+        return scene.resolve(registry)  # a file parameter, or the registry's class changed
     names = kept.plugin_names
     rs = copy.copy(kept)  # (a shallow copy: dataclasses.replace re-runs __init__, ~2x slower)
     rs.scene = scene
