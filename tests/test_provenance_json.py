@@ -9,7 +9,7 @@ import json
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from xpersson.provenance import _GRID_TOKEN, _LOADS_TOKEN, _scene_json, _strings_json
+from xpersson.provenance import _GRID_TOKEN, _LOADS_TOKEN, _strings_json, scene_json
 
 _FLOAT = st.floats(allow_nan=True, allow_infinity=True) | st.sampled_from([0.0, -0.0, 1.0])
 
@@ -20,10 +20,10 @@ _FLOAT = st.floats(allow_nan=True, allow_infinity=True) | st.sampled_from([0.0, 
     title=st.sampled_from(["a scene", _GRID_TOKEN, "zeta"]),
     extra=st.dictionaries(st.text(max_size=3), st.integers() | st.text(max_size=3), max_size=3),
 )
-def test_the_scene_json_is_json_dumps_sorted(zeta, title, extra):
+def test_thescene_json_is_json_dumps_sorted(zeta, title, extra):
     resolved = {"title": title, "output": {"zeta": zeta, "p_points": 8, **extra}, "load": extra}
-    assert _scene_json(resolved) == json.dumps(resolved, sort_keys=True)
-    assert _scene_json(resolved) == _scene_json(json.loads(json.dumps(resolved)))
+    assert scene_json(resolved) == json.dumps(resolved, sort_keys=True)
+    assert scene_json(resolved) == scene_json(json.loads(json.dumps(resolved)))
 
 
 _LOAD_TEXT = (
@@ -47,7 +47,7 @@ def test_a_list_of_loads_is_spliced_bit_for_bit(p0, zeta, title, other):
     resolved = {"title": title, "output": {"zeta": zeta}, "load": {"p0": p0, "x": other}}
     if other is not None and len(p0) > 2:
         resolved["load"]["p0"] = [*p0[:2], other, *p0[2:]]  # a value that is not a string
-    assert _scene_json(resolved) == json.dumps(resolved, sort_keys=True)
+    assert scene_json(resolved) == json.dumps(resolved, sort_keys=True)
 
 
 def test_the_loads_of_a_study_are_joined_not_dumped():

@@ -10,6 +10,7 @@ from typing import Any
 import xarray as xr
 
 from .pipeline import as_scene, run, run_with_progress
+from .pipeline.frontend import resolve
 from .plugins import Registry, get_registry
 from .scene import Scene
 from .sweep import expand
@@ -94,7 +95,7 @@ def solve(
             resume=resume,
             overwrite=overwrite,
         )
-    rs = sc.resolve(reg)
+    rs = resolve(sc, reg)
     if progress is False or (progress is None and not sys.stderr.isatty()):
         return run(rs, model_errors=True)
     return run_with_progress(rs, progress, model_errors=True)

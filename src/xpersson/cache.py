@@ -292,7 +292,8 @@ def content_key(item: Any) -> Hashable:
     """A hashable key made of ``item``'s content (recursively).
 
     Strings, bytes, ints, bools and ``None`` stand for themselves; floats by their exact bits
-    (their 8 bytes: ``0.0`` and ``-0.0`` differ); numpy scalars as Python numbers; arrays as
+    (their 8 bytes: ``0.0`` and ``-0.0`` differ; a tuple or list of more than 8 floats by
+    their bytes packed at once); numpy scalars as Python numbers; arrays as
     ``(dtype, shape, digest)`` (up to 2 KiB as ``(dtype, shape, bytes)``); tuples, lists,
     frozensets and dicts by their items; an object with a ``cache_key()`` method by its type
     and the content key of what that returns; a module-level class or function by its
@@ -309,7 +310,16 @@ def content_key(item: Any) -> Hashable:
     if kind is float:
         return ("f", _FLOAT_BITS(item))
     if kind is tuple or kind is list:
+        if len(item) > 8 and set(map(type, item)) == _FLOATS:  # (a scene's zeta list)
+            return ("F", struct.pack(f"<{len(item)}d", *item))  # every float's exact bits
         return tuple([v if type(v) in _SELF else _item_key(v) for v in item])
+    if kind is dict:  # (a scene's tables)
+        pairs = [
+            (k if type(k) in _SELF else content_key(k), v if type(v) in _SELF else content_key(v))
+            for k, v in item.items()
+        ]
+        pairs.sort()
+        return ("d", tuple(pairs))
     if kind is np.ndarray:
         code = _DTYPES.get(item.dtype)
         if code is not None:  # a dtype without objects, seen before
@@ -333,6 +343,7 @@ def _item_key(item: Any) -> Hashable:
 
 
 _SELF = frozenset({str, bytes, int, bool, type(None)})
+_FLOATS = {float}
 _SMALL = 2048
 """Arrays of at most this many bytes key by their bytes (exact, and cheaper than a digest)."""
 _FLOAT_BITS = struct.Struct("<d").pack

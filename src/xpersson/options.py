@@ -123,8 +123,13 @@ def _flag(option: str) -> bool:
 
 
 def cache_enabled() -> bool:
-    """Whether caches keep values now: :func:`set_options` ``cache``, else ``XPERSSON_CACHE``."""
-    return _flag("cache")
+    """Whether caches keep values now: :func:`set_options` ``cache``, else ``XPERSSON_CACHE``
+    (:func:`_flag` inlined: read at every cache access, about 20 a solve)."""
+    value = _SET.get("cache")
+    if value is None:
+        value = _FROM_ENV.get(CACHE_ENV)
+        return _env_flag(CACHE_ENV) if value is None else value
+    return bool(value)
 
 
 def fast_paths_enabled() -> bool:

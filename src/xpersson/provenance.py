@@ -30,6 +30,7 @@ from .schema import CONVENTIONS, METADATA_KEYS, STANDARD_NAME_VOCABULARY
 
 __all__ = [
     "global_attributes",
+    "scene_json",
     "plugins_used",
     "environment",
     "version",
@@ -164,7 +165,7 @@ _LOADS_TOKEN = "\x00xpersson loads\x00"
 _LOADS_TOKEN_JSON = json.dumps(_LOADS_TOKEN)
 
 
-def _scene_json(resolved: dict[str, Any]) -> str:
+def scene_json(resolved: dict[str, Any]) -> str:
     """``json.dumps(resolved, sort_keys=True)``, with the text of the output grid (a list of
     floats, the same for every solve of a study) made once per grid and the text of a list of
     loads (strings, :func:`_strings_json`) made by one join, spliced in."""
@@ -229,7 +230,9 @@ def global_attributes(rs: Any, registry: Any = None) -> dict[str, str]:
     out = dict(_kind_attributes(rs, user_metadata()))  # a copy: the Dataset's own attrs
     out["history"] = f"{now} {out['history']}"
     out["date_created"] = now
-    out["xpersson_scene"] = _scene_json(rs.resolved)
+    made = getattr(rs, "resolved_text", None)  # the text made with a reused resolution
+    resolved = rs.resolved
+    out["xpersson_scene"] = made[1] if made and made[0] is resolved else scene_json(resolved)
     # the file name only: no machine-specific path goes into an archive
     out["xpersson_scene_source"] = Path(rs.scene.source).name if rs.scene.source else "<dict>"
     return out

@@ -9,6 +9,7 @@ import pytest
 from xpersson.builtin.area import ContactArea
 from xpersson.builtin.elastic import ElasticBoundary, ElasticCoefficient
 from xpersson.engine import Wall
+from xpersson.options import cache_enabled
 from xpersson.plugins import (
     NO_FAST_PATHS,
     Analysis,
@@ -32,6 +33,32 @@ class CreepingWall(ElasticBoundary):
 
     def walls(self, ctx, p0, clock):
         return Wall.absorbing(-1e-9 * p0), None
+
+
+class CountingWall(ElasticBoundary):
+    """Declares reuse, but moves its wall 1e-9 of the load lower at every call: a later solve
+    of the same instance differs from a fresh one's (a call changes what a later one gives)."""
+
+    summary = "absorbing wall at p = -1e-9 p0 calls (test double: not reusable)"
+    fast_paths = FastPaths(reused=True)
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        self.calls = [0]
+
+    def walls(self, ctx, p0, clock):
+        self.calls[0] += 1
+        return Wall.absorbing(-1e-9 * p0 * self.calls[0]), None
+
+
+def test_check_plugin_fails_on_a_broken_promise_of_reuse():
+    if cache_enabled():
+        with pytest.raises(AssertionError, match="fast path 'reused'"):
+            check_fast_paths(CountingWall, {})
+    else:  # nothing is reused with the caches off: nothing for the promise to break
+        assert check_fast_paths(CountingWall, {})["fast_paths.reused"].startswith("ok")
+    plain = type("CountingWall", (CountingWall,), {"__module__": __name__})
+    assert check_fast_paths(plain, {}) == {}  # undeclared: resolved afresh at every solve
 
 
 class OffByOnePpb(ContactArea):
@@ -102,6 +129,7 @@ def test_first_party_declared_paths_pass_and_are_reported():
         "fast_paths.contact_similarity",
         "fast_paths.stacked",
         "fast_paths.shared_walls",
+        "fast_paths.reused",
     }
     assert all(v.startswith("ok") for v in report.values()), report
     assert RTOL == 1e-12
@@ -168,6 +196,7 @@ def test_the_declaration_is_not_inherited():
         "contact_similarity",
         "stacked",
         "shared_walls",
+        "reused",
     )
 
 

@@ -49,6 +49,7 @@ class ElasticCoefficient(Coefficient):
         contact_similarity=True,
         stacked_params=frozenset(),
         shared_tau={"closure": "persson01"},
+        reused=True,
     )
 
     def corrects_variance(self) -> bool:
@@ -128,7 +129,9 @@ class ElasticBoundary(Boundary):
     traits = frozenset({"repulsive", "load_similar", "conservative"})
     #: the wall p = 0 is the same for every load (asked once), the same in units of E*
     #: (contact similarity) and for every point of a stacked block
-    fast_paths = FastPaths(contact_similarity=True, stacked_params=frozenset(), shared_walls=True)
+    fast_paths = FastPaths(
+        contact_similarity=True, stacked_params=frozenset(), shared_walls=True, reused=True
+    )
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """One absorbing wall at p = 0 [Pa]; no upper wall."""

@@ -66,7 +66,9 @@ class SelfAffine(Spectrum):
     }
     #: points of a sweep block may differ in the exponent and the amplitude (one spectrum each,
     #: the same q nodes and output grid)
-    fast_paths = FastPaths(stacked_params=frozenset({"H", "h_rms", "rms_slope", "C_r"}))
+    fast_paths = FastPaths(
+        stacked_params=frozenset({"H", "h_rms", "rms_slope", "C_r"}), reused=True
+    )
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)

@@ -7,6 +7,7 @@ import numpy as np
 from ._base import EngineMethod
 from ._problem import Problem
 from ._result import Raw
+from ._views import broadcast_view
 from ._walls import Wall
 from .exact import (
     linear_wall_absorbed_moment,
@@ -90,7 +91,7 @@ class ExactMethod(EngineMethod):
             a = float(pb.lower.position)
             if pb.is_batch and a == 0:  # load = p0 exactly: no array to compute
                 area, non = one_wall_area_non(tau, p0, a)
-                load = np.broadcast_to(np.asarray(p0, float), np.shape(tau))
+                load = broadcast_view(np.asarray(p0, float), np.shape(tau))
             else:
                 area, non, load = one_wall(tau, p0, a)
             ab_l, ab_u = non, zeros
@@ -101,7 +102,7 @@ class ExactMethod(EngineMethod):
             # both balances are identities of the closed form (a batch reports exact zeros)
             identities, form = True, (8 * _EPS, 8 * _EPS * 1e-300)
             if pb.is_batch:  # nothing in the batch writes into it: no memory for the zeros
-                ab_u = np.broadcast_to(np.zeros(()), np.shape(tau))
+                ab_u = broadcast_view(np.zeros(()), np.shape(tau))
             if want_p:
                 P = one_wall_density(pb.p_out, tp, pp, a)
         elif case == "two":

@@ -14,8 +14,9 @@ __all__ = ["NO_WALL", "LazyField", "broadcast_view", "no_wall", "per_load"]
 
 def broadcast_view(value: Any, shape: tuple[int, ...]) -> NDArray[Any]:
     """``np.broadcast_to(value, shape)``: read-only, no copy. A 0-d or C-contiguous value whose
-    shape ends ``shape`` is viewed with zero strides on the new leading axes; anything else
-    goes to ``np.broadcast_to``."""
+    shape ends ``shape`` is viewed with zero strides on the new leading axes, a C-contiguous
+    one of ``shape``'s rank with zero strides on its length-1 axes; anything else goes to
+    ``np.broadcast_to``."""
     arr = np.asarray(value)
     lead = len(shape) - arr.ndim
     if lead == 1 and shape[0] == 1 and arr.shape == shape[1:]:  # (one load: an added axis)
@@ -24,6 +25,18 @@ def broadcast_view(value: Any, shape: tuple[int, ...]) -> NDArray[Any]:
         return out
     if lead >= 0 and tuple(shape[lead:]) == arr.shape and arr.flags.c_contiguous:
         out = np.ndarray(shape, arr.dtype, buffer=arr, strides=(0,) * lead + arr.strides)
+        out.flags.writeable = False
+        return out
+    if (
+        lead == 0
+        and arr.flags.c_contiguous
+        and arr.size
+        and all(n == m or n == 1 for n, m in zip(arr.shape, shape, strict=True))
+    ):  # (a column of loads over the outputs: its length-1 axes with zero strides)
+        strides = tuple(
+            0 if n != m else s for n, m, s in zip(arr.shape, shape, arr.strides, strict=True)
+        )
+        out = np.ndarray(shape, arr.dtype, buffer=arr, strides=strides)
         out.flags.writeable = False
         return out
     return np.broadcast_to(arr, shape)

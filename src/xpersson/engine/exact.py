@@ -147,7 +147,7 @@ def _erf_erfc(x: Array) -> tuple[Array, Array]:
     """``(erf(x), erfc(x))``, the second into ``x``: the leading columns (last axis) where
     every ``x`` is beyond :data:`_ERF_ONE` / :data:`_ERFC_ZERO` (near ``tau = 0``: about half
     the loads' dense grid) set to those values, not evaluated (the same bits)."""
-    if x.ndim < 2:
+    if x.ndim < 2 or x.size <= _SMALL:  # (the cut's bookkeeping costs more than it saves)
         return erf(x), erfc(x, out=x)
     low = np.min(x, axis=tuple(range(x.ndim - 1)))  # (NaN: never beyond)
     j1, j2 = (int(np.argmin(low >= c)) if not np.all(low >= c) else low.size for c in _CUTS)
@@ -160,6 +160,9 @@ def _erf_erfc(x: Array) -> tuple[Array, Array]:
 
 
 _CUTS = (_ERF_ONE, _ERFC_ZERO)
+_SMALL = 4096
+"""Arrays of at most this many values are evaluated whole (one load's 51 values: ~1.4 us
+against ~16 us with the cut; still faster at 100 x 51)."""
 
 
 def one_wall_non_area(tau: ArrayLike, p0: ArrayLike, wall: ArrayLike = 0.0) -> Array:

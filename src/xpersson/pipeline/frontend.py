@@ -3,20 +3,34 @@ plugins see, and the default pressure grid (shared by the single-scene run and t
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..cache import content_key
+from .. import provenance
+from ..cache import Cache, content_key
+from ..checks import plugin_label
+from ..options import compiled_enabled
 from ..physics.grids import GridError
 from ..physics.grids import pressure_grid as _pressure_grid
-from ..plugins import DiffusionClock, SceneContext
-from ..scene import ResolvedScene, Scene, SceneError, load_scene
+from ..plugins import DiffusionClock, PluginError, Registry, SceneContext, fast_paths_on
+from ..scene import (
+    DEFAULT_MODEL,
+    PLUGIN_SECTIONS,
+    ResolvedScene,
+    Scene,
+    SceneError,
+    load_scene,
+    plugin_records,
+)
 
 __all__ = [
     "as_scene",
+    "resolve",
     "scene_context",
     "diffusion_clock",
     "spectrum_kinks",
@@ -34,6 +48,67 @@ def as_scene(scene: str | Path | Mapping[str, Any] | Scene) -> Scene:
     if isinstance(scene, Mapping):
         return Scene(dict(scene))
     raise TypeError(f"scene must be a path, a dict or a Scene, got {type(scene).__name__}")
+
+
+_RESOLVED = Cache(
+    "pipeline.resolved",
+    scope="process",
+    maxsize=16,
+    doc="a flat scene without analyses resolved (plugins, SI arrays, the archived values and "
+    "their JSON text) by the scene's content and source; its plugins looked up at every use",
+)
+
+
+def resolve(scene: Scene, registry: Registry) -> ResolvedScene:
+    """``scene.resolve(registry)``, made once per content of a scene that is flat, has no
+    analyses and names its plugins, each of a class that declares ``FastPaths(reused=True)``
+    (its instances give what their parameters say, whatever was asked before) and has no file
+    parameter (``kind="path"``: the file may change), with the JSON text of its archived
+    values: the solves of one scene (a study's loads one by one, a benchmark) convert, build,
+    check and serialise it once (about a quarter of a closed-form load's cost). At every use
+    the registry is asked for each section's class (another class: resolved afresh); the
+    labels and provenance records are the registry's and the scene is ``scene``. Resolved each
+    time with the caches off or inside :func:`~xpersson.plugins.plain_paths`.
+    """
+    data = scene.data
+    if "geometry" in data or data.get("analyses") or not fast_paths_on():
+        return scene.resolve(registry)
+    classes = []
+    for section, group in PLUGIN_SECTIONS.items():
+        raw = data.get(section) or {}
+        model = raw.get("model", DEFAULT_MODEL.get(section)) if type(raw) is dict else None
+        try:
+            cls = registry.resolve(group, model) if type(model) is str else None
+        except PluginError:  # the resolution's message
+            cls = None
+        if cls is None or not cls.fast_paths.reused:
+            return scene.resolve(registry)
+        classes.append(cls)
+    try:
+        key = (data, scene.source, compiled_enabled())
+        kept = _RESOLVED.get(key, lambda: _reusable(scene, registry))
+    except TypeError:  # a value without a content key (an object in the scene)
+        return scene.resolve(registry)
+    plugins = {s: getattr(kept, s) for s in PLUGIN_SECTIONS} if kept is not None else {}
+    if kept is None or [type(p) for p in plugins.values()] != classes:
+        return scene.resolve(registry)  # a file parameter, or the registry's class changed
+    names = kept.plugin_names
+    rs = copy.copy(kept)  # (a shallow copy: dataclasses.replace re-runs __init__, ~2x slower)
+    rs.scene = scene
+    rs.plugin_records, rs.plugin_records_json = plugin_records(plugins, names, [], registry)
+    rs.labels = {s: plugin_label(s, plugins[s], registry, names[s]) for s in PLUGIN_SECTIONS}
+    return rs
+
+
+def _reusable(scene: Scene, registry: Registry) -> ResolvedScene | None:
+    """The resolved ``scene`` with the JSON text of its archived values, or ``None`` when a
+    plugin of it reads a file (then resolved at each use: the file may change)."""
+    rs = scene.resolve(registry)
+    for section in PLUGIN_SECTIONS:
+        if any(p.kind == "path" for p in type(getattr(rs, section)).parameters.values()):
+            return None
+    text = provenance.scene_json(rs.resolved)
+    return dataclasses.replace(rs, resolved_text=(rs.resolved, text))
 
 
 def scene_context(rs: ResolvedScene) -> SceneContext:

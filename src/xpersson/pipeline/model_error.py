@@ -425,7 +425,9 @@ class _Over(dict):
         self.numeric, self.vdims, self.shape = numeric, vdims, shape
 
     def __missing__(self, key: str) -> np.ndarray:
-        value = self[key] = _on(*self.numeric[key], self.vdims, self.shape)
+        src, values = self.numeric[key]  # one point's value (a single solve): _on's, as it is
+        on = np.asarray(values) if not src and not self.shape else None
+        value = self[key] = _on(src, values, self.vdims, self.shape) if on is None else on
         return value
 
 

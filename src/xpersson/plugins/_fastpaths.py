@@ -79,6 +79,15 @@ class FastPaths:
         (which would only broadcast it). A class that does not override ``effective_tau``
         has this path without declaring it. Check: every ``effective_tau`` row equals
         ``tau(zeta)`` (1e-12 relative).
+    reused : bool
+        Spectra, coefficients, boundaries. Promise: what an instance gives depends only on its
+        class, its parameters and each call's arguments (no call changes what a later call
+        gives; nothing is read but the parameters and a ``kind="path"`` parameter's file).
+        Path: :func:`xpersson.solve` of a flat scene without analyses whose plugins all
+        declare it, none with a file parameter, resolves the scene once per content and its
+        later solves reuse the instances (:func:`xpersson.pipeline.frontend.resolve`). Check:
+        a scene solved a second time (on the reused resolution) equals its solve inside
+        :func:`plain_paths` (resolved afresh).
     """
 
     contact_similarity: bool = False
@@ -86,6 +95,7 @@ class FastPaths:
     shared_walls: bool = False
     shared_tau: bool | Mapping[str, Any] = False
     wall_tables: bool = False
+    reused: bool = False
 
     def __post_init__(self) -> None:
         sp = self.stacked_params
@@ -112,6 +122,7 @@ class FastPaths:
                 ("shared_walls", self.shared_walls),
                 ("shared_tau", self.shared_tau is not False),
                 ("wall_tables", self.wall_tables),
+                ("reused", self.reused),
             )
             if on
         )
@@ -175,6 +186,7 @@ _GROUPS = {
     "shared_walls": ("boundaries",),
     "shared_tau": ("coefficients",),
     "wall_tables": ("boundaries",),
+    "reused": ("spectra", "coefficients", "boundaries"),
 }
 
 #: Class attributes of the flags this contract replaced -> the declaration that replaces them.
@@ -230,7 +242,7 @@ def settle(cls: type, name: str) -> None:
     fp = vars(cls)["fast_paths"]
     if not isinstance(fp, FastPaths):
         raise SpecError(f"{name}: fast_paths must be a FastPaths(...), got {fp!r}")
-    for field in ("contact_similarity", "shared_walls", "wall_tables"):
+    for field in ("contact_similarity", "shared_walls", "wall_tables", "reused"):
         if not isinstance(getattr(fp, field), bool):
             raise SpecError(f"{name}: fast_paths.{field} must be True or False")
     group = getattr(cls, "group", "")

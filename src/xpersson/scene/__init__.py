@@ -30,7 +30,7 @@ from ._core import (
     TOP_LEVEL,
     ResolvedScene,
 )
-from ._resolve import plugin_message, with_spectrum
+from ._resolve import plugin_message, plugin_records, with_spectrum
 from ._scene import Scene, load_scene, parse_cli_value, set_value
 
 __all__ = [
@@ -51,6 +51,7 @@ __all__ = [
     "load_scene",
     "parse_cli_value",
     "plugin_message",
+    "plugin_records",
     "set_value",
     "sweep_values",
     "with_spectrum",

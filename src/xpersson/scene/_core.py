@@ -203,6 +203,10 @@ class ResolvedScene:
     geometry: Plugin | None = None
     force: np.ndarray | None = None
     force_scalar: bool = False
+    #: ``(resolved, its JSON text)`` when the text was made with the resolution (one reused by
+    #: the solves of a scene, :func:`xpersson.pipeline.frontend.resolve`): the archive's
+    #: ``xpersson_scene`` of that very dict (any other dict's text is made when needed).
+    resolved_text: tuple[dict[str, Any], str] | None = None
 
     @property
     def E_star(self) -> float:

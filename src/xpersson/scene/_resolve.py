@@ -38,7 +38,7 @@ from ._core import (
 )
 from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
 
-__all__ = ["plugin_message", "resolve_scene", "with_spectrum"]
+__all__ = ["plugin_message", "plugin_records", "resolve_scene", "with_spectrum"]
 
 
 def _plugin(
@@ -310,7 +310,7 @@ def _analyses(
     return analyses
 
 
-def _records(
+def plugin_records(
     plugins: Mapping[str, Plugin],
     names: Mapping[str, str],
     analyses: list[tuple[str, Plugin]],
@@ -370,7 +370,7 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         resolved["analyses"][name] = jsonable(dict(inst.params), type(inst).parameters)
     resolved["material"] = jsonable(core["material"], CORE["material"])
     resolved["load"] = {"p0": resolved_loads(core["p0_raw"], p0, core["scalar"])}
-    records, records_json = _records(plugins, names, analyses, registry, body)
+    records, records_json = plugin_records(plugins, names, analyses, registry, body)
     if body is not None:
         resolved["geometry"], resolved["load"] = body.resolved, {"force": body.force_resolved}
         labels["geometry"] = plugin_label("geometry", body.geometry, registry, body.name)
@@ -479,7 +479,7 @@ def with_spectrum(
     resolved["output"] = {**rs.resolved["output"], "zeta": np.asarray(zeta, float).tolist()}
     records, records_json = rs.plugin_records, rs.plugin_records_json
     if type(inst) is not type(rs.spectrum) or name != rs.plugin_names.get("spectrum"):
-        records, records_json = _records(
+        records, records_json = plugin_records(
             {"spectrum": inst, "coefficient": rs.coefficient, "boundary": rs.boundary},
             names,
             rs.analyses,

@@ -20,6 +20,9 @@ floating-point variable (integer and text variables exactly):
     :class:`xpersson.engine.WallTable` whose positions equal its position callable's at times
     across and beyond the table, and a solve equals one inside
     :func:`~xpersson.sweep.plain_paths` (no tables);
+``reused``
+    a generated scene solved twice (the second solve on the resolution the first made) equals
+    its solve inside :func:`~xpersson.sweep.plain_paths` (resolved afresh);
 ``stacked``
     a sweep over the declared parameters (each at its sample value and a nearby one; the
     spectrum's ``H`` where the plugin declares none) solved through the stacked path equals
@@ -278,6 +281,16 @@ def _solves(cls: type, params: dict[str, Any], scene: Any, engine: bool, path: s
     return f"; {N_SCENES} solves equal the plain path"
 
 
+def _reused(cls: type, params: dict[str, Any], scene: Any, engine: bool) -> str:
+    if not engine:
+        return "not checked (engine=False)"
+    for i, sc in enumerate(_scenes(cls, params, scene)):
+        _solve(cls, sc)  # resolves the scene (kept for the next solve)
+        fast, plain = _both(cls, sc)
+        _compare(cls, "reused", fast, plain, f"(generated scene {i}, solved again)")
+    return f"ok ({N_SCENES} scenes solved twice)"
+
+
 def _contact_similarity(cls: type, params: dict[str, Any], scene: Any, engine: bool) -> str:
     if not engine:
         return "not checked (engine=False)"
@@ -358,4 +371,5 @@ _CHECKS = {
     "shared_tau": _shared_tau,
     "contact_similarity": _contact_similarity,
     "stacked": _stacked,
+    "reused": _reused,
 }

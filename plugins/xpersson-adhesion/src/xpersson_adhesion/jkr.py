@@ -120,7 +120,7 @@ class JKRBoundary(Boundary):
     tensile_loads = True
     #: one wall for every load (see :meth:`wall`): asked once per run; its table evaluated by
     #: the engine's compiled code (the wall protocol, :class:`xpersson.engine.WallTable`)
-    fast_paths = FastPaths(shared_walls=True, wall_tables=True)
+    fast_paths = FastPaths(shared_walls=True, wall_tables=True, reused=True)
     parameters = {
         **ADHESION_PARAMETERS,
         "c_a": ParamSpec(

@@ -1,0 +1,106 @@
+"""A scene's resolution reused by its later solves (:func:`xpersson.pipeline.frontend.resolve`):
+the same resolved values as a fresh resolution, never a stale one (another registry's class, a
+changed scene, a file read again), the caller's scene, and the same archive."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import xpersson
+from xpersson.builtin.elastic import ElasticBoundary
+from xpersson.options import cache_enabled
+from xpersson.pipeline.frontend import resolve
+from xpersson.plugins import Registry, get_registry, plain_paths
+
+SCENE = {
+    "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e4 1/m", "q_1": "1e8 1/m",
+                 "h_rms": "1 um"},
+    "material": {"E": "10 MPa", "nu": 0.5},
+    "load": {"p0": "100 kPa"},
+    "output": {"zeta_per_decade": 5},
+}  # fmt: skip
+
+
+def _fresh(scene: xpersson.Scene, registry: Registry) -> xpersson.ResolvedScene:
+    return scene.resolve(registry)
+
+
+def test_a_reused_resolution_equals_a_fresh_one():
+    reg = get_registry()
+    first = resolve(xpersson.Scene(SCENE), reg)
+    scene = xpersson.Scene(SCENE, source="/somewhere/study.toml")
+    again, fresh = resolve(scene, reg), _fresh(scene, reg)
+    assert again.scene is scene  # the caller's scene (its source), not the first one's
+    assert again.resolved == fresh.resolved
+    assert again.plugin_records_json == fresh.plugin_records_json
+    assert {k: str(v) for k, v in again.labels.items()} == {
+        k: str(v) for k, v in fresh.labels.items()
+    }
+    np.testing.assert_array_equal(again.zeta, fresh.zeta)
+    np.testing.assert_array_equal(again.p0, fresh.p0)
+    assert (again.E, again.nu, again.rtol, again.atol) == (fresh.E, fresh.nu, 1e-6, 1e-12)
+    assert first.scene is not scene
+
+
+def test_the_archive_is_the_same_with_the_caches_off():
+    ds = xpersson.solve(SCENE)
+    ds = xpersson.solve(SCENE)  # the reused resolution
+    with xpersson.set_options(cache=False):
+        off = xpersson.solve(SCENE)
+    assert ds.attrs["xpersson_scene"] == off.attrs["xpersson_scene"]
+    assert json.loads(ds.attrs["xpersson_scene"])["load"]["p0"] == "100000.0 Pa"
+    np.testing.assert_array_equal(ds.area_fraction.values, off.area_fraction.values)
+
+
+def test_a_changed_scene_is_resolved_again():
+    scene = xpersson.Scene(SCENE)
+    a = xpersson.solve(scene)
+    scene.data["load"]["p0"] = "200 kPa"  # the same Scene object, changed in place
+    b = xpersson.solve(scene)
+    assert float(a.p0) == 1e5 and float(b.p0) == 2e5
+    assert float(b.area_fraction[-1]) > float(a.area_fraction[-1])
+
+
+def test_another_registry_class_is_never_taken_from_a_reused_resolution():
+    class Shifted(ElasticBoundary):  # a registry shadowing the built-in name
+        pass
+
+    reg = Registry(extra={"boundaries": {"elastic": Shifted}})
+    assert type(resolve(xpersson.Scene(SCENE), get_registry()).boundary) is ElasticBoundary
+    assert type(resolve(xpersson.Scene(SCENE), reg).boundary) is Shifted
+    assert type(resolve(xpersson.Scene(SCENE), get_registry()).boundary) is ElasticBoundary
+
+
+def test_only_plugins_declaring_reuse_are_reused():
+    class Undeclared(ElasticBoundary):  # fast_paths are not inherited: no promise
+        pass
+
+    reg = Registry(extra={"boundaries": {"elastic": Undeclared}})
+    a, b = resolve(xpersson.Scene(SCENE), reg), resolve(xpersson.Scene(SCENE), reg)
+    assert a.boundary is not b.boundary and a.spectrum is not b.spectrum  # resolved afresh
+    reg = get_registry()
+    a, b = resolve(xpersson.Scene(SCENE), reg), resolve(xpersson.Scene(SCENE), reg)
+    # the declared built-ins: reused (with the caches on)
+    assert (a.boundary is b.boundary) == (a.psd is b.psd) == cache_enabled()
+    with plain_paths():
+        assert resolve(xpersson.Scene(SCENE), reg).boundary is not a.boundary
+    with xpersson.set_options(cache=False):
+        assert resolve(xpersson.Scene(SCENE), reg).boundary is not a.boundary
+
+
+def test_a_file_read_by_a_plugin_is_read_at_every_solve(tmp_path):
+    path = tmp_path / "psd.csv"
+    q = np.geomspace(1e4, 1e8, 9).tolist()
+
+    def write(c0: float) -> None:
+        path.write_text("\n".join(f"{x!r}, {c0 * (x / 1e4) ** -3.6!r}" for x in q))
+
+    scene = {**SCENE, "spectrum": {"model": "tabulated", "file": str(path)}}
+    write(1e-20)
+    a = xpersson.solve(scene)
+    write(4e-20)  # the same scene, the file changed: four times the power
+    b = xpersson.solve(scene)
+    assert float(b.h_rms) == pytest.approx(2 * float(a.h_rms), rel=1e-12)
