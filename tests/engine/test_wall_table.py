@@ -58,7 +58,9 @@ def test_table_values_are_ppoly_bit_for_bit(root, negate, extrapolate):
     lo, hi = (lo, hi) if extrapolate else (0.5 * lo, 2.0 * hi)  # (NaN outside without extrap.)
     table = WallTable(poly.c, poly.x, lo, hi, extrapolate, root, negate)
     ref = _reference(poly, lo, hi, root, negate)
-    t = _times(poly.x, 1)
+    # (also at the clip's ends and next to them: the compiled loop skips the clip strictly inside)
+    ends = np.array([lo, hi])
+    t = np.concatenate([_times(poly.x, 1), ends, np.nextafter(ends, 0.0), np.nextafter(ends, 1e9)])
     with set_options(compiled=True):  # whatever XPERSSON_COMPILED says
         paths = [False] + ([True] if wt.build() else [])
     for compiled in paths:

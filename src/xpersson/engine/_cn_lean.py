@@ -104,7 +104,7 @@ def lean_level(
     if steps == 0 or steps > _OPS // (4 * nb * nn):  # (fused_level's blocks, its own copy)
         inp = _inputs(made, plan)
         return fused_level(kernels, inp, _normalized(r0, mass, plan.k).ravel(), stretch, coef)
-    nodes, rows, basis = grid
+    nodes, rows, basis = grid.nodes, grid.rows, grid.basis
     n_out = out_at.shape[0]
     snaps, sums = np.empty((n_out, nb * nn)), np.zeros((7, nb, n_out))
     zs = np.zeros((9, nb))
@@ -119,7 +119,7 @@ def lean_level(
         return Level(None, 0, nn, f"tridiagonal solve failed (info={info})")
     # (_moving_fused._reduce_snapshots with the window's edges as marched: BLAS's sums)
     R = snaps.reshape(n_out, nb, nn)
-    area, moment = (R @ nodes.w).T, (R @ (nodes.x * nodes.w)).T
+    area, moment = (R @ nodes.w).T, (R @ grid.xw).T
     load = np.empty(area.shape)
     if not fns[3](area, moment, sums, load):  # (a NaN: numpy's operations decide its bits)
         load = sums[5] * area + sums[6] * moment

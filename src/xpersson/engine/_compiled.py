@@ -138,12 +138,17 @@ def _build() -> Callable[..., int] | None:
     jit = numba_cache.njit(__name__, *mods, nogil=True, error_model="numpy")
     if jit is None:  # numba is not installed
         return None
+    # the step loops and their helpers make no arrays: compiled without numba's reference
+    # counts (the counts of a step's views were a third of a small level's march)
+    bare = numba_cache.njit(__name__, *mods, nogil=True, error_model="numpy", _nrt=False)
     # the kernels call the compiled helpers: the same code, its globals bound to the dispatchers
-    solve = {"_factor": jit(_factor), "_solve_factor": jit(_solve_factor)}
+    solve = {"_factor": bare(_factor), "_solve_factor": bare(_solve_factor)}
     scope = {**globals(), **solve}
     names = ("_system", "_explicit", "_wall_fluxes", "_record", "_yield_rows", "_yield_gain")
-    helpers = {name: jit(getattr(fused_src, name)) for name in names}
+    helpers = {name: bare(getattr(fused_src, name)) for name in names}
     fused_scope = {**vars(fused_src), **solve, **helpers}
+    steps = bare(types.FunctionType(fused_src._level_steps.__code__, fused_scope, "_level_steps"))
+    fused_scope["_level_steps"] = steps
     _STATE["edges"] = jit(_cn_edges.window_edges)
     _STATE["times"] = jit(_cn_edges.level_times)
     _STATE["tracks"] = (jit(_cn_edges.wall_query), jit(_cn_edges.wall_track))

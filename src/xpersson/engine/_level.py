@@ -92,6 +92,8 @@ class LevelGrid(NamedTuple):
     """:func:`system_rows`."""
     basis: Array
     """:func:`face_basis`."""
+    xw: Array
+    """``nodes.x * nodes.w``: the weights of the load's moment ``int x R dx`` (read-only)."""
 
 
 class LevelInputs(NamedTuple):
@@ -129,10 +131,16 @@ def level_grid(loads: int, n: int, stretch: float) -> LevelGrid:
     set-up on the compiled path)."""
     return _GRID.get(
         f"{loads} {n} {stretch!r}",  # (a string key: ~0.5 us less than a tuple's content key)
-        lambda: LevelGrid(
-            level_nodes(n, stretch), system_rows(loads, n, stretch), face_basis(n, stretch)
-        ),
+        lambda: _level_grid(loads, n, stretch),
     )
+
+
+def _level_grid(loads: int, n: int, stretch: float) -> LevelGrid:
+    """:func:`level_grid` computed (the moment's weights ``x w`` once per grid, not per level:
+    the same products)."""
+    nodes = level_nodes(n, stretch)
+    rows, basis = system_rows(loads, n, stretch), face_basis(n, stretch)
+    return LevelGrid(nodes, rows, basis, nodes.x * nodes.w)
 
 
 def system_rows(loads: int, n: int, stretch: float) -> SystemRows:

@@ -159,7 +159,8 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     wn_all, wo_all = inp.theta * step, (1.0 - inp.theta) * step
     yreal = win.real_upper & inp.yield_wall
     g_all = np.where(yreal, win.end.width * win.end.yield_speed, 0.0)  # closure R_N = g A_pl
-    _, rows, basis = inp.grid if inp.grid is not None else level_grid(nb, n, stretch)
+    grid = inp.grid if inp.grid is not None else level_grid(nb, n, stretch)
+    rows, basis = grid.rows, grid.basis
     rec = _record_for(nb, n_out, nn, n_steps, p_out)
     st = _State(r0, np.zeros((5, nb)))
     rec.near[0] = st.r[rows.near]

@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 from ._cnstep import _factor, _solve_factor
 from ._level import Level, Outputs, level_grid
 
-__all__ = ["face_coefficients", "fused_level", "level_march"]
+__all__ = ["face_coefficients", "fused_level", "level_march"]  # (and _level_steps: compiled)
 
 Array = NDArray[np.float64]
 
@@ -58,7 +58,8 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
     nb, nn, n_out = inp.p0.shape[0], nodes.x.size, inp.out_at.size
     if n_out * nb * nn > _SNAP:
         return None
-    _, rows, basis = inp.grid if inp.grid is not None else level_grid(nb, nn - 1, stretch)
+    grid = inp.grid if inp.grid is not None else level_grid(nb, nn - 1, stretch)
+    rows, basis = grid.rows, grid.basis
     snaps, sums = np.empty((n_out, nb * nn)), np.zeros((7, nb, n_out))
     zs = np.zeros((9, nb))  # (z and acc in one buffer; r0 is the caller's fresh state)
     carry = (r0, zs[:5], zs[5:], np.zeros(1, np.int64))
@@ -184,8 +185,9 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     snaps: Any,
     sums: Any,
 ) -> int:  # pragma: no cover - compiled (the numpy path is the reference)
-    """March the steps ``i0 .. i1 - 1`` of a level; returns LAPACK's ``info`` of the first
-    failed solve (0: all succeeded).
+    """March the steps ``i0 .. i1 - 1`` of a level (the work arrays made here, the steps by
+    :func:`_level_steps`); returns LAPACK's ``info`` of the first failed solve (0: all
+    succeeded).
 
     ``ops`` (block, 4, loads x nodes): the face coefficients of the steps from ``i0`` on
     (:func:`._moving_block.face_ops`); ``w`` the control volumes, ``volumes``, ``walls``,
@@ -202,13 +204,57 @@ def level_march(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, n
     area, the probabilities absorbed by the lower and upper walls and their moments (the
     upper one negated), the window's lower edge and width.
     """
-    nb, nn = last.shape[0], w.shape[0]
-    m, n_out = nb * nn, out_at.shape[0]
-    w_last = w[nn - 1]
-    state, b = r, np.empty(m)  # the state and the next one swap buffers
+    nb, m = last.shape[0], r.shape[0]
+    b = np.empty(m)  # the state and the next one swap buffers
     # each step's system is eliminated during the step before (_solve_factor): two of each
     dg, fact, swap = np.empty((2, m)), np.empty((2, m)), np.empty((2, m), np.bool_)
     ends, g, yields = np.empty((2, 8, nb)), np.empty((2, nb)), np.zeros(2, np.bool_)
+    return _level_steps(i0, i1, ops, w, volumes, walls, last, yield_wall, real_lower,  # noqa: F821
+                        real_upper, yield_speed, la, wa, lb, wb, out_at, r, z, acc, pos, snaps,
+                        sums, b, dg, fact, swap, ends, g, yields)  # fmt: skip
+
+
+def _level_steps(  # noqa: PLR0913, PLR0912, PLR0915, C901 - one compiled loop, numpy's order
+    i0: int,
+    i1: int,
+    ops: Any,
+    w: Any,
+    volumes: Any,
+    walls: Any,
+    last: Any,
+    yield_wall: bool,
+    real_lower: Any,
+    real_upper: Any,
+    yield_speed: Any,
+    la: Any,
+    wa: Any,
+    lb: Any,
+    wb: Any,
+    out_at: Any,
+    r: Any,
+    z: Any,
+    acc: Any,
+    pos: Any,
+    snaps: Any,
+    sums: Any,
+    b: Any,
+    dg: Any,
+    fact: Any,
+    swap: Any,
+    ends: Any,
+    g: Any,
+    yields: Any,
+) -> int:  # pragma: no cover - compiled (the numpy path is the reference)
+    """The steps of :func:`level_march` (its arguments, then its work arrays: ``b`` (loads x
+    nodes) the next state, ``dg``, ``fact``, ``swap`` (2, loads x nodes) two steps' diagonal
+    and elimination, ``ends`` (2, 8, loads), ``g`` (2, loads), ``yields`` (2,) their end
+    faces and closures). Compiled without numba's reference counting (``_nrt=False``, see
+    :mod:`._compiled`): it makes no arrays, and the counts of the views a step takes were
+    ~0.3 us a step, a third of a small level's march; the same operations."""
+    nb, nn = last.shape[0], w.shape[0]
+    m, n_out = nb * nn, out_at.shape[0]
+    w_last = w[nn - 1]
+    state = r
     j_out = pos[0]
     while i0 == 0 and j_out < n_out and out_at[j_out] == 0:
         _record(state, z, acc, snaps, sums, j_out, la[:, 0], wa[:, 0])

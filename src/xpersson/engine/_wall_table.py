@@ -239,13 +239,27 @@ def table_values(
 ) -> None:
     """``out[i]`` = the table's position at ``tau[i]`` (see :class:`WallTable`): a plain loop,
     compiled by :func:`kernels`."""
-    k = c.shape[0]
+    k, last = c.shape[0], x.shape[0] - 2
     interval = 0
     for ip in range(tau.shape[0]):
-        t = _minimum(_maximum(tau[ip], t_lo), t_hi)
-        i = _interval(x, t, interval, extrapolate)
+        t = tau[ip]
+        if not t_lo < t < t_hi:  # (strictly inside, the clip gives t: no NaN, no signed zero)
+            t = _minimum(_maximum(t, t_lo), t_hi)
+        # (the previous interval first: the times come mostly in order, many in one piece)
+        inside = interval <= last and x[interval] <= t < x[interval + 1]
+        i = interval if inside else _interval(x, t, interval, extrapolate)
         if i < 0:
             v = math.nan
+        elif k == 4:  # (cubic pieces, the loop below unrolled: the same operations)
+            interval = i
+            s = t - x[i]
+            v = 0.0 + c[3, i] * 1.0
+            z = s
+            v = v + c[2, i] * z
+            z *= s
+            v = v + c[1, i] * z
+            z *= s
+            v = v + c[0, i] * z
         else:
             interval = i
             s = t - x[i]
@@ -256,7 +270,7 @@ def table_values(
                 if kp < k - 1:
                     z *= s
         if root:
-            v = math.sqrt(_maximum(v, 0.0))
+            v = math.sqrt(v if v > 0.0 else _maximum(v, 0.0))
         out[ip] = -v if negate else v
 
 
