@@ -113,3 +113,24 @@ def test_tabulated_archive_reproduces_after_the_csv_is_deleted(tmp_path):
     a, b = (xpersson.open_dataset(tmp_path / f) for f in ("a.nc", "b.nc"))
     np.testing.assert_allclose(b.area_fraction, a.area_fraction, rtol=1e-12)
     np.testing.assert_array_equal(b.psd_C, a.psd_C)
+
+
+def test_tabulated_archive_names_the_file_without_its_directory(tmp_path):
+    """The archived scene keeps the spectrum file's name and checksum as provenance, not the
+    machine's directory (a relative path in a scene file is resolved against the scene's
+    folder, which would otherwise go into the archive)."""
+    import json
+
+    q = np.geomspace(Q_L, 1e6, 40)
+    psd = SelfAffineRollOff.from_h_rms(1e-6, H=H, q_L=Q_L, q_r=Q_R, q_1=1e6)
+    np.savetxt(tmp_path / "psd.csv", np.column_stack([q, psd.C(q)]), delimiter=",")
+    scene = tmp_path / "tab.toml"
+    scene.write_text(
+        '[spectrum]\nmodel = "tabulated"\nfile = "psd.csv"\n'
+        '[material]\nE = "10 MPa"\nnu = 0.5\n[load]\np0 = ["0.1 MPa", "1 MPa"]\n'
+    )
+    ds = xpersson.solve(scene)
+    archived = json.loads(ds.attrs["xpersson_scene"])["spectrum"]
+    assert archived["file"] == "psd.csv"
+    assert len(archived["sha256"]) == 64
+    assert not [k for k, v in ds.attrs.items() if str(tmp_path) in str(v)]

@@ -107,8 +107,9 @@ class ArchivedTable:
         return _TabulatedPSD(q, C, convention, q_L=p.get("q_L"), q_1=p.get("q_1"))
 
     def archived_params(self, psd: Any) -> dict[str, Any]:
-        """Parameters that rebuild ``psd`` without the source file (file and checksum kept as
-        provenance)."""
+        """Parameters that rebuild ``psd`` without the source file (the file's name and
+        checksum kept as provenance: its name only, as the archive's
+        ``xpersson_scene_source``, so that no machine-specific path goes into an archive)."""
         out = {k: v for k, v in self._params.items() if k not in ("q", "C")}
         out["q"] = np.asarray(psd.q_table, float)
         out["C"] = np.asarray(psd.C_table, float)
@@ -119,6 +120,8 @@ class ArchivedTable:
         file = self._params.get("file")
         if out.get("sha256") is None and file is not None and Path(file).is_file():
             out["sha256"] = sha256_of(file)
+        if file is not None:
+            out["file"] = Path(file).name
         return out
 
 
