@@ -120,8 +120,9 @@ class ArchivedTable:
         file = self._params.get("file")
         if out.get("sha256") is None and file is not None and Path(file).is_file():
             out["sha256"] = sha256_of(file)
-        if file is not None:
-            out["file"] = Path(file).name
+        for key in ("file", "file2", "file3"):  # (the second and third scans of a map)
+            if out.get(key) is not None:
+                out[key] = Path(out[key]).name
         return out
 
 
