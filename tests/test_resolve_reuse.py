@@ -104,3 +104,25 @@ def test_a_file_read_by_a_plugin_is_read_at_every_solve(tmp_path):
     write(4e-20)  # the same scene, the file changed: four times the power
     b = xpersson.solve(scene)
     assert float(b.h_rms) == pytest.approx(2 * float(a.h_rms), rel=1e-12)
+
+
+def test_an_inline_table_is_reused_and_its_file_form_is_not(tmp_path):
+    q = np.geomspace(1e4, 1e8, 9)
+    c = 1e-20 * (q / 1e4) ** -3.6
+    inline = {
+        **SCENE,
+        "spectrum": {
+            "model": "tabulated",
+            "q": [f"{x!r} 1/m" for x in q.tolist()],
+            "C": [f"{y!r} m**4" for y in c.tolist()],
+        },
+    }
+    path = tmp_path / "psd.csv"
+    path.write_text("\n".join(f"{x!r}, {y!r}" for x, y in zip(q.tolist(), c.tolist(), strict=True)))
+    on_file = {**SCENE, "spectrum": {"model": "tabulated", "file": str(path)}}
+    reg = get_registry()
+    a, b = resolve(xpersson.Scene(inline), reg), resolve(xpersson.Scene(inline), reg)
+    assert (a.spectrum is b.spectrum) == cache_enabled()  # no file given: nothing read
+    a, b = resolve(xpersson.Scene(on_file), reg), resolve(xpersson.Scene(on_file), reg)
+    assert a.spectrum is not b.spectrum  # a file given: read at every solve
+    np.testing.assert_array_equal(a.psd.C(q), b.psd.C(q))

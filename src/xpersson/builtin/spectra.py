@@ -129,6 +129,8 @@ class Tabulated(ArchivedTable, Spectrum):
     """
 
     summary = "tabulated isotropic or 1-D PSD from a (q, C) file, log-log interpolated"
+    #: the table is read from its file (a ``kind="path"`` parameter) or given inline at each build
+    fast_paths = FastPaths(reused=True)
     references = ("10.1088/2051-672X/aa51f8",)
     parameters = {
         "file": ParamSpec(

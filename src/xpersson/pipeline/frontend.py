@@ -62,8 +62,8 @@ _RESOLVED = Cache(
 def resolve(scene: Scene, registry: Registry) -> ResolvedScene:
     """``scene.resolve(registry)``, made once per content of a scene that is flat, has no
     analyses and names its plugins, each of a class that declares ``FastPaths(reused=True)``
-    (its instances give what their parameters say, whatever was asked before) and has no file
-    parameter (``kind="path"``: the file may change), with the JSON text of its archived
+    (its instances give what their parameters say, whatever was asked before) and is given no
+    file parameter (``kind="path"``: the file may change), with the JSON text of its archived
     values: the solves of one scene (a study's loads one by one, a benchmark) convert, build,
     check and serialise it once (about a quarter of a closed-form load's cost). At every use
     the registry is asked for each section's class (another class: resolved afresh); the
@@ -102,10 +102,16 @@ def resolve(scene: Scene, registry: Registry) -> ResolvedScene:
 
 def _reusable(scene: Scene, registry: Registry) -> ResolvedScene | None:
     """The resolved ``scene`` with the JSON text of its archived values, or ``None`` when a
-    plugin of it reads a file (then resolved at each use: the file may change)."""
+    plugin of it reads a file, a ``kind="path"`` parameter given (then resolved at each use:
+    the file may change; a path parameter left at None reads nothing)."""
     rs = scene.resolve(registry)
     for section in PLUGIN_SECTIONS:
-        if any(p.kind == "path" for p in type(getattr(rs, section)).parameters.values()):
+        plugin = getattr(rs, section)
+        given = plugin.params
+        if any(
+            p.kind == "path" and given.get(name) is not None
+            for name, p in type(plugin).parameters.items()
+        ):
             return None
     text = provenance.scene_json(rs.resolved)
     return dataclasses.replace(rs, resolved_text=(rs.resolved, text))

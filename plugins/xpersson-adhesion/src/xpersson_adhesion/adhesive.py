@@ -53,7 +53,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from xpersson.cache import Cache
-from xpersson.plugins import Boundary, ParamSpec, VarSpec
+from xpersson.plugins import Boundary, FastPaths, ParamSpec, VarSpec
 
 from ._bump import Bump
 from ._curves import curve_grid, increasing
@@ -160,6 +160,8 @@ class AdhesiveBoundary(Boundary):
         "10.1016/0021-9797(75)90018-1",
     )
     tensile_loads = True
+    #: an instance gives what its parameters say (its tables: caches keyed on content)
+    fast_paths = FastPaths(reused=True)
     parameters = {
         **ADHESION_PARAMETERS,
         "law": ParamSpec(

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from xpersson.cache import Cache
-from xpersson.plugins import Boundary, ParamSpec, VarSpec
+from xpersson.plugins import Boundary, FastPaths, ParamSpec, VarSpec
 
 from ._curves import curve_grid, increasing
 from ._dmt_batch import AttractionMap, solve_loads
@@ -114,6 +114,8 @@ class DMTBoundary(Boundary):
         "10.1016/j.surfrep.2006.04.001",
     )
     tensile_loads = True
+    #: an instance gives what its parameters say (its tables: caches keyed on content)
+    fast_paths = FastPaths(reused=True)
     parameters = {
         **ADHESION_PARAMETERS,
         "law": ParamSpec(

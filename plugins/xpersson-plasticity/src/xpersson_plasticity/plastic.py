@@ -121,7 +121,7 @@ class PlasticBoundary(Boundary):
     elastic_area = "elastic_area_fraction"
     elastic_area_complement = ("plastic_area_fraction", "non_contact_area_fraction")
     #: Same walls for every load (validate() checks every p0): the pipeline asks once.
-    fast_paths = FastPaths(shared_walls=True)
+    fast_paths = FastPaths(shared_walls=True, reused=True)
 
     approximation_tolerance: ClassVar[float] = 1e-3
     """Deviation of the three-Gaussian area fractions from the exact series that is flagged."""

@@ -161,7 +161,7 @@ class ScaleDependentPlasticBoundary(Boundary):
     elastic_area = "elastic_area_fraction"
     elastic_area_complement = ("plastic_area_fraction", "non_contact_area_fraction")
     #: Same walls for every load (validate() checks every p0): the pipeline asks once.
-    fast_paths = FastPaths(shared_walls=True)
+    fast_paths = FastPaths(shared_walls=True, reused=True)
 
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)

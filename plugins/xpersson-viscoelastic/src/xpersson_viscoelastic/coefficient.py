@@ -231,10 +231,12 @@ class ViscoelasticCoefficient(Coefficient):
     }
     outputs: ClassVar = OUTPUTS
     #: stacked: a block of (v, T) points is one kernel call (:meth:`tau_stacked`,
-    #: :meth:`interpret_stacked`); shared tau: without a closure, effective_tau is tau(zeta)
+    #: :meth:`interpret_stacked`); shared tau: without a closure, effective_tau is tau(zeta);
+    #: reused: the model and shift law are built from the parameters once, at construction
     fast_paths: ClassVar = FastPaths(
         stacked_params=frozenset({"velocity", "temperature"}),
         shared_tau={"closure": "persson01"},
+        reused=True,
     )
 
     def __init__(self, **params: Any) -> None:
