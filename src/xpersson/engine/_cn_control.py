@@ -278,6 +278,15 @@ def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float] | None:
     if triple is None:
         return None
     l1, l2, l4 = triple
+    fast = _compiled.built("fourth") if l4.P is None and l4.area.ndim == 2 else None
+    if fast is not None and l4.area.shape == judge.scale.shape:  # (one compiled call)
+        out = np.empty((6, *l4.area.shape))
+        pb = judge.pb
+        ok, err, m_area, m_load = fast(*l4[:6], *l2[:6], *l1[:6], out, judge.scale,
+                                       judge.e_factor, pb.rtol, pb.atol)  # fmt: skip
+        if ok:
+            ratio = max(float(m_area), float(m_load) / (pb.rtol + pb.atol))
+            return _Fit(err, Outputs(*out, None), 4 * n), ratio
     e_b, e_a = combine(l4, l2, True), combine(l2, l1, True)
     err, ratio = judge.ratio(e_b, e_a, judge.e_factor)
     return _Fit(err, e_b, 4 * n), ratio

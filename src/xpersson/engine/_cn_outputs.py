@@ -3,7 +3,8 @@ path's operations element by element (bit for bit; the numpy path stays where nu
 missing): the error control's estimate and worst ratio (:func:`judge_ratio`), its load
 identity's scale (:func:`load_scale`, :func:`scale_kernel`) and the reported estimate of a
 successful fit (:func:`fitted_error`), the Richardson combinations of levels
-(:func:`combine_fields`, :func:`weighted_fields`), the projection onto admissible
+(:func:`combine_fields`, :func:`weighted_fields`; :func:`fourth_ratio` a fourth-order triple's
+answer and estimate), the projection onto admissible
 probabilities (:func:`projected`), a solve's assembled fields (:func:`assembled`: the analytic
 start, the projection and the raised estimate in one pass) and a batch's balances and the
 screen's reductions (:func:`batch_balances`). Where numpy's result would depend on more than the
@@ -31,6 +32,7 @@ __all__ = [
     "combine_fields",
     "fitted_error",
     "fitted_of",
+    "fourth_ratio",
     "judge_ratio",
     "load_scale",
     "projected",
@@ -287,6 +289,31 @@ def combine_fields(  # noqa: PLR0913 - the two levels' six fields
     return (_combined(a0, b0, out[0]) and _combined(a1, b1, out[1])
             and _combined(a2, b2, out[2]) and _combined(a3, b3, out[3])
             and _combined(a4, b4, out[4]) and _combined(a5, b5, out[5]))  # fmt: skip
+
+
+def fourth_ratio(  # noqa: PLR0913 - the three levels' six fields and the judge's numbers
+    a0: Any, a1: Any, a2: Any, a3: Any, a4: Any, a5: Any,
+    b0: Any, b1: Any, b2: Any, b3: Any, b4: Any, b5: Any,
+    c0: Any, c1: Any, c2: Any, c3: Any, c4: Any, c5: Any,
+    out: Any, scale: Any, factor: float, rtol: float, atol: float,
+) -> tuple:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._cn_control._fourth`'s numbers in one call: the answer ``E(a, b)`` of the
+    finest levels ``a``, ``b`` (:func:`combine_fields` into ``out``) and
+    :func:`judge_ratio` of it against ``E(b, c)``, of which only the area and the load
+    identity's three fields are made (the estimate reads no others); ``(ok, err, m_area,
+    m_load)``, ok False (the numpy path answers) where :func:`combine_fields` declines or a
+    read field of ``E(b, c)`` is not shaped as ``out[0]`` or is NaN."""
+    s = out[0].shape
+    if not (combine_fields(a0, a1, a2, a3, a4, a5, b0, b1, b2, b3, b4, b5, out)
+            and _same_shape(c0, c3, c4, c5, s)):  # fmt: skip
+        return False, np.empty((0, 0)), math.nan, math.nan
+    ea = np.empty((4, s[0], s[1]))
+    if not (_combined(b0, c0, ea[0]) and _combined(b3, c3, ea[1])
+            and _combined(b4, c4, ea[2]) and _combined(b5, c5, ea[3])):  # fmt: skip
+        return False, np.empty((0, 0)), math.nan, math.nan
+    err, m_area, m_load = judge_ratio(out[0], ea[0], out[3], out[4], out[5], ea[1], ea[2],
+                                      ea[3], scale, factor, rtol, atol)  # fmt: skip
+    return True, err, m_area, m_load
 
 
 def _summed(ws: Any, a: Any, b: Any, c: Any, o: Any) -> bool:  # pragma: no cover - compiled
