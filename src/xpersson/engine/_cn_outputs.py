@@ -400,12 +400,16 @@ def assembled(  # noqa: PLR0913 - the fit's fields and the analytic start's numb
     trunc: float,
     bound_off: float,
     check: bool,
+    rtol: float,
+    atol: float,
     out: Any,
 ) -> bool:  # pragma: no cover - compiled (the numpy path is the reference)
     """:func:`._cn._assemble`'s fields without a one-wall start, into ``out`` (7, loads,
     outputs): area, absorbed lower and upper, load [Pa], wall term [Pa], error estimate and
     non-area; the first ``n_a = outputs - area.shape[1]`` outputs (times ``tau`` [Pa^2]) the
-    analytic start's (loads ``p0`` [Pa]; estimate ``trunc`` where ``tau > 0``), the rest the
+    analytic start's (loads ``p0`` [Pa]; estimate ``trunc`` where ``tau > 0``, raised to
+    ``EST_FLOOR`` x its tolerance ``rtol |1| + atol``: :func:`._cn_assemble._start_floor`'s
+    ``maximum``, of finite numbers), the rest the
     fit's (loads, marched outputs) fields projected (:func:`projected`) and the estimate
     ``max(err, |area moved|) + trunc``. False (``out`` partly written) where
     :func:`projected` declines, ``err`` is NaN, or (``check``) a distance moved exceeds
@@ -413,11 +417,13 @@ def assembled(  # noqa: PLR0913 - the fit's fields and the analytic start's numb
     nb, n_m = area.shape
     n_t = out.shape[2]
     n_a = n_t - n_m
+    floor = EST_FLOOR * (rtol * 1.0 + atol)  # (the start's area is 1)
+    start = trunc if trunc >= floor else floor
     for q in range(nb):
         for j in range(n_a):
             out[0, q, j], out[1, q, j], out[2, q, j] = 1.0, 0.0, 0.0
             out[3, q, j], out[4, q, j], out[6, q, j] = p0[q], 0.0, 0.0
-            out[5, q, j] = trunc if tau[j] > 0 else 0.0
+            out[5, q, j] = start if tau[j] > 0 else 0.0
         for m in range(n_m):
             a0, l0, u0, e = area[q, m], abs_l[q, m], abs_u[q, m], err[q, m]
             if not (_plain(a0) and _plain(l0) and _plain(u0)) or e != e:
