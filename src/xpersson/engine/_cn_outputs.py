@@ -32,8 +32,10 @@ __all__ = [
     "combine_fields",
     "fitted_error",
     "fitted_of",
+    "fourth_of",
     "fourth_ratio",
     "judge_ratio",
+    "judged",
     "load_scale",
     "projected",
     "scale_kernel",
@@ -88,6 +90,43 @@ def judge_ratio(  # noqa: PLR0913 - the two answers' fields
             if not g <= m_load:
                 m_load = g if m_load == m_load else m_load
     return err, m_area, m_load
+
+
+def judged(
+    fast: Callable[..., tuple] | None, a: Any, b: Any, scale: Array, factor: float, pb: Problem
+) -> tuple[Array, float] | None:
+    """:meth:`._cn_control._Judge.ratio` of the answers ``a``, ``b`` (``Outputs``) by
+    ``fast`` (:func:`judge_ratio`, compiled), or None where it does not apply (no kernel, or
+    fields not shaped as ``scale``: the numpy path answers)."""
+    if fast is None or a.area.ndim != 2 or a.area.shape != scale.shape:
+        return None
+    err, m_area, m_load = fast(a.area, b.area, a.load, a.moment_lower, a.moment_upper, b.load,
+                               b.moment_lower, b.moment_upper, scale, factor, pb.rtol,
+                               pb.atol)  # fmt: skip
+    return err, max(float(m_area), float(m_load) / (pb.rtol + pb.atol))
+
+
+def fourth_of(  # noqa: PLR0913 - the three levels and the judge's numbers
+    fast: Callable[..., tuple] | None,
+    fine: Any,
+    mid: Any,
+    coarse: Any,
+    scale: Array,
+    factor: float,
+    pb: Problem,
+) -> tuple[Array, Array, float] | None:
+    """:func:`._cn_control._fourth`'s estimate, answer ``E(fine, mid)`` (6, loads, outputs)
+    and worst estimate / tolerance of the levels ``fine``, ``mid``, ``coarse`` (``Outputs``)
+    by ``fast`` (:func:`fourth_ratio`, compiled), or None where it does not apply or declines
+    (the numpy path answers)."""
+    if fast is None or fine.P is not None or fine.area.ndim != 2 or fine.area.shape != scale.shape:
+        return None
+    out = np.empty((6, *fine.area.shape))
+    ok, err, m_area, m_load = fast(*fine[:6], *mid[:6], *coarse[:6], out, scale, factor,
+                                   pb.rtol, pb.atol)  # fmt: skip
+    if not ok:
+        return None
+    return err, out, max(float(m_area), float(m_load) / (pb.rtol + pb.atol))
 
 
 def fitted_error(  # noqa: PLR0913 - the fit's numbers
