@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 from xpersson import set_options
 from xpersson.engine import _compiled
-from xpersson.engine._cn_assemble import _fields, _fields_of
+from xpersson.engine._cn_assemble import _fields, _fields_of, _start_floor
 from xpersson.engine._cn_control import EST_FLOOR, _Fit
 from xpersson.engine._cn_outputs import fitted_of, load_scale
 from xpersson.engine._level import Outputs
@@ -121,13 +121,15 @@ def test_compiled_fields_are_the_numpy_ones(loads, n_a, n_m, zero_first, status,
     lv = SimpleNamespace(image=None)
     analytic = np.arange(tau.size) < n_a
     trunc, roundoff = 2e-14, 4e-13
+    rtol, atol = data.draw(st.sampled_from([(1e-6, 1e-13), (1e-3, 1e-10), (1e-12, 1e-16)]))
     with np.errstate(all="ignore"):
         *want, w_status, _ = _fields(pbs, analytic, fit, lv, n_a, trunc, roundoff)
-    got = _fields_of(fast, pbs, fit, tau, trunc, roundoff)
+        _start_floor(want[5], want[0], tau, n_a, rtol, atol)
+    got = _fields_of(fast, pbs, fit, tau, trunc, roundoff, rtol, atol)
     if got is not None:  # (where it declines the numpy steps answer)
         assert w_status == status  # (no distance moved beyond the estimate)
         for have, ref in zip(got, want, strict=True):
             assert _bits(have) == _bits(ref)
     plain = Outputs(*(np.full(shape, 0.25) for _ in range(6)), None)
     ok = _Fit(np.full(shape, 1e-9), plain, 48, status)
-    assert _fields_of(fast, pbs, ok, tau, trunc, roundoff) is not None
+    assert _fields_of(fast, pbs, ok, tau, trunc, roundoff, rtol, atol) is not None

@@ -46,11 +46,12 @@ def _assemble(pbs: list[Problem], k: float, analytic: Array, fit: _Fit, lv: Any)
     fast = None
     if best is not None and lv.image is None and n_a < tau.size:
         fast = _compiled.built("assembled")  # (every field in one compiled pass, the same numbers)
-    fields = None if fast is None else _fields_of(fast, pbs, fit, tau, trunc, roundoff)
-    if fields is None:
+    tols = (pb.rtol, pb.atol)
+    fields = None if fast is None else _fields_of(fast, pbs, fit, tau, trunc, roundoff, *tols)
+    if fields is None:  # (the compiled pass raised the start's estimates itself)
         *fields, status, message = _fields(pbs, analytic, fit, lv, n_a, trunc, roundoff)
+        _start_floor(fields[5], fields[0], tau, n_a, *tols)
     area, ab_l, ab_u, load, wall_term, e_all, non_area = fields
-    _start_floor(e_all, area, tau, n_a, pb.rtol, pb.atol)
     P = _densities(pbs, analytic, best) if pb.p_out is not None else None
     if status == "success" and not message:
         message = (
@@ -92,11 +93,19 @@ def _start_floor(e_all: Array, area: Array, tau: Array, n_a: int, rtol: float, a
 
 
 def _fields_of(
-    fast: Any, pbs: list[Problem], fit: _Fit, tau: Array, trunc: float, roundoff: float
+    fast: Any,
+    pbs: list[Problem],
+    fit: _Fit,
+    tau: Array,
+    trunc: float,
+    roundoff: float,
+    rtol: float,
+    atol: float,
 ) -> Array | None:
-    """:func:`_fields` (its first seven) by ``fast`` (:func:`._cn_outputs.assembled`,
-    compiled) as one (7, loads, outputs) array, or None where it declines (the numpy steps
-    then answer: a value it leaves to numpy, or a distance moved beyond the estimate)."""
+    """:func:`_fields` (its first seven) and :func:`_start_floor` (tolerance ``rtol``,
+    ``atol`` [1]) by ``fast`` (:func:`._cn_outputs.assembled`, compiled) as one (7, loads,
+    outputs) array, or None where it declines (the numpy steps then answer: a value it leaves
+    to numpy, or a distance moved beyond the estimate)."""
     best, err = fit.best, fit.err
     shape = best.area.shape
     if len(shape) != 2 or np.shape(err) != shape or shape[0] != len(pbs):
@@ -105,7 +114,8 @@ def _fields_of(
     p0 = np.array([p.p0 for p in pbs])
     check = fit.status == "success"
     if fast(best.area, best.absorbed_lower, best.absorbed_upper, best.load, best.moment_lower,
-            best.moment_upper, err, p0, tau, trunc, roundoff, check, out):  # fmt: skip
+            best.moment_upper, err, p0, tau, trunc, roundoff, check, rtol, atol,
+            out):  # fmt: skip
         return out
     return None
 

@@ -58,7 +58,7 @@ from numpy.typing import NDArray
 from . import _compiled
 from ._cn_budget import _finest_pair
 from ._cn_odd import _weights_of, odd_rounds
-from ._cn_outputs import EST_FLOOR, fitted_of, load_scale
+from ._cn_outputs import EST_FLOOR, fitted_of, fourth_of, judged, load_scale
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
 from ._stiff import stiff_at_end
@@ -186,12 +186,9 @@ class _Judge:
         """Estimate ``factor |a - b|`` of the area, and the worst estimate / tolerance of the
         area and of the load identity of ``a``."""
         pb = self.pb
-        fast = _compiled.built("judge")
-        if fast is not None and a.area.ndim == 2 and a.area.shape == self.scale.shape:
-            err, m_area, m_load = fast(a.area, b.area, a.load, a.moment_lower, a.moment_upper,
-                                       b.load, b.moment_lower, b.moment_upper, self.scale,
-                                       factor, pb.rtol, pb.atol)  # fmt: skip
-            return err, max(float(m_area), float(m_load) / (pb.rtol + pb.atol))
+        got = judged(_compiled.built("judge"), a, b, self.scale, factor, pb)
+        if got is not None:  # (one compiled pass)
+            return got
         err = factor * np.abs(a.area - b.area)
         la_ = a.load + a.moment_lower + a.moment_upper
         lb_ = b.load + b.moment_lower + b.moment_upper
@@ -278,6 +275,9 @@ def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float] | None:
     if triple is None:
         return None
     l1, l2, l4 = triple
+    got = fourth_of(_compiled.built("fourth"), l4, l2, l1, judge.scale, judge.e_factor, judge.pb)
+    if got is not None:  # (one compiled call: the answer, its estimate and ratio)
+        return _Fit(got[0], Outputs(*got[1], None), 4 * n), got[2]
     e_b, e_a = combine(l4, l2, True), combine(l2, l1, True)
     err, ratio = judge.ratio(e_b, e_a, judge.e_factor)
     return _Fit(err, e_b, 4 * n), ratio

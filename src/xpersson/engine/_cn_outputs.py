@@ -3,7 +3,8 @@ path's operations element by element (bit for bit; the numpy path stays where nu
 missing): the error control's estimate and worst ratio (:func:`judge_ratio`), its load
 identity's scale (:func:`load_scale`, :func:`scale_kernel`) and the reported estimate of a
 successful fit (:func:`fitted_error`), the Richardson combinations of levels
-(:func:`combine_fields`, :func:`weighted_fields`), the projection onto admissible
+(:func:`combine_fields`, :func:`weighted_fields`; :func:`fourth_ratio` a fourth-order triple's
+answer and estimate), the projection onto admissible
 probabilities (:func:`projected`), a solve's assembled fields (:func:`assembled`: the analytic
 start, the projection and the raised estimate in one pass) and a batch's balances and the
 screen's reductions (:func:`batch_balances`). Where numpy's result would depend on more than the
@@ -31,7 +32,10 @@ __all__ = [
     "combine_fields",
     "fitted_error",
     "fitted_of",
+    "fourth_of",
+    "fourth_ratio",
     "judge_ratio",
+    "judged",
     "load_scale",
     "projected",
     "scale_kernel",
@@ -86,6 +90,43 @@ def judge_ratio(  # noqa: PLR0913 - the two answers' fields
             if not g <= m_load:
                 m_load = g if m_load == m_load else m_load
     return err, m_area, m_load
+
+
+def judged(
+    fast: Callable[..., tuple] | None, a: Any, b: Any, scale: Array, factor: float, pb: Problem
+) -> tuple[Array, float] | None:
+    """:meth:`._cn_control._Judge.ratio` of the answers ``a``, ``b`` (``Outputs``) by
+    ``fast`` (:func:`judge_ratio`, compiled), or None where it does not apply (no kernel, or
+    fields not shaped as ``scale``: the numpy path answers)."""
+    if fast is None or a.area.ndim != 2 or a.area.shape != scale.shape:
+        return None
+    err, m_area, m_load = fast(a.area, b.area, a.load, a.moment_lower, a.moment_upper, b.load,
+                               b.moment_lower, b.moment_upper, scale, factor, pb.rtol,
+                               pb.atol)  # fmt: skip
+    return err, max(float(m_area), float(m_load) / (pb.rtol + pb.atol))
+
+
+def fourth_of(  # noqa: PLR0913 - the three levels and the judge's numbers
+    fast: Callable[..., tuple] | None,
+    fine: Any,
+    mid: Any,
+    coarse: Any,
+    scale: Array,
+    factor: float,
+    pb: Problem,
+) -> tuple[Array, Array, float] | None:
+    """:func:`._cn_control._fourth`'s estimate, answer ``E(fine, mid)`` (6, loads, outputs)
+    and worst estimate / tolerance of the levels ``fine``, ``mid``, ``coarse`` (``Outputs``)
+    by ``fast`` (:func:`fourth_ratio`, compiled), or None where it does not apply or declines
+    (the numpy path answers)."""
+    if fast is None or fine.P is not None or fine.area.ndim != 2 or fine.area.shape != scale.shape:
+        return None
+    out = np.empty((6, *fine.area.shape))
+    ok, err, m_area, m_load = fast(*fine[:6], *mid[:6], *coarse[:6], out, scale, factor,
+                                   pb.rtol, pb.atol)  # fmt: skip
+    if not ok:
+        return None
+    return err, out, max(float(m_area), float(m_load) / (pb.rtol + pb.atol))
 
 
 def fitted_error(  # noqa: PLR0913 - the fit's numbers
@@ -289,6 +330,31 @@ def combine_fields(  # noqa: PLR0913 - the two levels' six fields
             and _combined(a4, b4, out[4]) and _combined(a5, b5, out[5]))  # fmt: skip
 
 
+def fourth_ratio(  # noqa: PLR0913 - the three levels' six fields and the judge's numbers
+    a0: Any, a1: Any, a2: Any, a3: Any, a4: Any, a5: Any,
+    b0: Any, b1: Any, b2: Any, b3: Any, b4: Any, b5: Any,
+    c0: Any, c1: Any, c2: Any, c3: Any, c4: Any, c5: Any,
+    out: Any, scale: Any, factor: float, rtol: float, atol: float,
+) -> tuple:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._cn_control._fourth`'s numbers in one call: the answer ``E(a, b)`` of the
+    finest levels ``a``, ``b`` (:func:`combine_fields` into ``out``) and
+    :func:`judge_ratio` of it against ``E(b, c)``, of which only the area and the load
+    identity's three fields are made (the estimate reads no others); ``(ok, err, m_area,
+    m_load)``, ok False (the numpy path answers) where :func:`combine_fields` declines or a
+    read field of ``E(b, c)`` is not shaped as ``out[0]`` or is NaN."""
+    s = out[0].shape
+    if not (combine_fields(a0, a1, a2, a3, a4, a5, b0, b1, b2, b3, b4, b5, out)
+            and _same_shape(c0, c3, c4, c5, s)):  # fmt: skip
+        return False, np.empty((0, 0)), math.nan, math.nan
+    ea = np.empty((4, s[0], s[1]))
+    if not (_combined(b0, c0, ea[0]) and _combined(b3, c3, ea[1])
+            and _combined(b4, c4, ea[2]) and _combined(b5, c5, ea[3])):  # fmt: skip
+        return False, np.empty((0, 0)), math.nan, math.nan
+    err, m_area, m_load = judge_ratio(out[0], ea[0], out[3], out[4], out[5], ea[1], ea[2],
+                                      ea[3], scale, factor, rtol, atol)  # fmt: skip
+    return True, err, m_area, m_load
+
+
 def _summed(ws: Any, a: Any, b: Any, c: Any, o: Any) -> bool:  # pragma: no cover - compiled
     """``0 + ws[0] a + ws[1] b + ws[2] c`` element by element into ``o`` (:func:`._level.
     _weighted`'s numpy operations: ``a * w_0``, ``+= 0``, then ``+= (v * w_i)``); whether no
@@ -373,12 +439,16 @@ def assembled(  # noqa: PLR0913 - the fit's fields and the analytic start's numb
     trunc: float,
     bound_off: float,
     check: bool,
+    rtol: float,
+    atol: float,
     out: Any,
 ) -> bool:  # pragma: no cover - compiled (the numpy path is the reference)
     """:func:`._cn._assemble`'s fields without a one-wall start, into ``out`` (7, loads,
     outputs): area, absorbed lower and upper, load [Pa], wall term [Pa], error estimate and
     non-area; the first ``n_a = outputs - area.shape[1]`` outputs (times ``tau`` [Pa^2]) the
-    analytic start's (loads ``p0`` [Pa]; estimate ``trunc`` where ``tau > 0``), the rest the
+    analytic start's (loads ``p0`` [Pa]; estimate ``trunc`` where ``tau > 0``, raised to
+    ``EST_FLOOR`` x its tolerance ``rtol |1| + atol``: :func:`._cn_assemble._start_floor`'s
+    ``maximum``, of finite numbers), the rest the
     fit's (loads, marched outputs) fields projected (:func:`projected`) and the estimate
     ``max(err, |area moved|) + trunc``. False (``out`` partly written) where
     :func:`projected` declines, ``err`` is NaN, or (``check``) a distance moved exceeds
@@ -386,11 +456,13 @@ def assembled(  # noqa: PLR0913 - the fit's fields and the analytic start's numb
     nb, n_m = area.shape
     n_t = out.shape[2]
     n_a = n_t - n_m
+    floor = EST_FLOOR * (rtol * 1.0 + atol)  # (the start's area is 1)
+    start = trunc if trunc >= floor else floor
     for q in range(nb):
         for j in range(n_a):
             out[0, q, j], out[1, q, j], out[2, q, j] = 1.0, 0.0, 0.0
             out[3, q, j], out[4, q, j], out[6, q, j] = p0[q], 0.0, 0.0
-            out[5, q, j] = trunc if tau[j] > 0 else 0.0
+            out[5, q, j] = start if tau[j] > 0 else 0.0
         for m in range(n_m):
             a0, l0, u0, e = area[q, m], abs_l[q, m], abs_u[q, m], err[q, m]
             if not (_plain(a0) and _plain(l0) and _plain(u0)) or e != e:

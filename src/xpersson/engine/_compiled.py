@@ -108,6 +108,7 @@ KERNELS: dict[str, str] = {
     "start": "_cn_lean.start_scan (numpy: _cn_plan._start_time's scan)",
     "plan": "_cn_lean.plan_base (numpy: _cn_plan._joint_plan's calls)",
     "judge": "_cn_outputs.judge_ratio (numpy: _cn_control._Judge.ratio)",
+    "fourth": "_cn_outputs.fourth_ratio (numpy: _cn_control._fourth's combine and ratio calls)",
     "balances": "_cn_outputs.batch_balances (numpy: _result._balances)",
     "fields": "(_cn_outputs.combine_fields, weighted_fields) (numpy: _level.combine, weighted)",
     "projected": "_cn_outputs.projected (numpy: _level.project)",
@@ -198,6 +199,8 @@ def _outputs(jit: Callable) -> None:
     _STATE["judge"] = jit(src.judge_ratio)
     _STATE["balances"] = bound("batch_balances")
     _STATE["fields"] = (bound("combine_fields"), bound("weighted_fields"))
+    scope["combine_fields"], scope["judge_ratio"] = _STATE["fields"][0], _STATE["judge"]
+    _STATE["fourth"] = bound("fourth_ratio")
     _STATE["projected"] = bound("projected")
     _STATE["fitted"] = jit(src.fitted_error)
     _STATE["assembled"] = bound("assembled")
