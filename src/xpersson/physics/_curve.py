@@ -339,7 +339,8 @@ class _Curve:
         step = _block(xg.size)
         rows = min(step, self.n_load)
         buf = np.empty((2, rows * d.size))  # y and dy of every block
-        cbuf = None if compiled else np.empty(4 * rows * d.shape[1])  # (numpy's) block's
+        # the block's coefficients, loads first (the numpy path's only)
+        cbuf = None if compiled else np.empty(4 * rows * d.shape[1])
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
             jb = int(own[k].min())  # this block's own (later) start
