@@ -12,8 +12,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import xpersson
-from xpersson.physics import _compiled, _curve, _phi, _phi_sums
+from xpersson.physics import _compiled, _curve, _fastnum, _phi, _phi_sums
 from xpersson.physics._fastnum import _row_spline
+
+#: The kernels of the spline (:func:`~xpersson.physics._fastnum._row_spline`, ``_ppoly_at``).
+SLOPES = ("spline_rhs", "spline_slopes", "spline_coefficients", "spline_values")
 
 
 def _kernel(compiled: bool, name: str):
@@ -138,6 +141,63 @@ def test_table_sums_give_the_sparse_product_bits(compiled, seed, n_load, n_row, 
         assert phi._kernel_sums(log_tau, kern) is None
     np.testing.assert_array_equal(got_table, want_table)
     np.testing.assert_array_equal(got, want)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 20), st.integers(4, 40), st.integers(0, 30))
+def test_table_values_give_the_numpy_table(compiled, seed, n_load, n_knot, zeros):
+    """``Phi``'s look-up table with the loads' own leading zeros (each load's first non-zero
+    knot its own, the batch's the earliest's; ringing between zeros set to 0): the compiled
+    ``table_values`` (each load from its own columns on, in blocks of 8 loads) gives the
+    numpy path's table bit for bit."""
+    fn = _kernel(compiled, "table_values")
+    rng = np.random.default_rng(seed)
+    s = np.sort(rng.uniform(-5.0, 20.0, n_knot))
+    inc = rng.exponential(1.0, (n_load, n_knot)) * (rng.random((n_load, n_knot)) < 0.8)
+    for k, z in enumerate(rng.integers(0, min(zeros, n_knot - 1) + 1, n_load)):
+        inc[k, :z] = 0.0
+    vals = np.concatenate((np.zeros((n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
+
+    def table(kern):
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(_phi, "kernel", kern)
+            mp.setattr(_fastnum, "kernel", kern)
+            phi = object.__new__(_phi._Phi)
+            phi.phi, phi.tau1, phi.s, phi.p0 = vals, math.exp(s[0]), s, np.ones(n_load)
+            phi._spl, phi._tab = _row_spline(s, vals[:, 1:]), None
+            return phi._spl.c, phi._table()[1]
+
+    numpy_c, want = table(lambda work, name: None)
+    plain = {"table_values": fn}  # (the spline's kernels alike)
+    plain |= {n: _compiled.__dict__[n] if not compiled else _kernel(True, n) for n in SLOPES}
+    got_c, got = table(lambda work, name: plain[name])
+    np.testing.assert_array_equal(got_c, numpy_c)
+    np.testing.assert_array_equal(got, want)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 6), st.integers(1, 40), st.booleans())
+def test_phi_cumsum_is_numpys_division_and_cumsum(compiled, seed, n_load, n, special):
+    """``Phi``'s node integrals by the kernel, in place on a strided view (as ``_Phi`` has
+    them): numpy's ``inc / p0`` then ``cumsum`` bit for bit (signed zeros, infinities and NaN
+    propagated alike), the column before the view untouched."""
+    fn = _kernel(compiled, "phi_cumsum")
+    rng = np.random.default_rng(seed)
+    phi = np.full((n_load, n + 1), 7.0)
+    inc = phi[:, 1:]
+    inc[...] = rng.exponential(1.0, (n_load, n)) * 10.0 ** rng.uniform(-30, 30, (n_load, 1))
+    if special:
+        _special(rng, inc)
+    p0 = 10.0 ** rng.uniform(2, 8, n_load)
+    with np.errstate(all="ignore"):
+        want = np.cumsum(inc / p0[:, None], axis=1)
+        fn(inc, p0)
+    np.testing.assert_array_equal(inc, want)
+    num = ~np.isnan(want)  # (a NaN's sign is the platform's)
+    assert np.array_equal(np.signbit(inc[num]), np.signbit(want[num]))
+    assert np.all(phi[:, 0] == 7.0)
 
 
 @pytest.mark.parametrize("compiled", [False, True])

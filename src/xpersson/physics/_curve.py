@@ -294,10 +294,13 @@ class _Curve:
         dys = np.maximum(self._spl(xs, 1), 0.0)
         return np.where(x < x1, lin, _exp(ys) * dys)
 
-    def dF_weighted(self, weights: NDArray[np.float64]) -> NDArray[np.float64]:
+    def dF_weighted(
+        self, weights: NDArray[np.float64], out: NDArray[np.float64] | None = None
+    ) -> NDArray[np.float64]:
         """``sum_m dF[:, i, m] weights[i, m]`` (n_load, n_int): the node sums of the
-        Stieltjes integrals, without keeping the (n_load, n_int, m) tensor."""
-        out = np.empty((self.n_load, weights.shape[0]))
+        Stieltjes integrals, without keeping the (n_load, n_int, m) tensor (written into
+        ``out`` if given)."""
+        out = np.empty((self.n_load, weights.shape[0])) if out is None else out
         first = (self._nf1 / self.x[1])[:, None]  # the linear first interval
         w_t = weights.T  # (m, n_int): the blocks' layout
         fn = kernel(self.n_load * weights.size, "df_sums")
@@ -336,7 +339,8 @@ class _Curve:
         step = _block(xg.size)
         rows = min(step, self.n_load)
         buf = np.empty((2, rows * d.size))  # y and dy of every block
-        cbuf = np.empty(4 * rows * d.shape[1])  # the block's coefficients, loads first
+        # the block's coefficients, loads first (the numpy path's only)
+        cbuf = None if compiled else np.empty(4 * rows * d.shape[1])
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
             jb = int(own[k].min())  # this block's own (later) start
@@ -351,7 +355,7 @@ class _Curve:
                 kernel(0, "df_poly")(self._spl.c, jb, i, d, off, stop, y, dy)  # type: ignore[misc]
                 yield k, 1 + jb, (dy, _exp_inplace(y))
                 continue
-            c = cbuf[: ck.size].reshape(ck.shape[2], 4, 1, ck.shape[1])
+            c = cbuf[: ck.size].reshape(ck.shape[2], 4, 1, ck.shape[1])  # type: ignore[index]
             np.copyto(c[:, :, 0, :], np.moveaxis(ck, -1, 0))
             c0, c1, c2, c3 = (c[:, j] for j in range(4))  # (rows, 1, n_int - 1 - jb)
             y = np.multiply(c0, db, out=buf[0, : math.prod(shape)].reshape(shape))

@@ -8,6 +8,7 @@ uniform grid in ``s`` for the many look-ups of the sub-problems (:mod:`._subgap`
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -16,6 +17,9 @@ from ..cache import Cache
 from ._compiled import kernel
 from ._curve import _TINY, _Curve, _spline_rows, _tau_c
 from ._fastnum import _EXP_ZERO, _exp, _ppoly_at, _row_spline
+
+if TYPE_CHECKING:
+    from scipy.interpolate import PPoly
 
 #: Nodes of Phi = 0 (every load) kept in its look-up table before the first non-zero one.
 _TABLE_MARGIN = 8
@@ -48,8 +52,15 @@ class _Phi:
         q_L = float(psd.q_L)  # type: ignore[attr-defined]
         key = (psd, float(E_star), q_L, cur.zeta)
         weights, tau = _PHI_WEIGHTS.get(key, lambda: _phi_weights(psd, E_star, cur))
-        inc = cur.dF_weighted(weights) / p0[:, None]
-        phi = np.concatenate((np.zeros((cur.n_load, 1)), np.cumsum(inc, axis=1)), axis=1)
+        phi = np.empty((cur.n_load, weights.shape[0] + 1))  # (no temporaries: fresh pages
+        phi[:, 0] = 0.0  # cost more than the arithmetic)
+        inc = cur.dF_weighted(weights, out=phi[:, 1:])
+        fn = kernel(inc.size * 8, "phi_cumsum")
+        if fn is not None:  # (the same bits in one pass)
+            fn(inc, p0)
+        else:
+            inc /= p0[:, None]
+            np.cumsum(inc, axis=1, out=inc)
         self.tau1 = float(tau[1])
         self.s = np.log(tau[1:])
         self.phi = phi
@@ -193,27 +204,29 @@ class _Phi:
             # it takes 0 + 0 (0 - 0), the 0 it took from the zero nodes below (bit for bit)
             lo = max(g0 - 2, 0)
             tab = np.empty((self.phi.shape[0], n - lo))  # (loads, nodes)
-            tab[:, : g0 - lo] = 0.0
-            _ppoly_at(self._spl, grid[g0:], out=tab[:, g0 - lo :])  # type: ignore[arg-type]
-            self._own = self._own_zeros(grid, g0, lo)
-            for k, stop in self._own:  # each load's own zeros, as the load alone has them
-                tab[k, :stop] = 0.0
+            zero = self._own_zeros(grid, g0, lo)  # each load's own zeros, as the load alone
+            if not _compiled_table(self._spl, grid[g0:], tab, g0 - lo, zero):  # has them
+                tab[:, : g0 - lo] = 0.0
+                _ppoly_at(self._spl, grid[g0:], out=tab[:, g0 - lo :])  # type: ignore[arg-type]
+                for k in np.flatnonzero(zero > g0 - lo):
+                    tab[k, : zero[k]] = 0.0
             self._tab, self._lo, self._g0 = (grid, tab), lo, g0
             # every load's node lo is 0 and node lo + 1 finite: a look-up below gives +0.0
             self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
         return self._tab
 
-    def _own_zeros(self, grid: NDArray[np.float64], g0: int, lo: int) -> list[tuple[int, int]]:
-        """``(load, rows)``: the table's first ``rows`` rows (from node ``lo``) that are 0 for
-        that load alone (below its own first non-zero node, less the margin) but evaluated for
-        the batch (whose first non-zero node is an earlier load's): set to 0, a load's look-ups
-        never depend on the other loads."""
+    def _own_zeros(self, grid: NDArray[np.float64], g0: int, lo: int) -> NDArray[np.intp]:
+        """Per load, the table's first column (from node ``lo``) not 0 for that load alone:
+        ``g0 - lo`` (the batch's) or, where later, the load's own first non-zero node less the
+        margin (the batch's first non-zero node is then an earlier load's): its columns below
+        are 0, a load's look-ups never depend on the other loads."""
+        zero = np.full(self.phi.shape[0], g0 - lo, dtype=np.intp)
         if self.phi.shape[0] < 2:
-            return []
+            return zero
         nz = self.phi[:, 1:] != 0.0
         j = np.where(nz.any(axis=1), np.argmax(nz, axis=1), 0)
         g = np.searchsorted(grid, self.s[np.maximum(j - _TABLE_MARGIN, 0)], side="left")
-        return [(int(k), int(g[k]) - lo) for k in np.flatnonzero(g > g0)]
+        return np.maximum(zero, g - lo)
 
     def sums_at_log_tau(
         self,
@@ -287,3 +300,20 @@ class _Phi:
         ptr = np.concatenate(([0], np.cumsum(2 * np.count_nonzero(keep, axis=1))))
         w = csr_array((data, cols, ptr), shape=(log_tau.shape[0], tab.shape[1]))
         return np.ascontiguousarray((w @ tab.T).T)  # (scipy multiplies a C-ordered copy)
+
+
+def _compiled_table(
+    spl: PPoly, xs: NDArray[np.float64], tab: NDArray[np.float64], col0: int, zero: NDArray
+) -> bool:
+    """:meth:`_Phi._table`'s values by the compiled :func:`~._phi_sums.table_values`: the
+    spline at ``xs`` (the grid from node ``g0`` on: columns ``col0`` on of ``tab``) as
+    :func:`~._fastnum._ppoly_at` (its bits), each load's columns below ``zero`` 0 and not
+    evaluated; False (nothing written) where the kernel is not built or off."""
+    c = spl.c
+    fn = kernel(c.shape[2] * xs.size, "table_values")
+    if fn is None or not c.flags.c_contiguous:
+        return False
+    b = spl.x
+    i = np.clip(np.searchsorted(b, xs, side="right") - 1, 0, b.size - 2)
+    fn(c, i, xs - b[i], tab, col0, zero)
+    return True

@@ -1,8 +1,10 @@
 """Optional compiled kernels of ``Phi``'s sums (numba), bit for bit the numpy path: the
 Stieltjes node values and sums of the solved curve (:meth:`~._curve._Curve.dF_weighted`:
-:func:`df_poly`, :func:`df_sums`) and the shared sums of ``Phi``'s table
-(:meth:`~._phi._Phi.sums_at_log_tau`: :func:`table_sums`). Built and gated with the kernels of
-:mod:`._compiled`; plain Python without numba.
+:func:`df_poly`, :func:`df_sums`), the shared sums of ``Phi``'s table
+(:meth:`~._phi._Phi.sums_at_log_tau`: :func:`table_sums`), the table itself
+(:meth:`~._phi._Phi._table`: :func:`table_values`) and ``Phi``'s node integrals
+(:func:`phi_cumsum`). Built and gated with the kernels of
+:mod:`._compiled` (:data:`KERNELS`); plain Python without numba.
 """
 
 from __future__ import annotations
@@ -11,7 +13,14 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["df_poly", "df_sums", "table_sums"]
+__all__ = [
+    "KERNELS",
+    "df_poly",
+    "df_sums",
+    "phi_cumsum",
+    "table_sums",
+    "table_values",
+]
 
 
 def df_poly(
@@ -55,12 +64,13 @@ def df_sums(
     """``out[k0 + r, start + j] = sum_a (dy e)[r, a, j] w_t[a, start + j]`` in the order of
     numpy's sum over the middle axis (``dy``, ``e`` (rows, m, n))."""
     rows, m, n = dy.shape
-    for r in range(rows):
+    for r in range(rows):  # node by node along the intervals (each sum's order kept)
+        o = out[k0 + r]
         for j in range(n):
-            t = (dy[r, 0, j] * e[r, 0, j]) * w_t[0, start + j]
-            for a in range(1, m):
-                t += (dy[r, a, j] * e[r, a, j]) * w_t[a, start + j]
-            out[k0 + r, start + j] = t
+            o[start + j] = (dy[r, 0, j] * e[r, 0, j]) * w_t[0, start + j]
+        for a in range(1, m):
+            for j in range(n):
+                o[start + j] += (dy[r, a, j] * e[r, a, j]) * w_t[a, start + j]
 
 
 def table_sums(
@@ -106,3 +116,53 @@ def table_sums(
                     y += w0[e, m] * tab[load, r]
                     y += w1[e, m] * tab[load, r + 1]
             out[load, e] = y
+
+
+def table_values(
+    c: Any, k: Any, s: Any, tab: Any, col0: int, zero: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``Phi``'s look-up table (:meth:`~._phi._Phi._table`, loads by rows): ``tab[r, :zero[r]]
+    = 0`` and, from column ``zero[r] >= col0`` on, ``max(spline, 0)`` of row ``r`` at the
+    point ``p = column - col0`` (interval ``k[p]``, local abscissa ``s[p]``), the operations of
+    :func:`~._compiled.spline_values` in its order. A load's columns below its own first
+    non-zero node (less the margin) are not evaluated; the loads in blocks of 8 (a cache line
+    of the coefficients ``c`` (4, n_int, n_row)), the points along each block's rows."""
+    n_row, width = tab.shape
+    for r in range(n_row):
+        for j in range(zero[r]):
+            tab[r, j] = 0.0
+    for r0 in range(0, n_row, 8):
+        r1 = min(r0 + 8, n_row)
+        first = width
+        for r in range(r0, r1):
+            first = min(first, zero[r])
+        for j in range(first, width):
+            p = j - col0
+            i, sp = k[p], s[p]
+            z = sp * sp
+            z3 = z * sp
+            for r in range(r0, r1):
+                if j < zero[r]:
+                    continue
+                v = c[2, i, r] * sp + c[3, i, r] + c[1, i, r] * z + c[0, i, r] * z3
+                if not v > 0.0 and v == v:  # np.maximum(v, 0.0): +0.0 for -0.0, NaN kept
+                    v = 0.0
+                tab[r, j] = v
+
+
+def phi_cumsum(
+    inc: Any, p0: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``inc[r] = cumsum(inc[r] / p0[r])`` in place (:class:`~._phi._Phi`'s node integrals,
+    (n_load, n_int)): numpy's division and sequential ``add.accumulate``, row by row."""
+    for r in range(inc.shape[0]):
+        p = p0[r]
+        t = inc[r, 0] / p
+        inc[r, 0] = t
+        for j in range(1, inc.shape[1]):
+            t = t + inc[r, j] / p
+            inc[r, j] = t
+
+
+#: The kernels of this module, built with those of :mod:`._compiled`.
+KERNELS = (df_poly, df_sums, table_sums, table_values, phi_cumsum)
