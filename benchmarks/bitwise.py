@@ -78,9 +78,8 @@ def _drop_times(obj: Any) -> Any:
 #: Where the generated scenes' spectrum files are named in the records (attributes and
 #: messages): the recording's private scratch directory is written as this one, so records
 #: made at the same time in different directories (and older records) compare equal. A fixed
-#: text, not under ``TMPDIR``: records made with different ``TMPDIR`` compare equal too (the
-#: name older records made with the default ``/tmp`` carry).
-STABLE_TMP = "/tmp/xpersson-bitwise"
+#: text, not under ``TMPDIR``: records made with different ``TMPDIR`` compare equal too.
+STABLE_TMP = "<scratch>/xpersson-bitwise"
 _SCRATCH: list[str] = []  # the private scratch directory of the recording under way
 
 

@@ -51,6 +51,7 @@ from . import _compiled
 from ._base import EngineMethod
 from ._cn_assemble import _assemble
 from ._cn_control import AIM, _control, _Fit
+from ._cn_kinks import kinks_apart
 from ._cn_plan import _exact_start, _joint_plan, _Plan, _start_time, _switch_times_batch
 from ._level import Level, Outputs
 from ._moving import LevelInputs, _march, level_inputs
@@ -297,7 +298,8 @@ class _Grids:
             # marched outputs are the last ones: the output times increase)
             t_end = float(pb.tau[-1])
             k = opts.window_k
-            self.kinks = _switch_times_batch(pbs, k, tau_s, t_end) + wall_kinks(pb, tau_s, t_end)
+            found = _switch_times_batch(pbs, k, tau_s, t_end) + wall_kinks(pb, tau_s, t_end)
+            self.kinks = kinks_apart(found, pb.tau)  # (none a few ulps from another time)
 
     def levels(self, n_base: int, mults: tuple[int, ...], dense: int) -> list[Outputs] | None:
         """The levels ``(n_base, m, dense)`` for ``m`` in ``mults``, solved in this order

@@ -15,7 +15,7 @@ from ._problem import Problem
 from ._wall_table import kernels
 from ._walls import Wall
 
-__all__ = ["_bracketed_roots", "_switch_times_batch"]
+__all__ = ["KINK_GAP", "_bracketed_roots", "_switch_times_batch", "kinks_apart"]
 
 Array = NDArray[np.float64]
 
@@ -69,6 +69,37 @@ def _switch_times_batch(pbs: list[Problem], k: float, t_lo: float, t_hi: float) 
         roots = _bracketed_roots(gap, cand[ic], b, fa, fb, 1e-15 * b, gap_one)
         out.extend(float(t) for t in roots[np.isfinite(roots)])
     return out
+
+
+#: Relative gap [1] within which a kink merges into an output time or a smaller kink. Loads
+#: that differ in their last bits (two loads 1 ulp apart in one batch) have kinks a few ulps
+#: apart: a base interval that short splits, at a level's subdivision, into steps of zero
+#: length, whose chord speeds are 0/0 (NaN areas, "balance_violated"). 1e-11 tau leaves an
+#: interval >= 45000 ulps; the kink moved by it shifts one step's edge by ~1e-11 of the
+#: wall's position there (below the smallest rtol, 1e-12, over the step's share of the run).
+KINK_GAP = 1e-11
+
+
+def kinks_apart(kinks: list[float], outs: Array) -> list[float]:
+    """``kinks`` [Pa^2] without those within :data:`KINK_GAP` (relative) of an output time of
+    ``outs`` (sorted) or of a smaller kept kink; ``kinks`` itself where none is (the same
+    list: the plan's base, which sorts and merges equal times, is then the same)."""
+    t = np.sort(np.asarray(kinks, dtype=float))
+    if t.size == 0:
+        return kinks
+    gap = KINK_GAP * np.abs(t)
+    near = np.zeros(t.size, dtype=bool)
+    if outs.size:
+        j = np.searchsorted(outs, t)
+        near |= np.abs(t - outs[np.maximum(j - 1, 0)]) <= gap
+        near |= np.abs(outs[np.minimum(j, outs.size - 1)] - t) <= gap
+    if not near.any() and bool(np.all(np.diff(t) > gap[1:])):
+        return kinks
+    kept: list[float] = []
+    for tk, g, n in zip(t.tolist(), gap.tolist(), near.tolist(), strict=True):
+        if not n and (not kept or tk - kept[-1] > g):
+            kept.append(tk)
+    return kept
 
 
 def _tabled(wall: Wall | None) -> bool:

@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from ._cn_edges import compiled_track, compiled_window
 from ._cn_grading import _GRADE, _chord_from, _differenced, _graded_zones
-from ._cn_kinks import _bracketed_roots, _switch_times_batch
+from ._cn_kinks import _bracketed_roots, _switch_times_batch, kinks_apart
 from ._grid import decades as _decades
 from ._grid import is_in as _is_in
 from ._grid import sorted_unique
@@ -441,7 +441,7 @@ def _joint_plan(pbs: list[Problem], k: float, per_decade: float, tau_s: float,
     n_geo = max(1, int(math.ceil(decades * per_decade)))
     geo = tau_s * _decades(decades, n_geo + 1)
     if kinks is None:
-        kinks = _switch_times_batch(pbs, k, tau_s, float(outs[-1]))
+        kinks = kinks_apart(_switch_times_batch(pbs, k, tau_s, float(outs[-1])), outs)
     ratio = 10 ** (1.0 / per_decade) - 1.0
     zones, graded = _graded_zones(pbs, tau_s, float(outs[-1]), ratio)
     chord = _chord_from(pb, tau_s, zones)
