@@ -126,3 +126,19 @@ def test_an_inline_table_is_reused_and_its_file_form_is_not(tmp_path):
     a, b = resolve(xpersson.Scene(on_file), reg), resolve(xpersson.Scene(on_file), reg)
     assert a.spectrum is not b.spectrum  # a file given: read at every solve
     np.testing.assert_array_equal(a.psd.C(q), b.psd.C(q))
+
+
+def test_a_kept_resolution_refuses_edits_in_place():
+    """The arrays a reused resolution shares with the later solves are read-only (an edit in
+    place would change every later solve of the scene); the solves themselves never edit them
+    (the solve below runs on the kept arrays)."""
+    if not cache_enabled():
+        pytest.skip("nothing is kept with the caches off")
+    reg = get_registry()
+    resolve(xpersson.Scene(SCENE), reg)
+    again = resolve(xpersson.Scene(SCENE), reg)
+    for name in ("p0", "zeta"):
+        with pytest.raises(ValueError, match="read-only"):
+            getattr(again, name)[...] = 0.0
+    ds = xpersson.solve(SCENE)
+    assert np.all(np.isfinite(ds.area_fraction.values))

@@ -114,7 +114,12 @@ def _reusable(scene: Scene, registry: Registry) -> ResolvedScene | None:
         ):
             return None
     text = provenance.scene_json(rs.resolved)
-    return dataclasses.replace(rs, resolved_text=(rs.resolved, text))
+    kept = dataclasses.replace(rs, resolved_text=(rs.resolved, text))
+    for name in ("p0", "zeta", "p"):  # shared by the later solves: an edit in place raises
+        value = getattr(kept, name)
+        if isinstance(value, np.ndarray):
+            value.setflags(write=False)
+    return kept
 
 
 def scene_context(rs: ResolvedScene) -> SceneContext:
