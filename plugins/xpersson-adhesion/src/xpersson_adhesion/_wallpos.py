@@ -59,12 +59,6 @@ class _Pchip:
         self.onsets: Array | None = None  # see onset_times
         self.starts_at_zero: bool | None = None  # see starts_at_zero
         self._tables: tuple | None = None  # see wall_table
-        #: the jkr walls on this table, per (key, fast paths on): built once (a kept table's
-        #: later solves take the same frozen Wall; not pickled)
-        self.walls: dict[Hashable, Any] = {}
-
-    def __getstate__(self) -> dict[str, Any]:
-        return {**self.__dict__, "walls": {}}
 
     def wall_table(self, negate: bool) -> WallTable | None:
         """This table (negated with ``negate``) as the engine's compiled wall protocol,

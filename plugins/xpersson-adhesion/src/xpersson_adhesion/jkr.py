@@ -327,20 +327,12 @@ class JKRBoundary(Boundary):
                 return Wall.absorbing(0.0)
             sig, key = law.table_and_key(clock)
         # equal content, equal walls: the loads are solved together on either path
-        fast = fast_paths_on()
-        kept = getattr(sig, "walls", None)  # a table's walls, built once (a frozen Wall)
-        found = None if kept is None else kept.get((key, fast))
-        if found is not None:
-            return found  # type: ignore[no-any-return]
         onsets = onset_times(sig)
         # sigma_a = 0 up to the first onset (gamma_eff <= 0 there): the wall rests at p = 0
         still = float(onsets[0]) if onsets.size and starts_at_zero(sig) else 0.0
         pos = DetachmentWall(sig, key=key)
-        table = pos.wall_table() if fast else None  # (FastPaths(wall_tables=True))
-        wall = Wall.absorbing(pos, breakpoints=onsets, still_until=still, table=table)
-        if kept is not None:
-            kept[(key, fast)] = wall
-        return wall
+        table = pos.wall_table() if fast_paths_on() else None  # (FastPaths(wall_tables=True))
+        return Wall.absorbing(pos, breakpoints=onsets, still_until=still, table=table)
 
     def walls(self, ctx: SceneContext, p0: float, clock: DiffusionClock) -> tuple[Wall, None]:
         """Absorbing wall at ``-sigma_a(zeta(tau))`` [Pa]; no upper wall."""
