@@ -237,6 +237,8 @@ class Wall:
 def _breakpoints(values: ArrayLike, name: str = "breakpoints") -> tuple[float, ...]:
     """Sorted, unique, finite, positive diffusion times [Pa^2] (ValueError naming ``name``
     otherwise)."""
+    if isinstance(values, tuple | list) and not values:
+        return ()  # (no breakpoints, the common case: without numpy's calls, ~6 us)
     b = np.atleast_1d(np.asarray(values, dtype=float)).ravel()
     if b.size and not (np.all(np.isfinite(b)) and np.all(b > 0)):
         raise ValueError(
