@@ -118,18 +118,20 @@ def _parse_env(name: str) -> bool:
 
 
 def _flag(option: str) -> bool:
+    """``option`` of :func:`set_options`, else its environment variable's flag (read at every
+    cache access and compiled-kernel look-up, a few dozen times a solve: the parsed flag
+    taken directly once read)."""
     value = _SET.get(option)
-    return _env_flag(_ENV[option]) if value is None else bool(value)
+    if value is None:
+        name = _ENV[option]
+        value = _FROM_ENV.get(name)
+        return _env_flag(name) if value is None else value
+    return bool(value)
 
 
 def cache_enabled() -> bool:
-    """Whether caches keep values now: :func:`set_options` ``cache``, else ``XPERSSON_CACHE``
-    (:func:`_flag` inlined: read at every cache access, about 20 a solve)."""
-    value = _SET.get("cache")
-    if value is None:
-        value = _FROM_ENV.get(CACHE_ENV)
-        return _env_flag(CACHE_ENV) if value is None else value
-    return bool(value)
+    """Whether caches keep values now: :func:`set_options` ``cache``, else ``XPERSSON_CACHE``."""
+    return _flag("cache")
 
 
 def fast_paths_enabled() -> bool:

@@ -220,14 +220,9 @@ class CNOptions:
     def read(cls, opt: dict[str, Any], atol: float) -> CNOptions:
         """The options of ``opt`` (defaults filled in); ValueError naming option and range."""
         d = _DEFAULTS
-        if not opt:  # the defaults, made once per atol (immutable: ~3 us a solve)
-            out = _DEFAULT_OPTIONS.get(atol)
-            if out is None:  # (the frozen dataclass's per-field __setattr__ skipped)
-                out = object.__new__(cls)
-                out.__dict__.update(d, window_k=float(window_k(atol)), aim=float(AIM))
-                if len(_DEFAULT_OPTIONS) >= 64:
-                    _DEFAULT_OPTIONS.clear()
-                out = _DEFAULT_OPTIONS.setdefault(atol, out)
+        if not opt:  # the defaults (the frozen dataclass's per-field __setattr__ skipped)
+            out = object.__new__(cls)
+            out.__dict__.update(d, window_k=float(window_k(atol)), aim=float(AIM))
             return out
         n0 = int(opt.get("nodes", d["nodes"]))
         per_node = (
@@ -251,9 +246,6 @@ class CNOptions:
             window_k=float(opt.get("window_k", window_k(atol))),
             aim=aim,
         )
-
-
-_DEFAULT_OPTIONS: dict[float, CNOptions] = {}  # CNOptions.read of no options, by atol
 
 
 class _Grids:
