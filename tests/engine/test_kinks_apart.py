@@ -10,7 +10,12 @@ from hypothesis import strategies as st
 from test_cn_lean import TAU, _wall
 
 from xpersson.engine import solve_batch
-from xpersson.engine._cn_kinks import KINK_GAP, kinks_apart
+from xpersson.engine._cn_kinks import (
+    KINK_GAP,
+    _kinks_apart_array,
+    _kinks_apart_few,
+    kinks_apart,
+)
 
 
 @settings(max_examples=60, deadline=None)
@@ -35,6 +40,25 @@ def test_kinks_apart_keeps_one_of_each_near_pair_and_every_distinct_one(times, t
     for t in kinks:
         assert np.any(np.abs(anchors - t) <= 2 * KINK_GAP * t)
     assert set(kept.tolist()) <= set(kinks)
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    times=st.lists(st.floats(1e-4, 10.0), min_size=0, max_size=20),
+    twins=st.lists(st.integers(0, 19), max_size=6),
+    ulps=st.integers(0, 40),
+    n_outs=st.integers(0, 6),
+)
+def test_the_float_path_equals_the_array_path(times, twins, ulps, n_outs):
+    # few kinks run on floats: the same list as numpy's path on the same doubles
+    kinks = list(times)
+    for i in twins:
+        if i < len(times):
+            kinks.append(float(np.nextafter(times[i], np.inf) + ulps * np.spacing(times[i])))
+    outs = np.sort(np.asarray(times[:n_outs] + [5.0, 0.5][: max(0, 2 - n_outs)], dtype=float))
+    few, many = _kinks_apart_few(kinks, outs), _kinks_apart_array(kinks, outs)
+    assert few == many
+    assert (few is kinks) == (many is kinks)
 
 
 def test_kinks_far_apart_are_returned_as_given():

@@ -5,6 +5,7 @@ once, or, for a few, each on Python floats: the same operations, the same roots)
 
 from __future__ import annotations
 
+import bisect
 import math
 
 import numpy as np
@@ -84,6 +85,13 @@ def kinks_apart(kinks: list[float], outs: Array) -> list[float]:
     """``kinks`` [Pa^2] without those within :data:`KINK_GAP` (relative) of an output time of
     ``outs`` (sorted) or of a smaller kept kink; ``kinks`` itself where none is (the same
     list: the plan's base, which sorts and merges equal times, is then the same)."""
+    if len(kinks) <= _FEW_KINKS:
+        return _kinks_apart_few(kinks, outs)
+    return _kinks_apart_array(kinks, outs)
+
+
+def _kinks_apart_array(kinks: list[float], outs: Array) -> list[float]:
+    """:func:`kinks_apart` on arrays (many ``kinks``)."""
     t = np.sort(np.asarray(kinks, dtype=float))
     if t.size == 0:
         return kinks
@@ -97,6 +105,34 @@ def kinks_apart(kinks: list[float], outs: Array) -> list[float]:
         return kinks
     kept: list[float] = []
     for tk, g, n in zip(t.tolist(), gap.tolist(), near.tolist(), strict=True):
+        if not n and (not kept or tk - kept[-1] > g):
+            kept.append(tk)
+    return kept
+
+
+#: Up to this many kinks, :func:`kinks_apart` runs on floats (numpy's calls on arrays this
+#: short cost ~60 us a solve; the same comparisons on the same doubles: the same list).
+_FEW_KINKS = 32
+
+
+def _kinks_apart_few(kinks: list[float], outs: Array) -> list[float]:
+    """:func:`kinks_apart` on floats: a few ``kinks``, the same results."""
+    if not kinks:
+        return kinks
+    t = sorted(float(x) for x in kinks)
+    gap = [KINK_GAP * abs(x) for x in t]
+    o = outs.tolist()
+    near = [False] * len(t)
+    if o:
+        last = len(o) - 1
+        for i, x in enumerate(t):
+            j = bisect.bisect_left(o, x)  # (np.searchsorted's side="left")
+            near[i] = abs(x - o[max(j - 1, 0)]) <= gap[i] or abs(o[min(j, last)] - x) <= gap[i]
+    apart = all(t[i] - t[i - 1] > gap[i] for i in range(1, len(t)))
+    if not any(near) and apart:
+        return kinks
+    kept: list[float] = []
+    for tk, g, n in zip(t, gap, near, strict=True):
         if not n and (not kept or tk - kept[-1] > g):
             kept.append(tk)
     return kept
