@@ -77,7 +77,8 @@ def checked_variable(
             _check_coords(ds, value, name, who)
             da = value.copy()
             da.attrs = {}
-            da = da.reset_coords(drop=True) if da.coords else da
+            if any(c not in da.xindexes for c in da.coords):  # (reset_coords drops these)
+                da = da.reset_coords(drop=True)
         else:  # a plain Variable (no coordinates to carry): cheaper than a DataArray
             dims, arr = value
             if isinstance(dims, str):
