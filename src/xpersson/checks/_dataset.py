@@ -242,7 +242,8 @@ def guard_dataset(ds: Any, who: object) -> Iterator[Any]:
     for name, v in before.items():
         if name in index_names:  # pandas-backed: immutable, checked by identity below
             continue
-        data = v.data
+        data = getattr(v, "_data", None)  # a numpy array as it is (``.data``: ~1 us a read)
+        data = data if isinstance(data, np.ndarray) else v.data
         if isinstance(data, np.ndarray) and data.flags.writeable:
             data.flags.writeable = False
             frozen.append(data)
