@@ -13,7 +13,7 @@ import xpersson
 from xpersson.builtin.elastic import ElasticBoundary
 from xpersson.options import cache_enabled
 from xpersson.pipeline.frontend import resolve
-from xpersson.plugins import Registry, get_registry, plain_paths
+from xpersson.plugins import Registry, fast_paths_on, get_registry, plain_paths
 
 SCENE = {
     "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e4 1/m", "q_1": "1e8 1/m",
@@ -162,7 +162,7 @@ def test_a_scene_with_analyses_reuses_them_and_their_providers():
     assert [n for n, _ in b.analyses] == [n for n, _ in fresh.analyses]
     assert "contact_stiffness" in dict(b.analyses)  # the provider pulled in
     for (_, x), (_, y) in zip(a.analyses, b.analyses, strict=True):
-        assert (x is y) == cache_enabled()
+        assert (x is y) == (cache_enabled() and fast_paths_on())
     assert b.resolved == fresh.resolved
     assert b.plugin_records_json == fresh.plugin_records_json
     assert {k: str(v) for k, v in b.labels.items()} == {k: str(v) for k, v in fresh.labels.items()}
