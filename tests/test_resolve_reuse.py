@@ -13,7 +13,7 @@ import xpersson
 from xpersson.builtin.elastic import ElasticBoundary
 from xpersson.options import cache_enabled
 from xpersson.pipeline.frontend import resolve
-from xpersson.plugins import Registry, get_registry, plain_paths
+from xpersson.plugins import Registry, fast_paths_on, get_registry, plain_paths
 
 SCENE = {
     "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e4 1/m", "q_1": "1e8 1/m",
@@ -142,3 +142,65 @@ def test_a_kept_resolution_refuses_edits_in_place():
             getattr(again, name)[...] = 0.0
     ds = xpersson.solve(SCENE)
     assert np.all(np.isfinite(ds.area_fraction.values))
+
+
+#: electrical_contact pulls in contact_stiffness as its provider (from xpersson-interface)
+ANALYSED = {
+    **SCENE,
+    "analyses": {
+        "gap_pdf": {"u_points": 64},
+        "electrical_contact": {"resistivity_1": "1e-7 ohm*m", "resistivity_2": "2e-7 ohm*m"},
+    },
+}
+
+
+def test_a_scene_with_analyses_reuses_them_and_their_providers():
+    pytest.importorskip("xpersson_transport")
+    reg = get_registry()
+    a, b = resolve(xpersson.Scene(ANALYSED), reg), resolve(xpersson.Scene(ANALYSED), reg)
+    fresh = _fresh(xpersson.Scene(ANALYSED), reg)
+    assert [n for n, _ in b.analyses] == [n for n, _ in fresh.analyses]
+    assert "contact_stiffness" in dict(b.analyses)  # the provider pulled in
+    for (_, x), (_, y) in zip(a.analyses, b.analyses, strict=True):
+        assert (x is y) == (cache_enabled() and fast_paths_on())
+    assert b.resolved == fresh.resolved
+    assert b.plugin_records_json == fresh.plugin_records_json
+    assert {k: str(v) for k, v in b.labels.items()} == {k: str(v) for k, v in fresh.labels.items()}
+    assert b.analyses is not a.analyses  # the list is the solve's own
+
+
+def test_another_plan_is_never_taken_from_a_reused_resolution():
+    """A registry whose provider of a required variable is another class, or whose analysis
+    does not declare reuse, resolves afresh."""
+    pytest.importorskip("xpersson_transport")
+    from xpersson_interface.plugins import ContactStiffness, GapPDF
+
+    class Provider(ContactStiffness):  # declares nothing (not inherited)
+        pass
+
+    class Declared(ContactStiffness):
+        fast_paths = ContactStiffness.fast_paths
+
+    reg = get_registry()
+    first = resolve(xpersson.Scene(ANALYSED), reg)
+    for cls in (Provider, Declared):
+        other = Registry(extra={"analyses": {"contact_stiffness": cls}})
+        got = dict(resolve(xpersson.Scene(ANALYSED), other).analyses)
+        assert type(got["contact_stiffness"]) is cls
+        assert got["gap_pdf"] is not dict(first.analyses)["gap_pdf"]
+    undeclared = Registry(extra={"analyses": {"gap_pdf": type("Plain", (GapPDF,), {})}})
+    a = resolve(xpersson.Scene(ANALYSED), undeclared)
+    b = resolve(xpersson.Scene(ANALYSED), undeclared)
+    assert dict(a.analyses)["gap_pdf"] is not dict(b.analyses)["gap_pdf"]
+
+
+def test_a_scene_with_analyses_solved_again_is_the_same_bit_for_bit():
+    pytest.importorskip("xpersson_transport")
+    first, again = xpersson.solve(ANALYSED), xpersson.solve(ANALYSED)
+    with plain_paths():
+        plain = xpersson.solve(ANALYSED)
+    timed = ("date_created", "history", "xpersson_solver")  # (the solver's wall time)
+    for ds in (again, plain):
+        assert ds.attrs == first.attrs | {k: ds.attrs[k] for k in timed}
+        for name, var in first.variables.items():
+            np.testing.assert_array_equal(ds[name].values, var.values, err_msg=name)

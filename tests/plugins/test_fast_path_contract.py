@@ -52,13 +52,40 @@ class CountingWall(ElasticBoundary):
 
 
 def test_check_plugin_fails_on_a_broken_promise_of_reuse():
-    if cache_enabled():
+    if cache_enabled() and fast_paths_on():
         with pytest.raises(AssertionError, match="fast path 'reused'"):
             check_fast_paths(CountingWall, {})
-    else:  # nothing is reused with the caches off: nothing for the promise to break
+    else:  # nothing is reused with the caches or fast paths off: no promise to break
         assert check_fast_paths(CountingWall, {})["fast_paths.reused"].startswith("ok")
     plain = type("CountingWall", (CountingWall,), {"__module__": __name__})
     assert check_fast_paths(plain, {}) == {}  # undeclared: resolved afresh at every solve
+
+
+class CountingArea(ContactArea):
+    """Declares reuse, but each compute of the same instance scales kappa by its count: a
+    second solve on the reused instance differs from a fresh one's."""
+
+    summary = "contact area counting its computes (test double: not reusable)"
+    fast_paths = FastPaths(reused=True)
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        self.calls = [0]
+
+    def compute(self, ctx, ds):
+        self.calls[0] += 1
+        out = super().compute(ctx, ds)
+        dims, kappa = out["kappa"]
+        out["kappa"] = (dims, kappa * self.calls[0])
+        return out
+
+
+def test_check_plugin_fails_on_an_analysis_that_breaks_reuse():
+    if cache_enabled() and fast_paths_on():
+        with pytest.raises(AssertionError, match="fast path 'reused'"):
+            check_fast_paths(CountingArea, {})
+    else:  # nothing is reused with the caches or fast paths off
+        assert check_fast_paths(CountingArea, {})["fast_paths.reused"].startswith("ok")
 
 
 class OffByOnePpb(ContactArea):

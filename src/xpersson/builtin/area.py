@@ -31,7 +31,7 @@ class ContactArea(Analysis):
     provides = ("mean_contact_pressure", "kappa")
     #: contact similarity: the mean pressure scales with p0, kappa is a ratio (both similar in
     #: units of E*); stacked: a block of points at once (:meth:`compute_stacked`)
-    fast_paths = FastPaths(contact_similarity=True, stacked_params=frozenset())
+    fast_paths = FastPaths(contact_similarity=True, stacked_params=frozenset(), reused=True)
     outputs = {
         "mean_contact_pressure": VarSpec(
             ("p0", "zeta"),

@@ -77,7 +77,8 @@ def checked_variable(
             _check_coords(ds, value, name, who)
             da = value.copy()
             da.attrs = {}
-            da = da.reset_coords(drop=True) if da.coords else da
+            if any(c not in da.xindexes for c in da.coords):  # (reset_coords drops these)
+                da = da.reset_coords(drop=True)
         else:  # a plain Variable (no coordinates to carry): cheaper than a DataArray
             dims, arr = value
             if isinstance(dims, str):
@@ -241,7 +242,8 @@ def guard_dataset(ds: Any, who: object) -> Iterator[Any]:
     for name, v in before.items():
         if name in index_names:  # pandas-backed: immutable, checked by identity below
             continue
-        data = v.data
+        data = getattr(v, "_data", None)  # a numpy array as it is (``.data``: ~1 us a read)
+        data = data if isinstance(data, np.ndarray) else v.data
         if isinstance(data, np.ndarray) and data.flags.writeable:
             data.flags.writeable = False
             frozen.append(data)

@@ -24,6 +24,7 @@ from ..scene import (
     ResolvedScene,
     Scene,
     SceneError,
+    analysis_plan,
     load_scene,
     plugin_records,
 )
@@ -54,26 +55,60 @@ _RESOLVED = Cache(
     "pipeline.resolved",
     scope="process",
     maxsize=16,
-    doc="a flat scene without analyses resolved (plugins, SI arrays, the archived values and "
-    "their JSON text) by the scene's content and source; its plugins looked up at every use",
+    doc="a flat scene resolved (plugins, analyses, SI arrays, the archived values and their "
+    "JSON text) by the scene's content and source; its plugins looked up at every use",
 )
 
 
 def resolve(scene: Scene, registry: Registry) -> ResolvedScene:
-    """``scene.resolve(registry)``, made once per content of a scene that is flat, has no
-    analyses and names its plugins, each of a class that declares ``FastPaths(reused=True)``
-    (its instances give what their parameters say, whatever was asked before) and is given no
-    file parameter (``kind="path"``: the file may change), with the JSON text of its archived
-    values: the solves of one scene (a study's loads one by one, a benchmark) convert, build,
-    check and serialise it once (about a quarter of a closed-form load's cost). At every use
-    the registry is asked for each section's class (another class: resolved afresh); the
-    labels and provenance records are the registry's and the scene is ``scene``. Resolved each
-    time with the caches off or inside :func:`~xpersson.plugins.plain_paths`.
+    """``scene.resolve(registry)``, made once per content of a scene that is flat and names
+    its plugins, each of a class that declares ``FastPaths(reused=True)`` (its instances give
+    what their parameters say, whatever was asked before), as does every analysis the scene
+    requests or pulls in as a provider, none given a file parameter (``kind="path"``: the file
+    may change), with the JSON text of its archived values: the solves of one scene (a study's
+    loads one by one, a benchmark) convert, build, check and serialise it once (about a
+    quarter of a closed-form load's cost). At every use the registry is asked for each
+    section's class and the analyses are planned again (another class or plan: resolved
+    afresh); the labels and provenance records are the registry's and the scene is
+    ``scene``. Resolved each time with the caches off or inside
+    :func:`~xpersson.plugins.plain_paths`.
     """
     data = scene.data
-    if "geometry" in data or data.get("analyses") or not fast_paths_on():
+    if "geometry" in data or not fast_paths_on():
         return scene.resolve(registry)
-    classes = []
+    classes = _section_classes(data, registry)
+    plan = _analysis_classes(data.get("analyses"), classes, registry)
+    if classes is None or plan is None:
+        return scene.resolve(registry)
+    try:
+        key = (data, scene.source, compiled_enabled())
+        kept = _RESOLVED.get(key, lambda: _reusable(scene, registry))
+    except TypeError:  # a value without a content key (an object in the scene)
+        return scene.resolve(registry)
+    plugins = {s: getattr(kept, s) for s in PLUGIN_SECTIONS} if kept is not None else {}
+    if (
+        kept is None
+        or [type(p) for p in plugins.values()] != list(classes.values())
+        or [(n, type(a)) for n, a in kept.analyses] != plan
+    ):
+        return scene.resolve(registry)  # a file parameter, or the registry's class changed
+    names = kept.plugin_names
+    rs = copy.copy(kept)  # (a shallow copy: dataclasses.replace re-runs __init__, ~2x slower)
+    rs.scene, rs.analyses = scene, list(kept.analyses)
+    rs.plugin_records, rs.plugin_records_json = plugin_records(
+        plugins, names, rs.analyses, registry
+    )
+    rs.labels = {s: plugin_label(s, plugins[s], registry, names[s]) for s in PLUGIN_SECTIONS}
+    rs.labels.update(
+        (f"analyses.{n}", plugin_label("analyses", a, registry, n)) for n, a in rs.analyses
+    )
+    return rs
+
+
+def _section_classes(data: Mapping[str, Any], registry: Registry) -> dict[str, type] | None:
+    """Section -> the registry's class of the plugin the scene names, or ``None`` when a
+    section names none, or a class that does not declare ``reused``."""
+    classes = {}
     for section, group in PLUGIN_SECTIONS.items():
         raw = data.get(section) or {}
         model = raw.get("model", DEFAULT_MODEL.get(section)) if type(raw) is dict else None
@@ -82,31 +117,38 @@ def resolve(scene: Scene, registry: Registry) -> ResolvedScene:
         except PluginError:  # the resolution's message
             cls = None
         if cls is None or not cls.fast_paths.reused:
-            return scene.resolve(registry)
-        classes.append(cls)
+            return None
+        classes[section] = cls
+    return classes
+
+
+def _analysis_classes(
+    requested: Any, classes: dict[str, type] | None, registry: Registry
+) -> list[tuple[str, type]] | None:
+    """``(name, class)`` of every analysis the registry plans for the scene (providers
+    first; ``[]`` without analyses), or ``None`` when one does not declare ``reused`` or the
+    plan fails (the resolution's message)."""
+    if not requested:
+        return []
+    if classes is None or type(requested) is not dict:
+        return None
+    if any(type(raw) is not dict for raw in requested.values()):
+        return None  # (the resolution's message)
     try:
-        key = (data, scene.source, compiled_enabled())
-        kept = _RESOLVED.get(key, lambda: _reusable(scene, registry))
-    except TypeError:  # a value without a content key (an object in the scene)
-        return scene.resolve(registry)
-    plugins = {s: getattr(kept, s) for s in PLUGIN_SECTIONS} if kept is not None else {}
-    if kept is None or [type(p) for p in plugins.values()] != classes:
-        return scene.resolve(registry)  # a file parameter, or the registry's class changed
-    names = kept.plugin_names
-    rs = copy.copy(kept)  # (a shallow copy: dataclasses.replace re-runs __init__, ~2x slower)
-    rs.scene = scene
-    rs.plugin_records, rs.plugin_records_json = plugin_records(plugins, names, [], registry)
-    rs.labels = {s: plugin_label(s, plugins[s], registry, names[s]) for s in PLUGIN_SECTIONS}
-    return rs
+        plan = analysis_plan(requested, classes, registry)
+    except SceneError:
+        return None
+    if not all(cls.fast_paths.reused for _, cls, _ in plan):
+        return None
+    return [(name, cls) for name, cls, _ in plan]
 
 
 def _reusable(scene: Scene, registry: Registry) -> ResolvedScene | None:
     """The resolved ``scene`` with the JSON text of its archived values, or ``None`` when a
-    plugin of it reads a file, a ``kind="path"`` parameter given (then resolved at each use:
-    the file may change; a path parameter left at None reads nothing)."""
+    plugin or analysis of it reads a file, a ``kind="path"`` parameter given (then resolved
+    at each use: the file may change; a path parameter left at None reads nothing)."""
     rs = scene.resolve(registry)
-    for section in PLUGIN_SECTIONS:
-        plugin = getattr(rs, section)
+    for plugin in [getattr(rs, s) for s in PLUGIN_SECTIONS] + [a for _, a in rs.analyses]:
         given = plugin.params
         if any(
             p.kind == "path" and given.get(name) is not None

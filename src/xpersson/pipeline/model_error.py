@@ -353,20 +353,12 @@ def _bands(
     for feats, opts, (mdims, mask) in groups:
         where = _on(mdims, mask, vdims, shape)
         for entry in entries:
-            if not _matches(entry, feats, opts):
+            if not _matches(entry, feats, opts) or _misses(entry, over, feats):
                 continue
             ok = where & ~done
-            for key, (lo, hi) in entry.get("ranges", {}).items():
-                if not ok.any():  # no point left: the entry hits nothing
-                    break
-                if key in numeric:
-                    v = over[key]
-                elif key in feats:
-                    v = np.asarray(feats[key], float)
-                else:
-                    ok = np.zeros(shape, dtype=bool)
-                    break
-                ok = ok & (v >= lo) & (v < hi)
+            for key, (lo, hi) in entry.get("ranges", {}).items():  # (the others: _misses)
+                if key in numeric and numeric[key][0] and ok.any():  # one value per point
+                    ok = ok & (over[key] >= lo) & (over[key] < hi)
             hit = np.broadcast_to(ok, shape)
             if not hit.any():  # nothing to write (its trend is not evaluated)
                 continue
@@ -396,25 +388,29 @@ def _band_of_point(
         if not bool(mask):
             continue
         for entry in entries:
-            if _matches(entry, feats, opts) and _in_ranges(entry, over, feats):
+            if _matches(entry, feats, opts) and not _misses(entry, over, feats):
                 lo_f, hi_f = _trend(entry, over, feats, ())
                 return lo_f, hi_f, np.array(entry.get("status", 1), dtype=np.int8)
     return np.array(np.nan), np.array(np.nan), np.array(0, dtype=np.int8)
 
 
-def _in_ranges(entry: dict[str, Any], over: _Over, feats: dict[str, Any]) -> bool:
-    """Whether one point's numeric features lie in every ``[lo, hi)`` of ``entry["ranges"]``
-    (a feature the point lacks: not)."""
+def _misses(entry: dict[str, Any], over: _Over, feats: dict[str, Any]) -> bool:
+    """Whether a feature of ``entry["ranges"]`` with one value for all the points (the scene's;
+    any feature of a single point) lies outside its ``[lo, hi)``, or is missing: the entry
+    hits nothing (compared as Python floats, as the array comparisons compare)."""
     for key, (lo, hi) in entry.get("ranges", {}).items():
         if key in over.numeric:
-            v = float(over[key])
+            src, values = over.numeric[key]
+            if src and over.shape:  # one value per point: compared over the arrays
+                continue
+            v = float(over[key] if src else values)
         elif key in feats:
             v = float(np.asarray(feats[key], float))  # as the array path reads it (None: NaN)
         else:
-            return False
+            return True
         if not (v >= lo and v < hi):
-            return False
-    return True
+            return True
+    return False
 
 
 class _Over(dict):

@@ -80,13 +80,15 @@ class FastPaths:
         has this path without declaring it. Check: every ``effective_tau`` row equals
         ``tau(zeta)`` (1e-12 relative).
     reused : bool
-        Spectra, coefficients, boundaries. Promise: what an instance gives depends only on its
-        class, its parameters and each call's arguments (no call changes what a later call
-        gives; nothing is read but the parameters and a ``kind="path"`` parameter's file).
-        Path: :func:`xpersson.solve` of a flat scene without analyses whose plugins all
-        declare it, none with a file parameter, resolves the scene once per content and its
-        later solves reuse the instances (:func:`xpersson.pipeline.frontend.resolve`). Check:
-        a scene solved a second time (on the reused resolution) equals its solve inside
+        Spectra, coefficients, boundaries, analyses. Promise: what an instance gives depends
+        only on its class, its parameters and each call's arguments (no call changes what a
+        later call gives, nor the instance: an analysis completes its parameters in
+        ``__init__`` or ``check_scene`` only; nothing is read but the parameters and a
+        ``kind="path"`` parameter's file). Path: :func:`xpersson.solve` of a flat scene whose
+        plugins and analyses (those requested and the providers they pull in) all declare it,
+        none with a file parameter, resolves the scene once per content and its later solves
+        reuse the instances (:func:`xpersson.pipeline.frontend.resolve`). Check: a scene
+        solved a second time (on the reused resolution) equals its solve inside
         :func:`plain_paths` (resolved afresh).
     """
 
@@ -186,7 +188,7 @@ _GROUPS = {
     "shared_walls": ("boundaries",),
     "shared_tau": ("coefficients",),
     "wall_tables": ("boundaries",),
-    "reused": ("spectra", "coefficients", "boundaries"),
+    "reused": ("spectra", "coefficients", "boundaries", "analyses"),
 }
 
 #: Class attributes of the flags this contract replaced -> the declaration that replaces them.

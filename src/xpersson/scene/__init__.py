@@ -30,7 +30,7 @@ from ._core import (
     TOP_LEVEL,
     ResolvedScene,
 )
-from ._resolve import plugin_message, plugin_records, with_spectrum
+from ._resolve import analysis_plan, plugin_message, plugin_records, with_spectrum
 from ._scene import Scene, load_scene, parse_cli_value, set_value
 
 __all__ = [
@@ -45,6 +45,7 @@ __all__ = [
     "ResolvedScene",
     "Scene",
     "SceneError",
+    "analysis_plan",
     "convert_param",
     "convert_params",
     "is_sweep_value",

@@ -38,7 +38,7 @@ from ._core import (
 )
 from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
 
-__all__ = ["plugin_message", "plugin_records", "resolve_scene", "with_spectrum"]
+__all__ = ["analysis_plan", "plugin_message", "plugin_records", "resolve_scene", "with_spectrum"]
 
 
 def _plugin(
@@ -60,9 +60,7 @@ def _plugin(
         )
     try:
         cls = registry.resolve(group, model)
-    except PluginError as exc:
-        raise SceneError(f"{section}.model: {exc}") from None
-    except TypeError as exc:
+    except (PluginError, TypeError) as exc:
         raise SceneError(f"{section}.model: {exc}") from None
     params = _convert(cls.parameters, raw, section, memo)
     params = _absolute_paths(cls.parameters, params, base)
@@ -272,11 +270,25 @@ def _core_sections(data: Mapping[str, Any]) -> dict[str, Any]:
     }
 
 
+def analysis_plan(
+    requested: Mapping[str, Any], sections: Mapping[str, type], registry: Registry
+) -> list[tuple[str, type, dict[str, Any]]]:
+    """:func:`xpersson.plugins.plan_analyses` of a scene's analyses (providers first) for its
+    plugin classes (``sections``: section -> class, whose outputs are there already)."""
+    from ..plugins import plan_analyses  # noqa: PLC0415 - only when asked for
+    from ..schema import COORDS, CORE_VARIABLES  # noqa: PLC0415
+
+    available = set(CORE_VARIABLES) | set(COORDS)
+    for section in ("coefficient", "boundary"):
+        available |= set(sections[section].outputs)  # type: ignore[attr-defined]
+    try:
+        return plan_analyses(requested, available, registry)
+    except (PluginError, ValueError) as exc:
+        raise SceneError(f"analyses: {exc}") from None
+
+
 def _analyses(
-    requested: Mapping[str, Any],
-    plugins: Mapping[str, Plugin],
-    names: Mapping[str, str],
-    registry: Registry,
+    requested: Mapping[str, Any], plugins: Mapping[str, Any], names: Any, registry: Registry
 ) -> list[tuple[str, Plugin]]:
     """The requested analyses and their providers, planned, instantiated and checked."""
     for name, params in requested.items():
@@ -284,16 +296,7 @@ def _analyses(
             raise SceneError(f"analyses.{name}: must be a table of the analysis' parameters")
     if not requested:
         return []
-    from ..plugins import plan_analyses  # noqa: PLC0415 - only when asked for
-    from ..schema import COORDS, CORE_VARIABLES  # noqa: PLC0415
-
-    try:
-        available = set(CORE_VARIABLES) | set(COORDS)
-        for section in ("coefficient", "boundary"):
-            available |= set(type(plugins[section]).outputs)
-        plan = plan_analyses(requested, available, registry)
-    except (PluginError, ValueError) as exc:
-        raise SceneError(f"analyses: {exc}") from None
+    plan = analysis_plan(requested, {s: type(p) for s, p in plugins.items()}, registry)
     analyses: list[tuple[str, Plugin]] = []
     for name, cls, raw in plan:
         params = convert_params(cls.parameters, raw, f"analyses.{name}")
@@ -345,9 +348,7 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         core["scalar"] = False
     names: dict[str, str] = {}
     plugins: dict[str, Plugin] = {}
-    resolved: dict[str, Any] = {
-        k: data[k] for k in ("title", "description", "metadata") if k in data
-    }
+    resolved = {k: data[k] for k in ("title", "description", "metadata") if k in data}
     for section in PLUGIN_SECTIONS:
         base = Path(scene.source).parent if scene.source else None
         inst, name, params = _plugin(section, data.get(section), registry, base)

@@ -33,7 +33,7 @@ import xarray as xr
 
 from xpersson import physics
 from xpersson.physics.closures import GAMMA_DEFAULT
-from xpersson.plugins import Analysis, ParamSpec, VarSpec
+from xpersson.plugins import Analysis, FastPaths, ParamSpec, VarSpec
 from xpersson.plugins.solved import Solved, per_solve, solved_curve
 
 from ._body import ENERGY, LEAKAGE
@@ -74,6 +74,9 @@ _XU2024 = "10.1007/s11249-024-01838-4"
 #: CF flags: numeric flag_values of the variable's type
 _FLAG = {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "open sealed"}
 _GAP_TRAITS = frozenset({"repulsive", "load_similar"})
+#: the instances complete their parameters in __init__ and check_scene only (s_factor "auto",
+#: gamma's default); compute reads them: a scene's later solves may reuse its instances
+_REUSED = FastPaths(reused=True)
 
 
 class _Interface(Analysis):
@@ -170,6 +173,7 @@ class ElasticEnergy(_Interface):
         ),
     }
     provides = ("elastic_energy", "elastic_energy_full")
+    fast_paths = _REUSED
     body_quantities: ClassVar = ENERGY
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
@@ -207,6 +211,7 @@ class MeanGap(_Interface):
         ),
     }
     provides = ("mean_gap",)
+    fast_paths = _REUSED
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         _, parts = self._parts(ctx, ds)
@@ -245,6 +250,7 @@ class ContactStiffness(_Interface):
         ),
     }  # fmt: skip
     provides = ("contact_stiffness", "contact_compliance", "contact_stiffness_status")
+    fast_paths = _REUSED
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         s, parts = self._parts(ctx, ds)
@@ -345,6 +351,7 @@ class GapPDF(_Interface):
         "gap_pdf_load_error": load_error(TOL, TABLE_MIN),
     }  # fmt: skip
     provides = ("gap_pdf", "gap_contact_weight", "gap_mean", "gap_pdf_load_error")
+    fast_paths = _REUSED
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         grid: list[np.ndarray] = []  # the gap grid, fixed by the first loads computed
@@ -449,6 +456,7 @@ class Leakage(_Interface):
         "leak_load_error": load_error(LEAK_TOL, LEAK_MIN, "4 times"),
     }  # fmt: skip
     provides = tuple(outputs)
+    fast_paths = _REUSED
     body_quantities: ClassVar = LEAKAGE
 
     def _pressure_drop(self) -> float:

@@ -23,7 +23,7 @@ from typing import Any, ClassVar
 import numpy as np
 import xarray as xr
 
-from xpersson.plugins import Analysis, ParamSpec, VarSpec
+from xpersson.plugins import Analysis, FastPaths, ParamSpec, VarSpec
 from xpersson.plugins.stored import contact_modulus, spectrum_of
 
 from . import _physics as ph
@@ -223,6 +223,7 @@ class ElectricalContact(_Transport):
         "electrical_contact_status": _status("electrical"),
     }  # fmt: skip
     provides = tuple(outputs)
+    fast_paths = FastPaths(reused=True)
     body_quantities: ClassVar = ELECTRICAL
 
     def check_scene(self, coefficient: Any, boundary: Any) -> None:
@@ -408,6 +409,7 @@ class ThermalContact(_Transport):
         "thermal_contact_status": _status("thermal"),
     }  # fmt: skip
     provides = tuple(outputs)
+    fast_paths = FastPaths(reused=True)
     body_quantities: ClassVar = THERMAL
 
     def check_scene(self, coefficient: Any, boundary: Any) -> None:

@@ -87,7 +87,7 @@ class Friction(Analysis):
         "frictional_shear_stress",
     )
     #: a block of (v, T) points is computed at once (:meth:`compute_stacked`)
-    fast_paths: ClassVar = FastPaths(stacked_params=frozenset())
+    fast_paths: ClassVar = FastPaths(stacked_params=frozenset(), reused=True)
     parameters: ClassVar = {
         "correction": ParamSpec(
             "1",
