@@ -169,9 +169,14 @@ def test_table_values_give_the_numpy_table(compiled, seed, n_load, n_knot, zeros
             return phi._spl.c, phi._table()[1]
 
     numpy_c, want = table(lambda work, name: None)
-    plain = {"table_values": fn}  # (the spline's kernels alike)
-    plain |= {n: _compiled.__dict__[n] if not compiled else _kernel(True, n) for n in SLOPES}
-    got_c, got = table(lambda work, name: plain[name])
+    plain = {"table_values": fn}  # (compiled: the spline's kernels alike)
+    if compiled:
+        plain |= {n: _kernel(True, n) for n in SLOPES}
+    # (not compiled: the spline by numpy's path. The spline kernels' plain-Python forms run
+    # dgtsv's operations but not always its bits: LAPACK as built here rounds one of ~1e3
+    # drawn systems differently in the last digit (seed 16590666, 8 loads, 10 knots); their
+    # forms are checked against LAPACK on fixed systems in test_compiled_physics)
+    got_c, got = table(lambda work, name: plain.get(name))
     np.testing.assert_array_equal(got_c, numpy_c)
     np.testing.assert_array_equal(got, want)
 
