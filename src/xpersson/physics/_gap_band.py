@@ -142,7 +142,7 @@ def window_plan(
     """:func:`windowed_sum`'s blocks: the terms by width (``order``, ``ws`` their widths), runs
     ``(first, count, padded width)`` of ``order`` (empty windows left out), and whether the
     windows are laid flat (unpadded, :func:`flat_cuts`) instead: padding would add over half."""
-    order = np.argsort(width, kind="stable")
+    order = stable_order(width)
     ws = width[order]
     i = int(np.searchsorted(ws, 1))  # empty windows: nothing to evaluate
     blocks = []
@@ -153,6 +153,15 @@ def window_plan(
         blocks.append((i, c, int(ws[i + c - 1])))
         i += c
     return order, ws, blocks, sum(c * w for _, c, w in blocks) > 1.5 * float(np.sum(ws))
+
+
+def stable_order(key: NDArray[np.intp]) -> NDArray[np.intp]:
+    """``np.argsort(key, kind="stable")`` of integer keys: the same permutation (a stable order
+    is unique), by numpy's radix sort where the keys fit 16 bits (widths of cells, slots of
+    loads and cells: 8x faster than the merge sort of 64-bit keys at 6000 terms)."""
+    if key.size and -(1 << 15) <= int(key.min()) and int(key.max()) < (1 << 15):
+        return np.argsort(key.astype(np.int16), kind="stable")
+    return np.argsort(key, kind="stable")
 
 
 def flat_cuts(wt: NDArray[np.intp]) -> NDArray[np.intp]:

@@ -15,7 +15,16 @@ from ._compiled import uniform_from_zero
 from ._curve import _TINY
 from ._fasterf import ERF_DIFF_B, erf_diff_coefficients, erf_nonneg, fast_erf
 from ._fastnum import _BLOCK, _EXP_LO, _exp
-from ._gap_band import _WIN_BLOCK, flat_cuts, pairs, rank, sorted_rows, window_plan, windowed_sum
+from ._gap_band import (
+    _WIN_BLOCK,
+    flat_cuts,
+    pairs,
+    rank,
+    sorted_rows,
+    stable_order,
+    window_plan,
+    windowed_sum,
+)
 
 __all__ = ["Detachment", "gap_pdf", "gap_cdf", "gap_mean"]
 
@@ -335,7 +344,7 @@ def _series_sum(
     start = np.searchsorted(np.max(u2, axis=0), lim, side="left")
     start = np.minimum.accumulate(start[::-1])[::-1]  # non-decreasing in n
     top = int(np.max(jt))  # no pair's prefix holds a column beyond
-    order = np.lexsort((-jt, ls))  # per load, the longest prefix first
+    order = stable_order(ls * (top + 1) + (top - jt))  # per load, the longest prefix first
     lu, ju = ls[order], jt[order]
     first = np.searchsorted(lu, lu)  # slot of each pair within its load
     slot = np.arange(lu.size) - first

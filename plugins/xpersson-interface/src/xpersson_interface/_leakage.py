@@ -378,7 +378,7 @@ def table_weights(
     ``threshold = "a_c"``, else 1/2): its conductance falls to 0 there as ``r^3``
     (``d ln v/d ln r`` 2.99 at ``r = 1e-3`` on the speed design's scenes). ``r`` is read
     once, when the table first asks for it."""
-    z_max = float(ds["zeta"].values[-1])
+    z_max = float(ds.variables["zeta"].values[-1])
     x_all = np.sort(np.log(np.atleast_1d(np.asarray(p0, dtype=float))))
     ln_r: list[NDArray[np.float64]] = []
 
