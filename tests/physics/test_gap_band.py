@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from xpersson.physics._gap_band import _add, windowed_sum
+from xpersson.physics._gap_band import _add, stable_order, windowed_sum
 
 
 @pytest.mark.parametrize("span", [50, 100_000])  # a slice of out, or the touched entries only
@@ -42,3 +42,15 @@ def test_windowed_sum_is_the_dense_sum_at_many_loads():
         dense[load[t], cols] += np.cos(a[t] * cols)
     got = windowed_sum(load, j0, j1, (n_load, n_u), values)
     np.testing.assert_allclose(got, dense, rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.parametrize("top", [3, 130, 40_000, 1 << 40])  # 16-bit keys (radix) and wider
+def test_stable_order_is_the_stable_argsort(top):
+    """A stable order is unique: the radix sort of 16-bit keys gives numpy's merge sort's."""
+    rng = np.random.default_rng(top % 1000)
+    key = rng.integers(-top if top < 1000 else 0, top, size=5000).astype(np.intp)
+    key[::7] = key[0]  # many ties
+    got = stable_order(key)
+    assert got.dtype == np.intp
+    np.testing.assert_array_equal(got, np.argsort(key, kind="stable"))
+    assert stable_order(key[:0]).size == 0
