@@ -15,16 +15,7 @@ from ._compiled import uniform_from_zero
 from ._curve import _TINY
 from ._fasterf import ERF_DIFF_B, erf_diff_coefficients, erf_nonneg, fast_erf
 from ._fastnum import _BLOCK, _EXP_LO, _exp
-from ._gap_band import (
-    _WIN_BLOCK,
-    flat_cuts,
-    pairs,
-    rank,
-    sorted_rows,
-    stable_order,
-    window_plan,
-    windowed_sum,
-)
+from ._gap_band import _WIN_BLOCK, flat_cuts, pairs, rank, sorted_rows, window_plan, windowed_sum
 
 __all__ = ["Detachment", "gap_pdf", "gap_cdf", "gap_mean"]
 
@@ -344,7 +335,9 @@ def _series_sum(
     start = np.searchsorted(np.max(u2, axis=0), lim, side="left")
     start = np.minimum.accumulate(start[::-1])[::-1]  # non-decreasing in n
     top = int(np.max(jt))  # no pair's prefix holds a column beyond
-    order = stable_order(ls * (top + 1) + (top - jt))  # per load, the longest prefix first
+    # per load, the longest prefix first (np.lexsort((-jt, ls))'s order; the pairs come by
+    # load, so the merge sort of the one key runs through nearly sorted data: 10x faster)
+    order = np.argsort(ls * (top + 1) + (top - jt), kind="stable")
     lu, ju = ls[order], jt[order]
     first = np.searchsorted(lu, lu)  # slot of each pair within its load
     slot = np.arange(lu.size) - first
