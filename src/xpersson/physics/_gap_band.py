@@ -41,6 +41,23 @@ def counted(weight: NDArray[np.float64], negligible: float = 0.0) -> NDArray[np.
     return nz
 
 
+def dominant(
+    r: NDArray[np.float64], s: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``r`` and ``s`` at the terms no earlier one in decreasing ``r`` reaches in ``s`` (every
+    term where either has a NaN): for each term ``p`` one ``q`` kept with ``r_q >= r_p`` and
+    ``s_q >= s_p``. So a value non-increasing in both, as ``gap_cdf``'s series limit
+    ``(c_n - r) / d_n - s`` (``d_n > 0``; each operation correctly rounded, so monotone), has
+    its minimum over every term among these, bit for bit (a few dozen of thousands)."""
+    if np.isnan(r).any() or np.isnan(s).any():
+        return r, s
+    order = np.argsort(-r)
+    s_o = s[order]
+    keep = np.ones(r.size, dtype=bool)
+    keep[1:] = s_o[1:] > np.maximum.accumulate(s_o)[:-1]
+    return r[order[keep]], s_o[keep]
+
+
 def sorted_rows(u: NDArray[np.float64]) -> bool:
     """True when every row of ``u`` (n_row, n_u) is non-decreasing and free of NaN."""
     with np.errstate(invalid="ignore"):
