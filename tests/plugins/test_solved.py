@@ -132,6 +132,20 @@ def test_the_kept_columns_are_the_fancy_index():
         assert got.flags.writeable and not np.shares_memory(got, a)
 
 
+def test_the_total_of_kept_columns_is_the_columns_of_the_sum():
+    """:func:`_total` is ``sum(arrays)`` (a new array, ``-0.0`` made ``+0.0`` as ``0 + a``),
+    and of ``keep``'s columns the same numbers as those columns of the sum."""
+    rng = np.random.default_rng(4)
+    a = [rng.normal(size=(3, 20)) for _ in range(3)]
+    a[0][0, :4] = -0.0
+    keep = np.concatenate(([0, 1], np.arange(6, 20)))
+    for arrays in (a[:1], a):
+        ref = sum(arrays)
+        assert solved._total(arrays).tobytes() == ref.tobytes()
+        assert solved._total(arrays, keep).tobytes() == ref[:, keep].tobytes()
+        assert not np.shares_memory(solved._total(arrays), arrays[0])
+
+
 def test_the_curve_variables_alone_give_the_same_curve(tiny):
     """``curve_variables``: a Dataset of those variables alone (what the load table selects
     for some loads) gives the solved curve of the whole Dataset, field by field."""

@@ -244,8 +244,6 @@ def solved_curve(
             return memo_dense[name]
 
     area = get(el)
-    non = sum(get(c) for c in comp)
-    contact = sum(get(c) for c in cont)
     S = None
     g = None
     if form == "yang_persson":
@@ -260,11 +258,14 @@ def solved_curve(
                 tc = np.asarray(get("diffusion_time"), dtype=float)
                 S = np.gradient(te, axis=1) / np.maximum(np.gradient(tc, axis=1), 1e-300)
             S = np.clip(np.asarray(S, dtype=float), 1e-12, 1.0)
-    if need.any() and solve_at is not None:
-        keep = _past_full_contact(area, non, S)
+    keep = None
+    if need.any() and solve_at is not None:  # (one complement: nf != 0 where 0 + nf != 0)
+        nf = _total([get(c) for c in comp]) if len(comp) != 1 else get(comp[0])
+        keep = _past_full_contact(area, nf, S)
         S = None if S is None else _columns(np.broadcast_to(S, area.shape), keep)
-        zeta, area, non, contact = zeta[keep], *(_columns(v, keep) for v in (area, non, contact))
-    # (non and contact are new arrays, sums of the Dataset's or the solve's: clipped in place)
+        zeta, area = zeta[keep], _columns(area, keep)
+    # the sums of the kept columns alone (new arrays: clipped in place)
+    non, contact = (_total([get(c) for c in names], keep) for names in (comp, cont))
     non, contact = np.clip(non, 0.0, 1.0, out=non), np.clip(contact, 0.0, 1.0, out=contact)
     return Solved(p0, zeta, area, non, contact, S, form, g, _spectrum(ds), contact_modulus(ds))
 
@@ -308,6 +309,18 @@ def _past_full_contact(
     first = int(open_[0]) if open_.size else nf.shape[1] - 1
     start = max(2, first - PLATEAU_MARGIN)
     return np.concatenate((np.arange(min(2, nf.shape[1])), np.arange(start, nf.shape[1])))
+
+
+def _total(arrays: list[Any], keep: NDArray[np.intp] | None = None) -> NDArray[np.float64]:
+    """``sum(arrays)`` (``0 + a_0 + a_1 ...``: a new array; none: 0), of the columns ``keep``
+    where given (:func:`_columns`): the same numbers as the columns of the sum."""
+    if not arrays:
+        return np.zeros(())
+    out = np.asarray(arrays[0], dtype=float) if keep is None else _columns(arrays[0], keep)
+    out = np.add(0, out) if keep is None else np.add(0, out, out=out)
+    for a in arrays[1:]:
+        out += a if keep is None else _columns(a, keep)
+    return out
 
 
 def _columns(a: NDArray[np.float64], keep: NDArray[np.intp]) -> NDArray[np.float64]:
