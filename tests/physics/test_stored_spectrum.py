@@ -84,3 +84,20 @@ def test_exponents_as_the_dataset_stores_them():
 def test_malformed_tables_are_named(q, C, e, match):
     with pytest.raises(ValueError, match=match):
         StoredSpectrum(q, C, e)
+
+
+@pytest.mark.parametrize("n", [2, 3, 7])
+def test_segment_is_the_clipped_search(n):
+    """The segment of each ``q`` (one search over the inner breakpoints) is the clipped
+    ``searchsorted(nodes, q, "right") - 1``, for arrays and scalars, outside the support,
+    at the breakpoints and for NaN."""
+    rng = np.random.default_rng(n)
+    q = np.cumsum(rng.uniform(0.5, 2.0, n)) * 1e4
+    psd = StoredSpectrum(q, rng.uniform(1e-30, 1e-28, n))
+    x = np.concatenate((q, np.nextafter(q, 0.0), np.nextafter(q, np.inf), [0.0, np.nan]))
+    x = np.concatenate((x, [-np.inf, np.inf], rng.uniform(0.0, 2.0 * q[-1], 200)))
+    ref = np.clip(np.searchsorted(q, x, side="right") - 1, 0, n - 2)
+    np.testing.assert_array_equal(psd._segment(x), ref)
+    assert psd._segment(x).dtype == np.intp
+    for v, r in zip(x[:20], ref[:20], strict=True):
+        assert isinstance(psd._segment(np.float64(v)), np.intp) and psd._segment(v) == r

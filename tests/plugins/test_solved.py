@@ -112,6 +112,40 @@ def test_past_full_contact_keeps_the_first_two_nodes_and_a_margin():
     assert keep[2] == 40 - solved.PLATEAU_MARGIN
 
 
+def test_the_kept_columns_are_the_fancy_index():
+    """:func:`_columns` joins two slices where ``keep`` is the first two columns and a run to
+    the last (else it fancy-indexes): a new array equal to ``a[:, keep]``, read-only input
+    or not."""
+    rng = np.random.default_rng(3)
+    a = rng.normal(size=(4, 30))
+    a.setflags(write=False)
+    for keep in (
+        np.arange(30),
+        np.concatenate(([0, 1], np.arange(9, 30))),
+        np.concatenate(([0, 1], np.arange(29, 30))),
+        np.array([0, 1]),
+        np.array([0, 1, 5, 6]),  # a run that stops short of the last column
+        np.array([0, 2, 3, 29]),
+    ):
+        got = solved._columns(a, keep)
+        np.testing.assert_array_equal(got, a[:, keep])
+        assert got.flags.writeable and not np.shares_memory(got, a)
+
+
+def test_the_total_of_kept_columns_is_the_columns_of_the_sum():
+    """:func:`_total` is ``sum(arrays)`` (a new array, ``-0.0`` made ``+0.0`` as ``0 + a``),
+    and of ``keep``'s columns the same numbers as those columns of the sum."""
+    rng = np.random.default_rng(4)
+    a = [rng.normal(size=(3, 20)) for _ in range(3)]
+    a[0][0, :4] = -0.0
+    keep = np.concatenate(([0, 1], np.arange(6, 20)))
+    for arrays in (a[:1], a):
+        ref = sum(arrays)
+        assert solved._total(arrays).tobytes() == ref.tobytes()
+        assert solved._total(arrays, keep).tobytes() == ref[:, keep].tobytes()
+        assert not np.shares_memory(solved._total(arrays), arrays[0])
+
+
 def test_the_curve_variables_alone_give_the_same_curve(tiny):
     """``curve_variables``: a Dataset of those variables alone (what the load table selects
     for some loads) gives the solved curve of the whole Dataset, field by field."""

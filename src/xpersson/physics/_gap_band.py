@@ -41,6 +41,23 @@ def counted(weight: NDArray[np.float64], negligible: float = 0.0) -> NDArray[np.
     return nz
 
 
+def dominant(
+    r: NDArray[np.float64], s: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``r`` and ``s`` at the terms no earlier one in decreasing ``r`` reaches in ``s`` (every
+    term where either has a NaN): for each term ``p`` one ``q`` kept with ``r_q >= r_p`` and
+    ``s_q >= s_p``. So a value non-increasing in both, as ``gap_cdf``'s series limit
+    ``(c_n - r) / d_n - s`` (``d_n > 0``; each operation correctly rounded, so monotone), has
+    its minimum over every term among these, bit for bit (a few dozen of thousands)."""
+    if np.isnan(r).any() or np.isnan(s).any():
+        return r, s
+    order = np.argsort(-r)
+    s_o = s[order]
+    keep = np.ones(r.size, dtype=bool)
+    keep[1:] = s_o[1:] > np.maximum.accumulate(s_o)[:-1]
+    return r[order[keep]], s_o[keep]
+
+
 def sorted_rows(u: NDArray[np.float64]) -> bool:
     """True when every row of ``u`` (n_row, n_u) is non-decreasing and free of NaN."""
     with np.errstate(invalid="ignore"):
@@ -142,7 +159,7 @@ def window_plan(
     """:func:`windowed_sum`'s blocks: the terms by width (``order``, ``ws`` their widths), runs
     ``(first, count, padded width)`` of ``order`` (empty windows left out), and whether the
     windows are laid flat (unpadded, :func:`flat_cuts`) instead: padding would add over half."""
-    order = np.argsort(width, kind="stable")
+    order = stable_order(width)
     ws = width[order]
     i = int(np.searchsorted(ws, 1))  # empty windows: nothing to evaluate
     blocks = []
@@ -153,6 +170,15 @@ def window_plan(
         blocks.append((i, c, int(ws[i + c - 1])))
         i += c
     return order, ws, blocks, sum(c * w for _, c, w in blocks) > 1.5 * float(np.sum(ws))
+
+
+def stable_order(key: NDArray[np.intp]) -> NDArray[np.intp]:
+    """``np.argsort(key, kind="stable")`` of integer keys: the same permutation (a stable order
+    is unique), by numpy's radix sort where the keys fit 16 bits (widths of cells, slots of
+    loads and cells: 8x faster than the merge sort of 64-bit keys at 6000 terms)."""
+    if key.size and -(1 << 15) <= int(key.min()) and int(key.max()) < (1 << 15):
+        return np.argsort(key.astype(np.int16), kind="stable")
+    return np.argsort(key, kind="stable")
 
 
 def flat_cuts(wt: NDArray[np.intp]) -> NDArray[np.intp]:

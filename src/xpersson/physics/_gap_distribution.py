@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erf
 
+from . import _gap_band
 from ._compiled import kernel as _compiled_kernel
 from ._compiled import uniform_from_zero
 from ._curve import _TINY
@@ -328,14 +329,17 @@ def _series_sum(
     # the first column where term n may count: ln u >= (ln tau - ln(2 K_n w/W) + a^2/2)/(2n+1)
     aw = np.abs(w)
     ln_rel = np.log(aw / np.bincount(ls, aw, minlength=n_load)[ls]) - 0.5 * np.minimum(a, 6.0) ** 2
+    ln_rel, ln_iv = _gap_band.dominant(ln_rel, np.log(iv))  # (each term's minimum is theirs)
     with np.errstate(divide="ignore"):
         lim = (math.log(_SERIES_TAU) - _K[:, None] - ln_rel) / (2 * np.arange(n_term) + 1)[:, None]
-    lim = np.exp(np.min(lim - np.log(iv), axis=1))  # (n_term,) [m]
+    lim = np.exp(np.min(lim - ln_iv, axis=1))  # (n_term,) [m]
     # columns below it in every row: below it in the rows' column-wise largest entries
     start = np.searchsorted(np.max(u2, axis=0), lim, side="left")
     start = np.minimum.accumulate(start[::-1])[::-1]  # non-decreasing in n
     top = int(np.max(jt))  # no pair's prefix holds a column beyond
-    order = np.lexsort((-jt, ls))  # per load, the longest prefix first
+    # per load, the longest prefix first (np.lexsort((-jt, ls))'s order; the pairs come by
+    # load, so the merge sort of the one key runs through nearly sorted data: 10x faster)
+    order = np.argsort(ls * (top + 1) + (top - jt), kind="stable")
     lu, ju = ls[order], jt[order]
     first = np.searchsorted(lu, lu)  # slot of each pair within its load
     slot = np.arange(lu.size) - first

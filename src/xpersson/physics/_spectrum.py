@@ -206,13 +206,9 @@ class PowerSpectrum:
 
     def _segment(self, q: NDArray[np.float64]) -> NDArray[np.intp]:
         """Index of the segment holding each ``q`` (clipped to the first / last segment)."""
-        idx = np.asarray(np.searchsorted(self._nodes, q, side="right"))
-        if idx.ndim == 0:  # scalar q
-            return np.intp(min(max(int(idx) - 1, 0), self._a.size - 1))
-        idx -= 1
-        np.maximum(idx, 0, out=idx)
-        np.minimum(idx, self._a.size - 1, out=idx)
-        return idx
+        # the inner breakpoints at or below q: the segment, clipped to the first and the last
+        idx = np.searchsorted(self._nodes[1:-1], q, side="right")
+        return np.intp(idx) if np.ndim(idx) == 0 else idx
 
     # ---------------------------------------------------------------- moments
     def moment(self, k: float, q_a: float | None = None, q_b: float | None = None) -> float:

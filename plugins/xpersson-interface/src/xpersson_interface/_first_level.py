@@ -72,7 +72,7 @@ def first_level(
     n = int(np.size(sealed))
     if not LEAK_MIN <= n <= FEW:
         return LEAK_PER_DECADE, np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
-    zeta = np.asarray(ds["zeta"].values, dtype=float)
+    zeta = np.asarray(ds.variables["zeta"].values, dtype=float)  # (no DataArray)
     inside = bool(_interior_breaks(ctx, ds).size)
     area = _contact_area(ds, ctx.boundary)
     near, shut = predicted(zeta, area, a_c, sealed, split=True)
@@ -84,7 +84,7 @@ def _interior_breaks(ctx: Any, ds: Any) -> NDArray[np.float64]:
     once per solve), as magnifications strictly inside its curve (1, ``zeta_max``)."""
     psd = per_solve(ctx, ("stored_spectrum",), lambda: spectrum_of(ds))
     breaks = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
-    return breaks[(breaks > 1.0) & (breaks < float(ds["zeta"].values[-1]))]
+    return breaks[(breaks > 1.0) & (breaks < float(ds.variables["zeta"].values[-1]))]
 
 
 def predicted(

@@ -378,7 +378,7 @@ def table_weights(
     ``threshold = "a_c"``, else 1/2): its conductance falls to 0 there as ``r^3``
     (``d ln v/d ln r`` 2.99 at ``r = 1e-3`` on the speed design's scenes). ``r`` is read
     once, when the table first asks for it."""
-    z_max = float(ds["zeta"].values[-1])
+    z_max = float(ds.variables["zeta"].values[-1])
     x_all = np.sort(np.log(np.atleast_1d(np.asarray(p0, dtype=float))))
     ln_r: list[NDArray[np.float64]] = []
 
@@ -438,9 +438,9 @@ def sealed_both(ds: Any, boundary: Any, a_c: float, threshold: str) -> NDArray[n
     comp = tuple(getattr(bnd, "elastic_area_complement", ("non_contact_fraction",)))
     low = np.min(_contact_area(ds, boundary), axis=1)
     low = np.minimum(low, np.min(np.atleast_2d(_by_zeta(ds, el)), axis=1))
-    if all(c in ds.variables for c in comp):
+    if all(c in ds.variables for c in comp):  # min(1 - n) = 1 - max(n): rounding is monotone
         n = sum(_by_zeta(ds, c) for c in comp)
-        low = np.minimum(low, np.min(1.0 - np.atleast_2d(n), axis=1))
+        low = np.minimum(low, 1.0 - np.max(np.atleast_2d(n), axis=1))
     return np.asarray(low > seal)
 
 
