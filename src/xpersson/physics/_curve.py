@@ -154,9 +154,9 @@ def _log_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     cubic = _row_spline(x, y)
     floor = y <= math.log(_TINY) + 1.0  # an exact zero next to a value 1 - F > e^-100: a
     resolved = y > -100.0  # solver's zero below its atol, not the curve passing the magnitudes
-    big = np.abs(np.diff(y, axis=1)) > _LOG_JUMP
+    # (such a pair is a jump of >= 589 > _LOG_JUMP in ln(1 - F): no test of the step itself)
     pair = (floor[:, :-1] & resolved[:, 1:]) | (resolved[:, :-1] & floor[:, 1:])
-    jump = np.any(big & pair, axis=1)
+    jump = np.any(pair, axis=1)
     if not jump.any():
         return cubic
     mono = PchipInterpolator(x, y, axis=1)
@@ -188,25 +188,28 @@ class _Curve:
             )
         if not (abs(z[0] - 1.0) < 1e-12 and np.all(np.diff(z) > 0)):
             raise ValueError("zeta must increase from 1 (the curve starts at full contact)")
-        if not np.all(np.isfinite(A)) or np.any(A < 0) or np.any(A > 1):
+        if A.size and not (A.min() >= 0.0 and A.max() <= 1.0):  # (NaN fails both)
             raise ValueError("area fractions must be finite and lie in [0, 1]")
         N = 1.0 - A if non_area is None else np.atleast_2d(np.asarray(non_area, dtype=float))
         S = None if s_factor is None else np.broadcast_to(s_factor, A.shape)
-        if S is not None and (np.any(~np.isfinite(S)) or np.any(S <= 0) or np.any(S > 1 + 1e-12)):
+        if S is not None and S.size and not (S.min() > 0.0 and S.max() <= 1 + 1e-12):
             raise ValueError("s_factor must lie in (0, 1]")
         self.zeta = z
         self.x = np.log(z)
         self.area = A
-        self.non_area = np.clip(N, 0.0, 1.0)
+        # kept as it is where already in [0, 1] (the solved curve's, clipped by its reader):
+        # np.clip would copy it unchanged (-0.0 and NaN kept as they are)
+        clipped = N.size and N.min() >= 0.0 and N.max() <= 1.0
+        self.non_area = N if clipped else np.clip(N, 0.0, 1.0)
         self._S = S
         if S is None:  # 1 - F = 1 - A: its logarithm from the non-area, no (n_load, n) copies
             y = np.maximum(self.non_area, _TINY)
             y[:, 0] = _TINY  # 1 - F = 0 at zeta = 1
             self._nf1 = self.non_area[:, 1] + 0.0  # as non_area + A (1 - 1): -0 -> +0
         else:
-            y = self.NF
+            y = self.NF  # (a new array: clamped in place)
             self._nf1 = y[:, 1].copy()
-            y = np.maximum(y, _TINY)
+            y = np.maximum(y, _TINY, out=y)
         y = np.log(y, out=y)
         # kept for the S spline's comparison only (1 - A is 1 - F without S)
         self._y = None if S is None else y
