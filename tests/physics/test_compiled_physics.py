@@ -88,7 +88,7 @@ def test_plain_kernels_give_the_numpy_results(monkeypatch):
     with xpersson.set_options(cache=False):
         got = xpersson.solve(scene)
     want = {"gap_rows", "sub_sums", "spline_coefficients", "spline_values", "df_sums"}
-    more = {"crossing_newton", "spline_sub_sums", "band_sums", "df_poly", "table_sums"}
+    more = {"crossing_newton", "spline_sub_sums", "band_sums", "df_logs", "table_sums"}
     more |= {"table_values", "phi_cumsum"}
     assert want | more <= set(asked)
     _assert_close(ref, got)

@@ -1,6 +1,7 @@
 """The compiled kernels of the leak analysis's direct call (:mod:`xpersson.physics._phi_sums`):
-``df_poly`` (the Stieltjes nodes' polynomials of ``ln(1 - F)``) and ``table_sums`` (``Phi``'s
-shared sums without the CSR matrix) give the numpy path's bits, compiled and as plain Python."""
+``df_logs`` and ``df_sums`` (the Stieltjes nodes' ``ln(1 - F)`` and the sums of ``-dF``) and
+``table_sums`` (``Phi``'s shared sums without the CSR matrix) give the numpy path's bits,
+compiled and as plain Python."""
 
 from __future__ import annotations
 
@@ -65,30 +66,41 @@ def _numpy_poly(c, jb, k0, d, off, stop, rows, n):
     st.integers(0, 2**32 - 1),
     st.integers(1, 5),
     st.integers(1, 7),
-    st.integers(1, 40),
+    st.integers(0, 40),
     st.integers(0, 3),
     st.booleans(),
 )
-def test_df_poly_gives_the_numpy_bits(compiled, seed, rows, m, n, jb, special):
+def test_df_kernels_give_the_numpy_bits(compiled, seed, rows, m, n, jb, special):
     """Random coefficients (with signed zeros, infinities and NaN), blocks from a later
     interval, load and abscissa column on, each row's quiet intervals (none, some, more than
-    the block's): ``y`` and ``dy`` bit for bit the numpy passes'."""
-    fn = _kernel(compiled, "df_poly")
+    the block's): ``df_logs``' ``y`` and its minimum, and ``df_sums``' node sums of
+    ``dy exp(y) w`` bit for bit the numpy passes' (``_Curve._dF_blocks`` and
+    ``dF_weighted``), nothing else written."""
+    logs, sums = _kernel(compiled, "df_logs"), _kernel(compiled, "df_sums")
     rng = np.random.default_rng(seed)
-    k0, off = int(rng.integers(0, 3)), int(rng.integers(0, 3))
+    k0, off, start = (int(v) for v in rng.integers(0, 3, 3))
     c = rng.normal(0.0, 1.0, (4, jb + n + 1, k0 + rows + 1)) * 10.0 ** rng.uniform(-3, 3)
     d = rng.uniform(0.0, 0.2, (m, off + n))
+    w_t = rng.uniform(0.1, 2.0, (m, start + n + 1))
     if special:
         _special(rng, c)
         _special(rng, d, 0.02)
     stop = rng.integers(-2, n + 3, rows).astype(np.intp)
     want_y, want_dy = _numpy_poly(c, jb, k0, d, off, stop, rows, n)
-    y, dy = np.full((rows, m, n), -1.0), np.full((rows, m, n), -1.0)
+    y = np.full((n, m, rows), -1.0)
+    out = np.full((k0 + rows + 1, start + n + 1), 7.0)
     with np.errstate(all="ignore"):  # (the plain-Python form on numpy scalars)
-        fn(c, jb, k0, d, off, stop, y, dy)
-    np.testing.assert_array_equal(y, want_y)
-    np.testing.assert_array_equal(dy, want_dy)
-    assert not np.signbit(y[y == 0.0]).any() and not np.signbit(dy[dy == 0.0]).any()
+        low = logs(c, jb, k0, d, off, y)
+        want_dy *= np.exp(want_y)
+        want_dy *= w_t[:, start : start + n]
+        sums(c, jb, k0, d, off, stop, np.exp(y), w_t, start, out)
+    np.testing.assert_array_equal(y, want_y.transpose(2, 1, 0))
+    assert not np.signbit(y[y == 0.0]).any()
+    want_low = want_y.min() if want_y.size else 0.0
+    assert low == want_low or (math.isnan(low) and math.isnan(want_low))
+    np.testing.assert_array_equal(out[k0 : k0 + rows, start : start + n], want_dy.sum(axis=1))
+    out[k0 : k0 + rows, start : start + n] = 7.0
+    assert np.all(out == 7.0)
 
 
 def _phi_of(rng: np.random.Generator, n_load: int, n_knot: int, zero_rows: int) -> _phi._Phi:

@@ -383,3 +383,37 @@ def test_spectrum_caches_are_the_plain_evaluation(psd):
             assert not v.flags.writeable
         elif isinstance(v, tuple | list):
             stack.extend(v)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf, -1e-300, 1.0 + 1e-15])
+def test_curve_refuses_areas_and_factors_out_of_range(contact, bad):
+    """An area fraction or ``S`` that is not finite or lies outside [0, 1] ((0, 1] for ``S``)
+    anywhere is refused, as the separate checks of each did."""
+    ref = contact.curve
+    A = ref.area.copy()
+    A[3, 7] = bad
+    with pytest.raises(ValueError, match="area fractions"):
+        _Curve(ref.zeta, A, None, ref.non_area)
+    S = np.ones_like(ref.area)
+    S[2, 5] = 0.0 if bad == -1e-300 else bad
+    if bad != 1.0 + 1e-15:  # (S may exceed 1 by 1e-12)
+        with pytest.raises(ValueError, match="s_factor"):
+            _Curve(ref.zeta, ref.area, S, ref.non_area)
+
+
+def test_curve_clips_the_complement_only_where_needed(contact):
+    """A complement already in [0, 1] (signed zeros included) is kept as it is, bit for bit;
+    one beyond is clipped as ``np.clip`` does, and the splines follow the clipped values."""
+    ref = contact.curve
+    N = ref.non_area.copy()
+    N[:, :3] = -0.0
+    cur = _Curve(ref.zeta, ref.area, None, N)
+    assert cur.non_area is N
+    M = N.copy()
+    M[1, 2], M[4, -1] = -1e-3, 1.0 + 1e-9
+    out = _Curve(ref.zeta, ref.area, None, M)
+    np.testing.assert_array_equal(out.non_area, np.clip(M, 0.0, 1.0))
+    np.testing.assert_array_equal(np.signbit(out.non_area), np.signbit(np.clip(M, 0.0, 1.0)))
+    want = _Curve(ref.zeta, ref.area, None, np.clip(M, 0.0, 1.0))
+    np.testing.assert_array_equal(out._spl.c, want._spl.c)
+    assert not np.shares_memory(out.non_area, M)

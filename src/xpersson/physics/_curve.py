@@ -20,7 +20,7 @@ if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
 from ._compiled import kernel
-from ._fastnum import _block, _exp, _exp_inplace, _row_spline
+from ._fastnum import _EXP_LO, _block, _exp, _exp_inplace, _row_spline
 
 _TINY = 1e-300
 _GL_ORDER = 6
@@ -154,9 +154,9 @@ def _log_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     cubic = _row_spline(x, y)
     floor = y <= math.log(_TINY) + 1.0  # an exact zero next to a value 1 - F > e^-100: a
     resolved = y > -100.0  # solver's zero below its atol, not the curve passing the magnitudes
-    big = np.abs(np.diff(y, axis=1)) > _LOG_JUMP
+    # (such a pair is a jump of >= 589 > _LOG_JUMP in ln(1 - F): no test of the step itself)
     pair = (floor[:, :-1] & resolved[:, 1:]) | (resolved[:, :-1] & floor[:, 1:])
-    jump = np.any(big & pair, axis=1)
+    jump = np.any(pair, axis=1)
     if not jump.any():
         return cubic
     mono = PchipInterpolator(x, y, axis=1)
@@ -188,25 +188,28 @@ class _Curve:
             )
         if not (abs(z[0] - 1.0) < 1e-12 and np.all(np.diff(z) > 0)):
             raise ValueError("zeta must increase from 1 (the curve starts at full contact)")
-        if not np.all(np.isfinite(A)) or np.any(A < 0) or np.any(A > 1):
+        if A.size and not (A.min() >= 0.0 and A.max() <= 1.0):  # (NaN fails both)
             raise ValueError("area fractions must be finite and lie in [0, 1]")
         N = 1.0 - A if non_area is None else np.atleast_2d(np.asarray(non_area, dtype=float))
         S = None if s_factor is None else np.broadcast_to(s_factor, A.shape)
-        if S is not None and (np.any(~np.isfinite(S)) or np.any(S <= 0) or np.any(S > 1 + 1e-12)):
+        if S is not None and S.size and not (S.min() > 0.0 and S.max() <= 1 + 1e-12):
             raise ValueError("s_factor must lie in (0, 1]")
         self.zeta = z
         self.x = np.log(z)
         self.area = A
-        self.non_area = np.clip(N, 0.0, 1.0)
+        # kept as it is where already in [0, 1] (the solved curve's, clipped by its reader):
+        # np.clip would copy it unchanged (-0.0 and NaN kept as they are)
+        clipped = N.size and N.min() >= 0.0 and N.max() <= 1.0
+        self.non_area = N if clipped else np.clip(N, 0.0, 1.0)
         self._S = S
         if S is None:  # 1 - F = 1 - A: its logarithm from the non-area, no (n_load, n) copies
             y = np.maximum(self.non_area, _TINY)
             y[:, 0] = _TINY  # 1 - F = 0 at zeta = 1
             self._nf1 = self.non_area[:, 1] + 0.0  # as non_area + A (1 - 1): -0 -> +0
         else:
-            y = self.NF
+            y = self.NF  # (a new array: clamped in place)
             self._nf1 = y[:, 1].copy()
-            y = np.maximum(y, _TINY)
+            y = np.maximum(y, _TINY, out=y)
         y = np.log(y, out=y)
         # kept for the S spline's comparison only (1 - A is 1 - F without S)
         self._y = None if S is None else y
@@ -302,17 +305,10 @@ class _Curve:
         ``out`` if given)."""
         out = np.empty((self.n_load, weights.shape[0])) if out is None else out
         first = (self._nf1 / self.x[1])[:, None]  # the linear first interval
+        if self._spl is not None and kernel(self.n_load * weights.size, "df_sums") is not None:
+            return self._dF_compiled(weights, out, first)
         w_t = weights.T  # (m, n_int): the blocks' layout
-        fn = kernel(self.n_load * weights.size, "df_sums")
-        if fn is not None:  # (row sums: each row's own, whatever the rows around it)
-            first_sums, w_t = np.sum(first * weights[0], axis=-1), np.ascontiguousarray(w_t)
-        for k, start, vals in self._dF_blocks(compiled=fn is not None):
-            if fn is not None:  # vals: (dy, exp(y)) of the rows, unmultiplied
-                if start:
-                    out[k, 0] = first_sums[k]
-                    out[k, 1:start] = 0.0
-                fn(vals[0], vals[1], w_t, start, out, k.start)
-                continue
+        for k, start, vals in self._dF_blocks():
             if start:
                 out[k, 0] = np.sum(first[k] * weights[0], axis=-1)
                 out[k, 1:start] = 0.0
@@ -320,14 +316,42 @@ class _Curve:
             out[k, start:] = vals.sum(axis=1)  # in node order, as a sum over a last axis
         return out
 
-    def _dF_blocks(self, compiled: bool = False) -> Any:
+    def _dF_compiled(
+        self, weights: NDArray[np.float64], out: NDArray[np.float64], first: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """:meth:`dF_weighted` (with the spline) by :func:`~._phi_sums.df_logs` and
+        :func:`~._phi_sums.df_sums`, the blocks of :meth:`_dF_blocks` laid out (n, m, rows):
+        ``ln(1 - F)`` at the nodes, numpy's ``exp`` of it in place (the only pass of numpy), then
+        the slopes computed again in the sums (no slope tensor kept: the same bits)."""
+        w_t = np.ascontiguousarray(weights.T)
+        first_sums = np.sum(first * weights[0], axis=-1)  # (row sums: each row's own)
+        xg, _ = self.stieltjes_nodes()
+        own = _first_open_rows(self._dead)  # as in _dF_blocks
+        j0 = int(own.min())
+        d = np.ascontiguousarray((xg[1 + j0 :] - self.x[1 + j0 : -1, None]).T)  # local: (m, n)
+        step = _block(xg.size)
+        buf = np.empty(min(step, self.n_load) * d.size)  # ln(1 - F), then 1 - F, of a block
+        c, logs, sums = self._spl.c, kernel(0, "df_logs"), kernel(0, "df_sums")  # type: ignore[union-attr]
+        for i in range(0, self.n_load, step):
+            k = slice(i, i + step)
+            jb = int(own[k].min())  # this block's own (later) start
+            shape = (d.shape[1] - (jb - j0), d.shape[0], len(range(self.n_load)[k]))
+            y = buf[: math.prod(shape)].reshape(shape)
+            if logs(c, jb, i, d, jb - j0, y) < _EXP_LO:  # type: ignore[misc]  # min of y
+                _exp_inplace(y)
+            else:  # (as _exp_inplace, without its pass for the minimum)
+                np.exp(y, out=y)
+            out[k, 0] = first_sums[k]
+            out[k, 1 : 1 + jb] = 0.0
+            sums(c, jb, i, d, jb - j0, own[k] - jb, y, w_t, 1 + jb, out)  # type: ignore[misc]
+        return out
+
+    def _dF_blocks(self) -> Any:
         """``(rows, start, dF[rows, start:])`` in cache-sized blocks of loads (see
         :meth:`dF_weighted`), each block laid out (rows, m, n_int - start): the long interval
         axis innermost (an inner axis of m = 6 nodes costs numpy a loop call per 6 values).
         For ``start > 0`` interval 0 is the linear first interval and the intervals
-        ``1 .. start - 1`` are 0 (every load of the block in full contact). ``compiled``
-        (with the spline): ``(dy, exp(y))`` unmultiplied instead of ``dF``, the polynomials by
-        :func:`~._phi_sums.df_poly` (the same bits)."""
+        ``1 .. start - 1`` are 0 (every load of the block in full contact)."""
         xg, _ = self.stieltjes_nodes()
         if self._spl is None:
             yield slice(0, self.n_load), 0, self.dF(xg).transpose(0, 2, 1)
@@ -339,8 +363,7 @@ class _Curve:
         step = _block(xg.size)
         rows = min(step, self.n_load)
         buf = np.empty((2, rows * d.size))  # y and dy of every block
-        # the block's coefficients, loads first (the numpy path's only)
-        cbuf = None if compiled else np.empty(4 * rows * d.shape[1])
+        cbuf = np.empty(4 * rows * d.shape[1])  # the block's coefficients, loads first
         for i in range(0, self.n_load, step):  # blocks of loads: temporaries stay in cache
             k = slice(i, i + step)
             jb = int(own[k].min())  # this block's own (later) start
@@ -348,14 +371,7 @@ class _Curve:
             ck = self._spl.c[:, j0 + off :, k]  # (4, n_int - 1 - jb, rows)
             db = d[:, off:]
             shape = (ck.shape[2], *db.shape)
-            if compiled:
-                y = buf[0, : math.prod(shape)].reshape(shape)
-                dy = buf[1, : y.size].reshape(shape)
-                stop = own[k] - jb  # each row's own quiet intervals: dy 0 there
-                kernel(0, "df_poly")(self._spl.c, jb, i, d, off, stop, y, dy)  # type: ignore[misc]
-                yield k, 1 + jb, (dy, _exp_inplace(y))
-                continue
-            c = cbuf[: ck.size].reshape(ck.shape[2], 4, 1, ck.shape[1])  # type: ignore[index]
+            c = cbuf[: ck.size].reshape(ck.shape[2], 4, 1, ck.shape[1])
             np.copyto(c[:, :, 0, :], np.moveaxis(ck, -1, 0))
             c0, c1, c2, c3 = (c[:, j] for j in range(4))  # (rows, 1, n_int - 1 - jb)
             y = np.multiply(c0, db, out=buf[0, : math.prod(shape)].reshape(shape))

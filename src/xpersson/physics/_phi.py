@@ -196,15 +196,17 @@ class _Phi:
             # Phi = 0 at the nodes where every load is in full contact (the dense grid's first
             # nodes); the table is evaluated from _TABLE_MARGIN such nodes before the first
             # non-zero one and is 0 below (the spline's values there are its ringing between
-            # zeros, below 1e-30 of Phi: round-off in any look-up)
-            live = np.flatnonzero(np.any(self.phi[:, 1:] != 0.0, axis=0))
-            j = max(0, int(live[0]) - _TABLE_MARGIN) if live.size else 0
+            # zeros, below 1e-30 of Phi: round-off in any look-up); the batch's first non-zero
+            # node is the first of its loads' own (theirs: below, for _own_zeros)
+            nz = self.phi[:, 1:] != 0.0
+            has, first = nz.any(axis=1), np.argmax(nz, axis=1)
+            j = max(0, int(first[has].min()) - _TABLE_MARGIN) if has.any() else 0
             g0 = int(np.searchsorted(grid, self.s[j], side="left"))
             # kept from grid node lo = g0 - 2 on: a look-up below it is clipped to node lo, where
             # it takes 0 + 0 (0 - 0), the 0 it took from the zero nodes below (bit for bit)
             lo = max(g0 - 2, 0)
             tab = np.empty((self.phi.shape[0], n - lo))  # (loads, nodes)
-            zero = self._own_zeros(grid, g0, lo)  # each load's own zeros, as the load alone
+            zero = self._own_zeros(grid, g0, lo, np.where(has, first, 0))  # as the load alone
             if not _compiled_table(self._spl, grid[g0:], tab, g0 - lo, zero):  # has them
                 tab[:, : g0 - lo] = 0.0
                 _ppoly_at(self._spl, grid[g0:], out=tab[:, g0 - lo :])  # type: ignore[arg-type]
@@ -215,16 +217,17 @@ class _Phi:
             self._first_zero = bool(np.all(tab[:, 0] == 0.0) and np.all(np.isfinite(tab[:, 1])))
         return self._tab
 
-    def _own_zeros(self, grid: NDArray[np.float64], g0: int, lo: int) -> NDArray[np.intp]:
+    def _own_zeros(
+        self, grid: NDArray[np.float64], g0: int, lo: int, j: NDArray[np.intp]
+    ) -> NDArray[np.intp]:
         """Per load, the table's first column (from node ``lo``) not 0 for that load alone:
-        ``g0 - lo`` (the batch's) or, where later, the load's own first non-zero node less the
-        margin (the batch's first non-zero node is then an earlier load's): its columns below
-        are 0, a load's look-ups never depend on the other loads."""
+        ``g0 - lo`` (the batch's) or, where later, the load's own first non-zero node ``j``
+        (0 for a load without) less the margin (the batch's first non-zero node is then an
+        earlier load's): its columns below are 0, a load's look-ups never depend on the other
+        loads."""
         zero = np.full(self.phi.shape[0], g0 - lo, dtype=np.intp)
         if self.phi.shape[0] < 2:
             return zero
-        nz = self.phi[:, 1:] != 0.0
-        j = np.where(nz.any(axis=1), np.argmax(nz, axis=1), 0)
         g = np.searchsorted(grid, self.s[np.maximum(j - _TABLE_MARGIN, 0)], side="left")
         return np.maximum(zero, g - lo)
 

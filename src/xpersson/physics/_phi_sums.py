@@ -1,6 +1,6 @@
 """Optional compiled kernels of ``Phi``'s sums (numba), bit for bit the numpy path: the
 Stieltjes node values and sums of the solved curve (:meth:`~._curve._Curve.dF_weighted`:
-:func:`df_poly`, :func:`df_sums`), the shared sums of ``Phi``'s table
+:func:`df_logs`, :func:`df_sums`), the shared sums of ``Phi``'s table
 (:meth:`~._phi._Phi.sums_at_log_tau`: :func:`table_sums`), the table itself
 (:meth:`~._phi._Phi._table`: :func:`table_values`) and ``Phi``'s node integrals
 (:func:`phi_cumsum`). Built and gated with the kernels of
@@ -15,7 +15,7 @@ import numpy as np
 
 __all__ = [
     "KERNELS",
-    "df_poly",
+    "df_logs",
     "df_sums",
     "phi_cumsum",
     "table_sums",
@@ -23,54 +23,62 @@ __all__ = [
 ]
 
 
-def df_poly(
-    c: Any, jb: int, k0: int, d: Any, off: int, stop: Any, y: Any, dy: Any
-) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """``ln(1 - F)`` (clipped at 0 from above) and its slope (at 0 from below) at the Stieltjes
-    nodes of :meth:`~._curve._Curve._dF_blocks`, the operations of its numpy form in order.
+def df_logs(
+    c: Any, jb: int, k0: int, d: Any, off: int, y: Any
+) -> float:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """``ln(1 - F)`` (clipped at 0 from above) at the Stieltjes nodes of
+    :meth:`~._curve._Curve._dF_compiled`, the operations of :meth:`~._curve._Curve._dF_blocks`
+    in order; returns the smallest value written (NaN if any is NaN; 0 if none), as the
+    ``y.min()`` of :func:`~._fastnum._exp_inplace`.
 
     ``c`` (4, n_int, n_load): the spline's coefficients, from interval ``jb`` on and load ``k0``
-    on; ``d`` (m, n_d) the nodes' local abscissae, from column ``off`` on; written ``y``,
-    ``dy`` (rows, m, n); ``dy`` is 0 on a row's first ``stop[r]`` intervals (that row's own
-    quiet ones, :func:`~._curve._quiet_rows`). Per row the coefficients are gathered once, then
-    the nodes run along the intervals (contiguous, branch-free selects: vectorised).
+    on; ``d`` (m, n_d) the nodes' local abscissae, from column ``off`` on; written ``y``
+    (n, m, rows): the loads innermost, read contiguously from ``c`` (vectorised).
     """
-    rows, m, n = y.shape
-    cr = np.empty((4, n))
-    for r in range(rows):
-        load = k0 + r
-        for j in range(n):
-            cr[0, j] = c[0, jb + j, load]
-            cr[1, j] = c[1, jb + j, load]
-            cr[2, j] = c[2, jb + j, load]
-            cr[3, j] = c[3, jb + j, load]
-        quiet = min(max(stop[r], 0), n)
+    n, m, rows = y.shape
+    lo = np.zeros(rows)
+    for j in range(n):
+        c0, c1 = c[0, jb + j, k0 : k0 + rows], c[1, jb + j, k0 : k0 + rows]
+        c2, c3 = c[2, jb + j, k0 : k0 + rows], c[3, jb + j, k0 : k0 + rows]
         for a in range(m):
-            for j in range(n):
-                x = d[a, off + j]
-                c0, c1, c2 = cr[0, j], cr[1, j], cr[2, j]
-                v = ((c0 * x + c1) * x + c2) * x + cr[3, j]
+            x = d[a, off + j]
+            ya = y[j, a]
+            for r in range(rows):
+                v = ((c0[r] * x + c1[r]) * x + c2[r]) * x + c3[r]
                 # np.minimum(v, 0.0): v where v < 0 or NaN, else +0.0 (also for -0.0)
-                y[r, a, j] = v if (v < 0.0 or v != v) else 0.0
-                w = ((3.0 * c0) * x + 2.0 * c1) * x + c2
-                dy[r, a, j] = w if (w > 0.0 or w != w) else 0.0  # np.maximum(w, 0.0)
-            for j in range(quiet):
-                dy[r, a, j] = 0.0
+                v = v if (v < 0.0 or v != v) else 0.0
+                ya[r] = v
+                lo[r] = v if (v < lo[r] or v != v) else lo[r]  # a NaN stays
+    low = 0.0
+    for r in range(rows):
+        low = lo[r] if (lo[r] < low or lo[r] != lo[r]) else low
+    return low
 
 
 def df_sums(
-    dy: Any, e: Any, w_t: Any, start: int, out: Any, k0: int
+    c: Any, jb: int, k0: int, d: Any, off: int, stop: Any, e: Any, w_t: Any, start: int, out: Any
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """``out[k0 + r, start + j] = sum_a (dy e)[r, a, j] w_t[a, start + j]`` in the order of
-    numpy's sum over the middle axis (``dy``, ``e`` (rows, m, n))."""
-    rows, m, n = dy.shape
-    for r in range(rows):  # node by node along the intervals (each sum's order kept)
-        o = out[k0 + r]
-        for j in range(n):
-            o[start + j] = (dy[r, 0, j] * e[r, 0, j]) * w_t[0, start + j]
-        for a in range(1, m):
-            for j in range(n):
-                o[start + j] += (dy[r, a, j] * e[r, a, j]) * w_t[a, start + j]
+    """``out[k0 + r, start + j] = sum_a dy[j, a, r] e[j, a, r] w_t[a, start + j]`` in the
+    order of numpy's sum over the nodes (:meth:`~._curve._Curve.dF_weighted`), ``e = 1 - F``
+    (``exp`` of :func:`df_logs`, (n, m, rows)) and the slope ``dy`` of ``ln(1 - F)`` (at 0
+    from below) computed here, as :meth:`~._curve._Curve._dF_blocks` does (the same
+    arguments as :func:`df_logs`): 0 on a row's first ``stop[r]`` intervals (that row's own
+    quiet ones, :func:`~._curve._quiet_rows`)."""
+    n, m, rows = e.shape
+    acc = np.empty(rows)
+    for j in range(n):
+        c0, c1 = c[0, jb + j, k0 : k0 + rows], c[1, jb + j, k0 : k0 + rows]
+        c2 = c[2, jb + j, k0 : k0 + rows]
+        for a in range(m):
+            x, wa, ea = d[a, off + j], w_t[a, start + j], e[j, a]
+            for r in range(rows):
+                w = ((3.0 * c0[r]) * x + 2.0 * c1[r]) * x + c2[r]
+                dy = w if (w > 0.0 or w != w) else 0.0  # np.maximum(w, 0.0)
+                dy = dy if j >= stop[r] else 0.0
+                t = (dy * ea[r]) * wa
+                acc[r] = t if a == 0 else acc[r] + t
+        for r in range(rows):
+            out[k0 + r, start + j] = acc[r]
 
 
 def table_sums(
@@ -165,4 +173,4 @@ def phi_cumsum(
 
 
 #: The kernels of this module, built with those of :mod:`._compiled`.
-KERNELS = (df_poly, df_sums, table_sums, table_values, phi_cumsum)
+KERNELS = (df_logs, df_sums, table_sums, table_values, phi_cumsum)
