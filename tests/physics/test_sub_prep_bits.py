@@ -64,6 +64,7 @@ def test_I3_and_C_are_I3_and_C_bit_for_bit(seed, table, n_q):
         return
     assert both[0].tobytes() == np.asarray(psd.I3(qs)).tobytes()
     assert both[1].tobytes() == np.asarray(psd.C(qs)).tobytes()
+    assert psd._I3_and_C(qs, moment=False)[1].tobytes() == both[1].tobytes()
     qs[rng.integers(n_q)] = psd.q_1 * 1.5 if rng.random() < 0.5 else np.nan
     assert psd._I3_and_C(qs) is None  # outside the support: I3's clip and C's zero
 

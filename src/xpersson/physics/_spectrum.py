@@ -290,14 +290,14 @@ class PowerSpectrum:
         return cum[idx] + part
 
     def _I3_and_C(
-        self, q: NDArray[np.float64]
-    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+        self, q: NDArray[np.float64], moment: bool = True
+    ) -> tuple[NDArray[np.float64] | None, NDArray[np.float64]] | None:
         """``(I3(q), C(q))`` of an array ``q`` [1/m] inside ``[q_L, q_1]``: the numbers of
         :meth:`I3` and :meth:`C`, element by element, from one segment search and one ratio
         ``q / q_i`` (inside the support the clip of :meth:`running_moment` and the ``where``
-        of :meth:`C` leave ``q`` as it is). ``None`` where it does not apply (a value outside
-        the support or NaN, an empty array, a subclass that overrides ``C``, ``I3`` or the
-        moments): ask :meth:`I3` and :meth:`C`.
+        of :meth:`C` leave ``q`` as it is); ``moment=False``: ``(None, C(q))``. ``None`` where
+        it does not apply (a value outside the support or NaN, an empty array, a subclass that
+        overrides ``C``, ``I3`` or the moments): ask :meth:`I3` and :meth:`C`.
         """
         cls = type(self)
         if (
@@ -305,26 +305,26 @@ class PowerSpectrum:
             or q.size == 0
             or "_nodes" not in self.__dict__
             or cls.C is not PowerSpectrum.C
-            or cls.I3 is not PowerSpectrum.I3
-            or cls.running_moment is not PowerSpectrum.running_moment
-            or not (q.min() >= self.q_L and q.max() <= self.q_1)
+            or (moment and cls.I3 is not PowerSpectrum.I3)
+            or (moment and cls.running_moment is not PowerSpectrum.running_moment)
         ):
             return None
-        s = 3.0 + self._e + 1.0  # running_moment's per-segment factors at k = 3
-        lead, cum = self._Ca * self._a**4.0, self._cumulative(3.0)
-        ends = self._segment(np.array([q.min(), q.max()]))
-        if ends[0] == ends[1]:  # one segment holds every q: its factors as scalars (products
-            # and sums: the same bits), its exponent an array as ever (pow's own loop)
-            k = int(ends[0])
-            r = q / self._a[k]
-            L = np.log(r)
-            part = lead[k] * L * _expm1_over_x(s[k] * L)
-            return cum[k] + part, self._Ca[k] * r ** np.full(q.shape, self._e[k])
-        idx = self._segment(q)
+        lo, hi = q.min(), q.max()
+        if not (lo >= self.q_L and hi <= self.q_1):
+            return None
+        ends = self._segment(np.array([lo, hi]))
+        # one segment holds every q: its factors as scalars (products and sums: the same
+        # bits), its exponent an array as ever (pow's own loop)
+        one = ends[0] == ends[1]
+        idx = int(ends[0]) if one else self._segment(q)
         r = q / self._a[idx]
+        C = self._Ca[idx] * r ** (np.full(q.shape, self._e[idx]) if one else self._e[idx])
+        if not moment:
+            return None, C
         L = np.log(r)
-        part = lead[idx] * L * _expm1_over_x(s[idx] * L)
-        return cum[idx] + part, self._Ca[idx] * r ** self._e[idx]
+        s = 3.0 + self._e + 1.0  # running_moment's per-segment factors at k = 3
+        part = (self._Ca * self._a**4.0)[idx] * L * _expm1_over_x(s[idx] * L)
+        return self._cumulative(3.0)[idx] + part, C
 
     def I3(self, q: ArrayLike) -> NDArray[np.float64] | float:
         """Exact slope integral :math:`I_3(q) = \\int_{q_L}^{q} q'^3 C(q')\\, dq'` (§1.2).
