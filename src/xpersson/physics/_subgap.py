@@ -29,7 +29,8 @@ def _sub_panels(
     The graded edges ``_SUB_EDGES`` plus the PSD breakpoints above ``q_a`` (kinks of ``C``, e.g.
     the roll-off ``q_r``): a rule across a kink converges only to first order, which made the
     mean gap of a cut-off inside the plateau 5-7 % low. Breakpoints outside ``(q_a, q_hi)`` give
-    panels of zero width (zero weight).
+    panels of zero width (zero weight). Where every cut-off has the same edges, one row of nodes
+    and weights, broadcast (read-only) to every cut-off.
     """
     nodes = np.asarray(psd.nodes(), dtype=float)  # type: ignore[attr-defined]
     with np.errstate(divide="ignore", invalid="ignore"):
