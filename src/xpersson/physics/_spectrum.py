@@ -289,6 +289,43 @@ class PowerSpectrum:
         part = lead[idx] * L * _expm1_over_x(s[idx] * L)
         return cum[idx] + part
 
+    def _I3_and_C(
+        self, q: NDArray[np.float64], moment: bool = True
+    ) -> tuple[NDArray[np.float64] | None, NDArray[np.float64]] | None:
+        """``(I3(q), C(q))`` of an array ``q`` [1/m] inside ``[q_L, q_1]``: the numbers of
+        :meth:`I3` and :meth:`C`, element by element, from one segment search and one ratio
+        ``q / q_i`` (inside the support the clip of :meth:`running_moment` and the ``where``
+        of :meth:`C` leave ``q`` as it is); ``moment=False``: ``(None, C(q))``. ``None`` where
+        it does not apply (a value outside the support or NaN, an empty array, a subclass that
+        overrides ``C``, ``I3`` or the moments): ask :meth:`I3` and :meth:`C`.
+        """
+        cls = type(self)
+        if (
+            q.ndim == 0
+            or q.size == 0
+            or "_nodes" not in self.__dict__
+            or cls.C is not PowerSpectrum.C
+            or (moment and cls.I3 is not PowerSpectrum.I3)
+            or (moment and cls.running_moment is not PowerSpectrum.running_moment)
+        ):
+            return None
+        lo, hi = q.min(), q.max()
+        if not (lo >= self.q_L and hi <= self.q_1):
+            return None
+        ends = self._segment(np.array([lo, hi]))
+        # one segment holds every q: its factors as scalars (products and sums: the same
+        # bits), its exponent an array as ever (pow's own loop)
+        one = ends[0] == ends[1]
+        idx = int(ends[0]) if one else self._segment(q)
+        r = q / self._a[idx]
+        C = self._Ca[idx] * r ** (np.full(q.shape, self._e[idx]) if one else self._e[idx])
+        if not moment:
+            return None, C
+        L = np.log(r)
+        s = 3.0 + self._e + 1.0  # running_moment's per-segment factors at k = 3
+        part = (self._Ca * self._a**4.0)[idx] * L * _expm1_over_x(s[idx] * L)
+        return self._cumulative(3.0)[idx] + part, C
+
     def I3(self, q: ArrayLike) -> NDArray[np.float64] | float:
         """Exact slope integral :math:`I_3(q) = \\int_{q_L}^{q} q'^3 C(q')\\, dq'` (§1.2).
 

@@ -29,18 +29,33 @@ def _sub_panels(
     The graded edges ``_SUB_EDGES`` plus the PSD breakpoints above ``q_a`` (kinks of ``C``, e.g.
     the roll-off ``q_r``): a rule across a kink converges only to first order, which made the
     mean gap of a cut-off inside the plateau 5-7 % low. Breakpoints outside ``(q_a, q_hi)`` give
-    panels of zero width (zero weight).
+    panels of zero width (zero weight). Where every cut-off has the same edges, one row of nodes
+    and weights, broadcast (read-only) to every cut-off.
     """
     nodes = np.asarray(psd.nodes(), dtype=float)  # type: ignore[attr-defined]
     with np.errstate(divide="ignore", invalid="ignore"):
         sk = np.sqrt(np.clip(np.log(nodes / qa[..., None]) / V[..., None], 0.0, 1.0))
     sk = np.where(V[..., None] > 0.0, sk, 0.0)
+    x, w = _gauss(_SUB_ORDER)
+    rows = sk.reshape(-1, nodes.size)
+    if rows.shape[0] and (rows == rows[0]).all():
+        # every cut-off's edges the same (the breakpoints outside its range, e.g. no roll-off):
+        # one row's sort and rule, the same numbers as each row's (element by element)
+        edges = np.sort(np.concatenate((_SUB_EDGES, rows[0])))
+        a, b = edges[:-1, None], edges[1:, None]
+        s, ws = (a + (b - a) * x).reshape(-1), ((b - a) * w).reshape(-1)
+        return np.broadcast_to(s, qa.shape + s.shape), np.broadcast_to(ws, qa.shape + s.shape)
     base = np.broadcast_to(_SUB_EDGES, qa.shape + _SUB_EDGES.shape)
     edges = np.sort(np.concatenate((base, sk), axis=-1), axis=-1)
-    x, w = _gauss(_SUB_ORDER)
-    a, b = edges[..., :-1, None], edges[..., 1:, None]
-    flat = qa.shape + (-1,)
-    return (a + (b - a) * x).reshape(flat), ((b - a) * w).reshape(flat)
+    # every panel's start and width repeated over its nodes: long rows for the products (the
+    # same operations as ``a + (b - a) x``, ``(b - a) w`` broadcast over the rule)
+    a = np.repeat(edges[..., :-1], _SUB_ORDER, axis=-1)
+    d = np.repeat(np.diff(edges, axis=-1), _SUB_ORDER, axis=-1)
+    n = edges.shape[-1] - 1
+    ws = d * np.tile(w, n)
+    d *= np.tile(x, n)
+    d += a
+    return d, ws
 
 
 def _sub_prep(
@@ -54,13 +69,47 @@ def _sub_prep(
     qa = np.asarray(q_a, dtype=float)
     V = np.log(np.maximum(q_hi / qa, 1.0))
     s, ws = _sub_panels(psd, qa, V)
-    q = qa[..., None] * np.exp(V[..., None] * s * s)
-    dq = q * (2.0 * V[..., None] * s) * ws
-    dI3 = _delta_I3(psd, qa[..., None], q)
-    C = np.asarray(psd.C(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
-    kern = dq * q**2 * C / np.sqrt(np.pi * dI3)
+    vs = V[..., None] * s
+    q = np.exp(vs * s)
+    q *= qa[..., None]
+    vs *= 2.0  # (2 V) s: a doubling, exact
+    dq = q * vs
+    dq *= ws
+    dI3, C = _sub_dI3_C(psd, qa, q)
+    kern = np.multiply(dq, q * q, out=dq)
+    kern *= C
     # ln tau_eq = ln(tau_c,a) + 2 ln A_a: logs of the small factors, not of the tensor
-    return np.log(0.25 * np.pi * E_star**2 * dI3), kern
+    log_tc = np.log(0.25 * np.pi * E_star**2 * dI3)
+    dI3 *= np.pi
+    kern /= np.sqrt(dI3, out=dI3)
+    return log_tc, kern
+
+
+def _sub_dI3_C(
+    psd: object, qa: NDArray[np.float64], q: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(int_{q_a}^q q'^3 C dq', C(q))`` on the nodes ``q`` (``qa.shape + (m,)``) [1, m^4]:
+    :func:`~._curve._delta_I3` and ``psd.C``, bit for bit, with ``I3`` and ``C`` from one
+    segment search (:meth:`~._spectrum.PowerSpectrum._I3_and_C`) where the spectrum has it."""
+    qf = q.reshape(-1)
+    both = getattr(psd, "_I3_and_C", lambda q: None)(qf)
+    if both is None:
+        C = np.asarray(psd.C(qf), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
+        return _delta_I3(psd, qa[..., None], q), C
+    i3, C = both
+    # I3 itself (the base class's, as _I3_and_C found): the moments without I3's grid cache
+    i3a = psd.running_moment(3.0, qa.reshape(-1))  # type: ignore[attr-defined]
+    d = np.subtract(i3.reshape(q.shape), i3a.reshape(qa.shape + (1,)), out=i3.reshape(q.shape))
+    # the rest as _delta_I3 (no cancellation near q_a), on the flat positions of its nodes
+    dq = q - qa[..., None]
+    at = np.flatnonzero(dq < (1e-6 * qa)[..., None])
+    if at.size:
+        dq_at = dq.reshape(-1)[at]
+        qm = qa.reshape(-1)[at // q.shape[-1]] + 0.5 * dq_at
+        got = psd._I3_and_C(qm, moment=False)  # type: ignore[attr-defined]
+        C_m = got[1] if got is not None else np.asarray(psd.C(qm), dtype=float)  # type: ignore[attr-defined]
+        d.reshape(-1)[at] = dq_at * qm**3 * C_m
+    return np.maximum(d, np.finfo(float).tiny, out=d), C.reshape(q.shape)
 
 
 def _sub_mean_gap(
