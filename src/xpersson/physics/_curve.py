@@ -83,14 +83,23 @@ def _q_rule(
     return _QRule(q, np.concatenate(parts_w), C, 1.0 / np.sqrt(np.pi * dI3), dI3)
 
 
-def _delta_I3(psd: object, qa: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.float64]:
+def _delta_I3(
+    psd: object,
+    qa: NDArray[np.float64],
+    q: NDArray[np.float64],
+    i3: NDArray[np.float64] | None = None,
+    i3a: NDArray[np.float64] | None = None,
+) -> NDArray[np.float64]:
     """``int_{qa}^{q} q'^3 C dq'`` without cancellation for ``q`` close to ``qa``.
 
     ``qa`` broadcasts against ``q`` (e.g. one cut-off per row of nodes): ``I3(qa)`` is
-    evaluated on ``qa``'s own elements (the same values as on the broadcast ones).
+    evaluated on ``qa``'s own elements (the same values as on the broadcast ones). ``i3``,
+    ``i3a``: ``I3(q)``, ``I3(qa)`` [1] where the caller has them (the same numbers).
     """
-    i3 = np.asarray(psd.I3(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
-    i3a = np.asarray(psd.I3(qa.ravel()), dtype=float).reshape(qa.shape)  # type: ignore[attr-defined]
+    if i3 is None:
+        i3 = np.asarray(psd.I3(q.ravel()), dtype=float).reshape(q.shape)  # type: ignore[attr-defined]
+    if i3a is None:
+        i3a = np.asarray(psd.I3(qa.ravel()), dtype=float).reshape(qa.shape)  # type: ignore[attr-defined]
     d = i3 - i3a
     qa = np.broadcast_to(qa, q.shape)
     dq = q - qa

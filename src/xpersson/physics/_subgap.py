@@ -99,17 +99,8 @@ def _sub_dI3_C(
     i3, C = both
     # I3 itself (the base class's, as _I3_and_C found): the moments without I3's grid cache
     i3a = psd.running_moment(3.0, qa.reshape(-1))  # type: ignore[attr-defined]
-    d = np.subtract(i3.reshape(q.shape), i3a.reshape(qa.shape + (1,)), out=i3.reshape(q.shape))
-    # the rest as _delta_I3 (no cancellation near q_a), on the flat positions of its nodes
-    dq = q - qa[..., None]
-    at = np.flatnonzero(dq < (1e-6 * qa)[..., None])
-    if at.size:
-        dq_at = dq.reshape(-1)[at]
-        qm = qa.reshape(-1)[at // q.shape[-1]] + 0.5 * dq_at
-        got = psd._I3_and_C(qm, moment=False)  # type: ignore[attr-defined]
-        C_m = got[1] if got is not None else np.asarray(psd.C(qm), dtype=float)  # type: ignore[attr-defined]
-        d.reshape(-1)[at] = dq_at * qm**3 * C_m
-    return np.maximum(d, np.finfo(float).tiny, out=d), C.reshape(q.shape)
+    i3, i3a = i3.reshape(q.shape), i3a.reshape(qa.shape + (1,))
+    return _delta_I3(psd, qa[..., None], q, i3, i3a), C.reshape(q.shape)
 
 
 def _sub_mean_gap(
