@@ -258,14 +258,16 @@ def solved_curve(
                 tc = np.asarray(get("diffusion_time"), dtype=float)
                 S = np.gradient(te, axis=1) / np.maximum(np.gradient(tc, axis=1), 1e-300)
             S = np.clip(np.asarray(S, dtype=float), 1e-12, 1.0)
-    keep = None
+    keep, nf = None, None
     if need.any() and solve_at is not None:  # (one complement: nf != 0 where 0 + nf != 0)
         nf = _total([get(c) for c in comp]) if len(comp) != 1 else get(comp[0])
         keep = _past_full_contact(area, nf, S)
         S = None if S is None else _columns(np.broadcast_to(S, area.shape), keep)
         zeta, area = zeta[keep], _columns(area, keep)
-    # the sums of the kept columns alone (new arrays: clipped in place)
-    non, contact = (_total([get(c) for c in names], keep) for names in (comp, cont))
+    # the sums of the kept columns alone (new arrays: clipped in place); the complement's of
+    # nf where it was summed (0 + nf: the same numbers, never -0)
+    non = _total([get(c) for c in comp] if nf is None else [nf], keep)
+    contact = _total([get(c) for c in cont], keep)
     non, contact = np.clip(non, 0.0, 1.0, out=non), np.clip(contact, 0.0, 1.0, out=contact)
     return Solved(p0, zeta, area, non, contact, S, form, g, _spectrum(ds), contact_modulus(ds))
 
