@@ -60,6 +60,28 @@ def test_few_loads_are_computed_directly_in_one_call():
     np.testing.assert_array_equal(out["rho"], _smooth(p0)["rho"])
 
 
+@settings(max_examples=40, deadline=None)
+@given(decades=st.floats(0.05, 8.0), extra=st.integers(-3, 3))
+def test_the_table_starts_at_three_loads_per_node(decades, extra):
+    """From DENSITY times the first level's nodes (16 per decade, at least 4 ORDER) and
+    TABLE_MIN loads on, the table; one load fewer: every load directly, in one call."""
+    top = 1e3 * 10.0**decades
+    span = np.log10(top / 1e3)  # (as the range's endpoints give it, whatever the loads between)
+    nodes = max(by_load_mod.PER_DECADE * span, 4 * by_load_mod.ORDER) + 1
+    least = max(by_load_mod.TABLE_MIN, int(np.ceil(by_load_mod.DENSITY * nodes)))
+    n = least + extra
+    p0 = np.geomspace(1e3, top, n)
+    assert by_load_mod.tabled(p0, 0) == (n >= least)
+    direct = Direct(p0)
+    out, err = by_load(p0, direct)
+    asked = np.unique(np.concatenate(direct.asked))
+    if n < least:
+        assert len(direct.asked) == 1 and not err.any()
+    else:  # a smooth function: fewer loads computed than asked, the rest within the estimate
+        assert asked.size < n and err.max() <= TOL
+        assert np.all(_relative(out, _smooth(p0)) <= err + 1e-15)
+
+
 def test_interpolated_loads_lie_within_their_estimate():
     """Nodes bit for bit; the others within their (positive) estimate and the tolerance; far
     fewer loads computed than asked for."""
@@ -316,6 +338,8 @@ def test_leakage_table_within_its_estimate_on_drawn_scenes(seed):
         mp.setattr(by_load_mod, "TABLE_MIN", 60)
         mp.setattr(plugins_mod, "LEAK_MIN", 60)
         mp.setattr(first_mod, "LEAK_PER_DECADE", 8)  # the table's regime at 60 loads
+        mp.setattr(by_load_mod, "DENSITY", 1.0)  # (its nodes: 8 per decade, not 16)
+        mp.setattr(first_mod, "FEW", 0)  # the plain table (no predicted first level, no kinks)
         table = xpersson.solve(sc)
         mp.setattr(by_load_mod, "TABLE_MIN", 10**9)
         direct = xpersson.solve(sc)

@@ -6,15 +6,17 @@ detachment's sub-problem sums, 256 Gaussian sums per load for ``gap_pdf``, the e
 medium's cells for ``leakage``): 30 to 100 times the batched solve of the same loads at
 1000-1e4 loads. Its outputs are smooth functions of the load (the area curve of a
 ``load_similar`` boundary depends on ``p0`` only through ``tau/p0^2``; each output is an
-integral of it). So from :data:`TABLE_MIN` distinct loads on (``leakage``: :data:`LEAK_MIN`),
-only *node* loads are computed directly: a subset of the requested loads about
-1/:data:`PER_DECADE` decade apart in ``ln p0`` (the lowest and the highest always among them;
-at least ``4 ORDER`` over the range). Every other load takes each output from the Lagrange
-polynomial through the :data:`ORDER` nearest nodes in ``ln p0``, of the output's logarithm
-(near full contact the detached area falls super-exponentially and its logarithm stays smooth
-in ``ln p0``; the gap density element by element, floored at :data:`FLOOR`), or of a
-transform of it that removes a known singularity (:data:`Weight`: ``leakage``'s ``u1`` near
-sealing, its effective medium where it percolates; ``_leakage.table_weights``).
+integral of it). So where the loads are :data:`DENSITY` times as many as the table's nodes
+(and at least :data:`TABLE_MIN`; ``leakage``: :data:`LEAK_MIN` loads not sealed by both
+theories, counted on those), only *node* loads are computed directly: a subset of the
+requested loads about 1/:data:`PER_DECADE` decade apart in ``ln p0`` (the lowest and the
+highest always among them; at least ``4 ORDER`` over the range). Every other load takes
+each output from the Lagrange polynomial through the :data:`ORDER` nearest nodes in
+``ln p0``, of the output's logarithm (near full contact the detached area falls
+super-exponentially and its logarithm stays smooth in ``ln p0``; the gap density element by
+element, floored at :data:`FLOOR`), or of a transform of it that removes a known
+singularity (:data:`Weight`: ``leakage``'s ``u1`` near sealing, its effective medium where
+it percolates; ``_leakage.table_weights``).
 
 **Segments.** A stencil never crosses a change of regime: nodes are grouped into runs alike in
 every *key* (an output never interpolated: the sealed flags, the piece of the spectrum that
@@ -60,7 +62,7 @@ density; ``leakage`` on those, 20 held-out scenes (``--seeds 37 38``) and the 12
 ``summary.py --held-out 2026`` (``--held-out 2026``) at 1000 loads within 4.7e-4 (0.40 of its
 estimate) and at 1e4 loads within 1.4e-3, every interpolated load within 0.81 of its estimate
 (``results/load_table_check_leakage_1000.json``, ``..._1e4.json``). Below the minimum every
-load is computed directly, as before, bit for bit.
+load is computed directly, bit for bit.
 """
 
 from __future__ import annotations
@@ -75,6 +77,7 @@ from ._stencils import FLOOR, Weight, _interpolate, _logs, _Roles, _same, _segme
 
 __all__ = [
     "COMPUTED",
+    "DENSITY",
     "DEPTH",
     "FLOOR",
     "LEAK_GROUPS",
@@ -95,8 +98,17 @@ __all__ = [
     "by_load",
 ]
 
-#: Distinct loads from which the table is used.
-TABLE_MIN = 400
+#: Loads from which the table may be used (fewer: every load computed directly).
+TABLE_MIN = 64
+#: The table is used where the loads are at least this many times its first level's nodes
+#: (:data:`PER_DECADE` per decade of the loads' range, at least ``4 ORDER``): at 2 times every
+#: load is computed directly anyway (the nodes would be more than half of a run's loads), at
+#: 3 (150 loads over 3 decades) ``gap_pdf`` took 0.55-0.80 of the direct path's time on the
+#: 24 scenes of ``benchmarks/summary.py`` and ``--held-out 2026``, every interpolated load
+#: within 0.47 of its estimate (``benchmarks/load_table_check.py --loads 150 --held-out
+#: 2026``). Up to 2026-11-30 the table started at 400 loads: 150-399 loads took 2.7-3x the
+#: time of 500 (``gap_pdf`` 18-24x the bare solve at 200-350 loads, against ~9x at 400).
+DENSITY = 3.0
 #: Node loads per decade of ``p0`` (the spacing of the table).
 PER_DECADE = 16
 #: Points of each interpolating polynomial (degree ``ORDER - 1``).
@@ -118,7 +130,11 @@ NOISE = 5e-6
 #: 1.04-1.08 times the roll-off). At 16 nodes per decade they cost up to 3e-4 beyond the
 #: smooth estimate (held-out seeds 37 and 38: 1.28 of the estimate with 1e-5 here); 1e-4,
 #: through the stencil (2.5e-4 centred), covers them (largest ratio 0.78 on 34 scenes).
-LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 1e-4, TABLE_MIN
+#: ``LEAK_MIN``: loads not sealed by both theories (the sealed ones cost nothing directly)
+#: from which the leak analysis is tabled: each direct call of the table costs ~2.5 ms, and
+#: with fewer open loads the table took up to 1.6x the direct path's time (design scenes at
+#: 150-1000 loads: 44-132 open loads 1.04-1.6x, 172 and more 0.27-0.87x).
+LEAK_TOL, LEAK_NOISE, LEAK_MIN = 2e-3, 1e-4, 160
 #: The leak analysis's stencils (points) and margin: its estimate is 4 times the error of the
 #: table at twice the spacing (``LEAK_SAFETY 2^-8``), not that error scaled down by ``2^-8``
 #: (the asymptotic rate, which the ripple and the kinks do not reach: with it the estimate fell
@@ -198,8 +214,13 @@ def by_load(
 
 def tabled(p0: NDArray[np.float64], least: int) -> bool:
     """Whether the loads ``p0`` [Pa] go through the table: at least ``least`` and
-    :data:`TABLE_MIN` of them, all finite and positive."""
-    return p0.size >= max(least, TABLE_MIN) and bool(np.all(np.isfinite(p0) & (p0 > 0.0)))
+    :data:`TABLE_MIN` of them, all finite and positive, and :data:`DENSITY` times the table's
+    first-level nodes over their range."""
+    n = p0.size
+    if n < max(least, TABLE_MIN) or not bool(np.all(np.isfinite(p0) & (p0 > 0.0))):
+        return False
+    decades = math.log10(float(p0.max()) / float(p0.min()))
+    return n >= DENSITY * (max(PER_DECADE * decades, 4 * ORDER) + 1)
 
 
 #: ``exact(rows, which)`` of :func:`_table`: the outputs of the loads ``rows``, ``which``

@@ -62,15 +62,16 @@ SHORT = 4 * max(LEAK_ORDERS)
 
 
 def first_level(
-    ctx: Any, ds: Any, a_c: float, sealed: NDArray[np.bool_]
+    ctx: Any, ds: Any, a_c: float, sealed: NDArray[np.bool_], least: int = LEAK_MIN
 ) -> tuple[float, NDArray[np.bool_], NDArray[np.bool_]]:
     """The leak table's first level for the loads of the solved Dataset ``ds`` (the analysis
     context ``ctx``: its boundary): its nodes per decade (:data:`PER_DECADE` on a spectrum
     with a breakpoint inside the curve) and the :func:`predicted` loads (the Dataset's order;
     from its stored contact area), near the junction's sealing and sealed by the junction
-    alone, from ``LEAK_MIN`` to :data:`FEW` loads; else ``LEAK_PER_DECADE`` and none."""
+    alone, from ``least`` (the table's minimum) to :data:`FEW` loads; else
+    ``LEAK_PER_DECADE`` and none."""
     n = int(np.size(sealed))
-    if not LEAK_MIN <= n <= FEW:
+    if not least <= n <= FEW:
         return LEAK_PER_DECADE, np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
     zeta = np.asarray(ds.variables["zeta"].values, dtype=float)  # (no DataArray)
     inside = bool(_interior_breaks(ctx, ds).size)
@@ -120,16 +121,19 @@ def predicted(
 KINK = 0.07
 
 
-def at_kinks(ctx: Any, ds: Any, direct: Any) -> tuple[Any, tuple[frozenset[str], ...]]:
+def at_kinks(
+    ctx: Any, ds: Any, direct: Any, least: int = LEAK_MIN
+) -> tuple[Any, tuple[frozenset[str], ...]]:
     """``direct`` (the leak outputs of rows of loads), with each load whose ``zeta_c`` lies
     within :data:`KINK` of a breakpoint of the spectrum inside the curve a ``piece`` of its
     own (computed directly: no stencil crosses or enters the window), and the table's groups
     (``LEAK_GROUPS``: the effective medium's stencils then cross the window), from
-    ``LEAK_MIN`` to :data:`FEW` loads on a spectrum with such a breakpoint; else ``direct``
+    ``least`` (the table's minimum) to :data:`FEW` loads on a spectrum with such a
+    breakpoint; else ``direct``
     itself and one group. (Without the window, the medium's stencils cut there had covered
     the junction's kink: with groups alone its estimate fell short, 1.2-1.7x.)"""
     p0 = np.atleast_1d(np.asarray(ctx.p0, dtype=float))
-    if not LEAK_MIN <= p0.size <= FEW:
+    if not least <= p0.size <= FEW:
         return direct, ()
     breaks = _interior_breaks(ctx, ds)
     if not breaks.size:

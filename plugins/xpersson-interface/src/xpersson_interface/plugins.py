@@ -47,6 +47,7 @@ from ._by_load import (
     TABLE_MIN,
     TOL,
     by_load,
+    tabled,
 )
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined, subset
 from ._first_level import at_kinks, first_level
@@ -348,7 +349,7 @@ class GapPDF(_Interface):
             "gap_mean for the distribution; against GFMD (xu2024-gfmd) gap_mean is closer for "
             "p0/E* >= 0.015 (+1 to +26 % vs -13 to -70 %)",
         ),
-        "gap_pdf_load_error": load_error(TOL, TABLE_MIN),
+        "gap_pdf_load_error": load_error(TOL, f"{TABLE_MIN} loads"),
     }  # fmt: skip
     provides = ("gap_pdf", "gap_contact_weight", "gap_mean", "gap_pdf_load_error")
     fast_paths = _REUSED
@@ -453,7 +454,7 @@ class Leakage(_Interface):
             ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)",
             extra=_FLAG,
         ),
-        "leak_load_error": load_error(LEAK_TOL, LEAK_MIN, "4 times"),
+        "leak_load_error": load_error(LEAK_TOL, f"{LEAK_MIN} loads not sealed", "4 times"),
     }  # fmt: skip
     provides = tuple(outputs)
     fast_paths = _REUSED
@@ -473,12 +474,14 @@ class Leakage(_Interface):
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
         sealed, free = sealed_plan(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
-        per_decade, near, shut = first_level(ctx, ds, float(p["a_c"]), sealed)
+        # tabled on the loads the direct path computes (those sealed by both cost nothing)
+        least = LEAK_MIN if tabled(ctx.p0[~sealed], LEAK_MIN) else ctx.p0.size + 1
+        per_decade, near, shut = first_level(ctx, ds, float(p["a_c"]), sealed, least)
         direct, groups = at_kinks(
-            ctx, ds, lambda r, w=None: with_sealed(self._direct, ctx, ds, r, sealed, w)
+            ctx, ds, lambda r, w=None: with_sealed(self._direct, ctx, ds, r, sealed, w), least
         )
         weights = table_weights(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
-        settings = (LEAK_NOISE, LEAK_MIN, LEAK_ORDERS, LEAK_SAFETY, per_decade, weights)
+        settings = (LEAK_NOISE, least, LEAK_ORDERS, LEAK_SAFETY, per_decade, weights)
         first = np.stack([free | near | shut, free | shut]) if groups else free | near | shut
         args = (ctx.p0, direct, LEAK_TOL, LEAK_KEYS, *settings, first)
         out, err = by_group(*args, groups) if groups else by_load(*args)
