@@ -38,11 +38,11 @@ def capture(spec: dict, n: int) -> dict:
     got: dict = {}
     by_load, by_group, first_level = plugins.by_load, plugins.by_group, plugins.first_level
 
-    def rec_first(ctx, ds, a_c, sealed):  # noqa: ANN001, ANN202
+    def rec_first(ctx, ds, a_c, sealed, *more):  # noqa: ANN001, ANN002, ANN202
         psd = spectrum_of(ds)
         got["breaks"] = np.asarray(psd.nodes(), dtype=float) / float(psd.q_L)
         got["z_max"] = float(ds["zeta"].values[-1])
-        return first_level(ctx, ds, a_c, sealed)
+        return first_level(ctx, ds, a_c, sealed, *more)
 
     def rec_by_load(p0, exact, tol, keys, *more, **kw):  # noqa: ANN001, ANN002, ANN003, ANN202
         noise, _least, orders, safety, _per_decade, w, _free = more[:7]

@@ -10,7 +10,6 @@ from hypothesis import strategies as st
 from interface_testlib import scene
 
 import xpersson
-import xpersson_interface.plugins as plugins_mod
 from xpersson_interface import _by_load as by_load_mod
 from xpersson_interface import _first_level as first_mod
 from xpersson_interface import _stencils as stencils_mod
@@ -265,7 +264,7 @@ def test_keys_are_taken_from_agreeing_stencils_and_stencils_stay_in_their_segmen
 def leaks():
     """leakage at 600 loads (the table from 100 on; its first level holds 32 loads per decade
     of the 3.5 decades), through the table and directly."""
-    return _both("leakage", 600, {(by_load_mod, "TABLE_MIN"): 100, (plugins_mod, "LEAK_MIN"): 100})
+    return _both("leakage", 600, {(by_load_mod, "TABLE_MIN"): 100, (first_mod, "LEAK_MIN"): 100})
 
 
 def test_leakage_within_its_stated_error_of_the_direct_path(leaks):
@@ -336,7 +335,7 @@ def test_leakage_table_within_its_estimate_on_drawn_scenes(seed):
     mp = pytest.MonkeyPatch()
     try:
         mp.setattr(by_load_mod, "TABLE_MIN", 60)
-        mp.setattr(plugins_mod, "LEAK_MIN", 60)
+        mp.setattr(first_mod, "LEAK_MIN", 60)
         mp.setattr(first_mod, "LEAK_PER_DECADE", 8)  # the table's regime at 60 loads
         mp.setattr(by_load_mod, "DENSITY", 1.0)  # (its nodes: 8 per decade, not 16)
         mp.setattr(first_mod, "FEW", 0)  # the plain table (no predicted first level, no kinks)

@@ -12,7 +12,6 @@ from interface_testlib import scene
 from test_by_load import _KINKED, Direct, _relative
 
 import xpersson
-import xpersson_interface.plugins as plugins_mod
 from xpersson_interface import _by_load as by_load_mod
 from xpersson_interface import _first_level as first_mod
 from xpersson_interface._by_load import LEAK_TOL, by_load
@@ -102,7 +101,7 @@ def calls():
     mp = pytest.MonkeyPatch()
     try:
         mp.setattr(by_load_mod, "TABLE_MIN", 100)
-        mp.setattr(plugins_mod, "LEAK_MIN", 100)
+        mp.setattr(first_mod, "LEAK_MIN", 100)
         mp.setattr(by_load_mod._Direct, "run", recording)
         ds = xpersson.solve(sc)
     finally:

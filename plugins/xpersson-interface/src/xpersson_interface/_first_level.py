@@ -30,10 +30,20 @@ from xpersson import physics
 from xpersson.plugins.solved import per_solve
 from xpersson.plugins.stored import spectrum_of
 
-from ._by_load import LEAK_GROUPS, LEAK_MIN, LEAK_ORDERS, LEAK_PER_DECADE
+from ._by_load import LEAK_GROUPS, LEAK_MIN, LEAK_ORDERS, LEAK_PER_DECADE, tabled
 from ._leakage import NEAR_SEALING, _contact_area
 
-__all__ = ["FEW", "KINK", "MARGIN", "PER_DECADE", "SHORT", "at_kinks", "first_level", "predicted"]
+__all__ = [
+    "FEW",
+    "KINK",
+    "MARGIN",
+    "PER_DECADE",
+    "SHORT",
+    "at_kinks",
+    "first_level",
+    "predicted",
+    "table_min",
+]
 
 #: Up to this many loads the first level is :data:`PER_DECADE` nodes per decade and holds the
 #: :func:`predicted` loads. Measured (``benchmarks/leakage_loads.py``, the four worst scenes):
@@ -59,6 +69,15 @@ MARGIN = 0.1
 #: Loads sealed by the junction alone (the medium open) fewer than this: too few to table (a
 #: segment of the table needs twice its ``2 m`` check nodes), each computed directly.
 SHORT = 4 * max(LEAK_ORDERS)
+
+
+def table_min(p0: NDArray[np.float64], sealed: NDArray[np.bool_]) -> int:
+    """The leak table's minimum number of loads for the loads ``p0`` [Pa]: ``LEAK_MIN``
+    where the loads not ``sealed`` by both theories (the direct path computes those only: the
+    sealed cost nothing) go through the table (:func:`._by_load.tabled`); else one more than
+    the loads (every load computed directly)."""
+    p0 = np.atleast_1d(np.asarray(p0, dtype=float))
+    return LEAK_MIN if tabled(p0[~np.asarray(sealed, dtype=bool)], LEAK_MIN) else p0.size + 1
 
 
 def first_level(

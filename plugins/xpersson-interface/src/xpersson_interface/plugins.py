@@ -47,10 +47,9 @@ from ._by_load import (
     TABLE_MIN,
     TOL,
     by_load,
-    tabled,
 )
 from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined, subset
-from ._first_level import at_kinks, first_level
+from ._first_level import at_kinks, first_level, table_min
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leak_direct import outputs
 from ._leakage import (
@@ -451,8 +450,7 @@ class Leakage(_Interface):
             description=_EMT_ERROR,
         ),
         "leak_sealed_emt": VarSpec(
-            ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)",
-            extra=_FLAG,
+            ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)", extra=_FLAG,
         ),
         "leak_load_error": load_error(LEAK_TOL, f"{LEAK_MIN} loads not sealed", "4 times"),
     }  # fmt: skip
@@ -474,8 +472,7 @@ class Leakage(_Interface):
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         p = self.params
         sealed, free = sealed_plan(ds, ctx.boundary, ctx.p0, float(p["a_c"]), p["emt_threshold"])
-        # tabled on the loads the direct path computes (those sealed by both cost nothing)
-        least = LEAK_MIN if tabled(ctx.p0[~sealed], LEAK_MIN) else ctx.p0.size + 1
+        least = table_min(ctx.p0, sealed)
         per_decade, near, shut = first_level(ctx, ds, float(p["a_c"]), sealed, least)
         direct, groups = at_kinks(
             ctx, ds, lambda r, w=None: with_sealed(self._direct, ctx, ds, r, sealed, w), least
