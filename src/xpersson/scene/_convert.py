@@ -16,6 +16,7 @@ from ._core import CORE, MAX_POINTS
 
 __all__ = [
     "RANGE_KEYS",
+    "archived_section",
     "convert_param",
     "convert_params",
     "is_sweep_value",
@@ -337,3 +338,22 @@ def jsonable(
         else:
             out[k] = v
     return out
+
+
+def archived_section(
+    name: str, inst: Any, params: Mapping[str, Any], own: bool = True
+) -> dict[str, Any]:
+    """The scene section of the plugin ``inst`` (named ``name``; its converted ``params``) as
+    the archive records it: where a ``kind="path"`` parameter names a file and the plugin has
+    ``archived_params()`` (``own``; a spectrum's, ``archived_params(psd)``, is applied with
+    its grid), the parameters that method gives (the file's table inline: no machine-specific
+    path goes into an archive, and the archive rebuilds the plugin without the file)."""
+    specs = type(inst).parameters
+    archived = getattr(inst, "archived_params", None)
+    if (
+        own
+        and callable(archived)
+        and any(spec.kind == "path" and params.get(k) is not None for k, spec in specs.items())
+    ):
+        params = archived()
+    return {"model": name, **jsonable(params, specs)}

@@ -20,6 +20,7 @@ from ..checks import calling, check_spectrum, plugin_label
 from ..errors import SceneError
 from ..plugins import ParamSpec, Plugin, PluginError, Registry
 from ._convert import (
+    archived_section,
     convert_param,
     convert_params,
     jsonable,
@@ -104,9 +105,7 @@ def plugin_message(section: str, cls: Any, exc: BaseException) -> str:
     """``"section.param: ..."`` when a plugin's message starts with one of its parameters."""
     msg = str(exc)
     head = re.split(r"[\s:=]", msg, maxsplit=1)[0]
-    if head in getattr(cls, "parameters", {}):
-        return f"{section}.{msg}"
-    return f"{section}: {msg}"
+    return f"{section}.{msg}" if head in getattr(cls, "parameters", {}) else f"{section}: {msg}"
 
 
 def _absolute_paths(
@@ -353,7 +352,7 @@ def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
         base = Path(scene.source).parent if scene.source else None
         inst, name, params = _plugin(section, data.get(section), registry, base)
         plugins[section], names[section] = inst, name
-        resolved[section] = {"model": name, **jsonable(params, type(inst).parameters)}
+        resolved[section] = archived_section(name, inst, params, section != "spectrum")
     if body is not None:
         check_plugins(plugins, body.name)
     if not getattr(type(plugins["boundary"]), "tensile_loads", False) and np.any(p0 <= 0):

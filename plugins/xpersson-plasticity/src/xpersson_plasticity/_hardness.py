@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
-__all__ = ["HardnessLaw", "PowerLaw", "TabulatedLaw", "load_table"]
+__all__ = ["HardnessLaw", "PowerLaw", "TabulatedLaw", "load_table", "table_law"]
 
 
 class HardnessLaw:
@@ -147,17 +147,23 @@ def load_table(path: str | Path, unit: str = "Pa") -> TabulatedLaw:
     if len(rows) < 2:
         raise ValueError(f"boundary.table {str(p)!r}: needs at least two rows 'zeta Y'")
     arr = np.asarray(rows)
-    zeta, Y = arr[:, 0], arr[:, 1] * factor
-    if not (np.all(np.isfinite(arr)) and np.all(zeta > 0) and np.all(Y > 0)):
-        raise ValueError(
-            f"boundary.table {str(p)!r}: zeta [1] and Y [{unit}] must be finite and > 0"
-        )
+    return table_law(arr[:, 0], arr[:, 1] * factor, f"boundary.table {str(p)!r}", unit)
+
+
+def table_law(zeta: np.ndarray, Y: np.ndarray, where: str, unit: str = "Pa") -> TabulatedLaw:
+    """The hardness law of the table ``zeta`` [1], ``Y`` [Pa], checked (``where`` names it in
+    the messages; ``unit``: the unit its ``Y`` was given in)."""
+    zeta, Y = np.atleast_1d(np.asarray(zeta, float)), np.atleast_1d(np.asarray(Y, float))
+    if not (zeta.ndim == 1 and zeta.shape == Y.shape and zeta.size >= 2):
+        raise ValueError(f"{where}: needs at least two rows 'zeta Y' of the same length")
+    if not (np.all(np.isfinite(zeta + Y)) and np.all(zeta > 0) and np.all(Y > 0)):
+        raise ValueError(f"{where}: zeta [1] and Y [{unit}] must be finite and > 0")
     if np.any(np.diff(zeta) <= 0):
-        raise ValueError(f"boundary.table {str(p)!r}: zeta must be strictly increasing")
+        raise ValueError(f"{where}: zeta must be strictly increasing")
     if np.any(np.diff(Y) < 0):
         i = int(np.argmax(np.diff(Y) < 0))
         raise ValueError(
-            f"boundary.table {str(p)!r}: the hardness Y [{unit}] must be non-decreasing in zeta "
+            f"{where}: the hardness Y [{unit}] must be non-decreasing in zeta "
             f"(force conservation needs dY/dzeta >= 0); it decreases between zeta = "
             f"{zeta[i]:g} and {zeta[i + 1]:g}"
         )

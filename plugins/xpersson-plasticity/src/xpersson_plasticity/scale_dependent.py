@@ -21,7 +21,7 @@ import numpy as np
 
 from xpersson.plugins import Boundary, FastPaths, ParamSpec
 
-from ._hardness import HardnessLaw, PowerLaw, load_table
+from ._hardness import HardnessLaw, PowerLaw, load_table, table_law
 from ._outputs import AREA_OUTPUTS, assemble, stack
 from .plastic import check_below_hardness
 
@@ -153,6 +153,12 @@ class ScaleDependentPlasticBoundary(Boundary):
             default="Pa",
             description="pressure unit of the Y column of table (e.g. 'GPa')",
         ),
+        "table_zeta": ParamSpec(
+            unit="1", default=None, array=True, description="the table inline: zeta (with table_Y)"
+        ),
+        "table_Y": ParamSpec(
+            unit="Pa", default=None, array=True, description="the table inline: Y (with table_zeta)"
+        ),
     }
     outputs = dict(AREA_OUTPUTS)
     # declarations read by analyses (xpersson.plugins.Boundary)
@@ -166,6 +172,11 @@ class ScaleDependentPlasticBoundary(Boundary):
     def __init__(self, **params: Any) -> None:
         super().__init__(**params)
         y1, n, table = self._params["Y1"], self._params["n"], self._params["table"]
+        inline = self._inline()
+        if inline is not None:
+            if table is not None:
+                raise ValueError("boundary: give either table or table_zeta/table_Y, not both")
+            table = "table_zeta"
         if table is not None and y1 is not None:
             raise ValueError("boundary: give either Y1 [Pa] (with n) or table, not both")
         if table is None:
@@ -196,7 +207,27 @@ class ScaleDependentPlasticBoundary(Boundary):
             self._params["Y1"], self._params["n"] = float(y1), float(n)
             self._law: HardnessLaw = PowerLaw(float(y1), float(n))
         else:
-            self._law = load_table(table, str(self._params["table_unit"]))
+            self._law = (
+                inline if inline is not None else load_table(table, str(self._params["table_unit"]))
+            )
+
+    def _inline(self) -> HardnessLaw | None:
+        """The table given inline (``table_zeta``, ``table_Y`` [Pa]), checked; or None."""
+        zeta, Y = self._params["table_zeta"], self._params["table_Y"]
+        if zeta is None and Y is None:
+            return None
+        if zeta is None or Y is None:
+            raise ValueError("boundary.table_zeta and table_Y [Pa] must be given together")
+        return table_law(zeta, Y, "boundary.table_zeta/table_Y")
+
+    def archived_params(self) -> dict[str, Any]:
+        """The parameters with a table read from its file given inline (the archive's scene:
+        no file path in it; the archive rebuilds this boundary bit for bit)."""
+        out = dict(self._params)
+        if out["table"] is not None:
+            out["table_zeta"], out["table_Y"] = self._law.zeta, self._law.values
+            out["table"], out["table_unit"] = None, "Pa"
+        return out
 
     def __getstate__(self) -> dict[str, Any]:
         return dict(self.__dict__)
@@ -208,7 +239,7 @@ class ScaleDependentPlasticBoundary(Boundary):
 
     def validate(self, ctx: SceneContext) -> None:
         """Refuse Y(1) <= max p0 and tables that do not cover the output magnifications."""
-        name = "Y1" if self._params["table"] is None else "table"
+        name = "Y1" if self._params["Y1"] is not None else "table"
         y_start = float(self._law.Y(np.asarray(1.0)))
         check_below_hardness(name, y_start, ctx.p0, "hardness at zeta = 1")
         self._law.check_range(float(np.max(ctx.zeta)))

@@ -9,6 +9,7 @@ import numpy as np
 
 from xpersson.cache import memoize
 
+from ._inline import inline_curve, inline_shift
 from ._modulus import ModulusModel, Prony, sls, synthetic_tread
 from ._shift import WLF, Arrhenius, NoShift, ShiftLaw
 from ._tables import load_master_curve, load_prony, load_shift_table
@@ -26,8 +27,14 @@ def build_model(p: dict[str, Any]) -> ModulusModel:
             )
         return sls(p["E_r"], p["E_g"], p["relaxation_time"])
     if kind == "master_curve":
+        curve = inline_curve(p)
+        if curve is not None:
+            return curve
         if p["master_curve"] is None:
-            raise ValueError("master_curve: required for modulus = 'master_curve' (a file path)")
+            raise ValueError(
+                "master_curve: required for modulus = 'master_curve' (a file path; or "
+                "master_omega, master_E_storage, master_E_loss)"
+            )
         return load_master_curve(p["master_curve"], phi_nodes=int(p["phi_nodes"]))
     inline = p["delta_E"] is not None or p["relaxation_times"] is not None
     if inline and p["prony_file"] is not None:
@@ -71,7 +78,12 @@ def build_shift(p: dict[str, Any]) -> ShiftLaw:
             raise ValueError("activation_energy: required for shift = 'arrhenius' (J/mol, >= 0)")
         return Arrhenius(float(p["activation_energy"]), float(p["T_ref"]))
     if kind == "table":
+        table = inline_shift(p)
+        if table is not None:
+            return table
         if p["shift_table"] is None:
-            raise ValueError("shift_table: required for shift = 'table' (a file path)")
+            raise ValueError(
+                "shift_table: required for shift = 'table' (a file path; or shift_T, shift_a_T)"
+            )
         return load_shift_table(p["shift_table"])
     return NoShift()

@@ -20,6 +20,7 @@ from xpersson.plugins import CLOSURE_PARAMETERS, Coefficient, FastPaths, ParamSp
 
 from . import _graded, kernel
 from ._build import build_model, build_shift
+from ._inline import INLINE_TABLES, archived
 from ._modulus import ModulusModel, Prony
 from ._outputs import check_outputs
 from ._paired import block_nodes, dense_block, shared_block
@@ -86,10 +87,11 @@ class ViscoelasticCoefficient(Coefficient):
     Modulus models (``modulus``): ``sls`` (``E_r``, ``E_g``, ``relaxation_time``), ``prony``
     (``E_r`` plus modes ``delta_E``/``relaxation_times`` inline or ``prony_file``; without modes
     the synthetic tread-like default of physics.md §4.3 between ``E_r`` and ``E_g``),
-    ``master_curve`` (``master_curve`` file). Shift (``shift``): ``none``, ``wlf`` (``C1``,
-    ``C2``, ``T_ref``), ``arrhenius`` (``activation_energy``, ``T_ref``), ``table``
-    (``shift_table`` file). ``material.nu`` is used; the moduli come from the model (the core's
-    ``material.E`` is not used by this coefficient).
+    ``master_curve`` (``master_curve`` file, or ``master_omega``/``master_E_storage``/
+    ``master_E_loss`` inline). Shift (``shift``): ``none``, ``wlf`` (``C1``, ``C2``,
+    ``T_ref``), ``arrhenius`` (``activation_energy``, ``T_ref``), ``table`` (``shift_table``
+    file, or ``shift_T``/``shift_a_T`` inline). ``material.nu`` is used; the moduli come
+    from the model (the core's ``material.E`` is not used by this coefficient).
     """
 
     summary = "viscoelastic sliding contact: f(zeta; v, T) from E(omega) (Persson 2001)"
@@ -227,6 +229,7 @@ class ViscoelasticCoefficient(Coefficient):
             inclusive=(False, True),
             description="rubber thermal diffusivity (flash)",
         ),
+        **INLINE_TABLES,  # a master curve's and a shift table's rows instead of their files
         **CLOSURE_PARAMETERS,  # closure, gamma: the core's one declaration
     }
     outputs: ClassVar = OUTPUTS
@@ -251,6 +254,11 @@ class ViscoelasticCoefficient(Coefficient):
                 f"temperature: {self._params['temperature']:g} K gives a shift factor a_T = "
                 f"{self._aT:g} outside (0, inf); choose a temperature closer to T_ref"
             )
+
+    def archived_params(self) -> dict[str, Any]:
+        """The parameters with each table read from a file given inline (the archive's scene:
+        no file path in it; the archive rebuilds this coefficient bit for bit)."""
+        return archived(self._params, self._model, self._shift)
 
     # -- the model -------------------------------------------------------------------------
     @property
