@@ -124,6 +124,7 @@ class NotQuiteSimilar(ContactArea):
         return {**out, "mean_contact_pressure": (dims, mean_p * (1 + 1e-9 * ctx.E_star / 1e7))}
 
 
+@pytest.mark.fast_paths
 @pytest.mark.parametrize(
     ("cls", "path", "variable"),
     [
@@ -227,6 +228,7 @@ def test_the_declaration_is_not_inherited():
     )
 
 
+@pytest.mark.fast_paths
 def test_shared_tau_follows_the_instance_parameters():
     from xpersson.pipeline.stages import shared_tau
 
@@ -236,6 +238,7 @@ def test_shared_tau_follows_the_instance_parameters():
         assert not shared_tau(ElasticCoefficient())
 
 
+@pytest.mark.fast_paths
 def test_plain_paths_nests_and_restores_on_error():
     assert fast_paths_on()
     with pytest.raises(RuntimeError), plain_paths():

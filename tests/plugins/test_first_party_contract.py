@@ -63,6 +63,7 @@ def test_every_first_party_distribution_is_found():
     assert len(PLUGINS) >= 12
 
 
+@pytest.mark.fast_paths
 @pytest.mark.parametrize(("group", "name"), PLUGINS, ids=[f"{g}:{n}" for g, n in PLUGINS])
 def test_check_plugin(group, name, tmp_path):
     cls = get_registry().load(group, name)

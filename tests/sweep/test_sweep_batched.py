@@ -29,6 +29,7 @@ def _both(data, monkeypatch, **kw):
     return point, xpersson.solve(data, **kw)
 
 
+@pytest.mark.fast_paths
 @pytest.mark.parametrize("chunk", [None, 5])
 def test_batched_material_sweep_equals_point_by_point(monkeypatch, chunk):
     from xpersson.sweep import blocks
@@ -124,6 +125,7 @@ def test_batched_result_does_not_depend_on_the_blocks():
         xr.testing.assert_identical(whole.drop_attrs(), cut.drop_attrs())
 
 
+@pytest.mark.fast_paths
 @pytest.mark.parametrize("outer", ["material", "spectrum"])
 @pytest.mark.parametrize("loads", ["3e4 Pa", ["1e4 Pa", "3e4 Pa", "1e5 Pa"]])
 def test_rows_written_into_the_sweep_arrays_equal_copied_rows(monkeypatch, outer, loads):

@@ -14,6 +14,7 @@ from xpersson.pipeline import stacked
 SPECTRUM_SCENE = scene(spectrum={"H": [0.6, 0.75, 0.9]}, analyses={"contact_area": {}})
 
 
+@pytest.mark.fast_paths
 @pytest.mark.parametrize("enabled", [True, False])
 def test_stacked_block_runs_with_the_collector_as_set(monkeypatch, enabled):
     seen = []

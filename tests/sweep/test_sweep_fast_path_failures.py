@@ -68,6 +68,7 @@ def _plain(data: dict[str, Any], **kw: Any) -> Any:
         return _solve(data, **kw)
 
 
+@pytest.mark.fast_paths
 @pytest.mark.parametrize("scheduler", [None, "threads"])
 def test_a_raising_stacked_path_is_reported_with_the_plain_values(scheduler, tmp_path):
     data = scene(coefficient={"model": "broken_stacked", "fragile": [0.1, 0.2, 0.3]})
@@ -84,6 +85,7 @@ def test_a_raising_stacked_path_is_reported_with_the_plain_values(scheduler, tmp
         assert ATTR not in plain.attrs  # the plain path has no fast path to fail
 
 
+@pytest.mark.fast_paths
 def test_the_failure_is_kept_in_the_part_of_a_resumed_run(tmp_path):
     data = scene(coefficient={"model": "broken_stacked", "fragile": [0.1, 0.2]})
     with pytest.warns(xpersson.XperssonWarning, match="fast path"):
@@ -92,6 +94,7 @@ def test_the_failure_is_kept_in_the_part_of_a_resumed_run(tmp_path):
     assert again.attrs[ATTR] == first.attrs[ATTR]
 
 
+@pytest.mark.fast_paths
 def test_a_raising_batch_of_equivalent_loads_is_reported():
     data = scene(
         coefficient={"model": "fragile", "fragile": -1.0},

@@ -81,6 +81,7 @@ def test_run_here_uses_threads_only_for_a_long_enough_memory_bound_study(client)
     assert schedule.run_here("tcp://10.0.0.9:8786", 2 * least, bound) == (None, 1)
 
 
+@pytest.mark.fast_paths
 def test_a_memory_bound_study_given_local_workers_runs_on_threads_here(client, monkeypatch):
     """Through the rule (the small study made memory-bound here): solved on 2 threads of this
     process, its batched rows written in place into the sweep's arrays from those threads,

@@ -32,6 +32,7 @@ def _equal_to_rounding(fast, plain):
             np.testing.assert_array_equal(got.values, var.values)
 
 
+@pytest.mark.fast_paths
 @pytest.mark.parametrize("chunk", [None, 4])
 def test_several_loads_per_point_batched_equal_point_by_point(monkeypatch, chunk):
     """Every block takes the batched path (the point-by-point ``run`` is never called) and
@@ -50,6 +51,7 @@ def test_several_loads_per_point_batched_equal_point_by_point(monkeypatch, chunk
     _equal_to_rounding(fast, plain)
 
 
+@pytest.mark.fast_paths
 def test_shared_equivalent_loads_are_solved_once(monkeypatch):
     """Log-spaced E and p0 with one ratio: p0_j E*_ref / E*_k repeat; each distinct load is
     solved once and every point gets its own back."""
@@ -73,6 +75,7 @@ def test_shared_equivalent_loads_are_solved_once(monkeypatch):
     _equal_to_rounding(fast, plain)
 
 
+@pytest.mark.fast_paths
 def test_estar_of_a_block_equals_the_points_own():
     """E* of every point of a block by array operations: the float E / (1 - nu^2) of each."""
     from xpersson.pipeline import as_scene

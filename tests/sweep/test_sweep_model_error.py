@@ -48,6 +48,7 @@ def swept(path, analyses=None, **kw):
     return xpersson.solve(data, **kw)
 
 
+@pytest.mark.fast_paths
 @pytest.mark.parametrize(
     ("path", "analyses"),
     [
@@ -86,6 +87,7 @@ def test_sweep_ancillary_variables_equal_each_points_own_solve(path, analyses, m
     assert statuses == {(0, 0, 0), (1, 1, 0)}  # H = 0.2 never, H = 0.8 at the light loads
 
 
+@pytest.mark.fast_paths
 def test_stacked_sweep_equals_the_plain_one(monkeypatch):
     """A sweep over H alone runs stacked (one run for the block's points)."""
     from xpersson.pipeline import stacked

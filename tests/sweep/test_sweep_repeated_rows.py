@@ -65,6 +65,7 @@ def test_reduced_repeated_row_equals_the_reduction_of_its_values():
     assert a["v"].values.tobytes() == b["v"].values.tobytes() and a["v"].values.flags.writeable
 
 
+@pytest.mark.fast_paths
 def test_batched_sweep_keeps_the_exact_balances_as_one_row(monkeypatch):
     """An E x H sweep of one load (closed-form): its balances are exact zeros at every point;
     the fill never writes their rows out, and the result equals the threads' copied blocks."""

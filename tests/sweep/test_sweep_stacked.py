@@ -68,6 +68,7 @@ def _assert_equal(point, batch):
     }
 
 
+@pytest.mark.fast_paths
 @pytest.mark.parametrize("chunk", [None, 4])
 def test_spectrum_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
     calls = _counted(monkeypatch)
@@ -77,6 +78,7 @@ def test_spectrum_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
     assert batch.psd_C.dims[:2] == ("H", "spectrum_h_rms")  # the spectrum per point
 
 
+@pytest.mark.fast_paths
 def test_h_by_e_sweep_stacks_the_spectra_of_the_equivalent_loads(monkeypatch):
     calls = _counted(monkeypatch)
     point, batch = _both(H_E_SCENE, monkeypatch, chunk=6)
@@ -90,6 +92,7 @@ class _Undeclared(ElasticBoundary):
     summary = "elastic wall, fast paths not declared (test double)"
 
 
+@pytest.mark.fast_paths
 def test_undeclared_plugin_is_not_stacked(monkeypatch):
     calls = _counted(monkeypatch)
     data = scene(spectrum={"H": [0.6, 0.8]}, boundary={"model": "undeclared"})

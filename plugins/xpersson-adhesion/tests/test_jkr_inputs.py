@@ -110,6 +110,7 @@ def test_tabor_warning_when_the_limit_is_contradicted(solve):
     assert np.median(ds["tabor_parameter"].values) > 1
 
 
+@pytest.mark.fast_paths
 def test_check_plugin_contract():
     from xpersson.testing import check_plugin
 

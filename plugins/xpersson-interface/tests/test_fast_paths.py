@@ -203,6 +203,7 @@ def test_full_contact_nodes_are_dropped_without_changing_results(monkeypatch):
         np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-14 * np.nanmax(np.abs(b)))
 
 
+@pytest.mark.fast_paths
 def test_dense_resolve_of_a_shared_tau_is_the_plain_paths(monkeypatch):
     """``ctx.solve_at`` of a coefficient whose effective tau is tau(zeta) asks tau once and
     hands it to the engine 1-D (broadcast over the loads): the same bits as the plain path,

@@ -40,6 +40,7 @@ def test_derived_points_equal_resolved_points():
         np.testing.assert_array_equal(rs.zeta, ref.zeta)
 
 
+@pytest.mark.fast_paths
 def test_only_declared_parameters_are_derived(monkeypatch):
     plan = _plan(velocity=["1e-4 m/s", "0.03 m/s"])
     reg = get_registry()

@@ -58,6 +58,7 @@ def test_speed_sweep_archive(tmp_path):
         np.testing.assert_array_equal(out[name].values, ref[name].values, err_msg=name)
 
 
+@pytest.mark.fast_paths
 def test_speed_temperature_sweep_as_the_sweep_runs_it(tmp_path):
     """v x T: the sweep's stacked block (its graded nodes in one engine call) bit for bit, and
     under ``plain_paths()`` the sweep's point-by-point path bit for bit."""

@@ -34,6 +34,7 @@ def test_paired_integrals_equal_the_per_point_kernel():
             np.testing.assert_allclose(got[k, : z.size], ref, rtol=1e-14, atol=0)
 
 
+@pytest.mark.fast_paths
 @pytest.mark.parametrize("chunk", [None, 3])
 def test_friction_sweep_stacked_equals_point_by_point(monkeypatch, chunk):
     kw = {

@@ -4,6 +4,7 @@ point-by-point path (each point's q panels split where q v a_T crosses a table f
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from visco_testlib import scene
 
 import xpersson
@@ -14,6 +15,7 @@ FRICTION = {"friction": {"tau_f": "0.5 MPa", "shear_law": "velocity"}}
 WLF = {"shift": "wlf", "T_ref": "293.15 K", "C1": 7.84, "C2": "114.75 K"}
 
 
+@pytest.mark.fast_paths
 def test_master_curve_sweep_stacked_equals_point_by_point(tmp_path, monkeypatch):
     w = np.geomspace(1e-2, 1e10, 60)
     E = 3e6 + 3e9 * (1j * w * 1e-4) / (1 + 1j * w * 1e-4)  # a sampled SLS

@@ -15,6 +15,10 @@ fixtures available in every test-suite (no ``conftest.py`` needed). Fixtures:
 ``xpersson_oracles``
     The closed forms (:func:`~xpersson.testing.oracles`).
 
+Marker ``fast_paths``: the test checks a declared fast path (that it is taken, or what it
+gives); skipped where fast paths are off (``XPERSSON_FAST_PATHS=off``: every solve takes the
+plain path, which the rest of the suite then checks).
+
 Importing this module imports neither numpy nor the core pipeline.
 """
 
@@ -78,3 +82,22 @@ def xpersson_registry() -> Iterator[Callable[..., Registry]]:
             return stack.enter_context(registry_with(autoload, **groups))
 
         yield inject
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Register the ``fast_paths`` marker."""
+    config.addinivalue_line(
+        "markers", "fast_paths: checks a declared fast path (skipped with XPERSSON_FAST_PATHS=off)"
+    )
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Skip the ``fast_paths`` tests where fast paths are off."""
+    from ..options import fast_paths_enabled
+
+    if fast_paths_enabled():
+        return
+    skip = pytest.mark.skip(reason="XPERSSON_FAST_PATHS=off: every solve takes the plain path")
+    for item in items:
+        if item.get_closest_marker("fast_paths") is not None:
+            item.add_marker(skip)
