@@ -106,18 +106,19 @@ LEAKAGE_PARAMS: dict[str, ParamSpec] = {
 }  # fmt: skip
 
 
-def load_error(tol: float, least: str, margin: str = "1/16 of") -> VarSpec:
+def load_error(tol: float, least: int, margin: str = "1/16 of", counted: str = "") -> VarSpec:
     """The estimated error of the loads an analysis interpolates in the load
-    (:mod:`._by_load`) from ``least`` (e.g. ``"64 loads"``) on, at most ``tol``; ``margin``:
-    how the estimate scales the error of the nodes at twice the spacing."""
+    (:mod:`._by_load`) from ``least`` loads on (``counted``: which, e.g. those not sealed), at
+    most ``tol``; ``margin``: how the estimate scales the error of the nodes at twice the
+    spacing."""
     return VarSpec(
         ("p0",),
         "1",
         "estimated relative error of the load's outputs interpolated in the load",
         valid_min=0.0,
         valid_max=tol,
-        description=f"from {least} on, where the loads are at least 3 times as many as the "
-        "nodes, the analysis's outputs are computed directly "
+        description=f"where the loads{counted} number {least} or more and at least 3 times "
+        "the table's nodes, the analysis's outputs are computed directly "
         "at node loads 1/16 decade apart (denser where needed) and interpolated in ln p0 "
         f"between them (8-point Lagrange of the logarithm): {margin} the error the nodes at "
         "twice the spacing make, relative to the load's value (a row: its largest; at least "

@@ -348,7 +348,7 @@ class GapPDF(_Interface):
             "gap_mean for the distribution; against GFMD (xu2024-gfmd) gap_mean is closer for "
             "p0/E* >= 0.015 (+1 to +26 % vs -13 to -70 %)",
         ),
-        "gap_pdf_load_error": load_error(TOL, f"{TABLE_MIN} loads"),
+        "gap_pdf_load_error": load_error(TOL, TABLE_MIN),
     }  # fmt: skip
     provides = ("gap_pdf", "gap_contact_weight", "gap_mean", "gap_pdf_load_error")
     fast_paths = _REUSED
@@ -452,7 +452,7 @@ class Leakage(_Interface):
         "leak_sealed_emt": VarSpec(
             ("p0",), "1", "sealed flag, effective medium (sigma_eff = 0)", extra=_FLAG,
         ),
-        "leak_load_error": load_error(LEAK_TOL, f"{LEAK_MIN} loads not sealed", "4 times"),
+        "leak_load_error": load_error(LEAK_TOL, LEAK_MIN, "4 times", " not sealed by both"),
     }  # fmt: skip
     provides = tuple(outputs)
     fast_paths = _REUSED
