@@ -173,13 +173,12 @@ class ScaleDependentPlasticBoundary(Boundary):
         super().__init__(**params)
         y1, n, table = self._params["Y1"], self._params["n"], self._params["table"]
         inline = self._inline()
-        if inline is not None:
-            if table is not None:
-                raise ValueError("boundary: give either table or table_zeta/table_Y, not both")
-            table = "table_zeta"
-        if table is not None and y1 is not None:
+        if inline is not None and table is not None:
+            raise ValueError("boundary: give either table or table_zeta/table_Y, not both")
+        tabulated = table is not None or inline is not None
+        if tabulated and y1 is not None:
             raise ValueError("boundary: give either Y1 [Pa] (with n) or table, not both")
-        if table is None:
+        if not tabulated:
             if y1 is None:
                 raise ValueError(
                     "boundary.Y1 [Pa] is required (hardness at zeta = 1 of Y1 zeta**n, "
@@ -206,10 +205,10 @@ class ScaleDependentPlasticBoundary(Boundary):
                     )
             self._params["Y1"], self._params["n"] = float(y1), float(n)
             self._law: HardnessLaw = PowerLaw(float(y1), float(n))
+        elif inline is not None:
+            self._law = inline
         else:
-            self._law = (
-                inline if inline is not None else load_table(table, str(self._params["table_unit"]))
-            )
+            self._law = load_table(table, str(self._params["table_unit"]))
 
     def _inline(self) -> HardnessLaw | None:
         """The table given inline (``table_zeta``, ``table_Y`` [Pa]), checked; or None."""
