@@ -168,13 +168,19 @@ class Cache:
 
     def peek(self, key: Any) -> Any:
         """The value kept for ``key``, or ``None`` (nothing computed; nothing kept with the
-        caches off or, for scope ``"solve"``, outside a solve)."""
+        caches off or, for scope ``"solve"``, outside a solve). A value found counts as a hit
+        of :meth:`get` (the most recently used)."""
         table = self._table()
         if table is None:
             return None
         k = content_key(key)
         with self._lock:
-            return table.get(k)
+            found = table.get(k, _MISSING)
+            if found is _MISSING:
+                return None
+            table.move_to_end(k)
+            self.hits += 1
+            return found
 
     def clear(self) -> None:
         """Drop every kept value (of the current solve too, for scope ``"solve"``)."""

@@ -167,6 +167,8 @@ def add_outputs(
 ) -> None:
     """Check a plugin's contribution against its VarSpecs (see :mod:`xpersson.checks`), then
     add it."""
+    if type(values) is dict and not values:  # nothing to check or add (e.g. elastic's)
+        return
     checked = checks.check_contributions(ds, values, specs, who)
     if not checked:
         return
