@@ -57,6 +57,7 @@ __all__ = [
     "clear_caches",
     "content_key",
     "dataclass_key",
+    "made_key",
     "digest",
     "freeze",
     "memoize",
@@ -348,7 +349,22 @@ def _item_key(item: Any) -> Hashable:
     return content_key(item)
 
 
-_SELF = frozenset({str, bytes, int, bool, type(None)})
+class MadeKey(tuple):
+    """A tuple :func:`content_key` made (:func:`made_key`): it stands for itself in a later key
+    (equal to and hashed as the plain tuple; read only)."""
+
+    __slots__ = ()
+
+
+def made_key(item: Any) -> Hashable:
+    """``content_key(item)``, marked as made: a key that holds it, or a :meth:`Cache.get` of it,
+    takes it as it is instead of walking it again (a key kept on an object and used in several
+    look-ups, e.g. a diffusion clock's: its walk costs more than the item's)."""
+    made = content_key(item)
+    return MadeKey(made) if type(made) is tuple else made
+
+
+_SELF = frozenset({str, bytes, int, bool, type(None), MadeKey})
 _FLOATS = {float}
 _SMALL = 2048
 """Arrays of at most this many bytes key by their bytes (exact, and cheaper than a digest)."""

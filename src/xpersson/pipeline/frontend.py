@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from .. import provenance
-from ..cache import Cache, content_key
+from ..cache import Cache, made_key
 from ..checks import plugin_label
 from ..options import compiled_enabled
 from ..physics.grids import GridError
@@ -235,7 +235,7 @@ def diffusion_clock(ctx: SceneContext, coef: Any, kinks: tuple[float, ...] = ())
     key = key_of(ctx) if key_of is not None else None
     if key is not None:
         try:
-            key = content_key(key)
+            key = made_key(key)  # (made once: it goes into the keys of the clock's uses)
         except TypeError:
             key = None
     return DiffusionClock(
