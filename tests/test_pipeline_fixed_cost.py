@@ -89,3 +89,23 @@ def test_a_kept_resolution_skips_only_what_it_may():
     swept = {**scene, "material": {"E": ["10 MPa", "20 MPa"], "nu": 0.5}}
     assert reused(xpersson.Scene(swept), reg) is None  # another content: the sweep search
     assert xpersson.solve(swept).sizes["E"] == 2
+
+
+def test_clean_decides_as_each_arrays_own_check():
+    from xpersson.checks._dataset import _clean, _within
+
+    rng = np.random.default_rng(7)
+    bounds = [(None, None), (0.0, None), (0.0, 1.0), (1, None), (None, 0.5), (-np.inf, np.inf)]
+    for _ in range(300):
+        arrays, chosen = [], []
+        for _ in range(rng.integers(1, 6)):
+            shape = [(), (1,), (5,), (2, 3), (0,)][rng.integers(5)]
+            arr = rng.uniform(-0.2, 1.2, shape).astype([np.float64, np.float32][rng.integers(2)])
+            if arr.size and rng.random() < 0.2:
+                arr.flat[rng.integers(arr.size)] = [np.nan, np.inf, -np.inf][rng.integers(3)]
+            arrays.append(arr)
+            chosen.append(bounds[rng.integers(len(bounds))])
+        expected = all(_within(a, *b) for a, b in zip(arrays, chosen, strict=True))
+        assert _clean(arrays, chosen) == expected, (arrays, chosen)
+    assert not _clean([np.arange(3)], [(None, None)])  # not floats: not decided here
+    assert not _clean([np.ones(2)], [(2**60, None)])  # a bound a float does not hold exactly
