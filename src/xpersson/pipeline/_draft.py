@@ -43,9 +43,13 @@ class Draft:
 
     def __init__(self, variables: dict[str, xr.Variable], coord_names: set[str]) -> None:
         dims: dict[str, int] = {}
+        seen: dict[tuple[str, ...], tuple[int, ...]] = {}  # dims -> shape (a run has ~5 kinds)
         for var in variables.values():  # (the slots: the properties cost ~0.4 us a read)
             if _DIRECT:
-                dims.update(zip(var._dims, var._data.shape, strict=True))  # noqa: SLF001
+                key, shape = var._dims, var._data.shape  # noqa: SLF001
+                if seen.get(key) != shape:  # (the dims of the same sizes: nothing new)
+                    seen[key] = shape
+                    dims.update(zip(key, shape, strict=True))
             else:  # pragma: no cover - an xarray whose Variable holds other state
                 dims.update(zip(var.dims, var.shape, strict=True))
         self._variables, self._dims, self._coord_names = variables, dims, coord_names
