@@ -78,9 +78,9 @@ class Draft:
     dims = sizes
 
     @property
-    def data_vars(self) -> list[str]:
-        """The names of the data variables (a list: the steps only test membership)."""
-        return [n for n in self._variables if n not in self._coord_names]
+    def data_vars(self) -> set[str]:
+        """The names of the data variables (a set: the steps only test membership)."""
+        return self._variables.keys() - self._coord_names
 
     def __contains__(self, name: object) -> bool:
         return name in self._variables

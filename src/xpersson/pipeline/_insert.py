@@ -209,12 +209,14 @@ def _new_coords(
     return new
 
 
-def insert_or_set(ds: xr.Dataset, new: Mapping[str, xr.Variable]) -> None:
+def insert_or_set(ds: xr.Dataset, new: Mapping[str, xr.Variable], aligned: bool = False) -> None:
     """Add ``new`` by :func:`insert_direct`; a name the Dataset already has (a variable
-    replaced), or a contribution that needs alignment, goes through ``Dataset.__setitem__``."""
+    replaced), or a contribution that needs alignment, goes through ``Dataset.__setitem__``.
+    ``aligned``: every variable of ``new`` is on the Dataset's own dimensions with its sizes
+    (:func:`insert_direct`)."""
     have = ds.variables
     fresh = {k: v for k, v in new.items() if k not in have}
-    if not (fresh and insert_direct(ds, fresh)):
+    if not (fresh and insert_direct(ds, fresh, aligned=aligned)):
         fresh = {}
     for name, value in new.items():
         if name not in fresh:

@@ -214,7 +214,8 @@ def theory_validity(ds: Any) -> None:
     attrs = _validity_attrs()
     # a Variable on xarray's fast path: a (dims, data) tuple makes xarray probe for dask arrays,
     # which imports dask.array (~0.12 s) in a solve that has no use for it
-    insert_or_set(ds, {"theory_validity": new_variable(("p0",), flags, attrs)})
+    aligned = ds.sizes.get("p0") == flags.shape[0]  # (the loads' own dimension)
+    insert_or_set(ds, {"theory_validity": new_variable(("p0",), flags, attrs)}, aligned)
 
 
 def _last_zeta(var: Any) -> np.ndarray:

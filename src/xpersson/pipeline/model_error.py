@@ -248,7 +248,7 @@ def attach(
     if not points or not points[0].resolved.get("output", {}).get("model_error", True):
         return []
     listed = _index(table)
-    have = set(ds.data_vars)
+    have = ds.data_vars
     names = [n for n in listed[0] if n in have]  # covered(ds, table): listed[0] is sorted
     if not names:
         return []
@@ -268,7 +268,8 @@ def attach(
     for name in names:
         groups = _groups(name, scenes, points, index, dims)
         new.update(_ancillaries(ds, name, numeric, groups, listed))
-    insert_or_set(ds, new)  # every output's three at once (one insertion)
+    # every output's three at once (one insertion), on the dims and sizes of their outputs
+    insert_or_set(ds, new, aligned=True)
     for name in names:
         ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
     return list(new)
