@@ -268,8 +268,7 @@ def attach(
     for name in names:
         groups = _groups(name, scenes, points, index, dims)
         new.update(_ancillaries(ds, name, numeric, groups, listed))
-    # every output's three at once (one insertion), on the dims and sizes of their outputs
-    insert_or_set(ds, new, aligned=True)
+    insert_or_set(ds, new, aligned=True)  # all at once, on their outputs' dims and sizes
     for name in names:
         ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
     return list(new)
