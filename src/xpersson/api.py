@@ -10,7 +10,7 @@ from typing import Any
 import xarray as xr
 
 from .pipeline import as_scene, run, run_with_progress
-from .pipeline.frontend import resolve
+from .pipeline.frontend import resolve, reused
 from .plugins import Registry, get_registry
 from .scene import Scene
 from .sweep import expand
@@ -80,7 +80,8 @@ def solve(
     if overrides:
         sc = sc.with_values(**{k.replace("__", "."): v for k, v in overrides.items()})
     reg = registry or get_registry()
-    plan = expand(sc, reg)
+    rs = reused(sc, reg)  # a scene solved before (and found to sweep nothing)
+    plan = expand(sc, reg) if rs is None else None
     if plan is not None:
         from .sweep import solve_sweep  # lazily: a solve without a sweep never needs it
 
@@ -95,7 +96,7 @@ def solve(
             resume=resume,
             overwrite=overwrite,
         )
-    rs = resolve(sc, reg)
+    rs = resolve(sc, reg) if rs is None else rs
     if progress is False or (progress is None and not sys.stderr.isatty()):
         return run(rs, model_errors=True)
     return run_with_progress(rs, progress, model_errors=True)

@@ -57,6 +57,7 @@ __all__ = [
     "clear_caches",
     "content_key",
     "dataclass_key",
+    "made_key",
     "digest",
     "freeze",
     "memoize",
@@ -168,13 +169,19 @@ class Cache:
 
     def peek(self, key: Any) -> Any:
         """The value kept for ``key``, or ``None`` (nothing computed; nothing kept with the
-        caches off or, for scope ``"solve"``, outside a solve)."""
+        caches off or, for scope ``"solve"``, outside a solve). A value found counts as a hit
+        of :meth:`get` (the most recently used)."""
         table = self._table()
         if table is None:
             return None
         k = content_key(key)
         with self._lock:
-            return table.get(k)
+            found = table.get(k, _MISSING)
+            if found is _MISSING:
+                return None
+            table.move_to_end(k)
+            self.hits += 1
+            return found
 
     def clear(self) -> None:
         """Drop every kept value (of the current solve too, for scope ``"solve"``)."""
@@ -342,7 +349,22 @@ def _item_key(item: Any) -> Hashable:
     return content_key(item)
 
 
-_SELF = frozenset({str, bytes, int, bool, type(None)})
+class MadeKey(tuple):
+    """A tuple :func:`content_key` made (:func:`made_key`): it stands for itself in a later key
+    (equal to and hashed as the plain tuple; read only)."""
+
+    __slots__ = ()
+
+
+def made_key(item: Any) -> Hashable:
+    """``content_key(item)``, marked as made: a key that holds it, or a :meth:`Cache.get` of it,
+    takes it as it is instead of walking it again (a key kept on an object and used in several
+    look-ups, e.g. a diffusion clock's: its walk costs more than the item's)."""
+    made = content_key(item)
+    return MadeKey(made) if type(made) is tuple else made
+
+
+_SELF = frozenset({str, bytes, int, bool, type(None), MadeKey})
 _FLOATS = {float}
 _SMALL = 2048
 """Arrays of at most this many bytes key by their bytes (exact, and cheaper than a digest)."""

@@ -12,11 +12,11 @@ from xpersson's defaults, the user's metadata file (:func:`user_metadata`: the T
 from __future__ import annotations
 
 import copy
-import datetime as _dt
 import json
 import os
 import platform
 import sys
+import time
 import tomllib
 from importlib import metadata
 from pathlib import Path
@@ -226,7 +226,8 @@ def global_attributes(rs: Any, registry: Any = None) -> dict[str, str]:
         Global attributes (str values).
     """
     del registry
-    now = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
+    # (datetime.now(UTC).replace(microsecond=0).isoformat()'s text, in a third of its time)
+    now = time.strftime("%Y-%m-%dT%H:%M:%S+00:00", time.gmtime())
     out = dict(_kind_attributes(rs, user_metadata()))  # a copy: the Dataset's own attrs
     out["history"] = f"{now} {out['history']}"
     out["date_created"] = now

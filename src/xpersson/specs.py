@@ -317,6 +317,14 @@ class VarSpec:
         except Exception:  # noqa: BLE001 - reported by check() or by attrs()
             made = None
         object.__setattr__(self, "_attrs", made)
+        # the dims of the common contribution's check (xpersson.checks): a tuple of str, NaN
+        # not allowed (None otherwise: each value then checked on the general path)
+        plain = (
+            self.nan_meaning is None
+            and type(self.dims) is tuple
+            and all(type(d) is str for d in self.dims)
+        )
+        object.__setattr__(self, "_plain_dims", self.dims if plain else None)
 
     def attrs(self) -> dict[str, Any]:
         """CF attributes for a variable with this spec (``valid_min``/``valid_max`` as floats):

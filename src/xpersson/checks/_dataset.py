@@ -328,53 +328,91 @@ def _plain_pairs(
 ) -> dict[str, tuple[tuple[str, ...], np.ndarray]] | None:
     """``{name: (dims, ndarray)}`` when every value of a contribution is the common case of
     :func:`checked_variable` (a ``(dims, data)`` pair of floats on exactly the declared dims
-    and the Dataset's sizes, a declared name the Dataset lacks, NaN not allowed), else None."""
+    and the Dataset's sizes, a declared name the Dataset lacks, NaN not allowed), else None.
+    The dims are the declaration's own tuple (equal to the plugin's; checked once with the
+    declaration, :class:`~xpersson.specs.VarSpec`)."""
     out = {}
     for name, value in values.items():
         spec = specs.get(name) if type(name) is str else None
         if spec is None or name in have or type(value) is not tuple or len(value) != 2:
             return None
+        declared = spec.__dict__.get("_plain_dims")  # (None: NaN allowed, or unusual dims)
         dims, arr = value
-        dims = (dims,) if isinstance(dims, str) else dims
         if type(dims) is not tuple:
-            try:
-                dims = tuple(dims)
-            except TypeError:
-                return None
-        arr = np.asarray(arr)
+            if isinstance(dims, str):
+                dims = (dims,)
+            else:
+                try:
+                    dims = tuple(dims)
+                except TypeError:
+                    return None
+        if type(arr) is not np.ndarray:
+            arr = np.asarray(arr)
         if (
-            arr.dtype.kind != "f"
-            or spec.nan_meaning is not None
-            or dims != tuple(spec.dims)
-            or len(dims) != arr.ndim
-            or not all(type(d) is str for d in dims)
-            or arr.shape != tuple(sizes.get(d, -1) for d in dims)
+            declared is None
+            or arr.dtype.kind != "f"
+            or dims != declared
+            or arr.shape != tuple([sizes.get(d, -1) for d in declared])  # (also the ndim)
         ):
             return None
-        out[name] = (dims, arr)
+        out[name] = (declared, arr)
     return out
 
 
 def _clean(arrays: list[np.ndarray], bounds: list[tuple[Any, Any]]) -> bool:
     """Whether every float array of ``arrays`` is finite and within its ``(valid_min,
     valid_max)`` of ``bounds`` (None: no bound): the rule of :func:`_check_values` on floats
-    (:func:`_within`), the arrays that share
-    their bounds reduced together (small ones concatenated: one min and one max for all).
-    False may also mean "not decided here" (an array that is not float64 or float32): the
-    caller then checks each array on its own, with its messages."""
-    groups: dict[tuple[Any, Any], list[np.ndarray]] = {}
-    for arr, bound in zip(arrays, bounds, strict=True):
-        if arr.dtype.kind != "f" or arr.dtype.itemsize > 8:
+    (:func:`_within`). The small arrays are reduced together: copied into one buffer whose
+    per-array minima and maxima two ``reduceat`` calls give (NaN propagates, and a bound of
+    None is the largest finite float, which +-inf fails, as ``isfinite`` does in
+    :func:`_within`); the large ones one by one. False may also mean "not decided here" (an
+    array that is not float64 or float32, a bound a float does not hold exactly): the caller
+    then checks each array on its own, with its messages."""
+    small: list[np.ndarray] = []
+    lows: list[float] = []
+    highs: list[float] = []
+    starts: list[int] = []
+    at = 0
+    for arr, (vmin, vmax) in zip(arrays, bounds, strict=True):
+        kind = arr.dtype
+        if kind.kind != "f" or kind.itemsize > 8:
             return False
-        if arr.size:
-            groups.setdefault(bound, []).append(arr.ravel() if arr.size <= _ONE_PASS else arr)
-    for (vmin, vmax), group in groups.items():
-        small = [a for a in group if a.size <= _ONE_PASS]
-        if len(small) > 1:
-            group = [np.concatenate(small), *(a for a in group if a.size > _ONE_PASS)]
-        if not all(_within(arr, vmin, vmax) for arr in group):
+        n = arr.size
+        if not n:
+            continue
+        if n > _ONE_PASS:
+            if not _within(arr, vmin, vmax):
+                return False
+            continue
+        lo = -_LARGEST if vmin is None else vmin if type(vmin) is float else _bound(vmin)
+        hi = _LARGEST if vmax is None else vmax if type(vmax) is float else _bound(vmax)
+        if lo is None or hi is None or lo != lo or hi != hi:  # (a NaN bound: not here)
             return False
-    return True
+        small.append(arr.ravel())
+        lows.append(lo if lo > -_LARGEST else -_LARGEST)  # (-inf: the finite values)
+        highs.append(hi if hi < _LARGEST else _LARGEST)
+        starts.append(at)
+        at += n
+    if len(small) <= _FEW:  # a few: two reductions each, without the buffer's set-up
+        return all(_within(a, lo, hi) for a, lo, hi in zip(small, lows, highs, strict=True))
+    buf = np.concatenate(small)
+    low = np.minimum.reduceat(buf, starts)
+    high = np.maximum.reduceat(buf, starts)
+    return bool((low >= lows).all()) and bool((high <= highs).all())
+
+
+_FEW = 3
+"""At most this many small arrays are reduced one by one (a buffer pays from about four)."""
+_LARGEST = float(np.finfo(float).max)
+"""The largest finite float64: a missing bound (every finite value is within it)."""
+
+
+def _bound(value: Any) -> float | None:
+    """A bound that is not a float as the float it compares as; None for one a float does not
+    hold exactly (then the arrays are checked one by one)."""
+    if type(value) is int and abs(value) <= 2**53:
+        return float(value)
+    return None
 
 
 def _within(arr: np.ndarray, lo: float | None, hi: float | None) -> bool:

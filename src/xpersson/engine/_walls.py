@@ -239,6 +239,8 @@ def _breakpoints(values: ArrayLike, name: str = "breakpoints") -> tuple[float, .
     otherwise)."""
     if isinstance(values, tuple | list) and not values:
         return ()  # (no breakpoints, the common case: without numpy's calls, ~6 us)
+    if type(values) is np.ndarray and values.size == 0:
+        return ()  # (the same, given as an empty array: e.g. a wall without onsets)
     b = np.atleast_1d(np.asarray(values, dtype=float)).ravel()
     if b.size and not (np.all(np.isfinite(b)) and np.all(b > 0)):
         raise ValueError(

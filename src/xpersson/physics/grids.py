@@ -81,6 +81,6 @@ def persson_G(tau_c: np.ndarray, p0: np.ndarray) -> np.ndarray:
     p2 = p0 * p0
     with np.errstate(divide="ignore", invalid="ignore"):
         G = tau_c[None, :] / p2[:, None]
-    if np.all(p2 != 0):  # no 0/0 possible: G is already final
+    if p2.all():  # no 0/0 possible (every p0^2 nonzero; NaN counts as nonzero): G is final
         return G
     return np.where(np.isnan(G), np.inf, G)

@@ -43,9 +43,13 @@ class Draft:
 
     def __init__(self, variables: dict[str, xr.Variable], coord_names: set[str]) -> None:
         dims: dict[str, int] = {}
+        seen: dict[tuple[str, ...], tuple[int, ...]] = {}  # dims -> shape (a run has ~5 kinds)
         for var in variables.values():  # (the slots: the properties cost ~0.4 us a read)
             if _DIRECT:
-                dims.update(zip(var._dims, var._data.shape, strict=True))  # noqa: SLF001
+                key, shape = var._dims, var._data.shape  # noqa: SLF001
+                if seen.get(key) != shape:  # (the dims of the same sizes: nothing new)
+                    seen[key] = shape
+                    dims.update(zip(key, shape, strict=True))
             else:  # pragma: no cover - an xarray whose Variable holds other state
                 dims.update(zip(var.dims, var.shape, strict=True))
         self._variables, self._dims, self._coord_names = variables, dims, coord_names
@@ -74,9 +78,9 @@ class Draft:
     dims = sizes
 
     @property
-    def data_vars(self) -> list[str]:
-        """The names of the data variables (a list: the steps only test membership)."""
-        return [n for n in self._variables if n not in self._coord_names]
+    def data_vars(self) -> set[str]:
+        """The names of the data variables (a set: the steps only test membership)."""
+        return self._variables.keys() - self._coord_names
 
     def __contains__(self, name: object) -> bool:
         return name in self._variables

@@ -153,7 +153,7 @@ def direct_dataset(
         return None
 
 
-def insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
+def insert_direct(ds: xr.Dataset, checked: Mapping[str, Any], aligned: bool = False) -> bool:
     """Insert checked variables whose dims the Dataset already has, or whose new dims carry
     their own dimension coordinate (e.g. ``gap_pdf`` on ``u``).
 
@@ -163,13 +163,14 @@ def insert_direct(ds: xr.Dataset, checked: Mapping[str, Any]) -> bool:
     without its merge and alignment of every variable. Returns False (nothing inserted) when a
     variable carries any other coordinate, a new dimension without one or of conflicting
     sizes, or on an xarray without the internal mappings; :meth:`xarray.Dataset.update` then
-    does the work.
+    does the work. ``aligned``: every value is a Variable on the Dataset's own dimensions with
+    its sizes (checked by the caller): nothing to look for.
     """
     parts = [getattr(ds, a, None) for a in ("_variables", "_dims", "_indexes", "_coord_names")]
     if not all(isinstance(p, dict | set) for p in parts):  # pragma: no cover - other xarray
         return False
     variables, dims, indexes, coord_names = parts
-    new = _new_coords(ds, checked, dims)
+    new = {} if aligned else _new_coords(ds, checked, dims)
     if new is None:
         return False
     if new:
@@ -208,12 +209,14 @@ def _new_coords(
     return new
 
 
-def insert_or_set(ds: xr.Dataset, new: Mapping[str, xr.Variable]) -> None:
+def insert_or_set(ds: xr.Dataset, new: Mapping[str, xr.Variable], aligned: bool = False) -> None:
     """Add ``new`` by :func:`insert_direct`; a name the Dataset already has (a variable
-    replaced), or a contribution that needs alignment, goes through ``Dataset.__setitem__``."""
+    replaced), or a contribution that needs alignment, goes through ``Dataset.__setitem__``.
+    ``aligned``: every variable of ``new`` is on the Dataset's own dimensions with its sizes
+    (:func:`insert_direct`)."""
     have = ds.variables
     fresh = {k: v for k, v in new.items() if k not in have}
-    if not (fresh and insert_direct(ds, fresh)):
+    if not (fresh and insert_direct(ds, fresh, aligned=aligned)):
         fresh = {}
     for name, value in new.items():
         if name not in fresh:

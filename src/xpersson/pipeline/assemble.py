@@ -167,15 +167,19 @@ def add_outputs(
 ) -> None:
     """Check a plugin's contribution against its VarSpecs (see :mod:`xpersson.checks`), then
     add it."""
+    if type(values) is dict and not values:  # nothing to check or add (e.g. elastic's)
+        return
     checked = checks.check_contributions(ds, values, specs, who)
     if not checked:
         return
+    aligned = True  # every value a checked pair: on the Dataset's dims and sizes
     for name, da in checked.items():
         if type(da) is tuple:  # a checked (dims, ndarray) pair: its Variable, with its attrs
             checked[name] = new_variable(*da, specs[name].attrs())
         else:
             da.attrs.update(specs[name].attrs())
-    if insert_direct(ds, checked):
+            aligned = False
+    if insert_direct(ds, checked, aligned=aligned):
         return
     try:  # one Dataset update for all of the plugin's variables (one merge, not one each)
         ds.update(checked)

@@ -214,7 +214,8 @@ def theory_validity(ds: Any) -> None:
     attrs = _validity_attrs()
     # a Variable on xarray's fast path: a (dims, data) tuple makes xarray probe for dask arrays,
     # which imports dask.array (~0.12 s) in a solve that has no use for it
-    insert_or_set(ds, {"theory_validity": new_variable(("p0",), flags, attrs)})
+    aligned = ds.sizes.get("p0") == flags.shape[0]  # (the loads' own dimension)
+    insert_or_set(ds, {"theory_validity": new_variable(("p0",), flags, attrs)}, aligned)
 
 
 def _last_zeta(var: Any) -> np.ndarray:
@@ -226,9 +227,18 @@ def _last_zeta(var: Any) -> np.ndarray:
 
 def _validity_attrs() -> dict[str, Any]:
     """The CF attributes of ``theory_validity`` (a fresh dict; the arrays are fresh too)."""
-    attrs = DIAGNOSTICS["theory_validity"].attrs()
-    bits = np.array(list(VALIDITY_FLAGS), np.int8)
-    attrs["flag_masks"], attrs["flag_values"] = bits, bits.copy()
-    # CF 2.5: the valid range has the variable's own type
-    attrs["valid_min"], attrs["valid_max"] = np.int8(0), np.int8(sum(VALIDITY_FLAGS))
+    attrs = dict(_VALIDITY_ATTRS)
+    attrs["flag_masks"], attrs["flag_values"] = _VALIDITY_BITS.copy(), _VALIDITY_BITS.copy()
     return attrs
+
+
+_VALIDITY_BITS = np.array(list(VALIDITY_FLAGS), np.int8)
+_VALIDITY_ATTRS = {
+    **DIAGNOSTICS["theory_validity"].attrs(),
+    "flag_masks": None,  # (the arrays: fresh copies of _VALIDITY_BITS, in this order)
+    "flag_values": None,
+    # CF 2.5: the valid range has the variable's own type (numpy scalars: immutable, shared)
+    "valid_min": np.int8(0),
+    "valid_max": np.int8(sum(VALIDITY_FLAGS)),
+}
+"""The static attributes of ``theory_validity`` (made once: :func:`_validity_attrs`)."""

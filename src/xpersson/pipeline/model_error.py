@@ -249,22 +249,26 @@ def attach(
         return []
     listed = _index(table)
     have = ds.data_vars
-    names = sorted(n for n in listed[0] if n in have)  # covered(ds, table)
+    names = [n for n in listed[0] if n in have]  # covered(ds, table): listed[0] is sorted
     if not names:
         return []
     shape = tuple(ds.sizes[d] for d in dims)
-    index = np.arange(len(points)).reshape(shape) if index is None else np.asarray(index)
     scenes = [scene_features(rs) for rs in points]
-    numeric = {
-        k: (dims, np.asarray(np.array([s.get(k, np.nan) for s in scenes], float)[index]))
-        for k in _NUMERIC
-    }
+    if not dims and index is None:  # one scene (a single solve): its values, 0-d arrays
+        index = np.intp(0)
+        numeric = {k: ((), np.array(float(scenes[0].get(k, np.nan)))) for k in _NUMERIC}
+    else:
+        index = np.arange(len(points)).reshape(shape) if index is None else np.asarray(index)
+        numeric = {
+            k: (dims, np.asarray(np.array([s.get(k, np.nan) for s in scenes], float)[index]))
+            for k in _NUMERIC
+        }
     numeric.update(_load_features(ds, dims))
     new: dict[str, xr.Variable] = {}
     for name in names:
         groups = _groups(name, scenes, points, index, dims)
         new.update(_ancillaries(ds, name, numeric, groups, listed))
-    insert_or_set(ds, new)  # every output's three at once (one insertion)
+    insert_or_set(ds, new, aligned=True)  # all at once, on their outputs' dims and sizes
     for name in names:
         ds.variables[name].attrs["ancillary_variables"] = " ".join(name + s for s in SUFFIXES)
     return list(new)

@@ -3,8 +3,6 @@ Dataset (the work of each step lives in :mod:`.frontend`, :mod:`.stages`, :mod:`
 
 from __future__ import annotations
 
-import dataclasses
-
 import xarray as xr
 
 from .. import checks, memory, plugins, provenance
@@ -14,7 +12,13 @@ from . import model_error
 from ._draft import Draft
 from .assemble import add_analyses, add_outputs, assemble, attributes, diagnostics_notes
 from .body import body_dataset
-from .frontend import diffusion_clock, pressure_grid, scene_context, spectrum_kinks
+from .frontend import (
+    diffusion_clock,
+    pressure_grid,
+    replaced,
+    scene_context,
+    spectrum_kinks,
+)
 from .solve_at import make_solve_at
 from .stages import coefficient_arrays, load_walls, validate
 
@@ -51,7 +55,7 @@ def _run(rs: ResolvedScene, squeeze: bool, model_errors: bool) -> xr.Dataset:
     walls = load_walls(rs, ctx, clock, who["boundary"])
     p_grid = pressure_grid(rs, walls, tau_eff) if rs.pressure_pdf else None
     if p_grid is not None:
-        ctx = dataclasses.replace(ctx, p=p_grid)
+        ctx = replaced(ctx, p=p_grid)
 
     memory.check_request(rs.p0.size, rs.zeta.size, None if p_grid is None else p_grid.size)
     # one engine call for the whole batch (loads sharing their walls are solved together)
@@ -75,10 +79,10 @@ def _run(rs: ResolvedScene, squeeze: bool, model_errors: bool) -> xr.Dataset:
             coef_out = coef.interpret(ctx)
         add_outputs(ds, coef_out, type(coef).outputs, who["coefficient"])
     with checks.calling(who["boundary"], "interpret()"):
-        extra = rs.boundary.interpret(dataclasses.replace(ctx, clock=clock), results)
+        extra = rs.boundary.interpret(replaced(ctx, clock=clock), results)
     add_outputs(ds, extra, type(rs.boundary).outputs, who["boundary"])
     if rs.analyses or rs.geometry is not None:  # they may sample the solve densely
-        ctx = dataclasses.replace(
+        ctx = replaced(
             ctx,
             coefficient=coef,
             boundary=rs.boundary,

@@ -3,7 +3,6 @@ call back from the analyses into the engine)."""
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 from typing import Any
 
@@ -12,6 +11,7 @@ import numpy as np
 from ..cache import Cache
 from ..plugins import DiffusionClock, SceneContext
 from ..scene import ResolvedScene
+from .frontend import replaced
 from .stages import shared_tau
 
 __all__ = ["make_solve_at"]
@@ -66,7 +66,7 @@ def _solve(
     """The area variables of loads ``idx`` at magnifications ``z`` (one engine call)."""
     from .. import engine
 
-    c = dataclasses.replace(ctx, zeta=z, p=None, p0=rs.p0[idx])
+    c = replaced(ctx, zeta=z, p=None, p0=rs.p0[idx])
     tau_c, tau_eff, shared = _times(rs.coefficient, c, z, idx.size, tau)
     pairs = [walls[i] for i in idx]
     one_wall = all(pair is pairs[0] for pair in pairs)  # identity: cheap for shared walls
@@ -87,7 +87,7 @@ def _solve(
         "diffusion_time": tau_c,
         "effective_diffusion_time": tau_eff,
     }
-    for name, value in rs.boundary.interpret(dataclasses.replace(c, clock=clock), res).items():
+    for name, value in rs.boundary.interpret(replaced(c, clock=clock), res).items():
         out[name] = np.asarray(value[1] if isinstance(value, tuple) else value, float)
     return out
 

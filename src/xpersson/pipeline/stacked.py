@@ -29,7 +29,7 @@ from ._draft import Draft
 from ._insert import direct_dataset
 from .assemble import add_outputs, assemble, attributes, diagnostics_notes
 from .diagnostics import validity_flags
-from .frontend import diffusion_clock, scene_context, spectrum_kinks
+from .frontend import diffusion_clock, replaced, scene_context, spectrum_kinks
 from .solve_at import make_solve_at
 from .stages import coefficient_arrays, load_walls, shared_tau, validate
 
@@ -228,7 +228,7 @@ def _run(points: Sequence[ResolvedScene]) -> StackedRun | None:
     parts = {"rs": rs0, "ctx": ctxs[0], "results": first, "tau": tau[0], "f": f[0], "eff": eff0}
     parts["coefficient"] = {n: (dims, np.asarray(arr)[0]) for n, (dims, arr) in coef_out.items()}
     for k, (rs, ctx, clock) in enumerate(zip(points, ctxs, clocks, strict=True)):
-        at_clock = dataclasses.replace(ctx, clock=clock)  # interpret reads its point's clock
+        at_clock = replaced(ctx, clock=clock)  # interpret reads its point's clock
         extra = rs.boundary.interpret(at_clock, _Loads(results, k * nl, nl))
         if k == 0:
             parts["boundary"] = extra

@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import erfcx
 
-from xpersson.cache import Cache, content_key, digest
+from xpersson.cache import Cache, content_key, digest, made_key
 from xpersson.physics.interface import full_contact_energy
 
 from ._wallpos import _Pchip, _SqrtPos
@@ -198,7 +198,7 @@ class ModelLaw:
         head = (self.psd, *self._key(), zmax, per_decade)
         by_clock = getattr(clock, "key", None)
         if by_clock is not None:
-            ck = ("model", content_key((*head, by_clock)))
+            ck = ("model", made_key((*head, by_clock)))  # (made once: keyed as it is)
             return _TABLES.get(ck, lambda: self._fit(*self._clock_samples(clock, head))), ck
         parts = self._clock_samples(clock, head)
         text = repr(content_key(head)).encode()

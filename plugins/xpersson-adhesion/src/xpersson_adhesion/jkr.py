@@ -65,8 +65,11 @@ ADHESION_PARAMETERS: dict[str, ParamSpec] = {
 _STICKINESS = Cache(
     "adhesion.stickiness", scope="spectrum", maxsize=64, doc="Persson-Tosatti w_eff [J/m^2]"
 )
-_SIGMA_START = Cache(
-    "adhesion.jkr_sigma_a_start", scope="spectrum", maxsize=64, doc="jkr: sigma_a(1) [Pa]"
+_SCENE = Cache(
+    "adhesion.jkr_scene",
+    scope="spectrum",
+    maxsize=64,
+    doc="jkr (the model law): a scene's scales (as _scales), sigma_a(1) [Pa] and w_eff [J/m^2]",
 )
 _SCALES = Cache(
     "adhesion.jkr_scales",
@@ -261,9 +264,26 @@ class JKRBoundary(Boundary):
         """sigma_a(zeta = 1) [Pa]: tensile loads must stay above -sigma_a(1)."""
         if self._table is not None:
             return float(self._table.sigma[0])
+        scene = self._scene(ctx)
+        return self._at(ctx, self._model(ctx), 1.0) if scene is None else scene[1]
+
+    def _scene(self, ctx: SceneContext) -> tuple[tuple[np.ndarray, ...], float, float] | None:
+        """What validate() and interpret() read of a scene under the model law, in one
+        look-up (cached per spectrum): :meth:`_scales`, sigma_a(1) [Pa] (:meth:`_at`) and
+        w_eff [J/m^2] (:func:`stickiness`), each as its own call gives it; None with a table
+        or without a spectrum (then each is asked on its own)."""
+        if self._table is not None or ctx.psd is None:
+            return None
         law = self._model(ctx)
-        key = (ctx.psd, *law._key(), ctx.zeta, float(ctx.q_L))
-        return _SIGMA_START.get(key, lambda: self._at(ctx, law, 1.0))
+        p = self._params
+        key = (ctx.psd, *law._key(), p["range"], ctx.zeta, float(ctx.q_L))
+
+        def compute() -> tuple[tuple[np.ndarray, ...], float, float]:
+            work = p["work_of_adhesion"]
+            scales = self._scales(ctx)
+            return scales, self._at(ctx, law, 1.0), stickiness(ctx.psd, ctx.E_star, work)
+
+        return _SCENE.get(key, compute)
 
     def _at(self, ctx: SceneContext, law: ModelLaw, zeta: float) -> float:
         """``law([zeta])[0]``, sigma_a [Pa]: from the memoised gamma_eff of :meth:`_scales` when
@@ -295,7 +315,8 @@ class JKRBoundary(Boundary):
         """Table coverage, p0 > -sigma_a(1), and the Tabor-parameter warning."""
         if self._table is not None:
             self._table.check_range(ctx.zeta_max)
-        s1 = self.sigma_a_start(ctx)
+        scene = self._scene(ctx)
+        s1 = self.sigma_a_start(ctx) if scene is None else scene[1]
         bad = ctx.p0[ctx.p0 <= -s1]
         if bad.size:
             raise ValueError(
@@ -309,7 +330,7 @@ class JKRBoundary(Boundary):
             )
         work = self._params["work_of_adhesion"]
         if work > 0 and ctx.psd is not None:
-            mu = self._scales(ctx)[3]
+            mu = (self._scales(ctx) if scene is None else scene[0])[3]
             warn_outside_limit(float(mu[-1]), "jkr", stacklevel=4)
 
     def wall(self, ctx: SceneContext, clock: DiffusionClock) -> Wall:
@@ -352,7 +373,15 @@ class JKRBoundary(Boundary):
         sigma = np.maximum(-np.asarray(_row0(results, "wall_lower"), dtype=float), 0.0)
         q = zeta * ctx.q_L
         p = self._params
-        raw, a_star, energy, mu = (a.copy() for a in self._scales(ctx))  # copies: data of ds
+        scene = self._scene(ctx)
+        scales = self._scales(ctx) if scene is None else scene[0]
+        raw, a_star, energy, mu = (a.copy() for a in scales)  # copies: data of ds
+        if scene is None:
+            w_eff = stickiness(ctx.psd, ctx.E_star, p["work_of_adhesion"])
+            s1 = self.sigma_a_start(ctx)
+        else:
+            w_eff, s1 = scene[2], scene[1]
+        tau_end = float(_row0(results, "tau")[-1])
         if self._table is None:
             gamma = np.maximum(raw, 0.0)
         else:
@@ -367,11 +396,8 @@ class JKRBoundary(Boundary):
             "true_area_ratio": (("zeta",), a_star),
             "finer_scale_energy": (("zeta",), energy),
             "tabor_parameter": (("zeta",), mu),
-            "w_eff": ((), np.asarray(stickiness(ctx.psd, ctx.E_star, p["work_of_adhesion"]))),
-            "pull_off_stress": (
-                (),
-                np.asarray(self.pull_off(ctx, float(_row0(results, "tau")[-1]), ctx.clock)),
-            ),
+            "w_eff": ((), np.asarray(w_eff)),
+            "pull_off_stress": ((), np.asarray(self._pull_off(ctx, tau_end, ctx.clock, s1))),
         }
 
     def pull_off(
@@ -395,7 +421,12 @@ class JKRBoundary(Boundary):
         ValueError
             For ``pull_off_area > 0`` without a ``clock``.
         """
-        s1 = self.sigma_a_start(ctx)
+        return self._pull_off(ctx, tau_end, clock, self.sigma_a_start(ctx))
+
+    def _pull_off(
+        self, ctx: SceneContext, tau_end: float, clock: DiffusionClock | None, s1: float
+    ) -> float:
+        """:meth:`pull_off` given sigma_a(1) [Pa] ``s1`` (:meth:`sigma_a_start`)."""
         target = self._params["pull_off_area"]
         if s1 <= 0:
             return 0.0
