@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import xpersson
-from xpersson.physics import _compiled, _curve, _fastnum, _phi, _phi_sums
+from xpersson.physics import _compiled, _curve, _fastnum, _phi, _phi_sums, _spline_sums
 from xpersson.physics._fastnum import _row_spline
 
 #: The kernels of the spline (:func:`~xpersson.physics._fastnum._row_spline`, ``_ppoly_at``).
@@ -242,6 +242,34 @@ def test_row_values_give_the_numpy_bits(compiled, seed, n_load, n_point, n_knot)
         got_nan = _curve._rows(spl, knots, np.where(x > knots[-1], np.nan, x))
     np.testing.assert_array_equal(got, want)
     np.testing.assert_array_equal(got_nan, want_nan)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(2, 6), st.integers(1, 30), st.integers(2, 40))
+def test_shared_points_give_the_numpy_bits(compiled, seed, n_load, n_point, n_knot):
+    """Points shared by every load (a broadcast row, as the detachment's bin edges): each
+    point's interval found once (``shared_row_values``), ``_curve._rows``' numpy passes bit
+    for bit, also with a NaN point (left to them)."""
+    fns = {"row_values": _compiled.row_values, "shared_row_values": _spline_sums.shared_row_values}
+    if compiled:
+        fns = {k: _kernel(True, k) for k in fns}
+    rng = np.random.default_rng(seed)
+    knots = np.sort(rng.uniform(-3.0, 8.0, n_knot))
+    spl = type("Spl", (), {})()
+    spl.c = rng.normal(0.0, 1.0, (4, n_knot - 1, n_load)) * 10.0 ** rng.uniform(-3, 3)
+    x = rng.uniform(knots[0] - 1.0, knots[-1] + 1.0, n_point)
+    x[rng.random(x.shape) < 0.2] = rng.choice(knots)
+    x[rng.random(x.shape) < 0.05] = np.inf
+    for pts in (x, np.where(x > knots[-1], np.nan, x)):
+        shared = np.broadcast_to(pts, (n_load, n_point))
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(_curve, "kernel", lambda work, name: None)
+            want = _curve._rows(spl, knots, shared)
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(_curve, "kernel", lambda work, name: fns[name])
+            got = _curve._rows(spl, knots, shared)
+        np.testing.assert_array_equal(got, want)
 
 
 @settings(max_examples=60, deadline=None)

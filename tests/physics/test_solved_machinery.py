@@ -94,9 +94,14 @@ def test_phi_table_is_the_spline_on_the_grid(contact):
     assert ph._table()[1].shape == (LOADS.size, grid.size - ph._lo)  # (loads, nodes)
 
 
-def test_phi_at_tau_is_the_spline_and_its_linear_first_interval(contact):
+@pytest.mark.parametrize("order", ["unsorted", "increasing"])
+def test_phi_at_tau_is_the_spline_and_its_linear_first_interval(contact, order):
+    """Any ``tau``, and increasing ``tau`` (the mean gap's rule: the linear first interval a
+    prefix, the spline evaluated past it only): the same bits."""
     ph = contact.phi
     tau = np.concatenate((np.geomspace(1e-3, 1e3, 500) * ph.tau1, [0.0, ph.tau1]))
+    if order == "increasing":
+        tau = np.sort(tau)
     lin = ph.phi[:, 1:2] * np.clip(tau / ph.tau1, 0.0, 1.0)
     s = np.clip(np.log(np.maximum(tau, 1e-300)), ph.s[0], ph.s[-1])
     ref = np.where(tau < ph.tau1, lin, np.maximum(ph._spl(s), 0.0))  # scipy's PPoly

@@ -172,3 +172,20 @@ def test_curve_variables_are_the_boundarys_declared_areas():
     names = solved.curve_variables(SimpleNamespace(boundary=Plastic()))
     assert names[:3] == ("elastic_fraction", "free_fraction", "plastic_fraction")
     assert "area_fraction" not in names and len(names) == len(set(names))
+
+
+def test_the_first_loads_coarseness_is_its_row_of_the_test(tiny):
+    """``_coarse_first``: the first load's row of ``_coarse`` (each row tested alone), read
+    from the Dataset (loads along ``p0``, either order of the dimensions)."""
+    ctx, ds = tiny
+    area = ds["area_fraction"].transpose("p0", "zeta").values
+    non = ds["non_contact_fraction"].transpose("p0", "zeta").values
+    want = bool(solved._coarse(area, non)[0])
+    assert solved._coarse_first(ds, "area_fraction", ("non_contact_fraction",)) == want
+    flipped = ds.transpose("zeta", "p0", ...)
+    assert solved._coarse_first(flipped, "area_fraction", ("non_contact_fraction",)) == want
+    rng = np.random.default_rng(3)
+    rows = np.sort(rng.random((5, 9)), axis=1)[:, ::-1]  # decreasing areas
+    assert np.array_equal(
+        solved._coarse(rows, 1.0 - rows)[:1], solved._coarse(rows[:1], 1.0 - rows[:1])
+    )

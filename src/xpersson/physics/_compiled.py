@@ -132,6 +132,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         crossing_newton,
         erf_diff_series,
         _spline_sums.spline_sub_sums,
+        _spline_sums.shared_row_values,
         _band_sums.band_sums,
         _band_sums.series_horner,
     )

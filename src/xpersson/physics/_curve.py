@@ -123,10 +123,13 @@ def _rows(spl: PPoly, knots: NDArray[np.float64], xq: NDArray[np.float64]) -> ND
     shape = xq.shape
     fn = kernel(xq.size * 16, "row_values")
     if fn is not None and spl.c.shape[1:] == (knots.size - 1, shape[0]):
-        x2 = np.ascontiguousarray(xq.reshape(shape[0], -1))
+        x2 = xq.reshape(shape[0], -1)
+        if shape[0] > 1 and x2.strides[0] == 0:  # points shared by every load (broadcast):
+            fn, x2 = kernel(0, "shared_row_values"), x2[0]  # each one's interval found once
+        x2 = np.ascontiguousarray(x2)
         if not np.isnan(x2).any():  # one pass, the same bits
-            out = np.empty(x2.shape)
-            fn(spl.c, knots, x2, out)
+            out = np.empty((shape[0], x2.size) if x2.ndim == 1 else x2.shape)
+            fn(spl.c, knots, x2, out)  # type: ignore[misc]
             return out.reshape(shape)
     x2 = np.clip(xq.reshape(shape[0], -1), knots[0], knots[-1])
     idx = np.clip(np.searchsorted(knots, x2, side="right") - 1, 0, knots.size - 2)

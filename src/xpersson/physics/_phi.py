@@ -98,9 +98,16 @@ class _Phi:
         coefficients, written in the C order of ``self._spl(s)`` (the callers' matrix-vector
         products keep their summation order); the linear first interval where it applies."""
         s = np.clip(np.log(np.maximum(tau, _TINY)), self.s[0], self.s[-1])
-        out = _ppoly_at(self._spl, s)  # type: ignore[arg-type]
         low = tau < self.tau1
-        if low.any():
+        k = int(np.count_nonzero(low))
+        if k and low[:k].all():  # the first k (the mean gap's rule: tau increasing): the
+            # spline only past them (its values there were replaced), the rest a slice
+            out = np.empty((self.phi.shape[0], tau.size))
+            np.multiply(self.phi[:, 1:2], np.clip(tau[:k] / self.tau1, 0, 1), out=out[:, :k])
+            _ppoly_at(self._spl, s[k:], out=out[:, k:])  # type: ignore[arg-type]
+            return out
+        out = _ppoly_at(self._spl, s)  # type: ignore[arg-type]
+        if k:
             out[:, low] = self.phi[:, 1:2] * np.clip(tau[low] / self.tau1, 0, 1)
         return out
 

@@ -176,7 +176,8 @@ class SolvedContact:
         ``negligible`` > 0: the bins whose weight is below that fraction of the load's
         largest (those :func:`~xpersson.physics.gap_cdf` with the same ``negligible`` leaves
         out) get ``u1 = 0`` without computing it, and ``ubar`` is computed only at the edges
-        of the other bins (elsewhere not computed: 0 or another value; ``ubar[:, 0] = u(p0)``
+        that the other bins' ``u1`` reads (both with ``"almqvist"``, the upper one with
+        ``"pressure"``; elsewhere not computed: 0 or another value; ``ubar[:, 0] = u(p0)``
         always); the weights and the other bins' ``u1`` are the same, bit for bit. Near full
         contact most edges carry such bins alone.
 
@@ -207,10 +208,12 @@ class SolvedContact:
         ok = dA > 0
         weight = np.where(ok, dA, 0.0)
         count, needed = ok, None
-        if negligible > 0.0:  # the edges of the bins that count (not the first, nor the last)
-            count = ok & counted(weight, negligible)
-            needed = np.zeros(A.shape, dtype=bool)
-            needed[:, 1:-1] = count[:, :-1] | count[:, 1:]
+        if negligible > 0.0:  # the edges the bins that count read (not the first, nor the
+            count = ok & counted(weight, negligible)  # last): the upper, and the lower with
+            needed = np.zeros(A.shape, dtype=bool)  # "almqvist" ("pressure" reads u_next only)
+            needed[:, 1:-1] = count[:, :-1]
+            if separation == "almqvist":
+                needed[:, 1:-1] |= count[:, 1:]
         ubar = _sub_mean_gap(
             self.psd, self.E_star, self.phi, None, A, q_hi, prep=prep, needed=needed
         )
@@ -243,6 +246,8 @@ class SolvedContact:
         # near full contact) it is u_next itself, the same look-ups and sums bit for bit
         u_next = ubar[:, 1:]
         same = A[:, :-1] == A[:, 1:]
+        where = ok & ~same
+        where[:, -1] = False  # (0 below: no scales left above the last edge)
         mixed = _sub_mean_gap(
             self.psd,
             self.E_star,
@@ -250,7 +255,7 @@ class SolvedContact:
             None,
             A[:, :-1],
             self.q_hi,
-            where=ok & ~same,
+            where=where,
             prep=(prep[0][:, 1:], prep[1][:, 1:]),
         )
         np.copyto(mixed, u_next, where=same)

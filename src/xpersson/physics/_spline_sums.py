@@ -1,4 +1,5 @@
-"""Optional compiled sums of ``Phi``'s spline over sub-problem nodes (numba), bit for bit.
+"""Optional compiled sums of ``Phi``'s spline over sub-problem nodes (numba), bit for bit, and
+the solved curve's splines at points shared by every load (:func:`shared_row_values`).
 
 :func:`spline_sub_sums` is the ``spline=True`` branch of
 :func:`~xpersson.physics._subgap._sub_mean_gap` (``separation_at``'s difference quotient, per-load
@@ -20,7 +21,7 @@ import numpy as np
 
 from ._pairwise import _pairwise
 
-__all__ = ["spline_sub_sums"]
+__all__ = ["shared_row_values", "spline_sub_sums"]
 
 
 def spline_sub_sums(
@@ -62,3 +63,29 @@ def spline_sub_sums(
                         v = 0.0
                 vals[j] = v * kern[r, e, j]
             out[r, e] = _pairwise(vals, m)
+
+
+def shared_row_values(
+    c: Any, knots: Any, x: Any, out: Any
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """:func:`~._compiled.row_values` at points ``x`` (1-D, no NaN) shared by every load:
+    ``out[r, p]`` (n_load, x.size), each point's clip and interval found once, then every
+    load's Horner form (its coefficients read along the loads, contiguously): the same
+    operations per element as ``row_values`` on the broadcast points."""
+    n_knot = knots.size
+    first, last = knots[0], knots[n_knot - 1]
+    for p in range(x.size):
+        v = x[p]
+        v = v if v > first else first  # np.clip(v, first, last)
+        v = v if v < last else last
+        lo, hi = 0, n_knot  # the first knot above v
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if knots[mid] <= v:
+                lo = mid + 1
+            else:
+                hi = mid
+        i = min(max(lo - 1, 0), n_knot - 2)
+        d = v - knots[i]
+        for r in range(out.shape[0]):
+            out[r, p] = ((c[0, i, r] * d + c[1, i, r]) * d + c[2, i, r]) * d + c[3, i, r]

@@ -130,6 +130,18 @@ def _coarse(area: NDArray[np.float64], non: NDArray[np.float64]) -> NDArray[np.b
     return (step > MAX_STEP) | (non[:, 1] > MAX_FIRST) | (jump > MAX_LOG_STEP)
 
 
+def _coarse_first(ds: Any, el: str, comp: tuple[str, ...]) -> bool:
+    """Whether the first load's output curve is too coarse (:func:`_coarse` of its row alone:
+    the same test, row by row); with ``ctx.solve_at`` one such load re-solves every load, and
+    the other loads' rows need not be read."""
+
+    def first(name: str) -> NDArray[np.float64]:
+        a = _from_ds(ds, name)
+        return _rows(a[:1] if a.ndim > 1 else a, 1)
+
+    return bool(_coarse(first(el), sum(first(c) for c in comp))[0])
+
+
 def _interp(z: NDArray, y: NDArray[np.float64], z_new: NDArray) -> NDArray[np.float64]:
     """Monotone (PCHIP) interpolation of smooth output curves in ``ln zeta``.
 
@@ -215,7 +227,10 @@ def solved_curve(
             memo[name] = _rows(_from_ds(ds, name), n)
         return memo[name]
 
-    need = _coarse(get(el), sum(get(c) for c in comp)) if per_decade else np.zeros(n, bool)
+    if n and per_decade and solve_at is not None and _coarse_first(ds, el, comp):
+        need = np.ones(n, dtype=bool)  # (the first load decides for all: no other test)
+    else:
+        need = _coarse(get(el), sum(get(c) for c in comp)) if per_decade else np.zeros(n, bool)
     if need.any() and solve_at is not None:
         need[:] = True  # one grid for every load: a load's result never depends on the others
     if need.any() and solve_at is None:
