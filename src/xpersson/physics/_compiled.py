@@ -65,6 +65,7 @@ from .. import numba_cache
 from ..options import compiled_enabled
 from ._gauss_tails import tail_floor, tail_stop
 from ._pairwise import _pairwise
+from ._spline_sums import knot_interval
 
 __all__ = [
     "ANCHOR",
@@ -118,7 +119,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
     if jit is None:  # numba is not installed
         return None
     helpers = (_direct, _pairwise, _gtsv_factor, _band_sums._erf, _band_sums._erf_nonneg)
-    helpers += (tail_floor, tail_stop, _block)
+    helpers += (tail_floor, tail_stop, _block, knot_interval)
     scope = {**globals(), **{fn.__name__: jit(fn) for fn in helpers}}
     fns = (
         gap_rows,
@@ -430,22 +431,9 @@ def row_values(
     """:func:`~._curve._rows` (every load's spline at its own points ``x`` (n_load, n_point),
     no NaN): the clip to the knots, ``searchsorted(side="right") - 1`` clipped to the
     intervals (a bisection: the same index), and the Horner form in numpy's order."""
-    n_knot = knots.size
-    first, last = knots[0], knots[n_knot - 1]
     for r in range(x.shape[0]):
         for p in range(x.shape[1]):
-            v = x[r, p]
-            v = v if v > first else first  # np.clip(v, first, last)
-            v = v if v < last else last
-            lo, hi = 0, n_knot  # the first knot above v
-            while lo < hi:
-                mid = (lo + hi) // 2
-                if knots[mid] <= v:
-                    lo = mid + 1
-                else:
-                    hi = mid
-            i = min(max(lo - 1, 0), n_knot - 2)
-            d = v - knots[i]
+            i, d = knot_interval(knots, x[r, p])
             out[r, p] = ((c[0, i, r] * d + c[1, i, r]) * d + c[2, i, r]) * d + c[3, i, r]
 
 

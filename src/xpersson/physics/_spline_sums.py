@@ -21,7 +21,27 @@ import numpy as np
 
 from ._pairwise import _pairwise
 
-__all__ = ["shared_row_values", "spline_sub_sums"]
+__all__ = ["knot_interval", "shared_row_values", "spline_sub_sums"]
+
+
+def knot_interval(knots: Any, v: float) -> tuple[int, float]:
+    """The interval ``i`` of the sorted ``knots`` that holds ``v`` clipped to them (numpy's
+    ``searchsorted(side="right") - 1`` clipped to the intervals, by bisection: the same index)
+    and ``v - knots[i]``: the look-up of :func:`shared_row_values` and
+    :func:`~._compiled.row_values` (compiled with them)."""
+    n_knot = knots.size
+    first, last = knots[0], knots[n_knot - 1]
+    v = v if v > first else first  # np.clip(v, first, last)
+    v = v if v < last else last
+    lo, hi = 0, n_knot  # the first knot above v
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if knots[mid] <= v:
+            lo = mid + 1
+        else:
+            hi = mid
+    i = min(max(lo - 1, 0), n_knot - 2)
+    return i, v - knots[i]
 
 
 def spline_sub_sums(
@@ -72,20 +92,7 @@ def shared_row_values(
     ``out[r, p]`` (n_load, x.size), each point's clip and interval found once, then every
     load's Horner form (its coefficients read along the loads, contiguously): the same
     operations per element as ``row_values`` on the broadcast points."""
-    n_knot = knots.size
-    first, last = knots[0], knots[n_knot - 1]
     for p in range(x.size):
-        v = x[p]
-        v = v if v > first else first  # np.clip(v, first, last)
-        v = v if v < last else last
-        lo, hi = 0, n_knot  # the first knot above v
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if knots[mid] <= v:
-                lo = mid + 1
-            else:
-                hi = mid
-        i = min(max(lo - 1, 0), n_knot - 2)
-        d = v - knots[i]
+        i, d = knot_interval(knots, x[p])
         for r in range(out.shape[0]):
             out[r, p] = ((c[0, i, r] * d + c[1, i, r]) * d + c[2, i, r]) * d + c[3, i, r]
