@@ -7,7 +7,9 @@ import pytest
 import xarray as xr
 from xpersson_fake_kit import (
     DriftingWall,
+    FileWall,
     HalfCoefficient,
+    InlineFileWall,
     NoExampleWall,
     ShiftedWall,
     UnpicklableWall,
@@ -59,6 +61,13 @@ def test_check_plugin_detects_unpicklable_instances():
 def test_check_plugin_asks_for_required_parameters():
     with pytest.raises(AssertionError, match=r"parameter 's' is required; pass params="):
         check_plugin(NoExampleWall, engine=False, cheap_import=False)
+
+
+def test_check_plugin_asks_file_plugins_for_archived_params():
+    """A class with a ``kind="path"`` parameter must give the file inline to archives."""
+    with pytest.raises(AssertionError, match=r"\['table'\] name files.*archived_params\(\)"):
+        check_plugin(FileWall, engine=False, cheap_import=False)
+    assert check_plugin(InlineFileWall, engine=False, cheap_import=False)["metadata"] == "ok"
 
 
 def test_check_plugin_refuses_local_classes():

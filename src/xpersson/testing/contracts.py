@@ -99,6 +99,12 @@ def check_plugin(
         raise AssertionError(f"metadata: {exc}") from None
     assert not getattr(cls, "abstract", True), f"{name} is abstract"
     assert cls.api_version <= API_VERSION, f"{name}: api_version {cls.api_version} too new"
+    paths = [k for k, spec in cls.parameters.items() if spec.kind == "path"]
+    assert not paths or callable(getattr(cls, "archived_params", None)), (
+        f"{name}: parameters {paths} name files, so the class must define archived_params() "
+        "(the file's table as inline parameters: an archive holds no machine-specific path "
+        "and rebuilds the plugin without the file; docs/contracts.md)"
+    )
     report["metadata"] = "ok"
 
     if cheap_import:

@@ -31,6 +31,25 @@ class ShiftedWall(Boundary):
         }
 
 
+class FileWall(ShiftedWall):
+    """Reads a file (a ``kind="path"`` parameter) but cannot give its table inline."""
+
+    summary = "wall with a file parameter and no archived_params (kit test double)"
+    parameters = {
+        **ShiftedWall.parameters,
+        "table": ParamSpec("1", kind="path", default=None, description="a table file"),
+    }
+
+
+class InlineFileWall(FileWall):
+    """:class:`FileWall` with ``archived_params()`` (its parameters as they are)."""
+
+    summary = "wall with a file parameter and archived_params (kit test double)"
+
+    def archived_params(self) -> dict[str, Any]:
+        return dict(self.params)
+
+
 class DriftingWall(ShiftedWall):
     """Non-deterministic: the wall moves a little on every call."""
 
