@@ -33,8 +33,11 @@ load's largest density and 2.1e-13 relative element by element above 1e-250 of i
 numba is an optional accelerator (``pip install numba``, the ``fast`` extra), as the engine's
 compiled march (:mod:`xpersson.engine._compiled`): without it, or with
 ``xpersson.set_options(compiled=False)`` (``XPERSSON_COMPILED=off``), the numpy path runs.
-Below :data:`MIN_WORK` (pairs x columns) numba is not imported; once built, every call of the
-process takes it. The kernels are also plain Python (tested on small inputs without numba).
+Below :data:`MIN_WORK` (pairs x columns) numba is not imported until the numpy calls of the
+process add up to :data:`BUILD_AFTER` (rent or buy, as the engine's march: a study of small
+analyses pays at most about twice the best of either path); once built, every call takes it
+(:func:`gap_rows`'s values then move by round-off, within the 1e-12 above; the other kernels
+keep the numpy path's bits). The kernels are also plain Python (tested without numba).
 
 :func:`sub_sums` is ``sum_m kern[e, m] Phi_l(ln tau_c[e, m] + ln A_le^2)`` of
 :func:`~xpersson.physics._subgap._sub_mean_gap` (cut-offs shared by every load): the look-up of
@@ -70,6 +73,7 @@ from ._spline_sums import knot_interval
 __all__ = [
     "ANCHOR",
     "A_MAX",
+    "BUILD_AFTER",
     "crossing_newton",
     "D_MAX",
     "MIN_WORK",
@@ -88,6 +92,10 @@ __all__ = [
 
 #: (pair, column) elements below which the numpy path runs until the kernel is built.
 MIN_WORK = 2_000_000
+#: Elements of numpy calls per process after which the kernels are built: their cost (numba's
+#: import and the kernels kept on disk, 0.2 s CPU) at ~8 ns per element on the numpy path
+#: (measured 2026-11-30 by ``benchmarks/fresh_process.py``).
+BUILD_AFTER = 25_000_000
 #: Columns between exact restarts of the recurrence.
 ANCHOR = 64
 #: Largest centre ``u1/h`` [1] and grid step ``du/h`` [1] of the recurrence; beyond, direct.
@@ -101,10 +109,16 @@ _STATE: dict[str, Any] = {}
 
 def kernel(work: float, name: str = "gap_rows") -> Callable[..., Any] | None:
     """The compiled kernel ``name`` (:func:`gap_rows` or :func:`sub_sums`), or None: the option
-    is off, numba is missing, or ``work`` [elements] is below :data:`MIN_WORK` and the kernels
-    are not built yet."""
-    if not compiled_enabled() or (work < MIN_WORK and "fns" not in _STATE):
+    is off, numba is missing, or ``work`` [elements] is below :data:`MIN_WORK`, the numpy
+    path's work of the process so far (this call's included) is below :data:`BUILD_AFTER` and
+    the kernels are not built yet."""
+    if not compiled_enabled():
         return None
+    if work < MIN_WORK and "fns" not in _STATE:
+        spent = _STATE.get("numpy", 0.0) + work
+        _STATE["numpy"] = spent
+        if spent < BUILD_AFTER:
+            return None
     if "fns" not in _STATE:
         _STATE["fns"] = _build()
     fns = _STATE["fns"]
