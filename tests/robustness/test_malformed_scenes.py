@@ -131,6 +131,8 @@ def _cases() -> list[tuple[str, Any, list[str]]]:
         ("title", 3, ["title", "string"]),
         ("output", 3, ["output", "table"]),
     ]
+    for section in ("analyses", "material", "boundary", "coefficient", "metadata", "spectrum"):
+        out += [(section, bad, [section, "table"]) for bad in (None, [1], 2.5)]  # not tables
     return out
 
 

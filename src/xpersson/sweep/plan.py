@@ -213,8 +213,8 @@ def _section_specs(
             sections.append(section)
     for section in sections:
         raw = data.get(section)
-        if raw is not None and not isinstance(raw, Mapping):
-            continue
+        if section in data and not isinstance(raw, Mapping):
+            continue  # (not a table, None included: the scene's check names it)
         if section == "material":
             yield "material", CORE["material"], raw, None
         elif section in PLUGIN_SECTIONS:
