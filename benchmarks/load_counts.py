@@ -7,8 +7,9 @@ Per scene of the speed design (``summary_design.design``, or ``--held-out SEED``
 load count (range 1 kPa - 1 MPa), each analysis's whole solve over the bare solve of the same
 loads (CPU time, best of ``--rounds`` interleaved rounds, one process,
 ``OPENBLAS_NUM_THREADS=1``; the optional compiled kernels built first, as ``summary.py``
-does: a fresh process runs small problems on numpy until its work crosses their build
-threshold); printed per scene, then the worst per analysis and count. Writes
+does: a fresh process runs small problems on numpy until its numpy work adds up to their
+build's cost, a study's eighth to 14th solve here, ``fresh_process.py``); printed per scene,
+then the worst per analysis and count. Writes
 ``results/load_counts[_SEED].json`` unless ``--check``.
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/load_counts.py [--loads 150 200 300 600]

@@ -67,8 +67,9 @@ IMPORTS = (
 
 def warm_up(scenes) -> None:
     """Imports and entry points, and every optional compiled kernel built now (the state of a
-    process that has run a study for a second or two), so that no row depends on the rows
-    before it having crossed a kernel's build threshold."""
+    process that has run a study for a second or two: ``fresh_process.py`` measures how soon
+    a study gets there), so that no row depends on the rows before it having crossed a
+    kernel's build threshold."""
     from xpersson.engine import _compiled as march
     from xpersson.physics import _compiled as kernels
 
