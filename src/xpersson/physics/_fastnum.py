@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import _scratch
 from ._compiled import kernel
 
 if TYPE_CHECKING:
@@ -77,7 +78,7 @@ def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     fn = kernel(y.size * 8, "spline_coefficients")
     if fn is not None:
         yt, dx_, slope, sl = _compiled_slopes(x, y)
-        c = np.empty((4, n - 1, y.shape[0]))
+        c = _scratch.empty((4, n - 1, y.shape[0]))  # (on kept pages: the solve's splines)
         fn(yt, dx_, slope, sl, c)
         return PPoly.construct_fast(c, x, extrapolate=True, axis=1)
     yt, dx, slope, sl = _row_slopes(x, y)
@@ -128,7 +129,7 @@ def _compiled_slopes(
 ) -> tuple[NDArray[np.float64], ...]:
     """``(y.T, dx, slope, sl)`` of :func:`_row_slopes` by the compiled kernels of
     :mod:`._compiled` (bit for bit; ``dx`` 1-D): the same system, solved by dgtsv's own
-    elimination."""
+    elimination. The three large arrays are on kept pages (:mod:`xpersson._scratch`)."""
     n = x.size
     dx = np.diff(x)
     dl, d, du = np.empty(n - 1), np.empty(n), np.empty(n - 1)  # sub-, main, super-diagonal
@@ -137,9 +138,10 @@ def _compiled_slopes(
     d0, d1 = x[2] - x[0], x[-1] - x[-3]
     d[0], du[0] = dx[1], d0
     d[-1], dl[-1] = dx[-2], d1
-    slope = np.empty((n - 1, y.shape[0]))
-    b = np.empty((n, y.shape[0]))  # the right-hand sides along the rows
-    yt = np.ascontiguousarray(y.T)  # (n, n_row)
+    slope = _scratch.empty((n - 1, y.shape[0]))
+    b = _scratch.empty((n, y.shape[0]))  # the right-hand sides along the rows
+    yt = _scratch.empty((n, y.shape[0]))  # the data by knot (n, n_row)
+    np.copyto(yt, y.T)
     kernel(0, "spline_rhs")(yt, dx, float(d0), float(d1), slope, b)  # type: ignore[misc]
     if kernel(0, "spline_slopes")(dl, d, du, b):  # type: ignore[misc]
         from numpy.linalg import LinAlgError
