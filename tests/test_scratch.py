@@ -69,11 +69,11 @@ def test_the_switch_off_keeps_nothing() -> None:
 def test_clear_empties_the_pool_and_drops_buffers_out_when_they_return() -> None:
     a, b = _scratch.empty(BIG), _scratch.empty(BIG)
     del a
-    assert _scratch.kept_bytes() > 0
+    assert _scratch.kept_bytes() > 0 and _scratch._pool().out == 1
     clear_caches()  # (the cache clear empties the pool too)
     assert _scratch.kept_bytes() == 0
     del b  # out at the clear: dropped
-    assert _scratch.kept_bytes() == 0
+    assert _scratch.kept_bytes() == 0 and _scratch._pool().out == 0
 
 
 def test_a_buffer_freed_in_another_thread_goes_back_to_its_own_pool() -> None:
@@ -108,21 +108,31 @@ _STEPS = st.lists(
 def test_leases_never_overlap(steps: list[tuple[str, int]]) -> None:
     """Random lease / view / return sequences: the arrays alive never share memory, each keeps
     the values written into it, and the pool stays within its bound."""
+    gc.collect()  # (an earlier example's arrays held by its traceback)
+    base = _scratch._pool().out
     live: list[tuple[np.ndarray, float]] = []
     for n, (op, k) in enumerate(steps):
         if op == "lease":
             a = _scratch.empty(k * BIG)
             a[...] = float(n)
             live.append((a, float(n)))
+            del a
         elif live:
             a, v = live.pop(k % len(live))
             if op == "view":
                 live.append((a[k % 7 :: 3], v))
             del a
-        for i, (x, v) in enumerate(live):
-            assert np.all(x == v)
-            assert not any(np.shares_memory(x, y) for y, _ in live[i + 1 :])
-        assert _scratch.kept_bytes() <= _scratch.MAX_BYTES
+        _check(live, base)
+
+
+def _check(live: list[tuple[np.ndarray, float]], base: int) -> None:
+    """The arrays alive hold their values and share no memory; a buffer out per owner alive."""
+    for i, (x, v) in enumerate(live):
+        assert np.all(x == v)
+        assert not any(np.shares_memory(x, y) for y, _ in live[i + 1 :])
+    assert _scratch.kept_bytes() <= _scratch.MAX_BYTES
+    owners = {id(x.base if isinstance(x.base, _scratch._Owner) else x.base.base) for x, _ in live}
+    assert _scratch._pool().out - base == len(owners)
 
 
 def _analysis_scene(n: int) -> dict:
@@ -143,7 +153,9 @@ def _analysis_scene(n: int) -> dict:
 
 def test_a_result_is_unchanged_by_later_solves_and_shares_no_memory_with_the_pool() -> None:
     ds = xpersson.solve(_analysis_scene(100))
+    gc.collect()
     assert _scratch.kept_bytes() > 0  # the solve's large arrays came from the pool
+    assert _scratch._pool().out == 0  # and every one went back: none is in the result
     arrays = [v.values for v in ds.variables.values() if v.dtype.kind in "fc"]
     before = [a.copy() for a in arrays]
     threads = [

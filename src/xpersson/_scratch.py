@@ -56,14 +56,16 @@ twice it."""
 
 
 class _Pool:
-    """One thread's free buffers (1-D ``uint8``, oldest first), the bytes they hold, and the
-    generation (bumped by :meth:`empty`: a buffer of an older one is dropped when returned)."""
+    """One thread's free buffers (1-D ``uint8``, oldest first), the bytes they hold, the
+    number of buffers out, and the generation (bumped by :meth:`empty`: a buffer of an older
+    one is dropped when returned)."""
 
-    __slots__ = ("__weakref__", "free", "generation", "lock", "nbytes")
+    __slots__ = ("__weakref__", "free", "generation", "lock", "nbytes", "out")
 
     def __init__(self) -> None:
         self.free: list[NDArray[np.uint8]] = []
         self.nbytes = 0
+        self.out = 0
         self.generation = 0
         self.lock = threading.Lock()
 
@@ -71,6 +73,7 @@ class _Pool:
         """The smallest free buffer of ``nbytes`` to ``2 nbytes`` bytes (no longer free), else
         a new one of whole pages."""
         with self.lock:
+            self.out += 1
             best = -1
             for k, buf in enumerate(self.free):
                 size = buf.nbytes
@@ -87,6 +90,7 @@ class _Pool:
         with self.lock:
             if generation != self.generation:
                 return
+            self.out -= 1
             self.free.append(buf)
             self.nbytes += buf.nbytes
             while self.nbytes > MAX_BYTES:
@@ -98,6 +102,7 @@ class _Pool:
             self.free.clear()
             self.nbytes = 0
             self.generation += 1
+            self.out = 0  # (those out now are not counted when they come back)
 
 
 class _Owner:
