@@ -33,6 +33,7 @@ reuses small blocks without faults anyway). With the caches off
 
 from __future__ import annotations
 
+import collections
 import threading
 import weakref
 from typing import Any
@@ -58,21 +59,41 @@ twice it."""
 class _Pool:
     """One thread's free buffers (1-D ``uint8``, oldest first), the bytes they hold, the
     number of buffers out, and the generation (bumped by :meth:`empty`: a buffer of an older
-    one is dropped when returned)."""
+    one is dropped when returned).
 
-    __slots__ = ("__weakref__", "free", "generation", "lock", "nbytes", "out")
+    A buffer comes back through :meth:`give`, called when its array dies: in any thread, and
+    possibly by the garbage collector while this thread holds the lock (a collection can run at
+    any allocation). So ``give`` only appends to a deque (atomic) and files what came back
+    where the lock is free; :meth:`take` files it first.
+    """
+
+    __slots__ = ("__weakref__", "back", "free", "generation", "lock", "nbytes", "out")
 
     def __init__(self) -> None:
         self.free: list[NDArray[np.uint8]] = []
+        self.back: collections.deque[tuple[NDArray[np.uint8], int]] = collections.deque()
         self.nbytes = 0
         self.out = 0
         self.generation = 0
         self.lock = threading.Lock()
 
+    def _file(self) -> None:
+        """Move what came back to the free buffers (the lock held): those of the current
+        generation, the oldest dropped beyond :data:`MAX_BYTES`."""
+        while self.back:
+            buf, generation = self.back.popleft()
+            if generation == self.generation:
+                self.out -= 1
+                self.free.append(buf)
+                self.nbytes += buf.nbytes
+        while self.nbytes > MAX_BYTES:
+            self.nbytes -= self.free.pop(0).nbytes
+
     def take(self, nbytes: int) -> NDArray[np.uint8]:
         """The smallest free buffer of ``nbytes`` to ``2 nbytes`` bytes (no longer free), else
         a new one of whole pages."""
         with self.lock:
+            self._file()
             self.out += 1
             best = -1
             for k, buf in enumerate(self.free):
@@ -86,23 +107,28 @@ class _Pool:
         return np.empty(-(-nbytes // _PAGE) * _PAGE, dtype=np.uint8)
 
     def give(self, buf: NDArray[np.uint8], generation: int) -> None:
-        """Keep a buffer whose array died (the oldest free ones dropped beyond the bound)."""
-        with self.lock:
-            if generation != self.generation:
-                return
-            self.out -= 1
-            self.free.append(buf)
-            self.nbytes += buf.nbytes
-            while self.nbytes > MAX_BYTES:
-                self.nbytes -= self.free.pop(0).nbytes
+        """A buffer whose array died comes back (filed now unless the lock is held)."""
+        self.back.append((buf, generation))
+        if self.lock.acquire(blocking=False):
+            try:
+                self._file()
+            finally:
+                self.lock.release()
 
     def empty(self) -> None:
         """Drop the free buffers; those out now are dropped when they come back."""
         with self.lock:
+            self._file()
             self.free.clear()
             self.nbytes = 0
             self.generation += 1
             self.out = 0  # (those out now are not counted when they come back)
+
+    def kept(self) -> int:
+        """Bytes of the free buffers (what came back filed first)."""
+        with self.lock:
+            self._file()
+            return self.nbytes
 
 
 class _Owner:
@@ -177,4 +203,4 @@ def clear() -> None:
 def kept_bytes() -> int:
     """Bytes of free buffers this thread's pool keeps now."""
     pool: _Pool | None = getattr(_LOCAL, "pool", None)
-    return 0 if pool is None else pool.nbytes
+    return 0 if pool is None else pool.kept()
