@@ -19,7 +19,6 @@ from ..cache import memoize
 if TYPE_CHECKING:
     from scipy.interpolate import PPoly
 
-from .. import _scratch
 from ._compiled import kernel
 from ._fastnum import _EXP_LO, _block, _exp, _exp_inplace, _row_spline
 
@@ -343,7 +342,7 @@ class _Curve:
         j0 = int(own.min())
         d = np.ascontiguousarray((xg[1 + j0 :] - self.x[1 + j0 : -1, None]).T)  # local: (m, n)
         step = _block(xg.size)
-        buf = _scratch.empty(min(step, self.n_load) * d.size)  # ln(1 - F), 1 - F of a block
+        buf = np.empty(min(step, self.n_load) * d.size)  # ln(1 - F), then 1 - F, of a block
         c, logs, sums = self._spl.c, kernel(0, "df_logs"), kernel(0, "df_sums")  # type: ignore[union-attr]
         for i in range(0, self.n_load, step):
             k = slice(i, i + step)

@@ -129,7 +129,7 @@ def _compiled_slopes(
 ) -> tuple[NDArray[np.float64], ...]:
     """``(y.T, dx, slope, sl)`` of :func:`_row_slopes` by the compiled kernels of
     :mod:`._compiled` (bit for bit; ``dx`` 1-D): the same system, solved by dgtsv's own
-    elimination. The three large arrays are on kept pages (:mod:`xpersson._scratch`)."""
+    elimination."""
     n = x.size
     dx = np.diff(x)
     dl, d, du = np.empty(n - 1), np.empty(n), np.empty(n - 1)  # sub-, main, super-diagonal
@@ -138,10 +138,9 @@ def _compiled_slopes(
     d0, d1 = x[2] - x[0], x[-1] - x[-3]
     d[0], du[0] = dx[1], d0
     d[-1], dl[-1] = dx[-2], d1
-    slope = _scratch.empty((n - 1, y.shape[0]))
-    b = _scratch.empty((n, y.shape[0]))  # the right-hand sides along the rows
-    yt = _scratch.empty((n, y.shape[0]))  # the data by knot (n, n_row)
-    np.copyto(yt, y.T)
+    slope = np.empty((n - 1, y.shape[0]))
+    b = np.empty((n, y.shape[0]))  # the right-hand sides along the rows
+    yt = np.ascontiguousarray(y.T)  # (n, n_row)
     kernel(0, "spline_rhs")(yt, dx, float(d0), float(d1), slope, b)  # type: ignore[misc]
     if kernel(0, "spline_slopes")(dl, d, du, b):  # type: ignore[misc]
         from numpy.linalg import LinAlgError
