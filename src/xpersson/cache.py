@@ -46,6 +46,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from . import _scratch
 from .options import cache_enabled
 
 __all__ = [
@@ -227,11 +228,13 @@ def caches() -> list[CacheInfo]:
 
 
 def clear_caches() -> None:
-    """Drop every kept value of every cache."""
+    """Drop every kept value of every cache, and the working memory kept between solves
+    (:mod:`xpersson._scratch`)."""
     with _REGISTRY_LOCK:
         found = list(_REGISTRY.values())
     for c in found:
         c.clear()
+    _scratch.clear()
 
 
 @contextlib.contextmanager

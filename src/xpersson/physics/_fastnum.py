@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import _scratch
 from ._compiled import kernel
 
 if TYPE_CHECKING:
@@ -77,7 +78,7 @@ def _row_spline(x: NDArray[np.float64], y: NDArray[np.float64]) -> PPoly:
     fn = kernel(y.size * 8, "spline_coefficients")
     if fn is not None:
         yt, dx_, slope, sl = _compiled_slopes(x, y)
-        c = np.empty((4, n - 1, y.shape[0]))
+        c = _scratch.empty((4, n - 1, y.shape[0]))  # (on kept pages: the solve's splines)
         fn(yt, dx_, slope, sl, c)
         return PPoly.construct_fast(c, x, extrapolate=True, axis=1)
     yt, dx, slope, sl = _row_slopes(x, y)

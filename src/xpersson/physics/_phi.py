@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import _scratch
 from ..cache import Cache
 from ._compiled import kernel
 from ._curve import _TINY, _Curve, _spline_rows, _tau_c
@@ -102,7 +103,7 @@ class _Phi:
         k = int(np.count_nonzero(low))
         if k and low[:k].all():  # the first k (the mean gap's rule: tau increasing): the
             # spline only past them (its values there were replaced), the rest a slice
-            out = np.empty((self.phi.shape[0], tau.size))
+            out = _scratch.empty((self.phi.shape[0], tau.size))  # (the callers' temporary)
             np.multiply(self.phi[:, 1:2], np.clip(tau[:k] / self.tau1, 0, 1), out=out[:, :k])
             _ppoly_at(self._spl, s[k:], out=out[:, k:])  # type: ignore[arg-type]
             return out
@@ -212,7 +213,7 @@ class _Phi:
             # kept from grid node lo = g0 - 2 on: a look-up below it is clipped to node lo, where
             # it takes 0 + 0 (0 - 0), the 0 it took from the zero nodes below (bit for bit)
             lo = max(g0 - 2, 0)
-            tab = np.empty((self.phi.shape[0], n - lo))  # (loads, nodes)
+            tab = _scratch.empty((self.phi.shape[0], n - lo))  # (loads, nodes; kept pages)
             zero = self._own_zeros(grid, g0, lo, np.where(has, first, 0))  # as the load alone
             if not _compiled_table(self._spl, grid[g0:], tab, g0 - lo, zero):  # has them
                 tab[:, : g0 - lo] = 0.0
