@@ -93,19 +93,7 @@ def check_plugin(
     if not isinstance(cls, type) or not issubclass(cls, Plugin):
         raise AssertionError(f"{cls!r} is not a plugin class (derive from a base in GROUPS)")
     group = cls.group
-    try:
-        check_plugin_class(cls)
-    except SpecError as exc:
-        raise AssertionError(f"metadata: {exc}") from None
-    assert not getattr(cls, "abstract", True), f"{name} is abstract"
-    assert cls.api_version <= API_VERSION, f"{name}: api_version {cls.api_version} too new"
-    paths = [k for k, spec in cls.parameters.items() if spec.kind == "path"]
-    assert not paths or callable(getattr(cls, "archived_params", None)), (
-        f"{name}: parameters {paths} name files, so the class must define archived_params() "
-        "(the file's table as inline parameters: an archive holds no machine-specific path "
-        "and rebuilds the plugin without the file; docs/contracts.md)"
-    )
-    report["metadata"] = "ok"
+    report["metadata"] = _check_metadata(cls, name)
 
     if cheap_import:
         report["import"] = _check_import(cls, import_budget)
@@ -131,6 +119,24 @@ def check_plugin(
             report["markov"] = markov_cross_check(cls, values, scene, walkers=markov)
     report.update(check_fast_paths(cls, values, scene, engine=engine))
     return report
+
+
+def _check_metadata(cls: type[Plugin], name: str) -> str:
+    """The class's declarations (as at definition time), its API version, and
+    ``archived_params()`` where a parameter names a file."""
+    try:
+        check_plugin_class(cls)
+    except SpecError as exc:
+        raise AssertionError(f"metadata: {exc}") from None
+    assert not getattr(cls, "abstract", True), f"{name} is abstract"
+    assert cls.api_version <= API_VERSION, f"{name}: api_version {cls.api_version} too new"
+    paths = [k for k, spec in cls.parameters.items() if spec.kind == "path"]
+    assert not paths or callable(getattr(cls, "archived_params", None)), (
+        f"{name}: parameters {paths} name files, so the class must define archived_params() "
+        "(the file's table as inline parameters: an archive holds no machine-specific path "
+        "and rebuilds the plugin without the file; docs/contracts.md)"
+    )
+    return "ok"
 
 
 def _check_import(cls: type, budget: float) -> str:
