@@ -50,3 +50,19 @@ def test_one_wall_batch_keeps_its_bits():
         x = p0 / (2.0 * np.sqrt(tau))
     assert area.tobytes() == erf(x).tobytes()
     assert non.tobytes() == erfc(x).tobytes()
+
+
+def test_erf_above_one_is_one_minus_erfc_bit_for_bit():
+    # _erf_erfc takes erf from erfc where x > 1 (scipy's own erf there): around 1, across
+    # the erfc branches (x < 8, >= 8) and where erf rounds to 1
+    rng = np.random.default_rng(7)
+    one = np.nextafter(1.0, 2.0)
+    x = np.concatenate(
+        ([one, 1.0, np.nextafter(1.0, 0.0)], 1.0 + 10 ** rng.uniform(-16, 1.5, 200_000))
+    )
+    big = x > 1.0
+    assert (1.0 - erfc(x[big])).tobytes() == erf(x[big]).tobytes()
+    rows = np.sort(x[:5000])[::-1].reshape(50, 100)  # the cut path (> _SMALL), around 1
+    area, non = _erf_erfc(rows.copy())
+    assert area.tobytes() == erf(rows).tobytes()
+    assert non.tobytes() == erfc(rows).tobytes()

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import xarray as xr
 from interface_testlib import scene
 
 import xpersson
 import xpersson_interface.plugins as plugins_mod
-from xpersson_interface._chunks import chunk_rows, joined
+from xpersson_interface._chunks import chunk_rows, joined, on_gap_grid
 
 LOADS = list(np.geomspace(1e3, 3e6, 7))
 ANALYSES = {"mean_gap": {}, "gap_pdf": {"u_points": 40},
@@ -47,3 +48,22 @@ def test_chunked_equals_whole(both, name):
     whole, chunked = (np.asarray(d[name].values, dtype=float) for d in both)
     assert whole.shape == chunked.shape and np.isfinite(whole).any()
     np.testing.assert_array_equal(chunked, whole)
+
+
+def test_on_gap_grid_is_the_plain_dataarray():
+    # the template's shallow copy: the DataArray built afresh, with rho's own memory, and
+    # neither the template nor a later call sees the values of an earlier one
+    rng = np.random.default_rng(5)
+    u = np.linspace(0.0, 3e-6, 57)
+    coord = xr.Variable(("u",), u, {"units": "m", "long_name": "interfacial separation"})
+    for _ in range(2):
+        rho = rng.random((4, u.size))
+        got = on_gap_grid(rho, u)
+        want = xr.DataArray(rho.copy(), dims=("p0", "u"), coords={"u": coord})
+        assert got.identical(want)
+        assert np.shares_memory(got.values, rho)
+        rho[0, 0] = -1.0  # the caller's array is the data, not the template's
+        assert got.values[0, 0] == -1.0
+        assert on_gap_grid(np.zeros((4, u.size)), u).values[0, 0] == 0.0
+    other = on_gap_grid(np.ones((3, 9)), np.linspace(0.0, 1.0, 9))
+    assert other.sizes == {"p0": 3, "u": 9} and other["u"].values[-1] == 1.0

@@ -44,6 +44,7 @@ __all__ = [
     "contact_of",
     "contacts",
     "joined",
+    "on_gap_grid",
     "sub_solved",
     "subset",
 ]
@@ -70,6 +71,22 @@ def _bin_edges(z_max: float, n_bins: int) -> NDArray[np.float64]:
     """:func:`bin_edges` of ``zeta_max > 1`` (read-only; once per curve, not per direct call)."""
     inner = 1.0 + np.geomspace(1e-9, z_max - 1.0, n_bins)
     return np.unique(np.concatenate(([1.0], inner[inner < z_max], [z_max])))
+
+
+def on_gap_grid(rho: NDArray[np.float64], u: NDArray[np.float64]) -> xr.DataArray:
+    """``rho`` (n_load, n_u) [1/m] as a DataArray on ``("p0", "u")`` with the coordinate ``u``
+    [m]: a shallow copy of the grid's template with ``rho`` as its data (the same DataArray as
+    a new one; the coordinate and its index built once per grid, not per solve: ~0.3 ms of
+    a 100-load ``gap_pdf`` solve)."""
+    return _gap_template(u, rho.shape).copy(deep=False, data=rho)
+
+
+@memoize("interface.gap_grid", scope="process", maxsize=16)
+def _gap_template(u: NDArray[np.float64], shape: tuple[int, int]) -> xr.DataArray:
+    """A DataArray of ``shape`` (no data of its own: a broadcast 0) on the gap grid ``u``."""
+    attrs = {"units": "m", "long_name": "interfacial separation"}
+    coord = xr.Variable(("u",), np.array(u, dtype=float), attrs)
+    return xr.DataArray(np.broadcast_to(0.0, shape), dims=("p0", "u"), coords={"u": coord})
 
 
 def chunk_rows(n_load: int, chunk: int = CHUNK) -> list[slice]:

@@ -48,7 +48,7 @@ from ._by_load import (
     TOL,
     by_load,
 )
-from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined, subset
+from ._chunks import CHUNK, Part, bin_edges, contact_of, contacts, joined, on_gap_grid, subset
 from ._first_level import at_kinks, first_level, table_min
 from ._gap_diffusion import gap_pdf_by_diffusion
 from ._leak_direct import outputs
@@ -356,10 +356,8 @@ class GapPDF(_Interface):
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         grid: list[np.ndarray] = []  # the gap grid, fixed by the first loads computed
         out, err = by_load(ctx.p0, lambda rows: self._direct(ctx, ds, rows, grid))
-        coord = xr.Variable(("u",), grid[0], {"units": "m", "long_name": "interfacial separation"})
-        rho = xr.DataArray(out["gap_pdf"], dims=("p0", "u"), coords={"u": coord})
         return {
-            "gap_pdf": rho,
+            "gap_pdf": on_gap_grid(out["gap_pdf"], grid[0]),
             "gap_contact_weight": (("p0",), np.minimum(out["gap_contact_weight"], 1.0)),
             "gap_mean": (("p0",), out["gap_mean"]),
             "gap_pdf_load_error": (("p0",), err),
