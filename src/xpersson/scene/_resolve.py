@@ -31,13 +31,12 @@ from ._core import (
     CORE,
     DEFAULT_MODEL,
     MAX_ZETA,
-    METADATA_KEYS,
     PLUGIN_SECTIONS,
-    TOP_LEVEL,
     ResolvedScene,
     log_grid,
 )
-from ._geometry import check_load_keys, check_plugins, geometry_part, is_flat, pressure_grid
+from ._geometry import check_plugins, geometry_part, is_flat, pressure_grid
+from ._shape import check_method, check_sections
 
 __all__ = ["analysis_plan", "plugin_message", "plugin_records", "resolve_scene", "with_spectrum"]
 
@@ -105,7 +104,9 @@ def plugin_message(section: str, cls: Any, exc: BaseException) -> str:
     """``"section.param: ..."`` when a plugin's message starts with one of its parameters."""
     msg = str(exc)
     head = re.split(r"[\s:=]", msg, maxsplit=1)[0]
-    return f"{section}.{msg}" if head in getattr(cls, "parameters", {}) else f"{section}: {msg}"
+    if head in getattr(cls, "parameters", {}):
+        return f"{section}.{msg}"
+    return f"{section}: {msg}"
 
 
 def _absolute_paths(
@@ -138,25 +139,6 @@ def _build_spectrum(spectrum: Plugin, who: Any) -> Any:
             f"{MAX_ZETA:g}; allowed q_1/q_L in (1, {MAX_ZETA:g}]"
         )
     return psd
-
-
-def _check_method(method: Any) -> None:
-    """``solver.method`` is ``"auto"``, a registered method name or an EngineMethod class."""
-    if method == "auto":  # the default (no look-up of the engine's methods)
-        return
-    from ..engine import METHODS, EngineMethod
-
-    if isinstance(method, type):
-        if not issubclass(method, EngineMethod):
-            raise SceneError(
-                f"solver.method: {method!r} is not an xpersson.engine.EngineMethod subclass"
-            )
-        return
-    if method != "auto" and method not in METHODS:
-        raise SceneError(
-            f"solver.method: {method!r} is not an engine method; one of "
-            f"{', '.join(['auto', *sorted(METHODS)])}"
-        )
 
 
 def _zeta_grid(out: Mapping[str, Any], zeta_support: float) -> np.ndarray:
@@ -202,44 +184,6 @@ def _check_power(psd: Any, zeta: np.ndarray) -> None:
         )
 
 
-def _check_sections(data: Mapping[str, Any]) -> None:
-    """Top-level keys, section types and the required sections."""
-    unknown = sorted(set(data) - TOP_LEVEL)
-    if unknown:
-        raise SceneError(
-            f"{unknown[0]}: unknown section or key; allowed: {', '.join(sorted(TOP_LEVEL))}"
-        )
-    if "sweep" in data:
-        raise SceneError(
-            "sweep: a sweep scene is solved point by point; use xpersson.solve "
-            "(or xpersson.sweep.expand to list its points)"
-        )
-    for key in ("title", "description"):
-        if key in data and not isinstance(data[key], str):
-            raise SceneError(f"{key}: must be a string")
-    _check_metadata(data.get("metadata", {}))
-    for sec in (*CORE, *PLUGIN_SECTIONS, "analyses"):
-        if sec in data and not isinstance(data[sec], Mapping):
-            raise SceneError(f"{sec}: must be a table, got {type(data[sec]).__name__}")
-    if "spectrum" not in data:
-        raise SceneError("spectrum: required section (e.g. model = 'self_affine')")
-    check_load_keys(data)
-    if "load" not in data or ("p0" not in data["load"] and is_flat(data)):
-        raise SceneError("load.p0: required (nominal pressure, e.g. '1 MPa')")
-
-
-def _check_metadata(meta: Any) -> None:
-    """``[metadata]``: ACDD discovery attributes, strings, from :data:`METADATA_KEYS`."""
-    if not isinstance(meta, Mapping):
-        raise SceneError(f"metadata: must be a table, got {type(meta).__name__}")
-    for key, value in meta.items():
-        if key not in METADATA_KEYS:
-            allowed = ", ".join(sorted(METADATA_KEYS))
-            raise SceneError(f"metadata.{key}: unknown key; allowed (ACDD-1.3): {allowed}")
-        if not isinstance(value, str):
-            raise SceneError(f"metadata.{key}: must be a string, got {type(value).__name__}")
-
-
 def _core_sections(data: Mapping[str, Any]) -> dict[str, Any]:
     """The converted core sections: material, loads (raw and Pa), output and solver."""
     material = convert_params(CORE["material"], data.get("material", {}), "material")
@@ -258,7 +202,7 @@ def _core_sections(data: Mapping[str, Any]) -> dict[str, Any]:
             "output.p: give at least 2 pressures (a grid to integrate P over) in "
             + CORE["output"]["p"].range_text()
         )
-    _check_method(solver["method"])
+    check_method(solver["method"])
     return {
         "material": material,
         "p0_raw": p0_raw,
@@ -335,7 +279,7 @@ def plugin_records(
 def resolve_scene(scene: Any, registry: Registry) -> ResolvedScene:
     """Validate and resolve a :class:`~xpersson.scene.Scene` (see :meth:`Scene.resolve`)."""
     data = scene.data
-    _check_sections(data)
+    check_sections(data)
     core = _core_sections(data)
     out, solver, p0 = core["output"], core["solver"], core["p0"]
 
