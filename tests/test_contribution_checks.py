@@ -104,3 +104,24 @@ def test_a_clean_contribution_is_checked_in_one_pass(monkeypatch):
     with pytest.raises(PluginFailure, match="variable 'b'"):
         check_contributions(_draft(), values, specs, "plugin 'p'")
     assert [a[1] for a in calls] == ["a", "b"]  # in order, up to the first failure
+
+
+def test_returned_dataarray_keeps_its_attrs_and_shares_its_values():
+    """A plugin's DataArray is not copied (its values become the Dataset's, as a pair's array
+    does), but its own attrs and coordinates are left as they were: the checked variable has
+    a dict of its own, and a coordinate not indexed in the Dataset is dropped from the copy
+    only."""
+    import xarray as xr
+
+    ds = _draft()
+    vals = np.array([0.25, 0.5])
+    value = xr.DataArray(vals, dims=("p0",), attrs={"units": "m", "note": "plugin's"})
+    value = value.assign_coords(extra=("p0", np.array([7.0, 8.0])))
+    spec = VarSpec(("p0",), "1", "v", valid_min=0.0, valid_max=1.0)
+    out = checked_variable(ds, "v", value, spec, "who", dict(ds.sizes))
+    assert np.shares_memory(np.asarray(out), vals)  # no copy of the values
+    assert out.attrs == {}  # the spec's attrs go onto a dict of the result's own
+    out.attrs["units"] = "Pa"
+    assert value.attrs == {"units": "m", "note": "plugin's"}
+    assert "extra" not in out.coords and "extra" in value.coords
+    assert np.array_equal(value["extra"].values, [7.0, 8.0])
