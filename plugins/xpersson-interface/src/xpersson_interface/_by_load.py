@@ -373,10 +373,14 @@ def _table(
             break
     err[direct.done] = 0.0
     out = {}
+    last = {k: g for g, names in enumerate(groups) for k in _names(names, direct.vals)}
     for g, names in enumerate(groups):  # a load computed for a group: its own values
         done = direct.done[g]
         for k in _names(names, direct.vals):
-            o = tabled[k].copy() if k in tabled else np.full_like(direct.vals[k], np.nan)
+            if k not in tabled:
+                o = np.full_like(direct.vals[k], np.nan)
+            else:  # the table's array itself where no later group reads it (no copy)
+                o = tabled.pop(k) if last[k] == g else tabled[k].copy()
             o[done] = direct.vals[k][done]
             out[k] = o
     return out, err.max(axis=0)
