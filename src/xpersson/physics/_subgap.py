@@ -16,6 +16,7 @@ from ._compiled import PAIRWISE, kernel
 from ._curve import _delta_I3, _gauss
 from ._fastnum import _block, _exp
 from ._phi import _Phi
+from ._sub_nodes import compiled_prep
 
 _SUB_EDGES = np.concatenate(([0.0], 0.4 ** np.arange(9, -1, -1)))
 _SUB_ORDER = 6
@@ -68,6 +69,9 @@ def _sub_prep(
     """
     qa = np.asarray(q_a, dtype=float)
     V = np.log(np.maximum(q_hi / qa, 1.0))
+    fast = compiled_prep(psd, E_star, qa, V, (_SUB_EDGES, *_gauss(_SUB_ORDER)))
+    if fast is not None:  # (the kernels: the same bits)
+        return fast
     s, ws = _sub_panels(psd, qa, V)
     vs = V[..., None] * s
     q = np.exp(vs * s)
