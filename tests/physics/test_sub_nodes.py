@@ -43,7 +43,7 @@ def _kernels(compiled: bool):
 
 def _numpy_prep(psd, E_star, qa, q_hi):
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(_subgap, "compiled_prep", lambda *args: None)
+        mp.setattr(_subgap, "_compiled_prep", lambda *args: None)
         return _subgap._sub_prep(psd, E_star, qa, q_hi)
 
 
@@ -69,8 +69,8 @@ def test_kernels_give_the_numpy_bits(compiled, seed, table, n_load, per_load):
     V = np.log(np.maximum(q_hi / qa, 1.0))
     rule = (_subgap._SUB_EDGES, *_subgap._gauss(_subgap._SUB_ORDER))
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(_sub_nodes, "kernel", fns)
-        got = _sub_nodes.compiled_prep(psd, 1e9, qa, V, rule)
+        mp.setattr(_subgap, "kernel", fns)
+        got = _subgap._compiled_prep(psd, 1e9, qa, V, rule)
     assert got is not None
     for g, w in zip(got, want, strict=True):
         assert g.shape == w.shape and g.tobytes() == w.tobytes()
@@ -85,8 +85,8 @@ def test_outside_the_support_is_left_to_numpy():
         qa = np.array([[2e3, bad]])
         V = np.log(np.maximum(1e7 / qa, 1.0))
         with pytest.MonkeyPatch.context() as mp:
-            mp.setattr(_sub_nodes, "kernel", _kernels(False))
-            assert _sub_nodes.compiled_prep(psd, 1e9, qa, V, rule) is None
+            mp.setattr(_subgap, "kernel", _kernels(False))
+            assert _subgap._compiled_prep(psd, 1e9, qa, V, rule) is None
 
 
 def test_off_switch_and_unbuilt_kernels_keep_numpy():
@@ -97,8 +97,8 @@ def test_off_switch_and_unbuilt_kernels_keep_numpy():
     V = np.log(np.maximum(1e7 / qa, 1.0))
     rule = (_subgap._SUB_EDGES, *_subgap._gauss(_subgap._SUB_ORDER))
     with xpersson.set_options(compiled=False):
-        assert _sub_nodes.compiled_prep(psd, 1e9, qa, V, rule) is None
+        assert _subgap._compiled_prep(psd, 1e9, qa, V, rule) is None
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(_compiled, "_STATE", {})  # nothing built, no numpy work counted
-        assert _sub_nodes.compiled_prep(psd, 1e9, qa, V, rule) is None
+        assert _subgap._compiled_prep(psd, 1e9, qa, V, rule) is None
         assert _compiled._STATE.get("numpy", 0.0) == 0.0

@@ -11,7 +11,8 @@ of a leak solve's ~10 ms, mostly passes, gathers and boolean masks rather than t
 path's operations in its order (products, quotients, sums, comparisons, ``sqrt``: IEEE, the
 same bits); numpy still computes every ``log``, ``exp``, ``pow`` and ``expm1``, each on the
 same values as the numpy path (element by element). Built and gated with the kernels of
-:mod:`._compiled` (:data:`KERNELS`), used once they are built; plain Python without numba.
+:mod:`._compiled` (:data:`KERNELS`), called by :func:`~._subgap._compiled_prep` once they are
+built; plain Python without numba.
 """
 
 from __future__ import annotations
@@ -20,15 +21,13 @@ import math
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
-from ._compiled import kernel
 from ._spectrum import PowerSpectrum
 
-__all__ = ["KERNELS", "compiled_prep", "node_kernel", "node_panels", "node_segments"]
+__all__ = ["KERNELS", "applies", "node_kernel", "node_panels", "node_segments"]
 
 
-def _applies(psd: object) -> bool:
+def applies(psd: object) -> bool:
     """Whether ``psd`` has :meth:`~._spectrum.PowerSpectrum._I3_and_C`'s segments (the base
     class's ``C``, ``I3`` and moments on ``_set_segments``' power laws)."""
     cls = type(psd)
@@ -39,54 +38,6 @@ def _applies(psd: object) -> bool:
         and cls.I3 is PowerSpectrum.I3
         and cls.running_moment is PowerSpectrum.running_moment
     )
-
-
-def compiled_prep(
-    psd: object,
-    E_star: float,
-    qa: NDArray[np.float64],
-    V: NDArray[np.float64],
-    rule: tuple[NDArray[np.float64], ...],
-) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
-    """:func:`~._subgap._sub_prep`'s ``(ln tau_c,a, kernel)`` of the cut-offs ``qa`` [1/m]
-    (``V = ln(q_hi/q_a)``; ``rule``: the graded panel edges in ``s`` and the Gauss nodes and
-    weights on ``[0, 1]``) by the kernels, the same bits; None where they do not apply
-    (kernels off or not built yet, a spectrum without :func:`_applies`' segments, a node
-    outside the spectrum's support or NaN): then ``_sub_prep``'s numpy path."""
-    fn = kernel(0.0, "node_segments")  # (built already or not: callers count the work)
-    if fn is None or qa.size == 0 or not _applies(psd):
-        return None
-    p: Any = psd
-    edges, x, w = rule
-    flat = qa.reshape(-1)
-    with np.errstate(divide="ignore"):  # (_sub_panels' breakpoints: numpy's log)
-        lb = np.log(p._nodes / flat[:, None])
-    m = (edges.size + lb.shape[1] - 1) * x.size
-    n = flat.size
-    ws, vs, g, q, dq, r, ex, sx = np.empty((8, n, m))
-    kernel(0.0, "node_panels")(lb, edges, x, w, V.reshape(-1), ws, vs, g)
-    np.exp(g, out=g)
-    e, a = p._e, p._a
-    es = np.stack((e, 3.0 + e + 1.0))  # (_I3_and_C's per-segment factors)
-    idx, small = np.empty((n, m), dtype=np.intp), np.empty((5, n * m))
-    bounds = (p._nodes[1:-1], p.q_L, p.q_1, a, es)
-    count = fn(g, flat, vs, ws, *bounds, q, dq, r, idx, ex, sx, small)
-    if count < 0:
-        return None
-    # numpy's functions on the arrays _I3_and_C and _delta_I3 have (element by element)
-    pw = r**ex
-    L = np.log(r)
-    sL = np.multiply(sx, L, out=sx)
-    em = np.expm1(sL)
-    small = small[:, :count]
-    qm = small[1]  # the midpoint form: qm**3 and C(qm)'s power, as _delta_I3
-    q3, pm = qm**3, small[2] ** small[3]
-    seg = np.stack((p._Ca, p._Ca * a**4.0, p._cumulative(3.0)[:-1]))
-    i3a = np.asarray(p.running_moment(3.0, flat), dtype=float)
-    k0, tiny = 0.25 * np.pi * E_star**2, float(np.finfo(float).tiny)
-    mid = (small[0], q3, pm, small[4])
-    kernel(0.0, "node_kernel")(idx, pw, L, sL, em, seg, i3a, flat, q, dq, *mid, k0, tiny, g, ex)
-    return np.log(ex).reshape(qa.shape + (m,)), g.reshape(qa.shape + (m,))
 
 
 def node_panels(
