@@ -76,17 +76,32 @@ def test_kernels_give_the_numpy_bits(compiled, seed, table, n_load, per_load):
         assert g.shape == w.shape and g.tobytes() == w.tobytes()
 
 
-def test_outside_the_support_is_left_to_numpy():
-    """A cut-off below ``q_L`` (nodes outside the spectrum's support: ``C = 0`` there, ``I3``
-    clipped) and a NaN cut-off: no compiled set-up; ``_sub_prep`` the numpy path's."""
-    psd = SelfAffineRollOff.from_h_rms(1e-6, 0.8, 1e3, 1e4, 1e7)
+@pytest.mark.parametrize("compiled", [False, True])
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.booleans())
+def test_nodes_outside_the_support_give_the_numpy_bits(compiled, seed, table):
+    """Cut-offs at and beyond the support's ends, ``q_hi = q_1`` (the zero-width panel at
+    ``s = 1``: nodes rounded above ``q_1``) and ``q_hi`` beyond it: ``I3`` clipped and
+    ``C = 0`` there, as ``PowerSpectrum.I3`` and ``C`` (the numpy path's bits); a NaN
+    cut-off: no compiled set-up."""
+    fns = _kernels(compiled)
+    rng = np.random.default_rng(seed)
+    psd = _spectrum(rng, table)
+    q_hi = psd.q_1 * rng.choice([1.0, 1.0, 1.3])
+    qa = psd.q_L * (q_hi / psd.q_L) ** rng.uniform(0.0, 1.0, (3, 2))
+    qa.flat[:4] = [psd.q_L, psd.q_1, psd.q_L * 0.9, psd.q_1 * 1.1]
+    rng.shuffle(qa.reshape(-1))
+    want = _numpy_prep(psd, 1e9, qa, q_hi)
+    V = np.log(np.maximum(q_hi / qa, 1.0))
     rule = (_subgap._SUB_EDGES, *_subgap._gauss(_subgap._SUB_ORDER))
-    for bad in (0.5e3, np.nan):
-        qa = np.array([[2e3, bad]])
-        V = np.log(np.maximum(1e7 / qa, 1.0))
-        with pytest.MonkeyPatch.context() as mp:
-            mp.setattr(_subgap, "kernel", _kernels(False))
-            assert _subgap._compiled_prep(psd, 1e9, qa, V, rule) is None
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_subgap, "kernel", fns)
+        got = _subgap._compiled_prep(psd, 1e9, qa, V, rule)
+        assert got is not None
+        for g, w in zip(got, want, strict=True):
+            assert g.tobytes() == w.tobytes()
+        qa[0, 1] = np.nan
+        assert _subgap._compiled_prep(psd, 1e9, qa, V, rule) is None
 
 
 def test_off_switch_and_unbuilt_kernels_keep_numpy():

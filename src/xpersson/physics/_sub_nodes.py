@@ -85,13 +85,13 @@ def node_segments(
 ) -> int:  # fmt: skip  # pragma: no cover - compiled (its plain-Python form is tested)
     """The nodes ``q = g q_a`` (``g = exp(V s^2)``), ``dq = q (2 V s) ws`` (``vs = V s``),
     each node's spectrum segment ``j`` (``np.searchsorted(inner, q, side="right")``, ``inner``
-    the inner breakpoints), ``r = q / a_j`` and the segment's ``e_j`` and ``3 + e_j + 1``
-    (``es``: (2, n_seg)), written into ``q``, ``dq``, ``r``, ``idx``, ``ex``, ``sx`` (n_cut,
-    m); the nodes within ``1e-6 q_a`` of their cut-off, in order, into ``small`` (5, n):
-    flat index, midpoint ``q_m = q_a + (q - q_a) / 2``, its ``q_m / a_j``, ``e_j`` and ``j``
-    (as floats).
-    Returns their count, or -1 where a node or midpoint lies outside ``[lo, hi]`` (or is
-    NaN): then nothing written is used."""
+    the inner breakpoints; ``-1 - j`` outside the support ``[lo, hi]``, where ``C`` is 0),
+    ``r = q_c / a_j`` (``q_c``: ``q`` clipped to the support, as ``I3`` clips it) and the
+    segment's ``e_j`` and ``3 + e_j + 1`` (``es``: (2, n_seg)), written into ``q``, ``dq``,
+    ``r``, ``idx``, ``ex``, ``sx`` (n_cut, m); the nodes within ``1e-6 q_a`` of their cut-off,
+    in order, into ``small`` (5, n): flat index, midpoint ``q_m = q_a + (q - q_a) / 2``, its
+    ``q_m / a_j``, ``e_j`` and ``j`` (``-1 - j`` outside; as floats). Returns their count, or
+    -1 where a node is NaN (then nothing written is used)."""
     n, m = g.shape
     ni = inner.size
     count = 0
@@ -99,22 +99,22 @@ def node_segments(
         qi = qa[i]
         for k in range(m):
             qk = g[i, k] * qi
-            if not (qk >= lo and qk <= hi):
+            if qk != qk:
                 return -1
             q[i, k] = qk
             dq[i, k] = (qk * (vs[i, k] * 2.0)) * ws[i, k]
+            qc = qk if qk > lo else lo  # I3's clip to the support (C: 0 outside)
+            qc = qc if qc < hi else hi
             j = 0
-            while j < ni and inner[j] <= qk:
+            while j < ni and inner[j] <= qc:
                 j += 1
-            idx[i, k] = j
-            r[i, k] = qk / a[j]
+            idx[i, k] = j if qk >= lo and qk <= hi else -1 - j
+            r[i, k] = qc / a[j]
             ex[i, k] = es[0, j]
             sx[i, k] = es[1, j]
             d = qk - qi
             if d < 1e-6 * qi:
                 qm = qi + 0.5 * d
-                if not (qm >= lo and qm <= hi):
-                    return -1
                 jm = 0
                 while jm < ni and inner[jm] <= qm:
                     jm += 1
@@ -122,7 +122,7 @@ def node_segments(
                 small[1, count] = qm
                 small[2, count] = qm / a[jm]
                 small[3, count] = es[0, jm]
-                small[4, count] = jm
+                small[4, count] = jm if qm >= lo and qm <= hi else -1 - jm
                 count += 1
     return count
 
@@ -132,25 +132,32 @@ def node_kernel(
     dq: Any, at: Any, q3: Any, pm: Any, js: Any, k0: float, tiny: float, kern: Any, targ: Any,
 ) -> None:  # fmt: skip  # pragma: no cover - compiled (its plain-Python form is tested)
     """``kern = dq q^2 C / sqrt(pi dI3)`` and ``targ = k0 dI3`` (n_cut, m) from ``pw = r^e``,
-    ``L = ln r``, ``sL = (3 + e + 1) L`` and ``em = expm1(sL)``: ``C = C_j pw``, ``dI3 =
-    I3(q) - I3(q_a)`` (``I3`` as :meth:`~._spectrum.PowerSpectrum._I3_and_C`; ``i3a``
-    (n_cut,): ``I3(q_a)``), at the flat indices ``at`` (in order) the midpoint form
-    ``(q - q_a) q_m^3 C(q_m)`` of ``_delta_I3`` (``q3 = q_m^3``, ``pm = (q_m / a_j)^e_j``,
-    ``js``: ``j``), floored at ``tiny``. ``seg`` (3, n_seg): ``C_j``, ``C_j a_j^4``, the
-    cumulative ``I3`` at ``a_j``. ``pw`` is overwritten (``C``)."""
+    ``L = ln r``, ``sL = (3 + e + 1) L`` and ``em = expm1(sL)``: ``C = C_j pw`` (0 where
+    ``idx`` marks a node outside the support), ``dI3 = I3(q) - I3(q_a)`` (``I3`` as
+    :meth:`~._spectrum.PowerSpectrum.running_moment`; ``i3a`` (n_cut,): ``I3(q_a)``), at the
+    flat indices ``at`` (in order) the midpoint form ``(q - q_a) q_m^3 C(q_m)`` of
+    ``_delta_I3`` (``q3 = q_m^3``, ``pm = (q_m / a_j)^e_j``, ``js``: ``j``), floored at
+    ``tiny``. ``seg`` (3, n_seg): ``C_j``, ``C_j a_j^4``, the cumulative ``I3`` at ``a_j``.
+    ``pw`` is overwritten (``C``)."""
     n, m = q.shape
     for i in range(n):
         base = i3a[i]
         for k in range(m):
             j = idx[i, k]
-            pw[i, k] = seg[0, j] * pw[i, k]  # C
+            if j < 0:  # outside the support: C = 0, I3 at its end
+                j = -1 - j
+                pw[i, k] = 0.0
+            else:
+                pw[i, k] = seg[0, j] * pw[i, k]  # C
             x = sL[i, k]
             f = em[i, k] / x if x != 0.0 else 1.0  # _expm1_over_x (1 at 0)
             targ[i, k] = (seg[2, j] + (seg[1, j] * L[i, k]) * f) - base
     for c in range(at.size):
         t = int(at[c])
         i, k = t // m, t - (t // m) * m
-        targ[i, k] = ((q[i, k] - qa[i]) * q3[c]) * (seg[0, int(js[c])] * pm[c])
+        jm = int(js[c])
+        C = seg[0, jm] * pm[c] if jm >= 0 else 0.0
+        targ[i, k] = ((q[i, k] - qa[i]) * q3[c]) * C
     for i in range(n):
         for k in range(m):
             d = targ[i, k]

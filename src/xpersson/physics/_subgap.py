@@ -97,11 +97,13 @@ def _compiled_prep(
     V: NDArray[np.float64],
     rule: tuple[NDArray[np.float64], ...],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
-    """:func:`~._subgap._sub_prep`'s ``(ln tau_c,a, kernel)`` of the cut-offs ``qa`` [1/m]
-    (``V = ln(q_hi/q_a)``; ``rule``: the graded panel edges in ``s`` and the Gauss nodes and
-    weights on ``[0, 1]``) by the kernels, the same bits; None where they do not apply
-    (kernels off or not built yet, a spectrum without :func:`~._sub_nodes.applies`' segments, a node
-    outside the spectrum's support or NaN): then ``_sub_prep``'s numpy path."""
+    """:func:`_sub_prep`'s ``(ln tau_c,a, kernel)`` of the cut-offs ``qa`` [1/m] (``V =
+    ln(q_hi/q_a)``; ``rule``: the graded panel edges in ``s`` and the Gauss nodes and weights
+    on ``[0, 1]``) by the kernels of :mod:`._sub_nodes`, the same bits (nodes outside the
+    spectrum's support, e.g. the zero-width panel at ``s = 1`` rounded above ``q_1``: ``I3``
+    clipped and ``C = 0``, as ``PowerSpectrum.I3`` and ``C``); None where they do not apply
+    (kernels off or not built yet, a spectrum without :func:`~._sub_nodes.applies`' segments,
+    a NaN node): then the numpy path."""
     fn = kernel(0.0, "node_segments")  # (built already or not: callers count the work)
     if fn is None or qa.size == 0 or not applies(psd):
         return None
