@@ -26,6 +26,7 @@ from xpersson.physics import (
     _phi,
     _phi_sums,
     _spline_sums,
+    _sub_nodes,
     _subgap,
 )
 from xpersson.physics._gap_distribution import Detachment, gap_pdf
@@ -46,7 +47,7 @@ def _plain(monkeypatch: pytest.MonkeyPatch) -> list[str]:
 
     def kernel(work: float, name: str = "gap_rows"):
         asked.append(name)
-        for mod in (_compiled, _spline_sums, _band_sums, _phi_sums):
+        for mod in (_compiled, _spline_sums, _band_sums, _phi_sums, _sub_nodes):
             if hasattr(mod, name):
                 return getattr(mod, name)
         raise AttributeError(name)
@@ -89,7 +90,7 @@ def test_plain_kernels_give_the_numpy_results(monkeypatch):
         got = xpersson.solve(scene)
     want = {"gap_rows", "sub_sums", "spline_coefficients", "spline_values", "df_sums"}
     more = {"crossing_newton", "spline_sub_sums", "band_sums", "df_logs", "table_sums"}
-    more |= {"table_values", "phi_cumsum"}
+    more |= {"table_values", "phi_cumsum", "node_panels", "node_segments", "node_kernel"}
     assert want | more <= set(asked)
     _assert_close(ref, got)
 

