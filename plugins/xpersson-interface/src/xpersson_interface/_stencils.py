@@ -9,6 +9,8 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from ._stencil_sums import sums
+
 #: Smallest density interpolated in logarithm (below: this; the error stays below it).
 FLOOR = 1e-300
 #: Outputs tabled transformed, ``(names, f)``: ``f(outputs, x)`` gives per load ``(W, S)``
@@ -74,12 +76,20 @@ def _stencil(
     seg: NDArray[np.intp],
     m: int,
     seg_x: NDArray[np.intp] | None = None,
-) -> tuple[NDArray, NDArray, NDArray[np.bool_]]:
-    """The ``m`` nodes around each ``x`` (indices, (n, m)), their Lagrange weights, and where
-    there are none: all within the segment of the two nodes around ``x`` (``seg``; shifted to
-    one side near its ends), unusable where those two differ or the segment holds fewer than
-    ``m`` nodes. ``seg_x``: each ``x``'s own segment, where known (a node checked by the
-    others: one-sided past its segment's last node of the others)."""
+    lz: tuple[NDArray[np.float64], ...] = (),
+) -> tuple[NDArray, NDArray, NDArray, list[NDArray[np.float64]], NDArray, NDArray[np.intp]]:
+    """The ``m`` nodes around each ``x`` (indices, (n, m)), their Lagrange weights, the sums
+    of the weights' magnitudes (the Lebesgue function), the weighted sums of each of ``lz``
+    (per node: a logarithm, 0 where not finite), where there are none and the node below
+    each ``x``: all within the
+    segment of the two nodes around ``x`` (``seg``; shifted to one side near its ends),
+    unusable where those two differ or the segment holds fewer than ``m`` nodes. ``seg_x``:
+    each ``x``'s own segment, where known (a node checked by the others: one-sided past its
+    segment's last node of the others). The sums compiled where built (:mod:`._stencil_sums`:
+    the same numbers, bit for bit)."""
+    got = sums(xn, x, seg, seg_x, m, lz)
+    if got is not None:
+        return got
     around = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
     lo = around - 1
     if seg_x is None:
@@ -92,7 +102,10 @@ def _stencil(
     bad |= last - first + 1 < m
     i = np.clip(around - m // 2, first, np.maximum(last - m + 1, first))
     i = np.clip(i, 0, xn.size - m)
-    return i[:, None] + np.arange(m), _lagrange(xn, x, i, m), bad
+    idx = i[:, None] + np.arange(m)
+    w = _lagrange(xn, x, i, m)
+    ys = [np.einsum("nk,nk->n", w, z[idx]) for z in lz]
+    return idx, w, np.sum(np.abs(w), axis=1), ys, bad, lo
 
 
 def _lagrange(
@@ -132,10 +145,12 @@ def _interpolate(
     from the other outputs' interpolated values. ``segs``: the nodes' and the ``x``'s
     segments, where known (:func:`_check`; the ``x``'s None: from the nodes around each)."""
     keys, weights = roles
-    if segs is None:
-        idx, w, bad = _stencil(xn, x, _segments(at, keys), m)
-    else:
-        idx, w, bad = _stencil(xn, x, segs[0], m, segs[1])
+    one = [k for k, v in at.items() if k not in keys and v.ndim == 1]  # (per-load outputs)
+    regulars = {k: np.isfinite(logs[k]) for k in one}
+    lz = tuple(np.where(regulars[k], logs[k], 0.0) for k in one)
+    seg, seg_x = (_segments(at, keys), None) if segs is None else segs
+    idx, w, lebesgue, ys, bad, below = _stencil(xn, x, seg, m, seg_x, lz)
+    interpolated = dict(zip(one, ys))
     lo = idx[:, 0]
     out = {}
     late = {k: f for names, f in weights for k in names}
@@ -148,9 +163,8 @@ def _interpolate(
         if v.ndim > 1:
             out[k] = _rows(L, idx, w)
             continue
-        regular = np.isfinite(L)
-        at_lo = regular[lo]  # whether the stencil's first node is regular
-        y = np.einsum("nk,nk->n", w, np.where(regular, L, 0.0)[idx])
+        at_lo = regulars[k][lo]  # whether the stencil's first node is regular
+        y = interpolated[k]
         if k in late:
             f = late[k]
             if id(f) not in done:  # once per group (from the outputs interpolated first)
@@ -167,12 +181,12 @@ def _interpolate(
             y[irr] = v[lo[irr]]
             bad[irr] |= ~_alike(v, lo[irr], m)
         out[k] = y
-    flat, below = _flat(xn, at, logs, x, keys)
+    flat = _flat(at, regulars, below, keys)
     if flat.any():  # (the loads of a sealed stretch and their node below, found once)
         on, node = np.flatnonzero(flat), below[flat]
         for k, v in out.items():
             v[on] = at[k][node]
-    return out, bad & ~flat, np.sum(np.abs(w), axis=1), idx, flat
+    return out, bad & ~flat, lebesgue, idx, flat
 
 
 def _transform(
@@ -192,24 +206,24 @@ def _alike(v: NDArray[np.float64], start: NDArray[np.intp], m: int) -> NDArray[n
 
 
 def _flat(
-    xn: NDArray[np.float64],
     at: dict[str, NDArray[np.float64]],
-    logs: dict[str, NDArray[np.float64]],
-    x: NDArray[np.float64],
+    regulars: dict[str, NDArray[np.bool_]],
+    below: NDArray[np.intp],
     keys: frozenset[str],
-) -> tuple[NDArray[np.bool_], NDArray[np.intp]]:
-    """The loads between two nodes alike in every output, none of them regular (a sealed
-    stretch: its flags, zeros and NaN; exact, for outputs monotone in the load, whatever
-    the segment's length), and the node below each load (decided per pair of nodes)."""
-    below = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1) - 1
-    pair = np.ones(max(xn.size - 1, 1), dtype=bool)  # nodes j and j + 1 (the node above)
+) -> NDArray[np.bool_]:
+    """The loads (``below``: the node below each) between two nodes alike in every output,
+    none of them regular (``regulars``: per output, per node; a sealed stretch: its flags,
+    zeros and NaN; exact, for outputs monotone in the load, whatever the segment's length),
+    decided per pair of nodes."""
+    n = next(iter(at.values())).shape[0]
+    pair = np.ones(max(n - 1, 1), dtype=bool)  # nodes j and j + 1 (the node above)
     for k, v in at.items():
         if v.ndim > 1:
-            return np.zeros(x.size, dtype=bool), below
-        pair &= _same(v[:-1], v[1:]) if xn.size > 1 else _same(v, v)
+            return np.zeros(below.size, dtype=bool)
+        pair &= _same(v[:-1], v[1:]) if n > 1 else _same(v, v)
         if k not in keys:
-            pair &= ~np.isfinite(logs[k][: pair.size])
-    return pair[below], below
+            pair &= ~regulars[k][: pair.size]
+    return pair[below]
 
 
 def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:

@@ -1,0 +1,142 @@
+"""The load table's stencil sums (private, :mod:`._stencils`) and their optional compiled form
+(numba): the numbers of the numpy path, bit for bit.
+
+Per load, :func:`._stencils._interpolate` takes the Lagrange weights of its stencil
+(:func:`._stencils._lagrange`), their magnitudes' sum (the Lebesgue function) and, per
+per-load output, the weighted sum of the nodes' logarithms (``einsum("nk,nk->n")``). In numpy
+these are ~40 passes over (8, n) arrays and a gather per output: at the ~830 loads of a
+1000-load leak analysis ~0.15 ms a call in a warm loop, ~0.5 ms inside a solve (the table's
+largest share). :func:`stencil_sums` does one load at a time in one pass, with the numpy
+path's operations in its order:
+
+- ``w_a = prod_{b != a} (x - X_b)/(X_a - X_b)``, each factor's subtraction and division as
+  there, the product from ``1`` in the order ``b = 0 .. m-1`` (times ``q_aa = 1`` as there);
+- ``np.sum(np.abs(w), axis=1)`` in numpy's pairwise order (:func:`._newton._block_sum`, the
+  stencil at most 128 points), added to the reduction's identity 0;
+- ``np.einsum("nk,nk->n", w, Lz[idx])`` in the order of numpy's baseline SIMD loop
+  (:func:`._newton._einsum_dot`), onto the zeroed output.
+
+It runs only where numba is already imported in the process (the physics' compiled kernels
+import it once their work pays), ``xpersson.set_options(compiled=...)`` is on, and this
+numpy's reductions take the orders reproduced (:func:`._newton.numpy_orders`, checked once);
+otherwise the numpy path runs. The equality is asserted in
+``plugins/xpersson-interface/tests/test_stencil_sums.py``.
+"""
+
+from __future__ import annotations
+
+import sys
+import types
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from xpersson import numba_cache
+from xpersson.options import compiled_enabled
+
+from ._newton import _block_sum, _einsum_dot, numpy_orders
+
+__all__ = ["MAX_POINTS", "kernel", "stencil_sums", "sums"]
+
+#: Largest stencil (points) the compiled sums take (:func:`._newton._block_sum`'s one block).
+MAX_POINTS = 128
+
+_STATE: dict[str, Any] = {}  # "fn": the compiled sums once built (None: numba missing)
+
+
+def kernel() -> Callable[..., None] | None:
+    """The compiled :func:`stencil_sums`, or None: the option is off, or numba is not
+    imported in this process, or missing, or this numpy's orders are others."""
+    if not compiled_enabled():
+        return None
+    if "fn" in _STATE:
+        return _STATE["fn"]  # type: ignore[no-any-return]
+    if "numba" not in sys.modules:
+        return None
+    jit = numba_cache.njit(__name__, "xpersson_interface._newton", nogil=True, error_model="numpy")
+    if jit is None or not numpy_orders():  # pragma: no cover - numba optional; other numpy
+        _STATE["fn"] = None
+        return None
+    scope = dict(globals())
+    for fn in (_block_sum, _einsum_dot):
+        scope[fn.__name__] = jit(types.FunctionType(fn.__code__, scope, fn.__name__))
+    _STATE["fn"] = jit(types.FunctionType(stencil_sums.__code__, scope, "stencil_sums"))
+    return _STATE["fn"]  # type: ignore[no-any-return]
+
+
+def sums(
+    xn: NDArray[np.float64],
+    x: NDArray[np.float64],
+    seg: NDArray[np.intp],
+    seg_x: NDArray[np.intp] | None,
+    m: int,
+    lz: tuple[NDArray[np.float64], ...],
+) -> tuple[NDArray, NDArray, NDArray, list[NDArray[np.float64]], NDArray, NDArray] | None:
+    """:func:`._stencils._stencil` compiled (the stencils, weights, Lebesgue sums, weighted
+    sums of each of ``lz``, unusable loads and the node below each load), or None where the
+    kernel is not built or the stencil does not fit (fewer nodes than ``m`` or than 2, more
+    than :data:`MAX_POINTS` points)."""
+    fn = kernel() if m <= MAX_POINTS and xn.size >= max(m, 2) else None
+    if fn is None:
+        return None
+    idx, w = np.empty((x.size, m), dtype=np.intp), np.empty((x.size, m))
+    leb, y = np.empty(x.size), np.empty((len(lz), x.size))
+    bad, below = np.empty(x.size, dtype=np.bool_), np.empty(x.size, dtype=np.intp)
+    own = seg_x is not None
+    sx = np.asarray(seg_x if own else seg[:0], dtype=np.intp)
+    stack = np.array(lz, dtype=float).reshape(len(lz), xn.size)
+    fn(xn, x, np.asarray(seg, dtype=np.intp), sx, own, m, stack, idx, w, leb, y, bad, below)
+    return idx, w, leb, list(y), bad, below
+
+
+def stencil_sums(
+    xn: Any,
+    x: Any,
+    seg: Any,
+    seg_x: Any,
+    own: bool,
+    m: int,
+    lz: Any,
+    idx: Any,
+    w: Any,
+    leb: Any,
+    y: Any,
+    bad: Any,
+    below: Any,
+) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
+    """Per load ``p``: its stencil ``idx[p]`` (``m`` nodes of its segment, as
+    :func:`._stencils._stencil`), their weights ``w[p]`` at ``x[p]``, ``leb[p]`` the sum of
+    their magnitudes, ``y[o, p]`` their sum with ``lz[o]``, ``bad[p]`` whether unusable,
+    ``below[p]`` the node below ``x[p]``."""
+    n = xn.size
+    nodes, mag, g, v = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
+    for p in range(x.size):
+        xp = x[p]
+        around = min(max(np.searchsorted(xn, xp, side="right"), 1), n - 1)
+        lo = around - 1
+        sp = seg_x[p] if own else seg[lo]
+        first = np.searchsorted(seg, sp, side="left")
+        last = np.searchsorted(seg, sp, side="right") - 1
+        bad[p] = (not own and seg[lo] != seg[around]) or last - first + 1 < m
+        below[p] = lo
+        s = min(max(around - m // 2, first), max(last - m + 1, first))
+        s = min(max(s, 0), n - m)
+        for b in range(m):
+            idx[p, b] = s + b
+            nodes[b] = xn[s + b]
+            v[b] = 1.0
+        for b in range(m):  # the factors of every weight at once (a loop numba vectorizes)
+            num, xb = xp - nodes[b], nodes[b]
+            for a in range(m):
+                q = num / (nodes[a] - xb)
+                v[a] = v[a] * (q if a != b else 1.0)
+        for a in range(m):
+            w[p, a] = v[a]
+            mag[a] = abs(v[a])
+        leb[p] = 0.0 + _block_sum(mag, 0, m)
+        for o in range(lz.shape[0]):
+            for k in range(m):
+                g[k] = lz[o, s + k]
+            y[o, p] = 0.0 + _einsum_dot(v, g, m)
