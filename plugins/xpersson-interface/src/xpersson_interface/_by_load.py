@@ -73,7 +73,7 @@ from collections.abc import Callable, Iterable
 import numpy as np
 from numpy.typing import NDArray
 
-from ._stencils import FLOOR, Weight, _interpolate, _logs, _Roles, _same, _segments
+from ._stencils import FLOOR, Weight, _interpolate, _logs, _Roles, _same, _segments, _window_max
 
 __all__ = [
     "COMPUTED",
@@ -405,7 +405,7 @@ def _one_group(
     for m in tol[2]:
         check = _check(xn, at, logs, roles, m, seg)  # (n_node,): the 2h error at the odd nodes
         vals, bad, lebesgue, idx, flat = _interpolate(xn, at, logs, x, roles, m, (seg, None))
-        est = np.max(check[idx], axis=1) * (tol[3] / 2**m) + tol[1] * (1.0 + lebesgue)
+        est = _window_max(check, idx) * (tol[3] / 2**m) + tol[1] * (1.0 + lebesgue)
         est[bad] = np.inf
         est[flat] = tol[1]  # exact (stated: the noise, > 0: not computed directly)
         take = est < best if out else np.ones(x.size, dtype=bool)

@@ -73,11 +73,13 @@ def sums(
     seg_x: NDArray[np.intp] | None,
     m: int,
     lz: tuple[NDArray[np.float64], ...],
-) -> tuple[NDArray, NDArray, NDArray, list[NDArray[np.float64]], NDArray, NDArray] | None:
+    vals: tuple[NDArray[np.float64], ...],
+) -> tuple[NDArray, NDArray, NDArray, list[NDArray], NDArray, NDArray, list[NDArray]] | None:
     """:func:`._stencils._stencil` compiled (the stencils, weights, Lebesgue sums, weighted
-    sums of each of ``lz``, unusable loads and the node below each load), or None where the
-    kernel is not built or the stencil does not fit (fewer nodes than ``m`` or than 2, more
-    than :data:`MAX_POINTS` points)."""
+    sums of each of ``lz``, unusable loads, the node below each load, and per output of
+    ``vals`` (its values at the nodes, as ``lz``) whether each stencil's values are alike:
+    :func:`._stencils._alike`), or None where the kernel is not built or the stencil does not
+    fit (fewer nodes than ``m`` or than 2, more than :data:`MAX_POINTS` points)."""
     fn = kernel() if m <= MAX_POINTS and xn.size >= max(m, 2) else None
     if fn is None:
         return None
@@ -87,8 +89,11 @@ def sums(
     own = seg_x is not None
     sx = np.asarray(seg_x if own else seg[:0], dtype=np.intp)
     stack = np.array(lz, dtype=float).reshape(len(lz), xn.size)
-    fn(xn, x, np.asarray(seg, dtype=np.intp), sx, own, m, stack, idx, w, leb, y, bad, below)
-    return idx, w, leb, list(y), bad, below
+    v = np.array(vals, dtype=float).reshape(stack.shape)
+    alike = np.empty(y.shape, dtype=np.bool_)
+    sg = np.asarray(seg, dtype=np.intp)
+    fn(xn, x, sg, sx, own, m, stack, v, idx, w, leb, y, alike, bad, below)
+    return idx, w, leb, list(y), bad, below, list(alike)
 
 
 def stencil_sums(
@@ -99,16 +104,19 @@ def stencil_sums(
     own: bool,
     m: int,
     lz: Any,
+    vals: Any,
     idx: Any,
     w: Any,
     leb: Any,
     y: Any,
+    alike: Any,
     bad: Any,
     below: Any,
 ) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
     """Per load ``p``: its stencil ``idx[p]`` (``m`` nodes of its segment, as
     :func:`._stencils._stencil`), their weights ``w[p]`` at ``x[p]``, ``leb[p]`` the sum of
-    their magnitudes, ``y[o, p]`` their sum with ``lz[o]``, ``bad[p]`` whether unusable,
+    their magnitudes, ``y[o, p]`` their sum with ``lz[o]``, ``alike[o, p]`` whether
+    ``vals[o]`` is alike on them (equal, or all NaN), ``bad[p]`` whether unusable,
     ``below[p]`` the node below ``x[p]``."""
     n = xn.size
     nodes, mag, g, v = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
@@ -140,3 +148,8 @@ def stencil_sums(
             for k in range(m):
                 g[k] = lz[o, s + k]
             y[o, p] = 0.0 + _einsum_dot(v, g, m)
+            same = True
+            for k in range(m - 1):
+                a0, a1 = vals[o, s + k], vals[o, s + k + 1]
+                same = same and (a0 == a1 or (a0 != a0 and a1 != a1))
+            alike[o, p] = same

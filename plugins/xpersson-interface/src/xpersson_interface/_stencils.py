@@ -77,17 +77,19 @@ def _stencil(
     m: int,
     seg_x: NDArray[np.intp] | None = None,
     lz: tuple[NDArray[np.float64], ...] = (),
-) -> tuple[NDArray, NDArray, NDArray, list[NDArray[np.float64]], NDArray, NDArray[np.intp]]:
+    vals: tuple[NDArray[np.float64], ...] = (),
+) -> tuple[NDArray, NDArray, NDArray, list[NDArray], NDArray, NDArray, list[NDArray] | None]:
     """The ``m`` nodes around each ``x`` (indices, (n, m)), their Lagrange weights, the sums
     of the weights' magnitudes (the Lebesgue function), the weighted sums of each of ``lz``
-    (per node: a logarithm, 0 where not finite), where there are none and the node below
-    each ``x``: all within the
+    (per node: a logarithm, 0 where not finite), where there are none, the node below each
+    ``x`` and (compiled; else None) per output of ``vals`` whether each stencil's values are
+    alike (:func:`_alike`): all within the
     segment of the two nodes around ``x`` (``seg``; shifted to one side near its ends),
     unusable where those two differ or the segment holds fewer than ``m`` nodes. ``seg_x``:
     each ``x``'s own segment, where known (a node checked by the others: one-sided past its
     segment's last node of the others). The sums compiled where built (:mod:`._stencil_sums`:
     the same numbers, bit for bit)."""
-    got = sums(xn, x, seg, seg_x, m, lz)
+    got = sums(xn, x, seg, seg_x, m, lz, vals)
     if got is not None:
         return got
     around = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
@@ -105,7 +107,7 @@ def _stencil(
     idx = i[:, None] + np.arange(m)
     w = _lagrange(xn, x, i, m)
     ys = [np.einsum("nk,nk->n", w, z[idx]) for z in lz]
-    return idx, w, np.sum(np.abs(w), axis=1), ys, bad, lo
+    return idx, w, np.sum(np.abs(w), axis=1), ys, bad, lo, None
 
 
 def _lagrange(
@@ -149,8 +151,10 @@ def _interpolate(
     regulars = {k: np.isfinite(logs[k]) for k in one}
     lz = tuple(np.where(regulars[k], logs[k], 0.0) for k in one)
     seg, seg_x = (_segments(at, keys), None) if segs is None else segs
-    idx, w, lebesgue, ys, bad, below = _stencil(xn, x, seg, m, seg_x, lz)
-    interpolated = dict(zip(one, ys))
+    vals = tuple(at[k] for k in one)
+    idx, w, lebesgue, ys, bad, below, alike = _stencil(xn, x, seg, m, seg_x, lz, vals)
+    interpolated = dict(zip(one, ys, strict=True))
+    alikes = dict(zip(one, alike, strict=True)) if alike is not None else {}
     lo = idx[:, 0]
     out = {}
     late = {k: f for names, f in weights for k in names}
@@ -179,7 +183,8 @@ def _interpolate(
         irr = np.flatnonzero(~at_lo)
         if irr.size:
             y[irr] = v[lo[irr]]
-            bad[irr] |= ~_alike(v, lo[irr], m)
+            same = alikes[k][irr] if alikes else _alike(v, lo[irr], m)
+            bad[irr] |= ~same
         out[k] = y
     flat = _flat(at, regulars, below, keys)
     if flat.any():  # (the loads of a sealed stretch and their node below, found once)
@@ -224,6 +229,19 @@ def _flat(
         if k not in keys:
             pair &= ~regulars[k][: pair.size]
     return pair[below]
+
+
+def _window_max(c: NDArray[np.float64], idx: NDArray[np.intp]) -> NDArray[np.float64]:
+    """``np.max(c[idx], axis=1)`` for stencils of consecutive nodes (``idx``: (n, m), rows
+    ``start + 0 .. m-1``): the largest over every window of ``m`` nodes once, then per
+    stencil (the same values: a maximum is exact in any order)."""
+    m = idx.shape[1]
+    if c.size < m:  # (no full window: as numpy's)
+        return np.max(c[idx], axis=1)
+    top = c[: c.size - m + 1].copy()
+    for k in range(1, m):
+        np.maximum(top, c[k : c.size - m + 1 + k], out=top)
+    return top[idx[:, 0]]
 
 
 def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
