@@ -25,7 +25,7 @@ from summary_design import labelled, load_range, scene
 import xpersson
 from xpersson.plugins.stored import spectrum_of
 from xpersson_interface import _by_load, plugins
-from xpersson_interface._stencils import _interpolate, _logs, _segments
+from xpersson_interface._stencils import _interpolate, _logs, _relative, _segments
 
 OUTS = ("leak_zeta_c", "leak_u1", "leak_flow_factor", "leak_flow_factor_emt")
 SHORT = dict(zip(OUTS, ("zc", "u1", "ff", "emt"), strict=True))
@@ -78,7 +78,7 @@ def per_output_check(xn, at, logs, roles, m: int) -> dict[str, np.ndarray]:  # n
     for k in OUTS:
         top = float(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0)).max())
         r = np.zeros(xn.size)
-        r[odd] = np.where(bad, np.inf, _by_load._relative(vals[k], at[k][odd], top))
+        r[odd] = np.where(bad, np.inf, _relative(vals[k], at[k][odd], top))
         out[k] = r
     return out
 
@@ -113,12 +113,12 @@ def study(name: str, got: dict, per_decade: float) -> None:
     seg = _segments(at, roles[0])
     from xpersson_interface._stencils import _stencil
 
-    idx, _, _ = _stencil(x[nodes], x[rest], seg, max(got["orders"]))
+    idx = _stencil(x[nodes], x[rest], seg, max(got["orders"]))[0]
     zb = [b for b in got["breaks"] if 1.0 < b < got["z_max"]]
     zc = allv["leak_zeta_c"]
     fail = est > tol[0]
     ok = np.isfinite(est)
-    true = {k: np.where(ok, _by_load._relative(vals[k], allv[k][rest]), 0.0) for k in OUTS}
+    true = {k: np.where(ok, _relative(vals[k], allv[k][rest]), 0.0) for k in OUTS}
     worst = max(float(np.max(t)) for t in true.values())
     print(
         f"\n== {name}: {per_decade:g}/decade, {nodes.size} nodes, breakpoints {zb}, "

@@ -73,7 +73,17 @@ from collections.abc import Callable, Iterable
 import numpy as np
 from numpy.typing import NDArray
 
-from ._stencils import FLOOR, Weight, _interpolate, _logs, _Roles, _same, _segments, _window_max
+from ._stencils import (
+    DEPTH,
+    FLOOR,
+    Weight,
+    _errors,
+    _interpolate,
+    _logs,
+    _Roles,
+    _segments,
+    _window_max,
+)
 
 __all__ = [
     "COMPUTED",
@@ -155,9 +165,6 @@ LEAK_GROUPS = (
 #: The smooth part of the estimate: this times ``2^-m`` the error of the ``m``-point table at
 #: twice the spacing (asymptotically that error divided by ``2^m``: a margin of 16).
 SAFETY = 16.0
-#: Rows' errors are relative to the larger of the row's largest value and this fraction of the
-#: largest over every load (a row 1e-57 of the others, near full contact, is 0 to this).
-DEPTH = 1e-30
 
 Exact = Callable[[NDArray[np.intp]], dict[str, NDArray[np.float64]]]
 
@@ -464,31 +471,8 @@ def _check(
         seg = _segments(at, roles[0])
     segs = (seg[even], seg[odd])
     vals, bad, _, _, _ = _interpolate(xn[even], sub, logs_even, xn[odd], roles, m, segs)
-    err = np.zeros(odd.size)
-    for k in sub.keys() - roles[0]:
-        top = float(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0)).max())  # (no NaN left)
-        err = np.maximum(err, _relative(vals[k], at[k][odd], top))
+    err = _errors(vals, at, odd, sorted(sub.keys() - roles[0]))
     err[bad] = np.inf
     out = np.zeros(xn.size)
     out[odd] = err
     return out
-
-
-def _relative(
-    y: NDArray[np.float64], exact: NDArray[np.float64], top: float = 0.0
-) -> NDArray[np.float64]:
-    """``|y - exact|`` relative to each load's largest ``|exact|``, at least :data:`DEPTH`
-    times ``top`` (the largest over every load); 0 where both are the same irregular value,
-    inf where only one is."""
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        d = np.abs(y - exact)
-        if exact.ndim > 1:
-            scale = np.maximum(np.max(np.abs(exact), axis=1), DEPTH * top)
-            d = np.max(d, axis=1)
-        else:
-            scale = np.maximum(np.abs(exact), DEPTH * top)
-            d = np.where(_same(y, exact), 0.0, d)
-        r = np.where(
-            scale > 0.0, d / np.where(scale > 0.0, scale, 1.0), np.where(d > 0, np.inf, 0.0)
-        )
-    return np.where(np.isnan(r), np.inf, r)

@@ -13,6 +13,9 @@ from ._stencil_sums import sums
 
 #: Smallest density interpolated in logarithm (below: this; the error stays below it).
 FLOOR = 1e-300
+#: Rows' errors are relative to the larger of the row's largest value and this fraction of the
+#: largest over every load (a row 1e-57 of the others, near full contact, is 0 to this).
+DEPTH = 1e-30
 #: Outputs tabled transformed, ``(names, f)``: ``f(outputs, x)`` gives per load ``(W, S)``
 #: (``W > 0``) from the other outputs (interpolated first) and ``x = ln p0``, and each output
 #: ``v`` named is tabled as ``W ln v - S``: a known singularity made regular (the leak
@@ -242,6 +245,51 @@ def _window_max(c: NDArray[np.float64], idx: NDArray[np.intp]) -> NDArray[np.flo
     for k in range(1, m):
         np.maximum(top, c[k : c.size - m + 1 + k], out=top)
     return top[idx[:, 0]]
+
+
+def _errors(
+    vals: dict[str, NDArray[np.float64]],
+    at: dict[str, NDArray[np.float64]],
+    odd: NDArray[np.intp],
+    names: list[str],
+) -> NDArray[np.float64]:
+    """Per node ``odd``: the largest over the outputs ``names`` of the relative error
+    (:func:`_relative`) of ``vals`` against ``at`` there, each at least :data:`DEPTH` times the
+    output's largest finite magnitude over ``at``; the per-load outputs in one pass (the same
+    operations, element by element)."""
+    err = np.zeros(odd.size)
+    one = [k for k in names if at[k].ndim == 1]
+    if one:
+        a = np.array([at[k] for k in one])
+        top = np.abs(np.where(np.isfinite(a), a, 0.0)).max(axis=1)  # (no NaN left)
+        y = np.concatenate([vals[k] for k in one])
+        r = _relative(y, a[:, odd].ravel(), np.repeat(top, odd.size))
+        err = np.maximum(err, r.reshape(len(one), odd.size).max(axis=0))
+    for k in names:
+        if at[k].ndim > 1:
+            top = float(np.abs(np.where(np.isfinite(at[k]), at[k], 0.0)).max())  # (no NaN left)
+            err = np.maximum(err, _relative(vals[k], at[k][odd], top))
+    return err
+
+
+def _relative(
+    y: NDArray[np.float64], exact: NDArray[np.float64], top: float | NDArray[np.float64] = 0.0
+) -> NDArray[np.float64]:
+    """``|y - exact|`` relative to each load's largest ``|exact|``, at least :data:`DEPTH`
+    times ``top`` (the largest over every load; per-load values: per element, where an array);
+    0 where both are the same irregular value, inf where only one is."""
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        d = np.abs(y - exact)
+        if exact.ndim > 1:
+            scale = np.maximum(np.max(np.abs(exact), axis=1), DEPTH * top)
+            d = np.max(d, axis=1)
+        else:
+            scale = np.maximum(np.abs(exact), DEPTH * top)
+            d = np.where(_same(y, exact), 0.0, d)
+        r = np.where(
+            scale > 0.0, d / np.where(scale > 0.0, scale, 1.0), np.where(d > 0, np.inf, 0.0)
+        )
+    return np.where(np.isnan(r), np.inf, r)
 
 
 def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
