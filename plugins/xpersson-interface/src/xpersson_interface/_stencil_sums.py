@@ -120,13 +120,26 @@ def stencil_sums(
     ``below[p]`` the node below ``x[p]``."""
     n = xn.size
     nodes, mag, g, v = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
+    right, first, last, known = 0, 0, 0, -1  # (the searches of the load before, reused)
+    differ = np.zeros((lz.shape[0], n), dtype=np.intp)  # node pairs that differ before each
+    for o in range(lz.shape[0]):
+        for j in range(1, n):
+            a0, a1 = vals[o, j - 1], vals[o, j]
+            differ[o, j] = differ[o, j - 1] + (not (a0 == a1 or (a0 != a0 and a1 != a1)))
     for p in range(x.size):
         xp = x[p]
-        around = min(max(np.searchsorted(xn, xp, side="right"), 1), n - 1)
+        if p and xp >= x[p - 1]:  # sorted loads: the first node above x walked up to
+            while right < n and xn[right] <= xp:
+                right += 1
+        else:
+            right = np.searchsorted(xn, xp, side="right")
+        around = min(max(right, 1), n - 1)
         lo = around - 1
         sp = seg_x[p] if own else seg[lo]
-        first = np.searchsorted(seg, sp, side="left")
-        last = np.searchsorted(seg, sp, side="right") - 1
+        if sp != known or not p:  # the first and last node of the segment
+            first = np.searchsorted(seg, sp, side="left")
+            last = np.searchsorted(seg, sp, side="right") - 1
+            known = sp
         bad[p] = (not own and seg[lo] != seg[around]) or last - first + 1 < m
         below[p] = lo
         s = min(max(around - m // 2, first), max(last - m + 1, first))
@@ -148,8 +161,4 @@ def stencil_sums(
             for k in range(m):
                 g[k] = lz[o, s + k]
             y[o, p] = 0.0 + _einsum_dot(v, g, m)
-            same = True
-            for k in range(m - 1):
-                a0, a1 = vals[o, s + k], vals[o, s + k + 1]
-                same = same and (a0 == a1 or (a0 != a0 and a1 != a1))
-            alike[o, p] = same
+            alike[o, p] = differ[o, s + m - 1] == differ[o, s]
