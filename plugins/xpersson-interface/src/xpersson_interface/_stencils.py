@@ -36,9 +36,13 @@ def _logs(
     at: dict[str, NDArray[np.float64]], roles: _Roles, xn: NDArray[np.float64]
 ) -> dict[str, NDArray[np.float64]]:
     """The tabled logarithm of every output but the keys at the nodes ``xn`` (transformed
-    outputs: ``W ln v - S``)."""
+    outputs: ``W ln v - S``; the per-load outputs' in one pass, element by element the
+    same)."""
     keys, weights = roles
-    logs = {k: _log(v) for k, v in at.items() if k not in keys}
+    one = [k for k, v in at.items() if k not in keys and v.ndim == 1]
+    stacked = dict(zip(one, _log(np.array([at[k] for k in one])), strict=True)) if one else {}
+    logs = {k: stacked.get(k) for k in at if k not in keys}
+    logs = {k: _log(at[k], True) if v is None else v for k, v in logs.items()}  # (rows)
     for names, f in weights:
         W, S = f(at, xn)
         for k in names:
@@ -46,30 +50,35 @@ def _logs(
     return logs
 
 
-def _log(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The logarithm of the values (rows: floored at :data:`FLOOR`; per-load values: NaN where
-    not finite and positive)."""
+def _log(v: NDArray[np.float64], rows: bool = False) -> NDArray[np.float64]:
+    """The logarithm of the values (rows: floored at :data:`FLOOR`; per-load values, stacked
+    or not: NaN where not finite and positive)."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        if v.ndim > 1:
+        if rows:
             return np.log(np.maximum(v, FLOOR))
         return np.where(np.isfinite(v) & (v > 0.0), np.log(np.where(v > 0.0, v, 1.0)), np.nan)
 
 
 def _segments(at: dict[str, NDArray[np.float64]], keys: frozenset[str]) -> NDArray[np.intp]:
     """Per node, the number of its segment: runs of nodes alike in every key and in which
-    outputs are regular (finite and, per-load values, positive)."""
-    cols = []
+    outputs are regular (finite and, per-load values, positive); the keys and the per-load
+    outputs each in one pass."""
+    n = next(iter(at.values())).shape[0]
+    change = np.zeros(max(n - 1, 0), dtype=bool)
+    key = [at[k] for k in at if k in keys]
+    if key:
+        c = np.array(key)
+        c = np.where(np.isnan(c), np.inf, c)
+        change |= np.any(c[:, 1:] != c[:, :-1], axis=0)
+    one = [v for k, v in at.items() if k not in keys and v.ndim == 1]
+    if one:
+        c = np.array(one)
+        c = np.isfinite(c) & (c > 0.0)
+        change |= np.any(c[:, 1:] != c[:, :-1], axis=0)
     for k, v in at.items():
-        if k in keys:
-            cols.append(np.where(np.isnan(v), np.inf, v))
-        elif v.ndim > 1:
-            cols.append(np.all(np.isfinite(v), axis=1).astype(float))
-        else:
-            cols.append((np.isfinite(v) & (v > 0.0)).astype(float))
-    if not cols:
-        return np.zeros(next(iter(at.values())).shape[0], dtype=np.intp)
-    c = np.stack(cols, axis=1)
-    change = np.any(c[1:] != c[:-1], axis=1)
+        if k not in keys and v.ndim > 1:
+            c = np.all(np.isfinite(v), axis=1)
+            change |= c[1:] != c[:-1]
     return np.concatenate(([0], np.cumsum(change)))
 
 
