@@ -305,8 +305,11 @@ class _Direct:
             if k not in into:
                 into[k] = np.full((self.n,) + v.shape[1:], np.nan)
         for g, names in enumerate(self.groups):
+            sel = which[g]
+            every = bool(sel.all())  # (no selection to copy)
+            at = rows if every else rows[sel]
             for k in _names(names, got):
-                into[k][rows[which[g]]] = got[k][which[g]]
+                into[k][at] = got[k] if every else got[k][sel]
 
     def _serve(self, ask: NDArray[np.bool_]) -> NDArray[np.bool_]:
         """The asks ``ask`` (n_group, n) that kept values answer, answered (their values
@@ -357,7 +360,7 @@ def _table(
                     direct.need(g, sub[err[g, sub] > tol[0]])
                 else:
                     if not depth:  # (the first level: one run, every load)
-                        nodes = np.union1d(nodes, np.flatnonzero(pre[g]))
+                        nodes = np.flatnonzero(_mark(nodes, xs.size) | pre[g])
                     direct.need(g, sub[nodes])
                     plans.append((g, sub, nodes))
         direct.run()
@@ -433,9 +436,15 @@ def _runs(flagged: NDArray[np.intp], nodes: NDArray[np.intp]) -> list[tuple[int,
         return []
     pos = np.searchsorted(nodes, flagged)  # the node above each flagged load
     split = np.flatnonzero(np.diff(flagged) - np.diff(pos) != 1) + 1
-    out = []
-    for part in np.split(np.arange(flagged.size), split):
-        out.append((int(nodes[pos[part[0]] - 1]), int(nodes[pos[part[-1]]])))
+    first = nodes[pos[np.concatenate(([0], split))] - 1]
+    last = nodes[pos[np.concatenate((split - 1, [flagged.size - 1]))]]
+    return list(zip(first.tolist(), last.tolist(), strict=True))
+
+
+def _mark(i: NDArray[np.intp], n: int) -> NDArray[np.bool_]:
+    """Per position ``0 .. n-1``: whether it is one of ``i``."""
+    out = np.zeros(n, dtype=bool)
+    out[i] = True
     return out
 
 

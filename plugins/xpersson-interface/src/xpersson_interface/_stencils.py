@@ -198,7 +198,7 @@ def _interpolate(
             same = alikes[k][irr] if alikes else _alike(v, lo[irr], m)
             bad[irr] |= ~same
         out[k] = y
-    flat = _flat(at, regulars, below, keys)
+    flat = _flat(at, regulars, below)
     if flat.any():  # (the loads of a sealed stretch and their node below, found once)
         on, node = np.flatnonzero(flat), below[flat]
         for k, v in out.items():
@@ -226,20 +226,17 @@ def _flat(
     at: dict[str, NDArray[np.float64]],
     regulars: dict[str, NDArray[np.bool_]],
     below: NDArray[np.intp],
-    keys: frozenset[str],
 ) -> NDArray[np.bool_]:
     """The loads (``below``: the node below each) between two nodes alike in every output,
     none of them regular (``regulars``: per output, per node; a sealed stretch: its flags,
     zeros and NaN; exact, for outputs monotone in the load, whatever the segment's length),
-    decided per pair of nodes."""
-    n = next(iter(at.values())).shape[0]
-    pair = np.ones(max(n - 1, 1), dtype=bool)  # nodes j and j + 1 (the node above)
-    for k, v in at.items():
-        if v.ndim > 1:
-            return np.zeros(below.size, dtype=bool)
-        pair &= _same(v[:-1], v[1:]) if n > 1 else _same(v, v)
-        if k not in keys:
-            pair &= ~regulars[k][: pair.size]
+    decided per pair of nodes (every output in one pass)."""
+    if any(v.ndim > 1 for v in at.values()):
+        return np.zeros(below.size, dtype=bool)
+    a = np.array(list(at.values()))  # (n_output, n_node)
+    pair = np.all(_same(a[:, :-1], a[:, 1:]) if a.shape[1] > 1 else _same(a, a), axis=0)
+    if regulars:  # (nodes j and j + 1: j not regular in any output but the keys)
+        pair &= ~np.any(np.array(list(regulars.values()))[:, : pair.size], axis=0)
     return pair[below]
 
 
