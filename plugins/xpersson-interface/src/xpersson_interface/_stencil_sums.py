@@ -72,28 +72,27 @@ def sums(
     seg: NDArray[np.intp],
     seg_x: NDArray[np.intp] | None,
     m: int,
-    lz: tuple[NDArray[np.float64], ...],
-    vals: tuple[NDArray[np.float64], ...],
-) -> tuple[NDArray, NDArray, NDArray, list[NDArray], NDArray, NDArray, list[NDArray]] | None:
+    lz: NDArray[np.float64],
+    vals: NDArray[np.float64],
+) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray, NDArray, NDArray] | None:
     """:func:`._stencils._stencil` compiled (the stencils, weights, Lebesgue sums, weighted
-    sums of each of ``lz``, unusable loads, the node below each load, and per output of
-    ``vals`` (its values at the nodes, as ``lz``) whether each stencil's values are alike:
+    sums of each row of ``lz`` (n_out, n_node), unusable loads, the node below each load, and
+    per row of ``vals`` (the outputs' values at the nodes) whether each stencil's values are
+    alike:
     :func:`._stencils._alike`), or None where the kernel is not built or the stencil does not
     fit (fewer nodes than ``m`` or than 2, more than :data:`MAX_POINTS` points)."""
     fn = kernel() if m <= MAX_POINTS and xn.size >= max(m, 2) else None
     if fn is None:
         return None
     idx, w = np.empty((x.size, m), dtype=np.intp), np.empty((x.size, m))
-    leb, y = np.empty(x.size), np.empty((len(lz), x.size))
+    leb, y = np.empty(x.size), np.empty((lz.shape[0], x.size))
     bad, below = np.empty(x.size, dtype=np.bool_), np.empty(x.size, dtype=np.intp)
     own = seg_x is not None
     sx = np.asarray(seg_x if own else seg[:0], dtype=np.intp)
-    stack = np.array(lz, dtype=float).reshape(len(lz), xn.size)
-    v = np.array(vals, dtype=float).reshape(stack.shape)
     alike = np.empty(y.shape, dtype=np.bool_)
     sg = np.asarray(seg, dtype=np.intp)
-    fn(xn, x, sg, sx, own, m, stack, v, idx, w, leb, y, alike, bad, below)
-    return idx, w, leb, list(y), bad, below, list(alike)
+    fn(xn, x, sg, sx, own, m, lz, vals, idx, w, leb, y, alike, bad, below)
+    return idx, w, leb, y, bad, below, alike
 
 
 def stencil_sums(

@@ -88,20 +88,21 @@ def _stencil(
     seg: NDArray[np.intp],
     m: int,
     seg_x: NDArray[np.intp] | None = None,
-    lz: tuple[NDArray[np.float64], ...] = (),
-    vals: tuple[NDArray[np.float64], ...] = (),
-) -> tuple[NDArray, NDArray, NDArray, list[NDArray], NDArray, NDArray, list[NDArray] | None]:
+    lz: NDArray[np.float64] | None = None,
+    vals: NDArray[np.float64] | None = None,
+) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray, NDArray, NDArray | None]:
     """The ``m`` nodes around each ``x`` (indices, (n, m)), their Lagrange weights, the sums
-    of the weights' magnitudes (the Lebesgue function), the weighted sums of each of ``lz``
-    (per node: a logarithm, 0 where not finite), where there are none, the node below each
-    ``x`` and (compiled; else None) per output of ``vals`` whether each stencil's values are
-    alike (:func:`_alike`): all within the
+    of the weights' magnitudes (the Lebesgue function), the weighted sums of each row of
+    ``lz`` (n_out, n_node: per node a logarithm, 0 where not finite), where there are none,
+    the node below each ``x`` and (compiled; else None) per row of ``vals`` (the outputs'
+    values) whether each stencil's values are alike (:func:`_alike`): all within the
     segment of the two nodes around ``x`` (``seg``; shifted to one side near its ends),
     unusable where those two differ or the segment holds fewer than ``m`` nodes. ``seg_x``:
     each ``x``'s own segment, where known (a node checked by the others: one-sided past its
     segment's last node of the others). The sums compiled where built (:mod:`._stencil_sums`:
     the same numbers, bit for bit)."""
-    got = sums(xn, x, seg, seg_x, m, lz, vals)
+    lz = np.zeros((0, xn.size)) if lz is None else lz
+    got = sums(xn, x, seg, seg_x, m, lz, lz if vals is None else vals)
     if got is not None:
         return got
     around = np.clip(np.searchsorted(xn, x, side="right"), 1, xn.size - 1)
@@ -118,7 +119,7 @@ def _stencil(
     i = np.clip(i, 0, xn.size - m)
     idx = i[:, None] + np.arange(m)
     w = _lagrange(xn, x, i, m)
-    ys = [np.einsum("nk,nk->n", w, z[idx]) for z in lz]
+    ys = np.array([np.einsum("nk,nk->n", w, z[idx]) for z in lz]).reshape(lz.shape[0], x.size)
     return idx, w, np.sum(np.abs(w), axis=1), ys, bad, lo, None
 
 
@@ -160,14 +161,15 @@ def _interpolate(
     segments, where known (:func:`_check`; the ``x``'s None: from the nodes around each)."""
     keys, weights = roles
     one = [k for k, v in at.items() if k not in keys and v.ndim == 1]  # (per-load outputs)
-    regulars = {k: np.isfinite(logs[k]) for k in one}
-    lz = tuple(np.where(regulars[k], logs[k], 0.0) for k in one)
+    row = {k: j for j, k in enumerate(one)}
+    L = np.array([logs[k] for k in one]).reshape(len(one), xn.size)
+    regular = np.isfinite(L)
+    vals = np.array([at[k] for k in one]).reshape(L.shape)
     seg, seg_x = (_segments(at, keys), None) if segs is None else segs
-    vals = tuple(at[k] for k in one)
-    idx, w, lebesgue, ys, bad, below, alike = _stencil(xn, x, seg, m, seg_x, lz, vals)
-    interpolated = dict(zip(one, ys, strict=True))
-    alikes = dict(zip(one, alike, strict=True)) if alike is not None else {}
+    got = _stencil(xn, x, seg, m, seg_x, np.where(regular, L, 0.0), vals)
+    idx, w, lebesgue, ys, bad, below, alike = got
     lo = idx[:, 0]
+    regular_lo = regular[:, lo]  # whether each stencil's first node is regular
     out = {}
     late = {k: f for names, f in weights for k in names}
     done: dict[int, tuple[NDArray[np.bool_], NDArray[np.float64], NDArray[np.float64]]] = {}
@@ -175,12 +177,10 @@ def _interpolate(
         if k in keys:
             out[k] = v[lo]
             continue
-        L = logs[k]
         if v.ndim > 1:
-            out[k] = _rows(L, idx, w)
+            out[k] = _rows(logs[k], idx, w)
             continue
-        at_lo = regulars[k][lo]  # whether the stencil's first node is regular
-        y = interpolated[k]
+        at_lo, y = regular_lo[row[k]], ys[row[k]]
         if k in late:
             f = late[k]
             if id(f) not in done:  # once per group (from the outputs interpolated first)
@@ -195,10 +195,10 @@ def _interpolate(
         irr = np.flatnonzero(~at_lo)
         if irr.size:
             y[irr] = v[lo[irr]]
-            same = alikes[k][irr] if alikes else _alike(v, lo[irr], m)
+            same = alike[row[k], irr] if alike is not None else _alike(v, lo[irr], m)
             bad[irr] |= ~same
         out[k] = y
-    flat = _flat(at, regulars, below)
+    flat = _flat(at, regular, below)
     if flat.any():  # (the loads of a sealed stretch and their node below, found once)
         on, node = np.flatnonzero(flat), below[flat]
         for k, v in out.items():
@@ -223,20 +223,17 @@ def _alike(v: NDArray[np.float64], start: NDArray[np.intp], m: int) -> NDArray[n
 
 
 def _flat(
-    at: dict[str, NDArray[np.float64]],
-    regulars: dict[str, NDArray[np.bool_]],
-    below: NDArray[np.intp],
+    at: dict[str, NDArray[np.float64]], regular: NDArray[np.bool_], below: NDArray[np.intp]
 ) -> NDArray[np.bool_]:
     """The loads (``below``: the node below each) between two nodes alike in every output,
-    none of them regular (``regulars``: per output, per node; a sealed stretch: its flags,
-    zeros and NaN; exact, for outputs monotone in the load, whatever the segment's length),
-    decided per pair of nodes (every output in one pass)."""
+    none of them regular (``regular``: per output but the keys, per node; a sealed stretch:
+    its flags, zeros and NaN; exact, for outputs monotone in the load, whatever the segment's
+    length), decided per pair of nodes (every output in one pass)."""
     if any(v.ndim > 1 for v in at.values()):
         return np.zeros(below.size, dtype=bool)
     a = np.array(list(at.values()))  # (n_output, n_node)
     pair = np.all(_same(a[:, :-1], a[:, 1:]) if a.shape[1] > 1 else _same(a, a), axis=0)
-    if regulars:  # (nodes j and j + 1: j not regular in any output but the keys)
-        pair &= ~np.any(np.array(list(regulars.values()))[:, : pair.size], axis=0)
+    pair &= ~np.any(regular[:, : pair.size], axis=0)  # (nodes j and j + 1: j irregular)
     return pair[below]
 
 
