@@ -161,3 +161,23 @@ def test_table_compiled_is_numpys():
     for k in ref[0]:
         assert ref[0][k].tobytes() == got[0][k].tobytes()
     assert np.any(ref[1] > 0)  # (interpolated loads)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1))
+def test_node_chain_is_numpys(seed):
+    """The table's nodes about ``h`` apart, plain Python and compiled: numpy's indices (ties,
+    spacings below and above ``h``, a single value)."""
+    rng = np.random.default_rng(seed)
+    xs = np.sort(np.round(rng.uniform(0, 10, int(rng.integers(1, 300))), int(rng.integers(1, 4))))
+    h = float(rng.choice([0.0, rng.uniform(0, 0.5), rng.uniform(0, 20)]))
+    with xpersson.set_options(compiled=False):
+        want = _by_load._nodes(xs, h)
+    out = np.empty(xs.size, dtype=np.intp)
+    assert np.array_equal(out[: _stencil_sums.node_chain(xs, h, out)], want)
+    pytest.importorskip("numba")
+    with xpersson.set_options(compiled=True):
+        got = _stencil_sums.chain(xs, h)
+    if got is None:
+        pytest.skip("kernel not built")
+    assert np.array_equal(got, want)

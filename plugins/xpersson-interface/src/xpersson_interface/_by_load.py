@@ -73,6 +73,7 @@ from collections.abc import Callable, Iterable
 import numpy as np
 from numpy.typing import NDArray
 
+from ._stencil_sums import chain
 from ._stencils import (
     DEPTH,
     FLOOR,
@@ -451,6 +452,9 @@ def _mark(i: NDArray[np.intp], n: int) -> NDArray[np.bool_]:
 def _nodes(xs: NDArray[np.float64], h: float) -> NDArray[np.intp]:
     """Indices of sorted ``xs`` about ``h`` apart: each node the last value within ``h`` of
     the one before (at least the next), the last value always included."""
+    compiled = chain(xs, h)  # (the same nodes)
+    if compiled is not None:
+        return compiled
     last = xs.size - 1
     # each value's successor node, for every value at once (one search, not one per node)
     nxt = np.searchsorted(xs, xs + h, side="right") - 1

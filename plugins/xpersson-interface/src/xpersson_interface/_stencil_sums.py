@@ -38,32 +38,67 @@ from xpersson.options import compiled_enabled
 
 from ._newton import _block_sum, _einsum_dot, numpy_orders
 
-__all__ = ["MAX_POINTS", "kernel", "stencil_sums", "sums"]
+__all__ = ["MAX_POINTS", "chain", "kernel", "node_chain", "stencil_sums", "sums"]
 
 #: Largest stencil (points) the compiled sums take (:func:`._newton._block_sum`'s one block).
 MAX_POINTS = 128
 
-_STATE: dict[str, Any] = {}  # "fn": the compiled sums once built (None: numba missing)
+_STATE: dict[str, Any] = {}  # "fns": the compiled kernels once built (None: numba missing)
 
 
-def kernel() -> Callable[..., None] | None:
-    """The compiled :func:`stencil_sums`, or None: the option is off, or numba is not
-    imported in this process, or missing, or this numpy's orders are others."""
+def kernel(name: str = "stencil_sums") -> Callable[..., Any] | None:
+    """The compiled :func:`stencil_sums` (or :func:`node_chain`), or None: the option is off,
+    or numba is not imported in this process, or missing, or this numpy's orders are
+    others."""
     if not compiled_enabled():
         return None
-    if "fn" in _STATE:
-        return _STATE["fn"]  # type: ignore[no-any-return]
-    if "numba" not in sys.modules:
-        return None
+    if "fns" not in _STATE:
+        if "numba" not in sys.modules:
+            return None
+        _STATE["fns"] = _build()
+    fns = _STATE["fns"]
+    return None if fns is None else fns[name]
+
+
+def _build() -> dict[str, Callable[..., Any]] | None:
     jit = numba_cache.njit(__name__, "xpersson_interface._newton", nogil=True, error_model="numpy")
     if jit is None or not numpy_orders():  # pragma: no cover - numba optional; other numpy
-        _STATE["fn"] = None
         return None
     scope = dict(globals())
     for fn in (_block_sum, _einsum_dot):
         scope[fn.__name__] = jit(types.FunctionType(fn.__code__, scope, fn.__name__))
-    _STATE["fn"] = jit(types.FunctionType(stencil_sums.__code__, scope, "stencil_sums"))
-    return _STATE["fn"]  # type: ignore[no-any-return]
+    return {
+        fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__))
+        for fn in (stencil_sums, node_chain)
+    }
+
+
+def chain(xs: NDArray[np.float64], h: float) -> NDArray[np.intp] | None:
+    """:func:`._by_load._nodes` compiled (the indices of sorted ``xs`` about ``h`` apart), or
+    None where the kernel is not built."""
+    fn = kernel("node_chain")
+    if fn is None or not xs.size:
+        return None
+    out = np.empty(xs.size, dtype=np.intp)
+    return out[: fn(np.ascontiguousarray(xs, dtype=float), float(h), out)]
+
+
+def node_chain(xs: Any, h: float, out: Any) -> int:  # pragma: no cover - compiled
+    """Into ``out``: from index 0, each node the last value within ``h`` of the one before
+    (``xs[j] + h``, as numpy's sum; at least the next), the last value always included; their
+    number. One walk up the values (the successor only grows with the node)."""
+    last = xs.size - 1
+    out[0] = 0
+    k, j, i = 1, 0, 0
+    while j < last:
+        t = xs[j] + h
+        i = max(i, j)
+        while i < last and xs[i + 1] <= t:
+            i += 1
+        j = min(max(i, j + 1), last)
+        out[k] = j
+        k += 1
+    return k
 
 
 def sums(
