@@ -307,6 +307,8 @@ class _Direct:
                 into[k] = np.full((self.n,) + v.shape[1:], np.nan)
         for g, names in enumerate(self.groups):
             sel = which[g]
+            if not sel.any():
+                continue
             every = bool(sel.all())  # (no selection to copy)
             at = rows if every else rows[sel]
             for k in _names(names, got):
@@ -478,8 +480,8 @@ def _check(
     the nodes' segments (:func:`._stencils._segments` of ``at``), where known."""
     odd = np.arange(1, xn.size, 2)
     even = np.arange(0, xn.size, 2)
-    sub = {k: v[even] for k, v in at.items()}
-    logs_even = {k: v[even] for k, v in logs.items()}
+    sub = {k: v[::2] for k, v in at.items()}  # (views: the values of the even nodes)
+    logs_even = {k: v[::2] for k, v in logs.items()}
     if seg is None:  # every node's: an odd node's own segment is known
         seg = _segments(at, roles[0])
     segs = (seg[even], seg[odd])
