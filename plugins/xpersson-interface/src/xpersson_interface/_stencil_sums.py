@@ -1,14 +1,16 @@
-"""The load table's stencil sums (private, :mod:`._stencils`) and their optional compiled form
-(numba): the numbers of the numpy path, bit for bit.
+"""The load table's stencils (private, :mod:`._stencils`) and nodes (:mod:`._by_load`) in an
+optional compiled form (numba): the numbers of the numpy path, bit for bit.
 
-Per load, :func:`._stencils._interpolate` takes the Lagrange weights of its stencil
-(:func:`._stencils._lagrange`), their magnitudes' sum (the Lebesgue function) and, per
-per-load output, the weighted sum of the nodes' logarithms (``einsum("nk,nk->n")``). In numpy
-these are ~40 passes over (8, n) arrays and a gather per output: at the ~830 loads of a
-1000-load leak analysis ~0.15 ms a call in a warm loop, ~0.5 ms inside a solve (the table's
-largest share). :func:`stencil_sums` does one load at a time in one pass, with the numpy
+Per load, :func:`._stencils._stencil` finds the ``m`` nodes of its segment, their Lagrange
+weights (:func:`._stencils._lagrange`), their magnitudes' sum (the Lebesgue function) and, per
+per-load output, the weighted sum of the nodes' logarithms (``einsum("nk,nk->n")``); and
+whether each stencil's values agree (:func:`._stencils._alike`). In numpy these are ~60
+passes over (8, n) or (n,) arrays: inside a 1000-load leak analysis (4 calls, ~830 and ~90
+loads) the weights, Lebesgue and weighted sums alone took ~0.65 ms (timers in the solve,
+2026-11-30); :func:`stencil_sums` does it all in ~0.2 ms, one load at a time, with the numpy
 path's operations in its order:
 
+- the stencil's indices as ``np.searchsorted`` and ``np.clip`` give them (integers: exact);
 - ``w_a = prod_{b != a} (x - X_b)/(X_a - X_b)``, each factor's subtraction and division as
   there, the product from ``1`` in the order ``b = 0 .. m-1`` (times ``q_aa = 1`` as there);
 - ``np.sum(np.abs(w), axis=1)`` in numpy's pairwise order (:func:`._newton._block_sum`, the
@@ -16,6 +18,7 @@ path's operations in its order:
 - ``np.einsum("nk,nk->n", w, Lz[idx])`` in the order of numpy's baseline SIMD loop
   (:func:`._newton._einsum_dot`), onto the zeroed output.
 
+:func:`node_chain` is :func:`._by_load._nodes` (integers: exact) in one walk up the loads.
 It runs only where numba is already imported in the process (the physics' compiled kernels
 import it once their work pays), ``xpersson.set_options(compiled=...)`` is on, and this
 numpy's reductions take the orders reproduced (:func:`._newton.numpy_orders`, checked once);
