@@ -11,24 +11,13 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from xpersson_core_reference import random_spectrum
 
 import xpersson
 from xpersson.physics import _compiled, _sub_nodes, _subgap
 from xpersson.physics._self_affine import SelfAffineRollOff
-from xpersson.physics._tabulated import Tabulated
 
 _PLAIN = {fn.__name__: fn for fn in _sub_nodes.KERNELS}
-
-
-def _spectrum(rng: np.random.Generator, table: bool):
-    q_L = 10 ** rng.uniform(1, 4)
-    if table:  # many segments, exponents of both signs
-        q = np.sort(q_L * 10 ** rng.uniform(0, 5, rng.integers(1, 12)))
-        q = np.unique(np.concatenate(([q_L], q)))
-        return Tabulated(q, 10 ** rng.uniform(-40, -20, q.size))
-    H = rng.uniform(0.1, 1.0)
-    q_r = q_L * 10 ** rng.choice([0.0, rng.uniform(0, 1)])  # without a roll-off, or with
-    return SelfAffineRollOff.from_h_rms(1e-6, H, q_L, q_r, q_r * 10 ** rng.uniform(1, 4))
 
 
 def _kernels(compiled: bool):
@@ -56,7 +45,7 @@ def test_kernels_give_the_numpy_bits(compiled, seed, table, n_load, per_load):
     ``ln tau_c`` and kernel value bit for bit the numpy path's."""
     fns = _kernels(compiled)
     rng = np.random.default_rng(seed)
-    psd = _spectrum(rng, table)
+    psd = random_spectrum(rng, table)
     q_hi = psd.q_L * (psd.q_1 / psd.q_L) ** rng.uniform(0.3, 1.0)
     zeta = (q_hi / psd.q_L) ** rng.uniform(0, 1.0, (n_load, 2) if per_load else (1, n_load))
     qa = zeta * psd.q_L
@@ -86,7 +75,7 @@ def test_nodes_outside_the_support_give_the_numpy_bits(compiled, seed, table):
     cut-off: no compiled set-up."""
     fns = _kernels(compiled)
     rng = np.random.default_rng(seed)
-    psd = _spectrum(rng, table)
+    psd = random_spectrum(rng, table)
     q_hi = psd.q_1 * rng.choice([1.0, 1.0, 1.3])
     qa = psd.q_L * (q_hi / psd.q_L) ** rng.uniform(0.0, 1.0, (3, 2))
     qa.flat[:4] = [psd.q_L, psd.q_1, psd.q_L * 0.9, psd.q_1 * 1.1]

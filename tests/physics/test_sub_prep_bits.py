@@ -7,22 +7,10 @@ from __future__ import annotations
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from xpersson_core_reference import random_spectrum
 
 from xpersson.physics._curve import _delta_I3, _gauss
-from xpersson.physics._self_affine import SelfAffineRollOff
 from xpersson.physics._subgap import _SUB_EDGES, _SUB_ORDER, _sub_prep
-from xpersson.physics._tabulated import Tabulated
-
-
-def _spectrum(rng: np.random.Generator, table: bool):
-    q_L = 10 ** rng.uniform(1, 4)
-    if table:  # many segments, exponents of both signs
-        q = np.sort(q_L * 10 ** rng.uniform(0, 5, rng.integers(1, 12)))
-        q = np.unique(np.concatenate(([q_L], q)))
-        return Tabulated(q, 10 ** rng.uniform(-40, -20, q.size))
-    H = rng.uniform(0.1, 1.0)
-    q_r = q_L * 10 ** rng.choice([0.0, rng.uniform(0, 1)])  # without a roll-off, or with
-    return SelfAffineRollOff.from_h_rms(1e-6, H, q_L, q_r, q_r * 10 ** rng.uniform(1, 4))
 
 
 def _plain_prep(psd, E_star, qa, q_hi):
@@ -49,7 +37,7 @@ def _plain_prep(psd, E_star, qa, q_hi):
 @given(st.integers(0, 2**32 - 1), st.booleans(), st.integers(0, 400))
 def test_I3_and_C_are_I3_and_C_bit_for_bit(seed, table, n_q):
     rng = np.random.default_rng(seed)
-    psd = _spectrum(rng, table)
+    psd = random_spectrum(rng, table)
     nodes = psd.nodes()
     if rng.random() < 0.5:  # inside one segment
         k = rng.integers(nodes.size - 1)
@@ -73,7 +61,7 @@ def test_I3_and_C_are_I3_and_C_bit_for_bit(seed, table, n_q):
 @given(st.integers(0, 2**32 - 1), st.booleans(), st.integers(1, 30), st.booleans())
 def test_sub_prep_is_the_plain_form_bit_for_bit(seed, table, n_load, per_load):
     rng = np.random.default_rng(seed)
-    psd = _spectrum(rng, table)
+    psd = random_spectrum(rng, table)
     q_hi = psd.q_1 / 10 ** rng.uniform(0, 1)
     zeta = (q_hi / psd.q_L) ** rng.uniform(0, 1.05, (n_load, 2) if per_load else (1, n_load))
     qa = zeta * psd.q_L
