@@ -39,34 +39,49 @@ from numpy.typing import NDArray
 from xpersson import numba_cache
 from xpersson.options import compiled_enabled
 
-__all__ = ["MAX_CELLS", "iterate", "kernel", "newton", "newton_step", "numpy_orders"]
+__all__ = ["MAX_CELLS", "compiled", "iterate", "kernel", "newton", "newton_step", "numpy_orders"]
 
 #: Longest row (cells) the compiled step sums (its pairwise sum is unrolled three levels deep).
 MAX_CELLS = 512
 
-_STATE: dict[str, Any] = {}  # "fn": the compiled step once built (None: numba missing)
+_STATE: dict[str, Any] = {}  # "fns": the compiled step once built (None: numba missing)
 
 
 def kernel() -> Callable[..., int] | None:
     """The compiled :func:`newton_step`, or None: the option is off, or numba is not imported
     in this process, or missing."""
+    fns = compiled(_STATE, (newton_step,))
+    return None if fns is None else fns["newton_step"]
+
+
+def compiled(
+    state: dict[str, Any], fns: tuple[Callable[..., Any], ...], *modules: str
+) -> dict[str, Callable[..., Any]] | None:
+    """The compiled forms of ``fns`` by name, each with this module's summation helpers
+    (:func:`_block_sum` .. :func:`_einsum_dot`) compiled in its scope, kept in ``state``; None:
+    the option is off, numba is not imported in this process (its import is the physics
+    kernels' to pay), missing, or this numpy's orders are others (:func:`numpy_orders`).
+    ``modules``: the other modules whose sources key the disk cache (those of ``fns``)."""
     if not compiled_enabled():
         return None
-    if "fn" in _STATE:
-        return _STATE["fn"]  # type: ignore[no-any-return]
-    if "numba" not in sys.modules:
-        return None
-    jit = numba_cache.njit(__name__, nogil=True, error_model="numpy")
+    if "fns" not in state:
+        if "numba" not in sys.modules:
+            return None
+        state["fns"] = _build(fns, modules)
+    return state["fns"]  # type: ignore[no-any-return]
+
+
+def _build(
+    fns: tuple[Callable[..., Any], ...], modules: tuple[str, ...]
+) -> dict[str, Callable[..., Any]] | None:
+    jit = numba_cache.njit(__name__, *modules, nogil=True, error_model="numpy")
     if jit is None or not numpy_orders():  # pragma: no cover - numba optional; other numpy
-        _STATE["fn"] = None
         return None
     helpers = (_block_sum, _eighth, _quarter, _half, _pairwise_sum, _einsum_dot)
     scope = dict(globals())
     for fn in helpers:  # each helper compiled with the compiled helpers it calls in scope
         scope[fn.__name__] = jit(types.FunctionType(fn.__code__, scope, fn.__name__))
-    step = jit(types.FunctionType(newton_step.__code__, scope, "newton_step"))
-    _STATE["fn"] = step
-    return step  # type: ignore[no-any-return]
+    return {fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__)) for fn in fns}
 
 
 def newton(

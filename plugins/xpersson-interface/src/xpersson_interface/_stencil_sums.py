@@ -28,18 +28,13 @@ otherwise the numpy path runs. The equality is asserted in
 
 from __future__ import annotations
 
-import sys
-import types
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from xpersson import numba_cache
-from xpersson.options import compiled_enabled
-
-from ._newton import _block_sum, _einsum_dot, numpy_orders
+from ._newton import _block_sum, _einsum_dot, compiled
 
 __all__ = ["MAX_POINTS", "chain", "kernel", "node_chain", "stencil_sums", "sums"]
 
@@ -52,28 +47,9 @@ _STATE: dict[str, Any] = {}  # "fns": the compiled kernels once built (None: num
 def kernel(name: str = "stencil_sums") -> Callable[..., Any] | None:
     """The compiled :func:`stencil_sums` (or :func:`node_chain`), or None: the option is off,
     or numba is not imported in this process, or missing, or this numpy's orders are
-    others."""
-    if not compiled_enabled():
-        return None
-    if "fns" not in _STATE:
-        if "numba" not in sys.modules:
-            return None
-        _STATE["fns"] = _build()
-    fns = _STATE["fns"]
+    others (built as :func:`._newton.kernel`, with its summation helpers)."""
+    fns = compiled(_STATE, (stencil_sums, node_chain), __name__)
     return None if fns is None else fns[name]
-
-
-def _build() -> dict[str, Callable[..., Any]] | None:
-    jit = numba_cache.njit(__name__, "xpersson_interface._newton", nogil=True, error_model="numpy")
-    if jit is None or not numpy_orders():  # pragma: no cover - numba optional; other numpy
-        return None
-    scope = dict(globals())
-    for fn in (_block_sum, _einsum_dot):
-        scope[fn.__name__] = jit(types.FunctionType(fn.__code__, scope, fn.__name__))
-    return {
-        fn.__name__: jit(types.FunctionType(fn.__code__, scope, fn.__name__))
-        for fn in (stencil_sums, node_chain)
-    }
 
 
 def chain(xs: NDArray[np.float64], h: float) -> NDArray[np.intp] | None:
