@@ -80,6 +80,8 @@ def rows(fast: bool) -> list[dict]:
                     "(seeds 37, 38) at 1000 and 1e4 loads, and at 300 (where the table "
                     "starts; with --held-out 2026)"
                 )
+                + "; 24 scenes drawn afresh (--seeds 9998 --held-out 9999) at 300, 1000 and "
+                "1e4 loads (results/load_table_check_fresh_*.json)"
                 + ": benchmarks/load_table_check.py",
             )
         )
