@@ -37,7 +37,7 @@ sys.path.insert(0, str(HERE))
 
 import summary_paths as SP  # noqa: E402
 from cn_walls import engine_call_of, levels_of  # noqa: E402
-from summary_design import best, design, held_out, scene  # noqa: E402
+from summary_design import design, held_out, scene, timed  # noqa: E402
 
 PEERS = Path(os.environ.get("XPERSSON_PEERS", HERE.parents[1] / "shared" / "peers"))
 
@@ -60,9 +60,7 @@ def measure(lib, sc: dict, rounds: int) -> dict:
     fns = {"e": engine_call_of(sc)}
     if levels:
         fns["k"] = lambda: c_march(lib, levels)
-    reps = {k: SP._repeated(f) for k, f in fns.items()}
-    t = best({k: many for k, (many, _) in reps.items()}, rounds)
-    t = {k: t[k] / reps[k][1] for k in t}
+    t = timed(fns, rounds)
     if not levels:
         return {"engine": t["e"], "no_march": SP._no_march(fns["e"]())}
     steps = sum(a * b * c for a, b, c in levels)

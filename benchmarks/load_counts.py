@@ -5,7 +5,8 @@ made at those counts must hold between them: the load table (``xpersson_interfac
 starts where the loads are 3 times its nodes, and the direct path below costs ~100 us per load.
 Per scene of the speed design (``summary_design.design``, or ``--held-out SEED``'s draw) and
 load count (range 1 kPa - 1 MPa), each analysis's whole solve over the bare solve of the same
-loads (CPU time, best of ``--rounds`` interleaved rounds, one process,
+loads (CPU time per solve, best of ``--rounds`` interleaved rounds of ~20 ms of repeated
+solves each (``summary_design.timed``, as ``summary.py``), one process,
 ``OPENBLAS_NUM_THREADS=1``; the optional compiled kernels built first, as ``summary.py``
 does: a fresh process runs small problems on numpy until its numpy work adds up to their
 build's cost, a study's eighth to 14th solve here, ``fresh_process.py``); printed per scene,
@@ -24,7 +25,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from summary_design import best, design, held_out, load_range, scene
+from summary_design import design, held_out, load_range, scene, timed
 
 import xpersson
 
@@ -40,7 +41,7 @@ def measure(spec: dict, n: int, rounds: int) -> dict[str, float]:
         fns[an] = lambda sc=sc: xpersson.solve(sc)
     for fn in fns.values():  # warm: caches and compiled kernels
         fn()
-    t = best(fns, rounds)
+    t = timed(fns, rounds)
     return {an: t[an] / t["bare"] for an in ANALYSES} | {"bare_ms": t["bare"] * 1e3}
 
 

@@ -9,13 +9,14 @@ Run from the checkout (one command regenerates the results and the README table)
 
 One process, ``OPENBLAS_NUM_THREADS=1`` (set here before numpy is imported), CPU time of this
 process (``time.process_time``; the machine may be shared), each quantity the best of
-``--rounds`` rounds in which the quantities of a ratio are measured alternately. The optional
-compiled kernels (numba) are built before any row is measured (:func:`warm_up`). The scenes are
-a seeded design across the documented domain (:mod:`summary_design`: H 0.3-0.95, with and
-without roll-off, 3-6 decades). Per path: the median and the **worst** ratio over the design and
-the scene of the worst; the worst over a held-out design of the same domain drawn with another
-seed (``--held-out SEED``: the design paths and the C-march rows, not the single paths); the
-peak traced memory (``tracemalloc``) of the path on its worst scene.
+``--rounds`` rounds in which the quantities of a ratio are measured alternately, each round
+timing ~20 ms of repeated calls (one call where a call is longer: ``summary_paths.timed``). The
+optional compiled kernels (numba) are built before any row is measured (:func:`warm_up`). The
+scenes are a seeded design across the documented domain (:mod:`summary_design`: H 0.3-0.95, with
+and without roll-off, 3-6 decades). Per path: the median and the **worst** ratio over the design
+and the scene of the worst; the worst over a held-out design of the same domain drawn with
+another seed (``--held-out SEED``: the design paths and the C-march rows, not the single paths);
+the peak traced memory (``tracemalloc``) of the path on its worst scene.
 Honest denominators: plain loads are given as range tables, the kernel runs on the same curves.
 The C march (``../shared/peers/c_march`` beside the checkout or ``$XPERSSON_PEERS/c_march``,
 built here with ``$CC``/``cc``; skipped without a compiler) and the two-grid scipy BDF peer
@@ -175,7 +176,8 @@ def table(rows: list[dict], meta: dict, held: dict | None = None) -> str:
     head = (
         f"Measured by `python benchmarks/summary.py` ({meta['date']}, {meta['scenes']} seeded "
         f"scenes: H 0.3-0.95, with and without roll-off, 3-6 decades; one process, "
-        f"OPENBLAS_NUM_THREADS=1, CPU time, best of {meta['rounds']} interleaved rounds; "
+        f"OPENBLAS_NUM_THREADS=1, CPU time per call, best of {meta['rounds']} interleaved rounds "
+        "of ~20 ms of repeated calls each; "
         f"{_accelerated(meta)}; "
         f"{meta['machine']}). Ratio: the path's time over its kernel's on the same curves; "
         "worst over the design, and its scene. Memory: peak traced on the worst scene."

@@ -1,7 +1,8 @@
 """The paths of ``benchmarks/summary.py``: each against its kernel on the same curves.
 
-A design path is ``fn(spec, rounds, quick) -> {"time", "kernel", "ratio", ...}`` (CPU seconds,
-best of interleaved rounds) on one spectrum of the design (:mod:`summary_design`).
+A design path is ``fn(spec, rounds, quick) -> {"time", "kernel", "ratio", ...}`` (CPU seconds
+per call, best of interleaved rounds of repeated calls: :func:`timed`) on one spectrum of the
+design (:mod:`summary_design`).
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 from summary_cold import sweep_eh_cold
-from summary_design import best, cpu, load_range, peak_mib, scene
+from summary_design import cpu, load_range, peak_mib, scene, timed
 from summary_parallel import PLASTIC, STEEL, parallel_path
 
 import xpersson
@@ -72,7 +73,7 @@ def sweep_eh(spec: dict, rounds: int, quick: bool) -> dict:
     """E x H sweep, one load per point, against the same number of plain loads (a range)."""
     n = 30 if quick else 100
     sweep, plain = _eh(spec, n, "100 kPa"), scene(spec, load_range(n * n))
-    t = best({"s": lambda: xpersson.solve(sweep), "k": lambda: xpersson.solve(plain)}, rounds)
+    t = timed({"s": lambda: xpersson.solve(sweep), "k": lambda: xpersson.solve(plain)}, rounds)
     return _ratio(t["s"], t["k"], note=f"({n * n / t['s'] * 60:.2g} curves/min/core)")
 
 
@@ -80,7 +81,7 @@ def sweep_ehp(spec: dict, rounds: int, quick: bool) -> dict:
     """E x H x 10 loads against the same number of plain loads."""
     n = 10 if quick else 30
     sweep, plain = _eh(spec, n, load_range(10)), scene(spec, load_range(n * n * 10))
-    t = best({"s": lambda: xpersson.solve(sweep), "k": lambda: xpersson.solve(plain)}, rounds)
+    t = timed({"s": lambda: xpersson.solve(sweep), "k": lambda: xpersson.solve(plain)}, rounds)
     return _ratio(t["s"], t["k"], note=f"({n * n * 10 / t['s'] * 60:.2g} curves/min/core)")
 
 
@@ -103,7 +104,7 @@ def many_loads(spec: dict, rounds: int, quick: bool) -> dict:
         with np.errstate(divide="ignore"):
             erf(p0[:, None] / (2.0 * np.sqrt(tau[None, :])))
 
-    t = best({"s": lambda: xpersson.solve(sc), "k": kernel}, rounds)
+    t = timed({"s": lambda: xpersson.solve(sc), "k": kernel}, rounds)
     return _ratio(t["s"], t["k"])
 
 
@@ -115,7 +116,7 @@ def _analysis(name: str, n: int):
             n_ = n
         bare = scene(spec, load_range(n_))
         with_analysis = scene(spec, load_range(n_), analyses={name: {}})
-        t = best(
+        t = timed(
             {"s": lambda: xpersson.solve(with_analysis), "k": lambda: xpersson.solve(bare)},
             rounds,
         )
@@ -142,9 +143,7 @@ def load_strings(spec: dict, rounds: int, quick: bool) -> dict:
         xpersson.solve(listed)
 
     fns = {"s": lambda: xpersson.solve(listed), "k": lambda: xpersson.solve(ranged), "c": cold}
-    reps = {k: _repeated(fn) for k, fn in fns.items()}  # ~3 ms calls: ~20 ms per timing
-    t = best({k: many for k, (many, _) in reps.items()}, rounds)
-    t = {k: t[k] / reps[k][1] for k in t}
+    t = timed(fns, rounds)  # ~3 ms calls: ~20 ms per timing
     return _ratio(t["c"], t["k"], note=f"(same list solved again: {t['s'] / t['k']:.2f}x)")
 
 
@@ -171,7 +170,7 @@ def one_load(spec: dict, rounds: int, quick: bool) -> dict:
         with np.errstate(divide="ignore"):
             erf(rs.p0[:, None] / (2.0 * np.sqrt(tau[None, :])))
 
-    t = best({"s": lambda: xpersson.solve(sc), "k": kernel}, rounds)
+    t = timed({"s": lambda: xpersson.solve(sc), "k": kernel}, rounds)
     return _ratio(t["s"], t["k"], note=f"({t['s'] * 1e3:.2f} ms per solve)")
 
 
@@ -211,19 +210,6 @@ def c_march_lib(peers: Path):
     return lib
 
 
-def _repeated(fn, seconds: float = 0.02):
-    """``fn`` run often enough to take about ``seconds`` of CPU time, and the count (a timed
-    call of a millisecond is mostly the clock's and the machine's noise)."""
-    one = min(cpu(fn) for _ in range(3))
-    n = max(1, int(seconds / max(one, 1e-6)))
-
-    def many() -> None:
-        for _ in range(n):
-            fn()
-
-    return many, n
-
-
 def _vs_march(lib, sc: dict, loads: int, rounds: int, how: str) -> tuple[dict, dict]:
     """``xpersson.solve(sc)`` and the engine's own call on the problem the pipeline prepared
     (:func:`cn_walls.engine_call_of`) against the C march over the grid levels the engine
@@ -238,9 +224,7 @@ def _vs_march(lib, sc: dict, loads: int, rounds: int, how: str) -> tuple[dict, d
     fns = {"s": lambda: xpersson.solve(sc), "e": engine}
     if levels:
         fns["k"] = lambda: c_march(lib, levels)
-    reps = {k: _repeated(fn) for k, fn in fns.items()}
-    t = best({k: many for k, (many, _) in reps.items()}, rounds)
-    t = {k: t[k] / reps[k][1] for k in t}
+    t = timed(fns, rounds)
     if not levels:
         why = _no_march(engine())
         ms = {key: t[key] / loads * 1e3 for key in ("s", "e")}
@@ -338,7 +322,7 @@ def friction_path(rounds: int) -> dict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         zeta = np.asarray(xpersson.solve(path, **kw)["zeta"].values)  # the scene's output grid
-    t = best(
+    t = timed(
         {
             "s": lambda: xpersson.solve(path, **kw),
             "k": lambda: friction_curve(psd, model, NU, [3e5], V, aT, zeta=zeta),
@@ -381,7 +365,7 @@ def peer_path(peers: Path, scenes, rounds: int, quick: bool) -> dict:
             fine = peer_scipy_mol.solve(sc, 1025, "BDF", 1e-7)[3]
             return (4 * fine - coarse) / 3
 
-        t = best({"e": engine, "p": peer}, max(1, rounds - 1))
+        t = timed({"e": engine, "p": peer}, max(1, rounds - 1))
         err_e, err_p = S.curve_error(sc, engine().area), S.curve_error(sc, peer())
         out[f"H={H:.2f}"] = {
             "time": t["p"],
