@@ -208,3 +208,114 @@ def test_calls_ending_as_their_limit_fires_return_or_time_out_and_nothing_else()
         assert out[-1] == 0  # no limit left armed in the thread (to fire later)
         assert len(out) == 251
         assert set(out[:-1]) <= {"value", "exceeded the time limit of 0.002 s"}
+
+
+def _landing_points(k: int, box: list) -> None:
+    """``with limited(5 s): with limited(5 s): pass`` in this (non-main) thread, the outer
+    limit firing at the ``k``-th place an interrupt can land from the inner guard's entry on
+    (each function entry, and each return of a call, in any frame below the guards: where
+    CPython delivers an injected exception); ``box``: [the outcome, the places counted, the
+    lost limits]."""
+    import dis
+
+    lim = sys.modules["xpersson.plugins._limits"]
+    call, here, last, seen = dis.opmap["CALL"], __file__, {}, [0]
+
+    def fire(frame: types.FrameType) -> None:
+        stack = getattr(lim._ARMED, "stack", [])
+        armed = [e for e in stack if e[3] is lim._ARMED_STATE]
+        if not armed or frame.f_code.co_filename == here:  # nothing left to fire
+            return
+        seen[0] += 1
+        if seen[0] == k:  # as the watchdog did (its interrupt landing only now, maybe where
+            armed[0][3] = lim._FIRED_STATE  # this thread holds the lock): the outer entry
+            raise armed[0][5].value()  # marked fired, its interrupt raised
+
+    def local(frame, event, arg):  # noqa: ANN001, ANN202
+        if event == "opcode":
+            prev, last[frame] = last.get(frame), frame.f_lasti
+            if prev is not None and frame.f_code.co_code[prev] == call:
+                fire(frame)
+        return local
+
+    def tracer(frame, event, arg):  # noqa: ANN001, ANN202
+        frame.f_trace_opcodes = True
+        fire(frame)  # a function's entry
+        return local
+
+    outer = limited(5.0)
+    outer.__enter__()
+    sys.settrace(tracer)
+    try:
+        try:
+            with limited(5.0):
+                pass
+        except BaseException as exc:  # noqa: BLE001 - what the outer guard's exit sees
+            pending = exc
+        else:
+            pending = None
+        try:
+            kept = outer.__exit__(type(pending) if pending else None, pending, None)
+            outcome = "value" if pending is None or kept else pending
+        except BaseException as exc:  # noqa: BLE001 - what the caller sees
+            outcome = exc
+    finally:
+        sys.settrace(None)
+    stack = getattr(lim._ARMED, "stack", [])
+    box[:] = [outcome, seen[0], sum(e[3] is lim._ARMED_STATE for e in stack)]
+
+
+def test_an_interrupt_landing_anywhere_in_the_guards_leaves_nothing_broken():
+    # Deterministic form of the race above: an outer limit's interrupt delivered at every place
+    # of the inner guard's entry and exit (and of the outer one's exit) where it can land. Once
+    # it landed in Thread.is_alive (the guard's check of its watchdog) just after its
+    # tstate-lock acquire failed: threading's clean-up then released the running watchdog's
+    # lock, the watchdog counted as stopped, and another thread's is_alive raised
+    # "RuntimeError: release unlocked lock" out of a guarded call (CI, 2026-11-30).
+    lim = sys.modules["xpersson.plugins._limits"]
+
+    def run(k: int) -> list:
+        box: list = []
+        t = threading.Thread(target=_landing_points, args=(k, box), daemon=True)
+        t.start()
+        t.join(10.0)
+        assert not t.is_alive()
+        return box
+
+    count = run(0)[1]  # the places, counted without firing
+    for k in range(1, count + 1):
+        outcome, _, armed = run(k)
+        # the outer limit's timeout, or nothing (where it landed as the inner exit ended)
+        assert outcome == "value" or isinstance(outcome, PluginTimeout), (k, outcome)
+        assert armed == 0, k  # no limit left armed to fire later
+        assert lim._LOCK.acquire(timeout=1.0), k  # the guards' lock not leaked
+        lim._LOCK.release()
+        dog = lim._WATCHDOG._thread  # the watchdog still runs, its thread state intact
+        assert dog is not None and not dog._is_stopped and dog._tstate_lock.locked(), k
+    assert count >= 10  # the places were reached (the guards' code ran under the tracer)
+
+
+def test_a_limit_beyond_the_lock_timeouts_keeps_the_watchdog_for_the_next_limits():
+    # a limit past threading.TIMEOUT_MAX once ended the watchdog's loop (OverflowError in its
+    # wait); nothing restarts it since the guards no longer ask Thread.is_alive
+    lim = sys.modules["xpersson.plugins._limits"]
+    out: list = []
+
+    def work() -> None:
+        with limited(10 * threading.TIMEOUT_MAX):
+            time.sleep(0.01)  # the watchdog waits for this deadline meanwhile
+        end = time.monotonic() + 5.0  # (bounded: a dead watchdog must not leave a spinning thread)
+        try:
+            with limited(0.05):
+                while time.monotonic() < end:
+                    pass
+            out.append("not interrupted")
+        except PluginTimeout as exc:
+            out.append(str(exc))
+
+    t = threading.Thread(target=work, daemon=True)
+    t.start()
+    t.join(10.0)
+    assert not t.is_alive()
+    assert out == ["exceeded the time limit of 0.05 s"]
+    assert not lim._WATCHDOG._thread._is_stopped

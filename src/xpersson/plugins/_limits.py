@@ -267,16 +267,31 @@ class _Watchdog:
         self._wake = threading.Lock()  # released to wake the watchdog (a binary semaphore)
         self._wake.acquire()
         self._thread: threading.Thread | None = None
+        self._start = threading.Lock()
 
     def wake(self) -> None:
-        """Start the watchdog thread if needed and make it look at the heap again."""
-        if self._thread is None or not self._thread.is_alive():
-            self._thread = threading.Thread(
-                target=self._run, name="xpersson-time-limits", daemon=True
-            )
-            self._thread.start()
-        with contextlib.suppress(RuntimeError):  # already woken
+        """Start the watchdog thread if needed and make it look at the heap again.
+
+        Called by a thread that may take an interrupt at any bytecode (a limit of its that
+        fired), so nothing here may leave shared state broken when one lands: the watchdog's
+        liveness is not asked of ``Thread.is_alive`` (whose ``_wait_for_tstate_lock``, an
+        interrupt landing just after its ``acquire(False)`` failed, releases the *running*
+        watchdog's thread-state lock: the watchdog then counts as stopped, a second one is
+        started, and a concurrent ``is_alive`` in another thread fails with ``RuntimeError:
+        release unlocked lock``). Its loop never returns; a forked child starts its own
+        (:func:`_after_fork_in_child`)."""
+        if self._thread is None:  # (no limit has fired yet: no interrupt can land in here)
+            with self._start:  # one watchdog, whichever threads arm their first limits at once
+                if self._thread is None:
+                    thread = threading.Thread(
+                        target=self._run, name="xpersson-time-limits", daemon=True
+                    )
+                    thread.start()
+                    self._thread = thread
+        try:
             self._wake.release()
+        except RuntimeError:  # already woken
+            pass
 
     def _run(self) -> None:
         heap, fire = self.heap, ctypes.pythonapi.PyThreadState_SetAsyncExc
@@ -294,9 +309,12 @@ class _Watchdog:
                     entry[3] = _FIRED_STATE
                     fire(ctypes.c_ulong(entry[0]), entry[5])
                     continue
-            self._wake.acquire(timeout=wait)
+            self._wake.acquire(timeout=min(wait, _LONGEST_WAIT))  # (a huge limit: no overflow)
 
 
+_LONGEST_WAIT = 3600.0
+"""Longest single wait [s] of the watchdog (``threading.TIMEOUT_MAX`` bounds a lock's timeout:
+a limit of years must not end the watchdog's loop, which nothing restarts)."""
 _WATCHDOG = _Watchdog()
 _ARMED = threading.local()
 _REAL_SLEEP = time.sleep
