@@ -60,7 +60,7 @@ sys.path.insert(0, str(PEERS / "c_march"))
 import peer_scipy_mol  # noqa: E402
 import scene as S  # noqa: E402
 from engine_vs_peers_report import plot, write_markdown  # noqa: E402
-from summary_design import best, design  # noqa: E402
+from summary_design import best, design, repeated  # noqa: E402
 
 import xpersson  # noqa: E402
 from xpersson.engine import Wall, exact, solve  # noqa: E402
@@ -282,12 +282,6 @@ def _errors(case: Case, run: Run, res: object) -> dict:
     return out
 
 
-def _repeat(fn: Callable[[], object], once: float, seconds: float = 0.02):
-    """``fn`` repeated to about ``seconds`` of CPU time (``once``: one call's), and the count."""
-    n = max(1, int(seconds / max(once, 1e-6)))
-    return (lambda: [fn() for _ in range(n)]), n
-
-
 def measure(case: Case, lib, rounds: int, quick: bool) -> list[dict]:
     """Every run of ``case`` once (its errors), then best CPU times over interleaved rounds."""
     runs = engine_runs(case, lib, quick) + peer_runs(case, quick)
@@ -304,7 +298,7 @@ def measure(case: Case, lib, rounds: int, quick: bool) -> list[dict]:
             run.row["err"] = runs[run.row["same_as"]].row.get("err", math.nan)
         else:
             run.row.update(_errors(case, run, res))
-        fns[i], counts[i] = _repeat(run.fn, once) if run.kind != "peer" else (run.fn, 1)
+        fns[i], counts[i] = repeated(run.fn, once=once) if run.kind != "peer" else (run.fn, 1)
     t = best(fns, rounds)
     rows = []
     for i, run in enumerate(runs):

@@ -10,7 +10,7 @@ Run from the checkout (one command regenerates the results and the README table)
 One process, ``OPENBLAS_NUM_THREADS=1`` (set here before numpy is imported), CPU time of this
 process (``time.process_time``; the machine may be shared), each quantity the best of
 ``--rounds`` rounds in which the quantities of a ratio are measured alternately, each round
-timing ~20 ms of repeated calls (one call where a call is longer: ``summary_paths.timed``). The
+timing ~20 ms of repeated calls (one call where a call is longer: ``summary_design.timed``). The
 optional compiled kernels (numba) are built before any row is measured (:func:`warm_up`). The
 scenes are a seeded design across the documented domain (:mod:`summary_design`: H 0.3-0.95, with
 and without roll-off, 3-6 decades). Per path: the median and the **worst** ratio over the design

@@ -111,10 +111,13 @@ def best(fns: dict[str, Callable[[], object]], rounds: int) -> dict[str, float]:
     return out
 
 
-def _repeated(fn: Callable[[], object], seconds: float = 0.02) -> tuple[Callable[[], None], int]:
+def repeated(
+    fn: Callable[[], object], seconds: float = 0.02, once: float | None = None
+) -> tuple[Callable[[], None], int]:
     """``fn`` run often enough to take about ``seconds`` of CPU time, and the count (a timed
-    call of a millisecond is mostly the clock's and the machine's noise)."""
-    one = min(cpu(fn) for _ in range(3))
+    call of a millisecond is mostly the clock's and the machine's noise); ``once``: one call's
+    CPU time [s] where already measured (else the best of 3 calls)."""
+    one = min(cpu(fn) for _ in range(3)) if once is None else once
     n = max(1, int(seconds / max(one, 1e-6)))
 
     def many() -> None:
@@ -126,13 +129,13 @@ def _repeated(fn: Callable[[], object], seconds: float = 0.02) -> tuple[Callable
 
 def timed(fns: dict[str, Callable[[], object]], rounds: int) -> dict[str, float]:
     """CPU time [s] per call of each function: the best of ``rounds`` interleaved rounds, each
-    round timing ~20 ms of repeated calls (:func:`_repeated`; one call where a call is
+    round timing ~20 ms of repeated calls (:func:`repeated`; one call where a call is
     longer). The table's in-process rows are timed so (the cold row times fresh interpreters,
     the parallel rows wall clocks): a single timed call of a ~1 ms solve right after a 10 ms
     one runs on caches the other evicted (a 100-load bare solve: 0.82-1.02 ms so,
     0.75-0.82 ms in a loop, as a study solving it again and again runs it:
     ``timing_method.py``)."""
-    reps = {k: _repeated(fn) for k, fn in fns.items()}
+    reps = {k: repeated(fn) for k, fn in fns.items()}
     t = best({k: many for k, (many, _) in reps.items()}, rounds)
     return {k: t[k] / reps[k][1] for k in t}
 
