@@ -314,41 +314,6 @@ def test_compiled_level_combinations_are_the_numpy_ones(shape, data, weights):
         assert fast[1](np.full(3, 1 / 3), *[plain] * 18, np.empty((6, *shape)))
 
 
-_PROBS = st.one_of(
-    st.floats(-0.1, 1.1),
-    st.sampled_from([0.0, -0.0, 1.0, 0.5, 1e-300, -1e-300, 5e-324, -5e-324, np.nan, np.inf]),
-)
-
-
-@settings(max_examples=120, deadline=None)
-@given(shape=st.tuples(st.integers(1, 3), st.integers(1, 5)), data=st.data())
-def test_compiled_projection_is_the_numpy_one(shape, data):
-    """The projection onto admissible probabilities by one compiled pass equals numpy's
-    clip/maximum path bit for bit (signed zeros, NaN and sums over 1 left to numpy), and the
-    compiled pass is taken on ordinary values."""
-    from xpersson.engine._level import project
-
-    _build()
-    n = shape[0] * shape[1]
-
-    def field(values):
-        return np.array(data.draw(st.lists(values, min_size=n, max_size=n))).reshape(shape)
-
-    area, lo, up = field(_PROBS), field(_PROBS), field(_PROBS)
-    with set_options(compiled=False), np.errstate(all="ignore"):
-        want = project(area, lo, up)
-    with set_options(compiled=True), np.errstate(all="ignore"):
-        got = project(area, lo, up)
-    for have, ref in zip(got[0], want[0], strict=True):
-        assert _bits(have) == _bits(ref)
-    assert list(got[1]) == list(want[1])
-    for name, ref in want[1].items():
-        assert _bits(got[1][name]) == _bits(ref), name
-    plain = np.full(shape, 0.25)  # (ordinary values: the compiled pass answers, and is reached)
-    with set_options(compiled=True):
-        assert _kernel("projected")(plain, plain, plain, np.empty((7, *shape)))
-
-
 @settings(max_examples=40, deadline=None)
 @given(
     n=st.integers(1, 6),

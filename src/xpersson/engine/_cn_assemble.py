@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 from . import _compiled
 from ._cn_control import _Fit
 from ._cn_outputs import EST_FLOOR
-from ._level import Outputs, projected
+from ._level import Outputs, project
 from ._problem import Problem
 from ._result import Raw
 
@@ -153,11 +153,11 @@ def _fields(
         if lv.image is not None:  # what the wall absorbed before the march (closed form)
             a0, m0 = _one_wall_absorbed(pbs, lv.tau_s, lv.image)
             ab_lower, moment_lower = ab_lower + a0, moment_lower + m0
-        proj, dist, stacked = projected(best.area, ab_lower, best.absorbed_upper)
+        proj, dist = project(best.area, ab_lower, best.absorbed_upper)
         if status == "success":
             bound = err + trunc
             bound += roundoff
-            status, message = _beyond(dist, bound, status, message, stacked)
+            status, message = _beyond(dist, bound, status, message)
         err = np.maximum(err, dist["area"])
         area[:, num], ab_l[:, num], ab_u[:, num] = proj
         load[:, num] = best.load
@@ -166,14 +166,9 @@ def _fields(
     return area, ab_l, ab_u, load, wall_term, e_all, ab_l + ab_u, status, message
 
 
-def _beyond(
-    dist: dict[str, Array], bound: Array, status: str, message: str, stacked: Array | None = None
-) -> tuple[str, str]:
+def _beyond(dist: dict[str, Array], bound: Array, status: str, message: str) -> tuple[str, str]:
     """``(status, message)`` of a projection that moved a probability by more than ``bound``
-    (its error estimate, round-off included): the first such one is reported (``stacked``:
-    the distances in one array, compared at once first)."""
-    if stacked is not None and not np.count_nonzero(stacked > bound):
-        return status, message
+    (its error estimate, round-off included): the first such one is reported."""
     for key, d in dist.items():
         if np.count_nonzero(d > bound):
             msg = f"{key} outside [0, 1] by {float(np.max(d)):.2e}, beyond its error estimate"

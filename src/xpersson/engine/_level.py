@@ -29,7 +29,6 @@ __all__ = [
     "face_basis",
     "level_nodes",
     "project",
-    "projected",
     "system_rows",
     "weighted",
 ]
@@ -224,7 +223,7 @@ class Level(NamedTuple):
 
 
 def _kernel(name: str) -> Any:
-    """The compiled kernels ``name`` of :mod:`._compiled` (``fields``, ``projected``), or None
+    """The compiled kernels ``name`` of :mod:`._compiled` (``fields``), or None
     (the option is off, or the process has not loaded the compiled march: it is looked up,
     not imported, so that this module stays below it)."""
     compiled = sys.modules.get(f"{__package__}._compiled")
@@ -288,26 +287,6 @@ def project(
     ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
     non-contact fraction) exceeds 1, scaled down to sum to 1.
     """
-    return projected(np.asarray(area), abs_l, abs_u)[:2]
-
-
-def projected(
-    area: Array, abs_l: Array, abs_u: Array
-) -> tuple[tuple[Array, Array, Array], dict[str, Array], Array | None]:
-    """:func:`project`'s ``(projected, distances)`` and the four distances stacked
-    ``(4, *area.shape)`` where the compiled pass made them (else None): one comparison
-    tells whether any moved beyond a bound."""
-    fast = _kernel("projected") if area.ndim == 2 else None
-    if fast is not None:  # (one compiled pass where no value is NaN or -0 and no sum over 1)
-        out = np.empty((7, *area.shape))
-        if fast(area, abs_l, abs_u, out):
-            dist = {
-                "area": out[3],
-                "absorbed_lower": out[4],
-                "absorbed_upper": out[5],
-                "non_contact_fraction": out[6],
-            }
-            return (out[0], out[1], out[2]), dist, out[3:]
     a = np.asarray(area).clip(0.0, 1.0)  # (the method: np.clip's dispatch costs ~2 us)
     lo = np.maximum(abs_l, 0.0)
     up = np.maximum(abs_u, 0.0)
@@ -325,4 +304,4 @@ def projected(
         "absorbed_upper": np.abs(up - abs_u),
         "non_contact_fraction": np.abs(total - (abs_l + abs_u)),
     }
-    return (a, lo, up), dist, None
+    return (a, lo, up), dist

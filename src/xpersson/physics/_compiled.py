@@ -48,10 +48,10 @@ bits, in one pass without the (loads, edges, nodes) temporaries.
 :func:`crossing_newton` is :func:`~._percolation.critical_magnification`'s safeguarded Newton
 steps (25-42 steps of ~25 numpy passes each over a few hundred loads: a fixed cost of every
 direct call of the leak table), its operations in its order: the same bits. So is
-:func:`erf_diff_series` (the Hermite recurrence of
-:func:`~._fasterf.erf_diff_coefficients`: 30 steps of four passes each, element by element),
-and :func:`~._band_sums.series_horner` (``gap_cdf``'s series: the prefix sums, the column
-counts and the Horner loop, ~16 numpy passes over (columns, loads) in one).
+:func:`~._band_sums.series_horner` (``gap_cdf``'s series: the prefix sums, the column counts
+and the Horner loop, ~16 numpy passes over (columns, loads) in one). The series' Hermite
+recurrence (:func:`~._fasterf.erf_diff_coefficients`) is numpy's: compiled, it saved less
+than the timing noise (``benchmarks/kernel_ablation.py``).
 """
 
 from __future__ import annotations
@@ -79,7 +79,6 @@ __all__ = [
     "MIN_WORK",
     "PAIRWISE",
     "row_values",
-    "erf_diff_series",
     "gap_rows",
     "kernel",
     "spline_coefficients",
@@ -145,7 +144,6 @@ def _build() -> dict[str, Callable[..., Any]] | None:
         *(_phi_sums.KERNELS + _sub_nodes.KERNELS),
         row_values,
         crossing_newton,
-        erf_diff_series,
         _spline_sums.spline_sub_sums,
         _spline_sums.shared_row_values,
         _band_sums.band_sums,
@@ -480,21 +478,3 @@ def crossing_newton(
             xc[r] = xn
             if abs(xn - x) <= 1e-15 * ax:
                 break
-
-
-def erf_diff_series(
-    two_a: Any, scale: Any, q2: Any, inv_fact: Any, out: Any
-) -> None:  # pragma: no cover - compiled (its plain-Python form is tested)
-    """Rows ``1..`` of :func:`~._fasterf.erf_diff_coefficients` (``factor``, ``q2`` given):
-    ``out[n] = (scale q2^n H_2n(a)) inv_fact[n]`` from ``two_a = 2 a``, ``scale`` (row 0,
-    overwritten) and the recurrence ``H_m+1 = 2a H_m - 2m H_m-1``: its operations in its order
-    per element, in one pass over the elements per step."""
-    h_prev, h = np.ones(two_a.size), two_a.copy()
-    for m in range(1, 2 * out.shape[0] - 1):
-        c, n = -2.0 * m, (m + 1) // 2
-        for i in range(two_a.size):
-            v = h_prev[i] * c + two_a[i] * h[i]
-            h_prev[i], h[i] = h[i], v
-            if m % 2:
-                scale[i] = scale[i] * q2[i]
-                out[n, i] = (scale[i] * v) * inv_fact[n]

@@ -287,26 +287,6 @@ _K = np.log(
 )
 
 
-#: ``1/(2n + 1)!`` of :func:`~._fasterf.erf_diff_coefficients`' rows, as it computes them.
-_INV_FACT = np.array([1.0 / math.factorial(2 * n + 1) for n in range(16)])
-
-
-def _erf_diff(a: NDArray, factor: NDArray, q2: NDArray) -> NDArray[np.float64]:
-    """:func:`~._fasterf.erf_diff_coefficients` ``(a, factor, q2)``, its recurrence by the
-    compiled kernel where built (the same bits: row 0 here, the same operations there)."""
-    fn = _compiled_kernel(30.0 * 4.0 * a.size, "erf_diff_series")
-    if fn is None:
-        return erf_diff_coefficients(a, factor, q2)
-    a = np.minimum(np.asarray(a, dtype=float), 6.0)
-    out = np.empty((_INV_FACT.size, a.size))
-    scale = np.exp(-a * a)
-    scale *= 4.0 / math.sqrt(math.pi)
-    scale *= factor
-    out[0] = scale
-    fn(2.0 * a, scale, np.asarray(q2, dtype=float), _INV_FACT, out)
-    return out
-
-
 def _series_sum(
     ls: NDArray, jt: NDArray, a: NDArray, w: NDArray, iv: NDArray, u2: NDArray, n_load: int
 ) -> NDArray[np.float64]:
@@ -324,7 +304,7 @@ def _series_sum(
     out = np.zeros((n_load, n_u))
     sigma = float(np.max(iv))
     q = iv / sigma
-    coef = _erf_diff(a, w * q, q * q)  # (n_term, n_pair)
+    coef = erf_diff_coefficients(a, w * q, q * q)  # (n_term, n_pair)
     n_term = coef.shape[0]
     # the first column where term n may count: ln u >= (ln tau - ln(2 K_n w/W) + a^2/2)/(2n+1)
     aw = np.abs(w)
