@@ -25,9 +25,13 @@ time, ``OPENBLAS_NUM_THREADS=1``), on the rows it serves:
 
 The first unit of each kind is a control: the same calls through the same wrapper with nothing
 taken out, whose ratios are the timing's noise. A kernel whose median ratio is ~1.00 and whose
-worst stays within that noise (about +-3 % on this machine) does not pay for its lines: this is
-how ``fourth``, ``projected``, ``scale`` (engine) and ``erf_diff_series`` (physics) were found
-and removed on 2026-11-30 (``results/ablation.md``).
+worst stays within that noise (about +-3 % on this machine) may not pay for its lines; whether
+it does is then decided by the before/after of the rows nearest their targets, in alternating
+fresh processes (``engine_limit.py --against``): a kernel that saves 2-3 % on the smallest
+problem is inside one run's noise and outside three runs'. So were ``projected`` (engine) and
+``erf_diff_series`` (physics) found and removed on 2026-11-30, and ``fourth`` and ``scale``
+(engine) found, removed and put back: together they kept the held-out "engine alone" row at
+2.98x the C march, not 3.12x (``results/ablation.md``).
 
 Usage: ``python benchmarks/ablation.py [--kinds engine physics cache] [--only NAME ...]
 [--rounds 3]``; prints one line per unit and row, then per unit the median and worst ratio.

@@ -1,6 +1,7 @@
 """The compiled passes of a ``cn`` solve's tail give the numpy steps' numbers bit for bit
 (issue 36, the engine's fixed cost per solve): the error control's reported estimate
-(:func:`xpersson.engine._cn_outputs.fitted_error`) and the assembled fields
+(:func:`xpersson.engine._cn_outputs.fitted_error`), the load identity's scale
+(:func:`~xpersson.engine._cn_outputs.scale_kernel`) and the assembled fields
 (:func:`~xpersson.engine._cn_outputs.assembled`), on drawn values with signed zeros, NaN,
 infinities, probabilities outside [0, 1] and estimates near their bounds; where a pass
 declines, the numpy steps answer (and the pass is taken on ordinary values)."""
@@ -18,7 +19,7 @@ from xpersson import set_options
 from xpersson.engine import _compiled
 from xpersson.engine._cn_assemble import _fields, _fields_of, _start_floor
 from xpersson.engine._cn_control import EST_FLOOR, _Fit
-from xpersson.engine._cn_outputs import fitted_of
+from xpersson.engine._cn_outputs import fitted_of, load_scale
 from xpersson.engine._level import Outputs
 
 pytest.importorskip("numba")
@@ -38,6 +39,7 @@ def _kernels() -> SimpleNamespace:
         assert _compiled.build()
         return SimpleNamespace(
             fitted=_compiled.built("fitted"),
+            scale=_compiled.built("scale"),
             assembled=_compiled.built("assembled"),
         )
 
@@ -80,6 +82,22 @@ def test_compiled_reported_estimate_is_the_numpy_one(shape, data, c, rtol):
         assert want is not None and _bits(got) == _bits(want)
     ok = np.full(shape, 1e-12)
     assert fitted_of(fast, ok, np.full(shape, 0.5), c, rtol, 1e-7 * rtol, EST_FLOOR) is not None
+
+
+@settings(max_examples=50, deadline=None)
+@given(
+    loads=st.lists(st.floats(-2.0, 2.0), min_size=1, max_size=3),
+    data=st.data(),
+)
+def test_compiled_load_scale_is_the_numpy_one(loads, data):
+    fast = _kernels().scale
+    wall = st.one_of(st.floats(-3.0, 3.0), st.sampled_from([0.0, -0.0, np.nan, -np.inf]))
+    lo = np.array(data.draw(st.lists(wall, min_size=1, max_size=6)))
+    tau = np.arange(1.0, lo.size + 1.0)
+    pbs = [SimpleNamespace(p0=p, lower=None, upper=None) for p in loads]
+    want = load_scale(pbs, tau, lo)
+    got = load_scale(pbs, tau, lo, fast)
+    assert _bits(got) == _bits(want)
 
 
 @settings(max_examples=60, deadline=None)

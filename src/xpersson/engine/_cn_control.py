@@ -58,7 +58,7 @@ from numpy.typing import NDArray
 from . import _compiled
 from ._cn_budget import _finest_pair
 from ._cn_odd import _weights_of, odd_rounds
-from ._cn_outputs import EST_FLOOR, fitted_of, judged, load_scale
+from ._cn_outputs import EST_FLOOR, fitted_of, fourth_of, judged, load_scale
 from ._level import Outputs, combine, weighted
 from ._problem import Problem
 from ._stiff import stiff_at_end
@@ -275,6 +275,9 @@ def _fourth(lv: Any, judge: _Judge, n: int) -> tuple[_Fit, float] | None:
     if triple is None:
         return None
     l1, l2, l4 = triple
+    got = fourth_of(_compiled.built("fourth"), l4, l2, l1, judge.scale, judge.e_factor, judge.pb)
+    if got is not None:  # (one compiled call: the answer, its estimate and ratio)
+        return _Fit(got[0], Outputs(*got[1], None), 4 * n), got[2]
     e_b, e_a = combine(l4, l2, True), combine(l2, l1, True)
     err, ratio = judge.ratio(e_b, e_a, judge.e_factor)
     return _Fit(err, e_b, 4 * n), ratio
@@ -458,7 +461,7 @@ def _control(lv: Any, pb: Problem, aim: float, tau_num: Array, lo_at: Array | No
     ``lv``: the grid levels (``_cn._Grids``: ``levels(n_base, mults, dense)``, ``solved``,
     ``stop``, ``opts``, ``pbs``); ``lo_at``: the lower wall at ``tau_num`` [Pa] if known.
     """
-    scale = load_scale(lv.pbs, tau_num, lo_at)
+    scale = load_scale(lv.pbs, tau_num, lo_at, _compiled.built("scale"))
     fit = _refine(lv, pb, aim, scale)
     if fit is None:  # a budget ended the search: the finest solved pair, flagged
         status, message = lv.stop

@@ -1,17 +1,17 @@
 """The compiled path's kernels of a ``cn`` solve's outputs after the march, each the numpy
 path's operations element by element (bit for bit; the numpy path stays where numba is off or
-missing): the error control's estimate and worst ratio (:func:`judge_ratio`), the reported
-estimate of a successful fit (:func:`fitted_error`), the Richardson combinations of levels
-(:func:`combine_fields`, :func:`weighted_fields`), a solve's assembled fields
-(:func:`assembled`: the analytic start, the projection onto admissible probabilities and the
-raised estimate in one pass) and a batch's balances and the screen's reductions
-(:func:`batch_balances`); the load identity's scale (:func:`load_scale`) is numpy's. Where
-numpy's result would depend on more than the operations (the sign and payload of a NaN follow
-the operands' order, which the compiler may swap; numpy's ``clip``/``maximum`` of ``-0``), a
-kernel declines and the numpy path answers. Kernels whose measured worth was within the
-timing noise (``benchmarks/kernel_ablation.py``: the fourth-order triple's one call, the load
-scale, the separate projection) were removed, their numpy paths kept. Built by
-:func:`._compiled._build`. Units: tau in Pa^2, pressures in Pa.
+missing): the error control's estimate and worst ratio (:func:`judge_ratio`), its load
+identity's scale (:func:`load_scale`, :func:`scale_kernel`) and the reported estimate of a
+successful fit (:func:`fitted_error`), the Richardson combinations of levels
+(:func:`combine_fields`, :func:`weighted_fields`; :func:`fourth_ratio` a fourth-order triple's
+answer and estimate), a solve's assembled fields (:func:`assembled`: the analytic start, the
+projection onto admissible probabilities and the raised estimate in one pass) and a batch's
+balances and the screen's reductions (:func:`batch_balances`); the projection alone
+(:func:`._level.project`) is numpy's (compiled, it saved less than the timing noise:
+``benchmarks/ablation.py``). Where numpy's result would depend on more than the
+operations (the sign and payload of a NaN follow the operands' order, which the compiler may
+swap; numpy's ``clip``/``maximum`` of ``-0``), a kernel declines and the numpy path answers.
+Built by :func:`._compiled._build`. Units: tau in Pa^2, pressures in Pa.
 """
 
 from __future__ import annotations
@@ -33,9 +33,12 @@ __all__ = [
     "combine_fields",
     "fitted_error",
     "fitted_of",
+    "fourth_of",
+    "fourth_ratio",
     "judge_ratio",
     "judged",
     "load_scale",
+    "scale_kernel",
     "weighted_fields",
 ]
 
@@ -103,6 +106,29 @@ def judged(
     return err, max(float(m_area), float(m_load) / (pb.rtol + pb.atol))
 
 
+def fourth_of(  # noqa: PLR0913 - the three levels and the judge's numbers
+    fast: Callable[..., tuple] | None,
+    fine: Any,
+    mid: Any,
+    coarse: Any,
+    scale: Array,
+    factor: float,
+    pb: Problem,
+) -> tuple[Array, Array, float] | None:
+    """:func:`._cn_control._fourth`'s estimate, answer ``E(fine, mid)`` (6, loads, outputs)
+    and worst estimate / tolerance of the levels ``fine``, ``mid``, ``coarse`` (``Outputs``)
+    by ``fast`` (:func:`fourth_ratio`, compiled), or None where it does not apply or declines
+    (the numpy path answers)."""
+    if fast is None or fine.P is not None or fine.area.ndim != 2 or fine.area.shape != scale.shape:
+        return None
+    out = np.empty((6, *fine.area.shape))
+    ok, err, m_area, m_load = fast(*fine[:6], *mid[:6], *coarse[:6], out, scale, factor,
+                                   pb.rtol, pb.atol)  # fmt: skip
+    if not ok:
+        return None
+    return err, out, max(float(m_area), float(m_load) / (pb.rtol + pb.atol))
+
+
 def fitted_error(  # noqa: PLR0913 - the fit's numbers
     err: Any, area: Any, c: float, rtol: float, atol: float, floor: float, out: Any
 ) -> bool:  # pragma: no cover - compiled (the numpy path is the reference)
@@ -149,20 +175,44 @@ def fitted_of(  # noqa: PLR0913 - the fit's numbers
     return out if fast(err, area, c, rtol, atol, floor, out) else None
 
 
-def load_scale(pbs: list[Problem], tau: Array, lo_at: Array | None = None) -> Array:
+def load_scale(
+    pbs: list[Problem], tau: Array, lo_at: Array | None = None, fast: Callable | None = None
+) -> Array:
     """The load identity's scale per (load, output) of the error control: max(|p0|, |walls|)
-    [Pa] at the times ``tau`` [Pa^2] (``lo_at``: the lower wall there, known)."""
+    [Pa] at the times ``tau`` [Pa^2] (``lo_at``: the lower wall there, known); ``fast``:
+    :func:`scale_kernel` (compiled) where there is no upper wall (the same numbers)."""
     pb = pbs[0]
     if any(p.lower is not pb.lower or p.upper is not pb.upper for p in pbs[1:]):
         return np.concatenate([load_scale([p], tau) for p in pbs])
     # the loads of a batch share their walls: evaluated once (the same numbers per load)
     lo = pb.lower.at(tau) if lo_at is None else lo_at
     p0 = np.array([[p.p0] for p in pbs], dtype=float)
+    if fast is not None and pb.upper is None and lo.ndim == 1:
+        out = np.empty((p0.shape[0], lo.shape[0]))
+        if fast(p0, lo, out):
+            return out
     sc = np.maximum(np.abs(p0), np.abs(lo))
     if pb.upper is not None:  # (without one: its +inf adds nothing)
         up = pb.upper.at(tau)
         sc = np.maximum(sc, np.where(np.isfinite(up), np.abs(up), 0.0))
     return sc if np.count_nonzero(sc > 0) == sc.size else np.where(sc > 0, sc, 1.0)
+
+
+def scale_kernel(p0: Any, lo: Any, out: Any) -> bool:  # pragma: no cover - compiled
+    """:func:`load_scale` without an upper wall: ``max(|p0|, |lo|)`` (loads, outputs) [Pa] of
+    the loads ``p0`` (loads, 1) and the lower wall ``lo`` (outputs,) into ``out``; False where
+    a value is NaN or a scale not positive (numpy's ``maximum`` and ``where`` decide)."""
+    for q in range(p0.shape[0]):
+        a = abs(p0[q, 0])
+        if a != a:
+            return False
+        for j in range(lo.shape[0]):
+            b = abs(lo[j])
+            v = a if a >= b else b
+            if not v > 0.0:
+                return False
+            out[q, j] = v
+    return True
 
 
 _UNSURE = np.full((1, 1), np.nan)  # a non-area the compiled screen leaves to numpy's sum
@@ -280,6 +330,31 @@ def combine_fields(  # noqa: PLR0913 - the two levels' six fields
             and _combined(a4, b4, out[4]) and _combined(a5, b5, out[5]))  # fmt: skip
 
 
+def fourth_ratio(  # noqa: PLR0913 - the three levels' six fields and the judge's numbers
+    a0: Any, a1: Any, a2: Any, a3: Any, a4: Any, a5: Any,
+    b0: Any, b1: Any, b2: Any, b3: Any, b4: Any, b5: Any,
+    c0: Any, c1: Any, c2: Any, c3: Any, c4: Any, c5: Any,
+    out: Any, scale: Any, factor: float, rtol: float, atol: float,
+) -> tuple:  # fmt: skip  # pragma: no cover - compiled (the numpy path is the reference)
+    """:func:`._cn_control._fourth`'s numbers in one call: the answer ``E(a, b)`` of the
+    finest levels ``a``, ``b`` (:func:`combine_fields` into ``out``) and
+    :func:`judge_ratio` of it against ``E(b, c)``, of which only the area and the load
+    identity's three fields are made (the estimate reads no others); ``(ok, err, m_area,
+    m_load)``, ok False (the numpy path answers) where :func:`combine_fields` declines or a
+    read field of ``E(b, c)`` is not shaped as ``out[0]`` or is NaN."""
+    s = out[0].shape
+    if not (combine_fields(a0, a1, a2, a3, a4, a5, b0, b1, b2, b3, b4, b5, out)
+            and _same_shape(c0, c3, c4, c5, s)):  # fmt: skip
+        return False, np.empty((0, 0)), math.nan, math.nan
+    ea = np.empty((4, s[0], s[1]))
+    if not (_combined(b0, c0, ea[0]) and _combined(b3, c3, ea[1])
+            and _combined(b4, c4, ea[2]) and _combined(b5, c5, ea[3])):  # fmt: skip
+        return False, np.empty((0, 0)), math.nan, math.nan
+    err, m_area, m_load = judge_ratio(out[0], ea[0], out[3], out[4], out[5], ea[1], ea[2],
+                                      ea[3], scale, factor, rtol, atol)  # fmt: skip
+    return True, err, m_area, m_load
+
+
 def _summed(ws: Any, a: Any, b: Any, c: Any, o: Any) -> bool:  # pragma: no cover - compiled
     """``0 + ws[0] a + ws[1] b + ws[2] c`` element by element into ``o`` (:func:`._level.
     _weighted`'s numpy operations: ``a * w_0``, ``+= 0``, then ``+= (v * w_i)``); whether no
@@ -345,7 +420,7 @@ def assembled(  # noqa: PLR0913 - the fit's fields and the analytic start's numb
     analytic start's (loads ``p0`` [Pa]; estimate ``trunc`` where ``tau > 0``, raised to
     ``EST_FLOOR`` x its tolerance ``rtol |1| + atol``: :func:`._cn_assemble._start_floor`'s
     ``maximum``, of finite numbers), the rest the
-    fit's (loads, marched outputs) fields projected (:func:`._level.projected`) and the estimate
+    fit's (loads, marched outputs) fields projected (:func:`._level.project`) and the estimate
     ``max(err, |area moved|) + trunc``. False (``out`` partly written) where a value is NaN or
     -0 or a sum of the absorbed fractions exceeds 1, ``err`` is NaN, or (``check``) a distance
     moved exceeds ``err + trunc + bound_off``: the numpy path answers (and reports it)."""
@@ -363,7 +438,7 @@ def assembled(  # noqa: PLR0913 - the fit's fields and the analytic start's numb
             a0, l0, u0, e = area[q, m], abs_l[q, m], abs_u[q, m], err[q, m]
             if not (_plain(a0) and _plain(l0) and _plain(u0)) or e != e:
                 return False
-            a = a0 if a0 > 0.0 else 0.0  # (numpy's clip, then maximum: as _level.projected)
+            a = a0 if a0 > 0.0 else 0.0  # (numpy's clip, then maximum: as _level.project)
             a = a if a < 1.0 else 1.0
             lo = l0 if l0 >= 0.0 else 0.0
             up = u0 if u0 >= 0.0 else 0.0

@@ -108,9 +108,11 @@ KERNELS: dict[str, str] = {
     "start": "_cn_lean.start_scan (numpy: _cn_plan._start_time's scan)",
     "plan": "_cn_lean.plan_base (numpy: _cn_plan._joint_plan's calls)",
     "judge": "_cn_outputs.judge_ratio (numpy: _cn_control._Judge.ratio)",
+    "fourth": "_cn_outputs.fourth_ratio (numpy: _cn_control._fourth's combine and ratio calls)",
     "balances": "_cn_outputs.batch_balances (numpy: _result._balances)",
     "fields": "(_cn_outputs.combine_fields, weighted_fields) (numpy: _level.combine, weighted)",
     "fitted": "_cn_outputs.fitted_error (numpy: _cn_control._control's calls)",
+    "scale": "_cn_outputs.scale_kernel (numpy: _cn_outputs.load_scale's calls)",
     "assembled": "_cn_outputs.assembled (numpy: _cn_assemble._assemble's calls)",
     "fused": "(the level march, the face products) (numpy: _moving's level by blocks)",
 }
@@ -197,8 +199,10 @@ def _outputs(jit: Callable) -> None:
     _STATE["balances"] = bound("batch_balances")
     _STATE["fields"] = (bound("combine_fields"), bound("weighted_fields"))
     scope["combine_fields"], scope["judge_ratio"] = _STATE["fields"][0], _STATE["judge"]
+    _STATE["fourth"] = bound("fourth_ratio")
     _STATE["fitted"] = jit(src.fitted_error)
     _STATE["assembled"] = bound("assembled")
+    _STATE["scale"] = jit(src.scale_kernel)
 
 
 def march_steps(  # noqa: PLR0913 - the arrays of one block, as the numpy path holds them
