@@ -51,7 +51,7 @@ direct call of the leak table), its operations in its order: the same bits. So i
 :func:`~._band_sums.series_horner` (``gap_cdf``'s series: the prefix sums, the column counts
 and the Horner loop, ~16 numpy passes over (columns, loads) in one). The series' Hermite
 recurrence (:func:`~._fasterf.erf_diff_coefficients`) is numpy's: compiled, it saved less
-than the timing noise (``benchmarks/kernel_ablation.py``).
+than the timing noise (``benchmarks/ablation.py``).
 """
 
 from __future__ import annotations
