@@ -218,8 +218,11 @@ def _lookups(names: tuple[str, ...]) -> int:
     return sum(cache._REGISTRY[n].hits + cache._REGISTRY[n].misses for n in names)
 
 
-def measure(kind: str, rows: dict, units: list, rounds: int) -> list[tuple[str, float, float]]:
-    """Per unit: its name, the median and the worst ratio (without / with) over ``rows``."""
+def measure(
+    kind: str, rows: dict, units: list, rounds: int
+) -> list[tuple[str, float, float, float]]:
+    """Per unit: its name, the median, the worst and the best ratio (without / with) over the
+    rows of ``rows`` it serves."""
     from summary_design import timed
 
     summary = []
