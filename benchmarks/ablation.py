@@ -13,15 +13,19 @@ cache alone). Its worth is the ratio of the two times, interleaved in one proces
 time, ``OPENBLAS_NUM_THREADS=1``), on the rows it serves:
 
 * engine kernels: the engine's own call (``cn_walls.engine_call_of``) and the whole ``solve``
-  of the ``jkr`` scene of ``engine_limit.py`` at rtol 1e-6 and 1e-8 on the marching scenes of
-  the design (seed 36) and of the held-out draw 2026, and the "jkr, one load" and
-  ``plastic_scale_dependent`` rows of ``summary.py`` on the worst scenes of both;
-* physics kernels: the ``gap_pdf`` and ``leakage`` rows of ``summary.py`` at 100 and 1000
-  loads on their worst design and held-out scenes, and ``gap_pdf`` at 1e4 loads;
+  of the ``jkr`` scene of ``engine_limit.py`` at rtol 1e-6 and 1e-8 on every scene of the
+  design (seed 36) and of the held-out draw 2026 on which it marches ``cn`` levels, and the
+  "jkr, one load" and ``plastic_scale_dependent`` rows of ``summary.py``;
+* physics kernels: the ``gap_pdf`` and ``leakage`` rows of ``summary.py`` at 100, 1000 and
+  1e4 loads;
 * caches: one closed-form load, 100 bare loads, ``gap_pdf`` and ``leakage`` at 100 loads,
   ``leakage`` at 1000, the two E x H sweeps (30 x 30 points, 10 x 10 x 10 loads), and the
-  ``jkr``, ``plastic_scale_dependent`` and rtol 1e-6 engine rows, on design scenes; a cache
-  is timed on the rows that look it up (none: not listed).
+  ``jkr``, ``plastic_scale_dependent`` and rtol 1e-6 engine rows, on the design; a cache is
+  timed on the rows that look it up (none: not listed).
+
+Each ``summary.py`` row on the worst scenes of its last saved run (``results/summary.json``,
+``summary_heldout.json``: :func:`worst_scenes`), design and held-out, so that the rows follow
+the table.
 
 The first unit of each kind is a control: the same calls through the same wrapper with nothing
 taken out, whose ratios are the timing's noise. A kernel whose median ratio is ~1.00 and whose
@@ -50,7 +54,8 @@ import warnings  # noqa: E402
 from collections.abc import Callable  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
 
 import xpersson  # noqa: E402
 from xpersson.engine import _compiled as engine_kernels  # noqa: E402
@@ -67,21 +72,30 @@ ENGINE_GROUPS = (("edges", "times", "tracks"),)
 #: Kernels other kernels are built on (the lean level calls the fused level march).
 ENGINE_BASE = ("fused",)
 
-_MARCHING = {  # the scenes on which the jkr scene marches cn levels (engine_limit.py)
-    "d": ("roll H=0.30 6dec", "roll H=0.39 4dec", "roll H=0.31 5dec"),
-    "h": ("flat H=0.48 5dec", "roll H=0.43 6dec", "roll H=0.89 3dec", "roll H=0.77 4dec"),
-}
-_ANALYSES = (  # (analysis, loads, design or held-out, scene): the rows' worst scenes
-    ("gap_pdf", 100, "d", "flat H=0.81 5dec"),
-    ("gap_pdf", 100, "h", "flat H=0.39 4dec"),
-    ("gap_pdf", 1000, "d", "flat H=0.49 6dec"),
-    ("gap_pdf", 1000, "h", "flat H=0.61 3dec"),
-    ("gap_pdf", 10_000, "d", "flat H=0.49 6dec"),
-    ("leakage", 100, "d", "roll H=0.39 4dec"),
-    ("leakage", 100, "h", "flat H=0.39 4dec"),
-    ("leakage", 1000, "d", "roll H=0.31 5dec"),
-    ("leakage", 1000, "h", "roll H=0.31 6dec"),
-)
+_LOADS = {"100 loads": 100, "1000 loads": 1000, "1e4 loads": 10_000}
+
+
+def worst_scenes(tag: str) -> dict[str, str]:
+    """Each path's worst scene in the saved table of ``tag`` (``"d"``: the design,
+    ``results/summary.json``; ``"h"``: the held-out draw 2026, ``summary_heldout.json``), so
+    that the rows follow the table's latest run."""
+    import json
+
+    name = "summary.json" if tag == "d" else "summary_heldout.json"
+    rows = json.loads((HERE / "results" / name).read_text())["rows"]
+    return {r["path"]: r["worst_scene"] for r in rows if r.get("worst_scene")}
+
+
+def _analysis_rows() -> list[tuple[str, int, str, str]]:
+    """``(analysis, loads, "d" or "h", scene)`` of the ``gap_pdf`` / ``leakage`` rows' worst
+    scenes (:func:`worst_scenes`)."""
+    out = set()
+    for tag in ("d", "h"):
+        for path, name in worst_scenes(tag).items():
+            an, _, count = path.partition(", ")
+            if an in ("gap_pdf", "leakage"):
+                out.add((an, _LOADS[count], tag, name))
+    return sorted(out)
 
 
 def _specs() -> dict[str, dict]:
@@ -93,17 +107,20 @@ def _specs() -> dict[str, dict]:
 def engine_rows() -> dict[str, Callable[[], object]]:
     """The engine kernels' rows: label -> call."""
     import summary_paths as sp
-    from cn_walls import engine_call_of
+    from cn_walls import engine_call_of, levels_of
     from engine_limit import jkr_scene
 
     specs, rows = _specs(), {}
-    for tag, names in _MARCHING.items():
-        for name in names:
+    for tag, scenes in specs.items():
+        for name, spec in scenes.items():
+            if not levels_of(jkr_scene(spec, 1e-6)):  # (no cn level marched: nothing to time)
+                continue
             for rtol in (1e-6, 1e-8):
-                sc = jkr_scene(specs[tag][name], rtol)
+                sc = jkr_scene(spec, rtol)
                 rows[f"{tag} {name} engine alone {rtol:.0e}"] = engine_call_of(sc)
                 rows[f"{tag} {name} solve {rtol:.0e}"] = _solve(sc)
-    for tag, name in (("d", "roll H=0.39 4dec"), ("h", "flat H=0.39 4dec")):
+    for tag in specs:  # (the one-load jkr row's worst scene, as its plastic row's)
+        name = worst_scenes(tag)["jkr, one load vs C march"]
         for label, (sc, _, _) in sp._march_cases(specs[tag][name]).items():
             if "rtol" not in label:  # (the one-load jkr and the plastic rows)
                 rows[f"{tag} {name} {label.split(' vs ')[0]}"] = _solve(sc)
@@ -117,46 +134,40 @@ def physics_rows() -> dict[str, Callable[[], object]]:
     specs = _specs()
     return {
         f"{tag} {name} {an} {n}": _solve(scene(specs[tag][name], load_range(n), analyses={an: {}}))
-        for an, n, tag, name in _ANALYSES
+        for an, n, tag, name in _analysis_rows()
     }
 
 
 def cache_rows() -> dict[str, Callable[[], object]]:
-    """The caches' rows: label -> call."""
+    """The caches' rows (each on its path's worst design scene, :func:`worst_scenes`): label
+    -> call."""
     import summary_paths as sp
     from summary_design import load_range, scene
 
-    d = _specs()["d"]
+    d, w = _specs()["d"], worst_scenes("d")
+
+    def at(path: str, loads: object, **kw: object) -> Callable[[], object]:
+        return _solve(scene(d[w[path]], loads, **kw))
+
     rows = {
-        "one load": _solve(scene(d["flat H=0.66 4dec"], "100 kPa")),
-        "100 loads": _solve(scene(d["roll H=0.39 4dec"], load_range(100))),
-        "gap_pdf 100": _solve(
-            scene(d["flat H=0.81 5dec"], load_range(100), analyses={"gap_pdf": {}})
-        ),
-        "leakage 100": _solve(
-            scene(d["roll H=0.39 4dec"], load_range(100), analyses={"leakage": {}})
-        ),
-        "leakage 1000": _solve(
-            scene(d["roll H=0.31 5dec"], load_range(1000), analyses={"leakage": {}})
-        ),
-        "sweep E x H 30 x 30": _solve(sp._eh(d["flat H=0.89 5dec"], 30, "100 kPa")),
+        "one load": at("one closed-form load vs its kernel", "100 kPa"),
+        "100 loads": at("leakage, 100 loads", load_range(100)),
+        "gap_pdf 100": at("gap_pdf, 100 loads", load_range(100), analyses={"gap_pdf": {}}),
+        "leakage 100": at("leakage, 100 loads", load_range(100), analyses={"leakage": {}}),
+        "leakage 1000": at("leakage, 1000 loads", load_range(1000), analyses={"leakage": {}}),
+        "sweep E x H 30 x 30": _solve(sp._eh(d[w["sweep E x H, 1 load"]], 30, "100 kPa")),
         "sweep E x H x 10 loads 10 x 10": _solve(
-            sp._eh(d["steep H=0.95 6dec"], 10, load_range(10))
+            sp._eh(d[w["sweep E x H x 10 loads"]], 10, load_range(10))
         ),
     }
-    for label, (sc, _, _) in sp._march_cases(d["roll H=0.39 4dec"]).items():
+    for label, (sc, _, _) in sp._march_cases(d[w["jkr, one load vs C march"]]).items():
         if "rtol 1e-8" not in label:
             rows[label.split(" vs ")[0]] = _solve(sc)
     return rows
 
 
 def _solve(sc: dict) -> Callable[[], object]:
-    def call() -> object:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return xpersson.solve(sc)
-
-    return call
+    return lambda: xpersson.solve(sc)  # (the scenes' warnings: silenced by main)
 
 
 def _units(kind: str) -> list[tuple[str, ...]]:
