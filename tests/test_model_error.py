@@ -102,6 +102,8 @@ def test_attach_adds_cf_ancillary_variables():
     np.testing.assert_allclose(high.values[:2], a[:2] * [2.0, 1.3], rtol=1e-15)
     assert math.isnan(low.values[2]) and math.isnan(high.values[2])
     np.testing.assert_array_equal(status.values, [1, 1, 0])
+    for band in (low, high):  # its NaN documented, as every NaN of a Dataset is
+        assert f"NaN means: {status.name} is not_verified" in band.attrs["comment"]
     assert low.attrs["units"] == high.attrs["units"] == ds["area_fraction"].attrs["units"]
     assert status.attrs["flag_meanings"] == "not_verified verified extrapolated"
     np.testing.assert_array_equal(status.attrs["flag_values"], [0, 1, 2])

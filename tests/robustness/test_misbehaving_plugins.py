@@ -350,6 +350,25 @@ def test_core_variables_stay_writable_and_intact_after_a_caught_in_place_write()
     ds["area_fraction"].values[...] = 0.0  # the user's Dataset is writable
 
 
+@pytest.mark.parametrize("view_first", [True, False])
+def test_the_guard_restores_variables_that_are_views_of_one_another(view_first):
+    import xarray as xr
+
+    from xpersson import checks
+
+    owner = np.arange(12.0).reshape(3, 4).copy()  # (owning its memory)
+    items = [("last", ("p0",), owner[:, -1]), ("whole", ("p0", "zeta"), owner)]
+    ds = xr.Dataset({n: (d, a) for n, d, a in (items if view_first else items[::-1])})
+    with checks.guard_dataset(ds, "test") as seen:
+        for name in ("last", "whole"):  # read-only while an analysis holds them
+            with pytest.raises(ValueError, match="read-only"):
+                seen[name].values[0] = -1.0
+    ds["last"].values[0] = -1.0  # writable again, and still a view of its owner
+    assert owner[0, -1] == -1.0
+    ds["whole"].values[...] = 0.0
+    assert ds["last"].values[0] == 0.0
+
+
 def test_nan_with_a_documented_meaning_is_accepted_and_documented():
     def compute(self, ctx, ds):
         a = _area(ds)

@@ -134,6 +134,19 @@ def test_velocity_shear_law_and_contact_cutoff():
     np.testing.assert_allclose(ds["contact_area_cutoff"].values, A_c.values, rtol=1e-12)
 
 
+def test_an_analysis_after_friction_leaves_its_outputs_writable():
+    # with zeta_c, friction's mu_visc is a view of mu_visc_cumulative (its last column): the
+    # guard that hands the next analysis read-only variables must make both writable again
+    # (the fuzz campaign of 2026-12-01 stopped here: "cannot set WRITEABLE flag")
+    law = {"zeta_c": 10.0}
+    ds = _solve({"velocity": "1 cm/s"}, analyses={"friction": law, "contact_area": {}})
+    cumulative = ds["mu_visc_cumulative"].transpose("p0", "zeta").values
+    np.testing.assert_array_equal(ds["mu_visc"].values, cumulative[:, -1])
+    assert np.all(ds["mu_visc"].values > 0)
+    for name in ("mu_visc", "mu_visc_cumulative", "area_fraction"):
+        ds[name].values[...] = 0.0  # the user's Dataset is writable
+
+
 def test_bad_input_is_refused_before_work(monkeypatch):
     with pytest.raises(ValueError, match=r"coefficient\.velocity: -1 m/s .*\[0, inf\] m/s"):
         _solve({"velocity": "-1 m/s"})

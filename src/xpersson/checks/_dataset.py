@@ -281,8 +281,13 @@ def guard_dataset(ds: Any, who: object) -> Iterator[Any]:
                 variable=vname,
             )
     finally:
-        for data in frozen:
-            data.flags.writeable = True
+        # the arrays owning their memory first: numpy makes a view writable again only once
+        # its owner is (a variable may be a view of another, e.g. ``mu_visc`` the last column
+        # of ``mu_visc_cumulative``); a view whose owner is read-only elsewhere (a cached
+        # value) stays read-only, as its memory is
+        for data in sorted(frozen, key=lambda a: isinstance(a.base, np.ndarray)):
+            with contextlib.suppress(ValueError):
+                data.flags.writeable = True
 
 
 def check_contributions(

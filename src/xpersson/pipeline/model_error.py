@@ -481,7 +481,8 @@ def _ancillaries(
                 "units": units,
                 "long_name": f"{side} end of the interval where exact contact's {name} lies"
                 + where,
-                "comment": source,
+                "comment": f"{source} NaN means: {name}_model_error_status is not_verified "
+                f"(the campaign did not cover this regime) or {name} is NaN there",
                 "coverage_content_type": "qualityInformation",
             },
         )
