@@ -41,6 +41,9 @@ def test_bands_follow_johnsons_parameter_force_by_force() -> None:
     radius = ds["nominal_contact_radius"].values
     assert low[1] == pytest.approx(0.8 * radius[1]) and high[1] == pytest.approx(1.25 * radius[1])
     assert np.isnan(low[[0, 2]]).all() and np.isnan(high[[0, 2]]).all()
+    for side in ("low", "high"):  # the NaN documented, as every NaN of a Dataset is
+        comment = ds[f"nominal_contact_radius_exact_{side}"].attrs["comment"]
+        assert "NaN means: nominal_contact_radius_model_error_status is not_verified" in comment
     # the area's band asks for the yp08 closure: Persson's scene is not verified
     np.testing.assert_array_equal(ds["real_contact_area_model_error_status"].values, [0, 0, 0])
     assert ds["approach_model_error_status"].values.sum() == 0

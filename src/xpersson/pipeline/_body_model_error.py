@@ -24,7 +24,7 @@ import xarray as xr
 
 from ..plugins.stored import spectrum_of
 from ._insert import insert_or_set
-from .model_error import FLAG, SUFFIXES, band_table, bands_of, scene_features
+from .model_error import FLAG, SUFFIXES, band_table, bands_of, nan_meaning, scene_features
 
 __all__ = ["OUTPUTS", "attach_body", "body_table"]
 
@@ -80,7 +80,7 @@ def _variables(
             {
                 "units": units,
                 "long_name": f"{side} end of the interval where exact contact's {name} lies",
-                "comment": comment,
+                "comment": f"{comment} {nan_meaning(name)}",
             }
             | quality,
             fastpath=True,  # numpy data: no probe of dask

@@ -65,6 +65,7 @@ __all__ = [
     "covered_names",
     "band_table",
     "bands_of",
+    "nan_meaning",
     "scene_features",
 ]
 
@@ -84,6 +85,15 @@ STATUS_COMMENT = (
     "the distance the campaign checked; not_verified: elsewhere, bounds NaN "
     "(docs/verification.md, part II)"
 )
+
+
+def nan_meaning(name: str) -> str:
+    """The sentence of a band's ``comment`` that says what its NaN means (CF: documented)."""
+    return (
+        f"NaN means: {name}_model_error_status is not_verified (the campaign did not cover "
+        f"this regime) or {name} is NaN there"
+    )
+
 
 _TABLE = Cache(
     "model_error.table",
@@ -481,8 +491,7 @@ def _ancillaries(
                 "units": units,
                 "long_name": f"{side} end of the interval where exact contact's {name} lies"
                 + where,
-                "comment": f"{source} NaN means: {name}_model_error_status is not_verified "
-                f"(the campaign did not cover this regime) or {name} is NaN there",
+                "comment": f"{source} {nan_meaning(name)}",
                 "coverage_content_type": "qualityInformation",
             },
         )
