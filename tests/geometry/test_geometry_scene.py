@@ -46,6 +46,15 @@ def test_a_force_beyond_the_small_slope_theory_is_refused() -> None:
     _refused(body_scene("cylinder", force="100 N", length="1 mm"), "load.force")
 
 
+def test_a_force_too_light_for_the_asymptotic_separation_is_refused() -> None:
+    # 1 nN on a 10 mm sphere over 1 um of roughness: A/A0 ~ 2e-4 at twice the peak pressure,
+    # below the 1e-3 where the body starts Persson's asymptotic u(p): a clear line, not a
+    # ValueError from inside (the fuzz campaign of 2026-12-01 with bodies)
+    msg = _refused(body_scene(force=["1 nN", "2 nN"], h_rms="1 um"), "load.force", "2e-09 N")
+    area = float(msg.split("A/A0 = ")[1].split(" ")[0])
+    assert 0 < area < 1e-3 and "larger force" in msg
+
+
 def test_pressure_and_force_belong_to_their_geometry() -> None:
     scene = body_scene()
     scene["load"] = {"p0": "1 kPa"}

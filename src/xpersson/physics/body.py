@@ -234,6 +234,9 @@ class BodySolution:
         Largest gap residual relative to ``scale`` [1].
     iterations : int
         Newton iterations.
+    converged : bool
+        Whether the residuals fell below the tolerance (else Newton stalled, or ran out of
+        iterations, at ``residual``: the best iterate is returned).
     """
 
     r: FloatArray
@@ -244,6 +247,7 @@ class BodySolution:
     stiffness: float
     residual: float
     iterations: int
+    converged: bool = True
 
 
 def force_radius(sols: list[BodySolution], fraction: float, symmetry: str) -> FloatArray:
@@ -307,12 +311,8 @@ def solve_body(
     Returns
     -------
     list of BodySolution
-        One per load.
-
-    Raises
-    ------
-    ArithmeticError
-        No convergence within ``max_iter`` iterations.
+        One per load; one whose Newton iteration stalled or ran out of iterations carries
+        ``converged = False`` and its residual (the last iterate).
     """
     loads = np.atleast_1d(np.asarray(load, float))
     m = loads.size
@@ -335,7 +335,7 @@ def solve_body(
     p = np.exp(s)
     delta = np.sum((sys.hr + sys.Kp(p, slice(None)) - sep(s)[0]) * sys.weights * p, axis=1)
     with np.errstate(over="ignore", invalid="ignore"):  # a rejected trial step may overflow
-        s, delta, g, dd, iters = _newton(sys, s, delta, tol, max_iter, s_max)
+        s, delta, g, dd, iters, converged = _newton(sys, s, delta, tol, max_iter, s_max)
     p = np.exp(s)
     stiffness = loads / dd  # dL/d delta: d delta per relative load dL/L, at the last iterate
     residual = np.max(np.abs(g[:, :n]), axis=1)
@@ -349,6 +349,7 @@ def solve_body(
             float(stiffness[k]),
             float(residual[k]),
             int(iters[k]),
+            bool(converged[k]),
         )  # fmt: skip
         for k in range(m)
     ]
@@ -396,11 +397,18 @@ class _System:
         return J
 
 
+#: Newton iterations without a decrease of a body's ``|g|^2`` after which it stops (stalled).
+STALL = 3
+
+
 def _newton(
     sys: _System, s: FloatArray, delta: FloatArray, tol: float, max_iter: int, s_max: FloatArray
-) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.int64]]:
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, NDArray[np.int64], NDArray[np.bool_]]:
     """Newton's method on ``(ln p, delta)`` of every body, with a backtracking line search on
-    ``|g|^2`` per body; converged bodies drop out of the batch.
+    ``|g|^2`` per body; converged bodies drop out of the batch, and so do bodies whose
+    ``|g|^2`` has not decreased in :data:`STALL` iterations (the Newton direction no longer
+    descends: the line search takes vanishing steps) or after ``max_iter`` iterations, with
+    ``converged`` False.
 
     Each step's factorisation also gives the approach per relative load (the load balance
     perturbed by 1, the gaps held): ``d delta / (dL/L)`` at the last step's start (its relative
@@ -412,6 +420,9 @@ def _newton(
     g, du = sys.resid(s, delta, everyone)
     iters = np.zeros(m, dtype=np.int64)
     dd = np.full(m, np.nan)
+    converged = np.zeros(m, dtype=bool)
+    best = np.sum(g * g, axis=1)
+    flat = np.zeros(m, dtype=np.int64)  # iterations since the merit last fell
     active = everyone  # one step at least: its factorisation gives the stiffness
     for it in range(1, max_iter + 1):
         rhs = np.zeros((active.size, n + 1, 2))
@@ -420,13 +431,16 @@ def _newton(
         dd[active] = sol[:, n, 1]
         _line_search(sys, (s, delta, g, du), active, sol[..., 0], s_max)
         iters[active] = it
-        active = active[~_done(g[active], tol)]
+        done = _done(g[active], tol)
+        converged[active[done]] = True
+        merit = np.sum(g[active] ** 2, axis=1)
+        fell = merit < best[active]
+        best[active] = np.minimum(merit, best[active])
+        flat[active] = np.where(fell, 0, flat[active] + 1)
+        active = active[~done & (flat[active] < STALL)]
         if active.size == 0:
-            return s, delta, g, dd, iters
-    raise ArithmeticError(
-        f"the nominal pressure did not converge in {max_iter} Newton iterations "
-        f"(gap residual {np.max(np.abs(g[:, :n])):.3g} of the approach scale)"
-    )
+            break
+    return s, delta, g, dd, iters, converged
 
 
 def _line_search(

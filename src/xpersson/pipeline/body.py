@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from .. import physics
-from ..errors import XperssonWarning
+from ..errors import SceneError, XperssonWarning
 from ..physics.body import BodySolution, Separation, force_radius, solve_body, start_at_area
 from ..plugins.solved import solved_curve
 from ..plugins.stored import contact_modulus, spectrum_of
@@ -36,6 +36,9 @@ ASYMPTOTE = 1e-3
 """Contact area fraction [1] below which the separation follows Persson's asymptotic law."""
 CELLS = 96
 """Cells of the radial grid of the result (the error estimate compares with half as many)."""
+ITERATION_SHARE = 0.01
+"""A solve whose Newton iteration stalled is flagged (``status`` tolerance_not_met) when its
+gap residual exceeds this fraction of its grid error estimate ``body_grid_error`` [1]."""
 _COARSE = 32  # cells of the pass that finds the extent of the nominal contact
 _R_POINTS = 201
 _PER_DECADE = 40  # dense magnifications of the area curve (as the interface analyses)
@@ -54,6 +57,8 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     solved = solved_curve(ctx, ds, separation_form(ctx), per_decade=_PER_DECADE)
     p = np.asarray(solved.p0, float)
     area = solved.contact[:, -1]
+    if not area[-1] >= ASYMPTOTE:  # no start for the continuation (NaN too)
+        raise SceneError(_too_light(rs, float(p[-1]), float(area[-1])))
     # from the node below A/A0 = ASYMPTOTE: the continuation starts there exactly
     keep = slice(max(0, min(int(np.searchsorted(area, ASYMPTOTE)) - 1, p.size - 4)), None)
     # the separation of the kept loads only (a load's u(p) and slope use its own row alone)
@@ -62,6 +67,18 @@ def separation(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> Separation:
     sc = physics.SolvedContact(spectrum_of(ds), contact_modulus(ds), p[keep], zeta, *rows)
     arrays = (p[keep], sc.mean_gap(), sc.mean_gap_slope() * p[keep], area[keep])
     return Separation(*start_at_area(*arrays, ASYMPTOTE))
+
+
+def _too_light(rs: ResolvedScene, p_top: float, area: float) -> str:
+    """The message of a body whose rough contact stays below :data:`ASYMPTOTE` everywhere."""
+    force = float(np.max(np.asarray(rs.force, float)))
+    return (
+        f"load.force: at {force:.4g} N the rough interface's contact area stays below "
+        f"{ASYMPTOTE:g} of the nominal area up to {p_top:.4g} Pa, twice the body's peak Hertz "
+        f"pressure (A/A0 = {area:.3g} there); the finite body starts Persson's asymptotic "
+        "separation where A/A0 reaches that fraction, so it needs a larger force, a larger body "
+        "or a smoother or softer surface"
+    )
 
 
 def separation_form(ctx: Any) -> str:
@@ -135,6 +152,35 @@ def _solve_forces(
     return full, err, half
 
 
+def _stalled(
+    forces: np.ndarray, full: list[BodySolution], half: list[BodySolution], errs: np.ndarray
+) -> list[str]:
+    """One line per force whose Newton iteration (on either grid of the error estimate)
+    stalled at a gap residual above :data:`ITERATION_SHARE` of its grid error ``errs``."""
+    lines = []
+    for f, a, b, err in zip(forces, full, half, errs, strict=True):
+        res = max(a.residual if not a.converged else 0.0, b.residual if not b.converged else 0.0)
+        if res > ITERATION_SHARE * err:
+            lines.append(
+                f"force = {f:g} N: the body's nominal pressure did not converge (gap residual "
+                f"{res:.3g} of the Hertz approach against a grid error of {err:.3g}; "
+                "body_residual, body_grid_error)"
+            )
+    return lines
+
+
+def _not_met(out: xr.Dataset, lines: list[str]) -> None:
+    """Status ``tolerance_not_met`` with the body's ``lines`` added to the message, and a
+    warning."""
+    message = "; ".join(lines[:5])
+    out.attrs["status"] = "tolerance_not_met"
+    if out.attrs.get("status_message", "").startswith("all loads met"):
+        out.attrs["status_message"] = message
+    else:
+        out.attrs["status_message"] = "; ".join([out.attrs.get("status_message", ""), message])
+    warnings.warn(message, XperssonWarning, stacklevel=3)
+
+
 def _real_area(sols: list[BodySolution], sep: Separation) -> np.ndarray:
     """``int A/A0(p) dA`` [m^2] over the cells (per length of a line contact [m]), one per
     solution (of one grid size)."""
@@ -170,6 +216,7 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
                 sol.residual,
             )
         )
+    stalled = _stalled(np.asarray(rs.force, float), sols, half, errs)
     area, radius = _real_area(sols, sep) * length, force_radius(sols, FORCE_FRACTION, geo.symmetry)
     cols = np.vstack([area, radius, np.array(rows, dtype=float).T, errs])
     r_out = np.linspace(0.0, max(s.edges[-1] for s in sols), _R_POINTS)
@@ -189,6 +236,8 @@ def body_dataset(rs: ResolvedScene, ctx: Any, ds: xr.Dataset) -> xr.Dataset:
     out = ds.assign(body)  # one merge for every variable (a dim's namesake is its coordinate)
     _attributes(out, rs, cols)
     out.attrs["geometry_separation_s_factor"] = separation_form(ctx)
+    if stalled:  # the body's own verdict joins the flat's
+        _not_met(out, stalled)
     attach_body(out, rs)  # the campaign's band of the body outputs
     if rs.force_scalar:
         out = out.isel(force=0)
