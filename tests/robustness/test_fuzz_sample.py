@@ -4,9 +4,9 @@ with random parameters) give no NaN without a documented meaning, no value out o
 success that fails its own balances and no crash.
 
 The full campaign (10,000 scenes, forked workers with a time limit) is a benchmark; this sample
-runs in the test process. It catches what breaks many scenes at once: the model-error bands'
-undocumented NaN and a view-restoring crash after ``friction`` went three days unseen between
-campaigns (docs/reliability.md).
+runs in the test process, once on flat scenes and once on finite bodies. It catches what
+breaks many scenes at once: the model-error bands' undocumented NaN went three days unseen
+between campaigns, and bodies were not in the campaign at all (docs/reliability.md).
 """
 
 from __future__ import annotations
@@ -21,21 +21,25 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 
 fuzz = pytest.importorskip("fuzz")
 
-#: A seed no documented campaign used, and the sample's size (~5 s).
-SEED, SCENES = 2027, 300
+#: A seed no documented campaign used.
+SEED = 2027
 
 
-def test_a_fuzz_sample_has_no_nan_out_of_range_dishonest_result_or_crash(tmp_path):
+@pytest.mark.parametrize(
+    ("bodies", "scenes"),
+    [(0.0, 300), (1.0, 100)],  # ~5 s; ~2 s of finite bodies (``fuzz.py --bodies``)
+)
+def test_a_fuzz_sample_has_no_nan_out_of_range_dishonest_result_or_crash(tmp_path, bodies, scenes):
     from xpersson.plugins import get_registry
 
     registry = get_registry()
     counts: collections.Counter[str] = collections.Counter()
     bad = []
-    for index in range(SCENES):
-        scene = fuzz.make_scene(index, SEED, registry, str(tmp_path))
+    for index in range(scenes):
+        scene = fuzz.make_scene(index, SEED, registry, str(tmp_path), bodies)
         category, message, _, _ = fuzz.run_one(scene)
         counts[category] += 1
         if category in ("nan", "out_of_range", "dishonest", "crash"):
             bad.append(f"scene {index}: {category}: {message[:300]}")
     assert not bad, "\n".join(bad)
-    assert counts["ok"] >= SCENES // 5, counts  # the sample solves scenes, not only refusals
+    assert counts["ok"] >= scenes // 5, counts  # the sample solves scenes, not only refusals
