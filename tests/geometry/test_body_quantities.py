@@ -252,3 +252,30 @@ def test_plugins_show_lists_the_body_quantities(capsys: pytest.CaptureFixture[st
     main(["plugins", "show", "analyses", "electrical_contact"])
     out = capsys.readouterr().out
     assert "unbounded where electrical_contact_status says full_contact)" in out
+
+
+def test_a_seal_sealing_on_the_finer_grid_only_has_a_grid_error_of_one() -> None:
+    """Seed 5, scene 1840 of ``fuzz.py --bodies 1``: an O-ring whose effective medium seals at
+    the larger force on the result's cells and not on half of them. Its relative grid error
+    is 1 (as large as the coarser value), not inf."""
+    scene = {
+        "spectrum": {"model": "self_affine", "H": 0.47516472257819065,
+                     "q_L": "784.147790517197 1/m", "q_r": "784.147790517197 1/m",
+                     "q_1": "328129.941693396 1/m", "rms_slope": 0.10400774644879665},
+        "material": {"E": "139077.6246644648 Pa", "nu": 0.16051622745865407},
+        "load": {"force": ["0.035374114279289846 N", "0.05253210661756657 N"]},
+        "output": {"zeta_per_decade": 18},
+        "solver": {"rtol": 2.434876395834641e-05},
+        "boundary": {"model": "elastic"},
+        "analyses": {"elastic_energy": {"s_factor": "yang_persson", "gamma": 0.0851409049745464},
+                     "mean_gap": {"s_factor": "auto"},
+                     "leakage": {"fluid": "liquid", "p_in": "1078692.45423576 Pa",
+                                 "p_out": "16102.742442158704 Pa",
+                                 "seal_width": "0.004287482338484247 m"}},
+        "geometry": {"model": "cylinder", "radius": "0.0030741008774813517 m",
+                     "length": "0.016262743155621717 m"},
+    }  # fmt: skip
+    ds = xpersson.solve(scene)
+    value, err = ds["body_leak_rate_emt"].values, ds["body_leak_rate_emt_grid_error"].values
+    assert value[0] > 0 and value[1] == 0.0
+    assert np.all(np.isfinite(err)) and err[1] == 1.0 and 0 < err[0] < 1

@@ -107,9 +107,13 @@ def _evaluate(
 
 
 def _relative(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``|a - b| / |b|``; 1 where ``b`` is 0 and ``a`` is not (the value vanishes on one grid
+    alone, e.g. a seal sealing on it: an error as large as the other value, not inf); 0 where
+    they are equal (also both 0 or inf)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         d = np.abs(a - b) / np.abs(b)
-    return np.where(a == b, 0.0, d)  # equal (also both 0 or inf): no error
+    d = np.where(b == 0, 1.0, d)
+    return np.where(a == b, 0.0, d)
 
 
 def local_outputs(
@@ -175,6 +179,7 @@ def _error_spec(name: str) -> VarSpec:
     return VarSpec(
         ("force",), "1", f"estimated relative integration error of {name}",
         description="the larger relative change from half the body's cells and from every "
-        "other pressure of the grid the local value is interpolated on",
+        "other pressure of the grid the local value is interpolated on; 1 where the value is 0 "
+        "and a coarser one is not (e.g. a seal that seals on the finer grid only)",
         extra=_QUALITY, nan_meaning="the quantity is NaN",
     )  # fmt: skip
