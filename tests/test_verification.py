@@ -114,6 +114,7 @@ BOUNDS = {
     "adhesion_ratio (adhesive)": 1e-2,
     "regime (adhesive)": 0,
     "small_load_ratio (adhesive)": 1e-2,
+    "floor_stress (adhesive)": 1e-3,  # 1.8e-5 measured (the quadrature's max vs 48 magnifications)
     "tabor_parameter (adhesive)": 1e-12,
     "w_eff (adhesive)": 1e-12,
     # adhesion against the BEM referee (verify_adhesion.py, stored references)
