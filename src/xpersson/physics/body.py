@@ -236,7 +236,7 @@ class BodySolution:
         Newton iterations.
     converged : bool
         Whether the residuals fell below the tolerance (else Newton stalled, or ran out of
-        iterations, at ``residual``: the best iterate is returned).
+        iterations, at ``residual``: the last iterate is returned).
     """
 
     r: FloatArray
