@@ -56,6 +56,7 @@ def test_failed_point_is_flagged_and_the_other_equals_its_own_solve(chunk, tmp_p
             # one solved point says nothing about a dependence: the dimension stays
             assert "work_of_adhesion" in ds[name].dims, name
             assert np.isnan(ds[name].sel(work_of_adhesion=0.03).values).all(), name
+            assert "NaN means:" in ds[name].attrs["comment"], name  # documented, as every NaN
             np.testing.assert_array_equal(
                 ds[name].sel(work_of_adhesion=0.05).values, one[name].values
             )

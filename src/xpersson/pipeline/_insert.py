@@ -23,6 +23,7 @@ __all__ = [
     "direct_dataset",
     "insert_direct",
     "insert_or_set",
+    "nan_meaning",
     "new_variable",
     "values_of",
 ]
@@ -221,3 +222,12 @@ def insert_or_set(ds: xr.Dataset, new: Mapping[str, xr.Variable], aligned: bool 
     for name, value in new.items():
         if name not in fresh:
             ds[name] = value
+
+
+def nan_meaning(name: str) -> str:
+    """The sentence of a model-error band's ``comment`` that says what its NaN means (CF: every
+    NaN documented)."""
+    return (
+        f"NaN means: {name}_model_error_status is not_verified (the campaign did not cover "
+        f"this regime) or {name} is NaN there"
+    )

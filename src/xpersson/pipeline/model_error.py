@@ -15,13 +15,10 @@ number of points, and the provenance: seed, size, date, solver and versions).
   where exact contact lies (for a variable over ``zeta``: at the largest magnification, the full
   roughness, which is what the campaign compared);
 * ``X_model_error_status`` (flag: ``0 not_verified``, ``1 verified``, ``2 extrapolated``):
-  ``verified`` inside what the campaign measured; ``extrapolated`` where the scene has more
-  decades of roughness than the campaign's cells held but lies within the distance to which the
-  campaign checked the extrapolation (the band follows the measured trend in decades, widened
-  by the trend's uncertainty times the distance); ``not_verified`` outside both (another
-  spectrum model, parameters or an area fraction outside its ranges, options it did not test,
-  decades beyond the extrapolation limit): the bounds are NaN there, never a made-up band. Its
-  ``comment`` says why a scene is not verified or extrapolated.
+  ``verified`` inside what the campaign measured; ``extrapolated`` beyond the decades of
+  roughness its cells held, within the distance it checked (the band along the measured trend,
+  widened by the trend's uncertainty times the distance); ``not_verified`` elsewhere: the
+  bounds are NaN there (their ``comment`` says so), never a made-up band.
 
 The table is data keyed by variable name and by the scene's plugin names and options: the core
 never names a plugin. A band entry is ``{"variable", "match", "ranges", "low", "high",
@@ -35,13 +32,9 @@ factors are ``low exp(s - w)`` and ``high exp(s + w)`` with ``s = slope (v - ref
 ``c (u - u_ref)`` for every ``other`` feature ``u: [c, u_ref]``, and ``w = k slope_se d`` with
 ``d`` the distance from ``v`` to the ``covered`` interval (0 inside).
 
-:func:`xpersson.solve` attaches them to single scenes; a sweep attaches them to every block it
-solves (:mod:`xpersson.sweep`, whatever the path: point by point, batched or stacked; in
-memory or in the parts of a folder), the features computed once per distinct scene and the
-bands evaluated as array operations over the block's points. The scene switch ``[output]
-model_error = false`` leaves the variables out (default ``true``: a table look-up per output,
-microseconds, and the issue's demand that every number carries its error bar; nothing is
-solved for it).
+:func:`xpersson.solve` attaches them to single scenes, a sweep to every block it solves (any
+path; features once per distinct scene, bands as array operations over the points). ``[output]
+model_error = false`` leaves them out (default ``true``: a table look-up, nothing solved).
 """
 
 from __future__ import annotations
@@ -55,7 +48,7 @@ import numpy as np
 import xarray as xr
 
 from ..cache import Cache
-from ._insert import insert_or_set, new_variable, values_of
+from ._insert import insert_or_set, nan_meaning, new_variable, values_of
 
 __all__ = [
     "FLAG",
@@ -85,14 +78,6 @@ STATUS_COMMENT = (
     "the distance the campaign checked; not_verified: elsewhere, bounds NaN "
     "(docs/verification.md, part II)"
 )
-
-
-def nan_meaning(name: str) -> str:
-    """The sentence of a band's ``comment`` that says what its NaN means (CF: documented)."""
-    return (
-        f"NaN means: {name}_model_error_status is not_verified (the campaign did not cover "
-        f"this regime) or {name} is NaN there"
-    )
 
 
 _TABLE = Cache(

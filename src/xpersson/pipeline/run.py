@@ -3,6 +3,7 @@ Dataset (the work of each step lives in :mod:`.frontend`, :mod:`.stages`, :mod:`
 
 from __future__ import annotations
 
+import numpy as np
 import xarray as xr
 
 from .. import checks, memory, plugins, provenance
@@ -20,7 +21,7 @@ from .frontend import (
     spectrum_kinks,
 )
 from .solve_at import make_solve_at
-from .stages import coefficient_arrays, load_walls, validate
+from .stages import coefficient_arrays, declares_shared_tau, load_walls, validate
 
 __all__ = ["run"]
 
@@ -72,7 +73,9 @@ def _run(rs: ResolvedScene, squeeze: bool, model_errors: bool) -> xr.Dataset:
         p_out=p_grid,
         options=rs.solver_options or None,
     )
-    ds = assemble(rs, ctx, results, tau_c, f_z, None if tau_shared else tau_eff, p_grid)
+    # (the variable where the closure may differ, its own writable copy where it did not)
+    eff_out = None if declares_shared_tau(coef) else np.array(tau_eff) if tau_shared else tau_eff
+    ds = assemble(rs, ctx, results, tau_c, f_z, eff_out, p_grid)
     core = checks.check_core(ds)  # the engine's outputs, like every plugin's (load -> message)
     if type(coef).interpret is not plugins.Coefficient.interpret:  # the base's gives nothing
         with checks.calling(who["coefficient"], "interpret()"):

@@ -153,8 +153,9 @@ def run_stacked(points: Sequence[ResolvedScene]) -> StackedRun | None:
 def _coefficient(
     points: Sequence[ResolvedScene], ctxs: list[Any], declared: bool
 ) -> tuple[Any, Any, Any, Any]:
-    """tau (K, nz), f (K, nz), the per-load effective tau (K, nl, nz) or None (= tau), and the
-    first point's effective tau as its own run has it (None where it shares tau)."""
+    """tau (K, nz), f (K, nz), the per-load effective tau (K, nl, nz) and the first point's as
+    its own run has it: both None where every coefficient declares a shared tau
+    (:func:`~.stages.declares_shared_tau`), else arrays, also where they equal tau."""
     rs0 = points[0]
     who = rs0.labels["coefficient"]
     coefs = [rs.coefficient for rs in points]
@@ -169,8 +170,8 @@ def _coefficient(
     got = [coefficient_arrays(c, x, who) for c, x in zip(coefs, ctxs, strict=True)]
     tau = np.stack([g[0] for g in got])
     f = np.stack([g[1] for g in got])
-    eff = None if all(g[3] for g in got) else np.stack([g[2] for g in got])
-    return tau, f, eff, None if got[0][3] else got[0][2]
+    # not declared shared: the variable at every point, also where it equals tau (run.py's)
+    return tau, f, np.stack([g[2] for g in got]), np.array(got[0][2])
 
 
 def _run(points: Sequence[ResolvedScene]) -> StackedRun | None:

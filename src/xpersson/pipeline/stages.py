@@ -13,7 +13,7 @@ from ..cache import Cache
 from ..plugins import Analysis, Boundary, Coefficient, SceneContext, fast_paths_on
 from ..scene import ResolvedScene, SceneError
 
-__all__ = ["validate", "coefficient_arrays", "load_walls", "shared_tau"]
+__all__ = ["coefficient_arrays", "declares_shared_tau", "load_walls", "shared_tau", "validate"]
 
 
 def validate(rs: ResolvedScene, ctx: SceneContext, boundary: Any, analyses: list[Any]) -> None:
@@ -144,16 +144,23 @@ def _tau_and_f(coef: Any, ctx: SceneContext, who: Any) -> tuple[np.ndarray, np.n
 
 
 def shared_tau(coef: Any) -> bool:
-    """Whether ``coef``'s effective tau is tau(zeta) for every load: its class inherits
-    :meth:`Coefficient.effective_tau` (which broadcasts it) or declares it
-    (``fast_paths.shared_tau``, for this instance's parameters); ``False`` inside
-    :func:`~xpersson.plugins.plain_paths` (then every load is asked)."""
+    """Whether ``coef``'s effective tau is tau(zeta) for every load, taken from its declaration
+    (:func:`declares_shared_tau`); ``False`` inside :func:`~xpersson.plugins.plain_paths`
+    (then every load is asked)."""
+    return fast_paths_on() and declares_shared_tau(coef)
+
+
+def declares_shared_tau(coef: Any) -> bool:
+    """Whether ``coef``'s class inherits :meth:`Coefficient.effective_tau` (which broadcasts
+    tau(zeta)) or declares it shared (``fast_paths.shared_tau``, for this instance's
+    parameters). The Dataset has ``effective_diffusion_time`` exactly where this is False,
+    also where its values happen to equal tau(zeta): a scene's variables follow from its
+    plugins and parameters, never from its values, so the points of a sweep, the parts of a
+    sweep folder and the sweep's fast and plain paths hold the same variables."""
     cls = type(coef)
-    if not fast_paths_on():
-        return False
     if cls.effective_tau is Coefficient.effective_tau:
         return True
-    return cls.fast_paths.tau_shared(coef.params)
+    return bool(cls.fast_paths.tau_shared(coef.params))
 
 
 def _equals_rows(value: Any, row: np.ndarray, shape: tuple[int, int]) -> bool:

@@ -39,7 +39,7 @@ from ..archive import WriteError, decode, read, to_netcdf
 from ..errors import ArchiveError
 from ..pipeline import direct_dataset
 from .blocks import PART_ATTR, POINT_STATUS
-from .stacking import variable
+from .stacking import GAP, variable, with_nan_meaning
 
 __all__ = ["INDEX", "FORMAT", "part_name", "write_part", "read_part", "write_index", "finalize"]
 __all__ += ["open_parts", "load_index", "read_index_file", "PART_NAME", "seal_index"]
@@ -307,7 +307,21 @@ def finalize(ds: xr.Dataset, constant: dict[str, list[str]], attrs: dict[str, An
         if list(out.variables) != list(variables):  # keep the order of the combined Dataset
             out = out[list(data)]
     out.encoding = dict(ds.encoding)
+    _document_failed(out)
     return out
+
+
+def _document_failed(ds: xr.Dataset) -> None:
+    """Where a point failed, the NaN it holds documented on every float variable that keeps a
+    sweep dimension (in place; once)."""
+    status = ds.variables.get("point_status")
+    if status is None or not np.any(np.asarray(status.values) == POINT_STATUS["failed"]):
+        return
+    sweep = set(status.dims)
+    for var in ds.data_vars.values():
+        comment = var.attrs.get("comment", "")
+        if var.dtype.kind in "fc" and sweep & set(var.dims) and GAP not in comment:
+            var.attrs["comment"] = with_nan_meaning(comment, GAP)
 
 
 def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:

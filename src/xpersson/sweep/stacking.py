@@ -162,18 +162,49 @@ def stack(
             for ds in results:
                 if ds is not None and not np.array_equal(ds.variables[name].values, ref):
                     raise ValueError(f"points of a sweep must share the {name} grid")
-    rows = {}
+    rows, filled = {}, []
     for name in _own_names(template, block):
         fill = _fill(template[name])
-        rows[name] = np.stack(
-            [
-                fill
-                if ds is None or name not in ds.variables
-                else np.asarray(ds.variables[name].values)
-                for ds in results
-            ]
-        )
-    return stack_rows(rows, block, status, template)
+        values = [None if ds is None else _values(ds, name, fill.shape) for ds in results]
+        rows[name] = np.stack([fill if v is None else v for v in values])
+        if any(v is None for v in values) and fill.dtype.kind in "fc":
+            filled.append(name)
+    out = stack_rows(rows, block, status, template)
+    for name in filled:  # their NaN documented, as every NaN of a Dataset is
+        comment = out[name].attrs.get("comment", "")
+        if GAP not in comment:
+            out[name].attrs["comment"] = with_nan_meaning(comment, GAP)
+    return out
+
+
+#: Variables a solve leaves out where they equal another, broadcast (``coefficient_arrays``:
+#: the closure's effective time where it is ``tau(zeta)`` for every load): a point without
+#: one stacks the other, as the stacked fast path does.
+ABSENT_AS = {"effective_diffusion_time": "diffusion_time"}
+
+
+def _values(ds: xr.Dataset, name: str, shape: tuple[int, ...]) -> np.ndarray | None:
+    """``name``'s values at a point, the :data:`ABSENT_AS` stand-in where left out, or None."""
+    if name in ds.variables:
+        return np.asarray(ds.variables[name].values)
+    other = ABSENT_AS.get(name)
+    if other is None or other not in ds.variables:
+        return None
+    return np.broadcast_to(np.asarray(ds.variables[other].values), shape)
+
+
+#: What a NaN means where a stacked variable has no value at a point.
+GAP = (
+    "not computed at this sweep point (the point failed, see point_status, or its scene "
+    "did not need it)"
+)
+
+
+def with_nan_meaning(comment: str, meaning: str) -> str:
+    """``comment`` with ``meaning`` added to its "NaN means:" (started when it has none)."""
+    if "NaN means:" in comment:
+        return f"{comment}; or {meaning}"
+    return f"{comment} NaN means: {meaning}".strip()
 
 
 def stack_rows(
