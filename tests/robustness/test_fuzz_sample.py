@@ -4,9 +4,10 @@ with random parameters) give no NaN without a documented meaning, no value out o
 success that fails its own balances and no crash.
 
 The full campaign (10,000 scenes, forked workers with a time limit) is a benchmark; this sample
-runs in the test process, once on flat scenes and once on finite bodies. It catches what
-breaks many scenes at once: the model-error bands' undocumented NaN went three days unseen
-between campaigns, and bodies were not in the campaign at all (docs/reliability.md).
+runs in the test process, on flat scenes, on finite bodies and on sweeps (fast paths against
+the plain path). It catches what breaks many scenes at once: the model-error bands'
+undocumented NaN went three days unseen between campaigns; bodies and sweeps were not in the
+campaign at all (docs/reliability.md).
 """
 
 from __future__ import annotations
@@ -26,17 +27,21 @@ SEED = 2027
 
 
 @pytest.mark.parametrize(
-    ("bodies", "scenes"),
-    [(0.0, 300), (1.0, 100)],  # ~5 s; ~2 s of finite bodies (``fuzz.py --bodies``)
+    ("bodies", "sweeps", "scenes"),
+    # ~5 s; ~2 s of finite bodies (``fuzz.py --bodies``); ~4 s of sweeps, each solved again
+    # with fast_paths=False and compared (``fuzz.py --sweeps``)
+    [(0.0, 0.0, 300), (1.0, 0.0, 100), (0.0, 1.0, 100)],
 )
-def test_a_fuzz_sample_has_no_nan_out_of_range_dishonest_result_or_crash(tmp_path, bodies, scenes):
+def test_a_fuzz_sample_has_no_nan_out_of_range_dishonest_result_or_crash(
+    tmp_path, bodies, sweeps, scenes
+):
     from xpersson.plugins import get_registry
 
     registry = get_registry()
     counts: collections.Counter[str] = collections.Counter()
     bad = []
     for index in range(scenes):
-        scene = fuzz.make_scene(index, SEED, registry, str(tmp_path), bodies)
+        scene = fuzz.make_scene(index, SEED, registry, str(tmp_path), bodies, sweeps)
         category, message, _, _ = fuzz.run_one(scene)
         counts[category] += 1
         if category in ("nan", "out_of_range", "dishonest", "crash"):
