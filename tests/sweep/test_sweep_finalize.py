@@ -1,5 +1,6 @@
 """sweep finalize: the constant sweep dimensions dropped in numpy equal xarray's reductions
-(NaN and failed points skipped), the variables' order and attributes kept."""
+(NaN and failed points skipped), the variables' order and attributes kept; a variable that
+keeps a sweep dimension gets the failed point's NaN documented in its comment."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import numpy as np
 import xarray as xr
 
 from xpersson.sweep.parts import finalize
-from xpersson.sweep.stacking import POINT_STATUS
+from xpersson.sweep.stacking import GAP, POINT_STATUS
 
 
 def _dataset() -> xr.Dataset:
@@ -43,5 +44,7 @@ def test_finalize_drops_constant_dims_as_xarray_would():
     assert out["steps"].dtype == np.int64 and out["steps"].dims == ("n",)
     assert out["label"].dims == () and out["label"].item() == "elastic"
     assert list(out.variables) == list(ds.variables)  # order kept
-    xr.testing.assert_identical(out["varying"], ds["varying"])
+    want = ds["varying"].copy()
+    want.attrs["comment"] = f"NaN means: {GAP}"  # the failed point (v, T) = (1, 0)
+    xr.testing.assert_identical(out["varying"], want)
     assert out.attrs == {"title": "t"}
