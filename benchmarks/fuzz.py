@@ -420,6 +420,8 @@ def run_one(scene: dict[str, Any]) -> tuple[str, str, float, list[str]]:
     cat, msg = check(ds, scene)
     if cat in ("ok", "not_success") and swept(scene):
         cat, msg = _fast_path_check(ds, scene) or (cat, msg)
+    if cat in ("ok", "not_success") and swept(scene) and PARALLEL["scheduler"]:
+        cat, msg = _parallel_check(ds, scene, PARALLEL["scheduler"]) or (cat, msg)
     notes = sorted(
         {str(w.message)[:80] for w in caught if type(w.message).__name__ == "XperssonWarning"}
     )
@@ -457,6 +459,39 @@ def _fast_path_check(ds: Any, scene: dict[str, Any]) -> tuple[str, str] | None:
             bad.append(f"{name}: differs on the plain path")
     if bad:
         return "dishonest", "fast path vs plain: " + "; ".join(bad[:3])
+    return None
+
+
+#: ``--parallel``: the scheduler a sweep is solved on again (None: not), set before forking.
+PARALLEL: dict[str, str | None] = {"scheduler": None}
+
+
+def _parallel_check(ds: Any, scene: dict[str, Any], scheduler: str) -> tuple[str, str] | None:
+    """A sweep solved again on ``scheduler`` (one point a block: every block a task) and into
+    a sweep folder: both equal to the serial Dataset bit for bit (the README's claim), else
+    ``("dishonest", message)``."""
+    import numpy as np
+
+    import xpersson
+
+    with warnings.catch_warnings(), tempfile.TemporaryDirectory() as tmp:
+        warnings.simplefilter("ignore")
+        runs = {
+            scheduler: xpersson.solve(scene, scheduler=scheduler, chunk=1, workers=2),
+            "folder": xpersson.solve(scene, output=Path(tmp) / "study"),
+        }
+        bad = []
+        for how, other in runs.items():
+            for name in ds.data_vars:
+                x = np.asarray(ds[name].values)
+                if name not in other.data_vars:
+                    bad.append(f"{how}: {name} missing")
+                    continue
+                y = np.asarray(other[name].transpose(*ds[name].dims).values)
+                if not np.array_equal(x, y, equal_nan=x.dtype.kind == "f"):
+                    bad.append(f"{how}: {name} differs")
+    if bad:
+        return "dishonest", "serial vs " + "; ".join(bad[:3])
     return None
 
 
@@ -651,6 +686,12 @@ def main(argv: list[str] | None = None) -> int:
         "the scenes of the documented campaigns)",
     )
     parser.add_argument(
+        "--parallel",
+        default=None,
+        help="a scheduler (e.g. threads) each sweep is solved on again, and into a folder: "
+        "both must equal the serial Dataset bit for bit",
+    )
+    parser.add_argument(
         "--sweeps",
         type=float,
         default=0.0,
@@ -658,6 +699,7 @@ def main(argv: list[str] | None = None) -> int:
         "fast_paths=False and compared: the fast paths' claim)",
     )
     args = parser.parse_args(argv)
+    PARALLEL["scheduler"] = args.parallel
     summary = campaign(
         args.scenes,
         args.seed,
