@@ -18,9 +18,9 @@ from ..scene import SceneError
 from ._fastfail import failure_attrs
 from .blocks import PART_ATTR, POINT_STATUS, BlockResult, stack, write_block_part
 from .filling import Filling
-from .parts import finalize, open_parts, part_name, read_part
+from .parts import differing_grids, finalize, open_parts, part_name, read_part
 from .plan import SweepPlan
-from .stacking import digest_list, varies_along_all
+from .stacking import digest_list, document_regridded, varies_along_all
 
 __all__ = ["combine", "constant_along", "finish"]
 
@@ -66,12 +66,16 @@ def finish(
     if folder is not None:
         txn.complete(plan, results, {"constant": constant, "attrs": attrs})
         return open_parts(folder)
+    blocks = [r.dataset for r in results if r.dataset is not None]
+    regridded = differing_grids(blocks, list(plan.dims))  # (before the fill takes them)
     for res in results:
         filling.add(res)
     ds = filling.dataset()
     if ds is None:  # blocks of other layouts: every result has its Dataset back
         ds = combine([r.dataset for r in results], [r.block.grid_index for r in results], plan.dims)
-    return finalize(ds, constant, attrs)
+    out = finalize(ds, constant, attrs)
+    document_regridded(out, regridded)  # (the blocks joined on the union of their grids)
+    return out
 
 
 def _point_messages(

@@ -39,10 +39,11 @@ from ..archive import WriteError, decode, read, to_netcdf
 from ..errors import ArchiveError
 from ..pipeline import direct_dataset
 from .blocks import PART_ATTR, POINT_STATUS
-from .stacking import GAP, variable, with_nan_meaning
+from .stacking import GAP, SHARED_GRIDS, document_regridded, variable, with_nan_meaning
 
 __all__ = ["INDEX", "FORMAT", "part_name", "write_part", "read_part", "write_index", "finalize"]
 __all__ += ["open_parts", "load_index", "read_index_file", "PART_NAME", "seal_index"]
+__all__ += ["differing_grids"]
 
 INDEX = "xpersson_index.json"
 FORMAT = "xpersson-parts-2"
@@ -355,6 +356,7 @@ def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:
         size = sum(v.nbytes for v in ds.variables.values())
         kept += size
         nested[tuple(entry["grid_index"])] = _snapshot(ds, path, entry["sha256"], kept)
+    regridded = differing_grids([d for d in nested.ravel() if d is not None], dims)
     try:
         ds = xr.combine_nested(
             nested.tolist(),
@@ -367,7 +369,19 @@ def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:
         )
     except Exception as exc:  # noqa: BLE001 - verified bytes that still do not combine
         raise ArchiveError(f"{folder}: the parts do not combine ({type(exc).__name__})") from None
-    return finalize(decode(ds), index["constant"], index["attrs"])
+    out = finalize(decode(ds), index["constant"], index["attrs"])
+    document_regridded(out, regridded)  # (xarray's outer join put them on the union)
+    return out
+
+
+def differing_grids(parts: list[xr.Dataset], sweep: list[str]) -> set[str]:
+    """The index dimensions (not the sweep's, nor the shared grids) on which parts differ."""
+    out = set()
+    for dim in {d for ds in parts for d in ds.indexes} - set(sweep) - set(SHARED_GRIDS):
+        grids = [ds.indexes[dim].values for ds in parts if dim in ds.indexes]
+        if any(len(g) != len(grids[0]) or not np.array_equal(g, grids[0]) for g in grids):
+            out.add(dim)
+    return out
 
 
 SNAPSHOT_BYTES = 64 * 2**20

@@ -150,12 +150,7 @@ def stack(
     if template is None:
         raise ValueError("a block needs at least one solved point or a template")
     template = _point_shaped(template, block)
-    if "q_psd" in template.dims:
-        nodes = [ds.variables["q_psd"].values for ds in ok]
-        if any(len(n) != len(nodes[0]) or not np.array_equal(n, nodes[0]) for n in nodes):
-            union = np.unique(np.concatenate(nodes))
-            results = [None if ds is None else ds.reindex(q_psd=union) for ds in results]
-            template = template.reindex(q_psd=union)
+    results, template, regridded = _on_union_grids(results, ok, template, block)
     for name in ("zeta", "p"):
         if name in template.indexes:
             ref = template.variables[name].values
@@ -174,7 +169,45 @@ def stack(
         comment = out[name].attrs.get("comment", "")
         if GAP not in comment:
             out[name].attrs["comment"] = with_nan_meaning(comment, GAP)
+    document_regridded(out, regridded)
     return out
+
+
+#: Index dimensions every point must share (a sweep of them is refused, not joined).
+SHARED_GRIDS = ("zeta", "p", "p0")
+
+
+def _on_union_grids(
+    results: list[xr.Dataset | None], ok: list[xr.Dataset], template: xr.Dataset, block: Block
+) -> tuple[list[xr.Dataset | None], xr.Dataset, set[str]]:
+    """The points on the union of their grids of every other index dimension (an analysis's
+    own grid that depends on the point, e.g. ``gap_pdf``'s ``u`` from the point's mean gap;
+    ``q_psd`` of a tabulated spectrum), as xarray's outer join of a folder's parts: each
+    value keeps its own coordinate (stacked on the first point's grid, a point's values were
+    labelled with the other's coordinates). Returns the dimensions regridded."""
+    regridded: set[str] = set()
+    for dim in [d for d in template.indexes if d not in SHARED_GRIDS and d not in block.coords]:
+        grids = [ds.indexes[dim].values for ds in ok if dim in ds.indexes]
+        if all(len(g) == len(grids[0]) and np.array_equal(g, grids[0]) for g in grids):
+            continue
+        union = np.unique(np.concatenate(grids))
+        results = [
+            None if ds is None or dim not in ds.indexes else ds.reindex({dim: union})
+            for ds in results
+        ]
+        template = template.reindex({dim: union})
+        regridded.add(dim)
+    return results, template, regridded
+
+
+def document_regridded(ds: xr.Dataset, dims: set[str]) -> None:
+    """The NaN of the variables over the regridded ``dims`` documented (in place; once)."""
+    for dim in sorted(dims):
+        meaning = f"not on this sweep point's {dim} grid (the points' grids differ: their union)"
+        for var in ds.data_vars.values():
+            comment = var.attrs.get("comment", "")
+            if dim in var.dims and var.dtype.kind in "fc" and meaning not in comment:
+                var.attrs["comment"] = with_nan_meaning(comment, meaning)
 
 
 #: Variables a solve leaves out where they equal another, broadcast (``coefficient_arrays``:
