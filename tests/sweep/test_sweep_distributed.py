@@ -102,3 +102,31 @@ def test_stacked_spectrum_sweep_on_two_worker_processes_equals_serial(client):
     serial = xpersson.solve(sc)
     par = xpersson.solve(sc, scheduler=client, chunk=3)  # 4 blocks of 3 stacked points
     _same(serial, par)
+
+
+def test_blocks_after_the_fill_stops_keep_their_shared_memory_variables(client):
+    """Seed 29, scene 85 of ``fuzz.py --sweeps 1 --parallel processes``: blocks whose layouts
+    differ (gap_pdf's u grid depends on the point) stop the fill; the blocks that arrived
+    after it had lost P, which their workers had written into shared memory: NaN at 2-3 of
+    the 4 points, with status success. Now every point equals the serial sweep bit for bit."""
+    data = {
+        "spectrum": {"model": "self_affine", "H": [0.5457968754246835, 0.6457968754246834],
+                     "q_L": "354717.92292565637 1/m", "q_r": "354717.92292565637 1/m",
+                     "q_1": "10255778832.96368 1/m", "rms_slope": 0.08146546608445901},
+        "material": {"E": "850274149.6808615 Pa",
+                     "nu": [0.4933578389988561, 0.3933578389988561]},
+        "load": {"p0": "230006141.03228334 Pa"},
+        "output": {"zeta_per_decade": 16, "pressure_pdf": True, "p_points": 477},
+        "solver": {"rtol": 8.921984394040833e-06},
+        "coefficient": {"model": "elastic", "closure": "wm17"},
+        "analyses": {"mean_gap": {}, "gap_pdf": {"method": "closed_form"},
+                     "leakage": {"p_out": "25653.12227258165 Pa",
+                                 "seal_length": "0.015026082024144984 m"}},
+    }  # fmt: skip
+    serial = xpersson.solve(data)
+    for chunk in (1, 2):
+        par = xpersson.solve(data, scheduler=client, chunk=chunk)
+        assert not np.isnan(par["P"].values).any(), chunk
+        for name in serial.data_vars:
+            x, y = serial[name].values, par[name].transpose(*serial[name].dims).values
+            assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), (name, chunk)

@@ -59,6 +59,7 @@ class Filling:
         #: repeated row (a view: :func:`repeated`) and its array was not written (its pages
         #: never touched); written out (:meth:`_write_out`) when a block brings other values
         self._repeat: dict[str, np.ndarray] = {}
+        self._kept: dict[str, Any] = {}  # name -> (Variable, array, axes) after restore
 
     def rows(self, name: str, block: Any, point_shape: tuple[int, ...], dtype: Any) -> Any:
         """A writable ``(block.size, *point_shape)`` view of the sweep's array of ``name`` for
@@ -107,10 +108,12 @@ class Filling:
         (a list, or ``{name: "shm"}``) or as holding at every point the row given to
         :meth:`prepare` (``{name: "same"}``: filled in here from it)."""
         ds = res.dataset
-        if self.broken or ds is None:
+        if ds is None:
             return
-        if not self._vars and not self._allocate(ds, repeats=not written):
+        if self.broken or (not self._vars and not self._allocate(ds, repeats=not written)):
             self.broken = True
+            if written:  # its worker dropped them for the arrays: back into its Dataset
+                res.dataset = self._rejoined(ds, res.block, written)
             return
         if not self._fits(ds, written):
             res.dataset = self._whole(ds, res.block, written, copy=True)
@@ -232,10 +235,35 @@ class Filling:
                 return False
         return True
 
+    def _rejoined(self, ds: xr.Dataset, block: Any, written: Any) -> xr.Dataset:
+        """A block's Dataset with the variables its worker wrote into the arrays (or found the
+        same at every point) put back, once the fill has stopped (:meth:`restore`): before,
+        a block arriving then lost them, and a sweep on worker processes held NaN for its
+        points (fuzz.py --sweeps --parallel processes, 2026-12-01)."""
+        sl = sweep_region(block)
+        back = {}
+        for name in written:
+            got = self._kept.get(name)
+            if got is None:
+                raise RuntimeError(
+                    f"sweep: block {block.number}'s {name!r} was written into the shared "
+                    "arrays before the fill knew it; solve again without a scheduler"
+                )
+            ref, full, axes = got
+            if isinstance(written, dict) and written[name] == "same":
+                part = np.broadcast_to(self._rows[name], full[tuple(sl[a] for a in axes)].shape)
+            else:
+                part = full[tuple(sl[a] for a in axes)]
+            back[name] = variable(ref.dims, part.copy(), dict(ref.attrs))
+        return ds.assign(back)
+
     def restore(self) -> None:
         """Give the absorbed results their Datasets back (cut from the arrays) and stop."""
         for name in list(self._repeat):
             self._write_out(name)
+        self._kept = {  # the swept arrays, for blocks that arrive after (:meth:`_rejoined`)
+            name: (e[1], e[2], e[4]) for name, e in self._vars.items() if e[0] == "swept"
+        }
         for res in self.absorbed:
             sl = sweep_region(res.block)
             variables = {}
