@@ -432,31 +432,13 @@ def _fast_path_check(ds: Any, scene: dict[str, Any]) -> tuple[str, str] | None:
     """A sweep solved again with ``fast_paths=False`` (every point on its own): every data
     variable within 1e-12 relative of the fast paths' (the README's claim), NaN where they
     have NaN; else ``("dishonest", message)``."""
-    import numpy as np
 
     import xpersson
 
     with warnings.catch_warnings(), xpersson.set_options(fast_paths=False):
         warnings.simplefilter("ignore")
         plain = xpersson.solve(scene)
-    bad = []
-    for name in ds.data_vars:
-        if name not in plain.data_vars:
-            bad.append(f"{name}: not on the plain path")
-            continue
-        a, b = ds[name], plain[name].transpose(*ds[name].dims)
-        x, y = np.asarray(a.values), np.asarray(b.values)
-        if x.shape != y.shape:
-            bad.append(f"{name}: shape {x.shape} vs {y.shape} on the plain path")
-        elif x.dtype.kind == "f":
-            with np.errstate(invalid="ignore"):
-                off = ~((x == y) | (np.isnan(x) & np.isnan(y)))
-                off &= ~(np.abs(x - y) <= 1e-12 * np.maximum(np.abs(x), np.abs(y)))
-            if off.any():
-                rel = np.abs(x - y)[off] / np.maximum(np.abs(x), np.abs(y))[off]
-                bad.append(f"{name}: {int(off.sum())} values off, up to {np.nanmax(rel):.3g} rel")
-        elif not np.array_equal(x, y):
-            bad.append(f"{name}: differs on the plain path")
+    bad = _differences(ds, plain, "the plain path", rtol=1e-12)
     if bad:
         return "dishonest", "fast path vs plain: " + "; ".join(bad[:3])
     return None
@@ -470,7 +452,6 @@ def _parallel_check(ds: Any, scene: dict[str, Any], scheduler: str) -> tuple[str
     """A sweep solved again on ``scheduler`` (one point a block: every block a task) and into
     a sweep folder: both equal to the serial Dataset bit for bit (the README's claim), else
     ``("dishonest", message)``."""
-    import numpy as np
 
     import xpersson
 
@@ -480,19 +461,37 @@ def _parallel_check(ds: Any, scene: dict[str, Any], scheduler: str) -> tuple[str
             scheduler: xpersson.solve(scene, scheduler=scheduler, chunk=1, workers=2),
             "folder": xpersson.solve(scene, output=Path(tmp) / "study"),
         }
-        bad = []
-        for how, other in runs.items():
-            for name in ds.data_vars:
-                x = np.asarray(ds[name].values)
-                if name not in other.data_vars:
-                    bad.append(f"{how}: {name} missing")
-                    continue
-                y = np.asarray(other[name].transpose(*ds[name].dims).values)
-                if not np.array_equal(x, y, equal_nan=x.dtype.kind == "f"):
-                    bad.append(f"{how}: {name} differs")
+        bad = [m for how, other in runs.items() for m in _differences(ds, other, how, rtol=0.0)]
     if bad:
         return "dishonest", "serial vs " + "; ".join(bad[:3])
     return None
+
+
+def _differences(ds: Any, other: Any, how: str, rtol: float) -> list[str]:
+    """One line per data variable of ``ds`` that ``other`` lacks or holds otherwise: floats
+    within ``rtol`` relative (0: bit for bit), NaN where NaN; the others equal."""
+    import numpy as np
+
+    bad = []
+    for name in ds.data_vars:
+        if name not in other.data_vars:
+            bad.append(f"{name}: not on {how}")
+            continue
+        x, y = np.asarray(ds[name].values), np.asarray(other[name].transpose(*ds[name].dims).values)
+        if x.shape != y.shape:
+            bad.append(f"{name}: shape {x.shape} vs {y.shape} on {how}")
+        elif x.dtype.kind == "f":
+            with np.errstate(invalid="ignore"):
+                off = ~((x == y) | (np.isnan(x) & np.isnan(y)))
+                off &= ~(np.abs(x - y) <= rtol * np.maximum(np.abs(x), np.abs(y)))
+            if off.any():
+                rel = np.abs(x - y)[off] / np.maximum(np.abs(x), np.abs(y))[off]
+                bad.append(
+                    f"{name}: {int(off.sum())} values off on {how}, up to {np.nanmax(rel):.3g} rel"
+                )
+        elif not np.array_equal(x, y):
+            bad.append(f"{name}: differs on {how}")
+    return bad
 
 
 def _worker(conn: Any) -> None:

@@ -320,9 +320,8 @@ def _document_failed(ds: xr.Dataset) -> None:
         return
     sweep = set(status.dims)
     for var in ds.data_vars.values():
-        comment = var.attrs.get("comment", "")
-        if var.dtype.kind in "fc" and sweep & set(var.dims) and GAP not in comment:
-            var.attrs["comment"] = with_nan_meaning(comment, GAP)
+        if var.dtype.kind in "fc" and sweep & set(var.dims):
+            var.attrs["comment"] = with_nan_meaning(var.attrs.get("comment", ""), GAP)
 
 
 def open_parts(folder: str | os.PathLike[str]) -> xr.Dataset:

@@ -160,15 +160,18 @@ def stack(
     rows, filled = {}, []
     for name in _own_names(template, block):
         fill = _fill(template[name])
-        values = [None if ds is None else _values(ds, name, fill.shape) for ds in results]
-        rows[name] = np.stack([fill if v is None else v for v in values])
-        if any(v is None for v in values) and fill.dtype.kind in "fc":
+        gaps = [ds is None or name not in ds.variables for ds in results]
+        rows[name] = np.stack(
+            [
+                fill if gap else np.asarray(ds.variables[name].values)
+                for ds, gap in zip(results, gaps, strict=True)
+            ]
+        )
+        if any(gaps) and fill.dtype.kind in "fc":
             filled.append(name)
     out = stack_rows(rows, block, status, template)
     for name in filled:  # their NaN documented, as every NaN of a Dataset is
-        comment = out[name].attrs.get("comment", "")
-        if GAP not in comment:
-            out[name].attrs["comment"] = with_nan_meaning(comment, GAP)
+        out[name].attrs["comment"] = with_nan_meaning(out[name].attrs.get("comment", ""), GAP)
     document_regridded(out, regridded)
     return out
 
@@ -205,25 +208,8 @@ def document_regridded(ds: xr.Dataset, dims: set[str]) -> None:
     for dim in sorted(dims):
         meaning = f"not on this sweep point's {dim} grid (the points' grids differ: their union)"
         for var in ds.data_vars.values():
-            comment = var.attrs.get("comment", "")
-            if dim in var.dims and var.dtype.kind in "fc" and meaning not in comment:
-                var.attrs["comment"] = with_nan_meaning(comment, meaning)
-
-
-#: Variables a solve leaves out where they equal another, broadcast (``coefficient_arrays``:
-#: the closure's effective time where it is ``tau(zeta)`` for every load): a point without
-#: one stacks the other, as the stacked fast path does.
-ABSENT_AS = {"effective_diffusion_time": "diffusion_time"}
-
-
-def _values(ds: xr.Dataset, name: str, shape: tuple[int, ...]) -> np.ndarray | None:
-    """``name``'s values at a point, the :data:`ABSENT_AS` stand-in where left out, or None."""
-    if name in ds.variables:
-        return np.asarray(ds.variables[name].values)
-    other = ABSENT_AS.get(name)
-    if other is None or other not in ds.variables:
-        return None
-    return np.broadcast_to(np.asarray(ds.variables[other].values), shape)
+            if dim in var.dims and var.dtype.kind in "fc":
+                var.attrs["comment"] = with_nan_meaning(var.attrs.get("comment", ""), meaning)
 
 
 #: What a NaN means where a stacked variable has no value at a point.
@@ -234,7 +220,10 @@ GAP = (
 
 
 def with_nan_meaning(comment: str, meaning: str) -> str:
-    """``comment`` with ``meaning`` added to its "NaN means:" (started when it has none)."""
+    """``comment`` with ``meaning`` added to its "NaN means:" (started when it has none;
+    ``comment`` itself where it says ``meaning`` already)."""
+    if meaning in comment:
+        return comment
     if "NaN means:" in comment:
         return f"{comment}; or {meaning}"
     return f"{comment} NaN means: {meaning}".strip()
