@@ -260,3 +260,43 @@ def test_a_summit_floor_at_full_contact_gives_a_finite_wall(solve):
     ds = quiet(solve, sc)
     assert np.isfinite(ds["p_att"].values).all() and np.isfinite(ds["p_rep"].values).all()
     assert float(ds["area_fraction"].isel(zeta=-1)) > 1 - 1e-9
+
+
+def test_attraction_is_never_negative_at_extreme_loads(solve):
+    """Found by ``benchmarks/fuzz.py --seed 71`` (scene 6318): at 2.9e11 Pa the mean-field
+    root's tolerance (rtol 1e-12 of ``p_rep``) put ``p_rep - p0`` at -0.03 Pa, and the solve
+    failed its own output check (``adhesion_ratio`` -1e-13 < valid_min 0). ``p_att`` is an
+    attraction: ``p_rep = p0 + p_att >= p0`` for every load, ``adhesion_ratio >= 0``."""
+    loads = (1341372956.7771254, 5e10, 294116812252.8661)
+    sc = {
+        "spectrum": {
+            "model": "self_affine",
+            "H": 0.327306074628421,
+            "q_L": "773.1547365724686 1/m",
+            "q_1": "12630581.911358383 1/m",
+            "h_rms": "6.855832223084481e-05 m",
+        },
+        "material": {"E": "3495706549.3763537 Pa", "nu": 0.10927887756498189},
+        "load": {"p0": [f"{x!r} Pa" for x in loads]},
+        "output": {"zeta_per_decade": 3},
+        "solver": {"rtol": 1.872271129229558e-08},
+        "coefficient": {
+            "model": "viscoelastic",
+            "velocity": "3.346940770012305e-06 m/s",
+            "temperature": "261.14555273078 K",
+            "modulus": "sls",
+            "E_r": "1579392.2976495994 Pa",
+            "E_g": "1076232132.6456974 Pa",
+            "relaxation_time": "0.00028221498147323827 s",
+        },
+        "boundary": {
+            "model": "adhesive",
+            "work_of_adhesion": "0.21742561193295026 J/m**2",
+            "range": "1.3700965047283212e-10 m",
+        },
+    }
+    ds = quiet(solve, sc)
+    p0, rep, att = ds["p0"].values, ds["p_rep"].values, ds["p_att"].values
+    assert np.all(att >= 0.0) and np.all(ds["adhesion_ratio"].values >= 0.0)
+    np.testing.assert_array_equal(rep, p0 + att)  # (p_att as reported: the same number)
+    assert att[0] > 0.0  # a real attraction at the lighter load is kept, not clipped
