@@ -69,7 +69,7 @@ class EngineResult(Outcome):
     probability_balance : ndarray
         ``area + absorbed_lower + absorbed_upper - 1``.
     load_balance : ndarray
-        Residual of the load identity, scaled by ``max(|p0|, |walls|)``:
+        Residual of the load identity, scaled by ``max(|p0|, |lower wall|)``:
         ``(load + int p_l d(absorbed_lower) + U - p0) / scale`` with ``U = int p_u
         d(absorbed_upper)`` for an absorbing upper wall and ``U = Y(tau) A_pl(tau)`` for a yield
         closure wall.  Fixed walls make the integrals ``p_w * absorbed``; a fixed wall at 0 with
@@ -228,8 +228,6 @@ def _balances(problem: Problem, raw: Raw) -> tuple[Array, Array, Array, Array]:
     prob += raw.absorbed_upper
     prob -= 1.0
     scale = np.maximum(np.abs(problem.p0), np.abs(lo))
-    if problem.upper is not None:  # (no upper wall: max(scale, 0) is scale, NaN kept)
-        scale = np.maximum(scale, np.where(np.isfinite(up), np.abs(up), 0.0))
     scale = np.where(scale > 0, scale, 1.0)
     loadb = np.add(raw.load, raw.wall_term)
     loadb -= problem.p0
