@@ -147,12 +147,13 @@ def test_lean_level_needs_chord_speeds_from_the_march_start():
 @given(
     wiggle=st.floats(0.0, 0.7),
     p0=st.lists(st.floats(0.05, 3.0), min_size=1, max_size=4),
-    clock=st.floats(0.01, 100.0),
+    clock=st.one_of(st.floats(0.01, 100.0), st.floats(1e14, 1e20)),
     k=st.floats(2.0, 9.0),
 )
 def test_compiled_start_scan_is_the_numpy_start_time(wiggle, p0, clock, k):
     """The start time of a tabled lower wall by one compiled scan equals the numpy scan's,
-    for loads whose windows the wall reaches early, late or never."""
+    for loads whose windows the wall reaches early, late or never, and where it reaches one
+    already at the first candidate (``clock`` 1e14-1e20: the scan runs further down)."""
     _build()
     wall = _wall(wiggle, None)
     batch = make_problem(TAU * clock, np.array(p0), wall, None, 1e-6, None, None, 10**6, {},

@@ -4,6 +4,8 @@ Found by ``benchmarks/fuzz.py --seed 83`` (scene 8869): a ``plastic_scale_depend
 ``p0 = 0.04 Pa`` under a hardness of 3.6-7.5e5 Pa (``Y/p0`` up to 1.9e7) reported ``success``
 with its force balance off by 1.4e-3 of ``p0`` (its plastic area 2e-4 off): the identity was
 scaled by the yield wall, so it bounded the plastic area only to ``rtol`` in absolute terms.
+(The error itself came from a start too late, ``tests/engine/test_start_time.py``; with the
+scale alone fixed that load ended ``balance_violated``, with both it is solved.)
 """
 
 from __future__ import annotations
@@ -66,15 +68,12 @@ def test_a_far_upper_wall_does_not_loosen_the_load_balance():
 
 @pytest.mark.parametrize("load", ["0.040418645562088136 Pa", "0.4 Pa", "40 Pa"])
 def test_a_success_keeps_its_force_balance(load):
-    """Whatever the load, a load reported as solved has a force balance within ten times the
-    tolerance (the engine's own check); else its status says so, and a warning names it."""
+    """Every load of the fuzz scene is solved, its force balance within ten times the
+    tolerance (the engine's own check, now relative to the load)."""
     sc = dict(SCENE, load={"p0": load})
-    with warnings.catch_warnings(record=True) as seen:
-        warnings.simplefilter("always")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
         ds = xpersson.solve(sc)
     res = float(np.max(np.abs(ds["plastic_force_balance_residual"].values)))
-    if ds.attrs["status"] == "success":
-        assert res <= 10 * (SCENE["solver"]["rtol"] + 1e-12)
-    else:
-        assert ds.attrs["status"] == "balance_violated" and res > 10 * SCENE["solver"]["rtol"]
-        assert any("load balance" in str(w.message) for w in seen)
+    assert ds.attrs["status"] == "success"
+    assert res <= 10 * (SCENE["solver"]["rtol"] + 1e-12)

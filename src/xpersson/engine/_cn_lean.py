@@ -357,9 +357,10 @@ def start_scan(  # noqa: PLR0913 - the table's arrays, as it holds them
     k: float,
     p0: Any,
 ) -> float:  # pragma: no cover - compiled (the numpy path is the reference)
-    """:func:`._cn_plan._start_time` of the loads ``p0`` [Pa] with the table's lower wall and
+    """:func:`._cn_plan._scan_start` of the loads ``p0`` [Pa] with the table's lower wall and
     no upper one: the first of the candidate times ``tau_max grid`` [Pa^2] where the wall
-    reaches a load's window ``p0 - k sqrt(2 tau)``, the same comparisons."""
+    reaches a load's window ``p0 - k sqrt(2 tau)``, the same comparisons; -1 where it does
+    at the first candidate (the caller scans further down)."""
     n, nb = grid.shape[0], p0.shape[0]
     cand = np.empty(n)
     for j in range(n):
@@ -379,8 +380,8 @@ def start_scan(  # noqa: PLR0913 - the table's arrays, as it holds them
     best = tau_max
     for q in range(nb):
         if first[q] == 0:
-            t = cand[0]
-        elif first[q] > 0:
+            return -1.0
+        if first[q] > 0:
             t = cand[first[q] - 1] * 0.5
         else:
             t = tau_max

@@ -187,8 +187,9 @@ def load_scale(
     absorbed, is at most that), and that term is what bounds the plastic area. Scaled by a
     far yield wall (``Y/p0`` up to 1e7), the plastic area and the load shares went
     uncontrolled relative to ``p0``: ``benchmarks/fuzz.py --seed 83`` found a force balance
-    off by 1.4e-3 of ``p0`` reported as a success (``Y/p0 = 1.9e7``; now the balance check
-    flags it, ``tests/engine/test_load_scale.py``); on the speed design's plastic scenes at
+    off by 1.4e-3 of ``p0`` reported as a success (``Y/p0 = 1.9e7``; its cause, a start too
+    late, is fixed in :func:`._cn_plan._start_time`, and this scale alone had it flagged,
+    ``tests/engine/test_load_scale.py``); on the speed design's plastic scenes at
     ``p0/Y ~ 1e-6`` the error control now refines to a force balance of ~3e-8 (was ~3e-7).
     """
     pb = pbs[0]
