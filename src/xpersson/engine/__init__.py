@@ -30,7 +30,7 @@ from . import exact as exact  # noqa: PLC0414 (the public closed-forms module)
 from ._api import solve, solve_batch
 from ._base import EngineMethod
 from ._exactpath import ExactMethod
-from ._methods import METHODS, register_method
+from ._methods import METHODS, MethodError, register_method
 from ._progress import reporting as progress_reporting
 from ._result import EngineBatch, EngineResult
 from ._wall_table import WallTable
@@ -55,6 +55,7 @@ __all__ = [
     "EngineMethod",
     "register_method",
     "METHODS",
+    "MethodError",
     "exact",
     "ExactMethod",
     "SineMethod",

@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike
 
 from ._clear import drop_clear_upper
 from ._exactpath import ExactMethod
-from ._methods import EngineMethod, get_method
+from ._methods import METHODS, EngineMethod, MethodError, get_method
 from ._problem import Problem, make_problem
 from ._result import EngineBatch, EngineResult, LazyField, Raw, finish, finish_batch
 from ._walls import Wall
@@ -37,7 +37,11 @@ def _pick(
         return CNMethod, problem, 0.0
     cls = get_method(method)
     if not cls.admits(problem):
-        raise ValueError(f"method={getattr(cls, 'name', cls)!r} cannot treat these walls")
+        can = [name for name in METHODS if METHODS[name].admits(problem)]
+        raise MethodError(
+            f"method={getattr(cls, 'name', cls)!r} cannot treat these walls; methods that can: "
+            f"'auto' (picks one), {', '.join(repr(n) for n in can)}"
+        )
     return cls, problem, 0.0
 
 
@@ -153,9 +157,10 @@ def _stack_raws(raws: list[Raw]) -> Raw:
     )
 
 
-def _run_group(problem: Problem, method: str | type[EngineMethod]) -> dict:
-    """Solve one group of loads sharing their walls; the pieces of an EngineBatch."""
-    cls, run_on, bound = _pick(problem, method)
+def _run_group(problem: Problem, picked: tuple[type[EngineMethod], Problem, float]) -> dict:
+    """Solve one group of loads sharing their walls with its method ``picked``
+    (:func:`_pick`); the pieces of an EngineBatch."""
+    cls, run_on, bound = picked
     name = cls.name  # declared on EngineMethod (get_method admits only its subclasses)
     if cls.batched:
         raw = _run(cls, run_on, bound)
@@ -239,7 +244,8 @@ def solve_batch(
                 ),
             )
         )
-    parts = [(sel, _run_group(pb, method)) for sel, pb in problems]
+    picked = [_pick(pb, method) for _, pb in problems]  # every group's method before any work
+    parts = [(sel, _run_group(pb, pick)) for (sel, pb), pick in zip(problems, picked, strict=True)]
     if len(parts) == 1:
         out = parts[0][1]
     else:

@@ -14,7 +14,11 @@ from collections.abc import Callable, Iterator, MutableMapping
 from ._base import EngineMethod
 from ._exactpath import ExactMethod
 
-__all__ = ["EngineMethod", "register_method", "get_method", "METHODS"]
+__all__ = ["EngineMethod", "MethodError", "register_method", "get_method", "METHODS"]
+
+
+class MethodError(ValueError):
+    """A method asked for by name cannot treat a problem's walls (raised before any work)."""
 
 
 def _cn() -> type[EngineMethod]:

@@ -8,7 +8,7 @@ import xarray as xr
 
 from .. import checks, memory, plugins, provenance
 from ..cache import solve_scope
-from ..scene import ResolvedScene
+from ..scene import ResolvedScene, SceneError
 from . import model_error
 from ._draft import Draft
 from .assemble import add_analyses, add_outputs, assemble, attributes, diagnostics_notes
@@ -63,16 +63,19 @@ def _run(rs: ResolvedScene, squeeze: bool, model_errors: bool) -> xr.Dataset:
     first = walls[0]
     shared = walls.count(first) == len(walls)  # identity first: cheap for shared walls
     # loads sharing tau(zeta) hand the engine one row (validated once, broadcast without copy)
-    results = engine.solve_batch(
-        tau_c if tau_shared else tau_eff,
-        rs.p0,
-        first if shared else walls,
-        rtol=rs.rtol,
-        atol=rs.atol,
-        method=rs.method,
-        p_out=p_grid,
-        options=rs.solver_options or None,
-    )
+    try:
+        results = engine.solve_batch(
+            tau_c if tau_shared else tau_eff,
+            rs.p0,
+            first if shared else walls,
+            rtol=rs.rtol,
+            atol=rs.atol,
+            method=rs.method,
+            p_out=p_grid,
+            options=rs.solver_options or None,
+        )
+    except engine.MethodError as exc:  # (raised before any work)
+        raise SceneError(f"solver.method = {rs.method!r}: {exc} [{who['boundary']}]") from None
     # (the variable where the closure may differ, its own writable copy where it did not)
     eff_out = None if declares_shared_tau(coef) else np.array(tau_eff) if tau_shared else tau_eff
     ds = assemble(rs, ctx, results, tau_c, f_z, eff_out, p_grid)
