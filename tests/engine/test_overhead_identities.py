@@ -11,7 +11,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from xpersson.engine._grid import linspace0
-from xpersson.engine._level import _FIELDS, Outputs, combine, project, weighted
+from xpersson.engine._level import _FIELDS, Outputs, combine, weighted
+from xpersson.engine._project import project
 
 
 def _same(a: np.ndarray, b: np.ndarray) -> bool:

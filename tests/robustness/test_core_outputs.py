@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 import xpersson
 from xpersson import checks, pipeline
-from xpersson.engine._level import project as _project
+from xpersson.engine._project import project as _project
 from xpersson.plugins._registry import get_registry
 
 

@@ -15,8 +15,9 @@ from numpy.typing import NDArray
 from . import _compiled
 from ._cn_control import _Fit
 from ._cn_outputs import EST_FLOOR
-from ._level import Outputs, project
+from ._level import Outputs
 from ._problem import Problem
+from ._project import project
 from ._result import Raw
 
 __all__ = ["_assemble"]

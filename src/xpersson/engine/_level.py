@@ -28,7 +28,6 @@ __all__ = [
     "combine",
     "face_basis",
     "level_nodes",
-    "project",
     "system_rows",
     "weighted",
 ]
@@ -277,31 +276,3 @@ def _weighted(v: Array, ws: list[float]) -> Array:
         row *= c
         acc += row
     return acc
-
-
-def project(
-    area: Array, abs_l: Array, abs_u: Array
-) -> tuple[tuple[Array, Array, Array], dict[str, Array]]:
-    """Nearest admissible probabilities and the distance each moved.
-
-    ``area`` is clipped to [0, 1]; the absorbed fractions to >= 0 and, where their sum (the
-    non-contact fraction) exceeds 1, scaled down to sum to 1.
-    """
-    a = np.asarray(area).clip(0.0, 1.0)  # (the method: np.clip's dispatch costs ~2 us)
-    lo = np.maximum(abs_l, 0.0)
-    up = np.maximum(abs_u, 0.0)
-    total = lo + up
-    if not total.max() <= 1.0:  # (some sum over 1, or a NaN: else lo and up stay as they are)
-        over = total > 1.0
-        scale = np.where(over, 1.0 / np.where(over, total, 1.0), 1.0)
-        lo = np.minimum(lo * scale, 1.0)
-        up = np.where(over, np.minimum(up * scale, 1.0 - lo), up)
-        up = np.where(lo + up > 1.0, np.nextafter(up, 0.0), up)  # the sum's round-off
-        total = lo + up
-    dist = {
-        "area": np.abs(a - area),
-        "absorbed_lower": np.abs(lo - abs_l),
-        "absorbed_upper": np.abs(up - abs_u),
-        "non_contact_fraction": np.abs(total - (abs_l + abs_u)),
-    }
-    return (a, lo, up), dist

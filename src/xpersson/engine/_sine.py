@@ -23,6 +23,7 @@ from scipy.special import erfc
 
 from ._base import EngineMethod
 from ._problem import Problem, window_k
+from ._project import project
 from ._result import Raw
 
 __all__ = ["SineMethod"]
@@ -95,8 +96,15 @@ class SineMethod(EngineMethod):
             out[pos] = vals
             return out.reshape(shape)
 
-        ab_l = put(np.where(real_lo, ab_alpha, 0.0), 0.0)
-        ab_u = put(np.where(real_up, ab_beta, 0.0), 0.0)
+        # the series' round-off can put an area above 1 or an absorbed fraction below 0 (fuzz
+        # seed 191 with method='sine': 1 + 2e-16 near zeta = 1, a failed solve): the nearest
+        # admissible probabilities, the distance moved added to the estimate (as cn's)
+        (area_p, ab_alpha, ab_beta), dist = project(
+            area_p, np.where(real_lo, ab_alpha, 0.0), np.where(real_up, ab_beta, 0.0)
+        )
+        err_p = np.maximum(err_p, dist["area"])
+        ab_l = put(ab_alpha, 0.0)
+        ab_u = put(ab_beta, 0.0)
         area = put(area_p, 1.0)
         non = ab_l + ab_u
         # near full contact the window has no real wall: non_area = 0 up to the window bound
@@ -113,7 +121,7 @@ class SineMethod(EngineMethod):
                 nj = n[: m[j]]
                 coef = s[j, : m[j]] * 2.0 / length[j]
                 P[idx[j], inside] = np.sin(np.outer(x[inside], nj) * math.pi / length[j]) @ coef
-            P = P.reshape(*shape, pb.p_out.size)
+            P = np.maximum(P, 0.0, out=P).reshape(*shape, pb.p_out.size)  # (round-off below 0)
         # Raw fields in order: area, non_area, absorbed (lower, upper), load, wall term, error
         return Raw(
             area,
