@@ -364,3 +364,20 @@ def test_compiled_position_check_is_the_numpy_one(wiggle, p0, spoil):
             except ValueError as exc:
                 outcome.append(str(exc))
     assert outcome[0] == outcome[1]
+
+
+def test_compiled_plan_of_a_long_sorted_run_is_the_numpy_plan():
+    """A plan of 3e5 geometric times (a long run, sorted, with the fixed times appended: the
+    input on which numba's quicksort is quadratic; the plan's sort is a merge sort now):
+    the same base and output indices as the numpy path."""
+    _build()
+    wall = Wall.absorbing(0.0)
+    tau = np.array([0.0, 1e20])
+    pbs = [make_problem(tau, 1.0, wall, None, 1e-6, None, None, 10**6, {})]
+    with set_options(compiled=False):
+        want = _joint_plan(pbs, 6.0, 1e4, 1e-5, [3e-3])
+    with set_options(compiled=True):
+        got = _joint_plan(pbs, 6.0, 1e4, 1e-5, [3e-3], fast=_compiled.built("plan"))
+    assert want.base.size > 2e5
+    np.testing.assert_array_equal(got.base, want.base)
+    np.testing.assert_array_equal(got.out_index, want.out_index)
