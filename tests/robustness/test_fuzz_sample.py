@@ -27,13 +27,14 @@ SEED = 2027
 
 
 @pytest.mark.parametrize(
-    ("bodies", "sweeps", "scenes"),
+    ("bodies", "sweeps", "methods", "scenes"),
     # ~5 s; ~2 s of finite bodies (``fuzz.py --bodies``); ~4 s of sweeps, each solved again
-    # with fast_paths=False and compared (``fuzz.py --sweeps``)
-    [(0.0, 0.0, 300), (1.0, 0.0, 100), (0.0, 1.0, 100)],
+    # with fast_paths=False and compared (``fuzz.py --sweeps``); engine methods asked for by
+    # name, some with an atol (``fuzz.py --methods``)
+    [(0.0, 0.0, 0.0, 300), (1.0, 0.0, 0.0, 100), (0.0, 1.0, 0.0, 100), (0.0, 0.0, 1.0, 200)],
 )
 def test_a_fuzz_sample_has_no_nan_out_of_range_dishonest_result_or_crash(
-    tmp_path, bodies, sweeps, scenes
+    tmp_path, bodies, sweeps, methods, scenes
 ):
     from xpersson.plugins import get_registry
 
@@ -41,7 +42,7 @@ def test_a_fuzz_sample_has_no_nan_out_of_range_dishonest_result_or_crash(
     counts: collections.Counter[str] = collections.Counter()
     bad = []
     for index in range(scenes):
-        scene = fuzz.make_scene(index, SEED, registry, str(tmp_path), bodies, sweeps)
+        scene = fuzz.make_scene(index, SEED, registry, str(tmp_path), bodies, sweeps, methods)
         category, message, _, _ = fuzz.run_one(scene)
         counts[category] += 1
         if category in ("nan", "out_of_range", "dishonest", "crash"):
