@@ -344,7 +344,7 @@ def _balance_findings(ds: Any, rtol: float, atol: float, findings: dict[str, lis
     import numpy as np
 
     pb = np.abs(np.asarray(ds["probability_balance"].values)) if "probability_balance" in ds else 0
-    if np.nanmax(pb) > 10 * rtol + 1e-9:
+    if np.nanmax(pb) > 10 * (rtol + atol) + 1e-9:  # (the engine's own check: atol counts)
         findings["dishonest"].append(
             f"probability_balance {np.nanmax(pb):.3g} with status success (rtol {rtol:g})"
         )
