@@ -20,8 +20,13 @@ from xpersson.sweep import batched, plain_paths
 
 def scene(method: str, **swept) -> dict:
     sc = {
-        "spectrum": {"model": "self_affine", "H": 0.8, "q_L": "1e3 1/m", "q_1": "1e6 1/m",
-                     "h_rms": "1 um"},  # fmt: skip
+        "spectrum": {
+            "model": "self_affine",
+            "H": 0.8,
+            "q_L": "1e3 1/m",
+            "q_1": "1e6 1/m",
+            "h_rms": "1 um",
+        },  # fmt: skip
         "material": {"E": "10 MPa", "nu": 0.5},
         "load": {"p0": ["10 kPa", "100 kPa"]},
         "output": {"zeta_per_decade": 6},
