@@ -111,16 +111,17 @@ def _scan_start(
 
 
 def _first_start(
-    p0: float, cand: Array, ks: Array, lo: Array, up: Array | None, tau_max: float, lower: bool
+    p0: float, cand: Array, ks: Array, lo: Array, up: Array | None, top: float, lower: bool
 ) -> float | None:
     """:func:`_start_time` of the load ``p0`` [Pa] from the walls ``lo``, ``up`` [Pa] (None:
-    no upper wall) at the candidate times ``cand`` [Pa^2] (``ks = k sqrt(2 cand)``); None
-    where the window holds a wall already at the first candidate."""
+    no upper wall) at the candidate times ``cand`` [Pa^2] (``ks = k sqrt(2 cand)``): ``top``
+    [Pa^2], the round's largest candidate, where no wall reaches the window; None where the
+    window holds a wall already at the first candidate."""
     ok = None if up is None else up >= p0 + ks
     if lower:
         ok = lo <= p0 - ks if ok is None else ok & (lo <= p0 - ks)
     if ok is None or np.count_nonzero(ok) == ok.size:
-        return tau_max
+        return top
     first = int(ok.argmin())
     if first == 0:
         return None
