@@ -39,11 +39,11 @@ def _weights(x):
     return (x[1:] + x[:-1]) / 2, dx, w
 
 
-def _flux_matrix(xf, dx, l, W, lv, wv):
+def _flux_matrix(xf, dx, l, W, lv, wv, W2=None):
     """``F = Phi R``: the face fluxes (faces x nodes) for the edges ``l, W`` [Pa] moving at
-    ``lv, wv`` [1/Pa]."""
+    ``lv, wv`` [1/Pa]; ``W2`` [Pa^2] in ``D = 1 / (W2 dx)`` if given (else ``W^2``)."""
     nf = xf.size
-    D = 1.0 / (W**2 * dx)
+    D = 1.0 / ((W**2 if W2 is None else W2) * dx)
     A = (lv + xf * wv) / (2.0 * W)
     phi = np.zeros((nf, nf + 1))
     phi[np.arange(nf), np.arange(nf)] = A - D
@@ -112,7 +112,11 @@ def _one_load(x, taus, theta, out_at, win, b, p0, k, yield_wall):
         wn, wo = theta[m] * dt, (1.0 - theta[m]) * dt
         old = (s.lower[b, m], s.width[b, m], s.lower_speed[b, m], s.width_speed[b, m])
         new = (e.lower[b, m], e.width[b, m], e.lower_speed[b, m], e.width_speed[b, m])
-        phi_old, phi_new = _flux_matrix(xf, dx, *old), _flux_matrix(xf, dx, *new)
+        # a real yield wall: the diffusion of both halves takes 1 / (W_start W_end)
+        # (``_moving_block.symmetrize``)
+        sym = yield_wall and bool(win.real_upper[b, m])
+        w2 = s.width[b, m] * e.width[b, m] if sym else None
+        phi_old, phi_new = _flux_matrix(xf, dx, *old, w2), _flux_matrix(xf, dx, *new, w2)
         F_old = phi_old @ R
         lhs = M - wn * div @ phi_new
         rhs = M @ R + wo * div @ F_old

@@ -17,6 +17,7 @@ from reference_cn import reference_level
 
 from xpersson.engine import Wall
 from xpersson.engine._cn import grid_level
+from xpersson.engine._moving_block import symmetric_steps
 from xpersson.engine._problem import make_problem
 
 TAU = np.logspace(-2.0, 1.0, 7)  # output times [Pa^2]
@@ -49,6 +50,13 @@ CASES = {
         Wall.yield_closure(lambda t: 1.6 + 0.5 * t, lambda t: 0.5 + 0.0 * t),
         (0.7, 1.0, 1.3),
     ),
+    # a narrow window deep in its stiff regime (sigma = pi^2 tau / Y^2 >= 10 from tau ~ 2 on)
+    # while the yield wall moves up (the case of _moving_block.symmetric_steps)
+    "yield closure, stiff": (
+        Wall.absorbing(0.0),
+        Wall.yield_closure(lambda t: 1.2 + 0.05 * t, lambda t: 0.05 + 0.0 * t),
+        (1.0,),
+    ),
     "two walls, batch": (Wall.absorbing(lambda t: -0.1 * t), Wall.absorbing(3.0), (0.5, 1.5)),
 }
 
@@ -71,6 +79,8 @@ def test_march_matches_the_dense_reference(name):
         assert win.real_upper.any() and not inp.yield_wall
     if name.startswith("yield closure"):
         assert inp.yield_wall and win.real_upper.any()
+    sym = symmetric_steps(win, inp.yield_wall)
+    assert (sym is not None) == name.startswith("yield closure")
     if "breakpoint" in name:
         assert win.chord.any() and (inp.theta[2 * 2 :] == 1.0).any()  # graded, implicit start
     ref = reference_level(inp)

@@ -43,8 +43,10 @@ def _solve(scene: dict) -> tuple[np.ndarray, np.ndarray]:
 
 
 def test_missed_sixth_order_goes_on_at_more_steps_per_node(monkeypatch):
-    """The retry happens, its answer is within its estimate of a solve at rtol 1e-7 and
-    several times closer to it than the fourth order's at 2 steps per node."""
+    """The retry happens and its answer is within its estimate of a solve at rtol 1e-7 and
+    within 0.1 tolerances of it.  (The fourth order's answer at 2 steps per node, 0.27
+    tolerances off before the march took symmetric diffusion weights on a real yield wall,
+    ``_moving_block.symmetric_steps``, is now within the tolerance too: 0.08.)"""
     taken = []
     orig = _cn_control._denser
 
@@ -64,7 +66,7 @@ def test_missed_sixth_order_goes_on_at_more_steps_per_node(monkeypatch):
     err, err_before = np.abs(area - ref), np.abs(before - ref)
     marched = est > 0
     assert np.all(err[marched] <= est[marched] + est_ref[marched])
-    assert np.max(err / tol) < 0.1 < np.max(err_before / tol)
+    assert np.max(err / tol) < 0.1 and np.max(err_before / tol) < 1.0
 
 
 @pytest.mark.parametrize("upper", ["yield", "absorbing", None])

@@ -9,7 +9,8 @@ The step (theta = 1/2 Crank-Nicolson, 1 implicit Euler; ``wn = theta dt``,
 ``wo = (1 - theta) dt``), on nodes ``p_j = l + W x_j`` with control volumes ``w_j``:
 
 * face fluxes ``F_{j+1/2} = D (R_{j+1} - R_j) + A (R_j + R_{j+1})``,
-  ``D = 1 / (W^2 dx_f)``, ``A = (l' + x_f W') / (2 W)``;
+  ``D = 1 / (W^2 dx_f)``, ``A = (l' + x_f W') / (2 W)`` (with a real yield wall ``D = 1 /
+  (W_start W_end dx_f)`` in both halves: :func:`._moving_block.symmetric_steps`);
 * explicit half, in flux form: ``b_j = w_j R_j + wo (F_{j+1/2} - F_{j-1/2})`` (start of step);
 * implicit half: ``w_j R_j' - wn (F'_{j+1/2} - F'_{j-1/2}) = b_j`` (end of step), one
   tridiagonal solve for every load (the loads' systems concatenated: the walls' rows are
@@ -45,7 +46,7 @@ from ._cn_lean import lean_level, lean_ok
 from ._cn_plan import Window, _edges_batch, _level_times, _Plan
 from ._cnstep import tridiagonal_solve
 from ._level import Level, LevelInputs, Outputs, SystemRows, level_grid
-from ._moving_block import Block, block_system
+from ._moving_block import Block, block_system, symmetric_steps
 from ._moving_fused import _SNAP, _reduce_snapshots, fused_level
 from ._problem import Problem
 from ._progress import report as report_progress
@@ -168,13 +169,15 @@ def march_level(inp: LevelInputs, p_out: Array | None, stretch: float) -> Level:
     while st.next_out < n_out and out_steps[st.next_out] == 0:
         _record(rec, st, inp, 0, p_out)
     block = max(1, min(_BLOCK // (nb * nn), n_steps))
+    sym = symmetric_steps(win, inp.yield_wall)
     # buffers reused by every block: operators, and the states (row 0 the state before it)
     work = (np.empty((block, 4, nb, nn)), np.empty((block, nb, nn)))
     states_buf = np.empty((block + 1, nb * nn))
     for m0 in range(0, n_steps, block):
         ms = slice(m0, min(m0 + block, n_steps))
         g, yr = g_all[:, ms].T, yreal[:, ms].T  # (steps, loads)
-        ops = block_system(win, basis, ms, wn_all[ms], wo_all[ms], g, w, rec.ends, yr, work)
+        sy = None if sym is None else sym[:, ms].T
+        ops = block_system(win, basis, ms, wn_all[ms], wo_all[ms], g, w, rec.ends, yr, work, sy)
         states = states_buf[: ms.stop - m0 + 1]
         states[0] = st.r
         st.r = states[0]

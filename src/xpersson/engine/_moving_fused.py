@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 
 from ._cnstep import _factor, _solve_factor
 from ._level import Level, Outputs, level_grid
+from ._moving_block import symmetric_steps, symmetrize
 
 __all__ = ["face_coefficients", "fused_level", "level_march"]  # (and _level_steps: compiled)
 
@@ -68,12 +69,19 @@ def fused_level(fns: tuple[Callable[..., int], Callable[..., None]], inp: Any, r
     # (the loads' rows concatenated: the march takes each step's four rows with no reshape)
     coef = np.empty((block, 4, nb, 3)) if coef_all is None else coef_all
     ops = np.empty((block, 4, nb * nn))
+    sym = symmetric_steps(win, inp.yield_wall)
+    if sym is not None:  # (the weights as the numpy path's: np.diff, then theta)
+        step = np.diff(inp.taus)
+        wn, wo = inp.theta * step, (1.0 - inp.theta) * step
     for m0 in range(0, n_steps, block):
         c = min(block, n_steps - m0)
         if coef_all is None:
             coefficients(m0, m0 + c, inp.taus, inp.theta, s.width, s.lower_speed,
                          s.width_speed, e.width, e.lower_speed, e.width_speed, coef)  # fmt: skip
             cf = coef[:c]
+            if sym is not None:  # (as face_ops: the same numbers)
+                sl = slice(m0, m0 + c)
+                symmetrize(cf, sym[:, sl].T, wn[sl], wo[sl], s.width[:, sl].T, e.width[:, sl].T)
         else:
             cf = coef_all[m0 : m0 + c]
         # the face coefficients: the numpy path's BLAS product (face_ops), the same numbers

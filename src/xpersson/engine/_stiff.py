@@ -30,6 +30,14 @@ node-steps (262 ms/load); four substeps took those scenes to 1-8e6 node-steps.  
 errors carry odd powers of the step (the yield closure's half cell, and Crank-Nicolson's
 undamped stiff modes): :mod:`._cn_odd` controls them where the window is stiff.
 
+Where a real yield wall closes the window the diffusion weights of both halves of a step are
+``1 / (W_start W_end)`` (:func:`._moving_block.symmetrize`): with ``1 / W^2`` at either end,
+Crank-Nicolson
+amplifies a mode far stiffer than the step by ``-(W_end / W_start)^2`` per step, so a window
+that widens (the yield wall running up) grows it by the square of its widening over the stiff
+regime (seed 151 index 694 of ``benchmarks/fuzz.py``: ``Y`` up 1.8e5x, the coarsest level's
+elastic area 99 instead of 7.7e-9, the control out of its work budget).
+
 Only plans with a yield wall change (elsewhere the window grows with ``sqrt(tau)``, and
 ``sigma`` stays far below 1).
 
