@@ -5,10 +5,12 @@ Scheme
 * Window.  The free solution ``G = N(p; p0, 2 tau)`` bounds P from above for absorbing walls, and
   mass released by a yield wall starts above ``p0``; so the domain is truncated to
   ``[max(l, p0 - k s), min(u, p0 + k s)]`` with ``s = sqrt(2 tau)`` and artificial absorbing walls
-  where the real ones are farther (error ``<= erfc(k/sqrt 2)`` each, ``k`` from ``atol``).  The
-  window follows the growing support ``~ sqrt(tau)``; a yield wall stays real once it entered
-  (it carries the plastic area it releases), unless it leaves the window again with a
-  negligible plastic area (``_cn_control._release``: then it is real only while inside).
+  where the real ones are farther (error ``<= erfc(k/sqrt 2)`` each, ``k`` from ``atol``,
+  widened where the load the upper edge absorbs above a real lower wall would miss the
+  tolerance: :func:`._problem.load_window_k`).  The window follows the growing support
+  ``~ sqrt(tau)``; a yield wall stays real once it entered (it carries the plastic area it
+  releases), unless it leaves the window again with a negligible plastic area
+  (``_cn_control._release``: then it is real only while inside).
 * Front fixing.  Nodes ``p_j(tau) = l_eff(tau) + W(tau) x_j`` on a fixed map ``x_j`` of [0, 1]
   clustered at both walls.  The unknown ``R = W P`` (mass per unit x) obeys the conservation law
   ``R_tau = d/dx [R_x / W^2 + (v / W) R]`` with the mesh velocity ``v = l_eff' + x W'``.
@@ -55,7 +57,7 @@ from ._cn_kinks import kinks_apart
 from ._cn_plan import _exact_start, _joint_plan, _Plan, _start_time, _switch_times_batch
 from ._level import Level, Outputs
 from ._moving import LevelInputs, _march, level_inputs
-from ._problem import Problem, window_k
+from ._problem import Problem, load_window_k, window_k
 from ._result import Raw
 from ._stiff import stiff_refined, wall_kinks
 
@@ -89,7 +91,7 @@ class CNMethod(EngineMethod):
     # -- the solver --------------------------------------------------------------------------
     def _run(self, pbs: list[Problem]) -> Raw:
         pb = pbs[0]
-        opts = CNOptions.read(pb.options, pb.atol)
+        opts = _options(pbs)
         tau = pb.tau
         tau_s = _start_time(pbs, opts.window_k, scan=_compiled.built("start"))
         tau_s, image = _exact_start(pbs, opts.window_k, tau_s)
@@ -114,6 +116,23 @@ class CNMethod(EngineMethod):
         n_t = self.problem.tau.shape[-1]
         nan = np.full((nb, n_t), np.nan)
         return Raw(nan, nan, nan, nan, nan, nan, nan, None, status, message, nsteps, 0, nsteps)
+
+
+def _options(pbs: list[Problem]) -> CNOptions:
+    """The options of the loads ``pbs`` (one batch, one clock); the window half-width, unless
+    given, widened so that the load it loses meets the tolerance too (:func:`load_window_k`)."""
+    pb = pbs[0]
+    opts = CNOptions.read(pb.options, pb.atol)
+    if "window_k" in pb.options or not pb.tau.size:
+        return opts
+    tau = pb.tau
+    shared = all(p.lower is pb.lower for p in pbs[1:])
+    lower = pb.lower.at(tau) if shared else np.stack([p.lower.at(tau) for p in pbs])
+    p0 = [p.p0 for p in pbs]
+    k = load_window_k(opts.window_k, p0, lower, tau, pb.rtol, pb.atol)
+    if k != opts.window_k:
+        opts.__dict__["window_k"] = k  # (frozen: a fresh instance from read, owned here)
+    return opts
 
 
 def _tabled_positions(pb: Problem) -> Array | None:
@@ -202,7 +221,8 @@ class CNOptions:
     rannacher : int
         Implicit-Euler half-step pairs at the start (2).
     window_k : float
-        Half-width of the window in units of ``sqrt(2 tau)`` (from ``atol``).
+        Half-width of the window in units of ``sqrt(2 tau)`` (from ``atol``; :func:`_options`
+        widens it for the load identity, :func:`._problem.load_window_k`).
     aim : float
         Error estimate the next grid is aimed at, as a fraction of the tolerance, in (0, 1].
     """
@@ -358,7 +378,7 @@ def grid_level(
     """The inputs and the march of the grid level ``(n_base, mult, dense)`` (see
     :mod:`._cn_control`) of the loads ``pbs`` (one batch), as :class:`CNMethod` solves it:
     for tests (the reference solver of ``tests/engine``) and benchmarks."""
-    opts = CNOptions.read(pbs[0].options, pbs[0].atol)
+    opts = _options(pbs)
     tau_s = _start_time(pbs, opts.window_k)
     grids = _Grids(pbs, opts, tau_s, pbs[0].tau > tau_s)
     plan = grids.plan(n_base, dense)
