@@ -8,9 +8,11 @@ balance 8.7e-5 against ``10 (rtol + atol) = 3e-5``.  The window's half-width ``k
 came from ``window_k(atol)`` alone (``erfc(k / sqrt 2) < atol / 100``, k = 5.8): it bounds the
 probability the artificial upper edge absorbs, not the first moment of the paths that survived
 the wall and left through it, which the load balance misses; that loss grows like
-``ln(sqrt(2 tau) / |lower|)`` (about 0.6 ``k^3 phi(k) ln(tau_max / tau_wall)`` measured).
-:func:`xpersson.engine._problem.load_window_k` widens ``k`` (to 7.3 here) until that loss is
-below ``(rtol + atol) / 100`` of the load scale, and leaves it untouched at the default ``atol``.
+``ln(sqrt(2 tau) / |lower|)`` (about 0.5-0.7 ``d k^3 phi(k) ln(tau_max / tau_wall)`` measured,
+``d = p0 - lower``).
+:func:`xpersson.engine._problem.load_window_k` widens ``k`` (to 7.3 here) until a bound of
+that loss is below ``(rtol + atol) / 100`` of the load scale, and leaves it untouched at the
+engine's default ``atol``.
 """
 
 from __future__ import annotations
