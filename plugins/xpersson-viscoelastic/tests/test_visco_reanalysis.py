@@ -12,7 +12,10 @@ import pytest
 from visco_testlib import scene
 
 import xpersson
+from xpersson.pipeline import as_scene
+from xpersson.pipeline.stacked import stack_reason
 from xpersson.plugins import plain_paths
+from xpersson.sweep import expand, resolve_points
 from xpersson_viscoelastic import _resolve
 
 FRICTION = {"tau_f": "0.3 MPa", "correction": "s_factor"}
@@ -61,7 +64,12 @@ def test_speed_sweep_archive(tmp_path):
 @pytest.mark.fast_paths
 def test_speed_temperature_sweep_as_the_sweep_runs_it(tmp_path):
     """v x T: the sweep's stacked block (its graded nodes in one engine call) bit for bit, and
-    under ``plain_paths()`` the sweep's point-by-point path bit for bit."""
+    under ``plain_paths()`` the sweep's point-by-point path bit for bit.
+
+    (It asserted once that the two paths' ``mu_visc_cumulative`` differ. That is no property of
+    the library, and it depended on the process: they differed in the whole suite's run and
+    agree bit for bit when this file runs alone, so the test now asserts that the block
+    stacked instead.)"""
     coefficient = {"velocity": ["1e-3 m/s", "1 m/s"], "temperature": ["280 K", "300 K"]}
     fast, bare = _both(coefficient, tmp_path / "vT.nc")
     out = xpersson.analyse(bare, "friction", **FRICTION)
@@ -72,4 +80,6 @@ def test_speed_temperature_sweep_as_the_sweep_runs_it(tmp_path):
     for name in OUTPUTS:
         np.testing.assert_array_equal(out[name].values, fast[name].values, err_msg=name)
         np.testing.assert_array_equal(by_point[name].values, plain[name].values, err_msg=name)
-    assert not np.array_equal(plain.mu_visc_cumulative.values, fast.mu_visc_cumulative.values)
+    # the fast solve ran the stacked block
+    points = resolve_points(expand(as_scene(scene(coefficient))), None)
+    assert stack_reason([points[j] for j in range(len(points))]) is None
