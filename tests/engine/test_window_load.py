@@ -26,7 +26,7 @@ from hypothesis import strategies as st
 
 import xpersson
 from xpersson.engine import Wall, solve
-from xpersson.engine._problem import _load_lost, load_window_k, window_k
+from xpersson.engine._problem import _load_lost, _quick_bound, load_window_k, window_k
 
 SCENE = {  # fuzz seed 191, index 328, the light load only (the heavy one met its balances)
     "analyses": {},
@@ -115,3 +115,26 @@ def test_the_default_atol_keeps_the_old_window(rtol, p0, depth, spread):
         k = load_window_k(k1, [p0], lower, tau, rtol, atol)
         assert k1 <= k <= 40.0
         assert k == 40.0 or _load_lost(k, *args) <= 0.01 * (rtol + atol)
+
+
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(
+    k=st.floats(5.0, 40.0),
+    p0=st.floats(1e-12, 1e12),
+    walls=st.lists(st.floats(-1e6, 0.999), min_size=2, max_size=12),  # lower wall / p0
+    spread=st.floats(1e-6, 1e20),  # sqrt(2 tau_max) / p0
+)
+def test_the_quick_bound_bounds_the_loss(k, p0, walls, spread):
+    """``_quick_bound`` (no distances so far: ``d ln(k sigma / d) <= k sigma / e``) is never
+    below the bound ``_load_lost`` of the same window: where it meets the tolerance,
+    ``load_window_k`` may return ``k`` without evaluating the other."""
+    n = len(walls)
+    tau = 0.5 * (p0 * spread * np.geomspace(1e-3, 1.0, n)) ** 2
+    lo = (np.asarray(walls) * p0).reshape(1, n)
+    p = np.array([[p0]])
+    d = p - lo
+    d_lo, d_hi = np.minimum.accumulate(d, axis=1), np.maximum.accumulate(d, axis=1)
+    scale = np.maximum(np.abs(p), np.abs(lo))
+    sigma = np.sqrt(2.0 * tau)[None, :]
+    full = _load_lost(k, sigma.ravel(), d_lo.ravel(), d_hi.ravel(), scale.ravel())
+    assert _quick_bound(k, p, lo, tau) >= full * (1.0 - 1e-12)
