@@ -138,3 +138,36 @@ def test_the_quick_bound_bounds_the_loss(k, p0, walls, spread):
     sigma = np.sqrt(2.0 * tau)[None, :]
     full = _load_lost(k, sigma.ravel(), d_lo.ravel(), d_hi.ravel(), scale.ravel())
     assert _quick_bound(k, p, lo, tau) >= full * (1.0 - 1e-12)
+
+
+#: [Pa]: 0 or of magnitude 1e-200 - 1e9 (a ratio sqrt(2 tau) / scale that overflows warns in
+#: numpy and raises in Python's division: left out)
+_PRESSURE = st.one_of(st.just(0.0), st.floats(1e-200, 1e9), st.floats(-1e9, -1e-200))
+
+
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(
+    k=st.floats(5.0, 40.0),
+    loads=st.lists(_PRESSURE, min_size=1, max_size=4),  # p0 [Pa], 0 allowed
+    walls=st.lists(_PRESSURE, min_size=1, max_size=9),  # the lower wall [Pa]
+    tau=st.lists(st.floats(0.0, 1e30), min_size=1, max_size=9),  # [Pa^2]
+    zero=st.booleans(),
+)
+def test_the_quick_bound_is_its_definition(k, loads, walls, tau, zero):
+    """``_quick_bound`` is ``2 k^4 phi(k) / e`` times the largest ``sqrt(2 tau_j) / scale_ij``
+    over the (load, output) pairs of positive scale ``max(|p0_i|, |lower_ij|)`` (0 if none),
+    evaluated pair by pair here: the exact same float."""
+    n = min(len(walls), len(tau))
+    t = np.sort(np.asarray(tau[:n]))
+    lo = np.asarray(walls[:n], dtype=float).reshape(1, n)
+    if zero:  # a zero scale somewhere (a load at 0 on a wall at 0): left out
+        lo[0, 0], loads = 0.0, [0.0, *loads]
+    p = np.asarray(loads, dtype=float).reshape(-1, 1)
+    best = 0.0
+    for p_i in p[:, 0]:
+        for j in range(n):
+            scale = max(abs(float(p_i)), abs(float(lo[0, j])))
+            if scale > 0.0:
+                best = max(best, math.sqrt(2.0 * float(t[j])) / scale)
+    phi = math.exp(-0.5 * k * k) / math.sqrt(2.0 * math.pi)
+    assert _quick_bound(k, p, lo, t) == 2.0 * k**4 * phi / math.e * best

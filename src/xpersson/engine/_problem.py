@@ -120,11 +120,10 @@ def _quick_bound(k: float, p: Array, lo: Array, t: Array) -> float:
     itself, and :func:`load_window_k` returns ``k`` unchanged after a few operations instead
     of some thirty (a tenth of a small ``cn`` solve's time)."""
     scale = np.maximum(np.abs(p), np.abs(lo))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.sqrt(2.0 * np.maximum(t, 0.0)) / scale
-    ratio = ratio[scale > 0.0]  # (scale 0: no load scale, left out as the bound leaves it)
+    pos = scale > 0.0  # (scale 0: no load scale, left out as the bound leaves it: ratio 0)
+    ratio = np.divide(np.sqrt(2.0 * np.maximum(t, 0.0)), scale, out=np.zeros(pos.shape), where=pos)
     phi = math.exp(-0.5 * k * k) / math.sqrt(2.0 * math.pi)
-    return 2.0 * k**4 * phi / math.e * float(np.max(ratio, initial=0.0))
+    return 2.0 * k**4 * phi / math.e * (float(ratio.max()) if ratio.size else 0.0)
 
 
 def load_window_k(
