@@ -342,6 +342,19 @@ def held_out_run(seed: int, rounds: int | None, check: bool, texts: list[str] | 
     return write(rows, saved["meta"], saved["raw"], False, saved.get("memory", {}))
 
 
+def cpu_model() -> str:
+    """The processor's model name (``/proc/cpuinfo``; ``platform.processor()`` elsewhere): the
+    absolute times of two runs compare only on the same model (a 2026-12-02 run on "AMD EPYC"
+    took 1.5-2.5x the times of the 2026-11-30 run)."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown processor"
+
+
 def main(argv: list[str] | None = None) -> str:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=None, help="default 3 (--quick: 1)")
@@ -390,7 +403,7 @@ def main(argv: list[str] | None = None) -> str:
         "rounds": rounds,
         "quick": args.quick,
         "accelerator": accelerator(),
-        "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python "
+        "machine": f"{platform.machine()} ({cpu_model()}), {os.cpu_count()} cores, Python "
         f"{platform.python_version()}, numpy {np.__version__}",
         "design": dict(scenes),
     }
