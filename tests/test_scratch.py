@@ -121,6 +121,9 @@ _STEPS = st.lists(
 )
 
 
+_COLLECT = [True]  # whether the next example of test_leases_never_overlap collects first
+
+
 @settings(max_examples=60, deadline=None)
 @given(_STEPS)
 def test_leases_never_overlap(steps: list[tuple[str, int]]) -> None:
@@ -147,9 +150,6 @@ def test_leases_never_overlap(steps: list[tuple[str, int]]) -> None:
     except BaseException:
         _COLLECT.append(True)
         raise
-
-
-_COLLECT = [True]  # whether the next example of test_leases_never_overlap collects first
 
 
 def _check(live: list[tuple[np.ndarray, float]], base: int) -> None:
