@@ -49,7 +49,7 @@ PEERS = Path(os.environ.get("XPERSSON_PEERS", HERE.parents[1] / "shared" / "peer
 sys.path.insert(0, str(HERE))
 
 import summary_paths as P  # noqa: E402
-from summary_design import design, held_out  # noqa: E402
+from summary_design import design, held_out, probe  # noqa: E402
 
 import xpersson  # noqa: E402
 
@@ -107,10 +107,13 @@ def _same_accelerator(meta: dict) -> None:
         )
 
 
-def over_design(scenes, paths, rounds, quick) -> dict:
-    """``{path: {scene: measurement}}`` of every design path on every scene."""
+def over_design(scenes, paths, rounds, quick, probes: list | None = None) -> dict:
+    """``{path: {scene: measurement}}`` of every design path on every scene; ``probes``: the
+    host probe (:func:`summary_design.probe`, ms) appended before each scene."""
     out: dict[str, dict] = {name: {} for name in paths}
     for label, spec in scenes:
+        if probes is not None:
+            probes.append(probe())
         for name, fn in paths.items():
             try:
                 out[name][label] = fn(spec, rounds, quick)
@@ -181,6 +184,7 @@ def table(rows: list[dict], meta: dict, held: dict | None = None) -> str:
         f"{_accelerated(meta)}; "
         f"{meta['machine']}). Ratio: the path's time over its kernel's on the same curves; "
         "worst over the design, and its scene. Memory: peak traced on the worst scene."
+        + _probe_note(meta)
         + _partial(meta)
         + _held_note(held)
         + "\n\n"
@@ -224,7 +228,25 @@ def _held_note(held: dict | None) -> str:
     m = held["meta"]
     return (
         f" Held-out: the design paths again on {m['scenes']} scenes drawn with seed "
-        f"{m['seed']} ({m['date']}; `--held-out {m['seed']}`), worst of those."
+        f"{m['seed']} ({m['date']}; `--held-out {m['seed']}`), worst of those"
+        + (f" (host probe {_spread(m['probe_ms'])})" if m.get("probe_ms") else "")
+        + "."
+    )
+
+
+def _spread(ms: list[float]) -> str:
+    return f"{min(ms):.2f}-{max(ms):.2f} ms"
+
+
+def _probe_note(meta: dict) -> str:
+    """The host's drift over the run: the probe's range (runs before 2026-12-02 had none)."""
+    ms = meta.get("probe_ms")
+    if not ms:
+        return ""
+    return (
+        f" Host probe (`summary_design.probe`: a fixed erf of 2e5 values, best of 3, before "
+        f"each scene and at the end): {_spread(ms)} over the run; absolute times compare "
+        "within that spread."
     )
 
 
@@ -313,14 +335,17 @@ def held_out_run(seed: int, rounds: int | None, check: bool, texts: list[str] | 
     paths, march, _ = _select(texts)
     rounds = rounds or 3
     warm_up(scenes)
-    raw = over_design(scenes, paths, rounds, False)
+    probes: list[float] = []
+    raw = over_design(scenes, paths, rounds, False, probes)
     lib = P.c_march_lib(PEERS) if march else None
     if lib is not None:
         raw.update(
             {k: v for k, v in P.march_paths(lib, scenes, rounds, False).items() if k in march}
         )
+    probes.append(probe())
     file = HERE / "results" / "summary_heldout.json"
     meta = {"date": time.strftime("%Y-%m-%d"), "seed": seed, "scenes": len(scenes)}
+    meta["probe_ms"] = probes
     meta["rounds"], meta["design"], meta["accelerator"] = rounds, dict(scenes), accelerator()
     if not check:
         _same_accelerator(json.loads((HERE / "results" / "summary.json").read_text())["meta"])
@@ -392,11 +417,13 @@ def main(argv: list[str] | None = None) -> str:
     rounds = args.rounds or (1 if args.quick else 3)
     scenes = design(max(12, args.scenes))
     warm_up(scenes)
-    raw = over_design(scenes, P.DESIGN_PATHS, rounds, args.quick)
+    probes: list[float] = []
+    raw = over_design(scenes, P.DESIGN_PATHS, rounds, args.quick, probes)
     raw.update(P.single_paths(PEERS, scenes, rounds, args.quick))
     if not args.no_parallel:
         raw.update(P.parallel_path(rounds, args.quick))
     memory = P.memory(raw, scenes, args.quick)
+    probes.append(probe())
     meta = {
         "date": time.strftime("%Y-%m-%d"),
         "scenes": len(scenes),
@@ -406,6 +433,7 @@ def main(argv: list[str] | None = None) -> str:
         "machine": f"{platform.machine()} ({cpu_model()}), {os.cpu_count()} cores, Python "
         f"{platform.python_version()}, numpy {np.__version__}",
         "design": dict(scenes),
+        "probe_ms": probes,
     }
     return write(summarize(raw, P.TARGETS, memory), meta, raw, args.check, memory)
 

@@ -150,3 +150,18 @@ def peak_mib(fn: Callable[[], object]) -> float:
             return tracemalloc.get_traced_memory()[1] / 2**20
         finally:
             tracemalloc.stop()
+
+
+#: The host probe's fixed workload: ``erf`` of these values (scipy's, one call).
+_PROBE_X = np.linspace(0.0, 3.0, 200_000)
+
+
+def probe() -> float:
+    """The host's speed now: CPU time [ms] of ``erf`` over 2e5 fixed values, best of 3.
+
+    The same work at every call, so its spread over a run (:func:`over_design` takes it before
+    each scene) is the host's drift, not the code's: on a shared virtual machine the absolute
+    times of two rows, or of two runs, compare only within it."""
+    from scipy.special import erf
+
+    return 1e3 * min(cpu(lambda: erf(_PROBE_X)) for _ in range(3))
