@@ -17,7 +17,10 @@ each (the machine may be shared: the least disturbed round) and the ratios of th
 Run: ``python benchmarks/pipeline_cost.py [--rounds N] [--profile]``; prints a Markdown table
 and writes it to ``benchmarks/results/pipeline_cost.md``. ``--profile`` (needs
 ``pyinstrument``) prints instead a profile of 200 calls of each of the three user paths
-(1000 loads, one load, the unreached yield wall).
+(1000 loads, one load, the unreached yield wall). Where numba's kernels run, pyinstrument
+charges a compiled call's time to the stack of the next Python event (2026-12-02: 0.47 ms
+per solve to an ``os.environ.get`` of 5 us): time those steps with ``solve_stages.py``
+(a CPU-time counter around each stage) or sample them with ``py-spy``.
 """
 
 from __future__ import annotations
