@@ -231,6 +231,7 @@ def _held_note(held: dict | None) -> str:
         f"{m['seed']} ({m['date']}; `--held-out {m['seed']}`), worst of those"
         + (f" (host probe {_spread(m['probe_ms'])})" if m.get("probe_ms") else "")
         + "."
+        + _partial(m).replace("Measured again", "Held-out rows measured again")
     )
 
 
@@ -255,8 +256,21 @@ def _partial(meta: dict) -> str:
     again = meta.get("partial") or {}
     if not again:
         return ""
-    rows = "; ".join(f"{name} ({when})" for name, when in again.items())
+    probes = meta.get("partial_probe_ms") or {}  # per re-measure's time stamp (from 2026-12-02)
+
+    def when_(w: str) -> str:
+        return f"{w}, host probe {_spread(probes[w])}" if probes.get(w) else w
+
+    rows = "; ".join(f"{name} ({when_(when)})" for name, when in again.items())
     return f" Measured again (`--paths`, same design and rounds): {rows}."
+
+
+def _live_probes(meta: dict, new: dict[str, list[float]]) -> dict[str, list[float]]:
+    """The re-measures' host probes (``{time stamp: probes}``) still named by a row of
+    ``meta["partial"]``, with ``new``'s added."""
+    merged = {**meta.get("partial_probe_ms", {}), **new}
+    live = set(meta.get("partial", {}).values())
+    return {w: v for w, v in merged.items() if w in live}
 
 
 def _fmt(value: float, unit: str = "s") -> str:
@@ -310,7 +324,8 @@ def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
     scenes = list(saved["meta"]["design"].items())
     warm_up(scenes)
     rounds = rounds or int(saved["meta"]["rounds"])
-    raw = {**saved["raw"], **over_design(scenes, paths, rounds, False)}
+    probes: list[float] = []  # this re-measure's own host probe (the full run's stays its own)
+    raw = {**saved["raw"], **over_design(scenes, paths, rounds, False, probes)}
     lib = P.c_march_lib(PEERS) if march else None
     if lib is not None:  # the engine's rows against the C march (all four measured together)
         raw.update(
@@ -323,6 +338,8 @@ def some_paths(texts: list[str], rounds: int | None, check: bool) -> str:
     meta = dict(saved["meta"])
     now = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     meta["partial"] = {**meta.get("partial", {}), **dict.fromkeys([*paths, *again], now)}
+    probes.append(probe())
+    meta["partial_probe_ms"] = _live_probes(meta, {now: probes})
     return write(summarize(raw, P.TARGETS, memory), meta, raw, check, memory)
 
 
@@ -355,6 +372,7 @@ def held_out_run(seed: int, rounds: int | None, check: bool, texts: list[str] | 
             now = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
             partial = {**before["meta"].get("partial", {}), **dict.fromkeys(raw, now)}
             meta = {**before["meta"], "partial": partial}
+            meta["partial_probe_ms"] = _live_probes(meta, {now: probes})
             raw = {**before["raw"], **raw}
     held = {"meta": meta, "rows": summarize(raw, P.TARGETS, {}), "raw": raw}
     if check:  # a fresh seed's worst rows, printed (nothing written)
