@@ -156,6 +156,8 @@ def _with(path: str, value: Any) -> dict[str, Any]:
 
 def _id(case: tuple[str, Any, list[str]]) -> str:
     path, value, _ = case
+    if value is _DELETE:  # (its repr holds an address: ids must agree across processes)
+        return f"{path}=<deleted>"
     text = repr(value) if not isinstance(value, list) or len(value) < 5 else f"list{len(value)}"
     return f"{path}={text[:30]}"
 

@@ -142,6 +142,55 @@ def test_a_kink_is_refined_or_computed_directly():
     assert np.all(rel <= err + 1e-15) and err.max() <= TOL
 
 
+def _sweeping_tail(width: float):
+    """A row whose bulk stays put (its far tail floored at 1e-300 in the logarithm) and a
+    Gaussian of 1e-6 of its height and of ``width`` sweeping across the far tail, 0.9 of the
+    grid's unit per unit of ln p0: at 0.01, each element's value changes by hundreds of
+    decades between the table's nodes (as the far-tail Gaussians of ``gap_pdf`` with
+    Almqvist's separation)."""
+
+    def fn(p0: np.ndarray) -> dict[str, np.ndarray]:
+        x = np.log(p0 / 1e3)[:, None]
+        with np.errstate(under="ignore"):
+            bulk = np.exp(-0.5 * ((U - 1.0) / 0.1) ** 2)
+            tail = 1e-6 * np.exp(-0.5 * ((U - 5.0 + 0.9 * x) / width) ** 2)
+        return {"rho": bulk + tail}
+
+    return fn
+
+
+def test_a_row_element_sweeping_between_nodes_is_not_interpolated_past_its_row():
+    """The polynomials of such elements (small at every node) rise far above the row between
+    nodes, where the check at the odd nodes does not look: the spike test (``SPIKE``) refines
+    those loads, and every load comes within its estimate; without it, 2.5e-2 of the row's
+    maximum (1988 times the estimate)."""
+    p0 = np.geomspace(1e3, 1e6, 3000)
+    fn = _sweeping_tail(0.01)
+    exact = fn(p0)
+    out, err = by_load(p0, Direct(p0, fn))
+    rel = _relative(out, exact)
+    assert np.all(rel <= err + 1e-15) and err.max() <= TOL
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(stencils_mod, "SPIKE", np.inf)
+        blind, blind_err = by_load(p0, Direct(p0, fn))
+    assert np.max(_relative(blind, exact) - blind_err) > 1e-2
+
+
+def test_the_spike_test_costs_no_load_where_nothing_overshoots():
+    """A tail wide enough for its polynomials to stay below ``SPIKE_SIZE`` of the row: the
+    same loads computed, the same values, with and without the test."""
+    p0 = np.geomspace(1e3, 1e6, 3000)
+    fn = _sweeping_tail(0.05)
+    with_test, without = Direct(p0, fn), Direct(p0, fn)
+    out, err = by_load(p0, with_test)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(stencils_mod, "SPIKE", np.inf)
+        ref, ref_err = by_load(p0, without)
+    np.testing.assert_array_equal(np.concatenate(with_test.asked), np.concatenate(without.asked))
+    np.testing.assert_array_equal(out["rho"], ref["rho"])
+    np.testing.assert_array_equal(err, ref_err)
+
+
 P_SEAL = 3e5  # the load at which the singular output below vanishes
 
 
@@ -239,6 +288,25 @@ def test_gap_pdf_within_its_stated_error_of_the_direct_path(solved):
     cw = table["gap_contact_weight"].values
     assert np.all(cw <= 1.0)
     np.testing.assert_allclose(cw, direct["gap_contact_weight"].values, rtol=TOL)
+
+
+@pytest.mark.parametrize(
+    "params", [{"separation": "almqvist"}, {"method": "diffusion", "n_grid": 200}], ids=str
+)
+def test_gap_pdf_forms_not_smooth_in_the_load_are_computed_directly(params):
+    """``_params.UNTABLED``: at a number of loads the default form tables (300 over 3.5
+    decades, the minimum lowered to 100), every load computed directly: no estimate, the
+    values of the direct path bit for bit."""
+    sc = scene([1.0], analyses={"gap_pdf": params})
+    sc["load"] = {"p0": {"start": "1 kPa", "stop": "3 MPa", "num": 300}}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(by_load_mod, "TABLE_MIN", 100)
+        got = xpersson.solve(sc)
+        mp.setattr(by_load_mod, "TABLE_MIN", 10**9)
+        want = xpersson.solve(sc)
+    assert not got["gap_pdf_load_error"].values.any()
+    for k in ("gap_pdf", "gap_mean", "gap_contact_weight"):
+        np.testing.assert_array_equal(got[k].values, want[k].values)
 
 
 def test_keys_are_taken_from_agreeing_stencils_and_stencils_stay_in_their_segment():

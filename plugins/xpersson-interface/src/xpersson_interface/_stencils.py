@@ -4,6 +4,7 @@ its segment (runs of nodes alike in every key and in which outputs are regular).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -16,6 +17,22 @@ FLOOR = 1e-300
 #: Rows' errors are relative to the larger of the row's largest value and this fraction of the
 #: largest over every load (a row 1e-57 of the others, near full contact, is 0 to this).
 DEPTH = 1e-30
+#: A row's interpolated element above ``SPIKE`` times every value of that element at its
+#: stencil's nodes, or above ``SPIKE`` times the row's largest element interpolated in its own
+#: right (the logarithm of each node's row maximum, through the same weights), is no
+#: interpolation of a smooth row: the load is unusable (refined, or computed directly). Only
+#: where the element is above ``SPIKE_SIZE`` of that maximum (at least :data:`DEPTH` of the
+#: largest over the nodes: the scale of the rows' errors, :func:`_relative`): a smaller
+#: overshoot lies within every estimate's allowance for the direct path's own irregularity
+#: (at least ``2 _by_load.NOISE``). A smooth row resolved to the table's tolerance does
+#: neither. The check at the odd nodes cannot see elements that change by hundreds of decades
+#: between nodes, small at every node: their polynomials in the logarithm rose to 1.8 times
+#: the row's maximum (``gap_pdf``, ``separation = "almqvist"``, 1000 loads on the speed design;
+#: with the first test alone: up to 3e-3), to 1.3e6 times (the same on a 9-decade spectrum)
+#: and to 6e9 times (``method = "diffusion"``; with the second test alone: 9e2). Both forms
+#: are now computed directly (``_params.UNTABLED``); the tests stay for any other row that is
+#: not smooth in the load (``benchmarks/load_table_extreme.py``).
+SPIKE, SPIKE_SIZE = 2.0, 1e-5
 #: Outputs tabled transformed, ``(names, f)``: ``f(outputs, x)`` gives per load ``(W, S)``
 #: (``W > 0``) from the other outputs (interpolated first) and ``x = ln p0``, and each output
 #: ``v`` named is tabled as ``W ln v - S``: a known singularity made regular (the leak
@@ -178,7 +195,8 @@ def _interpolate(
             out[k] = v[lo]
             continue
         if v.ndim > 1:
-            out[k] = _rows(logs[k], idx, w)
+            out[k], spike = _rows(logs[k], idx, w)
+            bad |= spike
             continue
         at_lo, y = regular_lo[row[k]], ys[row[k]]
         if k in late:
@@ -244,10 +262,7 @@ def _window_max(c: NDArray[np.float64], idx: NDArray[np.intp]) -> NDArray[np.flo
     m = idx.shape[1]
     if c.size < m:  # (no full window: as numpy's)
         return np.max(c[idx], axis=1)
-    top = c[: c.size - m + 1].copy()
-    for k in range(1, m):
-        np.maximum(top, c[k : c.size - m + 1 + k], out=top)
-    return top[idx[:, 0]]
+    return _windows(c, m)[idx[:, 0]]
 
 
 def _errors(
@@ -299,16 +314,56 @@ def _same(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
     return (a == b) | (np.isnan(a) & np.isnan(b))
 
 
-def _rows(L: NDArray[np.float64], idx: NDArray, w: NDArray) -> NDArray[np.float64]:
-    """``exp(sum_k w_k L[idx_k])`` per row, in blocks of rows that stay in the cache."""
-    n = idx.shape[0]
+def _rows(
+    L: NDArray[np.float64], idx: NDArray, w: NDArray
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """``exp(sum_k w_k L[idx_k])`` per row, in blocks of rows that stay in the cache, and per
+    row whether it spikes (:data:`SPIKE`; rows sorted by their stencils: each run of one
+    stencil tested against its nodes' largest elements at once, in the block)."""
+    n, m = idx.shape
     out = np.empty((n, L.shape[1]))
+    spike = np.zeros(n, dtype=bool)
+    top, floor, most = _spike_limits(L, idx, w)
+    first = idx[:, 0]
     step = max(1, 2**17 // max(L.shape[1], 1))
     for s in range(0, n, step):
-        t = slice(s, s + step)
+        t = slice(s, min(s + step, n))
         acc = out[t]
         np.multiply(L[idx[t, 0]], w[t, 0, None], out=acc)
-        for k in range(1, idx.shape[1]):
+        for k in range(1, m):
             acc += L[idx[t, k]] * w[t, k, None]
+        with np.errstate(invalid="ignore"):  # (NaN rows: irregular, bad already)
+            spike[t] = np.max(acc, axis=1) > np.maximum(top[t], floor[t])
+            cut = np.flatnonzero(np.diff(first[t])) + 1  # (the runs of one stencil)
+            for a, b in zip(np.r_[0, cut], np.r_[cut, acc.shape[0]], strict=True):
+                lim = np.maximum(most[first[s + a]], floor[s + a : s + b, None])
+                spike[s + a : s + b] |= np.any(acc[a:b] > lim, axis=1)
         np.exp(acc, out=acc)
-    return out
+    return out, spike
+
+
+def _spike_limits(
+    L: NDArray[np.float64], idx: NDArray, w: NDArray
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The logarithms of :data:`SPIKE`'s limits for rows interpolated from the nodes' ``L``
+    through the stencils ``idx`` (weights ``w``): per row, ``SPIKE`` times its largest element
+    interpolated and ``SPIKE_SIZE`` of its scale; per window of nodes (by its first), ``SPIKE``
+    times each element's largest value at them."""
+    peak = np.max(L, axis=1)  # (per node: the logarithm of its row's largest element)
+    with np.errstate(invalid="ignore"):
+        top = np.einsum("nk,nk->n", w, peak[idx])  # (the row's largest, interpolated)
+        depth = np.max(peak, where=peak == peak, initial=-np.inf) + math.log(DEPTH)
+        floor = np.maximum(top, depth) + math.log(SPIKE_SIZE)
+    return top + math.log(SPIKE), floor, _windows(L, idx.shape[1]) + math.log(SPIKE)
+
+
+def _windows(v: NDArray[np.float64], m: int) -> NDArray[np.float64]:
+    """Per window of ``m`` consecutive nodes (by its first node), the largest of each column of
+    ``v`` (nodes, columns) over the window (fewer nodes: over all of them)."""
+    n = v.shape[0]
+    if n < m:  # (every window the whole, for any stencil start a short segment clips to)
+        return np.broadcast_to(np.max(v, axis=0), (m,) + v.shape[1:])
+    top = v[: n - m + 1].copy()
+    for k in range(1, m):
+        np.maximum(top, v[k : n - m + 1 + k], out=top)
+    return top

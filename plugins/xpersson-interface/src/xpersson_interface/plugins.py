@@ -59,7 +59,7 @@ from ._leakage import (
     table_weights,
     with_sealed,
 )
-from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, LEAKAGE_PARAMS, load_error
+from ._params import _DENSE, _FORM, _FORM_AUTO, _GAMMA, _NEVER, LEAKAGE_PARAMS, UNTABLED, load_error
 
 __all__ = ["ElasticEnergy", "MeanGap", "ContactStiffness", "GapPDF", "Leakage"]
 
@@ -296,7 +296,7 @@ class GapPDF(_Interface):
             description="mean separation u1 of the detaching area: the part of d(A u)/dA due to"
             " the rising pressure p0/A (default), or Almqvist's full d(A u)/dA, whose"
             " removed-scale part puts a far tail at many h_rms at high load"
-            " (docs/verification.md)",
+            " (docs/verification.md; not smooth in the load: every load computed directly)",
         ),
         "s_factor": _FORM,
         "gamma": _GAMMA,
@@ -348,14 +348,16 @@ class GapPDF(_Interface):
             "gap_mean for the distribution; against GFMD (xu2024-gfmd) gap_mean is closer for "
             "p0/E* >= 0.015 (+1 to +26 % vs -13 to -70 %)",
         ),
-        "gap_pdf_load_error": load_error(TOL, TABLE_MIN),
+        "gap_pdf_load_error": load_error(TOL, TABLE_MIN, never=_NEVER),
     }  # fmt: skip
     provides = ("gap_pdf", "gap_contact_weight", "gap_mean", "gap_pdf_load_error")
     fast_paths = _REUSED
 
     def compute(self, ctx: Any, ds: xr.Dataset) -> dict[str, Any]:
         grid: list[np.ndarray] = []  # the gap grid, fixed by the first loads computed
-        out, err = by_load(ctx.p0, lambda rows: self._direct(ctx, ds, rows, grid))
+        untabled = any(self.params[k] == v for k, v in UNTABLED)  # (not smooth in the load)
+        least = np.size(ctx.p0) + 1 if untabled else 0
+        out, err = by_load(ctx.p0, lambda rows: self._direct(ctx, ds, rows, grid), least=least)
         return {
             "gap_pdf": on_gap_grid(out["gap_pdf"], grid[0]),
             "gap_contact_weight": (("p0",), np.minimum(out["gap_contact_weight"], 1.0)),
