@@ -492,7 +492,7 @@ def _check(
     if seg is None:  # every node's: an odd node's own segment is known
         seg = _segments(at, roles[0])
     segs = (seg[even], seg[odd])
-    vals, bad, _, _, _ = _interpolate(xn[even], sub, logs_even, xn[odd], roles, m, segs)
+    vals, bad, _, _, _ = _interpolate(xn[even], sub, logs_even, xn[odd], roles, m, segs, False)
     err = _errors(vals, at, odd, sorted(sub.keys() - roles[0]))
     err[bad] = np.inf
     out = np.zeros(xn.size)
