@@ -3,11 +3,14 @@ Dataset (the work of each step lives in :mod:`.frontend`, :mod:`.stages`, :mod:`
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 import xarray as xr
 
 from .. import checks, memory, plugins, provenance
 from ..cache import solve_scope
+from ..plugins.solved import unresolved_quiet
 from ..scene import ResolvedScene, SceneError
 from . import model_error
 from ._draft import Draft
@@ -96,14 +99,22 @@ def _run(rs: ResolvedScene, squeeze: bool, model_errors: bool) -> xr.Dataset:
         )
     if rs.analyses:  # an analysis reads the Dataset
         ds = ds.dataset() if isinstance(ds, Draft) else ds
-        add_analyses(rs, ctx, ds, analysis_labels)
+        with _quiet_for_bodies(rs):
+            add_analyses(rs, ctx, ds, analysis_labels)
     attributes(
         ds, rs, lambda: provenance.global_attributes(rs), results, diagnostics_notes(ds), core
     )
     if rs.geometry is not None:  # a finite body: its nominal pressure on the solved interface
-        ds = body_dataset(rs, ctx, ds.dataset() if isinstance(ds, Draft) else ds)
+        with _quiet_for_bodies(rs):
+            ds = body_dataset(rs, ctx, ds.dataset() if isinstance(ds, Draft) else ds)
     elif rs.p0_scalar and squeeze:  # one load: p0 a scalar coordinate (= ds.isel(p0=0))
         ds = ds.squeeze(own=True) if isinstance(ds, Draft) else Draft.of(ds).squeeze()
     if model_errors:
         model_error.attach(ds, rs)
     return ds.dataset() if isinstance(ds, Draft) else ds
+
+
+def _quiet_for_bodies(rs: ResolvedScene) -> contextlib.AbstractContextManager[None]:
+    """For a finite body, :class:`~xpersson.plugins.solved.UnresolvedDrop` silenced (its
+    lightest rings, near the contact's edge, weigh ~nothing in its integrals); else nothing."""
+    return unresolved_quiet() if rs.geometry is not None else contextlib.nullcontext()

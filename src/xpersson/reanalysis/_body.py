@@ -24,6 +24,7 @@ from ..pipeline.body import OUTPUTS as BODY_OUTPUTS
 from ..pipeline.body import body_dataset
 from ..pipeline.model_error import SUFFIXES
 from ..plugins import get_registry
+from ..plugins.solved import unresolved_quiet
 from ._point import analysed, archived_scene, attach_model_error, point_scene
 
 __all__ = ["analyse_body", "is_body"]
@@ -41,7 +42,7 @@ def analyse_body(ds: xr.Dataset, name: str, params: dict[str, Any]) -> xr.Datase
     data["analyses"] = {name: dict(params)}
     rs = point_scene(data, flat)
     _check_forces(rs, ds)
-    with plugins.time_limit(rs.plugin_time_limit), solve_scope():
+    with plugins.time_limit(rs.plugin_time_limit), solve_scope(), unresolved_quiet():
         out, ctx = analysed(rs, flat)
         body = body_dataset(rs, ctx, out)
     kept = {n: ds.variables[n] for n in ds.data_vars if n not in body.variables}
