@@ -65,8 +65,8 @@ estimate) and at 1e4 loads within 1.4e-3, every interpolated load within 0.81 of
 (``benchmarks/load_table_extreme.py``: 90 scenes, H 0.05-1, 3-9 decades, contact areas 1e-8 to
 1 - 1e-12, 1000 loads): ``leakage`` within 0.49 of its estimate, ``gap_pdf`` on 88 within
 it and 2.6 / 2.3 times it (4.1e-5 / 3.3e-5) on two 9-decade spectra near a contact area of
-1e-7, where its density at ``u = 0`` wavers by ~1e-5 from load to load (a direct-path
-irregularity beyond :data:`NOISE`; not the bins, grids, ``Phi``'s table nor the kernels).
+1e-7, where its density at ``u = 0`` wavers by ~1e-5 from load to load (beyond :data:`NOISE`:
+those loads' drop from full contact is unresolved, ``plugins.solved.UNRESOLVED``, warned).
 Outputs not smooth in the load are not tabled (``_params.UNTABLED``); a row rising above its
 nodes or its interpolated maximum is refined (``_stencils.SPIKE``). Below the minimum every
 load is computed directly, bit for bit.
