@@ -15,6 +15,7 @@ integrals over zeta need the fast drop of ``A`` near ``zeta = 1`` at small loads
 from __future__ import annotations
 
 import contextlib
+import math
 import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -36,6 +37,7 @@ __all__ = [
     "solved_curve",
     "curve_variables",
     "dense_zeta",
+    "LOWEST",
     "per_solve",
     "solve_key",
     "FORMS",
@@ -89,8 +91,12 @@ class Solved:
         return self.zeta, self.area, self.s_factor, self.non_area
 
 
+#: ``zeta - 1`` of the dense sampling's first magnification above 1 (:func:`dense_zeta`).
+LOWEST = 1e-9
+
+
 def dense_zeta(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64]:
-    """The Dataset's magnifications merged with ``1 + geomspace(1e-9, zeta_max - 1)``.
+    """The Dataset's magnifications merged with ``1 + geomspace(LOWEST, zeta_max - 1)``.
 
     The same grid for every solve of a scene: merged once (cached on the magnifications and
     ``per_decade``), a fresh copy returned.
@@ -109,8 +115,9 @@ def _dense_zeta(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float6
 
 def _merged(zeta: NDArray[np.float64], per_decade: int) -> NDArray[np.float64]:
     z_max = float(zeta[-1])
-    n = max(2, int(per_decade * (9.0 + np.log10(max(z_max - 1.0, 1e-9)))))
-    extra = 1.0 + np.geomspace(1e-9, z_max - 1.0, n) if z_max > 1.0 else np.zeros(0)
+    decades = -math.log10(LOWEST) + np.log10(max(z_max - 1.0, LOWEST))  # (9.0 exactly + ...)
+    n = max(2, int(per_decade * decades))
+    extra = 1.0 + np.geomspace(LOWEST, z_max - 1.0, n) if z_max > 1.0 else np.zeros(0)
     z = np.unique(np.concatenate((zeta, extra[extra < z_max])))
     return z[z >= 1.0]
 
@@ -121,12 +128,13 @@ MAX_STEP = 0.02
 MAX_FIRST = 1e-7
 #: Largest change of ln(1 - A) between output magnifications integrated without dense sampling.
 MAX_LOG_STEP = 5.0
-#: ``1 - A`` at the dense grid's first magnification above 1 (``zeta - 1 = 1e-9``) above which a
-#: load's drop from full contact is unresolved and :func:`solved_curve` warns: against a grid
-#: from ``zeta - 1 = 1e-15`` (60 loads from a contact area of 1e-8 on four spectra of 7-9
-#: decades, ``benchmarks/results/speed_notes.md``, "light loads") the mean gap and the gap
-#: distribution's mean were off by 2.9e-4 at 5.4e-3, 1.6e-3 at 2.9e-2, 0.18-7.4 times at
-#: 0.7-0.99 (contact areas 1e-8 - 2e-7); below 1e-9, by less than 6e-6 (as every other load).
+#: ``1 - A`` at the dense grid's first magnification above 1 (``zeta - 1 =`` :data:`LOWEST`)
+#: above which a load's drop from full contact is unresolved and :func:`solved_curve` warns:
+#: against a grid from ``zeta - 1 = 1e-15`` (60 loads from a contact area of 1e-8 on four
+#: spectra of 7-9 decades, ``benchmarks/results/speed_notes.md``, "light loads") the mean gap
+#: and the gap distribution's mean were off by 2.9e-4 at 5.4e-3, 1.6e-3 at 2.9e-2, 0.18-7.4
+#: times at 0.7-0.99 (contact areas 1e-8 - 2e-7); below 1e-9, by less than 6e-6 (as every
+#: other load).
 UNRESOLVED = 1e-3
 
 
@@ -186,15 +194,20 @@ def unresolved_quiet() -> Iterator[None]:
         yield
 
 
-def _warn_unresolved(v: Any, comp: tuple[str, ...], p0: NDArray[np.float64]) -> None:
-    """Warn where the dense solve ``v`` of the loads ``p0`` [Pa] leaves a load's drop from
-    full contact unresolved (:data:`UNRESOLVED`; ``comp``: the complement's variables)."""
-    first = sum(np.asarray(v[c], dtype=float)[..., 1] for c in comp)
+def _warn_unresolved(
+    v: Any, zeta: NDArray[np.float64], comp: tuple[str, ...], p0: NDArray[np.float64]
+) -> None:
+    """Warn where the dense solve ``v`` (on ``zeta``) of the loads ``p0`` [Pa] leaves a load's
+    drop from full contact unresolved (:data:`UNRESOLVED`, at the first magnification above 1;
+    ``comp``: the complement's variables)."""
+    j = min(int(np.searchsorted(zeta, 1.0, side="right")), zeta.size - 1)
+    first = sum(np.asarray(v[c], dtype=float)[..., j] for c in comp)
     late = np.broadcast_to(np.asarray(first) > UNRESOLVED, p0.shape)
     if late.any():
         warnings.warn(
             f"{int(late.sum())} load(s) (p0 <= {float(np.max(p0[late])):.3g} Pa) leave full "
-            f"contact before zeta - 1 = 1e-9, the dense sampling's first magnification above 1 "
+            f"contact before zeta - 1 = {LOWEST:g}, the dense sampling's first magnification "
+            "above 1 "
             f"(1 - A there > {UNRESOLVED:g}): the analyses' zeta integrals (mean gap, gap "
             "distribution, leakage) are inaccurate at those loads, up to several times off at "
             "contact areas ~1e-8 on spectra of 7-9 decades",
@@ -288,7 +301,7 @@ def solved_curve(
     if need.any() and solve_at is not None:
         z_ds, zeta = zeta, dense_zeta(zeta, per_decade)
         v = solve_at(zeta, np.flatnonzero(need))
-        _warn_unresolved(v, comp, p0[need])
+        _warn_unresolved(v, zeta, comp, p0[need])
         coarse_get, memo_dense = get, {}
 
         def get(name: str) -> NDArray[np.float64]:  # solved where coarse, else interpolated
