@@ -181,3 +181,52 @@ def test_node_chain_is_numpys(seed):
     if got is None:
         pytest.skip("kernel not built")
     assert np.array_equal(got, want)
+
+
+def _row_case(seed: int):
+    """Node rows of logarithms (NaN, -inf, wide magnitudes, a row of NaN), loads' stencils
+    sorted by their first node (runs, some of one load), weights of either sign."""
+    rng = np.random.default_rng(seed)
+    m = int(rng.integers(1, 10))
+    nn, nc = int(rng.integers(m, 40)), int(rng.integers(1, 30))
+    L = rng.normal(0, 10.0 ** rng.uniform(-2, 2), (nn, nc)) - rng.uniform(0, 50)
+    L[rng.random(L.shape) < 0.05] = -np.inf
+    L[rng.random(L.shape) < 0.03] = np.nan
+    if rng.random() < 0.3:
+        L[int(rng.integers(nn))] = np.nan
+    first = np.sort(rng.integers(0, nn - m + 1, int(rng.integers(1, 200))))
+    idx = (first[:, None] + np.arange(m)).astype(np.intp)
+    w = rng.normal(0, 1, idx.shape) * 10.0 ** rng.uniform(-1, 1, idx.shape)
+    return L, idx, w
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.booleans())
+def test_row_sums_are_numpys(seed, test):
+    """The rows' weighted sums and spike flags (:func:`._stencils._rows`), plain Python and
+    compiled: numpy's values and flags, bit for bit (NaN and -inf elements and limits; a
+    NaN's sign aside)."""
+    L, idx, w = _row_case(seed)
+    with xpersson.set_options(compiled=False), np.errstate(all="ignore"):
+        want, spikes = _stencils._rows(L, idx, w, test)
+        limits = _stencils._spike_limits(L, idx, w) if test else (np.empty(0),) * 2 + (L[:0],)
+    out, flag = np.empty(want.shape), np.zeros(idx.shape[0], dtype=bool)
+    with np.errstate(all="ignore"):
+        _stencil_sums.row_sums(L, idx, w, 0, idx.shape[0], test, *limits, out, flag)
+        np.exp(out, out=out)
+    _same_values(out, want)
+    assert np.array_equal(flag, spikes)
+    pytest.importorskip("numba")
+    with xpersson.set_options(compiled=True), np.errstate(all="ignore"):
+        if _stencil_sums.kernel("row_sums") is None:
+            pytest.skip("kernel not built")
+        got, got_spikes = _stencils._rows(L, idx, w, test)
+    _same_values(got, want)
+    assert np.array_equal(got_spikes, spikes)
+
+
+def _same_values(a, b) -> None:
+    """The same bits, NaN's sign aside (a NaN's sign bit is no value)."""
+    nan = np.isnan(a)
+    assert np.array_equal(nan, np.isnan(b))
+    assert a[~nan].tobytes() == b[~nan].tobytes()
